@@ -1,0 +1,285 @@
+"""Normal modes of a chain and the responses built from them.
+
+The equations of motion of Eq. e.Horig, in mass-weighted coordinates
+q_i = sqrt(m_i) Q_i, are q'' = -B q with the symmetric tridiagonal matrix B
+of Eq. e.BN, built here from the physical masses and springs (so it is right
+for every N; the (x, y, z) matrix of Eq. e.AN holds for N >= 5 only: for
+N = 4 its middle element is y^2).
+
+For an initial velocity of mass 1 (a *kick*; in the circuit the current of
+loop 1) or an initial displacement of mass 1 (the charge of loop 1), the end
+masses move as
+
+    Q_N(t) / Q_1(0) = sqrt(m_1/m_N) * sum_n U_n1 U_nN cos(omega_n t)
+
+(velocities for a kick, positions for a displacement).  For a mirror-symmetric
+chain U_nN = (-1)^(n-1) U_n1 and this is the paper's transmission amplitude
+alpha_N(t) = sum_n P_n cos(pi (n-1) - omega_n t), Eq. e.utn, with the mode
+density P_n = U_n1^2 (Eq. e.Pn).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.linalg import eigh_tridiagonal
+
+from .chain import Chain
+from .errors import ParameterError
+from .types import MODE_METHODS, ModeMethod
+
+__all__ = [
+    "Modes",
+    "normal_modes",
+    "exact_modes",
+    "transmission_amplitude",
+    "return_amplitude",
+    "cosine_sum",
+    "EXACT_MAX_N",
+    "CLOSED_FORM_MIN_N",
+]
+
+#: Largest N diagonalised exactly (eigenvectors need 8 N^2 bytes: 800 MB at 10^4).
+EXACT_MAX_N = 10_000
+#: Below this N the "auto" method diagonalises exactly (it is cheap and needs no model).
+CLOSED_FORM_MIN_N = 400
+
+
+@dataclass(frozen=True, eq=False)
+class Modes:
+    """Normal modes of a chain, as seen from its two ends.
+
+    Attributes
+    ----------
+    omega : ndarray, shape (N,)
+        Angular frequencies omega_n in units of sqrt(K/m), ascending (>= 0).
+    density : ndarray, shape (N,)
+        Mode density P_n = U_n1^2 (Eq. e.Pn); sums to 1.
+    transfer : ndarray, shape (N,)
+        End-to-end weights sqrt(m_1/m_N) U_n1 U_nN; for a symmetric chain
+        (-1)^(n-1) P_n.
+    method : str
+        ``"exact"`` or ``"closed-form"``.
+    k : ndarray or None
+        Pseudo wave vectors k_n of the closed form (Eq. e.kn1), else None.
+    """
+
+    omega: np.ndarray
+    density: np.ndarray
+    transfer: np.ndarray
+    method: str
+    k: np.ndarray | None = None
+
+    @property
+    def N(self) -> int:
+        return int(self.omega.size)
+
+    def transit_time(self) -> float:
+        """Estimate of the end-to-end travel time, pi / (omega_2 - omega_1).
+
+        Exact for the perfect chains (equally spaced frequencies); for long
+        chains it is the low-frequency group delay, N plus the delay of the
+        end masses.  It centres the arrival search windows of
+        :mod:`lcchain.arrivals`.
+        """
+        return float(np.pi / (self.omega[1] - self.omega[0]))
+
+
+def _frozen(array: np.ndarray) -> np.ndarray:
+    array = np.ascontiguousarray(array, dtype=float)
+    array.flags.writeable = False
+    return array
+
+
+def tridiagonal(chain: Chain) -> tuple[np.ndarray, np.ndarray]:
+    """Diagonal and off-diagonal of B (Eq. e.BN) in bulk units."""
+    m, K = chain.masses, chain.springs
+    diagonal = (K[:-1] + K[1:]) / m
+    off = -K[1:-1] / np.sqrt(m[:-1] * m[1:])
+    return diagonal, off
+
+
+def exact_modes(chain: Chain) -> Modes:
+    """Diagonalise B exactly (LAPACK, symmetric tridiagonal).
+
+    Parameters
+    ----------
+    chain : Chain
+        Any chain, symmetric or not, with N <= :data:`EXACT_MAX_N`.
+    """
+    if chain.N > EXACT_MAX_N:
+        raise ParameterError(
+            "N", chain.N,
+            f"N <= {EXACT_MAX_N} for exact diagonalisation (use the closed form for quasi-uniform free chains)",
+        )
+    diagonal, off = tridiagonal(chain)
+    mu, U = eigh_tridiagonal(diagonal, off)
+    # A free chain has mu_1 = 0 up to rounding (possibly -1e-16): clip, never NaN.
+    omega = np.sqrt(np.clip(mu, 0.0, None))
+    if chain.is_free:
+        # The translation (Goldstone) mode is exactly zero; LAPACK returns
+        # mu_1 ~ 1e-16, whose square root (1e-8) would be a spurious frequency.
+        omega[0] = 0.0
+    first, last = U[0, :], U[-1, :]
+    density = first * first
+    transfer = np.sqrt(chain.masses[0] / chain.masses[-1]) * first * last
+    return Modes(_frozen(omega), _frozen(density), _frozen(transfer), "exact")
+
+
+def normal_modes(chain: Chain, method: ModeMethod = "auto") -> Modes:
+    """Normal modes of a chain by the requested method.
+
+    Parameters
+    ----------
+    chain : Chain
+    method : {"auto", "exact", "closed-form"}
+        ``"closed-form"`` uses the paper's Eqs. e.kn1, e.psik and e.Pk and
+        needs a free quasi-uniform chain (one-mass, two-mass, uniform free)
+        with N >= 5; ``"auto"`` uses it for N >= :data:`CLOSED_FORM_MIN_N`
+        when it applies, and exact diagonalisation otherwise.
+    """
+    if method not in MODE_METHODS:
+        raise ParameterError("method", method, " | ".join(MODE_METHODS))
+    if method == "exact":
+        return exact_modes(chain)
+    from .closed_form import closed_form_applies, closed_form_modes
+
+    if method == "closed-form":
+        reason = closed_form_applies(chain)
+        if reason:
+            raise ParameterError("method", method, f"a chain the closed form covers ({reason})")
+        r, w = chain.rw()
+        return closed_form_modes(chain.N, r, w)
+    if chain.N >= CLOSED_FORM_MIN_N and not closed_form_applies(chain):
+        r, w = chain.rw()
+        return closed_form_modes(chain.N, r, w)
+    return exact_modes(chain)
+
+
+# ---------------------------------------------------------------- cosine sums
+_BLOCK = 1 << 22  # elements per temporary block (32 MB of float64)
+
+
+def cosine_sum(weights: np.ndarray, omega: np.ndarray, t) -> np.ndarray | float:
+    """Evaluate f(t) = sum_n weights_n cos(omega_n t) at the times t.
+
+    On a uniform grid of many times, the grid t_j = t0 + (p Q + q) h is split
+    and cos(a_p + b_q) expanded, turning the N x J cosines into
+    2 (P + Q) N cosines and two matrix products; otherwise blocks of the
+    outer product are summed directly.  Both are exact to rounding.
+
+    Parameters
+    ----------
+    weights, omega : ndarray, shape (N,)
+    t : float or array_like
+        Times in units of sqrt(m/K).
+
+    Returns
+    -------
+    float or ndarray shaped like t
+    """
+    scalar = np.ndim(t) == 0
+    times = np.atleast_1d(np.asarray(t, dtype=float))
+    shape = times.shape
+    times = times.ravel()
+    weights = np.asarray(weights, dtype=float)
+    omega = np.asarray(omega, dtype=float)
+    J, N = times.size, omega.size
+    out = np.empty(J)
+    for start, stop in _uniform_runs(times):
+        part = times[start:stop]
+        if part.size >= 64 and part.size * N > 4_000_000:
+            h = (part[-1] - part[0]) / (part.size - 1)
+            out[start:stop] = _cosine_sum_split(weights, omega, part[0], h, part.size)
+        else:
+            out[start:stop] = _cosine_sum_direct(weights, omega, part)
+    out = out.reshape(shape)
+    return float(out[0]) if scalar else out
+
+
+def _cosine_sum_direct(weights, omega, times) -> np.ndarray:
+    out = np.empty(times.size)
+    rows = max(1, _BLOCK // max(omega.size, 1))
+    for start in range(0, times.size, rows):
+        block = times[start : start + rows]
+        out[start : start + rows] = np.cos(np.multiply.outer(block, omega)) @ weights
+    return out
+
+
+def _uniform_runs(times: np.ndarray, min_run: int = 64) -> list[tuple[int, int]]:
+    """Split times into index ranges; long ranges are uniformly spaced.
+
+    A simulator's time points are uniform except for a few start-up steps
+    and the last one, so nearly all points fall in one or two long runs
+    where :func:`_cosine_sum_split` applies.
+    """
+    J = times.size
+    if J < 2 * min_run:
+        return [(0, J)]
+    steps = np.diff(times)
+    scale = 1e-12 * max(1.0, float(np.max(np.abs(times))))
+    # boundaries where the step changes
+    change = np.flatnonzero(np.abs(np.diff(steps)) > scale) + 1
+    edges = np.concatenate(([0], change, [steps.size]))
+    runs: list[tuple[int, int]] = []
+    pending = 0  # start of points not yet assigned
+    for a, b in zip(edges[:-1], edges[1:]):
+        # steps a..b-1 are equal: points a..b form a uniform run
+        if b - a + 1 >= min_run:
+            grid = times[a] + (times[b] - times[a]) / (b - a) * np.arange(b - a + 1)
+            if np.max(np.abs(grid - times[a : b + 1])) <= scale:
+                if a > pending:
+                    runs.append((pending, a))
+                runs.append((a, b + 1))
+                pending = b + 1
+    if pending < J:
+        runs.append((pending, J))
+    return runs
+
+
+def _cosine_sum_split(weights, omega, t0: float, h: float, J: int) -> np.ndarray:
+    Q = int(np.ceil(np.sqrt(J)))
+    P = -(-J // Q)
+    a = t0 + (Q * h) * np.arange(P)
+    b = h * np.arange(Q)
+    out = np.zeros((P, Q))
+    cols = max(1, _BLOCK // (P + Q))
+    for start in range(0, omega.size, cols):
+        om = omega[start : start + cols]
+        wt = weights[start : start + cols]
+        phase_a = np.multiply.outer(a, om)
+        phase_b = np.multiply.outer(b, om)
+        out += (np.cos(phase_a) * wt) @ np.cos(phase_b).T
+        out -= (np.sin(phase_a) * wt) @ np.sin(phase_b).T
+    return out.ravel()[:J]
+
+
+# ------------------------------------------------------------------ responses
+def transmission_amplitude(chain_or_modes: Chain | Modes, t, method: ModeMethod = "auto"):
+    """Transmission amplitude alpha_N(t), Eq. e.utn.
+
+    The far end's response to a kick (velocity, loop current) or to a
+    displacement (position, loop charge) of mass 1, relative to the initial
+    value: both are the same function of time.  For an asymmetric chain it
+    is the exact modal response sqrt(m_1/m_N) sum U_n1 U_nN cos(omega_n t).
+
+    Parameters
+    ----------
+    chain_or_modes : Chain or Modes
+    t : float or array_like
+        Time in units of sqrt(m/K) (in the circuit, sqrt(L0*C0)).
+    method : {"auto", "exact", "closed-form"}
+        How to compute the modes when a Chain is given.
+    """
+    modes = chain_or_modes if isinstance(chain_or_modes, Modes) else normal_modes(chain_or_modes, method)
+    return cosine_sum(modes.transfer, modes.omega, t)
+
+
+def return_amplitude(chain_or_modes: Chain | Modes, t, method: ModeMethod = "auto"):
+    """The first mass's own response, sum_n P_n cos(omega_n t) (1 at t = 0).
+
+    This is what comes back to loop 1 after each round trip.
+    """
+    modes = chain_or_modes if isinstance(chain_or_modes, Modes) else normal_modes(chain_or_modes, method)
+    return cosine_sum(modes.density, modes.omega, t)

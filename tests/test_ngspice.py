@@ -1,0 +1,236 @@
+"""Tests of lcchain.ngspice against the real ngspice 39 (no mocks of the simulator)."""
+
+from __future__ import annotations
+
+import json
+import math
+import re
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from lcchain import ngspice
+from lcchain.errors import ParameterError, SimulationError
+
+#: Perfect N=3 chain of the paper: masses (1.5, 1, 1.5) -> inductors in H, unit springs -> 1 F.
+#: Loop 1 is kicked with I(L1)(0) = 1 A; free ends are 0 V sources (wires) to ground.
+LADDER = """\
+* three-loop LC ladder, kick of loop 1
+L1 n0 n1 1.5 IC=1.0
+C12 n1 0 1.0
+L2 n1 n2 1.0
+C23 n2 0 1.0
+L3 n2 n3 1.5
+Vw0 n0 0 0
+Vw3 n3 0 0
+.options method=trap reltol=1e-6 abstol=1e-12 chgtol=1e-20 maxord=2
+.tran 0.001 7.7 0 0.001 uic
+.save i(l1) i(l3)
+.end
+"""
+TSTOP = 7.7
+KICK = 1.0
+#: Perfect transfer time of the N=3 perfect chain, t = sqrt(3/2)*pi (paper, perfect chain with N=3).
+T_TRANSFER = math.sqrt(1.5) * math.pi
+#: Agreement of ngspice (trapezoidal, 1 ms step, reltol 1e-6) with the exact transfer.
+RTOL_SPICE_TRANSFER = 1e-4
+#: Timeout used to provoke a kill: far below the run time of the endless netlist below.
+TIMEOUT_KILL_S = 0.5
+
+ENDLESS = LADDER.replace(".tran 0.001 7.7 0 0.001 uic", ".tran 1e-7 1e6 0 1e-7 uic")
+
+
+def _kept_dir(message: str) -> Path:
+    match = re.search(r"kept in (\S+)", message)
+    assert match, message
+    return Path(match.group(1))
+
+
+def _check_kept_and_remove(message: str) -> None:
+    kept = _kept_dir(message)
+    assert kept.name.startswith("lcchain-failed-")
+    assert (kept / "circuit.cir").is_file()
+    assert (kept / "reason.txt").is_file()
+    shutil.rmtree(kept)
+
+
+@pytest.fixture(scope="module")
+def batch_result() -> ngspice.RunResult:
+    return ngspice.run(LADDER, ["i(l1)", "i(l3)"], TSTOP)
+
+
+# --------------------------------------------------------------------------- pure helpers
+
+
+@pytest.mark.parametrize(
+    ("written", "key"),
+    [("i(L1)", "i(l1)"), ("l1#branch", "i(l1)"), ("L1#BRANCH", "i(l1)"), ("v(N3)", "v(n3)"), ("n3", "v(n3)"),
+     ("time", "time"), ("@l1[i]", "@l1[i]")],
+)
+def test_canonical_vector_name(written: str, key: str) -> None:
+    assert ngspice.canonical_vector_name(written) == key
+
+
+def test_parse_options_reads_every_options_line() -> None:
+    text = "* t\n.OPTIONS method=trap reltol = 1e-6\n+ abstol=1e-12\n.opt noinit\n.option reltol=1e-7\n.end\n"
+    assert ngspice.parse_options(text) == {"method": "trap", "reltol": "1e-7", "abstol": "1e-12", "noinit": "true"}
+
+
+@pytest.mark.parametrize("line", [".control", "  .CONTROL", ".endc", "shell rm -rf ~", "SHELL echo"])
+def test_control_and_shell_lines_are_refused(line: str) -> None:
+    netlist = LADDER.replace(".end\n", f"{line}\n.end\n")
+    for backend in ("batch", "shared"):
+        with pytest.raises(ParameterError, match="netlist"):
+            ngspice.run(netlist, ["i(l1)"], TSTOP, backend=backend)
+
+
+def test_bad_arguments_are_parameter_errors() -> None:
+    with pytest.raises(ParameterError, match="backend"):
+        ngspice.run(LADDER, ["i(l1)"], TSTOP, backend="spectre")  # type: ignore[arg-type]
+    with pytest.raises(ParameterError, match="tstop"):
+        ngspice.run(LADDER, ["i(l1)"], -1.0)
+    with pytest.raises(ParameterError, match="vectors"):
+        ngspice.run(LADDER, "i(l1)", TSTOP)  # type: ignore[arg-type]
+
+
+def _raw_file(tmp_path: Path, flags: str, points: int, values: np.ndarray) -> Path:
+    header = (
+        "Title: t\nDate: now\nPlotname: Transient Analysis\n"
+        f"Flags: {flags}\nNo. Variables: 2\nNo. Points: {points}\n"
+        "Variables:\n\t0\ttime\ttime\n\t1\tl1#branch\tcurrent\nBinary:\n"
+    )
+    path = tmp_path / "x.raw"
+    path.write_bytes(header.encode() + values.astype(np.float64).tobytes())
+    return path
+
+
+def test_read_raw_parses_binary_and_normalises_names(tmp_path: Path) -> None:
+    path = _raw_file(tmp_path, "real", 3, np.array([0.0, 1.0, 0.5, 2.0, 1.0, 3.0]))
+    columns = ngspice.read_raw(path)
+    assert np.array_equal(columns["time"], [0.0, 0.5, 1.0])
+    assert np.array_equal(columns["i(l1)"], [1.0, 2.0, 3.0])
+
+
+def test_read_raw_refuses_complex_and_truncated(tmp_path: Path) -> None:
+    with pytest.raises(SimulationError, match="complex"):
+        ngspice.read_raw(_raw_file(tmp_path, "complex", 1, np.zeros(4)))
+    with pytest.raises(SimulationError, match="truncated"):
+        ngspice.read_raw(_raw_file(tmp_path, "real", 5, np.zeros(4)))
+
+
+def test_import_lcchain_loads_neither_pyspice_nor_matplotlib() -> None:
+    code = (
+        "import sys, lcchain, lcchain.ngspice; "
+        "print([m for m in sys.modules if m.split('.')[0] in ('PySpice', 'matplotlib')])"
+    )
+    root = str(Path(ngspice.__file__).resolve().parent.parent)
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=root, check=True)
+    assert out.stdout.strip() == "[]"
+
+
+# --------------------------------------------------------------------------- real runs
+
+
+@pytest.mark.ngspice
+def test_batch_run_returns_vectors_and_metadata(batch_result: ngspice.RunResult) -> None:
+    result = batch_result
+    assert set(result.vectors) == {"i(l1)", "i(l3)"}
+    assert result.points == result.time.size > 0
+    assert all(v.shape == result.time.shape for v in result.vectors.values())
+    assert math.isclose(result.time[-1], TSTOP, rel_tol=ngspice.TSTOP_RTOL)
+    assert not result.time.flags.writeable
+    assert not any(v.flags.writeable for v in result.vectors.values())
+    assert result.backend == "batch"
+    assert result.ngspice_version == ngspice.ngspice_version()
+    assert result.options == {"method": "trap", "reltol": "1e-6", "abstol": "1e-12", "chgtol": "1e-20", "maxord": "2"}
+    meta = result.metadata()
+    assert json.loads(json.dumps(meta)) == meta
+    assert {"ngspice_version", "netlist_sha256", "options", "wall_s", "backend", "points", "log"} <= set(meta)
+    assert len(meta["netlist_sha256"]) == 64
+    assert meta["wall_s"] > 0
+
+
+@pytest.mark.ngspice
+def test_batch_run_transfers_the_kick_perfectly(batch_result: ngspice.RunResult) -> None:
+    # Perfect N=3 chain: loop 3 carries the whole kick at T, loop 1 has it back at 2T.
+    t, i1, i3 = batch_result.time, batch_result.vectors["i(l1)"], batch_result.vectors["i(l3)"]
+    assert np.interp(T_TRANSFER, t, i3) / KICK == pytest.approx(1.0, rel=RTOL_SPICE_TRANSFER)
+    assert np.interp(2 * T_TRANSFER, t, i1) / KICK == pytest.approx(1.0, rel=RTOL_SPICE_TRANSFER)
+    assert np.max(np.abs(i3)) / KICK == pytest.approx(1.0, rel=RTOL_SPICE_TRANSFER)
+
+
+@pytest.mark.ngspice
+def test_shared_backend_is_bit_identical_to_batch(batch_result: ngspice.RunResult) -> None:
+    results = [ngspice.run(LADDER, ["i(l1)", "i(l3)"], TSTOP, backend="shared") for _ in range(3)]
+    for shared in results:  # repeated runs leak no state: identical every time
+        assert shared.backend == "shared"
+        assert shared.ngspice_version == batch_result.ngspice_version
+        assert np.array_equal(shared.time, batch_result.time)
+        assert shared.vectors.keys() == batch_result.vectors.keys()
+        for name, values in batch_result.vectors.items():
+            assert np.array_equal(shared.vectors[name], values), name
+
+
+@pytest.mark.ngspice
+@pytest.mark.parametrize("backend", ["batch", "shared"])
+def test_both_save_syntaxes_give_the_same_keys(backend: str) -> None:
+    netlist = LADDER.replace(".save i(l1) i(l3)", ".save l1#branch v(n1) I(L3)")
+    seen: list[float] = []
+    result = ngspice.run(netlist, ["l1#branch", "v(n1)", "i(l3)"], TSTOP, backend=backend, progress=seen.append)
+    assert set(result.vectors) == {"i(l1)", "v(n1)", "i(l3)"}
+    assert seen == [0.0, 1.0]
+
+
+@pytest.mark.ngspice
+@pytest.mark.parametrize("backend", ["batch", "shared"])
+@pytest.mark.parametrize(
+    ("broken", "said"),
+    [
+        (LADDER.replace("C12 n1 0 1.0", "Q12 n1 0 1.0"), "could not find a valid modelname"),
+        (LADDER.replace("L2 n1 n2 1.0", "L2 n1 n2 1.0.0"), "can't find model"),
+        (LADDER.replace("0.001 uic", "0.001 uicx"), "unknown parameter on .tran"),
+        (LADDER.replace("C12 n1 0 1.0", "C12 n1 0 1.0\nC99 n7 n8 1.0"), "Timestep too small"),
+    ],
+    ids=["unknown-element", "bad-value", "bad-tran", "floating-node"],
+)
+def test_bad_netlist_raises_with_ngspice_message(backend: str, broken: str, said: str) -> None:
+    with pytest.raises(SimulationError) as info:
+        ngspice.run(broken, ["i(l1)", "i(l3)"], TSTOP, backend=backend)
+    message = str(info.value)
+    assert said in message
+    _check_kept_and_remove(message)
+
+
+@pytest.mark.ngspice
+@pytest.mark.parametrize("backend", ["batch", "shared"])
+def test_vector_not_saved_is_named(backend: str) -> None:
+    with pytest.raises(SimulationError, match=re.escape("i(l2)")) as info:
+        ngspice.run(LADDER, ["i(l1)", "i(l2)"], TSTOP, backend=backend)
+    _check_kept_and_remove(str(info.value))
+
+
+@pytest.mark.ngspice
+def test_wrong_tstop_is_detected() -> None:
+    with pytest.raises(SimulationError, match="tstop") as info:
+        ngspice.run(LADDER, ["i(l1)"], 2 * TSTOP)
+    _check_kept_and_remove(str(info.value))
+
+
+@pytest.mark.ngspice
+@pytest.mark.parametrize("backend", ["batch", "shared"])
+def test_timeout_kills_the_simulator(backend: str) -> None:
+    with pytest.raises(SimulationError, match="timed out") as info:
+        ngspice.run(ENDLESS, ["i(l1)"], 1e6, backend=backend, timeout=TIMEOUT_KILL_S)
+    _check_kept_and_remove(str(info.value))
+
+
+@pytest.mark.ngspice
+def test_doctor_is_all_ok_here() -> None:
+    checks = ngspice.doctor()
+    assert [c.name for c in checks] == [
+        "ngspice executable", "batch run", "ngspice shared library", "PySpice", "shared run"]
+    assert all(c.ok for c in checks), [c for c in checks if not c.ok]
