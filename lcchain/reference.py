@@ -10,9 +10,11 @@ from __future__ import annotations
 from pathlib import Path
 
 from .cases import chain_for_case
+from .chain import Chain
+from .design import optimal_one_mass, optimal_two_mass
 from .simulation import make_netlist
 
-__all__ = ["REFERENCE_SET", "reference_netlist", "write_reference_netlists"]
+__all__ = ["REFERENCE_SET", "reference_chain", "reference_netlist", "write_reference_netlists"]
 
 #: (file name, case, N): the perfect chains, uniform chains and optimal designs.
 REFERENCE_SET: tuple[tuple[str, str, int], ...] = (
@@ -30,11 +32,39 @@ REFERENCE_SET: tuple[tuple[str, str, int], ...] = (
 )
 
 
+def _rounded(value: float) -> float:
+    return float(f"{value:.6g}")
+
+
+def reference_chain(case: str, N: int) -> Chain:
+    """The chain of a reference netlist.
+
+    Optimal designs are rounded to 6 significant digits in their parameters
+    (x, or r and w): the optimiser locates them to about 1e-7, so the last
+    bits of the optimum may differ between numpy/scipy builds, and the
+    committed files must not.
+    """
+    if case == "one-mass":
+        return Chain.one_mass(N, _rounded(optimal_one_mass(N).x))
+    if case == "two-mass":
+        design = optimal_two_mass(N)
+        return Chain.from_rw(N, _rounded(design.r), _rounded(design.w))
+    return chain_for_case(case, N)
+
+
 def reference_netlist(case: str, N: int) -> str:
     """Netlist text of one reference case: kick, 10 uH / 10 nF, dt = 0.05, one transit."""
-    comment = (f"made by: lcchain reference-netlists (same as: lcchain netlist --case {case} --N {N} "
+    chain = reference_chain(case, N)
+    params = ""
+    if case == "one-mass":
+        params = f" with x = {chain.xyz()[0]!r}"
+    elif case == "two-mass":
+        params = f" with (r, w) = {chain.rw()!r}"
+    comment = (f"made by: lcchain reference-netlists: optimal {case} chain N={N}{params}, kick, "
+               f"L0 = 1e-05 H, C0 = 1e-08 F, dt = 0.05, one transit" if case in ("one-mass", "two-mass") else
+               f"made by: lcchain reference-netlists (same as: lcchain netlist --case {case} --N {N} "
                f"--L0 1e-05 --C0 1e-08 --excitation kick --dt 0.05 --transits 1)")
-    text, _, _ = make_netlist(chain_for_case(case, N), dt=0.05, transits=1, comments=(comment,))
+    text, _, _ = make_netlist(chain, dt=0.05, transits=1, comments=(comment,))
     return text
 
 

@@ -1,0 +1,118 @@
+"""Command line: the issue's exact forms, JSON keys, exit codes, one-line errors."""
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from lcchain.cli import main
+
+ROOT = Path(__file__).resolve().parent.parent
+
+DESIGN_KEYS = {"N", "case", "delta", "s", "t_arrival", "m1", "m2", "K12", "x", "y", "z"}
+
+
+def run_cli(capsys, *argv):
+    status = main(list(argv))
+    out, err = capsys.readouterr()
+    return status, out, err
+
+
+@pytest.mark.parametrize("case, extra", [("two-mass", {"r", "w"}), ("one-mass", {"Delta", "delta_uniform"})])
+def test_design_json_keys(capsys, case, extra):
+    status, out, _ = run_cli(capsys, "design", "--case", case, "--N", "300", "--json")
+    assert status == 0
+    data = json.loads(out)
+    assert set(data) == DESIGN_KEYS | extra
+    assert data["N"] == 300 and data["case"] == case
+    assert data["t_arrival"] == pytest.approx(300 + data["s"])
+    assert 0 < data["delta"] < 0.2
+
+
+def test_table_layouts(capsys):
+    status, out, _ = run_cli(capsys, "table", "--case", "two-mass", "--N", "3,4,10,100")
+    assert status == 0
+    lines = out.splitlines()
+    assert lines[0].startswith("Table II")
+    assert lines[1].split() == ["N", "r*", "w*", "delta*", "s*", "m1*", "m2*", "K12*"]
+    # Table II, N = 100 row of the paper
+    assert lines[-1].split() == ["100", "0.5873", "0.0972", "0.01555", "7.04", "4.275", "0.7079", "0.4157"]
+    status, out, _ = run_cli(capsys, "table", "--case", "one-mass", "--N", "3,20", "--json")
+    rows = json.loads(out)
+    assert [r["N"] for r in rows] == [3, 20] and all(DESIGN_KEYS <= set(r) for r in rows)
+    status, out, _ = run_cli(capsys, "table", "--case", "one-mass", "--N", "3,20", "--csv")
+    header, *body = out.strip().splitlines()
+    assert header.split(",")[:3] == ["N", "case", "delta"] and len(body) == 2
+
+
+def test_asymptotic_json(capsys):
+    status, out, _ = run_cli(capsys, "asymptotic", "--case", "two-mass", "--json")
+    data = json.loads(out)
+    assert {"alpha", "delta", "sigma", "tau", "coefficients"} <= set(data)
+    assert round(data["alpha"], 6) == 0.987153  # Sec. V.A
+
+
+@pytest.mark.parametrize(
+    "argv, field",
+    [
+        (["design", "--case", "two-mass", "--N", "2"], "N = 2"),
+        (["design", "--case", "three-mass", "--N", "10"], "--case"),
+        (["design", "--case", "two-mass", "--N", "ten"], "--N"),
+        (["table", "--case", "one-mass", "--N", "3,x"], "--N"),
+        (["netlist", "--case", "perfect", "--N", "7"], "N = 7"),
+        (["netlist", "--case", "uniform-free", "--N", "10", "--title", ".control"], "title"),
+        (["netlist", "--case", "uniform-free", "--N", "10", "--dt", "0"], "dt"),
+        (["netlist", "--case", "uniform-free", "--N", "10", "--L0", "-1"], "L0"),
+        (["simulate", "--case", "uniform-free"], "--N"),
+        (["netlist", "--chain", "/nonexistent/chain.json"], "--chain"),
+        (["frobnicate"], "invalid choice"),
+    ],
+)
+def test_bad_arguments_exit_2_with_one_line(capsys, argv, field):
+    status, out, err = run_cli(capsys, *argv)
+    assert status == 2
+    assert out == ""
+    assert len(err.strip().splitlines()) == 1, err
+    assert field in err and "Traceback" not in err
+
+
+def test_chain_file_errors_name_the_file_and_field(capsys, tmp_path):
+    path = tmp_path / "chain.json"
+    path.write_text(json.dumps({"masses": [1, 1, -1], "springs": [0, 1, 1, 0]}))
+    status, _, err = run_cli(capsys, "netlist", "--chain", str(path))
+    assert status == 2 and str(path) in err and "masses[2]" in err
+    path.write_text("{not json")
+    status, _, err = run_cli(capsys, "netlist", "--chain", str(path))
+    assert status == 2 and "valid JSON" in err
+
+
+def test_netlist_command_writes_file(capsys, tmp_path):
+    out = tmp_path / "ladder.cir"
+    status, stdout, _ = run_cli(capsys, "netlist", "--case", "two-mass", "--N", "20", "--excitation",
+                                "displacement", "--title", "my ladder", "-o", str(out))
+    assert status == 0 and stdout == ""
+    text = out.read_text()
+    assert text.splitlines()[0] == "my ladder" and "made by: lcchain netlist" in text and text.endswith(".end\n")
+
+
+def test_asymmetric_chain_file_accepted(capsys, tmp_path):
+    path = tmp_path / "chain.json"
+    path.write_text(json.dumps({"masses": [2.0, 1.0, 1.0, 0.7], "springs": [0, 0.5, 1, 2, 0.1]}))
+    status, out, _ = run_cli(capsys, "netlist", "--chain", str(path))
+    assert status == 0 and "C4_5 n4 0" in out
+
+
+def test_console_script_module_entry_point():
+    """`python -m lcchain.cli` behaves as the console script (no traceback on bad input)."""
+    proc = subprocess.run([sys.executable, "-m", "lcchain.cli", "design", "--case", "two-mass", "--N", "1"],
+                          capture_output=True, text=True, cwd=ROOT)
+    assert proc.returncode == 2 and "Traceback" not in proc.stderr
+
+
+def test_import_loads_neither_matplotlib_nor_pyspice():
+    code = "import lcchain, sys; print(any(m.split('.')[0] in ('matplotlib', 'PySpice') for m in sys.modules))"
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.strip() == "False"
