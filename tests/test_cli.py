@@ -116,3 +116,36 @@ def test_import_loads_neither_matplotlib_nor_pyspice():
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT)
     assert proc.returncode == 0, proc.stderr
     assert proc.stdout.strip() == "False"
+
+
+def test_missing_ngspice_exits_3_with_install_command(tmp_path):
+    """With no ngspice on PATH, simulate exits 3 and says how to install it."""
+    env = {"PATH": str(tmp_path), "HOME": str(tmp_path), "PYTHONPATH": str(ROOT)}
+    proc = subprocess.run([sys.executable, "-m", "lcchain.cli", "simulate", "--case", "perfect", "--N", "3"],
+                          capture_output=True, text=True, cwd=ROOT, env=env)
+    assert proc.returncode == 3, proc.stderr
+    assert "apt-get install ngspice" in proc.stderr and "Traceback" not in proc.stderr
+
+
+@pytest.mark.ngspice
+def test_doctor_reports_all_ok(capsys):
+    status, out, _ = run_cli(capsys, "doctor")
+    assert status == 0, out
+    assert "FAIL" not in out and out.count("[ok  ]") >= 4
+
+
+@pytest.mark.ngspice
+def test_simulate_json_and_outputs(capsys, tmp_path):
+    netlist, waveform, plot = tmp_path / "run.cir", tmp_path / "wave.csv", tmp_path / "overlay.png"
+    status, out, err = run_cli(capsys, "simulate", "--case", "two-mass", "--N", "20", "--dt", "0.05",
+                               "--transits", "2", "--json", "--netlist-out", str(netlist),
+                               "--waveform-out", str(waveform), "--plot", str(plot))
+    assert status == 0, err
+    data = json.loads(out)
+    for key in ("N", "dt", "backend", "ngspice_version", "wall_s", "max_abs_error", "arrivals"):
+        assert key in data
+    assert {"index", "t_theory", "t_sim", "peak_theory", "peak_sim"} <= set(data["arrivals"][0])
+    assert netlist.read_text().startswith("lcchain two-mass chain N=20")
+    header, first_row = waveform.read_text().splitlines()[:2]
+    assert header == "t,first,last" and len(first_row.split(",")) == 3
+    assert plot.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"

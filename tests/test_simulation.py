@@ -123,3 +123,22 @@ def test_end_signal_is_alpha_not_something_else():
     assert abs(w.last[0]) < 1e-3 and abs(w.first[0] - 1) < 1e-3
     modes = normal_modes(report.chain)
     assert np.max(np.abs(w.last - transmission_amplitude(modes, w.t))) < 0.01
+
+
+@pytest.mark.parametrize("excitation", ["kick", "displacement"])
+def test_pyspice_circuit_is_the_same_ladder(excitation):
+    """The PySpice Circuit for embedding simulates bit-identically to lcchain's own netlist."""
+    from lcchain.pyspice_circuit import ladder_circuit
+
+    chain = Chain([1.7, 0.9, 1.0, 0.9, 1.7], [0.2, 0.8, 1.0, 1.0, 0.8, 0.0])
+    ladder = Ladder(chain)
+    options = SimulationOptions(dt=0.05, tstop=12.0)
+    ours = netlist_text(ladder, options, excitation=excitation)
+    analysis = [line for line in ours.splitlines() if line.startswith((".options", ".tran", ".save"))]
+    circuit_text = str(ladder_circuit(ladder, excitation=excitation)) + "\n".join(analysis) + "\n.end\n"
+    names = probe_names(chain.N)
+    a = run(ours, names, options.tstop * ladder.time_unit)
+    b = run(circuit_text, names, options.tstop * ladder.time_unit)
+    assert np.array_equal(a.time, b.time)
+    for name in names:
+        assert np.array_equal(a.vectors[name], b.vectors[name])
