@@ -164,7 +164,7 @@ class Chain:
         """Raise :class:`ParameterError` unless the chain is mirror symmetric."""
         if not self.is_symmetric:
             raise ParameterError(
-                "chain", f"{self.name} chain with masses[0]={self.masses[0]!r}, masses[-1]={self.masses[-1]!r}",
+                "chain", f"{self.name} chain with masses[0]={float(self.masses[0])!r}, masses[-1]={float(self.masses[-1])!r}",
                 f"a mirror-symmetric chain for {what}",
             )
 
@@ -174,7 +174,8 @@ class Chain:
         return bool(np.array_equal(self.masses, other.masses) and np.array_equal(self.springs, other.springs))
 
     def __hash__(self) -> int:
-        return hash((self.masses.tobytes(), self.springs.tobytes()))
+        # + 0.0 turns -0.0 into 0.0, which __eq__ already treats as equal
+        return hash(((self.masses + 0.0).tobytes(), (self.springs + 0.0).tobytes()))
 
     def __repr__(self) -> str:
         def short(a: np.ndarray) -> str:
@@ -277,7 +278,11 @@ class Chain:
         m2 = 1 / (y * y)
         m1 = r * r / (x * x * y * y)
         K12 = r / (y * y)
-        K01 = max(0.0, r / (x * x * y * y) * (r * (2 - z) - x * x))
+        K01 = r / (x * x * y * y) * (r * (2 - z) - x * x)
+        # z = z0 means a free end; rounding must not leave a 1e-15 wall spring.
+        scale = r / (x * x * y * y) * (r * abs(2 - z) + x * x)
+        if K01 <= 64 * np.finfo(float).eps * scale:
+            K01 = 0.0
         return cls._quasi_uniform(N, m1, m2, K01, K12, "xyz", ("xyz", x, y, z))
 
     @classmethod

@@ -187,9 +187,9 @@ def cosine_sum(weights: np.ndarray, omega: np.ndarray, t) -> np.ndarray | float:
     omega = np.asarray(omega, dtype=float)
     J, N = times.size, omega.size
     out = np.empty(J)
-    for start, stop in _uniform_runs(times):
+    for start, stop, uniform in _uniform_runs(times):
         part = times[start:stop]
-        if part.size >= 64 and part.size * N > 4_000_000:
+        if uniform and part.size * N > 4_000_000:
             h = (part[-1] - part[0]) / (part.size - 1)
             out[start:stop] = _cosine_sum_split(weights, omega, part[0], h, part.size)
         else:
@@ -207,22 +207,24 @@ def _cosine_sum_direct(weights, omega, times) -> np.ndarray:
     return out
 
 
-def _uniform_runs(times: np.ndarray, min_run: int = 64) -> list[tuple[int, int]]:
-    """Split times into index ranges; long ranges are uniformly spaced.
+def _uniform_runs(times: np.ndarray, min_run: int = 64) -> list[tuple[int, int, bool]]:
+    """Split times into index ranges (start, stop, uniform).
 
+    ``uniform`` marks ranges of at least ``min_run`` equally spaced points;
+    the others are whatever lies between them.
     A simulator's time points are uniform except for a few start-up steps
     and the last one, so nearly all points fall in one or two long runs
     where :func:`_cosine_sum_split` applies.
     """
     J = times.size
     if J < 2 * min_run:
-        return [(0, J)]
+        return [(0, J, False)]
     steps = np.diff(times)
     scale = 1e-12 * max(1.0, float(np.max(np.abs(times))))
     # boundaries where the step changes
     change = np.flatnonzero(np.abs(np.diff(steps)) > scale) + 1
     edges = np.concatenate(([0], change, [steps.size]))
-    runs: list[tuple[int, int]] = []
+    runs: list[tuple[int, int, bool]] = []
     pending = 0  # start of points not yet assigned
     for a, b in zip(edges[:-1], edges[1:]):
         # steps a..b-1 are equal: points a..b form a uniform run
@@ -230,11 +232,11 @@ def _uniform_runs(times: np.ndarray, min_run: int = 64) -> list[tuple[int, int]]
             grid = times[a] + (times[b] - times[a]) / (b - a) * np.arange(b - a + 1)
             if np.max(np.abs(grid - times[a : b + 1])) <= scale:
                 if a > pending:
-                    runs.append((pending, a))
-                runs.append((a, b + 1))
+                    runs.append((pending, a, False))
+                runs.append((a, b + 1, True))
                 pending = b + 1
     if pending < J:
-        runs.append((pending, J))
+        runs.append((pending, J, False))
     return runs
 
 

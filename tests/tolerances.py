@@ -1,0 +1,65 @@
+"""Named tolerances shared by the tests, in one place (STYLE.md, "Tests").
+
+A plain module of constants: import what you need, add what you must, and say
+in a comment why each value is what it is.  Absolute tolerances (ATOL_*) apply
+to dimensionless quantities of order one (masses and springs in bulk units,
+mode densities, amplitudes, frequencies in units of sqrt(K/m)).
+"""
+
+# A handful of floating-point operations on parameters of order one (the
+# formulas of Eqs. e.mKxyz and e.m1m2K12-rw) compared with exact fractions.
+RTOL_ARITHMETIC = 1e-14
+
+# The (x, y, z) and (r, w) views recomputed from masses and springs (square
+# roots and quotients of O(1) numbers) against the parameters they came from.
+ATOL_ROUND_TRIP = 1e-12
+
+# sum_n P_n = 1 (Eq. e.Pn, orthogonality of U): LAPACK eigenvectors and the
+# closed form of Eq. e.Pk are normalised to rounding, summed over <= 5000 modes.
+ATOL_NORMALISATION = 1e-13
+
+# alpha_N = 1 at the arrival time of a perfect chain (Sec. II.C), and the
+# equal spacing of its frequencies: exact up to the rounding of a 5 x 5
+# eigenproblem.
+ATOL_PERFECT = 1e-12
+
+# Paper's closed form (Eqs. e.kn1, e.psik, e.Pk) against exact diagonalisation
+# for P_n, omega_n and alpha_N(t) on t in [0, 3N], N <= 5000: both are exact to
+# rounding; the phases omega_n t reach ~1e4 rad at N = 5000 (observed ~2e-11).
+ATOL_CLOSED_FORM = 1e-10
+
+# cosine_sum's split-grid path against a direct sum of cosines: phases up to
+# ~6e3 rad carry ~1e-12 absolute rounding in either evaluation.
+ATOL_COSINE_SUM = 1e-12
+
+# Modal transmission amplitude against a DOP853 integration with rtol 1e-11,
+# atol 1e-13 over a few transits of a short chain (observed ~2e-12).
+ATOL_ODE = 1e-9
+
+# Arrival time of a perfect chain found by arrivals(): a bounded Brent search
+# near a flat maximum (alpha - 1 ~ -(dt)^2), so the time is only determined to
+# ~sqrt(rounding) of the peak value.
+ATOL_ARRIVAL_TIME = 1e-6
+
+# Table II prints s* to two decimals; the paper located s* by scanning the
+# delay, so one unit of the last printed digit.
+ATOL_TABLE_DELAY = 0.01
+
+# Largest change of the phase shift psi_k between adjacent points of a
+# 20001-point grid on [0, pi] that still counts as continuous (a branch jump of
+# atan2 is 2 pi; the true slope moves psi by < 0.01 per step here).
+MAX_PSI_STEP = 0.5
+
+# psi'_k against a centred difference of psi_k with step 1e-6: truncation
+# ~1e-12 psi''' and rounding ~1e-10, relative to the largest |psi'|.
+RTOL_CENTRED_DIFFERENCE = 1e-6
+
+# Table II prints delta* to five decimals: half a unit of the last digit (the
+# optimum is flat, so the printed, rounded (r*, w*) do not move it further).
+ATOL_TABLE_LOSS = 5e-6
+
+# A fixed-point iteration counts as converged when its last step is below
+# CONVERGED_STEP, and as failed when after many iterations its last step or its
+# distance from the true root still exceeds NOT_CONVERGED_STEP.
+CONVERGED_STEP = 1e-12
+NOT_CONVERGED_STEP = 1e-3
