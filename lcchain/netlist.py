@@ -49,6 +49,8 @@ __all__ = [
 Probes = Literal["ends", "all"]
 PROBES = ("ends", "all")
 Method = Literal["trap", "gear"]
+PulseShape = Literal["gaussian", "rect"]
+PULSE_SHAPES = ("gaussian", "rect")
 METHODS = ("trap", "gear")
 
 
@@ -190,6 +192,8 @@ def netlist_text(
     probes: Probes = "ends",
     title: str = "lcchain LC ladder",
     comments: tuple[str, ...] = (),
+    Q: float | None = None,
+    pulse: tuple[str, float] | None = None,
 ) -> str:
     """The SPICE netlist of the ladder and its transient analysis.
 
@@ -209,14 +213,33 @@ def netlist_text(
         First line of the netlist (validated by :func:`check_user_text`).
     comments : tuple of str
         Extra ``*`` comment lines after the title (validated likewise).
+    Q : float, optional
+        Losses: a resistor R_i = L_i / (Q sqrt(L0 C0)) in series with every
+        inductor (every mode then decays at the same rate).  None: no resistor.
+    pulse : (shape, width), optional
+        With ``excitation="pulse"``: a voltage source in loop 1,
+        v(t) = L_1 I0 g(t), g of unit area in units of sqrt(L0 C0):
+        ``"gaussian"`` (standard deviation ``width``, centred at 4 width, a
+        B-source) or ``"rect"`` (1/width on [0, width), a PWL source whose
+        fall takes 1e-9 width).  None: no source.
 
     Returns
     -------
     str
         Deterministic text ending in ``.end`` and a newline.
     """
-    if excitation not in EXCITATIONS:
-        raise ParameterError("excitation", excitation, " | ".join(EXCITATIONS))
+    if excitation not in (*EXCITATIONS, "pulse"):
+        raise ParameterError("excitation", excitation, " | ".join((*EXCITATIONS, "pulse")))
+    if (excitation == "pulse") != (pulse is not None):
+        raise ParameterError("pulse", pulse, "(shape, width) exactly when excitation is 'pulse'")
+    if pulse is not None:
+        shape, width = pulse
+        if shape not in PULSE_SHAPES:
+            raise ParameterError("pulse shape", shape, " | ".join(PULSE_SHAPES))
+        if isinstance(width, bool) or not isinstance(width, (int, float)) or not (math.isfinite(width) and width > 0):
+            raise ParameterError("pulse width", width, "a finite number > 0 (units of sqrt(L0*C0))")
+    if Q is not None and (isinstance(Q, bool) or not isinstance(Q, (int, float)) or not (math.isfinite(Q) and Q > 0)):
+        raise ParameterError("Q", Q, "a finite quality factor > 0")
     if isinstance(I0, bool) or not isinstance(I0, (int, float)) or not (math.isfinite(I0) and I0 > 0):
         raise ParameterError("I0", I0, "a finite current > 0 (ampere)")
     title = check_user_text("title", title)
@@ -237,18 +260,33 @@ def netlist_text(
     )
     for i in range(1, N + 1):
         ic = f" IC={number(I0)}" if (excitation == "kick" and i == 1) else ""
-        lines.append(f"L{i} {ladder.node(i - 1)} {ladder.node(i)} {number(L[i - 1])}{ic}")
+        left, right = ladder.node(i - 1), ladder.node(i)
+        if i == 1 and pulse is not None:
+            left = "s1"  # the source sits between the rail node n0 (or ground) and L1
+        if Q is not None:
+            lines.append(f"L{i} {left} m{i} {number(L[i - 1])}{ic}")
+            lines.append(f"R{i} m{i} {right} {number(L[i - 1] / (Q * unit))}")
+        else:
+            lines.append(f"L{i} {left} {right} {number(L[i - 1])}{ic}")
         if i < N:
             ic = f" IC={number(Q0 / C[i])}" if (excitation == "displacement" and i == 1) else ""
             lines.append(f"C{i}_{i + 1} n{i} 0 {number(C[i])}{ic}")
-    for wall, node_index in ((0, 0), (N, N)):
+    for wall in (0, N):
         if C[wall] is not None:
-            ic = ""
-            if excitation == "displacement" and wall == 0:
-                ic = f" IC={number(-Q0 / C[0])}"
-            elif excitation == "displacement" and N == 1:  # pragma: no cover - N >= 3
-                ic = ""
-            lines.append(f"C{wall}_{wall + 1} {ladder.node(node_index)} 0 {number(C[wall])}{ic}")
+            ic = f" IC={number(-Q0 / C[0])}" if (excitation == "displacement" and wall == 0) else ""
+            lines.append(f"C{wall}_{wall + 1} {ladder.node(wall)} 0 {number(C[wall])}{ic}")
+    if pulse is not None:
+        shape, width = pulse
+        area = L[0] * I0  # volt-seconds: the source gives L_1 the current I0
+        if shape == "gaussian":
+            sigma, centre = width * unit, 4 * width * unit
+            peak = area / (sigma * math.sqrt(2 * math.pi))
+            lines.append(f"B1 s1 {ladder.node(0)} V={number(peak)}*exp(-0.5*((time-{number(centre)})/{number(sigma)})^2)")
+        else:
+            duration = width * unit
+            level = area / duration
+            lines.append(f"V1 s1 {ladder.node(0)} PWL(0 {number(level)} {number(duration)} {number(level)} "
+                         f"{number(duration * (1 + 1e-9))} 0)")
     # Tolerances scaled to the circuit's own current, voltage and charge, so
     # that results do not depend on the unit scale (nH/pF/uA as 1 H/1 F/1 A).
     V0 = I0 * ladder.impedance

@@ -1,0 +1,99 @@
+"""Effects that change the chain (walls, E-series, tolerances) and the netlist elements each effect adds."""
+
+import re
+
+import numpy as np
+import pytest
+
+from lcchain.chain import Chain
+from lcchain.effects import E_SERIES, preferred_value, realise, tolerance_samples, with_walls
+from lcchain.errors import ParameterError
+from lcchain.netlist import Ladder, SimulationOptions, netlist_text
+
+OPTIONS = SimulationOptions(dt=0.05, tstop=30.0)
+
+
+@pytest.mark.parametrize("series, value, expected", [
+    ("E24", 4.2746e-5, 4.3e-5), ("E12", 2.4055e-8, 2.2e-8), ("E96", 9.99e-6, 1e-5), ("E24", 1e-5, 1e-5),
+    ("E12", 9.6e-9, 1e-8), ("E96", 1.234e-7, 1.24e-7), ("E24", 0.95, 0.91),
+])
+def test_preferred_values_nearest_on_a_log_scale(series, value, expected):
+    assert preferred_value(value, series) == expected
+
+
+def test_every_series_value_is_a_fixed_point():
+    for series, mantissas in E_SERIES.items():
+        for m in mantissas:
+            for scale in (1e-9, 1e-6, 1.0):
+                value = float(f"{m * scale:.12g}")
+                assert preferred_value(value, series) == value
+    with pytest.raises(ParameterError, match="series"):
+        preferred_value(1.0, "E48")
+
+
+def test_walls_and_realised_chain():
+    chain = Chain.from_rw(10, 0.8, 0.3)
+    walled = with_walls(chain, 0.01)
+    assert walled.springs[0] == walled.springs[-1] == 0.01 and not walled.is_free
+    rounded = realise(chain, 10e-6, 10e-9, series="E12")
+    assert rounded.springs[0] == 0 and rounded.springs[-1] == 0  # free ends stay wires
+    for m in rounded.masses * 10e-6:
+        assert preferred_value(m, "E12") == pytest.approx(m, rel=1e-12)
+    with pytest.raises(ParameterError, match="K0"):
+        with_walls(chain, -1.0)
+
+
+def test_tolerance_samples_reproducible_bounded_and_asymmetric():
+    chain = Chain.from_rw(20, 0.77, 0.25)
+    a = tolerance_samples(chain, 10e-6, 10e-9, samples=5, seed=7, tol_L=0.05, tol_C=0.02)
+    b = tolerance_samples(chain, 10e-6, 10e-9, samples=8, seed=7, tol_L=0.05, tol_C=0.02)
+    for x, y in zip(a, b):  # sample k does not depend on how many are drawn
+        assert x == y
+    c = tolerance_samples(chain, 10e-6, 10e-9, samples=5, seed=8, tol_L=0.05, tol_C=0.02)
+    assert a[0] != c[0]
+    for s in a:
+        ratio = s.masses / chain.masses
+        assert np.all(np.abs(ratio - 1) <= 0.05) and np.std(ratio) > 0
+        inner = chain.springs[1:-1]
+        assert np.all(np.abs(inner / s.springs[1:-1] - 1) <= 0.02 + 1e-12)  # C = C0/K within 2 %
+        assert not s.is_symmetric
+
+
+def _lines(text, prefix):
+    return [line for line in text.splitlines() if line.startswith(prefix)]
+
+
+def test_ideal_netlist_is_a_pure_lc_ladder():
+    text = netlist_text(Ladder(Chain.from_rw(30, 0.6, 0.1)), OPTIONS)
+    body = [line for line in text.splitlines()[1:] if line and line[0] not in "*."]
+    assert {line[0] for line in body} == {"L", "C"}
+    assert len(_lines(text, "L")) == 30 and len(_lines(text, "C")) == 29  # free ends: no wall capacitor
+    assert re.search(r"^\.save i\(l1\) i\(l30\)$", text, re.M)
+
+
+def test_each_effect_adds_only_its_own_elements():
+    chain = Chain.from_rw(30, 0.6, 0.1)
+    ideal = netlist_text(Ladder(chain), OPTIONS)
+    lossy = netlist_text(Ladder(chain), OPTIONS, Q=100)
+    assert len(_lines(lossy, "R")) == 30 and not _lines(ideal, "R")
+    assert not _lines(lossy, "V") and not _lines(lossy, "B")
+    for shape, prefix in (("gaussian", "B"), ("rect", "V")):
+        pulsed = netlist_text(Ladder(chain), OPTIONS, excitation="pulse", pulse=(shape, 0.2))
+        assert len(_lines(pulsed, prefix)) == 1 and not _lines(pulsed, "R")
+        assert "IC=" not in pulsed
+    walled = netlist_text(Ladder(with_walls(chain, 0.01)), OPTIONS)
+    assert len(_lines(walled, "C")) == 31 and re.search(r"^C0_1 n0 0 1e-06$", walled, re.M)
+    everything = netlist_text(Ladder(chain), OPTIONS, probes="all")
+    assert everything.count("i(l") == 30
+
+
+@pytest.mark.parametrize("kwargs, field", [
+    ({"excitation": "pulse"}, "pulse"),
+    ({"excitation": "kick", "pulse": ("gaussian", 0.2)}, "pulse"),
+    ({"excitation": "pulse", "pulse": ("triangle", 0.2)}, "shape"),
+    ({"excitation": "pulse", "pulse": ("rect", 0.0)}, "width"),
+    ({"Q": 0}, "Q"),
+])
+def test_bad_effect_arguments(kwargs, field):
+    with pytest.raises(ParameterError, match=field):
+        netlist_text(Ladder(Chain.uniform_free(5)), OPTIONS, **kwargs)
