@@ -21,6 +21,8 @@ from .types import BACKENDS, DESIGN_CASES, EXCITATIONS
 __all__ = ["main"]
 
 EXIT_OK, EXIT_FAILED, EXIT_USAGE, EXIT_MISSING = 0, 1, 2, 3
+#: Step when neither --dt nor --accuracy is given, units of sqrt(L0*C0).
+DEFAULT_DT = 0.05
 log = logging.getLogger("lcchain")
 
 
@@ -176,7 +178,8 @@ def _netlist_for(args):
 
     chain = _chain_from_args(args)
     command = "lcchain netlist " + " ".join(args.argv_echo)
-    text, _, _ = make_netlist(chain, dt=args.dt, transits=args.transits, excitation=args.excitation,
+    dt = args.dt if args.dt is not None else DEFAULT_DT
+    text, _, _ = make_netlist(chain, dt=dt, transits=args.transits, excitation=args.excitation,
                               L0=args.L0, C0=args.C0, title=args.title, comments=(f"made by: {command}",))
     return text
 
@@ -202,9 +205,19 @@ def cmd_reference_netlists(args) -> int:
 def cmd_simulate(args) -> int:
     from .simulation import simulate
 
+    import warnings
+
     chain = _chain_from_args(args)
-    report = simulate(chain, dt=args.dt, transits=args.transits, excitation=args.excitation, L0=args.L0,
-                      C0=args.C0, backend=args.backend, method=args.method, title=args.title)
+    if args.accuracy is not None and args.dt is not None:
+        raise ParameterError("--accuracy", args.accuracy, "either --dt or --accuracy, not both")
+    dt = None if args.accuracy is not None else (args.dt if args.dt is not None else DEFAULT_DT)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        report = simulate(chain, dt=dt, accuracy=args.accuracy, transits=args.transits,
+                          excitation=args.excitation, L0=args.L0, C0=args.C0, backend=args.backend,
+                          method=args.method, title=args.title)
+    for warning in caught:
+        print(f"lcchain: warning: {warning.message}", file=sys.stderr)
     if args.netlist_out:
         _write_text(args.netlist_out, report.netlist)
     if args.waveform_out:
@@ -215,7 +228,7 @@ def cmd_simulate(args) -> int:
         w, c = report.waveforms, report.comparison
         overlay(w.t, w.last, w.t, c.theory_last, residual=w.last - c.theory_last,
                 arrivals=[a.to_dict() for a in c.arrivals if a.end == "last"],
-                title=f"{chain.name} chain, N = {chain.N}, dt = {args.dt}, {args.excitation}",
+                title=f"{chain.name} chain, N = {chain.N}, dt = {report.options.dt:.4g}, {args.excitation}",
                 ylabel="I_N / I_1(0)" if args.excitation == "kick" else "Q_N / Q_1(0)", path=args.plot)
     data = report.to_dict()
     if args.json:
@@ -223,11 +236,25 @@ def cmd_simulate(args) -> int:
     else:
         print(f"{chain.name} chain, N = {chain.N}: ngspice {data['ngspice_version']} ({data['backend']}), "
               f"{data['points']} points in {data['wall_s']:.3f} s")
-        print(f"max |simulation - theory| = {data['max_abs_error']:.3e}")
+        print(f"max |simulation - theory| = {data['max_abs_error']:.3e} (dt = {data['dt']:.4g}, "
+              f"predicted {data['predicted_error']:.3e})")
+        if data["integration_error"] is not None:
+            print(f"  integration error (simulation - trapezoidal model) = {data['integration_error']:.3e}, "
+                  f"physics error (model - exact theory) = {data['physics_error']:.3e}")
         print(f"{'arrival':>7} {'end':>5} {'t theory':>12} {'t sim':>12} {'peak theory':>12} {'peak sim':>12}")
         for a in data["arrivals"]:
             print(f"{a['index']:>7} {a['end']:>5} {a['t_theory']:12.4f} {a['t_sim']:12.4f} "
                   f"{a['peak_theory']:12.6f} {a['peak_sim']:12.6f}")
+    return EXIT_OK
+
+
+def cmd_bench_accuracy(args) -> int:
+    from .bench import bench_accuracy
+
+    result = bench_accuracy(args.N, quick=args.quick, out=args.out)
+    print(Path(result["files"][3]).read_text(encoding="utf-8"), end="")
+    for path in result["files"]:
+        print(f"wrote {path}")
     return EXIT_OK
 
 
@@ -256,8 +283,8 @@ def _add_chain_arguments(p, with_dt: bool) -> None:
                    help="kick: initial current in L1; displacement: initial charge in loop 1")
     p.add_argument("--title", help="netlist title (one line)")
     p.add_argument("--transits", type=int, default=1, help="end-to-end transits to simulate (default 1)")
-    p.add_argument("--dt", type=_float("--dt"), default=0.05,
-                   help="maximum time step in units of sqrt(L0*C0) (default 0.05)")
+    p.add_argument("--dt", type=_float("--dt"), default=None,
+                   help=f"maximum time step in units of sqrt(L0*C0) (default {DEFAULT_DT})")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -298,11 +325,23 @@ def build_parser() -> argparse.ArgumentParser:
     _add_chain_arguments(p, with_dt=True)
     p.add_argument("--backend", choices=BACKENDS, default="batch")
     p.add_argument("--method", choices=("trap", "gear"), default="trap")
+    p.add_argument("--accuracy", type=_float("--accuracy"), metavar="EPS",
+                   help="wanted max |simulation - theory|: lcchain picks the largest dt that meets it "
+                        "(instead of --dt)")
     p.add_argument("--plot", metavar="FILE", help="PNG: theory and simulation overlaid, residual below")
     p.add_argument("--netlist-out", metavar="FILE", help="keep the netlist that was run")
     p.add_argument("--waveform-out", metavar="FILE", help="CSV t,first,last (dimensionless)")
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=cmd_simulate)
+
+    p = sub.add_parser("bench", help="benchmarks (accuracy: what each digit costs per method and N)")
+    bench = p.add_subparsers(dest="bench", metavar="BENCH", parser_class=_Parser)
+    bench.required = True
+    b = bench.add_parser("accuracy", help="sweep dt x method x stepping, DOP853 and the modal sum as peers")
+    b.add_argument("--N", type=_positive_int_list, help="chain sizes (default 20,100,1000; --quick: 20,100)")
+    b.add_argument("--quick", action="store_true", help="fewer steps and tolerances (under 2 minutes)")
+    b.add_argument("--out", default="benchmarks/accuracy", help="output folder (default benchmarks/accuracy)")
+    b.set_defaults(func=cmd_bench_accuracy)
 
     p = sub.add_parser("doctor", help="check ngspice, its shared library and PySpice")
     p.set_defaults(func=cmd_doctor)

@@ -87,6 +87,12 @@ class SimulationReport:
     waveforms: Waveforms
     comparison: Comparison
     timings: dict = field(default_factory=dict)
+    #: Requested accuracy (None when dt was given) and the error model's
+    #: numbers (lcchain.accuracy): predicted, integration and physics error.
+    accuracy: float | None = None
+    predicted_error: float | None = None
+    integration_error: float | None = None
+    physics_error: float | None = None
 
     def to_dict(self) -> dict:
         """The JSON report of ``lcchain simulate --json``."""
@@ -112,13 +118,17 @@ class SimulationReport:
             "max_abs_error_last": self.comparison.max_abs_error_last,
             "arrivals": [a.to_dict() for a in self.comparison.arrivals],
             "timings": dict(self.timings),
+            "accuracy": self.accuracy,
+            "predicted_error": self.predicted_error,
+            "integration_error": self.integration_error,
+            "physics_error": self.physics_error,
         }
 
 
 def simulate(
     chain: Chain,
     *,
-    dt: float,
+    dt: float | None = None,
     transits: int = 1,
     excitation: Excitation = "kick",
     L0: float = 10e-6,
@@ -129,14 +139,15 @@ def simulate(
     title: str | None = None,
     timeout: float = 3600.0,
     modes: Modes | None = None,
+    accuracy: float | None = None,
 ) -> SimulationReport:
     """Simulate the chain's LC ladder in ngspice and compare with theory.
 
     Parameters
     ----------
     chain : Chain
-    dt : float
-        Maximum time step in units of sqrt(L0 C0).
+    dt : float, optional
+        Maximum time step in units of sqrt(L0 C0); give it or ``accuracy``.
     transits : int
         Arrivals to watch (1 = until the pulse reaches the far end).
     excitation : {"kick", "displacement"}
@@ -152,16 +163,32 @@ def simulate(
         Seconds before ngspice is killed.
     modes : Modes, optional
         Precomputed modes of ``chain``.
+    accuracy : float, optional
+        Wanted max |simulation - theory| (dimensionless); dt is then
+        :func:`lcchain.accuracy.dt_for_accuracy` (give dt or accuracy, not both).
+
+    Warns
+    -----
+    lcchain.accuracy.AccuracyWarning
+        Gear over more than one transit; a dt whose predicted error exceeds 0.1.
     """
     from . import ngspice
+    from .accuracy import dt_for_accuracy, predicted_error, split_error, warn_if_unreliable
+
+    if (dt is None) == (accuracy is None):
+        raise ParameterError("dt/accuracy", (dt, accuracy), "exactly one of dt and accuracy")
 
     if backend not in BACKENDS:
         raise ParameterError("backend", backend, " | ".join(BACKENDS))
     clock = time.perf_counter()
     modes = modes if modes is not None else normal_modes(chain)
+    if accuracy is not None:
+        dt = dt_for_accuracy(modes, accuracy, stop_time(modes, transits), method=method)
     text, ladder, options = make_netlist(chain, dt=dt, transits=transits, excitation=excitation, L0=L0, C0=C0,
                                          I0=I0, method=method, title=title, modes=modes)
     tstop = options.tstop
+    predicted = predicted_error(modes, options.dt, tstop, method=options.method)
+    warn_if_unreliable(method=options.method, transits=transits, predicted=predicted)
     names = probe_names(chain.N, "ends")
     built = time.perf_counter()
     result = ngspice.run(text, names, tstop * ladder.time_unit, backend=backend, timeout=timeout)
@@ -169,6 +196,7 @@ def simulate(
     waveforms = normalise(result.time, result.vectors[names[0]], result.vectors[names[1]],
                           time_unit=ladder.time_unit, excitation=excitation, I0=I0)
     comparison = compare(waveforms, modes, transits)
+    split = split_error(waveforms, modes, options.dt, method=options.method)
     done = time.perf_counter()
     timings = {
         "netlist_and_modes_s": built - clock,
@@ -178,4 +206,6 @@ def simulate(
         "total_s": done - clock,
     }
     timings["overhead_fraction"] = (timings["total_s"] - result.wall_s) / result.wall_s
-    return SimulationReport(chain, ladder, options, excitation, transits, text, result, waveforms, comparison, timings)
+    return SimulationReport(chain, ladder, options, excitation, transits, text, result, waveforms, comparison, timings,
+                            accuracy=accuracy, predicted_error=predicted, integration_error=split.integration_error,
+                            physics_error=split.physics_error)
