@@ -28,12 +28,11 @@ from __future__ import annotations
 
 import hashlib
 import math
-from dataclasses import dataclass, field
-from typing import Literal
+from dataclasses import dataclass
 
 from .chain import Chain
 from .errors import ParameterError
-from .types import EXCITATIONS, Excitation
+from .types import GAUSSIAN_CENTRE, EXCITATION_KINDS, METHODS, PROBES, PULSE_SHAPES, ExcitationKind, Method, Probes, PulseShape
 
 __all__ = [
     "Ladder",
@@ -46,12 +45,6 @@ __all__ = [
     "Probes",
 ]
 
-Probes = Literal["ends", "all"]
-PROBES = ("ends", "all")
-Method = Literal["trap", "gear"]
-PulseShape = Literal["gaussian", "rect"]
-PULSE_SHAPES = ("gaussian", "rect")
-METHODS = ("trap", "gear")
 
 
 def number(value: float) -> str:
@@ -187,13 +180,13 @@ def netlist_text(
     ladder: Ladder,
     options: SimulationOptions,
     *,
-    excitation: Excitation = "kick",
+    excitation: ExcitationKind = "kick",
     I0: float = 1e-3,
     probes: Probes = "ends",
     title: str = "lcchain LC ladder",
     comments: tuple[str, ...] = (),
     Q: float | None = None,
-    pulse: tuple[str, float] | None = None,
+    pulse: tuple[PulseShape, float] | None = None,
 ) -> str:
     """The SPICE netlist of the ladder and its transient analysis.
 
@@ -203,8 +196,9 @@ def netlist_text(
         Chain and bulk values L0 (H), C0 (F).
     options : SimulationOptions
         Step, stop time (units of sqrt(L0 C0)) and integrator settings.
-    excitation : {"kick", "displacement"}
-        Initial current I0 in L_1, or initial charge Q0 = I0 sqrt(L0 C0) in loop 1.
+    excitation : {"kick", "displacement", "pulse"}
+        Initial current I0 in L_1, initial charge Q0 = I0 sqrt(L0 C0) in
+        loop 1, or (with ``pulse``) a voltage source in loop 1.
     I0 : float
         Scale of the excitation, ampere (> 0).
     probes : {"ends", "all"}
@@ -228,8 +222,8 @@ def netlist_text(
     str
         Deterministic text ending in ``.end`` and a newline.
     """
-    if excitation not in (*EXCITATIONS, "pulse"):
-        raise ParameterError("excitation", excitation, " | ".join((*EXCITATIONS, "pulse")))
+    if excitation not in EXCITATION_KINDS:
+        raise ParameterError("excitation", excitation, " | ".join(EXCITATION_KINDS))
     if (excitation == "pulse") != (pulse is not None):
         raise ParameterError("pulse", pulse, "(shape, width) exactly when excitation is 'pulse'")
     if pulse is not None:
@@ -279,7 +273,7 @@ def netlist_text(
         shape, width = pulse
         area = L[0] * I0  # volt-seconds: the source gives L_1 the current I0
         if shape == "gaussian":
-            sigma, centre = width * unit, 4 * width * unit
+            sigma, centre = width * unit, GAUSSIAN_CENTRE * width * unit
             peak = area / (sigma * math.sqrt(2 * math.pi))
             lines.append(f"B1 s1 {ladder.node(0)} V={number(peak)}*exp(-0.5*((time-{number(centre)})/{number(sigma)})^2)")
         else:

@@ -29,8 +29,9 @@ from dataclasses import MISSING, dataclass, field, fields
 from typing import Any, Literal, get_args
 
 from .errors import ParameterError
-from .netlist import METHODS, PROBES, Method, Probes, check_user_text
-from .types import BACKENDS, CASES, Backend, Case
+from .netlist import check_user_text
+from .types import (BACKENDS, CASES, EXCITATION_KINDS, METHODS, PROBES, PULSE_SHAPES, Backend, Case, ExcitationKind,
+                    Method, Probes, PulseShape)
 
 __all__ = [
     "ExcitationKind",
@@ -59,17 +60,11 @@ __all__ = [
     "parse_scene",
 ]
 
-#: How a scene sets the chain in motion: the two initial conditions, or a voltage pulse in loop 1.
-ExcitationKind = Literal["kick", "displacement", "pulse"]
-#: The pulse's shape g(t), of unit area: gaussian (standard deviation ``width``, centred at 4*width) or rect (0..width).
-PulseShape = Literal["gaussian", "rect"]
 #: The IEC 60063 preferred-number series every L and C can be rounded to.
 ESeries = Literal["E12", "E24", "E96"]
 #: The pictures a scene can ask for.
 PlotKind = Literal["overlay", "spacetime", "histogram"]
 
-EXCITATION_KINDS: tuple[str, ...] = get_args(ExcitationKind)
-PULSE_SHAPES: tuple[str, ...] = get_args(PulseShape)
 E_SERIES: tuple[str, ...] = get_args(ESeries)
 PLOT_KINDS: tuple[str, ...] = get_args(PlotKind)
 

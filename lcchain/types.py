@@ -1,4 +1,4 @@
-"""The option sets of lcchain, in one place."""
+"""The option sets of lcchain, and the definition of its pulse, in one place."""
 
 from __future__ import annotations
 
@@ -14,9 +14,24 @@ Backend = Literal["batch", "shared"]
 ModeMethod = Literal["auto", "exact", "closed-form"]
 #: The two optimised designs of the paper (Tables I and II).
 DesignCase = Literal["one-mass", "two-mass"]
+#: What sets loop 1 in motion in a scene or a response: the two initial conditions, or a voltage pulse.
+ExcitationKind = Literal["kick", "displacement", "pulse"]
+#: The pulse's shape g(t), of unit area: gaussian (standard deviation ``width``, centred at 4 width) or rect on [0, width).
+PulseShape = Literal["gaussian", "rect"]
+#: Which loop currents are saved (and which loops a response returns): loops 1 and N, or every loop.
+Probes = Literal["ends", "all"]
+#: ngspice's integration method.
+Method = Literal["trap", "gear"]
 
 CASES: tuple[str, ...] = get_args(Case)
 EXCITATIONS: tuple[str, ...] = get_args(Excitation)
 BACKENDS: tuple[str, ...] = get_args(Backend)
 MODE_METHODS: tuple[str, ...] = get_args(ModeMethod)
 DESIGN_CASES: tuple[str, ...] = get_args(DesignCase)
+EXCITATION_KINDS: tuple[str, ...] = get_args(ExcitationKind)
+PULSE_SHAPES: tuple[str, ...] = get_args(PulseShape)
+PROBES: tuple[str, ...] = get_args(Probes)
+METHODS: tuple[str, ...] = get_args(Method)
+
+#: The gaussian pulse g(t) is centred at GAUSSIAN_CENTRE standard deviations (netlist, theory and scenes).
+GAUSSIAN_CENTRE = 4.0
