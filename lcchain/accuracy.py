@@ -116,6 +116,13 @@ def _end_weights(modes: Modes, ends: Sequence[str]) -> list[np.ndarray]:
     return [modes.density if end == "first" else modes.transfer for end in ends]
 
 
+def _check_weights(weights: Sequence[np.ndarray], N: int) -> list[np.ndarray]:
+    rows = [np.asarray(w, dtype=float) for w in weights]
+    if not rows or any(w.shape != (N,) or not np.all(np.isfinite(w)) for w in rows):
+        raise ParameterError("weights", f"{len(rows)} arrays", f"one or more finite arrays of N = {N} modal weights")
+    return rows
+
+
 def warped_frequencies(omega: np.ndarray, dt: float) -> np.ndarray:
     """omega~ = (2/dt) atan(omega dt / 2): the trapezoidal rule's frequencies at a fixed step.
 
@@ -152,7 +159,7 @@ def _grid(dt: float, tstop: float) -> np.ndarray:
 
 
 def predicted_error(modes: Modes, dt: float, tstop: float, *, ends: Sequence[str] = _ENDS,
-                    method: str = "trap") -> float:
+                    method: str = "trap", weights: Sequence[np.ndarray] | None = None) -> float:
     """Predicted max |simulation - exact theory| of a fixed-step run.
 
     Parameters
@@ -167,11 +174,15 @@ def predicted_error(modes: Modes, dt: float, tstop: float, *, ends: Sequence[str
         End signals compared (the return amplitude at loop 1, alpha_N at loop N).
     method : {"trap", "gear"}
         Gear is :data:`GEAR_ERROR_FACTOR` times the trapezoidal prediction.
+    weights : sequence of ndarray, optional
+        Modal weights of the compared signals, one array of N per signal
+        (e.g. sqrt(m_1/m_i) U_n1 U_ni for interior loops i, whose error can be
+        4 times the ends'); replaces ``ends``.
 
     Returns
     -------
     float
-        max over the ends and the time points k dt <= tstop of
+        max over the signals and the time points k dt <= tstop of
         |warped theory - exact theory| (dimensionless, relative to the kick).
     """
     dt = _check_dt(dt)
@@ -179,15 +190,17 @@ def predicted_error(modes: Modes, dt: float, tstop: float, *, ends: Sequence[str
     _check_method(method)
     t = _grid(dt, tstop)
     omega_w = warped_frequencies(modes.omega, dt)
+    signals = _end_weights(modes, ends) if weights is None else _check_weights(weights, modes.N)
     worst = 0.0
-    for weights in _end_weights(modes, ends):
-        diff = cosine_sum(weights, omega_w, t) - cosine_sum(weights, modes.omega, t)
+    for w in signals:
+        diff = cosine_sum(w, omega_w, t) - cosine_sum(w, modes.omega, t)
         worst = max(worst, float(np.max(np.abs(diff))))
     return worst * (GEAR_ERROR_FACTOR if method == "gear" else 1.0)
 
 
 def dt_for_accuracy(modes: Modes, accuracy: float, tstop: float, *, method: str = "trap",
-                    safety: float = SAFETY, ends: Sequence[str] = _ENDS) -> float:
+                    safety: float = SAFETY, ends: Sequence[str] = _ENDS,
+                    weights: Sequence[np.ndarray] | None = None) -> float:
     """Largest fixed step whose predicted error is at most ``safety * accuracy``.
 
     The error grows like dt^2, so the search starts at dt = 0.05, rescales
@@ -205,6 +218,8 @@ def dt_for_accuracy(modes: Modes, accuracy: float, tstop: float, *, method: str 
     method : {"trap", "gear"}
     safety : float
         Fraction of ``accuracy`` aimed at, 0 < safety <= 1 (see :data:`SAFETY`).
+    ends, weights
+        The compared signals, as for :func:`predicted_error`.
 
     Returns
     -------
@@ -219,7 +234,7 @@ def dt_for_accuracy(modes: Modes, accuracy: float, tstop: float, *, method: str 
     target = float(accuracy) * safety
 
     def error(dt: float) -> float:
-        return max(predicted_error(modes, dt, tstop, ends=ends, method=method), 1e-300)
+        return max(predicted_error(modes, dt, tstop, ends=ends, method=method, weights=weights), 1e-300)
 
     e_max = error(MAX_DT)
     if e_max <= target:

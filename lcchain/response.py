@@ -97,6 +97,7 @@ __all__ = [
     "GAUSSIAN_CENTRE",
     "GAUSSIAN_SPAN",
     "linear_response",
+    "loop_weights",
     "pulse_end",
 ]
 
@@ -291,8 +292,13 @@ def _pulse_inside(weights, omega, gamma, shape, width, edges, step, x, v, times)
 
 
 # ---------------------------------------------------------------------- modes
-def _all_loops(chain: Chain) -> tuple[np.ndarray, np.ndarray]:
-    """Frequencies and weights sqrt(m_1/m_i) U_ni U_n1, shape (N modes, N loops)."""
+def loop_weights(chain: Chain) -> tuple[np.ndarray, np.ndarray]:
+    """Frequencies omega_n and every loop's weights sqrt(m_1/m_i) U_ni U_n1, shape (N modes, N loops).
+
+    Column i - 1 is loop i's modal weights in Eq. (1) of the module
+    docstring (column 0 the mode density, column N - 1 the end-to-end
+    transfer).  Needs every eigenvector: N <= EXACT_MAX_N.
+    """
     if chain.N > EXACT_MAX_N:
         raise ParameterError("N", chain.N, f"N <= {EXACT_MAX_N} for every loop's response (loops='all')")
     diagonal, off = tridiagonal(chain)
@@ -382,7 +388,7 @@ def linear_response(
     gamma = 0.0 if Q is None else 1.0 / Q
 
     if loops == "all":
-        omega, weights = _all_loops(chain)
+        omega, weights = loop_weights(chain)
     else:
         if modes is None:
             modes = exact_modes(chain)
