@@ -248,6 +248,57 @@ def cmd_simulate(args) -> int:
     return EXIT_OK
 
 
+def _print_scene_summary(scene, result) -> None:
+    report = result.report
+    count = len(report["samples"])
+    print(scene.title)
+    print(f"N = {report['N']}, dt = {report['dt']:.4g}, {count} sample{'s' if count > 1 else ''}, "
+          f"ngspice {report['ngspice_version']}, {report['wall_s']['total']:.2f} s")
+    if "max_abs_error" in report:
+        print(f"max |simulation - theory| = {report['max_abs_error']:.3e}")
+        print(f"{'arrival':>7} {'end':>5} {'t theory':>12} {'t sim':>12} {'peak theory':>12} {'peak sim':>12}")
+        for a in report["arrivals"]:
+            print(f"{a['index']:>7} {a['end']:>5} {a['t_theory']:12.4f} {a['t_sim']:12.4f} "
+                  f"{a['peak_theory']:12.6f} {a['peak_sim']:12.6f}")
+    if "transmitted_peak" in report:
+        p = report["transmitted_peak"]
+        print(f"transmitted peak over {p['count']} samples: mean {p['mean']:.5f}, std {p['std']:.5f}, "
+              f"worst {p['worst']:.5f} (nominal theory {p['theory_nominal']:.5f})")
+    for record in report["samples"]:
+        if "error" in record:
+            print(f"sample {record['sample']} failed: {record['error']}", file=sys.stderr)
+    for path in result.files:
+        print(f"wrote {path}")
+
+
+def cmd_run(args) -> int:
+    from .scene import load_scene
+    from .scene_run import overlay_panel, run_scene
+
+    if len(args.scene) > 1 and (args.netlist_out or args.waveform_out):
+        option = "--netlist-out" if args.netlist_out else "--waveform-out"
+        raise ParameterError(option, args.netlist_out or args.waveform_out, "one scene only (got "
+                             f"{len(args.scene)})")
+    scenes = [load_scene(path) for path in args.scene]  # every file checked before anything runs
+    results = []
+    for scene in scenes:
+        result = run_scene(scene, netlist_out=args.netlist_out, waveform_out=args.waveform_out)
+        results.append(result)
+        if not args.json:
+            _print_scene_summary(scene, result)
+    if args.side_by_side:
+        from .plots import side_by_side
+
+        panels = [overlay_panel(scene, result) for scene, result in zip(scenes, results)]
+        side_by_side([p for p in panels if p is not None], path=args.side_by_side)
+        if not args.json:
+            print(f"wrote {args.side_by_side}")
+    if args.json:
+        reports = [r.report for r in results]
+        _emit_json(reports[0] if len(reports) == 1 else reports)
+    return EXIT_OK if all(r.ok for r in results) else EXIT_FAILED
+
+
 def cmd_bench_accuracy(args) -> int:
     from .bench import bench_accuracy
 
@@ -333,6 +384,15 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--waveform-out", metavar="FILE", help="CSV t,first,last (dimensionless)")
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=cmd_simulate)
+
+    p = sub.add_parser("run", help="run a scene (TOML experiment description)")
+    p.add_argument("scene", metavar="SCENE.toml", nargs="+", help="one or more scene files, run in order")
+    p.add_argument("--json", action="store_true", help="print the report as JSON (a list for several scenes)")
+    p.add_argument("--side-by-side", metavar="FILE",
+                   help="PNG: the scenes' overlays next to each other on shared axes")
+    p.add_argument("--netlist-out", metavar="FILE", help="keep the (first sample's) netlist")
+    p.add_argument("--waveform-out", metavar="FILE", help="CSV t,first,last (first sample, dimensionless)")
+    p.set_defaults(func=cmd_run)
 
     p = sub.add_parser("bench", help="benchmarks (accuracy: what each digit costs per method and N)")
     bench = p.add_subparsers(dest="bench", metavar="BENCH", parser_class=_Parser)

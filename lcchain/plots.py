@@ -26,7 +26,7 @@ if TYPE_CHECKING:
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
-__all__ = ["overlay", "spacetime", "histogram", "pareto", "mode_density", "TIME_LABEL"]
+__all__ = ["overlay", "side_by_side", "spacetime", "histogram", "pareto", "mode_density", "TIME_LABEL"]
 
 #: Label of every time axis.
 TIME_LABEL = r"$t\,/\sqrt{L_0 C_0}$"
@@ -202,6 +202,50 @@ def overlay(t_sim, y_sim, t_theory, y_theory, *, residual=None, t_residual=None,
         bottom.grid(True, **_GRID)
         bottom.legend(loc="upper right", fontsize=8)
         bottom.ticklabel_format(axis="y", style="sci", scilimits=(-2, 3))
+    return _finish(fig, path)
+
+
+def side_by_side(panels: Sequence[Mapping], *, title: str = "",
+                 path: str | os.PathLike | None = None) -> Figure:
+    """Several overlays next to each other, on shared axes (e.g. uniform against optimal ends).
+
+    Parameters
+    ----------
+    panels : sequence of mapping
+        One per column, with keys ``t`` (time, units of sqrt(L0 C0)),
+        ``sim`` and ``theory`` (the signal at those times, dimensionless),
+        ``title`` and optionally ``arrivals`` and ``ylabel`` as for
+        :func:`overlay`.  At least one.
+    title : str
+        Title over all the columns.
+    path : str or path-like, optional
+        Save the figure there (PNG by the suffix); the directory must exist.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    if isinstance(panels, Mapping) or not isinstance(panels, Sequence) or not panels:
+        raise ParameterError("panels", type(panels).__name__, "a non-empty sequence of mappings")
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(FIGSIZE[0] * 0.75 * len(panels), FIGSIZE[1]), layout="constrained")
+    axes = fig.subplots(1, len(panels), sharex=True, sharey=True, squeeze=False)[0]
+    for i, panel in enumerate(panels):
+        if not isinstance(panel, Mapping) or not {"t", "sim", "theory", "title"} <= panel.keys():
+            keys = sorted(panel) if isinstance(panel, Mapping) else type(panel).__name__
+            raise ParameterError(f"panels[{i}]", keys, "a mapping with keys t, sim, theory, title")
+    for i, (ax, panel) in enumerate(zip(axes, panels)):
+        overlay(panel["t"], panel["sim"], panel["t"], panel["theory"], arrivals=panel.get("arrivals", ()),
+                title=str(panel["title"]), ylabel=panel.get("ylabel", r"$I_N\,/\,I_1(0)$") if i == 0 else "",
+                ax=ax)
+    # Shared y: each overlay set its own head room; span every panel's data instead.
+    low = min(float(min(np.min(p["sim"]), np.min(p["theory"]))) for p in panels)
+    high = max(float(max(np.max(p["sim"]), np.max(p["theory"]))) for p in panels)
+    span = high - low or 1.0
+    axes[0].set_ylim(low - 0.05 * span, high + 0.35 * span)
+    if title:
+        fig.suptitle(title)
     return _finish(fig, path)
 
 
