@@ -1,6 +1,9 @@
 """Hard cases that must stay numerically sound (issue 4), in real ngspice and in theory.
 
-Each slow case has a short version that runs in CI.  Expected values: energy
+Each large case has a smaller companion; both run in CI (the large ones take
+8 s together: 10 transits of N = 100 with trap and gear, N = 10000 in
+ngspice, the closed form at N = 500000, 200 transits of the perfect N = 4).
+Expected values: energy
 and the zero mode are conserved by the ideal ladder (and exactly by the
 trapezoidal rule, a Cayley map); the perfect chains of Sec. II.C transmit
 fully at every odd multiple of their transit time (equally spaced
@@ -60,7 +63,6 @@ def test_ten_transits_energy_short():
 
 
 @pytest.mark.ngspice
-@pytest.mark.slow
 def test_ten_transits_energy():
     _energy_case(100, 10)
 
@@ -104,7 +106,6 @@ def test_long_ladder_short_run_short():
 
 
 @pytest.mark.ngspice
-@pytest.mark.slow
 def test_long_ladder_short_run():
     _long_ladder(10000)
 
@@ -128,7 +129,6 @@ def test_theory_at_n_100000(r, w):
     _closed_form_sound(100_000, r, w)
 
 
-@pytest.mark.slow
 @pytest.mark.parametrize("r, w", EXTREME_RW)
 def test_theory_at_n_500000(r, w):
     _closed_form_sound(500_000, r, w)
@@ -181,7 +181,6 @@ def test_perfect_chain_twenty_transits():
 
 
 @pytest.mark.ngspice
-@pytest.mark.slow
 def test_perfect_chain_two_hundred_transits():
     _perfect_periodic(200, 0.005, ATOL_TRAP_MODEL_LONG)
 

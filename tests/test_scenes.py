@@ -355,3 +355,14 @@ def test_every_scene_file_is_checked_before_anything_runs(tmp_path: Path, capsys
     captured = capsys.readouterr()
     assert captured.out == ""  # the good first scene did not run
     assert "chain.N = 2 is not allowed" in captured.err
+
+
+@pytest.mark.ngspice
+def test_a_short_rect_pulse_tends_to_the_kick() -> None:
+    # g of unit area and width w -> 0 gives L_1 the current I0: a kick, delayed by about w / 2.
+    kick = run_scene(_scene(), write_outputs=False).report["arrivals"][0]
+    width = 0.02
+    pulse = run_scene(_scene({"excitation": {"kind": "pulse", "shape": "rect", "width": width}}),
+                      write_outputs=False).report["arrivals"][0]
+    assert pulse["peak_sim"] == pytest.approx(kick["peak_sim"], abs=ACCURACY_COARSE)
+    assert pulse["t_sim"] - kick["t_sim"] == pytest.approx(width / 2, abs=0.05)
