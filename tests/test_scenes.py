@@ -26,6 +26,7 @@ from lcchain.errors import ParameterError
 from lcchain.scene import parse_scene
 from lcchain.scene_run import run_scene, scene_netlist, scene_plan
 
+from test_ngspice import _check_kept_and_remove
 from tolerances_scenes import ACCURACY_COARSE, ACCURACY_FINE, MIN_ERROR_WRONG_THEORY
 
 SCENES = Path(__file__).resolve().parent.parent / "examples" / "scenes"
@@ -272,6 +273,7 @@ def test_a_failed_sample_is_recorded_and_the_others_still_run(monkeypatch, tmp_p
     assert not result.ok
     records = json.loads((tmp_path / "r.json").read_text(encoding="utf-8"))["samples"]
     assert "error" in records[1] and "model" in records[1]["error"]
+    _check_kept_and_remove(records[1]["error"])  # the failed run's files are kept for the user
     assert "error" not in records[0] and "error" not in records[2]
     assert records[2]["max_abs_error"] <= ACCURACY_COARSE
 
