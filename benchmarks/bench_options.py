@@ -1,0 +1,88 @@
+"""ngspice options on this circuit: maxord, interp, KLU and chgtol (issue 4's claims, re-measured).
+
+Run from the repository root:
+
+    .venv/bin/python benchmarks/bench_options.py > benchmarks/options.md
+
+Chain: the optimal two-mass chain N = 100, one transit, a kick.  Errors are
+max |I_N/I0 - alpha_N(t)| at ngspice's points.
+"""
+
+import re
+
+import numpy as np
+
+from lcchain.cases import chain_for_case
+from lcchain.compare import normalise
+from lcchain.errors import LcchainError
+from lcchain.modes import normal_modes, transmission_amplitude
+from lcchain.netlist import Ladder, SimulationOptions, netlist_text, probe_names
+from lcchain.ngspice import run
+from lcchain.simulation import stop_time
+
+N = 100
+CHAIN = chain_for_case("two-mass", N)
+MODES = normal_modes(CHAIN)
+TSTOP = stop_time(MODES, 1)
+NAMES = probe_names(N)
+SCALES = {"10 uH / 10 nF / 1 mA": (1e-5, 1e-8, 1e-3), "1 nH / 1 pF / 1 uA": (1e-9, 1e-12, 1e-6)}
+
+
+def netlist(scale=SCALES["10 uH / 10 nF / 1 mA"], *, extra="", adaptive=False, strip=(), **options):
+    L0, C0, I0 = scale
+    ladder = Ladder(CHAIN, L0, C0)
+    unit = ladder.time_unit
+    dt = options.pop("dt", 0.1)
+    text = netlist_text(ladder, SimulationOptions(dt=dt, tstop=TSTOP, **options), I0=I0)
+    tran = next(line for line in text.splitlines() if line.startswith(".tran"))
+    if adaptive:  # as lcchain bench accuracy: maximum step tstop/50, ngspice's own default
+        text = text.replace(tran, f".tran {dt * unit!r} {TSTOP * unit!r} 0 {TSTOP / 50 * unit!r} uic")
+    for key in strip:  # back to ngspice's default for this option
+        text = re.sub(rf" {key}=\S+", "", text)
+    if extra:
+        text = text.replace(".tran", extra + "\n.tran")
+    return text, ladder, I0
+
+
+def measure(text, ladder, I0):
+    result = run(text, NAMES, TSTOP * ladder.time_unit)
+    w = normalise(result.time, result.vectors[NAMES[0]], result.vectors[NAMES[1]], time_unit=ladder.time_unit,
+                  excitation="kick", I0=I0)
+    return result, w, float(np.max(np.abs(w.last - transmission_amplitude(MODES, w.t))))
+
+
+def main() -> None:
+    print("# ngspice options on the N = 100 two-mass ladder\n")
+    print("Command: `.venv/bin/python benchmarks/bench_options.py > benchmarks/options.md`\n")
+
+    _, g2, e2 = measure(*netlist(method="gear", maxord=2))
+    _, g5, e5 = measure(*netlist(method="gear", maxord=5))
+    print("## maxord (gear, dt = 0.1)\n")
+    print(f"maxord 2: error {e2:.3e}; maxord 5: error {e5:.3e}; "
+          f"max |difference| of the waveforms {np.max(np.abs(g2.last - g5.last)):.1e}.\n")
+
+    print("## .options interp (trap, dt = 0.1)\n")
+    try:
+        measure(*netlist(extra=".options interp"))
+        print("the run was read without error.\n")
+    except LcchainError as error:
+        print(f"rejected: {str(error).splitlines()[0]}\n")
+
+    print("## KLU against Sparse (trap, dt = 0.02; ngspice ignores unknown options silently)\n")
+    for option in (".options klu", ".options sparse"):
+        walls = [measure(*netlist(extra=option, dt=0.02))[0].wall_s for _ in range(3)]
+        print(f"- `{option}`: ngspice wall {min(walls):.3f} s (best of 3)")
+    print()
+
+    print("## chgtol and adaptive stepping (trap, maximum step tstop/50)\n")
+    print("| scale | tolerances | points | error |")
+    print("|---|---|---:|---:|")
+    for label, scale in SCALES.items():
+        for strip, what in (((), "lcchain's (scaled to I0)"), (("chgtol",), "default chgtol"),
+                            (("chgtol", "abstol", "vntol"), "all defaults")):
+            result, _, error = measure(*netlist(scale, adaptive=True, strip=strip))
+            print(f"| {label} | {what} | {result.points} | {error:.3g} |")
+
+
+if __name__ == "__main__":
+    main()
