@@ -30,7 +30,7 @@ from lcchain.errors import ParameterError
 from lcchain.modes import cosine_sum, normal_modes
 from lcchain.simulation import simulate, stop_time
 
-from tolerances_accuracy import (ATOL_TRAP_MODEL, ATOL_WARPED_DT_0_01, ATOL_WARPED_DT_0_1, GEAR_FACTOR_RANGE,
+from tolerances import (ATOL_TRAP_MODEL, ATOL_WARPED_DT_0_01, ATOL_WARPED_DT_0_1, GEAR_FACTOR_RANGE,
                                  MIN_INTEGRATION_ERROR_OF_A_BUG, PREDICTION_FACTOR)
 
 

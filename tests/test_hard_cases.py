@@ -26,10 +26,10 @@ from lcchain.netlist import Ladder, SimulationOptions, netlist_text, probe_names
 from lcchain.ngspice import run
 from lcchain.simulation import simulate
 
-from tolerances_accuracy import (ATOL_CLOSED_FORM_EXTREME, ATOL_DENSITY_SUM, ATOL_TRAP_MODEL, ATOL_TRAP_MODEL_LONG,
+from tolerances import (ATOL_CLOSED_FORM_EXTREME, ATOL_DENSITY_SUM, ATOL_TRAP_MODEL, ATOL_TRAP_MODEL_LONG,
                                  MIN_ENERGY_LOSS_GEAR,
                                  PREDICTION_FACTOR, RTOL_ENERGY_TRAP)
-from tolerances_circuit import ATOL_SCALE_INVARIANCE, RTOL_CONSERVED
+from tolerances import ATOL_SCALE_INVARIANCE, RTOL_CONSERVED
 
 
 # ------------------------------------------------------------------ uniform chains

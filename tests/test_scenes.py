@@ -27,7 +27,7 @@ from lcchain.scene import parse_scene
 from lcchain.scene_run import run_scene, scene_netlist, scene_plan
 
 from test_ngspice import _check_kept_and_remove
-from tolerances_scenes import ACCURACY_COARSE, ACCURACY_FINE, MIN_ERROR_WRONG_THEORY
+from tolerances import ACCURACY_COARSE, ACCURACY_FINE, MIN_ERROR_WRONG_THEORY
 
 SCENES = Path(__file__).resolve().parent.parent / "examples" / "scenes"
 EXAMPLES = sorted(SCENES.glob("*.toml"))

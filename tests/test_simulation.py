@@ -10,7 +10,7 @@ from lcchain.netlist import Ladder, SimulationOptions, netlist_text, probe_names
 from lcchain.ngspice import run
 from lcchain.simulation import simulate
 
-from tolerances_circuit import (ATOL_PERFECT_PEAK, ATOL_SCALE_INVARIANCE, ATOL_SCALE_INVARIANCE_TIME, RTOL_CONSERVED,
+from tolerances import (ATOL_PERFECT_PEAK, ATOL_SCALE_INVARIANCE, ATOL_SCALE_INVARIANCE_TIME, RTOL_CONSERVED,
                                 TRAP_ERROR_COEFFICIENT_FIRST_TRANSIT)
 
 pytestmark = pytest.mark.ngspice
