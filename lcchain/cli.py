@@ -13,7 +13,7 @@ import math
 import sys
 from fractions import Fraction
 from pathlib import Path
-from typing import Sequence
+from collections.abc import Callable, Sequence
 
 from .errors import LcchainError, ParameterError, SimulationError, SimulatorMissingError
 from .types import BACKENDS, DESIGN_CASES, EXCITATIONS
@@ -61,15 +61,33 @@ def _float(name: str):
     return parse
 
 
+def _draw_bar(fraction: float, text: str) -> None:
+    width = 30
+    filled = int(width * min(max(fraction, 0.0), 1.0))
+    end = "\n" if fraction >= 1 else ""
+    sys.stderr.write(f"\r[{'#' * filled}{'.' * (width - filled)}] {text:<28}{end}")
+    sys.stderr.flush()
+
+
 def _progress(done: int, total: int, label: str) -> None:
     """A one-line progress indicator on a terminal (nothing when piped)."""
+    if sys.stderr.isatty():
+        _draw_bar(done / max(total, 1), f"{done}/{total} {label}")
+
+
+def _fraction_bar(label: str) -> Callable[[float], None] | None:
+    """A progress callback for long runs: a bar on a terminal, None when piped."""
     if not sys.stderr.isatty():
-        return
-    width = 30
-    filled = int(width * done / max(total, 1))
-    end = "\n" if done >= total else ""
-    sys.stderr.write(f"\r[{'#' * filled}{'.' * (width - filled)}] {done}/{total} {label:<20}{end}")
-    sys.stderr.flush()
+        return None
+    shown: list[int] = []
+
+    def show(fraction: float) -> None:
+        percent = int(100 * fraction)
+        if not shown or percent != shown[-1]:  # once per percent, and 100% once
+            shown.append(percent)
+            _draw_bar(fraction, f"{percent:3d}% {label}")
+
+    return show
 
 
 def _write_text(path: str, text: str) -> None:
@@ -215,7 +233,7 @@ def cmd_simulate(args) -> int:
         warnings.simplefilter("always")
         report = simulate(chain, dt=dt, accuracy=args.accuracy, transits=args.transits,
                           excitation=args.excitation, L0=args.L0, C0=args.C0, backend=args.backend,
-                          method=args.method, title=args.title)
+                          method=args.method, title=args.title, progress=_fraction_bar("ngspice"))
     for warning in caught:
         print(f"lcchain: warning: {warning.message}", file=sys.stderr)
     if args.netlist_out:
@@ -282,7 +300,8 @@ def cmd_run(args) -> int:
     scenes = [load_scene(path) for path in args.scene]  # every file checked before anything runs
     results = []
     for scene in scenes:
-        result = run_scene(scene, netlist_out=args.netlist_out, waveform_out=args.waveform_out)
+        result = run_scene(scene, netlist_out=args.netlist_out, waveform_out=args.waveform_out,
+                           progress=_fraction_bar(Path(scene.source).name if scene.source else "scene"))
         results.append(result)
         if not args.json:
             _print_scene_summary(scene, result)

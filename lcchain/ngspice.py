@@ -102,6 +102,9 @@ LOG_MAX_CHARS = 8000
 #: At most this many lines of ngspice's output are quoted in an error message.
 ERROR_MAX_LINES = 30
 
+#: Seconds between progress reports of a batch run (when a progress callback is given).
+PROGRESS_INTERVAL = 0.5
+_REFERENCE_VALUE = re.compile(r"Reference value\s*:\s*([-+0-9.eE]+)")
 _NETLIST_FILE = "circuit.cir"
 _RAW_FILE = "out.raw"
 _STDOUT_FILE = "ngspice.stdout.txt"
@@ -430,7 +433,9 @@ def run(
     timeout : float
         Seconds after which the simulator process is killed.
     progress : callable, optional
-        Called with 0.0 before and 1.0 after a successful run.
+        Called with the fraction of ``tstop`` simulated: 0.0 before, then
+        (batch backend) about every :data:`PROGRESS_INTERVAL` seconds from
+        ngspice's ``Reference value`` lines, and 1.0 after a successful run.
 
     Returns
     -------
@@ -454,7 +459,7 @@ def run(
     try:
         Path(workdir, _NETLIST_FILE).write_text(netlist, encoding="utf-8")
         if backend == "batch":
-            raw = _run_batch(workdir, timeout)
+            raw = _run_batch(workdir, timeout, float(tstop), progress)
         else:
             raw = _run_shared(workdir, netlist, timeout)
         try:
@@ -494,7 +499,37 @@ def _kill_group(proc: subprocess.Popen) -> None:
     proc.wait()
 
 
-def _run_batch(workdir: str, timeout: float) -> dict:
+def _simulated_time(err_path: Path) -> float | None:
+    """The last ``Reference value : t`` ngspice wrote to stderr (its progress, in seconds)."""
+    try:
+        with open(err_path, "rb") as f:
+            f.seek(0, os.SEEK_END)
+            f.seek(max(0, f.tell() - 256))
+            tail = f.read().decode("ascii", "replace")
+    except OSError:
+        return None
+    found = _REFERENCE_VALUE.findall(tail)
+    return float(found[-1]) if found else None
+
+
+def _wait(proc: subprocess.Popen, timeout: float, tstop: float, err_path: Path,
+          progress: Callable[[float], None] | None) -> int | None:
+    """Exit status of ngspice, or None after the timeout; reports progress meanwhile."""
+    deadline = time.monotonic() + timeout
+    while True:
+        left = deadline - time.monotonic()
+        try:
+            return proc.wait(timeout=max(0.0, min(PROGRESS_INTERVAL, left)) if progress else max(0.0, left))
+        except subprocess.TimeoutExpired:
+            if time.monotonic() >= deadline:
+                return None
+            t = _simulated_time(err_path)
+            if t is not None and progress is not None:
+                progress(min(max(t / tstop, 0.0), 1.0))
+
+
+def _run_batch(workdir: str, timeout: float, tstop: float,
+               progress: Callable[[float], None] | None = None) -> dict:
     exe = find_ngspice()
     version = ngspice_version(exe)
     out_path, err_path = Path(workdir, _STDOUT_FILE), Path(workdir, _STDERR_FILE)
@@ -505,11 +540,9 @@ def _run_batch(workdir: str, timeout: float) -> dict:
             cwd=workdir, env=_child_env(workdir), stdin=subprocess.DEVNULL, stdout=out, stderr=err,
             start_new_session=True,
         ) as proc:
-            try:
-                status = proc.wait(timeout=timeout)
-            except subprocess.TimeoutExpired:
+            status = _wait(proc, timeout, tstop, err_path, progress)
+            if status is None:
                 _kill_group(proc)
-                status = None
         wall = time.perf_counter() - start
     log = _read_logs(workdir)
     if status is None:

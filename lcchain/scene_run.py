@@ -15,11 +15,10 @@ error message and the report is still written (exit status 1).
 from __future__ import annotations
 
 import json
-import sys
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Callable
 
 import numpy as np
 from scipy.optimize import minimize_scalar
@@ -200,7 +199,8 @@ def scene_plan(scene) -> ScenePlan:
     return ScenePlan(nominal, tuple(chains), modes, T, tstop, dt)
 
 
-def _simulate_sample(scene, plan: ScenePlan, index: int, chain: Chain) -> SampleResult:
+def _simulate_sample(scene, plan: ScenePlan, index: int, chain: Chain,
+                     progress: Callable[[float], None] | None = None) -> SampleResult:
     from . import ngspice
     from .response import linear_response
 
@@ -210,7 +210,7 @@ def _simulate_sample(scene, plan: ScenePlan, index: int, chain: Chain) -> Sample
     ladder = Ladder(chain, units.L0, units.C0)
     text = scene_netlist(scene, chain, dt, tstop)
     names = probe_names(chain.N, scene.output.probes)
-    result = ngspice.run(text, names, tstop * ladder.time_unit, backend=analysis.backend)
+    result = ngspice.run(text, names, tstop * ladder.time_unit, backend=analysis.backend, progress=progress)
     clock = time.perf_counter()
     currents = np.array([result.vectors[name] for name in names])
     kind = "displacement" if excitation.kind == "displacement" else "kick"
@@ -261,16 +261,8 @@ def _spread(values: list[float]) -> dict:
             "worst": float(array.min()), "best": float(array.max()), "count": int(array.size)}
 
 
-def _progress(done: int, total: int) -> None:
-    if total > 1 and sys.stderr.isatty():
-        sys.stderr.write(f"\rsample {done}/{total}")
-        if done == total:
-            sys.stderr.write("\n")
-        sys.stderr.flush()
-
-
 def run_scene(scene, *, netlist_out: str | None = None, waveform_out: str | None = None,
-              write_outputs: bool = True) -> SceneResult:
+              write_outputs: bool = True, progress: Callable[[float], None] | None = None) -> SceneResult:
     """Run every sample of a scene, write its report and plots, return the result.
 
     Parameters
@@ -281,6 +273,9 @@ def run_scene(scene, *, netlist_out: str | None = None, waveform_out: str | None
         ``t,first,last`` (dimensionless, as ``lcchain simulate`` writes them).
     write_outputs : bool
         Write the report file and plots named by the scene's [output].
+    progress : callable, optional
+        Called with the fraction of the scene's simulations done (0 to 1),
+        across samples and within each ngspice run.
     """
     clock = time.perf_counter()
     plan = scene_plan(scene)
@@ -289,10 +284,13 @@ def run_scene(scene, *, netlist_out: str | None = None, waveform_out: str | None
     samples: list[SampleResult] = []
     for k, chain in enumerate(chains, start=1):
         try:
-            samples.append(_simulate_sample(scene, plan, k, chain))
+            report_to = None if progress is None else \
+                (lambda f, k=k: progress((k - 1 + f) / len(chains)))
+            samples.append(_simulate_sample(scene, plan, k, chain, report_to))
         except LcchainError as error:  # keep going: nothing is lost when one sample fails
             samples.append(SampleResult(k, chain, {"sample": k, "chain": chain.name, "error": str(error)}))
-        _progress(k, len(chains))
+        if progress is not None:
+            progress(k / len(chains))
     good = [s for s in samples if "error" not in s.record]
     report = {
         "scene": scene.to_dict(),

@@ -8,6 +8,7 @@ physics of its own.  It never talks to ngspice except through
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 from .arrivals import arrival_window
@@ -140,6 +141,7 @@ def simulate(
     timeout: float = 3600.0,
     modes: Modes | None = None,
     accuracy: float | None = None,
+    progress: Callable[[float], None] | None = None,
 ) -> SimulationReport:
     """Simulate the chain's LC ladder in ngspice and compare with theory.
 
@@ -166,6 +168,9 @@ def simulate(
     accuracy : float, optional
         Wanted max |simulation - theory| (dimensionless); dt is then
         :func:`lcchain.accuracy.dt_for_accuracy` (give dt or accuracy, not both).
+    progress : callable, optional
+        Called with the fraction of the analysis ngspice has done (0 to 1),
+        as :func:`lcchain.ngspice.run` reports it.
 
     Warns
     -----
@@ -191,7 +196,7 @@ def simulate(
     warn_if_unreliable(method=options.method, transits=transits, predicted=predicted)
     names = probe_names(chain.N, "ends")
     built = time.perf_counter()
-    result = ngspice.run(text, names, tstop * ladder.time_unit, backend=backend, timeout=timeout)
+    result = ngspice.run(text, names, tstop * ladder.time_unit, backend=backend, timeout=timeout, progress=progress)
     ran = time.perf_counter()
     waveforms = normalise(result.time, result.vectors[names[0]], result.vectors[names[1]],
                           time_unit=ladder.time_unit, excitation=excitation, I0=I0)

@@ -234,3 +234,18 @@ def test_doctor_is_all_ok_here() -> None:
     assert [c.name for c in checks] == [
         "ngspice executable", "batch run", "ngspice shared library", "PySpice", "shared run"]
     assert all(c.ok for c in checks), [c for c in checks if not c.ok]
+
+
+@pytest.mark.ngspice
+def test_batch_run_reports_its_progress(monkeypatch) -> None:
+    # ngspice -b writes "Reference value : t" to stderr as it goes; run() turns it into fractions of tstop.
+    from lcchain.cases import chain_for_case
+    from lcchain.simulation import make_netlist
+
+    monkeypatch.setattr(ngspice, "PROGRESS_INTERVAL", 0.02)
+    text, ladder, options = make_netlist(chain_for_case("two-mass", 300), dt=0.02, transits=1)
+    seen: list[float] = []
+    ngspice.run(text, ["i(l1)", "i(l300)"], options.tstop * ladder.time_unit, progress=seen.append)
+    assert seen[0] == 0.0 and seen[-1] == 1.0
+    assert any(0.0 < f < 1.0 for f in seen), seen
+    assert seen == sorted(seen)
