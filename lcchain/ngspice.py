@@ -104,7 +104,8 @@ ERROR_MAX_LINES = 30
 
 #: Seconds between progress reports of a batch run (when a progress callback is given).
 PROGRESS_INTERVAL = 0.5
-_REFERENCE_VALUE = re.compile(r"Reference value\s*:\s*([-+0-9.eE]+)")
+# Only complete lines (ngspice ends each with "\r"): a number cut by a partial write must not count.
+_REFERENCE_VALUE = re.compile(r"Reference value\s*:\s*([-+0-9.eE]+)[ \t]*[\r\n]")
 _NETLIST_FILE = "circuit.cir"
 _RAW_FILE = "out.raw"
 _STDOUT_FILE = "ngspice.stdout.txt"
