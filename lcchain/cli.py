@@ -10,6 +10,7 @@ import argparse
 import json
 import logging
 import math
+import os
 import sys
 from fractions import Fraction
 from pathlib import Path
@@ -88,6 +89,19 @@ def _fraction_bar(label: str) -> Callable[[float], None] | None:
             _draw_bar(fraction, f"{percent:3d}% {label}")
 
     return show
+
+
+def _check_outputs(args, *options: str) -> None:
+    """Refuse output files in missing or read-only folders before any work is done."""
+    for option in options:
+        path = getattr(args, option.lstrip("-").replace("-", "_"), None)
+        if not path:
+            continue
+        folder = Path(path).parent
+        if not folder.is_dir():
+            raise ParameterError(option, path, f"a file in an existing folder ({folder} does not exist)")
+        if not os.access(folder, os.W_OK):
+            raise ParameterError(option, path, f"a file in a writable folder ({folder} is not writable)")
 
 
 def _write_text(path: str, text: str) -> None:
@@ -225,6 +239,7 @@ def cmd_simulate(args) -> int:
 
     import warnings
 
+    _check_outputs(args, "--plot", "--netlist-out", "--waveform-out")
     chain = _chain_from_args(args)
     if args.accuracy is not None and args.dt is not None:
         raise ParameterError("--accuracy", args.accuracy, "either --dt or --accuracy, not both")
@@ -297,6 +312,7 @@ def cmd_run(args) -> int:
         option = "--netlist-out" if args.netlist_out else "--waveform-out"
         raise ParameterError(option, args.netlist_out or args.waveform_out, "one scene only (got "
                              f"{len(args.scene)})")
+    _check_outputs(args, "--netlist-out", "--waveform-out", "--side-by-side")
     scenes = [load_scene(path) for path in args.scene]  # every file checked before anything runs
     results = []
     for scene in scenes:
@@ -308,10 +324,13 @@ def cmd_run(args) -> int:
     if args.side_by_side:
         from .plots import side_by_side
 
-        panels = [overlay_panel(scene, result) for scene, result in zip(scenes, results)]
-        side_by_side([p for p in panels if p is not None], path=args.side_by_side)
-        if not args.json:
-            print(f"wrote {args.side_by_side}")
+        panels = [p for p in (overlay_panel(s, r) for s, r in zip(scenes, results)) if p is not None]
+        if panels:
+            side_by_side(panels, path=args.side_by_side)
+            if not args.json:
+                print(f"wrote {args.side_by_side}")
+        else:
+            print(f"lcchain: no scene ran, so {args.side_by_side} was not drawn", file=sys.stderr)
     if args.json:
         reports = [r.report for r in results]
         _emit_json(reports[0] if len(reports) == 1 else reports)
@@ -453,6 +472,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         return EXIT_FAILED
     except LcchainError as error:
         print(f"lcchain: {error}", file=sys.stderr)
+        return EXIT_FAILED
+    except OSError as error:  # e.g. a disk full or a folder removed while running
+        print(f"lcchain: {error.filename or ''}: {error.strerror or error}", file=sys.stderr)
         return EXIT_FAILED
     except KeyboardInterrupt:
         print("lcchain: interrupted", file=sys.stderr)

@@ -149,3 +149,23 @@ def test_simulate_json_and_outputs(capsys, tmp_path):
     header, first_row = waveform.read_text().splitlines()[:2]
     assert header == "t,first,last" and len(first_row.split(",")) == 3
     assert plot.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["simulate", "--case", "perfect", "--N", "3", "--plot", "{missing}/x.png"],
+        ["simulate", "--case", "perfect", "--N", "3", "--waveform-out", "{missing}/w.csv"],
+        ["run", "examples/scenes/cradle.toml", "--side-by-side", "{missing}/p.png"],
+    ],
+    ids=["plot", "waveform-out", "side-by-side"],
+)
+def test_output_in_a_missing_folder_is_refused_before_the_run(capsys, tmp_path, argv):
+    missing = tmp_path / "no-such-folder"
+    root = Path(__file__).resolve().parent.parent
+    argv = [a.replace("{missing}", str(missing)).replace("examples/", f"{root}/examples/") for a in argv]
+    assert main(argv) == 2
+    captured = capsys.readouterr()
+    assert captured.out == ""  # nothing ran
+    err = captured.err.strip()
+    assert "\n" not in err and "does not exist" in err and str(missing) in err, err
