@@ -26,12 +26,12 @@ from scipy.optimize import minimize_scalar
 from .arrivals import arrival_window
 from .cases import chain_for_case
 from .chain import Chain
-from .compare import normalise, sample_peak
+from .compare import Waveforms, normalise, sample_peak
 from .effects import realise, tolerance_samples, with_walls
 from .errors import LcchainError, ParameterError
 from .modes import EXACT_MAX_N, Modes, exact_modes, normal_modes
-from .types import GAUSSIAN_CENTRE
 from .netlist import Ladder, SimulationOptions, netlist_text, probe_names
+from .types import GAUSSIAN_CENTRE
 
 __all__ = ["ScenePlan", "SceneResult", "SampleResult", "run_scene", "scene_chains", "scene_netlist", "scene_plan",
            "overlay_panel", "ACCURACY_LOOPS"]
@@ -79,6 +79,7 @@ class SampleResult:
     sim: np.ndarray | None = None
     theory: np.ndarray | None = None
     netlist: str = ""
+    waveforms: Waveforms | None = None
 
 
 @dataclass(frozen=True, eq=False)
@@ -121,9 +122,23 @@ def _choose_dt(scene, nominal: Chain, modes: Modes, tstop: float) -> float:
     return dt
 
 
-def _theory_peak(response: Callable[[float], float], t0: float, h: float, lo: float, hi: float) -> tuple[float, float]:
+def _theory_peak(scene, chain: Chain, modes: Modes, row: int, t0: float, h: float, lo: float,
+                 hi: float) -> tuple[float, float]:
+    """(time, value) of the maximum of the exact response of loop ``row`` (0: first, -1: last) near t0.
+
+    Bounded Brent on [t0 - 2h, t0 + 2h] within [lo, hi]; t0 is the best of a
+    grid of spacing h.
+    """
+    from .response import linear_response
+
+    Q, pulse = _losses_and_pulse(scene)
+
+    def minus_response(t: float) -> float:
+        return -float(linear_response(chain, np.array([t]), excitation=scene.excitation.kind, Q=Q, pulse=pulse,
+                                      loops="ends", modes=modes)[row, 0])
+
     a, b = max(lo, t0 - 2 * h), min(hi, t0 + 2 * h)
-    result = minimize_scalar(lambda t: -response(t), bounds=(a, b), method="bounded", options={"xatol": 1e-9})
+    result = minimize_scalar(minus_response, bounds=(a, b), method="bounded", options={"xatol": 1e-9})
     return float(result.x), float(-result.fun)
 
 
@@ -238,12 +253,7 @@ def _simulate_sample(scene, plan: ScenePlan, index: int, chain: Chain,
         s_sim, s_th = (last_sim, last_th) if end == "last" else (first_sim, first_th)
         t_sim, peak_sim = sample_peak(t, s_sim, lo, hi)
         t_grid, _ = sample_peak(t, s_th, lo, hi)
-
-        def response(tt, row=row):
-            return float(linear_response(chain, np.array([tt]), excitation=excitation.kind, Q=Q, pulse=pulse,
-                                         loops="ends", modes=modes)[row, 0])
-
-        t_th, peak_th = _theory_peak(response, t_grid, dt, lo, hi)
+        t_th, peak_th = _theory_peak(scene, chain, modes, row, t_grid, dt, lo, hi)
         arrivals.append({"index": j, "end": end, "t_theory": t_th, "t_sim": t_sim,
                          "peak_theory": peak_th, "peak_sim": peak_sim})
     record = {
@@ -252,7 +262,7 @@ def _simulate_sample(scene, plan: ScenePlan, index: int, chain: Chain,
         "wall_s": result.wall_s, "theory_and_compare_s": time.perf_counter() - clock,
         "max_abs_error": error, "arrivals": arrivals,
     }
-    return SampleResult(index, chain, record, t, sim, theory, text)
+    return SampleResult(index, chain, record, t, sim, theory, text, ends)
 
 
 def _spread(values: list[float]) -> dict:
@@ -317,10 +327,7 @@ def run_scene(scene, *, netlist_out: str | None = None, waveform_out: str | None
         Path(netlist_out).write_text(good[0].netlist, encoding="utf-8")
         files.append(netlist_out)
     if good and waveform_out:
-        s = good[0]
-        rows = ["t,first,last"] + [f"{a!r},{b!r},{c!r}" for a, b, c in
-                                   zip(s.t.tolist(), s.sim[0].tolist(), s.sim[-1].tolist())]
-        Path(waveform_out).write_text("\n".join(rows) + "\n", encoding="utf-8")
+        Path(waveform_out).write_text(good[0].waveforms.to_csv(), encoding="utf-8")
         files.append(waveform_out)
     if write_outputs:
         files += _write_outputs(scene, report, good)
@@ -354,11 +361,7 @@ def _nominal_peak(scene, nominal: Chain, modes, T: float) -> float:
     values = linear_response(nominal, grid, excitation=excitation.kind, Q=Q, pulse=pulse, loops="ends",
                              modes=modes)[-1]
     i = int(np.argmax(values))
-    t_peak, peak = _theory_peak(
-        lambda tt: float(linear_response(nominal, np.array([tt]), excitation=excitation.kind, Q=Q, pulse=pulse,
-                                         loops="ends", modes=modes)[-1, 0]),
-        grid[i], grid[1] - grid[0], grid[0], grid[-1])
-    return peak
+    return _theory_peak(scene, nominal, modes, -1, grid[i], grid[1] - grid[0], grid[0], grid[-1])[1]
 
 
 def _output_stem(scene) -> tuple[Path, str]:
