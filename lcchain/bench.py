@@ -27,7 +27,6 @@ from __future__ import annotations
 import csv
 import json
 import math
-import sys
 import time
 from collections.abc import Callable, Sequence
 from pathlib import Path
@@ -201,21 +200,8 @@ def _plan(Ns: Sequence[int], quick: bool) -> list[tuple[str, int, dict]]:
     return jobs
 
 
-def _progress_bar(stream) -> Callable[[int, int, str], None]:
-    def show(done: int, total: int, label: str) -> None:
-        if not (hasattr(stream, "isatty") and stream.isatty()):
-            return
-        width = 30
-        filled = int(width * done / max(total, 1))
-        end = "\n" if done >= total else ""
-        stream.write(f"\r[{'#' * filled}{'.' * (width - filled)}] {done}/{total} {label:<36}{end}")
-        stream.flush()
-
-    return show
-
-
 def bench_accuracy(Ns: Sequence[int] | None = None, *, quick: bool = False, out: str | Path = "benchmarks/accuracy",
-                   targets: bool | None = None, stream=None) -> dict:
+                   targets: bool | None = None, progress: Callable[[int, int, str], None] | None = None) -> dict:
     """Run the sweep and write records.csv, records.json, pareto.png and summary.md into ``out``.
 
     Parameters
@@ -229,17 +215,22 @@ def bench_accuracy(Ns: Sequence[int] | None = None, *, quick: bool = False, out:
     targets : bool, optional
         Also check ``simulate(accuracy=eps)`` against the cheapest fixed step
         for eps in {1e-3, 1e-5} and N in {100, 1000} (default: not quick).
-    stream : file, optional
-        Where the progress bar goes (default stderr; drawn only on a terminal).
+    progress : callable, optional
+        Called as ``progress(done, total, label)`` before each run and at
+        the end (the CLI draws it as a bar on a terminal).
 
     Returns
     -------
     dict
-        ``records`` (list of dict), ``targets`` (list of dict), ``summary`` (dict), ``files``.
+        ``records`` (list of dict), ``targets`` (list of dict), ``summary``
+        (dict), ``markdown`` (the text of summary.md), ``files``.
     """
     Ns = tuple(Ns) if Ns else (QUICK_N if quick else FULL_N)
     targets = (not quick) if targets is None else targets
-    show = _progress_bar(stream if stream is not None else sys.stderr)
+    def show(done: int, total: int, label: str) -> None:
+        if progress is not None:
+            progress(done, total, label)
+
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     chains = {N: chain_for_case("two-mass", N) for N in Ns}
@@ -262,8 +253,9 @@ def bench_accuracy(Ns: Sequence[int] | None = None, *, quick: bool = False, out:
         checks.append(_target_check(chains[N], modes[N], eps, records))
     show(total, total, "done")
     summary = summarise(records, checks)
-    files = _write(out, records, checks, summary)
-    return {"records": records, "targets": checks, "summary": summary, "files": files}
+    markdown = _summary_markdown(summary)
+    files = _write(out, records, checks, summary, markdown)
+    return {"records": records, "targets": checks, "summary": summary, "markdown": markdown, "files": files}
 
 
 def _target_check(chain: Chain, modes: Modes, eps: float, records: list[dict]) -> dict:
@@ -346,7 +338,7 @@ def _summary_markdown(summary: dict) -> str:
     return "\n".join(lines) + "\n"
 
 
-def _write(out: Path, records: list[dict], checks: list[dict], summary: dict) -> list[str]:
+def _write(out: Path, records: list[dict], checks: list[dict], summary: dict, markdown: str) -> list[str]:
     from .plots import pareto
 
     paths = [out / "records.csv", out / "records.json", out / "pareto.png", out / "summary.md"]
@@ -360,5 +352,5 @@ def _write(out: Path, records: list[dict], checks: list[dict], summary: dict) ->
     plotted = [{"method": _label(r), "N": r["N"], "wall_s": r["wall_s"], "error": r["error"]} for r in records
                if r["wall_s"] > 0 and r["error"] > 0]
     pareto(plotted, path=paths[2])
-    paths[3].write_text(_summary_markdown(summary), encoding="utf-8")
+    paths[3].write_text(markdown, encoding="utf-8")
     return [str(p) for p in paths]

@@ -66,7 +66,8 @@ def _draw_bar(fraction: float, text: str) -> None:
     width = 30
     filled = int(width * min(max(fraction, 0.0), 1.0))
     end = "\n" if fraction >= 1 else ""
-    sys.stderr.write(f"\r[{'#' * filled}{'.' * (width - filled)}] {text:<28}{end}")
+    # "\033[K" clears what a longer previous label left on the line (drawn on terminals only)
+    sys.stderr.write(f"\r[{'#' * filled}{'.' * (width - filled)}] {text}\033[K{end}")
     sys.stderr.flush()
 
 
@@ -234,6 +235,13 @@ def cmd_reference_netlists(args) -> int:
     return EXIT_OK
 
 
+def _print_arrivals(arrivals) -> None:
+    print(f"{'arrival':>7} {'end':>5} {'t theory':>12} {'t sim':>12} {'peak theory':>12} {'peak sim':>12}")
+    for a in arrivals:
+        print(f"{a['index']:>7} {a['end']:>5} {a['t_theory']:12.4f} {a['t_sim']:12.4f} "
+              f"{a['peak_theory']:12.6f} {a['peak_sim']:12.6f}")
+
+
 def cmd_simulate(args) -> int:
     from .simulation import simulate
 
@@ -274,10 +282,7 @@ def cmd_simulate(args) -> int:
         if data["integration_error"] is not None:
             print(f"  integration error (simulation - trapezoidal model) = {data['integration_error']:.3e}, "
                   f"physics error (model - exact theory) = {data['physics_error']:.3e}")
-        print(f"{'arrival':>7} {'end':>5} {'t theory':>12} {'t sim':>12} {'peak theory':>12} {'peak sim':>12}")
-        for a in data["arrivals"]:
-            print(f"{a['index']:>7} {a['end']:>5} {a['t_theory']:12.4f} {a['t_sim']:12.4f} "
-                  f"{a['peak_theory']:12.6f} {a['peak_sim']:12.6f}")
+        _print_arrivals(data["arrivals"])
     return EXIT_OK
 
 
@@ -289,10 +294,7 @@ def _print_scene_summary(scene, result) -> None:
           f"ngspice {report['ngspice_version']}, {report['wall_s']['total']:.2f} s")
     if "max_abs_error" in report:
         print(f"max |simulation - theory| = {report['max_abs_error']:.3e}")
-        print(f"{'arrival':>7} {'end':>5} {'t theory':>12} {'t sim':>12} {'peak theory':>12} {'peak sim':>12}")
-        for a in report["arrivals"]:
-            print(f"{a['index']:>7} {a['end']:>5} {a['t_theory']:12.4f} {a['t_sim']:12.4f} "
-                  f"{a['peak_theory']:12.6f} {a['peak_sim']:12.6f}")
+        _print_arrivals(report["arrivals"])
     if "transmitted_peak" in report:
         p = report["transmitted_peak"]
         print(f"transmitted peak over {p['count']} samples: mean {p['mean']:.5f}, std {p['std']:.5f}, "
@@ -340,8 +342,8 @@ def cmd_run(args) -> int:
 def cmd_bench_accuracy(args) -> int:
     from .bench import bench_accuracy
 
-    result = bench_accuracy(args.N, quick=args.quick, out=args.out)
-    print(Path(result["files"][3]).read_text(encoding="utf-8"), end="")
+    result = bench_accuracy(args.N, quick=args.quick, out=args.out, progress=_progress)
+    print(result["markdown"], end="")
     for path in result["files"]:
         print(f"wrote {path}")
     return EXIT_OK
