@@ -115,3 +115,26 @@ ACCURACY_COARSE = 1e-3
 ACCURACY_FINE = 1e-5
 #: A theory with Q off by 20% (60 for 50) must miss by more than this: the comparison can fail.
 MIN_ERROR_WRONG_THEORY = 1e-2
+
+
+# ------------------------------------------------------------ exact linear response (issue 5)
+#: Lossless kick/displacement through the same modes and cosine sums as
+#: lcchain.modes (ends), or a second diagonalisation (all loops): rounding only.
+ATOL_MODAL = 1e-12
+#: Against DOP853 with rtol 1e-12, atol 1e-14 over ~20 time units of a
+#: 5-mass chain: the integrator's global error (observed ~1e-11) dominates.
+ATOL_RESPONSE_ODE = 1e-8
+#: Momentum of a free chain against exp(-t/Q): one mode's closed form,
+#: rounding only.
+ATOL_MOMENTUM = 1e-12
+#: A pulse of width 1e-6 against the kick: the response moves by ~ the pulse
+#: duration (16e-6 for the gaussian) times |d velocity / dt| <= omega_max ~ 2.
+ATOL_SHORT_PULSE = 1e-5
+#: The same pulse against the kick delayed to the pulse's centre and scaled by
+#: its area: second order in the width, plus the shift of the truncated
+#: gaussian's mean (phi(4) w = 1.3e-4 w) times |d velocity / dt| ~ 3 (observed
+#: 4.5e-10).
+ATOL_DELAYED_KICK = 2e-9
+#: Rows 1 and N of loops="all" against loops="ends": two diagonalisations,
+#: rounding only.
+ATOL_LOOPS = 1e-12
