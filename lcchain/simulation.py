@@ -201,7 +201,8 @@ def simulate(
     waveforms = normalise(result.time, result.vectors[names[0]], result.vectors[names[1]],
                           time_unit=ladder.time_unit, excitation=excitation, I0=I0)
     comparison = compare(waveforms, modes, transits)
-    split = split_error(waveforms, modes, options.dt, method=options.method)
+    split = split_error(waveforms, modes, options.dt, method=options.method,
+                        exact=(comparison.theory_first, comparison.theory_last))
     done = time.perf_counter()
     timings = {
         "netlist_and_modes_s": built - clock,
