@@ -33,6 +33,7 @@ __all__ = [
     "Modes",
     "normal_modes",
     "exact_modes",
+    "diagonalise",
     "transmission_amplitude",
     "return_amplitude",
     "cosine_sum",
@@ -107,6 +108,22 @@ def tridiagonal(chain: Chain) -> tuple[np.ndarray, np.ndarray]:
     return diagonal, off
 
 
+def diagonalise(chain: Chain) -> tuple[np.ndarray, np.ndarray]:
+    """Frequencies omega_n (ascending) and eigenvectors U (columns) of B (Eq. e.BN), LAPACK.
+
+    Every eigenvector: 8 N^2 bytes, callers bound N (:data:`EXACT_MAX_N`).
+    """
+    diagonal, off = tridiagonal(chain)
+    mu, U = eigh_tridiagonal(diagonal, off)
+    # A free chain has mu_1 = 0 up to rounding (possibly -1e-16): clip, never NaN.
+    omega = np.sqrt(np.clip(mu, 0.0, None))
+    if chain.is_free:
+        # The translation (Goldstone) mode is exactly zero; LAPACK returns
+        # mu_1 ~ 1e-16, whose square root (1e-8) would be a spurious frequency.
+        omega[0] = 0.0
+    return omega, U
+
+
 def exact_modes(chain: Chain) -> Modes:
     """Diagonalise B exactly (LAPACK, symmetric tridiagonal).
 
@@ -120,14 +137,7 @@ def exact_modes(chain: Chain) -> Modes:
             "N", chain.N,
             f"N <= {EXACT_MAX_N} for exact diagonalisation (use the closed form for quasi-uniform free chains)",
         )
-    diagonal, off = tridiagonal(chain)
-    mu, U = eigh_tridiagonal(diagonal, off)
-    # A free chain has mu_1 = 0 up to rounding (possibly -1e-16): clip, never NaN.
-    omega = np.sqrt(np.clip(mu, 0.0, None))
-    if chain.is_free:
-        # The translation (Goldstone) mode is exactly zero; LAPACK returns
-        # mu_1 ~ 1e-16, whose square root (1e-8) would be a spurious frequency.
-        omega[0] = 0.0
+    omega, U = diagonalise(chain)
     first, last = U[0, :], U[-1, :]
     density = first * first
     transfer = np.sqrt(chain.masses[0] / chain.masses[-1]) * first * last

@@ -80,11 +80,10 @@ import math
 
 import numpy as np
 from numpy.polynomial.legendre import leggauss
-from scipy.linalg import eigh_tridiagonal
 
 from .chain import Chain
 from .errors import ParameterError
-from .modes import EXACT_MAX_N, Modes, cosine_sum, exact_modes, tridiagonal
+from .modes import EXACT_MAX_N, Modes, cosine_sum, diagonalise, exact_modes
 from .types import GAUSSIAN_CENTRE, EXCITATION_KINDS, PROBES, PULSE_SHAPES, ExcitationKind, Probes, PulseShape
 
 __all__ = [
@@ -301,11 +300,7 @@ def loop_weights(chain: Chain) -> tuple[np.ndarray, np.ndarray]:
     """
     if chain.N > EXACT_MAX_N:
         raise ParameterError("N", chain.N, f"N <= {EXACT_MAX_N} for every loop's response (loops='all')")
-    diagonal, off = tridiagonal(chain)
-    mu, U = eigh_tridiagonal(diagonal, off)
-    omega = np.sqrt(np.clip(mu, 0.0, None))
-    if chain.is_free:
-        omega[0] = 0.0  # the translation mode, as in lcchain.modes.exact_modes
+    omega, U = diagonalise(chain)
     scale = np.sqrt(chain.masses[0] / chain.masses)
     weights = (U * U[0, :]).T * scale[None, :]
     return omega, weights
