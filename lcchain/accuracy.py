@@ -56,6 +56,7 @@ import numpy as np
 
 from .errors import ParameterError
 from .modes import Modes, cosine_sum
+from .types import METHODS
 
 __all__ = [
     "AccuracyWarning",
@@ -105,8 +106,8 @@ def _check_dt(dt: object, name: str = "dt") -> float:
 
 
 def _check_method(method: str) -> str:
-    if method not in ("trap", "gear"):
-        raise ParameterError("method", method, "trap | gear")
+    if method not in METHODS:
+        raise ParameterError("method", method, " | ".join(METHODS))
     return method
 
 

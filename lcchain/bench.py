@@ -40,6 +40,7 @@ from .compare import normalise
 from .modes import Modes, cosine_sum, normal_modes, tridiagonal
 from .netlist import Ladder, SimulationOptions, netlist_text, number, probe_names
 from .simulation import stop_time
+from .types import METHODS
 
 __all__ = ["bench_accuracy", "ngspice_record", "dop853_record", "modal_record", "ladder_energy", "summarise",
            "FULL_N", "QUICK_N"]
@@ -191,7 +192,7 @@ def _plan(Ns: Sequence[int], quick: bool) -> list[tuple[str, int, dict]]:
     jobs = []
     dts = QUICK_DT if quick else FIXED_DT
     for N in Ns:
-        for method in ("trap", "gear"):
+        for method in METHODS:
             jobs += [("ngspice", N, {"method": method, "dt": dt}) for dt in dts[method]]
             jobs += [("ngspice", N, {"method": method, "reltol": r})
                      for r in (ADAPTIVE_RELTOL if quick else FULL_ADAPTIVE_RELTOL)]
@@ -291,7 +292,7 @@ def summarise(records: list[dict], checks: Sequence[dict] = ()) -> dict:
     fitted on the largest N (start-up costs dominate small runs).
     """
     fits: dict = {"error_c": {}, "cost_k": {}}
-    for method in ("trap", "gear"):
+    for method in METHODS:
         for N in sorted({r["N"] for r in records}):
             rs = [r for r in records if r["method"] == method and r["stepping"] == "fixed" and r["N"] == N]
             ratios = [r["error"] / r["dt"] ** 2 for r in rs if r["dt"] <= 0.1]

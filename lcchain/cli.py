@@ -17,7 +17,7 @@ from pathlib import Path
 from collections.abc import Callable, Sequence
 
 from .errors import LcchainError, ParameterError, SimulationError, SimulatorMissingError
-from .types import BACKENDS, DESIGN_CASES, EXCITATIONS
+from .types import BACKENDS, DESIGN_CASES, EXCITATIONS, METHODS
 
 __all__ = ["main"]
 
@@ -415,7 +415,7 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("simulate", help="run the ladder in ngspice and compare with alpha_N(t)")
     _add_chain_arguments(p, with_dt=True)
     p.add_argument("--backend", choices=BACKENDS, default="batch")
-    p.add_argument("--method", choices=("trap", "gear"), default="trap")
+    p.add_argument("--method", choices=METHODS, default="trap")
     p.add_argument("--accuracy", type=_float("--accuracy"), metavar="EPS",
                    help="wanted max |simulation - theory|: lcchain picks the largest dt that meets it "
                         "(instead of --dt)")
