@@ -14,10 +14,11 @@ import tempfile
 import time
 from pathlib import Path
 
-from lcchain.cases import chain_for_case
-from lcchain.modes import normal_modes
-from lcchain.ngspice import find_ngspice
-from lcchain.simulation import make_netlist, simulate
+from lcchain.circuit.netlist import make_netlist
+from lcchain.runs.simulate import simulate
+from lcchain.spice.simulator import find_ngspice
+from lcchain.theory.cases import chain_for_case
+from lcchain.theory.spectrum import normal_modes
 
 
 def raw_size(text: str) -> int:

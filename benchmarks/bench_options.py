@@ -8,17 +8,16 @@ Chain: the optimal two-mass chain N = 100, one transit, a kick.  Errors are
 max |I_N/I0 - alpha_N(t)| at ngspice's points.
 """
 
-import re
-
 import numpy as np
 
-from lcchain.cases import chain_for_case
-from lcchain.compare import normalise
-from lcchain.errors import LcchainError
-from lcchain.modes import normal_modes, transmission_amplitude
-from lcchain.netlist import Ladder, SimulationOptions, netlist_text, probe_names
-from lcchain.ngspice import run
-from lcchain.simulation import stop_time
+from lcchain.circuit.ladder import Ladder
+from lcchain.circuit.netlist import SimulationOptions, netlist_text, probe_names
+from lcchain.compare.waveforms import normalise
+from lcchain.core.errors import LcchainError
+from lcchain.spice.runner import run
+from lcchain.theory.arrivals import stop_time
+from lcchain.theory.cases import chain_for_case
+from lcchain.theory.spectrum import normal_modes, transmission_amplitude
 
 N = 100
 CHAIN = chain_for_case("two-mass", N)
@@ -28,20 +27,13 @@ NAMES = probe_names(N)
 SCALES = {"10 uH / 10 nF / 1 mA": (1e-5, 1e-8, 1e-3), "1 nH / 1 pF / 1 uA": (1e-9, 1e-12, 1e-6)}
 
 
-def netlist(scale=SCALES["10 uH / 10 nF / 1 mA"], *, extra="", adaptive=False, strip=(), **options):
+def netlist(scale=SCALES["10 uH / 10 nF / 1 mA"], *, extra=(), adaptive=False, defaults=(), dt=0.1, **options):
+    """lcchain's netlist with ngspice options said through SimulationOptions (the text is never edited)."""
     L0, C0, I0 = scale
     ladder = Ladder(CHAIN, L0, C0)
-    unit = ladder.time_unit
-    dt = options.pop("dt", 0.1)
-    text = netlist_text(ladder, SimulationOptions(dt=dt, tstop=TSTOP, **options), I0=I0)
-    tran = next(line for line in text.splitlines() if line.startswith(".tran"))
-    if adaptive:  # as lcchain bench accuracy: maximum step tstop/50, ngspice's own default
-        text = text.replace(tran, f".tran {dt * unit!r} {TSTOP * unit!r} 0 {TSTOP / 50 * unit!r} uic")
-    for key in strip:  # back to ngspice's default for this option
-        text = re.sub(rf" {key}=\S+", "", text)
-    if extra:
-        text = text.replace(".tran", extra + "\n.tran")
-    return text, ladder, I0
+    settings = SimulationOptions(dt=dt, tstop=TSTOP, stepping="adaptive" if adaptive else "fixed", extra=extra,
+                                 ngspice_defaults=defaults, **options)
+    return netlist_text(ladder, settings, I0=I0), ladder, I0
 
 
 def measure(text, ladder, I0):
@@ -63,24 +55,24 @@ def main() -> None:
 
     print("## .options interp (trap, dt = 0.1)\n")
     try:
-        measure(*netlist(extra=".options interp"))
+        measure(*netlist(extra=(("interp", None),)))
         print("the run was read without error.\n")
     except LcchainError as error:
         print(f"rejected: {str(error).splitlines()[0]}\n")
 
     print("## KLU against Sparse (trap, dt = 0.02; ngspice ignores unknown options silently)\n")
-    for option in (".options klu", ".options sparse"):
-        walls = [measure(*netlist(extra=option, dt=0.02))[0].wall_s for _ in range(3)]
-        print(f"- `{option}`: ngspice wall {min(walls):.3f} s (best of 3)")
+    for option in ("klu", "sparse"):
+        walls = [measure(*netlist(extra=((option, None),), dt=0.02))[0].wall_s for _ in range(3)]
+        print(f"- `.options {option}`: ngspice wall {min(walls):.3f} s (best of 3)")
     print()
 
     print("## chgtol and adaptive stepping (trap, maximum step tstop/50)\n")
     print("| scale | tolerances | points | error |")
     print("|---|---|---:|---:|")
     for label, scale in SCALES.items():
-        for strip, what in (((), "lcchain's (scaled to I0)"), (("chgtol",), "default chgtol"),
-                            (("chgtol", "abstol", "vntol"), "all defaults")):
-            result, _, error = measure(*netlist(scale, adaptive=True, strip=strip))
+        for defaults, what in (((), "lcchain's (scaled to I0)"), (("chgtol",), "default chgtol"),
+                               (("chgtol", "abstol", "vntol"), "all defaults")):
+            result, _, error = measure(*netlist(scale, adaptive=True, defaults=defaults))
             print(f"| {label} | {what} | {result.points} | {error:.3g} |")
 
 

@@ -15,9 +15,9 @@ import time
 
 import numpy as np
 
-from lcchain.closed_form import closed_form_modes
-from lcchain.design import optimal_one_mass, optimal_two_mass
-from lcchain.modes import transmission_amplitude
+from lcchain.theory.closed_form import closed_form_modes
+from lcchain.theory.design import optimal_one_mass, optimal_two_mass
+from lcchain.theory.spectrum import transmission_amplitude
 
 
 def timed(function, *args):
@@ -28,7 +28,7 @@ def timed(function, *args):
 
 def main():
     print("# Theory benchmark\n")
-    print(f"Command: `.venv/bin/python benchmarks/bench_theory.py > benchmarks/theory.md`  ")
+    print("Command: `.venv/bin/python benchmarks/bench_theory.py > benchmarks/theory.md`  ")
     print(f"Machine: {platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}, "
           f"numpy {np.__version__}\n")
     print("## Optimal designs (a row of Table I / II)\n")

@@ -11,8 +11,17 @@ import json
 
 import numpy as np
 import pytest
+from helpers.tolerances import (
+    ATOL_TRAP_MODEL,
+    ATOL_WARPED_DT_0_01,
+    ATOL_WARPED_DT_0_1,
+    GEAR_FACTOR_RANGE,
+    MIN_INTEGRATION_ERROR_OF_A_BUG,
+    PREDICTION_FACTOR,
+)
 
-from lcchain.accuracy import (
+from lcchain.cli import main
+from lcchain.compare.accuracy import (
     MAX_DT,
     SAFETY,
     AccuracyWarning,
@@ -23,15 +32,13 @@ from lcchain.accuracy import (
     warped_frequencies,
     warped_modes,
 )
-from lcchain.cases import chain_for_case
-from lcchain.chain import Chain
-from lcchain.cli import main
-from lcchain.errors import ParameterError
-from lcchain.modes import cosine_sum, normal_modes
-from lcchain.simulation import simulate, stop_time
-
-from tolerances import (ATOL_TRAP_MODEL, ATOL_WARPED_DT_0_01, ATOL_WARPED_DT_0_1, GEAR_FACTOR_RANGE,
-                                 MIN_INTEGRATION_ERROR_OF_A_BUG, PREDICTION_FACTOR)
+from lcchain.core.errors import ParameterError
+from lcchain.runs.simulate import simulate
+from lcchain.theory.arrivals import stop_time
+from lcchain.theory.cases import chain_for_case
+from lcchain.theory.chain import Chain
+from lcchain.theory.modes import cosine_sum
+from lcchain.theory.spectrum import normal_modes
 
 
 @pytest.fixture(scope="module")
@@ -225,10 +232,11 @@ def test_cli_prints_a_warning_as_one_line(capsys):
 
 @pytest.mark.ngspice
 def test_bench_accuracy_quick_writes_its_files(tmp_path):
-    from lcchain.bench import bench_accuracy
+    from lcchain.report.bench import write_accuracy_bench
+    from lcchain.studies.bench import bench_accuracy
 
-    result = bench_accuracy([20], quick=True, out=tmp_path, targets=False)
-    names = {p.rsplit("/", 1)[-1] for p in result["files"]}
+    result = bench_accuracy([20], quick=True, targets=False)
+    names = {p.rsplit("/", 1)[-1] for p in write_accuracy_bench(tmp_path, result)}
     assert names == {"records.csv", "records.json", "pareto.png", "summary.md"}
     kinds = {(r["method"], r["stepping"]) for r in result["records"]}
     assert kinds == {("trap", "fixed"), ("gear", "fixed"), ("trap", "adaptive"), ("gear", "adaptive"),

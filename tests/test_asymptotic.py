@@ -51,8 +51,10 @@ import math
 
 import numpy as np
 import pytest
+from helpers.digits import agrees_with_printed
 
-from lcchain.asymptotic import (
+from lcchain.core.errors import ParameterError
+from lcchain.theory.asymptotic import (
     EXPONENTS,
     AsymptoticOptimum,
     _coefficients,
@@ -60,7 +62,6 @@ from lcchain.asymptotic import (
     asymptotic_amplitude,
     asymptotic_optimum,
 )
-from lcchain.errors import ParameterError
 
 #: Contour-rotated amplitude vs brute-force real-axis quadrature (both reach ~1e-13).
 ATOL_BRUTE_FORCE = 1e-10
@@ -273,24 +274,24 @@ def test_paper_optimum_is_slightly_lower(optimum):
 
 
 def test_one_mass_matches_paper(one_mass):
-    assert round(one_mass.alpha, 6) == 0.846902  # Sec. IV.C
-    assert round(one_mass.delta, 6) == 0.153098  # Sec. IV.D
-    assert round(one_mass.delta, 4) == 0.1531  # Table I, Fig. f.delta
+    assert agrees_with_printed(one_mass.alpha, "0.846902")  # Sec. IV.C
+    assert agrees_with_printed(one_mass.delta, "0.153098")  # Sec. IV.D
+    assert agrees_with_printed(one_mass.delta, "0.1531")  # Table I, Fig. f.delta
     c = one_mass.coefficients
-    assert round(c["s"], 3) == 1.444  # Sec. IV.C, Table I
-    assert round(c["m1"], 3) == 1.188  # Eq. e.asymp_x, Table I
+    assert agrees_with_printed(c["s"], "1.444")  # Sec. IV.C, Table I
+    assert agrees_with_printed(c["m1"], "1.188")  # Eq. e.asymp_x, Table I
 
 
 def test_two_mass_matches_paper(two_mass):
-    assert round(two_mass.alpha, 6) == 0.987153  # Sec. V.A
-    assert round(two_mass.delta, 6) == 0.012847  # Sec. V.A
-    assert round(two_mass.delta, 5) == 0.01285  # Table II, Fig. f.delta
-    assert round(two_mass.sigma, 4) == 3.1645  # Sec. V.A (ours 3.164485)
+    assert agrees_with_printed(two_mass.alpha, "0.987153")  # Sec. V.A
+    assert agrees_with_printed(two_mass.delta, "0.012847")  # Sec. V.A
+    assert agrees_with_printed(two_mass.delta, "0.01285")  # Table II, Fig. f.delta
+    assert agrees_with_printed(two_mass.sigma, "3.1645")  # Sec. V.A (ours 3.164485)
     c = two_mass.coefficients
-    assert round(c["m1"], 4) == 0.9118  # Eq. e.m1m2K12-rw, Table II
-    assert round(c["r"], 3) == 4.387  # Table II
-    assert round(c["w"], 3) == 2.406  # Table II
-    assert round(c["s"], 3) == 2.040  # Table II
+    assert agrees_with_printed(c["m1"], "0.9118")  # Eq. e.m1m2K12-rw, Table II
+    assert agrees_with_printed(c["r"], "4.387")  # Table II
+    assert agrees_with_printed(c["w"], "2.406")  # Table II
+    assert agrees_with_printed(c["s"], "2.040")  # Table II
 
 
 # (printed value, key or None for sigma/tau, our unrounded value) for the
@@ -327,16 +328,15 @@ def test_paper_values_off_along_the_flat_ridge(optimum):
 def test_paper_coefficients_follow_from_paper_optimum():
     """Our formulas turn the paper's printed (tau*, sigma*) into its printed coefficients."""
     one = _coefficients("one-mass", *PAPER_POINT["one-mass"])
-    assert round(one["Delta"], 4) == 0.4208  # text; Table I's 0.4207 is the slip (0.42076)
-    assert round(one["s"], 3) == 1.444
-    assert round(one["x"], 4) == 0.9173
-    assert round(one["m1"], 3) == 1.188
+    assert agrees_with_printed(one["Delta"], "0.4208")  # text; Table I's 0.4207 is the slip (0.42076)
+    assert agrees_with_printed(one["s"], "1.444")
+    assert agrees_with_printed(one["x"], "0.9173")
+    assert agrees_with_printed(one["m1"], "1.188")
     two = _coefficients("two-mass", *PAPER_POINT["two-mass"])
-    printed = {"Delta": (0.77548, 5), "s": (2.0403, 4), "r": (4.3868, 4), "w": (2.4055, 4),
-               "x": (3.2484, 4), "y": (1.5510, 4), "m1": (0.9118, 4), "m2": (1.0967, 4),
-               "K12": (2.1934, 4)}
-    for key, (value, digits) in printed.items():
-        assert round(two[key], digits) == value, key
+    printed = {"Delta": "0.77548", "s": "2.0403", "r": "4.3868", "w": "2.4055", "x": "3.2484", "y": "1.5510",
+               "m1": "0.9118", "m2": "1.0967", "K12": "2.1934"}
+    for key, text in printed.items():
+        assert agrees_with_printed(two[key], text), key
 
 
 def test_leading_laws_match_exact_relations(optimum):

@@ -11,10 +11,10 @@ from fractions import Fraction as F
 
 import numpy as np
 import pytest
+from helpers.tolerances import ATOL_ROUND_TRIP, RTOL_ARITHMETIC
 
-from lcchain.chain import Chain
-from lcchain.errors import ParameterError
-from tolerances import ATOL_ROUND_TRIP, RTOL_ARITHMETIC
+from lcchain.core.errors import ParameterError
+from lcchain.theory.chain import Chain
 
 
 def assert_masses_springs(chain, masses, springs):

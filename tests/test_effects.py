@@ -5,10 +5,11 @@ import re
 import numpy as np
 import pytest
 
-from lcchain.chain import Chain
-from lcchain.effects import E_SERIES, preferred_value, realise, tolerance_samples, with_walls
-from lcchain.errors import ParameterError
-from lcchain.netlist import Ladder, SimulationOptions, netlist_text
+from lcchain.circuit.effects import E_SERIES, preferred_value, realise, tolerance_samples, with_walls
+from lcchain.circuit.ladder import Ladder
+from lcchain.circuit.netlist import SimulationOptions, netlist_text
+from lcchain.core.errors import ParameterError
+from lcchain.theory.chain import Chain
 
 OPTIONS = SimulationOptions(dt=0.05, tstop=30.0)
 
@@ -47,7 +48,7 @@ def test_tolerance_samples_reproducible_bounded_and_asymmetric():
     chain = Chain.from_rw(20, 0.77, 0.25)
     a = tolerance_samples(chain, 10e-6, 10e-9, samples=5, seed=7, tol_L=0.05, tol_C=0.02)
     b = tolerance_samples(chain, 10e-6, 10e-9, samples=8, seed=7, tol_L=0.05, tol_C=0.02)
-    for x, y in zip(a, b):  # sample k does not depend on how many are drawn
+    for x, y in zip(a, b, strict=False):  # sample k does not depend on how many are drawn
         assert x == y
     c = tolerance_samples(chain, 10e-6, 10e-9, samples=5, seed=8, tol_L=0.05, tol_C=0.02)
     assert a[0] != c[0]

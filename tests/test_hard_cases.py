@@ -13,23 +13,31 @@ against exact diagonalisation.
 
 import numpy as np
 import pytest
+from helpers.tolerances import (
+    ATOL_CLOSED_FORM_EXTREME,
+    ATOL_DENSITY_SUM,
+    ATOL_SCALE_INVARIANCE,
+    ATOL_TRAP_MODEL,
+    ATOL_TRAP_MODEL_LONG,
+    MIN_ENERGY_LOSS_GEAR,
+    PREDICTION_FACTOR,
+    RTOL_CONSERVED,
+    RTOL_ENERGY_TRAP,
+)
 
-from lcchain.accuracy import AccuracyWarning, predicted_error, trap_response
-from lcchain.bench import ladder_energy
-from lcchain.cases import chain_for_case
-from lcchain.chain import Chain
-from lcchain.closed_form import closed_form_modes
-from lcchain.compare import normalise
-from lcchain.errors import ParameterError
-from lcchain.modes import exact_modes, normal_modes, transmission_amplitude
-from lcchain.netlist import Ladder, SimulationOptions, netlist_text, probe_names
-from lcchain.ngspice import run
-from lcchain.simulation import simulate
-
-from tolerances import (ATOL_CLOSED_FORM_EXTREME, ATOL_DENSITY_SUM, ATOL_TRAP_MODEL, ATOL_TRAP_MODEL_LONG,
-                                 MIN_ENERGY_LOSS_GEAR,
-                                 PREDICTION_FACTOR, RTOL_ENERGY_TRAP)
-from tolerances import ATOL_SCALE_INVARIANCE, RTOL_CONSERVED
+from lcchain.circuit.ladder import Ladder
+from lcchain.circuit.netlist import SimulationOptions, netlist_text, probe_names
+from lcchain.compare.accuracy import AccuracyWarning, predicted_error, trap_response
+from lcchain.compare.waveforms import normalise
+from lcchain.core.errors import ParameterError
+from lcchain.runs.simulate import simulate
+from lcchain.spice.runner import run
+from lcchain.studies.bench import ladder_energy
+from lcchain.theory.cases import chain_for_case
+from lcchain.theory.chain import Chain
+from lcchain.theory.closed_form import closed_form_modes
+from lcchain.theory.exact import exact_modes
+from lcchain.theory.spectrum import normal_modes, transmission_amplitude
 
 
 # ------------------------------------------------------------------ uniform chains

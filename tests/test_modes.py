@@ -11,21 +11,7 @@ import math
 
 import numpy as np
 import pytest
-from scipy.integrate import solve_ivp
-
-from lcchain.arrivals import arrival_window, arrivals, first_arrival
-from lcchain.chain import PERFECT_ARRIVAL, Chain
-from lcchain.closed_form import closed_form_applies, closed_form_modes, phase_shift
-from lcchain.errors import ParameterError
-from lcchain.modes import (
-    _uniform_runs,
-    cosine_sum,
-    exact_modes,
-    normal_modes,
-    return_amplitude,
-    transmission_amplitude,
-)
-from tolerances import (
+from helpers.tolerances import (
     ATOL_ARRIVAL_TIME,
     ATOL_CLOSED_FORM,
     ATOL_COSINE_SUM,
@@ -40,6 +26,15 @@ from tolerances import (
     RTOL_ARITHMETIC,
     RTOL_CENTRED_DIFFERENCE,
 )
+from scipy.integrate import solve_ivp
+
+from lcchain.core.errors import ParameterError
+from lcchain.theory.arrivals import arrival_window, arrivals, first_arrival
+from lcchain.theory.chain import PERFECT_ARRIVAL, Chain
+from lcchain.theory.closed_form import closed_form_applies, closed_form_modes, phase_shift
+from lcchain.theory.exact import exact_modes
+from lcchain.theory.modes import _uniform_runs, cosine_sum
+from lcchain.theory.spectrum import normal_modes, return_amplitude, transmission_amplitude
 
 # (r, w) pairs used throughout: near the Table II optimum for N = 100, the
 # Table I one-mass optimum for N = 100 (r = 1, w = x*^2), the uniform free

@@ -1,20 +1,23 @@
-"""Tests of lcchain.ngspice against the real ngspice 39 (no mocks of the simulator)."""
+"""Tests of lcchain.spice against the real ngspice 39 (no mocks of the simulator)."""
 
 from __future__ import annotations
 
 import json
 import math
 import re
-import shutil
-import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
+from helpers.processes import temporary_entries
 
-from lcchain import ngspice
-from lcchain.errors import ParameterError, SimulationError
+from lcchain.core.errors import ParameterError, SimulationError
+from lcchain.spice import doctor as doctor_module
+from lcchain.spice import runner
+from lcchain.spice.raw import read_raw
+from lcchain.spice.runner import TSTOP_RTOL, RunResult, run
+from lcchain.spice.simulator import find_simulator, ngspice_version
+from lcchain.spice.text import canonical_vector_name, parse_options, unsafe_lines
 
 #: Perfect N=3 chain of the paper: masses (1.5, 1, 1.5) -> inductors in H, unit springs -> 1 F.
 #: Loop 1 is kicked with I(L1)(0) = 1 A; free ends are 0 V sources (wires) to ground.
@@ -44,23 +47,17 @@ TIMEOUT_KILL_S = 0.5
 ENDLESS = LADDER.replace(".tran 0.001 7.7 0 0.001 uic", ".tran 1e-7 1e6 0 1e-7 uic")
 
 
-def _kept_dir(message: str) -> Path:
-    match = re.search(r"kept in (\S+)", message)
-    assert match, message
-    return Path(match.group(1))
-
-
-def _check_kept_and_remove(message: str) -> None:
-    kept = _kept_dir(message)
-    assert kept.name.startswith("lcchain-failed-")
-    assert (kept / "circuit.cir").is_file()
-    assert (kept / "reason.txt").is_file()
-    shutil.rmtree(kept)
+@pytest.fixture
+def leaves_nothing_behind():
+    """The run names no file: nothing new appears in the temporary folder."""
+    before = temporary_entries()
+    yield
+    assert temporary_entries() - before == set()
 
 
 @pytest.fixture(scope="module")
-def batch_result() -> ngspice.RunResult:
-    return ngspice.run(LADDER, ["i(l1)", "i(l3)"], TSTOP)
+def batch_result() -> RunResult:
+    return run(LADDER, ["i(l1)", "i(l3)"], TSTOP)
 
 
 # --------------------------------------------------------------------------- pure helpers
@@ -72,29 +69,41 @@ def batch_result() -> ngspice.RunResult:
      ("time", "time"), ("@l1[i]", "@l1[i]")],
 )
 def test_canonical_vector_name(written: str, key: str) -> None:
-    assert ngspice.canonical_vector_name(written) == key
+    assert canonical_vector_name(written) == key
 
 
 def test_parse_options_reads_every_options_line() -> None:
     text = "* t\n.OPTIONS method=trap reltol = 1e-6\n+ abstol=1e-12\n.opt noinit\n.option reltol=1e-7\n.end\n"
-    assert ngspice.parse_options(text) == {"method": "trap", "reltol": "1e-7", "abstol": "1e-12", "noinit": "true"}
+    assert parse_options(text) == {"method": "trap", "reltol": "1e-7", "abstol": "1e-12", "noinit": "true"}
 
 
-@pytest.mark.parametrize("line", [".control", "  .CONTROL", ".endc", "shell rm -rf ~", "SHELL echo"])
-def test_control_and_shell_lines_are_refused(line: str) -> None:
+@pytest.mark.parametrize("line", [".control", "  .CONTROL", ".endc", "shell rm -rf ~", "SHELL echo",
+                                  ".include /etc/passwd", ".lib /etc/passwd x", ".inc 'x.cir'"])
+def test_control_shell_and_include_lines_are_refused(line: str) -> None:
     netlist = LADDER.replace(".end\n", f"{line}\n.end\n")
     for backend in ("batch", "shared"):
-        with pytest.raises(ParameterError, match="netlist"):
-            ngspice.run(netlist, ["i(l1)"], TSTOP, backend=backend)
+        with pytest.raises(ParameterError, match="netlist line 12"):
+            run(netlist, ["i(l1)"], TSTOP, backend=backend)
+
+
+def test_includes_inside_the_netlists_folder_are_allowed(tmp_path: Path) -> None:
+    (tmp_path / "models").mkdir()
+    text = "* t\n.include models/a.cir\n.lib 'b.lib' typ\n.include ../outside.cir\n.include /etc/passwd\n.end\n"
+    found = unsafe_lines(text, tmp_path)
+    assert [number for number, _, _ in found] == [4, 5]
+    assert all("outside" in why for _, _, why in found)
+    link = tmp_path / "escape.cir"
+    link.symlink_to("/etc/passwd")
+    assert unsafe_lines("* t\n.include escape.cir\n.end\n", tmp_path)  # a link out of the folder is outside
 
 
 def test_bad_arguments_are_parameter_errors() -> None:
     with pytest.raises(ParameterError, match="backend"):
-        ngspice.run(LADDER, ["i(l1)"], TSTOP, backend="spectre")  # type: ignore[arg-type]
+        run(LADDER, ["i(l1)"], TSTOP, backend="spectre")  # type: ignore[arg-type]
     with pytest.raises(ParameterError, match="tstop"):
-        ngspice.run(LADDER, ["i(l1)"], -1.0)
+        run(LADDER, ["i(l1)"], -1.0)
     with pytest.raises(ParameterError, match="vectors"):
-        ngspice.run(LADDER, "i(l1)", TSTOP)  # type: ignore[arg-type]
+        run(LADDER, "i(l1)", TSTOP)  # type: ignore[arg-type]
 
 
 def _raw_file(tmp_path: Path, flags: str, points: int, values: np.ndarray) -> Path:
@@ -110,42 +119,32 @@ def _raw_file(tmp_path: Path, flags: str, points: int, values: np.ndarray) -> Pa
 
 def test_read_raw_parses_binary_and_normalises_names(tmp_path: Path) -> None:
     path = _raw_file(tmp_path, "real", 3, np.array([0.0, 1.0, 0.5, 2.0, 1.0, 3.0]))
-    columns = ngspice.read_raw(path)
+    columns = read_raw(path)
     assert np.array_equal(columns["time"], [0.0, 0.5, 1.0])
     assert np.array_equal(columns["i(l1)"], [1.0, 2.0, 3.0])
 
 
 def test_read_raw_refuses_complex_and_truncated(tmp_path: Path) -> None:
     with pytest.raises(SimulationError, match="complex"):
-        ngspice.read_raw(_raw_file(tmp_path, "complex", 1, np.zeros(4)))
+        read_raw(_raw_file(tmp_path, "complex", 1, np.zeros(4)))
     with pytest.raises(SimulationError, match="truncated"):
-        ngspice.read_raw(_raw_file(tmp_path, "real", 5, np.zeros(4)))
-
-
-def test_import_lcchain_loads_neither_pyspice_nor_matplotlib() -> None:
-    code = (
-        "import sys, lcchain, lcchain.ngspice; "
-        "print([m for m in sys.modules if m.split('.')[0] in ('PySpice', 'matplotlib')])"
-    )
-    root = str(Path(ngspice.__file__).resolve().parent.parent)
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=root, check=True)
-    assert out.stdout.strip() == "[]"
+        read_raw(_raw_file(tmp_path, "real", 5, np.zeros(4)))
 
 
 # --------------------------------------------------------------------------- real runs
 
 
 @pytest.mark.ngspice
-def test_batch_run_returns_vectors_and_metadata(batch_result: ngspice.RunResult) -> None:
+def test_batch_run_returns_vectors_and_metadata(batch_result: RunResult) -> None:
     result = batch_result
     assert set(result.vectors) == {"i(l1)", "i(l3)"}
     assert result.points == result.time.size > 0
     assert all(v.shape == result.time.shape for v in result.vectors.values())
-    assert math.isclose(result.time[-1], TSTOP, rel_tol=ngspice.TSTOP_RTOL)
+    assert math.isclose(result.time[-1], TSTOP, rel_tol=TSTOP_RTOL)
     assert not result.time.flags.writeable
     assert not any(v.flags.writeable for v in result.vectors.values())
     assert result.backend == "batch"
-    assert result.ngspice_version == ngspice.ngspice_version()
+    assert result.ngspice_version == ngspice_version()
     assert result.options == {"method": "trap", "reltol": "1e-6", "abstol": "1e-12", "chgtol": "1e-20", "maxord": "2"}
     meta = result.metadata()
     assert json.loads(json.dumps(meta)) == meta
@@ -155,7 +154,7 @@ def test_batch_run_returns_vectors_and_metadata(batch_result: ngspice.RunResult)
 
 
 @pytest.mark.ngspice
-def test_batch_run_transfers_the_kick_perfectly(batch_result: ngspice.RunResult) -> None:
+def test_batch_run_transfers_the_kick_perfectly(batch_result: RunResult) -> None:
     # Perfect N=3 chain: loop 3 carries the whole kick at T, loop 1 has it back at 2T.
     t, i1, i3 = batch_result.time, batch_result.vectors["i(l1)"], batch_result.vectors["i(l3)"]
     assert np.interp(T_TRANSFER, t, i3) / KICK == pytest.approx(1.0, rel=RTOL_SPICE_TRANSFER)
@@ -164,8 +163,9 @@ def test_batch_run_transfers_the_kick_perfectly(batch_result: ngspice.RunResult)
 
 
 @pytest.mark.ngspice
-def test_shared_backend_is_bit_identical_to_batch(batch_result: ngspice.RunResult) -> None:
-    results = [ngspice.run(LADDER, ["i(l1)", "i(l3)"], TSTOP, backend="shared") for _ in range(3)]
+def test_shared_backend_is_bit_identical_to_batch(batch_result: RunResult) -> None:
+    shared_simulator = find_simulator("shared")
+    results = [run(LADDER, ["i(l1)", "i(l3)"], TSTOP, simulator=shared_simulator) for _ in range(3)]
     for shared in results:  # repeated runs leak no state: identical every time
         assert shared.backend == "shared"
         assert shared.ngspice_version == batch_result.ngspice_version
@@ -180,7 +180,7 @@ def test_shared_backend_is_bit_identical_to_batch(batch_result: ngspice.RunResul
 def test_both_save_syntaxes_give_the_same_keys(backend: str) -> None:
     netlist = LADDER.replace(".save i(l1) i(l3)", ".save l1#branch v(n1) I(L3)")
     seen: list[float] = []
-    result = ngspice.run(netlist, ["l1#branch", "v(n1)", "i(l3)"], TSTOP, backend=backend, progress=seen.append)
+    result = run(netlist, ["l1#branch", "v(n1)", "i(l3)"], TSTOP, backend=backend, progress=seen.append)
     assert set(result.vectors) == {"i(l1)", "v(n1)", "i(l3)"}
     assert seen == [0.0, 1.0]
 
@@ -197,40 +197,37 @@ def test_both_save_syntaxes_give_the_same_keys(backend: str) -> None:
     ],
     ids=["unknown-element", "bad-value", "bad-tran", "floating-node"],
 )
-def test_bad_netlist_raises_with_ngspice_message(backend: str, broken: str, said: str) -> None:
+def test_bad_netlist_raises_with_ngspice_message(backend: str, broken: str, said: str, leaves_nothing_behind) -> None:
     with pytest.raises(SimulationError) as info:
-        ngspice.run(broken, ["i(l1)", "i(l3)"], TSTOP, backend=backend)
-    message = str(info.value)
-    assert said in message
-    _check_kept_and_remove(message)
+        run(broken, ["i(l1)", "i(l3)"], TSTOP, backend=backend)
+    assert said in str(info.value)
+    assert info.value.status == "failed" and info.value.reason and said in info.value.reason + info.value.log_tail
 
 
 @pytest.mark.ngspice
 @pytest.mark.parametrize("backend", ["batch", "shared"])
-def test_vector_not_saved_is_named(backend: str) -> None:
-    with pytest.raises(SimulationError, match=re.escape("i(l2)")) as info:
-        ngspice.run(LADDER, ["i(l1)", "i(l2)"], TSTOP, backend=backend)
-    _check_kept_and_remove(str(info.value))
+def test_vector_not_saved_is_named(backend: str, leaves_nothing_behind) -> None:
+    with pytest.raises(SimulationError, match=re.escape("i(l2)")):
+        run(LADDER, ["i(l1)", "i(l2)"], TSTOP, backend=backend)
 
 
 @pytest.mark.ngspice
-def test_wrong_tstop_is_detected() -> None:
-    with pytest.raises(SimulationError, match="tstop") as info:
-        ngspice.run(LADDER, ["i(l1)"], 2 * TSTOP)
-    _check_kept_and_remove(str(info.value))
+def test_wrong_tstop_is_detected(leaves_nothing_behind) -> None:
+    with pytest.raises(SimulationError, match="tstop"):
+        run(LADDER, ["i(l1)"], 2 * TSTOP)
 
 
 @pytest.mark.ngspice
 @pytest.mark.parametrize("backend", ["batch", "shared"])
-def test_timeout_kills_the_simulator(backend: str) -> None:
+def test_timeout_kills_the_simulator(backend: str, leaves_nothing_behind) -> None:
     with pytest.raises(SimulationError, match="timed out") as info:
-        ngspice.run(ENDLESS, ["i(l1)"], 1e6, backend=backend, timeout=TIMEOUT_KILL_S)
-    _check_kept_and_remove(str(info.value))
+        run(ENDLESS, ["i(l1)"], 1e6, backend=backend, timeout=TIMEOUT_KILL_S)
+    assert info.value.status == "timeout"
 
 
 @pytest.mark.ngspice
 def test_doctor_is_all_ok_here() -> None:
-    checks = ngspice.doctor()
+    checks = doctor_module.doctor()
     assert [c.name for c in checks] == [
         "ngspice executable", "batch run", "ngspice shared library", "PySpice", "shared run"]
     assert all(c.ok for c in checks), [c for c in checks if not c.ok]
@@ -239,13 +236,13 @@ def test_doctor_is_all_ok_here() -> None:
 @pytest.mark.ngspice
 def test_batch_run_reports_its_progress(monkeypatch) -> None:
     # ngspice -b writes "Reference value : t" to stderr as it goes; run() turns it into fractions of tstop.
-    from lcchain.cases import chain_for_case
-    from lcchain.simulation import make_netlist
+    from lcchain.circuit.netlist import make_netlist
+    from lcchain.theory.cases import chain_for_case
 
-    monkeypatch.setattr(ngspice, "PROGRESS_INTERVAL", 0.02)
+    monkeypatch.setattr(runner, "PROGRESS_INTERVAL", 0.02)
     text, ladder, options = make_netlist(chain_for_case("two-mass", 300), dt=0.02, transits=1)
     seen: list[float] = []
-    ngspice.run(text, ["i(l1)", "i(l300)"], options.tstop * ladder.time_unit, progress=seen.append)
+    run(text, ["i(l1)", "i(l300)"], options.tstop * ladder.time_unit, progress=seen.append)
     assert seen[0] == 0.0 and seen[-1] == 1.0
     assert any(0.0 < f < 1.0 for f in seen), seen
     assert seen == sorted(seen)

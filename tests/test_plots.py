@@ -72,7 +72,7 @@ def test_overlay_without_residual_has_one_panel(wave):
 
 
 def test_overlay_accepts_objects_with_arrival_attributes(wave):
-    from lcchain.compare import ArrivalComparison
+    from lcchain.compare.metrics import ArrivalComparison
 
     t_sim, y_sim, t_th, y_th, _, _ = wave
     arr = ArrivalComparison(index=1, end="last", t_theory=30.0, t_sim=30.0, peak_theory=1.0, peak_sim=1.0)
@@ -223,7 +223,7 @@ def test_import_lcchain_does_not_import_matplotlib():
 
 
 def test_plots_never_import_pyplot():
-    code = ("import sys, lcchain.plots as p; a = 'matplotlib' in sys.modules; "
+    code = ("import sys, lcchain.report.plots as p; a = 'matplotlib' in sys.modules; "
             "p.histogram([1.0, 2.0, 2.0, 3.0]); print(a, 'matplotlib' in sys.modules, "
             "'matplotlib.pyplot' in sys.modules)")
     assert _modules_after(code) == "False True False"

@@ -12,15 +12,22 @@ import math
 
 import numpy as np
 import pytest
+from helpers.tolerances import (
+    ATOL_DELAYED_KICK,
+    ATOL_LOOPS,
+    ATOL_MODAL,
+    ATOL_MOMENTUM,
+    ATOL_RESPONSE_ODE,
+    ATOL_SHORT_PULSE,
+)
 from scipy.integrate import solve_ivp
 from scipy.special import ndtr
 
-from lcchain.chain import Chain
-from lcchain.errors import ParameterError
-from lcchain.modes import exact_modes, return_amplitude, transmission_amplitude
-from lcchain.response import _basis, linear_response, pulse_end
-
-from tolerances import ATOL_DELAYED_KICK, ATOL_LOOPS, ATOL_MODAL, ATOL_MOMENTUM, ATOL_RESPONSE_ODE, ATOL_SHORT_PULSE
+from lcchain.core.errors import ParameterError
+from lcchain.theory.chain import Chain
+from lcchain.theory.exact import exact_modes
+from lcchain.theory.response import _basis, linear_response, pulse_end
+from lcchain.theory.spectrum import return_amplitude, transmission_amplitude
 
 EXCITATIONS = [
     ("kick", None),

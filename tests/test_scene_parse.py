@@ -12,8 +12,9 @@ from pathlib import Path
 
 import pytest
 
-from lcchain.errors import ParameterError
-from lcchain.scene import (
+from lcchain.core.errors import ParameterError
+from lcchain.scenes.load import load_scene, parse_scene
+from lcchain.scenes.schema import (
     DEFAULT_TITLE,
     Analysis,
     ChainSpec,
@@ -26,8 +27,6 @@ from lcchain.scene import (
     Tolerance,
     Units,
     Walls,
-    load_scene,
-    parse_scene,
 )
 
 SCENES = Path(__file__).resolve().parent.parent / "examples" / "scenes"
@@ -212,8 +211,8 @@ BAD = {
     "width = 0": (MINIMAL + '[excitation]\nkind = "pulse"\nshape = "rect"\nwidth = 0\n', "excitation.width", "0", "0 < width <= 1000"),
     "width < 0": (MINIMAL + '[excitation]\nkind = "pulse"\nshape = "rect"\nwidth = -0.2\n', "excitation.width", "-0.2", "0 < width <= 1000"),
     "unknown E-series": (MINIMAL + '[effects.preferred_values]\nseries = "E6"\n', "effects.preferred_values.series", "'E6'", "E12 | E24 | E96"),
-    "title with a newline": ('title = "one\\n.control"\n' + MINIMAL, "title", repr("one\n.control"), "one printable line"),
-    "title with .control": ('title = "x .control shell rm"\n' + MINIMAL, "title", "'x .control shell rm'", "not a SPICE command"),
+    "title with a newline": ('title = "one\\n.control"\n' + MINIMAL, "title", repr("one\n.control"), "a newline"),
+    "title starting with .control": ('title = ".control"\n' + MINIMAL, "title", "'.control'", "dot-command"),
     # the rest of the contract
     "unknown case": ('[chain]\ncase = "three-mass"\nN = 50\n', "chain.case", "'three-mass'", "one-mass | two-mass"),
     "missing case": ("[chain]\nN = 50\n", "chain.case", "None", "one-mass | two-mass"),

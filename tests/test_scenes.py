@@ -1,7 +1,7 @@
 """Scenes in real ngspice: every effect against its exact theory, and nothing it did not ask for.
 
 The reference of every scene is the exact linear response of the same
-circuit (:func:`lcchain.response.linear_response`); with ``accuracy = eps``
+circuit (:func:`lcchain.theory.response.linear_response`); with ``accuracy = eps``
 the step is chosen so that the error is below eps, and these tests hold it to
 that.  The netlist tests read the text ngspice is given: an ideal scene is a
 pure L-C ladder saving two currents, and each effect adds only its own lines.
@@ -11,23 +11,26 @@ from __future__ import annotations
 
 import copy
 import csv
+import dataclasses
 import json
 import math
 from pathlib import Path
 
 import numpy as np
 import pytest
+from helpers.processes import temporary_entries
+from helpers.tolerances import ACCURACY_COARSE, ACCURACY_FINE, MIN_ERROR_WRONG_THEORY
 
-from lcchain import scene_run
-from lcchain.arrivals import arrival_window
+from lcchain.circuit.effects import E_SERIES
 from lcchain.cli import main
-from lcchain.effects import E_SERIES
-from lcchain.errors import ParameterError
-from lcchain.scene import parse_scene
-from lcchain.scene_run import run_scene, scene_netlist, scene_plan
-
-from test_ngspice import _check_kept_and_remove
-from tolerances import ACCURACY_COARSE, ACCURACY_FINE, MIN_ERROR_WRONG_THEORY
+from lcchain.core.errors import ParameterError
+from lcchain.report.scenes import run_scene, write_scene_outputs
+from lcchain.runs import execute as execute_module
+from lcchain.runs.execute import execute
+from lcchain.scenes.load import parse_scene
+from lcchain.scenes.plan import scene_netlist, scene_plan, scene_specs
+from lcchain.scenes.run import scene_result
+from lcchain.theory.arrivals import arrival_window
 
 SCENES = Path(__file__).resolve().parent.parent / "examples" / "scenes"
 EXAMPLES = sorted(SCENES.glob("*.toml"))
@@ -138,14 +141,12 @@ def test_every_effect_combined_meets_a_fine_accuracy() -> None:
 @pytest.mark.ngspice
 def test_a_wrong_quality_factor_in_the_theory_is_caught(monkeypatch) -> None:
     # The comparison must be able to fail: the theory gets Q = 60 for a Q = 50 circuit.
-    from lcchain import response
-
-    real = response.linear_response
+    real = execute_module.linear_response
 
     def theory_off(*args, **kwargs):
         return real(*args, **{**kwargs, "Q": 60.0})
 
-    monkeypatch.setattr(response, "linear_response", theory_off)
+    monkeypatch.setattr(execute_module, "linear_response", theory_off)
     result = run_scene(_scene(EFFECTS["losses"]), write_outputs=False)
     assert result.report["max_abs_error"] > MIN_ERROR_WRONG_THEORY
 
@@ -260,25 +261,21 @@ def test_tolerance_report_has_one_record_per_sample_and_the_spread(tmp_path: Pat
 
 
 @pytest.mark.ngspice
-def test_a_failed_sample_is_recorded_and_the_others_still_run(monkeypatch, tmp_path: Path) -> None:
-    real = scene_run.scene_netlist
-    calls = {"n": 0}
-
-    def broken_second(scene, chain, dt, tstop):
-        calls["n"] += 1
-        text = real(scene, chain, dt, tstop)
-        # ngspice itself rejects this (an unknown model), for the second sample only
-        return text.replace(".end\n", "Q99 n1 0 1.0\n.end\n") if calls["n"] == 2 else text
-
-    monkeypatch.setattr(scene_run, "scene_netlist", broken_second)
+def test_a_failed_sample_is_recorded_and_the_others_still_run(tmp_path: Path) -> None:
     scene = _scene(EFFECTS["tolerance"], {"output": {"report": str(tmp_path / "r.json")}})
-    result = run_scene(scene)
+    plan = scene_plan(scene)
+    specs = scene_specs(scene, plan)
+    # ngspice itself rejects the second sample's netlist (an unknown model); the others run as planned
+    specs[1] = dataclasses.replace(specs[1], netlist=specs[1].netlist.replace(".end\n", "Q99 n1 0 1.0\n.end\n"))
+    before = temporary_entries()
+    result = scene_result(scene, plan, specs, [execute(spec) for spec in specs], total_s=0.0)
     assert not result.ok
+    write_scene_outputs(result)
     records = json.loads((tmp_path / "r.json").read_text(encoding="utf-8"))["samples"]
-    assert "error" in records[1] and "model" in records[1]["error"]
-    _check_kept_and_remove(records[1]["error"])  # the failed run's files are kept for the user
+    assert records[1]["status"] == "failed" and "model" in records[1]["error"]
     assert "error" not in records[0] and "error" not in records[2]
     assert records[2]["max_abs_error"] <= ACCURACY_COARSE
+    assert temporary_entries() == before  # nothing of the failed run is left behind
 
 
 # ------------------------------------------------------------- command line

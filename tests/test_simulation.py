@@ -2,16 +2,21 @@
 
 import numpy as np
 import pytest
+from helpers.tolerances import (
+    ATOL_PERFECT_PEAK,
+    ATOL_SCALE_INVARIANCE,
+    ATOL_SCALE_INVARIANCE_TIME,
+    RTOL_CONSERVED,
+    TRAP_ERROR_COEFFICIENT_FIRST_TRANSIT,
+)
 
-from lcchain.cases import chain_for_case
-from lcchain.chain import PERFECT_ARRIVAL, Chain
-from lcchain.modes import normal_modes, transmission_amplitude
-from lcchain.netlist import Ladder, SimulationOptions, netlist_text, probe_names
-from lcchain.ngspice import run
-from lcchain.simulation import simulate
-
-from tolerances import (ATOL_PERFECT_PEAK, ATOL_SCALE_INVARIANCE, ATOL_SCALE_INVARIANCE_TIME, RTOL_CONSERVED,
-                                TRAP_ERROR_COEFFICIENT_FIRST_TRANSIT)
+from lcchain.circuit.ladder import Ladder
+from lcchain.circuit.netlist import SimulationOptions, netlist_text, probe_names
+from lcchain.runs.simulate import simulate
+from lcchain.spice.runner import run
+from lcchain.theory.cases import chain_for_case
+from lcchain.theory.chain import PERFECT_ARRIVAL, Chain
+from lcchain.theory.spectrum import normal_modes, transmission_amplitude
 
 pytestmark = pytest.mark.ngspice
 
@@ -47,7 +52,7 @@ def test_displacement_equals_kick_in_dimensionless_form():
     bound = TRAP_ERROR_COEFFICIENT_FIRST_TRANSIT * 2 * 0.02**2 * 4
     assert kick.comparison.max_abs_error < bound
     assert disp.comparison.max_abs_error < bound
-    for a, b in zip(kick.comparison.arrivals, disp.comparison.arrivals):
+    for a, b in zip(kick.comparison.arrivals, disp.comparison.arrivals, strict=True):
         assert a.peak_sim == pytest.approx(b.peak_sim, abs=bound)
 
 
@@ -71,7 +76,7 @@ def test_uniform_free_zero_mode_carries_constant_dc():
     options = SimulationOptions(dt=0.05, tstop=60.0)
     names = probe_names(chain.N, "all")
     result = run(netlist_text(ladder, options, probes="all"), names, options.tstop * ladder.time_unit)
-    momentum = sum(float(m) * result.vectors[name] for m, name in zip(chain.masses, names)) / 1e-3
+    momentum = sum(float(m) * result.vectors[name] for m, name in zip(chain.masses, names, strict=True)) / 1e-3
     assert np.max(np.abs(momentum - chain.masses[0])) < RTOL_CONSERVED
     # and the end current oscillates about the DC level I0 m1/M = I0/20
     report = simulate(chain, dt=0.05, transits=1)
@@ -88,7 +93,7 @@ def test_same_dimensionless_result_at_any_component_scale():
     for other in (results[0], results[2]):
         assert other.comparison.max_abs_error == pytest.approx(reference.comparison.max_abs_error,
                                                               abs=ATOL_SCALE_INVARIANCE)
-        for a, b in zip(other.comparison.arrivals, reference.comparison.arrivals):
+        for a, b in zip(other.comparison.arrivals, reference.comparison.arrivals, strict=True):
             assert a.peak_sim == pytest.approx(b.peak_sim, abs=ATOL_SCALE_INVARIANCE)
             assert a.t_sim == pytest.approx(b.t_sim, abs=ATOL_SCALE_INVARIANCE_TIME)
 
@@ -125,17 +130,22 @@ def test_end_signal_is_alpha_not_something_else():
     assert np.max(np.abs(w.last - transmission_amplitude(modes, w.t))) < 0.01
 
 
-@pytest.mark.parametrize("excitation", ["kick", "displacement"])
-def test_pyspice_circuit_is_the_same_ladder(excitation):
+@pytest.mark.ngspice
+@pytest.mark.parametrize("effects", [{"excitation": "kick"}, {"excitation": "displacement"},
+                                     {"excitation": "pulse", "pulse": ("gaussian", 0.3), "Q": 40.0},
+                                     {"excitation": "pulse", "pulse": ("rect", 0.5)}], ids=["kick", "displacement",
+                                                                                           "gaussian-losses", "rect"])
+def test_pyspice_circuit_is_the_same_ladder(effects):
     """The PySpice Circuit for embedding simulates bit-identically to lcchain's own netlist."""
-    from lcchain.pyspice_circuit import ladder_circuit
+    from lcchain.spice.pyspice import circuit_from_netlist
 
     chain = Chain([1.7, 0.9, 1.0, 0.9, 1.7], [0.2, 0.8, 1.0, 1.0, 0.8, 0.0])
     ladder = Ladder(chain)
     options = SimulationOptions(dt=0.05, tstop=12.0)
-    ours = netlist_text(ladder, options, excitation=excitation)
+    ours = netlist_text(ladder, options, **effects)
     analysis = [line for line in ours.splitlines() if line.startswith((".options", ".tran", ".save"))]
-    circuit_text = str(ladder_circuit(ladder, excitation=excitation)) + "\n".join(analysis) + "\n.end\n"
+    circuit_text = str(circuit_from_netlist(ours)) + "\n".join(analysis) + "\n.end\n"
+    assert circuit_text != ours  # PySpice wrote it
     names = probe_names(chain.N)
     a = run(ours, names, options.tstop * ladder.time_unit)
     b = run(circuit_text, names, options.tstop * ladder.time_unit)

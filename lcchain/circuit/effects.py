@@ -1,0 +1,173 @@
+"""Real-world effects that change the chain itself (pure).
+
+* walls: a wall spring K0 at both ends (the paper's bounded chain);
+* preferred values: every inductor and capacitor rounded to the nearest
+  value of an IEC 60063 E-series (E12, E24, E96), in henry and farad;
+* tolerances: every inductor (capacitor) multiplied by 1 + u, u uniform in
+  [-tol_L, +tol_L] ([-tol_C, +tol_C]), drawn independently per component
+  from ``numpy.random.default_rng``; sample k uses the k-th child of
+  ``SeedSequence(seed)``, so samples are reproducible and independent of
+  how many are drawn.  Tolerances apply to the rounded values (one buys E24
+  parts, each within its tolerance).
+
+The results are chains in bulk units again (masses = L/L0, springs =
+C0/C): rounding and tolerances break the mirror symmetry, so their theory
+comes from the exact modes of each chain.  Losses and pulse sources are
+circuit elements, not chain changes: see :func:`lcchain.circuit.netlist.netlist_text`.
+
+Rounding is vectorised (one numpy pass over every component) and done once
+for the nominal chain; each tolerance sample only multiplies the rounded values.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..core.checks import choice, integer, real
+from ..core.errors import ParameterError
+from ..core.limits import MAX_SAMPLES
+from ..theory.chain import Chain
+
+__all__ = ["E_SERIES", "preferred_value", "preferred_values", "with_walls", "rounded", "realise",
+           "tolerance_samples"]
+
+#: IEC 60063 series, mantissas in [1, 10).
+E_SERIES: dict[str, tuple[float, ...]] = {
+    "E12": (1.0, 1.2, 1.5, 1.8, 2.2, 2.7, 3.3, 3.9, 4.7, 5.6, 6.8, 8.2),
+    "E24": (1.0, 1.1, 1.2, 1.3, 1.5, 1.6, 1.8, 2.0, 2.2, 2.4, 2.7, 3.0,
+            3.3, 3.6, 3.9, 4.3, 4.7, 5.1, 5.6, 6.2, 6.8, 7.5, 8.2, 9.1),
+    "E96": tuple(v / 100 for v in (
+        100, 102, 105, 107, 110, 113, 115, 118, 121, 124, 127, 130, 133, 137, 140, 143, 147, 150, 154, 158,
+        162, 165, 169, 174, 178, 182, 187, 191, 196, 200, 205, 210, 215, 221, 226, 232, 237, 243, 249, 255,
+        261, 267, 274, 280, 287, 294, 301, 309, 316, 324, 332, 340, 348, 357, 365, 374, 383, 392, 402, 412,
+        422, 432, 442, 453, 464, 475, 487, 499, 511, 523, 536, 549, 562, 576, 590, 604, 619, 634, 649, 665,
+        681, 698, 715, 732, 750, 768, 787, 806, 825, 845, 866, 887, 909, 931, 953, 976)),
+}
+
+
+
+def _candidates(series: str, decades: np.ndarray) -> np.ndarray:
+    """Every series value in the given decades, one row per decade (-1, 0, +1 around each)."""
+    mantissas = E_SERIES[series]
+    rows = []
+    for decade in decades:
+        row = []
+        for exponent in (decade - 1, decade, decade + 1):
+            scale = 10.0 ** int(exponent)
+            # the text round trip removes the representation noise of mantissa * 10**exponent
+            row += [float(f"{m * scale:.12g}") for m in mantissas]
+        rows.append(row)
+    return np.array(rows, dtype=float)
+
+
+def preferred_values(values: np.ndarray, series: str) -> np.ndarray:
+    """Nearest values of the E-series, nearest in ratio (on a log scale), for an array.
+
+    Parameters
+    ----------
+    values : array_like
+        Positive component values (H or F).
+    series : {"E12", "E24", "E96"}
+
+    Returns
+    -------
+    ndarray
+        Same shape; ties go to the smaller value.
+    """
+    choice("series", series, tuple(E_SERIES))
+    array = np.asarray(values, dtype=float)
+    if not np.all(np.isfinite(array) & (array > 0)):
+        bad = array[~(np.isfinite(array) & (array > 0))].flat[0]
+        raise ParameterError("value", float(bad), "a finite component value > 0")
+    flat = array.ravel()
+    decade = np.floor(np.log10(flat)).astype(int)
+    unique, index = np.unique(decade, return_inverse=True)
+    table = _candidates(series, unique)[index]            # (values, 3 * len(series))
+    distance = np.abs(np.log(table / flat[:, None]))
+    best = table[np.arange(flat.size), np.argmin(distance, axis=1)]
+    return best.reshape(array.shape)
+
+
+def preferred_value(value: float, series: str) -> float:
+    """Nearest value of the E-series to one component value (see :func:`preferred_values`)."""
+    return float(preferred_values(np.array([real("value", value, above=0.0)]), series)[0])
+
+
+def with_walls(chain: Chain, K0: float) -> Chain:
+    """The chain with a wall spring K0 (bulk units, > 0) at both ends."""
+    K0 = real("K0", K0, above=0.0, allowed="a finite wall spring > 0 (bulk units)")
+    springs = np.array(chain.springs)
+    springs[0] = springs[-1] = K0
+    return Chain(chain.masses, springs, name=chain.name)
+
+
+def _components(chain: Chain, L0: float, C0: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    inductance = np.asarray(chain.masses) * L0
+    springs = np.asarray(chain.springs)
+    wired = springs == 0  # free ends are wires: nothing to round or tolerance
+    capacitance = np.where(wired, np.inf, C0 / np.where(wired, 1.0, springs))
+    return inductance, capacitance, wired
+
+
+def _chain(inductance: np.ndarray, capacitance: np.ndarray, wired: np.ndarray, L0: float, C0: float,
+           name: str) -> Chain:
+    springs = np.where(wired, 0.0, C0 / np.where(wired, 1.0, capacitance))
+    return Chain(inductance / L0, springs, name=name)
+
+
+def rounded(chain: Chain, L0: float, C0: float, series: str) -> Chain:
+    """The chain built from the nearest E-series parts (every L and C rounded, free ends stay wires)."""
+    inductance, capacitance, wired = _components(chain, L0, C0)
+    inductance = preferred_values(inductance, series)
+    capacitance = capacitance.copy()
+    capacitance[~wired] = preferred_values(capacitance[~wired], series)
+    return _chain(inductance, capacitance, wired, L0, C0, chain.name)
+
+
+def realise(chain: Chain, L0: float, C0: float, *, series: str | None = None, tol_L: float = 0.0,
+            tol_C: float = 0.0, rng: np.random.Generator | None = None, name: str | None = None) -> Chain:
+    """The chain actually built from components: rounded and/or toleranced.
+
+    Parameters
+    ----------
+    chain : Chain
+        Nominal chain (bulk units).
+    L0, C0 : float
+        Bulk inductance (H) and capacitance (F) that scale it.
+    series : {"E12", "E24", "E96"}, optional
+        Round every L and C to this series first (once: pass the already
+        rounded chain and no series when realising many samples).
+    tol_L, tol_C : float
+        Relative tolerances, 0 <= tol < 1.
+    rng : numpy.random.Generator, optional
+        Required when a tolerance is non-zero.
+    name : str, optional
+        Name of the realised chain (default: the nominal's).
+    """
+    tol_L = real("tol_L", tol_L, at_least=0.0, below=1.0)
+    tol_C = real("tol_C", tol_C, at_least=0.0, below=1.0)
+    if series is not None:
+        chain = rounded(chain, L0, C0, series)
+    inductance, capacitance, wired = _components(chain, L0, C0)
+    if tol_L or tol_C:
+        if rng is None:
+            raise ParameterError("rng", None, "a numpy Generator when a tolerance is non-zero")
+        inductance = inductance * (1 + tol_L * rng.uniform(-1.0, 1.0, inductance.size))
+        capacitance = capacitance * (1 + tol_C * rng.uniform(-1.0, 1.0, capacitance.size))
+    return _chain(inductance, capacitance, wired, L0, C0, name or chain.name)
+
+
+def tolerance_samples(chain: Chain, L0: float, C0: float, *, samples: int, seed: int, tol_L: float,
+                      tol_C: float, series: str | None = None) -> list[Chain]:
+    """``samples`` realised chains; sample k draws from ``SeedSequence(seed).spawn(samples)[k]``.
+
+    The nominal chain is rounded to ``series`` once, then every sample
+    multiplies each rounded value by its own 1 + u.
+    """
+    samples = integer("samples", samples, at_least=1, at_most=MAX_SAMPLES)
+    seed = integer("seed", seed, at_least=0)
+    base = rounded(chain, L0, C0, series) if series is not None else chain
+    children = np.random.SeedSequence(seed).spawn(samples)
+    return [realise(base, L0, C0, tol_L=tol_L, tol_C=tol_C, rng=np.random.default_rng(child),
+                    name=f"{chain.name} sample {k + 1}")
+            for k, child in enumerate(children)]

@@ -1,0 +1,67 @@
+"""A chain in physical units: the LC ladder's component values (pure).
+
+Mapping (last section of the paper, Fig. LCcircuit): mass m_i -> inductor
+L_i = m_i L0, spring K_{i,i+1} -> capacitor C_{i,i+1} = C0 / K_{i,i+1}; a wall
+spring is a capacitor to ground and a free end (K = 0) a wire.  Loop charges
+are the coordinates, loop currents the velocities, and the time unit is
+sqrt(L0 C0).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from ..core.checks import instance, real
+from ..theory.chain import Chain
+
+__all__ = ["Ladder"]
+
+
+@dataclass(frozen=True)
+class Ladder:
+    """A chain in physical units: the LC ladder's component values.
+
+    Parameters
+    ----------
+    chain : Chain
+        Masses and springs in bulk units.
+    L0 : float
+        Bulk inductance in henry (the bulk mass), > 0.
+    C0 : float
+        Bulk capacitance in farad (1 / bulk spring), > 0.
+    """
+
+    chain: Chain
+    L0: float = 10e-6
+    C0: float = 10e-9
+
+    def __post_init__(self) -> None:
+        instance("chain", self.chain, Chain)
+        object.__setattr__(self, "L0", real("L0", self.L0, above=0.0, unit="henry"))
+        object.__setattr__(self, "C0", real("C0", self.C0, above=0.0, unit="farad"))
+
+    @property
+    def time_unit(self) -> float:
+        """sqrt(L0 C0) in seconds: the circuit's unit of dimensionless time."""
+        return math.sqrt(self.L0 * self.C0)
+
+    @property
+    def impedance(self) -> float:
+        """sqrt(L0 / C0) in ohm: the bulk characteristic impedance."""
+        return math.sqrt(self.L0 / self.C0)
+
+    def inductances(self) -> list[float]:
+        """L_i = m_i L0, henry."""
+        return [float(m) * self.L0 for m in self.chain.masses]
+
+    def capacitances(self) -> list[float | None]:
+        """C_{i,i+1} = C0 / K_{i,i+1}, farad (index 0 and N are the walls); None = wire."""
+        return [None if k == 0 else self.C0 / float(k) for k in self.chain.springs]
+
+    def node(self, i: int) -> str:
+        """Name of rail node i (0..N); a free end's node is ground."""
+        N = self.chain.N
+        if (i == 0 and self.chain.springs[0] == 0) or (i == N and self.chain.springs[N] == 0):
+            return "0"
+        return f"n{i}"

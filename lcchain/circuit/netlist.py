@@ -1,0 +1,364 @@
+"""The LC ladder equivalent to a chain, as SPICE netlist text (pure).
+
+Mapping (last section of the paper, Fig. LCcircuit): mass m_i -> inductor
+L_i = m_i L0, spring K_{i,i+1} -> capacitor C_{i,i+1} = C0 / K_{i,i+1}; the
+loop charges Q_i play the coordinates and the loop currents I_i the
+velocities; the time unit is sqrt(L0 C0).
+
+Topology: nodes n0..nN along the top rail, ground below.  L_i joins
+n(i-1) to n(i); the spring between masses i and i+1 is a capacitor from n(i)
+to ground, shared by loops i and i+1, and carries Q_i - Q_{i+1}.  A wall
+spring is a capacitor from n0 (nN) to ground; a free end (K = 0, infinite
+capacitance) closes its loop with a wire: n0 (nN) *is* the ground node.
+
+Excitations:
+
+* kick: an initial current I0 in L_1 (``IC=`` on the inductor);
+* displacement: an initial charge Q0 in loop 1, i.e. the capacitor
+  voltages it implies, V(n1) = Q0 / C_12 and V(n0) = -Q0 / C_01.
+
+Netlist text is deterministic (same inputs, same bytes), every number is a
+plain float at full precision (``repr(float(v))``: never a SPICE suffix, where
+``m`` is milli and ``F`` femto, never a numpy repr), ``.save`` lists only the
+requested probes, ``.tran`` always has an explicit maximum step, and every
+option is written out.  Text a user supplies (the title, comments) cannot add a
+line.  Callers never edit the text: what a run needs beyond the defaults
+(adaptive stepping, extra ``.options``, ngspice's own default tolerances, more
+saved vectors) is said through :class:`SimulationOptions` and the arguments of
+:func:`netlist_text`.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+import re
+from dataclasses import dataclass
+
+from ..core.checks import choice, instance, integer, real, text_line
+from ..core.errors import ParameterError
+from ..core.limits import MAX_COMMENT_LENGTH, MAX_DT, MAX_TITLE_LENGTH
+from ..core.types import (
+    EXCITATION_KINDS,
+    GAUSSIAN_CENTRE,
+    METHODS,
+    PROBES,
+    PULSE_SHAPES,
+    STEPPINGS,
+    ExcitationKind,
+    Method,
+    Probes,
+    PulseShape,
+    Stepping,
+)
+from ..theory.arrivals import stop_time
+from ..theory.chain import Chain
+from ..theory.modes import Modes
+from ..theory.spectrum import normal_modes
+from .ladder import Ladder
+
+__all__ = [
+    "Ladder",
+    "SimulationOptions",
+    "netlist_text",
+    "make_netlist",
+    "check_user_text",
+    "probe_names",
+    "number",
+    "netlist_hash",
+    "SCALED_TOLERANCES",
+]
+
+#: The tolerances lcchain scales to the circuit's own current, voltage and charge
+#: (so results do not depend on the unit scale); ``SimulationOptions.ngspice_defaults``
+#: may leave any of them at ngspice's default instead.
+SCALED_TOLERANCES = ("abstol", "vntol", "chgtol")
+#: An option name or flag ngspice understands: letters, digits and underscores.
+_OPTION_NAME = re.compile(r"^[a-z][a-z0-9_]*$")
+#: An option value: a plain number or word, nothing that could end the line or start another.
+_OPTION_VALUE = re.compile(r"^[A-Za-z0-9_.+-]+$")
+#: A vector name for .save: i(l1), v(n3), @c1[i], ... without spaces.
+_VECTOR = re.compile(r"^[A-Za-z0-9_#@()\[\],.:+-]+$")
+
+
+def number(value: float) -> str:
+    """A float as SPICE reads it exactly: ``repr(float(value))``, no suffix."""
+    value = float(value)
+    if not math.isfinite(value):
+        raise ParameterError("value", value, "a finite number in a netlist")
+    return repr(value)
+
+
+def check_user_text(field_name: str, text: object, max_length: int = MAX_TITLE_LENGTH, *, title: bool = True) -> str:
+    """Text a user puts in a netlist: its title line, or a ``*`` comment (``title=False``).
+
+    What may reach ngspice as a command is refused, and only that: see
+    :func:`lcchain.core.checks.text_line`.
+    """
+    return text_line(field_name, text, max_length, title=title)
+
+
+@dataclass(frozen=True)
+class SimulationOptions:
+    """Transient-analysis settings, all written out in the netlist.
+
+    Parameters
+    ----------
+    dt : float
+        Print step, and the maximum step for ``stepping="fixed"``, in units of
+        sqrt(L0 C0); 0 < dt <= 1.
+    tstop : float
+        Stop time in units of sqrt(L0 C0), > dt.
+    method : {"trap", "gear"}
+        Integration method (trapezoidal keeps energy; gear damps it).
+    reltol : float
+        ngspice's relative tolerance (it drives the step control), > 0.
+    maxord : int
+        Maximum order, 1..6 (2: trap is second order; higher changes nothing here).
+    stepping : {"fixed", "adaptive"}
+        ``"fixed"``: the maximum step is dt; ``"adaptive"``: ngspice's own
+        step control with its default maximum step, tstop/50.
+    extra : tuple of (name, value or None)
+        More ``.options``: ``(("klu", None),)`` writes the flag ``klu``,
+        ``(("itl4", "50"),)`` writes ``itl4=50``.
+    ngspice_defaults : tuple of str
+        Names from :data:`SCALED_TOLERANCES` to leave at ngspice's defaults.
+    """
+
+    dt: float
+    tstop: float
+    method: Method = "trap"
+    reltol: float = 1e-3
+    maxord: int = 2
+    stepping: Stepping = "fixed"
+    extra: tuple[tuple[str, str | None], ...] = ()
+    ngspice_defaults: tuple[str, ...] = ()
+
+    def __post_init__(self) -> None:
+        dt = real("dt", self.dt, above=0.0, at_most=MAX_DT,
+                  allowed=f"0 < dt <= {MAX_DT:g} (in units of sqrt(L0*C0); the bulk period is 2 pi)")
+        object.__setattr__(self, "dt", dt)
+        object.__setattr__(self, "tstop", real("tstop", self.tstop, above=dt,
+                                               allowed=f"a finite stop time > dt = {dt!r}"))
+        object.__setattr__(self, "reltol", real("reltol", self.reltol, above=0.0))
+        choice("method", self.method, METHODS)
+        choice("stepping", self.stepping, STEPPINGS)
+        object.__setattr__(self, "maxord", integer("maxord", self.maxord, at_least=1, at_most=6))
+        extra = tuple(self.extra)
+        for item in extra:
+            if not (isinstance(item, tuple) and len(item) == 2 and isinstance(item[0], str)
+                    and _OPTION_NAME.match(item[0]) and (item[1] is None or (isinstance(item[1], str)
+                                                                            and _OPTION_VALUE.match(item[1])))):
+                raise ParameterError("extra", item, "(name, value or None) with a plain option name and value")
+        object.__setattr__(self, "extra", extra)
+        defaults = tuple(self.ngspice_defaults)
+        for name in defaults:
+            choice("ngspice_defaults", name, SCALED_TOLERANCES)
+        object.__setattr__(self, "ngspice_defaults", defaults)
+
+
+def probe_names(N: int, probes: Probes = "ends") -> list[str]:
+    """ngspice vectors saved for the probes: inductor currents ``i(l1)``..."""
+    choice("probes", probes, PROBES)
+    loops = [1, N] if probes == "ends" else list(range(1, N + 1))
+    return [f"i(l{i})" for i in loops]
+
+
+def _check_pulse(excitation: str, pulse: object) -> tuple[str, float] | None:
+    if (excitation == "pulse") != (pulse is not None):
+        raise ParameterError("pulse", pulse, "(shape, width) exactly when excitation is 'pulse'")
+    if pulse is None:
+        return None
+    if not isinstance(pulse, tuple) or len(pulse) != 2:
+        raise ParameterError("pulse", pulse, "(shape, width)")
+    shape = choice("pulse shape", pulse[0], PULSE_SHAPES)
+    return shape, real("pulse width", pulse[1], above=0.0, unit="units of sqrt(L0*C0)")
+
+
+def netlist_text(
+    ladder: Ladder,
+    options: SimulationOptions,
+    *,
+    excitation: ExcitationKind = "kick",
+    I0: float = 1e-3,
+    probes: Probes = "ends",
+    title: str = "lcchain LC ladder",
+    comments: tuple[str, ...] = (),
+    Q: float | None = None,
+    pulse: tuple[PulseShape, float] | None = None,
+    extra_vectors: tuple[str, ...] = (),
+) -> str:
+    """The SPICE netlist of the ladder and its transient analysis.
+
+    Parameters
+    ----------
+    ladder : Ladder
+        Chain and bulk values L0 (H), C0 (F).
+    options : SimulationOptions
+        Step, stop time (units of sqrt(L0 C0)) and integrator settings.
+    excitation : {"kick", "displacement", "pulse"}
+        Initial current I0 in L_1, initial charge Q0 = I0 sqrt(L0 C0) in
+        loop 1, or (with ``pulse``) a voltage source in loop 1.
+    I0 : float
+        Scale of the excitation, ampere (> 0).
+    probes : {"ends", "all"}
+        Save the two end-loop currents, or every loop current.
+    title : str
+        First line of the netlist (one line, :func:`check_user_text`).
+    comments : tuple of str
+        Extra ``*`` comment lines after the title (validated likewise).
+    Q : float, optional
+        Losses: a resistor R_i = L_i / (Q sqrt(L0 C0)) in series with every
+        inductor (every mode then decays at the same rate).  None: no resistor.
+    pulse : (shape, width), optional
+        With ``excitation="pulse"``: a voltage source in loop 1,
+        v(t) = L_1 I0 g(t), g of unit area in units of sqrt(L0 C0):
+        ``"gaussian"`` (standard deviation ``width``, centred at 4 width, a
+        B-source) or ``"rect"`` (1/width on [0, width), a PWL source whose
+        fall takes 1e-9 width).  None: no source.
+    extra_vectors : tuple of str
+        More vectors to save after the probes (node voltages ``v(n3)``...).
+
+    Returns
+    -------
+    str
+        Deterministic text ending in ``.end`` and a newline.
+    """
+    instance("ladder", ladder, Ladder)
+    instance("options", options, SimulationOptions)
+    choice("excitation", excitation, EXCITATION_KINDS)
+    spec = _check_pulse(excitation, pulse)
+    if Q is not None:
+        Q = real("Q", Q, above=0.0, allowed="a finite quality factor > 0")
+    I0 = real("I0", I0, above=0.0, unit="ampere")
+    title = check_user_text("title", title)
+    for line in comments:
+        check_user_text("comment", line, max_length=MAX_COMMENT_LENGTH, title=False)
+    for name in extra_vectors:
+        if not isinstance(name, str) or not _VECTOR.match(name):
+            raise ParameterError("extra_vectors", name, "vector names such as 'v(n3)' without spaces")
+    chain = ladder.chain
+    N = chain.N
+    unit = ladder.time_unit
+    L = ladder.inductances()
+    C = ladder.capacitances()
+    Q0 = I0 * unit
+
+    lines = [title]
+    lines += [f"* {line}" for line in comments]
+    lines.append(
+        f"* N={N} L0={number(ladder.L0)} H C0={number(ladder.C0)} F time unit={number(unit)} s "
+        f"excitation={excitation} I0={number(I0)} A"
+    )
+    for i in range(1, N + 1):
+        ic = f" IC={number(I0)}" if (excitation == "kick" and i == 1) else ""
+        left, right = ladder.node(i - 1), ladder.node(i)
+        if i == 1 and spec is not None:
+            left = "s1"  # the source sits between the rail node n0 (or ground) and L1
+        if Q is not None:
+            lines.append(f"L{i} {left} m{i} {number(L[i - 1])}{ic}")
+            lines.append(f"R{i} m{i} {right} {number(L[i - 1] / (Q * unit))}")
+        else:
+            lines.append(f"L{i} {left} {right} {number(L[i - 1])}{ic}")
+        if i < N:
+            capacitance = C[i]
+            assert capacitance is not None  # inner springs are > 0 (Chain checks it)
+            ic = f" IC={number(Q0 / capacitance)}" if (excitation == "displacement" and i == 1) else ""
+            lines.append(f"C{i}_{i + 1} n{i} 0 {number(capacitance)}{ic}")
+    for wall in (0, N):
+        wall_capacitance = C[wall]
+        if wall_capacitance is not None:
+            ic = f" IC={number(-Q0 / wall_capacitance)}" if (excitation == "displacement" and wall == 0) else ""
+            lines.append(f"C{wall}_{wall + 1} {ladder.node(wall)} 0 {number(wall_capacitance)}{ic}")
+    if spec is not None:
+        shape, width = spec
+        area = L[0] * I0  # volt-seconds: the source gives L_1 the current I0
+        if shape == "gaussian":
+            sigma, centre = width * unit, GAUSSIAN_CENTRE * width * unit
+            peak = area / (sigma * math.sqrt(2 * math.pi))
+            expression = f"{number(peak)}*exp(-0.5*((time-{number(centre)})/{number(sigma)})^2)"
+            lines.append(f"B1 s1 {ladder.node(0)} V={expression}")
+        else:
+            duration = width * unit
+            level = area / duration
+            lines.append(f"V1 s1 {ladder.node(0)} PWL(0 {number(level)} {number(duration)} {number(level)} "
+                         f"{number(duration * (1 + 1e-9))} 0)")
+    lines.append(_options_line(options, I0, ladder))
+    step = options.dt * unit
+    tstop = options.tstop * unit
+    max_step = step if options.stepping == "fixed" else tstop / 50
+    lines.append(f".tran {number(step)} {number(tstop)} 0 {number(max_step)} uic")
+    lines.append(".save " + " ".join(probe_names(N, probes) + list(extra_vectors)))
+    lines.append(".end")
+    return "\n".join(lines) + "\n"
+
+
+def _options_line(options: SimulationOptions, I0: float, ladder: Ladder) -> str:
+    # Tolerances scaled to the circuit's own current, voltage and charge, so
+    # that results do not depend on the unit scale (nH/pF/uA as 1 H/1 F/1 A).
+    V0 = I0 * ladder.impedance
+    Q0 = I0 * ladder.time_unit
+    scaled = {"abstol": 1e-12 * I0, "vntol": 1e-12 * V0, "chgtol": 1e-15 * Q0}
+    words = [f"method={options.method}", f"maxord={options.maxord}", f"reltol={number(options.reltol)}"]
+    words += [f"{name}={number(value)}" for name, value in scaled.items() if name not in options.ngspice_defaults]
+    words.append("trtol=7.0")
+    words += [name if value is None else f"{name}={value}" for name, value in options.extra]
+    return ".options " + " ".join(words)
+
+
+def make_netlist(
+    chain: Chain,
+    *,
+    dt: float,
+    transits: int = 1,
+    excitation: ExcitationKind = "kick",
+    L0: float = 10e-6,
+    C0: float = 10e-9,
+    I0: float = 1e-3,
+    method: Method = "trap",
+    title: str | None = None,
+    comments: tuple[str, ...] = (),
+    modes: Modes | None = None,
+    tstop: float | None = None,
+) -> tuple[str, Ladder, SimulationOptions]:
+    """The netlist :func:`lcchain.simulate` runs: a chain, kicked or displaced, over some transits.
+
+    Parameters
+    ----------
+    chain : Chain
+    dt : float
+        Maximum step, units of sqrt(L0 C0).
+    transits : int
+        Arrivals to watch; the run stops at :func:`lcchain.theory.arrivals.stop_time`.
+    excitation : {"kick", "displacement"}
+    L0, C0 : float
+        Bulk inductance (H) and capacitance (F).
+    I0 : float
+        Kick current, ampere.
+    method : {"trap", "gear"}
+    title : str, optional
+        First line (default: the chain's name and N).
+    comments : tuple of str
+        ``*`` lines after the title.
+    modes : Modes, optional
+        The chain's modes, when already computed (they give the stop time).
+    tstop : float, optional
+        The stop time (units of sqrt(L0 C0)) instead of the one the transits give.
+
+    Returns
+    -------
+    text, ladder, options
+    """
+    if tstop is None:
+        modes = modes if modes is not None else normal_modes(chain)
+        tstop = stop_time(modes, transits)
+    ladder = Ladder(chain, L0, C0)
+    options = SimulationOptions(dt=dt, tstop=tstop, method=method)
+    title = title if title is not None else f"lcchain {chain.name} chain N={chain.N}, {excitation}"
+    text = netlist_text(ladder, options, excitation=excitation, I0=I0, title=title, comments=comments)
+    return text, ladder, options
+
+
+def netlist_hash(text: str) -> str:
+    """SHA-256 of the netlist text (UTF-8), as recorded with every run."""
+    return hashlib.sha256(text.encode("utf-8")).hexdigest()

@@ -1,0 +1,190 @@
+"""Simulation against theory: errors and arrivals, in one shape for every caller (pure).
+
+The simulated loop signals (:class:`~lcchain.compare.waveforms.Signals`) are
+compared with the exact theory of the same circuit at ngspice's own time
+points.  For each arrival the peak is searched in the window of
+:func:`lcchain.theory.arrivals.arrival_window` (shifted by a pulse's centre):
+in the samples, refined by a parabola through the best sample and its
+neighbours (:func:`sample_peak`), and in the theory, on a fine grid refined
+by Brent's method (:func:`lcchain.theory.arrivals.maximum_in_window`).
+Odd arrivals are seen at loop N, even ones back at loop 1.
+"""
+
+from __future__ import annotations
+
+import functools
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from ..core.blas import fixed_blas_threads
+from ..core.errors import ParameterError
+from ..core.frozen import FrozenArrays
+from ..theory.arrivals import arrival_window, maximum_in_window
+from .waveforms import Signals
+
+__all__ = ["ArrivalComparison", "Metrics", "Comparison", "sample_peak", "compare_signals"]
+
+
+@dataclass(frozen=True)
+class ArrivalComparison:
+    """One arrival of the pulse, in theory and in the simulation.
+
+    Attributes
+    ----------
+    index : int
+        1 for the first arrival at loop N, 2 for the return to loop 1, ...
+    end : {"first", "last"}
+    t_theory, t_sim : float
+        Time of the peak, units of sqrt(L0 C0).
+    peak_theory, peak_sim : float
+        Peak of the dimensionless signal.
+    """
+
+    index: int
+    end: str
+    t_theory: float
+    t_sim: float
+    peak_theory: float
+    peak_sim: float
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"index": self.index, "end": self.end, "t_theory": self.t_theory, "t_sim": self.t_sim,
+                "peak_theory": self.peak_theory, "peak_sim": self.peak_sim}
+
+
+@dataclass(frozen=True)
+class Metrics:
+    """The numbers a run is judged by.
+
+    Attributes
+    ----------
+    max_abs_error : float
+        max over every saved loop and time point of |simulation - theory|.
+    max_abs_error_first, max_abs_error_last : float
+        The same for loop 1 and loop N.
+    arrivals : tuple of ArrivalComparison
+    predicted_error : float or None
+        The error model's prediction before the run (fixed-step trap or gear).
+    integration_error, physics_error : float or None
+        Simulation against the trapezoidal model, and the model against the
+        exact theory (:func:`lcchain.compare.accuracy.split_error`); None
+        where the model does not apply.
+    """
+
+    max_abs_error: float
+    max_abs_error_first: float
+    max_abs_error_last: float
+    arrivals: tuple[ArrivalComparison, ...]
+    predicted_error: float | None = None
+    integration_error: float | None = None
+    physics_error: float | None = None
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "max_abs_error": self.max_abs_error,
+            "max_abs_error_first": self.max_abs_error_first,
+            "max_abs_error_last": self.max_abs_error_last,
+            "arrivals": [a.to_dict() for a in self.arrivals],
+            "predicted_error": self.predicted_error,
+            "integration_error": self.integration_error,
+            "physics_error": self.physics_error,
+        }
+
+
+@dataclass(frozen=True, eq=False)
+class Comparison(FrozenArrays):
+    """Simulation against theory over the whole simulated window, with the theory's end signals.
+
+    Attributes
+    ----------
+    max_abs_error : float
+        max over both ends and all time points of |simulation - theory|.
+    max_abs_error_first, max_abs_error_last : float
+        The same for each end.
+    arrivals : tuple of ArrivalComparison
+    theory_first, theory_last : ndarray
+        Theory at the simulator's time points.
+    """
+
+    max_abs_error: float
+    max_abs_error_first: float
+    max_abs_error_last: float
+    arrivals: tuple[ArrivalComparison, ...]
+    theory_first: np.ndarray
+    theory_last: np.ndarray
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "max_abs_error": self.max_abs_error,
+            "max_abs_error_first": self.max_abs_error_first,
+            "max_abs_error_last": self.max_abs_error_last,
+            "arrivals": [a.to_dict() for a in self.arrivals],
+        }
+
+    @classmethod
+    def of(cls, metrics: Metrics, signals: Signals) -> Comparison:
+        """The comparison of a run from its metrics and signals."""
+        return cls(metrics.max_abs_error, metrics.max_abs_error_first, metrics.max_abs_error_last,
+                   metrics.arrivals, signals.theory[0], signals.theory[-1])
+
+
+def sample_peak(t: np.ndarray, y: np.ndarray, lo: float, hi: float) -> tuple[float, float]:
+    """Peak of samples (t, y) inside [lo, hi], refined by a parabola through 3 points."""
+    inside = np.flatnonzero((t >= lo) & (t <= hi))
+    if inside.size == 0:
+        raise ParameterError("window", (lo, hi), "a window containing simulated points")
+    i = int(inside[np.argmax(y[inside])])
+    if 0 < i < t.size - 1:
+        x0, x1, x2 = t[i - 1 : i + 2]
+        y0, y1, y2 = y[i - 1 : i + 2]
+        # Parabola through three (possibly unevenly spaced) points.
+        d01, d12, d02 = x1 - x0, x2 - x1, x2 - x0
+        a = (y2 - y1) / (d12 * d02) - (y1 - y0) / (d01 * d02)
+        b = (y1 - y0) / d01 - a * (x0 + x1)
+        if a < 0:
+            tp = -b / (2 * a)
+            if x0 <= tp <= x2:
+                yp = y1 + (tp - x1) * ((y1 - y0) / d01 + a * (tp - x0))
+                return float(tp), float(yp)
+    return float(t[i]), float(y[i])
+
+
+@fixed_blas_threads
+def compare_signals(signals: Signals, *, transit_time: float, transits: int, shift: float = 0.0,
+                    theory_end: Callable[[int, np.ndarray], np.ndarray]) -> Metrics:
+    """Errors and arrivals of a run.
+
+    Parameters
+    ----------
+    signals : Signals
+        Simulated and theoretical loop signals at the simulator's times.
+    transit_time : float
+        The chain's transit time T (units of sqrt(L0 C0)): it centres the windows.
+    transits : int
+        Arrivals to report.
+    shift : float
+        Delay of every arrival (a pulse's centre), units of sqrt(L0 C0).
+    theory_end : callable
+        ``theory_end(row, t)``: the theory of loop 1 (row 0) or loop N (row -1)
+        at any times, for the theory's own peak search.
+
+    Returns
+    -------
+    Metrics
+        Without the error model's numbers (the caller adds them).
+    """
+    t, sim, theory = signals.t, signals.sim, signals.theory
+    error = np.abs(sim - theory)
+    found = []
+    for index in range(1, transits + 1):
+        lo, hi = arrival_window(index, transit_time)
+        window = (lo + shift, min(hi + shift, float(t[-1])))
+        row = -1 if index % 2 else 0
+        t_sim, peak_sim = sample_peak(t, sim[row], *window)
+        t_theory, peak_theory = maximum_in_window(functools.partial(theory_end, row), window, transit_time)
+        found.append(ArrivalComparison(index, "last" if index % 2 else "first", t_theory, t_sim, peak_theory,
+                                       peak_sim))
+    return Metrics(float(np.max(error)), float(np.max(error[0])), float(np.max(error[-1])), tuple(found))

@@ -1,0 +1,121 @@
+"""Exceptions raised by lcchain.
+
+Every user mistake raises :class:`ParameterError`, whose message names the
+field, the offending value and the allowed range, so that the command line can
+print it as one line (exit status 2) instead of a traceback.
+
+Every error keeps its fields as attributes and pickles: ``__reduce__`` returns
+the class and its constructor arguments (as pint's errors do), so an error
+raised in a worker process or on a Dask worker reaches the user as itself.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+__all__ = [
+    "LcchainError",
+    "ParameterError",
+    "SimulationError",
+    "SimulatorMissingError",
+    "Interrupted",
+]
+
+
+class LcchainError(Exception):
+    """Base class of every error lcchain raises on purpose."""
+
+
+class ParameterError(LcchainError, ValueError):
+    """A parameter is out of its allowed range.
+
+    Parameters
+    ----------
+    field : str
+        Name of the parameter, as the user wrote it (``"N"``, ``"masses[2]"``,
+        ``"--dt"``, ``"analysis.dt"``).
+    value : object
+        The rejected value.
+    allowed : str
+        The allowed range, in words (``"an integer >= 3"``).
+    where : str, optional
+        Where the value came from (a file name), prefixed to the message.
+    """
+
+    def __init__(self, field: str, value: object, allowed: str, where: str | None = None):
+        self.field = field
+        self.value = value
+        self.allowed = allowed
+        self.where = where
+        prefix = f"{where}: " if where else ""
+        super().__init__(f"{prefix}{field} = {show_value(value)} is not allowed: expected {allowed}")
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        return (type(self), (self.field, self.value, self.allowed, self.where))
+
+    def located(self, where: str | None) -> ParameterError:
+        """The same error with ``where`` (a file) set, unless it already has one."""
+        if self.where is not None or where is None:
+            return self
+        return type(self)(self.field, self.value, self.allowed, where)
+
+    def renamed(self, field: str) -> ParameterError:
+        """The same error under the name the user typed (``"--L0"`` for ``"L0"``)."""
+        return type(self)(field, self.value, self.allowed, self.where)
+
+
+class SimulationError(LcchainError):
+    """ngspice ran but did not produce a valid result.
+
+    Parameters
+    ----------
+    reason : str
+        What went wrong, in one line where possible (ngspice's own words).
+    log_tail : str
+        The useful end of ngspice's output ("" when it printed nothing useful).
+    status : {"failed", "timeout"}
+        ``"timeout"`` when ngspice was killed for running too long.
+    """
+
+    def __init__(self, reason: str, log_tail: str = "", status: str = "failed"):
+        self.reason = reason
+        self.log_tail = log_tail
+        self.status = status
+        said = f"\nngspice said:\n{log_tail}" if log_tail else ""
+        super().__init__(f"{reason}{said}")
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        return (type(self), (self.reason, self.log_tail, self.status))
+
+
+class SimulatorMissingError(LcchainError):
+    """ngspice (or its shared library, or PySpice) cannot be found on this machine."""
+
+
+class Interrupted(BaseException):
+    """The process received SIGTERM or SIGHUP (SIGINT stays KeyboardInterrupt).
+
+    A BaseException, like KeyboardInterrupt, so that ``except Exception`` blocks
+    never swallow it and every ``finally`` (killing ngspice, removing files)
+    runs on the way out.
+
+    Parameters
+    ----------
+    signum : int
+        The signal number.
+    """
+
+    def __init__(self, signum: int):
+        self.signum = signum
+        super().__init__(f"signal {signum}")
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        return (type(self), (self.signum,))
+
+
+def show_value(value: object) -> str:
+    """A value as an error message shows it: repr, cut to 80 characters."""
+    if isinstance(value, float):
+        return repr(value)
+    text = repr(value)
+    return text if len(text) <= 80 else text[:77] + "..."

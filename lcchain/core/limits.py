@@ -1,0 +1,29 @@
+"""Every limit lcchain enforces, stated once.
+
+The command line, the Python API and scenes all check against these names;
+an error message quotes the number from here.
+"""
+
+from __future__ import annotations
+
+#: Smallest chain lcchain accepts (the paper's smallest model, Sec. II.C).
+MIN_N = 3
+#: Largest N the optimisers accept (memory: a few arrays of N floats).
+MAX_DESIGN_N = 10_000_000
+#: Largest N diagonalised exactly (eigenvectors need 8 N^2 bytes: 800 MB at 10^4).
+EXACT_MAX_N = 10_000
+#: Largest chain simulated as a netlist (about 2 N elements) by simulate, scenes and sweeps.
+MAX_CIRCUIT_N = 100_000
+#: Most end-to-end transits one run may watch.
+MAX_TRANSITS = 1000
+#: Largest fixed step written into a netlist, units of sqrt(L0*C0) (the bulk period is 2 pi).
+MAX_DT = 1.0
+#: Largest step --accuracy chooses, units of sqrt(L0*C0): the bulk band reaches omega = 2, warped 8 % at 0.5.
+MAX_ACCURACY_DT = 0.5
+#: Longest pulse (gaussian standard deviation or rect duration), units of sqrt(L0*C0).
+MAX_PULSE_WIDTH = 1000.0
+#: Most tolerance samples in one scene or sweep.
+MAX_SAMPLES = 10_000
+#: Longest title or comment line written into a netlist.
+MAX_TITLE_LENGTH = 200
+MAX_COMMENT_LENGTH = 400

@@ -1,0 +1,57 @@
+"""The option sets of lcchain, and the definition of its pulse, in one place.
+
+Every set of allowed strings is a ``Literal`` alias here; the tuples of
+allowed values are derived from them (``get_args``), never written again.
+"""
+
+from __future__ import annotations
+
+from typing import Literal, get_args
+
+#: Families of chains lcchain can build by name.
+Case = Literal["one-mass", "two-mass", "uniform-free", "uniform-bounded", "perfect", "custom"]
+#: How loop 1 (mass 1) is set in motion: an initial current (velocity) or charge (position).
+Excitation = Literal["kick", "displacement"]
+#: How ngspice is driven: ``ngspice -b`` subprocess, or the shared library through PySpice.
+Backend = Literal["batch", "shared"]
+#: How normal modes are computed: exact diagonalisation or the paper's closed form.
+ModeMethod = Literal["auto", "exact", "closed-form"]
+#: The two optimised designs of the paper (Tables I and II).
+DesignCase = Literal["one-mass", "two-mass"]
+#: What sets loop 1 in motion in a scene or a response: the two initial conditions, or a voltage pulse.
+ExcitationKind = Literal["kick", "displacement", "pulse"]
+#: The pulse's shape g(t), of unit area: gaussian (standard deviation ``width``, centred at 4 width)
+#: or rect on [0, width).
+PulseShape = Literal["gaussian", "rect"]
+#: Which loop currents are saved (and which loops a response returns): loops 1 and N, or every loop.
+Probes = Literal["ends", "all"]
+#: ngspice's integration method.
+Method = Literal["trap", "gear"]
+#: How ngspice chooses its steps: a fixed maximum step dt, or its own control up to tstop/50.
+Stepping = Literal["fixed", "adaptive"]
+#: The end of a chain whose loop current is compared: loop 1 or loop N.
+End = Literal["first", "last"]
+#: How a run ended: ngspice's waveforms passed validation, or not, or ngspice ran out of time.
+RunStatus = Literal["ok", "failed", "timeout"]
+#: The IEC 60063 preferred-number series every L and C can be rounded to.
+ESeries = Literal["E12", "E24", "E96"]
+#: The pictures a scene can ask for.
+PlotKind = Literal["overlay", "spacetime", "histogram"]
+
+CASES: tuple[str, ...] = get_args(Case)
+NAMED_CASES: tuple[str, ...] = tuple(c for c in CASES if c != "custom")
+EXCITATIONS: tuple[str, ...] = get_args(Excitation)
+BACKENDS: tuple[str, ...] = get_args(Backend)
+MODE_METHODS: tuple[str, ...] = get_args(ModeMethod)
+DESIGN_CASES: tuple[str, ...] = get_args(DesignCase)
+EXCITATION_KINDS: tuple[str, ...] = get_args(ExcitationKind)
+PULSE_SHAPES: tuple[str, ...] = get_args(PulseShape)
+PROBES: tuple[str, ...] = get_args(Probes)
+METHODS: tuple[str, ...] = get_args(Method)
+STEPPINGS: tuple[str, ...] = get_args(Stepping)
+RUN_STATUSES: tuple[str, ...] = get_args(RunStatus)
+E_SERIES_NAMES: tuple[str, ...] = get_args(ESeries)
+PLOT_KINDS: tuple[str, ...] = get_args(PlotKind)
+
+#: The gaussian pulse g(t) is centred at GAUSSIAN_CENTRE standard deviations (netlist, theory and scenes).
+GAUSSIAN_CENTRE = 4.0

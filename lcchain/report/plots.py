@@ -1,0 +1,554 @@
+"""Figures: the only module of lcchain that uses matplotlib.
+
+matplotlib is imported inside the functions, never at import time, so that
+``import lcchain`` (and ``import lcchain.plots``) stays light.  Figures are
+built on :class:`matplotlib.figure.Figure` directly, not through pyplot: no
+backend is selected, no global figure registry fills up, and nothing is ever
+shown.  Every function takes plain arrays, an optional ``ax`` to draw into
+and an optional ``path`` to save to (the caller creates the directory), and
+returns the Figure.
+
+Times are dimensionless, in units of sqrt(L0 C0); currents are relative to
+the initial current of loop 1, I_1(0).
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from ..core.errors import ParameterError
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+
+__all__ = ["overlay", "side_by_side", "spacetime", "histogram", "pareto", "mode_density", "TIME_LABEL"]
+
+#: Label of every time axis.
+TIME_LABEL = r"$t\,/\sqrt{L_0 C_0}$"
+#: Size of a new figure, in inches.
+FIGSIZE = (8.0, 5.0)
+#: Resolution of saved PNG files, in dots per inch.
+DPI = 150
+#: Most time columns :func:`spacetime` draws (see :func:`_decimate_max_abs`).
+SPACETIME_MAX_COLUMNS = 2000
+
+_GRID: dict[str, Any] = {"alpha": 0.3, "linewidth": 0.5}
+_ARRIVAL_KEYS = ("index", "t_theory", "t_sim", "peak_theory", "peak_sim")
+_RECORD_KEYS = ("method", "N", "wall_s", "error")
+
+
+# --------------------------------------------------------------------------- helpers
+
+def _new_figure() -> Figure:
+    from matplotlib.figure import Figure
+
+    return Figure(figsize=FIGSIZE, layout="constrained")
+
+
+def _root_figure(ax: Axes) -> Figure:
+    """The top-level Figure of ``ax`` (also when ``ax`` lives in a SubFigure)."""
+    try:
+        figure = ax.get_figure(root=True)  # matplotlib >= 3.10
+        assert figure is not None  # an Axes always belongs to a Figure
+        return figure
+    except TypeError:
+        return ax.figure.figure  # SubFigure.figure and Figure.figure are the root
+
+
+def _finish(fig: Figure, path: str | os.PathLike | None) -> Figure:
+    if path is not None:
+        fig.savefig(path, dpi=DPI)
+    return fig
+
+
+def _vector(name: str, values: Any, *, min_size: int = 1) -> np.ndarray:
+    a = np.asarray(values, dtype=float)
+    if a.ndim != 1:
+        raise ParameterError(f"{name}.shape", a.shape, "a one-dimensional array")
+    if a.size < min_size:
+        raise ParameterError(f"len({name})", a.size, f"at least {min_size} values")
+    return a
+
+
+def _same_length(name: str, a: np.ndarray, ref_name: str, ref: np.ndarray) -> None:
+    if a.shape != ref.shape:
+        raise ParameterError(f"{name}.shape", a.shape, f"the shape of {ref_name}, {ref.shape}")
+
+
+def _field(item: Any, key: str, what: str, i: int) -> Any:
+    """``item[key]`` for a mapping, ``item.key`` for an object (e.g. ArrivalComparison)."""
+    if isinstance(item, Mapping):
+        if key in item:
+            return item[key]
+    elif hasattr(item, key):
+        return getattr(item, key)
+    raise ParameterError(f"{what}[{i}]", item, f"a mapping with key {key!r}")
+
+
+# --------------------------------------------------------------------------- overlay
+
+def overlay(t_sim, y_sim, t_theory, y_theory, *, residual=None, t_residual=None,
+            arrivals: Sequence = (), title: str = "", ylabel: str = r"$I_N\,/\,I_1(0)$",
+            path: str | os.PathLike | None = None, ax: Axes | None = None) -> Figure:
+    """Simulated end-loop signal over the theory, with the residual below.
+
+    Parameters
+    ----------
+    t_sim, y_sim : array_like, shape (n,)
+        Simulated signal at the simulator's time points; time in units of
+        sqrt(L0 C0), signal dimensionless (e.g. I_N / I_1(0)).
+    t_theory, y_theory : array_like, shape (m,)
+        Theory on its own (usually finer) time grid, same units.
+    residual : array_like, optional
+        Simulation minus theory, dimensionless; drawn in a lower panel with
+        its largest absolute value in the legend.  Ignored (but checked) when
+        `ax` is given.
+    t_residual : array_like, optional
+        Times of `residual`, in units of sqrt(L0 C0); default `t_sim`.
+    arrivals : sequence of mapping, optional
+        One entry per arrival with keys ``index``, ``t_theory``, ``t_sim``,
+        ``peak_theory``, ``peak_sim`` (objects with these attributes, such as
+        :class:`lcchain.compare.ArrivalComparison`, work too).  Each is marked
+        by a dotted vertical line at the theoretical time and a note of the
+        time and peak differences, simulation minus theory.
+    title, ylabel : str
+        Figure title (top panel) and label of the signal axis.
+    path : str or path-like, optional
+        Save the figure there (PNG by the suffix); the directory must exist.
+    ax : matplotlib.axes.Axes, optional
+        Draw the overlay only into this Axes (no residual panel).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The new figure, or the figure of `ax`.
+
+    Raises
+    ------
+    ValueError
+        If an array is not one-dimensional, lengths differ, or an arrival
+        lacks a key.
+    """
+    t_sim = _vector("t_sim", t_sim)
+    y_sim = _vector("y_sim", y_sim)
+    _same_length("y_sim", y_sim, "t_sim", t_sim)
+    t_theory = _vector("t_theory", t_theory)
+    y_theory = _vector("y_theory", y_theory)
+    _same_length("y_theory", y_theory, "t_theory", t_theory)
+    if residual is not None:
+        residual = _vector("residual", residual)
+        t_residual = t_sim if t_residual is None else _vector("t_residual", t_residual)
+        _same_length("residual", residual, "t_residual" if t_residual is not t_sim else "t_sim", t_residual)
+    elif t_residual is not None:
+        raise ParameterError("t_residual", "an array", "None when residual is None")
+    marks = [{key: float(_field(a, key, "arrivals", i)) for key in _ARRIVAL_KEYS}
+             for i, a in enumerate(arrivals)]
+
+    if ax is not None:
+        fig = _root_figure(ax)
+        top, bottom = ax, None
+    else:
+        fig = _new_figure()
+        if residual is None:
+            top, bottom = fig.add_subplot(), None
+        else:
+            top, bottom = fig.subplots(2, 1, sharex=True, height_ratios=[2, 1])
+
+    top.plot(t_theory, y_theory, color="C0", linewidth=1.2, label="theory", zorder=2)
+    # Markers let sparse simulator points be seen one by one; many points read better as a line.
+    sim_style: dict[str, Any] = {"linestyle": "none", "marker": "o", "markersize": 3} if t_sim.size <= 200 else \
+        {"linestyle": "--", "linewidth": 1.0}
+    top.plot(t_sim, y_sim, color="C1", label="ngspice", zorder=3, **sim_style)
+
+    from matplotlib.transforms import blended_transform_factory
+
+    to_top = blended_transform_factory(top.transData, top.transAxes)
+    for k, m in enumerate(marks):
+        top.axvline(m["t_theory"], color="0.4", linestyle=":", linewidth=0.8, zorder=1)
+        top.plot([m["t_theory"]], [m["peak_theory"]], marker="+", color="C0", markersize=8, linestyle="none")
+        top.plot([m["t_sim"]], [m["peak_sim"]], marker="x", color="C1", markersize=6, linestyle="none")
+        note = (f"#{m['index']:.0f}\n"
+                f"Δt {m['t_sim'] - m['t_theory']:+.2g}\n"
+                f"Δpeak {m['peak_sim'] - m['peak_theory']:+.2g}")
+        # Stagger the notes so that neighbouring arrivals do not overwrite each other.
+        top.annotate(note, (m["t_theory"], 0.98 - 0.13 * (k % 2)), xycoords=to_top, xytext=(3, 0),
+                     textcoords="offset points", fontsize=7, ha="left", va="top", color="0.25",
+                     bbox={"boxstyle": "round,pad=0.2", "facecolor": "white", "edgecolor": "none", "alpha": 0.7})
+    if marks:
+        # Head room above the data for the notes, which sit at the arrival peaks.
+        low, high = top.get_ylim()
+        top.set_ylim(low, high + 0.3 * (high - low))
+
+    top.set_ylabel(ylabel)
+    top.grid(True, **_GRID)
+    top.legend(loc="lower right", fontsize=8)
+    if title:
+        top.set_title(title)
+
+    if bottom is None:
+        top.set_xlabel(TIME_LABEL)
+    else:
+        worst = float(np.nanmax(np.abs(residual))) if residual.size else 0.0
+        bottom.plot(t_residual, residual, color="C3", linewidth=0.8,
+                    label=f"max |sim − theory| = {worst:.2e}")
+        bottom.axhline(0.0, color="0.5", linewidth=0.6)
+        for m in marks:
+            bottom.axvline(m["t_theory"], color="0.4", linestyle=":", linewidth=0.8)
+        bottom.set_ylabel("sim − theory")
+        bottom.set_xlabel(TIME_LABEL)
+        bottom.grid(True, **_GRID)
+        bottom.legend(loc="upper right", fontsize=8)
+        bottom.ticklabel_format(axis="y", style="sci", scilimits=(-2, 3))
+    return _finish(fig, path)
+
+
+def side_by_side(panels: Sequence[Mapping], *, title: str = "",
+                 path: str | os.PathLike | None = None) -> Figure:
+    """Several overlays next to each other, on shared axes (e.g. uniform against optimal ends).
+
+    Parameters
+    ----------
+    panels : sequence of mapping
+        One per column, with keys ``t`` (time, units of sqrt(L0 C0)),
+        ``sim`` and ``theory`` (the signal at those times, dimensionless),
+        ``title`` and optionally ``arrivals`` and ``ylabel`` as for
+        :func:`overlay`.  At least one.
+    title : str
+        Title over all the columns.
+    path : str or path-like, optional
+        Save the figure there (PNG by the suffix); the directory must exist.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    if isinstance(panels, Mapping) or not isinstance(panels, Sequence) or not panels:
+        raise ParameterError("panels", type(panels).__name__, "a non-empty sequence of mappings")
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(FIGSIZE[0] * 0.75 * len(panels), FIGSIZE[1]), layout="constrained")
+    axes = fig.subplots(1, len(panels), sharex=True, sharey=True, squeeze=False)[0]
+    for i, panel in enumerate(panels):
+        if not isinstance(panel, Mapping) or not {"t", "sim", "theory", "title"} <= panel.keys():
+            keys = sorted(panel) if isinstance(panel, Mapping) else type(panel).__name__
+            raise ParameterError(f"panels[{i}]", keys, "a mapping with keys t, sim, theory, title")
+    for i, (ax, panel) in enumerate(zip(axes, panels, strict=False)):
+        overlay(panel["t"], panel["sim"], panel["t"], panel["theory"], arrivals=panel.get("arrivals", ()),
+                title=str(panel["title"]), ylabel=panel.get("ylabel", r"$I_N\,/\,I_1(0)$") if i == 0 else "",
+                ax=ax)
+    # Shared y: each overlay set its own head room; span every panel's data instead.
+    low = min(float(min(np.min(p["sim"]), np.min(p["theory"]))) for p in panels)
+    high = max(float(max(np.max(p["sim"]), np.max(p["theory"]))) for p in panels)
+    span = high - low or 1.0
+    axes[0].set_ylim(low - 0.05 * span, high + 0.35 * span)
+    if title:
+        fig.suptitle(title)
+    return _finish(fig, path)
+
+
+# --------------------------------------------------------------------------- spacetime
+
+def _decimate_max_abs(t, data, max_columns: int) -> tuple[np.ndarray, np.ndarray]:
+    """Shrink the time axis of ``data`` to at most `max_columns` columns.
+
+    The columns are cut into consecutive bins of ``b = ceil(n_times /
+    max_columns)`` samples (the last bin may be shorter).  Each bin keeps,
+    row by row, the sample of largest absolute value with its sign, so that
+    a pulse one sample wide survives (a mean or a stride would lose it).
+    A row whose bin holds a NaN keeps the NaN.
+
+    Parameters
+    ----------
+    t : array_like, shape (n_times,)
+        Time, any unit.
+    data : array_like, shape (n_rows, n_times)
+    max_columns : int
+        At least 1.
+
+    Returns
+    -------
+    t_bins : ndarray, shape (n_bins,)
+        Middle of each bin: (first time + last time) / 2.
+    data_bins : ndarray, shape (n_rows, n_bins)
+        The inputs themselves (as arrays) when ``n_times <= max_columns``.
+    """
+    t = np.asarray(t, dtype=float)
+    data = np.asarray(data, dtype=float)
+    if data.ndim != 2 or t.shape != data.shape[1:]:
+        raise ParameterError("data.shape", data.shape, f"(n_rows, len(t)) with t.shape = {t.shape}")
+    if int(max_columns) < 1:
+        raise ParameterError("max_columns", max_columns, "an integer >= 1")
+    n_rows, n = data.shape
+    if n <= max_columns:
+        return t, data
+    b = -(-n // int(max_columns))
+    starts = np.arange(0, n, b)
+    ends = np.minimum(starts + b, n) - 1
+    t_bins = 0.5 * (t[starts] + t[ends])
+
+    full = n // b  # bins with exactly b samples; the shorter tail bin is done apart
+    out = np.empty((n_rows, starts.size))
+    # Row blocks bound the temporary |data| to a few tens of MB for 1000 x 1e5 inputs.
+    step = max(1, 4_000_000 // n)
+    for r in range(0, n_rows, step):
+        block = data[r:r + step, :full * b].reshape(-1, full, b)
+        pick = np.argmax(np.abs(block), axis=2)
+        out[r:r + step, :full] = np.take_along_axis(block, pick[..., None], axis=2)[..., 0]
+        if full < starts.size:
+            tail = data[r:r + step, full * b:]
+            pick = np.argmax(np.abs(tail), axis=1)
+            out[r:r + step, full] = np.take_along_axis(tail, pick[:, None], axis=1)[:, 0]
+    return t_bins, out
+
+
+def _edges(centres: np.ndarray) -> np.ndarray:
+    """Cell edges halfway between centres, extended by half a cell at both ends."""
+    mid = 0.5 * (centres[1:] + centres[:-1])
+    return np.concatenate([[2 * centres[0] - mid[0]], mid, [2 * centres[-1] - mid[-1]]])
+
+
+def spacetime(t, currents, *, title: str = "", max_columns: int = SPACETIME_MAX_COLUMNS,
+              path: str | os.PathLike | None = None, ax: Axes | None = None) -> Figure:
+    """Loop currents as an image: loop index against time.
+
+    Parameters
+    ----------
+    t : array_like, shape (n_times,)
+        Time in units of sqrt(L0 C0), increasing; at least 2 points.
+    currents : array_like, shape (n_loops, n_times)
+        Current of loop i (row i - 1) relative to I_1(0), dimensionless.
+    title : str
+    max_columns : int, optional
+        Longer time axes are decimated to at most this many columns by
+        keeping the sample of largest absolute value in each bin of
+        consecutive times (:func:`_decimate_max_abs`), so narrow pulses stay
+        visible; the default suits a figure a few thousand pixels wide.
+    path : str or path-like, optional
+        Save the figure there (PNG by the suffix); the directory must exist.
+    ax : matplotlib.axes.Axes, optional
+        Draw into this Axes (the colorbar takes room from it).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    Notes
+    -----
+    The colour map is diverging and centred at zero, with limits
+    +- max |I_i / I_1(0)| over the finite values.
+
+    Raises
+    ------
+    ValueError
+        If `currents` is not two-dimensional or its second dimension is not
+        ``len(t)``.
+    """
+    t = _vector("t", t, min_size=2)
+    currents = np.asarray(currents, dtype=float)
+    if currents.ndim != 2:
+        raise ParameterError("currents.shape", currents.shape, "(n_loops, n_times), two-dimensional")
+    if currents.shape[1] != t.size:
+        raise ParameterError("currents.shape", currents.shape, f"(n_loops, len(t)) = (n_loops, {t.size})")
+    if currents.shape[0] < 1:
+        raise ParameterError("currents.shape", currents.shape, "at least one loop")
+
+    t_img, img = _decimate_max_abs(t, currents, max_columns)
+    finite = np.abs(img[np.isfinite(img)])
+    vmax = float(finite.max()) if finite.size else 0.0
+    vmax = vmax if vmax > 0 else 1.0
+
+    fig = _new_figure() if ax is None else _root_figure(ax)
+    ax = fig.add_subplot() if ax is None else ax
+    loops = np.arange(1, img.shape[0] + 1, dtype=float)
+    mesh = ax.pcolormesh(_edges(t_img), np.arange(0.5, img.shape[0] + 1), img, cmap="RdBu_r",
+                         vmin=-vmax, vmax=vmax, shading="flat", rasterized=True)
+    fig.colorbar(mesh, ax=ax, label=r"$I_i\,/\,I_1(0)$")
+    ax.set_xlabel(TIME_LABEL)
+    ax.set_ylabel("loop index i")
+    if loops.size <= 12:
+        ax.set_yticks(loops)
+    if title:
+        ax.set_title(title)
+    return _finish(fig, path)
+
+
+# --------------------------------------------------------------------------- histogram
+
+def histogram(values, *, theory: float | None = None, title: str = "", xlabel: str = "transmitted peak",
+              path: str | os.PathLike | None = None, ax: Axes | None = None) -> Figure:
+    """Spread of the transmitted peak over tolerance samples.
+
+    Parameters
+    ----------
+    values : array_like, shape (n_samples,)
+        Transmitted peak of each sampled chain, dimensionless (e.g.
+        max I_N / I_1(0)); NaNs are not allowed.
+    theory : float, optional
+        Peak of the nominal chain, drawn as a vertical line.
+    title, xlabel : str
+    path : str or path-like, optional
+        Save the figure there (PNG by the suffix); the directory must exist.
+    ax : matplotlib.axes.Axes, optional
+        Draw into this Axes.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    Notes
+    -----
+    The text box gives the number of samples, the mean, the sample standard
+    deviation (ddof = 1; 0 for a single sample) and the worst (smallest)
+    peak, which is also marked by a dashed line.
+
+    Raises
+    ------
+    ValueError
+        If `values` is not a non-empty one-dimensional array of finite numbers.
+    """
+    values = _vector("values", values)
+    if not np.all(np.isfinite(values)):
+        raise ParameterError("values", values, "finite numbers only")
+    fig = _new_figure() if ax is None else _root_figure(ax)
+    ax = fig.add_subplot() if ax is None else ax
+
+    ax.hist(values, bins="auto", color="C0", alpha=0.75, edgecolor="white", linewidth=0.5)
+    mean = float(values.mean())
+    std = float(values.std(ddof=1)) if values.size > 1 else 0.0
+    worst = float(values.min())
+    ax.axvline(worst, color="C3", linestyle="--", linewidth=1.0, label=f"worst {worst:.5g}")
+    if theory is not None:
+        ax.axvline(float(theory), color="k", linewidth=1.2, label=f"nominal chain {float(theory):.5g}")
+    ax.text(0.02, 0.97, f"n = {values.size}\nmean = {mean:.5g}\nstd = {std:.3g}\nworst = {worst:.5g}",
+            transform=ax.transAxes, ha="left", va="top", fontsize=9,
+            bbox={"boxstyle": "round", "facecolor": "white", "edgecolor": "0.7", "alpha": 0.9})
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel("samples")
+    ax.grid(True, **_GRID)
+    ax.legend(loc="upper right", fontsize=8)
+    if title:
+        ax.set_title(title)
+    return _finish(fig, path)
+
+
+# --------------------------------------------------------------------------- pareto
+
+def pareto(records: Sequence[Mapping], *, path: str | os.PathLike | None = None,
+           ax: Axes | None = None) -> Figure:
+    """Accuracy against cost of the simulation methods (log-log).
+
+    Parameters
+    ----------
+    records : sequence of mapping
+        One per run, with keys ``"method"`` (str), ``"N"`` (number of loops),
+        ``"wall_s"`` (wall time, s, > 0) and ``"error"`` (max |sim - theory|,
+        dimensionless, > 0).  Runs sharing (method, N) are joined by a line
+        in order of wall time; colour tells the method, marker the N.
+    path : str or path-like, optional
+        Save the figure there (PNG by the suffix); the directory must exist.
+    ax : matplotlib.axes.Axes, optional
+        Draw into this Axes.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    Raises
+    ------
+    ValueError
+        If `records` is empty, a record lacks a key, or a time or error is
+        not positive (it could not be drawn on log axes).
+    """
+    groups: dict[tuple[str, int], list[tuple[float, float]]] = {}
+    for i, rec in enumerate(records):
+        method, n, wall, err = (_field(rec, key, "records", i) for key in _RECORD_KEYS)
+        wall, err = float(wall), float(err)
+        for key, v in (("wall_s", wall), ("error", err)):
+            if not (np.isfinite(v) and v > 0):
+                raise ParameterError(f"records[{i}][{key!r}]", v, "a finite number > 0 (log axes)")
+        groups.setdefault((str(method), int(n)), []).append((wall, err))
+    if not groups:
+        raise ParameterError("records", records, "at least one record")
+
+    fig = _new_figure() if ax is None else _root_figure(ax)
+    ax = fig.add_subplot() if ax is None else ax
+    methods = sorted({m for m, _ in groups})
+    sizes = sorted({n for _, n in groups})
+    markers = "osD^v<>pPhX*"
+    for (method, n), points in sorted(groups.items()):
+        wall, err = np.array(sorted(points)).T
+        ax.plot(wall, err, marker=markers[sizes.index(n) % len(markers)], markersize=5, linewidth=1.0,
+                color=f"C{methods.index(method) % 10}", label=f"{method}, N={n}")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("wall time / s")
+    ax.set_ylabel("max |sim − theory|")
+    ax.grid(True, which="major", **_GRID)
+    ax.grid(True, which="minor", alpha=0.12, linewidth=0.4)
+    ax.legend(fontsize=8, ncols=2 if len(groups) > 8 else 1)
+    return _finish(fig, path)
+
+
+# --------------------------------------------------------------------------- mode density
+
+def mode_density(omega, density, *, path: str | os.PathLike | None = None,
+                 ax: Axes | None = None) -> Figure:
+    """Weights of the normal modes and their frequency spacing.
+
+    Parameters
+    ----------
+    omega : array_like, shape (N,)
+        Normal-mode angular frequencies omega_n in units of 1/sqrt(L0 C0),
+        increasing; at least 2.
+    density : array_like, shape (N,)
+        Mode density P_n (dimensionless weights, summing to 1 for a kick).
+    path : str or path-like, optional
+        Save the figure there (PNG by the suffix); the directory must exist.
+    ax : matplotlib.axes.Axes, optional
+        Axes for P_n; the spacing goes on a twin right axis made from it.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    Notes
+    -----
+    P_n is drawn as stems against n = 1..N (markers only when N > 60) on the
+    left axis; omega_n - omega_{n-1} for n = 2..N as a line on the right.
+
+    Raises
+    ------
+    ValueError
+        If the arrays are not one-dimensional of the same length >= 2.
+    """
+    omega = _vector("omega", omega, min_size=2)
+    density = _vector("density", density, min_size=2)
+    _same_length("density", density, "omega", omega)
+    fig = _new_figure() if ax is None else _root_figure(ax)
+    ax = fig.add_subplot() if ax is None else ax
+
+    n = np.arange(1, omega.size + 1)
+    if n.size <= 60:
+        ax.vlines(n, 0.0, density, color="C0", linewidth=1.2)
+    (h_p,) = ax.plot(n, density, "o", color="C0", markersize=4 if n.size <= 60 else 2, label="$P_n$")
+    ax.axhline(0.0, color="0.5", linewidth=0.6)
+    from matplotlib.ticker import MaxNLocator
+
+    ax.xaxis.set_major_locator(MaxNLocator(integer=True))
+    ax.set_xlabel("mode index n")
+    ax.set_ylabel("mode density $P_n$", color="C0")
+    ax.tick_params(axis="y", colors="C0")
+    ax.grid(True, **_GRID)
+
+    right = ax.twinx()
+    (h_w,) = right.plot(n[1:], np.diff(omega), color="C1", linewidth=1.2, marker=".", markersize=3,
+                        label=r"$\omega_n - \omega_{n-1}$")
+    right.set_ylabel(r"spacing $\omega_n - \omega_{n-1}$  $[1/\sqrt{L_0 C_0}]$", color="C1")
+    right.tick_params(axis="y", colors="C1")
+    ax.legend(handles=[h_p, h_w], loc="upper right", fontsize=8)
+    return _finish(fig, path)

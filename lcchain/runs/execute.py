@@ -1,0 +1,201 @@
+"""One unit of work, executed: a :class:`~lcchain.runs.spec.RunSpec` in, a :class:`RunRecord` out.
+
+:func:`execute` is the only function in lcchain that runs a netlist and
+compares it with theory; :func:`lcchain.simulate`, scenes, the accuracy bench
+and studies all go through it.  It never raises for a run that went wrong in
+ngspice: the record says ``"failed"`` or ``"timeout"`` with the reason and the
+end of ngspice's output, so that one bad run cannot stop a study.  It raises
+for what no run can fix: a missing simulator
+(:class:`~lcchain.core.errors.SimulatorMissingError`), an unsafe netlist
+(:class:`~lcchain.core.errors.ParameterError`), an interrupt.
+
+The record's :attr:`RunRecord.digest` is the SHA-256 of the saved arrays
+(time and every vector, by name, as little-endian float64): the same on any
+host, in any process, at any time, for the same ngspice.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import logging
+import time
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from ..circuit.netlist import probe_names
+from ..compare.accuracy import split_error
+from ..compare.metrics import Metrics, compare_signals
+from ..compare.waveforms import Signals, loop_signals
+from ..core import __version__
+from ..core.blas import fixed_blas_threads
+from ..core.errors import SimulationError
+from ..core.frozen import FrozenArrays
+from ..core.types import GAUSSIAN_CENTRE, RunStatus
+from ..spice.runner import RunResult, run
+from ..spice.simulator import Simulator, find_simulator
+from ..theory.response import linear_response
+from ..theory.spectrum import normal_modes
+from .spec import RunSpec, Theory
+
+__all__ = ["RunRecord", "execute", "waveform_digest", "pulse_centre"]
+
+log = logging.getLogger("lcchain")
+
+
+@dataclass(frozen=True, eq=False)
+class RunRecord(FrozenArrays):
+    """What one run produced, frozen and picklable.
+
+    Attributes
+    ----------
+    key : str
+        :meth:`RunSpec.key` for the ngspice that ran it.
+    status : {"ok", "failed", "timeout"}
+    reason : str
+        Why it failed ("" when ok): ngspice's own words where it said any.
+    log_tail : str
+        The useful end of ngspice's output when it failed.
+    result : RunResult or None
+        The waveforms (seconds, amperes, volts) and ngspice's metadata.
+    signals : Signals or None
+        The compared loops, dimensionless, beside the theory (runs with a theory).
+    metrics : Metrics or None
+        Max errors and arrivals (runs with a theory).
+    digest : str
+        SHA-256 of the saved arrays (:func:`waveform_digest`); "" when failed.
+    wall_s : float
+        Seconds in ngspice.
+    total_s : float
+        Seconds in :func:`execute`, ngspice included.
+    ngspice_version, lcchain_version : str
+    label : str
+        The spec's label.
+    """
+
+    key: str
+    status: RunStatus
+    reason: str = ""
+    log_tail: str = ""
+    result: RunResult | None = None
+    signals: Signals | None = None
+    metrics: Metrics | None = None
+    digest: str = ""
+    wall_s: float = 0.0
+    total_s: float = 0.0
+    ngspice_version: str = ""
+    lcchain_version: str = __version__
+    label: str = ""
+
+    @property
+    def ok(self) -> bool:
+        return self.status == "ok"
+
+    def summary(self) -> dict[str, Any]:
+        """Everything but the arrays, as JSON-serialisable data."""
+        data: dict[str, Any] = {
+            "key": self.key, "label": self.label, "status": self.status, "reason": self.reason,
+            "digest": self.digest, "wall_s": self.wall_s, "total_s": self.total_s,
+            "ngspice_version": self.ngspice_version, "lcchain_version": self.lcchain_version,
+        }
+        if self.status != "ok":
+            data["log_tail"] = self.log_tail
+        if self.result is not None:
+            data["points"] = self.result.points
+            data["netlist_sha256"] = self.result.netlist_sha256
+        if self.metrics is not None:
+            data.update(self.metrics.to_dict())
+        return data
+
+
+def waveform_digest(time_s: np.ndarray, vectors: Mapping[str, np.ndarray]) -> str:
+    """SHA-256 of a run's saved arrays: time, then every vector by sorted name, little-endian float64."""
+    digest = hashlib.sha256()
+    for name, values in [("time", time_s), *sorted(vectors.items())]:
+        digest.update(name.encode("utf-8") + b"\0")
+        digest.update(np.ascontiguousarray(values, dtype="<f8").tobytes())
+    return digest.hexdigest()
+
+
+def pulse_centre(excitation: str, pulse: tuple[str, float] | None) -> float:
+    """When a pulse delivers its kick: the gaussian's centre, or the rect's middle (units of sqrt(L0 C0))."""
+    if excitation != "pulse" or pulse is None:
+        return 0.0
+    shape, width = pulse
+    return GAUSSIAN_CENTRE * width if shape == "gaussian" else width / 2
+
+
+@fixed_blas_threads
+def _compare(theory: Theory, result: RunResult) -> tuple[Signals, Metrics]:
+    chain = theory.chain
+    modes = theory.modes if theory.modes is not None else normal_modes(chain)
+    loops = probe_names(chain.N, theory.probes)
+    currents = np.array([result.vectors[name] for name in loops])
+    t, sim = loop_signals(result.time, currents, time_unit=theory.time_unit, excitation=theory.excitation,
+                          I0=theory.I0)
+
+    def response(times: np.ndarray, probes: str) -> np.ndarray:
+        return linear_response(chain, times, excitation=theory.excitation, Q=theory.Q, pulse=theory.pulse,
+                               loops=probes, modes=modes)  # type: ignore[arg-type]
+
+    signals = Signals(t, sim, response(t, theory.probes), theory.excitation)
+    metrics = compare_signals(
+        signals, transit_time=theory.transit_time or modes.transit_time(), transits=theory.transits,
+        shift=pulse_centre(theory.excitation, theory.pulse), theory_end=lambda row, times: response(times, "ends")[row])
+    integration = physics = None
+    if theory.dt is not None and theory.Q is None and theory.pulse is None:
+        split = split_error(signals.waveforms(), modes, theory.dt, method=theory.method,
+                            exact=(signals.theory[0], signals.theory[-1]))
+        integration, physics = split.integration_error, split.physics_error
+    metrics = Metrics(metrics.max_abs_error, metrics.max_abs_error_first, metrics.max_abs_error_last,
+                      metrics.arrivals, theory.predicted_error, integration, physics)
+    return signals, metrics
+
+
+def execute(spec: RunSpec, simulator: Simulator | None = None, *,
+            progress: Callable[[float], None] | None = None) -> RunRecord:
+    """Run one spec in ngspice and compare it with its theory.
+
+    Parameters
+    ----------
+    spec : RunSpec
+    simulator : Simulator, optional
+        Found once by the caller (:func:`lcchain.spice.simulator.find_simulator`)
+        and passed to every run; found here for ``spec.backend`` when omitted.
+    progress : callable, optional
+        Called with the fraction of the analysis ngspice has done (0 to 1).
+
+    Returns
+    -------
+    RunRecord
+        ``"ok"``, or ``"failed"``/``"timeout"`` with the reason.
+
+    Raises
+    ------
+    SimulatorMissingError
+        ngspice is not installed.
+    ParameterError
+        The spec's netlist is unsafe or its arguments are bad.
+    """
+    start = time.perf_counter()
+    simulator = simulator if simulator is not None else find_simulator(spec.backend)
+    key = spec.key(simulator.version)
+    common = {"key": key, "ngspice_version": simulator.version, "label": spec.label}
+    try:
+        result = run(spec.netlist, spec.vectors, spec.tstop, simulator=simulator, timeout=spec.timeout,
+                     progress=progress, cwd=spec.cwd)
+    except SimulationError as error:
+        log.info("%s: %s (%s)", spec.label or key[:12], error.status, error.reason)
+        return RunRecord(status="timeout" if error.status == "timeout" else "failed", reason=error.reason,
+                         log_tail=error.log_tail, total_s=time.perf_counter() - start, **common)  # type: ignore[arg-type]
+    signals = metrics = None
+    if spec.theory is not None:
+        signals, metrics = _compare(spec.theory, result)
+    total = time.perf_counter() - start
+    log.info("%s: ok, %d points, ngspice %.3f s, lcchain %.3f s", spec.label or key[:12], result.points,
+             result.wall_s, total - result.wall_s)
+    return RunRecord(status="ok", result=result, signals=signals, metrics=metrics,
+                     digest=waveform_digest(result.time, result.vectors), wall_s=result.wall_s,
+                     total_s=total, **common)

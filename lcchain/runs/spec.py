@@ -1,0 +1,183 @@
+"""One unit of work, described: a netlist to run and the theory to compare it with.
+
+A :class:`RunSpec` is frozen and picklable, and it is everything a run needs:
+the netlist text (already written: runs never edit it), the vectors to read,
+the stop time, the backend, a timeout, and optionally a :class:`Theory` (the
+exact linear response of the same circuit).  :func:`lcchain.runs.execute.execute`
+turns it into a :class:`~lcchain.runs.record.RunRecord`, in this process, in a
+pool worker or on a Dask worker alike.
+
+A run's :meth:`RunSpec.key` is a hash of everything that determines its
+result: the netlist text, the saved vectors, the stop time, the backend, the
+theory's inputs, and the lcchain and ngspice versions.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+from dataclasses import dataclass, field
+from typing import Any
+
+from ..core import __version__
+from ..core.checks import choice, instance, integer, real
+from ..core.errors import ParameterError
+from ..core.limits import MAX_TRANSITS
+from ..core.types import (
+    BACKENDS,
+    EXCITATION_KINDS,
+    METHODS,
+    PROBES,
+    PULSE_SHAPES,
+    Backend,
+    ExcitationKind,
+    Method,
+    Probes,
+    PulseShape,
+)
+from ..theory.chain import Chain
+from ..theory.modes import Modes
+
+__all__ = ["Theory", "RunSpec", "DEFAULT_TIMEOUT"]
+
+#: Seconds a run may take before ngspice's process group is killed.
+DEFAULT_TIMEOUT = 3600.0
+
+
+@dataclass(frozen=True)
+class Theory:
+    """What a run's loop currents are compared with: the exact response of the same circuit.
+
+    Parameters
+    ----------
+    chain : Chain
+        The simulated chain (a tolerance sample's own realised chain), bulk units.
+    time_unit : float
+        sqrt(L0 C0), seconds.
+    I0 : float
+        The excitation's current, ampere.
+    excitation : {"kick", "displacement", "pulse"}
+    Q : float, optional
+        Quality factor of the series resistors (None: no losses).
+    pulse : (shape, width), optional
+        With ``excitation="pulse"``: ``"gaussian"`` or ``"rect"``, width in
+        units of sqrt(L0 C0).
+    probes : {"ends", "all"}
+        Which loop currents the netlist saves (loops 1 and N, or every loop).
+    transits : int
+        Arrivals to compare.
+    dt : float, optional
+        The fixed step of the run (units of sqrt(L0 C0)), for the error split;
+        None for adaptive stepping.
+    method : {"trap", "gear"}
+    predicted_error : float, optional
+        The error model's prediction, reported beside the achieved error.
+    transit_time : float, optional
+        The transit time that centres the arrival windows (a tolerance study
+        uses the nominal chain's for every sample); default: the chain's own.
+    modes : Modes, optional
+        The chain's modes when already computed (not part of the key).
+    """
+
+    chain: Chain
+    time_unit: float
+    I0: float = 1e-3
+    excitation: ExcitationKind = "kick"
+    Q: float | None = None
+    pulse: tuple[PulseShape, float] | None = None
+    probes: Probes = "ends"
+    transits: int = 1
+    dt: float | None = None
+    method: Method = "trap"
+    predicted_error: float | None = None
+    transit_time: float | None = None
+    modes: Modes | None = field(default=None, compare=False, repr=False)
+
+    def __post_init__(self) -> None:
+        instance("chain", self.chain, Chain)
+        real("time_unit", self.time_unit, above=0.0, unit="seconds")
+        real("I0", self.I0, above=0.0, unit="ampere")
+        choice("excitation", self.excitation, EXCITATION_KINDS)
+        if self.Q is not None:
+            real("Q", self.Q, above=0.0)
+        if (self.excitation == "pulse") != (self.pulse is not None):
+            raise ParameterError("pulse", self.pulse, "(shape, width) exactly when excitation is 'pulse'")
+        if self.pulse is not None:
+            choice("pulse shape", self.pulse[0], PULSE_SHAPES)
+            real("pulse width", self.pulse[1], above=0.0)
+        choice("probes", self.probes, PROBES)
+        integer("transits", self.transits, at_least=1, at_most=MAX_TRANSITS)
+        if self.dt is not None:
+            real("dt", self.dt, above=0.0)
+        choice("method", self.method, METHODS)
+        if self.modes is not None and (not isinstance(self.modes, Modes) or self.modes.N != self.chain.N):
+            raise ParameterError("modes", type(self.modes).__name__, f"the Modes of this chain (N = {self.chain.N})")
+
+    def fingerprint(self) -> dict[str, Any]:
+        """Everything that determines the comparison, as plain JSON (the chain's values in full)."""
+        return {
+            "masses": [float(m).hex() for m in self.chain.masses],
+            "springs": [float(k).hex() for k in self.chain.springs],
+            "time_unit": float(self.time_unit).hex(), "I0": float(self.I0).hex(), "excitation": self.excitation,
+            "Q": None if self.Q is None else float(self.Q).hex(),
+            "pulse": None if self.pulse is None else [self.pulse[0], float(self.pulse[1]).hex()],
+            "probes": self.probes, "transits": self.transits,
+            "dt": None if self.dt is None else float(self.dt).hex(), "method": self.method,
+            "transit_time": None if self.transit_time is None else float(self.transit_time).hex(),
+        }
+
+
+@dataclass(frozen=True)
+class RunSpec:
+    """Everything one ngspice run needs, frozen and picklable.
+
+    Parameters
+    ----------
+    netlist : str
+        The complete netlist text, run as it is.
+    vectors : tuple of str
+        Vectors to read (``"i(l1)"``, ``"v(n3)"``); loop currents first when
+        there is a theory (loop 1 ... loop N, as :attr:`Theory.probes` says).
+    tstop : float
+        End of the ``.tran`` analysis, seconds.
+    backend : {"batch", "shared"}
+    timeout : float
+        Seconds before ngspice's process group is killed (the record says ``"timeout"``).
+    theory : Theory, optional
+        What to compare with; None runs the netlist and only reads its vectors.
+    cwd : str, optional
+        The netlist's own folder, for netlists that ``.include`` files next to them.
+    label : str
+        A name for progress lines and reports (not part of the key).
+    """
+
+    netlist: str
+    vectors: tuple[str, ...]
+    tstop: float
+    backend: Backend = "batch"
+    timeout: float = DEFAULT_TIMEOUT
+    theory: Theory | None = None
+    cwd: str | None = None
+    label: str = field(default="", compare=False)
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.netlist, str) or not self.netlist.strip():
+            raise ParameterError("netlist", self.netlist, "non-empty netlist text")
+        vectors: object = self.vectors
+        if isinstance(vectors, str) or not isinstance(vectors, (tuple, list)) \
+                or not all(isinstance(v, str) for v in vectors):
+            raise ParameterError("vectors", vectors, "a tuple of vector names")
+        object.__setattr__(self, "vectors", tuple(self.vectors))
+        object.__setattr__(self, "tstop", real("tstop", self.tstop, above=0.0, unit="seconds"))
+        choice("backend", self.backend, BACKENDS)
+        object.__setattr__(self, "timeout", real("timeout", self.timeout, above=0.0, unit="seconds"))
+        instance("theory", self.theory, Theory, optional=True)
+
+    def key(self, ngspice_version: str) -> str:
+        """SHA-256 of everything that determines the run's record, for this ngspice version."""
+        data = {
+            "netlist": self.netlist, "vectors": list(self.vectors), "tstop": float(self.tstop).hex(),
+            "backend": self.backend, "cwd": self.cwd, "lcchain": __version__, "ngspice": ngspice_version,
+            "theory": None if self.theory is None else self.theory.fingerprint(),
+        }
+        return hashlib.sha256(json.dumps(data, sort_keys=True).encode("utf-8")).hexdigest()

@@ -1,0 +1,174 @@
+"""Reading a scene: TOML (or nested mappings) into the typed, validated :class:`~lcchain.scenes.schema.Scene`.
+
+Unknown keys are errors that name the key and the file; every other problem
+raises :class:`~lcchain.core.errors.ParameterError` naming the dotted key, the
+value and what is allowed, prefixed by the file.  The loader does no physics.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import tomllib
+from collections.abc import Mapping, Sequence
+from dataclasses import MISSING, fields
+from typing import Any
+
+from ..core.checks import choice
+from ..core.errors import ParameterError
+from ..core.limits import MAX_CIRCUIT_N, MIN_N
+from ..core.types import CASES
+from .schema import (
+    ANALYSIS_KEYS,
+    CHAIN_KEYS,
+    DEFAULT_TITLE,
+    EFFECT_CLASSES,
+    EFFECT_KEYS,
+    EXCITATION_KEYS,
+    OUTPUT_KEYS,
+    TOP_KEYS,
+    UNITS_KEYS,
+    Analysis,
+    ChainSpec,
+    Effects,
+    ExcitationSpec,
+    Output,
+    Scene,
+    Units,
+)
+
+__all__ = ["load_scene", "parse_scene"]
+
+
+def load_scene(path: str | os.PathLike) -> Scene:
+    """Read and validate a scene file.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The TOML file.  Errors name it as given.
+
+    Raises
+    ------
+    ParameterError
+        The file cannot be read, is not valid TOML (the message has the line
+        number and text), or breaks a rule of the scene format.
+    """
+    where = os.fspath(path)
+    try:
+        with open(path, "rb") as handle:
+            raw = handle.read()
+    except OSError as error:
+        raise ParameterError("scene", where, f"a readable TOML file ({error.strerror or error})", where) from None
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError as error:
+        raise ParameterError("scene", where, f"UTF-8 text ({error.reason} at byte {error.start})", where) from None
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as error:
+        match = re.search(r"at line (\d+)", str(error))
+        if match:
+            line = int(match.group(1))
+            lines = text.splitlines()
+            shown = lines[line - 1] if 0 < line <= len(lines) else ""
+            raise ParameterError(f"line {line}", shown, f"valid TOML ({error})", where) from None
+        raise ParameterError("scene", where, f"valid TOML ({error})", where) from None
+    return parse_scene(data, source=where)
+
+
+def parse_scene(data: Mapping, source: str | None = None) -> Scene:
+    """Validate a scene given as nested mappings (a parsed TOML or JSON document).
+
+    Parameters
+    ----------
+    data : Mapping
+        The tables of the scene file; absent optional tables and keys take
+        their defaults.
+    source : str, optional
+        Where the data came from; prefixed to every error message and kept
+        as ``Scene.source``.
+
+    Raises
+    ------
+    ParameterError
+        Unknown key, wrong type, value out of range or inconsistent tables.
+    """
+    try:
+        return _parse(data, source)
+    except ParameterError as error:
+        if error.where is not None or source is None:
+            raise
+        raise ParameterError(error.field, error.value, error.allowed, source) from None
+
+
+def _table(data: Mapping, name: str, keys: Sequence[str], required: bool = False) -> dict[str, Any]:
+    """The sub-table ``name`` of ``data`` (dotted path), with only known keys."""
+    last = name.rsplit(".", 1)[-1]
+    if last not in data:
+        if required:
+            raise ParameterError(name, None, f"a table [{name}] (required)")
+        return {}
+    table = data[last]
+    if not isinstance(table, Mapping):
+        raise ParameterError(name, table, f"a table [{name}]")
+    _known_keys(table, keys, name)
+    return dict(table)
+
+
+def _known_keys(table: Mapping, keys: Sequence[str], path: str) -> None:
+    for key in table:
+        if key not in keys:
+            where = f"in [{path}]" if path else "at the top level"
+            dotted = f"{path}.{key}" if path else str(key)
+            raise ParameterError(dotted, table[key], f"one of the keys {', '.join(keys)} {where} (unknown key)")
+
+
+def _parse(data: Mapping, source: str | None) -> Scene:
+    if not isinstance(data, Mapping):
+        raise ParameterError("scene", data, "a table of tables")
+    _known_keys(data, TOP_KEYS, "")
+
+    chain = _table(data, "chain", CHAIN_KEYS, required=True)
+    choice("chain.case", chain.get("case"), CASES)
+    if "N" not in chain:
+        if chain["case"] != "custom":
+            raise ParameterError("chain.N", None, f"an integer from {MIN_N} to {MAX_CIRCUIT_N} (required)")
+        masses = chain.get("masses")
+        if isinstance(masses, Sequence) and not isinstance(masses, (str, bytes)):
+            chain["N"] = len(masses)
+    chain_spec = ChainSpec(
+        case=chain["case"],
+        N=chain.get("N"),  # type: ignore[arg-type]  # ChainSpec checks it and names it
+        masses=chain.get("masses"),
+        springs=chain.get("springs"),
+    )
+
+    units = Units(**_table(data, "units", UNITS_KEYS))
+    excitation = ExcitationSpec(**_table(data, "excitation", EXCITATION_KEYS))
+
+    effects_table = _table(data, "effects", tuple(EFFECT_KEYS))
+    effects: dict[str, Any] = {}
+    for name, cls in EFFECT_CLASSES.items():
+        if name not in effects_table:
+            continue
+        values = _table(effects_table, f"effects.{name}", EFFECT_KEYS[name])
+        for required in fields(cls):
+            if required.default is MISSING:
+                # Let the class name what it expects of the missing value.
+                values.setdefault(required.name, None)
+        effects[name] = cls(**values)
+
+    analysis = Analysis(**_table(data, "analysis", ANALYSIS_KEYS))
+    output = Output(**_table(data, "output", OUTPUT_KEYS))
+
+    return Scene(
+        title=data.get("title", DEFAULT_TITLE),
+        chain=chain_spec,
+        units=units,
+        excitation=excitation,
+        effects=Effects(**effects),
+        analysis=analysis,
+        output=output,
+        source=source,
+    )

@@ -1,0 +1,178 @@
+"""Turning a scene into runs: its chains, its step, its netlists, its run specs (no simulation).
+
+The scene (:mod:`lcchain.scenes.schema`, no physics there) becomes chains
+(:mod:`lcchain.circuit.effects`: walls, preferred values, tolerance samples),
+netlists (:func:`lcchain.circuit.netlist.netlist_text`: resistors only with
+losses, a source only for a pulse, every loop current only for
+``probes = "all"``) and one :class:`~lcchain.runs.spec.RunSpec` per realised
+circuit, whose theory is the exact linear response of that very circuit.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..circuit.effects import rounded, tolerance_samples, with_walls
+from ..circuit.ladder import Ladder
+from ..circuit.netlist import SimulationOptions, netlist_text, probe_names
+from ..compare.accuracy import dt_for_accuracy
+from ..core.blas import fixed_blas_threads
+from ..core.errors import ParameterError
+from ..core.limits import EXACT_MAX_N
+from ..runs.execute import pulse_centre
+from ..runs.spec import RunSpec, Theory
+from ..theory.arrivals import arrival_window
+from ..theory.cases import chain_for_case
+from ..theory.chain import Chain
+from ..theory.modes import Modes
+from ..theory.response import loop_weights
+from ..theory.spectrum import normal_modes
+from .schema import Scene
+
+__all__ = ["ScenePlan", "base_chain", "scene_chains", "scene_plan", "scene_netlist", "scene_specs",
+           "losses_and_pulse", "ACCURACY_LOOPS"]
+
+#: With probes = "all", the step's error is predicted on at most this many loops, evenly spaced, ends included.
+ACCURACY_LOOPS = 64
+
+
+def base_chain(scene: Scene) -> Chain:
+    """The nominal chain of the scene (case or custom), with walls if asked."""
+    spec = scene.chain
+    if spec.case == "custom":
+        assert spec.masses is not None and spec.springs is not None
+        chain = Chain(np.array(spec.masses), np.array(spec.springs), name="custom")
+    else:
+        chain = chain_for_case(spec.case, spec.N)
+    if scene.effects.walls is not None:
+        chain = with_walls(chain, scene.effects.walls.K0)
+    return chain
+
+
+def scene_chains(scene: Scene) -> tuple[Chain, list[Chain]]:
+    """(nominal chain, realised chains): one per tolerance sample, else one."""
+    nominal = base_chain(scene)
+    effects, units = scene.effects, scene.units
+    series = effects.preferred_values.series if effects.preferred_values is not None else None
+    tol = effects.tolerance
+    if tol is not None and (tol.L or tol.C or tol.samples > 1):
+        chains = tolerance_samples(nominal, units.L0, units.C0, samples=tol.samples, seed=tol.seed,
+                                   tol_L=tol.L, tol_C=tol.C, series=series)
+    elif series is not None:
+        chain = rounded(nominal, units.L0, units.C0, series)
+        chains = [Chain(chain.masses, chain.springs, name=f"{nominal.name} {series}")]
+    else:
+        chains = [nominal]
+    return nominal, chains
+
+
+def losses_and_pulse(scene: Scene) -> tuple[float | None, tuple[str, float] | None]:
+    """The scene's quality factor (None: no losses) and pulse (shape, width) (None: no pulse)."""
+    excitation = scene.excitation
+    Q = scene.effects.losses.Q if scene.effects.losses is not None else None
+    pulse = (excitation.shape, excitation.width) if excitation.kind == "pulse" else None
+    return Q, pulse  # type: ignore[return-value]
+
+
+@dataclass(frozen=True, eq=False)
+class ScenePlan:
+    """What a scene will run, decided before ngspice starts.
+
+    Attributes
+    ----------
+    nominal : Chain
+        The chain of the scene's case (with walls if asked), before rounding
+        and tolerances.
+    chains : tuple of Chain
+        The realised chains, one per tolerance sample (else the nominal, or
+        its preferred-value rounding).
+    modes : Modes
+        Normal modes of the nominal chain (transit time, step choice).
+    transit_time, tstop, dt : float
+        Units of sqrt(L0 C0): the end-to-end travel time, the end of the
+        analysis (the window of the last requested transit, shifted by the
+        pulse's centre) and the maximum step (``analysis.dt``, or the largest
+        step whose predicted error meets ``analysis.accuracy``, at most
+        width/8 for a pulse).
+    """
+
+    nominal: Chain
+    chains: tuple[Chain, ...]
+    modes: Modes
+    transit_time: float
+    tstop: float
+    dt: float
+
+
+def _choose_dt(scene: Scene, nominal: Chain, modes: Modes, tstop: float) -> float:
+    analysis = scene.analysis
+    if analysis.dt is not None:
+        return float(analysis.dt)
+    assert analysis.accuracy is not None
+    weights = None
+    if scene.output.probes == "all":
+        # Interior loops can have 4x the ends' error: predict it on up to ACCURACY_LOOPS of them.
+        _, every = loop_weights(nominal)
+        loops = np.unique(np.linspace(0, every.shape[1] - 1, min(ACCURACY_LOOPS, every.shape[1])).round().astype(int))
+        weights = [every[:, i] for i in loops]
+    dt = dt_for_accuracy(modes, analysis.accuracy, tstop, method=analysis.method, weights=weights)
+    if scene.excitation.kind == "pulse":
+        # the accuracy model is for free oscillation; resolve the pulse too
+        assert scene.excitation.width is not None
+        dt = min(dt, scene.excitation.width / 8)
+    return dt
+
+
+@fixed_blas_threads
+def scene_plan(scene: Scene) -> ScenePlan:
+    """Chains, stop time and step of a scene (no simulation)."""
+    nominal, chains = scene_chains(scene)
+    modes = normal_modes(nominal)  # raises for a chain beyond both exact and closed-form modes
+    N = nominal.N
+    realised = any(chain is not nominal for chain in chains)
+    if N > EXACT_MAX_N and (realised or scene.output.probes == "all"):
+        why = "every loop's response" if scene.output.probes == "all" else "tolerances or preferred values"
+        raise ParameterError("chain.N", N, f"N <= {EXACT_MAX_N} with {why} (the theory needs the exact modes "
+                             "of each realised chain)", where=scene.source)
+    T = modes.transit_time()
+    Q, pulse = losses_and_pulse(scene)
+    tstop = arrival_window(scene.analysis.transits, T)[1] + pulse_centre(scene.excitation.kind, pulse)
+    dt = _choose_dt(scene, nominal, modes, tstop)
+    return ScenePlan(nominal, tuple(chains), modes, T, tstop, dt)
+
+
+def scene_netlist(scene: Scene, chain: Chain, dt: float, tstop: float) -> str:
+    """The netlist of one realised chain of the scene: only the elements its effects need.
+
+    Parameters
+    ----------
+    scene : Scene
+    chain : Chain
+        The nominal chain or one of its realisations (:func:`scene_chains`).
+    dt, tstop : float
+        Maximum step and stop time in units of sqrt(L0 C0) (:func:`scene_plan`).
+    """
+    Q, pulse = losses_and_pulse(scene)
+    excitation = scene.excitation
+    ladder = Ladder(chain, scene.units.L0, scene.units.C0)
+    options = SimulationOptions(dt=dt, tstop=tstop, method=scene.analysis.method)
+    return netlist_text(ladder, options, excitation=excitation.kind, I0=excitation.I0, probes=scene.output.probes,
+                        title=scene.title, Q=Q, pulse=pulse)  # type: ignore[arg-type]
+
+
+def scene_specs(scene: Scene, plan: ScenePlan) -> list[RunSpec]:
+    """One run spec per realised circuit of the scene, each with its own exact theory."""
+    Q, pulse = losses_and_pulse(scene)
+    units, excitation, analysis = scene.units, scene.excitation, scene.analysis
+    time_unit = Ladder(plan.nominal, units.L0, units.C0).time_unit
+    specs = []
+    for chain in plan.chains:
+        theory = Theory(chain, time_unit, I0=excitation.I0, excitation=excitation.kind, Q=Q, pulse=pulse,  # type: ignore[arg-type]
+                        probes=scene.output.probes, transits=analysis.transits, dt=plan.dt, method=analysis.method,
+                        transit_time=plan.transit_time, modes=plan.modes if chain is plan.nominal else None)
+        specs.append(RunSpec(scene_netlist(scene, chain, plan.dt, plan.tstop),
+                             tuple(probe_names(chain.N, scene.output.probes)), plan.tstop * time_unit,
+                             backend=analysis.backend, theory=theory, label=chain.name))
+    return specs

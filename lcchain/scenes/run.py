@@ -1,0 +1,205 @@
+"""Running a scene: its run specs executed, and the records summed up in its report.
+
+An ideal scene is a pure L-C ladder saving two currents; each effect adds
+only its own elements (:mod:`lcchain.scenes.plan`).  A failed sample does not
+stop a tolerance study: it is recorded with ngspice's reason and the others
+still run (the scene is then not ok, exit status 1).
+
+:func:`simulate_scene` runs the specs one after the other; any executor can
+run :func:`lcchain.scenes.plan.scene_specs` instead and hand the records to
+:func:`scene_result` (``lcchain run --workers``).  Files (the report, plots)
+are written by :mod:`lcchain.report.scenes`.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from ..compare.waveforms import Waveforms
+from ..core.blas import fixed_blas_threads
+from ..runs.execute import RunRecord, execute, pulse_centre
+from ..runs.spec import RunSpec
+from ..spice.simulator import Simulator, find_simulator
+from ..theory.arrivals import arrival_window, maximum_in_window
+from ..theory.chain import Chain
+from ..theory.response import linear_response
+from .plan import ScenePlan, losses_and_pulse, scene_plan, scene_specs
+from .schema import Scene
+
+__all__ = ["SampleResult", "SceneResult", "simulate_scene", "scene_result", "overlay_panel", "transmitted_peaks"]
+
+
+@dataclass(frozen=True, eq=False)
+class SampleResult:
+    """One realised circuit: its run record and its line in the report.
+
+    Attributes
+    ----------
+    index : int
+        Sample number from 1.
+    chain : Chain
+        The realised chain.
+    record : dict
+        Its entry of the report's ``samples`` (an ``"error"`` key when it failed).
+    run : RunRecord
+        The unit of work's record.
+    netlist : str
+        The netlist that was run.
+    """
+
+    index: int
+    chain: Chain
+    record: dict[str, Any]
+    run: RunRecord
+    netlist: str = ""
+
+    @property
+    def ok(self) -> bool:
+        return self.run.ok
+
+    @property
+    def t(self) -> np.ndarray | None:
+        """Time, units of sqrt(L0 C0)."""
+        return None if self.run.signals is None else self.run.signals.t
+
+    @property
+    def sim(self) -> np.ndarray | None:
+        """Simulated loop signals, one row per saved loop."""
+        return None if self.run.signals is None else self.run.signals.sim
+
+    @property
+    def theory(self) -> np.ndarray | None:
+        """The exact theory of the same loops."""
+        return None if self.run.signals is None else self.run.signals.theory
+
+    @property
+    def waveforms(self) -> Waveforms | None:
+        """Loops 1 and N, dimensionless."""
+        return None if self.run.signals is None else self.run.signals.waveforms()
+
+
+@dataclass(frozen=True, eq=False)
+class SceneResult:
+    """Everything a scene run produced; ``report`` is the JSON report."""
+
+    scene: Scene
+    report: dict[str, Any]
+    samples: tuple[SampleResult, ...] = field(default=())
+    files: tuple[str, ...] = field(default=())
+
+    @property
+    def ok(self) -> bool:
+        return all(s.ok for s in self.samples)
+
+    def good(self) -> list[SampleResult]:
+        """The samples that ran."""
+        return [s for s in self.samples if s.ok]
+
+
+def _sample_record(index: int, chain: Chain, dt: float, run: RunRecord) -> dict[str, Any]:
+    if not run.ok:
+        error = run.reason + (f"\nngspice said:\n{run.log_tail}" if run.log_tail else "")
+        return {"sample": index, "chain": chain.name, "status": run.status, "error": error}
+    assert run.result is not None and run.metrics is not None
+    return {
+        "sample": index, "chain": chain.name, "status": run.status, "dt": dt, "points": run.result.points,
+        "ngspice_version": run.ngspice_version, "netlist_sha256": run.result.netlist_sha256, "digest": run.digest,
+        "wall_s": run.wall_s, "theory_and_compare_s": run.total_s - run.wall_s,
+        "max_abs_error": run.metrics.max_abs_error, "arrivals": [a.to_dict() for a in run.metrics.arrivals],
+    }
+
+
+def _spread(values: Sequence[float]) -> dict[str, Any]:
+    array = np.asarray(values, dtype=float)
+    return {"mean": float(array.mean()), "std": float(array.std(ddof=1)) if array.size > 1 else 0.0,
+            "worst": float(array.min()), "best": float(array.max()), "count": int(array.size)}
+
+
+@fixed_blas_threads
+def _nominal_peak(scene: Scene, plan: ScenePlan) -> float:
+    """Theoretical first-arrival peak of the nominal (unrounded, untoleranced) circuit."""
+    Q, pulse = losses_and_pulse(scene)
+    lo, hi = arrival_window(1, plan.transit_time)
+    shift = pulse_centre(scene.excitation.kind, pulse)
+
+    def last(t: np.ndarray) -> np.ndarray:
+        return linear_response(plan.nominal, t, excitation=scene.excitation.kind, Q=Q, pulse=pulse,  # type: ignore[arg-type]
+                               loops="ends", modes=plan.modes)[-1]
+
+    return maximum_in_window(last, (lo + shift, hi + shift), plan.transit_time)[1]
+
+
+def transmitted_peaks(result: SceneResult) -> list[float]:
+    """The first arrival's simulated peak of every sample that ran."""
+    return [s.record["arrivals"][0]["peak_sim"] for s in result.good()]
+
+
+def scene_result(scene: Scene, plan: ScenePlan, specs: Sequence[RunSpec], records: Sequence[RunRecord],
+                 total_s: float) -> SceneResult:
+    """A scene's report from its executed runs (in the order of :func:`lcchain.scenes.plan.scene_specs`)."""
+    samples = tuple(SampleResult(k, chain, _sample_record(k, chain, plan.dt, record), record, spec.netlist)
+                    for k, (chain, spec, record) in enumerate(zip(plan.chains, specs, records, strict=True), start=1))
+    good = [s for s in samples if s.ok]
+    report: dict[str, Any] = {
+        "scene": scene.to_dict(),
+        "source": scene.source,
+        "N": plan.nominal.N,
+        "dt": plan.dt,
+        "tstop": plan.tstop,
+        "transit_time": plan.transit_time,
+        "ngspice_version": good[0].record["ngspice_version"] if good else None,
+        "samples": [s.record for s in samples],
+        "wall_s": {"ngspice": float(sum(s.run.wall_s for s in samples)), "total": total_s},
+    }
+    result = SceneResult(scene, report, samples)
+    if good:
+        report["max_abs_error"] = float(max(s.record["max_abs_error"] for s in good))
+        report["arrivals"] = good[0].record["arrivals"]
+        if len(plan.chains) > 1:
+            report["transmitted_peak"] = _spread(transmitted_peaks(result))
+            report["transmitted_peak"]["theory_nominal"] = _nominal_peak(scene, plan)
+    return result
+
+
+def simulate_scene(scene: Scene, *, progress: Callable[[float], None] | None = None,
+                   simulator: Simulator | None = None) -> SceneResult:
+    """Run every sample of a scene, one after the other, and sum them up (no file is written).
+
+    Parameters
+    ----------
+    scene : Scene
+    progress : callable, optional
+        Called with the fraction of the scene's simulations done (0 to 1),
+        across samples and within each ngspice run.
+    simulator : Simulator, optional
+        Found once by the caller; found here for the scene's backend when omitted.
+    """
+    clock = time.perf_counter()
+    plan = scene_plan(scene)
+    specs = scene_specs(scene, plan)
+    simulator = simulator if simulator is not None else find_simulator(scene.analysis.backend)
+    records = []
+    for k, spec in enumerate(specs):
+        report_to = None if progress is None else (lambda f, k=k: progress((k + f) / len(specs)))
+        records.append(execute(spec, simulator, progress=report_to))
+        if progress is not None:
+            progress((k + 1) / len(specs))
+    return scene_result(scene, plan, specs, records, time.perf_counter() - clock)
+
+
+def overlay_panel(result: SceneResult) -> dict[str, Any] | None:
+    """The far-end overlay of a scene's first good sample, for :func:`lcchain.report.plots.side_by_side`."""
+    good = result.good()
+    if not good:
+        return None
+    s = good[0]
+    signals = s.run.signals
+    assert signals is not None
+    ylabel = r"$Q_N\,/\,Q_1(0)$" if result.scene.excitation.kind == "displacement" else r"$I_N\,/\,I_0$"
+    return {"t": signals.t, "sim": signals.sim[-1], "theory": signals.theory[-1], "title": result.scene.title,
+            "arrivals": [a for a in s.record["arrivals"] if a["end"] == "last"], "ylabel": ylabel}

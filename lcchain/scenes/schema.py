@@ -1,0 +1,464 @@
+"""Scenes: one experiment written down in TOML, parsed into typed objects (pure).
+
+A scene names the chain, the components, the excitation, the real-world
+effects to include, how long to watch and what to report.  This module holds
+its schema: it does no physics, builds no chain, writes no file and runs
+nothing; :mod:`lcchain.scenes.load` reads files into it.  Everything a scene holds is an immutable
+``@dataclass(frozen=True)`` whose ``__post_init__`` checks its own fields, so
+a scene built in Python is held to the same rules as one read from a file.
+
+Every problem raises :class:`~lcchain.errors.ParameterError` naming the dotted
+TOML key (``effects.tolerance.L``), the value and what is allowed, prefixed by
+the file when the scene came from one::
+
+    bench.toml: effects.tolerance.L = -0.05 is not allowed: expected a number, 0 <= L < 1
+
+The file format (every key, its default and its range) is the contract of
+issue 5; ``examples/scenes/`` holds complete scenes.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field, fields
+from typing import Any, get_args, get_type_hints
+
+from ..core.checks import choice, instance, integer, is_integer, numbers_list, real, text_line
+from ..core.errors import ParameterError
+from ..core.limits import MAX_CIRCUIT_N, MAX_DT, MAX_PULSE_WIDTH, MAX_SAMPLES, MAX_TITLE_LENGTH, MAX_TRANSITS, MIN_N
+from ..core.types import (
+    BACKENDS,
+    CASES,
+    E_SERIES_NAMES,
+    EXCITATION_KINDS,
+    METHODS,
+    PLOT_KINDS,
+    PROBES,
+    PULSE_SHAPES,
+    Backend,
+    Case,
+    ESeries,
+    ExcitationKind,
+    Method,
+    PlotKind,
+    Probes,
+    PulseShape,
+)
+
+__all__ = [
+    "ChainSpec",
+    "Units",
+    "ExcitationSpec",
+    "Losses",
+    "Walls",
+    "Tolerance",
+    "PreferredValues",
+    "Effects",
+    "Analysis",
+    "Output",
+    "Scene",
+    "DEFAULT_TITLE",
+    "DEFAULT_ACCURACY",
+]
+
+DEFAULT_TITLE = "lcchain scene"
+#: The perfectly transmitting chains exist for these N only (Sec. II.C of the paper).
+PERFECT_N = (3, 4, 5)
+#: analysis.accuracy when neither it nor analysis.dt is given.
+DEFAULT_ACCURACY = 1e-3
+
+
+def _real(name: str, value: object, allowed: str, *, above: float | None = None, at_least: float | None = None,
+          below: float | None = None, at_most: float | None = None) -> float:
+    return real(name, value, allowed=allowed, above=above, at_least=at_least, below=below, at_most=at_most)
+
+
+# ---------------------------------------------------------------- scene parts
+
+
+@dataclass(frozen=True)
+class ChainSpec:
+    """The ``[chain]`` table: which chain, by name or by its masses and springs.
+
+    Parameters
+    ----------
+    case : {"one-mass", "two-mass", "uniform-free", "uniform-bounded", "perfect", "custom"}
+        A named family (built later by :func:`lcchain.cases.chain_for_case`)
+        or ``custom``.
+    N : int
+        Number of masses, 3 <= N <= :data:`MAX_CIRCUIT_N`; 3, 4 or 5 for ``perfect``;
+        ``len(masses)`` for ``custom``.
+    masses : tuple of float, optional
+        ``custom`` only: the N masses in bulk units, each finite and > 0.
+    springs : tuple of float, optional
+        ``custom`` only: the N+1 spring constants in bulk units, walls first
+        and last (0 = free end), inner ones > 0.
+    """
+
+    case: Case
+    N: int
+    masses: tuple[float, ...] | None = None
+    springs: tuple[float, ...] | None = None
+
+    def __post_init__(self) -> None:
+        choice("chain.case", self.case, CASES)
+        if self.case != "custom":
+            for name in ("masses", "springs"):
+                if getattr(self, name) is not None:
+                    raise ParameterError(f"chain.{name}", getattr(self, name), f'no {name} unless case = "custom"')
+            N = integer("chain.N", self.N, at_least=MIN_N, at_most=MAX_CIRCUIT_N)
+            if self.case == "perfect" and N not in PERFECT_N:
+                raise ParameterError("chain.N", self.N, "3, 4 or 5 (the perfect chains of the paper)")
+            object.__setattr__(self, "N", N)
+            return
+
+        allowed = f'a list of {MIN_N} to {MAX_CIRCUIT_N} numbers > 0 (required for case = "custom")'
+        if self.masses is None:
+            raise ParameterError("chain.masses", None, allowed)
+        masses = numbers_list("chain.masses", self.masses, allowed)
+        if not MIN_N <= len(masses) <= MAX_CIRCUIT_N:
+            raise ParameterError("chain.masses", self.masses, allowed)
+        masses = tuple(_real(f"chain.masses[{i}]", m, "a finite number > 0", above=0.0) for i, m in enumerate(masses))
+        N = len(masses)
+        if not is_integer(self.N) or self.N != N:
+            raise ParameterError("chain.N", self.N, f"len(chain.masses) = {N} (or leave N out)")
+
+        allowed = f'a list of N+1 = {N + 1} numbers >= 0, walls first and last (required for case = "custom")'
+        if self.springs is None:
+            raise ParameterError("chain.springs", None, allowed)
+        springs = numbers_list("chain.springs", self.springs, allowed)
+        if len(springs) != N + 1:
+            raise ParameterError("chain.springs", self.springs, allowed)
+        checked = []
+        for i, k in enumerate(springs):
+            if 0 < i < N:
+                checked.append(_real(f"chain.springs[{i}]", k, "a finite number > 0 (an inner spring)", above=0.0))
+            else:
+                checked.append(_real(f"chain.springs[{i}]", k, "a finite number >= 0 (a wall; 0 = free end)",
+                                     at_least=0.0))
+        object.__setattr__(self, "N", N)
+        object.__setattr__(self, "masses", masses)
+        object.__setattr__(self, "springs", tuple(checked))
+
+
+@dataclass(frozen=True)
+class Units:
+    """The ``[units]`` table: the scale of the ladder.
+
+    Parameters
+    ----------
+    L0 : float
+        Inductance of a unit mass, in henry (> 0).
+    C0 : float
+        Capacitance of a unit spring, in farad (> 0).  Time is in units of
+        sqrt(L0*C0) seconds.
+    """
+
+    L0: float = 10e-6
+    C0: float = 10e-9
+
+    def __post_init__(self) -> None:
+        for name in ("L0", "C0"):
+            value = _real(f"units.{name}", getattr(self, name), "a finite number > 0", above=0.0)
+            object.__setattr__(self, name, value)
+
+
+@dataclass(frozen=True)
+class ExcitationSpec:
+    """The ``[excitation]`` table: how loop 1 (mass 1) is set in motion.
+
+    Parameters
+    ----------
+    kind : {"kick", "displacement", "pulse"}
+        An initial current I0 in L_1, the initial charge it implies, or a
+        voltage source v(t) = L_1 * I0 * g(t) in loop 1.
+    I0 : float
+        Current in ampere (> 0): the kick, or the current the pulse's area
+        gives L_1.
+    shape : {"gaussian", "rect"}, optional
+        Pulse only (required there): g(t) of unit area.
+    width : float, optional
+        Pulse only (required there): the gaussian's standard deviation or the
+        rect's duration, in units of sqrt(L0*C0), 0 < width <= 1000.
+    """
+
+    kind: ExcitationKind = "kick"
+    I0: float = 1e-3
+    shape: PulseShape | None = None
+    width: float | None = None
+
+    def __post_init__(self) -> None:
+        choice("excitation.kind", self.kind, EXCITATION_KINDS)
+        object.__setattr__(self, "I0", _real("excitation.I0", self.I0, "a finite number > 0 (ampere)", above=0.0))
+        if self.kind != "pulse":
+            for name in ("shape", "width"):
+                if getattr(self, name) is not None:
+                    raise ParameterError(f"excitation.{name}", getattr(self, name), f'no {name} unless kind = "pulse"')
+            return
+        choice("excitation.shape", self.shape, PULSE_SHAPES, ' (required when kind = "pulse")')
+        allowed = f'a number, 0 < width <= {MAX_PULSE_WIDTH:g} (units of sqrt(L0*C0); required when kind = "pulse")'
+        width = _real("excitation.width", self.width, allowed, above=0.0, at_most=MAX_PULSE_WIDTH)
+        object.__setattr__(self, "width", width)
+
+
+@dataclass(frozen=True)
+class Losses:
+    """``[effects.losses]``: a series resistor R_i = L_i / (Q sqrt(L0*C0)) with every inductor.
+
+    Parameters
+    ----------
+    Q : float
+        Quality factor of every inductor at 1/sqrt(L0*C0) (dimensionless, > 0).
+    """
+
+    Q: float
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "Q", _real("effects.losses.Q", self.Q, "a finite number > 0", above=0.0))
+
+
+@dataclass(frozen=True)
+class Walls:
+    """``[effects.walls]``: a wall spring K0 at each end, as in the paper's bounded chain.
+
+    Parameters
+    ----------
+    K0 : float
+        Wall spring constant in bulk units (> 0); its capacitor is C0 / K0.
+    """
+
+    K0: float
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "K0", _real("effects.walls.K0", self.K0, "a finite number > 0", above=0.0))
+
+
+@dataclass(frozen=True)
+class Tolerance:
+    """``[effects.tolerance]``: component values drawn around their nominal ones.
+
+    Parameters
+    ----------
+    L, C : float
+        Relative tolerance of every inductor / capacitor, 0 <= tol < 1.
+    samples : int
+        Number of sampled circuits, 1..10000.
+    seed : int
+        Seed of ``numpy.random.default_rng`` (>= 0), so that a study repeats.
+    """
+
+    L: float = 0.0
+    C: float = 0.0
+    samples: int = 1
+    seed: int = 0
+
+    def __post_init__(self) -> None:
+        for name in ("L", "C"):
+            value = _real(f"effects.tolerance.{name}", getattr(self, name), f"a number, 0 <= {name} < 1",
+                          at_least=0.0, below=1.0)
+            object.__setattr__(self, name, value)
+        samples = integer("effects.tolerance.samples", self.samples, at_least=1, at_most=MAX_SAMPLES)
+        object.__setattr__(self, "samples", samples)
+        object.__setattr__(self, "seed", integer("effects.tolerance.seed", self.seed, at_least=0))
+
+
+@dataclass(frozen=True)
+class PreferredValues:
+    """``[effects.preferred_values]``: every L and C rounded to a preferred-number series.
+
+    Parameters
+    ----------
+    series : {"E12", "E24", "E96"}
+    """
+
+    series: ESeries
+
+    def __post_init__(self) -> None:
+        choice("effects.preferred_values.series", self.series, E_SERIES_NAMES)
+
+
+@dataclass(frozen=True)
+class Effects:
+    """The ``[effects.*]`` tables: each real-world effect the scene asks for, or None."""
+
+    losses: Losses | None = None
+    walls: Walls | None = None
+    tolerance: Tolerance | None = None
+    preferred_values: PreferredValues | None = None
+
+    def __post_init__(self) -> None:
+        instance("effects.losses", self.losses, Losses, optional=True)
+        instance("effects.walls", self.walls, Walls, optional=True)
+        instance("effects.tolerance", self.tolerance, Tolerance, optional=True)
+        instance("effects.preferred_values", self.preferred_values, PreferredValues, optional=True)
+
+
+@dataclass(frozen=True)
+class Analysis:
+    """The ``[analysis]`` table: how long to watch and how finely.
+
+    Parameters
+    ----------
+    transits : int
+        Number of end-to-end transits to watch, 1..1000.
+    accuracy : float, optional
+        Target relative accuracy, 0 < accuracy < 1 (the step follows from
+        it).  Exclusive with ``dt``; when neither is given, 1e-3.
+    dt : float, optional
+        Fixed maximum step in units of sqrt(L0*C0), 0 < dt <= 1.
+    backend : {"batch", "shared"}
+        ``ngspice -b`` subprocess or the shared library.
+    method : {"trap", "gear"}
+        Integration method.
+    """
+
+    transits: int = 1
+    accuracy: float | None = None
+    dt: float | None = None
+    backend: Backend = "batch"
+    method: Method = "trap"
+
+    def __post_init__(self) -> None:
+        transits = integer("analysis.transits", self.transits, at_least=1, at_most=MAX_TRANSITS)
+        object.__setattr__(self, "transits", transits)
+        if self.accuracy is not None and self.dt is not None:
+            raise ParameterError(
+                "analysis.dt", self.dt, "no dt when analysis.accuracy is given (they are mutually exclusive)"
+            )
+        if self.dt is not None:
+            allowed = f"a number, 0 < dt <= {MAX_DT:g} (units of sqrt(L0*C0))"
+            object.__setattr__(self, "dt", _real("analysis.dt", self.dt, allowed, above=0.0, at_most=MAX_DT))
+        else:
+            # Neither given: the default accuracy; dt given: no accuracy at all.
+            accuracy = DEFAULT_ACCURACY if self.accuracy is None else self.accuracy
+            allowed = "a number, 0 < accuracy < 1"
+            object.__setattr__(self, "accuracy", _real("analysis.accuracy", accuracy, allowed, above=0.0, below=1.0))
+        choice("analysis.backend", self.backend, BACKENDS)
+        choice("analysis.method", self.method, METHODS)
+
+
+@dataclass(frozen=True)
+class Output:
+    """The ``[output]`` table: what to save and what to draw.
+
+    Parameters
+    ----------
+    probes : {"ends", "all"}
+        Save the two end loop currents, or every loop current.
+    report : str, optional
+        Path of the JSON report, relative to the current directory (not
+        resolved here).
+    plots : tuple of {"overlay", "spacetime", "histogram"}
+        Pictures to draw, each at most once.
+    """
+
+    probes: Probes = "ends"
+    report: str | None = None
+    plots: tuple[PlotKind, ...] = ("overlay",)
+
+    def __post_init__(self) -> None:
+        choice("output.probes", self.probes, PROBES)
+        if self.report is not None:
+            if (
+                not isinstance(self.report, str)
+                or not self.report.strip()
+                or any(ord(ch) < 32 or ord(ch) == 127 for ch in self.report)
+            ):
+                raise ParameterError("output.report", self.report, "a file path (one line of text)")
+        allowed = "a list of distinct names from " + ", ".join(PLOT_KINDS)
+        if isinstance(self.plots, (str, bytes, Mapping)) or not isinstance(self.plots, Sequence):
+            raise ParameterError("output.plots", self.plots, allowed)
+        for i, kind in enumerate(self.plots):
+            choice(f"output.plots[{i}]", kind, PLOT_KINDS)
+        if len(set(self.plots)) != len(self.plots):
+            raise ParameterError("output.plots", list(self.plots), allowed)
+        object.__setattr__(self, "plots", tuple(self.plots))
+
+
+@dataclass(frozen=True)
+class Scene:
+    """One experiment: every table of a scene file, validated.
+
+    ``source`` (the file it came from) is metadata: it is not part of the
+    scene's equality nor of :meth:`to_dict`.
+    """
+
+    title: str
+    chain: ChainSpec
+    units: Units
+    excitation: ExcitationSpec
+    effects: Effects
+    analysis: Analysis
+    output: Output
+    source: str | None = field(default=None, compare=False)
+
+    def __post_init__(self) -> None:
+        text_line("title", self.title, MAX_TITLE_LENGTH, title=True)
+        for name, cls in (
+            ("chain", ChainSpec),
+            ("units", Units),
+            ("excitation", ExcitationSpec),
+            ("effects", Effects),
+            ("analysis", Analysis),
+            ("output", Output),
+        ):
+            instance(name, getattr(self, name), cls)
+        plots = list(self.output.plots)
+        if "spacetime" in plots and self.output.probes != "all":
+            raise ParameterError("output.plots", plots, 'no "spacetime" unless output.probes = "all"')
+        tolerance = self.effects.tolerance
+        if "histogram" in plots and (tolerance is None or tolerance.samples < 2):
+            raise ParameterError("output.plots", plots, 'no "histogram" unless effects.tolerance.samples > 1')
+
+    def to_dict(self) -> dict[str, Any]:
+        """The scene as plain data with the file's keys (JSON- and TOML-writable).
+
+        Keys left at None are omitted, ``effects`` holds only the effects
+        present, and ``parse_scene(scene.to_dict()) == scene``.
+        """
+
+        def table(obj: object, keys: Sequence[str]) -> dict[str, Any]:
+            out = {}
+            for key in keys:
+                value = getattr(obj, key)
+                if value is not None:
+                    out[key] = list(value) if isinstance(value, tuple) else value
+            return out
+
+        effects = {
+            name: table(getattr(self.effects, name), keys)
+            for name, keys in EFFECT_KEYS.items()
+            if getattr(self.effects, name) is not None
+        }
+        return {
+            "title": self.title,
+            "chain": table(self.chain, CHAIN_KEYS),
+            "units": table(self.units, UNITS_KEYS),
+            "excitation": table(self.excitation, EXCITATION_KEYS),
+            "effects": effects,
+            "analysis": table(self.analysis, ANALYSIS_KEYS),
+            "output": table(self.output, OUTPUT_KEYS),
+        }
+
+
+# ------------------------------------------------------------ the file's keys
+# Derived from the dataclasses: a field is a key, nothing is listed twice.
+
+
+def _keys(cls: type) -> tuple[str, ...]:
+    return tuple(f.name for f in fields(cls) if f.name != "source")
+
+
+def _effect_classes() -> dict[str, type]:
+    hints = get_type_hints(Effects)
+    return {name: next(arg for arg in get_args(hints[name]) if arg is not type(None)) for name in _keys(Effects)}
+
+
+TOP_KEYS = _keys(Scene)
+CHAIN_KEYS = _keys(ChainSpec)
+UNITS_KEYS = _keys(Units)
+EXCITATION_KEYS = _keys(ExcitationSpec)
+EFFECT_CLASSES = _effect_classes()
+EFFECT_KEYS = {name: _keys(cls) for name, cls in EFFECT_CLASSES.items()}
+ANALYSIS_KEYS = _keys(Analysis)
+OUTPUT_KEYS = _keys(Output)

@@ -1,0 +1,128 @@
+"""``lcchain doctor``: does ngspice, its shared library and PySpice work here?"""
+
+from __future__ import annotations
+
+import math
+import subprocess
+import sys
+from collections.abc import Callable
+from dataclasses import dataclass
+
+from ..core.errors import SimulationError
+from ..core.types import Backend
+from .runner import run
+from .simulator import (
+    INSTALL_COMMAND,
+    PYSPICE_INSTALL_COMMAND,
+    Simulator,
+    find_shared_library,
+    find_simulator,
+    require_pyspice,
+)
+
+__all__ = ["Check", "doctor"]
+
+
+@dataclass(frozen=True)
+class Check:
+    """One line of :func:`doctor`'s report.
+
+    Attributes
+    ----------
+    name : str
+        What was checked.
+    ok : bool
+        Whether it works.
+    detail : str
+        What was found (a version, a path, an error).
+    fix : str
+        How to fix it; empty when ``ok``.
+    """
+
+    name: str
+    ok: bool
+    detail: str
+    fix: str = ""
+
+
+_DOCTOR_NETLIST = """\
+* lcchain doctor: one LC loop, i(l1) = cos(t)
+L1 n0 n1 1.0 IC=1.0
+C1 n1 0 1.0
+V0 n0 0 0
+.options method=trap reltol=1e-6
+.tran 0.001 1.0 0 0.001 uic
+.save i(l1)
+.end
+"""
+#: Tolerance of the doctor's check i(l1)(t=1 s) = cos(1) for the unit LC loop.
+_DOCTOR_ATOL = 1e-4
+
+
+def _doctor_run(simulator: Simulator) -> str:
+    result = run(_DOCTOR_NETLIST, ["i(l1)"], 1.0, simulator=simulator, timeout=60.0)
+    error = abs(float(result.vectors["i(l1)"][-1]) - math.cos(1.0))
+    if error > _DOCTOR_ATOL:
+        raise SimulationError(f"i(l1)(1 s) differs from cos(1) by {error:.3g}")
+    return f"{result.points} points in {result.wall_s:.3f} s, |i - cos t| = {error:.1e}"
+
+
+def doctor() -> list[Check]:
+    """Check that ngspice, its shared library and PySpice work here.
+
+    Never raises: every failure becomes a :class:`Check` with ``ok=False``
+    that says what is missing and how to fix it.
+
+    Returns
+    -------
+    list[Check]
+        ngspice executable, batch run, shared library, PySpice, shared run.
+    """
+    checks: list[Check] = []
+
+    def attempt(name: str, fix: str, action: Callable[[], str]) -> bool:
+        try:
+            detail = action()
+        except Exception as exc:  # noqa: BLE001 - the doctor reports, never raises
+            checks.append(Check(name, False, f"{type(exc).__name__}: {exc}", fix))
+            return False
+        checks.append(Check(name, True, detail, ""))
+        return True
+
+    found: dict[str, Simulator] = {}
+
+    def locate(backend: Backend) -> Simulator:
+        found[backend] = find_simulator(backend)
+        return found[backend]
+
+    have_exe = attempt("ngspice executable", f"install ngspice: {INSTALL_COMMAND}",
+                       lambda: (lambda s: f"{s.executable} (ngspice {s.version})")(locate("batch")))
+    if have_exe:
+        attempt("batch run", "run `ngspice -b` on the netlist of `lcchain doctor --help` to see why it fails",
+                lambda: _doctor_run(found["batch"]))
+    else:
+        checks.append(
+            Check("batch run", False, "skipped: no ngspice executable", f"install ngspice: {INSTALL_COMMAND}")
+        )
+    have_lib = attempt("ngspice shared library", f"install the library: {INSTALL_COMMAND}", find_shared_library)
+    have_pyspice = attempt("PySpice", PYSPICE_INSTALL_COMMAND + " (only the shared backend needs it)",
+                           _pyspice_version)
+    if have_lib and have_pyspice:
+        attempt("shared run", "see the error; try `python -m lcchain.spice.shared_worker` by hand",
+                lambda: _doctor_run(locate("shared")))
+    else:
+        checks.append(Check("shared run", False, "skipped: shared library or PySpice missing",
+                            f"{INSTALL_COMMAND}; {PYSPICE_INSTALL_COMMAND}"))
+    return checks
+
+
+def _pyspice_version() -> str:
+    require_pyspice()
+    # Imported in a child so that lcchain itself never loads PySpice.
+    proc = subprocess.run(
+        [sys.executable, "-c", "import PySpice.Spice.NgSpice.Shared, PySpice; print(PySpice.__version__)"],
+        capture_output=True, text=True, timeout=120, stdin=subprocess.DEVNULL,
+    )
+    if proc.returncode != 0:
+        raise ImportError(proc.stderr.strip().splitlines()[-1] if proc.stderr.strip() else "import failed")
+    return f"PySpice {proc.stdout.strip()}"

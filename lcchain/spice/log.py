@@ -1,0 +1,70 @@
+"""Reading ngspice's output: which lines mean failure, which are worth quoting."""
+
+from __future__ import annotations
+
+import re
+
+__all__ = ["fatal_lines", "failure_reason", "useful_output", "trim_log", "LOG_MAX_CHARS", "ERROR_MAX_LINES"]
+
+#: At most this many characters of ngspice's output are kept in ``RunResult.log``.
+LOG_MAX_CHARS = 8000
+#: At most this many lines of ngspice's output are quoted in an error.
+ERROR_MAX_LINES = 30
+
+# Lines of ngspice output that mean the run failed even when it exits 0.
+_FATAL = re.compile(
+    r"^\s*error\b|can't find model|could not find a valid modelname|singular matrix"
+    r"|timestep too small|circuit not parsed|simulation\(s\) aborted|simulation interrupted",
+    re.IGNORECASE,
+)
+# Resource-usage chatter ngspice prints after every batch run.
+_BOILERPLATE = re.compile(
+    r"^\s*(DRAM|Total DRAM|Maximum ngspice|Current ngspice|Shared ngspice|Text \(code\)"
+    r"|Stack =|Library pages|Total elapsed|Note: No compatibility mode)",
+    re.IGNORECASE,
+)
+
+
+def fatal_lines(log: str) -> list[str]:
+    return list(dict.fromkeys(line.strip() for line in log.splitlines() if _FATAL.search(line)))
+
+
+def failure_reason(log: str, fallback: str) -> str:
+    fatal = fatal_lines(log)
+    return "ngspice reported an error: " + " | ".join(fatal) if fatal else fallback
+
+
+def _clean_lines(log: str) -> list[str]:
+    lines: list[str] = []
+    for line in log.splitlines():
+        text = line.rstrip()
+        if not text.strip() or _BOILERPLATE.match(text):
+            continue
+        if lines and lines[-1] == text:  # ngspice repeats e.g. "singular matrix" many times
+            continue
+        if lines and text.lstrip().startswith("Reference value") and lines[-1].lstrip().startswith("Reference value"):
+            lines[-1] = text  # progress lines: the last one says how far the run got
+            continue
+        lines.append(text)
+    return lines
+
+
+def useful_output(log: str) -> str:
+    """The part of ngspice's output worth quoting: around the first fatal line, at most 30 lines."""
+    lines = _clean_lines(log)
+    if len(lines) > ERROR_MAX_LINES:
+        fatal = [i for i, line in enumerate(lines) if _FATAL.search(line)]
+        start = max(0, (fatal[0] if fatal else len(lines)) - 5)
+        start = min(start, len(lines) - ERROR_MAX_LINES)
+        lines = ["..."] * (start > 0) + lines[start : start + ERROR_MAX_LINES] + ["..."] * (
+            start + ERROR_MAX_LINES < len(lines)
+        )
+    return "\n".join(lines)
+
+
+def trim_log(log: str) -> str:
+    text = "\n".join(_clean_lines(log))
+    if len(text) > LOG_MAX_CHARS:
+        half = LOG_MAX_CHARS // 2
+        text = text[:half] + "\n...\n" + text[-half:]
+    return text

@@ -1,0 +1,90 @@
+"""A netlist lcchain wrote, as a PySpice ``Circuit``, for PySpice users to embed.
+
+PySpice is imported when :func:`circuit_from_netlist` is called, never by
+``import lcchain`` (and it is an optional extra: ``pip install
+'lcchain[shared]'``).  PySpice's own parser cannot read an inductor's
+``IC=``, so this reads the element lines of :func:`lcchain.circuit.netlist.netlist_text`
+(L, C and R with full-precision values and ``IC=``, the gaussian B-source and
+the rect PWL source) and builds the same circuit element by element: same
+names, nodes and values.  The analysis is left to the caller, e.g.::
+
+    from lcchain.circuit.netlist import netlist_text, SimulationOptions
+    from lcchain.circuit.ladder import Ladder
+    circuit = circuit_from_netlist(netlist_text(Ladder(chain), SimulationOptions(dt=0.05, tstop=30)))
+    simulator = circuit.simulator()
+    analysis = simulator.transient(step_time=..., end_time=..., use_initial_condition=True)
+
+(lcchain itself runs ngspice through :mod:`lcchain.spice.runner`, which avoids
+PySpice's high-level simulator: it leaks memory per run with ngspice 39.)
+"""
+
+from __future__ import annotations
+
+import re
+from typing import Any
+
+from ..core.errors import ParameterError, SimulatorMissingError
+from .simulator import PYSPICE_INSTALL_COMMAND
+
+__all__ = ["circuit_from_netlist"]
+
+_TWO_TERMINAL = re.compile(r"^([LCR])(\S+)\s+(\S+)\s+(\S+)\s+(\S+)(?:\s+IC=(\S+))?$", re.IGNORECASE)
+_B_SOURCE = re.compile(r"^B(\S+)\s+(\S+)\s+(\S+)\s+V=(.+)$", re.IGNORECASE)
+_PWL = re.compile(r"^V(\S+)\s+(\S+)\s+(\S+)\s+PWL\((.*)\)$", re.IGNORECASE)
+
+
+def circuit_from_netlist(text: str) -> Any:
+    """Build the netlist's elements as a ``PySpice.Spice.Netlist.Circuit``.
+
+    Parameters
+    ----------
+    text : str
+        A netlist written by :func:`lcchain.circuit.netlist.netlist_text`
+        (its first line is the title; comments and dot-commands are skipped).
+
+    Returns
+    -------
+    PySpice.Spice.Netlist.Circuit
+
+    Raises
+    ------
+    SimulatorMissingError
+        PySpice is not installed.
+    ParameterError
+        A line that is none of lcchain's elements.
+    """
+    try:
+        from PySpice.Spice.Netlist import Circuit
+    except ImportError:
+        raise SimulatorMissingError(f"PySpice is not installed; install it with: {PYSPICE_INSTALL_COMMAND}") from None
+    lines = text.splitlines()
+    circuit = Circuit(lines[0] if lines else "lcchain")
+
+    def node(name: str) -> Any:
+        return circuit.gnd if name == "0" else name
+
+    for number, line in enumerate(lines[1:], start=2):
+        stripped = line.strip()
+        if not stripped or stripped[0] in "*.":
+            continue
+        element = _TWO_TERMINAL.match(stripped)
+        if element:
+            kind, name, a, b, value, ic = element.groups()
+            extra = {"initial_condition": float(ic)} if ic is not None else {}
+            factory = {"L": circuit.L, "C": circuit.C, "R": circuit.R}[kind.upper()]
+            factory(name, node(a), node(b), float(value), **extra)
+            continue
+        source = _B_SOURCE.match(stripped)
+        if source:
+            name, a, b, expression = source.groups()
+            circuit.BehavioralSource(name, node(a), node(b), voltage_expression=expression)
+            continue
+        pwl = _PWL.match(stripped)
+        if pwl:
+            name, a, b, body = pwl.groups()
+            numbers = [float(v) for v in body.split()]
+            circuit.PieceWiseLinearVoltageSource(name, node(a), node(b), values=list(zip(numbers[::2], numbers[1::2],
+                                                                                          strict=True)))
+            continue
+        raise ParameterError(f"netlist line {number}", stripped, "an element line lcchain writes (L, C, R, B, V PWL)")
+    return circuit

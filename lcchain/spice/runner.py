@@ -1,0 +1,359 @@
+"""Run a netlist in ngspice and return validated waveforms.
+
+Two backends give the same :class:`RunResult` (bit-identical waveforms, tested):
+
+``"batch"`` (default)
+    ``ngspice -b -r /dev/fd/N``: the netlist arrives on standard input and the
+    binary raw file goes to an inherited descriptor of an *unlinked* temporary
+    file, read back with numpy.  No file or folder ever has a name, so nothing
+    is left behind however lcchain ends (Ctrl-C, SIGTERM, SIGKILL, a full disk).
+``"shared"``
+    The ngspice shared library (``libngspice.so.0``) through PySpice's
+    low-level ``NgSpiceShared``, in a child process
+    (``python -m lcchain.spice.shared_worker``) that exits after one run, so no
+    simulator state survives between runs.  PySpice is imported only in that
+    child: ``import lcchain`` never loads it.
+
+Processes
+---------
+Every child starts in a session of its own (the terminal's Ctrl-C reaches
+lcchain only), under ``setpriv --pdeathsig KILL`` where available (it dies
+with lcchain, even on SIGKILL), and its whole process group is killed on a
+timeout and on any exception on the way out (KeyboardInterrupt,
+:class:`~lcchain.core.errors.Interrupted`).  ``HOME`` points to a folder that
+does not exist, so no user ``~/.spiceinit`` changes a result.
+
+Validation
+----------
+ngspice often exits 0 after an error, so every run is checked: exit status 0
+(batch), no fatal line in ngspice's output (``Error...``, ``can't find
+model``, ``singular matrix``, ``Timestep too small``, ``circuit not parsed``,
+``simulation(s) aborted``), more than zero points, last time point equal to
+``tstop`` (relative 1e-9), every requested vector present, all values
+finite.  A failure raises :class:`~lcchain.core.errors.SimulationError` with
+the reason and the useful end of ngspice's output.  Beware: ngspice 39
+silently accepts an inductor or capacitor line without a value (it uses a
+default) and a missing node; only the netlist generator can prevent those.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+import os
+import re
+import subprocess
+import tempfile
+import time
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import IO
+
+import numpy as np
+
+from ..core.checks import choice, real
+from ..core.errors import ParameterError, SimulationError
+from ..core.frozen import FrozenArrays, FrozenMap
+from ..core.types import BACKENDS, Backend
+from .log import LOG_MAX_CHARS, failure_reason, fatal_lines, trim_log, useful_output
+from .processes import call_shared_worker, child_env, decode_worker_payload, kill_group, read_all
+from .raw import read_raw
+from .simulator import Simulator, find_simulator
+from .text import canonical_vector_name, parse_options, unsafe_lines
+
+__all__ = ["RunResult", "run", "TSTOP_RTOL", "LOG_MAX_CHARS", "PROGRESS_INTERVAL"]
+
+#: Relative tolerance on the last time point versus the requested ``tstop``.
+TSTOP_RTOL = 1e-9
+#: Seconds between progress reports of a batch run (when a progress callback is given).
+PROGRESS_INTERVAL = 0.5
+
+# Only complete lines (ngspice ends each with "\r"): a number cut by a partial write must not count.
+_REFERENCE_VALUE = re.compile(rb"Reference value\s*:\s*([-+0-9.eE]+)[ \t]*[\r\n]")
+
+
+@dataclass(frozen=True, eq=False)
+class RunResult(FrozenArrays):
+    """Waveforms and metadata of one ngspice transient run.
+
+    Attributes
+    ----------
+    time : numpy.ndarray
+        Time points in seconds (read-only), ending at ``tstop``.
+    vectors : Mapping[str, numpy.ndarray]
+        Requested vectors (read-only arrays, amperes or volts) keyed by their
+        normalised name (:func:`lcchain.spice.text.canonical_vector_name`).
+    ngspice_version : str
+        ngspice version, e.g. ``"39"``.
+    netlist_sha256 : str
+        SHA-256 (hex) of the netlist text encoded as UTF-8.
+    options : Mapping[str, str]
+        The ``.options`` the netlist sets (:func:`lcchain.spice.text.parse_options`).
+    wall_s : float
+        Wall time of the simulator in seconds: the ``ngspice -b`` process for
+        ``"batch"``, loading and running the circuit inside the child for
+        ``"shared"`` (child start-up excluded).
+    backend : str
+        ``"batch"`` or ``"shared"``.
+    points : int
+        Number of time points.
+    log : str
+        ngspice's output without blank lines and resource chatter, trimmed to
+        :data:`LOG_MAX_CHARS` characters.
+    """
+
+    time: np.ndarray
+    vectors: Mapping[str, np.ndarray]
+    ngspice_version: str
+    netlist_sha256: str
+    options: Mapping[str, str]
+    wall_s: float
+    backend: str
+    points: int
+    log: str = field(repr=False)
+
+    def metadata(self) -> dict[str, object]:
+        """Everything but the arrays, as a JSON-serialisable dict.
+
+        Returns
+        -------
+        dict
+            Keys ``ngspice_version``, ``netlist_sha256``, ``options``,
+            ``wall_s``, ``backend``, ``points``, ``vectors`` (the names),
+            ``t_end`` (last time point, s) and ``log``.
+        """
+        return {
+            "ngspice_version": self.ngspice_version,
+            "netlist_sha256": self.netlist_sha256,
+            "options": dict(self.options),
+            "wall_s": float(self.wall_s),
+            "backend": self.backend,
+            "points": int(self.points),
+            "vectors": list(self.vectors),
+            "t_end": float(self.time[-1]),
+            "log": self.log,
+        }
+
+
+# --------------------------------------------------------------------------- arguments
+
+
+def _check_arguments(netlist: object, vectors: object, tstop: object, timeout: object,
+                     cwd: str | os.PathLike[str] | None) -> tuple[str, list[str], float, float]:
+    if not isinstance(netlist, str) or not netlist.strip():
+        raise ParameterError("netlist", netlist, "non-empty netlist text")
+    tstop = real("tstop", tstop, above=0.0, unit="seconds")
+    timeout = real("timeout", timeout, above=0.0, unit="seconds")
+    if isinstance(vectors, str) or not isinstance(vectors, Sequence):
+        raise ParameterError("vectors", vectors, "a sequence of vector names, not one string")
+    names: list[str] = []
+    for name in vectors:
+        if not isinstance(name, str) or not name.strip() or re.search(r"\s", name.strip()):
+            raise ParameterError("vectors", name, "an ngspice vector name such as 'i(l1)' or 'v(n3)'")
+        key = canonical_vector_name(name)
+        if key != "time" and key not in names:
+            names.append(key)
+    unsafe = unsafe_lines(netlist, cwd)
+    if unsafe:
+        number, line, why = unsafe[0]
+        raise ParameterError(f"netlist line {number}", line,
+                             f"a netlist without {why.split(' (')[0]} (ngspice would execute it or read the file)")
+    return netlist, names, tstop, timeout
+
+
+# --------------------------------------------------------------------------- running
+
+
+def run(
+    netlist: str,
+    vectors: Sequence[str],
+    tstop: float,
+    *,
+    simulator: Simulator | None = None,
+    backend: Backend | None = None,
+    timeout: float = 600.0,
+    progress: Callable[[float], None] | None = None,
+    cwd: str | os.PathLike[str] | None = None,
+) -> RunResult:
+    """Run a transient netlist in ngspice and return validated waveforms.
+
+    Parameters
+    ----------
+    netlist : str
+        Complete netlist text with one ``.tran`` analysis ending at ``tstop``
+        and ``.save`` lines for the wanted vectors. ``.control`` blocks,
+        ``shell`` lines and ``.include``/``.lib`` outside ``cwd`` are refused.
+    vectors : Sequence[str]
+        Vector names as saved, e.g. ``["i(l1)", "v(n3)"]`` or ``["l1#branch"]``.
+    tstop : float
+        End time of the ``.tran`` analysis in seconds; the last time point
+        must equal it.
+    simulator : Simulator, optional
+        From :func:`lcchain.spice.simulator.find_simulator`; found here (for
+        ``backend``) when omitted.
+    backend : {"batch", "shared"}, optional
+        Only when no simulator is given (default ``"batch"``).
+    timeout : float
+        Seconds after which ngspice's process group is killed.
+    progress : callable, optional
+        Called with the fraction of ``tstop`` simulated: 0.0 before, then
+        (batch backend) about every :data:`PROGRESS_INTERVAL` seconds from
+        ngspice's ``Reference value`` lines, and 1.0 after a successful run.
+    cwd : path-like, optional
+        The netlist's own folder (relative ``.include`` files are read there);
+        None for a netlist that includes nothing.
+
+    Returns
+    -------
+    RunResult
+
+    Raises
+    ------
+    ParameterError
+        Bad arguments, or an unsafe netlist.
+    SimulatorMissingError
+        ngspice (or its shared library, or PySpice) is not installed.
+    SimulationError
+        ngspice failed, timed out (``status == "timeout"``), or its output
+        failed validation.
+    """
+    netlist, names, tstop, timeout = _check_arguments(netlist, vectors, tstop, timeout, cwd)
+    if simulator is None:
+        simulator = find_simulator(choice("backend", backend or "batch", BACKENDS))  # type: ignore[arg-type]
+    elif backend is not None and backend != simulator.backend:
+        raise ParameterError("backend", backend, f"the simulator's own backend, {simulator.backend!r}")
+    folder = str(cwd) if cwd is not None else "/"
+    if progress is not None:
+        progress(0.0)
+    if simulator.backend == "batch":
+        columns, log, wall = _run_batch(netlist, simulator, timeout, tstop, progress, folder)
+    else:
+        columns, log, wall = _run_shared(netlist, simulator, timeout, folder)
+    time_s, found = _validate(columns, log, names, tstop)
+    if progress is not None:
+        progress(1.0)
+    return RunResult(
+        time=time_s,
+        vectors=FrozenMap(found),
+        ngspice_version=simulator.version,
+        netlist_sha256=hashlib.sha256(netlist.encode("utf-8")).hexdigest(),
+        options=FrozenMap(parse_options(netlist)),
+        wall_s=wall,
+        backend=simulator.backend,
+        points=int(time_s.size),
+        log=trim_log(log),
+    )
+
+
+def _simulated_time(err: IO[bytes]) -> float | None:
+    """The last ``Reference value : t`` ngspice wrote to stderr (its progress, in seconds)."""
+    fd = err.fileno()
+    size = os.fstat(fd).st_size
+    tail = os.pread(fd, 256, max(0, size - 256))
+    found = _REFERENCE_VALUE.findall(tail)
+    return float(found[-1]) if found else None
+
+
+def _wait(proc: subprocess.Popen[bytes], timeout: float, tstop: float, err: IO[bytes],
+          progress: Callable[[float], None] | None) -> int | None:
+    """Exit status of ngspice, or None after the timeout; reports progress meanwhile."""
+    deadline = time.monotonic() + timeout
+    while True:
+        left = deadline - time.monotonic()
+        try:
+            return proc.wait(timeout=max(0.0, min(PROGRESS_INTERVAL, left)) if progress else max(0.0, left))
+        except subprocess.TimeoutExpired:
+            if time.monotonic() >= deadline:
+                return None
+            t = _simulated_time(err)
+            if t is not None and progress is not None:
+                progress(min(max(t / tstop, 0.0), 1.0))
+
+
+def _run_batch(netlist: str, simulator: Simulator, timeout: float, tstop: float,
+               progress: Callable[[float], None] | None, cwd: str) -> tuple[dict[str, np.ndarray], str, float]:
+    with tempfile.TemporaryFile() as source, tempfile.TemporaryFile() as raw, \
+            tempfile.TemporaryFile() as out, tempfile.TemporaryFile() as err:
+        source.write(netlist.encode("utf-8"))
+        source.seek(0)
+        fd = raw.fileno()
+        command = [*simulator.launcher, simulator.executable, "-b", "-r", f"/dev/fd/{fd}"]
+        start = time.perf_counter()
+        proc = subprocess.Popen(command, cwd=cwd, env=child_env(), stdin=source, stdout=out, stderr=err,
+                                pass_fds=(fd,), start_new_session=True)
+        try:
+            status = _wait(proc, timeout, tstop, err, progress)
+        finally:
+            if proc.poll() is None:  # timed out, or interrupted: the whole group goes
+                kill_group(proc)
+        wall = time.perf_counter() - start
+        log = (read_all(out) + b"\n" + read_all(err)).decode("utf-8", "replace")
+        if status is None:
+            raise SimulationError(f"ngspice timed out after {timeout:g} s and was killed", useful_output(log),
+                                  "timeout")
+        if status != 0:
+            raise SimulationError(failure_reason(log, f"ngspice exited with status {status}"), useful_output(log))
+        data = read_all(raw)
+    if not data:
+        raise SimulationError("ngspice wrote no raw file", useful_output(log))
+    try:
+        columns = read_raw(data)
+    except SimulationError as exc:
+        raise SimulationError(exc.reason, useful_output(log)) from None
+    return columns, log, wall
+
+
+def _run_shared(netlist: str, simulator: Simulator, timeout: float,
+                cwd: str) -> tuple[dict[str, np.ndarray], str, float]:
+    stdout, log, status = call_shared_worker(simulator.launcher, {"netlist": netlist, "library": simulator.executable},
+                                  timeout, cwd, "run")
+    try:
+        meta, arrays = decode_worker_payload(stdout)
+    except Exception as exc:  # noqa: BLE001 - a crashed child leaves empty or partial bytes
+        raise SimulationError(f"the shared-library child (exit status {status}) returned no result ({exc})",
+                              useful_output(log)) from None
+    if meta["errors"]:
+        raise SimulationError(failure_reason(log, "the ngspice shared library failed: " + "; ".join(meta["errors"])),
+                              useful_output(log))
+    if status != 0:
+        raise SimulationError(failure_reason(log, f"the shared-library child exited with status {status}"),
+                              useful_output(log))
+    if meta["complex"]:
+        raise SimulationError("the transient plot holds complex vectors; lcchain reads real data only",
+                              useful_output(log))
+    columns = {canonical_vector_name(name): arr for name, arr in zip(meta["names"], arrays, strict=True)}
+    return columns, log, float(meta["wall_s"])
+
+
+# --------------------------------------------------------------------------- output checks
+
+
+def _validate(columns: dict[str, np.ndarray], log: str, names: list[str],
+              tstop: float) -> tuple[np.ndarray, dict[str, np.ndarray]]:
+    def fail(reason: str) -> SimulationError:
+        return SimulationError(reason, useful_output(log))
+
+    if fatal_lines(log):
+        raise fail(failure_reason(log, ""))
+    if "time" not in columns:
+        raise fail("ngspice returned no time vector (is there a .tran analysis?)")
+    time_s = columns["time"]
+    if time_s.size == 0:
+        raise fail("ngspice returned zero time points")
+    if not math.isclose(float(time_s[-1]), tstop, rel_tol=TSTOP_RTOL, abs_tol=0.0):
+        raise fail(f"the last time point is {float(time_s[-1])!r} s, not tstop = {tstop!r} s")
+    missing = [name for name in names if name not in columns]
+    if missing:
+        available = ", ".join(sorted(k for k in columns if k != "time")) or "none"
+        raise fail(f"requested vector(s) {', '.join(missing)} not in ngspice's output (saved: {available}); "
+                   "add them to the netlist's .save line")
+    found: dict[str, np.ndarray] = {}
+    for name in ["time", *names]:
+        arr = np.ascontiguousarray(columns[name], dtype=np.float64)
+        if arr.shape != time_s.shape:
+            raise fail(f"vector {name} has {arr.size} points, time has {time_s.size}")
+        if not np.all(np.isfinite(arr)):
+            raise fail(f"vector {name} holds non-finite values")
+        arr.flags.writeable = False
+        found[name] = arr
+    return found.pop("time"), found

@@ -1,0 +1,155 @@
+"""What lcchain reads in netlist text before ngspice sees it: names, options, unsafe lines.
+
+Vector names
+------------
+The caller names vectors as the netlist ``.save``\\ s them; ngspice 39
+accepts both ``.save i(l1)`` and ``.save l1#branch`` for an inductor current
+and ``.save v(n3)`` (or ``n3``) for a node voltage.  The raw file calls them
+``i(l1)`` and ``v(n3)``, the shared library's plot ``l1#branch`` and ``n3``.
+lcchain normalises every name, requested or found, to the raw-file form in
+lower case (SPICE names are case-insensitive):
+
+====================  ==============
+written               key in result
+====================  ==============
+``i(L1)``             ``"i(l1)"``
+``l1#branch``         ``"i(l1)"``
+``v(N3)``, ``n3``     ``"v(n3)"``
+====================  ==============
+
+Other names (``@l1[i]``, ``v(a,b)``) are only lower-cased.
+
+Safety
+------
+ngspice executes ``shell`` commands from ``.control`` blocks, in batch mode
+and in the shared library alike, and reads any file an ``.include`` or
+``.lib`` names.  :func:`unsafe_lines` finds, before anything runs: a
+``.control``/``.endc`` line, a ``shell`` line (outside the title line, where
+ngspice reads no ``shell``), and an ``.include``/``.lib`` whose file lies
+outside the netlist's own folder (or any at all for a netlist that has no
+folder, such as lcchain's own).
+"""
+
+from __future__ import annotations
+
+import os
+import re
+from pathlib import Path
+
+__all__ = ["canonical_vector_name", "parse_options", "logical_lines", "unsafe_lines", "UnsafeLine"]
+
+_OPTIONS_LINE = re.compile(r"^\s*\.opt(ion|ions)?\b(.*)$", re.IGNORECASE)
+_CONTROL = re.compile(r"^\s*\.(control|endc)\b", re.IGNORECASE)
+_SHELL = re.compile(r"^\s*shell\b", re.IGNORECASE)
+_INCLUDE = re.compile(r"^\s*\.(include|inc|lib)\b\s*(.*)$", re.IGNORECASE)
+
+#: (line number from 1, the line, why it is refused)
+UnsafeLine = tuple[int, str, str]
+
+
+def canonical_vector_name(name: str) -> str:
+    """Normalise an ngspice vector name to lcchain's key convention.
+
+    Parameters
+    ----------
+    name : str
+        ``i(l1)``, ``l1#branch``, ``v(n3)``, ``n3``, ... in any case.
+
+    Returns
+    -------
+    str
+        ``"i(l1)"`` for a branch current, ``"v(n3)"`` for a node voltage,
+        ``"time"`` for time, otherwise the lower-cased name.
+    """
+    text = name.strip().lower()
+    if text.endswith("#branch"):
+        return f"i({text[: -len('#branch')]})"
+    if text == "time" or "(" in text or "@" in text or "#" in text or "[" in text:
+        return text
+    return f"v({text})"
+
+
+def logical_lines(netlist: str) -> list[tuple[int, str]]:
+    """(first physical line number, text) of each logical line, ``+`` continuations joined."""
+    lines: list[tuple[int, str]] = []
+    for number, raw in enumerate(netlist.splitlines(), start=1):
+        if raw.startswith("+") and lines:
+            first, text = lines[-1]
+            lines[-1] = (first, text + " " + raw[1:])
+        else:
+            lines.append((number, raw))
+    return lines
+
+
+def parse_options(netlist: str) -> dict[str, str]:
+    """The ``.options`` a netlist sets, read from its text.
+
+    Parameters
+    ----------
+    netlist : str
+        Netlist text. ``.option``, ``.options`` and ``.opt`` lines count, with
+        ``+`` continuation lines; later settings override earlier ones.
+
+    Returns
+    -------
+    dict[str, str]
+        Lower-cased option name -> value as written (``"1e-6"``, ``"trap"``);
+        a bare flag such as ``noinit`` maps to ``"true"``.
+    """
+    options: dict[str, str] = {}
+    for _, line in logical_lines(netlist):
+        match = _OPTIONS_LINE.match(line)
+        if not match:
+            continue
+        body = re.sub(r"\s*=\s*", "=", match.group(2).strip())
+        for token in body.split():
+            key, sep, value = token.partition("=")
+            options[key.lower()] = value if sep else "true"
+    return options
+
+
+def _included_file(argument: str) -> str:
+    argument = argument.strip()
+    if argument[:1] in "\"'":
+        quote = argument[0]
+        end = argument.find(quote, 1)
+        return argument[1:end] if end > 0 else argument[1:]
+    return argument.split()[0] if argument else ""
+
+
+def unsafe_lines(netlist: str, folder: str | os.PathLike[str] | None = None) -> list[UnsafeLine]:
+    """Lines that would make ngspice run a command or read a file outside ``folder``.
+
+    Parameters
+    ----------
+    netlist : str
+        The netlist text.
+    folder : path-like, optional
+        The netlist's own folder: ``.include``/``.lib`` files inside it (after
+        resolving symbolic links) are allowed.  None: no include at all.
+
+    Returns
+    -------
+    list of (line number, line, reason)
+        Empty when the netlist is safe to run.
+    """
+    root = Path(folder).resolve() if folder is not None else None
+    found: list[UnsafeLine] = []
+    for number, line in logical_lines(netlist):
+        text = line.strip()
+        if _CONTROL.match(line):
+            found.append((number, text, "a .control block (ngspice executes its commands, shell included)"))
+        elif _SHELL.match(line) and number > 1:
+            found.append((number, text, "a shell command"))
+        else:
+            include = _INCLUDE.match(line)
+            if include is None:
+                continue
+            target = _included_file(include.group(2))
+            if root is None:
+                found.append((number, text, f"an .{include.group(1).lower()} of another file"))
+                continue
+            path = (root / os.path.expanduser(target)).resolve()
+            if not target or not path.is_relative_to(root):
+                found.append((number, text, f"an .{include.group(1).lower()} of a file outside {root}"))
+    return found

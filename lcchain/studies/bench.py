@@ -1,0 +1,346 @@
+"""``lcchain bench accuracy``: what each digit of accuracy costs, per method and size.
+
+On the optimal two-mass chains (:func:`lcchain.theory.cases.chain_for_case`) and
+over one transit (t up to :func:`lcchain.theory.arrivals.stop_time` (modes, 1)),
+the sweep runs
+
+* ngspice, trap and gear, *fixed* stepping: maximum step dt (the netlist
+  lcchain writes), dt swept;
+* ngspice, trap and gear, *adaptive* stepping: no maximum step beyond
+  tstop/50 (ngspice's own default), reltol in {1e-3, 1e-5};
+* scipy's DOP853 on the 2N-dimensional ladder ODE, rtol swept;
+* the exact modal sum (the reference itself: its "error" is its rounding,
+  the split cosine sum against direct evaluation).
+
+Each record holds method, stepping, N, dt or rtol, wall_s, error (max over
+both ends of |signal - exact theory| at the method's points) and points.
+Results go to ``records.csv``, ``records.json``, ``pareto.png`` and
+``summary.md`` (cost table and fitted models) in the output folder.
+
+This module orchestrates: every ngspice run is a
+:class:`~lcchain.runs.spec.RunSpec` executed by :func:`lcchain.runs.execute.execute`,
+and the adaptive netlist is lcchain's own with ``stepping="adaptive"``.  The
+files (records.csv, records.json, pareto.png, summary.md) are written by
+:func:`lcchain.report.bench.write_accuracy_bench`.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable, Sequence
+from typing import Any
+
+import numpy as np
+
+from ..circuit.ladder import Ladder
+from ..circuit.netlist import SimulationOptions, netlist_text, probe_names
+from ..compare.accuracy import predicted_error
+from ..core.blas import fixed_blas_threads
+from ..core.errors import SimulationError
+from ..core.types import METHODS, Method
+from ..runs.execute import RunRecord, execute
+from ..runs.simulate import simulate
+from ..runs.spec import RunSpec, Theory
+from ..spice.simulator import Simulator, find_simulator
+from ..theory.arrivals import stop_time
+from ..theory.cases import chain_for_case
+from ..theory.chain import Chain
+from ..theory.exact import tridiagonal
+from ..theory.modes import Modes, cosine_sum
+from ..theory.spectrum import normal_modes
+
+__all__ = ["bench_accuracy", "ngspice_record", "dop853_record", "modal_record", "ladder_energy", "summarise",
+           "summary_markdown", "record_label", "FULL_N", "QUICK_N", "RECORD_FIELDS"]
+
+FULL_N = (20, 100, 1000)
+QUICK_N = (20, 100)
+#: Fixed steps swept (units of sqrt(L0 C0)); gear needs about half trap's step for the same error.
+FIXED_DT = {"trap": (0.4, 0.2, 0.1, 0.05, 0.02, 0.01, 0.005), "gear": (0.4, 0.2, 0.1, 0.05, 0.02, 0.01, 0.005, 0.0025)}
+QUICK_DT = {"trap": (0.2, 0.1, 0.05, 0.02, 0.01, 0.005), "gear": (0.2, 0.1, 0.05, 0.02, 0.01)}
+ADAPTIVE_RELTOL = (1e-3, 1e-5)
+#: The full sweep also tries a tight reltol, to see whether adaptive stepping ever pays.
+FULL_ADAPTIVE_RELTOL = (1e-3, 1e-5, 1e-7)
+DOP853_RTOL = (1e-4, 1e-6, 1e-8, 1e-10, 1e-12)
+QUICK_DOP853_RTOL = (1e-4, 1e-7, 1e-10)
+#: Points per unit time at which DOP853 (dense output) and the modal sum are evaluated.
+PEER_GRID_STEP = 0.05
+ACCURACY_TARGETS = (1e-3, 1e-5)
+TARGET_N = (100, 1000)
+L0, C0, I0 = 10e-6, 10e-9, 1e-3
+
+RECORD_FIELDS = ("method", "stepping", "N", "dt", "rtol", "wall_s", "error", "points", "predicted_error")
+
+
+# ------------------------------------------------------------------ one run of each kind
+def _exact_error(modes: Modes, t: np.ndarray, first: np.ndarray, last: np.ndarray) -> float:
+    e_first = np.max(np.abs(first - cosine_sum(modes.density, modes.omega, t)))
+    e_last = np.max(np.abs(last - cosine_sum(modes.transfer, modes.omega, t)))
+    return float(max(e_first, e_last))
+
+
+def _checked(record: RunRecord) -> RunRecord:
+    if not record.ok:
+        raise SimulationError(record.reason, record.log_tail, record.status)
+    return record
+
+
+@fixed_blas_threads
+def ngspice_record(chain: Chain, modes: Modes, *, method: Method, dt: float | None = None,
+                   reltol: float = 1e-3, transits: int = 1, simulator: Simulator | None = None) -> dict[str, Any]:
+    """One ngspice run: fixed maximum step ``dt``, or adaptive (dt None: ngspice's own steps up to tstop/50)."""
+    tstop = stop_time(modes, transits)
+    ladder = Ladder(chain, L0, C0)
+    options = SimulationOptions(dt=dt if dt is not None else 0.1, tstop=tstop, method=method, reltol=reltol,
+                                stepping="fixed" if dt is not None else "adaptive")
+    text = netlist_text(ladder, options, I0=I0, title=f"lcchain bench N={chain.N}")
+    theory = Theory(chain, ladder.time_unit, I0=I0, transits=transits, method=method, modes=modes)
+    record = _checked(execute(RunSpec(text, tuple(probe_names(chain.N)), tstop * ladder.time_unit, theory=theory),
+                              simulator))
+    assert record.result is not None and record.metrics is not None
+    return {
+        "method": method, "stepping": options.stepping, "N": chain.N,
+        "dt": dt, "rtol": reltol if dt is None else None, "wall_s": record.wall_s,
+        "error": max(record.metrics.max_abs_error_first, record.metrics.max_abs_error_last),
+        "points": record.result.points,
+        "predicted_error": predicted_error(modes, dt, tstop, method=method) if dt is not None else None,
+    }
+
+
+def _ladder_ode(chain: Chain):
+    diagonal, off = tridiagonal(chain)
+
+    def rhs(_t, y):
+        n = diagonal.size
+        q, p = y[:n], y[n:]
+        acc = -diagonal * q
+        acc[:-1] -= off * q[1:]
+        acc[1:] -= off * q[:-1]
+        return np.concatenate((p, acc))
+
+    return rhs
+
+
+def dop853_record(chain: Chain, modes: Modes, *, rtol: float, transits: int = 1) -> dict:
+    """scipy's DOP853 on q'' = -B q (mass-weighted coordinates), kick of mass 1.
+
+    The end signals are velocity ratios: p_1 and p_N sqrt(m_1/m_N) for
+    p_1(0) = 1; they are read from the dense output on a grid of step
+    :data:`PEER_GRID_STEP` (the error between the solver's steps counts).
+    """
+    from scipy.integrate import solve_ivp
+
+    N = chain.N
+    tstop = stop_time(modes, transits)
+    y0 = np.zeros(2 * N)
+    y0[N] = 1.0
+    grid = np.linspace(0.0, tstop, int(math.ceil(tstop / PEER_GRID_STEP)) + 1)
+    start = time.perf_counter()
+    sol = solve_ivp(_ladder_ode(chain), (0.0, tstop), y0, method="DOP853", rtol=rtol, atol=rtol * 1e-3, t_eval=grid)
+    wall = time.perf_counter() - start
+    first = sol.y[N]
+    last = sol.y[2 * N - 1] * math.sqrt(chain.masses[0] / chain.masses[-1])
+    return {"method": "DOP853", "stepping": "adaptive", "N": N, "dt": None, "rtol": rtol, "wall_s": wall,
+            "error": _exact_error(modes, sol.t, first, last), "points": int(sol.nfev // 12),
+            "predicted_error": None}
+
+
+def modal_record(chain: Chain, transits: int = 1) -> dict:
+    """The modal sum itself: modes plus both end signals on a grid of step :data:`PEER_GRID_STEP`."""
+    start = time.perf_counter()
+    modes = normal_modes(chain)
+    tstop = stop_time(modes, transits)
+    grid = np.linspace(0.0, tstop, int(math.ceil(tstop / PEER_GRID_STEP)) + 1)
+    first = np.asarray(cosine_sum(modes.density, modes.omega, grid))
+    last = np.asarray(cosine_sum(modes.transfer, modes.omega, grid))
+    wall = time.perf_counter() - start
+    # Its error is rounding: the split evaluation against the direct one at a few points.
+    pick = grid[:: max(1, grid.size // 50)]
+    direct = np.cos(np.multiply.outer(pick, modes.omega))
+    rounding = max(np.max(np.abs(first[:: max(1, grid.size // 50)] - direct @ modes.density)),
+                   np.max(np.abs(last[:: max(1, grid.size // 50)] - direct @ modes.transfer)),
+                   abs(float(np.sum(modes.density)) - 1.0), 1e-16)
+    return {"method": "modal sum", "stepping": "exact", "N": chain.N, "dt": PEER_GRID_STEP, "rtol": None,
+            "wall_s": wall, "error": float(rounding), "points": int(grid.size), "predicted_error": None}
+
+
+def ladder_energy(chain: Chain, *, method: Method, dt: float, transits: int, L0: float = L0, C0: float = C0,
+                  I0: float = I0, simulator: Simulator | None = None) -> dict[str, Any]:
+    """Energy and momentum of the ladder over a run, from every loop current and node voltage.
+
+    Returns
+    -------
+    dict
+        ``t`` (units of sqrt(L0 C0)), ``energy`` (sum L I^2/2 + sum C V^2/2
+        over the initial L_1 I0^2/2) and ``momentum`` (sum L_i I_i over
+        L_1 I0: constant for a free chain, the zero mode), ``wall_s``.
+    """
+    modes = normal_modes(chain)
+    tstop = stop_time(modes, transits)
+    ladder = Ladder(chain, L0, C0)
+    caps = [(i, c) for i, c in enumerate(ladder.capacitances()) if c is not None]
+    volts = tuple(f"v({ladder.node(i)})" for i, _ in caps)
+    currents = tuple(probe_names(chain.N, "all"))
+    text = netlist_text(ladder, SimulationOptions(dt=dt, tstop=tstop, method=method), I0=I0, probes="all",
+                        extra_vectors=volts, title=f"lcchain energy N={chain.N}")
+    record = _checked(execute(RunSpec(text, currents + volts, tstop * ladder.time_unit), simulator))
+    run = record.result
+    assert run is not None
+    L = np.array(ladder.inductances())
+    current = np.array([run.vectors[name] for name in currents])
+    voltage = np.array([run.vectors[name] for name in volts])
+    C = np.array([c for _, c in caps])
+    energy = 0.5 * (L @ (current * current)) + 0.5 * (C @ (voltage * voltage))
+    return {"t": np.asarray(run.time) / ladder.time_unit, "energy": energy / (0.5 * L[0] * I0 * I0),
+            "momentum": (L @ current) / (L[0] * I0), "wall_s": run.wall_s}
+
+
+# ------------------------------------------------------------------ the sweep
+def _plan(Ns: Sequence[int], quick: bool) -> list[tuple[str, int, dict]]:
+    jobs = []
+    dts = QUICK_DT if quick else FIXED_DT
+    for N in Ns:
+        for method in METHODS:
+            jobs += [("ngspice", N, {"method": method, "dt": dt}) for dt in dts[method]]
+            jobs += [("ngspice", N, {"method": method, "reltol": r})
+                     for r in (ADAPTIVE_RELTOL if quick else FULL_ADAPTIVE_RELTOL)]
+        jobs += [("dop853", N, {"rtol": r}) for r in (QUICK_DOP853_RTOL if quick else DOP853_RTOL)]
+        jobs.append(("modal", N, {}))
+    return jobs
+
+
+def bench_accuracy(Ns: Sequence[int] | None = None, *, quick: bool = False, targets: bool | None = None,
+                   progress: Callable[[int, int, str], None] | None = None,
+                   simulator: Simulator | None = None) -> dict[str, Any]:
+    """Run the sweep (the files are written by :func:`lcchain.report.bench.write_accuracy_bench`).
+
+    Parameters
+    ----------
+    Ns : sequence of int, optional
+        Chain sizes (default 20, 100, 1000; quick: 20, 100).
+    quick : bool
+        Fewer steps and tolerances (under 2 minutes).
+    targets : bool, optional
+        Also check ``simulate(accuracy=eps)`` against the cheapest fixed step
+        for eps in {1e-3, 1e-5} and N in {100, 1000} (default: not quick).
+    progress : callable, optional
+        Called as ``progress(done, total, label)`` before each run and at
+        the end (the CLI draws it as a bar on a terminal).
+    simulator : Simulator, optional
+        Found once by the caller (batch backend); found here when omitted.
+
+    Returns
+    -------
+    dict
+        ``records`` (list of dict), ``targets`` (list of dict), ``summary``
+        (dict) and ``markdown`` (the summary table).
+    """
+    Ns = tuple(Ns) if Ns else (QUICK_N if quick else FULL_N)
+    targets = (not quick) if targets is None else targets
+    simulator = simulator if simulator is not None else find_simulator("batch")
+
+    def show(done: int, total: int, label: str) -> None:
+        if progress is not None:
+            progress(done, total, label)
+
+    chains = {N: chain_for_case("two-mass", N) for N in Ns}
+    modes = {N: normal_modes(chains[N]) for N in Ns}
+    jobs = _plan(Ns, quick)
+    target_jobs = [(eps, N) for eps in ACCURACY_TARGETS for N in TARGET_N if N in Ns] if targets else []
+    total = len(jobs) + len(target_jobs)
+    records = []
+    for k, (kind, N, params) in enumerate(jobs):
+        show(k, total, f"{kind} N={N} {params}")
+        if kind == "ngspice":
+            records.append(ngspice_record(chains[N], modes[N], simulator=simulator, **params))
+        elif kind == "dop853":
+            records.append(dop853_record(chains[N], modes[N], **params))
+        else:
+            records.append(modal_record(chains[N]))
+    checks = []
+    for k, (eps, N) in enumerate(target_jobs):
+        show(len(jobs) + k, total, f"--accuracy {eps:g} N={N}")
+        checks.append(_target_check(chains[N], modes[N], eps, records, simulator))
+    show(total, total, "done")
+    summary = summarise(records, checks)
+    return {"records": records, "targets": checks, "summary": summary, "markdown": summary_markdown(summary)}
+
+
+def _target_check(chain: Chain, modes: Modes, eps: float, records: list[dict[str, Any]],
+                  simulator: Simulator) -> dict[str, Any]:
+    report = simulate(chain, accuracy=eps, transits=1, modes=modes, simulator=simulator)
+    fixed = [r for r in records if r["method"] == "trap" and r["stepping"] == "fixed" and r["N"] == chain.N
+             and r["error"] <= eps]
+    cheapest = min(fixed, key=lambda r: r["wall_s"]) if fixed else None
+    wall = report.run.wall_s
+    return {
+        "N": chain.N, "accuracy": eps, "dt": report.options.dt, "error": report.comparison.max_abs_error,
+        "predicted_error": report.predicted_error, "integration_error": report.integration_error,
+        "wall_s": wall, "points": report.run.points,
+        "cheapest_fixed_dt": cheapest["dt"] if cheapest else None,
+        "cheapest_fixed_wall_s": cheapest["wall_s"] if cheapest else None,
+        "wall_ratio": wall / cheapest["wall_s"] if cheapest else None,
+        "met": bool(report.comparison.max_abs_error <= eps and (cheapest is None or wall <= 1.5 * cheapest["wall_s"])),
+    }
+
+
+# ------------------------------------------------------------------ models and summary
+def record_label(record: dict) -> str:
+    method = record["method"]
+    return method if method in ("DOP853", "modal sum") else f"{method} {record['stepping']}"
+
+
+def summarise(records: list[dict], checks: Sequence[dict] = ()) -> dict:
+    """Fitted error and cost models and the cost of 1e-3 and 1e-5 per method and N.
+
+    Error model (fixed steps): error = c dt^2, c the median of error/dt^2 over
+    dt <= 0.1.  Cost model: wall = k N points, points ~ (N + s)/dt (k per
+    loop per time point; ngspice's unknowns are about 2N, so k/2 per unknown),
+    fitted on the largest N (start-up costs dominate small runs).
+    """
+    fits: dict = {"error_c": {}, "cost_k": {}}
+    for method in METHODS:
+        for N in sorted({r["N"] for r in records}):
+            rs = [r for r in records if r["method"] == method and r["stepping"] == "fixed" and r["N"] == N]
+            ratios = [r["error"] / r["dt"] ** 2 for r in rs if r["dt"] <= 0.1]
+            if ratios:
+                fits["error_c"][f"{method} N={N}"] = float(np.median(ratios))
+            costs = [r["wall_s"] / (N * r["points"]) for r in rs if r["wall_s"] > 0.5]
+            if costs:
+                fits["cost_k"][f"{method} N={N}"] = float(np.median(costs))
+    cost = {}
+    for label in sorted({record_label(r) for r in records}):
+        for N in sorted({r["N"] for r in records if record_label(r) == label}):
+            rs = [r for r in records if record_label(r) == label and r["N"] == N]
+            row = {}
+            for eps in ACCURACY_TARGETS:
+                ok = [r for r in rs if r["error"] <= eps]
+                row[f"{eps:g}"] = min(r["wall_s"] for r in ok) if ok else None
+            row["best_error"] = min(r["error"] for r in rs)
+            cost[f"{label} N={N}"] = row
+    return {"fits": fits, "cost": cost, "targets": list(checks)}
+
+
+def _fmt(value, spec=".3g") -> str:
+    return "–" if value is None else format(value, spec)
+
+
+def summary_markdown(summary: dict) -> str:
+    lines = ["| method | N | 1e-3 costs (s) | 1e-5 costs (s) | best error |", "|---|---:|---:|---:|---:|"]
+    for key, row in summary["cost"].items():
+        label, N = key.rsplit(" N=", 1)
+        lines.append(f"| {label} | {N} | {_fmt(row['0.001'])} | {_fmt(row['1e-05'])} | {row['best_error']:.2e} |")
+    lines += ["", "Cheapest measured run whose error (max over both ends, one transit) is within the target; "
+              "– = no run of the sweep reached it.", "", "| fit | value |", "|---|---:|"]
+    for key, c in summary["fits"]["error_c"].items():
+        lines.append(f"| error / dt^2, {key} | {c:.3f} |")
+    for key, k in summary["fits"]["cost_k"].items():
+        lines.append(f"| wall / (N points), {key} | {k * 1e9:.0f} ns |")
+    if summary["targets"]:
+        lines += ["", "| --accuracy | N | dt | error | wall s | cheapest fixed dt | its wall s | ratio | met |",
+                  "|---:|---:|---:|---:|---:|---:|---:|---:|---|"]
+        for c in summary["targets"]:
+            lines.append(f"| {c['accuracy']:g} | {c['N']} | {c['dt']:.4g} | {c['error']:.3e} | {c['wall_s']:.3g} | "
+                         f"{_fmt(c['cheapest_fixed_dt'], 'g')} | {_fmt(c['cheapest_fixed_wall_s'])} | "
+                         f"{_fmt(c['wall_ratio'], '.2f')} | {'yes' if c['met'] else 'NO'} |")
+    return "\n".join(lines) + "\n"

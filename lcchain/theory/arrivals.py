@@ -1,0 +1,213 @@
+"""Arrivals of the pulse at the chain ends: when, and how much of it.
+
+After a kick (or displacement) of mass 1 the pulse reaches mass N at the
+first arrival, comes back to mass 1 after the first bounce, reaches mass N
+again, and so on.  Arrival j (j = 1, 2, ...) is seen at the far end for odd j
+(alpha_N(t), Eq. e.utn) and at the near end for even j (sum P_n cos omega_n t).
+
+Search window
+-------------
+Arrival j is the largest value of the end's response in the window
+
+    t in [j T - W_j, j T + W_j],  W_j = min(T/2, 4 (j T)^(1/3) + 4),
+
+where T = pi / (omega_2 - omega_1) is the low-frequency transit time
+(:meth:`Modes.transit_time`; exact for the perfect chains).  The half width
+follows the N^(1/3) growth of the delay s* and of the pulse width (Sec. IV.C)
+and never exceeds T/2, so that for small N the window cannot reach the next
+passage of the pulse (for N = 3 a window twice as wide finds the maximum at
+3 T, a different arrival).  The maximum is located on a grid of spacing
+0.05 max(1, T^(1/3)) and refined with a bounded Brent search around the
+three best grid points.
+
+The delay of the first arrival is s* = t* - N and its loss
+delta* = 1 - alpha_N(N + s*) (Tables I and II).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import minimize_scalar
+
+from ..core.blas import fixed_blas_threads
+from ..core.checks import integer
+from ..core.limits import MAX_TRANSITS
+from .chain import Chain
+from .modes import Modes, cosine_sum
+from .spectrum import normal_modes
+
+__all__ = ["Arrival", "arrival_window", "arrivals", "first_arrival", "refine_peak", "refine_maximum",
+           "maximum_in_window", "stop_time"]
+
+
+@dataclass(frozen=True)
+class Arrival:
+    """One arrival of the pulse at an end of the chain.
+
+    Attributes
+    ----------
+    index : int
+        1 for the first arrival at the far end, 2 for the return to mass 1
+        after the first bounce, and so on.
+    end : str
+        ``"last"`` (odd index) or ``"first"`` (even index).
+    time : float
+        Time of the peak, in units of sqrt(m/K).
+    peak : float
+        Peak value of the end's response relative to the initial value.
+    window : tuple of float
+        The searched time window.
+    """
+
+    index: int
+    end: str
+    time: float
+    peak: float
+    window: tuple[float, float]
+
+    @property
+    def loss(self) -> float:
+        """1 - peak (delta of the paper for the first arrival)."""
+        return 1.0 - self.peak
+
+    def to_dict(self) -> dict:
+        return {"index": self.index, "end": self.end, "time": self.time, "peak": self.peak,
+                "window": list(self.window)}
+
+
+def arrival_window(index: int, transit_time: float) -> tuple[float, float]:
+    """Time window searched for arrival ``index`` (see the module docstring)."""
+    index = integer("index", index, at_least=1)
+    centre = index * transit_time
+    half = min(transit_time / 2.0, 4.0 * centre ** (1.0 / 3.0) + 4.0)
+    return centre - half, centre + half
+
+
+def stop_time(modes: Modes, transits: int) -> float:
+    """End of the last arrival's search window: a run lasts the requested transits and no longer.
+
+    Parameters
+    ----------
+    modes : Modes
+        The chain's modes (their transit time).
+    transits : int
+        Arrivals to watch, 1 to :data:`lcchain.core.limits.MAX_TRANSITS`.
+
+    Returns
+    -------
+    float
+        Units of sqrt(m/K) (in the circuit, sqrt(L0 C0)).
+    """
+    transits = integer("transits", transits, at_least=1, at_most=MAX_TRANSITS)
+    return arrival_window(transits, modes.transit_time())[1]
+
+
+def _weights(modes: Modes, index: int) -> np.ndarray:
+    return modes.transfer if index % 2 == 1 else modes.density
+
+
+def refine_maximum(f: Callable[[np.ndarray], np.ndarray], lo: float, hi: float) -> tuple[float, float]:
+    """Maximum of a smooth function of time on [lo, hi] by bounded Brent.
+
+    Parameters
+    ----------
+    f : callable
+        Maps an array of times to an array of values.
+    lo, hi : float
+        The interval, units of sqrt(m/K).
+
+    Returns
+    -------
+    time, value : float
+    """
+    result = minimize_scalar(
+        lambda t: -float(f(np.array([t]))[0]), bounds=(lo, hi), method="bounded",
+        options={"xatol": 1e-10 * max(1.0, hi)},
+    )
+    best_t, best_v = float(result.x), float(-result.fun)
+    for edge, value in zip((lo, hi), f(np.array([lo, hi])), strict=True):  # Brent never evaluates the ends
+        if value > best_v:
+            best_t, best_v = float(edge), float(value)
+    return best_t, best_v
+
+
+@fixed_blas_threads
+def refine_peak(weights: np.ndarray, omega: np.ndarray, lo: float, hi: float) -> tuple[float, float]:
+    """Maximum of sum_n weights_n cos(omega_n t) on [lo, hi] by bounded Brent.
+
+    Returns
+    -------
+    time, value : float
+    """
+    return refine_maximum(lambda t: np.atleast_1d(cosine_sum(weights, omega, t)), lo, hi)
+
+
+def maximum_in_window(f: Callable[[np.ndarray], np.ndarray], window: tuple[float, float],
+                      transit_time: float) -> tuple[float, float]:
+    """Largest value of a response in a search window: a grid, then Brent around its three best points.
+
+    The grid spacing 0.05 max(1, T^(1/3)) resolves the pulse, whose width grows
+    like T^(1/3) (Sec. IV.C).
+
+    Parameters
+    ----------
+    f : callable
+        Maps an array of times to the response's values.
+    window : (float, float)
+        From :func:`arrival_window` (possibly shifted by a pulse's centre).
+    transit_time : float
+        The chain's transit time T.
+
+    Returns
+    -------
+    time, value : float
+    """
+    lo, hi = window
+    step = 0.05 * max(1.0, transit_time ** (1.0 / 3.0))
+    count = max(64, int(np.ceil((hi - lo) / step)) + 1)
+    grid = np.linspace(lo, hi, count)
+    values = f(grid)
+    h = grid[1] - grid[0]
+    best = (float(grid[np.argmax(values)]), float(np.max(values)))
+    for i in np.argsort(values)[::-1][:3]:
+        t, v = refine_maximum(f, max(lo, grid[i] - h), min(hi, grid[i] + h))
+        if v > best[1]:
+            best = (t, v)
+    return best
+
+
+def _find_peak(modes: Modes, index: int, window: tuple[float, float]) -> tuple[float, float]:
+    weights = _weights(modes, index)
+    return maximum_in_window(lambda t: np.atleast_1d(cosine_sum(weights, modes.omega, t)), window,
+                             modes.transit_time())
+
+
+@fixed_blas_threads
+def arrivals(chain_or_modes: Chain | Modes, count: int = 1) -> list[Arrival]:
+    """The first ``count`` arrivals (first arrival, then one per bounce).
+
+    Parameters
+    ----------
+    chain_or_modes : Chain or Modes
+        For a Chain the modes are computed with ``normal_modes(chain)``.
+    count : int
+        Number of arrivals (end-to-end transits), >= 1.
+    """
+    count = integer("count", count, at_least=1)
+    modes = chain_or_modes if isinstance(chain_or_modes, Modes) else normal_modes(chain_or_modes)
+    T = modes.transit_time()
+    found = []
+    for index in range(1, int(count) + 1):
+        window = arrival_window(index, T)
+        time, peak = _find_peak(modes, index, window)
+        found.append(Arrival(index, "last" if index % 2 else "first", time, peak, window))
+    return found
+
+
+@fixed_blas_threads
+def first_arrival(chain_or_modes: Chain | Modes) -> Arrival:
+    """The first arrival at the far end: t* = N + s*, peak alpha* = 1 - delta*."""
+    return arrivals(chain_or_modes, 1)[0]

@@ -1,0 +1,186 @@
+"""Normal modes of a chain and the responses built from them.
+
+The equations of motion of Eq. e.Horig, in mass-weighted coordinates
+q_i = sqrt(m_i) Q_i, are q'' = -B q with the symmetric tridiagonal matrix B
+of Eq. e.BN, built here from the physical masses and springs (so it is right
+for every N; the (x, y, z) matrix of Eq. e.AN holds for N >= 5 only: for
+N = 4 its middle element is y^2).
+
+For an initial velocity of mass 1 (a *kick*; in the circuit the current of
+loop 1) or an initial displacement of mass 1 (the charge of loop 1), the end
+masses move as
+
+    Q_N(t) / Q_1(0) = sqrt(m_1/m_N) * sum_n U_n1 U_nN cos(omega_n t)
+
+(velocities for a kick, positions for a displacement).  For a mirror-symmetric
+chain U_nN = (-1)^(n-1) U_n1 and this is the paper's transmission amplitude
+alpha_N(t) = sum_n P_n cos(pi (n-1) - omega_n t), Eq. e.utn, with the mode
+density P_n = U_n1^2 (Eq. e.Pn).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..core.blas import fixed_blas_threads
+from ..core.frozen import FrozenArrays, readonly
+
+__all__ = ["Modes", "cosine_sum", "TRANSIT_SPACINGS"]
+
+#: Number of low-mode spacings whose median gives the transit time.
+TRANSIT_SPACINGS = 5
+
+
+@dataclass(frozen=True, eq=False)
+class Modes(FrozenArrays):
+    """Normal modes of a chain, as seen from its two ends.
+
+    Attributes
+    ----------
+    omega : ndarray, shape (N,)
+        Angular frequencies omega_n in units of sqrt(K/m), ascending (>= 0).
+    density : ndarray, shape (N,)
+        Mode density P_n = U_n1^2 (Eq. e.Pn); sums to 1.
+    transfer : ndarray, shape (N,)
+        End-to-end weights sqrt(m_1/m_N) U_n1 U_nN; for a symmetric chain
+        (-1)^(n-1) P_n.
+    method : str
+        ``"exact"`` or ``"closed-form"``.
+    k : ndarray or None
+        Pseudo wave vectors k_n of the closed form (Eq. e.kn1), else None.
+    """
+
+    omega: np.ndarray
+    density: np.ndarray
+    transfer: np.ndarray
+    method: str
+    k: np.ndarray | None = None
+
+    @property
+    def N(self) -> int:
+        return int(self.omega.size)
+
+    def transit_time(self) -> float:
+        """Estimate of the end-to-end travel time, pi / (median low-mode spacing).
+
+        The median of the first (up to) :data:`TRANSIT_SPACINGS` spacings
+        omega_{n+1} - omega_n.  Exact for the perfect chains (equally spaced
+        frequencies); for long chains it is the low-frequency group delay, N
+        plus the delay of the end masses.  The median, not omega_2 - omega_1
+        alone: weak walls lift omega_1 from 0 and shrink the first spacing
+        (K0 = 0.01 on the N = 50 two-mass chain: pi / (omega_2 - omega_1) =
+        69.7 against a true transit of 55.3).  It centres the arrival search
+        windows of :mod:`lcchain.theory.arrivals`.
+        """
+        spacings = np.diff(self.omega[: TRANSIT_SPACINGS + 1])
+        return float(np.pi / np.median(spacings))
+
+    def __post_init__(self) -> None:
+        for name in ("omega", "density", "transfer", "k"):
+            value = getattr(self, name)
+            if value is not None and not isinstance(value, np.ndarray):
+                object.__setattr__(self, name, readonly(value))
+        self._freeze_arrays()
+
+
+# ---------------------------------------------------------------- cosine sums
+_BLOCK = 1 << 22  # elements per temporary block (32 MB of float64)
+
+
+@fixed_blas_threads
+def cosine_sum(weights: np.ndarray, omega: np.ndarray, t) -> np.ndarray | float:
+    """Evaluate f(t) = sum_n weights_n cos(omega_n t) at the times t.
+
+    On a uniform grid of many times, the grid t_j = t0 + (p Q + q) h is split
+    and cos(a_p + b_q) expanded, turning the N x J cosines into
+    2 (P + Q) N cosines and two matrix products; otherwise blocks of the
+    outer product are summed directly.  Both are exact to rounding.
+
+    Parameters
+    ----------
+    weights, omega : ndarray, shape (N,)
+    t : float or array_like
+        Times in units of sqrt(m/K).
+
+    Returns
+    -------
+    float or ndarray shaped like t
+    """
+    scalar = np.ndim(t) == 0
+    times = np.atleast_1d(np.asarray(t, dtype=float))
+    shape = times.shape
+    times = times.ravel()
+    weights = np.asarray(weights, dtype=float)
+    omega = np.asarray(omega, dtype=float)
+    J, N = times.size, omega.size
+    out = np.empty(J)
+    for start, stop, uniform in _uniform_runs(times):
+        part = times[start:stop]
+        if uniform and part.size * N > 4_000_000:
+            h = (part[-1] - part[0]) / (part.size - 1)
+            out[start:stop] = _cosine_sum_split(weights, omega, part[0], h, part.size)
+        else:
+            out[start:stop] = _cosine_sum_direct(weights, omega, part)
+    shaped = out.reshape(shape)
+    return float(shaped[0]) if scalar else shaped
+
+
+def _cosine_sum_direct(weights, omega, times) -> np.ndarray:
+    out = np.empty(times.size)
+    rows = max(1, _BLOCK // max(omega.size, 1))
+    for start in range(0, times.size, rows):
+        block = times[start : start + rows]
+        out[start : start + rows] = np.cos(np.multiply.outer(block, omega)) @ weights
+    return out
+
+
+def _uniform_runs(times: np.ndarray, min_run: int = 64) -> list[tuple[int, int, bool]]:
+    """Split times into index ranges (start, stop, uniform).
+
+    ``uniform`` marks ranges of at least ``min_run`` equally spaced points;
+    the others are whatever lies between them.
+    A simulator's time points are uniform except for a few start-up steps
+    and the last one, so nearly all points fall in one or two long runs
+    where :func:`_cosine_sum_split` applies.
+    """
+    J = times.size
+    if J < 2 * min_run:
+        return [(0, J, False)]
+    steps = np.diff(times)
+    scale = 1e-12 * max(1.0, float(np.max(np.abs(times))))
+    # boundaries where the step changes
+    change = np.flatnonzero(np.abs(np.diff(steps)) > scale) + 1
+    edges = np.concatenate(([0], change, [steps.size]))
+    runs: list[tuple[int, int, bool]] = []
+    pending = 0  # start of points not yet assigned
+    for a, b in zip(edges[:-1], edges[1:], strict=True):
+        # steps a..b-1 are equal: points a..b form a uniform run
+        if b - a + 1 >= min_run:
+            grid = times[a] + (times[b] - times[a]) / (b - a) * np.arange(b - a + 1)
+            if np.max(np.abs(grid - times[a : b + 1])) <= scale:
+                if a > pending:
+                    runs.append((pending, a, False))
+                runs.append((a, b + 1, True))
+                pending = b + 1
+    if pending < J:
+        runs.append((pending, J, False))
+    return runs
+
+
+def _cosine_sum_split(weights, omega, t0: float, h: float, J: int) -> np.ndarray:
+    Q = int(np.ceil(np.sqrt(J)))
+    P = -(-J // Q)
+    a = t0 + (Q * h) * np.arange(P)
+    b = h * np.arange(Q)
+    out = np.zeros((P, Q))
+    cols = max(1, _BLOCK // (P + Q))
+    for start in range(0, omega.size, cols):
+        om = omega[start : start + cols]
+        wt = weights[start : start + cols]
+        phase_a = np.multiply.outer(a, om)
+        phase_b = np.multiply.outer(b, om)
+        out += (np.cos(phase_a) * wt) @ np.cos(phase_b).T
+        out -= (np.sin(phase_a) * wt) @ np.sin(phase_b).T
+    return out.ravel()[:J]

@@ -1,0 +1,82 @@
+"""Normal modes by the best method for the chain, and the end responses built from them.
+
+``normal_modes`` diagonalises exactly (:mod:`lcchain.theory.exact`) or uses
+the paper's closed form (:mod:`lcchain.theory.closed_form`) for long free
+quasi-uniform chains; the transmission amplitude alpha_N(t) (Eq. e.utn) and
+the return amplitude are modal cosine sums (:func:`lcchain.theory.modes.cosine_sum`).
+"""
+
+from __future__ import annotations
+
+from ..core.blas import fixed_blas_threads
+from ..core.errors import ParameterError
+from ..core.types import MODE_METHODS, ModeMethod
+from .chain import Chain
+from .closed_form import closed_form_applies, closed_form_modes
+from .exact import exact_modes
+from .modes import Modes, cosine_sum
+
+__all__ = ["normal_modes", "transmission_amplitude", "return_amplitude", "CLOSED_FORM_MIN_N"]
+
+#: Below this N the "auto" method diagonalises exactly (it is cheap and needs no model).
+CLOSED_FORM_MIN_N = 400
+
+
+@fixed_blas_threads
+def normal_modes(chain: Chain, method: ModeMethod = "auto") -> Modes:
+    """Normal modes of a chain by the requested method.
+
+    Parameters
+    ----------
+    chain : Chain
+    method : {"auto", "exact", "closed-form"}
+        ``"closed-form"`` uses the paper's Eqs. e.kn1, e.psik and e.Pk and
+        needs a free quasi-uniform chain (one-mass, two-mass, uniform free)
+        with N >= 5; ``"auto"`` uses it for N >= :data:`CLOSED_FORM_MIN_N`
+        when it applies, and exact diagonalisation otherwise.
+    """
+    if method not in MODE_METHODS:
+        raise ParameterError("method", method, " | ".join(MODE_METHODS))
+    if method == "exact":
+        return exact_modes(chain)
+    if method == "closed-form":
+        reason = closed_form_applies(chain)
+        if reason:
+            raise ParameterError("method", method, f"a chain the closed form covers ({reason})")
+        r, w = chain.rw()
+        return closed_form_modes(chain.N, r, w)
+    if chain.N >= CLOSED_FORM_MIN_N and not closed_form_applies(chain):
+        r, w = chain.rw()
+        return closed_form_modes(chain.N, r, w)
+    return exact_modes(chain)
+
+# ------------------------------------------------------------------ responses
+@fixed_blas_threads
+def transmission_amplitude(chain_or_modes: Chain | Modes, t, method: ModeMethod = "auto"):
+    """Transmission amplitude alpha_N(t), Eq. e.utn.
+
+    The far end's response to a kick (velocity, loop current) or to a
+    displacement (position, loop charge) of mass 1, relative to the initial
+    value: both are the same function of time.  For an asymmetric chain it
+    is the exact modal response sqrt(m_1/m_N) sum U_n1 U_nN cos(omega_n t).
+
+    Parameters
+    ----------
+    chain_or_modes : Chain or Modes
+    t : float or array_like
+        Time in units of sqrt(m/K) (in the circuit, sqrt(L0*C0)).
+    method : {"auto", "exact", "closed-form"}
+        How to compute the modes when a Chain is given.
+    """
+    modes = chain_or_modes if isinstance(chain_or_modes, Modes) else normal_modes(chain_or_modes, method)
+    return cosine_sum(modes.transfer, modes.omega, t)
+
+
+@fixed_blas_threads
+def return_amplitude(chain_or_modes: Chain | Modes, t, method: ModeMethod = "auto"):
+    """The first mass's own response, sum_n P_n cos(omega_n t) (1 at t = 0).
+
+    This is what comes back to loop 1 after each round trip.
+    """
+    modes = chain_or_modes if isinstance(chain_or_modes, Modes) else normal_modes(chain_or_modes, method)
+    return cosine_sum(modes.density, modes.omega, t)

@@ -1,0 +1,1 @@
+"""Shared test helpers: named tolerances, comparison with printed digits, ngspice fixtures."""

@@ -1,0 +1,38 @@
+"""What a run may leave behind: files in the temporary folder, processes in the process table."""
+
+from __future__ import annotations
+
+import os
+import tempfile
+from pathlib import Path
+
+
+def temporary_entries() -> set[str]:
+    """Names in the temporary folder (the session's own, see conftest.py)."""
+    return set(os.listdir(tempfile.gettempdir()))
+
+
+def alive(pid: int) -> bool:
+    """Whether a process exists and is not a zombie."""
+    try:
+        state = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0]
+    except (FileNotFoundError, ProcessLookupError, IndexError):
+        return False
+    return state != "Z"
+
+
+def children_named(parent: int, name: str) -> list[int]:
+    """PIDs of the live processes whose parent is ``parent`` and whose command is ``name``."""
+    found = []
+    for entry in Path("/proc").iterdir():
+        if not entry.name.isdigit():
+            continue
+        try:
+            stat = (entry / "stat").read_text()
+        except OSError:
+            continue
+        comm = stat[stat.index("(") + 1 : stat.rindex(")")]
+        ppid = int(stat.rsplit(")", 1)[1].split()[1])
+        if ppid == parent and comm == name and alive(int(entry.name)):
+            found.append(int(entry.name))
+    return found
