@@ -36,6 +36,7 @@ import re
 from dataclasses import dataclass
 
 from ..core.checks import choice, instance, integer, real, text_line
+from ..core.checks import pulse as check_pulse
 from ..core.errors import ParameterError
 from ..core.limits import MAX_COMMENT_LENGTH, MAX_DT, MAX_TITLE_LENGTH
 from ..core.types import (
@@ -164,17 +165,6 @@ def probe_names(N: int, probes: Probes = "ends") -> list[str]:
     return [f"i(l{i})" for i in loops]
 
 
-def _check_pulse(excitation: str, pulse: object) -> tuple[str, float] | None:
-    if (excitation == "pulse") != (pulse is not None):
-        raise ParameterError("pulse", pulse, "(shape, width) exactly when excitation is 'pulse'")
-    if pulse is None:
-        return None
-    if not isinstance(pulse, tuple) or len(pulse) != 2:
-        raise ParameterError("pulse", pulse, "(shape, width)")
-    shape = choice("pulse shape", pulse[0], PULSE_SHAPES)
-    return shape, real("pulse width", pulse[1], above=0.0, unit="units of sqrt(L0*C0)")
-
-
 def netlist_text(
     ladder: Ladder,
     options: SimulationOptions,
@@ -226,8 +216,7 @@ def netlist_text(
     """
     instance("ladder", ladder, Ladder)
     instance("options", options, SimulationOptions)
-    choice("excitation", excitation, EXCITATION_KINDS)
-    spec = _check_pulse(excitation, pulse)
+    spec = check_pulse(excitation, pulse, EXCITATION_KINDS, PULSE_SHAPES)
     if Q is not None:
         Q = real("Q", Q, above=0.0, allowed="a finite quality factor > 0")
     I0 = real("I0", I0, above=0.0, unit="ampere")

@@ -32,6 +32,7 @@ __all__ = [
     "numbers_list",
     "instance",
     "time_array",
+    "pulse",
 ]
 
 
@@ -144,6 +145,27 @@ def text_line(name: str, value: object, max_length: int, *, title: bool = False)
         raise ParameterError(name, value, "a title that does not start with a dot-command such as .include or "
                              ".control (ngspice reads those on the title line)")
     return value
+
+
+def pulse(excitation: object, value: object, kinds: Sequence[str], shapes: Sequence[str]) -> tuple[str, float] | None:
+    """The (shape, width) of a pulse, given exactly when the excitation is ``"pulse"`` (else None).
+
+    Parameters
+    ----------
+    excitation : str
+        One of ``kinds``.
+    value : (shape, width) or None
+        ``shape`` one of ``shapes``; ``width`` > 0 in units of sqrt(L0*C0).
+    """
+    choice("excitation", excitation, kinds)
+    if (excitation == "pulse") != (value is not None):
+        raise ParameterError("pulse", value, "(shape, width) exactly when excitation is 'pulse'")
+    if value is None:
+        return None
+    if not isinstance(value, (tuple, list)) or len(value) != 2:
+        raise ParameterError("pulse", value, "(shape, width)")
+    return choice("pulse shape", value[0], shapes), real("pulse width", value[1], above=0.0,
+                                                          unit="units of sqrt(L0*C0)")
 
 
 def numbers_list(name: str, values: object, allowed: str) -> tuple[Any, ...]:

@@ -21,6 +21,7 @@ from typing import Any
 
 from ..core import __version__
 from ..core.checks import choice, instance, integer, real
+from ..core.checks import pulse as check_pulse
 from ..core.errors import ParameterError
 from ..core.limits import MAX_TRANSITS
 from ..core.types import (
@@ -97,14 +98,9 @@ class Theory:
         instance("chain", self.chain, Chain)
         real("time_unit", self.time_unit, above=0.0, unit="seconds")
         real("I0", self.I0, above=0.0, unit="ampere")
-        choice("excitation", self.excitation, EXCITATION_KINDS)
         if self.Q is not None:
             real("Q", self.Q, above=0.0)
-        if (self.excitation == "pulse") != (self.pulse is not None):
-            raise ParameterError("pulse", self.pulse, "(shape, width) exactly when excitation is 'pulse'")
-        if self.pulse is not None:
-            choice("pulse shape", self.pulse[0], PULSE_SHAPES)
-            real("pulse width", self.pulse[1], above=0.0)
+        check_pulse(self.excitation, self.pulse, EXCITATION_KINDS, PULSE_SHAPES)
         choice("probes", self.probes, PROBES)
         integer("transits", self.transits, at_least=1, at_most=MAX_TRANSITS)
         if self.dt is not None:

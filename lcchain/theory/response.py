@@ -82,6 +82,7 @@ import numpy as np
 from numpy.polynomial.legendre import leggauss
 
 from ..core.blas import fixed_blas_threads
+from ..core.checks import pulse as check_pulse
 from ..core.checks import real, time_array
 from ..core.errors import ParameterError
 from ..core.limits import EXACT_MAX_N
@@ -125,22 +126,6 @@ _PANEL_RATE = 3.0
 # ----------------------------------------------------------------- validation
 def _check_positive(name: str, value: object, allowed: str) -> float:
     return real(name, value, above=0.0, allowed=allowed)
-
-
-def _check_pulse(excitation: object, pulse: object) -> tuple[str, float] | None:
-    if excitation not in RESPONSE_EXCITATIONS:
-        raise ParameterError("excitation", excitation, " | ".join(RESPONSE_EXCITATIONS))
-    if excitation != "pulse":
-        if pulse is not None:
-            raise ParameterError("pulse", pulse, "None unless excitation is 'pulse'")
-        return None
-    if not isinstance(pulse, (tuple, list)) or len(pulse) != 2:
-        raise ParameterError("pulse", pulse, "(shape, width) when excitation is 'pulse'")
-    shape, width = pulse
-    if shape not in PULSE_SHAPES:
-        raise ParameterError("pulse shape", shape, " | ".join(PULSE_SHAPES))
-    width = _check_positive("pulse width", width, "a finite number > 0 (units of sqrt(L0*C0))")
-    return str(shape), width
 
 
 def pulse_end(shape: PulseShape, width: float) -> float:
@@ -358,7 +343,7 @@ def linear_response(
     if not isinstance(chain, Chain):
         raise ParameterError("chain", type(chain).__name__, "a lcchain.Chain")
     times = time_array("t", t)
-    spec = _check_pulse(excitation, pulse)
+    spec = check_pulse(excitation, pulse, RESPONSE_EXCITATIONS, PULSE_SHAPES)
     if Q is not None:
         Q = _check_positive("Q", Q, "None (no losses) or a finite quality factor > 0")
     if loops not in LOOPS:
