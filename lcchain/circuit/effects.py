@@ -47,21 +47,18 @@ E_SERIES: dict[str, tuple[float, ...]] = {
 
 
 def _candidates(series: str, decades: np.ndarray) -> np.ndarray:
-    """Every series value in the given decades, one row per decade (-1, 0, +1 around each)."""
-    mantissas = E_SERIES[series]
-    rows = []
-    for decade in decades:
-        row = []
-        for exponent in (decade - 1, decade, decade + 1):
-            scale = 10.0 ** int(exponent)
-            # the text round trip removes the representation noise of mantissa * 10**exponent
-            row += [float(f"{m * scale:.12g}") for m in mantissas]
-        rows.append(row)
-    return np.array(rows, dtype=float)
+    """Every series value of the given decades and their neighbours, ascending."""
+    exponents = np.unique(np.concatenate((decades - 1, decades, decades + 1)))
+    # the text round trip removes the representation noise of mantissa * 10**exponent
+    return np.array(sorted({float(f"{m * 10.0 ** int(e):.12g}") for e in exponents for m in E_SERIES[series]}))
 
 
 def preferred_values(values: np.ndarray, series: str) -> np.ndarray:
     """Nearest values of the E-series, nearest in ratio (on a log scale), for an array.
+
+    The nearest value in ratio is one of the two series values around each
+    value, found by binary search on the sorted candidates; a tie goes to the
+    smaller one.
 
     Parameters
     ----------
@@ -72,7 +69,7 @@ def preferred_values(values: np.ndarray, series: str) -> np.ndarray:
     Returns
     -------
     ndarray
-        Same shape; ties go to the smaller value.
+        Same shape.
     """
     choice("series", series, tuple(E_SERIES))
     array = np.asarray(values, dtype=float)
@@ -80,12 +77,11 @@ def preferred_values(values: np.ndarray, series: str) -> np.ndarray:
         bad = array[~(np.isfinite(array) & (array > 0))].flat[0]
         raise ParameterError("value", float(bad), "a finite component value > 0")
     flat = array.ravel()
-    decade = np.floor(np.log10(flat)).astype(int)
-    unique, index = np.unique(decade, return_inverse=True)
-    table = _candidates(series, unique)[index]            # (values, 3 * len(series))
-    distance = np.abs(np.log(table / flat[:, None]))
-    best = table[np.arange(flat.size), np.argmin(distance, axis=1)]
-    return best.reshape(array.shape)
+    table = _candidates(series, np.unique(np.floor(np.log10(flat)).astype(int)))
+    above = np.clip(np.searchsorted(table, flat), 1, table.size - 1)
+    low, high = table[above - 1], table[above]
+    nearer_low = np.abs(np.log(low / flat)) <= np.abs(np.log(high / flat))
+    return np.where(nearer_low, low, high).reshape(array.shape)
 
 
 def preferred_value(value: float, series: str) -> float:
