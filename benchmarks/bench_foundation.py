@@ -80,7 +80,8 @@ def main() -> None:
     loop = timed(lambda: [loop_preferred_value(v, "E96") for v in values[:2000]]) / 2000
     scalar = timed(lambda: [preferred_value(v, "E96") for v in values[:2000]]) / 2000
     bulk = timed(preferred_values, values, "E96", repeat=5) / values.size
-    same = np.array_equal(preferred_values(values[:2000], "E96"), [loop_preferred_value(v, "E96") for v in values[:2000]])
+    same = np.array_equal(preferred_values(values[:2000], "E96"),
+                          [loop_preferred_value(v, "E96") for v in values[:2000]])
     chain = chain_for_case("two-mass", 1000)
     per_sample = timed(lambda: tolerance_samples(chain, 10e-6, 10e-9, samples=20, seed=1, tol_L=0.01, tol_C=0.01,
                                                  series="E96")) / 20
