@@ -13,6 +13,8 @@ import math
 from dataclasses import dataclass
 
 from ..core.checks import instance, real
+from ..core.errors import ParameterError
+from ..core.limits import MAX_IMPEDANCE, MAX_TIME_UNIT, MIN_IMPEDANCE, MIN_TIME_UNIT
 from ..theory.chain import Chain
 
 __all__ = ["Ladder"]
@@ -38,8 +40,18 @@ class Ladder:
 
     def __post_init__(self) -> None:
         instance("chain", self.chain, Chain)
-        object.__setattr__(self, "L0", real("L0", self.L0, above=0.0, unit="henry"))
-        object.__setattr__(self, "C0", real("C0", self.C0, above=0.0, unit="farad"))
+        L0 = real("L0", self.L0, above=0.0, unit="henry")
+        C0 = real("C0", self.C0, above=0.0, unit="farad")
+        unit, impedance = math.sqrt(L0 * C0), math.sqrt(L0 / C0)
+        if not (MIN_TIME_UNIT <= unit <= MAX_TIME_UNIT and MIN_IMPEDANCE <= impedance <= MAX_IMPEDANCE):
+            # name the value farther from the usual scale (10 uH, 10 nF): the one the user most likely mistyped
+            field, value = ("L0", L0) if abs(math.log(L0 / 10e-6)) >= abs(math.log(C0 / 10e-9)) else ("C0", C0)
+            raise ParameterError(field, value, f"L0 and C0 with a time unit sqrt(L0*C0) from {MIN_TIME_UNIT:g} to "
+                                 f"{MAX_TIME_UNIT:g} s and an impedance sqrt(L0/C0) from {MIN_IMPEDANCE:g} to "
+                                 f"{MAX_IMPEDANCE:g} ohm (here {unit:.3g} s and {impedance:.3g} ohm; ngspice hangs "
+                                 "or misbehaves beyond)")
+        object.__setattr__(self, "L0", L0)
+        object.__setattr__(self, "C0", C0)
 
     @property
     def time_unit(self) -> float:

@@ -55,9 +55,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..core.blas import fixed_blas_threads
+from ..core.budget import BudgetError
 from ..core.checks import choice, real
 from ..core.errors import ParameterError
-from ..core.limits import MAX_ACCURACY_DT
+from ..core.limits import ACCURACY_FLOOR, MAX_ACCURACY_DT
 from ..core.types import METHODS
 from ..theory.modes import Modes, cosine_sum
 
@@ -202,7 +203,7 @@ def predicted_error(modes: Modes, dt: float, tstop: float, *, ends: Sequence[str
 @fixed_blas_threads
 def dt_for_accuracy(modes: Modes, accuracy: float, tstop: float, *, method: str = "trap",
                     safety: float = SAFETY, ends: Sequence[str] = _ENDS,
-                    weights: Sequence[np.ndarray] | None = None) -> float:
+                    weights: Sequence[np.ndarray] | None = None, max_points: float | None = None) -> float:
     """Largest fixed step whose predicted error is at most ``safety * accuracy``.
 
     The error grows like dt^2, so the search starts at dt = 0.05, rescales
@@ -222,25 +223,48 @@ def dt_for_accuracy(modes: Modes, accuracy: float, tstop: float, *, method: str 
         Fraction of ``accuracy`` aimed at, 0 < safety <= 1 (see :data:`SAFETY`).
     ends, weights
         The compared signals, as for :func:`predicted_error`.
+    max_points : float, optional
+        The most time points the run may have (its budget): no step below
+        tstop / max_points is tried, and an accuracy that needs one is refused.
 
     Returns
     -------
     float
         dt in units of sqrt(L0 C0).
+
+    Raises
+    ------
+    ParameterError
+        ``accuracy`` below :data:`lcchain.core.limits.ACCURACY_FLOOR`, which
+        ngspice's double precision does not reliably reach.
+    BudgetError
+        The accuracy needs more than ``max_points`` time points.
     """
     accuracy = real("accuracy", accuracy, above=0.0, below=1.0,
                     allowed="a number with 0 < accuracy < 1 (max |simulation - theory|)")
+    if accuracy < ACCURACY_FLOOR:
+        raise ParameterError("accuracy", accuracy, f"an accuracy >= {ACCURACY_FLOOR:g}: ngspice's rounding grows "
+                             "with its steps and reaches 7e-11 to 6e-10 when asked for 1e-11 (measured), so "
+                             f"{ACCURACY_FLOOR:g} is the best it reliably gives")
     safety = real("safety", safety, above=0.0, at_most=1.0)
     target = accuracy * safety
+    smallest = 0.0 if max_points is None else tstop / max_points
 
     def error(dt: float) -> float:
         return max(predicted_error(modes, dt, tstop, ends=ends, method=method, weights=weights), 1e-300)
+
+    def refuse(reached: float) -> BudgetError:
+        assert max_points is not None
+        return BudgetError("accuracy", accuracy, f"an accuracy this machine can afford: it needs a step below "
+                           f"{smallest:.3g}, more than {max_points:.3g} time points (the predicted error at that "
+                           f"step is {reached:.3g}); raise --max-memory and --max-time, or ask for less")
 
     e_max = error(MAX_DT)
     if e_max <= target:
         return MAX_DT
     best = None  # largest dt known to meet the target
-    dt, e = _DT0, error(_DT0)
+    start = max(_DT0, smallest)
+    dt, e = start, error(start)
     previous = None
     for _ in range(30):
         if e <= target:
@@ -256,6 +280,10 @@ def dt_for_accuracy(modes: Modes, accuracy: float, tstop: float, *, method: str 
                 slope = fitted
         aim = target * (1 - 0.5 * _ERROR_BAND)
         new = min(MAX_DT, dt * (aim / e) ** (1.0 / slope))
+        if new < smallest:  # the budget's smallest step: it must do, or nothing will
+            if dt <= smallest:
+                raise refuse(e)
+            new = smallest
         previous = (dt, e)
         dt, e = new, error(new)
     if best is None:  # pragma: no cover - the dt^2 law makes the search converge

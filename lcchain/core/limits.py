@@ -27,3 +27,12 @@ MAX_SAMPLES = 10_000
 #: Longest title or comment line written into a netlist.
 MAX_TITLE_LENGTH = 200
 MAX_COMMENT_LENGTH = 400
+#: The circuit's time unit sqrt(L0*C0), seconds, and impedance sqrt(L0/C0), ohm: ngspice 39 reproduces the
+#: trapezoidal model to ~1e-14 from 1e-21 to 1e4 s and from 1e-6 to 1e12 ohm, and hangs at 1e9 s (measured).
+MIN_TIME_UNIT, MAX_TIME_UNIT = 1e-18, 1e3
+MIN_IMPEDANCE, MAX_IMPEDANCE = 1e-6, 1e12
+#: The smallest accuracy a run may ask for: ngspice's rounding grows with the number of steps, so 1e-9 is
+#: met (7.0e-10 to 7.9e-10 measured) and 1e-10 only sometimes (1.03e-10 on the perfect N = 4 chain).
+ACCURACY_FLOOR = 1e-9
+#: Largest --chain file read (a JSON chain of MAX_CIRCUIT_N masses takes about 5 MB).
+MAX_CHAIN_FILE_BYTES = 64 * 2**20

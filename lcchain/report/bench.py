@@ -3,11 +3,13 @@
 from __future__ import annotations
 
 import csv
+import io
 import json
 from pathlib import Path
 from typing import Any
 
 from ..studies.bench import RECORD_FIELDS, record_label
+from .files import write_text
 
 __all__ = ["write_accuracy_bench"]
 
@@ -26,15 +28,15 @@ def write_accuracy_bench(out: str | Path, bench: dict[str, Any]) -> list[str]:
     out.mkdir(parents=True, exist_ok=True)
     records, checks, summary = bench["records"], bench["targets"], bench["summary"]
     paths = [out / "records.csv", out / "records.json", out / "pareto.png", out / "summary.md"]
-    with open(paths[0], "w", newline="", encoding="utf-8") as handle:
-        writer = csv.DictWriter(handle, fieldnames=RECORD_FIELDS)
-        writer.writeheader()
-        for r in records:
-            writer.writerow({k: ("" if r[k] is None else r[k]) for k in RECORD_FIELDS})
-    paths[1].write_text(json.dumps({"records": records, "targets": checks, "fits": summary["fits"]}, indent=1),
-                        encoding="utf-8")
+    table = io.StringIO(newline="")
+    writer = csv.DictWriter(table, fieldnames=RECORD_FIELDS)
+    writer.writeheader()
+    for r in records:
+        writer.writerow({k: ("" if r[k] is None else r[k]) for k in RECORD_FIELDS})
+    write_text(paths[0], table.getvalue())
+    write_text(paths[1], json.dumps({"records": records, "targets": checks, "fits": summary["fits"]}, indent=1))
     plotted = [{"method": record_label(r), "N": r["N"], "wall_s": r["wall_s"], "error": r["error"]} for r in records
                if r["wall_s"] > 0 and r["error"] > 0]
     pareto(plotted, path=paths[2])
-    paths[3].write_text(bench["markdown"], encoding="utf-8")
+    write_text(paths[3], bench["markdown"])
     return [str(p) for p in paths]

@@ -21,6 +21,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..core.errors import ParameterError
+from .files import save_figure
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -62,7 +63,7 @@ def _root_figure(ax: Axes) -> Figure:
 
 def _finish(fig: Figure, path: str | os.PathLike | None) -> Figure:
     if path is not None:
-        fig.savefig(path, dpi=DPI)
+        save_figure(fig, path, dpi=DPI)  # atomically, in the format the name says
     return fig
 
 

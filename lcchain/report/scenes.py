@@ -1,9 +1,11 @@
 """A scene's files: its JSON report, its plots, and the netlist and waveforms asked for.
 
-:func:`run_scene` is the whole of ``lcchain run`` for one scene: simulate
-(:func:`lcchain.scenes.run.simulate_scene`), then write what the scene's
-``[output]`` table asks for.  Paths in ``[output]`` are relative to the
-current directory.
+:func:`run_scene` is the whole of ``lcchain run`` for one scene: check every
+output path, simulate (:func:`lcchain.scenes.run.simulate_scene`), then write
+what the scene's ``[output]`` table asks for, each file atomically.  Paths in
+``[output]`` are relative to the current directory and stay inside it; the
+plots are named after the report (``out/r.json`` -> ``out/r-overlay.png``), or
+after the scene file when there is no report.
 """
 
 from __future__ import annotations
@@ -13,33 +15,72 @@ from collections.abc import Callable
 from dataclasses import replace
 from pathlib import Path
 
+from ..core.budget import Budget
+from ..core.errors import ParameterError
 from ..scenes.run import SceneResult, simulate_scene, transmitted_peaks
 from ..scenes.schema import Scene
 from ..spice.simulator import Simulator
+from .files import check_output, write_text
 
-__all__ = ["run_scene", "write_scene_outputs"]
+__all__ = ["run_scene", "write_scene_outputs", "scene_outputs", "check_scene_outputs"]
 
 
-def _output_stem(scene: Scene) -> tuple[Path, str]:
+def _stem(scene: Scene) -> tuple[Path, str]:
     if scene.output.report:
         path = Path(scene.output.report)
         return path.parent, path.stem
-    stem = Path(scene.source).stem if scene.source else "scene"
-    return Path("."), stem
+    return Path("."), Path(scene.source).stem if scene.source else "scene"
 
 
-def _ylabel(scene: Scene) -> str:
-    return r"$Q_N\,/\,Q_1(0)$" if scene.excitation.kind == "displacement" else r"$I_N\,/\,I_0$"
+def scene_outputs(scene: Scene) -> list[tuple[str, Path]]:
+    """(key, path) of every file the scene's ``[output]`` asks for, plots first, the report last.
+
+    A plot a scene cannot draw (``spacetime`` without every loop, a
+    ``histogram`` of one sample) is refused by the schema, so every path here
+    is written when the scene runs.
+    """
+    folder, stem = _stem(scene)
+    files = [(f"output.plots ({kind})", folder / f"{stem}-{kind}.png") for kind in scene.output.plots]
+    if scene.output.report:
+        files.append(("output.report", Path(scene.output.report)))
+    return files
+
+
+def check_scene_outputs(scenes: list[Scene], others: dict[str, str | None] | None = None) -> None:
+    """Refuse, before anything runs, a scene output that cannot be written or that two outputs share.
+
+    Parameters
+    ----------
+    scenes : list of Scene
+        The scenes of one ``lcchain run``.
+    others : dict, optional
+        The command's own output files (option -> path).
+    """
+    seen: dict[Path, str] = {}
+    claims: list[tuple[str, Path, str | None]] = [(option, Path(path), None)
+                                                  for option, path in (others or {}).items() if path]
+    for scene in scenes:
+        folder = _stem(scene)[0]
+        if scene.output.plots or scene.output.report:
+            folder.mkdir(parents=True, exist_ok=True)  # the report's folder, inside the current one
+        claims += [(key, path, scene.source) for key, path in scene_outputs(scene)]
+    for key, path, source in claims:
+        try:
+            check_output(key, path)
+        except ParameterError as error:
+            raise error.located(source) from None
+        resolved = path.resolve()
+        if resolved in seen:
+            raise ParameterError(key, str(path), f"a file no other output writes ({seen[resolved]} writes it too: "
+                                 "give each scene its own output.report)", source)
+        seen[resolved] = f"{source}: {key}" if source else key
 
 
 def write_scene_outputs(result: SceneResult, *, netlist_out: str | None = None,
                         waveform_out: str | None = None, write_outputs: bool = True) -> list[str]:
     """Write the first good sample's netlist and waveforms if asked, then the scene's plots and report.
 
-    Returns
-    -------
-    list of str
-        The files written, in order.
+    Every file is written atomically.  Returns the files written, in order.
     """
     from . import plots
 
@@ -47,49 +88,40 @@ def write_scene_outputs(result: SceneResult, *, netlist_out: str | None = None,
     good = result.good()
     written: list[str] = []
     if good and netlist_out:
-        Path(netlist_out).write_text(good[0].netlist, encoding="utf-8")
-        written.append(netlist_out)
+        written.append(str(write_text(netlist_out, good[0].netlist)))
     if good and waveform_out:
         waveforms = good[0].waveforms
         assert waveforms is not None
-        Path(waveform_out).write_text(waveforms.to_csv(), encoding="utf-8")
-        written.append(waveform_out)
+        written.append(str(write_text(waveform_out, waveforms.to_csv())))
     if not write_outputs:
         return written
-    folder, stem = _output_stem(scene)
-    wanted = set(scene.output.plots)
-    if good and wanted:
-        folder.mkdir(parents=True, exist_ok=True)
-        s = good[0]
+    ylabel = r"$Q_N\,/\,Q_1(0)$" if scene.excitation.kind == "displacement" else r"$I_N\,/\,I_0$"
+    for key, path in scene_outputs(scene):
+        if key == "output.report" or not good:
+            continue
+        s, kind = good[0], key.split("(")[1].rstrip(")")
         signals = s.run.signals
         assert signals is not None
-        if "overlay" in wanted:
-            path = folder / f"{stem}-overlay.png"
+        if kind == "overlay":
             plots.overlay(signals.t, signals.sim[-1], signals.t, signals.theory[-1],
                           residual=signals.sim[-1] - signals.theory[-1],
                           arrivals=[a for a in s.record["arrivals"] if a["end"] == "last"],
-                          title=f"{scene.title} (N = {s.chain.N})", ylabel=_ylabel(scene), path=str(path))
-            written.append(str(path))
-        if "spacetime" in wanted and scene.output.probes == "all":
-            path = folder / f"{stem}-spacetime.png"
-            plots.spacetime(signals.t, signals.sim, title=f"{scene.title}: every loop current", path=str(path))
-            written.append(str(path))
-        if "histogram" in wanted and len(good) > 1:
-            path = folder / f"{stem}-histogram.png"
+                          title=f"{scene.title} (N = {s.chain.N})", ylabel=ylabel, path=path)
+        elif kind == "spacetime":
+            plots.spacetime(signals.t, signals.sim, title=f"{scene.title}: every loop current", path=path)
+        else:
             plots.histogram(transmitted_peaks(result), theory=report.get("transmitted_peak", {}).get("theory_nominal"),
-                            title=f"{scene.title}: transmitted peak over {len(good)} samples", path=str(path))
-            written.append(str(path))
-    if scene.output.report:
-        path = Path(scene.output.report)
-        path.parent.mkdir(parents=True, exist_ok=True)
+                            title=f"{scene.title}: transmitted peak over {len(good)} samples", path=path)
         written.append(str(path))
-        path.write_text(json.dumps(dict(report, files=written), indent=2), encoding="utf-8")
+    if scene.output.report:
+        written.append(scene.output.report)
+        write_text(scene.output.report, json.dumps(dict(report, files=written), indent=2))
     return written
 
 
 def run_scene(scene: Scene, *, netlist_out: str | None = None, waveform_out: str | None = None,
               write_outputs: bool = True, progress: Callable[[float], None] | None = None,
-              simulator: Simulator | None = None) -> SceneResult:
+              simulator: Simulator | None = None, budget: Budget | None = None) -> SceneResult:
     """Run every sample of a scene, write its report and plots, return the result.
 
     Parameters
@@ -104,8 +136,12 @@ def run_scene(scene: Scene, *, netlist_out: str | None = None, waveform_out: str
         Called with the fraction of the scene's simulations done (0 to 1).
     simulator : Simulator, optional
         Found once by the caller; found here when omitted.
+    budget : Budget, optional
+        The most memory and time the scene may take.
     """
-    result = simulate_scene(scene, progress=progress, simulator=simulator)
+    others = {"netlist_out": netlist_out, "waveform_out": waveform_out}
+    check_scene_outputs([scene] if write_outputs else [], others)
+    result = simulate_scene(scene, progress=progress, simulator=simulator, budget=budget)
     files = write_scene_outputs(result, netlist_out=netlist_out, waveform_out=waveform_out,
                                 write_outputs=write_outputs)
     result.report["files"] = files

@@ -19,9 +19,11 @@ from ..compare.accuracy import dt_for_accuracy, predicted_error, warn_if_unrelia
 from ..compare.metrics import Comparison
 from ..compare.waveforms import Waveforms
 from ..core.blas import fixed_blas_threads
-from ..core.checks import choice
+from ..core.budget import Budget, max_points, run_estimate
+from ..core.checks import choice, real
 from ..core.errors import ParameterError, SimulationError
 from ..core.frozen import FrozenMap
+from ..core.limits import MAX_DT
 from ..core.types import BACKENDS, EXCITATIONS, Backend, Excitation, Method
 from ..spice.runner import RunResult
 from ..spice.simulator import Simulator
@@ -126,8 +128,12 @@ def simulation_spec(
     timeout: float = DEFAULT_TIMEOUT,
     modes: Modes | None = None,
     accuracy: float | None = None,
+    budget: Budget | None = None,
 ) -> tuple[RunSpec, Ladder, SimulationOptions]:
     """The run :func:`simulate` makes, described and not yet executed (parameters as there).
+
+    The run's cost is estimated before anything else is computed, and a run
+    beyond ``budget`` is refused (:class:`~lcchain.core.budget.BudgetError`).
 
     Returns
     -------
@@ -137,12 +143,17 @@ def simulation_spec(
         raise ParameterError("dt/accuracy", (dt, accuracy), "exactly one of dt and accuracy")
     choice("backend", backend, BACKENDS)
     choice("excitation", excitation, EXCITATIONS)
+    budget = budget if budget is not None else Budget()
+    Ladder(chain, L0, C0)  # the component scale first: nothing is computed for a circuit ngspice cannot run
     modes = modes if modes is not None else normal_modes(chain)
+    tstop = stop_time(modes, transits)
+    cost = {"saved": 2, "compared": 2, "unknowns": 2 * chain.N}
     if accuracy is not None:
-        dt = dt_for_accuracy(modes, accuracy, stop_time(modes, transits), method=method)
-    assert dt is not None
+        dt = dt_for_accuracy(modes, accuracy, tstop, method=method, max_points=max_points(budget, **cost))
+    dt = real("dt", dt, above=0.0, at_most=MAX_DT)
+    run_estimate(points=tstop / dt, **cost).check(budget, "dt", dt, "a larger step, or fewer transits")
     text, ladder, options = make_netlist(chain, dt=dt, transits=transits, excitation=excitation, L0=L0, C0=C0,
-                                         I0=I0, method=method, title=title, modes=modes)
+                                         I0=I0, method=method, title=title, modes=modes, tstop=tstop)
     predicted = predicted_error(modes, options.dt, options.tstop, method=options.method)
     warn_if_unreliable(method=options.method, transits=transits, predicted=predicted)
     theory = Theory(chain, ladder.time_unit, I0=I0, excitation=excitation, transits=transits, dt=options.dt,
@@ -169,6 +180,8 @@ def simulate(
     accuracy: float | None = None,
     progress: Callable[[float], None] | None = None,
     simulator: Simulator | None = None,
+    budget: Budget | None = None,
+    on_spec: Callable[[RunSpec], None] | None = None,
 ) -> SimulationReport:
     """Simulate the chain's LC ladder in ngspice and compare with theory.
 
@@ -199,9 +212,16 @@ def simulate(
         Called with the fraction of the analysis ngspice has done (0 to 1).
     simulator : Simulator, optional
         Found once by the caller; found here for ``backend`` when omitted.
+    budget : Budget, optional
+        The most memory and time the run may take (default: :class:`~lcchain.core.budget.Budget`).
+    on_spec : callable, optional
+        Called with the run's spec before ngspice starts (the command line
+        keeps the netlist there, so that a failed run still leaves it).
 
     Raises
     ------
+    BudgetError
+        The run's estimated cost is beyond the budget (before anything runs).
     SimulationError
         ngspice failed or timed out (the reason and ngspice's output in the message).
 
@@ -213,7 +233,9 @@ def simulate(
     clock = time.perf_counter()
     spec, ladder, options = simulation_spec(chain, dt=dt, transits=transits, excitation=excitation, L0=L0, C0=C0,
                                             I0=I0, backend=backend, method=method, title=title, timeout=timeout,
-                                            modes=modes, accuracy=accuracy)
+                                            modes=modes, accuracy=accuracy, budget=budget)
+    if on_spec is not None:
+        on_spec(spec)
     built = time.perf_counter()
     record = execute(spec, simulator, progress=progress)
     done = time.perf_counter()

@@ -19,6 +19,7 @@ from ..circuit.ladder import Ladder
 from ..circuit.netlist import SimulationOptions, netlist_text, probe_names
 from ..compare.accuracy import dt_for_accuracy
 from ..core.blas import fixed_blas_threads
+from ..core.budget import Budget, Estimate, max_points, run_estimate
 from ..core.errors import ParameterError
 from ..core.limits import EXACT_MAX_N
 from ..runs.execute import pulse_centre
@@ -106,7 +107,15 @@ class ScenePlan:
     dt: float
 
 
-def _choose_dt(scene: Scene, nominal: Chain, modes: Modes, tstop: float) -> float:
+def _cost(scene: Scene, N: int, realised: bool) -> dict[str, int]:
+    """The numbers a scene's run costs by (:func:`lcchain.core.budget.run_estimate`)."""
+    saved = N if scene.output.probes == "all" else 2
+    losses = scene.effects.losses is not None
+    return {"saved": saved, "compared": saved, "unknowns": (3 if losses else 2) * N,
+            "exact_N": N if (realised or scene.output.probes == "all") else 0}
+
+
+def _choose_dt(scene: Scene, nominal: Chain, modes: Modes, tstop: float, points: float) -> float:
     analysis = scene.analysis
     if analysis.dt is not None:
         return float(analysis.dt)
@@ -117,7 +126,7 @@ def _choose_dt(scene: Scene, nominal: Chain, modes: Modes, tstop: float) -> floa
         _, every = loop_weights(nominal)
         loops = np.unique(np.linspace(0, every.shape[1] - 1, min(ACCURACY_LOOPS, every.shape[1])).round().astype(int))
         weights = [every[:, i] for i in loops]
-    dt = dt_for_accuracy(modes, analysis.accuracy, tstop, method=analysis.method, weights=weights)
+    dt = dt_for_accuracy(modes, analysis.accuracy, tstop, method=analysis.method, weights=weights, max_points=points)
     if scene.excitation.kind == "pulse":
         # the accuracy model is for free oscillation; resolve the pulse too
         assert scene.excitation.width is not None
@@ -125,21 +134,53 @@ def _choose_dt(scene: Scene, nominal: Chain, modes: Modes, tstop: float) -> floa
     return dt
 
 
+#: Internal names of what a scene sets, and the scene keys the user wrote.
+_SCENE_KEYS = {"L0": "units.L0", "C0": "units.C0", "K0": "effects.walls.K0", "dt": "analysis.dt",
+               "accuracy": "analysis.accuracy", "N": "chain.N"}
+
+
 @fixed_blas_threads
-def scene_plan(scene: Scene) -> ScenePlan:
-    """Chains, stop time and step of a scene (no simulation)."""
+def scene_plan(scene: Scene, budget: Budget | None = None) -> ScenePlan:
+    """Chains, stop time and step of a scene (no simulation), within a budget.
+
+    Raises
+    ------
+    ParameterError
+        Named by the scene's key and file, for a scene that cannot run: a
+        component scale ngspice cannot take, or exact theory beyond
+        :data:`lcchain.core.limits.EXACT_MAX_N`.
+    BudgetError
+        The scene's estimated cost (per run, and its samples together) is beyond ``budget``.
+    """
+    try:
+        return _plan(scene, budget if budget is not None else Budget())
+    except ParameterError as error:
+        named = error.renamed(_SCENE_KEYS[error.field]) if error.field in _SCENE_KEYS else error
+        raise named.located(scene.source) from None
+
+
+def _plan(scene: Scene, budget: Budget) -> ScenePlan:
     nominal, chains = scene_chains(scene)
-    modes = normal_modes(nominal)  # raises for a chain beyond both exact and closed-form modes
+    Ladder(nominal, scene.units.L0, scene.units.C0)  # a scale ngspice cannot take stops here, before any theory
     N = nominal.N
     realised = any(chain is not nominal for chain in chains)
     if N > EXACT_MAX_N and (realised or scene.output.probes == "all"):
         why = "every loop's response" if scene.output.probes == "all" else "tolerances or preferred values"
         raise ParameterError("chain.N", N, f"N <= {EXACT_MAX_N} with {why} (the theory needs the exact modes "
-                             "of each realised chain)", where=scene.source)
+                             "of each realised chain)")
+    modes = normal_modes(nominal)  # raises for a chain beyond both exact and closed-form modes
     T = modes.transit_time()
     Q, pulse = losses_and_pulse(scene)
     tstop = arrival_window(scene.analysis.transits, T)[1] + pulse_centre(scene.excitation.kind, pulse)
-    dt = _choose_dt(scene, nominal, modes, tstop)
+    cost = _cost(scene, N, realised)
+    points = max_points(budget, saved=cost["saved"], compared=cost["compared"], unknowns=cost["unknowns"])
+    dt = _choose_dt(scene, nominal, modes, tstop, points)
+    one = run_estimate(points=tstop / dt, **cost)
+    field, value = ("dt", dt) if scene.analysis.dt is not None else ("accuracy", scene.analysis.accuracy)
+    one.check(budget, field, value, "a larger step, a coarser accuracy or fewer transits")
+    every = Estimate(f"{len(chains)} runs of {one.what}", one.memory, one.seconds * len(chains))
+    every.check(budget, "effects.tolerance.samples" if len(chains) > 1 else field,
+                len(chains) if len(chains) > 1 else value, "fewer samples")
     return ScenePlan(nominal, tuple(chains), modes, T, tstop, dt)
 
 

@@ -22,6 +22,7 @@ import numpy as np
 
 from ..compare.waveforms import Waveforms
 from ..core.blas import fixed_blas_threads
+from ..core.budget import Budget
 from ..runs.execute import RunRecord, execute, pulse_centre
 from ..runs.spec import RunSpec
 from ..spice.simulator import Simulator, find_simulator
@@ -167,7 +168,7 @@ def scene_result(scene: Scene, plan: ScenePlan, specs: Sequence[RunSpec], record
 
 
 def simulate_scene(scene: Scene, *, progress: Callable[[float], None] | None = None,
-                   simulator: Simulator | None = None) -> SceneResult:
+                   simulator: Simulator | None = None, budget: Budget | None = None) -> SceneResult:
     """Run every sample of a scene, one after the other, and sum them up (no file is written).
 
     Parameters
@@ -178,9 +179,11 @@ def simulate_scene(scene: Scene, *, progress: Callable[[float], None] | None = N
         across samples and within each ngspice run.
     simulator : Simulator, optional
         Found once by the caller; found here for the scene's backend when omitted.
+    budget : Budget, optional
+        The most memory and time the scene may take (checked before anything runs).
     """
     clock = time.perf_counter()
-    plan = scene_plan(scene)
+    plan = scene_plan(scene, budget)
     specs = scene_specs(scene, plan)
     simulator = simulator if simulator is not None else find_simulator(scene.analysis.backend)
     records = []

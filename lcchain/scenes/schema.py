@@ -21,6 +21,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, fields
+from pathlib import PurePosixPath
 from typing import Any, get_args, get_type_hints
 
 from ..core.checks import choice, instance, integer, is_integer, numbers_list, real, text_line
@@ -346,8 +347,9 @@ class Output:
     probes : {"ends", "all"}
         Save the two end loop currents, or every loop current.
     report : str, optional
-        Path of the JSON report, relative to the current directory (not
-        resolved here).
+        Path of the JSON report, relative to the current directory and
+        inside it (no leading ``/``, no ``..``), ending in ``.json``; the
+        plots are named after it (``out/r.json`` -> ``out/r-overlay.png``).
     plots : tuple of {"overlay", "spacetime", "histogram"}
         Pictures to draw, each at most once.
     """
@@ -359,12 +361,13 @@ class Output:
     def __post_init__(self) -> None:
         choice("output.probes", self.probes, PROBES)
         if self.report is not None:
-            if (
-                not isinstance(self.report, str)
-                or not self.report.strip()
-                or any(ord(ch) < 32 or ord(ch) == 127 for ch in self.report)
-            ):
+            if not isinstance(self.report, str) or not self.report.strip() \
+                    or any(ord(ch) < 32 or ord(ch) == 127 for ch in self.report):
                 raise ParameterError("output.report", self.report, "a file path (one line of text)")
+            path = PurePosixPath(self.report.replace("\\", "/"))
+            if path.is_absolute() or ".." in path.parts or path.suffix.lower() != ".json":
+                raise ParameterError("output.report", self.report, "a relative path ending in .json that stays in "
+                                     "the current folder (no leading /, no ..); the plots are named after it")
         allowed = "a list of distinct names from " + ", ".join(PLOT_KINDS)
         if isinstance(self.plots, (str, bytes, Mapping)) or not isinstance(self.plots, Sequence):
             raise ParameterError("output.plots", self.plots, allowed)

@@ -25,6 +25,7 @@ the single parameter w and its optimum is the perfect chain, as in Table II.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -123,14 +124,24 @@ def _modes(N: int, r: float, w: float) -> Modes:
     return exact_modes(Chain.from_rw(N, r, w))
 
 
-class _Amplitude:
-    """alpha* = max_s alpha_N(N + s) as a function of (r, w), warm-started."""
+#: Amplitude evaluations an optimisation usually takes (for its progress report).
+_TYPICAL_EVALUATIONS = {"one-mass": 12, "two-mass": 105}
 
-    def __init__(self, N: int):
+
+class _Amplitude:
+    """alpha* = max_s alpha_N(N + s) as a function of (r, w), warm-started; counts its evaluations."""
+
+    def __init__(self, N: int, case: str, progress: Callable[[float], None] | None = None):
         self.N = N
         self.t_hint: float | None = None
+        self.count = 0
+        self.expected = _TYPICAL_EVALUATIONS[case]
+        self.progress = progress
 
     def __call__(self, r: float, w: float) -> float:
+        self.count += 1
+        if self.progress is not None:
+            self.progress(min(self.count / self.expected, 0.99))
         modes = _modes(self.N, r, w)
         if self.t_hint is not None:
             T = modes.transit_time()
@@ -156,13 +167,17 @@ def _finish(case: str, N: int, r: float, w: float, chain: Chain) -> dict:
 
 
 @fixed_blas_threads
-def optimal_one_mass(N: int) -> Design:
+def optimal_one_mass(N: int, progress: Callable[[float], None] | None = None) -> Design:
     """Optimal one-mass chain for N masses (Sec. IV, Table I).
 
     Parameters
     ----------
     N : int
         3 <= N <= :data:`lcchain.core.limits.MAX_DESIGN_N`.
+    progress : callable, optional
+        Called with the fraction of the usual work done (0 to 0.99) at each
+        evaluation of the amplitude: long designs (minutes at N = 10^7) say
+        how far they are.
 
     Returns
     -------
@@ -171,7 +186,7 @@ def optimal_one_mass(N: int) -> Design:
         delta*(1) of the uniform free chain.
     """
     N = _check_design_N(N)
-    amplitude = _Amplitude(N)
+    amplitude = _Amplitude(N, "one-mass", progress)
     guess = 0.9173 * N ** (-1 / 6) * (1 + 0.1 * N ** (-1 / 3))  # Eq. e.asymp_x with a small-N correction
     lo, hi = 0.8 * guess, min(math.sqrt(2) * 0.999, 1.25 * guess)
     result = minimize_scalar(lambda x: -amplitude(1.0, x * x), bounds=(lo, hi), method="bounded",
@@ -186,13 +201,15 @@ def optimal_one_mass(N: int) -> Design:
 
 
 @fixed_blas_threads
-def optimal_two_mass(N: int) -> Design:
+def optimal_two_mass(N: int, progress: Callable[[float], None] | None = None) -> Design:
     """Optimal two-mass chain for N masses (Sec. V, Table II).
 
     Parameters
     ----------
     N : int
         3 <= N <= :data:`lcchain.core.limits.MAX_DESIGN_N`.
+    progress : callable, optional
+        As for :func:`optimal_one_mass`.
 
     Returns
     -------
@@ -200,7 +217,7 @@ def optimal_two_mass(N: int) -> Design:
         r*, w*, delta*, s* and m1*, m2*, K12* (Eq. e.m1m2K12-rw).
     """
     N = _check_design_N(N)
-    amplitude = _Amplitude(N)
+    amplitude = _Amplitude(N, "two-mass", progress)
     if N == 3:
         result = minimize_scalar(lambda w: -amplitude(1.0, w), bounds=(0.3, 1.2), method="bounded",
                                  options={"xatol": 1e-12})
@@ -240,7 +257,7 @@ def optimal_two_mass(N: int) -> Design:
 
 
 @fixed_blas_threads
-def optimal_design(case: DesignCase, N: int) -> Design:
+def optimal_design(case: DesignCase, N: int, progress: Callable[[float], None] | None = None) -> Design:
     """Optimal design of the given case (``"one-mass"`` or ``"two-mass"``) for N masses."""
     choice("case", case, DESIGN_CASES)
-    return optimal_one_mass(N) if case == "one-mass" else optimal_two_mass(N)
+    return optimal_one_mass(N, progress) if case == "one-mass" else optimal_two_mass(N, progress)

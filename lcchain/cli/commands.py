@@ -1,0 +1,308 @@
+"""The commands of ``lcchain``: each checks its inputs, outputs and budget first, works, prints, then writes.
+
+A command never writes a file before its work is done (except the netlist of
+a simulation, kept before ngspice starts so that a failed run still leaves
+it), prints its results before writing the files it was asked for, and
+writes each file atomically.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import warnings
+from fractions import Fraction
+from pathlib import Path
+from typing import Any
+
+from ..core.budget import design_estimate
+from ..core.errors import ParameterError
+from ..core.limits import MAX_DESIGN_N, MIN_N
+from ..report.files import FIGURE_FORMATS
+from .common import (
+    EXIT_FAILED,
+    EXIT_MISSING,
+    EXIT_OK,
+    Outputs,
+    budget_from_args,
+    chain_from_args,
+    emit_json,
+    fraction_bar,
+    progress_bar,
+)
+
+__all__ = ["cmd_design", "cmd_table", "cmd_asymptotic", "cmd_netlist", "cmd_reference_netlists", "cmd_simulate",
+           "cmd_run", "cmd_bench_accuracy", "cmd_doctor", "DEFAULT_DT"]
+
+#: Step when neither --dt nor --accuracy is given, units of sqrt(L0*C0).
+DEFAULT_DT = 0.05
+
+_TABLE_COLUMNS = {
+    "one-mass": [("N", "N", "{:>6d}"), ("x*", "x", "{:.4f}"), ("delta*", "delta", "{:.4f}"), ("s*", "s", "{:6.2f}"),
+                 ("m1*", "m1", "{:7.3f}"), ("Delta*", "Delta", "{:#.4g}"), ("delta*(1)", "delta_uniform", "{:.4f}")],
+    "two-mass": [("N", "N", "{:>6d}"), ("r*", "r", "{:.4f}"), ("w*", "w", "{:.4f}"), ("delta*", "delta", "{:.5f}"),
+                 ("s*", "s", "{:6.2f}"), ("m1*", "m1", "{:7.3f}"), ("m2*", "m2", "{:.4f}"), ("K12*", "K12", "{:.4f}")],
+}
+
+
+def _format_table(case: str, rows: list[dict[str, Any]]) -> str:
+    columns = _TABLE_COLUMNS[case]
+    cells = [[fmt.format(row[key]) for _, key, fmt in columns] for row in rows]
+    widths = [max(len(head), *(len(c[i]) for c in cells)) for i, (head, _, _) in enumerate(columns)]
+    title = "Table I: one optimised mass" if case == "one-mass" else "Table II: two optimised masses and their spring"
+    lines = [title, "  ".join(h.rjust(w) for (h, _, _), w in zip(columns, widths, strict=True))]
+    lines.append("-" * len(lines[-1]))
+    lines += ["  ".join(c.rjust(w) for c, w in zip(row, widths, strict=True)) for row in cells]
+    return "\n".join(lines)
+
+
+def _check_design_sizes(args: argparse.Namespace, sizes: list[int]) -> None:
+    """Refuse designs out of range or beyond the budget, before any of them starts."""
+    for N in sizes:
+        if not MIN_N <= N <= MAX_DESIGN_N:
+            raise ParameterError("--N", N, f"an integer from {MIN_N} to {MAX_DESIGN_N}")
+    budget = budget_from_args(args)
+    total = [design_estimate(args.case, N) for N in sizes]
+    seconds = sum(e.seconds for e in total)
+    memory = max(e.memory for e in total)
+    from ..core.budget import Estimate
+
+    what = total[0].what if len(total) == 1 else f"{len(total)} {args.case} designs up to N = {max(sizes)}"
+    Estimate(what, memory, seconds).check(budget, "--N", ",".join(map(str, sizes)) if len(sizes) > 1 else sizes[0])
+
+
+def cmd_design(args: argparse.Namespace) -> int:
+    from ..theory.design import optimal_design
+
+    _check_design_sizes(args, [args.N])
+    bar = fraction_bar(f"{args.case} design, N = {args.N}") if args.N >= 10_000 else None
+    design = optimal_design(args.case, args.N, progress=bar)
+    if bar is not None:
+        bar(1.0)
+    if args.json:
+        emit_json(design.to_dict())
+    else:
+        print(_format_table(args.case, [design.to_dict()]))
+    return EXIT_OK
+
+
+def cmd_table(args: argparse.Namespace) -> int:
+    from ..theory.design import optimal_design
+
+    _check_design_sizes(args, args.N)
+    rows = []
+    for i, N in enumerate(args.N):
+        progress_bar(i, len(args.N), f"N={N}")
+        rows.append(optimal_design(args.case, N).to_dict())
+    progress_bar(len(args.N), len(args.N), "done")
+    if args.json:
+        emit_json(rows)
+    elif args.csv:
+        keys = list(rows[0])
+        print(",".join(keys))
+        for row in rows:
+            print(",".join(repr(row[k]) if isinstance(row[k], float) else str(row[k]) for k in keys))
+    else:
+        print(_format_table(args.case, rows))
+    return EXIT_OK
+
+
+def cmd_asymptotic(args: argparse.Namespace) -> int:
+    from ..theory.asymptotic import EXPONENTS, asymptotic_optimum
+
+    optimum = asymptotic_optimum(args.case)
+    if args.json:
+        emit_json(optimum.to_dict())
+        return EXIT_OK
+    print(f"{args.case}: alpha* = {optimum.alpha:.6f}  delta* = {optimum.delta:.6f}  "
+          f"sigma* = {optimum.sigma:.5f}  tau* = {optimum.tau:.5f}")
+    exponents = EXPONENTS[args.case]
+    for key, value in optimum.to_dict()["coefficients"].items():
+        law = {"y": "sqrt(2) - {c} N^{p}", "m2": "1/2 + {c} N^{p}"}.get(key, "{c} N^{p}")
+        power = Fraction(exponents[key]).limit_denominator(6)
+        print(f"  {key:>6} ~ " + law.format(c=f"{value:.5g}", p=f"({power})"))
+    return EXIT_OK
+
+
+def cmd_netlist(args: argparse.Namespace) -> int:
+    from ..circuit.netlist import make_netlist
+
+    outputs = Outputs()
+    outputs.check("--output", args.output)
+    chain = chain_from_args(args)
+    command = "lcchain netlist " + " ".join(args.argv_echo)
+    dt = args.dt if args.dt is not None else DEFAULT_DT
+    text, _, _ = make_netlist(chain, dt=dt, transits=args.transits, excitation=args.excitation,
+                              L0=args.L0, C0=args.C0, title=args.title, comments=(f"made by: {command}",))
+    if args.output:
+        outputs.text("--output", text)
+    else:
+        sys.stdout.write(text)
+    return EXIT_FAILED if outputs.failed else EXIT_OK
+
+
+def cmd_reference_netlists(args: argparse.Namespace) -> int:
+    from ..circuit.reference import REFERENCE_SET, reference_netlist
+
+    folder = Path(args.out)
+    folder.mkdir(parents=True, exist_ok=True)
+    outputs = Outputs()
+    for reference in REFERENCE_SET:
+        outputs.check(reference.name, str(folder / reference.name))
+    for reference in REFERENCE_SET:
+        outputs.text(reference.name, reference_netlist(reference))
+        print(folder / reference.name)
+    return EXIT_FAILED if outputs.failed else EXIT_OK
+
+
+def _print_arrivals(arrivals: list[dict[str, Any]]) -> None:
+    print(f"{'arrival':>7} {'end':>5} {'t theory':>12} {'t sim':>12} {'peak theory':>12} {'peak sim':>12}")
+    for a in arrivals:
+        print(f"{a['index']:>7} {a['end']:>5} {a['t_theory']:12.4f} {a['t_sim']:12.4f} "
+              f"{a['peak_theory']:12.6f} {a['peak_sim']:12.6f}")
+
+
+def cmd_simulate(args: argparse.Namespace) -> int:
+    from ..report.files import write_text
+    from ..runs.simulate import simulate
+
+    outputs = Outputs()
+    outputs.check("--plot", args.plot, FIGURE_FORMATS)
+    outputs.check("--netlist-out", args.netlist_out)
+    outputs.check("--waveform-out", args.waveform_out)
+    chain = chain_from_args(args)
+    if args.accuracy is not None and args.dt is not None:
+        raise ParameterError("--accuracy", args.accuracy, "either --dt or --accuracy, not both")
+    dt = None if args.accuracy is not None else (args.dt if args.dt is not None else DEFAULT_DT)
+
+    def keep_netlist(spec: Any) -> None:  # before ngspice starts: a failed run still leaves it
+        if args.netlist_out:
+            write_text(args.netlist_out, spec.netlist)
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        report = simulate(chain, dt=dt, accuracy=args.accuracy, transits=args.transits, excitation=args.excitation,
+                          L0=args.L0, C0=args.C0, backend=args.backend, method=args.method, title=args.title,
+                          progress=fraction_bar("ngspice"), budget=budget_from_args(args), on_spec=keep_netlist)
+    for warning in caught:
+        print(f"lcchain: warning: {warning.message}", file=sys.stderr)
+    data = report.to_dict()
+    if args.json:
+        emit_json(data)
+    else:
+        print(f"{chain.name} chain, N = {chain.N}: ngspice {data['ngspice_version']} ({data['backend']}), "
+              f"{data['points']} points in {data['wall_s']:.3f} s")
+        print(f"max |simulation - theory| = {data['max_abs_error']:.3e} (dt = {data['dt']:.4g}, "
+              f"predicted {data['predicted_error']:.3e})")
+        if data["integration_error"] is not None:
+            print(f"  integration error (simulation - trapezoidal model) = {data['integration_error']:.3e}, "
+                  f"physics error (model - exact theory) = {data['physics_error']:.3e}")
+        _print_arrivals(data["arrivals"])
+    outputs.text("--waveform-out", report.waveforms.to_csv())
+    if args.plot:
+        from ..report.plots import overlay
+
+        w, c = report.waveforms, report.comparison
+        outputs.write("--plot", lambda path: overlay(
+            w.t, w.last, w.t, c.theory_last, residual=w.last - c.theory_last,
+            arrivals=[a.to_dict() for a in c.arrivals if a.end == "last"],
+            title=f"{chain.name} chain, N = {chain.N}, dt = {report.options.dt:.4g}, {args.excitation}",
+            ylabel="I_N / I_1(0)" if args.excitation == "kick" else "Q_N / Q_1(0)", path=path))
+    if args.accuracy is not None and data["max_abs_error"] > args.accuracy:
+        print(f"lcchain: --accuracy {args.accuracy:g} was not met: the run reached {data['max_abs_error']:.3g} "
+              f"(dt = {data['dt']:.4g}, predicted {data['predicted_error']:.3g})", file=sys.stderr)
+        return EXIT_FAILED
+    return EXIT_FAILED if outputs.failed else EXIT_OK
+
+
+def _print_scene_summary(result: Any) -> None:
+    report = result.report
+    count = len(report["samples"])
+    print(result.scene.title)
+    print(f"N = {report['N']}, dt = {report['dt']:.4g}, {count} sample{'s' if count > 1 else ''}, "
+          f"ngspice {report['ngspice_version']}, {report['wall_s']['total']:.2f} s")
+    if "max_abs_error" in report:
+        print(f"max |simulation - theory| = {report['max_abs_error']:.3e}")
+        _print_arrivals(report["arrivals"])
+    if "transmitted_peak" in report:
+        p = report["transmitted_peak"]
+        print(f"transmitted peak over {p['count']} samples: mean {p['mean']:.5f}, std {p['std']:.5f}, "
+              f"worst {p['worst']:.5f} (nominal theory {p['theory_nominal']:.5f})")
+    for record in report["samples"]:
+        if "error" in record:
+            print(f"sample {record['sample']} failed: {record['error']}", file=sys.stderr)
+
+
+def cmd_run(args: argparse.Namespace) -> int:
+    from ..report.scenes import check_scene_outputs, write_scene_outputs
+    from ..scenes.load import load_scene
+    from ..scenes.run import overlay_panel, simulate_scene
+
+    if len(args.scene) > 1 and (args.netlist_out or args.waveform_out):
+        option = "--netlist-out" if args.netlist_out else "--waveform-out"
+        raise ParameterError(option, args.netlist_out or args.waveform_out, "one scene only (got "
+                             f"{len(args.scene)})")
+    scenes = [load_scene(path) for path in args.scene]  # every file checked before anything runs
+    outputs = Outputs()
+    outputs.check("--side-by-side", args.side_by_side, FIGURE_FORMATS)
+    check_scene_outputs(scenes, {"--netlist-out": args.netlist_out, "--waveform-out": args.waveform_out,
+                                 "--side-by-side": args.side_by_side})
+    budget = budget_from_args(args)
+    results, failed_files = [], False
+    for scene in scenes:
+        result = simulate_scene(scene, budget=budget,
+                                progress=fraction_bar(Path(scene.source).name if scene.source else "scene"))
+        results.append(result)
+        if not args.json:
+            _print_scene_summary(result)
+        try:
+            files = write_scene_outputs(result, netlist_out=args.netlist_out, waveform_out=args.waveform_out)
+        except OSError as error:
+            failed_files = True
+            print(f"lcchain: could not write {error.filename or 'an output'} of {scene.source}: "
+                  f"{error.strerror or error}", file=sys.stderr)
+            files = []
+        result.report["files"] = files
+        if not args.json:
+            for path in files:
+                print(f"wrote {path}")
+    if args.side_by_side:
+        from ..report.plots import side_by_side
+
+        panels = [p for p in (overlay_panel(r) for r in results) if p is not None]
+        if panels:
+            outputs.write("--side-by-side", lambda path: side_by_side(panels, path=path))
+            if not args.json and "--side-by-side" not in outputs.failed:
+                print(f"wrote {args.side_by_side}")
+        else:
+            print(f"lcchain: no scene ran, so {args.side_by_side} was not drawn", file=sys.stderr)
+    if args.json:
+        reports = [r.report for r in results]
+        emit_json(reports[0] if len(reports) == 1 else reports)
+    ok = all(r.ok for r in results) and not failed_files and not outputs.failed
+    return EXIT_OK if ok else EXIT_FAILED
+
+
+def cmd_bench_accuracy(args: argparse.Namespace) -> int:
+    from ..report.bench import write_accuracy_bench
+    from ..studies.bench import bench_accuracy
+
+    Path(args.out).mkdir(parents=True, exist_ok=True)
+    Outputs().check("--out", str(Path(args.out) / "summary.md"))
+    result = bench_accuracy(args.N, quick=args.quick, progress=progress_bar)
+    print(result["markdown"], end="")
+    for path in write_accuracy_bench(args.out, result):
+        print(f"wrote {path}")
+    return EXIT_OK
+
+
+def cmd_doctor(args: argparse.Namespace) -> int:
+    from ..spice.doctor import doctor
+
+    checks = doctor()
+    for check in checks:
+        mark = "ok  " if check.ok else "FAIL"
+        print(f"[{mark}] {check.name}: {check.detail}")
+        if not check.ok and check.fix:
+            print(f"       fix: {check.fix}")
+    return EXIT_OK if all(c.ok for c in checks) else EXIT_MISSING

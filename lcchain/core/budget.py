@@ -1,0 +1,155 @@
+"""What a request will cost, estimated before any work starts, and the budget it must fit.
+
+Nothing lcchain is asked to do may exhaust the machine: a simulation, a scene
+or a design is estimated first (time points x unknowns -> memory and ngspice's
+wall time; N -> an optimiser's time) and refused with one line giving the
+estimate and the limit when it does not fit.  The defaults fit a 2-core, 24 GiB
+machine with room for two runs at once; ``--max-memory`` and ``--max-time``
+raise them.
+
+Cost models (measured on this 2-core machine, benchmarks/accuracy/ and
+benchmarks/theory.md):
+
+* ngspice's wall time: :data:`NGSPICE_SECONDS_PER_UNKNOWN_POINT` (98-114 ns per
+  unknown per time point with the trapezoidal rule) times the unknowns (about
+  2 N, 3 N with losses) times the time points.  ngspice itself streams its
+  raw file and stays near 13 MB whatever the length of the run.
+* lcchain's memory: the raw file is read whole and its columns copied, then
+  the compared loops are made dimensionless, compared with the theory at the
+  same points, and subtracted: :data:`BYTES_PER_VALUE` bytes for every saved
+  value of every time point (six copies of a float64).  Exact modes of N
+  masses add two N x N matrices.
+* an optimal design: :data:`DESIGN_SECONDS_PER_MASS` per mass (closed-form
+  modes and arrival searches are linear in N).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from .checks import real
+from .errors import ParameterError
+
+__all__ = ["Budget", "Estimate", "BudgetError", "DEFAULT_MAX_MEMORY", "DEFAULT_MAX_SECONDS",
+           "NGSPICE_SECONDS_PER_UNKNOWN_POINT", "BYTES_PER_VALUE", "DESIGN_SECONDS_PER_MASS", "run_estimate",
+           "max_points", "design_estimate", "show_bytes", "show_seconds"]
+
+#: Memory one request may use: a third of this machine's 24 GiB, so two runs fit beside the system.
+DEFAULT_MAX_MEMORY = 8 * 2**30
+#: Wall time one request may take before it is refused, seconds.
+DEFAULT_MAX_SECONDS = 3600.0
+#: ngspice's cost, trapezoidal rule (benchmarks/accuracy: 98-114 ns).
+NGSPICE_SECONDS_PER_UNKNOWN_POINT = 1.1e-7
+#: lcchain's memory per saved value per time point: six float64 copies (raw, columns, signals, theory, error).
+BYTES_PER_VALUE = 48
+#: An optimal design's cost per mass, two-mass (the slower case): 8.6 s at N = 1e5 (benchmarks/foundation.md).
+DESIGN_SECONDS_PER_MASS = {"one-mass": 2.5e-5, "two-mass": 9e-5}
+
+
+class BudgetError(ParameterError):
+    """A request whose estimated cost exceeds the budget (exit status 2, like any bad input)."""
+
+
+@dataclass(frozen=True)
+class Budget:
+    """The most one request may use.
+
+    Parameters
+    ----------
+    max_memory : float
+        Bytes of memory, > 0.
+    max_seconds : float
+        Seconds of wall time, > 0.
+    """
+
+    max_memory: float = DEFAULT_MAX_MEMORY
+    max_seconds: float = DEFAULT_MAX_SECONDS
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "max_memory", real("max_memory", self.max_memory, above=0.0, unit="bytes"))
+        object.__setattr__(self, "max_seconds", real("max_seconds", self.max_seconds, above=0.0, unit="seconds"))
+
+    def describe(self) -> str:
+        return f"{show_bytes(self.max_memory)} and {show_seconds(self.max_seconds)}"
+
+
+@dataclass(frozen=True)
+class Estimate:
+    """The estimated cost of a request.
+
+    Attributes
+    ----------
+    what : str
+        What is estimated, in words ("4.3e+10 time points x 3 saved values").
+    memory : float
+        Bytes.
+    seconds : float
+        Wall time.
+    """
+
+    what: str
+    memory: float
+    seconds: float
+
+    def fits(self, budget: Budget) -> bool:
+        return self.memory <= budget.max_memory and self.seconds <= budget.max_seconds
+
+    def check(self, budget: Budget, field: str, value: object, advice: str = "") -> None:
+        """Raise :class:`BudgetError` naming ``field`` and ``value`` unless the estimate fits the budget."""
+        if self.fits(budget):
+            return
+        more = f"; {advice}" if advice else ""
+        raise BudgetError(field, value, f"a request this machine can afford: {self.what} would take about "
+                          f"{show_bytes(self.memory)} and {show_seconds(self.seconds)}, beyond the limits of "
+                          f"{budget.describe()} (--max-memory, --max-time){more}")
+
+
+def run_estimate(*, points: float, saved: int, compared: int, unknowns: float, exact_N: int = 0) -> Estimate:
+    """The cost of one ngspice run and its comparison.
+
+    Parameters
+    ----------
+    points : float
+        Time points (tstop / dt for a fixed step).
+    saved : int
+        Vectors saved (time excluded).
+    compared : int
+        Loops compared with theory (0 without a theory).
+    unknowns : float
+        ngspice's unknowns (about 2 N; 3 N with losses).
+    exact_N : int
+        N when the theory needs every eigenvector (N x N), else 0.
+    """
+    memory = BYTES_PER_VALUE * points * (saved + 1 + compared) + 16.0 * exact_N * exact_N
+    return Estimate(f"{points:.3g} time points x {saved} saved values", memory,
+                    NGSPICE_SECONDS_PER_UNKNOWN_POINT * unknowns * points)
+
+
+def max_points(budget: Budget, *, saved: int, compared: int, unknowns: float) -> float:
+    """The most time points one run may have within the budget (memory and time alike)."""
+    return min(budget.max_memory / (BYTES_PER_VALUE * (saved + 1 + compared)),
+               budget.max_seconds / (NGSPICE_SECONDS_PER_UNKNOWN_POINT * unknowns))
+
+
+def design_estimate(case: str, N: int) -> Estimate:
+    """The cost of an optimal design of N masses (memory: a few dozen arrays of N floats)."""
+    return Estimate(f"the {case} design of {N} masses", 400.0 * N, DESIGN_SECONDS_PER_MASS[case] * N)
+
+
+def show_bytes(value: float) -> str:
+    """1.9 TiB, 512 MiB, 3 kB."""
+    for unit, size in (("TiB", 2.0**40), ("GiB", 2.0**30), ("MiB", 2.0**20), ("kiB", 2.0**10)):
+        if value >= size:
+            return f"{value / size:.3g} {unit}"
+    return f"{value:.0f} B"
+
+
+def show_seconds(value: float) -> str:
+    """13 days, 4.2 h, 12 min, 3.1 s."""
+    if not math.isfinite(value):
+        return "forever"
+    for unit, size in (("days", 86400.0), ("h", 3600.0), ("min", 60.0)):
+        if value >= size:
+            return f"{value / size:.3g} {unit}"
+    return f"{value:.2g} s"
