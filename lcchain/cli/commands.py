@@ -208,7 +208,7 @@ def cmd_simulate(args: argparse.Namespace) -> int:
             arrivals=[a.to_dict() for a in c.arrivals if a.end == "last"],
             title=f"{chain.name} chain, N = {chain.N}, dt = {report.options.dt:.4g}, {args.excitation}",
             ylabel="I_N / I_1(0)" if args.excitation == "kick" else "Q_N / Q_1(0)", path=path))
-    if args.accuracy is not None and data["max_abs_error"] > args.accuracy:
+    if report.accuracy_met is False:
         print(f"lcchain: --accuracy {args.accuracy:g} was not met: the run reached {data['max_abs_error']:.3g} "
               f"(dt = {data['dt']:.4g}, predicted {data['predicted_error']:.3g})", file=sys.stderr)
         return EXIT_FAILED
@@ -231,6 +231,10 @@ def _print_scene_summary(result: Any) -> None:
     for record in report["samples"]:
         if "error" in record:
             print(f"sample {record['sample']} failed: {record['error']}", file=sys.stderr)
+    if report.get("accuracy_met") is False:
+        print(f"lcchain: {result.scene.source or 'the scene'}: analysis.accuracy "
+              f"{result.scene.analysis.accuracy:g} was not met: the runs reached {report['max_abs_error']:.3g}",
+              file=sys.stderr)
 
 
 def cmd_run(args: argparse.Namespace) -> int:

@@ -244,8 +244,8 @@ def dt_for_accuracy(modes: Modes, accuracy: float, tstop: float, *, method: str 
                     allowed="a number with 0 < accuracy < 1 (max |simulation - theory|)")
     if accuracy < ACCURACY_FLOOR:
         raise ParameterError("accuracy", accuracy, f"an accuracy >= {ACCURACY_FLOOR:g}: ngspice's rounding grows "
-                             "with its steps and reaches 7e-11 to 6e-10 when asked for 1e-11 (measured), so "
-                             f"{ACCURACY_FLOOR:g} is the best it reliably gives")
+                             "with its steps, so asked for 1e-11 it reaches 7e-11 to 6e-10 (measured); even "
+                             f"{ACCURACY_FLOOR:g} is sometimes missed, and a run that misses its accuracy fails")
     safety = real("safety", safety, above=0.0, at_most=1.0)
     target = accuracy * safety
     smallest = 0.0 if max_points is None else tstop / max_points

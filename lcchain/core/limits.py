@@ -31,8 +31,9 @@ MAX_COMMENT_LENGTH = 400
 #: trapezoidal model to ~1e-14 from 1e-21 to 1e4 s and from 1e-6 to 1e12 ohm, and hangs at 1e9 s (measured).
 MIN_TIME_UNIT, MAX_TIME_UNIT = 1e-18, 1e3
 MIN_IMPEDANCE, MAX_IMPEDANCE = 1e-6, 1e12
-#: The smallest accuracy a run may ask for: ngspice's rounding grows with the number of steps, so 1e-9 is
-#: met (7.0e-10 to 7.9e-10 measured) and 1e-10 only sometimes (1.03e-10 on the perfect N = 4 chain).
+#: The smallest accuracy a run may ask for: ngspice's rounding grows with the number of steps; 1e-9 is
+#: usually met (7.0e-10 to 7.9e-10 on perfect and two-mass chains) but not always (1.7e-9 on the uniform
+#: bounded N = 20 chain), and 1e-11 never (7e-11 to 6e-10).  A run that misses its accuracy fails.
 ACCURACY_FLOOR = 1e-9
 #: Largest --chain file read (a JSON chain of MAX_CIRCUIT_N masses takes about 5 MB).
 MAX_CHAIN_FILE_BYTES = 64 * 2**20

@@ -69,8 +69,15 @@ def check_output(option: str, path: str | os.PathLike[str], formats: tuple[str, 
 
 @contextlib.contextmanager
 def atomic_path(path: str | os.PathLike[str]) -> Iterator[Path]:
-    """A temporary name beside ``path``, renamed over it when the block ends without error."""
+    """A temporary name beside ``path``, renamed over it when the block ends without error.
+
+    A special file (a device such as ``/dev/full``, a pipe) is written in place:
+    renaming over it would replace the device itself.
+    """
     target = Path(path)
+    if target.exists() and not target.is_file():
+        yield target
+        return
     descriptor, name = tempfile.mkstemp(dir=target.parent, prefix=f".{target.name}.", suffix=target.suffix)
     os.close(descriptor)
     temporary = Path(name)

@@ -80,6 +80,11 @@ class SimulationReport:
     physics_error: float | None = None
     record: RunRecord | None = field(default=None, repr=False)
 
+    @property
+    def accuracy_met(self) -> bool | None:
+        """Whether the requested accuracy was reached (None when dt was given instead)."""
+        return None if self.accuracy is None else self.comparison.max_abs_error <= self.accuracy
+
     def to_dict(self) -> dict[str, Any]:
         """The JSON report of ``lcchain simulate --json``."""
         run = self.run
@@ -105,6 +110,7 @@ class SimulationReport:
             "arrivals": [a.to_dict() for a in self.comparison.arrivals],
             "timings": dict(self.timings),
             "accuracy": self.accuracy,
+            "accuracy_met": self.accuracy_met,
             "predicted_error": self.predicted_error,
             "integration_error": self.integration_error,
             "physics_error": self.physics_error,

@@ -32,8 +32,8 @@ from ..theory.response import loop_weights
 from ..theory.spectrum import normal_modes
 from .schema import Scene
 
-__all__ = ["ScenePlan", "base_chain", "scene_chains", "scene_plan", "scene_netlist", "scene_specs",
-           "losses_and_pulse", "ACCURACY_LOOPS"]
+__all__ = ["ScenePlan", "base_chain", "scene_chains", "realised", "sample_count", "scene_plan", "scene_netlist",
+           "scene_specs", "losses_and_pulse", "ACCURACY_LOOPS"]
 
 #: With probes = "all", the step's error is predicted on at most this many loops, evenly spaced, ends included.
 ACCURACY_LOOPS = 64
@@ -52,9 +52,21 @@ def base_chain(scene: Scene) -> Chain:
     return chain
 
 
-def scene_chains(scene: Scene) -> tuple[Chain, list[Chain]]:
+def realised(scene: Scene) -> bool:
+    """Whether the scene simulates chains other than the nominal one (rounded or toleranced)."""
+    tol = scene.effects.tolerance
+    return scene.effects.preferred_values is not None or (tol is not None and bool(tol.L or tol.C or tol.samples > 1))
+
+
+def sample_count(scene: Scene) -> int:
+    """How many circuits the scene runs."""
+    tol = scene.effects.tolerance
+    return tol.samples if tol is not None and (tol.L or tol.C or tol.samples > 1) else 1
+
+
+def scene_chains(scene: Scene, nominal: Chain | None = None) -> tuple[Chain, list[Chain]]:
     """(nominal chain, realised chains): one per tolerance sample, else one."""
-    nominal = base_chain(scene)
+    nominal = nominal if nominal is not None else base_chain(scene)
     effects, units = scene.effects, scene.units
     series = effects.preferred_values.series if effects.preferred_values is not None else None
     tol = effects.tolerance
@@ -160,11 +172,10 @@ def scene_plan(scene: Scene, budget: Budget | None = None) -> ScenePlan:
 
 
 def _plan(scene: Scene, budget: Budget) -> ScenePlan:
-    nominal, chains = scene_chains(scene)
+    nominal = base_chain(scene)
     Ladder(nominal, scene.units.L0, scene.units.C0)  # a scale ngspice cannot take stops here, before any theory
-    N = nominal.N
-    realised = any(chain is not nominal for chain in chains)
-    if N > EXACT_MAX_N and (realised or scene.output.probes == "all"):
+    N, samples = nominal.N, sample_count(scene)
+    if N > EXACT_MAX_N and (realised(scene) or scene.output.probes == "all"):
         why = "every loop's response" if scene.output.probes == "all" else "tolerances or preferred values"
         raise ParameterError("chain.N", N, f"N <= {EXACT_MAX_N} with {why} (the theory needs the exact modes "
                              "of each realised chain)")
@@ -172,15 +183,16 @@ def _plan(scene: Scene, budget: Budget) -> ScenePlan:
     T = modes.transit_time()
     Q, pulse = losses_and_pulse(scene)
     tstop = arrival_window(scene.analysis.transits, T)[1] + pulse_centre(scene.excitation.kind, pulse)
-    cost = _cost(scene, N, realised)
+    cost = _cost(scene, N, realised(scene))
     points = max_points(budget, saved=cost["saved"], compared=cost["compared"], unknowns=cost["unknowns"])
     dt = _choose_dt(scene, nominal, modes, tstop, points)
     one = run_estimate(points=tstop / dt, **cost)
     field, value = ("dt", dt) if scene.analysis.dt is not None else ("accuracy", scene.analysis.accuracy)
     one.check(budget, field, value, "a larger step, a coarser accuracy or fewer transits")
-    every = Estimate(f"{len(chains)} runs of {one.what}", one.memory, one.seconds * len(chains))
-    every.check(budget, "effects.tolerance.samples" if len(chains) > 1 else field,
-                len(chains) if len(chains) > 1 else value, "fewer samples")
+    every = Estimate(f"{samples} runs of {one.what}", one.memory, one.seconds * samples)
+    every.check(budget, "effects.tolerance.samples" if samples > 1 else field, samples if samples > 1 else value,
+                "fewer samples")
+    _, chains = scene_chains(scene, nominal)  # the samples are drawn once the scene is known to fit
     return ScenePlan(nominal, tuple(chains), modes, T, tstop, dt)
 
 

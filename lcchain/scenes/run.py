@@ -95,7 +95,8 @@ class SceneResult:
 
     @property
     def ok(self) -> bool:
-        return all(s.ok for s in self.samples)
+        """Every sample ran, and met the scene's accuracy when it asked for one."""
+        return all(s.ok for s in self.samples) and self.report.get("accuracy_met", True) is not False
 
     def good(self) -> list[SampleResult]:
         """The samples that ran."""
@@ -160,6 +161,8 @@ def scene_result(scene: Scene, plan: ScenePlan, specs: Sequence[RunSpec], record
     result = SceneResult(scene, report, samples)
     if good:
         report["max_abs_error"] = float(max(s.record["max_abs_error"] for s in good))
+        if scene.analysis.accuracy is not None:
+            report["accuracy_met"] = report["max_abs_error"] <= scene.analysis.accuracy
         report["arrivals"] = good[0].record["arrivals"]
         if len(plan.chains) > 1:
             report["transmitted_peak"] = _spread(transmitted_peaks(result))

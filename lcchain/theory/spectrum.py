@@ -8,6 +8,10 @@ the return amplitude are modal cosine sums (:func:`lcchain.theory.modes.cosine_s
 
 from __future__ import annotations
 
+from typing import Any
+
+import numpy as np
+
 from ..core.blas import fixed_blas_threads
 from ..core.errors import ParameterError
 from ..core.types import MODE_METHODS, ModeMethod
@@ -51,6 +55,18 @@ def normal_modes(chain: Chain, method: ModeMethod = "auto") -> Modes:
     return exact_modes(chain)
 
 # ------------------------------------------------------------------ responses
+def _finite_times(t: Any) -> Any:
+    """Times as given (a number or an array), or ParameterError naming the first that is not finite."""
+    try:
+        times = np.asarray(t, dtype=float)
+    except (TypeError, ValueError):
+        raise ParameterError("t", t, "times in units of sqrt(m/K): a number or an array of numbers") from None
+    bad = np.flatnonzero(~np.isfinite(np.atleast_1d(times)))
+    if bad.size:
+        raise ParameterError(f"t[{bad[0]}]", float(np.atleast_1d(times)[bad[0]]), "a finite time")
+    return t
+
+
 @fixed_blas_threads
 def transmission_amplitude(chain_or_modes: Chain | Modes, t, method: ModeMethod = "auto"):
     """Transmission amplitude alpha_N(t), Eq. e.utn.
@@ -69,7 +85,7 @@ def transmission_amplitude(chain_or_modes: Chain | Modes, t, method: ModeMethod 
         How to compute the modes when a Chain is given.
     """
     modes = chain_or_modes if isinstance(chain_or_modes, Modes) else normal_modes(chain_or_modes, method)
-    return cosine_sum(modes.transfer, modes.omega, t)
+    return cosine_sum(modes.transfer, modes.omega, _finite_times(t))
 
 
 @fixed_blas_threads
@@ -79,4 +95,4 @@ def return_amplitude(chain_or_modes: Chain | Modes, t, method: ModeMethod = "aut
     This is what comes back to loop 1 after each round trip.
     """
     modes = chain_or_modes if isinstance(chain_or_modes, Modes) else normal_modes(chain_or_modes, method)
-    return cosine_sum(modes.density, modes.omega, t)
+    return cosine_sum(modes.density, modes.omega, _finite_times(t))

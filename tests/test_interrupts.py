@@ -1,0 +1,95 @@
+"""Nothing outlives lcchain: interrupts, terminations and kills, with real ngspice (issue 10).
+
+Each test starts the issue's long run (``lcchain simulate --case two-mass
+--N 2000 --dt 0.01``, about 90 s of ngspice) in a subprocess with a temporary
+folder of its own, waits until the simulator process lcchain started exists,
+signals lcchain, and checks by PID that the simulator is gone and that the
+temporary folder is empty.  SIGKILL leaves lcchain no chance to clean up: the
+child dies by its parent-death signal, and lcchain never names a temporary
+file, so there is nothing to remove.
+"""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+from helpers.processes import alive
+
+ROOT = Path(__file__).resolve().parent.parent
+LONG_RUN = ["simulate", "--case", "two-mass", "--N", "2000", "--dt", "0.01"]
+#: Seconds to wait for the simulator to start (the design and the step come first) and to die.
+START_TIMEOUT, DEATH_TIMEOUT = 120.0, 10.0
+
+
+def _children(parent: int) -> dict[int, str]:
+    """pid -> command line of the live children of ``parent``."""
+    found = {}
+    for entry in Path("/proc").iterdir():
+        if not entry.name.isdigit():
+            continue
+        try:
+            stat = (entry / "stat").read_text()
+            cmdline = (entry / "cmdline").read_bytes().replace(b"\0", b" ").decode(errors="replace")
+        except OSError:
+            continue
+        if int(stat.rsplit(")", 1)[1].split()[1]) == parent and alive(int(entry.name)):
+            found[int(entry.name)] = cmdline
+    return found
+
+
+def _simulator_of(proc: subprocess.Popen[bytes], backend: str) -> int:
+    marker = "ngspice" if backend == "batch" else "lcchain.spice.shared_worker"
+    deadline = time.monotonic() + START_TIMEOUT
+    while time.monotonic() < deadline:
+        assert proc.poll() is None, proc.communicate()
+        for pid, cmdline in _children(proc.pid).items():
+            if marker in cmdline:
+                return pid
+        time.sleep(0.1)
+    proc.kill()
+    raise AssertionError(f"no {marker} child started within {START_TIMEOUT} s")
+
+
+def _gone(pid: int) -> bool:
+    deadline = time.monotonic() + DEATH_TIMEOUT
+    while time.monotonic() < deadline:
+        if not alive(pid):
+            return True
+        time.sleep(0.05)
+    return False
+
+
+@pytest.mark.ngspice
+@pytest.mark.parametrize("backend", ["batch", "shared"])
+@pytest.mark.parametrize(("signum", "status", "said"), [
+    (signal.SIGINT, 130, "lcchain: interrupted"),
+    (signal.SIGTERM, 128 + signal.SIGTERM, "interrupted by signal 15"),
+    (signal.SIGHUP, 128 + signal.SIGHUP, "interrupted by signal 1"),
+    (signal.SIGKILL, -signal.SIGKILL, ""),
+], ids=["SIGINT", "SIGTERM", "SIGHUP", "SIGKILL"])
+def test_no_simulator_and_no_file_outlive_lcchain(tmp_path: Path, backend: str, signum: int, status: int,
+                                                  said: str) -> None:
+    scratch = tmp_path / "tmp"
+    scratch.mkdir()
+    env = dict(os.environ, TMPDIR=str(scratch))
+    proc = subprocess.Popen([sys.executable, "-m", "lcchain", *LONG_RUN, "--backend", backend], cwd=tmp_path, env=env,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    try:
+        child = _simulator_of(proc, backend)
+        time.sleep(0.3)  # let it write to its unnamed raw file for a moment
+        proc.send_signal(signum)
+        _, err = proc.communicate(timeout=60)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+    assert proc.returncode == status, err.decode()
+    assert said in err.decode() and b"Traceback" not in err
+    assert _gone(child), f"the simulator (pid {child}) outlived lcchain"
+    assert list(scratch.iterdir()) == [], "a temporary file was left behind"
+    assert list(tmp_path.iterdir()) == [scratch], "an output file was written"
