@@ -237,6 +237,23 @@ def _print_scene_summary(result: Any) -> None:
               file=sys.stderr)
 
 
+def _scene_in_parallel(scene: Any, args: argparse.Namespace, budget: Any, label: str) -> Any:
+    """A scene's tolerance samples on an executor (lcchain run --workers W), summed up as usual."""
+    import time
+
+    from ..scenes.plan import scene_plan, scene_specs
+    from ..scenes.run import scene_result
+    from ..studies.run import run_specs
+    from .studies import study_progress
+
+    start = time.perf_counter()
+    plan = scene_plan(scene, budget)
+    specs = scene_specs(scene, plan)
+    records = run_specs(specs, executor="process" if args.executor == "serial" else args.executor,
+                        workers=args.workers, scheduler=args.scheduler, progress=study_progress(f"samples of {label}"))
+    return scene_result(scene, plan, specs, records, time.perf_counter() - start)
+
+
 def cmd_run(args: argparse.Namespace) -> int:
     from ..report.scenes import check_scene_outputs, write_scene_outputs
     from ..scenes.load import load_scene
@@ -252,10 +269,14 @@ def cmd_run(args: argparse.Namespace) -> int:
     check_scene_outputs(scenes, {"--netlist-out": args.netlist_out, "--waveform-out": args.waveform_out,
                                  "--side-by-side": args.side_by_side})
     budget = budget_from_args(args)
+    parallel = args.workers is not None and args.workers > 1 or args.executor != "serial"
     results, failed_files = [], False
     for scene in scenes:
-        result = simulate_scene(scene, budget=budget,
-                                progress=fraction_bar(Path(scene.source).name if scene.source else "scene"))
+        label = Path(scene.source).name if scene.source else "scene"
+        if parallel:
+            result = _scene_in_parallel(scene, args, budget, label)
+        else:
+            result = simulate_scene(scene, budget=budget, progress=fraction_bar(label))
         results.append(result)
         if not args.json:
             _print_scene_summary(result)

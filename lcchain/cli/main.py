@@ -23,7 +23,7 @@ from ..core import __version__
 from ..core.blas import BLAS_THREADS
 from ..core.errors import Interrupted, LcchainError, ParameterError, SimulationError, SimulatorMissingError
 from ..core.types import BACKENDS, DESIGN_CASES, EXCITATIONS, METHODS, NAMED_CASES
-from . import commands
+from . import commands, studies
 from .common import EXIT_FAILED, EXIT_MISSING, EXIT_SIGPIPE, EXIT_USAGE, OPTION_NAMES, budget_parent, int_list, number
 
 __all__ = ["main", "build_parser"]
@@ -113,7 +113,27 @@ def build_parser() -> argparse.ArgumentParser:
                    help="figure (.png, .svg, .pdf): the scenes' overlays next to each other on shared axes")
     p.add_argument("--netlist-out", metavar="FILE", help="keep the (first sample's) netlist")
     p.add_argument("--waveform-out", metavar="FILE", help="CSV t,first,last (first sample, dimensionless)")
-    p.set_defaults(func=commands.cmd_run)
+    studies.add_study_arguments(p, store=False)
+    p.set_defaults(func=commands.cmd_run, executor="serial")
+
+    p = sub.add_parser("sweep", parents=budget, help="many runs: the product of comma-list axes, or a scene varied")
+    studies.add_sweep_arguments(p)
+    p.set_defaults(func=studies.cmd_sweep)
+
+    p = sub.add_parser("batch", parents=budget, help="netlists lcchain did not write, run as they are, into a store")
+    p.add_argument("netlist", nargs="+", metavar="NETLIST", help="netlist files (refused when unsafe)")
+    p.add_argument("--allow-control", action="store_true",
+                   help="run .control blocks, shell lines and includes from outside the netlist's folder as they are")
+    studies.add_study_arguments(p)
+    p.set_defaults(func=studies.cmd_batch)
+
+    p = sub.add_parser("results", help="a store's runs: a table, --json, --csv, or a --plot of the study")
+    p.add_argument("store", metavar="STORE.sqlite")
+    out = p.add_mutually_exclusive_group()
+    out.add_argument("--json", action="store_true", help="a list in task order: index, key, status, params, ...")
+    out.add_argument("--csv", action="store_true")
+    p.add_argument("--plot", metavar="FILE", help="figure: Fig. delta for a sweep over N, a histogram for samples")
+    p.set_defaults(func=studies.cmd_results)
 
     p = sub.add_parser("bench", help="benchmarks (accuracy: what each digit costs per method and N)")
     bench = p.add_subparsers(dest="bench", metavar="BENCH", parser_class=_Parser)

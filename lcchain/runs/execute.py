@@ -185,7 +185,7 @@ def execute(spec: RunSpec, simulator: Simulator | None = None, *,
     common = {"key": key, "ngspice_version": simulator.version, "label": spec.label}
     try:
         result = run(spec.netlist, spec.vectors, spec.tstop, simulator=simulator, timeout=spec.timeout,
-                     progress=progress, cwd=spec.cwd)
+                     progress=progress, cwd=spec.cwd, trusted=spec.trusted)
     except SimulationError as error:
         log.info("%s: %s (%s)", spec.label or key[:12], error.status, error.reason)
         return RunRecord(status="timeout" if error.status == "timeout" else "failed", reason=error.reason,

@@ -143,6 +143,9 @@ class RunSpec:
         What to compare with; None runs the netlist and only reads its vectors.
     cwd : str, optional
         The netlist's own folder, for netlists that ``.include`` files next to them.
+    trusted : bool
+        Run ``.control`` blocks, ``shell`` lines and outside includes as they
+        are (``lcchain batch --allow-control``); otherwise they are refused.
     label : str
         A name for progress lines and reports (not part of the key).
     """
@@ -154,6 +157,7 @@ class RunSpec:
     timeout: float = DEFAULT_TIMEOUT
     theory: Theory | None = None
     cwd: str | None = None
+    trusted: bool = False
     label: str = field(default="", compare=False)
 
     def __post_init__(self) -> None:
@@ -173,7 +177,8 @@ class RunSpec:
         """SHA-256 of everything that determines the run's record, for this ngspice version."""
         data = {
             "netlist": self.netlist, "vectors": list(self.vectors), "tstop": float(self.tstop).hex(),
-            "backend": self.backend, "cwd": self.cwd, "lcchain": __version__, "ngspice": ngspice_version,
+            "backend": self.backend, "cwd": self.cwd, "trusted": self.trusted, "lcchain": __version__,
+            "ngspice": ngspice_version,
             "theory": None if self.theory is None else self.theory.fingerprint(),
         }
         return hashlib.sha256(json.dumps(data, sort_keys=True).encode("utf-8")).hexdigest()

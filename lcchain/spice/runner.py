@@ -139,7 +139,7 @@ class RunResult(FrozenArrays):
 
 
 def _check_arguments(netlist: object, vectors: object, tstop: object, timeout: object,
-                     cwd: str | os.PathLike[str] | None) -> tuple[str, list[str], float, float]:
+                     cwd: str | os.PathLike[str] | None, trusted: bool) -> tuple[str, list[str], float, float]:
     if not isinstance(netlist, str) or not netlist.strip():
         raise ParameterError("netlist", netlist, "non-empty netlist text")
     tstop = real("tstop", tstop, above=0.0, unit="seconds")
@@ -153,7 +153,7 @@ def _check_arguments(netlist: object, vectors: object, tstop: object, timeout: o
         key = canonical_vector_name(name)
         if key != "time" and key not in names:
             names.append(key)
-    unsafe = unsafe_lines(netlist, cwd)
+    unsafe = [] if trusted else unsafe_lines(netlist, cwd)
     if unsafe:
         number, line, why = unsafe[0]
         raise ParameterError(f"netlist line {number}", line,
@@ -174,6 +174,7 @@ def run(
     timeout: float = 600.0,
     progress: Callable[[float], None] | None = None,
     cwd: str | os.PathLike[str] | None = None,
+    trusted: bool = False,
 ) -> RunResult:
     """Run a transient netlist in ngspice and return validated waveforms.
 
@@ -184,7 +185,8 @@ def run(
         and ``.save`` lines for the wanted vectors. ``.control`` blocks,
         ``shell`` lines and ``.include``/``.lib`` outside ``cwd`` are refused.
     vectors : Sequence[str]
-        Vector names as saved, e.g. ``["i(l1)", "v(n3)"]`` or ``["l1#branch"]``.
+        Vector names as saved, e.g. ``["i(l1)", "v(n3)"]`` or ``["l1#branch"]``;
+        empty: every vector the raw file holds.
     tstop : float
         End time of the ``.tran`` analysis in seconds; the last time point
         must equal it.
@@ -202,6 +204,8 @@ def run(
     cwd : path-like, optional
         The netlist's own folder (relative ``.include`` files are read there);
         None for a netlist that includes nothing.
+    trusted : bool
+        Skip the safety check (the user said so: ``lcchain batch --allow-control``).
 
     Returns
     -------
@@ -217,7 +221,7 @@ def run(
         ngspice failed, timed out (``status == "timeout"``), or its output
         failed validation.
     """
-    netlist, names, tstop, timeout = _check_arguments(netlist, vectors, tstop, timeout, cwd)
+    netlist, names, tstop, timeout = _check_arguments(netlist, vectors, tstop, timeout, cwd, trusted)
     if simulator is None:
         simulator = find_simulator(choice("backend", backend or "batch", BACKENDS))  # type: ignore[arg-type]
     elif backend is not None and backend != simulator.backend:
@@ -342,6 +346,8 @@ def _validate(columns: dict[str, np.ndarray], log: str, names: list[str],
         raise fail("ngspice returned zero time points")
     if not math.isclose(float(time_s[-1]), tstop, rel_tol=TSTOP_RTOL, abs_tol=0.0):
         raise fail(f"the last time point is {float(time_s[-1])!r} s, not tstop = {tstop!r} s")
+    if not names:  # nothing named: every vector ngspice saved
+        names = sorted(key for key in columns if key != "time")
     missing = [name for name in names if name not in columns]
     if missing:
         available = ", ".join(sorted(k for k in columns if k != "time")) or "none"

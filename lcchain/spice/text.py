@@ -36,15 +36,53 @@ import os
 import re
 from pathlib import Path
 
-__all__ = ["canonical_vector_name", "parse_options", "logical_lines", "unsafe_lines", "UnsafeLine"]
+__all__ = ["canonical_vector_name", "parse_options", "logical_lines", "unsafe_lines", "UnsafeLine", "spice_number",
+           "transient_stop", "saved_vectors", "UNSAFE_FILES"]
 
 _OPTIONS_LINE = re.compile(r"^\s*\.opt(ion|ions)?\b(.*)$", re.IGNORECASE)
 _CONTROL = re.compile(r"^\s*\.(control|endc)\b", re.IGNORECASE)
 _SHELL = re.compile(r"^\s*shell\b", re.IGNORECASE)
 _INCLUDE = re.compile(r"^\s*\.(include|inc|lib)\b\s*(.*)$", re.IGNORECASE)
 
+_TRAN = re.compile(r"^\s*\.tran\b(.*)$", re.IGNORECASE)
+_SAVE = re.compile(r"^\s*\.save\b(.*)$", re.IGNORECASE)
+_NUMBER = re.compile(r"^([-+]?(?:\d+\.?\d*|\.\d+)(?:e[-+]?\d+)?)(meg|mil|[tgkmunpf])?[a-z]*$", re.IGNORECASE)
+_SCALE = {"t": 1e12, "g": 1e9, "meg": 1e6, "k": 1e3, "m": 1e-3, "mil": 25.4e-6, "u": 1e-6, "n": 1e-9, "p": 1e-12,
+          "f": 1e-15}
+
 #: (line number from 1, the line, why it is refused)
 UnsafeLine = tuple[int, str, str]
+#: Files ngspice reads from the folder it runs in, and executes: a netlist's folder must not hold them.
+UNSAFE_FILES = (".spiceinit", "spice.rc")
+
+
+def spice_number(text: str) -> float | None:
+    """A SPICE number: ``1e-6``, ``1u``, ``10meg``, ``2.5ns`` (the unit letters after the scale are ignored)."""
+    match = _NUMBER.match(text.strip())
+    if match is None:
+        return None
+    value = float(match.group(1))
+    return value * _SCALE[match.group(2).lower()] if match.group(2) else value
+
+
+def transient_stop(netlist: str) -> float | None:
+    """The stop time of the netlist's ``.tran`` analysis in seconds, or None when it has none."""
+    for _, line in logical_lines(netlist):
+        match = _TRAN.match(line)
+        if match:
+            words = [w for w in re.split(r"[\s,()]+", match.group(1)) if w]
+            return spice_number(words[1]) if len(words) >= 2 else None
+    return None
+
+
+def saved_vectors(netlist: str) -> tuple[str, ...]:
+    """The vectors the ``.save`` lines name (empty: ngspice saves every node voltage and branch current)."""
+    names: list[str] = []
+    for _, line in logical_lines(netlist):
+        match = _SAVE.match(line)
+        if match:
+            names += [w for w in match.group(1).split() if w.lower() not in ("all", "allv", "alli")]
+    return tuple(dict.fromkeys(names))
 
 
 def canonical_vector_name(name: str) -> str:

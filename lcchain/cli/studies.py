@@ -1,0 +1,221 @@
+"""``lcchain sweep``, ``lcchain batch`` and ``lcchain results``: studies of many runs, in a store."""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import io
+import sys
+import time
+from collections.abc import Callable, Sequence
+from typing import Any
+
+from ..core.errors import ParameterError
+from ..core.types import EXCITATIONS, NAMED_CASES
+from ..report.files import FIGURE_FORMATS
+from .common import EXIT_FAILED, EXIT_OK, Outputs, budget_from_args, emit_json, int_list
+
+__all__ = ["cmd_sweep", "cmd_batch", "cmd_results", "add_study_arguments", "study_progress"]
+
+STORE_FORMATS = ("sqlite", "sqlite3", "db")
+
+
+def _floats(option: str) -> Callable[[str], list[float]]:
+    def parse(text: str) -> list[float]:
+        try:
+            values = [float(v) for v in text.split(",") if v.strip()]
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{option} = {text!r} is not allowed: expected numbers separated by "
+                                             "commas") from None
+        if not values:
+            raise argparse.ArgumentTypeError(f"{option} is empty: expected numbers separated by commas")
+        return values
+
+    return parse
+
+
+def _words(option: str, allowed: Sequence[str]) -> Callable[[str], list[str]]:
+    def parse(text: str) -> list[str]:
+        values = [v.strip() for v in text.split(",") if v.strip()]
+        bad = [v for v in values if v not in allowed]
+        if bad or not values:
+            raise argparse.ArgumentTypeError(f"{option} = {text!r} is not allowed: expected a comma list of "
+                                             f"{' | '.join(allowed)}")
+        return values
+
+    return parse
+
+
+def add_study_arguments(p: argparse.ArgumentParser, *, store: bool = True) -> None:
+    """Where and how a study runs: the store, the executor, its workers, a timeout."""
+    from ..studies.executors import EXECUTORS
+
+    if store:
+        p.add_argument("--store", required=True, metavar="FILE.sqlite", help="the results (created, or resumed)")
+        p.add_argument("--json", action="store_true",
+                       help="print one summary object: total, skipped, ran, ok, failed, store")
+    p.add_argument("--executor", choices=EXECUTORS, default="process", help="where the runs execute (default process)")
+    p.add_argument("--workers", type=int, default=None, help="worker processes (default: one per core)")
+    p.add_argument("--scheduler", metavar="tcp://HOST:PORT", help="an existing Dask scheduler (--executor dask)")
+    p.add_argument("--timeout", type=float, default=3600.0, metavar="S",
+                   help="seconds before a run's ngspice is killed (its record says timeout; default 3600)")
+
+
+def add_sweep_arguments(p: argparse.ArgumentParser) -> None:
+    from .common import number
+
+    p.add_argument("scene", nargs="?", metavar="SCENE.toml", help="vary a scene instead of cases (with --vary)")
+    p.add_argument("--case", type=_words("--case", NAMED_CASES), help="chains, comma separated: an axis")
+    p.add_argument("--N", type=int_list("--N"), help="sizes, comma separated: an axis")
+    step = p.add_mutually_exclusive_group()
+    step.add_argument("--dt", type=_floats("--dt"), help="steps, comma separated: an axis")
+    step.add_argument("--accuracy", type=_floats("--accuracy"), help="accuracies, comma separated: an axis")
+    p.add_argument("--transits", type=int_list("--transits"), default=[1], help="transits, comma separated")
+    p.add_argument("--excitation", type=_words("--excitation", EXCITATIONS), default=["kick"],
+                   help="kick and/or displacement, comma separated")
+    p.add_argument("--L0", type=number("--L0"), default=10e-6, help="bulk inductance, henry (default 10e-6)")
+    p.add_argument("--C0", type=number("--C0"), default=10e-9, help="bulk capacitance, farad (default 10e-9)")
+    p.add_argument("--backend", choices=("batch", "shared"), default="batch")
+    p.add_argument("--vary", action="append", default=[], metavar="KEY=V1,V2,...",
+                   help="with SCENE.toml: a dotted scene key and its values (repeat for more axes)")
+    p.add_argument("--samples", type=int, help="with SCENE.toml: tolerance samples (each a task of its own)")
+    p.add_argument("--seed", type=int, help="with SCENE.toml: the tolerance seed")
+    add_study_arguments(p)
+
+
+def _duration(seconds: float) -> str:
+    seconds = int(round(seconds))
+    return f"{seconds // 3600}h{seconds % 3600 // 60:02d}m" if seconds >= 3600 else \
+        f"{seconds // 60}m{seconds % 60:02d}s" if seconds >= 60 else f"{seconds}s"
+
+
+def study_progress(what: str) -> Callable[[Any], None]:
+    """Progress of a study: a bar on a terminal, a plain line every 10 % (or 30 s) otherwise."""
+    shown = {"line": -1.0, "time": 0.0}
+
+    def show(progress: Any) -> None:
+        left = progress.remaining
+        text = (f"{progress.done}/{progress.total} {what}, {progress.failed} failed, "
+                f"{_duration(progress.elapsed)} elapsed" + (f", about {_duration(left)} left" if left else ""))
+        fraction = progress.done / max(1, progress.total)
+        if sys.stderr.isatty():
+            width = 30
+            filled = int(width * fraction)
+            sys.stderr.write(f"\r[{'#' * filled}{'.' * (width - filled)}] {text}\033[K" +
+                             ("\n" if progress.done >= progress.total else ""))
+            sys.stderr.flush()
+        elif (fraction - shown["line"] >= 0.1 or time.monotonic() - shown["time"] >= 30
+              or progress.done >= progress.total):
+            shown["line"], shown["time"] = fraction, time.monotonic()
+            print(f"lcchain: {text}", file=sys.stderr, flush=True)
+
+    return show
+
+
+def _run(args: argparse.Namespace, plan: Any, outputs: Outputs) -> int:
+    from ..studies.executors import default_workers
+    from ..studies.run import run_plan
+
+    workers = args.workers or default_workers()
+    if workers < 1:
+        raise ParameterError("--workers", args.workers, "an integer >= 1")
+    plan.check(budget_from_args(args), workers)
+
+    def resumed(skipped: int, todo: int) -> None:
+        if skipped:
+            print(f"lcchain: resuming {args.store}: {skipped} of {skipped + todo} runs are stored, {todo} to run",
+                  file=sys.stderr, flush=True)
+
+    summary = run_plan(plan, args.store, executor=args.executor, workers=workers, scheduler=args.scheduler,
+                       progress=study_progress("runs"), on_resume=resumed)
+    if args.json:
+        emit_json(summary.to_dict())
+    else:
+        print(f"{summary.total} runs in {args.store}: {summary.ran} ran now, {summary.skipped} already stored; "
+              f"{summary.ok} ok, {summary.failed} failed ({summary.wall_s:.1f} s)")
+    return EXIT_OK if summary.failed == 0 and summary.ok == summary.total else EXIT_FAILED
+
+
+def cmd_sweep(args: argparse.Namespace) -> int:
+    from ..studies.plan import parse_vary, scene_sweep_plan, sweep_plan
+
+    outputs = Outputs()
+    outputs.check("--store", args.store, STORE_FORMATS)
+    budget = budget_from_args(args)
+    if args.scene:
+        given = [o for o, v in (("--case", args.case), ("--N", args.N), ("--dt", args.dt),
+                                ("--accuracy", args.accuracy)) if v is not None]
+        if given:
+            raise ParameterError(given[0], getattr(args, given[0].lstrip("-")), "nothing with SCENE.toml (the scene "
+                                 "says the chain and the analysis; vary its keys with --vary)")
+        plan = scene_sweep_plan(args.scene, [parse_vary(v) for v in args.vary], samples=args.samples,
+                                seed=args.seed, budget=budget)
+    else:
+        given = [o for o, v in (("--vary", args.vary), ("--samples", args.samples), ("--seed", args.seed)) if v]
+        if given:
+            raise ParameterError(given[0], getattr(args, given[0].lstrip("-")), "nothing without SCENE.toml")
+        if not args.case or not args.N:
+            raise ParameterError("--case" if not args.case else "--N", None, "--case and --N lists (or SCENE.toml)")
+        plan = sweep_plan(cases=args.case, Ns=args.N, dts=args.dt or ([] if args.accuracy else [0.05]),
+                          accuracies=args.accuracy or [], transits=args.transits, excitations=args.excitation,
+                          L0=args.L0, C0=args.C0, backend=args.backend, timeout=args.timeout, budget=budget)
+    return _run(args, plan, outputs)
+
+
+def cmd_batch(args: argparse.Namespace) -> int:
+    from ..studies.plan import batch_plan
+
+    outputs = Outputs()
+    outputs.check("--store", args.store, STORE_FORMATS)
+    plan = batch_plan(args.netlist, allow_control=args.allow_control, timeout=args.timeout)
+    return _run(args, plan, outputs)
+
+
+def _flat(run: dict[str, Any]) -> dict[str, Any]:
+    row = {"index": run["index"], "status": run["status"], **run["params"], "digest": run["digest"],
+           "max_abs_error": run.get("max_abs_error"), "wall_s": run["wall_s"]}
+    arrivals = run.get("arrivals") or []
+    if arrivals:
+        row.update(t_sim=arrivals[0]["t_sim"], peak_sim=arrivals[0]["peak_sim"], peak_theory=arrivals[0]["peak_theory"])
+    if "error" in run:
+        row["error"] = run["error"].splitlines()[0]
+    return row
+
+
+def cmd_results(args: argparse.Namespace) -> int:
+    from pathlib import Path
+
+    from ..studies.store import Store
+
+    if not Path(args.store).is_file():
+        raise ParameterError("STORE", args.store, "an existing store made by lcchain sweep or batch")
+    outputs = Outputs()
+    outputs.check("--plot", args.plot, FIGURE_FORMATS)
+    with Store(args.store) as store:
+        if "plan" not in store.meta():
+            raise ParameterError("STORE", args.store, "a store made by lcchain sweep or batch (this one holds no plan)")
+        runs = [run.to_dict() for run in store.runs()]
+        if args.plot:
+            from ..report.files import save_figure
+            from ..report.studies import study_figure
+
+            figure = study_figure(store)
+            outputs.write("--plot", lambda path: save_figure(figure, path, dpi=150))
+    if args.json:
+        emit_json(runs)
+    elif args.csv:
+        rows = [_flat(run) for run in runs]
+        columns = list(dict.fromkeys(key for row in rows for key in row))
+        text = io.StringIO()
+        writer = csv.DictWriter(text, fieldnames=columns, lineterminator="\n")
+        writer.writeheader()
+        writer.writerows(rows)
+        sys.stdout.write(text.getvalue())
+    else:
+        counts = {s: sum(r["status"] == s for r in runs) for s in ("ok", "failed", "timeout", "pending")}
+        print(f"{args.store}: {len(runs)} runs: " + ", ".join(f"{n} {s}" for s, n in counts.items() if n))
+        for run in runs:
+            error = run.get("max_abs_error")
+            shown = f"error {error:.3g}" if error is not None else run.get("error", "").split("\n")[0][:80]
+            print(f"{run['index']:>5} {run['status']:>8}  {run['params']}  {shown}")
+    return EXIT_FAILED if outputs.failed else EXIT_OK

@@ -1,0 +1,253 @@
+"""Plans of many runs: what a study will run, decided and checked before anything runs.
+
+A :class:`Plan` is an ordered tuple of :class:`Task` values, each a run spec
+(:class:`~lcchain.runs.spec.RunSpec`) and the parameters that made it.  Every
+spec is built here, in the parent: netlists written, steps chosen, tolerance
+samples drawn from ``numpy.random.SeedSequence`` children and written into
+each netlist as plain numbers, so the same plan gives the same runs on any
+executor, host or attempt.
+
+* :func:`sweep_plan`: the product of cases, sizes, steps or accuracies,
+  transits and excitations (``lcchain sweep --case ... --N ...``);
+* :func:`scene_sweep_plan`: a scene with dotted keys varied, each tolerance
+  sample a task of its own (``lcchain sweep SCENE.toml --vary ...``);
+* :func:`batch_plan`: netlists lcchain did not write, run as they are
+  (``lcchain batch``), refused before anything runs when unsafe.
+"""
+
+from __future__ import annotations
+
+import copy
+import hashlib
+import itertools
+import json
+import tomllib
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from ..core.budget import Budget, Estimate
+from ..core.errors import ParameterError
+from ..core.frozen import FrozenMap
+from ..core.types import Backend, Excitation
+from ..runs.simulate import simulation_spec
+from ..runs.spec import DEFAULT_TIMEOUT, RunSpec
+from ..scenes.load import load_scene, parse_scene
+from ..scenes.plan import scene_plan, scene_specs
+from ..spice.text import UNSAFE_FILES, saved_vectors, transient_stop, unsafe_lines
+from ..theory.cases import chain_for_case
+from ..theory.spectrum import normal_modes
+
+__all__ = ["Task", "Plan", "sweep_plan", "scene_sweep_plan", "batch_plan", "parse_vary"]
+
+
+@dataclass(frozen=True)
+class Task:
+    """One run of a study.
+
+    Attributes
+    ----------
+    index : int
+        Its place in the plan (records are read back in this order).
+    params : Mapping[str, object]
+        The varied values that made it, by name (JSON values).
+    spec : RunSpec
+    seconds : float
+        Its estimated wall time (for grouping short tasks).
+    """
+
+    index: int
+    params: Mapping[str, Any]
+    spec: RunSpec
+    seconds: float = 0.0
+
+
+@dataclass(frozen=True)
+class Plan:
+    """Everything a study will run.
+
+    Attributes
+    ----------
+    kind : {"sweep", "scene", "batch"}
+    description : Mapping
+        What the user asked for (the command's axes), kept with the store.
+    tasks : tuple of Task
+    backend : {"batch", "shared"}
+    """
+
+    kind: str
+    description: Mapping[str, Any]
+    tasks: tuple[Task, ...]
+    backend: Backend = "batch"
+    axes: tuple[str, ...] = field(default=())
+
+    def keys(self, ngspice_version: str) -> list[str]:
+        return [task.spec.key(ngspice_version) for task in self.tasks]
+
+    def fingerprint(self, ngspice_version: str) -> str:
+        """The plan's identity: its ordered task keys (which hold the lcchain and ngspice versions)."""
+        return hashlib.sha256("\n".join(self.keys(ngspice_version)).encode()).hexdigest()
+
+    def estimate(self) -> float:
+        """Estimated seconds of all its runs together, on one worker."""
+        return sum(task.seconds for task in self.tasks)
+
+    def check(self, budget: Budget, workers: int, option: str = "--max-time") -> None:
+        """Refuse a study whose runs would take longer than the budget on these workers."""
+        seconds = self.estimate() / max(1, workers)
+        Estimate(f"{len(self.tasks)} runs on {workers} worker{'s' if workers > 1 else ''}", 0.0,
+                 seconds).check(budget, "study", f"{len(self.tasks)} runs", "fewer runs, more workers, or a larger "
+                                "--max-time")
+
+
+def _seconds(spec: RunSpec) -> float:
+    """A run's wall time from the cost model (unknowns x points)."""
+    theory = spec.theory
+    if theory is None or theory.dt is None:
+        return 0.1
+    from ..core.budget import NGSPICE_SECONDS_PER_UNKNOWN_POINT
+
+    points = spec.tstop / theory.time_unit / theory.dt
+    return NGSPICE_SECONDS_PER_UNKNOWN_POINT * 2 * theory.chain.N * points + 0.02
+
+
+def sweep_plan(*, cases: Sequence[str], Ns: Sequence[int], dts: Sequence[float] = (), accuracies: Sequence[float] = (),
+               transits: Sequence[int] = (1,), excitations: Sequence[Excitation] = ("kick",), L0: float = 10e-6,
+               C0: float = 10e-9, backend: Backend = "batch", timeout: float = DEFAULT_TIMEOUT,
+               budget: Budget | None = None,
+               progress: Callable[[int, int, str], None] | None = None) -> Plan:
+    """The product of the axes: one task per (case, N, dt or accuracy, transits, excitation).
+
+    Every run is checked against ``budget`` as :func:`lcchain.simulate` would.
+    """
+    if bool(dts) == bool(accuracies):
+        raise ParameterError("--dt/--accuracy", (list(dts), list(accuracies)), "steps or accuracies, not both")
+    steps = [("dt", v) for v in dts] + [("accuracy", v) for v in accuracies]
+    combos = list(itertools.product(cases, Ns, steps, transits, excitations))
+    chains: dict[tuple[str, int], Any] = {}
+    tasks = []
+    for index, (case, N, (step, value), transit, excitation) in enumerate(combos):
+        if progress is not None:
+            progress(index, len(combos), f"planning {case} N={N}")
+        if (case, N) not in chains:
+            chain = chain_for_case(case, N)
+            chains[(case, N)] = (chain, normal_modes(chain))
+        chain, modes = chains[(case, N)]
+        spec, _, options = simulation_spec(chain, transits=transit, excitation=excitation, L0=L0, C0=C0,
+                                           backend=backend, timeout=timeout, modes=modes, budget=budget,
+                                           dt=value if step == "dt" else None,
+                                           accuracy=value if step == "accuracy" else None)
+        params = {"case": case, "N": N, step: value, "transits": transit, "excitation": excitation}
+        if step == "accuracy":
+            params["dt"] = options.dt
+        tasks.append(Task(index, FrozenMap(params), spec, _seconds(spec)))
+    description = {"command": "sweep", "case": list(cases), "N": list(Ns), "dt": list(dts),
+                   "accuracy": list(accuracies), "transits": list(transits), "excitation": list(excitations),
+                   "L0": L0, "C0": C0, "backend": backend}
+    axes = tuple(name for name, values in (("case", cases), ("N", Ns), ("dt", dts), ("accuracy", accuracies),
+                                           ("transits", transits), ("excitation", excitations)) if len(values) > 1)
+    return Plan("sweep", FrozenMap(description), tuple(tasks), backend, axes)
+
+
+def parse_vary(text: str) -> tuple[str, list[Any]]:
+    """``KEY=V1,V2,...`` -> (dotted key, TOML values): ``chain.N=50,100`` -> ("chain.N", [50, 100])."""
+    key, sep, values = text.partition("=")
+    key = key.strip()
+    if not sep or not key or not values.strip():
+        raise ParameterError("--vary", text, "KEY=V1,V2,... with a dotted scene key, e.g. chain.N=50,100")
+    parsed = []
+    for raw in values.split(","):
+        try:
+            parsed.append(tomllib.loads(f"v = {raw.strip()}")["v"])
+        except tomllib.TOMLDecodeError:
+            parsed.append(raw.strip())  # a bare word: a string (two-mass, gaussian)
+    return key, parsed
+
+
+def _set(data: dict[str, Any], dotted: str, value: Any) -> None:
+    parts = dotted.split(".")
+    table = data
+    for part in parts[:-1]:
+        table = table.setdefault(part, {})
+        if not isinstance(table, dict):
+            raise ParameterError("--vary", dotted, f"a key inside a table ({part} is not a table)")
+    table[parts[-1]] = value
+
+
+def scene_sweep_plan(path: str | Path, varies: Sequence[tuple[str, list[Any]]], *, samples: int | None = None,
+                     seed: int | None = None, budget: Budget | None = None,
+                     progress: Callable[[int, int, str], None] | None = None) -> Plan:
+    """A scene with dotted keys varied (the product of their values); each tolerance sample is a task."""
+    scene = load_scene(path)
+    base = scene.to_dict()
+    if samples is not None or seed is not None:
+        tolerance = base.setdefault("effects", {}).setdefault("tolerance", {})
+        if samples is not None:
+            tolerance["samples"] = samples
+        if seed is not None:
+            tolerance["seed"] = seed
+    keys = [key for key, _ in varies]
+    combos = list(itertools.product(*[values for _, values in varies])) if varies else [()]
+    tasks: list[Task] = []
+    for n, values in enumerate(combos):
+        data = copy.deepcopy(base)
+        for key, value in zip(keys, values, strict=True):
+            _set(data, key, value)
+        params = dict(zip(keys, values, strict=True))
+        if progress is not None:
+            progress(n, len(combos), f"planning {params}")
+        try:
+            varied = parse_scene(data, source=str(path))
+        except ParameterError as error:
+            raise error.located(str(path)) from None
+        plan = scene_plan(varied, budget)
+        for k, spec in enumerate(scene_specs(varied, plan), start=1):
+            task_params = {**params, "sample": k} if len(plan.chains) > 1 else params
+            tasks.append(Task(len(tasks), FrozenMap(task_params), spec, _seconds(spec)))
+    description = {"command": "sweep", "scene": str(path), "scene_data": base, "vary": dict(varies),
+                   "samples": samples, "seed": seed}
+    axes = tuple(keys) + (("sample",) if any("sample" in t.params for t in tasks) else ())
+    return Plan("scene", FrozenMap(json.loads(json.dumps(description, default=str))), tuple(tasks),
+                scene.analysis.backend, axes)
+
+
+def batch_plan(paths: Sequence[str | Path], *, allow_control: bool = False, backend: Backend = "batch",
+               timeout: float = DEFAULT_TIMEOUT) -> Plan:
+    """Foreign netlists, run as they are: every file read and checked before anything runs.
+
+    A netlist with a ``.control`` block, a ``shell`` line or an
+    ``.include``/``.lib`` outside its own folder, or in a folder holding a
+    ``.spiceinit`` (which ngspice executes), is refused unless
+    ``allow_control``: ngspice executes shell commands in batch mode.
+    """
+    tasks = []
+    for index, name in enumerate(paths):
+        path = Path(name)
+        try:
+            text = path.read_text(encoding="utf-8")
+        except OSError as error:
+            raise ParameterError("NETLIST", str(path), f"a readable netlist ({error.strerror})") from None
+        except UnicodeDecodeError as error:
+            raise ParameterError("NETLIST", str(path), f"UTF-8 text ({error.reason} at byte {error.start})") from None
+        folder = path.resolve().parent
+        if not allow_control:
+            unsafe = unsafe_lines(text, folder)
+            if unsafe:
+                number, line, why = unsafe[0]
+                raise ParameterError(f"{path}: line {number}", line, f"a netlist without {why} (ngspice would "
+                                     "execute it; --allow-control runs such netlists as they are)")
+            for special in UNSAFE_FILES:
+                if (folder / special).exists():
+                    raise ParameterError(str(path), str(folder / special), "a netlist in a folder without "
+                                         f"{special} (ngspice runs its commands; --allow-control accepts it)")
+        tstop = transient_stop(text)
+        if tstop is None or not tstop > 0:
+            raise ParameterError(str(path), ".tran", "a netlist with a .tran analysis and its stop time "
+                                 "(lcchain reads transients)")
+        spec = RunSpec(text, saved_vectors(text), tstop, backend=backend, timeout=timeout, cwd=str(folder),
+                       trusted=allow_control, label=path.name)
+        tasks.append(Task(index, FrozenMap({"netlist": str(path)}), spec, 0.1))
+    description = {"command": "batch", "netlists": [str(p) for p in paths], "allow_control": allow_control,
+                   "backend": backend}
+    return Plan("batch", FrozenMap(description), tuple(tasks), backend, ("netlist",))
