@@ -36,3 +36,28 @@ def children_named(parent: int, name: str) -> list[int]:
         if ppid == parent and comm == name and alive(int(entry.name)):
             found.append(int(entry.name))
     return found
+
+
+def descendants(root: int) -> dict[int, str]:
+    """pid -> command name of every live process below ``root`` in the process tree."""
+    parents: dict[int, int] = {}
+    names: dict[int, str] = {}
+    for entry in Path("/proc").iterdir():
+        if not entry.name.isdigit():
+            continue
+        try:
+            stat = (entry / "stat").read_text()
+        except OSError:
+            continue
+        pid = int(entry.name)
+        parents[pid] = int(stat.rsplit(")", 1)[1].split()[1])
+        names[pid] = stat[stat.index("(") + 1 : stat.rindex(")")]
+    found: dict[int, str] = {}
+    frontier = [root]
+    while frontier:
+        parent = frontier.pop()
+        for pid, ppid in parents.items():
+            if ppid == parent and pid not in found and alive(pid):
+                found[pid] = names[pid]
+                frontier.append(pid)
+    return found

@@ -1,0 +1,263 @@
+"""Studies at scale, with real ngspice and a real Dask (issue 11).
+
+Every executor gives the same digests; a killed driver loses no finished run
+and a restarted one redoes none; a killed Dask worker costs nothing but time;
+a run ngspice rejects becomes one failed record; an unsafe netlist is refused
+before anything runs; a timeout leaves no ngspice running; the cluster path
+works against a ``dask scheduler`` and ``dask worker`` started on 127.0.0.1.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import socket
+import sqlite3
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+from helpers.processes import alive, descendants
+
+from lcchain.cli import main
+from lcchain.studies.plan import batch_plan, sweep_plan
+from lcchain.studies.run import run_plan
+from lcchain.studies.store import Store
+
+ROOT = Path(__file__).resolve().parent.parent
+DASK = Path(sys.executable).parent / "dask"
+#: A small sweep: 2 cases x 3 sizes x 2 steps = 12 runs of a fraction of a second.
+SMALL = dict(cases=["one-mass", "two-mass"], Ns=[20, 40, 60], dts=[0.05, 0.03])
+#: The sweep a killed driver leaves half done: 16 runs of about half a second.
+LONG = ["--case", "two-mass", "--N", "100,150,200,250", "--dt", "0.02,0.025,0.03,0.04"]
+
+pytestmark = pytest.mark.ngspice
+
+
+def _digests(path: Path) -> list[str]:
+    with Store(path) as store:
+        return [run.digest for run in store.runs()]
+
+
+def _stored(path: Path) -> int:
+    try:
+        with sqlite3.connect(path, timeout=5) as db:
+            return db.execute("SELECT COUNT(*) FROM records").fetchone()[0]
+    except sqlite3.Error:
+        return 0
+
+
+@pytest.fixture(scope="module")
+def serial_store(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    path = tmp_path_factory.mktemp("serial") / "s.sqlite"
+    summary = run_plan(sweep_plan(**SMALL), path, executor="serial")
+    assert (summary.total, summary.ran, summary.ok) == (12, 12, 12)
+    return path
+
+
+@pytest.mark.parametrize("executor", ["process", "dask"])
+def test_every_executor_stores_the_same_digests(serial_store: Path, tmp_path: Path, executor: str) -> None:
+    path = tmp_path / f"{executor}.sqlite"
+    summary = run_plan(sweep_plan(**SMALL), path, executor=executor, workers=2)
+    assert summary.to_dict() | {"wall_s": 0} == {"total": 12, "skipped": 0, "ran": 12, "ok": 12, "failed": 0,
+                                                 "store": str(path), "wall_s": 0}
+    assert _digests(path) == _digests(serial_store) and all(len(d) == 64 for d in _digests(path))
+    again = run_plan(sweep_plan(**SMALL), path, executor=executor, workers=2)
+    assert (again.skipped, again.ran) == (12, 0)  # a finished study runs nothing
+
+
+def test_a_store_of_another_plan_is_refused(serial_store: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    status = main(["sweep", "--case", "two-mass", "--N", "20", "--store", str(serial_store)])
+    err = capsys.readouterr().err
+    assert status == 2 and "holds another" in err and "never mixes" in err
+
+
+def test_results_json_lists_every_run_in_task_order(serial_store: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["results", str(serial_store), "--json"]) == 0
+    runs = json.loads(capsys.readouterr().out)
+    assert [r["index"] for r in runs] == list(range(12))
+    for run in runs:
+        assert {"index", "key", "status", "params", "digest", "max_abs_error", "arrivals", "wall_s"} <= run.keys()
+        assert run["status"] == "ok" and run["max_abs_error"] < 2e-3
+    assert runs[0]["params"] == {"case": "one-mass", "N": 20, "dt": 0.05, "transits": 1, "excitation": "kick"}
+    assert main(["results", str(serial_store), "--csv"]) == 0
+    header = capsys.readouterr().out.splitlines()[0].split(",")
+    assert {"index", "status", "case", "N", "dt", "digest", "peak_sim"} <= set(header)
+
+
+def test_a_killed_driver_loses_no_finished_run_and_redoes_none(tmp_path: Path) -> None:
+    store = tmp_path / "long.sqlite"
+    command = [sys.executable, "-m", "lcchain", "sweep", *LONG, "--store", str(store), "--workers", "2"]
+    env = dict(os.environ, TMPDIR=str(tmp_path))
+    driver = subprocess.Popen(command, cwd=tmp_path, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    deadline = time.monotonic() + 120
+    while _stored(store) < 4 and time.monotonic() < deadline and driver.poll() is None:
+        time.sleep(0.1)
+    family = descendants(driver.pid)
+    driver.send_signal(signal.SIGKILL)
+    driver.wait(timeout=30)
+    kept = _stored(store)
+    assert 4 <= kept < 16, "the sweep was not caught half way"
+    time.sleep(1.0)  # the kernel's parent-death signals arrive
+    assert [pid for pid in family if alive(pid)] == [], f"workers or ngspice outlived the driver: {family}"
+    resumed = subprocess.run([*command, "--json"], cwd=tmp_path, env=env, capture_output=True, text=True,
+                             timeout=600)
+    summary = json.loads(resumed.stdout)
+    assert resumed.returncode == 0, resumed.stderr
+    assert (summary["skipped"], summary["ran"], summary["ok"]) == (kept, 16 - kept, 16)
+    assert f"{kept} of 16 runs are stored, {16 - kept} to run" in resumed.stderr
+    reference = tmp_path / "reference.sqlite"
+    assert main(["sweep", *LONG, "--store", str(reference), "--executor", "serial"]) == 0
+    assert _digests(store) == _digests(reference)
+    assert [p.name for p in tmp_path.iterdir() if not p.name.endswith((".sqlite", "-wal", "-shm"))] == []
+
+
+def test_a_rejected_netlist_is_one_failed_record(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    good = (ROOT / "netlists" / "perfect-N4.cir").read_text()
+    (tmp_path / "good.cir").write_text(good)
+    (tmp_path / "bad.cir").write_text(good.replace("C2_3 n2 0", "Q2_3 n2 0"))
+    (tmp_path / "also.cir").write_text((ROOT / "netlists" / "perfect-N3.cir").read_text())
+    names = [str(tmp_path / n) for n in ("good.cir", "bad.cir", "also.cir")]
+    status = main(["batch", *names, "--store", str(tmp_path / "b.sqlite"), "--executor", "serial", "--json"])
+    summary = json.loads(capsys.readouterr().out)
+    assert status == 1 and (summary["ok"], summary["failed"]) == (2, 1)
+    with Store(tmp_path / "b.sqlite") as store:
+        runs = store.runs()
+        assert [r.status for r in runs] == ["ok", "failed", "ok"]
+        assert "could not find a valid modelname" in runs[1].reason + runs[1].log_tail
+        waveforms = store.waveforms(runs[0].key)
+    assert waveforms is not None and {"time", "i(l1)", "i(l4)"} <= waveforms.keys()
+
+
+@pytest.mark.parametrize("line", [".control\nshell touch {marker}\n.endc", ".include /etc/passwd"])
+def test_an_unsafe_netlist_is_refused_before_anything_runs(tmp_path: Path, line: str,
+                                                          capsys: pytest.CaptureFixture[str]) -> None:
+    marker = tmp_path / "executed"
+    good = (ROOT / "netlists" / "perfect-N3.cir").read_text()
+    (tmp_path / "a.cir").write_text(good)
+    (tmp_path / "z.cir").write_text(good.replace(".end\n", line.format(marker=marker) + "\n.end\n"))
+    status = main(["batch", str(tmp_path / "a.cir"), str(tmp_path / "z.cir"), "--store", str(tmp_path / "u.sqlite")])
+    err = capsys.readouterr().err
+    assert status == 2 and "z.cir: line" in err and "--allow-control" in err
+    assert not (tmp_path / "u.sqlite").exists() and not marker.exists()
+
+
+def test_a_spiceinit_beside_a_netlist_is_refused(tmp_path: Path) -> None:
+    (tmp_path / "a.cir").write_text((ROOT / "netlists" / "perfect-N3.cir").read_text())
+    (tmp_path / ".spiceinit").write_text("shell touch x\n")
+    with pytest.raises(Exception, match="spiceinit"):
+        batch_plan([tmp_path / "a.cir"])
+
+
+def test_a_timeout_is_a_record_and_leaves_no_ngspice(tmp_path: Path) -> None:
+    endless = (ROOT / "netlists" / "perfect-N3.cir").read_text()
+    endless = "\n".join(line if not line.startswith(".tran") else ".tran 1e-10 1.0 0 1e-10 uic"
+                        for line in endless.splitlines()) + "\n"
+    (tmp_path / "endless.cir").write_text(endless)
+    plan = batch_plan([tmp_path / "endless.cir"], timeout=1.0)
+    before = set(descendants(os.getpid()))
+    summary = run_plan(plan, tmp_path / "t.sqlite", executor="process", workers=1)
+    assert (summary.failed, summary.ok) == (1, 0)
+    with Store(tmp_path / "t.sqlite") as store:
+        (run,) = store.runs()
+    assert run.status == "timeout" and "timed out after 1 s" in run.reason
+    assert [p for p, name in descendants(os.getpid()).items() if p not in before and name == "ngspice"] == []
+
+
+def test_run_workers_gives_the_serial_result(tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
+                                             capsys: pytest.CaptureFixture[str]) -> None:
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "mc.toml").write_text('[chain]\ncase = "two-mass"\nN = 12\n[effects.tolerance]\nL = 0.02\nC = 0.02\n'
+                                      'samples = 6\nseed = 5\n[output]\nplots = []\n')
+    assert main(["run", "mc.toml", "--json"]) == 0
+    serial = json.loads(capsys.readouterr().out)
+    assert main(["run", "mc.toml", "--json", "--workers", "2"]) == 0
+    parallel = json.loads(capsys.readouterr().out)
+    assert [s["digest"] for s in parallel["samples"]] == [s["digest"] for s in serial["samples"]]
+    assert parallel["transmitted_peak"] == serial["transmitted_peak"]
+
+
+def test_a_scene_sweep_varies_keys_and_makes_each_sample_a_task(tmp_path: Path,
+                                                                capsys: pytest.CaptureFixture[str]) -> None:
+    scene = tmp_path / "bench.toml"
+    scene.write_text('[chain]\ncase = "two-mass"\nN = 10\n[effects.losses]\nQ = 50\n[effects.tolerance]\nL = 0.01\n'
+                     '[output]\nplots = []\n')
+    store = tmp_path / "v.sqlite"
+    status = main(["sweep", str(scene), "--vary", "chain.N=10,14", "--vary", "effects.losses.Q=50,100",
+                   "--samples", "3", "--seed", "2", "--store", str(store), "--executor", "serial", "--json"])
+    assert status == 0 and json.loads(capsys.readouterr().out)["total"] == 12
+    with Store(store) as results:
+        params = [run.params for run in results.runs()]
+    assert params[0] == {"chain.N": 10, "effects.losses.Q": 50, "sample": 1}
+    assert params[-1] == {"chain.N": 14, "effects.losses.Q": 100, "sample": 3}
+    assert main(["results", str(store), "--plot", str(tmp_path / "h.png")]) == 0
+    assert (tmp_path / "h.png").stat().st_size > 10_000
+
+
+def test_a_sweep_over_N_draws_fig_delta(serial_store: Path, tmp_path: Path) -> None:
+    assert main(["results", str(serial_store), "--plot", str(tmp_path / "delta.svg")]) == 0
+    assert "Fig. delta" in (tmp_path / "delta.svg").read_text() or (tmp_path / "delta.svg").stat().st_size > 10_000
+
+
+# ------------------------------------------------------------------ a real cluster on 127.0.0.1
+
+
+def _free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return int(s.getsockname()[1])
+
+
+def _start(command: list[str], log: Path) -> subprocess.Popen[bytes]:
+    with log.open("wb") as output:  # the child keeps its own copy of the descriptor
+        return subprocess.Popen(command, stdout=output, stderr=subprocess.STDOUT, cwd=log.parent,
+                                start_new_session=True)
+
+
+def _stop(processes: list[subprocess.Popen[bytes]]) -> None:
+    for proc in processes:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGTERM)
+    for proc in processes:
+        try:
+            proc.wait(timeout=20)
+        except subprocess.TimeoutExpired:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait()
+
+
+def test_an_existing_cluster_runs_the_study_and_survives_a_killed_worker(serial_store: Path, tmp_path: Path) -> None:
+    port = _free_port()
+    address = f"tcp://127.0.0.1:{port}"
+    scheduler = _start([str(DASK), "scheduler", "--host", "127.0.0.1", "--port", str(port),
+                        "--dashboard-address", ":0", "--no-show"], tmp_path / "scheduler.log")
+    processes = [scheduler]
+    try:
+        for n in range(2):
+            processes.append(_start([str(DASK), "worker", address, "--nthreads", "1", "--nworkers", "1",
+                                     "--host", "127.0.0.1", "--no-nanny", "--name", f"w{n}",
+                                     "--dashboard-address", ":0"], tmp_path / f"worker{n}.log"))
+        from distributed import Client
+
+        with Client(address, timeout=60) as client:
+            client.wait_for_workers(2, timeout=60)
+        store = tmp_path / "cluster.sqlite"
+        command = [sys.executable, "-m", "lcchain", "sweep", *LONG, "--store", str(store), "--executor", "dask",
+                   "--scheduler", address, "--json"]
+        driver = subprocess.Popen(command, cwd=tmp_path, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+        deadline = time.monotonic() + 120
+        while _stored(store) < 3 and time.monotonic() < deadline and driver.poll() is None:
+            time.sleep(0.1)
+        os.killpg(processes[1].pid, signal.SIGKILL)  # one worker dies mid-study
+        out, err = driver.communicate(timeout=600)
+        summary = json.loads(out)
+        assert driver.returncode == 0, err.decode()
+        assert (summary["ran"], summary["ok"], summary["failed"]) == (16, 16, 0)
+        reference = tmp_path / "reference.sqlite"
+        assert main(["sweep", *LONG, "--store", str(reference), "--executor", "serial"]) == 0
+        assert _digests(store) == _digests(reference)
+    finally:
+        _stop(processes)
