@@ -5,51 +5,92 @@ The package's folders follow the data's path (see README, "Layout")::
 
     core -> theory -> circuit -> spice -> compare -> runs -> scenes -> studies -> report -> cli
 
-``import lcchain`` loads the theory and the orchestration, never matplotlib,
-PySpice or Dask (those are imported on demand, in ``report``, ``spice``'s
-child process and ``studies``).  ``lcchain.plots`` is
-:mod:`lcchain.report.plots`, loaded when first used.
+The public names below load on first use (Scientific Python's SPEC 1), so
+``import lcchain`` is quick for a pool worker or a command that needs little;
+``import lcchain`` never loads matplotlib, PySpice or Dask.
+``lcchain.plots`` is :mod:`lcchain.report.plots`.
 """
 
-from typing import Any
+from __future__ import annotations
 
-from .circuit.ladder import Ladder
-from .circuit.netlist import SimulationOptions, netlist_text
-from .compare.accuracy import dt_for_accuracy, predicted_error
+import importlib
+from typing import TYPE_CHECKING, Any
+
 from .core import __version__
-from .core.errors import Interrupted, LcchainError, ParameterError, SimulationError, SimulatorMissingError
-from .report.scenes import run_scene
-from .runs.execute import RunRecord, execute
-from .runs.simulate import SimulationReport, simulate
-from .runs.spec import RunSpec, Theory
-from .scenes.load import load_scene, parse_scene
-from .scenes.run import simulate_scene
-from .scenes.schema import Scene
-from .spice.simulator import Simulator, find_simulator
-from .theory.arrivals import Arrival, arrivals, first_arrival
-from .theory.asymptotic import asymptotic_amplitude, asymptotic_optimum
-from .theory.cases import chain_for_case
-from .theory.chain import PERFECT_ARRIVAL, Chain
-from .theory.closed_form import closed_form_modes
-from .theory.design import Design, optimal_design, optimal_one_mass, optimal_two_mass
-from .theory.modes import Modes
-from .theory.response import linear_response
-from .theory.spectrum import normal_modes, return_amplitude, transmission_amplitude
+
+#: Public name -> the module that defines it.
+_PUBLIC = {
+    "Ladder": "circuit.ladder",
+    "SimulationOptions": "circuit.netlist", "netlist_text": "circuit.netlist",
+    "dt_for_accuracy": "compare.accuracy", "predicted_error": "compare.accuracy",
+    "Interrupted": "core.errors", "LcchainError": "core.errors", "ParameterError": "core.errors",
+    "SimulationError": "core.errors", "SimulatorMissingError": "core.errors",
+    "Budget": "core.budget",
+    "run_scene": "report.scenes",
+    "RunRecord": "runs.execute", "execute": "runs.execute",
+    "SimulationReport": "runs.simulate", "simulate": "runs.simulate",
+    "RunSpec": "runs.spec", "Theory": "runs.spec",
+    "load_scene": "scenes.load", "parse_scene": "scenes.load",
+    "simulate_scene": "scenes.run", "Scene": "scenes.schema",
+    "Simulator": "spice.simulator", "find_simulator": "spice.simulator",
+    "Arrival": "theory.arrivals", "arrivals": "theory.arrivals", "first_arrival": "theory.arrivals",
+    "asymptotic_amplitude": "theory.asymptotic", "asymptotic_optimum": "theory.asymptotic",
+    "chain_for_case": "theory.cases",
+    "PERFECT_ARRIVAL": "theory.chain", "Chain": "theory.chain",
+    "closed_form_modes": "theory.closed_form",
+    "Design": "theory.design", "optimal_design": "theory.design", "optimal_one_mass": "theory.design",
+    "optimal_two_mass": "theory.design",
+    "Modes": "theory.modes",
+    "linear_response": "theory.response",
+    "normal_modes": "theory.spectrum", "return_amplitude": "theory.spectrum",
+    "transmission_amplitude": "theory.spectrum",
+}
 
 __all__ = [
-    "Arrival", "arrivals", "first_arrival", "asymptotic_amplitude", "asymptotic_optimum", "chain_for_case",
-    "PERFECT_ARRIVAL", "Chain", "closed_form_modes", "Design", "optimal_design", "optimal_one_mass",
-    "optimal_two_mass", "LcchainError", "ParameterError", "SimulationError", "SimulatorMissingError", "Interrupted",
-    "Modes", "normal_modes", "return_amplitude", "transmission_amplitude", "Ladder", "SimulationOptions",
-    "netlist_text", "simulate", "SimulationReport", "dt_for_accuracy", "predicted_error", "linear_response", "Scene",
-    "load_scene", "parse_scene", "run_scene", "simulate_scene", "RunSpec", "Theory", "RunRecord", "execute",
-    "Simulator", "find_simulator", "__version__",
+    "Ladder", "SimulationOptions", "netlist_text", "dt_for_accuracy", "predicted_error", "Interrupted",
+    "LcchainError", "ParameterError", "SimulationError", "SimulatorMissingError", "Budget", "run_scene", "RunRecord",
+    "execute", "SimulationReport", "simulate", "RunSpec", "Theory", "load_scene", "parse_scene", "simulate_scene",
+    "Scene", "Simulator", "find_simulator", "Arrival", "arrivals", "first_arrival", "asymptotic_amplitude",
+    "asymptotic_optimum", "chain_for_case", "PERFECT_ARRIVAL", "Chain", "closed_form_modes", "Design",
+    "optimal_design", "optimal_one_mass", "optimal_two_mass", "Modes", "linear_response", "normal_modes",
+    "return_amplitude", "transmission_amplitude", "__version__",
 ]
 
 
 def __getattr__(name: str) -> Any:
     if name == "plots":  # matplotlib loads only when a figure is wanted
-        from .report import plots
-
-        return plots
+        return importlib.import_module(".report.plots", __name__)
+    if name in _PUBLIC:
+        value = getattr(importlib.import_module(f".{_PUBLIC[name]}", __name__), name)
+        globals()[name] = value  # looked up once
+        return value
     raise AttributeError(f"module 'lcchain' has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted([*__all__, "plots"])
+
+
+if TYPE_CHECKING:  # what a type checker and an editor see
+    from .circuit.ladder import Ladder
+    from .circuit.netlist import SimulationOptions, netlist_text
+    from .compare.accuracy import dt_for_accuracy, predicted_error
+    from .core.budget import Budget
+    from .core.errors import Interrupted, LcchainError, ParameterError, SimulationError, SimulatorMissingError
+    from .report.scenes import run_scene
+    from .runs.execute import RunRecord, execute
+    from .runs.simulate import SimulationReport, simulate
+    from .runs.spec import RunSpec, Theory
+    from .scenes.load import load_scene, parse_scene
+    from .scenes.run import simulate_scene
+    from .scenes.schema import Scene
+    from .spice.simulator import Simulator, find_simulator
+    from .theory.arrivals import Arrival, arrivals, first_arrival
+    from .theory.asymptotic import asymptotic_amplitude, asymptotic_optimum
+    from .theory.cases import chain_for_case
+    from .theory.chain import PERFECT_ARRIVAL, Chain
+    from .theory.closed_form import closed_form_modes
+    from .theory.design import Design, optimal_design, optimal_one_mass, optimal_two_mass
+    from .theory.modes import Modes
+    from .theory.response import linear_response
+    from .theory.spectrum import normal_modes, return_amplitude, transmission_amplitude
