@@ -261,3 +261,13 @@ def test_an_existing_cluster_runs_the_study_and_survives_a_killed_worker(serial_
         assert _digests(store) == _digests(reference)
     finally:
         _stop(processes)
+
+
+def test_a_store_reads_back_as_a_dataframe_and_a_dataset(serial_store: Path) -> None:
+    """The Python API beside the CLI; pandas and xarray are optional (the test extra has them)."""
+    with Store(serial_store) as store:
+        frame = store.to_dataframe()
+        dataset = store.to_xarray()
+    assert len(frame) == 12 and {"case", "N", "dt", "status", "digest", "peak_sim"} <= set(frame.columns)
+    assert set(frame["status"]) == {"ok"} and sorted(set(frame["N"])) == [20, 40, 60]
+    assert dataset.sizes["index"] == 12 and "max_abs_error" in dataset
