@@ -24,6 +24,7 @@ _PUBLIC = {
     "SimulationOptions": "circuit.netlist", "netlist_text": "circuit.netlist",
     "dt_for_accuracy": "compare.accuracy", "predicted_error": "compare.accuracy",
     "Interrupted": "core.errors", "LcchainError": "core.errors", "ParameterError": "core.errors",
+    "DesignError": "core.errors",
     "SimulationError": "core.errors", "SimulatorMissingError": "core.errors",
     "Budget": "core.budget",
     "run_scene": "report.scenes",
@@ -41,6 +42,8 @@ _PUBLIC = {
     "Design": "theory.design", "optimal_design": "theory.design", "optimal_one_mass": "theory.design",
     "optimal_two_mass": "theory.design",
     "Modes": "theory.modes",
+    "PerfectDesign": "theory.perfect", "perfect_design": "theory.perfect", "chain_from_spectrum": "theory.perfect",
+    "spectrum_of": "theory.perfect",
     "linear_response": "theory.response",
     "normal_modes": "theory.spectrum", "return_amplitude": "theory.spectrum",
     "transmission_amplitude": "theory.spectrum",
@@ -48,11 +51,13 @@ _PUBLIC = {
 
 __all__ = [
     "Ladder", "SimulationOptions", "netlist_text", "dt_for_accuracy", "predicted_error", "Interrupted",
-    "LcchainError", "ParameterError", "SimulationError", "SimulatorMissingError", "Budget", "run_scene", "RunRecord",
+    "LcchainError", "ParameterError", "DesignError", "SimulationError", "SimulatorMissingError", "Budget",
+    "run_scene", "RunRecord",
     "execute", "SimulationReport", "simulate", "RunSpec", "Theory", "load_scene", "parse_scene", "simulate_scene",
     "Scene", "Simulator", "find_simulator", "Arrival", "arrivals", "first_arrival", "asymptotic_amplitude",
     "asymptotic_optimum", "chain_for_case", "PERFECT_ARRIVAL", "Chain", "closed_form_modes", "Design",
-    "optimal_design", "optimal_one_mass", "optimal_two_mass", "Modes", "linear_response", "normal_modes",
+    "optimal_design", "optimal_one_mass", "optimal_two_mass", "Modes", "PerfectDesign", "perfect_design",
+    "chain_from_spectrum", "spectrum_of", "linear_response", "normal_modes",
     "return_amplitude", "transmission_amplitude", "__version__",
 ]
 
@@ -76,7 +81,14 @@ if TYPE_CHECKING:  # what a type checker and an editor see
     from .circuit.netlist import SimulationOptions, netlist_text
     from .compare.accuracy import dt_for_accuracy, predicted_error
     from .core.budget import Budget
-    from .core.errors import Interrupted, LcchainError, ParameterError, SimulationError, SimulatorMissingError
+    from .core.errors import (
+        DesignError,
+        Interrupted,
+        LcchainError,
+        ParameterError,
+        SimulationError,
+        SimulatorMissingError,
+    )
     from .report.scenes import run_scene
     from .runs.execute import RunRecord, execute
     from .runs.simulate import SimulationReport, simulate
@@ -92,5 +104,6 @@ if TYPE_CHECKING:  # what a type checker and an editor see
     from .theory.closed_form import closed_form_modes
     from .theory.design import Design, optimal_design, optimal_one_mass, optimal_two_mass
     from .theory.modes import Modes
+    from .theory.perfect import PerfectDesign, chain_from_spectrum, perfect_design, spectrum_of
     from .theory.response import linear_response
     from .theory.spectrum import normal_modes, return_amplitude, transmission_amplitude

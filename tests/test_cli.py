@@ -66,7 +66,7 @@ def test_asymptotic_json(capsys):
         (["design", "--case", "three-mass", "--N", "10"], "--case"),
         (["design", "--case", "two-mass", "--N", "ten"], "--N"),
         (["table", "--case", "one-mass", "--N", "3,x"], "--N"),
-        (["netlist", "--case", "perfect", "--N", "7"], "N = 7"),
+        (["netlist", "--case", "perfect", "--N", "20001"], "N = 20001"),
         (["netlist", "--case", "uniform-free", "--N", "10", "--title", ".control"], "title"),
         (["netlist", "--case", "uniform-free", "--N", "10", "--dt", "0"], "dt"),
         (["netlist", "--case", "uniform-free", "--N", "10", "--L0", "-1"], "L0"),

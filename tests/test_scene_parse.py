@@ -205,7 +205,7 @@ BAD = {
     "L0 a boolean": (MINIMAL + "[units]\nL0 = true\n", "units.L0", "True", "a finite number > 0"),
     "N = 2": ('[chain]\ncase = "two-mass"\nN = 2\n', "chain.N", "2", "an integer from 3 to 100000"),
     "N too large": ('[chain]\ncase = "two-mass"\nN = 100001\n', "chain.N", "100001", "an integer from 3 to 100000"),
-    "perfect N = 6": ('[chain]\ncase = "perfect"\nN = 6\n', "chain.N", "6", "3, 4 or 5"),
+    "perfect N = 20001": ('[chain]\ncase = "perfect"\nN = 20001\n', "chain.N", "20001", "3 to 20000"),
     "negative tolerance": (MINIMAL + "[effects.tolerance]\nL = -0.05\n", "effects.tolerance.L", "-0.05", "0 <= L < 1"),
     "tolerance of 100 %": (MINIMAL + "[effects.tolerance]\nC = 1.0\n", "effects.tolerance.C", "1.0", "0 <= C < 1"),
     "width = 0": (MINIMAL + '[excitation]\nkind = "pulse"\nshape = "rect"\nwidth = 0\n', "excitation.width", "0", "0 < width <= 1000"),

@@ -313,8 +313,9 @@ def test_run_keeps_the_netlist_and_waveforms(tmp_path: Path, monkeypatch, capsys
     values = np.array(rows[1:], dtype=float)
     assert values[-1, 0] == pytest.approx(scene_plan(parse_scene({"chain": {"case": "perfect", "N": 4},
                                                                   "analysis": {"dt": 0.01}})).tstop, rel=1e-9)
-    # the perfect N = 4 chain transmits the whole kick at sqrt(11) pi / 2
-    t_star = math.sqrt(11) * math.pi / 2
+    # the perfect N = 4 chain in bulk units (masses 5/3, 1, 1, 5/3) transmits the whole kick at sqrt(3) pi: the
+    # paper's sqrt(11) pi / 2 for its masses 11/12 as large (times scale as sqrt(m))
+    t_star = math.sqrt(3) * math.pi
     near = np.abs(values[:, 0] - t_star) < 0.05
     assert values[near, 2].max() == pytest.approx(1.0, abs=1e-3)
 

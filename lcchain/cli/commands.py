@@ -26,6 +26,7 @@ from .common import (
     Outputs,
     budget_from_args,
     chain_from_args,
+    check_perfect,
     emit_json,
     fraction_bar,
     progress_bar,
@@ -71,9 +72,45 @@ def _check_design_sizes(args: argparse.Namespace, sizes: list[int]) -> None:
     Estimate(what, memory, seconds).check(budget, "--N", ",".join(map(str, sizes)) if len(sizes) > 1 else sizes[0])
 
 
+def _format_perfect(design: Any) -> str:
+    """A perfect cradle as a reader wants it: what it achieves, how its values spread, then the values."""
+    spread = design.spread()
+    walls = f", tied to walls (j = {design.walls})" if design.walls else ", free ends"
+    lines = [f"Perfect cradle of N = {design.N} masses{walls} (bulk units: central mass and central spring 1)",
+             f"  arrival time T = {design.t_arrival:.10g}   1 - alpha_N(T) = {design.delta:.1e}",
+             f"  masses  {spread['mass_min']:.6g} .. {spread['mass_max']:.6g} ({spread['distinct_masses']} distinct)",
+             f"  springs {spread['spring_min']:.6g} .. {spread['spring_max']:.6g} ({spread['distinct_springs']} "
+             f"distinct, walls excluded)",
+             "",
+             f"{'i':>6}  {'m_i':>22}  {'K_(i-1,i)':>22}"]
+    m, K = design.chain.masses, design.chain.springs
+    shown = range(design.N + 1) if design.N <= 40 else [*range(10), None, *range(design.N - 9, design.N + 1)]
+    for i in shown:
+        if i is None:
+            lines.append(f"{'...':>6}")
+            continue
+        mass = f"{float(m[i])!r:>22}" if i < design.N else " " * 22
+        lines.append(f"{i + 1:>6}  {mass}  {float(K[i])!r:>22}")
+    if design.N > 40:
+        lines.append("(all of them: --json)")
+    return "\n".join(lines)
+
+
 def cmd_design(args: argparse.Namespace) -> int:
     from ..theory.design import optimal_design
 
+    if args.case == "perfect":
+        from ..theory.perfect import perfect_design
+
+        check_perfect(args.N, args.walls, budget_from_args(args))
+        perfect = perfect_design(args.N, args.walls)
+        if args.json:
+            emit_json(perfect.to_dict())
+        else:
+            print(_format_perfect(perfect))
+        return EXIT_OK
+    if args.walls:
+        raise ParameterError("--walls", args.walls, "0 unless --case perfect (J >= 1: a perfect cradle tied to walls)")
     _check_design_sizes(args, [args.N])
     bar = fraction_bar(f"{args.case} design, N = {args.N}") if args.N >= 10_000 else None
     design = optimal_design(args.case, args.N, progress=bar)

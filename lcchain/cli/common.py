@@ -13,15 +13,15 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from ..core.budget import DEFAULT_MAX_MEMORY, DEFAULT_MAX_SECONDS, Budget
+from ..core.budget import DEFAULT_MAX_MEMORY, DEFAULT_MAX_SECONDS, Budget, perfect_estimate
 from ..core.errors import ParameterError
-from ..core.limits import MAX_CHAIN_FILE_BYTES, MAX_CIRCUIT_N
+from ..core.limits import MAX_CHAIN_FILE_BYTES, MAX_CIRCUIT_N, MAX_PERFECT_N, MAX_WALLS_N, MIN_N
 from ..report.files import check_output, write_text
 from ..theory.chain import Chain
 
 __all__ = ["EXIT_OK", "EXIT_FAILED", "EXIT_USAGE", "EXIT_MISSING", "EXIT_SIGPIPE", "OPTION_NAMES", "int_list",
            "number", "size", "duration", "budget_parent", "progress_bar", "fraction_bar", "emit_json", "Outputs",
-           "chain_from_args", "budget_from_args", "load_chain_file"]
+           "chain_from_args", "budget_from_args", "load_chain_file", "check_perfect"]
 
 EXIT_OK, EXIT_FAILED, EXIT_USAGE, EXIT_MISSING = 0, 1, 2, 3
 #: A reader closed the pipe (``lcchain table --json | head -2``): the exit status of a process killed by SIGPIPE.
@@ -31,7 +31,7 @@ EXIT_SIGPIPE = 128 + 13
 OPTION_NAMES = {
     "N": "--N", "dt": "--dt", "accuracy": "--accuracy", "transits": "--transits", "L0": "--L0", "C0": "--C0",
     "title": "--title", "excitation": "--excitation", "method": "--method", "backend": "--backend",
-    "case": "--case", "max_memory": "--max-memory", "max_seconds": "--max-time",
+    "case": "--case", "walls": "--walls", "max_memory": "--max-memory", "max_seconds": "--max-time",
 }
 
 
@@ -100,7 +100,8 @@ def budget_parent() -> argparse.ArgumentParser:
 
 
 def budget_from_args(args: argparse.Namespace) -> Budget:
-    return Budget(args.max_memory, args.max_time)
+    """--max-memory and --max-time, or the defaults for a command without them."""
+    return Budget(getattr(args, "max_memory", DEFAULT_MAX_MEMORY), getattr(args, "max_time", DEFAULT_MAX_SECONDS))
 
 
 def _draw_bar(fraction: float, text: str) -> None:
@@ -204,7 +205,8 @@ def chain_from_args(args: argparse.Namespace, max_N: int = MAX_CIRCUIT_N) -> Cha
     from ..theory.cases import chain_for_case
 
     if args.chain:
-        given = [option for option, value in (("--case", args.case), ("--N", args.N)) if value is not None]
+        given = [option for option, value in (("--case", args.case), ("--N", args.N), ("--walls", args.walls or None))
+                 if value is not None]
         if given:
             raise ParameterError(given[0], getattr(args, given[0].lstrip("-")),
                                  "nothing with --chain FILE (the file says the whole chain)")
@@ -214,5 +216,20 @@ def chain_from_args(args: argparse.Namespace, max_N: int = MAX_CIRCUIT_N) -> Cha
         raise ParameterError(missing, None, "--case and --N, or --chain FILE")
     if not 3 <= args.N <= max_N:
         raise ParameterError("--N", args.N, f"an integer from 3 to {max_N} (masses of a circuit)")
-    return chain_for_case(args.case, args.N)
+    if args.walls and args.case != "perfect":
+        raise ParameterError("--walls", args.walls, "0 unless --case perfect (J >= 1: a perfect cradle tied to walls)")
+    if args.case == "perfect":
+        check_perfect(args.N, args.walls, budget_from_args(args))
+    return chain_for_case(args.case, args.N, args.walls)
+
+
+def check_perfect(N: int, walls: int, budget: Budget) -> None:
+    """Refuse a perfect cradle out of range or beyond the budget, naming the option."""
+    if not MIN_N <= N <= MAX_PERFECT_N:
+        raise ParameterError("--N", N, f"an integer from {MIN_N} to {MAX_PERFECT_N} for --case perfect")
+    if walls < 0:
+        raise ParameterError("--walls", walls, "an integer J >= 0 (0: free ends; J >= 1: tied to walls)")
+    if walls and N > MAX_WALLS_N:
+        raise ParameterError("--N", N, f"N <= {MAX_WALLS_N} for a perfect cradle with --walls (N x N matrices)")
+    perfect_estimate(N, walls).check(budget, "--N", N)
 

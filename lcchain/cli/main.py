@@ -43,8 +43,11 @@ class _Parser(argparse.ArgumentParser):
 
 
 def _add_chain_arguments(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--case", choices=NAMED_CASES, help="named chain (one-mass/two-mass: the optimal design for N)")
+    p.add_argument("--case", choices=NAMED_CASES,
+                   help="named chain (one-mass/two-mass: the optimal design for N; perfect: the perfect cradle)")
     p.add_argument("--N", type=int, help="number of masses (ladder cells)")
+    p.add_argument("--walls", type=int, default=0, metavar="J",
+                   help="--case perfect only: J >= 1 ties the perfect cradle to walls (frequencies n - 1 + 2J)")
     p.add_argument("--chain", metavar="FILE", help='JSON file {"masses": [...], "springs": [...]} in bulk units')
     p.add_argument("--L0", type=number("--L0"), default=10e-6, help="bulk inductance, henry (default 10e-6)")
     p.add_argument("--C0", type=number("--C0"), default=10e-9, help="bulk capacitance, farad (default 10e-9)")
@@ -65,9 +68,13 @@ def build_parser() -> argparse.ArgumentParser:
     budget: list[Any] = [budget_parent()]  # argparse parents (typeshed wants the subparser class)
 
     p = sub.add_parser("design", parents=budget,
-                       help="optimal one-mass or two-mass chain for N (a row of Table I or II)")
-    p.add_argument("--case", choices=DESIGN_CASES, required=True)
+                       help="optimal one-mass or two-mass chain for N (a row of Table I or II), or a perfect cradle")
+    p.add_argument("--case", choices=(*DESIGN_CASES, "perfect"), required=True,
+                   help="one-mass, two-mass: the paper's optima; perfect: alpha_N = 1 exactly, designed from its "
+                        "spectrum (every mass and spring modulated)")
     p.add_argument("--N", type=int, required=True)
+    p.add_argument("--walls", type=int, default=0, metavar="J",
+                   help="--case perfect only: J >= 1 ties the chain to walls (frequencies n - 1 + 2J)")
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=commands.cmd_design)
 

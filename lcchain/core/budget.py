@@ -33,7 +33,7 @@ from .errors import ParameterError
 
 __all__ = ["Budget", "Estimate", "BudgetError", "DEFAULT_MAX_MEMORY", "DEFAULT_MAX_SECONDS",
            "NGSPICE_SECONDS_PER_UNKNOWN_POINT", "BYTES_PER_VALUE", "DESIGN_SECONDS_PER_MASS", "run_estimate",
-           "max_points", "design_estimate", "show_bytes", "show_seconds"]
+           "max_points", "design_estimate", "perfect_estimate", "show_bytes", "show_seconds"]
 
 #: Memory one request may use: a third of this machine's 24 GiB, so two runs fit beside the system.
 DEFAULT_MAX_MEMORY = 8 * 2**30
@@ -135,6 +135,18 @@ def max_points(budget: Budget, *, saved: int, compared: int, unknowns: float) ->
 def design_estimate(case: str, N: int) -> Estimate:
     """The cost of an optimal design of N masses (memory: a few dozen arrays of N floats)."""
     return Estimate(f"the {case} design of {N} masses", 400.0 * N, DESIGN_SECONDS_PER_MASS[case] * N)
+
+
+def perfect_estimate(N: int, walls: int) -> Estimate:
+    """The cost of a perfect cradle: free ends O(N^2) (its check), walls O(N^3) (Newton on N x N matrices).
+
+    Measured (benchmarks/perfect.md): free N = 2000 in 0.26 s, 20000 in 22 s; walls N = 1000 in 2.2 s,
+    2000 in 8.4 s.
+    """
+    what = f"the perfect cradle of {N} masses" + (f" with walls (j = {walls})" if walls else "")
+    if walls:
+        return Estimate(what, 64.0 * N * N, 1.2e-9 * N**3)
+    return Estimate(what, 8.0 * 512 * N + 400.0 * N, 6e-8 * N * N)
 
 
 def show_bytes(value: float) -> str:

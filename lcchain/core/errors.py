@@ -18,6 +18,7 @@ __all__ = [
     "ParameterError",
     "SimulationError",
     "SimulatorMissingError",
+    "DesignError",
     "Interrupted",
 ]
 
@@ -90,6 +91,10 @@ class SimulationError(LcchainError):
 
 class SimulatorMissingError(LcchainError):
     """ngspice (or its shared library, or PySpice) cannot be found on this machine."""
+
+
+class DesignError(LcchainError):
+    """A design that was asked for correctly but cannot be computed in float64 (its values would overflow)."""
 
 
 class Interrupted(BaseException):

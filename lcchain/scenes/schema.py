@@ -26,7 +26,16 @@ from typing import Any, get_args, get_type_hints
 
 from ..core.checks import choice, instance, integer, is_integer, numbers_list, real, text_line
 from ..core.errors import ParameterError
-from ..core.limits import MAX_CIRCUIT_N, MAX_DT, MAX_PULSE_WIDTH, MAX_SAMPLES, MAX_TITLE_LENGTH, MAX_TRANSITS, MIN_N
+from ..core.limits import (
+    MAX_CIRCUIT_N,
+    MAX_DT,
+    MAX_PERFECT_N,
+    MAX_PULSE_WIDTH,
+    MAX_SAMPLES,
+    MAX_TITLE_LENGTH,
+    MAX_TRANSITS,
+    MIN_N,
+)
 from ..core.types import (
     BACKENDS,
     CASES,
@@ -63,8 +72,6 @@ __all__ = [
 ]
 
 DEFAULT_TITLE = "lcchain scene"
-#: The perfectly transmitting chains exist for these N only (Sec. II.C of the paper).
-PERFECT_N = (3, 4, 5)
 #: analysis.accuracy when neither it nor analysis.dt is given.
 DEFAULT_ACCURACY = 1e-3
 
@@ -87,7 +94,7 @@ class ChainSpec:
         A named family (built later by :func:`lcchain.cases.chain_for_case`)
         or ``custom``.
     N : int
-        Number of masses, 3 <= N <= :data:`MAX_CIRCUIT_N`; 3, 4 or 5 for ``perfect``;
+        Number of masses, 3 <= N <= :data:`MAX_CIRCUIT_N` (:data:`MAX_PERFECT_N` for ``perfect``);
         ``len(masses)`` for ``custom``.
     masses : tuple of float, optional
         ``custom`` only: the N masses in bulk units, each finite and > 0.
@@ -108,8 +115,9 @@ class ChainSpec:
                 if getattr(self, name) is not None:
                     raise ParameterError(f"chain.{name}", getattr(self, name), f'no {name} unless case = "custom"')
             N = integer("chain.N", self.N, at_least=MIN_N, at_most=MAX_CIRCUIT_N)
-            if self.case == "perfect" and N not in PERFECT_N:
-                raise ParameterError("chain.N", self.N, "3, 4 or 5 (the perfect chains of the paper)")
+            if self.case == "perfect" and N > MAX_PERFECT_N:
+                raise ParameterError("chain.N", self.N,
+                                     f"an integer from {MIN_N} to {MAX_PERFECT_N} for a perfect cradle")
             object.__setattr__(self, "N", N)
             return
 

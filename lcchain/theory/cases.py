@@ -6,11 +6,12 @@ from ..core.errors import ParameterError
 from ..core.types import NAMED_CASES
 from .chain import Chain
 from .design import optimal_one_mass, optimal_two_mass
+from .perfect import perfect_design
 
 __all__ = ["chain_for_case", "NAMED_CASES"]
 
 
-def chain_for_case(case: str, N: int) -> Chain:
+def chain_for_case(case: str, N: int, walls: int = 0) -> Chain:
     """The chain of a named case.
 
     Parameters
@@ -18,10 +19,18 @@ def chain_for_case(case: str, N: int) -> Chain:
     case : {"one-mass", "two-mass", "uniform-free", "uniform-bounded", "perfect"}
         ``one-mass`` and ``two-mass`` are the optimal designs for this N
         (Tables I and II, computed by :mod:`lcchain.design`); ``perfect``
-        needs N = 3, 4 or 5.
+        is the perfect cradle of N masses in bulk units (central mass and
+        central spring 1, :func:`lcchain.perfect_design`; N = 3, 4, 5 are the
+        paper's exact fractions, N = 4 with masses (5/3, 1, 1, 5/3)).
     N : int
         Number of masses (cells of the ladder).
+    walls : int
+        ``perfect`` only: j >= 1 designs the perfect cradle tied to walls,
+        frequencies (n - 1 + 2 j) dw.
     """
+    if walls and case != "perfect":
+        raise ParameterError("walls", walls, 'walls = 0 unless case = "perfect" (j >= 1: a perfect cradle tied to '
+                             "walls)")
     if case == "one-mass":
         return optimal_one_mass(N).chain
     if case == "two-mass":
@@ -31,5 +40,5 @@ def chain_for_case(case: str, N: int) -> Chain:
     if case == "uniform-bounded":
         return Chain.uniform_bounded(N)
     if case == "perfect":
-        return Chain.perfect(N)
+        return perfect_design(N, walls).chain
     raise ParameterError("case", case, " | ".join(NAMED_CASES))

@@ -348,18 +348,24 @@ class Chain:
         return cls(np.ones(N), np.ones(N + 1), name="uniform-bounded", _params=("xyz", 1.0, 1.0, 0.0))
 
     @classmethod
-    def perfect(cls, N: int) -> Chain:
-        """The perfectly transmitting chains N = 3, 4, 5 (Sec. II.C, Eq. e.N5).
+    def perfect(cls, N: int, bulk: bool = False) -> Chain:
+        """The perfectly transmitting chains N = 3, 4, 5 as the paper prints them (Sec. II.C, Eq. e.N5).
 
         N = 3: masses (3/2, 1, 3/2); N = 4: (55/36, 11/12, 11/12, 55/36) with
         K_12 = 5/6; N = 5: (35/18, 10/9, 1, 10/9, 35/18) with K_12 = 7/9, which
         lies outside the constrained model (A_22 != 0).  The frequencies are
         equally spaced and alpha_N = 1 at :data:`PERFECT_ARRIVAL`.
+
+        With ``bulk=True`` the masses are divided by the central one (exactly,
+        in fractions), the units of :func:`lcchain.perfect_design` for any N:
+        N = 4 becomes (5/3, 1, 1, 5/3), Fig. cradle4; N = 3 and 5 are unchanged.
         """
         if isinstance(N, bool) or not isinstance(N, (int, np.integer)) or int(N) not in _PERFECT:
-            raise ParameterError("N", N, "3, 4 or 5 (the perfect chains of the paper)")
+            raise ParameterError("N", N, "3, 4 or 5 (the perfect chains of the paper; any N: perfect_design)")
         masses, springs = _PERFECT[int(N)]
-        return cls(np.array([float(m) for m in masses]), np.array([float(k) for k in springs]), name="perfect")
+        central = Fraction(masses[len(masses) // 2]) if bulk else Fraction(1)
+        return cls(np.array([float(m / central) for m in masses]), np.array([float(k) for k in springs]),
+                   name="perfect")
 
     # ------------------------------------------------------------------- views
     def _end_parameters(self) -> tuple[float, float, float, float] | None:

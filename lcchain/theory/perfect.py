@@ -1,0 +1,406 @@
+"""Perfect cradles for any N: mirror-symmetric chains designed from their spectrum.
+
+A mirror-symmetric chain carries a pulse from mass 1 to mass N perfectly at
+time T when every mode satisfies omega_n T = pi (n - 1) (mod 2 pi): then
+alpha_N(T) = sum_n P_n cos[pi (n - 1) - omega_n T] = 1 exactly (Eq. e.utn).
+The simplest family has equally spaced frequencies, omega_n = (n - 1) dw and
+T = pi / dw (a free chain); omega_n = (n - 1 + 2j) dw, j >= 1, gives chains
+tied to walls.  A persymmetric Jacobi matrix is determined by its spectrum
+alone (Hochstadt; Hald), so each spectrum gives one chain.
+
+The matrix that is inverted
+---------------------------
+Interleave the springs' and the masses' coordinates: y_0, q_1, y_1, ..., q_N,
+y_N with q_i = sqrt(m_i) Q_i (drop y_0 and y_N at free ends).  The chain's
+equations of motion are then first order in the zero-diagonal Jacobi matrix
+H whose off-diagonals alternate a_(2i-1) = sqrt(K_(i-1,i) / m_i) and
+a_(2i) = sqrt(K_(i,i+1) / m_i); H^2 restricted to the masses is B = M^(-1/2)
+K M^(-1/2) (Eq. e.BN, up to the signs of its off-diagonals), and H's
+eigenvalues are 0 and +-omega_n.  Masses and springs follow from the a_k:
+m_(i+1) / m_i = a_(2i)^2 / a_(2i+1)^2 and K_(i,i+1) = a_(2i)^2 m_i, positive
+whatever the a_k are.  So every spectrum of distinct frequencies (one zero
+for a free chain, none with walls) has a realisation with positive masses and
+springs, and a spectrum with a repeated frequency has none (a Jacobi
+matrix's eigenvalues are simple).
+
+How it is computed, and why it is stable
+-----------------------------------------
+The textbook route, the Lanczos (Stieltjes) recursion on the measure with
+nodes omega_n and weights P_n ~ 1/|prod_(m != n)(mu_n - mu_m)|, fails in
+floating point: the weights span hundreds of orders of magnitude already at
+N = 200 (beyond float64 at N = 2000), and the recursion amplifies the
+rounding of the small ones.  Here:
+
+* Equally spaced frequencies (j = 0, and the walls chain omega_n = n dw that
+  transfers an inverted pulse) are closed form: H is the Krawtchouk matrix
+  of perfect state transfer (Christandl et al. 2004), a_k = (dw / 2)
+  sqrt(k (M - k)) for an M-site H, the matrix of J_x for spin (M - 1)/2.  No
+  recursion, no cancellation: every entry to rounding, for any N.
+* Any other spectrum (the walls family j >= 1, or a spectrum given by hand)
+  is reached by Newton's method on the log a_k (persymmetric: half of them),
+  continued from that closed form along omega(s) = (1 - s) omega_lattice +
+  s omega_target.  Each step solves the forward problem, which is well
+  conditioned: H's eigenvalues have an absolute error of about eps ||H|| ~
+  eps N, a relative error below 1e-12 for omega >= dw even at N = 4000; and
+  the derivatives d omega_n / d a_k = 2 u_k u_(k+1) come from orthonormal
+  eigenvectors.  Newton converges quadratically to the a_k whose spectrum is
+  the target to rounding, and no step ever handles the weights.  Cost: one
+  eigen-decomposition of B (N x N) and one N x N solve per iteration.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from scipy.linalg import LinAlgWarning, eigh_tridiagonal, eigvalsh_tridiagonal, lu_factor, lu_solve
+
+from ..core.blas import fixed_blas_threads
+from ..core.checks import integer, numbers_list
+from ..core.errors import DesignError, ParameterError
+from ..core.limits import MAX_PERFECT_N, MAX_WALLS_N, MIN_N
+from .chain import PERFECT_N, Chain
+
+__all__ = ["PerfectDesign", "perfect_design", "perfect_spectrum", "chain_from_spectrum", "spectrum_of",
+           "mode_density_from_spectrum"]
+
+
+
+def _tolerance(sites: int) -> float:
+    """Newton stops when every frequency is right to this, relative to the largest: what the eigen-solver
+    resolves.  Measured on Krawtchouk matrices (exact eigenvalues known): the error of eigvalsh_tridiagonal
+    is 1.6 eps omega_max for 11 sites, 31 eps at 1001, 61 eps at 4001, 111 eps at 20001: about sqrt(sites).
+    """
+    return float(np.finfo(float).eps) * max(32.0, 4.0 * math.sqrt(sites))
+#: Newton's iterations per continuation step before the step is halved.
+_MAX_CORRECTIONS = 12
+#: |log a_k| beyond this is no chain (a ratio of 1e130 between two couplings): a step that gets there failed.
+_MAX_LOG = 300.0
+
+
+def perfect_spectrum(N: int, walls: int = 0) -> np.ndarray:
+    """omega_n = (n - 1 + 2 walls) for n = 1..N (frequency spacing dw = 1).
+
+    Parameters
+    ----------
+    N : int
+        Number of masses, >= 3.
+    walls : int
+        j >= 0: 0 for a free chain, j >= 1 for a chain tied to walls.
+    """
+    N = integer("N", N, at_least=MIN_N, at_most=MAX_PERFECT_N)
+    walls = integer("walls", walls, at_least=0)
+    return np.arange(N, dtype=float) + 2.0 * walls
+
+
+# ------------------------------------------------------------------ H <-> chain
+def _krawtchouk(sites: int) -> np.ndarray:
+    """Off-diagonals of the Krawtchouk H with eigenvalues -(M-1)/2 ... (M-1)/2 (spacing 1)."""
+    k = np.arange(1, sites, dtype=float)
+    return 0.5 * np.sqrt(k * (sites - k))
+
+
+def _chain_of(a: np.ndarray, free: bool) -> tuple[np.ndarray, np.ndarray]:
+    """Masses (m_1 = 1) and springs of the chain whose H has off-diagonals a (walls indexing, length 2N)."""
+    N = a.size // 2
+    odd, even = a[0::2] ** 2, a[1::2] ** 2  # K_(i-1,i)/m_i, K_(i,i+1)/m_i for i = 1..N
+    masses = np.ones(N)
+    # m_(i+1) = K_(i,i+1)/(K_(i,i+1)/m_(i+1)) = m_i even_i / odd_(i+1), in logs against overflow
+    masses[1:] = np.exp(np.cumsum(np.log(even[:-1]) - np.log(odd[1:])))
+    springs = np.zeros(N + 1)
+    springs[1:-1] = even[:-1] * masses[:-1]
+    if not free:
+        springs[0] = odd[0] * masses[0]
+        springs[-1] = even[-1] * masses[-1]
+    # the a_k are exactly persymmetric; the two halves' roundings differ: mirror the first half, exactly
+    masses[N - N // 2 :] = masses[: N // 2][::-1]
+    springs[N + 1 - (N + 1) // 2 :] = springs[: (N + 1) // 2][::-1]
+    return masses, springs
+
+
+def _full(x: np.ndarray, free: bool, N: int) -> np.ndarray:
+    """Every off-diagonal (walls indexing, length 2N) from the distinct log a: a_k = a_(L+1-k) (persymmetry).
+
+    H has an even number L of off-diagonals (2N - 2 free, 2N with walls), so they pair up exactly.
+    """
+    half = np.exp(x)
+    inner = np.concatenate((half, half[::-1]))
+    return np.concatenate(([0.0], inner, [0.0])) if free else inner
+
+
+def _distinct(a: np.ndarray, free: bool) -> np.ndarray:
+    inner = a[1:-1] if free else a
+    return np.log(inner[: inner.size // 2])
+
+
+def _frequencies(a: np.ndarray, free: bool) -> np.ndarray:
+    """H's positive eigenvalues, ascending (its zero excluded): omega to eps ||H|| absolute."""
+    inner = a[1:-1] if free else a
+    values = eigvalsh_tridiagonal(np.zeros(inner.size + 1), inner)
+    N = a.size // 2
+    return np.sort(values)[-(N - 1 if free else N):]
+
+
+def _jacobian(a: np.ndarray, free: bool, omega: np.ndarray) -> np.ndarray:
+    """d omega_n / d log(a_k) for the distinct a_k, from B's eigenvectors."""
+    N = a.size // 2
+    odd, even = a[0::2], a[1::2]
+    diagonal = odd**2 + even**2
+    off = even[:-1] * odd[1:]
+    mu, V = eigh_tridiagonal(diagonal, off)
+    V = V[:, (1 if free else 0):]  # the modes whose frequencies are solved for (not a free chain's zero mode)
+    # a_k d mu / d a_k: 2 a_k^2 v_i^2 plus the cross term 2 a_(2i) a_(2i+1) v_i v_(i+1) shared by both
+    squares = V * V
+    cross = V[:-1] * V[1:]
+    cross *= (2 * off)[:, None]
+    d = np.empty((2 * N, V.shape[1]))
+    np.multiply((2 * odd**2)[:, None], squares, out=d[0::2])
+    np.multiply((2 * even**2)[:, None], squares, out=d[1::2])
+    d[2::2] += cross
+    d[1:-1:2] += cross
+    inner = d[1:-1] if free else d
+    D = inner.shape[0] // 2
+    folded = inner[:D] + inner[: -D - 1 : -1]  # a_k and its mirror are one unknown
+    folded /= 2 * omega[None, :]  # d omega = d mu / (2 omega)
+    return folded.T
+
+
+def _linear_solve(matrix: np.ndarray, rhs: np.ndarray) -> np.ndarray:
+    """matrix^-1 rhs; NaN when the matrix is singular (eigenvector entries that underflowed): the caller then
+    takes a shorter step."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", LinAlgWarning)
+        try:
+            return np.asarray(lu_solve(lu_factor(matrix), rhs))
+        except (LinAlgWarning, ValueError):
+            return np.full(rhs.shape, np.nan)
+
+
+def _residual(x: np.ndarray, target: np.ndarray, free: bool, N: int) -> tuple[np.ndarray, np.ndarray, float]:
+    """(a, H's frequencies, max error relative to the largest frequency); an unusable point (overflow) has an
+    infinite error."""
+    if not np.all(np.isfinite(x)) or np.max(np.abs(x)) > _MAX_LOG:
+        return np.empty(0), np.empty(0), math.inf
+    a = _full(x, free, N)
+    omega = _frequencies(a, free)
+    return a, omega, float(np.max(np.abs(omega - target)) / target[-1])
+
+
+def _newton(x: np.ndarray, target: np.ndarray, free: bool, N: int, tolerance: float) -> tuple[np.ndarray, float]:
+    """Newton on the distinct log a_k until H's spectrum is ``target``; returns (x, relative residual).
+
+    A correction that does not reduce the error is refused (the caller then takes a shorter step).
+    """
+    a, omega, residual = _residual(x, target, free, N)
+    for _ in range(_MAX_CORRECTIONS):
+        if residual <= tolerance or not math.isfinite(residual):
+            break
+        step = _linear_solve(_jacobian(a, free, omega), omega - target)
+        trial = x - step
+        a_new, omega_new, new = _residual(trial, target, free, N)
+        if not new < residual:
+            break
+        x, a, omega, residual = trial, a_new, omega_new, new
+    return x, residual
+
+
+@fixed_blas_threads
+def _solve(omega: np.ndarray, free: bool) -> np.ndarray:
+    """The off-diagonals of H (walls indexing) whose positive spectrum is ``omega`` (dw-free units)."""
+    N = omega.size + (1 if free else 0)
+    sites = 2 * N - 1 if free else 2 * N + 1
+    spacing = (omega[-1] - omega[0]) / max(1, omega.size - 1)
+    # the closed-form start: equally spaced with the target's mean spacing (free: 0, dw, ...; walls: dw, 2 dw, ...)
+    start = spacing * (np.arange(1, omega.size + 1, dtype=float))
+    a = spacing * _krawtchouk(sites)
+    a = np.concatenate(([0.0], a, [0.0])) if free else a
+    tolerance = _tolerance(sites)
+    if np.allclose(start, omega, rtol=0, atol=tolerance * omega[-1]):
+        return a
+    x = _distinct(a, free)
+    s, step = 0.0, 1.0
+    while s < 1.0:
+        trial = min(1.0, s + step)
+        target = (1 - trial) * start + trial * omega
+        # Euler predictor along the path, then Newton's corrector
+        here = _full(x, free, N)
+        tangent = _linear_solve(_jacobian(here, free, _frequencies(here, free)), (trial - s) * (omega - start))
+        guess, residual = (_newton(x + tangent, target, free, N, tolerance) if np.all(np.isfinite(tangent))
+                           else (x, math.inf))
+        if residual <= tolerance:
+            x, s = guess, trial
+            step = min(1.0, 2 * step)
+        else:
+            step /= 2
+            if step < 1e-6:
+                raise DesignError(f"no chain found for this spectrum in float64: the continuation from equally "
+                                  f"spaced frequencies stalled at {100 * s:.4g} % of the way (frequencies right to "
+                                  f"{residual:.2g} of the largest); its masses or springs may span more than "
+                                  f"1e{_MAX_LOG / math.log(10):.0f}")
+    return _full(x, free, N)
+
+
+# ------------------------------------------------------------------ public
+def _check_spectrum(omega: Any) -> tuple[np.ndarray, bool]:
+    values = np.array(numbers_list("frequencies", omega, "ascending frequencies omega_1 < ... < omega_N"))
+    if values.size < MIN_N:
+        raise ParameterError("frequencies", f"{values.size} values", f"at least {MIN_N} frequencies (one per mass)")
+    if not np.all(np.isfinite(values)) or values[0] < 0:
+        raise ParameterError("frequencies", float(values[0]), "finite frequencies >= 0")
+    gaps = np.diff(values)
+    if np.any(gaps <= 0):
+        i = int(np.flatnonzero(gaps <= 0)[0])
+        raise ParameterError(f"frequencies[{i + 1}]", float(values[i + 1]), "frequencies strictly ascending: a chain's "
+                             "modes have distinct frequencies (no mirror-symmetric chain has a repeated one)")
+    return values, values[0] == 0.0
+
+
+def _bulk(masses: np.ndarray, springs: np.ndarray) -> tuple[np.ndarray, np.ndarray, float]:
+    """Masses and springs scaled so that the central mass and the central spring are 1; the frequency scale."""
+    N = masses.size
+    central_mass = masses[N // 2]  # odd N: the middle mass; even N: the two middle ones are equal
+    central_spring = springs[(N + 1) // 2]  # even N: the middle spring; odd N: the two middle ones are equal
+    scale = math.sqrt(central_mass / central_spring)  # omega_bulk = omega * sqrt(m_c / K_c)
+    return masses / central_mass, springs / central_spring, scale
+
+
+def spectrum_of(chain: Chain) -> np.ndarray:
+    """A chain's frequencies from its H (relative accuracy ~eps N for omega >= the bulk spacing).
+
+    H's off-diagonals sqrt(K_(i-1,i)/m_i), sqrt(K_(i,i+1)/m_i) come from the
+    masses and springs directly; a free end adds a decoupled zero; the N
+    largest eigenvalues are the chain's frequencies (a free chain's first is 0).
+    """
+    m, K = chain.masses, chain.springs
+    a = np.empty(2 * chain.N)
+    a[0::2], a[1::2] = np.sqrt(K[:-1] / m), np.sqrt(K[1:] / m)
+    values = np.sort(eigvalsh_tridiagonal(np.zeros(2 * chain.N + 1), a))
+    return np.clip(values[-chain.N:], 0.0, None)
+
+
+def mode_density_from_spectrum(mu: np.ndarray) -> np.ndarray:
+    """P_n of a persymmetric chain from its spectrum alone: P_n ~ 1/|prod_(m != n)(mu_n - mu_m)|, mu = omega^2.
+
+    Summed in logs (the products span hundreds of orders of magnitude), normalised to sum 1.
+    """
+    log_weight = np.empty(mu.size)
+    for start in range(0, mu.size, 512):
+        block = mu[start : start + 512]
+        gaps = np.abs(block[:, None] - mu[None, :])
+        gaps[np.arange(block.size), np.arange(start, start + block.size)] = 1.0
+        log_weight[start : start + block.size] = -np.sum(np.log(gaps), axis=1)
+    weight = np.exp(log_weight - log_weight.max())
+    return weight / weight.sum()
+
+
+def chain_from_spectrum(frequencies: Any, name: str = "from spectrum") -> tuple[Chain, float]:
+    """The mirror-symmetric chain with exactly these frequencies.
+
+    Parameters
+    ----------
+    frequencies : sequence of float
+        omega_1 < omega_2 < ... < omega_N (any unit): omega_1 = 0 for a free
+        chain, omega_1 > 0 for a chain tied to walls.
+    name : str
+
+    Returns
+    -------
+    chain : Chain
+        In bulk units (central mass and central spring 1).
+    scale : float
+        The factor that turns the given frequencies into the bulk chain's:
+        omega_bulk = scale * omega.
+
+    Raises
+    ------
+    ParameterError
+        Fewer than 3 frequencies, a negative or non-finite one, or a repeated
+        or descending one: no chain realises such a spectrum.
+    """
+    omega, free = _check_spectrum(frequencies)
+    solved = omega[1:] if free else omega
+    a = _solve(solved, free)
+    masses, springs = _chain_of(a, free)
+    masses, springs, scale = _bulk(masses, springs)
+    return Chain(masses, springs, name=name), scale
+
+
+@dataclass(frozen=True)
+class PerfectDesign:
+    """A perfectly transmitting chain designed from its spectrum.
+
+    Attributes
+    ----------
+    N, walls : int
+    chain : Chain
+        Bulk units: the central mass and the central spring are 1.
+    t_arrival : float
+        T = pi / dw, units of sqrt(m/K) of the bulk.
+    delta : float
+        1 - alpha_N(T) from the chain's own eigen-decomposition (0 to rounding).
+    frequencies : ndarray
+        omega_n = (n - 1 + 2 walls) dw in bulk units.
+    """
+
+    N: int
+    walls: int
+    chain: Chain
+    t_arrival: float
+    delta: float
+    frequencies: np.ndarray
+
+    def spread(self) -> dict[str, float | int]:
+        """How far the values spread, and how many distinct values a builder needs (to 1e-9 relative)."""
+        m, K = self.chain.masses, self.chain.springs
+        inner = K[K > 0]
+
+        def distinct(values: np.ndarray) -> int:
+            ordered = np.sort(values)
+            return int(1 + np.sum(np.diff(ordered) > 1e-9 * ordered[1:]))
+
+        return {"mass_max": float(m.max()), "mass_min": float(m.min()), "spring_max": float(inner.max()),
+                "spring_min": float(inner.min()), "distinct_masses": distinct(m), "distinct_springs": distinct(inner)}
+
+    def to_dict(self) -> dict[str, Any]:
+        """The JSON of ``lcchain design --case perfect``."""
+        return {"N": self.N, "case": "perfect", "walls": self.walls, "masses": [float(v) for v in self.chain.masses],
+                "springs": [float(v) for v in self.chain.springs], "t_arrival": self.t_arrival, "delta": self.delta,
+                "frequencies": [float(v) for v in self.frequencies], "spread": self.spread()}
+
+
+@fixed_blas_threads
+def perfect_design(N: int, walls: int = 0) -> PerfectDesign:
+    """The perfect cradle of N masses: omega_n = (n - 1 + 2 walls) dw, alpha_N(pi/dw) = 1.
+
+    Parameters
+    ----------
+    N : int
+        3 <= N <= :data:`MAX_PERFECT_N` (with walls, <= :data:`MAX_WALLS_N`).
+    walls : int
+        j = 0: a free chain (closed form, any N); j >= 1: tied to walls.
+
+    Returns
+    -------
+    PerfectDesign
+        N = 3, 4, 5 without walls are the paper's perfect chains (Sec. II.C
+        and Appendix A): masses (3/2, 1, 3/2); (5/3, 1, 1, 5/3) with end
+        springs 5/6 (Fig. cradle4); (35/18, 10/9, 1, 10/9, 35/18) with end
+        springs 7/9.
+    """
+    omega = perfect_spectrum(N, walls)
+    if walls and N > MAX_WALLS_N:
+        raise ParameterError("N", N, f"N <= {MAX_WALLS_N} for a chain with walls (Newton on N x N matrices)")
+    chain, scale = chain_from_spectrum(omega, name="perfect")
+    if walls == 0 and N in PERFECT_N:
+        # the paper's exact fractions, which the algorithm reproduces to rounding (tests): correct to the last digit
+        chain = Chain.perfect(N, bulk=True)
+    T = math.pi / scale  # dw = scale in bulk units
+    # the check: the chain's own frequencies, recomputed from its masses and springs, and their mode density
+    measured = spectrum_of(chain)
+    density = mode_density_from_spectrum(measured**2)
+    n = np.arange(N)
+    alpha = float(np.sum(density * np.cos(np.pi * n - measured * T)))
+    return PerfectDesign(N, walls, chain, T, 1.0 - alpha, omega * scale)
