@@ -15,7 +15,7 @@ from typing import Any
 
 from ..core.budget import DEFAULT_MAX_MEMORY, DEFAULT_MAX_SECONDS, Budget, perfect_estimate
 from ..core.errors import ParameterError
-from ..core.limits import MAX_CHAIN_FILE_BYTES, MAX_CIRCUIT_N, MAX_PERFECT_N, MAX_WALLS_N, MIN_N
+from ..core.limits import MAX_CHAIN_FILE_BYTES, MAX_CIRCUIT_N, MAX_PERFECT_N, MIN_N
 from ..report.files import check_output, write_text
 from ..theory.chain import Chain
 
@@ -229,7 +229,5 @@ def check_perfect(N: int, walls: int, budget: Budget) -> None:
         raise ParameterError("--N", N, f"an integer from {MIN_N} to {MAX_PERFECT_N} for --case perfect")
     if walls < 0:
         raise ParameterError("--walls", walls, "an integer J >= 0 (0: free ends; J >= 1: tied to walls)")
-    if walls and N > MAX_WALLS_N:
-        raise ParameterError("--N", N, f"N <= {MAX_WALLS_N} for a perfect cradle with --walls (N x N matrices)")
     perfect_estimate(N, walls).check(budget, "--N", N)
 

@@ -138,15 +138,10 @@ def design_estimate(case: str, N: int) -> Estimate:
 
 
 def perfect_estimate(N: int, walls: int) -> Estimate:
-    """The cost of a perfect cradle: free ends O(N^2) (its check), walls O(N^3) (Newton on N x N matrices).
-
-    Measured (benchmarks/perfect.md): free N = 2000 in 0.26 s, 20000 in 22 s; walls N = 1000 in 2.2 s,
-    2000 in 8.4 s.
+    """The cost of a perfect cradle, O(N^2) (benchmarks/perfect.md: free N = 20000 in 23 s, walls about twice).
     """
     what = f"the perfect cradle of {N} masses" + (f" with walls (j = {walls})" if walls else "")
-    if walls:
-        return Estimate(what, 64.0 * N * N, 1.2e-9 * N**3)
-    return Estimate(what, 8.0 * 512 * N + 400.0 * N, 6e-8 * N * N)
+    return Estimate(what, 8.0 * 512 * N + 2**20 * 8.0 + 400.0 * N, (1.3e-7 if walls else 6e-8) * N * N)
 
 
 def show_bytes(value: float) -> str:

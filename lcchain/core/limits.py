@@ -12,10 +12,8 @@ MIN_N = 3
 MAX_DESIGN_N = 10_000_000
 #: Largest N diagonalised exactly (eigenvectors need 8 N^2 bytes: 800 MB at 10^4).
 EXACT_MAX_N = 10_000
-#: Largest perfect cradle designed (free ends: closed form, its check O(N^2): about 20 s at this N).
+#: Largest perfect cradle designed: O(N^2) (the design and its check), about 25 s free and 50 s with walls here.
 MAX_PERFECT_N = 20_000
-#: Largest perfect cradle tied to walls (Newton on N x N matrices: about 2 min and 1.2 GB at this N).
-MAX_WALLS_N = 5_000
 #: Largest chain simulated as a netlist (about 2 N elements) by simulate, scenes and sweeps.
 MAX_CIRCUIT_N = 100_000
 #: Most end-to-end transits one run may watch.
