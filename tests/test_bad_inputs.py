@@ -185,6 +185,8 @@ CASES: dict[str, Case] = {
                                    files={"s.toml": '[chain]\ncase = "two-mass"\nN = 1000\n[effects.tolerance]\n'
                                                     'L = 0.01\nsamples = 10000\n'}),
     "scene missing": Case(["run", "missing.toml"], ["missing.toml", "readable"]),
+    "an unknown summary metric": Case(["results", "s.sqlite", "--summary", "--metric", "speed"],
+                                      ["--metric", "speed"]),
     # ------------------------------------------------------------------ runs that fail, and a missing simulator
     "accuracy not met": Case(["simulate", "--case", "uniform-bounded", "--N", "10", "--accuracy", "1e-9"],
                              ["--accuracy 1e-09 was not met", "reached"], status=1),

@@ -197,6 +197,45 @@ def test_a_scene_sweep_varies_keys_and_makes_each_sample_a_task(tmp_path: Path,
     assert (tmp_path / "h.png").stat().st_size > 10_000
 
 
+def test_joined_keys_vary_together() -> None:
+    from lcchain.studies.plan import parse_vary, scene_sweep_plan
+
+    key, values = parse_vary(" effects.tolerance.L + effects.tolerance.C = 0.0, 0.05")
+    assert (key, values) == ("effects.tolerance.L+effects.tolerance.C", [0.0, 0.05])
+    plan = scene_sweep_plan(ROOT / "examples" / "scenes" / "real-parts.toml", [(key, values)], samples=2)
+    netlists = {(t.params[key], t.params["sample"]): t.spec.netlist for t in plan.tasks}
+
+    def values_of(text: str, kind: str) -> list[str]:
+        return [line.split()[3] for line in text.splitlines() if line.startswith(kind)]
+
+    for kind in ("L", "C"):  # with 5 % both the inductors and the capacitors change between samples; with 0 neither
+        assert values_of(netlists[0.0, 1], kind) == values_of(netlists[0.0, 2], kind)
+        assert values_of(netlists[0.05, 1], kind) != values_of(netlists[0.05, 2], kind)
+
+
+def test_two_designs_under_real_parts_side_by_side(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """The issue-13 study in small: perfect against two-mass, N = 20, E24, 1 % and 5 %, 6 samples each."""
+    store = tmp_path / "parts.sqlite"
+    status = main(["sweep", str(ROOT / "examples" / "scenes" / "real-parts.toml"), "--vary", "chain.N=20",
+                   "--vary", "chain.case=perfect,two-mass", "--vary", "effects.tolerance.L+effects.tolerance.C=0.01,0.05",
+                   "--samples", "6", "--store", str(store), "--executor", "serial", "--json"])
+    assert status == 0 and json.loads(capsys.readouterr().out)["ok"] == 24
+    assert main(["results", str(store), "--summary", "--metric", "energy", "--json"]) == 0
+    groups = json.loads(capsys.readouterr().out)
+    assert [g["n"] for g in groups] == [6, 6, 6, 6]
+    energy = {(g["params"]["chain.case"], g["params"]["effects.tolerance.L+effects.tolerance.C"]): g for g in groups}
+    for group in groups:  # a lossless chain never gives its last inductor more than the kick's energy
+        assert 0.9 < group["min"] <= group["max"] <= 1.0
+    for tolerance in (0.01, 0.05):  # perfect keeps more than the optimum's 1 - delta*^2 ~ 0.97 at N = 20
+        assert energy["perfect", tolerance]["mean"] > energy["two-mass", tolerance]["mean"]
+    assert energy["two-mass", 0.05]["std"] > energy["two-mass", 0.01]["std"]
+    assert main(["results", str(store), "--summary", "--csv"]) == 0
+    header = capsys.readouterr().out.splitlines()[0]
+    assert header.startswith("chain.N,chain.case,effects.tolerance.L+effects.tolerance.C,n,failed,mean")
+    assert main(["results", str(store), "--metric", "energy", "--plot", str(tmp_path / "parts.png")]) == 0
+    assert (tmp_path / "parts.png").stat().st_size > 20_000
+
+
 def test_a_sweep_over_N_draws_fig_delta(serial_store: Path, tmp_path: Path) -> None:
     assert main(["results", str(serial_store), "--plot", str(tmp_path / "delta.svg")]) == 0
     assert "Fig. delta" in (tmp_path / "delta.svg").read_text() or (tmp_path / "delta.svg").stat().st_size > 10_000

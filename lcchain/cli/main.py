@@ -139,7 +139,15 @@ def build_parser() -> argparse.ArgumentParser:
     out = p.add_mutually_exclusive_group()
     out.add_argument("--json", action="store_true", help="a list in task order: index, key, status, params, ...")
     out.add_argument("--csv", action="store_true")
-    p.add_argument("--plot", metavar="FILE", help="figure: Fig. delta for a sweep over N, a histogram for samples")
+    p.add_argument("--summary", action="store_true",
+                   help="the transmitted peak's distribution per combination of the axes (n, mean, std, worst, "
+                        "5th percentile, median, best); with --json or --csv in that form")
+    p.add_argument("--plot", metavar="FILE",
+                   help="figure: Fig. delta for a sweep over N, histograms of the samples (one per combination)")
+    p.add_argument("--metric", choices=("peak", "energy", "loss"), default="peak",
+                   help="what --summary and the samples' --plot show: the first arrival's peak I_N/I_1(0) "
+                        "(default); after a kick the energy fraction at that peak, peak^2 L_N/L_1, or the energy "
+                        "lost, 1 - that (drawn on a log scale)")
     p.set_defaults(func=studies.cmd_results)
 
     p = sub.add_parser("bench", help="benchmarks (accuracy: what each digit costs per method and N)")

@@ -77,7 +77,8 @@ def add_sweep_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--C0", type=number("--C0"), default=10e-9, help="bulk capacitance, farad (default 10e-9)")
     p.add_argument("--backend", choices=("batch", "shared"), default="batch")
     p.add_argument("--vary", action="append", default=[], metavar="KEY=V1,V2,...",
-                   help="with SCENE.toml: a dotted scene key and its values (repeat for more axes)")
+                   help="with SCENE.toml: a dotted scene key and its values (repeat for more axes; keys joined "
+                        "by + take the same values together)")
     p.add_argument("--samples", type=int, help="with SCENE.toml: tolerance samples (each a task of its own)")
     p.add_argument("--seed", type=int, help="with SCENE.toml: the tolerance seed")
     add_study_arguments(p)
@@ -182,6 +183,41 @@ def _flat(run: dict[str, Any]) -> dict[str, Any]:
     return row
 
 
+def _short(key: str) -> str:
+    """A column title for a dotted key: its last part (``effects.tolerance.L+effects.tolerance.C`` -> ``L+C``)."""
+    return "+".join(part.rsplit(".", 1)[-1] for part in key.split("+"))
+
+
+def _print_summary(stored: list[Any], args: argparse.Namespace) -> None:
+    """Per combination of the axes: the first-arrival peak's distribution over the samples."""
+    from ..studies.summary import peak_groups
+
+    groups = [group.to_dict() for group in peak_groups(stored, args.metric)]
+    if args.json:
+        emit_json(groups)
+        return
+    keys = list(dict.fromkeys(key for group in groups for key in group["params"]))
+    stats = ["n", "failed", "mean", "std", "min", "p05", "median", "max"]
+    rows = [[str(group["params"].get(key, "")) for key in keys]
+            + [str(group[s]) if s in ("n", "failed") else ("" if group[s] is None else f"{group[s]:.4f}")
+               for s in stats] for group in groups]
+    if args.csv:
+        text = io.StringIO()
+        writer = csv.writer(text, lineterminator="\n")
+        writer.writerow([*keys, *stats])
+        writer.writerows(rows)
+        sys.stdout.write(text.getvalue())
+        return
+    titles = [*map(_short, keys), *stats]
+    widths = [max(len(t), *(len(r[i]) for r in rows)) for i, t in enumerate(titles)]
+    what = {"peak": "peak (max I_N/I_1(0))", "energy": "energy fraction (peak^2 L_N/L_1)",
+            "loss": "energy lost (1 - peak^2 L_N/L_1)"}[args.metric]
+    print(f"{args.store}: first-arrival {what} by group")
+    print("  ".join(t.rjust(w) for t, w in zip(titles, widths, strict=True)))
+    for row in rows:
+        print("  ".join(c.rjust(w) for c, w in zip(row, widths, strict=True)))
+
+
 def cmd_results(args: argparse.Namespace) -> int:
     from pathlib import Path
 
@@ -194,14 +230,17 @@ def cmd_results(args: argparse.Namespace) -> int:
     with Store(args.store) as store:
         if "plan" not in store.meta():
             raise ParameterError("STORE", args.store, "a store made by lcchain sweep or batch (this one holds no plan)")
-        runs = [run.to_dict() for run in store.runs()]
+        stored = store.runs()
+        runs = [run.to_dict() for run in stored]
         if args.plot:
             from ..report.files import save_figure
             from ..report.studies import study_figure
 
-            figure = study_figure(store)
+            figure = study_figure(store, args.metric)
             outputs.write("--plot", lambda path: save_figure(figure, path, dpi=150))
-    if args.json:
+    if args.summary:
+        _print_summary(stored, args)
+    elif args.json:
         emit_json(runs)
     elif args.csv:
         rows = [_flat(run) for run in runs]

@@ -41,6 +41,12 @@ class ArrivalComparison:
         Time of the peak, units of sqrt(L0 C0).
     peak_theory, peak_sim : float
         Peak of the dimensionless signal.
+    energy_sim : float or None
+        After a kick: the fraction of the kick's energy that the end's mass
+        (inductor) holds at the simulated peak, peak_sim^2 m_end / m_1.  It
+        is at most 1 in a lossless chain, and unlike the current ratio it is
+        not moved by a mismatch of the two end inductors.  None for the other
+        excitations.
     """
 
     index: int
@@ -49,10 +55,14 @@ class ArrivalComparison:
     t_sim: float
     peak_theory: float
     peak_sim: float
+    energy_sim: float | None = None
 
     def to_dict(self) -> dict[str, Any]:
-        return {"index": self.index, "end": self.end, "t_theory": self.t_theory, "t_sim": self.t_sim,
+        data = {"index": self.index, "end": self.end, "t_theory": self.t_theory, "t_sim": self.t_sim,
                 "peak_theory": self.peak_theory, "peak_sim": self.peak_sim}
+        if self.energy_sim is not None:
+            data["energy_sim"] = self.energy_sim
+        return data
 
 
 @dataclass(frozen=True)

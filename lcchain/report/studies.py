@@ -2,7 +2,9 @@
 
 * a sweep over N: the paper's Fig. delta (δ* against N, theory as curves)
   with ngspice's measured first-arrival loss, 1 - peak, on top;
-* tolerance samples: the histogram of the transmitted peaks.
+* tolerance samples: the histogram of the transmitted peaks; with other axes
+  varied too, one panel per combination of them, the chains (``chain.case``)
+  overlaid in each panel so that designs compare side by side.
 """
 
 from __future__ import annotations
@@ -10,22 +12,39 @@ from __future__ import annotations
 from collections import defaultdict
 from typing import Any
 
+import numpy as np
+
 from ..core.errors import ParameterError
 from ..studies.store import Store
+from ..studies.summary import Group, peak_groups
 from .figures import delta_data, delta_figure, design_grid
 from .plots import histogram
 
-__all__ = ["study_figure"]
+#: Parameters that name the design: drawn as colours within a panel rather than as panels of their own.
+_HUE_KEYS = ("chain.case", "case")
+
+__all__ = ["study_figure", "samples_figure"]
 
 
-def study_figure(store: Store) -> Any:
-    """The figure a study's results call for (see the module docstring)."""
+_AXIS = {"peak": "transmitted peak, max I_N/I_1(0)", "energy": "energy fraction at the peak, peak² L_N/L_1",
+         "loss": "energy lost, 1 - peak² L_N/L_1 (log scale)"}
+
+
+def study_figure(store: Store, metric: str = "peak") -> Any:
+    """The figure a study's results call for (see the module docstring); ``metric`` for the samples."""
     runs = [run for run in store.runs() if run.status == "ok" and run.metrics]
     if not runs:
         raise ParameterError("--plot", str(store.path), "a store with finished runs to draw")
-    peaks = [run.metrics["arrivals"][0]["peak_sim"] for run in runs if run.metrics and run.metrics.get("arrivals")]
     if any("sample" in run.params for run in runs):
-        return histogram(peaks, title=f"transmitted peak over {len(peaks)} samples ({store.path.name})")
+        groups = [group for group in peak_groups(store.runs(), metric) if group.peaks.size]
+        if not groups:
+            raise ParameterError("--metric", metric, "peak (no run of this store has an energy: none was kicked)")
+        what = {"peak": "transmitted peak", "energy": "energy fraction", "loss": "energy lost"}[metric]
+        if len(groups) == 1:
+            return histogram(groups[0].peaks, xlabel=_AXIS[metric],
+                             title=f"{what} over {groups[0].peaks.size} samples ({store.path.name})")
+        return samples_figure(groups, title=f"{what} by group ({store.path.name})", xlabel=_AXIS[metric],
+                              log=metric == "loss")
     Ns = sorted({run.params["N"] for run in runs if "N" in run.params})
     if len(Ns) >= 2 and all("case" in run.params for run in runs):
         measured: dict[str, list[tuple[int, float]]] = defaultdict(list)
@@ -36,3 +55,76 @@ def study_figure(store: Store) -> Any:
         grid = sorted(set(design_grid(max(Ns))) | set(Ns))
         return delta_figure(delta_data(grid), measured, title=f"δ* against N: theory and ngspice ({store.path.name})")
     raise ParameterError("--plot", str(store.path), "a sweep over two or more N (with --case), or tolerance samples")
+
+
+def _label(key: str, value: Any) -> str:
+    name = "+".join(part.rsplit(".", 1)[-1] for part in key.split("+"))
+    if isinstance(value, float) and name in ("L", "C", "L+C"):
+        return f"{name} ±{100 * value:g} %"
+    return f"{name} = {value}" if name not in ("case", "series") else str(value)
+
+
+def samples_figure(groups: list[Group], title: str = "", xlabel: str = _AXIS["peak"], log: bool = False) -> Any:
+    """One panel per combination of the varied axes but the design; the designs' histograms overlaid.
+
+    Rows follow the first varied axis (chain.N in a study of sizes), columns the others.  Each histogram's
+    legend gives the design, its mean ± standard deviation and its worst sample, so the figure reads alone.
+    """
+    from matplotlib.figure import Figure
+
+    keys = list(dict.fromkeys(key for group in groups for key in group.params))
+    varied = [key for key in keys if len({repr(group.params.get(key)) for group in groups}) > 1]
+    hue = next((key for key in _HUE_KEYS if key in varied), None)
+    panel_keys = [key for key in varied if key != hue]
+    row_key = panel_keys[0] if len(panel_keys) >= 2 else None
+    column_keys = panel_keys[1:] if row_key else panel_keys
+
+    def values_of(key_list: list[str], group: Group) -> tuple[str, ...]:
+        return tuple(repr(group.params.get(key)) for key in key_list)
+
+    rows = list(dict.fromkeys(values_of([row_key] if row_key else [], g) for g in groups))
+    columns = list(dict.fromkeys(values_of(column_keys, g) for g in groups))
+    hues = list(dict.fromkeys(repr(g.params.get(hue)) for g in groups)) if hue else ["None"]
+    figure = Figure(figsize=(3.2 * len(columns) + 0.6, 2.6 * len(rows) + 0.8), layout="constrained")
+    every = np.concatenate([g.peaks for g in groups])
+    span = (float(np.maximum(every, 1e-16).min()) / 1.5, float(every.max()) * 1.5)  # one log axis for all panels
+    axes = figure.subplots(len(rows), len(columns), squeeze=False)
+    for r, row in enumerate(rows):
+        for c, column in enumerate(columns):
+            ax = axes[r][c]
+            members = [g for g in groups if values_of([row_key] if row_key else [], g) == row
+                       and values_of(column_keys, g) == column]
+            if not members:
+                ax.set_visible(False)
+                continue
+            for g in members:  # each its own bins: designs far apart would otherwise get one bin each
+                count = min(30, max(6, int(np.sqrt(g.peaks.size))))
+                if log:
+                    positive = np.maximum(g.peaks, 1e-16)
+                    bins = np.exp(np.histogram_bin_edges(np.log(positive), bins=count))
+                else:
+                    bins = np.histogram_bin_edges(g.peaks, bins=count)
+                colour = f"C{hues.index(repr(g.params.get(hue))) if hue else 0}"
+                stats = g.stats()
+                name = str(g.params.get(hue)) if hue else "samples"
+                worst = stats["max"] if log else stats["min"]  # a loss is worst at its largest
+                ax.hist(g.peaks, bins=bins, color=colour, alpha=0.55, edgecolor="white", linewidth=0.4,
+                        label=f"{name}: {stats['mean']:.4f} ± {stats['std']:.4f}, worst {worst:.4f}")
+                ax.axvline(stats["mean"], color=colour, linewidth=1.0)
+            if log:
+                from matplotlib.ticker import NullFormatter
+
+                ax.set_xscale("log")
+                ax.set_xlim(*span)
+                ax.xaxis.set_minor_formatter(NullFormatter())
+            ax.legend(fontsize=6.5, loc="upper left", frameon=False)
+            parts = [_label(k, members[0].params.get(k)) for k in ([row_key] if row_key else []) + column_keys]
+            ax.set_title(", ".join(parts), fontsize=8.5)
+            ax.tick_params(labelsize=7)
+            if r == len(rows) - 1:
+                ax.set_xlabel(xlabel, fontsize=8)
+            if c == 0:
+                ax.set_ylabel("samples", fontsize=8)
+    if title:
+        figure.suptitle(title, fontsize=10)
+    return figure

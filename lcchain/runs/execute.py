@@ -20,7 +20,7 @@ import hashlib
 import logging
 import time
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -149,8 +149,12 @@ def _compare(theory: Theory, result: RunResult) -> tuple[Signals, Metrics]:
         split = split_error(signals.waveforms(), modes, theory.dt, method=theory.method,
                             exact=(signals.theory[0], signals.theory[-1]))
         integration, physics = split.integration_error, split.physics_error
+    arrivals = metrics.arrivals
+    if theory.excitation == "kick":  # the kick's energy is m_1 I0^2 / 2: the end holds m_end (peak I0)^2 / 2
+        arrivals = tuple(replace(a, energy_sim=a.peak_sim**2 * float(chain.masses[-1 if a.end == "last" else 0]
+                                                                      / chain.masses[0])) for a in arrivals)
     metrics = Metrics(metrics.max_abs_error, metrics.max_abs_error_first, metrics.max_abs_error_last,
-                      metrics.arrivals, theory.predicted_error, integration, physics)
+                      arrivals, theory.predicted_error, integration, physics)
     return signals, metrics
 
 

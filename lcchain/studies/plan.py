@@ -151,11 +151,16 @@ def sweep_plan(*, cases: Sequence[str], Ns: Sequence[int], dts: Sequence[float] 
 
 
 def parse_vary(text: str) -> tuple[str, list[Any]]:
-    """``KEY=V1,V2,...`` -> (dotted key, TOML values): ``chain.N=50,100`` -> ("chain.N", [50, 100])."""
+    """``KEY=V1,V2,...`` -> (dotted key, TOML values): ``chain.N=50,100`` -> ("chain.N", [50, 100]).
+
+    Keys joined by ``+`` take the same value together, one axis:
+    ``effects.tolerance.L+effects.tolerance.C=0.01,0.05``.
+    """
     key, sep, values = text.partition("=")
-    key = key.strip()
-    if not sep or not key or not values.strip():
-        raise ParameterError("--vary", text, "KEY=V1,V2,... with a dotted scene key, e.g. chain.N=50,100")
+    key = "+".join(part.strip() for part in key.split("+"))
+    if not sep or not all(key.split("+")) or not values.strip():
+        raise ParameterError("--vary", text, "KEY=V1,V2,... with a dotted scene key, e.g. chain.N=50,100 (keys "
+                             "joined by + vary together)")
     parsed = []
     for raw in values.split(","):
         try:
@@ -165,7 +170,12 @@ def parse_vary(text: str) -> tuple[str, list[Any]]:
     return key, parsed
 
 
-def _set(data: dict[str, Any], dotted: str, value: Any) -> None:
+def _set(data: dict[str, Any], key: str, value: Any) -> None:
+    for dotted in key.split("+"):
+        _set_one(data, dotted, value)
+
+
+def _set_one(data: dict[str, Any], dotted: str, value: Any) -> None:
     parts = dotted.split(".")
     table = data
     for part in parts[:-1]:

@@ -1,0 +1,96 @@
+"""A Monte Carlo's results by group: the transmitted peak's distribution for every combination of the axes.
+
+A study's tasks share everything but their parameters; the tolerance samples
+of one combination (same parameters but ``sample``) form a group, and each
+group's first-arrival peaks (max I_N / I_1(0) near the arrival, from ngspice)
+or, after a kick, the energy fraction the last inductor holds at that peak
+(``metric="energy"``: peak^2 L_N / L_1, at most 1, blind to a mismatch of the
+end inductors) are summarised: how many, mean, standard deviation, worst, 5th
+percentile, median, best.  ``lcchain results STORE --summary`` prints these; the study's
+figure draws the same groups.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from ..core.checks import choice
+from .store import StoredRun
+
+__all__ = ["Group", "peak_groups", "METRICS"]
+
+#: What a group summarises: the first arrival's current peak, its energy fraction (kick only), or the energy
+#: lost on the way, 1 - energy fraction (best on a log scale: it spans decades between designs).
+METRICS = {"peak": "peak_sim", "energy": "energy_sim", "loss": "energy_sim"}
+
+
+@dataclass(frozen=True)
+class Group:
+    """The runs of one combination of a study's axes.
+
+    Attributes
+    ----------
+    params : dict
+        The combination (every parameter but ``sample``), in the plan's order.
+    peaks : ndarray
+        First-arrival peaks of the runs that finished, in task order.
+    failed : int
+        Runs that failed or timed out (pending ones are not counted).
+    """
+
+    params: dict[str, Any]
+    peaks: np.ndarray
+    failed: int
+
+    def stats(self) -> dict[str, Any]:
+        """n, failed, mean, std (ddof 1), min, p05, median, max of the peaks (None when there are none)."""
+        p = self.peaks
+        if p.size == 0:
+            return {"n": 0, "failed": self.failed, "mean": None, "std": None, "min": None, "p05": None,
+                    "median": None, "max": None}
+        return {"n": int(p.size), "failed": self.failed, "mean": float(p.mean()),
+                "std": float(p.std(ddof=1)) if p.size > 1 else 0.0, "min": float(p.min()),
+                "p05": float(np.percentile(p, 5)), "median": float(np.median(p)), "max": float(p.max())}
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"params": self.params, **self.stats()}
+
+
+def _first(run: StoredRun, field: str) -> float | None:
+    arrivals = (run.metrics or {}).get("arrivals") or []
+    value = arrivals[0].get(field) if arrivals else None
+    return None if value is None else float(value)
+
+
+def peak_groups(runs: list[StoredRun], metric: str = "peak") -> list[Group]:
+    """The runs grouped by their parameters without ``sample``, groups in the order of their first task.
+
+    Parameters
+    ----------
+    runs : list of StoredRun
+    metric : {"peak", "energy", "loss"}
+        The first arrival's current peak, its energy fraction, or 1 - that fraction (runs without one, i.e.
+        not kicked, are left out of the groups' values).
+    """
+    field = METRICS[choice("metric", metric, tuple(METRICS))]
+    order: dict[str, dict[str, Any]] = {}
+    peaks: dict[str, list[float]] = {}
+    failed: dict[str, int] = {}
+    for run in runs:
+        params = {k: v for k, v in run.params.items() if k != "sample"}
+        key = repr(sorted(params.items()))
+        order.setdefault(key, params)
+        peaks.setdefault(key, [])
+        failed.setdefault(key, 0)
+        if run.status in ("failed", "timeout"):
+            failed[key] += 1
+        elif run.status == "ok":
+            peak = _first(run, field)
+            if peak is not None and metric == "loss":
+                peak = 1.0 - peak
+            if peak is not None:
+                peaks[key].append(peak)
+    return [Group(params, np.array(peaks[key]), failed[key]) for key, params in order.items()]
