@@ -16,14 +16,31 @@ from pathlib import Path
 import pytest
 
 INSTALL = "bash .ci/setup (or: sudo apt-get install ngspice libngspice0)"
+INSTALL_CHROMIUM = "bash .ci/setup (or: sudo apt-get install chromium; pip install playwright)"
+
+
+def _missing(what: str, install: str) -> None:
+    if os.environ.get("CI"):
+        pytest.fail(f"{what} is not installed, and CI must run these tests: {install}", pytrace=False)
+    pytest.skip(f"{what} is not installed: {install}")
+
+
+def _has_playwright() -> bool:
+    try:
+        import playwright.sync_api  # noqa: F401
+    except ImportError:
+        return False
+    return True
 
 
 def pytest_runtest_setup(item: pytest.Item) -> None:
-    if item.get_closest_marker("ngspice") is None or shutil.which("ngspice") is not None:
-        return
-    if os.environ.get("CI"):
-        pytest.fail(f"ngspice is not installed, and CI must run the circuit tests: {INSTALL}", pytrace=False)
-    pytest.skip(f"ngspice is not installed: {INSTALL}")
+    if item.get_closest_marker("ngspice") is not None and shutil.which("ngspice") is None:
+        _missing("ngspice", INSTALL)
+    if item.get_closest_marker("chromium") is not None:
+        if shutil.which("chromium") is None:
+            _missing("Chromium", INSTALL_CHROMIUM)
+        if not _has_playwright():
+            _missing("Playwright", INSTALL_CHROMIUM)
 
 
 @pytest.fixture(scope="session", autouse=True)

@@ -185,6 +185,14 @@ CASES: dict[str, Case] = {
                                    files={"s.toml": '[chain]\ncase = "two-mass"\nN = 1000\n[effects.tolerance]\n'
                                                     'L = 0.01\nsamples = 10000\n'}),
     "scene missing": Case(["run", "missing.toml"], ["missing.toml", "readable"]),
+    # ------------------------------------------------------------------ figures and the report
+    "figures into a file": Case(["figures", "--out", "f.txt"], ["--out = 'f.txt'", "a folder (this is a file)"],
+                                files={"f.txt": "x"}),
+    "figures under a missing folder": Case(["figures", "--out", "no/such/dir"], ["--out", "does not exist"]),
+    "figures in an unknown format": Case(["figures", "--out", "figs", "--format", "gif"], ["--format", "gif"]),
+    "report into a file": Case(["report", "--out", "r.html", "--quick"], ["--out = 'r.html'", "a folder"],
+                               files={"r.html": "x"}),
+    "report without a folder": Case(["report", "--quick"], ["--out"]),
     "an unknown summary metric": Case(["results", "s.sqlite", "--summary", "--metric", "speed"],
                                       ["--metric", "speed"]),
     # ------------------------------------------------------------------ runs that fail, and a missing simulator

@@ -18,49 +18,23 @@ with the unrounded value we compute:
   0.98621083055, so ours is the better optimum (see test below).
 """
 
+import re
+from pathlib import Path
+
 import pytest
 from helpers.digits import agrees_with_printed
 
+from lcchain.report.paper import PRINTED_ROWS
 from lcchain.theory.arrivals import first_arrival
 from lcchain.theory.closed_form import closed_form_modes
 from lcchain.theory.design import optimal_one_mass, optimal_two_mass
 
-# Table I: N, x*, delta*(x*), s*(x*), m1*, Delta*, delta*(1)
-TABLE_I = [
-    (3, "0.8165", "0.0000", "0.85", "1.500", "0.5000", "0.0292"),
-    (4, "0.7731", "0.0041", "1.08", "1.673", "0.4261", "0.0608"),
-    (5, "0.7414", "0.0083", "1.28", "1.819", "0.3790", "0.0900"),
-    (6, "0.7171", "0.0123", "1.44", "1.945", "0.3461", "0.1161"),
-    (7, "0.6975", "0.0160", "1.58", "2.056", "0.3214", "0.1395"),
-    (8, "0.6811", "0.0193", "1.71", "2.156", "0.3020", "0.1606"),
-    (9, "0.6670", "0.0223", "1.83", "2.248", "0.2861", "0.1796"),
-    (10, "0.6548", "0.0251", "1.94", "2.333", "0.2728", "0.1969"),
-    (12, "0.6341", "0.0299", "2.13", "2.487", "0.2517", "0.2274"),
-    (14, "0.6173", "0.0341", "2.31", "2.625", "0.2353", "0.2535"),
-    (16, "0.6031", "0.0377", "2.46", "2.750", "0.2223", "0.2762"),
-    (18, "0.5908", "0.0409", "2.61", "2.865", "0.2114", "0.2962"),
-    (20, "0.5801", "0.0437", "2.74", "2.972", "0.2023", "0.3141"),
-    (100, "0.4388", "0.0826", "5.49", "5.194", "0.1065", "0.5612"),
-    (1000, "0.2951", "0.1186", "13.17", "11.486", "0.04551", "0.7881"),
-]
-# Table II: N, r*, w*, delta*, s*, m1*, m2*, K12*
-TABLE_II = [
-    (3, "1.0000", "0.6667", "0.00000", "0.85", "1.500", "1.0000", "1.0000"),
-    (4, "0.9091", "0.5455", "0.00000", "1.21", "1.528", "0.9167", "0.8333"),
-    (5, "0.9151", "0.5024", "0.00304", "1.40", "1.679", "0.9218", "0.8435"),
-    (6, "0.9003", "0.4610", "0.00505", "1.59", "1.776", "0.9093", "0.8187"),
-    (7, "0.8853", "0.4273", "0.00664", "1.77", "1.859", "0.8971", "0.7942"),
-    (8, "0.8718", "0.3996", "0.00794", "1.93", "1.933", "0.8863", "0.7727"),
-    (9, "0.8595", "0.3764", "0.00902", "2.08", "2.002", "0.8768", "0.7536"),
-    (10, "0.8483", "0.3565", "0.00991", "2.22", "2.066", "0.8683", "0.7366"),
-    (12, "0.8285", "0.3241", "0.01130", "2.47", "2.182", "0.8536", "0.7073"),
-    (14, "0.8115", "0.2986", "0.01230", "2.70", "2.287", "0.8414", "0.6828"),
-    (16, "0.7965", "0.2779", "0.01305", "2.91", "2.382", "0.8309", "0.6619"),
-    (18, "0.7832", "0.2606", "0.01361", "3.10", "2.470", "0.8218", "0.6437"),
-    (20, "0.7713", "0.2460", "0.01405", "3.28", "2.552", "0.8138", "0.6277"),
-    (100, "0.5873", "0.0972", "0.01555", "7.04", "4.275", "0.7079", "0.4157"),
-    (1000, "0.3496", "0.0232", "0.01379", "17.72", "9.146", "0.6059", "0.2119"),
-]
+# Table I: N, x*, delta*(x*), s*(x*), m1*, Delta*, delta*(1); Table II: N, r*, w*, delta*, s*, m1*, m2*, K12*.
+# The printed rows live in lcchain.report.paper (the report shows them too); test_printed_rows_are_the_papers
+# checks them against the paper's source when it is beside the repository.
+TABLE_I = [(N, *row) for N, row in PRINTED_ROWS["one-mass"].items()]
+TABLE_II = [(N, *row) for N, row in PRINTED_ROWS["two-mass"].items()]
+PAPER = Path(__file__).resolve().parents[2] / "shared" / "reference" / "quasiuniform-chain-paper.tex"
 # (table, N, column) -> why a one-unit difference in the last digit is accepted (module docstring)
 ONE_UNIT_OFF = {
     ("I", 100, "delta_uniform"): "paper's coarse s grid; true 0.5611453",
@@ -113,3 +87,23 @@ def test_perfect_small_chains_are_the_optima():
     four = optimal_two_mass(4)
     assert (four.r, four.w) == pytest.approx((10 / 11, 6 / 11), abs=1e-6)
     assert four.delta < 1e-12
+
+
+def _tex_rows(text: str, label: str) -> dict[int, tuple[str, ...]]:
+    """The numeric rows of the tabular after \\label{label}: N & v1 & v2 ... \\\\."""
+    body = text[text.index(f"\\label{{{label}}}"):]
+    body = body[: body.index("\\end{tabular}")]
+    rows = {}
+    for line in body.splitlines():
+        cells = [c.strip() for c in line.replace("\\\\", "").split("&")]
+        if len(cells) > 2 and re.fullmatch(r"\d+", cells[0]):
+            rows[int(cells[0])] = tuple(cells[1:])
+    return rows
+
+
+@pytest.mark.skipif(not PAPER.is_file(), reason="the paper's source is not beside the repository")
+def test_printed_rows_are_the_papers():
+    """lcchain.report.paper's copy of Tables I and II is, cell for cell, the paper's source."""
+    text = PAPER.read_text()
+    assert _tex_rows(text, "t.opt_y1") == PRINTED_ROWS["one-mass"]
+    assert _tex_rows(text, "t.opt_rw") == PRINTED_ROWS["two-mass"]

@@ -23,7 +23,7 @@ from ..core import __version__
 from ..core.blas import BLAS_THREADS
 from ..core.errors import Interrupted, LcchainError, ParameterError, SimulationError, SimulatorMissingError
 from ..core.types import BACKENDS, DESIGN_CASES, EXCITATIONS, METHODS, NAMED_CASES
-from . import commands, studies
+from . import commands, studies, validation
 from .common import EXIT_FAILED, EXIT_MISSING, EXIT_SIGPIPE, EXIT_USAGE, OPTION_NAMES, budget_parent, int_list, number
 
 __all__ = ["main", "build_parser"]
@@ -149,6 +149,15 @@ def build_parser() -> argparse.ArgumentParser:
                         "(default); after a kick the energy fraction at that peak, peak^2 L_N/L_1, or the energy "
                         "lost, 1 - that (drawn on a log scale)")
     p.set_defaults(func=studies.cmd_results)
+
+    p = sub.add_parser("figures", help="the paper's figures, recomputed: one file per figure, named by its label")
+    validation.add_figures_arguments(p)
+    p.set_defaults(func=validation.cmd_figures)
+
+    p = sub.add_parser("report", help="the validation report: the paper reproduced and the circuit validated, in "
+                       "DIR/index.html and DIR/report.json (exit 1 when a check fails)")
+    validation.add_report_arguments(p)
+    p.set_defaults(func=validation.cmd_report)
 
     p = sub.add_parser("bench", help="benchmarks (accuracy: what each digit costs per method and N)")
     bench = p.add_subparsers(dest="bench", metavar="BENCH", parser_class=_Parser)

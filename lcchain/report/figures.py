@@ -66,8 +66,9 @@ def delta_figure(data: Mapping[str, Any], measured: Mapping[str, Sequence[tuple[
 
     fig = Figure(figsize=(9.5, 4.8), layout="constrained") if ax is None else ax.get_figure(root=True)
     ax = ax if ax is not None else fig.add_subplot()
-    styles = {"uniform": ("C7", "uniform chain, δ*(1)"), "one-mass": ("C0", "one optimal mass"),
-              "two-mass": ("C3", "two optimal masses and their spring")}
+    styles = {"uniform": ("#2f8f3f", "uniform chain, δ*(1)"), "one-mass": ("#1f5fbf", "one optimal mass"),
+              "two-mass": ("#c0282d", "two optimal masses and their spring")}
+    markers = {"uniform": "^", "one-mass": "s", "two-mass": "o"}
     N = np.asarray(data["N"], dtype=float)
     perfect = []
     for case, (color, label) in styles.items():
@@ -75,14 +76,15 @@ def delta_figure(data: Mapping[str, Any], measured: Mapping[str, Sequence[tuple[
         shown = values > PERFECT_LOSS  # a perfect chain loses nothing: zero has no place on a log axis
         if not np.all(shown):
             perfect.append(f"{case} N = {', '.join(str(int(n)) for n in N[~shown])}")
-        ax.plot(N[shown], values[shown], color=color, linewidth=1.5, label=f"{label} (theory)")
+        ax.plot(N[shown], values[shown], color=color, linewidth=1.0, marker=markers[case], markersize=4,
+                label=f"{label} (theory)")
         if case in data.get("asymptotes", {}):
             ax.axhline(data["asymptotes"][case], color=color, linestyle=":", linewidth=1.0,
-                       label=f"δ*∞ = {data['asymptotes'][case]:.4f}")
+                       label=f"δ*∞ = {data['asymptotes'][case]:.4g}")
     for case, points in (measured or {}).items():
         if points:
             xs, ys = zip(*points, strict=True)
-            ax.plot(xs, np.maximum(ys, PERFECT_LOSS), "o", color=styles.get(case, ("k", ""))[0], markersize=6,
+            ax.plot(xs, np.maximum(ys, PERFECT_LOSS), "o", color=styles.get(case, ("k", ""))[0], markersize=8,
                     markerfacecolor="none", markeredgewidth=1.5, label=f"{case}: ngspice, 1 - peak")
     if perfect:
         ax.plot([], [], " ", label="perfect (δ* = 0, not drawn): " + "; ".join(perfect))

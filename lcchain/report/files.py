@@ -23,7 +23,7 @@ from typing import Any
 
 from ..core.errors import ParameterError
 
-__all__ = ["FIGURE_FORMATS", "check_output", "write_text", "save_figure", "atomic_path"]
+__all__ = ["FIGURE_FORMATS", "check_output", "check_output_folder", "write_text", "save_figure", "atomic_path"]
 
 #: Figure formats matplotlib writes from a file name's ending.
 FIGURE_FORMATS = ("png", "svg", "pdf", "eps", "ps", "jpg", "jpeg", "tif", "tiff", "webp")
@@ -65,6 +65,26 @@ def check_output(option: str, path: str | os.PathLike[str], formats: tuple[str, 
                              f"{error.strerror or error})") from None
     if target.exists() and not os.access(target, os.W_OK):
         raise ParameterError(option, text, "a file lcchain may overwrite (this one is read-only)")
+    return target
+
+
+def check_output_folder(option: str, path: str | os.PathLike[str]) -> Path:
+    """Refuse, before any work, a folder that could not receive files: a file of that name, a parent missing
+    or read-only.  A folder that does not exist yet is created by the caller (one level, after the check)."""
+    target = Path(path)
+    text = os.fspath(path)
+    if not text:
+        raise ParameterError(option, text, "a folder name")
+    if target.exists() and not target.is_dir():
+        raise ParameterError(option, text, "a folder (this is a file)")
+    probe_in = target if target.is_dir() else target.parent
+    if not probe_in.is_dir():
+        raise ParameterError(option, text, f"a folder in an existing folder ({probe_in} does not exist)")
+    try:
+        with tempfile.NamedTemporaryFile(dir=probe_in, prefix=".lcchain-probe-"):
+            pass
+    except OSError as error:
+        raise ParameterError(option, text, f"a writable folder ({probe_in}: {error.strerror or error})") from None
     return target
 
 

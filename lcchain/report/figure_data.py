@@ -1,0 +1,265 @@
+"""The numbers behind the paper's figures, computed by lcchain (no drawing, no matplotlib).
+
+Each function returns plain data (lists, arrays, dicts) that
+:mod:`lcchain.report.paper_figures` draws and the tests check against the
+paper (the δ* points are the table values, P_k sums to 1, ...).  Rows of
+Tables I and II come from :class:`DesignRows`, which computes each (case, N)
+once and may keep it in a cache file.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+import os
+from collections.abc import Callable, Iterable, Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from scipy.optimize import minimize_scalar
+
+from .. import __version__
+from ..circuit.ladder import Ladder
+from ..circuit.netlist import SimulationOptions, netlist_text
+from ..core.types import DesignCase
+from ..theory.asymptotic import EXPONENTS, asymptotic_amplitude, asymptotic_optimum
+from ..theory.cases import chain_for_case
+from ..theory.closed_form import closed_form_modes
+from ..theory.design import optimal_design, quartic_w
+from ..theory.perfect import perfect_design
+from ..theory.response import linear_response
+from .files import write_text
+
+__all__ = ["DesignRows", "QUICK_N", "FULL_N", "cradle4_data", "vk_data", "optimum_data", "int_rw_data",
+           "minimiz_data", "pk_data", "circuit_data", "cache_key"]
+
+#: Sizes of the N axes with --quick (a few seconds) and without (every row of the report, up to 1e5).
+QUICK_N = [3, 4, 5, 6, 7, 8, 9, 10, 12, 14, 16, 18, 20, 30, 50, 100, 200, 500, 1000]
+FULL_N = [*range(3, 11), 12, 14, 16, 18, 20, 25, 30, 35, 40, 45, 50, 60, 70, 80, 90, 100, *range(150, 501, 50), 600,
+          700, 800, 900, 1000, 2000, 3000, 4000, 5000, 10000, 20000, 30000, 40000, 50000, 100000]
+
+
+# ------------------------------------------------------------------ rows of Tables I and II, cached
+def cache_key() -> str:
+    """lcchain's version and a digest of the theory's source: a cached row is reused only by the same code."""
+    digest = hashlib.sha256(__version__.encode())
+    theory = Path(__file__).resolve().parent.parent / "theory"
+    for path in sorted(theory.glob("*.py")):
+        digest.update(path.name.encode())
+        digest.update(path.read_bytes())
+    return digest.hexdigest()[:16]
+
+
+def default_cache_dir() -> Path:
+    """$XDG_CACHE_HOME/lcchain, else ~/.cache/lcchain."""
+    base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
+    return Path(base) / "lcchain"
+
+
+class DesignRows:
+    """Rows of Tables I and II (``Design.to_dict()``), each computed once, optionally kept in a JSON file.
+
+    Parameters
+    ----------
+    cache : path, optional
+        A folder for ``designs-<key>.json`` (:func:`cache_key`): rows computed by the same code are read
+        back instead of recomputed; None keeps rows in memory only.
+    progress : callable, optional
+        ``progress(case, N, seconds)`` after each row computed (not after a row read from the cache).
+    """
+
+    def __init__(self, cache: str | os.PathLike[str] | None = None,
+                 progress: Callable[[str, int, float], None] | None = None):
+        self._path = Path(cache) / f"designs-{cache_key()}.json" if cache is not None else None
+        self._rows: dict[str, dict[str, Any]] = {}
+        self._progress = progress
+        self.computed = 0
+        if self._path is not None and self._path.is_file():
+            try:
+                self._rows = json.loads(self._path.read_text())
+            except (OSError, ValueError):
+                self._rows = {}  # a damaged cache is recomputed, never trusted
+
+    def row(self, case: str, N: int) -> dict[str, Any]:
+        """The design of (case, N) as ``lcchain table --json`` prints it, with its computing time."""
+        key = f"{case}:{N}"
+        if key not in self._rows:
+            import time
+
+            start = time.perf_counter()
+            row = optimal_design(case, N).to_dict()  # type: ignore[arg-type]
+            seconds = time.perf_counter() - start
+            self._rows[key] = {**row, "seconds": seconds}
+            self.computed += 1
+            if self._progress is not None:
+                self._progress(case, N, seconds)
+            self._save()
+        return self._rows[key]
+
+    def rows(self, case: str, Ns: Iterable[int]) -> list[dict[str, Any]]:
+        return [self.row(case, N) for N in Ns]
+
+    def _save(self) -> None:
+        if self._path is None:
+            return
+        try:
+            self._path.parent.mkdir(parents=True, exist_ok=True)
+            write_text(self._path, json.dumps(self._rows, sort_keys=True))
+        except OSError:
+            self._path = None  # an unwritable cache only costs time
+
+
+# ------------------------------------------------------------------ Fig. cradle4
+def cradle4_data(points_per_transit: int = 300, transits: int = 2) -> dict[str, Any]:
+    """The 4-mass perfect cradle (bulk units: masses 5/3, 1, 1, 5/3, end springs 5/6) and its pulse.
+
+    Returns ``masses``, ``springs``, ``T`` (= sqrt(3) pi), ``t`` (0 .. transits T, T on the grid) and
+    ``velocities`` (4 x len(t)): each mass's velocity after a unit kick of mass 1 (the loop currents I_i/I0).
+    """
+    design = perfect_design(4)
+    T = design.t_arrival
+    t = np.linspace(0.0, transits * T, transits * points_per_transit + 1)
+    velocities = linear_response(design.chain, t, loops="all")
+    return {"masses": design.chain.masses.tolist(), "springs": design.chain.springs.tolist(), "T": T, "t": t,
+            "velocities": velocities}
+
+
+# ------------------------------------------------------------------ Fig. vk
+def vk_data(N: int = 50, deltas: Sequence[float] = (0.30, 0.1395, 0.05), points: int = 801) -> dict[str, Any]:
+    """Group velocity v_k and mode density P_k of the one-mass chain (Sec. IV.B) for each Δ.
+
+    Δ = x^2 / (2 - x^2), i.e. x^2 = 2Δ/(1 + Δ).  Curves on k in [0, pi): v_k = N/(N + 2 psi'_k) cos(k/2)
+    with 2 psi'_k of Eq. e.psiprime, and P_k of Eq. e.PkDelta; points: lcchain's modes of the chain,
+    P_n (the n = 1 mode halved, as Eq. e.Pk says) and v = (N/pi)(omega_(n+1) - omega_n) at mid-k.
+    """
+    k = np.linspace(0.0, math.pi, points, endpoint=False)
+    tan2 = np.tan(k / 2) ** 2
+    panels = []
+    for Delta in deltas:
+        x2 = 2 * Delta / (1 + Delta)
+        two_psi_prime = (1 - Delta) * (Delta - tan2) / (Delta**2 + tan2)
+        v = N / (N + two_psi_prime) * np.cos(k / 2)
+        P = Delta * (1 + Delta) / ((N * Delta + 1 - Delta) * Delta + (N - 1 + Delta) * tan2)
+        modes = closed_form_modes(N, 1.0, x2)
+        assert modes.k is not None  # the closed form always gives its wave vectors
+        spacing = np.diff(modes.omega) * N / math.pi
+        panels.append({"Delta": Delta, "x": math.sqrt(x2), "v": v, "P": P, "k_n": modes.k,
+                       "P_n": modes.density, "k_mid": 0.5 * (modes.k[1:] + modes.k[:-1]), "v_n": spacing})
+    return {"N": N, "k": k, "uniform_v": np.cos(k / 2), "panels": panels}
+
+
+# ------------------------------------------------------------------ Figs. delta, x_xy, m_mmK, rw
+def _law(coefficient: float, power: float) -> Callable[[np.ndarray], np.ndarray]:
+    return lambda N: coefficient * N**power
+
+
+def optimum_data(rows: DesignRows, Ns: Sequence[int]) -> dict[str, Any]:
+    """The optimal parameters against N for both cases, with the large-N laws (Figs. delta, x_xy, m_mmK, rw).
+
+    ``one-mass`` / ``two-mass``: lists of table rows; ``laws``: for each case a dict of key ->
+    (coefficient, power) from :func:`lcchain.theory.asymptotic.asymptotic_optimum`, with ``y`` meaning
+    sqrt(2) - c N^p and ``m2`` 1/2 + c N^p; ``asymptotes``: δ*∞ per case; ``w_of_r``: w(r*) of Eq. e.wr for
+    each two-mass row.
+    """
+    sizes = sorted({int(n) for n in Ns})
+    one, two = rows.rows("one-mass", sizes), rows.rows("two-mass", sizes)
+    laws = {}
+    asymptotes = {}
+    cases: tuple[DesignCase, ...] = ("one-mass", "two-mass")
+    for case in cases:
+        optimum = asymptotic_optimum(case)
+        laws[case] = {key: (value, EXPONENTS[case][key]) for key, value in optimum.coefficients.items()}
+        asymptotes[case] = optimum.delta
+    return {"N": sizes, "one-mass": one, "two-mass": two, "laws": laws, "asymptotes": asymptotes,
+            "w_of_r": [quartic_w(row["r"]) if row["r"] <= 1 else math.nan for row in two]}
+
+
+# ------------------------------------------------------------------ Figs. int_rw and minimiz
+def int_rw_data(points: int = 4001, pairs: Sequence[tuple[str, float, float]] | None = None) -> dict[str, Any]:
+    """The integrand of Eq. e.uinftyz on ζ in [0, pi/2] for (τ, σ) pairs, with its weighting function.
+
+    Default pairs (the caption of Fig. int_rw): the one that cancels the linear and cubic terms of θ,
+    (τ, σ) = (2^(3/2)/3, 2^(3/2)), and the optimum (τ*, σ*).  Each pair carries α∞ from
+    :func:`lcchain.theory.asymptotic.asymptotic_amplitude`: the algebraic area under its curve.
+
+    Note: arctan(tan 2ζ / sqrt 2) is taken on the branch continuous in ζ (atan2 with the sign of
+    cos 2ζ handled), which is what 2 atan(sqrt2 ξ / (1 - ξ^2)) means in Eq. e.uinftyxi.
+    """
+    if pairs is None:
+        optimum = asymptotic_optimum("two-mass")
+        pairs = [("linear and cubic terms cancelled", 2**1.5 / 3, 2**1.5), ("optimum", optimum.tau, optimum.sigma)]
+    zeta = np.linspace(0.0, math.pi / 2, points)
+    zeta[-1] = np.nextafter(math.pi / 2, 0.0)  # tan(pi/2) is infinite; the weight there is 0
+    tan = np.tan(zeta)
+    weight = (2 * math.sqrt(2) / math.pi) * (1 + tan**2) / (1 + tan**4)
+    weight[-1] = 0.0
+    # 2 atan(sqrt2 xi / (1 - xi^2)) continuous in xi = tan(zeta): atan2 of the same numerator and denominator
+    shift = 2 * np.arctan2(math.sqrt(2) * tan, 1 - tan**2)
+    curves = []
+    for name, tau, sigma in pairs:
+        theta = tau * tan**3 - sigma * tan + shift
+        integrand = weight * np.cos(theta)
+        integrand[-1] = 0.0
+        curves.append({"name": name, "tau": tau, "sigma": sigma, "integrand": integrand,
+                       "alpha": asymptotic_amplitude(tau, sigma, "two-mass")})
+    return {"zeta": zeta, "weight": weight, "curves": curves}
+
+
+def minimiz_data(sigmas: Sequence[float] | None = None, case: DesignCase = "two-mass") -> dict[str, Any]:
+    """τ_m(σ), the τ that minimises δ∞(σ, τ) for each σ, and δ∞ there (Fig. minimiz), with the optimum."""
+    optimum = asymptotic_optimum(case)
+    if sigmas is None:
+        sigmas = np.linspace(0.7 * optimum.sigma, 1.5 * optimum.sigma, 31).tolist()
+    tau_m, delta_m = [], []
+    # τ = Δ^3 t / 3 > 0.  δ∞(σ, ·) can have two minima: a grid finds the lower one, Brent polishes it
+    grid = np.linspace(0.0, 4.0 * optimum.tau + 0.5, 40)
+    for sigma in sigmas:
+        losses = [1.0 - asymptotic_amplitude(float(tau), sigma, case) for tau in grid]
+        best = int(np.argmin(losses))
+        lo, hi = grid[max(best - 1, 0)], grid[min(best + 1, grid.size - 1)]
+        result = minimize_scalar(lambda tau, s=sigma: 1.0 - asymptotic_amplitude(tau, s, case),
+                                 bounds=(lo, hi), method="bounded", options={"xatol": 1e-7})
+        tau_m.append(float(result.x))
+        delta_m.append(float(result.fun))
+    return {"case": case, "sigma": list(map(float, sigmas)), "tau_m": tau_m, "delta_m": delta_m,
+            "sigma_star": optimum.sigma, "tau_star": optimum.tau, "delta_star": optimum.delta}
+
+
+# ------------------------------------------------------------------ Fig. Pk20-100
+def pk_data(rows: DesignRows, Ns: Sequence[int] = (20, 100)) -> dict[str, Any]:
+    """Mode density P_n and frequency spacing of the optimal two-mass chains (Fig. Pk20-100).
+
+    For each N: ``k`` (k_n), ``P`` (P_n, sums to 1), ``spacing`` ((N/pi)(omega_n - omega_(n-1)) at k_n,
+    n >= 2: comparable with the uniform chain's group velocity cos(k/2)).
+    """
+    panels = []
+    for N in Ns:
+        row = rows.row("two-mass", N)
+        modes = closed_form_modes(N, row["r"], row["w"])
+        assert modes.k is not None
+        panels.append({"N": N, "r": row["r"], "w": row["w"], "k": modes.k, "P": modes.density,
+                       "spacing": np.diff(modes.omega) * N / math.pi})
+    k = np.linspace(0.0, math.pi, 400)
+    return {"panels": panels, "k": k, "uniform_v": np.cos(k / 2)}
+
+
+# ------------------------------------------------------------------ Fig. LCcircuit
+def circuit_data(case: str = "two-mass", N: int = 6, L0: float = 10e-6, C0: float = 10e-9) -> dict[str, Any]:
+    """The ladder's elements as a generated netlist lists them: name, two nodes, value (H or F).
+
+    Returns ``netlist`` (the text), ``elements`` (list of dicts name/kind/nodes/value, netlist order) and
+    the chain's ``masses`` and ``springs``.
+    """
+    chain = chain_for_case(case, N)
+    ladder = Ladder(chain, L0=L0, C0=C0)
+    text = netlist_text(ladder, SimulationOptions(dt=0.05, tstop=1.0), title=f"lcchain {case} N={N}")
+    elements = []
+    for line in text.splitlines():
+        fields = line.split()
+        if fields and fields[0][0] in "LC" and len(fields) >= 4:
+            elements.append({"name": fields[0], "kind": fields[0][0], "nodes": (fields[1], fields[2]),
+                             "value": float(fields[3])})
+    return {"case": case, "N": N, "netlist": text, "elements": elements, "masses": chain.masses.tolist(),
+            "springs": chain.springs.tolist(), "L0": L0, "C0": C0}

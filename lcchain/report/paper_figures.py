@@ -1,0 +1,427 @@
+"""The paper's figures drawn from lcchain's computation: each takes the data of
+:mod:`lcchain.report.figure_data` and returns a matplotlib Figure (never shown).
+
+:data:`FIGURES` lists them by the paper's label; :func:`make_figures` writes
+one file per figure, its name the label (``cradle4.png``, ``vk.svg``, ...).
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .figure_data import (
+    FULL_N,
+    QUICK_N,
+    DesignRows,
+    circuit_data,
+    cradle4_data,
+    int_rw_data,
+    minimiz_data,
+    optimum_data,
+    pk_data,
+    vk_data,
+)
+from .figures import delta_figure
+from .files import save_figure
+
+__all__ = ["FIGURES", "PaperFigure", "make_figures", "cradle4_figure", "vk_figure", "x_xy_figure", "m_mmK_figure",
+           "int_rw_figure", "minimiz_figure", "rw_figure", "pk_figure", "circuit_figure", "delta_from_optimum"]
+
+_BLUE, _RED, _GREEN = "#1f5fbf", "#c0282d", "#2f8f3f"
+
+
+def _figure(width: float = 7.5, height: float = 4.6) -> Any:
+    from matplotlib.figure import Figure
+
+    return Figure(figsize=(width, height), layout="constrained")
+
+
+# ------------------------------------------------------------------ cradle4
+def _spring(ax: Any, x0: float, x1: float, y: float, label: str, coils: int = 6) -> None:
+    xs = np.linspace(x0, x1, 2 * coils + 3)
+    ys = np.full_like(xs, y)
+    ys[1:-1:2] += 0.12
+    ys[2:-1:2] -= 0.12
+    ys[1], ys[-2] = y, y
+    ax.plot(xs, ys, color="0.25", linewidth=1.2)
+    ax.text((x0 + x1) / 2, y + 0.28, label, ha="center", va="bottom", fontsize=9)
+
+
+def _fraction(value: float) -> str:
+    from fractions import Fraction
+
+    exact = Fraction(value).limit_denominator(36)
+    return str(exact) if abs(float(exact) - value) < 1e-9 else f"{value:.4g}"
+
+
+def cradle4_figure(data: Mapping[str, Any]) -> Any:
+    """Fig. cradle4: the chain (masses as blocks of area ∝ mass, springs labelled) and its pulse.
+
+    Left below: each mass's velocity over two transits; right: the space-time map of the same.
+    """
+    fig = _figure(9.5, 6.0)
+    top, bottom = fig.subfigures(2, 1, height_ratios=[1.0, 1.5])
+    ax = top.add_subplot()
+    masses, springs = data["masses"], data["springs"]
+    gap, x = 1.6, 0.0
+    centres = []
+    for i, m in enumerate(masses):
+        side = 0.55 * math.sqrt(m)
+        if i:
+            _spring(ax, x, x + gap, 0.0, f"K = {_fraction(springs[i])}")
+            x += gap
+        ax.add_patch(_rectangle(x, -side / 2, side, side, colour="#8fb3e0" if i in (0, len(masses) - 1) else "#d9d9d9"))
+        ax.text(x + side / 2, 0.0, f"{_fraction(m)}", ha="center", va="center", fontsize=10)
+        centres.append(x + side / 2)
+        x += side
+    ax.annotate("", xy=(centres[0] + 0.9, -0.75), xytext=(centres[0] - 0.3, -0.75),
+                arrowprops={"arrowstyle": "->", "color": _RED, "linewidth": 1.6})
+    ax.text(centres[0] + 0.3, -0.95, "kick v = 1 at t = 0", ha="center", va="top", fontsize=8, color=_RED)
+    ax.annotate("", xy=(centres[-1] + 0.9, -0.75), xytext=(centres[-1] - 0.3, -0.75),
+                arrowprops={"arrowstyle": "->", "color": _GREEN, "linewidth": 1.6})
+    ax.text(centres[-1] + 0.3, -0.95, f"v = 1 at T = √3 π = {data['T']:.4f}", ha="center", va="top", fontsize=8,
+            color=_GREEN)
+    ax.set_xlim(-0.8, x + 0.8)
+    ax.set_ylim(-1.3, 0.9)
+    ax.set_aspect("equal")
+    ax.axis("off")
+    ax.set_title("Fig. cradle4: the perfect 4-mass cradle (free ends; end masses 5/3, end springs 5/6 of the bulk)",
+                 fontsize=10)
+
+    left, right = bottom.subplots(1, 2, width_ratios=[1.3, 1.0])
+    t, v, T = data["t"], data["velocities"], data["T"]
+    for i, row in enumerate(v):
+        left.plot(t / T, row, linewidth=1.4 if i in (0, len(v) - 1) else 0.9, label=f"mass {i + 1}")
+    left.set_xlabel("t / T")
+    left.set_ylabel("velocity (= I_i / I0 in the ladder)")
+    left.grid(True, alpha=0.3, linewidth=0.5)
+    left.legend(fontsize=8, ncols=2)
+    left.set_title("the kick leaves mass 1 and arrives whole at mass 4 at t = T", fontsize=9)
+    mesh = right.pcolormesh(np.arange(len(v) + 1) + 0.5, _edges(t / T), v.T, cmap="RdBu_r", vmin=-1, vmax=1,
+                            shading="flat")
+    right.set_xlabel("mass")
+    right.set_ylabel("t / T")
+    right.set_xticks(range(1, len(v) + 1))
+    right.set_title("space-time map of the velocities", fontsize=9)
+    bottom.colorbar(mesh, ax=right, shrink=0.85)
+    return fig
+
+
+def _rectangle(x: float, y: float, w: float, h: float, colour: str) -> Any:
+    from matplotlib.patches import Rectangle
+
+    return Rectangle((x, y), w, h, facecolor=colour, edgecolor="0.2", linewidth=1.0)
+
+
+def _edges(centres: np.ndarray) -> np.ndarray:
+    middle = 0.5 * (centres[1:] + centres[:-1])
+    return np.concatenate(([centres[0] - (middle[0] - centres[0])], middle, [centres[-1] + (centres[-1] - middle[-1])]))
+
+
+# ------------------------------------------------------------------ vk
+def vk_figure(data: Mapping[str, Any]) -> Any:
+    """Fig. vk: v_k (red) and P_k (blue dashed, arbitrary units) for N = 50 at three Δ; uniform v_k dotted."""
+    panels = data["panels"]
+    fig = _figure(10.5, 3.8)
+    axes = fig.subplots(1, len(panels), sharey=True)
+    k = data["k"]
+    for ax, panel in zip(np.atleast_1d(axes), panels, strict=True):
+        ax.plot(k, panel["v"], color=_RED, linewidth=1.6, label="v_k")
+        ax.plot(panel["k_mid"], panel["v_n"], "o", color=_RED, markersize=2.5, label="(N/π) Δω_n (modes)")
+        ax.plot(k, data["uniform_v"], ":", color="0.3", linewidth=1.0, label="uniform chain")
+        scale = 1.0 / float(np.max(panel["P"]))
+        ax.plot(k, panel["P"] * scale, "--", color=_BLUE, linewidth=1.2, label="P_k (scaled)")
+        ax.plot(panel["k_n"], np.asarray(panel["P_n"]) * scale * np.where(np.asarray(panel["k_n"]) == 0, 2.0, 1.0),
+                "s", color=_BLUE, markersize=2.5, label="P_n (modes)")
+        ax.set_title(f"Δ = {panel['Delta']:g}  (x = {panel['x']:.4f})", fontsize=9)
+        ax.set_xlabel("k")
+        ax.set_xlim(0, math.pi)
+        ax.set_ylim(0, 1.15)
+        ax.grid(True, alpha=0.3, linewidth=0.5)
+    first = np.atleast_1d(axes)[0]
+    first.set_ylabel("v_k, P_k (arb. units)")
+    first.legend(fontsize=7, loc="upper right")
+    fig.suptitle(f"Fig. vk: group velocity and mode density, one-mass chain of N = {data['N']}", fontsize=10)
+    return fig
+
+
+# ------------------------------------------------------------------ delta, x_xy, m_mmK, rw
+def delta_from_optimum(data: Mapping[str, Any]) -> dict[str, Any]:
+    """The data of Fig. delta taken from :func:`optimum_data`'s rows (no design computed twice)."""
+    return {"N": data["N"], "uniform": [row["delta_uniform"] for row in data["one-mass"]],
+            "one-mass": [max(row["delta"], 0.0) for row in data["one-mass"]],
+            "two-mass": [max(row["delta"], 0.0) for row in data["two-mass"]], "asymptotes": data["asymptotes"]}
+
+
+def _curve_N(data: Mapping[str, Any]) -> np.ndarray:
+    return np.geomspace(min(data["N"]), max(data["N"]), 200)
+
+
+def _law(data: Mapping[str, Any], case: str, key: str, N: np.ndarray) -> np.ndarray:
+    c, p = data["laws"][case][key]
+    value = c * N**p
+    if case == "two-mass" and key == "y":
+        return math.sqrt(2) - value
+    if case == "two-mass" and key == "m2":
+        return 0.5 + value
+    return value
+
+
+def _points(ax: Any, data: Mapping[str, Any], case: str, key: str, colour: str, marker: str, label: str) -> None:
+    N = np.asarray(data["N"], dtype=float)
+    values = np.asarray([row[key] for row in data[case]], dtype=float)
+    ax.plot(N, values, marker, color=colour, markersize=4.5, markerfacecolor="none", label=label)
+
+
+def x_xy_figure(data: Mapping[str, Any]) -> Any:
+    """Fig. x_xy: x* (one-mass, y = 1) and x*, y* (two-mass) against N with Eqs. e.asymp_x and e.xy_N."""
+    fig = _figure()
+    ax = fig.add_subplot()
+    N = _curve_N(data)
+    _points(ax, data, "one-mass", "x", _BLUE, "s", "x*, one-mass")
+    _points(ax, data, "two-mass", "x", _RED, "o", "x*, two-mass")
+    _points(ax, data, "two-mass", "y", _RED, "^", "y*, two-mass")
+    for case, key, colour in (("one-mass", "x", _BLUE), ("two-mass", "x", _RED), ("two-mass", "y", _RED)):
+        ax.plot(N, _law(data, case, key, N), color=colour, linewidth=0.9, alpha=0.8)
+    ax.plot([], [], color="0.3", linewidth=0.9, label="large-N laws")
+    ax.set_ylim(0.0, 1.5)
+    ax.set_xscale("log")
+    ax.set_xlabel("N")
+    ax.set_ylabel("x*, y*")
+    ax.grid(True, which="both", alpha=0.3, linewidth=0.5)
+    ax.legend(fontsize=8)
+    ax.set_title("Fig. x_xy: optimal x* and y* against N", fontsize=10)
+    return fig
+
+
+def m_mmK_figure(data: Mapping[str, Any]) -> Any:
+    """Fig. m_mmK: m1*, m2*, K12* against N (one-mass: m2 = K12 = 1) with the large-N laws."""
+    fig = _figure()
+    ax = fig.add_subplot()
+    N = _curve_N(data)
+    _points(ax, data, "one-mass", "m1", _BLUE, "s", "m1*, one-mass")
+    for key, marker in (("m1", "o"), ("m2", "^"), ("K12", "v")):
+        _points(ax, data, "two-mass", key, _RED, marker, f"{key}*, two-mass")
+        ax.plot(N, _law(data, "two-mass", key, N), color=_RED, linewidth=0.9, alpha=0.8)
+    ax.plot(N, _law(data, "one-mass", "m1", N), color=_BLUE, linewidth=0.9, alpha=0.8)
+    ax.axhline(1.0, color=_BLUE, linestyle=":", linewidth=0.9, label="m2 = K12 = 1, one-mass")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("N")
+    ax.set_ylabel("m1*, m2*, K12* (bulk units)")
+    ax.grid(True, which="both", alpha=0.3, linewidth=0.5)
+    ax.legend(fontsize=8, ncols=2)
+    ax.set_title("Fig. m_mmK: optimal end masses and spring against N", fontsize=10)
+    return fig
+
+
+def rw_figure(data: Mapping[str, Any]) -> Any:
+    """Fig. rw: r* (squares) and w* (circles) against N, Eq. e.rw_N, and w(r*) of Eq. e.wr (open circles)."""
+    fig = _figure()
+    ax = fig.add_subplot()
+    N = _curve_N(data)
+    Ns = np.asarray(data["N"], dtype=float)
+    ax.plot(Ns, [row["r"] for row in data["two-mass"]], "s", color=_RED, markersize=4.5, label="r*")
+    ax.plot(Ns, [row["w"] for row in data["two-mass"]], "o", color=_BLUE, markersize=4.5, label="w*")
+    ax.plot(Ns, data["w_of_r"], "o", color=_BLUE, markersize=8, markerfacecolor="none", label="w(r*), Eq. e.wr")
+    ax.plot(N, _law(data, "two-mass", "r", N), color=_RED, linewidth=0.9)
+    ax.plot(N, _law(data, "two-mass", "w", N), color=_BLUE, linewidth=0.9)
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("N")
+    ax.set_ylabel("r*, w*")
+    ax.grid(True, which="both", alpha=0.3, linewidth=0.5)
+    ax.legend(fontsize=8)
+    ax.set_title("Fig. rw: optimal r*, w* against N (curves: large-N laws)", fontsize=10)
+    return fig
+
+
+# ------------------------------------------------------------------ int_rw, minimiz
+def int_rw_figure(data: Mapping[str, Any]) -> Any:
+    """Fig. int_rw: the integrand of Eq. e.uinftyz; its area is α∞(τ, σ)."""
+    fig = _figure()
+    ax = fig.add_subplot()
+    zeta = data["zeta"]
+    styles = [(_BLUE, 0.9), (_RED, 2.0)]
+    for curve, (colour, width) in zip(data["curves"], styles, strict=False):
+        ax.plot(zeta, curve["integrand"], color=colour, linewidth=width,
+                label=f"{curve['name']}: τ = {curve['tau']:.5f}, σ = {curve['sigma']:.4f}, α∞ = {curve['alpha']:.6f}")
+    ax.plot(zeta, data["weight"], "--", color="0.3", linewidth=1.0, label="weighting function")
+    ax.axhline(0.0, color="0.5", linewidth=0.5)
+    ax.set_xlim(0, math.pi / 2)
+    ax.set_xlabel("ζ")
+    ax.set_ylabel("integrand of Eq. e.uinftyz")
+    ax.legend(fontsize=8)
+    ax.grid(True, alpha=0.3, linewidth=0.5)
+    ax.set_title("Fig. int_rw: the integrand of α∞(τ, σ), two-mass chain", fontsize=10)
+    return fig
+
+
+def minimiz_figure(data: Mapping[str, Any]) -> Any:
+    """Fig. minimiz: τ_m(σ) (left axis, blue) and δ∞(σ, τ_m(σ)) (right axis, red, log), minimum at σ*."""
+    fig = _figure()
+    ax = fig.add_subplot()
+    ax.plot(data["sigma"], data["tau_m"], color=_BLUE, linewidth=1.6)
+    ax.set_xlabel("σ")
+    ax.set_ylabel("τ_m(σ)", color=_BLUE)
+    right = ax.twinx()
+    right.plot(data["sigma"], data["delta_m"], color=_RED, linewidth=1.6)
+    right.set_yscale("log")
+    right.set_ylabel("δ∞(σ, τ_m(σ))", color=_RED)
+    right.plot([data["sigma_star"]], [data["delta_star"]], "o", color=_RED)
+    right.annotate(f"σ* = {data['sigma_star']:.4f}, τ* = {data['tau_star']:.5f}\nδ*∞ = {data['delta_star']:.6f}",
+                   (data["sigma_star"], data["delta_star"]), textcoords="offset points", xytext=(10, 18), fontsize=8)
+    ax.grid(True, alpha=0.3, linewidth=0.5)
+    ax.set_title(f"Fig. minimiz: minimising the asymptotic loss ({data['case']})", fontsize=10)
+    return fig
+
+
+# ------------------------------------------------------------------ Pk20-100
+def pk_figure(data: Mapping[str, Any]) -> Any:
+    """Fig. Pk20-100: P_n (squares, left) and (N/π) δω_n (circles, right) for N = 20 (filled), 100 (open)."""
+    fig = _figure()
+    ax = fig.add_subplot()
+    right = ax.twinx()
+    for panel, filled in zip(data["panels"], (True, False), strict=False):
+        face = None if filled else "none"
+        ax.plot(panel["k"], panel["P"] * panel["N"], "s", color=_RED, markersize=4, markerfacecolor=face,
+                label=f"N P_n, N = {panel['N']}")
+        right.plot(panel["k"][1:], panel["spacing"], "o", color=_BLUE, markersize=4, markerfacecolor=face,
+                   label=f"(N/π) δω_n, N = {panel['N']}")
+    right.plot(data["k"], data["uniform_v"], "--", color="0.3", linewidth=1.0, label="uniform v_k = cos(k/2)")
+    ax.set_xlabel("k_n")
+    ax.set_ylabel("N P_n", color=_RED)
+    right.set_ylabel("(N/π) δω_n", color=_BLUE)
+    right.set_ylim(0, 1.1)
+    ax.set_xlim(0, math.pi)
+    lines = ax.get_legend_handles_labels()
+    more = right.get_legend_handles_labels()
+    ax.legend(lines[0] + more[0], lines[1] + more[1], fontsize=8, loc="center right")
+    ax.grid(True, alpha=0.3, linewidth=0.5)
+    ax.set_title("Fig. Pk20-100: mode density and frequency spacing of the optimal two-mass chains", fontsize=10)
+    return fig
+
+
+# ------------------------------------------------------------------ LCcircuit
+def _inductor(ax: Any, x0: float, x1: float, y: float) -> None:
+    turns = 4
+    lead = 0.12 * (x1 - x0)
+    ax.plot([x0, x0 + lead], [y, y], color="k", linewidth=1.2)
+    ax.plot([x1 - lead, x1], [y, y], color="k", linewidth=1.2)
+    width = (x1 - x0 - 2 * lead) / turns
+    for j in range(turns):
+        theta = np.linspace(math.pi, 0, 30)
+        cx = x0 + lead + width * (j + 0.5)
+        ax.plot(cx + width / 2 * np.cos(theta), y + width / 2 * np.sin(theta), color="k", linewidth=1.2)
+
+
+def _capacitor(ax: Any, x: float, y0: float, y1: float) -> None:
+    mid = (y0 + y1) / 2
+    ax.plot([x, x], [y0, mid + 0.06], color="k", linewidth=1.2)
+    ax.plot([x, x], [mid - 0.06, y1], color="k", linewidth=1.2)
+    ax.plot([x - 0.18, x + 0.18], [mid + 0.06, mid + 0.06], color="k", linewidth=2.0)
+    ax.plot([x - 0.18, x + 0.18], [mid - 0.06, mid - 0.06], color="k", linewidth=2.0)
+
+
+def _si(value: float, unit: str) -> str:
+    for prefix, scale in (("", 1.0), ("m", 1e-3), ("µ", 1e-6), ("n", 1e-9), ("p", 1e-12), ("f", 1e-15)):
+        if abs(value) >= scale * 0.9999:
+            return f"{value / scale:.4g} {prefix}{unit}"
+    return f"{value:.3g} {unit}"
+
+
+def circuit_figure(data: Mapping[str, Any]) -> Any:
+    """Fig. LCcircuit: the ladder drawn from the netlist's own elements, each with its value.
+
+    Inductors (the masses) in series along the top carry the loop currents; capacitors (the springs) to
+    ground between them; a free end closes its loop to ground directly.
+    """
+    elements = data["elements"]
+    inductors = [e for e in elements if e["kind"] == "L"]
+    capacitors = {frozenset(e["nodes"]): e for e in elements if e["kind"] == "C"}
+    fig = _figure(2.0 + 1.9 * len(inductors), 2.9)
+    ax = fig.add_subplot()
+    top, ground, step = 1.0, 0.0, 1.9
+    x = 0.0
+    ax.plot([x, x], [ground, top], color="k", linewidth=1.2)
+    for i, inductor in enumerate(inductors):
+        _inductor(ax, x, x + step, top)
+        ax.text(x + step / 2, top + 0.25, f"{inductor['name']}\n{_si(inductor['value'], 'H')}", ha="center",
+                va="bottom", fontsize=8)
+        ax.text(x + step / 2, top - 0.22, f"I{i + 1} →", ha="center", va="top", fontsize=7, color=_RED)
+        x += step
+        node = inductor["nodes"][1]
+        capacitor = capacitors.get(frozenset((node, "0")))
+        if capacitor is not None and i < len(inductors) - 1:
+            _capacitor(ax, x, top, ground)
+            ax.plot([x], [top], "o", color="k", markersize=3)
+            ax.text(x + 0.22, (top + ground) / 2, f"{capacitor['name']}\n{_si(capacitor['value'], 'F')}", ha="left",
+                    va="center", fontsize=7.5)
+    ax.plot([x, x], [ground, top], color="k", linewidth=1.2)
+    ax.plot([0.0, x], [ground, ground], color="k", linewidth=1.2)
+    for gx in (0.0, x):
+        ax.plot([gx - 0.15, gx + 0.15], [ground - 0.08, ground - 0.08], color="k", linewidth=1.0)
+    ax.set_xlim(-0.4, x + 0.6)
+    ax.set_ylim(-0.4, top + 0.9)
+    ax.set_aspect("equal")
+    ax.axis("off")
+    ax.set_title(f"Fig. LCcircuit: the {data['case']} ladder of N = {data['N']} from its netlist "
+                 f"(L_i = m_i L0, C = C0 / K; L0 = {_si(data['L0'], 'H')}, C0 = {_si(data['C0'], 'F')})", fontsize=9)
+    return fig
+
+
+# ------------------------------------------------------------------ the set
+@dataclass(frozen=True)
+class PaperFigure:
+    """One figure of the paper: its label (the file's name) and how it is built from shared rows."""
+
+    label: str
+    caption: str
+    build: Callable[[DesignRows, bool], Any]
+
+
+def _optimum(rows: DesignRows, quick: bool) -> dict[str, Any]:
+    return optimum_data(rows, QUICK_N if quick else FULL_N)
+
+
+FIGURES: tuple[PaperFigure, ...] = (
+    PaperFigure("cradle4", "The perfect 4-mass cradle and its pulse",
+                lambda rows, quick: cradle4_figure(cradle4_data())),
+    PaperFigure("vk", "Group velocity and mode density, N = 50, three Δ", lambda rows, quick: vk_figure(vk_data())),
+    PaperFigure("delta", "Transmission loss δ* against N",
+                lambda rows, quick: delta_figure(delta_from_optimum(_optimum(rows, quick)))),
+    PaperFigure("x_xy", "Optimal x*, y* against N", lambda rows, quick: x_xy_figure(_optimum(rows, quick))),
+    PaperFigure("m_mmK", "Optimal m1*, m2*, K12* against N", lambda rows, quick: m_mmK_figure(_optimum(rows, quick))),
+    PaperFigure("int_rw", "The integrand of α∞(τ, σ)", lambda rows, quick: int_rw_figure(int_rw_data())),
+    PaperFigure("minimiz", "Minimising δ∞(σ, τ)",
+                lambda rows, quick: minimiz_figure(minimiz_data())),
+    PaperFigure("rw", "Optimal r*, w* against N", lambda rows, quick: rw_figure(_optimum(rows, quick))),
+    PaperFigure("Pk20-100", "Mode density and spacing, N = 20 and 100", lambda rows, quick: pk_figure(pk_data(rows))),
+    PaperFigure("LCcircuit", "The LC ladder", lambda rows, quick: circuit_figure(circuit_data())),
+)
+
+
+def make_figures(out: str | os.PathLike[str], *, quick: bool = False, fmt: str = "png", rows: DesignRows | None = None,
+                 progress: Callable[[int, int, str], None] | None = None) -> list[Path]:
+    """Write every figure of :data:`FIGURES` into ``out`` as ``<label>.<fmt>``; return the paths."""
+    rows = rows if rows is not None else DesignRows()
+    folder = Path(out)
+    folder.mkdir(parents=True, exist_ok=True)
+    written = []
+    for i, figure in enumerate(FIGURES):
+        if progress is not None:
+            progress(i, len(FIGURES), figure.label)
+        path = folder / f"{figure.label}.{fmt}"
+        save_figure(figure.build(rows, quick), path, dpi=150)
+        written.append(path)
+    if progress is not None:
+        progress(len(FIGURES), len(FIGURES), "done")
+    return written
+

@@ -1,0 +1,110 @@
+"""``lcchain report --quick`` end to end (issue 12): real ngspice, the page opened in a real headless
+Chromium (Debian's, driven by Playwright; nothing is downloaded), the JSON read back."""
+
+from __future__ import annotations
+
+import base64
+import hashlib
+import json
+import re
+import shutil
+from pathlib import Path
+
+import pytest
+
+from lcchain.cli import main
+from lcchain.report.html import STYLE, content_security_policy, render_html
+
+pytestmark = pytest.mark.ngspice
+
+
+
+@pytest.fixture(scope="module")
+def report_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    out = tmp_path_factory.mktemp("report") / "out"
+    status = main(["report", "--out", str(out), "--quick", "--no-cache"])
+    assert status == 0, (out / "report.json").read_text()[:2000] if (out / "report.json").exists() else status
+    return out
+
+
+@pytest.fixture(scope="module")
+def data(report_dir: Path) -> dict:
+    return json.loads((report_dir / "report.json").read_text())
+
+
+def test_json_holds_tables_checks_and_versions(data: dict) -> None:
+    for key in ("tables", "checks", "ngspice_version", "lcchain_version", "created"):
+        assert key in data
+    assert re.fullmatch(r"\d+\S*", data["ngspice_version"])  # as `ngspice -v` says it: "39"
+    table_keys = {"N", "case", "delta", "s", "m1", "m2", "K12"}
+    for case in ("one-mass", "two-mass"):
+        rows = data["tables"][case]
+        assert {3, 4, 20, 100, 1000} <= {row["N"] for row in rows}
+        assert table_keys <= set(rows[0])
+    names = [c["name"] for c in data["checks"]]
+    assert len(names) == len(set(names))
+    for check in data["checks"]:
+        assert {"name", "passed", "max_abs_error", "tolerance"} <= set(check)
+        assert check["passed"] is True, check
+    circuit = [c for c in data["checks"] if c["kind"] == "circuit"]
+    assert {c["excitation"] for c in circuit} == {"kick", "displacement"}
+    assert len(circuit) >= 20 and any("walls+losses" in c["name"] for c in circuit)
+    for check in circuit:
+        assert 0 < check["max_abs_error"] <= check["tolerance"]
+    # Table II, N = 100 recomputed: the printed cells are the paper's and lcchain's own value is beside them
+    row = next(r for r in data["tables"]["two-mass"] if r["N"] == 100)
+    assert row["r"] == pytest.approx(0.5873, abs=5e-5)
+    assert any(f["where"].startswith("Table II, row N → ∞, column m2*") for f in data["paper"]["findings"])
+
+
+def test_page_forbids_every_request(report_dir: Path) -> None:
+    page = (report_dir / "index.html").read_text()
+    digest = base64.b64encode(hashlib.sha256(STYLE.encode()).digest()).decode()
+    assert f'content="{content_security_policy()}"' in page and f"'sha256-{digest}'" in page
+    assert "default-src 'none'" in page and "<script" not in page
+    for attribute in re.findall(r'(?:src|href)="([^"]*)"', page):
+        assert attribute.startswith(("data:image/png;base64,", "#")), attribute[:80]
+
+
+def test_a_failed_check_turns_the_verdict(data: dict) -> None:
+    """The verdict is computed from the checks: one failing check makes the page say so (and the CLI exit 1)."""
+    from lcchain.report.validation import CircuitCheck
+
+    failing = CircuitCheck("made-up run", "two-mass, N = 20", 20, "kick", 0.05, 1e-3, 1e-6, 2.5e-6, False)
+    report = {"title": "t", "created": "now", "lcchain_version": "0", "ngspice_version": "0",
+              "machine": {"system": "", "release": "", "machine": "", "python": "", "numpy": ""}, "quick": True,
+              "seconds": 1.0, "checks": [failing.to_dict()], "circuit": [failing],
+              "paper": {"tables": {}, "columns": {}, "asymptotic": [], "perfect": {"paper": [], "any_N": []},
+                        "findings": []}}
+    page = render_html(report, {}, [])
+    assert "1 of 1 checks failed" in page and "FAILED" in page
+
+
+@pytest.mark.chromium
+def test_page_renders_in_chromium_without_a_request_or_an_error(report_dir: Path) -> None:
+    from playwright.sync_api import sync_playwright
+
+    url = (report_dir / "index.html").resolve().as_uri()
+    requests, errors = [], []
+    with sync_playwright() as p:
+        browser = p.chromium.launch(executable_path=shutil.which("chromium"), headless=True, args=["--no-sandbox"])
+        try:
+            page = browser.new_page(viewport={"width": 1366, "height": 900})
+            page.on("request", lambda r: requests.append(r.url))
+            page.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
+            page.on("pageerror", lambda e: errors.append(str(e)))
+            page.goto(url, wait_until="load")
+            sizes = page.eval_on_selector_all("img", "imgs => imgs.map(i => [i.naturalWidth, i.naturalHeight])")
+            title = page.title()
+            table_ii = page.inner_text("#two-mass + p + table")
+            verdict = page.inner_text(".verdict")
+            pdf = page.pdf()  # it prints
+        finally:
+            browser.close()
+    assert title == "lcchain validation report"
+    assert [r for r in requests if not r.startswith("data:") and r != url] == []
+    assert errors == []
+    assert len(sizes) >= 30 and all(w > 100 and h > 100 for w, h in sizes)
+    assert "0.58728" in table_ii and "paper 0.5873" in table_ii  # computed beside printed
+    assert verdict == "Every check passed"
+    assert pdf[:4] == b"%PDF" and len(pdf) > 100_000
