@@ -240,6 +240,11 @@ def test_bench_accuracy_quick_writes_its_files(tmp_path):
     assert names == {"records.csv", "records.json", "pareto.png", "summary.md"}
     kinds = {(r["method"], r["stepping"]) for r in result["records"]}
     assert kinds == {("trap", "fixed"), ("gear", "fixed"), ("trap", "adaptive"), ("gear", "adaptive"),
-                     ("DOP853", "adaptive"), ("modal sum", "exact")}
+                     ("DOP853", "adaptive"), ("modal sum", "exact"), ("trap", "pair"), ("trap", "triple")}
     assert all(r["error"] > 0 and r["wall_s"] > 0 for r in result["records"])
+    for runs in ("pair", "triple"):  # at the same coarsest step, the combination beats the single run by far
+        for r in (r for r in result["records"] if r["stepping"] == runs):
+            single = [s for s in result["records"] if s["stepping"] == "fixed" and s["method"] == "trap"
+                      and s["dt"] == r["dt"]]
+            assert not single or r["error"] < single[0]["error"] / 10
     assert 0.2 < result["summary"]["fits"]["error_c"]["trap N=20"] < 0.35  # issue 4: 0.28

@@ -196,7 +196,8 @@ CASES: dict[str, Case] = {
     "an unknown summary metric": Case(["results", "s.sqlite", "--summary", "--metric", "speed"],
                                       ["--metric", "speed"]),
     # ------------------------------------------------------------------ runs that fail, and a missing simulator
-    "accuracy not met": Case(["simulate", "--case", "uniform-bounded", "--N", "10", "--accuracy", "1e-9"],
+    "accuracy not met": Case(["simulate", "--case", "uniform-bounded", "--N", "10", "--accuracy", "1e-9",
+                              "--extrapolate", "1"],
                              ["--accuracy 1e-09 was not met", "reached"], status=1),
     "waveform-out on a full disk": Case(["simulate", "--case", "perfect", "--N", "4", "--waveform-out", "/dev/full"],
                                         ["could not write /dev/full", "--waveform-out", "No space left"], status=1),

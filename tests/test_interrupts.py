@@ -93,3 +93,30 @@ def test_no_simulator_and_no_file_outlive_lcchain(tmp_path: Path, backend: str, 
     assert _gone(child), f"the simulator (pid {child}) outlived lcchain"
     assert list(scratch.iterdir()) == [], "a temporary file was left behind"
     assert list(tmp_path.iterdir()) == [scratch], "an output file was written"
+
+
+@pytest.mark.ngspice
+@pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGKILL], ids=["SIGINT", "SIGKILL"])
+def test_no_member_of_an_extrapolation_outlives_lcchain(tmp_path: Path, signum: int) -> None:
+    # The runs of a pair go two at a time, one of them from a helper thread: both must die with lcchain.
+    scratch = tmp_path / "tmp"
+    scratch.mkdir()
+    env = dict(os.environ, TMPDIR=str(scratch))
+    proc = subprocess.Popen([sys.executable, "-m", "lcchain", *LONG_RUN, "--extrapolate", "2"], cwd=tmp_path,
+                            env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    try:
+        deadline = time.monotonic() + START_TIMEOUT
+        children: list[int] = []
+        while len(children) < 2 and time.monotonic() < deadline:
+            assert proc.poll() is None, proc.communicate()
+            children = [pid for pid, cmd in _children(proc.pid).items() if "ngspice" in cmd]
+            time.sleep(0.1)
+        assert len(children) == 2, "the two runs of the pair did not start together"
+        proc.send_signal(signum)
+        _, err = proc.communicate(timeout=60)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+    assert b"Traceback" not in err
+    assert all(_gone(pid) for pid in children), "a member's ngspice outlived lcchain"
+    assert list(scratch.iterdir()) == [], "a temporary file was left behind"

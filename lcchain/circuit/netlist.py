@@ -124,6 +124,14 @@ class SimulationOptions:
         ``(("itl4", "50"),)`` writes ``itl4=50``.
     ngspice_defaults : tuple of str
         Names from :data:`SCALED_TOLERANCES` to leave at ngspice's defaults.
+    aligned : bool
+        Steps the same at every dt up to scale (the members of an
+        extrapolation, :mod:`lcchain.compare.extrapolate`): the print step is
+        tstop, so no breakpoint at t = dt restarts the steps, and the
+        truncation-error test is off (``trtol=1e9``), so after the start-up
+        ramp (two steps of min(tstop/1000, dt)/10, then doubling) every step
+        is exactly dt (:func:`lcchain.compare.extrapolate.aligned_grid`).
+        Fixed stepping only.
     """
 
     dt: float
@@ -134,6 +142,7 @@ class SimulationOptions:
     stepping: Stepping = "fixed"
     extra: tuple[tuple[str, str | None], ...] = ()
     ngspice_defaults: tuple[str, ...] = ()
+    aligned: bool = False
 
     def __post_init__(self) -> None:
         dt = real("dt", self.dt, above=0.0, at_most=MAX_DT,
@@ -156,6 +165,10 @@ class SimulationOptions:
         for name in defaults:
             choice("ngspice_defaults", name, SCALED_TOLERANCES)
         object.__setattr__(self, "ngspice_defaults", defaults)
+        if not isinstance(self.aligned, bool):
+            raise ParameterError("aligned", self.aligned, "True or False")
+        if self.aligned and self.stepping != "fixed":
+            raise ParameterError("aligned", self.aligned, "aligned steps with stepping='fixed' only")
 
 
 def probe_names(N: int, probes: Probes = "ends") -> list[str]:
@@ -276,7 +289,8 @@ def netlist_text(
     step = options.dt * unit
     tstop = options.tstop * unit
     max_step = step if options.stepping == "fixed" else tstop / 50
-    lines.append(f".tran {number(step)} {number(tstop)} 0 {number(max_step)} uic")
+    print_step = tstop if options.aligned else step  # aligned: no breakpoint at t = dt
+    lines.append(f".tran {number(print_step)} {number(tstop)} 0 {number(max_step)} uic")
     lines.append(".save " + " ".join(probe_names(N, probes) + list(extra_vectors)))
     lines.append(".end")
     return "\n".join(lines) + "\n"
@@ -290,7 +304,7 @@ def _options_line(options: SimulationOptions, I0: float, ladder: Ladder) -> str:
     scaled = {"abstol": 1e-12 * I0, "vntol": 1e-12 * V0, "chgtol": 1e-15 * Q0}
     words = [f"method={options.method}", f"maxord={options.maxord}", f"reltol={number(options.reltol)}"]
     words += [f"{name}={number(value)}" for name, value in scaled.items() if name not in options.ngspice_defaults]
-    words.append("trtol=7.0")
+    words.append("trtol=1e9" if options.aligned else "trtol=7.0")
     words += [name if value is None else f"{name}={value}" for name, value in options.extra]
     return ".options " + " ".join(words)
 
@@ -309,6 +323,7 @@ def make_netlist(
     comments: tuple[str, ...] = (),
     modes: Modes | None = None,
     tstop: float | None = None,
+    aligned: bool = False,
 ) -> tuple[str, Ladder, SimulationOptions]:
     """The netlist :func:`lcchain.simulate` runs: a chain, kicked or displaced, over some transits.
 
@@ -333,6 +348,8 @@ def make_netlist(
         The chain's modes, when already computed (they give the stop time).
     tstop : float, optional
         The stop time (units of sqrt(L0 C0)) instead of the one the transits give.
+    aligned : bool
+        Steps the same at every dt up to scale (:attr:`SimulationOptions.aligned`).
 
     Returns
     -------
@@ -342,7 +359,7 @@ def make_netlist(
         modes = modes if modes is not None else normal_modes(chain)
         tstop = stop_time(modes, transits)
     ladder = Ladder(chain, L0, C0)
-    options = SimulationOptions(dt=dt, tstop=tstop, method=method)
+    options = SimulationOptions(dt=dt, tstop=tstop, method=method, aligned=aligned)
     title = title if title is not None else f"lcchain {chain.name} chain N={chain.N}, {excitation}"
     text = netlist_text(ladder, options, excitation=excitation, I0=I0, title=title, comments=comments)
     return text, ladder, options

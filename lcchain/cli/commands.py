@@ -199,6 +199,22 @@ def _print_arrivals(arrivals: list[dict[str, Any]]) -> None:
               f"{a['peak_theory']:12.6f} {a['peak_sim']:12.6f}")
 
 
+def _print_extrapolation(x: dict[str, Any]) -> None:
+    plan = x["plan"]
+    why = ""
+    if plan is not None and len(plan["considered"]) > 1:
+        options = ", ".join(f"{o['runs']} run{'s' if o['runs'] > 1 else ''} ~{o['estimated_seconds']:.2g} s"
+                            for o in plan["considered"])
+        why = f", the cheapest predicted to meet the accuracy ({options})"
+    print(f"extrapolated from {x['runs']} runs{why}:")
+    print(f"{'run':>5} {'dt':>10} {'weight':>9} {'points':>9} {'wall s':>8} {'max |run - theory|':>19}")
+    for i, (member, weight) in enumerate(zip(x["members"], x["weights"], strict=True), 1):
+        print(f"{i:>5} {member['dt']:>10.4g} {weight:>9.4g} {member['points']:>9} {member['wall_s']:>8.3f} "
+              f"{member['max_abs_error']:>19.3e}")
+    print(f"combined on run 1's time points (degree-7 splines through the finer runs; interpolation error "
+          f"{x['interpolation_error']:.1e})")
+
+
 def cmd_simulate(args: argparse.Namespace) -> int:
     from ..report.files import write_text
     from ..runs.simulate import simulate
@@ -220,7 +236,8 @@ def cmd_simulate(args: argparse.Namespace) -> int:
         warnings.simplefilter("always")
         report = simulate(chain, dt=dt, accuracy=args.accuracy, transits=args.transits, excitation=args.excitation,
                           L0=args.L0, C0=args.C0, backend=args.backend, method=args.method, title=args.title,
-                          progress=fraction_bar("ngspice"), budget=budget_from_args(args), on_spec=keep_netlist)
+                          progress=fraction_bar("ngspice"), budget=budget_from_args(args), on_spec=keep_netlist,
+                          extrapolate=args.extrapolate)
     for warning in caught:
         print(f"lcchain: warning: {warning.message}", file=sys.stderr)
     data = report.to_dict()
@@ -229,7 +246,13 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     else:
         print(f"{chain.name} chain, N = {chain.N}: ngspice {data['ngspice_version']} ({data['backend']}), "
               f"{data['points']} points in {data['wall_s']:.3f} s")
-        print(f"max |simulation - theory| = {data['max_abs_error']:.3e} (dt = {data['dt']:.4g}, "
+        extrapolation = data["extrapolation"]
+        if extrapolation["runs"] > 1:
+            _print_extrapolation(extrapolation)
+        elif extrapolation["reason"]:
+            print(f"one run, not extrapolated: {extrapolation['reason']}")
+        step = "dt = " + ", ".join(f"{h:.4g}" for h in extrapolation["dt"])
+        print(f"max |simulation - theory| = {data['max_abs_error']:.3e} ({step}, "
               f"predicted {data['predicted_error']:.3e})")
         if data["integration_error"] is not None:
             print(f"  integration error (simulation - trapezoidal model) = {data['integration_error']:.3e}, "
@@ -246,8 +269,9 @@ def cmd_simulate(args: argparse.Namespace) -> int:
             title=f"{chain.name} chain, N = {chain.N}, dt = {report.options.dt:.4g}, {args.excitation}",
             ylabel="I_N / I_1(0)" if args.excitation == "kick" else "Q_N / Q_1(0)", path=path))
     if report.accuracy_met is False:
+        steps = ", ".join(f"{h:.4g}" for h in data["extrapolation"]["dt"])
         print(f"lcchain: --accuracy {args.accuracy:g} was not met: the run reached {data['max_abs_error']:.3g} "
-              f"(dt = {data['dt']:.4g}, predicted {data['predicted_error']:.3g})", file=sys.stderr)
+              f"(dt = {steps}, predicted {data['predicted_error']:.3g})", file=sys.stderr)
         return EXIT_FAILED
     return EXIT_FAILED if outputs.failed else EXIT_OK
 
@@ -256,6 +280,9 @@ def _print_scene_summary(result: Any) -> None:
     report = result.report
     count = len(report["samples"])
     print(result.scene.title)
+    steps = report.get("steps") or [report["dt"]]
+    if len(steps) > 1:
+        print(f"each sample extrapolated from {len(steps)} runs at dt = {', '.join(f'{h:.4g}' for h in steps)}")
     print(f"N = {report['N']}, dt = {report['dt']:.4g}, {count} sample{'s' if count > 1 else ''}, "
           f"ngspice {report['ngspice_version']}, {report['wall_s']['total']:.2f} s")
     if "max_abs_error" in report:

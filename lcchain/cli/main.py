@@ -107,6 +107,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--accuracy", type=number("--accuracy"), metavar="EPS",
                    help="wanted max |simulation - theory|: lcchain picks the largest dt that meets it "
                         "(instead of --dt); a run that misses it exits 1")
+    p.add_argument("--extrapolate", type=int, choices=(1, 2, 3), metavar="{1,2,3}",
+                   help="combine this many runs at dt, dt/2, dt/4 (Richardson: the dt^2 and dt^4 errors cancel); "
+                        "with --accuracy and without this option, lcchain picks the cheapest of 1, 2 and 3")
     p.add_argument("--plot", metavar="FILE", help="figure (.png, .svg, .pdf): theory and simulation, residual below")
     p.add_argument("--netlist-out", metavar="FILE", help="keep the netlist (written before ngspice starts)")
     p.add_argument("--waveform-out", metavar="FILE", help="CSV t,first,last (dimensionless)")

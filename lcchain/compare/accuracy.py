@@ -418,7 +418,7 @@ class ErrorSplit:
 
 @fixed_blas_threads
 def split_error(waveforms, modes: Modes, dt: float, *, method: str = "trap",
-                exact: tuple[np.ndarray, np.ndarray] | None = None) -> ErrorSplit:
+                exact: tuple[np.ndarray, np.ndarray] | None = None, breakpoint: bool = True) -> ErrorSplit:
     """Split the error of a simulation into integration and physics error.
 
     Parameters
@@ -436,6 +436,9 @@ def split_error(waveforms, modes: Modes, dt: float, *, method: str = "trap",
     exact : (ndarray, ndarray), optional
         The exact theory of the first and last loop at ``waveforms.t``, when
         already computed (e.g. ``Comparison.theory_first``, ``theory_last``).
+    breakpoint : bool
+        ngspice restarts its steps at t = dt (the print step); False for
+        aligned runs, whose print step is the stop time.
     """
     dt = _check_dt(dt)
     _check_method(method)
@@ -448,7 +451,7 @@ def split_error(waveforms, modes: Modes, dt: float, *, method: str = "trap",
                                     (modes.transfer, waveforms.last, exact[1])):
         total = max(total, float(np.max(np.abs(signal - theory))))
         if method == "trap":
-            model = trap_response(weights, modes.omega, t, tstep=dt)
+            model = trap_response(weights, modes.omega, t, tstep=dt if breakpoint else None)
             integration = max(integration, float(np.max(np.abs(signal - model))))
             physics = max(physics, float(np.max(np.abs(model - theory))))
     if method == "gear":

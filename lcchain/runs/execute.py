@@ -36,11 +36,12 @@ from ..core.frozen import FrozenArrays
 from ..core.types import GAUSSIAN_CENTRE, RunStatus
 from ..spice.runner import RunResult, run
 from ..spice.simulator import Simulator, find_simulator
+from ..theory.modes import Modes
 from ..theory.response import linear_response
 from ..theory.spectrum import normal_modes
 from .spec import RunSpec, Theory
 
-__all__ = ["RunRecord", "execute", "waveform_digest", "pulse_centre"]
+__all__ = ["signals_of", "metrics_of", "RunRecord", "execute", "waveform_digest", "pulse_centre"]
 
 log = logging.getLogger("lcchain")
 
@@ -127,35 +128,54 @@ def pulse_centre(excitation: str, pulse: tuple[str, float] | None) -> float:
     return GAUSSIAN_CENTRE * width if shape == "gaussian" else width / 2
 
 
-@fixed_blas_threads
-def _compare(theory: Theory, result: RunResult) -> tuple[Signals, Metrics]:
+def signals_of(theory: Theory, result: RunResult, modes: Modes | None = None) -> Signals:
+    """A run's saved loops as dimensionless signals, with the theory of the same loops at the same times."""
     chain = theory.chain
-    modes = theory.modes if theory.modes is not None else normal_modes(chain)
+    modes = modes if modes is not None else _modes(theory)
     loops = probe_names(chain.N, theory.probes)
     currents = np.array([result.vectors[name] for name in loops])
     t, sim = loop_signals(result.time, currents, time_unit=theory.time_unit, excitation=theory.excitation,
                           I0=theory.I0)
+    return Signals(t, sim, _response(theory, t, theory.probes, modes), theory.excitation)
 
-    def response(times: np.ndarray, probes: str) -> np.ndarray:
-        return linear_response(chain, times, excitation=theory.excitation, Q=theory.Q, pulse=theory.pulse,
-                               loops=probes, modes=modes)  # type: ignore[arg-type]
 
-    signals = Signals(t, sim, response(t, theory.probes), theory.excitation)
+def _modes(theory: Theory) -> Modes:
+    return theory.modes if theory.modes is not None else normal_modes(theory.chain)
+
+
+def _response(theory: Theory, times: np.ndarray, probes: str, modes: Modes) -> np.ndarray:
+    return linear_response(theory.chain, times, excitation=theory.excitation, Q=theory.Q, pulse=theory.pulse,
+                           loops=probes, modes=modes)  # type: ignore[arg-type]
+
+
+@fixed_blas_threads
+def metrics_of(theory: Theory, signals: Signals, *, split: bool = True, modes: Modes | None = None) -> Metrics:
+    """Errors and arrivals of signals against the theory (and, for a fixed-step lossless kick or displacement
+    with ``split``, the error split of :func:`lcchain.compare.accuracy.split_error`)."""
+    chain = theory.chain
+    modes = modes if modes is not None else _modes(theory)
     metrics = compare_signals(
         signals, transit_time=theory.transit_time or modes.transit_time(), transits=theory.transits,
-        shift=pulse_centre(theory.excitation, theory.pulse), theory_end=lambda row, times: response(times, "ends")[row])
+        shift=pulse_centre(theory.excitation, theory.pulse),
+        theory_end=lambda row, times: _response(theory, times, "ends", modes)[row])
     integration = physics = None
-    if theory.dt is not None and theory.Q is None and theory.pulse is None:
-        split = split_error(signals.waveforms(), modes, theory.dt, method=theory.method,
-                            exact=(signals.theory[0], signals.theory[-1]))
-        integration, physics = split.integration_error, split.physics_error
+    if split and theory.dt is not None and theory.Q is None and theory.pulse is None:
+        parts = split_error(signals.waveforms(), modes, theory.dt, method=theory.method,
+                            exact=(signals.theory[0], signals.theory[-1]), breakpoint=not theory.aligned)
+        integration, physics = parts.integration_error, parts.physics_error
     arrivals = metrics.arrivals
     if theory.excitation == "kick":  # the kick's energy is m_1 I0^2 / 2: the end holds m_end (peak I0)^2 / 2
         arrivals = tuple(replace(a, energy_sim=a.peak_sim**2 * float(chain.masses[-1 if a.end == "last" else 0]
                                                                       / chain.masses[0])) for a in arrivals)
-    metrics = Metrics(metrics.max_abs_error, metrics.max_abs_error_first, metrics.max_abs_error_last,
-                      arrivals, theory.predicted_error, integration, physics)
-    return signals, metrics
+    return Metrics(metrics.max_abs_error, metrics.max_abs_error_first, metrics.max_abs_error_last,
+                   arrivals, theory.predicted_error, integration, physics)
+
+
+@fixed_blas_threads
+def _compare(theory: Theory, result: RunResult) -> tuple[Signals, Metrics]:
+    modes = _modes(theory)
+    signals = signals_of(theory, result, modes)
+    return signals, metrics_of(theory, signals, modes=modes)
 
 
 def execute(spec: RunSpec, simulator: Simulator | None = None, *,

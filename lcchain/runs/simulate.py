@@ -8,14 +8,26 @@ ngspice handling of its own.
 
 from __future__ import annotations
 
+import os
+import threading
 import time
 from collections.abc import Callable, Mapping
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from typing import Any
 
 from ..circuit.ladder import Ladder
 from ..circuit.netlist import SimulationOptions, make_netlist, probe_names
 from ..compare.accuracy import dt_for_accuracy, predicted_error, warn_if_unreliable
+from ..compare.extrapolate import (
+    WEIGHTS,
+    ExtrapolationPlan,
+    interpolation_error,
+    member_steps,
+    plan_for_accuracy,
+    predicted_extrapolated_error,
+    refusal,
+)
 from ..compare.metrics import Comparison
 from ..compare.waveforms import Waveforms
 from ..core.blas import fixed_blas_threads
@@ -32,9 +44,58 @@ from ..theory.chain import Chain
 from ..theory.modes import Modes
 from ..theory.spectrum import normal_modes
 from .execute import RunRecord, execute
+from .extrapolated import combined_record
 from .spec import DEFAULT_TIMEOUT, RunSpec, Theory
 
-__all__ = ["SimulationReport", "simulate", "simulation_spec"]
+#: ngspice runs of one extrapolation executed at once (each is single-threaded; never more than the cores).
+MEMBER_THREADS = 2
+
+__all__ = ["SimulationReport", "Extrapolation", "simulate", "simulation_spec"]
+
+
+@dataclass(frozen=True, eq=False)
+class Extrapolation:
+    """How a simulation's result was made from one, two or three runs (:mod:`lcchain.compare.extrapolate`).
+
+    Attributes
+    ----------
+    runs : int
+        1 (no extrapolation), 2 or 3.
+    steps : tuple of float
+        Each run's fixed step (h, h/2, h/4), units of sqrt(L0 C0).
+    members : tuple of RunRecord
+        Each run, with its own error against theory.
+    predicted_error : float or None
+        The combination's predicted error, before any run.
+    interpolation_error : float or None
+        What bringing the finer runs onto the coarsest run's time points cost (on their models).
+    reason : str
+        Why extrapolation was not used when it was asked or considered ("" otherwise).
+    plan : ExtrapolationPlan or None
+        With --accuracy: the options weighed and the one chosen.
+    """
+
+    runs: int
+    steps: tuple[float, ...]
+    members: tuple[RunRecord, ...]
+    predicted_error: float | None
+    interpolation_error: float | None = None
+    reason: str = ""
+    plan: ExtrapolationPlan | None = None
+
+    def to_dict(self) -> dict[str, Any]:
+        members = []
+        for h, record in zip(self.steps, self.members, strict=True):
+            metrics = record.metrics
+            members.append({"dt": h, "points": record.result.points if record.result is not None else None,
+                            "wall_s": record.wall_s,
+                            "max_abs_error": metrics.max_abs_error if metrics is not None else None,
+                            "predicted_error": metrics.predicted_error if metrics is not None else None})
+        return {"runs": self.runs, "weights": list(WEIGHTS[self.runs]), "dt": list(self.steps), "members": members,
+                "predicted_error": self.predicted_error, "interpolation_error": self.interpolation_error,
+                "grid": "the coarsest run's time points; each finer run brought onto them by an interpolating "
+                        "spline of degree 7 through its own points",
+                "reason": self.reason, "plan": self.plan.to_dict() if self.plan is not None else None}
 
 
 @dataclass(frozen=True, eq=False)
@@ -79,14 +140,20 @@ class SimulationReport:
     integration_error: float | None = None
     physics_error: float | None = None
     record: RunRecord | None = field(default=None, repr=False)
+    extrapolation: Extrapolation | None = None
 
     @property
     def accuracy_met(self) -> bool | None:
         """Whether the requested accuracy was reached (None when dt was given instead)."""
         return None if self.accuracy is None else self.comparison.max_abs_error <= self.accuracy
 
+    def _members(self) -> tuple[RunRecord, ...]:
+        if self.extrapolation is not None:
+            return self.extrapolation.members
+        return (self.record,) if self.record is not None else ()
+
     def to_dict(self) -> dict[str, Any]:
-        """The JSON report of ``lcchain simulate --json``."""
+        """The JSON report of ``lcchain simulate --json`` (points and wall_s: all the runs')."""
         run = self.run
         return {
             "N": self.chain.N,
@@ -102,8 +169,8 @@ class SimulationReport:
             "ngspice_version": run.ngspice_version,
             "netlist_sha256": run.netlist_sha256,
             "options": dict(run.options),
-            "points": run.points,
-            "wall_s": run.wall_s,
+            "points": sum(m.result.points for m in self._members() if m.result is not None),
+            "wall_s": sum(m.result.wall_s for m in self._members() if m.result is not None),
             "max_abs_error": self.comparison.max_abs_error,
             "max_abs_error_first": self.comparison.max_abs_error_first,
             "max_abs_error_last": self.comparison.max_abs_error_last,
@@ -115,7 +182,58 @@ class SimulationReport:
             "integration_error": self.integration_error,
             "physics_error": self.physics_error,
             "digest": self.record.digest if self.record is not None else None,
+            "extrapolation": self.extrapolation.to_dict() if self.extrapolation is not None else None,
         }
+
+
+class _Cancelled(BaseException):
+    """Raised in a member's progress callback to stop its ngspice when another member failed or was interrupted."""
+
+
+@fixed_blas_threads  # held by this thread while the members' threads compute: one BLAS limit throughout
+def _execute_members(specs: list[RunSpec], steps: tuple[float, ...], simulator: Simulator | None,
+                     progress: Callable[[float], None] | None) -> list[RunRecord]:
+    """Execute the runs of an extrapolation, two at a time where the machine has the cores (batch backend).
+
+    The finest run (the longest) starts first; the others follow on the second thread.  If one fails or the
+    caller is interrupted, the others are stopped from their progress callbacks (their ngspice groups are
+    killed within :data:`lcchain.spice.runner.PROGRESS_INTERVAL`) before the exception propagates.
+    """
+    runs = len(specs)
+    weights = [1.0 / h for h in steps]
+    fractions = [0.0] * runs
+    cancel = threading.Event()
+    lock = threading.Lock()
+
+    def watcher(i: int) -> Callable[[float], None]:
+        def report(fraction: float) -> None:
+            if cancel.is_set():
+                raise _Cancelled
+            if progress is not None:
+                with lock:
+                    fractions[i] = fraction
+                    progress(sum(w * f for w, f in zip(weights, fractions, strict=True)) / sum(weights))
+        return report
+
+    def one(i: int) -> RunRecord:
+        record = execute(specs[i], simulator, progress=watcher(i))
+        if record.status != "ok":
+            where = f" (the run at dt = {steps[i]:.4g}, {i + 1} of {runs})" if runs > 1 else ""
+            raise SimulationError(record.reason + where, record.log_tail, record.status)
+        return record
+
+    workers = min(runs, len(os.sched_getaffinity(0)), MEMBER_THREADS)
+    if workers <= 1 or specs[0].backend != "batch":
+        return [one(i) for i in range(runs)]
+    with ThreadPoolExecutor(max_workers=workers, thread_name_prefix="lcchain-member") as pool:
+        futures = {i: pool.submit(one, i) for i in reversed(range(runs))}
+        try:
+            return [futures[i].result() for i in range(runs)]
+        except BaseException:
+            cancel.set()
+            for future in futures.values():
+                future.cancel()
+            raise
 
 
 @fixed_blas_threads
@@ -135,6 +253,7 @@ def simulation_spec(
     modes: Modes | None = None,
     accuracy: float | None = None,
     budget: Budget | None = None,
+    aligned: bool = False,
 ) -> tuple[RunSpec, Ladder, SimulationOptions]:
     """The run :func:`simulate` makes, described and not yet executed (parameters as there).
 
@@ -159,11 +278,14 @@ def simulation_spec(
     dt = real("dt", dt, above=0.0, at_most=MAX_DT)
     run_estimate(points=tstop / dt, **cost).check(budget, "dt", dt, "a larger step, or fewer transits")
     text, ladder, options = make_netlist(chain, dt=dt, transits=transits, excitation=excitation, L0=L0, C0=C0,
-                                         I0=I0, method=method, title=title, modes=modes, tstop=tstop)
-    predicted = predicted_error(modes, options.dt, options.tstop, method=options.method)
-    warn_if_unreliable(method=options.method, transits=transits, predicted=predicted)
+                                         I0=I0, method=method, title=title, modes=modes, tstop=tstop,
+                                         aligned=aligned)
+    predicted = None  # an extrapolation's member: the combination has the prediction (simulate)
+    if not aligned:
+        predicted = predicted_error(modes, options.dt, options.tstop, method=options.method)
+        warn_if_unreliable(method=options.method, transits=transits, predicted=predicted)
     theory = Theory(chain, ladder.time_unit, I0=I0, excitation=excitation, transits=transits, dt=options.dt,
-                    method=options.method, predicted_error=predicted, modes=modes)
+                    method=options.method, predicted_error=predicted, aligned=aligned, modes=modes)
     spec = RunSpec(text, tuple(probe_names(chain.N, "ends")), options.tstop * ladder.time_unit, backend=backend,
                    timeout=timeout, theory=theory, label=f"{chain.name} N={chain.N} dt={options.dt:.4g}")
     return spec, ladder, options
@@ -188,6 +310,7 @@ def simulate(
     simulator: Simulator | None = None,
     budget: Budget | None = None,
     on_spec: Callable[[RunSpec], None] | None = None,
+    extrapolate: int | None = None,
 ) -> SimulationReport:
     """Simulate the chain's LC ladder in ngspice and compare with theory.
 
@@ -222,7 +345,12 @@ def simulate(
         The most memory and time the run may take (default: :class:`~lcchain.core.budget.Budget`).
     on_spec : callable, optional
         Called with the run's spec before ngspice starts (the command line
-        keeps the netlist there, so that a failed run still leaves it).
+        keeps the netlist there, so that a failed run still leaves it); with
+        several runs, with the coarsest run's.
+    extrapolate : {1, 2, 3}, optional
+        Combine this many runs at dt, dt/2, dt/4 (Richardson: the dt^2 term, then the dt^4 term cancel).
+        With ``accuracy`` and None, lcchain picks the cheapest of 1, 2 and 3 runs predicted to meet it; with
+        ``dt`` and None, one run.  Gear falls back to one run, with the reason in ``report.extrapolation``.
 
     Raises
     ------
@@ -237,28 +365,69 @@ def simulate(
         Gear over more than one transit; a dt whose predicted error exceeds 0.1.
     """
     clock = time.perf_counter()
-    spec, ladder, options = simulation_spec(chain, dt=dt, transits=transits, excitation=excitation, L0=L0, C0=C0,
-                                            I0=I0, backend=backend, method=method, title=title, timeout=timeout,
-                                            modes=modes, accuracy=accuracy, budget=budget)
+    if extrapolate is not None and (isinstance(extrapolate, bool) or extrapolate not in (1, 2, 3)):
+        raise ParameterError("extrapolate", extrapolate, "1, 2 or 3 runs (1: no extrapolation)")
+    budget = budget if budget is not None else Budget()
+    Ladder(chain, L0, C0)
+    modes = modes if modes is not None else normal_modes(chain)
+    tstop = stop_time(modes, transits)
+    refused = refusal(method=method)
+    plan = None
+    if accuracy is not None:
+        if dt is not None:
+            raise ParameterError("dt/accuracy", (dt, accuracy), "exactly one of dt and accuracy")
+        plan = plan_for_accuracy(modes, accuracy, tstop, extrapolate=extrapolate, refused=refused, method=method,
+                                 max_points=max_points(budget, saved=2, compared=2, unknowns=2 * chain.N))
+        runs, coarse = plan.runs, plan.dt
+        reason = refused if (extrapolate or 0) > 1 or refused else ""
+    else:
+        if dt is None:
+            raise ParameterError("dt/accuracy", (dt, accuracy), "exactly one of dt and accuracy")
+        runs = 1 if refused or extrapolate is None else extrapolate
+        reason = refused if (extrapolate or 0) > 1 else ""
+        coarse = dt
+    steps = member_steps(coarse, runs)
+    common = dict(transits=transits, excitation=excitation, L0=L0, C0=C0, I0=I0, backend=backend, method=method,
+                  title=title, timeout=timeout, modes=modes, budget=budget)
+    built_specs = [simulation_spec(chain, dt=h, aligned=runs > 1, **common)  # type: ignore[arg-type]
+                   for h in steps]
+    spec, ladder, options = built_specs[0]
     if on_spec is not None:
         on_spec(spec)
     built = time.perf_counter()
-    record = execute(spec, simulator, progress=progress)
+    records = _execute_members([member for member, _, _ in built_specs], steps, simulator, progress)
     done = time.perf_counter()
-    if record.status != "ok":
-        raise SimulationError(record.reason, record.log_tail, record.status)
-    assert record.result is not None and record.signals is not None and record.metrics is not None
-    result, metrics = record.result, record.metrics
+    first = records[0]
+    assert first.result is not None and first.signals is not None and first.metrics is not None
+    result = first.result
+    if runs == 1:
+        signals, metrics = first.signals, first.metrics
+        predicted = metrics.predicted_error
+        extrapolation = Extrapolation(1, steps, (first,), predicted, None, reason, plan)
+    else:
+        predicted = plan.predicted_error if plan is not None else predicted_extrapolated_error(modes, coarse, runs,
+                                                                                               tstop)
+        warn_if_unreliable(method=method, transits=transits, predicted=predicted)
+        assert spec.theory is not None
+        combined = combined_record(spec.theory, records, steps, predicted_error=predicted, modes=modes)
+        assert combined.signals is not None and combined.metrics is not None
+        signals, metrics = combined.signals, combined.metrics
+        member_times = [r.signals.t for r in records if r.signals is not None]
+        extrapolation = Extrapolation(runs, steps, tuple(records), predicted,
+                                      interpolation_error(modes, member_times, signals.t, steps), reason, plan)
+    compared = time.perf_counter()
+    simulator_s = sum(r.result.wall_s for r in records if r.result is not None)
     timings = {
         "netlist_and_modes_s": built - clock,
-        "simulator_s": result.wall_s,
+        "simulator_s": simulator_s,
         "execute_s": done - built,
-        "total_s": done - clock,
+        "combine_s": compared - done,
+        "total_s": compared - clock,
     }
-    timings["overhead_s"] = timings["total_s"] - result.wall_s
-    timings["overhead_fraction"] = timings["overhead_s"] / result.wall_s
+    timings["overhead_s"] = timings["total_s"] - simulator_s
+    timings["overhead_fraction"] = timings["overhead_s"] / simulator_s
     return SimulationReport(chain, ladder, options, excitation, transits, spec.netlist, result,
-                            record.signals.waveforms(), Comparison.of(metrics, record.signals), FrozenMap(timings),
-                            accuracy=accuracy, predicted_error=metrics.predicted_error,
+                            signals.waveforms(), Comparison.of(metrics, signals), FrozenMap(timings),
+                            accuracy=accuracy, predicted_error=predicted,
                             integration_error=metrics.integration_error, physics_error=metrics.physics_error,
-                            record=record)
+                            record=first, extrapolation=extrapolation)

@@ -76,6 +76,9 @@ class Theory:
     transit_time : float, optional
         The transit time that centres the arrival windows (a tolerance study
         uses the nominal chain's for every sample); default: the chain's own.
+    aligned : bool
+        The run's steps are aligned (:attr:`lcchain.circuit.netlist.SimulationOptions.aligned`): no
+        breakpoint at t = dt, which the error split's model must know.
     modes : Modes, optional
         The chain's modes when already computed (not part of the key).
     """
@@ -92,6 +95,7 @@ class Theory:
     method: Method = "trap"
     predicted_error: float | None = None
     transit_time: float | None = None
+    aligned: bool = False
     modes: Modes | None = field(default=None, compare=False, repr=False)
 
     def __post_init__(self) -> None:
@@ -106,6 +110,8 @@ class Theory:
         if self.dt is not None:
             real("dt", self.dt, above=0.0)
         choice("method", self.method, METHODS)
+        if not isinstance(self.aligned, bool):
+            raise ParameterError("aligned", self.aligned, "True or False")
         if self.modes is not None and (not isinstance(self.modes, Modes) or self.modes.N != self.chain.N):
             raise ParameterError("modes", type(self.modes).__name__, f"the Modes of this chain (N = {self.chain.N})")
 
@@ -120,7 +126,7 @@ class Theory:
             "probes": self.probes, "transits": self.transits,
             "dt": None if self.dt is None else float(self.dt).hex(), "method": self.method,
             "transit_time": None if self.transit_time is None else float(self.transit_time).hex(),
-        }
+        } | ({"aligned": True} if self.aligned else {})
 
 
 @dataclass(frozen=True)

@@ -18,6 +18,7 @@ from ..circuit.effects import rounded, tolerance_samples, with_walls
 from ..circuit.ladder import Ladder
 from ..circuit.netlist import SimulationOptions, netlist_text, probe_names
 from ..compare.accuracy import dt_for_accuracy
+from ..compare.extrapolate import member_steps, plan_for_accuracy, predicted_extrapolated_error, refusal
 from ..core.blas import fixed_blas_threads
 from ..core.budget import Budget, Estimate, max_points, run_estimate
 from ..core.errors import ParameterError
@@ -108,7 +109,14 @@ class ScenePlan:
         analysis (the window of the last requested transit, shifted by the
         pulse's centre) and the maximum step (``analysis.dt``, or the largest
         step whose predicted error meets ``analysis.accuracy``, at most
-        width/8 for a pulse).
+        width/8 for a pulse); with extrapolation, dt is the coarsest run's.
+    steps : tuple of float
+        Each sample's runs: (dt,), or (dt, dt/2[, dt/4]) extrapolated
+        (:mod:`lcchain.compare.extrapolate`).
+    predicted_error : float, optional
+        The extrapolation's predicted error (None for one run).
+    reason : str
+        Why extrapolation was not used where it was asked or considered.
     """
 
     nominal: Chain
@@ -117,6 +125,14 @@ class ScenePlan:
     transit_time: float
     tstop: float
     dt: float
+    steps: tuple[float, ...] = ()
+    predicted_error: float | None = None
+    reason: str = ""
+
+    @property
+    def runs(self) -> int:
+        """Runs per sample."""
+        return max(1, len(self.steps))
 
 
 def _cost(scene: Scene, N: int, realised: bool) -> dict[str, int]:
@@ -127,23 +143,49 @@ def _cost(scene: Scene, N: int, realised: bool) -> dict[str, int]:
             "exact_N": N if (realised or scene.output.probes == "all") else 0}
 
 
-def _choose_dt(scene: Scene, nominal: Chain, modes: Modes, tstop: float, points: float) -> float:
+def _accuracy_weights(scene: Scene, nominal: Chain) -> list[np.ndarray] | None:
+    if scene.output.probes != "all":
+        return None
+    # Interior loops can have 4x the ends' error: predict it on up to ACCURACY_LOOPS of them.
+    _, every = loop_weights(nominal)
+    loops = np.unique(np.linspace(0, every.shape[1] - 1, min(ACCURACY_LOOPS, every.shape[1])).round().astype(int))
+    return [every[:, i] for i in loops]
+
+
+def _choose_steps(scene: Scene, nominal: Chain, modes: Modes, tstop: float,
+                  points: float) -> tuple[tuple[float, ...], float | None, str]:
+    """The runs of each sample (their steps), the extrapolation's predicted error, and why not extrapolated."""
     analysis = scene.analysis
+    Q, pulse = losses_and_pulse(scene)
+    refused = refusal(method=analysis.method, pulse=pulse)
+    asked = analysis.extrapolate
     if analysis.dt is not None:
-        return float(analysis.dt)
-    assert analysis.accuracy is not None
-    weights = None
-    if scene.output.probes == "all":
-        # Interior loops can have 4x the ends' error: predict it on up to ACCURACY_LOOPS of them.
-        _, every = loop_weights(nominal)
-        loops = np.unique(np.linspace(0, every.shape[1] - 1, min(ACCURACY_LOOPS, every.shape[1])).round().astype(int))
-        weights = [every[:, i] for i in loops]
-    dt = dt_for_accuracy(modes, analysis.accuracy, tstop, method=analysis.method, weights=weights, max_points=points)
+        runs = 1 if refused or asked is None else asked
+        reason = refused if (asked or 0) > 1 else ""
+        steps = member_steps(float(analysis.dt), runs)
+    else:
+        assert analysis.accuracy is not None
+        weights = _accuracy_weights(scene, nominal)
+        if refused or asked == 1 or weights is not None:
+            # one run: the single-run model knows interior loops and gear
+            dt = dt_for_accuracy(modes, analysis.accuracy, tstop, method=analysis.method, weights=weights,
+                                 max_points=points)
+            steps = (dt,)
+            reason = refused if (asked or 0) > 1 or (asked is None and refused) else ""
+            if weights is not None and (asked or 0) > 1:
+                reason = "probes = \"all\": the extrapolation's prediction covers the end loops only"
+        else:
+            plan = plan_for_accuracy(modes, analysis.accuracy, tstop, extrapolate=asked, Q=Q, max_points=points)
+            steps, reason = plan.steps, plan.reason
     if scene.excitation.kind == "pulse":
         # the accuracy model is for free oscillation; resolve the pulse too
         assert scene.excitation.width is not None
-        dt = min(dt, scene.excitation.width / 8)
-    return dt
+        if steps[0] > scene.excitation.width / 8:
+            steps = member_steps(scene.excitation.width / 8, len(steps))
+    predicted = None
+    if len(steps) > 1:
+        predicted = predicted_extrapolated_error(modes, steps[0], len(steps), tstop, Q=Q)
+    return steps, predicted, reason
 
 
 #: Internal names of what a scene sets, and the scene keys the user wrote.
@@ -185,18 +227,21 @@ def _plan(scene: Scene, budget: Budget) -> ScenePlan:
     tstop = arrival_window(scene.analysis.transits, T)[1] + pulse_centre(scene.excitation.kind, pulse)
     cost = _cost(scene, N, realised(scene))
     points = max_points(budget, saved=cost["saved"], compared=cost["compared"], unknowns=cost["unknowns"])
-    dt = _choose_dt(scene, nominal, modes, tstop, points)
-    one = run_estimate(points=tstop / dt, **cost)
+    steps, predicted, reason = _choose_steps(scene, nominal, modes, tstop, points)
+    dt = steps[0]
+    one = run_estimate(points=tstop / steps[-1], **cost)
     field, value = ("dt", dt) if scene.analysis.dt is not None else ("accuracy", scene.analysis.accuracy)
     one.check(budget, field, value, "a larger step, a coarser accuracy or fewer transits")
-    every = Estimate(f"{samples} runs of {one.what}", one.memory, one.seconds * samples)
+    per_sample = sum(steps[-1] / h for h in steps)  # the members' costs relative to the finest
+    every = Estimate(f"{samples * len(steps)} runs of up to {one.what}", one.memory,
+                     one.seconds * samples * per_sample)
     every.check(budget, "effects.tolerance.samples" if samples > 1 else field, samples if samples > 1 else value,
                 "fewer samples")
     _, chains = scene_chains(scene, nominal)  # the samples are drawn once the scene is known to fit
-    return ScenePlan(nominal, tuple(chains), modes, T, tstop, dt)
+    return ScenePlan(nominal, tuple(chains), modes, T, tstop, dt, steps, predicted, reason)
 
 
-def scene_netlist(scene: Scene, chain: Chain, dt: float, tstop: float) -> str:
+def scene_netlist(scene: Scene, chain: Chain, dt: float, tstop: float, *, aligned: bool = False) -> str:
     """The netlist of one realised chain of the scene: only the elements its effects need.
 
     Parameters
@@ -206,26 +251,37 @@ def scene_netlist(scene: Scene, chain: Chain, dt: float, tstop: float) -> str:
         The nominal chain or one of its realisations (:func:`scene_chains`).
     dt, tstop : float
         Maximum step and stop time in units of sqrt(L0 C0) (:func:`scene_plan`).
+    aligned : bool
+        An extrapolation's member (:attr:`lcchain.circuit.netlist.SimulationOptions.aligned`).
     """
     Q, pulse = losses_and_pulse(scene)
     excitation = scene.excitation
     ladder = Ladder(chain, scene.units.L0, scene.units.C0)
-    options = SimulationOptions(dt=dt, tstop=tstop, method=scene.analysis.method)
+    options = SimulationOptions(dt=dt, tstop=tstop, method=scene.analysis.method, aligned=aligned)
     return netlist_text(ladder, options, excitation=excitation.kind, I0=excitation.I0, probes=scene.output.probes,
                         title=scene.title, Q=Q, pulse=pulse)  # type: ignore[arg-type]
 
 
 def scene_specs(scene: Scene, plan: ScenePlan) -> list[RunSpec]:
-    """One run spec per realised circuit of the scene, each with its own exact theory."""
+    """The run specs of the scene's realised circuits, each with its own exact theory.
+
+    One per sample, or with extrapolation :attr:`ScenePlan.runs` per sample, coarsest first
+    (:func:`lcchain.scenes.run.scene_result` combines them).
+    """
     Q, pulse = losses_and_pulse(scene)
     units, excitation, analysis = scene.units, scene.excitation, scene.analysis
     time_unit = Ladder(plan.nominal, units.L0, units.C0).time_unit
+    steps = plan.steps or (plan.dt,)
+    aligned = len(steps) > 1
     specs = []
     for chain in plan.chains:
-        theory = Theory(chain, time_unit, I0=excitation.I0, excitation=excitation.kind, Q=Q, pulse=pulse,  # type: ignore[arg-type]
-                        probes=scene.output.probes, transits=analysis.transits, dt=plan.dt, method=analysis.method,
-                        transit_time=plan.transit_time, modes=plan.modes if chain is plan.nominal else None)
-        specs.append(RunSpec(scene_netlist(scene, chain, plan.dt, plan.tstop),
-                             tuple(probe_names(chain.N, scene.output.probes)), plan.tstop * time_unit,
-                             backend=analysis.backend, theory=theory, label=chain.name))
+        for i, h in enumerate(steps):
+            theory = Theory(chain, time_unit, I0=excitation.I0, excitation=excitation.kind, Q=Q, pulse=pulse,  # type: ignore[arg-type]
+                            probes=scene.output.probes, transits=analysis.transits, dt=h, method=analysis.method,
+                            transit_time=plan.transit_time, aligned=aligned,
+                            modes=plan.modes if chain is plan.nominal else None)
+            label = chain.name + (f" run {i + 1} of {len(steps)}" if aligned else "")
+            specs.append(RunSpec(scene_netlist(scene, chain, h, plan.tstop, aligned=aligned),
+                                 tuple(probe_names(chain.N, scene.output.probes)), plan.tstop * time_unit,
+                                 backend=analysis.backend, theory=theory, label=label))
     return specs

@@ -20,10 +20,13 @@ from typing import Any
 
 import numpy as np
 
+from ..compare.extrapolate import WEIGHTS
 from ..compare.waveforms import Waveforms
 from ..core.blas import fixed_blas_threads
 from ..core.budget import Budget
+from ..core.errors import ParameterError
 from ..runs.execute import RunRecord, execute, pulse_centre
+from ..runs.extrapolated import combined_record
 from ..runs.spec import RunSpec
 from ..spice.simulator import Simulator, find_simulator
 from ..theory.arrivals import arrival_window, maximum_in_window
@@ -141,24 +144,51 @@ def transmitted_peaks(result: SceneResult) -> list[float]:
     return [s.record["arrivals"][0]["peak_sim"] for s in result.good()]
 
 
+def _members(plan: ScenePlan, records: Sequence[RunRecord]) -> dict[str, Any]:
+    members = [{"dt": h, "status": r.status, "points": r.result.points if r.result is not None else None,
+                "wall_s": r.wall_s, "max_abs_error": r.metrics.max_abs_error if r.metrics is not None else None}
+               for h, r in zip(plan.steps, records, strict=True)]
+    return {"runs": plan.runs, "dt": list(plan.steps), "weights": list(WEIGHTS[plan.runs]), "members": members,
+            "predicted_error": plan.predicted_error, "reason": plan.reason}
+
+
 def scene_result(scene: Scene, plan: ScenePlan, specs: Sequence[RunSpec], records: Sequence[RunRecord],
                  total_s: float) -> SceneResult:
-    """A scene's report from its executed runs (in the order of :func:`lcchain.scenes.plan.scene_specs`)."""
-    samples = tuple(SampleResult(k, chain, _sample_record(k, chain, plan.dt, record), record, spec.netlist)
-                    for k, (chain, spec, record) in enumerate(zip(plan.chains, specs, records, strict=True), start=1))
+    """A scene's report from its executed runs (in the order of :func:`lcchain.scenes.plan.scene_specs`).
+
+    With extrapolation, each sample's runs are combined into one record
+    (:func:`lcchain.runs.extrapolated.combined_record`) and the sample's report lists them.
+    """
+    runs = plan.runs
+    if len(specs) != runs * len(plan.chains) or len(records) != len(specs):
+        raise ParameterError("records", len(records), f"{runs * len(plan.chains)} records, {runs} per sample, in "
+                             "the order of the scene's specs")
+    samples = []
+    for k, chain in enumerate(plan.chains, start=1):
+        own_specs, own = specs[(k - 1) * runs:k * runs], records[(k - 1) * runs:k * runs]
+        record = own[0]
+        if runs > 1:
+            assert own_specs[0].theory is not None
+            record = combined_record(own_specs[0].theory, own, plan.steps, predicted_error=plan.predicted_error,
+                                     modes=plan.modes if chain is plan.nominal else None)
+        data = _sample_record(k, chain, plan.dt, record)
+        if runs > 1 or plan.reason:
+            data["extrapolation"] = _members(plan, own)
+        samples.append(SampleResult(k, chain, data, record, own_specs[0].netlist))
     good = [s for s in samples if s.ok]
     report: dict[str, Any] = {
         "scene": scene.to_dict(),
         "source": scene.source,
         "N": plan.nominal.N,
         "dt": plan.dt,
+        "steps": list(plan.steps),
         "tstop": plan.tstop,
         "transit_time": plan.transit_time,
         "ngspice_version": good[0].record["ngspice_version"] if good else None,
         "samples": [s.record for s in samples],
         "wall_s": {"ngspice": float(sum(s.run.wall_s for s in samples)), "total": total_s},
     }
-    result = SceneResult(scene, report, samples)
+    result = SceneResult(scene, report, tuple(samples))
     if good:
         report["max_abs_error"] = float(max(s.record["max_abs_error"] for s in good))
         if scene.analysis.accuracy is not None:

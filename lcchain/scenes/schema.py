@@ -319,6 +319,12 @@ class Analysis:
         ``ngspice -b`` subprocess or the shared library.
     method : {"trap", "gear"}
         Integration method.
+    extrapolate : {1, 2, 3}, optional
+        Combine this many runs at dt, dt/2, dt/4 per sample
+        (:mod:`lcchain.compare.extrapolate`); with ``accuracy`` and not
+        given, the cheapest of 1, 2 and 3 predicted to meet it; with ``dt``
+        and not given, 1.  Gear and rect pulses fall back to one run, with
+        the reason in the report.
     """
 
     transits: int = 1
@@ -326,6 +332,7 @@ class Analysis:
     dt: float | None = None
     backend: Backend = "batch"
     method: Method = "trap"
+    extrapolate: int | None = None
 
     def __post_init__(self) -> None:
         transits = integer("analysis.transits", self.transits, at_least=1, at_most=MAX_TRANSITS)
@@ -344,6 +351,9 @@ class Analysis:
             object.__setattr__(self, "accuracy", _real("analysis.accuracy", accuracy, allowed, above=0.0, below=1.0))
         choice("analysis.backend", self.backend, BACKENDS)
         choice("analysis.method", self.method, METHODS)
+        if self.extrapolate is not None:
+            object.__setattr__(self, "extrapolate", integer("analysis.extrapolate", self.extrapolate, at_least=1,
+                                                            at_most=3))
 
 
 @dataclass(frozen=True)

@@ -201,6 +201,8 @@ def run(
         Called with the fraction of ``tstop`` simulated: 0.0 before, then
         (batch backend) about every :data:`PROGRESS_INTERVAL` seconds from
         ngspice's ``Reference value`` lines, and 1.0 after a successful run.
+        An exception it raises stops the run: ngspice's group is killed and
+        the exception propagates (how a caller cancels a run from a thread).
     cwd : path-like, optional
         The netlist's own folder (relative ``.include`` files are read there);
         None for a netlist that includes nothing.
@@ -262,6 +264,7 @@ def _wait(proc: subprocess.Popen[bytes], timeout: float, tstop: float, err: IO[b
           progress: Callable[[float], None] | None) -> int | None:
     """Exit status of ngspice, or None after the timeout; reports progress meanwhile."""
     deadline = time.monotonic() + timeout
+    fraction = 0.0
     while True:
         left = deadline - time.monotonic()
         try:
@@ -269,9 +272,10 @@ def _wait(proc: subprocess.Popen[bytes], timeout: float, tstop: float, err: IO[b
         except subprocess.TimeoutExpired:
             if time.monotonic() >= deadline:
                 return None
-            t = _simulated_time(err)
-            if t is not None and progress is not None:
-                progress(min(max(t / tstop, 0.0), 1.0))
+            if progress is not None:  # at every poll, so that a caller can also stop the run from it
+                t = _simulated_time(err)
+                fraction = max(fraction, min(max(t / tstop, 0.0), 1.0)) if t is not None else fraction
+                progress(fraction)
 
 
 def _run_batch(netlist: str, simulator: Simulator, timeout: float, tstop: float,

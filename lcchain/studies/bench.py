@@ -8,6 +8,9 @@ the sweep runs
   lcchain writes), dt swept;
 * ngspice, trap and gear, *adaptive* stepping: no maximum step beyond
   tstop/50 (ngspice's own default), reltol in {1e-3, 1e-5};
+* ngspice, trap, *extrapolated*: pairs and triples of aligned runs at dt,
+  dt/2[, dt/4] combined (:mod:`lcchain.compare.extrapolate`), dt swept;
+  their wall time is the runs' ngspice times summed;
 * scipy's DOP853 on the 2N-dimensional ladder ODE, rtol swept;
 * the exact modal sum (the reference itself: its "error" is its rounding,
   the split cosine sum against direct evaluation).
@@ -50,7 +53,8 @@ from ..theory.exact import tridiagonal
 from ..theory.modes import Modes, cosine_sum
 from ..theory.spectrum import normal_modes
 
-__all__ = ["bench_accuracy", "ngspice_record", "dop853_record", "modal_record", "ladder_energy", "summarise",
+__all__ = ["bench_accuracy", "ngspice_record", "extrapolated_record", "dop853_record", "modal_record",
+           "ladder_energy", "summarise",
            "summary_markdown", "record_label", "FULL_N", "QUICK_N", "RECORD_FIELDS"]
 
 FULL_N = (20, 100, 1000)
@@ -59,6 +63,11 @@ QUICK_N = (20, 100)
 FIXED_DT = {"trap": (0.4, 0.2, 0.1, 0.05, 0.02, 0.01, 0.005), "gear": (0.4, 0.2, 0.1, 0.05, 0.02, 0.01, 0.005, 0.0025)}
 QUICK_DT = {"trap": (0.2, 0.1, 0.05, 0.02, 0.01, 0.005), "gear": (0.2, 0.1, 0.05, 0.02, 0.01)}
 ADAPTIVE_RELTOL = (1e-3, 1e-5)
+#: Coarsest steps of the extrapolated runs (pairs, triples: :mod:`lcchain.compare.extrapolate`).
+EXTRAPOLATED_DT = {2: (0.2, 0.1, 0.05, 0.025, 0.0125), 3: (0.4, 0.2, 0.1, 0.05, 0.025)}
+QUICK_EXTRAPOLATED_DT = {2: (0.1, 0.05), 3: (0.2, 0.1)}
+#: The stepping column of an extrapolated record (its label: "trap pair", "trap triple").
+EXTRAPOLATED_LABEL = {2: "pair", 3: "triple"}
 #: The full sweep also tries a tight reltol, to see whether adaptive stepping ever pays.
 FULL_ADAPTIVE_RELTOL = (1e-3, 1e-5, 1e-7)
 DOP853_RTOL = (1e-4, 1e-6, 1e-8, 1e-10, 1e-12)
@@ -104,6 +113,23 @@ def ngspice_record(chain: Chain, modes: Modes, *, method: Method, dt: float | No
         "error": max(record.metrics.max_abs_error_first, record.metrics.max_abs_error_last),
         "points": record.result.points,
         "predicted_error": predicted_error(modes, dt, tstop, method=method) if dt is not None else None,
+    }
+
+
+def extrapolated_record(chain: Chain, modes: Modes, *, runs: int, dt: float, transits: int = 1,
+                        simulator: Simulator | None = None) -> dict[str, Any]:
+    """Runs at dt, dt/2[, dt/4] combined (:mod:`lcchain.compare.extrapolate`); wall: the runs' ngspice times summed
+    (what they cost on one core: ``simulate`` runs two at a time)."""
+    report = simulate(chain, dt=dt, extrapolate=runs, transits=transits, modes=modes, simulator=simulator, L0=L0,
+                      C0=C0, I0=I0)
+    x = report.extrapolation
+    assert x is not None and x.runs == runs
+    return {
+        "method": "trap", "stepping": EXTRAPOLATED_LABEL[runs], "N": chain.N, "dt": dt, "rtol": None,
+        "wall_s": sum(m.wall_s for m in x.members),
+        "error": max(report.comparison.max_abs_error_first, report.comparison.max_abs_error_last),
+        "points": sum(m.result.points for m in x.members if m.result is not None),
+        "predicted_error": report.predicted_error,
     }
 
 
@@ -204,6 +230,8 @@ def _plan(Ns: Sequence[int], quick: bool) -> list[tuple[str, int, dict]]:
             jobs += [("ngspice", N, {"method": method, "dt": dt}) for dt in dts[method]]
             jobs += [("ngspice", N, {"method": method, "reltol": r})
                      for r in (ADAPTIVE_RELTOL if quick else FULL_ADAPTIVE_RELTOL)]
+        for runs, steps in (QUICK_EXTRAPOLATED_DT if quick else EXTRAPOLATED_DT).items():
+            jobs += [("extrapolated", N, {"runs": runs, "dt": dt}) for dt in steps]
         jobs += [("dop853", N, {"rtol": r}) for r in (QUICK_DOP853_RTOL if quick else DOP853_RTOL)]
         jobs.append(("modal", N, {}))
     return jobs
@@ -253,6 +281,8 @@ def bench_accuracy(Ns: Sequence[int] | None = None, *, quick: bool = False, targ
         show(k, total, f"{kind} N={N} {params}")
         if kind == "ngspice":
             records.append(ngspice_record(chains[N], modes[N], simulator=simulator, **params))
+        elif kind == "extrapolated":
+            records.append(extrapolated_record(chains[N], modes[N], simulator=simulator, **params))
         elif kind == "dop853":
             records.append(dop853_record(chains[N], modes[N], **params))
         else:
@@ -272,11 +302,13 @@ def _target_check(chain: Chain, modes: Modes, eps: float, records: list[dict[str
     fixed = [r for r in records if r["method"] == "trap" and r["stepping"] == "fixed" and r["N"] == chain.N
              and r["error"] <= eps]
     cheapest = min(fixed, key=lambda r: r["wall_s"]) if fixed else None
-    wall = report.run.wall_s
+    data = report.to_dict()
+    wall = data["wall_s"]  # every run's ngspice time
     return {
-        "N": chain.N, "accuracy": eps, "dt": report.options.dt, "error": report.comparison.max_abs_error,
+        "N": chain.N, "accuracy": eps, "dt": report.options.dt, "runs": data["extrapolation"]["runs"],
+        "error": report.comparison.max_abs_error,
         "predicted_error": report.predicted_error, "integration_error": report.integration_error,
-        "wall_s": wall, "points": report.run.points,
+        "wall_s": wall, "points": data["points"],
         "cheapest_fixed_dt": cheapest["dt"] if cheapest else None,
         "cheapest_fixed_wall_s": cheapest["wall_s"] if cheapest else None,
         "wall_ratio": wall / cheapest["wall_s"] if cheapest else None,

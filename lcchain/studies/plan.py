@@ -23,7 +23,7 @@ import itertools
 import json
 import tomllib
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -185,6 +185,15 @@ def _set_one(data: dict[str, Any], dotted: str, value: Any) -> None:
     table[parts[-1]] = value
 
 
+def _one_run_per_sample(scene: Any, source: str) -> Any:
+    """A sweep stores one record per sample: its scenes are not extrapolated (``lcchain run`` extrapolates)."""
+    asked = scene.analysis.extrapolate
+    if asked is not None and asked > 1:
+        raise ParameterError("analysis.extrapolate", asked, "1 in a sweep (the store keeps one run per sample and "
+                             "does not combine runs yet; lcchain run SCENE.toml --workers W does)").located(source)
+    return replace(scene, analysis=replace(scene.analysis, extrapolate=1))
+
+
 def scene_sweep_plan(path: str | Path, varies: Sequence[tuple[str, list[Any]]], *, samples: int | None = None,
                      seed: int | None = None, budget: Budget | None = None,
                      progress: Callable[[int, int, str], None] | None = None) -> Plan:
@@ -211,6 +220,7 @@ def scene_sweep_plan(path: str | Path, varies: Sequence[tuple[str, list[Any]]], 
             varied = parse_scene(data, source=str(path))
         except ParameterError as error:
             raise error.located(str(path)) from None
+        varied = _one_run_per_sample(varied, str(path))
         plan = scene_plan(varied, budget)
         for k, spec in enumerate(scene_specs(varied, plan), start=1):
             task_params = {**params, "sample": k} if len(plan.chains) > 1 else params
