@@ -27,6 +27,12 @@ LONG_RUN = ["simulate", "--case", "two-mass", "--N", "2000", "--dt", "0.01"]
 START_TIMEOUT, DEATH_TIMEOUT = 120.0, 10.0
 
 
+def _as_from_a_terminal() -> None:
+    """Default Ctrl-C in the child, as a shell gives it: a disposition inherited from the test process (a library
+    that ignores SIGINT) would make Python ignore it too."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 def _children(parent: int) -> dict[int, str]:
     """pid -> command line of the live children of ``parent``."""
     found = {}
@@ -79,7 +85,7 @@ def test_no_simulator_and_no_file_outlive_lcchain(tmp_path: Path, backend: str, 
     scratch.mkdir()
     env = dict(os.environ, TMPDIR=str(scratch))
     proc = subprocess.Popen([sys.executable, "-m", "lcchain", *LONG_RUN, "--backend", backend], cwd=tmp_path, env=env,
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, preexec_fn=_as_from_a_terminal)
     try:
         child = _simulator_of(proc, backend)
         time.sleep(0.3)  # let it write to its unnamed raw file for a moment
@@ -103,7 +109,7 @@ def test_no_member_of_an_extrapolation_outlives_lcchain(tmp_path: Path, signum: 
     scratch.mkdir()
     env = dict(os.environ, TMPDIR=str(scratch))
     proc = subprocess.Popen([sys.executable, "-m", "lcchain", *LONG_RUN, "--extrapolate", "2"], cwd=tmp_path,
-                            env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+                            env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, preexec_fn=_as_from_a_terminal)
     try:
         deadline = time.monotonic() + START_TIMEOUT
         children: list[int] = []
