@@ -75,7 +75,8 @@ from ..theory.modes import Modes, cosine_sum
 from .accuracy import SAFETY, dt_for_accuracy, predicted_error, trap_response, warped_frequencies
 
 __all__ = ["WEIGHTS", "SPLINE_DEGREE", "EXTRAPOLATIONS", "ALIGNED_RAMP", "aligned_grid", "member_steps",
-           "refusal", "predicted_extrapolated_error", "ExtrapolationPlan", "plan_for_accuracy", "combine",
+           "refusal", "runs_for_step", "predicted_extrapolated_error", "ExtrapolationPlan", "plan_for_accuracy",
+           "combine",
            "interpolation_error", "run_seconds"]
 
 #: Weights of the runs at h, h/2, h/4 (Romberg): 1 run, a pair (h^2 cancelled), a triple (h^2, h^4 cancelled).
@@ -122,6 +123,13 @@ def refusal(*, method: str = "trap", stepping: str = "fixed", pulse: tuple[str, 
         return ("a rect pulse: its jumps break the error's expansion (a pair improves 9x per halving instead of "
                 "16x, measured)")
     return ""
+
+
+def runs_for_step(asked: int | None, refused: str) -> tuple[int, str]:
+    """Runs at a given step: those asked (default one), one when refused; and the reason when a refusal overrode a
+    request for more."""
+    runs = 1 if refused or asked is None else asked
+    return runs, refused if (asked or 0) > 1 else ""
 
 
 def _weights_rows(modes: Modes, ends: Sequence[str]) -> list[np.ndarray]:

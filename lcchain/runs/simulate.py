@@ -27,6 +27,7 @@ from ..compare.extrapolate import (
     plan_for_accuracy,
     predicted_extrapolated_error,
     refusal,
+    runs_for_step,
 )
 from ..compare.metrics import Comparison
 from ..compare.waveforms import Waveforms
@@ -378,13 +379,11 @@ def simulate(
             raise ParameterError("dt/accuracy", (dt, accuracy), "exactly one of dt and accuracy")
         plan = plan_for_accuracy(modes, accuracy, tstop, extrapolate=extrapolate, refused=refused, method=method,
                                  max_points=max_points(budget, saved=2, compared=2, unknowns=2 * chain.N))
-        runs, coarse = plan.runs, plan.dt
-        reason = refused if (extrapolate or 0) > 1 or refused else ""
+        runs, coarse, reason = plan.runs, plan.dt, plan.reason
     else:
         if dt is None:
             raise ParameterError("dt/accuracy", (dt, accuracy), "exactly one of dt and accuracy")
-        runs = 1 if refused or extrapolate is None else extrapolate
-        reason = refused if (extrapolate or 0) > 1 else ""
+        runs, reason = runs_for_step(extrapolate, refused)
         coarse = dt
     steps = member_steps(coarse, runs)
     common = dict(transits=transits, excitation=excitation, L0=L0, C0=C0, I0=I0, backend=backend, method=method,

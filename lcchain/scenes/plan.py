@@ -18,7 +18,13 @@ from ..circuit.effects import rounded, tolerance_samples, with_walls
 from ..circuit.ladder import Ladder
 from ..circuit.netlist import SimulationOptions, netlist_text, probe_names
 from ..compare.accuracy import dt_for_accuracy
-from ..compare.extrapolate import member_steps, plan_for_accuracy, predicted_extrapolated_error, refusal
+from ..compare.extrapolate import (
+    member_steps,
+    plan_for_accuracy,
+    predicted_extrapolated_error,
+    refusal,
+    runs_for_step,
+)
 from ..core.blas import fixed_blas_threads
 from ..core.budget import Budget, Estimate, max_points, run_estimate
 from ..core.errors import ParameterError
@@ -160,8 +166,7 @@ def _choose_steps(scene: Scene, nominal: Chain, modes: Modes, tstop: float,
     refused = refusal(method=analysis.method, pulse=pulse)
     asked = analysis.extrapolate
     if analysis.dt is not None:
-        runs = 1 if refused or asked is None else asked
-        reason = refused if (asked or 0) > 1 else ""
+        runs, reason = runs_for_step(asked, refused)
         steps = member_steps(float(analysis.dt), runs)
     else:
         assert analysis.accuracy is not None
