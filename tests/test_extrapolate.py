@@ -191,3 +191,122 @@ def test_a_bad_extrapolate_in_a_scene_is_named(tmp_path) -> None:
     for value in ("4", "0", "1.5", "true"):
         with pytest.raises(ParameterError, match="analysis.extrapolate"):
             _scene(tmp_path, f'[chain]\ncase = "two-mass"\nN = 20\n[analysis]\nextrapolate = {value}\n')
+
+
+# ---------------------------------------------------------------- sweeps: the members are tasks of the store
+
+@pytest.mark.ngspice
+def test_a_sweep_runs_the_members_as_tasks_and_stores_what_simulate_gives(tmp_path) -> None:
+    from lcchain.studies.plan import sweep_plan
+    from lcchain.studies.run import run_plan
+    from lcchain.studies.store import Store
+
+    chain = chain_for_case("two-mass", 40)
+    report = lcchain.simulate(chain, accuracy=1e-6)
+    x = report.extrapolation
+    assert x is not None and x.runs == 2  # the cheapest way to 1e-6 at N = 40 is a pair
+    summary = run_plan(sweep_plan(cases=["two-mass"], Ns=[40], accuracies=[1e-6]), tmp_path / "s.sqlite",
+                       executor="process", workers=2)
+    assert (summary.total, summary.ran, summary.ok, summary.combined) == (2, 2, 2, 1)
+    with Store(tmp_path / "s.sqlite") as store:
+        runs = store.runs()
+        combined_arrays = store.waveforms(runs[2].key)
+    assert [run.params.get("member") for run in runs] == [1, 2, None] and runs[2].params["runs"] == 2
+    assert [run.params["dt"] for run in runs] == [*x.steps, x.steps[0]]
+    assert [run.digest for run in runs[:2]] == [member.digest for member in x.members]
+    # the combination made from the store's arrays is the one simulate made from its runs
+    assert runs[2].digest == x.digest and runs[2].metrics is not None
+    assert runs[2].metrics["max_abs_error"] == report.comparison.max_abs_error <= 1e-6
+    assert runs[2].metrics["predicted_error"] == x.predicted_error
+    assert runs[2].points == sum(run.points for run in runs[:2])
+    assert combined_arrays is not None and sorted(combined_arrays) == ["loop0", "loop1", "time"]
+
+
+def _sweep_to_the_middle(store_path, stored: int):
+    """A sweep whose driver died after ``stored`` of its member runs were stored: they are stored by hand."""
+    from lcchain.runs.execute import execute
+    from lcchain.spice.simulator import find_simulator
+    from lcchain.studies.plan import sweep_plan
+    from lcchain.studies.store import Store
+
+    plan = sweep_plan(cases=["two-mass"], Ns=[30], dts=[0.05], extrapolate=3)
+    simulator = find_simulator("batch")
+    with Store(store_path) as store:
+        store.adopt(plan.fingerprint(simulator.version), dict(plan.description), plan.rows(simulator.version),
+                    simulator.version)
+        for task in plan.tasks[:stored]:
+            store.add(execute(task.spec, simulator))
+    return plan
+
+
+@pytest.mark.ngspice
+@pytest.mark.parametrize("stored", [1, 3])
+def test_a_resumed_sweep_combines_members_stored_before_the_crash(tmp_path, stored: int) -> None:
+    from lcchain.studies.run import run_plan
+    from lcchain.studies.store import Store
+
+    clean = run_plan(_sweep_to_the_middle(tmp_path / "clean.sqlite", 0), tmp_path / "clean.sqlite",
+                     executor="serial")
+    plan = _sweep_to_the_middle(tmp_path / "resumed.sqlite", stored)
+    resumed = run_plan(plan, tmp_path / "resumed.sqlite", executor="serial")
+    assert (clean.ran, clean.combined) == (3, 1)
+    assert (resumed.skipped, resumed.ran, resumed.ok, resumed.combined) == (stored, 3 - stored, 3, 1)
+    with Store(tmp_path / "clean.sqlite") as a, Store(tmp_path / "resumed.sqlite") as b:
+        assert [run.digest for run in a.runs()] == [run.digest for run in b.runs()]
+        assert len(b.runs()) == 4 and b.runs()[3].params["runs"] == 3
+
+
+@pytest.mark.ngspice
+def test_points_sharing_a_member_run_it_once(tmp_path) -> None:
+    from lcchain.studies.plan import sweep_plan
+    from lcchain.studies.run import run_plan
+
+    # the pair at 0.04 ends with an aligned run at 0.02, the pair at 0.02 starts with it
+    plan = sweep_plan(cases=["two-mass"], Ns=[20], dts=[0.04, 0.02], extrapolate=2)
+    summary = run_plan(plan, tmp_path / "s.sqlite", executor="serial")
+    assert (summary.total, summary.ran, summary.ok, summary.combined) == (4, 3, 4, 2)
+
+
+@pytest.mark.ngspice
+def test_a_failed_member_fails_its_combination_and_names_the_run(tmp_path) -> None:
+    from lcchain.studies.plan import sweep_plan
+    from lcchain.studies.run import run_plan
+    from lcchain.studies.store import Store
+
+    plan = sweep_plan(cases=["two-mass"], Ns=[2000], dts=[0.01], extrapolate=2, timeout=0.5)
+    summary = run_plan(plan, tmp_path / "s.sqlite", executor="serial")
+    assert (summary.ok, summary.failed, summary.combined) == (0, 2, 0)
+    with Store(tmp_path / "s.sqlite") as store:
+        combined = store.runs()[2]
+    assert combined.status == "timeout" and "(the run at dt = 0.01, 1 of 2)" in combined.reason
+
+
+@pytest.mark.ngspice
+def test_a_scene_sweep_extrapolates_each_sample_and_sums_up_the_combinations(tmp_path, capsys) -> None:
+    from lcchain.cli import main
+    from lcchain.scenes.run import simulate_scene
+
+    body = ('[chain]\ncase = "two-mass"\nN = 16\n[effects.tolerance]\nL = 0.02\nsamples = 3\nseed = 4\n'
+            '[analysis]\ndt = 0.05\nextrapolate = 2\n[output]\nplots = []\n')
+    scene = _scene(tmp_path, body)
+    alone = simulate_scene(scene).report
+    store = tmp_path / "v.sqlite"
+    status = main(["sweep", str(tmp_path / "scene.toml"), "--vary", "units.L0=10e-6", "--store", str(store),
+                   "--executor", "serial", "--json"])
+    summary = json.loads(capsys.readouterr().out)
+    assert status == 0 and (summary["total"], summary["ok"], summary["combined"]) == (6, 6, 3)
+    assert main(["results", str(store), "--json"]) == 0
+    rows = json.loads(capsys.readouterr().out)
+    combined = [row for row in rows if "runs" in row["params"]]
+    assert [row["digest"] for row in combined] == [sample["digest"] for sample in alone["samples"]]
+    assert main(["results", str(store), "--summary", "--json"]) == 0
+    groups = json.loads(capsys.readouterr().out)
+    assert len(groups) == 1 and groups[0]["n"] == 3  # the members are ingredients, not samples
+    assert groups[0]["mean"] == pytest.approx(alone["transmitted_peak"]["mean"], rel=1e-12)
+
+
+def test_an_extrapolate_beside_a_scene_is_refused(tmp_path) -> None:
+    _scene(tmp_path, '[chain]\ncase = "two-mass"\nN = 16\n')
+    done = _cli("sweep", str(tmp_path / "scene.toml"), "--extrapolate", "2", "--store", str(tmp_path / "s.sqlite"))
+    assert done.returncode == 2 and "--extrapolate" in done.stderr and "analysis.extrapolate" in done.stderr
+    assert "Traceback" not in done.stderr and not (tmp_path / "s.sqlite").exists()

@@ -70,6 +70,9 @@ def add_sweep_arguments(p: argparse.ArgumentParser) -> None:
     step = p.add_mutually_exclusive_group()
     step.add_argument("--dt", type=_floats("--dt"), help="steps, comma separated: an axis")
     step.add_argument("--accuracy", type=_floats("--accuracy"), help="accuracies, comma separated: an axis")
+    p.add_argument("--extrapolate", type=int, choices=(1, 2, 3), metavar="{1,2,3}",
+                   help="runs per point at dt, dt/2, dt/4, each a task, combined in the store (default: 1 with "
+                        "--dt; with --accuracy the cheapest of 1, 2, 3, as lcchain simulate chooses)")
     p.add_argument("--transits", type=int_list("--transits"), default=[1], help="transits, comma separated")
     p.add_argument("--excitation", type=_words("--excitation", EXCITATIONS), default=["kick"],
                    help="kick and/or displacement, comma separated")
@@ -132,8 +135,9 @@ def _run(args: argparse.Namespace, plan: Any, outputs: Outputs) -> int:
     if args.json:
         emit_json(summary.to_dict())
     else:
+        combined = f"; {summary.combined} extrapolated results combined from them" if summary.combined else ""
         print(f"{summary.total} runs in {args.store}: {summary.ran} ran now, {summary.skipped} already stored; "
-              f"{summary.ok} ok, {summary.failed} failed ({summary.wall_s:.1f} s)")
+              f"{summary.ok} ok, {summary.failed} failed{combined} ({summary.wall_s:.1f} s)")
     return EXIT_OK if summary.failed == 0 and summary.ok == summary.total else EXIT_FAILED
 
 
@@ -145,10 +149,11 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     budget = budget_from_args(args)
     if args.scene:
         given = [o for o, v in (("--case", args.case), ("--N", args.N), ("--dt", args.dt),
-                                ("--accuracy", args.accuracy)) if v is not None]
+                                ("--accuracy", args.accuracy), ("--extrapolate", args.extrapolate)) if v is not None]
         if given:
             raise ParameterError(given[0], getattr(args, given[0].lstrip("-")), "nothing with SCENE.toml (the scene "
-                                 "says the chain and the analysis; vary its keys with --vary)")
+                                 "says the chain and the analysis; vary its keys with --vary, e.g. "
+                                 "analysis.extrapolate=1,2)")
         plan = scene_sweep_plan(args.scene, [parse_vary(v) for v in args.vary], samples=args.samples,
                                 seed=args.seed, budget=budget)
     else:
@@ -159,7 +164,8 @@ def cmd_sweep(args: argparse.Namespace) -> int:
             raise ParameterError("--case" if not args.case else "--N", None, "--case and --N lists (or SCENE.toml)")
         plan = sweep_plan(cases=args.case, Ns=args.N, dts=args.dt or ([] if args.accuracy else [0.05]),
                           accuracies=args.accuracy or [], transits=args.transits, excitations=args.excitation,
-                          L0=args.L0, C0=args.C0, backend=args.backend, timeout=args.timeout, budget=budget)
+                          L0=args.L0, C0=args.C0, backend=args.backend, timeout=args.timeout, budget=budget,
+                          extrapolate=args.extrapolate)
     return _run(args, plan, outputs)
 
 
@@ -251,10 +257,18 @@ def cmd_results(args: argparse.Namespace) -> int:
         writer.writerows(rows)
         sys.stdout.write(text.getvalue())
     else:
-        counts = {s: sum(r["status"] == s for r in runs) for s in ("ok", "failed", "timeout", "pending")}
-        print(f"{args.store}: {len(runs)} runs: " + ", ".join(f"{n} {s}" for s, n in counts.items() if n))
+        def counted(rows: list[dict[str, Any]]) -> str:
+            counts = {s: sum(r["status"] == s for r in rows) for s in ("ok", "failed", "timeout", "pending")}
+            return ", ".join(f"{n} {s}" for s, n in counts.items() if n)
+
+        combined = [run for run in runs if "runs" in run["params"]]
+        tasks = [run for run in runs if "runs" not in run["params"]]
+        print(f"{args.store}: {len(tasks)} runs: {counted(tasks)}" +
+              (f"; {len(combined)} extrapolated from them: {counted(combined)}" if combined else ""))
         for run in runs:
-            error = run.get("max_abs_error")
+            error, predicted = run.get("max_abs_error"), run.get("predicted_error")
             shown = f"error {error:.3g}" if error is not None else run.get("error", "").split("\n")[0][:80]
+            if error is not None and predicted is not None:
+                shown += f" (predicted {predicted:.3g})"
             print(f"{run['index']:>5} {run['status']:>8}  {run['params']}  {shown}")
     return EXIT_FAILED if outputs.failed else EXIT_OK

@@ -32,7 +32,7 @@ _AXIS = {"peak": "transmitted peak, max I_N/I_1(0)", "energy": "energy fraction 
 
 def study_figure(store: Store, metric: str = "peak") -> Any:
     """The figure a study's results call for (see the module docstring); ``metric`` for the samples."""
-    runs = [run for run in store.runs() if run.status == "ok" and run.metrics]
+    runs = [run for run in store.runs() if run.status == "ok" and run.metrics and not run.member]
     if not runs:
         raise ParameterError("--plot", str(store.path), "a store with finished runs to draw")
     if any("sample" in run.params for run in runs):

@@ -41,7 +41,8 @@ from ..theory.response import linear_response
 from ..theory.spectrum import normal_modes
 from .spec import RunSpec, Theory
 
-__all__ = ["signals_of", "metrics_of", "RunRecord", "execute", "waveform_digest", "pulse_centre"]
+__all__ = ["signals_of", "loop_sims", "theory_at", "metrics_of", "RunRecord", "execute", "waveform_digest",
+           "pulse_centre"]
 
 log = logging.getLogger("lcchain")
 
@@ -128,15 +129,22 @@ def pulse_centre(excitation: str, pulse: tuple[str, float] | None) -> float:
     return GAUSSIAN_CENTRE * width if shape == "gaussian" else width / 2
 
 
+def loop_sims(theory: Theory, time_s: np.ndarray, vectors: Mapping[str, np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+    """A run's saved loops as dimensionless times and signals (no theory): (t, sim), one row per loop."""
+    loops = probe_names(theory.chain.N, theory.probes)
+    currents = np.array([vectors[name] for name in loops])
+    return loop_signals(time_s, currents, time_unit=theory.time_unit, excitation=theory.excitation, I0=theory.I0)
+
+
+def theory_at(theory: Theory, t: np.ndarray, modes: Modes | None = None) -> np.ndarray:
+    """The theory of the compared loops at dimensionless times t, one row per loop."""
+    return _response(theory, t, theory.probes, modes if modes is not None else _modes(theory))
+
+
 def signals_of(theory: Theory, result: RunResult, modes: Modes | None = None) -> Signals:
     """A run's saved loops as dimensionless signals, with the theory of the same loops at the same times."""
-    chain = theory.chain
-    modes = modes if modes is not None else _modes(theory)
-    loops = probe_names(chain.N, theory.probes)
-    currents = np.array([result.vectors[name] for name in loops])
-    t, sim = loop_signals(result.time, currents, time_unit=theory.time_unit, excitation=theory.excitation,
-                          I0=theory.I0)
-    return Signals(t, sim, _response(theory, t, theory.probes, modes), theory.excitation)
+    t, sim = loop_sims(theory, result.time, result.vectors)
+    return Signals(t, sim, theory_at(theory, t, modes), theory.excitation)
 
 
 def _modes(theory: Theory) -> Modes:

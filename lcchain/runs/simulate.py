@@ -51,7 +51,7 @@ from .spec import DEFAULT_TIMEOUT, RunSpec, Theory
 #: ngspice runs of one extrapolation executed at once (each is single-threaded; never more than the cores).
 MEMBER_THREADS = 2
 
-__all__ = ["SimulationReport", "Extrapolation", "simulate", "simulation_spec"]
+__all__ = ["SimulationReport", "Extrapolation", "SimulationRuns", "simulate", "simulation_runs", "simulation_spec"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -74,6 +74,9 @@ class Extrapolation:
         Why extrapolation was not used when it was asked or considered ("" otherwise).
     plan : ExtrapolationPlan or None
         With --accuracy: the options weighed and the one chosen.
+    digest : str
+        SHA-256 of the combined signals (:func:`lcchain.runs.execute.waveform_digest`; "" for one run), as a
+        study's store has it.
     """
 
     runs: int
@@ -83,13 +86,14 @@ class Extrapolation:
     interpolation_error: float | None = None
     reason: str = ""
     plan: ExtrapolationPlan | None = None
+    digest: str = ""
 
     def to_dict(self) -> dict[str, Any]:
         members = []
         for h, record in zip(self.steps, self.members, strict=True):
             metrics = record.metrics
             members.append({"dt": h, "points": record.result.points if record.result is not None else None,
-                            "wall_s": record.wall_s,
+                            "wall_s": record.wall_s, "digest": record.digest,
                             "max_abs_error": metrics.max_abs_error if metrics is not None else None,
                             "predicted_error": metrics.predicted_error if metrics is not None else None})
         return {"runs": self.runs, "weights": list(WEIGHTS[self.runs]), "dt": list(self.steps), "members": members,
@@ -182,7 +186,8 @@ class SimulationReport:
             "predicted_error": self.predicted_error,
             "integration_error": self.integration_error,
             "physics_error": self.physics_error,
-            "digest": self.record.digest if self.record is not None else None,
+            "digest": (self.extrapolation.digest if self.extrapolation is not None and self.extrapolation.digest
+                       else self.record.digest if self.record is not None else None),
             "extrapolation": self.extrapolation.to_dict() if self.extrapolation is not None else None,
         }
 
@@ -292,6 +297,84 @@ def simulation_spec(
     return spec, ladder, options
 
 
+@dataclass(frozen=True, eq=False)
+class SimulationRuns:
+    """The runs one simulation makes, described and not yet executed: one, or an extrapolation's members.
+
+    Attributes
+    ----------
+    steps : tuple of float
+        Each run's fixed step, coarsest first (units of sqrt(L0 C0)).
+    specs : tuple of RunSpec
+        One per step (aligned steps when there are several).
+    ladder, options : the coarsest run's circuit and analysis
+    modes : Modes
+    predicted_error : float or None
+        The extrapolation's predicted error (None for one run: its spec's theory holds its own).
+    reason : str
+        Why extrapolation was not used when it was asked or considered ("" otherwise).
+    plan : ExtrapolationPlan or None
+        With ``accuracy``: the options weighed and the one chosen.
+    """
+
+    steps: tuple[float, ...]
+    specs: tuple[RunSpec, ...]
+    ladder: Ladder
+    options: SimulationOptions
+    modes: Modes
+    predicted_error: float | None
+    reason: str = ""
+    plan: ExtrapolationPlan | None = None
+
+    @property
+    def runs(self) -> int:
+        return len(self.steps)
+
+
+@fixed_blas_threads
+def simulation_runs(chain: Chain, *, dt: float | None = None, accuracy: float | None = None,
+                    extrapolate: int | None = None, transits: int = 1, excitation: Excitation = "kick",
+                    L0: float = 10e-6, C0: float = 10e-9, I0: float = 1e-3, backend: Backend = "batch",
+                    method: Method = "trap", title: str | None = None, timeout: float = DEFAULT_TIMEOUT,
+                    modes: Modes | None = None, budget: Budget | None = None) -> SimulationRuns:
+    """The runs :func:`simulate` makes (parameters as there): the step or steps chosen, every run's spec built.
+
+    Raises
+    ------
+    ParameterError, BudgetError
+        As :func:`simulate`, before anything runs.
+    """
+    if extrapolate is not None and (isinstance(extrapolate, bool) or extrapolate not in (1, 2, 3)):
+        raise ParameterError("extrapolate", extrapolate, "1, 2 or 3 runs (1: no extrapolation)")
+    if (dt is None) == (accuracy is None):
+        raise ParameterError("dt/accuracy", (dt, accuracy), "exactly one of dt and accuracy")
+    budget = budget if budget is not None else Budget()
+    Ladder(chain, L0, C0)
+    modes = modes if modes is not None else normal_modes(chain)
+    tstop = stop_time(modes, transits)
+    refused = refusal(method=method)
+    plan = None
+    if accuracy is not None:
+        plan = plan_for_accuracy(modes, accuracy, tstop, extrapolate=extrapolate, refused=refused, method=method,
+                                 max_points=max_points(budget, saved=2, compared=2, unknowns=2 * chain.N))
+        runs, coarse, reason = plan.runs, plan.dt, plan.reason
+    else:
+        assert dt is not None
+        runs, reason = runs_for_step(extrapolate, refused)
+        coarse = dt
+    steps = member_steps(coarse, runs)
+    built = [simulation_spec(chain, dt=h, aligned=runs > 1, transits=transits, excitation=excitation, L0=L0, C0=C0,
+                             I0=I0, backend=backend, method=method, title=title, timeout=timeout, modes=modes,
+                             budget=budget) for h in steps]
+    predicted = None
+    if runs > 1:
+        predicted = plan.predicted_error if plan is not None else predicted_extrapolated_error(modes, coarse, runs,
+                                                                                               tstop)
+        warn_if_unreliable(method=method, transits=transits, predicted=predicted)
+    _, ladder, options = built[0]
+    return SimulationRuns(steps, tuple(spec for spec, _, _ in built), ladder, options, modes, predicted, reason, plan)
+
+
 def simulate(
     chain: Chain,
     *,
@@ -366,35 +449,15 @@ def simulate(
         Gear over more than one transit; a dt whose predicted error exceeds 0.1.
     """
     clock = time.perf_counter()
-    if extrapolate is not None and (isinstance(extrapolate, bool) or extrapolate not in (1, 2, 3)):
-        raise ParameterError("extrapolate", extrapolate, "1, 2 or 3 runs (1: no extrapolation)")
-    budget = budget if budget is not None else Budget()
-    Ladder(chain, L0, C0)
-    modes = modes if modes is not None else normal_modes(chain)
-    tstop = stop_time(modes, transits)
-    refused = refusal(method=method)
-    plan = None
-    if accuracy is not None:
-        if dt is not None:
-            raise ParameterError("dt/accuracy", (dt, accuracy), "exactly one of dt and accuracy")
-        plan = plan_for_accuracy(modes, accuracy, tstop, extrapolate=extrapolate, refused=refused, method=method,
-                                 max_points=max_points(budget, saved=2, compared=2, unknowns=2 * chain.N))
-        runs, coarse, reason = plan.runs, plan.dt, plan.reason
-    else:
-        if dt is None:
-            raise ParameterError("dt/accuracy", (dt, accuracy), "exactly one of dt and accuracy")
-        runs, reason = runs_for_step(extrapolate, refused)
-        coarse = dt
-    steps = member_steps(coarse, runs)
-    common = dict(transits=transits, excitation=excitation, L0=L0, C0=C0, I0=I0, backend=backend, method=method,
-                  title=title, timeout=timeout, modes=modes, budget=budget)
-    built_specs = [simulation_spec(chain, dt=h, aligned=runs > 1, **common)  # type: ignore[arg-type]
-                   for h in steps]
-    spec, ladder, options = built_specs[0]
+    planned = simulation_runs(chain, dt=dt, accuracy=accuracy, extrapolate=extrapolate, transits=transits,
+                              excitation=excitation, L0=L0, C0=C0, I0=I0, backend=backend, method=method,
+                              title=title, timeout=timeout, modes=modes, budget=budget)
+    steps, runs, modes, plan, reason = planned.steps, planned.runs, planned.modes, planned.plan, planned.reason
+    spec, ladder, options = planned.specs[0], planned.ladder, planned.options
     if on_spec is not None:
         on_spec(spec)
     built = time.perf_counter()
-    records = _execute_members([member for member, _, _ in built_specs], steps, simulator, progress)
+    records = _execute_members(list(planned.specs), steps, simulator, progress)
     done = time.perf_counter()
     first = records[0]
     assert first.result is not None and first.signals is not None and first.metrics is not None
@@ -404,16 +467,15 @@ def simulate(
         predicted = metrics.predicted_error
         extrapolation = Extrapolation(1, steps, (first,), predicted, None, reason, plan)
     else:
-        predicted = plan.predicted_error if plan is not None else predicted_extrapolated_error(modes, coarse, runs,
-                                                                                               tstop)
-        warn_if_unreliable(method=method, transits=transits, predicted=predicted)
+        predicted = planned.predicted_error
         assert spec.theory is not None
         combined = combined_record(spec.theory, records, steps, predicted_error=predicted, modes=modes)
         assert combined.signals is not None and combined.metrics is not None
         signals, metrics = combined.signals, combined.metrics
         member_times = [r.signals.t for r in records if r.signals is not None]
         extrapolation = Extrapolation(runs, steps, tuple(records), predicted,
-                                      interpolation_error(modes, member_times, signals.t, steps), reason, plan)
+                                      interpolation_error(modes, member_times, signals.t, steps), reason, plan,
+                                      combined.digest)
     compared = time.perf_counter()
     simulator_s = sum(r.result.wall_s for r in records if r.result is not None)
     timings = {

@@ -23,7 +23,7 @@ import itertools
 import json
 import tomllib
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -31,15 +31,16 @@ from ..core.budget import Budget, Estimate
 from ..core.errors import ParameterError
 from ..core.frozen import FrozenMap
 from ..core.types import Backend, Excitation
-from ..runs.simulate import simulation_spec
-from ..runs.spec import DEFAULT_TIMEOUT, RunSpec
+from ..runs.extrapolated import combined_key
+from ..runs.simulate import simulation_runs
+from ..runs.spec import DEFAULT_TIMEOUT, RunSpec, Theory
 from ..scenes.load import load_scene, parse_scene
 from ..scenes.plan import scene_plan, scene_specs
 from ..spice.text import UNSAFE_FILES, saved_vectors, transient_stop, unsafe_lines
 from ..theory.cases import chain_for_case
 from ..theory.spectrum import normal_modes
 
-__all__ = ["Task", "Plan", "sweep_plan", "scene_sweep_plan", "batch_plan", "parse_vary"]
+__all__ = ["Task", "Combination", "Plan", "sweep_plan", "scene_sweep_plan", "batch_plan", "parse_vary"]
 
 
 @dataclass(frozen=True)
@@ -63,6 +64,38 @@ class Task:
     seconds: float = 0.0
 
 
+@dataclass(frozen=True, eq=False)
+class Combination:
+    """An extrapolation of a study: tasks of the plan (its members) combined into one result once all are stored.
+
+    It is not run: :func:`lcchain.studies.run.run_plan` makes its record from the members' stored arrays
+    (:func:`lcchain.runs.extrapolated.combined_record`) and stores it under :meth:`key`.
+
+    Attributes
+    ----------
+    index : int
+        Its place in the plan, after its members.
+    params : Mapping[str, object]
+        As its members', with ``dt`` the coarsest step and ``runs`` their number.
+    members : tuple of int
+        The members' task indices, coarsest first.
+    steps : tuple of float
+        The members' steps (units of sqrt(L0 C0)).
+    theory : Theory
+        The coarsest member's theory.
+    predicted_error : float or None
+    label : str
+    """
+
+    index: int
+    params: Mapping[str, Any]
+    members: tuple[int, ...]
+    steps: tuple[float, ...]
+    theory: Theory
+    predicted_error: float | None
+    label: str = ""
+
+
 @dataclass(frozen=True)
 class Plan:
     """Everything a study will run.
@@ -73,7 +106,12 @@ class Plan:
     description : Mapping
         What the user asked for (the command's axes), kept with the store.
     tasks : tuple of Task
+        The runs.
     backend : {"batch", "shared"}
+    axes : tuple of str
+        The parameters that vary.
+    combinations : tuple of Combination
+        Extrapolations made from some of the tasks (their indices follow their members').
     """
 
     kind: str
@@ -81,13 +119,25 @@ class Plan:
     tasks: tuple[Task, ...]
     backend: Backend = "batch"
     axes: tuple[str, ...] = field(default=())
+    combinations: tuple[Combination, ...] = field(default=())
 
-    def keys(self, ngspice_version: str) -> list[str]:
-        return [task.spec.key(ngspice_version) for task in self.tasks]
+    def keys(self, ngspice_version: str) -> dict[int, str]:
+        """Every row's key by index: each task's run, and each combination's (its members' keys hashed)."""
+        keys = {task.index: task.spec.key(ngspice_version) for task in self.tasks}
+        for combination in self.combinations:
+            keys[combination.index] = combined_key([keys[i] for i in combination.members])
+        return dict(sorted(keys.items()))
+
+    def rows(self, ngspice_version: str) -> list[tuple[str, dict[str, Any], str]]:
+        """(key, params, label) of every row in index order: what the store's tasks table holds."""
+        keys = self.keys(ngspice_version)
+        described = {task.index: (dict(task.params), task.spec.label) for task in self.tasks}
+        described.update({c.index: (dict(c.params), c.label) for c in self.combinations})
+        return [(key, *described[index]) for index, key in keys.items()]
 
     def fingerprint(self, ngspice_version: str) -> str:
-        """The plan's identity: its ordered task keys (which hold the lcchain and ngspice versions)."""
-        return hashlib.sha256("\n".join(self.keys(ngspice_version)).encode()).hexdigest()
+        """The plan's identity: its ordered row keys (which hold the lcchain and ngspice versions)."""
+        return hashlib.sha256("\n".join(self.keys(ngspice_version).values()).encode()).hexdigest()
 
     def estimate(self) -> float:
         """Estimated seconds of all its runs together, on one worker."""
@@ -112,21 +162,42 @@ def _seconds(spec: RunSpec) -> float:
     return NGSPICE_SECONDS_PER_UNKNOWN_POINT * 2 * theory.chain.N * points + 0.02
 
 
+def _add_runs(tasks: list[Task], combinations: list[Combination], params: Mapping[str, Any],
+              specs: Sequence[RunSpec], steps: Sequence[float], predicted_error: float | None) -> None:
+    """One point of a study: its run, or its extrapolation's members (``member`` 1, 2, 3, each with its own
+    ``dt``) followed by their combination (``runs``, ``dt`` the coarsest step)."""
+    index = len(tasks) + len(combinations)
+    if len(specs) == 1:
+        tasks.append(Task(index, FrozenMap(params), specs[0], _seconds(specs[0])))
+        return
+    for i, (spec, h) in enumerate(zip(specs, steps, strict=True)):
+        tasks.append(Task(index + i, FrozenMap({**params, "dt": h, "member": i + 1}), spec, _seconds(spec)))
+    theory = specs[0].theory
+    assert theory is not None
+    label = f"{specs[0].label} extrapolated from {len(specs)} runs"
+    combinations.append(Combination(index + len(specs), FrozenMap({**params, "dt": steps[0], "runs": len(specs)}),
+                                    tuple(range(index, index + len(specs))), tuple(steps), theory, predicted_error,
+                                    label))
+
+
 def sweep_plan(*, cases: Sequence[str], Ns: Sequence[int], dts: Sequence[float] = (), accuracies: Sequence[float] = (),
                transits: Sequence[int] = (1,), excitations: Sequence[Excitation] = ("kick",), L0: float = 10e-6,
                C0: float = 10e-9, backend: Backend = "batch", timeout: float = DEFAULT_TIMEOUT,
-               budget: Budget | None = None,
+               budget: Budget | None = None, extrapolate: int | None = None,
                progress: Callable[[int, int, str], None] | None = None) -> Plan:
     """The product of the axes: one task per (case, N, dt or accuracy, transits, excitation).
 
-    Every run is checked against ``budget`` as :func:`lcchain.simulate` would.
+    Every run is checked against ``budget`` as :func:`lcchain.simulate` would.  With ``extrapolate`` (or an
+    accuracy that the cheapest way meets with several runs, as :func:`lcchain.simulate` chooses), a point is
+    its members' tasks and their :class:`Combination`.
     """
     if bool(dts) == bool(accuracies):
         raise ParameterError("--dt/--accuracy", (list(dts), list(accuracies)), "steps or accuracies, not both")
     steps = [("dt", v) for v in dts] + [("accuracy", v) for v in accuracies]
     combos = list(itertools.product(cases, Ns, steps, transits, excitations))
     chains: dict[tuple[str, int], Any] = {}
-    tasks = []
+    tasks: list[Task] = []
+    combinations: list[Combination] = []
     for index, (case, N, (step, value), transit, excitation) in enumerate(combos):
         if progress is not None:
             progress(index, len(combos), f"planning {case} N={N}")
@@ -134,20 +205,21 @@ def sweep_plan(*, cases: Sequence[str], Ns: Sequence[int], dts: Sequence[float] 
             chain = chain_for_case(case, N)
             chains[(case, N)] = (chain, normal_modes(chain))
         chain, modes = chains[(case, N)]
-        spec, _, options = simulation_spec(chain, transits=transit, excitation=excitation, L0=L0, C0=C0,
-                                           backend=backend, timeout=timeout, modes=modes, budget=budget,
-                                           dt=value if step == "dt" else None,
-                                           accuracy=value if step == "accuracy" else None)
+        runs = simulation_runs(chain, transits=transit, excitation=excitation, L0=L0, C0=C0, backend=backend,
+                               timeout=timeout, modes=modes, budget=budget, extrapolate=extrapolate,
+                               dt=value if step == "dt" else None, accuracy=value if step == "accuracy" else None)
         params = {"case": case, "N": N, step: value, "transits": transit, "excitation": excitation}
         if step == "accuracy":
-            params["dt"] = options.dt
-        tasks.append(Task(index, FrozenMap(params), spec, _seconds(spec)))
+            params["dt"] = runs.options.dt
+        _add_runs(tasks, combinations, params, runs.specs, runs.steps, runs.predicted_error)
     description = {"command": "sweep", "case": list(cases), "N": list(Ns), "dt": list(dts),
                    "accuracy": list(accuracies), "transits": list(transits), "excitation": list(excitations),
                    "L0": L0, "C0": C0, "backend": backend}
+    if extrapolate is not None:
+        description["extrapolate"] = extrapolate
     axes = tuple(name for name, values in (("case", cases), ("N", Ns), ("dt", dts), ("accuracy", accuracies),
                                            ("transits", transits), ("excitation", excitations)) if len(values) > 1)
-    return Plan("sweep", FrozenMap(description), tuple(tasks), backend, axes)
+    return Plan("sweep", FrozenMap(description), tuple(tasks), backend, axes, tuple(combinations))
 
 
 def parse_vary(text: str) -> tuple[str, list[Any]]:
@@ -185,15 +257,6 @@ def _set_one(data: dict[str, Any], dotted: str, value: Any) -> None:
     table[parts[-1]] = value
 
 
-def _one_run_per_sample(scene: Any, source: str) -> Any:
-    """A sweep stores one record per sample: its scenes are not extrapolated (``lcchain run`` extrapolates)."""
-    asked = scene.analysis.extrapolate
-    if asked is not None and asked > 1:
-        raise ParameterError("analysis.extrapolate", asked, "1 in a sweep (the store keeps one run per sample and "
-                             "does not combine runs yet; lcchain run SCENE.toml --workers W does)").located(source)
-    return replace(scene, analysis=replace(scene.analysis, extrapolate=1))
-
-
 def scene_sweep_plan(path: str | Path, varies: Sequence[tuple[str, list[Any]]], *, samples: int | None = None,
                      seed: int | None = None, budget: Budget | None = None,
                      progress: Callable[[int, int, str], None] | None = None) -> Plan:
@@ -209,6 +272,7 @@ def scene_sweep_plan(path: str | Path, varies: Sequence[tuple[str, list[Any]]], 
     keys = [key for key, _ in varies]
     combos = list(itertools.product(*[values for _, values in varies])) if varies else [()]
     tasks: list[Task] = []
+    combinations: list[Combination] = []
     for n, values in enumerate(combos):
         data = copy.deepcopy(base)
         for key, value in zip(keys, values, strict=True):
@@ -220,16 +284,17 @@ def scene_sweep_plan(path: str | Path, varies: Sequence[tuple[str, list[Any]]], 
             varied = parse_scene(data, source=str(path))
         except ParameterError as error:
             raise error.located(str(path)) from None
-        varied = _one_run_per_sample(varied, str(path))
         plan = scene_plan(varied, budget)
-        for k, spec in enumerate(scene_specs(varied, plan), start=1):
-            task_params = {**params, "sample": k} if len(plan.chains) > 1 else params
-            tasks.append(Task(len(tasks), FrozenMap(task_params), spec, _seconds(spec)))
+        specs = scene_specs(varied, plan)
+        for k in range(len(plan.chains)):
+            task_params = {**params, "sample": k + 1} if len(plan.chains) > 1 else params
+            _add_runs(tasks, combinations, task_params, specs[k * plan.runs:(k + 1) * plan.runs], plan.steps or
+                      (plan.dt,), plan.predicted_error)
     description = {"command": "sweep", "scene": str(path), "scene_data": base, "vary": dict(varies),
                    "samples": samples, "seed": seed}
     axes = tuple(keys) + (("sample",) if any("sample" in t.params for t in tasks) else ())
     return Plan("scene", FrozenMap(json.loads(json.dumps(description, default=str))), tuple(tasks),
-                scene.analysis.backend, axes)
+                scene.analysis.backend, axes, tuple(combinations))
 
 
 def batch_plan(paths: Sequence[str | Path], *, allow_control: bool = False, backend: Backend = "batch",

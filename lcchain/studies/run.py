@@ -12,16 +12,17 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
 from ..core.errors import ParameterError
-from ..runs.execute import RunRecord
+from ..runs.execute import RunRecord, loop_sims
+from ..runs.extrapolated import combined_record
 from ..runs.spec import RunSpec
 from ..spice.simulator import Simulator, find_simulator
 from .executors import default_workers, group_tasks, run_groups
-from .plan import Plan
+from .plan import Combination, Plan
 from .store import Store
 
 __all__ = ["Summary", "Progress", "run_plan", "run_specs"]
@@ -62,6 +63,8 @@ class Summary:
     store : str
         The store's path.
     wall_s : float
+    combined : int
+        Extrapolations the store holds combined (each made from its member runs, counted above).
     """
 
     total: int
@@ -71,10 +74,11 @@ class Summary:
     failed: int
     store: str
     wall_s: float
+    combined: int = 0
 
     def to_dict(self) -> dict[str, Any]:
         return {"total": self.total, "skipped": self.skipped, "ran": self.ran, "ok": self.ok,
-                "failed": self.failed, "store": self.store, "wall_s": self.wall_s}
+                "failed": self.failed, "combined": self.combined, "store": self.store, "wall_s": self.wall_s}
 
 
 def run_plan(plan: Plan, store: str | Path, *, executor: str = "process", workers: int | None = None,
@@ -104,31 +108,74 @@ def run_plan(plan: Plan, store: str | Path, *, executor: str = "process", worker
     simulator = simulator if simulator is not None else find_simulator(plan.backend)
     keys = plan.keys(simulator.version)
     with Store(store) as results:
-        results.adopt(plan.fingerprint(simulator.version), dict(plan.description),
-                      [(key, dict(task.params), task.spec.label) for key, task in zip(keys, plan.tasks, strict=True)],
+        results.adopt(plan.fingerprint(simulator.version), dict(plan.description), plan.rows(simulator.version),
                       simulator.version)
         finished = results.finished()
-        todo = [(task.index, task.spec, task.seconds) for task, key in zip(plan.tasks, keys, strict=True)
-                if key not in finished]
-        skipped = len(plan.tasks) - len(todo)
+        todo: dict[str, tuple[int, RunSpec, float]] = {}  # one run per key: two points may share a member
+        for task in plan.tasks:
+            if keys[task.index] not in finished:
+                todo.setdefault(keys[task.index], (task.index, task.spec, task.seconds))
+        skipped = sum(keys[task.index] in finished for task in plan.tasks)
         if on_resume is not None:
             on_resume(skipped, len(todo))
+        combining = _Combiner(plan, keys, results)
+        combining.ready(finished)  # members stored by an earlier, interrupted run
         workers = workers or default_workers()
         done = failed = 0
-        for group in run_groups(group_tasks(todo, executor, workers), simulator, executor=executor, workers=workers,
-                                scheduler=scheduler):
+        for group in run_groups(group_tasks(list(todo.values()), executor, workers), simulator, executor=executor,
+                                workers=workers, scheduler=scheduler):
             for index, record in group:
                 if record.key != keys[index]:
                     raise ParameterError("--store", str(store), f"records under the plan's keys (run {index} came "
                                          f"back as {record.key[:12]}, expected {keys[index][:12]})")
                 results.add(record)
+                finished.add(record.key)
                 done += 1
                 failed += not record.ok
+            combining.ready(finished)
             if progress is not None:
                 progress(Progress(done, len(todo), failed, time.perf_counter() - start))
-        runs = results.runs()
-    return Summary(len(plan.tasks), skipped, done, sum(r.status == "ok" for r in runs),
-                   sum(r.status in ("failed", "timeout") for r in runs), str(store), time.perf_counter() - start)
+        runs = {run.index: run for run in results.runs()}
+    tasks = [runs[task.index] for task in plan.tasks]
+    return Summary(len(plan.tasks), skipped, done, sum(r.status == "ok" for r in tasks),
+                   sum(r.status in ("failed", "timeout") for r in tasks), str(store), time.perf_counter() - start,
+                   sum(runs[c.index].status == "ok" for c in plan.combinations))
+
+
+class _Combiner:
+    """Makes each extrapolation's record from its members' stored arrays once they are all stored."""
+
+    def __init__(self, plan: Plan, keys: dict[int, str], store: Store):
+        self.keys, self.store = keys, store
+        stored = store.finished()
+        self.pending = [c for c in plan.combinations if keys[c.index] not in stored]
+
+    def ready(self, finished: set[str]) -> None:
+        waiting = []
+        for combination in self.pending:
+            if all(self.keys[i] in finished for i in combination.members):
+                self.store.add(*self._record(combination))
+                finished.add(self.keys[combination.index])
+            else:
+                waiting.append(combination)
+        self.pending = waiting
+
+    def _record(self, combination: Combination) -> tuple[RunRecord, int]:
+        member_keys = [self.keys[i] for i in combination.members]
+        stored = self.store.records(member_keys)
+        members = [run.record() for run in stored]
+        points = sum(run.points or 0 for run in stored)
+        if not all(member.ok for member in members):
+            return combined_record(combination.theory, members, combination.steps), points
+        sims = []
+        for key in member_keys:
+            arrays = self.store.waveforms(key)
+            assert arrays is not None, f"the stored run {key[:12]} has no arrays"
+            time_s = arrays.pop("time")
+            sims.append(loop_sims(combination.theory, time_s, arrays))
+        record = combined_record(combination.theory, members, combination.steps,
+                                 predicted_error=combination.predicted_error, sims=sims)
+        return replace(record, label=combination.label), points
 
 
 def run_specs(specs: Sequence[RunSpec], *, executor: str = "process", workers: int | None = None,

@@ -68,6 +68,20 @@ class StoredRun:
     ngspice_version: str = ""
     lcchain_version: str = ""
 
+    @property
+    def member(self) -> bool:
+        """A run made to be extrapolated with others: its combination (``runs`` in its params) is the result."""
+        return "member" in self.params
+
+    def record(self) -> RunRecord:
+        """The run as a record without its arrays (:meth:`Store.waveforms` has them)."""
+        if self.status not in ("ok", "failed", "timeout"):
+            raise ParameterError("run", self.index, "a run that finished (this one is pending)")
+        return RunRecord(key=self.key, status=self.status, reason=self.reason,  # type: ignore[arg-type]
+                         log_tail=self.log_tail, digest=self.digest, wall_s=self.wall_s or 0.0,
+                         total_s=self.total_s or 0.0, ngspice_version=self.ngspice_version,
+                         lcchain_version=self.lcchain_version, label=self.label)
+
     def to_dict(self) -> dict[str, Any]:
         """The object ``lcchain results --json`` prints for this task."""
         data: dict[str, Any] = {"index": self.index, "key": self.key, "status": self.status,
@@ -75,6 +89,7 @@ class StoredRun:
                                 "wall_s": self.wall_s, "points": self.points}
         if self.metrics is not None:
             data["max_abs_error"] = self.metrics.get("max_abs_error")
+            data["predicted_error"] = self.metrics.get("predicted_error")
             data["arrivals"] = self.metrics.get("arrivals")
         if self.status in ("failed", "timeout"):
             data["error"] = self.reason + (f"\nngspice said:\n{self.log_tail}" if self.log_tail else "")
@@ -82,12 +97,17 @@ class StoredRun:
 
 
 def _arrays(record: RunRecord) -> bytes | None:
-    if record.result is None:
+    """The saved arrays: ngspice's (time in seconds, each vector), or for an extrapolation, which has no run of
+    its own, the combined signals it was compared by (dimensionless time, ``loop0``, ``loop1``...)."""
+    if record.result is not None:
+        arrays = {"time": record.result.time, **record.result.vectors}
+    elif record.signals is not None:
+        arrays = {"time": record.signals.t, **{f"loop{i}": row for i, row in enumerate(record.signals.sim)}}
+    else:
         return None
     buffer = io.BytesIO()
-    names = ["time", *record.result.vectors]
-    np.savez(buffer, names=np.array(names), **{f"v{i}": a for i, a in  # type: ignore[arg-type]
-                                                enumerate([record.result.time, *record.result.vectors.values()])})
+    np.savez(buffer, names=np.array(list(arrays)), **{f"v{i}": a for i, a in  # type: ignore[arg-type]
+                                                      enumerate(arrays.values())})
     return buffer.getvalue()
 
 
@@ -169,10 +189,11 @@ class Store:
         """The keys of every run stored (ok, failed or timed out)."""
         return {row[0] for row in self._db.execute("SELECT key FROM records")}
 
-    def add(self, record: RunRecord) -> None:
-        """Store one finished run, in one transaction (durable when this returns)."""
+    def add(self, record: RunRecord, points: int | None = None) -> None:
+        """Store one finished run, in one transaction (durable when this returns); ``points`` when it has no
+        result of its own (an extrapolation: its members' points together)."""
         metrics = record.metrics.to_dict() if record.metrics is not None else None
-        points = record.result.points if record.result is not None else None
+        points = record.result.points if record.result is not None else points
         with self._db:
             self._db.execute("BEGIN")
             self._db.execute(
@@ -181,17 +202,32 @@ class Store:
                  record.total_s, record.ngspice_version, record.lcchain_version, points,
                  json.dumps(metrics) if metrics is not None else None, _arrays(record), time.time()))
 
+    _SELECT = ("SELECT t.idx, t.key, t.params, t.label, r.status, r.reason, r.log_tail, r.digest, r.wall_s, "
+               "r.total_s, r.points, r.metrics, r.ngspice_version, r.lcchain_version "
+               "FROM tasks t LEFT JOIN records r ON r.key = t.key")
+
+    @staticmethod
+    def _stored(row: tuple[Any, ...]) -> StoredRun:
+        (index, key, params, label, status, reason, log_tail, digest, wall_s, total_s, points, metrics, ngv,
+         lcv) = row
+        return StoredRun(index, key, json.loads(params), label or "", status or "pending", reason or "",
+                         log_tail or "", digest or "", wall_s, total_s, points,
+                         json.loads(metrics) if metrics else None, ngv or "", lcv or "")
+
     def runs(self) -> list[StoredRun]:
         """Every task in plan order, with its record where it ran."""
-        rows = self._db.execute(
-            "SELECT t.idx, t.key, t.params, t.label, r.status, r.reason, r.log_tail, r.digest, r.wall_s, "
-            "r.total_s, r.points, r.metrics, r.ngspice_version, r.lcchain_version "
-            "FROM tasks t LEFT JOIN records r ON r.key = t.key ORDER BY t.idx").fetchall()
-        return [StoredRun(index, key, json.loads(params), label or "", status or "pending", reason or "",
-                          log_tail or "", digest or "", wall_s, total_s, points,
-                          json.loads(metrics) if metrics else None, ngv or "", lcv or "")
-                for (index, key, params, label, status, reason, log_tail, digest, wall_s, total_s, points, metrics,
-                     ngv, lcv) in rows]
+        return [self._stored(row) for row in self._db.execute(f"{self._SELECT} ORDER BY t.idx").fetchall()]
+
+    def records(self, keys: Sequence[str]) -> list[StoredRun]:
+        """The stored runs under these keys, in their order (as the first task with each key)."""
+        found = []
+        for key in keys:
+            row = self._db.execute(f"{self._SELECT} WHERE t.key = ? AND r.key IS NOT NULL ORDER BY t.idx LIMIT 1",
+                                   (key,)).fetchone()
+            if row is None:
+                raise ParameterError("--store", str(self.path), f"a store holding the run {key[:12]}")
+            found.append(self._stored(row))
+        return found
 
     def waveforms(self, key: str) -> dict[str, np.ndarray] | None:
         """The saved arrays of a stored run (``"time"`` and each vector), or None."""

@@ -66,7 +66,8 @@ def _first(run: StoredRun, field: str) -> float | None:
 
 
 def peak_groups(runs: list[StoredRun], metric: str = "peak") -> list[Group]:
-    """The runs grouped by their parameters without ``sample``, groups in the order of their first task.
+    """The runs grouped by their parameters without ``sample``, groups in the order of their first task
+    (an extrapolation counts once, by its combined result).
 
     Parameters
     ----------
@@ -80,6 +81,8 @@ def peak_groups(runs: list[StoredRun], metric: str = "peak") -> list[Group]:
     peaks: dict[str, list[float]] = {}
     failed: dict[str, int] = {}
     for run in runs:
+        if run.member:  # an extrapolation's ingredient: its combination is the result
+            continue
         params = {k: v for k, v in run.params.items() if k != "sample"}
         key = repr(sorted(params.items()))
         order.setdefault(key, params)
