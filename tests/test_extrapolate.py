@@ -310,3 +310,27 @@ def test_an_extrapolate_beside_a_scene_is_refused(tmp_path) -> None:
     done = _cli("sweep", str(tmp_path / "scene.toml"), "--extrapolate", "2", "--store", str(tmp_path / "s.sqlite"))
     assert done.returncode == 2 and "--extrapolate" in done.stderr and "analysis.extrapolate" in done.stderr
     assert "Traceback" not in done.stderr and not (tmp_path / "s.sqlite").exists()
+
+
+@pytest.mark.ngspice
+def test_members_that_cannot_be_combined_make_a_failed_row_not_a_crash(tmp_path) -> None:
+    import sqlite3
+
+    from lcchain.studies.plan import sweep_plan
+    from lcchain.studies.run import run_plan
+    from lcchain.studies.store import Store
+
+    path = tmp_path / "s.sqlite"
+    plan = sweep_plan(cases=["two-mass"], Ns=[20, 30], dts=[0.05], extrapolate=2)
+    assert run_plan(plan, path, executor="serial").combined == 2
+    with Store(path) as store:
+        runs = store.runs()
+    with sqlite3.connect(path) as db:  # the first point's arrays stripped, its combination dropped
+        db.execute("UPDATE records SET arrays = NULL WHERE key = ?", (runs[1].key,))
+        db.execute("DELETE FROM records WHERE key = ?", (runs[2].key,))
+    again = run_plan(plan, path, executor="serial")
+    assert (again.ran, again.ok, again.combined) == (0, 4, 1)
+    with Store(path) as store:
+        rows = store.runs()
+    assert rows[2].status == "failed" and "could not be combined" in rows[2].reason and runs[1].key[:12] in rows[2].reason
+    assert rows[5].status == "ok" and rows[5].digest == runs[5].digest

@@ -16,7 +16,9 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
-from ..core.errors import ParameterError
+import numpy as np
+
+from ..core.errors import LcchainError, ParameterError
 from ..runs.execute import RunRecord, loop_sims
 from ..runs.extrapolated import combined_record
 from ..runs.spec import RunSpec
@@ -161,21 +163,30 @@ class _Combiner:
         self.pending = waiting
 
     def _record(self, combination: Combination) -> tuple[RunRecord, int]:
+        """The combination's record and its members' points together; a failed record, never an exception, for
+        members that cannot be combined (one bad point cannot stop a study)."""
         member_keys = [self.keys[i] for i in combination.members]
         stored = self.store.records(member_keys)
         members = [run.record() for run in stored]
         points = sum(run.points or 0 for run in stored)
-        if not all(member.ok for member in members):
-            return combined_record(combination.theory, members, combination.steps), points
-        sims = []
-        for key in member_keys:
-            arrays = self.store.waveforms(key)
-            assert arrays is not None, f"the stored run {key[:12]} has no arrays"
-            time_s = arrays.pop("time")
-            sims.append(loop_sims(combination.theory, time_s, arrays))
-        record = combined_record(combination.theory, members, combination.steps,
-                                 predicted_error=combination.predicted_error, sims=sims)
+        try:
+            sims = None
+            if all(member.ok for member in members):
+                sims = [self._sims(combination, key) for key in member_keys]
+            record = combined_record(combination.theory, members, combination.steps,
+                                     predicted_error=combination.predicted_error, sims=sims)
+        except (LcchainError, ValueError) as error:
+            record = RunRecord(key=self.keys[combination.index], status="failed", reason="its runs could not be "
+                               f"combined: {error}", wall_s=sum(m.wall_s for m in members),
+                               total_s=sum(m.total_s for m in members), ngspice_version=members[0].ngspice_version)
         return replace(record, label=combination.label), points
+
+    def _sims(self, combination: Combination, key: str) -> tuple[np.ndarray, np.ndarray]:
+        arrays = self.store.waveforms(key)
+        if arrays is None:
+            raise ParameterError("--store", str(self.store.path), f"the arrays of the stored run {key[:12]}")
+        time_s = arrays.pop("time")
+        return loop_sims(combination.theory, time_s, arrays)
 
 
 def run_specs(specs: Sequence[RunSpec], *, executor: str = "process", workers: int | None = None,
