@@ -369,10 +369,11 @@ def summary_markdown(summary: dict) -> str:
     for key, k in summary["fits"]["cost_k"].items():
         lines.append(f"| wall / (N points), {key} | {k * 1e9:.0f} ns |")
     if summary["targets"]:
-        lines += ["", "| --accuracy | N | dt | error | wall s | cheapest fixed dt | its wall s | ratio | met |",
-                  "|---:|---:|---:|---:|---:|---:|---:|---:|---|"]
+        lines += ["", "| --accuracy | N | runs | dt | error | wall s | cheapest fixed dt | its wall s | ratio | met |",
+                  "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|"]
         for c in summary["targets"]:
-            lines.append(f"| {c['accuracy']:g} | {c['N']} | {c['dt']:.4g} | {c['error']:.3e} | {c['wall_s']:.3g} | "
+            lines.append(f"| {c['accuracy']:g} | {c['N']} | {c.get('runs', 1)} | {c['dt']:.4g} | {c['error']:.3e} | "
+                         f"{c['wall_s']:.3g} | "
                          f"{_fmt(c['cheapest_fixed_dt'], 'g')} | {_fmt(c['cheapest_fixed_wall_s'])} | "
                          f"{_fmt(c['wall_ratio'], '.2f')} | {'yes' if c['met'] else 'NO'} |")
     return "\n".join(lines) + "\n"
