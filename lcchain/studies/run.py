@@ -4,8 +4,11 @@
 store (refusing one made for another plan), skips every run already stored,
 sends the others to the executor, and stores each record in its own
 transaction the moment it arrives, so that a killed driver loses nothing that
-finished and a restarted one redoes nothing.  :func:`run_specs` runs specs
-without a store (``lcchain run --workers``) and returns the records in order.
+finished and a restarted one redoes nothing.  An extrapolation's members are
+tasks like any other; its combination is made in the driver, from the members'
+stored arrays, as soon as the last of them is stored (after a restart too).
+:func:`run_specs` runs specs without a store (``lcchain run --workers``) and
+returns the records in order.
 """
 
 from __future__ import annotations

@@ -10,6 +10,11 @@
   different plan, or the same one under another ngspice, is refused rather
   than mixed in silently.
 
+* An extrapolation (:class:`lcchain.studies.plan.Combination`) is a row of its
+  own after its member runs, under its members' keys hashed; its arrays are the
+  combined signals it was compared by (dimensionless time, ``loop0``, ...) and
+  its points the members' together.
+
 Tables: ``meta`` (format, plan fingerprint, description, versions),
 ``tasks`` (index, key, params, label) and ``records`` (key, status, reason,
 log tail, digest, times, versions, metrics as JSON, the saved arrays as a
