@@ -212,6 +212,7 @@ def test_a_sweep_runs_the_members_as_tasks_and_stores_what_simulate_gives(tmp_pa
         runs = store.runs()
         combined_arrays = store.waveforms(runs[2].key)
     assert [run.params.get("member") for run in runs] == [1, 2, None] and runs[2].params["runs"] == 2
+    assert [run.kind for run in runs] == ["member", "member", "combined"]
     assert [run.params["dt"] for run in runs] == [*x.steps, x.steps[0]]
     assert [run.digest for run in runs[:2]] == [member.digest for member in x.members]
     # the combination made from the store's arrays is the one simulate made from its runs
@@ -264,7 +265,10 @@ def test_points_sharing_a_member_run_it_once(tmp_path) -> None:
     # the pair at 0.04 ends with an aligned run at 0.02, the pair at 0.02 starts with it
     plan = sweep_plan(cases=["two-mass"], Ns=[20], dts=[0.04, 0.02], extrapolate=2)
     summary = run_plan(plan, tmp_path / "s.sqlite", executor="serial")
-    assert (summary.total, summary.ran, summary.ok, summary.combined) == (4, 3, 4, 2)
+    assert (summary.total, summary.ran, summary.ok, summary.combined) == (3, 3, 3, 2) and summary.complete
+    assert plan.estimate() < sum(task.seconds for task in plan.tasks)  # the shared run is priced once
+    again = run_plan(plan, tmp_path / "s.sqlite", executor="serial")
+    assert (again.total, again.skipped, again.ran) == (3, 3, 0)
 
 
 @pytest.mark.ngspice
@@ -275,7 +279,7 @@ def test_a_failed_member_fails_its_combination_and_names_the_run(tmp_path) -> No
 
     plan = sweep_plan(cases=["two-mass"], Ns=[2000], dts=[0.01], extrapolate=2, timeout=0.5)
     summary = run_plan(plan, tmp_path / "s.sqlite", executor="serial")
-    assert (summary.ok, summary.failed, summary.combined) == (0, 2, 0)
+    assert (summary.ok, summary.failed, summary.combined, summary.combined_failed) == (0, 2, 0, 1)
     with Store(tmp_path / "s.sqlite") as store:
         combined = store.runs()[2]
     assert combined.status == "timeout" and "(the run at dt = 0.01, 1 of 2)" in combined.reason
@@ -313,24 +317,33 @@ def test_an_extrapolate_beside_a_scene_is_refused(tmp_path) -> None:
 
 
 @pytest.mark.ngspice
-def test_members_that_cannot_be_combined_make_a_failed_row_not_a_crash(tmp_path) -> None:
+def test_members_that_cannot_be_combined_make_a_failed_row_not_a_crash(tmp_path, capsys) -> None:
     import sqlite3
 
-    from lcchain.studies.plan import sweep_plan
-    from lcchain.studies.run import run_plan
+    from lcchain.cli import main
     from lcchain.studies.store import Store
 
     path = tmp_path / "s.sqlite"
-    plan = sweep_plan(cases=["two-mass"], Ns=[20, 30], dts=[0.05], extrapolate=2)
-    assert run_plan(plan, path, executor="serial").combined == 2
+    argv = ["sweep", "--case", "two-mass", "--N", "20,30", "--dt", "0.05", "--extrapolate", "2", "--store", str(path),
+            "--executor", "serial", "--json"]
+    assert main(argv) == 0 and json.loads(capsys.readouterr().out)["combined"] == 2
     with Store(path) as store:
         runs = store.runs()
     with sqlite3.connect(path) as db:  # the first point's arrays stripped, its combination dropped
         db.execute("UPDATE records SET arrays = NULL WHERE key = ?", (runs[1].key,))
         db.execute("DELETE FROM records WHERE key = ?", (runs[2].key,))
-    again = run_plan(plan, path, executor="serial")
-    assert (again.ran, again.ok, again.combined) == (0, 4, 1)
+    for _ in range(2):  # a failed combination is made again on the next run, and fails again: no crash
+        assert main(argv) == 1  # a study with a failed combination is not a success
+        again = json.loads(capsys.readouterr().out)
+        assert (again["ran"], again["ok"], again["combined"], again["combined_failed"]) == (0, 4, 1, 1)
     with Store(path) as store:
         rows = store.runs()
     assert rows[2].status == "failed" and "could not be combined" in rows[2].reason and runs[1].key[:12] in rows[2].reason
     assert rows[5].status == "ok" and rows[5].digest == runs[5].digest
+    assert main(["results", str(path), "--csv"]) == 0
+    table = capsys.readouterr().out.splitlines()
+    assert table[0].startswith("index,kind,status,") and table[3].startswith("2,combined,failed,")
+    with sqlite3.connect(path) as db:  # the same command, planned otherwise (as another lcchain would)
+        db.execute("UPDATE meta SET value = 'another' WHERE name = 'plan'")
+    assert main(argv) == 2
+    assert "holds this very study as another lcchain or ngspice planned it" in capsys.readouterr().err

@@ -135,10 +135,13 @@ def _run(args: argparse.Namespace, plan: Any, outputs: Outputs) -> int:
     if args.json:
         emit_json(summary.to_dict())
     else:
-        combined = f"; {summary.combined} extrapolated results combined from them" if summary.combined else ""
+        combined = ""
+        if summary.combined or summary.combined_failed:
+            combined = (f"; {summary.combined} extrapolated results combined from them" +
+                        (f", {summary.combined_failed} failed" if summary.combined_failed else ""))
         print(f"{summary.total} runs in {args.store}: {summary.ran} ran now, {summary.skipped} already stored; "
               f"{summary.ok} ok, {summary.failed} failed{combined} ({summary.wall_s:.1f} s)")
-    return EXIT_OK if summary.failed == 0 and summary.ok == summary.total else EXIT_FAILED
+    return EXIT_OK if summary.complete else EXIT_FAILED
 
 
 def cmd_sweep(args: argparse.Namespace) -> int:
@@ -179,8 +182,8 @@ def cmd_batch(args: argparse.Namespace) -> int:
 
 
 def _flat(run: dict[str, Any]) -> dict[str, Any]:
-    row = {"index": run["index"], "status": run["status"], **run["params"], "digest": run["digest"],
-           "max_abs_error": run.get("max_abs_error"), "wall_s": run["wall_s"]}
+    row = {"index": run["index"], "kind": run["kind"], "status": run["status"], **run["params"],
+           "digest": run["digest"], "max_abs_error": run.get("max_abs_error"), "wall_s": run["wall_s"]}
     arrivals = run.get("arrivals") or []
     if arrivals:
         row.update(t_sim=arrivals[0]["t_sim"], peak_sim=arrivals[0]["peak_sim"], peak_theory=arrivals[0]["peak_theory"])
@@ -261,8 +264,8 @@ def cmd_results(args: argparse.Namespace) -> int:
             counts = {s: sum(r["status"] == s for r in rows) for s in ("ok", "failed", "timeout", "pending")}
             return ", ".join(f"{n} {s}" for s, n in counts.items() if n)
 
-        combined = [run for run in runs if "runs" in run["params"]]
-        tasks = [run for run in runs if "runs" not in run["params"]]
+        combined = [run for run in runs if run["kind"] == "combined"]
+        tasks = list({run["key"]: run for run in runs if run["kind"] != "combined"}.values())  # shared members once
         print(f"{args.store}: {len(tasks)} runs: {counted(tasks)}" +
               (f"; {len(combined)} extrapolated from them: {counted(combined)}" if combined else ""))
         for run in runs:

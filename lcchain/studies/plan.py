@@ -140,15 +140,15 @@ class Plan:
         return hashlib.sha256("\n".join(self.keys(ngspice_version).values()).encode()).hexdigest()
 
     def estimate(self) -> float:
-        """Estimated seconds of all its runs together, on one worker."""
-        return sum(task.seconds for task in self.tasks)
+        """Estimated seconds of all its runs together, on one worker (a run that points share, once)."""
+        return sum({task.spec.key(""): task.seconds for task in self.tasks}.values())
 
     def check(self, budget: Budget, workers: int, option: str = "--max-time") -> None:
         """Refuse a study whose runs would take longer than the budget on these workers."""
         seconds = self.estimate() / max(1, workers)
-        Estimate(f"{len(self.tasks)} runs on {workers} worker{'s' if workers > 1 else ''}", 0.0,
-                 seconds).check(budget, "study", f"{len(self.tasks)} runs", "fewer runs, more workers, or a larger "
-                                "--max-time")
+        runs = len({task.spec.key("") for task in self.tasks})
+        Estimate(f"{runs} runs on {workers} worker{'s' if workers > 1 else ''}", 0.0,
+                 seconds).check(budget, "study", f"{runs} runs", "fewer runs, more workers, or a larger --max-time")
 
 
 def _seconds(spec: RunSpec) -> float:

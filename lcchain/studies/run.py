@@ -57,7 +57,7 @@ class Summary:
     Attributes
     ----------
     total : int
-        Runs in the plan.
+        Runs in the plan (distinct runs: points that share a member share its run).
     skipped : int
         Already in the store: not run again.
     ran : int
@@ -68,8 +68,9 @@ class Summary:
     store : str
         The store's path.
     wall_s : float
-    combined : int
-        Extrapolations the store holds combined (each made from its member runs, counted above).
+    combined, combined_failed : int
+        Extrapolations the store holds combined (each made from its member runs, counted above), and those
+        that failed (a member failed, or the members could not be combined: made again on the next run).
     """
 
     total: int
@@ -80,10 +81,17 @@ class Summary:
     store: str
     wall_s: float
     combined: int = 0
+    combined_failed: int = 0
+
+    @property
+    def complete(self) -> bool:
+        """Every run ok and every extrapolation combined."""
+        return self.failed == 0 and self.ok == self.total and self.combined_failed == 0
 
     def to_dict(self) -> dict[str, Any]:
         return {"total": self.total, "skipped": self.skipped, "ran": self.ran, "ok": self.ok,
-                "failed": self.failed, "combined": self.combined, "store": self.store, "wall_s": self.wall_s}
+                "failed": self.failed, "combined": self.combined, "combined_failed": self.combined_failed,
+                "store": self.store, "wall_s": self.wall_s}
 
 
 def run_plan(plan: Plan, store: str | Path, *, executor: str = "process", workers: int | None = None,
@@ -120,7 +128,8 @@ def run_plan(plan: Plan, store: str | Path, *, executor: str = "process", worker
         for task in plan.tasks:
             if keys[task.index] not in finished:
                 todo.setdefault(keys[task.index], (task.index, task.spec, task.seconds))
-        skipped = sum(keys[task.index] in finished for task in plan.tasks)
+        distinct = {keys[task.index] for task in plan.tasks}
+        skipped = len(distinct & finished)
         if on_resume is not None:
             on_resume(skipped, len(todo))
         combining = _Combiner(plan, keys, results)
@@ -140,11 +149,11 @@ def run_plan(plan: Plan, store: str | Path, *, executor: str = "process", worker
             combining.ready(finished)
             if progress is not None:
                 progress(Progress(done, len(todo), failed, time.perf_counter() - start))
-        runs = {run.index: run for run in results.runs()}
-    tasks = [runs[task.index] for task in plan.tasks]
-    return Summary(len(plan.tasks), skipped, done, sum(r.status == "ok" for r in tasks),
-                   sum(r.status in ("failed", "timeout") for r in tasks), str(store), time.perf_counter() - start,
-                   sum(runs[c.index].status == "ok" for c in plan.combinations))
+        status = {run.key: run.status for run in results.runs()}
+    combined = [status[keys[c.index]] for c in plan.combinations]
+    return Summary(len(distinct), skipped, done, sum(status[key] == "ok" for key in distinct),
+                   sum(status[key] in ("failed", "timeout") for key in distinct), str(store),
+                   time.perf_counter() - start, combined.count("ok"), len(combined) - combined.count("ok"))
 
 
 class _Combiner:
@@ -152,8 +161,9 @@ class _Combiner:
 
     def __init__(self, plan: Plan, keys: dict[int, str], store: Store):
         self.keys, self.store = keys, store
-        stored = store.finished()
-        self.pending = [c for c in plan.combinations if keys[c.index] not in stored]
+        done = {run.key for run in store.runs() if run.status == "ok"}
+        # a failed combination is made again: it costs no ngspice run, and its members may be fine
+        self.pending = [c for c in plan.combinations if keys[c.index] not in done]
 
     def ready(self, finished: set[str]) -> None:
         waiting = []
@@ -178,9 +188,10 @@ class _Combiner:
                 sims = [self._sims(combination, key) for key in member_keys]
             record = combined_record(combination.theory, members, combination.steps,
                                      predicted_error=combination.predicted_error, sims=sims)
-        except (LcchainError, ValueError) as error:
+        except Exception as error:  # stored as this point's failure: one bad point cannot stop a study
+            why = str(error) if isinstance(error, LcchainError) else f"{type(error).__name__}: {error}"
             record = RunRecord(key=self.keys[combination.index], status="failed", reason="its runs could not be "
-                               f"combined: {error}", wall_s=sum(m.wall_s for m in members),
+                               f"combined: {why}", wall_s=sum(m.wall_s for m in members),
                                total_s=sum(m.total_s for m in members), ngspice_version=members[0].ngspice_version)
         return replace(record, label=combination.label), points
 

@@ -74,9 +74,14 @@ class StoredRun:
     lcchain_version: str = ""
 
     @property
+    def kind(self) -> str:
+        """``"run"``; ``"member"``, a run made to be extrapolated with others; or ``"combined"``, their
+        extrapolation (its params hold ``runs``): the result, where the members are its ingredients."""
+        return "member" if "member" in self.params else "combined" if "runs" in self.params else "run"
+
+    @property
     def member(self) -> bool:
-        """A run made to be extrapolated with others: its combination (``runs`` in its params) is the result."""
-        return "member" in self.params
+        return self.kind == "member"
 
     def record(self) -> RunRecord:
         """The run as a record without its arrays (:meth:`Store.waveforms` has them)."""
@@ -89,7 +94,7 @@ class StoredRun:
 
     def to_dict(self) -> dict[str, Any]:
         """The object ``lcchain results --json`` prints for this task."""
-        data: dict[str, Any] = {"index": self.index, "key": self.key, "status": self.status,
+        data: dict[str, Any] = {"index": self.index, "key": self.key, "kind": self.kind, "status": self.status,
                                 "params": self.params, "label": self.label, "digest": self.digest or None,
                                 "wall_s": self.wall_s, "points": self.points}
         if self.metrics is not None:
@@ -173,6 +178,13 @@ class Store:
         meta = self.meta()
         if "plan" in meta:
             if meta["plan"] != fingerprint:
+                if json.loads(meta.get("description", "null")) == json.loads(json.dumps(description)):
+                    held = self._db.execute("SELECT COUNT(*) FROM tasks").fetchone()[0]
+                    raise ParameterError("--store", str(self.path), "a new store: it holds this very study as "
+                                         f"another lcchain or ngspice planned it ({held} rows; lcchain "
+                                         f"{meta.get('lcchain_version', '?')}, ngspice "
+                                         f"{meta.get('ngspice_version', '?')}; now {len(tasks)} rows, ngspice "
+                                         f"{ngspice_version}), and lcchain never mixes two")
                 raise ParameterError("--store", str(self.path), "a new store, or the store of this very study: it "
                                      f"holds another ({meta.get('description', '?')}, ngspice "
                                      f"{meta.get('ngspice_version', '?')}), and lcchain never mixes two")
@@ -253,7 +265,7 @@ class Store:
 
         rows = []
         for run in self.runs():
-            row = {"index": run.index, "status": run.status, **run.params, "digest": run.digest,
+            row = {"index": run.index, "kind": run.kind, "status": run.status, **run.params, "digest": run.digest,
                    "wall_s": run.wall_s, "max_abs_error": (run.metrics or {}).get("max_abs_error")}
             arrivals = (run.metrics or {}).get("arrivals") or []
             if arrivals:
