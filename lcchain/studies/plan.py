@@ -69,7 +69,8 @@ class Combination:
     """An extrapolation of a study: tasks of the plan (its members) combined into one result once all are stored.
 
     It is not run: :func:`lcchain.studies.run.run_plan` makes its record from the members' stored arrays
-    (:func:`lcchain.runs.extrapolated.combined_record`) and stores it under :meth:`key`.
+    (:func:`lcchain.runs.extrapolated.combined_record`) and stores it under its members' keys hashed
+    (:meth:`Plan.keys`).
 
     Attributes
     ----------
