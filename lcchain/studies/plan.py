@@ -140,14 +140,19 @@ class Plan:
         """The plan's identity: its ordered row keys (which hold the lcchain and ngspice versions)."""
         return hashlib.sha256("\n".join(self.keys(ngspice_version).values()).encode()).hexdigest()
 
+    def _runs(self) -> dict[str, float]:
+        """Estimated seconds of each distinct run (a run that points share, once), by its key."""
+        return {task.spec.key(""): task.seconds for task in self.tasks}
+
     def estimate(self) -> float:
         """Estimated seconds of all its runs together, on one worker (a run that points share, once)."""
-        return sum({task.spec.key(""): task.seconds for task in self.tasks}.values())
+        return sum(self._runs().values())
 
     def check(self, budget: Budget, workers: int, option: str = "--max-time") -> None:
         """Refuse a study whose runs would take longer than the budget on these workers."""
-        seconds = self.estimate() / max(1, workers)
-        runs = len({task.spec.key("") for task in self.tasks})
+        distinct = self._runs()
+        seconds = sum(distinct.values()) / max(1, workers)
+        runs = len(distinct)
         Estimate(f"{runs} runs on {workers} worker{'s' if workers > 1 else ''}", 0.0,
                  seconds).check(budget, "study", f"{runs} runs", "fewer runs, more workers, or a larger --max-time")
 
