@@ -21,9 +21,9 @@ def alive(pid: int) -> bool:
     return state != "Z"
 
 
-def children_named(parent: int, name: str) -> list[int]:
-    """PIDs of the live processes whose parent is ``parent`` and whose command is ``name``."""
-    found = []
+def _process_table() -> dict[int, tuple[int, str]]:
+    """pid -> (parent pid, command name) of every process in /proc."""
+    table = {}
     for entry in Path("/proc").iterdir():
         if not entry.name.isdigit():
             continue
@@ -31,33 +31,24 @@ def children_named(parent: int, name: str) -> list[int]:
             stat = (entry / "stat").read_text()
         except OSError:
             continue
-        comm = stat[stat.index("(") + 1 : stat.rindex(")")]
-        ppid = int(stat.rsplit(")", 1)[1].split()[1])
-        if ppid == parent and comm == name and alive(int(entry.name)):
-            found.append(int(entry.name))
-    return found
+        table[int(entry.name)] = (int(stat.rsplit(")", 1)[1].split()[1]), stat[stat.index("(") + 1 : stat.rindex(")")])
+    return table
+
+
+def children_named(parent: int, name: str) -> list[int]:
+    """PIDs of the live processes whose parent is ``parent`` and whose command is ``name``."""
+    return [pid for pid, (ppid, comm) in _process_table().items() if ppid == parent and comm == name and alive(pid)]
 
 
 def descendants(root: int) -> dict[int, str]:
     """pid -> command name of every live process below ``root`` in the process tree."""
-    parents: dict[int, int] = {}
-    names: dict[int, str] = {}
-    for entry in Path("/proc").iterdir():
-        if not entry.name.isdigit():
-            continue
-        try:
-            stat = (entry / "stat").read_text()
-        except OSError:
-            continue
-        pid = int(entry.name)
-        parents[pid] = int(stat.rsplit(")", 1)[1].split()[1])
-        names[pid] = stat[stat.index("(") + 1 : stat.rindex(")")]
+    table = _process_table()
     found: dict[int, str] = {}
     frontier = [root]
     while frontier:
         parent = frontier.pop()
-        for pid, ppid in parents.items():
+        for pid, (ppid, name) in table.items():
             if ppid == parent and pid not in found and alive(pid):
-                found[pid] = names[pid]
+                found[pid] = name
                 frontier.append(pid)
     return found
