@@ -29,6 +29,15 @@ __all__ = ["FIGURE_FORMATS", "check_output", "check_output_folder", "write_text"
 FIGURE_FORMATS = ("png", "svg", "pdf", "eps", "ps", "jpg", "jpeg", "tif", "tiff", "webp")
 
 
+def _probe(option: str, text: str, folder: Path, wanted: str) -> None:
+    """Refuse a folder where no file can really be created (a probe file is made and removed)."""
+    try:
+        with tempfile.NamedTemporaryFile(dir=folder, prefix=".lcchain-probe-"):
+            pass
+    except OSError as error:
+        raise ParameterError(option, text, f"{wanted} ({folder}: {error.strerror or error})") from None
+
+
 def check_output(option: str, path: str | os.PathLike[str], formats: tuple[str, ...] | None = None) -> Path:
     """Refuse, before any work, an output path that could not be written under its own name.
 
@@ -57,12 +66,7 @@ def check_output(option: str, path: str | os.PathLike[str], formats: tuple[str, 
     folder = target.parent
     if not folder.is_dir():
         raise ParameterError(option, text, f"a file in an existing folder ({folder} does not exist)")
-    try:
-        with tempfile.NamedTemporaryFile(dir=folder, prefix=".lcchain-probe-"):
-            pass
-    except OSError as error:
-        raise ParameterError(option, text, f"a file in a writable folder ({folder}: "
-                             f"{error.strerror or error})") from None
+    _probe(option, text, folder, "a file in a writable folder")
     if target.exists() and not os.access(target, os.W_OK):
         raise ParameterError(option, text, "a file lcchain may overwrite (this one is read-only)")
     return target
@@ -80,11 +84,7 @@ def check_output_folder(option: str, path: str | os.PathLike[str]) -> Path:
     probe_in = target if target.is_dir() else target.parent
     if not probe_in.is_dir():
         raise ParameterError(option, text, f"a folder in an existing folder ({probe_in} does not exist)")
-    try:
-        with tempfile.NamedTemporaryFile(dir=probe_in, prefix=".lcchain-probe-"):
-            pass
-    except OSError as error:
-        raise ParameterError(option, text, f"a writable folder ({probe_in}: {error.strerror or error})") from None
+    _probe(option, text, probe_in, "a writable folder")
     return target
 
 
