@@ -174,6 +174,18 @@ def _law(data: Mapping[str, Any], case: str, key: str, N: np.ndarray) -> np.ndar
     return value
 
 
+def _against_N(ax: Any, ylabel: str, title: str, *, log_y: bool = True, ncols: int = 1) -> None:
+    """The axes of an optimum against N: N on a log scale (y too unless ``log_y`` is False), grid, legend, title."""
+    ax.set_xscale("log")
+    if log_y:
+        ax.set_yscale("log")
+    ax.set_xlabel("N")
+    ax.set_ylabel(ylabel)
+    ax.grid(True, which="both", alpha=0.3, linewidth=0.5)
+    ax.legend(fontsize=8, ncols=ncols)
+    ax.set_title(title, fontsize=10)
+
+
 def _points(ax: Any, data: Mapping[str, Any], case: str, key: str, colour: str, marker: str, label: str) -> None:
     N = np.asarray(data["N"], dtype=float)
     values = np.asarray([row[key] for row in data[case]], dtype=float)
@@ -192,12 +204,7 @@ def x_xy_figure(data: Mapping[str, Any]) -> Any:
         ax.plot(N, _law(data, case, key, N), color=colour, linewidth=0.9, alpha=0.8)
     ax.plot([], [], color="0.3", linewidth=0.9, label="large-N laws")
     ax.set_ylim(0.0, 1.5)
-    ax.set_xscale("log")
-    ax.set_xlabel("N")
-    ax.set_ylabel("x*, y*")
-    ax.grid(True, which="both", alpha=0.3, linewidth=0.5)
-    ax.legend(fontsize=8)
-    ax.set_title("Fig. x_xy: optimal x* and y* against N", fontsize=10)
+    _against_N(ax, "x*, y*", "Fig. x_xy: optimal x* and y* against N", log_y=False)
     return fig
 
 
@@ -212,13 +219,7 @@ def m_mmK_figure(data: Mapping[str, Any]) -> Any:
         ax.plot(N, _law(data, "two-mass", key, N), color=_RED, linewidth=0.9, alpha=0.8)
     ax.plot(N, _law(data, "one-mass", "m1", N), color=_BLUE, linewidth=0.9, alpha=0.8)
     ax.axhline(1.0, color=_BLUE, linestyle=":", linewidth=0.9, label="m2 = K12 = 1, one-mass")
-    ax.set_xscale("log")
-    ax.set_yscale("log")
-    ax.set_xlabel("N")
-    ax.set_ylabel("m1*, m2*, K12* (bulk units)")
-    ax.grid(True, which="both", alpha=0.3, linewidth=0.5)
-    ax.legend(fontsize=8, ncols=2)
-    ax.set_title("Fig. m_mmK: optimal end masses and spring against N", fontsize=10)
+    _against_N(ax, "m1*, m2*, K12* (bulk units)", "Fig. m_mmK: optimal end masses and spring against N", ncols=2)
     return fig
 
 
@@ -233,13 +234,7 @@ def rw_figure(data: Mapping[str, Any]) -> Any:
     ax.plot(Ns, data["w_of_r"], "o", color=_BLUE, markersize=8, markerfacecolor="none", label="w(r*), Eq. e.wr")
     ax.plot(N, _law(data, "two-mass", "r", N), color=_RED, linewidth=0.9)
     ax.plot(N, _law(data, "two-mass", "w", N), color=_BLUE, linewidth=0.9)
-    ax.set_xscale("log")
-    ax.set_yscale("log")
-    ax.set_xlabel("N")
-    ax.set_ylabel("r*, w*")
-    ax.grid(True, which="both", alpha=0.3, linewidth=0.5)
-    ax.legend(fontsize=8)
-    ax.set_title("Fig. rw: optimal r*, w* against N (curves: large-N laws)", fontsize=10)
+    _against_N(ax, "r*, w*", "Fig. rw: optimal r*, w* against N (curves: large-N laws)")
     return fig
 
 
