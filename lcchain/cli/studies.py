@@ -137,7 +137,8 @@ def _run(args: argparse.Namespace, plan: Any, outputs: Outputs) -> int:
     else:
         combined = ""
         if summary.combined or summary.combined_failed:
-            combined = (f"; {summary.combined} extrapolated results combined from them" +
+            combined = (f"; {summary.combined} extrapolated result{'s' if summary.combined != 1 else ''} combined "
+                        "from them" +
                         (f", {summary.combined_failed} failed" if summary.combined_failed else ""))
         print(f"{summary.total} runs in {args.store}: {summary.ran} ran now, {summary.skipped} already stored; "
               f"{summary.ok} ok, {summary.failed} failed{combined} ({summary.wall_s:.1f} s)")
