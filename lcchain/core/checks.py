@@ -20,7 +20,8 @@ import numpy as np
 from .errors import ParameterError
 
 #: A dot followed by a letter at the start of a line: ngspice may read it as a command.
-_DOT_COMMAND = re.compile(r"^\s*\.[A-Za-z]")
+# A title ngspice would read as a command: a dot-command, or "*ng_script", which makes the whole file a script.
+_DOT_COMMAND = re.compile(r"^\s*(\.[A-Za-z]|\*\s*ng_script)", re.IGNORECASE)
 
 __all__ = [
     "is_number",
@@ -129,7 +130,8 @@ def text_line(name: str, value: object, max_length: int, *, title: bool = False)
     Measured with ngspice 39: a comment line executes nothing, and neither does
     a title such as "shell model of a chain" or ".5 uH ladder"; but a title line
     that starts with a dot-command (``.include``, ``.lib``, ``.param``,
-    ``.control``, ``.endc``, ``.title``) is read as that command.  So a line
+    ``.control``, ``.endc``, ``.title``) is read as that command, and a first
+    line that starts with ``*ng_script`` makes the whole file a script.  So a line
     may not break (newline, carriage return or any other control character
     would start a new netlist line), and a title may not start with a dot
     followed by a letter.
@@ -143,7 +145,7 @@ def text_line(name: str, value: object, max_length: int, *, title: bool = False)
         raise ParameterError(name, value, allowed)
     if title and _DOT_COMMAND.match(value):
         raise ParameterError(name, value, "a title that does not start with a dot-command such as .include or "
-                             ".control (ngspice reads those on the title line)")
+                             ".control, nor with *ng_script (ngspice reads those on the title line)")
     return value
 
 
