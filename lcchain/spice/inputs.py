@@ -1,0 +1,79 @@
+"""Reading a file a user names: a regular file, within its size limit, as UTF-8 text, or a clear refusal.
+
+A FIFO would block the read forever, a device (``/dev/zero``) would never end,
+and a folder is not text: each is refused naming the option before a byte is
+read.  The file is opened without blocking (``O_NONBLOCK``: opening a FIFO
+with no writer would wait) and checked on the descriptor it was opened as
+(``fstat``), so a file swapped after the check is never read; then at most
+``max_bytes`` + 1 bytes are read.
+"""
+
+from __future__ import annotations
+
+import os
+import stat
+
+from ..core.budget import show_bytes
+from ..core.errors import ParameterError
+
+__all__ = ["read_input"]
+
+
+def _kind(mode: int) -> str:
+    for test, name in ((stat.S_ISDIR, "a folder"), (stat.S_ISFIFO, "a FIFO"), (stat.S_ISCHR, "a character device"),
+                       (stat.S_ISBLK, "a block device"), (stat.S_ISSOCK, "a socket")):
+        if test(mode):
+            return name
+    return "not a regular file"
+
+
+def read_input(path: str | os.PathLike[str], option: str, max_bytes: int) -> str:
+    """The UTF-8 text of the regular file at ``path``.
+
+    Parameters
+    ----------
+    path : path-like
+        The file.
+    option : str
+        What named it (``"--chain"``, ``"NETLIST"``, ``"x.cir: line 3"``), for messages.
+    max_bytes : int
+        The largest file read.
+
+    Raises
+    ------
+    ParameterError
+        Naming ``option`` and the path: missing or unreadable, not a regular
+        file (a folder, a FIFO, a device, a socket), larger than ``max_bytes``,
+        or not UTF-8.
+    """
+    name = str(path)
+    try:
+        fd = os.open(name, os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_CLOEXEC", 0))
+    except OSError as error:
+        raise ParameterError(option, name, f"a readable file ({error.strerror})") from None
+    try:
+        info = os.fstat(fd)
+        if not stat.S_ISREG(info.st_mode):
+            raise ParameterError(option, name, f"a regular file (this is {_kind(info.st_mode)})")
+        if info.st_size > max_bytes:
+            raise ParameterError(option, name, f"a file of at most {show_bytes(max_bytes)} (this one has "
+                                 f"{show_bytes(info.st_size)})")
+        chunks: list[bytes] = []
+        size = 0
+        while size <= max_bytes:
+            chunk = os.read(fd, min(1 << 20, max_bytes + 1 - size))
+            if not chunk:
+                break
+            chunks.append(chunk)
+            size += len(chunk)
+    except OSError as error:
+        raise ParameterError(option, name, f"a readable file ({error.strerror})") from None
+    finally:
+        os.close(fd)
+    if size > max_bytes:  # it grew while being read
+        raise ParameterError(option, name, f"a file of at most {show_bytes(max_bytes)}")
+    try:
+        return b"".join(chunks).decode("utf-8")
+    except UnicodeDecodeError as error:
+        raise ParameterError(option, name, f"UTF-8 text ({error.reason} at byte {error.start})") from None
+
