@@ -178,7 +178,8 @@ def cmd_batch(args: argparse.Namespace) -> int:
 
     outputs = Outputs()
     outputs.check("--store", args.store, STORE_FORMATS)
-    plan = batch_plan(args.netlist, allow_control=args.allow_control, timeout=args.timeout)
+    plan = batch_plan(args.netlist, allow_control=args.allow_control, timeout=args.timeout,
+                      budget=budget_from_args(args))
     return _run(args, plan, outputs)
 
 

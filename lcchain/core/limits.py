@@ -37,5 +37,7 @@ MIN_IMPEDANCE, MAX_IMPEDANCE = 1e-6, 1e12
 #: usually met (7.0e-10 to 7.9e-10 on perfect and two-mass chains) but not always (1.7e-9 on the uniform
 #: bounded N = 20 chain), and 1e-11 never (7e-11 to 6e-10).  A run that misses its accuracy fails.
 ACCURACY_FLOOR = 1e-9
+#: Largest netlist (or included file) lcchain reads: 2 N + 10 lines of at most 100 characters at MAX_CIRCUIT_N.
+MAX_NETLIST_BYTES = 64 * 2**20
 #: Largest --chain file read (a JSON chain of MAX_CIRCUIT_N masses takes about 5 MB).
 MAX_CHAIN_FILE_BYTES = 64 * 2**20

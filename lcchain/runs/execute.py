@@ -31,6 +31,7 @@ from ..compare.metrics import Metrics, compare_signals
 from ..compare.waveforms import Signals, loop_signals
 from ..core import __version__
 from ..core.blas import fixed_blas_threads
+from ..core.checks import instance
 from ..core.errors import SimulationError
 from ..core.frozen import FrozenArrays
 from ..core.types import GAUSSIAN_CENTRE, RunStatus
@@ -209,15 +210,17 @@ def execute(spec: RunSpec, simulator: Simulator | None = None, *,
     SimulatorMissingError
         ngspice is not installed.
     ParameterError
-        The spec's netlist is unsafe or its arguments are bad.
+        ``spec`` is not a RunSpec, or its netlist holds a line lcchain does not run.
     """
+    instance("spec", spec, RunSpec)
     start = time.perf_counter()
     simulator = simulator if simulator is not None else find_simulator(spec.backend)
     key = spec.key(simulator.version)
     common = {"key": key, "ngspice_version": simulator.version, "label": spec.label}
     try:
         result = run(spec.netlist, spec.vectors, spec.tstop, simulator=simulator, timeout=spec.timeout,
-                     progress=progress, cwd=spec.cwd, trusted=spec.trusted)
+                     progress=progress, cwd=spec.cwd, trusted=spec.trusted, foreign=spec.foreign,
+                     max_output_bytes=spec.max_output_bytes)
     except SimulationError as error:
         log.info("%s: %s (%s)", spec.label or key[:12], error.status, error.reason)
         return RunRecord(status="timeout" if error.status == "timeout" else "failed", reason=error.reason,

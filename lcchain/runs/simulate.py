@@ -293,7 +293,7 @@ def simulation_spec(
     theory = Theory(chain, ladder.time_unit, I0=I0, excitation=excitation, transits=transits, dt=options.dt,
                     method=options.method, predicted_error=predicted, aligned=aligned, modes=modes)
     spec = RunSpec(text, tuple(probe_names(chain.N, "ends")), options.tstop * ladder.time_unit, backend=backend,
-                   timeout=timeout, theory=theory, label=f"{chain.name} N={chain.N} dt={options.dt:.4g}")
+                   timeout=timeout, theory=theory, foreign=False, label=f"{chain.name} N={chain.N} dt={options.dt:.4g}")
     return spec, ladder, options
 
 

@@ -148,10 +148,21 @@ class RunSpec:
     theory : Theory, optional
         What to compare with; None runs the netlist and only reads its vectors.
     cwd : str, optional
-        The netlist's own folder, for netlists that ``.include`` files next to them.
+        The netlist's own folder, for netlists that ``.include`` files next to
+        them (each must lie inside it; they are inlined before ngspice starts).
     trusted : bool
-        Run ``.control`` blocks, ``shell`` lines and outside includes as they
-        are (``lcchain batch --allow-control``); otherwise they are refused.
+        Run the netlist as it is, ``.control`` blocks and outside includes
+        included (``lcchain batch --allow-control``); otherwise every line must
+        pass :func:`lcchain.spice.foreign.allowed_netlist`.
+    foreign : bool
+        Not written by lcchain (the default, and what every netlist from
+        outside is): ngspice runs it in the sandbox of
+        :mod:`lcchain.spice.sandbox`. lcchain's planners set False for their
+        own netlists, which they know to hold nothing but the ladder. Not part
+        of the key (where a run happens does not change its result).
+    max_output_bytes : float, optional
+        Stop the run when ngspice's raw file grows past this (the memory
+        budget of a foreign netlist); not part of the key.
     label : str
         A name for progress lines and reports (not part of the key).
     """
@@ -164,6 +175,8 @@ class RunSpec:
     theory: Theory | None = None
     cwd: str | None = None
     trusted: bool = False
+    foreign: bool = True
+    max_output_bytes: float | None = None
     label: str = field(default="", compare=False)
 
     def __post_init__(self) -> None:
@@ -178,6 +191,11 @@ class RunSpec:
         choice("backend", self.backend, BACKENDS)
         object.__setattr__(self, "timeout", real("timeout", self.timeout, above=0.0, unit="seconds"))
         instance("theory", self.theory, Theory, optional=True)
+        for name in ("trusted", "foreign"):
+            if not isinstance(getattr(self, name), bool):
+                raise ParameterError(name, getattr(self, name), "True or False")
+        if self.max_output_bytes is not None:
+            real("max_output_bytes", self.max_output_bytes, above=0.0, unit="bytes")
 
     def key(self, ngspice_version: str) -> str:
         """SHA-256 of everything that determines the run's record, for this ngspice version."""

@@ -288,5 +288,5 @@ def scene_specs(scene: Scene, plan: ScenePlan) -> list[RunSpec]:
             label = chain.name + (f" run {i + 1} of {len(steps)}" if aligned else "")
             specs.append(RunSpec(scene_netlist(scene, chain, h, plan.tstop, aligned=aligned),
                                  tuple(probe_names(chain.N, scene.output.probes)), plan.tstop * time_unit,
-                                 backend=analysis.backend, theory=theory, label=label))
+                                 backend=analysis.backend, theory=theory, foreign=False, label=label))
     return specs

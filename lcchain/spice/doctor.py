@@ -60,7 +60,7 @@ _DOCTOR_ATOL = 1e-4
 
 
 def _doctor_run(simulator: Simulator) -> str:
-    result = run(_DOCTOR_NETLIST, ["i(l1)"], 1.0, simulator=simulator, timeout=60.0)
+    result = run(_DOCTOR_NETLIST, ["i(l1)"], 1.0, simulator=simulator, timeout=60.0, foreign=False)
     error = abs(float(result.vectors["i(l1)"][-1]) - math.cos(1.0))
     if error > _DOCTOR_ATOL:
         raise SimulationError(f"i(l1)(1 s) differs from cos(1) by {error:.3g}")

@@ -45,9 +45,13 @@ def read_all(handle: IO[bytes]) -> bytes:
 
 
 def call_shared_worker(launcher: tuple[str, ...], request: dict[str, Any], timeout: float, cwd: str,
-                       what: str) -> tuple[bytes, str, int]:
-    """Start the shared-library child, send it a request, return (stdout, stderr text, exit status)."""
-    env = child_env()
+                       what: str, env: dict[str, str] | None = None) -> tuple[bytes, str, int]:
+    """Start the shared-library child, send it a request, return (stdout, stderr text, exit status).
+
+    ``launcher`` prefixes its command line (setpriv, a sandbox); ``env`` is its environment (default
+    :func:`child_env`), to which the package's folder is added on ``PYTHONPATH``.
+    """
+    env = dict(env) if env is not None else child_env()
     package_root = str(Path(__file__).resolve().parents[2])
     env["PYTHONPATH"] = os.pathsep.join(p for p in (package_root, env.get("PYTHONPATH")) if p)
     payload = json.dumps(request).encode("utf-8")

@@ -38,34 +38,43 @@ default) and a missing node; only the netlist generator can prevent those.
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import math
 import os
 import re
+import select
 import subprocess
 import tempfile
 import time
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import IO
 
 import numpy as np
 
+from ..core.budget import show_bytes
 from ..core.checks import choice, real
 from ..core.errors import ParameterError, SimulationError
 from ..core.frozen import FrozenArrays, FrozenMap
+from ..core.limits import MAX_NETLIST_BYTES
 from ..core.types import BACKENDS, Backend
+from .foreign import allowed_netlist
+from .inputs import read_input
 from .log import LOG_MAX_CHARS, failure_reason, fatal_lines, trim_log, useful_output
 from .processes import call_shared_worker, child_env, decode_worker_payload, kill_group, read_all
 from .raw import read_raw
+from .sandbox import SCRATCH, scratch_env
 from .simulator import Simulator, find_simulator
-from .text import canonical_vector_name, parse_options, unsafe_lines
+from .text import canonical_vector_name, parse_options
 
-__all__ = ["RunResult", "run", "TSTOP_RTOL", "LOG_MAX_CHARS", "PROGRESS_INTERVAL"]
+__all__ = ["RunResult", "run", "read_include", "TSTOP_RTOL", "LOG_MAX_CHARS", "PROGRESS_INTERVAL"]
 
 #: Relative tolerance on the last time point versus the requested ``tstop``.
 TSTOP_RTOL = 1e-9
-#: Seconds between progress reports of a batch run (when a progress callback is given).
+#: Seconds between two looks at a running batch run, when there is something to look at (a progress callback,
+#: a raw-file limit); its exit is seen at once.
 PROGRESS_INTERVAL = 0.5
 
 # Only complete lines (ngspice ends each with "\r"): a number cut by a partial write must not count.
@@ -139,11 +148,13 @@ class RunResult(FrozenArrays):
 
 
 def _check_arguments(netlist: object, vectors: object, tstop: object, timeout: object,
-                     cwd: str | os.PathLike[str] | None, trusted: bool) -> tuple[str, list[str], float, float]:
+                     max_output_bytes: object) -> tuple[str, list[str], float, float, float | None]:
     if not isinstance(netlist, str) or not netlist.strip():
         raise ParameterError("netlist", netlist, "non-empty netlist text")
     tstop = real("tstop", tstop, above=0.0, unit="seconds")
     timeout = real("timeout", timeout, above=0.0, unit="seconds")
+    limit = None if max_output_bytes is None else real("max_output_bytes", max_output_bytes, above=0.0,
+                                                        unit="bytes")
     if isinstance(vectors, str) or not isinstance(vectors, Sequence):
         raise ParameterError("vectors", vectors, "a sequence of vector names, not one string")
     names: list[str] = []
@@ -153,12 +164,13 @@ def _check_arguments(netlist: object, vectors: object, tstop: object, timeout: o
         key = canonical_vector_name(name)
         if key != "time" and key not in names:
             names.append(key)
-    unsafe = [] if trusted else unsafe_lines(netlist, cwd)
-    if unsafe:
-        number, line, why = unsafe[0]
-        raise ParameterError(f"netlist line {number}", line,
-                             f"a netlist without {why.split(' (')[0]} (ngspice would execute it or read the file)")
-    return netlist, names, tstop, timeout
+    return netlist, names, tstop, timeout, limit
+
+
+def read_include(path: Path, field: str) -> str:
+    """An included file's text, for :func:`lcchain.spice.foreign.allowed_netlist`: a regular file of at most
+    :data:`lcchain.core.limits.MAX_NETLIST_BYTES`."""
+    return read_input(path, field, MAX_NETLIST_BYTES)
 
 
 # --------------------------------------------------------------------------- running
@@ -175,6 +187,8 @@ def run(
     progress: Callable[[float], None] | None = None,
     cwd: str | os.PathLike[str] | None = None,
     trusted: bool = False,
+    foreign: bool = True,
+    max_output_bytes: float | None = None,
 ) -> RunResult:
     """Run a transient netlist in ngspice and return validated waveforms.
 
@@ -182,8 +196,9 @@ def run(
     ----------
     netlist : str
         Complete netlist text with one ``.tran`` analysis ending at ``tstop``
-        and ``.save`` lines for the wanted vectors. ``.control`` blocks,
-        ``shell`` lines and ``.include``/``.lib`` outside ``cwd`` are refused.
+        and ``.save`` lines for the wanted vectors. Unless ``trusted``, it must
+        pass :func:`lcchain.spice.foreign.allowed_netlist` (its includes, in
+        ``cwd``, are inlined), and ngspice receives the text it returns.
     vectors : Sequence[str]
         Vector names as saved, e.g. ``["i(l1)", "v(n3)"]`` or ``["l1#branch"]``;
         empty: every vector the raw file holds.
@@ -204,10 +219,19 @@ def run(
         An exception it raises stops the run: ngspice's group is killed and
         the exception propagates (how a caller cancels a run from a thread).
     cwd : path-like, optional
-        The netlist's own folder (relative ``.include`` files are read there);
+        The netlist's own folder: its ``.include`` files must lie inside it;
         None for a netlist that includes nothing.
     trusted : bool
-        Skip the safety check (the user said so: ``lcchain batch --allow-control``).
+        Skip the allow-list and run the netlist as it is, in ``cwd`` (the user
+        said so: ``lcchain batch --allow-control``); it still runs in the
+        sandbox when ``foreign``.
+    foreign : bool
+        The netlist was not written by lcchain: ngspice runs it in the
+        sandbox of :mod:`lcchain.spice.sandbox` (scratch HOME and working
+        folder, no init file, read-only file system, no network).
+    max_output_bytes : float, optional
+        Stop the run (a failure) when its raw file grows past this many bytes
+        (batch backend; checked every :data:`PROGRESS_INTERVAL` seconds).
 
     Returns
     -------
@@ -216,25 +240,27 @@ def run(
     Raises
     ------
     ParameterError
-        Bad arguments, or an unsafe netlist.
+        Bad arguments, or a netlist line lcchain does not run.
     SimulatorMissingError
         ngspice (or its shared library, or PySpice) is not installed.
     SimulationError
-        ngspice failed, timed out (``status == "timeout"``), or its output
-        failed validation.
+        ngspice failed, timed out (``status == "timeout"``), outgrew
+        ``max_output_bytes``, or its output failed validation.
     """
-    netlist, names, tstop, timeout = _check_arguments(netlist, vectors, tstop, timeout, cwd, trusted)
+    netlist, names, tstop, timeout, limit = _check_arguments(netlist, vectors, tstop, timeout, max_output_bytes)
+    text = netlist if trusted else allowed_netlist(netlist, "netlist", Path(cwd) if cwd is not None else None,
+                                                   read_include)
     if simulator is None:
         simulator = find_simulator(choice("backend", backend or "batch", BACKENDS))  # type: ignore[arg-type]
     elif backend is not None and backend != simulator.backend:
         raise ParameterError("backend", backend, f"the simulator's own backend, {simulator.backend!r}")
-    folder = str(cwd) if cwd is not None else "/"
     if progress is not None:
         progress(0.0)
-    if simulator.backend == "batch":
-        columns, log, wall = _run_batch(netlist, simulator, timeout, tstop, progress, folder)
-    else:
-        columns, log, wall = _run_shared(netlist, simulator, timeout, folder)
+    with _placement(simulator, foreign, str(cwd) if trusted and cwd is not None else None) as place:
+        if simulator.backend == "batch":
+            columns, log, wall = _run_batch(text, simulator, timeout, tstop, progress, place, limit)
+        else:
+            columns, log, wall = _run_shared(text, simulator, timeout, place)
     time_s, found = _validate(columns, log, names, tstop)
     if progress is not None:
         progress(1.0)
@@ -251,6 +277,31 @@ def run(
     )
 
 
+@dataclass(frozen=True)
+class _Place:
+    """Where a child runs: its command-line prefix, working folder and environment."""
+
+    prefix: tuple[str, ...]
+    cwd: str
+    env: dict[str, str]
+
+
+@contextlib.contextmanager
+def _placement(simulator: Simulator, foreign: bool, own_folder: str | None) -> Iterator[_Place]:
+    """lcchain's own netlists run in ``/`` with a HOME that does not exist; a foreign one in a scratch folder,
+    in the sandbox where there is one (``own_folder``: a trusted netlist's folder, read-only there)."""
+    if not foreign:
+        yield _Place(simulator.launcher, own_folder or "/", child_env())
+    elif simulator.sandbox.available:
+        folder = ("--ro-bind", own_folder, own_folder) if own_folder else ()  # visible even under /tmp
+        prefix = (*simulator.launcher, *simulator.sandbox.prefix[:-1], *folder, "--chdir", own_folder or SCRATCH,
+                  "--")
+        yield _Place(prefix, "/", scratch_env(SCRATCH))
+    else:
+        with tempfile.TemporaryDirectory(prefix="lcchain-scratch-") as scratch:
+            yield _Place(simulator.launcher, own_folder or scratch, scratch_env(scratch))
+
+
 def _simulated_time(err: IO[bytes]) -> float | None:
     """The last ``Reference value : t`` ngspice wrote to stderr (its progress, in seconds)."""
     fd = err.fileno()
@@ -260,37 +311,66 @@ def _simulated_time(err: IO[bytes]) -> float | None:
     return float(found[-1]) if found else None
 
 
-def _wait(proc: subprocess.Popen[bytes], timeout: float, tstop: float, err: IO[bytes],
-          progress: Callable[[float], None] | None) -> int | None:
-    """Exit status of ngspice, or None after the timeout; reports progress meanwhile."""
+def _exited(proc: subprocess.Popen[bytes], pidfd: int | None, seconds: float) -> int | None:
+    """ngspice's exit status as soon as it exits within ``seconds``, else None.
+
+    A pidfd (Linux) wakes this the moment the child exits; Popen.wait with a timeout would sleep-poll it
+    (1, 3, 7 ... 50 ms late), a delay that every short run paid in full.
+    """
+    if pidfd is None:
+        try:
+            return proc.wait(timeout=seconds)
+        except subprocess.TimeoutExpired:
+            return None
+    ready, _, _ = select.select([pidfd], [], [], seconds)
+    return proc.wait() if ready else None
+
+
+def _wait(proc: subprocess.Popen[bytes], timeout: float, tstop: float, err: IO[bytes], raw: IO[bytes],
+          progress: Callable[[float], None] | None, limit: float | None) -> int | None:
+    """Exit status of ngspice, or None after the timeout; reports progress and watches the raw file meanwhile."""
     deadline = time.monotonic() + timeout
     fraction = 0.0
-    while True:
-        left = deadline - time.monotonic()
-        try:
-            return proc.wait(timeout=max(0.0, min(PROGRESS_INTERVAL, left)) if progress else max(0.0, left))
-        except subprocess.TimeoutExpired:
-            if time.monotonic() >= deadline:
+    try:
+        pidfd: int | None = os.pidfd_open(proc.pid)
+    except (AttributeError, OSError):  # not Linux, or an old kernel
+        pidfd = None
+    watching = progress is not None or limit is not None
+    try:
+        while True:
+            left = deadline - time.monotonic()
+            if left <= 0:
                 return None
+            status = _exited(proc, pidfd, min(PROGRESS_INTERVAL, left) if watching else left)
+            if status is not None:
+                return status
+            if limit is not None and os.fstat(raw.fileno()).st_size > limit:
+                kill_group(proc)
+                raise SimulationError(f"ngspice's raw file grew past {show_bytes(limit)}, the most the memory "
+                                      "budget allows (--max-memory), and the run was stopped", "")
             if progress is not None:  # at every poll, so that a caller can also stop the run from it
                 t = _simulated_time(err)
                 fraction = max(fraction, min(max(t / tstop, 0.0), 1.0)) if t is not None else fraction
                 progress(fraction)
+    finally:
+        if pidfd is not None:
+            os.close(pidfd)
 
 
 def _run_batch(netlist: str, simulator: Simulator, timeout: float, tstop: float,
-               progress: Callable[[float], None] | None, cwd: str) -> tuple[dict[str, np.ndarray], str, float]:
+               progress: Callable[[float], None] | None, place: _Place,
+               limit: float | None) -> tuple[dict[str, np.ndarray], str, float]:
     with tempfile.TemporaryFile() as source, tempfile.TemporaryFile() as raw, \
             tempfile.TemporaryFile() as out, tempfile.TemporaryFile() as err:
         source.write(netlist.encode("utf-8"))
         source.seek(0)
         fd = raw.fileno()
-        command = [*simulator.launcher, simulator.executable, "-b", "-r", f"/dev/fd/{fd}"]
+        command = [*place.prefix, simulator.executable, "-n", "-b", "-r", f"/dev/fd/{fd}"]
         start = time.perf_counter()
-        proc = subprocess.Popen(command, cwd=cwd, env=child_env(), stdin=source, stdout=out, stderr=err,
+        proc = subprocess.Popen(command, cwd=place.cwd, env=place.env, stdin=source, stdout=out, stderr=err,
                                 pass_fds=(fd,), start_new_session=True)
         try:
-            status = _wait(proc, timeout, tstop, err, progress)
+            status = _wait(proc, timeout, tstop, err, raw, progress, limit)
         finally:
             if proc.poll() is None:  # timed out, or interrupted: the whole group goes
                 kill_group(proc)
@@ -312,9 +392,9 @@ def _run_batch(netlist: str, simulator: Simulator, timeout: float, tstop: float,
 
 
 def _run_shared(netlist: str, simulator: Simulator, timeout: float,
-                cwd: str) -> tuple[dict[str, np.ndarray], str, float]:
-    stdout, log, status = call_shared_worker(simulator.launcher, {"netlist": netlist, "library": simulator.executable},
-                                  timeout, cwd, "run")
+                place: _Place) -> tuple[dict[str, np.ndarray], str, float]:
+    stdout, log, status = call_shared_worker(place.prefix, {"netlist": netlist, "library": simulator.executable},
+                                             timeout, place.cwd, "run", place.env)
     try:
         meta, arrays = decode_worker_payload(stdout)
     except Exception as exc:  # noqa: BLE001 - a crashed child leaves empty or partial bytes

@@ -22,6 +22,7 @@ from ..core.errors import SimulatorMissingError
 from ..core.types import BACKENDS, Backend
 from .log import useful_output
 from .processes import call_shared_worker, decode_worker_payload
+from .sandbox import Sandbox, find_sandbox
 
 __all__ = [
     "Simulator",
@@ -59,12 +60,15 @@ class Simulator:
         Prefix of every child's command line: ``setpriv --pdeathsig KILL --``
         where util-linux has it (Linux), so that a child dies with lcchain
         even when lcchain is killed with SIGKILL; empty elsewhere.
+    sandbox : Sandbox
+        Where netlists lcchain did not write run (:mod:`lcchain.spice.sandbox`).
     """
 
     backend: Backend
     executable: str
     version: str
     launcher: tuple[str, ...] = ()
+    sandbox: Sandbox = Sandbox(why_not="not looked for")
 
     def __post_init__(self) -> None:
         choice("backend", self.backend, BACKENDS)
@@ -157,7 +161,7 @@ def require_pyspice() -> None:
 
 
 def find_simulator(backend: Backend = "batch") -> Simulator:
-    """Locate ngspice for a backend and ask its version, once.
+    """Locate ngspice for a backend and ask its version, once (and whether a sandbox works here).
 
     Parameters
     ----------
@@ -173,10 +177,10 @@ def find_simulator(backend: Backend = "batch") -> Simulator:
     launcher = _launcher()
     if backend == "batch":
         exe = find_ngspice()
-        return Simulator("batch", exe, ngspice_version(exe), launcher)
+        return Simulator("batch", exe, ngspice_version(exe), launcher, find_sandbox())
     library = find_shared_library()
     require_pyspice()
-    return Simulator("shared", library, shared_library_version(library, launcher), launcher)
+    return Simulator("shared", library, shared_library_version(library, launcher), launcher, find_sandbox())
 
 
 def shared_library_version(library: str, launcher: tuple[str, ...] = ()) -> str:

@@ -104,8 +104,8 @@ def ngspice_record(chain: Chain, modes: Modes, *, method: Method, dt: float | No
                                 stepping="fixed" if dt is not None else "adaptive")
     text = netlist_text(ladder, options, I0=I0, title=f"lcchain bench N={chain.N}")
     theory = Theory(chain, ladder.time_unit, I0=I0, transits=transits, method=method, modes=modes)
-    record = _checked(execute(RunSpec(text, tuple(probe_names(chain.N)), tstop * ladder.time_unit, theory=theory),
-                              simulator))
+    record = _checked(execute(RunSpec(text, tuple(probe_names(chain.N)), tstop * ladder.time_unit, theory=theory,
+                                      foreign=False), simulator))
     assert record.result is not None and record.metrics is not None
     return {
         "method": method, "stepping": options.stepping, "N": chain.N,
@@ -209,7 +209,7 @@ def ladder_energy(chain: Chain, *, method: Method, dt: float, transits: int, L0:
     currents = tuple(probe_names(chain.N, "all"))
     text = netlist_text(ladder, SimulationOptions(dt=dt, tstop=tstop, method=method), I0=I0, probes="all",
                         extra_vectors=volts, title=f"lcchain energy N={chain.N}")
-    record = _checked(execute(RunSpec(text, currents + volts, tstop * ladder.time_unit), simulator))
+    record = _checked(execute(RunSpec(text, currents + volts, tstop * ladder.time_unit, foreign=False), simulator))
     run = record.result
     assert run is not None
     L = np.array(ladder.inductances())

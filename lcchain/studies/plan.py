@@ -30,13 +30,17 @@ from typing import Any
 from ..core.budget import Budget, Estimate
 from ..core.errors import ParameterError
 from ..core.frozen import FrozenMap
+from ..core.limits import MAX_NETLIST_BYTES
 from ..core.types import Backend, Excitation
 from ..runs.extrapolated import combined_key
 from ..runs.simulate import simulation_runs
 from ..runs.spec import DEFAULT_TIMEOUT, RunSpec, Theory
 from ..scenes.load import load_scene, parse_scene
 from ..scenes.plan import scene_plan, scene_specs
-from ..spice.text import UNSAFE_FILES, saved_vectors, transient_stop, unsafe_lines
+from ..spice.foreign import allowed_netlist, foreign_estimate, raw_bytes_limit, transient_of
+from ..spice.inputs import read_input
+from ..spice.runner import read_include
+from ..spice.text import saved_vectors
 from ..theory.cases import chain_for_case
 from ..theory.spectrum import normal_modes
 
@@ -304,41 +308,33 @@ def scene_sweep_plan(path: str | Path, varies: Sequence[tuple[str, list[Any]]], 
 
 
 def batch_plan(paths: Sequence[str | Path], *, allow_control: bool = False, backend: Backend = "batch",
-               timeout: float = DEFAULT_TIMEOUT) -> Plan:
-    """Foreign netlists, run as they are: every file read and checked before anything runs.
+               timeout: float = DEFAULT_TIMEOUT, budget: Budget | None = None) -> Plan:
+    """Foreign netlists, checked and priced before anything runs.
 
-    A netlist with a ``.control`` block, a ``shell`` line or an
-    ``.include``/``.lib`` outside its own folder, or in a folder holding a
-    ``.spiceinit`` (which ngspice executes), is refused unless
-    ``allow_control``: ngspice executes shell commands in batch mode.
+    Every netlist, and every file it includes, must be a regular file (its
+    includes inside its own folder) and pass the allow-list of
+    :func:`lcchain.spice.foreign.allowed_netlist`, unless ``allow_control``
+    (then it runs as it is). Each is priced from its own ``.tran`` (time points
+    x unknowns) and refused beyond ``budget``; its run is stopped when its raw
+    file outgrows the memory budget. Every run happens in the sandbox of
+    :mod:`lcchain.spice.sandbox`.
     """
+    budget = budget if budget is not None else Budget()
     tasks = []
     for index, name in enumerate(paths):
         path = Path(name)
-        try:
-            text = path.read_text(encoding="utf-8")
-        except OSError as error:
-            raise ParameterError("NETLIST", str(path), f"a readable netlist ({error.strerror})") from None
-        except UnicodeDecodeError as error:
-            raise ParameterError("NETLIST", str(path), f"UTF-8 text ({error.reason} at byte {error.start})") from None
+        text = read_input(path, "NETLIST", MAX_NETLIST_BYTES)
         folder = path.resolve().parent
-        if not allow_control:
-            unsafe = unsafe_lines(text, folder)
-            if unsafe:
-                number, line, why = unsafe[0]
-                raise ParameterError(f"{path}: line {number}", line, f"a netlist without {why} (ngspice would "
-                                     "execute it; --allow-control runs such netlists as they are)")
-            for special in UNSAFE_FILES:
-                if (folder / special).exists():
-                    raise ParameterError(str(path), str(folder / special), "a netlist in a folder without "
-                                         f"{special} (ngspice runs its commands; --allow-control accepts it)")
-        tstop = transient_stop(text)
-        if tstop is None or not tstop > 0:
-            raise ParameterError(str(path), ".tran", "a netlist with a .tran analysis and its stop time "
-                                 "(lcchain reads transients)")
-        spec = RunSpec(text, saved_vectors(text), tstop, backend=backend, timeout=timeout, cwd=str(folder),
-                       trusted=allow_control, label=path.name)
-        tasks.append(Task(index, FrozenMap({"netlist": str(path)}), spec, 0.1))
+        run_text = text if allow_control else allowed_netlist(text, str(path), folder, read_include)
+        transient = transient_of(run_text, str(path))
+        saved = saved_vectors(run_text)
+        estimate = foreign_estimate(run_text, transient, len(saved))
+        estimate.check(budget, str(path), f".tran to {transient.stop:g} s in steps of at most "
+                       f"{transient.max_step:g} s")
+        spec = RunSpec(run_text, saved, transient.stop, backend=backend, timeout=min(timeout, budget.max_seconds),
+                       cwd=str(folder) if allow_control else None, trusted=allow_control, foreign=True,
+                       max_output_bytes=raw_bytes_limit(budget.max_memory), label=path.name)
+        tasks.append(Task(index, FrozenMap({"netlist": str(path)}), spec, estimate.seconds))
     description = {"command": "batch", "netlists": [str(p) for p in paths], "allow_control": allow_control,
                    "backend": backend}
     return Plan("batch", FrozenMap(description), tuple(tasks), backend, ("netlist",))

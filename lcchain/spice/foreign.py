@@ -1,0 +1,326 @@
+"""Netlists lcchain did not write: what of them it lets ngspice see (an allow-list), and what they cost.
+
+ngspice executes ``shell`` commands from ``.control`` blocks, reads whatever
+file an ``.include`` names, matches dot-commands by prefix (``.controls`` and
+``.CONTROL_X`` open a control block, ``.inc_x`` includes a file) and treats a
+file whose first card is ``*ng_script`` as a script.  A deny-list of such lines
+is always one disguise short, so :func:`allowed_netlist` does the opposite: it
+parses the netlist, and every file it includes, against what lcchain
+understands, and refuses anything else before anything runs, naming the file,
+the line number and the line.
+
+Allowed
+-------
+* the title: the first non-blank line, any text but a dot-command or
+  ``*ng_script``;
+* blank lines and ``*`` comments (not ``*#``, which ngspice may read as a
+  command, nor ``*ng_script``); an inline comment after ``;`` or `` $`` is
+  dropped;
+* element lines whose first letter is one of :data:`ELEMENTS` (R, L, C, K,
+  V, I and the behavioural source B that lcchain's own pulses use), written
+  in :data:`_CHARACTERS` (no quotes, backslashes or control characters);
+* the dot-commands of :data:`DOT_COMMANDS`, the word matched whole:
+  ``.tran``, ``.ac``, ``.options`` with the names of :data:`OPTIONS`,
+  ``.save``, ``.ic``, ``.param``, ``.end``, and ``.include``/``.inc``/``.lib``
+  of a regular file inside the top netlist's folder (symbolic links resolved),
+  which is parsed by the same rules and inlined in place (``.lib FILE
+  SECTION`` inlines that section), at most :data:`MAX_INCLUDE_DEPTH` deep;
+* ``+`` continuation lines, joined to the card they continue before the check.
+
+The text ngspice receives is rebuilt from the accepted cards only (includes
+inlined, continuations joined, inline comments dropped), so it reads no other
+file and runs exactly what was checked; for a netlist that needs none of that
+(lcchain's own) it is the same text, byte for byte.
+
+Everything here is text: the caller gives a ``read`` function for included
+files (:func:`lcchain.spice.inputs.read_input` checks that they are regular
+files within their size limit).
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+
+from ..core.budget import BYTES_PER_VALUE, Estimate, run_estimate
+from ..core.errors import ParameterError
+from .text import spice_number
+
+__all__ = ["ELEMENTS", "DOT_COMMANDS", "OPTIONS", "MAX_INCLUDE_DEPTH", "Transient", "allowed_netlist",
+           "transient_of", "foreign_estimate", "raw_bytes_limit"]
+
+#: First letters of the element lines lcchain runs: resistors, inductors, capacitors, coupled inductors,
+#: independent voltage and current sources, and behavioural sources (lcchain's own gaussian pulses).
+ELEMENTS = frozenset("RLCKVIB")
+#: Dot-commands run as they are (the word matched whole, in any case); the includes are inlined.
+DOT_COMMANDS = frozenset({".tran", ".ac", ".options", ".option", ".opt", ".save", ".ic", ".param", ".end"})
+_INCLUDES = frozenset({".include", ".inc", ".lib"})
+#: ``.options`` names a netlist may set: tolerances, integration and solver settings, nothing that names a
+#: file, changes the output format or loads code.
+OPTIONS = frozenset({
+    "method", "maxord", "reltol", "abstol", "vntol", "chgtol", "trtol", "gmin", "gminsteps", "srcsteps",
+    "itl1", "itl2", "itl3", "itl4", "itl5", "itl6", "temp", "tnom", "numdgt", "pivtol", "pivrel", "xmu",
+    "rshunt", "ramptime", "klu", "sparse", "noopac", "noinit", "nopage", "noacct", "nomod", "interp",
+    "keepopinfo", "maxwarns", "warn", "savecurrents", "trytocompact",
+})
+#: How deep ``.include`` files may nest.
+MAX_INCLUDE_DEPTH = 8
+
+# Characters of an element or dot-command card: names, numbers, expressions, vector names. No quote (file
+# names), backslash, backtick, control character or non-ASCII letter.
+_CHARACTERS = re.compile(r"[A-Za-z0-9_.+\-*/^(){}\[\],=<>!&|?:%#@ \t]*")
+_INLINE_COMMENT = re.compile(r"(;|\s\$).*$")
+_WORD = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
+_SCRIPT = re.compile(r"^\s*\*\s*(#|ng_script)", re.IGNORECASE)
+_TITLE_COMMAND = re.compile(r"^\s*(\.[A-Za-z]|\*\s*(#|ng_script))", re.IGNORECASE)
+_ALLOWED = ("a netlist of comments, element lines (" + ", ".join(sorted(ELEMENTS)) + ") and the dot-commands "
+            + ", ".join(sorted(DOT_COMMANDS | _INCLUDES)))
+_OPT_OUT = " (lcchain batch --allow-control runs a netlist as it is, in a sandbox)"
+
+
+@dataclass(frozen=True)
+class _Card:
+    source: str
+    number: int
+    text: str
+    joined: bool = False  # "+" lines were joined to it
+
+
+def _refuse(card: _Card, why: str) -> ParameterError:
+    return ParameterError(f"{card.source}: line {card.number}", card.text.strip()[:200], why + _OPT_OUT)
+
+
+def _control_free(source: str, number: int, line: str) -> None:
+    bad = next((ch for ch in line.rstrip("\r") if (ord(ch) < 32 and ch != "\t") or ord(ch) == 127), None)
+    if bad is not None:
+        raise _refuse(_Card(source, number, line), f"a line without the control character {bad!r} (ngspice may "
+                      "split the line there)")
+
+
+def _cards(text: str, source: str, *, title: bool) -> tuple[str, list[_Card]]:
+    """(title, cards): comments and blank lines are cards too, ``+`` lines are joined to the card they continue.
+
+    The title is the first non-blank line (ngspice skips blank lines before it); with ``title=False`` (an
+    included file) there is none.
+    """
+    head = ""
+    cards: list[_Card] = []
+    last = -1  # the card a "+" line continues: the last element or dot-command card
+    for number, raw in enumerate(text.split("\n"), start=1):
+        _control_free(source, number, raw)
+        line = raw.rstrip("\r")
+        if title and not head:
+            if line.strip() and _TITLE_COMMAND.match(line):
+                raise _refuse(_Card(source, number, line), "a title line (the first line is the netlist's title; "
+                              "a dot-command, *# or *ng_script there would make ngspice read it as a command)")
+            head = line if line.strip() else ""
+            continue
+        if line.lstrip().startswith("+"):
+            if last < 0:
+                raise _refuse(_Card(source, number, line), "a continuation (+) of an element or dot-command line")
+            previous = cards[last]
+            cards[last] = _Card(source, previous.number, previous.text + " " + line.lstrip()[1:], True)
+            cards.append(_Card(source, number, ""))  # keeps the place of the joined line
+            continue
+        if line.strip() and not line.lstrip().startswith("*"):
+            last = len(cards)
+        cards.append(_Card(source, number, line))
+    return head, cards
+
+
+def _check_options(card: _Card, body: str) -> None:
+    for word in re.sub(r"\s*=\s*", "=", body).split():
+        name = word.partition("=")[0].lower()
+        if name not in OPTIONS:
+            raise _refuse(card, f"an option lcchain knows ({', '.join(sorted(OPTIONS))}), not {name!r}")
+
+
+def _included(card: _Card, argument: str) -> tuple[str, str | None]:
+    """(file, section) of an include card; quotes allowed around the file name only."""
+    argument = argument.strip()
+    if argument[:1] in "\"'":
+        end = argument.find(argument[0], 1)
+        if end < 0:
+            raise _refuse(card, "a file name between matching quotes")
+        name, rest = argument[1:end], argument[end + 1:].split()
+    else:
+        words = argument.split()
+        name, rest = (words[0], words[1:]) if words else ("", [])
+    if not name or len(rest) > 1 or not _CHARACTERS.fullmatch(name + " ".join(rest)):
+        raise _refuse(card, "an include of one file name (and, for .lib, one section name)")
+    return name, rest[0] if rest else None
+
+
+def _section(text: str, name: str, source: str) -> str:
+    """The lines of ``.lib NAME`` ... ``.endl`` in a library file."""
+    lines = text.split("\n")
+    start = None
+    for number, line in enumerate(lines):
+        words = line.split()
+        if start is None and len(words) == 2 and words[0].lower() == ".lib" and words[1].lower() == name.lower():
+            start = number + 1
+        elif start is not None and words[:1] and words[0].lower() == ".endl":
+            return "\n".join([""] * start + lines[start:number])  # blank lines keep the line numbers
+    raise ParameterError(f"{source}", name, "a .lib section that the file holds between .lib NAME and .endl")
+
+
+def allowed_netlist(text: str, source: str, folder: Path | None, read: Callable[[Path, str], str] | None = None,
+                    *, _depth: int = 0, _seen: tuple[Path, ...] = ()) -> str:
+    """The netlist as ngspice will receive it, or a refusal of its first line lcchain does not run.
+
+    Parameters
+    ----------
+    text : str
+        The netlist text.
+    source : str
+        Its name in messages (the file, or ``"netlist"``).
+    folder : Path, optional
+        The folder the top netlist's includes must stay in; None: no include
+        is allowed.
+    read : callable, optional
+        ``read(path, field)`` reads an included file (a resolved path inside
+        ``folder``) as text, refusing under ``field`` what is not a regular
+        file or is too large.
+
+    Returns
+    -------
+    str
+        The title and the accepted cards, includes inlined: ``text`` itself
+        when there was nothing to inline, join or drop.
+
+    Raises
+    ------
+    ParameterError
+        Naming ``"<source>: line <n>"``, the line and what is allowed.
+    """
+    if _depth == 0 and folder is not None:
+        folder = folder.resolve()
+    head, cards = _cards(text, source, title=_depth == 0)
+    out = [head] if _depth == 0 else []
+    changed = _depth == 0 and not text.startswith(head)  # blank lines before the title are dropped
+    for card in cards:
+        line = card.text.rstrip("\r")
+        stripped = line.strip()
+        changed |= card.text != line or card.joined
+        if not stripped or stripped.startswith("*"):
+            if _SCRIPT.match(stripped):
+                raise _refuse(card, "a comment that does not start with *# or *ng_script (ngspice reads those "
+                              "as commands)")
+            out.append(line)
+            continue
+        body = _INLINE_COMMENT.sub("", stripped).rstrip()
+        if not body:
+            changed = True
+            continue
+        if not _CHARACTERS.fullmatch(body):
+            bad = next(ch for ch in body if not _CHARACTERS.fullmatch(ch))
+            raise _refuse(card, f"a line without {bad!r}: {_ALLOWED}")
+        word = body.split()[0].lower()
+        if word in _INCLUDES:
+            out.extend(_inline(card, body[len(word):], folder, read, _depth, _seen))
+            changed = True
+            continue
+        if body.startswith("."):
+            if word not in DOT_COMMANDS:
+                raise _refuse(card, _ALLOWED)
+            if word in (".options", ".option", ".opt"):
+                _check_options(card, body[len(word):])
+            if word == ".end" and _depth > 0:  # an included file's .end would end the top netlist
+                changed = True
+                continue
+        elif word[0].upper() not in ELEMENTS:
+            raise _refuse(card, _ALLOWED)
+        changed |= body != line
+        out.append(body)
+    if _depth == 0 and not changed:
+        return text
+    return "\n".join(out) + ("\n" if _depth == 0 else "")
+
+
+def _inline(card: _Card, argument: str, folder: Path | None, read: Callable[[Path, str], str] | None, depth: int,
+            seen: tuple[Path, ...]) -> list[str]:
+    name, section = _included(card, argument)
+    if folder is None or read is None:
+        raise _refuse(card, "a netlist without includes (this netlist has no folder of its own)")
+    if depth + 1 > MAX_INCLUDE_DEPTH:
+        raise _refuse(card, f"includes at most {MAX_INCLUDE_DEPTH} deep")
+    base = Path(card.source).parent if depth > 0 else folder
+    path = (base / name).resolve()
+    if not path.is_relative_to(folder):
+        raise _refuse(card, f"an include of a file inside the netlist's folder {folder}")
+    if path in seen:
+        raise _refuse(card, "includes without a cycle (this file includes itself)")
+    included = read(path, f"{card.source}: line {card.number}")
+    if section is not None:
+        included = _section(included, section, str(path))
+    body = allowed_netlist(included, str(path), folder, read, _depth=depth + 1, _seen=(*seen, path))
+    return [f"* lcchain: {card.text.strip()[:150]}", *body.split("\n")]
+
+
+# --------------------------------------------------------------------------- what a netlist costs
+
+
+@dataclass(frozen=True)
+class Transient:
+    """A ``.tran`` card read: seconds (``max_step``: ngspice's own default when the card gives none)."""
+
+    step: float
+    stop: float
+    start: float
+    max_step: float
+
+    @property
+    def points(self) -> float:
+        """Time points ngspice computes at least: one per maximum step."""
+        return self.stop / self.max_step + 1
+
+
+def transient_of(text: str, source: str) -> Transient:
+    """The netlist's ``.tran`` analysis, or a refusal naming the card."""
+    for number, line in enumerate(text.split("\n"), start=1):
+        words = [w for w in re.split(r"[\s,()]+", line.strip()) if w]
+        if not words or words[0].lower() != ".tran":
+            continue
+        values = [spice_number(w) for w in words[1:] if w.lower() != "uic"]
+        if len(values) < 2 or any(v is None for v in values) or len(values) > 4:
+            raise ParameterError(f"{source}: line {number}", line.strip()[:200],
+                                 ".tran TSTEP TSTOP [TSTART [TMAX]] [uic] with plain numbers (lcchain prices a "
+                                 "run from them before it starts)")
+        step, stop, start, tmax = (list(values) + [0.0, None])[:4]
+        assert step is not None and stop is not None and start is not None
+        if not (step > 0 and stop > 0 and 0 <= start < stop):
+            raise ParameterError(f"{source}: line {number}", line.strip()[:200],
+                                 "0 < TSTEP, 0 <= TSTART < TSTOP")
+        default = min(step, (stop - start) / 50)
+        max_step = min(tmax, default) if tmax is not None and tmax > 0 else default
+        return Transient(step, stop, start, max_step)
+    raise ParameterError(source, ".tran", "a netlist with a .tran analysis (lcchain reads transients)")
+
+
+def foreign_estimate(text: str, transient: Transient, saved: int) -> Estimate:
+    """What running a foreign netlist costs: its time points (from its ``.tran``) x its unknowns.
+
+    Unknowns: one per node and one per inductor or voltage source (their
+    branch currents); saved values: the ``.save`` names, or every unknown
+    when the netlist saves nothing.
+    """
+    nodes: set[str] = set()
+    branches = 0
+    for line in text.split("\n"):
+        words = line.split()
+        if not words or not words[0][:1].isalpha():
+            continue
+        letter = words[0][0].upper()
+        if letter in "RLCVIB" and len(words) >= 3:
+            nodes.update(w.lower() for w in words[1:3] if w != "0" and w.lower() != "gnd")
+            branches += letter in "LVB"
+    unknowns = max(len(nodes) + branches, 1)
+    return run_estimate(points=transient.points, saved=saved or unknowns, compared=0, unknowns=unknowns)
+
+
+def raw_bytes_limit(max_memory: float) -> float:
+    """The raw file's size at which a run is stopped: lcchain holds :data:`BYTES_PER_VALUE` bytes in memory for
+    every 8 in the raw file, so a raw file past ``max_memory * 8 / BYTES_PER_VALUE`` would outgrow the budget."""
+    return max_memory * 8.0 / BYTES_PER_VALUE
