@@ -121,7 +121,7 @@ def _cards(text: str, source: str, *, title: bool) -> tuple[str, list[_Card]]:
             if last < 0:
                 raise _refuse(_Card(source, number, line), "a continuation (+) of an element or dot-command line")
             previous = cards[last]
-            cards[last] = _Card(source, previous.number, previous.text + " " + line.lstrip()[1:], True)
+            cards[last] = _Card(source, previous.number, previous.text + " " + line.lstrip()[1:].lstrip(), True)
             cards.append(_Card(source, number, ""))  # keeps the place of the joined line
             continue
         if line.strip() and not line.lstrip().startswith("*"):
@@ -214,14 +214,14 @@ def allowed_netlist(text: str, source: str, folder: Path | None, read: Callable[
         if not body:
             changed = True
             continue
-        if not _CHARACTERS.fullmatch(body):
-            bad = next(ch for ch in body if not _CHARACTERS.fullmatch(ch))
-            raise _refuse(card, f"a line without {bad!r}: {_ALLOWED}")
         word = body.split()[0].lower()
-        if word in _INCLUDES:
+        if word in _INCLUDES:  # the one card whose file name may be quoted
             out.extend(_inline(card, body[len(word):], folder, read, _depth, _seen))
             changed = True
             continue
+        if not _CHARACTERS.fullmatch(body):
+            bad = next(ch for ch in body if not _CHARACTERS.fullmatch(ch))
+            raise _refuse(card, f"a line without {bad!r}: {_ALLOWED}")
         if body.startswith("."):
             if word not in DOT_COMMANDS:
                 raise _refuse(card, _ALLOWED)
