@@ -219,8 +219,10 @@ def test_timeout_kills_the_simulator(backend: str, leaves_nothing_behind) -> Non
 def test_doctor_is_all_ok_here() -> None:
     checks = doctor_module.doctor()
     assert [c.name for c in checks] == [
-        "ngspice executable", "batch run", "ngspice shared library", "PySpice", "shared run"]
+        "ngspice executable", "batch run", "sandbox for foreign netlists", "ngspice shared library", "PySpice",
+        "shared run"]
     assert all(c.ok for c in checks), [c for c in checks if not c.ok]
+    assert [c.name for c in checks if c.required] == ["ngspice executable", "batch run"]
 
 
 @pytest.mark.ngspice

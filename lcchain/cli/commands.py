@@ -390,8 +390,8 @@ def cmd_doctor(args: argparse.Namespace) -> int:
 
     checks = doctor()
     for check in checks:
-        mark = "ok  " if check.ok else "FAIL"
+        mark = "ok  " if check.ok else "FAIL" if check.required else "warn"
         print(f"[{mark}] {check.name}: {check.detail}")
         if not check.ok and check.fix:
             print(f"       fix: {check.fix}")
-    return EXIT_OK if all(c.ok for c in checks) else EXIT_MISSING
+    return EXIT_OK if all(c.ok for c in checks if c.required) else EXIT_MISSING

@@ -130,10 +130,13 @@ def build_parser() -> argparse.ArgumentParser:
     studies.add_sweep_arguments(p)
     p.set_defaults(func=studies.cmd_sweep)
 
-    p = sub.add_parser("batch", parents=budget, help="netlists lcchain did not write, run as they are, into a store")
-    p.add_argument("netlist", nargs="+", metavar="NETLIST", help="netlist files (refused when unsafe)")
+    p = sub.add_parser("batch", parents=budget, help="netlists lcchain did not write, checked, priced and run in a "
+                       "sandbox, into a store")
+    p.add_argument("netlist", nargs="+", metavar="NETLIST",
+                   help="netlist files: comments, R L C K V I B elements, .tran .options .save .ic .param .end and "
+                        ".include/.lib of files in the netlist's folder; any other line is refused")
     p.add_argument("--allow-control", action="store_true",
-                   help="run .control blocks, shell lines and includes from outside the netlist's folder as they are")
+                   help="run a netlist as it is (.control blocks, any include), still in the sandbox")
     studies.add_study_arguments(p)
     p.set_defaults(func=studies.cmd_batch)
 

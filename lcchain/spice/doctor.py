@@ -1,4 +1,4 @@
-"""``lcchain doctor``: does ngspice, its shared library and PySpice work here?"""
+"""``lcchain doctor``: does ngspice work here, and its optional parts (the sandbox, the shared library, PySpice)?"""
 
 from __future__ import annotations
 
@@ -11,6 +11,7 @@ from dataclasses import dataclass
 from ..core.errors import SimulationError
 from ..core.types import Backend
 from .runner import run
+from .sandbox import find_sandbox
 from .simulator import (
     INSTALL_COMMAND,
     PYSPICE_INSTALL_COMMAND,
@@ -37,12 +38,17 @@ class Check:
         What was found (a version, a path, an error).
     fix : str
         How to fix it; empty when ``ok``.
+    required : bool
+        Whether lcchain's default (``ngspice -b``) needs it; the shared
+        backend and the sandbox are optional, and ``lcchain doctor`` exits 0
+        without them.
     """
 
     name: str
     ok: bool
     detail: str
     fix: str = ""
+    required: bool = True
 
 
 _DOCTOR_NETLIST = """\
@@ -76,17 +82,18 @@ def doctor() -> list[Check]:
     Returns
     -------
     list[Check]
-        ngspice executable, batch run, shared library, PySpice, shared run.
+        ngspice executable, batch run, sandbox, shared library, PySpice,
+        shared run (the last four optional).
     """
     checks: list[Check] = []
 
-    def attempt(name: str, fix: str, action: Callable[[], str]) -> bool:
+    def attempt(name: str, fix: str, action: Callable[[], str], required: bool = True) -> bool:
         try:
             detail = action()
         except Exception as exc:  # noqa: BLE001 - the doctor reports, never raises
-            checks.append(Check(name, False, f"{type(exc).__name__}: {exc}", fix))
+            checks.append(Check(name, False, f"{type(exc).__name__}: {exc}", fix, required))
             return False
-        checks.append(Check(name, True, detail, ""))
+        checks.append(Check(name, True, detail, "", required))
         return True
 
     found: dict[str, Simulator] = {}
@@ -104,15 +111,21 @@ def doctor() -> list[Check]:
         checks.append(
             Check("batch run", False, "skipped: no ngspice executable", f"install ngspice: {INSTALL_COMMAND}")
         )
-    have_lib = attempt("ngspice shared library", f"install the library: {INSTALL_COMMAND}", find_shared_library)
+    sandbox = find_sandbox()
+    checks.append(Check("sandbox for foreign netlists", sandbox.available,
+                        "bubblewrap: read-only file system, private /tmp, no network" if sandbox.available else
+                        f"{sandbox.why_not}; lcchain batch runs foreign netlists without it (allow-list only)",
+                        "" if sandbox.available else "sudo apt-get install bubblewrap", required=False))
+    have_lib = attempt("ngspice shared library", f"install the library: {INSTALL_COMMAND}", find_shared_library,
+                       required=False)
     have_pyspice = attempt("PySpice", PYSPICE_INSTALL_COMMAND + " (only the shared backend needs it)",
-                           _pyspice_version)
+                           _pyspice_version, required=False)
     if have_lib and have_pyspice:
         attempt("shared run", "see the error; try `python -m lcchain.spice.shared_worker` by hand",
-                lambda: _doctor_run(locate("shared")))
+                lambda: _doctor_run(locate("shared")), required=False)
     else:
         checks.append(Check("shared run", False, "skipped: shared library or PySpice missing",
-                            f"{INSTALL_COMMAND}; {PYSPICE_INSTALL_COMMAND}"))
+                            f"{INSTALL_COMMAND}; {PYSPICE_INSTALL_COMMAND}", required=False))
     return checks
 
 

@@ -72,7 +72,6 @@ MAX_INCLUDE_DEPTH = 8
 # names), backslash, backtick, control character or non-ASCII letter.
 _CHARACTERS = re.compile(r"[A-Za-z0-9_.+\-*/^(){}\[\],=<>!&|?:%#@ \t]*")
 _INLINE_COMMENT = re.compile(r"(;|\s\$).*$")
-_WORD = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 _SCRIPT = re.compile(r"^\s*\*\s*(#|ng_script)", re.IGNORECASE)
 _TITLE_COMMAND = re.compile(r"^\s*(\.[A-Za-z]|\*\s*(#|ng_script))", re.IGNORECASE)
 _ALLOWED = ("a netlist of comments, element lines (" + ", ".join(sorted(ELEMENTS)) + ") and the dot-commands "
@@ -80,23 +79,14 @@ _ALLOWED = ("a netlist of comments, element lines (" + ", ".join(sorted(ELEMENTS
 _OPT_OUT = " (lcchain batch --allow-control runs a netlist as it is, in a sandbox)"
 
 
-@dataclass(frozen=True)
-class _Card:
-    source: str
-    number: int
-    text: str
-    joined: bool = False  # "+" lines were joined to it
+# One card: (source, line number, text, joined: "+" lines were joined to it).
+_Card = tuple[str, int, str, bool]
+# A character that may start a new line for ngspice (anything but tab below space, DEL, a CR not before LF).
+_CONTROL = re.compile(r"[\x00-\x08\x0b\x0c\x0e-\x1f\x7f]|\r(?!\n)")
 
 
 def _refuse(card: _Card, why: str) -> ParameterError:
-    return ParameterError(f"{card.source}: line {card.number}", card.text.strip()[:200], why + _OPT_OUT)
-
-
-def _control_free(source: str, number: int, line: str) -> None:
-    bad = next((ch for ch in line.rstrip("\r") if (ord(ch) < 32 and ch != "\t") or ord(ch) == 127), None)
-    if bad is not None:
-        raise _refuse(_Card(source, number, line), f"a line without the control character {bad!r} (ngspice may "
-                      "split the line there)")
+    return ParameterError(f"{card[0]}: line {card[1]}", card[2].strip()[:200], why + _OPT_OUT)
 
 
 def _cards(text: str, source: str, *, title: bool) -> tuple[str, list[_Card]]:
@@ -105,28 +95,36 @@ def _cards(text: str, source: str, *, title: bool) -> tuple[str, list[_Card]]:
     The title is the first non-blank line (ngspice skips blank lines before it); with ``title=False`` (an
     included file) there is none.
     """
+    bad = _CONTROL.search(text)
+    if bad is not None:
+        number = text.count("\n", 0, bad.start()) + 1
+        raise _refuse((source, number, text.split("\n")[number - 1], False),
+                      f"a line without the control character {bad.group()!r} (ngspice may split the line there)")
+    lines = text.split("\n")
     head = ""
+    start = 0
+    if title:
+        start = next((k for k, line in enumerate(lines) if line.strip()), len(lines))
+        head = lines[start].rstrip("\r") if start < len(lines) else ""
+        if _TITLE_COMMAND.match(head):
+            raise _refuse((source, start + 1, head, False), "a title line (the first line is the netlist's title; "
+                          "a dot-command, *# or *ng_script there would make ngspice read it as a command)")
+        start += 1
     cards: list[_Card] = []
     last = -1  # the card a "+" line continues: the last element or dot-command card
-    for number, raw in enumerate(text.split("\n"), start=1):
-        _control_free(source, number, raw)
-        line = raw.rstrip("\r")
-        if title and not head:
-            if line.strip() and _TITLE_COMMAND.match(line):
-                raise _refuse(_Card(source, number, line), "a title line (the first line is the netlist's title; "
-                              "a dot-command, *# or *ng_script there would make ngspice read it as a command)")
-            head = line if line.strip() else ""
-            continue
-        if line.lstrip().startswith("+"):
+    for number in range(start + 1, len(lines) + 1):
+        line = lines[number - 1]
+        first = line.lstrip()[:1]
+        if first == "+":
             if last < 0:
-                raise _refuse(_Card(source, number, line), "a continuation (+) of an element or dot-command line")
+                raise _refuse((source, number, line, False), "a continuation (+) of an element or dot-command line")
             previous = cards[last]
-            cards[last] = _Card(source, previous.number, previous.text + " " + line.lstrip()[1:].lstrip(), True)
-            cards.append(_Card(source, number, ""))  # keeps the place of the joined line
+            cards[last] = (source, previous[1], previous[2].rstrip("\r") + " " + line.lstrip()[1:].lstrip(), True)
+            cards.append((source, number, "", False))  # keeps the place of the joined line
             continue
-        if line.strip() and not line.lstrip().startswith("*"):
+        if first and first != "*":
             last = len(cards)
-        cards.append(_Card(source, number, line))
+        cards.append((source, number, line, False))
     return head, cards
 
 
@@ -201,20 +199,20 @@ def allowed_netlist(text: str, source: str, folder: Path | None, read: Callable[
     out = [head] if _depth == 0 else []
     changed = _depth == 0 and not text.startswith(head)  # blank lines before the title are dropped
     for card in cards:
-        line = card.text.rstrip("\r")
+        line = card[2].rstrip("\r")
         stripped = line.strip()
-        changed |= card.text != line or card.joined
-        if not stripped or stripped.startswith("*"):
+        changed |= card[3] or len(line) != len(card[2])
+        if not stripped or stripped[0] == "*":
             if _SCRIPT.match(stripped):
                 raise _refuse(card, "a comment that does not start with *# or *ng_script (ngspice reads those "
                               "as commands)")
             out.append(line)
             continue
-        body = _INLINE_COMMENT.sub("", stripped).rstrip()
+        body = _INLINE_COMMENT.sub("", stripped).rstrip() if (";" in stripped or "$" in stripped) else stripped
         if not body:
             changed = True
             continue
-        word = body.split()[0].lower()
+        word = body.split(None, 1)[0].lower()
         if word in _INCLUDES:  # the one card whose file name may be quoted
             out.extend(_inline(card, body[len(word):], folder, read, _depth, _seen))
             changed = True
@@ -222,7 +220,7 @@ def allowed_netlist(text: str, source: str, folder: Path | None, read: Callable[
         if not _CHARACTERS.fullmatch(body):
             bad = next(ch for ch in body if not _CHARACTERS.fullmatch(ch))
             raise _refuse(card, f"a line without {bad!r}: {_ALLOWED}")
-        if body.startswith("."):
+        if word[0] == ".":
             if word not in DOT_COMMANDS:
                 raise _refuse(card, _ALLOWED)
             if word in (".options", ".option", ".opt"):
@@ -232,7 +230,7 @@ def allowed_netlist(text: str, source: str, folder: Path | None, read: Callable[
                 continue
         elif word[0].upper() not in ELEMENTS:
             raise _refuse(card, _ALLOWED)
-        changed |= body != line
+        changed |= len(body) != len(line)
         out.append(body)
     if _depth == 0 and not changed:
         return text
@@ -246,17 +244,17 @@ def _inline(card: _Card, argument: str, folder: Path | None, read: Callable[[Pat
         raise _refuse(card, "a netlist without includes (this netlist has no folder of its own)")
     if depth + 1 > MAX_INCLUDE_DEPTH:
         raise _refuse(card, f"includes at most {MAX_INCLUDE_DEPTH} deep")
-    base = Path(card.source).parent if depth > 0 else folder
+    base = Path(card[0]).parent if depth > 0 else folder
     path = (base / name).resolve()
     if not path.is_relative_to(folder):
         raise _refuse(card, f"an include of a file inside the netlist's folder {folder}")
     if path in seen:
         raise _refuse(card, "includes without a cycle (this file includes itself)")
-    included = read(path, f"{card.source}: line {card.number}")
+    included = read(path, f"{card[0]}: line {card[1]}")
     if section is not None:
         included = _section(included, section, str(path))
     body = allowed_netlist(included, str(path), folder, read, _depth=depth + 1, _seen=(*seen, path))
-    return [f"* lcchain: {card.text.strip()[:150]}", *body.split("\n")]
+    return [f"* lcchain: {card[2].strip()[:150]}", *body.split("\n")]
 
 
 # --------------------------------------------------------------------------- what a netlist costs
