@@ -53,11 +53,13 @@ def main() -> None:
     for N in (20, 100, 1000, 10000):
         text, _, _ = make_netlist(lcchain.Chain.from_rw(N, r=0.5873, w=0.0972), dt=0.05)
         repeat = 200 if N <= 1000 else 20
-        print(f"| {N} | {text.count(chr(10))} | {_median_ms(lambda t=text: allowed_netlist(t, 'own', None), repeat):.3f} |")
+        cost = _median_ms(lambda t=text: allowed_netlist(t, "own", None), repeat)
+        print(f"| {N} | {text.count(chr(10))} | {cost:.3f} |")
     print("\n## One run: lcchain's own netlist against the same netlist as a foreign one\n")
     print(f"Median of {REPEAT} interleaved runs, milliseconds of wall time around `spice.run` "
           "(ngspice's process, its start and lcchain's reading of the raw file).\n")
-    print("| N | points | `ngspice -n -b` alone (bash loop) | own netlist | foreign (allow-list + sandbox) | sandbox's share |")
+    print("| N | points | `ngspice -n -b` alone (bash loop) | own netlist | foreign (allow-list + sandbox) "
+          "| sandbox's share |")
     print("|---:|---:|---:|---:|---:|---:|")
     for N in (20, 100):
         text, _, _ = make_netlist(lcchain.Chain.from_rw(N, r=0.5873, w=0.0972), dt=0.05)
