@@ -121,6 +121,11 @@ CASES: dict[str, Case] = {
                                                        "parts.lib": ".lib fast\nR9 n1 0 1\n.endl\n"}),
     "a .control block in a .lib section": _batch(["parts.lib: line 3"], {
         "n.cir": _with(".lib parts.lib typ"), "parts.lib": f".lib typ\nR9 n1 0 1e9\n.control\n{TOUCH}\n.endc\n.endl\n"}),
+    "one include a thousand times": _batch(["in all"], {"n.cir": _with(*[".include big.inc"] * 1000),
+                                                        "big.inc": "* padding\n" * 10_000}),
+    "includes nested nine deep": _batch(["8 deep"], {"n.cir": _with(".include i1.inc"),
+                                                     **{f"i{k}.inc": f".include i{k + 1}.inc\n" for k in range(1, 10)},
+                                                     "i10.inc": "R9 n1 0 1\n"}),
     # ------------------------------------------------------------------ the netlist file itself
     "a netlist that is a FIFO": _batch(["NETLIST", "FIFO"], {}, _fifo("n.cir")),
     "a netlist that is a folder": _batch(["NETLIST", "folder"], {"n.cir/x": ""}),

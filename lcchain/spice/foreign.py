@@ -24,7 +24,8 @@ Allowed
   ``.save``, ``.ic``, ``.param``, ``.end``, and ``.include``/``.inc``/``.lib``
   of a regular file inside the top netlist's folder (symbolic links resolved),
   which is parsed by the same rules and inlined in place (``.lib FILE
-  SECTION`` inlines that section), at most :data:`MAX_INCLUDE_DEPTH` deep;
+  SECTION`` inlines that section), at most :data:`MAX_INCLUDE_DEPTH` deep and
+  :data:`lcchain.core.limits.MAX_NETLIST_BYTES` in all;
 * ``+`` continuation lines, joined to the card they continue before the check.
 
 The text ngspice receives is rebuilt from the accepted cards only (includes
@@ -44,8 +45,9 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
-from ..core.budget import BYTES_PER_VALUE, Estimate, run_estimate
+from ..core.budget import BYTES_PER_VALUE, Estimate, run_estimate, show_bytes
 from ..core.errors import ParameterError
+from ..core.limits import MAX_NETLIST_BYTES
 from .text import spice_number
 
 __all__ = ["ELEMENTS", "DOT_COMMANDS", "OPTIONS", "MAX_INCLUDE_DEPTH", "Transient", "allowed_netlist",
@@ -165,7 +167,7 @@ def _section(text: str, name: str, source: str) -> str:
 
 
 def allowed_netlist(text: str, source: str, folder: Path | None, read: Callable[[Path, str], str] | None = None,
-                    *, _depth: int = 0, _seen: tuple[Path, ...] = ()) -> str:
+                    *, _depth: int = 0, _seen: tuple[Path, ...] = (), _left: list[int] | None = None) -> str:
     """The netlist as ngspice will receive it, or a refusal of its first line lcchain does not run.
 
     Parameters
@@ -195,6 +197,7 @@ def allowed_netlist(text: str, source: str, folder: Path | None, read: Callable[
     """
     if _depth == 0 and folder is not None:
         folder = folder.resolve()
+    left = _left if _left is not None else [MAX_NETLIST_BYTES - len(text)]  # what all includes may add, in all
     head, cards = _cards(text, source, title=_depth == 0)
     out = [head] if _depth == 0 else []
     changed = _depth == 0 and not text.startswith(head)  # blank lines before the title are dropped
@@ -214,7 +217,7 @@ def allowed_netlist(text: str, source: str, folder: Path | None, read: Callable[
             continue
         word = body.split(None, 1)[0].lower()
         if word in _INCLUDES:  # the one card whose file name may be quoted
-            out.extend(_inline(card, body[len(word):], folder, read, _depth, _seen))
+            out.extend(_inline(card, body[len(word):], folder, read, _depth, _seen, left))
             changed = True
             continue
         if not _CHARACTERS.fullmatch(body):
@@ -238,7 +241,7 @@ def allowed_netlist(text: str, source: str, folder: Path | None, read: Callable[
 
 
 def _inline(card: _Card, argument: str, folder: Path | None, read: Callable[[Path, str], str] | None, depth: int,
-            seen: tuple[Path, ...]) -> list[str]:
+            seen: tuple[Path, ...], left: list[int]) -> list[str]:
     name, section = _included(card, argument)
     if folder is None or read is None:
         raise _refuse(card, "a netlist without includes (this netlist has no folder of its own)")
@@ -251,9 +254,12 @@ def _inline(card: _Card, argument: str, folder: Path | None, read: Callable[[Pat
     if path in seen:
         raise _refuse(card, "includes without a cycle (this file includes itself)")
     included = read(path, f"{card[0]}: line {card[1]}")
+    left[0] -= len(included)
+    if left[0] < 0:  # the same file included a thousand times is as large as a thousand files
+        raise _refuse(card, f"includes of at most {show_bytes(MAX_NETLIST_BYTES)} in all, the netlist included")
     if section is not None:
         included = _section(included, section, str(path))
-    body = allowed_netlist(included, str(path), folder, read, _depth=depth + 1, _seen=(*seen, path))
+    body = allowed_netlist(included, str(path), folder, read, _depth=depth + 1, _seen=(*seen, path), _left=left)
     return [f"* lcchain: {card[2].strip()[:150]}", *body.split("\n")]
 
 

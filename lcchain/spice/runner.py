@@ -71,6 +71,8 @@ from .text import canonical_vector_name, parse_options
 
 __all__ = ["RunResult", "run", "read_include", "TSTOP_RTOL", "LOG_MAX_CHARS", "PROGRESS_INTERVAL"]
 
+#: What a watched run (a foreign netlist) may print on stdout and stderr before it is stopped.
+MAX_LOG_BYTES = 16 * 2**20
 #: Relative tolerance on the last time point versus the requested ``tstop``.
 TSTOP_RTOL = 1e-9
 #: Seconds between two looks at a running batch run, when there is something to look at (a progress callback,
@@ -326,9 +328,10 @@ def _exited(proc: subprocess.Popen[bytes], pidfd: int | None, seconds: float) ->
     return proc.wait() if ready else None
 
 
-def _wait(proc: subprocess.Popen[bytes], timeout: float, tstop: float, err: IO[bytes], raw: IO[bytes],
-          progress: Callable[[float], None] | None, limit: float | None) -> int | None:
-    """Exit status of ngspice, or None after the timeout; reports progress and watches the raw file meanwhile."""
+def _wait(proc: subprocess.Popen[bytes], timeout: float, tstop: float, out: IO[bytes], err: IO[bytes],
+          raw: IO[bytes], progress: Callable[[float], None] | None, limit: float | None) -> int | None:
+    """Exit status of ngspice, or None after the timeout; reports progress meanwhile and, with a ``limit`` on
+    its raw file, stops a run whose raw file or output outgrows it (its output: :data:`MAX_LOG_BYTES`)."""
     deadline = time.monotonic() + timeout
     fraction = 0.0
     try:
@@ -348,6 +351,10 @@ def _wait(proc: subprocess.Popen[bytes], timeout: float, tstop: float, err: IO[b
                 kill_group(proc)
                 raise SimulationError(f"ngspice's raw file grew past {show_bytes(limit)}, the most the memory "
                                       "budget allows (--max-memory), and the run was stopped", "")
+            if limit is not None and os.fstat(out.fileno()).st_size + os.fstat(err.fileno()).st_size > MAX_LOG_BYTES:
+                kill_group(proc)
+                raise SimulationError(f"ngspice printed more than {show_bytes(MAX_LOG_BYTES)} and the run was "
+                                      "stopped", "")
             if progress is not None:  # at every poll, so that a caller can also stop the run from it
                 t = _simulated_time(err)
                 fraction = max(fraction, min(max(t / tstop, 0.0), 1.0)) if t is not None else fraction
@@ -370,7 +377,7 @@ def _run_batch(netlist: str, simulator: Simulator, timeout: float, tstop: float,
         proc = subprocess.Popen(command, cwd=place.cwd, env=place.env, stdin=source, stdout=out, stderr=err,
                                 pass_fds=(fd,), start_new_session=True)
         try:
-            status = _wait(proc, timeout, tstop, err, raw, progress, limit)
+            status = _wait(proc, timeout, tstop, out, err, raw, progress, limit)
         finally:
             if proc.poll() is None:  # timed out, or interrupted: the whole group goes
                 kill_group(proc)
