@@ -251,7 +251,8 @@ def test_a_netlist_is_priced_from_its_own_transient() -> None:
     assert default.max_step == pytest.approx(0.2)  # ngspice's own default: (tstop - tstart) / 50
     cheap, dear = (foreign_estimate(text, transient_of(t, "n"), 2) for t in
                    (text, text.replace(".tran 1e-3 10", ".tran 1e-6 10")))
-    assert dear.seconds == pytest.approx(1000 * cheap.seconds, rel=1e-2) and dear.memory > 900 * cheap.memory
+    assert 900 * cheap.seconds < dear.seconds <= 1000 * cheap.seconds  # time points x unknowns, plus set-up
+    assert dear.memory > 900 * cheap.memory
 
 
 @pytest.mark.ngspice
