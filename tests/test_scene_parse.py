@@ -7,6 +7,7 @@ dotted key and the value (the CLI prints it as one line and exits 2).
 
 import dataclasses
 import json
+import os
 import re
 from pathlib import Path
 
@@ -289,8 +290,33 @@ def test_missing_file(tmp_path):
     with pytest.raises(ParameterError) as info:
         load_scene(path)
     message = str(info.value)
-    assert message.startswith(f"{path}: scene = {str(path)!r} is not allowed: expected a readable TOML file (")
+    assert message.startswith(f"{path}: scene = {str(path)!r} is not allowed: expected a readable file (")
     assert "No such file" in message
+
+
+@pytest.mark.parametrize("kind, said", [("fifo", "a FIFO"), ("folder", "a folder"), ("link to a fifo", "a FIFO")])
+def test_only_a_regular_file_is_read(tmp_path, kind, said):
+    """A FIFO would block the read and a device never end: refused before a byte is read."""
+    os.mkfifo(tmp_path / "fifo")
+    (tmp_path / "folder.toml").mkdir()
+    os.symlink(tmp_path / "fifo", tmp_path / "link.toml")
+    path = {"fifo": tmp_path / "fifo", "folder": tmp_path / "folder.toml", "link to a fifo": tmp_path / "link.toml"}
+    with pytest.raises(ParameterError, match=f"expected a regular file \\(this is {said}\\)"):
+        load_scene(path[kind])
+
+
+def test_a_scene_nested_too_deeply_is_a_clear_error(tmp_path):
+    path = tmp_path / "deep.toml"
+    path.write_text(MINIMAL + "x = " + "[" * 100_000 + "\n")
+    with pytest.raises(ParameterError, match="nests too deeply") as info:
+        load_scene(path)
+    assert info.value.where == str(path)
+
+
+@pytest.mark.parametrize("path", [42, None, b"s.toml", 1.5])
+def test_load_scene_wants_a_file_name(path):
+    with pytest.raises(ParameterError, match="^path = "):
+        load_scene(path)
 
 
 def test_not_utf8(tmp_path):

@@ -41,3 +41,5 @@ ACCURACY_FLOOR = 1e-9
 MAX_NETLIST_BYTES = 64 * 2**20
 #: Largest --chain file read (a JSON chain of MAX_CIRCUIT_N masses takes about 5 MB).
 MAX_CHAIN_FILE_BYTES = 64 * 2**20
+#: Largest scene file read (a custom scene lists its masses and springs like a --chain file).
+MAX_SCENE_BYTES = 64 * 2**20

@@ -16,8 +16,9 @@ from typing import Any
 
 from ..core.checks import choice
 from ..core.errors import ParameterError
-from ..core.limits import MAX_CIRCUIT_N, MIN_N
+from ..core.limits import MAX_CIRCUIT_N, MAX_SCENE_BYTES, MIN_N
 from ..core.types import CASES
+from ..spice.inputs import read_input
 from .schema import (
     ANALYSIS_KEYS,
     CHAIN_KEYS,
@@ -51,19 +52,19 @@ def load_scene(path: str | os.PathLike) -> Scene:
     Raises
     ------
     ParameterError
-        The file cannot be read, is not valid TOML (the message has the line
+        ``path`` is not a file name; the file is not a regular file (a FIFO, a
+        device, a folder), is larger than :data:`~lcchain.core.limits.MAX_SCENE_BYTES`,
+        cannot be read, is not valid TOML (the message has the line
         number and text), or breaks a rule of the scene format.
     """
-    where = os.fspath(path)
+    given: object = path
+    where = os.fspath(given) if isinstance(given, (str, os.PathLike)) else None
+    if not isinstance(where, str):
+        raise ParameterError("path", type(path).__name__, "a file name (str or os.PathLike)")
     try:
-        with open(path, "rb") as handle:
-            raw = handle.read()
-    except OSError as error:
-        raise ParameterError("scene", where, f"a readable TOML file ({error.strerror or error})", where) from None
-    try:
-        text = raw.decode("utf-8")
-    except UnicodeDecodeError as error:
-        raise ParameterError("scene", where, f"UTF-8 text ({error.reason} at byte {error.start})", where) from None
+        text = read_input(where, "scene", MAX_SCENE_BYTES)
+    except ParameterError as error:
+        raise error.located(where) from None
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as error:
@@ -74,6 +75,9 @@ def load_scene(path: str | os.PathLike) -> Scene:
             shown = lines[line - 1] if 0 < line <= len(lines) else ""
             raise ParameterError(f"line {line}", shown, f"valid TOML ({error})", where) from None
         raise ParameterError("scene", where, f"valid TOML ({error})", where) from None
+    except RecursionError:
+        raise ParameterError("scene", where, "TOML nested a few levels deep (tables of values); this one nests "
+                             "too deeply to read", where) from None
     return parse_scene(data, source=where)
 
 
