@@ -10,6 +10,7 @@ the temporary folder, and leave no simulator running.
 from __future__ import annotations
 
 import json
+import os
 import subprocess
 import sys
 from collections.abc import Callable
@@ -133,8 +134,8 @@ CASES: dict[str, Case] = {
                                    ["--plot", "p.txt", ".png"]),
     "plot in /proc": Case(["simulate", "--case", "perfect", "--N", "4", "--plot", "/proc/x.png"],
                           ["--plot", "/proc/x.png", "writable"]),
-    "plot /dev/full": Case(["simulate", "--case", "perfect", "--N", "4", "--plot", "/dev/full"],
-                           ["--plot", "/dev/full", ".png"]),
+    "plot a FIFO without a figure name": Case(["simulate", "--case", "perfect", "--N", "4", "--plot", "p"],
+                                              ["--plot", "'p'", ".png"], make=lambda here: os.mkfifo(here / "p")),
     "plot in a missing folder": Case(["simulate", "--case", "perfect", "--N", "4", "--plot", "no/x.png"],
                                      ["--plot", "does not exist"]),
     "plot is a folder": Case(["simulate", "--case", "perfect", "--N", "4", "--plot", "d.png"],
@@ -152,8 +153,8 @@ CASES: dict[str, Case] = {
     # ------------------------------------------------------------------ scene files
     "scene report climbing out": Case(["run", "s.toml"], ["output.report", "../../etc/x.json", "stays in"],
                                       files={"s.toml": SCENE + '[output]\nreport = "../../etc/x.json"\n'}),
-    "scene report absolute": Case(["run", "s.toml"], ["output.report", "/dev/full"],
-                                  files={"s.toml": SCENE + '[output]\nreport = "/dev/full"\n'}),
+    "scene report absolute": Case(["run", "s.toml"], ["output.report", "/r.json", "no leading /"],
+                                  files={"s.toml": SCENE + '[output]\nreport = "{here}/r.json"\n'}),
     "scene report not json": Case(["run", "s.toml"], ["output.report", "r.txt", ".json"],
                                   files={"s.toml": SCENE + '[output]\nreport = "r.txt"\n'}),
     "two scenes one output": Case(["run", "da/exp.toml", "db/exp.toml"], ["exp-overlay.png", "writes it too"],
@@ -193,8 +194,10 @@ CASES: dict[str, Case] = {
     "accuracy not met": Case(["simulate", "--case", "uniform-bounded", "--N", "10", "--accuracy", "1e-9",
                               "--extrapolate", "1"],
                              ["--accuracy 1e-09 was not met", "reached"], status=1),
-    "waveform-out on a full disk": Case(["simulate", "--case", "perfect", "--N", "4", "--waveform-out", "/dev/full"],
-                                        ["could not write /dev/full", "--waveform-out", "No space left"], status=1),
+    # a FIFO nobody reads stands for a full disk: the file cannot be written when the run is over
+    "waveform-out a FIFO nobody reads": Case(["simulate", "--case", "perfect", "--N", "4", "--waveform-out", "w.csv"],
+                                             ["could not write w.csv", "--waveform-out", "No such device"], status=1,
+                                             make=lambda here: os.mkfifo(here / "w.csv")),
     "shared library path unreadable": Case(["simulate", "--case", "perfect", "--N", "4", "--backend", "shared"],
                                            ["NGSPICE_LIBRARY_PATH", "/nonexistent/libngspice.so"], status=3,
                                            env={"NGSPICE_LIBRARY_PATH": "/nonexistent/libngspice.so"}),

@@ -18,7 +18,7 @@ from typing import Any
 from ..core.budget import design_estimate
 from ..core.errors import ParameterError
 from ..core.limits import MAX_DESIGN_N, MIN_N
-from ..report.files import FIGURE_FORMATS
+from ..report.files import FIGURE_FORMATS, check_output_folder
 from .common import (
     EXIT_FAILED,
     EXIT_MISSING,
@@ -27,6 +27,7 @@ from .common import (
     budget_from_args,
     chain_from_args,
     check_perfect,
+    echoed_command,
     emit_json,
     fraction_bar,
     progress_bar,
@@ -164,10 +165,10 @@ def cmd_asymptotic(args: argparse.Namespace) -> int:
 def cmd_netlist(args: argparse.Namespace) -> int:
     from ..circuit.netlist import make_netlist
 
-    outputs = Outputs()
+    outputs = Outputs(inputs={"--chain": args.chain})
     outputs.check("--output", args.output)
     chain = chain_from_args(args)
-    command = "lcchain netlist " + " ".join(args.argv_echo)
+    command = echoed_command("lcchain netlist", args.argv_echo)
     dt = args.dt if args.dt is not None else DEFAULT_DT
     text, _, _ = make_netlist(chain, dt=dt, transits=args.transits, excitation=args.excitation,
                               L0=args.L0, C0=args.C0, title=args.title, comments=(f"made by: {command}",))
@@ -181,11 +182,11 @@ def cmd_netlist(args: argparse.Namespace) -> int:
 def cmd_reference_netlists(args: argparse.Namespace) -> int:
     from ..circuit.reference import REFERENCE_SET, reference_netlist
 
-    folder = Path(args.out)
-    folder.mkdir(parents=True, exist_ok=True)
+    folder = check_output_folder("--out", args.out, parents=True)
     outputs = Outputs()
     for reference in REFERENCE_SET:
-        outputs.check(reference.name, str(folder / reference.name))
+        outputs.check(reference.name, str(folder / reference.name), make_folder=True)
+    folder.mkdir(parents=True, exist_ok=True)  # only now: every check has passed
     for reference in REFERENCE_SET:
         outputs.text(reference.name, reference_netlist(reference))
         print(folder / reference.name)
@@ -219,7 +220,7 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     from ..report.files import write_text
     from ..runs.simulate import simulate
 
-    outputs = Outputs()
+    outputs = Outputs(inputs={"--chain": args.chain})
     outputs.check("--plot", args.plot, FIGURE_FORMATS)
     outputs.check("--netlist-out", args.netlist_out)
     outputs.check("--waveform-out", args.waveform_out)
@@ -330,9 +331,15 @@ def cmd_run(args: argparse.Namespace) -> int:
     scenes = [load_scene(path) for path in args.scene]  # every file checked before anything runs
     outputs = Outputs()
     outputs.check("--side-by-side", args.side_by_side, FIGURE_FORMATS)
+    for option in ("--netlist-out", "--waveform-out"):
+        if getattr(args, option[2:].replace("-", "_")) == "":
+            raise ParameterError(option, "", "a file name")
     check_scene_outputs(scenes, {"--netlist-out": args.netlist_out, "--waveform-out": args.waveform_out,
-                                 "--side-by-side": args.side_by_side})
+                                 "--side-by-side": args.side_by_side},
+                        inputs=[("SCENE", path) for path in args.scene])
     budget = budget_from_args(args)
+    if args.workers is not None and args.workers < 1:
+        raise ParameterError("--workers", args.workers, "an integer >= 1")
     parallel = args.workers is not None and args.workers > 1 or args.executor != "serial"
     results, failed_files = [], False
     for scene in scenes:
@@ -376,8 +383,7 @@ def cmd_bench_accuracy(args: argparse.Namespace) -> int:
     from ..report.bench import write_accuracy_bench
     from ..studies.bench import bench_accuracy
 
-    Path(args.out).mkdir(parents=True, exist_ok=True)
-    Outputs().check("--out", str(Path(args.out) / "summary.md"))
+    check_output_folder("--out", args.out, parents=True)  # the folder itself is made when the results are written
     result = bench_accuracy(args.N, quick=args.quick, progress=progress_bar)
     print(result["markdown"], end="")
     for path in write_accuracy_bench(args.out, result):

@@ -5,7 +5,6 @@ from __future__ import annotations
 import argparse
 import json
 import math
-import os
 import re
 import sys
 from collections.abc import Callable
@@ -15,13 +14,14 @@ from typing import Any
 
 from ..core.budget import DEFAULT_MAX_MEMORY, DEFAULT_MAX_SECONDS, Budget, perfect_estimate
 from ..core.errors import ParameterError
-from ..core.limits import MAX_CHAIN_FILE_BYTES, MAX_CIRCUIT_N, MAX_PERFECT_N, MIN_N
-from ..report.files import check_output, write_text
+from ..core.limits import MAX_CHAIN_FILE_BYTES, MAX_CIRCUIT_N, MAX_COMMENT_LENGTH, MAX_PERFECT_N, MIN_N
+from ..report.files import check_not_input, check_output, same_file, write_text
 from ..theory.chain import Chain
 
-__all__ = ["EXIT_OK", "EXIT_FAILED", "EXIT_USAGE", "EXIT_MISSING", "EXIT_SIGPIPE", "OPTION_NAMES", "int_list",
+__all__ = ["EXIT_OK", "EXIT_FAILED", "EXIT_USAGE", "EXIT_MISSING", "EXIT_SIGPIPE", "OPTION_NAMES", "NEGATIVE_NUMBER",
+           "single_valued", "count", "int_list",
            "number", "size", "duration", "budget_parent", "progress_bar", "fraction_bar", "emit_json", "Outputs",
-           "chain_from_args", "budget_from_args", "load_chain_file", "check_perfect"]
+           "chain_from_args", "budget_from_args", "load_chain_file", "check_perfect", "echoed_command"]
 
 EXIT_OK, EXIT_FAILED, EXIT_USAGE, EXIT_MISSING = 0, 1, 2, 3
 #: A reader closed the pipe (``lcchain table --json | head -2``): the exit status of a process killed by SIGPIPE.
@@ -33,6 +33,48 @@ OPTION_NAMES = {
     "title": "--title", "excitation": "--excitation", "method": "--method", "backend": "--backend",
     "case": "--case", "walls": "--walls", "max_memory": "--max-memory", "max_seconds": "--max-time",
 }
+
+
+#: What argparse should read as a value, never as an option: a number with a minus sign (``--L0 -1e-5``,
+#: ``--walls -1``, ``-inf``).  argparse's own pattern misses exponents, so ``-1e-5`` was "expected one argument".
+NEGATIVE_NUMBER = re.compile(r"^-(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?$|^-(?:inf|infinity|nan)$", re.IGNORECASE)
+
+
+class _StoreOnce(argparse._StoreAction):
+    """argparse's ``store``, except that an option given twice is an error instead of silently the last."""
+
+    def __call__(self, parser: argparse.ArgumentParser, namespace: argparse.Namespace, values: Any,
+                 option_string: str | None = None) -> None:
+        given: set[str] = namespace.__dict__.setdefault("_given_once", set())
+        if self.dest in given:
+            raise argparse.ArgumentError(self, f"given more than once: give {'/'.join(self.option_strings)} once "
+                                         "(one value, or a comma-separated list where the option takes several)")
+        given.add(self.dest)
+        super().__call__(parser, namespace, values, option_string)
+
+
+def single_valued(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
+    """Make every single-value option of ``parser`` refuse to be given twice, and read negative numbers as
+    values: one rule for every option of every command (called before any argument is added)."""
+    parser.register("action", None, _StoreOnce)
+    parser.register("action", "store", _StoreOnce)
+    parser._negative_number_matcher = NEGATIVE_NUMBER
+    return parser
+
+
+def count(option: str) -> Callable[[str], int]:
+    """An argparse type: an integer >= 1 (a count of workers, say: 0 and -3 alike are refused)."""
+
+    def parse(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            value = 0
+        if value < 1:
+            raise argparse.ArgumentTypeError(f"{option} = {text!r} is not allowed: expected an integer >= 1")
+        return value
+
+    return parse
 
 
 def int_list(option: str) -> Callable[[str], list[int]]:
@@ -91,7 +133,7 @@ def duration(text: str) -> float:
 
 def budget_parent() -> argparse.ArgumentParser:
     """The options every command that does real work takes: its budget."""
-    parent = argparse.ArgumentParser(add_help=False)
+    parent = single_valued(argparse.ArgumentParser(add_help=False))
     parent.add_argument("--max-memory", type=size, default=DEFAULT_MAX_MEMORY, metavar="SIZE",
                         help="most memory one request may use (default 8G)")
     parent.add_argument("--max-time", type=duration, default=DEFAULT_MAX_SECONDS, metavar="DURATION",
@@ -142,20 +184,26 @@ def emit_json(data: Any) -> None:
 class Outputs:
     """The files a command writes: checked before any work, written after the results are shown.
 
+    ``inputs`` names the files the command reads (option -> path): an output
+    that is one of them is refused, so that no command destroys its own input.
     A file that cannot be written at the end (a full disk) is named in one
     line and makes the command fail (exit 1), after everything else was
     written and printed.
     """
 
+    inputs: dict[str, str] = field(default_factory=dict)
     checked: dict[str, Path] = field(default_factory=dict)
     failed: list[str] = field(default_factory=list)
 
-    def check(self, option: str, path: str | None, formats: tuple[str, ...] | None = None) -> None:
-        if not path:
+    def check(self, option: str, path: str | None, formats: tuple[str, ...] | None = None, *,
+              make_folder: bool = False) -> None:
+        """Refuse ``path`` now if it could not be written later (``make_folder``: the caller makes its folder)."""
+        if path is None:
             return
-        target = check_output(option, path, formats)
+        target = check_output(option, path, formats, make_folder=make_folder)
+        check_not_input(option, path, [(named, source) for named, source in self.inputs.items() if source])
         for other, seen in self.checked.items():
-            if seen.resolve() == target.resolve():
+            if same_file(seen, target):
                 raise ParameterError(option, path, f"a file no other option writes ({other} writes it too)")
         self.checked[option] = target
 
@@ -174,26 +222,32 @@ class Outputs:
         self.write(option, lambda path: write_text(path, text))
 
 
+def echoed_command(command: str, argv: list[str]) -> str:
+    """The command line as a netlist's comment shows it: one printable line, cut short to fit.
+
+    A file name may hold any character and be long; the comment only
+    reminds the reader how the file was made, so it is shortened (and what
+    is not printable, a control character or undecodable byte, shown as ``?``), never a reason to refuse the command.
+    """
+    text = " ".join([command, *argv])
+    text = "".join(ch if ch.isprintable() else "?" for ch in text)
+    room = MAX_COMMENT_LENGTH - len("made by: ")
+    return text if len(text) <= room else text[:room - 5] + " ..."
+
+
 def load_chain_file(path: str, max_N: int = MAX_CIRCUIT_N) -> Chain:
-    """A chain from a JSON file ``{"masses": [...], "springs": [...]}``, size-checked before it is read."""
-    try:
-        bytes_ = os.stat(path).st_size
-    except OSError as error:
-        raise ParameterError("--chain", path, f"a readable JSON file ({error.strerror})") from None
-    if bytes_ > MAX_CHAIN_FILE_BYTES:
-        raise ParameterError("--chain", path, f"a chain file of at most {MAX_CHAIN_FILE_BYTES // 2**20} MiB "
-                             f"(this one has {bytes_ / 2**20:.0f} MiB; a chain of {MAX_CIRCUIT_N} masses takes "
-                             "about 5 MiB)")
-    try:
-        text = Path(path).read_text(encoding="utf-8")
-    except OSError as error:
-        raise ParameterError("--chain", path, f"a readable JSON file ({error.strerror})") from None
-    except UnicodeDecodeError as error:
-        raise ParameterError("--chain", path, f"UTF-8 text ({error.reason} at byte {error.start})") from None
+    """A chain from a JSON file ``{"masses": [...], "springs": [...]}``: a regular file, size-checked before it is
+    read (a FIFO or a device is refused, never read)."""
+    from ..spice.inputs import read_input
+
+    text = read_input(path, "--chain", MAX_CHAIN_FILE_BYTES)
     try:
         data = json.loads(text)
     except json.JSONDecodeError as error:
         raise ParameterError("--chain", path, f"valid JSON (line {error.lineno}: {error.msg})") from None
+    except RecursionError:
+        raise ParameterError("--chain", path, "JSON nested a few levels deep (lists inside an object); this "
+                             "one nests too deeply to read") from None
     chain = Chain.from_dict(data, where=path)
     if chain.N > max_N:
         raise ParameterError("--chain", path, f"a chain of at most {max_N} masses (it has {chain.N})")

@@ -16,11 +16,12 @@ from dataclasses import replace
 from pathlib import Path
 
 from ..core.budget import Budget
+from ..core.checks import instance
 from ..core.errors import ParameterError
 from ..scenes.run import SceneResult, simulate_scene, transmitted_peaks
 from ..scenes.schema import Scene
 from ..spice.simulator import Simulator
-from .files import check_output, write_text
+from .files import check_inside, check_not_input, check_output, write_text
 
 __all__ = ["run_scene", "write_scene_outputs", "scene_outputs", "check_scene_outputs"]
 
@@ -46,8 +47,13 @@ def scene_outputs(scene: Scene) -> list[tuple[str, Path]]:
     return files
 
 
-def check_scene_outputs(scenes: list[Scene], others: dict[str, str | None] | None = None) -> None:
-    """Refuse, before anything runs, a scene output that cannot be written or that two outputs share.
+def check_scene_outputs(scenes: list[Scene], others: dict[str, str | None] | None = None,
+                        inputs: list[tuple[str, str]] | None = None) -> None:
+    """Refuse, before anything runs, a scene output that cannot be written, that two outputs share, that would
+    overwrite an input (a scene file), or that leaves the current folder through a symlink.
+
+    Nothing is created here: the report's folder is made when the results are
+    written (:func:`write_scene_outputs`), so a refused scene leaves nothing.
 
     Parameters
     ----------
@@ -55,18 +61,22 @@ def check_scene_outputs(scenes: list[Scene], others: dict[str, str | None] | Non
         The scenes of one ``lcchain run``.
     others : dict, optional
         The command's own output files (option -> path).
+    inputs : list of (str, str), optional
+        Files the command reads (what named it, its path); every scene's own
+        file is one.
     """
+    inputs = [*(inputs or []), *(("SCENE", scene.source) for scene in scenes if scene.source)]
     seen: dict[Path, str] = {}
     claims: list[tuple[str, Path, str | None]] = [(option, Path(path), None)
                                                   for option, path in (others or {}).items() if path]
     for scene in scenes:
-        folder = _stem(scene)[0]
-        if scene.output.plots or scene.output.report:
-            folder.mkdir(parents=True, exist_ok=True)  # the report's folder, inside the current one
         claims += [(key, path, scene.source) for key, path in scene_outputs(scene)]
     for key, path, source in claims:
         try:
-            check_output(key, path)
+            check_output(key, path, make_folder=True)
+            if source is not None:  # the README: a scene's [output] stays in the current folder
+                check_inside(key, path, Path.cwd())
+            check_not_input(key, path, inputs)
         except ParameterError as error:
             raise error.located(source) from None
         resolved = path.resolve()
@@ -95,6 +105,8 @@ def write_scene_outputs(result: SceneResult, *, netlist_out: str | None = None,
         written.append(str(write_text(waveform_out, waveforms.to_csv())))
     if not write_outputs:
         return written
+    if scene_outputs(scene):
+        _stem(scene)[0].mkdir(parents=True, exist_ok=True)  # only now that the scene has run
     ylabel = r"$Q_N\,/\,Q_1(0)$" if scene.excitation.kind == "displacement" else r"$I_N\,/\,I_0$"
     for key, path in scene_outputs(scene):
         if key == "output.report" or not good:
@@ -139,7 +151,13 @@ def run_scene(scene: Scene, *, netlist_out: str | None = None, waveform_out: str
     budget : Budget, optional
         The most memory and time the scene may take.
     """
+    instance("scene", scene, Scene)
+    if not isinstance(write_outputs, bool):
+        raise ParameterError("write_outputs", write_outputs, "True or False")
     others = {"netlist_out": netlist_out, "waveform_out": waveform_out}
+    for option, path in others.items():
+        if path is not None:
+            check_output(option, path)  # a file name, not a number or bytes
     check_scene_outputs([scene] if write_outputs else [], others)
     result = simulate_scene(scene, progress=progress, simulator=simulator, budget=budget)
     files = write_scene_outputs(result, netlist_out=netlist_out, waveform_out=waveform_out,
