@@ -24,7 +24,17 @@ from ..core.blas import BLAS_THREADS
 from ..core.errors import Interrupted, LcchainError, ParameterError, SimulationError, SimulatorMissingError
 from ..core.types import BACKENDS, DESIGN_CASES, EXCITATIONS, METHODS, NAMED_CASES
 from . import commands, studies, validation
-from .common import EXIT_FAILED, EXIT_MISSING, EXIT_SIGPIPE, EXIT_USAGE, OPTION_NAMES, budget_parent, int_list, number
+from .common import (
+    EXIT_FAILED,
+    EXIT_MISSING,
+    EXIT_SIGPIPE,
+    EXIT_USAGE,
+    OPTION_NAMES,
+    budget_parent,
+    int_list,
+    number,
+    single_valued,
+)
 
 __all__ = ["main", "build_parser"]
 
@@ -36,7 +46,12 @@ class _UsageError(Exception):
 
 
 class _Parser(argparse.ArgumentParser):
-    """argparse that reports bad usage as one line (exit 2), never a traceback."""
+    """argparse that reports bad usage as one line (exit 2), never a traceback; a single-value option given twice
+    is bad usage, and ``-1e-5`` is a value, not an option (:func:`~lcchain.cli.common.single_valued`)."""
+
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        super().__init__(*args, **kwargs)
+        single_valued(self)
 
     def error(self, message: str) -> NoReturn:
         raise _UsageError(f"{self.prog}: {message} (see '{self.prog} --help')")
