@@ -35,7 +35,7 @@ import math
 import re
 from dataclasses import dataclass
 
-from ..core.checks import choice, instance, integer, real, text_line
+from ..core.checks import choice, instance, integer, real, strings, text_line
 from ..core.checks import pulse as check_pulse
 from ..core.errors import ParameterError
 from ..core.limits import MAX_COMMENT_LENGTH, MAX_DT, MAX_TITLE_LENGTH
@@ -154,14 +154,14 @@ class SimulationOptions:
         choice("method", self.method, METHODS)
         choice("stepping", self.stepping, STEPPINGS)
         object.__setattr__(self, "maxord", integer("maxord", self.maxord, at_least=1, at_most=6))
-        extra = tuple(self.extra)
+        extra = _sequence("extra", self.extra, "a tuple of (name, value or None) pairs")
         for item in extra:
             if not (isinstance(item, tuple) and len(item) == 2 and isinstance(item[0], str)
                     and _OPTION_NAME.match(item[0]) and (item[1] is None or (isinstance(item[1], str)
                                                                             and _OPTION_VALUE.match(item[1])))):
                 raise ParameterError("extra", item, "(name, value or None) with a plain option name and value")
         object.__setattr__(self, "extra", extra)
-        defaults = tuple(self.ngspice_defaults)
+        defaults = strings("ngspice_defaults", self.ngspice_defaults)
         for name in defaults:
             choice("ngspice_defaults", name, SCALED_TOLERANCES)
         object.__setattr__(self, "ngspice_defaults", defaults)
@@ -169,6 +169,13 @@ class SimulationOptions:
             raise ParameterError("aligned", self.aligned, "True or False")
         if self.aligned and self.stepping != "fixed":
             raise ParameterError("aligned", self.aligned, "aligned steps with stepping='fixed' only")
+
+
+def _sequence(name: str, values: object, allowed: str) -> tuple:
+    """A list or tuple as a tuple (a string, a set or a number is refused, naming the field)."""
+    if isinstance(values, (list, tuple)):
+        return tuple(values)
+    raise ParameterError(name, values, allowed)
 
 
 def probe_names(N: int, probes: Probes = "ends") -> list[str]:
@@ -234,9 +241,9 @@ def netlist_text(
         Q = real("Q", Q, above=0.0, allowed="a finite quality factor > 0")
     I0 = real("I0", I0, above=0.0, unit="ampere")
     title = check_user_text("title", title)
-    for line in comments:
+    for line in strings("comments", comments):
         check_user_text("comment", line, max_length=MAX_COMMENT_LENGTH, title=False)
-    for name in extra_vectors:
+    for name in strings("extra_vectors", extra_vectors):
         if not isinstance(name, str) or not _VECTOR.match(name):
             raise ParameterError("extra_vectors", name, "vector names such as 'v(n3)' without spaces")
     chain = ladder.chain

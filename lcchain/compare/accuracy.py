@@ -56,7 +56,7 @@ import numpy as np
 
 from ..core.blas import fixed_blas_threads
 from ..core.budget import BudgetError
-from ..core.checks import choice, real
+from ..core.checks import choice, instance, real, strings
 from ..core.errors import ParameterError
 from ..core.limits import ACCURACY_FLOOR, MAX_ACCURACY_DT
 from ..core.types import METHODS
@@ -112,13 +112,21 @@ def _check_method(method: str) -> str:
 
 
 def _end_weights(modes: Modes, ends: Sequence[str]) -> list[np.ndarray]:
-    if isinstance(ends, str) or not ends or any(e not in _ENDS for e in ends):
-        raise ParameterError("ends", ends, 'a non-empty subset of ("first", "last")')
+    allowed = 'a non-empty subset of ("first", "last")'
+    ends = strings("ends", ends, allowed)
+    if not ends or any(e not in _ENDS for e in ends):
+        raise ParameterError("ends", ends, allowed)
     return [modes.density if end == "first" else modes.transfer for end in ends]
 
 
-def _check_weights(weights: Sequence[np.ndarray], N: int) -> list[np.ndarray]:
-    rows = [np.asarray(w, dtype=float) for w in weights]
+def _check_weights(weights: object, N: int) -> list[np.ndarray]:
+    allowed = f"one or more finite arrays of N = {N} modal weights"
+    if isinstance(weights, (str, bytes)) or not isinstance(weights, (Sequence, np.ndarray)):
+        raise ParameterError("weights", type(weights).__name__, allowed)
+    try:
+        rows = [np.asarray(w, dtype=float) for w in weights]
+    except (TypeError, ValueError):
+        raise ParameterError("weights", type(weights).__name__, allowed) from None
     if not rows or any(w.shape != (N,) or not np.all(np.isfinite(w)) for w in rows):
         raise ParameterError("weights", f"{len(rows)} arrays", f"one or more finite arrays of N = {N} modal weights")
     return rows
@@ -187,6 +195,7 @@ def predicted_error(modes: Modes, dt: float, tstop: float, *, ends: Sequence[str
         max over the signals and the time points k dt <= tstop of
         |warped theory - exact theory| (dimensionless, relative to the kick).
     """
+    instance("modes", modes, Modes)
     dt = _check_dt(dt)
     tstop = _check_dt(tstop, "tstop")
     _check_method(method)
@@ -240,6 +249,10 @@ def dt_for_accuracy(modes: Modes, accuracy: float, tstop: float, *, method: str 
     BudgetError
         The accuracy needs more than ``max_points`` time points.
     """
+    instance("modes", modes, Modes)
+    tstop = _check_dt(tstop, "tstop")
+    if max_points is not None:
+        max_points = real("max_points", max_points, at_least=1.0)
     accuracy = real("accuracy", accuracy, above=0.0, below=1.0,
                     allowed="a number with 0 < accuracy < 1 (max |simulation - theory|)")
     if accuracy < ACCURACY_FLOOR:

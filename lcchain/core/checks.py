@@ -32,6 +32,8 @@ __all__ = [
     "text_line",
     "numbers_list",
     "instance",
+    "callback",
+    "strings",
     "time_array",
     "pulse",
 ]
@@ -184,11 +186,29 @@ def numbers_list(name: str, values: object, allowed: str) -> tuple[Any, ...]:
     return tuple(values)
 
 
-def instance(name: str, value: object, cls: type, optional: bool = False) -> Any:
-    """``value`` itself if it is an instance of ``cls`` (or None when optional)."""
+def instance(name: str, value: object, cls: type | tuple[type, ...], optional: bool = False) -> Any:
+    """``value`` itself if it is an instance of ``cls`` (one class or a tuple of them; or None when optional)."""
     if (value is None and optional) or isinstance(value, cls):
         return value
-    raise ParameterError(name, type(value).__name__, f"a {cls.__name__}" + (" or None" if optional else ""))
+    names = " or ".join(c.__name__ for c in (cls if isinstance(cls, tuple) else (cls,)))
+    raise ParameterError(name, type(value).__name__, f"a {names}" + (" or None" if optional else ""))
+
+
+def callback(name: str, value: object) -> Any:
+    """A function to call (a progress report, say), or None."""
+    if value is None or callable(value):
+        return value
+    raise ParameterError(name, type(value).__name__, "a function or None")
+
+
+def strings(name: str, values: object, allowed: str = "a list or tuple of strings") -> tuple[str, ...]:
+    """A list or tuple of strings (not one string, which would be read letter by letter), as a tuple."""
+    if isinstance(values, (str, bytes, Mapping)) or not isinstance(values, Sequence):
+        raise ParameterError(name, values, allowed)
+    for i, value in enumerate(values):
+        if not isinstance(value, str):
+            raise ParameterError(f"{name}[{i}]", value, "a string")
+    return tuple(values)
 
 
 def time_array(name: str, t: Any) -> np.ndarray:

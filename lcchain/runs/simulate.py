@@ -33,7 +33,7 @@ from ..compare.metrics import Comparison
 from ..compare.waveforms import Waveforms
 from ..core.blas import fixed_blas_threads
 from ..core.budget import Budget, max_points, run_estimate
-from ..core.checks import choice, real
+from ..core.checks import callback, choice, instance, real
 from ..core.errors import ParameterError, SimulationError
 from ..core.frozen import FrozenMap
 from ..core.limits import MAX_DT
@@ -344,6 +344,12 @@ def simulation_runs(chain: Chain, *, dt: float | None = None, accuracy: float | 
     ParameterError, BudgetError
         As :func:`simulate`, before anything runs.
     """
+    instance("chain", chain, Chain)
+    instance("modes", modes, Modes, optional=True)
+    instance("budget", budget, Budget, optional=True)
+    if dt is not None:
+        real("dt", dt, above=0.0, at_most=MAX_DT,
+             allowed=f"0 < dt <= {MAX_DT:g} (in units of sqrt(L0*C0); the bulk period is 2 pi)")
     if extrapolate is not None and (isinstance(extrapolate, bool) or extrapolate not in (1, 2, 3)):
         raise ParameterError("extrapolate", extrapolate, "1, 2 or 3 runs (1: no extrapolation)")
     if (dt is None) == (accuracy is None):
@@ -449,6 +455,9 @@ def simulate(
         Gear over more than one transit; a dt whose predicted error exceeds 0.1.
     """
     clock = time.perf_counter()
+    instance("simulator", simulator, Simulator, optional=True)
+    callback("progress", progress)
+    callback("on_spec", on_spec)
     planned = simulation_runs(chain, dt=dt, accuracy=accuracy, extrapolate=extrapolate, transits=transits,
                               excitation=excitation, L0=L0, C0=C0, I0=I0, backend=backend, method=method,
                               title=title, timeout=timeout, modes=modes, budget=budget)

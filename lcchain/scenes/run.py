@@ -24,6 +24,7 @@ from ..compare.extrapolate import WEIGHTS
 from ..compare.waveforms import Waveforms
 from ..core.blas import fixed_blas_threads
 from ..core.budget import Budget
+from ..core.checks import callback, instance
 from ..core.errors import ParameterError
 from ..runs.execute import RunRecord, execute, pulse_centre
 from ..runs.extrapolated import combined_record
@@ -216,6 +217,10 @@ def simulate_scene(scene: Scene, *, progress: Callable[[float], None] | None = N
         The most memory and time the scene may take (checked before anything runs).
     """
     clock = time.perf_counter()
+    instance("scene", scene, Scene)
+    instance("simulator", simulator, Simulator, optional=True)
+    instance("budget", budget, Budget, optional=True)
+    callback("progress", progress)
     plan = scene_plan(scene, budget)
     specs = scene_specs(scene, plan)
     simulator = simulator if simulator is not None else find_simulator(scene.analysis.backend)

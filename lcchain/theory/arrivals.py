@@ -37,7 +37,7 @@ from ..core.checks import integer
 from ..core.limits import MAX_TRANSITS
 from .chain import Chain
 from .modes import Modes, cosine_sum
-from .spectrum import normal_modes
+from .spectrum import modes_of
 
 __all__ = ["Arrival", "arrival_window", "arrivals", "first_arrival", "refine_peak", "refine_maximum",
            "maximum_in_window", "stop_time"]
@@ -204,7 +204,7 @@ def arrivals(chain_or_modes: Chain | Modes, count: int = 1) -> list[Arrival]:
         Number of arrivals (end-to-end transits), >= 1.
     """
     count = integer("count", count, at_least=1)
-    modes = chain_or_modes if isinstance(chain_or_modes, Modes) else normal_modes(chain_or_modes)
+    modes = modes_of(chain_or_modes)
     T = modes.transit_time()
     found = []
     for index in range(1, int(count) + 1):

@@ -14,7 +14,7 @@ allowed range.
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from fractions import Fraction
 
@@ -23,7 +23,7 @@ import numpy as np
 from ..core.checks import integer, is_number, real
 from ..core.errors import ParameterError
 from ..core.frozen import readonly
-from ..core.limits import MIN_N
+from ..core.limits import MAX_DESIGN_N, MIN_N
 
 __all__ = ["Chain", "MIN_N", "PERFECT_N", "PERFECT_ARRIVAL"]
 
@@ -55,7 +55,8 @@ PERFECT_ARRIVAL = {
 
 
 def _check_N(N: object, field_name: str = "N") -> int:
-    return integer(field_name, N, at_least=MIN_N)
+    # the documented maximum first: a chain of 10^12 masses would be a 7 TiB array before any other check
+    return integer(field_name, N, at_least=MIN_N, at_most=MAX_DESIGN_N)
 
 
 def _check_real(name: str, value: object) -> float:
@@ -68,8 +69,9 @@ def _numeric_array(name: str, values: object, allowed: str) -> np.ndarray:
         if values.dtype.kind not in "iuf":
             raise ParameterError(name, f"an array of dtype {values.dtype}", allowed)
         return np.array(values, dtype=float)
-    if isinstance(values, (str, bytes, dict)) or not isinstance(values, Iterable):
-        raise ParameterError(name, values, allowed)
+    if isinstance(values, (str, bytes, Mapping)) or not isinstance(values, Sequence):
+        # a set or a generator has no order a chain could rely on (a set comes out in hash order)
+        raise ParameterError(name, values, f"{allowed} (a list, tuple or numpy array: an ordered sequence)")
     items = list(values)
     if any(isinstance(value, (list, tuple, np.ndarray)) for value in items):
         raise ParameterError(name, values, "a flat list of numbers")

@@ -35,7 +35,9 @@ import math
 import numpy as np
 
 from ..core.blas import fixed_blas_threads
+from ..core.checks import integer, real
 from ..core.errors import ParameterError
+from ..core.limits import MAX_DESIGN_N
 from .chain import Chain
 from .modes import Modes
 
@@ -144,8 +146,9 @@ def closed_form_modes(N: int, r: float, w: float) -> Modes:
         If the chain has a mode outside the band, or Eq. e.kn1 is not
         monotone in k (then it has no unique solution for every n).
     """
-    if N < CLOSED_FORM_MIN_N_MODEL:
-        raise ParameterError("N", N, f"N >= {CLOSED_FORM_MIN_N_MODEL} for the closed form (Eq. e.AN)")
+    N = integer("N", N, at_least=CLOSED_FORM_MIN_N_MODEL, at_most=MAX_DESIGN_N,
+                allowed=f"an integer from {CLOSED_FORM_MIN_N_MODEL} to {MAX_DESIGN_N} for the closed form (Eq. e.AN)")
+    r, w = real("r", r, allowed="a finite real number"), real("w", w, allowed="a finite real number")
     if _roots_outside(r, w):
         raise ParameterError("(r, w)", (r, w), "parameters without a localised mode outside the band (closed form)")
 

@@ -79,7 +79,7 @@ import numpy as np
 from scipy.linalg import LinAlgWarning, eigh_tridiagonal, eigvalsh_tridiagonal, lu_factor, lu_solve
 
 from ..core.blas import fixed_blas_threads
-from ..core.checks import integer, numbers_list
+from ..core.checks import instance, integer, numbers_list
 from ..core.errors import DesignError, ParameterError
 from ..core.limits import MAX_PERFECT_N, MIN_N
 from .chain import PERFECT_N, Chain
@@ -381,6 +381,7 @@ def spectrum_of(chain: Chain) -> np.ndarray:
     masses and springs directly; a free end adds a decoupled zero; the N
     largest eigenvalues are the chain's frequencies (a free chain's first is 0).
     """
+    instance("chain", chain, Chain)
     m, K = chain.masses, chain.springs
     a = np.empty(2 * chain.N)
     a[0::2], a[1::2] = np.sqrt(K[:-1] / m), np.sqrt(K[1:] / m)

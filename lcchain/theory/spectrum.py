@@ -13,6 +13,7 @@ from typing import Any
 import numpy as np
 
 from ..core.blas import fixed_blas_threads
+from ..core.checks import choice, instance
 from ..core.errors import ParameterError
 from ..core.types import MODE_METHODS, ModeMethod
 from .chain import Chain
@@ -20,7 +21,7 @@ from .closed_form import closed_form_applies, closed_form_modes
 from .exact import exact_modes
 from .modes import Modes, cosine_sum
 
-__all__ = ["normal_modes", "transmission_amplitude", "return_amplitude", "CLOSED_FORM_MIN_N"]
+__all__ = ["normal_modes", "modes_of", "transmission_amplitude", "return_amplitude", "CLOSED_FORM_MIN_N"]
 
 #: Below this N the "auto" method diagonalises exactly (it is cheap and needs no model).
 CLOSED_FORM_MIN_N = 400
@@ -39,8 +40,8 @@ def normal_modes(chain: Chain, method: ModeMethod = "auto") -> Modes:
         with N >= 5; ``"auto"`` uses it for N >= :data:`CLOSED_FORM_MIN_N`
         when it applies, and exact diagonalisation otherwise.
     """
-    if method not in MODE_METHODS:
-        raise ParameterError("method", method, " | ".join(MODE_METHODS))
+    instance("chain", chain, Chain)
+    choice("method", method, MODE_METHODS)
     if method == "exact":
         return exact_modes(chain)
     if method == "closed-form":
@@ -53,6 +54,12 @@ def normal_modes(chain: Chain, method: ModeMethod = "auto") -> Modes:
         r, w = chain.rw()
         return closed_form_modes(chain.N, r, w)
     return exact_modes(chain)
+
+def modes_of(chain_or_modes: Chain | Modes, method: ModeMethod = "auto") -> Modes:
+    """The modes given, or those of the chain given (ParameterError for anything else)."""
+    instance("chain_or_modes", chain_or_modes, (Chain, Modes))
+    return chain_or_modes if isinstance(chain_or_modes, Modes) else normal_modes(chain_or_modes, method)
+
 
 # ------------------------------------------------------------------ responses
 def _finite_times(t: Any) -> Any:
@@ -84,7 +91,7 @@ def transmission_amplitude(chain_or_modes: Chain | Modes, t, method: ModeMethod 
     method : {"auto", "exact", "closed-form"}
         How to compute the modes when a Chain is given.
     """
-    modes = chain_or_modes if isinstance(chain_or_modes, Modes) else normal_modes(chain_or_modes, method)
+    modes = modes_of(chain_or_modes, method)
     return cosine_sum(modes.transfer, modes.omega, _finite_times(t))
 
 
@@ -94,5 +101,5 @@ def return_amplitude(chain_or_modes: Chain | Modes, t, method: ModeMethod = "aut
 
     This is what comes back to loop 1 after each round trip.
     """
-    modes = chain_or_modes if isinstance(chain_or_modes, Modes) else normal_modes(chain_or_modes, method)
+    modes = modes_of(chain_or_modes, method)
     return cosine_sum(modes.density, modes.omega, _finite_times(t))
