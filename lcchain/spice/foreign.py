@@ -11,8 +11,8 @@ the line number and the line.
 
 Allowed
 -------
-* the title: the first non-blank line, any text but a dot-command or
-  ``*ng_script``;
+* the title: the first non-blank line, any text but a dot-command (``.title
+  TEXT``, as PySpice writes it, excepted), ``*#`` or ``*ng_script``;
 * blank lines and ``*`` comments (not ``*#``, which ngspice may read as a
   command, nor ``*ng_script``); an inline comment after ``;`` or `` $`` is
   dropped;
@@ -79,7 +79,8 @@ MAX_INCLUDE_DEPTH = 8
 _CHARACTERS = re.compile(r"[A-Za-z0-9_.+\-*/^(){}\[\],=<>!&|?:%#@ \t]*")
 _INLINE_COMMENT = re.compile(r"(;|\s\$).*$")
 _SCRIPT = re.compile(r"^\s*\*\s*(#|ng_script)", re.IGNORECASE)
-_TITLE_COMMAND = re.compile(r"^\s*(\.[A-Za-z]|\*\s*(#|ng_script))", re.IGNORECASE)
+# A title ngspice would read as a command; ".title TEXT" (PySpice writes it) only sets the title.
+_TITLE_COMMAND = re.compile(r"^\s*(\.(?!title\s)[A-Za-z]|\*\s*(#|ng_script))", re.IGNORECASE)
 _ALLOWED = ("a netlist of comments, element lines (" + ", ".join(sorted(ELEMENTS)) + ") and the dot-commands "
             + ", ".join(sorted(DOT_COMMANDS | _INCLUDES)))
 _OPT_OUT = " (lcchain batch --allow-control runs a netlist as it is, in a sandbox)"
