@@ -136,6 +136,11 @@ CASES: dict[str, Case] = {
                                               {"n.cir": _with(".tran 1e-15 1").replace(".tran 0.001", "* was")}),
     "beyond a small --max-time": Case(["batch", "n.cir", "--store", "s.sqlite", "--max-time", "0.001"],
                                       ["n.cir", "--max-time"], files={"n.cir": GOOD}, family="netlists"),
+    "a second, dearer .tran": _batch(["n.cir: line 12", "one analysis"], {"n.cir": _with(".tran 1e-15 1")}),
+    "an .ac beside the .tran": _batch(["n.cir: line 12", "one analysis"], {"n.cir": _with(".ac dec 10 1 1e6")}),
+    "an infinite stop time": _batch(["n.cir: line 10", "finite"], {
+        "n.cir": GOOD.replace(".tran 0.001 7.7", ".tran 0.001 1e999")}),
+    "a negative step": _batch(["n.cir: line 10", "0 < TSTEP"], {"n.cir": GOOD.replace(".tran 0.001", ".tran -0.001")}),
     ".tran with a parameter": _batch(["n.cir: line", ".tran"], {
         "n.cir": GOOD.replace(".tran 0.001", ".param h=0.001\n.tran {h}")}),
 }

@@ -40,6 +40,7 @@ files within their size limit).
 
 from __future__ import annotations
 
+import math
 import re
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -287,25 +288,33 @@ class Transient:
 
 
 def transient_of(text: str, source: str) -> Transient:
-    """The netlist's ``.tran`` analysis, or a refusal naming the card."""
+    """The netlist's one ``.tran`` analysis, or a refusal naming the card.
+
+    ngspice runs every analysis card it finds, so a second one (a cheap ``.tran`` priced, a dear one run)
+    is refused, and so is an ``.ac`` beside it: lcchain reads one transient.
+    """
+    found: list[tuple[int, str]] = []
     for number, line in enumerate(text.split("\n"), start=1):
-        words = [w for w in re.split(r"[\s,()]+", line.strip()) if w]
-        if not words or words[0].lower() != ".tran":
-            continue
-        values = [spice_number(w) for w in words[1:] if w.lower() != "uic"]
-        if len(values) < 2 or any(v is None for v in values) or len(values) > 4:
-            raise ParameterError(f"{source}: line {number}", line.strip()[:200],
-                                 ".tran TSTEP TSTOP [TSTART [TMAX]] [uic] with plain numbers (lcchain prices a "
-                                 "run from them before it starts)")
-        step, stop, start, tmax = (list(values) + [0.0, None])[:4]
-        assert step is not None and stop is not None and start is not None
-        if not (step > 0 and stop > 0 and 0 <= start < stop):
-            raise ParameterError(f"{source}: line {number}", line.strip()[:200],
-                                 "0 < TSTEP, 0 <= TSTART < TSTOP")
-        default = min(step, (stop - start) / 50)
-        max_step = min(tmax, default) if tmax is not None and tmax > 0 else default
-        return Transient(step, stop, start, max_step)
-    raise ParameterError(source, ".tran", "a netlist with a .tran analysis (lcchain reads transients)")
+        word = line.split(None, 1)[0].lower() if line.strip() else ""
+        if word in (".tran", ".ac"):
+            found.append((number, line.strip()))
+    if not found or found[0][1].split(None, 1)[0].lower() != ".tran":
+        raise ParameterError(source, ".tran", "a netlist with a .tran analysis (lcchain reads transients)")
+    if len(found) > 1:
+        raise ParameterError(f"{source}: line {found[1][0]}", found[1][1][:200], "one analysis per netlist (ngspice "
+                             "would run them all; lcchain prices and reads one .tran)")
+    number, line = found[0]
+    words = [w for w in re.split(r"[\s,()]+", line) if w]
+    values = [spice_number(w) for w in words[1:] if w.lower() != "uic"]
+    numbers = [v for v in values if v is not None and math.isfinite(v)]
+    if not 2 <= len(values) <= 4 or len(numbers) != len(values):
+        raise ParameterError(f"{source}: line {number}", line[:200], ".tran TSTEP TSTOP [TSTART [TMAX]] [uic] with "
+                             "plain finite numbers (lcchain prices a run from them before it starts)")
+    step, stop, start, tmax = (numbers + [0.0, 0.0])[:4]
+    if not (step > 0 and stop > 0 and 0 <= start < stop and tmax >= 0):
+        raise ParameterError(f"{source}: line {number}", line[:200], "0 < TSTEP, 0 <= TSTART < TSTOP, TMAX >= 0")
+    default = min(step, (stop - start) / 50)
+    return Transient(step, stop, start, min(tmax, default) if tmax > 0 else default)
 
 
 def foreign_estimate(text: str, transient: Transient, saved: int) -> Estimate:
