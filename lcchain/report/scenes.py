@@ -73,9 +73,9 @@ def check_scene_outputs(scenes: list[Scene], others: dict[str, str | None] | Non
         claims += [(key, path, scene.source) for key, path in scene_outputs(scene)]
     for key, path, source in claims:
         try:
-            check_output(key, path, make_folder=True)
             if source is not None:  # the README: a scene's [output] stays in the current folder
                 check_inside(key, path, Path.cwd())
+            check_output(key, path, make_folder=True)
             check_not_input(key, path, inputs)
         except ParameterError as error:
             raise error.located(source) from None
