@@ -9,7 +9,8 @@ Run from the repository root:
 * one N = 20 and one N = 100 run through :func:`lcchain.spice.runner.run` as
   lcchain's own netlist (no sandbox) and as a foreign one (bubblewrap),
   interleaved, median of the wall time lcchain waits for;
-* ngspice's process alone (``ngspice -n -b -r FILE``, a bash loop), for scale.
+* ngspice's process alone (``ngspice -n -b -r FILE``, a bash loop), for scale;
+* the price of each reference netlist run as a foreign one, beside its wall time.
 """
 
 from __future__ import annotations
@@ -23,7 +24,7 @@ from pathlib import Path
 
 import lcchain
 from lcchain.circuit.netlist import make_netlist
-from lcchain.spice.foreign import allowed_netlist
+from lcchain.spice.foreign import allowed_netlist, foreign_estimate, transient_of
 from lcchain.spice.runner import run
 from lcchain.spice.simulator import find_simulator
 from lcchain.spice.text import saved_vectors, transient_stop
@@ -86,5 +87,30 @@ def main() -> None:
         print(f"| {N} | {points} | {1e3 * alone:.1f} | {a:.1f} | {b:.1f} | {b - a:+.1f} |")
 
 
+def priced() -> None:
+    """Each reference netlist run as a foreign one: its price (from its own .tran) beside its measured wall time."""
+    simulator = find_simulator("batch")
+    print("\n## Foreign netlists priced from their own `.tran`\n")
+    print("The reference netlists of `netlists/`, each run as a foreign netlist (allow-list, sandbox); estimate "
+          "from `lcchain.spice.foreign.foreign_estimate`, wall time of `spice.run` (median of 3).\n")
+    print("| netlist | time points | unknowns | estimate s | measured s | measured / estimate |")
+    print("|---|---:|---:|---:|---:|---:|")
+    for path in sorted(Path("netlists").glob("*.cir")):
+        text = path.read_text()
+        transient = transient_of(text, path.name)
+        saved = saved_vectors(text)
+        estimate = foreign_estimate(text, transient, len(saved))
+        times = []
+        for _ in range(3):
+            start = time.perf_counter()
+            run(text, saved, transient.stop, simulator=simulator)
+            times.append(time.perf_counter() - start)
+        measured = statistics.median(times)
+        unknowns = estimate.what.rsplit(", ", 1)[-1].split()[0]
+        print(f"| {path.name} | {transient.points:.0f} | {unknowns} | {estimate.seconds:.3g} | {measured:.3g} | "
+              f"{measured / estimate.seconds:.2f} |")
+
+
 if __name__ == "__main__":
     main()
+    priced()
