@@ -106,7 +106,7 @@ CASES: dict[str, Case] = {
     ".lib of a system file": _batch(_line(12), {"n.cir": _with(".lib /etc/passwd typ")}),
     ".include climbing out": _batch(_line(12), {"n.cir": _with(".include ../outside.cir")}),
     ".include through a link out": _batch(_line(12), {"n.cir": _with(".include parts.inc")},
-                                          _link("parts.inc", "/etc/passwd")),
+                                          _link("parts.inc", "../outside/parts.inc")),  # dangling: reads nothing
     "an included .control block": _batch(["parts.inc: line 2"], {"n.cir": _with(".include parts.inc"),
                                                                  "parts.inc": f"R9 n1 0 1\n.control\n{TOUCH}\n.endc\n"}),
     "a nested include of a system file": _batch(["b.inc: line 1"], {"n.cir": _with(".include a.inc"),
