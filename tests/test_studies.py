@@ -44,9 +44,12 @@ def _digests(path: Path) -> list[str]:
 
 
 def _stored(path: Path) -> int:
+    """Runs stored so far (read-only: a missing store stays missing, for the driver to make whole)."""
     try:
-        with sqlite3.connect(path, timeout=5) as db:
-            return db.execute("SELECT COUNT(*) FROM records").fetchone()[0]
+        with sqlite3.connect(f"file:{path}?mode=ro", uri=True, timeout=5) as db:
+            count = db.execute("SELECT COUNT(*) FROM records").fetchone()[0]
+        db.close()
+        return int(count)
     except sqlite3.Error:
         return 0
 

@@ -1,15 +1,37 @@
-"""The result store: one SQLite file that survives a crash and never mixes two studies.
+"""The result store: one SQLite file that survives a crash, never mixes two studies and is written by one driver.
 
 * stdlib ``sqlite3`` in WAL mode with ``synchronous = FULL``: every finished
   run is one transaction, durable when it returns, so killing the driver
-  (Ctrl-C or SIGKILL) loses no finished run; only the driver writes.
+  (Ctrl-C or SIGKILL) loses no finished run.
+* One driver writes a store at a time: it holds an exclusive ``flock`` on the
+  store file itself for as long as it is open for writing (nothing is left
+  beside the store; the kernel drops the lock when the driver dies).  A second
+  writer is refused, naming the first one's pid, or waits (``wait=True``).
+* A store is made whole or not at all: a new one is built under a hidden name
+  beside it (``.NAME.*.new``) with its plan in one transaction, then linked
+  under its own name; until :meth:`Store.adopt` nothing exists on disk.  (A
+  driver killed in those milliseconds can leave the hidden file: the next
+  store made in that folder removes it.)
+* What is opened is checked against what lcchain writes (an allow-list): a
+  regular file, SQLite's header, exactly the tables ``meta``, ``tasks`` and
+  ``records`` with their columns, and this :data:`FORMAT`.  Anything else
+  (someone's database, an empty file, a text file, a FIFO, a folder) is
+  refused before a byte of it is written.
+* ``mode="read"`` (``lcchain results``) opens it read-only and changes
+  nothing: no lock, no WAL switch, no ``-wal`` or ``-shm`` file made (the
+  file is opened ``immutable`` when no ``-wal`` beside it says a driver is
+  writing; read-only media work).
+* A corrupt page, a row changed outside lcchain (metrics that are not JSON,
+  arrays that are not ``.npz`` or do not match their digest), a full disk: a
+  one-line error that names the store and what to do; what was committed
+  stays.
+
 * A run is stored under its key (:meth:`lcchain.runs.spec.RunSpec.key`: the
   netlist text, saved vectors, stop time, backend, theory, lcchain and ngspice
   versions); a study that finds its key stored skips the run.
 * The store remembers the plan it was made for (the ordered task keys): a
   different plan, or the same one under another ngspice, is refused rather
   than mixed in silently.
-
 * An extrapolation (:class:`lcchain.studies.plan.Combination`) is a row of its
   own after its member runs, under its members' keys hashed; its arrays are the
   combined signals it was compared by (dimensionless time, ``loop0``, ...) and
@@ -23,35 +45,88 @@ numpy ``.npz``).
 
 from __future__ import annotations
 
+import contextlib
+import errno
+import fcntl
 import io
 import json
+import os
+import secrets
 import sqlite3
+import stat
 import time
-from collections.abc import Iterator, Sequence
+import urllib.parse
+import zipfile
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, Literal
 
 import numpy as np
 
 from ..core import __version__
-from ..core.errors import ParameterError
-from ..runs.execute import RunRecord
+from ..core.errors import LcchainError, ParameterError
+from ..runs.execute import RunRecord, waveform_digest
 
-__all__ = ["Store", "StoredRun", "FORMAT"]
+__all__ = ["Store", "StoredRun", "StoreMode", "FORMAT"]
 
 #: Version of the store's tables.
 FORMAT = "1"
+#: How a store is opened: to read it (``lcchain results``) or to run a study into it.
+StoreMode = Literal["read", "write"]
 
 _SCHEMA = """
-CREATE TABLE IF NOT EXISTS meta (name TEXT PRIMARY KEY, value TEXT NOT NULL);
-CREATE TABLE IF NOT EXISTS tasks (idx INTEGER PRIMARY KEY, key TEXT NOT NULL, params TEXT NOT NULL, label TEXT);
-CREATE TABLE IF NOT EXISTS records (
+CREATE TABLE meta (name TEXT PRIMARY KEY, value TEXT NOT NULL);
+CREATE TABLE tasks (idx INTEGER PRIMARY KEY, key TEXT NOT NULL, params TEXT NOT NULL, label TEXT);
+CREATE TABLE records (
     key TEXT PRIMARY KEY, status TEXT NOT NULL, reason TEXT, log_tail TEXT, digest TEXT,
     wall_s REAL, total_s REAL, ngspice_version TEXT, lcchain_version TEXT, points INTEGER,
     metrics TEXT, arrays BLOB, finished REAL
 );
 """
+#: The tables a store holds, and their columns: anything else is not an lcchain store.
+_TABLES = {
+    "meta": ("name", "value"),
+    "tasks": ("idx", "key", "params", "label"),
+    "records": ("key", "status", "reason", "log_tail", "digest", "wall_s", "total_s", "ngspice_version",
+                "lcchain_version", "points", "metrics", "arrays", "finished"),
+}
+_HEADER = b"SQLite format 3\x00"
+_STATUSES = ("ok", "failed", "timeout")
+#: Seconds after which a hidden ``.NAME.*.new`` that no driver holds is a leftover of a killed one.
+_STALE_SECONDS = 60.0
+#: What a store's owner can do about a row or a page that is not as lcchain wrote it.
+_RESTORE = "restore it from a copy, or run the study into a new store"
+
+
+def _kind(mode: int) -> str:
+    """A file's kind in words, for a message."""
+    for test, name in ((stat.S_ISDIR, "a folder"), (stat.S_ISFIFO, "a FIFO"), (stat.S_ISSOCK, "a socket"),
+                       (stat.S_ISCHR, "a character device"), (stat.S_ISBLK, "a block device")):
+        if test(mode):
+            return name
+    return "not a regular file"
+
+
+def _uri(path: Path, immutable: bool) -> str:
+    """SQLite's read-only URI of a file (``immutable``: no lock, no ``-shm`` file, for a file nobody writes)."""
+    return (f"file:{urllib.parse.quote(str(path.absolute()))}?mode=ro" + ("&immutable=1" if immutable else ""))
+
+
+def _holder(descriptor: int) -> int | None:
+    """The pid holding a flock on this file, from Linux's ``/proc/locks`` (None when it cannot be told)."""
+    info = os.fstat(descriptor)
+    device = f"{os.major(info.st_dev):02x}:{os.minor(info.st_dev):02x}:{info.st_ino}"
+    try:
+        lines = Path("/proc/locks").read_text().splitlines()
+    except OSError:
+        return None
+    for line in lines:
+        fields = line.split()
+        if len(fields) >= 6 and fields[1] == "FLOCK" and fields[5] == device:
+            with contextlib.suppress(ValueError):
+                return int(fields[4])
+    return None
 
 
 @dataclass(frozen=True)
@@ -127,24 +202,181 @@ class Store:
     Parameters
     ----------
     path : path-like
-        The ``.sqlite`` file (created with its tables when missing).
+        The ``.sqlite`` file.
+    mode : {"write", "read"}
+        ``"write"`` (a study runs into it): an existing store is checked and
+        locked for this driver alone; a missing one is made by :meth:`adopt`,
+        whole.  ``"read"``: an existing store, opened read-only; nothing is
+        created, locked or changed.
+    wait : bool
+        ``mode="write"`` only: wait for another driver writing the store to
+        finish, instead of refusing it.
+    on_wait : callable, optional
+        Called with the other driver's pid (None when unknown) before waiting.
+    option : str
+        The option that named the store, for messages (``"--store"``).
+
+    Raises
+    ------
+    ParameterError
+        The path is not an lcchain store (another SQLite database, an empty
+        or a text file, a FIFO, a folder), is missing (``mode="read"``), or
+        another driver writes it (unless ``wait``).
     """
 
-    def __init__(self, path: str | Path):
+    def __init__(self, path: str | Path, mode: StoreMode = "write", *, wait: bool = False,
+                 on_wait: Callable[[int | None], None] | None = None, option: str = "--store"):
+        if mode not in ("read", "write"):
+            raise ParameterError("mode", mode, "read | write")
         self.path = Path(path)
+        self.mode = mode
+        self.option = option
+        self._lock: int | None = None  # the flock'd descriptor of a store this driver writes
+        self._immutable: tuple[int, int, int] | None = None  # (inode, size, mtime) of a file read immutable
+        self._db: sqlite3.Connection
+        self._wait, self._on_wait = wait, on_wait
         try:
-            self._db = sqlite3.connect(self.path, timeout=60.0, isolation_level=None)
-            self._db.execute("PRAGMA journal_mode=WAL")
-            self._db.execute("PRAGMA synchronous=FULL")
-            self._db.executescript(_SCHEMA)
-        except sqlite3.Error as error:
-            raise ParameterError("--store", str(path), f"an SQLite file lcchain can write ({error})") from None
-        found = self.meta().get("format")
-        if found is not None and found != FORMAT:
-            raise ParameterError("--store", str(path), f"a store of format {FORMAT} (this one is {found})")
+            if mode == "read":
+                self._open_read()
+            else:
+                self._open_write()
+        except BaseException:
+            self.close()
+            raise
+
+    # ------------------------------------------------------------------ opening
+    def _refuse(self, allowed: str) -> ParameterError:
+        return ParameterError(self.option, str(self.path), allowed)
+
+    def _regular(self) -> os.stat_result | None:
+        """The store's stat when it is a regular file, None when missing; refused when anything else."""
+        try:
+            info = os.stat(self.path)
+        except FileNotFoundError:
+            if os.path.lexists(self.path):
+                raise self._refuse("an lcchain store (this is a symbolic link to nothing)") from None
+            return None
+        except OSError as error:
+            raise self._refuse(f"a store lcchain can open ({error.strerror})") from None
+        if not stat.S_ISREG(info.st_mode):
+            raise self._refuse(f"an lcchain store (this is {_kind(info.st_mode)})")
+        return info
+
+    def _check_bytes(self, descriptor: int) -> None:
+        """Refuse an empty file or one that is not SQLite, from its first bytes (read through ``descriptor``)."""
+        if os.fstat(descriptor).st_size == 0:
+            raise self._refuse("an lcchain store (this is an empty file)")
+        if os.pread(descriptor, len(_HEADER), 0) != _HEADER:
+            raise self._refuse("an lcchain store (this is not an SQLite database)")
+
+    def _check_tables(self, db: sqlite3.Connection) -> dict[str, str]:
+        """Refuse a database whose tables are not lcchain's, of another format or without a plan; its meta."""
+        objects = db.execute("SELECT type, name FROM sqlite_master").fetchall()
+        other = sorted(name for kind, name in objects if not (kind == "table" and name in _TABLES) and
+                       not (kind == "index" and name.startswith("sqlite_autoindex_")))
+        tables = {name for kind, name in objects if kind == "table"}
+        if other or tables != set(_TABLES):
+            shown = ", ".join(other or sorted(tables)) or "nothing"
+            raise self._refuse(f"an lcchain store (this SQLite database holds {shown})")
+        for table, columns in _TABLES.items():
+            found = tuple(row[1] for row in db.execute(f"PRAGMA table_info({table})"))
+            if found != columns:
+                raise self._refuse(f"an lcchain store (its table {table} has the columns {', '.join(found)})")
+        meta = dict(db.execute("SELECT name, value FROM meta").fetchall())
+        if meta.get("format") != FORMAT:
+            raise self._refuse(f"a store of format {FORMAT} (this one is {meta.get('format', 'of none')})")
+        if "plan" not in meta:
+            raise self._refuse("a store made by lcchain sweep or batch (this one holds no plan: remove it)")
+        return meta
+
+    def _check_file(self, descriptor: int) -> None:
+        """The allow-list check of an existing file, before anything is written to it."""
+        self._check_bytes(descriptor)
+        with self._guard(), contextlib.closing(sqlite3.connect(_uri(self.path, True), uri=True)) as db:
+            self._check_tables(db)
+
+    def _open_read(self) -> None:
+        if self._regular() is None:
+            raise self._refuse("an existing store made by lcchain sweep or batch")
+        descriptor = self._open_descriptor()
+        try:
+            self._check_bytes(descriptor)
+        finally:
+            os.close(descriptor)  # before SQLite opens the file: closing a descriptor drops its POSIX locks
+        self._connect_read()
+
+    def _connect_read(self) -> None:
+        """Read-only: ``immutable`` unless a ``-wal`` says a driver writes it (or crashed with runs in it)."""
+        immutable = not Path(f"{self.path}-wal").exists()
+        with self._guard():
+            try:
+                self._db = sqlite3.connect(_uri(self.path, immutable), uri=True, isolation_level=None)
+                self._check_tables(self._db)
+            except sqlite3.OperationalError:
+                if immutable:
+                    raise
+                # a -wal this reader cannot share (read-only media without its -shm): the file as it is
+                immutable = True
+                self._db = sqlite3.connect(_uri(self.path, immutable), uri=True, isolation_level=None)
+                self._check_tables(self._db)
+        if immutable:
+            info = os.stat(self.path)
+            self._immutable = (info.st_ino, info.st_size, info.st_mtime_ns)
+
+    def _open_descriptor(self) -> int:
+        try:
+            return os.open(self.path, os.O_RDONLY | os.O_NONBLOCK | os.O_CLOEXEC)
+        except OSError as error:
+            raise self._refuse(f"a store lcchain can open ({error.strerror})") from None
+
+    def _open_write(self) -> None:
+        while True:
+            if self._regular() is None:  # made by adopt(), whole; until then nothing exists on disk
+                self._db = sqlite3.connect(":memory:", isolation_level=None)
+                self._db.executescript(_SCHEMA)
+                return
+            descriptor = self._open_descriptor()
+            try:
+                if not stat.S_ISREG(os.fstat(descriptor).st_mode):
+                    raise self._refuse(f"an lcchain store (this is {_kind(os.fstat(descriptor).st_mode)})")
+                self._take_lock(descriptor)
+                still = self._regular()
+                if still is None or still.st_ino != os.fstat(descriptor).st_ino:  # replaced while this waited
+                    os.close(descriptor)
+                    continue
+                self._check_file(descriptor)
+            except BaseException:
+                os.close(descriptor)
+                raise
+            self._lock = descriptor
+            with self._guard():
+                self._db = sqlite3.connect(self.path, timeout=60.0, isolation_level=None)
+                self._db.execute("PRAGMA journal_mode=WAL")
+                self._db.execute("PRAGMA synchronous=FULL")
+            return
+
+    def _take_lock(self, descriptor: int) -> None:
+        try:
+            fcntl.flock(descriptor, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            return
+        except BlockingIOError:
+            pid = _holder(descriptor)
+        who = f"lcchain (pid {pid})" if pid is not None else "lcchain"
+        if not self._wait:
+            raise self._refuse(f"a store no other lcchain is writing (another {who} is writing it now: let it "
+                               "finish, or add --wait to wait for it)")
+        if self._on_wait is not None:
+            self._on_wait(pid)
+        fcntl.flock(descriptor, fcntl.LOCK_EX)
 
     def close(self) -> None:
-        self._db.close()
+        db = getattr(self, "_db", None)
+        if db is not None:
+            with contextlib.suppress(sqlite3.Error):
+                db.close()
+        if self._lock is not None:  # after SQLite's own descriptor: closing ours drops the process's POSIX locks
+            os.close(self._lock)
+            self._lock = None
 
     def __enter__(self) -> Store:
         return self
@@ -152,13 +384,84 @@ class Store:
     def __exit__(self, *exc: object) -> None:
         self.close()
 
+    # ------------------------------------------------------------------ errors
+    @contextlib.contextmanager
+    def _guard(self) -> Iterator[None]:
+        """SQLite's errors as one line naming the store and what to do."""
+        try:
+            yield
+        except sqlite3.Error as error:
+            raise self._problem(error) from None
+
+    def _problem(self, error: sqlite3.Error) -> LcchainError:
+        said = str(error)
+        if isinstance(error, sqlite3.OperationalError) and ("full" in said or "I/O" in said):
+            return LcchainError(f"{self.path}: the store could not be written (SQLite says: {said}); every run "
+                                "stored before this is kept: make room and run the same command to resume")
+        if "readonly" in said or "read-only" in said:
+            return self._refuse(f"a store lcchain can write (SQLite says: {said})")
+        if "locked" in said or "busy" in said:
+            return self._refuse(f"a store no other program is writing (SQLite says: {said})")
+        if isinstance(error, sqlite3.DatabaseError) and not isinstance(error, sqlite3.OperationalError):
+            return self._refuse(f"an intact lcchain store (SQLite says: {said}): {_RESTORE}")
+        return LcchainError(f"{self.path}: SQLite says: {said}")
+
+    def _tampered(self, what: str) -> ParameterError:
+        return self._refuse(f"a store whose rows are as lcchain wrote them ({what}: it was changed outside "
+                            f"lcchain): {_RESTORE}")
+
+    def _rows(self, sql: str, args: Sequence[Any] = ()) -> list[Any]:
+        """A query's rows; a store read ``immutable`` that a driver started writing meanwhile is read again."""
+        with self._guard():
+            rows = self._db.execute(sql, args).fetchall()
+            if self._immutable is not None:
+                try:
+                    info = os.stat(self.path)
+                    changed = (info.st_ino, info.st_size, info.st_mtime_ns) != self._immutable
+                except OSError:
+                    changed = True
+                if changed or Path(f"{self.path}-wal").exists():
+                    self._db.close()
+                    self._immutable = None
+                    self._connect_read()
+                    rows = self._db.execute(sql, args).fetchall()
+        return rows
+
     # ------------------------------------------------------------------ the plan
     def meta(self) -> dict[str, str]:
-        return dict(self._db.execute("SELECT name, value FROM meta").fetchall())
+        return dict(self._rows("SELECT name, value FROM meta"))
+
+    def check_plan(self, fingerprint: str, description: dict[str, Any], rows: int, ngspice_version: str) -> None:
+        """Refuse a store that holds another plan (nothing is written).
+
+        Raises
+        ------
+        ParameterError
+            The store holds another plan.
+        """
+        meta = self.meta()
+        if "plan" not in meta or meta["plan"] == fingerprint:
+            return
+        try:
+            same = json.loads(meta.get("description", "null")) == json.loads(json.dumps(description))
+        except json.JSONDecodeError:
+            raise self._tampered("its description is not JSON") from None
+        if same:
+            held = self._rows("SELECT COUNT(*) FROM tasks")[0][0]
+            raise self._refuse("a new store: it holds this very study as another lcchain or ngspice planned it "
+                               f"({held} rows; lcchain {meta.get('lcchain_version', '?')}, ngspice "
+                               f"{meta.get('ngspice_version', '?')}; now {rows} rows, ngspice {ngspice_version}), "
+                               "and lcchain never mixes two")
+        raise self._refuse("a new store, or the store of this very study: it holds another "
+                           f"({meta.get('description', '?')}, ngspice {meta.get('ngspice_version', '?')}), and "
+                           "lcchain never mixes two")
 
     def adopt(self, fingerprint: str, description: dict[str, Any], tasks: Sequence[tuple[str, dict[str, Any], str]],
               ngspice_version: str) -> None:
         """Make this the store of a plan, or check that it already is.
+
+        A new store is made whole: built under a hidden name beside it, its plan
+        written in one transaction, then linked under its own name.
 
         Parameters
         ----------
@@ -173,87 +476,182 @@ class Store:
         Raises
         ------
         ParameterError
-            The store holds another plan.
+            The store holds another plan, or another driver made it meanwhile and writes it.
         """
-        meta = self.meta()
-        if "plan" in meta:
-            if meta["plan"] != fingerprint:
-                if json.loads(meta.get("description", "null")) == json.loads(json.dumps(description)):
-                    held = self._db.execute("SELECT COUNT(*) FROM tasks").fetchone()[0]
-                    raise ParameterError("--store", str(self.path), "a new store: it holds this very study as "
-                                         f"another lcchain or ngspice planned it ({held} rows; lcchain "
-                                         f"{meta.get('lcchain_version', '?')}, ngspice "
-                                         f"{meta.get('ngspice_version', '?')}; now {len(tasks)} rows, ngspice "
-                                         f"{ngspice_version}), and lcchain never mixes two")
-                raise ParameterError("--store", str(self.path), "a new store, or the store of this very study: it "
-                                     f"holds another ({meta.get('description', '?')}, ngspice "
-                                     f"{meta.get('ngspice_version', '?')}), and lcchain never mixes two")
+        if self.mode != "write":
+            raise self._refuse("a store opened for writing")
+        self.check_plan(fingerprint, description, len(tasks), ngspice_version)
+        if "plan" in self.meta():
             return
-        with self._db:
-            self._db.execute("BEGIN")
-            for name, value in (("format", FORMAT), ("plan", fingerprint), ("description", json.dumps(description)),
-                                ("created", time.strftime("%Y-%m-%dT%H:%M:%S")), ("lcchain_version", __version__),
-                                ("ngspice_version", ngspice_version)):
-                self._db.execute("INSERT INTO meta VALUES (?, ?)", (name, value))
-            self._db.executemany("INSERT INTO tasks VALUES (?, ?, ?, ?)",
-                                 [(i, key, json.dumps(params), label) for i, (key, params, label) in enumerate(tasks)])
+        meta = (("format", FORMAT), ("plan", fingerprint), ("description", json.dumps(description)),
+                ("created", time.strftime("%Y-%m-%dT%H:%M:%S")), ("lcchain_version", __version__),
+                ("ngspice_version", ngspice_version))
+        rows = [(i, key, json.dumps(params), label) for i, (key, params, label) in enumerate(tasks)]
+        self._remove_leftovers()
+        hidden = self.path.parent / f".{self.path.name}.{secrets.token_hex(4)}.new"
+        try:
+            descriptor = os.open(hidden, os.O_RDWR | os.O_CREAT | os.O_EXCL | os.O_CLOEXEC, 0o666)
+        except OSError as error:
+            raise self._refuse(f"a file lcchain can create ({error.strerror})") from None
+        linked = False
+        try:
+            fcntl.flock(descriptor, fcntl.LOCK_EX)
+            with self._guard(), contextlib.closing(sqlite3.connect(hidden, isolation_level=None)) as db:
+                db.execute("PRAGMA journal_mode=MEMORY")  # no journal file: a half-built store is thrown away
+                db.execute("BEGIN")
+                for statement in _SCHEMA.split(";"):
+                    if statement.strip():
+                        db.execute(statement)
+                db.executemany("INSERT INTO meta VALUES (?, ?)", meta)
+                db.executemany("INSERT INTO tasks VALUES (?, ?, ?, ?)", rows)
+                db.execute("COMMIT")
+                db.execute("PRAGMA journal_mode=WAL")
+            os.fsync(descriptor)
+            try:
+                os.link(hidden, self.path)
+                linked = True
+            except FileExistsError:
+                pass
+        except OSError as error:
+            os.close(descriptor)
+            raise LcchainError(f"{self.path}: the store could not be made ({error.strerror or error}); nothing was "
+                               "written under its name: make room and run the same command again") from None
+        except BaseException:
+            os.close(descriptor)
+            raise
+        finally:
+            with contextlib.suppress(OSError):
+                os.unlink(hidden)
+        if not linked:  # another driver made it first: its lock decides
+            os.close(descriptor)
+            self._db.close()
+            self._open_write()
+            self.adopt(fingerprint, description, tasks, ngspice_version)
+            return
+        with contextlib.suppress(OSError):
+            folder = os.open(self.path.parent, os.O_RDONLY | os.O_DIRECTORY)
+            try:
+                os.fsync(folder)
+            finally:
+                os.close(folder)
+        self._db.close()
+        self._lock = descriptor
+        with self._guard():
+            self._db = sqlite3.connect(self.path, timeout=60.0, isolation_level=None)
+            self._db.execute("PRAGMA synchronous=FULL")
+
+    def _remove_leftovers(self) -> None:
+        """Hidden stores that a driver killed while making them left beside this one (no driver holds them)."""
+        prefix = f".{self.path.name}."
+        try:
+            names = [n for n in os.listdir(self.path.parent) if n.startswith(prefix) and n.endswith(".new")]
+        except OSError:
+            return
+        for name in names:
+            leftover = self.path.parent / name
+            try:
+                descriptor = os.open(leftover, os.O_RDONLY | os.O_NONBLOCK | os.O_CLOEXEC | os.O_NOFOLLOW)
+            except OSError:
+                continue
+            try:
+                info = os.fstat(descriptor)
+                if not stat.S_ISREG(info.st_mode) or time.time() - info.st_mtime < _STALE_SECONDS:
+                    continue
+                fcntl.flock(descriptor, fcntl.LOCK_EX | fcntl.LOCK_NB)
+                os.unlink(leftover)
+            except OSError as error:
+                if error.errno not in (errno.EWOULDBLOCK, errno.ENOENT):
+                    continue
+            finally:
+                os.close(descriptor)
 
     def description(self) -> dict[str, Any]:
-        return json.loads(self.meta().get("description", "{}"))
+        try:
+            described = json.loads(self.meta().get("description", "{}"))
+        except json.JSONDecodeError:
+            raise self._tampered("its description is not JSON") from None
+        return described if isinstance(described, dict) else {}
 
     # ------------------------------------------------------------------ records
     def finished(self) -> set[str]:
         """The keys of every run stored (ok, failed or timed out)."""
-        return {row[0] for row in self._db.execute("SELECT key FROM records")}
+        return {row[0] for row in self._rows("SELECT key FROM records")}
+
+    def failed(self) -> set[str]:
+        """The keys of every run stored as failed or timed out (``--retry-failed`` runs them again)."""
+        return {row[0] for row in self._rows("SELECT key FROM records WHERE status IN ('failed', 'timeout')")}
 
     def add(self, record: RunRecord, points: int | None = None) -> None:
         """Store one finished run, in one transaction (durable when this returns); ``points`` when it has no
         result of its own (an extrapolation: its members' points together)."""
+        if self.mode != "write" or self._lock is None:
+            raise self._refuse("a store that holds a plan, opened for writing (adopt one first)")
         metrics = record.metrics.to_dict() if record.metrics is not None else None
         points = record.result.points if record.result is not None else points
-        with self._db:
+        with self._guard():
             self._db.execute("BEGIN")
-            self._db.execute(
-                "INSERT OR REPLACE INTO records VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)",
-                (record.key, record.status, record.reason, record.log_tail, record.digest, record.wall_s,
-                 record.total_s, record.ngspice_version, record.lcchain_version, points,
-                 json.dumps(metrics) if metrics is not None else None, _arrays(record), time.time()))
+            try:
+                self._db.execute(
+                    "INSERT OR REPLACE INTO records VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)",
+                    (record.key, record.status, record.reason, record.log_tail, record.digest, record.wall_s,
+                     record.total_s, record.ngspice_version, record.lcchain_version, points,
+                     json.dumps(metrics) if metrics is not None else None, _arrays(record), time.time()))
+                self._db.execute("COMMIT")
+            except BaseException:
+                with contextlib.suppress(sqlite3.Error):
+                    self._db.execute("ROLLBACK")
+                raise
 
     _SELECT = ("SELECT t.idx, t.key, t.params, t.label, r.status, r.reason, r.log_tail, r.digest, r.wall_s, "
                "r.total_s, r.points, r.metrics, r.ngspice_version, r.lcchain_version "
                "FROM tasks t LEFT JOIN records r ON r.key = t.key")
 
-    @staticmethod
-    def _stored(row: tuple[Any, ...]) -> StoredRun:
+    def _stored(self, row: tuple[Any, ...]) -> StoredRun:
         (index, key, params, label, status, reason, log_tail, digest, wall_s, total_s, points, metrics, ngv,
          lcv) = row
-        return StoredRun(index, key, json.loads(params), label or "", status or "pending", reason or "",
-                         log_tail or "", digest or "", wall_s, total_s, points,
-                         json.loads(metrics) if metrics else None, ngv or "", lcv or "")
+        try:
+            params = json.loads(params)
+            metrics = json.loads(metrics) if metrics else None
+        except (json.JSONDecodeError, TypeError):
+            raise self._tampered(f"run {index} holds params or metrics that are not JSON") from None
+        if not isinstance(params, dict) or not (metrics is None or isinstance(metrics, dict)):
+            raise self._tampered(f"run {index} holds params or metrics that are not JSON objects")
+        if status is not None and status not in _STATUSES:
+            raise self._tampered(f"run {index} has the status {str(status)[:20]!r}")
+        return StoredRun(index, key, params, label or "", status or "pending", reason or "",
+                         log_tail or "", digest or "", wall_s, total_s, points, metrics, ngv or "", lcv or "")
 
     def runs(self) -> list[StoredRun]:
         """Every task in plan order, with its record where it ran."""
-        return [self._stored(row) for row in self._db.execute(f"{self._SELECT} ORDER BY t.idx").fetchall()]
+        return [self._stored(row) for row in self._rows(f"{self._SELECT} ORDER BY t.idx")]
 
     def records(self, keys: Sequence[str]) -> list[StoredRun]:
         """The stored runs under these keys, in their order (as the first task with each key)."""
         found = []
         for key in keys:
-            row = self._db.execute(f"{self._SELECT} WHERE t.key = ? AND r.key IS NOT NULL ORDER BY t.idx LIMIT 1",
-                                   (key,)).fetchone()
-            if row is None:
-                raise ParameterError("--store", str(self.path), f"a store holding the run {key[:12]}")
-            found.append(self._stored(row))
+            rows = self._rows(f"{self._SELECT} WHERE t.key = ? AND r.key IS NOT NULL ORDER BY t.idx LIMIT 1",
+                              (key,))
+            if not rows:
+                raise self._refuse(f"a store holding the run {key[:12]}")
+            found.append(self._stored(rows[0]))
         return found
 
     def waveforms(self, key: str) -> dict[str, np.ndarray] | None:
-        """The saved arrays of a stored run (``"time"`` and each vector), or None."""
-        row = self._db.execute("SELECT arrays FROM records WHERE key = ?", (key,)).fetchone()
-        if row is None or row[0] is None:
+        """The saved arrays of a stored run (``"time"`` and each vector), or None; checked against its digest."""
+        rows = self._rows("SELECT arrays, digest FROM records WHERE key = ?", (key,))
+        if not rows or rows[0][0] is None:
             return None
-        with np.load(io.BytesIO(row[0]), allow_pickle=False) as npz:
-            names = [str(n) for n in npz["names"]]
-            return {name: npz[f"v{i}"] for i, name in enumerate(names)}
+        blob, digest = rows[0]
+        try:
+            with np.load(io.BytesIO(blob), allow_pickle=False) as npz:
+                names = [str(n) for n in npz["names"]]
+                arrays = {name: np.asarray(npz[f"v{i}"], dtype=float) for i, name in enumerate(names)}
+        except (OSError, ValueError, KeyError, EOFError, TypeError, zipfile.BadZipFile):
+            raise self._tampered(f"the arrays of run {key[:12]} are not lcchain's .npz") from None
+        if "time" not in arrays or (digest and waveform_digest(arrays["time"], {k: v for k, v in arrays.items()
+                                                                                if k != "time"}) != digest):
+            raise self._tampered(f"the arrays of run {key[:12]} do not match its digest")
+        return arrays
 
     def __iter__(self) -> Iterator[StoredRun]:
         return iter(self.runs())
