@@ -3,11 +3,13 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
 import csv
 import io
+import logging
 import sys
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from typing import Any
 
 from ..core.errors import ParameterError
@@ -54,6 +56,10 @@ def add_study_arguments(p: argparse.ArgumentParser, *, store: bool = True) -> No
         p.add_argument("--store", required=True, metavar="FILE.sqlite", help="the results (created, or resumed)")
         p.add_argument("--json", action="store_true",
                        help="print one summary object: total, skipped, ran, ok, failed, store")
+        p.add_argument("--wait", action="store_true",
+                       help="when another lcchain is writing the store, wait for it to finish (default: refuse)")
+        p.add_argument("--retry-failed", action="store_true",
+                       help="run again the runs the store holds as failed or timed out")
     p.add_argument("--executor", choices=EXECUTORS, default="process", help="where the runs execute (default process)")
     p.add_argument("--workers", type=int, default=None, help="worker processes (default: one per core)")
     p.add_argument("--scheduler", metavar="tcp://HOST:PORT", help="an existing Dask scheduler (--executor dask)")
@@ -116,22 +122,62 @@ def study_progress(what: str) -> Callable[[Any], None]:
     return show
 
 
+#: Loggers of Dask and the libraries under it: their records reach the terminal only with -v.
+_DASK_LOGGERS = ("distributed", "dask", "tornado", "bokeh", "asyncio")
+
+
+class _NotDask(logging.Filter):
+    def filter(self, record: logging.LogRecord) -> bool:
+        return not record.name.startswith(_DASK_LOGGERS)
+
+
+@contextlib.contextmanager
+def _dask_quiet(verbose: bool) -> Iterator[None]:
+    """Dask logs its cluster's life at INFO through the root logger: shown with -v only."""
+    if verbose:
+        yield
+        return
+    quiet = _NotDask()
+    handlers = list(logging.getLogger().handlers)
+    for handler in handlers:
+        handler.addFilter(quiet)
+    try:
+        yield
+    finally:
+        for handler in handlers:
+            handler.removeFilter(quiet)
+
+
+def _check_study_options(args: argparse.Namespace, outputs: Outputs) -> None:
+    """Everything a study's options can be checked for without running it: before the store is touched."""
+    from ..studies.executors import check_executor
+
+    outputs.check("--store", args.store, STORE_FORMATS)
+    check_executor(args.executor, args.workers, args.scheduler)
+
+
 def _run(args: argparse.Namespace, plan: Any, outputs: Outputs) -> int:
     from ..studies.executors import default_workers
     from ..studies.run import run_plan
 
     workers = args.workers or default_workers()
-    if workers < 1:
-        raise ParameterError("--workers", args.workers, "an integer >= 1")
     plan.check(budget_from_args(args), workers)
 
     def resumed(skipped: int, todo: int) -> None:
         if skipped:
-            print(f"lcchain: resuming {args.store}: {skipped} of {skipped + todo} runs are stored, {todo} to run",
-                  file=sys.stderr, flush=True)
+            again = " (the failed ones again)" if args.retry_failed else ""
+            print(f"lcchain: resuming {args.store}: {skipped} of {skipped + todo} runs are stored, {todo} to "
+                  f"run{again}", file=sys.stderr, flush=True)
 
-    summary = run_plan(plan, args.store, executor=args.executor, workers=workers, scheduler=args.scheduler,
-                       progress=study_progress("runs"), on_resume=resumed)
+    def waiting(pid: int | None) -> None:
+        who = f"another lcchain (pid {pid})" if pid is not None else "another lcchain"
+        print(f"lcchain: {who} is writing {args.store}: waiting for it to finish", file=sys.stderr, flush=True)
+
+    verbose = bool(getattr(args, "verbose", False))
+    with _dask_quiet(verbose):
+        summary = run_plan(plan, args.store, executor=args.executor, workers=workers, scheduler=args.scheduler,
+                           progress=study_progress("runs"), on_resume=resumed, retry_failed=args.retry_failed,
+                           wait=args.wait, on_wait=waiting, verbose=verbose)
     if args.json:
         emit_json(summary.to_dict())
     else:
@@ -140,8 +186,12 @@ def _run(args: argparse.Namespace, plan: Any, outputs: Outputs) -> int:
             combined = (f"; {summary.combined} extrapolated result{'s' if summary.combined != 1 else ''} combined "
                         "from them" +
                         (f", {summary.combined_failed} failed" if summary.combined_failed else ""))
+        hint = ""
+        if summary.failed:
+            hint = (f"; 'lcchain results {args.store}' says why, and the same command with --retry-failed runs "
+                    "them again")
         print(f"{summary.total} runs in {args.store}: {summary.ran} ran now, {summary.skipped} already stored; "
-              f"{summary.ok} ok, {summary.failed} failed{combined} ({summary.wall_s:.1f} s)")
+              f"{summary.ok} ok, {summary.failed} failed{combined} ({summary.wall_s:.1f} s){hint}")
     return EXIT_OK if summary.complete else EXIT_FAILED
 
 
@@ -149,7 +199,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     from ..studies.plan import parse_vary, scene_sweep_plan, sweep_plan
 
     outputs = Outputs()
-    outputs.check("--store", args.store, STORE_FORMATS)
+    _check_study_options(args, outputs)
     budget = budget_from_args(args)
     if args.scene:
         given = [o for o, v in (("--case", args.case), ("--N", args.N), ("--dt", args.dt),
@@ -177,7 +227,7 @@ def cmd_batch(args: argparse.Namespace) -> int:
     from ..studies.plan import batch_plan
 
     outputs = Outputs()
-    outputs.check("--store", args.store, STORE_FORMATS)
+    _check_study_options(args, outputs)
     plan = batch_plan(args.netlist, allow_control=args.allow_control, timeout=args.timeout,
                       budget=budget_from_args(args))
     return _run(args, plan, outputs)
@@ -230,17 +280,11 @@ def _print_summary(stored: list[Any], args: argparse.Namespace) -> None:
 
 
 def cmd_results(args: argparse.Namespace) -> int:
-    from pathlib import Path
-
     from ..studies.store import Store
 
-    if not Path(args.store).is_file():
-        raise ParameterError("STORE", args.store, "an existing store made by lcchain sweep or batch")
     outputs = Outputs()
     outputs.check("--plot", args.plot, FIGURE_FORMATS)
-    with Store(args.store) as store:
-        if "plan" not in store.meta():
-            raise ParameterError("STORE", args.store, "a store made by lcchain sweep or batch (this one holds no plan)")
+    with Store(args.store, "read", option="STORE") as store:  # read-only: nothing is created or changed
         stored = store.runs()
         runs = [run.to_dict() for run in stored]
         if args.plot:

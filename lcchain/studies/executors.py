@@ -15,7 +15,15 @@ computed under a fixed BLAS thread limit, and ngspice is deterministic).
 * ``dask``: a ``distributed.LocalCluster`` on 127.0.0.1 (one single-threaded
   process per worker), or an existing cluster at ``--scheduler``.  Dask is
   imported here only, and only when asked for (``pip install 'lcchain[dask]'``).
-  Dask reschedules the tasks of a worker that dies.
+  Dask reschedules the tasks of a worker that dies.  The local cluster keeps
+  its scratch space in a temporary folder removed once it has closed, its
+  workers ignore Ctrl-C (the driver closes them), and their logs stay quiet
+  unless ``verbose``.
+
+:func:`open_executor` starts an executor (a Dask cluster is started, or
+reached, there) before a study writes anything, so that a scheduler that
+cannot be reached leaves no store behind; :func:`check_executor` checks the
+options before that, without a network.
 
 Short runs are grouped so that each task sent is worth its overhead
 (:data:`MIN_TASK_SECONDS`), while keeping several tasks per worker for
@@ -31,7 +39,10 @@ import multiprocessing
 import os
 import signal
 import sys
-from collections.abc import Iterator, Sequence
+import tempfile
+import threading
+import urllib.parse
+from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
 from dataclasses import replace
@@ -42,8 +53,8 @@ from ..runs.execute import RunRecord, execute
 from ..runs.spec import RunSpec
 from ..spice.simulator import Simulator, find_simulator
 
-__all__ = ["ExecutorName", "EXECUTORS", "MIN_TASK_SECONDS", "run_groups", "group_tasks", "default_workers",
-           "execute_group"]
+__all__ = ["ExecutorName", "EXECUTORS", "MIN_TASK_SECONDS", "SCHEDULER_SCHEMES", "run_groups", "open_executor",
+           "check_executor", "group_tasks", "default_workers", "execute_group"]
 
 #: The executors lcchain has.
 ExecutorName = Literal["serial", "process", "dask"]
@@ -51,12 +62,47 @@ EXECUTORS: tuple[str, ...] = get_args(ExecutorName)
 #: Seconds of runs worth sending as one task (Dask's overhead per task is a few ms; its documentation asks for
 #: tasks of 100 ms and more).
 MIN_TASK_SECONDS: dict[str, float] = {"serial": 0.0, "process": 0.05, "dask": 0.3}
+#: The protocols a Dask scheduler address may name (``HOST:PORT`` alone is ``tcp``).
+SCHEDULER_SCHEMES = ("tcp", "tls")
+#: Seconds to reach a Dask scheduler before it counts as unreachable.
+SCHEDULER_TIMEOUT = 30.0
 #: Tasks per worker aimed at, at least, for balance and progress.
 TASKS_PER_WORKER = 4
 
 log = logging.getLogger("lcchain")
 
 Group = list[tuple[int, RunSpec]]
+#: What an open executor is: groups in, each group's (index, record) pairs out as it finishes.
+Runner = Callable[[list[Group]], Iterator[list[tuple[int, RunRecord]]]]
+
+
+def check_scheduler(address: str) -> str:
+    """A Dask scheduler's address as ``SCHEME://HOST:PORT`` (``HOST:PORT`` is tcp), or a ParameterError."""
+    allowed = f"the address of a Dask scheduler, [{' | '.join(SCHEDULER_SCHEMES)}://]HOST:PORT"
+    text = address if "://" in address else f"tcp://{address}"
+    try:
+        parts = urllib.parse.urlsplit(text)
+        port, host = parts.port, parts.hostname
+    except ValueError as error:
+        raise ParameterError("--scheduler", address, f"{allowed} ({error})") from None
+    if parts.scheme not in SCHEDULER_SCHEMES:
+        raise ParameterError("--scheduler", address, f"{allowed} (not {parts.scheme}://)")
+    if not host or port is None or not 0 < port < 65536 or parts.path or parts.query or parts.fragment \
+            or parts.username is not None or not address.isprintable():
+        raise ParameterError("--scheduler", address, allowed)
+    return text
+
+
+def check_executor(executor: str, workers: int | None = None, scheduler: str | None = None) -> None:
+    """Refuse an unknown executor, workers below 1, or a scheduler that is no address or not for Dask."""
+    if executor not in EXECUTORS:
+        raise ParameterError("--executor", executor, " | ".join(EXECUTORS))
+    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
+        raise ParameterError("--workers", workers, "an integer >= 1")
+    if scheduler is not None:
+        if executor != "dask":
+            raise ParameterError("--scheduler", scheduler, "nothing unless --executor dask")
+        check_scheduler(scheduler)
 
 
 def default_workers() -> int:
@@ -170,50 +216,113 @@ def _process(groups: list[Group], simulator: Simulator, workers: int,
 
 
 # ------------------------------------------------------------------ Dask
-def _dask(groups: list[Group], simulator: Simulator, workers: int, scheduler: str | None,
-          keep_signals: bool) -> Iterator[list[tuple[int, RunRecord]]]:
+@contextlib.contextmanager
+def _interrupts_held() -> Iterator[None]:
+    """Ctrl-C ignored by the worker processes a local cluster starts, held back in the driver meanwhile.
+
+    A terminal sends Ctrl-C to the whole process group, and a Dask worker
+    that gets it prints its traceback; the driver closes its workers itself.
+    The workers inherit the ignored signal; the driver blocks it meanwhile, so
+    that a Ctrl-C during the start arrives once the cluster can be closed
+    whole (best effort: a thread that starts a process may unblock it).
+    """
+    if threading.current_thread() is not threading.main_thread() or not hasattr(signal, "pthread_sigmask"):
+        yield
+        return
+    signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
     try:
-        from distributed import Client, LocalCluster, as_completed
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
+        signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
+
+
+@contextlib.contextmanager
+def _dask(workers: int, scheduler: str | None, verbose: bool) -> Iterator[Any]:
+    """A Dask client: on a LocalCluster whose scratch space is removed after it closed, or on ``scheduler``."""
+    try:
+        import dask
+        from distributed import Client, LocalCluster
     except ImportError:
         raise SimulatorMissingError("the dask executor needs Dask, which is not installed; install it with: "
                                     "pip install 'lcchain[dask]'") from None
-    cluster = None
-    if scheduler is None:
-        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, host="127.0.0.1",
-                               dashboard_address=None, silence_logs=logging.ERROR)
-        client = Client(cluster)
-    else:
-        try:
-            client = Client(scheduler, timeout=30)
-        except OSError as error:
-            raise ParameterError("--scheduler", scheduler, f"the address of a running Dask scheduler ({error})") \
-                from None
+    quiet = logging.INFO if verbose else logging.CRITICAL
+    with contextlib.ExitStack() as stack:
+        if scheduler is None:
+            scratch = stack.enter_context(tempfile.TemporaryDirectory(prefix="lcchain-dask-"))
+            # the scheduler takes its scratch space from Dask's configuration, the workers from local_directory
+            stack.enter_context(dask.config.set({"temporary-directory": scratch}))
+            with _interrupts_held():
+                cluster = stack.enter_context(LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                                                           host="127.0.0.1", dashboard_address=None,
+                                                           silence_logs=quiet, local_directory=scratch))
+                client = stack.enter_context(Client(cluster))
+        else:
+            try:
+                client = stack.enter_context(Client(check_scheduler(scheduler), timeout=SCHEDULER_TIMEOUT))
+            except OSError as error:
+                raise ParameterError("--scheduler", scheduler, "the address of a running Dask scheduler "
+                                     f"({error})") from None
+        yield client
+
+
+def _on_dask(client: Any, groups: list[Group], simulator: Simulator,
+             keep_signals: bool) -> Iterator[list[tuple[int, RunRecord]]]:
+    from distributed import as_completed
+
+    futures = [client.submit(execute_group, group, simulator, keep_signals, pure=False) for group in groups]
     try:
-        futures = [client.submit(execute_group, group, simulator, keep_signals, pure=False) for group in groups]
         for future in as_completed(futures):
             yield future.result()
             future.release()
-    finally:
-        client.close()
-        if cluster is not None:
-            cluster.close()
+    finally:  # stopped early (an error, an interrupt): nothing may keep running for this study
+        unfinished = [future for future in futures if not future.done()]
+        if unfinished:
+            client.cancel(unfinished)
+
+
+@contextlib.contextmanager
+def open_executor(simulator: Simulator, *, executor: str = "process", workers: int | None = None,
+                  scheduler: str | None = None, keep_signals: bool = False, verbose: bool = False) -> Iterator[Runner]:
+    """An executor, started (a Dask cluster up, or its scheduler reached) before the block runs.
+
+    Parameters
+    ----------
+    simulator : Simulator
+    executor : {"serial", "process", "dask"}
+    workers : int, optional
+        Processes (default: one per core).
+    scheduler : str, optional
+        ``tcp://host:port`` of a running Dask scheduler (``executor="dask"``).
+    keep_signals : bool
+        Records keep their compared signals (not needed when the arrays are stored).
+    verbose : bool
+        Dask's workers log what they do (otherwise nothing below CRITICAL).
+
+    Yields
+    ------
+    callable
+        Takes groups of (index, spec), yields each group's (index, record) pairs as it finishes.
+    """
+    check_executor(executor, workers, scheduler)
+    workers = workers or default_workers()
+    if executor == "serial" or (executor == "process" and workers == 1):
+        yield lambda groups: (execute_group(group, simulator, keep_signals) for group in groups)
+    elif executor == "process":
+        yield lambda groups: _process(groups, simulator, workers, keep_signals)
+    else:
+        with _dask(workers, scheduler, verbose) as client:
+            yield lambda groups: _on_dask(client, groups, simulator, keep_signals)
 
 
 def run_groups(groups: list[Group], simulator: Simulator, *, executor: str = "process", workers: int | None = None,
-               scheduler: str | None = None, keep_signals: bool = False) -> Iterator[list[tuple[int, RunRecord]]]:
+               scheduler: str | None = None, keep_signals: bool = False,
+               verbose: bool = False) -> Iterator[list[tuple[int, RunRecord]]]:
     """Execute groups of runs on an executor; yields each group's (index, record) pairs as it finishes."""
-    if executor not in EXECUTORS:
-        raise ParameterError("--executor", executor, " | ".join(EXECUTORS))
-    if scheduler is not None and executor != "dask":
-        raise ParameterError("--scheduler", scheduler, "nothing unless --executor dask")
-    workers = workers or default_workers()
-    if executor == "serial" or (executor == "process" and workers == 1):
-        for group in groups:
-            yield execute_group(group, simulator, keep_signals)
-    elif executor == "process":
-        yield from _process(groups, simulator, workers, keep_signals)
-    else:
-        yield from _dask(groups, simulator, workers, scheduler, keep_signals)
+    with open_executor(simulator, executor=executor, workers=workers, scheduler=scheduler,
+                       keep_signals=keep_signals, verbose=verbose) as run:
+        yield from run(groups)
 
 
 def describe(executor: str, workers: int, scheduler: str | None) -> dict[str, Any]:

@@ -1,14 +1,17 @@
 """Running a plan: its runs on an executor, each finished run stored at once, nothing run twice.
 
-:func:`run_plan` is ``lcchain sweep`` and ``lcchain batch``: it opens the
-store (refusing one made for another plan), skips every run already stored,
-sends the others to the executor, and stores each record in its own
-transaction the moment it arrives, so that a killed driver loses nothing that
-finished and a restarted one redoes nothing.  An extrapolation's members are
-tasks like any other; its combination is made in the driver, from the members'
-stored arrays, as soon as the last of them is stored (after a restart too).
-:func:`run_specs` runs specs without a store (``lcchain run --workers``) and
-returns the records in order.
+:func:`run_plan` is ``lcchain sweep`` and ``lcchain batch``: it checks its
+options, opens the store for this driver alone (refusing one that another
+driver writes, or waiting for it, and one made for another plan), starts the
+executor (a Dask scheduler that cannot be reached leaves no store behind),
+then makes the store, whole, skips every run already stored (failed ones too,
+unless ``retry_failed``), sends the others to the executor, and stores each
+record in its own transaction the moment it arrives, so that a killed driver
+loses nothing that finished and a restarted one redoes nothing.  An
+extrapolation's members are tasks like any other; its combination is made in
+the driver, from the members' stored arrays, as soon as the last of them is
+stored (after a restart too).  :func:`run_specs` runs specs without a store
+(``lcchain run --workers``) and returns the records in order.
 """
 
 from __future__ import annotations
@@ -26,7 +29,7 @@ from ..runs.execute import RunRecord, loop_sims
 from ..runs.extrapolated import combined_record
 from ..runs.spec import RunSpec
 from ..spice.simulator import Simulator, find_simulator
-from .executors import default_workers, group_tasks, run_groups
+from .executors import check_executor, default_workers, group_tasks, open_executor, run_groups
 from .plan import Combination, Plan
 from .store import Store
 
@@ -97,14 +100,16 @@ class Summary:
 def run_plan(plan: Plan, store: str | Path, *, executor: str = "process", workers: int | None = None,
              scheduler: str | None = None, simulator: Simulator | None = None,
              progress: Callable[[Progress], None] | None = None,
-             on_resume: Callable[[int, int], None] | None = None) -> Summary:
+             on_resume: Callable[[int, int], None] | None = None, retry_failed: bool = False, wait: bool = False,
+             on_wait: Callable[[int | None], None] | None = None, verbose: bool = False) -> Summary:
     """Run a plan into a store, skipping what the store already holds.
 
     Parameters
     ----------
     plan : Plan
     store : path-like
-        The ``.sqlite`` file; created when missing; refused when it holds another plan.
+        The ``.sqlite`` file; made (whole) when missing; refused when it is not an lcchain store, holds another
+        plan, or another driver writes it.
     executor : {"serial", "process", "dask"}
     workers : int, optional
         Processes (default: one per core).
@@ -116,39 +121,52 @@ def run_plan(plan: Plan, store: str | Path, *, executor: str = "process", worker
         Called with a :class:`Progress` after every finished group of runs.
     on_resume : callable, optional
         Called with (runs already stored, runs to do) before anything runs.
+    retry_failed : bool
+        Run again the runs stored as failed or timed out (a run killed from outside, say).
+    wait : bool
+        Wait for another driver writing the store to finish, instead of refusing it.
+    on_wait : callable, optional
+        Called with that driver's pid (None when unknown) before waiting.
+    verbose : bool
+        Dask's workers log what they do.
     """
     start = time.perf_counter()
+    check_executor(executor, workers, scheduler)
     simulator = simulator if simulator is not None else find_simulator(plan.backend)
     keys = plan.keys(simulator.version)
-    with Store(store) as results:
-        results.adopt(plan.fingerprint(simulator.version), dict(plan.description), plan.rows(simulator.version),
-                      simulator.version)
-        finished = results.finished()
-        todo: dict[str, tuple[int, RunSpec, float]] = {}  # one run per key: two points may share a member
-        for task in plan.tasks:
-            if keys[task.index] not in finished:
-                todo.setdefault(keys[task.index], (task.index, task.spec, task.seconds))
-        distinct = {keys[task.index] for task in plan.tasks}
-        skipped = len(distinct & finished)
-        if on_resume is not None:
-            on_resume(skipped, len(todo))
-        combining = _Combiner(plan, keys, results)
-        combining.ready(finished)  # members stored by an earlier, interrupted run
-        workers = workers or default_workers()
-        done = failed = 0
-        for group in run_groups(group_tasks(list(todo.values()), executor, workers), simulator, executor=executor,
-                                workers=workers, scheduler=scheduler):
-            for index, record in group:
-                if record.key != keys[index]:
-                    raise ParameterError("--store", str(store), f"records under the plan's keys (run {index} came "
-                                         f"back as {record.key[:12]}, expected {keys[index][:12]})")
-                results.add(record)
-                finished.add(record.key)
-                done += 1
-                failed += not record.ok
-            combining.ready(finished)
-            if progress is not None:
-                progress(Progress(done, len(todo), failed, time.perf_counter() - start))
+    fingerprint, description = plan.fingerprint(simulator.version), dict(plan.description)
+    rows = plan.rows(simulator.version)
+    workers = workers or default_workers()
+    with Store(store, wait=wait, on_wait=on_wait) as results:
+        results.check_plan(fingerprint, description, len(rows), simulator.version)
+        results.runs()  # every stored row read, and checked, before anything starts
+        with open_executor(simulator, executor=executor, workers=workers, scheduler=scheduler,
+                           verbose=verbose) as run:
+            results.adopt(fingerprint, description, rows, simulator.version)
+            finished = results.finished() - (results.failed() if retry_failed else set())
+            todo: dict[str, tuple[int, RunSpec, float]] = {}  # one run per key: two points may share a member
+            for task in plan.tasks:
+                if keys[task.index] not in finished:
+                    todo.setdefault(keys[task.index], (task.index, task.spec, task.seconds))
+            distinct = {keys[task.index] for task in plan.tasks}
+            skipped = len(distinct & finished)
+            if on_resume is not None:
+                on_resume(skipped, len(todo))
+            combining = _Combiner(plan, keys, results)
+            combining.ready(finished)  # members stored by an earlier, interrupted run
+            done = failed = 0
+            for group in run(group_tasks(list(todo.values()), executor, workers)):
+                for index, record in group:
+                    if record.key != keys[index]:
+                        raise ParameterError("--store", str(store), f"records under the plan's keys (run {index} "
+                                             f"came back as {record.key[:12]}, expected {keys[index][:12]})")
+                    results.add(record)
+                    finished.add(record.key)
+                    done += 1
+                    failed += not record.ok
+                combining.ready(finished)
+                if progress is not None:
+                    progress(Progress(done, len(todo), failed, time.perf_counter() - start))
         status = {run.key: run.status for run in results.runs()}
     combined = [status[keys[c.index]] for c in plan.combinations]
     return Summary(len(distinct), skipped, done, sum(status[key] == "ok" for key in distinct),
@@ -205,7 +223,7 @@ class _Combiner:
 
 def run_specs(specs: Sequence[RunSpec], *, executor: str = "process", workers: int | None = None,
               scheduler: str | None = None, simulator: Simulator | None = None,
-              progress: Callable[[Progress], None] | None = None) -> list[RunRecord]:
+              progress: Callable[[Progress], None] | None = None, verbose: bool = False) -> list[RunRecord]:
     """Run specs on an executor without a store; the records come back in the specs' order, signals kept."""
     start = time.perf_counter()
     if not specs:
@@ -216,7 +234,7 @@ def run_specs(specs: Sequence[RunSpec], *, executor: str = "process", workers: i
     records: dict[int, RunRecord] = {}
     failed = 0
     for group in run_groups(group_tasks(items, executor, workers), simulator, executor=executor, workers=workers,
-                            scheduler=scheduler, keep_signals=True):
+                            scheduler=scheduler, keep_signals=True, verbose=verbose):
         for index, record in group:
             records[index] = record
             failed += not record.ok
