@@ -46,7 +46,6 @@ numpy ``.npz``).
 from __future__ import annotations
 
 import contextlib
-import errno
 import fcntl
 import io
 import json
@@ -557,11 +556,10 @@ class Store:
                 info = os.fstat(descriptor)
                 if not stat.S_ISREG(info.st_mode) or time.time() - info.st_mtime < _STALE_SECONDS:
                     continue
-                fcntl.flock(descriptor, fcntl.LOCK_EX | fcntl.LOCK_NB)
+                fcntl.flock(descriptor, fcntl.LOCK_EX | fcntl.LOCK_NB)  # held: a driver is making it now
                 os.unlink(leftover)
-            except OSError as error:
-                if error.errno not in (errno.EWOULDBLOCK, errno.ENOENT):
-                    continue
+            except OSError:
+                pass
             finally:
                 os.close(descriptor)
 
