@@ -13,7 +13,7 @@ from collections.abc import Callable, Iterator, Sequence
 from typing import Any
 
 from ..core.errors import ParameterError
-from ..core.types import EXCITATIONS, NAMED_CASES
+from ..core.types import EXCITATIONS, EXECUTORS, NAMED_CASES
 from ..report.files import FIGURE_FORMATS
 from .common import EXIT_FAILED, EXIT_OK, Outputs, budget_from_args, emit_json, int_list
 
@@ -50,8 +50,6 @@ def _words(option: str, allowed: Sequence[str]) -> Callable[[str], list[str]]:
 
 def add_study_arguments(p: argparse.ArgumentParser, *, store: bool = True) -> None:
     """Where and how a study runs: the store, the executor, its workers, a timeout."""
-    from ..studies.executors import EXECUTORS
-
     if store:
         p.add_argument("--store", required=True, metavar="FILE.sqlite", help="the results (created, or resumed)")
         p.add_argument("--json", action="store_true",

@@ -55,3 +55,6 @@ PLOT_KINDS: tuple[str, ...] = get_args(PlotKind)
 
 #: The gaussian pulse g(t) is centred at GAUSSIAN_CENTRE standard deviations (netlist, theory and scenes).
 GAUSSIAN_CENTRE = 4.0
+#: Where a study's runs execute (lcchain.studies.executors).
+ExecutorName = Literal["serial", "process", "dask"]
+EXECUTORS: tuple[str, ...] = get_args(ExecutorName)

@@ -46,9 +46,10 @@ from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
 from dataclasses import replace
-from typing import Any, Literal, get_args
+from typing import Any
 
 from ..core.errors import LcchainError, ParameterError, SimulatorMissingError
+from ..core.types import EXECUTORS, ExecutorName
 from ..runs.execute import RunRecord, execute
 from ..runs.spec import RunSpec
 from ..spice.simulator import Simulator, find_simulator
@@ -57,8 +58,6 @@ __all__ = ["ExecutorName", "EXECUTORS", "MIN_TASK_SECONDS", "SCHEDULER_SCHEMES",
            "check_executor", "group_tasks", "default_workers", "execute_group"]
 
 #: The executors lcchain has.
-ExecutorName = Literal["serial", "process", "dask"]
-EXECUTORS: tuple[str, ...] = get_args(ExecutorName)
 #: Seconds of runs worth sending as one task (Dask's overhead per task is a few ms; its documentation asks for
 #: tasks of 100 ms and more).
 MIN_TASK_SECONDS: dict[str, float] = {"serial": 0.0, "process": 0.05, "dask": 0.3}
