@@ -21,7 +21,7 @@ from lcchain.circuit.ladder import Ladder
 from lcchain.circuit.netlist import SimulationOptions, netlist_text
 from lcchain.cli import main
 from lcchain.core.errors import ParameterError, SimulationError
-from lcchain.spice.foreign import allowed_netlist, foreign_estimate, transient_of
+from lcchain.spice.foreign import NGSPICE_START_SECONDS, allowed_netlist, foreign_estimate, transient_of
 from lcchain.spice.runner import read_include, run
 from lcchain.spice.sandbox import find_sandbox
 from lcchain.spice.text import saved_vectors, transient_stop
@@ -122,7 +122,7 @@ CASES: dict[str, Case] = {
     "a .control block in a .lib section": _batch(["parts.lib: line 3"], {
         "n.cir": _with(".lib parts.lib typ"), "parts.lib": f".lib typ\nR9 n1 0 1e9\n.control\n{TOUCH}\n.endc\n.endl\n"}),
     "one include a thousand times": _batch(["in all"], {"n.cir": _with(*[".include big.inc"] * 1000),
-                                                        "big.inc": "* padding\n" * 10_000}),
+                                                        "big.inc": ("* " + "x" * 998 + "\n") * 100}),
     "includes nested nine deep": _batch(["8 deep"], {"n.cir": _with(".include i1.inc"),
                                                      **{f"i{k}.inc": f".include i{k + 1}.inc\n" for k in range(1, 10)},
                                                      "i10.inc": "R9 n1 0 1\n"}),
@@ -256,7 +256,8 @@ def test_a_netlist_is_priced_from_its_own_transient() -> None:
     assert default.max_step == pytest.approx(0.2)  # ngspice's own default: (tstop - tstart) / 50
     cheap, dear = (foreign_estimate(text, transient_of(t, "n"), 2) for t in
                    (text, text.replace(".tran 1e-3 10", ".tran 1e-6 10")))
-    assert 900 * cheap.seconds < dear.seconds <= 1000 * cheap.seconds  # time points x unknowns, plus set-up
+    start = NGSPICE_START_SECONDS  # time points x unknowns, plus set-up, plus the start
+    assert 900 * (cheap.seconds - start) < dear.seconds - start <= 1000 * (cheap.seconds - start)
     assert dear.memory > 900 * cheap.memory
 
 
