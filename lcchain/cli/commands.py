@@ -381,9 +381,11 @@ def cmd_run(args: argparse.Namespace) -> int:
 
 def cmd_bench_accuracy(args: argparse.Namespace) -> int:
     from ..report.bench import write_accuracy_bench
-    from ..studies.bench import bench_accuracy
+    from ..studies.bench import bench_accuracy, bench_estimate
 
     check_output_folder("--out", args.out, parents=True)  # the folder itself is made when the results are written
+    bench_estimate(args.N, quick=args.quick).check(budget_from_args(args), "bench accuracy",
+                                                   "--quick" if args.quick else "the full sweep", "--quick or --N")
     result = bench_accuracy(args.N, quick=args.quick, progress=progress_bar)
     print(result["markdown"], end="")
     for path in write_accuracy_bench(args.out, result):

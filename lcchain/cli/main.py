@@ -183,7 +183,8 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("bench", help="benchmarks (accuracy: what each digit costs per method and N)")
     bench = p.add_subparsers(dest="bench", metavar="BENCH", parser_class=_Parser)
     bench.required = True
-    b = bench.add_parser("accuracy", help="sweep dt x method x stepping, DOP853 and the modal sum as peers")
+    b = bench.add_parser("accuracy", parents=budget,
+                         help="sweep dt x method x stepping, DOP853 and the modal sum as peers")
     b.add_argument("--N", type=int_list("--N"), help="chain sizes (default 20,100,1000; --quick: 20,100)")
     b.add_argument("--quick", action="store_true", help="fewer steps and tolerances (under 2 minutes)")
     b.add_argument("--out", default="benchmarks/accuracy", help="output folder (default benchmarks/accuracy)")

@@ -154,11 +154,17 @@ def _check_study_options(args: argparse.Namespace, outputs: Outputs) -> None:
     check_executor(args.executor, args.workers, args.scheduler)
 
 
-def _run(args: argparse.Namespace, plan: Any, outputs: Outputs) -> int:
+def _workers(args: argparse.Namespace) -> int:
+    """The workers a study runs on: --workers, or one per core (serial: one)."""
     from ..studies.executors import default_workers
+
+    return 1 if args.executor == "serial" else args.workers or default_workers()
+
+
+def _run(args: argparse.Namespace, plan: Any, outputs: Outputs) -> int:
     from ..studies.run import run_plan
 
-    workers = args.workers or default_workers()
+    workers = _workers(args)
     plan.check(budget_from_args(args), workers)
 
     def resumed(skipped: int, todo: int) -> None:
@@ -207,7 +213,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
                                  "says the chain and the analysis; vary its keys with --vary, e.g. "
                                  "analysis.extrapolate=1,2)")
         plan = scene_sweep_plan(args.scene, [parse_vary(v) for v in args.vary], samples=args.samples,
-                                seed=args.seed, budget=budget)
+                                seed=args.seed, budget=budget, workers=_workers(args))
     else:
         given = [o for o, v in (("--vary", args.vary), ("--samples", args.samples), ("--seed", args.seed)) if v]
         if given:
@@ -217,7 +223,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
         plan = sweep_plan(cases=args.case, Ns=args.N, dts=args.dt or ([] if args.accuracy else [0.05]),
                           accuracies=args.accuracy or [], transits=args.transits, excitations=args.excitation,
                           L0=args.L0, C0=args.C0, backend=args.backend, timeout=args.timeout, budget=budget,
-                          extrapolate=args.extrapolate)
+                          extrapolate=args.extrapolate, workers=_workers(args))
     return _run(args, plan, outputs)
 
 

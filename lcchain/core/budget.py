@@ -19,8 +19,11 @@ benchmarks/theory.md):
   same points, and subtracted: :data:`BYTES_PER_VALUE` bytes for every saved
   value of every time point (six copies of a float64).  Exact modes of N
   masses add two N x N matrices.
-* an optimal design: :data:`DESIGN_SECONDS_PER_MASS` per mass (closed-form
-  modes and arrival searches are linear in N).
+* an optimal design: :data:`DESIGN_SECONDS_FIXED` plus
+  :data:`DESIGN_SECONDS_PER_MASS` per mass (closed-form modes and arrival
+  searches are linear in N).
+* the interpreter itself: :data:`INTERPRETER_BYTES`, added to every memory
+  estimate checked against the budget.
 """
 
 from __future__ import annotations
@@ -32,7 +35,9 @@ from .checks import real
 from .errors import ParameterError
 
 __all__ = ["Budget", "Estimate", "BudgetError", "DEFAULT_MAX_MEMORY", "DEFAULT_MAX_SECONDS",
-           "NGSPICE_SECONDS_PER_UNKNOWN_POINT", "BYTES_PER_VALUE", "DESIGN_SECONDS_PER_MASS", "run_estimate",
+           "NGSPICE_SECONDS_PER_UNKNOWN_POINT", "BYTES_PER_VALUE", "DESIGN_SECONDS_PER_MASS", "DESIGN_SECONDS_FIXED",
+           "INTERPRETER_BYTES", "INTERPRETER_SECONDS", "RUN_START_SECONDS", "run_estimate", "sample_theory_seconds",
+           "chain_seconds",
            "max_points", "design_estimate", "perfect_estimate", "show_bytes", "show_seconds"]
 
 #: Memory one request may use: a third of this machine's 24 GiB, so two runs fit beside the system.
@@ -45,6 +50,15 @@ NGSPICE_SECONDS_PER_UNKNOWN_POINT = 1.1e-7
 BYTES_PER_VALUE = 48
 #: An optimal design's cost per mass, two-mass (the slower case): 8.6 s at N = 1e5 (benchmarks/foundation.md).
 DESIGN_SECONDS_PER_MASS = {"one-mass": 2.5e-5, "two-mass": 9e-5}
+#: An optimal design's fixed cost, whatever N: its searches start from scratch (measured: two-mass 0.20-0.22 s
+#: at N = 10-100, one-mass 0.025 s; without it `table` with 5000 values was priced at 25 s and ran past 150 s).
+DESIGN_SECONDS_FIXED = {"one-mass": 0.03, "two-mass": 0.22}
+#: The interpreter's own memory with lcchain, numpy and scipy loaded (ru_maxrss after importing lcchain.runs and
+#: lcchain.studies: 84 MiB), counted in every estimate checked against --max-memory.
+INTERPRETER_BYTES = 96 * 2**20
+#: The interpreter's start with lcchain, numpy and scipy imported, seconds (0.6-0.9 s measured for a command
+#: that does no work), counted in every estimate checked against --max-time.
+INTERPRETER_SECONDS = 0.8
 
 
 class BudgetError(ParameterError):
@@ -92,8 +106,18 @@ class Estimate:
     memory: float
     seconds: float
 
+    @property
+    def total_memory(self) -> float:
+        """The memory with the interpreter's own (:data:`INTERPRETER_BYTES`)."""
+        return self.memory + INTERPRETER_BYTES
+
+    @property
+    def total_seconds(self) -> float:
+        """The wall time with the interpreter's start (:data:`INTERPRETER_SECONDS`)."""
+        return self.seconds + INTERPRETER_SECONDS
+
     def fits(self, budget: Budget) -> bool:
-        return self.memory <= budget.max_memory and self.seconds <= budget.max_seconds
+        return self.total_memory <= budget.max_memory and self.total_seconds <= budget.max_seconds
 
     def check(self, budget: Budget, field: str, value: object, advice: str = "") -> None:
         """Raise :class:`BudgetError` naming ``field`` and ``value`` unless the estimate fits the budget."""
@@ -101,8 +125,8 @@ class Estimate:
             return
         more = f"; {advice}" if advice else ""
         raise BudgetError(field, value, f"a request this machine can afford: {self.what} would take about "
-                          f"{show_bytes(self.memory)} and {show_seconds(self.seconds)}, beyond the limits of "
-                          f"{budget.describe()} (--max-memory, --max-time){more}")
+                          f"{show_bytes(self.total_memory)} and {show_seconds(self.total_seconds)}, beyond the "
+                          f"limits of {budget.describe()} (--max-memory, --max-time){more}")
 
 
 def run_estimate(*, points: float, saved: int, compared: int, unknowns: float, exact_N: int = 0) -> Estimate:
@@ -127,14 +151,34 @@ def run_estimate(*, points: float, saved: int, compared: int, unknowns: float, e
 
 
 def max_points(budget: Budget, *, saved: int, compared: int, unknowns: float) -> float:
-    """The most time points one run may have within the budget (memory and time alike)."""
-    return min(budget.max_memory / (BYTES_PER_VALUE * (saved + 1 + compared)),
-               budget.max_seconds / (NGSPICE_SECONDS_PER_UNKNOWN_POINT * unknowns))
+    """The most time points one run may have within the budget (memory and time alike); at least one, so that a
+    budget the interpreter alone exhausts is refused by the caller's check, not divided by."""
+    return max(1.0, min(max(budget.max_memory - INTERPRETER_BYTES, 0.0) / (BYTES_PER_VALUE * (saved + 1 + compared)),
+               max(budget.max_seconds - INTERPRETER_SECONDS, 0.0) / (NGSPICE_SECONDS_PER_UNKNOWN_POINT * unknowns)))
 
 
 def design_estimate(case: str, N: int) -> Estimate:
     """The cost of an optimal design of N masses (memory: a few dozen arrays of N floats)."""
-    return Estimate(f"the {case} design of {N} masses", 400.0 * N, DESIGN_SECONDS_PER_MASS[case] * N)
+    return Estimate(f"the {case} design of {N} masses", 400.0 * N,
+                    DESIGN_SECONDS_FIXED[case] + DESIGN_SECONDS_PER_MASS[case] * N)
+
+
+#: A run's fixed cost beyond its time points: ngspice's start, reading its raw file, the record (about 15 ms).
+RUN_START_SECONDS = 0.02
+
+
+def sample_theory_seconds(N: int) -> float:
+    """The theory of one realised chain (a tolerance sample): its exact modes (eigh, about 3e-10 N^3 s) and the
+    comparison with the arrivals' refinement (about 50 ms at N = 50: a 2000-sample scene priced without it at
+    0.14 s ran 119 s)."""
+    return 0.05 + 3e-10 * N**3 + 2e-4 * N
+
+
+def chain_seconds(case: str, N: int) -> float:
+    """Making a named case's chain and its modes before a run is planned: its design, if any, and the modes."""
+    design = (design_estimate(case, N).seconds if case in DESIGN_SECONDS_PER_MASS
+              else perfect_estimate(N, 0).seconds if case == "perfect" else 0.0)
+    return design + 2e-4 * N
 
 
 def perfect_estimate(N: int, walls: int) -> Estimate:

@@ -26,7 +26,15 @@ from ..compare.extrapolate import (
     runs_for_step,
 )
 from ..core.blas import fixed_blas_threads
-from ..core.budget import Budget, Estimate, max_points, run_estimate
+from ..core.budget import (
+    RUN_START_SECONDS,
+    Budget,
+    Estimate,
+    chain_seconds,
+    max_points,
+    run_estimate,
+    sample_theory_seconds,
+)
 from ..core.errors import ParameterError
 from ..core.limits import EXACT_MAX_N
 from ..runs.execute import pulse_centre
@@ -238,8 +246,10 @@ def _plan(scene: Scene, budget: Budget) -> ScenePlan:
     field, value = ("dt", dt) if scene.analysis.dt is not None else ("accuracy", scene.analysis.accuracy)
     one.check(budget, field, value, "a larger step, a coarser accuracy or fewer transits")
     per_sample = sum(steps[-1] / h for h in steps)  # the members' costs relative to the finest
+    theory = sample_theory_seconds(N)  # each realised chain's own modes (or the nominal's) and its comparison
     every = Estimate(f"{samples * len(steps)} runs of up to {one.what}", one.memory,
-                     one.seconds * samples * per_sample)
+                     chain_seconds(scene.chain.case, N) + samples * (one.seconds * per_sample
+                                                                     + RUN_START_SECONDS * len(steps) + theory))
     every.check(budget, "effects.tolerance.samples" if samples > 1 else field, samples if samples > 1 else value,
                 "fewer samples")
     _, chains = scene_chains(scene, nominal)  # the samples are drawn once the scene is known to fit

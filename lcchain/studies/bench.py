@@ -40,6 +40,7 @@ from ..circuit.ladder import Ladder
 from ..circuit.netlist import SimulationOptions, netlist_text, probe_names
 from ..compare.accuracy import predicted_error
 from ..core.blas import fixed_blas_threads
+from ..core.budget import NGSPICE_SECONDS_PER_UNKNOWN_POINT, RUN_START_SECONDS, Estimate, chain_seconds, run_estimate
 from ..core.errors import SimulationError
 from ..core.types import METHODS, Method
 from ..runs.execute import RunRecord, execute
@@ -53,7 +54,7 @@ from ..theory.exact import tridiagonal
 from ..theory.modes import Modes, cosine_sum
 from ..theory.spectrum import normal_modes
 
-__all__ = ["bench_accuracy", "ngspice_record", "extrapolated_record", "dop853_record", "modal_record",
+__all__ = ["bench_accuracy", "bench_estimate", "ngspice_record", "extrapolated_record", "dop853_record", "modal_record",
            "ladder_energy", "summarise",
            "summary_markdown", "record_label", "FULL_N", "QUICK_N", "RECORD_FIELDS"]
 
@@ -235,6 +236,28 @@ def _plan(Ns: Sequence[int], quick: bool) -> list[tuple[str, int, dict]]:
         jobs += [("dop853", N, {"rtol": r}) for r in (QUICK_DOP853_RTOL if quick else DOP853_RTOL)]
         jobs.append(("modal", N, {}))
     return jobs
+
+
+def bench_estimate(Ns: Sequence[int] | None = None, *, quick: bool = False, targets: bool | None = None) -> Estimate:
+    """What :func:`bench_accuracy` will cost, from its plan alone (one transit of about 1.2 N per run; adaptive
+    runs priced at dt = 0.05; DOP853 and the modal sum as a run at dt = 0.05; each accuracy target as the
+    cheapest fixed step meeting it, about 0.3 dt^2 = eps)."""
+    Ns = tuple(Ns) if Ns else (QUICK_N if quick else FULL_N)
+    targets = (not quick) if targets is None else targets
+
+    def run(N: int, dt: float) -> float:
+        return NGSPICE_SECONDS_PER_UNKNOWN_POINT * 2 * N * 1.2 * (N + 5) / dt + RUN_START_SECONDS
+
+    seconds = sum(chain_seconds("two-mass", N) for N in Ns)
+    for kind, N, params in _plan(Ns, quick):
+        dt = params.get("dt") or 0.05
+        members = (1.0, 0.5, 0.25)[:params["runs"]] if kind == "extrapolated" else (1.0,)
+        seconds += sum(run(N, dt * m) for m in members)
+    if targets:
+        seconds += sum(2 * run(N, math.sqrt(eps / 0.3)) for eps in ACCURACY_TARGETS for N in TARGET_N if N in Ns)
+    memory = max(run_estimate(points=1.2 * (N + 5) / 0.0025, saved=2, compared=2, unknowns=2 * N,
+                              exact_N=N).memory for N in Ns)  # its finest run saves the two end loops
+    return Estimate(f"the accuracy bench at N = {', '.join(map(str, Ns))}", memory, seconds)
 
 
 def bench_accuracy(Ns: Sequence[int] | None = None, *, quick: bool = False, targets: bool | None = None,

@@ -27,10 +27,17 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from ..core.budget import Budget, Estimate
+from ..core.budget import (
+    NGSPICE_SECONDS_PER_UNKNOWN_POINT,
+    RUN_START_SECONDS,
+    Budget,
+    Estimate,
+    chain_seconds,
+    sample_theory_seconds,
+)
 from ..core.errors import ParameterError
 from ..core.frozen import FrozenMap
-from ..core.limits import MAX_NETLIST_BYTES
+from ..core.limits import MAX_DESIGN_N, MAX_NETLIST_BYTES
 from ..core.types import Backend, Excitation
 from ..runs.extrapolated import combined_key
 from ..runs.simulate import simulation_runs
@@ -194,10 +201,11 @@ def sweep_plan(*, cases: Sequence[str], Ns: Sequence[int], dts: Sequence[float] 
                transits: Sequence[int] = (1,), excitations: Sequence[Excitation] = ("kick",), L0: float = 10e-6,
                C0: float = 10e-9, backend: Backend = "batch", timeout: float = DEFAULT_TIMEOUT,
                budget: Budget | None = None, extrapolate: int | None = None,
-               progress: Callable[[int, int, str], None] | None = None) -> Plan:
+               progress: Callable[[int, int, str], None] | None = None, workers: int = 1) -> Plan:
     """The product of the axes: one task per (case, N, dt or accuracy, transits, excitation).
 
-    Every run is checked against ``budget`` as :func:`lcchain.simulate` would.  With ``extrapolate`` (or an
+    The study is priced from its axes first (:func:`_price_axes`), before any chain is designed; then every
+    run is checked against ``budget`` as :func:`lcchain.simulate` would.  With ``extrapolate`` (or an
     accuracy that the cheapest way meets with several runs, as :func:`lcchain.simulate` chooses), a point is
     its members' tasks and their :class:`Combination`.
     """
@@ -205,6 +213,7 @@ def sweep_plan(*, cases: Sequence[str], Ns: Sequence[int], dts: Sequence[float] 
         raise ParameterError("--dt/--accuracy", (list(dts), list(accuracies)), "steps or accuracies, not both")
     steps = [("dt", v) for v in dts] + [("accuracy", v) for v in accuracies]
     combos = list(itertools.product(cases, Ns, steps, transits, excitations))
+    _price_axes(cases, Ns, steps, transits, len(combos), budget, workers)
     chains: dict[tuple[str, int], Any] = {}
     tasks: list[Task] = []
     combinations: list[Combination] = []
@@ -230,6 +239,43 @@ def sweep_plan(*, cases: Sequence[str], Ns: Sequence[int], dts: Sequence[float] 
     axes = tuple(name for name, values in (("case", cases), ("N", Ns), ("dt", dts), ("accuracy", accuracies),
                                            ("transits", transits), ("excitation", excitations)) if len(values) > 1)
     return Plan("sweep", FrozenMap(description), tuple(tasks), backend, axes, tuple(combinations))
+
+
+def _price_axes(cases: Sequence[str], Ns: Sequence[int], steps: Sequence[tuple[str, float]], transits: Sequence[int],
+                points: int, budget: Budget | None, workers: int) -> None:
+    """Refuse a sweep whose planning (designs and modes, in this process) and fixed-step runs (on ``workers``)
+    exceed the budget, from its axes alone: a 1000-value --N axis used to be planned for minutes before the
+    plan's own price was known. Runs at an accuracy are left to the plan's own check (their step is chosen
+    while planning)."""
+    budget = budget if budget is not None else Budget()
+    planning = sum(chain_seconds(case, N) for case in set(cases) for N in set(Ns)) + 2e-4 * sum(Ns) * points / max(
+        1, len(Ns))
+    runs = 0.0
+    for _case, N, (kind, value), transit in itertools.product(cases, Ns, steps, transits):
+        if kind == "dt":  # the run lasts about (transits + 1/2) transits of about N
+            runs += NGSPICE_SECONDS_PER_UNKNOWN_POINT * 2 * N * (transit + 0.5) * N / value + RUN_START_SECONDS
+    Estimate(f"{points} points to plan and run", 0.0, planning + runs / max(1, workers)).check(
+        budget, "study", f"{points} points", "fewer values on its axes, more workers, or a larger --max-time")
+
+
+def _price_scenes(datas: Sequence[Mapping[str, Any]], budget: Budget | None, workers: int) -> None:
+    """Refuse a scene sweep whose chains (designed here) and samples' theory (on ``workers``) exceed the budget,
+    read from the varied scenes' tables alone, before any is planned. Each scene's own runs are priced when it
+    is planned (:func:`lcchain.scenes.plan.scene_plan`)."""
+    budget = budget if budget is not None else Budget()
+    planning = work = 0.0
+    for data in datas:
+        chain = data.get("chain", {}) if isinstance(data.get("chain"), dict) else {}
+        N, case = chain.get("N"), chain.get("case", "two-mass")
+        tolerance = data.get("effects", {}).get("tolerance", {}) if isinstance(data.get("effects"), dict) else {}
+        samples = tolerance.get("samples", 1) if isinstance(tolerance, dict) else 1
+        if not isinstance(N, int) or isinstance(N, bool) or not isinstance(samples, int) or N < 1 or samples < 1:
+            continue  # the scene's own check names what is wrong
+        planning += chain_seconds(str(case), min(N, MAX_DESIGN_N))
+        work += samples * (RUN_START_SECONDS + (sample_theory_seconds(N) if samples > 1 else 0.0))
+    Estimate(f"{len(datas)} scenes to plan and run", 0.0, planning + work / max(1, workers)).check(
+        budget, "study", f"{len(datas)} scenes", "fewer values on its axes, fewer samples, more workers, or a "
+        "larger --max-time")
 
 
 def parse_vary(text: str) -> tuple[str, list[Any]]:
@@ -269,8 +315,10 @@ def _set_one(data: dict[str, Any], dotted: str, value: Any) -> None:
 
 def scene_sweep_plan(path: str | Path, varies: Sequence[tuple[str, list[Any]]], *, samples: int | None = None,
                      seed: int | None = None, budget: Budget | None = None,
-                     progress: Callable[[int, int, str], None] | None = None) -> Plan:
-    """A scene with dotted keys varied (the product of their values); each tolerance sample is a task."""
+                     progress: Callable[[int, int, str], None] | None = None, workers: int = 1) -> Plan:
+    """A scene with dotted keys varied (the product of their values); each tolerance sample is a task.
+
+    Priced from its axes first (:func:`_price_scenes`), before any scene is planned."""
     scene = load_scene(path)
     base = scene.to_dict()
     if samples is not None or seed is not None:
@@ -281,12 +329,16 @@ def scene_sweep_plan(path: str | Path, varies: Sequence[tuple[str, list[Any]]], 
             tolerance["seed"] = seed
     keys = [key for key, _ in varies]
     combos = list(itertools.product(*[values for _, values in varies])) if varies else [()]
-    tasks: list[Task] = []
-    combinations: list[Combination] = []
-    for n, values in enumerate(combos):
+    datas = []
+    for values in combos:
         data = copy.deepcopy(base)
         for key, value in zip(keys, values, strict=True):
             _set(data, key, value)
+        datas.append(data)
+    _price_scenes(datas, budget, workers)
+    tasks: list[Task] = []
+    combinations: list[Combination] = []
+    for n, (values, data) in enumerate(zip(combos, datas, strict=True)):
         params = dict(zip(keys, values, strict=True))
         if progress is not None:
             progress(n, len(combos), f"planning {params}")
