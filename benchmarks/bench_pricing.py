@@ -99,9 +99,11 @@ def main() -> None:
         (Path(folder) / "samples.toml").write_text(SCENE)
         for argv in COMMANDS:
             estimate = _price([*lcchain, *argv], folder)
-            start = time.perf_counter()
-            done = subprocess.run([*lcchain, *argv], cwd=folder, capture_output=True, text=True)
-            measured = time.perf_counter() - start
+            with tempfile.TemporaryDirectory() as fresh:  # nothing the bisection's runs left can be resumed
+                (Path(fresh) / "samples.toml").write_text(SCENE)
+                start = time.perf_counter()
+                done = subprocess.run([*lcchain, *argv], cwd=fresh, capture_output=True, text=True)
+                measured = time.perf_counter() - start
             if done.returncode != 0:
                 raise RuntimeError(f"{argv}: exit {done.returncode}: {done.stderr[-500:]}")
             worst = max(worst, measured / estimate)
