@@ -15,6 +15,7 @@ from pathlib import Path
 
 import pytest
 from helpers.catalogue import MARKER, Case, run_case
+from helpers.netlists import LADDER
 
 import lcchain
 from lcchain.circuit.ladder import Ladder
@@ -27,21 +28,7 @@ from lcchain.spice.sandbox import find_sandbox
 from lcchain.spice.text import saved_vectors, transient_stop
 
 ROOT = Path(__file__).resolve().parent.parent
-#: Perfect N=3 chain of the paper in henry and farad (as tests/test_ngspice.py): loop 1 kicked with 1 A.
-GOOD = """\
-* three-loop LC ladder, kick of loop 1
-L1 n0 n1 1.5 IC=1.0
-C12 n1 0 1.0
-L2 n1 n2 1.0
-C23 n2 0 1.0
-L3 n2 n3 1.5
-Vw0 n0 0 0
-Vw3 n3 0 0
-.options method=trap reltol=1e-6 abstol=1e-12 chgtol=1e-20 maxord=2
-.tran 0.001 7.7 0 0.001 uic
-.save i(l1) i(l3)
-.end
-"""
+GOOD = LADDER  # the perfect N=3 chain in henry and farad, loop 1 kicked with 1 A
 TOUCH = f"shell touch {{here}}/{MARKER}"
 
 

@@ -29,6 +29,7 @@ from pathlib import Path
 
 import pytest
 from helpers.catalogue import Case, run_case, tree
+from helpers.netlists import stored_records
 from helpers.processes import descendants, temporary_entries
 
 from lcchain.cli import main
@@ -382,7 +383,7 @@ def test_a_run_killed_from_outside_runs_again_with_retry_failed(tmp_path: Path) 
     killed = None
     while killed is None and driver.poll() is None and time.monotonic() < deadline:
         ngspice = [pid for pid, name in descendants(driver.pid).items() if name == "ngspice"]
-        if ngspice and _records(tmp_path / "s.sqlite") == 1:  # the first run is stored: this is the N = 200 one
+        if ngspice and stored_records(tmp_path / "s.sqlite") == 1:  # the first run is stored: this is the N = 200 one
             os.kill(ngspice[0], 9)
             killed = ngspice[0]
         time.sleep(0.02)
@@ -396,16 +397,6 @@ def test_a_run_killed_from_outside_runs_again_with_retry_failed(tmp_path: Path) 
     summary = json.loads(retried.stdout)
     assert retried.returncode == 0, retried.stderr
     assert (summary["skipped"], summary["ran"], summary["ok"], summary["failed"]) == (1, 1, 2, 0)
-
-
-def _records(path: Path) -> int:
-    try:
-        with sqlite3.connect(f"file:{path}?mode=ro", uri=True, timeout=5) as db:
-            count = db.execute("SELECT COUNT(*) FROM records").fetchone()[0]
-        db.close()
-        return int(count)
-    except sqlite3.Error:
-        return 0
 
 
 # ------------------------------------------------------------------ Dask: nothing left, nothing said

@@ -9,6 +9,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from helpers.netlists import LADDER
 from helpers.processes import temporary_entries
 
 from lcchain.core.errors import ParameterError, SimulationError
@@ -19,22 +20,6 @@ from lcchain.spice.runner import TSTOP_RTOL, RunResult, run
 from lcchain.spice.simulator import find_simulator, ngspice_version
 from lcchain.spice.text import canonical_vector_name, parse_options
 
-#: Perfect N=3 chain of the paper: masses (1.5, 1, 1.5) -> inductors in H, unit springs -> 1 F.
-#: Loop 1 is kicked with I(L1)(0) = 1 A; free ends are 0 V sources (wires) to ground.
-LADDER = """\
-* three-loop LC ladder, kick of loop 1
-L1 n0 n1 1.5 IC=1.0
-C12 n1 0 1.0
-L2 n1 n2 1.0
-C23 n2 0 1.0
-L3 n2 n3 1.5
-Vw0 n0 0 0
-Vw3 n3 0 0
-.options method=trap reltol=1e-6 abstol=1e-12 chgtol=1e-20 maxord=2
-.tran 0.001 7.7 0 0.001 uic
-.save i(l1) i(l3)
-.end
-"""
 TSTOP = 7.7
 KICK = 1.0
 #: Perfect transfer time of the N=3 perfect chain, t = sqrt(3/2)*pi (paper, perfect chain with N=3).

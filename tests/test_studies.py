@@ -13,13 +13,13 @@ import json
 import os
 import signal
 import socket
-import sqlite3
 import subprocess
 import sys
 import time
 from pathlib import Path
 
 import pytest
+from helpers.netlists import stored_records
 from helpers.processes import alive, descendants
 
 from lcchain.cli import main
@@ -41,17 +41,6 @@ pytestmark = pytest.mark.ngspice
 def _digests(path: Path) -> list[str]:
     with Store(path) as store:
         return [run.digest for run in store.runs()]
-
-
-def _stored(path: Path) -> int:
-    """Runs stored so far (read-only: a missing store stays missing, for the driver to make whole)."""
-    try:
-        with sqlite3.connect(f"file:{path}?mode=ro", uri=True, timeout=5) as db:
-            count = db.execute("SELECT COUNT(*) FROM records").fetchone()[0]
-        db.close()
-        return int(count)
-    except sqlite3.Error:
-        return 0
 
 
 @pytest.fixture(scope="module")
@@ -98,12 +87,12 @@ def test_a_killed_driver_loses_no_finished_run_and_redoes_none(tmp_path: Path) -
     env = dict(os.environ, TMPDIR=str(tmp_path))
     driver = subprocess.Popen(command, cwd=tmp_path, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     deadline = time.monotonic() + 120
-    while _stored(store) < 4 and time.monotonic() < deadline and driver.poll() is None:
+    while stored_records(store) < 4 and time.monotonic() < deadline and driver.poll() is None:
         time.sleep(0.1)
     family = descendants(driver.pid)
     driver.send_signal(signal.SIGKILL)
     driver.wait(timeout=30)
-    kept = _stored(store)
+    kept = stored_records(store)
     assert 4 <= kept < 16, "the sweep was not caught half way"
     time.sleep(1.0)  # the kernel's parent-death signals arrive
     assert [pid for pid in family if alive(pid)] == [], f"workers or ngspice outlived the driver: {family}"
@@ -293,7 +282,7 @@ def test_an_existing_cluster_runs_the_study_and_survives_a_killed_worker(serial_
                    "--scheduler", address, "--json"]
         driver = subprocess.Popen(command, cwd=tmp_path, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
         deadline = time.monotonic() + 120
-        while _stored(store) < 3 and time.monotonic() < deadline and driver.poll() is None:
+        while stored_records(store) < 3 and time.monotonic() < deadline and driver.poll() is None:
             time.sleep(0.1)
         os.killpg(processes[1].pid, signal.SIGKILL)  # one worker dies mid-study
         out, err = driver.communicate(timeout=600)

@@ -16,10 +16,11 @@ import stat
 from ..core.budget import show_bytes
 from ..core.errors import ParameterError
 
-__all__ = ["read_input"]
+__all__ = ["read_input", "file_kind"]
 
 
-def _kind(mode: int) -> str:
+def file_kind(mode: int) -> str:
+    """A file's kind in words, for a message ("a folder", "a FIFO", ...), from its ``st_mode``."""
     for test, name in ((stat.S_ISDIR, "a folder"), (stat.S_ISFIFO, "a FIFO"), (stat.S_ISCHR, "a character device"),
                        (stat.S_ISBLK, "a block device"), (stat.S_ISSOCK, "a socket")):
         if test(mode):
@@ -54,7 +55,7 @@ def read_input(path: str | os.PathLike[str], option: str, max_bytes: int) -> str
     try:
         info = os.fstat(fd)
         if not stat.S_ISREG(info.st_mode):
-            raise ParameterError(option, name, f"a regular file (this is {_kind(info.st_mode)})")
+            raise ParameterError(option, name, f"a regular file (this is {file_kind(info.st_mode)})")
         if info.st_size > max_bytes:
             raise ParameterError(option, name, f"a file of at most {show_bytes(max_bytes)} (this one has "
                                  f"{show_bytes(info.st_size)})")

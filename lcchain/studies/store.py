@@ -66,6 +66,7 @@ import numpy as np
 from ..core import __version__
 from ..core.errors import LcchainError, ParameterError
 from ..runs.execute import RunRecord, waveform_digest
+from ..spice.inputs import file_kind
 
 __all__ = ["Store", "StoredRun", "StoreMode", "FORMAT"]
 
@@ -96,15 +97,6 @@ _STATUSES = ("ok", "failed", "timeout")
 _STALE_SECONDS = 60.0
 #: What a store's owner can do about a row or a page that is not as lcchain wrote it.
 _RESTORE = "restore it from a copy, or run the study into a new store"
-
-
-def _kind(mode: int) -> str:
-    """A file's kind in words, for a message."""
-    for test, name in ((stat.S_ISDIR, "a folder"), (stat.S_ISFIFO, "a FIFO"), (stat.S_ISSOCK, "a socket"),
-                       (stat.S_ISCHR, "a character device"), (stat.S_ISBLK, "a block device")):
-        if test(mode):
-            return name
-    return "not a regular file"
 
 
 def _uri(path: Path, immutable: bool) -> str:
@@ -258,7 +250,7 @@ class Store:
         except OSError as error:
             raise self._refuse(f"a store lcchain can open ({error.strerror})") from None
         if not stat.S_ISREG(info.st_mode):
-            raise self._refuse(f"an lcchain store (this is {_kind(info.st_mode)})")
+            raise self._refuse(f"an lcchain store (this is {file_kind(info.st_mode)})")
         return info
 
     def _check_bytes(self, descriptor: int) -> None:
@@ -337,7 +329,7 @@ class Store:
             descriptor = self._open_descriptor()
             try:
                 if not stat.S_ISREG(os.fstat(descriptor).st_mode):
-                    raise self._refuse(f"an lcchain store (this is {_kind(os.fstat(descriptor).st_mode)})")
+                    raise self._refuse(f"an lcchain store (this is {file_kind(os.fstat(descriptor).st_mode)})")
                 self._take_lock(descriptor)
                 still = self._regular()
                 if still is None or still.st_ino != os.fstat(descriptor).st_ino:  # replaced while this waited

@@ -1,0 +1,34 @@
+"""Small netlists and store readers the tests share."""
+
+from __future__ import annotations
+
+import sqlite3
+from pathlib import Path
+
+#: Perfect N=3 chain of the paper: masses (1.5, 1, 1.5) -> inductors in H, unit springs -> 1 F.
+#: Loop 1 is kicked with I(L1)(0) = 1 A; free ends are 0 V sources (wires) to ground.
+LADDER = """\
+* three-loop LC ladder, kick of loop 1
+L1 n0 n1 1.5 IC=1.0
+C12 n1 0 1.0
+L2 n1 n2 1.0
+C23 n2 0 1.0
+L3 n2 n3 1.5
+Vw0 n0 0 0
+Vw3 n3 0 0
+.options method=trap reltol=1e-6 abstol=1e-12 chgtol=1e-20 maxord=2
+.tran 0.001 7.7 0 0.001 uic
+.save i(l1) i(l3)
+.end
+"""
+
+
+def stored_records(path: Path) -> int:
+    """Runs a store holds so far, read-only (a missing store stays missing, for the driver to make whole)."""
+    try:
+        with sqlite3.connect(f"file:{path}?mode=ro", uri=True, timeout=5) as db:
+            count = db.execute("SELECT COUNT(*) FROM records").fetchone()[0]
+        db.close()
+        return int(count)
+    except sqlite3.Error:
+        return 0
