@@ -86,6 +86,12 @@ CASES: dict[str, Case] = {
     "an XSPICE element": _batch(_line(12), {"n.cir": _with("A1 n1 0 model")}),
     "quotes in a value": _batch(_line(12), {"n.cir": _with('.param x="$(touch PWNED)"')}),
     "a backslash": _batch(_line(12), {"n.cir": _with("R9 n1 0 1\\")}),
+    "--title *ng_script": Case(["netlist", "--case", "uniform-free", "--N", "10", "--title", "*ng_script"],
+                               ["--title", "*ng_script"], family="netlists"),
+    "--title *#": Case(["simulate", "--case", "perfect", "--N", "4", "--title", "*# shell touch PWNED"],
+                       ["--title"], family="netlists"),
+    "a scene title *NG_SCRIPT": Case(["run", "s.toml"], ["s.toml", "title"], family="netlists", files={
+        "s.toml": 'title = "*NG_SCRIPT"\n[chain]\ncase = "two-mass"\nN = 10\n'}),
     # ------------------------------------------------------------------ includes
     ".inc_x of a system file (prefix match)": _batch(_line(12), {"n.cir": _with(".inc_x /etc/passwd")}),
     ".include of a system file": _batch(_line(12) + ["inside the netlist's folder"],

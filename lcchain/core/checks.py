@@ -20,8 +20,9 @@ import numpy as np
 from .errors import ParameterError
 
 #: A dot followed by a letter at the start of a line: ngspice may read it as a command.
-# A title ngspice would read as a command: a dot-command, or "*ng_script", which makes the whole file a script.
-_DOT_COMMAND = re.compile(r"^\s*(\.[A-Za-z]|\*\s*ng_script)", re.IGNORECASE)
+# A title ngspice would read as a command: a dot-command, "*#" (a command line), or "*ng_script", which makes
+# the whole file a script (the same rule as lcchain.spice.foreign's for a netlist's first line).
+_DOT_COMMAND = re.compile(r"^\s*(\.[A-Za-z]|\*\s*(#|ng_script))", re.IGNORECASE)
 
 __all__ = [
     "is_number",
@@ -147,7 +148,7 @@ def text_line(name: str, value: object, max_length: int, *, title: bool = False)
         raise ParameterError(name, value, allowed)
     if title and _DOT_COMMAND.match(value):
         raise ParameterError(name, value, "a title that does not start with a dot-command such as .include or "
-                             ".control, nor with *ng_script (ngspice reads those on the title line)")
+                             ".control, nor with *# or *ng_script (ngspice reads those on the title line)")
     return value
 
 
