@@ -35,7 +35,8 @@ from .checks import real
 from .errors import ParameterError
 
 __all__ = ["Budget", "Estimate", "BudgetError", "DEFAULT_MAX_MEMORY", "DEFAULT_MAX_SECONDS",
-           "NGSPICE_SECONDS_PER_UNKNOWN_POINT", "BYTES_PER_VALUE", "DESIGN_SECONDS_PER_MASS", "DESIGN_SECONDS_FIXED",
+           "NGSPICE_SECONDS_PER_UNKNOWN_POINT", "NGSPICE_SECONDS_PER_POINT", "ngspice_seconds",
+           "BYTES_PER_VALUE", "DESIGN_SECONDS_PER_MASS", "DESIGN_SECONDS_FIXED",
            "INTERPRETER_BYTES", "INTERPRETER_SECONDS", "RUN_START_SECONDS", "run_estimate", "sample_theory_seconds",
            "chain_seconds",
            "max_points", "design_estimate", "perfect_estimate", "show_bytes", "show_seconds"]
@@ -46,6 +47,9 @@ DEFAULT_MAX_MEMORY = 8 * 2**30
 DEFAULT_MAX_SECONDS = 3600.0
 #: ngspice's cost, trapezoidal rule (benchmarks/accuracy: 98-114 ns).
 NGSPICE_SECONDS_PER_UNKNOWN_POINT = 1.1e-7
+#: ngspice's cost per time point whatever the circuit (a 9-unknown ladder: 3e7 points in 141 s on a loaded
+#: machine, 4.7 us a point, where the per-unknown cost alone said 30 s).
+NGSPICE_SECONDS_PER_POINT = 3e-6
 #: lcchain's memory per saved value per time point: six float64 copies (raw, columns, signals, theory, error).
 BYTES_PER_VALUE = 48
 #: An optimal design's cost per mass, two-mass (the slower case): 8.6 s at N = 1e5 (benchmarks/foundation.md).
@@ -147,14 +151,19 @@ def run_estimate(*, points: float, saved: int, compared: int, unknowns: float, e
     """
     memory = BYTES_PER_VALUE * points * (saved + 1 + compared) + 16.0 * exact_N * exact_N
     return Estimate(f"{points:.3g} time points x {saved} saved values", memory,
-                    NGSPICE_SECONDS_PER_UNKNOWN_POINT * unknowns * points)
+                    ngspice_seconds(points, unknowns))
+
+
+def ngspice_seconds(points: float, unknowns: float) -> float:
+    """ngspice's wall time for a run of ``points`` time points and ``unknowns`` unknowns."""
+    return points * (NGSPICE_SECONDS_PER_UNKNOWN_POINT * unknowns + NGSPICE_SECONDS_PER_POINT)
 
 
 def max_points(budget: Budget, *, saved: int, compared: int, unknowns: float) -> float:
     """The most time points one run may have within the budget (memory and time alike); at least one, so that a
     budget the interpreter alone exhausts is refused by the caller's check, not divided by."""
     return max(1.0, min(max(budget.max_memory - INTERPRETER_BYTES, 0.0) / (BYTES_PER_VALUE * (saved + 1 + compared)),
-               max(budget.max_seconds - INTERPRETER_SECONDS, 0.0) / (NGSPICE_SECONDS_PER_UNKNOWN_POINT * unknowns)))
+               max(budget.max_seconds - INTERPRETER_SECONDS, 0.0) / ngspice_seconds(1.0, unknowns)))
 
 
 def design_estimate(case: str, N: int) -> Estimate:

@@ -45,6 +45,7 @@ import os
 import re
 import select
 import subprocess
+import sys
 import tempfile
 import time
 from collections.abc import Callable, Iterator, Mapping, Sequence
@@ -73,6 +74,8 @@ __all__ = ["RunResult", "run", "read_include", "TSTOP_RTOL", "LOG_MAX_CHARS", "P
 
 #: What a watched run (a foreign netlist) may print on stdout and stderr before it is stopped.
 MAX_LOG_BYTES = 16 * 2**20
+#: The folder lcchain is imported from (the shared backend's child imports it there).
+_PACKAGE_ROOT = str(Path(__file__).resolve().parents[2])
 #: Relative tolerance on the last time point versus the requested ``tstop``.
 TSTOP_RTOL = 1e-9
 #: Seconds between two looks at a running batch run, when there is something to look at (a progress callback,
@@ -295,8 +298,12 @@ def _placement(simulator: Simulator, foreign: bool, own_folder: str | None) -> I
     if not foreign:
         yield _Place(simulator.launcher, own_folder or "/", child_env())
     elif simulator.sandbox.available:
-        folder = ("--ro-bind", own_folder, own_folder) if own_folder else ()  # visible even under /tmp
-        prefix = (*simulator.launcher, *simulator.sandbox.prefix[:-1], *folder, "--chdir", own_folder or SCRATCH,
+        # The sandbox's /tmp is its own: what the run reads from the host's /tmp (the netlist's folder, an
+        # interpreter and lcchain installed there, for the shared backend's child) is bound back, read-only.
+        shown = [own_folder] if own_folder else []
+        shown += [p for p in dict.fromkeys((sys.prefix, _PACKAGE_ROOT)) if Path(p).resolve().is_relative_to("/tmp")]
+        binds = [word for path in shown for word in ("--ro-bind", path, path)]
+        prefix = (*simulator.launcher, *simulator.sandbox.prefix[:-1], *binds, "--chdir", own_folder or SCRATCH,
                   "--")
         yield _Place(prefix, "/", scratch_env(SCRATCH))
     else:

@@ -40,7 +40,7 @@ from ..circuit.ladder import Ladder
 from ..circuit.netlist import SimulationOptions, netlist_text, probe_names
 from ..compare.accuracy import predicted_error
 from ..core.blas import fixed_blas_threads
-from ..core.budget import NGSPICE_SECONDS_PER_UNKNOWN_POINT, RUN_START_SECONDS, Estimate, chain_seconds, run_estimate
+from ..core.budget import RUN_START_SECONDS, Estimate, chain_seconds, ngspice_seconds, run_estimate
 from ..core.errors import SimulationError
 from ..core.types import METHODS, Method
 from ..runs.execute import RunRecord, execute
@@ -246,7 +246,7 @@ def bench_estimate(Ns: Sequence[int] | None = None, *, quick: bool = False, targ
     targets = (not quick) if targets is None else targets
 
     def run(N: int, dt: float) -> float:
-        return NGSPICE_SECONDS_PER_UNKNOWN_POINT * 2 * N * 1.2 * (N + 5) / dt + RUN_START_SECONDS
+        return ngspice_seconds(1.2 * (N + 5) / dt, 2 * N) + RUN_START_SECONDS
 
     seconds = sum(chain_seconds("two-mass", N) for N in Ns)
     for kind, N, params in _plan(Ns, quick):

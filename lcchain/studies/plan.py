@@ -28,11 +28,11 @@ from pathlib import Path
 from typing import Any
 
 from ..core.budget import (
-    NGSPICE_SECONDS_PER_UNKNOWN_POINT,
     RUN_START_SECONDS,
     Budget,
     Estimate,
     chain_seconds,
+    ngspice_seconds,
     sample_theory_seconds,
 )
 from ..core.errors import ParameterError
@@ -173,10 +173,8 @@ def _seconds(spec: RunSpec) -> float:
     theory = spec.theory
     if theory is None or theory.dt is None:
         return 0.1
-    from ..core.budget import NGSPICE_SECONDS_PER_UNKNOWN_POINT
-
     points = spec.tstop / theory.time_unit / theory.dt
-    return NGSPICE_SECONDS_PER_UNKNOWN_POINT * 2 * theory.chain.N * points + 0.02
+    return ngspice_seconds(points, 2 * theory.chain.N) + RUN_START_SECONDS
 
 
 def _add_runs(tasks: list[Task], combinations: list[Combination], params: Mapping[str, Any],
@@ -253,7 +251,7 @@ def _price_axes(cases: Sequence[str], Ns: Sequence[int], steps: Sequence[tuple[s
     runs = 0.0
     for _case, N, (kind, value), transit in itertools.product(cases, Ns, steps, transits):
         if kind == "dt":  # the run lasts about (transits + 1/2) transits of about N
-            runs += NGSPICE_SECONDS_PER_UNKNOWN_POINT * 2 * N * (transit + 0.5) * N / value + RUN_START_SECONDS
+            runs += ngspice_seconds((transit + 0.5) * N / value, 2 * N) + RUN_START_SECONDS
     Estimate(f"{points} points to plan and run", 0.0, planning + runs / max(1, workers)).check(
         budget, "study", f"{points} points", "fewer values on its axes, more workers, or a larger --max-time")
 
