@@ -27,7 +27,7 @@ from lcchain.circuit.netlist import make_netlist
 from lcchain.spice.foreign import allowed_netlist, foreign_estimate, transient_of
 from lcchain.spice.runner import run
 from lcchain.spice.simulator import find_simulator
-from lcchain.spice.text import saved_vectors, transient_stop
+from lcchain.spice.text import saved_vectors
 
 REPEAT = 30
 
@@ -64,8 +64,7 @@ def main() -> None:
     print("|---:|---:|---:|---:|---:|---:|")
     for N in (20, 100):
         text, _, _ = make_netlist(lcchain.Chain.from_rw(N, r=0.5873, w=0.0972), dt=0.05)
-        tstop = transient_stop(text)
-        assert tstop is not None
+        tstop = transient_of(text, "own").stop
         vectors = saved_vectors(text)
         own: list[float] = []
         foreign: list[float] = []

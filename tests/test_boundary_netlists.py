@@ -25,7 +25,7 @@ from lcchain.core.errors import ParameterError, SimulationError
 from lcchain.spice.foreign import NGSPICE_START_SECONDS, allowed_netlist, foreign_estimate, transient_of
 from lcchain.spice.runner import read_include, run
 from lcchain.spice.sandbox import find_sandbox
-from lcchain.spice.text import saved_vectors, transient_stop
+from lcchain.spice.text import saved_vectors
 
 ROOT = Path(__file__).resolve().parent.parent
 GOOD = LADDER  # the perfect N=3 chain in henry and farad, loop 1 kicked with 1 A
@@ -184,8 +184,7 @@ def test_an_included_netlist_runs_as_its_inlined_twin(tmp_path: Path) -> None:
     parts = [line for line in lines if line[:1] in "LC"]
     (tmp_path / "ladder.inc").write_text("".join(parts))
     split = "".join(line for line in lines if line not in parts).replace(".options", ".include ladder.inc\n.options")
-    tstop = transient_stop(GOOD)
-    assert tstop is not None
+    tstop = transient_of(GOOD, "good").stop
     whole = run(GOOD, saved_vectors(GOOD), tstop)
     included = run(split, saved_vectors(GOOD), tstop, cwd=tmp_path)
     for name, values in whole.vectors.items():
@@ -229,8 +228,7 @@ def test_a_netlist_run_as_it_is_cannot_write_outside_its_scratch(tmp_path: Path)
 
 @pytest.mark.ngspice
 def test_the_sandbox_changes_no_result() -> None:
-    tstop = transient_stop(GOOD)
-    assert tstop is not None
+    tstop = transient_of(GOOD, "good").stop
     inside = run(GOOD, saved_vectors(GOOD), tstop, foreign=True)
     outside = run(GOOD, saved_vectors(GOOD), tstop, foreign=False)
     assert inside.time.tolist() == outside.time.tolist()

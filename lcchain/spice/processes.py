@@ -17,8 +17,11 @@ import numpy as np
 from ..core.errors import SimulationError
 from .log import useful_output
 
-__all__ = ["CHILD_HOME", "child_env", "kill_group", "read_all", "call_shared_worker", "decode_worker_payload"]
+__all__ = ["PACKAGE_ROOT", "CHILD_HOME", "child_env", "kill_group", "read_all", "call_shared_worker",
+           "decode_worker_payload"]
 
+#: The folder lcchain is imported from: the shared-library child imports it there.
+PACKAGE_ROOT = str(Path(__file__).resolve().parents[2])
 #: HOME of every ngspice child: a folder that does not exist, so no ~/.spiceinit is read.
 CHILD_HOME = "/nonexistent/lcchain"
 
@@ -52,8 +55,7 @@ def call_shared_worker(launcher: tuple[str, ...], request: dict[str, Any], timeo
     :func:`child_env`), to which the package's folder is added on ``PYTHONPATH``.
     """
     env = dict(env) if env is not None else child_env()
-    package_root = str(Path(__file__).resolve().parents[2])
-    env["PYTHONPATH"] = os.pathsep.join(p for p in (package_root, env.get("PYTHONPATH")) if p)
+    env["PYTHONPATH"] = os.pathsep.join(p for p in (PACKAGE_ROOT, env.get("PYTHONPATH")) if p)
     payload = json.dumps(request).encode("utf-8")
     with tempfile.TemporaryFile() as err, subprocess.Popen(
             [*launcher, sys.executable, "-P", "-m", "lcchain.spice.shared_worker"], cwd=cwd, env=env,

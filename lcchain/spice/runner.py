@@ -64,7 +64,7 @@ from ..core.types import BACKENDS, Backend
 from .foreign import allowed_netlist
 from .inputs import read_input
 from .log import LOG_MAX_CHARS, failure_reason, fatal_lines, trim_log, useful_output
-from .processes import call_shared_worker, child_env, decode_worker_payload, kill_group, read_all
+from .processes import PACKAGE_ROOT, call_shared_worker, child_env, decode_worker_payload, kill_group, read_all
 from .raw import read_raw
 from .sandbox import SCRATCH, scratch_env
 from .simulator import Simulator, find_simulator
@@ -74,8 +74,6 @@ __all__ = ["RunResult", "run", "read_include", "TSTOP_RTOL", "LOG_MAX_CHARS", "P
 
 #: What a watched run (a foreign netlist) may print on stdout and stderr before it is stopped.
 MAX_LOG_BYTES = 16 * 2**20
-#: The folder lcchain is imported from (the shared backend's child imports it there).
-_PACKAGE_ROOT = str(Path(__file__).resolve().parents[2])
 #: Relative tolerance on the last time point versus the requested ``tstop``.
 TSTOP_RTOL = 1e-9
 #: Seconds between two looks at a running batch run, when there is something to look at (a progress callback,
@@ -298,13 +296,11 @@ def _placement(simulator: Simulator, foreign: bool, own_folder: str | None) -> I
     if not foreign:
         yield _Place(simulator.launcher, own_folder or "/", child_env())
     elif simulator.sandbox.available:
-        # The sandbox's /tmp is its own: what the run reads from the host's /tmp (the netlist's folder, an
-        # interpreter and lcchain installed there, for the shared backend's child) is bound back, read-only.
+        # What the run reads from the host's /tmp (the netlist's folder; an interpreter and lcchain installed
+        # there, for the shared backend's child) is shown in the sandbox, whose /tmp is its own.
         shown = [own_folder] if own_folder else []
-        shown += [p for p in dict.fromkeys((sys.prefix, _PACKAGE_ROOT)) if Path(p).resolve().is_relative_to("/tmp")]
-        binds = [word for path in shown for word in ("--ro-bind", path, path)]
-        prefix = (*simulator.launcher, *simulator.sandbox.prefix[:-1], *binds, "--chdir", own_folder or SCRATCH,
-                  "--")
+        shown += [p for p in dict.fromkeys((sys.prefix, PACKAGE_ROOT)) if Path(p).resolve().is_relative_to("/tmp")]
+        prefix = (*simulator.launcher, *simulator.sandbox.command([], own_folder or SCRATCH, shown))
         yield _Place(prefix, "/", scratch_env(SCRATCH))
     else:
         with tempfile.TemporaryDirectory(prefix="lcchain-scratch-") as scratch:

@@ -24,6 +24,7 @@ import os
 import shutil
 import subprocess
 import sys
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 __all__ = ["SCRATCH", "SCRATCH_BYTES", "Sandbox", "find_sandbox", "scratch_env"]
@@ -41,7 +42,7 @@ class Sandbox:
     Attributes
     ----------
     prefix : tuple of str
-        ``bwrap ... --`` before the program, or ``()``.
+        ``bwrap`` and its options, or ``()``; :meth:`command` completes it.
     why_not : str
         Why there is no sandbox ("" when there is one).
     """
@@ -53,6 +54,12 @@ class Sandbox:
     def available(self) -> bool:
         return bool(self.prefix)
 
+    def command(self, program: Sequence[str], cwd: str = SCRATCH, shown: Sequence[str] = ()) -> list[str]:
+        """The command line that runs ``program`` in the sandbox, in ``cwd``, with the host paths ``shown``
+        bound back read-only (the sandbox's /tmp is its own)."""
+        binds = [word for path in shown for word in ("--ro-bind", path, path)]
+        return [*self.prefix, *binds, "--chdir", cwd, "--", *program]
+
 
 def scratch_env(home: str) -> dict[str, str]:
     """The whole environment of a foreign run: no variable of the user's reaches ngspice (SPICE_LIB_DIR,
@@ -63,7 +70,7 @@ def scratch_env(home: str) -> dict[str, str]:
 
 def _bwrap_prefix(bwrap: str) -> tuple[str, ...]:
     return (bwrap, "--ro-bind", "/", "/", "--dev", "/dev", "--proc", "/proc", "--size", str(SCRATCH_BYTES),
-            "--tmpfs", "/tmp", "--dir", SCRATCH, "--unshare-all", "--die-with-parent", "--new-session", "--")
+            "--tmpfs", "/tmp", "--dir", SCRATCH, "--unshare-all", "--die-with-parent", "--new-session")
 
 
 def find_sandbox() -> Sandbox:
@@ -73,10 +80,9 @@ def find_sandbox() -> Sandbox:
     bwrap = shutil.which("bwrap")
     if bwrap is None:
         return Sandbox(why_not="bubblewrap (bwrap) is not installed: sudo apt-get install bubblewrap")
-    prefix = _bwrap_prefix(bwrap)
-    true = shutil.which("true") or "/bin/true"
+    sandbox = Sandbox(_bwrap_prefix(bwrap))
     try:
-        done = subprocess.run([*prefix[:-1], "--chdir", SCRATCH, "--", true], capture_output=True, timeout=30,
+        done = subprocess.run(sandbox.command([shutil.which("true") or "/bin/true"]), capture_output=True, timeout=30,
                               stdin=subprocess.DEVNULL, env=scratch_env("/"))
     except (OSError, subprocess.TimeoutExpired) as error:
         return Sandbox(why_not=f"bwrap could not start: {error}")
@@ -84,4 +90,4 @@ def find_sandbox() -> Sandbox:
         said = done.stderr.decode("utf-8", "replace").strip().splitlines()
         return Sandbox(why_not=f"bwrap refused to start here ({said[-1] if said else done.returncode}); user "
                        "namespaces may be disabled")
-    return Sandbox(prefix)
+    return sandbox

@@ -1,4 +1,4 @@
-"""What lcchain reads in netlist text before ngspice sees it: names, options, unsafe lines.
+"""What lcchain reads in netlist text: vector names, options, saved vectors, numbers.
 
 Vector names
 ------------
@@ -19,42 +19,22 @@ written               key in result
 
 Other names (``@l1[i]``, ``v(a,b)``) are only lower-cased.
 
-Safety
-------
-ngspice executes ``shell`` commands from ``.control`` blocks, in batch mode
-and in the shared library alike, and reads any file an ``.include`` or
-``.lib`` names.  :func:`unsafe_lines` finds, before anything runs: a
-``.control``/``.endc`` line, a ``shell`` line (outside the title line, where
-ngspice reads no ``shell``), and an ``.include``/``.lib`` whose file lies
-outside the netlist's own folder (or any at all for a netlist that has no
-folder, such as lcchain's own).
+What ngspice may be given of a netlist lcchain did not write is decided by
+the allow-list of :mod:`lcchain.spice.foreign`.
 """
 
 from __future__ import annotations
 
-import os
 import re
-from pathlib import Path
 
-__all__ = ["canonical_vector_name", "parse_options", "logical_lines", "unsafe_lines", "UnsafeLine", "spice_number",
-           "transient_stop", "saved_vectors", "UNSAFE_FILES"]
+__all__ = ["canonical_vector_name", "parse_options", "logical_lines", "spice_number", "saved_vectors"]
 
 _OPTIONS_LINE = re.compile(r"^\s*\.opt(ion|ions)?\b(.*)$", re.IGNORECASE)
-_CONTROL = re.compile(r"^\s*\.(control|endc)\b", re.IGNORECASE)
-_SHELL = re.compile(r"^\s*shell\b", re.IGNORECASE)
-_INCLUDE = re.compile(r"^\s*\.(include|inc|lib)\b\s*(.*)$", re.IGNORECASE)
 
-_TRAN = re.compile(r"^\s*\.tran\b(.*)$", re.IGNORECASE)
 _SAVE = re.compile(r"^\s*\.save\b(.*)$", re.IGNORECASE)
 _NUMBER = re.compile(r"^([-+]?(?:\d+\.?\d*|\.\d+)(?:e[-+]?\d+)?)(meg|mil|[tgkmunpf])?[a-z]*$", re.IGNORECASE)
 _SCALE = {"t": 1e12, "g": 1e9, "meg": 1e6, "k": 1e3, "m": 1e-3, "mil": 25.4e-6, "u": 1e-6, "n": 1e-9, "p": 1e-12,
           "f": 1e-15}
-
-#: (line number from 1, the line, why it is refused)
-UnsafeLine = tuple[int, str, str]
-#: Files ngspice reads from the folder it runs in, and executes: a netlist's folder must not hold them.
-UNSAFE_FILES = (".spiceinit", "spice.rc")
-
 
 def spice_number(text: str) -> float | None:
     """A SPICE number: ``1e-6``, ``1u``, ``10meg``, ``2.5ns`` (the unit letters after the scale are ignored)."""
@@ -63,16 +43,6 @@ def spice_number(text: str) -> float | None:
         return None
     value = float(match.group(1))
     return value * _SCALE[match.group(2).lower()] if match.group(2) else value
-
-
-def transient_stop(netlist: str) -> float | None:
-    """The stop time of the netlist's ``.tran`` analysis in seconds, or None when it has none."""
-    for _, line in logical_lines(netlist):
-        match = _TRAN.match(line)
-        if match:
-            words = [w for w in re.split(r"[\s,()]+", match.group(1)) if w]
-            return spice_number(words[1]) if len(words) >= 2 else None
-    return None
 
 
 def saved_vectors(netlist: str) -> tuple[str, ...]:
@@ -144,50 +114,3 @@ def parse_options(netlist: str) -> dict[str, str]:
             key, sep, value = token.partition("=")
             options[key.lower()] = value if sep else "true"
     return options
-
-
-def _included_file(argument: str) -> str:
-    argument = argument.strip()
-    if argument[:1] in "\"'":
-        quote = argument[0]
-        end = argument.find(quote, 1)
-        return argument[1:end] if end > 0 else argument[1:]
-    return argument.split()[0] if argument else ""
-
-
-def unsafe_lines(netlist: str, folder: str | os.PathLike[str] | None = None) -> list[UnsafeLine]:
-    """Lines that would make ngspice run a command or read a file outside ``folder``.
-
-    Parameters
-    ----------
-    netlist : str
-        The netlist text.
-    folder : path-like, optional
-        The netlist's own folder: ``.include``/``.lib`` files inside it (after
-        resolving symbolic links) are allowed.  None: no include at all.
-
-    Returns
-    -------
-    list of (line number, line, reason)
-        Empty when the netlist is safe to run.
-    """
-    root = Path(folder).resolve() if folder is not None else None
-    found: list[UnsafeLine] = []
-    for number, line in logical_lines(netlist):
-        text = line.strip()
-        if _CONTROL.match(line):
-            found.append((number, text, "a .control block (ngspice executes its commands, shell included)"))
-        elif _SHELL.match(line) and number > 1:
-            found.append((number, text, "a shell command"))
-        else:
-            include = _INCLUDE.match(line)
-            if include is None:
-                continue
-            target = _included_file(include.group(2))
-            if root is None:
-                found.append((number, text, f"an .{include.group(1).lower()} of another file"))
-                continue
-            path = (root / os.path.expanduser(target)).resolve()
-            if not target or not path.is_relative_to(root):
-                found.append((number, text, f"an .{include.group(1).lower()} of a file outside {root}"))
-    return found
