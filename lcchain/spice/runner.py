@@ -171,8 +171,8 @@ def _check_arguments(netlist: object, vectors: object, tstop: object, timeout: o
 
 
 def read_include(path: Path, field: str) -> str:
-    """An included file's text, for :func:`lcchain.spice.foreign.allowed_netlist`: a regular file of at most
-    :data:`lcchain.core.limits.MAX_NETLIST_BYTES`."""
+    """A netlist's or an included file's text (the ``read`` of :func:`lcchain.spice.foreign.allowed_netlist`):
+    a regular file of at most :data:`lcchain.core.limits.MAX_NETLIST_BYTES`."""
     return read_input(path, field, MAX_NETLIST_BYTES)
 
 

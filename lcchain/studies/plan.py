@@ -37,7 +37,7 @@ from ..core.budget import (
 )
 from ..core.errors import ParameterError
 from ..core.frozen import FrozenMap
-from ..core.limits import MAX_DESIGN_N, MAX_NETLIST_BYTES
+from ..core.limits import MAX_DESIGN_N
 from ..core.types import Backend, Excitation
 from ..runs.extrapolated import combined_key
 from ..runs.simulate import simulation_runs
@@ -45,7 +45,6 @@ from ..runs.spec import DEFAULT_TIMEOUT, RunSpec, Theory
 from ..scenes.load import load_scene, parse_scene
 from ..scenes.plan import scene_plan, scene_specs
 from ..spice.foreign import allowed_netlist, foreign_estimate, raw_bytes_limit, transient_of
-from ..spice.inputs import read_input
 from ..spice.runner import read_include
 from ..spice.text import saved_vectors
 from ..theory.cases import chain_for_case
@@ -239,28 +238,31 @@ def sweep_plan(*, cases: Sequence[str], Ns: Sequence[int], dts: Sequence[float] 
     return Plan("sweep", FrozenMap(description), tuple(tasks), backend, axes, tuple(combinations))
 
 
+def _check_study(budget: Budget | None, what: str, planning: float, work: float, workers: int, advice: str) -> None:
+    """Refuse a study whose planning (in this process) and work (on ``workers``) exceed the budget."""
+    Estimate(f"{what} to plan and run", 0.0, planning + work / max(1, workers)).check(
+        budget if budget is not None else Budget(), "study", what,
+        f"fewer values on its axes, {advice}more workers, or a larger --max-time")
+
 def _price_axes(cases: Sequence[str], Ns: Sequence[int], steps: Sequence[tuple[str, float]], transits: Sequence[int],
                 points: int, budget: Budget | None, workers: int) -> None:
     """Refuse a sweep whose planning (designs and modes, in this process) and fixed-step runs (on ``workers``)
     exceed the budget, from its axes alone: a 1000-value --N axis used to be planned for minutes before the
     plan's own price was known. Runs at an accuracy are left to the plan's own check (their step is chosen
     while planning)."""
-    budget = budget if budget is not None else Budget()
     planning = sum(chain_seconds(case, N) for case in set(cases) for N in set(Ns)) + 2e-4 * sum(Ns) * points / max(
         1, len(Ns))
     runs = 0.0
     for _case, N, (kind, value), transit in itertools.product(cases, Ns, steps, transits):
         if kind == "dt":  # the run lasts about (transits + 1/2) transits of about N
             runs += ngspice_seconds((transit + 0.5) * N / value, 2 * N) + RUN_START_SECONDS
-    Estimate(f"{points} points to plan and run", 0.0, planning + runs / max(1, workers)).check(
-        budget, "study", f"{points} points", "fewer values on its axes, more workers, or a larger --max-time")
+    _check_study(budget, f"{points} points", planning, runs, workers, "")
 
 
 def _price_scenes(datas: Sequence[Mapping[str, Any]], budget: Budget | None, workers: int) -> None:
     """Refuse a scene sweep whose chains (designed here) and samples' theory (on ``workers``) exceed the budget,
     read from the varied scenes' tables alone, before any is planned. Each scene's own runs are priced when it
     is planned (:func:`lcchain.scenes.plan.scene_plan`)."""
-    budget = budget if budget is not None else Budget()
     planning = work = 0.0
     for data in datas:
         chain = data.get("chain", {}) if isinstance(data.get("chain"), dict) else {}
@@ -271,9 +273,7 @@ def _price_scenes(datas: Sequence[Mapping[str, Any]], budget: Budget | None, wor
             continue  # the scene's own check names what is wrong
         planning += chain_seconds(str(case), min(N, MAX_DESIGN_N))
         work += samples * (RUN_START_SECONDS + (sample_theory_seconds(N) if samples > 1 else 0.0))
-    Estimate(f"{len(datas)} scenes to plan and run", 0.0, planning + work / max(1, workers)).check(
-        budget, "study", f"{len(datas)} scenes", "fewer values on its axes, fewer samples, more workers, or a "
-        "larger --max-time")
+    _check_study(budget, f"{len(datas)} scenes", planning, work, workers, "fewer samples, ")
 
 
 def parse_vary(text: str) -> tuple[str, list[Any]]:
@@ -373,7 +373,7 @@ def batch_plan(paths: Sequence[str | Path], *, allow_control: bool = False, back
     tasks = []
     for index, name in enumerate(paths):
         path = Path(name)
-        text = read_input(path, "NETLIST", MAX_NETLIST_BYTES)
+        text = read_include(path, "NETLIST")
         folder = path.resolve().parent
         run_text = text if allow_control else allowed_netlist(text, str(path), folder, read_include)
         transient = transient_of(run_text, str(path))
