@@ -12,6 +12,8 @@ MIN_N = 3
 MAX_DESIGN_N = 10_000_000
 #: Largest N diagonalised exactly (eigenvectors need 8 N^2 bytes: 800 MB at 10^4).
 EXACT_MAX_N = 10_000
+#: Largest chain with coupled coils: its modes solve a dense generalised eigenproblem, O(N^3) (N = 2000: ~3 s).
+COUPLED_MAX_N = 2000
 #: Largest perfect cradle designed: O(N^2) (the design and its check), about 25 s free and 50 s with walls here.
 MAX_PERFECT_N = 20_000
 #: Largest chain simulated as a netlist (about 2 N elements) by simulate, scenes and sweeps.

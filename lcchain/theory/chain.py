@@ -25,7 +25,10 @@ from ..core.errors import ParameterError
 from ..core.frozen import readonly
 from ..core.limits import MAX_DESIGN_N, MIN_N
 
-__all__ = ["Chain", "MIN_N", "PERFECT_N", "PERFECT_ARRIVAL"]
+__all__ = ["Chain", "MIN_N", "PERFECT_N", "PERFECT_ARRIVAL", "MAX_COUPLING"]
+
+#: |k| below this keeps the tridiagonal mass matrix positive definite for every N (1 + 2k cos(pi/(N+1)) > 0).
+MAX_COUPLING = 0.5
 
 #: Sizes with a perfectly transmitting chain (Sec. II.C and Appendix A).
 PERFECT_N = (3, 4, 5)
@@ -95,6 +98,12 @@ class Chain:
         the inner ones must be > 0 (a zero inner spring would cut the chain).
     name : str, optional
         A label (``"two-mass"``, ``"custom"``), used in reports only.
+    coupling : float, optional
+        Inertial coupling k of neighbouring masses, -1/2 < k < 1/2: the mass
+        matrix is tridiagonal with M_ii = m_i and M_{i,i+1} = k sqrt(m_i m_{i+1})
+        (in the LC ladder, a mutual inductance k sqrt(L_i L_{i+1}) between
+        neighbouring coils).  0 (the paper's chain): M is diagonal.  |k| < 1/2
+        keeps M positive definite for every N.
 
     Notes
     -----
@@ -104,6 +113,7 @@ class Chain:
     masses: np.ndarray
     springs: np.ndarray
     name: str = "custom"
+    coupling: float = 0.0
     _params: tuple = field(default=(), repr=False, compare=False)
 
     def __post_init__(self) -> None:
@@ -132,10 +142,28 @@ class Chain:
         object.__setattr__(self, "springs", readonly(springs))
         if not isinstance(self.name, str):
             raise ParameterError("name", self.name, "a string")
+        coupling = real("coupling", self.coupling, above=-MAX_COUPLING, below=MAX_COUPLING,
+                        allowed=f"a coupling coefficient -{MAX_COUPLING:g} < k < {MAX_COUPLING:g} "
+                                "(the mass matrix stays positive definite for every N)")
+        object.__setattr__(self, "coupling", coupling + 0.0)  # -0.0 is 0.0
 
     def __reduce__(self) -> tuple:
         # Rebuilt through __init__: validated again, and the arrays read-only again.
-        return (type(self), (self.masses, self.springs, self.name, self._params))
+        return (type(self), (self.masses, self.springs, self.name, self.coupling, self._params))
+
+    @property
+    def coupled(self) -> bool:
+        """Whether neighbouring masses are coupled (a tridiagonal mass matrix)."""
+        return self.coupling != 0.0
+
+    def with_coupling(self, coupling: float) -> Chain:
+        """The same masses and springs with the inertial coupling k (see ``coupling``)."""
+        return type(self)(self.masses, self.springs, name=self.name, coupling=coupling, _params=self._params)
+
+    def mass_matrix_bands(self) -> tuple[np.ndarray, np.ndarray]:
+        """Diagonal m_i and off-diagonal k sqrt(m_i m_{i+1}) of the mass matrix (bulk units)."""
+        m = self.masses
+        return np.array(m), self.coupling * np.sqrt(m[:-1] * m[1:])
 
     # ------------------------------------------------------------------ basics
     @property
@@ -173,11 +201,12 @@ class Chain:
     def __eq__(self, other: object) -> bool:
         if not isinstance(other, Chain):
             return NotImplemented
-        return bool(np.array_equal(self.masses, other.masses) and np.array_equal(self.springs, other.springs))
+        return bool(np.array_equal(self.masses, other.masses) and np.array_equal(self.springs, other.springs)
+                    and self.coupling == other.coupling)
 
     def __hash__(self) -> int:
         # + 0.0 turns -0.0 into 0.0, which __eq__ already treats as equal
-        return hash(((self.masses + 0.0).tobytes(), (self.springs + 0.0).tobytes()))
+        return hash(((self.masses + 0.0).tobytes(), (self.springs + 0.0).tobytes(), self.coupling))
 
     def __repr__(self) -> str:
         def short(a: np.ndarray) -> str:
@@ -187,11 +216,16 @@ class Chain:
             tail = ", ".join(f"{v:.6g}" for v in a[-3:])
             return f"[{head}, ..., {tail}]"
 
-        return f"Chain(name={self.name!r}, N={self.N}, masses={short(self.masses)}, springs={short(self.springs)})"
+        coupled = f", coupling={self.coupling:.6g}" if self.coupled else ""
+        return (f"Chain(name={self.name!r}, N={self.N}, masses={short(self.masses)}, springs={short(self.springs)}"
+                f"{coupled})")
 
     def to_dict(self) -> dict:
-        """The chain as the JSON object ``{"masses": [...], "springs": [...]}`` (bulk units)."""
-        return {"masses": [float(m) for m in self.masses], "springs": [float(k) for k in self.springs]}
+        """The chain as the JSON object ``{"masses": [...], "springs": [...]}`` (bulk units; ``coupling`` if not 0)."""
+        data: dict = {"masses": [float(m) for m in self.masses], "springs": [float(k) for k in self.springs]}
+        if self.coupled:
+            data["coupling"] = self.coupling
+        return data
 
     @classmethod
     def from_dict(cls, data: object, where: str | None = None) -> Chain:
@@ -207,9 +241,10 @@ class Chain:
         """
         if not isinstance(data, dict):
             raise ParameterError("chain", type(data).__name__, 'an object {"masses": [...], "springs": [...]}', where)
-        unknown = sorted(set(data) - {"masses", "springs", "name"})
+        unknown = sorted(set(data) - {"masses", "springs", "name", "coupling"})
         if unknown:
-            raise ParameterError(unknown[0], data[unknown[0]], 'only the keys "masses" and "springs"', where)
+            raise ParameterError(unknown[0], data[unknown[0]], 'only the keys "masses", "springs" and "coupling"',
+                                 where)
         for key in ("masses", "springs"):
             if key not in data:
                 raise ParameterError(key, None, f'a list of numbers under "{key}"', where)
@@ -218,7 +253,8 @@ class Chain:
             ):
                 raise ParameterError(key, data[key], "a list of numbers", where)
         try:
-            return cls(data["masses"], data["springs"], name=str(data.get("name", "custom")))
+            return cls(data["masses"], data["springs"], name=str(data.get("name", "custom")),
+                       coupling=data.get("coupling", 0.0))
         except ParameterError as error:
             raise ParameterError(error.field, error.value, error.allowed, where) from None
 

@@ -53,6 +53,8 @@ def closed_form_applies(chain: Chain) -> str:
     """Return '' when the closed form covers the chain, else the reason it does not."""
     if chain.N < CLOSED_FORM_MIN_N_MODEL:
         return f"N >= {CLOSED_FORM_MIN_N_MODEL}"
+    if chain.coupled:
+        return "no coupling between neighbours"
     if not chain.is_free:
         return "free ends (K01 = 0)"
     if not chain.is_quasi_uniform():

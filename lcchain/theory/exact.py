@@ -3,20 +3,32 @@
 B = M^(-1/2) K M^(-1/2) is built from the physical masses and springs, so it is
 right for every N and every chain, symmetric or not (the (x, y, z) matrix of
 Eq. e.AN holds for N >= 5 only).
+
+Coupled neighbours (``Chain.coupling`` k != 0, in the circuit mutual
+inductance between neighbouring coils) make the mass matrix M tridiagonal,
+M_{i,i+1} = k sqrt(m_i m_{i+1}); the modes then solve the generalised problem
+K u = omega^2 M u with M-orthonormal u (u^T M u = 1), by LAPACK's dense
+symmetric-definite solver (``scipy.linalg.eigh(K, M)``, O(N^3): N is bounded by
+:data:`COUPLED_MAX_N`).  An initial current (or charge) e_1 in loop 1 has the
+modal amplitudes a_n = (M u_n)_1 and loop i moves as sum_n u_in a_n cos(omega_n t);
+a force on mass 1 (a voltage in loop 1) has the amplitudes m_1 u_1n instead.
+Without coupling both are m_1 u_1n = sqrt(m_1) U_1n, and the weights are those
+of Eq. e.utn.
 """
 
 from __future__ import annotations
 
 import numpy as np
-from scipy.linalg import eigh_tridiagonal
+from scipy.linalg import eigh, eigh_tridiagonal
 
 from ..core.blas import fixed_blas_threads
 from ..core.errors import ParameterError
-from ..core.limits import EXACT_MAX_N
+from ..core.limits import COUPLED_MAX_N, EXACT_MAX_N
 from .chain import Chain
 from .modes import Modes
 
-__all__ = ["tridiagonal", "diagonalise", "exact_modes", "EXACT_MAX_N"]
+__all__ = ["tridiagonal", "diagonalise", "exact_modes", "coupled_vectors", "modal_weights", "EXACT_MAX_N",
+           "COUPLED_MAX_N"]
 
 
 def tridiagonal(chain: Chain) -> tuple[np.ndarray, np.ndarray]:
@@ -31,8 +43,11 @@ def tridiagonal(chain: Chain) -> tuple[np.ndarray, np.ndarray]:
 def diagonalise(chain: Chain) -> tuple[np.ndarray, np.ndarray]:
     """Frequencies omega_n (ascending) and eigenvectors U (columns) of B (Eq. e.BN), LAPACK.
 
-    Every eigenvector: 8 N^2 bytes, callers bound N (:data:`EXACT_MAX_N`).
+    Every eigenvector: 8 N^2 bytes, callers bound N (:data:`EXACT_MAX_N`).  A chain with coupled
+    neighbours has no such B: see :func:`coupled_vectors`.
     """
+    if chain.coupled:
+        raise ParameterError("coupling", chain.coupling, "0 (coupled chains: theory.exact.coupled_vectors)")
     diagonal, off = tridiagonal(chain)
     mu, U = eigh_tridiagonal(diagonal, off)
     # A free chain has mu_1 = 0 up to rounding (possibly -1e-16): clip, never NaN.
@@ -42,6 +57,39 @@ def diagonalise(chain: Chain) -> tuple[np.ndarray, np.ndarray]:
         # mu_1 ~ 1e-16, whose square root (1e-8) would be a spurious frequency.
         omega[0] = 0.0
     return omega, U
+
+
+def _stiffness(chain: Chain) -> np.ndarray:
+    K = chain.springs
+    matrix = np.diag(K[:-1] + K[1:])
+    off = -K[1:-1]
+    return matrix + np.diag(off, 1) + np.diag(off, -1)
+
+
+@fixed_blas_threads
+def coupled_vectors(chain: Chain) -> tuple[np.ndarray, np.ndarray]:
+    """Frequencies omega_n (ascending) and M-orthonormal modes u (columns) of K u = omega^2 M u.
+
+    For any chain (coupled or not), N <= :data:`COUPLED_MAX_N` (dense, O(N^3)).
+    """
+    if chain.N > COUPLED_MAX_N:
+        raise ParameterError("N", chain.N, f"N <= {COUPLED_MAX_N} with coupled coils (the generalised eigenproblem "
+                             "is solved densely)")
+    diagonal, off = chain.mass_matrix_bands()
+    M = np.diag(diagonal) + np.diag(off, 1) + np.diag(off, -1)
+    mu, u = eigh(_stiffness(chain), M, driver="gvd")
+    omega = np.sqrt(np.clip(mu, 0.0, None))
+    if chain.is_free:
+        omega[0] = 0.0  # the translation mode is exactly zero (see diagonalise)
+    return omega, u
+
+
+def modal_weights(chain: Chain, u: np.ndarray, *, force: bool = False) -> np.ndarray:
+    """Each mode's amplitude for a unit start in loop 1: (M u_n)_1, or m_1 u_1n for a force on mass 1 (``force``)."""
+    if force:
+        return chain.masses[0] * u[0, :]
+    diagonal, off = chain.mass_matrix_bands()
+    return diagonal[0] * u[0, :] + off[0] * u[1, :]
 
 
 @fixed_blas_threads
@@ -58,6 +106,10 @@ def exact_modes(chain: Chain) -> Modes:
             "N", chain.N,
             f"N <= {EXACT_MAX_N} for exact diagonalisation (use the closed form for quasi-uniform free chains)",
         )
+    if chain.coupled:
+        omega, u = coupled_vectors(chain)
+        amplitude = modal_weights(chain, u)  # an initial current (charge) in loop 1
+        return Modes(omega, u[0, :] * amplitude, u[-1, :] * amplitude, "exact")
     omega, U = diagonalise(chain)
     first, last = U[0, :], U[-1, :]
     density = first * first

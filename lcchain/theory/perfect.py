@@ -382,6 +382,8 @@ def spectrum_of(chain: Chain) -> np.ndarray:
     largest eigenvalues are the chain's frequencies (a free chain's first is 0).
     """
     instance("chain", chain, Chain)
+    if chain.coupled:
+        raise ParameterError("coupling", chain.coupling, "0 (a coupled chain's frequencies: lcchain.theory.exact)")
     m, K = chain.masses, chain.springs
     a = np.empty(2 * chain.N)
     a[0::2], a[1::2] = np.sqrt(K[:-1] / m), np.sqrt(K[1:] / m)

@@ -88,7 +88,7 @@ from ..core.errors import ParameterError
 from ..core.limits import EXACT_MAX_N
 from ..core.types import EXCITATION_KINDS, GAUSSIAN_CENTRE, PROBES, PULSE_SHAPES, ExcitationKind, Probes, PulseShape
 from .chain import Chain
-from .exact import diagonalise, exact_modes
+from .exact import coupled_vectors, diagonalise, exact_modes, modal_weights
 from .modes import Modes, cosine_sum
 
 __all__ = [
@@ -262,15 +262,21 @@ def _pulse_inside(weights, omega, gamma, shape, width, edges, step, x, v, times)
 
 # ---------------------------------------------------------------------- modes
 @fixed_blas_threads
-def loop_weights(chain: Chain) -> tuple[np.ndarray, np.ndarray]:
+def loop_weights(chain: Chain, *, force: bool = False) -> tuple[np.ndarray, np.ndarray]:
     """Frequencies omega_n and every loop's weights sqrt(m_1/m_i) U_ni U_n1, shape (N modes, N loops).
 
     Column i - 1 is loop i's modal weights in Eq. (1) of the module
     docstring (column 0 the mode density, column N - 1 the end-to-end
-    transfer).  Needs every eigenvector: N <= EXACT_MAX_N.
+    transfer).  Needs every eigenvector: N <= EXACT_MAX_N.  With coupled
+    neighbours the weights are u_in (M u_n)_1 for a start in loop 1, and
+    u_in m_1 u_1n for a force on mass 1 (``force``), u the M-orthonormal modes
+    (:mod:`lcchain.theory.exact`); without coupling the two agree.
     """
     if chain.N > EXACT_MAX_N:
         raise ParameterError("N", chain.N, f"N <= {EXACT_MAX_N} for every loop's response (loops='all')")
+    if chain.coupled:
+        omega, u = coupled_vectors(chain)
+        return omega, (u * modal_weights(chain, u, force=force)).T
     omega, U = diagonalise(chain)
     scale = np.sqrt(chain.masses[0] / chain.masses)
     weights = (U * U[0, :]).T * scale[None, :]
@@ -353,9 +359,16 @@ def linear_response(
     if modes is not None and modes.N != chain.N:
         raise ParameterError("modes", f"modes of N = {modes.N}", f"the modes of this chain (N = {chain.N})")
     gamma = 0.0 if Q is None else 1.0 / Q
+    if chain.coupled and Q is not None:
+        raise ParameterError("Q", Q, "no losses with coupled coils (coupling != 0): the series resistors' damping "
+                             "is then not proportional to the mass matrix, and the modes do not decouple")
 
     if loops == "all":
-        omega, weights = loop_weights(chain)
+        omega, weights = loop_weights(chain, force=spec is not None)
+    elif chain.coupled and spec is not None:
+        # a force on mass 1 excites the modes by m_1 u_1n, not by the kick's (M u_n)_1
+        omega, every = loop_weights(chain, force=True)
+        weights = every[:, [0, chain.N - 1]]
     else:
         if modes is None:
             modes = exact_modes(chain)
