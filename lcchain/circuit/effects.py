@@ -1,6 +1,29 @@
-"""Real-world effects that change the chain itself (pure).
+"""Real-world effects on the LC ladder, each one frozen part (pure).
+
+Every effect is a frozen :class:`Effect`: the ``[effects.<key>]`` table of a
+scene, validated on construction, that says in one place what it does to the
+circuit and to its exact theory:
+
+* :meth:`Effect.realise`: the chain it builds (walls change the end springs,
+  coupling the mass matrix, preferred values every L and C); the netlist and
+  the exact theory are then both made from that chain;
+* :meth:`Effect.in_series`: elements it puts in series with each inductor
+  (losses: a resistor), written by :func:`lcchain.circuit.netlist.netlist_text`;
+* :meth:`Effect.response`: how the exact linear response changes beyond the
+  chain (losses: the quality factor Q of
+  :func:`lcchain.theory.response.linear_response`).
+
+:data:`EFFECTS` maps scene keys to the types.  To add an effect: write one
+frozen dataclass subclass of :class:`Effect` (a ``key``, its fields, the
+methods it needs), add it to :data:`EFFECTS` and a field to
+:class:`lcchain.scenes.schema.Effects` (docs/extending.md).
+
+The effects:
 
 * walls: a wall spring K0 at both ends (the paper's bounded chain);
+* coupling: mutual inductance k sqrt(L_i L_(i+1)) between neighbouring coils
+  (``K`` elements), a tridiagonal mass matrix in theory;
+* losses: a resistor R_i = L_i / (Q sqrt(L0 C0)) in series with every inductor;
 * preferred values: every inductor and capacitor rounded to the nearest
   value of an IEC 60063 E-series (E12, E24, E96), in henry and farad;
 * tolerances: every inductor (capacitor) multiplied by 1 + u, u uniform in
@@ -21,15 +44,24 @@ for the nominal chain; each tolerance sample only multiplies the rounded values.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+from typing import ClassVar
+
 import numpy as np
 
 from ..core.checks import choice, integer, real
 from ..core.errors import ParameterError
 from ..core.limits import MAX_SAMPLES
-from ..theory.chain import Chain
+from ..core.types import E_SERIES_NAMES, ESeries
+from ..theory.chain import MAX_COUPLING, Chain
+from .ladder import Ladder
 
 __all__ = ["E_SERIES", "preferred_value", "preferred_values", "with_walls", "rounded", "realise",
-           "tolerance_samples"]
+           "tolerance_samples", "Effect", "Walls", "Coupling", "Losses", "Tolerance", "PreferredValues", "EFFECTS",
+           "SeriesElement"]
+
+#: An element in series with an inductor: its SPICE letter and its value (ohm for "R").
+SeriesElement = tuple[str, float]
 
 #: IEC 60063 series, mantissas in [1, 10).
 E_SERIES: dict[str, tuple[float, ...]] = {
@@ -94,7 +126,7 @@ def with_walls(chain: Chain, K0: float) -> Chain:
     K0 = real("K0", K0, above=0.0, allowed="a finite wall spring > 0 (bulk units)")
     springs = np.array(chain.springs)
     springs[0] = springs[-1] = K0
-    return Chain(chain.masses, springs, name=chain.name)
+    return Chain(chain.masses, springs, name=chain.name, coupling=chain.coupling)
 
 
 def _components(chain: Chain, L0: float, C0: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -106,9 +138,9 @@ def _components(chain: Chain, L0: float, C0: float) -> tuple[np.ndarray, np.ndar
 
 
 def _chain(inductance: np.ndarray, capacitance: np.ndarray, wired: np.ndarray, L0: float, C0: float,
-           name: str) -> Chain:
+           name: str, coupling: float) -> Chain:
     springs = np.where(wired, 0.0, C0 / np.where(wired, 1.0, capacitance))
-    return Chain(inductance / L0, springs, name=name)
+    return Chain(inductance / L0, springs, name=name, coupling=coupling)
 
 
 def rounded(chain: Chain, L0: float, C0: float, series: str) -> Chain:
@@ -117,7 +149,7 @@ def rounded(chain: Chain, L0: float, C0: float, series: str) -> Chain:
     inductance = preferred_values(inductance, series)
     capacitance = capacitance.copy()
     capacitance[~wired] = preferred_values(capacitance[~wired], series)
-    return _chain(inductance, capacitance, wired, L0, C0, chain.name)
+    return _chain(inductance, capacitance, wired, L0, C0, chain.name, chain.coupling)
 
 
 def realise(chain: Chain, L0: float, C0: float, *, series: str | None = None, tol_L: float = 0.0,
@@ -150,7 +182,7 @@ def realise(chain: Chain, L0: float, C0: float, *, series: str | None = None, to
             raise ParameterError("rng", None, "a numpy Generator when a tolerance is non-zero")
         inductance = inductance * (1 + tol_L * rng.uniform(-1.0, 1.0, inductance.size))
         capacitance = capacitance * (1 + tol_C * rng.uniform(-1.0, 1.0, capacitance.size))
-    return _chain(inductance, capacitance, wired, L0, C0, name or chain.name)
+    return _chain(inductance, capacitance, wired, L0, C0, name or chain.name, chain.coupling)
 
 
 def tolerance_samples(chain: Chain, L0: float, C0: float, *, samples: int, seed: int, tol_L: float,
@@ -167,3 +199,162 @@ def tolerance_samples(chain: Chain, L0: float, C0: float, *, samples: int, seed:
     return [realise(base, L0, C0, tol_L=tol_L, tol_C=tol_C, rng=np.random.default_rng(child),
                     name=f"{chain.name} sample {k + 1}")
             for k, child in enumerate(children)]
+
+
+# ------------------------------------------------------------------- the parts
+class Effect:
+    """One real-world effect on the ladder (subclasses are frozen dataclasses).
+
+    A subclass sets ``key`` (its scene table, ``[effects.<key>]``), validates
+    its fields in ``__post_init__`` naming them ``effects.<key>.<field>``, and
+    overrides what it changes; the defaults change nothing.
+    """
+
+    key: ClassVar[str] = ""
+
+    def realise(self, chain: Chain, L0: float, C0: float) -> Chain:
+        """The chain with this effect (bulk units; ``L0`` H and ``C0`` F give the components' scale)."""
+        return chain
+
+    def in_series(self, ladder: Ladder, loop: int) -> tuple[SeriesElement, ...]:
+        """Elements in series with inductor L_loop (1-based), after it."""
+        return ()
+
+    def response(self) -> dict[str, float]:
+        """Keywords of :func:`lcchain.theory.response.linear_response` beyond the chain (e.g. ``{"Q": 100.0}``)."""
+        return {}
+
+
+@dataclass(frozen=True)
+class Walls(Effect):
+    """``[effects.walls]``: a wall spring K0 at each end, as in the paper's bounded chain.
+
+    Parameters
+    ----------
+    K0 : float
+        Wall spring constant in bulk units (> 0); its capacitor is C0 / K0.
+    """
+
+    key: ClassVar[str] = "walls"
+    K0: float
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "K0", real("effects.walls.K0", self.K0, above=0.0, allowed="a finite number > 0"))
+
+    def realise(self, chain: Chain, L0: float, C0: float) -> Chain:
+        return with_walls(chain, self.K0)
+
+
+@dataclass(frozen=True)
+class Coupling(Effect):
+    """``[effects.coupling]``: mutual inductance between neighbouring coils.
+
+    Each pair L_i, L_(i+1) is coupled by M = k sqrt(L_i L_(i+1)) (a ``K``
+    element); in theory the mass matrix becomes tridiagonal and the modes
+    solve K u = omega^2 M u (:mod:`lcchain.theory.exact`).
+
+    Parameters
+    ----------
+    k : float
+        Coupling coefficient, -1/2 < k < 1/2 (the mass matrix stays positive definite for every N).
+    """
+
+    key: ClassVar[str] = "coupling"
+    k: float
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "k", real("effects.coupling.k", self.k, above=-MAX_COUPLING, below=MAX_COUPLING,
+                                           allowed=f"a number, -{MAX_COUPLING:g} < k < {MAX_COUPLING:g}"))
+
+    def realise(self, chain: Chain, L0: float, C0: float) -> Chain:
+        return chain.with_coupling(self.k)
+
+
+@dataclass(frozen=True)
+class Losses(Effect):
+    """``[effects.losses]``: a series resistor R_i = L_i / (Q sqrt(L0*C0)) with every inductor.
+
+    Every mode then decays at the same rate gamma = 1/Q (units of 1/sqrt(L0 C0)).
+
+    Parameters
+    ----------
+    Q : float
+        Quality factor of every inductor at 1/sqrt(L0*C0) (dimensionless, > 0).
+    """
+
+    key: ClassVar[str] = "losses"
+    Q: float
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "Q", real("effects.losses.Q", self.Q, above=0.0, allowed="a finite number > 0"))
+
+    def in_series(self, ladder: Ladder, loop: int) -> tuple[SeriesElement, ...]:
+        # R_i = L_i / (Q tau): in bulk units a friction m_i / Q, the same rate 1/Q for every mode
+        inductance = float(ladder.chain.masses[loop - 1]) * ladder.L0  # as Ladder.inductances() writes it
+        return (("R", inductance / (self.Q * ladder.time_unit)),)
+
+    def response(self) -> dict[str, float]:
+        return {"Q": self.Q}
+
+
+@dataclass(frozen=True)
+class PreferredValues(Effect):
+    """``[effects.preferred_values]``: every L and C rounded to a preferred-number series.
+
+    Parameters
+    ----------
+    series : {"E12", "E24", "E96"}
+    """
+
+    key: ClassVar[str] = "preferred_values"
+    series: ESeries
+
+    def __post_init__(self) -> None:
+        choice("effects.preferred_values.series", self.series, E_SERIES_NAMES)
+
+    def realise(self, chain: Chain, L0: float, C0: float) -> Chain:
+        return rounded(chain, L0, C0, self.series)
+
+
+@dataclass(frozen=True)
+class Tolerance(Effect):
+    """``[effects.tolerance]``: component values drawn around their nominal ones.
+
+    Parameters
+    ----------
+    L, C : float
+        Relative tolerance of every inductor / capacitor, 0 <= tol < 1.
+    samples : int
+        Number of sampled circuits, 1..10000.
+    seed : int
+        Seed of ``numpy.random.default_rng`` (>= 0), so that a study repeats.
+    """
+
+    key: ClassVar[str] = "tolerance"
+    L: float = 0.0
+    C: float = 0.0
+    samples: int = 1
+    seed: int = 0
+
+    def __post_init__(self) -> None:
+        for name in ("L", "C"):
+            value = real(f"effects.tolerance.{name}", getattr(self, name), at_least=0.0, below=1.0,
+                         allowed=f"a number, 0 <= {name} < 1")
+            object.__setattr__(self, name, value)
+        samples = integer("effects.tolerance.samples", self.samples, at_least=1, at_most=MAX_SAMPLES)
+        object.__setattr__(self, "samples", samples)
+        object.__setattr__(self, "seed", integer("effects.tolerance.seed", self.seed, at_least=0))
+
+    @property
+    def varies(self) -> bool:
+        """Whether the samples differ from the nominal circuit (or there are several)."""
+        return bool(self.L or self.C or self.samples > 1)
+
+    def draw(self, chain: Chain, L0: float, C0: float, series: str | None = None) -> list[Chain]:
+        """The sampled chains (:func:`tolerance_samples`)."""
+        return tolerance_samples(chain, L0, C0, samples=self.samples, seed=self.seed, tol_L=self.L, tol_C=self.C,
+                                 series=series)
+
+
+#: Scene keys to effect types (``[effects.<key>]``).
+EFFECTS: dict[str, type[Effect]] = {cls.key: cls for cls in (Losses, Walls, Coupling, Tolerance, PreferredValues)}

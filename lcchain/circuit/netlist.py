@@ -56,6 +56,7 @@ from ..theory.arrivals import stop_time
 from ..theory.chain import Chain
 from ..theory.modes import Modes
 from ..theory.spectrum import normal_modes
+from .effects import Effect, Losses
 from .ladder import Ladder
 
 __all__ = [
@@ -197,6 +198,7 @@ def netlist_text(
     Q: float | None = None,
     pulse: tuple[PulseShape, float] | None = None,
     extra_vectors: tuple[str, ...] = (),
+    effects: tuple[Effect, ...] = (),
 ) -> str:
     """The SPICE netlist of the ladder and its transient analysis.
 
@@ -219,7 +221,8 @@ def netlist_text(
         Extra ``*`` comment lines after the title (validated likewise).
     Q : float, optional
         Losses: a resistor R_i = L_i / (Q sqrt(L0 C0)) in series with every
-        inductor (every mode then decays at the same rate).  None: no resistor.
+        inductor (every mode then decays at the same rate), the same as
+        ``effects=(Losses(Q),)``.  None: no resistor.
     pulse : (shape, width), optional
         With ``excitation="pulse"``: a voltage source in loop 1,
         v(t) = L_1 I0 g(t), g of unit area in units of sqrt(L0 C0):
@@ -228,6 +231,12 @@ def netlist_text(
         fall takes 1e-9 width).  None: no source.
     extra_vectors : tuple of str
         More vectors to save after the probes (node voltages ``v(n3)``...).
+    effects : tuple of Effect
+        The elements each effect puts in series with the inductors
+        (:meth:`lcchain.circuit.effects.Effect.in_series`), in order.  What
+        effects do to the chain (walls, coupling, preferred values) is already
+        in ``ladder.chain``: a coupled chain's neighbouring coils get ``K``
+        elements.
 
     Returns
     -------
@@ -237,8 +246,11 @@ def netlist_text(
     instance("ladder", ladder, Ladder)
     instance("options", options, SimulationOptions)
     spec = check_pulse(excitation, pulse, EXCITATION_KINDS, PULSE_SHAPES)
+    parts = _sequence("effects", effects, "a tuple of lcchain effects")
+    for part in parts:
+        instance("effects", part, Effect)
     if Q is not None:
-        Q = real("Q", Q, above=0.0, allowed="a finite quality factor > 0")
+        parts += (Losses(real("Q", Q, above=0.0, allowed="a finite quality factor > 0")),)
     I0 = real("I0", I0, above=0.0, unit="ampere")
     title = check_user_text("title", title)
     for line in strings("comments", comments):
@@ -264,11 +276,7 @@ def netlist_text(
         left, right = ladder.node(i - 1), ladder.node(i)
         if i == 1 and spec is not None:
             left = "s1"  # the source sits between the rail node n0 (or ground) and L1
-        if Q is not None:
-            lines.append(f"L{i} {left} m{i} {number(L[i - 1])}{ic}")
-            lines.append(f"R{i} m{i} {right} {number(L[i - 1] / (Q * unit))}")
-        else:
-            lines.append(f"L{i} {left} {right} {number(L[i - 1])}{ic}")
+        lines += _loop_branch(i, left, right, L[i - 1], ic, [e for part in parts for e in part.in_series(ladder, i)])
         if i < N:
             capacitance = C[i]
             assert capacitance is not None  # inner springs are > 0 (Chain checks it)
@@ -279,19 +287,11 @@ def netlist_text(
         if wall_capacitance is not None:
             ic = f" IC={number(-Q0 / wall_capacitance)}" if (excitation == "displacement" and wall == 0) else ""
             lines.append(f"C{wall}_{wall + 1} {ladder.node(wall)} 0 {number(wall_capacitance)}{ic}")
+    if chain.coupled:
+        # mutual inductance k sqrt(L_i L_i+1) between neighbouring coils: the chain's tridiagonal mass matrix
+        lines += [f"K{i}_{i + 1} L{i} L{i + 1} {number(chain.coupling)}" for i in range(1, N)]
     if spec is not None:
-        shape, width = spec
-        area = L[0] * I0  # volt-seconds: the source gives L_1 the current I0
-        if shape == "gaussian":
-            sigma, centre = width * unit, GAUSSIAN_CENTRE * width * unit
-            peak = area / (sigma * math.sqrt(2 * math.pi))
-            expression = f"{number(peak)}*exp(-0.5*((time-{number(centre)})/{number(sigma)})^2)"
-            lines.append(f"B1 s1 {ladder.node(0)} V={expression}")
-        else:
-            duration = width * unit
-            level = area / duration
-            lines.append(f"V1 s1 {ladder.node(0)} PWL(0 {number(level)} {number(duration)} {number(level)} "
-                         f"{number(duration * (1 + 1e-9))} 0)")
+        lines.append(_source_line(spec, L[0] * I0, unit, ladder.node(0)))
     lines.append(_options_line(options, I0, ladder))
     step = options.dt * unit
     tstop = options.tstop * unit
@@ -301,6 +301,32 @@ def netlist_text(
     lines.append(".save " + " ".join(probe_names(N, probes) + list(extra_vectors)))
     lines.append(".end")
     return "\n".join(lines) + "\n"
+
+
+def _loop_branch(i: int, left: str, right: str, inductance: float, ic: str,
+                 series: list[tuple[str, float]]) -> list[str]:
+    """Loop i's branch from rail node ``left`` to ``right``: L_i, then each series element (inner nodes m_i...)."""
+    nodes = [left] + [f"m{i}" if j == 0 else f"m{i}_{j + 1}" for j in range(len(series))] + [right]
+    lines = [f"L{i} {nodes[0]} {nodes[1]} {number(inductance)}{ic}"]
+    seen: dict[str, int] = {}
+    for j, (letter, value) in enumerate(series, start=1):
+        seen[letter] = seen.get(letter, 0) + 1
+        name = f"{letter}{i}" if seen[letter] == 1 else f"{letter}{i}_{seen[letter]}"
+        lines.append(f"{name} {nodes[j]} {nodes[j + 1]} {number(value)}")
+    return lines
+
+
+def _source_line(spec: tuple[str, float], area: float, unit: float, node: str) -> str:
+    """The pulse's voltage source in loop 1, between s1 and the rail node ``node``: area volt-seconds."""
+    shape, width = spec
+    if shape == "gaussian":
+        sigma, centre = width * unit, GAUSSIAN_CENTRE * width * unit
+        peak = area / (sigma * math.sqrt(2 * math.pi))
+        expression = f"{number(peak)}*exp(-0.5*((time-{number(centre)})/{number(sigma)})^2)"
+        return f"B1 s1 {node} V={expression}"
+    duration = width * unit
+    level = area / duration
+    return f"V1 s1 {node} PWL(0 {number(level)} {number(duration)} {number(level)} {number(duration * (1 + 1e-9))} 0)"
 
 
 def _options_line(options: SimulationOptions, I0: float, ladder: Ladder) -> str:

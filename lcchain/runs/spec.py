@@ -52,7 +52,8 @@ class Theory:
     Parameters
     ----------
     chain : Chain
-        The simulated chain (a tolerance sample's own realised chain), bulk units.
+        The simulated chain (a tolerance sample's own realised chain, with its
+        coupling), bulk units: the netlist is written from the same chain.
     time_unit : float
         sqrt(L0 C0), seconds.
     I0 : float
@@ -104,6 +105,9 @@ class Theory:
         real("I0", self.I0, above=0.0, unit="ampere")
         if self.Q is not None:
             real("Q", self.Q, above=0.0)
+            if self.chain.coupled:
+                raise ParameterError("Q", self.Q, "no losses with coupled coils: lcchain has no exact theory for "
+                                     "them (the damping is not proportional to the mass matrix)")
         check_pulse(self.excitation, self.pulse, EXCITATION_KINDS, PULSE_SHAPES)
         choice("probes", self.probes, PROBES)
         integer("transits", self.transits, at_least=1, at_most=MAX_TRANSITS)
@@ -126,7 +130,8 @@ class Theory:
             "probes": self.probes, "transits": self.transits,
             "dt": None if self.dt is None else float(self.dt).hex(), "method": self.method,
             "transit_time": None if self.transit_time is None else float(self.transit_time).hex(),
-        } | ({"aligned": True} if self.aligned else {})
+        } | ({"aligned": True} if self.aligned else {}) | (
+            {"coupling": float(self.chain.coupling).hex()} if self.chain.coupled else {})
 
 
 @dataclass(frozen=True)

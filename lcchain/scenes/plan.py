@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..circuit.effects import rounded, tolerance_samples, with_walls
+from ..circuit.effects import tolerance_samples
 from ..circuit.ladder import Ladder
 from ..circuit.netlist import SimulationOptions, netlist_text, probe_names
 from ..compare.accuracy import dt_for_accuracy
@@ -62,8 +62,9 @@ def base_chain(scene: Scene) -> Chain:
         chain = Chain(np.array(spec.masses), np.array(spec.springs), name="custom")
     else:
         chain = chain_for_case(spec.case, spec.N)
-    if scene.effects.walls is not None:
-        chain = with_walls(chain, scene.effects.walls.K0)
+    for part in (scene.effects.walls, scene.effects.coupling):  # what changes the nominal chain itself
+        if part is not None:
+            chain = part.realise(chain, scene.units.L0, scene.units.C0)
     return chain
 
 
@@ -88,9 +89,9 @@ def scene_chains(scene: Scene, nominal: Chain | None = None) -> tuple[Chain, lis
     if tol is not None and (tol.L or tol.C or tol.samples > 1):
         chains = tolerance_samples(nominal, units.L0, units.C0, samples=tol.samples, seed=tol.seed,
                                    tol_L=tol.L, tol_C=tol.C, series=series)
-    elif series is not None:
-        chain = rounded(nominal, units.L0, units.C0, series)
-        chains = [Chain(chain.masses, chain.springs, name=f"{nominal.name} {series}")]
+    elif effects.preferred_values is not None:
+        chain = effects.preferred_values.realise(nominal, units.L0, units.C0)
+        chains = [Chain(chain.masses, chain.springs, name=f"{nominal.name} {series}", coupling=chain.coupling)]
     else:
         chains = [nominal]
     return nominal, chains
@@ -227,6 +228,10 @@ def scene_plan(scene: Scene, budget: Budget | None = None) -> ScenePlan:
 
 
 def _plan(scene: Scene, budget: Budget) -> ScenePlan:
+    coupling = scene.effects.coupling
+    if coupling is not None and scene.effects.losses is not None:
+        raise ParameterError("effects.coupling.k", coupling.k, "no [effects.losses] with coupled coils: lcchain has "
+                             "no exact theory for them (the resistors' damping is not proportional to the mass matrix)")
     nominal = base_chain(scene)
     Ladder(nominal, scene.units.L0, scene.units.C0)  # a scale ngspice cannot take stops here, before any theory
     N, samples = nominal.N, sample_count(scene)
@@ -269,12 +274,12 @@ def scene_netlist(scene: Scene, chain: Chain, dt: float, tstop: float, *, aligne
     aligned : bool
         An extrapolation's member (:attr:`lcchain.circuit.netlist.SimulationOptions.aligned`).
     """
-    Q, pulse = losses_and_pulse(scene)
+    _, pulse = losses_and_pulse(scene)
     excitation = scene.excitation
     ladder = Ladder(chain, scene.units.L0, scene.units.C0)
     options = SimulationOptions(dt=dt, tstop=tstop, method=scene.analysis.method, aligned=aligned)
     return netlist_text(ladder, options, excitation=excitation.kind, I0=excitation.I0, probes=scene.output.probes,
-                        title=scene.title, Q=Q, pulse=pulse)  # type: ignore[arg-type]
+                        title=scene.title, pulse=pulse, effects=scene.effects.present())  # type: ignore[arg-type]
 
 
 def scene_specs(scene: Scene, plan: ScenePlan) -> list[RunSpec]:

@@ -24,6 +24,7 @@ from dataclasses import dataclass, field, fields
 from pathlib import PurePosixPath
 from typing import Any, get_args, get_type_hints
 
+from ..circuit.effects import EFFECTS, Coupling, Effect, Losses, PreferredValues, Tolerance, Walls
 from ..core.checks import choice, instance, integer, is_integer, numbers_list, real, text_line
 from ..core.errors import ParameterError
 from ..core.limits import (
@@ -31,7 +32,6 @@ from ..core.limits import (
     MAX_DT,
     MAX_PERFECT_N,
     MAX_PULSE_WIDTH,
-    MAX_SAMPLES,
     MAX_TITLE_LENGTH,
     MAX_TRANSITS,
     MIN_N,
@@ -39,7 +39,6 @@ from ..core.limits import (
 from ..core.types import (
     BACKENDS,
     CASES,
-    E_SERIES_NAMES,
     EXCITATION_KINDS,
     METHODS,
     PLOT_KINDS,
@@ -47,7 +46,6 @@ from ..core.types import (
     PULSE_SHAPES,
     Backend,
     Case,
-    ESeries,
     ExcitationKind,
     Method,
     PlotKind,
@@ -211,82 +209,6 @@ class ExcitationSpec:
 
 
 @dataclass(frozen=True)
-class Losses:
-    """``[effects.losses]``: a series resistor R_i = L_i / (Q sqrt(L0*C0)) with every inductor.
-
-    Parameters
-    ----------
-    Q : float
-        Quality factor of every inductor at 1/sqrt(L0*C0) (dimensionless, > 0).
-    """
-
-    Q: float
-
-    def __post_init__(self) -> None:
-        object.__setattr__(self, "Q", _real("effects.losses.Q", self.Q, "a finite number > 0", above=0.0))
-
-
-@dataclass(frozen=True)
-class Walls:
-    """``[effects.walls]``: a wall spring K0 at each end, as in the paper's bounded chain.
-
-    Parameters
-    ----------
-    K0 : float
-        Wall spring constant in bulk units (> 0); its capacitor is C0 / K0.
-    """
-
-    K0: float
-
-    def __post_init__(self) -> None:
-        object.__setattr__(self, "K0", _real("effects.walls.K0", self.K0, "a finite number > 0", above=0.0))
-
-
-@dataclass(frozen=True)
-class Tolerance:
-    """``[effects.tolerance]``: component values drawn around their nominal ones.
-
-    Parameters
-    ----------
-    L, C : float
-        Relative tolerance of every inductor / capacitor, 0 <= tol < 1.
-    samples : int
-        Number of sampled circuits, 1..10000.
-    seed : int
-        Seed of ``numpy.random.default_rng`` (>= 0), so that a study repeats.
-    """
-
-    L: float = 0.0
-    C: float = 0.0
-    samples: int = 1
-    seed: int = 0
-
-    def __post_init__(self) -> None:
-        for name in ("L", "C"):
-            value = _real(f"effects.tolerance.{name}", getattr(self, name), f"a number, 0 <= {name} < 1",
-                          at_least=0.0, below=1.0)
-            object.__setattr__(self, name, value)
-        samples = integer("effects.tolerance.samples", self.samples, at_least=1, at_most=MAX_SAMPLES)
-        object.__setattr__(self, "samples", samples)
-        object.__setattr__(self, "seed", integer("effects.tolerance.seed", self.seed, at_least=0))
-
-
-@dataclass(frozen=True)
-class PreferredValues:
-    """``[effects.preferred_values]``: every L and C rounded to a preferred-number series.
-
-    Parameters
-    ----------
-    series : {"E12", "E24", "E96"}
-    """
-
-    series: ESeries
-
-    def __post_init__(self) -> None:
-        choice("effects.preferred_values.series", self.series, E_SERIES_NAMES)
-
-
-@dataclass(frozen=True)
 class Effects:
     """The ``[effects.*]`` tables: each real-world effect the scene asks for, or None."""
 
@@ -294,12 +216,15 @@ class Effects:
     walls: Walls | None = None
     tolerance: Tolerance | None = None
     preferred_values: PreferredValues | None = None
+    coupling: Coupling | None = None
 
     def __post_init__(self) -> None:
-        instance("effects.losses", self.losses, Losses, optional=True)
-        instance("effects.walls", self.walls, Walls, optional=True)
-        instance("effects.tolerance", self.tolerance, Tolerance, optional=True)
-        instance("effects.preferred_values", self.preferred_values, PreferredValues, optional=True)
+        for name, cls in EFFECTS.items():
+            instance(f"effects.{name}", getattr(self, name), cls, optional=True)
+
+    def present(self) -> tuple[Effect, ...]:
+        """The effects the scene asks for, in the order of the table."""
+        return tuple(part for part in (getattr(self, name) for name in EFFECTS) if part is not None)
 
 
 @dataclass(frozen=True)
