@@ -133,13 +133,16 @@ def test_end_signal_is_alpha_not_something_else():
 @pytest.mark.ngspice
 @pytest.mark.parametrize("effects", [{"excitation": "kick"}, {"excitation": "displacement"},
                                      {"excitation": "pulse", "pulse": ("gaussian", 0.3), "Q": 40.0},
-                                     {"excitation": "pulse", "pulse": ("rect", 0.5)}], ids=["kick", "displacement",
-                                                                                           "gaussian-losses", "rect"])
+                                     {"excitation": "pulse", "pulse": ("rect", 0.5)},
+                                     {"excitation": "kick", "coupling": 0.05}],
+                         ids=["kick", "displacement", "gaussian-losses", "rect", "coupled"])
 def test_pyspice_circuit_is_the_same_ladder(effects):
     """The PySpice Circuit for embedding simulates bit-identically to lcchain's own netlist."""
     from lcchain.spice.pyspice import circuit_from_netlist
 
-    chain = Chain([1.7, 0.9, 1.0, 0.9, 1.7], [0.2, 0.8, 1.0, 1.0, 0.8, 0.0])
+    effects = dict(effects)
+    coupling = effects.pop("coupling", 0.0)
+    chain = Chain([1.7, 0.9, 1.0, 0.9, 1.7], [0.2, 0.8, 1.0, 1.0, 0.8, 0.0], coupling=coupling)
     ladder = Ladder(chain)
     options = SimulationOptions(dt=0.05, tstop=12.0)
     ours = netlist_text(ladder, options, **effects)

@@ -14,7 +14,14 @@ from typing import Any
 
 from ..core.budget import DEFAULT_MAX_MEMORY, DEFAULT_MAX_SECONDS, Budget, perfect_estimate
 from ..core.errors import ParameterError
-from ..core.limits import MAX_CHAIN_FILE_BYTES, MAX_CIRCUIT_N, MAX_COMMENT_LENGTH, MAX_PERFECT_N, MIN_N
+from ..core.limits import (
+    COUPLED_MAX_N,
+    MAX_CHAIN_FILE_BYTES,
+    MAX_CIRCUIT_N,
+    MAX_COMMENT_LENGTH,
+    MAX_PERFECT_N,
+    MIN_N,
+)
 from ..report.files import check_not_input, check_output, same_file, write_text
 from ..theory.chain import Chain
 
@@ -255,7 +262,25 @@ def load_chain_file(path: str, max_N: int = MAX_CIRCUIT_N) -> Chain:
 
 
 def chain_from_args(args: argparse.Namespace, max_N: int = MAX_CIRCUIT_N) -> Chain:
-    """The chain a command is about: ``--chain FILE`` or ``--case`` and ``--N`` (never both)."""
+    """The chain a command is about: ``--chain FILE`` or ``--case`` and ``--N`` (never both), with ``--coupling``."""
+    chain = _chain_of_args(args, max_N)
+    coupling = getattr(args, "coupling", None)
+    if coupling is None:
+        return chain
+    if chain.coupled:
+        raise ParameterError("--coupling", coupling,
+                             f"nothing when the --chain file sets the coupling ({chain.coupling})")
+    try:
+        chain = chain.with_coupling(coupling)
+    except ParameterError as error:
+        raise error.renamed("--coupling") from None
+    if chain.coupled and chain.N > COUPLED_MAX_N:
+        raise ParameterError("--N", chain.N, f"at most {COUPLED_MAX_N} masses with --coupling (the coupled modes are "
+                             "a dense generalised eigenproblem)")
+    return chain
+
+
+def _chain_of_args(args: argparse.Namespace, max_N: int) -> Chain:
     from ..theory.cases import chain_for_case
 
     if args.chain:

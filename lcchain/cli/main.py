@@ -64,6 +64,8 @@ def _add_chain_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--walls", type=int, default=0, metavar="J",
                    help="--case perfect only: J >= 1 ties the perfect cradle to walls (frequencies n - 1 + 2J)")
     p.add_argument("--chain", metavar="FILE", help='JSON file {"masses": [...], "springs": [...]} in bulk units')
+    p.add_argument("--coupling", type=number("--coupling"), default=None, metavar="K",
+                   help="mutual inductance k*sqrt(L_i*L_i+1) between neighbouring coils, -0.5 < K < 0.5 (default 0)")
     p.add_argument("--L0", type=number("--L0"), default=10e-6, help="bulk inductance, henry (default 10e-6)")
     p.add_argument("--C0", type=number("--C0"), default=10e-9, help="bulk capacitance, farad (default 10e-9)")
     p.add_argument("--excitation", choices=EXCITATIONS, default="kick",

@@ -4,8 +4,8 @@ PySpice is imported when :func:`circuit_from_netlist` is called, never by
 ``import lcchain`` (and it is an optional extra: ``pip install
 'lcchain[shared]'``).  PySpice's own parser cannot read an inductor's
 ``IC=``, so this reads the element lines of :func:`lcchain.circuit.netlist.netlist_text`
-(L, C and R with full-precision values and ``IC=``, the gaussian B-source and
-the rect PWL source) and builds the same circuit element by element: same
+(L, C and R with full-precision values and ``IC=``, the ``K`` lines of coupled
+coils, the gaussian B-source and the rect PWL source) and builds the same circuit element by element: same
 names, nodes and values.  The analysis is left to the caller, e.g.::
 
     from lcchain.circuit.netlist import netlist_text, SimulationOptions
@@ -29,6 +29,7 @@ from .simulator import PYSPICE_INSTALL_COMMAND
 __all__ = ["circuit_from_netlist"]
 
 _TWO_TERMINAL = re.compile(r"^([LCR])(\S+)\s+(\S+)\s+(\S+)\s+(\S+)(?:\s+IC=(\S+))?$", re.IGNORECASE)
+_COUPLING = re.compile(r"^K(\S+)\s+(L\S+)\s+(L\S+)\s+(\S+)$", re.IGNORECASE)
 _B_SOURCE = re.compile(r"^B(\S+)\s+(\S+)\s+(\S+)\s+V=(.+)$", re.IGNORECASE)
 _PWL = re.compile(r"^V(\S+)\s+(\S+)\s+(\S+)\s+PWL\((.*)\)$", re.IGNORECASE)
 
@@ -74,6 +75,11 @@ def circuit_from_netlist(text: str) -> Any:
             factory = {"L": circuit.L, "C": circuit.C, "R": circuit.R}[kind.upper()]
             factory(name, node(a), node(b), float(value), **extra)
             continue
+        coupling = _COUPLING.match(stripped)
+        if coupling:
+            name, first, second, k = coupling.groups()
+            circuit.K(name, first, second, float(k))
+            continue
         source = _B_SOURCE.match(stripped)
         if source:
             name, a, b, expression = source.groups()
@@ -86,5 +92,6 @@ def circuit_from_netlist(text: str) -> Any:
             circuit.PieceWiseLinearVoltageSource(name, node(a), node(b), values=list(zip(numbers[::2], numbers[1::2],
                                                                                           strict=True)))
             continue
-        raise ParameterError(f"netlist line {number}", stripped, "an element line lcchain writes (L, C, R, B, V PWL)")
+        raise ParameterError(f"netlist line {number}", stripped,
+                             "an element line lcchain writes (L, C, R, K, B, V PWL)")
     return circuit
