@@ -30,6 +30,9 @@ _PUBLIC = {
     "run_scene": "report.scenes",
     "RunRecord": "runs.execute", "execute": "runs.execute",
     "SimulationReport": "runs.simulate", "simulate": "runs.simulate",
+    "Request": "runs.request", "Drive": "runs.request", "Transient": "runs.request", "plan_request": "runs.request",
+    "Effect": "circuit.effects", "Walls": "circuit.effects", "Coupling": "circuit.effects",
+    "Losses": "circuit.effects", "Tolerance": "circuit.effects", "PreferredValues": "circuit.effects",
     "RunSpec": "runs.spec", "Theory": "runs.spec",
     "load_scene": "scenes.load", "parse_scene": "scenes.load",
     "simulate_scene": "scenes.run", "Scene": "scenes.schema",
@@ -53,7 +56,9 @@ __all__ = [
     "Ladder", "SimulationOptions", "netlist_text", "dt_for_accuracy", "predicted_error", "Interrupted",
     "LcchainError", "ParameterError", "DesignError", "SimulationError", "SimulatorMissingError", "Budget",
     "run_scene", "RunRecord",
-    "execute", "SimulationReport", "simulate", "RunSpec", "Theory", "load_scene", "parse_scene", "simulate_scene",
+    "execute", "SimulationReport", "simulate", "Request", "Drive", "Transient", "plan_request", "Effect", "Walls",
+    "Coupling", "Losses", "Tolerance", "PreferredValues", "RunSpec", "Theory", "load_scene", "parse_scene",
+    "simulate_scene",
     "Scene", "Simulator", "find_simulator", "Arrival", "arrivals", "first_arrival", "asymptotic_amplitude",
     "asymptotic_optimum", "chain_for_case", "PERFECT_ARRIVAL", "Chain", "closed_form_modes", "Design",
     "optimal_design", "optimal_one_mass", "optimal_two_mass", "Modes", "PerfectDesign", "perfect_design",
@@ -77,6 +82,7 @@ def __dir__() -> list[str]:
 
 
 if TYPE_CHECKING:  # what a type checker and an editor see
+    from .circuit.effects import Coupling, Effect, Losses, PreferredValues, Tolerance, Walls
     from .circuit.ladder import Ladder
     from .circuit.netlist import SimulationOptions, netlist_text
     from .compare.accuracy import dt_for_accuracy, predicted_error
@@ -91,6 +97,7 @@ if TYPE_CHECKING:  # what a type checker and an editor see
     )
     from .report.scenes import run_scene
     from .runs.execute import RunRecord, execute
+    from .runs.request import Drive, Request, Transient, plan_request
     from .runs.simulate import SimulationReport, simulate
     from .runs.spec import RunSpec, Theory
     from .scenes.load import load_scene, parse_scene

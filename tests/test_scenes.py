@@ -28,7 +28,7 @@ from lcchain.report.scenes import run_scene, write_scene_outputs
 from lcchain.runs import execute as execute_module
 from lcchain.runs.execute import execute
 from lcchain.scenes.load import parse_scene
-from lcchain.scenes.plan import scene_netlist, scene_plan, scene_specs
+from lcchain.scenes.plan import scene_plan, scene_specs
 from lcchain.scenes.run import scene_result
 from lcchain.theory.arrivals import arrival_window
 
@@ -104,8 +104,7 @@ def _tstop_seconds(text: str) -> float:
 
 
 def _netlist(scene) -> str:
-    plan = scene_plan(scene)
-    return scene_netlist(scene, plan.chains[0], plan.dt, plan.tstop)
+    return scene_plan(scene).specs[0].netlist
 
 
 # ------------------------------------------------------ against exact theory

@@ -15,6 +15,7 @@ from dataclasses import dataclass
 from ..core.checks import instance, real
 from ..core.errors import ParameterError
 from ..core.limits import MAX_IMPEDANCE, MAX_TIME_UNIT, MIN_IMPEDANCE, MIN_TIME_UNIT
+from ..core.types import DEFAULT_C0, DEFAULT_L0
 from ..theory.chain import Chain
 
 __all__ = ["Ladder"]
@@ -35,8 +36,8 @@ class Ladder:
     """
 
     chain: Chain
-    L0: float = 10e-6
-    C0: float = 10e-9
+    L0: float = DEFAULT_L0
+    C0: float = DEFAULT_C0
 
     def __post_init__(self) -> None:
         instance("chain", self.chain, Chain)
@@ -45,7 +46,8 @@ class Ladder:
         unit, impedance = math.sqrt(L0 * C0), math.sqrt(L0 / C0)
         if not (MIN_TIME_UNIT <= unit <= MAX_TIME_UNIT and MIN_IMPEDANCE <= impedance <= MAX_IMPEDANCE):
             # name the value farther from the usual scale (10 uH, 10 nF): the one the user most likely mistyped
-            field, value = ("L0", L0) if abs(math.log(L0 / 10e-6)) >= abs(math.log(C0 / 10e-9)) else ("C0", C0)
+            nearer_C0 = abs(math.log(L0 / DEFAULT_L0)) >= abs(math.log(C0 / DEFAULT_C0))
+            field, value = ("L0", L0) if nearer_C0 else ("C0", C0)
             raise ParameterError(field, value, f"L0 and C0 with a time unit sqrt(L0*C0) from {MIN_TIME_UNIT:g} to "
                                  f"{MAX_TIME_UNIT:g} s and an impedance sqrt(L0/C0) from {MIN_IMPEDANCE:g} to "
                                  f"{MAX_IMPEDANCE:g} ohm (here {unit:.3g} s and {impedance:.3g} ohm; ngspice hangs "

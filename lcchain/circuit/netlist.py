@@ -40,6 +40,9 @@ from ..core.checks import pulse as check_pulse
 from ..core.errors import ParameterError
 from ..core.limits import MAX_COMMENT_LENGTH, MAX_DT, MAX_TITLE_LENGTH
 from ..core.types import (
+    DEFAULT_C0,
+    DEFAULT_I0,
+    DEFAULT_L0,
     EXCITATION_KINDS,
     GAUSSIAN_CENTRE,
     METHODS,
@@ -191,7 +194,7 @@ def netlist_text(
     options: SimulationOptions,
     *,
     excitation: ExcitationKind = "kick",
-    I0: float = 1e-3,
+    I0: float = DEFAULT_I0,
     probes: Probes = "ends",
     title: str = "lcchain LC ladder",
     comments: tuple[str, ...] = (),
@@ -348,9 +351,9 @@ def make_netlist(
     dt: float,
     transits: int = 1,
     excitation: ExcitationKind = "kick",
-    L0: float = 10e-6,
-    C0: float = 10e-9,
-    I0: float = 1e-3,
+    L0: float = DEFAULT_L0,
+    C0: float = DEFAULT_C0,
+    I0: float = DEFAULT_I0,
     method: Method = "trap",
     title: str | None = None,
     comments: tuple[str, ...] = (),

@@ -22,7 +22,7 @@ from threadpoolctl import threadpool_limits
 from ..core import __version__
 from ..core.blas import BLAS_THREADS
 from ..core.errors import Interrupted, LcchainError, ParameterError, SimulationError, SimulatorMissingError
-from ..core.types import BACKENDS, DESIGN_CASES, EXCITATIONS, METHODS, NAMED_CASES
+from ..core.types import BACKENDS, DEFAULT_C0, DEFAULT_L0, DESIGN_CASES, EXCITATIONS, METHODS, NAMED_CASES
 from . import commands, studies, validation
 from .common import (
     EXIT_FAILED,
@@ -66,8 +66,10 @@ def _add_chain_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--chain", metavar="FILE", help='JSON file {"masses": [...], "springs": [...]} in bulk units')
     p.add_argument("--coupling", type=number("--coupling"), default=None, metavar="K",
                    help="mutual inductance k*sqrt(L_i*L_i+1) between neighbouring coils, -0.5 < K < 0.5 (default 0)")
-    p.add_argument("--L0", type=number("--L0"), default=10e-6, help="bulk inductance, henry (default 10e-6)")
-    p.add_argument("--C0", type=number("--C0"), default=10e-9, help="bulk capacitance, farad (default 10e-9)")
+    p.add_argument("--L0", type=number("--L0"), default=DEFAULT_L0,
+                   help=f"bulk inductance, henry (default {DEFAULT_L0:g})")
+    p.add_argument("--C0", type=number("--C0"), default=DEFAULT_C0,
+                   help=f"bulk capacitance, farad (default {DEFAULT_C0:g})")
     p.add_argument("--excitation", choices=EXCITATIONS, default="kick",
                    help="kick: initial current in L1; displacement: initial charge in loop 1")
     p.add_argument("--title", help="netlist title (one line)")

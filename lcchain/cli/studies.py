@@ -13,7 +13,7 @@ from collections.abc import Callable, Iterator, Sequence
 from typing import Any
 
 from ..core.errors import ParameterError
-from ..core.types import EXCITATIONS, EXECUTORS, NAMED_CASES
+from ..core.types import DEFAULT_C0, DEFAULT_L0, EXCITATIONS, EXECUTORS, NAMED_CASES
 from ..report.files import FIGURE_FORMATS
 from .common import EXIT_FAILED, EXIT_OK, Outputs, budget_from_args, emit_json, int_list
 
@@ -80,8 +80,10 @@ def add_sweep_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--transits", type=int_list("--transits"), default=[1], help="transits, comma separated")
     p.add_argument("--excitation", type=_words("--excitation", EXCITATIONS), default=["kick"],
                    help="kick and/or displacement, comma separated")
-    p.add_argument("--L0", type=number("--L0"), default=10e-6, help="bulk inductance, henry (default 10e-6)")
-    p.add_argument("--C0", type=number("--C0"), default=10e-9, help="bulk capacitance, farad (default 10e-9)")
+    p.add_argument("--L0", type=number("--L0"), default=DEFAULT_L0,
+                   help=f"bulk inductance, henry (default {DEFAULT_L0:g})")
+    p.add_argument("--C0", type=number("--C0"), default=DEFAULT_C0,
+                   help=f"bulk capacitance, farad (default {DEFAULT_C0:g})")
     p.add_argument("--backend", choices=("batch", "shared"), default="batch")
     p.add_argument("--vary", action="append", default=[], metavar="KEY=V1,V2,...",
                    help="with SCENE.toml: a dotted scene key and its values (repeat for more axes; keys joined "

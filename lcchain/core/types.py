@@ -58,3 +58,9 @@ GAUSSIAN_CENTRE = 4.0
 #: Where a study's runs execute (lcchain.studies.executors).
 ExecutorName = Literal["serial", "process", "dask"]
 EXECUTORS: tuple[str, ...] = get_args(ExecutorName)
+
+#: The bulk inductance (henry) and capacitance (farad) of a ladder when none is given: 10 uH and 10 nF
+#: (time unit sqrt(L0 C0) = 0.316 us, impedance sqrt(L0/C0) = 31.6 ohm), and the excitation's current (ampere).
+DEFAULT_L0 = 10e-6
+DEFAULT_C0 = 10e-9
+DEFAULT_I0 = 1e-3

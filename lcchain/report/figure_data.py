@@ -23,7 +23,7 @@ from scipy.optimize import minimize_scalar
 from .. import __version__
 from ..circuit.ladder import Ladder
 from ..circuit.netlist import SimulationOptions, netlist_text
-from ..core.types import DesignCase
+from ..core.types import DEFAULT_C0, DEFAULT_L0, DesignCase
 from ..theory.asymptotic import EXPONENTS, asymptotic_amplitude, asymptotic_optimum
 from ..theory.cases import chain_for_case
 from ..theory.closed_form import closed_form_modes
@@ -246,7 +246,7 @@ def pk_data(rows: DesignRows, Ns: Sequence[int] = (20, 100)) -> dict[str, Any]:
 
 
 # ------------------------------------------------------------------ Fig. LCcircuit
-def circuit_data(case: str = "two-mass", N: int = 6, L0: float = 10e-6, C0: float = 10e-9) -> dict[str, Any]:
+def circuit_data(case: str = "two-mass", N: int = 6, L0: float = DEFAULT_L0, C0: float = DEFAULT_C0) -> dict[str, Any]:
     """The ladder's elements as a generated netlist lists them: name, two nodes, value (H or F).
 
     Returns ``netlist`` (the text), ``elements`` (list of dicts name/kind/nodes/value, netlist order) and

@@ -17,36 +17,33 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from ..circuit.ladder import Ladder
-from ..circuit.netlist import SimulationOptions, make_netlist, probe_names
-from ..compare.accuracy import dt_for_accuracy, predicted_error, warn_if_unreliable
+from ..circuit.netlist import SimulationOptions
 from ..compare.extrapolate import (
     WEIGHTS,
     ExtrapolationPlan,
     interpolation_error,
-    member_steps,
-    plan_for_accuracy,
-    predicted_extrapolated_error,
-    refusal,
-    runs_for_step,
 )
 from ..compare.metrics import Comparison
 from ..compare.waveforms import Waveforms
 from ..core.blas import fixed_blas_threads
-from ..core.budget import Budget, max_points, run_estimate
-from ..core.checks import callback, choice, instance, real
+from ..core.budget import Budget
+from ..core.checks import callback, choice, instance
 from ..core.errors import ParameterError, SimulationError
 from ..core.frozen import FrozenMap
-from ..core.limits import MAX_DT
-from ..core.types import BACKENDS, EXCITATIONS, Backend, Excitation, Method
+from ..core.types import DEFAULT_C0, DEFAULT_I0, DEFAULT_L0, EXCITATIONS, Backend, Excitation, Method
 from ..spice.runner import RunResult
 from ..spice.simulator import Simulator
-from ..theory.arrivals import stop_time
 from ..theory.chain import Chain
 from ..theory.modes import Modes
-from ..theory.spectrum import normal_modes
 from .execute import RunRecord, execute
 from .extrapolated import combined_record
-from .spec import DEFAULT_TIMEOUT, RunSpec, Theory
+from .request import Drive, Request, Transient, plan_request
+from .spec import DEFAULT_TIMEOUT, RunSpec
+
+#: simulate's keywords at their defaults: with a Request, any other value is refused (the request says it all).
+_DEFAULTS: dict[str, Any] = {"dt": None, "accuracy": None, "extrapolate": None, "transits": 1, "excitation": "kick",
+                             "L0": DEFAULT_L0, "C0": DEFAULT_C0, "I0": DEFAULT_I0, "backend": "batch",
+                             "method": "trap", "title": None, "timeout": DEFAULT_TIMEOUT}
 
 #: ngspice runs of one extrapolation executed at once (each is single-threaded; never more than the cores).
 MEMBER_THREADS = 2
@@ -242,59 +239,45 @@ def _execute_members(specs: list[RunSpec], steps: tuple[float, ...], simulator: 
             raise
 
 
-@fixed_blas_threads
-def simulation_spec(
+def simulation_request(
     chain: Chain,
     *,
     dt: float | None = None,
+    accuracy: float | None = None,
+    extrapolate: int | None = None,
     transits: int = 1,
     excitation: Excitation = "kick",
-    L0: float = 10e-6,
-    C0: float = 10e-9,
-    I0: float = 1e-3,
+    L0: float = DEFAULT_L0,
+    C0: float = DEFAULT_C0,
+    I0: float = DEFAULT_I0,
     backend: Backend = "batch",
     method: Method = "trap",
     title: str | None = None,
     timeout: float = DEFAULT_TIMEOUT,
-    modes: Modes | None = None,
-    accuracy: float | None = None,
-    budget: Budget | None = None,
-    aligned: bool = False,
-) -> tuple[RunSpec, Ladder, SimulationOptions]:
-    """The run :func:`simulate` makes, described and not yet executed (parameters as there).
+) -> Request:
+    """The :class:`~lcchain.runs.request.Request` of :func:`simulate`'s keywords (parameters as there)."""
+    instance("chain", chain, Chain)
+    choice("excitation", excitation, EXCITATIONS)
+    return Request(chain, Transient(dt=dt, accuracy=accuracy, transits=transits, method=method,
+                                    extrapolate=extrapolate),
+                   drive=Drive(excitation, I0), L0=L0, C0=C0, backend=backend, title=title, timeout=timeout)
 
-    The run's cost is estimated before anything else is computed, and a run
+
+def simulation_spec(chain: Chain, *, dt: float | None = None, accuracy: float | None = None,
+                    modes: Modes | None = None, budget: Budget | None = None,
+                    **keywords: Any) -> tuple[RunSpec, Ladder, SimulationOptions]:
+    """The one run :func:`simulate` makes without extrapolation, described and not yet executed.
+
+    Keywords as :func:`simulate`'s.  The run's cost is estimated before anything else is computed, and a run
     beyond ``budget`` is refused (:class:`~lcchain.core.budget.BudgetError`).
 
     Returns
     -------
     spec, ladder, options
     """
-    if (dt is None) == (accuracy is None):
-        raise ParameterError("dt/accuracy", (dt, accuracy), "exactly one of dt and accuracy")
-    choice("backend", backend, BACKENDS)
-    choice("excitation", excitation, EXCITATIONS)
-    budget = budget if budget is not None else Budget()
-    Ladder(chain, L0, C0)  # the component scale first: nothing is computed for a circuit ngspice cannot run
-    modes = modes if modes is not None else normal_modes(chain)
-    tstop = stop_time(modes, transits)
-    cost = {"saved": 2, "compared": 2, "unknowns": 2 * chain.N}
-    if accuracy is not None:
-        dt = dt_for_accuracy(modes, accuracy, tstop, method=method, max_points=max_points(budget, **cost))
-    dt = real("dt", dt, above=0.0, at_most=MAX_DT)
-    run_estimate(points=tstop / dt, **cost).check(budget, "dt", dt, "a larger step, or fewer transits")
-    text, ladder, options = make_netlist(chain, dt=dt, transits=transits, excitation=excitation, L0=L0, C0=C0,
-                                         I0=I0, method=method, title=title, modes=modes, tstop=tstop,
-                                         aligned=aligned)
-    predicted = None  # an extrapolation's member: the combination has the prediction (simulate)
-    if not aligned:
-        predicted = predicted_error(modes, options.dt, options.tstop, method=options.method)
-        warn_if_unreliable(method=options.method, transits=transits, predicted=predicted)
-    theory = Theory(chain, ladder.time_unit, I0=I0, excitation=excitation, transits=transits, dt=options.dt,
-                    method=options.method, predicted_error=predicted, aligned=aligned, modes=modes)
-    spec = RunSpec(text, tuple(probe_names(chain.N, "ends")), options.tstop * ladder.time_unit, backend=backend,
-                   timeout=timeout, theory=theory, foreign=False, label=f"{chain.name} N={chain.N} dt={options.dt:.4g}")
-    return spec, ladder, options
+    request = simulation_request(chain, dt=dt, accuracy=accuracy, extrapolate=1, **keywords)
+    plan = plan_request(request, budget, modes=modes)
+    return plan.specs[0], plan.ladder, plan.options()
 
 
 @dataclass(frozen=True, eq=False)
@@ -325,18 +308,15 @@ class SimulationRuns:
     predicted_error: float | None
     reason: str = ""
     plan: ExtrapolationPlan | None = None
+    request: Request | None = None
 
     @property
     def runs(self) -> int:
         return len(self.steps)
 
 
-@fixed_blas_threads
-def simulation_runs(chain: Chain, *, dt: float | None = None, accuracy: float | None = None,
-                    extrapolate: int | None = None, transits: int = 1, excitation: Excitation = "kick",
-                    L0: float = 10e-6, C0: float = 10e-9, I0: float = 1e-3, backend: Backend = "batch",
-                    method: Method = "trap", title: str | None = None, timeout: float = DEFAULT_TIMEOUT,
-                    modes: Modes | None = None, budget: Budget | None = None) -> SimulationRuns:
+def simulation_runs(chain: Chain | Request, *, modes: Modes | None = None, budget: Budget | None = None,
+                    **keywords: Any) -> SimulationRuns:
     """The runs :func:`simulate` makes (parameters as there): the step or steps chosen, every run's spec built.
 
     Raises
@@ -344,52 +324,27 @@ def simulation_runs(chain: Chain, *, dt: float | None = None, accuracy: float | 
     ParameterError, BudgetError
         As :func:`simulate`, before anything runs.
     """
-    instance("chain", chain, Chain)
-    instance("modes", modes, Modes, optional=True)
-    instance("budget", budget, Budget, optional=True)
-    if dt is not None:
-        real("dt", dt, above=0.0, at_most=MAX_DT,
-             allowed=f"0 < dt <= {MAX_DT:g} (in units of sqrt(L0*C0); the bulk period is 2 pi)")
-    if extrapolate is not None and (isinstance(extrapolate, bool) or extrapolate not in (1, 2, 3)):
-        raise ParameterError("extrapolate", extrapolate, "1, 2 or 3 runs (1: no extrapolation)")
-    if (dt is None) == (accuracy is None):
-        raise ParameterError("dt/accuracy", (dt, accuracy), "exactly one of dt and accuracy")
-    budget = budget if budget is not None else Budget()
-    Ladder(chain, L0, C0)
-    modes = modes if modes is not None else normal_modes(chain)
-    tstop = stop_time(modes, transits)
-    refused = refusal(method=method)
-    plan = None
-    if accuracy is not None:
-        plan = plan_for_accuracy(modes, accuracy, tstop, extrapolate=extrapolate, refused=refused, method=method,
-                                 max_points=max_points(budget, saved=2, compared=2, unknowns=2 * chain.N))
-        runs, coarse, reason = plan.runs, plan.dt, plan.reason
+    if isinstance(chain, Request):
+        if keywords:
+            raise ParameterError(sorted(keywords)[0], keywords[sorted(keywords)[0]],
+                                 "nothing beside a Request (it says the whole simulation)")
+        request = chain
     else:
-        assert dt is not None
-        runs, reason = runs_for_step(extrapolate, refused)
-        coarse = dt
-    steps = member_steps(coarse, runs)
-    built = [simulation_spec(chain, dt=h, aligned=runs > 1, transits=transits, excitation=excitation, L0=L0, C0=C0,
-                             I0=I0, backend=backend, method=method, title=title, timeout=timeout, modes=modes,
-                             budget=budget) for h in steps]
-    predicted = None
-    if runs > 1:
-        predicted = plan.predicted_error if plan is not None else predicted_extrapolated_error(modes, coarse, runs,
-                                                                                               tstop)
-        warn_if_unreliable(method=method, transits=transits, predicted=predicted)
-    _, ladder, options = built[0]
-    return SimulationRuns(steps, tuple(spec for spec, _, _ in built), ladder, options, modes, predicted, reason, plan)
+        request = simulation_request(chain, **keywords)
+    plan = plan_request(request, budget, modes=modes)
+    return SimulationRuns(plan.steps, plan.specs, plan.ladder, plan.options(), plan.modes, plan.predicted_error,
+                          plan.reason, plan.accuracy_plan, request)
 
 
 def simulate(
-    chain: Chain,
+    chain: Chain | Request,
     *,
     dt: float | None = None,
     transits: int = 1,
     excitation: Excitation = "kick",
-    L0: float = 10e-6,
-    C0: float = 10e-9,
-    I0: float = 1e-3,
+    L0: float = DEFAULT_L0,
+    C0: float = DEFAULT_C0,
+    I0: float = DEFAULT_I0,
     backend: Backend = "batch",
     method: Method = "trap",
     title: str | None = None,
@@ -406,7 +361,9 @@ def simulate(
 
     Parameters
     ----------
-    chain : Chain
+    chain : Chain or Request
+        The chain, described by the keywords below; or a whole
+        :class:`~lcchain.runs.request.Request` (effects, pulses, every loop...), with none of them.
     dt : float, optional
         Maximum time step in units of sqrt(L0 C0); give it or ``accuracy``.
     transits : int
@@ -458,9 +415,12 @@ def simulate(
     instance("simulator", simulator, Simulator, optional=True)
     callback("progress", progress)
     callback("on_spec", on_spec)
-    planned = simulation_runs(chain, dt=dt, accuracy=accuracy, extrapolate=extrapolate, transits=transits,
-                              excitation=excitation, L0=L0, C0=C0, I0=I0, backend=backend, method=method,
-                              title=title, timeout=timeout, modes=modes, budget=budget)
+    physics = {"dt": dt, "accuracy": accuracy, "extrapolate": extrapolate, "transits": transits,
+               "excitation": excitation, "L0": L0, "C0": C0, "I0": I0, "backend": backend, "method": method,
+               "title": title, "timeout": timeout}
+    if isinstance(chain, Request):
+        physics = {name: value for name, value in physics.items() if value != _DEFAULTS[name]}
+    planned = simulation_runs(chain, modes=modes, budget=budget, **physics)
     steps, runs, modes, plan, reason = planned.steps, planned.runs, planned.modes, planned.plan, planned.reason
     spec, ladder, options = planned.specs[0], planned.ladder, planned.options
     if on_spec is not None:
@@ -496,7 +456,10 @@ def simulate(
     }
     timings["overhead_s"] = timings["total_s"] - simulator_s
     timings["overhead_fraction"] = timings["overhead_s"] / simulator_s
-    return SimulationReport(chain, ladder, options, excitation, transits, spec.netlist, result,
+    request = planned.request
+    assert request is not None
+    return SimulationReport(planned.ladder.chain, ladder, options, request.drive.kind, request.analysis.transits,
+                            spec.netlist, result,
                             signals.waveforms(), Comparison.of(metrics, signals), FrozenMap(timings),
                             accuracy=accuracy, predicted_error=predicted,
                             integration_error=metrics.integration_error, physics_error=metrics.physics_error,

@@ -26,6 +26,7 @@ from ..core.errors import ParameterError
 from ..core.limits import MAX_TRANSITS
 from ..core.types import (
     BACKENDS,
+    DEFAULT_I0,
     EXCITATION_KINDS,
     METHODS,
     PROBES,
@@ -86,7 +87,7 @@ class Theory:
 
     chain: Chain
     time_unit: float
-    I0: float = 1e-3
+    I0: float = DEFAULT_I0
     excitation: ExcitationKind = "kick"
     Q: float | None = None
     pulse: tuple[PulseShape, float] | None = None

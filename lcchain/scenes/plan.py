@@ -1,71 +1,57 @@
-"""Turning a scene into runs: its chains, its step, its netlists, its run specs (no simulation).
+"""Turning a scene into runs: its request, planned by :func:`lcchain.runs.request.plan_request`.
 
-The scene (:mod:`lcchain.scenes.schema`, no physics there) becomes chains
-(:mod:`lcchain.circuit.effects`: walls, preferred values, tolerance samples),
-netlists (:func:`lcchain.circuit.netlist.netlist_text`: resistors only with
-losses, a source only for a pulse, every loop current only for
-``probes = "all"``) and one :class:`~lcchain.runs.spec.RunSpec` per realised
-circuit, whose theory is the exact linear response of that very circuit.
+The scene (:mod:`lcchain.scenes.schema`, no physics there) says the same as a
+:class:`~lcchain.runs.request.Request` with a file behind it: :func:`scene_request`
+translates one into the other, and the one planner of every simulation chooses
+the steps, realises the chains (walls, coupling, preferred values, tolerance
+samples), writes the netlists (only the elements the effects need) and gives
+every realised circuit its own exact theory.  Errors are named by the scene's
+keys and file.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 
-from ..circuit.effects import tolerance_samples
-from ..circuit.ladder import Ladder
-from ..circuit.netlist import SimulationOptions, netlist_text, probe_names
-from ..compare.accuracy import dt_for_accuracy
-from ..compare.extrapolate import (
-    member_steps,
-    plan_for_accuracy,
-    predicted_extrapolated_error,
-    refusal,
-    runs_for_step,
-)
-from ..core.blas import fixed_blas_threads
-from ..core.budget import (
-    RUN_START_SECONDS,
-    Budget,
-    Estimate,
-    chain_seconds,
-    max_points,
-    run_estimate,
-    sample_theory_seconds,
-)
+from ..core.budget import Budget, chain_seconds
 from ..core.errors import ParameterError
-from ..core.limits import EXACT_MAX_N
-from ..runs.execute import pulse_centre
-from ..runs.spec import RunSpec, Theory
-from ..theory.arrivals import arrival_window
+from ..runs.request import ACCURACY_LOOPS, Drive, Request, RequestPlan, Transient, plan_request
+from ..runs.spec import RunSpec
 from ..theory.cases import chain_for_case
 from ..theory.chain import Chain
-from ..theory.modes import Modes
-from ..theory.response import loop_weights
-from ..theory.spectrum import normal_modes
 from .schema import Scene
 
-__all__ = ["ScenePlan", "base_chain", "scene_chains", "realised", "sample_count", "scene_plan", "scene_netlist",
+__all__ = ["ScenePlan", "base_chain", "case_chain", "scene_request", "realised", "sample_count", "scene_plan",
            "scene_specs", "losses_and_pulse", "ACCURACY_LOOPS"]
 
-#: With probes = "all", the step's error is predicted on at most this many loops, evenly spaced, ends included.
-ACCURACY_LOOPS = 64
+#: What a scene's plan is: the request's plan.
+ScenePlan = RequestPlan
 
 
-def base_chain(scene: Scene) -> Chain:
-    """The nominal chain of the scene (case or custom), with walls if asked."""
+def case_chain(scene: Scene) -> Chain:
+    """The chain of the scene's case (or its custom masses and springs), before any effect."""
     spec = scene.chain
     if spec.case == "custom":
         assert spec.masses is not None and spec.springs is not None
-        chain = Chain(np.array(spec.masses), np.array(spec.springs), name="custom")
-    else:
-        chain = chain_for_case(spec.case, spec.N)
-    for part in (scene.effects.walls, scene.effects.coupling):  # what changes the nominal chain itself
-        if part is not None:
-            chain = part.realise(chain, scene.units.L0, scene.units.C0)
-    return chain
+        return Chain(np.array(spec.masses), np.array(spec.springs), name="custom")
+    return chain_for_case(spec.case, spec.N)
+
+
+def scene_request(scene: Scene, chain: Chain | None = None) -> Request:
+    """The request a scene makes (``chain``: its case's chain, when already made)."""
+    analysis, excitation, units = scene.analysis, scene.excitation, scene.units
+    _, pulse = losses_and_pulse(scene)
+    return Request(chain if chain is not None else case_chain(scene),
+                   Transient(dt=analysis.dt, accuracy=analysis.accuracy, transits=analysis.transits,
+                             method=analysis.method, extrapolate=analysis.extrapolate, probes=scene.output.probes),
+                   drive=Drive(excitation.kind, excitation.I0, pulse),  # type: ignore[arg-type]
+                   effects=scene.effects.present(), L0=units.L0, C0=units.C0, backend=analysis.backend,
+                   title=scene.title)
+
+
+def base_chain(scene: Scene) -> Chain:
+    """The nominal chain of the scene (case or custom), with the effects that change it (walls, coupling)."""
+    return scene_request(scene).nominal()
 
 
 def realised(scene: Scene) -> bool:
@@ -80,23 +66,6 @@ def sample_count(scene: Scene) -> int:
     return tol.samples if tol is not None and (tol.L or tol.C or tol.samples > 1) else 1
 
 
-def scene_chains(scene: Scene, nominal: Chain | None = None) -> tuple[Chain, list[Chain]]:
-    """(nominal chain, realised chains): one per tolerance sample, else one."""
-    nominal = nominal if nominal is not None else base_chain(scene)
-    effects, units = scene.effects, scene.units
-    series = effects.preferred_values.series if effects.preferred_values is not None else None
-    tol = effects.tolerance
-    if tol is not None and (tol.L or tol.C or tol.samples > 1):
-        chains = tolerance_samples(nominal, units.L0, units.C0, samples=tol.samples, seed=tol.seed,
-                                   tol_L=tol.L, tol_C=tol.C, series=series)
-    elif effects.preferred_values is not None:
-        chain = effects.preferred_values.realise(nominal, units.L0, units.C0)
-        chains = [Chain(chain.masses, chain.springs, name=f"{nominal.name} {series}", coupling=chain.coupling)]
-    else:
-        chains = [nominal]
-    return nominal, chains
-
-
 def losses_and_pulse(scene: Scene) -> tuple[float | None, tuple[str, float] | None]:
     """The scene's quality factor (None: no losses) and pulse (shape, width) (None: no pulse)."""
     excitation = scene.excitation
@@ -105,181 +74,30 @@ def losses_and_pulse(scene: Scene) -> tuple[float | None, tuple[str, float] | No
     return Q, pulse  # type: ignore[return-value]
 
 
-@dataclass(frozen=True, eq=False)
-class ScenePlan:
-    """What a scene will run, decided before ngspice starts.
-
-    Attributes
-    ----------
-    nominal : Chain
-        The chain of the scene's case (with walls if asked), before rounding
-        and tolerances.
-    chains : tuple of Chain
-        The realised chains, one per tolerance sample (else the nominal, or
-        its preferred-value rounding).
-    modes : Modes
-        Normal modes of the nominal chain (transit time, step choice).
-    transit_time, tstop, dt : float
-        Units of sqrt(L0 C0): the end-to-end travel time, the end of the
-        analysis (the window of the last requested transit, shifted by the
-        pulse's centre) and the maximum step (``analysis.dt``, or the largest
-        step whose predicted error meets ``analysis.accuracy``, at most
-        width/8 for a pulse); with extrapolation, dt is the coarsest run's.
-    steps : tuple of float
-        Each sample's runs: (dt,), or (dt, dt/2[, dt/4]) extrapolated
-        (:mod:`lcchain.compare.extrapolate`).
-    predicted_error : float, optional
-        The extrapolation's predicted error (None for one run).
-    reason : str
-        Why extrapolation was not used where it was asked or considered.
-    """
-
-    nominal: Chain
-    chains: tuple[Chain, ...]
-    modes: Modes
-    transit_time: float
-    tstop: float
-    dt: float
-    steps: tuple[float, ...] = ()
-    predicted_error: float | None = None
-    reason: str = ""
-
-    @property
-    def runs(self) -> int:
-        """Runs per sample."""
-        return max(1, len(self.steps))
-
-
-def _cost(scene: Scene, N: int, realised: bool) -> dict[str, int]:
-    """The numbers a scene's run costs by (:func:`lcchain.core.budget.run_estimate`)."""
-    saved = N if scene.output.probes == "all" else 2
-    losses = scene.effects.losses is not None
-    return {"saved": saved, "compared": saved, "unknowns": (3 if losses else 2) * N,
-            "exact_N": N if (realised or scene.output.probes == "all") else 0}
-
-
-def _accuracy_weights(scene: Scene, nominal: Chain) -> list[np.ndarray] | None:
-    if scene.output.probes != "all":
-        return None
-    # Interior loops can have 4x the ends' error: predict it on up to ACCURACY_LOOPS of them.
-    _, every = loop_weights(nominal)
-    loops = np.unique(np.linspace(0, every.shape[1] - 1, min(ACCURACY_LOOPS, every.shape[1])).round().astype(int))
-    return [every[:, i] for i in loops]
-
-
-def _choose_steps(scene: Scene, nominal: Chain, modes: Modes, tstop: float,
-                  points: float) -> tuple[tuple[float, ...], float | None, str]:
-    """The runs of each sample (their steps), the extrapolation's predicted error, and why not extrapolated."""
-    analysis = scene.analysis
-    Q, pulse = losses_and_pulse(scene)
-    refused = refusal(method=analysis.method, pulse=pulse)
-    asked = analysis.extrapolate
-    if analysis.dt is not None:
-        runs, reason = runs_for_step(asked, refused)
-        steps = member_steps(float(analysis.dt), runs)
-    else:
-        assert analysis.accuracy is not None
-        weights = _accuracy_weights(scene, nominal)
-        if refused or asked == 1 or weights is not None:
-            # one run: the single-run model knows interior loops and gear
-            dt = dt_for_accuracy(modes, analysis.accuracy, tstop, method=analysis.method, weights=weights,
-                                 max_points=points)
-            steps = (dt,)
-            reason = refused if (asked or 0) > 1 or (asked is None and refused) else ""
-            if weights is not None and (asked or 0) > 1:
-                reason = "probes = \"all\": the extrapolation's prediction covers the end loops only"
-        else:
-            plan = plan_for_accuracy(modes, analysis.accuracy, tstop, extrapolate=asked, Q=Q, max_points=points)
-            steps, reason = plan.steps, plan.reason
-    if scene.excitation.kind == "pulse":
-        # the accuracy model is for free oscillation; resolve the pulse too
-        assert scene.excitation.width is not None
-        if steps[0] > scene.excitation.width / 8:
-            steps = member_steps(scene.excitation.width / 8, len(steps))
-    predicted = None
-    if len(steps) > 1:
-        predicted = predicted_extrapolated_error(modes, steps[0], len(steps), tstop, Q=Q)
-    return steps, predicted, reason
-
-
 #: Internal names of what a scene sets, and the scene keys the user wrote.
 _SCENE_KEYS = {"L0": "units.L0", "C0": "units.C0", "K0": "effects.walls.K0", "dt": "analysis.dt",
-               "accuracy": "analysis.accuracy", "N": "chain.N"}
+               "accuracy": "analysis.accuracy", "N": "chain.N", "coupling": "effects.coupling.k"}
 
 
-@fixed_blas_threads
 def scene_plan(scene: Scene, budget: Budget | None = None) -> ScenePlan:
-    """Chains, stop time and step of a scene (no simulation), within a budget.
+    """Chains, stop time, steps and run specs of a scene (no simulation), within a budget.
 
     Raises
     ------
     ParameterError
         Named by the scene's key and file, for a scene that cannot run: a
-        component scale ngspice cannot take, or exact theory beyond
-        :data:`lcchain.core.limits.EXACT_MAX_N`.
+        component scale ngspice cannot take, exact theory beyond
+        :data:`lcchain.core.limits.EXACT_MAX_N`, losses with coupled coils.
     BudgetError
         The scene's estimated cost (per run, and its samples together) is beyond ``budget``.
     """
     try:
-        return _plan(scene, budget if budget is not None else Budget())
+        chain = case_chain(scene)
+        return plan_request(scene_request(scene, chain), budget,
+                            design_seconds=chain_seconds(scene.chain.case, chain.N))
     except ParameterError as error:
         named = error.renamed(_SCENE_KEYS[error.field]) if error.field in _SCENE_KEYS else error
         raise named.located(scene.source) from None
-
-
-def _plan(scene: Scene, budget: Budget) -> ScenePlan:
-    coupling = scene.effects.coupling
-    if coupling is not None and scene.effects.losses is not None:
-        raise ParameterError("effects.coupling.k", coupling.k, "no [effects.losses] with coupled coils: lcchain has "
-                             "no exact theory for them (the resistors' damping is not proportional to the mass matrix)")
-    nominal = base_chain(scene)
-    Ladder(nominal, scene.units.L0, scene.units.C0)  # a scale ngspice cannot take stops here, before any theory
-    N, samples = nominal.N, sample_count(scene)
-    if N > EXACT_MAX_N and (realised(scene) or scene.output.probes == "all"):
-        why = "every loop's response" if scene.output.probes == "all" else "tolerances or preferred values"
-        raise ParameterError("chain.N", N, f"N <= {EXACT_MAX_N} with {why} (the theory needs the exact modes "
-                             "of each realised chain)")
-    modes = normal_modes(nominal)  # raises for a chain beyond both exact and closed-form modes
-    T = modes.transit_time()
-    Q, pulse = losses_and_pulse(scene)
-    tstop = arrival_window(scene.analysis.transits, T)[1] + pulse_centre(scene.excitation.kind, pulse)
-    cost = _cost(scene, N, realised(scene))
-    points = max_points(budget, saved=cost["saved"], compared=cost["compared"], unknowns=cost["unknowns"])
-    steps, predicted, reason = _choose_steps(scene, nominal, modes, tstop, points)
-    dt = steps[0]
-    one = run_estimate(points=tstop / steps[-1], **cost)
-    field, value = ("dt", dt) if scene.analysis.dt is not None else ("accuracy", scene.analysis.accuracy)
-    one.check(budget, field, value, "a larger step, a coarser accuracy or fewer transits")
-    per_sample = sum(steps[-1] / h for h in steps)  # the members' costs relative to the finest
-    theory = sample_theory_seconds(N)  # each realised chain's own modes (or the nominal's) and its comparison
-    every = Estimate(f"{samples * len(steps)} runs of up to {one.what}", one.memory,
-                     chain_seconds(scene.chain.case, N) + samples * (one.seconds * per_sample
-                                                                     + RUN_START_SECONDS * len(steps) + theory))
-    every.check(budget, "effects.tolerance.samples" if samples > 1 else field, samples if samples > 1 else value,
-                "fewer samples")
-    _, chains = scene_chains(scene, nominal)  # the samples are drawn once the scene is known to fit
-    return ScenePlan(nominal, tuple(chains), modes, T, tstop, dt, steps, predicted, reason)
-
-
-def scene_netlist(scene: Scene, chain: Chain, dt: float, tstop: float, *, aligned: bool = False) -> str:
-    """The netlist of one realised chain of the scene: only the elements its effects need.
-
-    Parameters
-    ----------
-    scene : Scene
-    chain : Chain
-        The nominal chain or one of its realisations (:func:`scene_chains`).
-    dt, tstop : float
-        Maximum step and stop time in units of sqrt(L0 C0) (:func:`scene_plan`).
-    aligned : bool
-        An extrapolation's member (:attr:`lcchain.circuit.netlist.SimulationOptions.aligned`).
-    """
-    _, pulse = losses_and_pulse(scene)
-    excitation = scene.excitation
-    ladder = Ladder(chain, scene.units.L0, scene.units.C0)
-    options = SimulationOptions(dt=dt, tstop=tstop, method=scene.analysis.method, aligned=aligned)
-    return netlist_text(ladder, options, excitation=excitation.kind, I0=excitation.I0, probes=scene.output.probes,
-                        title=scene.title, pulse=pulse, effects=scene.effects.present())  # type: ignore[arg-type]
 
 
 def scene_specs(scene: Scene, plan: ScenePlan) -> list[RunSpec]:
@@ -288,20 +106,4 @@ def scene_specs(scene: Scene, plan: ScenePlan) -> list[RunSpec]:
     One per sample, or with extrapolation :attr:`ScenePlan.runs` per sample, coarsest first
     (:func:`lcchain.scenes.run.scene_result` combines them).
     """
-    Q, pulse = losses_and_pulse(scene)
-    units, excitation, analysis = scene.units, scene.excitation, scene.analysis
-    time_unit = Ladder(plan.nominal, units.L0, units.C0).time_unit
-    steps = plan.steps or (plan.dt,)
-    aligned = len(steps) > 1
-    specs = []
-    for chain in plan.chains:
-        for i, h in enumerate(steps):
-            theory = Theory(chain, time_unit, I0=excitation.I0, excitation=excitation.kind, Q=Q, pulse=pulse,  # type: ignore[arg-type]
-                            probes=scene.output.probes, transits=analysis.transits, dt=h, method=analysis.method,
-                            transit_time=plan.transit_time, aligned=aligned,
-                            modes=plan.modes if chain is plan.nominal else None)
-            label = chain.name + (f" run {i + 1} of {len(steps)}" if aligned else "")
-            specs.append(RunSpec(scene_netlist(scene, chain, h, plan.tstop, aligned=aligned),
-                                 tuple(probe_names(chain.N, scene.output.probes)), plan.tstop * time_unit,
-                                 backend=analysis.backend, theory=theory, foreign=False, label=label))
-    return specs
+    return list(plan.specs)

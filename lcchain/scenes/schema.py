@@ -39,6 +39,9 @@ from ..core.limits import (
 from ..core.types import (
     BACKENDS,
     CASES,
+    DEFAULT_C0,
+    DEFAULT_I0,
+    DEFAULT_L0,
     EXCITATION_KINDS,
     METHODS,
     PLOT_KINDS,
@@ -161,8 +164,8 @@ class Units:
         sqrt(L0*C0) seconds.
     """
 
-    L0: float = 10e-6
-    C0: float = 10e-9
+    L0: float = DEFAULT_L0
+    C0: float = DEFAULT_C0
 
     def __post_init__(self) -> None:
         for name in ("L0", "C0"):
@@ -190,7 +193,7 @@ class ExcitationSpec:
     """
 
     kind: ExcitationKind = "kick"
-    I0: float = 1e-3
+    I0: float = DEFAULT_I0
     shape: PulseShape | None = None
     width: float | None = None
 

@@ -42,7 +42,7 @@ from ..compare.accuracy import predicted_error
 from ..core.blas import fixed_blas_threads
 from ..core.budget import RUN_START_SECONDS, Estimate, chain_seconds, ngspice_seconds, run_estimate
 from ..core.errors import SimulationError
-from ..core.types import METHODS, Method
+from ..core.types import DEFAULT_C0, DEFAULT_I0, DEFAULT_L0, METHODS, Method
 from ..runs.execute import RunRecord, execute
 from ..runs.simulate import simulate
 from ..runs.spec import RunSpec, Theory
@@ -77,7 +77,7 @@ QUICK_DOP853_RTOL = (1e-4, 1e-7, 1e-10)
 PEER_GRID_STEP = 0.05
 ACCURACY_TARGETS = (1e-3, 1e-5)
 TARGET_N = (100, 1000)
-L0, C0, I0 = 10e-6, 10e-9, 1e-3
+L0, C0, I0 = DEFAULT_L0, DEFAULT_C0, DEFAULT_I0
 
 RECORD_FIELDS = ("method", "stepping", "N", "dt", "rtol", "wall_s", "error", "points", "predicted_error")
 

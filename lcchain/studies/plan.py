@@ -38,7 +38,7 @@ from ..core.budget import (
 from ..core.errors import ParameterError
 from ..core.frozen import FrozenMap
 from ..core.limits import MAX_DESIGN_N
-from ..core.types import Backend, Excitation
+from ..core.types import DEFAULT_C0, DEFAULT_L0, Backend, Excitation
 from ..runs.extrapolated import combined_key
 from ..runs.simulate import simulation_runs
 from ..runs.spec import DEFAULT_TIMEOUT, RunSpec, Theory
@@ -195,8 +195,8 @@ def _add_runs(tasks: list[Task], combinations: list[Combination], params: Mappin
 
 
 def sweep_plan(*, cases: Sequence[str], Ns: Sequence[int], dts: Sequence[float] = (), accuracies: Sequence[float] = (),
-               transits: Sequence[int] = (1,), excitations: Sequence[Excitation] = ("kick",), L0: float = 10e-6,
-               C0: float = 10e-9, backend: Backend = "batch", timeout: float = DEFAULT_TIMEOUT,
+               transits: Sequence[int] = (1,), excitations: Sequence[Excitation] = ("kick",), L0: float = DEFAULT_L0,
+               C0: float = DEFAULT_C0, backend: Backend = "batch", timeout: float = DEFAULT_TIMEOUT,
                budget: Budget | None = None, extrapolate: int | None = None,
                progress: Callable[[int, int, str], None] | None = None, workers: int = 1) -> Plan:
     """The product of the axes: one task per (case, N, dt or accuracy, transits, excitation).

@@ -1,0 +1,420 @@
+"""One request, and the one planner that turns it into run specs.
+
+A :class:`Request` is what a user asked for, frozen and picklable: the chain,
+its units, how it is driven, the effects on the ladder, the analysis, and where
+it runs.  :func:`plan_request` turns it into a :class:`RequestPlan`: the
+realised chains (one per tolerance sample), the stop time, the step or the
+steps of an extrapolation, and one :class:`~lcchain.runs.spec.RunSpec` per run,
+each with the exact theory of its own circuit.  :func:`lcchain.simulate`, scenes
+(``Scene.request()``), sweeps, the bench and the report all plan through it, so
+the step is chosen in one place, and a run's netlist and its theory are both
+made from the same realised chain and the same effects (they cannot disagree).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..circuit.effects import Effect, PreferredValues, Tolerance
+from ..circuit.ladder import Ladder
+from ..circuit.netlist import SimulationOptions, netlist_text, probe_names
+from ..compare.accuracy import dt_for_accuracy, predicted_error, warn_if_unreliable
+from ..compare.extrapolate import (
+    ExtrapolationPlan,
+    member_steps,
+    plan_for_accuracy,
+    predicted_extrapolated_error,
+    refusal,
+    runs_for_step,
+)
+from ..core.blas import fixed_blas_threads
+from ..core.budget import RUN_START_SECONDS, Budget, Estimate, max_points, run_estimate, sample_theory_seconds
+from ..core.checks import choice, instance, integer, real, strings
+from ..core.checks import pulse as check_pulse
+from ..core.errors import ParameterError
+from ..core.limits import EXACT_MAX_N, MAX_DT, MAX_TRANSITS
+from ..core.types import (
+    BACKENDS,
+    DEFAULT_C0,
+    DEFAULT_I0,
+    DEFAULT_L0,
+    EXCITATION_KINDS,
+    METHODS,
+    PROBES,
+    PULSE_SHAPES,
+    Backend,
+    ExcitationKind,
+    Method,
+    Probes,
+    PulseShape,
+)
+from ..theory.arrivals import arrival_window
+from ..theory.chain import Chain
+from ..theory.modes import Modes
+from ..theory.response import loop_weights
+from ..theory.spectrum import normal_modes
+from .execute import pulse_centre
+from .spec import DEFAULT_TIMEOUT, RunSpec, Theory
+
+__all__ = ["Drive", "Transient", "Request", "RequestPlan", "plan_request", "ACCURACY_LOOPS"]
+
+#: With probes = "all", the step's error is predicted on at most this many loops, evenly spaced, ends included.
+ACCURACY_LOOPS = 64
+
+
+@dataclass(frozen=True)
+class Drive:
+    """How loop 1 is set in motion.
+
+    Parameters
+    ----------
+    kind : {"kick", "displacement", "pulse"}
+        An initial current I0 in L_1, an initial charge I0 sqrt(L0 C0) in loop 1, or a voltage pulse in loop 1.
+    I0 : float
+        Scale of the excitation, ampere (> 0).
+    pulse : (shape, width), optional
+        With ``kind="pulse"`` only: ``"gaussian"`` or ``"rect"``, width in units of sqrt(L0 C0).
+    """
+
+    kind: ExcitationKind = "kick"
+    I0: float = DEFAULT_I0
+    pulse: tuple[PulseShape, float] | None = None
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "I0", real("I0", self.I0, above=0.0, unit="ampere"))
+        spec = check_pulse(self.kind, self.pulse, EXCITATION_KINDS, PULSE_SHAPES)
+        object.__setattr__(self, "pulse", spec)
+
+
+@dataclass(frozen=True)
+class Transient:
+    """A transient analysis: how long to watch and how finely (give ``dt`` or ``accuracy``).
+
+    Parameters
+    ----------
+    dt : float, optional
+        Fixed maximum step, units of sqrt(L0 C0).
+    accuracy : float, optional
+        Wanted max |simulation - theory|: lcchain chooses the step (and whether to extrapolate).
+    transits : int
+        Arrivals to watch.
+    method : {"trap", "gear"}
+    extrapolate : {1, 2, 3}, optional
+        Runs at dt, dt/2, dt/4 combined (:mod:`lcchain.compare.extrapolate`); None: one run for a given dt,
+        the cheapest way for an accuracy.
+    probes : {"ends", "all"}
+        Save loops 1 and N, or every loop.
+    """
+
+    dt: float | None = None
+    accuracy: float | None = None
+    transits: int = 1
+    method: Method = "trap"
+    extrapolate: int | None = None
+    probes: Probes = "ends"
+
+    def __post_init__(self) -> None:
+        if (self.dt is None) == (self.accuracy is None):
+            raise ParameterError("dt/accuracy", (self.dt, self.accuracy), "exactly one of dt and accuracy")
+        if self.dt is not None:
+            object.__setattr__(self, "dt", real("dt", self.dt, above=0.0, at_most=MAX_DT, allowed=(
+                f"0 < dt <= {MAX_DT:g} (in units of sqrt(L0*C0); the bulk period is 2 pi)")))
+        integer("transits", self.transits, at_least=1, at_most=MAX_TRANSITS)
+        choice("method", self.method, METHODS)
+        if self.extrapolate is not None and (isinstance(self.extrapolate, bool) or self.extrapolate not in (1, 2, 3)):
+            raise ParameterError("extrapolate", self.extrapolate, "1, 2 or 3 runs (1: no extrapolation)")
+        choice("probes", self.probes, PROBES)
+
+
+@dataclass(frozen=True)
+class Request:
+    """Everything a user asks of one simulation, frozen and picklable.
+
+    Parameters
+    ----------
+    chain : Chain
+        The nominal chain (a named case or the user's own), bulk units, before the effects.
+    analysis : Transient
+    drive : Drive
+    effects : tuple of Effect
+        In any order; those that change the chain (walls, coupling) apply to the nominal chain, preferred
+        values and tolerances make the realised chains, the others add elements (losses).
+    L0, C0 : float
+        Bulk inductance (H) and capacitance (F).
+    backend : {"batch", "shared"}
+    title : str, optional
+        The netlist's first line (default: the chain's name, N and the excitation).
+    comments : tuple of str
+        ``*`` lines after the title.
+    timeout : float
+        Seconds before a run's simulator is killed.
+    """
+
+    chain: Chain
+    analysis: Transient
+    drive: Drive = field(default_factory=Drive)
+    effects: tuple[Effect, ...] = ()
+    L0: float = DEFAULT_L0
+    C0: float = DEFAULT_C0
+    backend: Backend = "batch"
+    title: str | None = None
+    comments: tuple[str, ...] = ()
+    timeout: float = DEFAULT_TIMEOUT
+
+    def __post_init__(self) -> None:
+        instance("chain", self.chain, Chain)
+        instance("analysis", self.analysis, Transient)
+        instance("drive", self.drive, Drive)
+        if not isinstance(self.effects, tuple):
+            raise ParameterError("effects", self.effects, "a tuple of lcchain effects")
+        kinds = [type(effect) for effect in self.effects]
+        for effect in self.effects:
+            instance("effects", effect, Effect)
+            if kinds.count(type(effect)) > 1:
+                raise ParameterError("effects", effect.key, "each effect at most once")
+        object.__setattr__(self, "L0", real("L0", self.L0, above=0.0, unit="henry"))
+        object.__setattr__(self, "C0", real("C0", self.C0, above=0.0, unit="farad"))
+        choice("backend", self.backend, BACKENDS)
+        object.__setattr__(self, "comments", strings("comments", self.comments))
+        object.__setattr__(self, "timeout", real("timeout", self.timeout, above=0.0, unit="seconds"))
+
+    def effect(self, kind: type[Effect]) -> Effect | None:
+        """The request's effect of this type, or None."""
+        return next((effect for effect in self.effects if isinstance(effect, kind)), None)
+
+    @property
+    def Q(self) -> float | None:
+        """The losses' quality factor (None: no losses), from the effects' responses."""
+        values = [effect.response()["Q"] for effect in self.effects if "Q" in effect.response()]
+        return values[0] if values else None
+
+    def nominal(self) -> Chain:
+        """The chain with the effects that change it (walls, coupling), before rounding and tolerances."""
+        chain = self.chain
+        for effect in self.effects:
+            if not isinstance(effect, (PreferredValues, Tolerance)):
+                chain = effect.realise(chain, self.L0, self.C0)
+        return chain
+
+    @property
+    def realised(self) -> bool:
+        """Whether the runs simulate chains other than the nominal one (rounded or toleranced)."""
+        tolerance = self.effect(Tolerance)
+        return self.effect(PreferredValues) is not None or (isinstance(tolerance, Tolerance) and tolerance.varies)
+
+    @property
+    def samples(self) -> int:
+        """How many circuits the request runs."""
+        tolerance = self.effect(Tolerance)
+        return tolerance.samples if isinstance(tolerance, Tolerance) and tolerance.varies else 1
+
+
+@dataclass(frozen=True, eq=False)
+class RequestPlan:
+    """What a request will run, decided before any simulator starts.
+
+    Attributes
+    ----------
+    request : Request
+    nominal : Chain
+        The chain with walls and coupling, before rounding and tolerances.
+    chains : tuple of Chain
+        The realised chains, one per tolerance sample (else the nominal, or its preferred-value rounding).
+    modes : Modes
+        Normal modes of the nominal chain (transit time, step choice).
+    transit_time, tstop : float
+        Units of sqrt(L0 C0): the end-to-end travel time and the end of the analysis (the window of the last
+        transit, shifted by a pulse's centre).
+    steps : tuple of float
+        Each sample's runs: (dt,), or (dt, dt/2[, dt/4]) extrapolated, coarsest first.
+    predicted_error : float, optional
+        The extrapolation's predicted error (None for one run: its theory holds its own, where the model
+        applies).
+    reason : str
+        Why extrapolation was not used where it was asked or considered ("" otherwise).
+    accuracy_plan : ExtrapolationPlan, optional
+        With an accuracy: the options weighed and the one chosen.
+    specs : tuple of RunSpec
+        ``len(steps)`` per chain, in the order of ``chains``.
+    """
+
+    request: Request
+    nominal: Chain
+    chains: tuple[Chain, ...]
+    modes: Modes
+    transit_time: float
+    tstop: float
+    steps: tuple[float, ...]
+    predicted_error: float | None
+    reason: str
+    accuracy_plan: ExtrapolationPlan | None
+    specs: tuple[RunSpec, ...]
+
+    @property
+    def dt(self) -> float:
+        """The coarsest run's step."""
+        return self.steps[0]
+
+    @property
+    def runs(self) -> int:
+        """Runs per sample."""
+        return len(self.steps)
+
+    @property
+    def ladder(self) -> Ladder:
+        """The nominal circuit."""
+        return Ladder(self.nominal, self.request.L0, self.request.C0)
+
+    def options(self, index: int = 0) -> SimulationOptions:
+        """The analysis of run ``index`` of a sample (0: the coarsest)."""
+        analysis = self.request.analysis
+        return SimulationOptions(dt=self.steps[index], tstop=self.tstop, method=analysis.method,
+                                 aligned=self.runs > 1)
+
+
+def _cost(request: Request, N: int) -> dict[str, int]:
+    """The numbers a run costs by (:func:`lcchain.core.budget.run_estimate`)."""
+    saved = N if request.analysis.probes == "all" else 2
+    return {"saved": saved, "compared": saved, "unknowns": (3 if request.Q is not None else 2) * N,
+            "exact_N": N if (request.realised or request.analysis.probes == "all") else 0}
+
+
+def _accuracy_weights(request: Request, nominal: Chain) -> list[np.ndarray] | None:
+    if request.analysis.probes != "all":
+        return None
+    # Interior loops can have 4x the ends' error: predict it on up to ACCURACY_LOOPS of them.
+    _, every = loop_weights(nominal)
+    loops = np.unique(np.linspace(0, every.shape[1] - 1, min(ACCURACY_LOOPS, every.shape[1])).round().astype(int))
+    return [every[:, i] for i in loops]
+
+
+def _choose_steps(request: Request, nominal: Chain, modes: Modes, tstop: float, points: float
+                  ) -> tuple[tuple[float, ...], float | None, str, ExtrapolationPlan | None]:
+    """Each sample's steps, the extrapolation's predicted error, why not extrapolated, and the accuracy's plan."""
+    analysis, drive, Q = request.analysis, request.drive, request.Q
+    refused = refusal(method=analysis.method, pulse=drive.pulse)
+    asked = analysis.extrapolate
+    plan = None
+    predicted = None
+    if analysis.dt is not None:
+        runs, reason = runs_for_step(asked, refused)
+        steps = member_steps(float(analysis.dt), runs)
+    else:
+        assert analysis.accuracy is not None
+        weights = _accuracy_weights(request, nominal)
+        if weights is not None:
+            # one run: the single-run model knows interior loops
+            steps = (dt_for_accuracy(modes, analysis.accuracy, tstop, method=analysis.method, weights=weights,
+                                     max_points=points),)
+            reason = "probes = \"all\": the extrapolation's prediction covers the end loops only" \
+                if (asked or 0) > 1 else (refused if asked is None else "")
+        else:
+            plan = plan_for_accuracy(modes, analysis.accuracy, tstop, extrapolate=asked, refused=refused, Q=Q,
+                                     method=analysis.method, max_points=points)
+            steps = member_steps(plan.dt, plan.runs)
+            reason = refused if (refused and asked != 1) else plan.reason
+            predicted = plan.predicted_error if plan.runs > 1 else None
+    if drive.pulse is not None and steps[0] > drive.pulse[1] / 8:
+        # the accuracy model is for free oscillation; resolve the pulse too
+        steps = member_steps(drive.pulse[1] / 8, len(steps))
+        predicted = None
+    if len(steps) > 1 and predicted is None:
+        predicted = predicted_extrapolated_error(modes, steps[0], len(steps), tstop, Q=Q)
+    return steps, predicted, reason, plan
+
+
+def _chains(request: Request, nominal: Chain) -> list[Chain]:
+    """The realised chains: one per tolerance sample, else the nominal or its rounding."""
+    series = request.effect(PreferredValues)
+    tolerance = request.effect(Tolerance)
+    name = series.series if isinstance(series, PreferredValues) else None
+    if isinstance(tolerance, Tolerance) and tolerance.varies:
+        return tolerance.draw(nominal, request.L0, request.C0, series=name)
+    if isinstance(series, PreferredValues):
+        chain = series.realise(nominal, request.L0, request.C0)
+        return [Chain(chain.masses, chain.springs, name=f"{nominal.name} {name}", coupling=chain.coupling)]
+    return [nominal]
+
+
+@fixed_blas_threads
+def plan_request(request: Request, budget: Budget | None = None, *, modes: Modes | None = None,
+                 design_seconds: float = 0.0) -> RequestPlan:
+    """The runs of a request, their steps chosen and their specs built, within a budget (no simulation).
+
+    Parameters
+    ----------
+    request : Request
+    budget : Budget, optional
+        The most memory and time the request may take (default :class:`~lcchain.core.budget.Budget`).
+    modes : Modes, optional
+        The nominal chain's modes, when already computed.
+    design_seconds : float
+        What making the nominal chain costs, added to the request's price (a scene designs its chain).
+
+    Raises
+    ------
+    ParameterError
+        A request that cannot run: a component scale ngspice cannot take, exact theory beyond
+        :data:`lcchain.core.limits.EXACT_MAX_N`, losses with coupled coils.
+    BudgetError
+        The estimated cost (per run, and all samples together) is beyond ``budget``.
+    """
+    instance("request", request, Request)
+    instance("budget", budget, Budget, optional=True)
+    instance("modes", modes, Modes, optional=True)
+    budget = budget if budget is not None else Budget()
+    analysis, drive = request.analysis, request.drive
+    nominal = request.nominal()
+    if nominal.coupled and request.Q is not None:
+        raise ParameterError("coupling", nominal.coupling, "no losses with coupled coils: lcchain has no exact "
+                             "theory for them (the resistors' damping is not proportional to the mass matrix)")
+    ladder = Ladder(nominal, request.L0, request.C0)  # a scale ngspice cannot take stops here, before any theory
+    N, samples = nominal.N, request.samples
+    if N > EXACT_MAX_N and (request.realised or analysis.probes == "all"):
+        why = "every loop's response" if analysis.probes == "all" else "tolerances or preferred values"
+        raise ParameterError("N", N, f"N <= {EXACT_MAX_N} with {why} (the theory needs the exact modes of each "
+                             "realised chain)")
+    if modes is not None and modes.N != N:
+        raise ParameterError("modes", f"modes of N = {modes.N}", f"the modes of this chain (N = {N})")
+    modes = modes if modes is not None else normal_modes(nominal)
+    T = modes.transit_time()
+    tstop = arrival_window(analysis.transits, T)[1] + pulse_centre(drive.kind, drive.pulse)
+    cost = _cost(request, N)
+    points = max_points(budget, saved=cost["saved"], compared=cost["compared"], unknowns=cost["unknowns"])
+    steps, predicted, reason, accuracy_plan = _choose_steps(request, nominal, modes, tstop, points)
+    one = run_estimate(points=tstop / steps[-1], **cost)
+    name, value = ("dt", analysis.dt) if analysis.dt is not None else ("accuracy", analysis.accuracy)
+    one.check(budget, name, value, "a larger step, a coarser accuracy or fewer transits")
+    per_sample = sum(steps[-1] / h for h in steps)  # the members' costs relative to the finest
+    compare = sample_theory_seconds(N)  # each realised chain's own modes (or the nominal's) and its comparison
+    every = Estimate(f"{samples * len(steps)} runs of up to {one.what}", one.memory,
+                     design_seconds + samples * (one.seconds * per_sample + RUN_START_SECONDS * len(steps) + compare))
+    every.check(budget, "effects.tolerance.samples" if samples > 1 else name, samples if samples > 1 else value,
+                "fewer samples")
+    chains = _chains(request, nominal)  # the samples are drawn once the request is known to fit
+    single = None
+    if len(steps) == 1 and drive.pulse is None and request.Q is None and analysis.probes == "ends":
+        # the accuracy model's prediction for the nominal chain's one run (samples: their own chains differ)
+        single = predicted_error(modes, steps[0], tstop, method=analysis.method)
+        warn_if_unreliable(method=analysis.method, transits=analysis.transits, predicted=single)
+    specs = []
+    aligned = len(steps) > 1
+    probes = tuple(probe_names(N, analysis.probes))
+    title = request.title if request.title is not None else f"lcchain {nominal.name} chain N={N}, {drive.kind}"
+    for chain in chains:
+        circuit = ladder if chain is nominal else Ladder(chain, request.L0, request.C0)
+        for i, h in enumerate(steps):
+            options = SimulationOptions(dt=h, tstop=tstop, method=analysis.method, aligned=aligned)
+            text = netlist_text(circuit, options, excitation=drive.kind, I0=drive.I0, probes=analysis.probes,
+                                title=title, comments=request.comments, pulse=drive.pulse, effects=request.effects)
+            theory = Theory(chain, ladder.time_unit, I0=drive.I0, excitation=drive.kind, Q=request.Q,
+                            pulse=drive.pulse, probes=analysis.probes, transits=analysis.transits, dt=h,
+                            method=analysis.method, predicted_error=single if chain is nominal else None,
+                            transit_time=T, aligned=aligned, modes=modes if chain is nominal else None)
+            label = f"{chain.name} N={N} dt={h:.4g}" + (f" run {i + 1} of {len(steps)}" if aligned else "")
+            specs.append(RunSpec(text, probes, tstop * ladder.time_unit, backend=request.backend,
+                                 timeout=request.timeout, theory=theory, foreign=False, label=label))
+    return RequestPlan(request, nominal, tuple(chains), modes, T, tstop, tuple(steps), predicted, reason,
+                       accuracy_plan, tuple(specs))

@@ -1,0 +1,120 @@
+"""One request (issue 20): a frozen description of a simulation, one planner for simulate, scenes and sweeps.
+
+A run's netlist and its exact theory are both made from the request's realised chain: checked here by reading
+the components back from every netlist and comparing them with the theory's chain.
+"""
+
+from __future__ import annotations
+
+import pickle
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import lcchain
+from lcchain.circuit.effects import Coupling, Losses, PreferredValues, Tolerance, Walls
+from lcchain.core.errors import ParameterError
+from lcchain.runs.request import Drive, Request, Transient, plan_request
+from lcchain.runs.simulate import simulation_runs
+from lcchain.scenes.load import load_scene
+from lcchain.scenes.plan import scene_plan, scene_request
+from lcchain.theory.cases import chain_for_case
+
+SCENES = sorted((Path(__file__).resolve().parent.parent / "examples" / "scenes").glob("*.toml"))
+_ELEMENT = re.compile(r"^([LCK])(\S+) (\S+) (\S+) (\S+)")
+
+
+def _components(text: str) -> tuple[dict[int, float], dict[str, float], list[float]]:
+    """Inductances by loop, capacitances by name and coupling coefficients, read back from a netlist."""
+    inductors, capacitors, couplings = {}, {}, []
+    for line in text.splitlines()[1:]:  # the first line is the title
+        match = _ELEMENT.match(line)
+        if not match:
+            continue
+        kind, name, _, _, value = match.groups()
+        if kind == "L":
+            inductors[int(name)] = float(value)
+        elif kind == "C":
+            capacitors[name] = float(value)
+        else:
+            couplings.append(float(value))
+    return inductors, capacitors, couplings
+
+
+def _agree(spec, L0: float, C0: float) -> None:
+    """The netlist's components are the theory's chain, element by element."""
+    chain = spec.theory.chain
+    inductors, capacitors, couplings = _components(spec.netlist)
+    assert [inductors[i] for i in range(1, chain.N + 1)] == [float(m) * L0 for m in chain.masses]
+    for i, k in enumerate(chain.springs):
+        name = f"{i}_{i + 1}"
+        assert capacitors.get(name) == (None if k == 0 else C0 / float(k))
+    assert couplings == [chain.coupling] * (chain.N - 1 if chain.coupled else 0)
+
+
+@pytest.mark.parametrize("path", SCENES, ids=[p.stem for p in SCENES])
+def test_every_netlist_is_its_theorys_circuit(path):
+    scene = load_scene(path)
+    plan = scene_plan(scene)
+    for spec in plan.specs:
+        _agree(spec, scene.units.L0, scene.units.C0)
+    assert len(plan.specs) == len(plan.chains) * plan.runs
+
+
+def test_the_netlist_check_can_fail():
+    chain = chain_for_case("two-mass", 8)
+    spec = plan_request(Request(chain, Transient(dt=0.05))).specs[0]
+    other = plan_request(Request(chain, Transient(dt=0.05), effects=(Walls(0.1),))).specs[0]
+    with pytest.raises(AssertionError):
+        _agree(type(spec)(other.netlist, spec.vectors, spec.tstop, theory=spec.theory), 10e-6, 10e-9)
+
+
+def test_a_scene_is_a_request():
+    scene = load_scene(next(p for p in SCENES if p.stem == "bench"))
+    request = scene_request(scene)
+    assert request == Request(chain_for_case("two-mass", 50), Transient(accuracy=1e-3, transits=1),
+                              drive=Drive("pulse", 1e-3, ("gaussian", 0.2)),
+                              effects=(Losses(100.0), Tolerance(0.05, 0.05, 20, 7), PreferredValues("E24")),
+                              title="Bench cradle, 50 cells")
+    assert pickle.loads(pickle.dumps(request)) == request
+    assert [s.netlist for s in plan_request(request).specs] == [s.netlist for s in scene_plan(scene).specs]
+
+
+def test_simulate_plans_through_the_request():
+    chain = chain_for_case("two-mass", 40)
+    by_keywords = simulation_runs(chain, accuracy=1e-6, transits=2, excitation="displacement")
+    request = Request(chain, Transient(accuracy=1e-6, transits=2), drive=Drive("displacement"))
+    by_request = simulation_runs(request)
+    assert by_keywords.request == request
+    assert [s.netlist for s in by_keywords.specs] == [s.netlist for s in by_request.specs]
+    assert by_keywords.steps == by_request.steps and len(by_keywords.steps) > 1  # an extrapolation's members
+
+
+@pytest.mark.parametrize("build, field", [
+    (lambda c: Request(c, Transient(dt=0.05), effects=(Walls(0.1), Walls(0.2))), "effects"),
+    (lambda c: Request(c, Transient(dt=0.05), effects=[Walls(0.1)]), "effects"),
+    (lambda c: Request(c, Transient(dt=0.05), effects=("walls",)), "effects"),
+    (lambda c: Request(c, Transient(dt=0.05, accuracy=1e-3)), "dt/accuracy"),
+    (lambda c: Request(c, Transient()), "dt/accuracy"),
+    (lambda c: Request(c, Transient(dt=0.05, extrapolate=4)), "extrapolate"),
+    (lambda c: Request(c, Transient(dt=0.05), drive=Drive("pulse")), "pulse"),
+    (lambda c: Request(c, Transient(dt=0.05), L0=-1.0), "L0"),
+    (lambda c: Request("chain", Transient(dt=0.05)), "chain"),
+    (lambda c: plan_request(Request(c, Transient(dt=0.05), effects=(Coupling(0.02), Losses(50.0)))), "coupling"),
+])
+def test_bad_requests_are_refused_naming_the_field(build, field):
+    with pytest.raises(ParameterError) as caught:
+        build(chain_for_case("two-mass", 10))
+    assert caught.value.field == field
+
+
+@pytest.mark.ngspice
+def test_a_request_runs_with_every_kind_of_effect():
+    request = Request(chain_for_case("perfect", 20), Transient(accuracy=1e-4, transits=2),
+                      drive=Drive("pulse", 1e-3, ("gaussian", 0.3)), effects=(Coupling(-0.03), Walls(0.02)))
+    report = lcchain.simulate(request)
+    assert report.chain.coupling == -0.03 and report.chain.springs[0] == 0.02
+    assert report.comparison.max_abs_error <= 1e-4
+    assert np.all(np.isfinite(report.waveforms.last))
