@@ -27,7 +27,7 @@ _PUBLIC = {
     "DesignError": "core.errors",
     "SimulationError": "core.errors", "SimulatorMissingError": "core.errors",
     "Budget": "core.budget",
-    "run_scene": "report.scenes",
+    "run_scene": "app.scenes",
     "RunRecord": "runs.execute", "execute": "runs.execute",
     "SimulationReport": "runs.simulate", "simulate": "runs.simulate",
     "Request": "runs.request", "Drive": "runs.request", "Transient": "runs.request", "plan_request": "runs.request",
@@ -82,6 +82,7 @@ def __dir__() -> list[str]:
 
 
 if TYPE_CHECKING:  # what a type checker and an editor see
+    from .app.scenes import run_scene
     from .circuit.effects import Coupling, Effect, Losses, PreferredValues, Tolerance, Walls
     from .circuit.ladder import Ladder
     from .circuit.netlist import SimulationOptions, netlist_text
@@ -95,7 +96,6 @@ if TYPE_CHECKING:  # what a type checker and an editor see
         SimulationError,
         SimulatorMissingError,
     )
-    from .report.scenes import run_scene
     from .runs.execute import RunRecord, execute
     from .runs.request import Drive, Request, Transient, plan_request
     from .runs.simulate import SimulationReport, simulate

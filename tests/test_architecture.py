@@ -55,5 +55,5 @@ def test_the_layers_are_folders() -> None:
     """Every module lives in a layer's folder; the package's top holds only its entry points."""
     top = sorted(p.name for p in (ROOT / "lcchain").glob("*.py"))
     assert top == ["__init__.py", "__main__.py"]
-    layers = {"core", "theory", "circuit", "spice", "compare", "runs", "scenes", "studies", "report", "cli"}
+    layers = {"core", "theory", "circuit", "spice", "compare", "runs", "scenes", "studies", "report", "app", "cli"}
     assert {p.name for p in (ROOT / "lcchain").iterdir() if p.is_dir() and p.name != "__pycache__"} == layers

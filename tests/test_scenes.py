@@ -21,10 +21,11 @@ import pytest
 from helpers.processes import temporary_entries
 from helpers.tolerances import ACCURACY_COARSE, ACCURACY_FINE, MIN_ERROR_WRONG_THEORY
 
+from lcchain.app.scenes import run_scene
 from lcchain.circuit.effects import E_SERIES
 from lcchain.cli import main
 from lcchain.core.errors import ParameterError
-from lcchain.report.scenes import run_scene, write_scene_outputs
+from lcchain.report.scenes import write_scene_outputs
 from lcchain.runs import execute as execute_module
 from lcchain.runs.execute import execute
 from lcchain.scenes.load import parse_scene

@@ -69,13 +69,13 @@ def cmd_figures(args: argparse.Namespace) -> int:
 
 
 def cmd_report(args: argparse.Namespace) -> int:
-    from ..report.build import build_report
+    from ..app.validation import make_report
     from ..report.files import check_output_folder
 
     check_output_folder("--out", args.out)
     command = "lcchain report" + (" --quick" if args.quick else "")
-    report = build_report(args.out, quick=args.quick, cache=_cache(args), progress=_progress("report"),
-                          command=command)
+    report = make_report(args.out, quick=args.quick, cache=_cache(args), progress=_progress("report"),
+                         command=command)
     checks = report["checks"]
     failed = [c for c in checks if not c["passed"]]
     print(f"{args.out}/index.html: {len(checks) - len(failed)} of {len(checks)} checks passed "

@@ -20,9 +20,9 @@ from typing import Any
 import numpy as np
 from scipy.optimize import minimize_scalar
 
-from .. import __version__
 from ..circuit.ladder import Ladder
 from ..circuit.netlist import SimulationOptions, netlist_text
+from ..core import __version__
 from ..core.types import DEFAULT_C0, DEFAULT_L0, DesignCase
 from ..theory.asymptotic import EXPONENTS, asymptotic_amplitude, asymptotic_optimum
 from ..theory.cases import chain_for_case

@@ -1,8 +1,9 @@
 """A scene's files: its JSON report, its plots, and the netlist and waveforms asked for.
 
-:func:`run_scene` is the whole of ``lcchain run`` for one scene: check every
-output path, simulate (:func:`lcchain.scenes.run.simulate_scene`), then write
-what the scene's ``[output]`` table asks for, each file atomically.  Paths in
+:func:`check_scene_outputs` checks every output path before anything runs, and
+:func:`write_scene_outputs` writes what the scene's ``[output]`` table asks for
+from a simulated scene, each file atomically (:func:`lcchain.app.scenes.run_scene`
+does the three in order).  Paths in
 ``[output]`` are relative to the current directory and stay inside it; the
 plots are named after the report (``out/r.json`` -> ``out/r-overlay.png``), or
 after the scene file when there is no report.
@@ -11,19 +12,14 @@ after the scene file when there is no report.
 from __future__ import annotations
 
 import json
-from collections.abc import Callable
-from dataclasses import replace
 from pathlib import Path
 
-from ..core.budget import Budget
-from ..core.checks import instance
 from ..core.errors import ParameterError
-from ..scenes.run import SceneResult, simulate_scene, transmitted_peaks
+from ..scenes.run import SceneResult, transmitted_peaks
 from ..scenes.schema import Scene
-from ..spice.simulator import Simulator
 from .files import check_inside, check_not_input, check_output, write_text
 
-__all__ = ["run_scene", "write_scene_outputs", "scene_outputs", "check_scene_outputs"]
+__all__ = ["write_scene_outputs", "scene_outputs", "check_scene_outputs"]
 
 
 def _stem(scene: Scene) -> tuple[Path, str]:
@@ -129,38 +125,3 @@ def write_scene_outputs(result: SceneResult, *, netlist_out: str | None = None,
         written.append(scene.output.report)
         write_text(scene.output.report, json.dumps(dict(report, files=written), indent=2))
     return written
-
-
-def run_scene(scene: Scene, *, netlist_out: str | None = None, waveform_out: str | None = None,
-              write_outputs: bool = True, progress: Callable[[float], None] | None = None,
-              simulator: Simulator | None = None, budget: Budget | None = None) -> SceneResult:
-    """Run every sample of a scene, write its report and plots, return the result.
-
-    Parameters
-    ----------
-    scene : Scene
-    netlist_out, waveform_out : str, optional
-        Keep the (first sample's) netlist, and its end waveforms as CSV
-        ``t,first,last`` (dimensionless, as ``lcchain simulate`` writes them).
-    write_outputs : bool
-        Write the report file and plots named by the scene's ``[output]``.
-    progress : callable, optional
-        Called with the fraction of the scene's simulations done (0 to 1).
-    simulator : Simulator, optional
-        Found once by the caller; found here when omitted.
-    budget : Budget, optional
-        The most memory and time the scene may take.
-    """
-    instance("scene", scene, Scene)
-    if not isinstance(write_outputs, bool):
-        raise ParameterError("write_outputs", write_outputs, "True or False")
-    others = {"netlist_out": netlist_out, "waveform_out": waveform_out}
-    for option, path in others.items():
-        if path is not None:
-            check_output(option, path)  # a file name, not a number or bytes
-    check_scene_outputs([scene] if write_outputs else [], others)
-    result = simulate_scene(scene, progress=progress, simulator=simulator, budget=budget)
-    files = write_scene_outputs(result, netlist_out=netlist_out, waveform_out=waveform_out,
-                                write_outputs=write_outputs)
-    result.report["files"] = files
-    return replace(result, files=tuple(files))

@@ -305,14 +305,39 @@ def open_executor(simulator: Simulator, *, executor: str = "process", workers: i
         Takes groups of (index, spec), yields each group's (index, record) pairs as it finishes.
     """
     check_executor(executor, workers, scheduler)
-    workers = workers or default_workers()
-    if executor == "serial" or (executor == "process" and workers == 1):
+    with EXECUTOR_RUNNERS[executor](simulator, workers or default_workers(), scheduler, keep_signals,
+                                    verbose) as run:
+        yield run
+
+
+@contextlib.contextmanager
+def _serial_runner(simulator: Simulator, workers: int, scheduler: str | None, keep_signals: bool,
+                   verbose: bool) -> Iterator[Runner]:
+    yield lambda groups: (execute_group(group, simulator, keep_signals) for group in groups)
+
+
+@contextlib.contextmanager
+def _process_runner(simulator: Simulator, workers: int, scheduler: str | None, keep_signals: bool,
+                    verbose: bool) -> Iterator[Runner]:
+    if workers == 1:  # one worker: no pool to start
         yield lambda groups: (execute_group(group, simulator, keep_signals) for group in groups)
-    elif executor == "process":
-        yield lambda groups: _process(groups, simulator, workers, keep_signals)
     else:
-        with _dask(workers, scheduler, verbose) as client:
-            yield lambda groups: _on_dask(client, groups, simulator, keep_signals)
+        yield lambda groups: _process(groups, simulator, workers, keep_signals)
+
+
+@contextlib.contextmanager
+def _dask_runner(simulator: Simulator, workers: int, scheduler: str | None, keep_signals: bool,
+                 verbose: bool) -> Iterator[Runner]:
+    with _dask(workers, scheduler, verbose) as client:
+        yield lambda groups: _on_dask(client, groups, simulator, keep_signals)
+
+
+#: Each executor: a context manager (simulator, workers, scheduler, keep_signals, verbose) that yields a runner.
+#: To add one: a context manager here and its name in :data:`lcchain.core.types.ExecutorName`.
+_RunnerFactory = Callable[[Simulator, int, str | None, bool, bool], contextlib.AbstractContextManager[Runner]]
+EXECUTOR_RUNNERS: dict[str, _RunnerFactory] = {
+    "serial": _serial_runner, "process": _process_runner, "dask": _dask_runner,
+}
 
 
 def run_groups(groups: list[Group], simulator: Simulator, *, executor: str = "process", workers: int | None = None,

@@ -2,13 +2,25 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 from ..core.errors import ParameterError
 from ..core.types import NAMED_CASES
 from .chain import Chain
 from .design import optimal_one_mass, optimal_two_mass
 from .perfect import perfect_design
 
-__all__ = ["chain_for_case", "NAMED_CASES"]
+__all__ = ["chain_for_case", "NAMED_CASES", "CASE_CHAINS"]
+
+#: Each named case's chain of N masses (``walls``: the perfect cradle's j; the others take 0).  To add a case:
+#: a function (N, walls) -> Chain here, its name in :data:`lcchain.core.types.Case` (docs/extending.md).
+CASE_CHAINS: dict[str, Callable[[int, int], Chain]] = {
+    "one-mass": lambda N, walls: optimal_one_mass(N).chain,
+    "two-mass": lambda N, walls: optimal_two_mass(N).chain,
+    "uniform-free": lambda N, walls: Chain.uniform_free(N),
+    "uniform-bounded": lambda N, walls: Chain.uniform_bounded(N),
+    "perfect": lambda N, walls: perfect_design(N, walls).chain,
+}
 
 
 def chain_for_case(case: str, N: int, walls: int = 0) -> Chain:
@@ -31,14 +43,6 @@ def chain_for_case(case: str, N: int, walls: int = 0) -> Chain:
     if walls and case != "perfect":
         raise ParameterError("walls", walls, 'walls = 0 unless case = "perfect" (j >= 1: a perfect cradle tied to '
                              "walls)")
-    if case == "one-mass":
-        return optimal_one_mass(N).chain
-    if case == "two-mass":
-        return optimal_two_mass(N).chain
-    if case == "uniform-free":
-        return Chain.uniform_free(N)
-    if case == "uniform-bounded":
-        return Chain.uniform_bounded(N)
-    if case == "perfect":
-        return perfect_design(N, walls).chain
-    raise ParameterError("case", case, " | ".join(NAMED_CASES))
+    if case not in CASE_CHAINS:
+        raise ParameterError("case", case, " | ".join(NAMED_CASES))
+    return CASE_CHAINS[case](N, walls)

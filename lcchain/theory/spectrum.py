@@ -8,6 +8,7 @@ the return amplitude are modal cosine sums (:func:`lcchain.theory.modes.cosine_s
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -21,7 +22,8 @@ from .closed_form import closed_form_applies, closed_form_modes
 from .exact import exact_modes
 from .modes import Modes, cosine_sum
 
-__all__ = ["normal_modes", "modes_of", "transmission_amplitude", "return_amplitude", "CLOSED_FORM_MIN_N"]
+__all__ = ["normal_modes", "modes_of", "MODE_SOLVERS", "transmission_amplitude", "return_amplitude",
+           "CLOSED_FORM_MIN_N"]
 
 #: Below this N the "auto" method diagonalises exactly (it is cheap and needs no model).
 CLOSED_FORM_MIN_N = 400
@@ -42,18 +44,29 @@ def normal_modes(chain: Chain, method: ModeMethod = "auto") -> Modes:
     """
     instance("chain", chain, Chain)
     choice("method", method, MODE_METHODS)
-    if method == "exact":
-        return exact_modes(chain)
-    if method == "closed-form":
-        reason = closed_form_applies(chain)
-        if reason:
-            raise ParameterError("method", method, f"a chain the closed form covers ({reason})")
-        r, w = chain.rw()
-        return closed_form_modes(chain.N, r, w)
+    return MODE_SOLVERS[method](chain)
+
+
+def _closed_form(chain: Chain) -> Modes:
+    reason = closed_form_applies(chain)
+    if reason:
+        raise ParameterError("method", "closed-form", f"a chain the closed form covers ({reason})")
+    r, w = chain.rw()
+    return closed_form_modes(chain.N, r, w)
+
+
+def _auto(chain: Chain) -> Modes:
     if chain.N >= CLOSED_FORM_MIN_N and not closed_form_applies(chain):
         r, w = chain.rw()
         return closed_form_modes(chain.N, r, w)
     return exact_modes(chain)
+
+
+#: Each mode method's solver.  To add one: a function Chain -> Modes here, its name in
+#: :data:`lcchain.core.types.ModeMethod`.
+MODE_SOLVERS: dict[str, Callable[[Chain], Modes]] = {"exact": exact_modes, "closed-form": _closed_form,
+                                                     "auto": _auto}
+
 
 def modes_of(chain_or_modes: Chain | Modes, method: ModeMethod = "auto") -> Modes:
     """The modes given, or those of the chain given (ParameterError for anything else)."""
