@@ -35,11 +35,13 @@ from ..core.budget import (
     ngspice_seconds,
     sample_theory_seconds,
 )
+from ..core.checks import instance
 from ..core.errors import ParameterError
 from ..core.frozen import FrozenMap
 from ..core.limits import MAX_DESIGN_N
 from ..core.types import DEFAULT_C0, DEFAULT_L0, Backend, Excitation
 from ..runs.extrapolated import combined_key
+from ..runs.request import Request, plan_request
 from ..runs.simulate import simulation_runs
 from ..runs.spec import DEFAULT_TIMEOUT, RunSpec, Theory
 from ..scenes.load import load_scene, parse_scene
@@ -50,7 +52,7 @@ from ..spice.text import saved_vectors
 from ..theory.cases import chain_for_case
 from ..theory.spectrum import normal_modes
 
-__all__ = ["Task", "Combination", "Plan", "sweep_plan", "scene_sweep_plan", "batch_plan", "parse_vary"]
+__all__ = ["Task", "Combination", "Plan", "sweep_plan", "scene_sweep_plan", "request_plan", "batch_plan", "parse_vary"]
 
 
 @dataclass(frozen=True)
@@ -355,6 +357,37 @@ def scene_sweep_plan(path: str | Path, varies: Sequence[tuple[str, list[Any]]], 
     axes = tuple(keys) + (("sample",) if any("sample" in t.params for t in tasks) else ())
     return Plan("scene", FrozenMap(json.loads(json.dumps(description, default=str))), tuple(tasks),
                 scene.analysis.backend, axes, tuple(combinations))
+
+
+def request_plan(points: Sequence[tuple[Mapping[str, Any], Request]], *, budget: Budget | None = None) -> Plan:
+    """A study of requests made in Python: each point's params (its place on the study's axes, JSON values) and
+    its :class:`~lcchain.runs.request.Request`, planned by :func:`lcchain.runs.request.plan_request`.
+
+    Any request runs, effects of one's own included (docs/extending.md); run it with
+    :func:`lcchain.studies.run.run_plan` into a store like any study.
+    """
+    if not points:
+        raise ParameterError("points", [], "at least one (params, Request) pair")
+    tasks: list[Task] = []
+    combinations: list[Combination] = []
+    backends = set()
+    names: dict[str, set[str]] = {}
+    for params, request in points:
+        instance("request", request, Request)
+        backends.add(request.backend)
+        for name, value in params.items():
+            names.setdefault(name, set()).add(json.dumps(value, sort_keys=True, default=str))
+        plan = plan_request(request, budget)
+        for k in range(len(plan.chains)):
+            task_params = {**params, "sample": k + 1} if len(plan.chains) > 1 else dict(params)
+            _add_runs(tasks, combinations, task_params, plan.specs[k * plan.runs:(k + 1) * plan.runs], plan.steps,
+                      plan.predicted_error)
+    if len(backends) > 1:
+        raise ParameterError("backend", sorted(backends), "one backend for every request of a study")
+    axes = tuple(name for name, values in names.items() if len(values) > 1) + (
+        ("sample",) if any("sample" in t.params for t in tasks) else ())
+    description = {"command": "requests", "points": [json.loads(json.dumps(dict(p), default=str)) for p, _ in points]}
+    return Plan("sweep", FrozenMap(description), tuple(tasks), backends.pop(), axes, tuple(combinations))
 
 
 def batch_plan(paths: Sequence[str | Path], *, allow_control: bool = False, backend: Backend = "batch",
