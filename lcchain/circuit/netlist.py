@@ -34,6 +34,7 @@ import hashlib
 import math
 import re
 from dataclasses import dataclass
+from typing import Any
 
 from ..core.checks import choice, instance, integer, real, strings, text_line
 from ..core.checks import pulse as check_pulse
@@ -175,7 +176,7 @@ class SimulationOptions:
             raise ParameterError("aligned", self.aligned, "aligned steps with stepping='fixed' only")
 
 
-def _sequence(name: str, values: object, allowed: str) -> tuple:
+def _sequence(name: str, values: object, allowed: str) -> tuple[Any, ...]:
     """A list or tuple as a tuple (a string, a set or a number is refused, naming the field)."""
     if isinstance(values, (list, tuple)):
         return tuple(values)

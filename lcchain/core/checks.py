@@ -13,7 +13,7 @@ import math
 import numbers
 import re
 from collections.abc import Mapping, Sequence
-from typing import Any
+from typing import Any, TypeVar, cast
 
 import numpy as np
 
@@ -22,6 +22,9 @@ from .errors import ParameterError
 #: A dot followed by a letter at the start of a line: ngspice may read it as a command.
 # A title ngspice would read as a command: a dot-command, "*#" (a command line), or "*ng_script", which makes
 # the whole file a script (the same rule as lcchain.spice.foreign's for a netlist's first line).
+#: A choice from a set of allowed strings (a Literal alias).
+_Option = TypeVar("_Option", bound=str)
+
 _DOT_COMMAND = re.compile(r"^\s*(\.[A-Za-z]|\*\s*(#|ng_script))", re.IGNORECASE)
 
 __all__ = [
@@ -114,17 +117,17 @@ def integer(name: str, value: object, *, at_least: int | None = None, at_most: i
             allowed = "an integer"
     if not is_integer(value):
         raise ParameterError(name, value, allowed)
-    number = int(value)  # type: ignore[call-overload]
+    number: int = int(value)  # type: ignore[call-overload]
     if (at_least is not None and number < at_least) or (at_most is not None and number > at_most):
         raise ParameterError(name, value, allowed)
     return number
 
 
-def choice(name: str, value: object, options: Sequence[str], note: str = "") -> str:
-    """One of the allowed strings."""
+def choice(name: str, value: object, options: Sequence[_Option], note: str = "") -> _Option:
+    """One of the allowed strings, typed as the option set (a ``Literal`` alias's tuple gives that Literal)."""
     if not isinstance(value, str) or value not in options:
         raise ParameterError(name, value, " | ".join(options) + note)
-    return value
+    return cast(_Option, value)
 
 
 def text_line(name: str, value: object, max_length: int, *, title: bool = False) -> str:

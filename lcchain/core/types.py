@@ -38,26 +38,26 @@ ESeries = Literal["E12", "E24", "E96"]
 #: The pictures a scene can ask for.
 PlotKind = Literal["overlay", "spacetime", "histogram"]
 
-CASES: tuple[str, ...] = get_args(Case)
-NAMED_CASES: tuple[str, ...] = tuple(c for c in CASES if c != "custom")
-EXCITATIONS: tuple[str, ...] = get_args(Excitation)
-BACKENDS: tuple[str, ...] = get_args(Backend)
-MODE_METHODS: tuple[str, ...] = get_args(ModeMethod)
-DESIGN_CASES: tuple[str, ...] = get_args(DesignCase)
-EXCITATION_KINDS: tuple[str, ...] = get_args(ExcitationKind)
-PULSE_SHAPES: tuple[str, ...] = get_args(PulseShape)
-PROBES: tuple[str, ...] = get_args(Probes)
-METHODS: tuple[str, ...] = get_args(Method)
-STEPPINGS: tuple[str, ...] = get_args(Stepping)
-RUN_STATUSES: tuple[str, ...] = get_args(RunStatus)
-E_SERIES_NAMES: tuple[str, ...] = get_args(ESeries)
-PLOT_KINDS: tuple[str, ...] = get_args(PlotKind)
+CASES: tuple[Case, ...] = get_args(Case)
+NAMED_CASES: tuple[Case, ...] = tuple(c for c in CASES if c != "custom")
+EXCITATIONS: tuple[Excitation, ...] = get_args(Excitation)
+BACKENDS: tuple[Backend, ...] = get_args(Backend)
+MODE_METHODS: tuple[ModeMethod, ...] = get_args(ModeMethod)
+DESIGN_CASES: tuple[DesignCase, ...] = get_args(DesignCase)
+EXCITATION_KINDS: tuple[ExcitationKind, ...] = get_args(ExcitationKind)
+PULSE_SHAPES: tuple[PulseShape, ...] = get_args(PulseShape)
+PROBES: tuple[Probes, ...] = get_args(Probes)
+METHODS: tuple[Method, ...] = get_args(Method)
+STEPPINGS: tuple[Stepping, ...] = get_args(Stepping)
+RUN_STATUSES: tuple[RunStatus, ...] = get_args(RunStatus)
+E_SERIES_NAMES: tuple[ESeries, ...] = get_args(ESeries)
+PLOT_KINDS: tuple[PlotKind, ...] = get_args(PlotKind)
 
 #: The gaussian pulse g(t) is centred at GAUSSIAN_CENTRE standard deviations (netlist, theory and scenes).
 GAUSSIAN_CENTRE = 4.0
 #: Where a study's runs execute (lcchain.studies.executors).
 ExecutorName = Literal["serial", "process", "dask"]
-EXECUTORS: tuple[str, ...] = get_args(ExecutorName)
+EXECUTORS: tuple[ExecutorName, ...] = get_args(ExecutorName)
 
 #: The bulk inductance (henry) and capacitance (farad) of a ladder when none is given: 10 uH and 10 nF
 #: (time unit sqrt(L0 C0) = 0.316 us, impedance sqrt(L0/C0) = 31.6 ohm), and the excitation's current (ampere).

@@ -34,7 +34,7 @@ from ..core.blas import fixed_blas_threads
 from ..core.checks import instance
 from ..core.errors import SimulationError
 from ..core.frozen import FrozenArrays
-from ..core.types import GAUSSIAN_CENTRE, RunStatus
+from ..core.types import GAUSSIAN_CENTRE, Probes, RunStatus
 from ..spice.runner import RunResult, run
 from ..spice.simulator import Simulator, find_simulator
 from ..theory.modes import Modes
@@ -152,9 +152,9 @@ def _modes(theory: Theory) -> Modes:
     return theory.modes if theory.modes is not None else normal_modes(theory.chain)
 
 
-def _response(theory: Theory, times: np.ndarray, probes: str, modes: Modes) -> np.ndarray:
+def _response(theory: Theory, times: np.ndarray, probes: Probes, modes: Modes) -> np.ndarray:
     return linear_response(theory.chain, times, excitation=theory.excitation, Q=theory.Q, pulse=theory.pulse,
-                           loops=probes, modes=modes)  # type: ignore[arg-type]
+                           loops=probes, modes=modes)
 
 
 @fixed_blas_threads

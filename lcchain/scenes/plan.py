@@ -15,6 +15,7 @@ import numpy as np
 
 from ..core.budget import Budget, chain_seconds
 from ..core.errors import ParameterError
+from ..core.types import PulseShape
 from ..runs.request import ACCURACY_LOOPS, Drive, Request, RequestPlan, Transient, plan_request
 from ..runs.spec import RunSpec
 from ..theory.cases import chain_for_case
@@ -44,7 +45,7 @@ def scene_request(scene: Scene, chain: Chain | None = None) -> Request:
     return Request(chain if chain is not None else case_chain(scene),
                    Transient(dt=analysis.dt, accuracy=analysis.accuracy, transits=analysis.transits,
                              method=analysis.method, extrapolate=analysis.extrapolate, probes=scene.output.probes),
-                   drive=Drive(excitation.kind, excitation.I0, pulse),  # type: ignore[arg-type]
+                   drive=Drive(excitation.kind, excitation.I0, pulse),
                    effects=scene.effects.present(), L0=units.L0, C0=units.C0, backend=analysis.backend,
                    title=scene.title)
 
@@ -66,12 +67,14 @@ def sample_count(scene: Scene) -> int:
     return tol.samples if tol is not None and (tol.L or tol.C or tol.samples > 1) else 1
 
 
-def losses_and_pulse(scene: Scene) -> tuple[float | None, tuple[str, float] | None]:
+def losses_and_pulse(scene: Scene) -> tuple[float | None, tuple[PulseShape, float] | None]:
     """The scene's quality factor (None: no losses) and pulse (shape, width) (None: no pulse)."""
     excitation = scene.excitation
     Q = scene.effects.losses.Q if scene.effects.losses is not None else None
-    pulse = (excitation.shape, excitation.width) if excitation.kind == "pulse" else None
-    return Q, pulse  # type: ignore[return-value]
+    if excitation.kind != "pulse":
+        return Q, None
+    assert excitation.shape is not None and excitation.width is not None  # the schema requires them for a pulse
+    return Q, (excitation.shape, excitation.width)
 
 
 #: Internal names of what a scene sets, and the scene keys the user wrote.

@@ -134,7 +134,7 @@ def _nominal_peak(scene: Scene, plan: ScenePlan) -> float:
     shift = pulse_centre(scene.excitation.kind, pulse)
 
     def last(t: np.ndarray) -> np.ndarray:
-        return linear_response(plan.nominal, t, excitation=scene.excitation.kind, Q=Q, pulse=pulse,  # type: ignore[arg-type]
+        return linear_response(plan.nominal, t, excitation=scene.excitation.kind, Q=Q, pulse=pulse,
                                loops="ends", modes=plan.modes)[-1]
 
     return maximum_in_window(last, (lo + shift, hi + shift), plan.transit_time)[1]

@@ -254,7 +254,7 @@ def run(
     text = netlist if trusted else allowed_netlist(netlist, "netlist", Path(cwd) if cwd is not None else None,
                                                    read_include)
     if simulator is None:
-        simulator = find_simulator(choice("backend", backend or "batch", BACKENDS))  # type: ignore[arg-type]
+        simulator = find_simulator(choice("backend", backend or "batch", BACKENDS))
     elif backend is not None and backend != simulator.backend:
         raise ParameterError("backend", backend, f"the simulator's own backend, {simulator.backend!r}")
     if progress is not None:

@@ -27,6 +27,7 @@ import logging
 import os
 import sys
 import time
+from typing import Any
 
 import numpy as np
 
@@ -50,7 +51,7 @@ def _echo(line: str) -> None:
     stream.flush()
 
 
-def simulate(netlist: str, library: str) -> tuple[dict, list[np.ndarray]]:
+def simulate(netlist: str, library: str) -> tuple[dict[str, Any], list[np.ndarray]]:
     """Run a netlist once in the ngspice shared library.
 
     ngspice's output goes to stderr line by line as it comes.
@@ -76,10 +77,10 @@ def simulate(netlist: str, library: str) -> tuple[dict, list[np.ndarray]]:
 
     from PySpice.Spice.NgSpice.Shared import NgSpiceShared, ffi
 
-    class Recorder(NgSpiceShared):
+    class Recorder(NgSpiceShared):  # type: ignore[misc]  # PySpice is untyped (NgSpiceShared is Any)
         """NgSpiceShared that echoes every line ngspice prints."""
 
-        def send_char(self, message, ngspice_id):
+        def send_char(self, message: str, ngspice_id: int) -> int:
             _, _, content = message.partition(" ")
             if not content.startswith("**"):  # the banner of PySpice's "version -f"
                 _echo(content)
@@ -146,7 +147,7 @@ def main() -> int:
     os.dup2(2, 1)
     sys.stdout = sys.stderr
     if "netlist" not in request:
-        meta: dict = {"version": version(request["library"])}
+        meta: dict[str, Any] = {"version": version(request["library"])}
         arrays: list[np.ndarray] = []
     else:
         meta, arrays = simulate(request["netlist"], request["library"])

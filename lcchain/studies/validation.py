@@ -15,6 +15,7 @@ from typing import Any
 
 from ..circuit.reference import REFERENCE_DT, REFERENCE_SET, reference_chain
 from ..core.errors import SimulationError
+from ..core.types import EXCITATIONS, Excitation
 from ..runs.execute import RunRecord
 from ..runs.simulate import simulate
 from ..scenes.load import parse_scene
@@ -101,10 +102,10 @@ def circuit_checks(*, quick: bool = False, progress: Callable[[int, int, str], N
     one transit), then :data:`LOSSES_AND_WALLS_SCENE`.  ``quick`` leaves out the displacement runs of N = 1000.
     """
     simulator = simulator if simulator is not None else find_simulator("batch")
-    jobs: list[tuple[str, str, Chain, str]] = []
+    jobs: list[tuple[str, str, Chain, Excitation]] = []
     for reference in REFERENCE_SET:
         chain = reference_chain(reference)
-        for excitation in ("kick", "displacement"):
+        for excitation in EXCITATIONS:
             if quick and excitation == "displacement" and chain.N >= 1000:
                 continue
             what = f"{reference.case}, N = {reference.N}"
@@ -115,7 +116,7 @@ def circuit_checks(*, quick: bool = False, progress: Callable[[int, int, str], N
         if progress is not None:
             progress(i, total, name)
         try:
-            report = simulate(chain, dt=REFERENCE_DT, excitation=excitation, simulator=simulator)  # type: ignore[arg-type]
+            report = simulate(chain, dt=REFERENCE_DT, excitation=excitation, simulator=simulator)
             checks.append(_check(name, what, chain.N, excitation, REFERENCE_DT, report.record,
                                  _fixed_step_tolerance))
         except SimulationError as error:

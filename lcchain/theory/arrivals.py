@@ -28,6 +28,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from scipy.optimize import minimize_scalar
@@ -73,7 +74,7 @@ class Arrival:
         """1 - peak (delta of the paper for the first arrival)."""
         return 1.0 - self.peak
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         return {"index": self.index, "end": self.end, "time": self.time, "peak": self.peak,
                 "window": list(self.window)}
 

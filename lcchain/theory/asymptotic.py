@@ -73,7 +73,7 @@ import functools
 import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
-from typing import cast
+from typing import Any
 
 import numpy as np
 from scipy.integrate import quad
@@ -159,7 +159,7 @@ def _rational(case: str) -> Callable[[complex], complex]:
 
 
 def _check_case(case: object) -> DesignCase:
-    return cast(DesignCase, choice("case", case, DESIGN_CASES))
+    return choice("case", case, DESIGN_CASES)
 
 
 def _check_finite(name: str, value: object) -> float:
@@ -206,7 +206,7 @@ class _Piece:
             for k, n in zip(coefficients, (3, 2, 1), strict=True)
             if k > 0
         ]
-        return min(bounds)
+        return float(min(bounds))
 
 
 def _piece(
@@ -321,7 +321,7 @@ def _quad(func: Callable[[float], float], lo: float, hi: float) -> float:
     )
     if not error < _MAX_ERROR:
         raise ArithmeticError(f"asymptotic integral did not converge (error estimate {error:.3g})")
-    return value
+    return float(value)
 
 
 def _integral(tau: float, sigma: float, case: str, weight: str = "1") -> float:
@@ -334,11 +334,12 @@ def _integral(tau: float, sigma: float, case: str, weight: str = "1") -> float:
         c1, c2, c3 = piece.c1, piece.c2, piece.tau
         factor = cmath.exp(1j * piece.phase0) * d * piece.orientation
 
-        def integrand(u: float, piece=piece, c1=c1, c2=c2, c3=c3, factor=factor) -> float:
+        def integrand(u: float, piece: _Piece = piece, c1: float = c1, c2: float = c2, c3: float = c3,
+                      factor: complex = factor) -> float:
             h = u * piece.direction
             z = piece.origin + h
             phase = h * (c1 + h * (c2 + h * c3))
-            return (factor * cmath.exp(1j * phase) * rational(z) * poly(z)).real
+            return float((factor * cmath.exp(1j * phase) * rational(z) * poly(z)).real)
 
         length = piece.length
         if length == math.inf:
@@ -448,7 +449,7 @@ class AsymptoticOptimum:
         frozen = FrozenMap({str(k): float(v) for k, v in dict(self.coefficients).items()})
         object.__setattr__(self, "coefficients", frozen)
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         """Plain, JSON-serialisable dictionary of the optimum and its coefficients."""
         return {
             "case": str(self.case),

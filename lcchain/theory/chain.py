@@ -17,6 +17,7 @@ import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from fractions import Fraction
+from typing import Any
 
 import numpy as np
 
@@ -114,7 +115,7 @@ class Chain:
     springs: np.ndarray
     name: str = "custom"
     coupling: float = 0.0
-    _params: tuple = field(default=(), repr=False, compare=False)
+    _params: tuple[Any, ...] = field(default=(), repr=False, compare=False)
 
     def __post_init__(self) -> None:
         masses = _numeric_array("masses", self.masses, "a list of N positive numbers")
@@ -147,7 +148,7 @@ class Chain:
                                 "(the mass matrix stays positive definite for every N)")
         object.__setattr__(self, "coupling", coupling + 0.0)  # -0.0 is 0.0
 
-    def __reduce__(self) -> tuple:
+    def __reduce__(self) -> tuple[Any, ...]:
         # Rebuilt through __init__: validated again, and the arrays read-only again.
         return (type(self), (self.masses, self.springs, self.name, self.coupling, self._params))
 
@@ -220,9 +221,9 @@ class Chain:
         return (f"Chain(name={self.name!r}, N={self.N}, masses={short(self.masses)}, springs={short(self.springs)}"
                 f"{coupled})")
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         """The chain as the JSON object ``{"masses": [...], "springs": [...]}`` (bulk units; ``coupling`` if not 0)."""
-        data: dict = {"masses": [float(m) for m in self.masses], "springs": [float(k) for k in self.springs]}
+        data: dict[str, Any] = {"masses": [float(m) for m in self.masses], "springs": [float(k) for k in self.springs]}
         if self.coupled:
             data["coupling"] = self.coupling
         return data
@@ -260,12 +261,13 @@ class Chain:
 
     # ------------------------------------------------------------ constructors
     @classmethod
-    def from_physical(cls, masses, springs, name: str = "custom") -> Chain:
+    def from_physical(cls, masses: Any, springs: Any, name: str = "custom") -> Chain:
         """The chain with the given masses and springs (bulk units); same as ``Chain(...)``."""
         return cls(masses, springs, name=name)
 
     @classmethod
-    def _quasi_uniform(cls, N: int, m1: float, m2: float, K01: float, K12: float, name: str, params: tuple) -> Chain:
+    def _quasi_uniform(cls, N: int, m1: float, m2: float, K01: float, K12: float, name: str,
+                       params: tuple[Any, ...]) -> Chain:
         N = _check_N(N)
         masses = np.ones(N)
         springs = np.ones(N + 1)

@@ -33,6 +33,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..core.blas import fixed_blas_threads
 from ..core.checks import integer, real
@@ -75,7 +76,7 @@ def _roots_outside(r: float, w: float) -> bool:
     return bool(np.any(np.abs(_u_roots(r, w)) >= 1.0 - 1e-12))
 
 
-def _ab(q: np.ndarray, r: float, w: float):
+def _ab(q: np.ndarray, r: float, w: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """A, B and their q-derivatives with e^{3iq} u~ = A - iB (Eq. e.tukz0)."""
     s, c = np.sin(q), np.cos(q)
     s2, c2 = s * s, c * c
@@ -86,7 +87,7 @@ def _ab(q: np.ndarray, r: float, w: float):
     return A, B, dA, dB
 
 
-def phase_shift(k, r: float, w: float) -> tuple[np.ndarray, np.ndarray]:
+def phase_shift(k: ArrayLike, r: float, w: float) -> tuple[np.ndarray, np.ndarray]:
     """Continuous phase shift psi_k (Eq. e.psik) and its derivative psi'_k.
 
     Parameters
@@ -123,7 +124,7 @@ def _density(k: np.ndarray, dpsi: np.ndarray, N: int, r: float, w: float) -> np.
     A, B, _, _ = _ab(q, r, w)
     density = 2 * (2 - r) * r * w * np.cos(q) ** 2 / ((A * A + B * B) * (N + 2 * dpsi))
     density[k == 0] *= 0.5
-    return density
+    return np.asarray(density)
 
 
 @fixed_blas_threads
@@ -156,7 +157,7 @@ def closed_form_modes(N: int, r: float, w: float) -> Modes:
 
     rho = _u_roots(r, w)
 
-    def phi(k, turns=None):
+    def phi(k: np.ndarray, turns: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
         """Phi(k) = N k + 2 psi_k and its slope; ``turns`` fixes the branch."""
         q = 0.5 * k
         A, B, dA, dB = _ab(q, r, w)
@@ -165,14 +166,15 @@ def closed_form_modes(N: int, r: float, w: float) -> Modes:
             psi = psi + 2 * np.pi * turns
         return N * k + 2 * psi, N + (B * dA - A * dB) / (A * A + B * B) - 3.0
 
-    def branch(k):
+    def branch(k: np.ndarray) -> np.ndarray:
         """Whole turns between atan2's principal value and the continuous psi_k."""
-        principal = -3 * (0.5 * k) + np.arctan2(*(lambda A, B: (-B, A))(*_ab(0.5 * k, r, w)[:2]))
+        A, B, _, _ = _ab(0.5 * k, r, w)
+        principal = -3 * (0.5 * k) + np.arctan2(-B, A)
         continuous = np.zeros_like(k)
         z = np.exp(-1j * k)
         for root in rho:
             continuous += np.angle((1 - root) + root * (1 - z)) - np.angle(1 - root)
-        return np.round((continuous - principal) / (2 * np.pi))
+        return np.asarray(np.round((continuous - principal) / (2 * np.pi)))
 
     # Monotone table of Phi(k) on a grid, for brackets and starting points.
     grid = np.linspace(0.0, math.pi, min(4 * N, 1 << 15) + 1)

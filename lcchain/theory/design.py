@@ -27,6 +27,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from scipy.optimize import minimize, minimize_scalar
@@ -95,7 +96,7 @@ class Design:
         assert self.r is not None and self.w is not None  # a two-mass design has (r, w)
         return Chain.from_rw(self.N, self.r, self.w)
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         """JSON object: N, case, delta, s, t_arrival, m1, m2, K12, x, y, z and r, w or Delta, delta_uniform."""
         data = {
             "N": self.N, "case": self.case, "delta": self.delta, "s": self.s, "t_arrival": self.t_arrival,
@@ -170,7 +171,7 @@ class _Amplitude:
         return arrival.peak
 
 
-def _finish(case: str, N: int, r: float, w: float, chain: Chain) -> dict:
+def _finish(case: str, N: int, r: float, w: float, chain: Chain) -> dict[str, Any]:
     arrival = first_arrival(_modes(N, r, w))
     m1, m2, K12 = float(chain.masses[0]), float(chain.masses[1]), float(chain.springs[1])
     x, y, z = chain.xyz()
@@ -255,7 +256,7 @@ def optimal_two_mass(N: int, progress: Callable[[float], None] | None = None) ->
         start = np.log([r0, w0])
         simplex = np.array([start, start + [0.02, 0.0], start + [0.0, 0.04]])
 
-        def loss(p):
+        def loss(p: np.ndarray) -> float:
             r, w = np.exp(p)
             return -amplitude(r, w) if r < 2 else 1.0
 

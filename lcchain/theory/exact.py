@@ -87,9 +87,9 @@ def coupled_vectors(chain: Chain) -> tuple[np.ndarray, np.ndarray]:
 def modal_weights(chain: Chain, u: np.ndarray, *, force: bool = False) -> np.ndarray:
     """Each mode's amplitude for a unit start in loop 1: (M u_n)_1, or m_1 u_1n for a force on mass 1 (``force``)."""
     if force:
-        return chain.masses[0] * u[0, :]
+        return np.asarray(chain.masses[0] * u[0, :])
     diagonal, off = chain.mass_matrix_bands()
-    return diagonal[0] * u[0, :] + off[0] * u[1, :]
+    return np.asarray(diagonal[0] * u[0, :] + off[0] * u[1, :])
 
 
 @fixed_blas_threads

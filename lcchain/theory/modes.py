@@ -23,6 +23,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..core.blas import fixed_blas_threads
 from ..core.frozen import FrozenArrays, readonly
@@ -93,7 +94,7 @@ DRIFT_PHASE = 1e-7
 
 
 @fixed_blas_threads
-def cosine_sum(weights: np.ndarray, omega: np.ndarray, t) -> np.ndarray | float:
+def cosine_sum(weights: np.ndarray, omega: np.ndarray, t: ArrayLike) -> np.ndarray | float:
     """Evaluate f(t) = sum_n weights_n cos(omega_n t) at the times t.
 
     On a uniform grid of many times, the grid t_j = t0 + (p Q + q) h is split
@@ -139,7 +140,7 @@ def cosine_sum(weights: np.ndarray, omega: np.ndarray, t) -> np.ndarray | float:
     return float(shaped[0]) if scalar else shaped
 
 
-def _cosine_sum_direct(weights, omega, times) -> np.ndarray:
+def _cosine_sum_direct(weights: np.ndarray, omega: np.ndarray, times: np.ndarray) -> np.ndarray:
     out = np.empty(times.size)
     rows = max(1, _BLOCK // max(omega.size, 1))
     for start in range(0, times.size, rows):
@@ -182,7 +183,7 @@ def _uniform_runs(times: np.ndarray, drift: float = 0.0, min_run: int = 64) -> l
     return runs
 
 
-def _cosine_sum_split(weights, omega, t0: float, h: float, J: int,
+def _cosine_sum_split(weights: np.ndarray, omega: np.ndarray, t0: float, h: float, J: int,
                       slope: bool = False) -> tuple[np.ndarray, np.ndarray | None]:
     """sum_n w_n cos(omega_n t_j) on the grid t_j = t0 + j h, and with ``slope`` its derivative
     -sum_n w_n omega_n sin(omega_n t_j), by cos(a + b) and sin(a + b) expanded."""

@@ -157,7 +157,7 @@ def _full(x: np.ndarray, free: bool, N: int) -> np.ndarray:
 
 def _distinct(a: np.ndarray, free: bool) -> np.ndarray:
     inner = a[1:-1] if free else a
-    return np.log(inner[: inner.size // 2])
+    return np.asarray(np.log(inner[: inner.size // 2]))
 
 
 def _frequencies(a: np.ndarray, free: bool) -> np.ndarray:
@@ -293,7 +293,7 @@ def _stieltjes(omega: np.ndarray) -> np.ndarray:
     Frequencies are scaled by an exact power of two so that the largest is in [1/2, 1).
     """
     power = math.frexp(float(omega[-1]))[1]
-    return np.ldexp(np.sqrt(_half_recursion(np.ldexp(omega, -power))), power)
+    return np.asarray(np.ldexp(np.sqrt(_half_recursion(np.ldexp(omega, -power))), power))
 
 
 def _continuation(omega: np.ndarray, free: bool, tolerance: float) -> np.ndarray:
@@ -388,7 +388,7 @@ def spectrum_of(chain: Chain) -> np.ndarray:
     a = np.empty(2 * chain.N)
     a[0::2], a[1::2] = np.sqrt(K[:-1] / m), np.sqrt(K[1:] / m)
     values = np.sort(eigvalsh_tridiagonal(np.zeros(2 * chain.N + 1), a))
-    return np.clip(values[-chain.N:], 0.0, None)
+    return np.asarray(np.clip(values[-chain.N:], 0.0, None))
 
 
 def mode_density_from_spectrum(mu: np.ndarray) -> np.ndarray:
@@ -403,7 +403,7 @@ def mode_density_from_spectrum(mu: np.ndarray) -> np.ndarray:
         gaps[np.arange(block.size), np.arange(start, start + block.size)] = 1.0
         log_weight[start : start + block.size] = -np.sum(np.log(gaps), axis=1)
     weight = np.exp(log_weight - log_weight.max())
-    return weight / weight.sum()
+    return np.asarray(weight / weight.sum())
 
 
 def chain_from_spectrum(frequencies: Any, name: str = "from spectrum") -> tuple[Chain, float]:

@@ -80,6 +80,7 @@ import math
 
 import numpy as np
 from numpy.polynomial.legendre import leggauss
+from numpy.typing import ArrayLike
 
 from ..core.blas import fixed_blas_threads
 from ..core.checks import pulse as check_pulse
@@ -209,7 +210,8 @@ def _modal_sum(weights: np.ndarray, p: np.ndarray, q: np.ndarray, omega: np.ndar
 
 
 # --------------------------------------------------------------------- pulses
-def _pulse_states(omega: np.ndarray, gamma: float, shape: str, width: float):
+def _pulse_states(omega: np.ndarray, gamma: float, shape: str,
+                  width: float) -> tuple[np.ndarray, float, np.ndarray, np.ndarray]:
     """Mode states (x, x') at the panel edges b_0 = 0 < ... < b_P = pulse end.
 
     Returns the edges, the panel length and arrays x, x' of shape (P+1, N).
@@ -236,7 +238,8 @@ def _pulse_states(omega: np.ndarray, gamma: float, shape: str, width: float):
     return edges, step, x, v
 
 
-def _pulse_inside(weights, omega, gamma, shape, width, edges, step, x, v, times) -> np.ndarray:
+def _pulse_inside(weights: np.ndarray, omega: np.ndarray, gamma: float, shape: str, width: float,
+                  edges: np.ndarray, step: float, x: np.ndarray, v: np.ndarray, times: np.ndarray) -> np.ndarray:
     """Velocity rows at times inside the pulse, shape (R, times.size)."""
     half = 0.5 * gamma
     w2 = omega * omega
@@ -287,7 +290,7 @@ def loop_weights(chain: Chain, *, force: bool = False) -> tuple[np.ndarray, np.n
 @fixed_blas_threads
 def linear_response(
     chain: Chain,
-    t,
+    t: ArrayLike,
     *,
     excitation: ResponseExcitation = "kick",
     Q: float | None = None,

@@ -88,7 +88,8 @@ def _finite_times(t: Any) -> Any:
 
 
 @fixed_blas_threads
-def transmission_amplitude(chain_or_modes: Chain | Modes, t, method: ModeMethod = "auto"):
+def transmission_amplitude(chain_or_modes: Chain | Modes, t: Any,
+                           method: ModeMethod = "auto") -> np.ndarray | float:
     """Transmission amplitude alpha_N(t), Eq. e.utn.
 
     The far end's response to a kick (velocity, loop current) or to a
@@ -109,7 +110,7 @@ def transmission_amplitude(chain_or_modes: Chain | Modes, t, method: ModeMethod 
 
 
 @fixed_blas_threads
-def return_amplitude(chain_or_modes: Chain | Modes, t, method: ModeMethod = "auto"):
+def return_amplitude(chain_or_modes: Chain | Modes, t: Any, method: ModeMethod = "auto") -> np.ndarray | float:
     """The first mass's own response, sum_n P_n cos(omega_n t) (1 at t = 0).
 
     This is what comes back to loop 1 after each round trip.
