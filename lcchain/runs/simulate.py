@@ -38,6 +38,7 @@ from ..core.errors import ParameterError, SimulationError
 from ..core.frozen import FrozenMap
 from ..core.limits import MAX_DT
 from ..core.types import BACKENDS, EXCITATIONS, Backend, Excitation, Method
+from ..spice.engines import DEFAULT_ENGINE, engine_named
 from ..spice.runner import RunResult
 from ..spice.simulator import Simulator
 from ..theory.arrivals import stop_time
@@ -171,6 +172,8 @@ class SimulationReport:
             "L0": self.ladder.L0,
             "C0": self.ladder.C0,
             "backend": run.backend,
+            "engine": run.engine,
+            "engine_version": run.engine_version,
             "ngspice_version": run.ngspice_version,
             "netlist_sha256": run.netlist_sha256,
             "options": dict(run.options),
@@ -260,6 +263,7 @@ def simulation_spec(
     accuracy: float | None = None,
     budget: Budget | None = None,
     aligned: bool = False,
+    engine: str = DEFAULT_ENGINE,
 ) -> tuple[RunSpec, Ladder, SimulationOptions]:
     """The run :func:`simulate` makes, described and not yet executed (parameters as there).
 
@@ -273,6 +277,7 @@ def simulation_spec(
     if (dt is None) == (accuracy is None):
         raise ParameterError("dt/accuracy", (dt, accuracy), "exactly one of dt and accuracy")
     choice("backend", backend, BACKENDS)
+    engine_named(engine)
     choice("excitation", excitation, EXCITATIONS)
     budget = budget if budget is not None else Budget()
     Ladder(chain, L0, C0)  # the component scale first: nothing is computed for a circuit ngspice cannot run
@@ -293,7 +298,8 @@ def simulation_spec(
     theory = Theory(chain, ladder.time_unit, I0=I0, excitation=excitation, transits=transits, dt=options.dt,
                     method=options.method, predicted_error=predicted, aligned=aligned, modes=modes)
     spec = RunSpec(text, tuple(probe_names(chain.N, "ends")), options.tstop * ladder.time_unit, backend=backend,
-                   timeout=timeout, theory=theory, foreign=False, label=f"{chain.name} N={chain.N} dt={options.dt:.4g}")
+                   timeout=timeout, theory=theory, foreign=False, label=f"{chain.name} N={chain.N} dt={options.dt:.4g}",
+                   engine=engine)
     return spec, ladder, options
 
 
@@ -336,7 +342,8 @@ def simulation_runs(chain: Chain, *, dt: float | None = None, accuracy: float | 
                     extrapolate: int | None = None, transits: int = 1, excitation: Excitation = "kick",
                     L0: float = 10e-6, C0: float = 10e-9, I0: float = 1e-3, backend: Backend = "batch",
                     method: Method = "trap", title: str | None = None, timeout: float = DEFAULT_TIMEOUT,
-                    modes: Modes | None = None, budget: Budget | None = None) -> SimulationRuns:
+                    modes: Modes | None = None, budget: Budget | None = None,
+                    engine: str = DEFAULT_ENGINE) -> SimulationRuns:
     """The runs :func:`simulate` makes (parameters as there): the step or steps chosen, every run's spec built.
 
     Raises
@@ -345,6 +352,7 @@ def simulation_runs(chain: Chain, *, dt: float | None = None, accuracy: float | 
         As :func:`simulate`, before anything runs.
     """
     instance("chain", chain, Chain)
+    found = engine_named(engine)
     instance("modes", modes, Modes, optional=True)
     instance("budget", budget, Budget, optional=True)
     if dt is not None:
@@ -358,7 +366,11 @@ def simulation_runs(chain: Chain, *, dt: float | None = None, accuracy: float | 
     Ladder(chain, L0, C0)
     modes = modes if modes is not None else normal_modes(chain)
     tstop = stop_time(modes, transits)
-    refused = refusal(method=method)
+    if not found.extrapolates and extrapolate is not None and extrapolate > 1:
+        raise ParameterError("extrapolate", extrapolate, f"1 with engine {found.name} (no extrapolation): "
+                             f"{found.no_extrapolation}")
+    refused = refusal(method=method) or ("" if found.extrapolates else f"engine {found.name}: "
+                                                                          f"{found.no_extrapolation}")
     plan = None
     if accuracy is not None:
         plan = plan_for_accuracy(modes, accuracy, tstop, extrapolate=extrapolate, refused=refused, method=method,
@@ -371,7 +383,7 @@ def simulation_runs(chain: Chain, *, dt: float | None = None, accuracy: float | 
     steps = member_steps(coarse, runs)
     built = [simulation_spec(chain, dt=h, aligned=runs > 1, transits=transits, excitation=excitation, L0=L0, C0=C0,
                              I0=I0, backend=backend, method=method, title=title, timeout=timeout, modes=modes,
-                             budget=budget) for h in steps]
+                             budget=budget, engine=engine) for h in steps]
     predicted = None
     if runs > 1:
         predicted = plan.predicted_error if plan is not None else predicted_extrapolated_error(modes, coarse, runs,
@@ -401,8 +413,9 @@ def simulate(
     budget: Budget | None = None,
     on_spec: Callable[[RunSpec], None] | None = None,
     extrapolate: int | None = None,
+    engine: str = DEFAULT_ENGINE,
 ) -> SimulationReport:
-    """Simulate the chain's LC ladder in ngspice and compare with theory.
+    """Simulate the chain's LC ladder in a circuit simulator (ngspice by default) and compare with theory.
 
     Parameters
     ----------
@@ -441,6 +454,10 @@ def simulate(
         Combine this many runs at dt, dt/2, dt/4 (Richardson: the dt^2 term, then the dt^4 term cancel).
         With ``accuracy`` and None, lcchain picks the cheapest of 1, 2 and 3 runs predicted to meet it; with
         ``dt`` and None, one run.  Gear falls back to one run, with the reason in ``report.extrapolation``.
+    engine : str
+        The circuit simulator, a name in :data:`lcchain.spice.engines.ENGINES` (``"ngspice"`` or
+        ``"gnucap"``); an engine without aligned steps (gnucap) refuses ``extrapolate`` > 1 and makes one run
+        for an ``accuracy``.
 
     Raises
     ------
@@ -460,7 +477,7 @@ def simulate(
     callback("on_spec", on_spec)
     planned = simulation_runs(chain, dt=dt, accuracy=accuracy, extrapolate=extrapolate, transits=transits,
                               excitation=excitation, L0=L0, C0=C0, I0=I0, backend=backend, method=method,
-                              title=title, timeout=timeout, modes=modes, budget=budget)
+                              title=title, timeout=timeout, modes=modes, budget=budget, engine=engine)
     steps, runs, modes, plan, reason = planned.steps, planned.runs, planned.modes, planned.plan, planned.reason
     spec, ladder, options = planned.specs[0], planned.ladder, planned.options
     if on_spec is not None:

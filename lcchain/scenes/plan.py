@@ -39,6 +39,7 @@ from ..core.errors import ParameterError
 from ..core.limits import EXACT_MAX_N
 from ..runs.execute import pulse_centre
 from ..runs.spec import RunSpec, Theory
+from ..spice.engines import engine_named
 from ..theory.arrivals import arrival_window
 from ..theory.cases import chain_for_case
 from ..theory.chain import Chain
@@ -171,7 +172,9 @@ def _choose_steps(scene: Scene, nominal: Chain, modes: Modes, tstop: float,
     """The runs of each sample (their steps), the extrapolation's predicted error, and why not extrapolated."""
     analysis = scene.analysis
     Q, pulse = losses_and_pulse(scene)
-    refused = refusal(method=analysis.method, pulse=pulse)
+    engine = engine_named(analysis.engine, "analysis.engine")
+    refused = refusal(method=analysis.method, pulse=pulse) or (
+        "" if engine.extrapolates else f"engine {engine.name}: {engine.no_extrapolation}")
     asked = analysis.extrapolate
     if analysis.dt is not None:
         runs, reason = runs_for_step(asked, refused)
@@ -203,7 +206,7 @@ def _choose_steps(scene: Scene, nominal: Chain, modes: Modes, tstop: float,
 
 #: Internal names of what a scene sets, and the scene keys the user wrote.
 _SCENE_KEYS = {"L0": "units.L0", "C0": "units.C0", "K0": "effects.walls.K0", "dt": "analysis.dt",
-               "accuracy": "analysis.accuracy", "N": "chain.N"}
+               "accuracy": "analysis.accuracy", "N": "chain.N", "engine": "analysis.engine"}
 
 
 @fixed_blas_threads
@@ -252,6 +255,9 @@ def _plan(scene: Scene, budget: Budget) -> ScenePlan:
                                                                      + RUN_START_SECONDS * len(steps) + theory))
     every.check(budget, "effects.tolerance.samples" if samples > 1 else field, samples if samples > 1 else value,
                 "fewer samples")
+    # What the engine cannot run (gnucap: a gaussian pulse's B-source) is refused now, before any sample is drawn.
+    engine_named(scene.analysis.engine, "analysis.engine").dialect(
+        scene_netlist(scene, nominal, dt, tstop, aligned=len(steps) > 1), probe_names(N, scene.output.probes))
     _, chains = scene_chains(scene, nominal)  # the samples are drawn once the scene is known to fit
     return ScenePlan(nominal, tuple(chains), modes, T, tstop, dt, steps, predicted, reason)
 
@@ -298,5 +304,6 @@ def scene_specs(scene: Scene, plan: ScenePlan) -> list[RunSpec]:
             label = chain.name + (f" run {i + 1} of {len(steps)}" if aligned else "")
             specs.append(RunSpec(scene_netlist(scene, chain, h, plan.tstop, aligned=aligned),
                                  tuple(probe_names(chain.N, scene.output.probes)), plan.tstop * time_unit,
-                                 backend=analysis.backend, theory=theory, foreign=False, label=label))
+                                 backend=analysis.backend, theory=theory, foreign=False, label=label,
+                                 engine=analysis.engine))
     return specs

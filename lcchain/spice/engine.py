@@ -59,12 +59,19 @@ class Engine(ABC):
         How to install it on Debian (quoted when it is missing).
     runs_foreign : bool
         Whether it runs netlists lcchain did not write (the allow-list and the sandbox are ngspice's).
+    extrapolates : bool
+        Whether its runs can be members of a Richardson extrapolation: aligned steps whose grid
+        :func:`lcchain.compare.extrapolate.aligned_grid` predicts (ngspice's, measured).
+    no_extrapolation : str
+        Why not, when it cannot (quoted in the refusal of ``--extrapolate``).
     """
 
     name: ClassVar[str]
     transports: ClassVar[tuple[Backend, ...]]
     install: ClassVar[str]
     runs_foreign: ClassVar[bool] = False
+    extrapolates: ClassVar[bool] = False
+    no_extrapolation: ClassVar[str] = "lcchain's model of aligned steps is ngspice's"
 
     @abstractmethod
     def find(self, backend: Backend = "batch") -> Simulator:

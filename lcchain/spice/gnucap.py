@@ -100,6 +100,10 @@ _BANNER = re.compile(r"^(Gnucap\b|Never trust|Copyright|Gnucap comes|This is fre
                      r"|See the file|main version|core-lib version|default plugins)")
 
 
+def _failure(reason: str, log_tail: str = "", status: str = "failed") -> SimulationError:
+    return SimulationError(reason, log_tail, status, "gnucap")
+
+
 def _refuse(what: str) -> ParameterError:
     return ParameterError("engine", "gnucap", f"ngspice for {what}")
 
@@ -184,6 +188,10 @@ class Gnucap(Engine):
     transports: ClassVar[tuple[Backend, ...]] = ("batch",)
     install: ClassVar[str] = INSTALL_COMMAND
     runs_foreign: ClassVar[bool] = False
+    extrapolates: ClassVar[bool] = False
+    no_extrapolation: ClassVar[str] = ("gnucap prints, and stops, on multiples of its print step only, so it cannot "
+                                       "run the aligned steps (print step = tstop) that lcchain's extrapolation "
+                                       "and its model of the members' grid need")
 
     def find(self, backend: Backend = "batch") -> Simulator:
         if backend not in self.transports:
@@ -274,12 +282,14 @@ class Gnucap(Engine):
             progress(0.0)
         output, log, wall = _run_child(text, simulator, timeout, tstop, progress, limit or MAX_OUTPUT_BYTES)
         columns = read_table(output, log)
-        time_s, found = validate_columns(columns, log, names, tstop, "gnucap")
+        quiet = "\n".join(line for line in _without_rows(log).splitlines() if not _BANNER.match(line))
+        time_s, found = validate_columns(columns, quiet, names, tstop, "gnucap")
         if progress is not None:
             progress(1.0)
         return RunResult(time=time_s, vectors=FrozenMap(found), engine_version=simulator.version,
                          netlist_sha256=_sha256(netlist), options=FrozenMap(parse_options(netlist)), wall_s=wall,
-                         backend=simulator.backend, points=int(time_s.size), log=trim_log(log), engine=self.name)
+                         backend=simulator.backend, points=int(time_s.size), log=trim_log(_without_rows(log)),
+                         engine=self.name)
 
 
 def _sha256(text: str) -> str:
@@ -346,9 +356,9 @@ def _run_child(text: str, simulator: Simulator, timeout: float, tstop: float,
         output = read_all(out).decode("utf-8", "replace")
         log = output + "\n" + read_all(err).decode("utf-8", "replace")
     if status is None:
-        raise SimulationError(f"gnucap timed out after {timeout:g} s and was killed", _quote(log), "timeout")
+        raise _failure(f"gnucap timed out after {timeout:g} s and was killed", _quote(log), "timeout")
     if status != 0:
-        raise SimulationError(f"gnucap exited with status {status}", _quote(log))
+        raise _failure(f"gnucap exited with status {status}", _quote(log))
     return output, log, wall
 
 
@@ -372,7 +382,7 @@ def _wait(proc: subprocess.Popen[bytes], timeout: float, tstop: float, out: IO[b
                 return status
             if os.fstat(out.fileno()).st_size + os.fstat(err.fileno()).st_size > limit:
                 kill_group(proc)
-                raise SimulationError(f"gnucap printed more than {show_bytes(limit)}, the most the memory budget "
+                raise _failure(f"gnucap printed more than {show_bytes(limit)}, the most the memory budget "
                                       "allows, and the run was stopped", "")
             if progress is not None:
                 t = _last_time(out)
@@ -384,11 +394,15 @@ def _wait(proc: subprocess.Popen[bytes], timeout: float, tstop: float, out: IO[b
                 os.close(pidfd)
 
 
+def _without_rows(log: str) -> str:
+    """gnucap's output without its table's rows (what :attr:`RunResult.log` keeps)."""
+    return "\n".join(line for line in log.splitlines()
+                     if line.strip() and not (line.split() and _number(line.split()[0]) is not None))
+
+
 def _quote(log: str) -> str:
-    """gnucap's output worth quoting: without its banner and its table's rows."""
-    kept = [line for line in log.splitlines() if line.strip() and not _BANNER.match(line)
-            and not (line.split() and _number(line.split()[0]) is not None)]
-    return useful_output("\n".join(kept))
+    """gnucap's output worth quoting in an error: without its banner and its table's rows."""
+    return useful_output("\n".join(line for line in _without_rows(log).splitlines() if not _BANNER.match(line)))
 
 
 def _number(text: str) -> float | None:
@@ -414,9 +428,9 @@ def read_table(output: str, log: str = "") -> dict[str, np.ndarray]:
     messages = [line.strip() for line in lines[: len(lines) if header is None else header]
                 if line.strip() and not _BANNER.match(line) and line.strip() != TITLE]
     if messages:
-        raise SimulationError("gnucap reported: " + " | ".join(messages[:5]), _quote(log or output))
+        raise _failure("gnucap reported: " + " | ".join(messages[:5]), _quote(log or output))
     if header is None:
-        raise SimulationError("gnucap printed no table (no '#Time' header)", _quote(log or output))
+        raise _failure("gnucap printed no table (no '#Time' header)", _quote(log or output))
     names = ["time", *(canonical_vector_name(n) for n in lines[header].split()[1:])]
     rows: list[list[float]] = []
     for line in lines[header + 1:]:
@@ -425,7 +439,7 @@ def read_table(output: str, log: str = "") -> dict[str, np.ndarray]:
             continue
         values = [_number(word) for word in words]
         if len(values) != len(names) or any(v is None for v in values):
-            raise SimulationError(f"gnucap's table has a row lcchain cannot read: {line.strip()[:200]!r}",
+            raise _failure(f"gnucap's table has a row lcchain cannot read: {line.strip()[:200]!r}",
                                   _quote(log or output))
         rows.append(values)  # type: ignore[arg-type]
     table = np.array(rows, dtype=np.float64).reshape(len(rows), len(names))

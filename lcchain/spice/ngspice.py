@@ -25,6 +25,7 @@ class Ngspice(Engine):
     transports: ClassVar[tuple[Backend, ...]] = ("batch", "shared")
     install: ClassVar[str] = INSTALL_COMMAND
     runs_foreign: ClassVar[bool] = True
+    extrapolates: ClassVar[bool] = True
 
     def find(self, backend: Backend = "batch") -> Simulator:
         return find_simulator(backend)

@@ -460,7 +460,7 @@ def validate_columns(columns: dict[str, np.ndarray], log: str, names: list[str],
         Naming what failed, with the useful end of the engine's output ``log``.
     """
     def fail(reason: str) -> SimulationError:
-        return SimulationError(reason, useful_output(log))
+        return SimulationError(reason, useful_output(log), "failed", engine)
 
     if "time" not in columns:
         raise fail(f"{engine} returned no time vector (is there a .tran analysis?)")

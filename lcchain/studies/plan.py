@@ -44,6 +44,7 @@ from ..runs.simulate import simulation_runs
 from ..runs.spec import DEFAULT_TIMEOUT, RunSpec, Theory
 from ..scenes.load import load_scene, parse_scene
 from ..scenes.plan import scene_plan, scene_specs
+from ..spice.engines import DEFAULT_ENGINE
 from ..spice.foreign import allowed_netlist, foreign_estimate, raw_bytes_limit, transient_of
 from ..spice.runner import read_include
 from ..spice.text import saved_vectors
@@ -123,6 +124,8 @@ class Plan:
         The parameters that vary.
     combinations : tuple of Combination
         Extrapolations made from some of the tasks (their indices follow their members').
+    engine : str
+        The engine every run uses (:data:`lcchain.spice.engines.ENGINES`): one per study, found once.
     """
 
     kind: str
@@ -131,6 +134,13 @@ class Plan:
     backend: Backend = "batch"
     axes: tuple[str, ...] = field(default=())
     combinations: tuple[Combination, ...] = field(default=())
+    engine: str = DEFAULT_ENGINE
+
+    def __post_init__(self) -> None:
+        others = sorted({task.spec.engine for task in self.tasks} - {self.engine})
+        if others:
+            raise ParameterError("engine", others[0], f"one engine per study, {self.engine!r} (a study finds its "
+                                 "engine once; run the other engine in a study of its own)")
 
     def keys(self, ngspice_version: str) -> dict[int, str]:
         """Every row's key by index: each task's run, and each combination's (its members' keys hashed)."""
@@ -198,7 +208,8 @@ def sweep_plan(*, cases: Sequence[str], Ns: Sequence[int], dts: Sequence[float] 
                transits: Sequence[int] = (1,), excitations: Sequence[Excitation] = ("kick",), L0: float = 10e-6,
                C0: float = 10e-9, backend: Backend = "batch", timeout: float = DEFAULT_TIMEOUT,
                budget: Budget | None = None, extrapolate: int | None = None,
-               progress: Callable[[int, int, str], None] | None = None, workers: int = 1) -> Plan:
+               progress: Callable[[int, int, str], None] | None = None, workers: int = 1,
+               engine: str = DEFAULT_ENGINE) -> Plan:
     """The product of the axes: one task per (case, N, dt or accuracy, transits, excitation).
 
     The study is priced from its axes first (:func:`_price_axes`), before any chain is designed; then every
@@ -223,7 +234,8 @@ def sweep_plan(*, cases: Sequence[str], Ns: Sequence[int], dts: Sequence[float] 
         chain, modes = chains[(case, N)]
         runs = simulation_runs(chain, transits=transit, excitation=excitation, L0=L0, C0=C0, backend=backend,
                                timeout=timeout, modes=modes, budget=budget, extrapolate=extrapolate,
-                               dt=value if step == "dt" else None, accuracy=value if step == "accuracy" else None)
+                               dt=value if step == "dt" else None, accuracy=value if step == "accuracy" else None,
+                               engine=engine)
         params = {"case": case, "N": N, step: value, "transits": transit, "excitation": excitation}
         if step == "accuracy":
             params["dt"] = runs.options.dt
@@ -233,9 +245,11 @@ def sweep_plan(*, cases: Sequence[str], Ns: Sequence[int], dts: Sequence[float] 
                    "L0": L0, "C0": C0, "backend": backend}
     if extrapolate is not None:
         description["extrapolate"] = extrapolate
+    if engine != DEFAULT_ENGINE:  # an ngspice study's description is what stores made before engines hold
+        description["engine"] = engine
     axes = tuple(name for name, values in (("case", cases), ("N", Ns), ("dt", dts), ("accuracy", accuracies),
                                            ("transits", transits), ("excitation", excitations)) if len(values) > 1)
-    return Plan("sweep", FrozenMap(description), tuple(tasks), backend, axes, tuple(combinations))
+    return Plan("sweep", FrozenMap(description), tuple(tasks), backend, axes, tuple(combinations), engine)
 
 
 def _check_study(budget: Budget | None, what: str, planning: float, work: float, workers: int, advice: str) -> None:
@@ -354,7 +368,7 @@ def scene_sweep_plan(path: str | Path, varies: Sequence[tuple[str, list[Any]]], 
                    "samples": samples, "seed": seed}
     axes = tuple(keys) + (("sample",) if any("sample" in t.params for t in tasks) else ())
     return Plan("scene", FrozenMap(json.loads(json.dumps(description, default=str))), tuple(tasks),
-                scene.analysis.backend, axes, tuple(combinations))
+                scene.analysis.backend, axes, tuple(combinations), scene.analysis.engine)
 
 
 def batch_plan(paths: Sequence[str | Path], *, allow_control: bool = False, backend: Backend = "batch",
