@@ -329,7 +329,7 @@ class Analysis:
     engine : str
         The circuit simulator, a name in :data:`lcchain.spice.engines.ENGINES`
         (``"ngspice"``, ``"gnucap"``); gnucap makes one run per sample (no
-        extrapolation) and has no gaussian pulse.
+        extrapolation) and runs no pulse.
     """
 
     transits: int = 1
