@@ -99,7 +99,8 @@ _COUPLING = re.compile(r"^K\w+\s+(L\w+)\s+(L\w+)\s+(\S+)$", re.IGNORECASE)
 _TRAN = re.compile(r"^\.tran\s+(\S+)\s+(\S+)\s+0\s+(\S+)\s+uic$", re.IGNORECASE)
 _PRINTABLE = re.compile(r"^([iv])\((\w+)\)$")
 _NUMBER = re.compile(r"^([-+]?(?:\d+\.?\d*|\.\d+)(?:e[-+]?\d+)?)(f|p|n|u|m|k|meg|g|t)?$", re.IGNORECASE)
-_SCALE = {"f": 1e-15, "p": 1e-12, "n": 1e-9, "u": 1e-6, "m": 1e-3, "k": 1e3, "meg": 1e6, "g": 1e9, "t": 1e12}
+#: The decimal exponent of each suffix gnucap prints (read as ``mantissa e exponent``: one correctly rounded float).
+_EXPONENT = {"f": -15, "p": -12, "n": -9, "u": -6, "m": -3, "k": 3, "meg": 6, "g": 9, "t": 12}
 _BANNER = re.compile(r"^(Gnucap\b|Never trust|Copyright|Gnucap comes|This is free|to redistribute|the GNU General"
                      r"|See the file|main version|core-lib version|default plugins)")
 
@@ -417,8 +418,12 @@ def _number(text: str) -> float | None:
     match = _NUMBER.match(text)
     if match is None:
         return None
-    value = float(match.group(1))
-    return value * _SCALE[match.group(2).lower()] if match.group(2) else value
+    mantissa, suffix = match.groups()
+    if suffix is None:
+        return float(mantissa)
+    if "e" in mantissa.lower():  # never printed by gnucap: scale it
+        return float(mantissa) * 10.0 ** _EXPONENT[suffix.lower()]
+    return float(f"{mantissa}e{_EXPONENT[suffix.lower()]}")
 
 
 def read_table(output: str, log: str = "") -> dict[str, np.ndarray]:
