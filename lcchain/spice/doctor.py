@@ -3,6 +3,7 @@ which engines (:data:`lcchain.spice.engines.ENGINES`) are installed?"""
 
 from __future__ import annotations
 
+import functools
 import math
 import subprocess
 import sys
@@ -140,7 +141,7 @@ def doctor() -> list[Check]:
         checks.append(Check("shared run", False, "skipped: shared library or PySpice missing",
                             f"{INSTALL_COMMAND}; {PYSPICE_INSTALL_COMMAND}", required=False))
     for name, engine in ENGINES.items():
-        attempt(f"engine {name}", f"install it: {engine.install}", lambda name=name: _engine_run(name),
+        attempt(f"engine {name}", f"install it: {engine.install}", functools.partial(_engine_run, name),
                 required=name == DEFAULT_ENGINE)
     return checks
 
