@@ -359,3 +359,31 @@ def test_doctor_lists_every_engine() -> None:
     for name in ENGINES:
         assert checks[f"engine {name}"].ok, checks[f"engine {name}"]
         assert checks[f"engine {name}"].required == (name == DEFAULT_ENGINE)
+
+
+def test_a_gnucap_run_is_priced_at_its_own_cost() -> None:
+    from lcchain.core.budget import INTERPRETER_SECONDS, Budget, BudgetError, run_estimate
+
+    chain = chain_for_case("two-mass", 400)
+    spec, _, options = simulation_spec(chain, dt=0.02)
+    seconds = run_estimate(points=options.tstop / 0.02, saved=2, compared=2, unknowns=800).seconds
+    budget = Budget(max_seconds=INTERPRETER_SECONDS + 2 * seconds)  # ngspice fits, gnucap (6x) does not
+    simulation_spec(chain, dt=0.02, budget=budget)
+    with pytest.raises(BudgetError, match="dt = 0.02"):
+        simulation_spec(chain, dt=0.02, budget=budget, engine="gnucap")
+    assert ENGINES["gnucap"].relative_cost > ENGINES["ngspice"].relative_cost == 1.0
+
+
+@pytest.mark.gnucap
+def test_a_gnucap_timeout_kills_it_and_leaves_nothing() -> None:
+    import os
+
+    from helpers.processes import descendants
+
+    before = temporary_entries()
+    spec, _, _ = simulation_spec(chain_for_case("two-mass", 400), dt=0.002, transits=3)
+    with pytest.raises(SimulationError, match="gnucap timed out after 0.3 s and was killed") as caught:
+        run_engine(spec.netlist, spec.vectors, spec.tstop, simulator=find_engine("gnucap"), timeout=0.3,
+                   foreign=False)
+    assert caught.value.status == "timeout"
+    assert not descendants(os.getpid()) and temporary_entries() == before

@@ -13,7 +13,7 @@ import threading
 import time
 from collections.abc import Callable, Mapping
 from concurrent.futures import ThreadPoolExecutor
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 from ..circuit.ladder import Ladder
@@ -287,7 +287,9 @@ def simulation_spec(
     if accuracy is not None:
         dt = dt_for_accuracy(modes, accuracy, tstop, method=method, max_points=max_points(budget, **cost))
     dt = real("dt", dt, above=0.0, at_most=MAX_DT)
-    run_estimate(points=tstop / dt, **cost).check(budget, "dt", dt, "a larger step, or fewer transits")
+    estimate = run_estimate(points=tstop / dt, **cost)
+    replace(estimate, seconds=estimate.seconds * engine_named(engine).relative_cost).check(
+        budget, "dt", dt, "a larger step, or fewer transits")
     text, ladder, options = make_netlist(chain, dt=dt, transits=transits, excitation=excitation, L0=L0, C0=C0,
                                          I0=I0, method=method, title=title, modes=modes, tstop=tstop,
                                          aligned=aligned)

@@ -10,7 +10,7 @@ circuit, whose theory is the exact linear response of that very circuit.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -246,6 +246,7 @@ def _plan(scene: Scene, budget: Budget) -> ScenePlan:
     steps, predicted, reason = _choose_steps(scene, nominal, modes, tstop, points)
     dt = steps[0]
     one = run_estimate(points=tstop / steps[-1], **cost)
+    one = replace(one, seconds=one.seconds * engine_named(scene.analysis.engine, "analysis.engine").relative_cost)
     field, value = ("dt", dt) if scene.analysis.dt is not None else ("accuracy", scene.analysis.accuracy)
     one.check(budget, field, value, "a larger step, a coarser accuracy or fewer transits")
     per_sample = sum(steps[-1] / h for h in steps)  # the members' costs relative to the finest

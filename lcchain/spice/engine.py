@@ -64,6 +64,9 @@ class Engine(ABC):
         :func:`lcchain.compare.extrapolate.aligned_grid` predicts (ngspice's, measured).
     no_extrapolation : str
         Why not, when it cannot (quoted in the refusal of ``--extrapolate``).
+    relative_cost : float
+        Its wall time per run over ngspice's for the same ladder and step: the budget's model of a run
+        (:func:`lcchain.core.budget.run_estimate`, ngspice's, measured) is scaled by it.
     """
 
     name: ClassVar[str]
@@ -72,6 +75,7 @@ class Engine(ABC):
     runs_foreign: ClassVar[bool] = False
     extrapolates: ClassVar[bool] = False
     no_extrapolation: ClassVar[str] = "lcchain's model of aligned steps is ngspice's"
+    relative_cost: ClassVar[float] = 1.0
 
     @abstractmethod
     def find(self, backend: Backend = "batch") -> Simulator:

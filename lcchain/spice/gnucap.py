@@ -197,6 +197,11 @@ class Gnucap(Engine):
     no_extrapolation: ClassVar[str] = ("gnucap prints, and stops, on multiples of its print step only, so it cannot "
                                        "run the aligned steps (print step = tstop) that lcchain's extrapolation "
                                        "and its model of the members' grid need")
+    #: gnucap's wall time over ngspice's model of the same run (:func:`lcchain.core.budget.ngspice_seconds`),
+    #: measured here: 3.5 (two-mass N = 400, dt = 0.02), 4.0 (perfect N = 100, dt = 0.02), 4.8 (two-mass
+    #: N = 100, dt = 0.05), 9.2 (two-mass N = 20, dt = 0.005: gnucap's cost per point is higher, its cost per
+    #: unknown lower), all on a loaded machine where ngspice itself took 1.4-1.7 times its model.
+    relative_cost: ClassVar[float] = 6.0
 
     def find(self, backend: Backend = "batch") -> Simulator:
         if backend not in self.transports:

@@ -44,7 +44,7 @@ from ..runs.simulate import simulation_runs
 from ..runs.spec import DEFAULT_TIMEOUT, RunSpec, Theory
 from ..scenes.load import load_scene, parse_scene
 from ..scenes.plan import scene_plan, scene_specs
-from ..spice.engines import DEFAULT_ENGINE
+from ..spice.engines import DEFAULT_ENGINE, ENGINES
 from ..spice.foreign import allowed_netlist, foreign_estimate, raw_bytes_limit, transient_of
 from ..spice.runner import read_include
 from ..spice.text import saved_vectors
@@ -183,7 +183,7 @@ def _seconds(spec: RunSpec) -> float:
     if theory is None or theory.dt is None:
         return 0.1
     points = spec.tstop / theory.time_unit / theory.dt
-    return ngspice_seconds(points, 2 * theory.chain.N) + RUN_START_SECONDS
+    return ngspice_seconds(points, 2 * theory.chain.N) * ENGINES[spec.engine].relative_cost + RUN_START_SECONDS
 
 
 def _add_runs(tasks: list[Task], combinations: list[Combination], params: Mapping[str, Any],
