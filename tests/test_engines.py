@@ -183,6 +183,7 @@ def test_gnucap_meets_the_predicted_error_against_exact_theory(case: str, N: int
     achieved = report.comparison.max_abs_error
     assert report.predicted_error is not None
     assert achieved / PREDICTION_FACTOR <= report.predicted_error <= achieved * PREDICTION_FACTOR
+    assert report.integration_error is None  # the error split models ngspice's start-up steps, not gnucap's
     data = report.to_dict()
     assert (data["engine"], data["backend"], data["ngspice_version"]) == ("gnucap", "batch", "")
     assert data["engine_version"] == find_engine("gnucap").version
@@ -387,3 +388,31 @@ def test_a_gnucap_timeout_kills_it_and_leaves_nothing() -> None:
                    foreign=False)
     assert caught.value.status == "timeout"
     assert not descendants(os.getpid()) and temporary_entries() == before
+
+
+@pytest.mark.ngspice
+def test_a_missing_gnucap_is_exit_status_3_and_a_doctor_warning(capsys, monkeypatch, tmp_path: Path) -> None:
+    import shutil
+
+    folder = tmp_path / "bin"  # a PATH with ngspice and without gnucap
+    folder.mkdir()
+    ngspice = shutil.which("ngspice")
+    assert ngspice is not None
+    (folder / "ngspice").symlink_to(ngspice)
+    monkeypatch.setenv("PATH", str(folder))
+    status = main(["simulate", "--case", "two-mass", "--N", "20", "--dt", "0.1", "--engine", "gnucap"])
+    err = capsys.readouterr().err
+    assert status == 3 and "sudo apt-get install gnucap" in err and "Traceback" not in err
+    assert main(["doctor"]) == 0
+    out = capsys.readouterr().out
+    assert "[warn] engine gnucap: SimulatorMissingError" in out and "[ok  ] engine ngspice" in out
+
+
+def test_a_study_has_one_engine(tmp_path: Path) -> None:
+    from lcchain.studies.plan import scene_sweep_plan
+
+    scene = tmp_path / "s.toml"
+    scene.write_text('[chain]\ncase = "two-mass"\nN = 16\n[analysis]\ndt = 0.1\n')
+    with pytest.raises(ParameterError, match="one engine per study"):
+        scene_sweep_plan(scene, [("analysis.engine", ["ngspice", "gnucap"])])
+    assert scene_sweep_plan(scene, [("analysis.engine", ["gnucap"])]).engine == "gnucap"

@@ -64,6 +64,10 @@ class Engine(ABC):
         :func:`lcchain.compare.extrapolate.aligned_grid` predicts (ngspice's, measured).
     no_extrapolation : str
         Why not, when it cannot (quoted in the refusal of ``--extrapolate``).
+    steps_modelled : bool
+        Whether :func:`lcchain.compare.accuracy.split_error` models its steps (ngspice's start-up ramp,
+        measured), so that a run's error splits into integration and physics; otherwise the run reports its
+        error and its prediction, and no split.
     relative_cost : float
         Its wall time per run over ngspice's for the same ladder and step: the budget's model of a run
         (:func:`lcchain.core.budget.run_estimate`, ngspice's, measured) is scaled by it.
@@ -75,6 +79,7 @@ class Engine(ABC):
     runs_foreign: ClassVar[bool] = False
     extrapolates: ClassVar[bool] = False
     no_extrapolation: ClassVar[str] = "lcchain's model of aligned steps is ngspice's"
+    steps_modelled: ClassVar[bool] = False
     relative_cost: ClassVar[float] = 1.0
 
     @abstractmethod

@@ -26,6 +26,7 @@ class Ngspice(Engine):
     install: ClassVar[str] = INSTALL_COMMAND
     runs_foreign: ClassVar[bool] = True
     extrapolates: ClassVar[bool] = True
+    steps_modelled: ClassVar[bool] = True
 
     def find(self, backend: Backend = "batch") -> Simulator:
         return find_simulator(backend)

@@ -367,8 +367,12 @@ def scene_sweep_plan(path: str | Path, varies: Sequence[tuple[str, list[Any]]], 
     description = {"command": "sweep", "scene": str(path), "scene_data": base, "vary": dict(varies),
                    "samples": samples, "seed": seed}
     axes = tuple(keys) + (("sample",) if any("sample" in t.params for t in tasks) else ())
+    engines = sorted({task.spec.engine for task in tasks}) or [scene.analysis.engine]
+    if len(engines) > 1:
+        raise ParameterError("--vary", f"analysis.engine={','.join(engines)}", "one engine per study (a study finds "
+                             "its engine once): run each engine in a study of its own")
     return Plan("scene", FrozenMap(json.loads(json.dumps(description, default=str))), tuple(tasks),
-                scene.analysis.backend, axes, tuple(combinations), scene.analysis.engine)
+                scene.analysis.backend, axes, tuple(combinations), engines[0])
 
 
 def batch_plan(paths: Sequence[str | Path], *, allow_control: bool = False, backend: Backend = "batch",
