@@ -228,7 +228,7 @@ def _execute_members(specs: list[RunSpec], steps: tuple[float, ...], simulator: 
         record = execute(specs[i], simulator, progress=watcher(i))
         if record.status != "ok":
             where = f" (the run at dt = {steps[i]:.4g}, {i + 1} of {runs})" if runs > 1 else ""
-            raise SimulationError(record.reason + where, record.log_tail, record.status)
+            raise SimulationError(record.reason + where, record.log_tail, record.status, record.engine)
         return record
 
     workers = min(runs, len(os.sched_getaffinity(0)), MEMBER_THREADS)
