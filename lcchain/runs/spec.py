@@ -213,8 +213,9 @@ class RunSpec:
     def key(self, engine_version: str) -> str:
         """SHA-256 of everything that determines the run's record, for this version of its engine.
 
-        The version is hashed under the name ``"ngspice"`` and the engine's name only when it is not
-        ngspice: the keys of ngspice runs are those of stores made before there were engines.
+        The version is hashed under the name ``"ngspice"``, and the engine's name and the hash of the text
+        it runs (its dialect) only when it is not ngspice: the keys of ngspice runs are those of stores made
+        before there were engines.
         """
         data = {
             "netlist": self.netlist, "vectors": list(self.vectors), "tstop": float(self.tstop).hex(),
@@ -222,6 +223,8 @@ class RunSpec:
             "ngspice": engine_version,
             "theory": None if self.theory is None else self.theory.fingerprint(),
         }
-        if self.engine != DEFAULT_ENGINE:
+        if self.engine != DEFAULT_ENGINE:  # and the text it runs: a change of its dialect is a new run
             data["engine"] = self.engine
+            dialect = engine_named(self.engine).dialect(self.netlist, self.vectors)
+            data["dialect"] = hashlib.sha256(dialect.encode("utf-8")).hexdigest()
         return hashlib.sha256(json.dumps(data, sort_keys=True).encode("utf-8")).hexdigest()
