@@ -1,6 +1,6 @@
-"""Test configuration: the ngspice marker, and helpers on the import path via this folder.
+"""Test configuration: the ngspice and gnucap markers, and helpers on the import path via this folder.
 
-Tests marked ``ngspice`` run the real simulator.  When ngspice is missing they
+Tests marked ``ngspice`` (``gnucap``) run the real simulator.  When it is missing they
 skip with the command that installs it, except under CI (``CI`` set), where a
 missing simulator is a failure: CI must never pass by skipping the circuit.
 """
@@ -16,6 +16,7 @@ from pathlib import Path
 import pytest
 
 INSTALL = "bash .ci/setup (or: sudo apt-get install ngspice libngspice0)"
+INSTALL_GNUCAP = "bash .ci/setup (or: sudo apt-get install gnucap)"
 INSTALL_CHROMIUM = "bash .ci/setup (or: sudo apt-get install chromium; pip install playwright)"
 
 
@@ -36,6 +37,8 @@ def _has_playwright() -> bool:
 def pytest_runtest_setup(item: pytest.Item) -> None:
     if item.get_closest_marker("ngspice") is not None and shutil.which("ngspice") is None:
         _missing("ngspice", INSTALL)
+    if item.get_closest_marker("gnucap") is not None and shutil.which("gnucap") is None:
+        _missing("gnucap", INSTALL_GNUCAP)
     if item.get_closest_marker("chromium") is not None:
         if shutil.which("chromium") is None:
             _missing("Chromium", INSTALL_CHROMIUM)

@@ -156,3 +156,17 @@ def test_coupled_scene_and_cli(tmp_path, capsys, monkeypatch):
         assert name in capsys.readouterr().err
     assert main(["netlist", "--case", "two-mass", "--N", "5", "--coupling", "0.02", "-o", str(tmp_path / "n.cir")]) == 0
     assert (tmp_path / "n.cir").read_text().count("\nK") == 4
+
+
+@pytest.mark.ngspice
+@pytest.mark.gnucap
+@pytest.mark.parametrize("k", [0.03, -0.05])
+def test_both_engines_match_the_coupled_theory(k):
+    """--coupling in theory and in both engines: gnucap reads a coupled coil's ic= as flux over inductance, and
+    its dialect translates the kick's currents (lcchain.spice.gnucap)."""
+    chain = chain_for_case("two-mass", 30).with_coupling(k)
+    reports = {engine: lcchain.simulate(chain, dt=0.02, transits=2, engine=engine) for engine in ("ngspice", "gnucap")}
+    for engine, report in reports.items():
+        assert report.run.engine == engine
+        assert report.predicted_error is not None
+        assert report.comparison.max_abs_error <= PREDICTION_FACTOR * report.predicted_error

@@ -237,15 +237,15 @@ def cmd_simulate(args: argparse.Namespace) -> int:
         warnings.simplefilter("always")
         report = simulate(chain, dt=dt, accuracy=args.accuracy, transits=args.transits, excitation=args.excitation,
                           L0=args.L0, C0=args.C0, backend=args.backend, method=args.method, title=args.title,
-                          progress=fraction_bar("ngspice"), budget=budget_from_args(args), on_spec=keep_netlist,
-                          extrapolate=args.extrapolate)
+                          progress=fraction_bar(args.engine), budget=budget_from_args(args), on_spec=keep_netlist,
+                          extrapolate=args.extrapolate, engine=args.engine)
     for warning in caught:
         print(f"lcchain: warning: {warning.message}", file=sys.stderr)
     data = report.to_dict()
     if args.json:
         emit_json(data)
     else:
-        print(f"{chain.name} chain, N = {chain.N}: ngspice {data['ngspice_version']} ({data['backend']}), "
+        print(f"{chain.name} chain, N = {chain.N}: {data['engine']} {data['engine_version']} ({data['backend']}), "
               f"{data['points']} points in {data['wall_s']:.3f} s")
         extrapolation = data["extrapolation"]
         if extrapolation["runs"] > 1:
@@ -285,7 +285,7 @@ def _print_scene_summary(result: Any) -> None:
     if len(steps) > 1:
         print(f"each sample extrapolated from {len(steps)} runs at dt = {', '.join(f'{h:.4g}' for h in steps)}")
     print(f"N = {report['N']}, dt = {report['dt']:.4g}, {count} sample{'s' if count > 1 else ''}, "
-          f"ngspice {report['ngspice_version']}, {report['wall_s']['total']:.2f} s")
+          f"{report['engine']} {report['engine_version']}, {report['wall_s']['total']:.2f} s")
     if "max_abs_error" in report:
         print(f"max |simulation - theory| = {report['max_abs_error']:.3e}")
         _print_arrivals(report["arrivals"])

@@ -23,6 +23,7 @@ from ..core import __version__
 from ..core.blas import BLAS_THREADS
 from ..core.errors import Interrupted, LcchainError, ParameterError, SimulationError, SimulatorMissingError
 from ..core.types import BACKENDS, DEFAULT_C0, DEFAULT_L0, DESIGN_CASES, EXCITATIONS, METHODS, NAMED_CASES
+from ..spice.engines import DEFAULT_ENGINE, ENGINES
 from . import commands, studies, validation
 from .common import (
     EXIT_FAILED,
@@ -119,9 +120,12 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", default="netlists", help="folder (default netlists)")
     p.set_defaults(func=commands.cmd_reference_netlists)
 
-    p = sub.add_parser("simulate", parents=budget, help="run the ladder in ngspice and compare with alpha_N(t)")
+    p = sub.add_parser("simulate", parents=budget, help="run the ladder in ngspice (or gnucap) and compare with "
+                       "alpha_N(t)")
     _add_chain_arguments(p)
     p.add_argument("--backend", choices=BACKENDS, default="batch")
+    p.add_argument("--engine", choices=tuple(ENGINES), default=DEFAULT_ENGINE,
+                   help="the circuit simulator (default ngspice); gnucap runs one fixed-step run (no --extrapolate)")
     p.add_argument("--method", choices=METHODS, default="trap")
     p.add_argument("--accuracy", type=number("--accuracy"), metavar="EPS",
                    help="wanted max |simulation - theory|: lcchain picks the largest dt that meets it "

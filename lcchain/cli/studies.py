@@ -15,6 +15,7 @@ from typing import Any
 from ..core.errors import ParameterError
 from ..core.types import DEFAULT_C0, DEFAULT_L0, EXCITATIONS, EXECUTORS, NAMED_CASES
 from ..report.files import FIGURE_FORMATS
+from ..spice.engines import DEFAULT_ENGINE, ENGINES
 from .common import EXIT_FAILED, EXIT_OK, Outputs, budget_from_args, emit_json, int_list
 
 __all__ = ["cmd_sweep", "cmd_batch", "cmd_results", "add_study_arguments", "study_progress"]
@@ -85,6 +86,9 @@ def add_sweep_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--C0", type=number("--C0"), default=DEFAULT_C0,
                    help=f"bulk capacitance, farad (default {DEFAULT_C0:g})")
     p.add_argument("--backend", choices=("batch", "shared"), default="batch")
+    p.add_argument("--engine", choices=tuple(ENGINES),
+                   help="the circuit simulator of every run (default ngspice; with SCENE.toml its "
+                        "[analysis] engine says it)")
     p.add_argument("--vary", action="append", default=[], metavar="KEY=V1,V2,...",
                    help="with SCENE.toml: a dotted scene key and its values (repeat for more axes; keys joined "
                         "by + take the same values together)")
@@ -209,7 +213,8 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     budget = budget_from_args(args)
     if args.scene:
         given = [o for o, v in (("--case", args.case), ("--N", args.N), ("--dt", args.dt),
-                                ("--accuracy", args.accuracy), ("--extrapolate", args.extrapolate)) if v is not None]
+                                ("--accuracy", args.accuracy), ("--extrapolate", args.extrapolate),
+                                ("--engine", args.engine)) if v is not None]
         if given:
             raise ParameterError(given[0], getattr(args, given[0].lstrip("-")), "nothing with SCENE.toml (the scene "
                                  "says the chain and the analysis; vary its keys with --vary, e.g. "
@@ -225,7 +230,8 @@ def cmd_sweep(args: argparse.Namespace) -> int:
         plan = sweep_plan(cases=args.case, Ns=args.N, dts=args.dt or ([] if args.accuracy else [0.05]),
                           accuracies=args.accuracy or [], transits=args.transits, excitations=args.excitation,
                           L0=args.L0, C0=args.C0, backend=args.backend, timeout=args.timeout, budget=budget,
-                          extrapolate=args.extrapolate, workers=_workers(args))
+                          extrapolate=args.extrapolate, workers=_workers(args),
+                          engine=args.engine or DEFAULT_ENGINE)
     return _run(args, plan, outputs)
 
 

@@ -66,27 +66,30 @@ class ParameterError(LcchainError, ValueError):
 
 
 class SimulationError(LcchainError):
-    """ngspice ran but did not produce a valid result.
+    """The simulator (ngspice, or another engine) ran but did not produce a valid result.
 
     Parameters
     ----------
     reason : str
-        What went wrong, in one line where possible (ngspice's own words).
+        What went wrong, in one line where possible (the simulator's own words).
     log_tail : str
-        The useful end of ngspice's output ("" when it printed nothing useful).
+        The useful end of the simulator's output ("" when it printed nothing useful).
     status : {"failed", "timeout"}
-        ``"timeout"`` when ngspice was killed for running too long.
+        ``"timeout"`` when the simulator was killed for running too long.
+    engine : str
+        Which simulator said it (``"ngspice"`` by default).
     """
 
-    def __init__(self, reason: str, log_tail: str = "", status: str = "failed"):
+    def __init__(self, reason: str, log_tail: str = "", status: str = "failed", engine: str = "ngspice"):
         self.reason = reason
         self.log_tail = log_tail
         self.status = status
-        said = f"\nngspice said:\n{log_tail}" if log_tail else ""
+        self.engine = engine
+        said = f"\n{engine} said:\n{log_tail}" if log_tail else ""
         super().__init__(f"{reason}{said}")
 
     def __reduce__(self) -> tuple[Any, ...]:
-        return (type(self), (self.reason, self.log_tail, self.status))
+        return (type(self), (self.reason, self.log_tail, self.status, self.engine))
 
 
 class SimulatorMissingError(LcchainError):

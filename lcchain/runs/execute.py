@@ -32,11 +32,12 @@ from ..compare.waveforms import Signals, loop_signals
 from ..core import __version__
 from ..core.blas import fixed_blas_threads
 from ..core.checks import instance
-from ..core.errors import SimulationError
+from ..core.errors import ParameterError, SimulationError
 from ..core.frozen import FrozenArrays
 from ..core.types import GAUSSIAN_CENTRE, Probes, RunStatus
-from ..spice.runner import RunResult, run
-from ..spice.simulator import Simulator, find_simulator
+from ..spice.engines import engine_named, find_engine, run_engine
+from ..spice.runner import RunResult
+from ..spice.simulator import Simulator
 from ..theory.modes import Modes
 from ..theory.response import linear_response
 from ..theory.spectrum import normal_modes
@@ -55,7 +56,7 @@ class RunRecord(FrozenArrays):
     Attributes
     ----------
     key : str
-        :meth:`RunSpec.key` for the ngspice that ran it.
+        :meth:`RunSpec.key` for the engine version that ran it.
     status : {"ok", "failed", "timeout"}
     reason : str
         Why it failed ("" when ok): ngspice's own words where it said any.
@@ -72,10 +73,13 @@ class RunRecord(FrozenArrays):
     wall_s : float
         Seconds in ngspice.
     total_s : float
-        Seconds in :func:`execute`, ngspice included.
-    ngspice_version, lcchain_version : str
+        Seconds in :func:`execute`, the simulator included.
+    engine_version, lcchain_version : str
+        The versions of the engine that ran it and of lcchain.
     label : str
         The spec's label.
+    engine : str
+        The engine's name (:data:`lcchain.spice.engines.ENGINES`).
     """
 
     key: str
@@ -88,19 +92,26 @@ class RunRecord(FrozenArrays):
     digest: str = ""
     wall_s: float = 0.0
     total_s: float = 0.0
-    ngspice_version: str = ""
+    engine_version: str = ""
     lcchain_version: str = __version__
     label: str = ""
+    engine: str = "ngspice"
 
     @property
     def ok(self) -> bool:
         return self.status == "ok"
+
+    @property
+    def ngspice_version(self) -> str:
+        """ngspice's version when ngspice ran it, else "" (records made before engines had only this field)."""
+        return self.engine_version if self.engine == "ngspice" else ""
 
     def summary(self) -> dict[str, Any]:
         """Everything but the arrays, as JSON-serialisable data."""
         data: dict[str, Any] = {
             "key": self.key, "label": self.label, "status": self.status, "reason": self.reason,
             "digest": self.digest, "wall_s": self.wall_s, "total_s": self.total_s,
+            "engine": self.engine, "engine_version": self.engine_version,
             "ngspice_version": self.ngspice_version, "lcchain_version": self.lcchain_version,
         }
         if self.status != "ok":
@@ -184,21 +195,23 @@ def metrics_of(theory: Theory, signals: Signals, *, split: bool = True, modes: M
 def _compare(theory: Theory, result: RunResult) -> tuple[Signals, Metrics]:
     modes = _modes(theory)
     signals = signals_of(theory, result, modes)
-    return signals, metrics_of(theory, signals, modes=modes)
+    # The error split models ngspice's own steps (its start-up ramp); an engine that steps otherwise gets none.
+    return signals, metrics_of(theory, signals, split=engine_named(result.engine).steps_modelled, modes=modes)
 
 
 def execute(spec: RunSpec, simulator: Simulator | None = None, *,
             progress: Callable[[float], None] | None = None) -> RunRecord:
-    """Run one spec in ngspice and compare it with its theory.
+    """Run one spec in its engine and compare it with its theory.
 
     Parameters
     ----------
     spec : RunSpec
     simulator : Simulator, optional
-        Found once by the caller (:func:`lcchain.spice.simulator.find_simulator`)
-        and passed to every run; found here for ``spec.backend`` when omitted.
+        Found once by the caller (:func:`lcchain.spice.engines.find_engine`)
+        and passed to every run; found here for ``spec.engine`` and
+        ``spec.backend`` when omitted. Its engine must be the spec's.
     progress : callable, optional
-        Called with the fraction of the analysis ngspice has done (0 to 1).
+        Called with the fraction of the analysis the simulator has done (0 to 1).
 
     Returns
     -------
@@ -208,17 +221,20 @@ def execute(spec: RunSpec, simulator: Simulator | None = None, *,
     Raises
     ------
     SimulatorMissingError
-        ngspice is not installed.
+        The engine is not installed.
     ParameterError
-        ``spec`` is not a RunSpec, or its netlist holds a line lcchain does not run.
+        ``spec`` is not a RunSpec, its netlist holds a line lcchain does not run, or the simulator is
+        another engine's.
     """
     instance("spec", spec, RunSpec)
     start = time.perf_counter()
-    simulator = simulator if simulator is not None else find_simulator(spec.backend)
+    simulator = simulator if simulator is not None else find_engine(spec.engine, spec.backend)
+    if simulator.engine != spec.engine:
+        raise ParameterError("simulator", simulator.engine, f"a simulator of the spec's engine, {spec.engine!r}")
     key = spec.key(simulator.version)
-    common = {"key": key, "ngspice_version": simulator.version, "label": spec.label}
+    common = {"key": key, "engine": spec.engine, "engine_version": simulator.version, "label": spec.label}
     try:
-        result = run(spec.netlist, spec.vectors, spec.tstop, simulator=simulator, timeout=spec.timeout,
+        result = run_engine(spec.netlist, spec.vectors, spec.tstop, simulator=simulator, timeout=spec.timeout,
                      progress=progress, cwd=spec.cwd, trusted=spec.trusted, foreign=spec.foreign,
                      max_output_bytes=spec.max_output_bytes)
     except SimulationError as error:
@@ -229,7 +245,7 @@ def execute(spec: RunSpec, simulator: Simulator | None = None, *,
     if spec.theory is not None:
         signals, metrics = _compare(spec.theory, result)
     total = time.perf_counter() - start
-    log.info("%s: ok, %d points, ngspice %.3f s, lcchain %.3f s", spec.label or key[:12], result.points,
+    log.info("%s: ok, %d points, %s %.3f s, lcchain %.3f s", spec.label or key[:12], result.points, spec.engine,
              result.wall_s, total - result.wall_s)
     return RunRecord(status="ok", result=result, signals=signals, metrics=metrics,
                      digest=waveform_digest(result.time, result.vectors), wall_s=result.wall_s,

@@ -13,7 +13,7 @@ made from the same realised chain and the same effects (they cannot disagree).
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -50,6 +50,7 @@ from ..core.types import (
     Probes,
     PulseShape,
 )
+from ..spice.engines import DEFAULT_ENGINE, engine_named
 from ..theory.arrivals import arrival_window
 from ..theory.chain import Chain
 from ..theory.modes import Modes
@@ -144,6 +145,11 @@ class Request:
     L0, C0 : float
         Bulk inductance (H) and capacitance (F).
     backend : {"batch", "shared"}
+        The transport (one the engine has).
+    engine : str
+        The circuit simulator, a name in :data:`lcchain.spice.engines.ENGINES` (``"ngspice"``, ``"gnucap"``).
+        An engine without aligned steps (gnucap) refuses ``extrapolate`` > 1 and makes one run for an
+        accuracy; what its dialect cannot run (gnucap: a pulse) is refused when the specs are made.
     title : str, optional
         The netlist's first line (default: the chain's name, N and the excitation).
     comments : tuple of str
@@ -162,6 +168,7 @@ class Request:
     title: str | None = None
     comments: tuple[str, ...] = ()
     timeout: float = DEFAULT_TIMEOUT
+    engine: str = DEFAULT_ENGINE
 
     def __post_init__(self) -> None:
         instance("chain", self.chain, Chain)
@@ -177,6 +184,11 @@ class Request:
         object.__setattr__(self, "L0", real("L0", self.L0, above=0.0, unit="henry"))
         object.__setattr__(self, "C0", real("C0", self.C0, above=0.0, unit="farad"))
         choice("backend", self.backend, BACKENDS)
+        engine = engine_named(self.engine)
+        choice("backend", self.backend, engine.transports, f" (the transports of engine {engine.name})")
+        if not engine.extrapolates and self.analysis.extrapolate is not None and self.analysis.extrapolate > 1:
+            raise ParameterError("extrapolate", self.analysis.extrapolate,
+                                 f"1 with engine {engine.name} (no extrapolation): {engine.no_extrapolation}")
         object.__setattr__(self, "comments", strings("comments", self.comments))
         object.__setattr__(self, "timeout", real("timeout", self.timeout, above=0.0, unit="seconds"))
 
@@ -294,7 +306,9 @@ def _choose_steps(request: Request, nominal: Chain, modes: Modes, tstop: float, 
                   ) -> tuple[tuple[float, ...], float | None, str, ExtrapolationPlan | None]:
     """Each sample's steps, the extrapolation's predicted error, why not extrapolated, and the accuracy's plan."""
     analysis, drive, Q = request.analysis, request.drive, request.Q
-    refused = refusal(method=analysis.method, pulse=drive.pulse)
+    engine = engine_named(request.engine)
+    refused = refusal(method=analysis.method, pulse=drive.pulse) or (
+        "" if engine.extrapolates else f"engine {engine.name}: {engine.no_extrapolation}")
     asked = analysis.extrapolate
     plan = None
     predicted = None
@@ -385,6 +399,7 @@ def plan_request(request: Request, budget: Budget | None = None, *, modes: Modes
     points = max_points(budget, saved=cost["saved"], compared=cost["compared"], unknowns=cost["unknowns"])
     steps, predicted, reason, accuracy_plan = _choose_steps(request, nominal, modes, tstop, points)
     one = run_estimate(points=tstop / steps[-1], **cost)
+    one = replace(one, seconds=one.seconds * engine_named(request.engine).relative_cost)  # the engine's own speed
     name, value = ("dt", analysis.dt) if analysis.dt is not None else ("accuracy", analysis.accuracy)
     one.check(budget, name, value, "a larger step, a coarser accuracy or fewer transits")
     per_sample = sum(steps[-1] / h for h in steps)  # the members' costs relative to the finest
@@ -415,6 +430,7 @@ def plan_request(request: Request, budget: Budget | None = None, *, modes: Modes
                             transit_time=T, aligned=aligned, modes=modes if chain is nominal else None)
             label = f"{chain.name} N={N} dt={h:.4g}" + (f" run {i + 1} of {len(steps)}" if aligned else "")
             specs.append(RunSpec(text, probes, tstop * ladder.time_unit, backend=request.backend,
-                                 timeout=request.timeout, theory=theory, foreign=False, label=label))
+                                 timeout=request.timeout, theory=theory, foreign=False, label=label,
+                                 engine=request.engine))
     return RequestPlan(request, nominal, tuple(chains), modes, T, tstop, tuple(steps), predicted, reason,
                        accuracy_plan, tuple(specs))

@@ -31,6 +31,7 @@ from ..core.checks import callback, choice, instance
 from ..core.errors import ParameterError, SimulationError
 from ..core.frozen import FrozenMap
 from ..core.types import DEFAULT_C0, DEFAULT_I0, DEFAULT_L0, EXCITATIONS, Backend, Excitation, Method
+from ..spice.engines import DEFAULT_ENGINE
 from ..spice.runner import RunResult
 from ..spice.simulator import Simulator
 from ..theory.chain import Chain
@@ -43,7 +44,7 @@ from .spec import DEFAULT_TIMEOUT, RunSpec
 #: simulate's keywords at their defaults: with a Request, any other value is refused (the request says it all).
 _DEFAULTS: dict[str, Any] = {"dt": None, "accuracy": None, "extrapolate": None, "transits": 1, "excitation": "kick",
                              "L0": DEFAULT_L0, "C0": DEFAULT_C0, "I0": DEFAULT_I0, "backend": "batch",
-                             "method": "trap", "title": None, "timeout": DEFAULT_TIMEOUT}
+                             "method": "trap", "title": None, "timeout": DEFAULT_TIMEOUT, "engine": DEFAULT_ENGINE}
 
 #: ngspice runs of one extrapolation executed at once (each is single-threaded; never more than the cores).
 MEMBER_THREADS = 2
@@ -168,6 +169,8 @@ class SimulationReport:
             "L0": self.ladder.L0,
             "C0": self.ladder.C0,
             "backend": run.backend,
+            "engine": run.engine,
+            "engine_version": run.engine_version,
             "ngspice_version": run.ngspice_version,
             "netlist_sha256": run.netlist_sha256,
             "options": dict(run.options),
@@ -222,7 +225,7 @@ def _execute_members(specs: list[RunSpec], steps: tuple[float, ...], simulator: 
         record = execute(specs[i], simulator, progress=watcher(i))
         if record.status != "ok":
             where = f" (the run at dt = {steps[i]:.4g}, {i + 1} of {runs})" if runs > 1 else ""
-            raise SimulationError(record.reason + where, record.log_tail, record.status)
+            raise SimulationError(record.reason + where, record.log_tail, record.status, record.engine)
         return record
 
     workers = min(runs, len(os.sched_getaffinity(0)), MEMBER_THREADS)
@@ -254,13 +257,15 @@ def simulation_request(
     method: Method = "trap",
     title: str | None = None,
     timeout: float = DEFAULT_TIMEOUT,
+    engine: str = DEFAULT_ENGINE,
 ) -> Request:
     """The :class:`~lcchain.runs.request.Request` of :func:`simulate`'s keywords (parameters as there)."""
     instance("chain", chain, Chain)
     choice("excitation", excitation, EXCITATIONS)
     return Request(chain, Transient(dt=dt, accuracy=accuracy, transits=transits, method=method,
                                     extrapolate=extrapolate),
-                   drive=Drive(excitation, I0), L0=L0, C0=C0, backend=backend, title=title, timeout=timeout)
+                   drive=Drive(excitation, I0), L0=L0, C0=C0, backend=backend, title=title, timeout=timeout,
+                   engine=engine)
 
 
 def simulation_spec(chain: Chain, *, dt: float | None = None, accuracy: float | None = None,
@@ -356,6 +361,7 @@ def simulate(
     budget: Budget | None = None,
     on_spec: Callable[[RunSpec], None] | None = None,
     extrapolate: int | None = None,
+    engine: str = DEFAULT_ENGINE,
 ) -> SimulationReport:
     """Simulate the chain's LC ladder in ngspice and compare with theory.
 
@@ -399,6 +405,11 @@ def simulate(
         With ``accuracy`` and None, lcchain picks the cheapest of 1, 2 and 3 runs predicted to meet it; with
         ``dt`` and None, one run.  Gear falls back to one run, with the reason in ``report.extrapolation``.
 
+    engine : str
+        The circuit simulator, a name in :data:`lcchain.spice.engines.ENGINES` (``"ngspice"`` or
+        ``"gnucap"``); an engine without aligned steps (gnucap) refuses ``extrapolate`` > 1 and makes one run
+        for an ``accuracy``.
+
     Raises
     ------
     BudgetError
@@ -417,7 +428,7 @@ def simulate(
     callback("on_spec", on_spec)
     physics = {"dt": dt, "accuracy": accuracy, "extrapolate": extrapolate, "transits": transits,
                "excitation": excitation, "L0": L0, "C0": C0, "I0": I0, "backend": backend, "method": method,
-               "title": title, "timeout": timeout}
+               "title": title, "timeout": timeout, "engine": engine}
     if isinstance(chain, Request):
         physics = {name: value for name, value in physics.items() if value != _DEFAULTS[name]}
     planned = simulation_runs(chain, modes=modes, budget=budget, **physics)

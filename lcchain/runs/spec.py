@@ -9,7 +9,8 @@ pool worker or on a Dask worker alike.
 
 A run's :meth:`RunSpec.key` is a hash of everything that determines its
 result: the netlist text, the saved vectors, the stop time, the backend, the
-theory's inputs, and the lcchain and ngspice versions.
+theory's inputs, the engine (only when it is not ngspice, so that the keys of
+stores made before engines stay the same) and the lcchain and engine versions.
 """
 
 from __future__ import annotations
@@ -37,6 +38,7 @@ from ..core.types import (
     Probes,
     PulseShape,
 )
+from ..spice.engines import DEFAULT_ENGINE, engine_named
 from ..theory.chain import Chain
 from ..theory.modes import Modes
 
@@ -171,6 +173,10 @@ class RunSpec:
         budget of a foreign netlist); not part of the key.
     label : str
         A name for progress lines and reports (not part of the key).
+    engine : str
+        The circuit simulator (:data:`lcchain.spice.engines.ENGINES`): ``"ngspice"`` (default) or
+        ``"gnucap"``, which runs only lcchain's own netlists (``foreign=False``); the netlist is checked
+        here against the engine's dialect, so what the engine cannot run is refused before any run.
     """
 
     netlist: str
@@ -184,6 +190,7 @@ class RunSpec:
     foreign: bool = True
     max_output_bytes: float | None = None
     label: str = field(default="", compare=False)
+    engine: str = DEFAULT_ENGINE
 
     def __post_init__(self) -> None:
         if not isinstance(self.netlist, str) or not self.netlist.strip():
@@ -202,13 +209,28 @@ class RunSpec:
                 raise ParameterError(name, getattr(self, name), "True or False")
         if self.max_output_bytes is not None:
             real("max_output_bytes", self.max_output_bytes, above=0.0, unit="bytes")
+        engine = engine_named(self.engine)
+        choice("backend", self.backend, engine.transports, f" (the transports of engine {engine.name})")
+        if not engine.runs_foreign and (self.foreign or self.trusted):
+            raise ParameterError("engine", self.engine, "ngspice for a netlist lcchain did not write (foreign or "
+                                 f"trusted): {self.engine} runs only lcchain's own netlists")
+        engine.dialect(self.netlist, self.vectors)  # what the engine cannot run is refused now, naming it
 
-    def key(self, ngspice_version: str) -> str:
-        """SHA-256 of everything that determines the run's record, for this ngspice version."""
+    def key(self, engine_version: str) -> str:
+        """SHA-256 of everything that determines the run's record, for this version of its engine.
+
+        The version is hashed under the name ``"ngspice"``, and the engine's name and the hash of the text
+        it runs (its dialect) only when it is not ngspice: the keys of ngspice runs are those of stores made
+        before there were engines.
+        """
         data = {
             "netlist": self.netlist, "vectors": list(self.vectors), "tstop": float(self.tstop).hex(),
             "backend": self.backend, "cwd": self.cwd, "trusted": self.trusted, "lcchain": __version__,
-            "ngspice": ngspice_version,
+            "ngspice": engine_version,
             "theory": None if self.theory is None else self.theory.fingerprint(),
         }
+        if self.engine != DEFAULT_ENGINE:  # and the text it runs: a change of its dialect is a new run
+            data["engine"] = self.engine
+            dialect = engine_named(self.engine).dialect(self.netlist, self.vectors)
+            data["dialect"] = hashlib.sha256(dialect.encode("utf-8")).hexdigest()
         return hashlib.sha256(json.dumps(data, sort_keys=True).encode("utf-8")).hexdigest()

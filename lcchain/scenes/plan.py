@@ -47,7 +47,7 @@ def scene_request(scene: Scene, chain: Chain | None = None) -> Request:
                              method=analysis.method, extrapolate=analysis.extrapolate, probes=scene.output.probes),
                    drive=Drive(excitation.kind, excitation.I0, pulse),
                    effects=scene.effects.present(), L0=units.L0, C0=units.C0, backend=analysis.backend,
-                   title=scene.title)
+                   title=scene.title, engine=analysis.engine)
 
 
 def base_chain(scene: Scene) -> Chain:
@@ -79,7 +79,8 @@ def losses_and_pulse(scene: Scene) -> tuple[float | None, tuple[PulseShape, floa
 
 #: Internal names of what a scene sets, and the scene keys the user wrote.
 _SCENE_KEYS = {"L0": "units.L0", "C0": "units.C0", "K0": "effects.walls.K0", "dt": "analysis.dt",
-               "accuracy": "analysis.accuracy", "N": "chain.N", "coupling": "effects.coupling.k"}
+               "accuracy": "analysis.accuracy", "N": "chain.N", "coupling": "effects.coupling.k",
+               "engine": "analysis.engine", "extrapolate": "analysis.extrapolate"}
 
 
 def scene_plan(scene: Scene, budget: Budget | None = None) -> ScenePlan:

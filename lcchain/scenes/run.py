@@ -29,7 +29,8 @@ from ..core.errors import ParameterError
 from ..runs.execute import RunRecord, execute, pulse_centre
 from ..runs.extrapolated import combined_record
 from ..runs.spec import RunSpec
-from ..spice.simulator import Simulator, find_simulator
+from ..spice.engines import find_engine
+from ..spice.simulator import Simulator
 from ..theory.arrivals import arrival_window, maximum_in_window
 from ..theory.chain import Chain
 from ..theory.response import linear_response
@@ -109,11 +110,12 @@ class SceneResult:
 
 def _sample_record(index: int, chain: Chain, dt: float, run: RunRecord) -> dict[str, Any]:
     if not run.ok:
-        error = run.reason + (f"\nngspice said:\n{run.log_tail}" if run.log_tail else "")
+        error = run.reason + (f"\n{run.engine} said:\n{run.log_tail}" if run.log_tail else "")
         return {"sample": index, "chain": chain.name, "status": run.status, "error": error}
     assert run.result is not None and run.metrics is not None
     return {
         "sample": index, "chain": chain.name, "status": run.status, "dt": dt, "points": run.result.points,
+        "engine": run.engine, "engine_version": run.engine_version,
         "ngspice_version": run.ngspice_version, "netlist_sha256": run.result.netlist_sha256, "digest": run.digest,
         "wall_s": run.wall_s, "theory_and_compare_s": run.total_s - run.wall_s,
         "max_abs_error": run.metrics.max_abs_error, "arrivals": [a.to_dict() for a in run.metrics.arrivals],
@@ -185,6 +187,8 @@ def scene_result(scene: Scene, plan: ScenePlan, specs: Sequence[RunSpec], record
         "steps": list(plan.steps),
         "tstop": plan.tstop,
         "transit_time": plan.transit_time,
+        "engine": scene.analysis.engine,
+        "engine_version": good[0].record["engine_version"] if good else None,
         "ngspice_version": good[0].record["ngspice_version"] if good else None,
         "samples": [s.record for s in samples],
         "wall_s": {"ngspice": float(sum(s.run.wall_s for s in samples)), "total": total_s},
@@ -212,7 +216,8 @@ def simulate_scene(scene: Scene, *, progress: Callable[[float], None] | None = N
         Called with the fraction of the scene's simulations done (0 to 1),
         across samples and within each ngspice run.
     simulator : Simulator, optional
-        Found once by the caller; found here for the scene's backend when omitted.
+        Found once by the caller (for the scene's engine); found here for the scene's engine and backend when
+        omitted.
     budget : Budget, optional
         The most memory and time the scene may take (checked before anything runs).
     """
@@ -223,7 +228,7 @@ def simulate_scene(scene: Scene, *, progress: Callable[[float], None] | None = N
     callback("progress", progress)
     plan = scene_plan(scene, budget)
     specs = scene_specs(scene, plan)
-    simulator = simulator if simulator is not None else find_simulator(scene.analysis.backend)
+    simulator = simulator if simulator is not None else find_engine(scene.analysis.engine, scene.analysis.backend)
     records = []
     for k, spec in enumerate(specs):
         report_to = None if progress is None else (lambda f, k=k: progress((k + f) / len(specs)))

@@ -55,6 +55,7 @@ from ..core.types import (
     Probes,
     PulseShape,
 )
+from ..spice.engines import DEFAULT_ENGINE, engine_named
 
 __all__ = [
     "ChainSpec",
@@ -253,6 +254,10 @@ class Analysis:
         given, the cheapest of 1, 2 and 3 predicted to meet it; with ``dt``
         and not given, 1.  Gear and rect pulses fall back to one run, with
         the reason in the report.
+    engine : str
+        The circuit simulator, a name in :data:`lcchain.spice.engines.ENGINES`
+        (``"ngspice"``, ``"gnucap"``); gnucap makes one run per sample (no
+        extrapolation) and runs no pulse.
     """
 
     transits: int = 1
@@ -261,6 +266,7 @@ class Analysis:
     backend: Backend = "batch"
     method: Method = "trap"
     extrapolate: int | None = None
+    engine: str = DEFAULT_ENGINE
 
     def __post_init__(self) -> None:
         transits = integer("analysis.transits", self.transits, at_least=1, at_most=MAX_TRANSITS)
@@ -282,6 +288,11 @@ class Analysis:
         if self.extrapolate is not None:
             object.__setattr__(self, "extrapolate", integer("analysis.extrapolate", self.extrapolate, at_least=1,
                                                             at_most=3))
+        engine = engine_named(self.engine, "analysis.engine")
+        choice("analysis.backend", self.backend, engine.transports, f" (the transports of engine {engine.name})")
+        if not engine.extrapolates and self.extrapolate is not None and self.extrapolate > 1:
+            raise ParameterError("analysis.extrapolate", self.extrapolate,
+                                 f"1 with engine {engine.name} (no extrapolation): {engine.no_extrapolation}")
 
 
 @dataclass(frozen=True)
@@ -385,7 +396,9 @@ class Scene:
             "units": table(self.units, UNITS_KEYS),
             "excitation": table(self.excitation, EXCITATION_KEYS),
             "effects": effects,
-            "analysis": table(self.analysis, ANALYSIS_KEYS),
+            # The default engine is left out: the scenes (and the studies' stores) made before engines had none.
+            "analysis": {key: value for key, value in table(self.analysis, ANALYSIS_KEYS).items()
+                         if (key, value) != ("engine", DEFAULT_ENGINE)},
             "output": table(self.output, OUTPUT_KEYS),
         }
 

@@ -1,7 +1,10 @@
-"""The only code that starts ngspice or imports PySpice.
+"""The only code that starts a circuit simulator or imports PySpice.
 
-It works on netlist text and vector names and knows nothing of chains: find
-the simulator once (:func:`~lcchain.spice.simulator.find_simulator`), run a
-netlist (:func:`~lcchain.spice.runner.run`), read its raw file, check a
-foreign netlist for unsafe lines, and say what is missing (``doctor``).
+It works on netlist text and vector names and knows nothing of chains: the
+engines (:data:`~lcchain.spice.engines.ENGINES`: ngspice, gnucap; each a
+:class:`~lcchain.spice.engine.Engine`) are found once
+(:func:`~lcchain.spice.engines.find_engine`) and run lcchain's netlists
+(:func:`~lcchain.spice.engines.run_engine`); ngspice's runner
+(:func:`~lcchain.spice.runner.run`) reads its raw file and checks a foreign
+netlist against the allow-list; ``doctor`` says what is missing.
 """

@@ -1,7 +1,9 @@
-"""``lcchain doctor``: does ngspice work here, and its optional parts (the sandbox, the shared library, PySpice)?"""
+"""``lcchain doctor``: does ngspice work here, its optional parts (the sandbox, the shared library, PySpice), and
+which engines (:data:`lcchain.spice.engines.ENGINES`) are installed?"""
 
 from __future__ import annotations
 
+import functools
 import math
 import subprocess
 import sys
@@ -10,6 +12,7 @@ from dataclasses import dataclass
 
 from ..core.errors import SimulationError
 from ..core.types import Backend
+from .engines import DEFAULT_ENGINE, ENGINES, find_engine, run_engine
 from .runner import run
 from .sandbox import find_sandbox
 from .simulator import (
@@ -73,8 +76,18 @@ def _doctor_run(simulator: Simulator) -> str:
     return f"{result.points} points in {result.wall_s:.3f} s, |i - cos t| = {error:.1e}"
 
 
+def _engine_run(name: str) -> str:
+    simulator = find_engine(name)
+    result = run_engine(_DOCTOR_NETLIST, ["i(l1)"], 1.0, simulator=simulator, timeout=60.0, foreign=False)
+    error = abs(float(result.vectors["i(l1)"][-1]) - math.cos(1.0))
+    if error > _DOCTOR_ATOL:
+        raise SimulationError(f"i(l1)(1 s) differs from cos(1) by {error:.3g}")
+    return (f"{simulator.executable} ({name} {simulator.version}; transports {', '.join(ENGINES[name].transports)})"
+            f", a run: |i - cos t| = {error:.1e}")
+
+
 def doctor() -> list[Check]:
-    """Check that ngspice, its shared library and PySpice work here.
+    """Check that ngspice, its shared library and PySpice work here, and which engines are installed.
 
     Never raises: every failure becomes a :class:`Check` with ``ok=False``
     that says what is missing and how to fix it.
@@ -83,7 +96,8 @@ def doctor() -> list[Check]:
     -------
     list[Check]
         ngspice executable, batch run, sandbox, shared library, PySpice,
-        shared run (the last four optional).
+        shared run (the last four optional), then one line per engine
+        (found, its version and a run; optional but for the default one).
     """
     checks: list[Check] = []
 
@@ -126,6 +140,9 @@ def doctor() -> list[Check]:
     else:
         checks.append(Check("shared run", False, "skipped: shared library or PySpice missing",
                             f"{INSTALL_COMMAND}; {PYSPICE_INSTALL_COMMAND}", required=False))
+    for name, engine in ENGINES.items():
+        attempt(f"engine {name}", f"install it: {engine.install}", functools.partial(_engine_run, name),
+                required=name == DEFAULT_ENGINE)
     return checks
 
 

@@ -70,7 +70,8 @@ from .sandbox import SCRATCH, scratch_env
 from .simulator import Simulator, find_simulator
 from .text import canonical_vector_name, parse_options
 
-__all__ = ["RunResult", "run", "read_include", "TSTOP_RTOL", "LOG_MAX_CHARS", "PROGRESS_INTERVAL"]
+__all__ = ["RunResult", "run", "read_include", "check_arguments", "validate_columns", "exited", "TSTOP_RTOL",
+           "LOG_MAX_CHARS", "PROGRESS_INTERVAL"]
 
 #: What a watched run (a foreign netlist) may print on stdout and stderr before it is stopped.
 MAX_LOG_BYTES = 16 * 2**20
@@ -86,7 +87,7 @@ _REFERENCE_VALUE = re.compile(rb"Reference value\s*:\s*([-+0-9.eE]+)[ \t]*[\r\n]
 
 @dataclass(frozen=True, eq=False)
 class RunResult(FrozenArrays):
-    """Waveforms and metadata of one ngspice transient run.
+    """Waveforms and metadata of one transient run (in ngspice or another engine).
 
     Attributes
     ----------
@@ -95,8 +96,8 @@ class RunResult(FrozenArrays):
     vectors : Mapping[str, numpy.ndarray]
         Requested vectors (read-only arrays, amperes or volts) keyed by their
         normalised name (:func:`lcchain.spice.text.canonical_vector_name`).
-    ngspice_version : str
-        ngspice version, e.g. ``"39"``.
+    engine_version : str
+        The engine's version, e.g. ``"39"`` for ngspice.
     netlist_sha256 : str
         SHA-256 (hex) of the netlist text encoded as UTF-8.
     options : Mapping[str, str]
@@ -110,19 +111,27 @@ class RunResult(FrozenArrays):
     points : int
         Number of time points.
     log : str
-        ngspice's output without blank lines and resource chatter, trimmed to
+        The simulator's output without blank lines and resource chatter, trimmed to
         :data:`LOG_MAX_CHARS` characters.
+    engine : str
+        The engine's name (:data:`lcchain.spice.engines.ENGINES`), ``"ngspice"`` by default.
     """
 
     time: np.ndarray
     vectors: Mapping[str, np.ndarray]
-    ngspice_version: str
+    engine_version: str
     netlist_sha256: str
     options: Mapping[str, str]
     wall_s: float
     backend: str
     points: int
     log: str = field(repr=False)
+    engine: str = "ngspice"
+
+    @property
+    def ngspice_version(self) -> str:
+        """ngspice's version when ngspice ran it, else "" (records made before engines had only this field)."""
+        return self.engine_version if self.engine == "ngspice" else ""
 
     def metadata(self) -> dict[str, object]:
         """Everything but the arrays, as a JSON-serialisable dict.
@@ -130,11 +139,14 @@ class RunResult(FrozenArrays):
         Returns
         -------
         dict
-            Keys ``ngspice_version``, ``netlist_sha256``, ``options``,
+            Keys ``engine``, ``engine_version``, ``ngspice_version`` (as the
+            property), ``netlist_sha256``, ``options``,
             ``wall_s``, ``backend``, ``points``, ``vectors`` (the names),
             ``t_end`` (last time point, s) and ``log``.
         """
         return {
+            "engine": self.engine,
+            "engine_version": self.engine_version,
             "ngspice_version": self.ngspice_version,
             "netlist_sha256": self.netlist_sha256,
             "options": dict(self.options),
@@ -150,8 +162,9 @@ class RunResult(FrozenArrays):
 # --------------------------------------------------------------------------- arguments
 
 
-def _check_arguments(netlist: object, vectors: object, tstop: object, timeout: object,
-                     max_output_bytes: object) -> tuple[str, list[str], float, float, float | None]:
+def check_arguments(netlist: object, vectors: object, tstop: object, timeout: object,
+                    max_output_bytes: object) -> tuple[str, list[str], float, float, float | None]:
+    """A run's arguments, checked: the text, the canonical vector names (no ``time``), tstop, timeout, limit."""
     if not isinstance(netlist, str) or not netlist.strip():
         raise ParameterError("netlist", netlist, "non-empty netlist text")
     tstop = real("tstop", tstop, above=0.0, unit="seconds")
@@ -250,11 +263,14 @@ def run(
         ngspice failed, timed out (``status == "timeout"``), outgrew
         ``max_output_bytes``, or its output failed validation.
     """
-    netlist, names, tstop, timeout, limit = _check_arguments(netlist, vectors, tstop, timeout, max_output_bytes)
+    netlist, names, tstop, timeout, limit = check_arguments(netlist, vectors, tstop, timeout, max_output_bytes)
     text = netlist if trusted else allowed_netlist(netlist, "netlist", Path(cwd) if cwd is not None else None,
                                                    read_include)
     if simulator is None:
         simulator = find_simulator(choice("backend", backend or "batch", BACKENDS))
+    elif simulator.engine != "ngspice":
+        raise ParameterError("simulator", simulator.engine, "an ngspice simulator (other engines run through "
+                             "lcchain.spice.engines.run_engine)")
     elif backend is not None and backend != simulator.backend:
         raise ParameterError("backend", backend, f"the simulator's own backend, {simulator.backend!r}")
     if progress is not None:
@@ -270,7 +286,7 @@ def run(
     return RunResult(
         time=time_s,
         vectors=FrozenMap(found),
-        ngspice_version=simulator.version,
+        engine_version=simulator.version,
         netlist_sha256=hashlib.sha256(netlist.encode("utf-8")).hexdigest(),
         options=FrozenMap(parse_options(netlist)),
         wall_s=wall,
@@ -316,7 +332,7 @@ def _simulated_time(err: IO[bytes]) -> float | None:
     return float(found[-1]) if found else None
 
 
-def _exited(proc: subprocess.Popen[bytes], pidfd: int | None, seconds: float) -> int | None:
+def exited(proc: subprocess.Popen[bytes], pidfd: int | None, seconds: float) -> int | None:
     """ngspice's exit status as soon as it exits within ``seconds``, else None.
 
     A pidfd (Linux) wakes this the moment the child exits; Popen.wait with a timeout would sleep-poll it
@@ -347,7 +363,7 @@ def _wait(proc: subprocess.Popen[bytes], timeout: float, tstop: float, out: IO[b
             left = deadline - time.monotonic()
             if left <= 0:
                 return None
-            status = _exited(proc, pidfd, min(PROGRESS_INTERVAL, left) if watching else left)
+            status = exited(proc, pidfd, min(PROGRESS_INTERVAL, left) if watching else left)
             if status is not None:
                 return status
             if limit is not None and os.fstat(raw.fileno()).st_size > limit:
@@ -428,24 +444,37 @@ def _run_shared(netlist: str, simulator: Simulator, timeout: float,
 
 def _validate(columns: dict[str, np.ndarray], log: str, names: list[str],
               tstop: float) -> tuple[np.ndarray, dict[str, np.ndarray]]:
-    def fail(reason: str) -> SimulationError:
-        return SimulationError(reason, useful_output(log))
-
     if fatal_lines(log):
-        raise fail(failure_reason(log, ""))
+        raise SimulationError(failure_reason(log, ""), useful_output(log))
+    return validate_columns(columns, log, names, tstop)
+
+
+def validate_columns(columns: dict[str, np.ndarray], log: str, names: list[str], tstop: float,
+                     engine: str = "ngspice") -> tuple[np.ndarray, dict[str, np.ndarray]]:
+    """The time vector and the requested vectors of a run, checked: points, last time = tstop (within
+    :data:`TSTOP_RTOL`), every name present, equal lengths, all finite; read-only float64 arrays.
+
+    Raises
+    ------
+    SimulationError
+        Naming what failed, with the useful end of the engine's output ``log``.
+    """
+    def fail(reason: str) -> SimulationError:
+        return SimulationError(reason, useful_output(log), "failed", engine)
+
     if "time" not in columns:
-        raise fail("ngspice returned no time vector (is there a .tran analysis?)")
+        raise fail(f"{engine} returned no time vector (is there a .tran analysis?)")
     time_s = columns["time"]
     if time_s.size == 0:
-        raise fail("ngspice returned zero time points")
+        raise fail(f"{engine} returned zero time points")
     if not math.isclose(float(time_s[-1]), tstop, rel_tol=TSTOP_RTOL, abs_tol=0.0):
         raise fail(f"the last time point is {float(time_s[-1])!r} s, not tstop = {tstop!r} s")
-    if not names:  # nothing named: every vector ngspice saved
+    if not names:  # nothing named: every vector the engine saved
         names = sorted(key for key in columns if key != "time")
     missing = [name for name in names if name not in columns]
     if missing:
         available = ", ".join(sorted(k for k in columns if k != "time")) or "none"
-        raise fail(f"requested vector(s) {', '.join(missing)} not in ngspice's output (saved: {available}); "
+        raise fail(f"requested vector(s) {', '.join(missing)} not in {engine}'s output (saved: {available}); "
                    "add them to the netlist's .save line")
     found: dict[str, np.ndarray] = {}
     for name in ["time", *names]:

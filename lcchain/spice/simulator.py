@@ -18,7 +18,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from ..core.checks import choice
-from ..core.errors import SimulatorMissingError
+from ..core.errors import ParameterError, SimulatorMissingError
 from ..core.types import BACKENDS, Backend
 from .log import useful_output
 from .processes import call_shared_worker, decode_worker_payload
@@ -34,6 +34,7 @@ __all__ = [
     "PYSPICE_INSTALL_COMMAND",
     "shared_library_version",
     "require_pyspice",
+    "child_launcher",
 ]
 
 #: How to install ngspice and its shared library on Debian/Ubuntu.
@@ -46,22 +47,25 @@ _VERSION = re.compile(r"ngspice-(\d+(?:\.\d+)*)", re.IGNORECASE)
 
 @dataclass(frozen=True)
 class Simulator:
-    """An ngspice that works on this machine.
+    """A circuit simulator that works on this machine: an engine (ngspice by default) and its transport.
 
     Attributes
     ----------
     backend : {"batch", "shared"}
-        ``ngspice -b`` subprocesses, or the shared library in a child process.
+        The transport: a child process per run (``ngspice -b``, ``gnucap -b``), or ngspice's shared library in
+        a child process.
     executable : str
-        Path of ``ngspice`` (batch) or of ``libngspice.so.0`` (shared).
+        Path of the program (``ngspice``, ``gnucap``) or of ``libngspice.so.0`` (shared).
     version : str
-        ngspice's version, e.g. ``"39"``.
+        The engine's version, e.g. ``"39"`` for ngspice.
     launcher : tuple of str
         Prefix of every child's command line: ``setpriv --pdeathsig KILL --``
         where util-linux has it (Linux), so that a child dies with lcchain
         even when lcchain is killed with SIGKILL; empty elsewhere.
     sandbox : Sandbox
         Where netlists lcchain did not write run (:mod:`lcchain.spice.sandbox`).
+    engine : str
+        The engine's name in :data:`lcchain.spice.engines.ENGINES`.
     """
 
     backend: Backend
@@ -69,9 +73,12 @@ class Simulator:
     version: str
     launcher: tuple[str, ...] = ()
     sandbox: Sandbox = Sandbox(why_not="not looked for")
+    engine: str = "ngspice"
 
     def __post_init__(self) -> None:
         choice("backend", self.backend, BACKENDS)
+        if not isinstance(self.engine, str) or not self.engine:
+            raise ParameterError("engine", self.engine, "an engine's name, such as 'ngspice'")
 
 
 def find_ngspice() -> str:
@@ -147,7 +154,8 @@ def find_shared_library() -> str:
     )
 
 
-def _launcher() -> tuple[str, ...]:
+def child_launcher() -> tuple[str, ...]:
+    """The prefix of every child's command line: ``setpriv --pdeathsig KILL --`` on Linux (it dies with lcchain)."""
     setpriv = shutil.which("setpriv") if sys.platform.startswith("linux") else None
     return (setpriv, "--pdeathsig", "KILL", "--") if setpriv else ()
 
@@ -174,7 +182,7 @@ def find_simulator(backend: Backend = "batch") -> Simulator:
         says how to install it.
     """
     choice("backend", backend, BACKENDS)
-    launcher = _launcher()
+    launcher = child_launcher()
     if backend == "batch":
         exe = find_ngspice()
         return Simulator("batch", exe, ngspice_version(exe), launcher, find_sandbox())

@@ -52,7 +52,8 @@ from ..core.errors import LcchainError, ParameterError, SimulatorMissingError
 from ..core.types import EXECUTORS, ExecutorName
 from ..runs.execute import RunRecord, execute
 from ..runs.spec import RunSpec
-from ..spice.simulator import Simulator, find_simulator
+from ..spice.engines import find_engine
+from ..spice.simulator import Simulator
 
 __all__ = ["ExecutorName", "EXECUTORS", "MIN_TASK_SECONDS", "SCHEDULER_SCHEMES", "run_groups", "open_executor",
            "check_executor", "group_tasks", "default_workers", "execute_group"]
@@ -137,15 +138,16 @@ def group_tasks(items: Sequence[tuple[int, RunSpec, float]], executor: str, work
 def execute_group(group: Group, simulator: Simulator, keep_signals: bool = False) -> list[tuple[int, RunRecord]]:
     """Run one group where it lands (a pool worker, a Dask worker): the unit of work, run by run.
 
-    A worker whose ngspice is elsewhere finds its own; one whose ngspice has
+    A worker whose engine is elsewhere finds its own; one whose engine has
     another version fails its runs (their keys would not be the study's).
     """
     if not os.path.exists(simulator.executable):
-        found = find_simulator(simulator.backend)
+        found = find_engine(simulator.engine, simulator.backend)
         if found.version != simulator.version:
-            reason = f"this worker's ngspice is {found.version}, the study's is {simulator.version}"
+            reason = f"this worker's {simulator.engine} is {found.version}, the study's is {simulator.version}"
             return [(index, RunRecord(key=spec.key(simulator.version), status="failed", reason=reason,
-                                      ngspice_version=found.version, label=spec.label)) for index, spec in group]
+                                      engine=simulator.engine, engine_version=found.version, label=spec.label))
+                    for index, spec in group]
         simulator = found
     out = []
     for index, spec in group:

@@ -46,6 +46,7 @@ from ..runs.simulate import simulation_runs
 from ..runs.spec import DEFAULT_TIMEOUT, RunSpec, Theory
 from ..scenes.load import load_scene, parse_scene
 from ..scenes.plan import scene_plan, scene_specs
+from ..spice.engines import DEFAULT_ENGINE, ENGINES
 from ..spice.foreign import allowed_netlist, foreign_estimate, raw_bytes_limit, transient_of
 from ..spice.runner import read_include
 from ..spice.text import saved_vectors
@@ -125,6 +126,8 @@ class Plan:
         The parameters that vary.
     combinations : tuple of Combination
         Extrapolations made from some of the tasks (their indices follow their members').
+    engine : str
+        The engine every run uses (:data:`lcchain.spice.engines.ENGINES`): one per study, found once.
     """
 
     kind: str
@@ -133,6 +136,13 @@ class Plan:
     backend: Backend = "batch"
     axes: tuple[str, ...] = field(default=())
     combinations: tuple[Combination, ...] = field(default=())
+    engine: str = DEFAULT_ENGINE
+
+    def __post_init__(self) -> None:
+        others = sorted({task.spec.engine for task in self.tasks} - {self.engine})
+        if others:
+            raise ParameterError("engine", others[0], f"one engine per study, {self.engine!r} (a study finds its "
+                                 "engine once; run the other engine in a study of its own)")
 
     def keys(self, ngspice_version: str) -> dict[int, str]:
         """Every row's key by index: each task's run, and each combination's (its members' keys hashed)."""
@@ -175,7 +185,7 @@ def _seconds(spec: RunSpec) -> float:
     if theory is None or theory.dt is None:
         return 0.1
     points = spec.tstop / theory.time_unit / theory.dt
-    return ngspice_seconds(points, 2 * theory.chain.N) + RUN_START_SECONDS
+    return ngspice_seconds(points, 2 * theory.chain.N) * ENGINES[spec.engine].relative_cost + RUN_START_SECONDS
 
 
 def _add_runs(tasks: list[Task], combinations: list[Combination], params: Mapping[str, Any],
@@ -200,7 +210,8 @@ def sweep_plan(*, cases: Sequence[str], Ns: Sequence[int], dts: Sequence[float] 
                transits: Sequence[int] = (1,), excitations: Sequence[Excitation] = ("kick",), L0: float = DEFAULT_L0,
                C0: float = DEFAULT_C0, backend: Backend = "batch", timeout: float = DEFAULT_TIMEOUT,
                budget: Budget | None = None, extrapolate: int | None = None,
-               progress: Callable[[int, int, str], None] | None = None, workers: int = 1) -> Plan:
+               progress: Callable[[int, int, str], None] | None = None, workers: int = 1,
+               engine: str = DEFAULT_ENGINE) -> Plan:
     """The product of the axes: one task per (case, N, dt or accuracy, transits, excitation).
 
     The study is priced from its axes first (:func:`_price_axes`), before any chain is designed; then every
@@ -225,7 +236,8 @@ def sweep_plan(*, cases: Sequence[str], Ns: Sequence[int], dts: Sequence[float] 
         chain, modes = chains[(case, N)]
         runs = simulation_runs(chain, transits=transit, excitation=excitation, L0=L0, C0=C0, backend=backend,
                                timeout=timeout, modes=modes, budget=budget, extrapolate=extrapolate,
-                               dt=value if step == "dt" else None, accuracy=value if step == "accuracy" else None)
+                               dt=value if step == "dt" else None, accuracy=value if step == "accuracy" else None,
+                               engine=engine)
         params = {"case": case, "N": N, step: value, "transits": transit, "excitation": excitation}
         if step == "accuracy":
             params["dt"] = runs.options.dt
@@ -235,9 +247,11 @@ def sweep_plan(*, cases: Sequence[str], Ns: Sequence[int], dts: Sequence[float] 
                    "L0": L0, "C0": C0, "backend": backend}
     if extrapolate is not None:
         description["extrapolate"] = extrapolate
+    if engine != DEFAULT_ENGINE:  # an ngspice study's description is what stores made before engines hold
+        description["engine"] = engine
     axes = tuple(name for name, values in (("case", cases), ("N", Ns), ("dt", dts), ("accuracy", accuracies),
                                            ("transits", transits), ("excitation", excitations)) if len(values) > 1)
-    return Plan("sweep", FrozenMap(description), tuple(tasks), backend, axes, tuple(combinations))
+    return Plan("sweep", FrozenMap(description), tuple(tasks), backend, axes, tuple(combinations), engine)
 
 
 def _check_study(budget: Budget | None, what: str, planning: float, work: float, workers: int, advice: str) -> None:
@@ -355,8 +369,12 @@ def scene_sweep_plan(path: str | Path, varies: Sequence[tuple[str, list[Any]]], 
     description = {"command": "sweep", "scene": str(path), "scene_data": base, "vary": dict(varies),
                    "samples": samples, "seed": seed}
     axes = tuple(keys) + (("sample",) if any("sample" in t.params for t in tasks) else ())
+    engines = sorted({task.spec.engine for task in tasks}) or [scene.analysis.engine]
+    if len(engines) > 1:
+        raise ParameterError("--vary", f"analysis.engine={','.join(engines)}", "one engine per study (a study finds "
+                             "its engine once): run each engine in a study of its own")
     return Plan("scene", FrozenMap(json.loads(json.dumps(description, default=str))), tuple(tasks),
-                scene.analysis.backend, axes, tuple(combinations))
+                scene.analysis.backend, axes, tuple(combinations), engines[0])
 
 
 def request_plan(points: Sequence[tuple[Mapping[str, Any], Request]], *, budget: Budget | None = None) -> Plan:
@@ -370,11 +388,12 @@ def request_plan(points: Sequence[tuple[Mapping[str, Any], Request]], *, budget:
         raise ParameterError("points", [], "at least one (params, Request) pair")
     tasks: list[Task] = []
     combinations: list[Combination] = []
-    backends = set()
+    backends, engines = set(), set()
     names: dict[str, set[str]] = {}
     for params, request in points:
         instance("request", request, Request)
         backends.add(request.backend)
+        engines.add(request.engine)
         for name, value in params.items():
             names.setdefault(name, set()).add(json.dumps(value, sort_keys=True, default=str))
         plan = plan_request(request, budget)
@@ -384,10 +403,13 @@ def request_plan(points: Sequence[tuple[Mapping[str, Any], Request]], *, budget:
                       plan.predicted_error)
     if len(backends) > 1:
         raise ParameterError("backend", sorted(backends), "one backend for every request of a study")
+    if len(engines) > 1:
+        raise ParameterError("engine", sorted(engines), "one engine per study (a study finds its engine once)")
     axes = tuple(name for name, values in names.items() if len(values) > 1) + (
         ("sample",) if any("sample" in t.params for t in tasks) else ())
     description = {"command": "requests", "points": [json.loads(json.dumps(dict(p), default=str)) for p, _ in points]}
-    return Plan("sweep", FrozenMap(description), tuple(tasks), backends.pop(), axes, tuple(combinations))
+    return Plan("sweep", FrozenMap(description), tuple(tasks), backends.pop(), axes, tuple(combinations),
+                engines.pop())
 
 
 def batch_plan(paths: Sequence[str | Path], *, allow_control: bool = False, backend: Backend = "batch",

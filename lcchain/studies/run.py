@@ -28,10 +28,11 @@ from ..core.errors import LcchainError, ParameterError
 from ..runs.execute import RunRecord, loop_sims
 from ..runs.extrapolated import combined_record
 from ..runs.spec import RunSpec
-from ..spice.simulator import Simulator, find_simulator
+from ..spice.engines import find_engine
+from ..spice.simulator import Simulator
 from .executors import check_executor, default_workers, group_tasks, open_executor, run_groups
 from .plan import Combination, Plan
-from .store import Store
+from .store import Store, engine_text
 
 __all__ = ["Summary", "Progress", "run_plan", "run_specs"]
 
@@ -132,17 +133,17 @@ def run_plan(plan: Plan, store: str | Path, *, executor: str = "process", worker
     """
     start = time.perf_counter()
     check_executor(executor, workers, scheduler)
-    simulator = simulator if simulator is not None else find_simulator(plan.backend)
+    simulator = simulator if simulator is not None else find_engine(plan.engine, plan.backend)
     keys = plan.keys(simulator.version)
     fingerprint, description = plan.fingerprint(simulator.version), dict(plan.description)
     rows = plan.rows(simulator.version)
     workers = workers or default_workers()
     with Store(store, wait=wait, on_wait=on_wait) as results:
-        results.check_plan(fingerprint, description, len(rows), simulator.version)
+        results.check_plan(fingerprint, description, len(rows), engine_text(simulator.engine, simulator.version))
         results.runs()  # every stored row read, and checked, before anything starts
         with open_executor(simulator, executor=executor, workers=workers, scheduler=scheduler,
                            verbose=verbose) as run:
-            results.adopt(fingerprint, description, rows, simulator.version)
+            results.adopt(fingerprint, description, rows, engine_text(simulator.engine, simulator.version))
             finished = results.finished() - (results.failed() if retry_failed else set())
             todo: dict[str, tuple[int, RunSpec, float]] = {}  # one run per key: two points may share a member
             for task in plan.tasks:
@@ -210,7 +211,8 @@ class _Combiner:
             why = str(error) if isinstance(error, LcchainError) else f"{type(error).__name__}: {error}"
             record = RunRecord(key=self.keys[combination.index], status="failed", reason="its runs could not be "
                                f"combined: {why}", wall_s=sum(m.wall_s for m in members),
-                               total_s=sum(m.total_s for m in members), ngspice_version=members[0].ngspice_version)
+                               total_s=sum(m.total_s for m in members), engine=members[0].engine,
+                               engine_version=members[0].engine_version)
         return replace(record, label=combination.label), points
 
     def _sims(self, combination: Combination, key: str) -> tuple[np.ndarray, np.ndarray]:
@@ -228,7 +230,7 @@ def run_specs(specs: Sequence[RunSpec], *, executor: str = "process", workers: i
     start = time.perf_counter()
     if not specs:
         return []
-    simulator = simulator if simulator is not None else find_simulator(specs[0].backend)
+    simulator = simulator if simulator is not None else find_engine(specs[0].engine, specs[0].backend)
     workers = workers or default_workers()
     items = [(i, spec, 1.0) for i, spec in enumerate(specs)]
     records: dict[int, RunRecord] = {}

@@ -27,8 +27,13 @@
   stays.
 
 * A run is stored under its key (:meth:`lcchain.runs.spec.RunSpec.key`: the
-  netlist text, saved vectors, stop time, backend, theory, lcchain and ngspice
-  versions); a study that finds its key stored skips the run.
+  netlist text, saved vectors, stop time, backend, theory, engine, lcchain and
+  engine versions); a study that finds its key stored skips the run.
+* The engine that ran it is in the ``ngspice_version`` column (and the meta
+  row of that name), whose name is kept so that every store made before
+  there were engines reads as it did: ngspice's version alone (``"39"``), any
+  other engine's name and version (``"gnucap 2017.10.03"``;
+  :func:`engine_text`, :func:`engine_of`).
 * The store remembers the plan it was made for (the ordered task keys): a
   different plan, or the same one under another ngspice, is refused rather
   than mixed in silently.
@@ -66,9 +71,10 @@ import numpy as np
 from ..core import __version__
 from ..core.errors import LcchainError, ParameterError
 from ..runs.execute import RunRecord, waveform_digest
+from ..spice.engines import DEFAULT_ENGINE
 from ..spice.inputs import file_kind
 
-__all__ = ["Store", "StoredRun", "StoreMode", "FORMAT"]
+__all__ = ["Store", "StoredRun", "StoreMode", "FORMAT", "engine_text", "engine_of"]
 
 #: Version of the store's tables.
 FORMAT = "1"
@@ -97,6 +103,18 @@ _STATUSES = ("ok", "failed", "timeout")
 _STALE_SECONDS = 60.0
 #: What a store's owner can do about a row or a page that is not as lcchain wrote it.
 _RESTORE = "restore it from a copy, or run the study into a new store"
+
+
+def engine_text(engine: str, version: str) -> str:
+    """What the ``ngspice_version`` column (and meta row) holds: ngspice's version alone, as in every store made
+    before there were engines (``"39"``); another engine's name and version (``"gnucap 2017.10.03"``)."""
+    return version if engine == DEFAULT_ENGINE else f"{engine} {version}"
+
+
+def engine_of(text: str) -> tuple[str, str]:
+    """(engine, version) from :func:`engine_text`'s text (ngspice versions hold no space)."""
+    engine, _, version = text.partition(" ")
+    return (engine, version) if version else (DEFAULT_ENGINE, text)
 
 
 def _uri(path: Path, immutable: bool) -> str:
@@ -136,8 +154,14 @@ class StoredRun:
     total_s: float | None = None
     points: int | None = None
     metrics: dict[str, Any] | None = None
-    ngspice_version: str = ""
+    engine_version: str = ""
     lcchain_version: str = ""
+    engine: str = DEFAULT_ENGINE
+
+    @property
+    def ngspice_version(self) -> str:
+        """ngspice's version when ngspice ran it, else ""."""
+        return self.engine_version if self.engine == DEFAULT_ENGINE else ""
 
     @property
     def kind(self) -> str:
@@ -155,7 +179,7 @@ class StoredRun:
             raise ParameterError("run", self.index, "a run that finished (this one is pending)")
         return RunRecord(key=self.key, status=self.status, reason=self.reason,  # type: ignore[arg-type]
                          log_tail=self.log_tail, digest=self.digest, wall_s=self.wall_s or 0.0,
-                         total_s=self.total_s or 0.0, ngspice_version=self.ngspice_version,
+                         total_s=self.total_s or 0.0, engine=self.engine, engine_version=self.engine_version,
                          lcchain_version=self.lcchain_version, label=self.label)
 
     def to_dict(self) -> dict[str, Any]:
@@ -168,7 +192,7 @@ class StoredRun:
             data["predicted_error"] = self.metrics.get("predicted_error")
             data["arrivals"] = self.metrics.get("arrivals")
         if self.status in ("failed", "timeout"):
-            data["error"] = self.reason + (f"\nngspice said:\n{self.log_tail}" if self.log_tail else "")
+            data["error"] = self.reason + (f"\n{self.engine} said:\n{self.log_tail}" if self.log_tail else "")
         return data
 
 
@@ -584,7 +608,8 @@ class Store:
                 self._db.execute(
                     "INSERT OR REPLACE INTO records VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)",
                     (record.key, record.status, record.reason, record.log_tail, record.digest, record.wall_s,
-                     record.total_s, record.ngspice_version, record.lcchain_version, points,
+                     record.total_s, engine_text(record.engine, record.engine_version), record.lcchain_version,
+                     points,
                      json.dumps(metrics) if metrics is not None else None, _arrays(record), time.time()))
                 self._db.execute("COMMIT")
             except BaseException:
@@ -608,8 +633,9 @@ class Store:
             raise self._tampered(f"run {index} holds params or metrics that are not JSON objects")
         if status is not None and status not in _STATUSES:
             raise self._tampered(f"run {index} has the status {str(status)[:20]!r}")
+        engine, version = engine_of(ngv or "")
         return StoredRun(index, key, params, label or "", status or "pending", reason or "",
-                         log_tail or "", digest or "", wall_s, total_s, points, metrics, ngv or "", lcv or "")
+                         log_tail or "", digest or "", wall_s, total_s, points, metrics, version, lcv or "", engine)
 
     def runs(self) -> list[StoredRun]:
         """Every task in plan order, with its record where it ran."""

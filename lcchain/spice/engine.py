@@ -1,0 +1,100 @@
+"""What a circuit simulator must do for lcchain: the :class:`Engine` protocol.
+
+An engine is one simulator program (ngspice, gnucap).  It is separate from
+the *transport* that carries a run to it (:data:`lcchain.core.types.Backend`:
+a child process, or ngspice's shared library in a child): an engine says
+which transports it has.
+
+To add an engine, write one module in :mod:`lcchain.spice` with a subclass of
+:class:`Engine` that implements the four members below, and add one line to
+:data:`lcchain.spice.engines.ENGINES`:
+
+``name``
+    The registry key (``--engine NAME``, ``[analysis] engine``).
+``find(backend)``
+    Locate the program for a transport and ask its version once; return a
+    frozen :class:`~lcchain.spice.simulator.Simulator` whose ``engine`` is
+    ``name``, or raise :class:`~lcchain.core.errors.SimulatorMissingError`
+    (exit status 3) saying how to install it.
+``dialect(netlist, vectors)``
+    lcchain's own netlist (ngspice's dialect, as
+    :func:`lcchain.circuit.netlist.netlist_text` writes it: L, C, R, B, V, K
+    lines, ``IC=``, ``.options``, ``.tran step stop 0 maxstep uic``,
+    ``.save``, ``.end``) as the text the engine runs; a line it cannot
+    translate exactly raises :class:`~lcchain.core.errors.ParameterError`
+    naming ``engine`` and what it cannot do.  It works on text: ``spice``
+    knows nothing of chains.
+``run(netlist, vectors, tstop, simulator=..., ...)``
+    Run a transient and return a validated
+    :class:`~lcchain.spice.runner.RunResult` (time and the named real
+    vectors, finite, ending at ``tstop``), or raise
+    :class:`~lcchain.core.errors.SimulationError`; the child runs in a
+    process group of its own, is killed on a timeout or an interrupt, and
+    leaves nothing behind.
+"""
+
+from __future__ import annotations
+
+from abc import ABC, abstractmethod
+from collections.abc import Callable, Sequence
+from typing import ClassVar
+
+from ..core.types import Backend
+from .runner import RunResult
+from .simulator import Simulator
+
+__all__ = ["Engine"]
+
+
+class Engine(ABC):
+    """A circuit simulator lcchain can run its ladders in (see the module's docstring for the recipe).
+
+    Attributes
+    ----------
+    name : str
+        Registry key.
+    transports : tuple of str
+        The backends it runs on (:data:`lcchain.core.types.BACKENDS`), the default first.
+    install : str
+        How to install it on Debian (quoted when it is missing).
+    runs_foreign : bool
+        Whether it runs netlists lcchain did not write (the allow-list and the sandbox are ngspice's).
+    extrapolates : bool
+        Whether its runs can be members of a Richardson extrapolation: aligned steps whose grid
+        :func:`lcchain.compare.extrapolate.aligned_grid` predicts (ngspice's, measured).
+    no_extrapolation : str
+        Why not, when it cannot (quoted in the refusal of ``--extrapolate``).
+    steps_modelled : bool
+        Whether :func:`lcchain.compare.accuracy.split_error` models its steps (ngspice's start-up ramp,
+        measured), so that a run's error splits into integration and physics; otherwise the run reports its
+        error and its prediction, and no split.
+    relative_cost : float
+        Its wall time per run over ngspice's for the same ladder and step: the budget's model of a run
+        (:func:`lcchain.core.budget.run_estimate`, ngspice's, measured) is scaled by it.
+    """
+
+    name: ClassVar[str]
+    transports: ClassVar[tuple[Backend, ...]]
+    install: ClassVar[str]
+    runs_foreign: ClassVar[bool] = False
+    extrapolates: ClassVar[bool] = False
+    no_extrapolation: ClassVar[str] = "lcchain's model of aligned steps is ngspice's"
+    steps_modelled: ClassVar[bool] = False
+    relative_cost: ClassVar[float] = 1.0
+
+    @abstractmethod
+    def find(self, backend: Backend = "batch") -> Simulator:
+        """Locate the engine for a transport and ask its version once."""
+
+    @abstractmethod
+    def dialect(self, netlist: str, vectors: Sequence[str]) -> str:
+        """lcchain's netlist text in the engine's own dialect, saving ``vectors`` (canonical names)."""
+
+    @abstractmethod
+    def run(self, netlist: str, vectors: Sequence[str], tstop: float, *, simulator: Simulator,
+            timeout: float = 600.0, progress: Callable[[float], None] | None = None, cwd: str | None = None,
+            trusted: bool = False, foreign: bool = True, max_output_bytes: float | None = None) -> RunResult:
+        """Run lcchain's netlist text (ngspice's dialect) in the engine; see :func:`lcchain.spice.runner.run`."""
+
+    def __repr__(self) -> str:
+        return f"<engine {self.name}>"

@@ -1,0 +1,56 @@
+"""The engines lcchain can run its ladders in, by name: one registry, :data:`ENGINES`.
+
+Adding an engine is one module (a subclass of :class:`lcchain.spice.engine.Engine`) and one line here.
+Everything else (``--engine``, ``[analysis] engine``, ``RunSpec.engine``, ``doctor``) reads this dict.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+
+from ..core.checks import choice
+from ..core.types import Backend
+from .engine import Engine
+from .gnucap import Gnucap
+from .ngspice import Ngspice
+from .runner import RunResult
+from .simulator import Simulator
+
+__all__ = ["ENGINES", "DEFAULT_ENGINE", "engine_named", "find_engine", "run_engine"]
+
+#: Engine name -> implementation; the first is the default.
+ENGINES: dict[str, Engine] = {
+    "ngspice": Ngspice(),
+    "gnucap": Gnucap(),
+}
+#: The engine every run uses unless told otherwise.
+DEFAULT_ENGINE = "ngspice"
+
+
+def engine_named(name: object, field: str = "engine") -> Engine:
+    """The registered engine of that name (a :class:`~lcchain.core.errors.ParameterError` naming ``field``)."""
+    return ENGINES[choice(field, name, tuple(ENGINES))]
+
+
+def find_engine(engine: str = DEFAULT_ENGINE, backend: Backend = "batch") -> Simulator:
+    """Locate an engine for a transport and ask its version once.
+
+    Raises
+    ------
+    ParameterError
+        An unknown engine, or a transport the engine does not have.
+    SimulatorMissingError
+        The engine is not installed; the message says how to install it.
+    """
+    found = engine_named(engine)
+    choice("backend", backend, found.transports, f" (the transports of engine {found.name})")
+    return found.find(backend)
+
+
+def run_engine(netlist: str, vectors: Sequence[str], tstop: float, *, simulator: Simulator,
+               timeout: float = 600.0, progress: Callable[[float], None] | None = None, cwd: str | None = None,
+               trusted: bool = False, foreign: bool = True, max_output_bytes: float | None = None) -> RunResult:
+    """Run lcchain's netlist text in the simulator's engine (:meth:`lcchain.spice.engine.Engine.run`)."""
+    return engine_named(simulator.engine, "simulator.engine").run(
+        netlist, vectors, tstop, simulator=simulator, timeout=timeout, progress=progress, cwd=cwd,
+        trusted=trusted, foreign=foreign, max_output_bytes=max_output_bytes)

@@ -1,0 +1,484 @@
+"""gnucap as an :class:`~lcchain.spice.engine.Engine`: lcchain's own ladders, in gnucap's dialect.
+
+gnucap (Debian package ``gnucap``; measured with ``master 2017.10.03``) is
+an independent circuit simulator: agreement between it and ngspice is
+evidence that neither has a bug of its own.  It runs only netlists lcchain
+wrote (``RunSpec.foreign`` False): the allow-list and the sandbox of foreign
+netlists are ngspice's.
+
+The dialect (measured on this machine)
+--------------------------------------
+:meth:`Gnucap.dialect` translates line by line and refuses what it cannot
+translate exactly, naming it:
+
+* the title becomes a fixed line and ``*`` comments are dropped, so no text
+  a user wrote reaches gnucap;
+* ``L``, ``C``, ``R``, ``V`` (a constant) and ``K`` lines are kept, ``IC=``
+  becomes ``ic=``; pulses are refused: a ``B`` line (ngspice's behavioural
+  source, lcchain's gaussian pulse) because gnucap has no such source, a
+  ``PWL`` source (the rect pulse) because gnucap takes its fall (1e-9 of the
+  width) inside one trapezoidal step, which kicks loop 1 by half a step of
+  the pulse too much (measured: max error 1.6e-2 where ngspice's is 7.6e-4,
+  two-mass N = 16, dt = 0.05);
+* coupled coils: gnucap reads an inductor's ``ic=`` as its flux over its own
+  inductance, not as its current (two coils, k = 0.03, ``ic=1`` on the first
+  gave currents summing to 1/(1 + k)), so the wanted currents I become
+  ``ic_j = (L_j I_j + sum_k k_jk sqrt(L_j L_k) I_k) / L_j`` from the ``L``
+  and ``K`` lines;
+* ``.options``: ``numdgt=14`` (14 significant digits in the table) and
+  ``method=trap``; ``reltol``, ``abstol``, ``vntol``, ``chgtol`` and
+  ``trtol`` are kept, ``maxord`` is dropped (gnucap's trapezoidal rule is
+  second order), any other option (and ``method=gear``) is refused;
+* ``.tran step tstop 0 maxstep uic`` with ``step == maxstep`` (lcchain's
+  fixed steps) becomes ``.print tran ...`` and ``.tran h tstop 0 dtmax=h uic``
+  with h = tstop / ceil(tstop / step) <= step: gnucap prints, and stops, on
+  multiples of its print step only, so the step is shortened a little to
+  land on tstop.  Adaptive steps (``maxstep != step``) and aligned runs
+  (``step == tstop``) are refused: gnucap's table holds only print steps;
+* ``.print`` comes before ``.tran`` (gnucap runs each dot-command as it
+  reads it), and names ``i(name)`` / ``v(node)`` vectors only.
+
+The output
+----------
+``gnucap -b /dev/stdin`` prints a banner, then the table: a ``#Time`` header
+and one row per print step, numbers with SPICE suffixes
+(``15.811388300842n``) or exponents (``-4.398E-18``).  gnucap exits 0 after
+an error, so any message before the table, a malformed row or no table is a
+:class:`~lcchain.core.errors.SimulationError`.  Its t = 0 row is printed
+before the initial conditions apply (``i(L1) = 0`` where ``ic=1``: measured),
+so it is dropped: a gnucap run's time starts at its first step.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import hashlib
+import math
+import os
+import re
+import shutil
+import subprocess
+import tempfile
+import time
+from collections.abc import Callable, Sequence
+from typing import IO, ClassVar
+
+import numpy as np
+
+from ..core.budget import show_bytes
+from ..core.errors import ParameterError, SimulationError, SimulatorMissingError
+from ..core.frozen import FrozenMap
+from ..core.types import Backend
+from .engine import Engine
+from .log import trim_log, useful_output
+from .processes import child_env, kill_group, read_all
+from .runner import PROGRESS_INTERVAL, RunResult, check_arguments, exited, validate_columns
+from .sandbox import Sandbox
+from .simulator import Simulator, child_launcher
+from .text import canonical_vector_name, parse_options, saved_vectors
+
+__all__ = ["Gnucap", "INSTALL_COMMAND", "gnucap_version", "read_table", "coupled_initial_currents",
+           "MAX_OUTPUT_BYTES", "DTMIN_FRACTION", "VOLTAGE_LIMIT", "GMIN"]
+
+#: How to install gnucap on Debian/Ubuntu.
+INSTALL_COMMAND = "sudo apt-get install gnucap"
+#: What a gnucap run may print (its table) when no smaller limit is given.
+MAX_OUTPUT_BYTES = 2 * 2**30
+#: The title every translated netlist gets (none of the user's text reaches gnucap).
+TITLE = "* lcchain ladder in gnucap's dialect"
+#: gnucap's smallest step over the print step.  Its default, 1e-12 s, is absolute: on a ladder whose time unit is
+#: 1 s its start-up steps were 1e-12 of the step and the run erred 3.2 times its prediction.  Measured on two-mass
+#: N = 20 and perfect N = 60 at dt = 0.05, 0.005, 0.001 and five scales: 1e-2 fails ("zero time step"), 3e-3 and
+#: 1e-3 meet the prediction within 1.18 and 1.24 times, 1e-4 errs 5.2 times it (L0 = 1 mH, C0 = 1 pF, dt = 0.001).
+DTMIN_FRACTION = 1e-3
+#: gnucap's Newton limit on node voltages, volts (its default, a few volts, slowed a 100 A kick's ladder, ~3 kV, to
+#: 240 times its predicted error).
+VOLTAGE_LIMIT = 1e12
+#: gnucap's conductance from every node to ground, siemens (its default, 1e-12 S, damped a 31.6 kOhm ladder by 2e-6
+#: over 60 transit units, 19 times its predicted error; ngspice puts gmin on junctions only, and a ladder has none).
+GMIN = 1e-30
+#: Options gnucap is given as lcchain wrote them.
+_KEPT_OPTIONS = ("reltol", "abstol", "vntol", "chgtol", "trtol")
+#: Options that do not apply to gnucap and are dropped: its trapezoidal rule is second order.
+_DROPPED_OPTIONS = ("maxord",)
+
+_VERSION = re.compile(r"main version:\s*(?:\S+\s+)?([0-9][0-9.]*)")
+_ELEMENT = re.compile(r"^([LC])(\w+)\s+(\S+)\s+(\S+)\s+(\S+)(?:\s+IC=(\S+))?$", re.IGNORECASE)
+_RESISTOR = re.compile(r"^R\w+\s+\S+\s+\S+\s+\S+$", re.IGNORECASE)
+_SOURCE = re.compile(r"^V\w+\s+\S+\s+\S+\s+([-+0-9.eE]+)$", re.IGNORECASE)
+_COUPLING = re.compile(r"^K\w+\s+(L\w+)\s+(L\w+)\s+(\S+)$", re.IGNORECASE)
+_TRAN = re.compile(r"^\.tran\s+(\S+)\s+(\S+)\s+0\s+(\S+)\s+uic$", re.IGNORECASE)
+_PRINTABLE = re.compile(r"^([iv])\((\w+)\)$")
+_NUMBER = re.compile(r"^([-+]?(?:\d+\.?\d*|\.\d+)(?:e[-+]?\d+)?)(f|p|n|u|m|k|meg|g|t)?$", re.IGNORECASE)
+#: The decimal exponent of each suffix gnucap prints (read as ``mantissa e exponent``: one correctly rounded float).
+_EXPONENT = {"f": -15, "p": -12, "n": -9, "u": -6, "m": -3, "k": 3, "meg": 6, "g": 9, "t": 12}
+_BANNER = re.compile(r"^(Gnucap\b|Never trust|Copyright|Gnucap comes|This is free|to redistribute|the GNU General"
+                     r"|See the file|main version|core-lib version|default plugins)")
+
+
+def _failure(reason: str, log_tail: str = "", status: str = "failed") -> SimulationError:
+    return SimulationError(reason, log_tail, status, "gnucap")
+
+
+def _refuse(what: str) -> ParameterError:
+    return ParameterError("engine", "gnucap", f"ngspice for {what}")
+
+
+def _value(text: str, line: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not math.isfinite(value):
+        raise _refuse(f"the line {line!r}: gnucap's dialect takes plain numbers, as lcchain writes them")
+    return value
+
+
+def coupled_initial_currents(inductances: dict[str, float], currents: dict[str, float],
+                             couplings: Sequence[tuple[str, str, float]]) -> dict[str, float]:
+    """The ``ic=`` gnucap needs so that coupled coils start with the given currents.
+
+    gnucap sets each coil's flux to ``L_j ic_j`` (measured), so
+    ``ic_j = (L_j I_j + sum_k k_jk sqrt(L_j L_k) I_k) / L_j``.
+
+    Parameters
+    ----------
+    inductances : dict
+        Name -> inductance L_j, henry.
+    currents : dict
+        Name -> wanted initial current I_j, ampere (missing: 0).
+    couplings : sequence of (name, name, k)
+        The ``K`` lines: coupling coefficients.
+
+    Returns
+    -------
+    dict
+        Name -> ``ic=`` value for every coil whose value is not zero.
+    """
+    flux = {name: L * currents.get(name, 0.0) for name, L in inductances.items()}
+    for a, b, k in couplings:
+        mutual = k * math.sqrt(inductances[a] * inductances[b])
+        flux[a] += mutual * currents.get(b, 0.0)
+        flux[b] += mutual * currents.get(a, 0.0)
+    return {name: value / inductances[name] for name, value in flux.items() if value != 0.0}
+
+
+def _print_name(name: str) -> str:
+    match = _PRINTABLE.match(canonical_vector_name(name))
+    if match is None:
+        raise _refuse(f"the vector {name!r}: gnucap's dialect prints i(element) and v(node) only")
+    return f"{match.group(1)}({match.group(2)})"
+
+
+def _options(line: str) -> str:
+    words = ["numdgt=14", "method=trap"]
+    for name, value in parse_options(line).items():
+        if name == "method":
+            if value.lower() != "trap":
+                raise _refuse(f"method = {value!r}: lcchain runs gnucap with the trapezoidal rule only")
+        elif name in _KEPT_OPTIONS:
+            words.append(f"{name}={repr(_value(value, line))}")
+        elif name not in _DROPPED_OPTIONS:
+            raise _refuse(f"the option {name!r}: gnucap's dialect translates method, maxord, "
+                          + ", ".join(_KEPT_OPTIONS))
+    return ".options " + " ".join(words)
+
+
+def _tran(line: str) -> tuple[str, float]:
+    match = _TRAN.match(line)
+    if match is None:
+        raise _refuse(f"the analysis {line!r}: gnucap's dialect translates '.tran step tstop 0 maxstep uic'")
+    step, tstop, max_step = (_value(g, line) for g in match.groups())
+    if step != max_step or not 0 < step < tstop:
+        raise _refuse("adaptive or aligned steps (the .tran print step must equal its maximum step and be "
+                      "below tstop): gnucap's table holds only print steps, so lcchain runs it at fixed steps")
+    # gnucap stops at the last multiple of its print step not after tstop: shorten the step to land on it.
+    h = tstop / math.ceil(tstop / step * (1 - 1e-12))
+    return f".tran {h!r} {tstop!r} 0 dtmax={h!r} uic", h
+
+
+class Gnucap(Engine):
+    """gnucap, run as ``gnucap -b /dev/stdin`` in a child process (the ``"batch"`` transport only)."""
+
+    name: ClassVar[str] = "gnucap"
+    transports: ClassVar[tuple[Backend, ...]] = ("batch",)
+    install: ClassVar[str] = INSTALL_COMMAND
+    runs_foreign: ClassVar[bool] = False
+    extrapolates: ClassVar[bool] = False
+    no_extrapolation: ClassVar[str] = ("gnucap prints, and stops, on multiples of its print step only, so it cannot "
+                                       "run the aligned steps (print step = tstop) that lcchain's extrapolation "
+                                       "and its model of the members' grid need")
+    #: Its start-up steps (from 2e-4 of the step) are not ngspice's, which the error split models: measured, the
+    #: split's "integration error" of a perfect N = 100 cradle at dt = 0.02 was 8e-6 where ngspice's is ~1e-13.
+    steps_modelled: ClassVar[bool] = False
+    #: gnucap's wall time over ngspice's model of the same run (:func:`lcchain.core.budget.ngspice_seconds`),
+    #: measured here: 3.5 (two-mass N = 400, dt = 0.02), 4.0 (perfect N = 100, dt = 0.02), 4.8 (two-mass
+    #: N = 100, dt = 0.05), 9.2 (two-mass N = 20, dt = 0.005: gnucap's cost per point is higher, its cost per
+    #: unknown lower), all on a loaded machine where ngspice itself took 1.4-1.7 times its model.
+    relative_cost: ClassVar[float] = 6.0
+
+    def find(self, backend: Backend = "batch") -> Simulator:
+        if backend not in self.transports:
+            raise ParameterError("backend", backend, "batch with engine gnucap (the shared library is ngspice's)")
+        exe = shutil.which("gnucap")
+        if exe is None:
+            raise SimulatorMissingError(f"the gnucap executable is not on PATH; install it with: {INSTALL_COMMAND}")
+        launcher = child_launcher()
+        return Simulator("batch", exe, gnucap_version(exe, launcher), launcher,
+                         Sandbox(why_not="gnucap runs only netlists lcchain wrote"), engine=self.name)
+
+    def dialect(self, netlist: str, vectors: Sequence[str]) -> str:
+        lines = netlist.splitlines()
+        if not lines:
+            raise ParameterError("netlist", netlist, "non-empty netlist text")
+        body: list[str] = []
+        inductances: dict[str, float] = {}
+        currents: dict[str, float] = {}
+        couplings: list[tuple[str, str, float]] = []
+        tran = options = None
+        step = 0.0
+        names = list(vectors) or list(saved_vectors(netlist))
+        ended = False
+        for line in (raw.strip() for raw in lines[1:]):
+            if not line or line.startswith("*"):
+                continue
+            if ended:
+                raise _refuse(f"the line {line!r} after .end")
+            head = line.split()[0].lower()
+            if (match := _ELEMENT.match(line)) is not None:
+                kind, rest, a, b, value = match.group(1).upper(), *match.group(2, 3, 4, 5)
+                name = f"{kind}{rest}".lower()
+                _value(value, line)
+                ic = None if match.group(6) is None else _value(match.group(6), line)
+                if kind == "L":
+                    inductances[name] = _value(value, line)
+                    if ic is not None:
+                        currents[name] = ic
+                    body.append(f"{kind}{rest} {a} {b} {value}")  # ic= added below, from the currents
+                else:
+                    body.append(f"{kind}{rest} {a} {b} {value}" + ("" if ic is None else f" ic={ic!r}"))
+            elif (match := _COUPLING.match(line)) is not None:
+                a, b = match.group(1).lower(), match.group(2).lower()
+                k = _value(match.group(3), line)
+                if not 0 < abs(k) < 1:
+                    raise _refuse(f"the coupling {line!r}: |k| must lie in (0, 1)")
+                couplings.append((a, b, k))
+                body.append(line)
+            elif _RESISTOR.match(line) or _SOURCE.match(line):
+                body.append(line)
+            elif head.startswith("b"):
+                raise _refuse("a behavioural source (the gaussian pulse's 'B1 ... V=expression' line): "
+                              "gnucap has none")
+            elif head.startswith("v") and "pwl" in line.lower():
+                raise _refuse("a PWL source (the rect pulse): gnucap steps across its fall, 1e-9 of the width "
+                              "long, in one trapezoidal step and kicks loop 1 too hard (measured: max error "
+                              "1.6e-2 where ngspice's is 7.6e-4, two-mass N = 16, dt = 0.05)")
+            elif head in (".option", ".options", ".opt"):
+                options = _options(line)
+            elif head == ".tran":
+                tran, step = _tran(line)
+            elif head == ".save":
+                names = names or [canonical_vector_name(v) for v in line.split()[1:]]
+            elif head == ".end":
+                ended = True
+            else:
+                raise _refuse(f"the line {line!r}: gnucap's dialect translates lcchain's own ladders only "
+                              "(L, C, R, V, K lines, .options, .tran, .save, .end)")
+        if tran is None or not names:
+            raise _refuse("a netlist without '.tran ... uic' or without vectors to save")
+        for a, b, _ in couplings:
+            for coil in (a, b):
+                if coil not in inductances:
+                    raise _refuse(f"a K line that couples {coil!r}, which is not an inductor of the netlist")
+        ics = coupled_initial_currents(inductances, currents, couplings)
+        body = [_with_ic(line, ics) for line in body]
+        printed = " ".join(_print_name(name) for name in names)
+        # gnucap's absolute scales, made the circuit's: its smallest step (its start-up ramp begins there) and its
+        # Newton limits on node voltages (a linear ladder needs none).
+        scaled = f" dtmin={step * DTMIN_FRACTION!r} vmax={VOLTAGE_LIMIT!r} vmin={-VOLTAGE_LIMIT!r} gmin={GMIN!r}"
+        return "\n".join([TITLE, *body, (options or ".options numdgt=14 method=trap") + scaled,
+                          f".print tran {printed}", tran, ".end"]) + "\n"
+
+    def run(self, netlist: str, vectors: Sequence[str], tstop: float, *, simulator: Simulator,
+            timeout: float = 600.0, progress: Callable[[float], None] | None = None, cwd: str | None = None,
+            trusted: bool = False, foreign: bool = True, max_output_bytes: float | None = None) -> RunResult:
+        if foreign or trusted:
+            raise _refuse("a netlist lcchain did not write (gnucap runs only lcchain's own ladders; the "
+                          "allow-list and the sandbox of foreign netlists are ngspice's)")
+        if simulator.engine != self.name:
+            raise ParameterError("simulator", simulator.engine, "a simulator found for engine gnucap")
+        netlist, names, tstop, timeout, limit = check_arguments(netlist, vectors, tstop, timeout, max_output_bytes)
+        names = names or [canonical_vector_name(v) for v in saved_vectors(netlist)]
+        text = self.dialect(netlist, names)
+        if progress is not None:
+            progress(0.0)
+        output, log, wall = _run_child(text, simulator, timeout, tstop, progress, limit or MAX_OUTPUT_BYTES)
+        columns = read_table(output, log)
+        quiet = "\n".join(line for line in _without_rows(log).splitlines() if not _BANNER.match(line))
+        time_s, found = validate_columns(columns, quiet, names, tstop, "gnucap")
+        if progress is not None:
+            progress(1.0)
+        return RunResult(time=time_s, vectors=FrozenMap(found), engine_version=simulator.version,
+                         netlist_sha256=_sha256(netlist), options=FrozenMap(parse_options(netlist)), wall_s=wall,
+                         backend=simulator.backend, points=int(time_s.size), log=trim_log(_without_rows(log)),
+                         engine=self.name)
+
+
+def _sha256(text: str) -> str:
+    return hashlib.sha256(text.encode("utf-8")).hexdigest()
+
+
+def _with_ic(line: str, ics: dict[str, float]) -> str:
+    name = line.split()[0].lower()
+    return f"{line} ic={ics[name]!r}" if name.startswith("l") and name in ics else line
+
+
+def gnucap_version(executable: str, launcher: tuple[str, ...] = ()) -> str:
+    """gnucap's version (its banner's ``main version``, e.g. ``"2017.10.03"``).
+
+    Raises
+    ------
+    SimulatorMissingError
+        gnucap cannot run or prints no version.
+    """
+    with tempfile.TemporaryDirectory(prefix="lcchain-gnucap-") as folder:
+        try:
+            proc = subprocess.run([*launcher, executable, "-b", "/dev/null"], capture_output=True, text=True,
+                                  timeout=30, stdin=subprocess.DEVNULL, cwd=folder, env=child_env(),
+                                  start_new_session=True)
+        except (OSError, subprocess.TimeoutExpired) as exc:
+            raise SimulatorMissingError(f"cannot run {executable}: {exc}; install gnucap with: "
+                                        f"{INSTALL_COMMAND}") from exc
+    match = _VERSION.search(proc.stdout + proc.stderr)
+    if match is None:
+        output = (proc.stdout + proc.stderr)[:200]
+        raise SimulatorMissingError(f"{executable} -b did not report a gnucap version: {output!r}")
+    return match.group(1)
+
+
+def _last_time(out: IO[bytes]) -> float | None:
+    """The time of the last complete row gnucap printed (its progress, in seconds)."""
+    fd = out.fileno()
+    size = os.fstat(fd).st_size
+    tail = os.pread(fd, 512, max(0, size - 512)).decode("ascii", "replace").split("\n")[:-1]
+    for row in reversed(tail[1:] if size > 512 else tail):
+        words = row.split()
+        if words:
+            return _number(words[0])
+    return None
+
+
+def _run_child(text: str, simulator: Simulator, timeout: float, tstop: float,
+               progress: Callable[[float], None] | None, limit: float) -> tuple[str, str, float]:
+    """gnucap's stdout and its whole output, and its wall time; in a temporary folder that is then removed."""
+    with tempfile.TemporaryDirectory(prefix="lcchain-gnucap-") as folder, tempfile.TemporaryFile() as source, \
+            tempfile.TemporaryFile() as out, tempfile.TemporaryFile() as err:
+        source.write(text.encode("utf-8"))
+        source.seek(0)
+        command = [*simulator.launcher, simulator.executable, "-b", "/dev/stdin"]
+        start = time.perf_counter()
+        proc = subprocess.Popen(command, cwd=folder, env=child_env(), stdin=source, stdout=out, stderr=err,
+                                start_new_session=True)
+        try:
+            status = _wait(proc, timeout, tstop, out, err, progress, limit)
+        finally:
+            if proc.poll() is None:  # timed out, or interrupted: the whole group goes
+                kill_group(proc)
+        wall = time.perf_counter() - start
+        output = read_all(out).decode("utf-8", "replace")
+        log = output + "\n" + read_all(err).decode("utf-8", "replace")
+    if status is None:
+        raise _failure(f"gnucap timed out after {timeout:g} s and was killed", _quote(log), "timeout")
+    if status != 0:
+        raise _failure(f"gnucap exited with status {status}", _quote(log))
+    return output, log, wall
+
+
+def _wait(proc: subprocess.Popen[bytes], timeout: float, tstop: float, out: IO[bytes], err: IO[bytes],
+          progress: Callable[[float], None] | None, limit: float) -> int | None:
+    """gnucap's exit status, or None after the timeout; reports progress and stops a run whose output outgrows
+    ``limit`` meanwhile."""
+    deadline = time.monotonic() + timeout
+    fraction = 0.0
+    try:
+        pidfd: int | None = os.pidfd_open(proc.pid)
+    except (AttributeError, OSError):  # not Linux, or an old kernel
+        pidfd = None
+    try:
+        while True:
+            left = deadline - time.monotonic()
+            if left <= 0:
+                return None
+            status = exited(proc, pidfd, min(PROGRESS_INTERVAL, left))
+            if status is not None:
+                return status
+            if os.fstat(out.fileno()).st_size + os.fstat(err.fileno()).st_size > limit:
+                kill_group(proc)
+                raise _failure(f"gnucap printed more than {show_bytes(limit)}, the most the memory budget "
+                                      "allows, and the run was stopped", "")
+            if progress is not None:
+                t = _last_time(out)
+                fraction = max(fraction, min(max(t / tstop, 0.0), 1.0)) if t is not None else fraction
+                progress(fraction)
+    finally:
+        if pidfd is not None:
+            with contextlib.suppress(OSError):
+                os.close(pidfd)
+
+
+def _without_rows(log: str) -> str:
+    """gnucap's output without its table's rows (what :attr:`RunResult.log` keeps)."""
+    return "\n".join(line for line in log.splitlines()
+                     if line.strip() and not (line.split() and _number(line.split()[0]) is not None))
+
+
+def _quote(log: str) -> str:
+    """gnucap's output worth quoting in an error: without its banner and its table's rows."""
+    return useful_output("\n".join(line for line in _without_rows(log).splitlines() if not _BANNER.match(line)))
+
+
+def _number(text: str) -> float | None:
+    match = _NUMBER.match(text)
+    if match is None:
+        return None
+    mantissa, suffix = match.groups()
+    if suffix is None:
+        return float(mantissa)
+    if "e" in mantissa.lower():  # never printed by gnucap: scale it
+        return float(mantissa) * 10.0 ** _EXPONENT[suffix.lower()]
+    return float(f"{mantissa}e{_EXPONENT[suffix.lower()]}")
+
+
+def read_table(output: str, log: str = "") -> dict[str, np.ndarray]:
+    """gnucap's ``.print tran`` table as columns keyed by canonical name (``"time"``, ``"i(l1)"``...).
+
+    The t = 0 row is dropped (gnucap prints it before the initial conditions apply).
+
+    Raises
+    ------
+    SimulationError
+        No table, a message from gnucap before it (gnucap exits 0 after an error), or a malformed row.
+    """
+    lines = output.splitlines()
+    header = next((i for i, line in enumerate(lines) if line.startswith("#Time")), None)
+    messages = [line.strip() for line in lines[: len(lines) if header is None else header]
+                if line.strip() and not _BANNER.match(line) and line.strip() != TITLE]
+    if messages:
+        raise _failure("gnucap reported: " + " | ".join(messages[:5]), _quote(log or output))
+    if header is None:
+        raise _failure("gnucap printed no table (no '#Time' header)", _quote(log or output))
+    names = ["time", *(canonical_vector_name(n) for n in lines[header].split()[1:])]
+    rows: list[list[float]] = []
+    for line in lines[header + 1:]:
+        words = line.split()
+        if not words:
+            continue
+        values = [_number(word) for word in words]
+        if len(values) != len(names) or any(v is None for v in values):
+            raise _failure(f"gnucap's table has a row lcchain cannot read: {line.strip()[:200]!r}",
+                                  _quote(log or output))
+        rows.append(values)  # type: ignore[arg-type]
+    table = np.array(rows, dtype=np.float64).reshape(len(rows), len(names))
+    if len(table) and table[0, 0] == 0.0:
+        table = table[1:]
+    return {name: np.ascontiguousarray(table[:, j]) for j, name in enumerate(names)}

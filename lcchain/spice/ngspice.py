@@ -1,0 +1,41 @@
+"""ngspice as an :class:`~lcchain.spice.engine.Engine`: lcchain's netlists are written in its dialect.
+
+It wraps what was there before engines: :func:`lcchain.spice.simulator.find_simulator` (both transports,
+``ngspice -b`` and the shared library) and :func:`lcchain.spice.runner.run` (the allow-list and the sandbox
+for netlists lcchain did not write), unchanged.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from typing import ClassVar
+
+from ..core.types import Backend
+from .engine import Engine
+from .runner import RunResult, run
+from .simulator import INSTALL_COMMAND, Simulator, find_simulator
+
+__all__ = ["Ngspice"]
+
+
+class Ngspice(Engine):
+    """ngspice: the identity dialect, both transports, and foreign netlists (allow-list, sandbox)."""
+
+    name: ClassVar[str] = "ngspice"
+    transports: ClassVar[tuple[Backend, ...]] = ("batch", "shared")
+    install: ClassVar[str] = INSTALL_COMMAND
+    runs_foreign: ClassVar[bool] = True
+    extrapolates: ClassVar[bool] = True
+    steps_modelled: ClassVar[bool] = True
+
+    def find(self, backend: Backend = "batch") -> Simulator:
+        return find_simulator(backend)
+
+    def dialect(self, netlist: str, vectors: Sequence[str]) -> str:
+        return netlist
+
+    def run(self, netlist: str, vectors: Sequence[str], tstop: float, *, simulator: Simulator,
+            timeout: float = 600.0, progress: Callable[[float], None] | None = None, cwd: str | None = None,
+            trusted: bool = False, foreign: bool = True, max_output_bytes: float | None = None) -> RunResult:
+        return run(netlist, vectors, tstop, simulator=simulator, timeout=timeout, progress=progress, cwd=cwd,
+                   trusted=trusted, foreign=foreign, max_output_bytes=max_output_bytes)
