@@ -433,3 +433,27 @@ def test_a_study_has_one_engine(tmp_path: Path) -> None:
     with pytest.raises(ParameterError, match="one engine per study"):
         scene_sweep_plan(scene, [("analysis.engine", ["ngspice", "gnucap"])])
     assert scene_sweep_plan(scene, [("analysis.engine", ["gnucap"])]).engine == "gnucap"
+
+
+@pytest.mark.ngspice
+@pytest.mark.gnucap
+def test_simulate_runs_one_netlist_in_both_engines_and_reports_their_difference(tmp_path, capsys) -> None:
+    netlist = tmp_path / "kept.cir"
+    argv = ["simulate", "--case", "perfect", "--N", "30", "--dt", "0.02", "--engine", "ngspice,gnucap",
+            "--netlist-out", str(netlist), "--json"]
+    assert main(argv) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert [e["engine"] for e in data["engines"]] == ["ngspice", "gnucap"]
+    assert {e["netlist_sha256"] for e in data["engines"]} == {hashlib.sha256(netlist.read_bytes()).hexdigest()}
+    difference = data["max_abs_difference"]["ngspice - gnucap"]
+    errors = [e["max_abs_error"] for e in data["engines"]]
+    # two independent integrators of one circuit: both meet the prediction, and they differ far less than either
+    # differs from theory (their trapezoidal error is the same), yet not by nothing
+    for engine in data["engines"]:
+        assert engine["max_abs_error"] <= PREDICTION_FACTOR * engine["predicted_error"]
+    assert 0 < difference < 0.1 * min(errors)
+    for bad, option in ((["--engine", "ngspice,ngspice"], "--engine"), (["--engine", "ngspice,spectre"], "--engine"),
+                        (["--engine", "ngspice,gnucap", "--extrapolate", "2"], "--extrapolate"),
+                        (["--engine", "ngspice,gnucap", "--plot", str(tmp_path / "p.png")], "--plot")):
+        assert main(["simulate", "--case", "perfect", "--N", "10", "--dt", "0.05", *bad]) == 2
+        assert option in capsys.readouterr().err

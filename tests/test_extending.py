@@ -1,10 +1,12 @@
-"""Parts added from outside lcchain (issue 20, docs/extending.md): an effect defined here, in the tests folder,
-runs through simulate and a study without any edit to lcchain."""
+"""Parts added from outside lcchain (issue 20, docs/extending.md): effects and an engine defined here, in the
+tests folder, run through simulate and a study without any edit to lcchain."""
 
 from __future__ import annotations
 
+import dataclasses
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import ClassVar
+from typing import Any, ClassVar
 
 import numpy as np
 import pytest
@@ -13,7 +15,13 @@ from helpers.tolerances import PREDICTION_FACTOR
 import lcchain
 from lcchain.circuit.effects import Effect
 from lcchain.circuit.ladder import Ladder
+from lcchain.core.types import Backend
 from lcchain.runs.request import Request, Transient, plan_request
+from lcchain.spice.engines import ENGINES
+from lcchain.spice.ngspice import Ngspice
+from lcchain.spice.runner import RunResult, run
+from lcchain.spice.simulator import Simulator, find_simulator
+from lcchain.studies.store import Store
 from lcchain.studies.plan import request_plan
 from lcchain.studies.run import run_plan
 from lcchain.theory.cases import chain_for_case
@@ -67,3 +75,43 @@ def test_an_outside_effect_runs_in_simulate_and_in_a_study(tmp_path):
     assert plan.axes == ("factor",) and len(plan.tasks) == 2
     summary = run_plan(plan, tmp_path / "heavy.sqlite", executor="process", workers=2)
     assert summary.ok == 2 and summary.failed == 0
+
+
+class WrappedNgspice(Ngspice):
+    """Test-only engine: ngspice under another name, with a dialect of its own (a comment after the title)."""
+
+    name: ClassVar[str] = "wrapped-ngspice"
+    MARK = "* run by the test-only engine"
+
+    def find(self, backend: Backend = "batch") -> Simulator:
+        return dataclasses.replace(find_simulator(backend), engine=self.name)
+
+    def dialect(self, netlist: str, vectors: Sequence[str]) -> str:
+        title, rest = netlist.split("\n", 1)
+        return f"{title}\n{self.MARK}\n{rest}"
+
+    def run(self, netlist: str, vectors: Sequence[str], tstop: float, *, simulator: Simulator,
+            **options: Any) -> RunResult:
+        result = run(self.dialect(netlist, vectors), vectors, tstop,
+                     simulator=dataclasses.replace(simulator, engine="ngspice"), **options)
+        return dataclasses.replace(result, engine=self.name)
+
+
+@pytest.mark.ngspice
+def test_an_outside_engine_runs_in_simulate_and_in_a_study(tmp_path, monkeypatch):
+    monkeypatch.setitem(ENGINES, WrappedNgspice.name, WrappedNgspice())  # one registry line, from outside
+    chain = chain_for_case("perfect", 16)
+    ours = lcchain.simulate(chain, dt=0.05, engine="wrapped-ngspice")
+    plain = lcchain.simulate(chain, dt=0.05)
+    assert ours.run.engine == "wrapped-ngspice" and ours.record.engine == "wrapped-ngspice"
+    assert ours.run.netlist_sha256 != plain.run.netlist_sha256  # it ran its own dialect...
+    assert np.array_equal(ours.waveforms.last, plain.waveforms.last)  # ...of the same circuit
+    assert ours.record.key != plain.record.key  # a record of another engine is never another's
+    points = [({"N": n}, Request(chain_for_case("perfect", n), Transient(dt=0.05), engine="wrapped-ngspice"))
+              for n in (8, 12)]
+    store = tmp_path / "wrapped.sqlite"
+    summary = run_plan(request_plan(points), store, executor="serial")
+    assert summary.ok == 2
+    with Store(store, "read") as opened:
+        engines = {row.engine for row in opened.runs()}
+    assert engines == {"wrapped-ngspice"}

@@ -51,6 +51,12 @@ def test_json_holds_tables_checks_and_versions(data: dict) -> None:
     assert len(circuit) >= 20 and any("walls+losses" in c["name"] for c in circuit)
     for check in circuit:
         assert 0 < check["max_abs_error"] <= check["tolerance"]
+    # every engine installed runs the same reference circuits (CI installs gnucap)
+    engines = set(data["engines"])
+    assert "ngspice" in engines and ("gnucap" in engines) == (shutil.which("gnucap") is not None)
+    by_engine = {engine: sorted(c["name"].removesuffix(f" ({engine})") for c in circuit if c["engine"] == engine)
+                 for engine in engines}
+    assert len({tuple(names) for names in by_engine.values()}) == 1
     # Table II, N = 100 recomputed: the printed cells are the paper's and lcchain's own value is beside them
     row = next(r for r in data["tables"]["two-mass"] if r["N"] == 100)
     assert row["r"] == pytest.approx(0.5873, abs=5e-5)

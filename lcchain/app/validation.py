@@ -8,8 +8,7 @@ from collections.abc import Callable
 from typing import Any
 
 from ..report.build import build_report
-from ..spice.simulator import find_simulator
-from ..studies.validation import circuit_checks
+from ..studies.validation import circuit_checks, installed_engines
 
 __all__ = ["make_report"]
 
@@ -17,10 +16,11 @@ __all__ = ["make_report"]
 def make_report(out: str | os.PathLike[str], *, quick: bool = False, cache: str | os.PathLike[str] | None = None,
                 progress: Callable[[int, int, str], None] | None = None,
                 command: str = "lcchain report") -> dict[str, Any]:
-    """The validation report: ngspice on the reference set (:func:`lcchain.studies.validation.circuit_checks`),
-    then the paper's tables and figures and the page (:func:`lcchain.report.build.build_report`) in ``out``."""
+    """The validation report: every installed engine on the reference set
+    (:func:`lcchain.studies.validation.circuit_checks`), then the paper's tables and figures and the page
+    (:func:`lcchain.report.build.build_report`) in ``out``."""
     start = time.perf_counter()
-    simulator = find_simulator("batch")
-    circuit = circuit_checks(quick=quick, progress=progress, simulator=simulator)
-    return build_report(out, circuit, simulator.version, quick=quick, cache=cache, progress=progress,
-                        command=command, seconds=time.perf_counter() - start)
+    simulators = installed_engines()
+    circuit = circuit_checks(quick=quick, progress=progress, simulators=simulators)
+    return build_report(out, circuit, {s.engine: s.version for s in simulators}, quick=quick, cache=cache,
+                        progress=progress, command=command, seconds=time.perf_counter() - start)

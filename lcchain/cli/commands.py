@@ -233,12 +233,15 @@ def cmd_simulate(args: argparse.Namespace) -> int:
         if args.netlist_out:
             write_text(args.netlist_out, spec.netlist)
 
+    if len(args.engine) > 1:
+        return _simulate_engines(args, chain, dt, keep_netlist)
+    engine = args.engine[0]
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         report = simulate(chain, dt=dt, accuracy=args.accuracy, transits=args.transits, excitation=args.excitation,
                           L0=args.L0, C0=args.C0, backend=args.backend, method=args.method, title=args.title,
-                          progress=fraction_bar(args.engine), budget=budget_from_args(args), on_spec=keep_netlist,
-                          extrapolate=args.extrapolate, engine=args.engine)
+                          progress=fraction_bar(engine), budget=budget_from_args(args), on_spec=keep_netlist,
+                          extrapolate=args.extrapolate, engine=engine)
     for warning in caught:
         print(f"lcchain: warning: {warning.message}", file=sys.stderr)
     data = report.to_dict()
@@ -275,6 +278,60 @@ def cmd_simulate(args: argparse.Namespace) -> int:
               f"(dt = {steps}, predicted {data['predicted_error']:.3g})", file=sys.stderr)
         return EXIT_FAILED
     return EXIT_FAILED if outputs.failed else EXIT_OK
+
+
+def _simulate_engines(args: argparse.Namespace, chain: Any, dt: float | None, keep_netlist: Any) -> int:
+    """``simulate --engine A,B``: the same netlist in every engine, each against theory, and their difference."""
+    from ..compare.metrics import residual_difference
+    from ..runs.simulate import simulate
+
+    if args.extrapolate is not None and args.extrapolate > 1:
+        raise ParameterError("--extrapolate", args.extrapolate, "1 with several engines (they run one netlist)")
+    if args.plot or args.waveform_out:
+        option = "--plot" if args.plot else "--waveform-out"
+        raise ParameterError(option, getattr(args, option[2:].replace("-", "_")), "one engine (--engine NAME)")
+    if args.backend != "batch":
+        raise ParameterError("--backend", args.backend, "batch with several engines")
+    reports: list[Any] = []
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        for engine in args.engine:
+            # the first engine's step (given, or chosen for --accuracy) is every engine's: one netlist
+            step = dt if not reports else reports[0].options.dt
+            reports.append(simulate(chain, dt=step, accuracy=args.accuracy if not reports else None,
+                                    transits=args.transits, excitation=args.excitation, L0=args.L0, C0=args.C0,
+                                    method=args.method, title=args.title, progress=fraction_bar(engine),
+                                    budget=budget_from_args(args), on_spec=None if reports else keep_netlist,
+                                    extrapolate=1, engine=engine))
+    for warning in sorted({str(w.message) for w in caught}):
+        print(f"lcchain: warning: {warning}", file=sys.stderr)
+    first = reports[0]
+    differences = {}
+    for other in reports[1:]:
+        pair = f"{first.run.engine} - {other.run.engine}"
+        a, b = first.waveforms, other.waveforms
+        differences[pair] = max(
+            residual_difference(a.t, a.first - first.comparison.theory_first, b.t,
+                                b.first - other.comparison.theory_first),
+            residual_difference(a.t, a.last - first.comparison.theory_last, b.t,
+                                b.last - other.comparison.theory_last))
+    data = {"engines": [report.to_dict() for report in reports], "max_abs_difference": differences,
+            "netlist_sha256": first.run.netlist_sha256}
+    if args.json:
+        emit_json(data)
+        return EXIT_OK
+    print(f"{chain.name} chain, N = {chain.N}, dt = {first.options.dt:.4g}: the same netlist in "
+          f"{len(reports)} engines")
+    print(f"{'engine':<10} {'version':<12} {'points':>8} {'wall s':>8} {'max |sim - theory|':>19} "
+          f"{'predicted':>10}")
+    for report in reports:
+        record = report.to_dict()
+        print(f"{record['engine']:<10} {record['engine_version']:<12} {record['points']:>8} "
+              f"{record['wall_s']:>8.3f} {record['max_abs_error']:>19.3e} {record['predicted_error']:>10.3e}")
+    for pair, value in differences.items():
+        print(f"max |{pair}| = {value:.3e} (loops 1 and N; the second engine's residual interpolated onto the "
+              "first's time points)")
+    return EXIT_OK
 
 
 def _print_scene_summary(result: Any) -> None:

@@ -58,6 +58,18 @@ class _Parser(argparse.ArgumentParser):
         raise _UsageError(f"{self.prog}: {message} (see '{self.prog} --help')")
 
 
+def engine_list(text: str) -> tuple[str, ...]:
+    """``--engine ngspice`` or ``--engine ngspice,gnucap``: registered engines, each once."""
+    names = tuple(name.strip() for name in text.split(","))
+    for name in names:
+        if name not in ENGINES:
+            raise argparse.ArgumentTypeError(f"unknown engine {name!r}: expected {' | '.join(ENGINES)}, or several "
+                                             "separated by commas")
+    if len(set(names)) != len(names):
+        raise argparse.ArgumentTypeError(f"{text!r} names an engine twice")
+    return names
+
+
 def _add_chain_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--case", choices=NAMED_CASES,
                    help="named chain (one-mass/two-mass: the optimal design for N; perfect: the perfect cradle)")
@@ -124,8 +136,10 @@ def build_parser() -> argparse.ArgumentParser:
                        "alpha_N(t)")
     _add_chain_arguments(p)
     p.add_argument("--backend", choices=BACKENDS, default="batch")
-    p.add_argument("--engine", choices=tuple(ENGINES), default=DEFAULT_ENGINE,
-                   help="the circuit simulator (default ngspice); gnucap runs one fixed-step run (no --extrapolate)")
+    p.add_argument("--engine", type=engine_list, default=(DEFAULT_ENGINE,), metavar="ENGINE[,ENGINE]",
+                   help=f"the circuit simulator: {' or '.join(ENGINES)} (default {DEFAULT_ENGINE}); gnucap runs one "
+                        "fixed-step run (no --extrapolate); several, comma-separated, run the same netlist in each "
+                        "and report their difference beside each one's error against theory")
     p.add_argument("--method", choices=METHODS, default="trap")
     p.add_argument("--accuracy", type=number("--accuracy"), metavar="EPS",
                    help="wanted max |simulation - theory|: lcchain picks the largest dt that meets it "

@@ -25,7 +25,7 @@ from ..core.frozen import FrozenArrays
 from ..theory.arrivals import arrival_window, maximum_in_window
 from .waveforms import Signals
 
-__all__ = ["ArrivalComparison", "Metrics", "Comparison", "sample_peak", "compare_signals"]
+__all__ = ["ArrivalComparison", "Metrics", "Comparison", "sample_peak", "compare_signals", "residual_difference"]
 
 
 @dataclass(frozen=True)
@@ -198,3 +198,16 @@ def compare_signals(signals: Signals, *, transit_time: float, transits: int, shi
         found.append(ArrivalComparison(index, "last" if index % 2 else "first", t_theory, t_sim, peak_theory,
                                        peak_sim))
     return Metrics(float(np.max(error)), float(np.max(error[0])), float(np.max(error[-1])), tuple(found))
+
+
+def residual_difference(t_a: np.ndarray, residual_a: np.ndarray, t_b: np.ndarray, residual_b: np.ndarray) -> float:
+    """max |a - b| of two runs of the same circuit on their own time grids, through their residuals.
+
+    A run's residual (simulation - exact theory) varies on the modes' time scale, not the step's, so run b's
+    residual is brought onto run a's times by linear interpolation; there a - b = residual_a - residual_b
+    (the theory is the same at the same time).  Times of a outside b's span are left out.
+    """
+    inside = (t_a >= t_b[0]) & (t_a <= t_b[-1])
+    if not np.any(inside):
+        raise ValueError("the two runs share no time span")
+    return float(np.max(np.abs(residual_a[inside] - np.interp(t_a[inside], t_b, residual_b))))

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import os
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -35,13 +35,13 @@ def _check_figure(check: Any) -> Any:
     return figure
 
 
-def build_report(out: str | os.PathLike[str], circuit: Sequence[CircuitCheck], ngspice_version: str, *,
+def build_report(out: str | os.PathLike[str], circuit: Sequence[CircuitCheck], engines: Mapping[str, str], *,
                  quick: bool = False, cache: str | os.PathLike[str] | None = None, progress: Progress | None = None,
                  command: str = "lcchain report", seconds: float = 0.0) -> dict[str, Any]:
     """Compute the paper's half of the validation report, render it with the circuit's runs (already made), then
     write ``out/index.html`` and ``out/report.json``; return it as data."""
     rows = DesignRows(cache)
-    report = validation_report(rows, circuit, ngspice_version, quick=quick, progress=progress, seconds=seconds)
+    report = validation_report(rows, circuit, engines, quick=quick, progress=progress, seconds=seconds)
     figures: dict[str, bytes] = {}
     for i, paper_figure in enumerate(FIGURES):
         if progress is not None:

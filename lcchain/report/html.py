@@ -243,6 +243,8 @@ def render_html(report: Mapping[str, Any], figures: Mapping[str, bytes], caption
     worst_paper = max((c["max_abs_error"] for c in paper_checks), default=0.0)
     worst_ratio = max(((c.max_abs_error or 0.0) / c.tolerance for c in circuit if c.tolerance), default=0.0)
     rows_computed = sum(len(v) for v in paper["tables"].values())
+    engines = ", ".join(f"{name} {version}" for name, version in
+                        (report.get("engines") or {"ngspice": report["ngspice_version"]}).items())
     failed_list = "".join(f"<li>{_e(c['name'])}: {_e(c.get('reason') or '')} max error {_num(c['max_abs_error'])}"
                           f" &gt; tolerance {_num(c['tolerance'])}</li>" for c in failed)
     machine = report["machine"]
@@ -254,7 +256,7 @@ def render_html(report: Mapping[str, Any], figures: Mapping[str, bytes], caption
         f"<title>{_e(report['title'])}</title>",
         f"<style>{STYLE}</style></head><body>",
         f"<header><h1>{_e(report['title'])}</h1>",
-        f"<p class=meta>lcchain {_e(report['lcchain_version'])} · ngspice {_e(report['ngspice_version'])} · "
+        f"<p class=meta>lcchain {_e(report['lcchain_version'])} · {_e(engines)} · "
         f"{_e(machine['system'])} {_e(machine['release'])} {_e(machine['machine'])} · Python {_e(machine['python'])}"
         f" · numpy {_e(machine['numpy'])} · made {_e(report['created'])} by <code>{_e(command)}</code>"
         f"{' (quick)' if report['quick'] else ''} in {report['seconds']:.0f} s</p>",
@@ -264,7 +266,7 @@ def render_html(report: Mapping[str, Any], figures: Mapping[str, bytes], caption
         f"<div><b>{rows_computed}</b>rows of Tables I and II computed</div>",
         f"<div><b>{len(paper_checks)}</b>printed rows compared; worst cell {worst_paper:.2f} units of the last "
         "digit</div>",
-        f"<div><b>{sum(c.passed for c in circuit)} / {len(circuit)}</b>ngspice runs within tolerance; worst "
+        f"<div><b>{sum(c.passed for c in circuit)} / {len(circuit)}</b>circuit runs within tolerance; worst "
         f"{worst_ratio:.2f} × its tolerance</div>",
         "</div></header>",
         "<nav><ul><li><a href=\"#paper\">The paper reproduced</a></li><li><a href=\"#one-mass\">Table I</a></li>"
@@ -279,7 +281,7 @@ def render_html(report: Mapping[str, Any], figures: Mapping[str, bytes], caption
         _asymptotic_html(paper["asymptotic"]),
         _perfect_html(paper["perfect"]),
         _findings_html(paper["findings"]),
-        f'<h2 id="circuit">The circuit validated (ngspice {_e(report["ngspice_version"])})</h2>',
+        f'<h2 id="circuit">The circuit validated ({_e(engines)})</h2>',
         _circuit_html(circuit, figures),
         '<h2 id="figures">The paper\'s figures, recomputed</h2>',
         _figures_html(figures, captions),
@@ -304,8 +306,8 @@ def _plain(value: Any) -> Any:
 
 def report_json(report: Mapping[str, Any]) -> str:
     """``report.json``: tables, checks, versions, created, and the paper section's details (no curves)."""
-    data = {key: report[key] for key in ("title", "created", "lcchain_version", "ngspice_version", "machine",
-                                          "quick", "passed", "seconds", "tables", "checks")}
+    data = {key: report[key] for key in ("title", "created", "lcchain_version", "ngspice_version", "engines",
+                                          "machine", "quick", "passed", "seconds", "tables", "checks")}
     paper = report["paper"]
     data["paper"] = {"asymptotic": paper["asymptotic"], "perfect": paper["perfect"], "findings": paper["findings"],
                      "printed_rows": {case: [{"N": e["row"]["N"], "cells": e["printed"]} for e in entries

@@ -14,7 +14,7 @@ from __future__ import annotations
 import datetime
 import platform
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
 import numpy as np
@@ -108,7 +108,7 @@ def paper_section(rows: DesignRows, *, quick: bool = False,
 
 
 # ------------------------------------------------------------------ the whole report
-def validation_report(rows: DesignRows, circuit: Sequence[CircuitCheck], ngspice_version: str, *,
+def validation_report(rows: DesignRows, circuit: Sequence[CircuitCheck], engines: Mapping[str, str], *,
                       quick: bool = False, progress: Callable[[int, int, str], None] | None = None,
                       seconds: float = 0.0) -> dict[str, Any]:
     """Everything the page shows, as data (figures excepted: :mod:`.html` draws them from ``curves``).
@@ -124,7 +124,8 @@ def validation_report(rows: DesignRows, circuit: Sequence[CircuitCheck], ngspice
         "title": "lcchain validation report",
         "created": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
         "lcchain_version": __version__,
-        "ngspice_version": ngspice_version,
+        "ngspice_version": engines.get("ngspice", ""),
+        "engines": dict(engines),
         "machine": {"system": platform.system(), "release": platform.release(), "machine": platform.machine(),
                     "python": platform.python_version(), "numpy": np.__version__},
         "quick": quick,

@@ -9,21 +9,23 @@ and with a displacement, and a scene with losses and walls, and returns one
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
 from ..circuit.reference import REFERENCE_DT, REFERENCE_SET, reference_chain
-from ..core.errors import SimulationError
+from ..core.errors import SimulationError, SimulatorMissingError
 from ..core.types import EXCITATIONS, Excitation
 from ..runs.execute import RunRecord
 from ..runs.simulate import simulate
 from ..scenes.load import parse_scene
 from ..scenes.run import simulate_scene
-from ..spice.simulator import Simulator, find_simulator
+from ..spice.engines import DEFAULT_ENGINE, ENGINES, find_engine
+from ..spice.simulator import Simulator
 from ..theory.chain import Chain
 
-__all__ = ["CircuitCheck", "circuit_checks", "LOSSES_AND_WALLS_SCENE", "PREDICTION_FACTOR", "ERROR_FLOOR"]
+__all__ = ["CircuitCheck", "circuit_checks", "installed_engines", "LOSSES_AND_WALLS_SCENE", "PREDICTION_FACTOR",
+           "ERROR_FLOOR"]
 
 #: A fixed-step run passes when its error is below this multiple of the trapezoidal error model's prediction
 #: (plus a floor for ngspice's own rounding); the model is exact to a few per cent (benchmarks/accuracy.md).
@@ -49,12 +51,13 @@ class CircuitCheck:
     wall_s: float | None = None
     reason: str = ""
     curves: dict[str, Any] = field(default_factory=dict)
+    engine: str = "ngspice"
 
     def to_dict(self) -> dict[str, Any]:
         return {"name": self.name, "what": self.what, "kind": "circuit", "N": self.N, "excitation": self.excitation,
                 "dt": self.dt, "passed": self.passed, "max_abs_error": self.max_abs_error,
                 "predicted_error": self.predicted_error, "tolerance": self.tolerance, "wall_s": self.wall_s,
-                "reason": self.reason}
+                "reason": self.reason, "engine": self.engine}
 
 
 def _curves(record: RunRecord) -> dict[str, Any]:
@@ -70,14 +73,19 @@ def _curves(record: RunRecord) -> dict[str, Any]:
 
 
 def _check(name: str, what: str, N: int, excitation: str, dt: float | None, record: RunRecord | None,
-           tolerance_of: Callable[[float | None], float], error: str = "") -> CircuitCheck:
+           tolerance_of: Callable[[float | None], float], error: str = "", *, engine: str) -> CircuitCheck:
     if record is None or not record.ok or record.metrics is None:
         reason = error or (record.reason if record is not None else "did not run")
-        return CircuitCheck(name, what, N, excitation, dt, None, None, math.nan, False, reason=reason)
+        return CircuitCheck(name, what, N, excitation, dt, None, None, math.nan, False, reason=reason, engine=engine)
     metrics = record.metrics
     tolerance = tolerance_of(metrics.predicted_error)
     return CircuitCheck(name, what, N, excitation, dt, metrics.max_abs_error, metrics.predicted_error, tolerance,
-                        bool(metrics.max_abs_error <= tolerance), record.wall_s, curves=_curves(record))
+                        bool(metrics.max_abs_error <= tolerance), record.wall_s, curves=_curves(record),
+                        engine=engine)
+
+
+def _scene_tolerance(predicted: float | None) -> float:
+    return float(LOSSES_AND_WALLS_SCENE["analysis"]["accuracy"])
 
 
 def _fixed_step_tolerance(predicted: float | None) -> float:
@@ -96,12 +104,25 @@ LOSSES_AND_WALLS_SCENE: dict[str, Any] = {
 }
 
 
+def installed_engines() -> list[Simulator]:
+    """Every registered engine found on this machine (batch transport), the default first; the default must be."""
+    found = [find_engine(DEFAULT_ENGINE)]
+    for name in ENGINES:
+        if name == DEFAULT_ENGINE:
+            continue
+        try:
+            found.append(find_engine(name))
+        except SimulatorMissingError:
+            continue
+    return found
+
+
 def circuit_checks(*, quick: bool = False, progress: Callable[[int, int, str], None] | None = None,
-                   simulator: Simulator | None = None) -> list[CircuitCheck]:
-    """ngspice against theory: every reference netlist's chain with a kick and with a displacement (dt = 0.05,
-    one transit), then :data:`LOSSES_AND_WALLS_SCENE`.  ``quick`` leaves out the displacement runs of N = 1000.
-    """
-    simulator = simulator if simulator is not None else find_simulator("batch")
+                   simulators: Sequence[Simulator] | None = None) -> list[CircuitCheck]:
+    """Each engine against theory: every reference netlist's chain with a kick and with a displacement
+    (dt = 0.05, one transit), then :data:`LOSSES_AND_WALLS_SCENE`, in every engine installed
+    (:func:`installed_engines`) or those given.  ``quick`` leaves out the displacement runs of N = 1000."""
+    simulators = list(simulators) if simulators is not None else installed_engines()
     jobs: list[tuple[str, str, Chain, Excitation]] = []
     for reference in REFERENCE_SET:
         chain = reference_chain(reference)
@@ -110,27 +131,33 @@ def circuit_checks(*, quick: bool = False, progress: Callable[[int, int, str], N
                 continue
             what = f"{reference.case}, N = {reference.N}"
             jobs.append((f"{reference.name.removesuffix('.cir')} {excitation}", what, chain, excitation))
-    total = len(jobs) + 1
+    total = (len(jobs) + 1) * len(simulators)
     checks = []
-    for i, (name, what, chain, excitation) in enumerate(jobs):
+    done = 0
+    for simulator in simulators:
+        engine = simulator.engine
+        suffix = "" if engine == DEFAULT_ENGINE else f" ({engine})"
+        for name, what, chain, excitation in jobs:
+            if progress is not None:
+                progress(done, total, name + suffix)
+            done += 1
+            try:
+                report = simulate(chain, dt=REFERENCE_DT, excitation=excitation, simulator=simulator, engine=engine)
+                checks.append(_check(name + suffix, what, chain.N, excitation, REFERENCE_DT, report.record,
+                                     _fixed_step_tolerance, engine=engine))
+            except SimulationError as error:
+                checks.append(_check(name + suffix, what, chain.N, excitation, REFERENCE_DT, None,
+                                     _fixed_step_tolerance, str(error), engine=engine))
         if progress is not None:
-            progress(i, total, name)
-        try:
-            report = simulate(chain, dt=REFERENCE_DT, excitation=excitation, simulator=simulator)
-            checks.append(_check(name, what, chain.N, excitation, REFERENCE_DT, report.record,
-                                 _fixed_step_tolerance))
-        except SimulationError as error:
-            checks.append(_check(name, what, chain.N, excitation, REFERENCE_DT, None, _fixed_step_tolerance,
-                                 str(error)))
-    if progress is not None:
-        progress(len(jobs), total, "scene with losses and walls")
-    scene = parse_scene(LOSSES_AND_WALLS_SCENE, source="the report's scene")
-    accuracy = float(LOSSES_AND_WALLS_SCENE["analysis"]["accuracy"])
-    result = simulate_scene(scene, simulator=simulator)
-    sample = result.samples[0] if result.samples else None
-    checks.append(_check("two-mass-N50 walls+losses kick", "two-mass, N = 50, walls K0 = 0.01, Q = 300", 50, "kick",
-                         result.report.get("dt"), sample.run if sample is not None else None,
-                         lambda predicted: accuracy))
+            progress(done, total, "scene with losses and walls" + suffix)
+        done += 1
+        data = dict(LOSSES_AND_WALLS_SCENE, analysis={**LOSSES_AND_WALLS_SCENE["analysis"], "engine": engine})
+        scene = parse_scene(data, source="the report's scene")
+        result = simulate_scene(scene, simulator=simulator)
+        sample = result.samples[0] if result.samples else None
+        checks.append(_check("two-mass-N50 walls+losses kick" + suffix, "two-mass, N = 50, walls K0 = 0.01, Q = 300",
+                             50, "kick", result.report.get("dt"), sample.run if sample is not None else None,
+                             _scene_tolerance, engine=engine))
     if progress is not None:
         progress(total, total, "done")
     return checks
