@@ -21,9 +21,9 @@ from lcchain.spice.engines import ENGINES
 from lcchain.spice.ngspice import Ngspice
 from lcchain.spice.runner import RunResult, run
 from lcchain.spice.simulator import Simulator, find_simulator
-from lcchain.studies.store import Store
 from lcchain.studies.plan import request_plan
 from lcchain.studies.run import run_plan
+from lcchain.studies.store import Store
 from lcchain.theory.cases import chain_for_case
 from lcchain.theory.chain import Chain
 
