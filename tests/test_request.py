@@ -117,4 +117,5 @@ def test_a_request_runs_with_every_kind_of_effect():
     report = lcchain.simulate(request)
     assert report.chain.coupling == -0.03 and report.chain.springs[0] == 0.02
     assert report.comparison.max_abs_error <= 1e-4
+    assert report.accuracy == 1e-4 and report.accuracy_met is True  # the request's accuracy is the report's
     assert np.all(np.isfinite(report.waveforms.last))

@@ -248,8 +248,9 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     if args.json:
         emit_json(data)
     else:
-        print(f"{chain.name} chain, N = {chain.N}: {data['engine']} {data['engine_version']} ({data['backend']}), "
-              f"{data['points']} points in {data['wall_s']:.3f} s")
+        coupled = f", coils coupled k = {chain.coupling:g}" if chain.coupled else ""
+        print(f"{chain.name} chain, N = {chain.N}{coupled}: {data['engine']} {data['engine_version']} "
+              f"({data['backend']}), {data['points']} points in {data['wall_s']:.3f} s")
         extrapolation = data["extrapolation"]
         if extrapolation["runs"] > 1:
             _print_extrapolation(extrapolation)
@@ -320,7 +321,8 @@ def _simulate_engines(args: argparse.Namespace, chain: Any, dt: float | None, ke
     if args.json:
         emit_json(data)
         return EXIT_OK
-    print(f"{chain.name} chain, N = {chain.N}, dt = {first.options.dt:.4g}: the same netlist in "
+    coupled = f", coils coupled k = {chain.coupling:g}" if chain.coupled else ""
+    print(f"{chain.name} chain, N = {chain.N}{coupled}, dt = {first.options.dt:.4g}: the same netlist in "
           f"{len(reports)} engines")
     print(f"{'engine':<10} {'version':<12} {'points':>8} {'wall s':>8} {'max |sim - theory|':>19} "
           f"{'predicted':>10}")

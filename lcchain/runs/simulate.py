@@ -472,6 +472,6 @@ def simulate(
     return SimulationReport(planned.ladder.chain, ladder, options, request.drive.kind, request.analysis.transits,
                             spec.netlist, result,
                             signals.waveforms(), Comparison.of(metrics, signals), FrozenMap(timings),
-                            accuracy=accuracy, predicted_error=predicted,
+                            accuracy=request.analysis.accuracy, predicted_error=predicted,
                             integration_error=metrics.integration_error, physics_error=metrics.physics_error,
                             record=first, extrapolation=extrapolation)
