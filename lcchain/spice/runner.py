@@ -276,10 +276,7 @@ def run(
     if progress is not None:
         progress(0.0)
     with _placement(simulator, foreign, str(cwd) if trusted and cwd is not None else None) as place:
-        if simulator.backend == "batch":
-            columns, log, wall = _run_batch(text, simulator, timeout, tstop, progress, place, limit)
-        else:
-            columns, log, wall = _run_shared(text, simulator, timeout, place)
+        columns, log, wall = TRANSPORT_RUNS[simulator.backend](text, simulator, timeout, tstop, progress, place, limit)
     time_s, found = _validate(columns, log, names, tstop)
     if progress is not None:
         progress(1.0)
@@ -417,8 +414,11 @@ def _run_batch(netlist: str, simulator: Simulator, timeout: float, tstop: float,
     return columns, log, wall
 
 
-def _run_shared(netlist: str, simulator: Simulator, timeout: float,
-                place: _Place) -> tuple[dict[str, np.ndarray], str, float]:
+def _run_shared(netlist: str, simulator: Simulator, timeout: float, tstop: float,
+                progress: Callable[[float], None] | None, place: _Place,
+                limit: float | None) -> tuple[dict[str, np.ndarray], str, float]:
+    # One call in a child that exits after the run: no progress to report, and lcchain's own netlists only
+    # (a raw-file limit is for foreign netlists, which run in batch).
     stdout, log, status = call_shared_worker(place.prefix, {"netlist": netlist, "library": simulator.executable},
                                              timeout, place.cwd, "run", place.env)
     try:
@@ -440,6 +440,12 @@ def _run_shared(netlist: str, simulator: Simulator, timeout: float,
 
 
 # --------------------------------------------------------------------------- output checks
+
+
+#: ngspice's transports, by name: how each runs a netlist (how each is found: lcchain.spice.simulator).
+_TransportRun = Callable[[str, Simulator, float, float, Callable[[float], None] | None, _Place, float | None],
+                         tuple[dict[str, np.ndarray], str, float]]
+TRANSPORT_RUNS: dict[str, _TransportRun] = {"batch": _run_batch, "shared": _run_shared}
 
 
 def _validate(columns: dict[str, np.ndarray], log: str, names: list[str],

@@ -14,6 +14,7 @@ import re
 import shutil
 import subprocess
 import sys
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -181,14 +182,23 @@ def find_simulator(backend: Backend = "batch") -> Simulator:
         ngspice, its shared library or (shared) PySpice is missing; the message
         says how to install it.
     """
-    choice("backend", backend, BACKENDS)
-    launcher = child_launcher()
-    if backend == "batch":
-        exe = find_ngspice()
-        return Simulator("batch", exe, ngspice_version(exe), launcher, find_sandbox())
+    return _TRANSPORT_FINDERS[choice("backend", backend, BACKENDS)](child_launcher())
+
+
+def _find_batch(launcher: tuple[str, ...]) -> Simulator:
+    exe = find_ngspice()
+    return Simulator("batch", exe, ngspice_version(exe), launcher, find_sandbox())
+
+
+def _find_shared(launcher: tuple[str, ...]) -> Simulator:
     library = find_shared_library()
     require_pyspice()
     return Simulator("shared", library, shared_library_version(library, launcher), launcher, find_sandbox())
+
+
+#: ngspice's transports, by name: how each is found (its run: lcchain.spice.runner.TRANSPORT_RUNS).
+_TRANSPORT_FINDERS: dict[str, Callable[[tuple[str, ...]], Simulator]] = {"batch": _find_batch,
+                                                                          "shared": _find_shared}
 
 
 def shared_library_version(library: str, launcher: tuple[str, ...] = ()) -> str:
