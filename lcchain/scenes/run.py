@@ -16,7 +16,7 @@ from __future__ import annotations
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, TypedDict
 
 import numpy as np
 
@@ -40,6 +40,49 @@ from .schema import Scene
 __all__ = ["SampleResult", "SceneResult", "simulate_scene", "scene_result", "overlay_panel", "transmitted_peaks"]
 
 
+class SampleRecord(TypedDict, total=False):
+    """One sample's line of a scene's JSON report (``error`` instead of the numbers when it failed)."""
+
+    sample: int
+    chain: str
+    status: str
+    error: str
+    dt: float
+    points: int
+    engine: str
+    engine_version: str
+    ngspice_version: str
+    netlist_sha256: str
+    digest: str
+    wall_s: float
+    theory_and_compare_s: float
+    max_abs_error: float
+    arrivals: list[dict[str, Any]]
+    extrapolation: dict[str, Any]
+
+
+class SceneReport(TypedDict, total=False):
+    """A scene's JSON report (:attr:`SceneResult.report`); the numbers over samples only when some ran."""
+
+    scene: dict[str, Any]
+    source: str | None
+    N: int
+    dt: float
+    steps: list[float]
+    tstop: float
+    transit_time: float
+    engine: str
+    engine_version: str | None
+    ngspice_version: str | None
+    samples: list[SampleRecord]
+    wall_s: dict[str, float]
+    max_abs_error: float
+    accuracy_met: bool
+    arrivals: list[dict[str, Any]]
+    transmitted_peak: dict[str, Any]
+    files: list[str]
+
+
 @dataclass(frozen=True, eq=False)
 class SampleResult:
     """One realised circuit: its run record and its line in the report.
@@ -60,7 +103,7 @@ class SampleResult:
 
     index: int
     chain: Chain
-    record: dict[str, Any]
+    record: SampleRecord
     run: RunRecord
     netlist: str = ""
 
@@ -94,7 +137,7 @@ class SceneResult:
     """Everything a scene run produced; ``report`` is the JSON report."""
 
     scene: Scene
-    report: dict[str, Any]
+    report: SceneReport
     samples: tuple[SampleResult, ...] = field(default=())
     files: tuple[str, ...] = field(default=())
 
@@ -108,7 +151,7 @@ class SceneResult:
         return [s for s in self.samples if s.ok]
 
 
-def _sample_record(index: int, chain: Chain, dt: float, run: RunRecord) -> dict[str, Any]:
+def _sample_record(index: int, chain: Chain, dt: float, run: RunRecord) -> SampleRecord:
     if not run.ok:
         error = run.reason + (f"\n{run.engine} said:\n{run.log_tail}" if run.log_tail else "")
         return {"sample": index, "chain": chain.name, "status": run.status, "error": error}
@@ -179,7 +222,7 @@ def scene_result(scene: Scene, plan: ScenePlan, specs: Sequence[RunSpec], record
             data["extrapolation"] = _members(plan, own)
         samples.append(SampleResult(k, chain, data, record, own_specs[0].netlist))
     good = [s for s in samples if s.ok]
-    report: dict[str, Any] = {
+    report: SceneReport = {
         "scene": scene.to_dict(),
         "source": scene.source,
         "N": plan.nominal.N,

@@ -32,7 +32,7 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Callable, Sequence
-from typing import Any
+from typing import Any, TypedDict
 
 import numpy as np
 
@@ -79,7 +79,22 @@ ACCURACY_TARGETS = (1e-3, 1e-5)
 TARGET_N = (100, 1000)
 L0, C0, I0 = DEFAULT_L0, DEFAULT_C0, DEFAULT_I0
 
-RECORD_FIELDS = ("method", "stepping", "N", "dt", "rtol", "wall_s", "error", "points", "predicted_error")
+class BenchRecord(TypedDict):
+    """One run of the accuracy bench: how it was made, what it cost and how far it is from exact theory."""
+
+    method: str
+    stepping: str
+    N: int
+    dt: float | None
+    rtol: float | None
+    wall_s: float
+    error: float
+    points: int
+    predicted_error: float | None
+
+
+#: The bench's columns, from :class:`BenchRecord` (stated once).
+RECORD_FIELDS: tuple[str, ...] = tuple(BenchRecord.__annotations__)
 
 
 # ------------------------------------------------------------------ one run of each kind
@@ -97,7 +112,7 @@ def _checked(record: RunRecord) -> RunRecord:
 
 @fixed_blas_threads
 def ngspice_record(chain: Chain, modes: Modes, *, method: Method, dt: float | None = None,
-                   reltol: float = 1e-3, transits: int = 1, simulator: Simulator | None = None) -> dict[str, Any]:
+                   reltol: float = 1e-3, transits: int = 1, simulator: Simulator | None = None) -> BenchRecord:
     """One ngspice run: fixed maximum step ``dt``, or adaptive (dt None: ngspice's own steps up to tstop/50)."""
     tstop = stop_time(modes, transits)
     ladder = Ladder(chain, L0, C0)
@@ -118,7 +133,7 @@ def ngspice_record(chain: Chain, modes: Modes, *, method: Method, dt: float | No
 
 
 def extrapolated_record(chain: Chain, modes: Modes, *, runs: int, dt: float, transits: int = 1,
-                        simulator: Simulator | None = None) -> dict[str, Any]:
+                        simulator: Simulator | None = None) -> BenchRecord:
     """Runs at dt, dt/2[, dt/4] combined (:mod:`lcchain.compare.extrapolate`); wall: the runs' ngspice times summed
     (what they cost on one core: ``simulate`` runs two at a time)."""
     report = simulate(chain, dt=dt, extrapolate=runs, transits=transits, modes=modes, simulator=simulator, L0=L0,
@@ -148,7 +163,7 @@ def _ladder_ode(chain: Chain):
     return rhs
 
 
-def dop853_record(chain: Chain, modes: Modes, *, rtol: float, transits: int = 1) -> dict:
+def dop853_record(chain: Chain, modes: Modes, *, rtol: float, transits: int = 1) -> BenchRecord:
     """scipy's DOP853 on q'' = -B q (mass-weighted coordinates), kick of mass 1.
 
     The end signals are velocity ratios: p_1 and p_N sqrt(m_1/m_N) for
@@ -172,7 +187,7 @@ def dop853_record(chain: Chain, modes: Modes, *, rtol: float, transits: int = 1)
             "predicted_error": None}
 
 
-def modal_record(chain: Chain, transits: int = 1) -> dict:
+def modal_record(chain: Chain, transits: int = 1) -> BenchRecord:
     """The modal sum itself: modes plus both end signals on a grid of step :data:`PEER_GRID_STEP`."""
     start = time.perf_counter()
     modes = normal_modes(chain)
@@ -299,7 +314,7 @@ def bench_accuracy(Ns: Sequence[int] | None = None, *, quick: bool = False, targ
     jobs = _plan(Ns, quick)
     target_jobs = [(eps, N) for eps in ACCURACY_TARGETS for N in TARGET_N if N in Ns] if targets else []
     total = len(jobs) + len(target_jobs)
-    records = []
+    records: list[BenchRecord] = []
     for k, (kind, N, params) in enumerate(jobs):
         show(k, total, f"{kind} N={N} {params}")
         if kind == "ngspice":
@@ -319,7 +334,7 @@ def bench_accuracy(Ns: Sequence[int] | None = None, *, quick: bool = False, targ
     return {"records": records, "targets": checks, "summary": summary, "markdown": summary_markdown(summary)}
 
 
-def _target_check(chain: Chain, modes: Modes, eps: float, records: list[dict[str, Any]],
+def _target_check(chain: Chain, modes: Modes, eps: float, records: list[BenchRecord],
                   simulator: Simulator) -> dict[str, Any]:
     report = simulate(chain, accuracy=eps, transits=1, modes=modes, simulator=simulator)
     fixed = [r for r in records if r["method"] == "trap" and r["stepping"] == "fixed" and r["N"] == chain.N
@@ -340,12 +355,12 @@ def _target_check(chain: Chain, modes: Modes, eps: float, records: list[dict[str
 
 
 # ------------------------------------------------------------------ models and summary
-def record_label(record: dict) -> str:
+def record_label(record: BenchRecord | dict[str, Any]) -> str:
     method = record["method"]
     return method if method in ("DOP853", "modal sum") else f"{method} {record['stepping']}"
 
 
-def summarise(records: list[dict], checks: Sequence[dict] = ()) -> dict:
+def summarise(records: Sequence[BenchRecord], checks: Sequence[dict] = ()) -> dict:
     """Fitted error and cost models and the cost of 1e-3 and 1e-5 per method and N.
 
     Error model (fixed steps): error = c dt^2, c the median of error/dt^2 over
@@ -357,7 +372,7 @@ def summarise(records: list[dict], checks: Sequence[dict] = ()) -> dict:
     for method in METHODS:
         for N in sorted({r["N"] for r in records}):
             rs = [r for r in records if r["method"] == method and r["stepping"] == "fixed" and r["N"] == N]
-            ratios = [r["error"] / r["dt"] ** 2 for r in rs if r["dt"] <= 0.1]
+            ratios = [r["error"] / dt ** 2 for r in rs if (dt := r["dt"]) is not None and dt <= 0.1]
             if ratios:
                 fits["error_c"][f"{method} N={N}"] = float(np.median(ratios))
             costs = [r["wall_s"] / (N * r["points"]) for r in rs if r["wall_s"] > 0.5]
