@@ -39,7 +39,7 @@ from typing import Any
 from ..core.checks import choice, instance, integer, real, strings, text_line
 from ..core.checks import pulse as check_pulse
 from ..core.errors import ParameterError
-from ..core.limits import MAX_COMMENT_LENGTH, MAX_DT, MAX_TITLE_LENGTH
+from ..core.limits import MAX_AC_POINTS, MAX_COMMENT_LENGTH, MAX_DT, MAX_TITLE_LENGTH, MIN_AC_POINTS
 from ..core.types import (
     DEFAULT_C0,
     DEFAULT_I0,
@@ -67,6 +67,7 @@ __all__ = [
     "Ladder",
     "SimulationOptions",
     "netlist_text",
+    "ac_netlist_text",
     "make_netlist",
     "check_user_text",
     "probe_names",
@@ -265,8 +266,6 @@ def netlist_text(
     chain = ladder.chain
     N = chain.N
     unit = ladder.time_unit
-    L = ladder.inductances()
-    C = ladder.capacitances()
     Q0 = I0 * unit
 
     lines = [title]
@@ -275,27 +274,11 @@ def netlist_text(
         f"* N={N} L0={number(ladder.L0)} H C0={number(ladder.C0)} F time unit={number(unit)} s "
         f"excitation={excitation} I0={number(I0)} A"
     )
-    for i in range(1, N + 1):
-        ic = f" IC={number(I0)}" if (excitation == "kick" and i == 1) else ""
-        left, right = ladder.node(i - 1), ladder.node(i)
-        if i == 1 and spec is not None:
-            left = "s1"  # the source sits between the rail node n0 (or ground) and L1
-        lines += _loop_branch(i, left, right, L[i - 1], ic, [e for part in parts for e in part.in_series(ladder, i)])
-        if i < N:
-            capacitance = C[i]
-            assert capacitance is not None  # inner springs are > 0 (Chain checks it)
-            ic = f" IC={number(Q0 / capacitance)}" if (excitation == "displacement" and i == 1) else ""
-            lines.append(f"C{i}_{i + 1} n{i} 0 {number(capacitance)}{ic}")
-    for wall in (0, N):
-        wall_capacitance = C[wall]
-        if wall_capacitance is not None:
-            ic = f" IC={number(-Q0 / wall_capacitance)}" if (excitation == "displacement" and wall == 0) else ""
-            lines.append(f"C{wall}_{wall + 1} {ladder.node(wall)} 0 {number(wall_capacitance)}{ic}")
-    if chain.coupled:
-        # mutual inductance k sqrt(L_i L_i+1) between neighbouring coils: the chain's tridiagonal mass matrix
-        lines += [f"K{i}_{i + 1} L{i} L{i + 1} {number(chain.coupling)}" for i in range(1, N)]
+    lines += _element_lines(ladder, parts, source=spec is not None,
+                            kick=I0 if excitation == "kick" else None,
+                            charge=Q0 if excitation == "displacement" else None)
     if spec is not None:
-        lines.append(_source_line(spec, L[0] * I0, unit, ladder.node(0)))
+        lines.append(_source_line(spec, ladder.inductances()[0] * I0, unit, ladder.node(0)))
     lines.append(_options_line(options, I0, ladder))
     step = options.dt * unit
     tstop = options.tstop * unit
@@ -303,6 +286,83 @@ def netlist_text(
     print_step = tstop if options.aligned else step  # aligned: no breakpoint at t = dt
     lines.append(f".tran {number(print_step)} {number(tstop)} 0 {number(max_step)} uic")
     lines.append(".save " + " ".join(probe_names(N, probes) + list(extra_vectors)))
+    lines.append(".end")
+    return "\n".join(lines) + "\n"
+
+
+def _element_lines(ladder: Ladder, parts: tuple[Effect, ...], *, source: bool, kick: float | None,
+                   charge: float | None) -> list[str]:
+    """The ladder's elements: each loop's branch (L_i and what the effects put in series), the spring
+    capacitors, the wall capacitors, the coupled coils' K elements.  ``source``: loop 1 opens at node s1 for a
+    source; ``kick``: the initial current of L_1 (A); ``charge``: the initial charge of loop 1 (C)."""
+    chain = ladder.chain
+    N = chain.N
+    L = ladder.inductances()
+    C = ladder.capacitances()
+    lines = []
+    for i in range(1, N + 1):
+        ic = f" IC={number(kick)}" if (kick is not None and i == 1) else ""
+        left, right = ladder.node(i - 1), ladder.node(i)
+        if i == 1 and source:
+            left = "s1"  # the source sits between the rail node n0 (or ground) and L1
+        lines += _loop_branch(i, left, right, L[i - 1], ic, [e for part in parts for e in part.in_series(ladder, i)])
+        if i < N:
+            capacitance = C[i]
+            assert capacitance is not None  # inner springs are > 0 (Chain checks it)
+            ic = f" IC={number(charge / capacitance)}" if (charge is not None and i == 1) else ""
+            lines.append(f"C{i}_{i + 1} n{i} 0 {number(capacitance)}{ic}")
+    for wall in (0, N):
+        wall_capacitance = C[wall]
+        if wall_capacitance is not None:
+            ic = f" IC={number(-charge / wall_capacitance)}" if (charge is not None and wall == 0) else ""
+            lines.append(f"C{wall}_{wall + 1} {ladder.node(wall)} 0 {number(wall_capacitance)}{ic}")
+    if chain.coupled:
+        # mutual inductance k sqrt(L_i L_i+1) between neighbouring coils: the chain's tridiagonal mass matrix
+        lines += [f"K{i}_{i + 1} L{i} L{i + 1} {number(chain.coupling)}" for i in range(1, N)]
+    return lines
+
+
+def ac_netlist_text(ladder: Ladder, *, points: int, omega_max: float, omega_min: float | None = None,
+                    title: str = "lcchain LC ladder, AC", effects: tuple[Effect, ...] = ()) -> str:
+    """The ladder driven in loop 1 by a unit AC voltage, for its transfer admittances I_1/V_1 and I_N/V_1.
+
+    Parameters
+    ----------
+    ladder : Ladder
+    points : int
+        Frequencies, evenly spaced (``.ac lin``), 16 to :data:`lcchain.core.limits.MAX_AC_POINTS`.
+    omega_max : float
+        The last angular frequency, in units of 1/sqrt(L0 C0) (> 0).
+    omega_min : float, optional
+        The first (default ``omega_max / points``: a free chain has a pole at 0, which a sweep may not hit).
+    title : str
+    effects : tuple of Effect
+        Their series elements (losses: a resistor per inductor), as :func:`netlist_text`.
+
+    Returns
+    -------
+    str
+        No initial condition; ``V1 s1 n0 DC 0 AC 1`` in loop 1; ``.options noopac`` (the ladder is linear and
+        a free one has no DC operating point: a loop of inductors); frequencies in Hz.
+    """
+    instance("ladder", ladder, Ladder)
+    points = integer("points", points, at_least=MIN_AC_POINTS, at_most=MAX_AC_POINTS)
+    omega_max = real("omega_max", omega_max, above=0.0)
+    omega_min = real("omega_min", omega_min if omega_min is not None else omega_max / points, above=0.0,
+                     below=omega_max)
+    parts = _sequence("effects", effects, "a tuple of lcchain effects")
+    for part in parts:
+        instance("effects", part, Effect)
+    title = check_user_text("title", title)
+    N = ladder.chain.N
+    hertz = 1.0 / (2.0 * math.pi * ladder.time_unit)  # angular frequency 1/tau in Hz
+    lines = [title, f"* N={N} L0={number(ladder.L0)} H C0={number(ladder.C0)} F time unit="
+                    f"{number(ladder.time_unit)} s, AC drive of 1 V in loop 1"]
+    lines += _element_lines(ladder, parts, source=True, kick=None, charge=None)
+    lines.append(f"V1 s1 {ladder.node(0)} DC 0 AC 1")
+    lines.append(".options noopac")
+    lines.append(f".ac lin {points} {number(omega_min * hertz)} {number(omega_max * hertz)}")
+    lines.append(".save " + " ".join(probe_names(N, "ends")))
     lines.append(".end")
     return "\n".join(lines) + "\n"
 

@@ -281,6 +281,47 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     return EXIT_FAILED if outputs.failed else EXIT_OK
 
 
+def cmd_spectrum(args: argparse.Namespace) -> int:
+    from ..runs.spectrum import measure_spectrum
+
+    outputs = Outputs(inputs={"--chain": args.chain})
+    outputs.check("--plot", args.plot, FIGURE_FORMATS)
+    chain = chain_from_args(args)
+    report = measure_spectrum(chain, points=args.points, L0=args.L0, C0=args.C0, budget=budget_from_args(args))
+    data = report.to_dict()
+    if args.json:
+        emit_json(data)
+    else:
+        coupled = f", coils coupled k = {chain.coupling:g}" if chain.coupled else ""
+        timings = data["timings"]
+        print(f"{chain.name} chain, N = {chain.N}{coupled}: ngspice {data['engine_version']} AC analysis, "
+              f"{data['points']} frequencies up to {data['omega_max']:.4g} in {timings['ngspice_s']:.3f} s, "
+              f"fit {timings['fit_s']:.3f} s")
+        print(f"{'n':>5} {'omega (circuit)':>19} {'omega (theory)':>19} {'rel. error':>10} {'P_n (circuit)':>14} "
+              f"{'P_n (theory)':>14} {'abs. error':>10} {'spacing':>10}")
+        previous = None
+        for mode in data["modes"]:
+            omega, P = mode["omega"], mode["P"]
+            spacing = "" if previous is None or omega is None else f"{omega - previous:10.6f}"
+            error = "" if omega is None else f"{abs(omega - mode['omega_theory']) / (mode['omega_theory'] or 1):10.2e}"
+            shown = "unseen" if omega is None else f"{omega:19.15f}"
+            print(f"{mode['n']:>5} {shown:>19} {mode['omega_theory']:19.15f} {error:>10} "
+                  f"{'' if P is None else f'{P:14.6e}':>14} {mode['P_theory']:14.6e} "
+                  f"{abs((P or 0.0) - mode['P_theory']):10.2e} {spacing:>10}")
+            previous = omega if omega is not None else previous
+        weak = sum(1 for m in data["modes"] if not m["resolved"])
+        print(f"max relative error of omega_n = {data['max_rel_error_omega']:.3e} (modes with |P_n| >= 1e-6"
+              f"{f'; {weak} weaker modes are placed less well' if weak else ''}), max absolute error of P_n = "
+              f"{data['max_abs_error_P']:.3e} ({data['seen']} of {chain.N} modes seen at the ends)")
+    if args.plot:
+        from ..report.plots import spectrum
+
+        outputs.write("--plot", lambda path: spectrum(
+            report.theory.omega, report.theory.transfer, report.omega, report.P,
+            title=f"{chain.name} chain, N = {chain.N}: ngspice AC against theory", path=path))
+    return EXIT_FAILED if outputs.failed else EXIT_OK
+
+
 def _simulate_engines(args: argparse.Namespace, chain: Any, dt: float | None, keep_netlist: Any) -> int:
     """``simulate --engine A,B``: the same netlist in every engine, each against theory, and their difference."""
     from ..compare.metrics import residual_difference

@@ -132,6 +132,25 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", default="netlists", help="folder (default netlists)")
     p.set_defaults(func=commands.cmd_reference_netlists)
 
+    p = sub.add_parser("spectrum", parents=budget, help="the ladder's normal frequencies and mode weights from an AC "
+                       "analysis in ngspice, beside theory")
+    p.add_argument("--case", choices=NAMED_CASES, help="named chain (as simulate)")
+    p.add_argument("--N", type=int, help="number of masses (ladder cells)")
+    p.add_argument("--walls", type=int, default=0, metavar="J", help="--case perfect only: tied to walls")
+    p.add_argument("--chain", metavar="FILE", help='JSON file {"masses": [...], "springs": [...]} in bulk units')
+    p.add_argument("--coupling", type=number("--coupling"), default=None, metavar="K",
+                   help="mutual inductance k*sqrt(L_i*L_i+1) between neighbouring coils (default 0)")
+    p.add_argument("--L0", type=number("--L0"), default=DEFAULT_L0,
+                   help=f"bulk inductance, henry (default {DEFAULT_L0:g})")
+    p.add_argument("--C0", type=number("--C0"), default=DEFAULT_C0,
+                   help=f"bulk capacitance, farad (default {DEFAULT_C0:g})")
+    p.add_argument("--points", type=int, default=None, metavar="P",
+                   help="frequencies of the AC sweep (default: twice the fewest that separate every pole)")
+    p.add_argument("--plot", metavar="FILE", help="Fig. Pk20-100: |P_n| and the spacing against omega_n, the "
+                   "circuit's modes on top of theory")
+    p.add_argument("--json", action="store_true")
+    p.set_defaults(func=commands.cmd_spectrum)
+
     p = sub.add_parser("simulate", parents=budget, help="run the ladder in ngspice (or gnucap) and compare with "
                        "alpha_N(t)")
     _add_chain_arguments(p)

@@ -45,3 +45,6 @@ MAX_NETLIST_BYTES = 64 * 2**20
 MAX_CHAIN_FILE_BYTES = 64 * 2**20
 #: Largest scene file read (a custom scene lists its masses and springs like a --chain file).
 MAX_SCENE_BYTES = 64 * 2**20
+#: Frequencies of one AC analysis (lcchain spectrum --points): a few per mode at least, at most a million.
+MIN_AC_POINTS = 16
+MAX_AC_POINTS = 1_000_000

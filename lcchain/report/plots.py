@@ -27,7 +27,7 @@ if TYPE_CHECKING:
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
-__all__ = ["overlay", "side_by_side", "spacetime", "histogram", "pareto", "mode_density", "TIME_LABEL"]
+__all__ = ["overlay", "side_by_side", "spacetime", "histogram", "pareto", "mode_density", "spectrum", "TIME_LABEL"]
 
 #: Label of every time axis.
 TIME_LABEL = r"$t\,/\sqrt{L_0 C_0}$"
@@ -552,4 +552,47 @@ def mode_density(omega, density, *, path: str | os.PathLike | None = None,
     right.set_ylabel(r"spacing $\omega_n - \omega_{n-1}$  $[1/\sqrt{L_0 C_0}]$", color="C1")
     right.tick_params(axis="y", colors="C1")
     ax.legend(handles=[h_p, h_w], loc="upper right", fontsize=8)
+    return _finish(fig, path)
+
+
+def spectrum(omega_theory, P_theory, omega_circuit, P_circuit, *, title: str = "",
+             path: str | os.PathLike | None = None) -> Figure:
+    """The paper's Fig. Pk20-100, with a circuit's modes on top: |P_n| against omega_n, and the spacing.
+
+    Parameters
+    ----------
+    omega_theory, P_theory : array_like, shape (N,)
+        Exact normal frequencies (units of 1/sqrt(L0 C0)) and weights P_n of alpha_N.
+    omega_circuit, P_circuit : array_like
+        The modes the AC analysis found (NaN for a mode it did not see).
+    title : str
+    path : str or path-like, optional
+        Save the figure there.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Top: |P_n| on a log scale (the weights span many decades); bottom: omega_n - omega_(n-1).
+    """
+    omega_t = _vector("omega_theory", omega_theory, min_size=2)
+    weight_t = _vector("P_theory", P_theory, min_size=2)
+    omega_c = np.asarray(omega_circuit, dtype=float)
+    weight_c = np.asarray(P_circuit, dtype=float)
+    fig = _new_figure()
+    top, bottom = fig.subplots(2, 1, sharex=True, height_ratios=(3, 2))
+    top.semilogy(omega_t, np.abs(weight_t), "-", color="0.6", linewidth=1.0, label="theory")
+    top.semilogy(omega_t, np.abs(weight_t), "o", color="0.6", markersize=3)
+    seen = np.isfinite(omega_c) & (weight_c != 0)
+    top.semilogy(omega_c[seen], np.abs(weight_c[seen]), "x", color="C3", markersize=5, label="ngspice (AC)")
+    top.set_ylabel(r"$|P_n|$")
+    top.grid(True, **_GRID)
+    top.legend(loc="lower left", fontsize=8)
+    if title:
+        top.set_title(title, fontsize=10)
+    bottom.plot(omega_t[1:], np.diff(omega_t), "-", color="0.6", linewidth=1.0, label="theory")
+    pairs = np.isfinite(omega_c[1:]) & np.isfinite(omega_c[:-1])
+    bottom.plot(omega_c[1:][pairs], np.diff(omega_c)[pairs], "x", color="C3", markersize=5, label="ngspice (AC)")
+    bottom.set_xlabel(r"$\omega_n$  $[1/\sqrt{L_0 C_0}]$")
+    bottom.set_ylabel(r"$\omega_n - \omega_{n-1}$")
+    bottom.grid(True, **_GRID)
     return _finish(fig, path)

@@ -13,26 +13,35 @@ from .text import canonical_vector_name
 __all__ = ["read_raw"]
 
 
-def read_raw(source: str | os.PathLike[str] | bytes) -> dict[str, np.ndarray]:
-    """Read the transient plot of an ngspice binary raw file.
+#: The plots lcchain reads, by the start of their name in the raw file, and whether their data are complex.
+PLOTS = {"transient": False, "ac": True}
+
+
+def read_raw(source: str | os.PathLike[str] | bytes, plot: str = "transient") -> dict[str, np.ndarray]:
+    """Read the transient (or AC) plot of an ngspice binary raw file.
 
     Parameters
     ----------
     source : path-like or bytes
         Raw file written by ``ngspice -b -r``, or its content.
+    plot : {"transient", "ac"}
+        Which analysis: a transient's real columns, or an AC analysis's complex ones.
 
     Returns
     -------
     dict[str, numpy.ndarray]
-        Normalised vector name (``"time"``, ``"i(l1)"``, ``"v(n3)"``) ->
-        read-only float64 column. When the file holds several plots, the
-        last transient one is returned.
+        Normalised vector name (``"time"`` or ``"frequency"``, ``"i(l1)"``, ``"v(n3)"``) ->
+        read-only float64 (transient) or complex128 (AC) column. When the file holds several plots, the
+        last one of that analysis is returned.
 
     Raises
     ------
     SimulationError
-        Not a binary real raw file, truncated, or without a transient plot.
+        Not a binary raw file, truncated, or without a plot of that analysis.
     """
+    if plot not in PLOTS:
+        raise SimulationError(f"lcchain reads transient and AC plots, not {plot!r}")
+    complex_data = PLOTS[plot]
     data = source if isinstance(source, bytes) else Path(source).read_bytes()
     offset = 0
     chosen: dict[str, np.ndarray] | None = None
@@ -44,21 +53,26 @@ def read_raw(source: str | os.PathLike[str] | bytes) -> dict[str, np.ndarray]:
             raise SimulationError("the raw file has no 'Binary:' section")
         header = data[offset:header_end].decode("latin-1")
         plotname, flags, nvars, npoints, names = _parse_raw_header(header)
-        if "complex" in flags:
-            raise SimulationError(f"the raw plot {plotname!r} is complex; lcchain reads real data only")
+        is_complex = "complex" in flags
+        wanted = plotname.lower().startswith(plot)
+        if wanted and is_complex != complex_data:
+            raise SimulationError(f"the raw plot {plotname!r} is {'complex' if is_complex else 'real'}; lcchain "
+                                  f"reads {'complex' if complex_data else 'real'} data for a {plot} analysis")
         start = header_end + len(b"Binary:\n")
-        nbytes = nvars * npoints * 8
+        width = 16 if is_complex else 8
+        nbytes = nvars * npoints * width
         if start + nbytes > len(data):
             raise SimulationError(
                 f"the raw file is truncated: {npoints} points x {nvars} variables announced, "
-                f"{(len(data) - start) // 8} values present"
+                f"{(len(data) - start) // width} values present"
             )
-        block = np.frombuffer(data, dtype=np.float64, count=nvars * npoints, offset=start).reshape(npoints, nvars)
-        if plotname.lower().startswith("transient"):
+        dtype = np.complex128 if is_complex else np.float64
+        block = np.frombuffer(data, dtype=dtype, count=nvars * npoints, offset=start).reshape(npoints, nvars)
+        if wanted:
             chosen = {canonical_vector_name(name): block[:, i] for i, name in enumerate(names)}
         offset = start + nbytes
     if chosen is None:
-        raise SimulationError("the raw file holds no transient analysis")
+        raise SimulationError(f"the raw file holds no {plot} analysis")
     return chosen
 
 

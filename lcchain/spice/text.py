@@ -67,12 +67,13 @@ def canonical_vector_name(name: str) -> str:
     -------
     str
         ``"i(l1)"`` for a branch current, ``"v(n3)"`` for a node voltage,
-        ``"time"`` for time, otherwise the lower-cased name.
+        ``"time"`` for time and ``"frequency"`` for frequency (the scales of a
+        transient and an AC analysis), otherwise the lower-cased name.
     """
     text = name.strip().lower()
     if text.endswith("#branch"):
         return f"i({text[: -len('#branch')]})"
-    if text == "time" or "(" in text or "@" in text or "#" in text or "[" in text:
+    if text in ("time", "frequency") or "(" in text or "@" in text or "#" in text or "[" in text:
         return text
     return f"v({text})"
 

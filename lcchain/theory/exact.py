@@ -27,7 +27,8 @@ from ..core.limits import COUPLED_MAX_N, EXACT_MAX_N
 from .chain import Chain
 from .modes import Modes
 
-__all__ = ["tridiagonal", "diagonalise", "exact_modes", "coupled_vectors", "modal_weights", "EXACT_MAX_N",
+__all__ = ["tridiagonal", "diagonalise", "exact_modes", "driven_modes", "coupled_vectors", "modal_weights",
+           "EXACT_MAX_N",
            "COUPLED_MAX_N"]
 
 
@@ -90,6 +91,21 @@ def modal_weights(chain: Chain, u: np.ndarray, *, force: bool = False) -> np.nda
         return np.asarray(chain.masses[0] * u[0, :])
     diagonal, off = chain.mass_matrix_bands()
     return np.asarray(diagonal[0] * u[0, :] + off[0] * u[1, :])
+
+
+@fixed_blas_threads
+def driven_modes(chain: Chain) -> Modes:
+    """Modes as a voltage in loop 1 drives them (a force on mass 1): density m_1 u_1n^2, transfer m_1 u_1n u_Nn.
+
+    Without coupling these are :func:`exact_modes`' (the kick's); with coupled coils a force excites mode n by
+    m_1 u_1n, not by the kick's (M u_n)_1.  They are m_1 times the residues of the transfer admittances
+    Y_11 Z0 and Y_N1 Z0 at s^2 = -omega_n^2 (:mod:`lcchain.compare.spectrum`).
+    """
+    if not chain.coupled:
+        return exact_modes(chain)
+    omega, u = coupled_vectors(chain)
+    amplitude = modal_weights(chain, u, force=True)
+    return Modes(omega, u[0, :] * amplitude, u[-1, :] * amplitude, "exact")
 
 
 @fixed_blas_threads

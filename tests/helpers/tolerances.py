@@ -160,3 +160,10 @@ ATOL_COUPLED_ODE = 1e-9
 #: A coupled chain's effect on the first arrival must be visible at k = 0.05 (the test's theory is not the
 #: uncoupled one): the peak moves by more than this (measured ~1e-3 and more on the two-mass and perfect chains).
 MIN_COUPLING_EFFECT = 1e-4
+
+
+# ------------------------------------------------------------ the spectrum from an AC analysis (issue 21)
+#: omega_n (relative) and P_n (absolute) from ngspice's AC response against an independent dense eigen-solution:
+#: the issue's targets (measured 2e-10 .. 4e-15 for omega_n of the modes weighing |P_n| >= 1e-6, 2e-12 .. 2e-15 for P_n).
+RTOL_SPECTRUM_OMEGA = 1e-9
+ATOL_SPECTRUM_P = 1e-9

@@ -1,0 +1,112 @@
+"""The ladder's spectrum from an AC analysis (issue 21): normal frequencies and mode weights in ngspice.
+
+Checked against an independent dense eigen-solution of K u = omega^2 M u written out here (scipy.linalg.eigh on
+the full matrices), not lcchain's own modes.
+"""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+from helpers.tolerances import ATOL_SPECTRUM_P, RTOL_SPECTRUM_OMEGA
+from scipy.linalg import eigh
+
+from lcchain.cli.main import main
+from lcchain.compare.spectrum import fit_spectrum, min_points
+from lcchain.core.errors import ParameterError, SimulationError
+from lcchain.runs.spectrum import OMEGA_WEIGHT_FLOOR, measure_spectrum
+from lcchain.spice.raw import read_raw
+from lcchain.theory.cases import chain_for_case
+from lcchain.theory.chain import Chain
+
+
+def _dense(chain: Chain) -> tuple[np.ndarray, np.ndarray]:
+    """Frequencies and P_n = m_1 u_1n u_Nn (M-orthonormal u) from the full matrices."""
+    m, K, k = chain.masses, chain.springs, chain.coupling
+    mutual = k * np.sqrt(m[:-1] * m[1:])
+    M = np.diag(m) + np.diag(mutual, 1) + np.diag(mutual, -1)
+    S = np.diag(K[:-1] + K[1:]) - np.diag(K[1:-1], 1) - np.diag(K[1:-1], -1)
+    squares, u = eigh(S, M)
+    omega = np.sqrt(np.clip(squares, 0.0, None))
+    if chain.is_free:
+        omega[0] = 0.0
+    return omega, m[0] * u[0] * u[-1]
+
+
+def test_the_fit_recovers_poles_and_residues_of_exact_samples():
+    chain = chain_for_case("two-mass", 16)
+    omega, P = _dense(chain)
+    m, K = chain.masses, chain.springs
+    S = np.diag(K[:-1] + K[1:]) - np.diag(K[1:-1], 1) - np.diag(K[1:-1], -1)
+    squares, u = eigh(S, np.diag(m))
+    a, b = u[0] ** 2, u[0] * u[-1]
+    top = 1.05 * omega[-1]
+    w = np.linspace(top / 600, top, 600)
+    x = w * w
+    y11 = 1j * w * (a[None, :] / (squares[None, :] - x[:, None])).sum(axis=1)
+    yN1 = 1j * w * (b[None, :] / (squares[None, :] - x[:, None])).sum(axis=1)
+    fit = fit_spectrum(w, y11, yN1)
+    assert fit.omega.size == chain.N
+    assert np.max(np.abs(fit.omega[1:] - omega[1:]) / omega[1:]) < RTOL_SPECTRUM_OMEGA
+    assert np.max(np.abs(m[0] * fit.last - P)) < ATOL_SPECTRUM_P
+    with pytest.raises(ParameterError, match="omega"):
+        fit_spectrum(w[::-1], y11, yN1)
+
+
+@pytest.mark.ngspice
+@pytest.mark.parametrize("chain", [chain_for_case("two-mass", 20), chain_for_case("perfect", 30),
+                                   chain_for_case("uniform-bounded", 24), chain_for_case("perfect", 20, 1),
+                                   chain_for_case("two-mass", 20).with_coupling(0.03),
+                                   chain_for_case("one-mass", 60)],
+                         ids=["two-mass-20", "perfect-30", "walls-24", "perfect-walled-20", "coupled-20",
+                              "one-mass-60"])
+def test_ngspice_spectrum_matches_a_dense_eigen_solution(chain):
+    report = measure_spectrum(chain)
+    omega, P = _dense(chain)
+    seen = np.isfinite(report.omega)
+    strong = np.abs(P) >= OMEGA_WEIGHT_FLOOR
+    assert np.all(seen[strong])  # every mode that weighs at the ends is found
+    error = np.abs(report.omega[strong] - omega[strong]) / np.where(omega[strong] > 0, omega[strong], 1.0)
+    assert np.max(error) < RTOL_SPECTRUM_OMEGA
+    assert np.max(np.abs(report.P - P)) < ATOL_SPECTRUM_P  # an unseen mode counts with P = 0
+    assert report.max_rel_error_omega < RTOL_SPECTRUM_OMEGA and report.max_abs_error_P < ATOL_SPECTRUM_P
+
+
+@pytest.mark.ngspice
+def test_a_perfect_cradles_spacing_is_constant_in_the_circuit():
+    """The headline of a perfect cradle, measured in ngspice: its normal frequencies are equally spaced."""
+    report = measure_spectrum(chain_for_case("perfect", 24))
+    strong = report.resolved & np.isfinite(report.omega)
+    spacing = np.diff(report.omega[strong])
+    assert np.max(np.abs(spacing - spacing.mean())) / spacing.mean() < 10 * RTOL_SPECTRUM_OMEGA
+    two_mass = np.diff(measure_spectrum(chain_for_case("two-mass", 24)).omega)
+    assert np.max(np.abs(two_mass - two_mass.mean())) / two_mass.mean() > 0.1  # the optimum's is not
+
+
+@pytest.mark.ngspice
+def test_spectrum_command(tmp_path, capsys):
+    plot = tmp_path / "pk.png"
+    assert main(["spectrum", "--case", "two-mass", "--N", "20", "--json", "--plot", str(plot)]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert len(data["modes"]) == 20 and plot.stat().st_size > 10_000
+    first = data["modes"][0]
+    assert {"omega", "P", "omega_theory", "P_theory"} <= set(first) and first["omega_theory"] == 0.0
+    assert data["max_rel_error_omega"] < RTOL_SPECTRUM_OMEGA and data["max_abs_error_P"] < ATOL_SPECTRUM_P
+    needed = min_points(_dense(chain_for_case("two-mass", 20))[0], data["omega_max"])
+    assert main(["spectrum", "--case", "two-mass", "--N", "20", "--points", str(needed - 1)]) == 2
+    assert f"at least {needed}" in capsys.readouterr().err
+    assert main(["spectrum", "--case", "two-mass", "--N", "2500"]) == 2
+    assert "N" in capsys.readouterr().err
+
+
+def test_read_raw_reads_an_ac_plots_complex_columns():
+    header = (b"Title: t\nDate: d\nPlotname: AC Analysis\nFlags: complex\nNo. Variables: 2\nNo. Points: 2\n"
+              b"Variables:\n\t0\tfrequency\tfrequency\n\t1\ti(l1)\tcurrent\nBinary:\n")
+    values = np.array([1.0 + 9e38j, 0.5 - 2j, 2.0 + 9e38j, 0.25 - 1j])
+    columns = read_raw(header + values.tobytes(), "ac")
+    assert np.array_equal(columns["frequency"].real, [1.0, 2.0])
+    assert np.array_equal(columns["i(l1)"], [0.5 - 2j, 0.25 - 1j])
+    with pytest.raises(SimulationError, match="no transient analysis"):
+        read_raw(header + values.tobytes())
