@@ -37,16 +37,13 @@ from scipy.interpolate import AAA
 from ..core.errors import ParameterError
 from ..core.frozen import FrozenArrays
 
-__all__ = ["SpectrumFit", "fit_spectrum", "min_points", "POINTS_PER_SPACING", "ZERO_MODE_RESIDUE"]
+__all__ = ["SpectrumFit", "fit_spectrum", "min_points", "POINTS_PER_SPACING"]
 
 #: Samples per smallest spacing of the poles that the fit needs (at least): each pole's window then holds a few
 #: samples on each side.  :func:`min_points` uses it to refuse a grid too coarse before anything runs.
 POINTS_PER_SPACING = 4
-#: A fitted zero-mode residue below this (relative to the largest residue) is no mode: a chain held by walls.
-ZERO_MODE_RESIDUE = 1e-9
-#: Sweeps over every pole at most, and the relative change of the poles that ends them.
+#: Gauss-Newton steps at most (each must lower the misfit).
 _SWEEPS = 6
-_CONVERGED = 1e-14
 #: Rows of the rational fit and of the residues' least squares: this many around each pole, and an even spread.
 _ROWS_PER_POLE = 8
 _SPREAD = 200
@@ -107,38 +104,6 @@ def _solve(columns: np.ndarray, target: np.ndarray) -> np.ndarray:
     norms[norms == 0] = 1.0
     solution, *_ = np.linalg.lstsq(columns / norms, target, rcond=None)
     return np.asarray(solution / norms)
-
-
-def _local_fit(x: np.ndarray, y: np.ndarray, pole: float | None) -> tuple[float, float]:
-    """(residue r, pole q) of y ~ r / (q - x) on a window, the other poles' terms already taken out of y;
-    ``pole`` given: only r.
-
-    The pole comes from the linearised form y (x - q) = -r, i.e. y x = q y - r, linear in (q, r) and exact when
-    the model is (Levy's method): its rows carry the data's rounding uniformly, where the model's own rows would
-    weigh the samples next to the pole by their huge values.  Then r alone with the same rows.
-    """
-    if pole is None:
-        shift = float(np.mean(x))
-        t = x - shift
-        q, minus_r = _solve(np.column_stack((y, -np.ones_like(t))), y * t)
-        pole = shift + float(q)
-    distance = pole - x
-    (residue,) = _solve(distance[:, None] * 0 + 1.0, y * distance)
-    return float(residue), pole
-
-
-def _others(x: np.ndarray, poles: np.ndarray, residues: np.ndarray, skip: int | None) -> np.ndarray:
-    """The sum of every pole's term but ``skip``'s (None: every pole's) at the samples x."""
-    terms = residues[None, :] / (poles[None, :] - x[:, None])
-    if skip is not None:
-        terms[:, skip] = 0.0
-    return np.asarray(terms.sum(axis=1))
-
-
-def _windows(x: np.ndarray, brackets: np.ndarray) -> list[slice]:
-    """Each pole's samples: from the midpoint of the gap to the previous pole to that of the gap to the next."""
-    edges = [0, *((brackets[:-1] + brackets[1:] + 2) // 2).tolist(), x.size]
-    return [slice(edges[i], edges[i + 1]) for i in range(brackets.size)]
 
 
 def _rows_near(x: np.ndarray, poles: np.ndarray, per: int) -> np.ndarray:
