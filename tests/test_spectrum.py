@@ -98,7 +98,12 @@ def test_spectrum_command(tmp_path, capsys):
     assert main(["spectrum", "--case", "two-mass", "--N", "20", "--points", str(needed - 1)]) == 2
     assert f"at least {needed}" in capsys.readouterr().err
     assert main(["spectrum", "--case", "two-mass", "--N", "2500"]) == 2
-    assert "N" in capsys.readouterr().err
+    assert "--N" in capsys.readouterr().err
+    # priced before anything runs: the default sweep names the chain, a sweep asked for names --points
+    assert main(["spectrum", "--case", "two-mass", "--N", "400", "--max-time", "1"]) == 2
+    assert "--N = 400" in capsys.readouterr().err
+    assert main(["spectrum", "--case", "two-mass", "--N", "400", "--max-time", "1", "--points", "900000"]) == 2
+    assert "--points = 900000" in capsys.readouterr().err
 
 
 def test_read_raw_reads_an_ac_plots_complex_columns():

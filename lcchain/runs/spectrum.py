@@ -172,13 +172,19 @@ def measure_spectrum(chain: Chain, *, points: int | None = None, L0: float = DEF
     theory = driven_modes(chain)
     omega_max = float(theory.omega[-1]) * (1.0 + OMEGA_MARGIN)
     needed = min_points(theory.omega, omega_max)
+    chosen = points is None
     if points is None:
         points = min(MAX_AC_POINTS, DEFAULT_OVERSAMPLING * needed)
     points = integer("points", points, at_least=needed, at_most=MAX_AC_POINTS,
                      allowed=f"at least {needed} frequencies (4 per smallest spacing of the normal frequencies, "
                              f"up to {omega_max:.4g}) and at most {MAX_AC_POINTS}")
     estimate = run_estimate(points=points, saved=4, compared=4, unknowns=2 * chain.N)
-    estimate.check(budget if budget is not None else Budget(), "points", points, "fewer frequencies")
+    if chosen:  # the sweep lcchain chose: the chain is what costs
+        estimate.check(budget if budget is not None else Budget(), "N", chain.N,
+                       f"a smaller chain, or --points between {needed} and {points}")
+    else:
+        estimate.check(budget if budget is not None else Budget(), "points", points,
+                       f"fewer frequencies (at least {needed})")
     text = ac_netlist_text(ladder, points=points, omega_max=omega_max,
                            title=f"lcchain {chain.name} chain N={chain.N}, AC")
     last = f"i(l{chain.N})"
