@@ -172,6 +172,11 @@ def measure_spectrum(chain: Chain, *, points: int | None = None, L0: float = DEF
     theory = driven_modes(chain)
     omega_max = float(theory.omega[-1]) * (1.0 + OMEGA_MARGIN)
     needed = min_points(theory.omega, omega_max)
+    if needed > MAX_AC_POINTS:
+        spacing = float(np.min(np.diff(theory.omega[theory.omega > 0])))
+        raise ParameterError("N", chain.N, f"a chain whose poles an even sweep of at most {MAX_AC_POINTS} frequencies "
+                             f"separates: two of this one's normal frequencies are {spacing:.3g} apart, which needs "
+                             f"{needed} frequencies")
     chosen = points is None
     if points is None:
         points = min(MAX_AC_POINTS, DEFAULT_OVERSAMPLING * needed)
