@@ -22,8 +22,8 @@ from ..theory.cases import chain_for_case
 from ..theory.chain import Chain
 from .schema import Scene
 
-__all__ = ["ScenePlan", "base_chain", "case_chain", "scene_request", "realised", "sample_count", "scene_plan",
-           "scene_specs", "losses_and_pulse", "ACCURACY_LOOPS"]
+__all__ = ["ScenePlan", "case_chain", "scene_request", "scene_plan", "scene_specs", "losses_and_pulse",
+           "ACCURACY_LOOPS"]
 
 #: What a scene's plan is: the request's plan.
 ScenePlan = RequestPlan
@@ -48,23 +48,6 @@ def scene_request(scene: Scene, chain: Chain | None = None) -> Request:
                    drive=Drive(excitation.kind, excitation.I0, pulse),
                    effects=scene.effects.present(), L0=units.L0, C0=units.C0, backend=analysis.backend,
                    title=scene.title, engine=analysis.engine)
-
-
-def base_chain(scene: Scene) -> Chain:
-    """The nominal chain of the scene (case or custom), with the effects that change it (walls, coupling)."""
-    return scene_request(scene).nominal()
-
-
-def realised(scene: Scene) -> bool:
-    """Whether the scene simulates chains other than the nominal one (rounded or toleranced)."""
-    tol = scene.effects.tolerance
-    return scene.effects.preferred_values is not None or (tol is not None and bool(tol.L or tol.C or tol.samples > 1))
-
-
-def sample_count(scene: Scene) -> int:
-    """How many circuits the scene runs."""
-    tol = scene.effects.tolerance
-    return tol.samples if tol is not None and (tol.L or tol.C or tol.samples > 1) else 1
 
 
 def losses_and_pulse(scene: Scene) -> tuple[float | None, tuple[PulseShape, float] | None]:
