@@ -14,6 +14,7 @@ import os
 import signal
 import sys
 import threading
+import warnings
 from collections.abc import Iterator, Sequence
 from typing import Any, NoReturn
 
@@ -270,6 +271,11 @@ def _quiet_stdout() -> None:
         pass
 
 
+def _show_warning(message: Warning | str, category: type[Warning], filename: str, lineno: int,
+                  file: Any = None, line: str | None = None) -> None:
+    print(f"lcchain: warning: {message}", file=sys.stderr)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line; returns the exit status."""
     argv = list(sys.argv[1:] if argv is None else argv)
@@ -284,7 +290,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     args.argv_echo = argv[1:]
     logging.basicConfig(level=logging.INFO if args.verbose else logging.WARNING, format="lcchain: %(message)s")
     try:
-        with _signals_interrupt(), threadpool_limits(limits=BLAS_THREADS, user_api="blas"):
+        with _signals_interrupt(), threadpool_limits(limits=BLAS_THREADS, user_api="blas"), \
+                warnings.catch_warnings():
+            warnings.showwarning = _show_warning  # one line a person reads, not a source location
             status = int(args.func(args))
         sys.stdout.flush()
         return status
