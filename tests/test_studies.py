@@ -304,3 +304,23 @@ def test_a_store_reads_back_as_a_dataframe_and_a_dataset(serial_store: Path) -> 
     assert len(frame) == 12 and {"case", "N", "dt", "status", "digest", "peak_sim"} <= set(frame.columns)
     assert set(frame["status"]) == {"ok"} and sorted(set(frame["N"])) == [20, 40, 60]
     assert dataset.sizes["index"] == 12 and "max_abs_error" in dataset
+
+
+@pytest.mark.ngspice
+def test_a_metric_the_store_cannot_give_is_refused_before_anything_prints(tmp_path: Path,
+                                                                          capsys: pytest.CaptureFixture[str]) -> None:
+    """Issue 22: `results --summary --metric energy` on a pulse study printed an empty table and exited 0."""
+    scene = tmp_path / "pulse.toml"
+    scene.write_text('[chain]\ncase = "two-mass"\nN = 10\n[excitation]\nkind = "pulse"\nshape = "rect"\n'
+                     'width = 0.5\n[analysis]\ndt = 0.05\n')
+    store = tmp_path / "pulse.sqlite"
+    assert main(["sweep", str(scene), "--vary", "chain.N=10,12", "--store", str(store)]) == 0
+    capsys.readouterr()
+    for metric in ("energy", "loss"):
+        for extra in (["--summary"], ["--plot", str(tmp_path / "p.png")]):
+            assert main(["results", str(store), "--metric", metric, *extra]) == 2
+            captured = capsys.readouterr()
+            assert captured.out == "" and "--metric" in captured.err and "peak" in captured.err
+    assert not (tmp_path / "p.png").exists()
+    assert main(["results", str(store), "--summary", "--metric", "peak"]) == 0
+    assert "first-arrival peak" in capsys.readouterr().out

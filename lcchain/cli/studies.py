@@ -291,6 +291,16 @@ def _print_summary(stored: list[Any], args: argparse.Namespace) -> None:
         print("  ".join(c.rjust(w) for c, w in zip(row, widths, strict=True)))
 
 
+def _check_metric(metric: str, stored: list[Any]) -> None:
+    """A metric the store's runs cannot give is refused before anything prints (not an empty table)."""
+    from ..studies.summary import available_metrics
+
+    available = available_metrics(stored)
+    if available and metric not in available:
+        raise ParameterError("--metric", metric, f"a metric this store's runs give: {' | '.join(available)} (an "
+                             "energy fraction needs a kicked first loop; a pulse's is undefined)")
+
+
 def cmd_results(args: argparse.Namespace) -> int:
     from ..studies.store import Store
 
@@ -299,6 +309,8 @@ def cmd_results(args: argparse.Namespace) -> int:
     with Store(args.store, "read", option="STORE") as store:  # read-only: nothing is created or changed
         stored = store.runs()
         runs = [run.to_dict() for run in stored]
+        if args.summary or args.plot:
+            _check_metric(args.metric, stored)
         if args.plot:
             from ..report.files import save_figure
             from ..report.studies import study_figure

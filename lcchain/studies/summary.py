@@ -20,7 +20,7 @@ import numpy as np
 from ..core.checks import choice
 from .store import StoredRun
 
-__all__ = ["Group", "peak_groups", "METRICS"]
+__all__ = ["Group", "peak_groups", "METRICS", "available_metrics"]
 
 #: What a group summarises: the first arrival's current peak, its energy fraction (kick only), or the energy
 #: lost on the way, 1 - energy fraction (best on a log scale: it spans decades between designs).
@@ -63,6 +63,12 @@ def _first(run: StoredRun, field: str) -> float | None:
     arrivals = (run.metrics or {}).get("arrivals") or []
     value = arrivals[0].get(field) if arrivals else None
     return None if value is None else float(value)
+
+
+def available_metrics(runs: list[StoredRun]) -> list[str]:
+    """The metrics the store's finished runs give (an energy fraction needs a kick: a pulse's is undefined)."""
+    finished = [run for run in runs if run.status == "ok" and not run.member]
+    return [metric for metric, field in METRICS.items() if any(_first(run, field) is not None for run in finished)]
 
 
 def peak_groups(runs: list[StoredRun], metric: str = "peak") -> list[Group]:
