@@ -71,7 +71,8 @@ def engine_list(text: str) -> tuple[str, ...]:
     return names
 
 
-def _add_chain_arguments(p: argparse.ArgumentParser) -> None:
+def _add_circuit_arguments(p: argparse.ArgumentParser) -> None:
+    """The circuit: a chain (named, or a file), its coils' coupling and its bulk L0, C0."""
     p.add_argument("--case", choices=NAMED_CASES,
                    help="named chain (one-mass/two-mass: the optimal design for N; perfect: the perfect cradle)")
     p.add_argument("--N", type=int, help="number of masses (ladder cells)")
@@ -84,6 +85,11 @@ def _add_chain_arguments(p: argparse.ArgumentParser) -> None:
                    help=f"bulk inductance, henry (default {DEFAULT_L0:g})")
     p.add_argument("--C0", type=number("--C0"), default=DEFAULT_C0,
                    help=f"bulk capacitance, farad (default {DEFAULT_C0:g})")
+
+
+def _add_chain_arguments(p: argparse.ArgumentParser) -> None:
+    """The circuit and how a transient drives and watches it."""
+    _add_circuit_arguments(p)
     p.add_argument("--excitation", choices=EXCITATIONS, default="kick",
                    help="kick: initial current in L1; displacement: initial charge in loop 1")
     p.add_argument("--title", help="netlist title (one line)")
@@ -135,16 +141,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("spectrum", parents=budget, help="the ladder's normal frequencies and mode weights from an AC "
                        "analysis in ngspice, beside theory")
-    p.add_argument("--case", choices=NAMED_CASES, help="named chain (as simulate)")
-    p.add_argument("--N", type=int, help="number of masses (ladder cells)")
-    p.add_argument("--walls", type=int, default=0, metavar="J", help="--case perfect only: tied to walls")
-    p.add_argument("--chain", metavar="FILE", help='JSON file {"masses": [...], "springs": [...]} in bulk units')
-    p.add_argument("--coupling", type=number("--coupling"), default=None, metavar="K",
-                   help="mutual inductance k*sqrt(L_i*L_i+1) between neighbouring coils (default 0)")
-    p.add_argument("--L0", type=number("--L0"), default=DEFAULT_L0,
-                   help=f"bulk inductance, henry (default {DEFAULT_L0:g})")
-    p.add_argument("--C0", type=number("--C0"), default=DEFAULT_C0,
-                   help=f"bulk capacitance, farad (default {DEFAULT_C0:g})")
+    _add_circuit_arguments(p)
     p.add_argument("--points", type=int, default=None, metavar="P",
                    help="frequencies of the AC sweep (default: twice the fewest that separate every pole)")
     p.add_argument("--plot", metavar="FILE", help="Fig. Pk20-100: |P_n| and the spacing against omega_n, the "
