@@ -51,7 +51,6 @@ so it is dropped: a gnucap run's time starts at its first step.
 
 from __future__ import annotations
 
-import contextlib
 import hashlib
 import math
 import os
@@ -72,7 +71,7 @@ from ..core.types import Backend
 from .engine import Engine
 from .log import trim_log, useful_output
 from .processes import child_env, kill_group, read_all
-from .runner import PROGRESS_INTERVAL, RunResult, check_arguments, exited, validate_columns
+from .runner import RunResult, check_arguments, progress_reporter, validate_columns, wait_watching
 from .sandbox import Sandbox
 from .simulator import Simulator, child_launcher
 from .text import canonical_vector_name, parse_options, saved_vectors
@@ -398,32 +397,17 @@ def _wait(proc: subprocess.Popen[bytes], timeout: float, tstop: float, out: IO[b
           progress: Callable[[float], None] | None, limit: float) -> int | None:
     """gnucap's exit status, or None after the timeout; reports progress and stops a run whose output outgrows
     ``limit`` meanwhile."""
-    deadline = time.monotonic() + timeout
-    fraction = 0.0
-    try:
-        pidfd: int | None = os.pidfd_open(proc.pid)
-    except (AttributeError, OSError):  # not Linux, or an old kernel
-        pidfd = None
-    try:
-        while True:
-            left = deadline - time.monotonic()
-            if left <= 0:
-                return None
-            status = exited(proc, pidfd, min(PROGRESS_INTERVAL, left))
-            if status is not None:
-                return status
-            if os.fstat(out.fileno()).st_size + os.fstat(err.fileno()).st_size > limit:
-                kill_group(proc)
-                raise _failure(f"gnucap printed more than {show_bytes(limit)}, the most the memory budget "
-                                      "allows, and the run was stopped", "")
-            if progress is not None:
-                t = _last_time(out)
-                fraction = max(fraction, min(max(t / tstop, 0.0), 1.0)) if t is not None else fraction
-                progress(fraction)
-    finally:
-        if pidfd is not None:
-            with contextlib.suppress(OSError):
-                os.close(pidfd)
+    report = progress_reporter(progress, tstop, lambda: _last_time(out)) if progress is not None else None
+
+    def look() -> None:
+        if os.fstat(out.fileno()).st_size + os.fstat(err.fileno()).st_size > limit:
+            kill_group(proc)
+            raise _failure(f"gnucap printed more than {show_bytes(limit)}, the most the memory budget allows, and "
+                           "the run was stopped", "")
+        if report is not None:
+            report()
+
+    return wait_watching(proc, timeout, look)
 
 
 def _without_rows(log: str) -> str:

@@ -344,40 +344,64 @@ def exited(proc: subprocess.Popen[bytes], pidfd: int | None, seconds: float) -> 
     return proc.wait() if ready else None
 
 
-def _wait(proc: subprocess.Popen[bytes], timeout: float, tstop: float, out: IO[bytes], err: IO[bytes],
-          raw: IO[bytes], progress: Callable[[float], None] | None, limit: float | None) -> int | None:
-    """Exit status of ngspice, or None after the timeout; reports progress meanwhile and, with a ``limit`` on
-    its raw file, stops a run whose raw file or output outgrows it (its output: :data:`MAX_LOG_BYTES`)."""
+def wait_watching(proc: subprocess.Popen[bytes], timeout: float,
+                  look: Callable[[], None] | None) -> int | None:
+    """A child's exit status, or None after ``timeout`` seconds; ``look`` (which may raise to stop the run) is
+    called every :data:`PROGRESS_INTERVAL` while it runs, and without it the wait sleeps to the exit at once."""
     deadline = time.monotonic() + timeout
-    fraction = 0.0
     try:
         pidfd: int | None = os.pidfd_open(proc.pid)
     except (AttributeError, OSError):  # not Linux, or an old kernel
         pidfd = None
-    watching = progress is not None or limit is not None
     try:
         while True:
             left = deadline - time.monotonic()
             if left <= 0:
                 return None
-            status = exited(proc, pidfd, min(PROGRESS_INTERVAL, left) if watching else left)
+            status = exited(proc, pidfd, min(PROGRESS_INTERVAL, left) if look is not None else left)
             if status is not None:
                 return status
-            if limit is not None and os.fstat(raw.fileno()).st_size > limit:
-                kill_group(proc)
-                raise SimulationError(f"ngspice's raw file grew past {show_bytes(limit)}, the most the memory "
-                                      "budget allows (--max-memory), and the run was stopped", "")
-            if limit is not None and os.fstat(out.fileno()).st_size + os.fstat(err.fileno()).st_size > MAX_LOG_BYTES:
-                kill_group(proc)
-                raise SimulationError(f"ngspice printed more than {show_bytes(MAX_LOG_BYTES)} and the run was "
-                                      "stopped", "")
-            if progress is not None:  # at every poll, so that a caller can also stop the run from it
-                t = _simulated_time(err)
-                fraction = max(fraction, min(max(t / tstop, 0.0), 1.0)) if t is not None else fraction
-                progress(fraction)
+            if look is not None:
+                look()
     finally:
         if pidfd is not None:
-            os.close(pidfd)
+            with contextlib.suppress(OSError):
+                os.close(pidfd)
+
+
+def progress_reporter(progress: Callable[[float], None], tstop: float,
+                      simulated: Callable[[], float | None]) -> Callable[[], None]:
+    """A look that reports the fraction of ``tstop`` simulated so far (never going back)."""
+    fraction = 0.0
+
+    def report() -> None:
+        nonlocal fraction
+        t = simulated()
+        fraction = max(fraction, min(max(t / tstop, 0.0), 1.0)) if t is not None else fraction
+        progress(fraction)
+
+    return report
+
+
+def _wait(proc: subprocess.Popen[bytes], timeout: float, tstop: float, out: IO[bytes], err: IO[bytes],
+          raw: IO[bytes], progress: Callable[[float], None] | None, limit: float | None) -> int | None:
+    """Exit status of ngspice, or None after the timeout; reports progress meanwhile and, with a ``limit`` on
+    its raw file, stops a run whose raw file or output outgrows it (its output: :data:`MAX_LOG_BYTES`)."""
+    report = progress_reporter(progress, tstop, lambda: _simulated_time(err)) if progress is not None else None
+
+    def look() -> None:
+        if limit is not None and os.fstat(raw.fileno()).st_size > limit:
+            kill_group(proc)
+            raise SimulationError(f"ngspice's raw file grew past {show_bytes(limit)}, the most the memory "
+                                  "budget allows (--max-memory), and the run was stopped", "")
+        if limit is not None and os.fstat(out.fileno()).st_size + os.fstat(err.fileno()).st_size > MAX_LOG_BYTES:
+            kill_group(proc)
+            raise SimulationError(f"ngspice printed more than {show_bytes(MAX_LOG_BYTES)} and the run was "
+                                  "stopped", "")
+        if report is not None:  # at every poll, so that a caller can also stop the run from it
+            report()
+
+    return wait_watching(proc, timeout, look if (progress is not None or limit is not None) else None)
 
 
 def _run_batch(netlist: str, simulator: Simulator, timeout: float, tstop: float,
