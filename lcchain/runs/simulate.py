@@ -8,6 +8,7 @@ ngspice handling of its own.
 
 from __future__ import annotations
 
+import inspect
 import os
 import threading
 import time
@@ -40,11 +41,6 @@ from .execute import RunRecord, execute
 from .extrapolated import combined_record
 from .request import Drive, Request, Transient, plan_request
 from .spec import DEFAULT_TIMEOUT, RunSpec
-
-#: simulate's keywords at their defaults: with a Request, any other value is refused (the request says it all).
-_DEFAULTS: dict[str, Any] = {"dt": None, "accuracy": None, "extrapolate": None, "transits": 1, "excitation": "kick",
-                             "L0": DEFAULT_L0, "C0": DEFAULT_C0, "I0": DEFAULT_I0, "backend": "batch",
-                             "method": "trap", "title": None, "timeout": DEFAULT_TIMEOUT, "engine": DEFAULT_ENGINE}
 
 #: ngspice runs of one extrapolation executed at once (each is single-threaded; never more than the cores).
 MEMBER_THREADS = 2
@@ -475,3 +471,8 @@ def simulate(
                             accuracy=request.analysis.accuracy, predicted_error=predicted,
                             integration_error=metrics.integration_error, physics_error=metrics.physics_error,
                             record=first, extrapolation=extrapolation)
+
+
+#: simulate's keywords at their defaults, read from its signature: with a Request, any other value is refused.
+_DEFAULTS: dict[str, Any] = {name: parameter.default for name, parameter in
+                             inspect.signature(simulate).parameters.items() if name != "chain"}
