@@ -290,8 +290,7 @@ class Losses(Effect):
 
     def in_series(self, ladder: Ladder, loop: int) -> tuple[SeriesElement, ...]:
         # R_i = L_i / (Q tau): in bulk units a friction m_i / Q, the same rate 1/Q for every mode
-        inductance = float(ladder.chain.masses[loop - 1]) * ladder.L0  # as Ladder.inductances() writes it
-        return (("R", inductance / (self.Q * ladder.time_unit)),)
+        return (("R", ladder.inductance(loop) / (self.Q * ladder.time_unit)),)
 
     def response(self) -> dict[str, float]:
         return {"Q": self.Q}

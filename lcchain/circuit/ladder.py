@@ -65,9 +65,13 @@ class Ladder:
         """sqrt(L0 / C0) in ohm: the bulk characteristic impedance."""
         return math.sqrt(self.L0 / self.C0)
 
+    def inductance(self, loop: int) -> float:
+        """L_loop = m_loop L0, henry (loop from 1)."""
+        return float(self.chain.masses[loop - 1]) * self.L0
+
     def inductances(self) -> list[float]:
         """L_i = m_i L0, henry."""
-        return [float(m) * self.L0 for m in self.chain.masses]
+        return [self.inductance(i) for i in range(1, self.chain.N + 1)]
 
     def capacitances(self) -> list[float | None]:
         """C_{i,i+1} = C0 / K_{i,i+1}, farad (index 0 and N are the walls); None = wire."""
