@@ -64,7 +64,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.interpolate import make_interp_spline
+import scipy  # its submodules load on first use: commands that need no theory never import them
 
 from ..core.blas import fixed_blas_threads
 from ..core.budget import NGSPICE_SECONDS_PER_UNKNOWN_POINT, BudgetError
@@ -374,7 +374,7 @@ def plan_for_accuracy(modes: Modes, accuracy: float, tstop: float, *, extrapolat
 # ------------------------------------------------------------------ combining the runs
 def _spline(t: np.ndarray, y: np.ndarray, grid: np.ndarray) -> np.ndarray:
     degree = min(SPLINE_DEGREE, t.size - 1)
-    return np.asarray(make_interp_spline(t, y, k=degree)(grid))
+    return np.asarray(scipy.interpolate.make_interp_spline(t, y, k=degree)(grid))
 
 
 def combine(times: Sequence[np.ndarray], signals: Sequence[np.ndarray]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -30,7 +30,7 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from scipy.optimize import minimize, minimize_scalar
+import scipy  # its submodules load on first use: commands that need no theory never import them
 
 from ..core.blas import fixed_blas_threads
 from ..core.checks import choice, integer
@@ -202,7 +202,7 @@ def optimal_one_mass(N: int, progress: Callable[[float], None] | None = None) ->
     amplitude = _Amplitude(N, "one-mass", progress)
     guess = 0.9173 * N ** (-1 / 6) * (1 + 0.1 * N ** (-1 / 3))  # Eq. e.asymp_x with a small-N correction
     lo, hi = 0.8 * guess, min(math.sqrt(2) * 0.999, 1.25 * guess)
-    result = minimize_scalar(lambda x: -amplitude(1.0, x * x), bounds=(lo, hi), method="bounded",
+    result = scipy.optimize.minimize_scalar(lambda x: -amplitude(1.0, x * x), bounds=(lo, hi), method="bounded",
                              options={"xatol": 1e-10})
     x = float(result.x)
     if not lo + 1e-6 < x < hi - 1e-6:  # pragma: no cover - a guard against a bad guess
@@ -232,7 +232,7 @@ def optimal_two_mass(N: int, progress: Callable[[float], None] | None = None) ->
     N = _check_design_N(N)
     amplitude = _Amplitude(N, "two-mass", progress)
     if N == 3:
-        result = minimize_scalar(lambda w: -amplitude(1.0, w), bounds=(0.3, 1.2), method="bounded",
+        result = scipy.optimize.minimize_scalar(lambda w: -amplitude(1.0, w), bounds=(0.3, 1.2), method="bounded",
                                  options={"xatol": 1e-12})
         r, w = 1.0, float(result.x)
     else:
@@ -244,7 +244,7 @@ def optimal_two_mass(N: int, progress: Callable[[float], None] | None = None) ->
         i = int(np.argmax(values))
         a, b = grid[max(i - 1, 0)], grid[min(i + 1, grid.size - 1)]
         amplitude.t_hint = None
-        result = minimize_scalar(lambda r: -amplitude(r, quartic_w(r)), bounds=(a, b), method="bounded",
+        result = scipy.optimize.minimize_scalar(lambda r: -amplitude(r, quartic_w(r)), bounds=(a, b), method="bounded",
                                  options={"xatol": 1e-7})
         r0 = float(result.x)
         w0 = quartic_w(r0)
@@ -260,7 +260,7 @@ def optimal_two_mass(N: int, progress: Callable[[float], None] | None = None) ->
             r, w = np.exp(p)
             return -amplitude(r, w) if r < 2 else 1.0
 
-        result = minimize(loss, start, method="Nelder-Mead",
+        result = scipy.optimize.minimize(loss, start, method="Nelder-Mead",
                           options={"initial_simplex": simplex, "xatol": 1e-7, "fatol": amplitude_noise(N),
                                    "maxiter": 600})
         result.x = np.exp(result.x)

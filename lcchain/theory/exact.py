@@ -19,7 +19,7 @@ of Eq. e.utn.
 from __future__ import annotations
 
 import numpy as np
-from scipy.linalg import eigh, eigh_tridiagonal
+import scipy  # its submodules load on first use: commands that need no theory never import them
 
 from ..core.blas import fixed_blas_threads
 from ..core.errors import ParameterError
@@ -50,7 +50,7 @@ def diagonalise(chain: Chain) -> tuple[np.ndarray, np.ndarray]:
     if chain.coupled:
         raise ParameterError("coupling", chain.coupling, "0 (coupled chains: theory.exact.coupled_vectors)")
     diagonal, off = tridiagonal(chain)
-    mu, U = eigh_tridiagonal(diagonal, off)
+    mu, U = scipy.linalg.eigh_tridiagonal(diagonal, off)
     # A free chain has mu_1 = 0 up to rounding (possibly -1e-16): clip, never NaN.
     omega = np.sqrt(np.clip(mu, 0.0, None))
     if chain.is_free:
@@ -78,7 +78,7 @@ def coupled_vectors(chain: Chain) -> tuple[np.ndarray, np.ndarray]:
                              "is solved densely)")
     diagonal, off = chain.mass_matrix_bands()
     M = np.diag(diagonal) + np.diag(off, 1) + np.diag(off, -1)
-    mu, u = eigh(_stiffness(chain), M, driver="gvd")
+    mu, u = scipy.linalg.eigh(_stiffness(chain), M, driver="gvd")
     omega = np.sqrt(np.clip(mu, 0.0, None))
     if chain.is_free:
         omega[0] = 0.0  # the translation mode is exactly zero (see diagonalise)

@@ -76,7 +76,7 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from scipy.linalg import LinAlgWarning, eigh_tridiagonal, eigvalsh_tridiagonal, lu_factor, lu_solve
+import scipy  # its submodules load on first use: commands that need no theory never import them
 
 from ..core.blas import fixed_blas_threads
 from ..core.checks import instance, integer, numbers_list
@@ -163,7 +163,7 @@ def _distinct(a: np.ndarray, free: bool) -> np.ndarray:
 def _frequencies(a: np.ndarray, free: bool) -> np.ndarray:
     """H's positive eigenvalues, ascending (its zero excluded): omega to eps ||H|| absolute."""
     inner = a[1:-1] if free else a
-    values = eigvalsh_tridiagonal(np.zeros(inner.size + 1), inner)
+    values = scipy.linalg.eigvalsh_tridiagonal(np.zeros(inner.size + 1), inner)
     N = a.size // 2
     return np.sort(values)[-(N - 1 if free else N):]
 
@@ -174,7 +174,7 @@ def _jacobian(a: np.ndarray, free: bool, omega: np.ndarray) -> np.ndarray:
     odd, even = a[0::2], a[1::2]
     diagonal = odd**2 + even**2
     off = even[:-1] * odd[1:]
-    mu, V = eigh_tridiagonal(diagonal, off)
+    mu, V = scipy.linalg.eigh_tridiagonal(diagonal, off)
     V = V[:, (1 if free else 0):]  # the modes whose frequencies are solved for (not a free chain's zero mode)
     # a_k d mu / d a_k: 2 a_k^2 v_i^2 plus the cross term 2 a_(2i) a_(2i+1) v_i v_(i+1) shared by both
     squares = V * V
@@ -196,10 +196,10 @@ def _linear_solve(matrix: np.ndarray, rhs: np.ndarray) -> np.ndarray:
     """matrix^-1 rhs; NaN when the matrix is singular (eigenvector entries that underflowed): the caller then
     takes a shorter step."""
     with warnings.catch_warnings():
-        warnings.simplefilter("error", LinAlgWarning)
+        warnings.simplefilter("error", scipy.linalg.LinAlgWarning)
         try:
-            return np.asarray(lu_solve(lu_factor(matrix), rhs))
-        except (LinAlgWarning, ValueError):
+            return np.asarray(scipy.linalg.lu_solve(scipy.linalg.lu_factor(matrix), rhs))
+        except (scipy.linalg.LinAlgWarning, ValueError):
             return np.full(rhs.shape, np.nan)
 
 
@@ -387,7 +387,7 @@ def spectrum_of(chain: Chain) -> np.ndarray:
     m, K = chain.masses, chain.springs
     a = np.empty(2 * chain.N)
     a[0::2], a[1::2] = np.sqrt(K[:-1] / m), np.sqrt(K[1:] / m)
-    values = np.sort(eigvalsh_tridiagonal(np.zeros(2 * chain.N + 1), a))
+    values = np.sort(scipy.linalg.eigvalsh_tridiagonal(np.zeros(2 * chain.N + 1), a))
     return np.asarray(np.clip(values[-chain.N:], 0.0, None))
 
 
