@@ -13,7 +13,7 @@ from collections.abc import Callable, Iterator, Sequence
 from typing import Any
 
 from ..core.errors import ParameterError
-from ..core.types import DEFAULT_C0, DEFAULT_L0, EXCITATIONS, EXECUTORS, NAMED_CASES
+from ..core.types import DEFAULT_C0, DEFAULT_L0, EXCITATIONS, EXECUTORS, NAMED_CASES, TRANSPORT_CHOICES
 from ..report.files import FIGURE_FORMATS
 from ..spice.engines import DEFAULT_ENGINE, ENGINES
 from .common import EXIT_FAILED, EXIT_OK, Outputs, budget_from_args, emit_json, int_list
@@ -62,6 +62,10 @@ def add_study_arguments(p: argparse.ArgumentParser, *, store: bool = True) -> No
     p.add_argument("--executor", choices=EXECUTORS, default="process", help="where the runs execute (default process)")
     p.add_argument("--workers", type=int, default=None, help="worker processes (default: one per core)")
     p.add_argument("--scheduler", metavar="tcp://HOST:PORT", help="an existing Dask scheduler (--executor dask)")
+    p.add_argument("--transport", choices=TRANSPORT_CHOICES, default="auto",
+                   help="how each ngspice run starts: auto (short runs in warm shared-library workers, when there "
+                        "are enough of them), process (one ngspice -b each) or warm (every run that can); "
+                        "results are the same")
     p.add_argument("--timeout", type=float, default=3600.0, metavar="S",
                    help="seconds before a run's ngspice is killed (its record says timeout; default 3600)")
 
@@ -187,7 +191,7 @@ def _run(args: argparse.Namespace, plan: Any, outputs: Outputs) -> int:
     with _dask_quiet(verbose):
         summary = run_plan(plan, args.store, executor=args.executor, workers=workers, scheduler=args.scheduler,
                            progress=study_progress("runs"), on_resume=resumed, retry_failed=args.retry_failed,
-                           wait=args.wait, on_wait=waiting, verbose=verbose)
+                           wait=args.wait, on_wait=waiting, verbose=verbose, transport=args.transport)
     if args.json:
         emit_json(summary.to_dict())
     else:

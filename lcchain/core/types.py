@@ -14,6 +14,9 @@ Case = Literal["one-mass", "two-mass", "uniform-free", "uniform-bounded", "perfe
 Excitation = Literal["kick", "displacement"]
 #: How ngspice is driven: ``ngspice -b`` subprocess, or the shared library through PySpice.
 Backend = Literal["batch", "shared"]
+#: How a simulator runs a netlist: a backend, or the warm shared-library workers a study may choose
+#: (lcchain.spice.warm); never part of a run's key.
+Transport = Literal["batch", "shared", "warm"]
 #: How normal modes are computed: exact diagonalisation or the paper's closed form.
 ModeMethod = Literal["auto", "exact", "closed-form"]
 #: The two optimised designs of the paper (Tables I and II).
@@ -42,6 +45,10 @@ CASES: tuple[Case, ...] = get_args(Case)
 NAMED_CASES: tuple[Case, ...] = tuple(c for c in CASES if c != "custom")
 EXCITATIONS: tuple[Excitation, ...] = get_args(Excitation)
 BACKENDS: tuple[Backend, ...] = get_args(Backend)
+TRANSPORTS: tuple[Transport, ...] = get_args(Transport)
+#: How a study chooses each run's transport: by its predicted cost, a process per run, or warm workers.
+TransportChoice = Literal["auto", "process", "warm"]
+TRANSPORT_CHOICES: tuple[TransportChoice, ...] = get_args(TransportChoice)
 MODE_METHODS: tuple[ModeMethod, ...] = get_args(ModeMethod)
 DESIGN_CASES: tuple[DesignCase, ...] = get_args(DesignCase)
 EXCITATION_KINDS: tuple[ExcitationKind, ...] = get_args(ExcitationKind)

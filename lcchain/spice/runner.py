@@ -69,6 +69,7 @@ from .raw import read_raw
 from .sandbox import SCRATCH, scratch_env
 from .simulator import Simulator, find_simulator
 from .text import canonical_vector_name, parse_options
+from .warm import run_warm
 
 __all__ = ["RunResult", "run", "read_include", "check_arguments", "validate_columns", "exited", "TSTOP_RTOL",
            "LOG_MAX_CHARS", "PROGRESS_INTERVAL"]
@@ -463,13 +464,20 @@ def _run_shared(netlist: str, simulator: Simulator, timeout: float, tstop: float
     return columns, log, float(meta["wall_s"])
 
 
+def _run_warm(netlist: str, simulator: Simulator, timeout: float, tstop: float,
+              progress: Callable[[float], None] | None, place: _Place,
+              limit: float | None) -> tuple[dict[str, np.ndarray], str, float]:
+    # This thread's long-lived worker (lcchain.spice.warm); no progress to report: studies send it short runs.
+    return run_warm(netlist, simulator.executable, place.prefix, place.cwd, place.env, timeout, limit)
+
+
 # --------------------------------------------------------------------------- output checks
 
 
 #: ngspice's transports, by name: how each runs a netlist (how each is found: lcchain.spice.simulator).
 _TransportRun = Callable[[str, Simulator, float, float, Callable[[float], None] | None, _Place, float | None],
                          tuple[dict[str, np.ndarray], str, float]]
-TRANSPORT_RUNS: dict[str, _TransportRun] = {"batch": _run_batch, "shared": _run_shared}
+TRANSPORT_RUNS: dict[str, _TransportRun] = {"batch": _run_batch, "shared": _run_shared, "warm": _run_warm}
 
 
 def _validate(columns: dict[str, np.ndarray], log: str, names: list[str],

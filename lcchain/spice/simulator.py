@@ -20,7 +20,7 @@ from pathlib import Path
 
 from ..core.checks import choice
 from ..core.errors import ParameterError, SimulatorMissingError
-from ..core.types import BACKENDS, Backend
+from ..core.types import BACKENDS, TRANSPORTS, Backend, Transport
 from .log import useful_output
 from .processes import call_shared_worker, decode_worker_payload
 from .sandbox import Sandbox, find_sandbox
@@ -52,11 +52,11 @@ class Simulator:
 
     Attributes
     ----------
-    backend : {"batch", "shared"}
-        The transport: a child process per run (``ngspice -b``, ``gnucap -b``), or ngspice's shared library in
-        a child process.
+    backend : {"batch", "shared", "warm"}
+        The transport: a child process per run (``ngspice -b``, ``gnucap -b``), ngspice's shared library in
+        a child process per run, or (``"warm"``, chosen by studies) in long-lived workers.
     executable : str
-        Path of the program (``ngspice``, ``gnucap``) or of ``libngspice.so.0`` (shared).
+        Path of the program (``ngspice``, ``gnucap``) or of ``libngspice.so.0`` (shared, warm).
     version : str
         The engine's version, e.g. ``"39"`` for ngspice.
     launcher : tuple of str
@@ -69,7 +69,7 @@ class Simulator:
         The engine's name in :data:`lcchain.spice.engines.ENGINES`.
     """
 
-    backend: Backend
+    backend: Transport
     executable: str
     version: str
     launcher: tuple[str, ...] = ()
@@ -77,7 +77,7 @@ class Simulator:
     engine: str = "ngspice"
 
     def __post_init__(self) -> None:
-        choice("backend", self.backend, BACKENDS)
+        choice("backend", self.backend, TRANSPORTS)
         if not isinstance(self.engine, str) or not self.engine:
             raise ParameterError("engine", self.engine, "an engine's name, such as 'ngspice'")
 

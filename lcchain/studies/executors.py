@@ -7,7 +7,9 @@ computed under a fixed BLAS thread limit, and ngspice is deterministic).
 
 * ``serial``: one run after the other, here.
 * ``process`` (the default): a stdlib process pool with the spawn start
-  method, one worker per core.  Each worker ignores Ctrl-C (the driver
+  method, one worker per core; for runs with no theory to compute (a batch
+  of netlists, whose work is all in the simulator's own processes) threads of
+  this process drive one simulator each instead, with no pool to start.  Each worker ignores Ctrl-C (the driver
   handles it), and on Linux asks the kernel to kill it when the driver dies
   (``prctl(PR_SET_PDEATHSIG, SIGKILL)``, checked against a race at start);
   its ngspice children die with it the same way.  On an interrupt the driver
@@ -28,6 +30,11 @@ options before that, without a network.
 Short runs are grouped so that each task sent is worth its overhead
 (:data:`MIN_TASK_SECONDS`), while keeping several tasks per worker for
 balance and progress.
+
+The transport of each run (:func:`choose_transports`): short ngspice runs go
+to warm shared-library workers (:mod:`lcchain.spice.warm`), one per worker
+thread or process, where a new ``ngspice -b`` process would cost more than the
+run; their keys and results are those of ``ngspice -b`` (bit-identical).
 """
 
 from __future__ import annotations
@@ -43,20 +50,22 @@ import tempfile
 import threading
 import urllib.parse
 from collections.abc import Callable, Iterator, Sequence
-from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
+from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, ThreadPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from typing import Any
 
 from ..core.errors import LcchainError, ParameterError, SimulatorMissingError
-from ..core.types import EXECUTORS, ExecutorName
+from ..core.types import EXECUTORS, TRANSPORT_CHOICES, ExecutorName, TransportChoice
 from ..runs.execute import RunRecord, execute
 from ..runs.spec import RunSpec
 from ..spice.engines import find_engine
 from ..spice.simulator import Simulator
+from ..spice.warm import WARM_BELOW_SECONDS, close_workers, warm_simulator
 
 __all__ = ["ExecutorName", "EXECUTORS", "MIN_TASK_SECONDS", "SCHEDULER_SCHEMES", "run_groups", "open_executor",
-           "check_executor", "group_tasks", "default_workers", "execute_group"]
+           "check_executor", "group_tasks", "default_workers", "execute_group", "Transports", "choose_transports",
+           "WARM_MIN_RUNS_PER_WORKER"]
 
 #: The executors lcchain has.
 #: Seconds of runs worth sending as one task (Dask's overhead per task is a few ms; its documentation asks for
@@ -71,9 +80,75 @@ TASKS_PER_WORKER = 4
 
 log = logging.getLogger("lcchain")
 
+#: Short runs a study sends to warm workers only when there are at least this many per worker: a worker's start
+#: (about 70 ms) is then paid back several times over.
+WARM_MIN_RUNS_PER_WORKER = 10
+
 Group = list[tuple[int, RunSpec]]
-#: What an open executor is: groups in, each group's (index, record) pairs out as it finishes.
-Runner = Callable[[list[Group]], Iterator[list[tuple[int, RunRecord]]]]
+
+
+@dataclass(frozen=True)
+class Transports:
+    """Which runs of a study go to warm shared-library workers, and the simulator that runs them there.
+
+    A run's key and results do not depend on it (the warm transport is checked to be the same ngspice).
+    """
+
+    warm: Simulator | None = None
+    runs: frozenset[int] = frozenset()
+
+    def simulator_for(self, index: int, simulator: Simulator) -> Simulator:
+        """The simulator run ``index`` uses: warm when chosen and its library is on this machine."""
+        if self.warm is not None and index in self.runs and os.path.exists(self.warm.executable):
+            return self.warm
+        return simulator
+
+
+#: What an open executor is: groups (and their transports) in, each group's (index, record) pairs out as it
+#: finishes.
+Runner = Callable[[list[Group], Transports], Iterator[list[tuple[int, RunRecord]]]]
+
+
+def check_transport(transport: str) -> TransportChoice:
+    if transport not in TRANSPORT_CHOICES:
+        raise ParameterError("--transport", transport, " | ".join(TRANSPORT_CHOICES))
+    return transport
+
+
+def choose_transports(items: Sequence[tuple[int, RunSpec, float]], simulator: Simulator, workers: int,
+                      transport: str = "auto") -> Transports:
+    """The runs that go warm (:mod:`lcchain.spice.warm`).
+
+    ``"process"``: none. ``"warm"``: every run that can (ngspice batch runs of netlists checked by the
+    allow-list). ``"auto"``: those predicted under :data:`~lcchain.spice.warm.WARM_BELOW_SECONDS`, when there
+    are at least :data:`WARM_MIN_RUNS_PER_WORKER` per worker and the shared library is this ngspice's version
+    (otherwise every run starts its own process, as before).
+
+    Raises
+    ------
+    ParameterError
+        An unknown ``transport``.
+    SimulatorMissingError
+        ``"warm"`` asked for, and no shared library of this ngspice's version.
+    """
+    transport = check_transport(transport)
+    if transport == "process" or simulator.engine != "ngspice" or simulator.backend != "batch":
+        return Transports()
+    able = [(index, seconds) for index, spec, seconds in items if spec.engine == "ngspice" and not spec.trusted]
+    if transport == "auto":
+        able = [(index, seconds) for index, seconds in able if seconds < WARM_BELOW_SECONDS]
+        if len(able) < WARM_MIN_RUNS_PER_WORKER * workers:
+            return Transports()
+    if not able:
+        return Transports()
+    try:
+        warm = warm_simulator(simulator)
+    except SimulatorMissingError as error:
+        if transport == "warm":
+            raise SimulatorMissingError(f"--transport warm: {error}") from None
+        log.info("warm transport not used: %s", error)
+        return Transports()
+    return Transports(warm, frozenset(index for index, _ in able))
 
 
 def check_scheduler(address: str) -> str:
@@ -135,14 +210,16 @@ def group_tasks(items: Sequence[tuple[int, RunSpec, float]], executor: str, work
     return groups
 
 
-def execute_group(group: Group, simulator: Simulator, keep_signals: bool = False) -> list[tuple[int, RunRecord]]:
-    """Run one group where it lands (a pool worker, a Dask worker): the unit of work, run by run.
+def execute_group(group: Group, simulator: Simulator, keep_signals: bool = False,
+                  transports: Transports = Transports(),
+                  progress: Callable[[float], None] | None = None) -> list[tuple[int, RunRecord]]:
+    """Run one group where it lands (a pool worker, a Dask worker, a thread): the unit of work, run by run.
 
     A worker whose engine is elsewhere finds its own; one whose engine has
     another version fails its runs (their keys would not be the study's).
     """
     if not os.path.exists(simulator.executable):
-        found = find_engine(simulator.engine, simulator.backend)
+        found = find_engine(simulator.engine, "shared" if simulator.backend == "shared" else "batch")
         if found.version != simulator.version:
             reason = f"this worker's {simulator.engine} is {found.version}, the study's is {simulator.version}"
             return [(index, RunRecord(key=spec.key(simulator.version), status="failed", reason=reason,
@@ -151,7 +228,7 @@ def execute_group(group: Group, simulator: Simulator, keep_signals: bool = False
         simulator = found
     out = []
     for index, spec in group:
-        record = execute(spec, simulator)
+        record = execute(spec, transports.simulator_for(index, simulator), progress=progress)
         out.append((index, record if keep_signals else replace(record, signals=None)))
     return out
 
@@ -182,8 +259,8 @@ def _kill_pool(pool: ProcessPoolExecutor) -> None:
 POOL_RESTARTS = 3
 
 
-def _process(groups: list[Group], simulator: Simulator, workers: int,
-             keep_signals: bool) -> Iterator[list[tuple[int, RunRecord]]]:
+def _process(groups: list[Group], simulator: Simulator, workers: int, keep_signals: bool,
+             transports: Transports) -> Iterator[list[tuple[int, RunRecord]]]:
     """A spawn process pool; a pool broken by a dead worker is rebuilt and the unfinished groups resubmitted."""
     context = multiprocessing.get_context("spawn")
     left = dict(enumerate(groups))
@@ -192,7 +269,7 @@ def _process(groups: list[Group], simulator: Simulator, workers: int,
                                    initargs=(os.getpid(),))
         finished = False
         try:
-            pending = {pool.submit(execute_group, group, simulator, keep_signals): number
+            pending = {pool.submit(execute_group, group, simulator, keep_signals, transports): number
                        for number, group in left.items()}
             while pending:
                 done, _ = wait(pending, return_when=FIRST_COMPLETED)
@@ -214,6 +291,51 @@ def _process(groups: list[Group], simulator: Simulator, workers: int,
                 pool.shutdown(wait=True)
             else:  # interrupted, or broken: nothing may keep running
                 _kill_pool(pool)
+
+
+# ------------------------------------------------------------------ threads
+class _Stopped(BaseException):
+    """Raised in a worker thread once its study stopped: past every ``except Exception``, and never seen."""
+
+
+def _light(groups: list[Group]) -> bool:
+    """Runs with no theory to compute: lcchain's work on each is reading and checking what the simulator wrote."""
+    return all(spec.theory is None for group in groups for _, spec in group)
+
+
+def _threaded(groups: list[Group], simulator: Simulator, workers: int, keep_signals: bool,
+              transports: Transports) -> Iterator[list[tuple[int, RunRecord]]]:
+    """Threads of this process, each driving one simulator child at a time: no pool to start or feed.
+
+    Each run is its own task (a thread costs microseconds per task). On the way out (the end, an error, an
+    interrupt) no new run starts, a running batch child is killed at its next look (its progress callback
+    raises, within :data:`~lcchain.spice.runner.PROGRESS_INTERVAL`), warm workers are killed, and the threads
+    are joined: nothing keeps running.
+    """
+    stop = threading.Event()
+
+    def cancel(fraction: float) -> None:
+        if stop.is_set():
+            raise _Stopped
+
+    def one(index: int, spec: RunSpec) -> list[tuple[int, RunRecord]]:
+        if stop.is_set():
+            raise _Stopped
+        return execute_group([(index, spec)], simulator, keep_signals, transports, cancel)
+
+    pool = ThreadPoolExecutor(max_workers=workers, thread_name_prefix="lcchain-run")
+    finished = False
+    try:
+        pending = {pool.submit(one, index, spec) for group in groups for index, spec in group}
+        while pending:
+            done, pending = wait(pending, return_when=FIRST_COMPLETED)
+            yield [pair for future in done for pair in future.result()]  # stored together: one disk sync
+        finished = True
+    finally:
+        stop.set()
+        if not finished:
+            close_workers(kill=True)
+        pool.shutdown(wait=True, cancel_futures=True)
 
 
 # ------------------------------------------------------------------ Dask
@@ -268,13 +390,14 @@ def _dask(workers: int, scheduler: str | None, verbose: bool) -> Iterator[Any]:
         yield client
 
 
-def _on_dask(client: Any, groups: list[Group], simulator: Simulator,
-             keep_signals: bool) -> Iterator[list[tuple[int, RunRecord]]]:
-    from distributed import as_completed
+def _on_dask(client: Any, groups: list[Group], simulator: Simulator, keep_signals: bool,
+             transports: Transports) -> Iterator[list[tuple[int, RunRecord]]]:
+    from distributed import as_completed as completed
 
-    futures = [client.submit(execute_group, group, simulator, keep_signals, pure=False) for group in groups]
+    futures = [client.submit(execute_group, group, simulator, keep_signals, transports, pure=False)
+               for group in groups]
     try:
-        for future in as_completed(futures):
+        for future in completed(futures):
             yield future.result()
             future.release()
     finally:  # stopped early (an error, an interrupt): nothing may keep running for this study
@@ -304,34 +427,42 @@ def open_executor(simulator: Simulator, *, executor: str = "process", workers: i
     Yields
     ------
     callable
-        Takes groups of (index, spec), yields each group's (index, record) pairs as it finishes.
+        Takes groups of (index, spec) and their :class:`Transports`, yields each group's (index, record) pairs
+        as it finishes. Warm workers this process started are ended when the block ends.
     """
     check_executor(executor, workers, scheduler)
-    with EXECUTOR_RUNNERS[executor](simulator, workers or default_workers(), scheduler, keep_signals,
-                                    verbose) as run:
-        yield run
+    try:
+        with EXECUTOR_RUNNERS[executor](simulator, workers or default_workers(), scheduler, keep_signals,
+                                        verbose) as run:
+            yield run
+    finally:
+        close_workers()
 
 
 @contextlib.contextmanager
 def _serial_runner(simulator: Simulator, workers: int, scheduler: str | None, keep_signals: bool,
                    verbose: bool) -> Iterator[Runner]:
-    yield lambda groups: (execute_group(group, simulator, keep_signals) for group in groups)
+    yield lambda groups, transports: (execute_group(group, simulator, keep_signals, transports) for group in groups)
 
 
 @contextlib.contextmanager
 def _process_runner(simulator: Simulator, workers: int, scheduler: str | None, keep_signals: bool,
                     verbose: bool) -> Iterator[Runner]:
-    if workers == 1:  # one worker: no pool to start
-        yield lambda groups: (execute_group(group, simulator, keep_signals) for group in groups)
-    else:
-        yield lambda groups: _process(groups, simulator, workers, keep_signals)
+    def run(groups: list[Group], transports: Transports) -> Iterator[list[tuple[int, RunRecord]]]:
+        if workers == 1:  # one worker: no pool to start
+            return (execute_group(group, simulator, keep_signals, transports) for group in groups)
+        if _light(groups):  # all the work is in the simulator's processes: threads drive them
+            return _threaded(groups, simulator, workers, keep_signals, transports)
+        return _process(groups, simulator, workers, keep_signals, transports)
+
+    yield run
 
 
 @contextlib.contextmanager
 def _dask_runner(simulator: Simulator, workers: int, scheduler: str | None, keep_signals: bool,
                  verbose: bool) -> Iterator[Runner]:
     with _dask(workers, scheduler, verbose) as client:
-        yield lambda groups: _on_dask(client, groups, simulator, keep_signals)
+        yield lambda groups, transports: _on_dask(client, groups, simulator, keep_signals, transports)
 
 
 #: Each executor: a context manager (simulator, workers, scheduler, keep_signals, verbose) that yields a runner.
@@ -343,12 +474,12 @@ EXECUTOR_RUNNERS: dict[str, _RunnerFactory] = {
 
 
 def run_groups(groups: list[Group], simulator: Simulator, *, executor: str = "process", workers: int | None = None,
-               scheduler: str | None = None, keep_signals: bool = False,
-               verbose: bool = False) -> Iterator[list[tuple[int, RunRecord]]]:
+               scheduler: str | None = None, keep_signals: bool = False, verbose: bool = False,
+               transports: Transports = Transports()) -> Iterator[list[tuple[int, RunRecord]]]:
     """Execute groups of runs on an executor; yields each group's (index, record) pairs as it finishes."""
     with open_executor(simulator, executor=executor, workers=workers, scheduler=scheduler,
                        keep_signals=keep_signals, verbose=verbose) as run:
-        yield from run(groups)
+        yield from run(groups, transports)
 
 
 def describe(executor: str, workers: int, scheduler: str | None) -> dict[str, Any]:

@@ -30,7 +30,15 @@ from ..runs.extrapolated import combined_record
 from ..runs.spec import RunSpec
 from ..spice.engines import find_engine
 from ..spice.simulator import Simulator
-from .executors import check_executor, default_workers, group_tasks, open_executor, run_groups
+from .executors import (
+    check_executor,
+    check_transport,
+    choose_transports,
+    default_workers,
+    group_tasks,
+    open_executor,
+    run_groups,
+)
 from .plan import Combination, Plan
 from .store import Store, engine_text
 
@@ -102,7 +110,8 @@ def run_plan(plan: Plan, store: str | Path, *, executor: str = "process", worker
              scheduler: str | None = None, simulator: Simulator | None = None,
              progress: Callable[[Progress], None] | None = None,
              on_resume: Callable[[int, int], None] | None = None, retry_failed: bool = False, wait: bool = False,
-             on_wait: Callable[[int | None], None] | None = None, verbose: bool = False) -> Summary:
+             on_wait: Callable[[int | None], None] | None = None, verbose: bool = False,
+             transport: str = "auto") -> Summary:
     """Run a plan into a store, skipping what the store already holds.
 
     Parameters
@@ -130,9 +139,14 @@ def run_plan(plan: Plan, store: str | Path, *, executor: str = "process", worker
         Called with that driver's pid (None when unknown) before waiting.
     verbose : bool
         Dask's workers log what they do.
+    transport : {"auto", "process", "warm"}
+        How each ngspice run starts: warm shared-library workers for runs predicted short (``"auto"``), a
+        process per run, or warm workers for all (:func:`~lcchain.studies.executors.choose_transports`). Keys
+        and results do not depend on it.
     """
     start = time.perf_counter()
     check_executor(executor, workers, scheduler)
+    check_transport(transport)
     simulator = simulator if simulator is not None else find_engine(plan.engine, plan.backend)
     keys = plan.keys(simulator.version)
     fingerprint, description = plan.fingerprint(simulator.version), dict(plan.description)
@@ -156,12 +170,14 @@ def run_plan(plan: Plan, store: str | Path, *, executor: str = "process", worker
             combining = _Combiner(plan, keys, results)
             combining.ready(finished)  # members stored by an earlier, interrupted run
             done = failed = 0
-            for group in run(group_tasks(list(todo.values()), executor, workers)):
+            transports = choose_transports(list(todo.values()), simulator, workers, transport)
+            for group in run(group_tasks(list(todo.values()), executor, workers), transports):
                 for index, record in group:
                     if record.key != keys[index]:
                         raise ParameterError("--store", str(store), f"records under the plan's keys (run {index} "
                                              f"came back as {record.key[:12]}, expected {keys[index][:12]})")
-                    results.add(record)
+                results.add_many([(record, None) for _, record in group])
+                for _, record in group:
                     finished.add(record.key)
                     done += 1
                     failed += not record.ok

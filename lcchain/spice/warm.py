@@ -1,0 +1,261 @@
+"""The ``"warm"`` transport: ngspice's shared library loaded once per worker, serving run after run.
+
+An ``ngspice -b`` process costs about 6 ms of CPU before it reads a netlist;
+a small circuit (N = 10) then computes in 2 to 3 ms.  A warm worker
+(``python -m lcchain.spice.warm_worker``, :mod:`ctypes` on ``libngspice.so.0``,
+no PySpice) pays the start once and then runs each netlist for what ngspice
+computes.  Its results are bit-identical to ``ngspice -b``'s raw files (tested),
+so a run's key and digest do not depend on the transport that ran it: studies
+choose it by a run's predicted cost (:data:`WARM_BELOW_SECONDS`, measured in
+``benchmarks/batch.md``), and ``--transport`` overrides the choice.
+
+Each thread of a process keeps its own worker (:func:`worker_for`), started
+on its first run like any child (a session of its own, ``setpriv --pdeathsig
+KILL``, ``HOME`` nowhere, in the sandbox for netlists lcchain did not write), and
+replaced when it dies, when its memory passes :data:`MAX_WORKER_BYTES` or after
+:data:`MAX_WORKER_RUNS` runs.  A crash of ngspice kills the worker, which fails
+that run only; a run past its timeout kills the worker (status ``timeout``).
+:func:`close_workers` ends them all (the executors call it when a study ends,
+and on an interrupt, so that nothing keeps running).
+"""
+
+from __future__ import annotations
+
+import atexit
+import contextlib
+import json
+import os
+import select
+import signal
+import struct
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+from dataclasses import replace
+from typing import IO, Any
+
+import numpy as np
+
+from ..core.errors import SimulationError, SimulatorMissingError
+from .log import failure_reason, useful_output
+from .processes import PACKAGE_ROOT, child_env, kill_group, read_all
+from .simulator import Simulator, find_shared_library
+from .text import canonical_vector_name
+
+__all__ = ["WarmWorker", "worker_for", "close_workers", "warm_simulator", "run_warm", "WARM_BELOW_SECONDS",
+           "MAX_WORKER_BYTES", "MAX_WORKER_RUNS"]
+
+#: Runs predicted to take less than this (seconds of ``ngspice -b``, start included) go warm when a study
+#: chooses (``--transport auto``): below it the saved start-up outweighs the library's slower big runs
+#: (measured crossover, benchmarks/batch.md).
+WARM_BELOW_SECONDS = 0.2
+#: A worker whose resident memory passes this is replaced after its run (the library keeps ~0.6 KiB a run).
+MAX_WORKER_BYTES = 512 * 2**20
+#: A worker is replaced after this many runs, whatever its memory.
+MAX_WORKER_RUNS = 20000
+#: Seconds a worker may take to load the library and say hello.
+START_TIMEOUT = 60.0
+
+_HEADER = struct.Struct("<Q")
+
+
+class WarmWorker:
+    """One worker process serving netlists from ngspice's shared library.
+
+    Parameters
+    ----------
+    library : str
+        Path of ``libngspice.so.0``.
+    prefix : tuple of str
+        Its command line's prefix (``setpriv``, the sandbox).
+    cwd, env
+        Its working folder and environment (``HOME`` nowhere; the package on ``PYTHONPATH`` is added here).
+    """
+
+    def __init__(self, library: str, prefix: tuple[str, ...], cwd: str, env: dict[str, str]) -> None:
+        env = dict(env)
+        env["PYTHONPATH"] = os.pathsep.join(p for p in (PACKAGE_ROOT, env.get("PYTHONPATH")) if p)
+        self._err: IO[bytes] = tempfile.TemporaryFile()
+        self.proc = subprocess.Popen([*prefix, sys.executable, "-P", "-m", "lcchain.spice.warm_worker", library],
+                                     cwd=cwd, env=env, stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+                                     stderr=self._err, start_new_session=True)
+        self.runs = 0
+        self.rss = 0
+        self.alive = True
+        try:
+            hello = json.loads(self._frame(START_TIMEOUT, "starting"))
+        except BaseException:
+            self.close(kill=True)
+            raise
+        if "error" in hello:
+            self.close(kill=True)
+            raise SimulatorMissingError(f"ngspice's shared library {library} could not be loaded: {hello['error']}")
+        self.version = str(hello["version"])
+
+    # -------------------------------------------------------------- frames
+    def _read(self, size: int, deadline: float, what: str) -> bytes:
+        assert self.proc.stdout is not None
+        fd = self.proc.stdout.fileno()
+        parts: list[bytes] = []
+        while size:
+            left = deadline - time.monotonic()
+            ready = select.select([fd], [], [], max(left, 0.0))[0] if left > 0 else []
+            if not ready:
+                raise TimeoutError(what)
+            part = os.read(fd, min(size, 1 << 20))
+            if not part:
+                raise EOFError(what)
+            parts.append(part)
+            size -= len(part)
+        return b"".join(parts)
+
+    def _frame(self, timeout: float, what: str) -> bytes:
+        deadline = time.monotonic() + timeout
+        (size,) = _HEADER.unpack(self._read(_HEADER.size, deadline, what))
+        return self._read(size, deadline, what)
+
+    def _died(self, what: str) -> SimulationError:
+        """The worker ended mid-run (ngspice crashed, or was killed): this run fails, the next starts a worker."""
+        try:
+            status = self.proc.wait(1.0)
+        except subprocess.TimeoutExpired:
+            status = None
+        log = read_all(self._err).decode("utf-8", "replace")
+        self.close(kill=True)
+        status = self.proc.returncode if status is None else status
+        how = (f"killed by {signal.Signals(-status).name}" if status is not None and status < 0
+               and -status in signal.Signals._value2member_map_ else f"exit status {status}")
+        return SimulationError(f"ngspice's shared library ended its worker while {what} ({how})", useful_output(log))
+
+    # -------------------------------------------------------------- runs
+    def run(self, netlist: str, timeout: float,
+            limit: float | None = None) -> tuple[dict[str, np.ndarray], str, float]:
+        """Run one netlist: its vectors by canonical name, ngspice's output and its wall time (seconds).
+
+        Raises
+        ------
+        SimulationError
+            The library failed or asked to exit, the worker died (this run fails; the worker is replaced on
+            the next), the run outlived ``timeout`` (status ``"timeout"``, the worker killed), or its vectors
+            outgrew ``limit`` bytes.
+        """
+        assert self.proc.stdin is not None
+        data = netlist.encode("utf-8")
+        try:
+            self.proc.stdin.write(_HEADER.pack(len(data)) + data)
+            self.proc.stdin.flush()
+            header = json.loads(self._frame(timeout, "running"))
+            values = self._frame(timeout, "sending the vectors")
+        except TimeoutError:
+            self.close(kill=True)
+            raise SimulationError(f"ngspice timed out after {timeout:g} s and its warm worker was killed", "",
+                                  "timeout") from None
+        except (EOFError, BrokenPipeError):
+            raise self._died("running this netlist") from None
+        except BaseException:  # interrupted mid-run: the worker goes with it
+            self.close(kill=True)
+            raise
+        self.runs += 1
+        self.rss = int(header["rss"])
+        log = str(header["log"])
+        if header["exit"] is not None:
+            self.close(kill=True)
+            raise SimulationError(failure_reason(log, f"ngspice exited with status {header['exit']}"),
+                                  useful_output(log))
+        if header["errors"]:
+            raise SimulationError(failure_reason(log, "the ngspice shared library failed: "
+                                                 + "; ".join(header["errors"])), useful_output(log))
+        if limit is not None and len(values) > limit:
+            raise SimulationError(f"ngspice's vectors grew past {limit:.0f} bytes, the most the memory budget "
+                                  "allows (--max-memory)", useful_output(log))
+        columns: dict[str, np.ndarray] = {}
+        offset = 0
+        for name, length in zip(header["names"], header["lengths"], strict=True):
+            columns[canonical_vector_name(name)] = np.frombuffer(values, np.float64, length, offset)
+            offset += 8 * length
+        return columns, log, float(header["wall_s"])
+
+    @property
+    def spent(self) -> bool:
+        """Past its memory or run bound: replaced before the next run."""
+        return self.rss > MAX_WORKER_BYTES or self.runs >= MAX_WORKER_RUNS
+
+    def close(self, kill: bool = False) -> None:
+        """End the worker: closing its input lets it exit by itself; ``kill`` (or a worker that does not exit
+        within a second) kills its process group."""
+        if not self.alive:
+            return
+        self.alive = False
+        with contextlib.suppress(OSError):
+            assert self.proc.stdin is not None
+            self.proc.stdin.close()
+        if not kill:
+            with contextlib.suppress(subprocess.TimeoutExpired):
+                self.proc.wait(1.0)
+        if self.proc.poll() is None:
+            kill_group(self.proc)
+        with contextlib.suppress(OSError):
+            assert self.proc.stdout is not None
+            self.proc.stdout.close()
+        self._err.close()
+        with _lock:
+            _workers.discard(self)
+
+
+# ------------------------------------------------------------------ one worker per thread
+_lock = threading.Lock()
+_workers: set[WarmWorker] = set()
+_local = threading.local()
+
+
+def worker_for(library: str, prefix: tuple[str, ...], cwd: str, env: dict[str, str]) -> WarmWorker:
+    """This thread's worker for that library and placement: started on first use, replaced when dead or spent."""
+    key = (library, prefix, cwd)
+    mine: dict[tuple[Any, ...], WarmWorker] = _local.__dict__.setdefault("workers", {})
+    worker = mine.get(key)
+    if worker is not None and (not worker.alive or worker.spent):
+        worker.close()
+        worker = None
+    if worker is None:
+        worker = WarmWorker(library, prefix, cwd, env)
+        with _lock:
+            _workers.add(worker)
+        mine[key] = worker
+    return worker
+
+
+def close_workers(kill: bool = False) -> None:
+    """End every warm worker of this process (every thread's)."""
+    with _lock:
+        workers = list(_workers)
+    for worker in workers:
+        worker.close(kill)
+
+
+atexit.register(close_workers, True)
+
+
+def warm_simulator(simulator: Simulator) -> Simulator:
+    """The warm transport for a batch simulator: the shared library, checked to be the same ngspice version
+    (so that keys and results do not depend on the transport).
+
+    Raises
+    ------
+    SimulatorMissingError
+        No shared library, or one of another version than ``simulator``'s ngspice.
+    """
+    library = find_shared_library()
+    worker = WarmWorker(library, simulator.launcher, "/", child_env())
+    worker.close()
+    if worker.version != simulator.version:
+        raise SimulatorMissingError(f"ngspice's shared library {library} is version {worker.version}, the ngspice "
+                                    f"program {simulator.version}: the warm transport would change results")
+    return replace(simulator, backend="warm", executable=library)
+
+
+def run_warm(netlist: str, library: str, prefix: tuple[str, ...], cwd: str, env: dict[str, str], timeout: float,
+             limit: float | None) -> tuple[dict[str, np.ndarray], str, float]:
+    """One run in this thread's warm worker (see :class:`WarmWorker.run`)."""
+    return worker_for(library, prefix, cwd, env).run(netlist, timeout, limit)

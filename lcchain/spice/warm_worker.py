@@ -1,0 +1,196 @@
+"""Child-process entry point of the ``"warm"`` transport (private): ngspice's shared library, loaded once.
+
+Run as ``python -P -m lcchain.spice.warm_worker LIBRARY`` by
+:mod:`lcchain.spice.warm` (under ``setpriv --pdeathsig KILL``, in a session of
+its own, with ``HOME`` pointing nowhere, and in the sandbox for netlists lcchain
+did not write).  It loads ``libngspice.so.0`` through :mod:`ctypes` (no PySpice,
+no numpy: it starts in tens of milliseconds) and then serves one netlist after
+the other, so that a run of a small circuit costs what ngspice computes, not
+what a new process costs to start.
+
+Protocol, on file descriptors 0 (requests) and 1 (replies); each frame is an
+8-byte little-endian length and that many bytes:
+
+* first, unasked, a JSON hello: ``{"version": "39"}`` (``"error"`` instead
+  when the library does not load);
+* per request (UTF-8 netlist text, already checked by the parent): a JSON
+  header ``{"names", "lengths", "complex", "errors", "log", "wall_s", "rss",
+  "exit"}`` frame, then one frame of the vectors' float64 values (native
+  byte order), concatenated in the order of ``names``.
+
+After each run the circuit and its plots are destroyed (``destroy all``,
+``remcirc``), so nothing of a run but memory the library keeps survives it;
+``rss`` (bytes) lets the parent recycle a worker whose memory grew.  When
+ngspice asks to exit (its controlled exit after a fatal error) the reply says
+so and the worker exits: the library cannot be trusted after it.  Anything
+the library prints on file descriptor 1 goes to stderr, so the frames stay clean.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import json
+import os
+import re
+import struct
+import sys
+import time
+from typing import Any, BinaryIO
+
+_HEADER = struct.Struct("<Q")
+_VERSION = re.compile(r"ngspice-([0-9][^\s]*)")
+
+
+class _VectorInfo(ctypes.Structure):
+    _fields_ = [("v_name", ctypes.c_char_p), ("v_type", ctypes.c_int), ("v_flags", ctypes.c_short),
+                ("v_realdata", ctypes.POINTER(ctypes.c_double)), ("v_compdata", ctypes.c_void_p),
+                ("v_length", ctypes.c_int)]
+
+
+_SendChar = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_char_p, ctypes.c_int, ctypes.c_void_p)
+_SendStat = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_char_p, ctypes.c_int, ctypes.c_void_p)
+_Exit = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_int, ctypes.c_bool, ctypes.c_bool, ctypes.c_int, ctypes.c_void_p)
+_SendData = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_void_p, ctypes.c_int, ctypes.c_int, ctypes.c_void_p)
+_SendInit = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_void_p, ctypes.c_int, ctypes.c_void_p)
+_Running = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_bool, ctypes.c_int, ctypes.c_void_p)
+
+
+class Library:
+    """libngspice, initialised once; ``run`` loads and runs one netlist and frees it again."""
+
+    def __init__(self, path: str) -> None:
+        self.printed: list[str] = []
+        self.exit_status: int | None = None
+        lib = ctypes.CDLL(path)
+        lib.ngSpice_Init.argtypes = [_SendChar, _SendStat, _Exit, _SendData, _SendInit, _Running, ctypes.c_void_p]
+        lib.ngSpice_Command.argtypes = [ctypes.c_char_p]
+        lib.ngSpice_Circ.argtypes = [ctypes.POINTER(ctypes.c_char_p)]
+        lib.ngSpice_CurPlot.restype = ctypes.c_char_p
+        lib.ngSpice_AllVecs.argtypes = [ctypes.c_char_p]
+        lib.ngSpice_AllVecs.restype = ctypes.POINTER(ctypes.c_char_p)
+        lib.ngGet_Vec_Info.argtypes = [ctypes.c_char_p]
+        lib.ngGet_Vec_Info.restype = ctypes.POINTER(_VectorInfo)
+        self.lib = lib
+        # The callbacks must outlive the library's use of them: kept on the instance.
+        self._callbacks = (_SendChar(self._print), _SendStat(lambda *_: 0), _Exit(self._exit), _SendData(),
+                           _SendInit(), _Running())
+        lib.ngSpice_Init(*self._callbacks, None)
+
+    def _print(self, text: bytes | None, ident: int, user: object) -> int:
+        line = (text or b"").decode("utf-8", "replace")
+        self.printed.append(line.partition(" ")[2] if line.startswith(("stdout ", "stderr ")) else line)
+        return 0
+
+    def _exit(self, status: int, unload: bool, quit_: bool, ident: int, user: object) -> int:
+        self.exit_status = status
+        return 0
+
+    def command(self, text: str) -> int:
+        return int(self.lib.ngSpice_Command(text.encode("utf-8")))
+
+    def version(self) -> str:
+        self.printed.clear()
+        self.command("version")
+        match = _VERSION.search("\n".join(self.printed))
+        self.printed.clear()
+        if match is None:
+            raise RuntimeError("the library did not report an ngspice version")
+        return match.group(1)
+
+    def run(self, netlist: str) -> tuple[dict[str, Any], bytes]:
+        self.printed.clear()
+        errors: list[str] = []
+        lines = [line.encode("utf-8") for line in netlist.splitlines()]
+        array = (ctypes.c_char_p * (len(lines) + 1))(*lines, None)
+        start = time.perf_counter()
+        if self.lib.ngSpice_Circ(array) != 0:
+            errors.append("the circuit was not loaded")
+        elif self.exit_status is None and self.command("run") != 0:
+            errors.append("the run command failed")
+        wall = time.perf_counter() - start
+        names: list[str] = []
+        lengths: list[int] = []
+        chunks: list[bytes] = []
+        is_complex = False
+        plot = self.lib.ngSpice_CurPlot() if self.exit_status is None else None
+        if plot and plot.startswith(b"tran") and not errors:
+            vectors = self.lib.ngSpice_AllVecs(plot)
+            index = 0
+            while vectors[index]:
+                name = vectors[index]
+                index += 1
+                info = self.lib.ngGet_Vec_Info(plot + b"." + name)
+                if not info or info.contents.v_compdata:
+                    is_complex = is_complex or bool(info and info.contents.v_compdata)
+                    continue
+                length = info.contents.v_length
+                names.append(name.decode("utf-8", "replace"))
+                lengths.append(length)
+                chunks.append(ctypes.string_at(info.contents.v_realdata, 8 * length) if length else b"")
+        if self.exit_status is None:
+            for command in ("destroy all", "remcirc"):
+                self.command(command)
+        header = {"names": names, "lengths": lengths, "complex": is_complex, "errors": errors,
+                  "log": "\n".join(self.printed), "wall_s": wall, "rss": _rss(), "exit": self.exit_status}
+        return header, b"".join(chunks)
+
+
+def _rss() -> int:
+    try:
+        with open("/proc/self/statm", "rb") as statm:
+            return int(statm.read().split()[1]) * os.sysconf("SC_PAGE_SIZE")
+    except (OSError, ValueError, IndexError):  # pragma: no cover - not Linux
+        return 0
+
+
+def _read_exact(stream: BinaryIO, size: int) -> bytes | None:
+    """``size`` bytes, or None at the end of the stream (a pipe returns what it has: read until complete)."""
+    parts: list[bytes] = []
+    while size:
+        part = stream.read(size)
+        if not part:
+            return None
+        parts.append(part)
+        size -= len(part)
+    return b"".join(parts)
+
+
+def _read_frame(stream: BinaryIO) -> bytes | None:
+    head = _read_exact(stream, _HEADER.size)
+    if head is None:
+        return None
+    return _read_exact(stream, _HEADER.unpack(head)[0])
+
+
+def _write_frame(stream: BinaryIO, data: bytes) -> None:
+    stream.write(_HEADER.pack(len(data)))
+    stream.write(data)
+
+
+def main(argv: list[str]) -> int:
+    """Serve netlists until stdin closes (or ngspice asks to exit)."""
+    requests = os.fdopen(0, "rb", buffering=0)
+    replies = os.fdopen(os.dup(1), "wb")
+    os.dup2(2, 1)  # what the library prints on stdout must not reach the frames
+    sys.stdout = sys.stderr
+    try:
+        library = Library(argv[1])
+        hello: dict[str, Any] = {"version": library.version()}
+    except (OSError, RuntimeError, IndexError) as error:
+        _write_frame(replies, json.dumps({"error": str(error)}).encode("utf-8"))
+        replies.flush()
+        return 1
+    _write_frame(replies, json.dumps(hello).encode("utf-8"))
+    replies.flush()
+    while (request := _read_frame(requests)) is not None:
+        header, data = library.run(request.decode("utf-8"))
+        _write_frame(replies, json.dumps(header).encode("utf-8"))
+        _write_frame(replies, data)
+        replies.flush()
+        if library.exit_status is not None:
+            return 3
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))

@@ -1,0 +1,235 @@
+"""The warm transport (issue 23): ngspice's shared library loaded once per worker, with real ngspice.
+
+Its runs must be those of ``ngspice -b`` to the bit (so that keys and digests do not depend on the transport),
+one netlist must not change the next, a failure or a crash must fail that run only, a timeout must kill the
+worker, and nothing may outlive a study.
+"""
+
+from __future__ import annotations
+
+import os
+import signal
+import sqlite3
+import subprocess
+import sys
+import threading
+import time
+from dataclasses import replace
+from pathlib import Path
+
+import pytest
+from helpers.processes import alive, descendants
+
+import lcchain
+from lcchain.core.errors import ParameterError, SimulationError, SimulatorMissingError
+from lcchain.runs.simulate import simulation_spec
+from lcchain.spice import warm
+from lcchain.spice.runner import RunResult, run
+from lcchain.spice.simulator import Simulator, find_simulator
+from lcchain.studies.executors import Transports, choose_transports
+from lcchain.studies.plan import batch_plan
+from lcchain.studies.run import run_plan
+
+pytestmark = pytest.mark.ngspice
+
+
+@pytest.fixture(scope="module")
+def simulators() -> tuple[Simulator, Simulator]:
+    batch = find_simulator("batch")
+    try:
+        return batch, warm.warm_simulator(batch)
+    except SimulatorMissingError as error:
+        pytest.fail(f"the warm transport needs ngspice's shared library of the same version: {error}")
+
+
+@pytest.fixture(autouse=True)
+def _no_worker_outlives_a_test():
+    yield
+    warm.close_workers(kill=True)
+
+
+def _netlist(N: int, dt: float = 0.05, transits: int = 1) -> tuple[str, tuple[str, ...], float]:
+    spec, _, _ = simulation_spec(lcchain.chain_for_case("two-mass", N), dt=dt, transits=transits)
+    return spec.netlist, spec.vectors, spec.tstop
+
+
+def _same(a: RunResult, b: RunResult) -> bool:
+    return (a.time.tobytes() == b.time.tobytes() and set(a.vectors) == set(b.vectors)
+            and all(a.vectors[k].tobytes() == b.vectors[k].tobytes() for k in a.vectors))
+
+
+def _workers() -> list[warm.WarmWorker]:
+    with warm._lock:
+        return [w for w in warm._workers if w.alive]
+
+
+@pytest.mark.parametrize("foreign", [False, True], ids=["lcchain's", "foreign"])
+@pytest.mark.parametrize("N", [10, 40])
+def test_a_warm_run_is_ngspice_b_to_the_bit(simulators, N: int, foreign: bool) -> None:
+    batch, hot = simulators
+    netlist, vectors, tstop = _netlist(N)
+    kinds = {"trusted": not foreign, "foreign": foreign}
+    expected = run(netlist, vectors, tstop, simulator=batch, **kinds)
+    first = run(netlist, vectors, tstop, simulator=hot, **kinds)
+    again = run(netlist, vectors, tstop, simulator=hot, **kinds)  # the same worker, a second time
+    assert (expected.backend, first.backend) == ("batch", "warm")
+    assert _same(expected, first) and _same(expected, again)
+    assert first.points == expected.points > 100
+
+
+def test_a_netlist_leaves_nothing_to_the_next(simulators) -> None:
+    batch, hot = simulators
+    netlist, vectors, tstop = _netlist(10)
+    odd = netlist.replace(".tran", ".options reltol=1e-2 method=gear maxord=2 abstol=1e-6\n.tran", 1)
+    plain, other = (run(text, vectors, tstop, simulator=batch) for text in (netlist, odd))
+    assert not _same(plain, other)  # the options matter, so the check below can fail
+    assert _same(run(odd, vectors, tstop, simulator=hot), other)
+    assert _same(run(netlist, vectors, tstop, simulator=hot), plain)
+    assert len(_workers()) == 1  # both in one worker
+
+
+def test_a_failing_netlist_fails_alone(simulators) -> None:
+    batch, hot = simulators
+    netlist, vectors, tstop = _netlist(10)
+    # two sources that disagree across the same nodes: ngspice cannot solve it, in either transport
+    broken = netlist.replace(".tran", "Va nx 0 1\nVb nx 0 2\n.tran", 1)
+    reasons = []
+    for simulator in (batch, hot):
+        with pytest.raises(SimulationError) as caught:
+            run(broken, vectors, tstop, simulator=simulator)
+        reasons.append(caught.value.reason)
+    assert all("singular" in reason.lower() for reason in reasons), reasons
+    assert _same(run(netlist, vectors, tstop, simulator=hot), run(netlist, vectors, tstop, simulator=batch))
+
+
+def test_a_crash_fails_that_run_only(simulators) -> None:
+    batch, hot = simulators
+    long_netlist, long_vectors, long_tstop = _netlist(300, dt=0.01, transits=3)
+    netlist, vectors, tstop = _netlist(10)
+    run(netlist, vectors, tstop, simulator=hot)
+    (worker,) = _workers()
+    killer = threading.Timer(0.3, lambda: os.kill(worker.proc.pid, signal.SIGKILL))
+    killer.start()
+    try:
+        with pytest.raises(SimulationError) as caught:
+            run(long_netlist, long_vectors, long_tstop, simulator=hot)
+    finally:
+        killer.cancel()
+    assert "SIGKILL" in caught.value.reason and caught.value.status == "failed"
+    assert not alive(worker.proc.pid)
+    assert _same(run(netlist, vectors, tstop, simulator=hot), run(netlist, vectors, tstop, simulator=batch))
+    (replacement,) = _workers()
+    assert replacement is not worker
+
+
+def test_a_run_past_its_timeout_kills_its_worker(simulators) -> None:
+    _, hot = simulators
+    netlist, vectors, tstop = _netlist(300, dt=0.01, transits=3)
+    with pytest.raises(SimulationError) as caught:
+        run(netlist, vectors, tstop, simulator=hot, timeout=0.2)
+    assert caught.value.status == "timeout"
+    assert _workers() == []
+
+
+def test_a_spent_worker_is_replaced(simulators, monkeypatch: pytest.MonkeyPatch) -> None:
+    _, hot = simulators
+    monkeypatch.setattr(warm, "MAX_WORKER_RUNS", 2)
+    netlist, vectors, tstop = _netlist(10)
+    pids = []
+    for _ in range(5):
+        run(netlist, vectors, tstop, simulator=hot)
+        pids.append(_workers()[0].proc.pid)
+    assert pids[0] == pids[1] != pids[2] == pids[3] != pids[4]
+
+
+def _netlists(folder: Path, count: int, N: int = 10) -> list[Path]:
+    netlist, _, _ = _netlist(N)
+    paths = []
+    for i in range(count):  # distinct netlists: each its own title
+        path = folder / f"n{i:03d}.cir"
+        path.write_text(netlist.replace("\n", f" #{i}\n", 1))
+        paths.append(path)
+    return paths
+
+
+def test_choose_transports(simulators, tmp_path: Path) -> None:
+    batch, _ = simulators
+    plan = batch_plan(_netlists(tmp_path, 25))
+    items = [(task.index, task.spec, task.seconds) for task in plan.tasks]
+    assert all(seconds < warm.WARM_BELOW_SECONDS for *_, seconds in items)
+    assert choose_transports(items, batch, 2, "auto").runs == frozenset(range(25))
+    assert choose_transports(items, batch, 3, "auto") == Transports()  # too few runs to pay 3 workers' start
+    assert choose_transports(items, batch, 2, "process") == Transports()
+    assert choose_transports(items[:3], batch, 2, "warm").runs == frozenset(range(3))
+    slow = [(index, spec, warm.WARM_BELOW_SECONDS * 2) for index, spec, _ in items]
+    assert choose_transports(slow, batch, 1, "auto") == Transports()
+    trusted = [(index, replace(spec, trusted=True), seconds) for index, spec, seconds in items]
+    assert choose_transports(trusted, batch, 1, "warm") == Transports()
+    with pytest.raises(ParameterError, match="--transport"):
+        choose_transports(items, batch, 1, "fast")
+
+
+def _stored(path: Path) -> list[tuple[str, str, str, int]]:
+    with sqlite3.connect(path) as db:
+        rows = db.execute("SELECT key, status, digest, points FROM records ORDER BY key").fetchall()
+    db.close()
+    return rows
+
+
+@pytest.mark.parametrize("executor", ["serial", "process"])
+def test_a_batch_is_the_same_whichever_transport(simulators, tmp_path: Path, executor: str) -> None:
+    batch, _ = simulators
+    plan = batch_plan(_netlists(tmp_path, 24))
+    stores = {}
+    for transport in ("process", "warm", "auto"):
+        stores[transport] = tmp_path / f"{transport}.sqlite"
+        summary = run_plan(plan, stores[transport], executor=executor, workers=2, simulator=batch,
+                           transport=transport)
+        assert summary.ok == 24 and summary.failed == 0
+        assert _workers() == []  # every warm worker ended with its study
+    rows = {transport: _stored(path) for transport, path in stores.items()}
+    assert len(rows["process"]) == 24 and all(status == "ok" for _, status, _, _ in rows["process"])
+    assert rows["process"] == rows["warm"] == rows["auto"]
+
+
+def _long_netlists(folder: Path) -> list[Path]:
+    netlist, _, _ = _netlist(2000, dt=0.01)
+    paths = []
+    for i in range(2):
+        path = folder / f"long{i}.cir"
+        path.write_text(netlist.replace("\n", f" #{i}\n", 1))
+        paths.append(path)
+    return paths
+
+
+@pytest.mark.parametrize("transport", ["process", "warm"])
+def test_nothing_outlives_an_interrupted_batch(tmp_path: Path, transport: str) -> None:
+    # Two long runs at once, from threads (process) or in two warm workers: Ctrl-C must end them all.
+    paths = _long_netlists(tmp_path)
+    marker = "ngspice" if transport == "process" else "python"
+    proc = subprocess.Popen([sys.executable, "-m", "lcchain", "batch", *map(str, paths), "--store",
+                             str(tmp_path / "s.sqlite"), "--workers", "2", "--transport", transport],
+                            cwd=tmp_path, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    try:
+        deadline = time.monotonic() + 120
+        running: dict[int, str] = {}
+        while time.monotonic() < deadline:
+            assert proc.poll() is None, proc.communicate()
+            running = {pid: name for pid, name in descendants(proc.pid).items() if marker in name}
+            if len(running) >= 2:
+                break
+            time.sleep(0.1)
+        assert len(running) >= 2, f"the two runs did not start together: {descendants(proc.pid)}"
+        time.sleep(0.5)
+        everything = descendants(proc.pid)
+        proc.send_signal(signal.SIGINT)
+        _, err = proc.communicate(timeout=60)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+    assert proc.returncode == 130 and b"Traceback" not in err, err.decode()
+    deadline = time.monotonic() + 10
+    while any(alive(pid) for pid in everything) and time.monotonic() < deadline:
+        time.sleep(0.05)
+    assert not any(alive(pid) for pid in everything), f"outlived lcchain: {everything}"
