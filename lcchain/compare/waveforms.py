@@ -15,7 +15,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.integrate import cumulative_trapezoid
+import scipy  # its submodules load on first use: commands that need no theory never import them
 
 from ..core.checks import choice
 from ..core.frozen import FrozenArrays, readonly
@@ -82,7 +82,7 @@ def _charges(t: np.ndarray, currents: np.ndarray) -> np.ndarray:
     tt = np.concatenate(([0.0], t))
     rows = np.atleast_2d(currents)
     padded = np.concatenate((np.zeros((rows.shape[0], 1)), rows), axis=1)
-    return cumulative_trapezoid(padded, tt, axis=1)
+    return scipy.integrate.cumulative_trapezoid(padded, tt, axis=1)
 
 
 def loop_signals(time_s: np.ndarray, currents: Sequence[np.ndarray] | np.ndarray, *, time_unit: float,

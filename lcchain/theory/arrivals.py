@@ -31,7 +31,7 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from scipy.optimize import minimize_scalar
+import scipy  # its submodules load on first use: commands that need no theory never import them
 
 from ..core.blas import fixed_blas_threads
 from ..core.checks import integer
@@ -131,7 +131,7 @@ def refine_maximum(f: Callable[[np.ndarray], np.ndarray], lo: float, hi: float) 
     time, value : float
     """
     centre = 0.5 * (lo + hi)
-    result = minimize_scalar(
+    result = scipy.optimize.minimize_scalar(
         lambda u: -float(f(np.array([centre + u]))[0]), bounds=(lo - centre, hi - centre), method="bounded",
         options={"xatol": 1e-10 * max(1.0, hi - lo)},
     )
