@@ -6,7 +6,11 @@ Run from the repository root:
 
 A study of thousands of small runs is bounded by what lcchain adds to each:
 writing the netlist, starting ngspice, reading its raw file, the theory and
-the comparison.  ngspice's time is the wall time of its process (RunResult.wall_s).
+the comparison.  ngspice's own time is measured by itself: the same netlist
+run as ``ngspice -n -b -r RAW FILE`` from ``subprocess.run``, with no lcchain
+around it; lcchain's share of a run is what a call takes beyond that.  The
+process time lcchain records (``RunResult.wall_s``, from the start of the
+child to the exit its pidfd reports) is shown beside it.
 """
 
 from __future__ import annotations
@@ -14,7 +18,9 @@ from __future__ import annotations
 import platform
 import statistics
 import subprocess
+import tempfile
 import time
+from pathlib import Path
 
 import numpy as np
 
@@ -23,6 +29,7 @@ from lcchain.runs.execute import execute
 from lcchain.runs.simulate import simulation_spec
 from lcchain.spice.runner import run
 from lcchain.spice.simulator import find_simulator
+from lcchain.spice.warm import close_workers, warm_simulator
 
 N = 30
 REPEAT = 40
@@ -39,44 +46,70 @@ def main() -> None:
     spec, _, _ = simulation_spec(chain, dt=0.05, modes=modes)
     execute(spec, simulator)  # warm caches, imports and the BLAS limit
 
-    rows: dict[str, list[float]] = {k: [] for k in ("build", "ngspice", "run", "execute", "simulate", "version")}
+    rows: dict[str, list[float]] = {k: [] for k in ("build", "alone", "ngspice", "run", "execute", "simulate",
+                                                     "version", "warm")}
+    hot = warm_simulator(simulator)
+    folder = tempfile.TemporaryDirectory(prefix="lcchain-bench-")
+    netlist, raw = Path(folder.name) / "run.cir", Path(folder.name) / "run.raw"
+    netlist.write_text(spec.netlist)
+    run(spec.netlist, spec.vectors, spec.tstop, simulator=hot, trusted=True, foreign=False)  # its worker started
     for _ in range(REPEAT):
+        start = time.perf_counter()
+        subprocess.run([simulator.executable, "-n", "-b", "-r", str(raw), str(netlist)], capture_output=True,
+                       check=True)
+        rows["alone"].append(time.perf_counter() - start)
+
         start = time.perf_counter()
         spec, _, _ = simulation_spec(chain, dt=0.05, modes=modes)
         rows["build"].append(time.perf_counter() - start)
 
         start = time.perf_counter()
         result = run(spec.netlist, spec.vectors, spec.tstop, simulator=simulator)
-        rows["run"].append(time.perf_counter() - start - result.wall_s)
+        rows["run"].append(time.perf_counter() - start)
         rows["ngspice"].append(result.wall_s)
 
         start = time.perf_counter()
-        record = execute(spec, simulator)
-        rows["execute"].append(time.perf_counter() - start - record.wall_s)
+        run(spec.netlist, spec.vectors, spec.tstop, simulator=hot, trusted=True, foreign=False)
+        rows["warm"].append(time.perf_counter() - start)
 
         start = time.perf_counter()
-        report = lcchain.simulate(chain, dt=0.05, simulator=simulator)
-        rows["simulate"].append(time.perf_counter() - start - report.run.wall_s)
+        execute(spec, simulator)
+        rows["execute"].append(time.perf_counter() - start)
+
+        start = time.perf_counter()
+        lcchain.simulate(chain, dt=0.05, simulator=simulator)
+        rows["simulate"].append(time.perf_counter() - start)
 
         start = time.perf_counter()
         subprocess.run([simulator.executable, "-v"], capture_output=True, check=True)
         rows["version"].append(time.perf_counter() - start)
+
+    close_workers()
+    folder.cleanup()
+    alone = statistics.median(rows["alone"])
+
+    def beyond(key: str) -> str:
+        return f"{1e3 * (statistics.median(rows[key]) - alone):.1f}"
 
     print("# lcchain's overhead per small run\n")
     print("Command: `.venv/bin/python benchmarks/bench_overhead.py > benchmarks/overhead.md`  ")
     print(f"Machine: {platform.machine()}, 2 cores, Python "
           f"{platform.python_version()}, numpy {np.__version__}, ngspice {simulator.version}  ")
     print(f"Chain: optimal two-mass N = {N}, kick, dt = 0.05, one transit ({result.points} time points). "
-          f"Median of {REPEAT} runs, milliseconds.\n")
+          f"Median of {REPEAT} runs, milliseconds. \"Beyond ngspice\": a call's median wall time minus the median "
+          "of ngspice's process by itself.\n")
     print("| what | ms |")
     print("|---|---:|")
-    print(f"| ngspice's own process (netlist in, raw file out) | {median_ms(rows['ngspice'])} |")
+    print(f"| ngspice's process by itself (`ngspice -n -b -r RAW FILE` from `subprocess.run`, no lcchain) | "
+          f"{1e3 * alone:.1f} |")
+    print(f"| the same process as lcchain records it (`RunResult.wall_s`: its start to the exit its pidfd "
+          f"reports) | {median_ms(rows['ngspice'])} |")
     print(f"| lcchain: describing the run (step, netlist, spec) | {median_ms(rows['build'])} |")
-    print(f"| lcchain: around ngspice in `spice.run` (start, read, validate) | {median_ms(rows['run'])} |")
-    print(f"| lcchain: `execute` beyond ngspice (run + theory + comparison + digest) | {median_ms(rows['execute'])} |")
-    print(f"| lcchain: `simulate` beyond ngspice (all of the above) | {median_ms(rows['simulate'])} |")
+    print(f"| lcchain: `spice.run` beyond ngspice (start, wait, read, validate) | {beyond('run')} |")
+    print(f"| lcchain: `execute` beyond ngspice (run + theory + comparison + digest) | {beyond('execute')} |")
+    print(f"| lcchain: `simulate` beyond ngspice (all of the above) | {beyond('simulate')} |")
+    print(f"| one run in a warm worker (`lcchain.spice.warm`), whole call | {median_ms(rows['warm'])} |")
     print(f"| `ngspice -v`, which every run used to start as well | {median_ms(rows['version'])} |")
-
 
 if __name__ == "__main__":
     main()
