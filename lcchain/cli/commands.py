@@ -179,6 +179,30 @@ def cmd_netlist(args: argparse.Namespace) -> int:
     return EXIT_FAILED if outputs.failed else EXIT_OK
 
 
+def cmd_examples(args: argparse.Namespace) -> int:
+    """List the example scenes that ship with lcchain, or write one here (or to -o FILE) to run or edit."""
+    from ..scenes.bundled import example_names, example_text, example_title
+
+    if args.name is None:
+        names = example_names()
+        width = max(len(name) for name in names)
+        for name in names:
+            print(f"{name:<{width}}  {example_title(name)}")
+        print("\nlcchain examples NAME writes NAME.toml here (-o FILE: elsewhere); then: lcchain run NAME.toml")
+        return EXIT_OK
+    text = example_text(args.name)
+    target = args.output or f"{args.name}.toml"
+    if args.output is None and (Path(target).exists() or Path(target).is_symlink()):
+        raise ParameterError("NAME", args.name, f"an example whose file is not here yet: {target} exists (your own "
+                             "copy?); write it elsewhere with -o FILE")
+    outputs = Outputs()
+    outputs.check("-o", target)
+    outputs.text("-o", text)
+    if not outputs.failed:
+        print(f"wrote {target}: lcchain run {target}")
+    return EXIT_FAILED if outputs.failed else EXIT_OK
+
+
 def cmd_reference_netlists(args: argparse.Namespace) -> int:
     from ..circuit.reference import REFERENCE_SET, reference_netlist
 

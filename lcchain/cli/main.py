@@ -135,6 +135,11 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("-o", "--output", metavar="FILE", help="write here instead of stdout")
     p.set_defaults(func=commands.cmd_netlist)
 
+    p = sub.add_parser("examples", help="the example scenes that ship with lcchain: list them, or write one here")
+    p.add_argument("name", nargs="?", metavar="NAME", help="the example to write (default: list them)")
+    p.add_argument("-o", "--output", metavar="FILE", help="where to write it (default: NAME.toml here)")
+    p.set_defaults(func=commands.cmd_examples)
+
     p = sub.add_parser("reference-netlists", help="regenerate the reference netlists of netlists/")
     p.add_argument("--out", default="netlists", help="folder (default netlists)")
     p.set_defaults(func=commands.cmd_reference_netlists)

@@ -14,7 +14,7 @@ the file when the scene came from one::
     bench.toml: effects.tolerance.L = -0.05 is not allowed: expected a number, 0 <= L < 1
 
 The file format (every key, its default and its range) is the contract of
-issue 5; ``examples/scenes/`` holds complete scenes.
+issue 5; ``lcchain/scenes/examples/`` (``lcchain examples``; ``examples/scenes/`` links there) holds complete scenes.
 """
 
 from __future__ import annotations

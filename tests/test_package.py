@@ -1,0 +1,91 @@
+"""The package a user installs (issue 22): ``python -m build`` makes a wheel and an sdist, and the wheel, installed
+on its own, works from an empty folder: its example scenes, ``py.typed``, and a scene run in real ngspice."""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+import tarfile
+import zipfile
+from pathlib import Path
+
+import pytest
+
+from lcchain.scenes.bundled import example_names
+
+ROOT = Path(__file__).resolve().parent.parent
+
+
+@pytest.fixture(scope="module")
+def built(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
+    out = tmp_path_factory.mktemp("dist")
+    done = subprocess.run([sys.executable, "-m", "build", "--outdir", str(out), str(ROOT)], capture_output=True,
+                          text=True, timeout=600)
+    assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
+    wheels, sdists = sorted(out.glob("*.whl")), sorted(out.glob("*.tar.gz"))
+    assert len(wheels) == len(sdists) == 1, sorted(p.name for p in out.iterdir())
+    return {"wheel": wheels[0], "sdist": sdists[0]}
+
+
+def test_the_wheel_ships_the_example_scenes_and_its_types(built: dict[str, Path]) -> None:
+    names = set(zipfile.ZipFile(built["wheel"]).namelist())
+    scenes = {Path(n).stem for n in names if n.startswith("lcchain/scenes/examples/") and n.endswith(".toml")}
+    assert scenes == set(example_names()) == {p.stem for p in (ROOT / "examples" / "scenes").glob("*.toml")}
+    assert len(scenes) >= 8
+    assert "lcchain/py.typed" in names
+
+
+def test_the_sdist_builds_the_same_package_without_tests(built: dict[str, Path]) -> None:
+    with tarfile.open(built["sdist"]) as sdist:
+        names = [name.split("/", 1)[1] for name in sdist.getnames() if "/" in name]
+    assert "pyproject.toml" in names and "lcchain/py.typed" in names
+    assert {Path(n).stem for n in names if n.startswith("lcchain/scenes/examples/")} == set(example_names())
+    assert not [n for n in names if n.startswith(("tests/", "benchmarks/", "docs/"))]  # they stay in the repository
+
+
+@pytest.mark.ngspice
+def test_the_installed_wheel_runs_an_example_from_an_empty_folder(built: dict[str, Path], tmp_path: Path) -> None:
+    site, here = tmp_path / "site", tmp_path / "empty"
+    here.mkdir()
+    done = subprocess.run([sys.executable, "-m", "pip", "install", "-q", "--no-deps", "--no-index", "--target",
+                           str(site), str(built["wheel"])], capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stderr
+    env = dict(os.environ, PYTHONPATH=str(site))
+
+    def lcchain(*argv: str) -> subprocess.CompletedProcess[str]:
+        return subprocess.run([sys.executable, "-P", "-m", "lcchain", *argv], cwd=here, env=env, capture_output=True,
+                              text=True, timeout=300)
+
+    where = subprocess.run([sys.executable, "-P", "-c", "import lcchain; print(lcchain.__file__)"], cwd=here, env=env,
+                           capture_output=True, text=True)
+    assert Path(where.stdout.strip()).is_relative_to(site), where  # the wheel, not the repository
+    listed = lcchain("examples")
+    assert listed.returncode == 0 and all(name in listed.stdout for name in example_names()), listed
+    assert lcchain("examples", "cradle").returncode == 0
+    assert (here / "cradle.toml").read_text() == (ROOT / "examples" / "scenes" / "cradle.toml").read_text()
+    again = lcchain("examples", "cradle")  # the user's copy is never overwritten
+    assert again.returncode == 2 and "cradle.toml exists" in again.stderr and "Traceback" not in again.stderr
+    ran = lcchain("run", "cradle.toml", "--json")
+    assert ran.returncode == 0, ran.stderr
+    report = json.loads(ran.stdout)
+    assert report["source"] == "cradle.toml" and report["N"] == 100 and report["accuracy_met"] is True
+
+
+def test_examples_refuses_what_it_cannot_write(tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
+                                               capsys: pytest.CaptureFixture[str]) -> None:
+    from lcchain.cli.main import main
+
+    monkeypatch.chdir(tmp_path)
+    assert main(["examples", "nope"]) == 2
+    err = capsys.readouterr().err
+    assert "NAME = 'nope'" in err and all(name in err for name in example_names())
+    assert main(["examples", "walls", "-o", str(tmp_path / "missing" / "w.toml")]) == 2
+    assert "-o" in capsys.readouterr().err
+    (tmp_path / "walls.toml").write_text("# my own walls\n")
+    assert main(["examples", "walls"]) == 2
+    assert (tmp_path / "walls.toml").read_text() == "# my own walls\n"
+    assert main(["examples", "walls", "-o", "mine.toml"]) == 0
+    assert (tmp_path / "mine.toml").read_text() == (ROOT / "examples" / "scenes" / "walls.toml").read_text()
+    assert list(tmp_path.iterdir()) and not any(p.name.startswith(".") for p in tmp_path.iterdir())
