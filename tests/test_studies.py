@@ -225,7 +225,11 @@ def test_two_designs_under_real_parts_side_by_side(tmp_path: Path, capsys: pytes
     assert energy["two-mass", 0.05]["std"] > energy["two-mass", 0.01]["std"]
     assert main(["results", str(store), "--summary", "--csv"]) == 0
     header = capsys.readouterr().out.splitlines()[0]
-    assert header.startswith("chain.N,chain.case,effects.tolerance.L+effects.tolerance.C,n,failed,mean")
+    assert header.startswith("chain.case,effects.tolerance.L+effects.tolerance.C,n,failed,mean")  # N: one value
+    assert main(["results", str(store), "--summary"]) == 0
+    title, columns = capsys.readouterr().out.splitlines()[:2]
+    assert "N = 20 throughout" in title and columns.split() == ["case", "L+C", "n", "failed", "mean", "std", "min",
+                                                                "p05", "median", "max"]
     assert main(["results", str(store), "--metric", "energy", "--plot", str(tmp_path / "parts.png")]) == 0
     assert (tmp_path / "parts.png").stat().st_size > 20_000
 

@@ -265,9 +265,25 @@ def _short(key: str) -> str:
     return "+".join(part.rsplit(".", 1)[-1] for part in key.split("+"))
 
 
+def _number(value: Any, digits: str = ".3g") -> str:
+    """A table cell: blank for no value, never ``None`` or ``-0``."""
+    if value is None:
+        return ""
+    if isinstance(value, float):
+        return format(value + 0.0 if value != 0 else 0.0, digits)
+    return str(value)
+
+
+def _table(titles: list[str], rows: list[list[str]]) -> str:
+    widths = [max(len(t), *(len(r[i]) for r in rows)) if rows else len(t) for i, t in enumerate(titles)]
+    lines = ["  ".join(t.rjust(w) for t, w in zip(titles, widths, strict=True))]
+    lines += ["  ".join(c.rjust(w) for c, w in zip(row, widths, strict=True)) for row in rows]
+    return "\n".join(lines)
+
+
 def _print_summary(stored: list[Any], args: argparse.Namespace) -> None:
-    """Per combination of the axes: the first-arrival peak's distribution over the samples."""
-    from ..studies.summary import peak_groups
+    """Per combination of the study's axes: the first-arrival metric's distribution over the samples."""
+    from ..studies.summary import peak_groups, study_constants
 
     groups = [group.to_dict() for group in peak_groups(stored, args.metric)]
     if args.json:
@@ -275,9 +291,9 @@ def _print_summary(stored: list[Any], args: argparse.Namespace) -> None:
         return
     keys = list(dict.fromkeys(key for group in groups for key in group["params"]))
     stats = ["n", "failed", "mean", "std", "min", "p05", "median", "max"]
-    rows = [[str(group["params"].get(key, "")) for key in keys]
-            + [str(group[s]) if s in ("n", "failed") else ("" if group[s] is None else f"{group[s]:.4f}")
-               for s in stats] for group in groups]
+    rows = [[_number(group["params"].get(key)) for key in keys]
+            + [str(group[s]) if s in ("n", "failed") else _number(group[s], ".4f") for s in stats]
+            for group in groups]
     if args.csv:
         text = io.StringIO()
         writer = csv.writer(text, lineterminator="\n")
@@ -285,24 +301,59 @@ def _print_summary(stored: list[Any], args: argparse.Namespace) -> None:
         writer.writerows(rows)
         sys.stdout.write(text.getvalue())
         return
-    titles = [*map(_short, keys), *stats]
-    widths = [max(len(t), *(len(r[i]) for r in rows)) for i, t in enumerate(titles)]
     what = {"peak": "peak (max I_N/I_1(0))", "energy": "energy fraction (peak^2 L_N/L_1)",
             "loss": "energy lost (1 - peak^2 L_N/L_1)"}[args.metric]
-    print(f"{args.store}: first-arrival {what} by group")
-    print("  ".join(t.rjust(w) for t, w in zip(titles, widths, strict=True)))
-    for row in rows:
-        print("  ".join(c.rjust(w) for c, w in zip(row, widths, strict=True)))
+    by = f"by {', '.join(map(_short, keys))}" if keys else "over all its runs"
+    shared = ", ".join(f"{_short(k)} = {_number(v)}" for k, v in study_constants(stored).items())
+    print(f"{args.store}: first-arrival {what} {by}" + (f" ({shared} throughout)" if shared else "") +
+          "; n finished runs, std over them (ddof 1)")
+    print(_table([*map(_short, keys), *stats], rows))
 
 
 def _check_metric(metric: str, stored: list[Any]) -> None:
     """A metric the store's runs cannot give is refused before anything prints (not an empty table)."""
-    from ..studies.summary import available_metrics
+    from ..studies.summary import check_metric
 
-    available = available_metrics(stored)
-    if available and metric not in available:
-        raise ParameterError("--metric", metric, f"a metric this store's runs give: {' | '.join(available)} (an "
-                             "energy fraction needs a kicked first loop; a pulse's is undefined)")
+    check_metric(metric, stored)
+
+
+def _print_runs(store: Any, stored: list[Any], name: str) -> None:
+    """One row per task: its axes, status, and what it gave: errors against theory, or (no theory: a batch of
+    netlists) its vectors, points and the simulator's time; a failure's reason."""
+    from ..studies.summary import study_axes
+
+    runs = [run.to_dict() for run in stored]
+
+    def counted(rows: list[dict[str, Any]]) -> str:
+        counts = {s: sum(r["status"] == s for r in rows) for s in ("ok", "failed", "timeout", "pending")}
+        return ", ".join(f"{n} {s}" for s, n in counts.items() if n)
+
+    combined = [run for run in runs if run["kind"] == "combined"]
+    tasks = list({run["key"]: run for run in runs if run["kind"] != "combined"}.values())  # shared members once
+    print(f"{name}: {len(tasks)} runs: {counted(tasks)}" +
+          (f"; {len(combined)} extrapolated from them: {counted(combined)}" if combined else ""))
+    axes = study_axes(stored)
+    theory = any(run.metrics is not None for run in stored)
+    columns = ["error", "predicted", "peak"] if theory else ["vectors", "points"]
+    rows = []
+    for run, shown in zip(stored, runs, strict=True):
+        cells = [str(run.index), run.status, *(_number(run.params.get(key)) for key in axes)]
+        if theory:
+            arrivals = shown.get("arrivals") or []
+            cells += [_number(shown.get("max_abs_error")), _number(shown.get("predicted_error")),
+                      _number(arrivals[0].get("peak_sim"), ".6f") if arrivals else ""]
+        else:
+            names = store.vector_names(run.key) if run.status == "ok" else None
+            cells += [" ".join(names) if names else "", _number(run.points)]
+        seconds = run.wall_s if run.kind != "combined" else None
+        cells += [_number(seconds, ".3f"), (run.reason.splitlines() or [""])[0][:70]]
+        rows.append(cells)
+    print(_table(["#", "status", *map(_short, axes), *columns, "time (s)", "reason"], rows))
+    if theory:
+        print("error: max |I_sim - I_theory| / I0 over the saved loops (predicted: the accuracy model's); peak: the "
+              "first arrival's max I_N/I_1(0) in the simulator; time: the simulator's own wall time")
+    else:
+        print("time: the simulator's own wall time of each run")
 
 
 def cmd_results(args: argparse.Namespace) -> int:
@@ -333,19 +384,10 @@ def cmd_results(args: argparse.Namespace) -> int:
         writer.writeheader()
         writer.writerows(rows)
         sys.stdout.write(text.getvalue())
+    elif args.plot:  # the figure is what was asked for: not also a table of every run
+        if not outputs.failed:
+            print(f"{args.store}: {len(stored)} runs drawn in {args.plot}")
     else:
-        def counted(rows: list[dict[str, Any]]) -> str:
-            counts = {s: sum(r["status"] == s for r in rows) for s in ("ok", "failed", "timeout", "pending")}
-            return ", ".join(f"{n} {s}" for s, n in counts.items() if n)
-
-        combined = [run for run in runs if run["kind"] == "combined"]
-        tasks = list({run["key"]: run for run in runs if run["kind"] != "combined"}.values())  # shared members once
-        print(f"{args.store}: {len(tasks)} runs: {counted(tasks)}" +
-              (f"; {len(combined)} extrapolated from them: {counted(combined)}" if combined else ""))
-        for run in runs:
-            error, predicted = run.get("max_abs_error"), run.get("predicted_error")
-            shown = f"error {error:.3g}" if error is not None else run.get("error", "").split("\n")[0][:80]
-            if error is not None and predicted is not None:
-                shown += f" (predicted {predicted:.3g})"
-            print(f"{run['index']:>5} {run['status']:>8}  {run['params']}  {shown}")
+        with Store(args.store, "read", option="STORE") as store:
+            _print_runs(store, stored, args.store)
     return EXIT_FAILED if outputs.failed else EXIT_OK

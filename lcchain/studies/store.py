@@ -675,6 +675,17 @@ class Store:
             raise self._tampered(f"the arrays of run {key[:12]} do not match its digest")
         return arrays
 
+    def vector_names(self, key: str) -> list[str] | None:
+        """The names of a stored run's saved vectors (without ``"time"``), or None when it saved none."""
+        rows = self._rows("SELECT arrays FROM records WHERE key = ?", (key,))
+        if not rows or rows[0][0] is None:
+            return None
+        try:
+            with np.load(io.BytesIO(rows[0][0]), allow_pickle=False) as npz:
+                return [str(n) for n in npz["names"] if str(n) != "time"]
+        except (OSError, ValueError, KeyError, EOFError, TypeError, zipfile.BadZipFile):
+            raise self._tampered(f"the arrays of run {key[:12]} are not lcchain's .npz") from None
+
     def __iter__(self) -> Iterator[StoredRun]:
         return iter(self.runs())
 

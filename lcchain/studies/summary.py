@@ -18,9 +18,11 @@ from typing import Any
 import numpy as np
 
 from ..core.checks import choice
+from ..core.errors import ParameterError
 from .store import StoredRun
 
-__all__ = ["Group", "peak_groups", "METRICS", "available_metrics"]
+__all__ = ["Group", "peak_groups", "METRICS", "available_metrics", "study_axes", "study_constants",
+           "check_metric"]
 
 #: What a group summarises: the first arrival's current peak, its energy fraction (kick only), or the energy
 #: lost on the way, 1 - energy fraction (best on a log scale: it spans decades between designs).
@@ -71,9 +73,53 @@ def available_metrics(runs: list[StoredRun]) -> list[str]:
     return [metric for metric, field in METRICS.items() if any(_first(run, field) is not None for run in finished)]
 
 
+def check_metric(metric: str, runs: list[StoredRun], option: str = "--metric") -> None:
+    """Refuse a metric the store's runs cannot give, before anything is printed or drawn.
+
+    Raises
+    ------
+    ParameterError
+        Naming ``option``, the metric and the ones available; or, when none is, why: no run finished yet, or
+        the runs have no theory to give one (a batch of netlists).
+    """
+    choice(option, metric, tuple(METRICS))
+    available = available_metrics(runs)
+    if metric in available:
+        return
+    if available:
+        raise ParameterError(option, metric, f"a metric this store's runs give: {' | '.join(available)} (an "
+                             "energy fraction needs a kicked first loop; a pulse's is undefined)")
+    finished = [run for run in runs if run.status == "ok" and not run.member]
+    if not finished:
+        raise ParameterError(option, metric, "a store with finished runs (none has finished yet: run the study's "
+                             "command again to resume it)")
+    raise ParameterError(option, metric, f"a store of runs with a theory to compare with; its {len(finished)} "
+                         "finished runs have none (a batch of netlists: `lcchain results STORE` shows each one's "
+                         "vectors, points and time)")
+
+
+def study_axes(runs: list[StoredRun]) -> list[str]:
+    """The parameters that vary across the study's tasks, in the plan's order (a constant one is no axis: every
+    run shares it). A study of a single task has no axes."""
+    values: dict[str, set[str]] = {}
+    for run in runs:
+        for key, value in run.params.items():
+            values.setdefault(key, set()).add(repr(value))
+    keys = list(dict.fromkeys(key for run in runs for key in run.params))
+    return [key for key in keys if len(values[key]) > 1 or any(key not in run.params for run in runs)]
+
+
+def study_constants(runs: list[StoredRun]) -> dict[str, Any]:
+    """The parameters every task (extrapolation members aside) shares, with their one value."""
+    runs = [run for run in runs if not run.member]
+    axes = set(study_axes(runs))
+    keys = list(dict.fromkeys(key for run in runs for key in run.params))
+    return {key: runs[0].params[key] for key in keys if key not in axes} if runs else {}
+
+
 def peak_groups(runs: list[StoredRun], metric: str = "peak") -> list[Group]:
-    """The runs grouped by their parameters without ``sample``, groups in the order of their first task
-    (an extrapolation counts once, by its combined result).
+    """The runs grouped by the study's axes without ``sample`` (:func:`study_axes`), groups in the order of
+    their first task (an extrapolation counts once, by its combined result).
 
     Parameters
     ----------
@@ -83,13 +129,14 @@ def peak_groups(runs: list[StoredRun], metric: str = "peak") -> list[Group]:
         not kicked, are left out of the groups' values).
     """
     field = METRICS[choice("metric", metric, tuple(METRICS))]
+    axes = [key for key in study_axes([run for run in runs if not run.member]) if key != "sample"]
     order: dict[str, dict[str, Any]] = {}
     peaks: dict[str, list[float]] = {}
     failed: dict[str, int] = {}
     for run in runs:
         if run.member:  # an extrapolation's ingredient: its combination is the result
             continue
-        params = {k: v for k, v in run.params.items() if k != "sample"}
+        params = {k: run.params[k] for k in axes if k in run.params}
         key = repr(sorted(params.items()))
         order.setdefault(key, params)
         peaks.setdefault(key, [])

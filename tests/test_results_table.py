@@ -1,0 +1,70 @@
+"""What ``lcchain results`` prints after a study (issue 22): a table with a header, the study's axes only, and
+for a batch of netlists each one's vectors, points and time; a metric the runs cannot give is refused."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+from helpers.netlists import LADDER
+
+from lcchain.cli.main import main
+
+pytestmark = pytest.mark.ngspice
+
+
+@pytest.fixture(scope="module")
+def batch_store(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    folder = tmp_path_factory.mktemp("batch")
+    paths = []
+    for i, stop in enumerate((7.7, 7.8, 7.9)):
+        path = folder / f"ladder{i}.cir"
+        path.write_text(LADDER.replace(".tran 0.001 7.7", f".tran 0.001 {stop}"))
+        paths.append(str(path))
+    broken = folder / "broken.cir"
+    broken.write_text(LADDER.replace("C23 n2 0 1.0\n", "C23 n2 0 1.0\nVa n2 0 1\nVb n2 0 2\n"))
+    store = folder / "b.sqlite"
+    assert main(["batch", *paths, str(broken), "--store", str(store), "--executor", "serial"]) == 1
+    return store
+
+
+def test_a_batch_store_shows_each_netlists_vectors_points_and_time(batch_store: Path,
+                                                                  capsys: pytest.CaptureFixture[str]) -> None:
+    capsys.readouterr()
+    assert main(["results", str(batch_store)]) == 0
+    out = capsys.readouterr().out
+    lines = out.splitlines()
+    assert lines[0].endswith("4 runs: 3 ok, 1 failed")
+    assert lines[1].split() == ["#", "status", "netlist", "vectors", "points", "time", "(s)", "reason"]
+    rows = [line.split() for line in lines[2:6]]
+    for row, stop in zip(rows[:3], (7.7, 7.8, 7.9), strict=True):
+        assert row[1] == "ok" and row[3:5] == ["i(l1)", "i(l3)"]
+        assert int(row[5]) >= stop / 0.001  # at least one point per step
+        assert 0 < float(row[6]) < 60
+    assert rows[3][1] == "failed" and "singular" in lines[5].lower()
+    assert "None" not in out and "-0.0" not in out and "{" not in out
+
+
+def test_a_batch_store_has_no_summary_to_give(batch_store: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    capsys.readouterr()
+    for extra in ([], ["--metric", "energy"]):
+        assert main(["results", str(batch_store), "--summary", *extra]) == 2
+        err = capsys.readouterr().err
+        assert "--metric" in err and "no" in err and "batch of netlists" in err and "Traceback" not in err
+    assert main(["results", str(batch_store), "--plot", str(batch_store.parent / "b.png")]) == 2
+    assert not (batch_store.parent / "b.png").exists()
+
+
+def test_a_sweep_table_shows_its_axes_and_a_plot_no_rows(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    store = tmp_path / "s.sqlite"
+    assert main(["sweep", "--case", "two-mass,perfect", "--N", "20,30", "--dt", "0.05", "--store", str(store),
+                 "--executor", "serial", "--json"]) == 0
+    capsys.readouterr()
+    assert main(["results", str(store)]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert lines[1].split() == ["#", "status", "case", "N", "error", "predicted", "peak", "time", "(s)", "reason"]
+    assert [line.split()[2:4] for line in lines[2:6]] == [["two-mass", "20"], ["two-mass", "30"], ["perfect", "20"],
+                                                          ["perfect", "30"]]
+    assert main(["results", str(store), "--plot", str(tmp_path / "s.png")]) == 0
+    out = capsys.readouterr().out
+    assert len(out.splitlines()) == 1 and "s.png" in out and (tmp_path / "s.png").stat().st_size > 10_000
