@@ -18,6 +18,7 @@ import sys
 import time
 from pathlib import Path
 
+import numpy as np
 import pytest
 from helpers.netlists import stored_records
 from helpers.processes import alive, descendants
@@ -307,7 +308,30 @@ def test_a_store_reads_back_as_a_dataframe_and_a_dataset(serial_store: Path) -> 
         dataset = store.to_xarray()
     assert len(frame) == 12 and {"case", "N", "dt", "status", "digest", "peak_sim"} <= set(frame.columns)
     assert set(frame["status"]) == {"ok"} and sorted(set(frame["N"])) == [20, 40, 60]
-    assert dataset.sizes["index"] == 12 and "max_abs_error" in dataset
+    # the study's axes are the dataset's dimensions; a constant parameter is an attribute
+    assert dict(dataset.sizes) == {"case": 2, "N": 3, "dt": 2} and dataset.attrs["transits"] == "1"
+    for _, row in frame.iterrows():
+        cell = dataset.sel(case=row["case"], N=row["N"], dt=row["dt"])
+        assert cell["key"].item() == row["key"] and cell["max_abs_error"].item() == row["max_abs_error"]
+
+
+def test_a_study_goes_to_netcdf_on_its_axes_with_its_waveforms(serial_store: Path, tmp_path: Path,
+                                                               capsys: pytest.CaptureFixture[str]) -> None:
+    xarray = pytest.importorskip("xarray")  # the data extra; the test extra has it
+    target = tmp_path / "s.nc"
+    assert main(["results", str(serial_store), "--netcdf", str(target), "--waveforms"]) == 0
+    assert capsys.readouterr().out.count("\n") == 1  # one line: what was written, not every run
+    with Store(serial_store, "read") as store, xarray.open_dataset(target) as dataset:
+        assert dict(dataset.sizes) == {"case": 2, "N": 3, "dt": 2, "point": max(r.points for r in store.runs())}
+        for run in store.runs():
+            cell = dataset.sel(case=run.params["case"], N=run.params["N"], dt=run.params["dt"])
+            arrays = store.waveforms(run.key)
+            assert cell["digest"].item() == run.digest and cell["points"].item() == run.points
+            for name, values in arrays.items():
+                saved = cell[name.replace("(", "_").replace(")", "")].values
+                assert np.array_equal(saved[: values.size], values) and np.isnan(saved[values.size:]).all()
+    assert main(["results", str(serial_store), "--waveforms"]) == 2
+    assert "--waveforms" in capsys.readouterr().err
 
 
 @pytest.mark.ngspice

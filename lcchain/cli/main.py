@@ -213,6 +213,12 @@ def build_parser() -> argparse.ArgumentParser:
                    help="what --summary and the samples' --plot show: the first arrival's peak I_N/I_1(0) "
                         "(default); after a kick the energy fraction at that peak, peak^2 L_N/L_1, or the energy "
                         "lost, 1 - that (drawn on a log scale)")
+    p.add_argument("--netcdf", metavar="FILE.nc", help="write the study as a netCDF file: the study's axes as "
+                   "dimensions, the metrics as variables (needs lcchain[data])")
+    p.add_argument("--parquet", metavar="FILE.parquet", help="write one row per run, the axes as columns "
+                   "(needs lcchain[data] and pyarrow)")
+    p.add_argument("--waveforms", action="store_true",
+                   help="--netcdf also holds every run's saved vectors and their time (padded with NaN)")
     p.set_defaults(func=studies.cmd_results)
 
     p = sub.add_parser("figures", help="the paper's figures, recomputed: one file per figure, named by its label")

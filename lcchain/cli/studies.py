@@ -10,9 +10,10 @@ import logging
 import sys
 import time
 from collections.abc import Callable, Iterator, Sequence
+from pathlib import Path
 from typing import Any
 
-from ..core.errors import ParameterError
+from ..core.errors import ParameterError, SimulatorMissingError
 from ..core.types import DEFAULT_C0, DEFAULT_L0, EXCITATIONS, EXECUTORS, NAMED_CASES, TRANSPORT_CHOICES
 from ..report.files import FIGURE_FORMATS
 from ..spice.engines import DEFAULT_ENGINE, ENGINES
@@ -317,6 +318,41 @@ def _check_metric(metric: str, stored: list[Any]) -> None:
     check_metric(metric, stored)
 
 
+def _require(module: str, option: str) -> None:
+    import importlib.util
+
+    if importlib.util.find_spec(module) is None:
+        raise SimulatorMissingError(f"{option} needs {module}, which is not installed; install it with: "
+                                    f"pip install 'lcchain[data]' {module}")
+
+
+def _write_atomic(path: Path, writer: Any) -> None:
+    """Write through a hidden temporary name in the same folder, renamed over ``path`` only when complete."""
+    from ..report.files import atomic_path
+
+    with atomic_path(path) as partial:
+        writer(partial)
+
+
+def _write_netcdf(dataset: Any, path: Path) -> None:
+    """netCDF through whichever engine is there (netCDF4, h5netcdf, or scipy's netCDF3, which needs text as
+    fixed-width characters and names without brackets)."""
+    import importlib.util
+
+    engine = next((e for e in ("netCDF4", "h5netcdf") if importlib.util.find_spec(e) is not None), "scipy")
+    if engine == "scipy":
+        dataset = dataset.rename({name: _netcdf3_name(str(name)) for name in dataset.variables
+                                  if _netcdf3_name(str(name)) != name})
+    _write_atomic(path, lambda partial: dataset.to_netcdf(partial, engine=engine))
+
+
+def _netcdf3_name(name: str) -> str:
+    """``i(l1)`` -> ``i_l1``: netCDF3 names hold letters, digits and ``_.@+-`` only."""
+    import re
+
+    return re.sub(r"[^A-Za-z0-9_.@+-]+", "_", name).strip("_") or "_"
+
+
 def _print_runs(store: Any, stored: list[Any], name: str) -> None:
     """One row per task: its axes, status, and what it gave: errors against theory, or (no theory: a batch of
     netlists) its vectors, points and the simulator's time; a failure's reason."""
@@ -359,10 +395,22 @@ def _print_runs(store: Any, stored: list[Any], name: str) -> None:
 def cmd_results(args: argparse.Namespace) -> int:
     from ..studies.store import Store
 
-    outputs = Outputs()
+    outputs = Outputs(inputs={"STORE": args.store})
     outputs.check("--plot", args.plot, FIGURE_FORMATS)
+    outputs.check("--netcdf", args.netcdf, ("nc",))
+    outputs.check("--parquet", args.parquet, ("parquet",))
+    if args.waveforms and not args.netcdf:
+        raise ParameterError("--waveforms", True, "only with --netcdf FILE (the waveforms go into that file)")
+    if args.parquet:
+        _require("pyarrow", "--parquet")
     with Store(args.store, "read", option="STORE") as store:  # read-only: nothing is created or changed
         stored = store.runs()
+        if args.netcdf:
+            dataset = store.to_xarray(waveforms=args.waveforms)
+            outputs.write("--netcdf", lambda path: _write_netcdf(dataset, path))
+        if args.parquet:
+            frame = store.to_dataframe()
+            outputs.write("--parquet", lambda path: _write_atomic(path, frame.to_parquet))
         runs = [run.to_dict() for run in stored]
         if args.summary or args.plot:
             _check_metric(args.metric, stored)
@@ -384,9 +432,11 @@ def cmd_results(args: argparse.Namespace) -> int:
         writer.writeheader()
         writer.writerows(rows)
         sys.stdout.write(text.getvalue())
-    elif args.plot:  # the figure is what was asked for: not also a table of every run
-        if not outputs.failed:
-            print(f"{args.store}: {len(stored)} runs drawn in {args.plot}")
+    elif args.plot or args.netcdf or args.parquet:  # the files are what was asked for: not a table of every run
+        written = [path for option, path in (("--plot", args.plot), ("--netcdf", args.netcdf),
+                                              ("--parquet", args.parquet)) if path and option not in outputs.failed]
+        if written:
+            print(f"{args.store}: {len(stored)} runs written to {', '.join(written)}")
     else:
         with Store(args.store, "read", option="STORE") as store:
             _print_runs(store, stored, args.store)

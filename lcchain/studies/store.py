@@ -54,6 +54,7 @@ import contextlib
 import fcntl
 import io
 import json
+import math
 import os
 import secrets
 import sqlite3
@@ -69,7 +70,7 @@ from typing import Any, Literal
 import numpy as np
 
 from ..core import __version__
-from ..core.errors import LcchainError, ParameterError
+from ..core.errors import LcchainError, ParameterError, SimulatorMissingError
 from ..runs.execute import RunRecord, waveform_digest
 from ..spice.engines import DEFAULT_ENGINE
 from ..spice.inputs import file_kind
@@ -194,6 +195,22 @@ class StoredRun:
         if self.status in ("failed", "timeout"):
             data["error"] = self.reason + (f"\n{self.engine} said:\n{self.log_tail}" if self.log_tail else "")
         return data
+
+
+def _number(value: Any) -> float:
+    """A metric as a float column's value: NaN where the run has none (a batch run, a pulse's energy)."""
+    return math.nan if value is None else float(value)
+
+
+def _optional(module: str) -> Any:
+    """An optional package (pandas, xarray), or a one-line error saying how to install it."""
+    import importlib
+
+    try:
+        return importlib.import_module(module)
+    except ImportError:
+        raise SimulatorMissingError(f"this needs {module}, which is not installed; install it with: "
+                                    "pip install 'lcchain[data]'") from None
 
 
 def _arrays(record: RunRecord) -> bytes | None:
@@ -691,19 +708,70 @@ class Store:
 
     # ------------------------------------------------------------------ other shapes
     def to_dataframe(self) -> Any:
-        """The runs as a pandas DataFrame, one row per task, params as columns (pandas is optional)."""
-        import pandas as pd  # optional: only for those who have it
+        """The runs as a pandas DataFrame: one row per task (index: the task's number), the study's parameters
+        as columns, then kind, status, key, digest, points, the simulator's wall time and the metrics (NaN or
+        None where a run has none). pandas is optional: ``pip install 'lcchain[data]'``."""
+        pd = _optional("pandas")
+        return pd.DataFrame(self._table_rows()).set_index("index")
 
+    def to_xarray(self, waveforms: bool = False) -> Any:
+        """The runs as an xarray Dataset whose dimensions are the study's axes.
+
+        Each axis (a parameter that varies across the study's results: ``N``, ``case``, ``dt``, ``sample``,
+        ``netlist``...) is a dimension with its values as coordinate; every metric is a variable on them (NaN
+        where a combination did not run or has no such metric). An extrapolation's members are left out: its
+        combined result is the point's. A study whose runs do not form a grid (two runs at the same point)
+        has the task number as its one dimension, ``index``.
+
+        Parameters
+        ----------
+        waveforms : bool
+            Also each run's saved vectors and their time, on a ``point`` dimension (a run's own time values,
+            padded with NaN to the longest run): the variable ``time`` and one per vector.
+
+        xarray is optional: ``pip install 'lcchain[data]'``.
+        """
+        from .summary import study_axes
+
+        _optional("xarray")
+        results = [run for run in self.runs() if not run.member]
+        axes = [key for key in study_axes(results) if all(key in run.params for run in results)]
+        frame = _optional("pandas").DataFrame([row for row in self._table_rows() if row["kind"] != "member"])
+        dims = axes if axes and not frame.duplicated(subset=axes).any() else ["index"]
+        constant = [key for key in frame.columns if key not in dims and key in (results[0].params if results else {})
+                    and key not in axes]
+        dataset = frame.drop(columns=constant).set_index(dims).to_xarray()
+        dataset.attrs.update({"store": str(self.path), **{key: str(results[0].params[key]) for key in constant}})
+        if waveforms:
+            dataset = self._with_waveforms(dataset, dims, [run for run in results if run.status == "ok"])
+        return dataset
+
+    def _table_rows(self) -> list[dict[str, Any]]:
         rows = []
         for run in self.runs():
-            row = {"index": run.index, "kind": run.kind, "status": run.status, **run.params, "digest": run.digest,
-                   "wall_s": run.wall_s, "max_abs_error": (run.metrics or {}).get("max_abs_error")}
-            arrivals = (run.metrics or {}).get("arrivals") or []
-            if arrivals:
-                row["peak_sim"], row["peak_theory"] = arrivals[0]["peak_sim"], arrivals[0]["peak_theory"]
-            rows.append(row)
-        return pd.DataFrame(rows).set_index("index")
+            metrics = run.metrics or {}
+            arrivals = metrics.get("arrivals") or []
+            first = arrivals[0] if arrivals else {}
+            rows.append({"index": run.index, **run.params, "kind": run.kind, "status": run.status, "key": run.key,
+                         "digest": run.digest or None, "points": run.points, "wall_s": run.wall_s,
+                         "engine": engine_text(run.engine, run.engine_version) if run.status != "pending" else None,
+                         **{name: _number(metrics.get(name)) for name in ("max_abs_error", "predicted_error")},
+                         **{name: _number(first.get(name)) for name in ("t_sim", "t_theory", "peak_sim", "peak_theory",
+                                                                          "energy_sim")}})
+        return rows
 
-    def to_xarray(self) -> Any:
-        """The runs as an xarray Dataset along ``index`` (xarray is optional)."""
-        return self.to_dataframe().to_xarray()
+    def _with_waveforms(self, dataset: Any, dims: list[str], runs: list[StoredRun]) -> Any:
+        arrays = {run.index: self.waveforms(run.key) or {} for run in runs}
+        longest = max((a["time"].size for a in arrays.values() if "time" in a), default=0)
+        names = list(dict.fromkeys(name for a in arrays.values() for name in a))
+        shape = [dataset.sizes[d] for d in dims] + [longest]
+        positions = {d: {value: i for i, value in enumerate(dataset.indexes[d])} for d in dims}
+        for name in names:
+            values = np.full(shape, np.nan)
+            for run in runs:
+                series = arrays[run.index].get(name)
+                if series is not None:
+                    where = tuple(positions[d][run.index if d == "index" else run.params[d]] for d in dims)
+                    values[where][: series.size] = series
+            dataset[name] = ([*dims, "point"], values)
+        return dataset
