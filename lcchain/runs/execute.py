@@ -187,7 +187,8 @@ def metrics_of(theory: Theory, signals: Signals, *, split: bool = True, modes: M
     metrics = compare_signals(
         signals, transit_time=theory.transit_time or modes.transit_time(), transits=theory.transits,
         shift=pulse_centre(theory.excitation, theory.pulse),
-        theory_end=lambda row, times: theory_ends(times)[row])
+        theory_end=lambda row, times: theory_ends(times)[row],
+        theory_each=lambda row, times: theory_ends.each(times)[row])
     integration = physics = None
     if split and theory.dt is not None and theory.Q is None and theory.pulse is None:
         parts = split_error(signals.waveforms(), modes, theory.dt, method=theory.method,

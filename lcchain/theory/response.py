@@ -77,6 +77,7 @@ takes 0.1-0.3 s, N = 1000 about 2 s; ``"all"`` at N = 1000 about 4 s.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -194,9 +195,20 @@ def _basis(omega: np.ndarray, gamma: float, tau: np.ndarray) -> tuple[np.ndarray
     return X, Y
 
 
+def _rows(product: Callable[..., np.ndarray], alone: bool, *operands: np.ndarray) -> np.ndarray:
+    """``product(*operands)``, or with ``alone`` the results of ``product`` on each row k of the operands
+    (``operand[k : k + 1]``) stacked: a matrix product of one row at a time adds in the order a call with that one
+    time does (BLAS's matrix-vector kernel), which the product of several rows need not (its matrix-matrix
+    kernel)."""
+    if not alone:
+        return product(*operands)
+    return np.vstack([product(*(operand[k : k + 1] for operand in operands)) for k in range(operands[0].shape[0])])
+
+
 def _modal_sum(weights: np.ndarray, p: np.ndarray, q: np.ndarray, omega: np.ndarray, gamma: float,
-               tau: np.ndarray) -> np.ndarray:
-    """sum_n weights[n, r] (p_n Y_n(tau) + q_n X_n(tau)), shape (R, tau.size), in blocks."""
+               tau: np.ndarray, alone: bool = False) -> np.ndarray:
+    """sum_n weights[n, r] (p_n Y_n(tau) + q_n X_n(tau)), shape (R, tau.size), in blocks; with ``alone`` each
+    time's sum as a call with that time alone computes it (:func:`_rows`)."""
     out = np.empty((weights.shape[1], tau.size))
     wp = weights * p[:, None]
     wq = weights * q[:, None]
@@ -206,10 +218,10 @@ def _modal_sum(weights: np.ndarray, p: np.ndarray, q: np.ndarray, omega: np.ndar
         block = tau[start : start + rows]
         if use_q:
             X, Y = _basis(omega, gamma, block)
-            out[:, start : start + rows] = (Y @ wp + X @ wq).T
+            out[:, start : start + rows] = _rows(lambda y, x: y @ wp + x @ wq, alone, Y, X).T
         else:
             _, Y = _basis(omega, gamma, block)
-            out[:, start : start + rows] = (Y @ wp).T
+            out[:, start : start + rows] = _rows(lambda y: y @ wp, alone, Y).T
     return out
 
 
@@ -243,8 +255,9 @@ def _pulse_states(omega: np.ndarray, gamma: float, shape: str,
 
 
 def _pulse_inside(weights: np.ndarray, omega: np.ndarray, gamma: float, shape: str, width: float,
-                  edges: np.ndarray, step: float, x: np.ndarray, v: np.ndarray, times: np.ndarray) -> np.ndarray:
-    """Velocity rows at times inside the pulse, shape (R, times.size)."""
+                  edges: np.ndarray, step: float, x: np.ndarray, v: np.ndarray, times: np.ndarray,
+                  alone: bool = False) -> np.ndarray:
+    """Velocity rows at times inside the pulse, shape (R, times.size); ``alone`` as :func:`_modal_sum`'s."""
     half = 0.5 * gamma
     w2 = omega * omega
     out = np.empty((weights.shape[1], times.size))
@@ -262,8 +275,8 @@ def _pulse_inside(weights: np.ndarray, omega: np.ndarray, gamma: float, shape: s
         gw = 0.5 * delta[:, None] * _WEIGHTS * source
         Xn, Yn = _basis(omega, gamma, lag)
         Vn = (Yn - half * Xn).reshape(t.size, _NODES.size, omega.size)
-        velocity += np.einsum("jn,jnm->jm", gw, Vn)
-        out[:, start : start + rows] = (velocity @ weights).T
+        velocity += _rows(lambda g, u: np.einsum("jn,jnm->jm", g, u), alone, gw, Vn)
+        out[:, start : start + rows] = _rows(lambda u: u @ weights, alone, velocity).T
     return out
 
 
@@ -401,7 +414,22 @@ class Response(FrozenArrays):
     @fixed_blas_threads
     def __call__(self, t: ArrayLike) -> np.ndarray:
         """The response at times ``t`` (array_like, shape (J,), >= 0): shape (R, J)."""
+        return self._evaluate(time_array("t", t), alone=False)
+
+    @fixed_blas_threads
+    def each(self, t: ArrayLike) -> np.ndarray:
+        """The response at each of the times ``t`` as a call with that time alone computes it, shape (R, J).
+
+        The mode functions of all the times at once, the sums over the modes one time at a time: the values of
+        ``self([t_j])`` to the bit, for the cost of about one call (a peak search's searches side by side,
+        :func:`lcchain.theory.arrivals.refine_maxima`).
+        """
         times = time_array("t", t)
+        if self.cosines is not None:
+            return np.hstack([self._evaluate(times[k : k + 1], alone=False) for k in range(times.size)])
+        return self._evaluate(times, alone=True)
+
+    def _evaluate(self, times: np.ndarray, alone: bool) -> np.ndarray:
         omega, weights, gamma = self.omega, self.weights, self.gamma
         if self.cosines is not None:
             # Eq. e.utn exactly as lcchain.modes evaluates it
@@ -411,7 +439,7 @@ class Response(FrozenArrays):
         if self.pulse is None or self.edges is None or self.x is None or self.v is None:
             # kick: velocity s' = Y - (gamma/2) X; displacement: position c = Y + (gamma/2) X
             sign = -1.0 if self.excitation == "kick" else 1.0
-            return _modal_sum(weights, ones, sign * 0.5 * gamma * ones, omega, gamma, times)
+            return _modal_sum(weights, ones, sign * 0.5 * gamma * ones, omega, gamma, times, alone)
 
         shape, width = self.pulse
         edges, step, x, v = self.edges, self.step, self.x, self.v
@@ -422,10 +450,11 @@ class Response(FrozenArrays):
             # free oscillation from the state at the end of the pulse
             xT, vT = x[-1], v[-1]
             out[:, after] = _modal_sum(weights, vT, -omega * omega * xT - 0.5 * gamma * vT, omega, gamma,
-                                       times[after] - end)
+                                       times[after] - end, alone)
         if not np.all(after):
             inside = ~after
-            out[:, inside] = _pulse_inside(weights, omega, gamma, shape, width, edges, step, x, v, times[inside])
+            out[:, inside] = _pulse_inside(weights, omega, gamma, shape, width, edges, step, x, v, times[inside],
+                                           alone)
         return out
 
 
