@@ -10,6 +10,7 @@ different OPENBLAS_NUM_THREADS and compare digests of the raw bytes.
 
 from __future__ import annotations
 
+import json
 import os
 import subprocess
 import sys
@@ -45,3 +46,28 @@ def _digest(threads: int) -> str:
 @pytest.mark.skipif((os.cpu_count() or 1) < 2, reason="needs two cores to run BLAS on two threads")
 def test_theory_bits_do_not_depend_on_the_blas_thread_count() -> None:
     assert _digest(1) == _digest(2)
+
+
+LATE_LIBRARY = """
+import json, numpy, threadpoolctl
+from lcchain.core.blas import fixed_blas_threads
+def blas_threads():
+    return [i["num_threads"] for i in threadpoolctl.threadpool_info() if i["user_api"] == "blas"]
+limited = fixed_blas_threads(blas_threads)
+before = limited()
+import scipy.linalg  # a second OpenBLAS, loaded after the limit's libraries were first found
+print(json.dumps([before, limited(), blas_threads()]))
+"""
+
+
+def test_the_limit_reaches_a_blas_loaded_after_it_was_first_set() -> None:
+    """The BLAS libraries are found once and kept (finding them costs 1-2 ms a Monte Carlo sample, issue 23); a
+    library loaded later must still be limited, and every library gets its own thread count back afterwards."""
+    env = dict(os.environ, OPENBLAS_NUM_THREADS="2", OMP_NUM_THREADS="2")
+    done = subprocess.run([sys.executable, "-c", LATE_LIBRARY], capture_output=True, text=True, cwd=ROOT, env=env,
+                          timeout=600)
+    assert done.returncode == 0, done.stderr
+    before, after, outside = json.loads(done.stdout)
+    assert len(after) > len(before) >= 1  # scipy's library was not loaded before
+    assert set(before) == set(after) == {1}
+    assert set(outside) == {2}

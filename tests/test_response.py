@@ -26,7 +26,7 @@ from scipy.special import ndtr
 from lcchain.core.errors import ParameterError
 from lcchain.theory.chain import Chain
 from lcchain.theory.exact import exact_modes
-from lcchain.theory.response import _basis, linear_response, pulse_end
+from lcchain.theory.response import _basis, linear_response, prepare_response, pulse_end
 from lcchain.theory.spectrum import return_amplitude, transmission_amplitude
 
 EXCITATIONS = [
@@ -234,6 +234,24 @@ def test_all_loops_agree_with_ends(excitation, pulse, Q):
     every = linear_response(chain, t, excitation=excitation, Q=Q, pulse=pulse, loops="all")
     assert ends.shape == (2, t.size) and every.shape == (chain.N, t.size)
     np.testing.assert_allclose(every[[0, -1]], ends, rtol=0, atol=ATOL_LOOPS)
+
+
+# ------------------------------------------------------------ prepared once
+@pytest.mark.parametrize("loops", ["ends", "all"])
+@pytest.mark.parametrize("Q", [None, 20.0])
+@pytest.mark.parametrize("excitation, pulse", EXCITATIONS, ids=["kick", "displacement", "gaussian", "rect"])
+def test_a_prepared_response_computes_what_linear_response_computes(excitation, pulse, Q, loops):
+    """A peak search calls the prepared response of one circuit ~75 times with one time each (issue 23): each
+    call, and a call on a whole grid, performs linear_response's own operations on the same arrays -- the same
+    values to the bit, whatever was called before (a Monte Carlo's stored metrics must not move)."""
+    chain = wall_free_chain()
+    keywords = dict(excitation=excitation, Q=Q, pulse=pulse, loops=loops)
+    response = prepare_response(chain, **keywords)
+    t = np.linspace(0.0, 30.0, 301)  # inside and after either pulse
+    for time in (t[250], t[3], t[120], 0.0, t[3]):
+        np.testing.assert_array_equal(response(np.array([time])), linear_response(chain, [time], **keywords))
+    np.testing.assert_array_equal(response(t), linear_response(chain, t, **keywords))
+    assert not response.weights.flags.writeable and not response.omega.flags.writeable
 
 
 # ------------------------------------------------------------------ validation

@@ -141,12 +141,12 @@ def test_every_effect_combined_meets_a_fine_accuracy() -> None:
 @pytest.mark.ngspice
 def test_a_wrong_quality_factor_in_the_theory_is_caught(monkeypatch) -> None:
     # The comparison must be able to fail: the theory gets Q = 60 for a Q = 50 circuit.
-    real = execute_module.linear_response
+    real = execute_module.prepare_response
 
     def theory_off(*args, **kwargs):
         return real(*args, **{**kwargs, "Q": 60.0})
 
-    monkeypatch.setattr(execute_module, "linear_response", theory_off)
+    monkeypatch.setattr(execute_module, "prepare_response", theory_off)
     result = run_scene(_scene(EFFECTS["losses"]), write_outputs=False)
     assert result.report["max_abs_error"] > MIN_ERROR_WRONG_THEORY
 

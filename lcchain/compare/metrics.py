@@ -164,7 +164,8 @@ def sample_peak(t: np.ndarray, y: np.ndarray, lo: float, hi: float) -> tuple[flo
 
 @fixed_blas_threads
 def compare_signals(signals: Signals, *, transit_time: float, transits: int, shift: float = 0.0,
-                    theory_end: Callable[[int, np.ndarray], np.ndarray]) -> Metrics:
+                    theory_end: Callable[[int, np.ndarray], np.ndarray],
+                    theory_each: Callable[[int, np.ndarray], np.ndarray] | None = None) -> Metrics:
     """Errors and arrivals of a run.
 
     Parameters
@@ -180,6 +181,10 @@ def compare_signals(signals: Signals, *, transit_time: float, transits: int, shi
     theory_end : callable
         ``theory_end(row, t)``: the theory of loop 1 (row 0) or loop N (row -1)
         at any times, for the theory's own peak search.
+    theory_each : callable, optional
+        ``theory_each(row, t)``: the same at each of the times t as if called
+        with that time alone, so that the peak search refines its three best
+        grid points side by side (:func:`lcchain.theory.arrivals.refine_maxima`).
 
     Returns
     -------
@@ -194,7 +199,8 @@ def compare_signals(signals: Signals, *, transit_time: float, transits: int, shi
         window = (lo + shift, min(hi + shift, float(t[-1])))
         row = -1 if index % 2 else 0
         t_sim, peak_sim = sample_peak(t, sim[row], *window)
-        t_theory, peak_theory = maximum_in_window(functools.partial(theory_end, row), window, transit_time)
+        each = None if theory_each is None else functools.partial(theory_each, row)
+        t_theory, peak_theory = maximum_in_window(functools.partial(theory_end, row), window, transit_time, each)
         found.append(ArrivalComparison(index, "last" if index % 2 else "first", t_theory, t_sim, peak_theory,
                                        peak_sim))
     return Metrics(float(np.max(error)), float(np.max(error[0])), float(np.max(error[-1])), tuple(found))

@@ -5,23 +5,30 @@ additions follows the split: with one and two threads the modal sums of an
 N = 400 chain differ in 16,099 of 40,002 values (by up to 1e-16).  A study
 computes theory in a parent, in pool workers and on Dask workers, and its
 results must be bit-identical whichever ran them, so every public theory
-entry point runs under ``threadpoolctl.threadpool_limits(1)``.  One thread is
-also faster here: the work is many small products, where threads cost more
-than they give (N = 20000 two-mass design: 4.0 s against 17.4 s on this 2-core
-machine under load).
+entry point runs under ``threadpoolctl``'s limit of one BLAS thread.  One
+thread is also faster here: the work is many small products, where threads
+cost more than they give (N = 20000 two-mass design: 4.0 s against 17.4 s on
+this 2-core machine under load).
 
-Only the outermost call pays for the limit (about 0.3 ms); nested decorated
-calls see that it is in force and run straight through.
+Only the outermost call sets the limit; nested decorated calls see that it
+is in force and run straight through.  Finding the BLAS libraries (threadpoolctl
+reads /proc/self/maps and opens each one) cost 1-2 ms, once per Monte Carlo
+sample, so the controller that found them is kept and found again only when
+the process has loaded or unloaded a shared object since (glibc's counters
+``dlpi_adds`` and ``dlpi_subs``): setting the limit with it costs about 0.02 ms.
+Where those counters cannot be read, the libraries are found at every
+outermost call, as before.
 """
 
 from __future__ import annotations
 
+import ctypes
 import functools
 import threading
 from collections.abc import Callable
 from typing import ParamSpec, TypeVar
 
-from threadpoolctl import threadpool_limits
+from threadpoolctl import ThreadpoolController
 
 __all__ = ["BLAS_THREADS", "fixed_blas_threads"]
 
@@ -34,6 +41,55 @@ R = TypeVar("R")
 _state = threading.local()
 
 
+class _ObjectInfo(ctypes.Structure):
+    """The head of glibc's ``struct dl_phdr_info`` (<link.h>)."""
+
+    _fields_ = [("addr", ctypes.c_void_p), ("name", ctypes.c_char_p), ("phdr", ctypes.c_void_p),
+                ("phnum", ctypes.c_uint16), ("adds", ctypes.c_ulonglong), ("subs", ctypes.c_ulonglong)]
+
+
+_VISIT = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.POINTER(_ObjectInfo), ctypes.c_size_t, ctypes.c_void_p)
+
+
+def _iterate_objects() -> Callable[..., int] | None:
+    try:
+        return ctypes.CDLL(None).dl_iterate_phdr
+    except (OSError, AttributeError, TypeError):  # no such function (macOS, Windows)
+        return None
+
+
+_dl_iterate_phdr = _iterate_objects()
+
+
+def _loaded_objects() -> tuple[int, int] | None:
+    """How many shared objects the process has loaded and unloaded so far, or None where unknown."""
+    if _dl_iterate_phdr is None:
+        return None
+    found: list[tuple[int, int]] = []
+
+    def visit(info: ctypes._Pointer[_ObjectInfo], size: int, _: object) -> int:
+        if size >= ctypes.sizeof(_ObjectInfo):
+            found.append((info.contents.adds, info.contents.subs))
+        return 1  # every object carries the same counters: the first is enough
+
+    _dl_iterate_phdr(_VISIT(visit), None)
+    return found[0] if found else None
+
+
+_controller: tuple[tuple[int, int], ThreadpoolController] | None = None
+
+
+def _blas_controller() -> ThreadpoolController:
+    """threadpoolctl's controller of the loaded libraries, kept while no shared object comes or goes."""
+    global _controller
+    loaded = _loaded_objects()
+    if loaded is not None and _controller is not None and _controller[0] == loaded:
+        return _controller[1]
+    controller = ThreadpoolController()
+    _controller = None if loaded is None else (loaded, controller)
+    return controller
+
+
 def fixed_blas_threads(function: Callable[P, R]) -> Callable[P, R]:
     """Run ``function`` with BLAS limited to :data:`BLAS_THREADS` threads."""
 
@@ -43,7 +99,7 @@ def fixed_blas_threads(function: Callable[P, R]) -> Callable[P, R]:
             return function(*args, **kwargs)
         _state.depth = 1
         try:
-            with threadpool_limits(limits=BLAS_THREADS, user_api="blas"):
+            with _blas_controller().limit(limits=BLAS_THREADS, user_api="blas"):
                 return function(*args, **kwargs)
         finally:
             _state.depth = 0

@@ -39,7 +39,7 @@ from ..spice.engines import engine_named, find_engine, run_engine
 from ..spice.runner import RunResult
 from ..spice.simulator import Simulator
 from ..theory.modes import Modes
-from ..theory.response import linear_response
+from ..theory.response import Response, prepare_response
 from ..theory.spectrum import normal_modes
 from .spec import RunSpec, Theory
 
@@ -150,34 +150,45 @@ def loop_sims(theory: Theory, time_s: np.ndarray, vectors: Mapping[str, np.ndarr
 
 def theory_at(theory: Theory, t: np.ndarray, modes: Modes | None = None) -> np.ndarray:
     """The theory of the compared loops at dimensionless times t, one row per loop."""
-    return _response(theory, t, theory.probes, modes if modes is not None else _modes(theory))
+    return _response(theory, theory.probes, modes if modes is not None else _modes(theory))(t)
 
 
-def signals_of(theory: Theory, result: RunResult, modes: Modes | None = None) -> Signals:
-    """A run's saved loops as dimensionless signals, with the theory of the same loops at the same times."""
+def signals_of(theory: Theory, result: RunResult, modes: Modes | None = None, *,
+               response: Response | None = None) -> Signals:
+    """A run's saved loops as dimensionless signals, with the theory of the same loops at the same times.
+
+    ``response``: the theory of the compared loops already prepared (:func:`_response`), else prepared here."""
     t, sim = loop_sims(theory, result.time, result.vectors)
-    return Signals(t, sim, theory_at(theory, t, modes), theory.excitation)
+    if response is None:
+        return Signals(t, sim, theory_at(theory, t, modes), theory.excitation)
+    return Signals(t, sim, response(t), theory.excitation)
 
 
 def _modes(theory: Theory) -> Modes:
     return theory.modes if theory.modes is not None else normal_modes(theory.chain)
 
 
-def _response(theory: Theory, times: np.ndarray, probes: Probes, modes: Modes) -> np.ndarray:
-    return linear_response(theory.chain, times, excitation=theory.excitation, Q=theory.Q, pulse=theory.pulse,
-                           loops=probes, modes=modes)
+def _response(theory: Theory, probes: Probes, modes: Modes) -> Response:
+    """The theory of the loops ``probes``, prepared once for the grid and the peak search's ~75 calls."""
+    return prepare_response(theory.chain, excitation=theory.excitation, Q=theory.Q, pulse=theory.pulse,
+                            loops=probes, modes=modes)
 
 
 @fixed_blas_threads
-def metrics_of(theory: Theory, signals: Signals, *, split: bool = True, modes: Modes | None = None) -> Metrics:
+def metrics_of(theory: Theory, signals: Signals, *, split: bool = True, modes: Modes | None = None,
+               ends: Response | None = None) -> Metrics:
     """Errors and arrivals of signals against the theory (and, for a fixed-step lossless kick or displacement
-    with ``split``, the error split of :func:`lcchain.compare.accuracy.split_error`)."""
+    with ``split``, the error split of :func:`lcchain.compare.accuracy.split_error`).
+
+    ``ends``: the theory of loops 1 and N already prepared (:func:`_response`), else prepared here."""
     chain = theory.chain
     modes = modes if modes is not None else _modes(theory)
+    theory_ends = ends if ends is not None else _response(theory, "ends", modes)
     metrics = compare_signals(
         signals, transit_time=theory.transit_time or modes.transit_time(), transits=theory.transits,
         shift=pulse_centre(theory.excitation, theory.pulse),
-        theory_end=lambda row, times: _response(theory, times, "ends", modes)[row])
+        theory_end=lambda row, times: theory_ends(times)[row],
+        theory_each=lambda row, times: theory_ends.each(times)[row])
     integration = physics = None
     if split and theory.dt is not None and theory.Q is None and theory.pulse is None:
         parts = split_error(signals.waveforms(), modes, theory.dt, method=theory.method,
@@ -194,9 +205,11 @@ def metrics_of(theory: Theory, signals: Signals, *, split: bool = True, modes: M
 @fixed_blas_threads
 def _compare(theory: Theory, result: RunResult) -> tuple[Signals, Metrics]:
     modes = _modes(theory)
-    signals = signals_of(theory, result, modes)
+    ends = _response(theory, "ends", modes)
+    signals = signals_of(theory, result, modes, response=ends if theory.probes == "ends" else None)
     # The error split models ngspice's own steps (its start-up ramp); an engine that steps otherwise gets none.
-    return signals, metrics_of(theory, signals, split=engine_named(result.engine).steps_modelled, modes=modes)
+    return signals, metrics_of(theory, signals, split=engine_named(result.engine).steps_modelled, modes=modes,
+                               ends=ends)
 
 
 def execute(spec: RunSpec, simulator: Simulator | None = None, *,

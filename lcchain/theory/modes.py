@@ -157,30 +157,47 @@ def _uniform_runs(times: np.ndarray, drift: float = 0.0, min_run: int = 64) -> l
     of the exact grid between its ends; the others are whatever lies between
     them. A simulator's time points are uniform except for a few start-up
     steps and the last one, so nearly all points fall in one or two long runs
-    where :func:`_cosine_sum_split` applies.
+    where :func:`_cosine_sum_split` applies.  A run of equal steps whose
+    accumulated rounding strays further than that from its end-to-end grid
+    (a long run at a small step) is halved until each part keeps within it
+    of its own grid: the times keep the fast path at any length.
     """
     J = times.size
     if J < 2 * min_run:
         return [(0, J, False)]
     steps = np.diff(times)
     scale = 1e-12 * max(1.0, float(np.max(np.abs(times))))
+    tolerance = max(scale, drift)
     # boundaries where the step changes
     change = np.flatnonzero(np.abs(np.diff(steps)) > scale) + 1
     edges = np.concatenate(([0], change, [steps.size]))
     runs: list[tuple[int, int, bool]] = []
     pending = 0  # start of points not yet assigned
     for a, b in zip(edges[:-1], edges[1:], strict=True):
-        # steps a..b-1 are equal: points a..b form a uniform run
-        if b - a + 1 >= min_run:
-            grid = times[a] + (times[b] - times[a]) / (b - a) * np.arange(b - a + 1)
-            if np.max(np.abs(grid - times[a : b + 1])) <= max(scale, drift):
-                if a > pending:
-                    runs.append((pending, a, False))
-                runs.append((a, b + 1, True))
-                pending = b + 1
+        # steps a..b-1 are equal: points a..b form a uniform run, or parts of it do
+        for start, stop in _within_grid(times, int(a), int(b) + 1, tolerance, min_run):
+            if start > pending:
+                runs.append((pending, start, False))
+            runs.append((start, stop, True))
+            pending = stop
     if pending < J:
         runs.append((pending, J, False))
     return runs
+
+
+def _within_grid(times: np.ndarray, start: int, stop: int, tolerance: float,
+                 min_run: int) -> list[tuple[int, int]]:
+    """Ranges of at least ``min_run`` of the equally stepped times[start:stop], each within ``tolerance`` of the
+    exact grid between its own ends: the whole range, or its halves' ranges, and so on."""
+    if stop - start < min_run:
+        return []
+    part = times[start:stop]
+    grid = part[0] + (part[-1] - part[0]) / (part.size - 1) * np.arange(part.size)
+    if np.max(np.abs(grid - part)) <= tolerance:
+        return [(start, stop)]
+    middle = (start + stop) // 2
+    return _within_grid(times, start, middle, tolerance, min_run) + _within_grid(times, middle, stop, tolerance,
+                                                                               min_run)
 
 
 def _cosine_sum_split(weights: np.ndarray, omega: np.ndarray, t0: float, h: float, J: int,
