@@ -249,7 +249,8 @@ def test_a_closed_pipe_ends_quietly() -> None:
         assert proc.stdout is not None and proc.stderr is not None
         proc.stdout.close()  # the reader goes away before the table is printed
         err = proc.stderr.read().decode()
-        assert proc.wait(timeout=120) == 141 and err == ""
+        assert proc.wait(timeout=120) == 141 and "Broken pipe" not in err and "Traceback" not in err
+        assert all(line.startswith("lcchain: one-mass table ") for line in err.splitlines()), err  # progress only
 
 
 def test_version() -> None:

@@ -29,9 +29,8 @@ from .common import (
     check_perfect,
     echoed_command,
     emit_json,
-    fraction_bar,
-    progress_bar,
 )
+from .progress import Progress, counter, fraction
 
 __all__ = ["cmd_design", "cmd_table", "cmd_asymptotic", "cmd_netlist", "cmd_reference_netlists", "cmd_simulate",
            "cmd_run", "cmd_bench_accuracy", "cmd_doctor", "DEFAULT_DT"]
@@ -113,7 +112,7 @@ def cmd_design(args: argparse.Namespace) -> int:
     if args.walls:
         raise ParameterError("--walls", args.walls, "0 unless --case perfect (J >= 1: a perfect cradle tied to walls)")
     _check_design_sizes(args, [args.N])
-    bar = fraction_bar(f"{args.case} design, N = {args.N}") if args.N >= 10_000 else None
+    bar = fraction(f"{args.case} design, N = {args.N}") if args.N >= 10_000 else None
     design = optimal_design(args.case, args.N, progress=bar)
     if bar is not None:
         bar(1.0)
@@ -129,10 +128,11 @@ def cmd_table(args: argparse.Namespace) -> int:
 
     _check_design_sizes(args, args.N)
     rows = []
+    progress = Progress(f"{args.case} table")
     for i, N in enumerate(args.N):
-        progress_bar(i, len(args.N), f"N={N}")
+        progress.update(i, len(args.N), unit="rows")
         rows.append(optimal_design(args.case, N).to_dict())
-    progress_bar(len(args.N), len(args.N), "done")
+    progress.update(len(args.N), len(args.N), unit="rows")
     if args.json:
         emit_json(rows)
     elif args.csv:
@@ -264,7 +264,7 @@ def cmd_simulate(args: argparse.Namespace) -> int:
         warnings.simplefilter("always")
         report = simulate(chain, dt=dt, accuracy=args.accuracy, transits=args.transits, excitation=args.excitation,
                           L0=args.L0, C0=args.C0, backend=args.backend, method=args.method, title=args.title,
-                          progress=fraction_bar(engine), budget=budget_from_args(args), on_spec=keep_netlist,
+                          progress=fraction(engine), budget=budget_from_args(args), on_spec=keep_netlist,
                           extrapolate=args.extrapolate, engine=engine)
     for warning in caught:
         print(f"lcchain: warning: {warning.message}", file=sys.stderr)
@@ -366,7 +366,7 @@ def _simulate_engines(args: argparse.Namespace, chain: Any, dt: float | None, ke
             step = dt if not reports else reports[0].options.dt
             reports.append(simulate(chain, dt=step, accuracy=args.accuracy if not reports else None,
                                     transits=args.transits, excitation=args.excitation, L0=args.L0, C0=args.C0,
-                                    method=args.method, title=args.title, progress=fraction_bar(engine),
+                                    method=args.method, title=args.title, progress=fraction(engine),
                                     budget=budget_from_args(args), on_spec=None if reports else keep_netlist,
                                     extrapolate=1, engine=engine))
     for warning in sorted({str(w.message) for w in caught}):
@@ -471,7 +471,7 @@ def cmd_run(args: argparse.Namespace) -> int:
         if parallel:
             result = _scene_in_parallel(scene, args, budget, label)
         else:
-            result = simulate_scene(scene, budget=budget, progress=fraction_bar(label))
+            result = simulate_scene(scene, budget=budget, progress=fraction(label))
         results.append(result)
         if not args.json:
             _print_scene_summary(result)
@@ -510,7 +510,7 @@ def cmd_bench_accuracy(args: argparse.Namespace) -> int:
     check_output_folder("--out", args.out, parents=True)  # the folder itself is made when the results are written
     bench_estimate(args.N, quick=args.quick).check(budget_from_args(args), "bench accuracy",
                                                    "--quick" if args.quick else "the full sweep", "--quick or --N")
-    result = bench_accuracy(args.N, quick=args.quick, progress=progress_bar)
+    result = bench_accuracy(args.N, quick=args.quick, progress=counter("bench accuracy"))
     print(result["markdown"], end="")
     for path in write_accuracy_bench(args.out, result):
         print(f"wrote {path}")

@@ -27,7 +27,7 @@ from ..theory.chain import Chain
 
 __all__ = ["EXIT_OK", "EXIT_FAILED", "EXIT_USAGE", "EXIT_MISSING", "EXIT_SIGPIPE", "OPTION_NAMES", "NEGATIVE_NUMBER",
            "single_valued", "count", "int_list",
-           "number", "size", "duration", "budget_parent", "progress_bar", "fraction_bar", "emit_json", "Outputs",
+           "number", "size", "duration", "budget_parent", "emit_json", "Outputs",
            "chain_from_args", "budget_from_args", "load_chain_file", "check_perfect", "echoed_command"]
 
 EXIT_OK, EXIT_FAILED, EXIT_USAGE, EXIT_MISSING = 0, 1, 2, 3
@@ -153,36 +153,6 @@ def budget_parent() -> argparse.ArgumentParser:
 def budget_from_args(args: argparse.Namespace) -> Budget:
     """--max-memory and --max-time, or the defaults for a command without them."""
     return Budget(getattr(args, "max_memory", DEFAULT_MAX_MEMORY), getattr(args, "max_time", DEFAULT_MAX_SECONDS))
-
-
-def _draw_bar(fraction: float, text: str) -> None:
-    width = 30
-    filled = int(width * min(max(fraction, 0.0), 1.0))
-    end = "\n" if fraction >= 1 else ""
-    # "\033[K" clears what a longer previous label left on the line (drawn on terminals only)
-    sys.stderr.write(f"\r[{'#' * filled}{'.' * (width - filled)}] {text}\033[K{end}")
-    sys.stderr.flush()
-
-
-def progress_bar(done: int, total: int, label: str) -> None:
-    """A one-line progress indicator on a terminal (nothing when piped)."""
-    if sys.stderr.isatty():
-        _draw_bar(done / max(total, 1), f"{done}/{total} {label}")
-
-
-def fraction_bar(label: str) -> Callable[[float], None] | None:
-    """A progress callback for long work: a bar on a terminal, None when piped."""
-    if not sys.stderr.isatty():
-        return None
-    shown: list[int] = []
-
-    def show(fraction: float) -> None:
-        percent = int(100 * fraction)
-        if not shown or percent != shown[-1]:  # once per percent, and 100% once
-            shown.append(percent)
-            _draw_bar(fraction, f"{percent:3d}% {label}")
-
-    return show
 
 
 def emit_json(data: Any) -> None:

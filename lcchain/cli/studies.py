@@ -8,7 +8,6 @@ import csv
 import io
 import logging
 import sys
-import time
 from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
 from typing import Any
@@ -18,6 +17,7 @@ from ..core.types import DEFAULT_C0, DEFAULT_L0, EXCITATIONS, EXECUTORS, NAMED_C
 from ..report.files import FIGURE_FORMATS
 from ..spice.engines import DEFAULT_ENGINE, ENGINES
 from .common import EXIT_FAILED, EXIT_OK, Outputs, budget_from_args, emit_json, int_list
+from .progress import study_counter
 
 __all__ = ["cmd_sweep", "cmd_batch", "cmd_results", "add_study_arguments", "study_progress"]
 
@@ -102,33 +102,9 @@ def add_sweep_arguments(p: argparse.ArgumentParser) -> None:
     add_study_arguments(p)
 
 
-def _duration(seconds: float) -> str:
-    seconds = int(round(seconds))
-    return f"{seconds // 3600}h{seconds % 3600 // 60:02d}m" if seconds >= 3600 else \
-        f"{seconds // 60}m{seconds % 60:02d}s" if seconds >= 60 else f"{seconds}s"
-
-
 def study_progress(what: str) -> Callable[[Any], None]:
-    """Progress of a study: a bar on a terminal, a plain line every 10 % (or 30 s) otherwise."""
-    shown = {"line": -1.0, "time": 0.0}
-
-    def show(progress: Any) -> None:
-        left = progress.remaining
-        text = (f"{progress.done}/{progress.total} {what}, {progress.failed} failed, "
-                f"{_duration(progress.elapsed)} elapsed" + (f", about {_duration(left)} left" if left else ""))
-        fraction = progress.done / max(1, progress.total)
-        if sys.stderr.isatty():
-            width = 30
-            filled = int(width * fraction)
-            sys.stderr.write(f"\r[{'#' * filled}{'.' * (width - filled)}] {text}\033[K" +
-                             ("\n" if progress.done >= progress.total else ""))
-            sys.stderr.flush()
-        elif (fraction - shown["line"] >= 0.1 or time.monotonic() - shown["time"] >= 30
-              or progress.done >= progress.total):
-            shown["line"], shown["time"] = fraction, time.monotonic()
-            print(f"lcchain: {text}", file=sys.stderr, flush=True)
-
-    return show
+    """Progress of a study, in the one style of :mod:`lcchain.cli.progress`."""
+    return study_counter(what)
 
 
 #: Loggers of Dask and the libraries under it: their records reach the terminal only with -v.

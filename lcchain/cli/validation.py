@@ -3,12 +3,11 @@
 from __future__ import annotations
 
 import argparse
-import sys
-import time
 from collections.abc import Callable
 from typing import Any
 
-from .common import EXIT_FAILED, EXIT_OK, progress_bar
+from .common import EXIT_FAILED, EXIT_OK
+from .progress import counter
 
 __all__ = ["add_figures_arguments", "add_report_arguments", "cmd_figures", "cmd_report"]
 
@@ -35,19 +34,8 @@ def add_report_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def _progress(what: str) -> Callable[[int, int, str], None]:
-    """A bar on a terminal; otherwise a line when the stage changes, and at most every 15 s within one."""
-    if sys.stderr.isatty():
-        return progress_bar
-    state: dict[str, Any] = {"stage": None, "time": 0.0}
-
-    def show(done: int, total: int, label: str) -> None:
-        stage = label.split(",")[0].split(" ")[0]
-        now = time.monotonic()
-        if stage != state["stage"] or now - state["time"] >= 15.0:
-            print(f"lcchain {what}: {done}/{total} {label}", file=sys.stderr, flush=True)
-            state.update(stage=stage, time=now)
-
-    return show
+    """The one progress style (:mod:`lcchain.cli.progress`); a label's first word is its phase."""
+    return counter(what)
 
 
 def _cache(args: argparse.Namespace) -> Any:

@@ -1,0 +1,75 @@
+"""One progress style (issue 22): the same words on a terminal and on a pipe, a time left only once it means
+something, and nothing for short work on a pipe. A fake clock drives it: no test here depends on timing."""
+
+from __future__ import annotations
+
+import io
+
+import pytest
+
+from lcchain.cli import progress as progress_module
+from lcchain.cli.progress import Progress
+
+
+class Clock:
+    def __init__(self) -> None:
+        self.now = 1000.0
+
+    def __call__(self) -> float:
+        return self.now
+
+
+@pytest.fixture
+def clock(monkeypatch: pytest.MonkeyPatch) -> Clock:
+    fake = Clock()
+    monkeypatch.setattr(progress_module.time, "monotonic", fake)
+    return fake
+
+
+class Terminal(io.StringIO):
+    def isatty(self) -> bool:
+        return True
+
+
+def test_a_slow_start_does_not_inflate_the_time_left(clock: Clock) -> None:
+    stream = Terminal()
+    progress = Progress("", stream)
+    clock.now += 60.0  # a minute of start-up (imports, a pool, the first design) before the first run ends
+    progress.update(1, 1200, unit="runs")
+    assert "left" not in stream.getvalue()  # one run done: no estimate yet
+    for done in range(2, 12):
+        clock.now += 0.125
+        progress.update(done, 1200, unit="runs")
+    last = stream.getvalue().split("\r")[-1]
+    assert "runs, 8/s" in last and "about 2m29s left" in last, last  # (1200 - 11) / 8 per s, not 2h36m
+    assert "] 11/1200 runs" in last
+
+
+def test_on_a_pipe_short_work_prints_nothing_and_long_work_a_line_per_tenth(clock: Clock) -> None:
+    stream = io.StringIO()
+    progress = Progress("figures", stream)
+    for done in range(1, 11):
+        clock.now += 0.1
+        progress.update(done, 10)
+    assert stream.getvalue() == ""  # one second of work: nothing
+    stream = io.StringIO()
+    progress = Progress("report", stream)
+    for done in range(1, 101):
+        clock.now += 0.5
+        progress.update(done, 100, phase="rows" if done <= 50 else "checks", failed=done // 60)
+    lines = stream.getvalue().splitlines()
+    assert 10 <= len(lines) <= 25 and all(line.startswith("lcchain: report ") for line in lines)
+    assert any("report checks: 51/100" in line for line in lines)  # a new phase has its line
+    assert "100/100" in lines[-1] and "failed" in lines[-1] and "left" not in lines[-1]
+    assert not any("None" in line or "-0" in line for line in lines)
+
+
+def test_a_fraction_shows_a_percent_and_a_terminal_redraws_one_line(clock: Clock) -> None:
+    stream = Terminal()
+    progress = Progress("ngspice", stream)
+    for step in range(11):
+        clock.now += 0.5
+        progress.update(step / 10)
+    text = stream.getvalue()
+    assert text.count("\r") == 11 and text.endswith("\n") and text.count("\n") == 1
+    assert "ngspice 50%" in text and "ngspice 100%" in text and "about" in text
