@@ -179,7 +179,7 @@ def brute_force_amplitude(tau: float, sigma: float, case: str) -> float:
         ("two-mass", -0.2, -3.0),
         ("two-mass", -0.1, 2.0),
         ("two-mass", 1.0, 0.5),
-        ("two-mass", 2**1.5 / 3, 2**1.5),  # the blue curve of Fig. f.int_rw
+        ("two-mass", 2**1.5 / 3, 2**1.5),  # the pair the paper prints for Fig. f.int_rw (its tau has the wrong sign)
         ("two-mass", 0.0, 1.5),
         # a tiny tau: the detour's break points once landed within rounding of its end (quad never converged)
         ("two-mass", 4.155379236381039e-06, 1.8583333333333334),

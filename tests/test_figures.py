@@ -96,13 +96,49 @@ def test_int_rw_area_is_the_asymptotic_amplitude() -> None:
     data = int_rw_data(points=40001)
     names = [curve["name"] for curve in data["curves"]]
     assert names[0].startswith("linear and cubic") and names[1] == "optimum"
-    assert data["curves"][0]["tau"] == pytest.approx(2**1.5 / 3) and data["curves"][0]["sigma"] == pytest.approx(
+    # the pair that cancels both terms (the paper prints +2^(3/2)/3 for tau, a slip): tau = -2^(3/2)/3
+    assert data["curves"][0]["tau"] == pytest.approx(-(2**1.5) / 3) and data["curves"][0]["sigma"] == pytest.approx(
         2**1.5)
     for curve in data["curves"]:
         area = np.trapezoid(curve["integrand"], data["zeta"])
         assert area == pytest.approx(curve["alpha"], abs=ATOL_AREA)
     assert np.trapezoid(data["weight"], data["zeta"]) == pytest.approx(1.0, abs=1e-6)  # the weight's area
     assert data["curves"][1]["alpha"] == pytest.approx(0.987153, abs=5e-7)  # Sec. V.A
+
+
+def _theta(tau: float, sigma: float, xi: np.ndarray) -> np.ndarray:
+    """theta of Eq. e.uinftyz in xi = tan(zeta), written out here from the paper, not taken from lcchain."""
+    return tau * xi**3 - sigma * xi + 2 * np.arctan(np.sqrt(2) * xi / (1 - xi**2))
+
+
+def test_the_int_rw_pair_cancels_the_linear_and_cubic_terms() -> None:
+    from lcchain.report.paper import PRINTED_INT_RW, cancelling_pair
+
+    xi = np.array([1e-3, 2e-3, 4e-3])
+    tau, sigma = cancelling_pair()
+    # theta = O(xi^5) for the pair: theta / xi^5 stays bounded (its xi^5 coefficient) as xi halves
+    ratio = _theta(tau, sigma, xi) / xi**5
+    assert np.all(np.abs(ratio) < 10) and np.ptp(ratio) < 1e-2 * max(1.0, float(np.abs(ratio).max())) + 1e-3
+    # the printed pair leaves a cubic term 4 sqrt2 / 3
+    printed = _theta(*PRINTED_INT_RW, xi) / xi**3
+    assert printed == pytest.approx(4 * np.sqrt(2) / 3, rel=1e-4)
+
+
+def test_the_findings_hold_the_texts_slips() -> None:
+    from lcchain.report.paper import findings, vk_flat_delta, vk_left_side
+    from lcchain.theory.asymptotic import asymptotic_optimum
+
+    optima = {case: asymptotic_optimum(case) for case in ("one-mass", "two-mass")}
+    items = findings(optima, {})
+    where = [item["where"] for item in items]
+    assert any("Fig. int_rw" in w for w in where) and any("Eq. e.vgquartic" in w for w in where)
+    assert any("sin(k_n/2)" in item["correct"] for item in items)
+    assert vk_left_side(vk_flat_delta()) == pytest.approx(0.125, rel=1e-12) and vk_flat_delta() == pytest.approx(
+        0.325, abs=1e-3)  # the text's 0.30 gives 0.161
+    inherited = next(item for item in items if "derived from τ*" in item["where"])
+    assert "r 4.3868" in inherited["printed"] and "4.3871" in inherited["correct"]
+    int_rw = next(item for item in items if "Fig. int_rw" in item["where"])
+    assert "0.779356" in int_rw["correct"] and "0.653499" in int_rw["correct"]
 
 
 def test_minimiz_has_its_minimum_at_the_optimum() -> None:

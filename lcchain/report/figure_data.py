@@ -31,6 +31,7 @@ from ..theory.design import optimal_design, quartic_w
 from ..theory.perfect import perfect_design
 from ..theory.response import linear_response
 from .files import write_text
+from .paper import cancelling_pair
 
 __all__ = ["DesignRows", "QUICK_N", "FULL_N", "cradle4_data", "vk_data", "optimum_data", "int_rw_data",
            "minimiz_data", "pk_data", "circuit_data", "cache_key"]
@@ -181,7 +182,8 @@ def int_rw_data(points: int = 4001, pairs: Sequence[tuple[str, float, float]] | 
     """The integrand of Eq. e.uinftyz on ζ in [0, pi/2] for (τ, σ) pairs, with its weighting function.
 
     Default pairs (the caption of Fig. int_rw): the one that cancels the linear and cubic terms of θ,
-    (τ, σ) = (2^(3/2)/3, 2^(3/2)), and the optimum (τ*, σ*).  Each pair carries α∞ from
+    (τ, σ) = (−2^(3/2)/3, 2^(3/2)) (:func:`lcchain.report.paper.cancelling_pair`; the paper prints τ with
+    the other sign, a slip in its findings), and the optimum (τ*, σ*).  Each pair carries α∞ from
     :func:`lcchain.theory.asymptotic.asymptotic_amplitude`: the algebraic area under its curve.
 
     Note: arctan(tan 2ζ / sqrt 2) is taken on the branch continuous in ζ (atan2 with the sign of
@@ -189,7 +191,8 @@ def int_rw_data(points: int = 4001, pairs: Sequence[tuple[str, float, float]] | 
     """
     if pairs is None:
         optimum = asymptotic_optimum("two-mass")
-        pairs = [("linear and cubic terms cancelled", 2**1.5 / 3, 2**1.5), ("optimum", optimum.tau, optimum.sigma)]
+        tau, sigma = cancelling_pair()  # the paper prints tau = +2^(3/2)/3, which leaves the cubic term
+        pairs = [("linear and cubic terms cancelled", tau, sigma), ("optimum", optimum.tau, optimum.sigma)]
     zeta = np.linspace(0.0, math.pi / 2, points)
     zeta[-1] = np.nextafter(math.pi / 2, 0.0)  # tan(pi/2) is infinite; the weight there is 0
     tan = np.tan(zeta)

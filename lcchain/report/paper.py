@@ -139,6 +139,7 @@ def findings(optima: dict[str, Any], rows: dict[str, dict[int, dict[str, Any]]])
          "correct": f"τ* = {one.tau:.5f}, σ* = {one.sigma:.4f}",
          "note": f"Same flat ridge: the printed point's α∞ is lower by about 4e-8 (α* = {one.alpha:.8f})."},
     ]
+    items += _text_findings(optima)
     row = rows.get("one-mass", {}).get(100)
     if row is not None:
         items.append({"where": "Table I, N = 100, column δ*(1)", "printed": "0.5612",
@@ -151,4 +152,84 @@ def findings(optima: dict[str, Any], rows: dict[str, dict[int, dict[str, Any]]])
                       "correct": f"{row['m1']:.3f} ({row['m1']:.6f})",
                       "note": "The optimum is flat along m1: the best chain with m1 = 9.146 transmits "
                               "0.98621082896, lcchain's 0.98621083055."})
+    return items
+
+
+#: Fig. int_rw's pair as the paper prints it (Sec. V.A): sigma = 2^(3/2), tau = +2^(3/2)/3.
+PRINTED_INT_RW = (2**1.5 / 3, 2**1.5)
+#: Sec. IV.B: the value of Delta the text says satisfies Eq. e.vgquartic at N = 50 (and Fig. vk's first panel).
+PRINTED_VK_DELTA, VK_N = "0.30", 50
+
+
+def cancelling_pair() -> tuple[float, float]:
+    """The (tau, sigma) that cancels the linear and cubic terms of theta (Eq. e.uinftyz), from its expansion:
+    with xi = tan(zeta), 2 atan(sqrt2 xi / (1 - xi^2)) = 2 sqrt2 xi + (2 sqrt2 / 3) xi^3 + O(xi^5), so
+    theta = (2 sqrt2 - sigma) xi + (tau + 2 sqrt2 / 3) xi^3 + ...: sigma = 2^(3/2), tau = -2^(3/2)/3."""
+    return -(2**1.5) / 3, 2**1.5
+
+
+def vk_left_side(delta: float, N: int = VK_N) -> float:
+    """The left side of Eq. e.vgquartic, (1 - Delta^2) / (4 Delta^3 t*) with t* = N + (1 - Delta)/Delta."""
+    return (1 - delta**2) / (4 * delta**3 * (N + (1 - delta) / delta))
+
+
+def vk_flat_delta(N: int = VK_N) -> float:
+    """The Delta that satisfies Eq. e.vgquartic: its left side equal to 1/8."""
+    import scipy.optimize
+
+    return float(scipy.optimize.brentq(lambda delta: vk_left_side(delta, N) - 0.125, 0.05, 0.95, xtol=1e-14))
+
+
+def _asymptotic_value(optimum: Any, key: str) -> float | None:
+    if key in ("alpha", "delta", "tau", "sigma"):
+        return float(getattr(optimum, key))
+    value = optimum.coefficients.get(key)  # y and m2: the coefficient of their N^-1/3 correction, as printed
+    return None if value is None else float(value)
+
+
+def _text_findings(optima: dict[str, Any]) -> list[dict[str, str]]:
+    """The text's slips: Fig. int_rw's sign, a phase's sin k_n, Fig. vk's Delta, the coefficients that inherit
+    the optima's tau*, and notation."""
+    from ..theory.asymptotic import asymptotic_amplitude
+
+    printed_tau, sigma = PRINTED_INT_RW
+    tau, _ = cancelling_pair()
+    alpha_printed, alpha_right = asymptotic_amplitude(printed_tau, sigma), asymptotic_amplitude(tau, sigma)
+    delta = vk_flat_delta()
+    inherited = []
+    for case, entries in PRINTED_ASYMPTOTIC.items():
+        for key, printed, where in entries:
+            value = _asymptotic_value(optima[case], key)
+            if value is None or key in ("tau", "sigma") or (case, key, where) == ("one-mass", "Delta", "Table I"):
+                continue  # the optima and Table I's Delta have their own findings
+            if abs(last_digit_units(value, printed)) >= 0.5:
+                decimals = len(printed.split(".")[1])
+                inherited.append(f"{key} {printed} ({where}, {case}) → {value:.{decimals}f}")
+    items = [
+        {"where": "Sec. V.A, text after Eq. e.uinftyz, and Fig. int_rw",
+         "printed": "σ = 2^3/2 and τ = 2^3/2/3 eliminate the first and third order terms of θ(ζ)",
+         "correct": f"τ = −2^3/2/3 = {tau:.4f} (α∞ = {alpha_right:.6f}; the printed sign gives {alpha_printed:.6f})",
+         "note": "With ξ = tan ζ, 2 atan(√2 ξ/(1 − ξ²)) = 2√2 ξ + (2√2/3) ξ³ + O(ξ⁵), so θ = (2√2 − σ) ξ + "
+                 "(τ + 2√2/3) ξ³ + …: the cubic term cancels for τ = −2√2/3. The printed τ leaves (4√2/3) ξ³. "
+                 "lcchain's Fig. int_rw draws the pair that cancels both terms."},
+        {"where": "Sec. III.C, the phase of the uniform free chain (unnumbered, before Eq. e.utkn)",
+         "printed": "π(n−1) − 2t sin k_n ≃ π(n−1)(N − t)/N", "correct": "π(n−1) − 2t sin(k_n/2) ≃ π(n−1)(N − t)/N",
+         "note": "ω = 2 sin(k/2) ≃ k (Eq. e.omegak) with k_n = π(n−1)/N; with sin k_n the right side would be "
+                 "π(n−1)(N − 2t)/N. Eq. e.utkn writes sin(k_n/2)."},
+        {"where": f"Sec. IV.B and Fig. vk (first panel): the Δ that satisfies Eq. e.vgquartic at N = {VK_N}",
+         "printed": f"Δ ≃ {PRINTED_VK_DELTA}", "correct": f"Δ = {delta:.4f}",
+         "note": f"(1 − Δ²)/(4Δ³ t*) = 1/8 with t* = N + (1 − Δ)/Δ: at Δ = {PRINTED_VK_DELTA} the left side is "
+                 f"{vk_left_side(float(PRINTED_VK_DELTA)):.3f}, not 0.125. The panel's Δ = 0.30 may be "
+                 "chosen on purpose (it is a little flatter for k ≲ 1), but it does not satisfy the equation."},
+        {"where": "Secs. IV–V, the large-N coefficients derived from τ*",
+         "printed": "; ".join(item.split(" → ")[0] for item in inherited) or "—",
+         "correct": "; ".join(item.split(" → ")[1] for item in inherited) or "—",
+         "note": "Each follows correctly from the printed τ* (Δ = (3τ)^1/3, r = 4√2 Δ, w = r²/8, ...); the "
+                 "printed τ* is off (above), so these carry its last-digit offset."},
+        {"where": "Notation: Secs. II.B–C, App. A, the captions of Figs. int_rw and minimiz",
+         "printed": "“the frequency spacing is ω₁”; det(λ − B); two equations labelled e.N4; α∞(σ, τ)",
+         "correct": "ω₂ (ω₁ = 0 is the rigid mode); det(μ − B); e.N5 for N = 5; α∞(τ, σ)",
+         "note": "No value is wrong: the values quoted are the spacing ω₂ − ω₁; the argument order follows the "
+                 "equations' α∞(τ, σ)."},
+    ]
     return items
