@@ -411,7 +411,11 @@ def _print_scene_summary(result: Any) -> None:
     print(f"N = {report['N']}, dt = {report['dt']:.4g}, {count} sample{'s' if count > 1 else ''}, "
           f"{report['engine']} {report['engine_version']}, {report['wall_s']['total']:.2f} s")
     if "max_abs_error" in report:
-        print(f"max |simulation - theory| = {report['max_abs_error']:.3e}")
+        good = sum("error" not in record for record in report["samples"])
+        over = f" (the worst of {good} samples, each against its own theory)" if good > 1 else ""
+        print(f"max |simulation - theory| = {report['max_abs_error']:.3e}{over}")
+        if good > 1:
+            print(f"arrivals of sample {report['arrivals_sample']} (every sample's are in the report's samples):")
         _print_arrivals(report["arrivals"])
     if "transmitted_peak" in report:
         p = report["transmitted_peak"]

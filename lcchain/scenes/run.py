@@ -58,6 +58,7 @@ class SampleRecord(TypedDict, total=False):
     theory_and_compare_s: float
     max_abs_error: float
     arrivals: list[dict[str, Any]]
+    arrivals_sample: int
     extrapolation: dict[str, Any]
 
 
@@ -242,6 +243,7 @@ def scene_result(scene: Scene, plan: ScenePlan, specs: Sequence[RunSpec], record
         if scene.analysis.accuracy is not None:
             report["accuracy_met"] = report["max_abs_error"] <= scene.analysis.accuracy
         report["arrivals"] = good[0].record["arrivals"]
+        report["arrivals_sample"] = int(good[0].record["sample"])  # whose arrivals these are
         if len(plan.chains) > 1:
             report["transmitted_peak"] = _spread(transmitted_peaks(result))
             report["transmitted_peak"]["theory_nominal"] = _nominal_peak(scene, plan)
