@@ -58,7 +58,6 @@ class SampleRecord(TypedDict, total=False):
     theory_and_compare_s: float
     max_abs_error: float
     arrivals: list[dict[str, Any]]
-    arrivals_sample: int
     extrapolation: dict[str, Any]
 
 
@@ -80,6 +79,7 @@ class SceneReport(TypedDict, total=False):
     max_abs_error: float
     accuracy_met: bool
     arrivals: list[dict[str, Any]]
+    arrivals_sample: int
     transmitted_peak: dict[str, Any]
     files: list[str]
 
