@@ -347,3 +347,22 @@ def test_members_that_cannot_be_combined_make_a_failed_row_not_a_crash(tmp_path,
         db.execute("UPDATE meta SET value = 'another' WHERE name = 'plan'")
     assert main(argv) == 2
     assert "holds this very study as another lcchain or ngspice planned it" in capsys.readouterr().err
+
+
+@pytest.mark.ngspice
+def test_netlist_out_keeps_every_run_of_an_extrapolation(tmp_path, capsys) -> None:
+    """Issue 22: --netlist-out under extrapolation kept the coarsest run's netlist only, silently."""
+    from lcchain.cli.main import main
+
+    target = tmp_path / "x.cir"
+    (tmp_path / "x-run3.cir").write_text("* the user's own file\n")
+    assert main(["simulate", "--case", "two-mass", "--N", "20", "--dt", "0.1", "--extrapolate", "3",
+                 "--netlist-out", str(target)]) == 0
+    err = capsys.readouterr().err
+    steps = []
+    for path in (target, tmp_path / "x-run2.cir"):
+        tran = next(line for line in path.read_text().splitlines() if line.startswith(".tran"))
+        steps.append(float(tran.split()[4]))  # TMAX, the step lcchain sets
+    assert steps[1] == pytest.approx(steps[0] / 2, rel=1e-12)
+    assert (tmp_path / "x-run3.cir").read_text() == "* the user's own file\n"  # never replaced
+    assert "x-run3.cir exists" in err and "x-run2.cir" in err

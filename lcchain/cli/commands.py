@@ -253,9 +253,19 @@ def cmd_simulate(args: argparse.Namespace) -> int:
         raise ParameterError("--accuracy", args.accuracy, "either --dt or --accuracy, not both")
     dt = None if args.accuracy is not None else (args.dt if args.dt is not None else DEFAULT_DT)
 
+    kept: list[str] = []
+
     def keep_netlist(spec: Any) -> None:  # before ngspice starts: a failed run still leaves it
-        if args.netlist_out:
-            write_text(args.netlist_out, spec.netlist)
+        if args.netlist_out:  # several runs (extrapolation): FILE holds the first, FILE-run2.cir ... the others
+            path = Path(args.netlist_out)
+            target = path if not kept else path.with_name(f"{path.stem}-run{len(kept) + 1}{path.suffix}")
+            if kept and (target.exists() or target.is_symlink()):  # a name the user did not give: never replaced
+                print(f"lcchain: warning: --netlist-out: {target} exists and was left as it is; run "
+                      f"{len(kept) + 1}'s netlist was not written", file=sys.stderr)
+                kept.append(f"{target} (not written)")
+                return
+            write_text(target, spec.netlist)
+            kept.append(str(target))
 
     if len(args.engine) > 1:
         return _simulate_engines(args, chain, dt, keep_netlist)
@@ -287,6 +297,9 @@ def cmd_simulate(args: argparse.Namespace) -> int:
             print(f"  integration error (simulation - trapezoidal model) = {data['integration_error']:.3e}, "
                   f"physics error (model - exact theory) = {data['physics_error']:.3e}")
         _print_arrivals(data["arrivals"])
+    if len(kept) > 1:
+        print(f"--netlist-out: the {len(kept)} runs' netlists are in {', '.join(kept)} (dt = "
+              f"{', '.join(f'{h:.4g}' for h in data['extrapolation']['dt'])})", file=sys.stderr)
     outputs.text("--waveform-out", report.waveforms.to_csv())
     if args.plot:
         from ..report.plots import overlay

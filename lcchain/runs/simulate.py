@@ -393,9 +393,9 @@ def simulate(
     budget : Budget, optional
         The most memory and time the run may take (default: :class:`~lcchain.core.budget.Budget`).
     on_spec : callable, optional
-        Called with the run's spec before ngspice starts (the command line
-        keeps the netlist there, so that a failed run still leaves it); with
-        several runs, with the coarsest run's.
+        Called with each run's spec before ngspice starts (the command line
+        keeps the netlists there, so that a failed run still leaves them): once,
+        or, with several runs, once per run from the coarsest step to the finest.
     extrapolate : {1, 2, 3}, optional
         Combine this many runs at dt, dt/2, dt/4 (Richardson: the dt^2 term, then the dt^4 term cancel).
         With ``accuracy`` and None, lcchain picks the cheapest of 1, 2 and 3 runs predicted to meet it; with
@@ -431,7 +431,8 @@ def simulate(
     steps, runs, modes, plan, reason = planned.steps, planned.runs, planned.modes, planned.plan, planned.reason
     spec, ladder, options = planned.specs[0], planned.ladder, planned.options
     if on_spec is not None:
-        on_spec(spec)
+        for member in planned.specs:
+            on_spec(member)
     built = time.perf_counter()
     records = _execute_members(list(planned.specs), steps, simulator, progress)
     done = time.perf_counter()
