@@ -61,9 +61,9 @@ def test_overlay_writes_png_with_residual_panel(tmp_path, wave):
                         path=tmp_path / "overlay.png")
     assert_png(tmp_path / "overlay.png")
     assert len(fig.axes) == 2
-    assert fig.axes[0].get_title() == "N = 10"
-    legend = fig.axes[1].get_legend().get_texts()[0].get_text()
-    assert f"{np.max(np.abs(res)):.2e}" in legend
+    assert fig.get_suptitle() == "N = 10"
+    legend = [text.get_text() for text in fig.legends[0].get_texts()]
+    assert any(f"{np.max(np.abs(res)):.2e}" in text for text in legend)
 
 
 def test_overlay_without_residual_has_one_panel(wave):
@@ -227,3 +227,130 @@ def test_plots_never_import_pyplot():
             "p.histogram([1.0, 2.0, 2.0, 3.0]); print(a, 'matplotlib' in sys.modules, "
             "'matplotlib.pyplot' in sys.modules)")
     assert _modules_after(code) == "False True False"
+
+
+# --------------------------------------------------------------------------- labels off the data (issue 22)
+
+def _drawn(fig):
+    fig.draw_without_rendering()
+    return fig._get_renderer() if hasattr(fig, "_get_renderer") else fig.canvas.get_renderer()
+
+
+def _legend_boxes(fig):
+    legends = [*fig.legends, *(ax.get_legend() for ax in fig.axes if ax.get_legend() is not None)]
+    assert legends
+    renderer = _drawn(fig)
+    return [legend.get_window_extent(renderer) for legend in legends]
+
+
+def _assert_legends_off_lines(fig):
+    """No legend's box (display coordinates) holds a point of, or is crossed by, a line of any panel."""
+    boxes = _legend_boxes(fig)
+    for ax in fig.axes:
+        for line in ax.get_lines():
+            path = line.get_transform().transform_path(line.get_path())
+            for box in boxes:
+                inside = box.contains_points(path.vertices) if hasattr(box, "contains_points") else \
+                    [box.contains(x, y) for x, y in path.vertices]
+                assert not any(inside), (line.get_label(), box)
+                assert not path.intersects_bbox(box, filled=False), (line.get_label(), box)
+
+
+def _assert_notes_inside(fig):
+    renderer = _drawn(fig)
+    for ax in fig.axes:
+        frame = ax.get_window_extent(renderer)
+        for note in ax.texts:
+            box = note.get_window_extent(renderer)
+            assert frame.x0 <= box.x0 and box.x1 <= frame.x1 and frame.y0 <= box.y0 and box.y1 <= frame.y1, \
+                (note.get_text(), box, frame)
+
+
+def _cradle_arrivals(t_end):
+    """Arrivals alternating ends, the last one near the right frame (where a note used to be cut)."""
+    return [{"index": k, "end": "last" if k % 2 else "first", "t_theory": t, "t_sim": t + 0.01,
+             "peak_theory": 0.9, "peak_sim": 0.9001} for k, t in enumerate((0.3 * t_end, 0.61 * t_end, 0.92 * t_end), 1)]
+
+
+@pytest.fixture
+def cradle():
+    """Loop N peaks at the arrivals #1 and #3, loop 1 at t = 0 and #2; a tail after the last arrival."""
+    t = np.linspace(0.0, 350.0, 3501)
+    arrivals = _cradle_arrivals(350.0)
+    bump = lambda t0: 0.9 * np.exp(-((t - t0) / 5.0) ** 2)  # noqa: E731
+    last = bump(arrivals[0]["t_theory"]) + bump(arrivals[2]["t_theory"]) - 0.15 * np.exp(-((t - 340.0) / 8) ** 2)
+    first = np.exp(-(t / 5.0) ** 2) + bump(arrivals[1]["t_theory"])
+    return t, last, first, arrivals
+
+
+def test_overlay_legend_is_off_the_lines(cradle):
+    t, last, first, arrivals = cradle
+    fig = plots.overlay(t, last + 1e-4, t, last, residual=np.full_like(t, 1e-4), first_sim=first,
+                        first_theory=first, arrivals=arrivals, title="two-mass chain, N = 100")
+    _assert_legends_off_lines(fig)
+
+
+def test_overlay_notes_stay_inside_the_frame(cradle):
+    t, last, first, arrivals = cradle
+    fig = plots.overlay(t, last, t, last, residual=np.zeros_like(t), first_sim=first, first_theory=first,
+                        arrivals=arrivals)
+    assert len(fig.axes[0].texts) == 3
+    _assert_notes_inside(fig)
+    fig.set_size_inches(5.6, 3.8)  # the report's thumbnails
+    _assert_notes_inside(fig)
+
+
+def _markers_at(ax, t, peak):
+    return [line for line in ax.get_lines() if line.get_marker() in ("+", "x")
+            and np.allclose(line.get_xydata(), [[t, peak]], atol=0.02)]
+
+
+def test_overlay_marks_every_arrival_on_its_own_loop(cradle):
+    t, last, first, arrivals = cradle
+    fig = plots.overlay(t, last, t, last, residual=np.zeros_like(t), first_sim=first, first_theory=first,
+                        arrivals=arrivals)
+    top = fig.axes[0]
+    colours = {line.get_label(): line.get_color() for line in top.get_lines()}
+    for a in arrivals:
+        theory, sim = _markers_at(top, a["t_theory"], a["peak_theory"]), _markers_at(top, a["t_sim"], a["peak_sim"])
+        assert {line.get_marker() for line in theory + sim} == {"+", "x"}, a
+        loop = "1" if a["end"] == "first" else "N"
+        assert {line.get_color() for line in theory if line.get_marker() == "+"} == {colours[f"theory at loop {loop}"]}
+        assert any(f"#{a['index']}" in note.get_text() for note in top.texts)
+    assert any("#2 at loop 1" in note.get_text() for note in top.texts)
+
+
+def test_overlay_wants_both_loop_1_signals(cradle):
+    t, last, first, _ = cradle
+    with pytest.raises(ValueError, match="first_sim"):
+        plots.overlay(t, last, t, last, first_sim=first)
+
+
+def test_histogram_draws_the_nominal_line_and_keeps_its_legend_off_the_bars():
+    values = np.random.default_rng(2).normal(0.73, 0.01, 30)
+    fig = plots.histogram(values, theory=0.7336)
+    ax = fig.axes[0]
+    nominal = [line for line in ax.get_lines() if np.allclose(line.get_xdata(), 0.7336)]
+    assert len(nominal) == 1 and nominal[0].get_label() == "nominal 0.7336"
+    assert "nominal 0.7336" in [text.get_text() for text in ax.get_legend().get_texts()]
+    _assert_legends_off_lines(fig)
+    box = _legend_boxes(fig)[0]
+    for bar in ax.patches:
+        assert not box.overlaps(bar.get_window_extent(_drawn(fig)))
+
+
+@pytest.mark.ngspice
+def test_study_histogram_of_a_pulse_has_the_nominal_line_and_a_pulse_label(tmp_path, monkeypatch):
+    from lcchain.cli import main
+    from lcchain.report.studies import study_figure
+    from lcchain.studies.store import Store
+
+    monkeypatch.chdir(tmp_path)
+    assert main(["examples", "bench"]) == 0
+    assert main(["sweep", "bench.toml", "--samples", "3", "--store", "mc.sqlite"]) == 0
+    with Store("mc.sqlite", "read") as store:
+        fig = study_figure(store)
+    ax = fig.axes[0]
+    assert "pulse source" in ax.get_xlabel() and "I_1(0)" not in ax.get_xlabel()
+    nominal = [line for line in ax.get_lines() if line.get_label().startswith("nominal ")]
+    assert len(nominal) == 1 and 0.5 < nominal[0].get_xdata()[0] < 1.0

@@ -114,3 +114,15 @@ def test_page_renders_in_chromium_without_a_request_or_an_error(report_dir: Path
     assert "0.58728" in table_ii and "paper 0.5873" in table_ii  # computed beside printed
     assert verdict == "Every check passed"
     assert pdf[:4] == b"%PDF" and len(pdf) > 100_000
+
+
+def test_each_thumbnail_is_a_link_to_itself_full_size(report_dir: Path) -> None:
+    """Issue 22: every image sits in a link to an in-page view of it (the page fetches nothing, so no file)."""
+    page = (report_dir / "index.html").read_text()
+    images = re.findall(r"<img ", page)
+    linked = re.findall(r'<figure[^>]*><span class=view id="([^"]+)"></span><a class=open href="#([^"]+)"[^>]*><img ',
+                        page)
+    assert len(images) >= 30 and len(linked) == len(images)
+    assert all(view == target for view, target in linked)
+    assert len({view for view, _ in linked}) == len(linked)
+    assert "figure:has(> .view:target)" in STYLE and "minmax(510px" in STYLE  # shown at their own size

@@ -374,3 +374,13 @@ def test_a_short_rect_pulse_tends_to_the_kick() -> None:
                       write_outputs=False).report["arrivals"][0]
     assert pulse["peak_sim"] == pytest.approx(kick["peak_sim"], abs=ACCURACY_COARSE)
     assert pulse["t_sim"] - kick["t_sim"] == pytest.approx(width / 2, abs=0.05)
+
+
+def test_scene_titles_say_the_size_once_and_a_pulse_peak_names_its_source() -> None:
+    from lcchain.report.scenes import _with_size, peak_label
+
+    title = _with_size("Newton's cradle, two-mass chain, N = 100", 100)
+    assert title.count("N = 100") == 1
+    assert _with_size("Bench cradle", 50) == "Bench cradle (N = 50)"
+    assert "I_0" in peak_label("pulse") and "pulse source" in peak_label("pulse")
+    assert "I_1(0)" in peak_label("kick")

@@ -306,10 +306,11 @@ def cmd_simulate(args: argparse.Namespace) -> int:
 
         w, c = report.waveforms, report.comparison
         outputs.write("--plot", lambda path: overlay(
-            w.t, w.last, w.t, c.theory_last, residual=w.last - c.theory_last,
-            arrivals=[a.to_dict() for a in c.arrivals if a.end == "last"],
+            w.t, w.last, w.t, c.theory_last, residual=w.last - c.theory_last, first_sim=w.first,
+            first_theory=c.theory_first, arrivals=[a.to_dict() for a in c.arrivals],
             title=f"{chain.name} chain, N = {chain.N}, dt = {report.options.dt:.4g}, {args.excitation}",
-            ylabel="I_N / I_1(0)" if args.excitation == "kick" else "Q_N / Q_1(0)", path=path))
+            ylabel=r"$I_1,\ I_N\;/\;I_1(0)$" if args.excitation == "kick" else r"$Q_1,\ Q_N\;/\;Q_1(0)$",
+            path=path))
     if report.accuracy_met is False:
         steps = ", ".join(f"{h:.4g}" for h in data["extrapolation"]["dt"])
         print(f"lcchain: --accuracy {args.accuracy:g} was not met: the run reached {data['max_abs_error']:.3g} "

@@ -48,8 +48,15 @@ td.off { background: var(--off); }
 .pass { color: var(--ok); font-weight: 700; } .fail { color: var(--bad); font-weight: 700; }
 figure { margin: 12px 0 22px; break-inside: avoid; page-break-inside: avoid; }
 figure img { max-width: 100%; height: auto; border: 1px solid var(--line); }
+figure a.open { display: block; cursor: zoom-in; }
 figcaption { color: var(--muted); font-size: 13px; margin-top: 4px; }
-.grid { display: grid; grid-template-columns: repeat(auto-fill, minmax(340px, 1fr)); gap: 12px; }
+figure a.close { display: none; }
+figure:has(> .view:target) { position: fixed; inset: 0; z-index: 10; margin: 0; padding: 12px; overflow: auto;
+  background: rgba(255, 255, 255, 0.97); display: flex; flex-direction: column; align-items: center; }
+figure:has(> .view:target) img { width: 96vw; height: 86vh; max-width: none; object-fit: contain; }
+figure:has(> .view:target) a.open { cursor: default; }
+figure:has(> .view:target) a.close { display: inline; }
+.grid { display: grid; grid-template-columns: repeat(auto-fill, minmax(510px, 1fr)); gap: 14px; }
 .grid figure { margin: 0; }
 code { font-size: 13px; background: #f3f4f6; padding: 0 3px; border-radius: 3px; }
 tr { break-inside: avoid; page-break-inside: avoid; }
@@ -75,6 +82,15 @@ def figure_png(figure: Any, dpi: int = 110) -> bytes:
 def _img(png: bytes, alt: str) -> str:
     data = base64.b64encode(png).decode()
     return f'<img alt="{html.escape(alt)}" src="data:image/png;base64,{data}">'
+
+
+def _figure(png: bytes, alt: str, key: str, caption: str, back: str, attributes: str = "") -> str:
+    """A figure whose image is a link to itself full size: in the page (its data sits there once), the figure
+    fills the window while its view anchor is the target, and "close" goes back to ``back``."""
+    view = "view-" + "".join(c if c.isalnum() or c in "-_" else "-" for c in key)
+    return (f'<figure{attributes}><span class=view id="{view}"></span>'
+            f'<a class=open href="#{view}" title="open full size">{_img(png, alt)}</a>'
+            f'<figcaption>{caption} <a class=close href="#{back}">close</a></figcaption></figure>')
 
 
 def _e(value: Any) -> str:
@@ -210,12 +226,12 @@ def _circuit_html(checks: list[Any], figures: Mapping[str, bytes]) -> str:
                      f"<td class=l>{_e(check.excitation)}</td><td>{_num(check.dt, 3)}</td>"
                      f"<td>{_num(check.max_abs_error, 3)}</td><td>{_num(check.predicted_error, 3)}</td>"
                      f"<td>{_num(check.tolerance, 3)}</td><td>{_num(check.wall_s, 2)}</td><td>{verdict}</td></tr>")
-    lines.append("</tbody></table><div class=grid>")
+    lines.append("</tbody></table><div class=grid id=circuit-figures>")
     for check in checks:
         png = figures.get(f"check:{check.name}")
         if png is not None:
-            lines.append(f"<figure>{_img(png, check.name)}<figcaption>{_e(check.name)}: {_e(check.what)}, "
-                         f"max error {_num(check.max_abs_error, 3)}</figcaption></figure>")
+            lines.append(_figure(png, check.name, f"check-{check.name}", f"{_e(check.name)}: {_e(check.what)}, "
+                                 f"max error {_num(check.max_abs_error, 3)}", "circuit-figures"))
     lines.append("</div>")
     return "\n".join(lines)
 
@@ -225,8 +241,8 @@ def _figures_html(figures: Mapping[str, bytes], captions: Iterable[tuple[str, st
     for label, caption in captions:
         png = figures.get(f"paper:{label}")
         if png is not None:
-            lines.append(f'<figure id="fig-{_e(label)}">{_img(png, "Fig. " + label)}'
-                         f"<figcaption>Fig. {_e(label)}: {_e(caption)}</figcaption></figure>")
+            lines.append(_figure(png, "Fig. " + label, f"fig-{label}", f"Fig. {_e(label)}: {_e(caption)}",
+                                 f"fig-{_e(label)}", f' id="fig-{_e(label)}"'))
     return "\n".join(lines)
 
 

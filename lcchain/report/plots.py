@@ -93,30 +93,37 @@ def _field(item: Any, key: str, what: str, i: int) -> Any:
 
 # --------------------------------------------------------------------------- overlay
 
-def overlay(t_sim, y_sim, t_theory, y_theory, *, residual=None, t_residual=None,
-            arrivals: Sequence = (), title: str = "", ylabel: str = r"$I_N\,/\,I_1(0)$",
+def overlay(t_sim, y_sim, t_theory, y_theory, *, residual=None, t_residual=None, first_sim=None,
+            first_theory=None, arrivals: Sequence = (), title: str = "", ylabel: str = r"$I_N\,/\,I_1(0)$",
             path: str | os.PathLike | None = None, ax: Axes | None = None) -> Figure:
-    """Simulated end-loop signal over the theory, with the residual below.
+    """Simulated end-loop signal over the theory, with the residual below; loop 1 too when given.
 
     Parameters
     ----------
     t_sim, y_sim : array_like, shape (n,)
-        Simulated signal at the simulator's time points; time in units of
-        sqrt(L0 C0), signal dimensionless (e.g. I_N / I_1(0)).
+        Simulated signal of loop N at the simulator's time points; time in
+        units of sqrt(L0 C0), signal dimensionless (e.g. I_N / I_1(0)).
     t_theory, y_theory : array_like, shape (m,)
-        Theory on its own (usually finer) time grid, same units.
+        Theory of loop N on its own (usually finer) time grid, same units.
     residual : array_like, optional
         Simulation minus theory, dimensionless; drawn in a lower panel with
         its largest absolute value in the legend.  Ignored (but checked) when
         `ax` is given.
     t_residual : array_like, optional
         Times of `residual`, in units of sqrt(L0 C0); default `t_sim`.
+    first_sim, first_theory : array_like, optional
+        Loop 1's simulated signal (at `t_sim`) and theory (at `t_theory`),
+        both or neither: the arrivals alternate ends (#1 at loop N, #2 back
+        at loop 1, ...), and each is marked on the loop where it arrives.
     arrivals : sequence of mapping, optional
         One entry per arrival with keys ``index``, ``t_theory``, ``t_sim``,
-        ``peak_theory``, ``peak_sim`` (objects with these attributes, such as
-        :class:`lcchain.compare.ArrivalComparison`, work too).  Each is marked
+        ``peak_theory``, ``peak_sim`` and optionally ``end`` (``"last"``, the
+        default, or ``"first"``); objects with these attributes, such as
+        :class:`lcchain.compare.ArrivalComparison`, work too.  Each is marked
         by a dotted vertical line at the theoretical time and a note of the
-        time and peak differences, simulation minus theory.
+        time and peak differences, simulation minus theory; its peaks are
+        marked on its loop's curves (an arrival at loop 1 without loop 1's
+        curves keeps its line and note, its note naming the loop).
     title, ylabel : str
         Figure title (top panel) and label of the signal axis.
     path : str or path-like, optional
@@ -127,13 +134,15 @@ def overlay(t_sim, y_sim, t_theory, y_theory, *, residual=None, t_residual=None,
     Returns
     -------
     matplotlib.figure.Figure
-        The new figure, or the figure of `ax`.
+        The new figure, or the figure of `ax`.  A new figure has one legend
+        above the panels, off the data; into `ax`, the legend goes where it
+        covers the fewest lines (matplotlib's ``"best"``).
 
     Raises
     ------
     ValueError
-        If an array is not one-dimensional, lengths differ, or an arrival
-        lacks a key.
+        If an array is not one-dimensional, lengths differ, only one of the
+        loop 1 signals is given, or an arrival lacks a key.
     """
     t_sim = _vector("t_sim", t_sim)
     y_sim = _vector("y_sim", y_sim)
@@ -141,6 +150,13 @@ def overlay(t_sim, y_sim, t_theory, y_theory, *, residual=None, t_residual=None,
     t_theory = _vector("t_theory", t_theory)
     y_theory = _vector("y_theory", y_theory)
     _same_length("y_theory", y_theory, "t_theory", t_theory)
+    if (first_sim is None) != (first_theory is None):
+        raise ParameterError("first_sim, first_theory", "one of them", "both arrays or neither")
+    if first_sim is not None:
+        first_sim = _vector("first_sim", first_sim)
+        _same_length("first_sim", first_sim, "t_sim", t_sim)
+        first_theory = _vector("first_theory", first_theory)
+        _same_length("first_theory", first_theory, "t_theory", t_theory)
     if residual is not None:
         residual = _vector("residual", residual)
         t_residual = t_sim if t_residual is None else _vector("t_residual", t_residual)
@@ -149,6 +165,11 @@ def overlay(t_sim, y_sim, t_theory, y_theory, *, residual=None, t_residual=None,
         raise ParameterError("t_residual", "an array", "None when residual is None")
     marks = [{key: float(_field(a, key, "arrivals", i)) for key in _ARRIVAL_KEYS}
              for i, a in enumerate(arrivals)]
+    for mark, a in zip(marks, arrivals, strict=True):
+        end = a.get("end", "last") if isinstance(a, Mapping) else getattr(a, "end", "last")
+        if end not in ("first", "last"):
+            raise ParameterError("arrivals[].end", end, "'first' or 'last'")
+        mark["first"] = end == "first"
 
     if ax is not None:
         fig = _root_figure(ax)
@@ -160,51 +181,75 @@ def overlay(t_sim, y_sim, t_theory, y_theory, *, residual=None, t_residual=None,
         else:
             top, bottom = fig.subplots(2, 1, sharex=True, height_ratios=[2, 1])
 
-    top.plot(t_theory, y_theory, color="C0", linewidth=1.2, label="theory", zorder=2)
+    both = first_sim is not None
     # Markers let sparse simulator points be seen one by one; many points read better as a line.
     sim_style: dict[str, Any] = {"linestyle": "none", "marker": "o", "markersize": 3} if t_sim.size <= 200 else \
         {"linestyle": "--", "linewidth": 1.0}
-    top.plot(t_sim, y_sim, color="C1", label="ngspice", zorder=3, **sim_style)
+    colours = {"last": ("C0", "C1"), "first": ("C2", "C4")}  # (theory, ngspice) of each loop
+    curves = [("last", " at loop N" if both else "", y_sim, y_theory)]
+    if both:
+        curves.append(("first", " at loop 1", first_sim, first_theory))
+    for end, where, sim, theory in curves:
+        top.plot(t_theory, theory, color=colours[end][0], linewidth=1.2, label=f"theory{where}", zorder=2)
+        top.plot(t_sim, sim, color=colours[end][1], label=f"ngspice{where}", zorder=3, **sim_style)
 
     from matplotlib.transforms import blended_transform_factory
 
     to_top = blended_transform_factory(top.transData, top.transAxes)
-    for k, m in enumerate(marks):
+    x_low, x_high = top.get_xlim()
+    level, previous = 0, -np.inf  # a note drops below its neighbour's only when they are close in time
+    for m in marks:
+        level = 1 - level if m["t_theory"] - previous < 0.2 * (x_high - x_low) else 0
+        previous = m["t_theory"]
+        end = "first" if m["first"] else "last"
         top.axvline(m["t_theory"], color="0.4", linestyle=":", linewidth=0.8, zorder=1)
-        top.plot([m["t_theory"]], [m["peak_theory"]], marker="+", color="C0", markersize=8, linestyle="none")
-        top.plot([m["t_sim"]], [m["peak_sim"]], marker="x", color="C1", markersize=6, linestyle="none")
-        note = (f"#{m['index']:.0f}\n"
+        if not m["first"] or both:
+            top.plot([m["t_theory"]], [m["peak_theory"]], marker="+", color=colours[end][0], markersize=8,
+                     linestyle="none")
+            top.plot([m["t_sim"]], [m["peak_sim"]], marker="x", color=colours[end][1], markersize=6,
+                     linestyle="none")
+        note = (f"#{m['index']:.0f}{' at loop 1' if m['first'] else ''}\n"
                 f"Δt {m['t_sim'] - m['t_theory']:+.2g}\n"
                 f"Δpeak {m['peak_sim'] - m['peak_theory']:+.2g}")
-        # Stagger the notes so that neighbouring arrivals do not overwrite each other.
-        top.annotate(note, (m["t_theory"], 0.98 - 0.13 * (k % 2)), xycoords=to_top, xytext=(3, 0),
-                     textcoords="offset points", fontsize=7, ha="left", va="top", color="0.25",
+        # A note right of its line in the left half, left of it in the right half: never past the frame.
+        right_half = (m["t_theory"] - x_low) > 0.5 * (x_high - x_low)
+        top.annotate(note, (m["t_theory"], 0.98 - 0.13 * level), xycoords=to_top,
+                     xytext=(-3 if right_half else 3, 0), textcoords="offset points", fontsize=7,
+                     ha="right" if right_half else "left", va="top", color="0.25",
                      bbox={"boxstyle": "round,pad=0.2", "facecolor": "white", "edgecolor": "none", "alpha": 0.7})
     if marks:
         # Head room above the data for the notes, which sit at the arrival peaks.
         low, high = top.get_ylim()
-        top.set_ylim(low, high + 0.3 * (high - low))
+        top.set_ylim(low, high + 0.4 * (high - low))
+        top.set_xlim(x_low, x_high)  # the arrival lines must not widen the time axis
 
     top.set_ylabel(ylabel)
     top.grid(True, **_GRID)
-    top.legend(loc="lower right", fontsize=8)
-    if title:
-        top.set_title(title)
 
-    if bottom is None:
-        top.set_xlabel(TIME_LABEL)
-    else:
+    if bottom is not None:
         worst = float(np.nanmax(np.abs(residual))) if residual.size else 0.0
         bottom.plot(t_residual, residual, color="C3", linewidth=0.8,
-                    label=f"max |sim − theory| = {worst:.2e}")
+                    label=f"sim − theory{' at loop N' if both else ''}, max |·| = {worst:.2e}")
         bottom.axhline(0.0, color="0.5", linewidth=0.6)
         for m in marks:
             bottom.axvline(m["t_theory"], color="0.4", linestyle=":", linewidth=0.8)
         bottom.set_ylabel("sim − theory")
         bottom.set_xlabel(TIME_LABEL)
         bottom.grid(True, **_GRID)
-        bottom.legend(loc="upper right", fontsize=8)
         bottom.ticklabel_format(axis="y", style="sci", scilimits=(-2, 3))
+    else:
+        top.set_xlabel(TIME_LABEL)
+    if ax is not None:
+        top.legend(loc="best", fontsize=8)
+        if title:
+            top.set_title(title)
+    else:
+        # One legend below the panels: no corner of a long window is free of data.
+        handles = [h for a in (top, bottom) if a is not None for h in a.get_legend_handles_labels()[0]]
+        fig.legend(handles=handles, loc="outside lower center", ncols=min(3, len(handles)), fontsize=8,
+                   frameon=False)
+        if title:
+            fig.suptitle(title)
     return _finish(fig, path)
 
 
@@ -403,9 +448,9 @@ def histogram(values, *, theory: float | None = None, title: str = "", xlabel: s
 
     Notes
     -----
-    The text box gives the number of samples, the mean, the sample standard
-    deviation (ddof = 1; 0 for a single sample) and the worst (smallest)
-    peak, which is also marked by a dashed line.
+    The legend, right of the axes, gives the number of samples, the mean,
+    the sample standard deviation (ddof = 1; 0 for a single sample), the
+    worst (smallest) peak, marked by a dashed line, and the nominal value.
 
     Raises
     ------
@@ -424,14 +469,13 @@ def histogram(values, *, theory: float | None = None, title: str = "", xlabel: s
     worst = float(values.min())
     ax.axvline(worst, color="C3", linestyle="--", linewidth=1.0, label=f"worst {worst:.5g}")
     if theory is not None:
-        ax.axvline(float(theory), color="k", linewidth=1.2, label=f"nominal chain {float(theory):.5g}")
-    ax.text(0.02, 0.97, f"n = {values.size}\nmean = {mean:.5g}\nstd = {std:.3g}\nworst = {worst:.5g}",
-            transform=ax.transAxes, ha="left", va="top", fontsize=9,
-            bbox={"boxstyle": "round", "facecolor": "white", "edgecolor": "0.7", "alpha": 0.9})
+        ax.axvline(float(theory), color="k", linewidth=1.2, label=f"nominal {float(theory):.5g}")
     ax.set_xlabel(xlabel)
     ax.set_ylabel("samples")
     ax.grid(True, **_GRID)
-    ax.legend(loc="upper right", fontsize=8)
+    # Right of the axes, with the numbers as its title: the lines cross the whole height, the bars any corner.
+    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, title_fontsize=8, alignment="left",
+              title=f"n = {values.size}\nmean = {mean:.5g}\nstd = {std:.3g}")
     if title:
         ax.set_title(title)
     return _finish(fig, path)

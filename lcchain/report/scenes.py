@@ -22,6 +22,21 @@ from .files import check_inside, check_not_input, check_output, write_text
 __all__ = ["write_scene_outputs", "scene_outputs", "check_scene_outputs"]
 
 
+def _with_size(title: str, N: int) -> str:
+    """``title (N = 100)``, unless the title already says N = 100."""
+    size = f"N = {N}"
+    return title if size in title else f"{title} ({size})"
+
+
+def peak_label(kind: str) -> str:
+    """The axis label of a first-arrival peak: of the kicked loop's current, or of the pulse source's."""
+    if kind == "pulse":
+        return "transmitted peak: first arrival's max $I_N\\,/\\,I_0$ ($I_0$: the pulse source's peak)"
+    if kind == "displacement":
+        return "transmitted peak: first arrival's max $Q_N\\,/\\,Q_1(0)$"
+    return "transmitted peak: first arrival's max $I_N\\,/\\,I_1(0)$"
+
+
 def _stem(scene: Scene) -> tuple[Path, str]:
     if scene.output.report:
         path = Path(scene.output.report)
@@ -103,7 +118,7 @@ def write_scene_outputs(result: SceneResult, *, netlist_out: str | None = None,
         return written
     if scene_outputs(scene):
         _stem(scene)[0].mkdir(parents=True, exist_ok=True)  # only now that the scene has run
-    ylabel = r"$Q_N\,/\,Q_1(0)$" if scene.excitation.kind == "displacement" else r"$I_N\,/\,I_0$"
+    ylabel = r"$Q_1,\ Q_N\;/\;Q_1(0)$" if scene.excitation.kind == "displacement" else r"$I_1,\ I_N\;/\;I_0$"
     for key, path in scene_outputs(scene):
         if key == "output.report" or not good:
             continue
@@ -112,14 +127,15 @@ def write_scene_outputs(result: SceneResult, *, netlist_out: str | None = None,
         assert signals is not None
         if kind == "overlay":
             plots.overlay(signals.t, signals.sim[-1], signals.t, signals.theory[-1],
-                          residual=signals.sim[-1] - signals.theory[-1],
-                          arrivals=[a for a in s.record["arrivals"] if a["end"] == "last"],
-                          title=f"{scene.title} (N = {s.chain.N})", ylabel=ylabel, path=path)
+                          residual=signals.sim[-1] - signals.theory[-1], first_sim=signals.sim[0],
+                          first_theory=signals.theory[0], arrivals=s.record["arrivals"],
+                          title=_with_size(scene.title, s.chain.N), ylabel=ylabel, path=path)
         elif kind == "spacetime":
             plots.spacetime(signals.t, signals.sim, title=f"{scene.title}: every loop current", path=path)
         else:
             plots.histogram(transmitted_peaks(result), theory=report.get("transmitted_peak", {}).get("theory_nominal"),
-                            title=f"{scene.title}: transmitted peak over {len(good)} samples", path=path)
+                            title=f"{scene.title}: transmitted peak over {len(good)} samples",
+                            xlabel=peak_label(scene.excitation.kind), path=path)
         written.append(str(path))
     if scene.output.report:
         written.append(scene.output.report)

@@ -9,16 +9,21 @@
 
 from __future__ import annotations
 
+import copy
 from collections import defaultdict
 from typing import Any
 
 import numpy as np
 
 from ..core.errors import ParameterError
+from ..scenes.load import parse_scene
+from ..scenes.run import nominal_peak
+from ..scenes.schema import Scene
 from ..studies.store import Store
 from ..studies.summary import Group, peak_groups
 from .figures import delta_data, delta_figure, design_grid
 from .plots import histogram
+from .scenes import peak_label
 
 #: Parameters that name the design: drawn as colours within a panel rather than as panels of their own.
 _HUE_KEYS = ("chain.case", "case")
@@ -40,11 +45,15 @@ def study_figure(store: Store, metric: str = "peak") -> Any:
         if not groups:
             raise ParameterError("--metric", metric, "peak (no run of this store has an energy: none was kicked)")
         what = {"peak": "transmitted peak", "energy": "energy fraction", "loss": "energy lost"}[metric]
+        scenes = [_group_scene(store, group) for group in groups]
+        kinds = {scene.excitation.kind for scene in scenes if scene is not None}
+        xlabel = peak_label(kinds.pop()) if metric == "peak" and len(kinds) == 1 else _AXIS[metric]
+        nominal = [_nominal(scene, metric) for scene in scenes]
         if len(groups) == 1:
-            return histogram(groups[0].peaks, xlabel=_AXIS[metric],
+            return histogram(groups[0].peaks, xlabel=xlabel, theory=nominal[0],
                              title=f"{what} over {groups[0].peaks.size} samples ({store.path.name})")
-        return samples_figure(groups, title=f"{what} by group ({store.path.name})", xlabel=_AXIS[metric],
-                              log=metric == "loss")
+        return samples_figure(groups, title=f"{what} by group ({store.path.name})", xlabel=xlabel,
+                              log=metric == "loss", nominal=nominal)
     Ns = sorted({run.params["N"] for run in runs if "N" in run.params})
     if len(Ns) >= 2 and all("case" in run.params for run in runs):
         measured: dict[str, list[tuple[int, float]]] = defaultdict(list)
@@ -57,6 +66,35 @@ def study_figure(store: Store, metric: str = "peak") -> Any:
     raise ParameterError("--plot", str(store.path), "a sweep over two or more N (with --case), or tolerance samples")
 
 
+def _group_scene(store: Store, group: Group) -> Scene | None:
+    """The scene a group of a scene sweep ran (its varied keys set), or None for a store without one."""
+    data = store.description().get("scene_data")
+    if not isinstance(data, dict):
+        return None
+    data = copy.deepcopy(data)
+    for key, value in group.params.items():
+        for dotted in key.split("+"):  # keys joined by + were varied together
+            *tables, name = dotted.split(".")
+            table = data
+            for part in tables:
+                table = table.setdefault(part, {})
+            table[name] = value
+    try:
+        return parse_scene(data)
+    except ParameterError:
+        return None
+
+
+def _nominal(scene: Scene | None, metric: str) -> float | None:
+    """The untoleranced circuit's value of the metric, from theory (None without a scene, or for an energy a
+    pulse does not define)."""
+    if scene is None or (metric != "peak" and scene.excitation.kind != "kick"):
+        return None
+    peak, mass_ratio = nominal_peak(scene)
+    energy = peak ** 2 * mass_ratio
+    return {"peak": peak, "energy": energy, "loss": 1.0 - energy}[metric]
+
+
 def _label(key: str, value: Any) -> str:
     name = "+".join(part.rsplit(".", 1)[-1] for part in key.split("+"))
     if isinstance(value, float) and name in ("L", "C", "L+C"):
@@ -64,12 +102,15 @@ def _label(key: str, value: Any) -> str:
     return f"{name} = {value}" if name not in ("case", "series") else str(value)
 
 
-def samples_figure(groups: list[Group], title: str = "", xlabel: str = _AXIS["peak"], log: bool = False) -> Any:
+def samples_figure(groups: list[Group], title: str = "", xlabel: str = _AXIS["peak"], log: bool = False,
+                   nominal: list[float | None] | None = None) -> Any:
     """One panel per combination of the varied axes but the design; the designs' histograms overlaid.
 
     Rows follow the first varied axis (chain.N in a study of sizes), columns the others.  Each histogram's
-    legend gives the design, its mean ± standard deviation and its worst sample, so the figure reads alone.
+    legend gives the design, its mean ± standard deviation and its worst sample, so the figure reads alone;
+    ``nominal`` (one per group, None where unknown) is drawn as a dashed line in the design's colour.
     """
+    nominal = list(nominal) if nominal is not None else [None] * len(groups)
     from matplotlib.figure import Figure
 
     keys = list(dict.fromkeys(key for group in groups for key in group.params))
@@ -111,6 +152,9 @@ def samples_figure(groups: list[Group], title: str = "", xlabel: str = _AXIS["pe
                 ax.hist(g.peaks, bins=bins, color=colour, alpha=0.55, edgecolor="white", linewidth=0.4,
                         label=f"{name}: {stats['mean']:.4f} ± {stats['std']:.4f}, worst {worst:.4f}")
                 ax.axvline(stats["mean"], color=colour, linewidth=1.0)
+                value = nominal[next(i for i, other in enumerate(groups) if other is g)]
+                if value is not None:
+                    ax.axvline(value, color=colour, linestyle="--", linewidth=1.0, label=f"nominal {value:.4f}")
             if log:
                 from matplotlib.ticker import NullFormatter
 

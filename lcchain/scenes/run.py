@@ -37,7 +37,8 @@ from ..theory.response import linear_response
 from .plan import ScenePlan, losses_and_pulse, scene_plan, scene_specs
 from .schema import Scene
 
-__all__ = ["SampleResult", "SceneResult", "simulate_scene", "scene_result", "overlay_panel", "transmitted_peaks"]
+__all__ = ["SampleResult", "SceneResult", "simulate_scene", "scene_result", "overlay_panel", "transmitted_peaks",
+           "nominal_peak"]
 
 
 class SampleRecord(TypedDict, total=False):
@@ -170,6 +171,15 @@ def _spread(values: Sequence[float]) -> dict[str, Any]:
     array = np.asarray(values, dtype=float)
     return {"mean": float(array.mean()), "std": float(array.std(ddof=1)) if array.size > 1 else 0.0,
             "worst": float(array.min()), "best": float(array.max()), "count": int(array.size)}
+
+
+def nominal_peak(scene: Scene) -> tuple[float, float]:
+    """The nominal circuit's theoretical first-arrival peak, and m_N / m_1 of its nominal chain (no simulation).
+
+    For a study's figure, rebuilt from a store's scene: the value the tolerance samples spread around."""
+    plan = scene_plan(scene)
+    masses = plan.nominal.masses
+    return _nominal_peak(scene, plan), float(masses[-1] / masses[0])
 
 
 @fixed_blas_threads
