@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import math
 import os
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -187,67 +187,124 @@ def _law(data: Mapping[str, Any], case: str, key: str, N: np.ndarray) -> np.ndar
     return value
 
 
-def _against_N(ax: Any, ylabel: str, title: str, *, log_y: bool = True, ncols: int = 1) -> None:
-    """The axes of an optimum against N: N on a log scale (y too unless ``log_y`` is False), grid, legend, title."""
+def _against_N(ax: Any, ylabel: str, title: str, *, log_y: bool = True) -> None:
+    """The axes of an optimum against N: N on a log scale (y too unless ``log_y`` is False), grid, a legend
+    outside the frame (never on the data), title."""
     ax.set_xscale("log")
     if log_y:
         ax.set_yscale("log")
     ax.set_xlabel("N")
     ax.set_ylabel(ylabel)
     ax.grid(True, which="both", alpha=0.3, linewidth=0.5)
-    ax.legend(fontsize=8, ncols=ncols)
+    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
     ax.set_title(title, fontsize=10)
 
 
-def _points(ax: Any, data: Mapping[str, Any], case: str, key: str, colour: str, marker: str, label: str) -> None:
+def _values(data: Mapping[str, Any], case: str, key: str) -> np.ndarray:
+    return np.asarray([row[key] for row in data[case]], dtype=float)
+
+
+def _points(ax: Any, data: Mapping[str, Any], case: str, key: str, colour: str, marker: str,
+            label: str | None = None) -> np.ndarray:
+    """The optimum's ``key`` against N as filled symbols; returns the values drawn."""
     N = np.asarray(data["N"], dtype=float)
-    values = np.asarray([row[key] for row in data[case]], dtype=float)
-    ax.plot(N, values, marker, color=colour, markersize=4.5, markerfacecolor="none", label=label)
+    values = _values(data, case, key)
+    ax.plot(N, values, marker, color=colour, markersize=4.5, label=label)
+    return values
+
+
+def _frame(values: Sequence[np.ndarray], *, log_y: bool, floor: float | None = None) -> tuple[float, float]:
+    """The y limits set by the data alone: every finite value with a margin (a fixed ``floor`` if given)."""
+    finite = np.concatenate([np.asarray(v, dtype=float).ravel() for v in values])
+    finite = finite[np.isfinite(finite) & ((finite > 0) if log_y else True)]
+    lo, hi = float(finite.min()), float(finite.max())
+    if log_y:
+        return lo / 1.25, hi * 1.25
+    pad = 0.06 * (hi - lo)
+    return (floor if floor is not None else lo - pad), hi + pad
+
+
+def _law_in_frame(ax: Any, N: np.ndarray, law: np.ndarray, frame: tuple[float, float], colour: str) -> None:
+    """A large-N law drawn only where it lies inside the frame (outside it: not drawn, never clipped)."""
+    inside = (law >= frame[0]) & (law <= frame[1])
+    ax.plot(N, np.where(inside, law, np.nan), color=colour, linewidth=0.9, alpha=0.85)
+
+
+def _tag(ax: Any, N: float, value: float, text: str, colour: str = "0.15") -> None:
+    """A quantity's name just right of its last point, where no data are (the x axis leaves room)."""
+    ax.annotate(text, (N, value), textcoords="offset points", xytext=(9, 0), ha="left", va="center", fontsize=9,
+                color=colour)
+
+
+def _room_right(ax: Any, data: Mapping[str, Any]) -> None:
+    """N limits with room right of the last point for the tags of :func:`_tag`."""
+    ax.set_xlim(min(data["N"]) / 1.3, max(data["N"]) * 2.2)
 
 
 def x_xy_figure(data: Mapping[str, Any]) -> Any:
-    """Fig. x_xy: x* (one-mass, y = 1) and x*, y* (two-mass) against N with Eqs. e.asymp_x and e.xy_N."""
-    fig = _figure()
+    """Fig. x_xy: x* (one-mass, y = 1: blue squares) and x*, y* (two-mass: red circles) against N, with
+    the large-N laws of Eqs. e.asymp_x and e.xy_N drawn where they stay inside the frame the data set."""
+    fig = _figure(9.5, 4.6)
     ax = fig.add_subplot()
     N = _curve_N(data)
-    _points(ax, data, "one-mass", "x", _BLUE, "s", "x*, one-mass")
-    _points(ax, data, "two-mass", "x", _RED, "o", "x*, two-mass")
-    _points(ax, data, "two-mass", "y", _RED, "^", "y*, two-mass")
+    Ns = np.asarray(data["N"], dtype=float)
+    one = _points(ax, data, "one-mass", "x", _BLUE, "s", "one-mass chain (Sec. IV, y = 1): x*")
+    two_x = _points(ax, data, "two-mass", "x", _RED, "o", "two-mass chain (Sec. V): x* and y*")
+    two_y = _points(ax, data, "two-mass", "y", _RED, "o")
+    frame = _frame([one, two_x, two_y], log_y=False, floor=0.0)
     for case, key, colour in (("one-mass", "x", _BLUE), ("two-mass", "x", _RED), ("two-mass", "y", _RED)):
-        ax.plot(N, _law(data, case, key, N), color=colour, linewidth=0.9, alpha=0.8)
-    ax.plot([], [], color="0.3", linewidth=0.9, label="large-N laws")
-    ax.set_ylim(0.0, 1.5)
+        _law_in_frame(ax, N, _law(data, case, key, N), frame, colour)
+    ax.plot([], [], color="0.3", linewidth=0.9, label="large-N laws, Eqs. e.asymp_x, e.xy_N")
+    ax.set_ylim(*frame)
+    _room_right(ax, data)
+    _tag(ax, Ns[-1], two_y[-1], "y*")
+    _tag(ax, Ns[-1], max(one[-1], two_x[-1]), "x*")
     _against_N(ax, "x*, y*", "Fig. x_xy: optimal x* and y* against N", log_y=False)
     return fig
 
 
 def m_mmK_figure(data: Mapping[str, Any]) -> Any:
-    """Fig. m_mmK: m1*, m2*, K12* against N (one-mass: m2 = K12 = 1) with the large-N laws."""
-    fig = _figure()
+    """Fig. m_mmK: m1* (one-mass, m2 = K12 = 1: blue squares) and m1*, m2*, K12* (two-mass: red circles)
+    against N, with the large-N laws drawn where they stay inside the frame the data set."""
+    fig = _figure(9.5, 4.6)
     ax = fig.add_subplot()
     N = _curve_N(data)
-    _points(ax, data, "one-mass", "m1", _BLUE, "s", "m1*, one-mass")
-    for key, marker in (("m1", "o"), ("m2", "^"), ("K12", "v")):
-        _points(ax, data, "two-mass", key, _RED, marker, f"{key}*, two-mass")
-        ax.plot(N, _law(data, "two-mass", key, N), color=_RED, linewidth=0.9, alpha=0.8)
-    ax.plot(N, _law(data, "one-mass", "m1", N), color=_BLUE, linewidth=0.9, alpha=0.8)
-    ax.axhline(1.0, color=_BLUE, linestyle=":", linewidth=0.9, label="m2 = K12 = 1, one-mass")
-    _against_N(ax, "m1*, m2*, K12* (bulk units)", "Fig. m_mmK: optimal end masses and spring against N", ncols=2)
+    Ns = np.asarray(data["N"], dtype=float)
+    one = _points(ax, data, "one-mass", "m1", _BLUE, "s", "one-mass chain (Sec. IV, m2 = K12 = 1): m1*")
+    two = {key: _points(ax, data, "two-mass", key, _RED, "o",
+                        "two-mass chain (Sec. V): m1*, m2*, K12*" if key == "m1" else None)
+           for key in ("m1", "m2", "K12")}
+    ax.axhline(1.0, color=_BLUE, linestyle=":", linewidth=0.9, label="m2 = K12 = 1, one-mass chain")
+    frame = _frame([one, *two.values(), np.ones(1)], log_y=True)
+    _law_in_frame(ax, N, _law(data, "one-mass", "m1", N), frame, _BLUE)
+    for key in two:
+        _law_in_frame(ax, N, _law(data, "two-mass", key, N), frame, _RED)
+    ax.plot([], [], color="0.3", linewidth=0.9, label="large-N laws, Eqs. e.asymp_x, e.m1m2K12-rw")
+    ax.set_ylim(*frame)
+    _room_right(ax, data)
+    _tag(ax, Ns[-1], math.sqrt(one[-1] * two["m1"][-1]), "m1*")
+    _tag(ax, Ns[-1], two["m2"][-1], "m2*")
+    _tag(ax, Ns[-1], two["K12"][-1], "K12*")
+    _against_N(ax, "m1*, m2*, K12* (bulk units)", "Fig. m_mmK: optimal end masses and spring against N")
     return fig
 
 
 def rw_figure(data: Mapping[str, Any]) -> Any:
-    """Fig. rw: r* (squares) and w* (circles) against N, Eq. e.rw_N, and w(r*) of Eq. e.wr (open circles)."""
-    fig = _figure()
+    """Fig. rw: r* (red squares) and w* (blue circles) against N, the laws of Eq. e.rw_N where they stay
+    inside the frame, and w(r*) of Eq. e.wr (open circles)."""
+    fig = _figure(9.5, 4.6)
     ax = fig.add_subplot()
     N = _curve_N(data)
     Ns = np.asarray(data["N"], dtype=float)
-    ax.plot(Ns, [row["r"] for row in data["two-mass"]], "s", color=_RED, markersize=4.5, label="r*")
-    ax.plot(Ns, [row["w"] for row in data["two-mass"]], "o", color=_BLUE, markersize=4.5, label="w*")
+    r = _points(ax, data, "two-mass", "r", _RED, "s", "r*")
+    w = _points(ax, data, "two-mass", "w", _BLUE, "o", "w*")
     ax.plot(Ns, data["w_of_r"], "o", color=_BLUE, markersize=8, markerfacecolor="none", label="w(r*), Eq. e.wr")
-    ax.plot(N, _law(data, "two-mass", "r", N), color=_RED, linewidth=0.9)
-    ax.plot(N, _law(data, "two-mass", "w", N), color=_BLUE, linewidth=0.9)
-    _against_N(ax, "r*, w*", "Fig. rw: optimal r*, w* against N (curves: large-N laws)")
+    frame = _frame([r, w, np.asarray(data["w_of_r"], dtype=float)], log_y=True)
+    _law_in_frame(ax, N, _law(data, "two-mass", "r", N), frame, _RED)
+    _law_in_frame(ax, N, _law(data, "two-mass", "w", N), frame, _BLUE)
+    ax.plot([], [], color="0.3", linewidth=0.9, label="large-N laws, Eq. e.rw_N")
+    ax.set_ylim(*frame)
+    _against_N(ax, "r*, w*", "Fig. rw: optimal r* and w* against N")
     return fig
 
 
