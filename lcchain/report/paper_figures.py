@@ -35,6 +35,7 @@ __all__ = ["FIGURES", "PaperFigure", "make_figures", "cradle4_figure", "vk_figur
            "int_rw_figure", "minimiz_figure", "rw_figure", "pk_figure", "circuit_figure", "delta_from_optimum", "paper_delta_figure", "DELTA_ENLARGE"]
 
 _BLUE, _RED, _GREEN = "#1f5fbf", "#c0282d", "#2f8f3f"
+_AUX = "#7cc68a"  # Fig. cradle4's auxiliary (green) masses
 
 
 def _figure(width: float = 7.5, height: float = 4.6) -> Any:
@@ -70,7 +71,14 @@ def cradle4_figure(data: Mapping[str, Any]) -> Any:
     top, bottom = fig.subfigures(2, 1, height_ratios=[1.0, 1.5])
     ax = top.add_subplot()
     masses, springs = data["masses"], data["springs"]
-    gap, x = 1.6, 0.0
+    gap, touch = 1.6, 0.12
+    # the auxiliary (green) masses, equal to the end ones, outside the chain with no spring: as in Newton's
+    # cradle the left one hits mass 1 with v = 1 and stops; at t = T mass 4 passes v = 1 to the right one
+    aux_side = 0.55 * math.sqrt(masses[0])
+    x = aux_side + touch
+    ax.add_patch(_rectangle(0.0, -aux_side / 2, aux_side, aux_side, colour=_AUX))
+    ax.text(aux_side / 2, 0.0, _fraction(masses[0]), ha="center", va="center", fontsize=10)
+    aux_centres = [aux_side / 2]
     centres = []
     for i, m in enumerate(masses):
         side = 0.55 * math.sqrt(m)
@@ -81,15 +89,23 @@ def cradle4_figure(data: Mapping[str, Any]) -> Any:
         ax.text(x + side / 2, 0.0, f"{_fraction(m)}", ha="center", va="center", fontsize=10)
         centres.append(x + side / 2)
         x += side
-    ax.annotate("", xy=(centres[0] + 0.9, -0.75), xytext=(centres[0] - 0.3, -0.75),
+    x += touch
+    ax.add_patch(_rectangle(x, -aux_side / 2, aux_side, aux_side, colour=_AUX))
+    ax.text(x + aux_side / 2, 0.0, _fraction(masses[-1]), ha="center", va="center", fontsize=10)
+    aux_centres.append(x + aux_side / 2)
+    x += aux_side
+    ax.annotate("", xy=(aux_centres[0] + 0.6, -0.75), xytext=(aux_centres[0] - 0.6, -0.75),
                 arrowprops={"arrowstyle": "->", "color": _RED, "linewidth": 1.6})
-    ax.text(centres[0] + 0.3, -0.95, "kick v = 1 at t = 0", ha="center", va="top", fontsize=8, color=_RED)
-    ax.annotate("", xy=(centres[-1] + 0.9, -0.75), xytext=(centres[-1] - 0.3, -0.75),
+    ax.text(aux_centres[0], -0.95, "v = 1 until t = 0:\nit stops, mass 1 takes v = 1", ha="center", va="top",
+            fontsize=8, color=_RED)
+    ax.annotate("", xy=(aux_centres[1] + 0.6, -0.75), xytext=(aux_centres[1] - 0.6, -0.75),
                 arrowprops={"arrowstyle": "->", "color": _GREEN, "linewidth": 1.6})
-    ax.text(centres[-1] + 0.3, -0.95, f"v = 1 at T = √3 π = {data['T']:.4f}", ha="center", va="top", fontsize=8,
-            color=_GREEN)
-    ax.set_xlim(-0.8, x + 0.8)
-    ax.set_ylim(-1.3, 0.9)
+    ax.text(aux_centres[1], -0.95, f"leaves with v = 1\nat T = √3 π = {data['T']:.4f}", ha="center", va="top",
+            fontsize=8, color=_GREEN)
+    ax.text((aux_centres[0] + aux_centres[1]) / 2, 0.75, "green: auxiliary masses (= the end masses, no spring)",
+            ha="center", va="bottom", fontsize=8, color=_GREEN)
+    ax.set_xlim(-0.9, x + 0.9)
+    ax.set_ylim(-1.55, 1.05)
     ax.set_aspect("equal")
     ax.axis("off")
     ax.set_title("Fig. cradle4: the perfect 4-mass cradle (free ends; end masses 5/3, end springs 5/6 of the bulk)",
@@ -102,7 +118,8 @@ def cradle4_figure(data: Mapping[str, Any]) -> Any:
     left.set_xlabel("t / T")
     left.set_ylabel("velocity (= I_i / I0 in the ladder)")
     left.grid(True, alpha=0.3, linewidth=0.5)
-    left.legend(fontsize=8, ncols=2)
+    left.set_ylim(-0.05, 1.32)  # a band above the curves (each peaks at 1) for the legend
+    left.legend(fontsize=8, ncols=4, loc="upper center", handlelength=1.2, columnspacing=0.8)
     left.set_title("the kick leaves mass 1 and arrives whole at mass 4 at t = T", fontsize=9)
     mesh = right.pcolormesh(np.arange(len(v) + 1) + 0.5, _edges(t / T), v.T, cmap="RdBu_r", vmin=-1, vmax=1,
                             shading="flat")
