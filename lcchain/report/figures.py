@@ -53,7 +53,7 @@ def delta_data(Ns: Sequence[int]) -> dict[str, Any]:
     }
 
 
-def spline_through(N: Sequence[float], values: Sequence[float], *, log_values: bool = False,
+def spline_through(N: Sequence[float] | np.ndarray, values: Sequence[float] | np.ndarray, *, log_values: bool = False,
                    points: int = 400) -> tuple[np.ndarray, np.ndarray]:
     """A smooth curve through the points (N, value): a PCHIP spline in log N, never beyond the first and last N.
 
@@ -119,7 +119,7 @@ def delta_figure(data: Mapping[str, Any], measured: Mapping[str, Sequence[tuple[
         shown = values > PERFECT_LOSS if log else np.isfinite(values)  # zero has no place on a log axis
         if not np.all(shown):
             perfect.append(f"{case} N = {', '.join(str(int(n)) for n in N[~shown])}")
-        copies = [(1.0, None, f"{label} (theory)")]
+        copies: list[tuple[float, str | None, str]] = [(1.0, None, f"{label} (theory)")]
         if enlarge and case in enlarge:
             factor = float(enlarge[case])
             copies.append((factor, "none", f"{factor:g} × the same (open: enlarged)"))

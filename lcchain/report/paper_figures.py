@@ -32,7 +32,8 @@ from .figures import UNIFORM_LIMIT, delta_figure
 from .files import save_figure
 
 __all__ = ["FIGURES", "PaperFigure", "make_figures", "cradle4_figure", "vk_figure", "x_xy_figure", "m_mmK_figure",
-           "int_rw_figure", "minimiz_figure", "rw_figure", "pk_figure", "circuit_figure", "delta_from_optimum", "paper_delta_figure", "DELTA_ENLARGE"]
+           "int_rw_figure", "minimiz_figure", "rw_figure", "pk_figure", "circuit_figure", "delta_from_optimum",
+           "paper_delta_figure", "DELTA_ENLARGE"]
 
 _BLUE, _RED, _GREEN = "#1f5fbf", "#c0282d", "#2f8f3f"
 _AUX = "#7cc68a"  # Fig. cradle4's auxiliary (green) masses
