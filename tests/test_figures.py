@@ -1,5 +1,5 @@
 """The data behind the paper's figures (issue 12): tested against the paper and against independent sums,
-never against pixels.  The figures themselves are only checked to be written, one file per label."""
+never against pixels; the figures' artists are checked against their captions (symbols, limits, splines)."""
 
 from __future__ import annotations
 
@@ -195,3 +195,172 @@ def test_every_figure_is_written_under_its_label(tmp_path, rows: DesignRows) -> 
     for path in paths:
         assert path.stat().st_size > 10_000
         assert "<svg" in path.read_text()[:2000]
+
+
+# ------------------------------------------------------------------ the figures against their captions (issue 21)
+#: Ns for the figures' checks: small ones (perfect chains at N = 3, 4) and a few large ones.
+CAPTION_N = [3, 4, 5, 6, 8, 10, 20, 50, 100, 200]
+
+
+def _marked(ax) -> list:
+    """The axes' lines drawn as symbols only (no connecting line)."""
+    return [line for line in ax.get_lines() if line.get_marker() not in ("None", "", None) and len(line.get_xdata())
+            and line.get_linestyle() in ("None", "", " ")]
+
+
+def _horizontal(ax) -> list[float]:
+    """y of every horizontal line spanning the axes (axhline: x data in axes coordinates 0 .. 1)."""
+    return [float(line.get_ydata()[0]) for line in ax.get_lines()
+            if list(line.get_xdata()) == [0, 1] and len(set(map(float, line.get_ydata()))) == 1]
+
+
+@pytest.fixture(scope="module")
+def optimum(rows: DesignRows) -> dict:
+    return optimum_data(rows, CAPTION_N)
+
+
+def test_delta_has_the_three_limits_the_enlargements_and_splines(optimum: dict) -> None:
+    from lcchain.report.paper_figures import DELTA_ENLARGE, paper_delta_figure
+
+    data = delta_from_optimum(optimum)
+    ax = paper_delta_figure(data).axes[0]
+    limits = _horizontal(ax)
+    # the caption's three limits: 1 (uniform chain), 0.1531 (one mass), 0.01285 (two masses), each dotted
+    for printed in ("1", "0.1531", "0.01285"):
+        assert any(agrees_with_printed(y, printed) for y in limits), (printed, limits)
+    N = np.asarray(data["N"], dtype=float)
+    marked = _marked(ax)
+    for case in ("uniform", "one-mass", "two-mass"):
+        values = np.asarray(data[case])
+        filled = [m for m in marked if np.allclose(m.get_ydata(), values) and m.get_markerfacecolor() != "none"]
+        assert filled, case
+        # a spline through the points: the same colour, many points, from the first N to the last, never beyond
+        colour = filled[0].get_color()
+        curves = [line for line in ax.get_lines() if line.get_color() == colour and line.get_marker() in ("None", "")
+                  and len(line.get_xdata()) > 10 * N.size]
+        assert curves, case
+        curve = curves[0]
+        xs, ys = np.asarray(curve.get_xdata()), np.asarray(curve.get_ydata())
+        assert xs.min() == pytest.approx(N.min()) and xs.max() == pytest.approx(N.max())
+        np.testing.assert_allclose(np.interp(np.log(N), np.log(xs), ys), values, atol=2e-3 * values.max())
+    for case, factor in DELTA_ENLARGE.items():  # the open symbols: the optimised cases enlarged
+        values = factor * np.asarray(data[case])
+        assert any(np.allclose(m.get_ydata(), values) and m.get_markerfacecolor() == "none" for m in marked), case
+
+
+def test_x_xy_draws_y_star_as_red_circles(optimum: dict) -> None:
+    from lcchain.report.paper_figures import x_xy_figure
+
+    ax = x_xy_figure(optimum).axes[0]
+    marked = _marked(ax)
+    for case, key, marker in (("one-mass", "x", "s"), ("two-mass", "x", "o"), ("two-mass", "y", "o")):
+        values = [row[key] for row in optimum[case]]
+        lines = [m for m in marked if np.allclose(m.get_ydata(), values)]
+        assert lines and lines[0].get_marker() == marker, (case, key)
+
+
+def test_m_mmK_draws_the_two_mass_case_as_circles(optimum: dict) -> None:
+    from lcchain.report.paper_figures import m_mmK_figure
+
+    ax = m_mmK_figure(optimum).axes[0]
+    marked = _marked(ax)
+    for key in ("m1", "m2", "K12"):
+        values = [row[key] for row in optimum["two-mass"]]
+        assert any(np.allclose(m.get_ydata(), values) and m.get_marker() == "o" for m in marked), key
+
+
+@pytest.mark.parametrize("name", ["x_xy_figure", "m_mmK_figure", "rw_figure"])
+def test_the_laws_stay_inside_the_frame_the_data_set(optimum: dict, name: str) -> None:
+    import copy
+
+    from lcchain.report import paper_figures
+
+    build = getattr(paper_figures, name)
+
+    def laws_and_limits(data: dict) -> tuple[list[np.ndarray], tuple[float, float]]:
+        ax = build(data).axes[0]
+        laws = [np.asarray(line.get_ydata(), dtype=float) for line in ax.get_lines()
+                if line.get_marker() in ("None", "") and len(line.get_xdata()) > 50]
+        return laws, ax.get_ylim()
+
+    laws, limits = laws_and_limits(optimum)
+    assert laws
+    for law in laws:
+        finite = law[np.isfinite(law)]
+        assert finite.size and np.all((finite >= limits[0]) & (finite <= limits[1]))
+    marked = np.concatenate([np.asarray(m.get_ydata(), float) for m in _marked(build(optimum).axes[0])])
+    marked = marked[np.isfinite(marked)]
+    assert limits[0] <= marked.min() and marked.max() <= limits[1]
+    # the laws do not set the frame: laws ten times larger leave the limits as they were, and are cut
+    stretched = copy.deepcopy(optimum)
+    for case in stretched["laws"]:
+        stretched["laws"][case] = {key: (10 * c, p) for key, (c, p) in stretched["laws"][case].items()}
+    laws, again = laws_and_limits(stretched)
+    assert again == pytest.approx(limits)
+    for law in laws:
+        finite = law[np.isfinite(law)]
+        assert np.all((finite >= limits[0]) & (finite <= limits[1]))
+
+
+def test_x_xy_laws_are_not_drawn_at_N_3_where_they_leave_the_frame(optimum: dict) -> None:
+    from lcchain.report.paper_figures import x_xy_figure
+
+    ax = x_xy_figure(optimum).axes[0]
+    c, p = optimum["laws"]["two-mass"]["x"]
+    assert c * 3.0**p > ax.get_ylim()[1]  # the two-mass x* law at N = 3 is above the data's frame ...
+    laws = [line for line in ax.get_lines() if line.get_marker() in ("None", "") and len(line.get_xdata()) > 50]
+    law = next(line for line in laws if np.nanmax(np.abs(np.asarray(line.get_ydata()) - c * np.asarray(
+        line.get_xdata()) ** p)) < 1e-12)
+    assert np.isnan(law.get_ydata()[0])  # ... so it is not drawn there
+
+
+def test_cradle4_has_the_auxiliary_green_masses() -> None:
+    from matplotlib.colors import to_rgb
+    from matplotlib.patches import Rectangle
+
+    from lcchain.report.paper_figures import cradle4_figure
+
+    data = cradle4_data(points_per_transit=50)
+    fig = cradle4_figure(data)
+    scheme = next(ax for ax in fig.axes if any(isinstance(p, Rectangle) for p in ax.patches))
+    blocks = sorted((p for p in scheme.patches if isinstance(p, Rectangle)), key=lambda p: p.get_x())
+    assert len(blocks) == len(data["masses"]) + 2  # the chain and one auxiliary mass at each end
+    for block in (blocks[0], blocks[-1]):
+        r, g, b = to_rgb(block.get_facecolor())
+        assert g > r and g > b, "the auxiliary masses are green"
+        # equal to the end masses: the same block (area proportional to the mass)
+        assert block.get_width() == pytest.approx(blocks[1].get_width())
+    for block in blocks[1:-1]:
+        r, g, b = to_rgb(block.get_facecolor())
+        assert not (g > r and g > b)
+
+
+def test_minimiz_quick_and_full_agree_and_find_the_boundary_minimum() -> None:
+    from lcchain.report.figure_data import JUMP_XTOL
+    from lcchain.theory.asymptotic import asymptotic_amplitude
+
+    sigmas = [2.0, 2.3, 2.45, 3.0, 4.0]
+    quick, full = minimiz_data(sigmas, quick=True), minimiz_data(sigmas, quick=False)
+    for s in sigmas:
+        i, j = quick["sigma"].index(s), full["sigma"].index(s)
+        assert quick["tau_m"][i] == pytest.approx(full["tau_m"][j], abs=1e-4), s
+        assert quick["delta_m"][i] == pytest.approx(full["delta_m"][j], abs=1e-9), s
+    # one jump (the minimum leaves tau = 0) between 2.3 and 2.45, found at the same sigma by both
+    assert len(quick["jumps"]) == len(full["jumps"]) == 1
+    assert quick["jumps"][0][0] == pytest.approx(full["jumps"][0][0], abs=2 * JUMP_XTOL)
+    assert 2.3 < quick["jumps"][0][0] < 2.45
+    # at sigma = 2.3 no tau >= 0 of a dense grid does better than tau_m (the old quick grid drew 0.0097)
+    i = quick["sigma"].index(2.3)
+    taus = np.concatenate(([0.0], np.geomspace(1e-4, 1.5, 300)))
+    brute = min(1 - asymptotic_amplitude(float(t), 2.3) for t in taus)
+    assert quick["delta_m"][i] <= brute + 1e-12
+    assert quick["tau_m"][i] == 0.0
+
+
+def test_minimiz_breaks_the_blue_line_at_the_jump() -> None:
+    from lcchain.report.paper_figures import minimiz_figure
+
+    data = minimiz_data([2.2, 2.3, 2.45, 2.6], quick=True)
+    ax = minimiz_figure(data).axes[0]
+    blue = max(ax.get_lines(), key=lambda line: len(line.get_xdata()))
+    assert np.isnan(np.asarray(blue.get_ydata(), dtype=float)).sum() == len(data["jumps"]) == 1

@@ -210,24 +210,78 @@ def int_rw_data(points: int = 4001, pairs: Sequence[tuple[str, float, float]] | 
     return {"zeta": zeta, "weight": weight, "curves": curves}
 
 
-def minimiz_data(sigmas: Sequence[float] | None = None, case: DesignCase = "two-mass") -> dict[str, Any]:
-    """τ_m(σ), the τ that minimises δ∞(σ, τ) for each σ, and δ∞ there (Fig. minimiz), with the optimum."""
+#: How closely Fig. minimiz locates a jump of τ_m(σ) (in σ).
+JUMP_XTOL = 1e-4
+
+
+def _tau_minimum(sigma: float, case: DesignCase, tau_hi: float, points: int) -> tuple[float, float]:
+    """(τ_m, δ∞) at σ: the global minimum of δ∞(σ, τ) over τ >= 0, the boundary τ = 0 included.
+
+    δ∞(σ, ·) ripples (its stationary point ξ ~ sqrt(σ / 3τ) runs off as τ -> 0, so the ripples crowd
+    towards τ = 0) and for σ below about 2.4 its lowest value is at τ = 0 itself.  A grid even in sqrt(τ)
+    (fine near 0) finds the basins; bounded Brent polishes the lowest few, and the boundary's value competes
+    with them (Brent never evaluates the ends of its interval: alone it missed the boundary minimum).
+    """
+    def loss(tau: float) -> float:
+        return 1.0 - asymptotic_amplitude(tau, sigma, case)
+
+    while True:
+        grid = tau_hi * np.linspace(0.0, 1.0, points) ** 2
+        losses = np.array([loss(float(tau)) for tau in grid])
+        if int(np.argmin(losses)) < points - 1:
+            break
+        tau_hi *= 2.0  # the minimum lies beyond the grid
+    # the grid's local minima, lowest first: near a jump two basins are almost level, and the grid alone
+    # cannot tell which is lower, so the two lowest are polished and compared with the boundary
+    inner = [i for i in range(1, points - 1) if losses[i] <= losses[i - 1] and losses[i] <= losses[i + 1]]
+    best_tau, best_loss = 0.0, float(losses[0])
+    for i in sorted(inner, key=lambda i: losses[i])[:2]:
+        result = minimize_scalar(loss, bounds=(grid[i - 1], grid[i + 1]), method="bounded", options={"xatol": 1e-7})
+        tau, value = (float(result.x), float(result.fun)) if result.fun < losses[i] else (grid[i], losses[i])
+        if value < best_loss:
+            best_tau, best_loss = float(tau), float(value)
+    return best_tau, best_loss
+
+
+def minimiz_data(sigmas: Sequence[float] | None = None, case: DesignCase = "two-mass", *,
+                 quick: bool = False) -> dict[str, Any]:
+    """τ_m(σ), the τ >= 0 that minimises δ∞(σ, τ) for each σ, and δ∞ there (Fig. minimiz), with the optimum.
+
+    τ_m jumps where the minimum leaves the boundary τ = 0 for an inner one (near σ = 2.4 for two masses):
+    each jump between neighbouring σ's is located by bisection to ``JUMP_XTOL`` and both of its sides are
+    added to the curve; ``jumps`` lists (σ below, σ above) for each.  ``quick`` uses fewer σ's and a coarser
+    τ grid: the same curve, drawn with fewer points.
+    """
     optimum = asymptotic_optimum(case)
     if sigmas is None:
-        sigmas = np.linspace(0.7 * optimum.sigma, 1.5 * optimum.sigma, 31).tolist()
-    tau_m, delta_m = [], []
-    # τ = Δ^3 t / 3 > 0.  δ∞(σ, ·) can have two minima: a grid finds the lower one, Brent polishes it
-    grid = np.linspace(0.0, 4.0 * optimum.tau + 0.5, 40)
-    for sigma in sigmas:
-        losses = [1.0 - asymptotic_amplitude(float(tau), sigma, case) for tau in grid]
-        best = int(np.argmin(losses))
-        lo, hi = grid[max(best - 1, 0)], grid[min(best + 1, grid.size - 1)]
-        result = minimize_scalar(lambda tau, s=sigma: 1.0 - asymptotic_amplitude(tau, s, case),
-                                 bounds=(lo, hi), method="bounded", options={"xatol": 1e-7})
-        tau_m.append(float(result.x))
-        delta_m.append(float(result.fun))
-    return {"case": case, "sigma": list(map(float, sigmas)), "tau_m": tau_m, "delta_m": delta_m,
-            "sigma_star": optimum.sigma, "tau_star": optimum.tau, "delta_star": optimum.delta}
+        grid = np.linspace(0.7 * optimum.sigma, 1.5 * optimum.sigma, 31 if quick else 121)
+        sigmas = sorted({*grid.tolist(), optimum.sigma})  # σ* on the curve: its minimum is drawn, not cut
+    tau_hi, points = 4.0 * optimum.tau + 0.5, 48 if quick else 160  # τ = Δ^3 t / 3 >= 0
+
+    def at(sigma: float) -> tuple[float, float]:
+        return _tau_minimum(sigma, case, tau_hi, points)
+
+    curve = {float(sigma): at(float(sigma)) for sigma in sigmas}
+    jumps = []
+    ordered = sorted(curve)
+    for lo, hi in zip(ordered, ordered[1:], strict=False):
+        if (curve[lo][0] == 0.0) == (curve[hi][0] == 0.0):
+            continue
+        lo_side = curve[lo][0] == 0.0
+        while hi - lo > JUMP_XTOL:
+            mid = 0.5 * (lo + hi)
+            curve[mid] = at(mid)
+            if (curve[mid][0] == 0.0) == lo_side:
+                lo = mid
+            else:
+                hi = mid
+        curve.setdefault(lo, at(lo))
+        curve.setdefault(hi, at(hi))
+        jumps.append((lo, hi))
+    inner = {sigma for pair in jumps for sigma in pair}
+    kept = sorted({float(sigma) for sigma in sigmas} | inner)  # the bisection's other points are not drawn
+    return {"case": case, "sigma": kept, "tau_m": [curve[s][0] for s in kept], "delta_m": [curve[s][1] for s in kept],
+            "jumps": jumps, "sigma_star": optimum.sigma, "tau_star": optimum.tau, "delta_star": optimum.delta}
 
 
 # ------------------------------------------------------------------ Fig. Pk20-100

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import math
 import os
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -28,13 +28,15 @@ from .figure_data import (
     pk_data,
     vk_data,
 )
-from .figures import delta_figure
+from .figures import UNIFORM_LIMIT, delta_figure
 from .files import save_figure
 
 __all__ = ["FIGURES", "PaperFigure", "make_figures", "cradle4_figure", "vk_figure", "x_xy_figure", "m_mmK_figure",
-           "int_rw_figure", "minimiz_figure", "rw_figure", "pk_figure", "circuit_figure", "delta_from_optimum"]
+           "int_rw_figure", "minimiz_figure", "rw_figure", "pk_figure", "circuit_figure", "delta_from_optimum",
+           "paper_delta_figure", "DELTA_ENLARGE"]
 
 _BLUE, _RED, _GREEN = "#1f5fbf", "#c0282d", "#2f8f3f"
+_AUX = "#7cc68a"  # Fig. cradle4's auxiliary (green) masses
 
 
 def _figure(width: float = 7.5, height: float = 4.6) -> Any:
@@ -70,7 +72,14 @@ def cradle4_figure(data: Mapping[str, Any]) -> Any:
     top, bottom = fig.subfigures(2, 1, height_ratios=[1.0, 1.5])
     ax = top.add_subplot()
     masses, springs = data["masses"], data["springs"]
-    gap, x = 1.6, 0.0
+    gap, touch = 1.6, 0.12
+    # the auxiliary (green) masses, equal to the end ones, outside the chain with no spring: as in Newton's
+    # cradle the left one hits mass 1 with v = 1 and stops; at t = T mass 4 passes v = 1 to the right one
+    aux_side = 0.55 * math.sqrt(masses[0])
+    x = aux_side + touch
+    ax.add_patch(_rectangle(0.0, -aux_side / 2, aux_side, aux_side, colour=_AUX))
+    ax.text(aux_side / 2, 0.0, _fraction(masses[0]), ha="center", va="center", fontsize=10)
+    aux_centres = [aux_side / 2]
     centres = []
     for i, m in enumerate(masses):
         side = 0.55 * math.sqrt(m)
@@ -81,15 +90,23 @@ def cradle4_figure(data: Mapping[str, Any]) -> Any:
         ax.text(x + side / 2, 0.0, f"{_fraction(m)}", ha="center", va="center", fontsize=10)
         centres.append(x + side / 2)
         x += side
-    ax.annotate("", xy=(centres[0] + 0.9, -0.75), xytext=(centres[0] - 0.3, -0.75),
+    x += touch
+    ax.add_patch(_rectangle(x, -aux_side / 2, aux_side, aux_side, colour=_AUX))
+    ax.text(x + aux_side / 2, 0.0, _fraction(masses[-1]), ha="center", va="center", fontsize=10)
+    aux_centres.append(x + aux_side / 2)
+    x += aux_side
+    ax.annotate("", xy=(aux_centres[0] + 0.6, -0.75), xytext=(aux_centres[0] - 0.6, -0.75),
                 arrowprops={"arrowstyle": "->", "color": _RED, "linewidth": 1.6})
-    ax.text(centres[0] + 0.3, -0.95, "kick v = 1 at t = 0", ha="center", va="top", fontsize=8, color=_RED)
-    ax.annotate("", xy=(centres[-1] + 0.9, -0.75), xytext=(centres[-1] - 0.3, -0.75),
+    ax.text(aux_centres[0], -0.95, "v = 1 until t = 0:\nit stops, mass 1 takes v = 1", ha="center", va="top",
+            fontsize=8, color=_RED)
+    ax.annotate("", xy=(aux_centres[1] + 0.6, -0.75), xytext=(aux_centres[1] - 0.6, -0.75),
                 arrowprops={"arrowstyle": "->", "color": _GREEN, "linewidth": 1.6})
-    ax.text(centres[-1] + 0.3, -0.95, f"v = 1 at T = √3 π = {data['T']:.4f}", ha="center", va="top", fontsize=8,
-            color=_GREEN)
-    ax.set_xlim(-0.8, x + 0.8)
-    ax.set_ylim(-1.3, 0.9)
+    ax.text(aux_centres[1], -0.95, f"leaves with v = 1\nat T = √3 π = {data['T']:.4f}", ha="center", va="top",
+            fontsize=8, color=_GREEN)
+    ax.text((aux_centres[0] + aux_centres[1]) / 2, 0.75, "green: auxiliary masses (= the end masses, no spring)",
+            ha="center", va="bottom", fontsize=8, color=_GREEN)
+    ax.set_xlim(-0.9, x + 0.9)
+    ax.set_ylim(-1.55, 1.05)
     ax.set_aspect("equal")
     ax.axis("off")
     ax.set_title("Fig. cradle4: the perfect 4-mass cradle (free ends; end masses 5/3, end springs 5/6 of the bulk)",
@@ -102,7 +119,8 @@ def cradle4_figure(data: Mapping[str, Any]) -> Any:
     left.set_xlabel("t / T")
     left.set_ylabel("velocity (= I_i / I0 in the ladder)")
     left.grid(True, alpha=0.3, linewidth=0.5)
-    left.legend(fontsize=8, ncols=2)
+    left.set_ylim(-0.05, 1.32)  # a band above the curves (each peaks at 1) for the legend
+    left.legend(fontsize=8, ncols=4, loc="upper center", handlelength=1.2, columnspacing=0.8)
     left.set_title("the kick leaves mass 1 and arrives whole at mass 4 at t = T", fontsize=9)
     mesh = right.pcolormesh(np.arange(len(v) + 1) + 0.5, _edges(t / T), v.T, cmap="RdBu_r", vmin=-1, vmax=1,
                             shading="flat")
@@ -147,17 +165,31 @@ def vk_figure(data: Mapping[str, Any]) -> Any:
         ax.grid(True, alpha=0.3, linewidth=0.5)
     first = np.atleast_1d(axes)[0]
     first.set_ylabel("v_k, P_k (arb. units)")
-    first.legend(fontsize=7, loc="upper right")
+    handles, labels = first.get_legend_handles_labels()
+    fig.legend(handles, labels, fontsize=8, loc="outside lower center", ncols=len(labels))  # off every panel
     fig.suptitle(f"Fig. vk: group velocity and mode density, one-mass chain of N = {data['N']}", fontsize=10)
     return fig
 
 
 # ------------------------------------------------------------------ delta, x_xy, m_mmK, rw
+#: Fig. delta's open symbols, "enlargements of the last two cases": each optimised case's loss times a
+#: factor that brings its limit (0.1531, 0.01285) to the height of the uniform chain's curve on the linear axis.
+DELTA_ENLARGE = {"one-mass": 5.0, "two-mass": 50.0}
+
+
 def delta_from_optimum(data: Mapping[str, Any]) -> dict[str, Any]:
     """The data of Fig. delta taken from :func:`optimum_data`'s rows (no design computed twice)."""
     return {"N": data["N"], "uniform": [row["delta_uniform"] for row in data["one-mass"]],
             "one-mass": [max(row["delta"], 0.0) for row in data["one-mass"]],
-            "two-mass": [max(row["delta"], 0.0) for row in data["two-mass"]], "asymptotes": data["asymptotes"]}
+            "two-mass": [max(row["delta"], 0.0) for row in data["two-mass"]],
+            "asymptotes": {"uniform": UNIFORM_LIMIT, **data["asymptotes"]}}
+
+
+def paper_delta_figure(data: Mapping[str, Any]) -> Any:
+    """Fig. delta as the caption has it: δ* on a linear axis, filled symbols, splines, the three limits
+    1, δ*∞(one-mass), δ*∞(two-mass) dotted, and the two optimised cases enlarged (open symbols)."""
+    return delta_figure(data, scale="linear", enlarge=DELTA_ENLARGE,
+                        title="Fig. delta: minimal transmission loss δ* against N")
 
 
 def _curve_N(data: Mapping[str, Any]) -> np.ndarray:
@@ -174,67 +206,124 @@ def _law(data: Mapping[str, Any], case: str, key: str, N: np.ndarray) -> np.ndar
     return value
 
 
-def _against_N(ax: Any, ylabel: str, title: str, *, log_y: bool = True, ncols: int = 1) -> None:
-    """The axes of an optimum against N: N on a log scale (y too unless ``log_y`` is False), grid, legend, title."""
+def _against_N(ax: Any, ylabel: str, title: str, *, log_y: bool = True) -> None:
+    """The axes of an optimum against N: N on a log scale (y too unless ``log_y`` is False), grid, a legend
+    outside the frame (never on the data), title."""
     ax.set_xscale("log")
     if log_y:
         ax.set_yscale("log")
     ax.set_xlabel("N")
     ax.set_ylabel(ylabel)
     ax.grid(True, which="both", alpha=0.3, linewidth=0.5)
-    ax.legend(fontsize=8, ncols=ncols)
+    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
     ax.set_title(title, fontsize=10)
 
 
-def _points(ax: Any, data: Mapping[str, Any], case: str, key: str, colour: str, marker: str, label: str) -> None:
+def _values(data: Mapping[str, Any], case: str, key: str) -> np.ndarray:
+    return np.asarray([row[key] for row in data[case]], dtype=float)
+
+
+def _points(ax: Any, data: Mapping[str, Any], case: str, key: str, colour: str, marker: str,
+            label: str | None = None) -> np.ndarray:
+    """The optimum's ``key`` against N as filled symbols; returns the values drawn."""
     N = np.asarray(data["N"], dtype=float)
-    values = np.asarray([row[key] for row in data[case]], dtype=float)
-    ax.plot(N, values, marker, color=colour, markersize=4.5, markerfacecolor="none", label=label)
+    values = _values(data, case, key)
+    ax.plot(N, values, marker, color=colour, markersize=4.5, label=label)
+    return values
+
+
+def _frame(values: Sequence[np.ndarray], *, log_y: bool, floor: float | None = None) -> tuple[float, float]:
+    """The y limits set by the data alone: every finite value with a margin (a fixed ``floor`` if given)."""
+    finite = np.concatenate([np.asarray(v, dtype=float).ravel() for v in values])
+    finite = finite[np.isfinite(finite) & ((finite > 0) if log_y else True)]
+    lo, hi = float(finite.min()), float(finite.max())
+    if log_y:
+        return lo / 1.25, hi * 1.25
+    pad = 0.06 * (hi - lo)
+    return (floor if floor is not None else lo - pad), hi + pad
+
+
+def _law_in_frame(ax: Any, N: np.ndarray, law: np.ndarray, frame: tuple[float, float], colour: str) -> None:
+    """A large-N law drawn only where it lies inside the frame (outside it: not drawn, never clipped)."""
+    inside = (law >= frame[0]) & (law <= frame[1])
+    ax.plot(N, np.where(inside, law, np.nan), color=colour, linewidth=0.9, alpha=0.85)
+
+
+def _tag(ax: Any, N: float, value: float, text: str, colour: str = "0.15") -> None:
+    """A quantity's name just right of its last point, where no data are (the x axis leaves room)."""
+    ax.annotate(text, (N, value), textcoords="offset points", xytext=(9, 0), ha="left", va="center", fontsize=9,
+                color=colour)
+
+
+def _room_right(ax: Any, data: Mapping[str, Any]) -> None:
+    """N limits with room right of the last point for the tags of :func:`_tag`."""
+    ax.set_xlim(min(data["N"]) / 1.3, max(data["N"]) * 2.2)
 
 
 def x_xy_figure(data: Mapping[str, Any]) -> Any:
-    """Fig. x_xy: x* (one-mass, y = 1) and x*, y* (two-mass) against N with Eqs. e.asymp_x and e.xy_N."""
-    fig = _figure()
+    """Fig. x_xy: x* (one-mass, y = 1: blue squares) and x*, y* (two-mass: red circles) against N, with
+    the large-N laws of Eqs. e.asymp_x and e.xy_N drawn where they stay inside the frame the data set."""
+    fig = _figure(9.5, 4.6)
     ax = fig.add_subplot()
     N = _curve_N(data)
-    _points(ax, data, "one-mass", "x", _BLUE, "s", "x*, one-mass")
-    _points(ax, data, "two-mass", "x", _RED, "o", "x*, two-mass")
-    _points(ax, data, "two-mass", "y", _RED, "^", "y*, two-mass")
+    Ns = np.asarray(data["N"], dtype=float)
+    one = _points(ax, data, "one-mass", "x", _BLUE, "s", "one-mass chain (Sec. IV, y = 1): x*")
+    two_x = _points(ax, data, "two-mass", "x", _RED, "o", "two-mass chain (Sec. V): x* and y*")
+    two_y = _points(ax, data, "two-mass", "y", _RED, "o")
+    frame = _frame([one, two_x, two_y], log_y=False, floor=0.0)
     for case, key, colour in (("one-mass", "x", _BLUE), ("two-mass", "x", _RED), ("two-mass", "y", _RED)):
-        ax.plot(N, _law(data, case, key, N), color=colour, linewidth=0.9, alpha=0.8)
-    ax.plot([], [], color="0.3", linewidth=0.9, label="large-N laws")
-    ax.set_ylim(0.0, 1.5)
+        _law_in_frame(ax, N, _law(data, case, key, N), frame, colour)
+    ax.plot([], [], color="0.3", linewidth=0.9, label="large-N laws, Eqs. e.asymp_x, e.xy_N")
+    ax.set_ylim(*frame)
+    _room_right(ax, data)
+    _tag(ax, Ns[-1], two_y[-1], "y*")
+    _tag(ax, Ns[-1], max(one[-1], two_x[-1]), "x*")
     _against_N(ax, "x*, y*", "Fig. x_xy: optimal x* and y* against N", log_y=False)
     return fig
 
 
 def m_mmK_figure(data: Mapping[str, Any]) -> Any:
-    """Fig. m_mmK: m1*, m2*, K12* against N (one-mass: m2 = K12 = 1) with the large-N laws."""
-    fig = _figure()
+    """Fig. m_mmK: m1* (one-mass, m2 = K12 = 1: blue squares) and m1*, m2*, K12* (two-mass: red circles)
+    against N, with the large-N laws drawn where they stay inside the frame the data set."""
+    fig = _figure(9.5, 4.6)
     ax = fig.add_subplot()
     N = _curve_N(data)
-    _points(ax, data, "one-mass", "m1", _BLUE, "s", "m1*, one-mass")
-    for key, marker in (("m1", "o"), ("m2", "^"), ("K12", "v")):
-        _points(ax, data, "two-mass", key, _RED, marker, f"{key}*, two-mass")
-        ax.plot(N, _law(data, "two-mass", key, N), color=_RED, linewidth=0.9, alpha=0.8)
-    ax.plot(N, _law(data, "one-mass", "m1", N), color=_BLUE, linewidth=0.9, alpha=0.8)
-    ax.axhline(1.0, color=_BLUE, linestyle=":", linewidth=0.9, label="m2 = K12 = 1, one-mass")
-    _against_N(ax, "m1*, m2*, K12* (bulk units)", "Fig. m_mmK: optimal end masses and spring against N", ncols=2)
+    Ns = np.asarray(data["N"], dtype=float)
+    one = _points(ax, data, "one-mass", "m1", _BLUE, "s", "one-mass chain (Sec. IV, m2 = K12 = 1): m1*")
+    two = {key: _points(ax, data, "two-mass", key, _RED, "o",
+                        "two-mass chain (Sec. V): m1*, m2*, K12*" if key == "m1" else None)
+           for key in ("m1", "m2", "K12")}
+    ax.axhline(1.0, color=_BLUE, linestyle=":", linewidth=0.9, label="m2 = K12 = 1, one-mass chain")
+    frame = _frame([one, *two.values(), np.ones(1)], log_y=True)
+    _law_in_frame(ax, N, _law(data, "one-mass", "m1", N), frame, _BLUE)
+    for key in two:
+        _law_in_frame(ax, N, _law(data, "two-mass", key, N), frame, _RED)
+    ax.plot([], [], color="0.3", linewidth=0.9, label="large-N laws, Eqs. e.asymp_x, e.m1m2K12-rw")
+    ax.set_ylim(*frame)
+    _room_right(ax, data)
+    _tag(ax, Ns[-1], math.sqrt(one[-1] * two["m1"][-1]), "m1*")
+    _tag(ax, Ns[-1], two["m2"][-1], "m2*")
+    _tag(ax, Ns[-1], two["K12"][-1], "K12*")
+    _against_N(ax, "m1*, m2*, K12* (bulk units)", "Fig. m_mmK: optimal end masses and spring against N")
     return fig
 
 
 def rw_figure(data: Mapping[str, Any]) -> Any:
-    """Fig. rw: r* (squares) and w* (circles) against N, Eq. e.rw_N, and w(r*) of Eq. e.wr (open circles)."""
-    fig = _figure()
+    """Fig. rw: r* (red squares) and w* (blue circles) against N, the laws of Eq. e.rw_N where they stay
+    inside the frame, and w(r*) of Eq. e.wr (open circles)."""
+    fig = _figure(9.5, 4.6)
     ax = fig.add_subplot()
     N = _curve_N(data)
     Ns = np.asarray(data["N"], dtype=float)
-    ax.plot(Ns, [row["r"] for row in data["two-mass"]], "s", color=_RED, markersize=4.5, label="r*")
-    ax.plot(Ns, [row["w"] for row in data["two-mass"]], "o", color=_BLUE, markersize=4.5, label="w*")
+    r = _points(ax, data, "two-mass", "r", _RED, "s", "r*")
+    w = _points(ax, data, "two-mass", "w", _BLUE, "o", "w*")
     ax.plot(Ns, data["w_of_r"], "o", color=_BLUE, markersize=8, markerfacecolor="none", label="w(r*), Eq. e.wr")
-    ax.plot(N, _law(data, "two-mass", "r", N), color=_RED, linewidth=0.9)
-    ax.plot(N, _law(data, "two-mass", "w", N), color=_BLUE, linewidth=0.9)
-    _against_N(ax, "r*, w*", "Fig. rw: optimal r*, w* against N (curves: large-N laws)")
+    frame = _frame([r, w, np.asarray(data["w_of_r"], dtype=float)], log_y=True)
+    _law_in_frame(ax, N, _law(data, "two-mass", "r", N), frame, _RED)
+    _law_in_frame(ax, N, _law(data, "two-mass", "w", N), frame, _BLUE)
+    ax.plot([], [], color="0.3", linewidth=0.9, label="large-N laws, Eq. e.rw_N")
+    ax.set_ylim(*frame)
+    _against_N(ax, "r*, w*", "Fig. rw: optimal r* and w* against N")
     return fig
 
 
@@ -261,29 +350,51 @@ def int_rw_figure(data: Mapping[str, Any]) -> Any:
     return fig
 
 
+def _broken_at(sigma: Sequence[float], values: Sequence[float], jumps: Sequence[tuple[float, float]]
+               ) -> tuple[np.ndarray, np.ndarray]:
+    """The curve with a gap (NaN) between the two sides of each jump: a jump is not a steep slope."""
+    xs, ys = list(map(float, sigma)), list(map(float, values))
+    for _lo, hi in jumps:
+        i = xs.index(float(hi))
+        xs.insert(i, math.nan)
+        ys.insert(i, math.nan)
+    return np.asarray(xs), np.asarray(ys)
+
+
 def minimiz_figure(data: Mapping[str, Any]) -> Any:
-    """Fig. minimiz: τ_m(σ) (left axis, blue) and δ∞(σ, τ_m(σ)) (right axis, red, log), minimum at σ*."""
+    """Fig. minimiz: τ_m(σ) (blue line, left axis) and δ∞(σ, τ_m(σ)) (red line, right axis, log), its global
+    minimum at σ*.  Where τ_m jumps (the minimum leaves τ = 0) the blue line breaks; a dotted segment joins
+    the two sides."""
     fig = _figure()
     ax = fig.add_subplot()
-    ax.plot(data["sigma"], data["tau_m"], color=_BLUE, linewidth=1.6)
+    jumps = data.get("jumps", [])
+    ax.plot(*_broken_at(data["sigma"], data["tau_m"], jumps), color=_BLUE, linewidth=1.6)
+    for lo, hi in jumps:
+        tau = dict(zip(data["sigma"], data["tau_m"], strict=True))
+        ax.plot([lo, hi], [tau[lo], tau[hi]], ":", color=_BLUE, linewidth=1.0)
     ax.set_xlabel("σ")
     ax.set_ylabel("τ_m(σ)", color=_BLUE)
     right = ax.twinx()
     right.plot(data["sigma"], data["delta_m"], color=_RED, linewidth=1.6)
     right.set_yscale("log")
     right.set_ylabel("δ∞(σ, τ_m(σ))", color=_RED)
-    right.plot([data["sigma_star"]], [data["delta_star"]], "o", color=_RED)
-    right.annotate(f"σ* = {data['sigma_star']:.4f}, τ* = {data['tau_star']:.5f}\nδ*∞ = {data['delta_star']:.6f}",
-                   (data["sigma_star"], data["delta_star"]), textcoords="offset points", xytext=(10, 18), fontsize=8)
+    right.plot([data["sigma_star"]], [data["delta_star"]], "o", color=_RED,
+               label=f"global minimum: σ* = {data['sigma_star']:.4f}, τ* = {data['tau_star']:.5f}, "
+                     f"δ*∞ = {data['delta_star']:.6f}")
+    top = max(data["tau_m"])
+    ax.set_ylim(-0.05 * top, 1.3 * top)  # room above both curves' middle for the legend
+    low, high = min(data["delta_m"]), max(data["delta_m"])
+    right.set_ylim(low / 1.3, high * (high / low) ** 0.3)
+    right.legend(fontsize=8, loc="upper center")
     ax.grid(True, alpha=0.3, linewidth=0.5)
-    ax.set_title(f"Fig. minimiz: minimising the asymptotic loss ({data['case']})", fontsize=10)
+    ax.set_title(f"Fig. minimiz: minimising the asymptotic loss over τ ≥ 0 ({data['case']} chain)", fontsize=10)
     return fig
 
 
 # ------------------------------------------------------------------ Pk20-100
 def pk_figure(data: Mapping[str, Any]) -> Any:
     """Fig. Pk20-100: P_n (squares, left) and (N/π) δω_n (circles, right) for N = 20 (filled), 100 (open)."""
-    fig = _figure()
+    fig = _figure(10.0, 4.6)
     ax = fig.add_subplot()
     right = ax.twinx()
     for panel, filled in zip(data["panels"], (True, False), strict=False):
@@ -300,7 +411,8 @@ def pk_figure(data: Mapping[str, Any]) -> Any:
     ax.set_xlim(0, math.pi)
     lines = ax.get_legend_handles_labels()
     more = right.get_legend_handles_labels()
-    ax.legend(lines[0] + more[0], lines[1] + more[1], fontsize=8, loc="center right")
+    ax.legend(lines[0] + more[0], lines[1] + more[1], fontsize=8, loc="upper left", bbox_to_anchor=(1.09, 1.0),
+              borderaxespad=0.0)  # outside the frame: inside, it hid the N = 100 spacings near k = 2.3
     ax.grid(True, alpha=0.3, linewidth=0.5)
     ax.set_title("Fig. Pk20-100: mode density and frequency spacing of the optimal two-mass chains", fontsize=10)
     return fig
@@ -393,12 +505,12 @@ FIGURES: tuple[PaperFigure, ...] = (
                 lambda rows, quick: cradle4_figure(cradle4_data())),
     PaperFigure("vk", "Group velocity and mode density, N = 50, three Δ", lambda rows, quick: vk_figure(vk_data())),
     PaperFigure("delta", "Transmission loss δ* against N",
-                lambda rows, quick: delta_figure(delta_from_optimum(_optimum(rows, quick)))),
+                lambda rows, quick: paper_delta_figure(delta_from_optimum(_optimum(rows, quick)))),
     PaperFigure("x_xy", "Optimal x*, y* against N", lambda rows, quick: x_xy_figure(_optimum(rows, quick))),
     PaperFigure("m_mmK", "Optimal m1*, m2*, K12* against N", lambda rows, quick: m_mmK_figure(_optimum(rows, quick))),
     PaperFigure("int_rw", "The integrand of α∞(τ, σ)", lambda rows, quick: int_rw_figure(int_rw_data())),
     PaperFigure("minimiz", "Minimising δ∞(σ, τ)",
-                lambda rows, quick: minimiz_figure(minimiz_data())),
+                lambda rows, quick: minimiz_figure(minimiz_data(quick=quick))),
     PaperFigure("rw", "Optimal r*, w* against N", lambda rows, quick: rw_figure(_optimum(rows, quick))),
     PaperFigure("Pk20-100", "Mode density and spacing, N = 20 and 100", lambda rows, quick: pk_figure(pk_data(rows))),
     PaperFigure("LCcircuit", "The LC ladder", lambda rows, quick: circuit_figure(circuit_data())),
