@@ -1,0 +1,118 @@
+"""The report's rows designed on every core (issue 23): the same rows as designed here, the rows the report
+reads, and no worker left behind by an interrupt or a kill."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+from helpers.processes import alive, descendants
+
+from lcchain.report.build import report_rows
+from lcchain.report.figure_data import DesignRows
+from lcchain.report.paper_figures import FIGURES
+from lcchain.report.validation import paper_section
+from lcchain.studies.designs import BackgroundDesigns, design_row
+
+#: Seconds to wait for the pool's workers to start, and for them to die.
+START_TIMEOUT, DEATH_TIMEOUT = 120.0, 10.0
+
+
+def _without_seconds(row: dict) -> dict:
+    return {k: v for k, v in row.items() if k != "seconds"}
+
+
+def test_a_row_designed_by_the_pool_is_the_row_designed_here() -> None:
+    pairs = [("one-mass", 5), ("two-mass", 6), ("one-mass", 200), ("two-mass", 50)]
+    with BackgroundDesigns(pairs, workers=2) as designs:
+        assert designs.workers == 2
+        pooled = {pair: designs.take(*pair) for pair in pairs}
+    for pair in pairs:
+        here = design_row(*pair)
+        assert _without_seconds(pooled[pair]) == _without_seconds(here), pair
+        assert pooled[pair]["seconds"] > 0
+
+
+def test_rows_come_from_the_pool_into_the_cache(tmp_path: Path) -> None:
+    pairs = [("one-mass", 7), ("two-mass", 8)]
+    rows = DesignRows(tmp_path)
+    assert rows.missing([*pairs, pairs[0]]) == pairs
+    with BackgroundDesigns(rows.missing(pairs), workers=2) as designs:
+        rows.design = designs.take
+        taken = rows.rows("one-mass", [7]) + rows.rows("two-mass", [8])
+    again = DesignRows(tmp_path)  # read back from the file the pool's rows were saved in
+    assert again.missing(pairs) == []
+    assert again.rows("one-mass", [7]) + again.rows("two-mass", [8]) == taken
+    assert again.computed == 0
+
+
+def test_report_rows_are_every_row_the_quick_report_reads() -> None:
+    read: list[tuple[str, int]] = []
+
+    def design(case: str, N: int) -> dict:
+        read.append((case, N))
+        return design_row(case, N)  # type: ignore[arg-type]
+
+    rows = DesignRows(design=design)
+    paper_section(rows, quick=True)
+    for figure in FIGURES:
+        figure.build(rows, True)
+    assert sorted(read) == sorted(report_rows(quick=True))
+    assert len(read) == len(set(read))
+
+
+def _as_from_a_terminal() -> None:
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
+def _workers(proc: subprocess.Popen[bytes]) -> dict[int, str]:
+    """The report's children while its pool is up (two spawned Pythons designing rows, at least)."""
+    deadline = time.monotonic() + START_TIMEOUT
+    while time.monotonic() < deadline:
+        assert proc.poll() is None, proc.communicate()
+        below = descendants(proc.pid)
+        spawned = [pid for pid in below if b"multiprocessing" in Path(f"/proc/{pid}/cmdline").read_bytes()]
+        if len(spawned) >= 2:
+            time.sleep(1.0)  # the workers take their first rows
+            return descendants(proc.pid)
+        time.sleep(0.1)
+    proc.kill()
+    raise AssertionError(f"the report's pool did not start within {START_TIMEOUT} s")
+
+
+def _gone(pid: int) -> bool:
+    deadline = time.monotonic() + DEATH_TIMEOUT
+    while time.monotonic() < deadline:
+        if not alive(pid):
+            return True
+        time.sleep(0.05)
+    return False
+
+
+@pytest.mark.ngspice
+@pytest.mark.parametrize(("signum", "status"), [(signal.SIGINT, 130), (signal.SIGKILL, -signal.SIGKILL)],
+                         ids=["SIGINT", "SIGKILL"])
+def test_no_worker_outlives_an_interrupted_report(tmp_path: Path, signum: int, status: int) -> None:
+    scratch = tmp_path / "tmp"
+    scratch.mkdir()
+    env = dict(os.environ, TMPDIR=str(scratch), XDG_CACHE_HOME=str(tmp_path / "cache"))
+    proc = subprocess.Popen([sys.executable, "-m", "lcchain", "report", "--out", str(tmp_path / "out")],
+                            cwd=tmp_path, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            preexec_fn=_as_from_a_terminal)
+    try:
+        children = _workers(proc)
+        proc.send_signal(signum)
+        _, err = proc.communicate(timeout=60)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+    assert proc.returncode == status, err.decode()
+    assert b"Traceback" not in err, err.decode()
+    left = [f"{pid} ({name})" for pid, name in children.items() if not _gone(pid)]
+    assert left == [], f"outlived the report: {left}"
+    assert not (tmp_path / "out").exists(), "an interrupted report wrote its page"
