@@ -17,7 +17,9 @@ from lcchain.report.build import report_rows
 from lcchain.report.figure_data import DesignRows
 from lcchain.report.paper_figures import FIGURES
 from lcchain.report.validation import paper_section
-from lcchain.studies.designs import BackgroundDesigns, design_row
+from lcchain.studies.background import Background, Task
+from lcchain.studies.designs import design_row, design_task
+from lcchain.studies.validation import check_jobs, installed_engines, run_check
 
 #: Seconds to wait for the pool's workers to start, and for them to die.
 START_TIMEOUT, DEATH_TIMEOUT = 120.0, 10.0
@@ -29,9 +31,9 @@ def _without_seconds(row: dict) -> dict:
 
 def test_a_row_designed_by_the_pool_is_the_row_designed_here() -> None:
     pairs = [("one-mass", 5), ("two-mass", 6), ("one-mass", 200), ("two-mass", 50)]
-    with BackgroundDesigns(pairs, workers=2) as designs:
+    with Background([design_task(*pair) for pair in pairs], workers=2) as designs:
         assert designs.workers == 2
-        pooled = {pair: designs.take(*pair) for pair in pairs}
+        pooled = {pair: designs.take(("row", *pair)) for pair in pairs}
     for pair in pairs:
         here = design_row(*pair)
         assert _without_seconds(pooled[pair]) == _without_seconds(here), pair
@@ -42,8 +44,8 @@ def test_rows_come_from_the_pool_into_the_cache(tmp_path: Path) -> None:
     pairs = [("one-mass", 7), ("two-mass", 8)]
     rows = DesignRows(tmp_path)
     assert rows.missing([*pairs, pairs[0]]) == pairs
-    with BackgroundDesigns(rows.missing(pairs), workers=2) as designs:
-        rows.design = designs.take
+    with Background([design_task(*pair) for pair in rows.missing(pairs)], workers=2) as designs:
+        rows.design = lambda case, N: designs.take(("row", case, N))
         taken = rows.rows("one-mass", [7]) + rows.rows("two-mass", [8])
     again = DesignRows(tmp_path)  # read back from the file the pool's rows were saved in
     assert again.missing(pairs) == []
@@ -116,3 +118,19 @@ def test_no_worker_outlives_an_interrupted_report(tmp_path: Path, signum: int, s
     left = [f"{pid} ({name})" for pid, name in children.items() if not _gone(pid)]
     assert left == [], f"outlived the report: {left}"
     assert not (tmp_path / "out").exists(), "an interrupted report wrote its page"
+
+
+@pytest.mark.ngspice
+def test_a_check_run_by_the_pool_is_the_check_run_here() -> None:
+    simulators = [s for s in installed_engines() if s.engine == "ngspice"]
+    jobs = [job for job in check_jobs(quick=True, simulators=simulators) if job.N <= 50]
+    assert any(job.chain is None for job in jobs) and len(jobs) >= 4
+    with Background([Task(i, job.cost, run_check, (job,)) for i, job in enumerate(jobs)], workers=2) as pool:
+        pooled = [pool.take(i) for i in range(len(jobs))]
+    for job, check in zip(jobs, pooled, strict=True):
+        here = run_check(job)
+        assert check.passed and here.passed, (check.reason, here.reason)
+        assert (check.name, check.max_abs_error, check.predicted_error, check.tolerance, check.dt) == \
+            (here.name, here.max_abs_error, here.predicted_error, here.tolerance, here.dt)
+        for key in ("t", "sim", "theory", "residual"):
+            assert check.curves[key].tobytes() == here.curves[key].tobytes(), (job.name, key)

@@ -57,7 +57,7 @@ def build_report(out: str | os.PathLike[str], circuit: Sequence[CircuitCheck], e
 
     ``rows`` gives the tables' rows (default: ``DesignRows(cache)``, designed here as they are read); the
     circuit's figures are drawn first, so that rows still being designed elsewhere
-    (:class:`lcchain.studies.designs.BackgroundDesigns`) are not waited for meanwhile.
+    (:class:`lcchain.studies.background.Background`) are not waited for meanwhile.
     """
     rows = rows if rows is not None else DesignRows(cache)
     figures: dict[str, bytes] = {}

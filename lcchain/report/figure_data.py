@@ -71,7 +71,7 @@ class DesignRows:
         ``progress(case, N, seconds)`` after each row computed (not after a row read from the cache).
     design : callable, optional
         ``design(case, N)`` returns a row not in the cache (default :func:`lcchain.studies.designs.design_row`,
-        here); :meth:`lcchain.studies.designs.BackgroundDesigns.take` gives the rows a process pool designs.
+        here); the report's gives the rows a process pool designs (:mod:`lcchain.studies.background`).
         Kept as the attribute ``design``, which may be set once the cache is read (:meth:`missing`).
     """
 
