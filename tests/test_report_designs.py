@@ -72,13 +72,19 @@ def _as_from_a_terminal() -> None:
     signal.signal(signal.SIGINT, signal.SIG_DFL)
 
 
+def _command_line(pid: int) -> bytes:
+    try:
+        return Path(f"/proc/{pid}/cmdline").read_bytes()
+    except OSError:  # gone meanwhile
+        return b""
+
+
 def _workers(proc: subprocess.Popen[bytes]) -> dict[int, str]:
-    """The report's children while its pool is up (two spawned Pythons designing rows, at least)."""
+    """The report's descendants once its pool is up (two spawned workers, and what they started)."""
     deadline = time.monotonic() + START_TIMEOUT
     while time.monotonic() < deadline:
         assert proc.poll() is None, proc.communicate()
-        below = descendants(proc.pid)
-        spawned = [pid for pid in below if b"multiprocessing" in Path(f"/proc/{pid}/cmdline").read_bytes()]
+        spawned = [pid for pid in descendants(proc.pid) if b"spawn_main" in _command_line(pid)]
         if len(spawned) >= 2:
             time.sleep(1.0)  # the workers take their first rows
             return descendants(proc.pid)
@@ -105,10 +111,13 @@ def test_no_worker_outlives_an_interrupted_report(tmp_path: Path, signum: int, s
     env = dict(os.environ, TMPDIR=str(scratch), XDG_CACHE_HOME=str(tmp_path / "cache"))
     proc = subprocess.Popen([sys.executable, "-m", "lcchain", "report", "--out", str(tmp_path / "out")],
                             cwd=tmp_path, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                            preexec_fn=_as_from_a_terminal)
+                            preexec_fn=_as_from_a_terminal, start_new_session=True)
     try:
         children = _workers(proc)
-        proc.send_signal(signum)
+        if signum == signal.SIGINT:  # as Ctrl-C in a terminal: to the whole foreground group, workers included
+            os.killpg(proc.pid, signum)
+        else:  # lcchain alone; its workers must die by their parent-death signal
+            proc.send_signal(signum)
         _, err = proc.communicate(timeout=60)
     finally:
         if proc.poll() is None:
