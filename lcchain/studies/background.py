@@ -6,9 +6,9 @@ the longest do not finish last, alone on one core; :meth:`Background.take` then 
 A result is the one computed here, bit for bit: the theory runs under a fixed BLAS thread limit in every process
 (:mod:`lcchain.core.blas`) and ngspice is deterministic.
 
-The pool's workers are those of the study executors (:mod:`.executors`): they ignore Ctrl-C and die with their
-parent, and their simulators die with them; leaving the block by an exception (an interrupt included), or with
-tasks nobody took, kills them rather than waiting.
+The pool's workers are those of the study executors (:mod:`.executors`): they ignore Ctrl-C from their start
+(they are started with it ignored) and die with their parent, and their simulators die with them; leaving the
+block by an exception (an interrupt included), or with tasks nobody took, kills them rather than waiting.
 """
 
 from __future__ import annotations
@@ -21,7 +21,7 @@ from dataclasses import dataclass
 from types import TracebackType
 from typing import Any
 
-from .executors import _die_with_parent, _kill_pool, default_workers
+from .executors import _die_with_parent, _interrupts_held, _kill_pool, default_workers
 
 __all__ = ["Task", "Background"]
 
@@ -55,11 +55,15 @@ class Background:
         self._pool: ProcessPoolExecutor | None = None
         if self.workers <= 1:
             return
-        self._pool = ProcessPoolExecutor(max_workers=self.workers, mp_context=multiprocessing.get_context("spawn"),
-                                         initializer=_die_with_parent, initargs=(os.getpid(),))
         try:
-            for task in sorted(self._tasks.values(), key=lambda task: -task.cost):
-                self._futures[task.key] = self._pool.submit(task.function, *task.args)
+            # the workers (started by the first submissions) inherit an ignored Ctrl-C from their first instant:
+            # a terminal's Ctrl-C reaches the whole group, and a worker still importing would print a traceback
+            with _interrupts_held():
+                self._pool = ProcessPoolExecutor(max_workers=self.workers, initializer=_die_with_parent,
+                                                 mp_context=multiprocessing.get_context("spawn"),
+                                                 initargs=(os.getpid(),))
+                for task in sorted(self._tasks.values(), key=lambda task: -task.cost):
+                    self._futures[task.key] = self._pool.submit(task.function, *task.args)
         except BaseException:
             self.close(finished=False)
             raise
