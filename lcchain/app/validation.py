@@ -1,4 +1,11 @@
-"""``lcchain report`` as a function: run the circuit's checks in ngspice, then render the whole report."""
+"""``lcchain report`` as a function: run the circuit's checks in every engine, then render the whole report.
+
+The checks and the rows of Tables I and II that are not in the cache (together most of a cold report's time)
+are independent: they are done on every core by one process pool (:class:`lcchain.studies.background.Background`),
+the longest first, while this process draws each check's figure and then the tables and the paper's figures as
+their rows arrive.  The pool is closed, its workers and their simulators gone, when the report is written or
+abandoned.
+"""
 
 from __future__ import annotations
 
@@ -7,20 +14,45 @@ import time
 from collections.abc import Callable
 from typing import Any
 
-from ..report.build import build_report
-from ..studies.validation import circuit_checks, installed_engines
+from ..core.types import DesignCase
+from ..report.build import build_report, report_rows
+from ..report.figure_data import DesignRows
+from ..studies.background import Background, Task
+from ..studies.designs import design_row, design_task
+from ..studies.validation import check_jobs, installed_engines, run_check
 
 __all__ = ["make_report"]
 
 
 def make_report(out: str | os.PathLike[str], *, quick: bool = False, cache: str | os.PathLike[str] | None = None,
                 progress: Callable[[int, int, str], None] | None = None,
-                command: str = "lcchain report") -> dict[str, Any]:
+                command: str = "lcchain report", workers: int | None = None) -> dict[str, Any]:
     """The validation report: every installed engine on the reference set
     (:func:`lcchain.studies.validation.circuit_checks`), then the paper's tables and figures and the page
-    (:func:`lcchain.report.build.build_report`) in ``out``."""
+    (:func:`lcchain.report.build.build_report`) in ``out``.
+
+    The checks, and the table rows not in ``cache``, are done by ``workers`` processes (default: one per core;
+    1 does them here, one after the other); the numbers are the same either way.
+    """
     start = time.perf_counter()
     simulators = installed_engines()
-    circuit = circuit_checks(quick=quick, progress=progress, simulators=simulators)
-    return build_report(out, circuit, {s.engine: s.version for s in simulators}, quick=quick, cache=cache,
-                        progress=progress, command=command, seconds=time.perf_counter() - start)
+    jobs = check_jobs(quick=quick, simulators=simulators)
+    rows = DesignRows(cache)
+    tasks = [Task(("check", i), job.cost, run_check, (job,)) for i, job in enumerate(jobs)]
+    tasks += [design_task(case, N) for case, N in rows.missing(report_rows(quick))]
+    with Background(tasks, workers) as background:
+
+        def design(case: DesignCase, N: int) -> dict[str, Any]:
+            key = ("row", case, N)
+            return background.take(key) if key in background else design_row(case, N)
+
+        rows.design = design
+        circuit = []
+        for i, job in enumerate(jobs):
+            if progress is not None:
+                progress(i, len(jobs), job.label or job.name)
+            circuit.append(background.take(("check", i)))
+        if progress is not None:
+            progress(len(jobs), len(jobs), "done")
+        return build_report(out, circuit, {s.engine: s.version for s in simulators}, quick=quick, cache=cache,
+                            progress=progress, command=command, seconds=time.perf_counter() - start, rows=rows)

@@ -7,15 +7,16 @@ from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
+from ..core.types import DesignCase
 from ..studies.validation import CircuitCheck
-from .figure_data import DesignRows
+from .figure_data import FULL_N, QUICK_N, DesignRows
 from .files import write_text
 from .html import figure_png, render_html, report_json
 from .paper_figures import FIGURES, make_figures
 from .plots import overlay
-from .validation import validation_report
+from .validation import QUICK_REPORT_N, REPORT_N, validation_report
 
-__all__ = ["build_figures", "build_report"]
+__all__ = ["build_figures", "build_report", "report_rows"]
 
 Progress = Callable[[int, int, str], None]
 
@@ -35,21 +36,39 @@ def _check_figure(check: Any) -> Any:
     return figure
 
 
+def report_rows(quick: bool = False) -> list[tuple[DesignCase, int]]:
+    """Every row of Tables I and II the report reads: its tables' (:data:`.validation.REPORT_N`, or
+    :data:`.validation.QUICK_REPORT_N`) and its figures' (:data:`.figure_data.FULL_N` or ``QUICK_N`` for both
+    cases, two-mass N = 20 and 100 for Fig. Pk20-100), each once; a row left out is designed when read."""
+    tables = QUICK_REPORT_N if quick else REPORT_N
+    figures = QUICK_N if quick else FULL_N
+    cases: tuple[DesignCase, ...] = ("one-mass", "two-mass")
+    pairs = [(case, N) for case in cases for N in tables[case]]
+    pairs += [(case, N) for case in cases for N in figures] + [("two-mass", 20), ("two-mass", 100)]
+    return list(dict.fromkeys(pairs))
+
+
 def build_report(out: str | os.PathLike[str], circuit: Sequence[CircuitCheck], engines: Mapping[str, str], *,
                  quick: bool = False, cache: str | os.PathLike[str] | None = None, progress: Progress | None = None,
-                 command: str = "lcchain report", seconds: float = 0.0) -> dict[str, Any]:
+                 command: str = "lcchain report", seconds: float = 0.0, rows: DesignRows | None = None
+                 ) -> dict[str, Any]:
     """Compute the paper's half of the validation report, render it with the circuit's runs (already made), then
-    write ``out/index.html`` and ``out/report.json``; return it as data."""
-    rows = DesignRows(cache)
-    report = validation_report(rows, circuit, engines, quick=quick, progress=progress, seconds=seconds)
+    write ``out/index.html`` and ``out/report.json``; return it as data.
+
+    ``rows`` gives the tables' rows (default: ``DesignRows(cache)``, designed here as they are read); the
+    circuit's figures are drawn first, so that rows still being designed elsewhere
+    (:class:`lcchain.studies.background.Background`) are not waited for meanwhile.
+    """
+    rows = rows if rows is not None else DesignRows(cache)
     figures: dict[str, bytes] = {}
+    for check in circuit:
+        if check.curves:
+            figures[f"check:{check.name}"] = figure_png(_check_figure(check), dpi=90)
+    report = validation_report(rows, circuit, engines, quick=quick, progress=progress, seconds=seconds)
     for i, paper_figure in enumerate(FIGURES):
         if progress is not None:
             progress(i, len(FIGURES), f"Fig. {paper_figure.label}")
         figures[f"paper:{paper_figure.label}"] = figure_png(paper_figure.build(rows, quick))
-    for check in report["circuit"]:
-        if check.curves:
-            figures[f"check:{check.name}"] = figure_png(_check_figure(check), dpi=90)
     if progress is not None:
         progress(len(FIGURES), len(FIGURES), "writing")
     page = render_html(report, figures, [(f.label, f.caption) for f in FIGURES], command=command)

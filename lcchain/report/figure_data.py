@@ -24,10 +24,11 @@ from ..circuit.ladder import Ladder
 from ..circuit.netlist import SimulationOptions, netlist_text
 from ..core import __version__
 from ..core.types import DEFAULT_C0, DEFAULT_L0, DesignCase
+from ..studies.designs import design_row
 from ..theory.asymptotic import EXPONENTS, asymptotic_amplitude, asymptotic_optimum
 from ..theory.cases import chain_for_case
 from ..theory.closed_form import closed_form_modes
-from ..theory.design import optimal_design, quartic_w
+from ..theory.design import quartic_w
 from ..theory.perfect import perfect_design
 from ..theory.response import linear_response
 from .files import write_text
@@ -69,13 +70,19 @@ class DesignRows:
         back instead of recomputed; None keeps rows in memory only.
     progress : callable, optional
         ``progress(case, N, seconds)`` after each row computed (not after a row read from the cache).
+    design : callable, optional
+        ``design(case, N)`` returns a row not in the cache (default :func:`lcchain.studies.designs.design_row`,
+        here); the report's gives the rows a process pool designs (:mod:`lcchain.studies.background`).
+        Kept as the attribute ``design``, which may be set once the cache is read (:meth:`missing`).
     """
 
     def __init__(self, cache: str | os.PathLike[str] | None = None,
-                 progress: Callable[[str, int, float], None] | None = None):
+                 progress: Callable[[str, int, float], None] | None = None,
+                 design: Callable[[DesignCase, int], dict[str, Any]] | None = None):
         self._path = Path(cache) / f"designs-{cache_key()}.json" if cache is not None else None
         self._rows: dict[str, dict[str, Any]] = {}
         self._progress = progress
+        self.design = design or design_row
         self.computed = 0
         if self._path is not None and self._path.is_file():
             try:
@@ -87,17 +94,16 @@ class DesignRows:
         """The design of (case, N) as ``lcchain table --json`` prints it, with its computing time."""
         key = f"{case}:{N}"
         if key not in self._rows:
-            import time
-
-            start = time.perf_counter()
-            row = optimal_design(case, N).to_dict()  # type: ignore[arg-type]
-            seconds = time.perf_counter() - start
-            self._rows[key] = {**row, "seconds": seconds}
+            self._rows[key] = self.design(case, N)  # type: ignore[arg-type]
             self.computed += 1
             if self._progress is not None:
-                self._progress(case, N, seconds)
+                self._progress(case, N, self._rows[key]["seconds"])
             self._save()
         return self._rows[key]
+
+    def missing(self, pairs: Iterable[tuple[DesignCase, int]]) -> list[tuple[DesignCase, int]]:
+        """The (case, N) of ``pairs`` neither computed nor in the cache, in their order, each once."""
+        return list(dict.fromkeys(pair for pair in pairs if f"{pair[0]}:{pair[1]}" not in self._rows))
 
     def rows(self, case: str, Ns: Iterable[int]) -> list[dict[str, Any]]:
         return [self.row(case, N) for N in Ns]

@@ -9,10 +9,11 @@ ngspice handling of its own.
 from __future__ import annotations
 
 import inspect
+import math
 import os
 import threading
 import time
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from typing import Any
@@ -45,7 +46,8 @@ from .spec import DEFAULT_TIMEOUT, RunSpec
 #: ngspice runs of one extrapolation executed at once (each is single-threaded; never more than the cores).
 MEMBER_THREADS = 2
 
-__all__ = ["SimulationReport", "Extrapolation", "SimulationRuns", "simulate", "simulation_runs", "simulation_spec"]
+__all__ = ["SimulationReport", "Extrapolation", "SimulationRuns", "simulate", "simulation_runs", "simulation_spec",
+           "simulator_wall_time"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -114,8 +116,13 @@ class SimulationReport:
         Dimensionless end signals.
     comparison : Comparison
     timings : Mapping[str, float]
-        Seconds spent choosing the step and writing the netlist, in ngspice,
-        in the whole run call, comparing, and in total.
+        Seconds: ``netlist_and_modes_s`` choosing the step and writing the netlist; ``simulator_s`` the
+        simulator processes' wall times summed (members of an extrapolation run two at a time, so this may
+        exceed the time they took); ``simulator_wall_s`` the wall time during which at least one simulator
+        process ran (:func:`simulator_wall_time`); ``execute_s`` running and comparing the runs;
+        ``combine_s`` combining an extrapolation's members; ``total_s`` the whole call; ``overhead_s``
+        lcchain's own wall time, ``total_s - simulator_wall_s``, never negative, and ``overhead_fraction``
+        that over ``simulator_wall_s``.
     accuracy : float or None
         Requested accuracy (None when dt was given).
     predicted_error, integration_error, physics_error : float or None
@@ -188,14 +195,32 @@ class SimulationReport:
         }
 
 
+def simulator_wall_time(runs: Sequence[tuple[float, float]]) -> float:
+    """Seconds during which at least one of ``runs`` was running: the length of the union of the intervals
+    ``[start, start + wall_s]``, each run given as ``(start, wall_s)`` (``time.perf_counter()`` when its
+    ``execute`` began, and its simulator's process wall time).  The few microseconds ``execute`` spends before
+    the process starts are counted as the simulator's; the union lies within the runs' ``execute`` calls, so
+    the whole call's time minus it is never negative."""
+    total, reached = 0.0, -math.inf
+    for start, wall_s in sorted(runs):
+        end = start + wall_s
+        if end > reached:
+            total += end - max(start, reached)
+            reached = end
+    return total
+
+
 class _Cancelled(BaseException):
     """Raised in a member's progress callback to stop its ngspice when another member failed or was interrupted."""
 
 
 @fixed_blas_threads  # held by this thread while the members' threads compute: one BLAS limit throughout
 def _execute_members(specs: list[RunSpec], steps: tuple[float, ...], simulator: Simulator | None,
-                     progress: Callable[[float], None] | None) -> list[RunRecord]:
+                     progress: Callable[[float], None] | None,
+                     starts: list[float] | None = None) -> list[RunRecord]:
     """Execute the runs of an extrapolation, two at a time where the machine has the cores (batch backend).
+
+    ``starts``, if given, receives each run's ``time.perf_counter()`` as its ``execute`` began, in the runs' order.
 
     The finest run (the longest) starts first; the others follow on the second thread.  If one fails or the
     caller is interrupted, the others are stopped from their progress callbacks (their ngspice groups are
@@ -217,7 +242,12 @@ def _execute_members(specs: list[RunSpec], steps: tuple[float, ...], simulator: 
                     progress(sum(w * f for w, f in zip(weights, fractions, strict=True)) / sum(weights))
         return report
 
+    if starts is not None:
+        starts[:] = [0.0] * runs
+
     def one(i: int) -> RunRecord:
+        if starts is not None:
+            starts[i] = time.perf_counter()
         record = execute(specs[i], simulator, progress=watcher(i))
         if record.status != "ok":
             where = f" (the run at dt = {steps[i]:.4g}, {i + 1} of {runs})" if runs > 1 else ""
@@ -434,7 +464,8 @@ def simulate(
         for member in planned.specs:
             on_spec(member)
     built = time.perf_counter()
-    records = _execute_members(list(planned.specs), steps, simulator, progress)
+    starts: list[float] = []
+    records = _execute_members(list(planned.specs), steps, simulator, progress, starts)
     done = time.perf_counter()
     first = records[0]
     assert first.result is not None and first.signals is not None and first.metrics is not None
@@ -455,15 +486,18 @@ def simulate(
                                       combined.digest)
     compared = time.perf_counter()
     simulator_s = sum(r.result.wall_s for r in records if r.result is not None)
+    simulating_s = simulator_wall_time([(start, r.result.wall_s if r.result is not None else 0.0)
+                                        for start, r in zip(starts, records, strict=True)])
     timings = {
         "netlist_and_modes_s": built - clock,
         "simulator_s": simulator_s,
+        "simulator_wall_s": simulating_s,
         "execute_s": done - built,
         "combine_s": compared - done,
         "total_s": compared - clock,
     }
-    timings["overhead_s"] = timings["total_s"] - simulator_s
-    timings["overhead_fraction"] = timings["overhead_s"] / simulator_s
+    timings["overhead_s"] = timings["total_s"] - simulating_s
+    timings["overhead_fraction"] = timings["overhead_s"] / simulating_s
     request = planned.request
     assert request is not None
     return SimulationReport(planned.ladder.chain, ladder, options, request.drive.kind, request.analysis.transits,

@@ -24,8 +24,8 @@ from ..spice.engines import DEFAULT_ENGINE, ENGINES, find_engine
 from ..spice.simulator import Simulator
 from ..theory.chain import Chain
 
-__all__ = ["CircuitCheck", "circuit_checks", "installed_engines", "LOSSES_AND_WALLS_SCENE", "PREDICTION_FACTOR",
-           "ERROR_FLOOR"]
+__all__ = ["CircuitCheck", "CheckJob", "check_jobs", "run_check", "circuit_checks", "installed_engines",
+           "LOSSES_AND_WALLS_SCENE", "PREDICTION_FACTOR", "ERROR_FLOOR"]
 
 #: A fixed-step run passes when its error is below this multiple of the trapezoidal error model's prediction
 #: (plus a floor for ngspice's own rounding); the model is exact to a few per cent (benchmarks/accuracy.md).
@@ -117,47 +117,83 @@ def installed_engines() -> list[Simulator]:
     return found
 
 
-def circuit_checks(*, quick: bool = False, progress: Callable[[int, int, str], None] | None = None,
-                   simulators: Sequence[Simulator] | None = None) -> list[CircuitCheck]:
-    """Each engine against theory: every reference netlist's chain with a kick and with a displacement
-    (dt = 0.05, one transit), then :data:`LOSSES_AND_WALLS_SCENE`, in every engine installed
-    (:func:`installed_engines`) or those given.  ``quick`` leaves out the displacement runs of N = 1000."""
+@dataclass(frozen=True)
+class CheckJob:
+    """One circuit check to run (:func:`run_check`): a reference chain with an excitation at
+    :data:`~lcchain.circuit.reference.REFERENCE_DT`, or (``chain`` None) :data:`LOSSES_AND_WALLS_SCENE`; frozen
+    and picklable, so that it may run in another process."""
+
+    name: str
+    what: str
+    N: int
+    excitation: Excitation
+    chain: Chain | None
+    simulator: Simulator
+    label: str = ""  #: what progress says while it runs (default: its name)
+
+    @property
+    def cost(self) -> float:
+        """Rough seconds it takes, for the order checks are sent to a pool in (measured: ngspice about 7 s at
+        N = 1000 with one transit at dt = 0.05, gnucap about twice that, both quadratic in N)."""
+        per_million = 7.0 if self.simulator.engine == "ngspice" else 16.0
+        return per_million * (self.N / 1000.0) ** 2 + 0.05
+
+
+def check_jobs(*, quick: bool = False, simulators: Sequence[Simulator] | None = None) -> list[CheckJob]:
+    """The checks of :func:`circuit_checks`, in its order, each engine's after the one before."""
     simulators = list(simulators) if simulators is not None else installed_engines()
-    jobs: list[tuple[str, str, Chain, Excitation]] = []
+    references: list[tuple[str, str, Chain, Excitation]] = []
     for reference in REFERENCE_SET:
         chain = reference_chain(reference)
         for excitation in EXCITATIONS:
             if quick and excitation == "displacement" and chain.N >= 1000:
                 continue
             what = f"{reference.case}, N = {reference.N}"
-            jobs.append((f"{reference.name.removesuffix('.cir')} {excitation}", what, chain, excitation))
-    total = (len(jobs) + 1) * len(simulators)
-    checks = []
-    done = 0
+            references.append((f"{reference.name.removesuffix('.cir')} {excitation}", what, chain, excitation))
+    jobs = []
     for simulator in simulators:
-        engine = simulator.engine
-        suffix = "" if engine == DEFAULT_ENGINE else f" ({engine})"
-        for name, what, chain, excitation in jobs:
-            if progress is not None:
-                progress(done, total, name + suffix)
-            done += 1
-            try:
-                report = simulate(chain, dt=REFERENCE_DT, excitation=excitation, simulator=simulator, engine=engine)
-                checks.append(_check(name + suffix, what, chain.N, excitation, REFERENCE_DT, report.record,
-                                     _fixed_step_tolerance, engine=engine))
-            except SimulationError as error:
-                checks.append(_check(name + suffix, what, chain.N, excitation, REFERENCE_DT, None,
-                                     _fixed_step_tolerance, str(error), engine=engine))
+        suffix = "" if simulator.engine == DEFAULT_ENGINE else f" ({simulator.engine})"
+        jobs += [CheckJob(name + suffix, what, chain.N, excitation, chain, simulator)
+                 for name, what, chain, excitation in references]
+        jobs.append(CheckJob("two-mass-N50 walls+losses kick" + suffix, "two-mass, N = 50, walls K0 = 0.01, Q = 300",
+                             50, "kick", None, simulator, "scene with losses and walls" + suffix))
+    return jobs
+
+
+def run_check(job: CheckJob) -> CircuitCheck:
+    """Run one check in its engine and judge it against the theory."""
+    engine = job.simulator.engine
+    if job.chain is not None:
+        try:
+            report = simulate(job.chain, dt=REFERENCE_DT, excitation=job.excitation, simulator=job.simulator,
+                              engine=engine)
+            return _check(job.name, job.what, job.N, job.excitation, REFERENCE_DT, report.record,
+                          _fixed_step_tolerance, engine=engine)
+        except SimulationError as error:
+            return _check(job.name, job.what, job.N, job.excitation, REFERENCE_DT, None, _fixed_step_tolerance,
+                          str(error), engine=engine)
+    data = dict(LOSSES_AND_WALLS_SCENE, analysis={**LOSSES_AND_WALLS_SCENE["analysis"], "engine": engine})
+    scene = parse_scene(data, source="the report's scene")
+    result = simulate_scene(scene, simulator=job.simulator)
+    sample = result.samples[0] if result.samples else None
+    return _check(job.name, job.what, job.N, job.excitation, result.report.get("dt"),
+                  sample.run if sample is not None else None, _scene_tolerance, engine=engine)
+
+
+def circuit_checks(*, quick: bool = False, progress: Callable[[int, int, str], None] | None = None,
+                   simulators: Sequence[Simulator] | None = None) -> list[CircuitCheck]:
+    """Each engine against theory: every reference netlist's chain with a kick and with a displacement
+    (dt = 0.05, one transit), then :data:`LOSSES_AND_WALLS_SCENE`, in every engine installed
+    (:func:`installed_engines`) or those given.  ``quick`` leaves out the displacement runs of N = 1000.
+
+    The checks are :func:`check_jobs`, run one after the other by :func:`run_check`.
+    """
+    jobs = check_jobs(quick=quick, simulators=simulators)
+    checks = []
+    for done, job in enumerate(jobs):
         if progress is not None:
-            progress(done, total, "scene with losses and walls" + suffix)
-        done += 1
-        data = dict(LOSSES_AND_WALLS_SCENE, analysis={**LOSSES_AND_WALLS_SCENE["analysis"], "engine": engine})
-        scene = parse_scene(data, source="the report's scene")
-        result = simulate_scene(scene, simulator=simulator)
-        sample = result.samples[0] if result.samples else None
-        checks.append(_check("two-mass-N50 walls+losses kick" + suffix, "two-mass, N = 50, walls K0 = 0.01, Q = 300",
-                             50, "kick", result.report.get("dt"), sample.run if sample is not None else None,
-                             _scene_tolerance, engine=engine))
+            progress(done, len(jobs), job.label or job.name)
+        checks.append(run_check(job))
     if progress is not None:
-        progress(total, total, "done")
+        progress(len(jobs), len(jobs), "done")
     return checks
