@@ -75,7 +75,7 @@ from ..runs.execute import RunRecord, waveform_digest
 from ..spice.engines import DEFAULT_ENGINE
 from ..spice.inputs import file_kind
 
-__all__ = ["Store", "StoredRun", "StoreMode", "FORMAT", "engine_text", "engine_of"]
+__all__ = ["Store", "StoredRun", "StoreMode", "FORMAT", "engine_text", "engine_of", "study_axes"]
 
 #: Version of the store's tables.
 FORMAT = "1"
@@ -195,6 +195,17 @@ class StoredRun:
         if self.status in ("failed", "timeout"):
             data["error"] = self.reason + (f"\n{self.engine} said:\n{self.log_tail}" if self.log_tail else "")
         return data
+
+
+def study_axes(runs: list[StoredRun]) -> list[str]:
+    """The parameters that vary across the study's tasks, in the plan's order (a constant one is no axis: every
+    run shares it). A study of a single task has no axes."""
+    values: dict[str, set[str]] = {}
+    for run in runs:
+        for key, value in run.params.items():
+            values.setdefault(key, set()).add(repr(value))
+    keys = list(dict.fromkeys(key for run in runs for key in run.params))
+    return [key for key in keys if len(values[key]) > 1 or any(key not in run.params for run in runs)]
 
 
 def _number(value: Any) -> float:
@@ -731,8 +742,6 @@ class Store:
 
         xarray is optional: ``pip install 'lcchain[data]'``.
         """
-        from .summary import study_axes
-
         _optional("xarray")
         results = [run for run in self.runs() if not run.member]
         axes = [key for key in study_axes(results) if all(key in run.params for run in results)]

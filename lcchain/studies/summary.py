@@ -19,7 +19,7 @@ import numpy as np
 
 from ..core.checks import choice
 from ..core.errors import ParameterError
-from .store import StoredRun
+from .store import StoredRun, study_axes
 
 __all__ = ["Group", "peak_groups", "METRICS", "available_metrics", "study_axes", "study_constants",
            "check_metric"]
@@ -96,17 +96,6 @@ def check_metric(metric: str, runs: list[StoredRun], option: str = "--metric") -
     raise ParameterError(option, metric, f"a store of runs with a theory to compare with; its {len(finished)} "
                          "finished runs have none (a batch of netlists: `lcchain results STORE` shows each one's "
                          "vectors, points and time)")
-
-
-def study_axes(runs: list[StoredRun]) -> list[str]:
-    """The parameters that vary across the study's tasks, in the plan's order (a constant one is no axis: every
-    run shares it). A study of a single task has no axes."""
-    values: dict[str, set[str]] = {}
-    for run in runs:
-        for key, value in run.params.items():
-            values.setdefault(key, set()).add(repr(value))
-    keys = list(dict.fromkeys(key for run in runs for key in run.params))
-    return [key for key in keys if len(values[key]) > 1 or any(key not in run.params for run in runs)]
 
 
 def study_constants(runs: list[StoredRun]) -> dict[str, Any]:
