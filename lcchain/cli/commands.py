@@ -283,8 +283,12 @@ def cmd_simulate(args: argparse.Namespace) -> int:
         emit_json(data)
     else:
         coupled = f", coils coupled k = {chain.coupling:g}" if chain.coupled else ""
+        runs = data["extrapolation"]["runs"]
+        simulated = (f"{data['points']} points in {data['timings']['simulator_wall_s']:.3f} s of wall time "
+                     f"({data['wall_s']:.3f} s summed over its {runs} runs)" if runs > 1
+                     else f"{data['points']} points in {data['wall_s']:.3f} s")
         print(f"{chain.name} chain, N = {chain.N}{coupled}: {data['engine']} {data['engine_version']} "
-              f"({data['backend']}), {data['points']} points in {data['wall_s']:.3f} s")
+              f"({data['backend']}), {simulated}")
         extrapolation = data["extrapolation"]
         if extrapolation["runs"] > 1:
             _print_extrapolation(extrapolation)
