@@ -7,6 +7,7 @@ worker, and nothing may outlive a study.
 
 from __future__ import annotations
 
+import json
 import os
 import signal
 import sqlite3
@@ -233,3 +234,18 @@ def test_nothing_outlives_an_interrupted_batch(tmp_path: Path, transport: str) -
     while any(alive(pid) for pid in everything) and time.monotonic() < deadline:
         time.sleep(0.05)
     assert not any(alive(pid) for pid in everything), f"outlived lcchain: {everything}"
+
+
+def test_a_scene_run_on_workers_takes_the_transport(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    from lcchain.cli.main import main
+
+    scene = tmp_path / "s.toml"
+    scene.write_text('[chain]\ncase = "two-mass"\nN = 10\n[effects.tolerance]\nL = 0.05\nC = 0.05\nsamples = 4\n'
+                     'seed = 3\n[analysis]\ndt = 0.05\n')
+    digests = {}
+    for transport in ("process", "warm"):
+        capsys.readouterr()
+        assert main(["run", str(scene), "--workers", "2", "--transport", transport, "--json"]) == 0
+        digests[transport] = [sample["digest"] for sample in json.loads(capsys.readouterr().out)["samples"]]
+    assert len(digests["process"]) == 4 and digests["process"] == digests["warm"]
+    assert _workers() == []

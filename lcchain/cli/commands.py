@@ -461,7 +461,8 @@ def _scene_in_parallel(scene: Any, args: argparse.Namespace, budget: Any, label:
     plan = scene_plan(scene, budget)
     specs = scene_specs(scene, plan)
     records = run_specs(specs, executor="process" if args.executor == "serial" else args.executor,
-                        workers=args.workers, scheduler=args.scheduler, progress=study_progress(f"samples of {label}"))
+                        workers=args.workers, scheduler=args.scheduler, progress=study_progress(f"samples of {label}"),
+                        transport=args.transport)
     return scene_result(scene, plan, specs, records, time.perf_counter() - start)
 
 

@@ -66,7 +66,7 @@ def add_study_arguments(p: argparse.ArgumentParser, *, store: bool = True) -> No
     p.add_argument("--transport", choices=TRANSPORT_CHOICES, default="auto",
                    help="how each ngspice run starts: auto (short runs in warm shared-library workers, when there "
                         "are enough of them), process (one ngspice -b each) or warm (every run that can); "
-                        "results are the same")
+                        "results are the same (lcchain run: with --workers)")
     p.add_argument("--timeout", type=float, default=3600.0, metavar="S",
                    help="seconds before a run's ngspice is killed (its record says timeout; default 3600)")
 

@@ -39,7 +39,7 @@ from .executors import (
     open_executor,
     run_groups,
 )
-from .plan import Combination, Plan
+from .plan import Combination, Plan, _seconds
 from .store import Store, engine_text
 
 __all__ = ["Summary", "Progress", "run_plan", "run_specs"]
@@ -241,18 +241,22 @@ class _Combiner:
 
 def run_specs(specs: Sequence[RunSpec], *, executor: str = "process", workers: int | None = None,
               scheduler: str | None = None, simulator: Simulator | None = None,
-              progress: Callable[[Progress], None] | None = None, verbose: bool = False) -> list[RunRecord]:
-    """Run specs on an executor without a store; the records come back in the specs' order, signals kept."""
+              progress: Callable[[Progress], None] | None = None, verbose: bool = False,
+              transport: str = "auto") -> list[RunRecord]:
+    """Run specs on an executor without a store; the records come back in the specs' order, signals kept.
+    ``transport`` as for :func:`run_plan` (runs with a theory are priced by it; others count as long)."""
     start = time.perf_counter()
     if not specs:
         return []
     simulator = simulator if simulator is not None else find_engine(specs[0].engine, specs[0].backend)
     workers = workers or default_workers()
-    items = [(i, spec, 1.0) for i, spec in enumerate(specs)]
+    check_transport(transport)
+    items = [(i, spec, _seconds(spec) if spec.theory is not None else 1.0) for i, spec in enumerate(specs)]
+    transports = choose_transports(items, simulator, workers, transport)
     records: dict[int, RunRecord] = {}
     failed = 0
     for group in run_groups(group_tasks(items, executor, workers), simulator, executor=executor, workers=workers,
-                            scheduler=scheduler, keep_signals=True, verbose=verbose):
+                            scheduler=scheduler, keep_signals=True, verbose=verbose, transports=transports):
         for index, record in group:
             records[index] = record
             failed += not record.ok
