@@ -236,9 +236,11 @@ def test_nothing_outlives_an_interrupted_batch(tmp_path: Path, transport: str) -
     assert not any(alive(pid) for pid in everything), f"outlived lcchain: {everything}"
 
 
-def test_a_scene_run_on_workers_takes_the_transport(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+def test_a_scene_run_on_workers_takes_the_transport(tmp_path: Path, capsys: pytest.CaptureFixture[str],
+                                                    monkeypatch: pytest.MonkeyPatch) -> None:
     from lcchain.cli.main import main
 
+    monkeypatch.chdir(tmp_path)  # the scene's default plot is written here
     scene = tmp_path / "s.toml"
     scene.write_text('[chain]\ncase = "two-mass"\nN = 10\n[effects.tolerance]\nL = 0.05\nC = 0.05\nsamples = 4\n'
                      'seed = 3\n[analysis]\ndt = 0.05\n')
