@@ -267,6 +267,7 @@ def _stop(processes: list[subprocess.Popen[bytes]]) -> None:
             proc.wait()
 
 
+@pytest.mark.slow  # 40 s: a cluster of its own, and a worker killed and replaced
 def test_an_existing_cluster_runs_the_study_and_survives_a_killed_worker(serial_store: Path, tmp_path: Path) -> None:
     port = _free_port()
     address = f"tcp://127.0.0.1:{port}"
