@@ -68,3 +68,20 @@ def test_a_sweep_table_shows_its_axes_and_a_plot_no_rows(tmp_path: Path, capsys:
     assert main(["results", str(store), "--plot", str(tmp_path / "s.png")]) == 0
     out = capsys.readouterr().out
     assert len(out.splitlines()) == 1 and "s.png" in out and (tmp_path / "s.png").stat().st_size > 10_000
+
+
+def test_the_axes_are_what_every_point_varies_by() -> None:
+    """A real-parts sweep whose N = 200 points were extrapolated: their dt and runs are no axes (the summary had
+    blank dt and runs columns, the figure empty panels titled 'dt = None, runs = None')."""
+    from lcchain.studies.store import StoredRun, study_axes
+    from lcchain.studies.summary import study_constants
+
+    def run(index: int, **params: object) -> StoredRun:
+        return StoredRun(index, f"k{index}", dict(params), "", "ok")
+
+    runs = [run(0, case="perfect", N=50, sample=1, transits=1), run(1, case="perfect", N=50, sample=2, transits=1),
+            run(2, case="perfect", N=200, sample=1, transits=1, dt=0.5, member=1),
+            run(3, case="perfect", N=200, sample=1, transits=1, dt=0.25, member=2),
+            run(4, case="perfect", N=200, sample=1, transits=1, dt=0.5, runs=2)]
+    assert study_axes(runs) == ["N", "sample"]
+    assert study_constants(runs) == {"case": "perfect", "transits": 1}

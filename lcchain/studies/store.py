@@ -198,14 +198,15 @@ class StoredRun:
 
 
 def study_axes(runs: list[StoredRun]) -> list[str]:
-    """The parameters that vary across the study's tasks, in the plan's order (a constant one is no axis: every
-    run shares it). A study of a single task has no axes."""
+    """The parameters that vary across the study's tasks, in the plan's order. A constant one is no axis (every
+    run shares it), nor one only some tasks have (an extrapolation's ``dt`` and ``runs`` where other points
+    ran once, a member's ``member``). A study of a single task has no axes."""
     values: dict[str, set[str]] = {}
     for run in runs:
         for key, value in run.params.items():
             values.setdefault(key, set()).add(repr(value))
     keys = list(dict.fromkeys(key for run in runs for key in run.params))
-    return [key for key in keys if len(values[key]) > 1 or any(key not in run.params for run in runs)]
+    return [key for key in keys if len(values[key]) > 1 and all(key in run.params for run in runs)]
 
 
 def _number(value: Any) -> float:

@@ -103,7 +103,8 @@ def study_constants(runs: list[StoredRun]) -> dict[str, Any]:
     runs = [run for run in runs if not run.member]
     axes = set(study_axes(runs))
     keys = list(dict.fromkeys(key for run in runs for key in run.params))
-    return {key: runs[0].params[key] for key in keys if key not in axes} if runs else {}
+    return {key: runs[0].params[key] for key in keys
+            if key not in axes and all(key in run.params for run in runs)} if runs else {}
 
 
 def peak_groups(runs: list[StoredRun], metric: str = "peak") -> list[Group]:
