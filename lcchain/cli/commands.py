@@ -30,7 +30,7 @@ from .common import (
     echoed_command,
     emit_json,
 )
-from .progress import Progress, counter, fraction
+from .progress import Progress, counter, fraction, study_counter
 
 __all__ = ["cmd_design", "cmd_table", "cmd_asymptotic", "cmd_netlist", "cmd_reference_netlists", "cmd_simulate",
            "cmd_run", "cmd_bench_accuracy", "cmd_doctor", "DEFAULT_DT"]
@@ -455,13 +455,12 @@ def _scene_in_parallel(scene: Any, args: argparse.Namespace, budget: Any, label:
     from ..scenes.plan import scene_plan, scene_specs
     from ..scenes.run import scene_result
     from ..studies.run import run_specs
-    from .studies import study_progress
 
     start = time.perf_counter()
     plan = scene_plan(scene, budget)
     specs = scene_specs(scene, plan)
     records = run_specs(specs, executor="process" if args.executor == "serial" else args.executor,
-                        workers=args.workers, scheduler=args.scheduler, progress=study_progress(f"samples of {label}"),
+                        workers=args.workers, scheduler=args.scheduler, progress=study_counter(f"samples of {label}"),
                         transport=args.transport)
     return scene_result(scene, plan, specs, records, time.perf_counter() - start)
 

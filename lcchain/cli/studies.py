@@ -19,7 +19,7 @@ from ..spice.engines import DEFAULT_ENGINE, ENGINES
 from .common import EXIT_FAILED, EXIT_OK, Outputs, budget_from_args, emit_json, int_list
 from .progress import study_counter
 
-__all__ = ["cmd_sweep", "cmd_batch", "cmd_results", "add_study_arguments", "study_progress"]
+__all__ = ["cmd_sweep", "cmd_batch", "cmd_results", "add_study_arguments"]
 
 STORE_FORMATS = ("sqlite", "sqlite3", "db")
 
@@ -102,11 +102,6 @@ def add_sweep_arguments(p: argparse.ArgumentParser) -> None:
     add_study_arguments(p)
 
 
-def study_progress(what: str) -> Callable[[Any], None]:
-    """Progress of a study, in the one style of :mod:`lcchain.cli.progress`."""
-    return study_counter(what)
-
-
 #: Loggers of Dask and the libraries under it: their records reach the terminal only with -v.
 _DASK_LOGGERS = ("distributed", "dask", "tornado", "bokeh", "asyncio")
 
@@ -167,7 +162,7 @@ def _run(args: argparse.Namespace, plan: Any, outputs: Outputs) -> int:
     verbose = bool(getattr(args, "verbose", False))
     with _dask_quiet(verbose):
         summary = run_plan(plan, args.store, executor=args.executor, workers=workers, scheduler=args.scheduler,
-                           progress=study_progress("runs"), on_resume=resumed, retry_failed=args.retry_failed,
+                           progress=study_counter("runs"), on_resume=resumed, retry_failed=args.retry_failed,
                            wait=args.wait, on_wait=waiting, verbose=verbose, transport=args.transport)
     if args.json:
         emit_json(summary.to_dict())
@@ -381,39 +376,38 @@ def cmd_results(args: argparse.Namespace) -> int:
         _require("pyarrow", "--parquet")
     with Store(args.store, "read", option="STORE") as store:  # read-only: nothing is created or changed
         stored = store.runs()
+        if args.summary or args.plot:
+            _check_metric(args.metric, stored)  # before any file is written
         if args.netcdf:
             dataset = store.to_xarray(waveforms=args.waveforms)
             outputs.write("--netcdf", lambda path: _write_netcdf(dataset, path))
         if args.parquet:
             frame = store.to_dataframe()
             outputs.write("--parquet", lambda path: _write_atomic(path, frame.to_parquet))
-        runs = [run.to_dict() for run in stored]
-        if args.summary or args.plot:
-            _check_metric(args.metric, stored)
         if args.plot:
             from ..report.files import save_figure
             from ..report.studies import study_figure
 
             figure = study_figure(store, args.metric)
             outputs.write("--plot", lambda path: save_figure(figure, path, dpi=150))
-    if args.summary:
-        _print_summary(stored, args)
-    elif args.json:
-        emit_json(runs)
-    elif args.csv:
-        rows = [_flat(run) for run in runs]
-        columns = list(dict.fromkeys(key for row in rows for key in row))
-        text = io.StringIO()
-        writer = csv.DictWriter(text, fieldnames=columns, lineterminator="\n")
-        writer.writeheader()
-        writer.writerows(rows)
-        sys.stdout.write(text.getvalue())
-    elif args.plot or args.netcdf or args.parquet:  # the files are what was asked for: not a table of every run
-        written = [path for option, path in (("--plot", args.plot), ("--netcdf", args.netcdf),
-                                              ("--parquet", args.parquet)) if path and option not in outputs.failed]
-        if written:
-            print(f"{args.store}: {len(stored)} runs written to {', '.join(written)}")
-    else:
-        with Store(args.store, "read", option="STORE") as store:
+        runs = [run.to_dict() for run in stored]
+        if args.summary:
+            _print_summary(stored, args)
+        elif args.json:
+            emit_json(runs)
+        elif args.csv:
+            rows = [_flat(run) for run in runs]
+            columns = list(dict.fromkeys(key for row in rows for key in row))
+            text = io.StringIO()
+            writer = csv.DictWriter(text, fieldnames=columns, lineterminator="\n")
+            writer.writeheader()
+            writer.writerows(rows)
+            sys.stdout.write(text.getvalue())
+        elif args.plot or args.netcdf or args.parquet:  # the files are what was asked for: not every run
+            written = [path for option, path in (("--plot", args.plot), ("--netcdf", args.netcdf),
+                                                  ("--parquet", args.parquet)) if path and option not in outputs.failed]
+            if written:
+                print(f"{args.store}: {len(stored)} runs written to {', '.join(written)}")
+        else:
             _print_runs(store, stored, args.store)
     return EXIT_FAILED if outputs.failed else EXIT_OK

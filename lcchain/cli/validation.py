@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-from collections.abc import Callable
 from typing import Any
 
 from .common import EXIT_FAILED, EXIT_OK
@@ -33,11 +32,6 @@ def add_report_arguments(p: argparse.ArgumentParser) -> None:
     _add_cache(p)
 
 
-def _progress(what: str) -> Callable[[int, int, str], None]:
-    """The one progress style (:mod:`lcchain.cli.progress`); a label's first word is its phase."""
-    return counter(what)
-
-
 def _cache(args: argparse.Namespace) -> Any:
     from ..report.figure_data import default_cache_dir
 
@@ -50,7 +44,7 @@ def cmd_figures(args: argparse.Namespace) -> int:
 
     check_output_folder("--out", args.out)
     paths = build_figures(args.out, quick=args.quick, fmt=args.format, cache=_cache(args),
-                          progress=_progress("figures"))
+                          progress=counter("figures"))
     for path in paths:
         print(path)
     return EXIT_OK
@@ -62,7 +56,7 @@ def cmd_report(args: argparse.Namespace) -> int:
 
     check_output_folder("--out", args.out)
     command = "lcchain report" + (" --quick" if args.quick else "")
-    report = make_report(args.out, quick=args.quick, cache=_cache(args), progress=_progress("report"),
+    report = make_report(args.out, quick=args.quick, cache=_cache(args), progress=counter("report"),
                          command=command)
     checks = report["checks"]
     failed = [c for c in checks if not c["passed"]]
