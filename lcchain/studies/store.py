@@ -75,7 +75,7 @@ from ..runs.execute import RunRecord, waveform_digest
 from ..spice.engines import DEFAULT_ENGINE
 from ..spice.inputs import file_kind
 
-__all__ = ["Store", "StoredRun", "StoreMode", "FORMAT", "engine_text", "engine_of", "study_axes"]
+__all__ = ["Store", "StoredRun", "StoreMode", "FORMAT", "engine_text", "engine_of", "study_axes", "study_constants"]
 
 #: Version of the store's tables.
 FORMAT = "1"
@@ -207,6 +207,15 @@ def study_axes(runs: list[StoredRun]) -> list[str]:
             values.setdefault(key, set()).add(repr(value))
     keys = list(dict.fromkeys(key for run in runs for key in run.params))
     return [key for key in keys if len(values[key]) > 1 and all(key in run.params for run in runs)]
+
+
+def study_constants(runs: list[StoredRun]) -> dict[str, Any]:
+    """The parameters every task (extrapolation members aside) shares, with their one value."""
+    runs = [run for run in runs if not run.member]
+    axes = set(study_axes(runs))
+    keys = list(dict.fromkeys(key for run in runs for key in run.params))
+    return {key: runs[0].params[key] for key in keys
+            if key not in axes and all(key in run.params for run in runs)} if runs else {}
 
 
 def _number(value: Any) -> float:
@@ -724,7 +733,7 @@ class Store:
         as columns, then kind, status, key, digest, points, the simulator's wall time and the metrics (NaN or
         None where a run has none). pandas is optional: ``pip install 'lcchain[data]'``."""
         pd = _optional("pandas")
-        return pd.DataFrame(self._table_rows()).set_index("index")
+        return pd.DataFrame(self._table_rows(self.runs())).set_index("index")
 
     def to_xarray(self, waveforms: bool = False) -> Any:
         """The runs as an xarray Dataset whose dimensions are the study's axes.
@@ -745,20 +754,20 @@ class Store:
         """
         _optional("xarray")
         results = [run for run in self.runs() if not run.member]
-        axes = [key for key in study_axes(results) if all(key in run.params for run in results)]
-        frame = _optional("pandas").DataFrame([row for row in self._table_rows() if row["kind"] != "member"])
+        axes = study_axes(results)
+        constants = study_constants(results)
+        frame = _optional("pandas").DataFrame(self._table_rows(results))
         dims = axes if axes and not frame.duplicated(subset=axes).any() else ["index"]
-        constant = [key for key in frame.columns if key not in dims and key in (results[0].params if results else {})
-                    and key not in axes]
-        dataset = frame.drop(columns=constant).set_index(dims).to_xarray()
-        dataset.attrs.update({"store": str(self.path), **{key: str(results[0].params[key]) for key in constant}})
+        dataset = frame.drop(columns=list(constants)).set_index(dims).to_xarray()
+        dataset.attrs.update({"store": str(self.path), **{key: str(value) for key, value in constants.items()}})
         if waveforms:
             dataset = self._with_waveforms(dataset, dims, [run for run in results if run.status == "ok"])
         return dataset
 
-    def _table_rows(self) -> list[dict[str, Any]]:
+    @staticmethod
+    def _table_rows(runs: list[StoredRun]) -> list[dict[str, Any]]:
         rows = []
-        for run in self.runs():
+        for run in runs:
             metrics = run.metrics or {}
             arrivals = metrics.get("arrivals") or []
             first = arrivals[0] if arrivals else {}

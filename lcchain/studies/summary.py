@@ -19,7 +19,7 @@ import numpy as np
 
 from ..core.checks import choice
 from ..core.errors import ParameterError
-from .store import StoredRun, study_axes
+from .store import StoredRun, study_axes, study_constants
 
 __all__ = ["Group", "peak_groups", "METRICS", "available_metrics", "study_axes", "study_constants",
            "check_metric"]
@@ -96,15 +96,6 @@ def check_metric(metric: str, runs: list[StoredRun], option: str = "--metric") -
     raise ParameterError(option, metric, f"a store of runs with a theory to compare with; its {len(finished)} "
                          "finished runs have none (a batch of netlists: `lcchain results STORE` shows each one's "
                          "vectors, points and time)")
-
-
-def study_constants(runs: list[StoredRun]) -> dict[str, Any]:
-    """The parameters every task (extrapolation members aside) shares, with their one value."""
-    runs = [run for run in runs if not run.member]
-    axes = set(study_axes(runs))
-    keys = list(dict.fromkeys(key for run in runs for key in run.params))
-    return {key: runs[0].params[key] for key in keys
-            if key not in axes and all(key in run.params for run in runs)} if runs else {}
 
 
 def peak_groups(runs: list[StoredRun], metric: str = "peak") -> list[Group]:
