@@ -19,7 +19,7 @@ import time
 from pathlib import Path
 
 import pytest
-from helpers.processes import alive
+from helpers.processes import alive, gone
 
 ROOT = Path(__file__).resolve().parent.parent
 LONG_RUN = ["simulate", "--case", "two-mass", "--N", "2000", "--dt", "0.01"]
@@ -62,14 +62,6 @@ def _simulator_of(proc: subprocess.Popen[bytes], backend: str) -> int:
     raise AssertionError(f"no {marker} child started within {START_TIMEOUT} s")
 
 
-def _gone(pid: int) -> bool:
-    deadline = time.monotonic() + DEATH_TIMEOUT
-    while time.monotonic() < deadline:
-        if not alive(pid):
-            return True
-        time.sleep(0.05)
-    return False
-
 
 @pytest.mark.ngspice
 @pytest.mark.parametrize("backend", ["batch", "shared"])
@@ -96,7 +88,7 @@ def test_no_simulator_and_no_file_outlive_lcchain(tmp_path: Path, backend: str, 
             proc.kill()
     assert proc.returncode == status, err.decode()
     assert said in err.decode() and b"Traceback" not in err
-    assert _gone(child), f"the simulator (pid {child}) outlived lcchain"
+    assert gone(child, DEATH_TIMEOUT), f"the simulator (pid {child}) outlived lcchain"
     assert list(scratch.iterdir()) == [], "a temporary file was left behind"
     assert list(tmp_path.iterdir()) == [scratch], "an output file was written"
 
@@ -124,5 +116,5 @@ def test_no_member_of_an_extrapolation_outlives_lcchain(tmp_path: Path, signum: 
         if proc.poll() is None:
             proc.kill()
     assert b"Traceback" not in err
-    assert all(_gone(pid) for pid in children), "a member's ngspice outlived lcchain"
+    assert all(gone(pid, DEATH_TIMEOUT) for pid in children), "a member's ngspice outlived lcchain"
     assert list(scratch.iterdir()) == [], "a temporary file was left behind"

@@ -11,7 +11,7 @@ import time
 from pathlib import Path
 
 import pytest
-from helpers.processes import alive, descendants
+from helpers.processes import descendants, gone
 
 from lcchain.report.build import report_rows
 from lcchain.report.figure_data import DesignRows
@@ -93,14 +93,6 @@ def _workers(proc: subprocess.Popen[bytes]) -> dict[int, str]:
     raise AssertionError(f"the report's pool did not start within {START_TIMEOUT} s")
 
 
-def _gone(pid: int) -> bool:
-    deadline = time.monotonic() + DEATH_TIMEOUT
-    while time.monotonic() < deadline:
-        if not alive(pid):
-            return True
-        time.sleep(0.05)
-    return False
-
 
 @pytest.mark.ngspice
 @pytest.mark.parametrize(("signum", "status"), [(signal.SIGINT, 130), (signal.SIGKILL, -signal.SIGKILL)],
@@ -124,7 +116,7 @@ def test_no_worker_outlives_an_interrupted_report(tmp_path: Path, signum: int, s
             proc.kill()
     assert proc.returncode == status, err.decode()
     assert b"Traceback" not in err, err.decode()
-    left = [f"{pid} ({name})" for pid, name in children.items() if not _gone(pid)]
+    left = [f"{pid} ({name})" for pid, name in children.items() if not gone(pid, DEATH_TIMEOUT)]
     assert left == [], f"outlived the report: {left}"
     assert not (tmp_path / "out").exists(), "an interrupted report wrote its page"
 

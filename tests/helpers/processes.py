@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import os
 import tempfile
+import time
 from pathlib import Path
 
 
@@ -19,6 +20,16 @@ def alive(pid: int) -> bool:
     except (FileNotFoundError, ProcessLookupError, IndexError):
         return False
     return state != "Z"
+
+
+def gone(pid: int, seconds: float = 10.0) -> bool:
+    """Whether a process is gone (or a zombie) within ``seconds``, looking every 50 ms."""
+    deadline = time.monotonic() + seconds
+    while time.monotonic() < deadline:
+        if not alive(pid):
+            return True
+        time.sleep(0.05)
+    return not alive(pid)
 
 
 def _process_table() -> dict[int, tuple[int, str]]:
