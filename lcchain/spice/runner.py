@@ -69,7 +69,7 @@ from .raw import read_raw
 from .sandbox import SCRATCH, scratch_env
 from .simulator import Simulator, find_simulator
 from .text import canonical_vector_name, parse_options
-from .warm import run_warm
+from .warm import worker_for
 
 __all__ = ["RunResult", "run", "read_include", "check_arguments", "validate_columns", "exited", "TSTOP_RTOL",
            "LOG_MAX_CHARS", "PROGRESS_INTERVAL"]
@@ -468,7 +468,7 @@ def _run_warm(netlist: str, simulator: Simulator, timeout: float, tstop: float,
               progress: Callable[[float], None] | None, place: _Place,
               limit: float | None) -> tuple[dict[str, np.ndarray], str, float]:
     # This thread's long-lived worker (lcchain.spice.warm); no progress to report: studies send it short runs.
-    return run_warm(netlist, simulator.executable, place.prefix, place.cwd, place.env, timeout, limit)
+    return worker_for(simulator.executable, place.prefix, place.cwd, place.env).run(netlist, timeout, limit)
 
 
 # --------------------------------------------------------------------------- output checks

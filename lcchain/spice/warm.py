@@ -44,7 +44,7 @@ from .processes import PACKAGE_ROOT, child_env, kill_group, read_all
 from .simulator import Simulator, find_shared_library
 from .text import canonical_vector_name
 
-__all__ = ["WarmWorker", "worker_for", "close_workers", "warm_simulator", "run_warm", "WARM_BELOW_SECONDS",
+__all__ = ["WarmWorker", "worker_for", "close_workers", "warm_simulator", "WARM_BELOW_SECONDS",
            "MAX_WORKER_BYTES", "MAX_WORKER_RUNS"]
 
 #: Runs predicted to take less than this (seconds of ``ngspice -b``, start included) go warm when a study
@@ -253,9 +253,3 @@ def warm_simulator(simulator: Simulator) -> Simulator:
         raise SimulatorMissingError(f"ngspice's shared library {library} is version {worker.version}, the ngspice "
                                     f"program {simulator.version}: the warm transport would change results")
     return replace(simulator, backend="warm", executable=library)
-
-
-def run_warm(netlist: str, library: str, prefix: tuple[str, ...], cwd: str, env: dict[str, str], timeout: float,
-             limit: float | None) -> tuple[dict[str, np.ndarray], str, float]:
-    """One run in this thread's warm worker (see :class:`WarmWorker.run`)."""
-    return worker_for(library, prefix, cwd, env).run(netlist, timeout, limit)
