@@ -199,7 +199,7 @@ def cmd_examples(args: argparse.Namespace) -> int:
     outputs.check("-o", target)
     outputs.text("-o", text)
     if not outputs.failed:
-        print(f"wrote {target}: lcchain run {target}")
+        print(f"wrote {target}" + (f": lcchain run {target}" if Path(target).is_file() else ""))
     return EXIT_FAILED if outputs.failed else EXIT_OK
 
 
