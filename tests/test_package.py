@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import json
 import os
+import re
+import shlex
 import subprocess
 import sys
 import tarfile
@@ -42,25 +44,37 @@ def test_the_sdist_builds_the_same_package_without_tests(built: dict[str, Path])
         names = [name.split("/", 1)[1] for name in sdist.getnames() if "/" in name]
     assert "pyproject.toml" in names and "lcchain/py.typed" in names
     assert {Path(n).stem for n in names if n.startswith("lcchain/scenes/examples/")} == set(example_names())
-    assert not [n for n in names if n.startswith(("tests/", "benchmarks/", "docs/"))]  # they stay in the repository
+    # they stay in the repository; the package page is the long description the wheel is built with
+    assert not [n for n in names if n.startswith(("tests/", "benchmarks/", "docs/")) and n != "docs/package.md"]
+    assert "docs/package.md" in names
 
 
-@pytest.mark.ngspice
-def test_the_installed_wheel_runs_an_example_from_an_empty_folder(built: dict[str, Path], tmp_path: Path) -> None:
-    site, here = tmp_path / "site", tmp_path / "empty"
-    here.mkdir()
+@pytest.fixture(scope="module")
+def installed(built: dict[str, Path], tmp_path_factory: pytest.TempPathFactory) -> dict[str, str]:
+    """The wheel installed alone into a folder of its own: the environment that imports it, not the repository."""
+    site = tmp_path_factory.mktemp("site")
     done = subprocess.run([sys.executable, "-m", "pip", "install", "-q", "--no-deps", "--no-index", "--target",
                            str(site), str(built["wheel"])], capture_output=True, text=True, timeout=300)
     assert done.returncode == 0, done.stderr
     env = dict(os.environ, PYTHONPATH=str(site))
+    where = subprocess.run([sys.executable, "-P", "-c", "import lcchain; print(lcchain.__file__)"], cwd=site,
+                           env=env, capture_output=True, text=True)
+    assert Path(where.stdout.strip()).is_relative_to(site), where  # the wheel, not the repository
+    return env
+
+
+def _lcchain(env: dict[str, str], here: Path, *argv: str) -> subprocess.CompletedProcess[str]:
+    return subprocess.run([sys.executable, "-P", "-m", "lcchain", *argv], cwd=here, env=env, capture_output=True,
+                          text=True, timeout=300)
+
+
+@pytest.mark.ngspice
+def test_the_installed_wheel_runs_an_example_from_an_empty_folder(installed: dict[str, str], tmp_path: Path) -> None:
+    here = tmp_path
 
     def lcchain(*argv: str) -> subprocess.CompletedProcess[str]:
-        return subprocess.run([sys.executable, "-P", "-m", "lcchain", *argv], cwd=here, env=env, capture_output=True,
-                              text=True, timeout=300)
+        return _lcchain(installed, here, *argv)
 
-    where = subprocess.run([sys.executable, "-P", "-c", "import lcchain; print(lcchain.__file__)"], cwd=here, env=env,
-                           capture_output=True, text=True)
-    assert Path(where.stdout.strip()).is_relative_to(site), where  # the wheel, not the repository
     listed = lcchain("examples")
     assert listed.returncode == 0 and all(name in listed.stdout for name in example_names()), listed
     assert lcchain("examples", "cradle").returncode == 0
@@ -71,6 +85,37 @@ def test_the_installed_wheel_runs_an_example_from_an_empty_folder(built: dict[st
     assert ran.returncode == 0, ran.stderr
     report = json.loads(ran.stdout)
     assert report["source"] == "cradle.toml" and report["N"] == 100 and report["accuracy_met"] is True
+
+
+def _page_commands(text: str) -> list[list[str]]:
+    """The ``lcchain`` commands of the package page's shell blocks, each ``&&`` part on its own, comments cut."""
+    commands = []
+    for block in re.findall(r"```sh\n(.*?)```", text, flags=re.S):
+        for line in block.splitlines():
+            line = line.split("#", 1)[0].strip()
+            for part in filter(None, (p.strip() for p in line.split("&&"))):
+                if part.startswith("lcchain "):
+                    commands.append(shlex.split(part)[1:])
+    return commands
+
+
+def test_the_package_page_has_no_link_a_package_index_cannot_resolve(built: dict[str, Path]) -> None:
+    with zipfile.ZipFile(built["wheel"]) as wheel:
+        metadata = next(wheel.read(n).decode() for n in wheel.namelist() if n.endswith(".dist-info/METADATA"))
+    page = (ROOT / "docs" / "package.md").read_text()
+    assert "Description-Content-Type: text/markdown" in metadata and page.strip() in metadata
+    targets = re.findall(r"\]\(([^)]*)\)", page) + re.findall(r"<(?:img|a)\b[^>]*>", page)
+    assert [t for t in targets if not t.startswith(("https://", "#"))] == []
+    assert len(_page_commands(page)) >= 6
+
+
+@pytest.mark.ngspice
+def test_every_command_of_the_package_page_works_from_the_installed_wheel(installed: dict[str, str],
+                                                                         tmp_path: Path) -> None:
+    for argv in _page_commands((ROOT / "docs" / "package.md").read_text()):
+        done = _lcchain(installed, tmp_path, *argv)
+        assert done.returncode == 0, (argv, done.stdout[-2000:], done.stderr[-2000:])
+    assert (tmp_path / "cradle.png").stat().st_size > 0 and (tmp_path / "cradle.toml").is_file()
 
 
 def test_examples_refuses_what_it_cannot_write(tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
