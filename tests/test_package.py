@@ -79,8 +79,13 @@ def test_the_installed_wheel_runs_an_example_from_an_empty_folder(installed: dic
     assert listed.returncode == 0 and all(name in listed.stdout for name in example_names()), listed
     assert lcchain("examples", "cradle").returncode == 0
     assert (here / "cradle.toml").read_text() == (ROOT / "examples" / "scenes" / "cradle.toml").read_text()
-    again = lcchain("examples", "cradle")  # the user's copy is never overwritten
-    assert again.returncode == 2 and "cradle.toml exists" in again.stderr and "Traceback" not in again.stderr
+    again = lcchain("examples", "cradle")  # the same example again (a README followed twice): nothing to do
+    assert again.returncode == 0 and "here already, unchanged" in again.stdout, again
+    (here / "cradle.toml").write_text((here / "cradle.toml").read_text() + "# my own edit\n")
+    edited = lcchain("examples", "cradle")  # the user's own copy is never overwritten
+    assert edited.returncode == 2 and "cradle.toml exists" in edited.stderr and "Traceback" not in edited.stderr
+    assert (here / "cradle.toml").read_text().endswith("# my own edit\n")
+    (here / "cradle.toml").write_text((ROOT / "examples" / "scenes" / "cradle.toml").read_text())
     ran = lcchain("run", "cradle.toml", "--json")
     assert ran.returncode == 0, ran.stderr
     report = json.loads(ran.stdout)

@@ -193,6 +193,9 @@ def cmd_examples(args: argparse.Namespace) -> int:
     text = example_text(args.name)
     target = args.output or f"{args.name}.toml"
     if args.output is None and (Path(target).exists() or Path(target).is_symlink()):
+        if _holds(Path(target), text):  # the same example written before: nothing to do
+            print(f"{target} is here already, unchanged: lcchain run {target}")
+            return EXIT_OK
         raise ParameterError("NAME", args.name, f"an example whose file is not here yet: {target} exists (your own "
                              "copy?); write it elsewhere with -o FILE")
     outputs = Outputs()
@@ -201,6 +204,15 @@ def cmd_examples(args: argparse.Namespace) -> int:
     if not outputs.failed:
         print(f"wrote {target}" + (f": lcchain run {target}" if Path(target).is_file() else ""))
     return EXIT_FAILED if outputs.failed else EXIT_OK
+
+
+def _holds(path: Path, text: str) -> bool:
+    """Whether a regular file holds exactly this text (a special file or a link is never read)."""
+    try:
+        return not path.is_symlink() and path.is_file() and path.stat().st_size == len(text.encode()) \
+            and path.read_text(encoding="utf-8") == text
+    except (OSError, UnicodeDecodeError):
+        return False
 
 
 def cmd_reference_netlists(args: argparse.Namespace) -> int:
