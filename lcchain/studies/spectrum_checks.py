@@ -24,6 +24,7 @@ import numpy as np
 
 from ..circuit.effects import Effect, Walls
 from ..core.blas import fixed_blas_threads
+from ..core.checks import real
 from ..core.errors import ParameterError, SimulationError
 from ..core.types import DEFAULT_C0, DEFAULT_L0
 from ..runs.spectrum import measure_spectrum
@@ -59,6 +60,10 @@ class SpectrumTolerances:
     omega: float = RTOL_OMEGA
     spacing: float = RTOL_SPACING
     P: float = ATOL_P
+
+    def __post_init__(self) -> None:
+        for key in ("omega", "spacing", "P"):
+            object.__setattr__(self, key, real(f"tolerances.{key}", getattr(self, key), above=0.0))
 
     def to_dict(self) -> dict[str, float]:
         return {"omega": self.omega, "spacing": self.spacing, "P": self.P}
