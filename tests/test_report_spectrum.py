@@ -17,6 +17,7 @@ from lcchain.core.errors import ParameterError
 from lcchain.report.figure_data import DesignRows
 from lcchain.report.html import render_html
 from lcchain.report.spectrum import PER_MODE_CHECK, spectrum_figures, spectrum_html
+from lcchain.studies.background import Background, Task
 from lcchain.studies.spectrum_checks import (
     VK_DELTAS,
     SpectrumCheck,
@@ -152,6 +153,18 @@ def test_a_tolerance_forced_tiny_fails_the_check_and_the_report(checks: list[Spe
     failing = sum(not line["passed"] for line in lines)
     assert f"{failing} of {len(lines)} checks failed" in page and "spectrum two-mass-N20: " in page
     assert "0 / 1</b>spectra" in page
+
+
+def test_a_spectrum_measured_by_the_pool_is_the_one_measured_here(checks: list[SpectrumCheck]) -> None:
+    """The report runs the jobs in its pool (:class:`Background`): the same numbers, bit for bit (one BLAS thread
+    in both, ngspice deterministic)."""
+    jobs = [job for job in spectrum_jobs(quick=True) if job.N <= 50]
+    with Background([Task(i, job.cost, run_spectrum_check, (job,)) for i, job in enumerate(jobs)], workers=2) as pool:
+        assert pool.workers == 2
+        pooled = [pool.take(i) for i in range(len(jobs))]
+    for check in pooled:
+        here = _by_name(checks, check.name)
+        assert check.passed and (check.errors, check.modes, check.points) == (here.errors, here.modes, here.points)
 
 
 def test_a_tolerance_must_be_positive() -> None:
