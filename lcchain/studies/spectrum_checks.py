@@ -83,6 +83,8 @@ class SpectrumJob:
     ----------
     name, what : str
         Its name in the report, and the chain in words.
+    N : int
+        The chain's masses (for the pool's order, before the chain is made).
     chain : callable
         ``chain()`` makes the chain (in the worker: designing it costs time), e.g.
         ``partial(chain_for_case, "two-mass", 20)``.
