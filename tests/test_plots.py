@@ -13,6 +13,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from helpers.figures import assert_legends_off_lines, drawn, legend_boxes
 
 from lcchain import plots
 
@@ -231,33 +232,8 @@ def test_plots_never_import_pyplot():
 
 # --------------------------------------------------------------------------- labels off the data (issue 22)
 
-def _drawn(fig):
-    fig.draw_without_rendering()
-    return fig._get_renderer() if hasattr(fig, "_get_renderer") else fig.canvas.get_renderer()
-
-
-def _legend_boxes(fig):
-    legends = [*fig.legends, *(ax.get_legend() for ax in fig.axes if ax.get_legend() is not None)]
-    assert legends
-    renderer = _drawn(fig)
-    return [legend.get_window_extent(renderer) for legend in legends]
-
-
-def _assert_legends_off_lines(fig):
-    """No legend's box (display coordinates) holds a point of, or is crossed by, a line of any panel."""
-    boxes = _legend_boxes(fig)
-    for ax in fig.axes:
-        for line in ax.get_lines():
-            path = line.get_transform().transform_path(line.get_path())
-            for box in boxes:
-                inside = box.contains_points(path.vertices) if hasattr(box, "contains_points") else \
-                    [box.contains(x, y) for x, y in path.vertices]
-                assert not any(inside), (line.get_label(), box)
-                assert not path.intersects_bbox(box, filled=False), (line.get_label(), box)
-
-
 def _assert_notes_inside(fig):
-    renderer = _drawn(fig)
+    renderer = drawn(fig)
     for ax in fig.axes:
         frame = ax.get_window_extent(renderer)
         for note in ax.texts:
@@ -287,7 +263,7 @@ def test_overlay_legend_is_off_the_lines(cradle):
     t, last, first, arrivals = cradle
     fig = plots.overlay(t, last + 1e-4, t, last, residual=np.full_like(t, 1e-4), first_sim=first,
                         first_theory=first, arrivals=arrivals, title="two-mass chain, N = 100")
-    _assert_legends_off_lines(fig)
+    assert_legends_off_lines(fig)
 
 
 def test_overlay_notes_stay_inside_the_frame(cradle):
@@ -333,10 +309,10 @@ def test_histogram_draws_the_nominal_line_and_keeps_its_legend_off_the_bars():
     nominal = [line for line in ax.get_lines() if np.allclose(line.get_xdata(), 0.7336)]
     assert len(nominal) == 1 and nominal[0].get_label() == "nominal 0.7336"
     assert "nominal 0.7336" in [text.get_text() for text in ax.get_legend().get_texts()]
-    _assert_legends_off_lines(fig)
-    box = _legend_boxes(fig)[0]
+    assert_legends_off_lines(fig)
+    box = legend_boxes(fig)[0]
     for bar in ax.patches:
-        assert not box.overlaps(bar.get_window_extent(_drawn(fig)))
+        assert not box.overlaps(bar.get_window_extent(drawn(fig)))
 
 
 @pytest.mark.ngspice

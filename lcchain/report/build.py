@@ -8,12 +8,14 @@ from pathlib import Path
 from typing import Any
 
 from ..core.types import DesignCase
+from ..studies.spectrum_checks import SpectrumCheck
 from ..studies.validation import CircuitCheck
 from .figure_data import FULL_N, QUICK_N, DesignRows
 from .files import write_text
 from .html import figure_png, render_html, report_json
 from .paper_figures import FIGURES, make_figures
 from .plots import overlay
+from .spectrum import spectrum_figures
 from .validation import QUICK_REPORT_N, REPORT_N, validation_report
 
 __all__ = ["build_figures", "build_report", "report_rows"]
@@ -50,10 +52,10 @@ def report_rows(quick: bool = False) -> list[tuple[DesignCase, int]]:
 
 def build_report(out: str | os.PathLike[str], circuit: Sequence[CircuitCheck], engines: Mapping[str, str], *,
                  quick: bool = False, cache: str | os.PathLike[str] | None = None, progress: Progress | None = None,
-                 command: str = "lcchain report", seconds: float = 0.0, rows: DesignRows | None = None
-                 ) -> dict[str, Any]:
-    """Compute the paper's half of the validation report, render it with the circuit's runs (already made), then
-    write ``out/index.html`` and ``out/report.json``; return it as data.
+                 command: str = "lcchain report", seconds: float = 0.0, rows: DesignRows | None = None,
+                 spectrum: Sequence[SpectrumCheck] = ()) -> dict[str, Any]:
+    """Compute the paper's half of the validation report, render it with the circuit's runs and spectra (already
+    made), then write ``out/index.html`` and ``out/report.json``; return it as data.
 
     ``rows`` gives the tables' rows (default: ``DesignRows(cache)``, designed here as they are read); the
     circuit's figures are drawn first, so that rows still being designed elsewhere
@@ -64,7 +66,10 @@ def build_report(out: str | os.PathLike[str], circuit: Sequence[CircuitCheck], e
     for check in circuit:
         if check.curves:
             figures[f"check:{check.name}"] = figure_png(_check_figure(check), dpi=90)
-    report = validation_report(rows, circuit, engines, quick=quick, progress=progress, seconds=seconds)
+    report = validation_report(rows, circuit, engines, quick=quick, progress=progress, seconds=seconds,
+                               spectrum=spectrum)
+    for label, figure in spectrum_figures(spectrum, rows).items():
+        figures[f"spectrum:{label}"] = figure_png(figure)
     for i, paper_figure in enumerate(FIGURES):
         if progress is not None:
             progress(i, len(FIGURES), f"Fig. {paper_figure.label}")

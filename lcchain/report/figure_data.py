@@ -13,7 +13,7 @@ import hashlib
 import json
 import math
 import os
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -35,7 +35,7 @@ from .files import write_text
 from .paper import cancelling_pair
 
 __all__ = ["DesignRows", "QUICK_N", "FULL_N", "cradle4_data", "vk_data", "optimum_data", "int_rw_data",
-           "minimiz_data", "pk_data", "circuit_data", "cache_key"]
+           "minimiz_data", "pk_data", "circuit_data", "cache_key", "spectrum_points"]
 
 #: Sizes of the N axes with --quick (a few seconds) and without (every row of the report, up to 1e5).
 QUICK_N = [3, 4, 5, 6, 7, 8, 9, 10, 12, 14, 16, 18, 20, 30, 50, 100, 200, 500, 1000]
@@ -306,6 +306,28 @@ def pk_data(rows: DesignRows, Ns: Sequence[int] = (20, 100)) -> dict[str, Any]:
                        "spacing": np.diff(modes.omega) * N / math.pi})
     k = np.linspace(0.0, math.pi, 400)
     return {"panels": panels, "k": k, "uniform_v": np.cos(k / 2)}
+
+
+def spectrum_points(modes: Sequence[Mapping[str, Any]], N: int) -> dict[str, np.ndarray]:
+    """A circuit's measured modes (:class:`lcchain.studies.spectrum_checks.SpectrumCheck`'s ``modes``) as Figs.
+    Pk20-100 and vk draw the theory's, from the circuit's numbers alone.
+
+    Returns ``k`` (k_n = 2 arcsin(omega_n / 2), the bulk dispersion omega = 2 sin(k/2) of Eq. e.omegak, by which
+    the closed form's omega_n follow from its k_n), ``P`` (|P_n|: for a symmetric chain the weight in alpha_N is
+    (-1)^(n-1) times the mode density), ``zero`` (the free chain's zero mode), and for every two neighbouring modes
+    both seen ``v`` ((N/pi)(omega_n - omega_(n-1)), as :func:`pk_data` and :func:`vk_data` make the theory's),
+    ``k_upper`` (k_n of the upper one: Fig. Pk20-100's abscissa) and ``k_mid`` (their mean: Fig. vk's).  Modes the
+    circuit did not see are left out.
+    """
+    seen = [mode for mode in modes if mode["omega"] is not None]
+    omega = np.array([mode["omega"] for mode in seen], dtype=float)
+    k = 2.0 * np.arcsin(np.clip(omega / 2.0, 0.0, 1.0))
+    n = np.array([mode["n"] for mode in seen], dtype=int)
+    neighbours = np.flatnonzero(np.diff(n) == 1)
+    return {"k": k, "P": np.abs([mode["P"] for mode in seen]),
+            "zero": np.array([mode["omega_theory"] == 0.0 for mode in seen], dtype=bool),
+            "v": (omega[neighbours + 1] - omega[neighbours]) * N / math.pi, "k_upper": k[neighbours + 1],
+            "k_mid": 0.5 * (k[neighbours] + k[neighbours + 1])}
 
 
 # ------------------------------------------------------------------ Fig. LCcircuit

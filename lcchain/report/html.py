@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import base64
 import hashlib
-import html
 import io
 import json
 import math
@@ -19,6 +18,9 @@ from fractions import Fraction
 from typing import Any
 
 import numpy as np
+
+from .markup import esc, figure_block, num, verdict_cell
+from .spectrum import spectrum_html, spectrum_summary
 
 __all__ = ["render_html", "report_json", "figure_png", "STYLE", "content_security_policy"]
 
@@ -79,34 +81,6 @@ def figure_png(figure: Any, dpi: int = 110) -> bytes:
     return buffer.getvalue()
 
 
-def _img(png: bytes, alt: str) -> str:
-    data = base64.b64encode(png).decode()
-    return f'<img alt="{html.escape(alt)}" src="data:image/png;base64,{data}">'
-
-
-def _figure(png: bytes, alt: str, key: str, caption: str, back: str, attributes: str = "") -> str:
-    """A figure whose image is a link to itself full size: in the page (its data sits there once), the figure
-    fills the window while its view anchor is the target, and "close" goes back to ``back``."""
-    view = "view-" + "".join(c if c.isalnum() or c in "-_" else "-" for c in key)
-    return (f'<figure{attributes}><span class=view id="{view}"></span>'
-            f'<a class=open href="#{view}" title="open full size">{_img(png, alt)}</a>'
-            f'<figcaption>{caption} <a class=close href="#{back}">close</a></figcaption></figure>')
-
-
-def _e(value: Any) -> str:
-    return html.escape(str(value))
-
-
-def _num(value: float | None, digits: int = 4) -> str:
-    if value is None or (isinstance(value, float) and math.isnan(value)):
-        return "–"
-    if value == 0:
-        return "0"
-    if abs(value) >= 1e5 or abs(value) < 1e-3:
-        return f"{value:.{digits - 1}e}"
-    return f"{value:.{digits}g}"
-
-
 def _decimals(text: str) -> int:
     return len(text.split(".")[1]) if "." in text else 0
 
@@ -128,8 +102,8 @@ def _table_html(case: str, entries: list[dict[str, Any]], columns: tuple[str, ..
     decimals = dict(_DEFAULT_DECIMALS)
     if case == "two-mass":
         decimals["delta"] = 5
-    head = "".join(f"<th>{_e(_COLUMN_TITLES[c])}</th>" for c in columns)
-    lines = [f'<h3 id="{case}">{_e(title)}</h3>',
+    head = "".join(f"<th>{esc(_COLUMN_TITLES[c])}</th>" for c in columns)
+    lines = [f'<h3 id="{case}">{esc(title)}</h3>',
              "<p class=meta>Each cell: lcchain's value to two more digits than the paper prints; under it the "
              "paper's printed value and the difference in units of its last digit (highlighted beyond one "
              "unit). Rows without a printed value are not in the paper's copy; lcchain computes them from "
@@ -150,7 +124,7 @@ def _table_html(case: str, entries: list[dict[str, Any]], columns: tuple[str, ..
                 cells.append(f"<td>{shown}</td>")
                 continue
             off = abs(cell["units"]) > 1.0
-            cells.append(f'<td class="{"off" if off else ""}">{shown}<small>paper {_e(cell["printed"])} '
+            cells.append(f'<td class="{"off" if off else ""}">{shown}<small>paper {esc(cell["printed"])} '
                          f'({cell["units"]:+.2f})</small></td>')
         seconds = entry.get("seconds")
         lines.append(f"<tr><td>{row['N']}</td>{''.join(cells)}<td>{'' if seconds is None else f'{seconds:.2f}'}"
@@ -166,8 +140,8 @@ def _asymptotic_html(items: list[dict[str, Any]]) -> str:
     for item in items:
         places = _decimals(item["printed"]) + 2
         off = abs(item["units"]) > 1.0
-        lines.append(f"<tr><td class=l>{_e(item['case'])}</td><td class=l>{_e(item['key'])}</td>"
-                     f"<td class=l>{_e(item['where'])}</td><td>{_e(item['printed'])}</td>"
+        lines.append(f"<tr><td class=l>{esc(item['case'])}</td><td class=l>{esc(item['key'])}</td>"
+                     f"<td class=l>{esc(item['where'])}</td><td>{esc(item['printed'])}</td>"
                      f"<td>{item['computed']:.{places}f}</td>"
                      f"<td class=\"{'off' if off else ''}\">{item['units']:+.2f}</td></tr>")
     lines.append("</tbody></table>")
@@ -182,9 +156,9 @@ def _perfect_html(perfect: Mapping[str, Any]) -> str:
              "<table><thead><tr><th>N</th><th class=l>masses</th><th class=l>springs (walls first and last)</th>"
              "<th>T</th><th>1 − α<sub>N</sub>(T)</th></tr></thead><tbody>"]
     for item in perfect["paper"]:
-        lines.append(f"<tr><td>{item['N']}</td><td class=l>{_e(', '.join(map(_fraction, item['masses'])))}</td>"
-                     f"<td class=l>{_e(', '.join(map(_fraction, item['springs'])))}</td>"
-                     f"<td>{item['t_arrival']:.6f}</td><td>{_num(item['delta'], 2)}</td></tr>")
+        lines.append(f"<tr><td>{item['N']}</td><td class=l>{esc(', '.join(map(_fraction, item['masses'])))}</td>"
+                     f"<td class=l>{esc(', '.join(map(_fraction, item['springs'])))}</td>"
+                     f"<td>{item['t_arrival']:.6f}</td><td>{num(item['delta'], 2)}</td></tr>")
     lines.append("</tbody></table>")
     lines.append("<p>And for any N (not in the paper): equally spaced frequencies, α<sub>N</sub>(T) = 1.</p>"
                  "<table><thead><tr><th>N</th><th>walls j</th><th>T</th><th>1 − α<sub>N</sub>(T)</th>"
@@ -192,7 +166,7 @@ def _perfect_html(perfect: Mapping[str, Any]) -> str:
                  "<tbody>")
     for item in perfect["any_N"]:
         lines.append(f"<tr><td>{item['N']}</td><td>{item['walls']}</td><td>{item['t_arrival']:.6g}</td>"
-                     f"<td>{_num(item['delta'], 2)}</td><td>{item['mass_min']:.4g} – {item['mass_max']:.4g}</td>"
+                     f"<td>{num(item['delta'], 2)}</td><td>{item['mass_min']:.4g} – {item['mass_max']:.4g}</td>"
                      f"<td>{item['spring_min']:.4g} – {item['spring_max']:.4g}</td>"
                      f"<td>{item['distinct_masses']}</td><td>{item['distinct_springs']}</td></tr>")
     lines.append("</tbody></table>")
@@ -204,8 +178,8 @@ def _findings_html(items: list[dict[str, str]]) -> str:
              "<table><thead><tr><th class=l>where</th><th class=l>printed</th><th class=l>correct</th>"
              "<th class=l>why</th></tr></thead><tbody>"]
     for item in items:
-        lines.append(f"<tr><td class=l>{_e(item['where'])}</td><td class=l>{_e(item['printed'])}</td>"
-                     f"<td class=l>{_e(item['correct'])}</td><td class=l>{_e(item['note'])}</td></tr>")
+        lines.append(f"<tr><td class=l>{esc(item['where'])}</td><td class=l>{esc(item['printed'])}</td>"
+                     f"<td class=l>{esc(item['correct'])}</td><td class=l>{esc(item['note'])}</td></tr>")
     lines.append("</tbody></table>")
     return "\n".join(lines)
 
@@ -219,19 +193,17 @@ def _circuit_html(checks: list[Any], figures: Mapping[str, bytes]) -> str:
              "<th>max |sim − theory|</th><th>predicted</th><th>tolerance</th><th>ngspice s</th><th>verdict</th>"
              "</tr></thead><tbody>"]
     for check in checks:
-        verdict = '<span class="pass">passed</span>' if check.passed else '<span class="fail">FAILED</span>'
-        if check.reason:
-            verdict += f"<small>{_e(check.reason[:200])}</small>"
-        lines.append(f"<tr><td class=l>{_e(check.name)}</td><td class=l>{_e(check.what)}</td>"
-                     f"<td class=l>{_e(check.excitation)}</td><td>{_num(check.dt, 3)}</td>"
-                     f"<td>{_num(check.max_abs_error, 3)}</td><td>{_num(check.predicted_error, 3)}</td>"
-                     f"<td>{_num(check.tolerance, 3)}</td><td>{_num(check.wall_s, 2)}</td><td>{verdict}</td></tr>")
+        verdict = verdict_cell(check.passed, check.reason)
+        lines.append(f"<tr><td class=l>{esc(check.name)}</td><td class=l>{esc(check.what)}</td>"
+                     f"<td class=l>{esc(check.excitation)}</td><td>{num(check.dt, 3)}</td>"
+                     f"<td>{num(check.max_abs_error, 3)}</td><td>{num(check.predicted_error, 3)}</td>"
+                     f"<td>{num(check.tolerance, 3)}</td><td>{num(check.wall_s, 2)}</td><td>{verdict}</td></tr>")
     lines.append("</tbody></table><div class=grid id=circuit-figures>")
     for check in checks:
         png = figures.get(f"check:{check.name}")
         if png is not None:
-            lines.append(_figure(png, check.name, f"check-{check.name}", f"{_e(check.name)}: {_e(check.what)}, "
-                                 f"max error {_num(check.max_abs_error, 3)}", "circuit-figures"))
+            lines.append(figure_block(png, check.name, f"check-{check.name}", f"{esc(check.name)}: {esc(check.what)}, "
+                                 f"max error {num(check.max_abs_error, 3)}", "circuit-figures"))
     lines.append("</div>")
     return "\n".join(lines)
 
@@ -241,8 +213,8 @@ def _figures_html(figures: Mapping[str, bytes], captions: Iterable[tuple[str, st
     for label, caption in captions:
         png = figures.get(f"paper:{label}")
         if png is not None:
-            lines.append(_figure(png, "Fig. " + label, f"fig-{label}", f"Fig. {_e(label)}: {_e(caption)}",
-                                 f"fig-{_e(label)}", f' id="fig-{_e(label)}"'))
+            lines.append(figure_block(png, "Fig. " + label, f"fig-{label}", f"Fig. {esc(label)}: {esc(caption)}",
+                                 f"fig-{esc(label)}", f' id="fig-{esc(label)}"'))
     return "\n".join(lines)
 
 
@@ -259,22 +231,25 @@ def render_html(report: Mapping[str, Any], figures: Mapping[str, bytes], caption
     worst_paper = max((c["max_abs_error"] for c in paper_checks), default=0.0)
     worst_ratio = max(((c.max_abs_error or 0.0) / c.tolerance for c in circuit if c.tolerance), default=0.0)
     rows_computed = sum(len(v) for v in paper["tables"].values())
+    spectrum = report.get("spectrum", [])
+    spectra_passed, spectra_worst = spectrum_summary(spectrum)
     engines = ", ".join(f"{name} {version}" for name, version in
                         (report.get("engines") or {"ngspice": report["ngspice_version"]}).items())
-    failed_list = "".join(f"<li>{_e(c['name'])}: {_e(c.get('reason') or '')} max error {_num(c['max_abs_error'])}"
-                          f" &gt; tolerance {_num(c['tolerance'])}</li>" for c in failed)
+    failed_list = "".join(f"<li>{esc(c['name'])}: {esc(c.get('reason') or '')} max error {num(c['max_abs_error'])}"
+                          f" &gt; tolerance {num(c['tolerance'])}</li>" for c in failed)
     machine = report["machine"]
     parts = [
         "<!doctype html>",
         '<html lang="en"><head><meta charset="utf-8">',
         f'<meta http-equiv="Content-Security-Policy" content="{content_security_policy()}">',
         '<meta name="viewport" content="width=device-width, initial-scale=1">',
-        f"<title>{_e(report['title'])}</title>",
+        f"<title>{esc(report['title'])}</title>",
         f"<style>{STYLE}</style></head><body>",
-        f"<header><h1>{_e(report['title'])}</h1>",
-        f"<p class=meta>lcchain {_e(report['lcchain_version'])} · {_e(engines)} · "
-        f"{_e(machine['system'])} {_e(machine['release'])} {_e(machine['machine'])} · Python {_e(machine['python'])}"
-        f" · numpy {_e(machine['numpy'])} · made {_e(report['created'])} by <code>{_e(command)}</code>"
+        f"<header><h1>{esc(report['title'])}</h1>",
+        f"<p class=meta>lcchain {esc(report['lcchain_version'])} · {esc(engines)} · "
+        f"{esc(machine['system'])} {esc(machine['release'])} {esc(machine['machine'])} · "
+        f"Python {esc(machine['python'])}"
+        f" · numpy {esc(machine['numpy'])} · made {esc(report['created'])} by <code>{esc(command)}</code>"
         f"{' (quick)' if report['quick'] else ''} in {report['seconds']:.0f} s</p>",
         verdict,
         f"<ul>{failed_list}</ul>" if failed else "",
@@ -284,12 +259,14 @@ def render_html(report: Mapping[str, Any], figures: Mapping[str, bytes], caption
         "digit</div>",
         f"<div><b>{sum(c.passed for c in circuit)} / {len(circuit)}</b>circuit runs within tolerance; worst "
         f"{worst_ratio:.2f} × its tolerance</div>",
+        f"<div><b>{spectra_passed} / {len(spectrum)}</b>spectra (ω<sub>n</sub>, δω<sub>n</sub>, P<sub>n</sub>) "
+        f"within tolerance; worst {spectra_worst:.1e} × its tolerance</div>" if spectrum else "",
         "</div></header>",
         "<nav><ul><li><a href=\"#paper\">The paper reproduced</a></li><li><a href=\"#one-mass\">Table I</a></li>"
         "<li><a href=\"#two-mass\">Table II</a></li><li><a href=\"#asymptotic\">Large-N constants</a></li>"
         "<li><a href=\"#perfect\">Perfect chains</a></li><li><a href=\"#findings\">Where the paper slips</a></li>"
-        "<li><a href=\"#circuit\">The circuit validated</a></li><li><a href=\"#figures\">The paper's figures</a>"
-        "</li></ul></nav>",
+        "<li><a href=\"#circuit\">The circuit validated</a></li><li><a href=\"#spectrum\">The spectrum in the "
+        "circuit</a></li><li><a href=\"#figures\">The paper's figures</a></li></ul></nav>",
         '<h2 id="paper">The paper reproduced</h2>',
         "<p>Tables I and II recomputed from scratch at every N of the paper's list (the optimiser, the closed-form "
         "modes and the arrival search of lcchain; nothing is looked up), beside the rows the paper prints.</p>",
@@ -297,8 +274,10 @@ def render_html(report: Mapping[str, Any], figures: Mapping[str, bytes], caption
         _asymptotic_html(paper["asymptotic"]),
         _perfect_html(paper["perfect"]),
         _findings_html(paper["findings"]),
-        f'<h2 id="circuit">The circuit validated ({_e(engines)})</h2>',
+        f'<h2 id="circuit">The circuit validated ({esc(engines)})</h2>',
         _circuit_html(circuit, figures),
+        '<h2 id="spectrum">The spectrum in the circuit (ngspice AC)</h2>',
+        spectrum_html(spectrum, figures),
         '<h2 id="figures">The paper\'s figures, recomputed</h2>',
         _figures_html(figures, captions),
         "</body></html>",
@@ -324,6 +303,7 @@ def report_json(report: Mapping[str, Any]) -> str:
     """``report.json``: tables, checks, versions, created, and the paper section's details (no curves)."""
     data = {key: report[key] for key in ("title", "created", "lcchain_version", "ngspice_version", "engines",
                                           "machine", "quick", "passed", "seconds", "tables", "checks")}
+    data["spectrum"] = [check.to_dict() for check in report.get("spectrum", [])]
     paper = report["paper"]
     data["paper"] = {"asymptotic": paper["asymptotic"], "perfect": paper["perfect"], "findings": paper["findings"],
                      "printed_rows": {case: [{"N": e["row"]["N"], "cells": e["printed"]} for e in entries

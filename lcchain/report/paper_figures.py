@@ -144,10 +144,18 @@ def _edges(centres: np.ndarray) -> np.ndarray:
 
 
 # ------------------------------------------------------------------ vk
-def vk_figure(data: Mapping[str, Any]) -> Any:
-    """Fig. vk: v_k (red) and P_k (blue dashed, arbitrary units) for N = 50 at three Δ; uniform v_k dotted."""
+#: The circuit's points on Figs. vk and Pk20-100: open black rings around the theory's symbols.
+_CIRCUIT = {"color": "k", "markerfacecolor": "none", "markeredgewidth": 0.9, "linestyle": "none"}
+
+
+def vk_figure(data: Mapping[str, Any], circuit: Mapping[float, Mapping[str, Any]] | None = None) -> Any:
+    """Fig. vk: v_k (red) and P_k (blue dashed, arbitrary units) for N = 50 at three Δ; uniform v_k dotted.
+
+    ``circuit`` maps a panel's Δ to a circuit's modes (:func:`~lcchain.report.figure_data.spectrum_points`),
+    drawn on top as open rings: v from the measured omega_n at mid-k, as the modes' points, and |P_n|.
+    """
     panels = data["panels"]
-    fig = _figure(10.5, 3.8)
+    fig = _figure(10.5, 4.0)
     axes = fig.subplots(1, len(panels), sharey=True)
     k = data["k"]
     for ax, panel in zip(np.atleast_1d(axes), panels, strict=True):
@@ -158,6 +166,12 @@ def vk_figure(data: Mapping[str, Any]) -> Any:
         ax.plot(k, panel["P"] * scale, "--", color=_BLUE, linewidth=1.2, label="P_k (scaled)")
         ax.plot(panel["k_n"], np.asarray(panel["P_n"]) * scale * np.where(np.asarray(panel["k_n"]) == 0, 2.0, 1.0),
                 "s", color=_BLUE, markersize=2.5, label="P_n (modes)")
+        points = (circuit or {}).get(panel["Delta"])
+        if points is not None:
+            ax.plot(points["k_mid"], points["v"], marker="o", markersize=5.5, label="ngspice (AC): (N/π) Δω_n",
+                    **_CIRCUIT)
+            ax.plot(points["k"], points["P"] * scale * np.where(points["zero"], 2.0, 1.0), marker="s",
+                    markersize=5.5, label="ngspice (AC): P_n", **_CIRCUIT)
         ax.set_title(f"Δ = {panel['Delta']:g}  (x = {panel['x']:.4f})", fontsize=9)
         ax.set_xlabel("k")
         ax.set_xlim(0, math.pi)
@@ -165,8 +179,12 @@ def vk_figure(data: Mapping[str, Any]) -> Any:
         ax.grid(True, alpha=0.3, linewidth=0.5)
     first = np.atleast_1d(axes)[0]
     first.set_ylabel("v_k, P_k (arb. units)")
-    handles, labels = first.get_legend_handles_labels()
-    fig.legend(handles, labels, fontsize=8, loc="outside lower center", ncols=len(labels))  # off every panel
+    labels: dict[str, Any] = {}
+    for ax in np.atleast_1d(axes):  # every entry once, the circuit's from whichever panel has them
+        for handle, label in zip(*ax.get_legend_handles_labels(), strict=True):
+            labels.setdefault(label, handle)
+    fig.legend(list(labels.values()), list(labels), fontsize=8, loc="outside lower center",
+               ncols=min(len(labels), 5))  # off every panel
     fig.suptitle(f"Fig. vk: group velocity and mode density, one-mass chain of N = {data['N']}", fontsize=10)
     return fig
 
@@ -392,17 +410,29 @@ def minimiz_figure(data: Mapping[str, Any]) -> Any:
 
 
 # ------------------------------------------------------------------ Pk20-100
-def pk_figure(data: Mapping[str, Any]) -> Any:
-    """Fig. Pk20-100: P_n (squares, left) and (N/π) δω_n (circles, right) for N = 20 (filled), 100 (open)."""
+def pk_figure(data: Mapping[str, Any], circuit: Mapping[int, Mapping[str, Any]] | None = None) -> Any:
+    """Fig. Pk20-100: P_n (squares, left) and (N/π) δω_n (circles, right) for N = 20 (filled), 100 (open).
+
+    ``circuit`` maps a panel's N to a circuit's modes (:func:`~lcchain.report.figure_data.spectrum_points`),
+    drawn on top as larger open black symbols of the same shapes.
+    """
     fig = _figure(10.0, 4.6)
     ax = fig.add_subplot()
     right = ax.twinx()
+    first_circuit = True
     for panel, filled in zip(data["panels"], (True, False), strict=False):
         face = None if filled else "none"
         ax.plot(panel["k"], panel["P"] * panel["N"], "s", color=_RED, markersize=4, markerfacecolor=face,
                 label=f"N P_n, N = {panel['N']}")
         right.plot(panel["k"][1:], panel["spacing"], "o", color=_BLUE, markersize=4, markerfacecolor=face,
                    label=f"(N/π) δω_n, N = {panel['N']}")
+        points = (circuit or {}).get(panel["N"])
+        if points is not None:
+            ax.plot(points["k"], points["P"] * panel["N"], marker="s", markersize=7,
+                    label="ngspice (AC): N |P_n|" if first_circuit else None, **_CIRCUIT)
+            right.plot(points["k_upper"], points["v"], marker="o", markersize=7,
+                       label="ngspice (AC): (N/π) δω_n" if first_circuit else None, **_CIRCUIT)
+            first_circuit = False
     right.plot(data["k"], data["uniform_v"], "--", color="0.3", linewidth=1.0, label="uniform v_k = cos(k/2)")
     ax.set_xlabel("k_n")
     ax.set_ylabel("N P_n", color=_RED)
