@@ -1,11 +1,14 @@
-"""The first-arrival peak's sensitivities (lcchain.theory.sensitivity) against central finite differences of
+"""The first-arrival peak's sensitivities (lcchain.theory.sensitivity, lcchain.circuit.sensitivity) against central finite differences of
 lcchain's own exact theory (first_arrival of the perturbed chain: an independent route, a peak search on new
 modes, where the sensitivities perturb the nominal modes)."""
 
 import numpy as np
 import pytest
 
-from lcchain.circuit.effects import with_walls
+from lcchain.circuit.effects import Tolerance, cornered, with_walls
+from lcchain.circuit.ladder import Ladder
+from lcchain.circuit.netlist import SimulationOptions, netlist_text
+from lcchain.circuit.sensitivity import corners, ladder_sensitivity
 from lcchain.core.budget import Budget, sensitivity_estimate
 from lcchain.core.errors import ParameterError
 from lcchain.theory.arrivals import first_arrival
@@ -89,3 +92,58 @@ def test_refused_and_priced():
         peak_sensitivity([1.0, 1.0])  # type: ignore[arg-type]
     assert sensitivity_estimate(2000).fits(Budget())
     assert not sensitivity_estimate(2000).fits(Budget(max_seconds=2.0))
+
+
+# ------------------------------------------------------------------ the ladder's components and the corners
+
+
+def test_components_are_named_valued_and_scaled_as_the_netlist_writes_them():
+    ladder = Ladder(chain_for_case("perfect", 6, 1), L0=2e-6, C0=5e-9)
+    sensitivity = ladder_sensitivity(ladder)
+    netlist = netlist_text(ladder, SimulationOptions(dt=0.05, tstop=20.0))
+    theory = peak_sensitivity(ladder.chain)
+    assert len(sensitivity.components) == 2 * 6 + 1  # walls: C0_1 and C6_7 are parts too
+    for part in sensitivity.components:
+        line = next(line for line in netlist.splitlines() if line.split()[0] == part.name)
+        assert float(line.split()[3]) == part.value
+        assert part.derivative * part.value == pytest.approx(part.relative, rel=1e-12)
+        if part.kind == "C":  # C = C0 / K: d ln C = -d ln K
+            assert part.relative == -theory.relative_springs[part.slot - 6]
+    ranked = [abs(part.relative) for part in sensitivity.components]
+    assert ranked == sorted(ranked, reverse=True)
+
+
+def test_corners_move_the_ranked_parts_at_their_tolerances():
+    ladder = Ladder(chain_for_case("two-mass", 10))
+    sensitivity = ladder_sensitivity(ladder)
+    found = corners(sensitivity, components=2, tol_L=0.05, tol_C=0.02)
+    assert [c.label for c in found][:1] == ["nominal"] and [c.label for c in found][-2:] == [
+        "predicted max", "predicted min"]
+    assert len(found) == 1 + 4 + 2 and len({c.signs for c in found}) == 7
+    assert sum(map(abs, found[1].signs)) == 2 and sum(map(abs, found[-1].signs)) == 2 * 10 + 1 - 2  # free ends
+    assert found[-2].predicted == -found[-1].predicted > 0
+    corner = found[-1]
+    chain = cornered(ladder.chain, ladder.L0, ladder.C0, signs=corner.signs, tol_L=0.05, tol_C=0.02)
+    assert Tolerance(0.05, 0.02, corner=corner.signs).draw(ladder.chain, ladder.L0, ladder.C0)[0] == chain
+    np.testing.assert_allclose(chain.masses / ladder.chain.masses, 1 + 0.05 * np.array(corner.signs[:10]))
+    # to first order the corner moves the peak as predicted (second order: tol^2 terms)
+    assert first_arrival(chain).peak - sensitivity.peak == pytest.approx(corner.predicted, rel=0.05)
+    with pytest.raises(ParameterError, match="--components"):
+        corners(sensitivity, components=0, tol_L=0.05, tol_C=0.02)
+
+
+@pytest.mark.parametrize("kwargs, field", [
+    ({"corner": (1, 2)}, "effects.tolerance.corner"),
+    ({"corner": "+-"}, "effects.tolerance.corner"),
+    ({"corner": (True, 0)}, "effects.tolerance.corner"),
+    ({"corner": (1, 0), "samples": 3}, "effects.tolerance.samples"),
+])
+def test_bad_corners_are_refused(kwargs, field):
+    with pytest.raises(ParameterError) as raised:
+        Tolerance(0.05, 0.05, **kwargs)
+    assert raised.value.field == field
+
+
+def test_a_corner_of_the_wrong_length_is_refused():
+    with pytest.raises(ParameterError, match="2N\\+1 = 21 signs"):
+        Tolerance(0.05, 0.05, corner=(1, 0, -1)).draw(chain_for_case("two-mass", 10), 1e-5, 1e-8)
