@@ -147,3 +147,25 @@ def test_bad_corners_are_refused(kwargs, field):
 def test_a_corner_of_the_wrong_length_is_refused():
     with pytest.raises(ParameterError, match="2N\\+1 = 21 signs"):
         Tolerance(0.05, 0.05, corner=(1, 0, -1)).draw(chain_for_case("two-mass", 10), 1e-5, 1e-8)
+
+
+def test_energy_sensitivities_match_finite_differences_of_the_energy_fraction():
+    chain = with_walls(chain_for_case("two-mass", 9), 0.2)
+    sensitivity = peak_sensitivity(chain)
+    h = FD_STEP
+
+    def energy(masses, springs):
+        return first_arrival(Chain(masses, springs)).peak ** 2 * masses[-1] / masses[0]
+
+    for i in (0, 4, chain.N - 1):
+        up, down = np.array(chain.masses), np.array(chain.masses)
+        up[i] *= 1 + h
+        down[i] *= 1 - h
+        fd = (energy(up, chain.springs) - energy(down, chain.springs)) / (2 * h)
+        assert sensitivity.energy_relative_masses[i] == pytest.approx(fd, abs=FD_TOLERANCE)
+    up, down = np.array(chain.springs), np.array(chain.springs)
+    up[0] *= 1 + h
+    down[0] *= 1 - h
+    fd = (energy(chain.masses, up) - energy(chain.masses, down)) / (2 * h)
+    assert sensitivity.energy_relative_springs[0] == pytest.approx(fd, abs=FD_TOLERANCE)
+    assert abs(sensitivity.energy_relative_masses.sum()) < 1e-12  # the scaling identity holds for e too

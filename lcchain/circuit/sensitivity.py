@@ -4,7 +4,9 @@
 and springs; here each becomes a component of the netlist, named as :func:`lcchain.circuit.netlist.netlist_text`
 names it (``L3``, ``C2_3``; a free end is a wire and has none), with its value in henry or farad, dp/dx in SI and
 dp/d ln x, the number a builder sets beside a part's tolerance: a part at (1 + tol) moves the peak by about
-tol dp/d ln x.
+tol dp/d ln x.  The metric is the current peak p = max I_N / I_1(0), or the energy fraction e = p^2 L_N / L_1
+(``metric="energy"``), which a mismatch of the two end inductors does not move (the peak's largest
+sensitivities, +-1/2 for L_1 and L_N of the optimal chains, are that mismatch).
 
 :func:`corners` turns the ranking into the corners of a worst-case study: every combination of the K parts that
 move the peak most at their tolerance, and the two corners whose signs the sensitivities predict to be the
@@ -18,8 +20,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..core.checks import integer
+from ..core.checks import choice, integer
 from ..core.limits import MAX_CORNER_COMPONENTS
+from ..core.types import ARRIVAL_METRICS, ArrivalMetric
 from ..theory.sensitivity import PeakSensitivity, peak_sensitivity
 from .ladder import Ladder
 
@@ -39,9 +42,9 @@ class Component:
     value : float
         Henry or farad.
     derivative : float
-        dp/dx, per henry or per farad.
+        dp/dx (or de/dx), per henry or per farad.
     relative : float
-        dp/d ln x, dimensionless.
+        dp/d ln x (or de/d ln x), dimensionless.
     """
 
     name: str
@@ -71,13 +74,18 @@ class LadderSensitivity:
     time : float
         Its time, units of sqrt(L0 C0).
     components : tuple of Component
-        Ranked by |dp/d ln x|, largest first (ties in netlist order).
+        Ranked by the metric's |d/d ln x|, largest first (ties in netlist order).
+    metric : {"peak", "energy"}
+    value : float
+        The metric's value: the peak, or the energy fraction peak^2 L_N / L_1.
     """
 
     ladder: Ladder
     peak: float
     time: float
     components: tuple[Component, ...]
+    metric: ArrivalMetric = "peak"
+    value: float = 0.0
 
     @property
     def time_s(self) -> float:
@@ -86,32 +94,48 @@ class LadderSensitivity:
 
     def to_dict(self) -> dict[str, object]:
         return {"N": self.ladder.chain.N, "L0": self.ladder.L0, "C0": self.ladder.C0, "peak": self.peak,
-                "time": self.time, "time_s": self.time_s, "components": [c.to_dict() for c in self.components]}
+                "metric": self.metric, "value": self.value, "time": self.time, "time_s": self.time_s,
+                "components": [c.to_dict() for c in self.components]}
 
 
-def ladder_sensitivity(ladder: Ladder, sensitivity: PeakSensitivity | None = None) -> LadderSensitivity:
-    """Every component's dp/dx and dp/d ln x (L_i = m_i L0: dp/dL_i = dp/dm_i / L0; C_j = C0 / K_j:
-    dp/dC_j = -(K_j / C_j) dp/dK_j, so dp/d ln C_j = -dp/d ln K_j).
+#: Each metric's value and its derivatives by d ln m_i and d ln K_j, from the peak's sensitivities.
+METRIC_VIEWS = {
+    "peak": lambda s: (s.peak, s.relative_masses, s.relative_springs),
+    "energy": lambda s: (s.energy, s.energy_relative_masses, s.energy_relative_springs),
+}
+
+
+def ladder_sensitivity(ladder: Ladder, sensitivity: PeakSensitivity | None = None, *,
+                       metric: ArrivalMetric = "peak") -> LadderSensitivity:
+    """Every component's d/dx and d/d ln x of the metric (L_i = m_i L0; C_j = C0 / K_j, so
+    d/d ln C_j = -d/d ln K_j); d/dx = (d/d ln x) / x.
 
     Parameters
     ----------
     ladder : Ladder
     sensitivity : PeakSensitivity, optional
         Of ``ladder.chain``, when already computed.
+    metric : {"peak", "energy"}
+        The current peak p, or the energy fraction p^2 L_N / L_1.
     """
+    choice("--metric", metric, ARRIVAL_METRICS)
     chain = ladder.chain
     sensitivity = sensitivity if sensitivity is not None else peak_sensitivity(chain)
+    value, masses, springs = METRIC_VIEWS[metric](sensitivity)
     N = chain.N
-    parts = [Component(f"L{i + 1}", i, float(chain.masses[i] * ladder.L0), float(sensitivity.masses[i] / ladder.L0),
-                       float(sensitivity.relative_masses[i])) for i in range(N)]
+    parts = []
+    for i in range(N):
+        inductance = float(chain.masses[i] * ladder.L0)
+        parts.append(Component(f"L{i + 1}", i, inductance, float(masses[i]) / inductance, float(masses[i])))
     for j, spring in enumerate(chain.springs):
         if spring == 0:
             continue  # a free end is a wire
         capacitance = ladder.C0 / float(spring)
-        relative = -float(sensitivity.relative_springs[j])
+        relative = -float(springs[j])
         parts.append(Component(f"C{j}_{j + 1}", N + j, capacitance, relative / capacitance, relative))
     order = sorted(range(len(parts)), key=lambda k: -abs(parts[k].relative))
-    return LadderSensitivity(ladder, sensitivity.peak, sensitivity.time, tuple(parts[k] for k in order))
+    return LadderSensitivity(ladder, sensitivity.peak, sensitivity.time, tuple(parts[k] for k in order), metric,
+                             float(value))
 
 
 @dataclass(frozen=True)
@@ -163,9 +187,9 @@ def corners(sensitivity: LadderSensitivity, *, components: int, tol_L: float, to
         return Corner(label, tuple(int(s) for s in signs), predicted)
 
     found = [corner("nominal", {})]
-    for choice in itertools.product((1, -1), repeat=components):
-        moved = {part.slot: sign for part, sign in zip(ranked, choice, strict=True)}
-        found.append(corner(" ".join(f"{p.name}{'+' if s > 0 else '-'}" for p, s in zip(ranked, choice,
+    for picked in itertools.product((1, -1), repeat=components):
+        moved = {part.slot: sign for part, sign in zip(ranked, picked, strict=True)}
+        found.append(corner(" ".join(f"{p.name}{'+' if s > 0 else '-'}" for p, s in zip(ranked, picked,
                                                                                        strict=True)), moved))
     for label, direction in (("predicted max", 1), ("predicted min", -1)):
         found.append(corner(label, {part.slot: direction * int(np.sign(part.relative)) for part in parts}))

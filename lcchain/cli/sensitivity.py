@@ -11,6 +11,7 @@ from pathlib import Path
 from typing import Any
 
 from ..core.errors import ParameterError
+from ..core.types import ARRIVAL_METRICS
 from ..report.files import FIGURE_FORMATS
 from .common import EXIT_FAILED, EXIT_OK, Outputs, budget_from_args, chain_from_args, emit_json
 from .progress import study_counter
@@ -26,6 +27,9 @@ def add_sensitivity_arguments(p: argparse.ArgumentParser) -> None:
     from ..studies.sensitivity import CHECK_ACCURACY
     from .common import number
 
+    p.add_argument("--metric", choices=ARRIVAL_METRICS, default="peak",
+                   help="the first arrival's current peak p = max I_N/I_1(0) (default), or its energy fraction "
+                        "e = p^2 L_N/L_1, which a mismatch of the end inductors does not move")
     p.add_argument("--top", type=int, default=DEFAULT_TOP, metavar="K",
                    help=f"rows of the table: the K most sensitive components (default {DEFAULT_TOP}; 0: all)")
     p.add_argument("--plot", metavar="FILE", help="figure (.png, .svg, .pdf): dp/d ln x along the chain")
@@ -55,7 +59,7 @@ def _checks(args: argparse.Namespace, sensitivity: Any, outputs: Outputs) -> lis
         summary = run_plan(plan, store, executor=args.executor, workers=workers, scheduler=args.scheduler,
                            progress=study_counter("runs"), transport=args.transport)
         with Store(store, "read") as stored:
-            rows = check_rows(stored.runs(), steps)
+            rows = check_rows(stored.runs(), steps, sensitivity.metric)
     if summary.failed or summary.combined_failed:
         where = f"'lcchain results {args.store}' says why" if args.store else "keep them with --store FILE to see why"
         print(f"lcchain: {summary.failed + summary.combined_failed} of the check's runs failed ({where})",
@@ -63,20 +67,26 @@ def _checks(args: argparse.Namespace, sensitivity: Any, outputs: Outputs) -> lis
     return rows
 
 
+#: How each metric is named in the table: its symbol and what it is.
+_NAMES = {"peak": ("p", "first-arrival peak p = max I_N/I_1(0)"),
+          "energy": ("e", "first-arrival energy fraction e = p^2 L_N/L_1")}
+
+
 def _print(sensitivity: Any, top: list[Any], checks: list[Any]) -> None:
     ladder = sensitivity.ladder
     chain = ladder.chain
-    print(f"{chain.name} chain, N = {chain.N}: first-arrival peak p = max I_N/I_1(0) = {sensitivity.peak:.6f} at "
-          f"t = {sensitivity.time:.4f} sqrt(L0 C0) = {sensitivity.time_s:.4g} s (L0 = {ladder.L0:g} H, "
-          f"C0 = {ladder.C0:g} F)")
+    symbol, what = _NAMES[sensitivity.metric]
+    print(f"{chain.name} chain, N = {chain.N}: {what} = {sensitivity.value:.6f} at t = {sensitivity.time:.4f} "
+          f"sqrt(L0 C0) = {sensitivity.time_s:.4g} s (L0 = {ladder.L0:g} H, C0 = {ladder.C0:g} F)")
     print(f"{len(top)} of {len(sensitivity.components)} components, most sensitive first (a part at 1 + tol moves "
-          "p by about tol x dp/dlnx):")
-    print(f"{'component':>10} {'value':>12} {'dp/dx':>13} {'dp/dlnx':>11}")
+          f"{symbol} by about tol x d{symbol}/dlnx):")
+    print(f"{'component':>10} {'value':>12} {f'd{symbol}/dx':>13} {f'd{symbol}/dlnx':>11}")
     for part in top:
         unit = "H" if part.kind == "L" else "F"
         print(f"{part.name:>10} {part.value:10.4g} {unit} {part.derivative:11.4g}/{unit} {part.relative:+11.6f}")
     if checks:
-        print("ngspice central differences (p(1+h) - p(1-h)) / 2h, error bar = runs' error + truncation at h:")
+        print(f"ngspice central differences ({symbol}(1+h) - {symbol}(1-h)) / 2h, error bar = runs' error + "
+              "truncation at h:")
         print(f"{'component':>10} {'h':>6} {'theory':>11} {'ngspice':>11} {'|diff|':>9} {'error bar':>9}  ")
         for check in checks:
             print(f"{check.component.name:>10} {check.step:6.3g} {check.component.relative:+11.6f} "
@@ -106,7 +116,7 @@ def cmd_sensitivity(args: argparse.Namespace) -> int:
     check_executor(args.executor, args.workers, args.scheduler)
     chain = chain_from_args(args, max_N=SENSITIVITY_MAX_N)
     sensitivity_estimate(chain.N).check(budget_from_args(args), "--N", chain.N)
-    sensitivity = ladder_sensitivity(Ladder(chain, args.L0, args.C0))
+    sensitivity = ladder_sensitivity(Ladder(chain, args.L0, args.C0), metric=args.metric)
     top = list(sensitivity.components[: args.top or None])
     checks = _checks(args, sensitivity, outputs) if args.check else []
     if args.json:
@@ -129,7 +139,8 @@ def cmd_sensitivity(args: argparse.Namespace) -> int:
         checked = [(position[c.component.name], c.fd, c.error_bar) for c in checks]
         outputs.write("--plot", lambda path: sensitivity_chart(
             sorted(inductors), sorted(capacitors), checked=checked,
-            title=f"{chain.name} chain, N = {N}: sensitivity of the first-arrival peak p = {sensitivity.peak:.4f}",
+            title=f"{chain.name} chain, N = {N}: sensitivity of the {_NAMES[args.metric][1]} = "
+                  f"{sensitivity.value:.4f}", metric=_NAMES[args.metric][0],
             path=path))
     failed = args.check and (len(checks) < args.check or not all(check.passed for check in checks))
     return EXIT_FAILED if failed or outputs.failed else EXIT_OK

@@ -13,7 +13,15 @@ from pathlib import Path
 from typing import Any
 
 from ..core.errors import ParameterError, SimulatorMissingError
-from ..core.types import DEFAULT_C0, DEFAULT_L0, EXCITATIONS, EXECUTORS, NAMED_CASES, TRANSPORT_CHOICES
+from ..core.types import (
+    ARRIVAL_METRICS,
+    DEFAULT_C0,
+    DEFAULT_L0,
+    EXCITATIONS,
+    EXECUTORS,
+    NAMED_CASES,
+    TRANSPORT_CHOICES,
+)
 from ..report.files import FIGURE_FORMATS
 from ..spice.engines import DEFAULT_ENGINE, ENGINES
 from .common import EXIT_FAILED, EXIT_OK, Outputs, budget_from_args, emit_json, int_list
@@ -105,6 +113,9 @@ def add_sweep_arguments(p: argparse.ArgumentParser) -> None:
                         "predict to be the extremes, instead of the samples")
     p.add_argument("--components", type=int, default=None, metavar="K",
                    help="--worst-case: parts moved together, 2^K corners (default 2)")
+    p.add_argument("--metric", choices=ARRIVAL_METRICS, default=None,
+                   help="--worst-case: rank and judge the corners by the first arrival's current peak (default) or "
+                        "its energy fraction peak^2 L_N/L_1")
     add_study_arguments(p)
 
 
@@ -198,7 +209,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     outputs = Outputs()
     _check_study_options(args, outputs)
     budget = budget_from_args(args)
-    if args.worst_case or args.components is not None:
+    if args.worst_case or args.components is not None or args.metric is not None:
         return _worst_case(args, outputs, budget)
     if args.scene:
         given = [o for o, v in (("--case", args.case), ("--N", args.N), ("--dt", args.dt),
@@ -230,14 +241,15 @@ def _worst_case(args: argparse.Namespace, outputs: Outputs, budget: Any) -> int:
     from ..studies.worst_case import DEFAULT_COMPONENTS, worst_case_plan, worst_case_summary
 
     if not args.worst_case:
-        raise ParameterError("--components", args.components, "only with --worst-case")
+        option = "--components" if args.components is not None else "--metric"
+        raise ParameterError(option, getattr(args, option.lstrip("-")), "only with --worst-case")
     given = [o for o, v in (("SCENE.toml", not args.scene), ("--case", args.case), ("--N", args.N),
                             ("--dt", args.dt), ("--accuracy", args.accuracy), ("--extrapolate", args.extrapolate),
                             ("--engine", args.engine), ("--vary", args.vary)) if v]
     if given:
         value = None if given[0] == "SCENE.toml" else getattr(args, given[0].lstrip("-"))
         raise ParameterError(given[0], value, "a scene and nothing else with --worst-case (its corners replace "
-                             "the samples; --samples and --seed set its Monte Carlo)" if value is not None else
+                             "the samples)" if value is not None else
                              "a scene file with --worst-case")
     scene = args.scene
     if args.samples is not None or args.seed is not None:
@@ -245,7 +257,8 @@ def _worst_case(args: argparse.Namespace, outputs: Outputs, budget: Any) -> int:
                              args.samples if args.samples is not None else args.seed,
                              "nothing with --worst-case (set them in the scene's [effects.tolerance])")
     plan, setup = worst_case_plan(scene, components=args.components if args.components is not None else
-                                  DEFAULT_COMPONENTS, budget=budget, workers=_workers(args))
+                                  DEFAULT_COMPONENTS, metric=args.metric or "peak", budget=budget,
+                                  workers=_workers(args))
 
     def after(as_json: bool) -> dict[str, Any]:
         with Store(args.store, "read") as store:
@@ -259,19 +272,20 @@ def _worst_case(args: argparse.Namespace, outputs: Outputs, budget: Any) -> int:
 
 
 def _print_worst_case(summary: dict[str, Any]) -> None:
-    rows = [[row["corner"], f"{row['peak_sim']:.6f}", f"{row['peak_theory']:.6f}", f"{row['predicted']:.6f}"]
+    what = {"peak": "peak", "energy": "energy"}[summary["metric"]]
+    rows = [[row["corner"], f"{row['sim']:.6f}", f"{row['theory']:.6f}", f"{row['predicted']:.6f}"]
             for row in summary["corners"]]
-    print(_table(["corner", "peak (ngspice)", "peak (theory)", "first order"], rows))
+    print(_table(["corner", f"{what} (ngspice)", f"{what} (theory)", "first order"], rows))
     if "worst" not in summary:
         return
     worst = summary["worst"]
     if "nominal" in summary:
-        change = summary["worst_change"]
-        print(f"worst corner: {worst['corner']}, peak {worst['peak_sim']:.6f} against the nominal "
-              f"{summary['nominal']['peak_sim']:.6f} ({change:+.2e}, {100 * change / summary['nominal']['peak_sim']:+.3g} %)")
+        change, nominal = summary["worst_change"], summary["nominal"]["sim"]
+        print(f"worst corner: {worst['corner']}, {what} {worst['sim']:.6f} against the nominal {nominal:.6f} "
+              f"({change:+.2e}, {100 * change / nominal:+.3g} %)")
     mc = summary.get("monte_carlo")
     if mc is not None:
-        print(f"Monte Carlo ({mc['samples']} samples, exact theory): worst peak {mc['worst']:.6f}, "
+        print(f"Monte Carlo ({mc['samples']} samples, exact theory): worst {what} {mc['worst']:.6f}, "
               f"{'within' if mc['within'] else 'BEYOND'} the worst corner's {mc['worst_corner_theory']:.6f}")
 
 

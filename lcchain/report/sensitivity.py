@@ -19,7 +19,7 @@ __all__ = ["sensitivity_chart"]
 
 
 def sensitivity_chart(inductors: Sequence[tuple[int, float]], capacitors: Sequence[tuple[int, float]], *,
-                      checked: Sequence[tuple[float, float, float]] = (), title: str = "",
+                      checked: Sequence[tuple[float, float, float]] = (), title: str = "", metric: str = "p",
                       path: str | os.PathLike[str] | None = None, ax: Axes | None = None) -> Figure:
     """Stems of dp/d ln x along the chain: inductor L_i at position i, capacitor C_j_j+1 at j + 1/2.
 
@@ -32,6 +32,8 @@ def sensitivity_chart(inductors: Sequence[tuple[int, float]], capacitors: Sequen
     checked : sequence of (position, finite difference, error bar)
         ngspice's finite differences, drawn with their error bars.
     title : str
+    metric : str
+        The metric's symbol in the labels (``"p"``, ``"e"``).
     path : path-like, optional
         Saved there when given.
     ax : Axes, optional
@@ -42,8 +44,8 @@ def sensitivity_chart(inductors: Sequence[tuple[int, float]], capacitors: Sequen
     """
     fig = _new_figure() if ax is None else _root_figure(ax)
     ax = ax if ax is not None else fig.add_subplot()
-    for parts, offset, colour, label in ((inductors, 0.0, "C0", r"$\partial p/\partial \ln L_i$"),
-                                         (capacitors, 0.5, "C1", r"$\partial p/\partial \ln C_{j,j+1}$")):
+    for parts, offset, colour, label in ((inductors, 0.0, "C0", rf"$\partial {metric}/\partial \ln L_i$"),
+                                         (capacitors, 0.5, "C1", rf"$\partial {metric}/\partial \ln C_{{j,j+1}}$")):
         if parts:
             position = np.array([k for k, _ in parts], dtype=float) + offset
             value = np.array([v for _, v in parts], dtype=float)
@@ -55,7 +57,7 @@ def sensitivity_chart(inductors: Sequence[tuple[int, float]], capacitors: Sequen
                     label="ngspice, central difference")
     ax.axhline(0.0, color="0.5", linewidth=0.5)
     ax.set_xlabel("position along the chain (loop i; capacitor j,j+1 at j + 1/2)")
-    ax.set_ylabel(r"$\partial p / \partial \ln x$ (first-arrival peak)")
+    ax.set_ylabel(rf"$\partial {metric} / \partial \ln x$")
     ax.grid(alpha=0.3, linewidth=0.5)
     ax.legend(loc="best", fontsize="small")
     if title:

@@ -6,7 +6,8 @@ theory come from the same chain), at an accuracy that extrapolates.  Their peaks
 
     FD = (p+ - p-) / (2 h),
 
-whose error bar is the runs' part, (e+ + e-) / (2 h) with e the runs' predicted (else measured) error, plus
+whose error bar is the runs' part, (e+ + e-) / (2 h) with e the runs' predicted (else measured) error (for the
+energy fraction e = p^2 L_N / L_1, 2 e / p times it), plus
 the truncation of the central difference at h, |FD_theory - dp/d ln x|, from the exact theory of the same two
 chains (each run's record holds it).  The check passes when |FD - dp/d ln x| is within that bar.  h is chosen
 so that the peak moves at least :data:`CHECK_MARGIN` times the runs' error: h = max(CHECK_STEP,
@@ -25,11 +26,13 @@ from ..core.budget import Budget
 from ..core.checks import integer, real
 from ..core.frozen import FrozenMap
 from ..core.limits import ACCURACY_FLOOR
+from ..core.types import ArrivalMetric
 from ..runs.request import Request, Transient
 from .plan import Plan, request_plan
 from .store import StoredRun
 
-__all__ = ["CHECK_STEP", "CHECK_MAX_STEP", "CHECK_MARGIN", "CHECK_ACCURACY", "Check", "check_plan", "check_rows"]
+__all__ = ["CHECK_STEP", "CHECK_MAX_STEP", "CHECK_MARGIN", "CHECK_ACCURACY", "Check", "check_plan", "check_rows",
+           "arrival_values"]
 
 #: The smallest relative step of a component: truncation h^2 |p'''| / 6 stays near the runs' part at 1e-7.
 CHECK_STEP = 0.01
@@ -128,24 +131,35 @@ def check_plan(sensitivity: LadderSensitivity, count: int, *, accuracy: float = 
                               L0=ladder.L0, C0=ladder.C0, timeout=timeout)
             points.append(({"component": part.name, "factor": 1.0 + sign * h}, request))
     plan = request_plan(points, budget=budget)
-    description = {"command": "sensitivity --check", "N": ladder.chain.N, "L0": ladder.L0, "C0": ladder.C0,
+    description = {"command": "sensitivity --check", "metric": sensitivity.metric, "N": ladder.chain.N,
+                   "L0": ladder.L0, "C0": ladder.C0,
                    "accuracy": accuracy, "chain": ladder.chain.to_dict(),
                    "components": [part.name for part, _ in steps]}
     return replace(plan, description=FrozenMap(description)), steps
 
 
-def _first(run: StoredRun) -> tuple[float, float, float]:
-    """A finished run's simulated peak, its theory's peak and its error bar."""
+def arrival_values(run: StoredRun, metric: ArrivalMetric = "peak") -> tuple[float, float, float]:
+    """A finished, kicked run's first-arrival metric: simulated, in theory, and its error bar.
+
+    The peak's error bar is the run's predicted error (else its measured max |simulation - theory|); the energy
+    fraction e = p^2 L_N / L_1 (the record's ``energy_sim``) has the theory p_theory^2 L_N / L_1 and 2 e / p
+    times that error bar.
+    """
     metrics = run.metrics or {}
     arrival = metrics["arrivals"][0]
     error = metrics.get("predicted_error")
-    return (float(arrival["peak_sim"]), float(arrival["peak_theory"]),
-            float(error if error is not None else metrics["max_abs_error"]))
+    error = float(error if error is not None else metrics["max_abs_error"])
+    peak, theory = float(arrival["peak_sim"]), float(arrival["peak_theory"])
+    if metric == "peak":
+        return peak, theory, error
+    ratio = float(arrival["energy_sim"]) / peak**2  # L_N / L_1 of the run's own circuit
+    return peak**2 * ratio, theory**2 * ratio, 2.0 * abs(peak) * ratio * error
 
 
-def check_rows(runs: Sequence[StoredRun], steps: Sequence[tuple[Component, float]]) -> list[Check]:
+def check_rows(runs: Sequence[StoredRun], steps: Sequence[tuple[Component, float]],
+               metric: ArrivalMetric = "peak") -> list[Check]:
     """Each checked component's finite difference from the store's finished runs (runs that failed: left out)."""
-    results = {(run.params["component"], run.params["factor"]): _first(run) for run in runs
+    results = {(run.params["component"], run.params["factor"]): arrival_values(run, metric) for run in runs
                if run.status == "ok" and not run.member and run.metrics}
     checks = []
     for part, h in steps:

@@ -28,11 +28,15 @@ from ..circuit.sensitivity import Corner, LadderSensitivity, corners, ladder_sen
 from ..core.budget import Budget, Estimate, sensitivity_estimate
 from ..core.errors import ParameterError
 from ..core.frozen import FrozenMap
+from ..core.types import ArrivalMetric
 from ..runs.request import plan_request
 from ..scenes.load import load_scene
 from ..scenes.plan import scene_plan
 from ..theory.arrivals import first_arrival
+from ..theory.chain import Chain
+from ..theory.sensitivity import energy_fraction
 from .plan import Combination, Plan, Task, _add_runs, _seconds
+from .sensitivity import arrival_values
 from .store import StoredRun
 
 __all__ = ["WorstCase", "worst_case_plan", "worst_case_summary", "DEFAULT_COMPONENTS"]
@@ -52,7 +56,8 @@ class WorstCase:
     corners : tuple of Corner
         In task order: the nominal, the 2^K corners, then the predicted max and min.
     monte_carlo : tuple of float
-        The exact first-arrival peak of each of the scene's tolerance samples (empty with one sample).
+        The exact first-arrival metric (the sensitivity's) of each of the scene's tolerance samples (empty
+        with one sample).
     """
 
     sensitivity: LadderSensitivity
@@ -82,8 +87,14 @@ def _refuse(scene: Any, path: str) -> Tolerance:
     return tolerance
 
 
-def worst_case_plan(path: str | Path, *, components: int = DEFAULT_COMPONENTS, budget: Budget | None = None,
-                    workers: int = 1) -> tuple[Plan, WorstCase]:
+def _metric(chain: Chain, metric: ArrivalMetric) -> float:
+    """A chain's first-arrival peak, or its energy fraction, in exact theory."""
+    peak = first_arrival(chain).peak
+    return peak if metric == "peak" else energy_fraction(peak, chain)
+
+
+def worst_case_plan(path: str | Path, *, components: int = DEFAULT_COMPONENTS, metric: ArrivalMetric = "peak",
+                    budget: Budget | None = None, workers: int = 1) -> tuple[Plan, WorstCase]:
     """The corners of a scene as a study, and what its summary compares them with.
 
     Parameters
@@ -92,6 +103,8 @@ def worst_case_plan(path: str | Path, *, components: int = DEFAULT_COMPONENTS, b
         A scene with ``[effects.tolerance]`` (L or C > 0), kicked, without losses.
     components : int
         K, the parts moved together (2^K corners), 1 .. :data:`lcchain.core.limits.MAX_CORNER_COMPONENTS`.
+    metric : {"peak", "energy"}
+        What the corners are ranked and judged by: the first arrival's current peak or its energy fraction.
     budget : Budget, optional
     workers : int
         The runs' workers, for the price.
@@ -112,7 +125,7 @@ def worst_case_plan(path: str | Path, *, components: int = DEFAULT_COMPONENTS, b
     if isinstance(series, PreferredValues):
         nominal = rounded(nominal, request.L0, request.C0, series.series)
     sensitivity_estimate(nominal.N).check(budget, "--worst-case", str(path))
-    sensitivity = ladder_sensitivity(Ladder(nominal, request.L0, request.C0))
+    sensitivity = ladder_sensitivity(Ladder(nominal, request.L0, request.C0), metric=metric)
     found = corners(sensitivity, components=components, tol_L=tolerance.L, tol_C=tolerance.C)
 
     def corner_plan(corner: Corner) -> Any:
@@ -131,45 +144,45 @@ def worst_case_plan(path: str | Path, *, components: int = DEFAULT_COMPONENTS, b
         plan = first if corner is found[0] else corner_plan(corner)
         _add_runs(tasks, combinations, {"corner": corner.label, "signs": _signs_text(corner.signs)}, plan.specs,
                   plan.steps, plan.predicted_error)
-    peaks = tuple(first_arrival(chain).peak for chain in monte_carlo.chains) if request.samples > 1 else ()
+    values = tuple(_metric(chain, metric) for chain in monte_carlo.chains) if request.samples > 1 else ()
     description = {"command": "sweep --worst-case", "scene": str(path), "scene_data": scene.to_dict(),
-                   "components": components, "ranked": [part.name for part in sensitivity.components]}
+                   "components": components, "metric": metric, "ranked": [part.name for part in sensitivity.components]}
     plan = Plan("scene", FrozenMap(description), tuple(tasks), request.backend, ("corner", "signs"),
                 tuple(combinations), request.engine)
-    return plan, WorstCase(sensitivity, tuple(found), peaks)
+    return plan, WorstCase(sensitivity, tuple(found), values)
 
 
 def worst_case_summary(runs: Sequence[StoredRun], setup: WorstCase) -> dict[str, Any]:
-    """The corners' peaks from the store, the worst against the nominal, and the Monte Carlo beside them.
+    """The corners' metric from the store, the worst against the nominal, and the Monte Carlo beside them.
 
     Returns
     -------
     dict
-        ``corners``: label, simulated and theoretical peak and the first-order prediction of each finished
-        corner; ``nominal``, ``worst`` and ``best`` (labels and peaks); ``worst_change`` (worst - nominal,
+        ``metric``; ``corners``: label, simulated and theoretical value and the first-order prediction of each
+        finished corner; ``nominal``, ``worst`` and ``best`` (those rows); ``worst_change`` (worst - nominal,
         simulated); ``monte_carlo`` (samples, worst and whether it lies within the worst corner, in theory),
         when the scene has samples.
     """
+    metric = setup.sensitivity.metric
     predicted = {corner.label: corner.predicted for corner in setup.corners}
     rows = []
     for run in runs:
         if run.member or run.status != "ok" or not run.metrics:
             continue
-        arrival = run.metrics["arrivals"][0]
+        simulated, theory, _ = arrival_values(run, metric)
         label = run.params["corner"]
-        rows.append({"corner": label, "peak_sim": float(arrival["peak_sim"]),
-                     "peak_theory": float(arrival["peak_theory"]),
-                     "predicted": setup.sensitivity.peak + predicted[label]})
-    summary: dict[str, Any] = {"corners": rows, "peak_theory": setup.sensitivity.peak}
+        rows.append({"corner": label, "sim": simulated, "theory": theory,
+                     "predicted": setup.sensitivity.value + predicted[label]})
+    summary: dict[str, Any] = {"metric": metric, "corners": rows, "nominal_theory": setup.sensitivity.value}
     nominal = next((row for row in rows if row["corner"] == "nominal"), None)
     if rows:
-        worst = min(rows, key=lambda row: row["peak_sim"])
-        best = max(rows, key=lambda row: row["peak_sim"])
+        worst = min(rows, key=lambda row: row["sim"])
+        best = max(rows, key=lambda row: row["sim"])
         summary.update(worst=worst, best=best)
         if nominal is not None:
-            summary.update(nominal=nominal, worst_change=worst["peak_sim"] - nominal["peak_sim"])
+            summary.update(nominal=nominal, worst_change=worst["sim"] - nominal["sim"])
     if setup.monte_carlo and rows:
-        lowest = min(row["peak_theory"] for row in rows)
+        lowest = min(row["theory"] for row in rows)
         mc = float(np.min(setup.monte_carlo))
         summary["monte_carlo"] = {"samples": len(setup.monte_carlo), "worst": mc, "within": bool(mc >= lowest),
                                   "worst_corner_theory": lowest}

@@ -38,10 +38,15 @@ from .chain import Chain
 from .exact import coupled_vectors, diagonalise, modal_weights
 from .modes import Modes
 
-__all__ = ["PeakSensitivity", "peak_sensitivity", "SENSITIVITY_MAX_N"]
+__all__ = ["PeakSensitivity", "peak_sensitivity", "energy_fraction", "SENSITIVITY_MAX_N"]
 
 #: Largest chain whose sensitivities are computed: every eigenvector and four dense N x N products.
 SENSITIVITY_MAX_N = COUPLED_MAX_N
+
+
+def energy_fraction(peak: float, chain: Chain) -> float:
+    """The fraction of the kick's energy the last mass holds at the peak: p^2 m_N / m_1."""
+    return peak**2 * float(chain.masses[-1] / chain.masses[0])
 
 
 @dataclass(frozen=True, eq=False)
@@ -80,6 +85,24 @@ class PeakSensitivity(FrozenArrays):
     def relative_springs(self) -> np.ndarray:
         """dp/d ln K_j = K_j dp/dK_j (= -dp/d ln C_j); 0 at a free end."""
         return np.asarray(self.chain.springs * self.springs)
+
+    @property
+    def energy(self) -> float:
+        """The energy fraction the last mass holds at the peak, e = p^2 m_N / m_1."""
+        return energy_fraction(self.peak, self.chain)
+
+    @property
+    def energy_relative_masses(self) -> np.ndarray:
+        """de/d ln m_i = e (2 dp/d ln m_i / p + [i = N] - [i = 1])."""
+        ends = np.zeros(self.chain.N)
+        ends[-1] += 1.0
+        ends[0] -= 1.0
+        return np.asarray(self.energy * (2.0 * self.relative_masses / self.peak + ends))
+
+    @property
+    def energy_relative_springs(self) -> np.ndarray:
+        """de/d ln K_j = 2 e dp/d ln K_j / p."""
+        return np.asarray(self.energy * 2.0 * self.relative_springs / self.peak)
 
 
 def _modes(chain: Chain) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
