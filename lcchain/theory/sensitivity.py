@@ -156,6 +156,10 @@ def peak_sensitivity(chain: Chain) -> PeakSensitivity:
     omega, u, b = _modes(chain)
     transfer = u[-1, :] * b
     arrival = first_arrival(Modes(omega, u[0, :] * b, transfer, "exact"))
+    if min(arrival.time - arrival.window[0], arrival.window[1] - arrival.time) <= 1e-9 * arrival.time:
+        # at an edge of its window the peak is no stationary point: the envelope theorem does not hold
+        raise ParameterError("chain", repr(chain), "a chain whose first arrival peaks inside its search window "
+                             f"{arrival.window} (this one's largest value is at its edge, t = {arrival.time:.6g})")
     t = _stationary(transfer, omega, arrival.time)
     # F_kn = (cos(t omega_k) - cos(t omega_n)) / (omega_k^2 - omega_n^2), without cancellation
     total = 0.5 * t * np.add.outer(omega, omega)
