@@ -91,9 +91,12 @@ def _print(sensitivity: Any, top: list[Any], checks: list[Any]) -> None:
         for check in checks:
             print(f"{check.component.name:>10} {check.step:6.3g} {check.component.relative:+11.6f} "
                   f"{check.fd:+11.6f} {abs(check.fd - check.component.relative):9.2e} {check.error_bar:9.2e}  "
-                  f"{'ok' if check.passed else 'FAILED'}")
+                  f"{('ok' if check.resolved else 'ok, unresolved') if check.passed else 'FAILED'}")
         passed = sum(check.passed for check in checks)
-        print(f"check: {passed} of {len(checks)} agree with the theory within their error bars: "
+        unresolved = sum(not check.resolved for check in checks)
+        below = (f" ({unresolved} unresolved: the error bar is not below a tenth of the sensitivity)"
+                 if unresolved else "")
+        print(f"check: {passed} of {len(checks)} agree with the theory within their error bars{below}: "
               f"{'pass' if passed == len(checks) else 'FAIL'}")
 
 

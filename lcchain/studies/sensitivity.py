@@ -9,7 +9,9 @@ theory come from the same chain), at an accuracy that extrapolates.  Their peaks
 whose error bar is the runs' part, (e+ + e-) / (2 h) with e the runs' predicted (else measured) error (for the
 energy fraction e = p^2 L_N / L_1, 2 e / p times it), plus
 the truncation of the central difference at h, |FD_theory - dp/d ln x|, from the exact theory of the same two
-chains (each run's record holds it).  The check passes when |FD - dp/d ln x| is within that bar.  h is chosen
+chains (each run's record holds it).  The check passes when |FD - dp/d ln x| is within that bar; it resolves
+the sensitivity when the bar is below a tenth of |dp/d ln x| (at a maximum over a part, a perfect cradle's
+energy, dp/d ln x = 0 and the difference is all truncation: it agrees, but says little).  h is chosen
 so that the peak moves at least :data:`CHECK_MARGIN` times the runs' error: h = max(CHECK_STEP,
 CHECK_MARGIN accuracy / |dp/d ln x|), at most :data:`CHECK_MAX_STEP`.
 """
@@ -86,10 +88,16 @@ class Check:
     def passed(self) -> bool:
         return abs(self.fd - self.component.relative) <= self.error_bar
 
+    @property
+    def resolved(self) -> bool:
+        """Whether the error bar is below a tenth of the sensitivity (else agreement says little)."""
+        return self.error_bar < 0.1 * abs(self.component.relative)
+
     def to_dict(self) -> dict[str, Any]:
         return {"name": self.component.name, "step": self.step, "theory": self.component.relative, "fd": self.fd,
                 "error_bar": self.error_bar, "runs_error": self.runs_error, "truncation": self.truncation,
-                "theory_fd": self.theory_fd, "peaks": list(self.peaks), "passed": self.passed}
+                "theory_fd": self.theory_fd, "peaks": list(self.peaks), "passed": self.passed,
+                "resolved": self.resolved}
 
 
 def _step(component: Component, accuracy: float) -> float:
