@@ -169,3 +169,24 @@ def test_energy_sensitivities_match_finite_differences_of_the_energy_fraction():
     fd = (energy(chain.masses, up) - energy(chain.masses, down)) / (2 * h)
     assert sensitivity.energy_relative_springs[0] == pytest.approx(fd, abs=FD_TOLERANCE)
     assert abs(sensitivity.energy_relative_masses.sum()) < 1e-12  # the scaling identity holds for e too
+
+
+def test_a_scene_corner_is_realised_by_the_planner_and_round_trips():
+    from lcchain.scenes.load import parse_scene
+    from lcchain.scenes.plan import scene_plan
+
+    signs = [1, 0, -1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1]
+    data = {"chain": {"case": "two-mass", "N": 10}, "excitation": {"kind": "kick"},
+            "effects": {"tolerance": {"L": 0.05, "C": 0.02, "corner": signs}}, "analysis": {"dt": 0.05}}
+    scene = parse_scene(data, source="corner.toml")
+    assert parse_scene(scene.to_dict()) == scene
+    plan = scene_plan(scene)
+    assert len(plan.chains) == 1 and len(plan.specs) == 1
+    expected = cornered(plan.nominal, 1e-5, 1e-8, signs=tuple(signs), tol_L=0.05, tol_C=0.02)
+    assert plan.chains[0] == expected
+    assert plan.specs[0].theory.chain == expected  # the netlist and the theory of one realised chain
+    values = {line.split()[0]: float(line.split()[3]) for line in plan.specs[0].netlist.splitlines()
+              if line[:1] in "LC" and not line.startswith(".")}
+    assert values["L1"] == pytest.approx(1.05 * 1e-5 * plan.nominal.masses[0], rel=1e-14)
+    assert values["L3"] == pytest.approx(0.95 * 1e-5 * plan.nominal.masses[2], rel=1e-14)
+    assert values["L2"] == pytest.approx(1e-5 * plan.nominal.masses[1], rel=1e-14)
