@@ -129,6 +129,7 @@ def test_worst_case_sweep_stores_the_corners_and_names_the_worst(capsys, tmp_pat
      "--components"),
     (["sweep", "{scene}", "--worst-case", "--vary", "chain.N=10,12", "--store", "{tmp}/w.sqlite"], "--vary"),
     (["sweep", "--worst-case", "--store", "{tmp}/w.sqlite"], "SCENE.toml"),
+    (["sweep", "{scene}", "--worst-case", "--samples", "5", "--store", "{tmp}/w.sqlite"], "--samples"),
     (["sweep", "{pulse}", "--worst-case", "--store", "{tmp}/w.sqlite"], "excitation.kind"),
     (["sweep", "{plain}", "--worst-case", "--store", "{tmp}/w.sqlite"], "--worst-case"),
 ])

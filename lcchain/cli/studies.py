@@ -243,20 +243,15 @@ def _worst_case(args: argparse.Namespace, outputs: Outputs, budget: Any) -> int:
     if not args.worst_case:
         option = "--components" if args.components is not None else "--metric"
         raise ParameterError(option, getattr(args, option.lstrip("-")), "only with --worst-case")
-    given = [o for o, v in (("SCENE.toml", not args.scene), ("--case", args.case), ("--N", args.N),
-                            ("--dt", args.dt), ("--accuracy", args.accuracy), ("--extrapolate", args.extrapolate),
-                            ("--engine", args.engine), ("--vary", args.vary)) if v]
+    if not args.scene:
+        raise ParameterError("SCENE.toml", None, "a scene file with --worst-case")
+    given = [o for o, v in (("--case", args.case), ("--N", args.N), ("--dt", args.dt), ("--accuracy", args.accuracy),
+                            ("--extrapolate", args.extrapolate), ("--engine", args.engine), ("--vary", args.vary),
+                            ("--samples", args.samples), ("--seed", args.seed)) if v is not None and v != []]
     if given:
-        value = None if given[0] == "SCENE.toml" else getattr(args, given[0].lstrip("-"))
-        raise ParameterError(given[0], value, "a scene and nothing else with --worst-case (its corners replace "
-                             "the samples)" if value is not None else
-                             "a scene file with --worst-case")
-    scene = args.scene
-    if args.samples is not None or args.seed is not None:
-        raise ParameterError("--samples" if args.samples is not None else "--seed",
-                             args.samples if args.samples is not None else args.seed,
-                             "nothing with --worst-case (set them in the scene's [effects.tolerance])")
-    plan, setup = worst_case_plan(scene, components=args.components if args.components is not None else
+        raise ParameterError(given[0], getattr(args, given[0].lstrip("-")), "nothing with --worst-case (the scene "
+                             "says the circuit and its [effects.tolerance]; the corners replace the samples)")
+    plan, setup = worst_case_plan(args.scene, components=args.components if args.components is not None else
                                   DEFAULT_COMPONENTS, metric=args.metric or "peak", budget=budget,
                                   workers=_workers(args))
 
@@ -272,7 +267,7 @@ def _worst_case(args: argparse.Namespace, outputs: Outputs, budget: Any) -> int:
 
 
 def _print_worst_case(summary: dict[str, Any]) -> None:
-    what = {"peak": "peak", "energy": "energy"}[summary["metric"]]
+    what = summary["metric"]
     rows = [[row["corner"], f"{row['sim']:.6f}", f"{row['theory']:.6f}", f"{row['predicted']:.6f}"]
             for row in summary["corners"]]
     print(_table(["corner", f"{what} (ngspice)", f"{what} (theory)", "first order"], rows))
