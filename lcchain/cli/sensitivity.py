@@ -14,7 +14,7 @@ from ..core.errors import ParameterError
 from ..core.types import ARRIVAL_METRICS
 from ..report.files import FIGURE_FORMATS
 from .common import EXIT_FAILED, EXIT_OK, Outputs, budget_from_args, chain_from_args, emit_json
-from .progress import study_counter
+from .progress import fraction, study_counter
 from .studies import STORE_FORMATS, _workers, add_study_arguments
 
 __all__ = ["add_sensitivity_arguments", "cmd_sensitivity"]
@@ -119,7 +119,10 @@ def cmd_sensitivity(args: argparse.Namespace) -> int:
     check_executor(args.executor, args.workers, args.scheduler)
     chain = chain_from_args(args, max_N=SENSITIVITY_MAX_N)
     sensitivity_estimate(chain.N).check(budget_from_args(args), "--N", chain.N)
+    shown = fraction(f"sensitivities of {chain.N} masses")  # one O(N^3) step: 5 s at N = 2000
+    shown(0.0)
     sensitivity = ladder_sensitivity(Ladder(chain, args.L0, args.C0), metric=args.metric)
+    shown(1.0)
     top = list(sensitivity.components[: args.top or None])
     checks = _checks(args, sensitivity, outputs) if args.check else []
     if args.json:
