@@ -57,8 +57,8 @@ from ..theory.chain import MAX_COUPLING, Chain
 from .ladder import Ladder
 
 __all__ = ["E_SERIES", "preferred_value", "preferred_values", "with_walls", "rounded", "realise",
-           "tolerance_samples", "Effect", "Walls", "Coupling", "Losses", "Tolerance", "PreferredValues", "EFFECTS",
-           "SeriesElement"]
+           "tolerance_samples", "cornered", "Effect", "Walls", "Coupling", "Losses", "Tolerance", "PreferredValues",
+           "EFFECTS", "SeriesElement"]
 
 #: An element in series with an inductor: its SPICE letter and its value (ohm for "R").
 SeriesElement = tuple[str, float]
@@ -176,13 +176,44 @@ def realise(chain: Chain, L0: float, C0: float, *, series: str | None = None, to
     tol_C = real("tol_C", tol_C, at_least=0.0, below=1.0)
     if series is not None:
         chain = rounded(chain, L0, C0, series)
+    if not (tol_L or tol_C):
+        return _scaled(chain, L0, C0, None, None, name or chain.name)
+    if rng is None:
+        raise ParameterError("rng", None, "a numpy Generator when a tolerance is non-zero")
+    return _scaled(chain, L0, C0, tol_L * rng.uniform(-1.0, 1.0, chain.N),
+                   tol_C * rng.uniform(-1.0, 1.0, chain.N + 1), name or chain.name)
+
+
+def _scaled(chain: Chain, L0: float, C0: float, du_L: np.ndarray | None, du_C: np.ndarray | None,
+            name: str) -> Chain:
+    """The chain with every L_i times 1 + du_L[i] and every C_j times 1 + du_C[j] (None: unchanged)."""
     inductance, capacitance, wired = _components(chain, L0, C0)
-    if tol_L or tol_C:
-        if rng is None:
-            raise ParameterError("rng", None, "a numpy Generator when a tolerance is non-zero")
-        inductance = inductance * (1 + tol_L * rng.uniform(-1.0, 1.0, inductance.size))
-        capacitance = capacitance * (1 + tol_C * rng.uniform(-1.0, 1.0, capacitance.size))
-    return _chain(inductance, capacitance, wired, L0, C0, name or chain.name, chain.coupling)
+    if du_L is not None and du_C is not None:
+        inductance = inductance * (1 + du_L)
+        capacitance = capacitance * (1 + du_C)
+    return _chain(inductance, capacitance, wired, L0, C0, name, chain.coupling)
+
+
+def cornered(chain: Chain, L0: float, C0: float, *, signs: tuple[int, ...], tol_L: float, tol_C: float,
+             name: str | None = None) -> Chain:
+    """The chain at a corner of its tolerances: L_i times 1 + s_i tol_L, C_j times 1 + s_j tol_C.
+
+    Parameters
+    ----------
+    chain : Chain
+        The nominal chain (already rounded to its series, if any).
+    L0, C0 : float
+        Bulk inductance (H) and capacitance (F).
+    signs : tuple of int
+        2N + 1 signs in {-1, 0, 1}: L_1..L_N, then C_0_1..C_N_N+1 (a free end's sign is ignored: a wire).
+    tol_L, tol_C : float
+        Relative tolerances, 0 <= tol < 1.
+    """
+    if len(signs) != 2 * chain.N + 1:
+        raise ParameterError("effects.tolerance.corner", f"{len(signs)} signs", f"2N+1 = {2 * chain.N + 1} signs "
+                             "(L_1..L_N, then C_0_1..C_N_N+1) for this chain")
+    values = np.asarray(signs, dtype=float)
+    return _scaled(chain, L0, C0, tol_L * values[:chain.N], tol_C * values[chain.N:], name or chain.name)
 
 
 def tolerance_samples(chain: Chain, L0: float, C0: float, *, samples: int, seed: int, tol_L: float,
@@ -327,6 +358,10 @@ class Tolerance(Effect):
         Number of sampled circuits, 1..10000.
     seed : int
         Seed of ``numpy.random.default_rng`` (>= 0), so that a study repeats.
+    corner : tuple of int, optional
+        Instead of drawing: the one circuit with every component at nominal x (1 + sign x its tolerance),
+        2N + 1 signs in {-1, 0, 1}, L_1..L_N then C_0_1..C_N_N+1 (:func:`cornered`; ``lcchain sweep SCENE
+        --worst-case`` makes them).  One sample.
     """
 
     key: ClassVar[str] = "tolerance"
@@ -334,6 +369,7 @@ class Tolerance(Effect):
     C: float = 0.0
     samples: int = 1
     seed: int = 0
+    corner: tuple[int, ...] | None = None
 
     def __post_init__(self) -> None:
         for name in ("L", "C"):
@@ -343,6 +379,14 @@ class Tolerance(Effect):
         samples = integer("effects.tolerance.samples", self.samples, at_least=1, at_most=MAX_SAMPLES)
         object.__setattr__(self, "samples", samples)
         object.__setattr__(self, "seed", integer("effects.tolerance.seed", self.seed, at_least=0))
+        if self.corner is not None:
+            if not isinstance(self.corner, (list, tuple)) or any(
+                    isinstance(v, bool) or v not in (-1, 0, 1) for v in self.corner):
+                raise ParameterError("effects.tolerance.corner", self.corner, "a list of signs -1, 0 or 1 (one per "
+                                     "component: L_1..L_N, then C_0_1..C_N_N+1)")
+            if samples != 1:
+                raise ParameterError("effects.tolerance.samples", samples, "1 with a corner (one circuit)")
+            object.__setattr__(self, "corner", tuple(int(v) for v in self.corner))
 
     @property
     def varies(self) -> bool:
@@ -350,7 +394,11 @@ class Tolerance(Effect):
         return bool(self.L or self.C or self.samples > 1)
 
     def draw(self, chain: Chain, L0: float, C0: float, series: str | None = None) -> list[Chain]:
-        """The sampled chains (:func:`tolerance_samples`)."""
+        """The sampled chains (:func:`tolerance_samples`), or the corner's one chain (:func:`cornered`)."""
+        if self.corner is not None:
+            base = rounded(chain, L0, C0, series) if series is not None else chain
+            return [cornered(base, L0, C0, signs=self.corner, tol_L=self.L, tol_C=self.C,
+                             name=f"{chain.name} corner")]
         return tolerance_samples(chain, L0, C0, samples=self.samples, seed=self.seed, tol_L=self.L, tol_C=self.C,
                                  series=series)
 

@@ -25,7 +25,7 @@ from ..core.blas import BLAS_THREADS
 from ..core.errors import Interrupted, LcchainError, ParameterError, SimulationError, SimulatorMissingError
 from ..core.types import BACKENDS, DEFAULT_C0, DEFAULT_L0, DESIGN_CASES, EXCITATIONS, METHODS, NAMED_CASES
 from ..spice.engines import DEFAULT_ENGINE, ENGINES
-from . import commands, studies, validation
+from . import commands, sensitivity, studies, validation
 from .common import (
     EXIT_FAILED,
     EXIT_MISSING,
@@ -153,6 +153,12 @@ def build_parser() -> argparse.ArgumentParser:
                    "circuit's modes on top of theory")
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=commands.cmd_spectrum)
+
+    p = sub.add_parser("sensitivity", parents=budget, help="which components move the first-arrival peak: dp/dL_i "
+                       "and dp/dC_j from exact theory, ranked (--check M: against ngspice finite differences)")
+    _add_circuit_arguments(p)
+    sensitivity.add_sensitivity_arguments(p)
+    p.set_defaults(func=sensitivity.cmd_sensitivity)
 
     p = sub.add_parser("simulate", parents=budget, help="run the ladder in ngspice (or gnucap) and compare with "
                        "alpha_N(t)")

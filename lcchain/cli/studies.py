@@ -13,7 +13,15 @@ from pathlib import Path
 from typing import Any
 
 from ..core.errors import ParameterError, SimulatorMissingError
-from ..core.types import DEFAULT_C0, DEFAULT_L0, EXCITATIONS, EXECUTORS, NAMED_CASES, TRANSPORT_CHOICES
+from ..core.types import (
+    ARRIVAL_METRICS,
+    DEFAULT_C0,
+    DEFAULT_L0,
+    EXCITATIONS,
+    EXECUTORS,
+    NAMED_CASES,
+    TRANSPORT_CHOICES,
+)
 from ..report.files import FIGURE_FORMATS
 from ..spice.engines import DEFAULT_ENGINE, ENGINES
 from .common import EXIT_FAILED, EXIT_OK, Outputs, budget_from_args, emit_json, int_list
@@ -99,6 +107,15 @@ def add_sweep_arguments(p: argparse.ArgumentParser) -> None:
                         "by + take the same values together)")
     p.add_argument("--samples", type=int, help="with SCENE.toml: tolerance samples (each a task of its own)")
     p.add_argument("--seed", type=int, help="with SCENE.toml: the tolerance seed")
+    p.add_argument("--worst-case", action="store_true",
+                   help="with SCENE.toml (kicked, with [effects.tolerance]): run the corners of the --components "
+                        "parts that move the first-arrival peak most, and the two corners the sensitivities "
+                        "predict to be the extremes, instead of the samples")
+    p.add_argument("--components", type=int, default=None, metavar="K",
+                   help="--worst-case: parts moved together, 2^K corners (default 2)")
+    p.add_argument("--metric", choices=ARRIVAL_METRICS, default=None,
+                   help="--worst-case: rank and judge the corners by the first arrival's current peak (default) or "
+                        "its energy fraction peak^2 L_N/L_1")
     add_study_arguments(p)
 
 
@@ -143,7 +160,10 @@ def _workers(args: argparse.Namespace) -> int:
     return 1 if args.executor == "serial" else args.workers or default_workers()
 
 
-def _run(args: argparse.Namespace, plan: Any, outputs: Outputs) -> int:
+def _run(args: argparse.Namespace, plan: Any, outputs: Outputs,
+         after: Callable[[bool], dict[str, Any]] | None = None) -> int:
+    """Run a study's plan into --store and print its summary; ``after(json)`` adds what the study itself says
+    (printed, or returned to join the JSON object)."""
     from ..studies.run import run_plan
 
     workers = _workers(args)
@@ -165,7 +185,7 @@ def _run(args: argparse.Namespace, plan: Any, outputs: Outputs) -> int:
                            progress=study_counter("runs"), on_resume=resumed, retry_failed=args.retry_failed,
                            wait=args.wait, on_wait=waiting, verbose=verbose, transport=args.transport)
     if args.json:
-        emit_json(summary.to_dict())
+        emit_json({**summary.to_dict(), **(after(True) if after is not None else {})})
     else:
         combined = ""
         if summary.combined or summary.combined_failed:
@@ -178,6 +198,8 @@ def _run(args: argparse.Namespace, plan: Any, outputs: Outputs) -> int:
                     "them again")
         print(f"{summary.total} runs in {args.store}: {summary.ran} ran now, {summary.skipped} already stored; "
               f"{summary.ok} ok, {summary.failed} failed{combined} ({summary.wall_s:.1f} s){hint}")
+        if after is not None:
+            after(False)
     return EXIT_OK if summary.complete else EXIT_FAILED
 
 
@@ -187,6 +209,8 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     outputs = Outputs()
     _check_study_options(args, outputs)
     budget = budget_from_args(args)
+    if args.worst_case or args.components is not None or args.metric is not None:
+        return _worst_case(args, outputs, budget)
     if args.scene:
         given = [o for o, v in (("--case", args.case), ("--N", args.N), ("--dt", args.dt),
                                 ("--accuracy", args.accuracy), ("--extrapolate", args.extrapolate),
@@ -209,6 +233,55 @@ def cmd_sweep(args: argparse.Namespace) -> int:
                           extrapolate=args.extrapolate, workers=_workers(args),
                           engine=args.engine or DEFAULT_ENGINE)
     return _run(args, plan, outputs)
+
+
+def _worst_case(args: argparse.Namespace, outputs: Outputs, budget: Any) -> int:
+    """``sweep SCENE --worst-case``: the corners run like the scene's samples, then which is worst."""
+    from ..studies.store import Store
+    from ..studies.worst_case import DEFAULT_COMPONENTS, worst_case_plan, worst_case_summary
+
+    if not args.worst_case:
+        option = "--components" if args.components is not None else "--metric"
+        raise ParameterError(option, getattr(args, option.lstrip("-")), "only with --worst-case")
+    if not args.scene:
+        raise ParameterError("SCENE.toml", None, "a scene file with --worst-case")
+    given = [o for o, v in (("--case", args.case), ("--N", args.N), ("--dt", args.dt), ("--accuracy", args.accuracy),
+                            ("--extrapolate", args.extrapolate), ("--engine", args.engine), ("--vary", args.vary),
+                            ("--samples", args.samples), ("--seed", args.seed)) if v is not None and v != []]
+    if given:
+        raise ParameterError(given[0], getattr(args, given[0].lstrip("-")), "nothing with --worst-case (the scene "
+                             "says the circuit and its [effects.tolerance]; the corners replace the samples)")
+    plan, setup = worst_case_plan(args.scene, components=args.components if args.components is not None else
+                                  DEFAULT_COMPONENTS, metric=args.metric or "peak", budget=budget,
+                                  workers=_workers(args))
+
+    def after(as_json: bool) -> dict[str, Any]:
+        with Store(args.store, "read") as store:
+            summary = worst_case_summary(store.runs(), setup)
+        if as_json:
+            return {"worst_case": summary}
+        _print_worst_case(summary)
+        return {}
+
+    return _run(args, plan, outputs, after)
+
+
+def _print_worst_case(summary: dict[str, Any]) -> None:
+    what = summary["metric"]
+    rows = [[row["corner"], f"{row['sim']:.6f}", f"{row['theory']:.6f}", f"{row['predicted']:.6f}"]
+            for row in summary["corners"]]
+    print(_table(["corner", f"{what} (ngspice)", f"{what} (theory)", "first order"], rows))
+    if "worst" not in summary:
+        return
+    worst = summary["worst"]
+    if "nominal" in summary:
+        change, nominal = summary["worst_change"], summary["nominal"]["sim"]
+        print(f"worst corner: {worst['corner']}, {what} {worst['sim']:.6f} against the nominal {nominal:.6f} "
+              f"({change:+.2e}, {100 * change / nominal:+.3g} %)")
+    mc = summary.get("monte_carlo")
+    if mc is not None:
+        print(f"Monte Carlo ({mc['samples']} samples, exact theory): worst {what} {mc['worst']:.6f}, "
+              f"{'within' if mc['within'] else 'BEYOND'} the worst corner's {mc['worst_corner_theory']:.6f}")
 
 
 def cmd_batch(args: argparse.Namespace) -> int:

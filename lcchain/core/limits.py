@@ -28,6 +28,8 @@ MAX_ACCURACY_DT = 0.5
 MAX_PULSE_WIDTH = 1000.0
 #: Most tolerance samples in one scene or sweep.
 MAX_SAMPLES = 10_000
+#: Most components a worst-case study moves together (``sweep --worst-case --components``): 2^K corners.
+MAX_CORNER_COMPONENTS = 12
 #: Longest title or comment line written into a netlist.
 MAX_TITLE_LENGTH = 200
 MAX_COMMENT_LENGTH = 400

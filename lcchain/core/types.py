@@ -38,6 +38,9 @@ End = Literal["first", "last"]
 RunStatus = Literal["ok", "failed", "timeout"]
 #: The IEC 60063 preferred-number series every L and C can be rounded to.
 ESeries = Literal["E12", "E24", "E96"]
+#: What of the first arrival a sensitivity or a worst case is about: the current peak max I_N / I_1(0), or the
+#: energy fraction the last inductor holds there, peak^2 L_N / L_1 (not moved by a mismatch of the end inductors).
+ArrivalMetric = Literal["peak", "energy"]
 #: The pictures a scene can ask for.
 PlotKind = Literal["overlay", "spacetime", "histogram"]
 
@@ -59,6 +62,7 @@ STEPPINGS: tuple[Stepping, ...] = get_args(Stepping)
 RUN_STATUSES: tuple[RunStatus, ...] = get_args(RunStatus)
 E_SERIES_NAMES: tuple[ESeries, ...] = get_args(ESeries)
 PLOT_KINDS: tuple[PlotKind, ...] = get_args(PlotKind)
+ARRIVAL_METRICS: tuple[ArrivalMetric, ...] = get_args(ArrivalMetric)
 
 #: The gaussian pulse g(t) is centred at GAUSSIAN_CENTRE standard deviations (netlist, theory and scenes).
 GAUSSIAN_CENTRE = 4.0

@@ -1,0 +1,147 @@
+"""``lcchain sensitivity`` (with --check in real ngspice) and ``lcchain sweep SCENE --worst-case``: what they
+print, what they store, and their one-line refusals."""
+
+import json
+
+import pytest
+
+from lcchain.cli import main
+from lcchain.studies.store import Store
+
+SCENE = """
+title = "Small two-mass cradle of real parts"
+
+[chain]
+case = "two-mass"
+N = 12
+
+[excitation]
+kind = "{kind}"
+
+[effects.tolerance]
+L = 0.05
+C = 0.02
+samples = 100
+seed = 7
+
+[effects.preferred_values]
+series = "E24"
+
+[analysis]
+accuracy = 1e-4
+"""
+
+
+def run_cli(capsys, *argv):
+    status = main(list(argv))
+    out, err = capsys.readouterr()
+    return status, out, err
+
+
+def _scene(tmp_path, kind="kick", extra=""):
+    path = tmp_path / f"{kind}.toml"
+    text = SCENE.replace("{kind}", kind) + extra
+    if kind == "pulse":
+        text = text.replace('kind = "pulse"', 'kind = "pulse"\nshape = "gaussian"\nwidth = 0.2')
+    path.write_text(text)
+    return path
+
+
+def test_table_ranks_components_and_json_carries_them(capsys, tmp_path):
+    status, out, _ = run_cli(capsys, "sensitivity", "--case", "two-mass", "--N", "12", "--top", "3")
+    assert status == 0
+    lines = out.splitlines()
+    assert lines[0].startswith("two-mass chain, N = 12: first-arrival peak p = max I_N/I_1(0) = 0.98")
+    assert lines[2].split() == ["component", "value", "dp/dx", "dp/dlnx"]
+    assert [line.split()[0] for line in lines[3:6]] == ["L12", "L1", "L11"]  # the end inductors lead
+    status, out, _ = run_cli(capsys, "sensitivity", "--case", "perfect", "--N", "6", "--walls", "1", "--top", "0",
+                             "--json", "--plot", str(tmp_path / "s.png"))
+    data = json.loads(out)
+    assert status == 0 and len(data["components"]) == 13 and (tmp_path / "s.png").stat().st_size > 0
+    assert {"name", "value", "derivative", "relative"} == set(data["components"][0])
+    assert data["peak"] == pytest.approx(1.0, abs=1e-9)  # a perfect cradle (Sec. II.C)
+
+
+@pytest.mark.ngspice
+@pytest.mark.parametrize("metric, checked", [("peak", ["L1", "L1", "L12", "L12"]),
+                                             ("energy", ["L11", "L11", "L2", "L2"])])
+def test_check_agrees_with_ngspice_finite_differences_within_their_error(capsys, tmp_path, metric, checked):
+    store = tmp_path / "check.sqlite"
+    status, out, err = run_cli(capsys, "sensitivity", "--case", "two-mass", "--N", "12", "--check", "2", "--json",
+                               "--store", str(store), "--executor", "serial", "--metric", metric)
+    assert status == 0, err
+    data = json.loads(out)
+    assert data["passed"] and len(data["check"]) == 2 and data["metric"] == metric
+    for check in data["check"]:
+        assert abs(check["fd"] - check["theory"]) <= check["error_bar"]
+        # the bar is tight: far below the sensitivity itself (a wrong sign or factor would fail)
+        assert check["error_bar"] < 1e-3 * abs(check["theory"]) and check["resolved"]
+        assert check["runs_error"] > 0 and check["peaks"][0] != check["peaks"][1]
+    with Store(store, "read") as stored:
+        finished = [run for run in stored.runs() if not run.member]
+    assert sorted(run.params["component"] for run in finished) == checked
+    # the text form prints the same verdict, from the store's runs (nothing runs again)
+    status, out, _ = run_cli(capsys, "sensitivity", "--case", "two-mass", "--N", "12", "--check", "2",
+                             "--store", str(store), "--executor", "serial", "--metric", metric)
+    assert status == 0 and out.splitlines()[-1].endswith("agree with the theory within their error bars: pass")
+
+
+@pytest.mark.ngspice
+def test_worst_case_sweep_stores_the_corners_and_names_the_worst(capsys, tmp_path):
+    store = tmp_path / "worst.sqlite"
+    status, out, err = run_cli(capsys, "sweep", str(_scene(tmp_path)), "--worst-case", "--components", "2",
+                               "--store", str(store), "--executor", "serial")
+    assert status == 0, err
+    with Store(store, "read") as stored:
+        runs = [run for run in stored.runs() if not run.member]
+    labels = [run.params["corner"] for run in runs]
+    assert labels[0] == "nominal" and labels[-2:] == ["predicted max", "predicted min"] and len(labels) == 1 + 4 + 2
+    assert all(run.status == "ok" for run in runs)
+    assert all(len(run.params["signs"]) == 2 * 12 + 1 for run in runs)
+    peaks = {run.params["corner"]: run.metrics["arrivals"][0]["peak_sim"] for run in runs}
+    assert min(peaks.values()) < peaks["nominal"] < max(peaks.values())
+    worst = min(peaks, key=peaks.__getitem__)
+    assert worst == "predicted min"  # the sensitivities' signs find the extreme
+    line = next(line for line in out.splitlines() if line.startswith("worst corner:"))
+    assert f"worst corner: {worst}, peak {peaks[worst]:.6f} against the nominal {peaks['nominal']:.6f}" in line
+    assert "Monte Carlo (100 samples, exact theory): worst peak" in out and "within the worst corner" in out
+    status, out, _ = run_cli(capsys, "sweep", str(_scene(tmp_path)), "--worst-case", "--store", str(store),
+                             "--json")
+    data = json.loads(out)
+    assert status == 0 and data["ran"] == 0 and data["worst_case"]["worst"]["corner"] == worst
+    assert data["worst_case"]["monte_carlo"]["within"] is True
+
+
+@pytest.mark.parametrize("argv, field", [
+    (["sensitivity", "--case", "two-mass"], "--N"),
+    (["sensitivity", "--case", "two-mass", "--N", "12", "--check", "-1"], "--check"),
+    (["sensitivity", "--case", "two-mass", "--N", "12", "--top", "-2"], "--top"),
+    (["sensitivity", "--case", "two-mass", "--N", "12", "--check", "99"], "--check"),
+    (["sensitivity", "--case", "two-mass", "--N", "12", "--store", "{tmp}/s.sqlite"], "--store"),
+    (["sensitivity", "--case", "two-mass", "--N", "12", "--check", "1", "--accuracy", "1e-12"], "--accuracy"),
+    (["sensitivity", "--case", "uniform-free", "--N", "2001"], "--N"),
+    (["sensitivity", "--case", "uniform-free", "--N", "1500", "--max-time", "1"], "--N"),
+    (["sweep", "{scene}", "--components", "2", "--store", "{tmp}/w.sqlite"], "--components"),
+    (["sweep", "{scene}", "--metric", "energy", "--store", "{tmp}/w.sqlite"], "--metric"),
+    (["sensitivity", "--case", "two-mass", "--N", "12", "--metric", "loss"], "--metric"),
+    (["sweep", "{scene}", "--worst-case", "--components", "0", "--store", "{tmp}/w.sqlite"], "--components"),
+    (["sweep", "{scene}", "--worst-case", "--components", "12", "--max-time", "30", "--store", "{tmp}/w.sqlite"],
+     "--components"),
+    (["sweep", "{scene}", "--worst-case", "--vary", "chain.N=10,12", "--store", "{tmp}/w.sqlite"], "--vary"),
+    (["sweep", "--worst-case", "--store", "{tmp}/w.sqlite"], "SCENE.toml"),
+    (["sweep", "{scene}", "--worst-case", "--samples", "5", "--store", "{tmp}/w.sqlite"], "--samples"),
+    (["sweep", "{pulse}", "--worst-case", "--store", "{tmp}/w.sqlite"], "excitation.kind"),
+    (["sweep", "{plain}", "--worst-case", "--store", "{tmp}/w.sqlite"], "--worst-case"),
+])
+def test_bad_inputs_exit_2_with_one_line(capsys, tmp_path, argv, field):
+    plain = tmp_path / "plain.toml"
+    plain.write_text(SCENE.replace("{kind}", "kick").replace("L = 0.05\nC = 0.02", "L = 0.0\nC = 0.0"))
+    names = {"{tmp}": str(tmp_path), "{scene}": str(_scene(tmp_path)), "{pulse}": str(_scene(tmp_path, "pulse")),
+             "{plain}": str(plain)}
+    for key, value in names.items():
+        argv = [arg.replace(key, value) for arg in argv]
+    status, out, err = run_cli(capsys, *argv)
+    assert status == 2, err
+    assert out == "" and len(err.strip().splitlines()) == 1, err
+    assert field in err and "Traceback" not in err
+    assert not (tmp_path / "w.sqlite").exists() and not (tmp_path / "s.sqlite").exists()
