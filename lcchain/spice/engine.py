@@ -86,9 +86,6 @@ class Engine(ABC):
         :func:`lcchain.spice.engines.ac_engine`, naming ``engine``.
     ac_relative_cost : float
         Its wall time per AC point over ngspice's (the spectrum's price is scaled by it).
-    ac_rtol : float
-        The relative accuracy of its AC data, measured: the spectrum's targets for omega_n and P_n are this
-        engine's own when they are looser than the fit's (the digits it prints, its solver).
     """
 
     name: ClassVar[str]
@@ -101,7 +98,6 @@ class Engine(ABC):
     relative_cost: ClassVar[float] = 1.0
     runs_ac: ClassVar[bool] = False
     ac_relative_cost: ClassVar[float] = 1.0
-    ac_rtol: ClassVar[float] = 0.0
 
     @abstractmethod
     def find(self, backend: Backend = "batch") -> Simulator:
