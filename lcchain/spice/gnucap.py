@@ -57,15 +57,8 @@ The AC analysis (:meth:`Gnucap.run_ac`, measured on this machine)
   poles, where the two engines' frequencies (equal within 1.4e-15) already
   move the admittance that much.
 
-The output
-----------
-``gnucap -b /dev/stdin`` prints a banner, then the table: a ``#Time`` header
-and one row per print step, numbers with SPICE suffixes
-(``15.811388300842n``) or exponents (``-4.398E-18``).  gnucap exits 0 after
-an error, so any message before the table, a malformed row or no table is a
-:class:`~lcchain.core.errors.SimulationError`.  Its t = 0 row is printed
-before the initial conditions apply (``i(L1) = 0`` where ``ic=1``: measured),
-so it is dropped: a gnucap run's time starts at its first step.
+Its output (tables with SPICE suffixes, messages before them) is read by
+:mod:`lcchain.spice.gnucap_table`.
 """
 
 from __future__ import annotations
@@ -81,15 +74,14 @@ import time
 from collections.abc import Callable, Sequence
 from typing import IO, ClassVar
 
-import numpy as np
-
 from ..core.budget import show_bytes
-from ..core.errors import ParameterError, SimulationError, SimulatorMissingError
+from ..core.errors import ParameterError, SimulatorMissingError
 from ..core.frozen import FrozenMap
 from ..core.types import Backend
 from .acdata import AcResult, ac_result
 from .engine import Engine
-from .log import trim_log, useful_output
+from .gnucap_table import TITLE, failure, number, quiet, quote, read_ac_table, read_table, without_rows
+from .log import trim_log
 from .processes import child_env, kill_group, read_all
 from .runner import RunResult, check_arguments, progress_reporter, validate_columns, wait_watching
 from .sandbox import Sandbox
@@ -103,8 +95,6 @@ __all__ = ["Gnucap", "INSTALL_COMMAND", "gnucap_version", "read_table", "read_ac
 INSTALL_COMMAND = "sudo apt-get install gnucap"
 #: What a gnucap run may print (its table) when no smaller limit is given.
 MAX_OUTPUT_BYTES = 2 * 2**30
-#: The title every translated netlist gets (none of the user's text reaches gnucap).
-TITLE = "* lcchain ladder in gnucap's dialect"
 #: gnucap's smallest step over the print step.  Its default, 1e-12 s, is absolute: on a ladder whose time unit is
 #: 1 s its start-up steps were 1e-12 of the step and the run erred 3.2 times its prediction.  Measured on two-mass
 #: N = 20 and perfect N = 60 at dt = 0.05, 0.005, 0.001 and five scales: 1e-2 fails ("zero time step"), 3e-3 and
@@ -135,16 +125,6 @@ _TRAN = re.compile(r"^\.tran\s+(\S+)\s+(\S+)\s+0\s+(\S+)\s+uic$", re.IGNORECASE)
 _AC = re.compile(r"^\.ac\s+lin\s+([0-9]+)\s+(\S+)\s+(\S+)$", re.IGNORECASE)
 _AC_SOURCE = re.compile(r"^V\w+\s+\S+\s+\S+\s+DC\s+0\s+AC\s+1$", re.IGNORECASE)
 _PRINTABLE = re.compile(r"^([iv])\((\w+)\)$")
-_PART = re.compile(r"^([iv])([ri])\((\w+)\)$")
-_NUMBER = re.compile(r"^([-+]?(?:\d+\.?\d*|\.\d+)(?:e[-+]?\d+)?)(f|p|n|u|m|k|meg|g|t)?$", re.IGNORECASE)
-#: The decimal exponent of each suffix gnucap prints (read as ``mantissa e exponent``: one correctly rounded float).
-_EXPONENT = {"f": -15, "p": -12, "n": -9, "u": -6, "m": -3, "k": 3, "meg": 6, "g": 9, "t": 12}
-_BANNER = re.compile(r"^(Gnucap\b|Never trust|Copyright|Gnucap comes|This is free|to redistribute|the GNU General"
-                     r"|See the file|main version|core-lib version|default plugins)")
-
-
-def _failure(reason: str, log_tail: str = "", status: str = "failed") -> SimulationError:
-    return SimulationError(reason, log_tail, status, "gnucap")
 
 
 def _refuse(what: str) -> ParameterError:
@@ -368,13 +348,12 @@ class Gnucap(Engine):
             progress(0.0)
         output, log, wall = _run_child(text, simulator, timeout, tstop, progress, limit or MAX_OUTPUT_BYTES)
         columns = read_table(output, log)
-        quiet = _quiet(log)
-        time_s, found = validate_columns(columns, quiet, names, tstop, self.name)
+        time_s, found = validate_columns(columns, quiet(log), names, tstop, self.name)
         if progress is not None:
             progress(1.0)
         return RunResult(time=time_s, vectors=FrozenMap(found), engine_version=simulator.version,
                          netlist_sha256=_sha256(netlist), options=FrozenMap(parse_options(netlist)), wall_s=wall,
-                         backend=simulator.backend, points=int(time_s.size), log=trim_log(_without_rows(log)),
+                         backend=simulator.backend, points=int(time_s.size), log=trim_log(without_rows(log)),
                          engine=self.name)
 
     def run_ac(self, netlist: str, vectors: Sequence[str], points: int, *, simulator: Simulator,
@@ -384,7 +363,7 @@ class Gnucap(Engine):
         output, log, wall = _run_child(self.dialect(netlist, vectors), simulator, timeout, 1.0, None,
                                        MAX_OUTPUT_BYTES)
         columns = read_ac_table(output, log)
-        return ac_result(netlist, columns, _quiet(log), vectors, points, simulator, wall)
+        return ac_result(netlist, columns, quiet(log), vectors, points, simulator, wall)
 
 
 def _sha256(text: str) -> str:
@@ -427,7 +406,7 @@ def _last_time(out: IO[bytes]) -> float | None:
     for row in reversed(tail[1:] if size > 512 else tail):
         words = row.split()
         if words:
-            return _number(words[0])
+            return number(words[0])
     return None
 
 
@@ -451,9 +430,9 @@ def _run_child(text: str, simulator: Simulator, timeout: float, tstop: float,
         output = read_all(out).decode("utf-8", "replace")
         log = output + "\n" + read_all(err).decode("utf-8", "replace")
     if status is None:
-        raise _failure(f"gnucap timed out after {timeout:g} s and was killed", _quote(log), "timeout")
+        raise failure(f"gnucap timed out after {timeout:g} s and was killed", quote(log), "timeout")
     if status != 0:
-        raise _failure(f"gnucap exited with status {status}", _quote(log))
+        raise failure(f"gnucap exited with status {status}", quote(log))
     return output, log, wall
 
 
@@ -466,99 +445,9 @@ def _wait(proc: subprocess.Popen[bytes], timeout: float, tstop: float, out: IO[b
     def look() -> None:
         if os.fstat(out.fileno()).st_size + os.fstat(err.fileno()).st_size > limit:
             kill_group(proc)
-            raise _failure(f"gnucap printed more than {show_bytes(limit)}, the most the memory budget allows, and "
+            raise failure(f"gnucap printed more than {show_bytes(limit)}, the most the memory budget allows, and "
                            "the run was stopped", "")
         if report is not None:
             report()
 
     return wait_watching(proc, timeout, look)
-
-
-def _without_rows(log: str) -> str:
-    """gnucap's output without its table's rows (what :attr:`RunResult.log` keeps)."""
-    return "\n".join(line for line in log.splitlines()
-                     if line.strip() and not (line.split() and _number(line.split()[0]) is not None))
-
-
-def _quiet(log: str) -> str:
-    """gnucap's output without its banner and its table's rows."""
-    return "\n".join(line for line in _without_rows(log).splitlines() if not _BANNER.match(line))
-
-
-def _quote(log: str) -> str:
-    """gnucap's output worth quoting in an error: without its banner and its table's rows."""
-    return useful_output(_quiet(log))
-
-
-def _number(text: str) -> float | None:
-    match = _NUMBER.match(text)
-    if match is None:
-        return None
-    mantissa, suffix = match.groups()
-    if suffix is None:
-        return float(mantissa)
-    if "e" in mantissa.lower():  # never printed by gnucap: scale it
-        return float(mantissa) * 10.0 ** _EXPONENT[suffix.lower()]
-    return float(f"{mantissa}e{_EXPONENT[suffix.lower()]}")
-
-
-def read_table(output: str, log: str = "") -> dict[str, np.ndarray]:
-    """gnucap's ``.print tran`` table as columns keyed by canonical name (``"time"``, ``"i(l1)"``...).
-
-    The t = 0 row is dropped (gnucap prints it before the initial conditions apply).
-
-    Raises
-    ------
-    SimulationError
-        No table, a message from gnucap before it (gnucap exits 0 after an error), or a malformed row.
-    """
-    names, table = _read_rows(output, log, "#Time")
-    if len(table) and table[0, 0] == 0.0:
-        table = table[1:]
-    return {name: np.ascontiguousarray(table[:, j]) for j, name in enumerate(["time", *names])}
-
-
-def read_ac_table(output: str, log: str = "") -> dict[str, np.ndarray]:
-    """gnucap's ``.print ac`` table of real and imaginary parts (``ir(l1) ii(l1)``...) as ``"frequency"`` (Hz)
-    and complex columns keyed by canonical name (``"i(l1)"``).
-
-    Raises
-    ------
-    SimulationError
-        As :func:`read_table`, or a part without its other half.
-    """
-    names, table = _read_rows(output, log, "#Freq")
-    columns = {"frequency": np.ascontiguousarray(table[:, 0])}
-    parts = {name: table[:, j] for j, name in enumerate(names, start=1)}
-    for name in names:
-        match = _PART.match(name)
-        if match is None or f"{match[1]}i({match[3]})" not in parts or f"{match[1]}r({match[3]})" not in parts:
-            raise _failure(f"gnucap's AC table has a column lcchain cannot pair: {name!r}", _quote(log or output))
-        key = f"{match[1]}({match[3]})"
-        columns[key] = parts[f"{match[1]}r({match[3]})"] + 1j * parts[f"{match[1]}i({match[3]})"]
-    return columns
-
-
-def _read_rows(output: str, log: str, first: str) -> tuple[list[str], np.ndarray]:
-    """The canonical names of gnucap's printed columns after the first, and its table's rows (the first column
-    headed ``first``)."""
-    lines = output.splitlines()
-    header = next((i for i, line in enumerate(lines) if line.startswith(first)), None)
-    messages = [line.strip() for line in lines[: len(lines) if header is None else header]
-                if line.strip() and not _BANNER.match(line) and line.strip() != TITLE]
-    if messages:
-        raise _failure("gnucap reported: " + " | ".join(messages[:5]), _quote(log or output))
-    if header is None:
-        raise _failure(f"gnucap printed no table (no {first!r} header)", _quote(log or output))
-    names = [canonical_vector_name(n) for n in lines[header].split()[1:]]
-    rows: list[list[float]] = []
-    for line in lines[header + 1:]:
-        words = line.split()
-        if not words:
-            continue
-        values = [_number(word) for word in words]
-        if len(values) != len(names) + 1 or any(v is None for v in values):
-            raise _failure(f"gnucap's table has a row lcchain cannot read: {line.strip()[:200]!r}",
-                                  _quote(log or output))
-        rows.append(values)  # type: ignore[arg-type]
-    return names, np.array(rows, dtype=np.float64).reshape(len(rows), len(names) + 1)
