@@ -40,7 +40,7 @@ def main() -> None:
         total = time.perf_counter() - clock
         t = report.timings
         print(f"| {case} | {N} | {report.points} | {report.seen.size} | {int(np.sum(report.resolved))} | "
-              f"{report.max_rel_error_omega:.1e} | {report.max_abs_error_P:.1e} | {t['engine_s']:.2f} | "
+              f"{report.max_rel_error_omega:.1e} | {report.max_abs_error_P:.1e} | {t['ngspice_s']:.2f} | "
               f"{t['fit_s']:.2f} | {total:.2f} |", flush=True)
     print("\nThe points grow like N^2 for the optimised chains: their smallest spacing, at the top of the band, "
           "shrinks like 1/N^2, and the sweep is evenly spaced. A perfect cradle's spacing is constant, so its sweep "

@@ -338,7 +338,7 @@ def cmd_spectrum(args: argparse.Namespace) -> int:
         coupled = f", coils coupled k = {chain.coupling:g}" if chain.coupled else ""
         timings = data["timings"]
         print(f"{chain.name} chain, N = {chain.N}{coupled}: {data['engine']} {data['engine_version']} AC analysis, "
-              f"{data['points']} frequencies up to {data['omega_max']:.4g} in {timings['engine_s']:.3f} s, "
+              f"{data['points']} frequencies up to {data['omega_max']:.4g} in {timings['ngspice_s']:.3f} s, "
               f"fit {timings['fit_s']:.3f} s")
         print(f"{'n':>5} {'omega (circuit)':>19} {'omega (theory)':>19} {'rel. error':>10} {'P_n (circuit)':>14} "
               f"{'P_n (theory)':>14} {'abs. error':>10} {'spacing':>10}")

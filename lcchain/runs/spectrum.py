@@ -66,7 +66,8 @@ class SpectrumReport:
     omega_max : float
     engine_version, netlist_sha256 : str
     timings : dict
-        Seconds: the engine's process (``engine_s``), the fit, and the whole call.
+        Seconds: the engine's process (``ngspice_s``, whichever engine ran: the key predates engines), the fit, and
+        the whole call.
     engine : str
         The engine that ran the AC analysis.
     """
@@ -209,5 +210,5 @@ def measure_spectrum(chain: Chain, *, points: int | None = None, L0: float = DEF
     fit = _matched(fit, theory)
     seen = np.array([int(np.argmin(np.abs(theory.omega - w))) for w in fit.omega], dtype=int)
     return SpectrumReport(chain, theory, fit, seen, points, omega_max, result.engine_version,
-                          result.netlist_sha256, {"engine_s": result.wall_s, "fit_s": fitted - ran,
+                          result.netlist_sha256, {"ngspice_s": result.wall_s, "fit_s": fitted - ran,
                                                   "total_s": fitted - clock}, result.engine)
