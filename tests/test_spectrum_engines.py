@@ -89,3 +89,19 @@ def test_an_unknown_engine_is_refused(capsys):
     assert main(["spectrum", "--case", "two-mass", "--N", "8", "--engine", "spectre"]) == 2
     err = capsys.readouterr().err
     assert "--engine" in err and "spectre" in err and err.count("\n") <= 2  # usage and one line
+
+
+@pytest.mark.gnucap
+def test_gnucap_runs_a_sweep_in_segments():
+    """Several .ac cards (a sweep in segments, given out of order): every card's frequencies, in ascending order,
+    each with the values a run of its card alone gives."""
+    chain = chain_for_case("two-mass", 10)
+    text = _ac_netlist(chain, 64)
+    card = next(line for line in text.splitlines() if line.startswith(".ac"))
+    low, high = ".ac lin 40 1000.0 150000.0", ".ac lin 24 150500.0 390000.0"
+    alone = [run_ac(text.replace(card, c), ["i(l10)"], n, engine="gnucap") for c, n in ((low, 40), (high, 24))]
+    both = run_ac(text.replace(card, f"{high}\n{low}"), ["i(l10)"], 64, engine="gnucap")
+    assert np.array_equal(both.frequency, np.concatenate([r.frequency for r in alone]))
+    assert np.array_equal(both.vectors["i(l10)"], np.concatenate([r.vectors["i(l10)"] for r in alone]))
+    with pytest.raises(SimulationError, match="twice"):
+        run_ac(text.replace(card, f"{low}\n{low}"), ["i(l10)"], 80, engine="gnucap")

@@ -2,7 +2,8 @@
 
 Every engine's :meth:`~lcchain.spice.engine.Engine.run_ac` reads its own output into columns (``"frequency"`` in
 Hz and complex vectors by canonical name) and hands them to :func:`ac_result`, so that every engine's result
-passes the same checks: as many frequencies as asked, ascending, every vector present, all finite.
+passes the same checks: as many frequencies as asked, each once, every vector present, all finite.  Several
+``.ac`` cards (a sweep in segments) give every card's frequencies, which come out in ascending order.
 """
 
 from __future__ import annotations
@@ -63,7 +64,8 @@ def ac_result(netlist: str, columns: Mapping[str, np.ndarray], log: str, names: 
     netlist : str
         lcchain's netlist text (hashed into the result).
     columns : Mapping[str, numpy.ndarray]
-        ``"frequency"`` (Hz, real) and complex vectors by canonical name, as the engine read them.
+        ``"frequency"`` (Hz, real) and complex vectors by canonical name, as the engine read them (in any order:
+        they are sorted by frequency).
     log : str
         The engine's output worth keeping and quoting.
     names : sequence of str
@@ -78,7 +80,8 @@ def ac_result(netlist: str, columns: Mapping[str, np.ndarray], log: str, names: 
     Raises
     ------
     SimulationError
-        A frequency or a vector missing, too few or too many frequencies, or a value that is not finite.
+        A frequency or a vector missing, too few or too many frequencies, one twice (overlapping cards), or a value
+        that is not finite.
     """
     engine = simulator.engine
 
@@ -90,8 +93,12 @@ def ac_result(netlist: str, columns: Mapping[str, np.ndarray], log: str, names: 
     frequency = np.array(columns["frequency"], dtype=np.float64)
     if frequency.size != points:
         raise fail(f"{engine} returned {frequency.size} frequencies, not the {points} asked for")
-    if not (np.all(np.isfinite(frequency)) and np.all(np.diff(frequency) > 0)):
-        raise fail(f"{engine}'s frequencies are not finite and ascending")
+    order = np.argsort(frequency, kind="stable")  # several .ac cards: in the engine's own order
+    frequency = frequency[order]
+    if not np.all(np.isfinite(frequency)):
+        raise fail(f"{engine} returned a frequency that is not finite")
+    if np.any(np.diff(frequency) <= 0):
+        raise fail(f"{engine} returned a frequency twice (overlapping .ac cards)")
     found = {}
     for name in names:
         if name not in columns:
@@ -99,6 +106,7 @@ def ac_result(netlist: str, columns: Mapping[str, np.ndarray], log: str, names: 
         values = np.array(columns[name], dtype=np.complex128)
         if values.shape != frequency.shape:
             raise fail(f"the vector {name!r} has {values.size} points, frequency has {frequency.size}")
+        values = values[order]
         if not np.all(np.isfinite(values)):
             raise fail(f"the vector {name!r} holds a value that is not finite (a frequency at a pole?)")
         found[name] = values

@@ -41,7 +41,8 @@ translate exactly, naming it:
 The AC analysis (:meth:`Gnucap.run_ac`, measured on this machine)
 -----------------------------------------------------------------
 * ``.ac lin P f1 f2`` is kept (gnucap reads SPICE's order; it gave the P
-  frequencies asked for, 16 to 8000) and ``V ... DC 0 AC 1`` is kept;
+  frequencies asked for, 16 to 8000), several of them too (a sweep in
+  segments: one table each), and ``V ... DC 0 AC 1`` is kept;
 * ``noopac`` is dropped: gnucap's ``.ac`` needs no operating point (a free
   chain, whose inductor loop has none, runs);
 * ``short=1e-30`` (:data:`SOURCE_RESISTANCE`): gnucap's voltage source is a
@@ -312,16 +313,17 @@ class Gnucap(Engine):
             else:
                 raise _refuse(f"the line {line!r}: gnucap's dialect translates lcchain's own ladders only "
                               "(L, C, R, V, K lines, .options, .tran, .ac, .save, .end)")
-        if len(analyses) != 1 or not names:
-            raise _refuse("a netlist without one analysis ('.tran ... uic' or '.ac lin ...') or without vectors to "
-                          "save")
+        kinds = [kind for kind, _ in analyses]
+        if kinds not in (["tran"], ["ac"] * len(kinds)) or not kinds or not names:
+            raise _refuse("a netlist without one analysis ('.tran ... uic', or '.ac lin ...' cards: a sweep in "
+                          "segments) or without vectors to save")
         for a, b, _ in couplings:
             for coil in (a, b):
                 if coil not in inductances:
                     raise _refuse(f"a K line that couples {coil!r}, which is not an inductor of the netlist")
         ics = coupled_initial_currents(inductances, currents, couplings)
         body = [_with_ic(line, ics) for line in body]
-        kind, analysis = analyses[0]
+        kind = kinds[0]
         printed = " ".join(_print_name(name, kind == "ac") for name in names)
         if kind == "ac":
             options = [f"numdgt={AC_DIGITS}", f"short={SOURCE_RESISTANCE!r}", f"gmin={GMIN!r}", *options]
@@ -330,8 +332,8 @@ class Gnucap(Engine):
             # Newton limits on node voltages (a linear ladder needs none).
             options = ["numdgt=14", "method=trap", *options, f"dtmin={step * DTMIN_FRACTION!r}",
                        f"vmax={VOLTAGE_LIMIT!r}", f"vmin={-VOLTAGE_LIMIT!r}", f"gmin={GMIN!r}"]
-        return "\n".join([TITLE, *body, ".options " + " ".join(options), f".print {kind} {printed}", analysis,
-                          ".end"]) + "\n"
+        return "\n".join([TITLE, *body, ".options " + " ".join(options), f".print {kind} {printed}",
+                          *(line for _, line in analyses), ".end"]) + "\n"
 
     def run(self, netlist: str, vectors: Sequence[str], tstop: float, *, simulator: Simulator,
             timeout: float = 600.0, progress: Callable[[float], None] | None = None, cwd: str | None = None,

@@ -11,7 +11,8 @@ before the initial conditions apply (``i(L1) = 0`` where ``ic=1``: measured),
 so it is dropped: a gnucap run's time starts at its first step.
 
 An AC table (``#Freq``) holds each complex vector as its real and imaginary parts, ``ir(l1) ii(l1)``, which
-:func:`read_ac_table` pairs into one complex column.
+:func:`read_ac_table` pairs into one complex column; several ``.ac`` cards print one table each, under the same
+header, read one after the other.
 """
 
 from __future__ import annotations
@@ -123,7 +124,7 @@ def _read_rows(output: str, log: str, first: str) -> tuple[list[str], np.ndarray
     rows: list[list[float]] = []
     for line in lines[header + 1:]:
         words = line.split()
-        if not words:
+        if not words or line == lines[header]:  # several .ac cards: one table each, under the same header
             continue
         values = [number(word) for word in words]
         if len(values) != len(names) + 1 or any(v is None for v in values):
