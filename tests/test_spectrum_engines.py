@@ -16,6 +16,7 @@ from helpers.tolerances import ATOL_SPECTRUM_P, RTOL_ENGINES_AC, RTOL_SPECTRUM_O
 from lcchain.circuit.ladder import Ladder
 from lcchain.circuit.netlist import ac_netlist_text
 from lcchain.cli.main import main
+from lcchain.core.budget import INTERPRETER_SECONDS, Budget, BudgetError, run_estimate
 from lcchain.core.errors import ParameterError, SimulationError
 from lcchain.runs.spectrum import OMEGA_WEIGHT_FLOOR, measure_spectrum
 from lcchain.spice.ac import run_ac
@@ -105,3 +106,13 @@ def test_gnucap_runs_a_sweep_in_segments():
     assert np.array_equal(both.vectors["i(l10)"], np.concatenate([r.vectors["i(l10)"] for r in alone]))
     with pytest.raises(SimulationError, match="twice"):
         run_ac(text.replace(card, f"{low}\n{low}"), ["i(l10)"], 80, engine="gnucap")
+
+
+def test_gnucaps_sweep_is_priced_at_its_own_cost_before_it_runs():
+    points = 200_000
+    ngspice = run_estimate(points=points, saved=4, compared=4, unknowns=2 * 100)  # measure_spectrum's model
+    between = ngspice.seconds * (1.0 + ENGINES["gnucap"].ac_relative_cost) / 2 + INTERPRETER_SECONDS
+    budget = Budget(max_seconds=between)
+    assert ngspice.fits(budget)  # ngspice's sweep would be allowed...
+    with pytest.raises(BudgetError, match="points = 200000"):  # ...gnucap's, slower, is not
+        measure_spectrum(chain_for_case("two-mass", 100), points=points, budget=budget, engine="gnucap")
