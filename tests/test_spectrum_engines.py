@@ -66,7 +66,7 @@ def test_the_gnucap_dialect_of_an_ac_netlist():
     lines = ENGINES["gnucap"].dialect(text, ["i(l1)", "i(l6)"]).splitlines()
     assert "V1 s1 0 DC 0 AC 1" in lines and not any("noopac" in line for line in lines)
     options = next(line for line in lines if line.startswith(".options")).split()
-    assert {"numdgt=17", "short=1e-30"} <= set(options)  # full digits; no 1e-5 ohm in series with the source
+    assert {"numdgt=20", "short=1e-30"} <= set(options)  # every digit; no 1e-5 ohm in series with the source
     assert lines[-3:-1] == [".print ac ir(l1) ii(l1) ir(l6) ii(l6)", next(x for x in text.splitlines()
                                                                            if x.startswith(".ac"))]
     with pytest.raises(ParameterError, match="engine.*'.ac lin points f1 f2'"):
