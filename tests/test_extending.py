@@ -15,8 +15,13 @@ from helpers.tolerances import PREDICTION_FACTOR
 import lcchain
 from lcchain.circuit.effects import Effect
 from lcchain.circuit.ladder import Ladder
+from lcchain.circuit.netlist import ac_netlist_text
+from lcchain.cli.main import main
+from lcchain.core.errors import ParameterError
 from lcchain.core.types import Backend
 from lcchain.runs.request import Request, Transient, plan_request
+from lcchain.runs.spectrum import measure_spectrum
+from lcchain.spice.ac import run_ac
 from lcchain.spice.engines import ENGINES
 from lcchain.spice.ngspice import Ngspice
 from lcchain.spice.runner import RunResult, run
@@ -81,6 +86,7 @@ class WrappedNgspice(Ngspice):
     """Test-only engine: ngspice under another name, with a dialect of its own (a comment after the title)."""
 
     name: ClassVar[str] = "wrapped-ngspice"
+    runs_ac: ClassVar[bool] = False  # it wraps ngspice's transient only
     MARK = "* run by the test-only engine"
 
     def find(self, backend: Backend = "batch") -> Simulator:
@@ -115,3 +121,18 @@ def test_an_outside_engine_runs_in_simulate_and_in_a_study(tmp_path, monkeypatch
     with Store(store, "read") as opened:
         engines = {row.engine for row in opened.runs()}
     assert engines == {"wrapped-ngspice"}
+
+
+@pytest.mark.ngspice
+def test_an_outside_engine_without_an_ac_analysis_is_refused_in_one_line(monkeypatch, capsys):
+    monkeypatch.setitem(ENGINES, WrappedNgspice.name, WrappedNgspice())
+    chain = chain_for_case("two-mass", 8)
+    with pytest.raises(ParameterError, match="engine = 'wrapped-ngspice' .*an AC analysis: ngspice") as error:
+        measure_spectrum(chain, engine="wrapped-ngspice")
+    assert error.value.field == "engine"
+    text = ac_netlist_text(Ladder(chain, 10e-6, 1e-6), points=32, omega_max=2.1)
+    with pytest.raises(ParameterError, match="engine = 'wrapped-ngspice'"):
+        run_ac(text, ["i(l1)"], 32, simulator=WrappedNgspice().find())
+    assert main(["spectrum", "--case", "two-mass", "--N", "8", "--engine", "wrapped-ngspice"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "wrapped-ngspice" in err and "\n" not in err

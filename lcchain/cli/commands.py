@@ -341,14 +341,15 @@ def cmd_spectrum(args: argparse.Namespace) -> int:
     outputs = Outputs(inputs={"--chain": args.chain})
     outputs.check("--plot", args.plot, FIGURE_FORMATS)
     chain = chain_from_args(args)
-    report = measure_spectrum(chain, points=args.points, L0=args.L0, C0=args.C0, budget=budget_from_args(args))
+    report = measure_spectrum(chain, points=args.points, L0=args.L0, C0=args.C0, budget=budget_from_args(args),
+                              engine=args.engine)
     data = report.to_dict()
     if args.json:
         emit_json(data)
     else:
         coupled = f", coils coupled k = {chain.coupling:g}" if chain.coupled else ""
         timings = data["timings"]
-        print(f"{chain.name} chain, N = {chain.N}{coupled}: ngspice {data['engine_version']} AC analysis, "
+        print(f"{chain.name} chain, N = {chain.N}{coupled}: {data['engine']} {data['engine_version']} AC analysis, "
               f"{data['points']} frequencies up to {data['omega_max']:.4g} in {timings['ngspice_s']:.3f} s, "
               f"fit {timings['fit_s']:.3f} s")
         print(f"{'n':>5} {'omega (circuit)':>19} {'omega (theory)':>19} {'rel. error':>10} {'P_n (circuit)':>14} "
@@ -372,7 +373,7 @@ def cmd_spectrum(args: argparse.Namespace) -> int:
 
         outputs.write("--plot", lambda path: spectrum(
             report.theory.omega, report.theory.transfer, report.omega, report.P,
-            title=f"{chain.name} chain, N = {chain.N}: ngspice AC against theory", path=path))
+            title=f"{chain.name} chain, N = {chain.N}: {report.engine} AC against theory", path=path))
     return EXIT_FAILED if outputs.failed else EXIT_OK
 
 

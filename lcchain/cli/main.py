@@ -145,8 +145,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=commands.cmd_reference_netlists)
 
     p = sub.add_parser("spectrum", parents=budget, help="the ladder's normal frequencies and mode weights from an AC "
-                       "analysis in ngspice, beside theory")
+                       "analysis in ngspice (or gnucap), beside theory")
     _add_circuit_arguments(p)
+    p.add_argument("--engine", choices=tuple(ENGINES), default=DEFAULT_ENGINE,
+                   help=f"the simulator that runs the AC analysis (default {DEFAULT_ENGINE})")
     p.add_argument("--points", type=int, default=None, metavar="P",
                    help="frequencies of the AC sweep (default: twice the fewest that separate every pole)")
     p.add_argument("--plot", metavar="FILE", help="Fig. Pk20-100: |P_n| and the spacing against omega_n, the "

@@ -1,6 +1,6 @@
 """The paper's mechanism in the circuit: the ladder's normal frequencies and mode weights from an AC analysis.
 
-:func:`measure_spectrum` drives the ladder in loop 1 with a unit AC voltage in ngspice
+:func:`measure_spectrum` drives the ladder in loop 1 with a unit AC voltage in ngspice or gnucap
 (:func:`lcchain.circuit.netlist.ac_netlist_text`, :func:`lcchain.spice.ac.run_ac`), identifies the poles
 and residues of I_1/V_1 and I_N/V_1 (:func:`lcchain.compare.spectrum.fit_spectrum`), and sets them beside
 the exact theory: omega_n, and P_n, the mode's coefficient in alpha_N(t) = sum_n P_n cos(omega_n t)
@@ -14,7 +14,7 @@ error of P counts them with P = 0 (a perfect cradle's edge modes weigh ~2^-(N-1)
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -28,6 +28,7 @@ from ..core.errors import ParameterError
 from ..core.limits import COUPLED_MAX_N, MAX_AC_POINTS
 from ..core.types import DEFAULT_C0, DEFAULT_L0
 from ..spice.ac import run_ac
+from ..spice.engines import DEFAULT_ENGINE, ac_engine
 from ..spice.simulator import Simulator
 from ..theory.chain import Chain
 from ..theory.exact import driven_modes
@@ -65,7 +66,10 @@ class SpectrumReport:
     omega_max : float
     engine_version, netlist_sha256 : str
     timings : dict
-        Seconds: ngspice's process, the fit, and the whole call.
+        Seconds: the engine's process (``ngspice_s``, whichever engine ran: the key predates engines), the fit, and
+        the whole call.
+    engine : str
+        The engine that ran the AC analysis.
     """
 
     chain: Chain
@@ -77,6 +81,7 @@ class SpectrumReport:
     engine_version: str
     netlist_sha256: str
     timings: dict[str, float] = field(default_factory=dict)
+    engine: str = DEFAULT_ENGINE
 
     @property
     def omega(self) -> np.ndarray:
@@ -122,7 +127,7 @@ class SpectrumReport:
                           "omega_theory": float(self.theory.omega[n]), "P_theory": float(self.theory.transfer[n]),
                           "seen": seen, "resolved": bool(self.resolved[n])})
         return {"N": self.chain.N, "case": self.chain.name, "points": self.points, "omega_max": self.omega_max,
-                "engine": "ngspice", "engine_version": self.engine_version, "netlist_sha256": self.netlist_sha256,
+                "engine": self.engine, "engine_version": self.engine_version, "netlist_sha256": self.netlist_sha256,
                 "modes": modes, "seen": int(self.seen.size), "max_rel_error_omega": self.max_rel_error_omega,
                 "max_abs_error_P": self.max_abs_error_P, "fit_steps": self.fit.sweeps, "timings": self.timings}
 
@@ -142,8 +147,8 @@ def _matched(fit: SpectrumFit, theory: Modes) -> SpectrumFit:
 
 def measure_spectrum(chain: Chain, *, points: int | None = None, L0: float = DEFAULT_L0, C0: float = DEFAULT_C0,
                      simulator: Simulator | None = None, budget: Budget | None = None,
-                     timeout: float = 3600.0) -> SpectrumReport:
-    """The ladder's spectrum in ngspice (an AC analysis) against exact theory.
+                     timeout: float = 3600.0, engine: str = DEFAULT_ENGINE) -> SpectrumReport:
+    """The ladder's spectrum in an engine's AC analysis against exact theory.
 
     Parameters
     ----------
@@ -155,17 +160,20 @@ def measure_spectrum(chain: Chain, *, points: int | None = None, L0: float = DEF
     L0, C0 : float
         Bulk inductance (H) and capacitance (F).
     simulator : Simulator, optional
-        ngspice's batch transport.
+        The engine's batch transport.
     budget : Budget, optional
-        The AC run is priced first (points x unknowns).
+        The AC run is priced first (points x unknowns, times the engine's ``ac_relative_cost``).
+    engine : str
+        An engine with an AC analysis (:func:`lcchain.spice.engines.ac_engine`): ``"ngspice"`` or ``"gnucap"``.
 
     Raises
     ------
     ParameterError, BudgetError
-        Before ngspice starts.
+        Before the engine starts.
     """
     clock = time.perf_counter()
     instance("chain", chain, Chain)
+    cost = ac_engine(engine).ac_relative_cost
     if chain.N > SPECTRUM_MAX_N:
         raise ParameterError("N", chain.N, f"N <= {SPECTRUM_MAX_N} for a spectrum (exact modes of the chain)")
     ladder = Ladder(chain, L0, C0)
@@ -184,6 +192,7 @@ def measure_spectrum(chain: Chain, *, points: int | None = None, L0: float = DEF
                      allowed=f"at least {needed} frequencies (4 per smallest spacing of the normal frequencies, "
                              f"up to {omega_max:.4g}) and at most {MAX_AC_POINTS}")
     estimate = run_estimate(points=points, saved=4, compared=4, unknowns=2 * chain.N)
+    estimate = replace(estimate, seconds=estimate.seconds * cost)
     if chosen:  # the sweep lcchain chose: the chain is what costs
         estimate.check(budget if budget is not None else Budget(), "N", chain.N,
                        f"a smaller chain, or --points between {needed} and {points}")
@@ -193,7 +202,7 @@ def measure_spectrum(chain: Chain, *, points: int | None = None, L0: float = DEF
     text = ac_netlist_text(ladder, points=points, omega_max=omega_max,
                            title=f"lcchain {chain.name} chain N={chain.N}, AC")
     last = f"i(l{chain.N})"
-    result = run_ac(text, ("i(l1)", last), points, simulator=simulator, timeout=timeout)
+    result = run_ac(text, ("i(l1)", last), points, simulator=simulator, timeout=timeout, engine=engine)
     ran = time.perf_counter()
     omega = 2.0 * np.pi * result.frequency * ladder.time_unit
     fit = fit_spectrum(omega, result.vectors["i(l1)"] * ladder.impedance, result.vectors[last] * ladder.impedance)
@@ -202,4 +211,4 @@ def measure_spectrum(chain: Chain, *, points: int | None = None, L0: float = DEF
     seen = np.array([int(np.argmin(np.abs(theory.omega - w))) for w in fit.omega], dtype=int)
     return SpectrumReport(chain, theory, fit, seen, points, omega_max, result.engine_version,
                           result.netlist_sha256, {"ngspice_s": result.wall_s, "fit_s": fitted - ran,
-                                                  "total_s": fitted - clock})
+                                                  "total_s": fitted - clock}, result.engine)

@@ -1,97 +1,59 @@
-"""An AC analysis of lcchain's own ladder in ngspice: complex vectors against frequency.
+"""An AC analysis of lcchain's own ladder: complex vectors against frequency, in any engine that has one.
 
-:func:`run_ac` runs an AC netlist (:func:`lcchain.circuit.netlist.ac_netlist_text`) with the batch
-transport's discipline (:mod:`lcchain.spice.runner`: the netlist on standard input, the raw file on an
-unnamed descriptor, its own process group, a timeout, nothing left behind) and returns the frequencies and
-the complex vectors, checked: every vector present, as many points as asked, all finite.
+:func:`run_ac` checks its arguments and dispatches by ``simulator.engine`` to
+:meth:`lcchain.spice.engine.Engine.run_ac` (ngspice: :mod:`lcchain.spice.ngspice`; gnucap:
+:mod:`lcchain.spice.gnucap`), which runs the AC netlist (:func:`lcchain.circuit.netlist.ac_netlist_text`) with
+the runner's discipline and returns the frequencies and the complex vectors, checked
+(:func:`lcchain.spice.acdata.ac_result`): every vector present, as many points as asked, all finite.
 """
 
 from __future__ import annotations
 
-import hashlib
-from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
-
-import numpy as np
+from collections.abc import Sequence
 
 from ..core.checks import integer, real
-from ..core.errors import ParameterError, SimulationError
-from ..core.frozen import FrozenArrays, FrozenMap
-from .log import failure_reason, fatal_lines, trim_log, useful_output
-from .runner import _placement, _run_batch
-from .simulator import Simulator, find_simulator
+from ..core.errors import ParameterError
+from .acdata import AcResult
+from .engines import DEFAULT_ENGINE, ac_engine, find_engine
+from .simulator import Simulator
 from .text import canonical_vector_name
 
 __all__ = ["AcResult", "run_ac"]
 
 
-@dataclass(frozen=True, eq=False)
-class AcResult(FrozenArrays):
-    """One AC analysis.
-
-    Attributes
-    ----------
-    frequency : numpy.ndarray
-        Hz, ascending (read-only).
-    vectors : Mapping[str, numpy.ndarray]
-        Complex phasors (A for a branch current) by canonical name, for a source of 1 V.
-    engine_version : str
-    netlist_sha256 : str
-    wall_s : float
-        The ngspice process's wall time.
-    log : str
-    """
-
-    frequency: np.ndarray
-    vectors: Mapping[str, np.ndarray]
-    engine_version: str
-    netlist_sha256: str
-    wall_s: float
-    log: str = field(repr=False)
-
-    @property
-    def points(self) -> int:
-        return int(self.frequency.size)
-
-
 def run_ac(netlist: str, vectors: Sequence[str], points: int, *, simulator: Simulator | None = None,
-           timeout: float = 600.0) -> AcResult:
-    """Run lcchain's AC netlist in ngspice (batch) and return its complex vectors.
+           timeout: float = 600.0, engine: str | None = None) -> AcResult:
+    """Run lcchain's AC netlist in an engine and return its complex vectors.
+
+    Parameters
+    ----------
+    netlist : str
+        Written by :func:`lcchain.circuit.netlist.ac_netlist_text` (ngspice's dialect).
+    vectors : sequence of str
+        E.g. ``("i(l1)", "i(l20)")``.
+    points : int
+        The frequencies its ``.ac`` line asks for.
+    simulator : Simulator, optional
+        The engine's batch transport (its ``engine`` chooses the engine); found for ``engine`` when omitted.
+    timeout : float
+        Seconds after which the engine's process group is killed.
+    engine : str, optional
+        Only without a simulator, or equal to its engine (default ``"ngspice"``).
 
     Raises
     ------
+    ParameterError
+        Bad arguments, or an engine without an AC analysis (naming ``engine``).
     SimulationError
-        ngspice failed, timed out, or its output is not the analysis asked for.
+        The engine failed, timed out, or its output is not the analysis asked for.
     """
     if not isinstance(netlist, str) or ".ac " not in netlist:
         raise ParameterError("netlist", type(netlist).__name__, "an AC netlist written by lcchain")
     names = [canonical_vector_name(v) for v in vectors]
     points = integer("points", points, at_least=1)
     timeout = real("timeout", timeout, above=0.0, unit="seconds")
-    simulator = simulator if simulator is not None else find_simulator("batch")
-    if simulator.engine != "ngspice" or simulator.backend != "batch":
-        raise ParameterError("simulator", f"{simulator.engine} {simulator.backend}", "ngspice's batch transport "
-                             "(the AC analysis runs in ngspice only)")
-    with _placement(simulator, False, None) as place:
-        columns, log, wall = _run_batch(netlist, simulator, timeout, 0.0, None, place, None, plot="ac")
-
-    def fail(reason: str) -> SimulationError:
-        return SimulationError(reason, useful_output(log))
-
-    if fatal_lines(log):
-        raise SimulationError(failure_reason(log, ""), useful_output(log))
-    if "frequency" not in columns:
-        raise fail("ngspice returned no frequency vector")
-    frequency = np.ascontiguousarray(columns["frequency"].real)  # ngspice leaves the imaginary part undefined
-    if frequency.size != points:
-        raise fail(f"ngspice returned {frequency.size} frequencies, not the {points} asked for")
-    found = {}
-    for name in names:
-        if name not in columns:
-            raise fail(f"ngspice saved no vector {name!r}")
-        values = np.ascontiguousarray(columns[name])
-        if not np.all(np.isfinite(values)):
-            raise fail(f"the vector {name!r} holds a value that is not finite (a frequency at a pole?)")
-        found[name] = values
-    return AcResult(frequency, FrozenMap(found), simulator.version,
-                    hashlib.sha256(netlist.encode("utf-8")).hexdigest(), wall, trim_log(log))
+    if simulator is None:
+        simulator = find_engine(ac_engine(engine or DEFAULT_ENGINE).name)
+    elif engine is not None and engine != simulator.engine:
+        raise ParameterError("engine", engine, f"the simulator's own engine, {simulator.engine!r}")
+    return ac_engine(simulator.engine).run_ac(netlist, names, points, simulator=simulator, timeout=timeout)

@@ -6,8 +6,8 @@ a child process, or ngspice's shared library in a child): an engine says
 which transports it has.
 
 To add an engine, write one module in :mod:`lcchain.spice` with a subclass of
-:class:`Engine` that implements the four members below, and add one line to
-:data:`lcchain.spice.engines.ENGINES`:
+:class:`Engine` that implements the four members below (and a fifth, ``run_ac``, if it has an AC analysis),
+and add one line to :data:`lcchain.spice.engines.ENGINES`:
 
 ``name``
     The registry key (``--engine NAME``, ``[analysis] engine``).
@@ -31,6 +31,14 @@ To add an engine, write one module in :mod:`lcchain.spice` with a subclass of
     :class:`~lcchain.core.errors.SimulationError`; the child runs in a
     process group of its own, is killed on a timeout or an interrupt, and
     leaves nothing behind.
+``run_ac(netlist, vectors, points, simulator=..., timeout=...)``
+    Only for an engine with ``runs_ac``: run lcchain's AC netlist
+    (:func:`lcchain.circuit.netlist.ac_netlist_text`: a ``V ... DC 0 AC 1``
+    source, ``.options noopac``, ``.ac lin P f1 f2``, ``.save``) with the same
+    discipline and return :func:`lcchain.spice.acdata.ac_result` of its
+    columns (frequency in Hz, complex vectors by canonical name).  Its
+    arguments arrive checked (:func:`lcchain.spice.ac.run_ac`, the entry
+    point, dispatches by ``simulator.engine``).
 """
 
 from __future__ import annotations
@@ -39,7 +47,9 @@ from abc import ABC, abstractmethod
 from collections.abc import Callable, Sequence
 from typing import ClassVar
 
+from ..core.errors import ParameterError
 from ..core.types import Backend
+from .acdata import AcResult
 from .runner import RunResult
 from .simulator import Simulator
 
@@ -71,6 +81,11 @@ class Engine(ABC):
     relative_cost : float
         Its wall time per run over ngspice's for the same ladder and step: the budget's model of a run
         (:func:`lcchain.core.budget.run_estimate`, ngspice's, measured) is scaled by it.
+    runs_ac : bool
+        Whether it has an AC analysis (:meth:`run_ac`); an engine without one is refused by
+        :func:`lcchain.spice.engines.ac_engine`, naming ``engine``.
+    ac_relative_cost : float
+        Its wall time per AC point over ngspice's (the spectrum's price is scaled by it).
     """
 
     name: ClassVar[str]
@@ -81,6 +96,8 @@ class Engine(ABC):
     no_extrapolation: ClassVar[str] = "lcchain's model of aligned steps is ngspice's"
     steps_modelled: ClassVar[bool] = False
     relative_cost: ClassVar[float] = 1.0
+    runs_ac: ClassVar[bool] = False
+    ac_relative_cost: ClassVar[float] = 1.0
 
     @abstractmethod
     def find(self, backend: Backend = "batch") -> Simulator:
@@ -95,6 +112,12 @@ class Engine(ABC):
             timeout: float = 600.0, progress: Callable[[float], None] | None = None, cwd: str | None = None,
             trusted: bool = False, foreign: bool = True, max_output_bytes: float | None = None) -> RunResult:
         """Run lcchain's netlist text (ngspice's dialect) in the engine; see :func:`lcchain.spice.runner.run`."""
+
+    def run_ac(self, netlist: str, vectors: Sequence[str], points: int, *, simulator: Simulator,
+               timeout: float = 600.0) -> AcResult:
+        """Run lcchain's AC netlist text (ngspice's dialect) in the engine: ``points`` frequencies, the complex
+        ``vectors`` (canonical names).  An engine without ``runs_ac`` keeps this refusal."""
+        raise ParameterError("engine", self.name, "an engine with an AC analysis (its runs_ac)")
 
     def __repr__(self) -> str:
         return f"<engine {self.name}>"

@@ -9,6 +9,7 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 
 from ..core.checks import choice
+from ..core.errors import ParameterError
 from ..core.types import Backend
 from .engine import Engine
 from .gnucap import Gnucap
@@ -16,7 +17,7 @@ from .ngspice import Ngspice
 from .runner import RunResult
 from .simulator import Simulator
 
-__all__ = ["ENGINES", "DEFAULT_ENGINE", "engine_named", "find_engine", "run_engine"]
+__all__ = ["ENGINES", "DEFAULT_ENGINE", "engine_named", "ac_engine", "find_engine", "run_engine"]
 
 #: Engine name -> implementation; the first is the default.
 ENGINES: dict[str, Engine] = {
@@ -30,6 +31,16 @@ DEFAULT_ENGINE = "ngspice"
 def engine_named(name: object, field: str = "engine") -> Engine:
     """The registered engine of that name (a :class:`~lcchain.core.errors.ParameterError` naming ``field``)."""
     return ENGINES[choice(field, name, tuple(ENGINES))]
+
+
+def ac_engine(name: object, field: str = "engine") -> Engine:
+    """The registered engine of that name if it has an AC analysis (:attr:`Engine.runs_ac`), else a
+    :class:`~lcchain.core.errors.ParameterError` naming ``field`` and the engines that have one."""
+    found = engine_named(name, field)
+    if not found.runs_ac:
+        having = " | ".join(key for key, engine in ENGINES.items() if engine.runs_ac)
+        raise ParameterError(field, found.name, f"an engine with an AC analysis: {having}")
+    return found
 
 
 def find_engine(engine: str = DEFAULT_ENGINE, backend: Backend = "batch") -> Simulator:

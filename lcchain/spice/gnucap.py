@@ -38,15 +38,30 @@ translate exactly, naming it:
 * ``.print`` comes before ``.tran`` (gnucap runs each dot-command as it
   reads it), and names ``i(name)`` / ``v(node)`` vectors only.
 
-The output
-----------
-``gnucap -b /dev/stdin`` prints a banner, then the table: a ``#Time`` header
-and one row per print step, numbers with SPICE suffixes
-(``15.811388300842n``) or exponents (``-4.398E-18``).  gnucap exits 0 after
-an error, so any message before the table, a malformed row or no table is a
-:class:`~lcchain.core.errors.SimulationError`.  Its t = 0 row is printed
-before the initial conditions apply (``i(L1) = 0`` where ``ic=1``: measured),
-so it is dropped: a gnucap run's time starts at its first step.
+The AC analysis (:meth:`Gnucap.run_ac`, measured on this machine)
+-----------------------------------------------------------------
+* ``.ac lin P f1 f2`` is kept (gnucap reads SPICE's order; it gave the P
+  frequencies asked for, 16 to 8000), several of them too (a sweep in
+  segments: one table each), and ``V ... DC 0 AC 1`` is kept;
+* ``noopac`` is dropped: gnucap's ``.ac`` needs no operating point (a free
+  chain, whose inductor loop has none, runs);
+* ``short=1e-30`` (:data:`SOURCE_RESISTANCE`): gnucap's voltage source is a
+  Norton equivalent with its ``short`` option, 1e-5 ohm, in series: one coil
+  of 1 mH at 1 kHz gave I = 2.5e-7 - 0.159155i A with it, -0.15915494309189535i
+  (1 / (omega L) to the last digit) without;
+* ``numdgt=20`` (:data:`AC_DIGITS`): every value is read back as the double
+  gnucap holds (20 digits gave the same doubles as 25; 17 left one ulp on a
+  tenth of them, as gnucap rounds after scaling by its suffix), and each
+  complex current is printed as its real and imaginary parts,
+  ``ir(l1) ii(l1)``;
+* two-mass N = 20 (928 frequencies), a walled N = 20, uniform-bounded N = 24
+  and coupled coils (k = 0.03, gnucap's ``K``) agreed with ngspice to a median
+  of 1e-14 relative; the largest differences (2e-11 .. 4e-9) lie next to
+  poles, where the two engines' frequencies (equal within 1.4e-15) already
+  move the admittance that much.
+
+Its output (tables with SPICE suffixes, messages before them) is read by
+:mod:`lcchain.spice.gnucap_table`.
 """
 
 from __future__ import annotations
@@ -62,29 +77,27 @@ import time
 from collections.abc import Callable, Sequence
 from typing import IO, ClassVar
 
-import numpy as np
-
 from ..core.budget import show_bytes
-from ..core.errors import ParameterError, SimulationError, SimulatorMissingError
+from ..core.errors import ParameterError, SimulatorMissingError
 from ..core.frozen import FrozenMap
 from ..core.types import Backend
+from .acdata import AcResult, ac_result
 from .engine import Engine
-from .log import trim_log, useful_output
+from .gnucap_table import TITLE, failure, number, quiet, quote, read_ac_table, read_table, without_rows
+from .log import trim_log
 from .processes import child_env, kill_group, read_all
 from .runner import RunResult, check_arguments, progress_reporter, validate_columns, wait_watching
 from .sandbox import Sandbox
 from .simulator import Simulator, child_launcher
 from .text import canonical_vector_name, parse_options, saved_vectors
 
-__all__ = ["Gnucap", "INSTALL_COMMAND", "gnucap_version", "read_table", "coupled_initial_currents",
-           "MAX_OUTPUT_BYTES", "DTMIN_FRACTION", "VOLTAGE_LIMIT", "GMIN"]
+__all__ = ["Gnucap", "INSTALL_COMMAND", "gnucap_version", "read_table", "read_ac_table", "coupled_initial_currents",
+           "MAX_OUTPUT_BYTES", "DTMIN_FRACTION", "VOLTAGE_LIMIT", "GMIN", "SOURCE_RESISTANCE", "AC_DIGITS"]
 
 #: How to install gnucap on Debian/Ubuntu.
 INSTALL_COMMAND = "sudo apt-get install gnucap"
 #: What a gnucap run may print (its table) when no smaller limit is given.
 MAX_OUTPUT_BYTES = 2 * 2**30
-#: The title every translated netlist gets (none of the user's text reaches gnucap).
-TITLE = "* lcchain ladder in gnucap's dialect"
 #: gnucap's smallest step over the print step.  Its default, 1e-12 s, is absolute: on a ladder whose time unit is
 #: 1 s its start-up steps were 1e-12 of the step and the run erred 3.2 times its prediction.  Measured on two-mass
 #: N = 20 and perfect N = 60 at dt = 0.05, 0.005, 0.001 and five scales: 1e-2 fails ("zero time step"), 3e-3 and
@@ -96,10 +109,16 @@ VOLTAGE_LIMIT = 1e12
 #: gnucap's conductance from every node to ground, siemens (its default, 1e-12 S, damped a 31.6 kOhm ladder by 2e-6
 #: over 60 transit units, 19 times its predicted error; ngspice puts gmin on junctions only, and a ladder has none).
 GMIN = 1e-30
+#: gnucap's series resistance of a voltage source (its ``short`` option, default 1e-5 ohm), for the AC analysis.
+SOURCE_RESISTANCE = 1e-30
+#: Significant digits of gnucap's AC table: read back, 20 gave the same doubles as 25 (every value of two-mass
+#: N = 20, 928 frequencies); 17 left 1 ulp on 10% of them (gnucap rounds after scaling by its suffix), 14 5e-14.
+AC_DIGITS = 20
 #: Options gnucap is given as lcchain wrote them.
 _KEPT_OPTIONS = ("reltol", "abstol", "vntol", "chgtol", "trtol")
-#: Options that do not apply to gnucap and are dropped: its trapezoidal rule is second order.
-_DROPPED_OPTIONS = ("maxord",)
+#: Options that do not apply to gnucap and are dropped: its trapezoidal rule is second order, and its .ac needs no
+#: operating point.
+_DROPPED_OPTIONS = ("maxord", "noopac")
 
 _VERSION = re.compile(r"main version:\s*(?:\S+\s+)?([0-9][0-9.]*)")
 _ELEMENT = re.compile(r"^([LC])(\w+)\s+(\S+)\s+(\S+)\s+(\S+)(?:\s+IC=(\S+))?$", re.IGNORECASE)
@@ -107,16 +126,9 @@ _RESISTOR = re.compile(r"^R\w+\s+\S+\s+\S+\s+\S+$", re.IGNORECASE)
 _SOURCE = re.compile(r"^V\w+\s+\S+\s+\S+\s+([-+0-9.eE]+)$", re.IGNORECASE)
 _COUPLING = re.compile(r"^K\w+\s+(L\w+)\s+(L\w+)\s+(\S+)$", re.IGNORECASE)
 _TRAN = re.compile(r"^\.tran\s+(\S+)\s+(\S+)\s+0\s+(\S+)\s+uic$", re.IGNORECASE)
+_AC = re.compile(r"^\.ac\s+lin\s+([0-9]+)\s+(\S+)\s+(\S+)$", re.IGNORECASE)
+_AC_SOURCE = re.compile(r"^V\w+\s+\S+\s+\S+\s+DC\s+0\s+AC\s+1$", re.IGNORECASE)
 _PRINTABLE = re.compile(r"^([iv])\((\w+)\)$")
-_NUMBER = re.compile(r"^([-+]?(?:\d+\.?\d*|\.\d+)(?:e[-+]?\d+)?)(f|p|n|u|m|k|meg|g|t)?$", re.IGNORECASE)
-#: The decimal exponent of each suffix gnucap prints (read as ``mantissa e exponent``: one correctly rounded float).
-_EXPONENT = {"f": -15, "p": -12, "n": -9, "u": -6, "m": -3, "k": 3, "meg": 6, "g": 9, "t": 12}
-_BANNER = re.compile(r"^(Gnucap\b|Never trust|Copyright|Gnucap comes|This is free|to redistribute|the GNU General"
-                     r"|See the file|main version|core-lib version|default plugins)")
-
-
-def _failure(reason: str, log_tail: str = "", status: str = "failed") -> SimulationError:
-    return SimulationError(reason, log_tail, status, "gnucap")
 
 
 def _refuse(what: str) -> ParameterError:
@@ -162,15 +174,18 @@ def coupled_initial_currents(inductances: dict[str, float], currents: dict[str, 
     return {name: value / inductances[name] for name, value in flux.items() if value != 0.0}
 
 
-def _print_name(name: str) -> str:
+def _print_name(name: str, ac: bool = False) -> str:
+    """gnucap's probe of a canonical vector: ``i(l1)``, or its real and imaginary parts ``ir(l1) ii(l1)``."""
     match = _PRINTABLE.match(canonical_vector_name(name))
     if match is None:
         raise _refuse(f"the vector {name!r}: gnucap's dialect prints i(element) and v(node) only")
-    return f"{match.group(1)}({match.group(2)})"
+    kind, what = match.groups()
+    return f"{kind}r({what}) {kind}i({what})" if ac else f"{kind}({what})"
 
 
-def _options(line: str) -> str:
-    words = ["numdgt=14", "method=trap"]
+def _options(line: str) -> list[str]:
+    """The options gnucap is given as lcchain wrote them (refusing those it cannot translate)."""
+    words = []
     for name, value in parse_options(line).items():
         if name == "method":
             if value.lower() != "trap":
@@ -180,7 +195,7 @@ def _options(line: str) -> str:
         elif name not in _DROPPED_OPTIONS:
             raise _refuse(f"the option {name!r}: gnucap's dialect translates method, maxord, "
                           + ", ".join(_KEPT_OPTIONS))
-    return ".options " + " ".join(words)
+    return words
 
 
 def _tran(line: str) -> tuple[str, float]:
@@ -194,6 +209,16 @@ def _tran(line: str) -> tuple[str, float]:
     # gnucap stops at the last multiple of its print step not after tstop: shorten the step to land on it.
     h = tstop / math.ceil(tstop / step * (1 - 1e-12))
     return f".tran {h!r} {tstop!r} 0 dtmax={h!r} uic", h
+
+
+def _ac(line: str) -> str:
+    match = _AC.match(line)
+    if match is None:
+        raise _refuse(f"the analysis {line!r}: gnucap's dialect translates '.ac lin points f1 f2'")
+    start, stop = (_value(g, line) for g in match.group(2, 3))
+    if not 0 < start < stop:
+        raise _refuse(f"the sweep {line!r}: 0 < f1 < f2")
+    return f".ac lin {int(match.group(1))} {start!r} {stop!r}"
 
 
 class Gnucap(Engine):
@@ -215,6 +240,10 @@ class Gnucap(Engine):
     #: N = 100, dt = 0.05), 9.2 (two-mass N = 20, dt = 0.005: gnucap's cost per point is higher, its cost per
     #: unknown lower), all on a loaded machine where ngspice itself took 1.4-1.7 times its model.
     relative_cost: ClassVar[float] = 6.0
+    runs_ac: ClassVar[bool] = True
+    #: gnucap's AC process time over ngspice's for the same sweep (benchmarks/spectrum.md, "gnucap"; loaded machine):
+    #: 4.2 (two-mass N = 20, 928 points: its start-up), 2.2 and 2.5 (two-mass N = 100 and 200), 1.8, 1.2.
+    ac_relative_cost: ClassVar[float] = 4.0
 
     def find(self, backend: Backend = "batch") -> Simulator:
         if backend not in self.transports:
@@ -234,7 +263,8 @@ class Gnucap(Engine):
         inductances: dict[str, float] = {}
         currents: dict[str, float] = {}
         couplings: list[tuple[str, str, float]] = []
-        tran = options = None
+        analyses: list[tuple[str, str]] = []  # (kind, gnucap's line)
+        options: list[str] = []
         step = 0.0
         names = list(vectors) or list(saved_vectors(netlist))
         ended = False
@@ -263,7 +293,7 @@ class Gnucap(Engine):
                     raise _refuse(f"the coupling {line!r}: |k| must lie in (0, 1)")
                 couplings.append((a, b, k))
                 body.append(line)
-            elif _RESISTOR.match(line) or _SOURCE.match(line):
+            elif _RESISTOR.match(line) or _SOURCE.match(line) or _AC_SOURCE.match(line):
                 body.append(line)
             elif head.startswith("b"):
                 raise _refuse("a behavioural source (the gaussian pulse's 'B1 ... V=expression' line): "
@@ -276,27 +306,37 @@ class Gnucap(Engine):
                 options = _options(line)
             elif head == ".tran":
                 tran, step = _tran(line)
+                analyses.append(("tran", tran))
+            elif head == ".ac":
+                analyses.append(("ac", _ac(line)))
             elif head == ".save":
                 names = names or [canonical_vector_name(v) for v in line.split()[1:]]
             elif head == ".end":
                 ended = True
             else:
                 raise _refuse(f"the line {line!r}: gnucap's dialect translates lcchain's own ladders only "
-                              "(L, C, R, V, K lines, .options, .tran, .save, .end)")
-        if tran is None or not names:
-            raise _refuse("a netlist without '.tran ... uic' or without vectors to save")
+                              "(L, C, R, V, K lines, .options, .tran, .ac, .save, .end)")
+        kinds = [kind for kind, _ in analyses]
+        if kinds not in (["tran"], ["ac"] * len(kinds)) or not kinds or not names:
+            raise _refuse("a netlist without one analysis ('.tran ... uic', or '.ac lin ...' cards: a sweep in "
+                          "segments) or without vectors to save")
         for a, b, _ in couplings:
             for coil in (a, b):
                 if coil not in inductances:
                     raise _refuse(f"a K line that couples {coil!r}, which is not an inductor of the netlist")
         ics = coupled_initial_currents(inductances, currents, couplings)
         body = [_with_ic(line, ics) for line in body]
-        printed = " ".join(_print_name(name) for name in names)
-        # gnucap's absolute scales, made the circuit's: its smallest step (its start-up ramp begins there) and its
-        # Newton limits on node voltages (a linear ladder needs none).
-        scaled = f" dtmin={step * DTMIN_FRACTION!r} vmax={VOLTAGE_LIMIT!r} vmin={-VOLTAGE_LIMIT!r} gmin={GMIN!r}"
-        return "\n".join([TITLE, *body, (options or ".options numdgt=14 method=trap") + scaled,
-                          f".print tran {printed}", tran, ".end"]) + "\n"
+        kind = kinds[0]
+        printed = " ".join(_print_name(name, kind == "ac") for name in names)
+        if kind == "ac":
+            options = [f"numdgt={AC_DIGITS}", f"short={SOURCE_RESISTANCE!r}", f"gmin={GMIN!r}", *options]
+        else:
+            # gnucap's absolute scales, made the circuit's: its smallest step (its start-up ramp begins there) and its
+            # Newton limits on node voltages (a linear ladder needs none).
+            options = ["numdgt=14", "method=trap", *options, f"dtmin={step * DTMIN_FRACTION!r}",
+                       f"vmax={VOLTAGE_LIMIT!r}", f"vmin={-VOLTAGE_LIMIT!r}", f"gmin={GMIN!r}"]
+        return "\n".join([TITLE, *body, ".options " + " ".join(options), f".print {kind} {printed}",
+                          *(line for _, line in analyses), ".end"]) + "\n"
 
     def run(self, netlist: str, vectors: Sequence[str], tstop: float, *, simulator: Simulator,
             timeout: float = 600.0, progress: Callable[[float], None] | None = None, cwd: str | None = None,
@@ -313,14 +353,22 @@ class Gnucap(Engine):
             progress(0.0)
         output, log, wall = _run_child(text, simulator, timeout, tstop, progress, limit or MAX_OUTPUT_BYTES)
         columns = read_table(output, log)
-        quiet = "\n".join(line for line in _without_rows(log).splitlines() if not _BANNER.match(line))
-        time_s, found = validate_columns(columns, quiet, names, tstop, "gnucap")
+        time_s, found = validate_columns(columns, quiet(log), names, tstop, self.name)
         if progress is not None:
             progress(1.0)
         return RunResult(time=time_s, vectors=FrozenMap(found), engine_version=simulator.version,
                          netlist_sha256=_sha256(netlist), options=FrozenMap(parse_options(netlist)), wall_s=wall,
-                         backend=simulator.backend, points=int(time_s.size), log=trim_log(_without_rows(log)),
+                         backend=simulator.backend, points=int(time_s.size), log=trim_log(without_rows(log)),
                          engine=self.name)
+
+    def run_ac(self, netlist: str, vectors: Sequence[str], points: int, *, simulator: Simulator,
+               timeout: float = 600.0) -> AcResult:
+        if simulator.engine != self.name:
+            raise ParameterError("simulator", simulator.engine, "a simulator found for engine gnucap")
+        output, log, wall = _run_child(self.dialect(netlist, vectors), simulator, timeout, 1.0, None,
+                                       MAX_OUTPUT_BYTES)
+        columns = read_ac_table(output, log)
+        return ac_result(netlist, columns, quiet(log), vectors, points, simulator, wall)
 
 
 def _sha256(text: str) -> str:
@@ -363,7 +411,7 @@ def _last_time(out: IO[bytes]) -> float | None:
     for row in reversed(tail[1:] if size > 512 else tail):
         words = row.split()
         if words:
-            return _number(words[0])
+            return number(words[0])
     return None
 
 
@@ -387,9 +435,9 @@ def _run_child(text: str, simulator: Simulator, timeout: float, tstop: float,
         output = read_all(out).decode("utf-8", "replace")
         log = output + "\n" + read_all(err).decode("utf-8", "replace")
     if status is None:
-        raise _failure(f"gnucap timed out after {timeout:g} s and was killed", _quote(log), "timeout")
+        raise failure(f"gnucap timed out after {timeout:g} s and was killed", quote(log), "timeout")
     if status != 0:
-        raise _failure(f"gnucap exited with status {status}", _quote(log))
+        raise failure(f"gnucap exited with status {status}", quote(log))
     return output, log, wall
 
 
@@ -402,67 +450,9 @@ def _wait(proc: subprocess.Popen[bytes], timeout: float, tstop: float, out: IO[b
     def look() -> None:
         if os.fstat(out.fileno()).st_size + os.fstat(err.fileno()).st_size > limit:
             kill_group(proc)
-            raise _failure(f"gnucap printed more than {show_bytes(limit)}, the most the memory budget allows, and "
+            raise failure(f"gnucap printed more than {show_bytes(limit)}, the most the memory budget allows, and "
                            "the run was stopped", "")
         if report is not None:
             report()
 
     return wait_watching(proc, timeout, look)
-
-
-def _without_rows(log: str) -> str:
-    """gnucap's output without its table's rows (what :attr:`RunResult.log` keeps)."""
-    return "\n".join(line for line in log.splitlines()
-                     if line.strip() and not (line.split() and _number(line.split()[0]) is not None))
-
-
-def _quote(log: str) -> str:
-    """gnucap's output worth quoting in an error: without its banner and its table's rows."""
-    return useful_output("\n".join(line for line in _without_rows(log).splitlines() if not _BANNER.match(line)))
-
-
-def _number(text: str) -> float | None:
-    match = _NUMBER.match(text)
-    if match is None:
-        return None
-    mantissa, suffix = match.groups()
-    if suffix is None:
-        return float(mantissa)
-    if "e" in mantissa.lower():  # never printed by gnucap: scale it
-        return float(mantissa) * 10.0 ** _EXPONENT[suffix.lower()]
-    return float(f"{mantissa}e{_EXPONENT[suffix.lower()]}")
-
-
-def read_table(output: str, log: str = "") -> dict[str, np.ndarray]:
-    """gnucap's ``.print tran`` table as columns keyed by canonical name (``"time"``, ``"i(l1)"``...).
-
-    The t = 0 row is dropped (gnucap prints it before the initial conditions apply).
-
-    Raises
-    ------
-    SimulationError
-        No table, a message from gnucap before it (gnucap exits 0 after an error), or a malformed row.
-    """
-    lines = output.splitlines()
-    header = next((i for i, line in enumerate(lines) if line.startswith("#Time")), None)
-    messages = [line.strip() for line in lines[: len(lines) if header is None else header]
-                if line.strip() and not _BANNER.match(line) and line.strip() != TITLE]
-    if messages:
-        raise _failure("gnucap reported: " + " | ".join(messages[:5]), _quote(log or output))
-    if header is None:
-        raise _failure("gnucap printed no table (no '#Time' header)", _quote(log or output))
-    names = ["time", *(canonical_vector_name(n) for n in lines[header].split()[1:])]
-    rows: list[list[float]] = []
-    for line in lines[header + 1:]:
-        words = line.split()
-        if not words:
-            continue
-        values = [_number(word) for word in words]
-        if len(values) != len(names) or any(v is None for v in values):
-            raise _failure(f"gnucap's table has a row lcchain cannot read: {line.strip()[:200]!r}",
-                                  _quote(log or output))
-        rows.append(values)  # type: ignore[arg-type]
-    table = np.array(rows, dtype=np.float64).reshape(len(rows), len(names))
-    if len(table) and table[0, 0] == 0.0:
-        table = table[1:]
-    return {name: np.ascontiguousarray(table[:, j]) for j, name in enumerate(names)}

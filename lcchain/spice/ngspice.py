@@ -2,7 +2,8 @@
 
 It wraps what was there before engines: :func:`lcchain.spice.simulator.find_simulator` (both transports,
 ``ngspice -b`` and the shared library) and :func:`lcchain.spice.runner.run` (the allow-list and the sandbox
-for netlists lcchain did not write), unchanged.
+for netlists lcchain did not write), unchanged.  Its AC analysis runs the netlist as it is in the batch transport
+(:func:`lcchain.spice.runner.run_plot`) and reads the raw file's complex AC plot.
 """
 
 from __future__ import annotations
@@ -11,8 +12,9 @@ from collections.abc import Callable, Sequence
 from typing import ClassVar
 
 from ..core.types import Backend
+from .acdata import AcResult, ac_result
 from .engine import Engine
-from .runner import RunResult, run
+from .runner import RunResult, run, run_plot
 from .simulator import INSTALL_COMMAND, Simulator, find_simulator
 
 __all__ = ["Ngspice"]
@@ -27,6 +29,7 @@ class Ngspice(Engine):
     runs_foreign: ClassVar[bool] = True
     extrapolates: ClassVar[bool] = True
     steps_modelled: ClassVar[bool] = True
+    runs_ac: ClassVar[bool] = True
 
     def find(self, backend: Backend = "batch") -> Simulator:
         return find_simulator(backend)
@@ -39,3 +42,10 @@ class Ngspice(Engine):
             trusted: bool = False, foreign: bool = True, max_output_bytes: float | None = None) -> RunResult:
         return run(netlist, vectors, tstop, simulator=simulator, timeout=timeout, progress=progress, cwd=cwd,
                    trusted=trusted, foreign=foreign, max_output_bytes=max_output_bytes)
+
+    def run_ac(self, netlist: str, vectors: Sequence[str], points: int, *, simulator: Simulator,
+               timeout: float = 600.0) -> AcResult:
+        columns, log, wall = run_plot(netlist, "ac", simulator=simulator, timeout=timeout)
+        if "frequency" in columns:  # ngspice leaves the frequency's imaginary part undefined
+            columns["frequency"] = columns["frequency"].real
+        return ac_result(netlist, columns, log, vectors, points, simulator, wall)

@@ -71,8 +71,8 @@ from .simulator import Simulator, find_simulator
 from .text import canonical_vector_name, parse_options
 from .warm import worker_for
 
-__all__ = ["RunResult", "run", "read_include", "check_arguments", "validate_columns", "exited", "TSTOP_RTOL",
-           "LOG_MAX_CHARS", "PROGRESS_INTERVAL"]
+__all__ = ["RunResult", "run", "run_plot", "read_include", "check_arguments", "validate_columns", "exited",
+           "TSTOP_RTOL", "LOG_MAX_CHARS", "PROGRESS_INTERVAL"]
 
 #: What a watched run (a foreign netlist) may print on stdout and stderr before it is stopped.
 MAX_LOG_BYTES = 16 * 2**20
@@ -292,6 +292,50 @@ def run(
         points=int(time_s.size),
         log=trim_log(log),
     )
+
+
+def run_plot(netlist: str, plot: str, *, simulator: Simulator,
+             timeout: float = 600.0) -> tuple[dict[str, np.ndarray], str, float]:
+    """Run lcchain's own netlist text in ngspice's batch transport and read one plot of its raw file.
+
+    The analyses other than the transient (:meth:`lcchain.spice.ngspice.Ngspice.run_ac`) go through here: the
+    same discipline as :func:`run` (own process group, timeout, nothing left behind), no allow-list (the text is
+    lcchain's), no check of the plot's vectors (the caller's analysis knows them).
+
+    Parameters
+    ----------
+    netlist : str
+        Netlist text lcchain wrote.
+    plot : str
+        The raw file's plot to read (:func:`lcchain.spice.raw.read_raw`: ``"transient"``, ``"ac"``).
+    simulator : Simulator
+        ngspice's batch transport.
+    timeout : float
+        Seconds after which ngspice's process group is killed.
+
+    Returns
+    -------
+    columns : dict
+        The plot's vectors by canonical name (complex for an AC plot).
+    log : str
+        ngspice's output.
+    wall_s : float
+        ngspice's wall time, seconds.
+
+    Raises
+    ------
+    ParameterError
+        A simulator other than ngspice's batch transport.
+    SimulationError
+        ngspice failed, timed out, printed a fatal line, or wrote no such plot.
+    """
+    if simulator.engine != "ngspice" or simulator.backend != "batch":
+        raise ParameterError("simulator", f"{simulator.engine} {simulator.backend}", "ngspice's batch transport")
+    with _placement(simulator, False, None) as place:
+        columns, log, wall = _run_batch(netlist, simulator, timeout, 0.0, None, place, None, plot=plot)
+    if fatal_lines(log):
+        raise SimulationError(failure_reason(log, ""), useful_output(log))
+    return columns, log, wall
 
 
 @dataclass(frozen=True)
