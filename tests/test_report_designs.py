@@ -11,7 +11,7 @@ import time
 from pathlib import Path
 
 import pytest
-from helpers.processes import descendants, gone
+from helpers.processes import descendants, dies_unless_in, gone
 
 from lcchain.report.build import report_rows
 from lcchain.report.figure_data import DesignRows
@@ -135,3 +135,14 @@ def test_a_check_run_by_the_pool_is_the_check_run_here() -> None:
             (here.name, here.max_abs_error, here.predicted_error, here.tolerance, here.dt)
         for key in ("t", "sim", "theory", "residual"):
             assert check.curves[key].tobytes() == here.curves[key].tobytes(), (job.name, key)
+
+
+def test_a_killed_background_worker_loses_no_task(caplog: pytest.LogCaptureFixture) -> None:
+    """A worker killed from outside (the kernel, out of memory) breaks the pool: the tasks are then done here."""
+    here = os.getpid()
+    with Background([Task(i, 1.0, dies_unless_in, (here, i)) for i in range(4)], workers=2) as pool:
+        workers = set(pool._pool._processes) if pool._pool is not None else set()  # type: ignore[attr-defined]
+        taken = [pool.take(i) for i in range(4)]
+    assert taken == [0, 1, 2, 3]
+    assert "remaining tasks run in this process" in caplog.text
+    assert workers and all(gone(pid) for pid in workers)

@@ -6,24 +6,28 @@ the longest do not finish last, alone on one core; :meth:`Background.take` then 
 A result is the one computed here, bit for bit: the theory runs under a fixed BLAS thread limit in every process
 (:mod:`lcchain.core.blas`) and ngspice is deterministic.
 
-The pool's workers are those of the study executors (:mod:`.executors`): they ignore Ctrl-C from their start
+The pool's workers are those of the study executors (:mod:`.pools`): they ignore Ctrl-C from their start
 (they are started with it ignored) and die with their parent, and their simulators die with them; leaving the
 block by an exception (an interrupt included), or with tasks nobody took, kills them rather than waiting.
+A worker killed from outside (out of memory) breaks the pool: the tasks not yet taken are then done here.
 """
 
 from __future__ import annotations
 
-import multiprocessing
-import os
+import logging
 from collections.abc import Callable, Hashable, Iterable
 from concurrent.futures import Future, ProcessPoolExecutor
+from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass
 from types import TracebackType
 from typing import Any
 
-from .executors import _die_with_parent, _interrupts_held, _kill_pool, default_workers
+from .executors import default_workers
+from .pools import interrupts_held, kill_pool, spawn_pool
 
 __all__ = ["Task", "Background"]
+
+log = logging.getLogger(__name__)
 
 
 @dataclass(frozen=True)
@@ -58,10 +62,8 @@ class Background:
         try:
             # the workers (started by the first submissions) inherit an ignored Ctrl-C from their first instant:
             # a terminal's Ctrl-C reaches the whole group, and a worker still importing would print a traceback
-            with _interrupts_held():
-                self._pool = ProcessPoolExecutor(max_workers=self.workers, initializer=_die_with_parent,
-                                                 mp_context=multiprocessing.get_context("spawn"),
-                                                 initargs=(os.getpid(),))
+            with interrupts_held():
+                self._pool = spawn_pool(self.workers)
                 for task in sorted(self._tasks.values(), key=lambda task: -task.cost):
                     self._futures[task.key] = self._pool.submit(task.function, *task.args)
         except BaseException:
@@ -76,7 +78,12 @@ class Background:
         if it raised one, is raised here)."""
         future = self._futures.get(key)
         if future is not None:
-            return future.result()
+            try:
+                return future.result()
+            except BrokenProcessPool:  # a worker was killed (out of memory?): the rest is done here, one by one
+                log.warning("a background worker died; its remaining tasks run in this process")
+                self._futures.clear()
+                self.close(finished=False)
         task = self._tasks[key]
         return task.function(*task.args)
 
@@ -88,7 +95,7 @@ class Background:
         if finished and all(future.done() for future in self._futures.values()):
             pool.shutdown(wait=True)
         else:  # interrupted, failed, or tasks nobody took: nothing may keep running
-            _kill_pool(pool)
+            kill_pool(pool)
 
     def __enter__(self) -> Background:
         return self

@@ -40,17 +40,13 @@ run; their keys and results are those of ``ngspice -b`` (bit-identical).
 from __future__ import annotations
 
 import contextlib
-import ctypes
 import logging
-import multiprocessing
 import os
-import signal
-import sys
 import tempfile
 import threading
 import urllib.parse
 from collections.abc import Callable, Iterator, Sequence
-from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, ThreadPoolExecutor, wait
+from concurrent.futures import FIRST_COMPLETED, ThreadPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass, replace
 from typing import Any
@@ -62,6 +58,7 @@ from ..runs.spec import RunSpec
 from ..spice.engines import find_engine
 from ..spice.simulator import Simulator
 from ..spice.warm import WARM_BELOW_SECONDS, close_workers, warm_simulator
+from .pools import interrupts_held, kill_pool, spawn_pool
 
 __all__ = ["ExecutorName", "EXECUTORS", "MIN_TASK_SECONDS", "SCHEDULER_SCHEMES", "run_groups", "open_executor",
            "check_executor", "group_tasks", "default_workers", "execute_group", "Transports", "choose_transports",
@@ -234,27 +231,6 @@ def execute_group(group: Group, simulator: Simulator, keep_signals: bool = False
 
 
 # ------------------------------------------------------------------ process pool
-def _die_with_parent(parent: int) -> None:
-    """Pool initializer: ignore Ctrl-C (the driver handles it) and die when the driver dies (Linux)."""
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    if sys.platform.startswith("linux"):
-        libc = ctypes.CDLL(None, use_errno=True)
-        libc.prctl(1, signal.SIGKILL)  # PR_SET_PDEATHSIG
-    if os.getppid() != parent:  # the driver died before the line above took effect
-        os._exit(1)
-
-
-def _kill_pool(pool: ProcessPoolExecutor) -> None:
-    processes = list(getattr(pool, "_processes", {}).values())  # the stdlib keeps no public handle on them
-    pool.shutdown(wait=False, cancel_futures=True)
-    for process in processes:
-        with contextlib.suppress(Exception):
-            process.kill()
-    for process in processes:
-        with contextlib.suppress(Exception):
-            process.join(5)
-
-
 #: Times a broken process pool (a worker killed, by the kernel or by hand) is rebuilt before the study stops.
 POOL_RESTARTS = 3
 
@@ -262,11 +238,9 @@ POOL_RESTARTS = 3
 def _process(groups: list[Group], simulator: Simulator, workers: int, keep_signals: bool,
              transports: Transports) -> Iterator[list[tuple[int, RunRecord]]]:
     """A spawn process pool; a pool broken by a dead worker is rebuilt and the unfinished groups resubmitted."""
-    context = multiprocessing.get_context("spawn")
     left = dict(enumerate(groups))
     for attempt in range(POOL_RESTARTS + 1):
-        pool = ProcessPoolExecutor(max_workers=workers, mp_context=context, initializer=_die_with_parent,
-                                   initargs=(os.getpid(),))
+        pool = spawn_pool(workers)
         finished = False
         try:
             pending = {pool.submit(execute_group, group, simulator, keep_signals, transports): number
@@ -290,7 +264,7 @@ def _process(groups: list[Group], simulator: Simulator, workers: int, keep_signa
             if finished:
                 pool.shutdown(wait=True)
             else:  # interrupted, or broken: nothing may keep running
-                _kill_pool(pool)
+                kill_pool(pool)
 
 
 # ------------------------------------------------------------------ threads
@@ -340,28 +314,6 @@ def _threaded(groups: list[Group], simulator: Simulator, workers: int, keep_sign
 
 # ------------------------------------------------------------------ Dask
 @contextlib.contextmanager
-def _interrupts_held() -> Iterator[None]:
-    """Ctrl-C ignored by the worker processes a local cluster starts, held back in the driver meanwhile.
-
-    A terminal sends Ctrl-C to the whole process group, and a Dask worker
-    that gets it prints its traceback; the driver closes its workers itself.
-    The workers inherit the ignored signal; the driver blocks it meanwhile, so
-    that a Ctrl-C during the start arrives once the cluster can be closed
-    whole (best effort: a thread that starts a process may unblock it).
-    """
-    if threading.current_thread() is not threading.main_thread() or not hasattr(signal, "pthread_sigmask"):
-        yield
-        return
-    signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
-    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
-    try:
-        yield
-    finally:
-        signal.signal(signal.SIGINT, previous)
-        signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
-
-
-@contextlib.contextmanager
 def _dask(workers: int, scheduler: str | None, verbose: bool) -> Iterator[Any]:
     """A Dask client: on a LocalCluster whose scratch space is removed after it closed, or on ``scheduler``."""
     try:
@@ -376,7 +328,7 @@ def _dask(workers: int, scheduler: str | None, verbose: bool) -> Iterator[Any]:
             scratch = stack.enter_context(tempfile.TemporaryDirectory(prefix="lcchain-dask-"))
             # the scheduler takes its scratch space from Dask's configuration, the workers from local_directory
             stack.enter_context(dask.config.set({"temporary-directory": scratch}))
-            with _interrupts_held():
+            with interrupts_held():
                 cluster = stack.enter_context(LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
                                                            host="127.0.0.1", dashboard_address=None,
                                                            silence_logs=quiet, local_directory=scratch))
