@@ -3,6 +3,9 @@ for a batch of netlists each one's vectors, points and time; a metric the runs c
 
 from __future__ import annotations
 
+import csv
+import io
+import json
 from pathlib import Path
 
 import pytest
@@ -68,6 +71,17 @@ def test_a_sweep_table_shows_its_axes_and_a_plot_no_rows(tmp_path: Path, capsys:
     assert main(["results", str(store), "--plot", str(tmp_path / "s.png")]) == 0
     out = capsys.readouterr().out
     assert len(out.splitlines()) == 1 and "s.png" in out and (tmp_path / "s.png").stat().st_size > 10_000
+    # the summary keeps 4 significant digits of a perfect cradle's tiny loss, and its CSV every digit
+    assert main(["results", str(store), "--summary", "--metric", "loss", "--json"]) == 0
+    groups = json.loads(capsys.readouterr().out)
+    assert main(["results", str(store), "--summary", "--metric", "loss"]) == 0
+    table = capsys.readouterr().out
+    assert main(["results", str(store), "--summary", "--metric", "loss", "--csv"]) == 0
+    rows = list(csv.DictReader(io.StringIO(capsys.readouterr().out)))
+    assert [float(row["mean"]) for row in rows] == [group["mean"] for group in groups]
+    perfect = [group["mean"] for group in groups if group["params"]["case"] == "perfect"]
+    assert perfect and all(0 < loss < 1e-3 for loss in perfect)
+    assert all(f"{loss:.4g}" in table for loss in perfect) and "0.0000" not in table
 
 
 def test_the_axes_are_what_every_point_varies_by() -> None:
