@@ -330,3 +330,23 @@ def test_study_histogram_of_a_pulse_has_the_nominal_line_and_a_pulse_label(tmp_p
     assert "pulse source" in ax.get_xlabel() and "I_1(0)" not in ax.get_xlabel()
     nominal = [line for line in ax.get_lines() if line.get_label().startswith("nominal ")]
     assert len(nominal) == 1 and 0.5 < nominal[0].get_xdata()[0] < 1.0
+
+
+def test_study_histograms_keep_their_legends_above_the_bars_and_a_zero_nominal_off_a_log_axis():
+    """A real-parts study drawn on a log axis: the perfect cradle's nominal loss is 0 (its line would sit at the
+    axis' far left), said in the legend; the legends' lines sit above the tallest bar of every panel."""
+    from lcchain.report.studies import samples_figure
+    from lcchain.studies.summary import Group
+
+    rng = np.random.default_rng(5)
+    groups = [Group({"case": case, "N": N}, np.abs(rng.normal(centre, centre / 4, 200)), 0)
+              for N in (50, 200) for case, centre in (("perfect", 2e-4), ("two-mass", 0.031))]
+    fig = samples_figure(groups, log=True, nominal=[0.0, 0.0312, 1e-17, 0.0297])
+    renderer = drawn(fig)
+    for ax in fig.axes:
+        texts = [text.get_text() for text in ax.get_legend().get_texts()]
+        assert any(text.startswith("nominal 0 (left of the axis)") or "1e-17 (left" in text for text in texts)
+        assert not any("0.0000" in text for text in texts)
+        box = ax.get_legend().get_window_extent(renderer)
+        for bar in ax.patches:
+            assert not box.overlaps(bar.get_window_extent(renderer)), texts

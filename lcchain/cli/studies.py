@@ -485,7 +485,10 @@ def cmd_results(args: argparse.Namespace) -> int:
             written = [path for option, path in (("--plot", args.plot), ("--netcdf", args.netcdf),
                                                   ("--parquet", args.parquet)) if path and option not in outputs.failed]
             if written:
-                print(f"{args.store}: {len(stored)} runs written to {', '.join(written)}")
+                combined = sum(run.kind == "combined" for run in stored)
+                tasks = len({run.key for run in stored if run.kind != "combined"})
+                print(f"{args.store}: {tasks} runs" + (f" and {combined} extrapolated from them" if combined else "")
+                      + f" written to {', '.join(written)}")
         else:
             _print_runs(store, stored, args.store)
     return EXIT_FAILED if outputs.failed else EXIT_OK

@@ -150,17 +150,22 @@ def samples_figure(groups: list[Group], title: str = "", xlabel: str = _AXIS["pe
                 name = str(g.params.get(hue)) if hue else "samples"
                 worst = stats["max"] if log else stats["min"]  # a loss is worst at its largest
                 ax.hist(g.peaks, bins=bins, color=colour, alpha=0.55, edgecolor="white", linewidth=0.4,
-                        label=f"{name}: {stats['mean']:.4f} ± {stats['std']:.4f}, worst {worst:.4f}")
+                        label=f"{name}: {stats['mean']:.4g} ± {stats['std']:.2g}, worst {worst:.4g}")
                 ax.axvline(stats["mean"], color=colour, linewidth=1.0)
                 value = nominal[next(i for i, other in enumerate(groups) if other is g)]
-                if value is not None:
-                    ax.axvline(value, color=colour, linestyle="--", linewidth=1.0, label=f"nominal {value:.4f}")
+                if value is not None and log and value < span[0]:  # a perfect cradle's nominal loss: 0 or ~1e-16
+                    ax.plot([], [], color=colour, linestyle="--", linewidth=1.0,
+                            label=f"nominal {value:.2g} (left of the axis)")
+                elif value is not None:
+                    ax.axvline(value, color=colour, linestyle="--", linewidth=1.0, label=f"nominal {value:.4g}")
             if log:
                 from matplotlib.ticker import NullFormatter
 
                 ax.set_xscale("log")
                 ax.set_xlim(*span)
                 ax.xaxis.set_minor_formatter(NullFormatter())
+            bottom, top = ax.get_ylim()
+            ax.set_ylim(bottom, top * (1.0 + 0.14 * len(members) * 2))  # the legend's lines above the tallest bar
             ax.legend(fontsize=6.5, loc="upper left", frameon=False)
             parts = [_label(k, members[0].params.get(k)) for k in ([row_key] if row_key else []) + column_keys]
             ax.set_title(", ".join(parts), fontsize=8.5)
