@@ -40,6 +40,8 @@ RunStatus = Literal["ok", "failed", "timeout"]
 ESeries = Literal["E12", "E24", "E96"]
 #: The pictures a scene can ask for.
 PlotKind = Literal["overlay", "spacetime", "histogram"]
+#: What a run's simulator computes: loop currents against time, or complex phasors against frequency.
+AnalysisKind = Literal["transient", "ac"]
 
 CASES: tuple[Case, ...] = get_args(Case)
 NAMED_CASES: tuple[Case, ...] = tuple(c for c in CASES if c != "custom")
@@ -59,6 +61,7 @@ STEPPINGS: tuple[Stepping, ...] = get_args(Stepping)
 RUN_STATUSES: tuple[RunStatus, ...] = get_args(RunStatus)
 E_SERIES_NAMES: tuple[ESeries, ...] = get_args(ESeries)
 PLOT_KINDS: tuple[PlotKind, ...] = get_args(PlotKind)
+ANALYSIS_KINDS: tuple[AnalysisKind, ...] = get_args(AnalysisKind)
 
 #: The gaussian pulse g(t) is centred at GAUSSIAN_CENTRE standard deviations (netlist, theory and scenes).
 GAUSSIAN_CENTRE = 4.0

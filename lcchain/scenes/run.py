@@ -28,7 +28,7 @@ from ..core.checks import callback, instance
 from ..core.errors import ParameterError
 from ..runs.execute import RunRecord, execute, pulse_centre
 from ..runs.extrapolated import combined_record
-from ..runs.spec import RunSpec
+from ..runs.spec import RunSpec, Theory
 from ..spice.engines import find_engine
 from ..spice.simulator import Simulator
 from ..theory.arrivals import arrival_window, maximum_in_window
@@ -225,7 +225,7 @@ def scene_result(scene: Scene, plan: ScenePlan, specs: Sequence[RunSpec], record
         own_specs, own = specs[(k - 1) * runs:k * runs], records[(k - 1) * runs:k * runs]
         record = own[0]
         if runs > 1:
-            assert own_specs[0].theory is not None
+            assert isinstance(own_specs[0].theory, Theory)
             record = combined_record(own_specs[0].theory, own, plan.steps, predicted_error=plan.predicted_error,
                                      modes=plan.modes if chain is plan.nominal else None)
         data = _sample_record(k, chain, plan.dt, record)

@@ -182,9 +182,12 @@ class Plan:
 def _seconds(spec: RunSpec) -> float:
     """A run's wall time from the cost model (unknowns x points)."""
     theory = spec.theory
-    if theory is None or theory.dt is None:
+    if spec.points is not None and theory is not None:  # an AC run: its frequencies
+        points = float(spec.points)
+    elif isinstance(theory, Theory) and theory.dt is not None:
+        points = spec.tstop / theory.time_unit / theory.dt
+    else:
         return 0.1
-    points = spec.tstop / theory.time_unit / theory.dt
     return ngspice_seconds(points, 2 * theory.chain.N) * ENGINES[spec.engine].relative_cost + RUN_START_SECONDS
 
 
@@ -199,7 +202,7 @@ def _add_runs(tasks: list[Task], combinations: list[Combination], params: Mappin
     for i, (spec, h) in enumerate(zip(specs, steps, strict=True)):
         tasks.append(Task(index + i, FrozenMap({**params, "dt": h, "member": i + 1}), spec, _seconds(spec)))
     theory = specs[0].theory
-    assert theory is not None
+    assert isinstance(theory, Theory)  # an extrapolation's members are transients
     label = f"{specs[0].label} extrapolated from {len(specs)} runs"
     combinations.append(Combination(index + len(specs), FrozenMap({**params, "dt": steps[0], "runs": len(specs)}),
                                     tuple(range(index, index + len(specs))), tuple(steps), theory, predicted_error,
