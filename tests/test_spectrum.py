@@ -1,7 +1,7 @@
 """The ladder's spectrum from an AC analysis (issue 21): normal frequencies and mode weights in ngspice.
 
-Checked against an independent dense eigen-solution of K u = omega^2 M u written out here (scipy.linalg.eigh on
-the full matrices), not lcchain's own modes.
+Checked against an independent dense eigen-solution of K u = omega^2 M u (tests/helpers/spectra.py:
+scipy.linalg.eigh on the full matrices), not lcchain's own modes.
 """
 
 from __future__ import annotations
@@ -10,6 +10,7 @@ import json
 
 import numpy as np
 import pytest
+from helpers.spectra import dense_modes
 from helpers.tolerances import ATOL_SPECTRUM_P, RTOL_SPECTRUM_OMEGA
 from scipy.linalg import eigh
 
@@ -19,25 +20,11 @@ from lcchain.core.errors import ParameterError, SimulationError
 from lcchain.runs.spectrum import OMEGA_WEIGHT_FLOOR, measure_spectrum
 from lcchain.spice.raw import read_raw
 from lcchain.theory.cases import chain_for_case
-from lcchain.theory.chain import Chain
-
-
-def _dense(chain: Chain) -> tuple[np.ndarray, np.ndarray]:
-    """Frequencies and P_n = m_1 u_1n u_Nn (M-orthonormal u) from the full matrices."""
-    m, K, k = chain.masses, chain.springs, chain.coupling
-    mutual = k * np.sqrt(m[:-1] * m[1:])
-    M = np.diag(m) + np.diag(mutual, 1) + np.diag(mutual, -1)
-    S = np.diag(K[:-1] + K[1:]) - np.diag(K[1:-1], 1) - np.diag(K[1:-1], -1)
-    squares, u = eigh(S, M)
-    omega = np.sqrt(np.clip(squares, 0.0, None))
-    if chain.is_free:
-        omega[0] = 0.0
-    return omega, m[0] * u[0] * u[-1]
 
 
 def test_the_fit_recovers_poles_and_residues_of_exact_samples():
     chain = chain_for_case("two-mass", 16)
-    omega, P = _dense(chain)
+    omega, P = dense_modes(chain)
     m, K = chain.masses, chain.springs
     S = np.diag(K[:-1] + K[1:]) - np.diag(K[1:-1], 1) - np.diag(K[1:-1], -1)
     squares, u = eigh(S, np.diag(m))
@@ -64,7 +51,7 @@ def test_the_fit_recovers_poles_and_residues_of_exact_samples():
                               "one-mass-60"])
 def test_ngspice_spectrum_matches_a_dense_eigen_solution(chain):
     report = measure_spectrum(chain)
-    omega, P = _dense(chain)
+    omega, P = dense_modes(chain)
     seen = np.isfinite(report.omega)
     strong = np.abs(P) >= OMEGA_WEIGHT_FLOOR
     assert np.all(seen[strong])  # every mode that weighs at the ends is found
@@ -94,7 +81,7 @@ def test_spectrum_command(tmp_path, capsys):
     first = data["modes"][0]
     assert {"omega", "P", "omega_theory", "P_theory"} <= set(first) and first["omega_theory"] == 0.0
     assert data["max_rel_error_omega"] < RTOL_SPECTRUM_OMEGA and data["max_abs_error_P"] < ATOL_SPECTRUM_P
-    needed = min_points(_dense(chain_for_case("two-mass", 20))[0], data["omega_max"])
+    needed = min_points(dense_modes(chain_for_case("two-mass", 20))[0], data["omega_max"])
     assert main(["spectrum", "--case", "two-mass", "--N", "20", "--points", str(needed - 1)]) == 2
     assert f"at least {needed}" in capsys.readouterr().err
     assert main(["spectrum", "--case", "two-mass", "--N", "2500"]) == 2

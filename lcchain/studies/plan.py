@@ -367,8 +367,8 @@ def scene_sweep_plan(path: str | Path, varies: Sequence[tuple[str, list[Any]]], 
         specs = scene_specs(varied, plan)
         for k in range(len(plan.chains)):
             task_params = {**params, "sample": k + 1} if len(plan.chains) > 1 else params
-            _add_runs(tasks, combinations, task_params, specs[k * plan.runs:(k + 1) * plan.runs], plan.steps or
-                      (plan.dt,), plan.predicted_error)
+            _add_runs(tasks, combinations, task_params, specs[k * plan.runs:(k + 1) * plan.runs], plan.steps,
+                      plan.predicted_error)
     description = {"command": "sweep", "scene": str(path), "scene_data": base, "vary": dict(varies),
                    "samples": samples, "seed": seed}
     axes = tuple(keys) + (("sample",) if any("sample" in t.params for t in tasks) else ())
