@@ -38,8 +38,9 @@ End = Literal["first", "last"]
 RunStatus = Literal["ok", "failed", "timeout"]
 #: The IEC 60063 preferred-number series every L and C can be rounded to.
 ESeries = Literal["E12", "E24", "E96"]
-#: The pictures a scene can ask for.
-PlotKind = Literal["overlay", "spacetime", "histogram"]
+#: The pictures a scene can ask for: a transient's (overlay, spacetime, histogram of the transmitted peak) or an AC
+#: analysis's (spectrum: Fig. Pk20-100's panels; spacing: the samples' delta omega_n against the nominal theory).
+PlotKind = Literal["overlay", "spacetime", "histogram", "spectrum", "spacing"]
 #: What a run's simulator computes: loop currents against time, or complex phasors against frequency.
 AnalysisKind = Literal["transient", "ac"]
 
