@@ -222,8 +222,13 @@ def cmd_batch(args: argparse.Namespace) -> int:
 
 
 def _flat(run: dict[str, Any]) -> dict[str, Any]:
+    from ..compare.spectral import SPECTRAL_METRICS
+
     row = {"index": run["index"], "kind": run["kind"], "status": run["status"], **run["params"],
            "digest": run["digest"], "max_abs_error": run.get("max_abs_error"), "wall_s": run["wall_s"]}
+    if "max_rel_error_omega" in run:  # an AC run: its spectral metrics instead of a transient's
+        del row["max_abs_error"]
+        row.update({name: run.get(name) for name in SPECTRAL_METRICS}, points=run["points"])
     arrivals = run.get("arrivals") or []
     if arrivals:
         row.update(t_sim=arrivals[0]["t_sim"], peak_sim=arrivals[0]["peak_sim"], peak_theory=arrivals[0]["peak_theory"])
@@ -263,8 +268,9 @@ def _print_summary(stored: list[Any], args: argparse.Namespace) -> None:
         return
     keys = list(dict.fromkeys(key for group in groups for key in group["params"]))
     stats = ["n", "failed", "mean", "std", "min", "p05", "median", "max"]
+    digits = ".4f" if args.metric in ("peak", "energy", "loss") else ".4g"  # an AC run's errors span decades
     rows = [[_number(group["params"].get(key)) for key in keys]
-            + [str(group[s]) if s in ("n", "failed") else _number(group[s], ".4f") for s in stats]
+            + [str(group[s]) if s in ("n", "failed") else _number(group[s], digits) for s in stats]
             for group in groups]
     if args.csv:
         text = io.StringIO()
@@ -273,11 +279,13 @@ def _print_summary(stored: list[Any], args: argparse.Namespace) -> None:
         writer.writerows(rows)
         sys.stdout.write(text.getvalue())
         return
-    what = {"peak": "peak (max I_N/I_1(0))", "energy": "energy fraction (peak^2 L_N/L_1)",
-            "loss": "energy lost (1 - peak^2 L_N/L_1)"}[args.metric]
+    what = {"peak": "first-arrival peak (max I_N/I_1(0))", "energy": "first-arrival energy fraction (peak^2 L_N/L_1)",
+            "loss": "first-arrival energy lost (1 - peak^2 L_N/L_1)",
+            "omega": "AC: max |omega_n - theory| / theory (relative)", "P": "AC: max |P_n - theory| (absolute)",
+            "spacing": "AC: spacing spread (max - min) / mean of delta omega_n"}[args.metric]
     by = f"by {', '.join(map(_short, keys))}" if keys else "over all its runs"
     shared = ", ".join(f"{_short(k)} = {_number(v)}" for k, v in study_constants(stored).items())
-    print(f"{args.store}: first-arrival {what} {by}" + (f" ({shared} throughout)" if shared else "") +
+    print(f"{args.store}: {what} {by}" + (f" ({shared} throughout)" if shared else "") +
           "; n finished runs, std over them (ddof 1)")
     print(_table([*map(_short, keys), *stats], rows))
 
@@ -307,10 +315,15 @@ def _write_atomic(path: Path, writer: Any) -> None:
 
 def _write_netcdf(dataset: Any, path: Path) -> None:
     """netCDF through whichever engine is there (netCDF4, h5netcdf, or scipy's netCDF3, which needs text as
-    fixed-width characters and names without brackets)."""
+    fixed-width characters and names without brackets); a complex variable is written as ``NAME.real`` and
+    ``NAME.imag``."""
     import importlib.util
 
     engine = next((e for e in ("netCDF4", "h5netcdf") if importlib.util.find_spec(e) is not None), "scipy")
+    for name in [name for name in dataset.data_vars if dataset[name].dtype.kind == "c"]:
+        # netCDF has no complex type: an AC run's phasors as their real and imaginary parts
+        dataset = dataset.assign({f"{name}.real": dataset[name].real, f"{name}.imag": dataset[name].imag})
+        dataset = dataset.drop_vars(name)
     if engine == "scipy":
         dataset = dataset.rename({name: _netcdf3_name(str(name)) for name in dataset.variables
                                   if _netcdf3_name(str(name)) != name})
@@ -340,12 +353,17 @@ def _print_runs(store: Any, stored: list[Any], name: str) -> None:
     print(f"{name}: {len(tasks)} runs: {counted(tasks)}" +
           (f"; {len(combined)} extrapolated from them: {counted(combined)}" if combined else ""))
     axes = study_axes(stored)
-    theory = any(run.metrics is not None for run in stored)
-    columns = ["error", "predicted", "peak"] if theory else ["vectors", "points"]
+    spectral = any(run.spectral for run in stored)
+    theory = not spectral and any(run.metrics is not None for run in stored)
+    columns = (["points", "modes seen", "omega error", "P error", "spacing"] if spectral
+               else ["error", "predicted", "peak"] if theory else ["vectors", "points"])
     rows = []
     for run, shown in zip(stored, runs, strict=True):
         cells = [str(run.index), run.status, *(_number(run.params.get(key)) for key in axes)]
-        if theory:
+        if spectral:
+            cells += [_number(run.points), _number(shown.get("modes_seen")), _number(shown.get("max_rel_error_omega")),
+                      _number(shown.get("max_abs_error_P")), _number(shown.get("spacing_spread"), ".4g")]
+        elif theory:
             arrivals = shown.get("arrivals") or []
             cells += [_number(shown.get("max_abs_error")), _number(shown.get("predicted_error")),
                       _number(arrivals[0].get("peak_sim"), ".6f") if arrivals else ""]
@@ -356,7 +374,11 @@ def _print_runs(store: Any, stored: list[Any], name: str) -> None:
         cells += [_number(seconds, ".3f"), (run.reason.splitlines() or [""])[0][:70]]
         rows.append(cells)
     print(_table(["#", "status", *map(_short, axes), *columns, "time (s)", "reason"], rows))
-    if theory:
+    if spectral:
+        print("points: frequencies of the AC sweep; omega error: max |omega_n - theory| / theory over the modes "
+              "resolved at the ends; P error: max |P_n - theory| (absolute); spacing: (max - min) / mean of "
+              "delta omega_n = omega_(n+1) - omega_n; time: the simulator's own wall time")
+    elif theory:
         print("error: max |I_sim - I_theory| / I0 over the saved loops (predicted: the accuracy model's); peak: the "
               "first arrival's max I_N/I_1(0) in the simulator; time: the simulator's own wall time")
     else:

@@ -32,7 +32,12 @@ __all__ = ["study_figure", "samples_figure"]
 
 
 _AXIS = {"peak": "transmitted peak, max I_N/I_1(0)", "energy": "energy fraction at the peak, peak² L_N/L_1",
-         "loss": "energy lost, 1 - peak² L_N/L_1 (log scale)"}
+         "loss": "energy lost, 1 - peak² L_N/L_1 (log scale)",
+         "omega": "max |ω_n - theory| / theory", "P": "max |P_n - theory|",
+         "spacing": "spacing spread (max - min) / mean of δω_n"}
+#: What a group's values are, in a title.
+_WHAT = {"peak": "transmitted peak", "energy": "energy fraction", "loss": "energy lost", "omega": "ω error",
+         "P": "P error", "spacing": "spacing spread"}
 
 
 def study_figure(store: Store, metric: str = "peak") -> Any:
@@ -44,7 +49,7 @@ def study_figure(store: Store, metric: str = "peak") -> Any:
         groups = [group for group in peak_groups(store.runs(), metric) if group.peaks.size]
         if not groups:
             raise ParameterError("--metric", metric, "peak (no run of this store has an energy: none was kicked)")
-        what = {"peak": "transmitted peak", "energy": "energy fraction", "loss": "energy lost"}[metric]
+        what = _WHAT[metric]
         scenes = [_group_scene(store, group) for group in groups]
         kinds = {scene.excitation.kind for scene in scenes if scene is not None}
         xlabel = peak_label(kinds.pop()) if metric == "peak" and len(kinds) == 1 else _AXIS[metric]
@@ -88,8 +93,9 @@ def _group_scene(store: Store, group: Group) -> Scene | None:
 def _nominal(scene: Scene | None, metric: str) -> float | None:
     """The untoleranced circuit's value of the metric, from theory (None without a scene, or for an energy a
     pulse does not define)."""
-    if scene is None or (metric != "peak" and scene.excitation.kind != "kick"):
-        return None
+    if scene is None or metric not in ("peak", "energy", "loss") or (metric != "peak"
+                                                                     and scene.excitation.kind != "kick"):
+        return None  # an AC run's metrics are errors against theory: no nominal value to draw
     peak, mass_ratio = nominal_peak(scene)
     energy = peak ** 2 * mass_ratio
     return {"peak": peak, "energy": energy, "loss": 1.0 - energy}[metric]
