@@ -382,7 +382,8 @@ def _print_runs(store: Any, stored: list[Any], name: str) -> None:
         print("error: max |I_sim - I_theory| / I0 over the saved loops (predicted: the accuracy model's); peak: the "
               "first arrival's max I_N/I_1(0) in the simulator; time: the simulator's own wall time")
     else:
-        print("time: the simulator's own wall time of each run")
+        print("points: time points, or an .ac netlist's frequencies; time: the simulator's own wall time of each "
+              "run")
 
 
 def cmd_results(args: argparse.Namespace) -> int:

@@ -269,7 +269,8 @@ def _run_ac(spec: RunSpec, simulator: Simulator,
             progress: Callable[[float], None] | None) -> tuple[dict[str, Any], float, int, str]:
     """An AC run (:func:`lcchain.spice.ac.run_ac`), its poles and weights against its :class:`SpectrumTheory`."""
     assert spec.points is not None  # the spec requires it for an AC run
-    result = run_ac(spec.netlist, spec.vectors, spec.points, simulator=simulator, timeout=spec.timeout)
+    result = run_ac(spec.netlist, spec.vectors, spec.points, simulator=simulator, timeout=spec.timeout,
+                    foreign=spec.foreign, max_output_bytes=spec.max_output_bytes)
     spectrum = spectrum_of(spec.theory, result) if isinstance(spec.theory, SpectrumTheory) else None
     return ({"ac": result, "spectrum": spectrum}, result.wall_s, result.points,
             waveform_digest(result.frequency, result.vectors, "frequency"))

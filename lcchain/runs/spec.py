@@ -256,7 +256,10 @@ class RunSpec:
             raise ParameterError("vectors", vectors, "a tuple of vector names")
         object.__setattr__(self, "vectors", tuple(self.vectors))
         if self.analysis == "ac":
-            integer("points", self.points, at_least=MIN_AC_POINTS, at_most=MAX_AC_POINTS)
+            integer("points", self.points, at_least=1 if self.foreign else MIN_AC_POINTS, at_most=MAX_AC_POINTS)
+            if self.trusted is not False:
+                raise ParameterError("trusted", self.trusted, "False with an AC analysis (it runs through the "
+                                     "allow-list and the sandbox: no .control blocks, includes inlined)")
             object.__setattr__(self, "tstop", real("tstop", self.tstop, at_least=0.0, at_most=0.0,
                                                    allowed="0 (an AC run has no stop time)"))
         else:

@@ -55,15 +55,19 @@ class AcResult(FrozenArrays):
 
 
 def run_ac(netlist: str, vectors: Sequence[str], points: int, *, simulator: Simulator | None = None,
-           timeout: float = 600.0) -> AcResult:
+           timeout: float = 600.0, foreign: bool = False, max_output_bytes: float | None = None) -> AcResult:
     """Run lcchain's AC netlist in ngspice (batch) and return its complex vectors.
+
+    ``foreign``: a netlist lcchain did not write (already through :func:`lcchain.spice.foreign.allowed_netlist`)
+    runs in the sandbox, stopped when its raw file outgrows ``max_output_bytes``; no ``vectors`` named: every
+    vector it saved.
 
     Raises
     ------
     SimulationError
         ngspice failed, timed out, or its output is not the analysis asked for.
     """
-    if not isinstance(netlist, str) or ".ac " not in netlist:
+    if not isinstance(netlist, str) or ".ac " not in netlist.lower():
         raise ParameterError("netlist", type(netlist).__name__, "an AC netlist written by lcchain")
     names = [canonical_vector_name(v) for v in vectors]
     points = integer("points", points, at_least=1)
@@ -72,8 +76,8 @@ def run_ac(netlist: str, vectors: Sequence[str], points: int, *, simulator: Simu
     if simulator.engine != "ngspice" or simulator.backend != "batch":
         raise ParameterError("simulator", f"{simulator.engine} {simulator.backend}", "ngspice's batch transport "
                              "(the AC analysis runs in ngspice only)")
-    with _placement(simulator, False, None) as place:
-        columns, log, wall = _run_batch(netlist, simulator, timeout, 0.0, None, place, None, plot="ac")
+    with _placement(simulator, foreign, None) as place:
+        columns, log, wall = _run_batch(netlist, simulator, timeout, 0.0, None, place, max_output_bytes, plot="ac")
 
     def fail(reason: str) -> SimulationError:
         return SimulationError(reason, useful_output(log))
@@ -86,7 +90,7 @@ def run_ac(netlist: str, vectors: Sequence[str], points: int, *, simulator: Simu
     if frequency.size != points:
         raise fail(f"ngspice returned {frequency.size} frequencies, not the {points} asked for")
     found = {}
-    for name in names:
+    for name in names or sorted(key for key in columns if key != "frequency"):
         if name not in columns:
             raise fail(f"ngspice saved no vector {name!r}")
         values = np.ascontiguousarray(columns[name])

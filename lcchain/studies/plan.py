@@ -47,7 +47,7 @@ from ..runs.spec import DEFAULT_TIMEOUT, RunSpec, Theory
 from ..scenes.load import load_scene, parse_scene
 from ..scenes.plan import scene_plan, scene_specs
 from ..spice.engines import DEFAULT_ENGINE, ENGINES
-from ..spice.foreign import allowed_netlist, foreign_estimate, raw_bytes_limit, transient_of
+from ..spice.foreign import allowed_netlist, analysis_of, foreign_estimate, raw_bytes_limit
 from ..spice.runner import read_include
 from ..spice.text import saved_vectors
 from ..theory.cases import chain_for_case
@@ -434,14 +434,18 @@ def batch_plan(paths: Sequence[str | Path], *, allow_control: bool = False, back
         text = read_include(path, "NETLIST")
         folder = path.resolve().parent
         run_text = text if allow_control else allowed_netlist(text, str(path), folder, read_include)
-        transient = transient_of(run_text, str(path))
+        analysis = analysis_of(run_text, str(path))
         saved = saved_vectors(run_text)
-        estimate = foreign_estimate(run_text, transient, len(saved))
-        estimate.check(budget, str(path), f".tran to {transient.stop:g} s in steps of at most "
-                       f"{transient.max_step:g} s")
-        spec = RunSpec(run_text, saved, transient.stop, backend=backend, timeout=min(timeout, budget.max_seconds),
-                       cwd=str(folder) if allow_control else None, trusted=allow_control, foreign=True,
-                       max_output_bytes=raw_bytes_limit(budget.max_memory), label=path.name)
+        estimate = foreign_estimate(run_text, analysis, len(saved))
+        estimate.check(budget, str(path), analysis.describe())
+        try:
+            spec = RunSpec(run_text, saved, analysis.tstop, backend=backend,
+                           timeout=min(timeout, budget.max_seconds), cwd=str(folder) if allow_control else None,
+                           trusted=allow_control, foreign=True, max_output_bytes=raw_bytes_limit(budget.max_memory),
+                           label=path.name, analysis=analysis.kind, points=analysis.frequencies)
+        except ParameterError as error:
+            raise (error.renamed("--allow-control") if error.field == "trusted" else error).located(str(path)) \
+                from None
         tasks.append(Task(index, FrozenMap({"netlist": str(path)}), spec, estimate.seconds))
     description = {"command": "batch", "netlists": [str(p) for p in paths], "allow_control": allow_control,
                    "backend": backend}
