@@ -1,17 +1,24 @@
-"""``lcchain results`` on a store of AC runs (issue 21, section 1): spectral metrics, their summary, netCDF."""
+"""``lcchain results`` on a store of AC runs, and ``lcchain sweep --analysis ac`` (issue 21, section 1).
+
+Stored spectra are checked against an independent dense eigen-solution (tests/helpers/spectra.py).
+"""
 
 from __future__ import annotations
 
 from pathlib import Path
 
+import numpy as np
 import pytest
-from helpers.tolerances import RTOL_SPECTRUM_OMEGA
+from helpers.spectra import dense_modes
+from helpers.tolerances import ATOL_SPECTRUM_P, RTOL_SPECTRUM_OMEGA
 
 from lcchain.circuit.effects import Tolerance
 from lcchain.cli.main import main
+from lcchain.compare.spectral import OMEGA_WEIGHT_FLOOR, SpectrumMetrics
 from lcchain.runs.request import AC, Request
 from lcchain.studies.plan import request_plan
 from lcchain.studies.run import run_plan
+from lcchain.studies.store import Store
 from lcchain.theory.cases import chain_for_case
 
 
@@ -58,3 +65,36 @@ def test_an_ac_store_goes_to_netcdf_with_its_phasors(ac_store: Path, tmp_path: P
         names = {str(name) for name in data.data_vars}
         assert {"max_rel_error_omega", "spacing_spread"} <= names
         assert any(name.endswith(".real") for name in names) and any(name.endswith(".imag") for name in names)
+
+
+@pytest.mark.ngspice
+def test_a_sweep_of_ac_analyses_stores_each_chains_spectrum(tmp_path: Path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)
+    assert main(["sweep", "--case", "perfect,two-mass", "--N", "8,12", "--analysis", "ac", "--store", "s.sqlite",
+                 "--executor", "serial"]) == 0
+    with Store(tmp_path / "s.sqlite", "read") as store:
+        runs = store.runs()
+    assert [(run.params["case"], run.params["N"]) for run in runs] == [
+        ("perfect", 8), ("perfect", 12), ("two-mass", 8), ("two-mass", 12)]
+    for run in runs:
+        assert run.status == "ok" and run.metrics is not None
+        metrics = SpectrumMetrics.from_dict(run.metrics)
+        omega, P = dense_modes(chain_for_case(run.params["case"], run.params["N"]))
+        strong = np.abs(P) >= OMEGA_WEIGHT_FLOOR
+        error = np.abs(metrics.omega[strong] - omega[strong]) / np.where(omega[strong] > 0, omega[strong], 1.0)
+        assert np.max(error) < RTOL_SPECTRUM_OMEGA and np.max(np.abs(metrics.P - P)) < ATOL_SPECTRUM_P
+
+
+@pytest.mark.parametrize(("argv", "said"), [
+    (["--analysis", "ac", "--dt", "0.1"], "--dt"),
+    (["--analysis", "ac", "--transits", "2"], "--transits"),
+    (["--analysis", "ac", "--points", "20", "--N", "24"], "at least"),
+    (["--points", "200"], "--analysis ac"),
+])
+def test_bad_ac_sweeps_exit_2_with_one_line(tmp_path: Path, monkeypatch, capsys, argv, said):
+    monkeypatch.chdir(tmp_path)
+    sizes = [] if "--N" in argv else ["--N", "10"]
+    assert main(["sweep", "--case", "perfect", *sizes, *argv, "--store", "s.sqlite"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and said in err
+    assert not (tmp_path / "s.sqlite").exists()

@@ -13,7 +13,7 @@ from pathlib import Path
 from typing import Any
 
 from ..core.errors import ParameterError, SimulatorMissingError
-from ..core.types import DEFAULT_C0, DEFAULT_L0, EXCITATIONS, EXECUTORS, NAMED_CASES, TRANSPORT_CHOICES
+from ..core.types import ANALYSIS_KINDS, DEFAULT_C0, DEFAULT_L0, EXCITATIONS, EXECUTORS, NAMED_CASES, TRANSPORT_CHOICES
 from ..report.files import FIGURE_FORMATS
 from ..spice.engines import DEFAULT_ENGINE, ENGINES
 from .common import EXIT_FAILED, EXIT_OK, Outputs, budget_from_args, emit_json, int_list
@@ -83,9 +83,14 @@ def add_sweep_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--extrapolate", type=int, choices=(1, 2, 3), metavar="{1,2,3}",
                    help="runs per point at dt, dt/2, dt/4, each a task, combined in the store (default: 1 with "
                         "--dt; with --accuracy the cheapest of 1, 2, 3, as lcchain simulate chooses)")
-    p.add_argument("--transits", type=int_list("--transits"), default=[1], help="transits, comma separated")
-    p.add_argument("--excitation", type=_words("--excitation", EXCITATIONS), default=["kick"],
-                   help="kick and/or displacement, comma separated")
+    p.add_argument("--transits", type=int_list("--transits"), help="transits, comma separated (default 1)")
+    p.add_argument("--excitation", type=_words("--excitation", EXCITATIONS),
+                   help="kick and/or displacement, comma separated (default kick)")
+    p.add_argument("--analysis", choices=ANALYSIS_KINDS, default="transient",
+                   help="transient (default), or ac: each chain's spectrum (normal frequencies and end weights "
+                        "against theory) from an AC sweep")
+    p.add_argument("--points", type=int, help="with --analysis ac: frequencies of each sweep (default: twice the "
+                                              "fewest that separate every pole)")
     p.add_argument("--L0", type=number("--L0"), default=DEFAULT_L0,
                    help=f"bulk inductance, henry (default {DEFAULT_L0:g})")
     p.add_argument("--C0", type=number("--C0"), default=DEFAULT_C0,
@@ -182,7 +187,7 @@ def _run(args: argparse.Namespace, plan: Any, outputs: Outputs) -> int:
 
 
 def cmd_sweep(args: argparse.Namespace) -> int:
-    from ..studies.plan import parse_vary, scene_sweep_plan, sweep_plan
+    from ..studies.plan import parse_vary, scene_sweep_plan
 
     outputs = Outputs()
     _check_study_options(args, outputs)
@@ -190,11 +195,13 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     if args.scene:
         given = [o for o, v in (("--case", args.case), ("--N", args.N), ("--dt", args.dt),
                                 ("--accuracy", args.accuracy), ("--extrapolate", args.extrapolate),
-                                ("--engine", args.engine)) if v is not None]
+                                ("--engine", args.engine), ("--points", args.points),
+                                ("--analysis", None if args.analysis == "transient" else args.analysis))
+                 if v is not None]
         if given:
             raise ParameterError(given[0], getattr(args, given[0].lstrip("-")), "nothing with SCENE.toml (the scene "
-                                 "says the chain and the analysis; vary its keys with --vary, e.g. "
-                                 "analysis.extrapolate=1,2)")
+                                 "says the chain and the analysis, [analysis] kind = \"ac\" included; vary its keys "
+                                 "with --vary, e.g. analysis.extrapolate=1,2)")
         plan = scene_sweep_plan(args.scene, [parse_vary(v) for v in args.vary], samples=args.samples,
                                 seed=args.seed, budget=budget, workers=_workers(args))
     else:
@@ -203,12 +210,38 @@ def cmd_sweep(args: argparse.Namespace) -> int:
             raise ParameterError(given[0], getattr(args, given[0].lstrip("-")), "nothing without SCENE.toml")
         if not args.case or not args.N:
             raise ParameterError("--case" if not args.case else "--N", None, "--case and --N lists (or SCENE.toml)")
-        plan = sweep_plan(cases=args.case, Ns=args.N, dts=args.dt or ([] if args.accuracy else [0.05]),
-                          accuracies=args.accuracy or [], transits=args.transits, excitations=args.excitation,
-                          L0=args.L0, C0=args.C0, backend=args.backend, timeout=args.timeout, budget=budget,
-                          extrapolate=args.extrapolate, workers=_workers(args),
-                          engine=args.engine or DEFAULT_ENGINE)
+        plan = _SWEEPS[args.analysis](args, budget)
     return _run(args, plan, outputs)
+
+
+def _transient_sweep(args: argparse.Namespace, budget: Any) -> Any:
+    from ..studies.plan import sweep_plan
+
+    if args.points is not None:
+        raise ParameterError("--points", args.points, "nothing without --analysis ac (a transient's steps are --dt "
+                             "or --accuracy)")
+    return sweep_plan(cases=args.case, Ns=args.N, dts=args.dt or ([] if args.accuracy else [0.05]),
+                      accuracies=args.accuracy or [], transits=args.transits or [1],
+                      excitations=args.excitation or ["kick"], L0=args.L0, C0=args.C0, backend=args.backend,
+                      timeout=args.timeout, budget=budget, extrapolate=args.extrapolate, workers=_workers(args),
+                      engine=args.engine or DEFAULT_ENGINE)
+
+
+def _ac_sweep(args: argparse.Namespace, budget: Any) -> Any:
+    from ..studies.plan import spectrum_sweep_plan
+
+    given = [o for o in ("--dt", "--accuracy", "--extrapolate", "--transits", "--excitation")
+             if getattr(args, o.lstrip("-")) is not None] + (["--backend"] if args.backend != "batch" else [])
+    if given:
+        raise ParameterError(given[0], getattr(args, given[0].lstrip("-")), "nothing with --analysis ac (a "
+                             "transient's option; an AC sweep has --points)")
+    return spectrum_sweep_plan(cases=args.case, Ns=args.N, points=args.points, L0=args.L0, C0=args.C0,
+                               timeout=args.timeout, budget=budget, workers=_workers(args),
+                               engine=args.engine or DEFAULT_ENGINE)
+
+
+#: How ``lcchain sweep --case ... --N ...`` plans each ``--analysis``.
+_SWEEPS: dict[str, Callable[[argparse.Namespace, Any], Any]] = {"transient": _transient_sweep, "ac": _ac_sweep}
 
 
 def cmd_batch(args: argparse.Namespace) -> int:

@@ -9,6 +9,8 @@ executor, host or attempt.
 
 * :func:`sweep_plan`: the product of cases, sizes, steps or accuracies,
   transits and excitations (``lcchain sweep --case ... --N ...``);
+* :func:`spectrum_sweep_plan`: the product of cases and sizes, each an AC
+  sweep of the ladder's spectrum (``lcchain sweep --analysis ac ...``);
 * :func:`scene_sweep_plan`: a scene with dotted keys varied, each tolerance
   sample a task of its own (``lcchain sweep SCENE.toml --vary ...``);
 * :func:`batch_plan`: netlists lcchain did not write, run as they are
@@ -41,7 +43,7 @@ from ..core.frozen import FrozenMap
 from ..core.limits import MAX_DESIGN_N
 from ..core.types import DEFAULT_C0, DEFAULT_L0, Backend, Excitation
 from ..runs.extrapolated import combined_key
-from ..runs.request import Request, plan_request
+from ..runs.request import AC, Request, plan_request
 from ..runs.simulate import simulation_runs
 from ..runs.spec import DEFAULT_TIMEOUT, RunSpec, Theory
 from ..scenes.load import load_scene, parse_scene
@@ -53,7 +55,8 @@ from ..spice.text import saved_vectors
 from ..theory.cases import chain_for_case
 from ..theory.spectrum import normal_modes
 
-__all__ = ["Task", "Combination", "Plan", "sweep_plan", "scene_sweep_plan", "request_plan", "batch_plan", "parse_vary"]
+__all__ = ["Task", "Combination", "Plan", "sweep_plan", "spectrum_sweep_plan", "scene_sweep_plan", "request_plan",
+           "batch_plan", "parse_vary"]
 
 
 @dataclass(frozen=True)
@@ -255,6 +258,30 @@ def sweep_plan(*, cases: Sequence[str], Ns: Sequence[int], dts: Sequence[float] 
     axes = tuple(name for name, values in (("case", cases), ("N", Ns), ("dt", dts), ("accuracy", accuracies),
                                            ("transits", transits), ("excitation", excitations)) if len(values) > 1)
     return Plan("sweep", FrozenMap(description), tuple(tasks), backend, axes, tuple(combinations), engine)
+
+
+def spectrum_sweep_plan(*, cases: Sequence[str], Ns: Sequence[int], points: int | None = None,
+                        L0: float = DEFAULT_L0, C0: float = DEFAULT_C0, timeout: float = DEFAULT_TIMEOUT,
+                        budget: Budget | None = None, progress: Callable[[int, int, str], None] | None = None,
+                        workers: int = 1, engine: str = DEFAULT_ENGINE) -> Plan:
+    """The product of cases and sizes, each an AC sweep of its spectrum (:class:`lcchain.runs.request.AC`).
+
+    Priced from its axes first (the chains' designs), then each run by :func:`lcchain.runs.request.plan_request`
+    (its frequencies x unknowns), which also refuses ``points`` too few to separate a chain's poles.
+    """
+    combos = list(itertools.product(cases, Ns))
+    _price_axes(cases, Ns, [], (1,), len(combos), budget, workers)
+    tasks: list[Task] = []
+    for index, (case, N) in enumerate(combos):
+        if progress is not None:
+            progress(index, len(combos), f"planning {case} N={N}")
+        request = Request(chain_for_case(case, N), AC(points), L0=L0, C0=C0, timeout=timeout, engine=engine)
+        spec = plan_request(request, budget).specs[0]
+        tasks.append(Task(index, FrozenMap({"case": case, "N": N}), spec, _seconds(spec)))
+    description = {"command": "sweep", "analysis": "ac", "case": list(cases), "N": list(Ns), "points": points,
+                   "L0": L0, "C0": C0, "engine": engine}
+    axes = tuple(name for name, values in (("case", cases), ("N", Ns)) if len(values) > 1)
+    return Plan("sweep", FrozenMap(description), tuple(tasks), "batch", axes, (), engine)
 
 
 def _check_study(budget: Budget | None, what: str, planning: float, work: float, workers: int, advice: str) -> None:
