@@ -53,7 +53,7 @@ from ..theory.spectrum import normal_modes
 from .spec import RunSpec, SpectrumTheory, Theory
 
 __all__ = ["signals_of", "loop_sims", "theory_at", "metrics_of", "RunRecord", "execute", "waveform_digest",
-           "pulse_centre", "ANALYSIS_RUNS", "spectrum_of"]
+           "pulse_centre", "ANALYSIS_RUNS", "ac_metrics"]
 
 log = logging.getLogger("lcchain")
 
@@ -256,7 +256,7 @@ def _run_transient(spec: RunSpec, simulator: Simulator,
 
 
 @fixed_blas_threads
-def spectrum_of(theory: SpectrumTheory, result: AcResult) -> SpectrumMetrics:
+def ac_metrics(theory: SpectrumTheory, result: AcResult) -> SpectrumMetrics:
     """An AC run's I_1/V_1 and I_N/V_1 against the driven modes of its chain."""
     chain = theory.chain
     modes = theory.modes if theory.modes is not None else driven_modes(chain)
@@ -271,7 +271,7 @@ def _run_ac(spec: RunSpec, simulator: Simulator,
     assert spec.points is not None  # the spec requires it for an AC run
     result = run_ac(spec.netlist, spec.vectors, spec.points, simulator=simulator, timeout=spec.timeout,
                     foreign=spec.foreign, max_output_bytes=spec.max_output_bytes)
-    spectrum = spectrum_of(spec.theory, result) if isinstance(spec.theory, SpectrumTheory) else None
+    spectrum = ac_metrics(spec.theory, result) if isinstance(spec.theory, SpectrumTheory) else None
     return ({"ac": result, "spectrum": spectrum}, result.wall_s, result.points,
             waveform_digest(result.frequency, result.vectors, "frequency"))
 
