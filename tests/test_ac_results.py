@@ -98,3 +98,10 @@ def test_bad_ac_sweeps_exit_2_with_one_line(tmp_path: Path, monkeypatch, capsys,
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and said in err
     assert not (tmp_path / "s.sqlite").exists()
+
+
+@pytest.mark.ngspice
+def test_the_samples_spacing_spread_is_drawn_by_group(ac_store: Path, tmp_path: Path, capsys):
+    figure = tmp_path / "spacing.png"
+    assert main(["results", str(ac_store), "--plot", str(figure), "--metric", "spacing"]) == 0
+    assert figure.stat().st_size > 0

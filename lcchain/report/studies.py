@@ -60,7 +60,7 @@ def study_figure(store: Store, metric: str = "peak") -> Any:
         return samples_figure(groups, title=f"{what} by group ({store.path.name})", xlabel=xlabel,
                               log=metric == "loss", nominal=nominal)
     Ns = sorted({run.params["N"] for run in runs if "N" in run.params})
-    if len(Ns) >= 2 and all("case" in run.params for run in runs):
+    if len(Ns) >= 2 and all("case" in run.params and not run.spectral for run in runs):  # Fig. delta: transients
         measured: dict[str, list[tuple[int, float]]] = defaultdict(list)
         for run in runs:
             arrivals = (run.metrics or {}).get("arrivals") or []
@@ -68,7 +68,8 @@ def study_figure(store: Store, metric: str = "peak") -> Any:
                 measured[run.params["case"]].append((run.params["N"], 1.0 - arrivals[0]["peak_sim"]))
         grid = sorted(set(design_grid(max(Ns))) | set(Ns))
         return delta_figure(delta_data(grid), measured, title=f"δ* against N: theory and ngspice ({store.path.name})")
-    raise ParameterError("--plot", str(store.path), "a sweep over two or more N (with --case), or tolerance samples")
+    raise ParameterError("--plot", str(store.path), "a sweep of transients over two or more N (with --case), or "
+                         "tolerance samples (an AC sweep over N: --summary --metric omega, P or spacing)")
 
 
 def _group_scene(store: Store, group: Group) -> Scene | None:

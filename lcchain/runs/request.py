@@ -260,7 +260,8 @@ class Request:
     def transient(self) -> Transient:
         """The analysis, where only a transient can be (its steps, transits, probes)."""
         if not isinstance(self.analysis, Transient):
-            raise ParameterError("analysis", type(self.analysis).__name__, "a Transient here")
+            raise ParameterError("analysis", type(self.analysis).__name__, "a Transient here (an AC request runs "
+                                 "through plan_request and execute, or measure_spectrum for one chain)")
         return self.analysis
 
     def effect(self, kind: type[Effect]) -> Effect | None:
