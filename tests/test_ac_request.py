@@ -88,6 +88,7 @@ def test_the_ac_price_is_in_frequencies_and_checked_first():
     (lambda c: Request(c, AC(), effects=(Losses(Q=100.0),)), "effects.losses"),
     (lambda c: Request(c, AC(), backend="shared"), "backend"),
     (lambda c: Request(c, AC(points=3)), "points"),
+    (lambda c: Request(c, AC(), comments=("a note",)), "comments"),
 ])
 def test_what_an_ac_request_cannot_do_is_refused(request_of, field):
     with pytest.raises(ParameterError) as caught:

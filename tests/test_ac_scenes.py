@@ -42,6 +42,7 @@ def _with(**tables):
     ({"output": {"plots": ["overlay"]}}, "output.plots"),
     ({"output": {"plots": ["spacing"]}}, "output.plots"),  # a spread needs samples
     ({"output": {"probes": "all"}}, "output.probes"),
+    ({"excitation": {"kind": "pulse", "shape": "gaussian", "width": 0.2}}, "excitation"),
 ])
 def test_a_transients_keys_and_plots_are_refused_with_an_ac_analysis(tables, field):
     with pytest.raises(ParameterError) as caught:

@@ -185,6 +185,9 @@ class AC:
                                  "takes a lossless ladder (its poles on the real axis)")
         if request.backend != "batch":
             raise ParameterError("backend", request.backend, "batch with an AC analysis (ngspice -b)")
+        if request.comments:
+            raise ParameterError("comments", list(request.comments), "none with an AC analysis (its netlist has "
+                                 "its own header)")
 
     def plan(self, request: Request, budget: Budget, modes: Modes | None, design_seconds: float) -> RequestPlan:
         """The AC sweep's runs, one per realised chain (:func:`plan_request`)."""
@@ -252,9 +255,9 @@ class Request:
         choice("backend", self.backend, BACKENDS)
         engine = engine_named(self.engine)
         choice("backend", self.backend, engine.transports, f" (the transports of engine {engine.name})")
-        self.analysis.check(self)
         object.__setattr__(self, "comments", strings("comments", self.comments))
         object.__setattr__(self, "timeout", real("timeout", self.timeout, above=0.0, unit="seconds"))
+        self.analysis.check(self)
 
     @property
     def transient(self) -> Transient:

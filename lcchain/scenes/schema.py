@@ -427,6 +427,9 @@ class Scene:
         if any(plot not in drawn for plot in plots):
             raise ParameterError("output.plots", plots, f"plots of an analysis of kind {kind!r}: "
                                  f"{', '.join(drawn)}")
+        if kind == "ac" and self.excitation != ExcitationSpec():
+            raise ParameterError("excitation", self.excitation.kind, 'no [excitation] with analysis.kind = "ac" (the '
+                                 "sweep drives loop 1 with a unit AC voltage)")
         if kind == "ac" and self.output.probes != "ends":
             raise ParameterError("output.probes", self.output.probes, 'ends with analysis.kind = "ac" (the sweep '
                                  "saves I_1 and I_N)")
