@@ -125,3 +125,15 @@ def test_transient_keys_do_not_depend_on_the_ac_fields():
     assert spec.analysis == "transient" and spec.points is None
     ac = plan_request(Request(chain_for_case("two-mass", 8), AC())).specs[0]
     assert ac.key("39") != spec.key("39")
+
+
+@pytest.mark.ngspice
+def test_samples_of_one_sweep_share_a_frequency_dimension(tmp_path):
+    pytest.importorskip("xarray")
+    request = Request(chain_for_case("perfect", 10), AC(), effects=(Tolerance(L=0.01, C=0.01, samples=2, seed=3),))
+    run_plan(request_plan([({"N": 10}, request)]), tmp_path / "s.sqlite", executor="serial")
+    with Store(tmp_path / "s.sqlite", "read") as store:
+        data = store.to_xarray(waveforms=True)
+    points = plan_request(request).points
+    assert dict(data["i(l1)"].sizes) == {"sample": 2, "frequency": points} and data["i(l1)"].dtype == complex
+    assert data["frequency"].values[0] > 0 and data["frequency"].values.size == points
