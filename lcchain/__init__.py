@@ -30,7 +30,8 @@ _PUBLIC = {
     "run_scene": "app.scenes",
     "RunRecord": "runs.execute", "execute": "runs.execute",
     "SimulationReport": "runs.simulate", "simulate": "runs.simulate",
-    "Request": "runs.request", "Drive": "runs.request", "Transient": "runs.request", "plan_request": "runs.request",
+    "Request": "runs.request", "Drive": "runs.request", "Transient": "runs.request", "AC": "runs.request",
+    "plan_request": "runs.request",
     "Effect": "circuit.effects", "Walls": "circuit.effects", "Coupling": "circuit.effects",
     "Losses": "circuit.effects", "Tolerance": "circuit.effects", "PreferredValues": "circuit.effects",
     "RunSpec": "runs.spec", "Theory": "runs.spec",
@@ -56,7 +57,8 @@ __all__ = [
     "Ladder", "SimulationOptions", "netlist_text", "dt_for_accuracy", "predicted_error", "Interrupted",
     "LcchainError", "ParameterError", "DesignError", "SimulationError", "SimulatorMissingError", "Budget",
     "run_scene", "RunRecord",
-    "execute", "SimulationReport", "simulate", "Request", "Drive", "Transient", "plan_request", "Effect", "Walls",
+    "execute", "SimulationReport", "simulate", "Request", "Drive", "Transient", "AC", "plan_request", "Effect",
+    "Walls",
     "Coupling", "Losses", "Tolerance", "PreferredValues", "RunSpec", "Theory", "load_scene", "parse_scene",
     "simulate_scene",
     "Scene", "Simulator", "find_simulator", "Arrival", "arrivals", "first_arrival", "asymptotic_amplitude",
@@ -97,7 +99,7 @@ if TYPE_CHECKING:  # what a type checker and an editor see
         SimulatorMissingError,
     )
     from .runs.execute import RunRecord, execute
-    from .runs.request import Drive, Request, Transient, plan_request
+    from .runs.request import AC, Drive, Request, Transient, plan_request
     from .runs.simulate import SimulationReport, simulate
     from .runs.spec import RunSpec, Theory
     from .scenes.load import load_scene, parse_scene

@@ -432,7 +432,36 @@ def _simulate_engines(args: argparse.Namespace, chain: Any, dt: float | None, ke
     return EXIT_OK
 
 
+def _print_spectrum_summary(result: Any) -> None:
+    """An AC scene: each sample's modes against its own theory, and the spacings' spread over the samples."""
+    report = result.report
+    count = len(report["samples"])
+    print(result.scene.title)
+    print(f"N = {report['N']}, AC sweep of {report['points']} frequencies up to omega = {report['omega_max']:.4g} "
+          f"(1/sqrt(L0 C0)), {count} sample{'s' if count > 1 else ''}, {report['engine']} "
+          f"{report['engine_version']}, {report['wall_s']['total']:.2f} s")
+    if "max_rel_error_omega" in report:
+        good = [record for record in report["samples"] if "error" not in record]
+        over = f" (the worst of {len(good)} samples, each against its own theory)" if len(good) > 1 else ""
+        print(f"max |omega_n - theory| / theory = {report['max_rel_error_omega']:.3e}, max |P_n - theory| = "
+              f"{report['max_abs_error_P']:.3e}{over}")
+        spread = report["spacing_spread"]
+        print(f"spacing spread (max - min) / mean of delta omega_n: {spread['mean']:.4g} (mean over {spread['count']}"
+              f" sample{'s' if spread['count'] > 1 else ''}), largest {spread['max']:.4g}; nominal theory "
+              f"{spread['theory_nominal']:.3g}")
+        print(f"{'sample':>6} {'modes seen':>10} {'max omega error':>16} {'max P error':>12} {'spacing spread':>15}")
+        for record in good:
+            print(f"{record['sample']:>6} {record['modes_seen']:>10} {record['max_rel_error_omega']:>16.3e} "
+                  f"{record['max_abs_error_P']:>12.3e} {record['spacing_spread']:>15.4g}")
+    for record in report["samples"]:
+        if "error" in record:
+            print(f"sample {record['sample']} failed: {record['error']}", file=sys.stderr)
+
+
 def _print_scene_summary(result: Any) -> None:
+    if result.report.get("analysis") == "ac":
+        _print_spectrum_summary(result)
+        return
     report = result.report
     count = len(report["samples"])
     print(result.scene.title)

@@ -14,6 +14,7 @@ from typing import Any
 
 from ..core.errors import ParameterError, SimulatorMissingError
 from ..core.types import (
+    ANALYSIS_KINDS,
     ARRIVAL_METRICS,
     DEFAULT_C0,
     DEFAULT_L0,
@@ -91,9 +92,14 @@ def add_sweep_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--extrapolate", type=int, choices=(1, 2, 3), metavar="{1,2,3}",
                    help="runs per point at dt, dt/2, dt/4, each a task, combined in the store (default: 1 with "
                         "--dt; with --accuracy the cheapest of 1, 2, 3, as lcchain simulate chooses)")
-    p.add_argument("--transits", type=int_list("--transits"), default=[1], help="transits, comma separated")
-    p.add_argument("--excitation", type=_words("--excitation", EXCITATIONS), default=["kick"],
-                   help="kick and/or displacement, comma separated")
+    p.add_argument("--transits", type=int_list("--transits"), help="transits, comma separated (default 1)")
+    p.add_argument("--excitation", type=_words("--excitation", EXCITATIONS),
+                   help="kick and/or displacement, comma separated (default kick)")
+    p.add_argument("--analysis", choices=ANALYSIS_KINDS, default="transient",
+                   help="transient (default), or ac: each chain's spectrum (normal frequencies and end weights "
+                        "against theory) from an AC sweep")
+    p.add_argument("--points", type=int, help="with --analysis ac: frequencies of each sweep (default: twice the "
+                                              "fewest that separate every pole)")
     p.add_argument("--L0", type=number("--L0"), default=DEFAULT_L0,
                    help=f"bulk inductance, henry (default {DEFAULT_L0:g})")
     p.add_argument("--C0", type=number("--C0"), default=DEFAULT_C0,
@@ -204,7 +210,7 @@ def _run(args: argparse.Namespace, plan: Any, outputs: Outputs,
 
 
 def cmd_sweep(args: argparse.Namespace) -> int:
-    from ..studies.plan import parse_vary, scene_sweep_plan, sweep_plan
+    from ..studies.plan import parse_vary, scene_sweep_plan
 
     outputs = Outputs()
     _check_study_options(args, outputs)
@@ -214,11 +220,13 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     if args.scene:
         given = [o for o, v in (("--case", args.case), ("--N", args.N), ("--dt", args.dt),
                                 ("--accuracy", args.accuracy), ("--extrapolate", args.extrapolate),
-                                ("--engine", args.engine)) if v is not None]
+                                ("--engine", args.engine), ("--points", args.points),
+                                ("--analysis", None if args.analysis == "transient" else args.analysis))
+                 if v is not None]
         if given:
             raise ParameterError(given[0], getattr(args, given[0].lstrip("-")), "nothing with SCENE.toml (the scene "
-                                 "says the chain and the analysis; vary its keys with --vary, e.g. "
-                                 "analysis.extrapolate=1,2)")
+                                 "says the chain and the analysis, [analysis] kind = \"ac\" included; vary its keys "
+                                 "with --vary, e.g. analysis.extrapolate=1,2)")
         plan = scene_sweep_plan(args.scene, [parse_vary(v) for v in args.vary], samples=args.samples,
                                 seed=args.seed, budget=budget, workers=_workers(args))
     else:
@@ -227,11 +235,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
             raise ParameterError(given[0], getattr(args, given[0].lstrip("-")), "nothing without SCENE.toml")
         if not args.case or not args.N:
             raise ParameterError("--case" if not args.case else "--N", None, "--case and --N lists (or SCENE.toml)")
-        plan = sweep_plan(cases=args.case, Ns=args.N, dts=args.dt or ([] if args.accuracy else [0.05]),
-                          accuracies=args.accuracy or [], transits=args.transits, excitations=args.excitation,
-                          L0=args.L0, C0=args.C0, backend=args.backend, timeout=args.timeout, budget=budget,
-                          extrapolate=args.extrapolate, workers=_workers(args),
-                          engine=args.engine or DEFAULT_ENGINE)
+        plan = _SWEEPS[args.analysis](args, budget)
     return _run(args, plan, outputs)
 
 
@@ -247,7 +251,9 @@ def _worst_case(args: argparse.Namespace, outputs: Outputs, budget: Any) -> int:
         raise ParameterError("SCENE.toml", None, "a scene file with --worst-case")
     given = [o for o, v in (("--case", args.case), ("--N", args.N), ("--dt", args.dt), ("--accuracy", args.accuracy),
                             ("--extrapolate", args.extrapolate), ("--engine", args.engine), ("--vary", args.vary),
-                            ("--samples", args.samples), ("--seed", args.seed)) if v is not None and v != []]
+                            ("--samples", args.samples), ("--seed", args.seed), ("--points", args.points),
+                            ("--analysis", None if args.analysis == "transient" else args.analysis))
+             if v is not None and v != []]
     if given:
         raise ParameterError(given[0], getattr(args, given[0].lstrip("-")), "nothing with --worst-case (the scene "
                              "says the circuit and its [effects.tolerance]; the corners replace the samples)")
@@ -284,6 +290,36 @@ def _print_worst_case(summary: dict[str, Any]) -> None:
               f"{'within' if mc['within'] else 'BEYOND'} the worst corner's {mc['worst_corner_theory']:.6f}")
 
 
+def _transient_sweep(args: argparse.Namespace, budget: Any) -> Any:
+    from ..studies.plan import sweep_plan
+
+    if args.points is not None:
+        raise ParameterError("--points", args.points, "nothing without --analysis ac (a transient's steps are --dt "
+                             "or --accuracy)")
+    return sweep_plan(cases=args.case, Ns=args.N, dts=args.dt or ([] if args.accuracy else [0.05]),
+                      accuracies=args.accuracy or [], transits=args.transits or [1],
+                      excitations=args.excitation or ["kick"], L0=args.L0, C0=args.C0, backend=args.backend,
+                      timeout=args.timeout, budget=budget, extrapolate=args.extrapolate, workers=_workers(args),
+                      engine=args.engine or DEFAULT_ENGINE)
+
+
+def _ac_sweep(args: argparse.Namespace, budget: Any) -> Any:
+    from ..studies.plan import spectrum_sweep_plan
+
+    given = [o for o in ("--dt", "--accuracy", "--extrapolate", "--transits", "--excitation")
+             if getattr(args, o.lstrip("-")) is not None] + (["--backend"] if args.backend != "batch" else [])
+    if given:
+        raise ParameterError(given[0], getattr(args, given[0].lstrip("-")), "nothing with --analysis ac (a "
+                             "transient's option; an AC sweep has --points)")
+    return spectrum_sweep_plan(cases=args.case, Ns=args.N, points=args.points, L0=args.L0, C0=args.C0,
+                               timeout=args.timeout, budget=budget, workers=_workers(args),
+                               engine=args.engine or DEFAULT_ENGINE)
+
+
+#: How ``lcchain sweep --case ... --N ...`` plans each ``--analysis``.
+_SWEEPS: dict[str, Callable[[argparse.Namespace, Any], Any]] = {"transient": _transient_sweep, "ac": _ac_sweep}
+
+
 def cmd_batch(args: argparse.Namespace) -> int:
     from ..studies.plan import batch_plan
 
@@ -295,8 +331,13 @@ def cmd_batch(args: argparse.Namespace) -> int:
 
 
 def _flat(run: dict[str, Any]) -> dict[str, Any]:
+    from ..compare.spectral import SPECTRAL_METRICS
+
     row = {"index": run["index"], "kind": run["kind"], "status": run["status"], **run["params"],
            "digest": run["digest"], "max_abs_error": run.get("max_abs_error"), "wall_s": run["wall_s"]}
+    if "max_rel_error_omega" in run:  # an AC run: its spectral metrics instead of a transient's
+        del row["max_abs_error"]
+        row.update({name: run.get(name) for name in SPECTRAL_METRICS}, points=run["points"])
     arrivals = run.get("arrivals") or []
     if arrivals:
         row.update(t_sim=arrivals[0]["t_sim"], peak_sim=arrivals[0]["peak_sim"], peak_theory=arrivals[0]["peak_theory"])
@@ -351,11 +392,13 @@ def _print_summary(stored: list[Any], args: argparse.Namespace) -> None:
         writer.writerows(rows)
         sys.stdout.write(text.getvalue())
         return
-    what = {"peak": "peak (max I_N/I_1(0))", "energy": "energy fraction (peak^2 L_N/L_1)",
-            "loss": "energy lost (1 - peak^2 L_N/L_1)"}[args.metric]
+    what = {"peak": "first-arrival peak (max I_N/I_1(0))", "energy": "first-arrival energy fraction (peak^2 L_N/L_1)",
+            "loss": "first-arrival energy lost (1 - peak^2 L_N/L_1)",
+            "omega": "AC: max |omega_n - theory| / theory (relative)", "P": "AC: max |P_n - theory| (absolute)",
+            "spacing": "AC: spacing spread (max - min) / mean of delta omega_n"}[args.metric]
     by = f"by {', '.join(map(_short, keys))}" if keys else "over all its runs"
     shared = ", ".join(f"{_short(k)} = {_number(v)}" for k, v in study_constants(stored).items())
-    print(f"{args.store}: first-arrival {what} {by}" + (f" ({shared} throughout)" if shared else "") +
+    print(f"{args.store}: {what} {by}" + (f" ({shared} throughout)" if shared else "") +
           "; n finished runs, std over them (ddof 1)")
     print(_table([*map(_short, keys), *stats], rows))
 
@@ -385,10 +428,15 @@ def _write_atomic(path: Path, writer: Any) -> None:
 
 def _write_netcdf(dataset: Any, path: Path) -> None:
     """netCDF through whichever engine is there (netCDF4, h5netcdf, or scipy's netCDF3, which needs text as
-    fixed-width characters and names without brackets)."""
+    fixed-width characters and names without brackets); a complex variable is written as ``NAME.real`` and
+    ``NAME.imag``."""
     import importlib.util
 
     engine = next((e for e in ("netCDF4", "h5netcdf") if importlib.util.find_spec(e) is not None), "scipy")
+    for name in [name for name in dataset.data_vars if dataset[name].dtype.kind == "c"]:
+        # netCDF has no complex type: an AC run's phasors as their real and imaginary parts
+        dataset = dataset.assign({f"{name}.real": dataset[name].real, f"{name}.imag": dataset[name].imag})
+        dataset = dataset.drop_vars(name)
     if engine == "scipy":
         dataset = dataset.rename({name: _netcdf3_name(str(name)) for name in dataset.variables
                                   if _netcdf3_name(str(name)) != name})
@@ -418,12 +466,17 @@ def _print_runs(store: Any, stored: list[Any], name: str) -> None:
     print(f"{name}: {len(tasks)} runs: {counted(tasks)}" +
           (f"; {len(combined)} extrapolated from them: {counted(combined)}" if combined else ""))
     axes = study_axes(stored)
-    theory = any(run.metrics is not None for run in stored)
-    columns = ["error", "predicted", "peak"] if theory else ["vectors", "points"]
+    spectral = any(run.spectral for run in stored)
+    theory = not spectral and any(run.metrics is not None for run in stored)
+    columns = (["points", "modes seen", "omega error", "P error", "spacing"] if spectral
+               else ["error", "predicted", "peak"] if theory else ["vectors", "points"])
     rows = []
     for run, shown in zip(stored, runs, strict=True):
         cells = [str(run.index), run.status, *(_number(run.params.get(key)) for key in axes)]
-        if theory:
+        if spectral:
+            cells += [_number(run.points), _number(shown.get("modes_seen")), _number(shown.get("max_rel_error_omega")),
+                      _number(shown.get("max_abs_error_P")), _number(shown.get("spacing_spread"), ".4g")]
+        elif theory:
             arrivals = shown.get("arrivals") or []
             cells += [_number(shown.get("max_abs_error")), _number(shown.get("predicted_error")),
                       _number(arrivals[0].get("peak_sim"), ".6f") if arrivals else ""]
@@ -434,11 +487,16 @@ def _print_runs(store: Any, stored: list[Any], name: str) -> None:
         cells += [_number(seconds, ".3f"), (run.reason.splitlines() or [""])[0][:70]]
         rows.append(cells)
     print(_table(["#", "status", *map(_short, axes), *columns, "time (s)", "reason"], rows))
-    if theory:
+    if spectral:
+        print("points: frequencies of the AC sweep; omega error: max |omega_n - theory| / theory over the modes "
+              "resolved at the ends; P error: max |P_n - theory| (absolute); spacing: (max - min) / mean of "
+              "delta omega_n = omega_(n+1) - omega_n; time: the simulator's own wall time")
+    elif theory:
         print("error: max |I_sim - I_theory| / I0 over the saved loops (predicted: the accuracy model's); peak: the "
               "first arrival's max I_N/I_1(0) in the simulator; time: the simulator's own wall time")
     else:
-        print("time: the simulator's own wall time of each run")
+        print("points: time points, or an .ac netlist's frequencies; time: the simulator's own wall time of each "
+              "run")
 
 
 def cmd_results(args: argparse.Namespace) -> int:

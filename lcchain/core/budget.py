@@ -37,8 +37,8 @@ from .errors import ParameterError
 __all__ = ["Budget", "Estimate", "BudgetError", "DEFAULT_MAX_MEMORY", "DEFAULT_MAX_SECONDS",
            "NGSPICE_SECONDS_PER_UNKNOWN_POINT", "NGSPICE_SECONDS_PER_POINT", "ngspice_seconds",
            "BYTES_PER_VALUE", "DESIGN_SECONDS_PER_MASS", "DESIGN_SECONDS_FIXED",
-           "INTERPRETER_BYTES", "INTERPRETER_SECONDS", "RUN_START_SECONDS", "run_estimate", "sample_theory_seconds",
-           "chain_seconds", "sensitivity_estimate",
+           "INTERPRETER_BYTES", "INTERPRETER_SECONDS", "RUN_START_SECONDS", "run_estimate", "ac_estimate",
+           "sample_theory_seconds", "chain_seconds", "sensitivity_estimate",
            "max_points", "design_estimate", "perfect_estimate", "show_bytes", "show_seconds"]
 
 #: Memory one request may use: a third of this machine's 24 GiB, so two runs fit beside the system.
@@ -151,6 +151,25 @@ def run_estimate(*, points: float, saved: int, compared: int, unknowns: float, e
     """
     memory = BYTES_PER_VALUE * points * (saved + 1 + compared) + 16.0 * exact_N * exact_N
     return Estimate(f"{points:.3g} time points x {saved} saved values", memory,
+                    ngspice_seconds(points, unknowns))
+
+
+def ac_estimate(*, points: float, saved: int, unknowns: float, exact_N: int = 0) -> Estimate:
+    """The cost of one AC analysis and its fit.
+
+    Parameters
+    ----------
+    points : float
+        Frequencies of the sweep.
+    saved : int
+        Complex vectors saved (the frequency excluded).
+    unknowns : float
+        ngspice's unknowns (about 2 N); each frequency is one complex solve, priced as a time point.
+    exact_N : int
+        N when the theory needs every eigenvector (N x N), else 0.
+    """
+    memory = 2 * BYTES_PER_VALUE * points * (saved + 1) + 16.0 * exact_N * exact_N
+    return Estimate(f"{points:.3g} frequencies x {saved} saved complex values", memory,
                     ngspice_seconds(points, unknowns))
 
 

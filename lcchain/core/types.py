@@ -41,8 +41,14 @@ ESeries = Literal["E12", "E24", "E96"]
 #: What of the first arrival a sensitivity or a worst case is about: the current peak max I_N / I_1(0), or the
 #: energy fraction the last inductor holds there, peak^2 L_N / L_1 (not moved by a mismatch of the end inductors).
 ArrivalMetric = Literal["peak", "energy"]
-#: The pictures a scene can ask for.
-PlotKind = Literal["overlay", "spacetime", "histogram"]
+#: The pictures a scene can ask for: a transient's (overlay, spacetime, histogram of the transmitted peak) or an AC
+#: analysis's (spectrum: Fig. Pk20-100's panels; spacing: the samples' delta omega_n against the nominal theory).
+PlotKind = Literal["overlay", "spacetime", "histogram", "spectrum", "spacing"]
+#: What a study's summary groups (``lcchain results --metric``): a transient's first arrival (peak, energy, loss) or
+#: an AC run's spectrum (omega, P, spacing); :data:`lcchain.studies.summary.METRICS` says where each is read.
+StudyMetric = Literal["peak", "energy", "loss", "omega", "P", "spacing"]
+#: What a run's simulator computes: loop currents against time, or complex phasors against frequency.
+AnalysisKind = Literal["transient", "ac"]
 
 CASES: tuple[Case, ...] = get_args(Case)
 NAMED_CASES: tuple[Case, ...] = tuple(c for c in CASES if c != "custom")
@@ -63,6 +69,8 @@ RUN_STATUSES: tuple[RunStatus, ...] = get_args(RunStatus)
 E_SERIES_NAMES: tuple[ESeries, ...] = get_args(ESeries)
 PLOT_KINDS: tuple[PlotKind, ...] = get_args(PlotKind)
 ARRIVAL_METRICS: tuple[ArrivalMetric, ...] = get_args(ArrivalMetric)
+ANALYSIS_KINDS: tuple[AnalysisKind, ...] = get_args(AnalysisKind)
+STUDY_METRICS: tuple[StudyMetric, ...] = get_args(StudyMetric)
 
 #: The gaussian pulse g(t) is centred at GAUSSIAN_CENTRE standard deviations (netlist, theory and scenes).
 GAUSSIAN_CENTRE = 4.0

@@ -27,7 +27,8 @@ if TYPE_CHECKING:
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
-__all__ = ["overlay", "side_by_side", "spacetime", "histogram", "pareto", "mode_density", "spectrum", "TIME_LABEL"]
+__all__ = ["overlay", "side_by_side", "spacetime", "histogram", "pareto", "mode_density", "spectrum",
+           "spacing_band", "TIME_LABEL"]
 
 #: Label of every time axis.
 TIME_LABEL = r"$t\,/\sqrt{L_0 C_0}$"
@@ -639,4 +640,52 @@ def spectrum(omega_theory, P_theory, omega_circuit, P_circuit, *, title: str = "
     bottom.set_xlabel(r"$\omega_n$  $[1/\sqrt{L_0 C_0}]$")
     bottom.set_ylabel(r"$\omega_n - \omega_{n-1}$")
     bottom.grid(True, **_GRID)
+    return _finish(fig, path)
+
+
+def spacing_band(omega_nominal, spacings, *, title: str = "", path: str | os.PathLike | None = None,
+                 ax: Axes | None = None) -> Figure:
+    """What real parts do to the equal spacing: delta omega_n of tolerance samples against the nominal theory.
+
+    Parameters
+    ----------
+    omega_nominal : array_like, shape (N,)
+        The nominal chain's normal frequencies, units of 1/sqrt(L0 C0).
+    spacings : array_like, shape (n_samples, N - 1)
+        Each sample's measured omega_(n+1) - omega_n (NaN where a mode was not resolved).
+    title : str
+    path : str or path-like, optional
+        Save the figure there.
+    ax : matplotlib.axes.Axes, optional
+        Draw into this Axes.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The band from the smallest to the largest sample's spacing at each n, their mean, each sample's points,
+        and the nominal theory's spacing.
+    """
+    omega = _vector("omega_nominal", omega_nominal, min_size=2)
+    values = np.asarray(spacings, dtype=float)
+    if values.ndim != 2 or values.shape[1] != omega.size - 1 or values.shape[0] < 1:
+        raise ParameterError("spacings", values.shape, f"one row of {omega.size - 1} spacings per sample")
+    fig = _new_figure() if ax is None else _root_figure(ax)
+    ax = fig.add_subplot() if ax is None else ax
+    n = np.arange(1, omega.size)
+    seen = np.isfinite(values).any(axis=0)
+    with np.errstate(all="ignore"):
+        low, high = np.nanmin(np.where(seen, values, 0.0), axis=0), np.nanmax(np.where(seen, values, 0.0), axis=0)
+        mean = np.nanmean(np.where(seen, values, 0.0), axis=0)
+    ax.fill_between(n[seen], low[seen], high[seen], color="C0", alpha=0.25, linewidth=0,
+                    label=f"{values.shape[0]} samples: min to max")
+    ax.plot(n[seen], mean[seen], "-", color="C0", linewidth=1.0, label="mean of the samples")
+    for row in values:
+        ax.plot(n, row, ".", color="C0", markersize=2, alpha=0.5)
+    ax.plot(n, np.diff(omega), "-", color="k", linewidth=1.2, label="nominal theory")
+    ax.set_xlabel(r"$n$")
+    ax.set_ylabel(r"$\delta\omega_n = \omega_{n+1} - \omega_n$  $[1/\sqrt{L_0 C_0}]$")
+    ax.grid(True, **_GRID)
+    ax.legend(loc="best", fontsize=8)
+    if title:
+        ax.set_title(title, fontsize=10)
     return _finish(fig, path)

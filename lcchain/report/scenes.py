@@ -12,10 +12,11 @@ after the scene file when there is no report.
 from __future__ import annotations
 
 import json
+from collections.abc import Callable
 from pathlib import Path
 
 from ..core.errors import ParameterError
-from ..scenes.run import SceneResult, transmitted_peaks
+from ..scenes.run import SampleResult, SceneResult, transmitted_peaks
 from ..scenes.schema import Scene
 from .files import check_inside, check_not_input, check_output, write_text
 
@@ -97,47 +98,98 @@ def check_scene_outputs(scenes: list[Scene], others: dict[str, str | None] | Non
         seen[resolved] = f"{source}: {key}" if source else key
 
 
+def _csv(sample: SampleResult) -> str:
+    """A sample's saved arrays as CSV: loops 1 and N against time, or an AC run's phasors against frequency."""
+    if sample.waveforms is not None:
+        return sample.waveforms.to_csv()
+    ac = sample.run.ac
+    assert ac is not None  # a sample that ran has one or the other
+    header = ["frequency_hz"] + [f"{part}({name})" for name in ac.vectors for part in ("re", "im")]
+    columns = [ac.frequency] + [getattr(values, part) for values in ac.vectors.values() for part in ("real", "imag")]
+    rows = (",".join(repr(float(v)) for v in row) for row in zip(*columns, strict=True))
+    return "\n".join([",".join(header), *rows]) + "\n"
+
+
+def _overlay(result: SceneResult, path: Path) -> None:
+    from . import plots
+
+    scene, s = result.scene, result.good()[0]
+    signals = s.run.signals
+    assert signals is not None
+    ylabel = r"$Q_1,\ Q_N\;/\;Q_1(0)$" if scene.excitation.kind == "displacement" else r"$I_1,\ I_N\;/\;I_0$"
+    plots.overlay(signals.t, signals.sim[-1], signals.t, signals.theory[-1],
+                  residual=signals.sim[-1] - signals.theory[-1], first_sim=signals.sim[0],
+                  first_theory=signals.theory[0], arrivals=s.record["arrivals"],
+                  title=_with_size(scene.title, s.chain.N), ylabel=ylabel, path=path)
+
+
+def _spacetime(result: SceneResult, path: Path) -> None:
+    from . import plots
+
+    signals = result.good()[0].run.signals
+    assert signals is not None
+    plots.spacetime(signals.t, signals.sim, title=f"{result.scene.title}: every loop current", path=path)
+
+
+def _histogram(result: SceneResult, path: Path) -> None:
+    from . import plots
+
+    scene = result.scene
+    plots.histogram(transmitted_peaks(result), theory=result.report.get("transmitted_peak", {}).get("theory_nominal"),
+                    title=f"{scene.title}: transmitted peak over {len(result.good())} samples",
+                    xlabel=peak_label(scene.excitation.kind), path=path)
+
+
+def _spectrum(result: SceneResult, path: Path) -> None:
+    """Fig. Pk20-100's panels for the first sample that ran: |P_n| and the spacing, circuit on theory."""
+    from . import plots
+
+    s = result.good()[0]
+    spectrum = s.run.spectrum
+    assert spectrum is not None
+    plots.spectrum(spectrum.omega_theory, spectrum.P_theory, spectrum.omega, spectrum.P,
+                   title=_with_size(result.scene.title, s.chain.N), path=path)
+
+
+def _spacing(result: SceneResult, path: Path) -> None:
+    """The samples' delta omega_n, each against the nominal theory's."""
+    from . import plots
+
+    rows = [s.run.spectrum.spacings() for s in result.good() if s.run.spectrum is not None]
+    plots.spacing_band(result.report["omega_nominal"], rows, path=path,
+                       title=f"{result.scene.title}: mode spacing over {len(rows)} samples")
+
+
+#: How each ``[output] plots`` name is drawn from a scene that ran.
+_PLOTS: dict[str, Callable[[SceneResult, Path], None]] = {
+    "overlay": _overlay, "spacetime": _spacetime, "histogram": _histogram, "spectrum": _spectrum,
+    "spacing": _spacing,
+}
+
+
 def write_scene_outputs(result: SceneResult, *, netlist_out: str | None = None,
                         waveform_out: str | None = None, write_outputs: bool = True) -> list[str]:
     """Write the first good sample's netlist and waveforms if asked, then the scene's plots and report.
 
     Every file is written atomically.  Returns the files written, in order.
     """
-    from . import plots
-
-    scene, report = result.scene, result.report
+    scene = result.scene
     good = result.good()
     written: list[str] = []
     if good and netlist_out:
         written.append(str(write_text(netlist_out, good[0].netlist)))
     if good and waveform_out:
-        waveforms = good[0].waveforms
-        assert waveforms is not None
-        written.append(str(write_text(waveform_out, waveforms.to_csv())))
+        written.append(str(write_text(waveform_out, _csv(good[0]))))
     if not write_outputs:
         return written
     if scene_outputs(scene):
         _stem(scene)[0].mkdir(parents=True, exist_ok=True)  # only now that the scene has run
-    ylabel = r"$Q_1,\ Q_N\;/\;Q_1(0)$" if scene.excitation.kind == "displacement" else r"$I_1,\ I_N\;/\;I_0$"
     for key, path in scene_outputs(scene):
         if key == "output.report" or not good:
             continue
-        s, kind = good[0], key.split("(")[1].rstrip(")")
-        signals = s.run.signals
-        assert signals is not None
-        if kind == "overlay":
-            plots.overlay(signals.t, signals.sim[-1], signals.t, signals.theory[-1],
-                          residual=signals.sim[-1] - signals.theory[-1], first_sim=signals.sim[0],
-                          first_theory=signals.theory[0], arrivals=s.record["arrivals"],
-                          title=_with_size(scene.title, s.chain.N), ylabel=ylabel, path=path)
-        elif kind == "spacetime":
-            plots.spacetime(signals.t, signals.sim, title=f"{scene.title}: every loop current", path=path)
-        else:
-            plots.histogram(transmitted_peaks(result), theory=report.get("transmitted_peak", {}).get("theory_nominal"),
-                            title=f"{scene.title}: transmitted peak over {len(good)} samples",
-                            xlabel=peak_label(scene.excitation.kind), path=path)
+        _PLOTS[key.split("(")[1].rstrip(")")](result, path)
         written.append(str(path))
     if scene.output.report:
         written.append(scene.output.report)
-        write_text(scene.output.report, json.dumps(dict(report, files=written), indent=2))
+        write_text(scene.output.report, json.dumps(dict(result.report, files=written), indent=2))
     return written

@@ -32,7 +32,12 @@ __all__ = ["study_figure", "samples_figure"]
 
 
 _AXIS = {"peak": "transmitted peak, max I_N/I_1(0)", "energy": "energy fraction at the peak, peak² L_N/L_1",
-         "loss": "energy lost, 1 - peak² L_N/L_1 (log scale)"}
+         "loss": "energy lost, 1 - peak² L_N/L_1 (log scale)",
+         "omega": "max |ω_n - theory| / theory", "P": "max |P_n - theory|",
+         "spacing": "spacing spread (max - min) / mean of δω_n"}
+#: What a group's values are, in a title.
+_WHAT = {"peak": "transmitted peak", "energy": "energy fraction", "loss": "energy lost", "omega": "ω error",
+         "P": "P error", "spacing": "spacing spread"}
 
 
 def study_figure(store: Store, metric: str = "peak") -> Any:
@@ -44,7 +49,7 @@ def study_figure(store: Store, metric: str = "peak") -> Any:
         groups = [group for group in peak_groups(store.runs(), metric) if group.peaks.size]
         if not groups:
             raise ParameterError("--metric", metric, "peak (no run of this store has an energy: none was kicked)")
-        what = {"peak": "transmitted peak", "energy": "energy fraction", "loss": "energy lost"}[metric]
+        what = _WHAT[metric]
         scenes = [_group_scene(store, group) for group in groups]
         kinds = {scene.excitation.kind for scene in scenes if scene is not None}
         xlabel = peak_label(kinds.pop()) if metric == "peak" and len(kinds) == 1 else _AXIS[metric]
@@ -55,7 +60,7 @@ def study_figure(store: Store, metric: str = "peak") -> Any:
         return samples_figure(groups, title=f"{what} by group ({store.path.name})", xlabel=xlabel,
                               log=metric == "loss", nominal=nominal)
     Ns = sorted({run.params["N"] for run in runs if "N" in run.params})
-    if len(Ns) >= 2 and all("case" in run.params for run in runs):
+    if len(Ns) >= 2 and all("case" in run.params and not run.spectral for run in runs):  # Fig. delta: transients
         measured: dict[str, list[tuple[int, float]]] = defaultdict(list)
         for run in runs:
             arrivals = (run.metrics or {}).get("arrivals") or []
@@ -63,7 +68,8 @@ def study_figure(store: Store, metric: str = "peak") -> Any:
                 measured[run.params["case"]].append((run.params["N"], 1.0 - arrivals[0]["peak_sim"]))
         grid = sorted(set(design_grid(max(Ns))) | set(Ns))
         return delta_figure(delta_data(grid), measured, title=f"δ* against N: theory and ngspice ({store.path.name})")
-    raise ParameterError("--plot", str(store.path), "a sweep over two or more N (with --case), or tolerance samples")
+    raise ParameterError("--plot", str(store.path), "a sweep of transients over two or more N (with --case), or "
+                         "tolerance samples (an AC sweep over N: --summary --metric omega, P or spacing)")
 
 
 def _group_scene(store: Store, group: Group) -> Scene | None:
@@ -88,8 +94,9 @@ def _group_scene(store: Store, group: Group) -> Scene | None:
 def _nominal(scene: Scene | None, metric: str) -> float | None:
     """The untoleranced circuit's value of the metric, from theory (None without a scene, or for an energy a
     pulse does not define)."""
-    if scene is None or (metric != "peak" and scene.excitation.kind != "kick"):
-        return None
+    if scene is None or metric not in ("peak", "energy", "loss") or (metric != "peak"
+                                                                     and scene.excitation.kind != "kick"):
+        return None  # an AC run's metrics are errors against theory: no nominal value to draw
     peak, mass_ratio = nominal_peak(scene)
     energy = peak ** 2 * mass_ratio
     return {"peak": peak, "energy": energy, "loss": 1.0 - energy}[metric]

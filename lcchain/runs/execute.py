@@ -10,8 +10,14 @@ for what no run can fix: a missing simulator
 (:class:`~lcchain.core.errors.ParameterError`), an interrupt.
 
 The record's :attr:`RunRecord.digest` is the SHA-256 of the saved arrays
-(time and every vector, by name, as little-endian float64): the same on any
+(time and every vector, by name, as little-endian float64; an AC run's
+frequency and complex vectors, as little-endian complex128): the same on any
 host, in any process, at any time, for the same ngspice.
+
+How a spec runs depends on its analysis (:attr:`RunSpec.analysis`), through
+one registry, :data:`ANALYSIS_RUNS`: a transient is compared with its
+:class:`~lcchain.runs.spec.Theory`, an AC run's poles and residues with its
+:class:`~lcchain.runs.spec.SpectrumTheory` (:func:`lcchain.compare.spectral.compare_spectrum`).
 """
 
 from __future__ import annotations
@@ -28,23 +34,26 @@ import numpy as np
 from ..circuit.netlist import probe_names
 from ..compare.accuracy import split_error
 from ..compare.metrics import Metrics, compare_signals
+from ..compare.spectral import SpectrumMetrics, compare_spectrum
 from ..compare.waveforms import Signals, loop_signals
 from ..core import __version__
 from ..core.blas import fixed_blas_threads
 from ..core.checks import instance
 from ..core.errors import ParameterError, SimulationError
 from ..core.frozen import FrozenArrays
-from ..core.types import GAUSSIAN_CENTRE, Probes, RunStatus
+from ..core.types import GAUSSIAN_CENTRE, AnalysisKind, Probes, RunStatus
+from ..spice.ac import AcResult, run_ac
 from ..spice.engines import engine_named, find_engine, run_engine
 from ..spice.runner import RunResult
 from ..spice.simulator import Simulator
+from ..theory.exact import driven_modes
 from ..theory.modes import Modes
 from ..theory.response import Response, prepare_response
 from ..theory.spectrum import normal_modes
-from .spec import RunSpec, Theory
+from .spec import RunSpec, SpectrumTheory, Theory
 
 __all__ = ["signals_of", "loop_sims", "theory_at", "metrics_of", "RunRecord", "execute", "waveform_digest",
-           "pulse_centre"]
+           "pulse_centre", "ANALYSIS_RUNS", "ac_metrics"]
 
 log = logging.getLogger("lcchain")
 
@@ -80,6 +89,10 @@ class RunRecord(FrozenArrays):
         The spec's label.
     engine : str
         The engine's name (:data:`lcchain.spice.engines.ENGINES`).
+    ac : AcResult or None
+        An AC run's frequencies (Hz) and complex vectors (``result`` is then None).
+    spectrum : SpectrumMetrics or None
+        An AC run's poles and weights beside its theory (AC runs with a theory; ``metrics`` is then None).
     """
 
     key: str
@@ -96,6 +109,19 @@ class RunRecord(FrozenArrays):
     lcchain_version: str = __version__
     label: str = ""
     engine: str = "ngspice"
+    ac: AcResult | None = None
+    spectrum: SpectrumMetrics | None = None
+
+    @property
+    def analysis(self) -> AnalysisKind:
+        """``"ac"`` for an AC run's record, else ``"transient"``."""
+        return "ac" if self.ac is not None or self.spectrum is not None else "transient"
+
+    @property
+    def points(self) -> int | None:
+        """Time points, or an AC run's frequencies (None without arrays)."""
+        saved = self.result if self.result is not None else self.ac
+        return saved.points if saved is not None else None
 
     @property
     def ok(self) -> bool:
@@ -116,20 +142,24 @@ class RunRecord(FrozenArrays):
         }
         if self.status != "ok":
             data["log_tail"] = self.log_tail
-        if self.result is not None:
-            data["points"] = self.result.points
-            data["netlist_sha256"] = self.result.netlist_sha256
-        if self.metrics is not None:
-            data.update(self.metrics.to_dict())
+        saved = self.result if self.result is not None else self.ac
+        if saved is not None:
+            data["points"] = saved.points
+            data["netlist_sha256"] = saved.netlist_sha256
+        for metrics in (self.metrics, self.spectrum):
+            if metrics is not None:
+                data.update(metrics.to_dict())
         return data
 
 
-def waveform_digest(time_s: np.ndarray, vectors: Mapping[str, np.ndarray]) -> str:
-    """SHA-256 of a run's saved arrays: time, then every vector by sorted name, little-endian float64."""
+def waveform_digest(time_s: np.ndarray, vectors: Mapping[str, np.ndarray], axis: str = "time") -> str:
+    """SHA-256 of a run's saved arrays: the axis (``"time"``, or an AC run's ``"frequency"``), then every vector
+    by sorted name, little-endian float64 (complex128 for a complex array)."""
     digest = hashlib.sha256()
-    for name, values in [("time", time_s), *sorted(vectors.items())]:
+    for name, values in [(axis, time_s), *sorted(vectors.items())]:
         digest.update(name.encode("utf-8") + b"\0")
-        digest.update(np.ascontiguousarray(values, dtype="<f8").tobytes())
+        dtype = "<c16" if np.iscomplexobj(values) else "<f8"
+        digest.update(np.ascontiguousarray(values, dtype=dtype).tobytes())
     return digest.hexdigest()
 
 
@@ -212,6 +242,49 @@ def _compare(theory: Theory, result: RunResult) -> tuple[Signals, Metrics]:
                                ends=ends)
 
 
+def _run_transient(spec: RunSpec, simulator: Simulator,
+                   progress: Callable[[float], None] | None) -> tuple[dict[str, Any], float, int, str]:
+    """A transient run in its engine, compared with its :class:`Theory`: (record fields, wall, points, digest)."""
+    result = run_engine(spec.netlist, spec.vectors, spec.tstop, simulator=simulator, timeout=spec.timeout,
+                        progress=progress, cwd=spec.cwd, trusted=spec.trusted, foreign=spec.foreign,
+                        max_output_bytes=spec.max_output_bytes)
+    signals = metrics = None
+    if isinstance(spec.theory, Theory):
+        signals, metrics = _compare(spec.theory, result)
+    return ({"result": result, "signals": signals, "metrics": metrics}, result.wall_s, result.points,
+            waveform_digest(result.time, result.vectors))
+
+
+@fixed_blas_threads
+def ac_metrics(theory: SpectrumTheory, result: AcResult) -> SpectrumMetrics:
+    """An AC run's I_1/V_1 and I_N/V_1 against the driven modes of its chain."""
+    chain = theory.chain
+    modes = theory.modes if theory.modes is not None else driven_modes(chain)
+    omega = 2.0 * np.pi * result.frequency * theory.time_unit
+    first, last = (result.vectors[name] * theory.impedance for name in probe_names(chain.N, "ends"))
+    return compare_spectrum(modes, omega, first, last, float(chain.masses[0]))
+
+
+def _run_ac(spec: RunSpec, simulator: Simulator,
+            progress: Callable[[float], None] | None) -> tuple[dict[str, Any], float, int, str]:
+    """An AC run (:func:`lcchain.spice.ac.run_ac`), its poles and weights against its :class:`SpectrumTheory`."""
+    assert spec.points is not None  # the spec requires it for an AC run
+    result = run_ac(spec.netlist, spec.vectors, spec.points, simulator=simulator, timeout=spec.timeout,
+                    foreign=spec.foreign, max_output_bytes=spec.max_output_bytes)
+    spectrum = ac_metrics(spec.theory, result) if isinstance(spec.theory, SpectrumTheory) else None
+    return ({"ac": result, "spectrum": spectrum}, result.wall_s, result.points,
+            waveform_digest(result.frequency, result.vectors, "frequency"))
+
+
+#: How a spec of each analysis runs and is compared: ``(spec, simulator, progress) -> (record fields, simulator
+#: seconds, points, digest)``.  A new analysis adds its line here.
+ANALYSIS_RUNS: dict[AnalysisKind, Callable[[RunSpec, Simulator, Callable[[float], None] | None],
+                                           tuple[dict[str, Any], float, int, str]]] = {
+    "transient": _run_transient,
+    "ac": _run_ac,
+}
+
+
 def execute(spec: RunSpec, simulator: Simulator | None = None, *,
             progress: Callable[[float], None] | None = None) -> RunRecord:
     """Run one spec in its engine and compare it with its theory.
@@ -219,6 +292,7 @@ def execute(spec: RunSpec, simulator: Simulator | None = None, *,
     Parameters
     ----------
     spec : RunSpec
+        A transient or an AC run (:data:`ANALYSIS_RUNS`).
     simulator : Simulator, optional
         Found once by the caller (:func:`lcchain.spice.engines.find_engine`)
         and passed to every run; found here for ``spec.engine`` and
@@ -245,21 +319,15 @@ def execute(spec: RunSpec, simulator: Simulator | None = None, *,
     if simulator.engine != spec.engine:
         raise ParameterError("simulator", simulator.engine, f"a simulator of the spec's engine, {spec.engine!r}")
     key = spec.key(simulator.version)
-    common = {"key": key, "engine": spec.engine, "engine_version": simulator.version, "label": spec.label}
+    common: dict[str, Any] = {"key": key, "engine": spec.engine, "engine_version": simulator.version,
+                              "label": spec.label}
     try:
-        result = run_engine(spec.netlist, spec.vectors, spec.tstop, simulator=simulator, timeout=spec.timeout,
-                     progress=progress, cwd=spec.cwd, trusted=spec.trusted, foreign=spec.foreign,
-                     max_output_bytes=spec.max_output_bytes)
+        fields, wall, points, digest = ANALYSIS_RUNS[spec.analysis](spec, simulator, progress)
     except SimulationError as error:
         log.info("%s: %s (%s)", spec.label or key[:12], error.status, error.reason)
         return RunRecord(status="timeout" if error.status == "timeout" else "failed", reason=error.reason,
-                         log_tail=error.log_tail, total_s=time.perf_counter() - start, **common)  # type: ignore[arg-type]
-    signals = metrics = None
-    if spec.theory is not None:
-        signals, metrics = _compare(spec.theory, result)
+                         log_tail=error.log_tail, total_s=time.perf_counter() - start, **common)
     total = time.perf_counter() - start
-    log.info("%s: ok, %d points, %s %.3f s, lcchain %.3f s", spec.label or key[:12], result.points, spec.engine,
-             result.wall_s, total - result.wall_s)
-    return RunRecord(status="ok", result=result, signals=signals, metrics=metrics,
-                     digest=waveform_digest(result.time, result.vectors), wall_s=result.wall_s,
-                     total_s=total, **common)
+    log.info("%s: ok, %d points, %s %.3f s, lcchain %.3f s", spec.label or key[:12], points, spec.engine,
+             wall, total - wall)
+    return RunRecord(status="ok", digest=digest, wall_s=wall, total_s=total, **fields, **common)

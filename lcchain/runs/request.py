@@ -1,14 +1,20 @@
 """One request, and the one planner that turns it into run specs.
 
 A :class:`Request` is what a user asked for, frozen and picklable: the chain,
-its units, how it is driven, the effects on the ladder, the analysis, and where
-it runs.  :func:`plan_request` turns it into a :class:`RequestPlan`: the
+its units, how it is driven, the effects on the ladder, the analysis (a
+:class:`Transient`, or an :class:`AC` sweep of the ladder's spectrum), and
+where it runs.  :func:`plan_request` turns it into a :class:`RequestPlan`: the
 realised chains (one per tolerance sample), the stop time, the step or the
 steps of an extrapolation, and one :class:`~lcchain.runs.spec.RunSpec` per run,
 each with the exact theory of its own circuit.  :func:`lcchain.simulate`, scenes
 (``Scene.request()``), sweeps, the bench and the report all plan through it, so
 the step is chosen in one place, and a run's netlist and its theory are both
 made from the same realised chain and the same effects (they cannot disagree).
+
+Each analysis type plans itself (its ``plan`` method): what differs between a
+transient and an AC sweep (the netlist's analysis line, the price, the theory)
+is in its own planner, and the specs say how they run
+(:data:`lcchain.runs.execute.ANALYSIS_RUNS`).
 """
 
 from __future__ import annotations
@@ -19,7 +25,7 @@ import numpy as np
 
 from ..circuit.effects import Effect, PreferredValues, Tolerance
 from ..circuit.ladder import Ladder
-from ..circuit.netlist import SimulationOptions, netlist_text, probe_names
+from ..circuit.netlist import SimulationOptions, ac_netlist_text, netlist_text, probe_names
 from ..compare.accuracy import dt_for_accuracy, predicted_error, warn_if_unreliable
 from ..compare.extrapolate import (
     ExtrapolationPlan,
@@ -29,12 +35,21 @@ from ..compare.extrapolate import (
     refusal,
     runs_for_step,
 )
+from ..compare.spectral import SPECTRUM_MAX_N, sweep_grid
 from ..core.blas import fixed_blas_threads
-from ..core.budget import RUN_START_SECONDS, Budget, Estimate, max_points, run_estimate, sample_theory_seconds
+from ..core.budget import (
+    RUN_START_SECONDS,
+    Budget,
+    Estimate,
+    ac_estimate,
+    max_points,
+    run_estimate,
+    sample_theory_seconds,
+)
 from ..core.checks import choice, instance, integer, real, strings
 from ..core.checks import pulse as check_pulse
 from ..core.errors import ParameterError
-from ..core.limits import EXACT_MAX_N, MAX_DT, MAX_TRANSITS
+from ..core.limits import EXACT_MAX_N, MAX_AC_POINTS, MAX_DT, MAX_TRANSITS, MIN_AC_POINTS
 from ..core.types import (
     BACKENDS,
     DEFAULT_C0,
@@ -50,16 +65,17 @@ from ..core.types import (
     Probes,
     PulseShape,
 )
-from ..spice.engines import DEFAULT_ENGINE, engine_named
+from ..spice.engines import DEFAULT_ENGINE, ac_engine, engine_named
 from ..theory.arrivals import arrival_window
 from ..theory.chain import Chain
+from ..theory.exact import driven_modes
 from ..theory.modes import Modes
 from ..theory.response import loop_weights
 from ..theory.spectrum import normal_modes
 from .execute import pulse_centre
-from .spec import DEFAULT_TIMEOUT, RunSpec, Theory
+from .spec import DEFAULT_TIMEOUT, RunSpec, SpectrumTheory, Theory
 
-__all__ = ["Drive", "Transient", "Request", "RequestPlan", "plan_request", "ACCURACY_LOOPS"]
+__all__ = ["Drive", "Transient", "AC", "Analysis", "Request", "RequestPlan", "plan_request", "ACCURACY_LOOPS"]
 
 #: With probes = "all", the step's error is predicted on at most this many loops, evenly spaced, ends included.
 ACCURACY_LOOPS = 64
@@ -128,6 +144,60 @@ class Transient:
             raise ParameterError("extrapolate", self.extrapolate, "1, 2 or 3 runs (1: no extrapolation)")
         choice("probes", self.probes, PROBES)
 
+    def check(self, request: Request) -> None:
+        """Refuse what the request's engine cannot do with a transient (extrapolation)."""
+        engine = engine_named(request.engine)
+        if not engine.extrapolates and self.extrapolate is not None and self.extrapolate > 1:
+            raise ParameterError("extrapolate", self.extrapolate,
+                                 f"1 with engine {engine.name} (no extrapolation): {engine.no_extrapolation}")
+
+    def plan(self, request: Request, budget: Budget, modes: Modes | None, design_seconds: float) -> RequestPlan:
+        """The transient's runs (:func:`plan_request`)."""
+        return _plan_transient(request, budget, modes, design_seconds)
+
+
+@dataclass(frozen=True)
+class AC:
+    """An AC analysis: the ladder driven in loop 1 by a unit AC voltage, swept over its normal frequencies.
+
+    Its poles and residues are fitted (:func:`lcchain.compare.spectral.compare_spectrum`) and compared with the
+    driven modes of the same chain: omega_n, and P_n, each mode's coefficient in alpha_N(t).  The request's
+    drive does not apply (the source is the AC voltage); both end currents are saved.
+
+    Parameters
+    ----------
+    points : int, optional
+        Frequencies, evenly spaced up to 5 % above the highest normal frequency; default twice the fewest that
+        separate every pole of every realised chain (:func:`lcchain.compare.spectral.sweep_grid`).  Fewer than
+        those are refused before anything runs, naming the minimum.
+    """
+
+    points: int | None = None
+
+    def __post_init__(self) -> None:
+        if self.points is not None:
+            integer("points", self.points, at_least=MIN_AC_POINTS, at_most=MAX_AC_POINTS)
+
+    def check(self, request: Request) -> None:
+        """Refuse what an AC analysis cannot be compared with (losses) or run through (another transport)."""
+        if request.Q is not None:
+            raise ParameterError("effects.losses", request.Q, "no losses with an AC analysis: the spectrum's fit "
+                                 "takes a lossless ladder (its poles on the real axis)")
+        ac_engine(request.engine)  # an engine without an AC analysis is refused here, naming it
+        if request.backend != "batch":
+            raise ParameterError("backend", request.backend, "batch with an AC analysis (the engine's program)")
+        if request.comments:
+            raise ParameterError("comments", list(request.comments), "none with an AC analysis (its netlist has "
+                                 "its own header)")
+
+    def plan(self, request: Request, budget: Budget, modes: Modes | None, design_seconds: float) -> RequestPlan:
+        """The AC sweep's runs, one per realised chain (:func:`plan_request`)."""
+        return _plan_ac(request, budget, modes, design_seconds)
+
+
+#: The analyses a request can ask for; each plans itself (``plan``) and refuses what it cannot do (``check``).
+Analysis = Transient | AC
+
 
 @dataclass(frozen=True)
 class Request:
@@ -137,7 +207,7 @@ class Request:
     ----------
     chain : Chain
         The nominal chain (a named case or the user's own), bulk units, before the effects.
-    analysis : Transient
+    analysis : Transient or AC
     drive : Drive
     effects : tuple of Effect
         In any order; those that change the chain (walls, coupling) apply to the nominal chain, preferred
@@ -159,7 +229,7 @@ class Request:
     """
 
     chain: Chain
-    analysis: Transient
+    analysis: Analysis
     drive: Drive = field(default_factory=Drive)
     effects: tuple[Effect, ...] = ()
     L0: float = DEFAULT_L0
@@ -172,7 +242,7 @@ class Request:
 
     def __post_init__(self) -> None:
         instance("chain", self.chain, Chain)
-        instance("analysis", self.analysis, Transient)
+        instance("analysis", self.analysis, (Transient, AC))
         instance("drive", self.drive, Drive)
         if not isinstance(self.effects, tuple):
             raise ParameterError("effects", self.effects, "a tuple of lcchain effects")
@@ -186,11 +256,17 @@ class Request:
         choice("backend", self.backend, BACKENDS)
         engine = engine_named(self.engine)
         choice("backend", self.backend, engine.transports, f" (the transports of engine {engine.name})")
-        if not engine.extrapolates and self.analysis.extrapolate is not None and self.analysis.extrapolate > 1:
-            raise ParameterError("extrapolate", self.analysis.extrapolate,
-                                 f"1 with engine {engine.name} (no extrapolation): {engine.no_extrapolation}")
         object.__setattr__(self, "comments", strings("comments", self.comments))
         object.__setattr__(self, "timeout", real("timeout", self.timeout, above=0.0, unit="seconds"))
+        self.analysis.check(self)
+
+    @property
+    def transient(self) -> Transient:
+        """The analysis, where only a transient can be (its steps, transits, probes)."""
+        if not isinstance(self.analysis, Transient):
+            raise ParameterError("analysis", type(self.analysis).__name__, "a Transient here (an AC request runs "
+                                 "through plan_request and execute, or measure_spectrum for one chain)")
+        return self.analysis
 
     def effect(self, kind: type[Effect]) -> Effect | None:
         """The request's effect of this type, or None."""
@@ -249,7 +325,13 @@ class RequestPlan:
     accuracy_plan : ExtrapolationPlan, optional
         With an accuracy: the options weighed and the one chosen.
     specs : tuple of RunSpec
-        ``len(steps)`` per chain, in the order of ``chains``.
+        ``len(steps)`` per chain (an AC sweep: one), in the order of ``chains``.
+    points : int, optional
+        An AC sweep's frequencies (None for a transient).
+    omega_max : float, optional
+        An AC sweep's last angular frequency, units of 1/sqrt(L0 C0) (None for a transient).
+
+    An AC sweep has no stop time nor steps: ``tstop`` is 0 and ``steps`` empty.
     """
 
     request: Request
@@ -263,6 +345,8 @@ class RequestPlan:
     reason: str
     accuracy_plan: ExtrapolationPlan | None
     specs: tuple[RunSpec, ...]
+    points: int | None = None
+    omega_max: float | None = None
 
     @property
     def dt(self) -> float:
@@ -272,7 +356,7 @@ class RequestPlan:
     @property
     def runs(self) -> int:
         """Runs per sample."""
-        return len(self.steps)
+        return len(self.specs) // len(self.chains)
 
     @property
     def ladder(self) -> Ladder:
@@ -281,20 +365,20 @@ class RequestPlan:
 
     def options(self, index: int = 0) -> SimulationOptions:
         """The analysis of run ``index`` of a sample (0: the coarsest)."""
-        analysis = self.request.analysis
+        analysis = self.request.transient
         return SimulationOptions(dt=self.steps[index], tstop=self.tstop, method=analysis.method,
                                  aligned=self.runs > 1)
 
 
 def _cost(request: Request, N: int) -> dict[str, int]:
     """The numbers a run costs by (:func:`lcchain.core.budget.run_estimate`)."""
-    saved = N if request.analysis.probes == "all" else 2
+    saved = N if request.transient.probes == "all" else 2
     return {"saved": saved, "compared": saved, "unknowns": (3 if request.Q is not None else 2) * N,
-            "exact_N": N if (request.realised or request.analysis.probes == "all") else 0}
+            "exact_N": N if (request.realised or request.transient.probes == "all") else 0}
 
 
 def _accuracy_weights(request: Request, nominal: Chain) -> list[np.ndarray] | None:
-    if request.analysis.probes != "all":
+    if request.transient.probes != "all":
         return None
     # Interior loops can have 4x the ends' error: predict it on up to ACCURACY_LOOPS of them.
     _, every = loop_weights(nominal)
@@ -305,7 +389,7 @@ def _accuracy_weights(request: Request, nominal: Chain) -> list[np.ndarray] | No
 def _choose_steps(request: Request, nominal: Chain, modes: Modes, tstop: float, points: float
                   ) -> tuple[tuple[float, ...], float | None, str, ExtrapolationPlan | None]:
     """Each sample's steps, the extrapolation's predicted error, why not extrapolated, and the accuracy's plan."""
-    analysis, drive, Q = request.analysis, request.drive, request.Q
+    analysis, drive, Q = request.transient, request.drive, request.Q
     engine = engine_named(request.engine)
     refused = refusal(method=analysis.method, pulse=drive.pulse) or (
         "" if engine.extrapolates else f"engine {engine.name}: {engine.no_extrapolation}")
@@ -352,6 +436,10 @@ def _chains(request: Request, nominal: Chain) -> list[Chain]:
     return [nominal]
 
 
+def _title(request: Request, nominal: Chain, what: str) -> str:
+    return request.title if request.title is not None else f"lcchain {nominal.name} chain N={nominal.N}, {what}"
+
+
 @fixed_blas_threads
 def plan_request(request: Request, budget: Budget | None = None, *, modes: Modes | None = None,
                  design_seconds: float = 0.0) -> RequestPlan:
@@ -378,13 +466,21 @@ def plan_request(request: Request, budget: Budget | None = None, *, modes: Modes
     instance("request", request, Request)
     instance("budget", budget, Budget, optional=True)
     instance("modes", modes, Modes, optional=True)
-    budget = budget if budget is not None else Budget()
-    analysis, drive = request.analysis, request.drive
+    return request.analysis.plan(request, budget if budget is not None else Budget(), modes, design_seconds)
+
+
+def _nominal_ladder(request: Request) -> tuple[Chain, Ladder]:
+    """The nominal chain and its circuit; losses with coupled coils and a scale ngspice cannot take stop here."""
     nominal = request.nominal()
     if nominal.coupled and request.Q is not None:
         raise ParameterError("coupling", nominal.coupling, "no losses with coupled coils: lcchain has no exact "
                              "theory for them (the resistors' damping is not proportional to the mass matrix)")
-    ladder = Ladder(nominal, request.L0, request.C0)  # a scale ngspice cannot take stops here, before any theory
+    return nominal, Ladder(nominal, request.L0, request.C0)  # a scale ngspice cannot take stops here
+
+
+def _plan_transient(request: Request, budget: Budget, modes: Modes | None, design_seconds: float) -> RequestPlan:
+    analysis, drive = request.transient, request.drive
+    nominal, ladder = _nominal_ladder(request)
     N, samples = nominal.N, request.samples
     if N > EXACT_MAX_N and (request.realised or analysis.probes == "all"):
         why = "every loop's response" if analysis.probes == "all" else "tolerances or preferred values"
@@ -417,7 +513,7 @@ def plan_request(request: Request, budget: Budget | None = None, *, modes: Modes
     specs = []
     aligned = len(steps) > 1
     probes = tuple(probe_names(N, analysis.probes))
-    title = request.title if request.title is not None else f"lcchain {nominal.name} chain N={N}, {drive.kind}"
+    title = _title(request, nominal, drive.kind)
     for chain in chains:
         circuit = ladder if chain is nominal else Ladder(chain, request.L0, request.C0)
         for i, h in enumerate(steps):
@@ -434,3 +530,44 @@ def plan_request(request: Request, budget: Budget | None = None, *, modes: Modes
                                  engine=request.engine))
     return RequestPlan(request, nominal, tuple(chains), modes, T, tstop, tuple(steps), predicted, reason,
                        accuracy_plan, tuple(specs))
+
+
+def _plan_ac(request: Request, budget: Budget, modes: Modes | None, design_seconds: float) -> RequestPlan:
+    """One AC sweep per realised chain, each against its own driven modes, on one grid that separates every
+    sample's poles; priced (frequencies x unknowns) before the samples are drawn."""
+    analysis = request.analysis
+    assert isinstance(analysis, AC)  # its own plan method calls this
+    nominal, ladder = _nominal_ladder(request)
+    N, samples = nominal.N, request.samples
+    if N > SPECTRUM_MAX_N:
+        raise ParameterError("N", N, f"N <= {SPECTRUM_MAX_N} for an AC analysis (exact modes of the chain, and the "
+                             "fit's dense least squares)")
+    if modes is not None and modes.N != N:
+        raise ParameterError("modes", f"modes of N = {modes.N}", f"the modes of this chain (N = {N})")
+    theory = driven_modes(nominal)
+    points, omega_max = sweep_grid([theory.omega], analysis.points)
+    one = ac_estimate(points=points, saved=2, unknowns=2 * N, exact_N=N)
+    one = replace(one, seconds=one.seconds * ac_engine(request.engine).ac_relative_cost)
+    name, value = ("points", points) if analysis.points is not None else ("N", N)
+    one.check(budget, name, value, "fewer frequencies (--points) or a smaller chain")
+    every = Estimate(f"{samples} runs of {one.what}", one.memory,
+                     design_seconds + samples * (one.seconds + RUN_START_SECONDS + sample_theory_seconds(N)))
+    every.check(budget, "effects.tolerance.samples" if samples > 1 else name, samples if samples > 1 else value,
+                "fewer samples")
+    chains = _chains(request, nominal)
+    theories = [theory if chain is nominal else driven_modes(chain) for chain in chains]
+    if len(chains) > 1 or chains[0] is not nominal:  # the samples' own poles: one sweep separates them all
+        points, omega_max = sweep_grid([t.omega for t in theories], analysis.points)
+    title = _title(request, nominal, "AC")
+    probes = tuple(probe_names(N, "ends"))
+    specs = []
+    for chain, driven in zip(chains, theories, strict=True):
+        circuit = ladder if chain is nominal else Ladder(chain, request.L0, request.C0)
+        text = ac_netlist_text(circuit, points=points, omega_max=omega_max, title=title, effects=request.effects)
+        spectrum = SpectrumTheory(chain, ladder.time_unit, ladder.impedance, omega_max, modes=driven)
+        specs.append(RunSpec(text, probes, 0.0, backend=request.backend, timeout=request.timeout, theory=spectrum,
+                             foreign=False, label=f"{chain.name} N={N} AC {points} frequencies",
+                             engine=request.engine, analysis="ac", points=points))
+    modes = modes if modes is not None else normal_modes(nominal)
+    return RequestPlan(request, nominal, tuple(chains), modes, modes.transit_time(), 0.0, (), None, "", None,
+                       tuple(specs), points, omega_max)

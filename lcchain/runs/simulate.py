@@ -41,7 +41,7 @@ from ..theory.modes import Modes
 from .execute import RunRecord, execute
 from .extrapolated import combined_record
 from .request import Drive, Request, Transient, plan_request
-from .spec import DEFAULT_TIMEOUT, RunSpec
+from .spec import DEFAULT_TIMEOUT, RunSpec, Theory
 
 #: ngspice runs of one extrapolation executed at once (each is single-threaded; never more than the cores).
 MEMBER_THREADS = 2
@@ -476,7 +476,7 @@ def simulate(
         extrapolation = Extrapolation(1, steps, (first,), predicted, None, reason, plan)
     else:
         predicted = planned.predicted_error
-        assert spec.theory is not None
+        assert isinstance(spec.theory, Theory)
         combined = combined_record(spec.theory, records, steps, predicted_error=predicted, modes=modes)
         assert combined.signals is not None and combined.metrics is not None
         signals, metrics = combined.signals, combined.metrics
@@ -500,10 +500,10 @@ def simulate(
     timings["overhead_fraction"] = timings["overhead_s"] / simulating_s
     request = planned.request
     assert request is not None
-    return SimulationReport(planned.ladder.chain, ladder, options, request.drive.kind, request.analysis.transits,
+    return SimulationReport(planned.ladder.chain, ladder, options, request.drive.kind, request.transient.transits,
                             spec.netlist, result,
                             signals.waveforms(), Comparison.of(metrics, signals), FrozenMap(timings),
-                            accuracy=request.analysis.accuracy, predicted_error=predicted,
+                            accuracy=request.transient.accuracy, predicted_error=predicted,
                             integration_error=metrics.integration_error, physics_error=metrics.physics_error,
                             record=first, extrapolation=extrapolation)
 

@@ -7,6 +7,9 @@ exact linear response of the same circuit).  :func:`lcchain.runs.execute.execute
 turns it into a :class:`~lcchain.runs.record.RunRecord`, in this process, in a
 pool worker or on a Dask worker alike.
 
+An AC run (``analysis="ac"``) has a :class:`SpectrumTheory` instead: the chain whose driven modes its fitted
+poles and residues are compared with.
+
 A run's :meth:`RunSpec.key` is a hash of everything that determines its
 result: the netlist text, the saved vectors, the stop time, the backend, the
 theory's inputs, the engine (only when it is not ngspice, so that the keys of
@@ -24,14 +27,16 @@ from ..core import __version__
 from ..core.checks import choice, instance, integer, real
 from ..core.checks import pulse as check_pulse
 from ..core.errors import ParameterError
-from ..core.limits import MAX_TRANSITS
+from ..core.limits import MAX_AC_POINTS, MAX_TRANSITS, MIN_AC_POINTS
 from ..core.types import (
+    ANALYSIS_KINDS,
     BACKENDS,
     DEFAULT_I0,
     EXCITATION_KINDS,
     METHODS,
     PROBES,
     PULSE_SHAPES,
+    AnalysisKind,
     Backend,
     ExcitationKind,
     Method,
@@ -42,10 +47,16 @@ from ..spice.engines import DEFAULT_ENGINE, engine_named
 from ..theory.chain import Chain
 from ..theory.modes import Modes
 
-__all__ = ["Theory", "RunSpec", "DEFAULT_TIMEOUT"]
+__all__ = ["Theory", "SpectrumTheory", "RunSpec", "DEFAULT_TIMEOUT"]
 
 #: Seconds a run may take before ngspice's process group is killed.
 DEFAULT_TIMEOUT = 3600.0
+
+
+def _chain_fingerprint(chain: Chain) -> dict[str, Any]:
+    """The chain's values in full (its coupling only when coupled: the keys of stores made before coupling)."""
+    return {"masses": [float(m).hex() for m in chain.masses], "springs": [float(k).hex() for k in chain.springs]} | (
+        {"coupling": float(chain.coupling).hex()} if chain.coupled else {})
 
 
 @dataclass(frozen=True)
@@ -125,16 +136,53 @@ class Theory:
     def fingerprint(self) -> dict[str, Any]:
         """Everything that determines the comparison, as plain JSON (the chain's values in full)."""
         return {
-            "masses": [float(m).hex() for m in self.chain.masses],
-            "springs": [float(k).hex() for k in self.chain.springs],
+            **_chain_fingerprint(self.chain),
             "time_unit": float(self.time_unit).hex(), "I0": float(self.I0).hex(), "excitation": self.excitation,
             "Q": None if self.Q is None else float(self.Q).hex(),
             "pulse": None if self.pulse is None else [self.pulse[0], float(self.pulse[1]).hex()],
             "probes": self.probes, "transits": self.transits,
             "dt": None if self.dt is None else float(self.dt).hex(), "method": self.method,
             "transit_time": None if self.transit_time is None else float(self.transit_time).hex(),
-        } | ({"aligned": True} if self.aligned else {}) | (
-            {"coupling": float(self.chain.coupling).hex()} if self.chain.coupled else {})
+        } | ({"aligned": True} if self.aligned else {})
+
+
+@dataclass(frozen=True)
+class SpectrumTheory:
+    """What an AC run's poles and residues are compared with: the driven modes of the same circuit.
+
+    Parameters
+    ----------
+    chain : Chain
+        The simulated chain (a tolerance sample's own), bulk units: the netlist is written from it.
+    time_unit : float
+        sqrt(L0 C0), seconds.
+    impedance : float
+        sqrt(L0 / C0), ohm: the admittances I/V times it are dimensionless.
+    omega_max : float
+        The sweep's last angular frequency, units of 1/sqrt(L0 C0).
+    modes : Modes, optional
+        The chain's driven modes (:func:`lcchain.theory.exact.driven_modes`) when already computed (not part of
+        the key).
+    """
+
+    chain: Chain
+    time_unit: float
+    impedance: float
+    omega_max: float
+    modes: Modes | None = field(default=None, compare=False, repr=False)
+
+    def __post_init__(self) -> None:
+        instance("chain", self.chain, Chain)
+        real("time_unit", self.time_unit, above=0.0, unit="seconds")
+        real("impedance", self.impedance, above=0.0, unit="ohm")
+        real("omega_max", self.omega_max, above=0.0)
+        if self.modes is not None and (not isinstance(self.modes, Modes) or self.modes.N != self.chain.N):
+            raise ParameterError("modes", type(self.modes).__name__, f"the Modes of this chain (N = {self.chain.N})")
+
+    def fingerprint(self) -> dict[str, Any]:
+        """Everything that determines the comparison, as plain JSON."""
+        return {"analysis": "ac", **_chain_fingerprint(self.chain), "time_unit": float(self.time_unit).hex(),
+                "impedance": float(self.impedance).hex(), "omega_max": float(self.omega_max).hex()}
 
 
 @dataclass(frozen=True)
@@ -149,12 +197,12 @@ class RunSpec:
         Vectors to read (``"i(l1)"``, ``"v(n3)"``); loop currents first when
         there is a theory (loop 1 ... loop N, as :attr:`Theory.probes` says).
     tstop : float
-        End of the ``.tran`` analysis, seconds.
+        End of the ``.tran`` analysis, seconds (an AC run: 0).
     backend : {"batch", "shared"}
     timeout : float
         Seconds before ngspice's process group is killed (the record says ``"timeout"``).
-    theory : Theory, optional
-        What to compare with; None runs the netlist and only reads its vectors.
+    theory : Theory or SpectrumTheory, optional
+        What to compare with (a transient's, or an AC run's); None runs the netlist and only reads its vectors.
     cwd : str, optional
         The netlist's own folder, for netlists that ``.include`` files next to
         them (each must lie inside it; they are inlined before ngspice starts).
@@ -177,6 +225,10 @@ class RunSpec:
         The circuit simulator (:data:`lcchain.spice.engines.ENGINES`): ``"ngspice"`` (default) or
         ``"gnucap"``, which runs only lcchain's own netlists (``foreign=False``); the netlist is checked
         here against the engine's dialect, so what the engine cannot run is refused before any run.
+    analysis : {"transient", "ac"}
+        What the netlist's analysis is: its vectors are real against time, or complex against frequency.
+    points : int, optional
+        An AC run's frequencies (required with ``analysis="ac"``).
     """
 
     netlist: str
@@ -184,15 +236,18 @@ class RunSpec:
     tstop: float
     backend: Backend = "batch"
     timeout: float = DEFAULT_TIMEOUT
-    theory: Theory | None = None
+    theory: Theory | SpectrumTheory | None = None
     cwd: str | None = None
     trusted: bool = False
     foreign: bool = True
     max_output_bytes: float | None = None
     label: str = field(default="", compare=False)
     engine: str = DEFAULT_ENGINE
+    analysis: AnalysisKind = "transient"
+    points: int | None = None
 
     def __post_init__(self) -> None:
+        choice("analysis", self.analysis, ANALYSIS_KINDS)
         if not isinstance(self.netlist, str) or not self.netlist.strip():
             raise ParameterError("netlist", self.netlist, "non-empty netlist text")
         vectors: object = self.vectors
@@ -200,10 +255,20 @@ class RunSpec:
                 or not all(isinstance(v, str) for v in vectors):
             raise ParameterError("vectors", vectors, "a tuple of vector names")
         object.__setattr__(self, "vectors", tuple(self.vectors))
-        object.__setattr__(self, "tstop", real("tstop", self.tstop, above=0.0, unit="seconds"))
+        if self.analysis == "ac":
+            integer("points", self.points, at_least=1 if self.foreign else MIN_AC_POINTS, at_most=MAX_AC_POINTS)
+            if self.trusted is not False:
+                raise ParameterError("trusted", self.trusted, "False with an AC analysis (it runs through the "
+                                     "allow-list and the sandbox: no .control blocks, includes inlined)")
+            object.__setattr__(self, "tstop", real("tstop", self.tstop, at_least=0.0, at_most=0.0,
+                                                   allowed="0 (an AC run has no stop time)"))
+        else:
+            if self.points is not None:
+                raise ParameterError("points", self.points, "None for a transient (points are an AC run's)")
+            object.__setattr__(self, "tstop", real("tstop", self.tstop, above=0.0, unit="seconds"))
         choice("backend", self.backend, BACKENDS)
         object.__setattr__(self, "timeout", real("timeout", self.timeout, above=0.0, unit="seconds"))
-        instance("theory", self.theory, Theory, optional=True)
+        instance("theory", self.theory, SpectrumTheory if self.analysis == "ac" else Theory, optional=True)
         for name in ("trusted", "foreign"):
             if not isinstance(getattr(self, name), bool):
                 raise ParameterError(name, getattr(self, name), "True or False")
@@ -223,12 +288,14 @@ class RunSpec:
         it runs (its dialect) only when it is not ngspice: the keys of ngspice runs are those of stores made
         before there were engines.
         """
-        data = {
+        data: dict[str, Any] = {
             "netlist": self.netlist, "vectors": list(self.vectors), "tstop": float(self.tstop).hex(),
             "backend": self.backend, "cwd": self.cwd, "trusted": self.trusted, "lcchain": __version__,
             "ngspice": engine_version,
             "theory": None if self.theory is None else self.theory.fingerprint(),
         }
+        if self.analysis != "transient":  # only then: the keys of transients are those made before AC runs
+            data["analysis"], data["points"] = self.analysis, self.points
         if self.engine != DEFAULT_ENGINE:  # and the text it runs: a change of its dialect is a new run
             data["engine"] = self.engine
             dialect = engine_named(self.engine).dialect(self.netlist, self.vectors)

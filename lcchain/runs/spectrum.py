@@ -1,6 +1,6 @@
 """The paper's mechanism in the circuit: the ladder's normal frequencies and mode weights from an AC analysis.
 
-:func:`measure_spectrum` drives the ladder in loop 1 with a unit AC voltage in ngspice or gnucap
+:func:`measure_spectrum` drives the ladder in loop 1 with a unit AC voltage in ngspice
 (:func:`lcchain.circuit.netlist.ac_netlist_text`, :func:`lcchain.spice.ac.run_ac`), identifies the poles
 and residues of I_1/V_1 and I_N/V_1 (:func:`lcchain.compare.spectrum.fit_spectrum`), and sets them beside
 the exact theory: omega_n, and P_n, the mode's coefficient in alpha_N(t) = sum_n P_n cos(omega_n t)
@@ -9,43 +9,41 @@ the exact theory: omega_n, and P_n, the mode's coefficient in alpha_N(t) = sum_n
 A mode whose weight at the ends is below what the samples resolve has no visible pole there: the circuit
 does not show it between its ends.  Such modes are listed as unseen, with their theoretical weight; the
 error of P counts them with P = 0 (a perfect cradle's edge modes weigh ~2^-(N-1)).
+
+It is the request's AC analysis (:class:`lcchain.runs.request.AC`) planned and executed like any run
+(:func:`lcchain.runs.request.plan_request`, :func:`lcchain.runs.execute.execute`): scenes, sweeps and stores
+make the same run.
 """
 
 from __future__ import annotations
 
-import time
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
-from ..circuit.ladder import Ladder
-from ..circuit.netlist import ac_netlist_text
-from ..compare.spectrum import SpectrumFit, fit_spectrum, min_points
-from ..core.budget import Budget, run_estimate
-from ..core.checks import instance, integer
-from ..core.errors import ParameterError
-from ..core.limits import COUPLED_MAX_N, MAX_AC_POINTS
+from ..compare.spectral import (
+    DEFAULT_OVERSAMPLING,
+    OMEGA_MARGIN,
+    OMEGA_WEIGHT_FLOOR,
+    SPECTRUM_MAX_N,
+    SpectrumMetrics,
+)
+from ..compare.spectrum import SpectrumFit
+from ..core.budget import Budget
+from ..core.checks import instance
+from ..core.errors import SimulationError
 from ..core.types import DEFAULT_C0, DEFAULT_L0
-from ..spice.ac import run_ac
-from ..spice.engines import DEFAULT_ENGINE, ac_engine
+from ..spice.engines import DEFAULT_ENGINE
 from ..spice.simulator import Simulator
 from ..theory.chain import Chain
-from ..theory.exact import driven_modes
 from ..theory.modes import Modes
+from .execute import execute
+from .request import AC, Request, plan_request
+from .spec import SpectrumTheory
 
-__all__ = ["SpectrumReport", "measure_spectrum", "OMEGA_MARGIN", "SPECTRUM_MAX_N", "OMEGA_WEIGHT_FLOOR"]
-
-#: The sweep ends this far above the highest normal frequency (relative).
-OMEGA_MARGIN = 0.05
-#: The largest chain measured (exact modes for the comparison, and the fit's dense least squares).
-SPECTRUM_MAX_N = COUPLED_MAX_N
-#: A mode's frequency is held to the targets when its weight at the far end is at least this: below, the pole is
-#: nearly cancelled in I_N/V_1 and I_1/V_1 and double precision places it to ~1e-16 / |P_n| only (measured on the
-#: perfect cradle, N = 100: 1.1e-9 at |P| = 3.9e-8, 2.4e-8 at |P| = 2.0e-10).
-OMEGA_WEIGHT_FLOOR = 1e-6
-#: Samples per smallest spacing by default: twice what the fit needs at least.
-DEFAULT_OVERSAMPLING = 2
+__all__ = ["SpectrumReport", "measure_spectrum", "OMEGA_MARGIN", "SPECTRUM_MAX_N", "OMEGA_WEIGHT_FLOOR",
+           "DEFAULT_OVERSAMPLING"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -104,18 +102,20 @@ class SpectrumReport:
         return np.abs(self.theory.transfer) >= OMEGA_WEIGHT_FLOOR
 
     @property
+    def metrics(self) -> SpectrumMetrics:
+        """The circuit's modes beside theory, as a run's record holds them."""
+        return SpectrumMetrics(self.theory.omega, self.omega, self.theory.transfer, self.P, self.resolved)
+
+    @property
     def max_rel_error_omega(self) -> float:
         """Largest |omega_circuit - omega_theory| / omega_theory over the resolved modes (a zero mode: absolute);
         an unseen resolved mode is an infinite error."""
-        omega, theory = self.omega, self.theory.omega
-        error = np.abs(omega - theory) / np.where(theory > 0, theory, 1.0)
-        error = np.where(np.isnan(error), np.inf, error)
-        return float(np.max(error[self.resolved], initial=0.0))
+        return self.metrics.max_rel_error_omega
 
     @property
     def max_abs_error_P(self) -> float:
         """Largest |P_circuit - P_theory| over every mode (an unseen one counts with P = 0)."""
-        return float(np.max(np.abs(self.P - self.theory.transfer)))
+        return self.metrics.max_abs_error_P
 
     def to_dict(self) -> dict[str, Any]:
         """``lcchain spectrum --json``."""
@@ -130,19 +130,6 @@ class SpectrumReport:
                 "engine": self.engine, "engine_version": self.engine_version, "netlist_sha256": self.netlist_sha256,
                 "modes": modes, "seen": int(self.seen.size), "max_rel_error_omega": self.max_rel_error_omega,
                 "max_abs_error_P": self.max_abs_error_P, "fit_steps": self.fit.sweeps, "timings": self.timings}
-
-
-def _matched(fit: SpectrumFit, theory: Modes) -> SpectrumFit:
-    """The fitted poles, one per theoretical mode: where two match the same mode (a spurious pole of the rational
-    fit beside a weak mode), the one with the larger residue at loop 1 stays."""
-    nearest = np.array([int(np.argmin(np.abs(theory.omega - w))) for w in fit.omega], dtype=int)
-    keep = np.zeros(nearest.size, dtype=bool)
-    for mode in np.unique(nearest):
-        candidates = np.flatnonzero(nearest == mode)
-        keep[candidates[np.argmax(np.abs(fit.first[candidates]))]] = True
-    if keep.all():
-        return fit
-    return SpectrumFit(fit.omega[keep], fit.first[keep], fit.last[keep], fit.sweeps, fit.residual)
 
 
 def measure_spectrum(chain: Chain, *, points: int | None = None, L0: float = DEFAULT_L0, C0: float = DEFAULT_C0,
@@ -171,44 +158,16 @@ def measure_spectrum(chain: Chain, *, points: int | None = None, L0: float = DEF
     ParameterError, BudgetError
         Before the engine starts.
     """
-    clock = time.perf_counter()
     instance("chain", chain, Chain)
-    cost = ac_engine(engine).ac_relative_cost
-    if chain.N > SPECTRUM_MAX_N:
-        raise ParameterError("N", chain.N, f"N <= {SPECTRUM_MAX_N} for a spectrum (exact modes of the chain)")
-    ladder = Ladder(chain, L0, C0)
-    theory = driven_modes(chain)
-    omega_max = float(theory.omega[-1]) * (1.0 + OMEGA_MARGIN)
-    needed = min_points(theory.omega, omega_max)
-    if needed > MAX_AC_POINTS:
-        spacing = float(np.min(np.diff(theory.omega[theory.omega > 0])))
-        raise ParameterError("N", chain.N, f"a chain whose poles an even sweep of at most {MAX_AC_POINTS} frequencies "
-                             f"separates: two of this one's normal frequencies are {spacing:.3g} apart, which needs "
-                             f"{needed} frequencies")
-    chosen = points is None
-    if points is None:
-        points = min(MAX_AC_POINTS, DEFAULT_OVERSAMPLING * needed)
-    points = integer("points", points, at_least=needed, at_most=MAX_AC_POINTS,
-                     allowed=f"at least {needed} frequencies (4 per smallest spacing of the normal frequencies, "
-                             f"up to {omega_max:.4g}) and at most {MAX_AC_POINTS}")
-    estimate = run_estimate(points=points, saved=4, compared=4, unknowns=2 * chain.N)
-    estimate = replace(estimate, seconds=estimate.seconds * cost)
-    if chosen:  # the sweep lcchain chose: the chain is what costs
-        estimate.check(budget if budget is not None else Budget(), "N", chain.N,
-                       f"a smaller chain, or --points between {needed} and {points}")
-    else:
-        estimate.check(budget if budget is not None else Budget(), "points", points,
-                       f"fewer frequencies (at least {needed})")
-    text = ac_netlist_text(ladder, points=points, omega_max=omega_max,
-                           title=f"lcchain {chain.name} chain N={chain.N}, AC")
-    last = f"i(l{chain.N})"
-    result = run_ac(text, ("i(l1)", last), points, simulator=simulator, timeout=timeout, engine=engine)
-    ran = time.perf_counter()
-    omega = 2.0 * np.pi * result.frequency * ladder.time_unit
-    fit = fit_spectrum(omega, result.vectors["i(l1)"] * ladder.impedance, result.vectors[last] * ladder.impedance)
-    fitted = time.perf_counter()
-    fit = _matched(fit, theory)
-    seen = np.array([int(np.argmin(np.abs(theory.omega - w))) for w in fit.omega], dtype=int)
-    return SpectrumReport(chain, theory, fit, seen, points, omega_max, result.engine_version,
-                          result.netlist_sha256, {"ngspice_s": result.wall_s, "fit_s": fitted - ran,
-                                                  "total_s": fitted - clock}, result.engine)
+    plan = plan_request(Request(chain, AC(points), L0=L0, C0=C0, timeout=timeout, engine=engine), budget)
+    spec = plan.specs[0]
+    record = execute(spec, simulator)
+    if not record.ok or record.spectrum is None or record.ac is None:
+        raise SimulationError(record.reason, record.log_tail, record.status)
+    spectrum, theory = record.spectrum, spec.theory
+    assert spectrum.fit is not None and spectrum.seen is not None and spec.points is not None  # execute's own
+    assert plan.omega_max is not None and isinstance(theory, SpectrumTheory) and theory.modes is not None
+    return SpectrumReport(chain, theory.modes, spectrum.fit, spectrum.seen, spec.points, plan.omega_max,
+                          record.engine_version, record.ac.netlist_sha256,
+                          {"ngspice_s": record.wall_s, "fit_s": record.total_s - record.wall_s,
+                           "total_s": record.total_s}, record.engine)

@@ -21,6 +21,7 @@ from ..core.types import CASES
 from ..spice.inputs import read_input
 from .schema import (
     ANALYSIS_KEYS,
+    ANALYSIS_PLOTS,
     CHAIN_KEYS,
     DEFAULT_TITLE,
     EFFECT_CLASSES,
@@ -36,6 +37,7 @@ from .schema import (
     Output,
     Scene,
     Units,
+    check_ac_keys,
 )
 
 __all__ = ["load_scene", "parse_scene"]
@@ -163,8 +165,15 @@ def _parse(data: Mapping, source: str | None) -> Scene:
                 values.setdefault(required.name, None)
         effects[name] = cls(**values)
 
-    analysis = Analysis(**_table(data, "analysis", ANALYSIS_KEYS))
-    output = Output(**_table(data, "output", OUTPUT_KEYS))
+    analysis_table = _table(data, "analysis", ANALYSIS_KEYS)
+    output_table = _table(data, "output", OUTPUT_KEYS)
+    kind = analysis_table.get("kind", "transient")
+    if kind == "ac":  # a transient's key is refused even at its default value
+        check_ac_keys(analysis_table)
+    if kind in ANALYSIS_PLOTS:
+        output_table.setdefault("plots", ANALYSIS_PLOTS[kind][:1])
+    analysis = Analysis(**analysis_table)
+    output = Output(**output_table)
 
     return Scene(
         title=data.get("title", DEFAULT_TITLE),

@@ -11,12 +11,14 @@ keys and file.
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 
 from ..core.budget import Budget, chain_seconds
 from ..core.errors import ParameterError
-from ..core.types import PulseShape
-from ..runs.request import ACCURACY_LOOPS, Drive, Request, RequestPlan, Transient, plan_request
+from ..core.types import AnalysisKind, PulseShape
+from ..runs.request import AC, ACCURACY_LOOPS, Analysis, Drive, Request, RequestPlan, Transient, plan_request
 from ..runs.spec import RunSpec
 from ..theory.cases import chain_for_case
 from ..theory.chain import Chain
@@ -38,13 +40,24 @@ def case_chain(scene: Scene) -> Chain:
     return chain_for_case(spec.case, spec.N)
 
 
+def _transient(scene: Scene) -> Analysis:
+    analysis = scene.analysis
+    return Transient(dt=analysis.dt, accuracy=analysis.accuracy, transits=analysis.transits, method=analysis.method,
+                     extrapolate=analysis.extrapolate, probes=scene.output.probes)
+
+
+#: The request's analysis for each ``[analysis] kind``.
+ANALYSES: dict[AnalysisKind, Callable[[Scene], Analysis]] = {
+    "transient": _transient,
+    "ac": lambda scene: AC(points=scene.analysis.points),
+}
+
+
 def scene_request(scene: Scene, chain: Chain | None = None) -> Request:
     """The request a scene makes (``chain``: its case's chain, when already made)."""
-    analysis, excitation, units = scene.analysis, scene.excitation, scene.units
+    excitation, units, analysis = scene.excitation, scene.units, scene.analysis
     _, pulse = losses_and_pulse(scene)
-    return Request(chain if chain is not None else case_chain(scene),
-                   Transient(dt=analysis.dt, accuracy=analysis.accuracy, transits=analysis.transits,
-                             method=analysis.method, extrapolate=analysis.extrapolate, probes=scene.output.probes),
+    return Request(chain if chain is not None else case_chain(scene), ANALYSES[analysis.kind](scene),
                    drive=Drive(excitation.kind, excitation.I0, pulse),
                    effects=scene.effects.present(), L0=units.L0, C0=units.C0, backend=analysis.backend,
                    title=scene.title, engine=analysis.engine)
@@ -63,7 +76,8 @@ def losses_and_pulse(scene: Scene) -> tuple[float | None, tuple[PulseShape, floa
 #: Internal names of what a scene sets, and the scene keys the user wrote.
 _SCENE_KEYS = {"L0": "units.L0", "C0": "units.C0", "K0": "effects.walls.K0", "dt": "analysis.dt",
                "accuracy": "analysis.accuracy", "N": "chain.N", "coupling": "effects.coupling.k",
-               "engine": "analysis.engine", "extrapolate": "analysis.extrapolate"}
+               "engine": "analysis.engine", "extrapolate": "analysis.extrapolate", "points": "analysis.points",
+               "backend": "analysis.backend"}
 
 
 def scene_plan(scene: Scene, budget: Budget | None = None) -> ScenePlan:

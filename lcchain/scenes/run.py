@@ -21,6 +21,7 @@ from typing import Any, TypedDict
 import numpy as np
 
 from ..compare.extrapolate import WEIGHTS
+from ..compare.spectral import OMEGA_WEIGHT_FLOOR, SPECTRAL_METRICS, SpectrumMetrics
 from ..compare.waveforms import Waveforms
 from ..core.blas import fixed_blas_threads
 from ..core.budget import Budget
@@ -28,11 +29,12 @@ from ..core.checks import callback, instance
 from ..core.errors import ParameterError
 from ..runs.execute import RunRecord, execute, pulse_centre
 from ..runs.extrapolated import combined_record
-from ..runs.spec import RunSpec
+from ..runs.spec import RunSpec, Theory
 from ..spice.engines import find_engine
 from ..spice.simulator import Simulator
 from ..theory.arrivals import arrival_window, maximum_in_window
 from ..theory.chain import Chain
+from ..theory.exact import driven_modes
 from ..theory.response import linear_response
 from .plan import ScenePlan, losses_and_pulse, scene_plan, scene_specs
 from .schema import Scene
@@ -60,6 +62,11 @@ class SampleRecord(TypedDict, total=False):
     max_abs_error: float
     arrivals: list[dict[str, Any]]
     extrapolation: dict[str, Any]
+    max_rel_error_omega: float
+    max_abs_error_P: float
+    spacing_spread: float
+    spacing_std: float
+    modes_seen: int
 
 
 class SceneReport(TypedDict, total=False):
@@ -83,6 +90,13 @@ class SceneReport(TypedDict, total=False):
     arrivals_sample: int
     transmitted_peak: dict[str, Any]
     files: list[str]
+    analysis: str
+    points: int
+    omega_max: float
+    omega_nominal: list[float]
+    max_rel_error_omega: float
+    max_abs_error_P: float
+    spacing_spread: dict[str, Any]
 
 
 @dataclass(frozen=True, eq=False)
@@ -153,18 +167,39 @@ class SceneResult:
         return [s for s in self.samples if s.ok]
 
 
+def _failed_record(index: int, chain: Chain, run: RunRecord) -> SampleRecord:
+    error = run.reason + (f"\n{run.engine} said:\n{run.log_tail}" if run.log_tail else "")
+    return {"sample": index, "chain": chain.name, "status": run.status, "error": error}
+
+
+def _run_record(index: int, chain: Chain, run: RunRecord, netlist_sha256: str, points: int) -> SampleRecord:
+    """What every sample that ran reports, whatever its analysis."""
+    return {
+        "sample": index, "chain": chain.name, "status": run.status, "points": points,
+        "engine": run.engine, "engine_version": run.engine_version,
+        "ngspice_version": run.ngspice_version, "netlist_sha256": netlist_sha256, "digest": run.digest,
+        "wall_s": run.wall_s, "theory_and_compare_s": run.total_s - run.wall_s,
+    }
+
+
 def _sample_record(index: int, chain: Chain, dt: float, run: RunRecord) -> SampleRecord:
     if not run.ok:
-        error = run.reason + (f"\n{run.engine} said:\n{run.log_tail}" if run.log_tail else "")
-        return {"sample": index, "chain": chain.name, "status": run.status, "error": error}
+        return _failed_record(index, chain, run)
     assert run.result is not None and run.metrics is not None
-    return {
-        "sample": index, "chain": chain.name, "status": run.status, "dt": dt, "points": run.result.points,
-        "engine": run.engine, "engine_version": run.engine_version,
-        "ngspice_version": run.ngspice_version, "netlist_sha256": run.result.netlist_sha256, "digest": run.digest,
-        "wall_s": run.wall_s, "theory_and_compare_s": run.total_s - run.wall_s,
-        "max_abs_error": run.metrics.max_abs_error, "arrivals": [a.to_dict() for a in run.metrics.arrivals],
-    }
+    record = _run_record(index, chain, run, run.result.netlist_sha256, run.result.points)
+    record.update({"dt": dt, "max_abs_error": run.metrics.max_abs_error,
+                   "arrivals": [a.to_dict() for a in run.metrics.arrivals]})
+    return record
+
+
+def _spectrum_record(index: int, chain: Chain, run: RunRecord) -> SampleRecord:
+    if not run.ok:
+        return _failed_record(index, chain, run)
+    assert run.ac is not None and run.spectrum is not None
+    record = _run_record(index, chain, run, run.ac.netlist_sha256, run.ac.points)
+    metrics = run.spectrum.to_dict()
+    record.update({name: metrics[name] for name in SPECTRAL_METRICS})  # type: ignore[typeddict-item]
+    return record
 
 
 def _spread(values: Sequence[float]) -> dict[str, Any]:
@@ -214,18 +249,62 @@ def scene_result(scene: Scene, plan: ScenePlan, specs: Sequence[RunSpec], record
     """A scene's report from its executed runs (in the order of :func:`lcchain.scenes.plan.scene_specs`).
 
     With extrapolation, each sample's runs are combined into one record
-    (:func:`lcchain.runs.extrapolated.combined_record`) and the sample's report lists them.
+    (:func:`lcchain.runs.extrapolated.combined_record`) and the sample's report lists them.  An AC scene
+    reports each sample's spectrum against its own theory, and the spread of the spacings over the samples.
     """
     runs = plan.runs
     if len(specs) != runs * len(plan.chains) or len(records) != len(specs):
         raise ParameterError("records", len(records), f"{runs * len(plan.chains)} records, {runs} per sample, in "
                              "the order of the scene's specs")
+    return _RESULTS[scene.analysis.kind](scene, plan, specs, records, total_s)
+
+
+def _common_report(scene: Scene, plan: ScenePlan, samples: list[SampleResult], total_s: float) -> SceneReport:
+    good = [s for s in samples if s.ok]
+    return {
+        "scene": scene.to_dict(),
+        "source": scene.source,
+        "N": plan.nominal.N,
+        "engine": scene.analysis.engine,
+        "engine_version": good[0].record["engine_version"] if good else None,
+        "ngspice_version": good[0].record["ngspice_version"] if good else None,
+        "samples": [s.record for s in samples],
+        "wall_s": {"ngspice": float(sum(s.run.wall_s for s in samples)), "total": total_s},
+    }
+
+
+def _spectrum_result(scene: Scene, plan: ScenePlan, specs: Sequence[RunSpec], records: Sequence[RunRecord],
+                     total_s: float) -> SceneResult:
+    """An AC scene: each sample's modes against its own chain's, and the spread of delta omega_n over samples."""
+    samples = [SampleResult(k, chain, _spectrum_record(k, chain, run), run, spec.netlist)
+               for k, (chain, spec, run) in enumerate(zip(plan.chains, specs, records, strict=True), start=1)]
+    assert plan.points is not None and plan.omega_max is not None  # an AC plan's
+    report = _common_report(scene, plan, samples, total_s)
+    nominal = driven_modes(plan.nominal)
+    report.update({"analysis": "ac", "points": plan.points, "omega_max": plan.omega_max,
+                   "omega_nominal": [float(w) for w in nominal.omega]})
+    good = [s for s in samples if s.ok]
+    if good:
+        report["max_rel_error_omega"] = max(s.record["max_rel_error_omega"] for s in good)
+        report["max_abs_error_P"] = max(s.record["max_abs_error_P"] for s in good)
+        spreads = np.array([s.record["spacing_spread"] for s in good], dtype=float)
+        theory = SpectrumMetrics(nominal.omega, nominal.omega, nominal.transfer, nominal.transfer,
+                                 np.abs(nominal.transfer) >= OMEGA_WEIGHT_FLOOR)
+        report["spacing_spread"] = {"mean": float(spreads.mean()), "max": float(spreads.max()),
+                                    "min": float(spreads.min()), "count": int(spreads.size),
+                                    "theory_nominal": theory.spacing_spread}
+    return SceneResult(scene, report, tuple(samples))
+
+
+def _transient_result(scene: Scene, plan: ScenePlan, specs: Sequence[RunSpec], records: Sequence[RunRecord],
+                      total_s: float) -> SceneResult:
+    runs = plan.runs
     samples = []
     for k, chain in enumerate(plan.chains, start=1):
         own_specs, own = specs[(k - 1) * runs:k * runs], records[(k - 1) * runs:k * runs]
         record = own[0]
         if runs > 1:
-            assert own_specs[0].theory is not None
+            assert isinstance(own_specs[0].theory, Theory)
             record = combined_record(own_specs[0].theory, own, plan.steps, predicted_error=plan.predicted_error,
                                      modes=plan.modes if chain is plan.nominal else None)
         data = _sample_record(k, chain, plan.dt, record)
@@ -233,20 +312,9 @@ def scene_result(scene: Scene, plan: ScenePlan, specs: Sequence[RunSpec], record
             data["extrapolation"] = _members(plan, own)
         samples.append(SampleResult(k, chain, data, record, own_specs[0].netlist))
     good = [s for s in samples if s.ok]
-    report: SceneReport = {
-        "scene": scene.to_dict(),
-        "source": scene.source,
-        "N": plan.nominal.N,
-        "dt": plan.dt,
-        "steps": list(plan.steps),
-        "tstop": plan.tstop,
-        "transit_time": plan.transit_time,
-        "engine": scene.analysis.engine,
-        "engine_version": good[0].record["engine_version"] if good else None,
-        "ngspice_version": good[0].record["ngspice_version"] if good else None,
-        "samples": [s.record for s in samples],
-        "wall_s": {"ngspice": float(sum(s.run.wall_s for s in samples)), "total": total_s},
-    }
+    report = _common_report(scene, plan, samples, total_s)
+    report.update({"dt": plan.dt, "steps": list(plan.steps), "tstop": plan.tstop,
+                   "transit_time": plan.transit_time})
     result = SceneResult(scene, report, tuple(samples))
     if good:
         report["max_abs_error"] = float(max(s.record["max_abs_error"] for s in good))
@@ -258,6 +326,13 @@ def scene_result(scene: Scene, plan: ScenePlan, specs: Sequence[RunSpec], record
             report["transmitted_peak"] = _spread(transmitted_peaks(result))
             report["transmitted_peak"]["theory_nominal"] = _nominal_peak(scene, plan)
     return result
+
+
+#: How each ``[analysis] kind``'s runs are summed up.
+_RESULTS: dict[str, Callable[[Scene, ScenePlan, Sequence[RunSpec], Sequence[RunRecord], float], SceneResult]] = {
+    "transient": _transient_result,
+    "ac": _spectrum_result,
+}
 
 
 def simulate_scene(scene: Scene, *, progress: Callable[[float], None] | None = None,

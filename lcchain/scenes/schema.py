@@ -28,15 +28,18 @@ from ..circuit.effects import EFFECTS, Coupling, Effect, Losses, PreferredValues
 from ..core.checks import choice, instance, integer, is_integer, numbers_list, real, text_line
 from ..core.errors import ParameterError
 from ..core.limits import (
+    MAX_AC_POINTS,
     MAX_CIRCUIT_N,
     MAX_DT,
     MAX_PERFECT_N,
     MAX_PULSE_WIDTH,
     MAX_TITLE_LENGTH,
     MAX_TRANSITS,
+    MIN_AC_POINTS,
     MIN_N,
 )
 from ..core.types import (
+    ANALYSIS_KINDS,
     BACKENDS,
     CASES,
     DEFAULT_C0,
@@ -47,6 +50,7 @@ from ..core.types import (
     PLOT_KINDS,
     PROBES,
     PULSE_SHAPES,
+    AnalysisKind,
     Backend,
     Case,
     ExcitationKind,
@@ -55,6 +59,7 @@ from ..core.types import (
     Probes,
     PulseShape,
 )
+from ..spice.engine import Engine
 from ..spice.engines import DEFAULT_ENGINE, engine_named
 
 __all__ = [
@@ -71,6 +76,9 @@ __all__ = [
     "Scene",
     "DEFAULT_TITLE",
     "DEFAULT_ACCURACY",
+    "TRANSIENT_KEYS",
+    "ANALYSIS_PLOTS",
+    "check_ac_keys",
 ]
 
 DEFAULT_TITLE = "lcchain scene"
@@ -231,12 +239,35 @@ class Effects:
         return tuple(part for part in (getattr(self, name) for name in EFFECTS) if part is not None)
 
 
+#: The ``[analysis]`` keys of a transient only, refused with ``kind = "ac"``.
+TRANSIENT_KEYS = ("transits", "accuracy", "dt", "method", "extrapolate")
+def check_ac_keys(table: Mapping[str, Any]) -> None:
+    """Refuse a transient's key in the ``[analysis]`` table of an AC sweep, naming it."""
+    for key in TRANSIENT_KEYS:
+        if key in table:
+            raise ParameterError(f"analysis.{key}", table[key], 'no such key with analysis.kind = "ac" (an AC sweep '
+                                 "has points, backend and engine)")
+
+
+#: The plots each analysis can draw (``[output] plots``); the first is its default.
+ANALYSIS_PLOTS: dict[str, tuple[PlotKind, ...]] = {"transient": ("overlay", "spacetime", "histogram"),
+                                                   "ac": ("spectrum", "spacing")}
+
+
 @dataclass(frozen=True)
 class Analysis:
-    """The ``[analysis]`` table: how long to watch and how finely.
+    """The ``[analysis]`` table: how long to watch and how finely, or which frequencies to sweep.
 
     Parameters
     ----------
+    kind : {"transient", "ac"}
+        A transient (the default), or an AC sweep of the ladder's spectrum
+        (:class:`lcchain.runs.request.AC`): its normal frequencies and end
+        weights against theory.  With ``"ac"`` only ``points``, ``backend``
+        and ``engine`` apply; a transient's keys are refused.
+    points : int, optional
+        ``kind = "ac"`` only: frequencies of the sweep (default: twice the
+        fewest that separate every pole).
     transits : int
         Number of end-to-end transits to watch, 1..1000.
     accuracy : float, optional
@@ -267,8 +298,17 @@ class Analysis:
     method: Method = "trap"
     extrapolate: int | None = None
     engine: str = DEFAULT_ENGINE
+    kind: AnalysisKind = "transient"
+    points: int | None = None
 
     def __post_init__(self) -> None:
+        choice("analysis.kind", self.kind, ANALYSIS_KINDS)
+        if self.kind == "ac":
+            self._check_ac()
+            return
+        if self.points is not None:
+            raise ParameterError("analysis.points", self.points, 'no points unless analysis.kind = "ac" (a '
+                                 "transient's steps follow from dt or accuracy)")
         transits = integer("analysis.transits", self.transits, at_least=1, at_most=MAX_TRANSITS)
         object.__setattr__(self, "transits", transits)
         if self.accuracy is not None and self.dt is not None:
@@ -283,16 +323,34 @@ class Analysis:
             accuracy = DEFAULT_ACCURACY if self.accuracy is None else self.accuracy
             allowed = "a number, 0 < accuracy < 1"
             object.__setattr__(self, "accuracy", _real("analysis.accuracy", accuracy, allowed, above=0.0, below=1.0))
-        choice("analysis.backend", self.backend, BACKENDS)
         choice("analysis.method", self.method, METHODS)
         if self.extrapolate is not None:
             object.__setattr__(self, "extrapolate", integer("analysis.extrapolate", self.extrapolate, at_least=1,
                                                             at_most=3))
-        engine = engine_named(self.engine, "analysis.engine")
-        choice("analysis.backend", self.backend, engine.transports, f" (the transports of engine {engine.name})")
+        engine = self._check_engine()
         if not engine.extrapolates and self.extrapolate is not None and self.extrapolate > 1:
             raise ParameterError("analysis.extrapolate", self.extrapolate,
                                  f"1 with engine {engine.name} (no extrapolation): {engine.no_extrapolation}")
+
+    def _check_engine(self) -> Engine:
+        choice("analysis.backend", self.backend, BACKENDS)
+        engine = engine_named(self.engine, "analysis.engine")
+        choice("analysis.backend", self.backend, engine.transports, f" (the transports of engine {engine.name})")
+        return engine
+
+    def _check_ac(self) -> None:
+        defaults = {f.name: f.default for f in fields(self)}
+        check_ac_keys({key: getattr(self, key) for key in TRANSIENT_KEYS if getattr(self, key) != defaults[key]})
+        if self.points is not None:
+            object.__setattr__(self, "points", integer("analysis.points", self.points, at_least=MIN_AC_POINTS,
+                                                       at_most=MAX_AC_POINTS))
+        self._check_engine()
+
+    def keys(self) -> tuple[str, ...]:
+        """The keys of the table this analysis has (an AC sweep: none of a transient's)."""
+        if self.kind == "ac":
+            return tuple(key for key in ANALYSIS_KEYS if key not in TRANSIENT_KEYS)
+        return tuple(key for key in ANALYSIS_KEYS if key not in ("kind", "points"))
 
 
 @dataclass(frozen=True)
@@ -364,11 +422,23 @@ class Scene:
         ):
             instance(name, getattr(self, name), cls)
         plots = list(self.output.plots)
+        kind = self.analysis.kind
+        drawn = ANALYSIS_PLOTS[kind]
+        if any(plot not in drawn for plot in plots):
+            raise ParameterError("output.plots", plots, f"plots of an analysis of kind {kind!r}: "
+                                 f"{', '.join(drawn)}")
+        if kind == "ac" and self.excitation != ExcitationSpec():
+            raise ParameterError("excitation", self.excitation.kind, 'no [excitation] with analysis.kind = "ac" (the '
+                                 "sweep drives loop 1 with a unit AC voltage)")
+        if kind == "ac" and self.output.probes != "ends":
+            raise ParameterError("output.probes", self.output.probes, 'ends with analysis.kind = "ac" (the sweep '
+                                 "saves I_1 and I_N)")
         if "spacetime" in plots and self.output.probes != "all":
             raise ParameterError("output.plots", plots, 'no "spacetime" unless output.probes = "all"')
         tolerance = self.effects.tolerance
-        if "histogram" in plots and (tolerance is None or tolerance.samples < 2):
-            raise ParameterError("output.plots", plots, 'no "histogram" unless effects.tolerance.samples > 1')
+        for spread in ("histogram", "spacing"):
+            if spread in plots and (tolerance is None or tolerance.samples < 2):
+                raise ParameterError("output.plots", plots, f'no "{spread}" unless effects.tolerance.samples > 1')
 
     def to_dict(self) -> dict[str, Any]:
         """The scene as plain data with the file's keys (JSON- and TOML-writable).
@@ -397,7 +467,7 @@ class Scene:
             "excitation": table(self.excitation, EXCITATION_KEYS),
             "effects": effects,
             # The default engine is left out: the scenes (and the studies' stores) made before engines had none.
-            "analysis": {key: value for key, value in table(self.analysis, ANALYSIS_KEYS).items()
+            "analysis": {key: value for key, value in table(self.analysis, self.analysis.keys()).items()
                          if (key, value) != ("engine", DEFAULT_ENGINE)},
             "output": table(self.output, OUTPUT_KEYS),
         }

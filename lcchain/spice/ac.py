@@ -22,7 +22,8 @@ __all__ = ["AcResult", "run_ac"]
 
 
 def run_ac(netlist: str, vectors: Sequence[str], points: int, *, simulator: Simulator | None = None,
-           timeout: float = 600.0, engine: str | None = None) -> AcResult:
+           timeout: float = 600.0, engine: str | None = None, foreign: bool = False,
+           max_output_bytes: float | None = None) -> AcResult:
     """Run lcchain's AC netlist in an engine and return its complex vectors.
 
     Parameters
@@ -39,6 +40,10 @@ def run_ac(netlist: str, vectors: Sequence[str], points: int, *, simulator: Simu
         Seconds after which the engine's process group is killed.
     engine : str, optional
         Only without a simulator, or equal to its engine (default ``"ngspice"``).
+    foreign : bool
+        A netlist lcchain did not write (already through :func:`lcchain.spice.foreign.allowed_netlist`): it runs in
+        the sandbox (an engine that ``runs_foreign``), stopped when its output outgrows ``max_output_bytes``; with
+        no ``vectors`` named, every vector it saved is read.
 
     Raises
     ------
@@ -47,7 +52,7 @@ def run_ac(netlist: str, vectors: Sequence[str], points: int, *, simulator: Simu
     SimulationError
         The engine failed, timed out, or its output is not the analysis asked for.
     """
-    if not isinstance(netlist, str) or ".ac " not in netlist:
+    if not isinstance(netlist, str) or ".ac " not in netlist.lower():
         raise ParameterError("netlist", type(netlist).__name__, "an AC netlist written by lcchain")
     names = [canonical_vector_name(v) for v in vectors]
     points = integer("points", points, at_least=1)
@@ -56,4 +61,5 @@ def run_ac(netlist: str, vectors: Sequence[str], points: int, *, simulator: Simu
         simulator = find_engine(ac_engine(engine or DEFAULT_ENGINE).name)
     elif engine is not None and engine != simulator.engine:
         raise ParameterError("engine", engine, f"the simulator's own engine, {simulator.engine!r}")
-    return ac_engine(simulator.engine).run_ac(netlist, names, points, simulator=simulator, timeout=timeout)
+    return ac_engine(simulator.engine).run_ac(netlist, names, points, simulator=simulator, timeout=timeout,
+                                              foreign=foreign, max_output_bytes=max_output_bytes)

@@ -69,7 +69,7 @@ def ac_result(netlist: str, columns: Mapping[str, np.ndarray], log: str, names: 
     log : str
         The engine's output worth keeping and quoting.
     names : sequence of str
-        The canonical names asked for.
+        The canonical names asked for (none: every vector the engine saved).
     points : int
         The frequencies the netlist's ``.ac`` line asks for.
     simulator : Simulator
@@ -100,7 +100,7 @@ def ac_result(netlist: str, columns: Mapping[str, np.ndarray], log: str, names: 
     if np.any(np.diff(frequency) <= 0):
         raise fail(f"{engine} returned a frequency twice (overlapping .ac cards)")
     found = {}
-    for name in names:
+    for name in names or sorted(key for key in columns if key != "frequency"):  # none named: every one saved
         if name not in columns:
             raise fail(f"{engine} saved no vector {name!r}")
         values = np.array(columns[name], dtype=np.complex128)

@@ -114,9 +114,11 @@ class Engine(ABC):
         """Run lcchain's netlist text (ngspice's dialect) in the engine; see :func:`lcchain.spice.runner.run`."""
 
     def run_ac(self, netlist: str, vectors: Sequence[str], points: int, *, simulator: Simulator,
-               timeout: float = 600.0) -> AcResult:
-        """Run lcchain's AC netlist text (ngspice's dialect) in the engine: ``points`` frequencies, the complex
-        ``vectors`` (canonical names).  An engine without ``runs_ac`` keeps this refusal."""
+               timeout: float = 600.0, foreign: bool = False, max_output_bytes: float | None = None) -> AcResult:
+        """Run an AC netlist (ngspice's dialect) in the engine: ``points`` frequencies, the complex ``vectors``
+        (canonical names; none: every vector saved).  ``foreign``: a netlist lcchain did not write, already through
+        the allow-list, for an engine that ``runs_foreign`` only (its output capped at ``max_output_bytes``).  An
+        engine without ``runs_ac`` keeps this refusal."""
         raise ParameterError("engine", self.name, "an engine with an AC analysis (its runs_ac)")
 
     def __repr__(self) -> str:

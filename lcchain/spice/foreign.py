@@ -45,14 +45,16 @@ import re
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
+from typing import ClassVar
 
-from ..core.budget import BYTES_PER_VALUE, Estimate, run_estimate, show_bytes
+from ..core.budget import BYTES_PER_VALUE, Estimate, ac_estimate, run_estimate, show_bytes
 from ..core.errors import ParameterError
-from ..core.limits import MAX_NETLIST_BYTES
+from ..core.limits import MAX_AC_POINTS, MAX_NETLIST_BYTES
+from ..core.types import AnalysisKind
 from .text import spice_number
 
-__all__ = ["ELEMENTS", "DOT_COMMANDS", "OPTIONS", "MAX_INCLUDE_DEPTH", "Transient", "allowed_netlist",
-           "transient_of", "foreign_estimate", "raw_bytes_limit"]
+__all__ = ["ELEMENTS", "DOT_COMMANDS", "OPTIONS", "MAX_INCLUDE_DEPTH", "Transient", "Sweep", "allowed_netlist",
+           "transient_of", "analysis_of", "foreign_estimate", "raw_bytes_limit"]
 
 #: First letters of the element lines lcchain runs: resistors, inductors, capacitors, coupled inductors,
 #: independent voltage and current sources, and behavioural sources (lcchain's own gaussian pulses).
@@ -283,11 +285,92 @@ class Transient:
     stop: float
     start: float
     max_step: float
+    kind: ClassVar[AnalysisKind] = "transient"
 
     @property
     def points(self) -> float:
         """Time points ngspice computes at least: one per maximum step."""
         return self.stop / self.max_step + 1
+
+    @property
+    def tstop(self) -> float:
+        return self.stop
+
+    @property
+    def frequencies(self) -> int | None:
+        return None
+
+    def estimate(self, saved: int, unknowns: int) -> Estimate:
+        """Its time points x unknowns."""
+        return run_estimate(points=self.points, saved=saved, compared=0, unknowns=unknowns)
+
+    def describe(self) -> str:
+        return f".tran to {self.stop:g} s in steps of at most {self.max_step:g} s"
+
+
+@dataclass(frozen=True)
+class Sweep:
+    """An ``.ac lin`` card read: its frequencies (Hz), evenly spaced from ``start`` to ``stop``."""
+
+    count: int
+    start: float
+    stop: float
+    kind: ClassVar[AnalysisKind] = "ac"
+    tstop: ClassVar[float] = 0.0
+
+    @property
+    def points(self) -> float:
+        return float(self.count)
+
+    @property
+    def frequencies(self) -> int:
+        return self.count
+
+    def estimate(self, saved: int, unknowns: int) -> Estimate:
+        """Its frequencies x unknowns."""
+        return ac_estimate(points=self.count, saved=saved, unknowns=unknowns)
+
+    def describe(self) -> str:
+        return f".ac lin {self.count} frequencies from {self.start:g} to {self.stop:g} Hz"
+
+
+def _analysis_cards(text: str) -> list[tuple[int, str]]:
+    """(line number, card) of every analysis: ngspice runs each one it finds."""
+    found: list[tuple[int, str]] = []
+    for number, line in enumerate(text.split("\n"), start=1):
+        word = line.split(None, 1)[0].lower() if line.strip() else ""
+        if word in (".tran", ".ac"):
+            found.append((number, line.strip()))
+    return found
+
+
+def _one_analysis(found: list[tuple[int, str]], source: str) -> None:
+    if len(found) > 1:
+        raise ParameterError(f"{source}: line {found[1][0]}", found[1][1][:200], "one analysis per netlist (ngspice "
+                             "would run them all; lcchain prices and reads one .tran or .ac)")
+
+
+def analysis_of(text: str, source: str) -> Transient | Sweep:
+    """The netlist's one analysis, a ``.tran`` (:func:`transient_of`) or an ``.ac lin`` sweep, or a refusal
+    naming the card."""
+    found = _analysis_cards(text)
+    if not found:
+        raise ParameterError(source, ".tran/.ac", "a netlist with one .tran or .ac lin analysis")
+    _one_analysis(found, source)
+    number, line = found[0]
+    if line.split(None, 1)[0].lower() != ".ac":
+        return transient_of(text, source)
+    words = [w for w in re.split(r"[\s,()]+", line) if w]
+    values = [spice_number(w) for w in words[2:]]
+    allowed = (".ac lin N FSTART FSTOP with plain finite numbers, 0 <= FSTART < FSTOP and 1 <= N <= "
+               f"{MAX_AC_POINTS} (lcchain prices the run and checks what it reads back from them; dec and oct are "
+               "not read)")
+    if len(words) != 5 or words[1].lower() != "lin" or any(v is None or not math.isfinite(v) for v in values):
+        raise ParameterError(f"{source}: line {number}", line[:200], allowed)
+    count, start, stop = (float(v) for v in values)  # type: ignore[arg-type]
+    if not (count.is_integer() and 1 <= count <= MAX_AC_POINTS and 0 <= start < stop):
+        raise ParameterError(f"{source}: line {number}", line[:200], allowed)
+    return Sweep(int(count), start, stop)
 
 
 def transient_of(text: str, source: str) -> Transient:
@@ -296,16 +379,10 @@ def transient_of(text: str, source: str) -> Transient:
     ngspice runs every analysis card it finds, so a second one (a cheap ``.tran`` priced, a dear one run)
     is refused, and so is an ``.ac`` beside it: lcchain reads one transient.
     """
-    found: list[tuple[int, str]] = []
-    for number, line in enumerate(text.split("\n"), start=1):
-        word = line.split(None, 1)[0].lower() if line.strip() else ""
-        if word in (".tran", ".ac"):
-            found.append((number, line.strip()))
+    found = _analysis_cards(text)
     if not found or found[0][1].split(None, 1)[0].lower() != ".tran":
         raise ParameterError(source, ".tran", "a netlist with a .tran analysis (lcchain reads transients)")
-    if len(found) > 1:
-        raise ParameterError(f"{source}: line {found[1][0]}", found[1][1][:200], "one analysis per netlist (ngspice "
-                             "would run them all; lcchain prices and reads one .tran)")
+    _one_analysis(found, source)
     number, line = found[0]
     words = [w for w in re.split(r"[\s,()]+", line) if w]
     values = [spice_number(w) for w in words[1:] if w.lower() != "uic"]
@@ -320,8 +397,9 @@ def transient_of(text: str, source: str) -> Transient:
     return Transient(step, stop, start, min(tmax, default) if tmax > 0 else default)
 
 
-def foreign_estimate(text: str, transient: Transient, saved: int) -> Estimate:
-    """What running a foreign netlist costs: its time points (from its ``.tran``) x its unknowns.
+def foreign_estimate(text: str, transient: Transient | Sweep, saved: int) -> Estimate:
+    """What running a foreign netlist costs: its time points (from its ``.tran``; an ``.ac``: its frequencies) x
+    its unknowns.
 
     Unknowns: one per node and one per inductor or voltage source (their
     branch currents); saved values: the ``.save`` names, or every unknown
@@ -338,7 +416,7 @@ def foreign_estimate(text: str, transient: Transient, saved: int) -> Estimate:
             nodes.update(w.lower() for w in words[1:3] if w != "0" and w.lower() != "gnd")
             branches += letter in "LVB"
     unknowns = max(len(nodes) + branches, 1)
-    run = run_estimate(points=transient.points, saved=saved or unknowns, compared=0, unknowns=unknowns)
+    run = transient.estimate(saved or unknowns, unknowns)
     return Estimate(run.what + f", {unknowns} unknowns", run.memory + NGSPICE_BYTES_PER_UNKNOWN * unknowns,
                     NGSPICE_START_SECONDS + run.seconds + NGSPICE_SETUP_SECONDS_PER_UNKNOWN * unknowns)
 

@@ -362,7 +362,10 @@ class Gnucap(Engine):
                          engine=self.name)
 
     def run_ac(self, netlist: str, vectors: Sequence[str], points: int, *, simulator: Simulator,
-               timeout: float = 600.0) -> AcResult:
+               timeout: float = 600.0, foreign: bool = False, max_output_bytes: float | None = None) -> AcResult:
+        if foreign:
+            raise ParameterError("engine", self.name, "ngspice for a netlist lcchain did not write (the allow-list "
+                                 "and the sandbox are ngspice's)")
         if simulator.engine != self.name:
             raise ParameterError("simulator", simulator.engine, "a simulator found for engine gnucap")
         output, log, wall = _run_child(self.dialect(netlist, vectors), simulator, timeout, 1.0, None,

@@ -294,13 +294,13 @@ def run(
     )
 
 
-def run_plot(netlist: str, plot: str, *, simulator: Simulator,
-             timeout: float = 600.0) -> tuple[dict[str, np.ndarray], str, float]:
+def run_plot(netlist: str, plot: str, *, simulator: Simulator, timeout: float = 600.0, foreign: bool = False,
+             max_output_bytes: float | None = None) -> tuple[dict[str, np.ndarray], str, float]:
     """Run lcchain's own netlist text in ngspice's batch transport and read one plot of its raw file.
 
     The analyses other than the transient (:meth:`lcchain.spice.ngspice.Ngspice.run_ac`) go through here: the
-    same discipline as :func:`run` (own process group, timeout, nothing left behind), no allow-list (the text is
-    lcchain's), no check of the plot's vectors (the caller's analysis knows them).
+    same discipline as :func:`run` (own process group, timeout, nothing left behind), no allow-list (lcchain's
+    text, or a foreign one already through it), no check of the plot's vectors (the caller's analysis knows them).
 
     Parameters
     ----------
@@ -312,6 +312,10 @@ def run_plot(netlist: str, plot: str, *, simulator: Simulator,
         ngspice's batch transport.
     timeout : float
         Seconds after which ngspice's process group is killed.
+    foreign : bool
+        A netlist lcchain did not write, already through the allow-list: it runs in the sandbox.
+    max_output_bytes : float, optional
+        ngspice is stopped when its raw file outgrows this.
 
     Returns
     -------
@@ -331,8 +335,8 @@ def run_plot(netlist: str, plot: str, *, simulator: Simulator,
     """
     if simulator.engine != "ngspice" or simulator.backend != "batch":
         raise ParameterError("simulator", f"{simulator.engine} {simulator.backend}", "ngspice's batch transport")
-    with _placement(simulator, False, None) as place:
-        columns, log, wall = _run_batch(netlist, simulator, timeout, 0.0, None, place, None, plot=plot)
+    with _placement(simulator, foreign, None) as place:
+        columns, log, wall = _run_batch(netlist, simulator, timeout, 0.0, None, place, max_output_bytes, plot=plot)
     if fatal_lines(log):
         raise SimulationError(failure_reason(log, ""), useful_output(log))
     return columns, log, wall

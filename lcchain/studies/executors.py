@@ -131,7 +131,8 @@ def choose_transports(items: Sequence[tuple[int, RunSpec, float]], simulator: Si
     transport = check_transport(transport)
     if transport == "process" or simulator.engine != "ngspice" or simulator.backend != "batch":
         return Transports()
-    able = [(index, seconds) for index, spec, seconds in items if spec.engine == "ngspice" and not spec.trusted]
+    able = [(index, seconds) for index, spec, seconds in items
+            if spec.engine == "ngspice" and not spec.trusted and spec.analysis == "transient"]  # AC: ngspice -b
     if transport == "auto":
         able = [(index, seconds) for index, seconds in able if seconds < WARM_BELOW_SECONDS]
         if len(able) < WARM_MIN_RUNS_PER_WORKER * workers:

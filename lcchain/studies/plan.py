@@ -9,6 +9,8 @@ executor, host or attempt.
 
 * :func:`sweep_plan`: the product of cases, sizes, steps or accuracies,
   transits and excitations (``lcchain sweep --case ... --N ...``);
+* :func:`spectrum_sweep_plan`: the product of cases and sizes, each an AC
+  sweep of the ladder's spectrum (``lcchain sweep --analysis ac ...``);
 * :func:`scene_sweep_plan`: a scene with dotted keys varied, each tolerance
   sample a task of its own (``lcchain sweep SCENE.toml --vary ...``);
 * :func:`batch_plan`: netlists lcchain did not write, run as they are
@@ -41,19 +43,20 @@ from ..core.frozen import FrozenMap
 from ..core.limits import MAX_DESIGN_N
 from ..core.types import DEFAULT_C0, DEFAULT_L0, Backend, Excitation
 from ..runs.extrapolated import combined_key
-from ..runs.request import Request, plan_request
+from ..runs.request import AC, Request, plan_request
 from ..runs.simulate import simulation_runs
 from ..runs.spec import DEFAULT_TIMEOUT, RunSpec, Theory
 from ..scenes.load import load_scene, parse_scene
 from ..scenes.plan import scene_plan, scene_specs
 from ..spice.engines import DEFAULT_ENGINE, ENGINES
-from ..spice.foreign import allowed_netlist, foreign_estimate, raw_bytes_limit, transient_of
+from ..spice.foreign import allowed_netlist, analysis_of, foreign_estimate, raw_bytes_limit
 from ..spice.runner import read_include
 from ..spice.text import saved_vectors
 from ..theory.cases import chain_for_case
 from ..theory.spectrum import normal_modes
 
-__all__ = ["Task", "Combination", "Plan", "sweep_plan", "scene_sweep_plan", "request_plan", "batch_plan", "parse_vary"]
+__all__ = ["Task", "Combination", "Plan", "sweep_plan", "spectrum_sweep_plan", "scene_sweep_plan", "request_plan",
+           "batch_plan", "parse_vary"]
 
 
 @dataclass(frozen=True)
@@ -182,9 +185,12 @@ class Plan:
 def _seconds(spec: RunSpec) -> float:
     """A run's wall time from the cost model (unknowns x points)."""
     theory = spec.theory
-    if theory is None or theory.dt is None:
+    if spec.points is not None and theory is not None:  # an AC run: its frequencies
+        points = float(spec.points)
+    elif isinstance(theory, Theory) and theory.dt is not None:
+        points = spec.tstop / theory.time_unit / theory.dt
+    else:
         return 0.1
-    points = spec.tstop / theory.time_unit / theory.dt
     return ngspice_seconds(points, 2 * theory.chain.N) * ENGINES[spec.engine].relative_cost + RUN_START_SECONDS
 
 
@@ -199,7 +205,7 @@ def _add_runs(tasks: list[Task], combinations: list[Combination], params: Mappin
     for i, (spec, h) in enumerate(zip(specs, steps, strict=True)):
         tasks.append(Task(index + i, FrozenMap({**params, "dt": h, "member": i + 1}), spec, _seconds(spec)))
     theory = specs[0].theory
-    assert theory is not None
+    assert isinstance(theory, Theory)  # an extrapolation's members are transients
     label = f"{specs[0].label} extrapolated from {len(specs)} runs"
     combinations.append(Combination(index + len(specs), FrozenMap({**params, "dt": steps[0], "runs": len(specs)}),
                                     tuple(range(index, index + len(specs))), tuple(steps), theory, predicted_error,
@@ -252,6 +258,30 @@ def sweep_plan(*, cases: Sequence[str], Ns: Sequence[int], dts: Sequence[float] 
     axes = tuple(name for name, values in (("case", cases), ("N", Ns), ("dt", dts), ("accuracy", accuracies),
                                            ("transits", transits), ("excitation", excitations)) if len(values) > 1)
     return Plan("sweep", FrozenMap(description), tuple(tasks), backend, axes, tuple(combinations), engine)
+
+
+def spectrum_sweep_plan(*, cases: Sequence[str], Ns: Sequence[int], points: int | None = None,
+                        L0: float = DEFAULT_L0, C0: float = DEFAULT_C0, timeout: float = DEFAULT_TIMEOUT,
+                        budget: Budget | None = None, progress: Callable[[int, int, str], None] | None = None,
+                        workers: int = 1, engine: str = DEFAULT_ENGINE) -> Plan:
+    """The product of cases and sizes, each an AC sweep of its spectrum (:class:`lcchain.runs.request.AC`).
+
+    Priced from its axes first (the chains' designs), then each run by :func:`lcchain.runs.request.plan_request`
+    (its frequencies x unknowns), which also refuses ``points`` too few to separate a chain's poles.
+    """
+    combos = list(itertools.product(cases, Ns))
+    _price_axes(cases, Ns, [], (1,), len(combos), budget, workers)
+    tasks: list[Task] = []
+    for index, (case, N) in enumerate(combos):
+        if progress is not None:
+            progress(index, len(combos), f"planning {case} N={N}")
+        request = Request(chain_for_case(case, N), AC(points), L0=L0, C0=C0, timeout=timeout, engine=engine)
+        spec = plan_request(request, budget).specs[0]
+        tasks.append(Task(index, FrozenMap({"case": case, "N": N}), spec, _seconds(spec)))
+    description = {"command": "sweep", "analysis": "ac", "case": list(cases), "N": list(Ns), "points": points,
+                   "L0": L0, "C0": C0, "engine": engine}
+    axes = tuple(name for name, values in (("case", cases), ("N", Ns)) if len(values) > 1)
+    return Plan("sweep", FrozenMap(description), tuple(tasks), "batch", axes, (), engine)
 
 
 def _check_study(budget: Budget | None, what: str, planning: float, work: float, workers: int, advice: str) -> None:
@@ -364,8 +394,8 @@ def scene_sweep_plan(path: str | Path, varies: Sequence[tuple[str, list[Any]]], 
         specs = scene_specs(varied, plan)
         for k in range(len(plan.chains)):
             task_params = {**params, "sample": k + 1} if len(plan.chains) > 1 else params
-            _add_runs(tasks, combinations, task_params, specs[k * plan.runs:(k + 1) * plan.runs], plan.steps or
-                      (plan.dt,), plan.predicted_error)
+            _add_runs(tasks, combinations, task_params, specs[k * plan.runs:(k + 1) * plan.runs], plan.steps,
+                      plan.predicted_error)
     description = {"command": "sweep", "scene": str(path), "scene_data": base, "vary": dict(varies),
                    "samples": samples, "seed": seed}
     axes = tuple(keys) + (("sample",) if any("sample" in t.params for t in tasks) else ())
@@ -431,14 +461,18 @@ def batch_plan(paths: Sequence[str | Path], *, allow_control: bool = False, back
         text = read_include(path, "NETLIST")
         folder = path.resolve().parent
         run_text = text if allow_control else allowed_netlist(text, str(path), folder, read_include)
-        transient = transient_of(run_text, str(path))
+        analysis = analysis_of(run_text, str(path))
         saved = saved_vectors(run_text)
-        estimate = foreign_estimate(run_text, transient, len(saved))
-        estimate.check(budget, str(path), f".tran to {transient.stop:g} s in steps of at most "
-                       f"{transient.max_step:g} s")
-        spec = RunSpec(run_text, saved, transient.stop, backend=backend, timeout=min(timeout, budget.max_seconds),
-                       cwd=str(folder) if allow_control else None, trusted=allow_control, foreign=True,
-                       max_output_bytes=raw_bytes_limit(budget.max_memory), label=path.name)
+        estimate = foreign_estimate(run_text, analysis, len(saved))
+        estimate.check(budget, str(path), analysis.describe())
+        try:
+            spec = RunSpec(run_text, saved, analysis.tstop, backend=backend,
+                           timeout=min(timeout, budget.max_seconds), cwd=str(folder) if allow_control else None,
+                           trusted=allow_control, foreign=True, max_output_bytes=raw_bytes_limit(budget.max_memory),
+                           label=path.name, analysis=analysis.kind, points=analysis.frequencies)
+        except ParameterError as error:
+            raise (error.renamed("--allow-control") if error.field == "trusted" else error).located(str(path)) \
+                from None
         tasks.append(Task(index, FrozenMap({"netlist": str(path)}), spec, estimate.seconds))
     description = {"command": "batch", "netlists": [str(p) for p in paths], "allow_control": allow_control,
                    "backend": backend}

@@ -69,6 +69,7 @@ from typing import Any, Literal
 
 import numpy as np
 
+from ..compare.spectral import SPECTRAL_METRICS
 from ..core import __version__
 from ..core.errors import LcchainError, ParameterError, SimulatorMissingError
 from ..runs.execute import RunRecord, waveform_digest
@@ -174,6 +175,11 @@ class StoredRun:
     def member(self) -> bool:
         return self.kind == "member"
 
+    @property
+    def spectral(self) -> bool:
+        """An AC run compared with its theory (its metrics are :data:`SPECTRAL_METRICS`)."""
+        return self.metrics is not None and self.metrics.get("analysis") == "ac"
+
     def record(self) -> RunRecord:
         """The run as a record without its arrays (:meth:`Store.waveforms` has them)."""
         if self.status not in ("ok", "failed", "timeout"):
@@ -188,7 +194,10 @@ class StoredRun:
         data: dict[str, Any] = {"index": self.index, "key": self.key, "kind": self.kind, "status": self.status,
                                 "params": self.params, "label": self.label, "digest": self.digest or None,
                                 "wall_s": self.wall_s, "points": self.points}
-        if self.metrics is not None:
+        if self.spectral:
+            assert self.metrics is not None
+            data.update({name: self.metrics.get(name) for name in SPECTRAL_METRICS})
+        elif self.metrics is not None:
             data["max_abs_error"] = self.metrics.get("max_abs_error")
             data["predicted_error"] = self.metrics.get("predicted_error")
             data["arrivals"] = self.metrics.get("arrivals")
@@ -218,6 +227,28 @@ def study_constants(runs: list[StoredRun]) -> dict[str, Any]:
             if key not in axes and all(key in run.params for run in runs)} if runs else {}
 
 
+#: The axis of a run's saved arrays: a transient's time, or an AC run's frequency.
+_AXES = ("time", "frequency")
+
+
+def _saved(values: np.ndarray) -> np.ndarray:
+    """A stored array as lcchain wrote it: complex128 (an AC run's vectors) or float64; nothing else."""
+    if values.dtype.kind not in "fc":
+        raise ValueError("not a float or complex array")
+    return np.asarray(values, dtype=complex if values.dtype.kind == "c" else float)
+
+
+def _on_frequency(dataset: Any, axes: list[np.ndarray]) -> Any:
+    """AC runs' spectra on a ``frequency`` coordinate (Hz): the dimension itself when every run swept the same
+    frequencies, else a coordinate beside the ``point`` dimension (NaN where a run swept fewer)."""
+    if not axes:
+        return dataset
+    if all(axis.shape == axes[0].shape and np.array_equal(axis, axes[0]) for axis in axes):
+        dataset = dataset.drop_vars("frequency").rename({"point": "frequency"})
+        return dataset.assign_coords(frequency=axes[0])
+    return dataset.set_coords("frequency")
+
+
 def _number(value: Any) -> float:
     """A metric as a float column's value: NaN where the run has none (a batch run, a pulse's energy)."""
     return math.nan if value is None else float(value)
@@ -235,10 +266,13 @@ def _optional(module: str) -> Any:
 
 
 def _arrays(record: RunRecord) -> bytes | None:
-    """The saved arrays: ngspice's (time in seconds, each vector), or for an extrapolation, which has no run of
-    its own, the combined signals it was compared by (dimensionless time, ``loop0``, ``loop1``...)."""
+    """The saved arrays: ngspice's (time in seconds, each vector; an AC run's frequency in Hz and its complex
+    vectors), or for an extrapolation, which has no run of its own, the combined signals it was compared by
+    (dimensionless time, ``loop0``, ``loop1``...)."""
     if record.result is not None:
         arrays = {"time": record.result.time, **record.result.vectors}
+    elif record.ac is not None:
+        arrays = {"frequency": record.ac.frequency, **record.ac.vectors}
     elif record.signals is not None:
         arrays = {"time": record.signals.t, **{f"loop{i}": row for i, row in enumerate(record.signals.sim)}}
     else:
@@ -645,10 +679,11 @@ class Store:
             raise self._refuse("a store that holds a plan, opened for writing (adopt one first)")
         rows = []
         for record, points in records:
-            metrics = record.metrics.to_dict() if record.metrics is not None else None
+            judged = record.metrics if record.metrics is not None else record.spectrum
+            metrics = judged.to_dict() if judged is not None else None
             rows.append((record.key, record.status, record.reason, record.log_tail, record.digest, record.wall_s,
                          record.total_s, engine_text(record.engine, record.engine_version), record.lcchain_version,
-                         record.result.points if record.result is not None else points,
+                         record.points if record.points is not None else points,
                          json.dumps(metrics) if metrics is not None else None, _arrays(record), time.time()))
         with self._guard():
             self._db.execute("BEGIN")
@@ -697,7 +732,8 @@ class Store:
         return found
 
     def waveforms(self, key: str) -> dict[str, np.ndarray] | None:
-        """The saved arrays of a stored run (``"time"`` and each vector), or None; checked against its digest."""
+        """The saved arrays of a stored run (``"time"`` and each vector; an AC run's ``"frequency"`` and its
+        complex vectors), or None; checked against its digest."""
         rows = self._rows("SELECT arrays, digest FROM records WHERE key = ?", (key,))
         if not rows or rows[0][0] is None:
             return None
@@ -705,22 +741,24 @@ class Store:
         try:
             with np.load(io.BytesIO(blob), allow_pickle=False) as npz:
                 names = [str(n) for n in npz["names"]]
-                arrays = {name: np.asarray(npz[f"v{i}"], dtype=float) for i, name in enumerate(names)}
+                arrays = {name: _saved(npz[f"v{i}"]) for i, name in enumerate(names)}
         except (OSError, ValueError, KeyError, EOFError, TypeError, zipfile.BadZipFile):
             raise self._tampered(f"the arrays of run {key[:12]} are not lcchain's .npz") from None
-        if "time" not in arrays or (digest and waveform_digest(arrays["time"], {k: v for k, v in arrays.items()
-                                                                                if k != "time"}) != digest):
+        axis = next((name for name in _AXES if name in arrays), None)
+        if axis is None or np.iscomplexobj(arrays[axis]) or (digest and waveform_digest(
+                arrays[axis], {k: v for k, v in arrays.items() if k != axis}, axis) != digest):
             raise self._tampered(f"the arrays of run {key[:12]} do not match its digest")
         return arrays
 
     def vector_names(self, key: str) -> list[str] | None:
-        """The names of a stored run's saved vectors (without ``"time"``), or None when it saved none."""
+        """The names of a stored run's saved vectors (without ``"time"`` or ``"frequency"``), or None when it
+        saved none."""
         rows = self._rows("SELECT arrays FROM records WHERE key = ?", (key,))
         if not rows or rows[0][0] is None:
             return None
         try:
             with np.load(io.BytesIO(rows[0][0]), allow_pickle=False) as npz:
-                return [str(n) for n in npz["names"] if str(n) != "time"]
+                return [str(n) for n in npz["names"] if str(n) not in _AXES]
         except (OSError, ValueError, KeyError, EOFError, TypeError, zipfile.BadZipFile):
             raise self._tampered(f"the arrays of run {key[:12]} are not lcchain's .npz") from None
 
@@ -766,31 +804,40 @@ class Store:
 
     @staticmethod
     def _table_rows(runs: list[StoredRun]) -> list[dict[str, Any]]:
+        """One row per run: its parameters, status and metrics (a transient's, an AC run's, or both kinds' in a
+        store that holds both)."""
+        spectral = any(run.spectral for run in runs)
+        transient = not spectral or any(run.metrics is not None and not run.spectral for run in runs)
         rows = []
         for run in runs:
             metrics = run.metrics or {}
             arrivals = metrics.get("arrivals") or []
             first = arrivals[0] if arrivals else {}
-            rows.append({"index": run.index, **run.params, "kind": run.kind, "status": run.status, "key": run.key,
-                         "digest": run.digest or None, "points": run.points, "wall_s": run.wall_s,
-                         "engine": engine_text(run.engine, run.engine_version) if run.status != "pending" else None,
-                         **{name: _number(metrics.get(name)) for name in ("max_abs_error", "predicted_error")},
-                         **{name: _number(first.get(name)) for name in ("t_sim", "t_theory", "peak_sim", "peak_theory",
-                                                                          "energy_sim")}})
+            row = {"index": run.index, **run.params, "kind": run.kind, "status": run.status, "key": run.key,
+                   "digest": run.digest or None, "points": run.points, "wall_s": run.wall_s,
+                   "engine": engine_text(run.engine, run.engine_version) if run.status != "pending" else None}
+            if transient:
+                row.update({name: _number(metrics.get(name)) for name in ("max_abs_error", "predicted_error")})
+                row.update({name: _number(first.get(name)) for name in ("t_sim", "t_theory", "peak_sim",
+                                                                          "peak_theory", "energy_sim")})
+            if spectral:
+                row.update({name: _number(metrics.get(name)) for name in SPECTRAL_METRICS})
+            rows.append(row)
         return rows
 
     def _with_waveforms(self, dataset: Any, dims: list[str], runs: list[StoredRun]) -> Any:
         arrays = {run.index: self.waveforms(run.key) or {} for run in runs}
-        longest = max((a["time"].size for a in arrays.values() if "time" in a), default=0)
+        longest = max((a[axis].size for a in arrays.values() for axis in _AXES if axis in a), default=0)
         names = list(dict.fromkeys(name for a in arrays.values() for name in a))
         shape = [dataset.sizes[d] for d in dims] + [longest]
         positions = {d: {value: i for i, value in enumerate(dataset.indexes[d])} for d in dims}
         for name in names:
-            values = np.full(shape, np.nan)
+            complex_values = any(np.iscomplexobj(a[name]) for a in arrays.values() if name in a)
+            values = np.full(shape, np.nan, dtype=complex if complex_values else float)
             for run in runs:
                 series = arrays[run.index].get(name)
                 if series is not None:
                     where = tuple(positions[d][run.index if d == "index" else run.params[d]] for d in dims)
                     values[where][: series.size] = series
             dataset[name] = ([*dims, "point"], values)
-        return dataset
+        return _on_frequency(dataset, [a["frequency"] for a in arrays.values() if "frequency" in a])

@@ -19,14 +19,21 @@ import numpy as np
 
 from ..core.checks import choice
 from ..core.errors import ParameterError
+from ..core.types import STUDY_METRICS, StudyMetric
 from .store import StoredRun, study_axes, study_constants
 
 __all__ = ["Group", "peak_groups", "METRICS", "available_metrics", "study_axes", "study_constants",
            "check_metric"]
 
-#: What a group summarises: the first arrival's current peak, its energy fraction (kick only), or the energy
-#: lost on the way, 1 - energy fraction (best on a log scale: it spans decades between designs).
-METRICS = {"peak": "peak_sim", "energy": "energy_sim", "loss": "energy_sim"}
+#: What a group summarises, by name: a transient's first arrival's current peak, its energy fraction (kick only),
+#: or the energy lost on the way, 1 - energy fraction (best on a log scale: it spans decades between designs);
+#: an AC run's worst relative error of omega_n, worst absolute error of P_n, or the spread of its spacings
+#: (max - min) / mean of delta omega_n (what real parts do to the equal spacing).  Each reads a stored run's
+#: metrics: (field, where) with where "arrival" (the first arrival's) or "run" (the run's own).
+METRICS: dict[StudyMetric, tuple[str, str]] = {
+    "peak": ("peak_sim", "arrival"), "energy": ("energy_sim", "arrival"), "loss": ("energy_sim", "arrival"),
+    "omega": ("max_rel_error_omega", "run"), "P": ("max_abs_error_P", "run"), "spacing": ("spacing_spread", "run"),
+}
 
 
 @dataclass(frozen=True)
@@ -61,16 +68,22 @@ class Group:
         return {"params": self.params, **self.stats()}
 
 
-def _first(run: StoredRun, field: str) -> float | None:
-    arrivals = (run.metrics or {}).get("arrivals") or []
-    value = arrivals[0].get(field) if arrivals else None
+def _value(run: StoredRun, metric: StudyMetric) -> float | None:
+    """The run's value of a metric (None where it has none: a pulse's energy, a transient's spacing)."""
+    field, where = METRICS[metric]
+    metrics = run.metrics or {}
+    if where == "arrival":
+        arrivals = metrics.get("arrivals") or []
+        metrics = arrivals[0] if arrivals else {}
+    value = metrics.get(field)
     return None if value is None else float(value)
 
 
 def available_metrics(runs: list[StoredRun]) -> list[str]:
-    """The metrics the store's finished runs give (an energy fraction needs a kick: a pulse's is undefined)."""
+    """The metrics the store's finished runs give (an energy fraction needs a kick: a pulse's is undefined; a
+    spectral metric an AC run)."""
     finished = [run for run in runs if run.status == "ok" and not run.member]
-    return [metric for metric, field in METRICS.items() if any(_first(run, field) is not None for run in finished)]
+    return [metric for metric in METRICS if any(_value(run, metric) is not None for run in finished)]
 
 
 def check_metric(metric: str, runs: list[StoredRun], option: str = "--metric") -> None:
@@ -88,7 +101,8 @@ def check_metric(metric: str, runs: list[StoredRun], option: str = "--metric") -
         return
     if available:
         raise ParameterError(option, metric, f"a metric this store's runs give: {' | '.join(available)} (an "
-                             "energy fraction needs a kicked first loop; a pulse's is undefined)")
+                             "energy fraction needs a kicked first loop; a pulse's is undefined; omega, P and "
+                             "spacing are an AC analysis's)")
     finished = [run for run in runs if run.status == "ok" and not run.member]
     if not finished:
         raise ParameterError(option, metric, "a store with finished runs (none has finished yet: run the study's "
@@ -105,11 +119,11 @@ def peak_groups(runs: list[StoredRun], metric: str = "peak") -> list[Group]:
     Parameters
     ----------
     runs : list of StoredRun
-    metric : {"peak", "energy", "loss"}
+    metric : {"peak", "energy", "loss", "omega", "P", "spacing"}
         The first arrival's current peak, its energy fraction, or 1 - that fraction (runs without one, i.e.
-        not kicked, are left out of the groups' values).
+        not kicked, are left out of the groups' values); or an AC run's spectral metric (:data:`METRICS`).
     """
-    field = METRICS[choice("metric", metric, tuple(METRICS))]
+    name: StudyMetric = choice("metric", metric, STUDY_METRICS)
     axes = [key for key in study_axes([run for run in runs if not run.member]) if key != "sample"]
     order: dict[str, dict[str, Any]] = {}
     peaks: dict[str, list[float]] = {}
@@ -125,7 +139,7 @@ def peak_groups(runs: list[StoredRun], metric: str = "peak") -> list[Group]:
         if run.status in ("failed", "timeout"):
             failed[key] += 1
         elif run.status == "ok":
-            peak = _first(run, field)
+            peak = _value(run, name)
             if peak is not None and metric == "loss":
                 peak = 1.0 - peak
             if peak is not None:

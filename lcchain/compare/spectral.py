@@ -1,0 +1,218 @@
+"""The numbers an AC run is judged by: its normal frequencies and end weights against theory (pure arrays).
+
+:class:`SpectrumMetrics` holds, for every theoretical mode n, the circuit's omega_n (NaN where no pole was
+seen) and P_n (0 where unseen) beside the theory's, and which modes weigh enough at the ends to be held to the
+targets.  From them: the worst relative error of omega, the worst absolute error of P, and the spread of the
+spacings delta omega_n = omega_{n+1} - omega_n (the paper's equal spacing: a perfect cradle's spread is 0; real
+parts move it).  It is stored as JSON (:meth:`SpectrumMetrics.to_dict`) and read back
+(:meth:`SpectrumMetrics.from_dict`).
+
+:func:`sweep_grid` chooses an AC sweep's frequencies (refusing a grid too coarse to separate two poles) and
+:func:`compare_spectrum` fits the poles and residues of an AC run
+(:func:`lcchain.compare.spectrum.fit_spectrum`) and matches them to the theory's modes: every AC run, whoever
+asked for it, is judged by these two.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from ..core.checks import integer
+from ..core.errors import ParameterError
+from ..core.frozen import FrozenArrays
+from ..core.limits import COUPLED_MAX_N, MAX_AC_POINTS
+from ..theory.modes import Modes
+from .spectrum import SpectrumFit, fit_spectrum, min_points
+
+__all__ = ["SpectrumMetrics", "SPECTRAL_METRICS", "spacing_spread", "sweep_grid", "compare_spectrum",
+           "OMEGA_MARGIN", "OMEGA_WEIGHT_FLOOR", "DEFAULT_OVERSAMPLING", "SPECTRUM_MAX_N"]
+
+#: The sweep ends this far above the highest normal frequency (relative).
+OMEGA_MARGIN = 0.05
+#: A mode's frequency is held to the targets when its weight at the far end is at least this: below, the pole is
+#: nearly cancelled in I_N/V_1 and I_1/V_1 and double precision places it to ~1e-16 / |P_n| only (measured on the
+#: perfect cradle, N = 100: 1.1e-9 at |P| = 3.9e-8, 2.4e-8 at |P| = 2.0e-10).
+OMEGA_WEIGHT_FLOOR = 1e-6
+#: Samples per smallest spacing by default: twice what the fit needs at least.
+DEFAULT_OVERSAMPLING = 2
+#: The largest chain measured (exact modes for the comparison, and the fit's dense least squares).
+SPECTRUM_MAX_N = COUPLED_MAX_N
+
+#: The spectral metrics a store's runs hold (``lcchain results --metric``), with their units.
+SPECTRAL_METRICS = {"max_rel_error_omega": "relative", "max_abs_error_P": "absolute",
+                    "spacing_spread": "(max - min) / mean", "spacing_std": "std / mean", "modes_seen": "modes"}
+
+
+def spacing_spread(spacings: np.ndarray) -> tuple[float, float]:
+    """((max - min) / mean, std / mean) of the finite spacings (NaN, NaN with none)."""
+    finite = np.asarray(spacings, dtype=float)
+    finite = finite[np.isfinite(finite)]
+    if finite.size == 0:
+        return float("nan"), float("nan")
+    mean = float(finite.mean())
+    return float((finite.max() - finite.min()) / mean), float(finite.std() / mean)
+
+
+@dataclass(frozen=True, eq=False)
+class SpectrumMetrics(FrozenArrays):
+    """A circuit's spectrum beside its exact theory, mode by mode.
+
+    Attributes
+    ----------
+    omega_theory, omega : ndarray
+        Normal frequencies, units of 1/sqrt(L0 C0): theory's, and the circuit's (NaN where no pole was seen).
+    P_theory, P : ndarray
+        The modes' coefficients in alpha_N(t) = sum_n P_n cos(omega_n t): theory's, and the circuit's (0 where
+        unseen).
+    resolved : ndarray of bool
+        The modes weighty enough at the ends to be held to the targets.
+    fit : SpectrumFit, optional
+        The poles and residues found in the circuit, one per seen mode (not stored).
+    seen : ndarray of int, optional
+        For each fitted pole, the index of its theoretical mode (not stored).
+    """
+
+    omega_theory: np.ndarray
+    omega: np.ndarray
+    P_theory: np.ndarray
+    P: np.ndarray
+    resolved: np.ndarray
+    fit: SpectrumFit | None = None
+    seen: np.ndarray | None = None
+
+    def __post_init__(self) -> None:
+        sizes = {np.shape(getattr(self, name)) for name in ("omega_theory", "omega", "P_theory", "P", "resolved")}
+        if len(sizes) != 1 or len(next(iter(sizes))) != 1:
+            raise ParameterError("metrics", sorted(sizes), "one value per mode in every array")
+        self._freeze_arrays()
+
+    @property
+    def max_rel_error_omega(self) -> float:
+        """Largest |omega - omega_theory| / omega_theory over the resolved modes (a zero mode: absolute); an unseen
+        resolved mode is an infinite error."""
+        theory = self.omega_theory
+        error = np.abs(self.omega - theory) / np.where(theory > 0, theory, 1.0)
+        error = np.where(np.isnan(error), np.inf, error)
+        return float(np.max(error[self.resolved], initial=0.0))
+
+    @property
+    def max_abs_error_P(self) -> float:
+        """Largest |P - P_theory| over every mode (an unseen one counts with P = 0)."""
+        return float(np.max(np.abs(self.P - self.P_theory), initial=0.0))
+
+    def spacings(self, theory: bool = False) -> np.ndarray:
+        """delta omega_n = omega_{n+1} - omega_n between neighbouring resolved nonzero modes (NaN elsewhere, and
+        where the circuit did not see one of the two); ``theory``: the theory's, on the same pairs."""
+        omega = self.omega_theory if theory else self.omega
+        both = self.resolved[1:] & self.resolved[:-1] & (self.omega_theory[:-1] > 0)
+        return np.where(both, np.diff(omega), np.nan)
+
+    @property
+    def spacing_spread(self) -> float:
+        """(max - min) / mean of the circuit's spacings (0 for equally spaced modes)."""
+        return spacing_spread(self.spacings())[0]
+
+    @property
+    def spacing_std(self) -> float:
+        """std / mean of the circuit's spacings."""
+        return spacing_spread(self.spacings())[1]
+
+    @property
+    def modes_seen(self) -> int:
+        return int(np.count_nonzero(np.isfinite(self.omega)))
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON: the metrics, and the modes (``None`` for a frequency the circuit did not show)."""
+        return {"analysis": "ac", "modes": int(self.omega.size), "modes_seen": self.modes_seen,
+                "max_rel_error_omega": self.max_rel_error_omega, "max_abs_error_P": self.max_abs_error_P,
+                "spacing_spread": self.spacing_spread, "spacing_std": self.spacing_std,
+                "spacing_spread_theory": spacing_spread(self.spacings(theory=True))[0],
+                "omega": [float(w) if np.isfinite(w) else None for w in self.omega],
+                "omega_theory": self.omega_theory.tolist(), "P": self.P.tolist(), "P_theory": self.P_theory.tolist(),
+                "resolved": self.resolved.tolist()}
+
+    @classmethod
+    def from_dict(cls, data: dict[str, Any]) -> SpectrumMetrics:
+        """The metrics a store kept (:meth:`to_dict`)."""
+        try:
+            return cls(np.asarray(data["omega_theory"], dtype=float),
+                       np.array([np.nan if w is None else w for w in data["omega"]], dtype=float),
+                       np.asarray(data["P_theory"], dtype=float), np.asarray(data["P"], dtype=float),
+                       np.asarray(data["resolved"], dtype=bool))
+        except (KeyError, TypeError, ValueError):
+            raise ParameterError("metrics", sorted(data), "an AC run's metrics (omega, P and their theory)") from None
+
+
+def sweep_grid(omegas: Sequence[np.ndarray], points: int | None = None) -> tuple[int, float]:
+    """An AC sweep's frequencies and its last angular frequency, for the normal frequencies of one or more chains
+    (tolerance samples share one sweep that separates every one's poles).
+
+    Parameters
+    ----------
+    omegas : sequence of ndarray
+        Each chain's normal frequencies, ascending, units of 1/sqrt(L0 C0).
+    points : int, optional
+        Frequencies asked for; default :data:`DEFAULT_OVERSAMPLING` times the fewest that separate every pole
+        (:func:`lcchain.compare.spectrum.min_points`).
+
+    Raises
+    ------
+    ParameterError
+        ``points`` below the fewest that separate every pole (naming that minimum), or a chain whose poles no
+        sweep of :data:`lcchain.core.limits.MAX_AC_POINTS` frequencies separates (naming ``N``).
+    """
+    arrays = [np.asarray(omega, dtype=float) for omega in omegas]
+    omega_max = max(float(omega[-1]) for omega in arrays) * (1.0 + OMEGA_MARGIN)
+    needed = max(min_points(omega, omega_max) for omega in arrays)
+    if needed > MAX_AC_POINTS:
+        spacing = min(float(np.min(np.diff(omega[omega > 0]))) for omega in arrays)
+        raise ParameterError("N", arrays[0].size, f"a chain whose poles an even sweep of at most {MAX_AC_POINTS} "
+                             f"frequencies separates: two of its normal frequencies are {spacing:.3g} apart, "
+                             f"which needs {needed} frequencies")
+    if points is None:
+        return min(MAX_AC_POINTS, DEFAULT_OVERSAMPLING * needed), omega_max
+    return integer("points", points, at_least=needed, at_most=MAX_AC_POINTS,
+                   allowed=f"at least {needed} frequencies (4 per smallest spacing of the normal frequencies, "
+                           f"up to {omega_max:.4g}) and at most {MAX_AC_POINTS}"), omega_max
+
+
+def _matched(fit: SpectrumFit, theory: Modes) -> SpectrumFit:
+    """The fitted poles, one per theoretical mode: where two match the same mode (a spurious pole of the rational
+    fit beside a weak mode), the one with the larger residue at loop 1 stays."""
+    nearest = np.array([int(np.argmin(np.abs(theory.omega - w))) for w in fit.omega], dtype=int)
+    keep = np.zeros(nearest.size, dtype=bool)
+    for mode in np.unique(nearest):
+        candidates = np.flatnonzero(nearest == mode)
+        keep[candidates[np.argmax(np.abs(fit.first[candidates]))]] = True
+    if keep.all():
+        return fit
+    return SpectrumFit(fit.omega[keep], fit.first[keep], fit.last[keep], fit.sweeps, fit.residual)
+
+
+def compare_spectrum(theory: Modes, omega: np.ndarray, y11: np.ndarray, yN1: np.ndarray,
+                     mass: float) -> SpectrumMetrics:
+    """An AC run's poles and residues against the driven modes of the same chain.
+
+    Parameters
+    ----------
+    theory : Modes
+        The chain's driven modes (:func:`lcchain.theory.exact.driven_modes`): omega_n and P_n in ``transfer``.
+    omega : ndarray
+        The sweep's angular frequencies, units of 1/sqrt(L0 C0).
+    y11, yN1 : ndarray, complex
+        I_1/V_1 and I_N/V_1 times sqrt(L0/C0).
+    mass : float
+        m_1 (P_n = m_1 times the residue of Y_N1).
+    """
+    fit = _matched(fit_spectrum(omega, y11, yN1), theory)
+    seen = np.array([int(np.argmin(np.abs(theory.omega - w))) for w in fit.omega], dtype=int)
+    circuit = np.full(theory.N, np.nan)
+    circuit[seen] = fit.omega
+    P = np.zeros(theory.N)
+    P[seen] = mass * fit.last
+    return SpectrumMetrics(np.asarray(theory.omega, dtype=float), circuit, np.asarray(theory.transfer, dtype=float),
+                           P, np.abs(theory.transfer) >= OMEGA_WEIGHT_FLOOR, fit, seen)

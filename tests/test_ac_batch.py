@@ -1,0 +1,78 @@
+"""``lcchain batch`` of foreign ``.ac`` netlists (issue 21, section 1): allowed, priced, run and stored complex.
+
+The stored phasor I_1 is checked against a direct solve of the ladder's loop equations written out here,
+(j omega L + S / (j omega C0)) I = V e_1, with S the stiffness matrix built from the chain's springs.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from lcchain.circuit.ladder import Ladder
+from lcchain.circuit.netlist import ac_netlist_text
+from lcchain.cli.main import main
+from lcchain.studies.store import Store
+from lcchain.theory.cases import chain_for_case
+
+L0, C0 = 1e-5, 1e-8
+#: A direct solve and ngspice's AC analysis agree to about 1e-12 relative away from the poles.
+RTOL_DIRECT_SOLVE = 1e-8
+
+
+def _netlist(folder: Path, N: int = 6) -> tuple[Path, np.ndarray, np.ndarray]:
+    chain = chain_for_case("two-mass", N)
+    path = folder / "n.cir"
+    path.write_text(ac_netlist_text(Ladder(chain, L0, C0), points=200, omega_max=2.2, title="a foreign ladder"))
+    K = chain.springs
+    S = np.diag(K[:-1] + K[1:]) - np.diag(K[1:-1], 1) - np.diag(K[1:-1], -1)
+    return path, chain.masses * L0, S
+
+
+@pytest.mark.ngspice
+def test_a_foreign_ac_netlist_runs_in_batch_and_its_phasors_are_stored(tmp_path: Path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)
+    path, inductances, S = _netlist(tmp_path)
+    assert main(["batch", str(path), "--store", "s.sqlite", "--executor", "serial"]) == 0
+    assert main(["results", "s.sqlite"]) == 0
+    out = capsys.readouterr().out
+    assert "i(l1) i(l6)     200" in out and "an .ac netlist's frequencies" in out
+    with Store(tmp_path / "s.sqlite", "read") as store:
+        run = store.runs()[0]
+        arrays = store.waveforms(run.key)
+    assert run.status == "ok" and run.points == 200 and arrays is not None
+    frequency, current = arrays["frequency"], arrays["i(l1)"]
+    assert current.dtype == complex and frequency.size == 200
+    direct = []
+    for f in frequency:
+        jw = 2j * np.pi * f
+        Z = np.diag(jw * inductances) + S / (jw * C0)
+        direct.append(np.linalg.solve(Z, np.eye(len(inductances))[0])[0])
+    # ngspice's i(l1) flows from s1 into the ladder: V1's + terminal drives it, the same sign as the solve
+    np.testing.assert_allclose(current, np.array(direct), rtol=RTOL_DIRECT_SOLVE)
+
+
+@pytest.mark.parametrize(("card", "said"), [
+    (".ac dec 10 1 1e6", "dec and oct are not read"),
+    (".ac lin 0 1 1e6", "1 <= N"),
+    (".ac lin 10 1e6 1", "FSTART < FSTOP"),
+])
+def test_an_ac_card_lcchain_cannot_count_is_refused_with_one_line(tmp_path: Path, monkeypatch, capsys, card, said):
+    monkeypatch.chdir(tmp_path)
+    path, _, _ = _netlist(tmp_path)
+    text = path.read_text()
+    path.write_text("\n".join(card if line.startswith(".ac ") else line for line in text.splitlines()) + "\n")
+    assert main(["batch", str(path), "--store", "s.sqlite"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "line" in err and said in err
+    assert not (tmp_path / "s.sqlite").exists()
+
+
+def test_an_ac_netlist_is_not_run_with_allow_control(tmp_path: Path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)
+    path, _, _ = _netlist(tmp_path)
+    assert main(["batch", str(path), "--store", "s.sqlite", "--allow-control"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "--allow-control" in err and "n.cir" in err
