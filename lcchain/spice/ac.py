@@ -58,6 +58,9 @@ def run_ac(netlist: str, vectors: Sequence[str], points: int, *, simulator: Simu
            timeout: float = 600.0) -> AcResult:
     """Run lcchain's AC netlist in ngspice (batch) and return its complex vectors.
 
+    A netlist of several ``.ac`` cards (a sweep in segments) gives every plot's frequencies, in ascending order;
+    ``points`` counts them all.
+
     Raises
     ------
     SimulationError
@@ -73,7 +76,7 @@ def run_ac(netlist: str, vectors: Sequence[str], points: int, *, simulator: Simu
         raise ParameterError("simulator", f"{simulator.engine} {simulator.backend}", "ngspice's batch transport "
                              "(the AC analysis runs in ngspice only)")
     with _placement(simulator, False, None) as place:
-        columns, log, wall = _run_batch(netlist, simulator, timeout, 0.0, None, place, None, plot="ac")
+        columns, log, wall = _run_batch(netlist, simulator, timeout, 0.0, None, place, None, plot="ac", joined=True)
 
     def fail(reason: str) -> SimulationError:
         return SimulationError(reason, useful_output(log))
@@ -82,14 +85,18 @@ def run_ac(netlist: str, vectors: Sequence[str], points: int, *, simulator: Simu
         raise SimulationError(failure_reason(log, ""), useful_output(log))
     if "frequency" not in columns:
         raise fail("ngspice returned no frequency vector")
-    frequency = np.ascontiguousarray(columns["frequency"].real)  # ngspice leaves the imaginary part undefined
+    frequency = columns["frequency"].real  # ngspice leaves the imaginary part undefined
     if frequency.size != points:
         raise fail(f"ngspice returned {frequency.size} frequencies, not the {points} asked for")
+    order = np.argsort(frequency, kind="stable")  # several .ac cards: ngspice runs them in its own order
+    frequency = np.ascontiguousarray(frequency[order])
+    if np.any(np.diff(frequency) <= 0):
+        raise fail("ngspice returned a frequency twice (overlapping .ac cards)")
     found = {}
     for name in names:
         if name not in columns:
             raise fail(f"ngspice saved no vector {name!r}")
-        values = np.ascontiguousarray(columns[name])
+        values = np.ascontiguousarray(columns[name][order])
         if not np.all(np.isfinite(values)):
             raise fail(f"the vector {name!r} holds a value that is not finite (a frequency at a pole?)")
         found[name] = values

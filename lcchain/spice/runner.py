@@ -407,7 +407,8 @@ def _wait(proc: subprocess.Popen[bytes], timeout: float, tstop: float, out: IO[b
 
 def _run_batch(netlist: str, simulator: Simulator, timeout: float, tstop: float,
                progress: Callable[[float], None] | None, place: _Place,
-               limit: float | None, plot: str = "transient") -> tuple[dict[str, np.ndarray], str, float]:
+               limit: float | None, plot: str = "transient", joined: bool = False
+               ) -> tuple[dict[str, np.ndarray], str, float]:
     with tempfile.TemporaryFile() as source, tempfile.TemporaryFile() as raw, \
             tempfile.TemporaryFile() as out, tempfile.TemporaryFile() as err:
         source.write(netlist.encode("utf-8"))
@@ -433,7 +434,7 @@ def _run_batch(netlist: str, simulator: Simulator, timeout: float, tstop: float,
     if not data:
         raise SimulationError("ngspice wrote no raw file", useful_output(log))
     try:
-        columns = read_raw(data, plot)
+        columns = read_raw(data, plot, joined=joined)
     except SimulationError as exc:
         raise SimulationError(exc.reason, useful_output(log)) from None
     return columns, log, wall
