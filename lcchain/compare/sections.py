@@ -72,8 +72,8 @@ class Sections:
         return (self.x[modes][None, :] - (w * w)[:, None]) + 1j * w[:, None] * self.gamma[modes][None, :]
 
     def value(self, w: np.ndarray, residues: np.ndarray, modes: slice | np.ndarray = slice(None)) -> np.ndarray:
-        """sum over ``modes`` of residues_n j w / D_n(w)."""
-        return (1j * w[:, None] * residues[modes][None, :] / self.denominators(w, modes)).sum(axis=1)
+        """sum over ``modes`` of residues_n j w / D_n(w) (infinite on a lossless pole: such samples are not fitted)."""
+        return _sum(w, residues[modes], self.denominators(w, modes))
 
 
 def _windows(n: int, shifted: bool = False) -> list[tuple[int, int]]:
@@ -209,8 +209,14 @@ def _window_step(w: np.ndarray, y: np.ndarray, sections: Sections, model: np.nda
 def _value(w: np.ndarray, params: tuple[np.ndarray, np.ndarray, np.ndarray]) -> np.ndarray:
     """The sum of the sections (c, x, gamma) given apart from ``Sections`` (a window's previous parameters)."""
     c, x, gamma = params
-    D = (x[None, :] - (w * w)[:, None]) + 1j * w[:, None] * gamma[None, :]
-    return (1j * w[:, None] * c[None, :] / D).sum(axis=1)
+    return _sum(w, c, (x[None, :] - (w * w)[:, None]) + 1j * w[:, None] * gamma[None, :])
+
+
+def _sum(w: np.ndarray, residues: np.ndarray, D: np.ndarray) -> np.ndarray:
+    """sum_n residues_n j w / D_n; a sample on a lossless pole (D = 0, within rounding of a fitted pole) is
+    infinite and left out of every fit (:func:`_rows`)."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return (1j * w[:, None] * residues[None, :] / D).sum(axis=1)
 
 
 def section_residues(w: np.ndarray, y: np.ndarray, sections: Sections) -> np.ndarray:

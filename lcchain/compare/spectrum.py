@@ -48,8 +48,12 @@ __all__ = ["SpectrumFit", "fit_spectrum", "min_points", "POINTS_PER_SPACING"]
 _PIECE = 512
 #: A pole of the rational fit whose residue is below this (relative to the largest) is the fit's, not a mode.
 _WEAKEST = 1e-13
-#: AAA's relative tolerance (the samples are ngspice's, good to about 1e-12).
+#: AAA's relative tolerance (the samples are ngspice's, good to about 1e-12); with losses relative to the
+#: largest sample, a resonance's peak (Q times the others), which ngspice's rounding keeps AAA from reaching.
 _AAA_RTOL = 1e-13
+_AAA_RTOL_LOSSY = 1e-11
+#: Terms of a piece's rational fit beyond two per pole the samples show.
+_SPARE_TERMS = 16
 
 
 @dataclass(frozen=True, eq=False)
@@ -111,11 +115,13 @@ def _pieces(size: int) -> list[tuple[int, int, int, int]]:
             for a, b in zip(edges[:-1], edges[1:], strict=True)]
 
 
-def _rational(z: np.ndarray, f: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Poles and residues of an AAA fit of f(z)."""
+def _rational(z: np.ndarray, f: np.ndarray, seen: int, rtol: float = 1e-13) -> tuple[np.ndarray, np.ndarray]:
+    """Poles and residues of an AAA fit of f(z) with at most 2 ``seen`` + :data:`_SPARE_TERMS` terms (``seen``:
+    the poles the samples show; the others, weak, and the neighbours' beyond the piece take the rest).  AAA's
+    own clean-up of spurious poles is left out (it cost seconds): their residues are negligible and dropped."""
     with warnings.catch_warnings():  # AAA may stop short of rtol: Gauss-Newton finishes the job
         warnings.simplefilter("ignore", RuntimeWarning)
-        fitted = AAA(z, f, rtol=_AAA_RTOL, max_terms=min(z.size // 2, 400), clean_up=False)
+        fitted = AAA(z, f, rtol=rtol, max_terms=min(z.size // 2, 2 * seen + _SPARE_TERMS), clean_up=False)
     return np.asarray(fitted.poles()), np.asarray(fitted.residues())
 
 
@@ -124,7 +130,7 @@ def _lossless_poles(w: np.ndarray, g: np.ndarray) -> tuple[np.ndarray, np.ndarra
     x = w * w
     poles, residues = [], []
     for start, stop, lo, hi in _pieces(w.size):
-        found, weights = _rational(x[start:stop], g[start:stop])
+        found, weights = _rational(x[start:stop], g[start:stop], int(np.count_nonzero(np.diff(g[start:stop]) < 0)))
         below = -0.5 * x[0] if lo == 0 else x[lo]
         above = np.inf if hi == w.size else x[hi]
         real = (np.abs(found.imag) <= 1e-9 * x[-1]) & (found.real >= below) & (found.real < above)
@@ -139,7 +145,7 @@ def _lossy_sections(w: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarra
     docstring)."""
     c, gamma, x, lone, lone_residue = [], [], [], [], []
     for start, stop, lo, hi in _pieces(w.size):
-        found, weights = _rational(1j * w[start:stop], y[start:stop])
+        found, weights = _rational(1j * w[start:stop], y[start:stop], (stop - start) // 2, _AAA_RTOL_LOSSY)
         below = 0.0 if lo == 0 else w[lo]
         above = np.inf if hi == w.size else w[hi]
         left = found.real < 0
@@ -209,7 +215,8 @@ def fit_spectrum(omega: np.ndarray, y11: np.ndarray, yN1: np.ndarray, *, lossy: 
         if x.size == 0:
             raise ParameterError("omega", f"{w[0]:.4g} .. {w[-1]:.4g}", "a frequency range holding a pole")
         keep = _significant(c)
-        sections = Sections(c[keep], gamma[keep], x[keep], lossy=True)
+        # a lone real pole is a zero mode, c / (s + gamma): its x is 0 exactly (the pole at 0 cancels)
+        sections = Sections(c[keep], gamma[keep], x[keep], lossy=True, fixed_x=x[keep] == 0.0)
     else:
         g11 = y11.imag / w
         brackets = int(np.count_nonzero(np.diff(g11) < 0))

@@ -38,6 +38,8 @@ __all__ = ["Budget", "Estimate", "BudgetError", "DEFAULT_MAX_MEMORY", "DEFAULT_M
            "NGSPICE_SECONDS_PER_UNKNOWN_POINT", "NGSPICE_SECONDS_PER_POINT", "ngspice_seconds",
            "BYTES_PER_VALUE", "DESIGN_SECONDS_PER_MASS", "DESIGN_SECONDS_FIXED",
            "INTERPRETER_BYTES", "INTERPRETER_SECONDS", "RUN_START_SECONDS", "run_estimate", "sample_theory_seconds",
+           "AC_SECONDS_PER_UNKNOWN_FREQUENCY", "AC_SECONDS_PER_FREQUENCY", "FIT_SECONDS_PER_SAMPLE_MODE",
+           "ac_estimate",
            "chain_seconds",
            "max_points", "design_estimate", "perfect_estimate", "show_bytes", "show_seconds"]
 
@@ -152,6 +154,36 @@ def run_estimate(*, points: float, saved: int, compared: int, unknowns: float, e
     memory = BYTES_PER_VALUE * points * (saved + 1 + compared) + 16.0 * exact_N * exact_N
     return Estimate(f"{points:.3g} time points x {saved} saved values", memory,
                     ngspice_seconds(points, unknowns))
+
+
+#: ngspice's AC analysis: one complex sparse solve per frequency, per unknown (about 2 N, 3 N with losses).
+AC_SECONDS_PER_UNKNOWN_FREQUENCY = 2e-7
+#: ... and per frequency whatever the circuit.
+AC_SECONDS_PER_FREQUENCY = 2e-5
+#: The fit's cost per sample per mode: the model's update in every Gauss-Newton sweep (O(points x N) each).
+FIT_SECONDS_PER_SAMPLE_MODE = 2e-7
+#: The fit's cost per sample: its rational fits and least squares, whatever N.
+FIT_SECONDS_PER_SAMPLE = 2e-4
+
+
+def ac_estimate(*, points: float, N: int, losses: bool = False) -> Estimate:
+    """The cost of ``lcchain spectrum``: ngspice's AC analysis of ``points`` frequencies, the fit, and the exact
+    modes and response it is compared with.
+
+    Parameters
+    ----------
+    points : float
+        Frequencies of the sweep.
+    N : int
+        Masses (loops): 2 N unknowns, 3 N with losses (a node between each coil and its resistor).
+    losses : bool
+    """
+    unknowns = (3 if losses else 2) * N
+    seconds = (points * (AC_SECONDS_PER_UNKNOWN_FREQUENCY * unknowns + AC_SECONDS_PER_FREQUENCY)
+               + points * (FIT_SECONDS_PER_SAMPLE_MODE * N + FIT_SECONDS_PER_SAMPLE) + 3e-10 * N**3)
+    # the raw file's three complex columns and their copies; the exact modes (N x N); the response's (times x N)
+    memory = 16.0 * 3 * 4 * points + 16.0 * N * N + 16.0 * 6 * 2001 * N
+    return Estimate(f"{points:.3g} frequencies x {unknowns} unknowns", memory, seconds)
 
 
 def ngspice_seconds(points: float, unknowns: float) -> float:
