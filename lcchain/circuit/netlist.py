@@ -69,6 +69,7 @@ __all__ = [
     "SimulationOptions",
     "netlist_text",
     "ac_netlist_text",
+    "AC_OFFSET",
     "make_netlist",
     "check_user_text",
     "probe_names",
@@ -339,8 +340,9 @@ def ac_netlist_text(ladder: Ladder, *, points: int | None = None, omega_max: flo
         The first (default ``omega_max / points``: a free chain has a pole at 0, which a sweep may not hit).
     segments : sequence of (points, lowest, highest), optional
         Instead of ``points`` and ``omega_max``: several even sweeps, one ``.ac lin`` card each, of ``points``
-        (>= 2) angular frequencies on (lowest, highest] (units of 1/sqrt(L0 C0), ascending and disjoint:
-        :func:`lcchain.compare.grid.sweep_segments`); ngspice writes one plot per card.
+        (>= 2) angular frequencies evenly inside (lowest, highest) (units of 1/sqrt(L0 C0), ascending and
+        disjoint: :func:`lcchain.compare.grid.sweep_segments`, :func:`lcchain.compare.grid.segment_frequencies`);
+        ngspice writes one plot per card.
     title : str
     effects : tuple of Effect
         Their series elements (losses: a resistor per inductor), as :func:`netlist_text`.
@@ -377,8 +379,16 @@ def ac_netlist_text(ladder: Ladder, *, points: int | None = None, omega_max: flo
     return "\n".join(lines) + "\n"
 
 
+#: Where a segment's samples sit within their steps: lowest + (k + AC_OFFSET) step, k = 0 .. points - 1.  Not on
+#: a step's edge: segments meet halfway between two poles, so on evenly spaced poles a whole number of steps from
+#: there would land on a pole (a lossless admittance is infinite there).  (3 - sqrt 5) / 2 keeps the samples as
+#: far from such coincidences as any fraction can.
+AC_OFFSET = (3.0 - math.sqrt(5.0)) / 2.0
+
+
 def _ac_cards(segments: Sequence[tuple[int, float, float]], hertz: float) -> list[str]:
-    """One ``.ac lin`` card per segment (points, lowest, highest): its points on (lowest, highest]."""
+    """One ``.ac lin`` card per segment (points, lowest, highest): its points on (lowest, highest), offset by
+    :data:`AC_OFFSET` steps."""
     cards, total, previous = [], 0, 0.0
     for k, segment in enumerate(_sequence("segments", segments, "a sequence of (points, lowest, highest)")):
         if not isinstance(segment, tuple) or len(segment) != 3:
@@ -387,8 +397,9 @@ def _ac_cards(segments: Sequence[tuple[int, float, float]], hertz: float) -> lis
         lowest = real(f"segments[{k}].lowest", segment[1], at_least=previous,
                       allowed=f"a number >= {previous:.17g} (the previous segment's end; segments ascend)")
         highest = real(f"segments[{k}].highest", segment[2], above=lowest)
-        first = lowest + (highest - lowest) / count
-        cards.append(f".ac lin {count} {number(first * hertz)} {number(highest * hertz)}")
+        step = (highest - lowest) / count
+        first, last = lowest + AC_OFFSET * step, highest - (1.0 - AC_OFFSET) * step
+        cards.append(f".ac lin {count} {number(first * hertz)} {number(last * hertz)}")
         total, previous = total + count, highest
     integer("points", total, at_least=MIN_AC_POINTS, at_most=MAX_AC_POINTS,
             allowed=f"{MIN_AC_POINTS} to {MAX_AC_POINTS} frequencies in all segments")

@@ -13,7 +13,9 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["Segment", "sweep_segments", "min_points", "POINTS_PER_SPACING", "SEGMENT_RATIO"]
+from ..circuit.netlist import AC_OFFSET
+
+__all__ = ["Segment", "sweep_segments", "segment_frequencies", "min_points", "POINTS_PER_SPACING", "SEGMENT_RATIO"]
 
 #: Samples per spacing of the poles that the fit needs (at least): each pole's window then holds a few samples
 #: on each side.  :func:`min_points` uses it to refuse a grid too coarse before anything runs.
@@ -96,3 +98,9 @@ def sweep_segments(omega: np.ndarray, omega_max: float, density: float, points: 
         for k in order[: max(points - int(counts.sum()), 0)]:
             counts[k] += 1
     return [(int(n), float(lo), float(hi)) for n, (lo, hi, _) in zip(counts, blocks, strict=True)]
+
+
+def segment_frequencies(segments: list[Segment]) -> np.ndarray:
+    """The angular frequencies the ``.ac lin`` cards of ``segments`` sample (as
+    :func:`lcchain.circuit.netlist.ac_netlist_text` writes them): lowest + (k + AC_OFFSET) step in each."""
+    return np.concatenate([lo + (np.arange(n) + AC_OFFSET) * (hi - lo) / n for n, lo, hi in segments])

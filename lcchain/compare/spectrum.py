@@ -158,7 +158,7 @@ def _lossy_sections(w: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarra
         below = 0.0 if lo == 0 else w[lo]
         above = np.inf if hi == w.size else w[hi]
         left = found.real < 0
-        real = left & (np.abs(found.imag) <= 1e-6 * np.abs(found))  # AAA places a real pole to ~1e-10
+        real = left & (np.abs(found.imag) <= 1e-4 * np.abs(found))  # AAA places a real pole to ~1e-6 of |p|
         where = np.where(real, np.abs(found), found.imag)  # a real pole belongs to the piece of |p|
         keep = left & (where >= below) & (where < above)
         upper = keep & ~real & (found.imag > 0)

@@ -139,8 +139,7 @@ class SpectrumReport:
 
     @property
     def poles(self) -> np.ndarray:
-        """The circuit's pole of every mode in the upper half plane, -gamma_n/2 + j sqrt(omega_n^2 - gamma_n^2/4)
-        (NaN where unseen)."""
+        """The circuit's pole of every mode, -gamma_n/2 + j sqrt(omega_n^2 - gamma_n^2/4) (NaN where unseen)."""
         return _pole(self.omega, self.gamma)
 
     @property
@@ -202,8 +201,10 @@ class SpectrumReport:
 
 
 def _pole(omega: np.ndarray, gamma: np.ndarray) -> np.ndarray:
+    """-gamma/2 + j sqrt(omega^2 - gamma^2/4): the upper pole, the faster one of an overdamped mode (-gamma for a
+    zero mode, whose other pole, at 0, cancels)."""
     half = 0.5 * gamma
-    return -half + np.sqrt((omega - half) * (omega + half) + 0j)
+    return -half + 1j * np.sqrt((omega - half) * (omega + half) + 0j)
 
 
 def _finite(value: float) -> float | None:
