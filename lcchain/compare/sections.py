@@ -258,12 +258,15 @@ def section_residues(w: np.ndarray, y: np.ndarray, sections: Sections) -> np.nda
     for lo, hi in windows:
         rows, near = _rows(w, sections, lo, hi)
         weight = _weights(w[rows], sections, near)[:, None]
-        columns = _stack(1j * w[rows][:, None] / sections.denominators(w[rows], slice(lo, hi)) * weight)
-        plan.append((lo, hi, rows, weight, columns, _background(w[rows], weight, sections)))
+        # the window's modes and its neighbours' (whose steps are dropped: their own windows make them)
+        first, stop = max(lo - _HALO, 0), min(hi + _HALO, sections.size)
+        columns = _stack(1j * w[rows][:, None] / sections.denominators(w[rows], slice(first, stop)) * weight)
+        plan.append((lo, hi, rows, weight, columns, _background(w[rows], weight, sections), slice(lo - first,
+                                                                                                   hi - first)))
     for _ in range(_RESIDUE_SWEEPS if len(windows) > 1 else 1):
         largest = 0.0
-        for lo, hi, rows, weight, columns, beside in plan:
-            step = _solve_beside(columns, beside, _stack((y[rows] - model[rows]) * weight[:, 0]))
+        for lo, hi, rows, weight, columns, beside, own in plan:
+            step = _solve_beside(columns, beside, _stack((y[rows] - model[rows]) * weight[:, 0]))[own]
             residues[lo:hi] += step
             model += _value(w, (step, sections.x[lo:hi], sections.gamma[lo:hi]))
             largest = max(largest, float(np.max(np.abs(step), initial=0.0)))
