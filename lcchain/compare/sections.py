@@ -42,7 +42,7 @@ _BACKGROUND = 4
 _GAIN = 0.5
 #: Sweeps of the residues' block Gauss-Seidel at most, and the relative change at which it stops.
 _RESIDUE_SWEEPS = 6
-_RESIDUE_CHANGE = 1e-15
+_RESIDUE_CHANGE = 1e-13
 #: Samples closer than this (relative) to a lossless pole are left out: there the circuit's own rounding moves
 #: the pole by more than the sample's distance to it (measured: 1.8e-3 relative error at 6e-14 from a pole).
 _TOO_CLOSE = 1e-9

@@ -47,7 +47,7 @@ __all__ = ["SpectrumFit", "fit_spectrum", "min_points", "POINTS_PER_SPACING"]
 #: Samples in one rational fit (beyond 1.5 times this, the samples are cut into overlapping pieces): with losses
 #: longer pieces, whose poles are found among more neighbours (two-mass N = 100, Q = 100: a mode missed by pieces
 #: of 256 samples).
-_PIECE = 512
+_PIECE = 256
 _PIECE_LOSSY = 512
 #: Without losses, one rational fit of every sample while it is cheap (at most this many terms and samples): it
 #: finds more of a perfect cradle's weak modes than pieces do (N = 400: 108 modes seen against 85).

@@ -19,6 +19,9 @@ benchmarks/theory.md):
   same points, and subtracted: :data:`BYTES_PER_VALUE` bytes for every saved
   value of every time point (six copies of a float64).  Exact modes of N
   masses add two N x N matrices.
+* ``lcchain spectrum``: ngspice's AC analysis, :data:`AC_SECONDS_PER_UNKNOWN_FREQUENCY` per frequency per
+  unknown, and the fit, :data:`FIT_SECONDS_PER_SAMPLE_MODE` per frequency per mode
+  (:func:`ac_estimate`).
 * an optimal design: :data:`DESIGN_SECONDS_FIXED` plus
   :data:`DESIGN_SECONDS_PER_MASS` per mass (closed-form modes and arrival
   searches are linear in N).
@@ -39,6 +42,7 @@ __all__ = ["Budget", "Estimate", "BudgetError", "DEFAULT_MAX_MEMORY", "DEFAULT_M
            "BYTES_PER_VALUE", "DESIGN_SECONDS_PER_MASS", "DESIGN_SECONDS_FIXED",
            "INTERPRETER_BYTES", "INTERPRETER_SECONDS", "RUN_START_SECONDS", "run_estimate", "sample_theory_seconds",
            "AC_SECONDS_PER_UNKNOWN_FREQUENCY", "AC_SECONDS_PER_FREQUENCY", "FIT_SECONDS_PER_SAMPLE_MODE",
+           "FIT_SECONDS_PER_SAMPLE",
            "ac_estimate",
            "chain_seconds",
            "max_points", "design_estimate", "perfect_estimate", "show_bytes", "show_seconds"]
@@ -156,14 +160,16 @@ def run_estimate(*, points: float, saved: int, compared: int, unknowns: float, e
                     ngspice_seconds(points, unknowns))
 
 
-#: ngspice's AC analysis: one complex sparse solve per frequency, per unknown (about 2 N, 3 N with losses).
-AC_SECONDS_PER_UNKNOWN_FREQUENCY = 2e-7
+#: ngspice's AC analysis: one complex sparse solve per frequency, per unknown (about 2 N, 3 N with losses);
+#: measured 1.4e-7 .. 1.5e-7 s for two-mass N = 500 .. 2000 (6,700 .. 26,000 frequencies, under load).
+AC_SECONDS_PER_UNKNOWN_FREQUENCY = 1.5e-7
 #: ... and per frequency whatever the circuit.
 AC_SECONDS_PER_FREQUENCY = 2e-5
-#: The fit's cost per sample per mode: the model's update in every Gauss-Newton sweep (O(points x N) each).
-FIT_SECONDS_PER_SAMPLE_MODE = 2e-7
-#: The fit's cost per sample: its rational fits and least squares, whatever N.
-FIT_SECONDS_PER_SAMPLE = 2e-4
+#: The fit's cost per sample per mode: the model's update in every Gauss-Newton sweep (O(points x N) each);
+#: measured (under load) 1.0e-6 .. 1.5e-6 at N = 500 .. 1000.
+FIT_SECONDS_PER_SAMPLE_MODE = 1e-6
+#: The fit's cost per sample whatever N: its rational fits (pieces of fixed size) and windows' least squares.
+FIT_SECONDS_PER_SAMPLE = 5e-4
 
 
 def ac_estimate(*, points: float, N: int, losses: bool = False) -> Estimate:
@@ -180,7 +186,7 @@ def ac_estimate(*, points: float, N: int, losses: bool = False) -> Estimate:
     """
     unknowns = (3 if losses else 2) * N
     seconds = (points * (AC_SECONDS_PER_UNKNOWN_FREQUENCY * unknowns + AC_SECONDS_PER_FREQUENCY)
-               + points * (FIT_SECONDS_PER_SAMPLE_MODE * N + FIT_SECONDS_PER_SAMPLE) + 3e-10 * N**3)
+               + points * (FIT_SECONDS_PER_SAMPLE_MODE * N + FIT_SECONDS_PER_SAMPLE) + 3e-10 * N**3)  # exact modes
     # the raw file's three complex columns and their copies; the exact modes (N x N); the response's (times x N)
     memory = 16.0 * 3 * 4 * points + 16.0 * N * N + 16.0 * 6 * 2001 * N
     return Estimate(f"{points:.3g} frequencies x {unknowns} unknowns", memory, seconds)
