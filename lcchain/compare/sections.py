@@ -38,8 +38,10 @@ _WIDTHS = 4.0
 _SWEEPS = 12
 #: Terms of the smooth correction a window fits beside its modes (:func:`_background`).
 _BACKGROUND = 4
+#: Fractions of a Gauss-Newton step tried in turn until one lowers the window's misfit.
+_FRACTIONS = (1.0, 0.5, 0.25, 0.125)
 #: A step that lowers its window's misfit by less than this factor counts as no progress.
-_GAIN = 0.5
+_GAIN = 0.99
 #: Sweeps of the residues' block Gauss-Seidel at most, and the relative change at which it stops.
 _RESIDUE_SWEEPS = 6
 _RESIDUE_CHANGE = 1e-13
@@ -196,23 +198,24 @@ def _window_step(w: np.ndarray, y: np.ndarray, sections: Sections, model: np.nda
     step[movable] = _solve_beside(jacobian, _background(ws, weight, sections), _stack(residual))
     k = hi - lo
     old = (sections.c[modes].copy(), sections.x[modes].copy(), sections.gamma[modes].copy())
-    trial_x = old[1] + step[k:2 * k]
-    if not sections.lossy:  # a step that reorders the poles is no step
-        bounds = np.concatenate(([sections.x[lo - 1]] if lo > 0 else [], trial_x,
-                                 [sections.x[hi]] if hi < sections.size else []))
-        if np.any(np.diff(bounds) <= 0):
-            return False
-    sections.c[modes] = old[0] + step[:k]
-    sections.x[modes] = trial_x
-    if sections.lossy:
-        sections.gamma[modes] = old[2] + step[2 * k:]
-    change = sections.value(ws, sections.c, modes) - _value(ws, old)
-    after = float(np.max(np.abs((y[rows] - model[rows] - change) * _weights(ws, sections, near))))
-    if not after < before:
+    for fraction in _FRACTIONS:  # the whole step, else shorter ones (overlapping modes: Gauss-Newton overshoots)
+        trial_x = old[1] + fraction * step[k:2 * k]
+        if not sections.lossy:  # a step that reorders the poles is no step
+            bounds = np.concatenate(([sections.x[lo - 1]] if lo > 0 else [], trial_x,
+                                     [sections.x[hi]] if hi < sections.size else []))
+            if np.any(np.diff(bounds) <= 0):
+                continue
+        sections.c[modes] = old[0] + fraction * step[:k]
+        sections.x[modes] = trial_x
+        if sections.lossy:
+            sections.gamma[modes] = old[2] + fraction * step[2 * k:]
+        change = sections.value(ws, sections.c, modes) - _value(ws, old)
+        after = float(np.max(np.abs((y[rows] - model[rows] - change) * _weights(ws, sections, near))))
+        if after < before:
+            model += sections.value(w, sections.c, modes) - _value(w, old)
+            return after < _GAIN * before
         sections.c[modes], sections.x[modes], sections.gamma[modes] = old
-        return False
-    model += sections.value(w, sections.c, modes) - _value(w, old)
-    return after < _GAIN * before
+    return False
 
 
 def _background(ws: np.ndarray, weight: np.ndarray, sections: Sections) -> np.ndarray | None:
