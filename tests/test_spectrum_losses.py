@@ -173,3 +173,7 @@ def test_spectrum_command_with_losses(tmp_path, capsys):
         assert "--Q" in capsys.readouterr().err
     assert main(["spectrum", "--case", "two-mass", "--N", "12", "--Q", "100", "--coupling", "0.03"]) == 2
     assert "--Q" in capsys.readouterr().err
+    # priced as an AC analysis: frequencies and unknowns (3 N with the resistors), not time points
+    assert main(["spectrum", "--case", "two-mass", "--N", "1000", "--Q", "100", "--max-time", "2"]) == 2
+    error = capsys.readouterr().err
+    assert "frequencies x 3000 unknowns" in error and "time points" not in error
