@@ -166,8 +166,8 @@ AC_SECONDS_PER_UNKNOWN_FREQUENCY = 1.5e-7
 #: ... and per frequency whatever the circuit.
 AC_SECONDS_PER_FREQUENCY = 2e-5
 #: The fit's cost per sample per mode: the model's update in every Gauss-Newton sweep (O(points x N) each);
-#: measured (under load) 1.0e-6 .. 1.5e-6 at N = 500 .. 1000.
-FIT_SECONDS_PER_SAMPLE_MODE = 1e-6
+#: measured (under load, benchmarks/spectrum.md) 0.5e-6 .. 1.4e-6 at N = 500 .. 2000.
+FIT_SECONDS_PER_SAMPLE_MODE = 6e-7
 #: The fit's cost per sample whatever N: its rational fits (pieces of fixed size) and windows' least squares.
 FIT_SECONDS_PER_SAMPLE = 5e-4
 
