@@ -8,11 +8,14 @@ one second-order section per mode: x_n = omega_n^2, gamma_n its decay rate (0 wi
 residue.  The sum is exact (a proper rational function of degree 2N), so the model has nothing else to fit.
 
 :func:`refine_sections` moves every section's parameters by Gauss-Newton, one window of neighbouring modes at a
-time (block Gauss-Seidel), with the whole model's residual: window w moves its :data:`WINDOW_MODES` modes on the
-samples between its outer neighbours, and the model is updated on every sample.  Each row is weighted by
+time (block Gauss-Seidel; up to :data:`ONE_WINDOW` modes, one window), with the whole model's residual: a window
+moves its :data:`WINDOW_MODES` modes on the samples between its outer neighbours, fits a smooth correction
+beside them (the other windows' errors, dropped), shortens its step when the whole one overshoots, and the
+model is updated on every sample; alternate sweeps shift the windows by half.  Each row is weighted by
 min_n |D_n| / w, the inverse of the nearest section's gain, so that every row carries the data's rounding alike
 (without losses that is the distance to the nearest pole, as :mod:`lcchain.compare.spectrum` says).
-:func:`section_residues` finds the residues of a second admittance at fixed sections the same way (linear).
+:func:`section_residues` finds the residues of a second admittance at fixed sections the same way (linear, each
+window's modes solved beside its neighbours').
 
 Cost per sweep: the least squares of N / K windows of about R rows and 3 K columns, O(N R K) (R ~ 8 K samples
 on lcchain's grid: O(N K^2)), and the model's update on every sample, O(points x N).
@@ -148,7 +151,8 @@ def refine_sections(w: np.ndarray, y: np.ndarray, sections: Sections) -> tuple[i
     Returns
     -------
     sweeps, misfit
-        Sweeps in which some window's step was taken, and the largest weighted misfit left on the samples fitted.
+        Sweeps in which some window's step lowered its misfit by 1 % at least (:data:`_GAIN`), and the largest
+        weighted misfit left on the samples fitted.
     """
     model = sections.value(w, sections.c)
     sweeps = 0
