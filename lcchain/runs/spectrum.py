@@ -49,7 +49,7 @@ __all__ = ["SpectrumReport", "measure_spectrum", "OMEGA_MARGIN", "SPECTRUM_MAX_N
 
 #: The sweep ends this far above the highest normal frequency (relative).
 OMEGA_MARGIN = 0.05
-#: The largest chain measured (exact modes for the comparison, and the fit's dense least squares).
+#: The largest chain measured (its exact modes for the comparison, O(N^3); the fit itself grows like N^2).
 SPECTRUM_MAX_N = COUPLED_MAX_N
 #: A mode's frequency is held to the targets when its weight at the far end is at least this: below, the pole is
 #: nearly cancelled in I_N/V_1 and I_1/V_1 and double precision places it to ~1e-16 / |P_n| only (measured on the
