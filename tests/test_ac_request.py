@@ -6,10 +6,12 @@ Every spectrum is checked against an independent dense eigen-solution of the run
 
 from __future__ import annotations
 
+import json
+
 import numpy as np
 import pytest
 from helpers.dense import dense_modes
-from helpers.tolerances import ATOL_SPECTRUM_P, RTOL_SPECTRUM_OMEGA
+from helpers.tolerances import ATOL_SPECTRUM_P, RTOL_SPECTRUM_OMEGA, RTOL_SPECTRUM_Q
 
 from lcchain.circuit.effects import Losses, Tolerance
 from lcchain.compare.spectral import OMEGA_WEIGHT_FLOOR, SpectrumMetrics
@@ -85,7 +87,6 @@ def test_the_ac_price_is_in_frequencies_and_checked_first():
 
 
 @pytest.mark.parametrize(("request_of", "field"), [
-    (lambda c: Request(c, AC(), effects=(Losses(Q=100.0),)), "effects.losses"),
     (lambda c: Request(c, AC(), backend="shared"), "backend"),
     (lambda c: Request(c, AC(points=3)), "points"),
     (lambda c: Request(c, AC(), comments=("a note",)), "comments"),
@@ -128,12 +129,35 @@ def test_transient_keys_do_not_depend_on_the_ac_fields():
 
 
 @pytest.mark.ngspice
-def test_samples_of_one_sweep_share_a_frequency_dimension(tmp_path):
+def test_each_sample_has_its_own_sweep_on_the_samples_axis(tmp_path):
+    """A tolerance sample's sweep is placed from its own poles (segments as fine as they are): its frequencies are
+    a coordinate of each sample, on a shared point dimension when the samples have as many."""
     pytest.importorskip("xarray")
     request = Request(chain_for_case("perfect", 10), AC(), effects=(Tolerance(L=0.01, C=0.01, samples=2, seed=3),))
+    specs = plan_request(request).specs
+    assert len({spec.points for spec in specs}) == 1 and specs[0].netlist != specs[1].netlist
     run_plan(request_plan([({"N": 10}, request)]), tmp_path / "s.sqlite", executor="serial")
     with Store(tmp_path / "s.sqlite", "read") as store:
         data = store.to_xarray(waveforms=True)
-    points = plan_request(request).points
-    assert dict(data["i(l1)"].sizes) == {"sample": 2, "frequency": points} and data["i(l1)"].dtype == complex
-    assert data["frequency"].values[0] > 0 and data["frequency"].values.size == points
+    points = specs[0].points
+    assert dict(data["i(l1)"].sizes) == {"sample": 2, "point": points} and data["i(l1)"].dtype == complex
+    frequency = data["frequency"].values
+    assert frequency.shape == (2, points) and np.all(frequency > 0) and np.all(np.diff(frequency, axis=1) > 0)
+    assert not np.array_equal(frequency[0], frequency[1])
+
+
+@pytest.mark.ngspice
+def test_an_ac_request_with_losses_fits_every_modes_decay_rate():
+    """Losses go through the request as through the transient: the same resistors, and each mode's Q_n against
+    omega_n Q, stored with the run's metrics."""
+    chain = chain_for_case("two-mass", 12)
+    plan = plan_request(Request(chain, AC(), effects=(Losses(Q=100.0),)))
+    spec = plan.specs[0]
+    assert isinstance(spec.theory, SpectrumTheory) and spec.theory.Q == 100.0
+    assert sum(line.startswith("R") for line in spec.netlist.splitlines()) == chain.N
+    record = execute(spec)
+    assert record.ok and record.spectrum is not None and record.spectrum.losses == 100.0
+    _against_dense(chain, record.spectrum)
+    assert record.spectrum.max_rel_error_Q < RTOL_SPECTRUM_Q
+    stored = SpectrumMetrics.from_dict(json.loads(json.dumps(record.spectrum.to_dict())))
+    assert stored.losses == 100.0 and stored.max_rel_error_Q == record.spectrum.max_rel_error_Q

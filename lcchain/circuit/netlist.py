@@ -33,6 +33,7 @@ from __future__ import annotations
 import hashlib
 import math
 import re
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -68,6 +69,7 @@ __all__ = [
     "SimulationOptions",
     "netlist_text",
     "ac_netlist_text",
+    "AC_OFFSET",
     "make_netlist",
     "check_user_text",
     "probe_names",
@@ -322,7 +324,8 @@ def _element_lines(ladder: Ladder, parts: tuple[Effect, ...], *, source: bool, k
     return lines
 
 
-def ac_netlist_text(ladder: Ladder, *, points: int, omega_max: float, omega_min: float | None = None,
+def ac_netlist_text(ladder: Ladder, *, points: int | None = None, omega_max: float | None = None,
+                    omega_min: float | None = None, segments: Sequence[tuple[int, float, float]] | None = None,
                     title: str = "lcchain LC ladder, AC", effects: tuple[Effect, ...] = ()) -> str:
     """The ladder driven in loop 1 by a unit AC voltage, for its transfer admittances I_1/V_1 and I_N/V_1.
 
@@ -335,6 +338,11 @@ def ac_netlist_text(ladder: Ladder, *, points: int, omega_max: float, omega_min:
         The last angular frequency, in units of 1/sqrt(L0 C0) (> 0).
     omega_min : float, optional
         The first (default ``omega_max / points``: a free chain has a pole at 0, which a sweep may not hit).
+    segments : sequence of (points, lowest, highest), optional
+        Instead of ``points`` and ``omega_max``: several even sweeps, one ``.ac lin`` card each, of ``points``
+        (>= 2) angular frequencies evenly inside (lowest, highest) (units of 1/sqrt(L0 C0), ascending and
+        disjoint: :func:`lcchain.compare.grid.sweep_segments`, :func:`lcchain.compare.grid.segment_frequencies`);
+        ngspice writes one plot per card.
     title : str
     effects : tuple of Effect
         Their series elements (losses: a resistor per inductor), as :func:`netlist_text`.
@@ -346,25 +354,56 @@ def ac_netlist_text(ladder: Ladder, *, points: int, omega_max: float, omega_min:
         a free one has no DC operating point: a loop of inductors); frequencies in Hz.
     """
     instance("ladder", ladder, Ladder)
-    points = integer("points", points, at_least=MIN_AC_POINTS, at_most=MAX_AC_POINTS)
-    omega_max = real("omega_max", omega_max, above=0.0)
-    omega_min = real("omega_min", omega_min if omega_min is not None else omega_max / points, above=0.0,
-                     below=omega_max)
+    hertz = 1.0 / (2.0 * math.pi * ladder.time_unit)  # angular frequency 1/tau in Hz
+    if segments is None:
+        points = integer("points", points, at_least=MIN_AC_POINTS, at_most=MAX_AC_POINTS)
+        omega_max = real("omega_max", omega_max, above=0.0)
+        omega_min = real("omega_min", omega_min if omega_min is not None else omega_max / points, above=0.0,
+                         below=omega_max)
+        sweeps = [f".ac lin {points} {number(omega_min * hertz)} {number(omega_max * hertz)}"]
+    else:
+        sweeps = _ac_cards(segments, hertz)
     parts = _sequence("effects", effects, "a tuple of lcchain effects")
     for part in parts:
         instance("effects", part, Effect)
     title = check_user_text("title", title)
     N = ladder.chain.N
-    hertz = 1.0 / (2.0 * math.pi * ladder.time_unit)  # angular frequency 1/tau in Hz
     lines = [title, f"* N={N} L0={number(ladder.L0)} H C0={number(ladder.C0)} F time unit="
                     f"{number(ladder.time_unit)} s, AC drive of 1 V in loop 1"]
     lines += _element_lines(ladder, parts, source=True, kick=None, charge=None)
     lines.append(f"V1 s1 {ladder.node(0)} DC 0 AC 1")
     lines.append(".options noopac")
-    lines.append(f".ac lin {points} {number(omega_min * hertz)} {number(omega_max * hertz)}")
+    lines += sweeps
     lines.append(".save " + " ".join(probe_names(N, "ends")))
     lines.append(".end")
     return "\n".join(lines) + "\n"
+
+
+#: Where a segment's samples sit within their steps: lowest + (k + AC_OFFSET) step, k = 0 .. points - 1.  Not on
+#: a step's edge: segments meet halfway between two poles, so on evenly spaced poles a whole number of steps from
+#: there would land on a pole (a lossless admittance is infinite there).  (3 - sqrt 5) / 2 keeps the samples as
+#: far from such coincidences as any fraction can.
+AC_OFFSET = (3.0 - math.sqrt(5.0)) / 2.0
+
+
+def _ac_cards(segments: Sequence[tuple[int, float, float]], hertz: float) -> list[str]:
+    """One ``.ac lin`` card per segment (points, lowest, highest): its points on (lowest, highest), offset by
+    :data:`AC_OFFSET` steps."""
+    cards, total, previous = [], 0, 0.0
+    for k, segment in enumerate(_sequence("segments", segments, "a sequence of (points, lowest, highest)")):
+        if not isinstance(segment, tuple) or len(segment) != 3:
+            raise ParameterError(f"segments[{k}]", segment, "(points, lowest, highest)")
+        count = integer(f"segments[{k}].points", segment[0], at_least=2, at_most=MAX_AC_POINTS)
+        lowest = real(f"segments[{k}].lowest", segment[1], at_least=previous,
+                      allowed=f"a number >= {previous:.17g} (the previous segment's end; segments ascend)")
+        highest = real(f"segments[{k}].highest", segment[2], above=lowest)
+        step = (highest - lowest) / count
+        first, last = lowest + AC_OFFSET * step, highest - (1.0 - AC_OFFSET) * step
+        cards.append(f".ac lin {count} {number(first * hertz)} {number(last * hertz)}")
+        total, previous = total + count, highest
+    integer("points", total, at_least=MIN_AC_POINTS, at_most=MAX_AC_POINTS,
+            allowed=f"{MIN_AC_POINTS} to {MAX_AC_POINTS} frequencies in all segments")
+    return cards
 
 
 def _loop_branch(i: int, left: str, right: str, inductance: float, ic: str,

@@ -341,17 +341,18 @@ def cmd_spectrum(args: argparse.Namespace) -> int:
     outputs = Outputs(inputs={"--chain": args.chain})
     outputs.check("--plot", args.plot, FIGURE_FORMATS)
     chain = chain_from_args(args)
-    report = measure_spectrum(chain, points=args.points, L0=args.L0, C0=args.C0, budget=budget_from_args(args),
-                              engine=args.engine)
+    report = measure_spectrum(chain, Q=args.Q, points=args.points, L0=args.L0, C0=args.C0,
+                              budget=budget_from_args(args), engine=args.engine)
     data = report.to_dict()
     if args.json:
         emit_json(data)
     else:
         coupled = f", coils coupled k = {chain.coupling:g}" if chain.coupled else ""
+        lossy = f", losses Q = {args.Q:g}" if args.Q is not None else ""
         timings = data["timings"]
-        print(f"{chain.name} chain, N = {chain.N}{coupled}: {data['engine']} {data['engine_version']} AC analysis, "
-              f"{data['points']} frequencies up to {data['omega_max']:.4g} in {timings['ngspice_s']:.3f} s, "
-              f"fit {timings['fit_s']:.3f} s")
+        print(f"{chain.name} chain, N = {chain.N}{coupled}{lossy}: {data['engine']} {data['engine_version']} AC "
+              f"analysis, {data['points']} frequencies up to {data['omega_max']:.4g} in {data['segments']} segments, "
+              f"{timings['ngspice_s']:.3f} s, fit {timings['fit_s']:.3f} s")
         print(f"{'n':>5} {'omega (circuit)':>19} {'omega (theory)':>19} {'rel. error':>10} {'P_n (circuit)':>14} "
               f"{'P_n (theory)':>14} {'abs. error':>10} {'spacing':>10}")
         previous = None
@@ -368,6 +369,8 @@ def cmd_spectrum(args: argparse.Namespace) -> int:
         print(f"max relative error of omega_n = {data['max_rel_error_omega']:.3e} (modes with |P_n| >= 1e-6"
               f"{f'; {weak} weaker modes are placed less well' if weak else ''}), max absolute error of P_n = "
               f"{data['max_abs_error_P']:.3e} ({data['seen']} of {chain.N} modes seen at the ends)")
+        if data["Q"] is not None:
+            _print_quality(data)
     if args.plot:
         from ..report.plots import spectrum
 
@@ -375,6 +378,18 @@ def cmd_spectrum(args: argparse.Namespace) -> int:
             report.theory.omega, report.theory.transfer, report.omega, report.P,
             title=f"{chain.name} chain, N = {chain.N}: {report.engine} AC against theory", path=path))
     return EXIT_FAILED if outputs.failed else EXIT_OK
+
+
+def _print_quality(data: dict[str, Any]) -> None:
+    """``lcchain spectrum --Q``: each seen mode's Q_n beside omega_n Q, and the fitted response's error."""
+    print(f"{'n':>5} {'Q_n (circuit)':>19} {'Q_n (theory)':>19} {'rel. error':>10}")
+    for mode in data["modes"]:
+        if mode["Q"] is not None:
+            error = abs(mode["Q"] - mode["Q_theory"]) / (mode["Q_theory"] or 1.0)
+            print(f"{mode['n']:>5} {mode['Q']:19.12g} {mode['Q_theory']:19.12g} {error:10.2e}")
+    response = data["max_abs_error_response"]
+    print(f"max relative error of Q_n = {data['max_rel_error_Q']:.3e}, of the poles = {data['max_rel_error_pole']:.3e}"
+          + ("" if response is None else f"; fitted alpha_N(t) - exact lossy response: max {response:.3e}"))
 
 
 def _simulate_engines(args: argparse.Namespace, chain: Any, dt: float | None, keep_netlist: Any) -> int:

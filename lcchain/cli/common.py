@@ -39,7 +39,7 @@ OPTION_NAMES = {
     "N": "--N", "dt": "--dt", "accuracy": "--accuracy", "transits": "--transits", "L0": "--L0", "C0": "--C0",
     "title": "--title", "excitation": "--excitation", "method": "--method", "backend": "--backend",
     "engine": "--engine",
-    "points": "--points",
+    "points": "--points", "Q": "--Q", "coupling": "--coupling",
     "case": "--case", "walls": "--walls", "max_memory": "--max-memory", "max_seconds": "--max-time",
 }
 

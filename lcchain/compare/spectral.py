@@ -15,7 +15,6 @@ asked for it, is judged by these two.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -26,9 +25,11 @@ from ..core.errors import ParameterError
 from ..core.frozen import FrozenArrays
 from ..core.limits import COUPLED_MAX_N, MAX_AC_POINTS
 from ..theory.modes import Modes
-from .spectrum import SpectrumFit, fit_spectrum, min_points
+from .grid import POINTS_PER_SPACING, Segment, min_points, sweep_segments
+from .spectrum import SpectrumFit, fit_spectrum
 
 __all__ = ["SpectrumMetrics", "SPECTRAL_METRICS", "spacing_spread", "sweep_grid", "compare_spectrum",
+           "nearest_modes",
            "OMEGA_MARGIN", "OMEGA_WEIGHT_FLOOR", "DEFAULT_OVERSAMPLING", "SPECTRUM_MAX_N"]
 
 #: The sweep ends this far above the highest normal frequency (relative).
@@ -74,6 +75,10 @@ class SpectrumMetrics(FrozenArrays):
         The poles and residues found in the circuit, one per seen mode (not stored).
     seen : ndarray of int, optional
         For each fitted pole, the index of its theoretical mode (not stored).
+    gamma : ndarray, optional
+        With losses: the circuit's decay rate of every mode (NaN where unseen).
+    losses : float, optional
+        The losses' quality factor Q (every mode's theory decays at 1/Q); None: a lossless ladder.
     """
 
     omega_theory: np.ndarray
@@ -83,9 +88,14 @@ class SpectrumMetrics(FrozenArrays):
     resolved: np.ndarray
     fit: SpectrumFit | None = None
     seen: np.ndarray | None = None
+    gamma: np.ndarray | None = None
+    losses: float | None = None
 
     def __post_init__(self) -> None:
-        sizes = {np.shape(getattr(self, name)) for name in ("omega_theory", "omega", "P_theory", "P", "resolved")}
+        if (self.gamma is None) != (self.losses is None):
+            raise ParameterError("gamma", self.losses, "decay rates with the losses' Q, or neither")
+        arrays = ("omega_theory", "omega", "P_theory", "P", "resolved") + (("gamma",) if self.gamma is not None else ())
+        sizes = {np.shape(getattr(self, name)) for name in arrays}
         if len(sizes) != 1 or len(next(iter(sizes))) != 1:
             raise ParameterError("metrics", sorted(sizes), "one value per mode in every array")
         self._freeze_arrays()
@@ -122,6 +132,29 @@ class SpectrumMetrics(FrozenArrays):
         return spacing_spread(self.spacings())[1]
 
     @property
+    def Q(self) -> np.ndarray:
+        """The circuit's quality factor omega_n / gamma_n of every mode (NaN where unseen, and without losses)."""
+        if self.gamma is None:
+            return np.full(self.omega.size, np.nan)
+        return self.omega / self.gamma
+
+    @property
+    def Q_theory(self) -> np.ndarray:
+        """omega_n Q: every mode decays at gamma = 1/Q (NaN without losses)."""
+        return self.omega_theory * (np.nan if self.losses is None else self.losses)
+
+    @property
+    def max_rel_error_Q(self) -> float:
+        """Largest |Q_n - omega_n Q| / (omega_n Q) over the resolved modes of nonzero frequency (NaN without
+        losses); an unseen resolved mode is an infinite error."""
+        if self.losses is None:
+            return float("nan")
+        where = self.resolved & (self.omega_theory > 0)
+        theory = self.Q_theory
+        error = np.abs(self.Q - theory) / np.where(theory > 0, theory, 1.0)
+        return float(np.max(np.where(np.isnan(error), np.inf, error)[where], initial=0.0))
+
+    @property
     def modes_seen(self) -> int:
         return int(np.count_nonzero(np.isfinite(self.omega)))
 
@@ -133,31 +166,36 @@ class SpectrumMetrics(FrozenArrays):
                 "spacing_spread_theory": spacing_spread(self.spacings(theory=True))[0],
                 "omega": [float(w) if np.isfinite(w) else None for w in self.omega],
                 "omega_theory": self.omega_theory.tolist(), "P": self.P.tolist(), "P_theory": self.P_theory.tolist(),
-                "resolved": self.resolved.tolist()}
+                "resolved": self.resolved.tolist()} | ({} if self.gamma is None else {
+                    "Q": self.losses, "max_rel_error_Q": self.max_rel_error_Q,
+                    "gamma": [float(g) if np.isfinite(g) else None for g in self.gamma]})
 
     @classmethod
     def from_dict(cls, data: dict[str, Any]) -> SpectrumMetrics:
         """The metrics a store kept (:meth:`to_dict`)."""
         try:
+            gamma = data.get("gamma")
             return cls(np.asarray(data["omega_theory"], dtype=float),
                        np.array([np.nan if w is None else w for w in data["omega"]], dtype=float),
                        np.asarray(data["P_theory"], dtype=float), np.asarray(data["P"], dtype=float),
-                       np.asarray(data["resolved"], dtype=bool))
+                       np.asarray(data["resolved"], dtype=bool), gamma=None if gamma is None else
+                       np.array([np.nan if g is None else g for g in gamma], dtype=float), losses=data.get("Q"))
         except (KeyError, TypeError, ValueError):
             raise ParameterError("metrics", sorted(data), "an AC run's metrics (omega, P and their theory)") from None
 
 
-def sweep_grid(omegas: Sequence[np.ndarray], points: int | None = None) -> tuple[int, float]:
-    """An AC sweep's frequencies and its last angular frequency, for the normal frequencies of one or more chains
-    (tolerance samples share one sweep that separates every one's poles).
+def sweep_grid(omega: np.ndarray, points: int | None = None) -> tuple[list[Segment], int, float]:
+    """An AC sweep for a chain's normal frequencies: its even segments (one ``.ac lin`` card each, as fine as the
+    poles they hold: :func:`lcchain.compare.grid.sweep_segments`), their frequencies in all, and the last angular
+    frequency.
 
     Parameters
     ----------
-    omegas : sequence of ndarray
-        Each chain's normal frequencies, ascending, units of 1/sqrt(L0 C0).
+    omega : ndarray
+        The chain's normal frequencies, ascending, units of 1/sqrt(L0 C0).
     points : int, optional
         Frequencies asked for; default :data:`DEFAULT_OVERSAMPLING` times the fewest that separate every pole
-        (:func:`lcchain.compare.spectrum.min_points`).
+        (:func:`lcchain.compare.grid.min_points`).
 
     Raises
     ------
@@ -165,36 +203,40 @@ def sweep_grid(omegas: Sequence[np.ndarray], points: int | None = None) -> tuple
         ``points`` below the fewest that separate every pole (naming that minimum), or a chain whose poles no
         sweep of :data:`lcchain.core.limits.MAX_AC_POINTS` frequencies separates (naming ``N``).
     """
-    arrays = [np.asarray(omega, dtype=float) for omega in omegas]
-    omega_max = max(float(omega[-1]) for omega in arrays) * (1.0 + OMEGA_MARGIN)
-    needed = max(min_points(omega, omega_max) for omega in arrays)
+    omega = np.asarray(omega, dtype=float)
+    omega_max = float(omega[-1]) * (1.0 + OMEGA_MARGIN)
+    needed = min_points(omega, omega_max)
     if needed > MAX_AC_POINTS:
-        spacing = min(float(np.min(np.diff(omega[omega > 0]))) for omega in arrays)
-        raise ParameterError("N", arrays[0].size, f"a chain whose poles an even sweep of at most {MAX_AC_POINTS} "
-                             f"frequencies separates: two of its normal frequencies are {spacing:.3g} apart, "
-                             f"which needs {needed} frequencies")
+        raise ParameterError("N", omega.size, f"a chain whose poles a sweep of at most {MAX_AC_POINTS} frequencies "
+                             f"separates: this one needs {needed}")
     if points is None:
-        return min(MAX_AC_POINTS, DEFAULT_OVERSAMPLING * needed), omega_max
-    return integer("points", points, at_least=needed, at_most=MAX_AC_POINTS,
-                   allowed=f"at least {needed} frequencies (4 per smallest spacing of the normal frequencies, "
-                           f"up to {omega_max:.4g}) and at most {MAX_AC_POINTS}"), omega_max
+        points = min(MAX_AC_POINTS, DEFAULT_OVERSAMPLING * needed)
+    points = integer("points", points, at_least=needed, at_most=MAX_AC_POINTS,
+                     allowed=f"at least {needed} frequencies ({POINTS_PER_SPACING} per spacing of the normal "
+                             f"frequencies, up to {omega_max:.4g}) and at most {MAX_AC_POINTS}")
+    return sweep_segments(omega, omega_max, POINTS_PER_SPACING, points), points, omega_max
 
 
 def _matched(fit: SpectrumFit, theory: Modes) -> SpectrumFit:
-    """The fitted poles, one per theoretical mode: where two match the same mode (a spurious pole of the rational
+    """The fitted modes, one per theoretical mode: where two match the same mode (a spurious pole of the rational
     fit beside a weak mode), the one with the larger residue at loop 1 stays."""
-    nearest = np.array([int(np.argmin(np.abs(theory.omega - w))) for w in fit.omega], dtype=int)
+    nearest = nearest_modes(fit.omega, theory.omega)
     keep = np.zeros(nearest.size, dtype=bool)
     for mode in np.unique(nearest):
         candidates = np.flatnonzero(nearest == mode)
         keep[candidates[np.argmax(np.abs(fit.first[candidates]))]] = True
-    if keep.all():
-        return fit
-    return SpectrumFit(fit.omega[keep], fit.first[keep], fit.last[keep], fit.sweeps, fit.residual)
+    return fit if keep.all() else fit.subset(keep)
+
+
+def nearest_modes(omega: np.ndarray, theory: np.ndarray) -> np.ndarray:
+    """The index of the theoretical frequency (ascending) nearest each of ``omega``."""
+    right = np.clip(np.searchsorted(theory, omega), 1, max(theory.size - 1, 1))
+    left = right - 1
+    return np.where(np.abs(theory[right] - omega) < np.abs(omega - theory[left]), right, left).astype(int)
 
 
 def compare_spectrum(theory: Modes, omega: np.ndarray, y11: np.ndarray, yN1: np.ndarray,
-                     mass: float) -> SpectrumMetrics:
+                     mass: float, Q: float | None = None) -> SpectrumMetrics:
     """An AC run's poles and residues against the driven modes of the same chain.
 
     Parameters
@@ -207,12 +249,15 @@ def compare_spectrum(theory: Modes, omega: np.ndarray, y11: np.ndarray, yN1: np.
         I_1/V_1 and I_N/V_1 times sqrt(L0/C0).
     mass : float
         m_1 (P_n = m_1 times the residue of Y_N1).
+    Q : float, optional
+        The losses' quality factor (every mode decays at gamma = 1/Q): the fit then finds each mode's decay rate.
     """
-    fit = _matched(fit_spectrum(omega, y11, yN1), theory)
-    seen = np.array([int(np.argmin(np.abs(theory.omega - w))) for w in fit.omega], dtype=int)
-    circuit = np.full(theory.N, np.nan)
-    circuit[seen] = fit.omega
+    fit = _matched(fit_spectrum(omega, y11, yN1, lossy=Q is not None), theory)
+    seen = nearest_modes(fit.omega, theory.omega)
+    circuit, gamma = np.full(theory.N, np.nan), np.full(theory.N, np.nan)
+    circuit[seen], gamma[seen] = fit.omega, fit.gamma
     P = np.zeros(theory.N)
     P[seen] = mass * fit.last
     return SpectrumMetrics(np.asarray(theory.omega, dtype=float), circuit, np.asarray(theory.transfer, dtype=float),
-                           P, np.abs(theory.transfer) >= OMEGA_WEIGHT_FLOOR, fit, seen)
+                           P, np.abs(theory.transfer) >= OMEGA_WEIGHT_FLOOR, fit, seen,
+                           gamma if Q is not None else None, Q)

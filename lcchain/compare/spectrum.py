@@ -1,76 +1,85 @@
-"""Normal frequencies and mode weights from a ladder's AC response (pure arrays).
+"""Normal frequencies, decay rates and mode weights from a ladder's AC response (pure arrays).
 
-A lossless ladder driven by a voltage V in loop 1 has the transfer admittances (dimensionless, times
-Z0 = sqrt(L0/C0), at the angular frequency w in units of 1/sqrt(L0 C0))
+A ladder driven by a voltage V in loop 1 has the transfer admittances (dimensionless, times Z0 = sqrt(L0/C0),
+at s = j w, w in units of 1/sqrt(L0 C0))
 
-    Y_11 Z0 = j w sum_n a_n / (w_n^2 - w^2),      Y_N1 Z0 = j w sum_n b_n / (w_n^2 - w^2),
+    Y_11 Z0 = sum_n a_n s / (s^2 + gamma_n s + w_n^2),      Y_N1 Z0 = sum_n b_n s / (s^2 + gamma_n s + w_n^2),
 
-with a_n = u_1n^2 > 0 and b_n = u_1n u_Nn for the M-orthonormal modes u (a free chain adds the pole
-w_0 = 0).  So g(x) = Im(Y Z0) / w is a real rational function of x = w^2 with simple real poles x_n and
-residues -a_n (-b_n).
+with a_n = u_1n^2 > 0 and b_n = u_1n u_Nn for the M-orthonormal modes u (a free chain adds the mode w_0 = 0).
+Without losses every gamma_n = 0: g(x) = Im(Y Z0) / w is then a real rational function of x = w^2 with simple
+real poles.  Losses proportional to the masses (:class:`lcchain.circuit.effects.Losses`) keep the modes and
+give every one the same gamma = 1/Q: its poles move to -gamma/2 +- j sqrt(w_n^2 - gamma^2/4).
 
-:func:`fit_spectrum` identifies them from samples on a grid of frequencies:
+:func:`fit_spectrum` identifies every section (a_n, gamma_n, w_n) and every b_n from samples on a grid of
+frequencies (:mod:`lcchain.compare.grid`):
 
-1. *Brackets.*  Every a_n > 0, so g_11 increases strictly between its poles: a pair of neighbouring samples
-   where it decreases brackets a pole (the grid must separate the poles: :func:`min_points`).  A pole too weak
-   to show between two samples has no bracket; the rational fit still finds it.
-2. *All poles at once.*  A rational fit of g_11 (AAA, ``scipy.interpolate.AAA``) on the samples (beyond
-   :data:`_ALL_ROWS` of them, those around the bracketed poles and an even spread); its real poles in the
-   range are the modes, those with a negligible residue dropped.  A free chain's pole at 0 is its
-   translation mode.
-3. *Gauss-Newton* on every pole and residue together, each sample weighted by its distance to the nearest
-   pole (so that every row carries the data's rounding alike); samples within 1e-9 of a pole are left out,
-   because there the circuit's own rounding moves the pole by more than the sample's distance to it.
-4. The residues of Y_N1 at those poles, by weighted linear least squares.
+1. *Every pole, piece by piece.*  The samples are cut into pieces of :data:`_PIECE` samples (a quarter of
+   each side overlapping its neighbours); a rational fit of each (AAA, ``scipy.interpolate.AAA``) finds the
+   poles in its middle half.  Without losses it fits g_11 against x and keeps its real poles; with losses it
+   fits Y_11 Z0 against s and keeps its poles in the left half plane (a pair of real poles is an overdamped
+   mode, a lone real one a free chain's zero mode, whose pole is at -gamma).  Poles with a negligible residue
+   are the fit's, not modes.  Without losses a pair of neighbouring samples where g_11 decreases brackets a
+   pole (every a_n > 0): the rational fits must find at least as many.
+2. *Gauss-Newton* on every section together (:func:`lcchain.compare.sections.refine_sections`: windows of
+   neighbouring modes, each row weighted by its nearest section's inverse gain), from the rational fits'.
+3. The residues of Y_N1 at those sections, by weighted linear least squares.
 
-Measured against exact theory, see ``benchmarks/spectrum.md``.
+The work grows like the samples (pieces of fixed size, windows of fixed size) except the model's update,
+O(samples x N) per Gauss-Newton sweep.  Measured against exact theory, see ``benchmarks/spectrum.md``.
 """
 
 from __future__ import annotations
 
 import warnings
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from scipy.interpolate import AAA
 
+from ..core.blas import fixed_blas_threads
 from ..core.errors import ParameterError
 from ..core.frozen import FrozenArrays
+from .grid import POINTS_PER_SPACING, min_points
+from .sections import Sections, refine_sections, section_residues
 
 __all__ = ["SpectrumFit", "fit_spectrum", "min_points", "POINTS_PER_SPACING"]
 
-#: Samples per smallest spacing of the poles that the fit needs (at least): each pole's window then holds a few
-#: samples on each side.  :func:`min_points` uses it to refuse a grid too coarse before anything runs.
-POINTS_PER_SPACING = 4
-#: Gauss-Newton steps at most (each must lower the misfit).
-_SWEEPS = 6
-#: Rows of the rational fit and of the residues' least squares: this many around each pole, and an even spread.
-_ROWS_PER_POLE = 8
-_SPREAD = 200
-#: Up to this many samples, the rational fit takes them all; beyond, those near the poles and a spread.
-_ALL_ROWS = 6000
+#: Samples in one rational fit (beyond 1.5 times this, the samples are cut into overlapping pieces): with losses
+#: longer pieces, whose poles are found among more neighbours (two-mass N = 100, Q = 100: a mode missed by pieces
+#: of 256 samples).
+_PIECE = 256
+_PIECE_LOSSY = 512
+#: Without losses, one rational fit of every sample while it is cheap (at most this many terms and samples): it
+#: finds more of a perfect cradle's weak modes than pieces do (N = 400: 108 modes seen against 85).
+_WHOLE_TERMS = 256
+_WHOLE_SAMPLES = 6000
 #: A pole of the rational fit whose residue is below this (relative to the largest) is the fit's, not a mode.
 _WEAKEST = 1e-13
-#: Samples closer than this (relative) to a pole are left out of the fits.
-_TOO_CLOSE = 1e-9
-#: AAA's relative tolerance (the samples are ngspice's, good to about 1e-12).
+#: AAA's relative tolerance (the samples are ngspice's, good to about 1e-12); with losses relative to the
+#: largest sample, a resonance's peak (Q times the others), which ngspice's rounding keeps AAA from reaching.
 _AAA_RTOL = 1e-13
+_AAA_RTOL_LOSSY = 1e-11
+#: Terms of a piece's rational fit beyond two per pole the samples show.
+_SPARE_TERMS = 16
 
 
 @dataclass(frozen=True, eq=False)
 class SpectrumFit(FrozenArrays):
-    """Poles and residues identified from an AC response.
+    """Modes identified from an AC response.
 
     Attributes
     ----------
     omega : ndarray
-        Normal frequencies w_n, ascending (units of 1/sqrt(L0 C0)); a free chain's first is 0.
+        Undamped normal frequencies w_n = |p_n|, ascending (units of 1/sqrt(L0 C0)); a free chain's first is 0.
     first, last : ndarray
         Residues a_n of Y_11 Z0 and b_n of Y_N1 Z0 (multiply by m_1 for the mode weights of alpha_1 and alpha_N).
     sweeps : int
-        Gauss-Newton steps taken after the rational fit (each one lowered the misfit).
+        Gauss-Newton sweeps taken after the rational fits (each lowered some window's misfit).
     residual : float
-        Largest misfit of the model to the samples it was fitted on (each times its distance to the nearest pole).
+        Largest misfit of the model to the samples it was fitted on (each times its nearest section's inverse
+        gain).
+    gamma : ndarray
+        Decay rates gamma_n (units of 1/sqrt(L0 C0)); zeros for a lossless fit.
     """
 
     omega: np.ndarray
@@ -78,60 +87,119 @@ class SpectrumFit(FrozenArrays):
     last: np.ndarray
     sweeps: int
     residual: float
+    gamma: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
     def __post_init__(self) -> None:
+        if self.gamma.size != self.omega.size:
+            object.__setattr__(self, "gamma", np.zeros(self.omega.size))
         self._freeze_arrays()
 
+    def subset(self, keep: np.ndarray) -> SpectrumFit:
+        """The modes ``keep`` (a mask or indices)."""
+        return SpectrumFit(self.omega[keep], self.first[keep], self.last[keep], self.sweeps, self.residual,
+                           self.gamma[keep])
 
-def min_points(omega: np.ndarray, omega_max: float) -> int:
-    """The fewest evenly spaced frequencies on (0, omega_max] that separate every pole of ``omega`` (ascending)."""
-    positive = np.asarray(omega, dtype=float)
-    positive = positive[positive > 0]
-    if positive.size < 2:
-        return 16
-    spacing = float(np.min(np.diff(positive)))
-    return int(np.ceil(POINTS_PER_SPACING * omega_max / spacing)) + 1
-
-
-def _poles_between(g: np.ndarray) -> np.ndarray:
-    """Indices k with a pole of the increasing g between samples k and k + 1."""
-    return np.flatnonzero(np.diff(g) < 0)
-
-
-def _solve(columns: np.ndarray, target: np.ndarray) -> np.ndarray:
-    """Least squares with every column scaled to unit norm first (the columns span many orders of magnitude)."""
-    norms = np.linalg.norm(columns, axis=0)
-    norms[norms == 0] = 1.0
-    solution, *_ = np.linalg.lstsq(columns / norms, target, rcond=None)
-    return np.asarray(solution / norms)
+    def impulse(self, t: np.ndarray, residues: np.ndarray) -> np.ndarray:
+        """sum_n residues_n h_n(t): the inverse Laplace transform of sum_n r_n s / (s^2 + gamma_n s + w_n^2)
+        at times ``t`` >= 0 (units of sqrt(L0 C0)); with r = m_1 b_n, alpha_N(t) after a kick."""
+        half = 0.5 * self.gamma.astype(complex)
+        root = np.sqrt(half * half - self.omega.astype(complex) ** 2)
+        fast, slow = -half - root, -half + root  # the section's poles; slow = 0 only for an undamped zero mode
+        split = np.where(root != 0, root, 1.0)
+        t = np.asarray(t, dtype=float)[:, None]
+        h = (slow * np.exp(slow * t) - fast * np.exp(fast * t)) / (2.0 * split)
+        h = np.where(root != 0, h, (1.0 - half * t) * np.exp(-half * t))  # critically damped
+        return np.asarray((h * residues[None, :]).sum(axis=1).real)
 
 
-def _rows_near(x: np.ndarray, poles: np.ndarray, per: int) -> np.ndarray:
-    """Sample indices around each pole (``per`` of them), and a sparse even spread over the whole range."""
-    at = np.searchsorted(x, poles)
-    near = (at[:, None] + np.arange(-per // 2, per // 2)[None, :]).ravel()
-    spread = np.linspace(0, x.size - 1, min(x.size, _SPREAD)).round().astype(int)
-    return np.unique(np.clip(np.concatenate((near, spread)), 0, x.size - 1))
+def _pieces(size: int, piece: int) -> list[tuple[int, int, int, int]]:
+    """(start, stop, core start, core stop) of each overlapping piece; the cores partition 0..size."""
+    if size <= 1.5 * piece:
+        return [(0, size, 0, size)]
+    core = piece // 2
+    edges = np.linspace(0, size, max(2, int(round(size / core))) + 1).round().astype(int)
+    return [(max(int(a) - core // 2, 0), min(int(b) + core // 2, size), int(a), int(b))
+            for a, b in zip(edges[:-1], edges[1:], strict=True)]
 
 
-def _residues(x: np.ndarray, g: np.ndarray, poles: np.ndarray, rows: np.ndarray) -> np.ndarray:
-    """Residues of g = sum_n r_n / (x_n - x) at fixed poles, by least squares on the rows given, each row
-    weighted by its distance to the nearest pole (so that every row carries the data's rounding alike)."""
-    xs = x[rows]
-    distance = poles[None, :] - xs[:, None]
-    weight = np.min(np.abs(distance), axis=1)
-    return _solve(weight[:, None] / distance, g[rows] * weight)
+def _rational(z: np.ndarray, f: np.ndarray, seen: int, rtol: float = 1e-13) -> tuple[np.ndarray, np.ndarray]:
+    """Poles and residues of an AAA fit of f(z) with at most 2 ``seen`` + :data:`_SPARE_TERMS` terms (``seen``:
+    the poles the samples show; the others, weak, and the neighbours' beyond the piece take the rest).  AAA's
+    own clean-up of spurious poles is left out (it cost seconds): their residues are negligible and dropped."""
+    with warnings.catch_warnings():  # AAA may stop short of rtol: Gauss-Newton finishes the job
+        warnings.simplefilter("ignore", RuntimeWarning)
+        fitted = AAA(z, f, rtol=rtol, max_terms=min(z.size // 2, 2 * seen + _SPARE_TERMS), clean_up=False)
+    return np.asarray(fitted.poles()), np.asarray(fitted.residues())
 
 
-def _misfit(x: np.ndarray, g: np.ndarray, poles: np.ndarray, residues: np.ndarray) -> float:
-    """Largest misfit of the model on the samples, relative to the sample's distance-weighted size."""
-    distance = poles[None, :] - x[:, None]
-    weight = np.min(np.abs(distance), axis=1)
-    return float(np.max(np.abs(((residues[None, :] / distance).sum(axis=1) - g) * weight)))
+def _lossless_poles(w: np.ndarray, g: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Squared frequencies and residues a_n of g = sum_n a_n / (x_n - x), piece by piece."""
+    x = w * w
+    poles, residues = [], []
+    brackets = int(np.count_nonzero(np.diff(g) < 0))
+    whole = 2 * brackets + _SPARE_TERMS <= _WHOLE_TERMS and w.size <= _WHOLE_SAMPLES
+    for start, stop, lo, hi in [(0, w.size, 0, w.size)] if whole else _pieces(w.size, _PIECE):
+        found, weights = _rational(x[start:stop], g[start:stop], int(np.count_nonzero(np.diff(g[start:stop]) < 0)))
+        below = -0.5 * x[0] if lo == 0 else x[lo]
+        above = np.inf if hi == w.size else x[hi]
+        real = (np.abs(found.imag) <= 1e-9 * x[-1]) & (found.real >= below) & (found.real < above)
+        poles.append(found.real[real])
+        residues.append(-weights.real[real])
+    return np.concatenate(poles), np.concatenate(residues)
 
 
-def fit_spectrum(omega: np.ndarray, y11: np.ndarray, yN1: np.ndarray) -> SpectrumFit:
-    """Identify the poles and residues of a lossless ladder's transfer admittances (see the module docstring).
+def _lossy_sections(w: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Residues, decay rates and squared frequencies of every section of y(s), piece by piece: a complex pole p
+    (upper half plane) is the section of x = |p|^2, gamma = -2 Re p; real poles are paired (see the module
+    docstring)."""
+    c, gamma, x, lone, lone_residue = [], [], [], [], []
+    for start, stop, lo, hi in _pieces(w.size, _PIECE_LOSSY):
+        found, weights = _rational(1j * w[start:stop], y[start:stop], (stop - start) // 2, _AAA_RTOL_LOSSY)
+        below = 0.0 if lo == 0 else w[lo]
+        above = np.inf if hi == w.size else w[hi]
+        left = found.real < 0
+        real = left & (np.abs(found.imag) <= 1e-4 * np.abs(found))  # AAA places a real pole to ~1e-6 of |p|
+        where = np.where(real, np.abs(found), found.imag)  # a real pole belongs to the piece of |p|
+        keep = left & (where >= below) & (where < above)
+        upper = keep & ~real & (found.imag > 0)
+        p, r = found[upper], weights[upper]
+        c.append((r * 2j * p.imag / p).real)
+        gamma.append(-2.0 * p.real)
+        x.append(np.abs(p) ** 2)
+        lone.append(found.real[keep & real])
+        lone_residue.append(weights.real[keep & real])
+    pairs = _real_sections(np.concatenate(lone), np.concatenate(lone_residue))
+    return (np.concatenate(c + [pairs[0]]), np.concatenate(gamma + [pairs[1]]), np.concatenate(x + [pairs[2]]))
+
+
+def _real_sections(poles: np.ndarray, residues: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Sections from real poles: with one decay rate for all, each overdamped mode's two poles lie symmetrically
+    about -gamma/2 inside (-gamma, 0) and a zero mode's lone pole at -gamma, left of them all: so the leftmost of
+    an odd number is the zero mode, and the others pair from outside in."""
+    order = np.argsort(poles)
+    poles, residues = poles[order], residues[order]
+    c, gamma, x = [], [], []
+    if poles.size % 2:  # c / (s + gamma)
+        c.append(residues[0])
+        gamma.append(-poles[0])
+        x.append(0.0)
+        poles, residues = poles[1:], residues[1:]
+    for i in range(poles.size // 2):
+        p1, p2, r1 = poles[i], poles[poles.size - 1 - i], residues[i]
+        c.append(r1 * (p1 - p2) / p1)
+        gamma.append(-(p1 + p2))
+        x.append(p1 * p2)
+    return np.array(c, dtype=float), np.array(gamma, dtype=float), np.array(x, dtype=float)
+
+
+def _significant(c: np.ndarray) -> np.ndarray:
+    """Sections whose residue is not negligible beside the largest."""
+    return np.abs(c) > _WEAKEST * float(np.max(np.abs(c), initial=0.0))
+
+
+@fixed_blas_threads
+def fit_spectrum(omega: np.ndarray, y11: np.ndarray, yN1: np.ndarray, *, lossy: bool = False) -> SpectrumFit:
+    """Identify the modes of a ladder's transfer admittances (see the module docstring).
 
     Parameters
     ----------
@@ -139,68 +207,39 @@ def fit_spectrum(omega: np.ndarray, y11: np.ndarray, yN1: np.ndarray) -> Spectru
         Angular frequencies of the samples, units of 1/sqrt(L0 C0), ascending, > 0.
     y11, yN1 : ndarray, complex
         Y_11 Z0 and Y_N1 Z0 at those frequencies.
+    lossy : bool
+        Whether the ladder has losses (then every section's gamma_n is fitted; else every gamma_n = 0).
 
     Raises
     ------
     ParameterError
-        Samples that are not a lossless ladder's (no pole, or not ascending).
+        Samples that are not a ladder's (no pole, or not ascending).
     """
     w = np.asarray(omega, dtype=float)
     if w.ndim != 1 or w.size < 8 or not np.all(np.diff(w) > 0) or w[0] <= 0:
         raise ParameterError("omega", f"{w.size} frequencies", "at least 8 ascending frequencies > 0")
-    x = w * w
-    g11 = np.asarray(y11).imag / w
-    gN1 = np.asarray(yN1).imag / w
-    brackets = _poles_between(g11)
-    if brackets.size == 0:
-        raise ParameterError("omega", f"{w[0]:.4g} .. {w[-1]:.4g}", "a frequency range holding a pole")
-    left, right = g11[brackets], g11[brackets + 1]
-    guess = (left * x[brackets] - right * x[brackets + 1]) / (left - right)
-    rows = np.arange(x.size) if x.size <= _ALL_ROWS else _rows_near(x, guess, _ROWS_PER_POLE)
-    # 1. every pole at once: a rational fit of g_11 on the rows (AAA); its real poles in the range are the modes,
-    # weak ones included (a pole whose weight hides it between two samples has no bracket)
-    with warnings.catch_warnings():  # AAA may stop short of rtol: Gauss-Newton below finishes the job
-        warnings.simplefilter("ignore", RuntimeWarning)
-        fitted = AAA(x[rows], g11[rows], rtol=_AAA_RTOL, max_terms=min(rows.size // 2, 2 * brackets.size + 16))
-    found, weights = np.asarray(fitted.poles()), np.asarray(fitted.residues())
-    real = (np.abs(found.imag) <= 1e-9 * x[-1]) & (found.real < x[-1]) & (found.real > -0.5 * x[0])
-    real &= np.abs(weights.real) > _WEAKEST * float(np.max(np.abs(weights.real[real]), initial=0.0))
-    columns = np.sort(found.real[real])
-    zero = bool(columns.size and abs(columns[0]) < 0.5 * x[0])  # a free chain's translation mode
-    if zero:
-        columns[0] = 0.0
-    if columns.size < brackets.size:
-        raise ParameterError("omega", f"{w.size} frequencies", "more frequencies: the rational fit found fewer "
-                             f"poles ({columns.size}) than the samples bracket ({brackets.size})")
-    # A sample within a few ulps of a pole tells nothing: there the circuit's own rounding moves the pole by more
-    # than the sample's distance to it (measured: 1.8e-3 relative error at 6e-14 from a pole).
-    clear = np.min(np.abs(columns[None, :] - x[rows][:, None]), axis=1) > _TOO_CLOSE * x[rows]
-    rows = rows[clear]
-    # 2. Gauss-Newton on every pole and residue at once, from the rational fit's, on the same rows (each weighted
-    # by its distance to the nearest pole); a free chain's zero pole stays at 0
-    movable = np.arange(columns.size) >= (1 if zero else 0)
-    residues = _residues(x, g11, columns, rows)
-    xs, gs = x[rows], g11[rows]
-    best = (_misfit(xs, gs, columns, residues), columns.copy(), residues.copy())
-    sweeps = 0
-    for _ in range(_SWEEPS):
-        distance = columns[None, :] - xs[:, None]
-        weight = np.min(np.abs(distance), axis=1)[:, None]
-        value = (residues[None, :] / distance).sum(axis=1)
-        jacobian = np.hstack((weight / distance, (-weight * residues[None, :] / distance**2)[:, movable]))
-        step = _solve(jacobian, (gs - value) * weight[:, 0])
-        trial_residues = residues + step[:columns.size]
-        trial = columns.copy()
-        trial[movable] += step[columns.size:]
-        if np.any(np.diff(trial) <= 0):  # a step that reorders the poles is no step
-            break
-        misfit = _misfit(xs, gs, trial, trial_residues)
-        if misfit >= best[0]:
-            break
-        columns, residues = trial, trial_residues
-        best = (misfit, columns.copy(), residues.copy())
-        sweeps += 1
-    columns, first = best[1], best[2]
-    last = _residues(x, gN1, columns, rows)
-    misfit = max(_misfit(x[rows], g11[rows], columns, first), _misfit(x[rows], gN1[rows], columns, last))
-    return SpectrumFit(np.sqrt(np.clip(columns, 0.0, None)), first, last, sweeps, misfit)
+    y11, yN1 = np.asarray(y11, dtype=complex), np.asarray(yN1, dtype=complex)
+    if lossy:
+        c, gamma, x = _lossy_sections(w, y11)
+        if x.size == 0:
+            raise ParameterError("omega", f"{w[0]:.4g} .. {w[-1]:.4g}", "a frequency range holding a pole")
+        keep = _significant(c)
+        # a lone real pole is a zero mode, c / (s + gamma): its x is 0 exactly (the pole at 0 cancels)
+        sections = Sections(c[keep], gamma[keep], x[keep], lossy=True, fixed_x=x[keep] == 0.0)
+    else:
+        g11 = y11.imag / w
+        brackets = int(np.count_nonzero(np.diff(g11) < 0))
+        if brackets == 0:
+            raise ParameterError("omega", f"{w[0]:.4g} .. {w[-1]:.4g}", "a frequency range holding a pole")
+        x, c = _lossless_poles(w, g11)
+        keep = _significant(c)
+        x, c = x[keep], c[keep]
+        if x.size < brackets:
+            raise ParameterError("omega", f"{w.size} frequencies", "more frequencies: the rational fit found fewer "
+                                 f"poles ({x.size}) than the samples bracket ({brackets})")
+        zero = np.abs(x) < 0.5 * w[0] ** 2  # a free chain's translation mode stays at 0
+        sections = Sections(c, np.zeros(x.size), np.where(zero, 0.0, x), lossy=False, fixed_x=zero)
+    sweeps, misfit = refine_sections(w, y11, sections)
+    last = section_residues(w, yN1, sections)
+    return SpectrumFit(np.sqrt(np.clip(sections.x, 0.0, None)), sections.c, last, sweeps, misfit,
+                       sections.gamma)

@@ -19,6 +19,9 @@ benchmarks/theory.md):
   same points, and subtracted: :data:`BYTES_PER_VALUE` bytes for every saved
   value of every time point (six copies of a float64).  Exact modes of N
   masses add two N x N matrices.
+* ``lcchain spectrum``: ngspice's AC analysis, :data:`AC_SECONDS_PER_UNKNOWN_FREQUENCY` per frequency per
+  unknown, and the fit, :data:`FIT_SECONDS_PER_SAMPLE_MODE` per frequency per mode
+  (:func:`ac_estimate`).
 * an optimal design: :data:`DESIGN_SECONDS_FIXED` plus
   :data:`DESIGN_SECONDS_PER_MASS` per mass (closed-form modes and arrival
   searches are linear in N).
@@ -37,8 +40,9 @@ from .errors import ParameterError
 __all__ = ["Budget", "Estimate", "BudgetError", "DEFAULT_MAX_MEMORY", "DEFAULT_MAX_SECONDS",
            "NGSPICE_SECONDS_PER_UNKNOWN_POINT", "NGSPICE_SECONDS_PER_POINT", "ngspice_seconds",
            "BYTES_PER_VALUE", "DESIGN_SECONDS_PER_MASS", "DESIGN_SECONDS_FIXED",
-           "INTERPRETER_BYTES", "INTERPRETER_SECONDS", "RUN_START_SECONDS", "run_estimate", "ac_estimate",
-           "sample_theory_seconds", "chain_seconds", "sensitivity_estimate",
+           "INTERPRETER_BYTES", "INTERPRETER_SECONDS", "RUN_START_SECONDS", "run_estimate", "sample_theory_seconds",
+           "AC_SECONDS_PER_UNKNOWN_FREQUENCY", "AC_SECONDS_PER_FREQUENCY", "FIT_SECONDS_PER_SAMPLE_MODE",
+           "FIT_SECONDS_PER_SAMPLE", "ac_estimate", "ac_run_estimate", "chain_seconds", "sensitivity_estimate",
            "max_points", "design_estimate", "perfect_estimate", "show_bytes", "show_seconds"]
 
 #: Memory one request may use: a third of this machine's 24 GiB, so two runs fit beside the system.
@@ -154,23 +158,44 @@ def run_estimate(*, points: float, saved: int, compared: int, unknowns: float, e
                     ngspice_seconds(points, unknowns))
 
 
-def ac_estimate(*, points: float, saved: int, unknowns: float, exact_N: int = 0) -> Estimate:
-    """The cost of one AC analysis and its fit.
+#: ngspice's AC analysis: one complex sparse solve per frequency, per unknown (about 2 N, 3 N with losses);
+#: measured 1.4e-7 .. 1.5e-7 s for two-mass N = 500 .. 2000 (6,700 .. 26,000 frequencies, under load).
+AC_SECONDS_PER_UNKNOWN_FREQUENCY = 1.5e-7
+#: ... and per frequency whatever the circuit.
+AC_SECONDS_PER_FREQUENCY = 2e-5
+#: The fit's cost per sample per mode: the model's update in every Gauss-Newton sweep (O(points x N) each);
+#: measured (under load, benchmarks/spectrum.md) 0.5e-6 .. 1.4e-6 at N = 500 .. 2000.
+FIT_SECONDS_PER_SAMPLE_MODE = 6e-7
+#: The fit's cost per sample whatever N: its rational fits (pieces of fixed size) and windows' least squares.
+FIT_SECONDS_PER_SAMPLE = 5e-4
+
+
+def ac_run_estimate(*, points: float, saved: int, unknowns: float) -> Estimate:
+    """The simulator's part alone: one AC analysis of ``points`` frequencies and ``unknowns`` unknowns, saving
+    ``saved`` complex vectors (a netlist lcchain did not write: nothing is fitted)."""
+    seconds = points * (AC_SECONDS_PER_UNKNOWN_FREQUENCY * unknowns + AC_SECONDS_PER_FREQUENCY)
+    return Estimate(f"{points:.3g} frequencies x {saved} saved complex values", 2 * BYTES_PER_VALUE * points
+                    * (saved + 1), seconds)
+
+
+def ac_estimate(*, points: float, N: int, losses: bool = False) -> Estimate:
+    """The cost of ``lcchain spectrum``: ngspice's AC analysis of ``points`` frequencies, the fit, and the exact
+    modes and response it is compared with.
 
     Parameters
     ----------
     points : float
         Frequencies of the sweep.
-    saved : int
-        Complex vectors saved (the frequency excluded).
-    unknowns : float
-        ngspice's unknowns (about 2 N); each frequency is one complex solve, priced as a time point.
-    exact_N : int
-        N when the theory needs every eigenvector (N x N), else 0.
+    N : int
+        Masses (loops): 2 N unknowns, 3 N with losses (a node between each coil and its resistor).
+    losses : bool
     """
-    memory = 2 * BYTES_PER_VALUE * points * (saved + 1) + 16.0 * exact_N * exact_N
-    return Estimate(f"{points:.3g} frequencies x {saved} saved complex values", memory,
-                    ngspice_seconds(points, unknowns))
+    unknowns = (3 if losses else 2) * N
+    seconds = (ac_run_estimate(points=points, saved=2, unknowns=unknowns).seconds
+               + points * (FIT_SECONDS_PER_SAMPLE_MODE * N + FIT_SECONDS_PER_SAMPLE) + 3e-10 * N**3)  # exact modes
+    # the raw file's three complex columns and their copies; the exact modes (N x N); the response's (times x N)
+    memory = 16.0 * 3 * 4 * points + 16.0 * N * N + 16.0 * 6 * 2001 * N
+    return Estimate(f"{points:.3g} frequencies x {unknowns} unknowns", memory, seconds)
 
 
 def ngspice_seconds(points: float, unknowns: float) -> float:

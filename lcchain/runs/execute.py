@@ -262,7 +262,7 @@ def ac_metrics(theory: SpectrumTheory, result: AcResult) -> SpectrumMetrics:
     modes = theory.modes if theory.modes is not None else driven_modes(chain)
     omega = 2.0 * np.pi * result.frequency * theory.time_unit
     first, last = (result.vectors[name] * theory.impedance for name in probe_names(chain.N, "ends"))
-    return compare_spectrum(modes, omega, first, last, float(chain.masses[0]))
+    return compare_spectrum(modes, omega, first, last, float(chain.masses[0]), theory.Q)
 
 
 def _run_ac(spec: RunSpec, simulator: Simulator,

@@ -160,16 +160,17 @@ class Transient:
 class AC:
     """An AC analysis: the ladder driven in loop 1 by a unit AC voltage, swept over its normal frequencies.
 
-    Its poles and residues are fitted (:func:`lcchain.compare.spectral.compare_spectrum`) and compared with the
-    driven modes of the same chain: omega_n, and P_n, each mode's coefficient in alpha_N(t).  The request's
-    drive does not apply (the source is the AC voltage); both end currents are saved.
+    Its modes are fitted (:func:`lcchain.compare.spectral.compare_spectrum`) and compared with the driven modes
+    of the same chain: omega_n, and P_n, each mode's coefficient in alpha_N(t); with losses also each mode's
+    decay rate against 1/Q.  The request's drive does not apply (the source is the AC voltage); both end
+    currents are saved.
 
     Parameters
     ----------
     points : int, optional
-        Frequencies, evenly spaced up to 5 % above the highest normal frequency; default twice the fewest that
-        separate every pole of every realised chain (:func:`lcchain.compare.spectral.sweep_grid`).  Fewer than
-        those are refused before anything runs, naming the minimum.
+        Frequencies up to 5 % above the highest normal frequency, in even segments as fine as the poles they
+        hold; default twice the fewest that separate every pole of each realised chain
+        (:func:`lcchain.compare.spectral.sweep_grid`).  Fewer are refused before anything runs, naming the minimum.
     """
 
     points: int | None = None
@@ -180,9 +181,6 @@ class AC:
 
     def check(self, request: Request) -> None:
         """Refuse what an AC analysis cannot be compared with (losses) or run through (another transport)."""
-        if request.Q is not None:
-            raise ParameterError("effects.losses", request.Q, "no losses with an AC analysis: the spectrum's fit "
-                                 "takes a lossless ladder (its poles on the real axis)")
         ac_engine(request.engine)  # an engine without an AC analysis is refused here, naming it
         if request.backend != "batch":
             raise ParameterError("backend", request.backend, "batch with an AC analysis (the engine's program)")
@@ -545,8 +543,8 @@ def _plan_ac(request: Request, budget: Budget, modes: Modes | None, design_secon
     if modes is not None and modes.N != N:
         raise ParameterError("modes", f"modes of N = {modes.N}", f"the modes of this chain (N = {N})")
     theory = driven_modes(nominal)
-    points, omega_max = sweep_grid([theory.omega], analysis.points)
-    one = ac_estimate(points=points, saved=2, unknowns=2 * N, exact_N=N)
+    segments, points, omega_max = sweep_grid(theory.omega, analysis.points)
+    one = ac_estimate(points=points, N=N, losses=request.Q is not None)
     one = replace(one, seconds=one.seconds * ac_engine(request.engine).ac_relative_cost)
     name, value = ("points", points) if analysis.points is not None else ("N", N)
     one.check(budget, name, value, "fewer frequencies (--points) or a smaller chain")
@@ -555,19 +553,19 @@ def _plan_ac(request: Request, budget: Budget, modes: Modes | None, design_secon
     every.check(budget, "effects.tolerance.samples" if samples > 1 else name, samples if samples > 1 else value,
                 "fewer samples")
     chains = _chains(request, nominal)
-    theories = [theory if chain is nominal else driven_modes(chain) for chain in chains]
-    if len(chains) > 1 or chains[0] is not nominal:  # the samples' own poles: one sweep separates them all
-        points, omega_max = sweep_grid([t.omega for t in theories], analysis.points)
     title = _title(request, nominal, "AC")
     probes = tuple(probe_names(N, "ends"))
     specs = []
-    for chain, driven in zip(chains, theories, strict=True):
-        circuit = ladder if chain is nominal else Ladder(chain, request.L0, request.C0)
-        text = ac_netlist_text(circuit, points=points, omega_max=omega_max, title=title, effects=request.effects)
-        spectrum = SpectrumTheory(chain, ladder.time_unit, ladder.impedance, omega_max, modes=driven)
+    for chain in chains:
+        circuit, driven, grid = ladder, theory, (segments, points, omega_max)
+        if chain is not nominal:  # a sample's sweep is placed from its own poles (segments as fine as they are)
+            circuit, driven = Ladder(chain, request.L0, request.C0), driven_modes(chain)
+            grid = sweep_grid(driven.omega, analysis.points)
+        text = ac_netlist_text(circuit, segments=grid[0], title=title, effects=request.effects)
+        spectrum = SpectrumTheory(chain, ladder.time_unit, ladder.impedance, grid[2], modes=driven, Q=request.Q)
         specs.append(RunSpec(text, probes, 0.0, backend=request.backend, timeout=request.timeout, theory=spectrum,
-                             foreign=False, label=f"{chain.name} N={N} AC {points} frequencies",
-                             engine=request.engine, analysis="ac", points=points))
+                             foreign=False, label=f"{chain.name} N={N} AC {grid[1]} frequencies",
+                             engine=request.engine, analysis="ac", points=grid[1]))
     modes = modes if modes is not None else normal_modes(nominal)
     return RequestPlan(request, nominal, tuple(chains), modes, modes.transit_time(), 0.0, (), None, "", None,
                        tuple(specs), points, omega_max)

@@ -163,6 +163,9 @@ class SpectrumTheory:
     modes : Modes, optional
         The chain's driven modes (:func:`lcchain.theory.exact.driven_modes`) when already computed (not part of
         the key).
+    Q : float, optional
+        The losses' quality factor (:class:`lcchain.circuit.effects.Losses`): every mode decays at 1/Q and the fit
+        finds each one's decay rate.  None: a lossless ladder.
     """
 
     chain: Chain
@@ -170,19 +173,23 @@ class SpectrumTheory:
     impedance: float
     omega_max: float
     modes: Modes | None = field(default=None, compare=False, repr=False)
+    Q: float | None = None
 
     def __post_init__(self) -> None:
         instance("chain", self.chain, Chain)
         real("time_unit", self.time_unit, above=0.0, unit="seconds")
         real("impedance", self.impedance, above=0.0, unit="ohm")
         real("omega_max", self.omega_max, above=0.0)
+        if self.Q is not None:
+            real("Q", self.Q, above=0.0)
         if self.modes is not None and (not isinstance(self.modes, Modes) or self.modes.N != self.chain.N):
             raise ParameterError("modes", type(self.modes).__name__, f"the Modes of this chain (N = {self.chain.N})")
 
     def fingerprint(self) -> dict[str, Any]:
         """Everything that determines the comparison, as plain JSON."""
         return {"analysis": "ac", **_chain_fingerprint(self.chain), "time_unit": float(self.time_unit).hex(),
-                "impedance": float(self.impedance).hex(), "omega_max": float(self.omega_max).hex()}
+                "impedance": float(self.impedance).hex(), "omega_max": float(self.omega_max).hex()} | (
+                    {} if self.Q is None else {"Q": float(self.Q).hex()})
 
 
 @dataclass(frozen=True)

@@ -1,10 +1,17 @@
-"""The paper's mechanism in the circuit: the ladder's normal frequencies and mode weights from an AC analysis.
+"""The paper's mechanism in the circuit: the ladder's normal frequencies, decay rates and mode weights from an
+AC analysis.
 
-:func:`measure_spectrum` drives the ladder in loop 1 with a unit AC voltage in ngspice
-(:func:`lcchain.circuit.netlist.ac_netlist_text`, :func:`lcchain.spice.ac.run_ac`), identifies the poles
-and residues of I_1/V_1 and I_N/V_1 (:func:`lcchain.compare.spectrum.fit_spectrum`), and sets them beside
-the exact theory: omega_n, and P_n, the mode's coefficient in alpha_N(t) = sum_n P_n cos(omega_n t)
-(m_1 times the residue of Y_N1 Z0; for a symmetric chain (-1)^(n-1) times the mode density of Eq. e.Pn).
+:func:`measure_spectrum` drives the ladder in loop 1 with a unit AC voltage in ngspice or gnucap
+(:func:`lcchain.circuit.netlist.ac_netlist_text`, :func:`lcchain.spice.ac.run_ac`) on a sweep in even segments
+placed from the predicted poles (:func:`lcchain.compare.grid.sweep_segments`), identifies the modes of
+I_1/V_1 and I_N/V_1 (:func:`lcchain.compare.spectrum.fit_spectrum`), and sets them beside the exact theory:
+omega_n, and P_n, the mode's coefficient in alpha_N(t) = sum_n P_n cos(omega_n t) (m_1 times the residue of
+Y_N1 Z0; for a symmetric chain (-1)^(n-1) times the mode density of Eq. e.Pn).
+
+With losses (:class:`lcchain.circuit.effects.Losses`, the transient's resistors R_i = L_i / (Q tau)) the damping
+is proportional to the masses: the modes and P_n stay, and every pole moves to -gamma/2 +- j sqrt(omega_n^2 -
+gamma^2/4) with gamma = 1/Q, so each mode's quality factor omega_n / gamma_n is omega_n Q.  The fitted model's
+alpha_N(t) is also set beside the exact lossy response (:func:`lcchain.theory.response.linear_response`).
 
 A mode whose weight at the ends is below what the samples resolve has no visible pole there: the circuit
 does not show it between its ends.  Such modes are listed as unseen, with their theoretical weight; the
@@ -22,6 +29,7 @@ from typing import Any
 
 import numpy as np
 
+from ..circuit.effects import Losses
 from ..compare.spectral import (
     DEFAULT_OVERSAMPLING,
     OMEGA_MARGIN,
@@ -31,24 +39,29 @@ from ..compare.spectral import (
 )
 from ..compare.spectrum import SpectrumFit
 from ..core.budget import Budget
-from ..core.checks import instance
+from ..core.checks import instance, real
 from ..core.errors import SimulationError
 from ..core.types import DEFAULT_C0, DEFAULT_L0
 from ..spice.engines import DEFAULT_ENGINE
 from ..spice.simulator import Simulator
+from ..theory.arrivals import stop_time
 from ..theory.chain import Chain
 from ..theory.modes import Modes
+from ..theory.response import linear_response
 from .execute import execute
 from .request import AC, Request, plan_request
 from .spec import SpectrumTheory
 
 __all__ = ["SpectrumReport", "measure_spectrum", "OMEGA_MARGIN", "SPECTRUM_MAX_N", "OMEGA_WEIGHT_FLOOR",
-           "DEFAULT_OVERSAMPLING"]
+           "DEFAULT_OVERSAMPLING", "RESPONSE_TIMES"]
+
+#: Times at which the fitted model's alpha_N(t) is set beside the exact response, evenly on [0, first transit].
+RESPONSE_TIMES = 2001
 
 
 @dataclass(frozen=True, eq=False)
 class SpectrumReport:
-    """A ladder's spectrum from ngspice beside theory.
+    """A ladder's spectrum from an engine's AC analysis beside theory.
 
     Attributes
     ----------
@@ -56,16 +69,24 @@ class SpectrumReport:
     theory : Modes
         The driven modes (omega_n, density m_1 u_1n^2, transfer P_n = m_1 u_1n u_Nn).
     fit : SpectrumFit
-        The poles and residues found in the circuit.
+        The modes found in the circuit.
     seen : ndarray of int
-        For each fitted pole, the index of its theoretical mode.
+        For each fitted mode, the index of its theoretical mode.
     points : int
-        Frequencies of the AC sweep, evenly spaced on (0, omega_max].
+        Frequencies of the AC sweep on (0, omega_max], in ``segments`` even segments.
     omega_max : float
     engine_version, netlist_sha256 : str
     timings : dict
         Seconds: the engine's process (``ngspice_s``, whichever engine ran: the key predates engines), the fit, and
         the whole call.
+    losses : float or None
+        The quality factor Q of every inductor (``--Q``); None: a lossless ladder.
+    segments : int
+        ``.ac lin`` cards of the sweep.
+    response_error : float or None
+        Largest |alpha_N(t) of the fitted modes - exact alpha_N(t)| over the first transit
+        (:data:`RESPONSE_TIMES` times); None for coupled coils (a kick excites their modes otherwise than the
+        drive).
     engine : str
         The engine that ran the AC analysis.
     """
@@ -79,21 +100,54 @@ class SpectrumReport:
     engine_version: str
     netlist_sha256: str
     timings: dict[str, float] = field(default_factory=dict)
+    losses: float | None = None
+    segments: int = 1
+    response_error: float | None = None
     engine: str = DEFAULT_ENGINE
+
+    def _per_mode(self, values: np.ndarray, missing: float = np.nan) -> np.ndarray:
+        out = np.full(self.theory.N, missing)
+        out[self.seen] = values
+        return out
 
     @property
     def omega(self) -> np.ndarray:
-        """The circuit's frequency of every theoretical mode (NaN where unseen)."""
-        out = np.full(self.theory.N, np.nan)
-        out[self.seen] = self.fit.omega
-        return out
+        """The circuit's undamped frequency |p_n| of every theoretical mode (NaN where unseen)."""
+        return self._per_mode(self.fit.omega)
 
     @property
     def P(self) -> np.ndarray:
         """The circuit's P_n of every theoretical mode (0 where unseen)."""
-        out = np.zeros(self.theory.N)
-        out[self.seen] = self.chain.masses[0] * self.fit.last
-        return out
+        return self._per_mode(self.chain.masses[0] * self.fit.last, 0.0)
+
+    @property
+    def gamma(self) -> np.ndarray:
+        """The circuit's decay rate gamma_n of every theoretical mode, units of 1/sqrt(L0 C0) (NaN where unseen;
+        0 without losses)."""
+        return self._per_mode(self.fit.gamma)
+
+    @property
+    def Q(self) -> np.ndarray:
+        """The circuit's quality factor omega_n / gamma_n of every theoretical mode (NaN where unseen, and for a
+        lossless ladder)."""
+        if self.losses is None:
+            return np.full(self.theory.N, np.nan)
+        return self.omega / self.gamma
+
+    @property
+    def Q_theory(self) -> np.ndarray:
+        """omega_n Q: every mode decays at gamma = 1/Q (NaN for a lossless ladder)."""
+        return self.theory.omega * (np.nan if self.losses is None else self.losses)
+
+    @property
+    def poles(self) -> np.ndarray:
+        """The circuit's pole of every mode, -gamma_n/2 + j sqrt(omega_n^2 - gamma_n^2/4) (NaN where unseen)."""
+        return _pole(self.omega, self.gamma)
+
+    @property
+    def poles_theory(self) -> np.ndarray:
+        """-gamma/2 + j sqrt(omega_n^2 - gamma^2/4), gamma = 1/Q (0 without losses)."""
+        return _pole(self.theory.omega, np.full(self.theory.N, 0.0 if self.losses is None else 1.0 / self.losses))
 
     @property
     def resolved(self) -> np.ndarray:
@@ -104,52 +158,104 @@ class SpectrumReport:
     @property
     def metrics(self) -> SpectrumMetrics:
         """The circuit's modes beside theory, as a run's record holds them."""
-        return SpectrumMetrics(self.theory.omega, self.omega, self.theory.transfer, self.P, self.resolved)
+        return SpectrumMetrics(self.theory.omega, self.omega, self.theory.transfer, self.P, self.resolved,
+                               gamma=None if self.losses is None else self.gamma, losses=self.losses)
 
     @property
     def max_rel_error_omega(self) -> float:
         """Largest |omega_circuit - omega_theory| / omega_theory over the resolved modes (a zero mode: absolute);
         an unseen resolved mode is an infinite error."""
-        return self.metrics.max_rel_error_omega
+        return _largest_relative(self.omega, self.theory.omega, self.resolved)
+
+    @property
+    def max_rel_error_Q(self) -> float:
+        """Largest |Q_circuit - Q_theory| / Q_theory over the resolved modes of nonzero frequency (NaN for a
+        lossless ladder); an unseen resolved mode is an infinite error."""
+        return self.metrics.max_rel_error_Q
+
+    @property
+    def max_rel_error_pole(self) -> float:
+        """Largest |p_circuit - p_theory| / |p_theory| over the resolved modes (a zero pole: absolute)."""
+        return _largest_relative(self.poles, self.poles_theory, self.resolved)
 
     @property
     def max_abs_error_P(self) -> float:
         """Largest |P_circuit - P_theory| over every mode (an unseen one counts with P = 0)."""
-        return self.metrics.max_abs_error_P
+        return float(np.max(np.abs(self.P - self.theory.transfer)))
 
     def to_dict(self) -> dict[str, Any]:
         """``lcchain spectrum --json``."""
         omega, P = self.omega, self.P
+        lossy = self.losses is not None
+        Q, Q_theory, gamma = self.Q, self.Q_theory, self.gamma
         modes = []
         for n in range(self.theory.N):
             seen = bool(np.isfinite(omega[n]))
-            modes.append({"n": n + 1, "omega": float(omega[n]) if seen else None, "P": float(P[n]) if seen else None,
-                          "omega_theory": float(self.theory.omega[n]), "P_theory": float(self.theory.transfer[n]),
-                          "seen": seen, "resolved": bool(self.resolved[n])})
+            mode = {"n": n + 1, "omega": float(omega[n]) if seen else None, "P": float(P[n]) if seen else None,
+                    "omega_theory": float(self.theory.omega[n]), "P_theory": float(self.theory.transfer[n]),
+                    "seen": seen, "resolved": bool(self.resolved[n])}
+            if lossy:
+                mode |= {"Q": _finite(Q[n]), "Q_theory": float(Q_theory[n]), "gamma": _finite(gamma[n])}
+            modes.append(mode)
         return {"N": self.chain.N, "case": self.chain.name, "points": self.points, "omega_max": self.omega_max,
                 "engine": self.engine, "engine_version": self.engine_version, "netlist_sha256": self.netlist_sha256,
                 "modes": modes, "seen": int(self.seen.size), "max_rel_error_omega": self.max_rel_error_omega,
-                "max_abs_error_P": self.max_abs_error_P, "fit_steps": self.fit.sweeps, "timings": self.timings}
+                "max_abs_error_P": self.max_abs_error_P, "fit_steps": self.fit.sweeps, "timings": self.timings,
+                "Q": self.losses, "max_rel_error_Q": self.max_rel_error_Q if lossy else None,
+                "max_rel_error_pole": self.max_rel_error_pole, "max_abs_error_response": self.response_error,
+                "segments": self.segments}
 
 
-def measure_spectrum(chain: Chain, *, points: int | None = None, L0: float = DEFAULT_L0, C0: float = DEFAULT_C0,
-                     simulator: Simulator | None = None, budget: Budget | None = None,
+def _pole(omega: np.ndarray, gamma: np.ndarray) -> np.ndarray:
+    """-gamma/2 + j sqrt(omega^2 - gamma^2/4): the upper pole, the faster one of an overdamped mode (-gamma for a
+    zero mode, whose other pole, at 0, cancels)."""
+    half = 0.5 * gamma
+    return -half + 1j * np.sqrt((omega - half) * (omega + half) + 0j)
+
+
+def _finite(value: float) -> float | None:
+    return float(value) if np.isfinite(value) else None
+
+
+def _largest_relative(values: np.ndarray, theory: np.ndarray, where: np.ndarray) -> float:
+    """max |values - theory| / |theory| over ``where`` (|theory| = 0: absolute; NaN: infinite)."""
+    scale = np.abs(theory)
+    error = np.abs(values - theory) / np.where(scale > 0, scale, 1.0)
+    error = np.where(np.isnan(error), np.inf, error)
+    return float(np.max(error[where], initial=0.0))
+
+
+def _response_error(chain: Chain, theory: Modes, fit: SpectrumFit, Q: float | None) -> float | None:
+    """Largest |alpha_N(t) of the fitted modes - the exact (lossy) response| over the first transit."""
+    if chain.coupled:
+        return None
+    t = np.linspace(0.0, stop_time(theory, 1), RESPONSE_TIMES)
+    exact = linear_response(chain, t, Q=Q, modes=theory)[1]
+    return float(np.max(np.abs(fit.impulse(t, chain.masses[0] * fit.last) - exact)))
+
+
+def measure_spectrum(chain: Chain, *, Q: float | None = None, points: int | None = None, L0: float = DEFAULT_L0,
+                     C0: float = DEFAULT_C0, simulator: Simulator | None = None, budget: Budget | None = None,
                      timeout: float = 3600.0, engine: str = DEFAULT_ENGINE) -> SpectrumReport:
     """The ladder's spectrum in an engine's AC analysis against exact theory.
 
     Parameters
     ----------
     chain : Chain
-        A lossless chain (walls and coupled coils included), N <= :data:`SPECTRUM_MAX_N`.
+        A chain (walls and coupled coils included), N <= :data:`SPECTRUM_MAX_N`.
+    Q : float, optional
+        Losses: the quality factor (> 0) of every inductor, a resistor L_i / (Q sqrt(L0 C0)) in series with each
+        (:class:`lcchain.circuit.effects.Losses`, as the transient's); not with coupled coils.  None: lossless.
     points : int, optional
         Frequencies of the sweep; default twice the fewest that separate every pole
-        (:func:`lcchain.compare.spectrum.min_points`).  Fewer than that are refused, naming the minimum.
+        (:func:`lcchain.compare.grid.min_points`).  Fewer than that are refused, naming the minimum.
     L0, C0 : float
         Bulk inductance (H) and capacitance (F).
     simulator : Simulator, optional
         The engine's batch transport.
     budget : Budget, optional
-        The AC run is priced first (points x unknowns, times the engine's ``ac_relative_cost``).
+        The AC run and the fit are priced first (:func:`lcchain.core.budget.ac_estimate`, times the engine's
+        ``ac_relative_cost``).
     engine : str
         An engine with an AC analysis (:func:`lcchain.spice.engines.ac_engine`): ``"ngspice"`` or ``"gnucap"``.
 
@@ -159,15 +265,19 @@ def measure_spectrum(chain: Chain, *, points: int | None = None, L0: float = DEF
         Before the engine starts.
     """
     instance("chain", chain, Chain)
-    plan = plan_request(Request(chain, AC(points), L0=L0, C0=C0, timeout=timeout, engine=engine), budget)
+    effects = () if Q is None else (Losses(real("Q", Q, above=0.0, allowed="a finite quality factor > 0")),)
+    plan = plan_request(Request(chain, AC(points), effects=effects, L0=L0, C0=C0, timeout=timeout, engine=engine),
+                        budget)
     spec = plan.specs[0]
     record = execute(spec, simulator)
     if not record.ok or record.spectrum is None or record.ac is None:
         raise SimulationError(record.reason, record.log_tail, record.status)
     spectrum, theory = record.spectrum, spec.theory
     assert spectrum.fit is not None and spectrum.seen is not None and spec.points is not None  # execute's own
-    assert plan.omega_max is not None and isinstance(theory, SpectrumTheory) and theory.modes is not None
-    return SpectrumReport(chain, theory.modes, spectrum.fit, spectrum.seen, spec.points, plan.omega_max,
+    assert isinstance(theory, SpectrumTheory) and theory.modes is not None
+    response = _response_error(chain, theory.modes, spectrum.fit, Q)
+    segments = sum(line.startswith(".ac ") for line in spec.netlist.splitlines())
+    return SpectrumReport(chain, theory.modes, spectrum.fit, spectrum.seen, spec.points, theory.omega_max,
                           record.engine_version, record.ac.netlist_sha256,
                           {"ngspice_s": record.wall_s, "fit_s": record.total_s - record.wall_s,
-                           "total_s": record.total_s}, record.engine)
+                           "total_s": record.total_s}, Q, segments, response, record.engine)

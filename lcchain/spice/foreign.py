@@ -47,7 +47,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import ClassVar
 
-from ..core.budget import BYTES_PER_VALUE, Estimate, ac_estimate, run_estimate, show_bytes
+from ..core.budget import BYTES_PER_VALUE, Estimate, ac_run_estimate, run_estimate, show_bytes
 from ..core.errors import ParameterError
 from ..core.limits import MAX_AC_POINTS, MAX_NETLIST_BYTES
 from ..core.types import AnalysisKind
@@ -328,7 +328,7 @@ class Sweep:
 
     def estimate(self, saved: int, unknowns: int) -> Estimate:
         """Its frequencies x unknowns."""
-        return ac_estimate(points=self.count, saved=saved, unknowns=unknowns)
+        return ac_run_estimate(points=self.count, saved=saved, unknowns=unknowns)
 
     def describe(self) -> str:
         return f".ac lin {self.count} frequencies from {self.start:g} to {self.stop:g} Hz"

@@ -46,7 +46,7 @@ class Ngspice(Engine):
     def run_ac(self, netlist: str, vectors: Sequence[str], points: int, *, simulator: Simulator,
                timeout: float = 600.0, foreign: bool = False, max_output_bytes: float | None = None) -> AcResult:
         columns, log, wall = run_plot(netlist, "ac", simulator=simulator, timeout=timeout, foreign=foreign,
-                                      max_output_bytes=max_output_bytes)
+                                      max_output_bytes=max_output_bytes, joined=True)  # one plot per .ac card
         if "frequency" in columns:  # ngspice leaves the frequency's imaginary part undefined
             columns["frequency"] = columns["frequency"].real
         return ac_result(netlist, columns, log, vectors, points, simulator, wall)

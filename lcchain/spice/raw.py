@@ -17,7 +17,8 @@ __all__ = ["read_raw"]
 PLOTS = {"transient": False, "ac": True}
 
 
-def read_raw(source: str | os.PathLike[str] | bytes, plot: str = "transient") -> dict[str, np.ndarray]:
+def read_raw(source: str | os.PathLike[str] | bytes, plot: str = "transient", *, joined: bool = False
+             ) -> dict[str, np.ndarray]:
     """Read the transient (or AC) plot of an ngspice binary raw file.
 
     Parameters
@@ -32,7 +33,8 @@ def read_raw(source: str | os.PathLike[str] | bytes, plot: str = "transient") ->
     dict[str, numpy.ndarray]
         Normalised vector name (``"time"`` or ``"frequency"``, ``"i(l1)"``, ``"v(n3)"``) ->
         read-only float64 (transient) or complex128 (AC) column. When the file holds several plots, the
-        last one of that analysis is returned.
+        last one of that analysis is returned; with ``joined``, every plot of that analysis one after the other
+        (in the file's order), which must have the same vectors.
 
     Raises
     ------
@@ -45,6 +47,7 @@ def read_raw(source: str | os.PathLike[str] | bytes, plot: str = "transient") ->
     data = source if isinstance(source, bytes) else Path(source).read_bytes()
     offset = 0
     chosen: dict[str, np.ndarray] | None = None
+    plots: list[dict[str, np.ndarray]] = []
     while offset < len(data):
         header_end = data.find(b"Binary:\n", offset)
         if header_end < 0:
@@ -70,10 +73,18 @@ def read_raw(source: str | os.PathLike[str] | bytes, plot: str = "transient") ->
         block = np.frombuffer(data, dtype=dtype, count=nvars * npoints, offset=start).reshape(npoints, nvars)
         if wanted:
             chosen = {canonical_vector_name(name): block[:, i] for i, name in enumerate(names)}
+            plots.append(chosen)
         offset = start + nbytes
     if chosen is None:
         raise SimulationError(f"the raw file holds no {plot} analysis")
-    return chosen
+    if not joined or len(plots) == 1:
+        return chosen
+    if any(set(columns) != set(chosen) for columns in plots):
+        raise SimulationError(f"the raw file's {plot} plots do not hold the same vectors")
+    out = {name: np.concatenate([columns[name] for columns in plots]) for name in chosen}
+    for column in out.values():
+        column.flags.writeable = False
+    return out
 
 
 def _parse_raw_header(header: str) -> tuple[str, str, int, int, list[str]]:

@@ -295,7 +295,7 @@ def run(
 
 
 def run_plot(netlist: str, plot: str, *, simulator: Simulator, timeout: float = 600.0, foreign: bool = False,
-             max_output_bytes: float | None = None) -> tuple[dict[str, np.ndarray], str, float]:
+             max_output_bytes: float | None = None, joined: bool = False) -> tuple[dict[str, np.ndarray], str, float]:
     """Run lcchain's own netlist text in ngspice's batch transport and read one plot of its raw file.
 
     The analyses other than the transient (:meth:`lcchain.spice.ngspice.Ngspice.run_ac`) go through here: the
@@ -316,6 +316,8 @@ def run_plot(netlist: str, plot: str, *, simulator: Simulator, timeout: float = 
         A netlist lcchain did not write, already through the allow-list: it runs in the sandbox.
     max_output_bytes : float, optional
         ngspice is stopped when its raw file outgrows this.
+    joined : bool
+        Every plot of that analysis one after the other (a sweep in several ``.ac`` cards), not only the last.
 
     Returns
     -------
@@ -336,7 +338,8 @@ def run_plot(netlist: str, plot: str, *, simulator: Simulator, timeout: float = 
     if simulator.engine != "ngspice" or simulator.backend != "batch":
         raise ParameterError("simulator", f"{simulator.engine} {simulator.backend}", "ngspice's batch transport")
     with _placement(simulator, foreign, None) as place:
-        columns, log, wall = _run_batch(netlist, simulator, timeout, 0.0, None, place, max_output_bytes, plot=plot)
+        columns, log, wall = _run_batch(netlist, simulator, timeout, 0.0, None, place, max_output_bytes, plot=plot,
+                                        joined=joined)
     if fatal_lines(log):
         raise SimulationError(failure_reason(log, ""), useful_output(log))
     return columns, log, wall
@@ -455,7 +458,8 @@ def _wait(proc: subprocess.Popen[bytes], timeout: float, tstop: float, out: IO[b
 
 def _run_batch(netlist: str, simulator: Simulator, timeout: float, tstop: float,
                progress: Callable[[float], None] | None, place: _Place,
-               limit: float | None, plot: str = "transient") -> tuple[dict[str, np.ndarray], str, float]:
+               limit: float | None, plot: str = "transient", joined: bool = False
+               ) -> tuple[dict[str, np.ndarray], str, float]:
     with tempfile.TemporaryFile() as source, tempfile.TemporaryFile() as raw, \
             tempfile.TemporaryFile() as out, tempfile.TemporaryFile() as err:
         source.write(netlist.encode("utf-8"))
@@ -481,7 +485,7 @@ def _run_batch(netlist: str, simulator: Simulator, timeout: float, tstop: float,
     if not data:
         raise SimulationError("ngspice wrote no raw file", useful_output(log))
     try:
-        columns = read_raw(data, plot)
+        columns = read_raw(data, plot, joined=joined)
     except SimulationError as exc:
         raise SimulationError(exc.reason, useful_output(log)) from None
     return columns, log, wall

@@ -170,3 +170,13 @@ ATOL_SPECTRUM_P = 1e-9
 #: ngspice and gnucap on the same AC netlist: frequencies, and the median relative difference of the currents (both
 #: solve the same complex linear system in double precision: measured 1e-15 and 2e-15 .. 4e-14).
 RTOL_ENGINES_AC = 1e-12
+#: With losses (Q = 10 .. 1e4 at N = 20, walls included): each decay rate gamma_n against 1/Q (absolute, units of
+#: 1/sqrt(L0 C0): measured 3e-15 .. 3e-13, so Q_n = omega_n / gamma_n is good to about Q x 1e-13 relative), Q_n
+#: (relative) against omega_n Q up to Q = 1000 (measured 3e-12 .. 3e-13), the poles (relative) against
+#: -1/(2Q) + j sqrt(omega_n^2 - 1/(4Q^2)) (measured 1e-13 .. 5e-15); the fitted alpha_N(t) against the exact lossy
+#: response over the first transit (absolute, measured 3e-15 .. 8e-14).  At N = 100 the fit reaches 1e-6 at
+#: Q = 100 (benchmarks/spectrum.md).
+ATOL_SPECTRUM_GAMMA = 1e-12
+RTOL_SPECTRUM_Q = 1e-9
+RTOL_SPECTRUM_POLE = 1e-9
+ATOL_SPECTRUM_RESPONSE = 1e-9
