@@ -47,7 +47,8 @@ def _by_name(checks: list[SpectrumCheck], name: str) -> SpectrumCheck:
 def test_the_jobs_cover_the_issues_circuits_and_pickle() -> None:
     jobs = spectrum_jobs()
     names = [job.name for job in jobs]
-    assert {"two-mass-N20", "two-mass-N100", "perfect-N50", "perfect-N50-walls", "two-mass-N50-walls"} <= set(names)
+    assert {"two-mass-N20", "two-mass-N100", "perfect-N50", "perfect-N50-walls", "two-mass-N50-walls",
+            "two-mass-N20-losses"} <= set(names)
     assert sorted(job.panel for job in jobs if job.figure == "vk") == sorted(VK_DELTAS)
     assert {job.panel for job in jobs if job.figure == "Pk20-100"} == {20, 100}
     quick = [job.name for job in spectrum_jobs(quick=True)]
@@ -68,6 +69,7 @@ def test_every_spectrum_passes_within_its_stated_tolerances(checks: list[Spectru
         assert omega == pytest.approx(check.errors["omega"], rel=1e-9, abs=1e-300)
         P = max(abs((m["P"] or 0.0) - m["P_theory"]) for m in check.modes)
         assert P == pytest.approx(check.errors["P"], rel=1e-9, abs=1e-300)
+        assert ("Q" in check.errors) == ("losses" in check.name)  # each mode's Q_n, for the lossy ladder only
         assert check.wall_s is not None and check.points and check.points >= check.N
     walls = _by_name(checks, "two-mass-N50-walls")
     assert walls.modes[0]["omega_theory"] > 0  # tied to walls: no zero mode

@@ -55,11 +55,13 @@ def _summary_table(checks: Sequence[SpectrumCheck]) -> list[str]:
     lines = ["<table><thead><tr><th class=l>check</th><th class=l>chain</th><th>AC points</th>"
              "<th>modes seen / resolved</th><th>ω<sub>n</sub> rel. error</th><th>tolerance</th>"
              "<th>δω<sub>n</sub> rel. error</th><th>tolerance</th><th>P<sub>n</sub> abs. error</th>"
-             "<th>tolerance</th><th>ngspice s</th><th>verdict</th></tr></thead><tbody>"]
+             "<th>tolerance</th><th>Q<sub>n</sub> rel. error</th><th>tolerance</th><th>ngspice s</th>"
+             "<th>verdict</th></tr></thead><tbody>"]
     for check in checks:
         verdicts = check.verdicts()
         cells = "".join(f'<td class="{"" if verdicts[key] else "off"}">{num(check.errors[key], 2)}</td>'
-                        f"<td>{num(check.tolerances[key], 2)}</td>" for key in ("omega", "spacing", "P"))
+                        f"<td>{num(check.tolerances[key], 2)}</td>" if key in check.errors else "<td>–</td><td></td>"
+                        for key in ("omega", "spacing", "P", "Q"))
         seen = sum(mode["seen"] for mode in check.modes)
         resolved = sum(mode["resolved"] for mode in check.modes)
         lines.append(f"<tr><td class=l>{esc(check.name)}</td><td class=l>{esc(check.what)}</td>"
@@ -103,7 +105,8 @@ def spectrum_html(checks: Sequence[SpectrumCheck], figures: Mapping[str, bytes])
              f"δω<sub>n</sub> = ω<sub>n</sub> − ω<sub>n−1</sub> within {num(tolerances['spacing'], 2)} relative "
              f"between such neighbours, P<sub>n</sub> within {num(tolerances['P'], 2)} for every mode (an unseen "
              "one counted as 0): about 20 times the worst errors measured over every chain of "
-             "benchmarks/spectrum.md.</p>",
+             "benchmarks/spectrum.md. With losses (every coil's Q), each mode's Q<sub>n</sub> = ω<sub>n</sub>/"
+             f"γ<sub>n</sub> against ω<sub>n</sub>Q within {num(tolerances['Q'], 2)} relative.</p>",
              *_summary_table(checks)]
     per_mode = next((check for check in checks if check.name == PER_MODE_CHECK and check.modes), None)
     if per_mode is not None:

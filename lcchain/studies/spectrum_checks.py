@@ -22,7 +22,7 @@ from typing import Any
 
 import numpy as np
 
-from ..circuit.effects import Effect, Walls
+from ..circuit.effects import Effect, Losses, Walls
 from ..core.blas import fixed_blas_threads
 from ..core.checks import real
 from ..core.errors import ParameterError, SimulationError
@@ -33,7 +33,7 @@ from ..theory.cases import chain_for_case
 from ..theory.chain import Chain
 
 __all__ = ["SpectrumTolerances", "SpectrumJob", "SpectrumCheck", "spectrum_jobs", "run_spectrum_check",
-           "spectrum_checks", "RTOL_OMEGA", "RTOL_SPACING", "ATOL_P", "VK_DELTAS", "VK_N"]
+           "spectrum_checks", "RTOL_OMEGA", "RTOL_SPACING", "ATOL_P", "RTOL_Q", "LOSSY_Q", "VK_DELTAS", "VK_N"]
 
 #: omega_n, relative, over the modes that weigh |P_n| >= 1e-6 at the ends (the others are nearly cancelled poles,
 #: :data:`lcchain.runs.spectrum.OMEGA_WEIGHT_FLOOR`): benchmarks/spectrum.md measured at most 4.8e-10 over every
@@ -46,6 +46,12 @@ RTOL_SPACING = 1e-5
 #: P_n, absolute, over every mode (an unseen one counted with P = 0): benchmarks/spectrum.md measured at most
 #: 4.4e-11 (perfect N = 400; the chains here: <= 1.2e-12), so 1e-9 leaves a margin of 20.
 ATOL_P = 1e-9
+#: Q_n = omega_n / gamma_n of a lossy ladder, relative, over the resolved modes of nonzero frequency:
+#: benchmarks/spectrum.md measured 7.8e-13 for two-mass N = 20 at Q = 100 (and at most 4.1e-9 up to Q = 1e4 at
+#: N = 20 and 100), so 1e-8 leaves a margin of 2.5 at the worst chain measured.
+RTOL_Q = 1e-8
+#: The lossy ladder of the report: two-mass N = 20 with every inductor's Q = 100.
+LOSSY_Q = 100.0
 
 #: Fig. vk's chain: the one-mass chain of N = 50 at the three Δ of its panels (Δ = x^2 / (2 - x^2)).
 VK_N = 50
@@ -60,13 +66,14 @@ class SpectrumTolerances:
     omega: float = RTOL_OMEGA
     spacing: float = RTOL_SPACING
     P: float = ATOL_P
+    Q: float = RTOL_Q
 
     def __post_init__(self) -> None:
-        for key in ("omega", "spacing", "P"):
+        for key in ("omega", "spacing", "P", "Q"):
             object.__setattr__(self, key, real(f"tolerances.{key}", getattr(self, key), above=0.0))
 
     def to_dict(self) -> dict[str, float]:
-        return {"omega": self.omega, "spacing": self.spacing, "P": self.P}
+        return {"omega": self.omega, "spacing": self.spacing, "P": self.P, "Q": self.Q}
 
 
 def _one_mass(N: int, Delta: float) -> Chain:
@@ -124,8 +131,9 @@ class SpectrumJob:
 def spectrum_jobs(*, quick: bool = False, simulator: Simulator | None = None,
                   tolerances: SpectrumTolerances = SpectrumTolerances()) -> list[SpectrumJob]:
     """The report's spectrum checks: two-mass N = 20 and 100 (Fig. Pk20-100), a perfect cradle (N = 50), walled
-    chains (the perfect cradle of N = 50 tied to walls, j = 1; two-mass N = 50 between walls K0 = 0.01) and the
-    one-mass chains of Fig. vk (N = 50, three Δ).  ``quick`` keeps Fig. vk's middle (optimal) panel only and
+    chains (the perfect cradle of N = 50 tied to walls, j = 1; two-mass N = 50 between walls K0 = 0.01), a lossy
+    ladder (two-mass N = 20, Q = 100: each mode's Q_n against omega_n Q) and the one-mass chains of Fig. vk
+    (N = 50, three Δ).  ``quick`` keeps Fig. vk's middle (optimal) panel only and
     leaves out the two-mass chain with walls."""
     def job(name: str, what: str, N: int, make: Callable[[], Chain], **options: Any) -> SpectrumJob:
         return SpectrumJob(name, what, N, make, simulator=simulator, tolerances=tolerances, **options)
@@ -137,6 +145,8 @@ def spectrum_jobs(*, quick: bool = False, simulator: Simulator | None = None,
             job("perfect-N50", "perfect cradle, N = 50", 50, partial(chain_for_case, "perfect", 50)),
             job("perfect-N50-walls", "perfect cradle tied to walls (j = 1), N = 50", 50,
                 partial(chain_for_case, "perfect", 50, 1))]
+    jobs.append(job("two-mass-N20-losses", f"two-mass, N = 20, losses Q = {LOSSY_Q:g}", 20,
+                    partial(chain_for_case, "two-mass", 20), effects=(Losses(LOSSY_Q),)))
     if not quick:
         jobs.append(job("two-mass-N50-walls", "two-mass, N = 50, walls K0 = 0.01", 50,
                         partial(chain_for_case, "two-mass", 50), effects=(Walls(K0=0.01),)))
@@ -153,8 +163,9 @@ class SpectrumCheck:
     ``modes`` holds one dict per mode: ``n``, ``omega`` and ``omega_theory``, ``spacing`` and
     ``spacing_theory`` (omega_n - omega_(n-1), None for n = 1), ``P`` and ``P_theory`` (the weight in alpha_N),
     ``resolved`` (weighs enough to be placed: the frequency is judged) and ``seen`` (the circuit shows it).
-    ``errors`` and ``tolerances`` have the keys ``omega``, ``spacing``, ``P``; an error is None when the check
-    did not run (``reason`` says why).
+    ``tolerances`` has the keys ``omega``, ``spacing``, ``P``, ``Q``; ``errors`` the first three, and ``Q``
+    (each mode's quality factor, relative) for a lossy ladder; an error is None when the check did not run
+    (``reason`` says why).
     """
 
     name: str
@@ -182,12 +193,13 @@ class SpectrumCheck:
 
     def checks(self) -> list[dict[str, Any]]:
         """One line of the report's list of checks per quantity (omega_n, delta omega_n, P_n)."""
-        units = {"omega": "relative", "spacing": "relative", "P": "absolute"}
+        units = {"omega": "relative", "spacing": "relative", "P": "absolute", "Q": "relative"}
         verdicts = self.verdicts()
         return [{"name": f"spectrum {self.name}: {symbol}", "what": self.what, "kind": "spectrum",
                  "passed": verdicts[key], "max_abs_error": self.errors[key], "tolerance": self.tolerances[key],
                  "unit": units[key], "wall_s": self.wall_s, "reason": self.reason}
-                for key, symbol in (("omega", "ω_n"), ("spacing", "δω_n"), ("P", "P_n"))]
+                for key, symbol in (("omega", "ω_n"), ("spacing", "δω_n"), ("P", "P_n"), ("Q", "Q_n"))
+                if key in self.errors]
 
 
 def _modes(omega: np.ndarray, theory: np.ndarray, P: np.ndarray, P_theory: np.ndarray,
@@ -231,12 +243,15 @@ def run_spectrum_check(job: SpectrumJob) -> SpectrumCheck:
             keywords.update(effect.response())
         report = measure_spectrum(chain, L0=DEFAULT_L0, C0=DEFAULT_C0, simulator=job.simulator, **keywords)
     except (SimulationError, ParameterError) as error:
+        keys = [key for key in tolerances if key != "Q" or any("Q" in effect.response() for effect in job.effects)]
         return SpectrumCheck(job.name, job.what, job.N, job.figure, job.panel, [],
-                             dict.fromkeys(tolerances), tolerances, False, reason=str(error))
+                             dict.fromkeys(keys), tolerances, False, reason=str(error))
     omega, theory, resolved = report.omega, report.theory.omega, report.resolved
     errors: dict[str, float | None] = {"omega": report.max_rel_error_omega,
                                        "spacing": spacing_error(omega, theory, resolved),
                                        "P": report.max_abs_error_P}
+    if report.losses is not None:
+        errors["Q"] = report.max_rel_error_Q
     check = SpectrumCheck(job.name, job.what, chain.N, job.figure, job.panel,
                           _modes(omega, theory, report.P, report.theory.transfer, resolved), errors, tolerances,
                           False, report.points, report.timings.get("ngspice_s"))
