@@ -2,7 +2,9 @@
 
 Run from the repository root:
 
-    .venv/bin/python benchmarks/bench_spectrum.py > benchmarks/spectrum.md
+    .venv/bin/python benchmarks/bench_spectrum.py --plot benchmarks/spectrum.png > benchmarks/spectrum.md
+
+``--plot`` draws the curves of error and cost against N (two-mass and perfect chains, log-log).
 
 For each chain, `lcchain spectrum`'s default sweep (twice the fewest frequencies that separate every pole, in
 even segments placed where the poles are dense) runs in ngspice and is fitted
@@ -13,8 +15,11 @@ the fitted alpha_N(t) against the exact lossy response.
 
 from __future__ import annotations
 
+import argparse
 import platform
 import time
+from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -33,7 +38,38 @@ def _error(value: float) -> str:
     return "-" if value is None else f"{value:.1e}"
 
 
+def _plot(rows: list[dict[str, Any]], path: Path) -> None:
+    """Error and cost against N for each case measured at several N (log-log)."""
+    from matplotlib.figure import Figure
+
+    figure = Figure(figsize=(10, 4), layout="constrained")
+    error_ax, cost_ax = figure.subplots(1, 2)
+    for k, case in enumerate(dict.fromkeys(row["case"] for row in rows)):
+        series = [row for row in rows if row["case"] == case]
+        if len(series) < 3:
+            continue
+        N = [row["N"] for row in series]
+        colour = f"C{k}"
+        error_ax.loglog(N, [row["omega"] for row in series], "o-", color=colour, label=f"{case}: ω_n (relative)")
+        error_ax.loglog(N, [max(row["P"], 1e-17) for row in series], "s--", color=colour, mfc="none",
+                        label=f"{case}: P_n (absolute)")
+        cost_ax.loglog(N, [row["ngspice"] for row in series], "o-", color=colour, label=f"{case}: ngspice")
+        cost_ax.loglog(N, [row["fit"] for row in series], "s--", color=colour, mfc="none", label=f"{case}: fit")
+    error_ax.axhline(1e-9, color="k", linewidth=0.8, linestyle=":", label="target 1e-9")
+    error_ax.set(xlabel="N (masses)", ylabel="largest error against exact theory",
+                 title="accuracy of the circuit's spectrum")
+    cost_ax.set(xlabel="N (masses)", ylabel="seconds", title="cost (default sweep)")
+    for ax in (error_ax, cost_ax):
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=7, loc="upper left")
+    figure.savefig(path, dpi=120)
+
+
 def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--plot", type=Path, help="also draw error and cost against N here (PNG)")
+    args = parser.parse_args()
+    rows: list[dict[str, Any]] = []
     print("# The spectrum from an AC analysis: accuracy and cost against N, and with losses\n")
     print("Command: `.venv/bin/python benchmarks/bench_spectrum.py > benchmarks/spectrum.md` "
           f"({platform.machine()}, 2 cores, ngspice from Debian, lcchain {lcchain.__version__}).\n")
@@ -54,6 +90,10 @@ def main() -> None:
               f"{int(np.sum(report.resolved))} | {report.max_rel_error_omega:.1e} | {report.max_abs_error_P:.1e} | "
               f"{_error(report.response_error)} | {report.fit.sweeps} | {t['ngspice_s']:.2f} | {t['fit_s']:.2f} | "
               f"{total:.2f} | {ac_estimate(points=report.points, N=N).seconds:.2f} |", flush=True)
+        rows.append({"case": case, "N": N, "omega": report.max_rel_error_omega, "P": report.max_abs_error_P,
+                     "ngspice": t["ngspice_s"], "fit": t["fit_s"]})
+    if args.plot:
+        _plot(rows, args.plot)
     print("\n## With losses (`--Q`)\n")
     print("Q error: max |Q_n - omega_n Q| / (omega_n Q) over the resolved modes of nonzero frequency; pole error: "
           "max |p_n - p_theory| / |p_theory|, p_theory = -1/(2Q) + j sqrt(omega_n^2 - 1/(4Q^2)). An unseen resolved "
@@ -77,8 +117,8 @@ def main() -> None:
           "O(frequencies); each Gauss-Newton sweep solves windows of 64 modes, O(N), and updates the model on every "
           "frequency, O(frequencies x N) = O(N^2), which dominates beyond N ~ 1000. With losses the modes closer "
           "than their width 1/Q merge: two-mass N = 100 at Q = 10 is out of reach, and beyond 128 modes the "
-          "windows place Q_n less well than one Gauss-Newton on all (N = 400, Q = 1000). Timings were taken on a "
-          "loaded 2-core machine (other jobs running).")
+          "windows place Q_n less well than one Gauss-Newton on all (N = 400, Q = 1000). Taken on the idle "
+          "2-core machine; the curves are in benchmarks/spectrum.png.")
 
 
 if __name__ == "__main__":

@@ -7,7 +7,7 @@ scene written by ``lcchain examples`` is there for the ``lcchain run`` that foll
 (a placeholder for options) are listed as skipped.  Prints a markdown table: the command, its exit status
 and its wall time.
 
-    python benchmarks/readme_from_wheel.py [--keep DIR] [--only TEXT] > benchmarks/readme_from_wheel.md
+    python benchmarks/readme_from_wheel.py [--keep DIR] [--only REGEX] > benchmarks/readme_from_wheel.md
 
 Exit status 1 when any command exits non-zero.
 """
@@ -32,7 +32,7 @@ def readme_commands(text: str) -> list[str]:
     for block in re.findall(r"```sh\n(.*?)```", text, flags=re.S):
         lines = block.replace("\\\n", " ").splitlines()
         for line in lines:
-            line = re.sub(r"\s+#.*$", "", line).strip()
+            line = re.sub(r"\s+#.*$", "", line).strip().removeprefix("$ ")  # "$ lcchain ...": a shown session
             if line.startswith("lcchain "):
                 commands.append(re.sub(r"\s+", " ", line))
     return commands
@@ -41,7 +41,7 @@ def readme_commands(text: str) -> list[str]:
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--keep", type=Path, help="work here (and keep it) instead of a temporary folder")
-    parser.add_argument("--only", help="run only the commands holding this text")
+    parser.add_argument("--only", help="run only the commands this regular expression finds something in")
     args = parser.parse_args()
     work = args.keep or Path(tempfile.mkdtemp(prefix="lcchain-readme-"))
     work.mkdir(parents=True, exist_ok=True)
@@ -58,7 +58,7 @@ def main() -> int:
     print("| command | exit | seconds |\n|---|---:|---:|")
     failed = 0
     for command in readme_commands((ROOT / "README.md").read_text()):
-        if args.only and args.only not in command:
+        if args.only and not re.search(args.only, command):
             continue
         if "..." in command:
             print(f"| `{command}` | skipped (placeholder) | |")

@@ -123,6 +123,17 @@ def test_import_loads_neither_matplotlib_nor_pyspice():
     assert proc.stdout.strip() == "False"
 
 
+def test_the_parser_loads_no_physics_and_no_scipy():
+    """``lcchain --help`` and ``--version`` build every subcommand's parser: none may import the studies, the runs
+    or scipy's submodules to fill its help (a default read from studies/ once made --version take 0.66 s)."""
+    code = ("import sys; from lcchain.cli.main import build_parser; build_parser(); "
+            "print(sorted(m for m in sys.modules if m.startswith(('lcchain.studies', 'lcchain.runs', 'scipy.', "
+            "'matplotlib'))))")
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.strip() == "[]"
+
+
 def test_missing_ngspice_exits_3_with_install_command(tmp_path):
     """With no ngspice on PATH, simulate exits 3 and says how to install it."""
     env = {"PATH": str(tmp_path), "HOME": str(tmp_path), "PYTHONPATH": str(ROOT)}

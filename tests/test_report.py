@@ -64,14 +64,16 @@ def test_json_holds_tables_checks_and_versions(data: dict) -> None:
 
 
 def test_the_spectrum_section_is_measured_and_counts_in_the_verdict(data: dict, report_dir: Path) -> None:
-    """Issue 21, section 2: the quick report's spectra (Fig. Pk20-100's chains among them) all pass, their three
-    lines each are among the checks, and the page has the section with its two figures."""
+    """Issue 21, section 2: the quick report's spectra (Fig. Pk20-100's chains and a lossy ladder among them) all
+    pass, their lines (omega_n, delta omega_n, P_n, and Q_n with losses) are among the checks, and the page has
+    the section with its two figures."""
     spectra = {check["name"]: check for check in data["spectrum"]}
-    assert {"two-mass-N20", "two-mass-N100", "perfect-N50", "perfect-N50-walls"} <= set(spectra)
+    assert {"two-mass-N20", "two-mass-N100", "perfect-N50", "perfect-N50-walls", "two-mass-N20-losses"} <= set(spectra)
     for check in spectra.values():
         assert check["passed"] and len(check["modes"]) == check["N"], check["name"]
     lines = [c for c in data["checks"] if c["kind"] == "spectrum"]
-    assert len(lines) == 3 * len(spectra) and all(c["passed"] for c in lines)
+    assert len(lines) == sum(len(check["errors"]) for check in spectra.values()) == 3 * len(spectra) + 1
+    assert all(c["passed"] for c in lines) and sum(c["name"].endswith("Q_n") for c in lines) == 1
     page = (report_dir / "index.html").read_text()
     section = page[page.index('<h2 id="spectrum">'):page.index('<h2 id="figures">')]
     assert section.count("<figure") == 2 and 'id="spectrum-modes"' in section

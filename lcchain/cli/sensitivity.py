@@ -24,7 +24,7 @@ DEFAULT_TOP = 10
 
 
 def add_sensitivity_arguments(p: argparse.ArgumentParser) -> None:
-    from ..studies.sensitivity import CHECK_ACCURACY
+    from ..core.limits import SENSITIVITY_CHECK_ACCURACY as CHECK_ACCURACY  # not studies/: --help stays light
     from .common import number
 
     p.add_argument("--metric", choices=ARRIVAL_METRICS, default="peak",

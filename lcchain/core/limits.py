@@ -50,3 +50,6 @@ MAX_SCENE_BYTES = 64 * 2**20
 #: Frequencies of one AC analysis (lcchain spectrum --points): a few per mode at least, at most a million.
 MIN_AC_POINTS = 16
 MAX_AC_POINTS = 1_000_000
+#: The accuracy (max |simulation - theory|) of the runs of ``lcchain sensitivity --check``: met by extrapolated
+#: runs for N up to a few hundred.
+SENSITIVITY_CHECK_ACCURACY = 1e-7

@@ -27,7 +27,7 @@ from ..circuit.sensitivity import Component, LadderSensitivity
 from ..core.budget import Budget
 from ..core.checks import integer, real
 from ..core.frozen import FrozenMap
-from ..core.limits import ACCURACY_FLOOR
+from ..core.limits import ACCURACY_FLOOR, SENSITIVITY_CHECK_ACCURACY
 from ..core.types import ArrivalMetric
 from ..runs.request import Request, Transient
 from .plan import Plan, request_plan
@@ -43,7 +43,7 @@ CHECK_MAX_STEP = 0.1
 #: How many times the runs' error the peak must move.
 CHECK_MARGIN = 100.0
 #: The runs' accuracy (max |simulation - theory|), met by extrapolated runs for N up to a few hundred.
-CHECK_ACCURACY = 1e-7
+CHECK_ACCURACY = SENSITIVITY_CHECK_ACCURACY
 
 
 @dataclass(frozen=True)
