@@ -159,7 +159,7 @@ CASES: dict[str, Case] = {
                                   files={"s.toml": SCENE + '[output]\nreport = "r.txt"\n'}),
     "two scenes one output": Case(["run", "da/exp.toml", "db/exp.toml"], ["exp-overlay.png", "writes it too"],
                                   files={"da/exp.toml": SCENE, "db/exp.toml": SCENE}),
-    "scene wall spring 1e12": Case(["run", "s.toml"], ["s.toml", "analysis.accuracy", "time points"],
+    "scene wall spring 1e12": Case(["run", "s.toml"], ["s.toml", "analysis.accuracy", "time points", "dt^2 law"],
                                    files={"s.toml": '[chain]\ncase = "perfect"\nN = 4\n[effects.walls]\nK0 = 1e12\n'}),
     "scene dt 1e-9": Case(["run", "s.toml"], ["s.toml", "analysis.dt", "1e-09", "TiB"],
                           files={"s.toml": SCENE + "[analysis]\ndt = 1e-9\n"}),

@@ -209,6 +209,11 @@ def predicted_error(modes: Modes, dt: float, tstop: float, *, ends: Sequence[str
     return worst * (GEAR_ERROR_FACTOR if method == "gear" else 1.0)
 
 
+#: An accuracy is refused without predicting the error at the budget's smallest step when the dt^2 law from a
+#: larger step foresees it this many times above the target.
+_FORESEEN_MARGIN = 4.0
+
+
 @fixed_blas_threads
 def dt_for_accuracy(modes: Modes, accuracy: float, tstop: float, *, method: str = "trap",
                     safety: float = SAFETY, ends: Sequence[str] = _ENDS,
@@ -266,11 +271,13 @@ def dt_for_accuracy(modes: Modes, accuracy: float, tstop: float, *, method: str 
     def error(dt: float) -> float:
         return max(predicted_error(modes, dt, tstop, ends=ends, method=method, weights=weights), 1e-300)
 
-    def refuse(reached: float) -> BudgetError:
+    def refuse(reached: float, law: bool = False) -> BudgetError:
         assert max_points is not None
+        how = "about " if law else ""
+        why = " by the dt^2 law" if law else ""
         return BudgetError("accuracy", accuracy, f"an accuracy this machine can afford: it needs a step below "
                            f"{smallest:.3g}, more than {max_points:.3g} time points (the predicted error at that "
-                           f"step is {reached:.3g}); raise --max-memory and --max-time, or ask for less")
+                           f"step is {how}{reached:.3g}{why}); raise --max-memory and --max-time, or ask for less")
 
     e_max = error(MAX_DT)
     if e_max <= target:
@@ -296,6 +303,12 @@ def dt_for_accuracy(modes: Modes, accuracy: float, tstop: float, *, method: str 
         if new < smallest:  # the budget's smallest step: it must do, or nothing will
             if dt <= smallest:
                 raise refuse(e)
+            # Predicting at the smallest step costs its tstop / smallest points (seconds, for a stiff chain); the
+            # dt^2 law from here foresees it, and only under-foresees (an error saturated at a large step grows
+            # less than the law when the step shrinks).  Far beyond the target, that is the answer.
+            foreseen = e * (smallest / dt) ** 2
+            if foreseen > _FORESEEN_MARGIN * target:
+                raise refuse(foreseen, law=True)
             new = smallest
         previous = (dt, e)
         dt, e = new, error(new)
