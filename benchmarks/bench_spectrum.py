@@ -42,7 +42,7 @@ def _plot(rows: list[dict[str, Any]], path: Path) -> None:
     """Error and cost against N for each case measured at several N (log-log)."""
     from matplotlib.figure import Figure
 
-    figure = Figure(figsize=(10, 4), layout="constrained")
+    figure = Figure(figsize=(10, 5), layout="constrained")
     error_ax, cost_ax = figure.subplots(1, 2)
     for k, case in enumerate(dict.fromkeys(row["case"] for row in rows)):
         series = [row for row in rows if row["case"] == case]
@@ -61,7 +61,7 @@ def _plot(rows: list[dict[str, Any]], path: Path) -> None:
     cost_ax.set(xlabel="N (masses)", ylabel="seconds", title="cost (default sweep)")
     for ax in (error_ax, cost_ax):
         ax.grid(True, which="both", alpha=0.3)
-        ax.legend(fontsize=7, loc="upper left")
+        ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=2, frameon=False)
     figure.savefig(path, dpi=120)
 
 
@@ -71,7 +71,8 @@ def main() -> None:
     args = parser.parse_args()
     rows: list[dict[str, Any]] = []
     print("# The spectrum from an AC analysis: accuracy and cost against N, and with losses\n")
-    print("Command: `.venv/bin/python benchmarks/bench_spectrum.py > benchmarks/spectrum.md` "
+    print("Command: `.venv/bin/python benchmarks/bench_spectrum.py --plot benchmarks/spectrum.png > "
+          "benchmarks/spectrum.md` "
           f"({platform.machine()}, 2 cores, ngspice from Debian, lcchain {lcchain.__version__}).\n")
     print(f"omega error: max |omega_circuit - omega_theory| / omega_theory over the modes weighing |P_n| >= "
           f"{OMEGA_WEIGHT_FLOOR:g} at the ends (the others are nearly cancelled poles); P error: max |P_circuit - "

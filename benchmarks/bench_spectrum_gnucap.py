@@ -20,9 +20,8 @@ CASES = [("two-mass", 20), ("two-mass", 100), ("perfect", 100), ("uniform-bounde
 
 def main() -> None:
     print("\n## gnucap\n")
-    print("Command: `.venv/bin/python benchmarks/bench_spectrum_gnucap.py >> benchmarks/spectrum.md` (taken on a "
-          "machine loaded by other jobs: the seconds are upper bounds). Errors as above; seconds: the engine's "
-          "process.\n")
+    print("Command: `.venv/bin/python benchmarks/bench_spectrum_gnucap.py >> benchmarks/spectrum.md` (the idle "
+          "machine). Errors as above; seconds: the engine's process.\n")
     print("| chain | N | points | engine | omega error | P error | engine s | fit s | gnucap s / ngspice s |")
     print("|---|---:|---:|---|---:|---:|---:|---:|---:|")
     for case, N in CASES:

@@ -241,9 +241,10 @@ class Gnucap(Engine):
     #: unknown lower), all on a loaded machine where ngspice itself took 1.4-1.7 times its model.
     relative_cost: ClassVar[float] = 6.0
     runs_ac: ClassVar[bool] = True
-    #: gnucap's AC process time over ngspice's for the same sweep (benchmarks/spectrum.md, "gnucap"; loaded machine):
-    #: 4.2 (two-mass N = 20, 928 points: its start-up), 2.2 and 2.5 (two-mass N = 100 and 200), 1.8, 1.2.
-    ac_relative_cost: ClassVar[float] = 4.0
+    #: gnucap's AC process time over ngspice's for the same sweep (benchmarks/spectrum.md, "gnucap", idle machine,
+    #: segmented sweeps): 1.1 to 1.8 (two-mass N = 20 to 200, perfect and uniform-bounded N = 100); 2.0 keeps a
+    #: margin.  (On a loaded machine, with even sweeps, it was 1.2 to 4.2.)
+    ac_relative_cost: ClassVar[float] = 2.0
 
     def find(self, backend: Backend = "batch") -> Simulator:
         if backend not in self.transports:
