@@ -293,7 +293,8 @@ def test_a_failed_sample_is_recorded_and_the_others_still_run(tmp_path: Path, mo
 
 
 @pytest.mark.ngspice
-@pytest.mark.parametrize("path", EXAMPLES, ids=lambda p: p.stem)
+@pytest.mark.parametrize("path", [pytest.param(p, marks=pytest.mark.slow) if p.stem == "real-parts" else p
+                                  for p in EXAMPLES], ids=lambda p: p.stem)  # real-parts: 14 s, its 200 samples
 def test_every_example_scene_runs_from_the_cli(path: Path, tmp_path: Path, monkeypatch, capsys) -> None:
     monkeypatch.chdir(tmp_path)
     assert main(["run", str(path), "--json"]) == 0

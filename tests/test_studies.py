@@ -82,6 +82,7 @@ def test_results_json_lists_every_run_in_task_order(serial_store: Path, capsys: 
     assert {"index", "status", "case", "N", "dt", "digest", "peak_sim"} <= set(header)
 
 
+@pytest.mark.slow  # 22 s: a long sweep killed mid-way and resumed (test_boundary_stores kills one run in 5 s)
 def test_a_killed_driver_loses_no_finished_run_and_redoes_none(tmp_path: Path) -> None:
     store = tmp_path / "long.sqlite"
     command = [sys.executable, "-m", "lcchain", "sweep", *LONG, "--store", str(store), "--workers", "2"]
