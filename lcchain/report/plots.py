@@ -682,6 +682,9 @@ def spacing_band(omega_nominal, spacings, *, title: str = "", path: str | os.Pat
     for row in values:
         ax.plot(n, row, ".", color="C0", markersize=2, alpha=0.5)
     ax.plot(n, np.diff(omega), "-", color="k", linewidth=1.2, label="nominal theory")
+    from matplotlib.ticker import MaxNLocator
+
+    ax.xaxis.set_major_locator(MaxNLocator(integer=True))  # n is a mode's number
     ax.set_xlabel(r"$n$")
     ax.set_ylabel(r"$\delta\omega_n = \omega_{n+1} - \omega_n$  $[1/\sqrt{L_0 C_0}]$")
     ax.grid(True, **_GRID)
