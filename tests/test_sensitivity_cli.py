@@ -110,6 +110,13 @@ def test_worst_case_sweep_stores_the_corners_and_names_the_worst(capsys, tmp_pat
     data = json.loads(out)
     assert status == 0 and data["ran"] == 0 and data["worst_case"]["worst"]["corner"] == worst
     assert data["worst_case"]["monte_carlo"]["within"] is True
+    # the table shows each corner's 25 signs cut in the middle (at most 24 characters), the CSV whole
+    status, out, _ = run_cli(capsys, "results", str(store))
+    cells = [next((token for token in line.split() if "…" in token), "") for line in out.splitlines()[2:9]]
+    assert status == 0 and all(0 < len(cell) <= 24 and set(cell) <= set("+-0…") for cell in cells), cells
+    assert cells[-1] == runs[-1].params["signs"][:11] + "…" + runs[-1].params["signs"][-11:]
+    status, out, _ = run_cli(capsys, "results", str(store), "--csv")
+    assert status == 0 and runs[-1].params["signs"] in out
 
 
 @pytest.mark.parametrize("argv, field", [

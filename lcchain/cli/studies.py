@@ -450,6 +450,10 @@ def _netcdf3_name(name: str) -> str:
     return re.sub(r"[^A-Za-z0-9_.@+-]+", "_", name).strip("_") or "_"
 
 
+#: The widest parameter cell of ``results``' table (longer values are cut in their middle).
+_LONGEST_CELL = 24
+
+
 def _print_runs(store: Any, stored: list[Any], name: str) -> None:
     """One row per task: its axes, status, and what it gave: errors against theory, or (no theory: a batch of
     netlists) its vectors, points and the simulator's time; a failure's reason."""
@@ -471,8 +475,19 @@ def _print_runs(store: Any, stored: list[Any], name: str) -> None:
     columns = (["points", "modes seen", "omega error", "P error", "spacing"] if spectral
                else ["error", "predicted", "peak"] if theory else ["vectors", "points"])
     rows = []
+    shortened = False
+
+    def axis_cell(value: Any) -> str:  # a long parameter (a worst case's signs, a path) cut in its middle
+        nonlocal shortened
+        text = _number(value)
+        if len(text) <= _LONGEST_CELL:
+            return text
+        shortened = True
+        half = (_LONGEST_CELL - 1) // 2
+        return f"{text[:half]}…{text[-half:]}"
+
     for run, shown in zip(stored, runs, strict=True):
-        cells = [str(run.index), run.status, *(_number(run.params.get(key)) for key in axes)]
+        cells = [str(run.index), run.status, *(axis_cell(run.params.get(key)) for key in axes)]
         if spectral:
             cells += [_number(run.points), _number(shown.get("modes_seen")), _number(shown.get("max_rel_error_omega")),
                       _number(shown.get("max_abs_error_P")), _number(shown.get("spacing_spread"), ".4g")]
@@ -487,6 +502,9 @@ def _print_runs(store: Any, stored: list[Any], name: str) -> None:
         cells += [_number(seconds, ".3f"), (run.reason.splitlines() or [""])[0][:70]]
         rows.append(cells)
     print(_table(["#", "status", *map(_short, axes), *columns, "time (s)", "reason"], rows))
+    if shortened:
+        print(f"parameters longer than {_LONGEST_CELL} characters are cut in their middle here; --json and --csv "
+              "give them whole")
     if spectral:
         print("points: frequencies of the AC sweep; omega error: max |omega_n - theory| / theory over the modes "
               "resolved at the ends; P error: max |P_n - theory| (absolute); spacing: (max - min) / mean of "
