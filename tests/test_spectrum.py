@@ -105,3 +105,12 @@ def test_read_raw_reads_an_ac_plots_complex_columns():
     assert np.array_equal(columns["i(l1)"], [0.5 - 2j, 0.25 - 1j])
     with pytest.raises(SimulationError, match="no transient analysis"):
         read_raw(header + values.tobytes())
+
+
+@pytest.mark.ngspice
+def test_the_spectrum_reports_its_progress_engine_then_fit():
+    """Long spectra (N = 2000: 6 s of ngspice, then 23 s of fit) show progress: 0, the engine's share of the priced
+    work once the engine is done, 1 after the fit."""
+    heard: list[float] = []
+    measure_spectrum(chain_for_case("two-mass", 20), progress=heard.append)
+    assert heard[0] == 0.0 and heard[-1] == 1.0 and len(heard) == 3 and 0.0 < heard[1] < 1.0

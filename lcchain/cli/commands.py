@@ -342,7 +342,8 @@ def cmd_spectrum(args: argparse.Namespace) -> int:
     outputs.check("--plot", args.plot, FIGURE_FORMATS)
     chain = chain_from_args(args)
     report = measure_spectrum(chain, Q=args.Q, points=args.points, L0=args.L0, C0=args.C0,
-                              budget=budget_from_args(args), engine=args.engine)
+                              budget=budget_from_args(args), engine=args.engine,
+                              progress=fraction(f"{args.engine} AC analysis, then the fit"))
     data = report.to_dict()
     if args.json:
         emit_json(data)

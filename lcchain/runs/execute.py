@@ -38,6 +38,7 @@ from ..compare.spectral import SpectrumMetrics, compare_spectrum
 from ..compare.waveforms import Signals, loop_signals
 from ..core import __version__
 from ..core.blas import fixed_blas_threads
+from ..core.budget import ac_estimate, ac_run_estimate
 from ..core.checks import instance
 from ..core.errors import ParameterError, SimulationError
 from ..core.frozen import FrozenArrays
@@ -267,11 +268,22 @@ def ac_metrics(theory: SpectrumTheory, result: AcResult) -> SpectrumMetrics:
 
 def _run_ac(spec: RunSpec, simulator: Simulator,
             progress: Callable[[float], None] | None) -> tuple[dict[str, Any], float, int, str]:
-    """An AC run (:func:`lcchain.spice.ac.run_ac`), its poles and weights against its :class:`SpectrumTheory`."""
+    """An AC run (:func:`lcchain.spice.ac.run_ac`), its poles and weights against its :class:`SpectrumTheory`.
+    ``progress`` hears 0 at the start, the engine's share of the priced work when the engine is done, and 1."""
     assert spec.points is not None  # the spec requires it for an AC run
+    if progress is not None:
+        progress(0.0)
     result = run_ac(spec.netlist, spec.vectors, spec.points, simulator=simulator, timeout=spec.timeout,
                     foreign=spec.foreign, max_output_bytes=spec.max_output_bytes)
-    spectrum = ac_metrics(spec.theory, result) if isinstance(spec.theory, SpectrumTheory) else None
+    spectrum = None
+    if isinstance(spec.theory, SpectrumTheory):
+        if progress is not None:  # the fit follows: most of the work beyond a few hundred modes
+            N, lossy = spec.theory.chain.N, spec.theory.Q is not None
+            engine = ac_run_estimate(points=spec.points, saved=2, unknowns=(3 if lossy else 2) * N).seconds
+            progress(engine / ac_estimate(points=spec.points, N=N, losses=lossy).seconds)
+        spectrum = ac_metrics(spec.theory, result)
+    if progress is not None:
+        progress(1.0)
     return ({"ac": result, "spectrum": spectrum}, result.wall_s, result.points,
             waveform_digest(result.frequency, result.vectors, "frequency"))
 

@@ -24,6 +24,7 @@ make the same run.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -236,7 +237,8 @@ def _response_error(chain: Chain, theory: Modes, fit: SpectrumFit, Q: float | No
 
 def measure_spectrum(chain: Chain, *, Q: float | None = None, points: int | None = None, L0: float = DEFAULT_L0,
                      C0: float = DEFAULT_C0, simulator: Simulator | None = None, budget: Budget | None = None,
-                     timeout: float = 3600.0, engine: str = DEFAULT_ENGINE) -> SpectrumReport:
+                     timeout: float = 3600.0, engine: str = DEFAULT_ENGINE,
+                     progress: Callable[[float], None] | None = None) -> SpectrumReport:
     """The ladder's spectrum in an engine's AC analysis against exact theory.
 
     Parameters
@@ -258,6 +260,8 @@ def measure_spectrum(chain: Chain, *, Q: float | None = None, points: int | None
         ``ac_relative_cost``).
     engine : str
         An engine with an AC analysis (:func:`lcchain.spice.engines.ac_engine`): ``"ngspice"`` or ``"gnucap"``.
+    progress : callable, optional
+        Called with the fraction done (0 to 1): the engine's run, then the fit.
 
     Raises
     ------
@@ -269,7 +273,7 @@ def measure_spectrum(chain: Chain, *, Q: float | None = None, points: int | None
     plan = plan_request(Request(chain, AC(points), effects=effects, L0=L0, C0=C0, timeout=timeout, engine=engine),
                         budget)
     spec = plan.specs[0]
-    record = execute(spec, simulator)
+    record = execute(spec, simulator, progress=progress)
     if not record.ok or record.spectrum is None or record.ac is None:
         raise SimulationError(record.reason, record.log_tail, record.status)
     spectrum, theory = record.spectrum, spec.theory
