@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from helpers.dense import dense_modes
-from helpers.tolerances import ATOL_SPECTRUM_P, RTOL_SPECTRUM_OMEGA
+from helpers.tolerances import ATOL_SPECTRUM_P, RTOL_SPECTRUM_OMEGA, RTOL_SPECTRUM_Q
 
 from lcchain.cli.main import main
 from lcchain.compare.spectral import OMEGA_WEIGHT_FLOOR
@@ -104,3 +104,21 @@ def test_a_bad_ac_scene_exits_2_with_one_line(tmp_path: Path, monkeypatch, capsy
     assert main(["run", str(scene)]) == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and "analysis.points" in err and "at least" in err
+
+
+@pytest.mark.ngspice
+def test_a_lossy_ac_scene_reports_each_samples_quality_factors():
+    """[effects.losses] in an AC scene: every sample's Q_n against omega_n Q, the worst in the summary."""
+    scene = parse_scene(_with(effects={"losses": {"Q": 100.0}, "tolerance": {"L": 0.01, "C": 0.01, "samples": 3,
+                                                                              "seed": 2}}))
+    result = simulate_scene(scene)
+    report = result.report
+    assert report["Q"] == 100.0 and len(report["samples"]) == 3
+    assert report["max_rel_error_Q"] == max(record["max_rel_error_Q"] for record in report["samples"])
+    assert 0.0 < report["max_rel_error_Q"] < RTOL_SPECTRUM_Q
+    for sample in result.samples:  # each against an independent dense solution of its own chain
+        omega, _ = dense_modes(sample.chain)
+        metrics = sample.run.spectrum
+        assert metrics is not None and metrics.losses == 100.0
+        strong = np.isfinite(metrics.omega) & (omega > 0)
+        np.testing.assert_allclose(metrics.Q[strong], omega[strong] * 100.0, rtol=RTOL_SPECTRUM_Q)

@@ -461,6 +461,9 @@ def _print_spectrum_summary(result: Any) -> None:
         over = f" (the worst of {len(good)} samples, each against its own theory)" if len(good) > 1 else ""
         print(f"max |omega_n - theory| / theory = {report['max_rel_error_omega']:.3e}, max |P_n - theory| = "
               f"{report['max_abs_error_P']:.3e}{over}")
+        if "max_rel_error_Q" in report:
+            print(f"losses Q = {report['Q']:g}: max |Q_n - omega_n Q| / (omega_n Q) = {report['max_rel_error_Q']:.3e}"
+                  f"{over}")
         spread = report["spacing_spread"]
         print(f"spacing spread (max - min) / mean of delta omega_n: {spread['mean']:.4g} (mean over {spread['count']}"
               f" sample{'s' if spread['count'] > 1 else ''}), largest {spread['max']:.4g}; nominal theory "

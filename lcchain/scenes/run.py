@@ -67,6 +67,7 @@ class SampleRecord(TypedDict, total=False):
     spacing_spread: float
     spacing_std: float
     modes_seen: int
+    max_rel_error_Q: float
 
 
 class SceneReport(TypedDict, total=False):
@@ -97,6 +98,8 @@ class SceneReport(TypedDict, total=False):
     max_rel_error_omega: float
     max_abs_error_P: float
     spacing_spread: dict[str, Any]
+    Q: float
+    max_rel_error_Q: float
 
 
 @dataclass(frozen=True, eq=False)
@@ -199,6 +202,8 @@ def _spectrum_record(index: int, chain: Chain, run: RunRecord) -> SampleRecord:
     record = _run_record(index, chain, run, run.ac.netlist_sha256, run.ac.points)
     metrics = run.spectrum.to_dict()
     record.update({name: metrics[name] for name in SPECTRAL_METRICS})  # type: ignore[typeddict-item]
+    if "max_rel_error_Q" in metrics:  # losses: each mode's Q_n against omega_n Q
+        record["max_rel_error_Q"] = metrics["max_rel_error_Q"]
     return record
 
 
@@ -287,6 +292,10 @@ def _spectrum_result(scene: Scene, plan: ScenePlan, specs: Sequence[RunSpec], re
     if good:
         report["max_rel_error_omega"] = max(s.record["max_rel_error_omega"] for s in good)
         report["max_abs_error_P"] = max(s.record["max_abs_error_P"] for s in good)
+        if all("max_rel_error_Q" in s.record for s in good):
+            Q, _ = losses_and_pulse(scene)
+            assert Q is not None  # the records' decay rates come from the scene's losses
+            report["Q"], report["max_rel_error_Q"] = Q, max(s.record["max_rel_error_Q"] for s in good)
         spreads = np.array([s.record["spacing_spread"] for s in good], dtype=float)
         theory = SpectrumMetrics(nominal.omega, nominal.omega, nominal.transfer, nominal.transfer,
                                  np.abs(nominal.transfer) >= OMEGA_WEIGHT_FLOOR)
