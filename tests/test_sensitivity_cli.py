@@ -2,9 +2,11 @@
 print, what they store, and their one-line refusals."""
 
 import json
+from pathlib import Path
 
 import pytest
 
+import lcchain
 from lcchain.cli import main
 from lcchain.studies.store import Store
 
@@ -139,12 +141,17 @@ def test_worst_case_sweep_stores_the_corners_and_names_the_worst(capsys, tmp_pat
     (["sweep", "{scene}", "--worst-case", "--samples", "5", "--store", "{tmp}/w.sqlite"], "--samples"),
     (["sweep", "{pulse}", "--worst-case", "--store", "{tmp}/w.sqlite"], "excitation.kind"),
     (["sweep", "{plain}", "--worst-case", "--store", "{tmp}/w.sqlite"], "--worst-case"),
+    (["sweep", "{ac}", "--worst-case", "--store", "{tmp}/w.sqlite"], "analysis.kind"),
+    (["sweep", "{scene}", "--worst-case", "--transits", "2", "--store", "{tmp}/w.sqlite"], "--transits"),
+    (["sweep", "{scene}", "--transits", "2", "--store", "{tmp}/w.sqlite"], "--transits"),
 ])
 def test_bad_inputs_exit_2_with_one_line(capsys, tmp_path, argv, field):
     plain = tmp_path / "plain.toml"
     plain.write_text(SCENE.replace("{kind}", "kick").replace("L = 0.05\nC = 0.02", "L = 0.0\nC = 0.0"))
+    ac = tmp_path / "ac.toml"  # the AC example: a tolerance, a kick by default, and no first arrival
+    ac.write_text((Path(lcchain.__file__).parent / "scenes" / "examples" / "spectrum.toml").read_text())
     names = {"{tmp}": str(tmp_path), "{scene}": str(_scene(tmp_path)), "{pulse}": str(_scene(tmp_path, "pulse")),
-             "{plain}": str(plain)}
+             "{plain}": str(plain), "{ac}": str(ac)}
     for key, value in names.items():
         argv = [arg.replace(key, value) for arg in argv]
     status, out, err = run_cli(capsys, *argv)

@@ -220,8 +220,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     if args.scene:
         given = [o for o, v in (("--case", args.case), ("--N", args.N), ("--dt", args.dt),
                                 ("--accuracy", args.accuracy), ("--extrapolate", args.extrapolate),
-                                ("--engine", args.engine), ("--points", args.points),
-                                ("--analysis", None if args.analysis == "transient" else args.analysis))
+                                ("--engine", args.engine), ("--points", args.points), *_scene_says(args))
                  if v is not None]
         if given:
             raise ParameterError(given[0], getattr(args, given[0].lstrip("-")), "nothing with SCENE.toml (the scene "
@@ -239,6 +238,12 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     return _run(args, plan, outputs)
 
 
+def _scene_says(args: argparse.Namespace) -> tuple[tuple[str, Any], ...]:
+    """The options a scene file says itself (its analysis, drive and transport): given with SCENE.toml, refused."""
+    return (("--analysis", None if args.analysis == "transient" else args.analysis), ("--transits", args.transits),
+            ("--excitation", args.excitation), ("--backend", None if args.backend == "batch" else args.backend))
+
+
 def _worst_case(args: argparse.Namespace, outputs: Outputs, budget: Any) -> int:
     """``sweep SCENE --worst-case``: the corners run like the scene's samples, then which is worst."""
     from ..studies.store import Store
@@ -252,7 +257,7 @@ def _worst_case(args: argparse.Namespace, outputs: Outputs, budget: Any) -> int:
     given = [o for o, v in (("--case", args.case), ("--N", args.N), ("--dt", args.dt), ("--accuracy", args.accuracy),
                             ("--extrapolate", args.extrapolate), ("--engine", args.engine), ("--vary", args.vary),
                             ("--samples", args.samples), ("--seed", args.seed), ("--points", args.points),
-                            ("--analysis", None if args.analysis == "transient" else args.analysis))
+                            *_scene_says(args))
              if v is not None and v != []]
     if given:
         raise ParameterError(given[0], getattr(args, given[0].lstrip("-")), "nothing with --worst-case (the scene "

@@ -75,6 +75,9 @@ def _refuse(scene: Any, path: str) -> Tolerance:
     if tolerance is None or not (tolerance.L or tolerance.C):
         raise ParameterError("--worst-case", path, "a scene with [effects.tolerance] L or C > 0 (the corners sit at "
                              "the tolerances)")
+    if scene.analysis.kind != "transient":
+        raise ParameterError("analysis.kind", scene.analysis.kind, '"transient" with --worst-case (the corners are '
+                             "judged by the first arrival's peak)", path)
     if scene.excitation.kind != "kick":
         raise ParameterError("excitation.kind", scene.excitation.kind, '"kick" with --worst-case (the '
                              "sensitivities are the kicked ladder's first-arrival peak)", path)
