@@ -10,6 +10,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from helpers.netlists import LADDER
 
 from lcchain.circuit.ladder import Ladder
 from lcchain.circuit.netlist import ac_netlist_text
@@ -76,3 +77,20 @@ def test_an_ac_netlist_is_not_run_with_allow_control(tmp_path: Path, monkeypatch
     assert main(["batch", str(path), "--store", "s.sqlite", "--allow-control"]) == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and "--allow-control" in err and "n.cir" in err
+
+
+@pytest.mark.ngspice
+def test_a_batch_of_tran_and_ac_netlists_reads_back_on_one_point_axis(tmp_path: Path, monkeypatch):
+    """A store of a transient and an AC run: their arrays share the ``point`` dimension, and ``frequency`` and
+    ``time`` are coordinates (a frequency dimension would claim the transient's points as frequencies)."""
+    pytest.importorskip("xarray")
+    monkeypatch.chdir(tmp_path)
+    path, _, _ = _netlist(tmp_path)
+    (tmp_path / "t.cir").write_text(LADDER)
+    assert main(["batch", str(path), "t.cir", "--store", "s.sqlite", "--executor", "serial"]) == 0
+    with Store(tmp_path / "s.sqlite", "read") as store:
+        data = store.to_xarray(waveforms=True)
+        runs = {run.params["netlist"]: run for run in store.runs()}
+    assert "point" in data.dims and "frequency" not in data.dims and "frequency" in data.coords
+    points = {run.points for run in runs.values()}
+    assert data.sizes["point"] == max(points) and len(points) == 2

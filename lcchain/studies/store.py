@@ -238,12 +238,14 @@ def _saved(values: np.ndarray) -> np.ndarray:
     return np.asarray(values, dtype=complex if values.dtype.kind == "c" else float)
 
 
-def _on_frequency(dataset: Any, axes: list[np.ndarray]) -> Any:
-    """AC runs' spectra on a ``frequency`` coordinate (Hz): the dimension itself when every run swept the same
-    frequencies, else a coordinate beside the ``point`` dimension (NaN where a run swept fewer)."""
+def _on_frequency(dataset: Any, axes: list[np.ndarray], longest: int, mixed: bool) -> Any:
+    """AC runs' spectra on a ``frequency`` coordinate (Hz): the dimension itself when every run is an AC run that
+    swept the same frequencies, else a coordinate beside the ``point`` dimension (NaN where a run swept fewer, or
+    is a transient: ``mixed``)."""
     if not axes:
         return dataset
-    if all(axis.shape == axes[0].shape and np.array_equal(axis, axes[0]) for axis in axes):
+    same = all(axis.shape == axes[0].shape and np.array_equal(axis, axes[0]) for axis in axes)
+    if same and not mixed and axes[0].size == longest:
         dataset = dataset.drop_vars("frequency").rename({"point": "frequency"})
         return dataset.assign_coords(frequency=axes[0])
     return dataset.set_coords("frequency")
@@ -840,4 +842,6 @@ class Store:
                     where = tuple(positions[d][run.index if d == "index" else run.params[d]] for d in dims)
                     values[where][: series.size] = series
             dataset[name] = ([*dims, "point"], values)
-        return _on_frequency(dataset, [a["frequency"] for a in arrays.values() if "frequency" in a])
+        sweeps = [a["frequency"] for a in arrays.values() if "frequency" in a]
+        mixed = any("time" in a for a in arrays.values())  # a batch of .tran and .ac netlists: one point axis
+        return _on_frequency(dataset, sweeps, longest, mixed)
