@@ -33,6 +33,7 @@ from ..core.budget import (
     RUN_START_SECONDS,
     Budget,
     Estimate,
+    ac_estimate,
     chain_seconds,
     ngspice_seconds,
     sample_theory_seconds,
@@ -45,7 +46,7 @@ from ..core.types import DEFAULT_C0, DEFAULT_L0, Backend, Excitation
 from ..runs.extrapolated import combined_key
 from ..runs.request import AC, Request, plan_request
 from ..runs.simulate import simulation_runs
-from ..runs.spec import DEFAULT_TIMEOUT, RunSpec, Theory
+from ..runs.spec import DEFAULT_TIMEOUT, RunSpec, SpectrumTheory, Theory
 from ..scenes.load import load_scene, parse_scene
 from ..scenes.plan import scene_plan, scene_specs
 from ..spice.engines import DEFAULT_ENGINE, ENGINES
@@ -183,11 +184,13 @@ class Plan:
 
 
 def _seconds(spec: RunSpec) -> float:
-    """A run's wall time from the cost model (unknowns x points)."""
+    """A run's wall time from the cost model: unknowns x time points for a transient; for an AC run the engine's
+    frequencies x unknowns and the fit (:func:`lcchain.core.budget.ac_estimate`)."""
     theory = spec.theory
-    if spec.points is not None and theory is not None:  # an AC run: its frequencies
-        points = float(spec.points)
-    elif isinstance(theory, Theory) and theory.dt is not None:
+    if isinstance(theory, SpectrumTheory) and spec.points is not None:
+        whole = ac_estimate(points=spec.points, N=theory.chain.N, losses=theory.Q is not None)
+        return whole.seconds * ENGINES[spec.engine].ac_relative_cost + RUN_START_SECONDS
+    if isinstance(theory, Theory) and theory.dt is not None:
         points = spec.tstop / theory.time_unit / theory.dt
     else:
         return 0.1
