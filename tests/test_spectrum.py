@@ -15,6 +15,8 @@ from helpers.tolerances import ATOL_SPECTRUM_P, RTOL_SPECTRUM_OMEGA
 from scipy.linalg import eigh
 
 from lcchain.cli.main import main
+from lcchain.compare.grid import segment_frequencies
+from lcchain.compare.spectral import sweep_grid
 from lcchain.compare.spectrum import fit_spectrum, min_points
 from lcchain.core.errors import ParameterError, SimulationError
 from lcchain.runs.spectrum import OMEGA_WEIGHT_FLOOR, measure_spectrum
@@ -114,3 +116,15 @@ def test_the_spectrum_reports_its_progress_engine_then_fit():
     heard: list[float] = []
     measure_spectrum(chain_for_case("two-mass", 20), progress=heard.append)
     assert heard[0] == 0.0 and heard[-1] == 1.0 and len(heard) == 3 and 0.0 < heard[1] < 1.0
+
+
+@pytest.mark.parametrize(("case", "N"), [("two-mass", 3), ("perfect", 10), ("uniform-bounded", 5), ("two-mass", 60)])
+def test_the_sweep_ends_at_the_omega_max_it_reports(case, N):
+    """The segments together cover (0, omega_max], and no sample lies beyond it (for small N the last segment
+    ended half a spacing past the top pole, beyond the omega_max reported and keyed)."""
+    omega = dense_modes(chain_for_case(case, N))[0]
+    segments, points, omega_max = sweep_grid(omega)
+    assert segments[0][1] == 0.0 and segments[-1][2] == omega_max > omega[-1]
+    assert all(a[2] == b[1] for a, b in zip(segments[:-1], segments[1:], strict=True))
+    sampled = segment_frequencies(segments)
+    assert sampled.size == points and sampled.max() <= omega_max and np.all(np.diff(sampled) > 0)

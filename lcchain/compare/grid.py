@@ -50,7 +50,9 @@ def _blocks(omega: np.ndarray, omega_max: float) -> list[tuple[float, float, flo
         if last < gaps.size:
             smallest = min(smallest, gaps[last])
         lowest = 0.0 if k == 0 else 0.5 * (poles[first] + poles[first + 1])
-        highest = poles[-1] + 0.5 * gaps[-1] if k == len(blocks) - 1 else 0.5 * (poles[last] + poles[last + 1])
+        # the last ends half a spacing past the top pole, or at omega_max when that comes first (small N)
+        highest = min(omega_max, poles[-1] + 0.5 * gaps[-1]) if k == len(blocks) - 1 else \
+            0.5 * (poles[last] + poles[last + 1])
         out.append((float(lowest), float(highest), float(smallest)))
     # beyond the top pole the response is smooth: segments twice as long and twice as coarse each
     step, lowest = float(gaps[-1]), out[-1][1]
