@@ -35,6 +35,7 @@ from ..compare.extrapolate import (
     refusal,
     runs_for_step,
 )
+from ..compare.grid import Segment
 from ..compare.spectral import SPECTRUM_MAX_N, sweep_grid
 from ..core.blas import fixed_blas_threads
 from ..core.budget import (
@@ -530,9 +531,20 @@ def _plan_transient(request: Request, budget: Budget, modes: Modes | None, desig
                        accuracy_plan, tuple(specs))
 
 
+#: An AC sweep: its segments, its frequencies in all, its last angular frequency (:func:`sweep_grid`).
+_Grid = tuple[list[Segment], int, float]
+
+
+def _sample_grid(chain: Chain, request: Request, analysis: AC) -> tuple[Ladder, Modes, _Grid]:
+    """A realised chain's circuit, its driven modes and its sweep (segments as fine as its own poles)."""
+    driven = driven_modes(chain)
+    return Ladder(chain, request.L0, request.C0), driven, sweep_grid(driven.omega, analysis.points)
+
+
 def _plan_ac(request: Request, budget: Budget, modes: Modes | None, design_seconds: float) -> RequestPlan:
-    """One AC sweep per realised chain, each against its own driven modes, on one grid that separates every
-    sample's poles; priced (frequencies x unknowns) before the samples are drawn."""
+    """One AC sweep per realised chain, each against its own driven modes, on a grid placed from its own poles;
+    priced (frequencies x unknowns, and the fit) on the nominal grid before the samples are drawn, and again on
+    the largest sample's grid once their poles are known."""
     analysis = request.analysis
     assert isinstance(analysis, AC)  # its own plan method calls this
     nominal, ladder = _nominal_ladder(request)
@@ -544,23 +556,28 @@ def _plan_ac(request: Request, budget: Budget, modes: Modes | None, design_secon
         raise ParameterError("modes", f"modes of N = {modes.N}", f"the modes of this chain (N = {N})")
     theory = driven_modes(nominal)
     segments, points, omega_max = sweep_grid(theory.omega, analysis.points)
-    one = ac_estimate(points=points, N=N, losses=request.Q is not None)
-    one = replace(one, seconds=one.seconds * ac_engine(request.engine).ac_relative_cost)
-    name, value = ("points", points) if analysis.points is not None else ("N", N)
-    one.check(budget, name, value, "fewer frequencies (--points) or a smaller chain")
-    every = Estimate(f"{samples} runs of {one.what}", one.memory,
-                     design_seconds + samples * (one.seconds + RUN_START_SECONDS + sample_theory_seconds(N)))
-    every.check(budget, "effects.tolerance.samples" if samples > 1 else name, samples if samples > 1 else value,
-                "fewer samples")
+
+    def price(frequencies: int) -> None:
+        one = ac_estimate(points=frequencies, N=N, losses=request.Q is not None)
+        one = replace(one, seconds=one.seconds * ac_engine(request.engine).ac_relative_cost)
+        name, value = ("points", frequencies) if analysis.points is not None else ("N", N)
+        one.check(budget, name, value, "fewer frequencies (--points) or a smaller chain")
+        every = Estimate(f"{samples} runs of {one.what}", one.memory,
+                         design_seconds + samples * (one.seconds + RUN_START_SECONDS + sample_theory_seconds(N)))
+        every.check(budget, "effects.tolerance.samples" if samples > 1 else name, samples if samples > 1 else value,
+                    "fewer samples")
+
+    price(points)
     chains = _chains(request, nominal)
+    drawn = [(ladder, theory, (segments, points, omega_max)) if chain is nominal else
+             _sample_grid(chain, request, analysis) for chain in chains]  # a sample's sweep: from its own poles
+    largest = max(grid[1] for _, _, grid in drawn)
+    if largest > points:
+        price(largest)
     title = _title(request, nominal, "AC")
     probes = tuple(probe_names(N, "ends"))
     specs = []
-    for chain in chains:
-        circuit, driven, grid = ladder, theory, (segments, points, omega_max)
-        if chain is not nominal:  # a sample's sweep is placed from its own poles (segments as fine as they are)
-            circuit, driven = Ladder(chain, request.L0, request.C0), driven_modes(chain)
-            grid = sweep_grid(driven.omega, analysis.points)
+    for chain, (circuit, driven, grid) in zip(chains, drawn, strict=True):
         text = ac_netlist_text(circuit, segments=grid[0], title=title, effects=request.effects)
         spectrum = SpectrumTheory(chain, ladder.time_unit, ladder.impedance, grid[2], modes=driven, Q=request.Q)
         specs.append(RunSpec(text, probes, 0.0, backend=request.backend, timeout=request.timeout, theory=spectrum,
