@@ -19,7 +19,7 @@ from lcchain.core.budget import INTERPRETER_SECONDS, Budget, BudgetError
 from lcchain.core.errors import ParameterError
 from lcchain.runs.execute import execute, waveform_digest
 from lcchain.runs.request import AC, Request, Transient, plan_request
-from lcchain.runs.spec import SpectrumTheory
+from lcchain.runs.spec import RunSpec, SpectrumTheory
 from lcchain.studies.plan import request_plan
 from lcchain.studies.run import run_plan
 from lcchain.studies.store import Store
@@ -161,3 +161,12 @@ def test_an_ac_request_with_losses_fits_every_modes_decay_rate():
     assert record.spectrum.max_rel_error_Q < RTOL_SPECTRUM_Q
     stored = SpectrumMetrics.from_dict(json.loads(json.dumps(record.spectrum.to_dict())))
     assert stored.losses == 100.0 and stored.max_rel_error_Q == record.spectrum.max_rel_error_Q
+
+
+def test_an_ac_spec_runs_on_the_engines_program_only():
+    """The shared library runs transients only: an AC spec with backend = "shared" is refused when it is made
+    (batch_plan could make one and fail mid-study)."""
+    spec = plan_request(Request(chain_for_case("two-mass", 8), AC())).specs[0]
+    with pytest.raises(ParameterError) as caught:
+        RunSpec(spec.netlist, spec.vectors, 0.0, backend="shared", analysis="ac", points=spec.points)
+    assert caught.value.field == "backend"

@@ -181,7 +181,7 @@ class AC:
             integer("points", self.points, at_least=MIN_AC_POINTS, at_most=MAX_AC_POINTS)
 
     def check(self, request: Request) -> None:
-        """Refuse what an AC analysis cannot be compared with (losses) or run through (another transport)."""
+        """Refuse an engine without an AC analysis, and a transport other than the engine's program."""
         ac_engine(request.engine)  # an engine without an AC analysis is refused here, naming it
         if request.backend != "batch":
             raise ParameterError("backend", request.backend, "batch with an AC analysis (the engine's program)")

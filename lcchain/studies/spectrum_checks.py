@@ -8,8 +8,8 @@ background pool beside the transient checks (:mod:`.validation`) and :mod:`lccha
 them.
 
 A job is one line of :func:`spectrum_jobs`: a chain (made in the worker) and the effects that realise it.  An
-effect's ``response()`` keywords reach ``measure_spectrum`` too, so a lossy chain is one more line,
-``SpectrumJob(..., effects=(Losses(Q=300.0),))``, once ``measure_spectrum`` takes ``Q``.
+effect's ``response()`` keywords reach ``measure_spectrum`` too: the lossy ladder is the line with
+``effects=(Losses(LOSSY_Q),)``, whose check adds each mode's Q_n.
 """
 
 from __future__ import annotations
