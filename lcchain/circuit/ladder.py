@@ -77,6 +77,16 @@ class Ladder:
         """C_{i,i+1} = C0 / K_{i,i+1}, farad (index 0 and N are the walls); None = wire."""
         return [None if k == 0 else self.C0 / float(k) for k in self.chain.springs]
 
+    @staticmethod
+    def inductor(loop: int) -> str:
+        """The netlist name of L_loop (loop from 1)."""
+        return f"L{loop}"
+
+    @staticmethod
+    def capacitor(spring: int) -> str:
+        """The netlist name of C_{spring,spring+1} (spring 0..N; 0 and N are the walls)."""
+        return f"C{spring}_{spring + 1}"
+
     def node(self, i: int) -> str:
         """Name of rail node i (0..N); a free end's node is ground."""
         N = self.chain.N

@@ -312,12 +312,12 @@ def _element_lines(ladder: Ladder, parts: tuple[Effect, ...], *, source: bool, k
             capacitance = C[i]
             assert capacitance is not None  # inner springs are > 0 (Chain checks it)
             ic = f" IC={number(charge / capacitance)}" if (charge is not None and i == 1) else ""
-            lines.append(f"C{i}_{i + 1} n{i} 0 {number(capacitance)}{ic}")
+            lines.append(f"{ladder.capacitor(i)} n{i} 0 {number(capacitance)}{ic}")
     for wall in (0, N):
         wall_capacitance = C[wall]
         if wall_capacitance is not None:
             ic = f" IC={number(-charge / wall_capacitance)}" if (charge is not None and wall == 0) else ""
-            lines.append(f"C{wall}_{wall + 1} {ladder.node(wall)} 0 {number(wall_capacitance)}{ic}")
+            lines.append(f"{ladder.capacitor(wall)} {ladder.node(wall)} 0 {number(wall_capacitance)}{ic}")
     if chain.coupled:
         # mutual inductance k sqrt(L_i L_i+1) between neighbouring coils: the chain's tridiagonal mass matrix
         lines += [f"K{i}_{i + 1} L{i} L{i + 1} {number(chain.coupling)}" for i in range(1, N)]
@@ -410,7 +410,7 @@ def _loop_branch(i: int, left: str, right: str, inductance: float, ic: str,
                  series: list[tuple[str, float]]) -> list[str]:
     """Loop i's branch from rail node ``left`` to ``right``: L_i, then each series element (inner nodes m_i...)."""
     nodes = [left] + [f"m{i}" if j == 0 else f"m{i}_{j + 1}" for j in range(len(series))] + [right]
-    lines = [f"L{i} {nodes[0]} {nodes[1]} {number(inductance)}{ic}"]
+    lines = [f"{Ladder.inductor(i)} {nodes[0]} {nodes[1]} {number(inductance)}{ic}"]
     seen: dict[str, int] = {}
     for j, (letter, value) in enumerate(series, start=1):
         seen[letter] = seen.get(letter, 0) + 1

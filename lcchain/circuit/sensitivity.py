@@ -124,15 +124,13 @@ def ladder_sensitivity(ladder: Ladder, sensitivity: PeakSensitivity | None = Non
     value, masses, springs = METRIC_VIEWS[metric](sensitivity)
     N = chain.N
     parts = []
-    for i in range(N):
-        inductance = float(chain.masses[i] * ladder.L0)
-        parts.append(Component(f"L{i + 1}", i, inductance, float(masses[i]) / inductance, float(masses[i])))
-    for j, spring in enumerate(chain.springs):
-        if spring == 0:
+    for i, inductance in enumerate(ladder.inductances()):
+        parts.append(Component(ladder.inductor(i + 1), i, inductance, float(masses[i]) / inductance, float(masses[i])))
+    for j, capacitance in enumerate(ladder.capacitances()):
+        if capacitance is None:
             continue  # a free end is a wire
-        capacitance = ladder.C0 / float(spring)
         relative = -float(springs[j])
-        parts.append(Component(f"C{j}_{j + 1}", N + j, capacitance, relative / capacitance, relative))
+        parts.append(Component(ladder.capacitor(j), N + j, capacitance, relative / capacitance, relative))
     order = sorted(range(len(parts)), key=lambda k: -abs(parts[k].relative))
     return LadderSensitivity(ladder, sensitivity.peak, sensitivity.time, tuple(parts[k] for k in order), metric,
                              float(value))
