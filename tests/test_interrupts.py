@@ -19,18 +19,12 @@ import time
 from pathlib import Path
 
 import pytest
-from helpers.processes import alive, gone
+from helpers.processes import alive, as_from_a_terminal, gone, reaped
 
 ROOT = Path(__file__).resolve().parent.parent
 LONG_RUN = ["simulate", "--case", "two-mass", "--N", "2000", "--dt", "0.01"]
 #: Seconds to wait for the simulator to start (the design and the step come first) and to die.
 START_TIMEOUT, DEATH_TIMEOUT = 120.0, 10.0
-
-
-def _as_from_a_terminal() -> None:
-    """Default Ctrl-C in the child, as a shell gives it: a disposition inherited from the test process (a library
-    that ignores SIGINT) would make Python ignore it too."""
-    signal.signal(signal.SIGINT, signal.SIG_DFL)
 
 
 def _children(parent: int) -> dict[int, str]:
@@ -77,15 +71,12 @@ def test_no_simulator_and_no_file_outlive_lcchain(tmp_path: Path, backend: str, 
     scratch.mkdir()
     env = dict(os.environ, TMPDIR=str(scratch))
     proc = subprocess.Popen([sys.executable, "-m", "lcchain", *LONG_RUN, "--backend", backend], cwd=tmp_path, env=env,
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, preexec_fn=_as_from_a_terminal)
-    try:
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, preexec_fn=as_from_a_terminal)
+    with reaped(proc):
         child = _simulator_of(proc, backend)
         time.sleep(0.3)  # let it write to its unnamed raw file for a moment
         proc.send_signal(signum)
         _, err = proc.communicate(timeout=60)
-    finally:
-        if proc.poll() is None:
-            proc.kill()
     assert proc.returncode == status, err.decode()
     assert said in err.decode() and b"Traceback" not in err
     assert gone(child, DEATH_TIMEOUT), f"the simulator (pid {child}) outlived lcchain"
@@ -101,8 +92,8 @@ def test_no_member_of_an_extrapolation_outlives_lcchain(tmp_path: Path, signum: 
     scratch.mkdir()
     env = dict(os.environ, TMPDIR=str(scratch))
     proc = subprocess.Popen([sys.executable, "-m", "lcchain", *LONG_RUN, "--extrapolate", "2"], cwd=tmp_path,
-                            env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, preexec_fn=_as_from_a_terminal)
-    try:
+                            env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, preexec_fn=as_from_a_terminal)
+    with reaped(proc):
         deadline = time.monotonic() + START_TIMEOUT
         children: list[int] = []
         while len(children) < 2 and time.monotonic() < deadline:
@@ -112,9 +103,6 @@ def test_no_member_of_an_extrapolation_outlives_lcchain(tmp_path: Path, signum: 
         assert len(children) == 2, "the two runs of the pair did not start together"
         proc.send_signal(signum)
         _, err = proc.communicate(timeout=60)
-    finally:
-        if proc.poll() is None:
-            proc.kill()
     assert b"Traceback" not in err
     assert all(gone(pid, DEATH_TIMEOUT) for pid in children), "a member's ngspice outlived lcchain"
     assert list(scratch.iterdir()) == [], "a temporary file was left behind"

@@ -11,7 +11,7 @@ import time
 from pathlib import Path
 
 import pytest
-from helpers.processes import descendants, dies_unless_in, gone
+from helpers.processes import as_from_a_terminal, descendants, dies_unless_in, gone, reaped
 
 from lcchain.report.build import report_rows
 from lcchain.report.figure_data import DesignRows
@@ -68,10 +68,6 @@ def test_report_rows_are_every_row_the_quick_report_reads() -> None:
     assert len(read) == len(set(read))
 
 
-def _as_from_a_terminal() -> None:
-    signal.signal(signal.SIGINT, signal.SIG_DFL)
-
-
 def _command_line(pid: int) -> bytes:
     try:
         return Path(f"/proc/{pid}/cmdline").read_bytes()
@@ -103,17 +99,14 @@ def test_no_worker_outlives_an_interrupted_report(tmp_path: Path, signum: int, s
     env = dict(os.environ, TMPDIR=str(scratch), XDG_CACHE_HOME=str(tmp_path / "cache"))
     proc = subprocess.Popen([sys.executable, "-m", "lcchain", "report", "--out", str(tmp_path / "out")],
                             cwd=tmp_path, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                            preexec_fn=_as_from_a_terminal, start_new_session=True)
-    try:
+                            preexec_fn=as_from_a_terminal, start_new_session=True)
+    with reaped(proc):
         children = _workers(proc)
         if signum == signal.SIGINT:  # as Ctrl-C in a terminal: to the whole foreground group, workers included
             os.killpg(proc.pid, signum)
         else:  # lcchain alone; its workers must die by their parent-death signal
             proc.send_signal(signum)
         _, err = proc.communicate(timeout=60)
-    finally:
-        if proc.poll() is None:
-            proc.kill()
     assert proc.returncode == status, err.decode()
     assert b"Traceback" not in err, err.decode()
     left = [f"{pid} ({name})" for pid, name in children.items() if not gone(pid, DEATH_TIMEOUT)]

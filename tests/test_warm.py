@@ -19,7 +19,7 @@ from dataclasses import replace
 from pathlib import Path
 
 import pytest
-from helpers.processes import alive, descendants, gone
+from helpers.processes import alive, as_from_a_terminal, descendants, gone, reaped
 
 import lcchain
 from lcchain.core.errors import ParameterError, SimulationError, SimulatorMissingError
@@ -211,8 +211,8 @@ def test_nothing_outlives_an_interrupted_batch(tmp_path: Path, transport: str) -
     proc = subprocess.Popen([sys.executable, "-m", "lcchain", "batch", *map(str, paths), "--store",
                              str(tmp_path / "s.sqlite"), "--workers", "2", "--transport", transport],
                             cwd=tmp_path, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
-    try:
+                            preexec_fn=as_from_a_terminal)
+    with reaped(proc):
         deadline = time.monotonic() + 120
         running: dict[int, str] = {}
         while time.monotonic() < deadline:
@@ -226,9 +226,6 @@ def test_nothing_outlives_an_interrupted_batch(tmp_path: Path, transport: str) -
         everything = descendants(proc.pid)
         proc.send_signal(signal.SIGINT)
         _, err = proc.communicate(timeout=60)
-    finally:
-        if proc.poll() is None:
-            proc.kill()
     assert proc.returncode == 130 and b"Traceback" not in err, err.decode()
     assert all(gone(pid) for pid in everything), f"outlived lcchain: {everything}"
 

@@ -2,9 +2,13 @@
 
 from __future__ import annotations
 
+import contextlib
 import os
+import signal
+import subprocess
 import tempfile
 import time
+from collections.abc import Iterator
 from pathlib import Path
 
 
@@ -70,3 +74,19 @@ def dies_unless_in(pid: int, value: object) -> object:
     if os.getpid() != pid:
         os.kill(os.getpid(), 9)
     return value
+
+
+def as_from_a_terminal() -> None:
+    """``preexec_fn``: default Ctrl-C in the child, as a shell gives it (a disposition inherited from the test
+    process, a library that ignores SIGINT, would make Python ignore it too)."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
+@contextlib.contextmanager
+def reaped(proc: subprocess.Popen[bytes]) -> Iterator[subprocess.Popen[bytes]]:
+    """The block's process, killed if it is still running when the block ends (an assertion failed first)."""
+    try:
+        yield proc
+    finally:
+        if proc.poll() is None:
+            proc.kill()
