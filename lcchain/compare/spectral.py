@@ -29,7 +29,7 @@ from .grid import POINTS_PER_SPACING, Segment, min_points, sweep_segments
 from .spectrum import SpectrumFit, fit_spectrum
 
 __all__ = ["SpectrumMetrics", "SPECTRAL_METRICS", "spacing_spread", "sweep_grid", "compare_spectrum",
-           "nearest_modes",
+           "nearest_modes", "largest_relative_error",
            "OMEGA_MARGIN", "OMEGA_WEIGHT_FLOOR", "DEFAULT_OVERSAMPLING", "SPECTRUM_MAX_N"]
 
 #: The sweep ends this far above the highest normal frequency (relative).
@@ -46,6 +46,15 @@ SPECTRUM_MAX_N = COUPLED_MAX_N
 #: The spectral metrics a store's runs hold (``lcchain results --metric``), with their units.
 SPECTRAL_METRICS = {"max_rel_error_omega": "relative", "max_abs_error_P": "absolute",
                     "spacing_spread": "(max - min) / mean", "spacing_std": "std / mean", "modes_seen": "modes"}
+
+
+def largest_relative_error(values: np.ndarray, theory: np.ndarray, where: np.ndarray) -> float:
+    """max |values - theory| / |theory| over ``where`` (where |theory| = 0: absolute; a NaN value, a mode the
+    circuit did not show: infinite); 0 over no mode."""
+    scale = np.abs(theory)
+    error = np.abs(values - theory) / np.where(scale > 0, scale, 1.0)
+    error = np.where(np.isnan(error), np.inf, error)
+    return float(np.max(error[where], initial=0.0))
 
 
 def spacing_spread(spacings: np.ndarray) -> tuple[float, float]:
@@ -104,10 +113,7 @@ class SpectrumMetrics(FrozenArrays):
     def max_rel_error_omega(self) -> float:
         """Largest |omega - omega_theory| / omega_theory over the resolved modes (a zero mode: absolute); an unseen
         resolved mode is an infinite error."""
-        theory = self.omega_theory
-        error = np.abs(self.omega - theory) / np.where(theory > 0, theory, 1.0)
-        error = np.where(np.isnan(error), np.inf, error)
-        return float(np.max(error[self.resolved], initial=0.0))
+        return largest_relative_error(self.omega, self.omega_theory, self.resolved)
 
     @property
     def max_abs_error_P(self) -> float:
@@ -149,10 +155,7 @@ class SpectrumMetrics(FrozenArrays):
         losses); an unseen resolved mode is an infinite error."""
         if self.losses is None:
             return float("nan")
-        where = self.resolved & (self.omega_theory > 0)
-        theory = self.Q_theory
-        error = np.abs(self.Q - theory) / np.where(theory > 0, theory, 1.0)
-        return float(np.max(np.where(np.isnan(error), np.inf, error)[where], initial=0.0))
+        return largest_relative_error(self.Q, self.Q_theory, self.resolved & (self.omega_theory > 0))
 
     @property
     def modes_seen(self) -> int:

@@ -37,6 +37,7 @@ from ..compare.spectral import (
     OMEGA_WEIGHT_FLOOR,
     SPECTRUM_MAX_N,
     SpectrumMetrics,
+    largest_relative_error,
 )
 from ..compare.spectrum import SpectrumFit
 from ..core.budget import Budget
@@ -166,7 +167,7 @@ class SpectrumReport:
     def max_rel_error_omega(self) -> float:
         """Largest |omega_circuit - omega_theory| / omega_theory over the resolved modes (a zero mode: absolute);
         an unseen resolved mode is an infinite error."""
-        return _largest_relative(self.omega, self.theory.omega, self.resolved)
+        return self.metrics.max_rel_error_omega
 
     @property
     def max_rel_error_Q(self) -> float:
@@ -177,12 +178,12 @@ class SpectrumReport:
     @property
     def max_rel_error_pole(self) -> float:
         """Largest |p_circuit - p_theory| / |p_theory| over the resolved modes (a zero pole: absolute)."""
-        return _largest_relative(self.poles, self.poles_theory, self.resolved)
+        return largest_relative_error(self.poles, self.poles_theory, self.resolved)
 
     @property
     def max_abs_error_P(self) -> float:
         """Largest |P_circuit - P_theory| over every mode (an unseen one counts with P = 0)."""
-        return float(np.max(np.abs(self.P - self.theory.transfer)))
+        return self.metrics.max_abs_error_P
 
     def to_dict(self) -> dict[str, Any]:
         """``lcchain spectrum --json``."""
@@ -216,14 +217,6 @@ def _pole(omega: np.ndarray, gamma: np.ndarray) -> np.ndarray:
 
 def _finite(value: float) -> float | None:
     return float(value) if np.isfinite(value) else None
-
-
-def _largest_relative(values: np.ndarray, theory: np.ndarray, where: np.ndarray) -> float:
-    """max |values - theory| / |theory| over ``where`` (|theory| = 0: absolute; NaN: infinite)."""
-    scale = np.abs(theory)
-    error = np.abs(values - theory) / np.where(scale > 0, scale, 1.0)
-    error = np.where(np.isnan(error), np.inf, error)
-    return float(np.max(error[where], initial=0.0))
 
 
 def _response_error(chain: Chain, theory: Modes, fit: SpectrumFit, Q: float | None) -> float | None:
