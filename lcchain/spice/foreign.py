@@ -28,6 +28,10 @@ Allowed
   :data:`lcchain.core.limits.MAX_NETLIST_BYTES` in all;
 * ``+`` continuation lines, joined to the card they continue before the check.
 
+The netlist is first made canonical (:func:`lcchain.spice.text.canonical_text`: strict UTF-8, CRLF read as
+LF, a leading byte-order mark dropped, every other line separator or control character refused, naming the line
+and the character), so that the lines checked here are the lines every transport hands ngspice.
+
 The text ngspice receives is rebuilt from the accepted cards only (includes
 inlined, continuations joined, inline comments dropped), so it reads no other
 file and runs exactly what was checked; for a netlist that needs none of that
@@ -51,7 +55,7 @@ from ..core.budget import BYTES_PER_VALUE, Estimate, ac_run_estimate, run_estima
 from ..core.errors import ParameterError
 from ..core.limits import MAX_AC_POINTS, MAX_NETLIST_BYTES
 from ..core.types import AnalysisKind
-from .text import spice_number
+from .text import canonical_text, netlist_lines, spice_number
 
 __all__ = ["ELEMENTS", "DOT_COMMANDS", "OPTIONS", "MAX_INCLUDE_DEPTH", "Transient", "Sweep", "allowed_netlist",
            "transient_of", "analysis_of", "foreign_estimate", "raw_bytes_limit"]
@@ -94,8 +98,6 @@ _OPT_OUT = " (lcchain batch --allow-control runs a netlist as it is, in a sandbo
 
 # One card: (source, line number, text, joined: "+" lines were joined to it).
 _Card = tuple[str, int, str, bool]
-# A character that may start a new line for ngspice (anything but tab below space, DEL, a CR not before LF).
-_CONTROL = re.compile(r"[\x00-\x08\x0b\x0c\x0e-\x1f\x7f]|\r(?!\n)")
 
 
 def _refuse(card: _Card, why: str) -> ParameterError:
@@ -103,22 +105,18 @@ def _refuse(card: _Card, why: str) -> ParameterError:
 
 
 def _cards(text: str, source: str, *, title: bool) -> tuple[str, list[_Card]]:
-    """(title, cards): comments and blank lines are cards too, ``+`` lines are joined to the card they continue.
+    """(title, cards) of a canonical text: comments and blank lines are cards too, ``+`` lines are joined to
+    the card they continue.
 
     The title is the first non-blank line (ngspice skips blank lines before it); with ``title=False`` (an
     included file) there is none.
     """
-    bad = _CONTROL.search(text)
-    if bad is not None:
-        number = text.count("\n", 0, bad.start()) + 1
-        raise _refuse((source, number, text.split("\n")[number - 1], False),
-                      f"a line without the control character {bad.group()!r} (ngspice may split the line there)")
-    lines = text.split("\n")
+    lines = netlist_lines(text)
     head = ""
     start = 0
     if title:
         start = next((k for k, line in enumerate(lines) if line.strip()), len(lines))
-        head = lines[start].rstrip("\r") if start < len(lines) else ""
+        head = lines[start] if start < len(lines) else ""
         if _TITLE_COMMAND.match(head):
             raise _refuse((source, start + 1, head, False), "a title line (the first line is the netlist's title; "
                           "a dot-command, *# or *ng_script there would make ngspice read it as a command)")
@@ -132,7 +130,7 @@ def _cards(text: str, source: str, *, title: bool) -> tuple[str, list[_Card]]:
             if last < 0:
                 raise _refuse((source, number, line, False), "a continuation (+) of an element or dot-command line")
             previous = cards[last]
-            cards[last] = (source, previous[1], previous[2].rstrip("\r") + " " + line.lstrip()[1:].lstrip(), True)
+            cards[last] = (source, previous[1], previous[2] + " " + line.lstrip()[1:].lstrip(), True)
             cards.append((source, number, "", False))  # keeps the place of the joined line
             continue
         if first and first != "*":
@@ -208,14 +206,15 @@ def allowed_netlist(text: str, source: str, folder: Path | None, read: Callable[
     """
     if _depth == 0 and folder is not None:
         folder = folder.resolve()
+    text = canonical_text(text, source)  # the one text checked here and run by every transport
     left = _left if _left is not None else [MAX_NETLIST_BYTES - len(text)]  # what all includes may add, in all
     head, cards = _cards(text, source, title=_depth == 0)
     out = [head] if _depth == 0 else []
     changed = _depth == 0 and not text.startswith(head)  # blank lines before the title are dropped
     for card in cards:
-        line = card[2].rstrip("\r")
+        line = card[2]
         stripped = line.strip()
-        changed |= card[3] or len(line) != len(card[2])
+        changed |= card[3]
         if not stripped or stripped[0] == "*":
             if _SCRIPT.match(stripped):
                 raise _refuse(card, "a comment that does not start with *# or *ng_script (ngspice reads those "

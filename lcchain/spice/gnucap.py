@@ -89,7 +89,7 @@ from .processes import child_env, kill_group, read_all
 from .runner import RunResult, check_arguments, progress_reporter, validate_columns, wait_watching
 from .sandbox import Sandbox
 from .simulator import Simulator, child_launcher
-from .text import canonical_vector_name, parse_options, saved_vectors
+from .text import canonical_vector_name, netlist_lines, parse_options, saved_vectors
 
 __all__ = ["Gnucap", "INSTALL_COMMAND", "gnucap_version", "read_table", "read_ac_table", "coupled_initial_currents",
            "MAX_OUTPUT_BYTES", "DTMIN_FRACTION", "VOLTAGE_LIMIT", "GMIN", "SOURCE_RESISTANCE", "AC_DIGITS"]
@@ -257,8 +257,8 @@ class Gnucap(Engine):
                          Sandbox(why_not="gnucap runs only netlists lcchain wrote"), engine=self.name)
 
     def dialect(self, netlist: str, vectors: Sequence[str]) -> str:
-        lines = netlist.splitlines()
-        if not lines:
+        lines = netlist_lines(netlist)  # at LF alone, as ngspice and the allow-list split it
+        if not netlist.strip():
             raise ParameterError("netlist", netlist, "non-empty netlist text")
         body: list[str] = []
         inductances: dict[str, float] = {}

@@ -73,8 +73,11 @@ def read_input(path: str | os.PathLike[str], option: str, max_bytes: int) -> str
         os.close(fd)
     if size > max_bytes:  # it grew while being read
         raise ParameterError(option, name, f"a file of at most {show_bytes(max_bytes)}")
+    data = b"".join(chunks)
     try:
-        return b"".join(chunks).decode("utf-8")
-    except UnicodeDecodeError as error:
-        raise ParameterError(option, name, f"UTF-8 text ({error.reason} at byte {error.start})") from None
+        return data.decode("utf-8")
+    except UnicodeDecodeError as error:  # strict: overlong forms, surrogates and UTF-16 are refused too
+        line = data.count(b"\n", 0, error.start) + 1
+        raise ParameterError(option, name, f"UTF-8 text ({error.reason}: byte {data[error.start]:#04x} at byte "
+                             f"{error.start}, line {line})") from None
 

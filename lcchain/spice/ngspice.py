@@ -16,6 +16,7 @@ from .acdata import AcResult, ac_result
 from .engine import Engine
 from .runner import RunResult, run, run_plot
 from .simulator import INSTALL_COMMAND, Simulator, find_simulator
+from .text import require_canonical
 
 __all__ = ["Ngspice"]
 
@@ -35,7 +36,7 @@ class Ngspice(Engine):
         return find_simulator(backend)
 
     def dialect(self, netlist: str, vectors: Sequence[str]) -> str:
-        return netlist
+        return require_canonical(netlist)  # ngspice runs the text as it is, split at LF as it was checked
 
     def run(self, netlist: str, vectors: Sequence[str], tstop: float, *, simulator: Simulator,
             timeout: float = 600.0, progress: Callable[[float], None] | None = None, cwd: str | None = None,

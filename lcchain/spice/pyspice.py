@@ -25,6 +25,7 @@ from typing import Any
 
 from ..core.errors import ParameterError, SimulatorMissingError
 from .simulator import PYSPICE_INSTALL_COMMAND
+from .text import netlist_lines
 
 __all__ = ["circuit_from_netlist"]
 
@@ -58,8 +59,8 @@ def circuit_from_netlist(text: str) -> Any:
         from PySpice.Spice.Netlist import Circuit
     except ImportError:
         raise SimulatorMissingError(f"PySpice is not installed; install it with: {PYSPICE_INSTALL_COMMAND}") from None
-    lines = text.splitlines()
-    circuit = Circuit(lines[0] if lines else "lcchain")
+    lines = netlist_lines(text)
+    circuit = Circuit(lines[0] or "lcchain")
 
     def node(name: str) -> Any:
         return circuit.gnd if name == "0" else name

@@ -68,7 +68,7 @@ from .processes import PACKAGE_ROOT, call_shared_worker, child_env, decode_worke
 from .raw import read_raw
 from .sandbox import SCRATCH, scratch_env
 from .simulator import Simulator, find_simulator
-from .text import canonical_vector_name, parse_options
+from .text import canonical_text, canonical_vector_name, circuit_lines, parse_options, require_canonical, text_digest
 from .warm import worker_for
 
 __all__ = ["RunResult", "run", "run_plot", "read_include", "check_arguments", "validate_columns", "exited",
@@ -265,8 +265,8 @@ def run(
         ``max_output_bytes``, or its output failed validation.
     """
     netlist, names, tstop, timeout, limit = check_arguments(netlist, vectors, tstop, timeout, max_output_bytes)
-    text = netlist if trusted else allowed_netlist(netlist, "netlist", Path(cwd) if cwd is not None else None,
-                                                   read_include)
+    text = canonical_text(netlist, "netlist") if trusted else \
+        allowed_netlist(netlist, "netlist", Path(cwd) if cwd is not None else None, read_include)
     if simulator is None:
         simulator = find_simulator(choice("backend", backend or "batch", BACKENDS))
     elif simulator.engine != "ngspice":
@@ -286,7 +286,7 @@ def run(
         vectors=FrozenMap(found),
         engine_version=simulator.version,
         netlist_sha256=hashlib.sha256(netlist.encode("utf-8")).hexdigest(),
-        options=FrozenMap(parse_options(netlist)),
+        options=FrozenMap(parse_options(text)),
         wall_s=wall,
         backend=simulator.backend,
         points=int(time_s.size),
@@ -462,7 +462,7 @@ def _run_batch(netlist: str, simulator: Simulator, timeout: float, tstop: float,
                ) -> tuple[dict[str, np.ndarray], str, float]:
     with tempfile.TemporaryFile() as source, tempfile.TemporaryFile() as raw, \
             tempfile.TemporaryFile() as out, tempfile.TemporaryFile() as err:
-        source.write(netlist.encode("utf-8"))
+        source.write(require_canonical(netlist).encode("utf-8"))  # ngspice splits a file at LF, as the check did
         source.seek(0)
         fd = raw.fileno()
         command = [*place.prefix, simulator.executable, "-n", "-b", "-r", f"/dev/fd/{fd}"]
@@ -496,13 +496,17 @@ def _run_shared(netlist: str, simulator: Simulator, timeout: float, tstop: float
                 limit: float | None) -> tuple[dict[str, np.ndarray], str, float]:
     # One call in a child that exits after the run: no progress to report, and lcchain's own netlists only
     # (a raw-file limit is for foreign netlists, which run in batch).
-    stdout, log, status = call_shared_worker(place.prefix, {"netlist": netlist, "library": simulator.executable},
+    stdout, log, status = call_shared_worker(place.prefix, {"netlist": require_canonical(netlist),
+                                                            "library": simulator.executable},
                                              timeout, place.cwd, "run", place.env)
     try:
         meta, arrays = decode_worker_payload(stdout)
     except Exception as exc:  # noqa: BLE001 - a crashed child leaves empty or partial bytes
         raise SimulationError(f"the shared-library child (exit status {status}) returned no result ({exc})",
                               useful_output(log)) from None
+    if meta.get("lines") != text_digest(circuit_lines(netlist)):
+        raise SimulationError("the shared-library child handed ngspice other lines than the ones lcchain checked",
+                              useful_output(log))
     if meta["errors"]:
         raise SimulationError(failure_reason(log, "the ngspice shared library failed: " + "; ".join(meta["errors"])),
                               useful_output(log))

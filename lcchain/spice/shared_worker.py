@@ -6,7 +6,9 @@ with ``HOME`` pointing nowhere). It reads one JSON request
 ``{"netlist": str, "library": str}`` from stdin, runs the netlist once in the
 ngspice shared library through PySpice's low-level ``NgSpiceShared`` and
 writes one ``.npz`` to stdout: ``meta`` (UTF-8 JSON as uint8: ``names``,
-``version``, ``wall_s``, ``errors``, ``complex``) and ``v0``, ``v1``, ...
+``version``, ``wall_s``, ``errors``, ``complex``, ``lines``: the SHA-256 of
+the lines handed to ``ngSpice_Circ``, split at LF alone as the allow-list split
+them) and ``v0``, ``v1``, ...
 (float64 vectors in the order of ``names``, ngspice's own plot names such as
 ``l1#branch``, ``n3``, ``time``).  Validation happens in the parent,
 identically for both backends.  A request without ``"netlist"`` only reports
@@ -30,6 +32,8 @@ import time
 from typing import Any
 
 import numpy as np
+
+from lcchain.spice.text import circuit_lines, text_digest
 
 
 class _PySpiceLog(logging.Handler):
@@ -90,8 +94,18 @@ def simulate(netlist: str, library: str) -> tuple[dict[str, Any], list[np.ndarra
     ng = Recorder.new_instance()
     version = str(ng.ngspice_version)
 
+    given = circuit_lines(netlist)  # split at LF alone, as the allow-list split it (PySpice's load splits more)
+
+    def load() -> None:
+        # PySpice's load_circuit, less its str.splitlines: the lines handed to ngSpice_Circ are ``given``.
+        keep = [ffi.new("char[]", line.encode("utf-8")) for line in given] + [ffi.NULL]
+        ng.clear_output()
+        status = ng._ngspice_shared.ngSpice_Circ(ffi.new("char *[]", keep))
+        if status:
+            raise NameError(f"ngSpice_Circ returned {status}")
+
     start = time.perf_counter()
-    for step, action in (("load", lambda: ng.load_circuit(netlist)), ("run", ng.run)):
+    for step, action in (("load", load), ("run", ng.run)):
         try:
             action()
         except Exception as exc:  # noqa: BLE001
@@ -123,7 +137,8 @@ def simulate(netlist: str, library: str) -> tuple[dict[str, Any], list[np.ndarra
         except Exception as exc:  # noqa: BLE001 - cleanup must not hide the result
             _echo(f"PySpice {command}: {type(exc).__name__}: {exc}")
 
-    meta = {"names": names, "version": version, "wall_s": wall, "errors": errors, "complex": is_complex}
+    meta = {"names": names, "version": version, "wall_s": wall, "errors": errors, "complex": is_complex,
+            "lines": text_digest(given)}
     return meta, arrays
 
 

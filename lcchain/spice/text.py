@@ -21,13 +21,37 @@ Other names (``@l1[i]``, ``v(a,b)``) are only lower-cased.
 
 What ngspice may be given of a netlist lcchain did not write is decided by
 the allow-list of :mod:`lcchain.spice.foreign`.
+
+One text, one way to split it
+-----------------------------
+Python's ``str.splitlines`` breaks a line at eleven characters (``\\v``,
+``\\f``, ``\\x1c``-``\\x1e``, NEL, U+2028, U+2029, a lone CR, ...), ngspice's
+file reader at ``\\n`` alone.  A check that splits one way and a transport
+that splits the other would run a card the check took for part of a comment.
+So a foreign netlist is made canonical once (:func:`canonical_text`: strict
+UTF-8, CRLF read as LF, a leading byte-order mark dropped, and every other
+line or paragraph separator, control character or mark refused, naming the
+line and the character), and every reader of netlist text -- the allow-list,
+each transport, each engine's dialect -- splits it with :func:`netlist_lines`,
+which refuses a text that is not canonical (:func:`require_canonical`).
 """
 
 from __future__ import annotations
 
+import hashlib
 import re
+import unicodedata
 
-__all__ = ["canonical_vector_name", "parse_options", "logical_lines", "spice_number", "saved_vectors"]
+from ..core.errors import ParameterError
+
+__all__ = ["canonical_vector_name", "parse_options", "logical_lines", "spice_number", "saved_vectors",
+           "canonical_text", "require_canonical", "netlist_lines", "circuit_lines", "text_digest"]
+
+#: The one line separator of a canonical netlist.
+NEWLINE = "\n"
+# What a canonical netlist may not hold: every control character but tab and LF (C0, DEL, C1 with NEL), the
+# Unicode line and paragraph separators, and a byte-order mark (U+FEFF) past the first character.
+_NOT_CANONICAL = re.compile("[\x00-\x08\x0b-\x1f\x7f-\x9f\u2028\u2029\ufeff]")
 
 _OPTIONS_LINE = re.compile(r"^\s*\.opt(ion|ions)?\b(.*)$", re.IGNORECASE)
 
@@ -78,10 +102,92 @@ def canonical_vector_name(name: str) -> str:
     return f"v({text})"
 
 
+def _character(char: str) -> str:
+    """A character as a message names it: ``U+2028 (LINE SEPARATOR)``."""
+    name = unicodedata.name(char, "") or {"\r": "CARRIAGE RETURN", "\x85": "NEXT LINE",
+                                          "\x0b": "LINE TABULATION", "\x0c": "FORM FEED",
+                                          "\x00": "NULL"}.get(char, "a control character")
+    return f"U+{ord(char):04X} ({name})"
+
+
+def canonical_text(text: str | bytes, source: str) -> str:
+    """A netlist's one canonical text: what the allow-list checks and every transport runs.
+
+    Parameters
+    ----------
+    text : str or bytes
+        The netlist as read (bytes are decoded as strict UTF-8: an invalid or
+        overlong sequence, a lone surrogate or a UTF-16 file is refused).
+    source : str
+        Its name in messages (the file, or ``"netlist"``).
+
+    Returns
+    -------
+    str
+        The text with CRLF read as LF and a leading byte-order mark dropped;
+        ``text`` itself when it needed neither.
+
+    Raises
+    ------
+    ParameterError
+        Naming ``"<source>: line <n>"``, the line and the character: any
+        control character but tab and LF (a CR alone, NUL, form feed, vertical
+        tab, NEL, ...), U+2028, U+2029, or a byte-order mark past the start.
+    """
+    if isinstance(text, bytes):
+        data = text
+        try:
+            text = data.decode("utf-8")
+        except UnicodeDecodeError as error:
+            number = data.count(b"\n", 0, error.start) + 1
+            line = data.split(b"\n")[number - 1]
+            raise ParameterError(f"{source}: line {number}", line[:200], f"UTF-8 text ({error.reason}: byte "
+                                 f"{data[error.start]:#04x} at byte {error.start} of the file)") from None
+    if text.startswith("\ufeff"):
+        text = text[1:]
+    if "\r\n" in text:
+        text = text.replace("\r\n", NEWLINE)
+    return require_canonical(text, source)
+
+
+def require_canonical(text: str, source: str = "netlist") -> str:
+    """``text``, if it is canonical (what :func:`canonical_text` returns unchanged); else the refusal.
+
+    Every transport calls it (through :func:`netlist_lines`) on what it is about to run, so that a text no
+    check has made canonical can never reach an engine that would split it otherwise.
+    """
+    bad = _NOT_CANONICAL.search(text)
+    if bad is not None:
+        number = text.count(NEWLINE, 0, bad.start()) + 1
+        line = text.split(NEWLINE)[number - 1]
+        raise ParameterError(f"{source}: line {number}", line[:200], f"a line without {_character(bad.group())} "
+                             "(lines end at LF alone; ngspice and lcchain's checks could split such a line "
+                             "differently)")
+    return text
+
+
+def netlist_lines(text: str) -> list[str]:
+    """The lines of a canonical netlist, split at LF alone, as ngspice reads a file (refused if not canonical)."""
+    return require_canonical(text).split(NEWLINE)
+
+
+def circuit_lines(text: str) -> list[str]:
+    """The lines a shared-library transport hands ``ngSpice_Circ``: :func:`netlist_lines`, ending with an empty
+    line (ngspice 33 and later want one; a text ending in LF has it already)."""
+    lines = netlist_lines(text)
+    return lines if lines[-1] == "" else [*lines, ""]
+
+
+def text_digest(lines: list[str]) -> str:
+    """SHA-256 of lines joined by LF: a worker tells the parent the digest of the lines it handed its engine,
+    and the parent compares it with the digest of :func:`circuit_lines` of the text it checked."""
+    return hashlib.sha256(NEWLINE.join(lines).encode("utf-8")).hexdigest()
+
+
 def logical_lines(netlist: str) -> list[tuple[int, str]]:
     """(first physical line number, text) of each logical line, ``+`` continuations joined."""
     lines: list[tuple[int, str]] = []
-    for number, raw in enumerate(netlist.splitlines(), start=1):
+    for number, raw in enumerate(netlist_lines(netlist), start=1):
         if raw.startswith("+") and lines:
             first, text = lines[-1]
             lines[-1] = (first, text + " " + raw[1:])

@@ -42,7 +42,7 @@ from ..core.errors import SimulationError, SimulatorMissingError
 from .log import failure_reason, useful_output
 from .processes import PACKAGE_ROOT, child_env, kill_group, read_all
 from .simulator import Simulator, find_shared_library
-from .text import canonical_vector_name
+from .text import canonical_vector_name, circuit_lines, text_digest
 
 __all__ = ["WarmWorker", "worker_for", "close_workers", "warm_simulator", "WARM_BELOW_SECONDS",
            "MAX_WORKER_BYTES", "MAX_WORKER_RUNS"]
@@ -142,6 +142,7 @@ class WarmWorker:
             outgrew ``limit`` bytes.
         """
         assert self.proc.stdin is not None
+        lines = text_digest(circuit_lines(netlist))  # refuses a text that is not canonical before it is sent
         data = netlist.encode("utf-8")
         try:
             self.proc.stdin.write(_HEADER.pack(len(data)) + data)
@@ -164,6 +165,9 @@ class WarmWorker:
             self.close(kill=True)
             raise SimulationError(failure_reason(log, f"ngspice exited with status {header['exit']}"),
                                   useful_output(log))
+        if header.get("lines") != lines:  # the worker split the text other than the check: run nothing of it
+            self.close(kill=True)
+            raise SimulationError("the warm worker handed ngspice other lines than the ones lcchain checked", "")
         if header["errors"]:
             raise SimulationError(failure_reason(log, "the ngspice shared library failed: "
                                                  + "; ".join(header["errors"])), useful_output(log))

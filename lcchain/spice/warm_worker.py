@@ -13,9 +13,12 @@ Protocol, on file descriptors 0 (requests) and 1 (replies); each frame is an
 
 * first, unasked, a JSON hello: ``{"version": "39"}`` (``"error"`` instead
   when the library does not load);
-* per request (UTF-8 netlist text, already checked by the parent): a JSON
-  header ``{"names", "lengths", "complex", "errors", "log", "wall_s", "rss",
-  "exit"}`` frame, then one frame of the vectors' float64 values (native
+* per request (UTF-8 netlist text, already checked by the parent, split at
+  LF alone by :func:`lcchain.spice.text.circuit_lines`, as the check split
+  it): a JSON header ``{"names", "lengths", "complex", "errors", "log",
+  "wall_s", "rss", "exit", "lines"}`` frame (``lines``: the SHA-256 of the
+  lines handed to ``ngSpice_Circ``, which the parent compares with the text
+  it checked), then one frame of the vectors' float64 values (native
   byte order), concatenated in the order of ``names``.
 
 After each run the circuit and its plots are destroyed (``destroy all``,
@@ -36,6 +39,8 @@ import struct
 import sys
 import time
 from typing import Any, BinaryIO
+
+from lcchain.spice.text import circuit_lines, text_digest
 
 _HEADER = struct.Struct("<Q")
 _VERSION = re.compile(r"ngspice-([0-9][^\s]*)")
@@ -100,7 +105,12 @@ class Library:
     def run(self, netlist: str) -> tuple[dict[str, Any], bytes]:
         self.printed.clear()
         errors: list[str] = []
-        lines = [line.encode("utf-8") for line in netlist.splitlines()]
+        try:
+            given = circuit_lines(netlist)  # split at LF alone, as the allow-list split it
+        except ValueError as error:  # not canonical: nothing of it reaches the library
+            return {"names": [], "lengths": [], "complex": False, "errors": [str(error)], "log": "", "wall_s": 0.0,
+                    "rss": _rss(), "exit": None, "lines": ""}, b""
+        lines = [line.encode("utf-8") for line in given]
         array = (ctypes.c_char_p * (len(lines) + 1))(*lines, None)
         start = time.perf_counter()
         if self.lib.ngSpice_Circ(array) != 0:
@@ -131,7 +141,8 @@ class Library:
             for command in ("destroy all", "remcirc"):
                 self.command(command)
         header = {"names": names, "lengths": lengths, "complex": is_complex, "errors": errors,
-                  "log": "\n".join(self.printed), "wall_s": wall, "rss": _rss(), "exit": self.exit_status}
+                  "log": "\n".join(self.printed), "wall_s": wall, "rss": _rss(), "exit": self.exit_status,
+                  "lines": text_digest(given)}
         return header, b"".join(chunks)
 
 

@@ -52,7 +52,7 @@ from ..scenes.plan import scene_plan, scene_specs
 from ..spice.engines import DEFAULT_ENGINE, ENGINES
 from ..spice.foreign import allowed_netlist, analysis_of, foreign_estimate, raw_bytes_limit
 from ..spice.runner import read_include
-from ..spice.text import saved_vectors
+from ..spice.text import canonical_text, saved_vectors
 from ..theory.cases import chain_for_case
 from ..theory.spectrum import normal_modes
 
@@ -463,7 +463,8 @@ def batch_plan(paths: Sequence[str | Path], *, allow_control: bool = False, back
         path = Path(name)
         text = read_include(path, "NETLIST")
         folder = path.resolve().parent
-        run_text = text if allow_control else allowed_netlist(text, str(path), folder, read_include)
+        run_text = canonical_text(text, str(path)) if allow_control else \
+            allowed_netlist(text, str(path), folder, read_include)
         analysis = analysis_of(run_text, str(path))
         saved = saved_vectors(run_text)
         estimate = foreign_estimate(run_text, analysis, len(saved))
