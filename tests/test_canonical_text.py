@@ -20,8 +20,11 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from helpers.catalogue import MARKER, Case, run_case
+from helpers.netlists import LADDER
 
 import lcchain
+from lcchain.cli import main
 from lcchain.core.errors import ParameterError
 from lcchain.runs.simulate import simulation_spec
 from lcchain.spice import warm
@@ -259,3 +262,51 @@ def test_a_foreign_ac_sweep_runs_the_checked_text(tmp_path: Path, folders: tuple
     assert "\r" not in plan.tasks[0].spec.netlist
     summary = run_plan(plan, tmp_path / "ac.sqlite", executor="serial")
     assert summary.ok == 1
+
+
+# --------------------------------------------------------------------------- the catalogue's family
+
+TOUCH = f"shell touch {{here}}/{MARKER}"
+
+
+def _catalogue_netlist(char: str, place: str) -> dict[str, str | bytes]:
+    hidden = f"{char}.control{char}{TOUCH}{char}.endc"
+    body = LADDER.split("\n", 1)[1]
+    texts: dict[str, str] = {
+        "title": f"ladder{hidden}\n{body}",
+        "comment": f"ladder\n* note{hidden}\n{body}",
+        "inline": f"ladder\n{body.replace(chr(10), ' ; note' + hidden + chr(10), 1)}",
+        "element": f"ladder\n{body.replace(chr(10), hidden + chr(10), 1)}",
+        "included": f"ladder\n.include part.inc\n{body}",
+    }
+    files: dict[str, str | bytes] = {"n.cir": texts[place]}
+    if place == "included":
+        files["part.inc"] = f"* part{hidden}\n"
+    return files
+
+
+def _refused(said: list[str], files: dict[str, str | bytes]) -> Case:
+    return Case(["batch", "n.cir", "--store", "s.sqlite"], said, files=files, family="canonical text")
+
+
+#: Run by ``python tests/catalogue.py`` too: every hidden separator in a comment, U+2028 in every place, and the
+#: invalid encodings, through ``lcchain batch`` as a user runs it.
+CASES: dict[str, Case] = {
+    **{f"{name} in a comment": _refused(["n.cir: line 2", name], _catalogue_netlist(char, "comment"))
+       for char, name in HOSTILE.items()},
+    **{f"U+2028 in the {place}": _refused(["part.inc: line 1" if place == "included" else
+                                           f"n.cir: line {1 if place == 'title' else 2}", "U+2028"],
+                                          _catalogue_netlist("\u2028", place))
+       for place in PLACES if place != "comment"},
+    **{f"invalid UTF-8 {data!r}": _refused(["n.cir", "line 2", "UTF-8"], {"n.cir": b"ladder\n* " + data + b"\n"
+                                                                       + LADDER.split("\n", 1)[1].encode()})
+       for data in (b"\xc0\xae", b"\xe0\x80\xae", b"\xed\xa0\x80", b"\x80", b"\xf8\x88\x80\x80\x80")},
+    "a UTF-16 file": _refused(["n.cir", "line 1", "UTF-8"], {"n.cir": LADDER.encode("utf-16")}),
+}
+
+
+@pytest.mark.parametrize("case", CASES.values(), ids=CASES.keys())
+def test_the_canonical_family_is_refused_cleanly(case: Case, tmp_path: Path) -> None:
+    outcome = run_case(case, tmp_path, main)
+    assert outcome.kind == "clean", outcome.detail
+    assert not (tmp_path / "s.sqlite").exists()
