@@ -62,6 +62,7 @@ from ..theory.chain import Chain
 from ..theory.modes import Modes
 from ..theory.spectrum import normal_modes
 from .effects import Effect, Losses
+from .elements import ladder_elements, number
 from .ladder import Ladder
 
 __all__ = [
@@ -88,14 +89,6 @@ _OPTION_NAME = re.compile(r"^[a-z][a-z0-9_]*$")
 _OPTION_VALUE = re.compile(r"^[A-Za-z0-9_.+-]+$")
 #: A vector name for .save: i(l1), v(n3), @c1[i], ... without spaces.
 _VECTOR = re.compile(r"^[A-Za-z0-9_#@()\[\],.:+-]+$")
-
-
-def number(value: float) -> str:
-    """A float as SPICE reads it exactly: ``repr(float(value))``, no suffix."""
-    value = float(value)
-    if not math.isfinite(value):
-        raise ParameterError("value", value, "a finite number in a netlist")
-    return repr(value)
 
 
 def check_user_text(field_name: str, text: object, max_length: int = MAX_TITLE_LENGTH, *, title: bool = True) -> str:
@@ -294,34 +287,9 @@ def netlist_text(
 
 def _element_lines(ladder: Ladder, parts: tuple[Effect, ...], *, source: bool, kick: float | None,
                    charge: float | None) -> list[str]:
-    """The ladder's elements: each loop's branch (L_i and what the effects put in series), the spring
-    capacitors, the wall capacitors, the coupled coils' K elements.  ``source``: loop 1 opens at node s1 for a
-    source; ``kick``: the initial current of L_1 (A); ``charge``: the initial charge of loop 1 (C)."""
-    chain = ladder.chain
-    N = chain.N
-    L = ladder.inductances()
-    C = ladder.capacitances()
-    lines = []
-    for i in range(1, N + 1):
-        ic = f" IC={number(kick)}" if (kick is not None and i == 1) else ""
-        left, right = ladder.node(i - 1), ladder.node(i)
-        if i == 1 and source:
-            left = "s1"  # the source sits between the rail node n0 (or ground) and L1
-        lines += _loop_branch(i, left, right, L[i - 1], ic, [e for part in parts for e in part.in_series(ladder, i)])
-        if i < N:
-            capacitance = C[i]
-            assert capacitance is not None  # inner springs are > 0 (Chain checks it)
-            ic = f" IC={number(charge / capacitance)}" if (charge is not None and i == 1) else ""
-            lines.append(f"{ladder.capacitor(i)} n{i} 0 {number(capacitance)}{ic}")
-    for wall in (0, N):
-        wall_capacitance = C[wall]
-        if wall_capacitance is not None:
-            ic = f" IC={number(-charge / wall_capacitance)}" if (charge is not None and wall == 0) else ""
-            lines.append(f"{ladder.capacitor(wall)} {ladder.node(wall)} 0 {number(wall_capacitance)}{ic}")
-    if chain.coupled:
-        # mutual inductance k sqrt(L_i L_i+1) between neighbouring coils: the chain's tridiagonal mass matrix
-        lines += [f"K{i}_{i + 1} L{i} L{i + 1} {number(chain.coupling)}" for i in range(1, N)]
-    return lines
+    """The cards of :func:`lcchain.circuit.elements.ladder_elements`: the description the exact theory of
+    :mod:`lcchain.circuit.exact` assembles too."""
+    return [element.card() for element in ladder_elements(ladder, parts, source=source, kick=kick, charge=charge)]
 
 
 def ac_netlist_text(ladder: Ladder, *, points: int | None = None, omega_max: float | None = None,
@@ -404,19 +372,6 @@ def _ac_cards(segments: Sequence[tuple[int, float, float]], hertz: float) -> lis
     integer("points", total, at_least=MIN_AC_POINTS, at_most=MAX_AC_POINTS,
             allowed=f"{MIN_AC_POINTS} to {MAX_AC_POINTS} frequencies in all segments")
     return cards
-
-
-def _loop_branch(i: int, left: str, right: str, inductance: float, ic: str,
-                 series: list[tuple[str, float]]) -> list[str]:
-    """Loop i's branch from rail node ``left`` to ``right``: L_i, then each series element (inner nodes m_i...)."""
-    nodes = [left] + [f"m{i}" if j == 0 else f"m{i}_{j + 1}" for j in range(len(series))] + [right]
-    lines = [f"{Ladder.inductor(i)} {nodes[0]} {nodes[1]} {number(inductance)}{ic}"]
-    seen: dict[str, int] = {}
-    for j, (letter, value) in enumerate(series, start=1):
-        seen[letter] = seen.get(letter, 0) + 1
-        name = f"{letter}{i}" if seen[letter] == 1 else f"{letter}{i}_{seen[letter]}"
-        lines.append(f"{name} {nodes[j]} {nodes[j + 1]} {number(value)}")
-    return lines
 
 
 def _source_line(spec: tuple[str, float], area: float, unit: float, node: str) -> str:

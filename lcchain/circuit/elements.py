@@ -1,0 +1,128 @@
+"""The ladder as a list of elements: the one description its netlist and its exact theory are made from (pure).
+
+An :class:`Element` is one SPICE element (R, L, C or K) with its nodes, its
+value in SI units and its initial condition.  :func:`ladder_elements` lists
+the ladder's, in the order the netlist writes them: each loop's branch (the
+coil L_i and what the effects put in series with it), the spring capacitors,
+the wall capacitors, the coupled coils' ``K`` elements.
+:func:`lcchain.circuit.netlist.netlist_text` writes each as :meth:`Element.card`
+and :mod:`lcchain.circuit.exact` assembles the same elements into the
+circuit's equations, so nothing about an element is stated twice.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from ..core.errors import ParameterError
+from .effects import Effect
+from .ladder import Ladder
+
+__all__ = ["Element", "ladder_elements", "number", "GROUND"]
+
+#: SPICE's ground node.
+GROUND = "0"
+
+
+def number(value: float) -> str:
+    """A float as SPICE reads it exactly: ``repr(float(value))``, no suffix."""
+    value = float(value)
+    if not math.isfinite(value):
+        raise ParameterError("value", value, "a finite number in a netlist")
+    return repr(value)
+
+
+@dataclass(frozen=True)
+class Element:
+    """One linear element of the circuit.
+
+    Parameters
+    ----------
+    name : str
+        Its SPICE name; the first letter is its kind (``R``, ``L``, ``C``, ``K``).
+    a, b : str
+        Its nodes (a current is counted from ``a`` to ``b`` through it); for a
+        ``K`` element, the names of the two coupled inductors.
+    value : float
+        Ohm, henry, farad, or the coupling coefficient k of a ``K`` element.
+    ic : float, optional
+        The initial current of an inductor (A, from ``a`` to ``b``) or the
+        initial voltage of a capacitor (V, ``v(a) - v(b)``).
+    """
+
+    name: str
+    a: str
+    b: str
+    value: float
+    ic: float | None = None
+
+    @property
+    def kind(self) -> str:
+        """``"R"``, ``"L"``, ``"C"`` or ``"K"``."""
+        return self.name[0].upper()
+
+    def card(self) -> str:
+        """The element's netlist line."""
+        ic = "" if self.ic is None else f" IC={number(self.ic)}"
+        return f"{self.name} {self.a} {self.b} {number(self.value)}{ic}"
+
+
+def _loop_branch(i: int, left: str, right: str, inductance: float, ic: float | None,
+                 series: list[tuple[str, float]]) -> list[Element]:
+    """Loop i's branch from rail node ``left`` to ``right``: L_i, then each series element (inner nodes m_i...)."""
+    nodes = [left] + [f"m{i}" if j == 0 else f"m{i}_{j + 1}" for j in range(len(series))] + [right]
+    elements = [Element(Ladder.inductor(i), nodes[0], nodes[1], inductance, ic)]
+    seen: dict[str, int] = {}
+    for j, (letter, value) in enumerate(series, start=1):
+        seen[letter] = seen.get(letter, 0) + 1
+        name = f"{letter}{i}" if seen[letter] == 1 else f"{letter}{i}_{seen[letter]}"
+        elements.append(Element(name, nodes[j], nodes[j + 1], value))
+    return elements
+
+
+def ladder_elements(ladder: Ladder, effects: tuple[Effect, ...] = (), *, source: bool = False,
+                    kick: float | None = None, charge: float | None = None) -> tuple[Element, ...]:
+    """The ladder's elements, in netlist order.
+
+    Parameters
+    ----------
+    ladder : Ladder
+        The chain in henry and farad (walls, coupling, preferred values and
+        tolerances already realised in ``ladder.chain``).
+    effects : tuple of Effect
+        What each puts in series with every coil
+        (:meth:`lcchain.circuit.effects.Effect.in_series`), in order.
+    source : bool
+        Loop 1 opens at node ``s1`` for a drive's source (written by the netlist).
+    kick : float, optional
+        The initial current of L_1, ampere.
+    charge : float, optional
+        The initial charge of loop 1, coulomb: the capacitor voltages it implies.
+    """
+    chain = ladder.chain
+    N = chain.N
+    L = ladder.inductances()
+    C = ladder.capacitances()
+    elements: list[Element] = []
+    for i in range(1, N + 1):
+        left, right = ladder.node(i - 1), ladder.node(i)
+        if i == 1 and source:
+            left = "s1"  # the source sits between the rail node n0 (or ground) and L1
+        series = [e for part in effects for e in part.in_series(ladder, i)]
+        elements += _loop_branch(i, left, right, L[i - 1], kick if i == 1 else None, series)
+        if i < N:
+            capacitance = C[i]
+            assert capacitance is not None  # inner springs are > 0 (Chain checks it)
+            ic = charge / capacitance if (charge is not None and i == 1) else None
+            elements.append(Element(ladder.capacitor(i), f"n{i}", GROUND, capacitance, ic))
+    for wall in (0, N):
+        wall_capacitance = C[wall]
+        if wall_capacitance is not None:
+            ic = -charge / wall_capacitance if (charge is not None and wall == 0) else None
+            elements.append(Element(ladder.capacitor(wall), ladder.node(wall), GROUND, wall_capacitance, ic))
+    if chain.coupled:
+        # mutual inductance k sqrt(L_i L_i+1) between neighbouring coils: the chain's tridiagonal mass matrix
+        elements += [Element(f"K{i}_{i + 1}", Ladder.inductor(i), Ladder.inductor(i + 1), chain.coupling)
+                     for i in range(1, N)]
+    return tuple(elements)
