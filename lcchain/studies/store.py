@@ -533,8 +533,9 @@ class Store:
         if isinstance(error, sqlite3.OperationalError) and ("full" in said or "I/O" in said):
             return LcchainError(f"{self.path}: the store could not be written (SQLite says: {said}); every run "
                                 "stored before this is kept: make room and run the same command to resume")
-        if "readonly" in said or "read-only" in said:
-            return self._refuse(f"a store lcchain can write (SQLite says: {said})")
+        if "readonly" in said or "read-only" in said or (self.mode == "write" and _cannot_open(error)):
+            return self._refuse(f"a store lcchain can write (SQLite says: {said}); every run stored in it is kept: "
+                                "make it and its folder writable and run the same command to resume")
         if "locked" in said or "busy" in said:
             return self._refuse(f"a store no other program is writing (SQLite says: {said})")
         if isinstance(error, sqlite3.DatabaseError) and not isinstance(error, sqlite3.OperationalError):
