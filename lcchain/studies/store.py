@@ -19,8 +19,14 @@
   refused before a byte of it is written.
 * ``mode="read"`` (``lcchain results``) opens it read-only and changes
   nothing: no lock, no WAL switch, no ``-wal`` or ``-shm`` file made (the
-  file is opened ``immutable`` when no ``-wal`` beside it says a driver is
-  writing; read-only media work).
+  file is opened ``immutable`` while no ``-wal`` beside it holds anything;
+  read-only media work).
+* A store is always read as SQLite reads it: with its write-ahead log.  A
+  driver stopped by a full disk, a kill or a read-only folder leaves
+  committed runs in ``NAME-wal`` and, when it stopped in a checkpoint, a main
+  file that is whole only together with that log; neither the check of a
+  store a driver will write nor ``results`` looks at the main file alone
+  then, so the same command resumes it.
 * A corrupt page, a row changed outside lcchain (metrics that are not JSON,
   arrays that are not ``.npz`` or do not match their digest), a full disk: a
   one-line error that names the store and what to do; what was committed
@@ -120,8 +126,25 @@ def engine_of(text: str) -> tuple[str, str]:
 
 
 def _uri(path: Path, immutable: bool) -> str:
-    """SQLite's read-only URI of a file (``immutable``: no lock, no ``-shm`` file, for a file nobody writes)."""
+    """SQLite's read-only URI of a file (``immutable``: no lock, no ``-shm`` file, and no look at the ``-wal``:
+    only for a file whose log holds nothing, see :func:`_logged`)."""
     return (f"file:{urllib.parse.quote(str(path.absolute()))}?mode=ro" + ("&immutable=1" if immutable else ""))
+
+
+def _logged(path: Path) -> bool:
+    """Whether a write-ahead log beside the store may hold pages its main file lacks: a ``-wal`` that is not
+    empty.  (SQLite empties or removes it only once every page it held is in the main file; a ``-wal`` that
+    cannot be looked at may hold anything.)"""
+    try:
+        return os.stat(f"{path}-wal").st_size > 0
+    except FileNotFoundError:
+        return False
+    except OSError:
+        return True
+
+
+def _cannot_open(error: sqlite3.Error) -> bool:
+    return getattr(error, "sqlite_errorname", "") == "SQLITE_CANTOPEN"
 
 
 def _holder(descriptor: int) -> int | None:
@@ -379,9 +402,11 @@ class Store:
         return meta
 
     def _check_file(self, descriptor: int) -> None:
-        """The allow-list check of an existing file, before anything is written to it."""
+        """The allow-list check of an existing file, before anything is written to it: with its write-ahead log,
+        as the driver will read it (this driver holds the lock: no other lcchain starts a log meanwhile)."""
         self._check_bytes(descriptor)
-        with self._guard(), contextlib.closing(sqlite3.connect(_uri(self.path, True), uri=True)) as db:
+        immutable = not _logged(self.path)
+        with self._guard(), contextlib.closing(sqlite3.connect(_uri(self.path, immutable), uri=True)) as db:
             self._check_tables(db)
 
     def _open_read(self) -> None:
@@ -395,22 +420,38 @@ class Store:
         self._connect_read()
 
     def _connect_read(self) -> None:
-        """Read-only: ``immutable`` unless a ``-wal`` says a driver writes it (or crashed with runs in it)."""
-        immutable = not Path(f"{self.path}-wal").exists()
+        """Read-only, with the write-ahead log as SQLite reads it; ``immutable`` (no lock, no file made) only while
+        the ``-wal`` holds nothing, and opened again with the log should a driver start one meanwhile."""
         with self._guard():
+            self._immutable = self._snapshot() if not _logged(self.path) else None
+            db = sqlite3.connect(_uri(self.path, self._immutable is not None), uri=True, isolation_level=None)
             try:
-                self._db = sqlite3.connect(_uri(self.path, immutable), uri=True, isolation_level=None)
-                self._check_tables(self._db)
-            except sqlite3.OperationalError:
-                if immutable:
-                    raise
-                # a -wal this reader cannot share (read-only media without its -shm): the file as it is
-                immutable = True
-                self._db = sqlite3.connect(_uri(self.path, immutable), uri=True, isolation_level=None)
-                self._check_tables(self._db)
-        if immutable:
-            info = os.stat(self.path)
-            self._immutable = (info.st_ino, info.st_size, info.st_mtime_ns)
+                try:
+                    self._check_tables(db)
+                except sqlite3.DatabaseError:
+                    if not self._stale():
+                        raise
+                    db.close()
+                    self._immutable = None
+                    db = sqlite3.connect(_uri(self.path, False), uri=True, isolation_level=None)
+                    self._check_tables(db)
+            except BaseException:
+                db.close()
+                raise
+            self._db = db
+
+    def _snapshot(self) -> tuple[int, int, int]:
+        info = os.stat(self.path)
+        return (info.st_ino, info.st_size, info.st_mtime_ns)
+
+    def _stale(self) -> bool:
+        """Whether a file read ``immutable`` was changed, or given a log, since it was opened."""
+        if self._immutable is None:
+            return False
+        try:
+            return self._snapshot() != self._immutable or _logged(self.path)
+        except OSError:
+            return True
 
     def _open_descriptor(self) -> int:
         try:
@@ -484,11 +525,17 @@ class Store:
 
     def _problem(self, error: sqlite3.Error) -> LcchainError:
         said = str(error)
+        if _cannot_open(error) and _logged(self.path):  # read-only media, a -wal and no -shm
+            return self._refuse(f"a store whose write-ahead log SQLite can read ({self.path.name}-wal holds runs "
+                                f"not yet in {self.path.name}, and SQLite cannot share it without "
+                                f"{self.path.name}-shm in a read-only folder): make the folder writable, or "
+                                "copy the store with its -wal into one")
         if isinstance(error, sqlite3.OperationalError) and ("full" in said or "I/O" in said):
             return LcchainError(f"{self.path}: the store could not be written (SQLite says: {said}); every run "
                                 "stored before this is kept: make room and run the same command to resume")
-        if "readonly" in said or "read-only" in said:
-            return self._refuse(f"a store lcchain can write (SQLite says: {said})")
+        if "readonly" in said or "read-only" in said or (self.mode == "write" and _cannot_open(error)):
+            return self._refuse(f"a store lcchain can write (SQLite says: {said}); every run stored in it is kept: "
+                                "make it and its folder writable and run the same command to resume")
         if "locked" in said or "busy" in said:
             return self._refuse(f"a store no other program is writing (SQLite says: {said})")
         if isinstance(error, sqlite3.DatabaseError) and not isinstance(error, sqlite3.OperationalError):
@@ -500,20 +547,19 @@ class Store:
                             f"lcchain): {_RESTORE}")
 
     def _rows(self, sql: str, args: Sequence[Any] = ()) -> list[Any]:
-        """A query's rows; a store read ``immutable`` that a driver started writing meanwhile is read again."""
+        """A query's rows; a store read ``immutable`` that a driver started writing meanwhile (new runs in its
+        log, its main file torn by a checkpoint) is read again, with its log."""
         with self._guard():
-            rows = self._db.execute(sql, args).fetchall()
-            if self._immutable is not None:
-                try:
-                    info = os.stat(self.path)
-                    changed = (info.st_ino, info.st_size, info.st_mtime_ns) != self._immutable
-                except OSError:
-                    changed = True
-                if changed or Path(f"{self.path}-wal").exists():
-                    self._db.close()
-                    self._immutable = None
-                    self._connect_read()
-                    rows = self._db.execute(sql, args).fetchall()
+            try:
+                rows = self._db.execute(sql, args).fetchall()
+            except sqlite3.DatabaseError:
+                if not self._stale():
+                    raise
+                rows = None
+            if rows is None or self._stale():
+                self._db.close()
+                self._connect_read()
+                rows = self._db.execute(sql, args).fetchall()
         return rows
 
     # ------------------------------------------------------------------ the plan
