@@ -18,6 +18,14 @@ the process has loaded or unloaded a shared object since (glibc's counters
 ``dlpi_adds`` and ``dlpi_subs``): setting the limit with it costs about 0.02 ms.
 Where those counters cannot be read, the libraries are found at every
 outermost call, as before.
+
+The limit holds only for libraries loaded when it is set.  scipy ships an
+OpenBLAS of its own, loaded with ``scipy.linalg``; theory imports scipy's
+submodules on first use, so the first theory call of a process used to load
+it inside the limit, where it ran with its default threads: with numpy 2.4 and
+scipy 1.17 (OpenBLAS 0.3.30 and 0.3.31) the first N = 400 modes then differed
+between a process started with one BLAS thread and one with two.  So
+``scipy.linalg`` is loaded before the first limit is set.
 """
 
 from __future__ import annotations
@@ -90,6 +98,12 @@ def _blas_controller() -> ThreadpoolController:
     return controller
 
 
+def _load_blas() -> None:
+    """Load every BLAS library the theory calls (scipy's own OpenBLAS comes with ``scipy.linalg``) before a
+    limit is set, so that none is loaded inside it with its default threads."""
+    import scipy.linalg  # noqa: F401  (loaded once; later imports are a dictionary look-up)
+
+
 def fixed_blas_threads(function: Callable[P, R]) -> Callable[P, R]:
     """Run ``function`` with BLAS limited to :data:`BLAS_THREADS` threads."""
 
@@ -97,6 +111,7 @@ def fixed_blas_threads(function: Callable[P, R]) -> Callable[P, R]:
     def limited(*args: P.args, **kwargs: P.kwargs) -> R:
         if getattr(_state, "depth", 0):
             return function(*args, **kwargs)
+        _load_blas()
         _state.depth = 1
         try:
             with _blas_controller().limit(limits=BLAS_THREADS, user_api="blas"):
