@@ -15,11 +15,17 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import numpy as np
+
 from ..core.errors import ParameterError
+from ..core.types import GAUSSIAN_CENTRE, PulseShape
 from .effects import Effect
 from .ladder import Ladder
 
-__all__ = ["Element", "ladder_elements", "number", "GROUND"]
+__all__ = ["Element", "Pulse", "ladder_elements", "ladder_pulse", "number", "GROUND", "RECT_FALL"]
+
+#: The rect pulse's PWL source falls in this fraction of its duration (ngspice needs a finite slope).
+RECT_FALL = 1e-9
 
 #: SPICE's ground node.
 GROUND = "0"
@@ -66,6 +72,71 @@ class Element:
         """The element's netlist line."""
         ic = "" if self.ic is None else f" IC={number(self.ic)}"
         return f"{self.name} {self.a} {self.b} {number(self.value)}{ic}"
+
+
+@dataclass(frozen=True)
+class Pulse:
+    """A voltage pulse in series with a coil: the source of a pulse drive.
+
+    Parameters
+    ----------
+    a, b : str
+        Its nodes: ``v(a) - v(b)`` is the pulse (``a`` is the node it shares with the coil alone).
+    shape : {"gaussian", "rect"}
+        A gaussian of standard deviation ``width`` centred at :data:`GAUSSIAN_CENTRE` widths (a ``B`` source),
+        or ``1/width`` on [0, width) falling to 0 in :data:`RECT_FALL` of it (a ``PWL`` source).
+    width : float
+        Seconds.
+    area : float
+        Volt-seconds.
+    """
+
+    a: str
+    b: str
+    shape: PulseShape
+    width: float
+    area: float
+
+    @property
+    def name(self) -> str:
+        return "B1" if self.shape == "gaussian" else "V1"
+
+    @property
+    def kind(self) -> str:
+        return "V"
+
+    def corners(self) -> tuple[float, ...]:
+        """Where the waveform is smooth in between, seconds: its end last (a gaussian's tail past 12 widths
+        after its centre weighs exp(-72))."""
+        if self.shape == "gaussian":
+            return (0.0, (GAUSSIAN_CENTRE + 12.0) * self.width)
+        return (0.0, self.width, self.width * (1 + RECT_FALL))
+
+    def voltage(self, t: np.ndarray) -> np.ndarray:
+        """v(a) - v(b) at the times ``t`` (s) inside the pulse, volts."""
+        if self.shape == "gaussian":
+            z = (t - GAUSSIAN_CENTRE * self.width) / self.width
+            return np.asarray(self.area / (self.width * math.sqrt(2 * math.pi)) * np.exp(-0.5 * z * z))
+        level = self.area / self.width
+        return np.asarray(np.where(t < self.width, level, level * (1 - (t - self.width) / (RECT_FALL * self.width))))
+
+    def card(self) -> str:
+        """The source's netlist line."""
+        if self.shape == "gaussian":
+            sigma, centre = self.width, GAUSSIAN_CENTRE * self.width
+            peak = self.area / (sigma * math.sqrt(2 * math.pi))
+            expression = f"{number(peak)}*exp(-0.5*((time-{number(centre)})/{number(sigma)})^2)"
+            return f"B1 {self.a} {self.b} V={expression}"
+        duration = self.width
+        level = self.area / duration
+        return (f"V1 {self.a} {self.b} PWL(0 {number(level)} {number(duration)} {number(level)} "
+                f"{number(duration * (1 + RECT_FALL))} 0)")
+
+
+def ladder_pulse(ladder: Ladder, shape: PulseShape, width: float, I0: float) -> Pulse:
+    """The pulse drive's source in loop 1, between s1 and the rail node n0 (or ground): L_1 I0 g(t), g of unit
+    area, ``width`` in units of sqrt(L0 C0)."""
+    return Pulse("s1", ladder.node(0), shape, width * ladder.time_unit, ladder.inductances()[0] * I0)
 
 
 def _loop_branch(i: int, left: str, right: str, inductance: float, ic: float | None,

@@ -44,7 +44,7 @@ coils): :func:`exact_cost` prices them.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 import scipy.linalg
@@ -52,9 +52,13 @@ import scipy.sparse
 import scipy.sparse.linalg
 
 from ..core.errors import ParameterError
-from .elements import GROUND, Element
+from .elements import GROUND, Element, Pulse
 
 __all__ = ["CircuitTheory", "circuit_theory", "exact_cost", "EXACT_FLOPS_PER_SECOND"]
+
+_NODES, _WEIGHTS = np.polynomial.legendre.leggauss(16)
+# A panel of length h with h max|pole| <= 3 integrates exp(pole (t - s)) u(s) to ~1e-31 with 16 nodes.
+_PANEL_RATE = 3.0
 
 #: Dense eigen-solvers' throughput on this machine (flop/s), for :func:`exact_cost` (measured: eigh of a
 #: 2000 x 2000 pencil in about 2 s, eig of a 1000 x 1000 matrix in about 1.5 s).
@@ -85,6 +89,50 @@ class _Network:
     Lm: scipy.sparse.csr_array
     v0: np.ndarray
     i0: np.ndarray
+    drive: np.ndarray  # how the pulse u enters each coil's equation (+1, -1 or 0)
+    through_g: np.ndarray  # currents the pulse injects into each node: through_g u + through_c u'
+    through_c: np.ndarray
+    pulse: Pulse | None
+
+
+@dataclass(frozen=True)
+class _Fold:
+    """A pulse source's node folded into its other node: v(a) = v(b) + u(t) for every element at node a."""
+
+    pulse: Pulse
+    coils: tuple[tuple[str, float], ...]  # (coil, +1 or -1): the coils whose branch voltage gains u
+    injected: tuple[tuple[str, str, float], ...]  # (kind "C" or "R", the element's other node, its value)
+
+
+def _fold_pulse(elements: Sequence[Element | Pulse]) -> tuple[list[Element], _Fold | None]:
+    """The elements with the pulse's node ``a`` folded into its node ``b``, and what the pulse then drives."""
+    pulses = [e for e in elements if isinstance(e, Pulse)]
+    plain = [e for e in elements if isinstance(e, Element)]
+    if not pulses:
+        return plain, None
+    if len(pulses) > 1:
+        raise ParameterError("sources", [p.name for p in pulses], "one pulse source")
+    pulse = pulses[0]
+    if pulse.a == pulse.b or pulse.a == GROUND:
+        raise ParameterError(pulse.name, f"{pulse.a} {pulse.b}", "a pulse source between two nodes, its node a "
+                             "not ground")
+    folded: list[Element] = []
+    coils: list[tuple[str, float]] = []
+    injected: list[tuple[str, str, float]] = []
+    for element in plain:
+        if element.kind == "K" or pulse.a not in (element.a, element.b):
+            folded.append(element)
+            continue
+        if element.a == pulse.a and element.b == pulse.a:
+            continue
+        other = element.b if element.a == pulse.a else element.a
+        if element.kind == "L":
+            coils.append((element.name.lower(), 1.0 if element.a == pulse.a else -1.0))
+        else:
+            injected.append((element.kind, other, float(element.value)))
+        folded.append(replace(element, a=pulse.b if element.a == pulse.a else element.a,
+                              b=pulse.b if element.b == pulse.a else element.b))
+    return folded, _Fold(pulse, tuple(coils), tuple(injected))
 
 
 class _Stamps:
@@ -110,7 +158,8 @@ class _Stamps:
         return scipy.sparse.csr_array(scipy.sparse.coo_array((self.values, (self.rows, self.cols)), shape=shape))
 
 
-def _assemble(elements: Sequence[Element]) -> _Network:
+def _assemble(given: Sequence[Element | Pulse]) -> _Network:
+    elements, fold = _fold_pulse(given)
     nodes: dict[str, int] = {}
     inductors: dict[str, int] = {}
     for element in elements:
@@ -164,8 +213,20 @@ def _assemble(elements: Sequence[Element]) -> _Network:
             mutual = element.value * np.sqrt(own[p] * own[q])
             Lm.add(p, q, mutual)
             Lm.add(q, p, mutual)
+    drive, through_g, through_c = np.zeros(m), np.zeros(n), np.zeros(n)
+    if fold is not None:
+        for coil, sign in fold.coils:
+            drive[inductors[coil]] += sign
+        # a capacitor (resistor) from the pulse's node to x carries C (u' ...) (G (u ...)) out of x into b
+        b = nodes.get(fold.pulse.b)
+        for kind, other, value in fold.injected:
+            target, amount = (through_c, value) if kind == "C" else (through_g, 1.0 / value)
+            if other in nodes:
+                target[nodes[other]] += amount
+            if b is not None:
+                target[b] -= amount
     return _Network(tuple(nodes), tuple(inductors), Cn.matrix((n, n)), G.matrix((n, n)), A.matrix((n, m)),
-                    Lm.matrix((m, m)), v0, i0)
+                    Lm.matrix((m, m)), v0, i0, drive, through_g, through_c, None if fold is None else fold.pulse)
 
 
 def _cholesky(matrix: np.ndarray, what: str) -> np.ndarray:
@@ -224,8 +285,9 @@ class CircuitTheory:
         resistive nodes with no path to the rest), named in one line.
     """
 
-    def __init__(self, elements: Sequence[Element]):
+    def __init__(self, elements: Sequence[Element | Pulse]):
         net = _assemble(elements)
+        self._pulse = net.pulse
         self.inductors = net.inductors
         touched = net.Cn.diagonal() > 0
         resistive = ~touched & (abs(net.G).sum(axis=1) > 0)
@@ -263,10 +325,31 @@ class CircuitTheory:
         self.lossless = net.G.nnz == 0 or not np.any(net.G.data)
         self.states = d.size + nj
         y0 = net.v0[d]
+        if np.any(net.through_c[~touched]):
+            raise ParameterError("sources", "pulse", "a pulse source whose capacitors reach capacitive nodes")
+        # M s' = S s + e_u u + e_du u': the pulse through the coils and the resistors (u), the capacitors (u')
+        bz = net.drive if Z is None else Z.T @ net.drive
+        e_du = np.concatenate((net.through_c[d], np.zeros(nj)))
+        if r.size:
+            Wg = factor.solve(net.through_g[r])
+            e_u = np.concatenate((net.through_g[d] - G_dr @ Wg, bz + Br.T @ Wg))
+        else:
+            e_u = np.concatenate((net.through_g[d], bz))
         if self.lossless:
             self._lossless(D, scipy.sparse.csr_array(X), Lz, y0, j0)
+            # a'' + omega^2 a = (U^T bz + U^T X^T D^-1 c) u' for the modal currents a = U^T Lz j
+            injected = e_du[: d.size]
+            via_c = (X.T @ scipy.sparse.linalg.spsolve(scipy.sparse.csc_array(D), injected) if np.any(injected)
+                     else np.zeros(nj))
+            self._gain = self._shape * (self._U.T @ (bz + via_c))
+            self._gain_now = np.zeros_like(self._gain)
         else:
             self._lossy(D.toarray(), Gs, X.toarray() if scipy.sparse.issparse(X) else X, Rz, Lz, y0, j0)
+            modal_u, modal_du = (np.linalg.solve(self._V, scipy.linalg.solve_triangular(self._R, e, trans="T"))
+                                 for e in (e_u, e_du))
+            # c' = lam c + g u + h u': c = (g + lam h) w + h u(t), w the convolution of u with exp(lam t)
+            self._gain = self._shape * (modal_u + self._lam * modal_du)
+            self._gain_now = self._shape * modal_du
 
     # -------------------------------------------------------------- lossless
     def _lossless(self, D: scipy.sparse.csr_array, X: scipy.sparse.csr_array, Lz: np.ndarray, y0: np.ndarray,
@@ -288,6 +371,7 @@ class CircuitTheory:
         self._cos = U.T @ (Lz @ j0)  # what each mode starts with: current, then current's slope
         self._sin = U.T @ (X.T @ y0)
         self._shape = U if self._Z is None else self._Z @ U  # each mode's coil currents
+        self._U = U
         self.poles = 1j * self._omega
 
     # -------------------------------------------------------------- lossy
@@ -305,6 +389,7 @@ class CircuitTheory:
         coefficients = np.linalg.solve(V, R @ np.concatenate((y0, j0)))
         back = scipy.linalg.solve_triangular(R, V)  # R^-1 V: each mode's states
         self._lam = lam
+        self._V, self._R = V, R
         self._coefficients = coefficients
         self._shape = back[nd:, :] if self._Z is None else self._Z @ back[nd:, :]
         self.poles = lam
@@ -322,6 +407,64 @@ class CircuitTheory:
     def currents(self, t: np.ndarray, probes: Sequence[str]) -> np.ndarray:
         """The coils' currents (A) at the times ``t`` (s): shape (len(probes), len(t))."""
         times = np.asarray(t, dtype=float)
+        free = self._free_currents(times, probes)
+        if self._pulse is None:
+            return free
+        rows = self._rows(probes)
+        forced = self._gain[rows, :] @ self._convolution(times)
+        if np.any(self._gain_now):
+            forced = forced + np.outer(self._gain_now[rows, :].sum(axis=1), self._during(times))
+        return np.asarray(free + forced.real)
+
+    def _during(self, times: np.ndarray) -> np.ndarray:
+        """u(t): the pulse's voltage at the times (0 past its end)."""
+        assert self._pulse is not None
+        end = self._pulse.corners()[-1]
+        inside = (times >= 0) & (times < end)
+        out = np.zeros(times.size)
+        out[inside] = self._pulse.voltage(times[inside])
+        return out
+
+    def _convolution(self, times: np.ndarray) -> np.ndarray:
+        """w_k(t) = integral from 0 to t of exp(p_k (t - s)) u(s) ds for each mode's pole p_k (lossless: +1j omega,
+        whose real part is the cosine's convolution), shape (modes, times): Gauss-Legendre panels no longer than
+        3 / max|p| (16 nodes: exact to rounding), joined by the exact propagator."""
+        pulse = self._pulse
+        assert pulse is not None
+        poles = 1j * self._omega if self.lossless else self._lam
+        rate = max(float(np.max(np.abs(poles))) if poles.size else 0.0, 1e-300)
+        corners = pulse.corners()
+        edges = [corners[0]]
+        for lo, hi in zip(corners[:-1], corners[1:], strict=False):
+            count = max(1, int(np.ceil((hi - lo) * rate / _PANEL_RATE)),
+                        int(np.ceil((hi - lo) / pulse.width)) if pulse.shape == "gaussian" else 1)
+            edges += list(np.linspace(lo, hi, count + 1)[1:])
+        edge = np.asarray(edges)
+        state = np.zeros((edge.size, poles.size), dtype=complex)
+        for k in range(edge.size - 1):
+            state[k + 1] = np.exp(poles * (edge[k + 1] - edge[k])) * state[k] + self._panel(poles, edge[k],
+                                                                                               edge[k + 1])
+        out = np.empty((poles.size, times.size), dtype=complex)
+        end = edge[-1]
+        after = times >= end
+        out[:, after] = np.exp(np.outer(poles, times[after] - end)) * state[-1][:, None]
+        inside = np.flatnonzero(~after)
+        if inside.size:
+            panel = np.clip(np.searchsorted(edge, times[inside], side="right") - 1, 0, edge.size - 2)
+            for j, k in zip(inside, panel, strict=True):
+                out[:, j] = np.exp(poles * (times[j] - edge[k])) * state[k] + self._panel(poles, edge[k], times[j])
+        return out
+
+    def _panel(self, poles: np.ndarray, lo: float, hi: float) -> np.ndarray:
+        """integral from lo to hi of exp(p (hi - s)) u(s) ds, by Gauss-Legendre."""
+        assert self._pulse is not None
+        if hi <= lo:
+            return np.zeros(poles.size, dtype=complex)
+        s = lo + 0.5 * (hi - lo) * (1.0 + _NODES)
+        weights = 0.5 * (hi - lo) * _WEIGHTS * self._pulse.voltage(s)
+        return np.asarray(np.exp(np.outer(poles, hi - s)) @ weights)
+
+    def _free_currents(self, times: np.ndarray, probes: Sequence[str]) -> np.ndarray:
         shape = self._shape[self._rows(probes), :]
         if self.lossless:
             omega = self._omega

@@ -35,7 +35,7 @@ import math
 import re
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, cast
 
 from ..core.checks import choice, instance, integer, real, strings, text_line
 from ..core.checks import pulse as check_pulse
@@ -46,7 +46,6 @@ from ..core.types import (
     DEFAULT_I0,
     DEFAULT_L0,
     EXCITATION_KINDS,
-    GAUSSIAN_CENTRE,
     METHODS,
     PROBES,
     PULSE_SHAPES,
@@ -62,7 +61,7 @@ from ..theory.chain import Chain
 from ..theory.modes import Modes
 from ..theory.spectrum import normal_modes
 from .effects import Effect, Losses
-from .elements import ladder_elements, number
+from .elements import ladder_elements, ladder_pulse, number
 from .ladder import Ladder
 
 __all__ = [
@@ -273,7 +272,7 @@ def netlist_text(
                             kick=I0 if excitation == "kick" else None,
                             charge=Q0 if excitation == "displacement" else None)
     if spec is not None:
-        lines.append(_source_line(spec, ladder.inductances()[0] * I0, unit, ladder.node(0)))
+        lines.append(ladder_pulse(ladder, cast(PulseShape, spec[0]), spec[1], I0).card())
     lines.append(_options_line(options, I0, ladder))
     step = options.dt * unit
     tstop = options.tstop * unit
@@ -372,19 +371,6 @@ def _ac_cards(segments: Sequence[tuple[int, float, float]], hertz: float) -> lis
     integer("points", total, at_least=MIN_AC_POINTS, at_most=MAX_AC_POINTS,
             allowed=f"{MIN_AC_POINTS} to {MAX_AC_POINTS} frequencies in all segments")
     return cards
-
-
-def _source_line(spec: tuple[str, float], area: float, unit: float, node: str) -> str:
-    """The pulse's voltage source in loop 1, between s1 and the rail node ``node``: area volt-seconds."""
-    shape, width = spec
-    if shape == "gaussian":
-        sigma, centre = width * unit, GAUSSIAN_CENTRE * width * unit
-        peak = area / (sigma * math.sqrt(2 * math.pi))
-        expression = f"{number(peak)}*exp(-0.5*((time-{number(centre)})/{number(sigma)})^2)"
-        return f"B1 s1 {node} V={expression}"
-    duration = width * unit
-    level = area / duration
-    return f"V1 s1 {node} PWL(0 {number(level)} {number(duration)} {number(level)} {number(duration * (1 + 1e-9))} 0)"
 
 
 def _options_line(options: SimulationOptions, I0: float, ladder: Ladder) -> str:
