@@ -58,7 +58,8 @@ from .ladder import Ladder
 
 __all__ = ["E_SERIES", "preferred_value", "preferred_values", "with_walls", "rounded", "realise",
            "tolerance_samples", "cornered", "Effect", "Walls", "Coupling", "Losses", "Tolerance", "PreferredValues",
-           "EFFECTS", "SeriesElement"]
+           "EFFECTS", "SeriesElement", "CoilCapacitance", "CoilResistance", "CapacitorESR", "CapacitorESL",
+           "REAL_PARTS"]
 
 #: An element in series with an inductor: its SPICE letter and its value (ohm for "R").
 SeriesElement = tuple[str, float]
@@ -251,6 +252,16 @@ class Effect:
         """Elements in series with inductor L_loop (1-based), after it."""
         return ()
 
+    def across_coil(self, ladder: Ladder, loop: int) -> tuple[SeriesElement, ...]:
+        """Elements across coil ``loop`` (1-based): from its rail node to the next, across the inductor and what is
+        in series with it."""
+        return ()
+
+    def capacitor_series(self, ladder: Ladder, spring: int) -> tuple[SeriesElement, ...]:
+        """Elements in series with capacitor C_{spring,spring+1} (spring 0..N; 0 and N are the walls), between
+        its rail node and the capacitor."""
+        return ()
+
     def response(self) -> dict[str, float]:
         """Keywords of :func:`lcchain.theory.response.linear_response` beyond the chain (e.g. ``{"Q": 100.0}``)."""
         return {}
@@ -402,6 +413,99 @@ class Tolerance(Effect):
         return tolerance_samples(chain, L0, C0, samples=self.samples, seed=self.seed, tol_L=self.L, tol_C=self.C,
                                  series=series)
 
+
+def _bulk(key: str, name: str, value: object, what: str) -> float:
+    return real(f"effects.{key}.{name}", value, above=0.0, allowed=f"a finite number > 0 ({what})")
+
+
+@dataclass(frozen=True)
+class CoilCapacitance(Effect):
+    """``[effects.coil_capacitance]``: a real coil's self-capacitance, a capacitor ``ratio`` C0 across every coil.
+
+    Each coil then resonates by itself at 1/sqrt(L_i ratio C0): above the ladder's band top (omega = 2) when
+    ratio < 1/4 for bulk coils.
+
+    Parameters
+    ----------
+    ratio : float
+        The capacitance in units of C0, > 0.
+    """
+
+    key: ClassVar[str] = "coil_capacitance"
+    ratio: float
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "ratio", _bulk(self.key, "ratio", self.ratio, "capacitance / C0"))
+
+    def across_coil(self, ladder: Ladder, loop: int) -> tuple[SeriesElement, ...]:
+        return (("C", self.ratio * ladder.C0),)
+
+
+@dataclass(frozen=True)
+class CoilResistance(Effect):
+    """``[effects.coil_resistance]``: a winding resistance ``R`` sqrt(L0/C0) in series with every coil, the same
+    for every coil (losses not proportional to L: the modes decay at different rates).
+
+    Parameters
+    ----------
+    R : float
+        Ohm in units of the bulk impedance sqrt(L0/C0), > 0.
+    """
+
+    key: ClassVar[str] = "coil_resistance"
+    R: float
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "R", _bulk(self.key, "R", self.R, "resistance / sqrt(L0/C0)"))
+
+    def in_series(self, ladder: Ladder, loop: int) -> tuple[SeriesElement, ...]:
+        return (("R", self.R * ladder.impedance),)
+
+
+@dataclass(frozen=True)
+class CapacitorESR(Effect):
+    """``[effects.capacitor_esr]``: an equivalent series resistance ``R`` sqrt(L0/C0) with every capacitor.
+
+    Parameters
+    ----------
+    R : float
+        Ohm in units of the bulk impedance sqrt(L0/C0), > 0.
+    """
+
+    key: ClassVar[str] = "capacitor_esr"
+    R: float
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "R", _bulk(self.key, "R", self.R, "resistance / sqrt(L0/C0)"))
+
+    def capacitor_series(self, ladder: Ladder, spring: int) -> tuple[SeriesElement, ...]:
+        return (("R", self.R * ladder.impedance),)
+
+
+@dataclass(frozen=True)
+class CapacitorESL(Effect):
+    """``[effects.capacitor_esl]``: an equivalent series inductance ``L`` L0 with every capacitor (each capacitor
+    then resonates by itself at 1/sqrt(L L0 C): above the band top when L K < 1/4).
+
+    Parameters
+    ----------
+    L : float
+        Henry in units of L0, > 0.
+    """
+
+    key: ClassVar[str] = "capacitor_esl"
+    L: float
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "L", _bulk(self.key, "L", self.L, "inductance / L0"))
+
+    def capacitor_series(self, ladder: Ladder, spring: int) -> tuple[SeriesElement, ...]:
+        return (("L", self.L * ladder.L0),)
+
+
+#: The parts of real coils and capacitors, which no chain can say: their theory is the circuit's own
+#: (:mod:`lcchain.circuit.exact`).
+REAL_PARTS: tuple[type[Effect], ...] = (CoilCapacitance, CoilResistance, CapacitorESR, CapacitorESL)
 
 #: Scene keys to effect types (``[effects.<key>]``).
 EFFECTS: dict[str, type[Effect]] = {cls.key: cls for cls in (Losses, Walls, Coupling, Tolerance, PreferredValues)}

@@ -152,6 +152,33 @@ def _loop_branch(i: int, left: str, right: str, inductance: float, ic: float | N
     return elements
 
 
+def _named(parts: list[tuple[str, float]], suffix: str, a: str, b: str) -> list[Element]:
+    """Elements all from ``a`` to ``b``, named letter + suffix (a second of a letter: ``_2``, ...)."""
+    seen: dict[str, int] = {}
+    out = []
+    for letter, value in parts:
+        seen[letter] = seen.get(letter, 0) + 1
+        out.append(Element(f"{letter}{suffix}" + ("" if seen[letter] == 1 else f"_{seen[letter]}"), a, b, value))
+    return out
+
+
+def _capacitor(ladder: Ladder, effects: tuple[Effect, ...], spring: int, node: str, capacitance: float,
+               ic: float | None) -> list[Element]:
+    """C_{spring,spring+1} from ``node`` to ground, after what the effects put in series with it (inner nodes
+    c{spring}, c{spring}_2, ...)."""
+    series = [e for part in effects for e in part.capacitor_series(ladder, spring)]
+    name = ladder.capacitor(spring)
+    nodes = [node] + [f"c{spring}" if j == 0 else f"c{spring}_{j + 1}" for j in range(len(series))]
+    out: list[Element] = []
+    seen: dict[str, int] = {}
+    for j, (letter, value) in enumerate(series):
+        seen[letter] = seen.get(letter, 0) + 1
+        suffix = "" if seen[letter] == 1 else f"_{seen[letter]}"
+        out.append(Element(f"{letter}S{spring}_{spring + 1}{suffix}", nodes[j], nodes[j + 1], value))
+    out.append(Element(name, nodes[-1], GROUND, capacitance, ic))
+    return out
+
+
 def ladder_elements(ladder: Ladder, effects: tuple[Effect, ...] = (), *, source: bool = False,
                     kick: float | None = None, charge: float | None = None) -> tuple[Element, ...]:
     """The ladder's elements, in netlist order.
@@ -182,16 +209,17 @@ def ladder_elements(ladder: Ladder, effects: tuple[Effect, ...] = (), *, source:
             left = "s1"  # the source sits between the rail node n0 (or ground) and L1
         series = [e for part in effects for e in part.in_series(ladder, i)]
         elements += _loop_branch(i, left, right, L[i - 1], kick if i == 1 else None, series)
+        elements += _named([e for part in effects for e in part.across_coil(ladder, i)], f"P{i}", left, right)
         if i < N:
             capacitance = C[i]
             assert capacitance is not None  # inner springs are > 0 (Chain checks it)
             ic = charge / capacitance if (charge is not None and i == 1) else None
-            elements.append(Element(ladder.capacitor(i), f"n{i}", GROUND, capacitance, ic))
+            elements += _capacitor(ladder, effects, i, f"n{i}", capacitance, ic)
     for wall in (0, N):
         wall_capacitance = C[wall]
         if wall_capacitance is not None:
             ic = -charge / wall_capacitance if (charge is not None and wall == 0) else None
-            elements.append(Element(ladder.capacitor(wall), ladder.node(wall), GROUND, wall_capacitance, ic))
+            elements += _capacitor(ladder, effects, wall, ladder.node(wall), wall_capacitance, ic)
     if chain.coupled:
         # mutual inductance k sqrt(L_i L_i+1) between neighbouring coils: the chain's tridiagonal mass matrix
         elements += [Element(f"K{i}_{i + 1}", Ladder.inductor(i), Ladder.inductor(i + 1), chain.coupling)

@@ -49,6 +49,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 import scipy.linalg
 import scipy.sparse
+import scipy.sparse.csgraph
 import scipy.sparse.linalg
 
 from ..core.errors import ParameterError
@@ -229,6 +230,28 @@ def _assemble(given: Sequence[Element | Pulse]) -> _Network:
                     Lm.matrix((m, m)), v0, i0, drive, through_g, through_c, None if fold is None else fold.pulse)
 
 
+def _islands(G: scipy.sparse.csr_array, r: np.ndarray, d: np.ndarray) -> tuple[np.ndarray, list[np.ndarray]]:
+    """(resistive nodes, islands): the groups of resistive nodes joined by resistors to each other only, each
+    island's first node taken out of the resistive ones (the island's voltage is relative to it)."""
+    if r.size == 0:
+        return r, []
+    inner = G[r, :][:, r]
+    count, label = scipy.sparse.csgraph.connected_components(inner, directed=False)
+    outward = np.asarray(abs(G[r, :]).sum(axis=1)).ravel() - np.asarray(abs(inner).sum(axis=1)).ravel()
+    # a resistor to ground shows in the diagonal: the row of an island sums to zero
+    to_ground = np.asarray(G[r, :].sum(axis=1)).ravel()
+    keep = np.ones(r.size, dtype=bool)
+    islands = []
+    scale = max(float(abs(G).max()), 1e-300)
+    for group in range(count):
+        members = np.flatnonzero(label == group)
+        if np.any(np.abs(outward[members]) > 1e-12 * scale) or abs(float(to_ground[members].sum())) > 1e-12 * scale:
+            continue
+        islands.append(r[members])
+        keep[members[0]] = False
+    return r[keep], islands
+
+
 def _cholesky(matrix: np.ndarray, what: str) -> np.ndarray:
     try:
         return np.asarray(scipy.linalg.cholesky(matrix, lower=False))
@@ -293,17 +316,22 @@ class CircuitTheory:
         resistive = ~touched & (abs(net.G).sum(axis=1) > 0)
         inductive = ~touched & ~resistive
         d, r, p = (np.flatnonzero(mask) for mask in (touched, resistive, inductive))
-        # Currents: the null space of Kirchhoff's law at the nodes joined by coils alone (none: every current).
-        Z = None if p.size == 0 else np.asarray(scipy.linalg.null_space(net.A[p, :].toarray()))
+        # Kirchhoff's law on the currents alone: at every node of coils alone, and summed over every island of
+        # resistive nodes with no resistor out of it (a winding resistance between two such nodes): each island's
+        # common voltage is free like a coil node's, the rest of it is algebraic.
+        laws = [net.A[p, :].toarray()]
+        r, islands = _islands(net.G, r, d)
+        laws += [np.asarray(net.A[island, :].sum(axis=0)).reshape(1, -1) for island in islands]
+        law = np.vstack(laws)
+        Z = None if law.shape[0] == 0 else np.asarray(scipy.linalg.null_space(law))
         self._Z = Z
-        j0 = net.i0 if Z is None else Z.T @ net.i0
-        if Z is not None and np.linalg.norm(Z @ j0 - net.i0) > 1e-12 * max(float(np.linalg.norm(net.i0)), 1e-300):
-            raise ParameterError("IC", net.i0.tolist(), "initial coil currents that obey Kirchhoff's law at the "
-                                 "nodes joined by coils alone")
         if np.any(net.v0[~touched]):
             raise ParameterError("IC", net.v0.tolist(), "initial voltages on capacitive nodes only")
         Lm = net.Lm.toarray()
         Lz = Lm if Z is None else Z.T @ Lm @ Z
+        # Initial currents that break Kirchhoff's law at a node of coils alone (a kick of L1 where a capacitor's
+        # ESL meets it) redistribute at once, conserving each loop's flux: the Lm-nearest lawful currents.
+        j0 = net.i0 if Z is None else np.linalg.solve(Lz, Z.T @ (Lm @ net.i0))
         D = net.Cn[d, :][:, d]
         Bd = net.A[d, :] if Z is None else scipy.sparse.csr_array(net.A[d, :] @ Z)
         Br = net.A[r, :] if Z is None else scipy.sparse.csr_array(net.A[r, :] @ Z)
