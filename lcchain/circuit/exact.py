@@ -38,7 +38,9 @@ What is left is ``M s' = S s`` with ``M`` symmetric positive definite:
   (``scipy.linalg.eig``), the response a sum of damped exponentials.
 
 Both are dense, O(n^3) in the number of states n (about twice the number of
-coils): :func:`exact_cost` prices them.
+coils): :func:`exact_cost` prices them.  Like every theory entry point they run
+with one BLAS thread (:mod:`lcchain.core.blas`): the same bits in any process,
+and no threads spinning against each other on a busy machine.
 """
 
 from __future__ import annotations
@@ -52,6 +54,7 @@ import scipy.sparse
 import scipy.sparse.csgraph
 import scipy.sparse.linalg
 
+from ..core.blas import fixed_blas_threads
 from ..core.errors import ParameterError
 from .elements import GROUND, Element, Pulse
 
@@ -308,6 +311,7 @@ class CircuitTheory:
         resistive nodes with no path to the rest), named in one line.
     """
 
+    @fixed_blas_threads
     def __init__(self, elements: Sequence[Element | Pulse]):
         net = _assemble(elements)
         self._pulse = net.pulse
@@ -432,6 +436,7 @@ class CircuitTheory:
             rows.append(self.inductors.index(key))
         return rows
 
+    @fixed_blas_threads
     def currents(self, t: np.ndarray, probes: Sequence[str]) -> np.ndarray:
         """The coils' currents (A) at the times ``t`` (s): shape (len(probes), len(t))."""
         times = np.asarray(t, dtype=float)
@@ -507,6 +512,7 @@ class CircuitTheory:
         growth = np.exp(np.outer(self._lam, times))
         return np.asarray(((shape * self._coefficients) @ growth).real)
 
+    @fixed_blas_threads
     def charges(self, t: np.ndarray, probes: Sequence[str], q0: Sequence[float]) -> np.ndarray:
         """The charges (C) that have flowed through the coils since t = 0, plus ``q0``: the loop charges."""
         times = np.asarray(t, dtype=float)

@@ -34,7 +34,7 @@ from ..core.types import (
     STUDY_METRICS,
 )
 from ..spice.engines import DEFAULT_ENGINE, ENGINES
-from . import commands, sensitivity, studies, validation
+from . import commands, requirements, sensitivity, studies, validation
 from .common import (
     EXIT_FAILED,
     EXIT_MISSING,
@@ -174,6 +174,13 @@ def build_parser() -> argparse.ArgumentParser:
     _add_circuit_arguments(p)
     sensitivity.add_sensitivity_arguments(p)
     p.set_defaults(func=sensitivity.cmd_sensitivity)
+
+    p = sub.add_parser("requirements", parents=budget, help="how good must the parts be: the first arrival's "
+                       "energy against a coil's self-capacitance and resistance, a capacitor's ESR and ESL, and "
+                       "coupling, from the circuit's exact theory, with ngspice points")
+    _add_circuit_arguments(p)
+    requirements.add_requirements_arguments(p)
+    p.set_defaults(func=requirements.cmd_requirements)
 
     p = sub.add_parser("simulate", parents=budget, help="run the ladder in ngspice (or gnucap) and compare with "
                        "alpha_N(t)")
