@@ -310,3 +310,12 @@ def test_the_canonical_family_is_refused_cleanly(case: Case, tmp_path: Path) -> 
     outcome = run_case(case, tmp_path, main)
     assert outcome.kind == "clean", outcome.detail
     assert not (tmp_path / "s.sqlite").exists()
+
+
+@pytest.mark.parametrize("char", list(HOSTILE), ids=list(HOSTILE.values()))
+def test_a_title_lcchain_writes_is_canonical_or_refused_naming_the_option(char: str,
+                                                                          capsys: pytest.CaptureFixture[str]) -> None:
+    # lcchain's own netlists reach the same transports: a title that would not be canonical is refused as --title.
+    assert main(["netlist", "--case", "two-mass", "--N", "5", "--title", f"a{char}b"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("lcchain: --title = ") and len(err.splitlines()) == 1

@@ -146,7 +146,7 @@ def text_line(name: str, value: object, max_length: int, *, title: bool = False)
                "would start a new netlist line that ngspice could execute)")
     if not isinstance(value, str):
         raise ParameterError(name, value, allowed)
-    if len(value) > max_length or any(ord(ch) < 32 or 127 <= ord(ch) < 160 or ch in "\u2028\u2029"
+    if len(value) > max_length or any(ord(ch) < 32 or 127 <= ord(ch) < 160 or ch in "\u2028\u2029\ufeff"
                                        for ch in value):
         raise ParameterError(name, value, allowed)
     if title and _DOT_COMMAND.match(value):
