@@ -324,3 +324,17 @@ def test_the_simulators_converge_to_the_circuit_theory_of_real_parts(engine: str
     coarse, fine = (_simulated_error(engine, effects, dt, coupling) for dt in (0.02, 0.01))
     assert fine < 2e-3
     assert 2.8 < coarse / fine < 5.5, (coarse, fine)
+
+
+@pytest.mark.parametrize("analysis", ["transient", "ac"])
+@pytest.mark.parametrize("effect", [CoilCapacitance(0.1), CoilResistance(0.01), CapacitorESR(0.01),
+                                    CapacitorESL(0.01)], ids=lambda e: e.key)
+def test_a_run_never_compares_a_part_no_chain_can_say_with_the_chain(effect: Effect, analysis: str) -> None:
+    # Until runs use the circuit theory, a request whose effects write elements the chain's ladder does not have is
+    # refused by what the effects write, not by their type: a new effect cannot slip through to a wrong "ok".
+    from lcchain.runs.request import AC, Request, Transient, plan_request
+
+    chosen = Transient(dt=0.05) if analysis == "transient" else AC()
+    request = Request(_chain("two-mass", 12), chosen, effects=(Losses(40.0), effect))
+    with pytest.raises(ParameterError, match=f"effects = '{effect.key}'"):
+        plan_request(request)

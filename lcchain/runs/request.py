@@ -23,7 +23,8 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from ..circuit.effects import Effect, PreferredValues, Tolerance
+from ..circuit.effects import Effect, Losses, PreferredValues, Tolerance
+from ..circuit.elements import ladder_elements
 from ..circuit.ladder import Ladder
 from ..circuit.netlist import SimulationOptions, ac_netlist_text, netlist_text, probe_names
 from ..compare.accuracy import dt_for_accuracy, predicted_error, warn_if_unreliable
@@ -474,7 +475,33 @@ def _nominal_ladder(request: Request) -> tuple[Chain, Ladder]:
     if nominal.coupled and request.Q is not None:
         raise ParameterError("coupling", nominal.coupling, "no losses with coupled coils: lcchain has no exact "
                              "theory for them (the resistors' damping is not proportional to the mass matrix)")
-    return nominal, Ladder(nominal, request.L0, request.C0)  # a scale ngspice cannot take stops here
+    ladder = Ladder(nominal, request.L0, request.C0)  # a scale ngspice cannot take stops here
+    _chain_theory_follows(request, ladder)
+    return nominal, ladder
+
+
+def _chain_theory_follows(request: Request, ladder: Ladder) -> None:
+    """Refuse effects whose elements the chain's theory cannot say, whatever their type.
+
+    The runs compare ngspice with the chain's exact theory (with the losses' Q): the circuit an effect writes must
+    be the chain's own ladder, element for element.  An effect that puts anything else in it (a capacitor across a
+    coil, a resistor not proportional to its coil, a part in series with a capacitor) would be compared with the
+    wrong theory and could report "ok"; its exact theory is :mod:`lcchain.circuit.exact`, which ``lcchain
+    requirements`` uses and runs do not use yet.
+    """
+    chain_only = (Losses(request.Q),) if request.Q is not None else ()
+    written = ladder_elements(ladder, request.effects)
+    expected = ladder_elements(ladder, chain_only)
+    if written != expected:
+        plain = ladder_elements(ladder, ())
+        culprit = next((effect.key for effect in request.effects
+                        if not effect.response() and ladder_elements(ladder, (effect,)) != plain), "effects")
+        names = {element.name for element in expected}
+        extra = next((e for e in written if e.name not in names),
+                     next((e for e, f in zip(written, expected, strict=False) if e != f), written[-1]))
+        raise ParameterError("effects", culprit, "effects whose elements the runs' theory, the chain's, can say "
+                             f"(this one writes {extra.name}, no part of a chain: its exact theory is the circuit's "
+                             "own, which 'lcchain requirements' uses and runs do not use yet)")
 
 
 def _plan_transient(request: Request, budget: Budget, modes: Modes | None, design_seconds: float) -> RequestPlan:
