@@ -61,6 +61,7 @@ from .elements import GROUND, Element, Pulse
 __all__ = ["CircuitTheory", "circuit_theory", "exact_cost", "EXACT_FLOPS_PER_SECOND"]
 
 _NODES, _WEIGHTS = np.polynomial.legendre.leggauss(16)
+_BLOCK = 1 << 18  # modes x times evaluated at once
 # A panel of length h with h max|pole| <= 3 integrates exp(pole (t - s)) u(s) to ~1e-31 with 16 nodes.
 _PANEL_RATE = 3.0
 
@@ -498,6 +499,11 @@ class CircuitTheory:
         return np.asarray(np.exp(np.outer(poles, hi - s)) @ weights)
 
     def _free_currents(self, times: np.ndarray, probes: Sequence[str]) -> np.ndarray:
+        # in blocks of times: a mode x time block of a few MB stays in cache (all at once, N = 2000 at 10^4 times
+        # held 480 MB of phases, cosines and sines)
+        rows = max(1, _BLOCK // max(self._shape.shape[1], 1))
+        if times.size > rows:
+            return np.hstack([self._free_currents(times[k : k + rows], probes) for k in range(0, times.size, rows)])
         shape = self._shape[self._rows(probes), :]
         if self.lossless:
             omega = self._omega
