@@ -262,7 +262,7 @@ def test_initial_currents_that_break_kirchhoffs_law_redistribute_conserving_flux
 
 
 @pytest.mark.parametrize("shape, width", [("gaussian", 0.3), ("gaussian", 2.0), ("rect", 0.5)])
-@pytest.mark.parametrize("name", ["two-mass", "perfect", "walls"])
+@pytest.mark.parametrize("name", ["two-mass", "walls"])
 @pytest.mark.parametrize("Q", [None, 25.0], ids=["lossless", "Q=25"])
 def test_a_pulse_drive_is_the_chain_theory_where_both_apply(name: str, shape: str, width: float,
                                                              Q: float | None) -> None:
