@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["Sections", "refine_sections", "section_residues", "WINDOW_MODES", "ONE_WINDOW"]
+__all__ = ["Sections", "refine_sections", "section_residues", "WINDOW_MODES", "ONE_WINDOW", "WINDOW_SECTIONS"]
 
 #: Modes moved together in one window.
 WINDOW_MODES = 64
@@ -37,6 +37,9 @@ ONE_WINDOW = 128
 _HALO = 6
 #: ... and the samples within this many decay rates of its modes.
 _WIDTHS = 4.0
+#: Sections whose columns one window's least squares holds at most beyond :data:`ONE_WINDOW`: its modes and its
+#: neighbours on both sides (what the fit's price counts, :func:`lcchain.compare.spectrum.fit_sections`).
+WINDOW_SECTIONS = WINDOW_MODES + 2 * _HALO
 #: Gauss-Newton sweeps at most; each window's step must lower its misfit.
 _SWEEPS = 12
 #: Terms of the smooth correction a window fits beside its modes (:func:`_background`).
@@ -48,12 +51,12 @@ _GAIN = 0.99
 #: Sweeps of the residues' block Gauss-Seidel at most, and the relative change at which it stops.
 _RESIDUE_SWEEPS = 6
 _RESIDUE_CHANGE = 1e-13
-#: Samples closer than this (relative) to a lossless pole are left out: there the circuit's own rounding moves
-#: the pole by more than the sample's distance to it (measured: 1.8e-3 relative error at 6e-14 from a pole).
-_TOO_CLOSE = 1e-9
 #: Terms of the model formed at once (:func:`_sum`): its (samples x sections) matrices stay near 16 MiB each,
 #: where two-mass N = 2000 held three of 26,000 x 2000 complex values (2.5 GB) to update its model.
 _BLOCK_VALUES = 2**20
+#: Samples closer than this (relative) to a lossless pole are left out: there the circuit's own rounding moves
+#: the pole by more than the sample's distance to it (measured: 1.8e-3 relative error at 6e-14 from a pole).
+_TOO_CLOSE = 1e-9
 
 
 class Sections:

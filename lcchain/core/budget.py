@@ -20,8 +20,9 @@ benchmarks/theory.md):
   value of every time point (six copies of a float64).  Exact modes of N
   masses add two N x N matrices.
 * ``lcchain spectrum``: ngspice's AC analysis, :data:`AC_SECONDS_PER_UNKNOWN_FREQUENCY` per frequency per
-  unknown, and the fit, :data:`FIT_SECONDS_PER_SAMPLE_MODE` per frequency per mode
-  (:func:`ac_estimate`).
+  unknown, and the fit, whose Gauss-Newton matrices are frequencies x the sections of one window
+  (:data:`FIT_BYTES_PER_SAMPLE_SECTION`; up to 128 sections, more when a sweep much finer than the poles
+  gives the rational fits spurious poles) (:func:`ac_estimate`).
 * an optimal design: :data:`DESIGN_SECONDS_FIXED` plus
   :data:`DESIGN_SECONDS_PER_MASS` per mass (closed-form modes and arrival
   searches are linear in N).
@@ -42,7 +43,9 @@ __all__ = ["Budget", "Estimate", "BudgetError", "DEFAULT_MAX_MEMORY", "DEFAULT_M
            "BYTES_PER_VALUE", "DESIGN_SECONDS_PER_MASS", "DESIGN_SECONDS_FIXED",
            "INTERPRETER_BYTES", "INTERPRETER_SECONDS", "RUN_START_SECONDS", "run_estimate", "sample_theory_seconds",
            "AC_SECONDS_PER_UNKNOWN_FREQUENCY", "AC_SECONDS_PER_FREQUENCY", "FIT_SECONDS_PER_SAMPLE_MODE",
-           "FIT_SECONDS_PER_SAMPLE", "ac_estimate", "ac_run_estimate", "chain_seconds", "sensitivity_estimate",
+           "FIT_SECONDS_PER_SAMPLE", "FIT_SECONDS_PER_SAMPLE_SECTION", "FIT_SECONDS_PER_SAMPLE_SECTION2",
+           "FIT_BYTES_PER_SAMPLE_SECTION", "SIMULATOR_BYTES", "ac_estimate", "ac_run_estimate", "chain_seconds",
+           "sensitivity_estimate",
            "max_points", "design_estimate", "perfect_estimate", "show_bytes", "show_seconds"]
 
 #: Memory one request may use: a third of this machine's 24 GiB, so two runs fit beside the system.
@@ -67,6 +70,9 @@ INTERPRETER_BYTES = 96 * 2**20
 #: The interpreter's start with lcchain, numpy and scipy imported, seconds (0.6-0.9 s measured for a command
 #: that does no work), counted in every estimate checked against --max-time.
 INTERPRETER_SECONDS = 0.8
+#: A simulator's own process beside lcchain's (``ngspice -b`` streams its raw file: 12 MiB resident measured
+#: for ladders of 20 .. 300 masses).
+SIMULATOR_BYTES = 16 * 2**20
 
 
 class BudgetError(ParameterError):
@@ -163,11 +169,27 @@ def run_estimate(*, points: float, saved: int, compared: int, unknowns: float, e
 AC_SECONDS_PER_UNKNOWN_FREQUENCY = 1.5e-7
 #: ... and per frequency whatever the circuit.
 AC_SECONDS_PER_FREQUENCY = 2e-5
-#: The fit's cost per sample per mode: the model's update in every Gauss-Newton sweep (O(points x N) each);
-#: measured (under load, benchmarks/spectrum.md) 0.5e-6 .. 1.4e-6 at N = 500 .. 2000.
+#: The fit's cost per sample per mode beyond its windows: the model's update in every Gauss-Newton sweep
+#: (O(points x N) each) and each window's choice of rows; measured (under load, benchmarks/spectrum.md)
+#: 0.5e-6 .. 1.4e-6 at N = 500 .. 2000.
 FIT_SECONDS_PER_SAMPLE_MODE = 6e-7
-#: The fit's cost per sample whatever N: its rational fits (pieces of fixed size) and windows' least squares.
-FIT_SECONDS_PER_SAMPLE = 5e-4
+#: The fit's cost per sample whatever N: its rational fits (pieces of fixed size) and windows' least squares'
+#: setup; with losses the rational fits of pieces of 512 samples take up to 256 terms (two-mass N = 100, Q = 100:
+#: 0.55 ms a sample, idle).
+FIT_SECONDS_PER_SAMPLE = {False: 5e-5, True: 6e-4}
+#: The fit's cost per sample per section of a window, and per sample per section squared (Gauss-Newton's
+#: Jacobian, samples x 2 or 3 sections, and its least squares): two-mass N = 20 .. 100, 5,000 .. 200,000
+#: frequencies, one window of 20 .. 128 sections, 2e-6 and 4e-8 (under load).
+FIT_SECONDS_PER_SAMPLE_SECTION = 2e-6
+FIT_SECONDS_PER_SAMPLE_SECTION2 = 4e-8
+#: The fit's memory per sample per section of its window: the Jacobian's blocks, the Jacobian, its scaled copy
+#: and the least squares' own (measured: ru_maxrss - the interpreter's over samples x sections, 160 bytes without
+#: losses at 50,000 .. 200,000 frequencies and 20 .. 128 sections; 224 with losses, whose Jacobian has a third
+#: block).
+FIT_BYTES_PER_SAMPLE_SECTION = {False: 160.0, True: 224.0}
+#: Times at which the fitted model's response is set beside the exact one (``lcchain spectrum``): both are
+#: (times x N) complex arrays with a few temporaries each.
+RESPONSE_TIMES = 2001
 
 
 def ac_run_estimate(*, points: float, saved: int, unknowns: float) -> Estimate:
@@ -178,9 +200,10 @@ def ac_run_estimate(*, points: float, saved: int, unknowns: float) -> Estimate:
                     * (saved + 1), seconds)
 
 
-def ac_estimate(*, points: float, N: int, losses: bool = False) -> Estimate:
-    """The cost of ``lcchain spectrum``: ngspice's AC analysis of ``points`` frequencies, the fit, and the exact
-    modes and response it is compared with.
+def ac_estimate(*, points: float, N: int, sections: float, losses: bool = False) -> Estimate:
+    """The cost of an AC run of lcchain's ladder and its comparison (``lcchain spectrum``, and each AC run of a
+    study): ngspice's AC analysis of ``points`` frequencies, the fit, and the exact modes and response it is
+    compared with.
 
     Parameters
     ----------
@@ -188,14 +211,22 @@ def ac_estimate(*, points: float, N: int, losses: bool = False) -> Estimate:
         Frequencies of the sweep.
     N : int
         Masses (loops): 2 N unknowns, 3 N with losses (a node between each coil and its resistor).
+    sections : float
+        The most sections one Gauss-Newton step of the fit moves at once (its matrices are points x sections:
+        :func:`lcchain.compare.spectrum.fit_sections` says how many).
     losses : bool
     """
     unknowns = (3 if losses else 2) * N
-    seconds = (ac_run_estimate(points=points, saved=2, unknowns=unknowns).seconds
-               + points * (FIT_SECONDS_PER_SAMPLE_MODE * N + FIT_SECONDS_PER_SAMPLE) + 3e-10 * N**3)  # exact modes
-    # the raw file's three complex columns and their copies; the exact modes (N x N); the response's (times x N)
-    memory = 16.0 * 3 * 4 * points + 16.0 * N * N + 16.0 * 6 * 2001 * N
-    return Estimate(f"{points:.3g} frequencies x {unknowns} unknowns", memory, seconds)
+    engine = ac_run_estimate(points=points, saved=2, unknowns=unknowns)
+    fit = points * (FIT_SECONDS_PER_SAMPLE[losses] + FIT_SECONDS_PER_SAMPLE_MODE * N
+                    + FIT_SECONDS_PER_SAMPLE_SECTION * sections + FIT_SECONDS_PER_SAMPLE_SECTION2 * sections**2)
+    seconds = engine.seconds + fit + 3e-10 * N**3  # exact modes
+    # ngspice's process; the fit's matrices; the exact modes (eigh: the matrix, its eigenvectors, workspace); the
+    # fitted and the exact responses (times x N complex, each with its temporaries)
+    memory = (engine.memory + SIMULATOR_BYTES + FIT_BYTES_PER_SAMPLE_SECTION[losses] * points * sections + 32.0 * N * N
+              + 16.0 * 6 * RESPONSE_TIMES * N)
+    return Estimate(f"{points:.3g} frequencies x {unknowns} unknowns, fitted {sections:.0f} sections at a time",
+                    memory, seconds)
 
 
 def ngspice_seconds(points: float, unknowns: float) -> float:

@@ -29,11 +29,11 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from ..compare.spectral import spectrum_estimate
 from ..core.budget import (
     RUN_START_SECONDS,
     Budget,
     Estimate,
-    ac_estimate,
     chain_seconds,
     ngspice_seconds,
     sample_theory_seconds,
@@ -185,10 +185,10 @@ class Plan:
 
 def _seconds(spec: RunSpec) -> float:
     """A run's wall time from the cost model: unknowns x time points for a transient; for an AC run the engine's
-    frequencies x unknowns and the fit (:func:`lcchain.core.budget.ac_estimate`)."""
+    frequencies x unknowns and the fit (:func:`lcchain.compare.spectral.spectrum_estimate`)."""
     theory = spec.theory
     if isinstance(theory, SpectrumTheory) and spec.points is not None:
-        whole = ac_estimate(points=spec.points, N=theory.chain.N, losses=theory.Q is not None)
+        whole = spectrum_estimate(spec.points, theory.chain.N, losses=theory.Q is not None)
         return whole.seconds * ENGINES[spec.engine].ac_relative_cost + RUN_START_SECONDS
     if isinstance(theory, Theory) and theory.dt is not None:
         points = spec.tstop / theory.time_unit / theory.dt
