@@ -173,7 +173,7 @@ def _run(args: argparse.Namespace, plan: Any, outputs: Outputs,
     from ..studies.run import run_plan
 
     workers = _workers(args)
-    plan.check(budget_from_args(args), workers)
+    plan.check(budget_from_args(args), workers, args.executor)
 
     def resumed(skipped: int, todo: int) -> None:
         if skipped:

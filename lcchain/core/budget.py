@@ -44,8 +44,9 @@ __all__ = ["Budget", "Estimate", "BudgetError", "DEFAULT_MAX_MEMORY", "DEFAULT_M
            "INTERPRETER_BYTES", "INTERPRETER_SECONDS", "RUN_START_SECONDS", "run_estimate", "sample_theory_seconds",
            "AC_SECONDS_PER_UNKNOWN_FREQUENCY", "AC_SECONDS_PER_FREQUENCY", "FIT_SECONDS_PER_SAMPLE_MODE",
            "FIT_SECONDS_PER_SAMPLE", "FIT_SECONDS_PER_SAMPLE_SECTION", "FIT_SECONDS_PER_SAMPLE_SECTION2",
-           "FIT_BYTES_PER_SAMPLE_SECTION", "SIMULATOR_BYTES", "ac_estimate", "ac_run_estimate", "chain_seconds",
-           "sensitivity_estimate",
+           "FIT_BYTES_PER_SAMPLE_SECTION", "SIMULATOR_BYTES", "POOL_WORKER_BYTES", "POOL_TRACKER_BYTES",
+           "DASK_WORKER_BYTES", "DASK_SCHEDULER_BYTES", "WARM_WORKER_BYTES", "DASK_START_SECONDS",
+           "accuracy_plan_seconds", "ac_estimate", "ac_run_estimate", "chain_seconds", "sensitivity_estimate",
            "max_points", "design_estimate", "perfect_estimate", "show_bytes", "show_seconds"]
 
 #: Memory one request may use: a third of this machine's 24 GiB, so two runs fit beside the system.
@@ -73,6 +74,19 @@ INTERPRETER_SECONDS = 0.8
 #: A simulator's own process beside lcchain's (``ngspice -b`` streams its raw file: 12 MiB resident measured
 #: for ladders of 20 .. 300 masses).
 SIMULATOR_BYTES = 16 * 2**20
+#: A study's pool worker beside the driver: a spawned interpreter with lcchain's runs, numpy and scipy imported
+#: (84-92 MiB resident measured in sweeps and sensitivity checks); and multiprocessing's resource tracker, once
+#: per pool (12 MiB).
+POOL_WORKER_BYTES = 96 * 2**20
+POOL_TRACKER_BYTES = 16 * 2**20
+#: A Dask worker (its interpreter with distributed imported: 111 MiB measured) and the scheduler of a local
+#: cluster in the driver (24 MiB more than a pool's driver).
+DASK_WORKER_BYTES = 128 * 2**20
+DASK_SCHEDULER_BYTES = 32 * 2**20
+#: A warm worker (ngspice's shared library in a light interpreter: 23 MiB measured), one per study worker.
+WARM_WORKER_BYTES = 32 * 2**20
+#: A Dask local cluster's start beside its workers' imports (its scheduler, nannies and handshakes), seconds.
+DASK_START_SECONDS = 2.0
 
 
 class BudgetError(ParameterError):
@@ -256,6 +270,14 @@ def sample_theory_seconds(N: int) -> float:
     comparison with the arrivals' refinement (about 50 ms at N = 50: a 2000-sample scene priced without it at
     0.14 s ran 119 s)."""
     return 0.05 + 3e-10 * N**3 + 2e-4 * N
+
+
+def accuracy_plan_seconds(N: int) -> float:
+    """Choosing a run's step for an accuracy (:func:`lcchain.compare.extrapolate.plan_for_accuracy`: the
+    extrapolated error predicted at trial steps, each a cosine sum over the modes): measured under load 0.08 s at
+    N = 12, 0.27 s at 50, 0.87 s at 200 per request.  A sensitivity check plans two requests per component and a
+    worst case one per corner: 259 corners of N = 50 planned for a minute no price counted."""
+    return 0.05 + 5e-3 * N
 
 
 def sensitivity_estimate(N: int) -> Estimate:
