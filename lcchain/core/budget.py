@@ -46,7 +46,9 @@ __all__ = ["Budget", "Estimate", "BudgetError", "DEFAULT_MAX_MEMORY", "DEFAULT_M
            "FIT_SECONDS_PER_SAMPLE", "FIT_SECONDS_PER_SAMPLE_SECTION", "FIT_SECONDS_PER_SAMPLE_SECTION2",
            "FIT_BYTES_PER_SAMPLE_SECTION", "SIMULATOR_BYTES", "POOL_WORKER_BYTES", "POOL_TRACKER_BYTES",
            "DASK_WORKER_BYTES", "DASK_SCHEDULER_BYTES", "WARM_WORKER_BYTES", "DASK_START_SECONDS",
-           "accuracy_plan_seconds", "ac_estimate", "ac_run_estimate", "chain_seconds", "sensitivity_estimate",
+           "accuracy_plan_seconds", "export_estimate", "EXPORT_IMPORT_BYTES", "EXPORT_IMPORT_SECONDS",
+           "EXPORT_COPIES", "EXPORT_BYTES_PER_CELL", "METRICS_BYTES_PER_BYTE", "TEXT_BYTES_PER_BYTE",
+           "EXPORT_BYTES_PER_SECOND", "ac_estimate", "ac_run_estimate", "chain_seconds", "sensitivity_estimate",
            "max_points", "design_estimate", "perfect_estimate", "show_bytes", "show_seconds"]
 
 #: Memory one request may use: a third of this machine's 24 GiB, so two runs fit beside the system.
@@ -241,6 +243,54 @@ def ac_estimate(*, points: float, N: int, sections: float, losses: bool = False)
               + 16.0 * 6 * RESPONSE_TIMES * N)
     return Estimate(f"{points:.3g} frequencies x {unknowns} unknowns, fitted {sections:.0f} sections at a time",
                     memory, seconds)
+
+
+#: pandas and xarray (or matplotlib) imported for an export: about 55 MiB beside the interpreter, and their start.
+EXPORT_IMPORT_BYTES = 64 * 2**20
+EXPORT_IMPORT_SECONDS = 0.8
+#: Copies of the dataset's waveform variables held at once while a netCDF file is written: the variables and the
+#: writer's own copy (ru_maxrss 3981 MiB for a 1.7 GB grid of waveforms: 2.3 times).
+EXPORT_COPIES = 2.5
+#: A study's dataset table: bytes per point of its grid (some 30 columns of 8 bytes, as a frame, its grid and
+#: the written copy).
+EXPORT_BYTES_PER_CELL = 768.0
+#: Bytes in memory per byte of the stored metrics' JSON once parsed (Python floats, lists, dicts), and again per
+#: byte of a --json or --csv text built from them.
+METRICS_BYTES_PER_BYTE = 8.0
+TEXT_BYTES_PER_BYTE = 3.0
+#: What an export reads, builds and writes per second (the waveforms of 259 x 259 corners, 1.7 GB, in 20 s under
+#: load: 85 MB/s).
+EXPORT_BYTES_PER_SECOND = 5e7
+
+
+def export_estimate(*, runs: int, cells: int, metrics: float, stored: float = 0.0, dense: float = 0.0,
+                    files: bool = False, text: bool = False) -> Estimate:
+    """The cost of ``lcchain results``: the store's runs read (their metrics parsed), and what is made of them.
+
+    Parameters
+    ----------
+    runs : int
+        Runs read.
+    cells : int
+        Points of the dataset's grid (the product of the study's dimensions' sizes).
+    metrics : float
+        Bytes of the stored metrics' JSON.
+    stored : float
+        Bytes of the saved arrays read back for ``--waveforms``.
+    dense : float
+        Bytes of the dataset's waveform variables (cells x the longest array x every vector's bytes per value).
+    files : bool
+        A file made with pandas, xarray or matplotlib (``--netcdf``, ``--parquet``, ``--plot``).
+    text : bool
+        ``--json`` or ``--csv``: the whole text built before it is written.
+    """
+    memory = (METRICS_BYTES_PER_BYTE * metrics + (TEXT_BYTES_PER_BYTE * metrics if text else 0.0)
+              + (EXPORT_IMPORT_BYTES + EXPORT_BYTES_PER_CELL * cells if files else 0.0)
+              + stored + EXPORT_COPIES * dense)
+    seconds = (EXPORT_IMPORT_SECONDS if files else 0.0) + (metrics * (1.0 + text) + stored + 2.0 * dense
+                                                           + EXPORT_BYTES_PER_CELL * cells) / EXPORT_BYTES_PER_SECOND
+    what = f"{runs} runs" + (f" and their waveforms on a grid of {cells} points" if dense else "")
+    return Estimate(what, memory, seconds)
 
 
 def ngspice_seconds(points: float, unknowns: float) -> float:
