@@ -45,7 +45,7 @@ __all__ = ["Budget", "Estimate", "BudgetError", "DEFAULT_MAX_MEMORY", "DEFAULT_M
            "AC_SECONDS_PER_UNKNOWN_FREQUENCY", "AC_SECONDS_PER_FREQUENCY", "FIT_SECONDS_PER_SAMPLE_MODE",
            "FIT_SECONDS_PER_SAMPLE", "FIT_SECONDS_PER_SAMPLE_SECTION", "FIT_SECONDS_PER_SAMPLE_SECTION2",
            "FIT_BYTES_PER_SAMPLE_SECTION", "SIMULATOR_BYTES", "POOL_WORKER_BYTES", "POOL_TRACKER_BYTES",
-           "DASK_WORKER_BYTES", "DASK_SCHEDULER_BYTES", "WARM_WORKER_BYTES", "DASK_START_SECONDS",
+           "DASK_WORKER_BYTES", "DASK_SCHEDULER_BYTES", "WARM_WORKER_BYTES", "DASK_START_SECONDS", "POOL_START_SECONDS",
            "accuracy_plan_seconds", "export_estimate", "EXPORT_IMPORT_BYTES", "EXPORT_IMPORT_SECONDS",
            "EXPORT_COPIES", "EXPORT_BYTES_PER_CELL", "METRICS_BYTES_PER_BYTE", "TEXT_BYTES_PER_BYTE",
            "EXPORT_BYTES_PER_SECOND", "ac_estimate", "ac_run_estimate", "chain_seconds", "sensitivity_estimate",
@@ -87,6 +87,10 @@ DASK_WORKER_BYTES = 128 * 2**20
 DASK_SCHEDULER_BYTES = 32 * 2**20
 #: A warm worker (ngspice's shared library in a light interpreter: 23 MiB measured), one per study worker.
 WARM_WORKER_BYTES = 32 * 2**20
+#: A spawn pool's workers ready, one per core at a time: their interpreters with lcchain's runs imported, and the
+#: pool's own start (two on this machine: 3.0 to 3.6 s under a load of 5, where the driver's imports took 1.7 to
+#: 1.9 s against the 0.8 s of :data:`INTERPRETER_SECONDS`).
+POOL_START_SECONDS = 1.2
 #: A Dask local cluster's start beside its workers' imports (its scheduler, nannies and handshakes), seconds.
 DASK_START_SECONDS = 2.0
 
@@ -245,9 +249,10 @@ def ac_estimate(*, points: float, N: int, sections: float, losses: bool = False)
                     memory, seconds)
 
 
-#: pandas and xarray (or matplotlib) imported for an export: about 55 MiB beside the interpreter, and their start.
+#: pandas and xarray (or matplotlib) imported for an export: about 55 MiB beside the interpreter, and their start
+#: (1.1 to 1.3 s measured under a load of 5).
 EXPORT_IMPORT_BYTES = 64 * 2**20
-EXPORT_IMPORT_SECONDS = 0.8
+EXPORT_IMPORT_SECONDS = 1.5
 #: Copies of the dataset's waveform variables held at once while a netCDF file is written: the variables and the
 #: writer's own copy (ru_maxrss 3981 MiB for a 1.7 GB grid of waveforms: 2.3 times).
 EXPORT_COPIES = 2.5

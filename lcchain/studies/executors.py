@@ -56,6 +56,7 @@ from ..core.budget import (
     DASK_START_SECONDS,
     DASK_WORKER_BYTES,
     INTERPRETER_SECONDS,
+    POOL_START_SECONDS,
     POOL_TRACKER_BYTES,
     POOL_WORKER_BYTES,
 )
@@ -451,7 +452,7 @@ def _pool_cost(workers: int, light: bool) -> ExecutorCost:
     if workers == 1 or light:
         return ExecutorCost()
     rounds = -(-workers // default_workers())
-    return ExecutorCost(POOL_WORKER_BYTES, POOL_TRACKER_BYTES, INTERPRETER_SECONDS * rounds)
+    return ExecutorCost(POOL_WORKER_BYTES, POOL_TRACKER_BYTES, POOL_START_SECONDS * rounds)
 
 
 def _dask_cost(workers: int, light: bool) -> ExecutorCost:
