@@ -141,3 +141,11 @@ def test_results_takes_the_budget_options(capsys) -> None:
     assert main(["results", "--help"]) == 0
     out = capsys.readouterr().out
     assert "--max-memory" in out and "--max-time" in out
+
+
+def test_a_scene_on_workers_prices_them(capsys, tmp_path) -> None:
+    """``lcchain run SCENE --workers 2``: each worker an interpreter of its own holding a sample's run."""
+    scene = tmp_path / "s.toml"
+    scene.write_text(SCENE.replace("samples = 1", "samples = 8"))
+    _refused(capsys, ["run", str(scene), "--workers", "2", "--max-memory", "250M"], "--workers = 2",
+             "8 runs on 2 workers", "--max-memory")
