@@ -189,7 +189,8 @@ class Plan:
 
     def price(self, workers: int, executor: str = "process") -> Estimate:
         """What the whole study costs on ``workers`` of ``executor``: its planning, the executor's start and
-        processes (:func:`lcchain.studies.executors.executor_cost`), its runs shared among the workers, each
+        processes (:func:`lcchain.studies.executors.executor_cost`), its runs and their comparisons with theory
+        (:func:`_compare_seconds`) shared among the workers, each
         worker holding the largest run (and a warm worker beside it, for transient runs), and the extrapolations
         combined in the driver."""
         distinct = list(self._runs().values())
@@ -198,7 +199,8 @@ class Plan:
         largest = max((task.memory for task in distinct), default=0.0)
         warm = WARM_WORKER_BYTES if any(task.spec.analysis == "transient" for task in distinct) else 0.0
         combining = sum(_combination_seconds(c) for c in self.combinations)
-        seconds = (self.planning + cost.start + sum(task.seconds for task in distinct) / used + combining)
+        runs = sum(task.seconds + _compare_seconds(task.spec) for task in distinct)
+        seconds = self.planning + cost.start + runs / used + combining
         memory = (cost.fixed + used * (cost.per_worker + largest + warm)
                   + (largest if self.combinations else 0.0))  # the driver combines members' arrays
         return Estimate(f"{len(distinct)} runs on {used} worker{'s' if used > 1 else ''}", memory, seconds)
@@ -212,10 +214,9 @@ class Plan:
 
 
 def _seconds(spec: RunSpec) -> float:
-    """A run's wall time from the cost model: unknowns x time points for a transient, and its comparison with
-    the theory of its chain (its modes, the arrivals' refinement: :func:`lcchain.core.budget.sample_theory_seconds`;
-    a sensitivity check's runs spent more on that than in ngspice); for an AC run the engine's frequencies x
-    unknowns and the fit (:func:`lcchain.compare.spectral.spectrum_estimate`)."""
+    """A run's wall time in its simulator from the cost model (what chooses its transport): unknowns x time
+    points for a transient; for an AC run the engine's frequencies x unknowns and the fit
+    (:func:`lcchain.compare.spectral.spectrum_estimate`)."""
     theory = spec.theory
     if isinstance(theory, SpectrumTheory) and spec.points is not None:
         whole = spectrum_estimate(spec.points, theory.chain.N, losses=theory.Q is not None)
@@ -224,8 +225,14 @@ def _seconds(spec: RunSpec) -> float:
         points = spec.tstop / theory.time_unit / theory.dt
     else:
         return 0.1
-    return (ngspice_seconds(points, 2 * theory.chain.N) * ENGINES[spec.engine].relative_cost + RUN_START_SECONDS
-            + sample_theory_seconds(theory.chain.N))
+    return ngspice_seconds(points, 2 * theory.chain.N) * ENGINES[spec.engine].relative_cost + RUN_START_SECONDS
+
+
+def _compare_seconds(spec: RunSpec) -> float:
+    """A transient run's comparison with the theory of its chain, beyond its simulator (its modes, the arrivals'
+    refinement: :func:`lcchain.core.budget.sample_theory_seconds`; a sensitivity check's runs spent more there
+    than in ngspice). An AC run's fit is in :func:`_seconds` already."""
+    return sample_theory_seconds(spec.theory.chain.N) if isinstance(spec.theory, Theory) else 0.0
 
 
 def _memory(spec: RunSpec) -> float:

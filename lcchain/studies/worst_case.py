@@ -35,7 +35,7 @@ from ..scenes.plan import scene_plan
 from ..theory.arrivals import first_arrival
 from ..theory.chain import Chain
 from ..theory.sensitivity import energy_fraction
-from .plan import Combination, Plan, Task, _add_runs, _seconds
+from .plan import Combination, Plan, Task, _add_runs, _compare_seconds, _seconds
 from .sensitivity import arrival_values
 from .store import StoredRun
 
@@ -144,7 +144,7 @@ def worst_case_plan(path: str | Path, *, components: int = DEFAULT_COMPONENTS, m
     planning = (sensitivity_estimate(N).seconds + (1 + len(found)) * per_request
                 + (request.samples * sample_theory_seconds(N) if request.samples > 1 else 0.0))
     first = corner_plan(found[0])
-    each = sum(_seconds(spec) for spec in first.specs)
+    each = sum(_seconds(spec) + _compare_seconds(spec) for spec in first.specs)
     Estimate(f"{len(found)} corners on {workers} worker{'s' if workers > 1 else ''}", 0.0,
              planning + each * len(found) / max(1, workers)).check(budget, "--components", components,
                                                                     "fewer --components (2^K corners)")
