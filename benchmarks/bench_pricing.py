@@ -134,6 +134,10 @@ accuracy = 1e-4
 """
 #: ... and at a fixed step, for a store of 2^8 + 3 = 259 corners that the exports read.
 WORST_DT = WORST_ACCURACY.replace("samples = 50", "samples = 1").replace("accuracy = 1e-4", "dt = 0.05")
+#: A command whose price the studies' table does not touch: its ratio now against its ratio on a quiet machine
+#: says how loaded the machine was while the table was measured.
+GAUGE = ["design", "--case", "perfect", "--N", "2000"]
+GAUGE_QUIET = 0.80
 #: Commands priced in time and memory; ``{stores}`` is the folder of the stores the exports read.
 STUDY_COMMANDS = [
     ["spectrum", "--case", "two-mass", "--N", "20"],
@@ -218,29 +222,45 @@ def _measured(command: list[str], folder: str) -> tuple[float, float]:
     return time.perf_counter() - start, peak
 
 
-def _refused(command: list[str], option: str, value: str, folder: str, timeout: float) -> bool:
-    """Whether lcchain refuses the command under ``option value`` before any work (one still running after
-    ``timeout`` was accepted and is stopped); what an accepted attempt left in the folder is removed."""
+def _started_work(pid: int) -> bool:
+    """Whether the process has a child: ngspice, a pool or Dask worker, a warm worker. lcchain starts none before
+    every price check has passed, so a child says the command was accepted."""
+    for entry in os.listdir("/proc"):
+        if entry.isdigit():
+            try:
+                with open(f"/proc/{entry}/stat") as stat:
+                    if int(stat.read().rsplit(")", 1)[1].split()[1]) == pid:
+                        return True
+            except (OSError, IndexError, ValueError):
+                continue
+    return False
+
+
+def _refused(command: list[str], option: str, value: str, folder: str) -> bool:
+    """Whether lcchain refuses the command under ``option value`` before any work. It was accepted once it starts
+    a child process or finishes (a refusal exits 2 naming the option), and is then stopped; a refusal can take
+    longer than the whole command took a moment before on a loaded machine, so no fixed cut-off decides. What an
+    accepted attempt left in the folder is removed."""
     with subprocess.Popen([*command, option, value], cwd=folder, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
                           text=True, start_new_session=True, env=_ENV or None) as proc:
-        try:
-            _, err = proc.communicate(timeout=timeout)
-        except subprocess.TimeoutExpired:
+        start = time.perf_counter()
+        while proc.poll() is None and not _started_work(proc.pid) and time.perf_counter() - start < 300.0:
+            time.sleep(0.05)
+        if proc.poll() is None:
             os.killpg(proc.pid, signal.SIGKILL)
-            proc.communicate()
-            err = ""
+            proc.wait()
+        err = proc.stderr.read() if proc.stderr else ""
     for leftover in Path(folder).iterdir():
         if leftover.suffix in (".sqlite", ".nc") or ".sqlite-" in leftover.name or leftover.name.startswith("."):
             leftover.unlink()
     return proc.returncode == 2 and option in err
 
 
-def _smallest(command: list[str], option: str, unit: str, lo: float, hi: float, folder: str,
-              timeout: float) -> float:
+def _smallest(command: list[str], option: str, unit: str, lo: float, hi: float, folder: str) -> float:
     """The smallest value of ``option`` the command is accepted under, within 3 % (bisection)."""
     while hi / lo > 1.03:
         mid = math.sqrt(lo * hi)
-        lo, hi = (mid, hi) if _refused(command, option, f"{mid:.6g}{unit}", folder, timeout) else (lo, mid)
+        lo, hi = (mid, hi) if _refused(command, option, f"{mid:.6g}{unit}", folder) else (lo, mid)
     return hi
 
 
@@ -269,7 +289,7 @@ def studies_section() -> None:
     print("Command: `.venv/bin/python benchmarks/bench_pricing.py --section studies` (also run at the end of the "
           "whole benchmark).  ")
     print(f"Priced: the smallest `--max-time` and `--max-memory` lcchain accepts the command under (bisection; an "
-          f"attempt still running after the command's own wall time was accepted); "
+          f"attempt was accepted once it started a child process, ngspice or a worker, or finished); "
           f"measured: its wall time and the peak PSS of its process tree (driver, pool or Dask workers, warm "
           f"workers, ngspice), sampled every 20 ms. Load average at the start: {load:.1f} on "
           f"{os.cpu_count()} cores{' (under load: other work shared the machine)' if load > 1.5 else ''}.\n")
@@ -288,18 +308,20 @@ def studies_section() -> None:
             with tempfile.TemporaryDirectory() as fresh:
                 _study_inputs(Path(fresh))
                 wall, peak = _measured(command, fresh)
-            # a check or a worst case plans for seconds before its last price check: an attempt counts as accepted
-            # once it has run as long as the whole command did (at least 3 s)
-            timeout = min(max(3.0, wall + 1.0), 60.0)
-            seconds = _smallest(command, "--max-time", "", 0.01, 1e5, folder, timeout)
-            memory = _smallest(command, "--max-memory", "M", 1.0, 65536.0, folder, timeout) * 2**20
+            seconds = _smallest(command, "--max-time", "", 0.01, 1e5, folder)
+            memory = _smallest(command, "--max-memory", "M", 1.0, 65536.0, folder) * 2**20
             worst_time, worst_memory = max(worst_time, wall / seconds), max(worst_memory, peak / memory)
             shown = " ".join(template).replace("{stores}/", "")
             print(f"| `lcchain {shown}` | {seconds:.3g} | {wall:.3g} | {wall / seconds:.2f} | {memory / 2**20:.0f} "
                   f"| {peak / 2**20:.0f} | {peak / memory:.2f} |", flush=True)
+        gauge = [*lcchain, *GAUGE]
+        with tempfile.TemporaryDirectory() as fresh:
+            wall, _ = _measured(gauge, fresh)
+        priced = _smallest(gauge, "--max-time", "", 0.01, 1e5, folder)
     print(f"\nWorst ratios: time {worst_time:.2f}, memory {worst_memory:.2f} (target: at most 2). The exports read "
           "a worst case of 2^8 + 3 = 259 corners (N = 30, dt = 0.05) and a sweep of six AC runs (N = 100, 200), "
-          "made first.")
+          f"made first. Load gauge: `lcchain {' '.join(GAUGE)}`, whose price this work left alone, ran "
+          f"{wall / priced:.2f} times its price now ({GAUGE_QUIET} on the quiet machine).")
 
 
 if __name__ == "__main__":
