@@ -24,7 +24,7 @@ from typing import Any
 import numpy as np
 
 import lcchain
-from lcchain.core.budget import ac_estimate
+from lcchain.compare.spectral import spectrum_estimate
 from lcchain.runs.spectrum import OMEGA_WEIGHT_FLOOR, measure_spectrum
 from lcchain.theory.cases import chain_for_case
 
@@ -90,7 +90,7 @@ def main() -> None:
         print(f"| {case} | {N} | {report.points} | {report.segments} | {report.seen.size} | "
               f"{int(np.sum(report.resolved))} | {report.max_rel_error_omega:.1e} | {report.max_abs_error_P:.1e} | "
               f"{_error(report.response_error)} | {report.fit.sweeps} | {t['ngspice_s']:.2f} | {t['fit_s']:.2f} | "
-              f"{total:.2f} | {ac_estimate(points=report.points, N=N).seconds:.2f} |", flush=True)
+              f"{total:.2f} | {spectrum_estimate(report.points, N).seconds:.2f} |", flush=True)
         rows.append({"case": case, "N": N, "omega": report.max_rel_error_omega, "P": report.max_abs_error_P,
                      "ngspice": t["ngspice_s"], "fit": t["fit_s"]})
     if args.plot:

@@ -515,14 +515,15 @@ def _scene_in_parallel(scene: Any, args: argparse.Namespace, budget: Any, label:
 
     from ..scenes.plan import scene_plan, scene_specs
     from ..scenes.run import scene_result
-    from ..studies.run import run_specs
+    from ..studies.run import check_specs, run_specs
 
     start = time.perf_counter()
     plan = scene_plan(scene, budget)
     specs = scene_specs(scene, plan)
-    records = run_specs(specs, executor="process" if args.executor == "serial" else args.executor,
-                        workers=args.workers, scheduler=args.scheduler, progress=study_counter(f"samples of {label}"),
-                        transport=args.transport)
+    executor = "process" if args.executor == "serial" else args.executor
+    check_specs(specs, budget, executor=executor, workers=args.workers)  # its workers' interpreters and runs
+    records = run_specs(specs, executor=executor, workers=args.workers, scheduler=args.scheduler,
+                        progress=study_counter(f"samples of {label}"), transport=args.transport)
     return scene_result(scene, plan, specs, records, time.perf_counter() - start)
 
 

@@ -227,7 +227,8 @@ def build_parser() -> argparse.ArgumentParser:
     studies.add_study_arguments(p)
     p.set_defaults(func=studies.cmd_batch)
 
-    p = sub.add_parser("results", help="a store's runs: a table, --json, --csv, or a --plot of the study")
+    p = sub.add_parser("results", parents=budget,
+                       help="a store's runs: a table, --json, --csv, or a --plot of the study")
     p.add_argument("store", metavar="STORE.sqlite")
     out = p.add_mutually_exclusive_group()
     out.add_argument("--json", action="store_true", help="a list in task order: index, key, status, params, ...")

@@ -173,7 +173,7 @@ def _run(args: argparse.Namespace, plan: Any, outputs: Outputs,
     from ..studies.run import run_plan
 
     workers = _workers(args)
-    plan.check(budget_from_args(args), workers)
+    plan.check(budget_from_args(args), workers, args.executor)
 
     def resumed(skipped: int, todo: int) -> None:
         if skipped:
@@ -522,6 +522,23 @@ def _print_runs(store: Any, stored: list[Any], name: str) -> None:
               "run")
 
 
+def _price_results(store: Any, args: argparse.Namespace) -> None:
+    """Refuse, before the runs are read, a ``results`` whose reading and exports exceed --max-memory or
+    --max-time (:func:`lcchain.core.budget.export_estimate`): the waveforms of a 259-corner store ran to 2.5 GiB
+    and a MemoryError."""
+    from ..core.budget import export_estimate
+
+    waveforms = bool(args.netcdf and args.waveforms)
+    size = store.export_size(waveforms=waveforms)
+    files = bool(args.netcdf or args.parquet or args.plot)
+    estimate = export_estimate(runs=size.runs, cells=size.cells if files else 0, metrics=size.metrics,
+                               stored=size.stored, dense=float(size.cells) * size.longest * size.per_point,
+                               files=files, text=bool(args.json or args.csv))
+    option, value = ("--netcdf", args.netcdf) if args.netcdf else ("STORE", args.store)
+    estimate.check(budget_from_args(args), option, value,
+                   "--netcdf without --waveforms, or a larger --max-memory" if waveforms else "")
+
+
 def cmd_results(args: argparse.Namespace) -> int:
     from ..studies.store import Store
 
@@ -534,6 +551,7 @@ def cmd_results(args: argparse.Namespace) -> int:
     if args.parquet:
         _require("pyarrow", "--parquet")
     with Store(args.store, "read", option="STORE") as store:  # read-only: nothing is created or changed
+        _price_results(store, args)
         stored = store.runs()
         if args.summary or args.plot:
             _check_metric(args.metric, stored)  # before any file is written

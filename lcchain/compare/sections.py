@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["Sections", "refine_sections", "section_residues", "WINDOW_MODES", "ONE_WINDOW"]
+__all__ = ["Sections", "refine_sections", "section_residues", "WINDOW_MODES", "ONE_WINDOW", "WINDOW_SECTIONS"]
 
 #: Modes moved together in one window.
 WINDOW_MODES = 64
@@ -37,6 +37,9 @@ ONE_WINDOW = 128
 _HALO = 6
 #: ... and the samples within this many decay rates of its modes.
 _WIDTHS = 4.0
+#: Sections whose columns one window's least squares holds at most beyond :data:`ONE_WINDOW`: its modes and its
+#: neighbours on both sides (what the fit's price counts, :func:`lcchain.compare.spectrum.fit_sections`).
+WINDOW_SECTIONS = WINDOW_MODES + 2 * _HALO
 #: Gauss-Newton sweeps at most; each window's step must lower its misfit.
 _SWEEPS = 12
 #: Terms of the smooth correction a window fits beside its modes (:func:`_background`).
@@ -48,6 +51,9 @@ _GAIN = 0.99
 #: Sweeps of the residues' block Gauss-Seidel at most, and the relative change at which it stops.
 _RESIDUE_SWEEPS = 6
 _RESIDUE_CHANGE = 1e-13
+#: Terms of the model formed at once (:func:`_sum`): its (samples x sections) matrices stay near 16 MiB each,
+#: where two-mass N = 2000 held three of 26,000 x 2000 complex values (2.5 GB) to update its model.
+_BLOCK_VALUES = 2**20
 #: Samples closer than this (relative) to a lossless pole are left out: there the circuit's own rounding moves
 #: the pole by more than the sample's distance to it (measured: 1.8e-3 relative error at 6e-14 from a pole).
 _TOO_CLOSE = 1e-9
@@ -86,7 +92,7 @@ class Sections:
 
     def value(self, w: np.ndarray, residues: np.ndarray, modes: slice | np.ndarray = slice(None)) -> np.ndarray:
         """sum over ``modes`` of residues_n j w / D_n(w) (infinite on a lossless pole: such samples are not fitted)."""
-        return _sum(w, residues[modes], self.denominators(w, modes))
+        return _sum(w, residues[modes], self.x[modes], self.gamma[modes])
 
 
 def _windows(n: int, shifted: bool = False) -> list[tuple[int, int]]:
@@ -245,14 +251,23 @@ def _solve_beside(columns: np.ndarray, beside: np.ndarray | None, target: np.nda
 def _value(w: np.ndarray, params: tuple[np.ndarray, np.ndarray, np.ndarray]) -> np.ndarray:
     """The sum of the sections (c, x, gamma) given apart from ``Sections`` (a window's previous parameters)."""
     c, x, gamma = params
-    return _sum(w, c, (x[None, :] - (w * w)[:, None]) + 1j * w[:, None] * gamma[None, :])
+    return _sum(w, c, x, gamma)
 
 
-def _sum(w: np.ndarray, residues: np.ndarray, D: np.ndarray) -> np.ndarray:
-    """sum_n residues_n j w / D_n; a sample on a lossless pole (D = 0, within rounding of a fitted pole) is
-    infinite and left out of every fit (:func:`_rows`)."""
+def _sum(w: np.ndarray, residues: np.ndarray, x: np.ndarray, gamma: np.ndarray) -> np.ndarray:
+    """sum_n residues_n j w / D_n, D_n = x_n - w^2 + j gamma_n w; a sample on a lossless pole (D = 0, within
+    rounding of a fitted pole) is infinite and left out of every fit (:func:`_rows`).
+
+    Formed :data:`_BLOCK_VALUES` terms at a time, a block of samples after the other: each sample's sum is the
+    same numbers added in the same order, and no (samples x sections) matrix is held whole."""
+    out = np.empty(w.size, dtype=complex)
+    rows = max(1, _BLOCK_VALUES // max(1, residues.size))
     with np.errstate(divide="ignore", invalid="ignore"):
-        return (1j * w[:, None] * residues[None, :] / D).sum(axis=1)
+        for start in range(0, w.size, rows):
+            ws = w[start:start + rows]
+            D = (x[None, :] - (ws * ws)[:, None]) + 1j * ws[:, None] * gamma[None, :]
+            out[start:start + rows] = (1j * ws[:, None] * residues[None, :] / D).sum(axis=1)
+    return out
 
 
 def section_residues(w: np.ndarray, y: np.ndarray, sections: Sections) -> np.ndarray:

@@ -20,16 +20,17 @@ from typing import Any
 
 import numpy as np
 
+from ..core.budget import Estimate, ac_estimate
 from ..core.checks import integer
 from ..core.errors import ParameterError
 from ..core.frozen import FrozenArrays
 from ..core.limits import COUPLED_MAX_N, MAX_AC_POINTS
 from ..theory.modes import Modes
 from .grid import POINTS_PER_SPACING, Segment, min_points, sweep_segments
-from .spectrum import SpectrumFit, fit_spectrum
+from .spectrum import SpectrumFit, fit_sections, fit_spectrum
 
 __all__ = ["SpectrumMetrics", "SPECTRAL_METRICS", "spacing_spread", "sweep_grid", "compare_spectrum",
-           "nearest_modes", "largest_relative_error",
+           "spectrum_estimate", "nearest_modes", "largest_relative_error",
            "OMEGA_MARGIN", "OMEGA_WEIGHT_FLOOR", "DEFAULT_OVERSAMPLING", "SPECTRUM_MAX_N"]
 
 #: The sweep ends this far above the highest normal frequency (relative).
@@ -218,6 +219,13 @@ def sweep_grid(omega: np.ndarray, points: int | None = None) -> tuple[list[Segme
                      allowed=f"at least {needed} frequencies ({POINTS_PER_SPACING} per spacing of the normal "
                              f"frequencies, up to {omega_max:.4g}) and at most {MAX_AC_POINTS}")
     return sweep_segments(omega, omega_max, POINTS_PER_SPACING, points), points, omega_max
+
+
+def spectrum_estimate(points: float, N: int, losses: bool = False) -> Estimate:
+    """The price of an AC run of a ladder of N masses on ``points`` frequencies and of its comparison
+    (:func:`compare_spectrum`): :func:`lcchain.core.budget.ac_estimate` with the sections the fit moves at once
+    (:func:`lcchain.compare.spectrum.fit_sections`)."""
+    return ac_estimate(points=points, N=N, sections=fit_sections(points, N, losses), losses=losses)
 
 
 def _matched(fit: SpectrumFit, theory: Modes) -> SpectrumFit:

@@ -40,9 +40,9 @@ from ..core.blas import fixed_blas_threads
 from ..core.errors import ParameterError
 from ..core.frozen import FrozenArrays
 from .grid import POINTS_PER_SPACING, min_points
-from .sections import Sections, refine_sections, section_residues
+from .sections import ONE_WINDOW, WINDOW_SECTIONS, Sections, refine_sections, section_residues
 
-__all__ = ["SpectrumFit", "fit_spectrum", "min_points", "POINTS_PER_SPACING"]
+__all__ = ["SpectrumFit", "fit_spectrum", "fit_sections", "min_points", "POINTS_PER_SPACING"]
 
 #: Samples in one rational fit (beyond 1.5 times this, the samples are cut into overlapping pieces): with losses
 #: longer pieces, whose poles are found among more neighbours (two-mass N = 100, Q = 100: a mode missed by pieces
@@ -61,6 +61,11 @@ _AAA_RTOL = 1e-13
 _AAA_RTOL_LOSSY = 1e-11
 #: Terms of a piece's rational fit beyond two per pole the samples show.
 _SPARE_TERMS = 16
+#: Samples per spurious section, at most, when the samples are cut into pieces: a piece far finer than the poles
+#: around it can leave a pole of its rational fit whose residue is not negligible, and Gauss-Newton carries it
+#: as a section (measured: two-mass N = 20 at 20,000 .. 200,000 frequencies, one per 2,900 .. 5,900 samples; N = 100
+#: at 50,000, one per 1,800).
+_SAMPLES_PER_SPURIOUS = 1024
 
 
 @dataclass(frozen=True, eq=False)
@@ -195,6 +200,32 @@ def _real_sections(poles: np.ndarray, residues: np.ndarray) -> tuple[np.ndarray,
 def _significant(c: np.ndarray) -> np.ndarray:
     """Sections whose residue is not negligible beside the largest."""
     return np.abs(c) > _WEAKEST * float(np.max(np.abs(c), initial=0.0))
+
+
+def fit_sections(points: float, N: int, lossy: bool = False) -> float:
+    """The most sections one Gauss-Newton step of :func:`fit_spectrum` moves at once, for its price: its
+    matrices are (samples x these).
+
+    Beyond :data:`~lcchain.compare.sections.ONE_WINDOW` modes, a window and its neighbours on both sides.  Below,
+    every section at once: the N modes and the spurious poles of pieces much finer than the poles (up to one per
+    :data:`_SAMPLES_PER_SPURIOUS` samples: a sweep of 10^6 frequencies for 20 modes fits one window of 128, not
+    20), up to one window of :data:`~lcchain.compare.sections.ONE_WINDOW`, the most it ever holds.
+
+    Parameters
+    ----------
+    points : float
+        Samples (frequencies of the sweep).
+    N : int
+        Modes of the chain.
+    lossy : bool
+        With losses every piece is fitted apart; without them a sweep of at most :data:`_WHOLE_SAMPLES` samples
+        is fitted whole, with no spurious pole.
+    """
+    if N > ONE_WINDOW:
+        return float(WINDOW_SECTIONS)
+    whole = not lossy and points <= _WHOLE_SAMPLES and 2 * N + _SPARE_TERMS <= _WHOLE_TERMS
+    spurious = 0.0 if whole else points / _SAMPLES_PER_SPURIOUS
+    return float(min(N + spurious, ONE_WINDOW))
 
 
 @fixed_blas_threads

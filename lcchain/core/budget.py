@@ -20,8 +20,9 @@ benchmarks/theory.md):
   value of every time point (six copies of a float64).  Exact modes of N
   masses add two N x N matrices.
 * ``lcchain spectrum``: ngspice's AC analysis, :data:`AC_SECONDS_PER_UNKNOWN_FREQUENCY` per frequency per
-  unknown, and the fit, :data:`FIT_SECONDS_PER_SAMPLE_MODE` per frequency per mode
-  (:func:`ac_estimate`).
+  unknown, and the fit, whose Gauss-Newton matrices are frequencies x the sections of one window
+  (:data:`FIT_BYTES_PER_SAMPLE_SECTION`; up to 128 sections, more when a sweep much finer than the poles
+  gives the rational fits spurious poles) (:func:`ac_estimate`).
 * an optimal design: :data:`DESIGN_SECONDS_FIXED` plus
   :data:`DESIGN_SECONDS_PER_MASS` per mass (closed-form modes and arrival
   searches are linear in N).
@@ -42,7 +43,12 @@ __all__ = ["Budget", "Estimate", "BudgetError", "DEFAULT_MAX_MEMORY", "DEFAULT_M
            "BYTES_PER_VALUE", "DESIGN_SECONDS_PER_MASS", "DESIGN_SECONDS_FIXED",
            "INTERPRETER_BYTES", "INTERPRETER_SECONDS", "RUN_START_SECONDS", "run_estimate", "sample_theory_seconds",
            "AC_SECONDS_PER_UNKNOWN_FREQUENCY", "AC_SECONDS_PER_FREQUENCY", "FIT_SECONDS_PER_SAMPLE_MODE",
-           "FIT_SECONDS_PER_SAMPLE", "ac_estimate", "ac_run_estimate", "chain_seconds", "sensitivity_estimate",
+           "FIT_SECONDS_PER_SAMPLE", "FIT_SECONDS_PER_SAMPLE_SECTION", "FIT_SECONDS_PER_SAMPLE_SECTION2",
+           "FIT_BYTES_PER_SAMPLE_SECTION", "SIMULATOR_BYTES", "POOL_WORKER_BYTES", "POOL_TRACKER_BYTES",
+           "DASK_WORKER_BYTES", "DASK_SCHEDULER_BYTES", "WARM_WORKER_BYTES", "DASK_START_SECONDS", "POOL_START_SECONDS",
+           "accuracy_plan_seconds", "export_estimate", "EXPORT_IMPORT_BYTES", "EXPORT_IMPORT_SECONDS",
+           "EXPORT_COPIES", "EXPORT_BYTES_PER_CELL", "METRICS_BYTES_PER_BYTE", "TEXT_BYTES_PER_BYTE",
+           "EXPORT_BYTES_PER_SECOND", "ac_estimate", "ac_run_estimate", "chain_seconds", "sensitivity_estimate",
            "max_points", "design_estimate", "perfect_estimate", "show_bytes", "show_seconds"]
 
 #: Memory one request may use: a third of this machine's 24 GiB, so two runs fit beside the system.
@@ -67,6 +73,26 @@ INTERPRETER_BYTES = 96 * 2**20
 #: The interpreter's start with lcchain, numpy and scipy imported, seconds (0.6-0.9 s measured for a command
 #: that does no work), counted in every estimate checked against --max-time.
 INTERPRETER_SECONDS = 0.8
+#: A simulator's own process beside lcchain's (``ngspice -b`` streams its raw file: 12 MiB resident measured
+#: for ladders of 20 .. 300 masses).
+SIMULATOR_BYTES = 16 * 2**20
+#: A study's pool worker beside the driver: a spawned interpreter with lcchain's runs, numpy and scipy imported
+#: (84-92 MiB resident measured in sweeps and sensitivity checks); and multiprocessing's resource tracker, once
+#: per pool (12 MiB).
+POOL_WORKER_BYTES = 96 * 2**20
+POOL_TRACKER_BYTES = 16 * 2**20
+#: A Dask worker (its interpreter with distributed imported: 111 MiB measured) and the scheduler of a local
+#: cluster in the driver (24 MiB more than a pool's driver).
+DASK_WORKER_BYTES = 128 * 2**20
+DASK_SCHEDULER_BYTES = 32 * 2**20
+#: A warm worker (ngspice's shared library in a light interpreter: 23 MiB measured), one per study worker.
+WARM_WORKER_BYTES = 32 * 2**20
+#: A spawn pool's workers ready, one per core at a time: their interpreters with lcchain's runs imported, and the
+#: pool's own start (two on this machine: 3.0 to 3.6 s under a load of 5, where the driver's imports took 1.7 to
+#: 1.9 s against the 0.8 s of :data:`INTERPRETER_SECONDS`).
+POOL_START_SECONDS = 1.2
+#: A Dask local cluster's start beside its workers' imports (its scheduler, nannies and handshakes), seconds.
+DASK_START_SECONDS = 2.0
 
 
 class BudgetError(ParameterError):
@@ -163,11 +189,27 @@ def run_estimate(*, points: float, saved: int, compared: int, unknowns: float, e
 AC_SECONDS_PER_UNKNOWN_FREQUENCY = 1.5e-7
 #: ... and per frequency whatever the circuit.
 AC_SECONDS_PER_FREQUENCY = 2e-5
-#: The fit's cost per sample per mode: the model's update in every Gauss-Newton sweep (O(points x N) each);
-#: measured (under load, benchmarks/spectrum.md) 0.5e-6 .. 1.4e-6 at N = 500 .. 2000.
+#: The fit's cost per sample per mode beyond its windows: the model's update in every Gauss-Newton sweep
+#: (O(points x N) each) and each window's choice of rows; measured (under load, benchmarks/spectrum.md)
+#: 0.5e-6 .. 1.4e-6 at N = 500 .. 2000.
 FIT_SECONDS_PER_SAMPLE_MODE = 6e-7
-#: The fit's cost per sample whatever N: its rational fits (pieces of fixed size) and windows' least squares.
-FIT_SECONDS_PER_SAMPLE = 5e-4
+#: The fit's cost per sample whatever N: its rational fits (pieces of fixed size) and windows' least squares'
+#: setup; with losses the rational fits of pieces of 512 samples take up to 256 terms (two-mass N = 100, Q = 100:
+#: 0.55 ms a sample, idle).
+FIT_SECONDS_PER_SAMPLE = {False: 5e-5, True: 6e-4}
+#: The fit's cost per sample per section of a window, and per sample per section squared (Gauss-Newton's
+#: Jacobian, samples x 2 or 3 sections, and its least squares): two-mass N = 20 .. 100, 5,000 .. 200,000
+#: frequencies, one window of 20 .. 128 sections, 2e-6 and 4e-8 (under load).
+FIT_SECONDS_PER_SAMPLE_SECTION = 2e-6
+FIT_SECONDS_PER_SAMPLE_SECTION2 = 4e-8
+#: The fit's memory per sample per section of its window: the Jacobian's blocks, the Jacobian, its scaled copy
+#: and the least squares' own (measured: ru_maxrss - the interpreter's over samples x sections, 160 bytes without
+#: losses at 50,000 .. 200,000 frequencies and 20 .. 128 sections; 224 with losses, whose Jacobian has a third
+#: block).
+FIT_BYTES_PER_SAMPLE_SECTION = {False: 160.0, True: 224.0}
+#: Times at which the fitted model's response is set beside the exact one (``lcchain spectrum``): both are
+#: (times x N) complex arrays with a few temporaries each.
+RESPONSE_TIMES = 2001
 
 
 def ac_run_estimate(*, points: float, saved: int, unknowns: float) -> Estimate:
@@ -178,9 +220,10 @@ def ac_run_estimate(*, points: float, saved: int, unknowns: float) -> Estimate:
                     * (saved + 1), seconds)
 
 
-def ac_estimate(*, points: float, N: int, losses: bool = False) -> Estimate:
-    """The cost of ``lcchain spectrum``: ngspice's AC analysis of ``points`` frequencies, the fit, and the exact
-    modes and response it is compared with.
+def ac_estimate(*, points: float, N: int, sections: float, losses: bool = False) -> Estimate:
+    """The cost of an AC run of lcchain's ladder and its comparison (``lcchain spectrum``, and each AC run of a
+    study): ngspice's AC analysis of ``points`` frequencies, the fit, and the exact modes and response it is
+    compared with.
 
     Parameters
     ----------
@@ -188,14 +231,71 @@ def ac_estimate(*, points: float, N: int, losses: bool = False) -> Estimate:
         Frequencies of the sweep.
     N : int
         Masses (loops): 2 N unknowns, 3 N with losses (a node between each coil and its resistor).
+    sections : float
+        The most sections one Gauss-Newton step of the fit moves at once (its matrices are points x sections:
+        :func:`lcchain.compare.spectrum.fit_sections` says how many).
     losses : bool
     """
     unknowns = (3 if losses else 2) * N
-    seconds = (ac_run_estimate(points=points, saved=2, unknowns=unknowns).seconds
-               + points * (FIT_SECONDS_PER_SAMPLE_MODE * N + FIT_SECONDS_PER_SAMPLE) + 3e-10 * N**3)  # exact modes
-    # the raw file's three complex columns and their copies; the exact modes (N x N); the response's (times x N)
-    memory = 16.0 * 3 * 4 * points + 16.0 * N * N + 16.0 * 6 * 2001 * N
-    return Estimate(f"{points:.3g} frequencies x {unknowns} unknowns", memory, seconds)
+    engine = ac_run_estimate(points=points, saved=2, unknowns=unknowns)
+    fit = points * (FIT_SECONDS_PER_SAMPLE[losses] + FIT_SECONDS_PER_SAMPLE_MODE * N
+                    + FIT_SECONDS_PER_SAMPLE_SECTION * sections + FIT_SECONDS_PER_SAMPLE_SECTION2 * sections**2)
+    seconds = engine.seconds + fit + 3e-10 * N**3  # exact modes
+    # ngspice's process; the fit's matrices; the exact modes (eigh: the matrix, its eigenvectors, workspace); the
+    # fitted and the exact responses (times x N complex, each with its temporaries)
+    memory = (engine.memory + SIMULATOR_BYTES + FIT_BYTES_PER_SAMPLE_SECTION[losses] * points * sections + 32.0 * N * N
+              + 16.0 * 6 * RESPONSE_TIMES * N)
+    return Estimate(f"{points:.3g} frequencies x {unknowns} unknowns, fitted {sections:.0f} sections at a time",
+                    memory, seconds)
+
+
+#: pandas and xarray (or matplotlib) imported for an export: about 55 MiB beside the interpreter, and their start
+#: (1.1 to 1.3 s measured under a load of 5).
+EXPORT_IMPORT_BYTES = 64 * 2**20
+EXPORT_IMPORT_SECONDS = 1.5
+#: Copies of the dataset's waveform variables held at once while a netCDF file is written: the variables and the
+#: writer's own copy (ru_maxrss 3981 MiB for a 1.7 GB grid of waveforms: 2.3 times).
+EXPORT_COPIES = 2.5
+#: A study's dataset table: bytes per point of its grid (some 30 columns of 8 bytes, as a frame, its grid and
+#: the written copy).
+EXPORT_BYTES_PER_CELL = 768.0
+#: Bytes in memory per byte of the stored metrics' JSON once parsed (Python floats, lists, dicts), and again per
+#: byte of a --json or --csv text built from them.
+METRICS_BYTES_PER_BYTE = 8.0
+TEXT_BYTES_PER_BYTE = 3.0
+#: What an export reads, builds and writes per second (the waveforms of 259 x 259 corners, 1.7 GB, in 20 s under
+#: load: 85 MB/s).
+EXPORT_BYTES_PER_SECOND = 5e7
+
+
+def export_estimate(*, runs: int, cells: int, metrics: float, stored: float = 0.0, dense: float = 0.0,
+                    files: bool = False, text: bool = False) -> Estimate:
+    """The cost of ``lcchain results``: the store's runs read (their metrics parsed), and what is made of them.
+
+    Parameters
+    ----------
+    runs : int
+        Runs read.
+    cells : int
+        Points of the dataset's grid (the product of the study's dimensions' sizes).
+    metrics : float
+        Bytes of the stored metrics' JSON.
+    stored : float
+        Bytes of the saved arrays read back for ``--waveforms``.
+    dense : float
+        Bytes of the dataset's waveform variables (cells x the longest array x every vector's bytes per value).
+    files : bool
+        A file made with pandas, xarray or matplotlib (``--netcdf``, ``--parquet``, ``--plot``).
+    text : bool
+        ``--json`` or ``--csv``: the whole text built before it is written.
+    """
+    memory = (METRICS_BYTES_PER_BYTE * metrics + (TEXT_BYTES_PER_BYTE * metrics if text else 0.0)
+              + (EXPORT_IMPORT_BYTES + EXPORT_BYTES_PER_CELL * cells if files else 0.0)
+              + stored + EXPORT_COPIES * dense)
+    seconds = (EXPORT_IMPORT_SECONDS if files else 0.0) + (metrics * (1.0 + text) + stored + 2.0 * dense
+                                                           + EXPORT_BYTES_PER_CELL * cells) / EXPORT_BYTES_PER_SECOND
+    what = f"{runs} runs" + (f" and their waveforms on a grid of {cells} points" if dense else "")
+    return Estimate(what, memory, seconds)
 
 
 def ngspice_seconds(points: float, unknowns: float) -> float:
@@ -225,6 +325,14 @@ def sample_theory_seconds(N: int) -> float:
     comparison with the arrivals' refinement (about 50 ms at N = 50: a 2000-sample scene priced without it at
     0.14 s ran 119 s)."""
     return 0.05 + 3e-10 * N**3 + 2e-4 * N
+
+
+def accuracy_plan_seconds(N: int) -> float:
+    """Choosing a run's step for an accuracy (:func:`lcchain.compare.extrapolate.plan_for_accuracy`: the
+    extrapolated error predicted at trial steps, each a cosine sum over the modes): measured under load 0.08 s at
+    N = 12, 0.27 s at 50, 0.87 s at 200 per request.  A sensitivity check plans two requests per component and a
+    worst case one per corner: 259 corners of N = 50 planned for a minute no price counted."""
+    return 0.05 + 5e-3 * N
 
 
 def sensitivity_estimate(N: int) -> Estimate:

@@ -34,11 +34,11 @@ import numpy as np
 from ..circuit.netlist import probe_names
 from ..compare.accuracy import split_error
 from ..compare.metrics import Metrics, compare_signals
-from ..compare.spectral import SpectrumMetrics, compare_spectrum
+from ..compare.spectral import SpectrumMetrics, compare_spectrum, spectrum_estimate
 from ..compare.waveforms import Signals, loop_signals
 from ..core import __version__
 from ..core.blas import fixed_blas_threads
-from ..core.budget import ac_estimate, ac_run_estimate
+from ..core.budget import ac_run_estimate
 from ..core.checks import instance
 from ..core.errors import ParameterError, SimulationError
 from ..core.frozen import FrozenArrays
@@ -280,7 +280,7 @@ def _run_ac(spec: RunSpec, simulator: Simulator,
         if progress is not None:  # the fit follows: most of the work beyond a few hundred modes
             N, lossy = spec.theory.chain.N, spec.theory.Q is not None
             engine = ac_run_estimate(points=spec.points, saved=2, unknowns=(3 if lossy else 2) * N).seconds
-            progress(engine / ac_estimate(points=spec.points, N=N, losses=lossy).seconds)
+            progress(engine / spectrum_estimate(spec.points, N, losses=lossy).seconds)
         spectrum = ac_metrics(spec.theory, result)
     if progress is not None:
         progress(1.0)

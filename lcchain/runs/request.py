@@ -37,13 +37,12 @@ from ..compare.extrapolate import (
     runs_for_step,
 )
 from ..compare.grid import Segment
-from ..compare.spectral import SPECTRUM_MAX_N, sweep_grid
+from ..compare.spectral import SPECTRUM_MAX_N, spectrum_estimate, sweep_grid
 from ..core.blas import fixed_blas_threads
 from ..core.budget import (
     RUN_START_SECONDS,
     Budget,
     Estimate,
-    ac_estimate,
     max_points,
     run_estimate,
     sample_theory_seconds,
@@ -585,7 +584,7 @@ def _plan_ac(request: Request, budget: Budget, modes: Modes | None, design_secon
     segments, points, omega_max = sweep_grid(theory.omega, analysis.points)
 
     def price(frequencies: int) -> None:
-        one = ac_estimate(points=frequencies, N=N, losses=request.Q is not None)
+        one = spectrum_estimate(frequencies, N, losses=request.Q is not None)
         one = replace(one, seconds=one.seconds * ac_engine(request.engine).ac_relative_cost)
         name, value = ("points", frequencies) if analysis.points is not None else ("N", N)
         one.check(budget, name, value, "fewer frequencies (--points) or a smaller chain")

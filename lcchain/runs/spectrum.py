@@ -249,7 +249,7 @@ def measure_spectrum(chain: Chain, *, Q: float | None = None, points: int | None
     simulator : Simulator, optional
         The engine's batch transport.
     budget : Budget, optional
-        The AC run and the fit are priced first (:func:`lcchain.core.budget.ac_estimate`, times the engine's
+        The AC run and the fit are priced first (:func:`lcchain.compare.spectral.spectrum_estimate`, times the engine's
         ``ac_relative_cost``).
     engine : str
         An engine with an AC analysis (:func:`lcchain.spice.engines.ac_engine`): ``"ngspice"`` or ``"gnucap"``.

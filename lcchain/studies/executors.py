@@ -51,6 +51,15 @@ from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass, replace
 from typing import Any
 
+from ..core.budget import (
+    DASK_SCHEDULER_BYTES,
+    DASK_START_SECONDS,
+    DASK_WORKER_BYTES,
+    INTERPRETER_SECONDS,
+    POOL_START_SECONDS,
+    POOL_TRACKER_BYTES,
+    POOL_WORKER_BYTES,
+)
 from ..core.errors import LcchainError, ParameterError, SimulatorMissingError
 from ..core.types import EXECUTORS, TRANSPORT_CHOICES, ExecutorName, TransportChoice
 from ..runs.execute import RunRecord, execute
@@ -62,7 +71,7 @@ from .pools import interrupts_held, kill_pool, spawn_pool
 
 __all__ = ["ExecutorName", "EXECUTORS", "MIN_TASK_SECONDS", "SCHEDULER_SCHEMES", "run_groups", "open_executor",
            "check_executor", "group_tasks", "default_workers", "execute_group", "Transports", "choose_transports",
-           "WARM_MIN_RUNS_PER_WORKER"]
+           "WARM_MIN_RUNS_PER_WORKER", "ExecutorCost", "executor_cost", "EXECUTOR_COSTS"]
 
 #: The executors lcchain has.
 #: Seconds of runs worth sending as one task (Dask's overhead per task is a few ms; its documentation asks for
@@ -418,8 +427,55 @@ def _dask_runner(simulator: Simulator, workers: int, scheduler: str | None, keep
         yield lambda groups, transports: _on_dask(client, groups, simulator, keep_signals, transports)
 
 
+@dataclass(frozen=True)
+class ExecutorCost:
+    """What an executor costs beside its runs, for a study's price (:meth:`lcchain.studies.plan.Plan.price`).
+
+    Attributes
+    ----------
+    per_worker : float
+        Bytes each worker process holds before any run (0: the runs happen in the driver, or its threads).
+    fixed : float
+        Bytes beside the workers (a pool's resource tracker, a local Dask scheduler).
+    start : float
+        Seconds before the first run can start (the workers' interpreters and imports).
+    """
+
+    per_worker: float = 0.0
+    fixed: float = 0.0
+    start: float = 0.0
+
+
+def _pool_cost(workers: int, light: bool) -> ExecutorCost:
+    """One worker: the driver runs them. Runs with no theory: the driver's threads. Else a spawn pool, whose
+    workers start in parallel, one per core (more take turns)."""
+    if workers == 1 or light:
+        return ExecutorCost()
+    rounds = -(-workers // default_workers())
+    return ExecutorCost(POOL_WORKER_BYTES, POOL_TRACKER_BYTES, POOL_START_SECONDS * rounds)
+
+
+def _dask_cost(workers: int, light: bool) -> ExecutorCost:
+    rounds = -(-workers // default_workers())
+    return ExecutorCost(DASK_WORKER_BYTES, DASK_SCHEDULER_BYTES, DASK_START_SECONDS + INTERPRETER_SECONDS * rounds)
+
+
+#: What each executor costs beside its runs, given its workers and whether its runs are light (no theory to
+#: compute): ``(workers, light) -> ExecutorCost``.  A new executor adds its line here too.
+EXECUTOR_COSTS: dict[str, Callable[[int, bool], ExecutorCost]] = {
+    "serial": lambda workers, light: ExecutorCost(), "process": _pool_cost, "dask": _dask_cost,
+}
+
+
+def executor_cost(executor: str, workers: int, light: bool = False) -> ExecutorCost:
+    """What ``executor`` with ``workers`` costs beside its runs (:data:`EXECUTOR_COSTS`)."""
+    check_executor(executor, workers)
+    return EXECUTOR_COSTS[executor](workers, light)
+
+
 #: Each executor: a context manager (simulator, workers, scheduler, keep_signals, verbose) that yields a runner.
-#: To add one: a context manager here and its name in :data:`lcchain.core.types.ExecutorName`.
+#: To add one: a context manager here, its cost in :data:`EXECUTOR_COSTS` and its name in
+#: :data:`lcchain.core.types.ExecutorName`.
 _RunnerFactory = Callable[[Simulator, int, str | None, bool, bool], contextlib.AbstractContextManager[Runner]]
 EXECUTOR_RUNNERS: dict[str, _RunnerFactory] = {
     "serial": _serial_runner, "process": _process_runner, "dask": _dask_runner,

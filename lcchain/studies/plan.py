@@ -29,13 +29,17 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from ..compare.spectral import spectrum_estimate
 from ..core.budget import (
     RUN_START_SECONDS,
+    SIMULATOR_BYTES,
+    WARM_WORKER_BYTES,
     Budget,
     Estimate,
-    ac_estimate,
+    accuracy_plan_seconds,
     chain_seconds,
     ngspice_seconds,
+    run_estimate,
     sample_theory_seconds,
 )
 from ..core.checks import instance
@@ -55,6 +59,7 @@ from ..spice.runner import read_include
 from ..spice.text import canonical_text, saved_vectors
 from ..theory.cases import chain_for_case
 from ..theory.spectrum import normal_modes
+from .executors import executor_cost
 
 __all__ = ["Task", "Combination", "Plan", "sweep_plan", "spectrum_sweep_plan", "scene_sweep_plan", "request_plan",
            "batch_plan", "parse_vary"]
@@ -72,13 +77,17 @@ class Task:
         The varied values that made it, by name (JSON values).
     spec : RunSpec
     seconds : float
-        Its estimated wall time (for grouping short tasks).
+        Its estimated wall time (for grouping short tasks, and the study's price).
+    memory : float
+        Its estimated memory where it runs, bytes: the run's arrays and comparison, and the simulator's process
+        (the worker's own interpreter is the executor's, :func:`lcchain.studies.executors.executor_cost`).
     """
 
     index: int
     params: Mapping[str, Any]
     spec: RunSpec
     seconds: float = 0.0
+    memory: float = 0.0
 
 
 @dataclass(frozen=True, eq=False)
@@ -132,6 +141,9 @@ class Plan:
         Extrapolations made from some of the tasks (their indices follow their members').
     engine : str
         The engine every run uses (:data:`lcchain.spice.engines.ENGINES`): one per study, found once.
+    planning : float
+        Priced seconds of the work done in the driver to make the plan (the sensitivities, each request's choice
+        of steps, a Monte Carlo's theory): the study's price counts them with its runs.
     """
 
     kind: str
@@ -141,6 +153,7 @@ class Plan:
     axes: tuple[str, ...] = field(default=())
     combinations: tuple[Combination, ...] = field(default=())
     engine: str = DEFAULT_ENGINE
+    planning: float = 0.0
 
     def __post_init__(self) -> None:
         others = sorted({task.spec.engine for task in self.tasks} - {self.engine})
@@ -166,29 +179,47 @@ class Plan:
         """The plan's identity: its ordered row keys (which hold the lcchain and ngspice versions)."""
         return hashlib.sha256("\n".join(self.keys(ngspice_version).values()).encode()).hexdigest()
 
-    def _runs(self) -> dict[str, float]:
-        """Estimated seconds of each distinct run (a run that points share, once), by its key."""
-        return {task.spec.key(""): task.seconds for task in self.tasks}
+    def _runs(self) -> dict[str, Task]:
+        """Each distinct run (a run that points share, once), by its key."""
+        return {task.spec.key(""): task for task in self.tasks}
 
     def estimate(self) -> float:
         """Estimated seconds of all its runs together, on one worker (a run that points share, once)."""
-        return sum(self._runs().values())
+        return sum(task.seconds for task in self._runs().values())
 
-    def check(self, budget: Budget, workers: int, option: str = "--max-time") -> None:
-        """Refuse a study whose runs would take longer than the budget on these workers."""
-        distinct = self._runs()
-        seconds = sum(distinct.values()) / max(1, workers)
-        runs = len(distinct)
-        Estimate(f"{runs} runs on {workers} worker{'s' if workers > 1 else ''}", 0.0,
-                 seconds).check(budget, "study", f"{runs} runs", "fewer runs, more workers, or a larger --max-time")
+    def price(self, workers: int, executor: str = "process") -> Estimate:
+        """What the whole study costs on ``workers`` of ``executor``: its planning, the executor's start and
+        processes (:func:`lcchain.studies.executors.executor_cost`), its runs and their comparisons with theory
+        (:func:`_compare_seconds`) shared among the workers, each
+        worker holding the largest run (and a warm worker beside it, for transient runs), and the extrapolations
+        combined in the driver."""
+        distinct = list(self._runs().values())
+        used = 1 if executor == "serial" else max(1, min(workers, len(distinct)))
+        cost = executor_cost(executor, used, light=all(task.spec.theory is None for task in distinct))
+        largest = max((task.memory for task in distinct), default=0.0)
+        warm = WARM_WORKER_BYTES if any(task.spec.analysis == "transient" for task in distinct) else 0.0
+        combining = sum(_combination_seconds(c) for c in self.combinations)
+        runs = sum(task.seconds + _compare_seconds(task.spec) for task in distinct)
+        seconds = self.planning + cost.start + runs / used + combining
+        memory = (cost.fixed + used * (cost.per_worker + largest + warm)
+                  + (largest if self.combinations else 0.0))  # the driver combines members' arrays
+        return Estimate(f"{len(distinct)} runs on {used} worker{'s' if used > 1 else ''}", memory, seconds)
+
+    def check(self, budget: Budget, workers: int, executor: str = "process") -> None:
+        """Refuse a study whose planning, runs and workers would take more than the budget (time or memory)."""
+        runs = len(self._runs())
+        self.price(workers, executor).check(budget, "study", f"{runs} runs",
+                                            "fewer runs, fewer or more workers, or a larger --max-time or "
+                                            "--max-memory")
 
 
 def _seconds(spec: RunSpec) -> float:
-    """A run's wall time from the cost model: unknowns x time points for a transient; for an AC run the engine's
-    frequencies x unknowns and the fit (:func:`lcchain.core.budget.ac_estimate`)."""
+    """A run's wall time in its simulator from the cost model (what chooses its transport): unknowns x time
+    points for a transient; for an AC run the engine's frequencies x unknowns and the fit
+    (:func:`lcchain.compare.spectral.spectrum_estimate`)."""
     theory = spec.theory
     if isinstance(theory, SpectrumTheory) and spec.points is not None:
-        whole = ac_estimate(points=spec.points, N=theory.chain.N, losses=theory.Q is not None)
+        whole = spectrum_estimate(spec.points, theory.chain.N, losses=theory.Q is not None)
         return whole.seconds * ENGINES[spec.engine].ac_relative_cost + RUN_START_SECONDS
     if isinstance(theory, Theory) and theory.dt is not None:
         points = spec.tstop / theory.time_unit / theory.dt
@@ -197,16 +228,44 @@ def _seconds(spec: RunSpec) -> float:
     return ngspice_seconds(points, 2 * theory.chain.N) * ENGINES[spec.engine].relative_cost + RUN_START_SECONDS
 
 
+def _compare_seconds(spec: RunSpec) -> float:
+    """A transient run's comparison with the theory of its chain, beyond its simulator (its modes, the arrivals'
+    refinement: :func:`lcchain.core.budget.sample_theory_seconds`; a sensitivity check's runs spent more there
+    than in ngspice). An AC run's fit is in :func:`_seconds` already."""
+    return sample_theory_seconds(spec.theory.chain.N) if isinstance(spec.theory, Theory) else 0.0
+
+
+def _memory(spec: RunSpec) -> float:
+    """A run's memory where it runs: its arrays and their comparison (:func:`lcchain.core.budget.run_estimate`,
+    an AC run's :func:`lcchain.compare.spectral.spectrum_estimate`) and the simulator's process."""
+    theory = spec.theory
+    if isinstance(theory, SpectrumTheory) and spec.points is not None:
+        return spectrum_estimate(spec.points, theory.chain.N, losses=theory.Q is not None).memory
+    if isinstance(theory, Theory) and theory.dt is not None:
+        N, saved = theory.chain.N, len(spec.vectors)
+        points = spec.tstop / theory.time_unit / theory.dt
+        return run_estimate(points=points, saved=saved, compared=saved, unknowns=2 * N, exact_N=N).memory \
+            + SIMULATOR_BYTES
+    return SIMULATOR_BYTES
+
+
+def _combination_seconds(combination: Combination) -> float:
+    """Combining an extrapolation in the driver: its members' arrays read back, combined on the coarsest grid,
+    compared with theory (about a member's comparison)."""
+    return RUN_START_SECONDS + sample_theory_seconds(combination.theory.chain.N)
+
+
 def _add_runs(tasks: list[Task], combinations: list[Combination], params: Mapping[str, Any],
               specs: Sequence[RunSpec], steps: Sequence[float], predicted_error: float | None) -> None:
     """One point of a study: its run, or its extrapolation's members (``member`` 1, 2, 3, each with its own
     ``dt``) followed by their combination (``runs``, ``dt`` the coarsest step)."""
     index = len(tasks) + len(combinations)
     if len(specs) == 1:
-        tasks.append(Task(index, FrozenMap(params), specs[0], _seconds(specs[0])))
+        tasks.append(Task(index, FrozenMap(params), specs[0], _seconds(specs[0]), _memory(specs[0])))
         return
     for i, (spec, h) in enumerate(zip(specs, steps, strict=True)):
-        tasks.append(Task(index + i, FrozenMap({**params, "dt": h, "member": i + 1}), spec, _seconds(spec)))
+        tasks.append(Task(index + i, FrozenMap({**params, "dt": h, "member": i + 1}), spec, _seconds(spec),
+                          _memory(spec)))
     theory = specs[0].theory
     assert isinstance(theory, Theory)  # an extrapolation's members are transients
     label = f"{specs[0].label} extrapolated from {len(specs)} runs"
@@ -232,7 +291,7 @@ def sweep_plan(*, cases: Sequence[str], Ns: Sequence[int], dts: Sequence[float] 
         raise ParameterError("--dt/--accuracy", (list(dts), list(accuracies)), "steps or accuracies, not both")
     steps = [("dt", v) for v in dts] + [("accuracy", v) for v in accuracies]
     combos = list(itertools.product(cases, Ns, steps, transits, excitations))
-    _price_axes(cases, Ns, steps, transits, len(combos), budget, workers)
+    planning = _price_axes(cases, Ns, steps, transits, len(combos), budget, workers)
     chains: dict[tuple[str, int], Any] = {}
     tasks: list[Task] = []
     combinations: list[Combination] = []
@@ -260,7 +319,7 @@ def sweep_plan(*, cases: Sequence[str], Ns: Sequence[int], dts: Sequence[float] 
         description["engine"] = engine
     axes = tuple(name for name, values in (("case", cases), ("N", Ns), ("dt", dts), ("accuracy", accuracies),
                                            ("transits", transits), ("excitation", excitations)) if len(values) > 1)
-    return Plan("sweep", FrozenMap(description), tuple(tasks), backend, axes, tuple(combinations), engine)
+    return Plan("sweep", FrozenMap(description), tuple(tasks), backend, axes, tuple(combinations), engine, planning)
 
 
 def spectrum_sweep_plan(*, cases: Sequence[str], Ns: Sequence[int], points: int | None = None,
@@ -273,28 +332,30 @@ def spectrum_sweep_plan(*, cases: Sequence[str], Ns: Sequence[int], points: int 
     (its frequencies x unknowns), which also refuses ``points`` too few to separate a chain's poles.
     """
     combos = list(itertools.product(cases, Ns))
-    _price_axes(cases, Ns, [], (1,), len(combos), budget, workers)
+    planning = _price_axes(cases, Ns, [], (1,), len(combos), budget, workers)
     tasks: list[Task] = []
     for index, (case, N) in enumerate(combos):
         if progress is not None:
             progress(index, len(combos), f"planning {case} N={N}")
         request = Request(chain_for_case(case, N), AC(points), L0=L0, C0=C0, timeout=timeout, engine=engine)
         spec = plan_request(request, budget).specs[0]
-        tasks.append(Task(index, FrozenMap({"case": case, "N": N}), spec, _seconds(spec)))
+        tasks.append(Task(index, FrozenMap({"case": case, "N": N}), spec, _seconds(spec), _memory(spec)))
     description = {"command": "sweep", "analysis": "ac", "case": list(cases), "N": list(Ns), "points": points,
                    "L0": L0, "C0": C0, "engine": engine}
     axes = tuple(name for name, values in (("case", cases), ("N", Ns)) if len(values) > 1)
-    return Plan("sweep", FrozenMap(description), tuple(tasks), "batch", axes, (), engine)
+    return Plan("sweep", FrozenMap(description), tuple(tasks), "batch", axes, (), engine, planning)
 
 
-def _check_study(budget: Budget | None, what: str, planning: float, work: float, workers: int, advice: str) -> None:
-    """Refuse a study whose planning (in this process) and work (on ``workers``) exceed the budget."""
+def _check_study(budget: Budget | None, what: str, planning: float, work: float, workers: int, advice: str) -> float:
+    """Refuse a study whose planning (in this process) and work (on ``workers``) exceed the budget; the
+    planning's price, which the plan keeps (:attr:`Plan.planning`)."""
     Estimate(f"{what} to plan and run", 0.0, planning + work / max(1, workers)).check(
         budget if budget is not None else Budget(), "study", what,
         f"fewer values on its axes, {advice}more workers, or a larger --max-time")
+    return planning
 
 def _price_axes(cases: Sequence[str], Ns: Sequence[int], steps: Sequence[tuple[str, float]], transits: Sequence[int],
-                points: int, budget: Budget | None, workers: int) -> None:
+                points: int, budget: Budget | None, workers: int) -> float:
     """Refuse a sweep whose planning (designs and modes, in this process) and fixed-step runs (on ``workers``)
     exceed the budget, from its axes alone: a 1000-value --N axis used to be planned for minutes before the
     plan's own price was known. Runs at an accuracy are left to the plan's own check (their step is chosen
@@ -305,10 +366,12 @@ def _price_axes(cases: Sequence[str], Ns: Sequence[int], steps: Sequence[tuple[s
     for _case, N, (kind, value), transit in itertools.product(cases, Ns, steps, transits):
         if kind == "dt":  # the run lasts about (transits + 1/2) transits of about N
             runs += ngspice_seconds((transit + 0.5) * N / value, 2 * N) + RUN_START_SECONDS
-    _check_study(budget, f"{points} points", planning, runs, workers, "")
+        else:  # its step is chosen here, for its accuracy
+            planning += accuracy_plan_seconds(N)
+    return _check_study(budget, f"{points} points", planning, runs, workers, "")
 
 
-def _price_scenes(datas: Sequence[Mapping[str, Any]], budget: Budget | None, workers: int) -> None:
+def _price_scenes(datas: Sequence[Mapping[str, Any]], budget: Budget | None, workers: int) -> float:
     """Refuse a scene sweep whose chains (designed here) and samples' theory (on ``workers``) exceed the budget,
     read from the varied scenes' tables alone, before any is planned. Each scene's own runs are priced when it
     is planned (:func:`lcchain.scenes.plan.scene_plan`)."""
@@ -321,8 +384,11 @@ def _price_scenes(datas: Sequence[Mapping[str, Any]], budget: Budget | None, wor
         if not isinstance(N, int) or isinstance(N, bool) or not isinstance(samples, int) or N < 1 or samples < 1:
             continue  # the scene's own check names what is wrong
         planning += chain_seconds(str(case), min(N, MAX_DESIGN_N))
+        analysis = data.get("analysis")
+        if isinstance(analysis, dict) and analysis.get("accuracy") is not None:  # its step is chosen here
+            planning += accuracy_plan_seconds(min(N, MAX_DESIGN_N))
         work += samples * (RUN_START_SECONDS + (sample_theory_seconds(N) if samples > 1 else 0.0))
-    _check_study(budget, f"{len(datas)} scenes", planning, work, workers, "fewer samples, ")
+    return _check_study(budget, f"{len(datas)} scenes", planning, work, workers, "fewer samples, ")
 
 
 def parse_vary(text: str) -> tuple[str, list[Any]]:
@@ -382,7 +448,7 @@ def scene_sweep_plan(path: str | Path, varies: Sequence[tuple[str, list[Any]]], 
         for key, value in zip(keys, values, strict=True):
             _set(data, key, value)
         datas.append(data)
-    _price_scenes(datas, budget, workers)
+    planning = _price_scenes(datas, budget, workers)
     tasks: list[Task] = []
     combinations: list[Combination] = []
     for n, (values, data) in enumerate(zip(combos, datas, strict=True)):
@@ -407,7 +473,7 @@ def scene_sweep_plan(path: str | Path, varies: Sequence[tuple[str, list[Any]]], 
         raise ParameterError("--vary", f"analysis.engine={','.join(engines)}", "one engine per study (a study finds "
                              "its engine once): run each engine in a study of its own")
     return Plan("scene", FrozenMap(json.loads(json.dumps(description, default=str))), tuple(tasks),
-                scene.analysis.backend, axes, tuple(combinations), engines[0])
+                scene.analysis.backend, axes, tuple(combinations), engines[0], planning)
 
 
 def request_plan(points: Sequence[tuple[Mapping[str, Any], Request]], *, budget: Budget | None = None) -> Plan:
@@ -477,7 +543,8 @@ def batch_plan(paths: Sequence[str | Path], *, allow_control: bool = False, back
         except ParameterError as error:
             raise (error.renamed("--allow-control") if error.field == "trusted" else error).located(str(path)) \
                 from None
-        tasks.append(Task(index, FrozenMap({"netlist": str(path)}), spec, estimate.seconds))
+        tasks.append(Task(index, FrozenMap({"netlist": str(path)}), spec, estimate.seconds,
+                          estimate.memory + SIMULATOR_BYTES))
     description = {"command": "batch", "netlists": [str(p) for p in paths], "allow_control": allow_control,
                    "backend": backend}
     return Plan("batch", FrozenMap(description), tuple(tasks), backend, ("netlist",))

@@ -24,6 +24,7 @@ from typing import Any
 
 import numpy as np
 
+from ..core.budget import Budget
 from ..core.errors import LcchainError, ParameterError
 from ..runs.execute import RunRecord, loop_sims
 from ..runs.extrapolated import combined_record
@@ -39,10 +40,10 @@ from .executors import (
     open_executor,
     run_groups,
 )
-from .plan import Combination, Plan, _seconds
+from .plan import Combination, Plan, Task, _memory, _seconds
 from .store import Store, engine_text
 
-__all__ = ["Summary", "Progress", "run_plan", "run_specs"]
+__all__ = ["Summary", "Progress", "run_plan", "run_specs", "check_specs"]
 
 
 @dataclass(frozen=True)
@@ -237,6 +238,17 @@ class _Combiner:
             raise ParameterError("--store", str(self.store.path), f"the arrays of the stored run {key[:12]}")
         time_s = arrays.pop("time")
         return loop_sims(combination.theory, time_s, arrays)
+
+
+def check_specs(specs: Sequence[RunSpec], budget: Budget, *, executor: str = "process", workers: int | None = None,
+                option: str = "--workers") -> None:
+    """Refuse specs whose runs, on ``workers`` of ``executor`` (each worker an interpreter of its own holding a
+    run, :meth:`lcchain.studies.plan.Plan.price`), exceed the budget; the refusal names ``option``."""
+    workers = workers or default_workers()
+    tasks = tuple(Task(i, {}, spec, _seconds(spec), _memory(spec)) for i, spec in enumerate(specs))
+    backend, engine = (specs[0].backend, specs[0].engine) if specs else ("batch", "ngspice")
+    Plan("scene", {}, tasks, backend, engine=engine).price(workers, executor).check(
+        budget, option, workers, "fewer workers, or a larger --max-memory or --max-time")
 
 
 def run_specs(specs: Sequence[RunSpec], *, executor: str = "process", workers: int | None = None,

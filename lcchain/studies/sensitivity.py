@@ -24,7 +24,7 @@ from typing import Any
 
 from ..circuit.effects import Tolerance
 from ..circuit.sensitivity import Component, LadderSensitivity
-from ..core.budget import Budget
+from ..core.budget import Budget, Estimate, accuracy_plan_seconds, sensitivity_estimate
 from ..core.checks import integer, real
 from ..core.frozen import FrozenMap
 from ..core.limits import ACCURACY_FLOOR, SENSITIVITY_CHECK_ACCURACY
@@ -123,7 +123,13 @@ def check_plan(sensitivity: LadderSensitivity, count: int, *, accuracy: float = 
     Returns
     -------
     plan, steps
-        The study (params ``component`` and ``factor``), and each checked component with its h.
+        The study (params ``component`` and ``factor``), and each checked component with its h; the plan's
+        ``planning`` counts the sensitivities and each request's choice of steps.
+
+    Raises
+    ------
+    ParameterError
+        ``count`` or ``accuracy`` out of range, or the planning alone beyond ``budget`` (naming ``--check``).
     """
     parts = sensitivity.components
     count = integer("--check", count, at_least=1, at_most=len(parts))
@@ -131,6 +137,9 @@ def check_plan(sensitivity: LadderSensitivity, count: int, *, accuracy: float = 
     ladder = sensitivity.ladder
     size = 2 * ladder.chain.N + 1
     steps = [(part, _step(part, accuracy)) for part in parts[:count]]
+    planning = sensitivity_estimate(ladder.chain.N).seconds + 2 * count * accuracy_plan_seconds(ladder.chain.N)
+    Estimate(f"choosing the steps of {2 * count} runs", 0.0, planning).check(
+        budget if budget is not None else Budget(), "--check", count, "fewer components")
     points = []
     for part, h in steps:
         for sign in (1, -1):
@@ -143,7 +152,7 @@ def check_plan(sensitivity: LadderSensitivity, count: int, *, accuracy: float = 
                    "L0": ladder.L0, "C0": ladder.C0,
                    "accuracy": accuracy, "chain": ladder.chain.to_dict(),
                    "components": [part.name for part, _ in steps]}
-    return replace(plan, description=FrozenMap(description)), steps
+    return replace(plan, description=FrozenMap(description), planning=planning), steps
 
 
 def arrival_values(run: StoredRun, metric: ArrivalMetric = "peak") -> tuple[float, float, float]:

@@ -82,7 +82,8 @@ from ..runs.execute import RunRecord, waveform_digest
 from ..spice.engines import DEFAULT_ENGINE
 from ..spice.inputs import file_kind
 
-__all__ = ["Store", "StoredRun", "StoreMode", "FORMAT", "engine_text", "engine_of", "study_axes", "study_constants"]
+__all__ = ["Store", "StoredRun", "StoreMode", "FORMAT", "engine_text", "engine_of", "study_axes", "study_constants",
+           "study_dims", "ExportSize"]
 
 #: Version of the store's tables.
 FORMAT = "1"
@@ -248,6 +249,79 @@ def study_constants(runs: list[StoredRun]) -> dict[str, Any]:
     keys = list(dict.fromkeys(key for run in runs for key in run.params))
     return {key: runs[0].params[key] for key in keys
             if key not in axes and all(key in run.params for run in runs)} if runs else {}
+
+
+def _value_key(value: Any) -> str:
+    return json.dumps(value, sort_keys=True, default=str)
+
+
+def study_dims(runs: list[StoredRun]) -> tuple[list[str], list[str]]:
+    """The dimensions of a study's dataset (:meth:`Store.to_xarray`), and the axes that are coordinates along them.
+
+    Its axes (:func:`study_axes`), in order, except an axis whose value the dimensions before it already fix for
+    every run: a worst case's ``signs``, one per ``corner``, is a coordinate along ``corner``, not a dimension of
+    its own (259 corners made a grid of 259 x 259 points, all but 259 of them empty, 2.5 GB of waveforms). Runs
+    that are no grid (two at the same point) have the task number, ``index``, as their one dimension.
+    """
+    axes = study_axes(runs)
+    points = [tuple(_value_key(run.params.get(axis)) for axis in axes) for run in runs]
+    if not axes or len(set(points)) < len(points):
+        return ["index"], []
+    dims: list[int] = []
+    along: list[int] = []
+    for i in range(len(axes)):
+        fixed: dict[tuple[str, ...], str] = {}
+        if dims and all(fixed.setdefault(tuple(point[d] for d in dims), point[i]) == point[i] for point in points):
+            along.append(i)
+        else:
+            dims.append(i)
+    return [axes[i] for i in dims], [axes[i] for i in along]
+
+
+@dataclass(frozen=True)
+class ExportSize:
+    """What exporting a store holds at once: the numbers ``lcchain results`` is priced by
+    (:func:`lcchain.core.budget.export_estimate`).
+
+    Attributes
+    ----------
+    runs : int
+        Runs exported (extrapolation members left out).
+    cells : int
+        Points of the dataset's grid: the product of its dimensions' sizes (:func:`study_dims`).
+    metrics : int
+        Bytes of the stored metrics (JSON text), every row's.
+    stored : int
+        Bytes of the saved arrays read back (finished runs; 0 without waveforms).
+    longest : int
+        Points of the longest saved array (0 without waveforms).
+    per_point : int
+        Bytes per point of the dataset's waveform variables: every saved vector's and its axis's, each at its
+        type's size (0 without waveforms).
+    """
+
+    runs: int
+    cells: int
+    metrics: int
+    stored: int = 0
+    longest: int = 0
+    per_point: int = 0
+
+
+def _array_headers(blob: bytes) -> dict[str, tuple[int, int]]:
+    """Each saved array's (points, bytes per value) from a run's ``.npz`` without reading its values."""
+    with zipfile.ZipFile(io.BytesIO(blob)) as archive:
+        with archive.open("names.npy") as handle:
+            names = [str(n) for n in np.lib.format.read_array(handle, allow_pickle=False)]
+        sizes = {}
+        for i, name in enumerate(names):
+            with archive.open(f"v{i}.npy") as handle:
+                version = np.lib.format.read_magic(handle)
+                reader = (np.lib.format.read_array_header_1_0 if version == (1, 0)
+                          else np.lib.format.read_array_header_2_0)
+                shape, _, dtype = reader(handle)
+            sizes[name] = (int(np.prod(shape)), 16 if np.dtype(dtype).kind == "c" else 8)
+    return sizes
 
 
 #: The axis of a run's saved arrays: a transient's time, or an AC run's frequency.
@@ -764,6 +838,22 @@ class Store:
         return StoredRun(index, key, params, label or "", status or "pending", reason or "",
                          log_tail or "", digest or "", wall_s, total_s, points, metrics, version, lcv or "", engine)
 
+    def _light_runs(self) -> list[StoredRun]:
+        """Every task in plan order with its params and status only (its metrics unread: a price is taken before
+        they are parsed)."""
+        runs = []
+        for index, key, params, label, status in self._rows(
+                "SELECT t.idx, t.key, t.params, t.label, r.status FROM tasks t LEFT JOIN records r ON r.key = t.key "
+                "ORDER BY t.idx"):
+            try:
+                params = json.loads(params)
+            except (json.JSONDecodeError, TypeError):
+                raise self._tampered(f"run {index} holds params that are not JSON") from None
+            if not isinstance(params, dict):
+                raise self._tampered(f"run {index} holds params that are not a JSON object")
+            runs.append(StoredRun(index, key, params, label or "", status or "pending"))
+        return runs
+
     def runs(self) -> list[StoredRun]:
         """Every task in plan order, with its record where it ran."""
         return [self._stored(row) for row in self._rows(f"{self._SELECT} ORDER BY t.idx")]
@@ -840,15 +930,44 @@ class Store:
         """
         _optional("xarray")
         results = [run for run in self.runs() if not run.member]
-        axes = study_axes(results)
+        dims, along = study_dims(results)
         constants = study_constants(results)
         frame = _optional("pandas").DataFrame(self._table_rows(results))
-        dims = axes if axes and not frame.duplicated(subset=axes).any() else ["index"]
-        dataset = frame.drop(columns=list(constants)).set_index(dims).to_xarray()
+        dataset = frame.drop(columns=list(constants)).set_index(dims).to_xarray().set_coords(along)
         dataset.attrs.update({"store": str(self.path), **{key: str(value) for key, value in constants.items()}})
         if waveforms:
             dataset = self._with_waveforms(dataset, dims, [run for run in results if run.status == "ok"])
         return dataset
+
+    def export_size(self, waveforms: bool = False) -> ExportSize:
+        """What :meth:`to_xarray` (and the other exports) will hold, read without building any of it: the runs,
+        the grid of the study's dimensions, the metrics' text and, with ``waveforms``, each finished run's saved
+        arrays (their headers only, a run at a time)."""
+        results = [run for run in self._light_runs() if not run.member]
+        dims, _ = study_dims(results)
+        cells = len(results) if dims == ["index"] else math.prod(
+            len({_value_key(run.params.get(d)) for run in results}) for d in dims)
+        metrics = int(self._rows("SELECT COALESCE(SUM(LENGTH(metrics)), 0) FROM records")[0][0])
+        if not waveforms:
+            return ExportSize(len(results), cells, metrics)
+        stored = longest = 0
+        per_name: dict[str, int] = {}
+        for run in results:
+            if run.status != "ok":
+                continue
+            rows = self._rows("SELECT arrays FROM records WHERE key = ?", (run.key,))
+            if not rows or rows[0][0] is None:
+                continue
+            blob = rows[0][0]
+            stored += len(blob)
+            try:
+                sizes = _array_headers(blob)
+            except (OSError, ValueError, KeyError, EOFError, TypeError, zipfile.BadZipFile):
+                raise self._tampered(f"the arrays of run {run.key[:12]} are not lcchain's .npz") from None
+            for name, (points, itemsize) in sizes.items():
+                longest = max(longest, points)
+                per_name[name] = max(per_name.get(name, 0), itemsize)
+        return ExportSize(len(results), cells, metrics, stored, longest, sum(per_name.values()))
 
     @staticmethod
     def _table_rows(runs: list[StoredRun]) -> list[dict[str, Any]]:

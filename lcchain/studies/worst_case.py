@@ -25,7 +25,7 @@ import numpy as np
 from ..circuit.effects import PreferredValues, Tolerance, rounded
 from ..circuit.ladder import Ladder
 from ..circuit.sensitivity import Corner, LadderSensitivity, corners, ladder_sensitivity
-from ..core.budget import Budget, Estimate, sensitivity_estimate
+from ..core.budget import Budget, Estimate, accuracy_plan_seconds, sample_theory_seconds, sensitivity_estimate
 from ..core.errors import ParameterError
 from ..core.frozen import FrozenMap
 from ..core.types import ArrivalMetric
@@ -35,7 +35,7 @@ from ..scenes.plan import scene_plan
 from ..theory.arrivals import first_arrival
 from ..theory.chain import Chain
 from ..theory.sensitivity import energy_fraction
-from .plan import Combination, Plan, Task, _add_runs, _seconds
+from .plan import Combination, Plan, Task, _add_runs, _compare_seconds, _seconds
 from .sensitivity import arrival_values
 from .store import StoredRun
 
@@ -136,11 +136,18 @@ def worst_case_plan(path: str | Path, *, components: int = DEFAULT_COMPONENTS, m
                         else effect for effect in request.effects)
         return plan_request(replace(request, effects=effects), budget)
 
+    N = nominal.N
+    # planned here: the scene and each corner (each a request whose step is chosen for its accuracy: 259 corners
+    # of N = 50 took a minute), the sensitivities, and the Monte Carlo's samples in exact theory
+    per_request = (accuracy_plan_seconds(N) if getattr(request.analysis, "accuracy", None) is not None else 0.0) \
+        + 2e-4 * N + 3e-10 * N**3
+    planning = (sensitivity_estimate(N).seconds + (1 + len(found)) * per_request
+                + (request.samples * sample_theory_seconds(N) if request.samples > 1 else 0.0))
     first = corner_plan(found[0])
-    each = sum(_seconds(spec) for spec in first.specs)
+    each = sum(_seconds(spec) + _compare_seconds(spec) for spec in first.specs)
     Estimate(f"{len(found)} corners on {workers} worker{'s' if workers > 1 else ''}", 0.0,
-             each * len(found) / max(1, workers)).check(budget, "--components", components,
-                                                         "fewer --components (2^K corners)")
+             planning + each * len(found) / max(1, workers)).check(budget, "--components", components,
+                                                                    "fewer --components (2^K corners)")
     tasks: list[Task] = []
     combinations: list[Combination] = []
     for corner in found:
@@ -151,7 +158,7 @@ def worst_case_plan(path: str | Path, *, components: int = DEFAULT_COMPONENTS, m
     description = {"command": "sweep --worst-case", "scene": str(path), "scene_data": scene.to_dict(),
                    "components": components, "metric": metric, "ranked": [part.name for part in sensitivity.components]}
     plan = Plan("scene", FrozenMap(description), tuple(tasks), request.backend, ("corner", "signs"),
-                tuple(combinations), request.engine)
+                tuple(combinations), request.engine, planning)
     return plan, WorstCase(sensitivity, tuple(found), values)
 
 
