@@ -43,6 +43,7 @@ from .common import (
     OPTION_NAMES,
     budget_parent,
     int_list,
+    list_entries,
     number,
     single_valued,
 )
@@ -70,7 +71,7 @@ class _Parser(argparse.ArgumentParser):
 
 def engine_list(text: str) -> tuple[str, ...]:
     """``--engine ngspice`` or ``--engine ngspice,gnucap``: registered engines, each once."""
-    names = tuple(name.strip() for name in text.split(","))
+    names = tuple(list_entries("--engine", text, "engine names"))
     for name in names:
         if name not in ENGINES:
             raise argparse.ArgumentTypeError(f"unknown engine {name!r}: expected {' | '.join(ENGINES)}, or several "

@@ -53,7 +53,7 @@ def _checks(args: argparse.Namespace, sensitivity: Any, outputs: Outputs) -> lis
     plan, steps = check_plan(sensitivity, args.check, accuracy=args.accuracy, budget=budget_from_args(args),
                              timeout=args.timeout)
     workers = _workers(args)
-    plan.check(budget_from_args(args), workers)
+    plan.check(budget_from_args(args), workers, "--check")
     with contextlib.ExitStack() as stack:
         store = args.store or str(Path(stack.enter_context(tempfile.TemporaryDirectory())) / "check.sqlite")
         summary = run_plan(plan, store, executor=args.executor, workers=workers, scheduler=args.scheduler,

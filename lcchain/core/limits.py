@@ -41,6 +41,13 @@ MIN_IMPEDANCE, MAX_IMPEDANCE = 1e-6, 1e12
 #: usually met (7.0e-10 to 7.9e-10 on perfect and two-mass chains) but not always (1.7e-9 on the uniform
 #: bounded N = 20 chain), and 1e-11 never (7e-11 to 6e-10).  A run that misses its accuracy fails.
 ACCURACY_FLOOR = 1e-9
+#: Shortest timeout of a run (--timeout), seconds: a run's start alone takes 0.02 s; 1e-300 timed every run out.
+MIN_TIMEOUT = 0.1
+#: Longest time any budget or timeout may name (--max-time, --timeout): a year, in seconds.  Larger ones mean
+#: "no limit", and 1e300 overflowed the deadline arithmetic (time_t) with a traceback.
+MAX_SECONDS = 365 * 86400.0
+#: Largest memory budget (--max-memory): 1 PiB, beyond any machine, so a number like 1e300 is a typo.
+MAX_BUDGET_BYTES = float(2**50)
 #: Largest netlist (or included file) lcchain reads: 2 N + 10 lines of at most 100 characters at MAX_CIRCUIT_N.
 MAX_NETLIST_BYTES = 64 * 2**20
 #: Largest --chain file read (a JSON chain of MAX_CIRCUIT_N masses takes about 5 MB).
