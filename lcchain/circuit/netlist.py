@@ -40,7 +40,16 @@ from typing import Any
 from ..core.checks import choice, instance, integer, real, strings, text_line
 from ..core.checks import pulse as check_pulse
 from ..core.errors import ParameterError
-from ..core.limits import MAX_AC_POINTS, MAX_COMMENT_LENGTH, MAX_DT, MAX_TITLE_LENGTH, MIN_AC_POINTS
+from ..core.limits import (
+    MAX_AC_POINTS,
+    MAX_COMMENT_LENGTH,
+    MAX_DT,
+    MAX_I0,
+    MAX_TITLE_LENGTH,
+    MIN_AC_POINTS,
+    MIN_I0,
+    MIN_TIME_UNIT,
+)
 from ..core.types import (
     DEFAULT_C0,
     DEFAULT_I0,
@@ -258,7 +267,7 @@ def netlist_text(
         instance("effects", part, Effect)
     if Q is not None:
         parts += (Losses(real("Q", Q, above=0.0, allowed="a finite quality factor > 0")),)
-    I0 = real("I0", I0, above=0.0, unit="ampere")
+    I0 = real("I0", I0, at_least=MIN_I0, at_most=MAX_I0, unit="ampere")
     title = check_user_text("title", title)
     for line in strings("comments", comments):
         check_user_text("comment", line, max_length=MAX_COMMENT_LENGTH, title=False)
