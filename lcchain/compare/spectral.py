@@ -252,16 +252,18 @@ def sweep_grid(omega: np.ndarray, points: int | None = None) -> tuple[list[Segme
     ------
     ParameterError
         ``points`` below the fewest that separate every pole (naming that minimum), or a chain whose poles no
-        sweep of :data:`lcchain.core.limits.MAX_AC_POINTS` frequencies separates (naming ``N``).
+        sweep of :data:`lcchain.core.limits.MAX_AC_POINTS` frequencies separates (naming ``chain``).
     """
     omega = np.asarray(omega, dtype=float)
     omega_max = float(omega[-1]) * (1.0 + OMEGA_MARGIN)
-    needed = min_points(omega, omega_max)
-    if needed > MAX_AC_POINTS:
-        raise ParameterError("N", omega.size, f"a chain whose poles a sweep of at most {MAX_AC_POINTS} frequencies "
-                             f"separates: this one needs {needed}")
-    if points is None:
-        points = min(MAX_AC_POINTS, DEFAULT_OVERSAMPLING * needed)
+    with np.errstate(all="ignore"):  # a count beyond int64 (poles 1e150 apart from 0) wraps: refused below
+        needed = min_points(omega, omega_max) if math.isfinite(omega_max) else 0
+    if not 0 < needed <= MAX_AC_POINTS:  # named as the chain: its N, its file, its walls
+        needs = f"{needed}" if needed > 0 else "more than can be counted"  # a count past int64 wrapped
+        raise ParameterError("chain", f"N={omega.size}", f"a chain whose poles a sweep of at most {MAX_AC_POINTS} "
+                             f"frequencies separates: this one needs {needs}")
+    if points is None:  # never below the engine's least (a chain of a few well-separated poles needs fewer)
+        points = min(MAX_AC_POINTS, max(MIN_AC_POINTS, DEFAULT_OVERSAMPLING * needed))
     points = integer("points", points, at_least=needed, at_most=MAX_AC_POINTS,
                      allowed=f"at least {needed} frequencies ({POINTS_PER_SPACING} per spacing of the normal "
                              f"frequencies, up to {omega_max:.4g}) and at most {MAX_AC_POINTS}")

@@ -291,7 +291,12 @@ def spectrum_sweep_plan(*, cases: Sequence[str], Ns: Sequence[int], points: int 
         if progress is not None:
             progress(index, len(combos), f"planning {case} N={N}")
         request = Request(chain_for_case(case, N), AC(points), L0=L0, C0=C0, timeout=timeout, engine=engine)
-        spec = plan_request(request, budget).specs[0]
+        try:
+            spec = plan_request(request, budget).specs[0]
+        except ParameterError as error:  # the chain of this point: its N on the axis, with its case
+            if error.field != "chain":
+                raise
+            raise ParameterError("N", N, f"{error.allowed} ({case})") from None
         tasks.append(Task(index, FrozenMap({"case": case, "N": N}), spec, _seconds(spec)))
     description = {"command": "sweep", "analysis": "ac", "case": list(cases), "N": list(Ns), "points": points,
                    "L0": L0, "C0": C0, "engine": engine}
