@@ -6,13 +6,12 @@ from __future__ import annotations
 import argparse
 import contextlib
 import sys
-import tempfile
-from pathlib import Path
 from typing import Any
 
 from ..core.errors import ParameterError
 from ..core.types import ARRIVAL_METRICS
 from ..report.files import FIGURE_FORMATS
+from ..spice.scratch import scratch_folder
 from .common import EXIT_FAILED, EXIT_OK, Outputs, budget_from_args, chain_from_args, emit_json
 from .progress import fraction, study_counter
 from .studies import STORE_FORMATS, _workers, add_study_arguments
@@ -55,7 +54,7 @@ def _checks(args: argparse.Namespace, sensitivity: Any, outputs: Outputs) -> lis
     workers = _workers(args)
     plan.check(budget_from_args(args), workers, "--check")
     with contextlib.ExitStack() as stack:
-        store = args.store or str(Path(stack.enter_context(tempfile.TemporaryDirectory())) / "check.sqlite")
+        store = args.store or str(stack.enter_context(scratch_folder("check", watch=True)) / "check.sqlite")
         summary = run_plan(plan, store, executor=args.executor, workers=workers, scheduler=args.scheduler,
                            progress=study_counter("runs"), transport=args.transport)
         with Store(store, "read") as stored:
