@@ -96,6 +96,12 @@ for key, value in (("springs", "[0, 1e300, 1, 0]"), ("masses", "[1e-300, 1, 1]")
         ["run", "s.toml"], ["s.toml", "chain = "], "chain files",
         files=scene(f'[chain]\ncase = "custom"\n{key} = {value}\n{other}\n' + QUIET))
 
+BIG = '{"masses": [' + ", ".join(["1"] * 2500) + '], "springs": [0, ' + ", ".join(["1"] * 2499) + ", 0]}"
+for argv in (["simulate", "--chain", "c.json", "--coupling", "0.1"], ["spectrum", "--chain", "c.json"],
+             ["sensitivity", "--chain", "c.json"]):
+    CASES[f"{argv[0]} --chain too large"] = refused(argv, ["--chain = 'c.json'", "2000"], "chain files",
+                                                     files={"c.json": BIG})
+
 # ------------------------------------------------------------------ scene keys with extreme values
 for value, shown in (("1e-300", "1e-300"), ("0", "0")):
     CASES[f"scene pulse width {value}"] = refused(
@@ -155,6 +161,12 @@ CASES["sweep: one run beyond the budget, by its step"] = refused(
 CASES["sweep: the axes beyond the budget"] = refused(
     ["sweep", "--case", "two-mass,one-mass", "--N", "100,200", "--dt", "0.002,0.001", "--store", "s.sqlite",
      "--max-time", "20"], ["--case x --N x --dt = '8 points'", "--max-time"], "list values")
+
+TOLERANCE = SCENE + "[effects.tolerance]\nL = 0.05\nsamples = 2\n" + QUIET
+for option, value in (("--samples", "0"), ("--samples", "99999999999999999999"), ("--seed", "-1")):
+    CASES[f"sweep SCENE {option} {value}"] = refused(
+        ["sweep", "s.toml", option, value, "--store", "s.sqlite", "--executor", "serial"], [f"{option} = {value}"],
+        "list values", files=scene(TOLERANCE))
 
 # ------------------------------------------------------------------ timeouts and budgets
 for value in ("nan", "inf", "0", "-1", "1e300", "1e-300"):

@@ -297,7 +297,7 @@ def chain_from_args(args: argparse.Namespace, max_N: int = MAX_CIRCUIT_N) -> Cha
     except ParameterError as error:
         raise error.renamed("--coupling") from None
     if chain.coupled and chain.N > COUPLED_MAX_N:
-        raise ParameterError("--N", chain.N, f"at most {COUPLED_MAX_N} masses with --coupling (the coupled modes are "
+        raise ParameterError("N", chain.N, f"at most {COUPLED_MAX_N} masses with --coupling (the coupled modes are "
                              "a dense generalised eigenproblem)")
     return chain
 

@@ -117,7 +117,7 @@ def cmd_sensitivity(args: argparse.Namespace) -> int:
         raise ParameterError("--store", args.store, "only with --check M (the store keeps its runs)")
     check_executor(args.executor, args.workers, args.scheduler)
     chain = chain_from_args(args, max_N=SENSITIVITY_MAX_N)
-    sensitivity_estimate(chain.N).check(budget_from_args(args), "--N", chain.N)
+    sensitivity_estimate(chain.N).check(budget_from_args(args), "N", chain.N)  # --N, or the --chain FILE
     shown = fraction(f"sensitivities of {chain.N} masses")  # one O(N^3) step: 5 s at N = 2000
     shown(0.0)
     sensitivity = ladder_sensitivity(Ladder(chain, args.L0, args.C0), metric=args.metric)

@@ -41,7 +41,7 @@ from ..core.budget import (
 from ..core.checks import instance, integer, real
 from ..core.errors import ParameterError
 from ..core.frozen import FrozenMap
-from ..core.limits import MAX_CIRCUIT_N, MAX_DESIGN_N, MAX_DT, MAX_TRANSITS, MIN_N
+from ..core.limits import MAX_CIRCUIT_N, MAX_DESIGN_N, MAX_DT, MAX_SAMPLES, MAX_TRANSITS, MIN_N
 from ..core.types import DEFAULT_C0, DEFAULT_L0, Backend, Excitation
 from ..runs.extrapolated import combined_key
 from ..runs.request import AC, Request, plan_request
@@ -413,6 +413,10 @@ def scene_sweep_plan(path: str | Path, varies: Sequence[tuple[str, list[Any]]], 
     """A scene with dotted keys varied (the product of their values); each tolerance sample is a task.
 
     Priced from its axes first (:func:`_price_scenes`), before any scene is planned."""
+    if samples is not None:  # named as typed, and before the price (1e20 samples were priced as a study first)
+        integer("--samples", samples, at_least=1, at_most=MAX_SAMPLES)
+    if seed is not None:
+        integer("--seed", seed, at_least=0)
     scene = load_scene(path)
     base = scene.to_dict()
     if samples is not None or seed is not None:
