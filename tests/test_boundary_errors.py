@@ -31,7 +31,7 @@ from helpers.processes import gone
 
 from lcchain.cli import main
 from lcchain.report.figure_data import DesignRows, _row_digest, cache_key
-from lcchain.spice.scratch import owner_pid, remove_stale, scratch_folder
+from lcchain.spice.scratch import MARKER, owner_pid, remove_stale, scratch_folder
 
 SCENE = '[chain]\ncase = "two-mass"\nN = 6\n'
 QUIET = "[output]\nplots = []\n"
@@ -316,16 +316,20 @@ def _dead_pid() -> int:
 
 def test_stale_scratch_folders_of_dead_owners_are_removed_and_nothing_else(tmp_path: Path) -> None:
     dead = _dead_pid()
-    stale = [tmp_path / f"lcchain-dask-{dead}-abc123", tmp_path / f".lcchain-dask-{dead}-x_y"]
+    stale = [tmp_path / f"lcchain-dask-{dead}-abc123xy", tmp_path / f".lcchain-gnucap-{dead}-x_y_z_12"]
     for folder in stale:
         (folder / "dask-scratch-space").mkdir(parents=True)
-    kept = [tmp_path / f"lcchain-dask-{os.getppid()}-live", tmp_path / "lcchain-dask-notapid-x",
-            tmp_path / f"other-{dead}-abc"]
-    for folder in kept:
+        (folder / MARKER).write_text(str(dead))
+    live = tmp_path / f"lcchain-dask-{os.getppid()}-live1234"
+    live.mkdir()
+    (live / MARKER).write_text(str(os.getppid()))
+    kept = [live, tmp_path / f"lcchain-runs-{dead}-final123",  # a user's own, without the marker
+            tmp_path / "lcchain-dask-notapid-abcdefgh", tmp_path / f"other-{dead}-abcdefgh"]
+    for folder in kept[1:]:
         folder.mkdir()
-    (tmp_path / f"lcchain-dask-{dead}-file").write_text("a file, not a scratch folder")
+    (tmp_path / f"lcchain-dask-{dead}-afile123").write_text("a file, not a scratch folder")
     assert sorted(remove_stale(tmp_path)) == sorted(folder.name for folder in stale)
-    assert sorted(p.name for p in tmp_path.iterdir()) == sorted([*(f.name for f in kept), f"lcchain-dask-{dead}-file"])
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted([*(f.name for f in kept), f"lcchain-dask-{dead}-afile123"])
     with scratch_folder("dask", tmp_path, watch=True) as folder:
         assert owner_pid(folder.name) == os.getpid() and folder.parent == tmp_path
     assert not folder.exists()

@@ -5,7 +5,8 @@ user's file): the pid of the process that owns it.  It is removed when its block
 outright (SIGKILL: no ``finally`` runs) cannot do that, so
 
 * every new scratch folder first removes those of its folder whose owner is dead (the same user, the pid no
-  longer running: a folder of a live process, or of another user, is never touched);
+  longer running, the folder holding lcchain's marker file with that pid: a folder of a live process, of
+  another user, or of the user's own that only looks like one, is never touched);
 * with ``watch=True`` a small watcher process, in a session of its own, holds the read end of a pipe whose
   write end only the owner holds: when the owner dies, however, the pipe closes and the watcher removes the
   folder (again for a moment, while what the owner started may still write into it), then exits.  A Dask
@@ -26,8 +27,11 @@ from pathlib import Path
 
 __all__ = ["scratch_folder", "remove_stale", "owner_pid"]
 
-#: A scratch folder's name: optional dot, "lcchain-", a kind, the owner's pid, tempfile's random part.
-_NAME = re.compile(r"^\.?lcchain-[a-z]+-(\d+)-[A-Za-z0-9_]+$")
+#: A scratch folder's name: optional dot, "lcchain-", a kind, the owner's pid, tempfile's 8 random characters.
+_NAME = re.compile(r"^\.?lcchain-[a-z]+-(\d+)-[a-z0-9_]{8}$")
+#: The file every scratch folder holds from its start (the owner's pid): only a folder that has it is ever removed
+#: as stale, so a user's own folder that happens to look like one (beside a store) is never touched.
+MARKER = ".lcchain-scratch"
 #: How long the watcher keeps removing the folder after its owner died (what the owner started, Dask's
 #: workers say, may still write into it for a moment), seconds.
 WATCH_SECONDS = 10.0
@@ -86,7 +90,10 @@ def remove_stale(parent: str | os.PathLike[str]) -> list[str]:
             info = entry.stat(follow_symlinks=False)
             if not entry.is_dir(follow_symlinks=False) or info.st_uid != uid or _alive(pid):
                 continue
-        except OSError:
+            marker = Path(entry.path, MARKER)
+            if marker.is_symlink() or marker.read_text(encoding="ascii").strip() != str(pid):
+                continue
+        except (OSError, ValueError):
             continue
         shutil.rmtree(entry.path, ignore_errors=True)
         removed.append(entry.name)
@@ -123,8 +130,10 @@ def scratch_folder(kind: str, parent: str | os.PathLike[str] | None = None, *, w
     where = Path(parent) if parent is not None else Path(tempfile.gettempdir())
     remove_stale(where)
     folder = Path(tempfile.mkdtemp(prefix=f"{'.' if hidden else ''}lcchain-{kind}-{os.getpid()}-", dir=where))
-    watcher = _watcher(folder) if watch else None
+    watcher = None
     try:
+        (folder / MARKER).write_text(str(os.getpid()), encoding="ascii")
+        watcher = _watcher(folder) if watch else None
         yield folder
     finally:
         shutil.rmtree(folder, ignore_errors=True)
