@@ -89,8 +89,12 @@ CASES: dict[str, Case] = {
     "transits 0": Case(["simulate", "--case", "perfect", "--N", "4", "--transits", "0"], ["--transits = 0"]),
     "transits 1001": Case(["simulate", "--case", "perfect", "--N", "4", "--transits", "1001"],
                           ["--transits = 1001", "1000"]),
+    # --dt was not typed: the refusal names the chain the user gave, at the default step
     "a run beyond the time budget": Case(["simulate", "--case", "two-mass", "--N", "1000", "--transits", "1000"],
-                                         ["--dt = 0.05", "h", "1 h"]),
+                                         ["--N = 1000", "default step --dt 0.05", "1 h"]),
+    "a run beyond the time budget at a typed step": Case(["simulate", "--case", "two-mass", "--N", "1000",
+                                                          "--transits", "1000", "--dt", "0.05"],
+                                                         ["--dt = 0.05", "1 h"]),
     "max memory not a size": Case(["simulate", "--case", "perfect", "--N", "4", "--max-memory", "1.5Q"],
                                   ["--max-memory", "1.5Q"]),
     "max time not a duration": Case(["simulate", "--case", "perfect", "--N", "4", "--max-time", "forever"],

@@ -86,7 +86,7 @@ def test_a_study_prices_its_pool_workers() -> None:
 def test_a_study_past_max_memory_is_refused_naming_its_workers(capsys, tmp_path, monkeypatch) -> None:
     monkeypatch.chdir(tmp_path)
     argv = ["sweep", "--case", "two-mass", "--N", "10,12", "--dt", "0.05", "--store", "s.sqlite"]
-    _refused(capsys, [*argv, "--workers", "2", "--max-memory", "250M"], "study", "2 runs on 2 workers",
+    _refused(capsys, [*argv, "--workers", "2", "--max-memory", "250M"], "--N = '2 runs'", "2 runs on 2 workers",
              "--max-memory")
     assert not (tmp_path / "s.sqlite").exists()
 

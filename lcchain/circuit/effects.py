@@ -51,7 +51,7 @@ import numpy as np
 
 from ..core.checks import choice, integer, real
 from ..core.errors import ParameterError
-from ..core.limits import MAX_SAMPLES
+from ..core.limits import MAX_Q, MAX_SAMPLES, MAX_WALL_SPRING, MIN_Q
 from ..core.types import E_SERIES_NAMES, ESeries
 from ..theory.chain import MAX_COUPLING, Chain
 from .ladder import Ladder
@@ -274,14 +274,17 @@ class Walls(Effect):
     Parameters
     ----------
     K0 : float
-        Wall spring constant in bulk units (> 0); its capacitor is C0 / K0.
+        Wall spring constant in bulk units (0 < K0 <= :data:`lcchain.core.limits.MAX_WALL_SPRING`); its capacitor is
+        C0 / K0.
     """
 
     key: ClassVar[str] = "walls"
     K0: float
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "K0", real("effects.walls.K0", self.K0, above=0.0, allowed="a finite number > 0"))
+        object.__setattr__(self, "K0", real("effects.walls.K0", self.K0, above=0.0, at_most=MAX_WALL_SPRING,
+                                            allowed=f"a number, 0 < K0 <= {MAX_WALL_SPRING:g} (a stiffer wall's mode "
+                                            "needs steps no budget affords)"))
 
     def realise(self, chain: Chain, L0: float, C0: float) -> Chain:
         return with_walls(chain, self.K0)
@@ -321,14 +324,19 @@ class Losses(Effect):
     Parameters
     ----------
     Q : float
-        Quality factor of every inductor at 1/sqrt(L0*C0) (dimensionless, > 0).
+        Quality factor of every inductor at 1/sqrt(L0*C0) (dimensionless, :data:`lcchain.core.limits.MIN_Q` to
+        :data:`~lcchain.core.limits.MAX_Q`; an AC analysis narrows it to what its fit identifies,
+        :func:`lcchain.compare.spectral.lossy_range`).
     """
 
     key: ClassVar[str] = "losses"
     Q: float
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "Q", real("effects.losses.Q", self.Q, above=0.0, allowed="a finite number > 0"))
+        object.__setattr__(self, "Q", real("effects.losses.Q", self.Q, at_least=MIN_Q, at_most=MAX_Q,
+                                           allowed=f"a number, {MIN_Q:g} <= Q <= {MAX_Q:g} (below, the losses' decay "
+                                           "rate leaves the band the step is chosen for; above, the resistors are "
+                                           "beyond the simulator's resolution)"))
 
     def in_series(self, ladder: Ladder, loop: int) -> tuple[SeriesElement, ...]:
         # R_i = L_i / (Q tau): in bulk units a friction m_i / Q, the same rate 1/Q for every mode

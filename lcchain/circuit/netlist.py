@@ -40,7 +40,16 @@ from typing import Any, cast
 from ..core.checks import choice, instance, integer, real, strings, text_line
 from ..core.checks import pulse as check_pulse
 from ..core.errors import ParameterError
-from ..core.limits import MAX_AC_POINTS, MAX_COMMENT_LENGTH, MAX_DT, MAX_TITLE_LENGTH, MIN_AC_POINTS
+from ..core.limits import (
+    MAX_AC_POINTS,
+    MAX_COMMENT_LENGTH,
+    MAX_DT,
+    MAX_I0,
+    MAX_TITLE_LENGTH,
+    MIN_AC_POINTS,
+    MIN_I0,
+    MIN_TIME_UNIT,
+)
 from ..core.types import (
     DEFAULT_C0,
     DEFAULT_I0,
@@ -71,6 +80,8 @@ __all__ = [
     "ac_netlist_text",
     "AC_OFFSET",
     "make_netlist",
+    "check_run_length",
+    "check_frequency_scale",
     "check_user_text",
     "probe_names",
     "number",
@@ -250,7 +261,7 @@ def netlist_text(
         instance("effects", part, Effect)
     if Q is not None:
         parts += (Losses(real("Q", Q, above=0.0, allowed="a finite quality factor > 0")),)
-    I0 = real("I0", I0, above=0.0, unit="ampere")
+    I0 = real("I0", I0, at_least=MIN_I0, at_most=MAX_I0, unit="ampere")
     title = check_user_text("title", title)
     for line in strings("comments", comments):
         check_user_text("comment", line, max_length=MAX_COMMENT_LENGTH, title=False)
@@ -386,6 +397,38 @@ def _options_line(options: SimulationOptions, I0: float, ladder: Ladder) -> str:
     return ".options " + " ".join(words)
 
 
+def check_run_length(chain: Chain, tstop: float, time_unit: float, dt: float | None) -> None:
+    """Refuse a chain whose run ngspice cannot step through, naming the chain (the user's ``--chain``, a scene's
+    ``[chain]``): a run shorter than one step, or than :data:`lcchain.core.limits.MIN_TIME_UNIT` seconds (masses
+    and springs far from bulk units: a spring of 1e300 ends the first transit at 1e-150)."""
+    seconds = tstop * time_unit
+    if math.isfinite(tstop) and seconds >= MIN_TIME_UNIT and (dt is None or tstop > dt):
+        return
+    if dt is not None and not 0.0 < dt <= MAX_DT:  # NaN too: the step is refused by its own name
+        real("dt", dt, above=0.0, at_most=MAX_DT,
+             allowed=f"0 < dt <= {MAX_DT:g} (in units of sqrt(L0*C0); the bulk period is 2 pi)")
+    if not math.isfinite(tstop):  # a spring of ~0 cuts the chain: nothing ever arrives at its far end
+        raise ParameterError("chain", f"{chain.name} N={chain.N}", "a chain whose first arrival comes in a finite "
+                             "time: this one's transit time is infinite (a spring or mass of about 0 beside the "
+                             "others cuts it in two)")
+    step = f" and longer than one step, dt = {dt:g}" if dt is not None else ""
+    raise ParameterError("chain", f"{chain.name} N={chain.N}", f"a chain whose run lasts at least {MIN_TIME_UNIT:g} "
+                         f"s{step}: this one's ends at t = {tstop:.3g} sqrt(L0*C0) = {seconds:.3g} s (its masses and "
+                         "springs are far from bulk units, where the central mass and spring are 1)")
+
+
+def check_frequency_scale(chain: Chain, omega_max: float, time_unit: float) -> None:
+    """Refuse a chain whose AC sweep ngspice cannot make, naming the chain: its highest normal frequency's period
+    below :data:`lcchain.core.limits.MIN_TIME_UNIT` seconds (a spring of 1e300 puts a mode at 1e150)."""
+    period = 2.0 * math.pi * time_unit / omega_max if omega_max > 0 else math.inf
+    if math.isfinite(omega_max) and period >= MIN_TIME_UNIT:
+        return
+    raise ParameterError("chain", f"{chain.name} N={chain.N}", f"a chain whose modes are slower than one period per "
+                         f"{MIN_TIME_UNIT:g} s: this one's highest is omega = {omega_max:.3g} / sqrt(L0*C0), a period "
+                         f"of {period:.3g} s (its masses and springs are far from bulk units, where the central mass "
+                         "and spring are 1)")
+
+
 def make_netlist(
     chain: Chain,
     *,
@@ -432,10 +475,11 @@ def make_netlist(
     -------
     text, ladder, options
     """
+    ladder = Ladder(chain, L0, C0)
     if tstop is None:
         modes = modes if modes is not None else normal_modes(chain)
         tstop = stop_time(modes, transits)
-    ladder = Ladder(chain, L0, C0)
+        check_run_length(chain, tstop, ladder.time_unit, dt)
     options = SimulationOptions(dt=dt, tstop=tstop, method=method, aligned=aligned)
     title = title if title is not None else f"lcchain {chain.name} chain N={chain.N}, {excitation}"
     text = netlist_text(ladder, options, excitation=excitation, I0=I0, title=title, comments=comments)

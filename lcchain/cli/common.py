@@ -12,22 +12,34 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from ..core.budget import DEFAULT_MAX_MEMORY, DEFAULT_MAX_SECONDS, Budget, perfect_estimate
+from ..core.budget import (
+    DEFAULT_MAX_MEMORY,
+    DEFAULT_MAX_SECONDS,
+    INTERPRETER_BYTES,
+    INTERPRETER_SECONDS,
+    Budget,
+    perfect_estimate,
+    show_bytes,
+    show_seconds,
+)
 from ..core.errors import ParameterError
 from ..core.limits import (
     COUPLED_MAX_N,
+    MAX_BUDGET_BYTES,
     MAX_CHAIN_FILE_BYTES,
     MAX_CIRCUIT_N,
     MAX_COMMENT_LENGTH,
     MAX_PERFECT_N,
+    MAX_SECONDS,
     MIN_N,
+    MIN_TIMEOUT,
 )
 from ..report.files import check_not_input, check_output, same_file, write_text
 from ..theory.chain import Chain
 
 __all__ = ["EXIT_OK", "EXIT_FAILED", "EXIT_USAGE", "EXIT_MISSING", "EXIT_SIGPIPE", "OPTION_NAMES", "NEGATIVE_NUMBER",
-           "single_valued", "count", "int_list",
-           "number", "size", "duration", "budget_parent", "emit_json", "Outputs",
+           "single_valued", "count", "list_entries", "int_list",
+           "number", "size", "duration", "seconds", "budget_parent", "emit_json", "Outputs",
            "chain_from_args", "budget_from_args", "load_chain_file", "check_perfect", "echoed_command"]
 
 EXIT_OK, EXIT_FAILED, EXIT_USAGE, EXIT_MISSING = 0, 1, 2, 3
@@ -41,6 +53,7 @@ OPTION_NAMES = {
     "engine": "--engine",
     "points": "--points", "Q": "--Q", "coupling": "--coupling",
     "case": "--case", "walls": "--walls", "max_memory": "--max-memory", "max_seconds": "--max-time",
+    "timeout": "--timeout",
 }
 
 
@@ -86,18 +99,28 @@ def count(option: str) -> Callable[[str], int]:
     return parse
 
 
+def list_entries(option: str, text: str, what: str) -> list[str]:
+    """The entries of a comma list, stripped; an empty one (``10,,20``, ``10,``, ``,10``) is refused, naming the
+    option and its text: a silently dropped entry would run a study with one row fewer than the user wrote."""
+    entries = [entry.strip() for entry in text.split(",")]
+    empty = [k + 1 for k, entry in enumerate(entries) if not entry]
+    if empty:
+        where = f"entry {empty[0]} of {len(entries)} is empty" if len(entries) > 1 else "it is empty"
+        raise argparse.ArgumentTypeError(f"{option} = {text!r} is not allowed: expected {what} separated by commas, "
+                                         f"none empty ({where})")
+    return entries
+
+
 def int_list(option: str) -> Callable[[str], list[int]]:
-    """An argparse type: integers separated by commas."""
+    """An argparse type: integers separated by commas, none empty."""
 
     def parse(text: str) -> list[int]:
+        entries = list_entries(option, text, "integers")
         try:
-            values = [int(v) for v in text.split(",") if v.strip()]
+            return [int(v) for v in entries]
         except ValueError:
             raise argparse.ArgumentTypeError(
                 f"{option} = {text!r} is not allowed: expected integers separated by commas") from None
-        if not values:
-            raise argparse.ArgumentTypeError(f"{option} is empty: expected integers separated by commas")
-        return values
 
     return parse
 
@@ -122,22 +145,49 @@ _DURATION = re.compile(r"^\s*([0-9.]+(?:[eE][-+]?[0-9]+)?)\s*(s|min|h|d)?\s*$")
 
 
 def size(text: str) -> float:
-    """An argparse type: bytes, as 8G, 512M, 1.5T (binary units; a plain number is GiB)."""
+    """An argparse type: bytes, as 8G, 512M, 1.5T (binary units; a plain number is GiB), at least what the
+    interpreter alone takes (:data:`lcchain.core.budget.INTERPRETER_BYTES`: a smaller budget fits no request)."""
     match = _SIZE.match(text)
-    if not match or float(match.group(1)) <= 0:
-        raise argparse.ArgumentTypeError(f"--max-memory = {text!r} is not allowed: expected a size such as 16G "
-                                         "or 512M (a plain number is GiB)")
+    allowed = (f"a size such as 16G or 512M (a plain number is GiB), from {show_bytes(INTERPRETER_BYTES)} (the "
+               f"interpreter's own memory) to {show_bytes(MAX_BUDGET_BYTES)}")
+    if not match:
+        raise argparse.ArgumentTypeError(f"--max-memory = {text!r} is not allowed: expected {allowed}")
     scale = {"": 2**30, "k": 2**10, "m": 2**20, "g": 2**30, "t": 2**40}[match.group(2).lower()]
-    return float(match.group(1)) * scale
+    value = float(match.group(1)) * scale
+    if not INTERPRETER_BYTES <= value <= MAX_BUDGET_BYTES:
+        raise argparse.ArgumentTypeError(f"--max-memory = {text!r} is not allowed: expected {allowed}")
+    return value
 
 
 def duration(text: str) -> float:
-    """An argparse type: seconds, as 90, 90s, 30min, 2h, 1d."""
+    """An argparse type: seconds, as 90, 90s, 30min, 2h, 1d, at least the interpreter's own start
+    (:data:`lcchain.core.budget.INTERPRETER_SECONDS`: a shorter budget fits no request)."""
     match = _DURATION.match(text)
-    if not match or float(match.group(1)) <= 0:
-        raise argparse.ArgumentTypeError(f"--max-time = {text!r} is not allowed: expected a duration such as 90s, "
-                                         "30min or 2h (a plain number is seconds)")
-    return float(match.group(1)) * {None: 1, "s": 1, "min": 60, "h": 3600, "d": 86400}[match.group(2)]
+    allowed = (f"a duration such as 90s, 30min or 2h (a plain number is seconds), from "
+               f"{show_seconds(INTERPRETER_SECONDS)} (the interpreter's own start) to {show_seconds(MAX_SECONDS)}")
+    if not match:
+        raise argparse.ArgumentTypeError(f"--max-time = {text!r} is not allowed: expected {allowed}")
+    value = float(match.group(1)) * {None: 1, "s": 1, "min": 60, "h": 3600, "d": 86400}[match.group(2)]
+    if not INTERPRETER_SECONDS <= value <= MAX_SECONDS:
+        raise argparse.ArgumentTypeError(f"--max-time = {text!r} is not allowed: expected {allowed}")
+    return value
+
+
+def seconds(option: str) -> Callable[[str], float]:
+    """An argparse type: a timeout in seconds, from :data:`lcchain.core.limits.MIN_TIMEOUT` (a run's start) to
+    :data:`lcchain.core.limits.MAX_SECONDS` (a larger one overflowed the clock's deadline arithmetic)."""
+
+    def parse(text: str) -> float:
+        allowed = f"seconds, {MIN_TIMEOUT:g} <= {option.lstrip('-')} <= {MAX_SECONDS:g}"
+        try:
+            value = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{option} = {text!r} is not allowed: expected {allowed}") from None
+        if not MIN_TIMEOUT <= value <= MAX_SECONDS:  # NaN fails both
+            raise argparse.ArgumentTypeError(f"{option} = {text!r} is not allowed: expected {allowed}")
+        return value
+
+    return parse
 
 
 def budget_parent() -> argparse.ArgumentParser:
@@ -247,7 +297,7 @@ def chain_from_args(args: argparse.Namespace, max_N: int = MAX_CIRCUIT_N) -> Cha
     except ParameterError as error:
         raise error.renamed("--coupling") from None
     if chain.coupled and chain.N > COUPLED_MAX_N:
-        raise ParameterError("--N", chain.N, f"at most {COUPLED_MAX_N} masses with --coupling (the coupled modes are "
+        raise ParameterError("N", chain.N, f"at most {COUPLED_MAX_N} masses with --coupling (the coupled modes are "
                              "a dense generalised eigenproblem)")
     return chain
 

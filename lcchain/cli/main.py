@@ -43,6 +43,7 @@ from .common import (
     OPTION_NAMES,
     budget_parent,
     int_list,
+    list_entries,
     number,
     single_valued,
 )
@@ -70,7 +71,7 @@ class _Parser(argparse.ArgumentParser):
 
 def engine_list(text: str) -> tuple[str, ...]:
     """``--engine ngspice`` or ``--engine ngspice,gnucap``: registered engines, each once."""
-    names = tuple(name.strip() for name in text.split(","))
+    names = tuple(list_entries("--engine", text, "engine names"))
     for name in names:
         if name not in ENGINES:
             raise argparse.ArgumentTypeError(f"unknown engine {name!r}: expected {' | '.join(ENGINES)}, or several "
@@ -293,9 +294,31 @@ def _signals_interrupt() -> Iterator[None]:
             signal.signal(sig, handler)
 
 
-def _as_typed(error: ParameterError) -> ParameterError:
-    """The error under the option the user typed (``--dt``, not ``dt``) when it came from the command line."""
-    if error.where is None and error.field in OPTION_NAMES:
+def _as_typed(error: ParameterError, args: argparse.Namespace) -> ParameterError:
+    """The error under the option the user typed (``--dt``, not ``dt``) when it came from the command line.
+
+    A refusal of the chain itself (``chain``: its time scale, its poles; ``N``: its size) names how the user gave
+    the chain: ``--chain FILE`` (with a file, --N was not typed), else ``--walls`` for a walled cradle, else ``--N``.
+    So does a refusal of a step the user did not type (the default --dt): the chain makes the run long.
+    """
+    if error.where is not None:
+        return error
+    allowed = error.allowed
+    if error.field == "dt" and "dt" in args and args.dt is None:  # the default step: what the user gave is the chain
+        allowed = f"{allowed} (at the default step --dt {error.value!r})"
+        if isinstance(getattr(args, "N", None), list):  # a sweep: its sizes
+            return ParameterError("--N", ",".join(str(N) for N in args.N), allowed)
+        error = ParameterError("chain", error.value, allowed)
+    chain_file = getattr(args, "chain", None)
+    if error.field in ("chain", "N") and isinstance(chain_file, str):
+        return ParameterError("--chain", chain_file, allowed)
+    if error.field == "chain":
+        walls, N = getattr(args, "walls", 0), getattr(args, "N", None)
+        if walls:
+            return ParameterError("--walls", walls, f"{allowed} (with --N {N})")
+        if isinstance(N, int):
+            return ParameterError("--N", N, allowed)
+    if error.field in OPTION_NAMES:
         return error.renamed(OPTION_NAMES[error.field])
     return error
 
@@ -338,7 +361,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         print(f"lcchain: {error}", file=sys.stderr)
         return EXIT_MISSING
     except ParameterError as error:
-        print(f"lcchain: {_as_typed(error)}", file=sys.stderr)
+        print(f"lcchain: {_as_typed(error, args)}", file=sys.stderr)
         return EXIT_USAGE
     except SimulationError as error:
         print(f"lcchain: simulation failed: {error}", file=sys.stderr)

@@ -6,13 +6,12 @@ from __future__ import annotations
 import argparse
 import contextlib
 import sys
-import tempfile
-from pathlib import Path
 from typing import Any
 
 from ..core.errors import ParameterError
 from ..core.types import ARRIVAL_METRICS
 from ..report.files import FIGURE_FORMATS
+from ..spice.scratch import scratch_folder
 from .common import EXIT_FAILED, EXIT_OK, Outputs, budget_from_args, chain_from_args, emit_json
 from .progress import fraction, study_counter
 from .studies import STORE_FORMATS, _workers, add_study_arguments
@@ -53,9 +52,9 @@ def _checks(args: argparse.Namespace, sensitivity: Any, outputs: Outputs) -> lis
     plan, steps = check_plan(sensitivity, args.check, accuracy=args.accuracy, budget=budget_from_args(args),
                              timeout=args.timeout)
     workers = _workers(args)
-    plan.check(budget_from_args(args), workers, args.executor)
+    plan.check(budget_from_args(args), workers, args.executor, "--check")
     with contextlib.ExitStack() as stack:
-        store = args.store or str(Path(stack.enter_context(tempfile.TemporaryDirectory())) / "check.sqlite")
+        store = args.store or str(stack.enter_context(scratch_folder("check", watch=True)) / "check.sqlite")
         summary = run_plan(plan, store, executor=args.executor, workers=workers, scheduler=args.scheduler,
                            progress=study_counter("runs"), transport=args.transport)
         with Store(store, "read") as stored:
@@ -118,7 +117,7 @@ def cmd_sensitivity(args: argparse.Namespace) -> int:
         raise ParameterError("--store", args.store, "only with --check M (the store keeps its runs)")
     check_executor(args.executor, args.workers, args.scheduler)
     chain = chain_from_args(args, max_N=SENSITIVITY_MAX_N)
-    sensitivity_estimate(chain.N).check(budget_from_args(args), "--N", chain.N)
+    sensitivity_estimate(chain.N).check(budget_from_args(args), "N", chain.N)  # --N, or the --chain FILE
     shown = fraction(f"sensitivities of {chain.N} masses")  # one O(N^3) step: 5 s at N = 2000
     shown(0.0)
     sensitivity = ladder_sensitivity(Ladder(chain, args.L0, args.C0), metric=args.metric)

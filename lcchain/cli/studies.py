@@ -25,7 +25,7 @@ from ..core.types import (
 )
 from ..report.files import FIGURE_FORMATS
 from ..spice.engines import DEFAULT_ENGINE, ENGINES
-from .common import EXIT_FAILED, EXIT_OK, Outputs, budget_from_args, emit_json, int_list
+from .common import EXIT_FAILED, EXIT_OK, Outputs, budget_from_args, emit_json, int_list, list_entries, seconds
 from .progress import study_counter
 
 __all__ = ["cmd_sweep", "cmd_batch", "cmd_results", "add_study_arguments"]
@@ -35,24 +35,22 @@ STORE_FORMATS = ("sqlite", "sqlite3", "db")
 
 def _floats(option: str) -> Callable[[str], list[float]]:
     def parse(text: str) -> list[float]:
+        entries = list_entries(option, text, "numbers")
         try:
-            values = [float(v) for v in text.split(",") if v.strip()]
+            return [float(v) for v in entries]
         except ValueError:
             raise argparse.ArgumentTypeError(f"{option} = {text!r} is not allowed: expected numbers separated by "
                                              "commas") from None
-        if not values:
-            raise argparse.ArgumentTypeError(f"{option} is empty: expected numbers separated by commas")
-        return values
 
     return parse
 
 
 def _words(option: str, allowed: Sequence[str]) -> Callable[[str], list[str]]:
     def parse(text: str) -> list[str]:
-        values = [v.strip() for v in text.split(",") if v.strip()]
+        values = list_entries(option, text, " | ".join(allowed))
         bad = [v for v in values if v not in allowed]
-        if bad or not values:
-            raise argparse.ArgumentTypeError(f"{option} = {text!r} is not allowed: expected a comma list of "
+        if bad:
+            raise argparse.ArgumentTypeError(f"{option} = {bad[0]!r} is not allowed: expected a comma list of "
                                              f"{' | '.join(allowed)}")
         return values
 
@@ -76,7 +74,7 @@ def add_study_arguments(p: argparse.ArgumentParser, *, store: bool = True) -> No
                    help="how each ngspice run starts: auto (short runs in warm shared-library workers, when there "
                         "are enough of them), process (one ngspice -b each) or warm (every run that can); "
                         "results are the same (lcchain run: with --workers)")
-    p.add_argument("--timeout", type=float, default=3600.0, metavar="S",
+    p.add_argument("--timeout", type=seconds("--timeout"), default=3600.0, metavar="S",
                    help="seconds before a run's ngspice is killed (its record says timeout; default 3600)")
 
 

@@ -15,6 +15,7 @@ asked for it, is judged by these two.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any
 
@@ -24,14 +25,15 @@ from ..core.budget import Estimate, ac_estimate
 from ..core.checks import integer
 from ..core.errors import ParameterError
 from ..core.frozen import FrozenArrays
-from ..core.limits import COUPLED_MAX_N, MAX_AC_POINTS
+from ..core.limits import COUPLED_MAX_N, MAX_AC_POINTS, MIN_AC_POINTS
 from ..theory.modes import Modes
 from .grid import POINTS_PER_SPACING, Segment, min_points, sweep_segments
 from .spectrum import SpectrumFit, fit_sections, fit_spectrum
 
 __all__ = ["SpectrumMetrics", "SPECTRAL_METRICS", "spacing_spread", "sweep_grid", "compare_spectrum",
            "spectrum_estimate", "nearest_modes", "largest_relative_error",
-           "OMEGA_MARGIN", "OMEGA_WEIGHT_FLOOR", "DEFAULT_OVERSAMPLING", "SPECTRUM_MAX_N"]
+           "OMEGA_MARGIN", "OMEGA_WEIGHT_FLOOR", "DEFAULT_OVERSAMPLING", "SPECTRUM_MAX_N", "LOSSY_MAX_N",
+           "lossy_range", "check_lossy"]
 
 #: The sweep ends this far above the highest normal frequency (relative).
 OMEGA_MARGIN = 0.05
@@ -44,9 +46,55 @@ DEFAULT_OVERSAMPLING = 2
 #: The largest chain measured (exact modes for the comparison, and the fit's dense least squares).
 SPECTRUM_MAX_N = COUPLED_MAX_N
 
+#: The lossy fit (every pole at -1/(2Q) +- j omega_n) tells neighbouring modes apart when Q is at least this over
+#: their smallest spacing (measured, ngspice and gnucap, N = 3 to 100: one-, two-mass and uniform chains need 0.07
+#: to 0.1), or :data:`LOSSY_GAP_Q_WEAK` where a mode weighs less than :data:`LOSSY_WEAK_RATIO` of its neighbour
+#: (the edge modes of a perfect cradle tied to walls: 0.5 to 0.7); and it places the lowest when Q is at least 1
+#: over its frequency (near-critical damping: 0.5 missed, 0.7 held).
+LOSSY_GAP_Q = 0.15
+LOSSY_GAP_Q_WEAK = 0.7
+LOSSY_WEAK_RATIO = 0.1
+#: ... and places the decay rates (1/Q, against every pole's distance from its neighbours) for Q up to this, and up
+#: to LOSSY_QN over N (two-mass N = 100: 2e4 right, 2.2e5 wrong; N = 10: 1e5 right, 4.6e5 wrong).
+LOSSY_MAX_Q = 1e5
+LOSSY_QN = 2e6
+#: The largest lossy ladder whose spectrum the fit was measured on: beyond it misses came inside every window
+#: (N = 200 to 700: P_n off by 1e-4 to 1e+91 at some Q between the bounds above).
+LOSSY_MAX_N = 100
+
 #: The spectral metrics a store's runs hold (``lcchain results --metric``), with their units.
 SPECTRAL_METRICS = {"max_rel_error_omega": "relative", "max_abs_error_P": "absolute",
                     "spacing_spread": "(max - min) / mean", "spacing_std": "std / mean", "modes_seen": "modes"}
+
+
+def lossy_range(modes: Modes) -> tuple[float, float]:
+    """The quality factors Q whose lossy spectrum the fit identifies, for a chain's driven modes (their
+    frequencies, units of 1/sqrt(L0 C0), and weights P_n): (lowest, highest); lowest > highest when none does
+    (N > :data:`LOSSY_MAX_N`, or modes too close to be told apart below :data:`LOSSY_MAX_Q`)."""
+    order = np.argsort(modes.omega)
+    omega, weight = np.asarray(modes.omega, dtype=float)[order], np.abs(modes.transfer)[order]
+    if omega.size > LOSSY_MAX_N:
+        return math.inf, 0.0
+    gaps = np.diff(omega)
+    ratio = np.minimum(weight[1:], weight[:-1]) / np.maximum(np.maximum(weight[1:], weight[:-1]), 1e-300)
+    per_gap = np.where(ratio < LOSSY_WEAK_RATIO, LOSSY_GAP_Q_WEAK, LOSSY_GAP_Q) / np.maximum(gaps, 1e-300)
+    moving = omega[omega > 1e-9 * omega[-1]]
+    lowest = max(float(np.max(per_gap, initial=0.0)), 1.0 / float(moving[0]) if moving.size else math.inf)
+    return lowest, min(LOSSY_MAX_Q, LOSSY_QN / omega.size)
+
+
+def check_lossy(name: str, Q: float, modes: Modes) -> None:
+    """Refuse a losses' Q whose spectrum the fit cannot identify on this chain, naming ``name``, Q and the range."""
+    lowest, highest = lossy_range(modes)
+    if modes.N > LOSSY_MAX_N:
+        raise ParameterError(name, Q, f"no losses on an AC analysis of N = {modes.N} > {LOSSY_MAX_N} masses (the "
+                             "lossy fit is measured only up to there; a transient takes any N)")
+    if lowest > highest:
+        raise ParameterError(name, Q, f"no Q on this chain's AC analysis: its modes need Q >= {lowest:.4g} to be told "
+                             f"apart and their decay rates are placed only up to Q = {highest:.4g}")
+    if not lowest <= Q <= highest:
+        raise ParameterError(name, Q, f"{lowest:.4g} <= Q <= {highest:.4g} on this chain's AC analysis (below, modes "
+                             "closer than their width 1/Q merge; above, the decay rates are beyond the fit)")
 
 
 def largest_relative_error(values: np.ndarray, theory: np.ndarray, where: np.ndarray) -> float:
@@ -205,16 +253,18 @@ def sweep_grid(omega: np.ndarray, points: int | None = None) -> tuple[list[Segme
     ------
     ParameterError
         ``points`` below the fewest that separate every pole (naming that minimum), or a chain whose poles no
-        sweep of :data:`lcchain.core.limits.MAX_AC_POINTS` frequencies separates (naming ``N``).
+        sweep of :data:`lcchain.core.limits.MAX_AC_POINTS` frequencies separates (naming ``chain``).
     """
     omega = np.asarray(omega, dtype=float)
     omega_max = float(omega[-1]) * (1.0 + OMEGA_MARGIN)
-    needed = min_points(omega, omega_max)
-    if needed > MAX_AC_POINTS:
-        raise ParameterError("N", omega.size, f"a chain whose poles a sweep of at most {MAX_AC_POINTS} frequencies "
-                             f"separates: this one needs {needed}")
-    if points is None:
-        points = min(MAX_AC_POINTS, DEFAULT_OVERSAMPLING * needed)
+    with np.errstate(all="ignore"):  # a count beyond int64 (poles 1e150 apart from 0) wraps: refused below
+        needed = min_points(omega, omega_max) if math.isfinite(omega_max) else 0
+    if not 0 < needed <= MAX_AC_POINTS:  # named as the chain: its N, its file, its walls
+        needs = f"{needed}" if needed > 0 else "more than can be counted"  # a count past int64 wrapped
+        raise ParameterError("chain", f"N={omega.size}", f"a chain whose poles a sweep of at most {MAX_AC_POINTS} "
+                             f"frequencies separates: this one needs {needs}")
+    if points is None:  # never below the engine's least (a chain of a few well-separated poles needs fewer)
+        points = min(MAX_AC_POINTS, max(MIN_AC_POINTS, DEFAULT_OVERSAMPLING * needed))
     points = integer("points", points, at_least=needed, at_most=MAX_AC_POINTS,
                      allowed=f"at least {needed} frequencies ({POINTS_PER_SPACING} per spacing of the normal "
                              f"frequencies, up to {omega_max:.4g}) and at most {MAX_AC_POINTS}")

@@ -18,6 +18,7 @@ from typing import Any, TypeVar, cast
 import numpy as np
 
 from .errors import ParameterError
+from .limits import MAX_PULSE_WIDTH, MIN_PULSE_WIDTH
 
 #: A dot followed by a letter at the start of a line: ngspice may read it as a command.
 # A title ngspice would read as a command: a dot-command, "*#" (a command line), or "*ng_script", which makes
@@ -163,7 +164,8 @@ def pulse(excitation: object, value: object, kinds: Sequence[str], shapes: Seque
     excitation : str
         One of ``kinds``.
     value : (shape, width) or None
-        ``shape`` one of ``shapes``; ``width`` > 0 in units of sqrt(L0*C0).
+        ``shape`` one of ``shapes``; ``width`` in units of sqrt(L0*C0), from
+        :data:`~lcchain.core.limits.MIN_PULSE_WIDTH` to :data:`~lcchain.core.limits.MAX_PULSE_WIDTH`.
     """
     choice("excitation", excitation, kinds)
     if (excitation == "pulse") != (value is not None):
@@ -172,8 +174,8 @@ def pulse(excitation: object, value: object, kinds: Sequence[str], shapes: Seque
         return None
     if not isinstance(value, (tuple, list)) or len(value) != 2:
         raise ParameterError("pulse", value, "(shape, width)")
-    return choice("pulse shape", value[0], shapes), real("pulse width", value[1], above=0.0,
-                                                          unit="units of sqrt(L0*C0)")
+    return choice("pulse shape", value[0], shapes), real("pulse width", value[1], at_least=MIN_PULSE_WIDTH,
+                                                          at_most=MAX_PULSE_WIDTH, unit="units of sqrt(L0*C0)")
 
 
 def numbers_list(name: str, values: object, allowed: str) -> tuple[Any, ...]:

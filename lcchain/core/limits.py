@@ -24,8 +24,17 @@ MAX_TRANSITS = 1000
 MAX_DT = 1.0
 #: Largest step --accuracy chooses, units of sqrt(L0*C0): the bulk band reaches omega = 2, warped 8 % at 0.5.
 MAX_ACCURACY_DT = 0.5
-#: Longest pulse (gaussian standard deviation or rect duration), units of sqrt(L0*C0).
+#: Shortest and longest pulse (gaussian standard deviation or rect duration), units of sqrt(L0*C0).  A pulse is
+#: stepped at a width / 8 at most: narrower than 1e-3 (1/6000 of the bulk period) it is a kick that only costs
+#: steps (1e-300 was refused as an accuracy no budget affords, naming analysis.accuracy).
+MIN_PULSE_WIDTH = 1e-3
 MAX_PULSE_WIDTH = 1000.0
+#: The kick's current I0 (ampere) and the pulse's scale: the circuit is linear, but ngspice squares its
+#: currents (1e300 A aborted its run; 1e-300 to 1e200 ran to the same relative error).  A wider range is a typo.
+MIN_I0, MAX_I0 = 1e-100, 1e100
+#: Stiffest wall spring (``[effects.walls] K0``, bulk units): its mode at sqrt(K0) needs steps of 1/sqrt(K0);
+#: 1e12 is still refused by the price of its accuracy in seconds, 1e300 ran for minutes before any refusal.
+MAX_WALL_SPRING = 1e12
 #: Most tolerance samples in one scene or sweep.
 MAX_SAMPLES = 10_000
 #: Most components a worst-case study moves together (``sweep --worst-case --components``): 2^K corners.
@@ -41,6 +50,13 @@ MIN_IMPEDANCE, MAX_IMPEDANCE = 1e-6, 1e12
 #: usually met (7.0e-10 to 7.9e-10 on perfect and two-mass chains) but not always (1.7e-9 on the uniform
 #: bounded N = 20 chain), and 1e-11 never (7e-11 to 6e-10).  A run that misses its accuracy fails.
 ACCURACY_FLOOR = 1e-9
+#: Shortest timeout of a run (--timeout), seconds: a run's start alone takes 0.02 s; 1e-300 timed every run out.
+MIN_TIMEOUT = 0.1
+#: Longest time any budget or timeout may name (--max-time, --timeout): a year, in seconds.  Larger ones mean
+#: "no limit", and 1e300 overflowed the deadline arithmetic (time_t) with a traceback.
+MAX_SECONDS = 365 * 86400.0
+#: Largest memory budget (--max-memory): 1 PiB, beyond any machine, so a number like 1e300 is a typo.
+MAX_BUDGET_BYTES = float(2**50)
 #: Largest netlist (or included file) lcchain reads: 2 N + 10 lines of at most 100 characters at MAX_CIRCUIT_N.
 MAX_NETLIST_BYTES = 64 * 2**20
 #: Largest --chain file read (a JSON chain of MAX_CIRCUIT_N masses takes about 5 MB).
@@ -50,6 +66,11 @@ MAX_SCENE_BYTES = 64 * 2**20
 #: Frequencies of one AC analysis (lcchain spectrum --points): a few per mode at least, at most a million.
 MIN_AC_POINTS = 16
 MAX_AC_POINTS = 1_000_000
+#: The losses' quality factor Q (``[effects.losses] Q``, ``--Q``): each inductor's series resistor is
+#: L_i / (Q sqrt(L0*C0)).  Below 1 the decay rate 1/Q leaves the bulk band the step is chosen for (measured: Q = 0.5
+#: misses accuracy 1e-3 at N = 100, Q = 1e-6 divided by zero in the planner); above 1e10 the resistors, 1e-10 of
+#: the line impedance, are beyond ngspice's resolution (Q = 1e13 missed 1e-3; 1e300 made its matrix singular).
+MIN_Q, MAX_Q = 1.0, 1e10
 #: The accuracy (max |simulation - theory|) of the runs of ``lcchain sensitivity --check``: met by extrapolated
 #: runs for N up to a few hundred.
 SENSITIVITY_CHECK_ACCURACY = 1e-7

@@ -44,14 +44,80 @@ FULL_N = [*range(3, 11), 12, 14, 16, 18, 20, 25, 30, 35, 40, 45, 50, 60, 70, 80,
 
 
 # ------------------------------------------------------------------ rows of Tables I and II, cached
+#: The cache file's own layout: {"format", "key", "rows": {"case:N": {"row": ..., "sha256": ...}}}.  A file of
+#: another layout (the flat rows of earlier versions) is recomputed, never read.
+CACHE_FORMAT = 2
+#: The keys and kinds of a row (``Design.to_dict()`` and its ``seconds``), per case: a row without one of them,
+#: or with another kind, is recomputed.
+_ROW_KEYS: dict[str, dict[str, type]] = {
+    case: {"N": int, "case": str, **dict.fromkeys(("delta", "s", "t_arrival", "m1", "m2", "K12", "x", "y", "z",
+                                                  *extra, "seconds"), float)}
+    for case, extra in (("one-mass", ("Delta", "delta_uniform")), ("two-mass", ("r", "w")))}
+#: How closely a row's derived numbers (its end masses and spring, x, y, z, t*) must follow from its parameters.
+_ROW_RTOL = 1e-9
+
+
+def _code_files() -> list[Path]:
+    """The code that makes a row: the theory, and the design task that runs it (:func:`design_row`)."""
+    package = Path(__file__).resolve().parent.parent
+    return [*sorted((package / "theory").glob("*.py")), package / "studies" / "designs.py"]
+
+
 def cache_key() -> str:
-    """lcchain's version and a digest of the theory's source: a cached row is reused only by the same code."""
-    digest = hashlib.sha256(__version__.encode())
-    theory = Path(__file__).resolve().parent.parent / "theory"
-    for path in sorted(theory.glob("*.py")):
+    """lcchain's version, the cache's layout and a digest of the code that makes a row (the theory and the
+    design task): a cached row is reused only by the same code."""
+    digest = hashlib.sha256(f"{__version__} {CACHE_FORMAT}".encode())
+    for path in _code_files():
         digest.update(path.name.encode())
         digest.update(path.read_bytes())
     return digest.hexdigest()[:16]
+
+
+def _row_digest(key: str, name: str, row: Mapping[str, Any]) -> str:
+    """The fingerprint a row is stored with: the code's key, the row's (case, N) and its numbers."""
+    return hashlib.sha256(json.dumps([key, name, row], sort_keys=True).encode()).hexdigest()
+
+
+def _consistent(case: str, N: int, row: Mapping[str, Any]) -> bool:
+    """Whether a row's derived numbers follow from its parameters ((r, w) or x), as the design computed them: a
+    number edited by hand, or made by other code, is caught even with a fingerprint that matches."""
+    from ..theory.chain import Chain
+
+    try:
+        if case == "two-mass":
+            chain = Chain.from_rw(N, row["r"], row["w"])
+        else:
+            chain = Chain.one_mass(N, row["x"])
+            if not math.isclose(row["Delta"], row["x"] ** 2 / (2 - row["x"] ** 2), rel_tol=_ROW_RTOL):
+                return False
+    except (ValueError, ArithmeticError):  # ParameterError is a ValueError: parameters no chain has
+        return False
+    derived = (float(chain.masses[0]), float(chain.masses[1]), float(chain.springs[1]), *chain.xyz(), N + row["s"])
+    stored = (row["m1"], row["m2"], row["K12"], row["x"], row["y"], row["z"], row["t_arrival"])
+    return all(math.isclose(a, b, rel_tol=_ROW_RTOL, abs_tol=1e-300) for a, b in zip(derived, stored, strict=True))
+
+
+def _valid_row(key: str, name: str, entry: object) -> dict[str, Any] | None:
+    """The row of a cache entry, or None when the entry is malformed, stale or not what the code makes."""
+    if not isinstance(entry, dict) or set(entry) != {"row", "sha256"}:
+        return None
+    row, digest = entry["row"], entry["sha256"]
+    case, _, size = name.partition(":")
+    schema = _ROW_KEYS.get(case)
+    if schema is None or not size.isdigit() or not isinstance(row, dict) or set(row) != set(schema):
+        return None
+    for field_name, kind in schema.items():
+        value = row[field_name]
+        if isinstance(value, bool):
+            return None
+        if kind is float:
+            if not isinstance(value, (int, float)) or not math.isfinite(value):
+                return None
+        elif not isinstance(value, kind):
+            return None
+    if row["case"] != case or row["N"] != int(size) or row["seconds"] < 0 or digest != _row_digest(key, name, row):
+        return None
+    return row if _consistent(case, row["N"], row) else None
 
 
 def default_cache_dir() -> Path:
@@ -67,7 +133,9 @@ class DesignRows:
     ----------
     cache : path, optional
         A folder for ``designs-<key>.json`` (:func:`cache_key`): rows computed by the same code are read
-        back instead of recomputed; None keeps rows in memory only.
+        back instead of recomputed; None keeps rows in memory only.  Each row is stored with a fingerprint of
+        the code and of its numbers; a row whose fingerprint, keys, kinds or derived numbers do not match what
+        the code makes is recomputed, never drawn (:func:`_valid_row`).
     progress : callable, optional
         ``progress(case, N, seconds)`` after each row computed (not after a row read from the cache).
     design : callable, optional
@@ -79,16 +147,33 @@ class DesignRows:
     def __init__(self, cache: str | os.PathLike[str] | None = None,
                  progress: Callable[[str, int, float], None] | None = None,
                  design: Callable[[DesignCase, int], dict[str, Any]] | None = None):
-        self._path = Path(cache) / f"designs-{cache_key()}.json" if cache is not None else None
+        self._key = cache_key()
+        self._path = Path(cache) / f"designs-{self._key}.json" if cache is not None else None
         self._rows: dict[str, dict[str, Any]] = {}
         self._progress = progress
         self.design = design or design_row
         self.computed = 0
+        #: Rows found in the cache but refused (malformed, stale, or not what the code makes): recomputed.
+        self.refused = 0
         if self._path is not None and self._path.is_file():
-            try:
-                self._rows = json.loads(self._path.read_text())
-            except (OSError, ValueError):
-                self._rows = {}  # a damaged cache is recomputed, never trusted
+            self._rows = self._read(self._path)
+
+    def _read(self, path: Path) -> dict[str, dict[str, Any]]:
+        try:
+            data = json.loads(path.read_text())
+        except (OSError, ValueError, RecursionError):
+            return {}  # a damaged cache is recomputed, never trusted
+        if not isinstance(data, dict) or data.get("format") != CACHE_FORMAT or data.get("key") != self._key \
+                or not isinstance(data.get("rows"), dict):
+            return {}
+        rows = {}
+        for name, entry in data["rows"].items():
+            row = _valid_row(self._key, name, entry)
+            if row is None:
+                self.refused += 1
+            else:
+                rows[name] = row
+        return rows
 
     def row(self, case: str, N: int) -> dict[str, Any]:
         """The design of (case, N) as ``lcchain table --json`` prints it, with its computing time."""
@@ -111,10 +196,13 @@ class DesignRows:
     def _save(self) -> None:
         if self._path is None:
             return
+        entries = {name: {"row": row, "sha256": _row_digest(self._key, name, row)}
+                   for name, row in self._rows.items()}
         try:
             self._path.parent.mkdir(parents=True, exist_ok=True)
-            write_text(self._path, json.dumps(self._rows, sort_keys=True))
-        except OSError:
+            write_text(self._path, json.dumps({"format": CACHE_FORMAT, "key": self._key, "rows": entries},
+                                              sort_keys=True))
+        except (OSError, TypeError, ValueError):
             self._path = None  # an unwritable cache only costs time
 
 

@@ -15,6 +15,7 @@ the initial current of loop 1, I_1(0).
 from __future__ import annotations
 
 import os
+import re
 from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
@@ -50,6 +51,21 @@ def _new_figure() -> Figure:
     from matplotlib.figure import Figure
 
     return Figure(figsize=FIGSIZE, layout="constrained")
+
+
+def _text(title: str) -> str:
+    """A title as matplotlib should draw it: as written when its ``$...$`` parts are valid mathtext (a scene may
+    write ``$\\alpha$``), else as plain text, its dollars escaped.  A title like ``$x`` or ``$\\frac{1}{$`` made
+    matplotlib raise while saving, after the run, and lost the figure."""
+    if title.replace(r"\$", "").count("$") < 2:
+        return title  # no math in it: matplotlib draws it as it is
+    from matplotlib.mathtext import MathTextParser
+
+    try:
+        MathTextParser("path").parse(title)
+    except (ValueError, RuntimeError):
+        return re.sub(r"(?<!\\)\$", r"\\$", title)
+    return title
 
 
 def _root_figure(ax: Axes) -> Figure:
@@ -243,14 +259,14 @@ def overlay(t_sim, y_sim, t_theory, y_theory, *, residual=None, t_residual=None,
     if ax is not None:
         top.legend(loc="best", fontsize=8)
         if title:
-            top.set_title(title)
+            top.set_title(_text(title))
     else:
         # One legend below the panels: no corner of a long window is free of data.
         handles = [h for a in (top, bottom) if a is not None for h in a.get_legend_handles_labels()[0]]
         fig.legend(handles=handles, loc="outside lower center", ncols=min(3, len(handles)), fontsize=8,
                    frameon=False)
         if title:
-            fig.suptitle(title)
+            fig.suptitle(_text(title))
     return _finish(fig, path)
 
 
@@ -294,7 +310,7 @@ def side_by_side(panels: Sequence[Mapping], *, title: str = "",
     span = high - low or 1.0
     axes[0].set_ylim(low - 0.05 * span, high + 0.35 * span)
     if title:
-        fig.suptitle(title)
+        fig.suptitle(_text(title))
     return _finish(fig, path)
 
 
@@ -420,7 +436,7 @@ def spacetime(t, currents, *, title: str = "", max_columns: int = SPACETIME_MAX_
     if loops.size <= 12:
         ax.set_yticks(loops)
     if title:
-        ax.set_title(title)
+        ax.set_title(_text(title))
     return _finish(fig, path)
 
 
@@ -478,7 +494,7 @@ def histogram(values, *, theory: float | None = None, title: str = "", xlabel: s
     ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, title_fontsize=8, alignment="left",
               title=f"n = {values.size}\nmean = {mean:.5g}\nstd = {std:.3g}")
     if title:
-        ax.set_title(title)
+        ax.set_title(_text(title))
     return _finish(fig, path)
 
 
@@ -633,7 +649,7 @@ def spectrum(omega_theory, P_theory, omega_circuit, P_circuit, *, title: str = "
     top.grid(True, **_GRID)
     top.legend(loc="lower left", fontsize=8)
     if title:
-        top.set_title(title, fontsize=10)
+        top.set_title(_text(title), fontsize=10)
     bottom.plot(omega_t[1:], np.diff(omega_t), "-", color="0.6", linewidth=1.0, label="theory")
     pairs = np.isfinite(omega_c[1:]) & np.isfinite(omega_c[:-1])
     bottom.plot(omega_c[1:][pairs], np.diff(omega_c)[pairs], "x", color="C3", markersize=5, label="ngspice (AC)")
@@ -690,5 +706,5 @@ def spacing_band(omega_nominal, spacings, *, title: str = "", path: str | os.Pat
     ax.grid(True, **_GRID)
     ax.legend(loc="best", fontsize=8)
     if title:
-        ax.set_title(title, fontsize=10)
+        ax.set_title(_text(title), fontsize=10)
     return _finish(fig, path)

@@ -40,7 +40,7 @@ from ..core import __version__
 from ..core.blas import fixed_blas_threads
 from ..core.budget import ac_run_estimate
 from ..core.checks import instance
-from ..core.errors import ParameterError, SimulationError
+from ..core.errors import ParameterError, SimulationError, show_value
 from ..core.frozen import FrozenArrays
 from ..core.types import GAUSSIAN_CENTRE, AnalysisKind, Probes, RunStatus
 from ..spice.ac import AcResult, run_ac
@@ -281,7 +281,17 @@ def _run_ac(spec: RunSpec, simulator: Simulator,
             N, lossy = spec.theory.chain.N, spec.theory.Q is not None
             engine = ac_run_estimate(points=spec.points, saved=2, unknowns=(3 if lossy else 2) * N).seconds
             progress(engine / spectrum_estimate(spec.points, N, losses=lossy).seconds)
-        spectrum = ac_metrics(spec.theory, result)
+        try:
+            spectrum = ac_metrics(spec.theory, result)
+        except (ValueError, IndexError, ArithmeticError, np.linalg.LinAlgError) as error:
+            # samples the fit cannot read as a ladder's (ParameterError is a ValueError): the comparison failed,
+            # which is this run's result (exit 1), not a traceback
+            if isinstance(error, ParameterError):  # the fit's own words: what it expected, what it found
+                reason = f"expected {error.allowed}, found {error.field} {show_value(error.value)}"
+            else:
+                reason = str(error).splitlines()[0] if str(error) else type(error).__name__
+            raise SimulationError(f"the modes could not be fitted to the {spec.engine} AC samples: {reason}",
+                                  engine=spec.engine) from None
     if progress is not None:
         progress(1.0)
     return ({"ac": result, "spectrum": spectrum}, result.wall_s, result.points,

@@ -26,7 +26,14 @@ import numpy as np
 from ..circuit.effects import Effect, Losses, PreferredValues, Tolerance
 from ..circuit.elements import ladder_elements
 from ..circuit.ladder import Ladder
-from ..circuit.netlist import SimulationOptions, ac_netlist_text, netlist_text, probe_names
+from ..circuit.netlist import (
+    SimulationOptions,
+    ac_netlist_text,
+    check_frequency_scale,
+    check_run_length,
+    netlist_text,
+    probe_names,
+)
 from ..compare.accuracy import dt_for_accuracy, predicted_error, warn_if_unreliable
 from ..compare.extrapolate import (
     ExtrapolationPlan,
@@ -37,7 +44,7 @@ from ..compare.extrapolate import (
     runs_for_step,
 )
 from ..compare.grid import Segment
-from ..compare.spectral import SPECTRUM_MAX_N, spectrum_estimate, sweep_grid
+from ..compare.spectral import SPECTRUM_MAX_N, check_lossy, spectrum_estimate, sweep_grid
 from ..core.blas import fixed_blas_threads
 from ..core.budget import (
     RUN_START_SECONDS,
@@ -50,7 +57,7 @@ from ..core.budget import (
 from ..core.checks import choice, instance, integer, real, strings
 from ..core.checks import pulse as check_pulse
 from ..core.errors import ParameterError
-from ..core.limits import EXACT_MAX_N, MAX_AC_POINTS, MAX_DT, MAX_TRANSITS, MIN_AC_POINTS
+from ..core.limits import EXACT_MAX_N, MAX_AC_POINTS, MAX_DT, MAX_I0, MAX_TRANSITS, MIN_AC_POINTS, MIN_I0
 from ..core.types import (
     BACKENDS,
     DEFAULT_C0,
@@ -101,7 +108,7 @@ class Drive:
     pulse: tuple[PulseShape, float] | None = None
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "I0", real("I0", self.I0, above=0.0, unit="ampere"))
+        object.__setattr__(self, "I0", real("I0", self.I0, at_least=MIN_I0, at_most=MAX_I0, unit="ampere"))
         spec = check_pulse(self.kind, self.pulse, EXCITATION_KINDS, PULSE_SHAPES)
         object.__setattr__(self, "pulse", spec)
 
@@ -516,6 +523,7 @@ def _plan_transient(request: Request, budget: Budget, modes: Modes | None, desig
     modes = modes if modes is not None else normal_modes(nominal)
     T = modes.transit_time()
     tstop = arrival_window(analysis.transits, T)[1] + pulse_centre(drive.kind, drive.pulse)
+    check_run_length(nominal, tstop, ladder.time_unit, analysis.dt)
     cost = _cost(request, N)
     points = max_points(budget, saved=cost["saved"], compared=cost["compared"], unknowns=cost["unknowns"])
     steps, predicted, reason, accuracy_plan = _choose_steps(request, nominal, modes, tstop, points)
@@ -581,6 +589,9 @@ def _plan_ac(request: Request, budget: Budget, modes: Modes | None, design_secon
     if modes is not None and modes.N != N:
         raise ParameterError("modes", f"modes of N = {modes.N}", f"the modes of this chain (N = {N})")
     theory = driven_modes(nominal)
+    check_frequency_scale(nominal, float(np.max(theory.omega)), ladder.time_unit)
+    if request.Q is not None:  # before the grid: its own refusals (points) would hide the cause
+        check_lossy("effects.losses.Q", request.Q, theory)
     segments, points, omega_max = sweep_grid(theory.omega, analysis.points)
 
     def price(frequencies: int) -> None:

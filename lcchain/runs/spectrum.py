@@ -41,8 +41,8 @@ from ..compare.spectral import (
 )
 from ..compare.spectrum import SpectrumFit
 from ..core.budget import Budget
-from ..core.checks import instance, real
-from ..core.errors import SimulationError
+from ..core.checks import instance
+from ..core.errors import ParameterError, SimulationError
 from ..core.types import DEFAULT_C0, DEFAULT_L0
 from ..spice.engines import DEFAULT_ENGINE
 from ..spice.simulator import Simulator
@@ -228,6 +228,14 @@ def _response_error(chain: Chain, theory: Modes, fit: SpectrumFit, Q: float | No
     return float(np.max(np.abs(fit.impulse(t, chain.masses[0] * fit.last) - exact)))
 
 
+def _losses(Q: object) -> Losses:
+    """The losses of ``Q``, refused under its own name (``--Q``), not the scene key ``effects.losses.Q``."""
+    try:
+        return Losses(Q)  # type: ignore[arg-type]  # checked there
+    except ParameterError as error:
+        raise error.renamed("Q") from None
+
+
 def measure_spectrum(chain: Chain, *, Q: float | None = None, points: int | None = None, L0: float = DEFAULT_L0,
                      C0: float = DEFAULT_C0, simulator: Simulator | None = None, budget: Budget | None = None,
                      timeout: float = 3600.0, engine: str = DEFAULT_ENGINE,
@@ -262,9 +270,12 @@ def measure_spectrum(chain: Chain, *, Q: float | None = None, points: int | None
         Before the engine starts.
     """
     instance("chain", chain, Chain)
-    effects = () if Q is None else (Losses(real("Q", Q, above=0.0, allowed="a finite quality factor > 0")),)
-    plan = plan_request(Request(chain, AC(points), effects=effects, L0=L0, C0=C0, timeout=timeout, engine=engine),
-                        budget)
+    effects = () if Q is None else (_losses(Q),)
+    try:
+        plan = plan_request(Request(chain, AC(points), effects=effects, L0=L0, C0=C0, timeout=timeout,
+                                    engine=engine), budget)
+    except ParameterError as error:  # the AC fit's range of Q for this chain, under the argument's name
+        raise (error.renamed("Q") if error.field == "effects.losses.Q" else error) from None
     spec = plan.specs[0]
     record = execute(spec, simulator, progress=progress)
     if not record.ok or record.spectrum is None or record.ac is None:

@@ -31,12 +31,15 @@ from ..core.limits import (
     MAX_AC_POINTS,
     MAX_CIRCUIT_N,
     MAX_DT,
+    MAX_I0,
     MAX_PERFECT_N,
     MAX_PULSE_WIDTH,
     MAX_TITLE_LENGTH,
     MAX_TRANSITS,
     MIN_AC_POINTS,
+    MIN_I0,
     MIN_N,
+    MIN_PULSE_WIDTH,
 )
 from ..core.types import (
     ANALYSIS_KINDS,
@@ -192,13 +195,13 @@ class ExcitationSpec:
         An initial current I0 in L_1, the initial charge it implies, or a
         voltage source v(t) = L_1 * I0 * g(t) in loop 1.
     I0 : float
-        Current in ampere (> 0): the kick, or the current the pulse's area
+        Current in ampere (1e-100 to 1e100): the kick, or the current the pulse's area
         gives L_1.
     shape : {"gaussian", "rect"}, optional
         Pulse only (required there): g(t) of unit area.
     width : float, optional
         Pulse only (required there): the gaussian's standard deviation or the
-        rect's duration, in units of sqrt(L0*C0), 0 < width <= 1000.
+        rect's duration, in units of sqrt(L0*C0), 1e-3 <= width <= 1000.
     """
 
     kind: ExcitationKind = "kick"
@@ -208,15 +211,18 @@ class ExcitationSpec:
 
     def __post_init__(self) -> None:
         choice("excitation.kind", self.kind, EXCITATION_KINDS)
-        object.__setattr__(self, "I0", _real("excitation.I0", self.I0, "a finite number > 0 (ampere)", above=0.0))
+        current = _real("excitation.I0", self.I0, f"a number, {MIN_I0:g} <= I0 <= {MAX_I0:g} (ampere)",
+                        at_least=MIN_I0, at_most=MAX_I0)
+        object.__setattr__(self, "I0", current)
         if self.kind != "pulse":
             for name in ("shape", "width"):
                 if getattr(self, name) is not None:
                     raise ParameterError(f"excitation.{name}", getattr(self, name), f'no {name} unless kind = "pulse"')
             return
         choice("excitation.shape", self.shape, PULSE_SHAPES, ' (required when kind = "pulse")')
-        allowed = f'a number, 0 < width <= {MAX_PULSE_WIDTH:g} (units of sqrt(L0*C0); required when kind = "pulse")'
-        width = _real("excitation.width", self.width, allowed, above=0.0, at_most=MAX_PULSE_WIDTH)
+        allowed = (f'a number, {MIN_PULSE_WIDTH:g} <= width <= {MAX_PULSE_WIDTH:g} (units of sqrt(L0*C0); '
+                   'required when kind = "pulse"; a narrower pulse is a kick)')
+        width = _real("excitation.width", self.width, allowed, at_least=MIN_PULSE_WIDTH, at_most=MAX_PULSE_WIDTH)
         object.__setattr__(self, "width", width)
 
 

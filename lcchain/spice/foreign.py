@@ -149,7 +149,7 @@ def _check_options(card: _Card, body: str) -> None:
 def _included(card: _Card, argument: str) -> tuple[str, str | None]:
     """(file, section) of an include card; quotes allowed around the file name only."""
     argument = argument.strip()
-    if argument[:1] in "\"'":
+    if argument.startswith(("\"", "'")):  # not ``argument[:1] in ...``: "" is in every string
         end = argument.find(argument[0], 1)
         if end < 0:
             raise _refuse(card, "a file name between matching quotes")
@@ -158,7 +158,10 @@ def _included(card: _Card, argument: str) -> tuple[str, str | None]:
         words = argument.split()
         name, rest = (words[0], words[1:]) if words else ("", [])
     if not name or len(rest) > 1 or not _CHARACTERS.fullmatch(name + " ".join(rest)):
-        raise _refuse(card, "an include of one file name (and, for .lib, one section name)")
+        # ngspice ends a card at " $" or ";" (an inline comment): ".include $HOME/x.inc" names no file at all
+        comment = " (a ' $' or ';' starts a comment, so no variable such as $HOME is expanded)" if (
+            "$" in card[2] or ";" in card[2]) else ""
+        raise _refuse(card, "an include of one file name (and, for .lib, one section name)" + comment)
     return name, rest[0] if rest else None
 
 

@@ -88,6 +88,7 @@ from .log import trim_log
 from .processes import child_env, kill_group, read_all
 from .runner import RunResult, check_arguments, progress_reporter, validate_columns, wait_watching
 from .sandbox import Sandbox
+from .scratch import scratch_folder
 from .simulator import Simulator, child_launcher
 from .text import canonical_vector_name, netlist_lines, parse_options, saved_vectors
 
@@ -392,7 +393,7 @@ def gnucap_version(executable: str, launcher: tuple[str, ...] = ()) -> str:
     SimulatorMissingError
         gnucap cannot run or prints no version.
     """
-    with tempfile.TemporaryDirectory(prefix="lcchain-gnucap-") as folder:
+    with scratch_folder("gnucap") as folder:
         try:
             proc = subprocess.run([*launcher, executable, "-b", "/dev/null"], capture_output=True, text=True,
                                   timeout=30, stdin=subprocess.DEVNULL, cwd=folder, env=child_env(),
@@ -422,7 +423,7 @@ def _last_time(out: IO[bytes]) -> float | None:
 def _run_child(text: str, simulator: Simulator, timeout: float, tstop: float,
                progress: Callable[[float], None] | None, limit: float) -> tuple[str, str, float]:
     """gnucap's stdout and its whole output, and its wall time; in a temporary folder that is then removed."""
-    with tempfile.TemporaryDirectory(prefix="lcchain-gnucap-") as folder, tempfile.TemporaryFile() as source, \
+    with scratch_folder("gnucap") as folder, tempfile.TemporaryFile() as source, \
             tempfile.TemporaryFile() as out, tempfile.TemporaryFile() as err:
         source.write(text.encode("utf-8"))
         source.seek(0)

@@ -67,6 +67,7 @@ from .log import LOG_MAX_CHARS, failure_reason, fatal_lines, trim_log, useful_ou
 from .processes import PACKAGE_ROOT, call_shared_worker, child_env, decode_worker_payload, kill_group, read_all
 from .raw import read_raw
 from .sandbox import SCRATCH, scratch_env
+from .scratch import scratch_folder
 from .simulator import Simulator, find_simulator
 from .text import canonical_text, canonical_vector_name, circuit_lines, parse_options, require_canonical, text_digest
 from .warm import worker_for
@@ -368,7 +369,8 @@ def _placement(simulator: Simulator, foreign: bool, own_folder: str | None) -> I
         prefix = (*simulator.launcher, *simulator.sandbox.command([], own_folder or SCRATCH, shown))
         yield _Place(prefix, "/", scratch_env(SCRATCH))
     else:
-        with tempfile.TemporaryDirectory(prefix="lcchain-scratch-") as scratch:
+        with scratch_folder("scratch") as folder:
+            scratch = str(folder)
             yield _Place(simulator.launcher, own_folder or scratch, scratch_env(scratch))
 
 

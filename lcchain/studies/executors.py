@@ -18,7 +18,8 @@ computed under a fixed BLAS thread limit, and ngspice is deterministic).
   process per worker), or an existing cluster at ``--scheduler``.  Dask is
   imported here only, and only when asked for (``pip install 'lcchain[dask]'``).
   Dask reschedules the tasks of a worker that dies.  The local cluster keeps
-  its scratch space in a temporary folder removed once it has closed, its
+  its scratch space in a folder of its own (beside the store) removed once it
+  has closed, or by a watcher when the driver is killed outright; its
   workers ignore Ctrl-C (the driver closes them), and their logs stay quiet
   unless ``verbose``.
 
@@ -42,7 +43,6 @@ from __future__ import annotations
 import contextlib
 import logging
 import os
-import tempfile
 import threading
 import urllib.parse
 from collections.abc import Callable, Iterator, Sequence
@@ -65,6 +65,7 @@ from ..core.types import EXECUTORS, TRANSPORT_CHOICES, ExecutorName, TransportCh
 from ..runs.execute import RunRecord, execute
 from ..runs.spec import RunSpec
 from ..spice.engines import find_engine
+from ..spice.scratch import scratch_folder
 from ..spice.simulator import Simulator
 from ..spice.warm import WARM_BELOW_SECONDS, close_workers, warm_simulator
 from .pools import interrupts_held, kill_pool, spawn_pool
@@ -324,8 +325,14 @@ def _threaded(groups: list[Group], simulator: Simulator, workers: int, keep_sign
 
 # ------------------------------------------------------------------ Dask
 @contextlib.contextmanager
-def _dask(workers: int, scheduler: str | None, verbose: bool) -> Iterator[Any]:
-    """A Dask client: on a LocalCluster whose scratch space is removed after it closed, or on ``scheduler``."""
+def _dask(workers: int, scheduler: str | None, verbose: bool, scratch: str | None = None) -> Iterator[Any]:
+    """A Dask client: on a LocalCluster whose scratch space is removed after it closed, or on ``scheduler``.
+
+    The scratch space is a folder of the driver's own (:func:`lcchain.spice.scratch.scratch_folder`) in
+    ``scratch`` (the store's folder; default the temporary folder), watched: if the driver is killed outright,
+    a watcher removes it, and the next start removes any a dead driver left.  The workers' temporary folder is
+    inside it, so what a killed worker leaves (a simulator's folder) goes with it.
+    """
     try:
         import dask
         from distributed import Client, LocalCluster
@@ -335,13 +342,16 @@ def _dask(workers: int, scheduler: str | None, verbose: bool) -> Iterator[Any]:
     quiet = logging.INFO if verbose else logging.CRITICAL
     with contextlib.ExitStack() as stack:
         if scheduler is None:
-            scratch = stack.enter_context(tempfile.TemporaryDirectory(prefix="lcchain-dask-"))
+            folder = stack.enter_context(scratch_folder("dask", scratch, watch=True, hidden=scratch is not None))
+            temporary = folder / "tmp"
+            temporary.mkdir()
             # the scheduler takes its scratch space from Dask's configuration, the workers from local_directory
-            stack.enter_context(dask.config.set({"temporary-directory": scratch}))
+            stack.enter_context(dask.config.set({"temporary-directory": str(folder)}))
             with interrupts_held():
                 cluster = stack.enter_context(LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
                                                            host="127.0.0.1", dashboard_address=None,
-                                                           silence_logs=quiet, local_directory=scratch))
+                                                           silence_logs=quiet, local_directory=str(folder),
+                                                           env={"TMPDIR": str(temporary)}))
                 client = stack.enter_context(Client(cluster))
         else:
             try:
@@ -370,7 +380,8 @@ def _on_dask(client: Any, groups: list[Group], simulator: Simulator, keep_signal
 
 @contextlib.contextmanager
 def open_executor(simulator: Simulator, *, executor: str = "process", workers: int | None = None,
-                  scheduler: str | None = None, keep_signals: bool = False, verbose: bool = False) -> Iterator[Runner]:
+                  scheduler: str | None = None, keep_signals: bool = False, verbose: bool = False,
+                  scratch: str | None = None) -> Iterator[Runner]:
     """An executor, started (a Dask cluster up, or its scheduler reached) before the block runs.
 
     Parameters
@@ -385,6 +396,9 @@ def open_executor(simulator: Simulator, *, executor: str = "process", workers: i
         Records keep their compared signals (not needed when the arrays are stored).
     verbose : bool
         Dask's workers log what they do (otherwise nothing below CRITICAL).
+    scratch : str, optional
+        A folder for an executor's scratch space (a local Dask cluster's): the store's, so that nothing of
+        the study is made in the temporary folder; default the temporary folder.
 
     Yields
     ------
@@ -395,7 +409,7 @@ def open_executor(simulator: Simulator, *, executor: str = "process", workers: i
     check_executor(executor, workers, scheduler)
     try:
         with EXECUTOR_RUNNERS[executor](simulator, workers or default_workers(), scheduler, keep_signals,
-                                        verbose) as run:
+                                        verbose, scratch) as run:
             yield run
     finally:
         close_workers()
@@ -403,13 +417,13 @@ def open_executor(simulator: Simulator, *, executor: str = "process", workers: i
 
 @contextlib.contextmanager
 def _serial_runner(simulator: Simulator, workers: int, scheduler: str | None, keep_signals: bool,
-                   verbose: bool) -> Iterator[Runner]:
+                   verbose: bool, scratch: str | None) -> Iterator[Runner]:
     yield lambda groups, transports: (execute_group(group, simulator, keep_signals, transports) for group in groups)
 
 
 @contextlib.contextmanager
 def _process_runner(simulator: Simulator, workers: int, scheduler: str | None, keep_signals: bool,
-                    verbose: bool) -> Iterator[Runner]:
+                    verbose: bool, scratch: str | None) -> Iterator[Runner]:
     def run(groups: list[Group], transports: Transports) -> Iterator[list[tuple[int, RunRecord]]]:
         if workers == 1:  # one worker: no pool to start
             return (execute_group(group, simulator, keep_signals, transports) for group in groups)
@@ -422,8 +436,8 @@ def _process_runner(simulator: Simulator, workers: int, scheduler: str | None, k
 
 @contextlib.contextmanager
 def _dask_runner(simulator: Simulator, workers: int, scheduler: str | None, keep_signals: bool,
-                 verbose: bool) -> Iterator[Runner]:
-    with _dask(workers, scheduler, verbose) as client:
+                 verbose: bool, scratch: str | None) -> Iterator[Runner]:
+    with _dask(workers, scheduler, verbose, scratch) as client:
         yield lambda groups, transports: _on_dask(client, groups, simulator, keep_signals, transports)
 
 
@@ -473,10 +487,12 @@ def executor_cost(executor: str, workers: int, light: bool = False) -> ExecutorC
     return EXECUTOR_COSTS[executor](workers, light)
 
 
-#: Each executor: a context manager (simulator, workers, scheduler, keep_signals, verbose) that yields a runner.
+#: Each executor: a context manager (simulator, workers, scheduler, keep_signals, verbose, scratch) that yields a
+#: runner (``scratch``: where it may make a scratch folder, or None for the temporary folder).
 #: To add one: a context manager here, its cost in :data:`EXECUTOR_COSTS` and its name in
 #: :data:`lcchain.core.types.ExecutorName`.
-_RunnerFactory = Callable[[Simulator, int, str | None, bool, bool], contextlib.AbstractContextManager[Runner]]
+_RunnerFactory = Callable[[Simulator, int, str | None, bool, bool, str | None],
+                          contextlib.AbstractContextManager[Runner]]
 EXECUTOR_RUNNERS: dict[str, _RunnerFactory] = {
     "serial": _serial_runner, "process": _process_runner, "dask": _dask_runner,
 }

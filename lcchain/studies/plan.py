@@ -42,10 +42,10 @@ from ..core.budget import (
     run_estimate,
     sample_theory_seconds,
 )
-from ..core.checks import instance
+from ..core.checks import instance, integer, real
 from ..core.errors import ParameterError
 from ..core.frozen import FrozenMap
-from ..core.limits import MAX_DESIGN_N
+from ..core.limits import MAX_CIRCUIT_N, MAX_DESIGN_N, MAX_DT, MAX_SAMPLES, MAX_TRANSITS, MIN_N
 from ..core.types import DEFAULT_C0, DEFAULT_L0, Backend, Excitation
 from ..runs.extrapolated import combined_key
 from ..runs.request import AC, Request, plan_request
@@ -205,12 +205,22 @@ class Plan:
                   + (largest if self.combinations else 0.0))  # the driver combines members' arrays
         return Estimate(f"{len(distinct)} runs on {used} worker{'s' if used > 1 else ''}", memory, seconds)
 
-    def check(self, budget: Budget, workers: int, executor: str = "process") -> None:
-        """Refuse a study whose planning, runs and workers would take more than the budget (time or memory)."""
+    def check(self, budget: Budget, workers: int, executor: str = "process", option: str | None = None) -> None:
+        """Refuse a study whose planning, runs and workers would take more than the budget (time or memory),
+        naming ``option`` (by default what the user gave that makes the runs: a sweep's axes, a scene's --vary, a
+        batch's netlists)."""
         runs = len(self._runs())
-        self.price(workers, executor).check(budget, "study", f"{runs} runs",
+        self.price(workers, executor).check(budget, option or self._made_by(), f"{runs} runs",
                                             "fewer runs, fewer or more workers, or a larger --max-time or "
                                             "--max-memory")
+
+    def _made_by(self) -> str:
+        if self.kind == "batch":
+            return "NETLIST"
+        if self.kind == "scene":
+            return "--vary/--samples"
+        axes = [f"--{name}" for name in self.axes if name in ("case", "N", "dt", "accuracy", "transits", "excitation")]
+        return " x ".join(axes) or "--N"
 
 
 def _seconds(spec: RunSpec) -> float:
@@ -289,6 +299,7 @@ def sweep_plan(*, cases: Sequence[str], Ns: Sequence[int], dts: Sequence[float] 
     """
     if bool(dts) == bool(accuracies):
         raise ParameterError("--dt/--accuracy", (list(dts), list(accuracies)), "steps or accuracies, not both")
+    _check_axes(Ns, dts, accuracies, transits)
     steps = [("dt", v) for v in dts] + [("accuracy", v) for v in accuracies]
     combos = list(itertools.product(cases, Ns, steps, transits, excitations))
     planning = _price_axes(cases, Ns, steps, transits, len(combos), budget, workers)
@@ -331,6 +342,7 @@ def spectrum_sweep_plan(*, cases: Sequence[str], Ns: Sequence[int], points: int 
     Priced from its axes first (the chains' designs), then each run by :func:`lcchain.runs.request.plan_request`
     (its frequencies x unknowns), which also refuses ``points`` too few to separate a chain's poles.
     """
+    _check_axes(Ns, (), (), ())
     combos = list(itertools.product(cases, Ns))
     planning = _price_axes(cases, Ns, [], (1,), len(combos), budget, workers)
     tasks: list[Task] = []
@@ -338,7 +350,12 @@ def spectrum_sweep_plan(*, cases: Sequence[str], Ns: Sequence[int], points: int 
         if progress is not None:
             progress(index, len(combos), f"planning {case} N={N}")
         request = Request(chain_for_case(case, N), AC(points), L0=L0, C0=C0, timeout=timeout, engine=engine)
-        spec = plan_request(request, budget).specs[0]
+        try:
+            spec = plan_request(request, budget).specs[0]
+        except ParameterError as error:  # the chain of this point: its N on the axis, with its case
+            if error.field != "chain":
+                raise
+            raise ParameterError("N", N, f"{error.allowed} ({case})") from None
         tasks.append(Task(index, FrozenMap({"case": case, "N": N}), spec, _seconds(spec), _memory(spec)))
     description = {"command": "sweep", "analysis": "ac", "case": list(cases), "N": list(Ns), "points": points,
                    "L0": L0, "C0": C0, "engine": engine}
@@ -346,29 +363,54 @@ def spectrum_sweep_plan(*, cases: Sequence[str], Ns: Sequence[int], points: int 
     return Plan("sweep", FrozenMap(description), tuple(tasks), "batch", axes, (), engine, planning)
 
 
-def _check_study(budget: Budget | None, what: str, planning: float, work: float, workers: int, advice: str) -> float:
-    """Refuse a study whose planning (in this process) and work (on ``workers``) exceed the budget; the
-    planning's price, which the plan keeps (:attr:`Plan.planning`)."""
+def _check_axes(Ns: Sequence[int], dts: Sequence[float], accuracies: Sequence[float], transits: Sequence[int]) -> None:
+    """Refuse an axis value out of its range before the study is priced, naming its axis and the value (a NaN step
+    used to reach the price and be refused as a study that would take forever)."""
+    for N in Ns:
+        integer("N", N, at_least=MIN_N, at_most=MAX_CIRCUIT_N)
+    for dt in dts:
+        real("dt", dt, above=0.0, at_most=MAX_DT, allowed=f"steps 0 < dt <= {MAX_DT:g} (units of sqrt(L0*C0))")
+    for accuracy in accuracies:
+        real("accuracy", accuracy, above=0.0, below=1.0, allowed="accuracies 0 < accuracy < 1")
+    for transit in transits:
+        integer("transits", transit, at_least=1, at_most=MAX_TRANSITS)
+
+
+def _check_study(budget: Budget | None, field: str, what: str, planning: float, work: float, workers: int,
+                 advice: str) -> float:
+    """Refuse a study whose planning (in this process) and work (on ``workers``) exceed the budget, naming
+    ``field``: the options whose values make the study (its axes); the planning's price, which the plan keeps
+    (:attr:`Plan.planning`)."""
     Estimate(f"{what} to plan and run", 0.0, planning + work / max(1, workers)).check(
-        budget if budget is not None else Budget(), "study", what,
+        budget if budget is not None else Budget(), field, what,
         f"fewer values on its axes, {advice}more workers, or a larger --max-time")
     return planning
+
 
 def _price_axes(cases: Sequence[str], Ns: Sequence[int], steps: Sequence[tuple[str, float]], transits: Sequence[int],
                 points: int, budget: Budget | None, workers: int) -> float:
     """Refuse a sweep whose planning (designs and modes, in this process) and fixed-step runs (on ``workers``)
     exceed the budget, from its axes alone: a 1000-value --N axis used to be planned for minutes before the
     plan's own price was known. Runs at an accuracy are left to the plan's own check (their step is chosen
-    while planning)."""
+    while planning). One run beyond the budget by itself is refused by its step (``dt``), the rest by the axes
+    that multiply the runs."""
     planning = sum(chain_seconds(case, N) for case in set(cases) for N in set(Ns)) + 2e-4 * sum(Ns) * points / max(
         1, len(Ns))
     runs = 0.0
+    budget = budget if budget is not None else Budget()
     for _case, N, (kind, value), transit in itertools.product(cases, Ns, steps, transits):
         if kind == "dt":  # the run lasts about (transits + 1/2) transits of about N
-            runs += ngspice_seconds((transit + 0.5) * N / value, 2 * N) + RUN_START_SECONDS
+            one = ngspice_seconds((transit + 0.5) * N / value, 2 * N) + RUN_START_SECONDS
+            Estimate(f"a run at N = {N}, {transit} transit{'s' if transit != 1 else ''}", 0.0, one).check(
+                budget, "dt", value, "a larger step or --accuracy, or a larger --max-time")
+            runs += one
         else:  # its step is chosen here, for its accuracy
             planning += accuracy_plan_seconds(N)
-    return _check_study(budget, f"{points} points", planning, runs, workers, "")
+    axes = [name for name, values in (("case", cases), ("N", Ns), ("dt", [v for k, v in steps if k == "dt"]),
+                                      ("accuracy", [v for k, v in steps if k == "accuracy"]),
+                                      ("transits", transits)) if len(values) > 1]
+    return _check_study(budget, " x ".join(f"--{name}" for name in axes) or "--N", f"{points} points", planning,
+                        runs, workers, "")
 
 
 def _price_scenes(datas: Sequence[Mapping[str, Any]], budget: Budget | None, workers: int) -> float:
@@ -388,7 +430,8 @@ def _price_scenes(datas: Sequence[Mapping[str, Any]], budget: Budget | None, wor
         if isinstance(analysis, dict) and analysis.get("accuracy") is not None:  # its step is chosen here
             planning += accuracy_plan_seconds(min(N, MAX_DESIGN_N))
         work += samples * (RUN_START_SECONDS + (sample_theory_seconds(N) if samples > 1 else 0.0))
-    return _check_study(budget, f"{len(datas)} scenes", planning, work, workers, "fewer samples, ")
+    return _check_study(budget, "--vary/--samples", f"{len(datas)} scenes", planning, work, workers,
+                        "fewer samples, ")
 
 
 def parse_vary(text: str) -> tuple[str, list[Any]]:
@@ -402,8 +445,13 @@ def parse_vary(text: str) -> tuple[str, list[Any]]:
     if not sep or not all(key.split("+")) or not values.strip():
         raise ParameterError("--vary", text, "KEY=V1,V2,... with a dotted scene key, e.g. chain.N=50,100 (keys "
                              "joined by + vary together)")
+    entries = [raw.strip() for raw in values.split(",")]
+    if not all(entries):  # "chain.N=50,,100" would run an axis of one value fewer than written, or a value ""
+        empty = entries.index("") + 1
+        raise ParameterError("--vary", text, f"KEY=V1,V2,... with no empty value (value {empty} of {len(entries)} "
+                             "is empty)")
     parsed = []
-    for raw in values.split(","):
+    for raw in entries:
         try:
             parsed.append(tomllib.loads(f"v = {raw.strip()}")["v"])
         except tomllib.TOMLDecodeError:
@@ -432,6 +480,10 @@ def scene_sweep_plan(path: str | Path, varies: Sequence[tuple[str, list[Any]]], 
     """A scene with dotted keys varied (the product of their values); each tolerance sample is a task.
 
     Priced from its axes first (:func:`_price_scenes`), before any scene is planned."""
+    if samples is not None:  # named as typed, and before the price (1e20 samples were priced as a study first)
+        integer("--samples", samples, at_least=1, at_most=MAX_SAMPLES)
+    if seed is not None:
+        integer("--seed", seed, at_least=0)
     scene = load_scene(path)
     base = scene.to_dict()
     if samples is not None or seed is not None:
@@ -441,6 +493,10 @@ def scene_sweep_plan(path: str | Path, varies: Sequence[tuple[str, list[Any]]], 
         if seed is not None:
             tolerance["seed"] = seed
     keys = [key for key, _ in varies]
+    varied_keys = {part for key in keys for part in key.split("+")}
+    for key, other in (("analysis.dt", "accuracy"), ("analysis.accuracy", "dt")):
+        if key in varied_keys and isinstance(base.get("analysis"), dict):
+            base["analysis"].pop(other, None)  # varying one of the exclusive pair replaces the other (or its default)
     combos = list(itertools.product(*[values for _, values in varies])) if varies else [()]
     datas = []
     for values in combos:

@@ -157,7 +157,7 @@ def run_plan(plan: Plan, store: str | Path, *, executor: str = "process", worker
         results.check_plan(fingerprint, description, len(rows), engine_text(simulator.engine, simulator.version))
         results.runs()  # every stored row read, and checked, before anything starts
         with open_executor(simulator, executor=executor, workers=workers, scheduler=scheduler,
-                           verbose=verbose) as run:
+                           verbose=verbose, scratch=str(Path(store).resolve().parent)) as run:
             results.adopt(fingerprint, description, rows, engine_text(simulator.engine, simulator.version))
             finished = results.finished() - (results.failed() if retry_failed else set())
             todo: dict[str, tuple[int, RunSpec, float]] = {}  # one run per key: two points may share a member

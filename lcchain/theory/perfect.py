@@ -145,6 +145,31 @@ def _chain_of(a: np.ndarray, free: bool) -> tuple[np.ndarray, np.ndarray]:
     return masses, springs
 
 
+#: The largest |natural log| of a mass or spring, relative to the first mass or to the central ones, that the
+#: chain is built with: float64 holds about e^709, and a ratio of the two ends must stay finite too.
+_MAX_VALUE_LOG = 700.0
+
+
+def _log_span(a: np.ndarray) -> float:
+    """log10 of the ratio of the largest to the smallest mass or spring of the chain whose H has off-diagonals
+    ``a`` (walls indexing, length 2N; a free end's 0 ignored), computed in logs: it overflows nothing."""
+    with np.errstate(divide="ignore"):
+        log_a2 = 2.0 * np.log(a)
+    odd, even = log_a2[0::2], log_a2[1::2]
+    masses = np.concatenate(([0.0], np.cumsum(even[:-1] - odd[1:])))
+    springs = np.concatenate((odd[:1] + masses[:1], even[:-1] + masses[:-1], even[-1:] + masses[-1:]))
+    values = np.concatenate((masses, springs[np.isfinite(springs)]))
+    return float(np.max(values) - np.min(values)) / math.log(10.0)
+
+
+def _representable(a: np.ndarray) -> bool:
+    """Whether :func:`_chain_of` and :func:`_bulk` can build the chain of ``a`` in float64 without an overflow or
+    a zero: every value within e^:data:`_MAX_VALUE_LOG` of the first mass and of the central ones."""
+    if not np.all(np.isfinite(a)) or np.any(a[1:-1] <= 0):
+        return False
+    return _log_span(a) * math.log(10.0) <= _MAX_VALUE_LOG
+
+
 def _full(x: np.ndarray, free: bool, N: int) -> np.ndarray:
     """Every off-diagonal (walls indexing, length 2N) from the distinct log a: a_k = a_(L+1-k) (persymmetry).
 
@@ -432,10 +457,54 @@ def chain_from_spectrum(frequencies: Any, name: str = "from spectrum") -> tuple[
     """
     omega, free = _check_spectrum(frequencies)
     solved = omega[1:] if free else omega
-    a = _solve(solved, free)
+    with np.errstate(all="ignore"):  # a spectrum beyond float64 is refused below, not warned about
+        a = _solve(solved, free)
+    if not _representable(a):
+        span = _log_span(a) if np.all(np.isfinite(a)) else math.inf
+        raise ParameterError("frequencies", f"{omega.size} frequencies up to {float(omega[-1]):.6g}", "a spectrum "
+                             f"whose chain float64 holds: its masses and springs would span 10^{span:.0f}, beyond "
+                             f"10^{_MAX_VALUE_LOG / math.log(10.0):.0f}")
     masses, springs = _chain_of(a, free)
     masses, springs, scale = _bulk(masses, springs)
     return Chain(masses, springs, name=name), scale
+
+
+#: The largest N whose largest --walls is searched for when a J is refused (each try is one design, O(N^2):
+#: 0.5 s at N = 2000); beyond, the refusal says how far this J spreads the chain instead.
+_WALLS_SEARCH_MAX_N = 2000
+
+
+def _designable(N: int, walls: int) -> bool:
+    """Whether the perfect cradle of N masses tied to walls by J = ``walls`` has a chain float64 holds."""
+    omega = perfect_spectrum(N, walls)
+    try:
+        with np.errstate(all="ignore"):
+            a = _solve(omega, False)
+    except DesignError:
+        return False
+    return _representable(a)
+
+
+def _walls_allowed(N: int, walls: int) -> str:
+    """The allowed range of ``--walls`` for N masses, once J = ``walls`` was refused: the spread of a walled
+    cradle's masses grows with J (about N decades per decade of J beyond N), so the largest J that float64 holds
+    is found by halving down from the refused one, then bisection (a dozen designs at most)."""
+    if N > _WALLS_SEARCH_MAX_N:
+        return (f"an integer J >= 0 for which float64 holds the chain of N = {N} masses (its masses and springs "
+                f"spread with J: J = {walls} spreads them beyond 10^{_MAX_VALUE_LOG / math.log(10.0):.0f})")
+    good, bad = 0, walls
+    probe = walls // 4
+    while probe > 0 and not _designable(N, probe):
+        bad, probe = probe, probe // 4
+    good = probe
+    while bad - good > max(1, good // 16):
+        middle = (good + bad) // 2
+        if _designable(N, middle):
+            good = middle
+        else:
+            bad = middle
+    return (f"an integer 0 <= J <= {good} for N = {N} (a larger J spreads the chain's masses and springs beyond "
+            f"10^{_MAX_VALUE_LOG / math.log(10.0):.0f}, or narrows its band below what float64 resolves)")
 
 
 @dataclass(frozen=True)
@@ -501,7 +570,12 @@ def perfect_design(N: int, walls: int = 0) -> PerfectDesign:
         springs 7/9.
     """
     omega = perfect_spectrum(N, walls)
-    chain, scale = chain_from_spectrum(omega, name="perfect")
+    try:
+        chain, scale = chain_from_spectrum(omega, name="perfect")
+    except (ParameterError, DesignError):
+        if walls == 0:  # pragma: no cover - the free cradle is the closed form, exact for every N
+            raise
+        raise ParameterError("walls", walls, _walls_allowed(N, walls)) from None
     if walls == 0 and N in PERFECT_N:
         # the paper's exact fractions, which the algorithm reproduces to rounding (tests): correct to the last digit
         chain = Chain.perfect(N, bulk=True)
