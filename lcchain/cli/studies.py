@@ -77,7 +77,8 @@ def add_study_arguments(p: argparse.ArgumentParser, *, store: bool = True) -> No
                         "are enough of them), process (one ngspice -b each) or warm (every run that can); "
                         "results are the same (lcchain run: with --workers)")
     p.add_argument("--timeout", type=float, default=3600.0, metavar="S",
-                   help="seconds before a run's ngspice is killed (its record says timeout; default 3600)")
+                   help="seconds before a run's ngspice is killed (its record says timeout; default 3600; a batch "
+                        "netlist's run also stops at a few times its own price)")
 
 
 def add_sweep_arguments(p: argparse.ArgumentParser) -> None:
