@@ -4,7 +4,7 @@ A netlist priced from its analysis card alone could cost anything: a PULSE with 
 lines, a huge title or B-source expression, a long PWL, a fast SIN.  Here a small hostile family runs in real
 ngspice: each run stays within its own limits (a raw file and a resident memory a few times its price) and computes
 at most twice the time points it was priced at.  Then every transport stops a run that outgrows its memory or its
-output while it goes.
+output while it goes, and a batch stops starting runs once its --max-time is spent, leaving them pending.
 
 No assert here is on a time: prices are checked against what ngspice computes (points, values), limits against the
 status and reason of a stopped run.  The measured/priced ratios of time and memory are in benchmarks/pricing.md.
@@ -27,6 +27,8 @@ from lcchain.spice.runner import run
 from lcchain.spice.simulator import find_simulator
 from lcchain.spice.text import saved_vectors
 from lcchain.studies.plan import batch_plan
+from lcchain.studies.run import run_plan
+from lcchain.studies.store import Store
 
 RC = "R1 in out 50\nC1 out 0 1p\n"
 
@@ -182,3 +184,39 @@ def test_a_warm_worker_keeps_its_log_per_run() -> None:
     second = run(_netlist("second title", "V1 in 0 DC 1\n" + RC, ".tran 1n 10n"), ["v(out)"], 1e-8,
                  simulator=simulator)
     assert "first title" in first.log and "first title" not in second.log and "second title" in second.log
+
+
+# --------------------------------------------------------------------------- a batch's whole budget
+
+
+def _batch(folder: Path, count: int, tran: str = ".tran 1n 100n") -> list[Path]:
+    paths = []
+    for k in range(count):
+        path = folder / f"n{k}.cir"
+        path.write_text(_netlist(f"n{k}", "V1 in 0 SIN(0 1 1g)\n" + RC, tran))
+        paths.append(path)
+    return paths
+
+
+@pytest.mark.ngspice
+def test_a_spent_budget_leaves_the_runs_pending_for_the_same_command(tmp_path: Path) -> None:
+    plan = batch_plan(_batch(tmp_path, 3))
+    store = tmp_path / "s.sqlite"
+    summary = run_plan(plan, store, executor="serial", max_seconds=0.0)
+    assert (summary.ran, summary.pending, summary.ok, summary.failed) == (0, 3, 0, 0) and not summary.complete
+    again = run_plan(plan, store, executor="serial")
+    assert (again.skipped, again.ran, again.ok, again.pending) == (0, 3, 3, 0) and again.complete
+
+
+@pytest.mark.ngspice
+@pytest.mark.parametrize("executor", ["serial", "process"])
+def test_a_run_going_when_the_budget_ends_is_stopped_and_stays_pending(tmp_path: Path, executor: str) -> None:
+    """Ten million time points run for many seconds on any machine: the budget of one second stops them, and the
+    runs are neither stored as timed out nor lost."""
+    plan = batch_plan(_batch(tmp_path, 2, ".tran 1p 10u 0 1p"))
+    store = tmp_path / "s.sqlite"
+    summary = run_plan(plan, store, executor=executor, workers=2, max_seconds=1.0)
+    assert (summary.ran, summary.pending, summary.failed) == (0, 2, 0)
+    assert not [w for w in warm._workers if w.alive]
+    with Store(store, "read") as stored:
+        assert stored.finished() == set()  # nothing stored as timed out: the same command runs both
