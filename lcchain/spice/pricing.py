@@ -53,9 +53,11 @@ __all__ = ["Contents", "Price", "RunLimits", "read_contents", "transient_price",
 # Seconds below are CPU seconds (user + system, ``ngspice -n -b`` with ``.options acct``), so that they do not
 # depend on what else the machine ran while they were measured; a price is wall time: SHARED_MACHINE_FACTOR of them.
 
-#: Wall seconds per CPU second on this 2-core machine, which other sessions share: ngspice's runs took 2.0 times
-#: their CPU time at load averages of 4.5 to 5.5, and 1.0 idle; prices are wall times at a load of about 3.
-SHARED_MACHINE_FACTOR = 1.5
+#: Wall seconds per CPU second on this 2-core machine, which other sessions share: ngspice's runs took 1.6 to 2.3
+#: times their CPU time at the load averages of 3.6 to 5.5 it has while they work, and 1.0 idle; prices are wall
+#: times at a load of about 4 (benchmarks/pricing.md: the hostile family took 0.28 to 0.68 of its prices at a load
+#: of 2 to 3; with 1.5 here, 0.59 to 2.14 of theirs at 3.6 to 5.4).
+SHARED_MACHINE_FACTOR = 2.0
 #: Starting ngspice in its sandbox and reading its raw file back (a run of two unknowns and 12 points: 38 ms wall
 #: at a load of 3.7, half of it CPU).
 NGSPICE_START_SECONDS = 0.02
@@ -76,14 +78,15 @@ SECONDS_PER_REACTIVE_ITERATION = 5.7e-8
 #: as this says).
 SMALL_CIRCUIT = 4000
 #: Per iteration, per unit of coupled work (k^2 / m per group of m inductors and k K lines): 11 to 20 ns
-#: (60, 100 and 200 inductors all coupled, 1770, 4950 and 19,900 K lines; 1000 inductors each coupled to its 8
-#: neighbours).
-SECONDS_PER_COUPLED_ITERATION = 2.0e-8
+#: (60, 100 and 200 inductors all coupled, 1770, 4950 and 19,900 K lines: the larger, the dearer; 1000 inductors
+#: each coupled to its 8 neighbours: 17 ns).
+SECONDS_PER_COUPLED_ITERATION = 1.5e-8
 #: Per iteration, per byte of B-source expression: 4.2 to 5.6 ns (expressions of 120 and 300 kB).
 SECONDS_PER_EXPRESSION_BYTE_ITERATION = 5.5e-9
-#: Per iteration, per point of a PWL source (scanned from its start at each evaluation): 2.3 to 2.5 ns (PWL of
-#: 3,000 and 10,000 points; 100,000 points ran 429 s for 445,169 time points).
-SECONDS_PER_PWL_PAIR_ITERATION = 2.5e-9
+#: Per iteration, per point of a PWL source (scanned from its start at each evaluation): 2.3 to 2.5 ns of wall time
+#: at a load of 3, so about 2 ns of CPU (PWL of 3,000 and 10,000 points; 100,000 points ran 429 s for 445,169 time
+#: points).
+SECONDS_PER_PWL_PAIR_ITERATION = 2e-9
 #: Per time point whatever the circuit: the step's control, the raw file's row (an RC driven by a PULSE of 4 ps
 #: edges: 900,005 points in 4.1 s of CPU with lcchain's reading).
 SECONDS_PER_POINT = 3e-6
@@ -96,9 +99,8 @@ SETUP_SECONDS_PER_COUPLING = 2e-5
 #: sum of 200,000 terms, 1.2 MB).
 PARSE_SECONDS_PER_EXPRESSION_BYTE = 1e-6
 #: Reading, checking, copying and hashing the netlist, per byte: lcchain (a 32 MiB title: 4 s of checks, keys
-#: and copies; 32 MiB of comments 4.4 s with ngspice's reading, wall at a load of 4) and ngspice (which echoes a
-#: title: 0.32 s for 16 MiB; 0.03 s for 4 MiB of comments).
-SECONDS_PER_NETLIST_BYTE = 1.5e-7
+#: and copies) and ngspice (a 32 MiB title read from its input: 3.3 s; 4 MiB of comments: 0.03 s).
+SECONDS_PER_NETLIST_BYTE = 2.2e-7
 #: Memory: ngspice keeps about 850 B per element and 450 B per unknown (400,000 resistors in parallel: 332 MB;
 #: an R ladder of 400,000 cells: 493 MB; together the 1.3 kB per ladder cell measured before), 1 kB per K line
 #: (19,900 K lines on 200 inductors: 31 MB against 13 MB for none) and 57 B per byte of B-source expression
