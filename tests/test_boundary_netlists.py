@@ -21,8 +21,9 @@ import lcchain
 from lcchain.circuit.ladder import Ladder
 from lcchain.circuit.netlist import SimulationOptions, netlist_text
 from lcchain.cli import main
+from lcchain.core.budget import BYTES_PER_VALUE
 from lcchain.core.errors import ParameterError, SimulationError
-from lcchain.spice.foreign import NGSPICE_START_SECONDS, allowed_netlist, foreign_estimate, transient_of
+from lcchain.spice.foreign import allowed_netlist, foreign_price, transient_of
 from lcchain.spice.runner import read_include, run
 from lcchain.spice.sandbox import find_sandbox
 from lcchain.spice.text import saved_vectors
@@ -251,11 +252,14 @@ def test_a_netlist_is_priced_from_its_own_transient() -> None:
     assert transient.max_step == pytest.approx(1e-3) and transient.points == pytest.approx(10001)
     default = transient_of(GOOD.replace(".tran 0.001 7.7 0 0.001 uic", ".tran 1 10"), "n.cir")
     assert default.max_step == pytest.approx(0.2)  # ngspice's own default: (tstop - tstart) / 50
-    cheap, dear = (foreign_estimate(text, transient_of(t, "n"), 2) for t in
+    cheap, dear = (foreign_price(t, transient_of(t, "n"), 2) for t in
                    (text, text.replace(".tran 1e-3 10", ".tran 1e-6 10")))
-    start = NGSPICE_START_SECONDS  # time points x unknowns, plus set-up, plus the start
-    assert 900 * (cheap.seconds - start) < dear.seconds - start <= 1000 * (cheap.seconds - start)
-    assert dear.memory > 900 * cheap.memory
+    assert dear.points == pytest.approx(1000 * cheap.points, rel=1e-3)
+    # time points x their cost, plus a fixed part (the start, the set-up, the text) that is the same for both
+    per_point = (dear.seconds - cheap.seconds) / (dear.points - cheap.points)
+    assert per_point > 0 and 0 < cheap.seconds - per_point * cheap.points < 0.1
+    per_point = (dear.memory - cheap.memory) / (dear.points - cheap.points)
+    assert per_point >= BYTES_PER_VALUE * 3 and 0 < cheap.memory - per_point * cheap.points < 64 * 2**20
 
 
 @pytest.mark.ngspice

@@ -143,7 +143,7 @@ def test_no_transport_runs_a_text_that_is_not_canonical(backend: str, simulators
     for char in ("\u2028", "\x85", "\x0c", "\r"):
         text = _hostile(netlist, char, "comment", secret, folder)
         with _placement(simulator, True, None) as place, pytest.raises(ParameterError, match="line 2"):
-            TRANSPORT_RUNS[backend](text, simulator, 60.0, tstop, None, place, None)
+            TRANSPORT_RUNS[backend](text, simulator, 60.0, tstop, None, place, None, None)
     result = run(netlist, vectors, tstop, simulator=simulator, foreign=True)  # the transport still works
     assert result.points > 10 and "lcchain-secret-line" not in result.log
 
@@ -319,3 +319,16 @@ def test_a_title_lcchain_writes_is_canonical_or_refused_naming_the_option(char: 
     assert main(["netlist", "--case", "two-mass", "--N", "5", "--title", f"a{char}b"]) == 2
     err = capsys.readouterr().err.strip()
     assert err.startswith("lcchain: --title = ") and len(err.splitlines()) == 1
+
+
+@pytest.mark.parametrize("title", ["T" * 401, "é" * 201, "A" * 100_000], ids=["401 bytes", "402 bytes of é",
+                                                                              "100,000"])
+def test_a_title_ngspice_cannot_hold_is_refused(title: str, tmp_path: Path) -> None:
+    # ngspice 39 reads the title into a fixed buffer: 505 bytes abort it, a 100,000-character title spilled into
+    # the next card (read as a transmission line). A canonical text's title holds at most 400 bytes, on every path.
+    netlist, _, _ = _spec()
+    text = title + "\n" + netlist.split("\n", 1)[1]
+    for checked in (lambda: canonical_text(text, "n.cir"), lambda: allowed_netlist(text, "n.cir", None)):
+        with pytest.raises(ParameterError, match="n.cir: line 1 .*a title of at most 400 bytes"):
+            checked()
+    assert canonical_text("T" * 400 + "\n" + netlist.split("\n", 1)[1], "n.cir")

@@ -57,7 +57,8 @@ def test_every_executor_stores_the_same_digests(serial_store: Path, tmp_path: Pa
     path = tmp_path / f"{executor}.sqlite"
     summary = run_plan(sweep_plan(**SMALL), path, executor=executor, workers=2)
     assert summary.to_dict() | {"wall_s": 0} == {"total": 12, "skipped": 0, "ran": 12, "ok": 12, "failed": 0,
-                                                 "combined": 0, "combined_failed": 0, "store": str(path), "wall_s": 0}
+                                                 "combined": 0, "combined_failed": 0, "pending": 0,
+                                                 "store": str(path), "wall_s": 0}
     assert _digests(path) == _digests(serial_store) and all(len(d) == 64 for d in _digests(path))
     again = run_plan(sweep_plan(**SMALL), path, executor=executor, workers=2)
     assert (again.skipped, again.ran) == (12, 0)  # a finished study runs nothing

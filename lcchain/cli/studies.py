@@ -8,10 +8,12 @@ import csv
 import io
 import logging
 import sys
+import time
 from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
 from typing import Any
 
+from ..core.budget import INTERPRETER_SECONDS, show_seconds
 from ..core.errors import ParameterError, SimulatorMissingError
 from ..core.types import (
     ANALYSIS_KINDS,
@@ -75,7 +77,8 @@ def add_study_arguments(p: argparse.ArgumentParser, *, store: bool = True) -> No
                         "are enough of them), process (one ngspice -b each) or warm (every run that can); "
                         "results are the same (lcchain run: with --workers)")
     p.add_argument("--timeout", type=seconds("--timeout"), default=3600.0, metavar="S",
-                   help="seconds before a run's ngspice is killed (its record says timeout; default 3600)")
+                   help="seconds before a run's ngspice is killed (its record says timeout; default 3600; a batch "
+                        "netlist's run also stops at a few times its own price)")
 
 
 def add_sweep_arguments(p: argparse.ArgumentParser) -> None:
@@ -165,9 +168,10 @@ def _workers(args: argparse.Namespace) -> int:
 
 
 def _run(args: argparse.Namespace, plan: Any, outputs: Outputs,
-         after: Callable[[bool], dict[str, Any]] | None = None) -> int:
+         after: Callable[[bool], dict[str, Any]] | None = None, max_seconds: float | None = None) -> int:
     """Run a study's plan into --store and print its summary; ``after(json)`` adds what the study itself says
-    (printed, or returned to join the JSON object)."""
+    (printed, or returned to join the JSON object); ``max_seconds``: the study's time budget left (runs not
+    started within it stay pending)."""
     from ..studies.run import run_plan
 
     workers = _workers(args)
@@ -187,7 +191,8 @@ def _run(args: argparse.Namespace, plan: Any, outputs: Outputs,
     with _dask_quiet(verbose):
         summary = run_plan(plan, args.store, executor=args.executor, workers=workers, scheduler=args.scheduler,
                            progress=study_counter("runs"), on_resume=resumed, retry_failed=args.retry_failed,
-                           wait=args.wait, on_wait=waiting, verbose=verbose, transport=args.transport)
+                           wait=args.wait, on_wait=waiting, verbose=verbose, transport=args.transport,
+                           max_seconds=max_seconds)
     if args.json:
         emit_json({**summary.to_dict(), **(after(True) if after is not None else {})})
     else:
@@ -200,6 +205,9 @@ def _run(args: argparse.Namespace, plan: Any, outputs: Outputs,
         if summary.failed:
             hint = (f"; 'lcchain results {args.store}' says why, and the same command with --retry-failed runs "
                     "them again")
+        if summary.pending:
+            spent = show_seconds(budget_from_args(args).max_seconds)
+            hint += f"; {summary.pending} not run: the --max-time of {spent} was spent, and the same command runs them"
         print(f"{summary.total} runs in {args.store}: {summary.ran} ran now, {summary.skipped} already stored; "
               f"{summary.ok} ok, {summary.failed} failed{combined} ({summary.wall_s:.1f} s){hint}")
         if after is not None:
@@ -324,13 +332,17 @@ _SWEEPS: dict[str, Callable[[argparse.Namespace, Any], Any]] = {"transient": _tr
 
 
 def cmd_batch(args: argparse.Namespace) -> int:
+    """A batch's --max-time is its whole budget: each run's own limits come from its price (batch_plan), and no run
+    starts once the budget is spent (the runs left stay pending in the store)."""
     from ..studies.plan import batch_plan
 
+    started = time.monotonic()
     outputs = Outputs()
     _check_study_options(args, outputs)
-    plan = batch_plan(args.netlist, allow_control=args.allow_control, timeout=args.timeout,
-                      budget=budget_from_args(args))
-    return _run(args, plan, outputs)
+    budget = budget_from_args(args)
+    plan = batch_plan(args.netlist, allow_control=args.allow_control, timeout=args.timeout, budget=budget)
+    left = budget.max_seconds - INTERPRETER_SECONDS - (time.monotonic() - started)
+    return _run(args, plan, outputs, max_seconds=max(left, 0.0))
 
 
 def _flat(run: dict[str, Any]) -> dict[str, Any]:

@@ -18,7 +18,7 @@ from typing import Any, TypeVar, cast
 import numpy as np
 
 from .errors import ParameterError
-from .limits import MAX_PULSE_WIDTH, MIN_PULSE_WIDTH
+from .limits import MAX_PULSE_WIDTH, MAX_TITLE_BYTES, MIN_PULSE_WIDTH
 
 #: A dot followed by a letter at the start of a line: ngspice may read it as a command.
 # A title ngspice would read as a command: a dot-command, "*#" (a command line), or "*ng_script", which makes
@@ -150,6 +150,9 @@ def text_line(name: str, value: object, max_length: int, *, title: bool = False)
     if len(value) > max_length or any(ord(ch) < 32 or 127 <= ord(ch) < 160 or ch in "\u2028\u2029\ufeff"
                                        for ch in value):
         raise ParameterError(name, value, allowed)
+    if title and len(value.encode("utf-8")) > MAX_TITLE_BYTES:
+        raise ParameterError(name, value, f"a title of at most {MAX_TITLE_BYTES} bytes in UTF-8 (this one has "
+                             f"{len(value.encode('utf-8'))}: ngspice 39 reads the title into a fixed buffer)")
     if title and _DOT_COMMAND.match(value):
         raise ParameterError(name, value, "a title that does not start with a dot-command such as .include or "
                              ".control, nor with *# or *ng_script (ngspice reads those on the title line)")

@@ -42,6 +42,11 @@ MAX_CORNER_COMPONENTS = 12
 #: Longest title or comment line written into a netlist.
 MAX_TITLE_LENGTH = 200
 MAX_COMMENT_LENGTH = 400
+#: Longest title line ngspice 39 reads safely, in UTF-8 bytes: it reads the title into a fixed buffer, a title of
+#: 505 bytes or more aborts it ("buffer overflow detected"), and a much longer one spills its tail into the next
+#: card (measured: a 100,000-character title was read as a transmission line).  lcchain's own titles and a
+#: foreign netlist's first line are held well below it.
+MAX_TITLE_BYTES = 400
 #: The circuit's time unit sqrt(L0*C0), seconds, and impedance sqrt(L0/C0), ohm: ngspice 39 reproduces the
 #: trapezoidal model to ~1e-14 from 1e-21 to 1e4 s and from 1e-6 to 1e12 ohm, and hangs at 1e9 s (measured).
 MIN_TIME_UNIT, MAX_TIME_UNIT = 1e-18, 1e3

@@ -248,7 +248,7 @@ def _run_transient(spec: RunSpec, simulator: Simulator,
     """A transient run in its engine, compared with its :class:`Theory`: (record fields, wall, points, digest)."""
     result = run_engine(spec.netlist, spec.vectors, spec.tstop, simulator=simulator, timeout=spec.timeout,
                         progress=progress, cwd=spec.cwd, trusted=spec.trusted, foreign=spec.foreign,
-                        max_output_bytes=spec.max_output_bytes)
+                        max_output_bytes=spec.max_output_bytes, max_resident_bytes=spec.max_resident_bytes)
     signals = metrics = None
     if isinstance(spec.theory, Theory):
         signals, metrics = _compare(spec.theory, result)
@@ -274,7 +274,8 @@ def _run_ac(spec: RunSpec, simulator: Simulator,
     if progress is not None:
         progress(0.0)
     result = run_ac(spec.netlist, spec.vectors, spec.points, simulator=simulator, timeout=spec.timeout,
-                    foreign=spec.foreign, max_output_bytes=spec.max_output_bytes)
+                    foreign=spec.foreign, max_output_bytes=spec.max_output_bytes,
+                    max_resident_bytes=spec.max_resident_bytes)
     spectrum = None
     if isinstance(spec.theory, SpectrumTheory):
         if progress is not None:  # the fit follows: most of the work beyond a few hundred modes

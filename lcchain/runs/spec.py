@@ -226,6 +226,9 @@ class RunSpec:
     max_output_bytes : float, optional
         Stop the run when ngspice's raw file grows past this (the memory
         budget of a foreign netlist); not part of the key.
+    max_resident_bytes : float, optional
+        Stop the run when the simulator's processes hold more than this
+        resident (a foreign netlist's limit from its price); not part of the key.
     label : str
         A name for progress lines and reports (not part of the key).
     engine : str
@@ -252,6 +255,7 @@ class RunSpec:
     engine: str = DEFAULT_ENGINE
     analysis: AnalysisKind = "transient"
     points: int | None = None
+    max_resident_bytes: float | None = None
 
     def __post_init__(self) -> None:
         choice("analysis", self.analysis, ANALYSIS_KINDS)
@@ -282,8 +286,9 @@ class RunSpec:
         for name in ("trusted", "foreign"):
             if not isinstance(getattr(self, name), bool):
                 raise ParameterError(name, getattr(self, name), "True or False")
-        if self.max_output_bytes is not None:
-            real("max_output_bytes", self.max_output_bytes, above=0.0, unit="bytes")
+        for name in ("max_output_bytes", "max_resident_bytes"):
+            if getattr(self, name) is not None:
+                real(name, getattr(self, name), above=0.0, unit="bytes")
         engine = engine_named(self.engine)
         choice("backend", self.backend, engine.transports, f" (the transports of engine {engine.name})")
         if not engine.runs_foreign and (self.foreign or self.trusted):

@@ -23,7 +23,7 @@ __all__ = ["AcResult", "run_ac"]
 
 def run_ac(netlist: str, vectors: Sequence[str], points: int, *, simulator: Simulator | None = None,
            timeout: float = 600.0, engine: str | None = None, foreign: bool = False,
-           max_output_bytes: float | None = None) -> AcResult:
+           max_output_bytes: float | None = None, max_resident_bytes: float | None = None) -> AcResult:
     """Run lcchain's AC netlist in an engine and return its complex vectors.
 
     Parameters
@@ -42,8 +42,8 @@ def run_ac(netlist: str, vectors: Sequence[str], points: int, *, simulator: Simu
         Only without a simulator, or equal to its engine (default ``"ngspice"``).
     foreign : bool
         A netlist lcchain did not write (already through :func:`lcchain.spice.foreign.allowed_netlist`): it runs in
-        the sandbox (an engine that ``runs_foreign``), stopped when its output outgrows ``max_output_bytes``; with
-        no ``vectors`` named, every vector it saved is read.
+        the sandbox (an engine that ``runs_foreign``), stopped when its output outgrows ``max_output_bytes`` or its
+        memory ``max_resident_bytes``; with no ``vectors`` named, every vector it saved is read.
 
     Raises
     ------
@@ -62,4 +62,5 @@ def run_ac(netlist: str, vectors: Sequence[str], points: int, *, simulator: Simu
     elif engine is not None and engine != simulator.engine:
         raise ParameterError("engine", engine, f"the simulator's own engine, {simulator.engine!r}")
     return ac_engine(simulator.engine).run_ac(netlist, names, points, simulator=simulator, timeout=timeout,
-                                              foreign=foreign, max_output_bytes=max_output_bytes)
+                                              foreign=foreign, max_output_bytes=max_output_bytes,
+                                              max_resident_bytes=max_resident_bytes)

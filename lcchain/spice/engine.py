@@ -110,14 +110,18 @@ class Engine(ABC):
     @abstractmethod
     def run(self, netlist: str, vectors: Sequence[str], tstop: float, *, simulator: Simulator,
             timeout: float = 600.0, progress: Callable[[float], None] | None = None, cwd: str | None = None,
-            trusted: bool = False, foreign: bool = True, max_output_bytes: float | None = None) -> RunResult:
-        """Run lcchain's netlist text (ngspice's dialect) in the engine; see :func:`lcchain.spice.runner.run`."""
+            trusted: bool = False, foreign: bool = True, max_output_bytes: float | None = None,
+            max_resident_bytes: float | None = None) -> RunResult:
+        """Run lcchain's netlist text (ngspice's dialect) in the engine; see :func:`lcchain.spice.runner.run` (its
+        limits: ``timeout``, ``max_output_bytes``, ``max_resident_bytes``)."""
 
     def run_ac(self, netlist: str, vectors: Sequence[str], points: int, *, simulator: Simulator,
-               timeout: float = 600.0, foreign: bool = False, max_output_bytes: float | None = None) -> AcResult:
+               timeout: float = 600.0, foreign: bool = False, max_output_bytes: float | None = None,
+               max_resident_bytes: float | None = None) -> AcResult:
         """Run an AC netlist (ngspice's dialect) in the engine: ``points`` frequencies, the complex ``vectors``
         (canonical names; none: every vector saved).  ``foreign``: a netlist lcchain did not write, already through
-        the allow-list, for an engine that ``runs_foreign`` only (its output capped at ``max_output_bytes``).  An
+        the allow-list, for an engine that ``runs_foreign`` only (its output capped at ``max_output_bytes``, its
+        memory at ``max_resident_bytes``).  An
         engine without ``runs_ac`` keeps this refusal."""
         raise ParameterError("engine", self.name, "an engine with an AC analysis (its runs_ac)")
 

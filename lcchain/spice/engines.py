@@ -60,8 +60,9 @@ def find_engine(engine: str = DEFAULT_ENGINE, backend: Backend = "batch") -> Sim
 
 def run_engine(netlist: str, vectors: Sequence[str], tstop: float, *, simulator: Simulator,
                timeout: float = 600.0, progress: Callable[[float], None] | None = None, cwd: str | None = None,
-               trusted: bool = False, foreign: bool = True, max_output_bytes: float | None = None) -> RunResult:
+               trusted: bool = False, foreign: bool = True, max_output_bytes: float | None = None,
+               max_resident_bytes: float | None = None) -> RunResult:
     """Run lcchain's netlist text in the simulator's engine (:meth:`lcchain.spice.engine.Engine.run`)."""
     return engine_named(simulator.engine, "simulator.engine").run(
         netlist, vectors, tstop, simulator=simulator, timeout=timeout, progress=progress, cwd=cwd,
-        trusted=trusted, foreign=foreign, max_output_bytes=max_output_bytes)
+        trusted=trusted, foreign=foreign, max_output_bytes=max_output_bytes, max_resident_bytes=max_resident_bytes)

@@ -51,14 +51,15 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import ClassVar
 
-from ..core.budget import BYTES_PER_VALUE, Estimate, ac_run_estimate, run_estimate, show_bytes
+from ..core.budget import Estimate, show_bytes
 from ..core.errors import ParameterError
 from ..core.limits import MAX_AC_POINTS, MAX_NETLIST_BYTES
 from ..core.types import AnalysisKind
+from .pricing import Contents, Price, read_contents, sweep_price, transient_price
 from .text import canonical_text, netlist_lines, spice_number
 
 __all__ = ["ELEMENTS", "DOT_COMMANDS", "OPTIONS", "MAX_INCLUDE_DEPTH", "Transient", "Sweep", "allowed_netlist",
-           "transient_of", "analysis_of", "foreign_estimate", "raw_bytes_limit"]
+           "transient_of", "analysis_of", "foreign_estimate", "foreign_price"]
 
 #: First letters of the element lines lcchain runs: resistors, inductors, capacitors, coupled inductors,
 #: independent voltage and current sources, and behavioural sources (lcchain's own gaussian pulses).
@@ -74,13 +75,6 @@ OPTIONS = frozenset({
     "rshunt", "ramptime", "klu", "sparse", "noopac", "noinit", "nopage", "noacct", "nomod", "interp",
     "keepopinfo", "maxwarns", "warn", "savecurrents", "trytocompact",
 })
-#: ngspice's own memory and set-up time per unknown, beyond the time points (measured: a 50000-cell ladder,
-#: 100001 unknowns, two time points: 129 MB resident and 2.3 s, `/usr/bin/time -v ngspice -n -b`).
-NGSPICE_BYTES_PER_UNKNOWN = 1.3e3
-NGSPICE_SETUP_SECONDS_PER_UNKNOWN = 2.5e-5
-#: Starting ngspice in its sandbox and reading its raw file back, seconds (benchmarks/boundary.md: 14-18 ms for an
-#: N = 20 ladder whose time points cost 4 ms).
-NGSPICE_START_SECONDS = 0.01
 #: How deep ``.include`` files may nest.
 MAX_INCLUDE_DEPTH = 8
 
@@ -209,7 +203,7 @@ def allowed_netlist(text: str, source: str, folder: Path | None, read: Callable[
     """
     if _depth == 0 and folder is not None:
         folder = folder.resolve()
-    text = canonical_text(text, source)  # the one text checked here and run by every transport
+    text = canonical_text(text, source, title=_depth == 0)  # the one text checked here and run by every transport
     left = _left if _left is not None else [MAX_NETLIST_BYTES - len(text)]  # what all includes may add, in all
     head, cards = _cards(text, source, title=_depth == 0)
     out = [head] if _depth == 0 else []
@@ -302,9 +296,9 @@ class Transient:
     def frequencies(self) -> int | None:
         return None
 
-    def estimate(self, saved: int, unknowns: int) -> Estimate:
-        """Its time points x unknowns."""
-        return run_estimate(points=self.points, saved=saved, compared=0, unknowns=unknowns)
+    def price(self, contents: Contents, saved: int) -> Price:
+        """Its time points, with those the netlist's edges and fast dynamics force (:mod:`lcchain.spice.pricing`)."""
+        return transient_price(contents, step=self.step, stop=self.stop, max_step=self.max_step, saved=saved)
 
     def describe(self) -> str:
         return f".tran to {self.stop:g} s in steps of at most {self.max_step:g} s"
@@ -328,9 +322,9 @@ class Sweep:
     def frequencies(self) -> int:
         return self.count
 
-    def estimate(self, saved: int, unknowns: int) -> Estimate:
-        """Its frequencies x unknowns."""
-        return ac_run_estimate(points=self.count, saved=saved, unknowns=unknowns)
+    def price(self, contents: Contents, saved: int) -> Price:
+        """Its frequencies, each a complex solve of the netlist (:mod:`lcchain.spice.pricing`)."""
+        return sweep_price(contents, frequencies=self.count, saved=saved)
 
     def describe(self) -> str:
         return f".ac lin {self.count} frequencies from {self.start:g} to {self.stop:g} Hz"
@@ -399,31 +393,29 @@ def transient_of(text: str, source: str) -> Transient:
     return Transient(step, stop, start, min(tmax, default) if tmax > 0 else default)
 
 
-def foreign_estimate(text: str, transient: Transient | Sweep, saved: int) -> Estimate:
-    """What running a foreign netlist costs: its time points (from its ``.tran``; an ``.ac``: its frequencies) x
-    its unknowns.
+def foreign_price(text: str, analysis: Transient | Sweep, saved: int, source: str = "netlist") -> Price:
+    """What running a foreign netlist costs, read from its elements, couplings, sources and text
+    (:mod:`lcchain.spice.pricing`), with the limits its run gets from it (:meth:`~lcchain.spice.pricing.Price.limits`).
 
-    Unknowns: one per node and one per inductor or voltage source (their
-    branch currents); saved values: the ``.save`` names, or every unknown
-    when the netlist saves nothing.
+    Parameters
+    ----------
+    text : str
+        The netlist as ngspice will receive it (:func:`allowed_netlist`).
+    analysis : Transient or Sweep
+        Its analysis (:func:`analysis_of`).
+    saved : int
+        Its ``.save`` names (0: ngspice saves every unknown).
+    source : str
+        Its name in messages.
+
+    Raises
+    ------
+    ParameterError
+        A source function lcchain cannot price, naming the line.
     """
-    nodes: set[str] = set()
-    branches = 0
-    for line in text.split("\n"):
-        words = line.split()
-        if not words or not words[0][:1].isalpha():
-            continue
-        letter = words[0][0].upper()
-        if letter in "RLCVIB" and len(words) >= 3:
-            nodes.update(w.lower() for w in words[1:3] if w != "0" and w.lower() != "gnd")
-            branches += letter in "LVB"
-    unknowns = max(len(nodes) + branches, 1)
-    run = transient.estimate(saved or unknowns, unknowns)
-    return Estimate(run.what + f", {unknowns} unknowns", run.memory + NGSPICE_BYTES_PER_UNKNOWN * unknowns,
-                    NGSPICE_START_SECONDS + run.seconds + NGSPICE_SETUP_SECONDS_PER_UNKNOWN * unknowns)
+    return analysis.price(read_contents(text, source), saved)
 
 
-def raw_bytes_limit(max_memory: float) -> float:
-    """The raw file's size at which a run is stopped: lcchain holds :data:`BYTES_PER_VALUE` bytes in memory for
-    every 8 in the raw file, so a raw file past ``max_memory * 8 / BYTES_PER_VALUE`` would outgrow the budget."""
-    return max_memory * 8.0 / BYTES_PER_VALUE
+def foreign_estimate(text: str, analysis: Transient | Sweep, saved: int, source: str = "netlist") -> Estimate:
+    """:func:`foreign_price` as the estimate a budget checks."""
+    return foreign_price(text, analysis, saved, source).estimate

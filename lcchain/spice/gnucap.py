@@ -85,7 +85,7 @@ from .acdata import AcResult, ac_result
 from .engine import Engine
 from .gnucap_table import TITLE, failure, number, quiet, quote, read_ac_table, read_table, without_rows
 from .log import trim_log
-from .processes import child_env, kill_group, read_all
+from .processes import child_env, kill_group, outgrown, read_all
 from .runner import RunResult, check_arguments, progress_reporter, validate_columns, wait_watching
 from .sandbox import Sandbox
 from .scratch import scratch_folder
@@ -342,7 +342,8 @@ class Gnucap(Engine):
 
     def run(self, netlist: str, vectors: Sequence[str], tstop: float, *, simulator: Simulator,
             timeout: float = 600.0, progress: Callable[[float], None] | None = None, cwd: str | None = None,
-            trusted: bool = False, foreign: bool = True, max_output_bytes: float | None = None) -> RunResult:
+            trusted: bool = False, foreign: bool = True, max_output_bytes: float | None = None,
+            max_resident_bytes: float | None = None) -> RunResult:
         if foreign or trusted:
             raise _refuse("a netlist lcchain did not write (gnucap runs only lcchain's own ladders; the "
                           "allow-list and the sandbox of foreign netlists are ngspice's)")
@@ -353,7 +354,8 @@ class Gnucap(Engine):
         text = self.dialect(netlist, names)
         if progress is not None:
             progress(0.0)
-        output, log, wall = _run_child(text, simulator, timeout, tstop, progress, limit or MAX_OUTPUT_BYTES)
+        output, log, wall = _run_child(text, simulator, timeout, tstop, progress, limit or MAX_OUTPUT_BYTES,
+                                       max_resident_bytes)
         columns = read_table(output, log)
         time_s, found = validate_columns(columns, quiet(log), names, tstop, self.name)
         if progress is not None:
@@ -364,14 +366,15 @@ class Gnucap(Engine):
                          engine=self.name)
 
     def run_ac(self, netlist: str, vectors: Sequence[str], points: int, *, simulator: Simulator,
-               timeout: float = 600.0, foreign: bool = False, max_output_bytes: float | None = None) -> AcResult:
+               timeout: float = 600.0, foreign: bool = False, max_output_bytes: float | None = None,
+               max_resident_bytes: float | None = None) -> AcResult:
         if foreign:
             raise ParameterError("engine", self.name, "ngspice for a netlist lcchain did not write (the allow-list "
                                  "and the sandbox are ngspice's)")
         if simulator.engine != self.name:
             raise ParameterError("simulator", simulator.engine, "a simulator found for engine gnucap")
         output, log, wall = _run_child(self.dialect(netlist, vectors), simulator, timeout, 1.0, None,
-                                       MAX_OUTPUT_BYTES)
+                                       MAX_OUTPUT_BYTES, max_resident_bytes)
         columns = read_ac_table(output, log)
         return ac_result(netlist, columns, quiet(log), vectors, points, simulator, wall)
 
@@ -421,7 +424,8 @@ def _last_time(out: IO[bytes]) -> float | None:
 
 
 def _run_child(text: str, simulator: Simulator, timeout: float, tstop: float,
-               progress: Callable[[float], None] | None, limit: float) -> tuple[str, str, float]:
+               progress: Callable[[float], None] | None, limit: float,
+               resident: float | None = None) -> tuple[str, str, float]:
     """gnucap's stdout and its whole output, and its wall time; in a temporary folder that is then removed."""
     with scratch_folder("gnucap") as folder, tempfile.TemporaryFile() as source, \
             tempfile.TemporaryFile() as out, tempfile.TemporaryFile() as err:
@@ -432,7 +436,7 @@ def _run_child(text: str, simulator: Simulator, timeout: float, tstop: float,
         proc = subprocess.Popen(command, cwd=folder, env=child_env(), stdin=source, stdout=out, stderr=err,
                                 start_new_session=True)
         try:
-            status = _wait(proc, timeout, tstop, out, err, progress, limit)
+            status = _wait(proc, timeout, tstop, out, err, progress, limit, resident)
         finally:
             if proc.poll() is None:  # timed out, or interrupted: the whole group goes
                 kill_group(proc)
@@ -447,9 +451,9 @@ def _run_child(text: str, simulator: Simulator, timeout: float, tstop: float,
 
 
 def _wait(proc: subprocess.Popen[bytes], timeout: float, tstop: float, out: IO[bytes], err: IO[bytes],
-          progress: Callable[[float], None] | None, limit: float) -> int | None:
+          progress: Callable[[float], None] | None, limit: float, resident: float | None = None) -> int | None:
     """gnucap's exit status, or None after the timeout; reports progress and stops a run whose output outgrows
-    ``limit`` meanwhile."""
+    ``limit``, or whose memory outgrows ``resident``, meanwhile."""
     report = progress_reporter(progress, tstop, lambda: _last_time(out)) if progress is not None else None
 
     def look() -> None:
@@ -457,6 +461,10 @@ def _wait(proc: subprocess.Popen[bytes], timeout: float, tstop: float, out: IO[b
             kill_group(proc)
             raise failure(f"gnucap printed more than {show_bytes(limit)}, the most the memory budget allows, and "
                            "the run was stopped", "")
+        why = outgrown(proc.pid, "gnucap", max_resident_bytes=resident) if resident is not None else None
+        if why is not None:
+            kill_group(proc)
+            raise failure(why, "")
         if report is not None:
             report()
 

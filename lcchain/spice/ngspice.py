@@ -40,14 +40,18 @@ class Ngspice(Engine):
 
     def run(self, netlist: str, vectors: Sequence[str], tstop: float, *, simulator: Simulator,
             timeout: float = 600.0, progress: Callable[[float], None] | None = None, cwd: str | None = None,
-            trusted: bool = False, foreign: bool = True, max_output_bytes: float | None = None) -> RunResult:
+            trusted: bool = False, foreign: bool = True, max_output_bytes: float | None = None,
+            max_resident_bytes: float | None = None) -> RunResult:
         return run(netlist, vectors, tstop, simulator=simulator, timeout=timeout, progress=progress, cwd=cwd,
-                   trusted=trusted, foreign=foreign, max_output_bytes=max_output_bytes)
+                   trusted=trusted, foreign=foreign, max_output_bytes=max_output_bytes,
+                   max_resident_bytes=max_resident_bytes)
 
     def run_ac(self, netlist: str, vectors: Sequence[str], points: int, *, simulator: Simulator,
-               timeout: float = 600.0, foreign: bool = False, max_output_bytes: float | None = None) -> AcResult:
+               timeout: float = 600.0, foreign: bool = False, max_output_bytes: float | None = None,
+               max_resident_bytes: float | None = None) -> AcResult:
         columns, log, wall = run_plot(netlist, "ac", simulator=simulator, timeout=timeout, foreign=foreign,
-                                      max_output_bytes=max_output_bytes, joined=True)  # one plot per .ac card
+                                      max_output_bytes=max_output_bytes, joined=True,  # one plot per .ac card
+                                      max_resident_bytes=max_resident_bytes)
         if "frequency" in columns:  # ngspice leaves the frequency's imaginary part undefined
             columns["frequency"] = columns["frequency"].real
         return ac_result(netlist, columns, log, vectors, points, simulator, wall)

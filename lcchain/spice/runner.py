@@ -64,7 +64,17 @@ from ..core.types import BACKENDS, Backend
 from .foreign import allowed_netlist
 from .inputs import read_input
 from .log import LOG_MAX_CHARS, failure_reason, fatal_lines, trim_log, useful_output
-from .processes import PACKAGE_ROOT, call_shared_worker, child_env, decode_worker_payload, kill_group, read_all
+from .processes import (
+    MAX_LOG_BYTES,
+    PACKAGE_ROOT,
+    WATCH_INTERVAL,
+    call_shared_worker,
+    child_env,
+    decode_worker_payload,
+    kill_group,
+    outgrown,
+    read_all,
+)
 from .raw import read_raw
 from .sandbox import SCRATCH, scratch_env
 from .scratch import scratch_folder
@@ -73,10 +83,8 @@ from .text import canonical_text, canonical_vector_name, circuit_lines, parse_op
 from .warm import worker_for
 
 __all__ = ["RunResult", "run", "run_plot", "read_include", "check_arguments", "validate_columns", "exited",
-           "TSTOP_RTOL", "LOG_MAX_CHARS", "PROGRESS_INTERVAL"]
+           "TSTOP_RTOL", "LOG_MAX_CHARS", "PROGRESS_INTERVAL", "MAX_LOG_BYTES"]
 
-#: What a watched run (a foreign netlist) may print on stdout and stderr before it is stopped.
-MAX_LOG_BYTES = 16 * 2**20
 #: Relative tolerance on the last time point versus the requested ``tstop``.
 TSTOP_RTOL = 1e-9
 #: Seconds between two looks at a running batch run, when there is something to look at (a progress callback,
@@ -207,6 +215,7 @@ def run(
     trusted: bool = False,
     foreign: bool = True,
     max_output_bytes: float | None = None,
+    max_resident_bytes: float | None = None,
 ) -> RunResult:
     """Run a transient netlist in ngspice and return validated waveforms.
 
@@ -248,8 +257,13 @@ def run(
         sandbox of :mod:`lcchain.spice.sandbox` (scratch HOME and working
         folder, no init file, read-only file system, no network).
     max_output_bytes : float, optional
-        Stop the run (a failure) when its raw file grows past this many bytes
-        (batch backend; checked every :data:`PROGRESS_INTERVAL` seconds).
+        Stop the run (a failure) when its raw file (the vectors, on the warm
+        and shared transports) grows past this many bytes, or its output past
+        :data:`MAX_LOG_BYTES`; checked every
+        :data:`~lcchain.spice.processes.WATCH_INTERVAL` seconds while it runs.
+    max_resident_bytes : float, optional
+        Stop the run (a failure) when the simulator's processes hold more
+        than this many bytes resident, checked as often (every transport).
 
     Returns
     -------
@@ -263,9 +277,11 @@ def run(
         ngspice (or its shared library, or PySpice) is not installed.
     SimulationError
         ngspice failed, timed out (``status == "timeout"``), outgrew
-        ``max_output_bytes``, or its output failed validation.
+        ``max_output_bytes`` or ``max_resident_bytes``, or its output failed validation.
     """
     netlist, names, tstop, timeout, limit = check_arguments(netlist, vectors, tstop, timeout, max_output_bytes)
+    resident = None if max_resident_bytes is None else real("max_resident_bytes", max_resident_bytes, above=0.0,
+                                                            unit="bytes")
     text = canonical_text(netlist, "netlist") if trusted else \
         allowed_netlist(netlist, "netlist", Path(cwd) if cwd is not None else None, read_include)
     if simulator is None:
@@ -278,7 +294,8 @@ def run(
     if progress is not None:
         progress(0.0)
     with _placement(simulator, foreign, str(cwd) if trusted and cwd is not None else None) as place:
-        columns, log, wall = TRANSPORT_RUNS[simulator.backend](text, simulator, timeout, tstop, progress, place, limit)
+        columns, log, wall = TRANSPORT_RUNS[simulator.backend](text, simulator, timeout, tstop, progress, place, limit,
+                                                               resident)
     time_s, found = _validate(columns, log, names, tstop)
     if progress is not None:
         progress(1.0)
@@ -296,7 +313,8 @@ def run(
 
 
 def run_plot(netlist: str, plot: str, *, simulator: Simulator, timeout: float = 600.0, foreign: bool = False,
-             max_output_bytes: float | None = None, joined: bool = False) -> tuple[dict[str, np.ndarray], str, float]:
+             max_output_bytes: float | None = None, joined: bool = False,
+             max_resident_bytes: float | None = None) -> tuple[dict[str, np.ndarray], str, float]:
     """Run lcchain's own netlist text in ngspice's batch transport and read one plot of its raw file.
 
     The analyses other than the transient (:meth:`lcchain.spice.ngspice.Ngspice.run_ac`) go through here: the
@@ -319,6 +337,8 @@ def run_plot(netlist: str, plot: str, *, simulator: Simulator, timeout: float = 
         ngspice is stopped when its raw file outgrows this.
     joined : bool
         Every plot of that analysis one after the other (a sweep in several ``.ac`` cards), not only the last.
+    max_resident_bytes : float, optional
+        ngspice is stopped when its resident memory outgrows this.
 
     Returns
     -------
@@ -339,8 +359,8 @@ def run_plot(netlist: str, plot: str, *, simulator: Simulator, timeout: float = 
     if simulator.engine != "ngspice" or simulator.backend != "batch":
         raise ParameterError("simulator", f"{simulator.engine} {simulator.backend}", "ngspice's batch transport")
     with _placement(simulator, foreign, None) as place:
-        columns, log, wall = _run_batch(netlist, simulator, timeout, 0.0, None, place, max_output_bytes, plot=plot,
-                                        joined=joined)
+        columns, log, wall = _run_batch(netlist, simulator, timeout, 0.0, None, place, max_output_bytes,
+                                        max_resident_bytes, plot=plot, joined=joined)
     if fatal_lines(log):
         raise SimulationError(failure_reason(log, ""), useful_output(log))
     return columns, log, wall
@@ -398,10 +418,10 @@ def exited(proc: subprocess.Popen[bytes], pidfd: int | None, seconds: float) -> 
     return proc.wait() if ready else None
 
 
-def wait_watching(proc: subprocess.Popen[bytes], timeout: float,
-                  look: Callable[[], None] | None) -> int | None:
+def wait_watching(proc: subprocess.Popen[bytes], timeout: float, look: Callable[[], None] | None,
+                  interval: float = PROGRESS_INTERVAL) -> int | None:
     """A child's exit status, or None after ``timeout`` seconds; ``look`` (which may raise to stop the run) is
-    called every :data:`PROGRESS_INTERVAL` while it runs, and without it the wait sleeps to the exit at once."""
+    called every ``interval`` seconds while it runs, and without it the wait sleeps to the exit at once."""
     deadline = time.monotonic() + timeout
     try:
         pidfd: int | None = os.pidfd_open(proc.pid)
@@ -412,7 +432,7 @@ def wait_watching(proc: subprocess.Popen[bytes], timeout: float,
             left = deadline - time.monotonic()
             if left <= 0:
                 return None
-            status = exited(proc, pidfd, min(PROGRESS_INTERVAL, left) if look is not None else left)
+            status = exited(proc, pidfd, min(interval, left) if look is not None else left)
             if status is not None:
                 return status
             if look is not None:
@@ -438,29 +458,30 @@ def progress_reporter(progress: Callable[[float], None], tstop: float,
 
 
 def _wait(proc: subprocess.Popen[bytes], timeout: float, tstop: float, out: IO[bytes], err: IO[bytes],
-          raw: IO[bytes], progress: Callable[[float], None] | None, limit: float | None) -> int | None:
-    """Exit status of ngspice, or None after the timeout; reports progress meanwhile and, with a ``limit`` on
-    its raw file, stops a run whose raw file or output outgrows it (its output: :data:`MAX_LOG_BYTES`)."""
+          raw: IO[bytes], progress: Callable[[float], None] | None, limit: float | None,
+          resident: float | None) -> int | None:
+    """Exit status of ngspice, or None after the timeout; reports progress meanwhile and stops a run that
+    outgrows its limits (:func:`~lcchain.spice.processes.outgrown`: its raw file past ``limit``, its output past
+    :data:`MAX_LOG_BYTES`, its memory past ``resident``)."""
     report = progress_reporter(progress, tstop, lambda: _simulated_time(err)) if progress is not None else None
+    watched = limit is not None or resident is not None
 
     def look() -> None:
-        if limit is not None and os.fstat(raw.fileno()).st_size > limit:
+        why = outgrown(proc.pid, "ngspice", printed=(out, err), output=raw, max_output_bytes=limit,
+                       max_resident_bytes=resident) if watched else None
+        if why is not None:
             kill_group(proc)
-            raise SimulationError(f"ngspice's raw file grew past {show_bytes(limit)}, the most the memory "
-                                  "budget allows (--max-memory), and the run was stopped", "")
-        if limit is not None and os.fstat(out.fileno()).st_size + os.fstat(err.fileno()).st_size > MAX_LOG_BYTES:
-            kill_group(proc)
-            raise SimulationError(f"ngspice printed more than {show_bytes(MAX_LOG_BYTES)} and the run was "
-                                  "stopped", "")
+            raise SimulationError(why, "")
         if report is not None:  # at every poll, so that a caller can also stop the run from it
             report()
 
-    return wait_watching(proc, timeout, look if (progress is not None or limit is not None) else None)
+    return wait_watching(proc, timeout, look if (progress is not None or watched) else None,
+                         WATCH_INTERVAL if watched else PROGRESS_INTERVAL)
 
 
 def _run_batch(netlist: str, simulator: Simulator, timeout: float, tstop: float,
-               progress: Callable[[float], None] | None, place: _Place,
-               limit: float | None, plot: str = "transient", joined: bool = False
+               progress: Callable[[float], None] | None, place: _Place, limit: float | None,
+               resident: float | None = None, plot: str = "transient", joined: bool = False
                ) -> tuple[dict[str, np.ndarray], str, float]:
     with tempfile.TemporaryFile() as source, tempfile.TemporaryFile() as raw, \
             tempfile.TemporaryFile() as out, tempfile.TemporaryFile() as err:
@@ -472,7 +493,7 @@ def _run_batch(netlist: str, simulator: Simulator, timeout: float, tstop: float,
         proc = subprocess.Popen(command, cwd=place.cwd, env=place.env, stdin=source, stdout=out, stderr=err,
                                 pass_fds=(fd,), start_new_session=True)
         try:
-            status = _wait(proc, timeout, tstop, out, err, raw, progress, limit)
+            status = _wait(proc, timeout, tstop, out, err, raw, progress, limit, resident)
         finally:
             if proc.poll() is None:  # timed out, or interrupted: the whole group goes
                 kill_group(proc)
@@ -495,12 +516,14 @@ def _run_batch(netlist: str, simulator: Simulator, timeout: float, tstop: float,
 
 def _run_shared(netlist: str, simulator: Simulator, timeout: float, tstop: float,
                 progress: Callable[[float], None] | None, place: _Place,
-                limit: float | None) -> tuple[dict[str, np.ndarray], str, float]:
-    # One call in a child that exits after the run: no progress to report, and lcchain's own netlists only
-    # (a raw-file limit is for foreign netlists, which run in batch).
+                limit: float | None, resident: float | None) -> tuple[dict[str, np.ndarray], str, float]:
+    # One call in a child that exits after the run: no progress to report; its memory and output are watched.
     stdout, log, status = call_shared_worker(place.prefix, {"netlist": require_canonical(netlist),
                                                             "library": simulator.executable},
-                                             timeout, place.cwd, "run", place.env)
+                                             timeout, place.cwd, "run", place.env, limit, resident)
+    if limit is not None and len(stdout) > limit:
+        raise SimulationError(f"the ngspice shared-library child's vectors grew past {show_bytes(limit)}, the most "
+                              "this run may write (its price, within --max-memory)", useful_output(log))
     try:
         meta, arrays = decode_worker_payload(stdout)
     except Exception as exc:  # noqa: BLE001 - a crashed child leaves empty or partial bytes
@@ -524,17 +547,18 @@ def _run_shared(netlist: str, simulator: Simulator, timeout: float, tstop: float
 
 def _run_warm(netlist: str, simulator: Simulator, timeout: float, tstop: float,
               progress: Callable[[float], None] | None, place: _Place,
-              limit: float | None) -> tuple[dict[str, np.ndarray], str, float]:
+              limit: float | None, resident: float | None) -> tuple[dict[str, np.ndarray], str, float]:
     # This thread's long-lived worker (lcchain.spice.warm); no progress to report: studies send it short runs.
-    return worker_for(simulator.executable, place.prefix, place.cwd, place.env).run(netlist, timeout, limit)
+    worker = worker_for(simulator.executable, place.prefix, place.cwd, place.env, resident)
+    return worker.run(netlist, timeout, limit, resident)
 
 
 # --------------------------------------------------------------------------- output checks
 
 
 #: ngspice's transports, by name: how each runs a netlist (how each is found: lcchain.spice.simulator).
-_TransportRun = Callable[[str, Simulator, float, float, Callable[[float], None] | None, _Place, float | None],
-                         tuple[dict[str, np.ndarray], str, float]]
+_TransportRun = Callable[[str, Simulator, float, float, Callable[[float], None] | None, _Place, float | None,
+                          float | None], tuple[dict[str, np.ndarray], str, float]]
 TRANSPORT_RUNS: dict[str, _TransportRun] = {"batch": _run_batch, "shared": _run_shared, "warm": _run_warm}
 
 

@@ -43,6 +43,7 @@ import re
 import unicodedata
 
 from ..core.errors import ParameterError
+from ..core.limits import MAX_TITLE_BYTES
 
 __all__ = ["canonical_vector_name", "parse_options", "logical_lines", "spice_number", "saved_vectors",
            "canonical_text", "require_canonical", "netlist_lines", "circuit_lines", "text_digest"]
@@ -110,7 +111,7 @@ def _character(char: str) -> str:
     return f"U+{ord(char):04X} ({name})"
 
 
-def canonical_text(text: str | bytes, source: str) -> str:
+def canonical_text(text: str | bytes, source: str, *, title: bool = True) -> str:
     """A netlist's one canonical text: what the allow-list checks and every transport runs.
 
     Parameters
@@ -120,6 +121,9 @@ def canonical_text(text: str | bytes, source: str) -> str:
         overlong sequence, a lone surrogate or a UTF-16 file is refused).
     source : str
         Its name in messages (the file, or ``"netlist"``).
+    title : bool
+        Its first line that is not blank is a title (a netlist, not an included file): at most
+        :data:`lcchain.core.limits.MAX_TITLE_BYTES` bytes.
 
     Returns
     -------
@@ -147,7 +151,18 @@ def canonical_text(text: str | bytes, source: str) -> str:
         text = text[1:]
     if "\r\n" in text:
         text = text.replace("\r\n", NEWLINE)
-    return require_canonical(text, source)
+    require_canonical(text, source)
+    # the title, the first line that is not blank: ngspice 39 reads it into a fixed buffer
+    match = re.search(r"[^\s]", text) if title else None
+    if match is not None:
+        number = text.count(NEWLINE, 0, match.start()) + 1
+        head = text.split(NEWLINE, number)[number - 1]
+        size = len(head.encode("utf-8"))
+        if size > MAX_TITLE_BYTES:
+            raise ParameterError(f"{source}: line {number}", head[:200], f"a title of at most {MAX_TITLE_BYTES} "
+                                 f"bytes (this one has {size}; ngspice 39 reads the title into a fixed buffer: 505 "
+                                 "bytes abort it, a longer title spills into the next card)")
+    return text
 
 
 def require_canonical(text: str, source: str = "netlist") -> str:

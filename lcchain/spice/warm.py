@@ -15,6 +15,15 @@ KILL``, ``HOME`` nowhere, in the sandbox for netlists lcchain did not write), an
 replaced when it dies, when its memory passes :data:`MAX_WORKER_BYTES` or after
 :data:`MAX_WORKER_RUNS` runs.  A crash of ngspice kills the worker, which fails
 that run only; a run past its timeout kills the worker (status ``timeout``).
+
+While a run goes the worker is watched as a ``ngspice -b`` process is
+(:func:`lcchain.spice.processes.outgrown`, every
+:data:`~lcchain.spice.processes.WATCH_INTERVAL` seconds): what ngspice prints
+streams to a file of the parent's, and a run whose output passes
+:data:`~lcchain.spice.processes.MAX_LOG_BYTES`, or whose worker's resident
+memory passes the run's limit, kills the worker and fails with that reason.  A
+worker already holding more than :data:`RESTART_SHARE` of a run's memory limit
+(memory earlier runs freed but the process kept) is replaced before the run.
 :func:`close_workers` ends them all (the executors call it when a study ends,
 and on an interrupt, so that nothing keeps running).
 """
@@ -33,19 +42,21 @@ import sys
 import tempfile
 import threading
 import time
+from collections.abc import Callable
 from dataclasses import replace
 from typing import IO, Any
 
 import numpy as np
 
+from ..core.budget import show_bytes
 from ..core.errors import SimulationError, SimulatorMissingError
 from .log import failure_reason, useful_output
-from .processes import PACKAGE_ROOT, child_env, kill_group, read_all
+from .processes import PACKAGE_ROOT, WATCH_INTERVAL, child_env, kill_group, outgrown, read_all, resident_bytes
 from .simulator import Simulator, find_shared_library
 from .text import canonical_vector_name, circuit_lines, text_digest
 
 __all__ = ["WarmWorker", "worker_for", "close_workers", "warm_simulator", "WARM_BELOW_SECONDS",
-           "MAX_WORKER_BYTES", "MAX_WORKER_RUNS"]
+           "MAX_WORKER_BYTES", "MAX_WORKER_RUNS", "RESTART_SHARE"]
 
 #: Runs predicted to take less than this (seconds of ``ngspice -b``, start included) go warm when a study
 #: chooses (``--transport auto``): below it the saved start-up outweighs the library's slower big runs
@@ -57,6 +68,8 @@ MAX_WORKER_BYTES = 512 * 2**20
 MAX_WORKER_RUNS = 20000
 #: Seconds a worker may take to load the library and say hello.
 START_TIMEOUT = 60.0
+#: A worker that holds more than this share of a run's memory limit before the run starts is replaced first.
+RESTART_SHARE = 0.5
 
 _HEADER = struct.Struct("<Q")
 
@@ -85,7 +98,7 @@ class WarmWorker:
         self.rss = 0
         self.alive = True
         try:
-            hello = json.loads(self._frame(START_TIMEOUT, "starting"))
+            hello = json.loads(self._frame(time.monotonic() + START_TIMEOUT, "starting"))
         except BaseException:
             self.close(kill=True)
             raise
@@ -95,15 +108,18 @@ class WarmWorker:
         self.version = str(hello["version"])
 
     # -------------------------------------------------------------- frames
-    def _read(self, size: int, deadline: float, what: str) -> bytes:
+    def _read(self, size: int, deadline: float, what: str, watch: Callable[[], None] | None = None) -> bytes:
         assert self.proc.stdout is not None
         fd = self.proc.stdout.fileno()
         parts: list[bytes] = []
         while size:
             left = deadline - time.monotonic()
-            ready = select.select([fd], [], [], max(left, 0.0))[0] if left > 0 else []
-            if not ready:
+            if left <= 0:
                 raise TimeoutError(what)
+            if not select.select([fd], [], [], min(left, WATCH_INTERVAL) if watch is not None else left)[0]:
+                if watch is not None:
+                    watch()
+                continue
             part = os.read(fd, min(size, 1 << 20))
             if not part:
                 raise EOFError(what)
@@ -111,10 +127,13 @@ class WarmWorker:
             size -= len(part)
         return b"".join(parts)
 
-    def _frame(self, timeout: float, what: str) -> bytes:
-        deadline = time.monotonic() + timeout
-        (size,) = _HEADER.unpack(self._read(_HEADER.size, deadline, what))
-        return self._read(size, deadline, what)
+    def _frame(self, deadline: float, what: str, watch: Callable[[], None] | None = None) -> bytes:
+        (size,) = _HEADER.unpack(self._read(_HEADER.size, deadline, what, watch))
+        return self._read(size, deadline, what, watch)
+
+    def resident(self) -> int:
+        """The worker's resident memory now (its sandbox and launcher included), bytes."""
+        return resident_bytes(self.proc.pid)
 
     def _died(self, what: str) -> SimulationError:
         """The worker ended mid-run (ngspice crashed, or was killed): this run fails, the next starts a worker."""
@@ -130,37 +149,58 @@ class WarmWorker:
         return SimulationError(f"ngspice's shared library ended its worker while {what} ({how})", useful_output(log))
 
     # -------------------------------------------------------------- runs
-    def run(self, netlist: str, timeout: float,
-            limit: float | None = None) -> tuple[dict[str, np.ndarray], str, float]:
+    def run(self, netlist: str, timeout: float, limit: float | None = None,
+            resident: float | None = None) -> tuple[dict[str, np.ndarray], str, float]:
         """Run one netlist: its vectors by canonical name, ngspice's output and its wall time (seconds).
+
+        While it runs, what it prints and (with ``resident``) the worker's resident memory are watched
+        (:func:`lcchain.spice.processes.outgrown`); its vectors may not pass ``limit`` bytes.
 
         Raises
         ------
         SimulationError
             The library failed or asked to exit, the worker died (this run fails; the worker is replaced on
-            the next), the run outlived ``timeout`` (status ``"timeout"``, the worker killed), or its vectors
-            outgrew ``limit`` bytes.
+            the next), the run outlived ``timeout`` (status ``"timeout"``, the worker killed), its output or
+            memory outgrew its limits (the worker killed), or its vectors outgrew ``limit`` bytes.
         """
         assert self.proc.stdin is not None
         lines = text_digest(circuit_lines(netlist))  # refuses a text that is not canonical before it is sent
         data = netlist.encode("utf-8")
+        self._err.seek(0)
+        self._err.truncate()  # this run's output only (the worker writes at the offset the parent shares)
+        deadline = time.monotonic() + timeout
+
+        def look() -> None:
+            why = outgrown(self.proc.pid, "ngspice's warm worker", printed=(self._err,), max_output_bytes=limit,
+                           max_resident_bytes=resident)
+            if why is not None:
+                log = read_all(self._err).decode("utf-8", "replace")
+                self.close(kill=True)
+                raise SimulationError(why, useful_output(log))
+
+        watch = look if limit is not None or resident is not None else None
         try:
             self.proc.stdin.write(_HEADER.pack(len(data)) + data)
             self.proc.stdin.flush()
-            header = json.loads(self._frame(timeout, "running"))
-            values = self._frame(timeout, "sending the vectors")
+            header = json.loads(self._frame(deadline, "running", watch))
+            size = 8 * sum(int(length) for length in header["lengths"])
+            if limit is not None and size > limit:  # not read at all: the worker goes with it
+                self.close(kill=True)
+                raise SimulationError(f"ngspice's vectors grew past {show_bytes(limit)}, the most this run may "
+                                      "write (its price, within --max-memory)", "")
+            values = self._frame(deadline, "sending the vectors", watch)
         except TimeoutError:
             self.close(kill=True)
             raise SimulationError(f"ngspice timed out after {timeout:g} s and its warm worker was killed", "",
                                   "timeout") from None
         except (EOFError, BrokenPipeError):
             raise self._died("running this netlist") from None
-        except BaseException:  # interrupted mid-run: the worker goes with it
+        except BaseException:  # interrupted mid-run, or stopped by its limits: the worker goes with it
             self.close(kill=True)
             raise
         self.runs += 1
         self.rss = int(header["rss"])
-        log = str(header["log"])
+        log = read_all(self._err).decode("utf-8", "replace")
         if header["exit"] is not None:
             self.close(kill=True)
             raise SimulationError(failure_reason(log, f"ngspice exited with status {header['exit']}"),
@@ -171,9 +211,6 @@ class WarmWorker:
         if header["errors"]:
             raise SimulationError(failure_reason(log, "the ngspice shared library failed: "
                                                  + "; ".join(header["errors"])), useful_output(log))
-        if limit is not None and len(values) > limit:
-            raise SimulationError(f"ngspice's vectors grew past {limit:.0f} bytes, the most the memory budget "
-                                  "allows (--max-memory)", useful_output(log))
         columns: dict[str, np.ndarray] = {}
         offset = 0
         for name, length in zip(header["names"], header["lengths"], strict=True):
@@ -214,12 +251,16 @@ _workers: set[WarmWorker] = set()
 _local = threading.local()
 
 
-def worker_for(library: str, prefix: tuple[str, ...], cwd: str, env: dict[str, str]) -> WarmWorker:
-    """This thread's worker for that library and placement: started on first use, replaced when dead or spent."""
+def worker_for(library: str, prefix: tuple[str, ...], cwd: str, env: dict[str, str],
+               resident: float | None = None) -> WarmWorker:
+    """This thread's worker for that library and placement: started on first use, replaced when dead or spent,
+    or (before a run whose memory limit is ``resident`` bytes) when it already holds more than
+    :data:`RESTART_SHARE` of it."""
     key = (library, prefix, cwd)
     mine: dict[tuple[Any, ...], WarmWorker] = _local.__dict__.setdefault("workers", {})
     worker = mine.get(key)
-    if worker is not None and (not worker.alive or worker.spent):
+    if worker is not None and (not worker.alive or worker.spent or (
+            resident is not None and worker.runs and worker.resident() > RESTART_SHARE * resident)):
         worker.close()
         worker = None
     if worker is None:

@@ -15,11 +15,15 @@ Protocol, on file descriptors 0 (requests) and 1 (replies); each frame is an
   when the library does not load);
 * per request (UTF-8 netlist text, already checked by the parent, split at
   LF alone by :func:`lcchain.spice.text.circuit_lines`, as the check split
-  it): a JSON header ``{"names", "lengths", "complex", "errors", "log",
-  "wall_s", "rss", "exit", "lines"}`` frame (``lines``: the SHA-256 of the
-  lines handed to ``ngSpice_Circ``, which the parent compares with the text
-  it checked), then one frame of the vectors' float64 values (native
+  it): a JSON header ``{"names", "lengths", "complex", "errors", "wall_s",
+  "rss", "exit", "lines"}`` frame (``lines``: the SHA-256 of the lines
+  handed to ``ngSpice_Circ``, which the parent compares with the text it
+  checked), then one frame of the vectors' float64 values (native
   byte order), concatenated in the order of ``names``.
+
+What ngspice prints goes to stderr (a file of the parent's) line by line as it
+comes, so that the parent can watch its size while the run goes and keeps it
+if the run is killed.
 
 After each run the circuit and its plots are destroyed (``destroy all``,
 ``remcirc``), so nothing of a run but memory the library keeps survives it;
@@ -64,7 +68,7 @@ class Library:
     """libngspice, initialised once; ``run`` loads and runs one netlist and frees it again."""
 
     def __init__(self, path: str) -> None:
-        self.printed: list[str] = []
+        self.printed: list[str] | None = None  # a list while the version is asked: lines kept, not written
         self.exit_status: int | None = None
         lib = ctypes.CDLL(path)
         lib.ngSpice_Init.argtypes = [_SendChar, _SendStat, _Exit, _SendData, _SendInit, _Running, ctypes.c_void_p]
@@ -83,7 +87,11 @@ class Library:
 
     def _print(self, text: bytes | None, ident: int, user: object) -> int:
         line = (text or b"").decode("utf-8", "replace")
-        self.printed.append(line.partition(" ")[2] if line.startswith(("stdout ", "stderr ")) else line)
+        line = line.partition(" ")[2] if line.startswith(("stdout ", "stderr ")) else line
+        if self.printed is not None:
+            self.printed.append(line)
+        else:
+            os.write(2, (line + "\n").encode("utf-8", "replace"))
         return 0
 
     def _exit(self, status: int, unload: bool, quit_: bool, ident: int, user: object) -> int:
@@ -94,21 +102,20 @@ class Library:
         return int(self.lib.ngSpice_Command(text.encode("utf-8")))
 
     def version(self) -> str:
-        self.printed.clear()
+        self.printed = []
         self.command("version")
         match = _VERSION.search("\n".join(self.printed))
-        self.printed.clear()
+        self.printed = None
         if match is None:
             raise RuntimeError("the library did not report an ngspice version")
         return match.group(1)
 
     def run(self, netlist: str) -> tuple[dict[str, Any], bytes]:
-        self.printed.clear()
         errors: list[str] = []
         try:
             given = circuit_lines(netlist)  # split at LF alone, as the allow-list split it
         except ValueError as error:  # not canonical: nothing of it reaches the library
-            return {"names": [], "lengths": [], "complex": False, "errors": [str(error)], "log": "", "wall_s": 0.0,
+            return {"names": [], "lengths": [], "complex": False, "errors": [str(error)], "wall_s": 0.0,
                     "rss": _rss(), "exit": None, "lines": ""}, b""
         lines = [line.encode("utf-8") for line in given]
         array = (ctypes.c_char_p * (len(lines) + 1))(*lines, None)
@@ -141,8 +148,7 @@ class Library:
             for command in ("destroy all", "remcirc"):
                 self.command(command)
         header = {"names": names, "lengths": lengths, "complex": is_complex, "errors": errors,
-                  "log": "\n".join(self.printed), "wall_s": wall, "rss": _rss(), "exit": self.exit_status,
-                  "lines": text_digest(given)}
+                  "wall_s": wall, "rss": _rss(), "exit": self.exit_status, "lines": text_digest(given)}
         return header, b"".join(chunks)
 
 

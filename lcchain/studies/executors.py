@@ -44,6 +44,7 @@ import contextlib
 import logging
 import os
 import threading
+import time
 import urllib.parse
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import FIRST_COMPLETED, ThreadPoolExecutor, wait
@@ -96,13 +97,25 @@ Group = list[tuple[int, RunSpec]]
 
 @dataclass(frozen=True)
 class Transports:
-    """Which runs of a study go to warm shared-library workers, and the simulator that runs them there.
+    """How a study's runs are carried: which go to warm shared-library workers (and the simulator that runs them
+    there), and the study's deadline.
 
     A run's key and results do not depend on it (the warm transport is checked to be the same ngspice).
+
+    Attributes
+    ----------
+    warm : Simulator, optional
+    runs : frozenset of int
+        The runs that go warm.
+    deadline : float, optional
+        The wall-clock time (``time.time()``) the study's time budget ends at: no run starts after it, a run
+        started before it is stopped at it, and neither is returned (they stay pending in the store, for the same
+        command to run).
     """
 
     warm: Simulator | None = None
     runs: frozenset[int] = frozenset()
+    deadline: float | None = None
 
     def simulator_for(self, index: int, simulator: Simulator) -> Simulator:
         """The simulator run ``index`` uses: warm when chosen and its library is on this machine."""
@@ -236,7 +249,16 @@ def execute_group(group: Group, simulator: Simulator, keep_signals: bool = False
         simulator = found
     out = []
     for index, spec in group:
+        cut = False  # the study's deadline, not the run's own timeout, bounds this run
+        if transports.deadline is not None:
+            left = transports.deadline - time.time()
+            if left <= 0:
+                continue  # the study's time is spent: the run stays pending
+            if left < spec.timeout:
+                spec, cut = replace(spec, timeout=left), True
         record = execute(spec, transports.simulator_for(index, simulator), progress=progress)
+        if cut and record.status == "timeout":
+            continue  # stopped by the study's deadline: pending, not the run's own failure
         out.append((index, record if keep_signals else replace(record, signals=None)))
     return out
 

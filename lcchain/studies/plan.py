@@ -54,7 +54,7 @@ from ..runs.spec import DEFAULT_TIMEOUT, RunSpec, SpectrumTheory, Theory
 from ..scenes.load import load_scene, parse_scene
 from ..scenes.plan import scene_plan, scene_specs
 from ..spice.engines import DEFAULT_ENGINE, ENGINES
-from ..spice.foreign import allowed_netlist, analysis_of, foreign_estimate, raw_bytes_limit
+from ..spice.foreign import allowed_netlist, analysis_of, foreign_price
 from ..spice.runner import read_include
 from ..spice.text import canonical_text, saved_vectors
 from ..theory.cases import chain_for_case
@@ -574,10 +574,13 @@ def batch_plan(paths: Sequence[str | Path], *, allow_control: bool = False, back
     Every netlist, and every file it includes, must be a regular file (its
     includes inside its own folder) and pass the allow-list of
     :func:`lcchain.spice.foreign.allowed_netlist`, unless ``allow_control``
-    (then it runs as it is). Each is priced from its own ``.tran`` (time points
-    x unknowns) and refused beyond ``budget``; its run is stopped when its raw
-    file outgrows the memory budget. Every run happens in the sandbox of
-    :mod:`lcchain.spice.sandbox`.
+    (then it runs as it is). Each is priced from its analysis and what it holds
+    (:func:`lcchain.spice.foreign.foreign_price`: elements, K lines, source edges,
+    fast dynamics, expressions, text) and refused beyond ``budget``; its run gets
+    its limits from its own price (:meth:`lcchain.spice.pricing.Price.limits`:
+    a timeout, a raw file and a resident memory, a few times what was priced,
+    within ``budget`` and ``timeout``) and is stopped past any of them. Every run
+    happens in the sandbox of :mod:`lcchain.spice.sandbox`.
     """
     budget = budget if budget is not None else Budget()
     tasks = []
@@ -589,18 +592,19 @@ def batch_plan(paths: Sequence[str | Path], *, allow_control: bool = False, back
             allowed_netlist(text, str(path), folder, read_include)
         analysis = analysis_of(run_text, str(path))
         saved = saved_vectors(run_text)
-        estimate = foreign_estimate(run_text, analysis, len(saved))
-        estimate.check(budget, str(path), analysis.describe())
+        price = foreign_price(run_text, analysis, len(saved), str(path))
+        price.estimate.check(budget, str(path), analysis.describe())
+        limits = price.limits(budget, timeout)
         try:
-            spec = RunSpec(run_text, saved, analysis.tstop, backend=backend,
-                           timeout=min(timeout, budget.max_seconds), cwd=str(folder) if allow_control else None,
-                           trusted=allow_control, foreign=True, max_output_bytes=raw_bytes_limit(budget.max_memory),
+            spec = RunSpec(run_text, saved, analysis.tstop, backend=backend, timeout=limits.timeout,
+                           cwd=str(folder) if allow_control else None, trusted=allow_control, foreign=True,
+                           max_output_bytes=limits.max_output_bytes, max_resident_bytes=limits.max_resident_bytes,
                            label=path.name, analysis=analysis.kind, points=analysis.frequencies)
         except ParameterError as error:
             raise (error.renamed("--allow-control") if error.field == "trusted" else error).located(str(path)) \
                 from None
-        tasks.append(Task(index, FrozenMap({"netlist": str(path)}), spec, estimate.seconds,
-                          estimate.memory + SIMULATOR_BYTES))
+        tasks.append(Task(index, FrozenMap({"netlist": str(path)}), spec, price.seconds,
+                          price.estimate.memory + SIMULATOR_BYTES))
     description = {"command": "batch", "netlists": [str(p) for p in paths], "allow_control": allow_control,
                    "backend": backend}
     return Plan("batch", FrozenMap(description), tuple(tasks), backend, ("netlist",))

@@ -84,6 +84,9 @@ class Summary:
     combined, combined_failed : int
         Extrapolations the store holds combined (each made from its member runs, counted above), and those
         that failed (a member failed, or the members could not be combined: made again on the next run).
+    pending : int
+        Runs not started, or stopped, because the study's time budget (``max_seconds``) was spent: not stored, so
+        the same command runs them.
     """
 
     total: int
@@ -95,6 +98,7 @@ class Summary:
     wall_s: float
     combined: int = 0
     combined_failed: int = 0
+    pending: int = 0
 
     @property
     def complete(self) -> bool:
@@ -104,7 +108,7 @@ class Summary:
     def to_dict(self) -> dict[str, Any]:
         return {"total": self.total, "skipped": self.skipped, "ran": self.ran, "ok": self.ok,
                 "failed": self.failed, "combined": self.combined, "combined_failed": self.combined_failed,
-                "store": self.store, "wall_s": self.wall_s}
+                "pending": self.pending, "store": self.store, "wall_s": self.wall_s}
 
 
 def run_plan(plan: Plan, store: str | Path, *, executor: str = "process", workers: int | None = None,
@@ -112,7 +116,7 @@ def run_plan(plan: Plan, store: str | Path, *, executor: str = "process", worker
              progress: Callable[[Progress], None] | None = None,
              on_resume: Callable[[int, int], None] | None = None, retry_failed: bool = False, wait: bool = False,
              on_wait: Callable[[int | None], None] | None = None, verbose: bool = False,
-             transport: str = "auto") -> Summary:
+             transport: str = "auto", max_seconds: float | None = None) -> Summary:
     """Run a plan into a store, skipping what the store already holds.
 
     Parameters
@@ -144,8 +148,12 @@ def run_plan(plan: Plan, store: str | Path, *, executor: str = "process", worker
         How each ngspice run starts: warm shared-library workers for runs predicted short (``"auto"``), a
         process per run, or warm workers for all (:func:`~lcchain.studies.executors.choose_transports`). Keys
         and results do not depend on it.
+    max_seconds : float, optional
+        The study's time budget from now, seconds: no run starts after it and a run still going then is stopped;
+        neither is stored (:attr:`Summary.pending`), so the same call runs them.
     """
     start = time.perf_counter()
+    deadline = None if max_seconds is None else time.time() + max_seconds
     check_executor(executor, workers, scheduler)
     check_transport(transport)
     simulator = simulator if simulator is not None else find_engine(plan.engine, plan.backend)
@@ -171,7 +179,8 @@ def run_plan(plan: Plan, store: str | Path, *, executor: str = "process", worker
             combining = _Combiner(plan, keys, results)
             combining.ready(finished)  # members stored by an earlier, interrupted run
             done = failed = 0
-            transports = choose_transports(list(todo.values()), simulator, workers, transport)
+            transports = replace(choose_transports(list(todo.values()), simulator, workers, transport),
+                                 deadline=deadline)
             for group in run(group_tasks(list(todo.values()), executor, workers), transports):
                 for index, record in group:
                     if record.key != keys[index]:
@@ -189,7 +198,8 @@ def run_plan(plan: Plan, store: str | Path, *, executor: str = "process", worker
     combined = [status[keys[c.index]] for c in plan.combinations]
     return Summary(len(distinct), skipped, done, sum(status[key] == "ok" for key in distinct),
                    sum(status[key] in ("failed", "timeout") for key in distinct), str(store),
-                   time.perf_counter() - start, combined.count("ok"), len(combined) - combined.count("ok"))
+                   time.perf_counter() - start, combined.count("ok"), len(combined) - combined.count("ok"),
+                   len(todo) - done)
 
 
 class _Combiner:
