@@ -93,7 +93,7 @@ for name, text in CHAINS.items():
 for key, value in (("springs", "[0, 1e300, 1, 0]"), ("masses", "[1e-300, 1, 1]")):
     other = "masses = [1, 1, 1]" if key == "springs" else "springs = [0, 1, 1, 0]"
     CASES[f"custom scene chain.{key} far from bulk units"] = refused(
-        ["run", "s.toml"], ["s.toml", "chain = "], "chain files",
+        ["run", "s.toml"], ["s.toml", "chain.masses/chain.springs = "], "chain files",
         files=scene(f'[chain]\ncase = "custom"\n{key} = {value}\n{other}\n' + QUIET))
 
 BIG = '{"masses": [' + ", ".join(["1"] * 2500) + '], "springs": [0, ' + ", ".join(["1"] * 2499) + ", 0]}"

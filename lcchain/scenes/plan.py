@@ -77,7 +77,8 @@ def losses_and_pulse(scene: Scene) -> tuple[float | None, tuple[PulseShape, floa
 _SCENE_KEYS = {"L0": "units.L0", "C0": "units.C0", "K0": "effects.walls.K0", "dt": "analysis.dt",
                "accuracy": "analysis.accuracy", "N": "chain.N", "coupling": "effects.coupling.k",
                "engine": "analysis.engine", "extrapolate": "analysis.extrapolate", "points": "analysis.points",
-               "backend": "analysis.backend"}
+               "backend": "analysis.backend", "I0": "excitation.I0", "transits": "analysis.transits",
+               "pulse width": "excitation.width"}
 
 
 def scene_plan(scene: Scene, budget: Budget | None = None) -> ScenePlan:
@@ -98,6 +99,8 @@ def scene_plan(scene: Scene, budget: Budget | None = None) -> ScenePlan:
                             design_seconds=chain_seconds(scene.chain.case, chain.N))
     except ParameterError as error:
         named = error.renamed(_SCENE_KEYS[error.field]) if error.field in _SCENE_KEYS else error
+        if error.field == "chain":  # the chain itself (its time scale, its poles): the keys that make it
+            named = error.renamed("chain.masses/chain.springs" if scene.chain.case == "custom" else "chain.N")
         raise named.located(scene.source) from None
 
 
