@@ -24,16 +24,16 @@ def _priced(argv: list[str], said: list[str], files: dict[str, str | bytes] | No
 
 CASES: dict[str, Case] = {
     "a 1000-value N axis": _priced(["sweep", "--case", "two-mass", "--N", AXIS, "--dt", "0.05", "--store", "s.sqlite",
-                                    "--max-time", "10min"], ["study", "1000 points", "10 min", "--max-time"]),
+                                    "--max-time", "10min"], ["--N = '1000 points'", "10 min", "--max-time"]),
     "a 1000-value N axis of a scene": _priced(["sweep", "s.toml", "--vary", f"chain.N={AXIS}", "--store", "s.sqlite",
-                                               "--max-time", "2min"], ["study", "1000 scenes", "2 min"],
+                                               "--max-time", "2min"], ["--vary/--samples = '1000 scenes'", "2 min"],
                                               {"s.toml": '[chain]\ncase = "two-mass"\nN = 10\n'}),
     "a table of 500 designs": _priced(["table", "--case", "two-mass", "--N", ",".join(str(n) for n in range(3, 503)),
                                        "--max-time", "30s"], ["--N", "500 two-mass designs", "30 s"]),
     "a scene of 2000 samples": _priced(["run", "s.toml", "--max-time", "30s"],
                                        ["effects.tolerance.samples = 2000", "30 s"], {"s.toml": SAMPLES}),
     "a sweep of 2000 samples": _priced(["sweep", "s.toml", "--store", "s.sqlite", "--max-time", "30s"],
-                                       ["study", "30 s"], {"s.toml": SAMPLES}),
+                                       ["--vary/--samples", "30 s"], {"s.toml": SAMPLES}),
     "the full accuracy bench in 5 min": _priced(["bench", "accuracy", "--out", "b", "--max-time", "5min"],
                                                 ["bench accuracy", "5 min", "--quick"]),
     "the quick bench in 1 s": _priced(["bench", "accuracy", "--quick", "--out", "b", "--max-time", "1s"],
@@ -41,7 +41,8 @@ CASES: dict[str, Case] = {
     "a bench in 1 MiB": _priced(["bench", "accuracy", "--quick", "--out", "b", "--max-memory", "1M"],
                                 ["bench accuracy", "--max-memory"]),
     "a design within the interpreter's own memory": _priced(["design", "--case", "two-mass", "--N", "10",
-                                                             "--max-memory", "50M"], ["--N = 10", "--max-memory"]),
+                                                             "--max-memory", "50M"],
+                                                            ["--max-memory = '50M'", "96 MiB (the interpreter's own"]),
 }
 
 

@@ -150,7 +150,7 @@ CASES: dict[str, Case] = {
                                                  family="stores"),
     "results of an unknown status": Case(["results", "s.sqlite"], ["STORE", "status", "restore"],
                                          make=_tampered("UPDATE records SET status = 'done'"), family="stores"),
-    "results of params that are a list": Case(["results", "s.sqlite"], ["STORE", "JSON objects"],
+    "results of params that are a list": Case(["results", "s.sqlite"], ["STORE", "not a JSON object"],
                                               make=_tampered("UPDATE tasks SET params = '[1, 2]'"),
                                               family="stores"),
     "sweep into a description that is not JSON": Case(
