@@ -338,3 +338,15 @@ def test_a_run_never_compares_a_part_no_chain_can_say_with_the_chain(effect: Eff
     request = Request(_chain("two-mass", 12), chosen, effects=(Losses(40.0), effect))
     with pytest.raises(ParameterError, match=f"effects = '{effect.key}'"):
         plan_request(request)
+
+
+def test_every_place_an_effect_adds_elements_is_known_to_the_planner() -> None:
+    # The planner skips its element-by-element check when no effect overrides an ELEMENT_HOOKS method: a new place
+    # ladder_elements asks effects for elements must be listed there, or an effect using it would slip through.
+    import inspect
+    import re
+
+    from lcchain.circuit import elements
+
+    asked = set(re.findall(r"\bpart\.(\w+)\(", inspect.getsource(elements)))
+    assert asked == set(elements.ELEMENT_HOOKS)

@@ -22,7 +22,11 @@ from ..core.types import GAUSSIAN_CENTRE, PulseShape
 from .effects import Effect
 from .ladder import Ladder
 
-__all__ = ["Element", "Pulse", "ladder_elements", "ladder_pulse", "number", "GROUND", "RECT_FALL"]
+__all__ = ["Element", "Pulse", "ladder_elements", "ladder_pulse", "number", "GROUND", "RECT_FALL", "ELEMENT_HOOKS"]
+
+#: Every Effect method :func:`ladder_elements` asks for elements: an effect that overrides none of them adds none
+#: (the runs' planner relies on it; a new place for elements is added here and in ladder_elements together).
+ELEMENT_HOOKS = ("in_series", "across_coil", "capacitor_series")
 
 #: The rect pulse's PWL source falls in this fraction of its duration (ngspice needs a finite slope).
 RECT_FALL = 1e-9
