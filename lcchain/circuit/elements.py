@@ -105,10 +105,6 @@ class Pulse:
     def name(self) -> str:
         return "B1" if self.shape == "gaussian" else "V1"
 
-    @property
-    def kind(self) -> str:
-        return "V"
-
     def corners(self) -> tuple[float, ...]:
         """Where the waveform is smooth in between, seconds: its end last (a gaussian's tail past 12 widths
         after its centre weighs exp(-72))."""
@@ -143,27 +139,33 @@ def ladder_pulse(ladder: Ladder, shape: PulseShape, width: float, I0: float) -> 
     return Pulse("s1", ladder.node(0), shape, width * ladder.time_unit, ladder.inductances()[0] * I0)
 
 
+def _names(letters: list[str], stem: str) -> list[str]:
+    """Element names letter + stem, a second of a letter ``_2``, a third ``_3``, ..."""
+    seen: dict[str, int] = {}
+    names = []
+    for letter in letters:
+        seen[letter] = seen.get(letter, 0) + 1
+        names.append(f"{letter}{stem}" + ("" if seen[letter] == 1 else f"_{seen[letter]}"))
+    return names
+
+
+def _inner_nodes(stem: str, count: int) -> list[str]:
+    """``count`` nodes inside a series chain: stem, stem_2, stem_3, ..."""
+    return [stem if j == 0 else f"{stem}_{j + 1}" for j in range(count)]
+
+
+def _in_series(parts: list[tuple[str, float]], stem: str, nodes: list[str]) -> list[Element]:
+    """``parts`` one after the other along ``nodes`` (one more node than parts), named by :func:`_names`."""
+    names = _names([letter for letter, _ in parts], stem)
+    return [Element(name, nodes[j], nodes[j + 1], value) for j, (name, (_, value)) in enumerate(zip(names, parts,
+                                                                                                    strict=True))]
+
+
 def _loop_branch(i: int, left: str, right: str, inductance: float, ic: float | None,
                  series: list[tuple[str, float]]) -> list[Element]:
     """Loop i's branch from rail node ``left`` to ``right``: L_i, then each series element (inner nodes m_i...)."""
-    nodes = [left] + [f"m{i}" if j == 0 else f"m{i}_{j + 1}" for j in range(len(series))] + [right]
-    elements = [Element(Ladder.inductor(i), nodes[0], nodes[1], inductance, ic)]
-    seen: dict[str, int] = {}
-    for j, (letter, value) in enumerate(series, start=1):
-        seen[letter] = seen.get(letter, 0) + 1
-        name = f"{letter}{i}" if seen[letter] == 1 else f"{letter}{i}_{seen[letter]}"
-        elements.append(Element(name, nodes[j], nodes[j + 1], value))
-    return elements
-
-
-def _named(parts: list[tuple[str, float]], suffix: str, a: str, b: str) -> list[Element]:
-    """Elements all from ``a`` to ``b``, named letter + suffix (a second of a letter: ``_2``, ...)."""
-    seen: dict[str, int] = {}
-    out = []
-    for letter, value in parts:
-        seen[letter] = seen.get(letter, 0) + 1
-        out.append(Element(f"{letter}{suffix}" + ("" if seen[letter] == 1 else f"_{seen[letter]}"), a, b, value))
-    return out
+    nodes = [left, *_inner_nodes(f"m{i}", len(series)), right]
+    return [Element(Ladder.inductor(i), nodes[0], nodes[1], inductance, ic), *_in_series(series, str(i), nodes[1:])]
 
 
 def _capacitor(ladder: Ladder, effects: tuple[Effect, ...], spring: int, node: str, capacitance: float,
@@ -171,16 +173,9 @@ def _capacitor(ladder: Ladder, effects: tuple[Effect, ...], spring: int, node: s
     """C_{spring,spring+1} from ``node`` to ground, after what the effects put in series with it (inner nodes
     c{spring}, c{spring}_2, ...)."""
     series = [e for part in effects for e in part.capacitor_series(ladder, spring)]
-    name = ladder.capacitor(spring)
-    nodes = [node] + [f"c{spring}" if j == 0 else f"c{spring}_{j + 1}" for j in range(len(series))]
-    out: list[Element] = []
-    seen: dict[str, int] = {}
-    for j, (letter, value) in enumerate(series):
-        seen[letter] = seen.get(letter, 0) + 1
-        suffix = "" if seen[letter] == 1 else f"_{seen[letter]}"
-        out.append(Element(f"{letter}S{spring}_{spring + 1}{suffix}", nodes[j], nodes[j + 1], value))
-    out.append(Element(name, nodes[-1], GROUND, capacitance, ic))
-    return out
+    nodes = [node, *_inner_nodes(f"c{spring}", len(series))]
+    return [*_in_series(series, f"S{spring}_{spring + 1}", nodes),
+            Element(ladder.capacitor(spring), nodes[-1], GROUND, capacitance, ic)]
 
 
 def ladder_elements(ladder: Ladder, effects: tuple[Effect, ...] = (), *, source: bool = False,
@@ -213,7 +208,10 @@ def ladder_elements(ladder: Ladder, effects: tuple[Effect, ...] = (), *, source:
             left = "s1"  # the source sits between the rail node n0 (or ground) and L1
         series = [e for part in effects for e in part.in_series(ladder, i)]
         elements += _loop_branch(i, left, right, L[i - 1], kick if i == 1 else None, series)
-        elements += _named([e for part in effects for e in part.across_coil(ladder, i)], f"P{i}", left, right)
+        across = [e for part in effects for e in part.across_coil(ladder, i)]
+        elements += [Element(name, left, right, value)
+                     for name, (_, value) in zip(_names([letter for letter, _ in across], f"P{i}"), across,
+                                                 strict=True)]
         if i < N:
             capacitance = C[i]
             assert capacitance is not None  # inner springs are > 0 (Chain checks it)
