@@ -57,13 +57,9 @@ def cmd_requirements(args: argparse.Namespace) -> int:
     requirements_estimate(chain, parts, args.check).check(budget, "--N", chain.N)
     ladder = Ladder(chain, args.L0, args.C0)
     ideal = first_arrival_energy(ladder)
-    results, points = [], []
-    for part in parts:
-        shown = fraction(f"{part.key}: its curve")
-        results.append(requirement(ladder, part, progress=shown))
-        if args.check:
-            points += check_points(ladder, results[-1], args.check, budget=budget,
-                                   progress=fraction(f"{part.key}: ngspice"))
+    results = [requirement(ladder, part, progress=fraction(f"{part.key}: its curve")) for part in parts]
+    points = check_points(ladder, results, args.check, budget=budget, progress=fraction("ngspice on the curves")) \
+        if args.check else []
     if args.json:
         emit_json({"chain": chain.name, "N": chain.N, "L0": ladder.L0, "C0": ladder.C0,
                    "ideal": {"time": ideal.time, "peak": ideal.peak, "energy": ideal.energy},

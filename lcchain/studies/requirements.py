@@ -55,33 +55,39 @@ def requirements_estimate(chain: Chain, parts: Sequence[Part], checks: int) -> E
     transit = normal_modes(chain).transit_time()
     stop = arrival_window(1, transit)[1]
     run = run_estimate(points=stop / CHECK_DT + 1, saved=1, compared=0, unknowns=_unknowns(chain))
-    seconds = requirements_cost(chain, parts) + checks * len(parts) * run.seconds
-    return Estimate(f"{len(parts)} parts' curves at N = {chain.N} and {checks * len(parts)} ngspice runs",
+    runs = checks * len(parts) + (1 if checks else 0)  # and the ideal ladder's, once
+    seconds = requirements_cost(chain, parts) + runs * run.seconds
+    return Estimate(f"{len(parts)} parts' curves at N = {chain.N} and {runs} ngspice runs",
                     run.memory + 64.0 * (3 * chain.N) ** 2, seconds)
 
 
-def check_points(ladder: Ladder, requirement: Requirement, count: int, *, budget: Budget,
+def check_points(ladder: Ladder, requirements: Sequence[Requirement], count: int, *, budget: Budget,
                  progress: Callable[[float], None] | None = None) -> list[CheckPoint]:
-    """``count`` of the curve's values (evenly through its grid, where the loss is between 1e-6 and 0.3) run in
-    ngspice."""
+    """``count`` of each curve's values (evenly through its grid, where the loss is between 1e-6 and 0.3) run in
+    ngspice, each loss measured against one ngspice run of the ideal ladder."""
     chain = ladder.chain
-    part = requirement.part
     transit = normal_modes(chain).transit_time()
     window = arrival_window(1, transit)
     simulator = find_engine("ngspice")
     options = SimulationOptions(dt=CHECK_DT, tstop=window[1])
-    # where the curve matters: between a thousandth of the 0.1 % target and well past the 1 % one
-    candidates = [k for k, loss in enumerate(requirement.losses) if 1e-6 < loss < 0.3]
-    chosen = sorted({candidates[round(j * (len(candidates) - 1) / max(count - 1, 1))] for j in range(count)}) \
-        if candidates else []
+    runs = []
+    for requirement in requirements:
+        # where the curve matters: between a thousandth of the 0.1 % target and well past the 1 % one
+        candidates = [k for k, loss in enumerate(requirement.losses) if 1e-6 < loss < 0.3]
+        chosen = sorted({candidates[round(j * (len(candidates) - 1) / max(count - 1, 1))] for j in range(count)}) \
+            if candidates else []
+        runs += [(requirement, k) for k in chosen]
+    if not runs:
+        return []
     energy0 = _energy(ladder, (), options, window, transit, budget, simulator)
     points = []
-    for done, k in enumerate(chosen, start=1):
-        built, effects = part.build(chain, requirement.values[k])
+    for done, (requirement, k) in enumerate(runs, start=1):
+        built, effects = requirement.part.build(chain, requirement.values[k])
         energy = _energy(Ladder(built, ladder.L0, ladder.C0), effects, options, window, transit, budget, simulator)
-        points.append(CheckPoint(part.key, requirement.values[k], 1.0 - energy / energy0, requirement.losses[k]))
+        points.append(CheckPoint(requirement.part.key, requirement.values[k], 1.0 - energy / energy0,
+                                 requirement.losses[k]))
         if progress is not None:
-            progress(done / len(chosen))
+            progress(done / len(runs))
     return points
 
 
