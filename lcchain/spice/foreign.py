@@ -56,7 +56,7 @@ from ..core.errors import ParameterError
 from ..core.limits import MAX_AC_POINTS, MAX_NETLIST_BYTES
 from ..core.types import AnalysisKind
 from .pricing import Contents, Price, read_contents, sweep_price, transient_price
-from .text import canonical_text, netlist_lines, spice_number
+from .text import NEWLINE, canonical_text, spice_number
 
 __all__ = ["ELEMENTS", "DOT_COMMANDS", "OPTIONS", "MAX_INCLUDE_DEPTH", "Transient", "Sweep", "allowed_netlist",
            "transient_of", "analysis_of", "foreign_estimate", "foreign_price"]
@@ -105,7 +105,7 @@ def _cards(text: str, source: str, *, title: bool) -> tuple[str, list[_Card]]:
     The title is the first non-blank line (ngspice skips blank lines before it); with ``title=False`` (an
     included file) there is none.
     """
-    lines = netlist_lines(text)
+    lines = text.split(NEWLINE)  # canonical already (allowed_netlist made it so): LF alone
     head = ""
     start = 0
     if title:

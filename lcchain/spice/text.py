@@ -46,7 +46,7 @@ from ..core.errors import ParameterError
 from ..core.limits import MAX_TITLE_BYTES
 
 __all__ = ["canonical_vector_name", "parse_options", "logical_lines", "spice_number", "saved_vectors",
-           "canonical_text", "require_canonical", "netlist_lines", "circuit_lines", "text_digest"]
+           "canonical_text", "require_canonical", "netlist_lines", "circuit_lines", "text_digest", "NEWLINE"]
 
 #: The one line separator of a canonical netlist.
 NEWLINE = "\n"
