@@ -176,3 +176,14 @@ ATOL_SPECTRUM_GAMMA = 1e-12
 RTOL_SPECTRUM_Q = 1e-9
 RTOL_SPECTRUM_POLE = 1e-9
 ATOL_SPECTRUM_RESPONSE = 1e-9
+
+
+# ------------------------------------------------------------ the circuit theory's hard cases (issue 30, item 6)
+#: A well-conditioned hard case (self-resonance 1.001x the band top, ESL resonance at it, Q = 1 .. 1e6, coupling
+#: 0.999 of its limit) at N <= 12 against expm of the state matrix or the uniform ladder's closed form: rounding
+#: only (measured 2e-16 .. 9e-14 of I0).
+ATOL_HARD_WELL_CONDITIONED = 1e-11
+#: What the circuit theory promises where it accepts a case: its modal rounding is at most
+#: lcchain.circuit.exact.MAX_MODAL_ROUNDING = 5e-10 and the error measured at most 0.98 times that estimate
+#: (near-critical damping), and the N = 2000 ladder at k -> 1/2 is within 1e-9 (measured 2 eps cond(L) ~ 7e-10).
+ATOL_HARD_ACCEPTED = 1e-9
