@@ -49,8 +49,8 @@ for the nominal chain; each tolerance sample only multiplies the rounded values.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, fields, is_dataclass
-from typing import ClassVar
+from dataclasses import Field, dataclass, fields
+from typing import Any, ClassVar
 
 import numpy as np
 
@@ -65,7 +65,7 @@ from .ladder import Ladder
 __all__ = ["E_SERIES", "preferred_value", "preferred_values", "with_walls", "rounded", "realise",
            "tolerance_samples", "cornered", "Effect", "Walls", "Coupling", "Losses", "Tolerance", "PreferredValues",
            "EFFECTS", "SeriesElement", "CoilCapacitance", "CoilResistance", "CapacitorESR", "CapacitorESL",
-           "REAL_PARTS"]
+           "REAL_PARTS", "effect_fields"]
 
 #: An element in series with an inductor: its SPICE letter and its value (ohm for "R").
 SeriesElement = tuple[str, float]
@@ -240,6 +240,11 @@ def tolerance_samples(chain: Chain, L0: float, C0: float, *, samples: int, seed:
 
 
 # ------------------------------------------------------------------- the parts
+def effect_fields(cls: type[Effect]) -> tuple[Field[Any], ...]:
+    """An effect type's fields: the keys of its scene table (every effect type is a dataclass)."""
+    return fields(cls)  # type: ignore[arg-type]  # Effect's subclasses are dataclasses; Effect itself is not
+
+
 class Effect:
     """One real-world effect on the ladder (subclasses are frozen dataclasses).
 
@@ -257,7 +262,7 @@ class Effect:
     @classmethod
     def from_option(cls, value: object) -> Effect:
         """The effect its option's value asks for (the value is its one field, checked there)."""
-        names = [f.name for f in fields(cls)]  # type: ignore[arg-type]  # subclasses are dataclasses
+        names = [f.name for f in effect_fields(cls)]
         if len(names) != 1:
             raise ParameterError("option", cls.option, f"an effect with one field ({cls.__name__} has {names})")
         return cls(**{names[0]: value})
@@ -566,8 +571,12 @@ REAL_PARTS: tuple[type[Effect], ...] = (CoilCapacitance, CoilResistance, Capacit
 
 def _admit(name: str, loaded: object) -> type[Effect]:
     """An ``lcchain.effects`` entry point's object: a frozen dataclass subclass of Effect whose key is its name."""
-    if not (isinstance(loaded, type) and issubclass(loaded, Effect) and is_dataclass(loaded)):
-        raise TypeError(f"{loaded!r} is not a dataclass subclass of lcchain.circuit.effects.Effect")
+    if not isinstance(loaded, type):
+        raise TypeError(f"{loaded!r} is not a class")
+    if not issubclass(loaded, Effect):
+        raise TypeError(f"{loaded.__name__} is not a subclass of lcchain.circuit.effects.Effect")
+    if "__dataclass_fields__" not in vars(loaded):
+        raise TypeError(f"{loaded.__name__} is not a dataclass (its fields are its scene table's keys)")
     if loaded.key != name:
         raise TypeError(f"its key is {loaded.key!r}, not the entry point's name")
     return loaded
@@ -576,6 +585,7 @@ def _admit(name: str, loaded: object) -> type[Effect]:
 #: Scene keys to effect types (``[effects.<key>]``): lcchain's own, then those of the ``lcchain.effects``
 #: entry points of installed packages (read the first time the registry is).  The scene schema, its loader
 #: and the command line's effect options all read this registry.
+_OWN: tuple[type[Effect], ...] = (Losses, Walls, Coupling, Tolerance, PreferredValues, *REAL_PARTS)
 EFFECTS: Registry[type[Effect]] = Registry(
-    "lcchain.effects", {cls.key: cls for cls in (Losses, Walls, Coupling, Tolerance, PreferredValues, *REAL_PARTS)},
-    _admit, "a frozen dataclass subclass of lcchain.circuit.effects.Effect, its key the entry point's name")
+    "lcchain.effects", {cls.key: cls for cls in _OWN}, _admit,
+    "a frozen dataclass subclass of lcchain.circuit.effects.Effect, its key the entry point's name")
