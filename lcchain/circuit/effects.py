@@ -374,8 +374,8 @@ class Losses(Effect):
 
     key: ClassVar[str] = "losses"
     option: ClassVar[str | None] = "--Q"
-    option_help: ClassVar[str] = (f"losses: a resistor L_i/(Q*sqrt(L0*C0)) in series with every coil, as a scene's "
-                                  f"[effects.losses] ({MIN_Q:g} <= Q <= {MAX_Q:g})")
+    option_help: ClassVar[str] = (f"losses: a resistor L_i/(Q*sqrt(L0*C0)) in series with every coil ({MIN_Q:g} <= Q "
+                                  f"<= {MAX_Q:g})")
     Q: float
 
     def __post_init__(self) -> None:
@@ -487,7 +487,7 @@ class CoilCapacitance(Effect):
 
     key: ClassVar[str] = "coil_capacitance"
     option: ClassVar[str | None] = "--coil-capacitance"
-    option_help: ClassVar[str] = "a coil's self-capacitance: a capacitor r*C0 across every coil (r > 0)"
+    option_help: ClassVar[str] = "a coil's self-capacitance: a capacitor ratio*C0 across every coil (ratio > 0)"
     ratio: float
 
     def __post_init__(self) -> None:
