@@ -7,6 +7,7 @@ from pathlib import Path
 
 import pytest
 from helpers.digits import agrees_with_printed
+from helpers.tolerances import ATOL_EFFECT_RUN
 
 from lcchain.cli import main
 
@@ -225,4 +226,4 @@ def test_an_effect_option_reaches_the_netlist_and_runs(capsys, tmp_path, option,
                                "--netlist-out", str(netlist), "--json")
     assert card in netlist.read_text()
     assert status == 0, err
-    assert json.loads(out)["max_abs_error"] < 1e-2
+    assert json.loads(out)["max_abs_error"] < ATOL_EFFECT_RUN

@@ -14,6 +14,7 @@ import textwrap
 from pathlib import Path
 
 import pytest
+from helpers.tolerances import ATOL_EFFECT_RUN
 
 PLUGIN = Path(__file__).parent / "plugin"
 
@@ -88,7 +89,7 @@ def test_an_installed_effect_and_engine_run_through_ngspice(tmp_path):
     assert "RG1 n1 0 " in (tmp_path / "run.cir").read_text()
     assert ran.returncode == 0, ran.stderr
     data = json.loads(ran.stdout)
-    assert data["engine"] == "renamed-ngspice" and data["max_abs_error"] < 1e-2
+    assert data["engine"] == "renamed-ngspice" and data["max_abs_error"] < ATOL_EFFECT_RUN
 
 
 def test_a_broken_plugin_is_one_line_naming_its_entry_point(tmp_path):
