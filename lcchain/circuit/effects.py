@@ -36,12 +36,16 @@ The effects:
   from ``numpy.random.default_rng``; sample k uses the k-th child of
   ``SeedSequence(seed)``, so samples are reproducible and independent of
   how many are drawn.  Tolerances apply to the rounded values (one buys E24
-  parts, each within its tolerance).
+  parts, each within its tolerance);
+* the real parts (:data:`REAL_PARTS`): a coil's self-capacitance (across it)
+  and winding resistance (in series), a capacitor's ESR and ESL (in series
+  with it): elements no chain has, whose theory is the circuit's own.
 
-The results are chains in bulk units again (masses = L/L0, springs =
+The chain changes' results are chains in bulk units again (masses = L/L0, springs =
 C0/C): rounding and tolerances break the mirror symmetry, so their theory
-comes from the exact modes of each chain.  Losses and pulse sources are
-circuit elements, not chain changes: see :func:`lcchain.circuit.netlist.netlist_text`.
+comes from the exact modes of each chain.  Losses, the real parts and pulse
+sources are circuit elements, not chain changes: see
+:func:`lcchain.circuit.elements.ladder_elements`.
 
 Rounding is vectorised (one numpy pass over every component) and done once
 for the nominal chain; each tolerance sample only multiplies the rounded values.
