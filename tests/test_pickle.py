@@ -18,8 +18,8 @@ import lcchain
 from lcchain.circuit.reference import REFERENCE_SET
 from lcchain.compare.accuracy import AccuracyWarning, ErrorSplit
 from lcchain.core.errors import Interrupted, LcchainError, ParameterError, SimulationError, SimulatorMissingError
-from lcchain.core.registry import PluginError
 from lcchain.core.frozen import FrozenMap
+from lcchain.core.registry import PluginError
 from lcchain.runs.execute import execute
 from lcchain.runs.simulate import simulation_spec
 from lcchain.scenes.plan import scene_plan

@@ -108,3 +108,18 @@ def test_a_broken_plugin_is_one_line_naming_its_entry_point(tmp_path):
     said = _lcchain(env, tmp_path, "doctor")
     assert said.returncode == 2 and "entry point lcchain.engines ngspice" in said.stderr and "is taken" in said.stderr
     assert said.stderr.count("\n") == 1
+
+
+def test_importing_lcchain_reads_no_entry_points(tmp_path):
+    """The groups are read the first time a registry is, not when lcchain (its runs, scenes, studies) loads."""
+    env = {**os.environ, "TMPDIR": str(tmp_path), "PYTHONDONTWRITEBYTECODE": "1"}
+    done = _python(env, tmp_path, """
+        import lcchain.runs.simulate, lcchain.scenes.load, lcchain.studies.plan
+        from lcchain.circuit.effects import EFFECTS
+        from lcchain.spice.engines import ENGINES
+
+        print(repr(EFFECTS).endswith("plugins not read yet)"), repr(ENGINES).endswith("plugins not read yet)"))
+        print("losses" in EFFECTS, repr(EFFECTS).endswith("plugins not read yet)"))
+    """)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.split() == ["True", "True", "True", "False"]
