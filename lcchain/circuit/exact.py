@@ -58,7 +58,8 @@ from ..core.blas import fixed_blas_threads
 from ..core.errors import ParameterError
 from .elements import GROUND, Element, Pulse
 
-__all__ = ["CircuitTheory", "exact_cost", "EXACT_FLOPS_PER_SECOND"]
+__all__ = ["CircuitTheory", "circuit_theory", "exact_cost", "circuit_cost", "circuit_states", "circuit_unknowns",
+           "EXACT_FLOPS_PER_SECOND"]
 
 _NODES, _WEIGHTS = np.polynomial.legendre.leggauss(16)
 _BLOCK = 1 << 18  # modes x times evaluated at once
@@ -81,6 +82,27 @@ def exact_cost(states: int, times: int, lossy: bool) -> tuple[float, float]:
     return flops / EXACT_FLOPS_PER_SECOND, (6 if lossy else 4) * 8.0 * n * n * (2 if lossy else 1)
 
 
+def circuit_states(elements: Sequence[Element | Pulse]) -> int:
+    """The states the circuit's theory solves for, counted from its elements without solving: its coils and the
+    nodes its capacitors touch (an upper bound: coils tied by Kirchhoff's law count once each)."""
+    coils = sum(1 for e in elements if isinstance(e, Element) and e.kind == "L")
+    nodes = {node for e in elements if isinstance(e, Element) and e.kind == "C" for node in (e.a, e.b)}
+    return coils + len(nodes - {GROUND})
+
+
+def circuit_unknowns(elements: Sequence[Element | Pulse]) -> int:
+    """A simulator's unknowns for the circuit (modified nodal analysis): its nodes, its coils and its sources."""
+    nodes = {node for e in elements if not (isinstance(e, Element) and e.kind == "K") for node in (e.a, e.b)}
+    branches = sum(1 for e in elements if isinstance(e, Pulse) or e.kind == "L")
+    return len(nodes - {GROUND}) + branches
+
+
+def circuit_cost(elements: Sequence[Element | Pulse], times: int) -> tuple[float, float]:
+    """(seconds, bytes) of the circuit's theory of ``elements`` at ``times`` times (:func:`exact_cost`)."""
+    lossy = any(isinstance(e, Element) and e.kind == "R" for e in elements)
+    return exact_cost(circuit_states(elements), times, lossy)
+
+
 @dataclass(frozen=True)
 class _Network:
     """The assembled equations: sparse nodal matrices (nodes numbered as the elements name them, along the
@@ -98,6 +120,7 @@ class _Network:
     through_g: np.ndarray  # currents the pulse injects into each node: through_g u + through_c u'
     through_c: np.ndarray
     pulse: Pulse | None
+    grounded: np.ndarray  # nodes with a capacitor to ground
 
 
 @dataclass(frozen=True)
@@ -180,6 +203,7 @@ def _assemble(given: Sequence[Element | Pulse]) -> _Network:
     n, m = len(nodes), len(inductors)
     Cn, G, A, Lm = _Stamps(), _Stamps(), _Stamps(), _Stamps()
     v0, i0, own = np.zeros(n), np.zeros(m), np.zeros(m)
+    grounded = np.zeros(n, dtype=bool)
     for element in elements:
         value = float(element.value)
         if not np.isfinite(value) or (element.kind != "K" and value <= 0):
@@ -189,6 +213,9 @@ def _assemble(given: Sequence[Element | Pulse]) -> _Network:
             G.two_terminal(a, b, 1.0 / value)
         elif element.kind == "C":
             Cn.two_terminal(a, b, value)
+            for index in (a, b):
+                if index is not None and (a is None or b is None):
+                    grounded[index] = True
             if element.ic is not None:
                 if b is None and a is not None:
                     v0[a] = element.ic
@@ -231,25 +258,62 @@ def _assemble(given: Sequence[Element | Pulse]) -> _Network:
             if b is not None:
                 target[b] -= amount
     return _Network(tuple(nodes), tuple(inductors), Cn.matrix((n, n)), G.matrix((n, n)), A.matrix((n, m)),
-                    Lm.matrix((m, m)), v0, i0, drive, through_g, through_c, None if fold is None else fold.pulse)
+                    Lm.matrix((m, m)), v0, i0, drive, through_g, through_c, None if fold is None else fold.pulse,
+                    grounded)
+
+
+def _floating_common_modes(net: _Network) -> _Network:
+    """The network in coordinates where every group of capacitive nodes with no capacitor to ground (a chain of
+    coils' self-capacitances between nodes that reach ground through resistors or coils only) has its common
+    voltage apart: v = T y, the group's first node carrying the common voltage, the others their difference
+    from it.  The capacitors do not see the common voltage (their matrix annihilates it), so it is algebraic or
+    inductive like a node no capacitor touches, and what is left of the capacitance matrix is definite."""
+    touched = net.Cn.diagonal() > 0
+    count, label = scipy.sparse.csgraph.connected_components(abs(net.Cn), directed=False)
+    floating = [np.flatnonzero(label == c) for c in range(count)]
+    floating = [group for group in floating if touched[group[0]] and not np.any(net.grounded[group])]
+    if not floating:
+        return net
+    n = net.Cn.shape[0]
+    T = scipy.sparse.lil_array((n, n))
+    T.setdiag(1.0)
+    inverse = scipy.sparse.lil_array((n, n))
+    inverse.setdiag(1.0)
+    for group in floating:
+        first = group[0]
+        for node in group[1:]:
+            T[node, first] = 1.0  # v_node = y_first + y_node
+            inverse[node, first] = -1.0  # y_node = v_node - v_first
+    T, inverse = scipy.sparse.csr_array(T), scipy.sparse.csr_array(inverse)
+    Cn = scipy.sparse.lil_array(T.T @ net.Cn @ T)
+    for group in floating:  # exactly what the capacitors see of the common voltage: nothing
+        Cn[group[0], :] = 0.0
+        Cn[:, group[0]] = 0.0
+    v0 = inverse @ net.v0
+    return replace(net, Cn=scipy.sparse.csr_array(Cn), G=scipy.sparse.csr_array(T.T @ net.G @ T),
+                   A=scipy.sparse.csr_array(T.T @ net.A), v0=v0, through_g=T.T @ net.through_g,
+                   through_c=T.T @ net.through_c)
 
 
 def _islands(G: scipy.sparse.csr_array, r: np.ndarray, d: np.ndarray) -> tuple[np.ndarray, list[np.ndarray]]:
     """(resistive nodes, islands): the groups of resistive nodes joined by resistors to each other only, each
-    island's first node taken out of the resistive ones (the island's voltage is relative to it)."""
+    island's first node taken out of the resistive ones (the island's voltage is relative to it).
+
+    A group is an island when raising its voltages together moves no current anywhere: ``G 1_group = 0``, every
+    row (a resistor to another node or to ground would show there).  In the coordinates of
+    :func:`_floating_common_modes` this also finds a floating capacitor group's common voltage together with the
+    resistive nodes that hang from it alone (capacitors' ESR before their ESL)."""
     if r.size == 0:
         return r, []
     inner = G[r, :][:, r]
     count, label = scipy.sparse.csgraph.connected_components(inner, directed=False)
-    outward = np.asarray(abs(G[r, :]).sum(axis=1)).ravel() - np.asarray(abs(inner).sum(axis=1)).ravel()
-    # a resistor to ground shows in the diagonal: the row of an island sums to zero
-    to_ground = np.asarray(G[r, :].sum(axis=1)).ravel()
     keep = np.ones(r.size, dtype=bool)
     islands = []
     scale = max(float(abs(G).max()), 1e-300)
     for group in range(count):
         members = np.flatnonzero(label == group)
-        if np.any(np.abs(outward[members]) > 1e-12 * scale) or abs(float(to_ground[members].sum())) > 1e-12 * scale:
+        moved = np.asarray(G[:, r[members]].sum(axis=1)).ravel()
+        if np.any(np.abs(moved) > 1e-12 * scale * members.size):
             continue
         islands.append(r[members])
         keep[members[0]] = False
@@ -314,7 +378,7 @@ class CircuitTheory:
 
     @fixed_blas_threads
     def __init__(self, elements: Sequence[Element | Pulse]):
-        net = _assemble(elements)
+        net = _floating_common_modes(_assemble(elements))
         self._pulse = net.pulse
         self.inductors = net.inductors
         touched = net.Cn.diagonal() > 0
@@ -543,3 +607,49 @@ class CircuitTheory:
         integral = np.where(small[:, None], times[None, :],
                             np.expm1(np.outer(lam, times)) / np.where(small, 1.0, lam)[:, None])
         return np.asarray(start + ((shape * self._coefficients) @ integral).real)
+
+    def cosine_weights(self, probes: Sequence[str], *, charges: bool = False) -> tuple[np.ndarray, np.ndarray] | None:
+        """The free response of the coils ``probes`` as a pure sum of cosines: (omega in rad/s, weights of shape
+        (len(probes), modes)), of their currents, or with ``charges`` of the charges through them (less their
+        constant part); None when it is not one (losses, a pulse, a start with both currents and voltages, or a
+        charge that drifts at zero frequency).  The accuracy model predicts a fixed-step run's error from it
+        (:func:`lcchain.compare.accuracy.predicted_error`)."""
+        if not self.lossless or self._pulse is not None:
+            return None
+        shape = self._shape[self._rows(probes), :]
+        omega = self._omega
+        if not charges:
+            return (omega, shape * self._cos) if not np.any(self._sin) else None
+        if np.any(self._cos) or np.any(self._sin[omega == 0]):
+            return None
+        return omega, -shape * self._sin / np.where(omega > 0, omega, 1.0) ** 2
+
+    def damped_weights(self, probes: Sequence[str], *, charges: bool = False) -> tuple[np.ndarray, np.ndarray] | None:
+        """The free response of the coils ``probes`` of a lossy circuit as a sum of damped exponentials: (poles in
+        1/s, complex weights of shape (len(probes), modes)) whose real part is the currents, or with ``charges``
+        the charges through them less their constant part; None for a lossless circuit or with a pulse
+        (:meth:`cosine_weights`)."""
+        if self.lossless or self._pulse is not None:
+            return None
+        weights = self._shape[self._rows(probes), :] * self._coefficients
+        if charges:
+            if np.any(self._lam == 0):
+                return None
+            weights = weights / self._lam
+        return self._lam, weights
+
+
+#: The last circuit's theory, by its elements: a run planned and executed in one process (``lcchain simulate``,
+#: a serial study) solves its circuit once, the planner's check and the comparison alike.
+_LAST: list[tuple[tuple[Element | Pulse, ...], CircuitTheory]] = []
+
+
+def circuit_theory(elements: Sequence[Element | Pulse]) -> CircuitTheory:
+    """:class:`CircuitTheory` of ``elements``, the last one kept: the same elements again cost nothing."""
+    key = tuple(elements)
+    last = _LAST[:1]
+    if last and last[0][0] == key:
+        return last[0][1]
+    theory = CircuitTheory(key)
+    _LAST[:] = [(key, theory)]
+    return theory

@@ -70,13 +70,14 @@ from ..theory.chain import Chain
 from ..theory.modes import Modes
 from ..theory.spectrum import normal_modes
 from .effects import Effect, Losses
-from .elements import ladder_elements, ladder_pulse, number
+from .elements import Element, Pulse, ladder_elements, ladder_pulse, number
 from .ladder import Ladder
 
 __all__ = [
     "Ladder",
     "SimulationOptions",
     "netlist_text",
+    "circuit_elements",
     "ac_netlist_text",
     "AC_OFFSET",
     "make_netlist",
@@ -271,7 +272,6 @@ def netlist_text(
     chain = ladder.chain
     N = chain.N
     unit = ladder.time_unit
-    Q0 = I0 * unit
 
     lines = [title]
     lines += [f"* {line}" for line in comments]
@@ -279,11 +279,9 @@ def netlist_text(
         f"* N={N} L0={number(ladder.L0)} H C0={number(ladder.C0)} F time unit={number(unit)} s "
         f"excitation={excitation} I0={number(I0)} A"
     )
-    lines += _element_lines(ladder, parts, source=spec is not None,
-                            kick=I0 if excitation == "kick" else None,
-                            charge=Q0 if excitation == "displacement" else None)
-    if spec is not None:
-        lines.append(ladder_pulse(ladder, cast(PulseShape, spec[0]), spec[1], I0).card())
+    shaped = None if spec is None else (cast(PulseShape, spec[0]), spec[1])
+    lines += [element.card() for element in circuit_elements(ladder, excitation=excitation, I0=I0, pulse=shaped,
+                                                             effects=parts)]
     lines.append(_options_line(options, I0, ladder))
     step = options.dt * unit
     tstop = options.tstop * unit
@@ -295,11 +293,22 @@ def netlist_text(
     return "\n".join(lines) + "\n"
 
 
-def _element_lines(ladder: Ladder, parts: tuple[Effect, ...], *, source: bool, kick: float | None,
-                   charge: float | None) -> list[str]:
-    """The cards of :func:`lcchain.circuit.elements.ladder_elements`: the description the exact theory of
-    :mod:`lcchain.circuit.exact` assembles too."""
-    return [element.card() for element in ladder_elements(ladder, parts, source=source, kick=kick, charge=charge)]
+def circuit_elements(ladder: Ladder, *, excitation: ExcitationKind = "kick", I0: float = DEFAULT_I0,
+                     pulse: tuple[PulseShape, float] | None = None, effects: tuple[Effect, ...] = ()
+                     ) -> tuple[Element | Pulse, ...]:
+    """The elements of a transient's netlist, in its order: the one description :func:`netlist_text` writes the
+    cards of and the circuit's exact theory (:class:`lcchain.circuit.exact.CircuitTheory`) assembles.
+
+    Parameters as :func:`netlist_text`'s (``effects`` with the losses already among them); ``I0`` in ampere: a
+    kick's initial current in L_1, a displacement's charge ``I0 sqrt(L0 C0)`` in loop 1, or a pulse's area
+    ``L_1 I0``.
+    """
+    elements: tuple[Element | Pulse, ...] = ladder_elements(
+        ladder, effects, source=pulse is not None, kick=I0 if excitation == "kick" else None,
+        charge=I0 * ladder.time_unit if excitation == "displacement" else None)
+    if pulse is not None:
+        elements += (ladder_pulse(ladder, pulse[0], pulse[1], I0),)
+    return elements
 
 
 def ac_netlist_text(ladder: Ladder, *, points: int | None = None, omega_max: float | None = None,
@@ -348,7 +357,7 @@ def ac_netlist_text(ladder: Ladder, *, points: int | None = None, omega_max: flo
     N = ladder.chain.N
     lines = [title, f"* N={N} L0={number(ladder.L0)} H C0={number(ladder.C0)} F time unit="
                     f"{number(ladder.time_unit)} s, AC drive of 1 V in loop 1"]
-    lines += _element_lines(ladder, parts, source=True, kick=None, charge=None)
+    lines += [element.card() for element in ladder_elements(ladder, parts, source=True)]
     lines.append(f"V1 s1 {ladder.node(0)} DC 0 AC 1")
     lines.append(".options noopac")
     lines += sweeps

@@ -268,6 +268,16 @@ def _simulation_request(args: argparse.Namespace, chain: Any, *, dt: float | Non
     return dataclasses.replace(request, effects=effects) if effects else request
 
 
+def _print_effects(cost: dict[str, Any]) -> None:
+    """What the effects cost the pulse: the circuit's exact first arrival against the ideal chain's."""
+    energy = "" if cost["energy_loss"] is None else (
+        f", energy {cost['energy_circuit']:.4f} against {cost['energy_ideal']:.4f} "
+        f"(the effects take {100 * cost['energy_loss']:.3g} % of it)")
+    print(f"what the effects cost the pulse (exact circuit against the ideal chain, no simulator): first arrival "
+          f"peak {cost['peak_circuit']:.4f} against {cost['peak_ideal']:.4f}{energy}, "
+          f"arriving {cost['delay']:+.3g} sqrt(L0 C0) later")
+
+
 def cmd_simulate(args: argparse.Namespace) -> int:
     from ..report.files import write_text
     from ..runs.simulate import simulate
@@ -322,13 +332,16 @@ def cmd_simulate(args: argparse.Namespace) -> int:
         elif extrapolation["reason"]:
             print(f"one run, not extrapolated: {extrapolation['reason']}")
         step = "dt = " + ", ".join(f"{h:.4g}" for h in extrapolation["dt"])
-        # no prediction where the accuracy model has none (losses, parts beyond the chain's)
-        predicted = "" if data["predicted_error"] is None else f", predicted {data['predicted_error']:.3e}"
-        print(f"max |simulation - theory| = {data['max_abs_error']:.3e} ({step}{predicted})")
+        predicted = "no prediction" if data["predicted_error"] is None else \
+            f"predicted {data['predicted_error']:.3e}"
+        against = "the circuit's exact theory" if "effects" in data else "theory"
+        print(f"max |simulation - {against}| = {data['max_abs_error']:.3e} ({step}, {predicted})")
         if data["integration_error"] is not None:
             print(f"  integration error (simulation - trapezoidal model) = {data['integration_error']:.3e}, "
                   f"physics error (model - exact theory) = {data['physics_error']:.3e}")
         _print_arrivals(data["arrivals"])
+        if "effects" in data:
+            _print_effects(data["effects"])
     if len(kept) > 1:
         print(f"--netlist-out: the {len(kept)} runs' netlists are in {', '.join(kept)} (dt = "
               f"{', '.join(f'{h:.4g}' for h in data['extrapolation']['dt'])})", file=sys.stderr)

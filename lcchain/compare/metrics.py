@@ -25,7 +25,8 @@ from ..core.frozen import FrozenArrays
 from ..theory.arrivals import arrival_window, maximum_in_window
 from .waveforms import Signals
 
-__all__ = ["ArrivalComparison", "Metrics", "Comparison", "sample_peak", "compare_signals", "residual_difference"]
+__all__ = ["ArrivalComparison", "EffectCost", "Metrics", "Comparison", "sample_peak", "compare_signals",
+           "residual_difference"]
 
 
 @dataclass(frozen=True)
@@ -66,6 +67,47 @@ class ArrivalComparison:
 
 
 @dataclass(frozen=True)
+class EffectCost:
+    """What the effects cost the pulse: the first arrival at loop N in the circuit's exact response against the
+    ideal chain's alpha_N(t) (both theories, no simulator).
+
+    Attributes
+    ----------
+    t_circuit, t_ideal : float
+        Time of the first arrival's peak, units of sqrt(L0 C0).
+    peak_circuit, peak_ideal : float
+        Its peak (the dimensionless signal: I_N / I0 after a kick or a pulse, Q_N / Q0 after a displacement).
+    energy_circuit, energy_ideal : float or None
+        After a kick or a pulse: the fraction of the kick's energy the last coil holds at the peak,
+        peak^2 L_N / L_1.  None after a displacement.
+    """
+
+    t_circuit: float
+    t_ideal: float
+    peak_circuit: float
+    peak_ideal: float
+    energy_circuit: float | None = None
+    energy_ideal: float | None = None
+
+    @property
+    def energy_loss(self) -> float | None:
+        """1 - energy_circuit / energy_ideal: the share of the ideal first arrival's energy the effects take."""
+        if self.energy_circuit is None or self.energy_ideal is None:
+            return None
+        return 1.0 - self.energy_circuit / self.energy_ideal
+
+    @property
+    def delay(self) -> float:
+        """t_circuit - t_ideal, units of sqrt(L0 C0)."""
+        return self.t_circuit - self.t_ideal
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"t_circuit": self.t_circuit, "t_ideal": self.t_ideal, "peak_circuit": self.peak_circuit,
+                "peak_ideal": self.peak_ideal, "energy_circuit": self.energy_circuit,
+                "energy_ideal": self.energy_ideal, "energy_loss": self.energy_loss, "delay": self.delay}
+
+
+@dataclass(frozen=True)
 class Metrics:
     """The numbers a run is judged by.
 
@@ -82,6 +124,10 @@ class Metrics:
         Simulation against the trapezoidal model, and the model against the
         exact theory (:func:`lcchain.compare.accuracy.split_error`); None
         where the model does not apply.
+    effects : EffectCost or None
+        A circuit whose elements are no chain's (compared with its own exact theory): what its effects cost
+        the pulse against the ideal chain.  Separate from the errors above, which are always the simulator
+        against the exact theory of the circuit it ran.  None when the chain's theory is the circuit's.
     """
 
     max_abs_error: float
@@ -91,9 +137,10 @@ class Metrics:
     predicted_error: float | None = None
     integration_error: float | None = None
     physics_error: float | None = None
+    effects: EffectCost | None = None
 
     def to_dict(self) -> dict[str, Any]:
-        return {
+        data = {
             "max_abs_error": self.max_abs_error,
             "max_abs_error_first": self.max_abs_error_first,
             "max_abs_error_last": self.max_abs_error_last,
@@ -102,6 +149,9 @@ class Metrics:
             "integration_error": self.integration_error,
             "physics_error": self.physics_error,
         }
+        if self.effects is not None:  # only then: the metrics of chain runs are those stored before
+            data["effects"] = self.effects.to_dict()
+        return data
 
 
 @dataclass(frozen=True, eq=False)

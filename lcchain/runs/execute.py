@@ -31,9 +31,10 @@ from typing import Any
 
 import numpy as np
 
+from ..circuit.exact import CircuitTheory, circuit_theory
 from ..circuit.netlist import probe_names
-from ..compare.accuracy import split_error
-from ..compare.metrics import Metrics, compare_signals
+from ..compare.accuracy import predicted_error, predicted_error_damped, split_error
+from ..compare.metrics import EffectCost, Metrics, compare_signals
 from ..compare.spectral import SpectrumMetrics, compare_spectrum, spectrum_estimate
 from ..compare.waveforms import Signals, loop_signals
 from ..core import __version__
@@ -47,14 +48,15 @@ from ..spice.ac import AcResult, run_ac
 from ..spice.engines import engine_named, find_engine, run_engine
 from ..spice.runner import RunResult
 from ..spice.simulator import Simulator
+from ..theory.arrivals import arrival_window, maximum_in_window
 from ..theory.exact import driven_modes
 from ..theory.modes import Modes
 from ..theory.response import Response, prepare_response
 from ..theory.spectrum import normal_modes
 from .spec import RunSpec, SpectrumTheory, Theory
 
-__all__ = ["signals_of", "loop_sims", "theory_at", "metrics_of", "RunRecord", "execute", "waveform_digest",
-           "pulse_centre", "ANALYSIS_RUNS", "ac_metrics"]
+__all__ = ["signals_of", "loop_sims", "theory_at", "metrics_of", "CircuitResponse", "LoopTheory", "effect_cost",
+           "loop_theory", "RunRecord", "execute", "waveform_digest", "pulse_centre", "ANALYSIS_RUNS", "ac_metrics"]
 
 log = logging.getLogger("lcchain")
 
@@ -185,7 +187,7 @@ def theory_at(theory: Theory, t: np.ndarray, modes: Modes | None = None) -> np.n
 
 
 def signals_of(theory: Theory, result: RunResult, modes: Modes | None = None, *,
-               response: Response | None = None) -> Signals:
+               response: LoopTheory | None = None) -> Signals:
     """A run's saved loops as dimensionless signals, with the theory of the same loops at the same times.
 
     ``response``: the theory of the compared loops already prepared (:func:`_response`), else prepared here."""
@@ -199,29 +201,114 @@ def _modes(theory: Theory) -> Modes:
     return theory.modes if theory.modes is not None else normal_modes(theory.chain)
 
 
-def _response(theory: Theory, probes: Probes, modes: Modes) -> Response:
-    """The theory of the loops ``probes``, prepared once for the grid and the peak search's ~75 calls."""
+class CircuitResponse:
+    """The circuit's own exact theory of some loops, called with dimensionless times as a chain's
+    :class:`~lcchain.theory.response.Response` is: I/I0 after a kick or a pulse, Q/Q0 after a displacement.
+
+    Parameters
+    ----------
+    theory : Theory
+        With its ``circuit``.
+    loops : {"ends", "all"}
+    exact : CircuitTheory, optional
+        The circuit's theory when already built (its eigen-solution is most of the cost).
+    """
+
+    def __init__(self, theory: Theory, loops: Probes, exact: CircuitTheory | None = None):
+        assert theory.circuit is not None
+        self.exact = exact if exact is not None else circuit_theory(theory.circuit)
+        self.names = probe_names(theory.chain.N, loops)
+        self.unit, self.excitation = theory.time_unit, theory.excitation
+        self.scale = theory.I0 * (theory.time_unit if theory.excitation == "displacement" else 1.0)
+
+    def __call__(self, t: np.ndarray) -> np.ndarray:
+        times = np.asarray(t, dtype=float) * self.unit
+        if self.excitation == "displacement":  # the loop charges: loop 1 starts with Q0
+            start = [self.scale if k == 0 else 0.0 for k in range(len(self.names))]
+            return self.exact.charges(times, self.names, start) / self.scale
+        return self.exact.currents(times, self.names) / self.scale
+
+    def predicted_error(self, dt: float, tstop: float, method: str) -> float | None:
+        """The accuracy model's prediction for a fixed step, from the circuit's own modes (None with a pulse)."""
+        charges = self.excitation == "displacement"
+        damped = self.exact.damped_weights(self.names, charges=charges)
+        if damped is not None:
+            poles, rows = damped
+            return predicted_error_damped(poles * self.unit, list(rows / self.scale), dt, tstop, method=method)
+        modal = self.exact.cosine_weights(self.names, charges=charges)
+        if modal is None:
+            return None
+        omega, weights = modal
+        modes = Modes(omega * self.unit, weights[0], weights[-1], "circuit")
+        return predicted_error(modes, dt, tstop, method=method, weights=list(weights / self.scale))
+
+
+#: The theory of some loops, callable with dimensionless times: the chain's or the circuit's.
+LoopTheory = Response | CircuitResponse
+
+
+def _response(theory: Theory, probes: Probes, modes: Modes, exact: CircuitTheory | None = None) -> LoopTheory:
+    """The theory of the loops ``probes``, prepared once for the grid and the peak search's ~75 calls: the
+    circuit's own (:class:`CircuitResponse`) when the spec carries its elements, else the chain's."""
+    if theory.circuit is not None:
+        return CircuitResponse(theory, probes, exact)
     return prepare_response(theory.chain, excitation=theory.excitation, Q=theory.Q, pulse=theory.pulse,
                             loops=probes, modes=modes)
 
 
+def loop_theory(theory: Theory, loops: Probes = "ends") -> LoopTheory:
+    """The exact theory of a run's loops, callable with dimensionless times: the circuit's own when the theory
+    carries its elements, else the chain's."""
+    return _response(theory, loops, _modes(theory))
+
+
+def effect_cost(theory: Theory, circuit: LoopTheory, modes: Modes) -> EffectCost:
+    """The first arrival at loop N in the circuit's exact response (``circuit``: its end loops) against the ideal
+    chain's alpha_N(t) (``theory.chain`` without losses)."""
+    ideal = prepare_response(theory.chain, excitation=theory.excitation, pulse=theory.pulse, loops="ends",
+                             modes=modes)
+    transit = theory.transit_time or modes.transit_time()
+    window = tuple(edge + pulse_centre(theory.excitation, theory.pulse) for edge in arrival_window(1, transit))
+    def last(theory_of: LoopTheory) -> Callable[[np.ndarray], np.ndarray]:
+        return lambda times: theory_of(np.asarray(times))[-1]
+
+    (t_circuit, peak_circuit), (t_ideal, peak_ideal) = (
+        maximum_in_window(last(f), (window[0], window[1]), transit) for f in (circuit, ideal))
+    energy = None
+    if theory.excitation != "displacement":
+        ratio = float(theory.chain.masses[-1] / theory.chain.masses[0])
+        energy = (peak_circuit ** 2 * ratio, peak_ideal ** 2 * ratio)
+    return EffectCost(float(t_circuit), float(t_ideal), float(peak_circuit), float(peak_ideal),
+                      *(energy or (None, None)))
+
+
 @fixed_blas_threads
 def metrics_of(theory: Theory, signals: Signals, *, split: bool = True, modes: Modes | None = None,
-               ends: Response | None = None) -> Metrics:
+               ends: LoopTheory | None = None) -> Metrics:
     """Errors and arrivals of signals against the theory (and, for a fixed-step lossless kick or displacement
     with ``split``, the error split of :func:`lcchain.compare.accuracy.split_error`).
+
+    With the circuit's own theory (``theory.circuit``): the errors are against it, the prediction from its own
+    modes, and :attr:`Metrics.effects` what its effects cost the pulse against the ideal chain (no error split:
+    it models the chain's modes).
 
     ``ends``: the theory of loops 1 and N already prepared (:func:`_response`), else prepared here."""
     chain = theory.chain
     modes = modes if modes is not None else _modes(theory)
     theory_ends = ends if ends is not None else _response(theory, "ends", modes)
+    each = theory_ends.each if isinstance(theory_ends, Response) else None
     metrics = compare_signals(
         signals, transit_time=theory.transit_time or modes.transit_time(), transits=theory.transits,
         shift=pulse_centre(theory.excitation, theory.pulse),
         theory_end=lambda row, times: theory_ends(times)[row],
-        theory_each=lambda row, times: theory_ends.each(times)[row])
-    integration = physics = None
-    if split and theory.dt is not None and theory.Q is None and theory.pulse is None:
+        theory_each=None if each is None else (lambda row, times: each(times)[row]))
+    integration = physics = effects = None
+    predicted = theory.predicted_error
+    if isinstance(theory_ends, CircuitResponse):
+        effects = effect_cost(theory, theory_ends, modes)
+        if predicted is None and theory.dt is not None and not theory.aligned:
+            predicted = theory_ends.predicted_error(theory.dt, float(signals.t[-1]), theory.method)
+    elif split and theory.dt is not None and theory.Q is None and theory.pulse is None:
         parts = split_error(signals.waveforms(), modes, theory.dt, method=theory.method,
                             exact=(signals.theory[0], signals.theory[-1]), breakpoint=not theory.aligned)
         integration, physics = parts.integration_error, parts.physics_error
@@ -230,14 +317,16 @@ def metrics_of(theory: Theory, signals: Signals, *, split: bool = True, modes: M
         arrivals = tuple(replace(a, energy_sim=a.peak_sim**2 * float(chain.masses[-1 if a.end == "last" else 0]
                                                                       / chain.masses[0])) for a in arrivals)
     return Metrics(metrics.max_abs_error, metrics.max_abs_error_first, metrics.max_abs_error_last,
-                   arrivals, theory.predicted_error, integration, physics)
+                   arrivals, predicted, integration, physics, effects)
 
 
 @fixed_blas_threads
 def _compare(theory: Theory, result: RunResult) -> tuple[Signals, Metrics]:
     modes = _modes(theory)
-    ends = _response(theory, "ends", modes)
-    signals = signals_of(theory, result, modes, response=ends if theory.probes == "ends" else None)
+    exact = circuit_theory(theory.circuit) if theory.circuit is not None else None
+    ends = _response(theory, "ends", modes, exact)
+    every = ends if theory.probes == "ends" else _response(theory, theory.probes, modes, exact)
+    signals = signals_of(theory, result, modes, response=every)
     # The error split models ngspice's own steps (its start-up ramp); an engine that steps otherwise gets none.
     return signals, metrics_of(theory, signals, split=engine_named(result.engine).steps_modelled, modes=modes,
                                ends=ends)
@@ -251,7 +340,12 @@ def _run_transient(spec: RunSpec, simulator: Simulator,
                         max_output_bytes=spec.max_output_bytes, max_resident_bytes=spec.max_resident_bytes)
     signals = metrics = None
     if isinstance(spec.theory, Theory):
-        signals, metrics = _compare(spec.theory, result)
+        try:
+            signals, metrics = _compare(spec.theory, result)
+        except ParameterError as error:  # a sample's circuit whose exact theory float64 cannot give: this run's
+            if spec.theory.circuit is None:  # result, not a traceback (the nominal one is refused when planned)
+                raise
+            raise SimulationError(f"the circuit's exact theory: {error}", engine=spec.engine) from None
     return ({"result": result, "signals": signals, "metrics": metrics}, result.wall_s, result.points,
             waveform_digest(result.time, result.vectors))
 

@@ -24,13 +24,15 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from ..circuit.effects import Effect, Losses, PreferredValues, Tolerance
-from ..circuit.elements import ELEMENT_HOOKS, ladder_elements
+from ..circuit.elements import ELEMENT_HOOKS, Element, Pulse, ladder_elements
+from ..circuit.exact import circuit_cost, circuit_states, circuit_theory, circuit_unknowns
 from ..circuit.ladder import Ladder
 from ..circuit.netlist import (
     SimulationOptions,
     ac_netlist_text,
     check_frequency_scale,
     check_run_length,
+    circuit_elements,
     netlist_text,
     probe_names,
 )
@@ -369,6 +371,16 @@ class RequestPlan:
         """The nominal circuit."""
         return Ladder(self.nominal, self.request.L0, self.request.C0)
 
+    def nominal_theory(self) -> Theory:
+        """The exact theory of the nominal circuit's end loops (before rounding and tolerances): the circuit's own
+        when its effects are no chain's, else the chain's (the value a study's samples spread around)."""
+        request, ladder = self.request, self.ladder
+        drive = request.drive
+        own = None if _chain_follows(request, ladder) else _circuit(request, ladder)
+        return Theory(self.nominal, ladder.time_unit, I0=drive.I0, excitation=drive.kind,
+                      Q=request.Q if own is None else None, pulse=drive.pulse, transit_time=self.transit_time,
+                      modes=self.modes, circuit=own)
+
     def options(self, index: int = 0) -> SimulationOptions:
         """The analysis of run ``index`` of a sample (0: the coarsest)."""
         analysis = self.request.transient
@@ -376,11 +388,38 @@ class RequestPlan:
                                  aligned=self.runs > 1)
 
 
-def _cost(request: Request, N: int) -> dict[str, int]:
-    """The numbers a run costs by (:func:`lcchain.core.budget.run_estimate`)."""
+def _cost(request: Request, N: int, elements: tuple[Element | Pulse, ...] | None = None) -> dict[str, int]:
+    """The numbers a run costs by (:func:`lcchain.core.budget.run_estimate`): with the circuit's elements, the
+    simulator's unknowns are its nodes and coils (the circuit's theory is priced beside it)."""
     saved = N if request.transient.probes == "all" else 2
-    return {"saved": saved, "compared": saved, "unknowns": (3 if request.Q is not None else 2) * N,
+    unknowns = (3 if request.Q is not None else 2) * N if elements is None else circuit_unknowns(elements)
+    return {"saved": saved, "compared": saved, "unknowns": unknowns,
             "exact_N": N if (request.realised or request.transient.probes == "all") else 0}
+
+
+def _check_circuit(request: Request, ladder: Ladder, elements: tuple[Element | Pulse, ...]) -> None:
+    """Refuse, before anything runs, a nominal circuit whose exact theory float64 cannot give, naming the effect's
+    parameter that wrote the element the theory names (found from what each effect writes, not from its type)."""
+    try:
+        circuit_theory(elements)
+    except ParameterError as error:
+        plain = {element.name for element in ladder_elements(ladder, ())}
+        for effect in request.effects:
+            names = {element.name for element in ladder_elements(ladder, (effect,))} - plain
+            kinds = {name[0] for name in names}
+            if error.field in names or error.field in kinds:
+                parameters = list(getattr(effect, "__dataclass_fields__", {}))
+                where = f"effects.{effect.key}" + (f".{parameters[0]}" if len(parameters) == 1 else "")
+                raise ParameterError(where, getattr(effect, parameters[0]) if len(parameters) == 1 else effect,
+                                     f"a circuit whose exact theory float64 can give ({error.field}: "
+                                     f"{error.allowed})") from None
+        raise
+
+
+def _circuit(request: Request, ladder: Ladder) -> tuple[Element | Pulse, ...]:
+    """The elements a transient's netlist is written with, for the circuit's own theory."""
+    drive = request.drive
+    return circuit_elements(ladder, excitation=drive.kind, I0=drive.I0, pulse=drive.pulse, effects=request.effects)
 
 
 def _accuracy_weights(request: Request, nominal: Chain) -> list[np.ndarray] | None:
@@ -475,51 +514,41 @@ def plan_request(request: Request, budget: Budget | None = None, *, modes: Modes
     return request.analysis.plan(request, budget if budget is not None else Budget(), modes, design_seconds)
 
 
-def _nominal_ladder(request: Request) -> tuple[Chain, Ladder]:
-    """The nominal chain and its circuit; losses with coupled coils and a scale ngspice cannot take stop here."""
+def _nominal_ladder(request: Request) -> tuple[Chain, Ladder, bool]:
+    """The nominal chain, its circuit, and whether the runs need the circuit's own theory (:func:`_chain_follows`);
+    a scale ngspice cannot take stops here."""
     nominal = request.nominal()
-    if nominal.coupled and request.Q is not None:
-        raise ParameterError("coupling", nominal.coupling, "no losses with coupled coils: lcchain has no exact "
-                             "theory for them (the resistors' damping is not proportional to the mass matrix)")
     ladder = Ladder(nominal, request.L0, request.C0)  # a scale ngspice cannot take stops here
-    _chain_theory_follows(request, ladder)
-    return nominal, ladder
+    return nominal, ladder, not _chain_follows(request, ladder)
 
 
-def _chain_theory_follows(request: Request, ladder: Ladder) -> None:
-    """Refuse effects whose elements the chain's theory cannot say, whatever their type.
+def _chain_follows(request: Request, ladder: Ladder) -> bool:
+    """Whether the chain's theory (with the losses' Q) is the circuit's, whatever the effects' types.
 
-    The runs compare ngspice with the chain's exact theory (with the losses' Q): the circuit an effect writes must
-    be the chain's own ladder, element for element.  An effect that puts anything else in it (a capacitor across a
-    coil, a resistor not proportional to its coil, a part in series with a capacitor) would be compared with the
-    wrong theory and could report "ok"; its exact theory is :mod:`lcchain.circuit.exact`, which ``lcchain
-    requirements`` uses and runs do not use yet.
+    It is when the elements the effects write are the chain's own ladder, element for element, with resistors
+    proportional to the coils (the losses' Q), and the coils are not coupled while lossy (the damping is then not
+    proportional to the mass matrix).  Otherwise (a capacitor across a coil, a resistor not proportional to its
+    coil, a part in series with a capacitor, any effect's own element) the runs are compared with the circuit's
+    own exact theory, :class:`lcchain.circuit.exact.CircuitTheory`, of the very elements the netlist is written
+    with: no effect can be compared with a theory that does not follow it.
     """
+    if request.Q is not None and ladder.chain.coupled:
+        return False
     chain_only = (Losses(request.Q),) if request.Q is not None else ()
     adders = tuple(effect for effect in request.effects
                    if any(getattr(type(effect), hook) is not getattr(Effect, hook) for hook in ELEMENT_HOOKS))
     if adders == chain_only:  # only the chain's own losses add elements: the same ladder by construction
-        return
-    written = ladder_elements(ladder, request.effects)
-    expected = ladder_elements(ladder, chain_only)
-    if written != expected:
-        plain = ladder_elements(ladder, ())
-        culprit = next((effect.key for effect in request.effects
-                        if not effect.response() and ladder_elements(ladder, (effect,)) != plain), "effects")
-        names = {element.name for element in expected}
-        extra = next((e for e in written if e.name not in names),
-                     next((e for e, f in zip(written, expected, strict=False) if e != f), written[-1]))
-        raise ParameterError("effects", culprit, "effects whose elements the runs' theory, the chain's, can say "
-                             f"(this one writes {extra.name}, no part of a chain: its exact theory is the circuit's "
-                             "own, which 'lcchain requirements' uses and runs do not use yet)")
+        return True
+    return ladder_elements(ladder, request.effects) == ladder_elements(ladder, chain_only)
 
 
 def _plan_transient(request: Request, budget: Budget, modes: Modes | None, design_seconds: float) -> RequestPlan:
     analysis, drive = request.transient, request.drive
-    nominal, ladder = _nominal_ladder(request)
+    nominal, ladder, circuit = _nominal_ladder(request)
     N, samples = nominal.N, request.samples
-    if N > EXACT_MAX_N and (request.realised or analysis.probes == "all"):
-        why = "every loop's response" if analysis.probes == "all" else "tolerances or preferred values"
+    if N > EXACT_MAX_N and (request.realised or analysis.probes == "all" or circuit):
+        why = ("every loop's response" if analysis.probes == "all" else "tolerances or preferred values"
+               if request.realised else "the circuit's own theory (effects that are no chain's)")
         raise ParameterError("N", N, f"N <= {EXACT_MAX_N} with {why} (the theory needs the exact modes of each "
                              "realised chain)")
     if modes is not None and modes.N != N:
@@ -528,11 +557,16 @@ def _plan_transient(request: Request, budget: Budget, modes: Modes | None, desig
     T = modes.transit_time()
     tstop = arrival_window(analysis.transits, T)[1] + pulse_centre(drive.kind, drive.pulse)
     check_run_length(nominal, tstop, ladder.time_unit, analysis.dt)
-    cost = _cost(request, N)
+    elements = _circuit(request, ladder) if circuit else None
+    cost = _cost(request, N, elements)
     points = max_points(budget, saved=cost["saved"], compared=cost["compared"], unknowns=cost["unknowns"])
     steps, predicted, reason, accuracy_plan = _choose_steps(request, nominal, modes, tstop, points)
     one = run_estimate(points=tstop / steps[-1], **cost)
     one = replace(one, seconds=one.seconds * engine_named(request.engine).relative_cost)  # the engine's own speed
+    if elements is not None:  # the circuit's own theory beside each run: its eigen-solution and its response
+        seconds, memory = circuit_cost(elements, int(tstop / steps[-1]) + 1)
+        one = Estimate(one.what + f" and the circuit's exact theory ({circuit_states(elements)} states)",
+                       one.memory + memory, one.seconds + seconds)
     name, value = ("dt", analysis.dt) if analysis.dt is not None else ("accuracy", analysis.accuracy)
     one.check(budget, name, value, "a larger step, a coarser accuracy or fewer transits")
     per_sample = sum(steps[-1] / h for h in steps)  # the members' costs relative to the finest
@@ -541,9 +575,11 @@ def _plan_transient(request: Request, budget: Budget, modes: Modes | None, desig
                      design_seconds + samples * (one.seconds * per_sample + RUN_START_SECONDS * len(steps) + compare))
     every.check(budget, "effects.tolerance.samples" if samples > 1 else name, samples if samples > 1 else value,
                 "fewer samples")
+    if elements is not None:
+        _check_circuit(request, ladder, elements)
     chains = _chains(request, nominal)  # the samples are drawn once the request is known to fit
     single = None
-    if len(steps) == 1 and drive.pulse is None and request.Q is None and analysis.probes == "ends":
+    if len(steps) == 1 and drive.pulse is None and request.Q is None and analysis.probes == "ends" and not circuit:
         # the accuracy model's prediction for the nominal chain's one run (samples: their own chains differ)
         single = predicted_error(modes, steps[0], tstop, method=analysis.method)
         warn_if_unreliable(method=analysis.method, transits=analysis.transits, predicted=single)
@@ -552,15 +588,18 @@ def _plan_transient(request: Request, budget: Budget, modes: Modes | None, desig
     probes = tuple(probe_names(N, analysis.probes))
     title = _title(request, nominal, drive.kind)
     for chain in chains:
-        circuit = ladder if chain is nominal else Ladder(chain, request.L0, request.C0)
+        sample = ladder if chain is nominal else Ladder(chain, request.L0, request.C0)
+        own = None if elements is None else elements if chain is nominal else _circuit(request, sample)
         for i, h in enumerate(steps):
             options = SimulationOptions(dt=h, tstop=tstop, method=analysis.method, aligned=aligned)
-            text = netlist_text(circuit, options, excitation=drive.kind, I0=drive.I0, probes=analysis.probes,
+            text = netlist_text(sample, options, excitation=drive.kind, I0=drive.I0, probes=analysis.probes,
                                 title=title, comments=request.comments, pulse=drive.pulse, effects=request.effects)
-            theory = Theory(chain, ladder.time_unit, I0=drive.I0, excitation=drive.kind, Q=request.Q,
-                            pulse=drive.pulse, probes=analysis.probes, transits=analysis.transits, dt=h,
-                            method=analysis.method, predicted_error=single if chain is nominal else None,
-                            transit_time=T, aligned=aligned, modes=modes if chain is nominal else None)
+            # the circuit's own theory carries its losses among its elements; the chain is then the ideal ladder
+            theory = Theory(chain, ladder.time_unit, I0=drive.I0, excitation=drive.kind,
+                            Q=request.Q if own is None else None, pulse=drive.pulse, probes=analysis.probes,
+                            transits=analysis.transits, dt=h, method=analysis.method,
+                            predicted_error=single if chain is nominal else None, transit_time=T, aligned=aligned,
+                            modes=modes if chain is nominal else None, circuit=own)
             label = f"{chain.name} N={N} dt={h:.4g}" + (f" run {i + 1} of {len(steps)}" if aligned else "")
             specs.append(RunSpec(text, probes, tstop * ladder.time_unit, backend=request.backend,
                                  timeout=request.timeout, theory=theory, foreign=False, label=label,
@@ -585,7 +624,10 @@ def _plan_ac(request: Request, budget: Budget, modes: Modes | None, design_secon
     the largest sample's grid once their poles are known."""
     analysis = request.analysis
     assert isinstance(analysis, AC)  # its own plan method calls this
-    nominal, ladder = _nominal_ladder(request)
+    nominal, ladder, circuit = _nominal_ladder(request)
+    if circuit:
+        raise ParameterError("effects", [effect.key for effect in request.effects], "effects whose elements are a "
+                             "chain's for an AC analysis (its poles are compared with the chain's driven modes)")
     N, samples = nominal.N, request.samples
     if N > SPECTRUM_MAX_N:
         raise ParameterError("N", N, f"N <= {SPECTRUM_MAX_N} for an AC analysis (exact modes of the chain, and the "
@@ -618,8 +660,8 @@ def _plan_ac(request: Request, budget: Budget, modes: Modes | None, design_secon
     title = _title(request, nominal, "AC")
     probes = tuple(probe_names(N, "ends"))
     specs = []
-    for chain, (circuit, driven, grid) in zip(chains, drawn, strict=True):
-        text = ac_netlist_text(circuit, segments=grid[0], title=title, effects=request.effects)
+    for chain, (sample, driven, grid) in zip(chains, drawn, strict=True):
+        text = ac_netlist_text(sample, segments=grid[0], title=title, effects=request.effects)
         spectrum = SpectrumTheory(chain, ladder.time_unit, ladder.impedance, grid[2], modes=driven, Q=request.Q)
         specs.append(RunSpec(text, probes, 0.0, backend=request.backend, timeout=request.timeout, theory=spectrum,
                              foreign=False, label=f"{chain.name} N={N} AC {grid[1]} frequencies",

@@ -25,7 +25,7 @@ from ..compare.extrapolate import (
     ExtrapolationPlan,
     interpolation_error,
 )
-from ..compare.metrics import Comparison
+from ..compare.metrics import Comparison, EffectCost
 from ..compare.waveforms import Waveforms
 from ..core.blas import fixed_blas_threads
 from ..core.budget import Budget
@@ -129,6 +129,9 @@ class SimulationReport:
         The error model's numbers (:mod:`lcchain.compare.accuracy`).
     record : RunRecord
         The unit of work's record (key, digest, versions).
+    effects : EffectCost or None
+        With effects that are no chain's (the run compared with the circuit's own theory): what they cost the
+        pulse, the circuit's first arrival against the ideal chain's (:class:`lcchain.compare.metrics.EffectCost`).
     """
 
     chain: Chain
@@ -147,6 +150,7 @@ class SimulationReport:
     physics_error: float | None = None
     record: RunRecord | None = field(default=None, repr=False)
     extrapolation: Extrapolation | None = None
+    effects: EffectCost | None = None
 
     @property
     def accuracy_met(self) -> bool | None:
@@ -192,7 +196,7 @@ class SimulationReport:
             "digest": (self.extrapolation.digest if self.extrapolation is not None and self.extrapolation.digest
                        else self.record.digest if self.record is not None else None),
             "extrapolation": self.extrapolation.to_dict() if self.extrapolation is not None else None,
-        }
+        } | ({} if self.effects is None else {"effects": self.effects.to_dict()})
 
 
 def simulator_wall_time(runs: Sequence[tuple[float, float]]) -> float:
@@ -505,7 +509,7 @@ def simulate(
                             signals.waveforms(), Comparison.of(metrics, signals), FrozenMap(timings),
                             accuracy=request.transient.accuracy, predicted_error=predicted,
                             integration_error=metrics.integration_error, physics_error=metrics.physics_error,
-                            record=first, extrapolation=extrapolation)
+                            record=first, extrapolation=extrapolation, effects=metrics.effects)
 
 
 #: simulate's keywords at their defaults, read from its signature: with a Request, any other value is refused.

@@ -23,6 +23,8 @@ import json
 from dataclasses import dataclass, field
 from typing import Any
 
+from ..circuit.elements import Element, Pulse
+from ..circuit.exact import circuit_cost, circuit_unknowns
 from ..core import __version__
 from ..core.checks import choice, instance, integer, real
 from ..core.checks import pulse as check_pulse
@@ -96,6 +98,12 @@ class Theory:
         breakpoint at t = dt, which the error split's model must know.
     modes : Modes, optional
         The chain's modes when already computed (not part of the key).
+    circuit : tuple of Element and Pulse, optional
+        The elements the netlist is written with (:func:`lcchain.circuit.netlist.circuit_elements`), when they
+        are no chain's (a real part, an effect's own element, coupled coils with losses): the run is then
+        compared with the circuit's own exact theory (:class:`lcchain.circuit.exact.CircuitTheory`), and
+        ``chain`` (with ``Q`` None) is the ideal ladder whose alpha_N(t) says what the effects cost the pulse.
+        None: the chain's theory is the circuit's (the fast path, the paper's reference).
     """
 
     chain: Chain
@@ -112,11 +120,18 @@ class Theory:
     transit_time: float | None = None
     aligned: bool = False
     modes: Modes | None = field(default=None, compare=False, repr=False)
+    circuit: tuple[Element | Pulse, ...] | None = None
 
     def __post_init__(self) -> None:
         instance("chain", self.chain, Chain)
         real("time_unit", self.time_unit, above=0.0, unit="seconds")
         real("I0", self.I0, above=0.0, unit="ampere")
+        if self.circuit is not None:
+            if not isinstance(self.circuit, tuple) or not self.circuit \
+                    or not all(isinstance(e, (Element, Pulse)) for e in self.circuit):
+                raise ParameterError("circuit", type(self.circuit).__name__, "a tuple of lcchain elements")
+            if self.Q is not None:
+                raise ParameterError("Q", self.Q, "None with a circuit (its resistors are among its elements)")
         if self.Q is not None:
             real("Q", self.Q, above=0.0)
             if self.chain.coupled:
@@ -133,6 +148,18 @@ class Theory:
         if self.modes is not None and (not isinstance(self.modes, Modes) or self.modes.N != self.chain.N):
             raise ParameterError("modes", type(self.modes).__name__, f"the Modes of this chain (N = {self.chain.N})")
 
+    @property
+    def unknowns(self) -> int:
+        """The simulator's unknowns for the run's circuit: 2N (3N with losses), or the circuit's own count."""
+        if self.circuit is not None:
+            return circuit_unknowns(self.circuit)
+        return (3 if self.Q is not None else 2) * self.chain.N
+
+    def circuit_cost(self, times: float) -> tuple[float, float]:
+        """(seconds, bytes) of the circuit's own theory at ``times`` times beside the run; (0, 0) for the chain's
+        (priced by :func:`lcchain.core.budget.sample_theory_seconds`)."""
+        return (0.0, 0.0) if self.circuit is None else circuit_cost(self.circuit, int(times) + 1)
+
     def fingerprint(self) -> dict[str, Any]:
         """Everything that determines the comparison, as plain JSON (the chain's values in full)."""
         return {
@@ -143,7 +170,8 @@ class Theory:
             "probes": self.probes, "transits": self.transits,
             "dt": None if self.dt is None else float(self.dt).hex(), "method": self.method,
             "transit_time": None if self.transit_time is None else float(self.transit_time).hex(),
-        } | ({"aligned": True} if self.aligned else {})
+        } | ({"aligned": True} if self.aligned else {}) | (
+            {} if self.circuit is None else {"circuit": [element.card() for element in self.circuit]})
 
 
 @dataclass(frozen=True)

@@ -27,7 +27,7 @@ from ..core.blas import fixed_blas_threads
 from ..core.budget import Budget
 from ..core.checks import callback, instance
 from ..core.errors import ParameterError
-from ..runs.execute import RunRecord, execute, pulse_centre
+from ..runs.execute import RunRecord, execute, loop_theory, pulse_centre
 from ..runs.extrapolated import combined_record
 from ..runs.spec import RunSpec, Theory
 from ..spice.engines import find_engine
@@ -35,7 +35,6 @@ from ..spice.simulator import Simulator
 from ..theory.arrivals import arrival_window, maximum_in_window
 from ..theory.chain import Chain
 from ..theory.exact import driven_modes
-from ..theory.response import linear_response
 from .plan import ScenePlan, losses_and_pulse, scene_plan, scene_specs
 from .schema import Scene
 
@@ -68,6 +67,7 @@ class SampleRecord(TypedDict, total=False):
     spacing_std: float
     modes_seen: int
     max_rel_error_Q: float
+    effects: dict[str, Any]
 
 
 class SceneReport(TypedDict, total=False):
@@ -192,6 +192,8 @@ def _sample_record(index: int, chain: Chain, dt: float, run: RunRecord) -> Sampl
     record = _run_record(index, chain, run, run.result.netlist_sha256, run.result.points)
     record.update({"dt": dt, "max_abs_error": run.metrics.max_abs_error,
                    "arrivals": [a.to_dict() for a in run.metrics.arrivals]})
+    if run.metrics.effects is not None:  # against the circuit's own theory: what its effects cost the pulse
+        record["effects"] = run.metrics.effects.to_dict()
     return record
 
 
@@ -224,14 +226,15 @@ def nominal_peak(scene: Scene) -> tuple[float, float]:
 
 @fixed_blas_threads
 def _nominal_peak(scene: Scene, plan: ScenePlan) -> float:
-    """Theoretical first-arrival peak of the nominal (unrounded, untoleranced) circuit."""
-    Q, pulse = losses_and_pulse(scene)
+    """Theoretical first-arrival peak of the nominal (unrounded, untoleranced) circuit: the chain's, or the
+    circuit's own with effects that are no chain's."""
+    theory = plan.nominal_theory()
     lo, hi = arrival_window(1, plan.transit_time)
-    shift = pulse_centre(scene.excitation.kind, pulse)
+    shift = pulse_centre(theory.excitation, theory.pulse)
+    ends = loop_theory(theory, "ends")
 
     def last(t: np.ndarray) -> np.ndarray:
-        return linear_response(plan.nominal, t, excitation=scene.excitation.kind, Q=Q, pulse=pulse,
-                               loops="ends", modes=plan.modes)[-1]
+        return ends(t)[-1]
 
     return maximum_in_window(last, (lo + shift, hi + shift), plan.transit_time)[1]
 

@@ -235,14 +235,23 @@ def _seconds(spec: RunSpec) -> float:
         points = spec.tstop / theory.time_unit / theory.dt
     else:
         return 0.1
-    return ngspice_seconds(points, 2 * theory.chain.N) * ENGINES[spec.engine].relative_cost + RUN_START_SECONDS
+    return ngspice_seconds(points, theory.unknowns) * ENGINES[spec.engine].relative_cost + RUN_START_SECONDS
+
+
+def _points(spec: RunSpec, theory: Theory) -> float:
+    """A transient's time points (adaptive steps: its tstop / 50 at the most)."""
+    return spec.tstop / theory.time_unit / (theory.dt if theory.dt is not None else spec.tstop / theory.time_unit / 50)
 
 
 def _compare_seconds(spec: RunSpec) -> float:
     """A transient run's comparison with the theory of its chain, beyond its simulator (its modes, the arrivals'
     refinement: :func:`lcchain.core.budget.sample_theory_seconds`; a sensitivity check's runs spent more there
-    than in ngspice). An AC run's fit is in :func:`_seconds` already."""
-    return sample_theory_seconds(spec.theory.chain.N) if isinstance(spec.theory, Theory) else 0.0
+    than in ngspice), and the circuit's own theory where the run has one. An AC run's fit is in :func:`_seconds`
+    already."""
+    theory = spec.theory
+    if not isinstance(theory, Theory):
+        return 0.0
+    return sample_theory_seconds(theory.chain.N) + theory.circuit_cost(_points(spec, theory))[0]
 
 
 def _memory(spec: RunSpec) -> float:
@@ -254,8 +263,8 @@ def _memory(spec: RunSpec) -> float:
     if isinstance(theory, Theory) and theory.dt is not None:
         N, saved = theory.chain.N, len(spec.vectors)
         points = spec.tstop / theory.time_unit / theory.dt
-        return run_estimate(points=points, saved=saved, compared=saved, unknowns=2 * N, exact_N=N).memory \
-            + SIMULATOR_BYTES
+        return run_estimate(points=points, saved=saved, compared=saved, unknowns=theory.unknowns, exact_N=N).memory \
+            + SIMULATOR_BYTES + theory.circuit_cost(points)[1]
     return SIMULATOR_BYTES
 
 
