@@ -12,6 +12,7 @@ entry point (one line; exit status 2 on the command line), never a traceback.
 
 from __future__ import annotations
 
+import threading
 from collections.abc import Callable, Iterator, Mapping, MutableMapping
 from importlib.metadata import EntryPoint, entry_points
 from typing import TypeVar
@@ -57,6 +58,7 @@ class Registry(MutableMapping[str, V]):
         self._admit = admit
         self._items: dict[str, V] = dict(own)
         self._loaded = False
+        self._loading = threading.Lock()  # threads reading the registry first (a study's runners) load it once
 
     def _entry(self, point: EntryPoint, reason: str) -> PluginError:
         return PluginError(f"entry point {self.group} {point.name}", point.value, f"{self.what} ({_one_line(reason)})")
@@ -64,6 +66,12 @@ class Registry(MutableMapping[str, V]):
     def _load(self) -> dict[str, V]:
         if self._loaded:
             return self._items
+        with self._loading:
+            if not self._loaded:
+                self._read_group()
+        return self._items
+
+    def _read_group(self) -> None:
         added: dict[str, V] = {}
         for point in sorted(entry_points(group=self.group), key=lambda p: p.name):
             if point.name in self._items or point.name in added:
@@ -76,7 +84,6 @@ class Registry(MutableMapping[str, V]):
                 raise self._entry(point, f"{type(error).__name__}: {error}") from None
         self._items.update(added)
         self._loaded = True
-        return self._items
 
     def __getitem__(self, name: str) -> V:
         return self._load()[name]
