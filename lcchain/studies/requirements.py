@@ -28,6 +28,7 @@ from ..circuit.netlist import SimulationOptions, netlist_text
 from ..circuit.requirements import GRID_POINTS, LOSS_TARGETS, PARTS, Arrival, Part, Requirement, requirements_cost
 from ..core.blas import fixed_blas_threads
 from ..core.budget import Budget, Estimate, run_estimate
+from ..core.checks import integer, real
 from ..core.errors import ParameterError, SimulationError
 from ..core.types import DEFAULT_C0, DEFAULT_L0
 from ..spice.engines import find_engine, run_engine
@@ -92,8 +93,8 @@ def requirements_estimate(chain: Chain, parts: Sequence[Part], checks: int, poin
 
 def check_points(ladder: Ladder, requirements: Sequence[Requirement], count: int, *, budget: Budget,
                  progress: Callable[[float], None] | None = None) -> list[CheckPoint]:
-    """``count`` of each curve's values (evenly through its grid, where the loss is between 1e-6 and 0.3) run in
-    ngspice, each loss measured against one ngspice run of the ideal ladder."""
+    """``count`` of each curve's values (evenly through its grid, where the loss is between 1e-6 and 0.3; one: the
+    middle one) run in ngspice, each loss measured against one ngspice run of the ideal ladder."""
     chain = ladder.chain
     transit = normal_modes(chain).transit_time()
     window = arrival_window(1, transit)
@@ -103,8 +104,9 @@ def check_points(ladder: Ladder, requirements: Sequence[Requirement], count: int
     for requirement in requirements:
         # where the curve matters: between a thousandth of the 0.1 % target and well past the 1 % one
         candidates = [k for k, loss in enumerate(requirement.losses) if 1e-6 < loss < 0.3]
-        chosen = sorted({candidates[round(j * (len(candidates) - 1) / max(count - 1, 1))] for j in range(count)}) \
-            if candidates else []
+        # evenly from end to end; one alone in the middle (the first, where the loss is ~1e-6, told little)
+        spots = [j / (count - 1) if count > 1 else 0.5 for j in range(count)]
+        chosen = sorted({candidates[round(spot * (len(candidates) - 1))] for spot in spots}) if candidates else []
         runs += [(requirement, k) for k in chosen]
     if not runs:
         return []
@@ -153,6 +155,12 @@ class RequirementsJob:
     points: int = GRID_POINTS
     L0: float = DEFAULT_L0
     C0: float = DEFAULT_C0
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "checks", integer("checks", self.checks, at_least=0))
+        object.__setattr__(self, "points", integer("points", self.points, at_least=2))
+        for key in ("L0", "C0"):
+            object.__setattr__(self, key, real(key, getattr(self, key), above=0.0))
 
     @property
     def label(self) -> str:
