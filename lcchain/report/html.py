@@ -221,7 +221,8 @@ def _figures_html(figures: Mapping[str, bytes], captions: Iterable[tuple[str, st
 
 def render_html(report: Mapping[str, Any], figures: Mapping[str, bytes], captions: Iterable[tuple[str, str]],
                 command: str = "lcchain report") -> str:
-    """The page: verdict first, then the paper reproduced, the circuit validated and the figures."""
+    """The page: verdict first, then the paper reproduced, the circuit validated, the figures and how good the
+    parts must be."""
     checks = report["checks"]
     paper_checks = [c for c in checks if c.get("kind") == "paper"]
     circuit = report["circuit"]
@@ -271,8 +272,8 @@ def render_html(report: Mapping[str, Any], figures: Mapping[str, bytes], caption
         "<li><a href=\"#two-mass\">Table II</a></li><li><a href=\"#asymptotic\">Large-N constants</a></li>"
         "<li><a href=\"#perfect\">Perfect chains</a></li><li><a href=\"#findings\">Where the paper slips</a></li>"
         "<li><a href=\"#circuit\">The circuit validated</a></li><li><a href=\"#spectrum\">The spectrum in the "
-        "circuit</a></li><li><a href=\"#requirements\">How good must the parts be</a></li>"
-        "<li><a href=\"#figures\">The paper's figures</a></li></ul></nav>",
+        "circuit</a></li><li><a href=\"#figures\">The paper's figures</a></li>"
+        "<li><a href=\"#requirements\">How good must the parts be</a></li></ul></nav>",
         '<h2 id="paper">The paper reproduced</h2>',
         "<p>Tables I and II recomputed from scratch at every N of the paper's list (the optimiser, the closed-form "
         "modes and the arrival search of lcchain; nothing is looked up), beside the rows the paper prints.</p>",
@@ -284,10 +285,10 @@ def render_html(report: Mapping[str, Any], figures: Mapping[str, bytes], caption
         _circuit_html(circuit, figures),
         '<h2 id="spectrum">The spectrum in the circuit (ngspice AC)</h2>',
         spectrum_html(spectrum, figures),
-        '<h2 id="requirements">How good must the parts be</h2>',
-        requirements_html(requirements, figures),
         '<h2 id="figures">The paper\'s figures, recomputed</h2>',
         _figures_html(figures, captions),
+        '<h2 id="requirements">How good must the parts be</h2>',
+        requirements_html(requirements, figures),
         "</body></html>",
     ]
     return "\n".join(part for part in parts if part)
