@@ -65,7 +65,7 @@ def test_the_jobs_are_the_issues_cradles_priced_by_the_study_and_pickle() -> Non
         assert pickle.loads(pickle.dumps(job)) == job  # sent to the report's pool
 
 
-@pytest.mark.parametrize("field, value", [("checks", -1), ("points", 1), ("L0", 0.0), ("C0", math.nan)])
+@pytest.mark.parametrize("field, value", [("checks", 0), ("points", 1), ("L0", 0.0), ("C0", math.nan)])
 def test_a_job_refuses_a_bad_field_by_name(field: str, value: float) -> None:
     with pytest.raises(ParameterError, match=field):
         dataclasses.replace(_job(), **{field: value})

@@ -157,7 +157,7 @@ class RequirementsJob:
     C0: float = DEFAULT_C0
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "checks", integer("checks", self.checks, at_least=0))
+        object.__setattr__(self, "checks", integer("checks", self.checks, at_least=1))  # a check needs a point
         object.__setattr__(self, "points", integer("points", self.points, at_least=2))
         for key in ("L0", "C0"):
             object.__setattr__(self, key, real(key, getattr(self, key), above=0.0))
