@@ -34,7 +34,7 @@ import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.interpolate import AAA
+import scipy  # its submodules load on first use: commands that need no theory never import them
 
 from ..core.blas import fixed_blas_threads
 from ..core.errors import ParameterError
@@ -133,7 +133,8 @@ def _rational(z: np.ndarray, f: np.ndarray, seen: int, rtol: float = 1e-13) -> t
     own clean-up of spurious poles is left out (it cost seconds): their residues are negligible and dropped."""
     with warnings.catch_warnings():  # AAA may stop short of rtol: Gauss-Newton finishes the job
         warnings.simplefilter("ignore", RuntimeWarning)
-        fitted = AAA(z, f, rtol=rtol, max_terms=min(z.size // 2, 2 * seen + _SPARE_TERMS), clean_up=False)
+        fitted = scipy.interpolate.AAA(z, f, rtol=rtol, max_terms=min(z.size // 2, 2 * seen + _SPARE_TERMS),
+                                       clean_up=False)
     return np.asarray(fitted.poles()), np.asarray(fitted.residues())
 
 
