@@ -1,0 +1,133 @@
+"""Each command imports only what it needs (issue 35): a guard, so that no later import undoes it.
+
+Lazy imports were made once (issue 23) and undone by a later change that no test noticed: ``lcchain batch`` of
+one netlist went back to 1.4 s, 0.6 s of it importing ``scipy.interpolate`` for a fit it never made.  Here every
+command of the parser (read from :func:`lcchain.cli.main.build_parser`, so a new command is covered without an
+edit) runs its ``--help`` in a fresh interpreter under ``python -X importtime``, which names every module the
+process imports and the module that imported it; a command that does work without scipy (``batch`` of a foreign
+netlist, ``results`` as a table) also runs for real.  A heavy module on the forbidden list fails the test with
+the chain of imports that brought it in.  Timings are in ``benchmarks/start.md``, not here: this asserts which
+modules load, which no noisy machine can change.
+"""
+
+from __future__ import annotations
+
+import argparse
+import subprocess
+import sys
+from collections.abc import Iterator
+from pathlib import Path
+
+import pytest
+
+from lcchain.cli.main import build_parser
+
+ROOT = Path(__file__).resolve().parent.parent
+
+#: Top-level packages no command loads before it does work: plots, tables, arrays with labels, the cluster,
+#: the shared library.  Those that need one import it inside the function that uses it.
+HEAVY = ("matplotlib", "pandas", "xarray", "dask", "distributed", "PySpice")
+
+
+def heavy(module: str) -> bool:
+    """One of :data:`HEAVY`, or a scipy subpackage (``scipy.linalg``, ``scipy.interpolate._bsplines``).
+
+    ``import scipy`` alone loads only scipy's private modules (``scipy._lib``, ``scipy.version``): its
+    subpackages load on first use (``scipy.linalg.eigh`` in a function body), which is how lcchain imports them.
+    """
+    top, _, rest = module.partition(".")
+    if top in HEAVY:
+        return True
+    return top == "scipy" and bool(rest) and not rest.startswith("_") and rest != "version"
+
+
+def commands(parser: argparse.ArgumentParser, prefix: tuple[str, ...] = ()) -> Iterator[tuple[str, ...]]:
+    """Every command and subcommand of the parser (``("bench",)``, ``("bench", "accuracy")``, ...)."""
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            for name, sub in action.choices.items():
+                yield (*prefix, name)
+                yield from commands(sub, (*prefix, name))
+
+
+def imports(argv: list[str], cwd: Path) -> tuple[subprocess.CompletedProcess[str], dict[str, list[str]]]:
+    """Run ``python -X importtime -m lcchain ARGV``; every module it imported -> the chain that imported it
+    (the module, its importer, ... up to the top)."""
+    done = subprocess.run([sys.executable, "-X", "importtime", "-m", "lcchain", *argv], capture_output=True,
+                          text=True, cwd=cwd)
+    rows = []  # (depth, module), in the order importtime prints them: a module after everything it imported
+    for line in done.stderr.splitlines():
+        if line.startswith("import time:") and "[us]" not in line:
+            name = line.split("|")[2]
+            rows.append(((len(name) - len(name.lstrip())) // 2, name.strip()))
+    chains = {}
+    for i, (depth, name) in enumerate(rows):
+        chain = [name]
+        for later_depth, later in rows[i + 1:]:
+            if later_depth < depth:  # the first shallower module printed after this one is its importer
+                chain.append(later)
+                depth = later_depth
+        chains.setdefault(name, chain)
+    return done, chains
+
+
+def forbidden(chains: dict[str, list[str]]) -> list[str]:
+    """The heavy modules imported, each with the chain that brought it in (only where it first came in)."""
+    return [" <- ".join(chain) for name, chain in chains.items()
+            if heavy(name) and not any(heavy(importer) for importer in chain[1:])]
+
+
+def test_heavy_names_what_it_should() -> None:
+    assert heavy("scipy.interpolate") and heavy("scipy.sparse.csgraph._validation") and heavy("matplotlib.pyplot")
+    assert heavy("dask") and heavy("pandas.core.frame")
+    assert not heavy("scipy") and not heavy("scipy._lib._ccallback") and not heavy("scipy.version")
+    assert not heavy("numpy") and not heavy("lcchain.report.plots") and not heavy("daskish")
+
+
+def test_every_command_is_found() -> None:
+    """The list below is read from the parser: these must be in it, and a new command joins it by itself."""
+    found = set(commands(build_parser()))
+    assert {("batch",), ("results",), ("simulate",), ("report",), ("bench",), ("bench", "accuracy")} <= found
+
+
+@pytest.mark.parametrize("command", [(), *commands(build_parser())], ids=lambda c: " ".join(c) or "lcchain")
+def test_help_imports_nothing_heavy(command: tuple[str, ...]) -> None:
+    """``lcchain [COMMAND] --help`` builds every parser and imports no plotting, table, cluster or scipy module."""
+    done, chains = imports([*command, "--help"], ROOT)
+    assert done.returncode == 0, done.stderr[-2000:]
+    assert "usage: lcchain" in done.stdout
+    assert not forbidden(chains), "\n".join(forbidden(chains))
+
+
+def test_version_imports_nothing_heavy() -> None:
+    done, chains = imports(["--version"], ROOT)
+    assert done.returncode == 0, done.stderr[-2000:]
+    assert not forbidden(chains), "\n".join(forbidden(chains))
+
+
+#: A netlist lcchain did not write, within the allow-list: what ``lcchain batch`` is for.
+RC_NETLIST = """\
+* an RC low-pass lcchain did not write
+V1 in 0 PULSE(0 1 0 1e-9 1e-9 1e-6 2e-6)
+R1 in out 1000
+C1 out 0 1e-9
+.tran 1e-8 2e-6
+.end
+"""
+
+
+@pytest.mark.ngspice
+def test_batch_and_results_import_nothing_heavy(tmp_path: Path) -> None:
+    """A foreign netlist checked, priced, run in ngspice and stored, then the store read back as a table: the
+    allow-list, pricing, the store and running ngspice need numpy, never scipy, plots or tables."""
+    netlist = tmp_path / "rc.cir"
+    netlist.write_text(RC_NETLIST)
+    store = tmp_path / "rc.sqlite"
+    done, chains = imports(["batch", str(netlist), "--store", str(store)], ROOT)
+    assert done.returncode == 0, done.stderr[-2000:]
+    assert "1 ok" in done.stdout
+    assert not forbidden(chains), "\n".join(forbidden(chains))
+    for argv in (["results", str(store)], ["results", str(store), "--json"], ["results", str(store), "--csv"]):
+        done, chains = imports(argv, ROOT)
+        assert done.returncode == 0, done.stderr[-2000:]
+        assert not forbidden(chains), f"{argv}:\n" + "\n".join(forbidden(chains))
