@@ -152,3 +152,17 @@ def test_work_imports_only_what_it_needs(name: str, tmp_path: Path) -> None:
     done, chains = imports([a.replace("{tmp}", str(tmp_path)) for a in argv], ROOT)
     assert done.returncode == 0, done.stderr[-2000:]
     assert not forbidden(chains, allowed), "\n".join(forbidden(chains, allowed))
+
+
+@pytest.mark.ngspice
+def test_results_of_an_ac_study_import_nothing_heavy(tmp_path: Path) -> None:
+    """An AC sweep's store holds spectral metrics (compare.spectral names them): reading it back needs no fit."""
+    store = tmp_path / "ac.sqlite"
+    done = subprocess.run([sys.executable, "-m", "lcchain", "sweep", "--case", "two-mass", "--N", "4", "--analysis",
+                           "ac", "--store", str(store)], capture_output=True, text=True, cwd=ROOT)
+    assert done.returncode == 0, done.stderr[-2000:]
+    for argv in (["results", str(store)], ["results", str(store), "--csv"],
+                 ["results", str(store), "--summary", "--metric", "omega"]):
+        done, chains = imports(argv, ROOT)
+        assert done.returncode == 0, done.stderr[-2000:]
+        assert not forbidden(chains), f"{argv}:\n" + "\n".join(forbidden(chains))
