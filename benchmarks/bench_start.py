@@ -1,0 +1,173 @@
+"""The fixed start of a command, before and after a change (issue 35): ``--version``, ``--help``, ``batch --help``
+and a one-netlist ``lcchain batch`` (interpreter start to its first subprocess, ngspice's or the sandbox's, and the
+whole run), each source tree's runs interleaved with the other's so that a noisy machine weighs on both alike.
+
+Run from the repository root:
+
+    .venv/bin/python benchmarks/bench_start.py --before REF > benchmarks/start.md
+
+``REF``'s ``lcchain/`` is extracted (``git archive``) into a temporary folder and run from there with
+``python -m lcchain`` (the current folder comes first on ``sys.path``); "after" is this working tree.  Wall times
+are medians of ``--repeat`` runs, with the load average (1 min) before and after; the import times are
+``python -X importtime`` of the batch run, medians of the same runs.  Every process may write its bytecode
+(``PYTHONDONTWRITEBYTECODE`` is dropped from its environment) and one warm-up round runs first, so that lcchain is
+read from ``__pycache__`` as an installed lcchain is, not compiled each time.  Which modules a command may import is
+asserted by ``tests/test_imports.py``, not here.
+"""
+
+from __future__ import annotations
+
+import argparse
+import io
+import os
+import platform
+import statistics
+import subprocess
+import sys
+import tarfile
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+
+#: A netlist lcchain did not write (tests/test_imports.py runs the same).
+RC_NETLIST = """\
+* an RC low-pass lcchain did not write
+V1 in 0 PULSE(0 1 0 1e-9 1e-9 1e-6 2e-6)
+R1 in out 1000
+C1 out 0 1e-9
+.tran 1e-8 2e-6
+.end
+"""
+
+#: Runs lcchain as ``python -m lcchain`` does, and writes the time of its first subprocess to $BENCH_STAMP.
+FIRST_START = """\
+import os, runpy, sys, time
+seen = []
+def hook(event, args):
+    if event == "subprocess.Popen" and not seen:
+        seen.append(1)
+        with open(os.environ["BENCH_STAMP"], "w") as out:
+            out.write(repr(time.time()))
+sys.addaudithook(hook)
+sys.argv = ["lcchain", *sys.argv[1:]]
+runpy.run_module("lcchain", run_name="__main__", alter_sys=True)
+"""
+
+
+#: The environment of every process: bytecode written and read (a user's lcchain is compiled once).
+ENV = {name: value for name, value in os.environ.items() if name != "PYTHONDONTWRITEBYTECODE"}
+
+
+def _wall(command: list[str], cwd: Path, env: dict[str, str] | None = None) -> tuple[float, str]:
+    start = time.perf_counter()
+    done = subprocess.run(command, capture_output=True, text=True, cwd=cwd, env=env or ENV)
+    wall = time.perf_counter() - start
+    if done.returncode != 0:
+        raise SystemExit(f"{' '.join(command)} in {cwd}: exit {done.returncode}\n{done.stderr[-2000:]}")
+    return wall, done.stderr
+
+
+def _imports(stderr: str) -> dict[str, float]:
+    """``-X importtime``: seconds of the top-level imports together, and of each top-level package."""
+    top: dict[str, float] = {"all": 0.0}
+    for line in stderr.splitlines():
+        if line.startswith("import time:") and "[us]" not in line:
+            _, cumulative, name = line.split("|")
+            if not name.startswith("  "):  # depth 0: imported by the command itself
+                seconds = int(cumulative) / 1e6
+                top["all"] += seconds
+                package = name.strip().split(".")[0]
+                top[package] = top.get(package, 0.0) + seconds
+    return top
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--before", default="main", help="git ref of the 'before' tree (default main)")
+    parser.add_argument("--repeat", type=int, default=11)
+    args = parser.parse_args()
+    python = sys.executable
+    load_start = os.getloadavg()[0]
+    with tempfile.TemporaryDirectory(prefix="lcchain-bench-start-") as folder:
+        work = Path(folder)
+        before = work / "before"
+        before.mkdir()
+        archive = subprocess.run(["git", "archive", args.before, "lcchain"], cwd=ROOT, capture_output=True,
+                                 check=True).stdout
+        tarfile.open(fileobj=io.BytesIO(archive)).extractall(before, filter="data")
+        commit = subprocess.run(["git", "rev-parse", "--short", args.before], cwd=ROOT, capture_output=True,
+                                text=True, check=True).stdout.strip()
+        after_commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, capture_output=True,
+                                      text=True, check=True).stdout.strip()
+        netlist = work / "rc.cir"
+        netlist.write_text(RC_NETLIST)
+        trees = {"before": before, "after": ROOT}
+        floors = {"`python -c pass` (the interpreter alone)": [python, "-c", "pass"],
+                  "`python -c 'import numpy'`": [python, "-c", "import numpy"]}
+        commands = {"`lcchain --version`": ["--version"], "`lcchain --help`": ["--help"],
+                    "`lcchain batch --help`": ["batch", "--help"]}
+        walls: dict[tuple[str, str], list[float]] = {}
+        first: dict[str, list[float]] = {tree: [] for tree in trees}
+        batch: dict[str, list[float]] = {tree: [] for tree in trees}
+        imported: dict[str, list[dict[str, float]]] = {tree: [] for tree in trees}
+        for tree, cwd in trees.items():  # warm-up: the bytecode of both trees written
+            _wall([python, "-m", "lcchain", "batch", str(netlist), "--store", str(work / f"{tree}-warm.sqlite")],
+                  cwd)
+            _wall([python, "-m", "lcchain", "--help"], cwd)
+        for r in range(args.repeat):
+            for name, command in floors.items():
+                walls.setdefault((name, ""), []).append(_wall(command, work)[0])
+            for tree, cwd in trees.items():
+                for name, argv in commands.items():
+                    walls.setdefault((name, tree), []).append(_wall([python, "-m", "lcchain", *argv], cwd)[0])
+                stamp = work / "stamp"
+                stamp.unlink(missing_ok=True)
+                env = {**ENV, "BENCH_STAMP": str(stamp)}
+                started = time.time()
+                wall, _ = _wall([python, "-c", FIRST_START, "batch", str(netlist), "--store",
+                                 str(work / f"{tree}-{r}-first.sqlite")], cwd, env)
+                first[tree].append(float(stamp.read_text()) - started)
+                batch[tree].append(wall)
+                _, stderr = _wall([python, "-X", "importtime", "-m", "lcchain", "batch", str(netlist), "--store",
+                                   str(work / f"{tree}-{r}-imports.sqlite")], cwd)
+                imported[tree].append(_imports(stderr))
+    load_end = os.getloadavg()[0]
+    floor = statistics.median(walls[("`python -c pass` (the interpreter alone)", "")])
+
+    def cell(values: list[float]) -> str:
+        median = statistics.median(values)
+        return f"{median:.3f} (+{median - floor:.3f})"
+
+    print("# The fixed start of a command: before and after issue 35\n")
+    print(f"Command: `.venv/bin/python benchmarks/bench_start.py --before {args.before} > benchmarks/start.md`  ")
+    print(f"Before: {args.before} ({commit}); after: this tree ({after_commit} and its uncommitted edits).  ")
+    print(f"Machine: {platform.machine()}, {os.cpu_count()} cores shared with other jobs, Python "
+          f"{platform.python_version()}; load average (1 min) {load_start:.2f} at the start, {load_end:.2f} at the "
+          f"end.  Wall time of the whole process in seconds, median of {args.repeat}, interleaved; in brackets, "
+          "above the interpreter alone.\n")
+    print("| command | before | after |")
+    print("|---|---:|---:|")
+    for name in floors:
+        print(f"| {name} | {cell(walls[(name, '')])} | |")
+    for name in commands:
+        print(f"| {name} | {cell(walls[(name, 'before')])} | {cell(walls[(name, 'after')])} |")
+    print(f"| `lcchain batch rc.cir`: start to its first subprocess (the fixed start) | {cell(first['before'])} | "
+          f"{cell(first['after'])} |")
+    print(f"| `lcchain batch rc.cir`: the whole run (ngspice in its sandbox, the store) | {cell(batch['before'])} | "
+          f"{cell(batch['after'])} |")
+    packages = sorted({p for tree in imported.values() for run in tree for p in run},
+                      key=lambda p: -statistics.median(run.get(p, 0.0) for run in imported["before"]))
+    print("\n`python -X importtime -m lcchain batch rc.cir --store S`: seconds importing, all top-level imports "
+          "and by package (its own cumulative time; numpy counted where lcchain first imports it), median:\n")
+    print("| imported | before | after |")
+    print("|---|---:|---:|")
+    for package in packages:
+        values = {tree: statistics.median(run.get(package, 0.0) for run in imported[tree]) for tree in trees}
+        if max(values.values()) >= 0.002:
+            print(f"| {package} | {values['before']:.3f} | {values['after']:.3f} |")
+
+
+if __name__ == "__main__":
+    main()
