@@ -21,6 +21,7 @@ import argparse
 import io
 import os
 import platform
+import resource
 import statistics
 import subprocess
 import sys
@@ -41,7 +42,8 @@ C1 out 0 1e-9
 .end
 """
 
-#: Runs lcchain as ``python -m lcchain`` does, and writes the time of its first subprocess to $BENCH_STAMP.
+#: Runs lcchain as ``python -m lcchain`` does, and writes the time of its first subprocess to $BENCH_STAMP (the
+#: wall clock, and the process's CPU time so far).
 FIRST_START = """\
 import os, runpy, sys, time
 seen = []
@@ -49,7 +51,7 @@ def hook(event, args):
     if event == "subprocess.Popen" and not seen:
         seen.append(1)
         with open(os.environ["BENCH_STAMP"], "w") as out:
-            out.write(repr(time.time()))
+            out.write(f"{time.time()!r} {time.process_time()!r}")
 sys.addaudithook(hook)
 sys.argv = ["lcchain", *sys.argv[1:]]
 runpy.run_module("lcchain", run_name="__main__", alter_sys=True)
@@ -60,13 +62,16 @@ runpy.run_module("lcchain", run_name="__main__", alter_sys=True)
 ENV = {name: value for name, value in os.environ.items() if name != "PYTHONDONTWRITEBYTECODE"}
 
 
-def _wall(command: list[str], cwd: Path, env: dict[str, str] | None = None) -> tuple[float, str]:
+def _wall(command: list[str], cwd: Path, env: dict[str, str] | None = None) -> tuple[float, str, float]:
+    """(wall seconds, stderr, CPU seconds: user + system) of one process."""
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
     start = time.perf_counter()
     done = subprocess.run(command, capture_output=True, text=True, cwd=cwd, env=env or ENV)
     wall = time.perf_counter() - start
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
     if done.returncode != 0:
         raise SystemExit(f"{' '.join(command)} in {cwd}: exit {done.returncode}\n{done.stderr[-2000:]}")
-    return wall, done.stderr
+    return wall, done.stderr, after.ru_utime + after.ru_stime - before.ru_utime - before.ru_stime
 
 
 def _imports(stderr: str) -> dict[str, float]:
@@ -108,55 +113,63 @@ def main() -> None:
                   "`python -c 'import numpy'`": [python, "-c", "import numpy"]}
         commands = {"`lcchain --version`": ["--version"], "`lcchain --help`": ["--help"],
                     "`lcchain batch --help`": ["batch", "--help"]}
+        # (row, tree) -> wall seconds, and CPU seconds (user + system) of the same processes
         walls: dict[tuple[str, str], list[float]] = {}
-        first: dict[str, list[float]] = {tree: [] for tree in trees}
-        batch: dict[str, list[float]] = {tree: [] for tree in trees}
+        cpus: dict[tuple[str, str], list[float]] = {}
         imported: dict[str, list[dict[str, float]]] = {tree: [] for tree in trees}
+        first, whole = "`lcchain batch rc.cir`: to its first subprocess (the fixed start)", \
+            "`lcchain batch rc.cir`: the whole run (ngspice in its sandbox, the store)"
+
+        def record(row: str, tree: str, wall: float, cpu: float) -> None:
+            walls.setdefault((row, tree), []).append(wall)
+            cpus.setdefault((row, tree), []).append(cpu)
+
         for tree, cwd in trees.items():  # warm-up: the bytecode of both trees written
             _wall([python, "-m", "lcchain", "batch", str(netlist), "--store", str(work / f"{tree}-warm.sqlite")],
                   cwd)
             _wall([python, "-m", "lcchain", "--help"], cwd)
         for r in range(args.repeat):
             for name, command in floors.items():
-                walls.setdefault((name, ""), []).append(_wall(command, work)[0])
+                wall, _, cpu = _wall(command, work)
+                record(name, "", wall, cpu)
             for tree, cwd in trees.items():
                 for name, argv in commands.items():
-                    walls.setdefault((name, tree), []).append(_wall([python, "-m", "lcchain", *argv], cwd)[0])
+                    wall, _, cpu = _wall([python, "-m", "lcchain", *argv], cwd)
+                    record(name, tree, wall, cpu)
                 stamp = work / "stamp"
                 stamp.unlink(missing_ok=True)
                 env = {**ENV, "BENCH_STAMP": str(stamp)}
                 started = time.time()
-                wall, _ = _wall([python, "-c", FIRST_START, "batch", str(netlist), "--store",
-                                 str(work / f"{tree}-{r}-first.sqlite")], cwd, env)
-                first[tree].append(float(stamp.read_text()) - started)
-                batch[tree].append(wall)
-                _, stderr = _wall([python, "-X", "importtime", "-m", "lcchain", "batch", str(netlist), "--store",
-                                   str(work / f"{tree}-{r}-imports.sqlite")], cwd)
+                wall, _, cpu = _wall([python, "-c", FIRST_START, "batch", str(netlist), "--store",
+                                      str(work / f"{tree}-{r}-first.sqlite")], cwd, env)
+                at, cpu_at = (float(v) for v in stamp.read_text().split())
+                record(first, tree, at - started, cpu_at)
+                record(whole, tree, wall, cpu)
+                _, stderr, _ = _wall([python, "-X", "importtime", "-m", "lcchain", "batch", str(netlist), "--store",
+                                      str(work / f"{tree}-{r}-imports.sqlite")], cwd)
                 imported[tree].append(_imports(stderr))
     load_end = os.getloadavg()[0]
-    floor = statistics.median(walls[("`python -c pass` (the interpreter alone)", "")])
+    floor = "`python -c pass` (the interpreter alone)"
 
-    def cell(values: list[float]) -> str:
-        median = statistics.median(values)
-        return f"{median:.3f} (+{median - floor:.3f})"
+    def cell(row: str, tree: str) -> str:
+        wall, base = statistics.median(walls[(row, tree)]), statistics.median(walls[(floor, "")])
+        cpu, cpu_base = statistics.median(cpus[(row, tree)]), statistics.median(cpus[(floor, "")])
+        return f"{wall:.3f} (+{wall - base:.3f}) | {cpu:.3f} (+{cpu - cpu_base:.3f})"
 
     print("# The fixed start of a command: before and after issue 35\n")
     print(f"Command: `.venv/bin/python benchmarks/bench_start.py --before {args.before} > benchmarks/start.md`  ")
     print(f"Before: {args.before} ({commit}); after: this tree ({after_commit} and its uncommitted edits).  ")
     print(f"Machine: {platform.machine()}, {os.cpu_count()} cores shared with other jobs, Python "
           f"{platform.python_version()}; load average (1 min) {load_start:.2f} at the start, {load_end:.2f} at the "
-          f"end.  Wall time of the whole process in seconds, median of {args.repeat}, interleaved; in brackets, "
-          "above the interpreter alone.\n")
-    print("| command | before | after |")
-    print("|---|---:|---:|")
+          f"end.  Seconds, median of {args.repeat}, interleaved: the wall time of the whole process and its CPU "
+          "time (user + system; to the first subprocess: the process's own), in brackets above the interpreter "
+          "alone's.  With the machine shared, the CPU time is the steadier of the two.\n")
+    print("| command | before: wall | before: CPU | after: wall | after: CPU |")
+    print("|---|---:|---:|---:|---:|")
     for name in floors:
-        print(f"| {name} | {cell(walls[(name, '')])} | |")
-    for name in commands:
-        print(f"| {name} | {cell(walls[(name, 'before')])} | {cell(walls[(name, 'after')])} |")
-    print(f"| `lcchain batch rc.cir`: start to its first subprocess (the fixed start) | {cell(first['before'])} | "
-          f"{cell(first['after'])} |")
-    print(f"| `lcchain batch rc.cir`: the whole run (ngspice in its sandbox, the store) | {cell(batch['before'])} | "
-          f"{cell(batch['after'])} |")
+        print(f"| {name} | {cell(name, '')} | | |")
+    for name in [*commands, first, whole]:
+        print(f"| {name} | {cell(name, 'before')} | {cell(name, 'after')} |")
     packages = sorted({p for tree in imported.values() for run in tree for p in run},
                       key=lambda p: -statistics.median(run.get(p, 0.0) for run in imported["before"]))
     print("\n`python -X importtime -m lcchain batch rc.cir --store S`: seconds importing, all top-level imports "
