@@ -405,6 +405,7 @@ class CircuitTheory:
         plain = [e for e in elements if isinstance(e, Element)]
         self._couplings = tuple((e.name, float(e.value)) for e in plain if e.kind == "K")
         self._pulse = net.pulse
+        self._states: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None  # a pulse's panels (_edge_states)
         self.inductors = net.inductors
         touched = net.Cn.diagonal() > 0
         resistive = ~touched & (abs(net.G).sum(axis=1) > 0)
@@ -597,7 +598,24 @@ class CircuitTheory:
     def _convolution(self, times: np.ndarray) -> np.ndarray:
         """w_k(t) = integral from 0 to t of exp(p_k (t - s)) u(s) ds for each mode's pole p_k (lossless: +1j omega,
         whose real part is the cosine's convolution), shape (modes, times): Gauss-Legendre panels no longer than
-        3 / max|p| (16 nodes: exact to rounding), joined by the exact propagator."""
+        3 / max|p| (16 nodes: exact to rounding), joined by the exact propagator.  The states at the panels' edges
+        are computed once (:meth:`_edge_states`): a peak search evaluates the response some 75 times."""
+        poles, edge, state = self._edge_states()
+        out = np.empty((poles.size, times.size), dtype=complex)
+        end = edge[-1]
+        after = times >= end
+        out[:, after] = np.exp(np.outer(poles, times[after] - end)) * state[-1][:, None]
+        inside = np.flatnonzero(~after)
+        if inside.size:
+            panel = np.clip(np.searchsorted(edge, times[inside], side="right") - 1, 0, edge.size - 2)
+            for j, k in zip(inside, panel, strict=True):
+                out[:, j] = np.exp(poles * (times[j] - edge[k])) * state[k] + self._panel(poles, edge[k], times[j])
+        return out
+
+    def _edge_states(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(poles, panel edges, the convolution's state at each edge), computed on first use and kept."""
+        if self._states is not None:
+            return self._states
         pulse = self._pulse
         assert pulse is not None
         poles = 1j * self._omega if self.lossless else self._lam
@@ -613,16 +631,8 @@ class CircuitTheory:
         for k in range(edge.size - 1):
             state[k + 1] = np.exp(poles * (edge[k + 1] - edge[k])) * state[k] + self._panel(poles, edge[k],
                                                                                                edge[k + 1])
-        out = np.empty((poles.size, times.size), dtype=complex)
-        end = edge[-1]
-        after = times >= end
-        out[:, after] = np.exp(np.outer(poles, times[after] - end)) * state[-1][:, None]
-        inside = np.flatnonzero(~after)
-        if inside.size:
-            panel = np.clip(np.searchsorted(edge, times[inside], side="right") - 1, 0, edge.size - 2)
-            for j, k in zip(inside, panel, strict=True):
-                out[:, j] = np.exp(poles * (times[j] - edge[k])) * state[k] + self._panel(poles, edge[k], times[j])
-        return out
+        self._states = (poles, edge, state)
+        return self._states
 
     def _panel(self, poles: np.ndarray, lo: float, hi: float) -> np.ndarray:
         """integral from lo to hi of exp(p (hi - s)) u(s) ds, by Gauss-Legendre."""
