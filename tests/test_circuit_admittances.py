@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from helpers.tolerances import RTOL_CIRCUIT_ADMITTANCE
 
 import lcchain
 from lcchain.circuit.effects import (
@@ -26,7 +27,6 @@ from lcchain.circuit.ladder import Ladder
 from lcchain.circuit.netlist import ac_circuit_elements
 from lcchain.core.errors import ParameterError
 from lcchain.theory.chain import Chain
-from tests.helpers.tolerances import RTOL_CIRCUIT_ADMITTANCE
 
 L0, C0 = 1e-5, 1e-8
 

@@ -384,7 +384,7 @@ def cmd_spectrum(args: argparse.Namespace) -> int:
         print(f"max relative error of omega_n = {data['max_rel_error_omega']:.3e} (modes with |P_n| >= 1e-6"
               f"{f'; {weak} weaker modes are placed less well' if weak else ''}), max absolute error of P_n = "
               f"{data['max_abs_error_P']:.3e} ({data['seen']} of {chain.N} modes seen at the ends)")
-        if data["Q"] is not None:
+        if data["Q"] is not None or data["max_rel_error_Q"] is not None:  # the chain's losses, a circuit's resistors
             _print_quality(data)
     if args.plot:
         from ..report.plots import spectrum
@@ -399,7 +399,7 @@ def _print_quality(data: dict[str, Any]) -> None:
     """``lcchain spectrum --Q``: each seen mode's Q_n beside omega_n Q, and the fitted response's error."""
     print(f"{'n':>5} {'Q_n (circuit)':>19} {'Q_n (theory)':>19} {'rel. error':>10}")
     for mode in data["modes"]:
-        if mode["Q"] is not None:
+        if mode["Q"] is not None and mode["Q_theory"] is not None:
             error = abs(mode["Q"] - mode["Q_theory"]) / (mode["Q_theory"] or 1.0)
             print(f"{mode['n']:>5} {mode['Q']:19.12g} {mode['Q_theory']:19.12g} {error:10.2e}")
     response = data["max_abs_error_response"]
