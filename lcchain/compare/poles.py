@@ -47,6 +47,8 @@ _AAA_RTOL = 1e-13
 _WEAKEST = 1e-10
 #: A pole with a real part above this (relative to the sweep's end) is in the right half plane: the fit's.
 _RIGHT = 1e-9
+#: AAA's most terms: two per pole (each pair is two poles of s), and some to spare.
+_AAA_TERMS = 2 * CIRCUIT_SPECTRUM_MAX_MODES + 16
 
 
 @dataclass(frozen=True, eq=False)
@@ -98,41 +100,67 @@ class CircuitModes(FrozenArrays):
         return cls(omega[order], np.maximum(gamma[order], 0.0), first[order], last[order], lossy)
 
 
-def _columns(s: np.ndarray, params: np.ndarray, kinds: np.ndarray, lossy: bool) -> np.ndarray:
-    """The model's complex columns at s for the poles ``params`` (per mode: (re, im) for a pair with losses,
-    (w,) without, (re,) for a real pole)."""
-    columns = []
+def _model(s: np.ndarray, params: np.ndarray, kinds: np.ndarray, lossy: bool
+           ) -> tuple[np.ndarray, list[tuple[int, list[int], list[np.ndarray]]]]:
+    """The model's complex columns at s for the poles ``params`` (per mode: (re, im) for a pair with losses, (w,)
+    without, (re,) for a real pole, none for a lossless zero mode), and for every parameter the columns it moves
+    with their derivatives: (parameter, [column, ...], [d column / d parameter, ...])."""
+    columns: list[np.ndarray] = []
+    slopes: list[tuple[int, list[int], list[np.ndarray]]] = []
     k = 0
     for kind in kinds:
+        c = len(columns)
         if kind == "pair" and lossy:
             p = params[k] + 1j * params[k + 1]
-            k += 2
             up, down = 1.0 / (s - p), 1.0 / (s - np.conj(p))
+            up2, down2 = up * up, down * down
             columns += [up + down, 1j * (up - down)]
+            # d/d Re p and d/d Im p of 1/(s - p) are 1/(s - p)^2 and j/(s - p)^2 (conjugate pole: -j)
+            slopes.append((k, [c, c + 1], [up2 + down2, 1j * (up2 - down2)]))
+            slopes.append((k + 1, [c, c + 1], [1j * (up2 - down2), -(up2 + down2)]))
+            k += 2
         elif kind == "pair":
             w = params[k]
+            denominator = 1.0 / (s * s + w * w)
+            columns.append(s * denominator)
+            slopes.append((k, [c], [-2.0 * w * s * denominator * denominator]))
             k += 1
-            columns.append(s / (s * s + w * w))
-        else:
-            p = params[k]
+        elif kind == "real":
+            up = 1.0 / (s - params[k])
+            columns.append(up)
+            slopes.append((k, [c], [up * up]))
             k += 1
-            columns.append(1.0 / (s - p))
-    return np.stack(columns, axis=1)
+        else:  # a lossless zero mode: a / s
+            columns.append(1.0 / s)
+    return np.stack(columns, axis=1), slopes
 
 
-def _solve(columns: np.ndarray, y: np.ndarray, weight: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(real coefficients, weighted complex misfit) of the least squares y ~ columns @ x, x real."""
-    a = columns * weight[:, None]
-    b = y * weight
-    stacked = np.vstack((a.real, a.imag))
-    scale = np.maximum(np.linalg.norm(stacked, axis=0), 1e-300)
-    x = np.linalg.lstsq(stacked / scale, np.concatenate((b.real, b.imag)), rcond=None)[0] / scale
-    return x, a @ x - b
+def _stacked(a: np.ndarray) -> np.ndarray:
+    return np.concatenate((a.real, a.imag))
+
+
+def _project(columns: np.ndarray, slopes: list[tuple[int, list[int], list[np.ndarray]]], y: np.ndarray,
+             weight: np.ndarray, size: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(real coefficients x, weighted misfit, its Jacobian in the parameters) of the least squares y ~ columns @ x
+    with x real: variable projection, Kaufman's Jacobian (P_perp dA/dtheta x, the term that dominates near the
+    solution)."""
+    a = _stacked(columns * weight[:, None])
+    b = _stacked(y * weight)
+    scale = np.maximum(np.linalg.norm(a, axis=0), 1e-300)
+    q, r = np.linalg.qr(a / scale)
+    x = np.linalg.lstsq(r, q.T @ b, rcond=None)[0] / scale
+    misfit = a @ x - b
+    jacobian = np.zeros((a.shape[0], size))
+    for k, cols, derivatives in slopes:
+        moved = sum(derivative * x[c] for c, derivative in zip(cols, derivatives, strict=True))
+        jacobian[:, k] += _stacked(moved * weight)
+    jacobian -= q @ (q.T @ jacobian)
+    return x, misfit, jacobian
 
 
 def _residues(x: np.ndarray, kinds: np.ndarray, lossy: bool) -> np.ndarray:
-    """Each mode's section coefficient of s (2 Re r of a pair, r of a real pole, a of a lossless pair) and its
-    constant (-2 Re(r conj p)); returned as the complex residue r at the upper pole."""
+    """Each mode's residue at its upper pole from the real coefficients ``x``: x_k + j x_k+1 for a pair with
+    losses, else its one coefficient (a lossless pair's a of a s / (s^2 + w^2), a real pole's r)."""
     out = []
     k = 0
     for kind in kinds:
@@ -149,7 +177,7 @@ def _start(s: np.ndarray, y: np.ndarray, omega_max: float, lossy: bool) -> tuple
     """The modes of one rational fit: (params, kinds)."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # AAA warns when it stops at its largest degree
-        fit = AAA(s, y, rtol=_AAA_RTOL)
+        fit = AAA(s, y, rtol=_AAA_RTOL, max_terms=_AAA_TERMS)
         poles, residues = fit.poles(), fit.residues()
     keep = (poles.real <= _RIGHT * omega_max) & (poles.imag >= -_RIGHT * omega_max)
     keep &= np.abs(poles) <= 1.05 * omega_max
@@ -160,8 +188,7 @@ def _start(s: np.ndarray, y: np.ndarray, omega_max: float, lossy: bool) -> tuple
     for p in poles[np.argsort(np.abs(poles))]:
         real = abs(p.imag) <= 1e-8 * max(abs(p), 1e-300) or abs(p) < 1e-9 * omega_max
         if real and not lossy:
-            params.append(0.0)  # a zero mode: a / s
-            kinds.append("real")
+            kinds.append("zero")  # a free chain's zero mode: a / s
         elif real:
             params.append(min(float(p.real), 0.0))
             kinds.append("real")
@@ -202,17 +229,24 @@ def fit_poles(omega: np.ndarray, y11: np.ndarray, yN1: np.ndarray, *, lossy: boo
         raise ParameterError("modes", kinds.size, f"1 to {CIRCUIT_SPECTRUM_MAX_MODES} poles in the sweep")
     weights = [1.0 / np.maximum(np.abs(y), 1e-3 * np.max(np.abs(y))) for y in data]
 
-    def misfit(x: np.ndarray) -> np.ndarray:
-        columns = _columns(s, x, kinds, lossy)
-        parts = [_solve(columns, y, w)[1] for y, w in zip(data, weights, strict=True)]
-        return np.concatenate([np.concatenate((r.real, r.imag)) for r in parts])
+    def solved(x: np.ndarray) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
+        columns, slopes = _model(s, x, kinds, lossy)
+        return [_project(columns, slopes, y, w, x.size) for y, w in zip(data, weights, strict=True)]
 
-    scale = np.maximum(np.abs(params), 1e-3 * omega_max)
-    solution = scipy.optimize.least_squares(misfit, params, x_scale=scale, xtol=1e-15, ftol=1e-15, gtol=1e-15,
-                                            max_nfev=200 * max(params.size, 1))
-    params = solution.x
-    columns = _columns(s, params, kinds, lossy)
-    first, last = (_residues(_solve(columns, y, w)[0], kinds, lossy) for y, w in zip(data, weights, strict=True))
+    def misfit(x: np.ndarray) -> np.ndarray:
+        return np.concatenate([part[1] for part in solved(x)])
+
+    def jacobian(x: np.ndarray) -> np.ndarray:
+        return np.vstack([part[2] for part in solved(x)])
+
+    if params.size:
+        scale = np.maximum(np.abs(params), 1e-3 * omega_max)
+        solution = scipy.optimize.least_squares(misfit, params, jac=jacobian, x_scale=scale, xtol=1e-15,
+                                                ftol=1e-15, gtol=1e-15, max_nfev=50 * max(params.size, 1))
+        params, steps = solution.x, int(solution.nfev)
+    else:
+        steps = 0
+    first, last = (_residues(part[0], kinds, lossy) for part in solved(params))
     poles, k = [], 0
     for kind in kinds:
         if kind == "pair" and lossy:
@@ -221,17 +255,19 @@ def fit_poles(omega: np.ndarray, y11: np.ndarray, yN1: np.ndarray, *, lossy: boo
         elif kind == "pair":
             poles.append(1j * params[k])
             k += 1
-        else:
+        elif kind == "real":
             poles.append(complex(params[k]))
             k += 1
+        else:
+            poles.append(0j)
     pole = np.asarray(poles)
-    real = kinds == "real"
+    real = kinds != "pair"
     w = np.where(real, 0.0, np.abs(pole))
     gamma = np.where(real, -pole.real, -2.0 * pole.real)
     a, b = (np.where(real if lossy else True, r.real, 2.0 * r.real) for r in (first, last))
     order = np.argsort(w, kind="stable")
     residual = float(np.max(np.abs(misfit(params)), initial=0.0))
-    return SpectrumFit(w[order], a[order], b[order], int(solution.nfev), residual, gamma[order])
+    return SpectrumFit(w[order], a[order], b[order], steps, residual, gamma[order])
 
 
 def compare_poles(theory: CircuitModes, omega: np.ndarray, y11: np.ndarray, yN1: np.ndarray,

@@ -663,15 +663,8 @@ def _circuit_grid(chain: Chain, request: Request, analysis: AC, ladder: Ladder |
     if exact.N > CIRCUIT_SPECTRUM_MAX_MODES:
         raise ParameterError("N", chain.N, f"a circuit of at most {CIRCUIT_SPECTRUM_MAX_MODES} modes for an AC "
                              f"analysis with effects that are no chain's (this one has {exact.N}: its fit is dense)")
-    moving = exact.omega > 0
-    gaps = np.diff(exact.omega[moving])
-    widths = (exact.gamma[moving][1:] + exact.gamma[moving][:-1])
-    if np.any(gaps <= widths):
-        k = int(np.argmax(widths - gaps))
-        raise ParameterError("effects", [effect.key for effect in request.effects], "effects that leave the "
-                             "circuit's modes apart for an AC analysis (modes at omega = "
-                             f"{exact.omega[moving][k]:.4g} and {exact.omega[moving][k + 1]:.4g} are closer than "
-                             "their decay rates: their resonances merge)")
+    # no range of decay rates is refused here: the fit tells apart modes whose resonances overlap (measured:
+    # two-mass N = 20 with R = 0.01, two modes 0.018 apart whose decay rates add up to more, Q_n to 3e-13)
     return sample, elements, exact, sweep_grid(exact.omega, analysis.points)
 
 
