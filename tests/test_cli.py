@@ -7,6 +7,7 @@ from pathlib import Path
 
 import pytest
 from helpers.digits import agrees_with_printed
+from helpers.tolerances import ATOL_EFFECT_RUN
 
 from lcchain.cli import main
 
@@ -185,3 +186,44 @@ def test_output_in_a_missing_folder_is_refused_before_the_run(capsys, tmp_path, 
     assert captured.out == ""  # nothing ran
     err = captured.err.strip()
     assert "\n" not in err and "does not exist" in err and str(missing) in err, err
+
+
+# ------------------------------------------------------ effect options from the registry (issue 30)
+def test_simulate_has_an_option_for_every_registered_effect_that_states_one(capsys):
+    from lcchain.circuit.effects import EFFECTS
+
+    status, out, _ = run_cli(capsys, "simulate", "--help")
+    assert status == 0
+    options = [cls.option for cls in EFFECTS.values() if cls.option is not None]
+    assert {"--Q", "--coupling", "--coil-capacitance", "--coil-resistance", "--capacitor-esr",
+            "--capacitor-esl"} <= set(options)
+    for option in options:
+        assert f"{option} " in out, option
+    said = " ".join(out.split())  # argparse wraps the help
+    assert "ratio*C0 across every coil" in said and "L*L0 henry in series with every capacitor" in said
+
+
+@pytest.mark.parametrize("option, value, allowed", [
+    ("--coil-capacitance", "-1", "a finite number > 0 (capacitance / C0)"),
+    ("--coil-resistance", "0", "a finite number > 0 (resistance / sqrt(L0/C0))"),
+    ("--capacitor-esr", "-0.5", "a finite number > 0 (resistance / sqrt(L0/C0))"),
+    ("--capacitor-esl", "0", "a finite number > 0 (inductance / L0)"),
+    ("--Q", "0.5", "1 <= Q <= 1e+10"),
+])
+def test_a_bad_effect_option_is_one_line_naming_it(capsys, option, value, allowed):
+    status, out, err = run_cli(capsys, "simulate", "--case", "two-mass", "--N", "10", option, value)
+    assert status == 2 and out == ""
+    assert err.startswith(f"lcchain: {option} = {float(value)!r} is not allowed: expected ") and allowed in err
+    assert err.count("\n") == 1 and "Traceback" not in err
+
+
+@pytest.mark.ngspice
+@pytest.mark.parametrize("option, value, card", [("--Q", "100", "R1 m1 n1 "), ("--coil-capacitance", "0.01", "CP1 "),
+                                                  ("--capacitor-esr", "0.01", "RS1_2 n1 c1 ")])
+def test_an_effect_option_reaches_the_netlist_and_runs(capsys, tmp_path, option, value, card):
+    netlist = tmp_path / "run.cir"
+    status, out, err = run_cli(capsys, "simulate", "--case", "two-mass", "--N", "10", "--dt", "0.02", option, value,
+                               "--netlist-out", str(netlist), "--json")
+    assert card in netlist.read_text()
+    assert status == 0, err
+    assert json.loads(out)["max_abs_error"] < ATOL_EFFECT_RUN

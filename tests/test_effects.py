@@ -1,14 +1,29 @@
 """Effects that change the chain (walls, E-series, tolerances) and the netlist elements each effect adds."""
 
+import dataclasses
 import re
+from typing import ClassVar
 
 import numpy as np
 import pytest
+from helpers.tolerances import ATOL_ROUND_TRIP
 
-from lcchain.circuit.effects import E_SERIES, preferred_value, realise, tolerance_samples, with_walls
+from lcchain.circuit.effects import (
+    E_SERIES,
+    CapacitorESR,
+    Effect,
+    Walls,
+    preferred_value,
+    realise,
+    tolerance_samples,
+    with_walls,
+)
+from lcchain.circuit.elements import ELEMENT_HOOKS, ladder_elements
+from lcchain.circuit.exact import CircuitTheory
 from lcchain.circuit.ladder import Ladder
 from lcchain.circuit.netlist import SimulationOptions, netlist_text
 from lcchain.core.errors import ParameterError
+from lcchain.theory.cases import chain_for_case
 from lcchain.theory.chain import Chain
 
 OPTIONS = SimulationOptions(dt=0.05, tstop=30.0)
@@ -98,3 +113,68 @@ def test_each_effect_adds_only_its_own_elements():
 def test_bad_effect_arguments(kwargs, field):
     with pytest.raises(ParameterError, match=field):
         netlist_text(Ladder(Chain.uniform_free(5)), OPTIONS, **kwargs)
+
+
+# ------------------------------------------------------ the element hooks (issue 30)
+@dataclasses.dataclass(frozen=True)
+class _Everywhere(Effect):
+    """Test-only: one element in every new place (a leak across each capacitor, a resistor from each rail node to
+    ground, a capacitor spanning each pair of neighbouring coils)."""
+
+    key: ClassVar[str] = "everywhere"
+
+    def across_capacitor(self, ladder, spring):
+        return (("R", 1e3),)
+
+    def to_ground(self, ladder, node):
+        return (("R", 2e3),)
+
+    def between_coils(self, ladder, loop):
+        return (("C", 1e-12),)
+
+
+@dataclasses.dataclass(frozen=True)
+class _CouplingByElements(Effect):
+    """Test-only: coupled coils said as ``K`` elements between neighbouring coils, not as a chain change."""
+
+    key: ClassVar[str] = "coupling_by_elements"
+    k: float
+
+    def between_coils(self, ladder, loop):
+        return (("K", self.k),)
+
+
+def test_every_hook_is_asked_for_elements():
+    assert set(ELEMENT_HOOKS) == {name for name in vars(Effect) if callable(getattr(Effect, name))
+                                  and name not in ("realise", "response", "from_option")}
+
+
+def test_the_new_places_put_their_elements_where_they_say():
+    ladder = Ladder(chain_for_case("two-mass", 5), 10e-6, 10e-9)
+    walled = Ladder(with_walls(chain_for_case("two-mass", 5), 0.5), 10e-6, 10e-9)
+    cards = {e.name: (e.a, e.b, e.value) for e in ladder_elements(ladder, (_Everywhere(),))}
+    # free ends: C1_2..C4_5 only, nodes n1..n4; n0 and n5 are ground
+    assert [name for name in cards if name.startswith("RA")] == ["RA1_2", "RA2_3", "RA3_4", "RA4_5"]
+    assert cards["RA2_3"] == ("n2", "0", 1e3)
+    assert [name for name in cards if name.startswith("RG")] == ["RG1", "RG2", "RG3", "RG4"]
+    assert cards["RG4"] == ("n4", "0", 2e3)
+    assert [name for name in cards if name.startswith("CB")] == ["CB1_2", "CB2_3", "CB3_4", "CB4_5"]
+    assert cards["CB1_2"] == ("0", "n2", 1e-12) and cards["CB4_5"] == ("n3", "0", 1e-12)
+    walls = {e.name: (e.a, e.b) for e in ladder_elements(walled, (_Everywhere(), CapacitorESR(0.01)))}
+    assert walls["RA0_1"] == ("c0", "0") and walls["RS0_1"] == ("n0", "c0")  # across the capacitor alone
+    assert walls["RG0"] == ("n0", "0") and walls["RG5"] == ("n5", "0")
+    plain = ladder_elements(ladder)
+    assert ladder_elements(ladder, (Walls(1.0),)) == plain  # no element hook: no element
+
+
+def test_coupling_as_elements_is_the_coupled_chains_exact_theory():
+    """The same circuit said two ways, a chain with coupled coils or K elements between coils, has the same
+    exact theory (lcchain.circuit.exact), to rounding."""
+    chain = chain_for_case("two-mass", 8)
+    t = np.linspace(0.0, 5e-4, 50)
+    by_chain = CircuitTheory(ladder_elements(Ladder(chain.with_coupling(0.2), 10e-6, 10e-9), kick=1e-3))
+    by_elements = CircuitTheory(ladder_elements(Ladder(chain, 10e-6, 10e-9), (_CouplingByElements(0.2),),
+                                                kick=1e-3))
+    probes = ["L1", "L8"]
+    assert np.allclose(by_elements.currents(t, probes), by_chain.currents(t, probes), rtol=0.0,
+                       atol=ATOL_ROUND_TRIP * 1e-3)

@@ -4,13 +4,19 @@ tests folder, run through simulate and a study without any edit to lcchain."""
 from __future__ import annotations
 
 import dataclasses
+import os
+import re
+import subprocess
+import sys
+import textwrap
 from collections.abc import Sequence
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any, ClassVar
 
 import numpy as np
 import pytest
-from helpers.tolerances import PREDICTION_FACTOR
+from helpers.tolerances import ATOL_EFFECT_RUN, PREDICTION_FACTOR
 
 import lcchain
 from lcchain.circuit.effects import Effect
@@ -141,3 +147,54 @@ def test_an_outside_engine_without_an_ac_analysis_is_refused_in_one_line(monkeyp
     assert main(["spectrum", "--case", "two-mass", "--N", "8", "--engine", "wrapped-ngspice"]) == 2
     err = capsys.readouterr().err.strip()
     assert "wrapped-ngspice" in err and "\n" not in err
+
+
+# ------------------------------------------------------ the recipe of docs/extending.md, followed literally
+DOC = Path(__file__).parent.parent / "docs" / "extending.md"
+RECIPE_MARK = "<!-- recipe: effect -->"
+
+
+def recipe_blocks(text: str) -> list[str]:
+    """The fenced python blocks that follow the recipe's marker, in order."""
+    blocks = []
+    for part in text.split(RECIPE_MARK)[1:]:
+        match = re.match(r"\s*```python\n(.*?)\n```", part, re.DOTALL)
+        assert match, f"a {RECIPE_MARK} not followed by a python block"
+        blocks.append(match.group(1))
+    return blocks
+
+
+def test_the_recipe_has_an_effect_a_registration_and_a_run():
+    blocks = recipe_blocks(DOC.read_text(encoding="utf-8"))
+    assert len(blocks) == 3
+    assert "class Leakage(Effect)" in blocks[0] and "def across_capacitor" in blocks[0]
+    assert "EFFECTS[Leakage.key] = Leakage" in blocks[1]
+    assert "lcchain.simulate(Request(chain, Transient(dt=0.02), effects=(Leakage(" in blocks[2]
+
+
+@pytest.mark.ngspice
+def test_the_docs_recipe_runs_as_written(tmp_path):
+    """docs/extending.md's blocks, one script in a fresh interpreter: an effect with a new kind of element (a
+    resistor across every capacitor), registered outside lcchain, runs in ngspice against the circuit's exact
+    theory; then it is a scene table and an option of its own."""
+    script = "\n\n".join(recipe_blocks(DOC.read_text(encoding="utf-8")))
+    script += textwrap.dedent("""
+
+        from lcchain.scenes.load import parse_scene
+        from lcchain.cli.main import build_parser
+
+        assert report.comparison.max_abs_error < ATOL
+        assert "RA1_2 n1 0 " in report.netlist
+        scene = parse_scene({"chain": {"case": "two-mass", "N": 10}, "effects": {"leakage": {"R": 100}}})
+        assert scene.effects.present() == (Leakage(100.0),) and parse_scene(scene.to_dict()) == scene
+        args = build_parser().parse_args(["simulate", "--case", "two-mass", "--N", "10", "--leakage", "100"])
+        assert args.leakage == 100.0
+        print("recipe ok")
+    """).replace("ATOL", repr(ATOL_EFFECT_RUN))
+    (tmp_path / "recipe.py").write_text(script, encoding="utf-8")
+    env = {**os.environ, "TMPDIR": str(tmp_path), "PYTHONDONTWRITEBYTECODE": "1"}
+    done = subprocess.run([sys.executable, "recipe.py"], cwd=tmp_path, env=env, capture_output=True, text=True,
+                          timeout=600)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.splitlines()[-1] == "recipe ok"
+    assert done.stdout.startswith("max |ngspice - exact theory| = ")

@@ -19,6 +19,7 @@ from lcchain.circuit.reference import REFERENCE_SET
 from lcchain.compare.accuracy import AccuracyWarning, ErrorSplit
 from lcchain.core.errors import Interrupted, LcchainError, ParameterError, SimulationError, SimulatorMissingError
 from lcchain.core.frozen import FrozenMap
+from lcchain.core.registry import PluginError
 from lcchain.runs.execute import execute
 from lcchain.runs.simulate import simulation_spec
 from lcchain.scenes.plan import scene_plan
@@ -89,6 +90,7 @@ def test_results_and_descriptions_pickle(value: object) -> None:
     SimulationError("ngspice timed out after 5 s and was killed", "", "timeout"),
     SimulatorMissingError("the ngspice executable is not on PATH"), Interrupted(15),
     AccuracyWarning("predicted error 0.2 > 0.1"),
+    PluginError("entry point lcchain.effects leak", "leak:Leak", "an Effect (ModuleNotFoundError: leak)"),
 ], ids=lambda e: type(e).__name__)
 def test_errors_pickle_with_their_fields(error: BaseException) -> None:
     round_trip(error)

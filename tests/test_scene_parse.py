@@ -137,7 +137,7 @@ def test_defaults_of_a_minimal_scene(tmp_path):
     assert scene.chain == ChainSpec("two-mass", 50, None, None)
     assert scene.units == Units(L0=10e-6, C0=10e-9)
     assert scene.excitation == ExcitationSpec(kind="kick", I0=1e-3, shape=None, width=None)
-    assert scene.effects == Effects(None, None, None, None)
+    assert scene.effects == Effects() == Effects({"losses": None}) == Effects(walls=None)
     assert scene.analysis == Analysis(transits=1, accuracy=1e-3, dt=None, backend="batch", method="trap")
     assert scene.output == Output(probes="ends", report=None, plots=("overlay",))
     assert scene.to_dict()["effects"] == {}
@@ -196,7 +196,7 @@ BAD = {
     # issue 5's list
     "unknown top-level key": ("colour = 'red'\n" + MINIMAL, "colour", "'red'", "one of the keys title, chain"),
     "unknown chain key": (MINIMAL + "mass = 3\n", "chain.mass", "3", "case, N, masses, springs in [chain]"),
-    "unknown effect": (MINIMAL + "[effects.friction]\nmu = 1\n", "effects.friction", "{'mu': 1}", "losses, walls, tolerance, preferred_values"),
+    "unknown effect": (MINIMAL + "[effects.friction]\nmu = 1\n", "effects.friction", "{'mu': 1}", "losses, walls, coupling, tolerance, preferred_values, coil_capacitance, coil_resistance, capacitor_esr, capacitor_esl"),
     "unknown key in an effect": (MINIMAL + "[effects.tolerance]\nR = 0.1\n", "effects.tolerance.R", "0.1", "L, C, samples, seed"),
     "N a string": ('[chain]\ncase = "two-mass"\nN = "50"\n', "chain.N", "'50'", "an integer from 3 to 100000"),
     "N a float": ('[chain]\ncase = "two-mass"\nN = 50.0\n', "chain.N", "50.0", "an integer"),
@@ -346,3 +346,48 @@ def test_source_is_not_part_of_equality_or_to_dict(tmp_path):
     scene = load_scene(SCENES / "cradle.toml")
     assert "source" not in scene.to_dict()
     assert dataclasses.replace(scene, source=None) == scene
+
+
+# ------------------------------------------------------ effects from the registry (issue 30)
+#: One value of each registered effect's fields (a new effect in the registry needs a line here, or fails).
+_EFFECT_TABLES = {"losses": {"Q": 100.0}, "walls": {"K0": 0.5}, "coupling": {"k": 0.1},
+                  "tolerance": {"L": 0.01, "C": 0.02, "samples": 3, "seed": 4}, "preferred_values": {"series": "E24"},
+                  "coil_capacitance": {"ratio": 0.01}, "coil_resistance": {"R": 0.002}, "capacitor_esr": {"R": 0.003},
+                  "capacitor_esl": {"L": 0.004}}
+
+
+def test_every_registered_effect_is_a_scene_table_that_round_trips(tmp_path):
+    from lcchain.circuit.effects import EFFECTS
+    from lcchain.scenes.plan import scene_request
+
+    assert set(_EFFECT_TABLES) == set(EFFECTS)
+    text = MINIMAL + "".join(f"[effects.{key}]\n" + "".join(f"{name} = {json.dumps(value)}\n"
+                                                              for name, value in table.items())
+                             for key, table in _EFFECT_TABLES.items())
+    scene = load_scene(_write(tmp_path, text))
+    assert scene.to_dict()["effects"] == _EFFECT_TABLES
+    assert parse_scene(scene.to_dict()) == scene
+    assert {type(e) for e in scene.effects.present()} == set(EFFECTS.values())
+    assert scene_request(scene).effects == scene.effects.present()  # nothing parsed and then dropped
+
+
+@pytest.mark.parametrize("key, field", [("coil_capacitance", "ratio"), ("coil_resistance", "R"),
+                                        ("capacitor_esr", "R"), ("capacitor_esl", "L")])
+def test_a_real_part_out_of_range_names_its_key(tmp_path, key, field):
+    path, error = _error(tmp_path, MINIMAL + f"[effects.{key}]\n{field} = -1\n")
+    assert str(error) == f"{path}: effects.{key}.{field} = -1 is not allowed: expected a finite number > 0 " \
+                         f"({ {'ratio': 'capacitance / C0', 'R': 'resistance / sqrt(L0/C0)', 'L': 'inductance / L0'}[field]})"
+
+
+def test_effects_hold_only_registered_effects():
+    from lcchain.circuit.effects import CoilCapacitance
+
+    with pytest.raises(ParameterError, match=r"^effects\.friction = "):
+        Effects(friction=None)
+    with pytest.raises(ParameterError, match=r"^effects\.coil_capacitance = "):
+        Effects(coil_capacitance=Losses(10.0))
+    effects = Effects(coil_capacitance=CoilCapacitance(0.1))
+    assert effects.coil_capacitance == CoilCapacitance(0.1) and effects.losses is None
+    assert effects.get(CoilCapacitance) == CoilCapacitance(0.1)
+    with pytest.raises(AttributeError):
+        effects.friction  # noqa: B018

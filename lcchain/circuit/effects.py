@@ -2,21 +2,26 @@
 
 Every effect is a frozen :class:`Effect`: the ``[effects.<key>]`` table of a
 scene, validated on construction, that says in one place what it does to the
-circuit and to its exact theory:
+circuit:
 
 * :meth:`Effect.realise`: the chain it builds (walls change the end springs,
-  coupling the mass matrix, preferred values every L and C); the netlist and
-  the exact theory are then both made from that chain;
-* :meth:`Effect.in_series`: elements it puts in series with each inductor
-  (losses: a resistor), written by :func:`lcchain.circuit.netlist.netlist_text`;
-* :meth:`Effect.response`: how the exact linear response changes beyond the
-  chain (losses: the quality factor Q of
-  :func:`lcchain.theory.response.linear_response`).
+  coupling the mass matrix, preferred values every L and C);
+* the element hooks (:data:`lcchain.circuit.elements.ELEMENT_HOOKS`): the
+  elements it adds and where: :meth:`Effect.in_series` (after each coil),
+  :meth:`Effect.across_coil`, :meth:`Effect.capacitor_series`,
+  :meth:`Effect.across_capacitor`, :meth:`Effect.to_ground` (from each rail
+  node) and :meth:`Effect.between_coils` (a ``K`` or an element spanning two
+  neighbouring coils).  :func:`lcchain.circuit.elements.ladder_elements` lists
+  them; the netlist writes that list and the circuit's exact theory
+  (:mod:`lcchain.circuit.exact`) solves it, so neither can drop an effect;
+* :meth:`Effect.response`: what the chain's own (fast) theory needs beyond the
+  chain when the circuit stays a chain (losses: the quality factor Q).
 
-:data:`EFFECTS` maps scene keys to the types.  To add an effect: write one
-frozen dataclass subclass of :class:`Effect` (a ``key``, its fields, the
-methods it needs), add it to :data:`EFFECTS` and a field to
-:class:`lcchain.scenes.schema.Effects` (docs/extending.md).
+:data:`EFFECTS` maps scene keys to the types, lcchain's own and those other
+packages add through the ``lcchain.effects`` entry-point group; the scene
+schema and the command line's options are read from it.  To add an effect:
+write one frozen dataclass subclass of :class:`Effect` (a ``key``, its fields,
+the hooks it needs) and register it (docs/extending.md).
 
 The effects:
 
@@ -31,12 +36,16 @@ The effects:
   from ``numpy.random.default_rng``; sample k uses the k-th child of
   ``SeedSequence(seed)``, so samples are reproducible and independent of
   how many are drawn.  Tolerances apply to the rounded values (one buys E24
-  parts, each within its tolerance).
+  parts, each within its tolerance);
+* the real parts (:data:`REAL_PARTS`): a coil's self-capacitance (across it)
+  and winding resistance (in series), a capacitor's ESR and ESL (in series
+  with it): elements no chain has, whose theory is the circuit's own.
 
-The results are chains in bulk units again (masses = L/L0, springs =
+The chain changes' results are chains in bulk units again (masses = L/L0, springs =
 C0/C): rounding and tolerances break the mirror symmetry, so their theory
-comes from the exact modes of each chain.  Losses and pulse sources are
-circuit elements, not chain changes: see :func:`lcchain.circuit.netlist.netlist_text`.
+comes from the exact modes of each chain.  Losses, the real parts and pulse
+sources are circuit elements, not chain changes: see
+:func:`lcchain.circuit.elements.ladder_elements`.
 
 Rounding is vectorised (one numpy pass over every component) and done once
 for the nominal chain; each tolerance sample only multiplies the rounded values.
@@ -44,14 +53,15 @@ for the nominal chain; each tolerance sample only multiplies the rounded values.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-from typing import ClassVar
+from dataclasses import Field, dataclass, fields
+from typing import Any, ClassVar
 
 import numpy as np
 
 from ..core.checks import choice, integer, real
 from ..core.errors import ParameterError
 from ..core.limits import MAX_Q, MAX_SAMPLES, MAX_WALL_SPRING, MIN_Q
+from ..core.registry import Registry
 from ..core.types import E_SERIES_NAMES, ESeries
 from ..theory.chain import MAX_COUPLING, Chain
 from .ladder import Ladder
@@ -59,7 +69,7 @@ from .ladder import Ladder
 __all__ = ["E_SERIES", "preferred_value", "preferred_values", "with_walls", "rounded", "realise",
            "tolerance_samples", "cornered", "Effect", "Walls", "Coupling", "Losses", "Tolerance", "PreferredValues",
            "EFFECTS", "SeriesElement", "CoilCapacitance", "CoilResistance", "CapacitorESR", "CapacitorESL",
-           "REAL_PARTS"]
+           "REAL_PARTS", "effect_fields"]
 
 #: An element in series with an inductor: its SPICE letter and its value (ohm for "R").
 SeriesElement = tuple[str, float]
@@ -234,6 +244,11 @@ def tolerance_samples(chain: Chain, L0: float, C0: float, *, samples: int, seed:
 
 
 # ------------------------------------------------------------------- the parts
+def effect_fields(cls: type[Effect]) -> tuple[Field[Any], ...]:
+    """An effect type's fields: the keys of its scene table (every effect type is a dataclass)."""
+    return fields(cls)  # type: ignore[arg-type]  # Effect's subclasses are dataclasses; Effect itself is not
+
+
 class Effect:
     """One real-world effect on the ladder (subclasses are frozen dataclasses).
 
@@ -243,6 +258,18 @@ class Effect:
     """
 
     key: ClassVar[str] = ""
+    #: The command-line option that asks for this effect (``lcchain simulate --coil-capacitance 0.01``), or None;
+    #: its value is the effect's one field.  ``option_help`` says what it adds, in bulk units.
+    option: ClassVar[str | None] = None
+    option_help: ClassVar[str] = ""
+
+    @classmethod
+    def from_option(cls, value: object) -> Effect:
+        """The effect its option's value asks for (the value is its one field, checked there)."""
+        names = [f.name for f in effect_fields(cls)]
+        if len(names) != 1:
+            raise ParameterError("option", cls.option, f"an effect with one field ({cls.__name__} has {names})")
+        return cls(**{names[0]: value})
 
     def realise(self, chain: Chain, L0: float, C0: float) -> Chain:
         """The chain with this effect (bulk units; ``L0`` H and ``C0`` F give the components' scale)."""
@@ -260,6 +287,23 @@ class Effect:
     def capacitor_series(self, ladder: Ladder, spring: int) -> tuple[SeriesElement, ...]:
         """Elements in series with capacitor C_{spring,spring+1} (spring 0..N; 0 and N are the walls), between
         its rail node and the capacitor."""
+        return ()
+
+    def across_capacitor(self, ladder: Ladder, spring: int) -> tuple[SeriesElement, ...]:
+        """Elements in parallel with capacitor C_{spring,spring+1} alone (spring 0..N; 0 and N are the walls):
+        from the capacitor's own node to ground, inside what :meth:`capacitor_series` puts in series with it (a
+        dielectric's leakage, with the capacitor's ESR and ESL outside it).  A wire (a free end) has none."""
+        return ()
+
+    def to_ground(self, ladder: Ladder, node: int) -> tuple[SeriesElement, ...]:
+        """Elements from rail node ``node`` (0..N) to ground, beside the capacitor there (a free end's node is
+        ground already: none)."""
+        return ()
+
+    def between_coils(self, ladder: Ladder, loop: int) -> tuple[SeriesElement, ...]:
+        """Elements between loop ``loop`` and loop ``loop + 1`` (1..N-1): ``("K", k)`` couples coils L_loop and
+        L_(loop+1) (a mutual inductance k sqrt(L_loop L_(loop+1))); an R, L or C joins loop ``loop``'s left rail
+        node to loop ``loop + 1``'s right one, across both coils."""
         return ()
 
     def response(self) -> dict[str, float]:
@@ -305,6 +349,9 @@ class Coupling(Effect):
     """
 
     key: ClassVar[str] = "coupling"
+    option: ClassVar[str | None] = "--coupling"
+    option_help: ClassVar[str] = (f"mutual inductance k*sqrt(L_i*L_i+1) between neighbouring coils, -{MAX_COUPLING:g} "
+                                  f"< K < {MAX_COUPLING:g} (default 0)")
     k: float
 
     def __post_init__(self) -> None:
@@ -330,6 +377,9 @@ class Losses(Effect):
     """
 
     key: ClassVar[str] = "losses"
+    option: ClassVar[str | None] = "--Q"
+    option_help: ClassVar[str] = (f"losses: a resistor L_i/(Q*sqrt(L0*C0)) in series with every coil ({MIN_Q:g} <= Q "
+                                  f"<= {MAX_Q:g})")
     Q: float
 
     def __post_init__(self) -> None:
@@ -440,6 +490,8 @@ class CoilCapacitance(Effect):
     """
 
     key: ClassVar[str] = "coil_capacitance"
+    option: ClassVar[str | None] = "--coil-capacitance"
+    option_help: ClassVar[str] = "a coil's self-capacitance: a capacitor ratio*C0 across every coil (ratio > 0)"
     ratio: float
 
     def __post_init__(self) -> None:
@@ -461,6 +513,8 @@ class CoilResistance(Effect):
     """
 
     key: ClassVar[str] = "coil_resistance"
+    option: ClassVar[str | None] = "--coil-resistance"
+    option_help: ClassVar[str] = "a coil's winding resistance: R*sqrt(L0/C0) ohm in series with every coil (R > 0)"
     R: float
 
     def __post_init__(self) -> None:
@@ -481,6 +535,8 @@ class CapacitorESR(Effect):
     """
 
     key: ClassVar[str] = "capacitor_esr"
+    option: ClassVar[str | None] = "--capacitor-esr"
+    option_help: ClassVar[str] = "a capacitor's ESR: R*sqrt(L0/C0) ohm in series with every capacitor (R > 0)"
     R: float
 
     def __post_init__(self) -> None:
@@ -502,6 +558,8 @@ class CapacitorESL(Effect):
     """
 
     key: ClassVar[str] = "capacitor_esl"
+    option: ClassVar[str | None] = "--capacitor-esl"
+    option_help: ClassVar[str] = "a capacitor's ESL: L*L0 henry in series with every capacitor (L > 0)"
     L: float
 
     def __post_init__(self) -> None:
@@ -515,5 +573,23 @@ class CapacitorESL(Effect):
 #: (:mod:`lcchain.circuit.exact`).
 REAL_PARTS: tuple[type[Effect], ...] = (CoilCapacitance, CoilResistance, CapacitorESR, CapacitorESL)
 
-#: Scene keys to effect types (``[effects.<key>]``).
-EFFECTS: dict[str, type[Effect]] = {cls.key: cls for cls in (Losses, Walls, Coupling, Tolerance, PreferredValues)}
+def _admit(name: str, loaded: object) -> type[Effect]:
+    """An ``lcchain.effects`` entry point's object: a frozen dataclass subclass of Effect whose key is its name."""
+    if not isinstance(loaded, type):
+        raise TypeError(f"{loaded!r} is not a class")
+    if not issubclass(loaded, Effect):
+        raise TypeError(f"{loaded.__name__} is not a subclass of lcchain.circuit.effects.Effect")
+    if "__dataclass_fields__" not in vars(loaded):
+        raise TypeError(f"{loaded.__name__} is not a dataclass (its fields are its scene table's keys)")
+    if loaded.key != name:
+        raise TypeError(f"its key is {loaded.key!r}, not the entry point's name")
+    return loaded
+
+
+#: Scene keys to effect types (``[effects.<key>]``): lcchain's own, then those of the ``lcchain.effects``
+#: entry points of installed packages (read the first time the registry is).  The scene schema, its loader
+#: and the command line's effect options all read this registry.
+_OWN: tuple[type[Effect], ...] = (Losses, Walls, Coupling, Tolerance, PreferredValues, *REAL_PARTS)
+EFFECTS: Registry[type[Effect]] = Registry(
+    "lcchain.effects", {cls.key: cls for cls in _OWN}, _admit,
+    "a frozen dataclass subclass of lcchain.circuit.effects.Effect, its key the entry point's name")

@@ -3,8 +3,10 @@
 An :class:`Element` is one SPICE element (R, L, C or K) with its nodes, its
 value in SI units and its initial condition.  :func:`ladder_elements` lists
 the ladder's, in the order the netlist writes them: each loop's branch (the
-coil L_i and what the effects put in series with it), the spring capacitors,
-the wall capacitors, the coupled coils' ``K`` elements.
+coil L_i and what the effects put in series with it, then across it), the
+spring capacitors (with what is in series with and across each), the wall
+capacitors, what the effects put from each rail node to ground and between
+neighbouring loops, the coupled coils' ``K`` elements.
 :func:`lcchain.circuit.netlist.netlist_text` writes each as :meth:`Element.card`
 and :mod:`lcchain.circuit.exact` assembles the same elements into the
 circuit's equations, so nothing about an element is stated twice.
@@ -26,7 +28,7 @@ __all__ = ["Element", "Pulse", "ladder_elements", "ladder_pulse", "number", "GRO
 
 #: Every Effect method :func:`ladder_elements` asks for elements: an effect that overrides none of them adds none
 #: (the runs' planner relies on it; a new place for elements is added here and in ladder_elements together).
-ELEMENT_HOOKS = ("in_series", "across_coil", "capacitor_series")
+ELEMENT_HOOKS = ("in_series", "across_coil", "capacitor_series", "across_capacitor", "to_ground", "between_coils")
 
 #: The rect pulse's PWL source falls in this fraction of its duration (ngspice needs a finite slope).
 RECT_FALL = 1e-9
@@ -168,14 +170,22 @@ def _loop_branch(i: int, left: str, right: str, inductance: float, ic: float | N
     return [Element(Ladder.inductor(i), nodes[0], nodes[1], inductance, ic), *_in_series(series, str(i), nodes[1:])]
 
 
+def _beside(parts: list[tuple[str, float]], stem: str, a: str, b: str) -> list[Element]:
+    """``parts`` each from node ``a`` to node ``b``, named by :func:`_names`."""
+    names = _names([letter for letter, _ in parts], stem)
+    return [Element(name, a, b, value) for name, (_, value) in zip(names, parts, strict=True)]
+
+
 def _capacitor(ladder: Ladder, effects: tuple[Effect, ...], spring: int, node: str, capacitance: float,
                ic: float | None) -> list[Element]:
     """C_{spring,spring+1} from ``node`` to ground, after what the effects put in series with it (inner nodes
-    c{spring}, c{spring}_2, ...)."""
+    c{spring}, c{spring}_2, ...), and what they put across it alone (names ``<letter>A{spring}_{spring+1}``)."""
     series = [e for part in effects for e in part.capacitor_series(ladder, spring)]
     nodes = [node, *_inner_nodes(f"c{spring}", len(series))]
+    across = [e for part in effects for e in part.across_capacitor(ladder, spring)]
     return [*_in_series(series, f"S{spring}_{spring + 1}", nodes),
-            Element(ladder.capacitor(spring), nodes[-1], GROUND, capacitance, ic)]
+            Element(ladder.capacitor(spring), nodes[-1], GROUND, capacitance, ic),
+            *_beside(across, f"A{spring}_{spring + 1}", nodes[-1], GROUND)]
 
 
 def ladder_elements(ladder: Ladder, effects: tuple[Effect, ...] = (), *, source: bool = False,
@@ -188,8 +198,9 @@ def ladder_elements(ladder: Ladder, effects: tuple[Effect, ...] = (), *, source:
         The chain in henry and farad (walls, coupling, preferred values and
         tolerances already realised in ``ladder.chain``).
     effects : tuple of Effect
-        What each puts in series with every coil
-        (:meth:`lcchain.circuit.effects.Effect.in_series`), in order.
+        The elements each adds, in order, through its hooks (:data:`ELEMENT_HOOKS`): in series with every
+        coil, across it, in series with and across every capacitor, from every rail node to ground, between
+        neighbouring loops (:class:`lcchain.circuit.effects.Effect`).
     source : bool
         Loop 1 opens at node ``s1`` for a drive's source (written by the netlist).
     kick : float, optional
@@ -208,10 +219,7 @@ def ladder_elements(ladder: Ladder, effects: tuple[Effect, ...] = (), *, source:
             left = "s1"  # the source sits between the rail node n0 (or ground) and L1
         series = [e for part in effects for e in part.in_series(ladder, i)]
         elements += _loop_branch(i, left, right, L[i - 1], kick if i == 1 else None, series)
-        across = [e for part in effects for e in part.across_coil(ladder, i)]
-        elements += [Element(name, left, right, value)
-                     for name, (_, value) in zip(_names([letter for letter, _ in across], f"P{i}"), across,
-                                                 strict=True)]
+        elements += _beside([e for part in effects for e in part.across_coil(ladder, i)], f"P{i}", left, right)
         if i < N:
             capacitance = C[i]
             assert capacitance is not None  # inner springs are > 0 (Chain checks it)
@@ -222,6 +230,16 @@ def ladder_elements(ladder: Ladder, effects: tuple[Effect, ...] = (), *, source:
         if wall_capacitance is not None:
             ic = -charge / wall_capacitance if (charge is not None and wall == 0) else None
             elements += _capacitor(ladder, effects, wall, ladder.node(wall), wall_capacitance, ic)
+    for node in range(N + 1):  # beside each rail node's capacitor: names <letter>G{node}
+        if ladder.node(node) != GROUND:
+            elements += _beside([e for part in effects for e in part.to_ground(ladder, node)], f"G{node}",
+                                ladder.node(node), GROUND)
+    for i in range(1, N):  # between neighbouring loops: a K of their coils, or an element across both
+        between = [e for part in effects for e in part.between_coils(ladder, i)]
+        names = _names([letter for letter, _ in between], f"B{i}_{i + 1}")
+        elements += [Element(name, Ladder.inductor(i), Ladder.inductor(i + 1), value) if letter == "K"
+                     else Element(name, ladder.node(i - 1), ladder.node(i + 1), value)
+                     for name, (letter, value) in zip(names, between, strict=True)]
     if chain.coupled:
         # mutual inductance k sqrt(L_i L_i+1) between neighbouring coils: the chain's tridiagonal mass matrix
         elements += [Element(f"K{i}_{i + 1}", Ladder.inductor(i), Ladder.inductor(i + 1), chain.coupling)

@@ -58,13 +58,26 @@ from ..core.blas import fixed_blas_threads
 from ..core.errors import ParameterError
 from .elements import GROUND, Element, Pulse
 
-__all__ = ["CircuitTheory", "exact_cost", "circuit_cost", "circuit_states", "circuit_unknowns",
-           "EXACT_FLOPS_PER_SECOND"]
+__all__ = ["CircuitTheory", "circuit_theory", "exact_cost", "circuit_cost", "circuit_states", "circuit_unknowns",
+           "EXACT_FLOPS_PER_SECOND", "MAX_MODAL_ROUNDING"]
 
 _NODES, _WEIGHTS = np.polynomial.legendre.leggauss(16)
 _BLOCK = 1 << 18  # modes x times evaluated at once
 # A panel of length h with h max|pole| <= 3 integrates exp(pole (t - s)) u(s) to ~1e-31 with 16 nodes.
 _PANEL_RATE = 3.0
+
+#: A lossless mode whose squared frequency is below this fraction of the largest is a zero mode (a loop of coils
+#: with no capacitor): LAPACK returns a true zero as |w| <= 6e-17 w_max (measured, coupled chains to k -> 1/2 at
+#: N = 200 and 2000); the smallest genuine one met is 3.8e-13 w_max (N = 2000, k -> 1/2).  It was 1e-12, which
+#: silently froze the lowest modes of the N = 2000 ladder at k > 0.499999 (an error of 5e-9 I0).
+_ZERO_MODE = 1e-14
+#: A genuine mode within this factor of _ZERO_MODE cannot be told from a zero mode in float64: refused.
+_ZERO_MODE_MARGIN = 10.0
+#: Largest rounding eps * sum_k |c_k| / |x| of a lossy modal expansion x = sum_k c_k v_k (|v_k| = 1) accepted.
+#: Measured against expm of the state matrix (every loop, 161 times over 4 N, ladders of 6 to 12 loops with a
+#: mode damped within 1e-16 .. 1e-8 of critical): the error is 0.07 .. 0.98 times this estimate, so accepting up
+#: to 5e-10 keeps every accepted response within 1e-9 of its drive's scale (I0 for a kick).
+MAX_MODAL_ROUNDING = 5e-10
 
 #: Dense eigen-solvers' throughput on this machine (flop/s), for :func:`exact_cost` (measured: eigh of a
 #: 2000 x 2000 pencil in about 2 s, eig of a 1000 x 1000 matrix in about 1.5 s).
@@ -320,6 +333,16 @@ def _islands(G: scipy.sparse.csr_array, r: np.ndarray, d: np.ndarray) -> tuple[n
     return r[keep], islands
 
 
+def _null_space(law: np.ndarray) -> np.ndarray:
+    """An orthonormal basis of the currents that obey ``law`` (rows: Kirchhoff's law at nodes of coils alone),
+    from a QR factorisation of its transpose (rank from the pivots): several times cheaper than the SVD of
+    ``scipy.linalg.null_space`` (N = 2000 with every capacitor's ESL: 64 s of SVD on a loaded machine)."""
+    Q, R, _ = scipy.linalg.qr(law.T, pivoting=True)
+    diagonal = np.abs(np.diag(R))
+    rank = int(np.sum(diagonal > max(law.shape) * np.finfo(float).eps * (diagonal[0] if diagonal.size else 0.0)))
+    return np.asarray(Q[:, rank:])
+
+
 def _cholesky(matrix: np.ndarray, what: str) -> np.ndarray:
     try:
         return np.asarray(scipy.linalg.cholesky(matrix, lower=False))
@@ -379,6 +402,8 @@ class CircuitTheory:
     @fixed_blas_threads
     def __init__(self, elements: Sequence[Element | Pulse]):
         net = _floating_common_modes(_assemble(elements))
+        plain = [e for e in elements if isinstance(e, Element)]
+        self._couplings = tuple((e.name, float(e.value)) for e in plain if e.kind == "K")
         self._pulse = net.pulse
         self.inductors = net.inductors
         touched = net.Cn.diagonal() > 0
@@ -392,7 +417,7 @@ class CircuitTheory:
         r, islands = _islands(net.G, r, d)
         laws += [np.asarray(net.A[island, :].sum(axis=0)).reshape(1, -1) for island in islands]
         law = np.vstack(laws)
-        Z = None if law.shape[0] == 0 else np.asarray(scipy.linalg.null_space(law))
+        Z = None if law.shape[0] == 0 else _null_space(law)
         self._Z = Z
         if np.any(net.v0[~touched]):
             raise ParameterError("IC", net.v0.tolist(), "initial voltages on capacitive nodes only")
@@ -402,8 +427,8 @@ class CircuitTheory:
         # ESL meets it) redistribute at once, conserving each loop's flux: the Lm-nearest lawful currents.
         j0 = net.i0 if Z is None else np.linalg.solve(Lz, Z.T @ (Lm @ net.i0))
         D = net.Cn[d, :][:, d]
-        Bd = net.A[d, :] if Z is None else scipy.sparse.csr_array(net.A[d, :] @ Z)
-        Br = net.A[r, :] if Z is None else scipy.sparse.csr_array(net.A[r, :] @ Z)
+        Bd = net.A[d, :] if Z is None else scipy.sparse.csr_array(np.asarray(net.A[d, :] @ Z))
+        Br = net.A[r, :] if Z is None else scipy.sparse.csr_array(np.asarray(net.A[r, :] @ Z))
         G_dd, G_dr, G_rr = net.G[d, :][:, d], net.G[d, :][:, r], net.G[r, :][:, r]
         nj = Lz.shape[0]
         if r.size:
@@ -442,8 +467,8 @@ class CircuitTheory:
             self._gain_now = np.zeros_like(self._gain)
         else:
             self._lossy(D.toarray(), Gs, X.toarray() if scipy.sparse.issparse(X) else X, Rz, Lz, y0, j0)
-            modal_u, modal_du = (np.linalg.solve(self._V, scipy.linalg.solve_triangular(self._R, e, trans="T"))
-                                 for e in (e_u, e_du))
+            modal_u, modal_du = (self._modal(scipy.linalg.solve_triangular(self._R, e, trans="T"), what)
+                                 for e, what in ((e_u, "the pulse"), (e_du, "the pulse")))
             # c' = lam c + g u + h u': c = (g + lam h) w + h u(t), w the convolution of u with exp(lam t)
             self._gain = self._shape * (modal_u + self._lam * modal_du)
             self._gain_now = self._shape * modal_du
@@ -451,19 +476,32 @@ class CircuitTheory:
     # -------------------------------------------------------------- lossless
     def _lossless(self, D: scipy.sparse.csr_array, X: scipy.sparse.csr_array, Lz: np.ndarray, y0: np.ndarray,
                   j0: np.ndarray) -> None:
+        Z = self._Z
         diagonal = D.diagonal()
         if D.shape[0] == 0:
             K = np.zeros_like(Lz)
         elif (D - scipy.sparse.diags_array(diagonal)).count_nonzero() == 0:
-            # every capacitor to ground: K = X^T D^-1 X keeps the ladder's band
-            K = (X.T @ scipy.sparse.diags_array(1.0 / diagonal) @ X).toarray()
+            if Z is None:  # every capacitor to ground: K = X^T D^-1 X keeps the ladder's band
+                K = (X.T @ scipy.sparse.diags_array(1.0 / diagonal) @ X).toarray()
+            else:  # currents restricted to Kirchhoff's law: X is dense, and sparse products of it are slow
+                dense = X.toarray()
+                K = dense.T @ (dense / diagonal[:, None])
         else:
             dense = X.toarray()
             K = dense.T @ scipy.linalg.cho_solve(scipy.linalg.cho_factor(D.toarray()), dense)
         K = 0.5 * (K + K.T)
         w, U = _symmetric_definite(K, Lz)  # U^T Lz U = 1
         scale = max(float(np.max(np.abs(w))), 1e-300)
-        w = np.where(w < 1e-12 * scale, 0.0, w)
+        doubtful = (w >= _ZERO_MODE * scale) & (w < _ZERO_MODE * _ZERO_MODE_MARGIN * scale)
+        if np.any(doubtful):
+            # the lowest frequency is lost in the rounding of the highest: its phase, or whether it moves at all
+            ratio = float(np.min(w[doubtful]) / scale)
+            field, value = self._couplings[0] if self._couplings else ("circuit", ratio)
+            hint = ": a coupling further from 1/2" if self._couplings else ""
+            raise ParameterError(field, value, f"a circuit whose lowest mode's omega^2 is not within rounding of zero "
+                                 f"(here {ratio:.1e} of the highest; float64 tells a mode from a zero mode above "
+                                 f"{_ZERO_MODE * _ZERO_MODE_MARGIN:g}{hint})")
+        w = np.where(w < _ZERO_MODE * scale, 0.0, w)
         self._omega = np.sqrt(w)
         self._cos = U.T @ (Lz @ j0)  # what each mode starts with: current, then current's slope
         self._sin = U.T @ (X.T @ y0)
@@ -483,13 +521,37 @@ class CircuitTheory:
         # R^-T S R^-1: a real matrix, skew-symmetric but for its dissipation
         H = scipy.linalg.solve_triangular(R, scipy.linalg.solve_triangular(R, S.T, trans="T").T, trans="T")
         lam, V = scipy.linalg.eig(H)
-        coefficients = np.linalg.solve(V, R @ np.concatenate((y0, j0)))
-        back = scipy.linalg.solve_triangular(R, V)  # R^-1 V: each mode's states
         self._lam = lam
         self._V, self._R = V, R
+        self._lu = scipy.linalg.lu_factor(V)
+        coefficients = self._modal(R @ np.concatenate((y0, j0)), "the initial conditions")
+        back = scipy.linalg.solve_triangular(R, V)  # R^-1 V: each mode's states
         self._coefficients = coefficients
         self._shape = back[nd:, :] if self._Z is None else self._Z @ back[nd:, :]
         self.poles = lam
+
+    def _modal(self, state: np.ndarray, what: str) -> np.ndarray:
+        """The coefficients c of ``state`` = V c (a state in the Cholesky frame), refused where rounding spoils them.
+
+        Where two modes' eigenvectors are nearly parallel (a pair of poles near critical damping, an eigenvector
+        matrix near defective), the expansion cancels large coefficients: the rounding of the response is about
+        eps sum_k |c_k| (|v_k| = 1), whatever the time (the modes decay).  Measured, the error stays below it (see
+        :data:`MAX_MODAL_ROUNDING`); above :data:`MAX_MODAL_ROUNDING` of |state| it is refused.
+        """
+        coefficients = np.asarray(scipy.linalg.lu_solve(self._lu, state.astype(complex)))
+        size = float(np.linalg.norm(state))
+        if size == 0.0:
+            return coefficients
+        rounding = float(np.finfo(float).eps * np.sum(np.abs(coefficients)) / size)
+        if rounding > MAX_MODAL_ROUNDING:
+            worst = int(np.argmax(np.abs(coefficients)))
+            pole = complex(self._lam[worst])
+            damping = -pole.real / max(abs(pole), 1e-300)
+            raise ParameterError("R", round(damping, 12), f"resistors that damp no mode within rounding of critical "
+                                 f"(damping ratio 1): two modes near pole {pole:.4g}/s have nearly parallel "
+                                 f"eigenvectors, so float64 loses {rounding:.1e} of the response to {what}, over "
+                                 f"{MAX_MODAL_ROUNDING:g} allowed")
+        return coefficients
 
     # -------------------------------------------------------------- outputs
     def _rows(self, probes: Sequence[str]) -> list[int]:
@@ -676,3 +738,19 @@ class CircuitTheory:
                 return None
             weights = weights / self._lam
         return self._lam, weights
+
+
+#: The last circuit's theory, by its elements: a run planned and executed in one process (``lcchain simulate``,
+#: a serial study) solves its circuit once, the planner's check and the comparison alike.
+_LAST: list[tuple[tuple[Element | Pulse, ...], CircuitTheory]] = []
+
+
+def circuit_theory(elements: Sequence[Element | Pulse]) -> CircuitTheory:
+    """:class:`CircuitTheory` of ``elements``, the last one kept: the same elements again cost nothing."""
+    key = tuple(elements)
+    last = _LAST[:1]
+    if last and last[0][0] == key:
+        return last[0][1]
+    theory = CircuitTheory(key)
+    _LAST[:] = [(key, theory)]
+    return theory

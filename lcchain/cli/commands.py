@@ -28,6 +28,7 @@ from .common import (
     chain_from_args,
     check_perfect,
     echoed_command,
+    effects_from_args,
     emit_json,
 )
 from .progress import Progress, counter, fraction, study_counter
@@ -252,6 +253,21 @@ def _print_extrapolation(x: dict[str, Any]) -> None:
           f"{x['interpolation_error']:.1e})")
 
 
+def _simulation_request(args: argparse.Namespace, chain: Any, *, dt: float | None, accuracy: float | None,
+                        extrapolate: int | None, engine: str, backend: Any) -> Any:
+    """What ``simulate`` asks for: the chain, the step, and the effects its options ask for (``--Q``,
+    ``--coil-capacitance``, ...: :func:`~lcchain.cli.common.effects_from_args`), as one Request."""
+    import dataclasses
+
+    from ..runs.simulate import simulation_request
+
+    effects = effects_from_args(args)
+    request = simulation_request(chain, dt=dt, accuracy=accuracy, extrapolate=extrapolate, transits=args.transits,
+                                 excitation=args.excitation, L0=args.L0, C0=args.C0, backend=backend,
+                                 method=args.method, title=args.title, engine=engine)
+    return dataclasses.replace(request, effects=effects) if effects else request
+
+
 def _print_effects(cost: dict[str, Any]) -> None:
     """What the effects cost the pulse: the circuit's exact first arrival against the ideal chain's."""
     energy = "" if cost["energy_loss"] is None else (
@@ -294,10 +310,9 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     engine = args.engine[0]
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        report = simulate(chain, dt=dt, accuracy=args.accuracy, transits=args.transits, excitation=args.excitation,
-                          L0=args.L0, C0=args.C0, backend=args.backend, method=args.method, title=args.title,
-                          progress=fraction(engine), budget=budget_from_args(args), on_spec=keep_netlist,
-                          extrapolate=args.extrapolate, engine=engine)
+        request = _simulation_request(args, chain, dt=dt, accuracy=args.accuracy, extrapolate=args.extrapolate,
+                                      engine=engine, backend=args.backend)
+        report = simulate(request, progress=fraction(engine), budget=budget_from_args(args), on_spec=keep_netlist)
     for warning in caught:
         print(f"lcchain: warning: {warning.message}", file=sys.stderr)
     data = report.to_dict()
@@ -350,14 +365,18 @@ def cmd_simulate(args: argparse.Namespace) -> int:
 
 
 def cmd_spectrum(args: argparse.Namespace) -> int:
+    from ..circuit.effects import Losses
     from ..runs.spectrum import measure_spectrum
 
     outputs = Outputs(inputs={"--chain": args.chain})
     outputs.check("--plot", args.plot, FIGURE_FORMATS)
     chain = chain_from_args(args)
+    # the effect options the parser has (--Q is measure_spectrum's own, refused under its name there): effects
+    # that are no chain's are compared with the circuit's own poles and residues
+    effects = tuple(effect for effect in effects_from_args(args) if not isinstance(effect, Losses))
     report = measure_spectrum(chain, Q=args.Q, points=args.points, L0=args.L0, C0=args.C0,
                               budget=budget_from_args(args), engine=args.engine,
-                              progress=fraction(f"{args.engine} AC analysis, then the fit"))
+                              progress=fraction(f"{args.engine} AC analysis, then the fit"), effects=effects)
     data = report.to_dict()
     if args.json:
         emit_json(data)
@@ -425,11 +444,10 @@ def _simulate_engines(args: argparse.Namespace, chain: Any, dt: float | None, ke
         for engine in args.engine:
             # the first engine's step (given, or chosen for --accuracy) is every engine's: one netlist
             step = dt if not reports else reports[0].options.dt
-            reports.append(simulate(chain, dt=step, accuracy=args.accuracy if not reports else None,
-                                    transits=args.transits, excitation=args.excitation, L0=args.L0, C0=args.C0,
-                                    method=args.method, title=args.title, progress=fraction(engine),
-                                    budget=budget_from_args(args), on_spec=None if reports else keep_netlist,
-                                    extrapolate=1, engine=engine))
+            request = _simulation_request(args, chain, dt=step, accuracy=args.accuracy if not reports else None,
+                                          extrapolate=1, engine=engine, backend="batch")
+            reports.append(simulate(request, progress=fraction(engine), budget=budget_from_args(args),
+                                    on_spec=None if reports else keep_netlist))
     for warning in sorted({str(w.message) for w in caught}):
         print(f"lcchain: warning: {warning}", file=sys.stderr)
     first = reports[0]

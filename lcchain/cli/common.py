@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from ..circuit.effects import EFFECTS, Effect, effect_fields
 from ..core.budget import (
     DEFAULT_MAX_MEMORY,
     DEFAULT_MAX_SECONDS,
@@ -40,7 +41,8 @@ from ..theory.chain import Chain
 __all__ = ["EXIT_OK", "EXIT_FAILED", "EXIT_USAGE", "EXIT_MISSING", "EXIT_SIGPIPE", "OPTION_NAMES", "NEGATIVE_NUMBER",
            "single_valued", "count", "list_entries", "int_list",
            "number", "size", "duration", "seconds", "budget_parent", "emit_json", "Outputs",
-           "chain_from_args", "budget_from_args", "load_chain_file", "check_perfect", "echoed_command"]
+           "chain_from_args", "budget_from_args", "load_chain_file", "check_perfect", "echoed_command",
+           "CIRCUIT_EFFECTS", "add_effect_arguments", "effects_from_args"]
 
 EXIT_OK, EXIT_FAILED, EXIT_USAGE, EXIT_MISSING = 0, 1, 2, 3
 #: A reader closed the pipe (``lcchain table --json | head -2``): the exit status of a process killed by SIGPIPE.
@@ -331,4 +333,46 @@ def check_perfect(N: int, walls: int, budget: Budget) -> None:
     if walls < 0:
         raise ParameterError("--walls", walls, "an integer J >= 0 (0: free ends; J >= 1: tied to walls)")
     perfect_estimate(N, walls).check(budget, "--N", N)
+
+
+#: Effects every command with a circuit takes in its chain (``--coupling``), not as an effect option.
+CIRCUIT_EFFECTS = ("coupling",)
+
+
+def _effect_options() -> list[type[Effect]]:
+    """The registered effects a command line can ask for by an option of theirs (``Effect.option``)."""
+    return [cls for key, cls in EFFECTS.items() if cls.option is not None and key not in CIRCUIT_EFFECTS]
+
+
+def _dest(option: str) -> str:
+    return option.lstrip("-").replace("-", "_")
+
+
+def add_effect_arguments(p: argparse.ArgumentParser) -> None:
+    """One option per registered effect that states one (``--Q``, ``--coil-capacitance``, a plugin's): its value
+    is the effect's one field, checked by the effect (:func:`effects_from_args`)."""
+    for cls in _effect_options():
+        assert cls.option is not None
+        try:
+            p.add_argument(cls.option, type=number(cls.option), default=None,
+                           metavar=effect_fields(cls)[0].name,
+                           help=f"{cls.option_help}; as a scene's [effects.{cls.key}]")
+        except argparse.ArgumentError as error:  # a plugin's option taken by another
+            raise ParameterError(f"effects.{cls.key}", cls.option, f"an option no other has ({error})") from None
+
+
+def effects_from_args(args: argparse.Namespace) -> tuple[Effect, ...]:
+    """The effects the effect options ask for, in the registry's order; a bad value is refused under its
+    option's name (``--coil-capacitance = -1.0 is not allowed: ...``)."""
+    effects: list[Effect] = []
+    for cls in _effect_options():
+        assert cls.option is not None
+        value = getattr(args, _dest(cls.option), None)
+        if value is None:
+            continue
+        try:
+            effects.append(cls.from_option(value))
+        except ParameterError as error:
+            raise error.renamed(cls.option) from None
+    return tuple(effects)
 

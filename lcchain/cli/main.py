@@ -20,6 +20,7 @@ from typing import Any, NoReturn
 
 from threadpoolctl import threadpool_limits
 
+from ..circuit.effects import Coupling
 from ..core import __version__
 from ..core.blas import BLAS_THREADS
 from ..core.errors import Interrupted, LcchainError, ParameterError, SimulationError, SimulatorMissingError
@@ -41,6 +42,7 @@ from .common import (
     EXIT_SIGPIPE,
     EXIT_USAGE,
     OPTION_NAMES,
+    add_effect_arguments,
     budget_parent,
     int_list,
     list_entries,
@@ -89,8 +91,9 @@ def _add_circuit_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--walls", type=int, default=0, metavar="J",
                    help="--case perfect only: J >= 1 ties the perfect cradle to walls (frequencies n - 1 + 2J)")
     p.add_argument("--chain", metavar="FILE", help='JSON file {"masses": [...], "springs": [...]} in bulk units')
-    p.add_argument("--coupling", type=number("--coupling"), default=None, metavar="K",
-                   help="mutual inductance k*sqrt(L_i*L_i+1) between neighbouring coils, -0.5 < K < 0.5 (default 0)")
+    coupling = Coupling.option
+    assert coupling is not None  # the chain's own: every command with a circuit takes it
+    p.add_argument(coupling, type=number(coupling), default=None, metavar="K", help=Coupling.option_help)
     p.add_argument("--L0", type=number("--L0"), default=DEFAULT_L0,
                    help=f"bulk inductance, henry (default {DEFAULT_L0:g})")
     p.add_argument("--C0", type=number("--C0"), default=DEFAULT_C0,
@@ -202,6 +205,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--netlist-out", metavar="FILE", help="keep the netlist (written before ngspice starts)")
     p.add_argument("--waveform-out", metavar="FILE", help="CSV t,first,last (dimensionless)")
     p.add_argument("--json", action="store_true")
+    add_effect_arguments(p)
     p.set_defaults(func=commands.cmd_simulate)
 
     p = sub.add_parser("run", parents=budget, help="run a scene (TOML experiment description)")
@@ -340,7 +344,11 @@ def _show_warning(message: Warning | str, category: type[Warning], filename: str
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line; returns the exit status."""
     argv = list(sys.argv[1:] if argv is None else argv)
-    parser = build_parser()
+    try:
+        parser = build_parser()  # reads the registries: a broken plugin is bad input, one line
+    except ParameterError as error:
+        print(f"lcchain: {error}", file=sys.stderr)
+        return EXIT_USAGE
     try:
         args = parser.parse_args(argv)
     except _UsageError as error:

@@ -32,7 +32,7 @@ from typing import Any
 import numpy as np
 
 from ..circuit.elements import Element, Pulse
-from ..circuit.exact import CircuitTheory
+from ..circuit.exact import CircuitTheory, circuit_theory
 from ..circuit.netlist import probe_names
 from ..compare.accuracy import predicted_error, predicted_error_damped, split_error
 from ..compare.metrics import EffectCost, Metrics, compare_signals
@@ -219,7 +219,7 @@ class CircuitResponse:
 
     def __init__(self, theory: Theory, loops: Probes, exact: CircuitTheory | None = None):
         assert theory.circuit is not None
-        self.exact = exact if exact is not None else CircuitTheory(theory.circuit)
+        self.exact = exact if exact is not None else circuit_theory(theory.circuit)
         self.names = probe_names(theory.chain.N, loops)
         self.unit, self.excitation = theory.time_unit, theory.excitation
         self.scale = theory.I0 * (theory.time_unit if theory.excitation == "displacement" else 1.0)
@@ -326,7 +326,7 @@ def metrics_of(theory: Theory, signals: Signals, *, split: bool = True, modes: M
 @fixed_blas_threads
 def _compare(theory: Theory, result: RunResult) -> tuple[Signals, Metrics]:
     modes = _modes(theory)
-    exact = CircuitTheory(theory.circuit) if theory.circuit is not None else None
+    exact = circuit_theory(theory.circuit) if theory.circuit is not None else None
     ends = _response(theory, "ends", modes, exact)
     every = ends if theory.probes == "ends" else _response(theory, theory.probes, modes, exact)
     signals = signals_of(theory, result, modes, response=every)
@@ -343,7 +343,12 @@ def _run_transient(spec: RunSpec, simulator: Simulator,
                         max_output_bytes=spec.max_output_bytes, max_resident_bytes=spec.max_resident_bytes)
     signals = metrics = None
     if isinstance(spec.theory, Theory):
-        signals, metrics = _compare(spec.theory, result)
+        try:
+            signals, metrics = _compare(spec.theory, result)
+        except ParameterError as error:  # a sample's circuit whose exact theory float64 cannot give: this run's
+            if spec.theory.circuit is None:  # result, not a traceback (the nominal one is refused when planned)
+                raise
+            raise SimulationError(f"the circuit's exact theory: {error}", engine=spec.engine) from None
     return ({"result": result, "signals": signals, "metrics": metrics}, result.wall_s, result.points,
             waveform_digest(result.time, result.vectors))
 
@@ -353,7 +358,7 @@ def circuit_modes(elements: tuple[Element | Pulse, ...], N: int, time_unit: floa
     """The exact modes of an AC run's circuit (its elements with the source's place,
     :func:`lcchain.circuit.netlist.ac_circuit_elements`): the poles and residues of its I_1/V and I_N/V
     (:meth:`lcchain.circuit.exact.CircuitTheory.admittances`), dimensionless (``time_unit`` s, ``impedance`` ohm)."""
-    exact = CircuitTheory(elements)
+    exact = circuit_theory(elements)  # the planner's, when it ran in this process
     poles, residues, _ = exact.admittances(["L1", f"L{N}"])
     return CircuitModes.from_poles(poles, residues, time_unit, impedance, lossy=not exact.lossless)
 

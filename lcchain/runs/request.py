@@ -25,7 +25,7 @@ import numpy as np
 
 from ..circuit.effects import Effect, Losses, PreferredValues, Tolerance
 from ..circuit.elements import ELEMENT_HOOKS, Element, Pulse, ladder_elements
-from ..circuit.exact import circuit_cost, circuit_states, circuit_unknowns
+from ..circuit.exact import circuit_cost, circuit_states, circuit_theory, circuit_unknowns
 from ..circuit.ladder import Ladder
 from ..circuit.netlist import (
     SimulationOptions,
@@ -401,6 +401,25 @@ def _cost(request: Request, N: int, elements: tuple[Element | Pulse, ...] | None
             "exact_N": N if (request.realised or request.transient.probes == "all") else 0}
 
 
+def _check_circuit(request: Request, ladder: Ladder, elements: tuple[Element | Pulse, ...]) -> None:
+    """Refuse, before anything runs, a nominal circuit whose exact theory float64 cannot give, naming the effect's
+    parameter that wrote the element the theory names (found from what each effect writes, not from its type)."""
+    try:
+        circuit_theory(elements)
+    except ParameterError as error:
+        plain = {element.name for element in ladder_elements(ladder, ())}
+        for effect in request.effects:
+            names = {element.name for element in ladder_elements(ladder, (effect,))} - plain
+            kinds = {name[0] for name in names}
+            if error.field in names or error.field in kinds:
+                parameters = list(getattr(effect, "__dataclass_fields__", {}))
+                where = f"effects.{effect.key}" + (f".{parameters[0]}" if len(parameters) == 1 else "")
+                raise ParameterError(where, getattr(effect, parameters[0]) if len(parameters) == 1 else effect,
+                                     f"a circuit whose exact theory float64 can give ({error.field}: "
+                                     f"{error.allowed})") from None
+        raise
+
+
 def _circuit(request: Request, ladder: Ladder) -> tuple[Element | Pulse, ...]:
     """The elements a transient's netlist is written with, for the circuit's own theory."""
     drive = request.drive
@@ -560,6 +579,8 @@ def _plan_transient(request: Request, budget: Budget, modes: Modes | None, desig
                      design_seconds + samples * (one.seconds * per_sample + RUN_START_SECONDS * len(steps) + compare))
     every.check(budget, "effects.tolerance.samples" if samples > 1 else name, samples if samples > 1 else value,
                 "fewer samples")
+    if elements is not None:
+        _check_circuit(request, ladder, elements)
     chains = _chains(request, nominal)  # the samples are drawn once the request is known to fit
     single = None
     if len(steps) == 1 and drive.pulse is None and request.Q is None and analysis.probes == "ends" and not circuit:

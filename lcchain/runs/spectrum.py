@@ -15,7 +15,7 @@ alpha_N(t) is also set beside the exact lossy response (:func:`lcchain.theory.re
 
 A mode whose weight at the ends is below what the samples resolve has no visible pole there: the circuit
 does not show it between its ends.  Such modes are listed as unseen, with their theoretical weight; the
-error of P counts them with P = 0 (a perfect cradle's edge modes weigh ~2^-(N-1)).
+error of P counts them with P = 0 (the weakest of a perfect cradle's binomial end weights is 2^-(2N-3)).
 
 Effects whose elements are no chain's (a coil's self-capacitance or winding resistance, a capacitor's ESR or ESL,
 coupled coils with losses: ``effects=``) are compared with the circuit's own exact poles and residues instead

@@ -11,9 +11,10 @@ import os
 import re
 import tomllib
 from collections.abc import Mapping, Sequence
-from dataclasses import MISSING, fields
+from dataclasses import MISSING
 from typing import Any
 
+from ..circuit.effects import EFFECTS, effect_fields
 from ..core.checks import choice
 from ..core.errors import ParameterError
 from ..core.limits import MAX_CIRCUIT_N, MAX_SCENE_BYTES, MIN_N
@@ -24,8 +25,6 @@ from .schema import (
     ANALYSIS_PLOTS,
     CHAIN_KEYS,
     DEFAULT_TITLE,
-    EFFECT_CLASSES,
-    EFFECT_KEYS,
     EXCITATION_KEYS,
     OUTPUT_KEYS,
     TOP_KEYS,
@@ -38,6 +37,7 @@ from .schema import (
     Scene,
     Units,
     check_ac_keys,
+    effect_keys,
 )
 
 __all__ = ["load_scene", "parse_scene"]
@@ -153,13 +153,13 @@ def _parse(data: Mapping, source: str | None) -> Scene:
     units = Units(**_table(data, "units", UNITS_KEYS))
     excitation = ExcitationSpec(**_table(data, "excitation", EXCITATION_KEYS))
 
-    effects_table = _table(data, "effects", tuple(EFFECT_KEYS))
+    effects_table = _table(data, "effects", tuple(EFFECTS))
     effects: dict[str, Any] = {}
-    for name, cls in EFFECT_CLASSES.items():
+    for name, cls in EFFECTS.items():
         if name not in effects_table:
             continue
-        values = _table(effects_table, f"effects.{name}", EFFECT_KEYS[name])
-        for required in fields(cls):
+        values = _table(effects_table, f"effects.{name}", effect_keys(cls))
+        for required in effect_fields(cls):
             if required.default is MISSING:
                 # Let the class name what it expects of the missing value.
                 values.setdefault(required.name, None)
@@ -180,7 +180,7 @@ def _parse(data: Mapping, source: str | None) -> Scene:
         chain=chain_spec,
         units=units,
         excitation=excitation,
-        effects=Effects(**effects),
+        effects=Effects(effects),
         analysis=analysis,
         output=output,
         source=source,

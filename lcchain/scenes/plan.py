@@ -15,6 +15,7 @@ from collections.abc import Callable
 
 import numpy as np
 
+from ..circuit.effects import Losses
 from ..core.budget import Budget, chain_seconds
 from ..core.errors import ParameterError
 from ..core.types import AnalysisKind, PulseShape
@@ -66,7 +67,8 @@ def scene_request(scene: Scene, chain: Chain | None = None) -> Request:
 def losses_and_pulse(scene: Scene) -> tuple[float | None, tuple[PulseShape, float] | None]:
     """The scene's quality factor (None: no losses) and pulse (shape, width) (None: no pulse)."""
     excitation = scene.excitation
-    Q = scene.effects.losses.Q if scene.effects.losses is not None else None
+    losses = scene.effects.get(Losses)
+    Q = losses.Q if losses is not None else None
     if excitation.kind != "pulse":
         return Q, None
     assert excitation.shape is not None and excitation.width is not None  # the schema requires them for a pulse

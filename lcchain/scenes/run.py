@@ -67,6 +67,7 @@ class SampleRecord(TypedDict, total=False):
     spacing_std: float
     modes_seen: int
     max_rel_error_Q: float
+    effects: dict[str, Any]
 
 
 class SceneReport(TypedDict, total=False):
@@ -191,6 +192,8 @@ def _sample_record(index: int, chain: Chain, dt: float, run: RunRecord) -> Sampl
     record = _run_record(index, chain, run, run.result.netlist_sha256, run.result.points)
     record.update({"dt": dt, "max_abs_error": run.metrics.max_abs_error,
                    "arrivals": [a.to_dict() for a in run.metrics.arrivals]})
+    if run.metrics.effects is not None:  # against the circuit's own theory: what its effects cost the pulse
+        record["effects"] = run.metrics.effects.to_dict()
     return record
 
 

@@ -22,11 +22,12 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, fields
 from pathlib import PurePosixPath
-from typing import Any, get_args, get_type_hints
+from typing import Any, TypeVar
 
-from ..circuit.effects import EFFECTS, Coupling, Effect, Losses, PreferredValues, Tolerance, Walls
+from ..circuit.effects import EFFECTS, Effect, Losses, PreferredValues, Tolerance, Walls, effect_fields
 from ..core.checks import choice, instance, integer, is_integer, numbers_list, real, text_line
 from ..core.errors import ParameterError
+from ..core.frozen import FrozenMap
 from ..core.limits import (
     MAX_AC_POINTS,
     MAX_CIRCUIT_N,
@@ -82,6 +83,7 @@ __all__ = [
     "TRANSIENT_KEYS",
     "ANALYSIS_PLOTS",
     "check_ac_keys",
+    "effect_keys",
 ]
 
 DEFAULT_TITLE = "lcchain scene"
@@ -226,23 +228,69 @@ class ExcitationSpec:
         object.__setattr__(self, "width", width)
 
 
-@dataclass(frozen=True)
+E = TypeVar("E", bound=Effect)
+
+
 class Effects:
-    """The ``[effects.*]`` tables: each real-world effect the scene asks for, or None."""
+    """The ``[effects.*]`` tables: the effects the scene asks for, by key.
 
-    losses: Losses | None = None
-    walls: Walls | None = None
-    tolerance: Tolerance | None = None
-    preferred_values: PreferredValues | None = None
-    coupling: Coupling | None = None
+    Any effect of the registry :data:`lcchain.circuit.effects.EFFECTS` (lcchain's own and those installed
+    packages add) is a table: nothing is listed here, so an effect cannot be in the registry and missing from
+    scenes, nor the other way round.  Immutable; equal when the same effects are asked for.
 
-    def __post_init__(self) -> None:
-        for name, cls in EFFECTS.items():
-            instance(f"effects.{name}", getattr(self, name), cls, optional=True)
+    Parameters
+    ----------
+    parts : Mapping of str to Effect, optional
+        Scene key -> effect (None: absent).
+    **by_key : Effect or None
+        The same, as keywords: ``Effects(losses=Losses(100.0))``.
+    """
+
+    __slots__ = ("_parts",)
+    _parts: FrozenMap[str, Effect]
+
+    def __init__(self, parts: Mapping[str, Effect | None] | None = None, /, **by_key: Effect | None) -> None:
+        given = {**(dict(parts) if parts is not None else {}), **by_key}
+        for key, part in given.items():
+            if key not in EFFECTS:
+                raise ParameterError(f"effects.{key}", part, f"an effect of {', '.join(EFFECTS)}")
+            instance(f"effects.{key}", part, EFFECTS[key], optional=True)
+        ordered = {key: part for key in EFFECTS if (part := given.get(key)) is not None}
+        object.__setattr__(self, "_parts", FrozenMap(ordered))
+
+    def __getattr__(self, key: str) -> Effect | None:
+        """``effects.losses``: the effect of that scene key, or None (a key no effect has: AttributeError)."""
+        if key.startswith("_") or key not in EFFECTS:
+            raise AttributeError(f"no effect {key!r} (the effects: {', '.join(EFFECTS)})")
+        return self._parts.get(key)
+
+    def __setattr__(self, name: str, value: object) -> None:
+        raise AttributeError("Effects is immutable")
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, Effects) and dict(self._parts) == dict(other._parts)
+
+    def __hash__(self) -> int:
+        return hash(frozenset(self._parts.items()))
+
+    def __repr__(self) -> str:
+        return f"Effects({', '.join(f'{key}={part!r}' for key, part in self._parts.items())})"
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        return (type(self), (dict(self._parts),))
+
+    def get(self, kind: type[E]) -> E | None:
+        """The scene's effect of this type, or None."""
+        part = self._parts.get(kind.key)
+        return part if isinstance(part, kind) else None
+
+    def items(self) -> tuple[tuple[str, Effect], ...]:
+        """(key, effect) of the effects asked for, in the registry's order."""
+        return tuple(self._parts.items())
 
     def present(self) -> tuple[Effect, ...]:
-        """The effects the scene asks for, in the order of the table."""
-        return tuple(part for part in (getattr(self, name) for name in EFFECTS) if part is not None)
+        """The effects the scene asks for, in the registry's order."""
+        return tuple(self._parts.values())
 
 
 #: The ``[analysis]`` keys of a transient only, refused with ``kind = "ac"``.
@@ -441,7 +489,7 @@ class Scene:
                                  "saves I_1 and I_N)")
         if "spacetime" in plots and self.output.probes != "all":
             raise ParameterError("output.plots", plots, 'no "spacetime" unless output.probes = "all"')
-        tolerance = self.effects.tolerance
+        tolerance = self.effects.get(Tolerance)
         for spread in ("histogram", "spacing"):
             if spread in plots and (tolerance is None or tolerance.samples < 2):
                 raise ParameterError("output.plots", plots, f'no "{spread}" unless effects.tolerance.samples > 1')
@@ -461,11 +509,7 @@ class Scene:
                     out[key] = list(value) if isinstance(value, tuple) else value
             return out
 
-        effects = {
-            name: table(getattr(self.effects, name), keys)
-            for name, keys in EFFECT_KEYS.items()
-            if getattr(self.effects, name) is not None
-        }
+        effects = {name: table(part, effect_keys(type(part))) for name, part in self.effects.items()}
         return {
             "title": self.title,
             "chain": table(self.chain, CHAIN_KEYS),
@@ -487,16 +531,14 @@ def _keys(cls: type) -> tuple[str, ...]:
     return tuple(f.name for f in fields(cls) if f.name != "source")
 
 
-def _effect_classes() -> dict[str, type]:
-    hints = get_type_hints(Effects)
-    return {name: next(arg for arg in get_args(hints[name]) if arg is not type(None)) for name in _keys(Effects)}
+def effect_keys(cls: type[Effect]) -> tuple[str, ...]:
+    """The keys of an effect's table: its fields (read when a scene is, so that plugins are registered)."""
+    return tuple(f.name for f in effect_fields(cls))
 
 
 TOP_KEYS = _keys(Scene)
 CHAIN_KEYS = _keys(ChainSpec)
 UNITS_KEYS = _keys(Units)
 EXCITATION_KEYS = _keys(ExcitationSpec)
-EFFECT_CLASSES = _effect_classes()
-EFFECT_KEYS = {name: _keys(cls) for name, cls in EFFECT_CLASSES.items()}
 ANALYSIS_KEYS = _keys(Analysis)
 OUTPUT_KEYS = _keys(Output)

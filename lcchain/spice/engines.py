@@ -1,6 +1,7 @@
 """The engines lcchain can run its ladders in, by name: one registry, :data:`ENGINES`.
 
-Adding an engine is one module (a subclass of :class:`lcchain.spice.engine.Engine`) and one line here.
+Adding an engine is one module (a subclass of :class:`lcchain.spice.engine.Engine`) and one line here, or, from
+a package of its own, an entry point in the ``lcchain.engines`` group.
 Everything else (``--engine``, ``[analysis] engine``, ``RunSpec.engine``, ``doctor``) reads this dict.
 """
 
@@ -10,6 +11,7 @@ from collections.abc import Callable, Sequence
 
 from ..core.checks import choice
 from ..core.errors import ParameterError
+from ..core.registry import Registry
 from ..core.types import Backend
 from .engine import Engine
 from .gnucap import Gnucap
@@ -19,11 +21,21 @@ from .simulator import Simulator
 
 __all__ = ["ENGINES", "DEFAULT_ENGINE", "engine_named", "ac_engine", "find_engine", "run_engine"]
 
-#: Engine name -> implementation; the first is the default.
-ENGINES: dict[str, Engine] = {
-    "ngspice": Ngspice(),
-    "gnucap": Gnucap(),
-}
+def _admit(name: str, loaded: object) -> Engine:
+    """An ``lcchain.engines`` entry point's object: an Engine (or an Engine subclass, made with no arguments)
+    whose name is the entry point's."""
+    engine = loaded() if isinstance(loaded, type) and issubclass(loaded, Engine) else loaded
+    if not isinstance(engine, Engine):
+        raise TypeError(f"{loaded!r} is not an lcchain.spice.engine.Engine")
+    if engine.name != name:
+        raise TypeError(f"its name is {engine.name!r}, not the entry point's")
+    return engine
+
+
+#: Engine name -> implementation; the first is the default.  Then the engines of the ``lcchain.engines`` entry
+#: points of installed packages, read the first time the registry is.
+ENGINES: Registry[Engine] = Registry("lcchain.engines", {"ngspice": Ngspice(), "gnucap": Gnucap()}, _admit,
+                                     "an lcchain.spice.engine.Engine, named as the entry point")
 #: The engine every run uses unless told otherwise.
 DEFAULT_ENGINE = "ngspice"
 

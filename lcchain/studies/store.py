@@ -225,6 +225,8 @@ class StoredRun:
             data["max_abs_error"] = self.metrics.get("max_abs_error")
             data["predicted_error"] = self.metrics.get("predicted_error")
             data["arrivals"] = self.metrics.get("arrivals")
+            if "effects" in self.metrics:  # against the circuit's own theory: what its effects cost the pulse
+                data["effects"] = self.metrics["effects"]
         if self.status in ("failed", "timeout"):
             data["error"] = self.reason + (f"\n{self.engine} said:\n{self.log_tail}" if self.log_tail else "")
         return data
@@ -975,6 +977,7 @@ class Store:
         store that holds both)."""
         spectral = any(run.spectral for run in runs)
         transient = not spectral or any(run.metrics is not None and not run.spectral for run in runs)
+        costs = any(run.metrics is not None and "effects" in run.metrics for run in runs)
         rows = []
         for run in runs:
             metrics = run.metrics or {}
@@ -987,6 +990,10 @@ class Store:
                 row.update({name: _number(metrics.get(name)) for name in ("max_abs_error", "predicted_error")})
                 row.update({name: _number(first.get(name)) for name in ("t_sim", "t_theory", "peak_sim",
                                                                           "peak_theory", "energy_sim")})
+            if costs:  # runs against their circuit's own theory: what the effects cost the ideal chain's pulse
+                cost = metrics.get("effects") or {}
+                row.update({f"effects_{name}": _number(cost.get(name))
+                            for name in ("peak_ideal", "energy_ideal", "energy_loss", "delay")})
             if spectral:
                 row.update({name: _number(metrics.get(name)) for name in SPECTRAL_METRICS})
             rows.append(row)

@@ -22,7 +22,7 @@ from typing import Any
 
 import numpy as np
 
-from ..circuit.effects import PreferredValues, Tolerance, rounded
+from ..circuit.effects import Losses, PreferredValues, Tolerance, rounded
 from ..circuit.ladder import Ladder
 from ..circuit.sensitivity import Corner, LadderSensitivity, corners, ladder_sensitivity
 from ..core.budget import Budget, Estimate, accuracy_plan_seconds, sample_theory_seconds, sensitivity_estimate
@@ -71,7 +71,7 @@ def _signs_text(signs: Sequence[int]) -> str:
 
 
 def _refuse(scene: Any, path: str) -> Tolerance:
-    tolerance = scene.effects.tolerance
+    tolerance = scene.effects.get(Tolerance)
     if tolerance is None or not (tolerance.L or tolerance.C):
         raise ParameterError("--worst-case", path, "a scene with [effects.tolerance] L or C > 0 (the corners sit at "
                              "the tolerances)")
@@ -81,8 +81,9 @@ def _refuse(scene: Any, path: str) -> Tolerance:
     if scene.excitation.kind != "kick":
         raise ParameterError("excitation.kind", scene.excitation.kind, '"kick" with --worst-case (the '
                              "sensitivities are the kicked ladder's first-arrival peak)", path)
-    if scene.effects.losses is not None:
-        raise ParameterError("effects.losses", scene.effects.losses.Q, "no losses with --worst-case (the "
+    losses = scene.effects.get(Losses)
+    if losses is not None:
+        raise ParameterError("effects.losses", losses.Q, "no losses with --worst-case (the "
                              "sensitivities and the Monte Carlo's peaks are the lossless ladder's)", path)
     if tolerance.corner is not None:
         raise ParameterError("effects.tolerance.corner", list(tolerance.corner), "none with --worst-case (it "

@@ -177,6 +177,22 @@ RTOL_SPECTRUM_Q = 1e-9
 RTOL_SPECTRUM_POLE = 1e-9
 ATOL_SPECTRUM_RESPONSE = 1e-9
 
+# ------------------------------------------------------------ the circuit theory's hard cases (issue 30, item 6)
+#: A well-conditioned hard case (self-resonance 1.001x the band top, ESL resonance at it, Q = 1 .. 1e6, coupling
+#: 0.999 of its limit) at N <= 12 against expm of the state matrix or the uniform ladder's closed form: rounding
+#: only (measured 2e-16 .. 9e-14 of I0).
+ATOL_HARD_WELL_CONDITIONED = 1e-11
+#: What the circuit theory promises where it accepts a case: its modal rounding is at most
+#: lcchain.circuit.exact.MAX_MODAL_ROUNDING = 5e-10 and the error measured at most 0.98 times that estimate
+#: (near-critical damping), and the N = 2000 ladder at k -> 1/2 is within 1e-9 (measured 2 eps cond(L) ~ 7e-10).
+ATOL_HARD_ACCEPTED = 1e-9
+
+# ------------------------------------------------------------ every effect exact (issue 30)
+#: max |simulation - the circuit's exact theory| of a kicked N = 10 ladder at dt = 0.02 over its first transit,
+#: whatever elements its effects add: the trapezoid's error, about TRAP_ERROR_COEFFICIENT_FIRST_TRANSIT dt^2 t
+#: (~2e-3 at t = 12), with room for the extra elements' own (faster) time constants.
+ATOL_EFFECT_RUN = 1e-2
+
 # ------------------------------------------------------------ a circuit's own spectrum (issue 30, item 5)
 #: The circuit's exact admittances (poles and residues) against the nodal equations solved at complex frequencies,
 #: relative (measured 6e-13 .. 4e-12 at N = 4 .. 5, every real part, coupled, lossy; the nodal solve's own
