@@ -80,6 +80,48 @@ def test_the_spectrum_section_is_measured_and_counts_in_the_verdict(data: dict, 
     assert f"{len(spectra)} / {len(spectra)}</b>spectra" in page
 
 
+def test_the_requirements_section_is_the_studys_and_counts_in_the_verdict(data: dict, report_dir: Path) -> None:
+    """Issue 30, item 4: the quick report's "How good must the parts be" for its two cradles. Each limit is the
+    study's first crossing of its own curve (between the grid values where the loss passes the target), each
+    ngspice point sits on that curve, and the perfect cradle's limits are those lcchain.circuit.requirements
+    computes here."""
+    from lcchain.circuit.ladder import Ladder
+    from lcchain.circuit.requirements import LOSS_TARGETS, PARTS, requirement
+    from lcchain.studies.requirements import requirements_jobs
+
+    sections = {section["name"]: section for section in data["requirements"]}
+    jobs = {job.name: job for job in requirements_jobs(quick=True)}
+    assert set(sections) == set(jobs) == {"two-mass-N100", "perfect-N50"}
+    page = (report_dir / "index.html").read_text()
+    html = page[page.index('<h2 id="requirements">'):]
+    for name, section in sections.items():
+        assert section["passed"] and [part["part"] for part in section["parts"]] == [part.key for part in PARTS]
+        assert len(section["check"]) == jobs[name].checks * len(PARTS)
+        for part in section["parts"]:
+            values, losses = part["values"], part["losses"]
+            for target in LOSS_TARGETS:
+                limit = part["limits"][f"{target:g}"]
+                over = [k for k, loss in enumerate(losses) if loss > target]
+                if limit is None:  # never crossed in the part's range
+                    assert not over
+                else:
+                    assert values[over[0] - 1] < limit < values[over[0]]
+                assert part["statements"][f"{target:g}"] in html
+            for point in (p for p in section["check"] if p["part"] == part["part"]):
+                assert point["theory"] == losses[values.index(point["value"])]
+        assert f'id="requirements-{name}"' in html
+    job = jobs["perfect-N50"]
+    ladder = Ladder(job.chain(), job.L0, job.C0)
+    for part, found in zip(sections["perfect-N50"]["parts"], PARTS, strict=True):
+        expected = requirement(ladder, found, points=job.points)
+        assert list(part["limits"].values()) == list(expected.limits)
+    lines = [c for c in data["checks"] if c["kind"] == "requirements"]
+    assert len(lines) == len(sections) and all(c["passed"] for c in lines)
+    assert html.count("<figure") == len(sections)
+    points = sum(len(section["check"]) for section in sections.values())
+    assert f"{points} / {points}</b>ngspice points" in page
+
+
 def test_page_forbids_every_request(report_dir: Path) -> None:
     page = (report_dir / "index.html").read_text()
     digest = base64.b64encode(hashlib.sha256(STYLE.encode()).digest()).decode()

@@ -142,6 +142,7 @@ def test_worst_case_sweep_stores_the_corners_and_names_the_worst(capsys, tmp_pat
     (["sweep", "{pulse}", "--worst-case", "--store", "{tmp}/w.sqlite"], "excitation.kind"),
     (["sweep", "{plain}", "--worst-case", "--store", "{tmp}/w.sqlite"], "--worst-case"),
     (["sweep", "{ac}", "--worst-case", "--store", "{tmp}/w.sqlite"], "analysis.kind"),
+    (["sweep", "{parts}", "--worst-case", "--store", "{tmp}/w.sqlite"], "effects.coil_capacitance"),
     (["sweep", "{scene}", "--worst-case", "--transits", "2", "--store", "{tmp}/w.sqlite"], "--transits"),
     (["sweep", "{scene}", "--transits", "2", "--store", "{tmp}/w.sqlite"], "--transits"),
 ])
@@ -150,8 +151,10 @@ def test_bad_inputs_exit_2_with_one_line(capsys, tmp_path, argv, field):
     plain.write_text(SCENE.replace("{kind}", "kick").replace("L = 0.05\nC = 0.02", "L = 0.0\nC = 0.0"))
     ac = tmp_path / "ac.toml"  # the AC example: a tolerance, a kick by default, and no first arrival
     ac.write_text((Path(lcchain.__file__).parent / "scenes" / "examples" / "spectrum.toml").read_text())
+    parts = tmp_path / "parts.toml"  # a real part: the sensitivities are the ideal ladder's, not this circuit's
+    parts.write_text(_scene(tmp_path).read_text() + "[effects.coil_capacitance]\nratio = 0.01\n")
     names = {"{tmp}": str(tmp_path), "{scene}": str(_scene(tmp_path)), "{pulse}": str(_scene(tmp_path, "pulse")),
-             "{plain}": str(plain), "{ac}": str(ac)}
+             "{plain}": str(plain), "{ac}": str(ac), "{parts}": str(parts)}
     for key, value in names.items():
         argv = [arg.replace(key, value) for arg in argv]
     status, out, err = run_cli(capsys, *argv)

@@ -19,6 +19,7 @@ from ..report.build import build_report, report_rows
 from ..report.figure_data import DesignRows
 from ..studies.background import Background, Task
 from ..studies.designs import design_row, design_task
+from ..studies.requirements import requirements_jobs, run_requirements
 from ..studies.spectrum_checks import run_spectrum_check, spectrum_jobs
 from ..studies.validation import check_jobs, installed_engines, run_check
 
@@ -29,8 +30,9 @@ def make_report(out: str | os.PathLike[str], *, quick: bool = False, cache: str 
                 progress: Callable[[int, int, str], None] | None = None,
                 command: str = "lcchain report", workers: int | None = None) -> dict[str, Any]:
     """The validation report: every installed engine on the reference set
-    (:func:`lcchain.studies.validation.circuit_checks`) and ngspice's spectra of the reference ladders
-    (:func:`lcchain.studies.spectrum_checks.spectrum_jobs`), then the paper's tables and figures and the page
+    (:func:`lcchain.studies.validation.circuit_checks`), ngspice's spectra of the reference ladders
+    (:func:`lcchain.studies.spectrum_checks.spectrum_jobs`) and the cradles' parts' requirements
+    (:func:`lcchain.studies.requirements.requirements_jobs`), then the paper's tables and figures and the page
     (:func:`lcchain.report.build.build_report`) in ``out``.
 
     The checks, and the table rows not in ``cache``, are done by ``workers`` processes (default: one per core;
@@ -40,9 +42,11 @@ def make_report(out: str | os.PathLike[str], *, quick: bool = False, cache: str 
     simulators = installed_engines()
     jobs = check_jobs(quick=quick, simulators=simulators)
     spectra = spectrum_jobs(quick=quick, simulator=simulators[0])
+    cradles = requirements_jobs(quick=quick)
     rows = DesignRows(cache)
     tasks = [Task(("check", i), job.cost, run_check, (job,)) for i, job in enumerate(jobs)]
     tasks += [Task(("spectrum", i), job.cost, run_spectrum_check, (job,)) for i, job in enumerate(spectra)]
+    tasks += [Task(("requirements", i), job.cost, run_requirements, (job,)) for i, job in enumerate(cradles)]
     tasks += [design_task(case, N) for case, N in rows.missing(report_rows(quick))]
     with Background(tasks, workers) as background:
 
@@ -52,7 +56,9 @@ def make_report(out: str | os.PathLike[str], *, quick: bool = False, cache: str 
 
         rows.design = design
         keys = [("check", i) for i in range(len(jobs))] + [("spectrum", i) for i in range(len(spectra))]
+        keys += [("requirements", i) for i in range(len(cradles))]
         labels = [job.label or job.name for job in jobs] + [job.label for job in spectra]
+        labels += [job.label for job in cradles]
         results = []
         for i, (key, label) in enumerate(zip(keys, labels, strict=True)):
             if progress is not None:
@@ -60,6 +66,8 @@ def make_report(out: str | os.PathLike[str], *, quick: bool = False, cache: str 
             results.append(background.take(key))
         if progress is not None:
             progress(len(keys), len(keys), "done")
+        spectrum_end = len(jobs) + len(spectra)
         return build_report(out, results[:len(jobs)], {s.engine: s.version for s in simulators}, quick=quick,
                             cache=cache, progress=progress, command=command, seconds=time.perf_counter() - start,
-                            rows=rows, spectrum=results[len(jobs):])
+                            rows=rows, spectrum=results[len(jobs):spectrum_end],
+                            requirements=results[spectrum_end:])

@@ -24,11 +24,17 @@ from ..core.types import GAUSSIAN_CENTRE, PulseShape
 from .effects import Effect
 from .ladder import Ladder
 
-__all__ = ["Element", "Pulse", "ladder_elements", "ladder_pulse", "number", "GROUND", "RECT_FALL", "ELEMENT_HOOKS"]
+__all__ = ["Element", "Pulse", "ladder_elements", "ladder_pulse", "number", "GROUND", "RECT_FALL", "ELEMENT_HOOKS",
+           "adds_elements"]
 
 #: Every Effect method :func:`ladder_elements` asks for elements: an effect that overrides none of them adds none
 #: (the runs' planner relies on it; a new place for elements is added here and in ladder_elements together).
 ELEMENT_HOOKS = ("in_series", "across_coil", "capacitor_series", "across_capacitor", "to_ground", "between_coils")
+
+
+def adds_elements(effect: Effect) -> bool:
+    """Whether an effect puts elements of its own in the ladder: it overrides one of :data:`ELEMENT_HOOKS`."""
+    return any(getattr(type(effect), hook) is not getattr(Effect, hook) for hook in ELEMENT_HOOKS)
 
 #: The rect pulse's PWL source falls in this fraction of its duration (ngspice needs a finite slope).
 RECT_FALL = 1e-9

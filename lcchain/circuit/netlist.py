@@ -464,6 +464,7 @@ def make_netlist(
     modes: Modes | None = None,
     tstop: float | None = None,
     aligned: bool = False,
+    effects: tuple[Effect, ...] = (),
 ) -> tuple[str, Ladder, SimulationOptions]:
     """The netlist :func:`lcchain.simulate` runs: a chain, kicked or displaced, over some transits.
 
@@ -490,6 +491,9 @@ def make_netlist(
         The stop time (units of sqrt(L0 C0)) instead of the one the transits give.
     aligned : bool
         Steps the same at every dt up to scale (:attr:`SimulationOptions.aligned`).
+    effects : tuple of Effect
+        The elements each effect adds (:func:`netlist_text`); what they do to the chain (walls, coupling) is
+        already in ``chain``.
 
     Returns
     -------
@@ -502,7 +506,8 @@ def make_netlist(
         check_run_length(chain, tstop, ladder.time_unit, dt)
     options = SimulationOptions(dt=dt, tstop=tstop, method=method, aligned=aligned)
     title = title if title is not None else f"lcchain {chain.name} chain N={chain.N}, {excitation}"
-    text = netlist_text(ladder, options, excitation=excitation, I0=I0, title=title, comments=comments)
+    text = netlist_text(ladder, options, excitation=excitation, I0=I0, title=title, comments=comments,
+                        effects=effects)
     return text, ladder, options
 
 

@@ -16,6 +16,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 import scipy.optimize
@@ -29,8 +30,8 @@ from .elements import ladder_elements
 from .exact import CircuitTheory, exact_cost
 from .ladder import Ladder
 
-__all__ = ["Part", "PARTS", "Requirement", "Arrival", "first_arrival_energy", "requirement", "requirements_cost",
-           "LOSS_TARGETS"]
+__all__ = ["Part", "PARTS", "part_named", "si", "Requirement", "Arrival", "first_arrival_energy", "requirement",
+           "requirements_cost", "LOSS_TARGETS"]
 
 #: The losses each requirement is given for: 1 % and 0.1 % of the first arrival's energy.
 LOSS_TARGETS = (1e-2, 1e-3)
@@ -39,10 +40,10 @@ GRID_POINTS = 13
 
 
 def _hertz(omega: float, ladder: Ladder) -> str:
-    return _si(omega / (2 * math.pi * ladder.time_unit), "Hz")
+    return si(omega / (2 * math.pi * ladder.time_unit), "Hz")
 
 
-def _si(value: float, unit: str) -> str:
+def si(value: float, unit: str) -> str:
     """A value with an SI prefix, 3 significant digits: ``2.31 MHz``."""
     if value == 0 or not math.isfinite(value):
         return f"{value:g} {unit}"
@@ -67,6 +68,13 @@ class Part:
     build: Callable[[Chain, float], tuple[Chain, tuple[Effect, ...]]]
     physical: Callable[[float, Ladder], str]
 
+    def __reduce__(self) -> tuple[Any, ...]:
+        # a part of PARTS travels by its key (its callables are lambdas, which do not pickle): a requirement
+        # computed in the report's pool comes back holding the same part
+        if any(part is self for part in PARTS):
+            return (part_named, (self.key,))
+        return (Part, (self.key, self.symbol, self.what, self.low, self.high, self.build, self.physical))
+
 
 def _effect(make: Callable[[float], Effect]) -> Callable[[Chain, float], tuple[Chain, tuple[Effect, ...]]]:
     return lambda chain, x: (chain, (make(x),))
@@ -76,23 +84,31 @@ PARTS: tuple[Part, ...] = (
     Part("coil_capacitance", "r", "a capacitor r C0 across every coil (its self-resonance)", 1e-5, 1.0,
          _effect(CoilCapacitance),
          lambda x, ladder: (f"coil self-resonance above {_hertz(1 / math.sqrt(x), ladder)} "
-                            f"(self-capacitance below {_si(x * ladder.C0, 'F')}; the band top is "
+                            f"(self-capacitance below {si(x * ladder.C0, 'F')}; the band top is "
                             f"{_hertz(2.0, ladder)})")),
     Part("coil_resistance", "R", "a winding resistance R sqrt(L0/C0) in series with every coil", 1e-6, 1.0,
          _effect(CoilResistance),
          lambda x, ladder: (f"coil Q above {1 / x:.3g} at {_hertz(1.0, ladder)} (winding resistance below "
-                            f"{_si(x * ladder.impedance, 'Ω')})")),
+                            f"{si(x * ladder.impedance, 'Ω')})")),
     Part("capacitor_esr", "R", "an ESR R sqrt(L0/C0) in series with every capacitor", 1e-6, 1.0,
          _effect(CapacitorESR),
-         lambda x, ladder: (f"capacitor ESR below {_si(x * ladder.impedance, 'Ω')} (dissipation factor below "
+         lambda x, ladder: (f"capacitor ESR below {si(x * ladder.impedance, 'Ω')} (dissipation factor below "
                             f"{x:.3g} at {_hertz(1.0, ladder)})")),
     Part("capacitor_esl", "L", "an ESL L L0 in series with every capacitor", 1e-6, 1.0, _effect(CapacitorESL),
-         lambda x, ladder: (f"capacitor ESL below {_si(x * ladder.L0, 'H')} (capacitor self-resonance above "
+         lambda x, ladder: (f"capacitor ESL below {si(x * ladder.L0, 'H')} (capacitor self-resonance above "
                             f"{_hertz(1 / math.sqrt(x), ladder)})")),
     Part("coupling", "k", "a mutual inductance k sqrt(L_i L_i+1) between neighbouring coils", 1e-6,
          0.98 * MAX_COUPLING, lambda chain, x: (chain.with_coupling(x), ()),
          lambda x, ladder: f"coupling between neighbouring coils below k = {x:.3g}"),
 )
+
+
+def part_named(key: str) -> Part:
+    """The part of :data:`PARTS` whose key is ``key``."""
+    for part in PARTS:
+        if part.key == key:
+            return part
+    raise ParameterError("part", key, " | ".join(part.key for part in PARTS))
 
 
 @dataclass(frozen=True)

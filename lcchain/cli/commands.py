@@ -171,8 +171,12 @@ def cmd_netlist(args: argparse.Namespace) -> int:
     chain = chain_from_args(args)
     command = echoed_command("lcchain netlist", args.argv_echo)
     dt = args.dt if args.dt is not None else DEFAULT_DT
+    effects = effects_from_args(args)
+    for effect in effects:  # walls and the like change the chain itself; the others add elements
+        chain = effect.realise(chain, args.L0, args.C0)
     text, _, _ = make_netlist(chain, dt=dt, transits=args.transits, excitation=args.excitation,
-                              L0=args.L0, C0=args.C0, title=args.title, comments=(f"made by: {command}",))
+                              L0=args.L0, C0=args.C0, title=args.title, comments=(f"made by: {command}",),
+                              effects=effects)
     if args.output:
         outputs.text("--output", text)
     else:

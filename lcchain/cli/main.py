@@ -145,6 +145,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("netlist", help="SPICE netlist of the equivalent LC ladder")
     _add_chain_arguments(p)
+    add_effect_arguments(p)
     p.add_argument("-o", "--output", metavar="FILE", help="write here instead of stdout")
     p.set_defaults(func=commands.cmd_netlist)
 

@@ -8,6 +8,7 @@ from pathlib import Path
 from typing import Any
 
 from ..core.types import DesignCase
+from ..studies.requirements import RequirementsCheck
 from ..studies.spectrum_checks import SpectrumCheck
 from ..studies.validation import CircuitCheck
 from .figure_data import FULL_N, QUICK_N, DesignRows
@@ -15,6 +16,7 @@ from .files import write_text
 from .html import figure_png, render_html, report_json
 from .paper_figures import FIGURES, make_figures
 from .plots import overlay
+from .requirements import requirements_figures
 from .spectrum import spectrum_figures
 from .validation import QUICK_REPORT_N, REPORT_N, validation_report
 
@@ -53,9 +55,11 @@ def report_rows(quick: bool = False) -> list[tuple[DesignCase, int]]:
 def build_report(out: str | os.PathLike[str], circuit: Sequence[CircuitCheck], engines: Mapping[str, str], *,
                  quick: bool = False, cache: str | os.PathLike[str] | None = None, progress: Progress | None = None,
                  command: str = "lcchain report", seconds: float = 0.0, rows: DesignRows | None = None,
-                 spectrum: Sequence[SpectrumCheck] = ()) -> dict[str, Any]:
-    """Compute the paper's half of the validation report, render it with the circuit's runs and spectra (already
-    made), then write ``out/index.html`` and ``out/report.json``; return it as data.
+                 spectrum: Sequence[SpectrumCheck] = (),
+                 requirements: Sequence[RequirementsCheck] = ()) -> dict[str, Any]:
+    """Compute the paper's half of the validation report, render it with the circuit's runs, spectra and the
+    cradles' parts' requirements (already made), then write ``out/index.html`` and ``out/report.json``; return it
+    as data.
 
     ``rows`` gives the tables' rows (default: ``DesignRows(cache)``, designed here as they are read); the
     circuit's figures are drawn first, so that rows still being designed elsewhere
@@ -67,9 +71,11 @@ def build_report(out: str | os.PathLike[str], circuit: Sequence[CircuitCheck], e
         if check.curves:
             figures[f"check:{check.name}"] = figure_png(_check_figure(check), dpi=90)
     report = validation_report(rows, circuit, engines, quick=quick, progress=progress, seconds=seconds,
-                               spectrum=spectrum)
+                               spectrum=spectrum, requirements=requirements)
     for label, figure in spectrum_figures(spectrum, rows).items():
         figures[f"spectrum:{label}"] = figure_png(figure)
+    for name, figure in requirements_figures(requirements).items():
+        figures[f"requirements:{name}"] = figure_png(figure, dpi=90)
     for i, paper_figure in enumerate(FIGURES):
         if progress is not None:
             progress(i, len(FIGURES), f"Fig. {paper_figure.label}")

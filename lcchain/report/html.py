@@ -20,6 +20,7 @@ from typing import Any
 import numpy as np
 
 from .markup import esc, figure_block, num, verdict_cell
+from .requirements import requirements_html, requirements_summary
 from .spectrum import spectrum_html, spectrum_summary
 
 __all__ = ["render_html", "report_json", "figure_png", "STYLE", "content_security_policy"]
@@ -220,7 +221,8 @@ def _figures_html(figures: Mapping[str, bytes], captions: Iterable[tuple[str, st
 
 def render_html(report: Mapping[str, Any], figures: Mapping[str, bytes], captions: Iterable[tuple[str, str]],
                 command: str = "lcchain report") -> str:
-    """The page: verdict first, then the paper reproduced, the circuit validated and the figures."""
+    """The page: verdict first, then the paper reproduced, the circuit validated, the figures and how good the
+    parts must be."""
     checks = report["checks"]
     paper_checks = [c for c in checks if c.get("kind") == "paper"]
     circuit = report["circuit"]
@@ -233,6 +235,8 @@ def render_html(report: Mapping[str, Any], figures: Mapping[str, bytes], caption
     rows_computed = sum(len(v) for v in paper["tables"].values())
     spectrum = report.get("spectrum", [])
     spectra_passed, spectra_worst = spectrum_summary(spectrum)
+    requirements = report.get("requirements", [])
+    points_agreeing, points = requirements_summary(requirements)
     engines = ", ".join(f"{name} {version}" for name, version in
                         (report.get("engines") or {"ngspice": report["ngspice_version"]}).items())
     failed_list = "".join(f"<li>{esc(c['name'])}: {esc(c.get('reason') or '')} max error {num(c['max_abs_error'])}"
@@ -261,12 +265,15 @@ def render_html(report: Mapping[str, Any], figures: Mapping[str, bytes], caption
         f"{worst_ratio:.2f} × its tolerance</div>",
         f"<div><b>{spectra_passed} / {len(spectrum)}</b>spectra (ω<sub>n</sub>, δω<sub>n</sub>, P<sub>n</sub>) "
         f"within tolerance; worst {spectra_worst:.1e} × its tolerance</div>" if spectrum else "",
+        f"<div><b>{points_agreeing} / {points}</b>ngspice points on the parts' requirement curves</div>"
+        if requirements else "",
         "</div></header>",
         "<nav><ul><li><a href=\"#paper\">The paper reproduced</a></li><li><a href=\"#one-mass\">Table I</a></li>"
         "<li><a href=\"#two-mass\">Table II</a></li><li><a href=\"#asymptotic\">Large-N constants</a></li>"
         "<li><a href=\"#perfect\">Perfect chains</a></li><li><a href=\"#findings\">Where the paper slips</a></li>"
         "<li><a href=\"#circuit\">The circuit validated</a></li><li><a href=\"#spectrum\">The spectrum in the "
-        "circuit</a></li><li><a href=\"#figures\">The paper's figures</a></li></ul></nav>",
+        "circuit</a></li><li><a href=\"#figures\">The paper's figures</a></li>"
+        "<li><a href=\"#requirements\">How good must the parts be</a></li></ul></nav>",
         '<h2 id="paper">The paper reproduced</h2>',
         "<p>Tables I and II recomputed from scratch at every N of the paper's list (the optimiser, the closed-form "
         "modes and the arrival search of lcchain; nothing is looked up), beside the rows the paper prints.</p>",
@@ -280,6 +287,8 @@ def render_html(report: Mapping[str, Any], figures: Mapping[str, bytes], caption
         spectrum_html(spectrum, figures),
         '<h2 id="figures">The paper\'s figures, recomputed</h2>',
         _figures_html(figures, captions),
+        '<h2 id="requirements">How good must the parts be</h2>',
+        requirements_html(requirements, figures),
         "</body></html>",
     ]
     return "\n".join(part for part in parts if part)
@@ -304,6 +313,7 @@ def report_json(report: Mapping[str, Any]) -> str:
     data = {key: report[key] for key in ("title", "created", "lcchain_version", "ngspice_version", "engines",
                                           "machine", "quick", "passed", "seconds", "tables", "checks")}
     data["spectrum"] = [check.to_dict() for check in report.get("spectrum", [])]
+    data["requirements"] = [check.to_dict() for check in report.get("requirements", [])]
     paper = report["paper"]
     data["paper"] = {"asymptotic": paper["asymptotic"], "perfect": paper["perfect"], "findings": paper["findings"],
                      "printed_rows": {case: [{"N": e["row"]["N"], "cells": e["printed"]} for e in entries

@@ -5,7 +5,8 @@ paper's list, the asymptotic constants, the perfect chains, the paper's slips),
 takes the circuit's half already run (ngspice on the reference chains with
 both excitations and on a scene with losses and walls:
 :mod:`lcchain.studies.validation`; the reference ladders' spectra:
-:mod:`lcchain.studies.spectrum_checks`), and returns the report as data;
+:mod:`lcchain.studies.spectrum_checks`; the cradles' parts' requirements:
+:mod:`lcchain.studies.requirements`), and returns the report as data;
 :mod:`.html` renders it.  Every number in the page comes from here, and ``report.json`` holds the
 same content.
 """
@@ -21,6 +22,7 @@ from typing import Any
 import numpy as np
 
 from ..core import __version__
+from ..studies.requirements import RequirementsCheck
 from ..studies.spectrum_checks import SpectrumCheck
 from ..studies.validation import CircuitCheck
 from ..theory.asymptotic import asymptotic_optimum
@@ -112,18 +114,21 @@ def paper_section(rows: DesignRows, *, quick: bool = False,
 # ------------------------------------------------------------------ the whole report
 def validation_report(rows: DesignRows, circuit: Sequence[CircuitCheck], engines: Mapping[str, str], *,
                       quick: bool = False, progress: Callable[[int, int, str], None] | None = None,
-                      seconds: float = 0.0, spectrum: Sequence[SpectrumCheck] = ()) -> dict[str, Any]:
+                      seconds: float = 0.0, spectrum: Sequence[SpectrumCheck] = (),
+                      requirements: Sequence[RequirementsCheck] = ()) -> dict[str, Any]:
     """Everything the page shows, as data (figures excepted: :mod:`.html` draws them from ``curves``).
 
     ``circuit`` are the ngspice runs already made (:func:`lcchain.studies.validation.circuit_checks`, by
-    :mod:`lcchain.app.validation`), and ``spectrum`` the AC measurements
-    (:func:`lcchain.studies.spectrum_checks.run_spectrum_check`): the report renders them and runs nothing;
+    :mod:`lcchain.app.validation`), ``spectrum`` the AC measurements
+    (:func:`lcchain.studies.spectrum_checks.run_spectrum_check`) and ``requirements`` the cradles' parts
+    (:func:`lcchain.studies.requirements.run_requirements`): the report renders them and runs nothing;
     ``seconds`` is what they took.  Every one of their checks counts in the verdict.
     """
     start = time.perf_counter()
     paper = paper_section(rows, quick=quick, progress=progress)
-    circuit, spectrum = list(circuit), list(spectrum)
-    checks = [*paper["checks"], *(c.to_dict() for c in circuit), *(line for c in spectrum for line in c.checks())]
+    circuit, spectrum, requirements = list(circuit), list(spectrum), list(requirements)
+    checks = [*paper["checks"], *(c.to_dict() for c in circuit), *(line for c in spectrum for line in c.checks()),
+              *(line for c in requirements for line in c.checks())]
     return {
         "title": "lcchain validation report",
         "created": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
@@ -139,5 +144,6 @@ def validation_report(rows: DesignRows, circuit: Sequence[CircuitCheck], engines
         "paper": paper,
         "circuit": circuit,
         "spectrum": spectrum,
+        "requirements": requirements,
         "seconds": seconds + time.perf_counter() - start,
     }

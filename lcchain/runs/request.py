@@ -24,7 +24,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from ..circuit.effects import Effect, Losses, PreferredValues, Tolerance
-from ..circuit.elements import ELEMENT_HOOKS, Element, Pulse, ladder_elements
+from ..circuit.elements import Element, Pulse, adds_elements, ladder_elements
 from ..circuit.exact import circuit_cost, circuit_states, circuit_theory, circuit_unknowns
 from ..circuit.ladder import Ladder
 from ..circuit.netlist import (
@@ -539,8 +539,7 @@ def _chain_follows(request: Request, ladder: Ladder) -> bool:
     if request.Q is not None and ladder.chain.coupled:
         return False
     chain_only = (Losses(request.Q),) if request.Q is not None else ()
-    adders = tuple(effect for effect in request.effects
-                   if any(getattr(type(effect), hook) is not getattr(Effect, hook) for hook in ELEMENT_HOOKS))
+    adders = tuple(effect for effect in request.effects if adds_elements(effect))
     if adders == chain_only:  # only the chain's own losses add elements: the same ladder by construction
         return True
     return ladder_elements(ladder, request.effects) == ladder_elements(ladder, chain_only)

@@ -22,7 +22,8 @@ from typing import Any
 
 import numpy as np
 
-from ..circuit.effects import Losses, PreferredValues, Tolerance, rounded
+from ..circuit.effects import PreferredValues, Tolerance, rounded
+from ..circuit.elements import adds_elements
 from ..circuit.ladder import Ladder
 from ..circuit.sensitivity import Corner, LadderSensitivity, corners, ladder_sensitivity
 from ..core.budget import Budget, Estimate, accuracy_plan_seconds, sample_theory_seconds, sensitivity_estimate
@@ -81,10 +82,10 @@ def _refuse(scene: Any, path: str) -> Tolerance:
     if scene.excitation.kind != "kick":
         raise ParameterError("excitation.kind", scene.excitation.kind, '"kick" with --worst-case (the '
                              "sensitivities are the kicked ladder's first-arrival peak)", path)
-    losses = scene.effects.get(Losses)
-    if losses is not None:
-        raise ParameterError("effects.losses", losses.Q, "no losses with --worst-case (the "
-                             "sensitivities and the Monte Carlo's peaks are the lossless ladder's)", path)
+    adder = next((effect for effect in scene.effects.present() if adds_elements(effect)), None)
+    if adder is not None:  # losses, a real part, any effect's own element: not the lossless ladder's
+        raise ParameterError(f"effects.{adder.key}", adder, "no effect that adds elements with --worst-case (the "
+                             "sensitivities and the Monte Carlo's peaks are the ideal ladder's)", path)
     if tolerance.corner is not None:
         raise ParameterError("effects.tolerance.corner", list(tolerance.corner), "none with --worst-case (it "
                              "makes the corners)", path)
