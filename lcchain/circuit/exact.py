@@ -680,6 +680,45 @@ class CircuitTheory:
                             np.expm1(np.outer(lam, times)) / np.where(small, 1.0, lam)[:, None])
         return np.asarray(start + ((shape * self._coefficients) @ integral).real)
 
+    def admittances(self, probes: Sequence[str]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The transfer admittances I_k(s) / V(s) of the coils ``probes`` from the circuit's source (its pulse, whose
+        shape does not matter here: per volt of it, wherever it drives), as poles and residues::
+
+            I_k(s) / V(s) = direct_k + sum_n residues[k, n] / (s - poles[n])
+
+        the Laplace transform of the very response :meth:`currents` convolves the pulse with (the same modal gains),
+        so an AC analysis and a transient of the circuit follow one theory.
+
+        Returns
+        -------
+        poles : ndarray of complex, shape (modes,)
+            rad/s: lossless ``+-1j omega_n`` (a mode of zero frequency once, at 0), lossy the circuit's ``lam``.
+        residues : ndarray of complex, shape (len(probes), modes)
+            Siemens x rad/s; a conjugate pole's residue is the conjugate (the admittance is real on the real axis).
+        direct : ndarray, shape (len(probes),)
+            Siemens: what a coil carries at once when the source reaches capacitive nodes (0 to rounding: a coil
+            carries no current at infinite frequency).
+
+        Raises
+        ------
+        ParameterError
+            A circuit with no source (no pulse among its elements).
+        """
+        if self._pulse is None:
+            raise ParameterError("elements", "no source", "a circuit with a source (a pulse) for its admittances")
+        rows = self._rows(probes)
+        gain = self._gain[rows, :]
+        if self.lossless:
+            # gain s / (s^2 + omega^2) = (gain / 2) / (s - j omega) + (gain / 2) / (s + j omega); 1 / s at omega = 0
+            moving = self._omega > 0
+            omega = self._omega[moving]
+            poles = np.concatenate((1j * omega, -1j * omega, np.zeros(np.count_nonzero(~moving))))
+            residues = np.hstack((0.5 * gain[:, moving], 0.5 * gain[:, moving], gain[:, ~moving])).astype(complex)
+            return poles, residues, np.zeros(len(rows))
+        # c' = lam c + g u + h u': C(s) = (g + s h) / (s - lam) U(s) = (h + (g + lam h) / (s - lam)) U(s)
+        direct = self._gain_now[rows, :].sum(axis=1).real
+        return self._lam.astype(complex), gain.astype(complex), np.asarray(direct, dtype=float)
+
     def cosine_weights(self, probes: Sequence[str], *, charges: bool = False) -> tuple[np.ndarray, np.ndarray] | None:
         """The free response of the coils ``probes`` as a pure sum of cosines: (omega in rad/s, weights of shape
         (len(probes), modes)), of their currents, or with ``charges`` of the charges through them (less their
