@@ -47,8 +47,12 @@ PARTS: dict[str, tuple[str, int, tuple[Effect, ...]]] = {
     "coupled with losses": ("two-mass", 6, (Coupling(0.2), Losses(50.0))),
     "every part, coupled, losses": ("one-mass", 6, (Coupling(0.2), CoilCapacitance(0.05), CoilResistance(0.01),
                                                     CapacitorESR(0.01), CapacitorESL(0.04), Losses(100.0))),
+    # a coil's capacitor and a capacitor's ESR: real poles (RC) far beyond the sweep, which no sweep can place,
+    # and a free chain's zero mode, which no resistor damps
+    "coil capacitance and ESR": ("two-mass", 8, (CoilCapacitance(0.05), CapacitorESR(0.01))),
 }
-LOSSY = {"coil resistance", "capacitor ESR", "coupled with losses", "every part, coupled, losses"}
+LOSSY = {"coil resistance", "capacitor ESR", "coupled with losses", "every part, coupled, losses",
+         "coil capacitance and ESR"}
 
 
 def _check(name: str, engine: str) -> None:
@@ -139,3 +143,26 @@ def test_a_larger_circuit_with_every_part_and_overlapping_resonances() -> None:
     assert report.max_rel_error_omega < RTOL_CIRCUIT_SPECTRUM_OMEGA
     assert report.max_abs_error_P < ATOL_CIRCUIT_SPECTRUM_P
     assert report.max_rel_error_Q < RTOL_CIRCUIT_SPECTRUM_Q
+
+
+@pytest.mark.ngspice
+def test_a_scene_and_the_command_line_take_real_parts(tmp_path, monkeypatch, capsys) -> None:
+    # The scene's AC report and lcchain spectrum, with a winding resistance: each mode decays at its own rate (no
+    # [effects.losses] Q), compared with the circuit's own poles.
+    import json
+
+    from lcchain.cli.main import main
+
+    monkeypatch.chdir(tmp_path)
+    scene = tmp_path / "parts.toml"
+    scene.write_text('[chain]\ncase = "two-mass"\nN = 8\n[effects.coil_resistance]\nR = 0.01\n'
+                     '[analysis]\nkind = "ac"\n[output]\nreport = "r.json"\n')
+    assert main(["run", str(scene), "--json"]) == 0
+    report = json.loads(capsys.readouterr().out)
+    assert "Q" not in report and report["max_rel_error_Q"] < RTOL_CIRCUIT_SPECTRUM_Q
+    assert report["max_rel_error_omega"] < RTOL_CIRCUIT_SPECTRUM_OMEGA
+    assert main(["spectrum", "--case", "two-mass", "--N", "8", "--coil-capacitance", "0.05", "--capacitor-esr",
+                 "0.01", "--json"]) == 0
+    spectrum = json.loads(capsys.readouterr().out)
+    assert spectrum["max_rel_error_omega"] < RTOL_CIRCUIT_SPECTRUM_OMEGA
+    assert spectrum["max_rel_error_pole"] < RTOL_CIRCUIT_SPECTRUM_Q

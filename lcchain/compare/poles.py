@@ -90,6 +90,7 @@ class CircuitModes(FrozenArrays):
         p = np.asarray(poles, dtype=complex) * time_unit
         r = np.asarray(residues, dtype=complex) * (impedance * time_unit)
         scale = max(float(np.max(np.abs(p), initial=0.0)), 1e-300)
+        p = np.where(np.abs(p) <= 1e-12 * scale, 0.0, p)  # a zero mode's rounding (a free chain's translation)
         real = np.abs(p.imag) <= 1e-12 * scale
         keep = real | (p.imag > 0)
         p, r, real = p[keep], r[:, keep], real[keep]
@@ -132,6 +133,8 @@ def _model(s: np.ndarray, params: np.ndarray, kinds: np.ndarray, lossy: bool
             k += 1
         else:  # a lossless zero mode: a / s
             columns.append(1.0 / s)
+    if lossy:  # what the poles far beyond the sweep add over it, a real pole's r / (s - p) ~ -r/p - r s/p^2 - ...
+        columns += [np.ones_like(s), s, s * s]
     return np.stack(columns, axis=1), slopes
 
 
@@ -285,6 +288,10 @@ def compare_poles(theory: CircuitModes, omega: np.ndarray, y11: np.ndarray, yN1:
         m_1: P_n = m_1 times the coefficient in I_N/V_1, as a chain's.
     """
     lossy = theory.lossy
+    beyond = (theory.omega == 0) & (theory.gamma > 1.05 * float(np.max(omega)))
+    if np.any(beyond):  # real poles far beyond the sweep (a capacitor's RC through an ESR): no mode it can measure
+        theory = CircuitModes(theory.omega[~beyond], theory.gamma[~beyond], theory.first[~beyond],
+                              theory.last[~beyond], lossy)
     fit = fit_poles(omega, y11, yN1, lossy=lossy)
     exact = theory.omega + 1j * theory.gamma
     found = fit.omega + 1j * fit.gamma
