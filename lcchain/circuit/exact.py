@@ -402,6 +402,7 @@ class CircuitTheory:
         plain = [e for e in elements if isinstance(e, Element)]
         self._couplings = tuple((e.name, float(e.value)) for e in plain if e.kind == "K")
         self._pulse = net.pulse
+        self._states: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None  # a pulse's panels (_edge_states)
         self.inductors = net.inductors
         touched = net.Cn.diagonal() > 0
         resistive = ~touched & (abs(net.G).sum(axis=1) > 0)
@@ -594,7 +595,24 @@ class CircuitTheory:
     def _convolution(self, times: np.ndarray) -> np.ndarray:
         """w_k(t) = integral from 0 to t of exp(p_k (t - s)) u(s) ds for each mode's pole p_k (lossless: +1j omega,
         whose real part is the cosine's convolution), shape (modes, times): Gauss-Legendre panels no longer than
-        3 / max|p| (16 nodes: exact to rounding), joined by the exact propagator."""
+        3 / max|p| (16 nodes: exact to rounding), joined by the exact propagator.  The states at the panels' edges
+        are computed once (:meth:`_edge_states`): a peak search evaluates the response some 75 times."""
+        poles, edge, state = self._edge_states()
+        out = np.empty((poles.size, times.size), dtype=complex)
+        end = edge[-1]
+        after = times >= end
+        out[:, after] = np.exp(np.outer(poles, times[after] - end)) * state[-1][:, None]
+        inside = np.flatnonzero(~after)
+        if inside.size:
+            panel = np.clip(np.searchsorted(edge, times[inside], side="right") - 1, 0, edge.size - 2)
+            for j, k in zip(inside, panel, strict=True):
+                out[:, j] = np.exp(poles * (times[j] - edge[k])) * state[k] + self._panel(poles, edge[k], times[j])
+        return out
+
+    def _edge_states(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(poles, panel edges, the convolution's state at each edge), computed on first use and kept."""
+        if self._states is not None:
+            return self._states
         pulse = self._pulse
         assert pulse is not None
         poles = 1j * self._omega if self.lossless else self._lam
@@ -610,16 +628,8 @@ class CircuitTheory:
         for k in range(edge.size - 1):
             state[k + 1] = np.exp(poles * (edge[k + 1] - edge[k])) * state[k] + self._panel(poles, edge[k],
                                                                                                edge[k + 1])
-        out = np.empty((poles.size, times.size), dtype=complex)
-        end = edge[-1]
-        after = times >= end
-        out[:, after] = np.exp(np.outer(poles, times[after] - end)) * state[-1][:, None]
-        inside = np.flatnonzero(~after)
-        if inside.size:
-            panel = np.clip(np.searchsorted(edge, times[inside], side="right") - 1, 0, edge.size - 2)
-            for j, k in zip(inside, panel, strict=True):
-                out[:, j] = np.exp(poles * (times[j] - edge[k])) * state[k] + self._panel(poles, edge[k], times[j])
-        return out
+        self._states = (poles, edge, state)
+        return self._states
 
     def _panel(self, poles: np.ndarray, lo: float, hi: float) -> np.ndarray:
         """integral from lo to hi of exp(p (hi - s)) u(s) ds, by Gauss-Legendre."""
@@ -666,6 +676,45 @@ class CircuitTheory:
         integral = np.where(small[:, None], times[None, :],
                             np.expm1(np.outer(lam, times)) / np.where(small, 1.0, lam)[:, None])
         return np.asarray(start + ((shape * self._coefficients) @ integral).real)
+
+    def admittances(self, probes: Sequence[str]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The transfer admittances I_k(s) / V(s) of the coils ``probes`` from the circuit's source (its pulse, whose
+        shape does not matter here: per volt of it, wherever it drives), as poles and residues::
+
+            I_k(s) / V(s) = direct_k + sum_n residues[k, n] / (s - poles[n])
+
+        the Laplace transform of the very response :meth:`currents` convolves the pulse with (the same modal gains),
+        so an AC analysis and a transient of the circuit follow one theory.
+
+        Returns
+        -------
+        poles : ndarray of complex, shape (modes,)
+            rad/s: lossless ``+-1j omega_n`` (a mode of zero frequency once, at 0), lossy the circuit's ``lam``.
+        residues : ndarray of complex, shape (len(probes), modes)
+            Siemens x rad/s; a conjugate pole's residue is the conjugate (the admittance is real on the real axis).
+        direct : ndarray, shape (len(probes),)
+            Siemens: what a coil carries at once when the source reaches capacitive nodes (0 to rounding: a coil
+            carries no current at infinite frequency).
+
+        Raises
+        ------
+        ParameterError
+            A circuit with no source (no pulse among its elements).
+        """
+        if self._pulse is None:
+            raise ParameterError("elements", "no source", "a circuit with a source (a pulse) for its admittances")
+        rows = self._rows(probes)
+        gain = self._gain[rows, :]
+        if self.lossless:
+            # gain s / (s^2 + omega^2) = (gain / 2) / (s - j omega) + (gain / 2) / (s + j omega); 1 / s at omega = 0
+            moving = self._omega > 0
+            omega = self._omega[moving]
+            poles = np.concatenate((1j * omega, -1j * omega, np.zeros(np.count_nonzero(~moving))))
+            residues = np.hstack((0.5 * gain[:, moving], 0.5 * gain[:, moving], gain[:, ~moving])).astype(complex)
+            return poles, residues, np.zeros(len(rows))
+        # c' = lam c + g u + h u': C(s) = (g + s h) / (s - lam) U(s) = (h + (g + lam h) / (s - lam)) U(s)
+        direct = self._gain_now[rows, :].sum(axis=1).real
+        return self._lam.astype(complex), gain.astype(complex), np.asarray(direct, dtype=float)
 
     def cosine_weights(self, probes: Sequence[str], *, charges: bool = False) -> tuple[np.ndarray, np.ndarray] | None:
         """The free response of the coils ``probes`` as a pure sum of cosines: (omega in rad/s, weights of shape

@@ -74,6 +74,7 @@ from .elements import Element, Pulse, ladder_elements, ladder_pulse, number
 from .ladder import Ladder
 
 __all__ = [
+    "ac_circuit_elements",
     "Ladder",
     "SimulationOptions",
     "netlist_text",
@@ -309,6 +310,16 @@ def circuit_elements(ladder: Ladder, *, excitation: ExcitationKind = "kick", I0:
     if pulse is not None:
         elements += (ladder_pulse(ladder, pulse[0], pulse[1], I0),)
     return elements
+
+
+def ac_circuit_elements(ladder: Ladder, effects: tuple[Effect, ...] = ()) -> tuple[Element | Pulse, ...]:
+    """The elements of :func:`ac_netlist_text`'s netlist, for the circuit's own exact theory: the ladder's with loop 1
+    open at ``s1``, and the AC source's place (``s1`` to the rail node n0, or ground) as a unit rect pulse, the
+    source :class:`lcchain.circuit.exact.CircuitTheory` folds in: its admittances are per volt of it, whatever its
+    shape (:meth:`lcchain.circuit.exact.CircuitTheory.admittances`)."""
+    parts = _sequence("effects", effects, "a tuple of lcchain effects")
+    return (*ladder_elements(ladder, parts, source=True),
+            Pulse("s1", ladder.node(0), "rect", ladder.time_unit, ladder.time_unit))
 
 
 def ac_netlist_text(ladder: Ladder, *, points: int | None = None, omega_max: float | None = None,

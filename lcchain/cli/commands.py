@@ -369,14 +369,18 @@ def cmd_simulate(args: argparse.Namespace) -> int:
 
 
 def cmd_spectrum(args: argparse.Namespace) -> int:
+    from ..circuit.effects import Losses
     from ..runs.spectrum import measure_spectrum
 
     outputs = Outputs(inputs={"--chain": args.chain})
     outputs.check("--plot", args.plot, FIGURE_FORMATS)
     chain = chain_from_args(args)
+    # the effect options the parser has (--Q is measure_spectrum's own, refused under its name there): effects
+    # that are no chain's are compared with the circuit's own poles and residues
+    effects = tuple(effect for effect in effects_from_args(args) if not isinstance(effect, Losses))
     report = measure_spectrum(chain, Q=args.Q, points=args.points, L0=args.L0, C0=args.C0,
                               budget=budget_from_args(args), engine=args.engine,
-                              progress=fraction(f"{args.engine} AC analysis, then the fit"))
+                              progress=fraction(f"{args.engine} AC analysis, then the fit"), effects=effects)
     data = report.to_dict()
     if args.json:
         emit_json(data)
@@ -403,7 +407,7 @@ def cmd_spectrum(args: argparse.Namespace) -> int:
         print(f"max relative error of omega_n = {data['max_rel_error_omega']:.3e} (modes with |P_n| >= 1e-6"
               f"{f'; {weak} weaker modes are placed less well' if weak else ''}), max absolute error of P_n = "
               f"{data['max_abs_error_P']:.3e} ({data['seen']} of {chain.N} modes seen at the ends)")
-        if data["Q"] is not None:
+        if data["Q"] is not None or data["max_rel_error_Q"] is not None:  # the chain's losses, a circuit's resistors
             _print_quality(data)
     if args.plot:
         from ..report.plots import spectrum
@@ -418,7 +422,7 @@ def _print_quality(data: dict[str, Any]) -> None:
     """``lcchain spectrum --Q``: each seen mode's Q_n beside omega_n Q, and the fitted response's error."""
     print(f"{'n':>5} {'Q_n (circuit)':>19} {'Q_n (theory)':>19} {'rel. error':>10}")
     for mode in data["modes"]:
-        if mode["Q"] is not None:
+        if mode["Q"] is not None and mode["Q_theory"] is not None:
             error = abs(mode["Q"] - mode["Q_theory"]) / (mode["Q_theory"] or 1.0)
             print(f"{mode['n']:>5} {mode['Q']:19.12g} {mode['Q_theory']:19.12g} {error:10.2e}")
     response = data["max_abs_error_response"]

@@ -166,9 +166,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--points", type=int, default=None, metavar="P",
                    help="frequencies of the AC sweep, in even segments placed where the poles are dense (default: "
                         "twice the fewest that separate every pole)")
-    p.add_argument("--Q", type=number("--Q"), default=None, metavar="Q",
-                   help="losses: a resistor L_i/(Q*sqrt(L0*C0)) with every coil, as a scene's [effects.losses] "
-                        "(Q > 0; not with --coupling); each mode's fitted Q_n is set beside omega_n*Q")
+    add_effect_arguments(p)  # --Q (each mode's fitted Q_n beside omega_n Q), the real parts, a plugin's
     p.add_argument("--plot", metavar="FILE", help="Fig. Pk20-100: |P_n| and the spacing against omega_n, the "
                    "circuit's modes on top of theory")
     p.add_argument("--json", action="store_true")

@@ -137,6 +137,9 @@ class SpectrumMetrics(FrozenArrays):
         With losses: the circuit's decay rate of every mode (NaN where unseen).
     losses : float, optional
         The losses' quality factor Q (every mode's theory decays at 1/Q); None: a lossless ladder.
+    gamma_theory : ndarray, optional
+        Each mode's own decay rate in theory (a circuit whose losses are not the chain's: its exact poles,
+        :func:`lcchain.compare.poles.compare_poles`), instead of 1/Q for every mode.
     """
 
     omega_theory: np.ndarray
@@ -148,11 +151,15 @@ class SpectrumMetrics(FrozenArrays):
     seen: np.ndarray | None = None
     gamma: np.ndarray | None = None
     losses: float | None = None
+    gamma_theory: np.ndarray | None = None
 
     def __post_init__(self) -> None:
-        if (self.gamma is None) != (self.losses is None):
-            raise ParameterError("gamma", self.losses, "decay rates with the losses' Q, or neither")
-        arrays = ("omega_theory", "omega", "P_theory", "P", "resolved") + (("gamma",) if self.gamma is not None else ())
+        if (self.gamma is None) != (self.losses is None and self.gamma_theory is None) \
+                or (self.losses is not None and self.gamma_theory is not None):
+            raise ParameterError("gamma", self.losses, "decay rates with the losses' Q or the theory's own decay "
+                                 "rates (one of them), or neither")
+        arrays = ("omega_theory", "omega", "P_theory", "P", "resolved") + tuple(
+            name for name in ("gamma", "gamma_theory") if getattr(self, name) is not None)
         sizes = {np.shape(getattr(self, name)) for name in arrays}
         if len(sizes) != 1 or len(next(iter(sizes))) != 1:
             raise ParameterError("metrics", sorted(sizes), "one value per mode in every array")
@@ -195,14 +202,18 @@ class SpectrumMetrics(FrozenArrays):
 
     @property
     def Q_theory(self) -> np.ndarray:
-        """omega_n Q: every mode decays at gamma = 1/Q (NaN without losses)."""
+        """omega_n Q: every mode decays at gamma = 1/Q (NaN without losses); with the theory's own decay rates,
+        omega_n / gamma_n."""
+        if self.gamma_theory is not None:
+            with np.errstate(divide="ignore", invalid="ignore"):
+                return np.asarray(self.omega_theory / self.gamma_theory)
         return self.omega_theory * (np.nan if self.losses is None else self.losses)
 
     @property
     def max_rel_error_Q(self) -> float:
         """Largest |Q_n - omega_n Q| / (omega_n Q) over the resolved modes of nonzero frequency (NaN without
         losses); an unseen resolved mode is an infinite error."""
-        if self.losses is None:
+        if self.gamma is None:
             return float("nan")
         return largest_relative_error(self.Q, self.Q_theory, self.resolved & (self.omega_theory > 0))
 
@@ -220,18 +231,20 @@ class SpectrumMetrics(FrozenArrays):
                 "omega_theory": self.omega_theory.tolist(), "P": self.P.tolist(), "P_theory": self.P_theory.tolist(),
                 "resolved": self.resolved.tolist()} | ({} if self.gamma is None else {
                     "Q": self.losses, "max_rel_error_Q": self.max_rel_error_Q,
-                    "gamma": [float(g) if np.isfinite(g) else None for g in self.gamma]})
+                    "gamma": [float(g) if np.isfinite(g) else None for g in self.gamma]}) | (
+                    {} if self.gamma_theory is None else {"gamma_theory": self.gamma_theory.tolist()})
 
     @classmethod
     def from_dict(cls, data: dict[str, Any]) -> SpectrumMetrics:
         """The metrics a store kept (:meth:`to_dict`)."""
         try:
-            gamma = data.get("gamma")
+            gamma, gamma_theory = data.get("gamma"), data.get("gamma_theory")
             return cls(np.asarray(data["omega_theory"], dtype=float),
                        np.array([np.nan if w is None else w for w in data["omega"]], dtype=float),
                        np.asarray(data["P_theory"], dtype=float), np.asarray(data["P"], dtype=float),
                        np.asarray(data["resolved"], dtype=bool), gamma=None if gamma is None else
-                       np.array([np.nan if g is None else g for g in gamma], dtype=float), losses=data.get("Q"))
+                       np.array([np.nan if g is None else g for g in gamma], dtype=float), losses=data.get("Q"),
+                       gamma_theory=None if gamma_theory is None else np.asarray(gamma_theory, dtype=float))
         except (KeyError, TypeError, ValueError):
             raise ParameterError("metrics", sorted(data), "an AC run's metrics (omega, P and their theory)") from None
 

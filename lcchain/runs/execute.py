@@ -48,14 +48,17 @@ from .spec import RunSpec, SpectrumTheory, Theory
 # A foreign netlist's run (lcchain batch) compares nothing with theory: the comparisons, the circuit's theory and
 # the AC fit load in the functions that use them, so that a batch starts without them (issue 35).
 if TYPE_CHECKING:
+    from ..circuit.elements import Element, Pulse
     from ..circuit.exact import CircuitTheory
     from ..compare.metrics import EffectCost, Metrics
+    from ..compare.poles import CircuitModes
     from ..compare.spectral import SpectrumMetrics
     from ..compare.waveforms import Signals
     from ..spice.ac import AcResult
 
 __all__ = ["signals_of", "loop_sims", "theory_at", "metrics_of", "CircuitResponse", "LoopTheory", "effect_cost",
-           "loop_theory", "RunRecord", "execute", "waveform_digest", "pulse_centre", "ANALYSIS_RUNS", "ac_metrics"]
+           "loop_theory", "RunRecord", "execute", "waveform_digest", "pulse_centre", "ANALYSIS_RUNS", "ac_metrics",
+           "circuit_modes"]
 
 log = logging.getLogger("lcchain")
 
@@ -370,16 +373,34 @@ def _run_transient(spec: RunSpec, simulator: Simulator,
 
 
 @fixed_blas_threads
+def circuit_modes(elements: tuple[Element | Pulse, ...], N: int, time_unit: float, impedance: float) -> CircuitModes:
+    """The exact modes of an AC run's circuit (its elements with the source's place,
+    :func:`lcchain.circuit.netlist.ac_circuit_elements`): the poles and residues of its I_1/V and I_N/V
+    (:meth:`lcchain.circuit.exact.CircuitTheory.admittances`), dimensionless (``time_unit`` s, ``impedance`` ohm)."""
+    from ..circuit.exact import circuit_theory
+    from ..compare.poles import CircuitModes
+
+    exact = circuit_theory(elements)  # the planner's, when it ran in this process
+    poles, residues, _ = exact.admittances(["L1", f"L{N}"])
+    return CircuitModes.from_poles(poles, residues, time_unit, impedance, lossy=not exact.lossless)
+
+
+@fixed_blas_threads
 def ac_metrics(theory: SpectrumTheory, result: AcResult) -> SpectrumMetrics:
-    """An AC run's I_1/V_1 and I_N/V_1 against the driven modes of its chain."""
+    """An AC run's I_1/V_1 and I_N/V_1 against the driven modes of its chain, or the circuit's own poles and
+    residues when its theory carries its elements."""
     from ..circuit.netlist import probe_names
+    from ..compare.poles import compare_poles
     from ..compare.spectral import compare_spectrum
     from ..theory.exact import driven_modes
 
     chain = theory.chain
-    modes = theory.modes if theory.modes is not None else driven_modes(chain)
     omega = 2.0 * np.pi * result.frequency * theory.time_unit
     first, last = (result.vectors[name] * theory.impedance for name in probe_names(chain.N, "ends"))
+    if theory.circuit is not None:
+        exact = circuit_modes(theory.circuit, chain.N, theory.time_unit, theory.impedance)
+        return compare_poles(exact, omega, first, last, float(chain.masses[0]))
+    modes = theory.modes if theory.modes is not None else driven_modes(chain)
     return compare_spectrum(modes, omega, first, last, float(chain.masses[0]), theory.Q)
 
 
@@ -399,7 +420,7 @@ def _run_ac(spec: RunSpec, simulator: Simulator,
     spectrum = None
     if isinstance(spec.theory, SpectrumTheory):
         if progress is not None:  # the fit follows: most of the work beyond a few hundred modes
-            N, lossy = spec.theory.chain.N, spec.theory.Q is not None
+            N, lossy = spec.theory.chain.N, spec.theory.Q is not None or spec.theory.circuit is not None
             engine = ac_run_estimate(points=spec.points, saved=2, unknowns=(3 if lossy else 2) * N).seconds
             progress(engine / spectrum_estimate(spec.points, N, losses=lossy).seconds)
         try:

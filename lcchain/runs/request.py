@@ -29,6 +29,7 @@ from ..circuit.exact import circuit_cost, circuit_states, circuit_theory, circui
 from ..circuit.ladder import Ladder
 from ..circuit.netlist import (
     SimulationOptions,
+    ac_circuit_elements,
     ac_netlist_text,
     check_frequency_scale,
     check_run_length,
@@ -46,6 +47,7 @@ from ..compare.extrapolate import (
     runs_for_step,
 )
 from ..compare.grid import Segment
+from ..compare.poles import CIRCUIT_SPECTRUM_MAX_MODES, CircuitModes
 from ..compare.spectral import SPECTRUM_MAX_N, check_lossy, spectrum_estimate, sweep_grid
 from ..core.blas import fixed_blas_threads
 from ..core.budget import (
@@ -82,7 +84,7 @@ from ..theory.exact import driven_modes
 from ..theory.modes import Modes
 from ..theory.response import loop_weights
 from ..theory.spectrum import normal_modes
-from .execute import pulse_centre
+from .execute import circuit_modes, pulse_centre
 from .spec import DEFAULT_TIMEOUT, RunSpec, SpectrumTheory, Theory
 
 __all__ = ["Drive", "Transient", "AC", "Analysis", "Request", "RequestPlan", "plan_request", "ACCURACY_LOOPS"]
@@ -172,8 +174,10 @@ class AC:
 
     Its modes are fitted (:func:`lcchain.compare.spectral.compare_spectrum`) and compared with the driven modes
     of the same chain: omega_n, and P_n, each mode's coefficient in alpha_N(t); with losses also each mode's
-    decay rate against 1/Q.  The request's drive does not apply (the source is the AC voltage); both end
-    currents are saved.
+    decay rate against 1/Q.  With effects whose elements are no chain's (real parts, coupled coils with losses)
+    the circuit's own poles and residues take the chain's place (:func:`lcchain.compare.poles.compare_poles`):
+    its every mode, which the sweep then covers (more than N where a coil or a capacitor resonates by itself).
+    The request's drive does not apply (the source is the AC voltage); both end currents are saved.
 
     Parameters
     ----------
@@ -625,8 +629,7 @@ def _plan_ac(request: Request, budget: Budget, modes: Modes | None, design_secon
     assert isinstance(analysis, AC)  # its own plan method calls this
     nominal, ladder, circuit = _nominal_ladder(request)
     if circuit:
-        raise ParameterError("effects", [effect.key for effect in request.effects], "effects whose elements are a "
-                             "chain's for an AC analysis (its poles are compared with the chain's driven modes)")
+        return _plan_circuit_ac(request, budget, modes, design_seconds, nominal, ladder)
     N, samples = nominal.N, request.samples
     if N > SPECTRUM_MAX_N:
         raise ParameterError("N", N, f"N <= {SPECTRUM_MAX_N} for an AC analysis (exact modes of the chain, and the "
@@ -664,6 +667,74 @@ def _plan_ac(request: Request, budget: Budget, modes: Modes | None, design_secon
         spectrum = SpectrumTheory(chain, ladder.time_unit, ladder.impedance, grid[2], modes=driven, Q=request.Q)
         specs.append(RunSpec(text, probes, 0.0, backend=request.backend, timeout=request.timeout, theory=spectrum,
                              foreign=False, label=f"{chain.name} N={N} AC {grid[1]} frequencies",
+                             engine=request.engine, analysis="ac", points=grid[1]))
+    modes = modes if modes is not None else normal_modes(nominal)
+    return RequestPlan(request, nominal, tuple(chains), modes, modes.transit_time(), 0.0, (), None, "", None,
+                       tuple(specs), points, omega_max)
+
+
+def _circuit_grid(chain: Chain, request: Request, analysis: AC, ladder: Ladder | None = None
+                  ) -> tuple[Ladder, tuple[Element | Pulse, ...], CircuitModes, _Grid]:
+    """A realised chain's circuit, its AC elements with the source's place, their exact modes and its sweep
+    (segments as fine as the circuit's own poles, up to 5 % above the highest)."""
+    sample = ladder if ladder is not None else Ladder(chain, request.L0, request.C0)
+    elements = ac_circuit_elements(sample, request.effects)
+    exact = circuit_modes(elements, chain.N, sample.time_unit, sample.impedance)
+    if exact.N > CIRCUIT_SPECTRUM_MAX_MODES:
+        raise ParameterError("N", chain.N, f"a circuit of at most {CIRCUIT_SPECTRUM_MAX_MODES} modes for an AC "
+                             f"analysis with effects that are no chain's (this one has {exact.N}: its fit is dense)")
+    # no range of decay rates is refused here: the fit tells apart modes whose resonances overlap (measured:
+    # two-mass N = 20 with R = 0.01, two modes 0.018 apart whose decay rates add up to more, Q_n to 3e-13)
+    return sample, elements, exact, sweep_grid(exact.omega, analysis.points)
+
+
+def _plan_circuit_ac(request: Request, budget: Budget, modes: Modes | None, design_seconds: float, nominal: Chain,
+                     ladder: Ladder) -> RequestPlan:
+    """The AC sweeps of a circuit whose effects are no chain's: each realised chain's circuit against its own
+    exact poles and residues (:class:`lcchain.compare.poles.CircuitModes`), on a grid placed from them, which
+    covers every mode of the circuit (a coil's self-resonance, a capacitor's ESL resonance: as many as the
+    circuit has, which may be more than N).  Priced as a chain's sweep of as many modes as the circuit has, plus
+    the circuit's theory."""
+    analysis = request.analysis
+    assert isinstance(analysis, AC)
+    N, samples = nominal.N, request.samples
+    if N > SPECTRUM_MAX_N:
+        raise ParameterError("N", N, f"N <= {SPECTRUM_MAX_N} for an AC analysis (exact modes of the chain, and the "
+                             "fit's dense least squares)")
+    if modes is not None and modes.N != N:
+        raise ParameterError("modes", f"modes of N = {modes.N}", f"the modes of this chain (N = {N})")
+    _, elements, exact, (segments, points, omega_max) = _circuit_grid(nominal, request, analysis, ladder)
+    check_frequency_scale(nominal, float(np.max(exact.omega)), ladder.time_unit)
+
+    def price(frequencies: int, count: int) -> None:
+        one = spectrum_estimate(frequencies, max(N, count), losses=exact.lossy)
+        one = replace(one, seconds=one.seconds * ac_engine(request.engine).ac_relative_cost)
+        seconds, memory = circuit_cost(elements, 1)
+        one = Estimate(one.what + f" and the circuit's exact theory ({circuit_states(elements)} states)",
+                       one.memory + memory, one.seconds + seconds)
+        name, value = ("points", frequencies) if analysis.points is not None else ("N", N)
+        one.check(budget, name, value, "fewer frequencies (--points) or a smaller chain")
+        every = Estimate(f"{samples} runs of {one.what}", one.memory,
+                         design_seconds + samples * (one.seconds + RUN_START_SECONDS + sample_theory_seconds(N)))
+        every.check(budget, "effects.tolerance.samples" if samples > 1 else name, samples if samples > 1 else value,
+                    "fewer samples")
+
+    price(points, exact.N)
+    chains = _chains(request, nominal)
+    drawn = [(ladder, elements, exact, (segments, points, omega_max)) if chain is nominal else
+             _circuit_grid(chain, request, analysis) for chain in chains]
+    largest = max(grid[1] for *_, grid in drawn)
+    if largest > points:
+        price(largest, max(own.N for _, _, own, _ in drawn))
+    title = _title(request, nominal, "AC")
+    probes = tuple(probe_names(N, "ends"))
+    specs = []
+    for chain, (sample, own, _, grid) in zip(chains, drawn, strict=True):
+        text = ac_netlist_text(sample, segments=grid[0], title=title, effects=request.effects)
+        # the circuit's theory carries its losses among its elements; the chain is the ideal ladder
+        spectrum = SpectrumTheory(chain, ladder.time_unit, ladder.impedance, grid[2], circuit=own)
+        specs.append(RunSpec(text, probes, 0.0, backend=request.backend, timeout=request.timeout, theory=spectrum,
+                             foreign=False, label=f"{chain.name} N={N} AC {grid[1]} frequencies (circuit)",
                              engine=request.engine, analysis="ac", points=grid[1]))
     modes = modes if modes is not None else normal_modes(nominal)
     return RequestPlan(request, nominal, tuple(chains), modes, modes.transit_time(), 0.0, (), None, "", None,

@@ -8,7 +8,7 @@ turns it into a :class:`~lcchain.runs.record.RunRecord`, in this process, in a
 pool worker or on a Dask worker alike.
 
 An AC run (``analysis="ac"``) has a :class:`SpectrumTheory` instead: the chain whose driven modes its fitted
-poles and residues are compared with.
+poles and residues are compared with, or the circuit's own elements when they are no chain's.
 
 A run's :meth:`RunSpec.key` is a hash of everything that determines its
 result: the netlist text, the saved vectors, the stop time, the backend, the
@@ -197,6 +197,12 @@ class SpectrumTheory:
     Q : float, optional
         The losses' quality factor (:class:`lcchain.circuit.effects.Losses`): every mode decays at 1/Q and the fit
         finds each one's decay rate.  None: a lossless ladder.
+    circuit : tuple of Element and Pulse, optional
+        The AC netlist's elements with its source's place (:func:`lcchain.circuit.netlist.ac_circuit_elements`)
+        when they are no chain's (a real part, an effect's own element, coupled coils with losses): the run's
+        poles and residues are then compared with the circuit's own
+        (:meth:`lcchain.circuit.exact.CircuitTheory.admittances`, :func:`lcchain.compare.poles.compare_poles`),
+        its losses among its elements (``Q`` None), and ``chain`` is the ideal ladder.  None: the chain's.
     """
 
     chain: Chain
@@ -205,6 +211,7 @@ class SpectrumTheory:
     omega_max: float
     modes: Modes | None = field(default=None, compare=False, repr=False)
     Q: float | None = None
+    circuit: tuple[Element | Pulse, ...] | None = None
 
     def __post_init__(self) -> None:
         instance("chain", self.chain, Chain)
@@ -215,12 +222,21 @@ class SpectrumTheory:
             real("Q", self.Q, above=0.0)
         if self.modes is not None and (not isinstance(self.modes, Modes) or self.modes.N != self.chain.N):
             raise ParameterError("modes", type(self.modes).__name__, f"the Modes of this chain (N = {self.chain.N})")
+        if self.circuit is not None:
+            if not isinstance(self.circuit, tuple) or not any(isinstance(e, Pulse) for e in self.circuit) \
+                    or not all(isinstance(e, (Element, Pulse)) for e in self.circuit):
+                raise ParameterError("circuit", type(self.circuit).__name__, "a tuple of lcchain elements with the "
+                                     "source's place (ac_circuit_elements)")
+            if self.Q is not None:
+                raise ParameterError("Q", self.Q, "None with a circuit (its resistors are among its elements)")
 
     def fingerprint(self) -> dict[str, Any]:
-        """Everything that determines the comparison, as plain JSON."""
+        """Everything that determines the comparison, as plain JSON (the circuit's cards only when it has one: the
+        keys of chains' runs are unchanged)."""
         return {"analysis": "ac", **_chain_fingerprint(self.chain), "time_unit": float(self.time_unit).hex(),
                 "impedance": float(self.impedance).hex(), "omega_max": float(self.omega_max).hex()} | (
-                    {} if self.Q is None else {"Q": float(self.Q).hex()})
+                    {} if self.Q is None else {"Q": float(self.Q).hex()}) | (
+                    {} if self.circuit is None else {"circuit": [element.card() for element in self.circuit]})
 
 
 @dataclass(frozen=True)

@@ -17,6 +17,11 @@ A mode whose weight at the ends is below what the samples resolve has no visible
 does not show it between its ends.  Such modes are listed as unseen, with their theoretical weight; the
 error of P counts them with P = 0 (the weakest of a perfect cradle's binomial end weights is 2^-(2N-3)).
 
+Effects whose elements are no chain's (a coil's self-capacitance or winding resistance, a capacitor's ESR or ESL,
+coupled coils with losses: ``effects=``) are compared with the circuit's own exact poles and residues instead
+(:meth:`lcchain.circuit.exact.CircuitTheory.admittances`, :func:`lcchain.compare.poles.compare_poles`): its modes
+(as many as the circuit has), their end weights and, with resistors, each one's own decay rate.
+
 It is the request's AC analysis (:class:`lcchain.runs.request.AC`) planned and executed like any run
 (:func:`lcchain.runs.request.plan_request`, :func:`lcchain.runs.execute.execute`): scenes, sweeps and stores
 make the same run.
@@ -30,7 +35,7 @@ from typing import Any
 
 import numpy as np
 
-from ..circuit.effects import Losses
+from ..circuit.effects import Effect, Losses
 from ..compare.spectral import (
     DEFAULT_OVERSAMPLING,
     OMEGA_MARGIN,
@@ -50,7 +55,7 @@ from ..theory.arrivals import stop_time
 from ..theory.chain import Chain
 from ..theory.modes import Modes
 from ..theory.response import linear_response
-from .execute import execute
+from .execute import circuit_modes, execute
 from .request import AC, Request, plan_request
 from .spec import SpectrumTheory
 
@@ -69,7 +74,9 @@ class SpectrumReport:
     ----------
     chain : Chain
     theory : Modes
-        The driven modes (omega_n, density m_1 u_1n^2, transfer P_n = m_1 u_1n u_Nn).
+        The driven modes (omega_n, density m_1 u_1n^2, transfer P_n = m_1 u_1n u_Nn); with effects that are no
+        chain's, the circuit's own modes (omega_n = |p_n|, density m_1 a_n, transfer m_1 b_n from the sections of
+        its exact admittances, ``method`` ``"circuit"``).
     fit : SpectrumFit
         The modes found in the circuit.
     seen : ndarray of int
@@ -91,6 +98,9 @@ class SpectrumReport:
         drive).
     engine : str
         The engine that ran the AC analysis.
+    gamma_theory : ndarray or None
+        The circuit's own decay rate of every mode (effects that are no chain's, with resistors): Q_theory is then
+        omega_n / gamma_n.
     """
 
     chain: Chain
@@ -106,6 +116,12 @@ class SpectrumReport:
     segments: int = 1
     response_error: float | None = None
     engine: str = DEFAULT_ENGINE
+    gamma_theory: np.ndarray | None = None
+
+    @property
+    def lossy(self) -> bool:
+        """The fit found decay rates: the chain's losses, or a circuit's resistors."""
+        return self.losses is not None or self.gamma_theory is not None
 
     def _per_mode(self, values: np.ndarray, missing: float = np.nan) -> np.ndarray:
         out = np.full(self.theory.N, missing)
@@ -132,13 +148,17 @@ class SpectrumReport:
     def Q(self) -> np.ndarray:
         """The circuit's quality factor omega_n / gamma_n of every theoretical mode (NaN where unseen, and for a
         lossless ladder)."""
-        if self.losses is None:
+        if not self.lossy:
             return np.full(self.theory.N, np.nan)
         return self.omega / self.gamma
 
     @property
     def Q_theory(self) -> np.ndarray:
-        """omega_n Q: every mode decays at gamma = 1/Q (NaN for a lossless ladder)."""
+        """omega_n Q: every mode decays at gamma = 1/Q (NaN for a lossless ladder); a circuit's own omega_n /
+        gamma_n."""
+        if self.gamma_theory is not None:
+            with np.errstate(divide="ignore", invalid="ignore"):
+                return np.asarray(self.theory.omega / self.gamma_theory)
         return self.theory.omega * (np.nan if self.losses is None else self.losses)
 
     @property
@@ -148,7 +168,9 @@ class SpectrumReport:
 
     @property
     def poles_theory(self) -> np.ndarray:
-        """-gamma/2 + j sqrt(omega_n^2 - gamma^2/4), gamma = 1/Q (0 without losses)."""
+        """-gamma/2 + j sqrt(omega_n^2 - gamma^2/4), gamma = 1/Q (0 without losses; a circuit's own gamma_n)."""
+        if self.gamma_theory is not None:
+            return _pole(self.theory.omega, self.gamma_theory)
         return _pole(self.theory.omega, np.full(self.theory.N, 0.0 if self.losses is None else 1.0 / self.losses))
 
     @property
@@ -161,7 +183,8 @@ class SpectrumReport:
     def metrics(self) -> SpectrumMetrics:
         """The circuit's modes beside theory, as a run's record holds them."""
         return SpectrumMetrics(self.theory.omega, self.omega, self.theory.transfer, self.P, self.resolved,
-                               gamma=None if self.losses is None else self.gamma, losses=self.losses)
+                               gamma=self.gamma if self.lossy else None, losses=self.losses,
+                               gamma_theory=self.gamma_theory)
 
     @property
     def max_rel_error_omega(self) -> float:
@@ -188,7 +211,7 @@ class SpectrumReport:
     def to_dict(self) -> dict[str, Any]:
         """``lcchain spectrum --json``."""
         omega, P = self.omega, self.P
-        lossy = self.losses is not None
+        lossy = self.lossy
         Q, Q_theory, gamma = self.Q, self.Q_theory, self.gamma
         modes = []
         for n in range(self.theory.N):
@@ -197,7 +220,9 @@ class SpectrumReport:
                     "omega_theory": float(self.theory.omega[n]), "P_theory": float(self.theory.transfer[n]),
                     "seen": seen, "resolved": bool(self.resolved[n])}
             if lossy:
-                mode |= {"Q": _finite(Q[n]), "Q_theory": float(Q_theory[n]), "gamma": _finite(gamma[n])}
+                mode |= {"Q": _finite(Q[n]), "Q_theory": _finite(Q_theory[n]), "gamma": _finite(gamma[n])}
+                if self.gamma_theory is not None:
+                    mode["gamma_theory"] = float(self.gamma_theory[n])
             modes.append(mode)
         return {"N": self.chain.N, "case": self.chain.name, "points": self.points, "omega_max": self.omega_max,
                 "engine": self.engine, "engine_version": self.engine_version, "netlist_sha256": self.netlist_sha256,
@@ -205,7 +230,7 @@ class SpectrumReport:
                 "max_abs_error_P": self.max_abs_error_P, "fit_steps": self.fit.sweeps, "timings": self.timings,
                 "Q": self.losses, "max_rel_error_Q": self.max_rel_error_Q if lossy else None,
                 "max_rel_error_pole": self.max_rel_error_pole, "max_abs_error_response": self.response_error,
-                "segments": self.segments}
+                "segments": self.segments} | ({} if self.theory.method != "circuit" else {"theory": "circuit"})
 
 
 def _pole(omega: np.ndarray, gamma: np.ndarray) -> np.ndarray:
@@ -239,7 +264,8 @@ def _losses(Q: object) -> Losses:
 def measure_spectrum(chain: Chain, *, Q: float | None = None, points: int | None = None, L0: float = DEFAULT_L0,
                      C0: float = DEFAULT_C0, simulator: Simulator | None = None, budget: Budget | None = None,
                      timeout: float = 3600.0, engine: str = DEFAULT_ENGINE,
-                     progress: Callable[[float], None] | None = None) -> SpectrumReport:
+                     progress: Callable[[float], None] | None = None,
+                     effects: tuple[Effect, ...] = ()) -> SpectrumReport:
     """The ladder's spectrum in an engine's AC analysis against exact theory.
 
     Parameters
@@ -263,6 +289,10 @@ def measure_spectrum(chain: Chain, *, Q: float | None = None, points: int | None
         An engine with an AC analysis (:func:`lcchain.spice.engines.ac_engine`): ``"ngspice"`` or ``"gnucap"``.
     progress : callable, optional
         Called with the fraction done (0 to 1): the engine's run, then the fit.
+    effects : tuple of Effect
+        More effects on the ladder (walls, coupling, the parts of real coils and capacitors ...), as a request's;
+        those whose elements are no chain's are compared with the circuit's own poles and residues (module
+        docstring).
 
     Raises
     ------
@@ -270,7 +300,9 @@ def measure_spectrum(chain: Chain, *, Q: float | None = None, points: int | None
         Before the engine starts.
     """
     instance("chain", chain, Chain)
-    effects = () if Q is None else (_losses(Q),)
+    if not isinstance(effects, tuple):
+        raise ParameterError("effects", effects, "a tuple of lcchain effects")
+    effects = effects + (() if Q is None else (_losses(Q),))
     try:
         plan = plan_request(Request(chain, AC(points), effects=effects, L0=L0, C0=C0, timeout=timeout,
                                     engine=engine), budget)
@@ -282,10 +314,19 @@ def measure_spectrum(chain: Chain, *, Q: float | None = None, points: int | None
         raise SimulationError(record.reason, record.log_tail, record.status)
     spectrum, theory = record.spectrum, spec.theory
     assert spectrum.fit is not None and spectrum.seen is not None and spec.points is not None  # execute's own
-    assert isinstance(theory, SpectrumTheory) and theory.modes is not None
-    response = _response_error(chain, theory.modes, spectrum.fit, Q)
+    assert isinstance(theory, SpectrumTheory)
     segments = sum(line.startswith(".ac ") for line in spec.netlist.splitlines())
-    return SpectrumReport(chain, theory.modes, spectrum.fit, spectrum.seen, spec.points, theory.omega_max,
-                          record.engine_version, record.ac.netlist_sha256,
-                          {"ngspice_s": record.wall_s, "fit_s": record.total_s - record.wall_s,
-                           "total_s": record.total_s}, Q, segments, response, record.engine)
+    timings = {"ngspice_s": record.wall_s, "fit_s": record.total_s - record.wall_s, "total_s": record.total_s}
+    if theory.circuit is not None:  # the circuit's own modes; the chain's alpha_N(t) is not its response
+        mass = float(theory.chain.masses[0])
+        own = Modes(spectrum.omega_theory, mass * circuit_modes(theory.circuit, chain.N, theory.time_unit,
+                                                                theory.impedance).first,
+                    spectrum.P_theory, "circuit")
+        return SpectrumReport(theory.chain, own, spectrum.fit, spectrum.seen, spec.points, theory.omega_max,
+                              record.engine_version, record.ac.netlist_sha256, timings, None, segments, None,
+                              record.engine, spectrum.gamma_theory)
+    assert theory.modes is not None
+    response = _response_error(theory.chain, theory.modes, spectrum.fit, Q)  # walls, coupling: the chain run
+    return SpectrumReport(theory.chain, theory.modes, spectrum.fit, spectrum.seen, spec.points, theory.omega_max,
+                          record.engine_version, record.ac.netlist_sha256, timings, Q, segments, response,
+                          record.engine)

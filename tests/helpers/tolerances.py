@@ -177,7 +177,6 @@ RTOL_SPECTRUM_Q = 1e-9
 RTOL_SPECTRUM_POLE = 1e-9
 ATOL_SPECTRUM_RESPONSE = 1e-9
 
-
 # ------------------------------------------------------------ the circuit theory's hard cases (issue 30, item 6)
 #: A well-conditioned hard case (self-resonance 1.001x the band top, ESL resonance at it, Q = 1 .. 1e6, coupling
 #: 0.999 of its limit) at N <= 12 against expm of the state matrix or the uniform ladder's closed form: rounding
@@ -193,3 +192,19 @@ ATOL_HARD_ACCEPTED = 1e-9
 #: whatever elements its effects add: the trapezoid's error, about TRAP_ERROR_COEFFICIENT_FIRST_TRANSIT dt^2 t
 #: (~2e-3 at t = 12), with room for the extra elements' own (faster) time constants.
 ATOL_EFFECT_RUN = 1e-2
+
+# ------------------------------------------------------------ a circuit's own spectrum (issue 30, item 5)
+#: The circuit's exact admittances (poles and residues) against the nodal equations solved at complex frequencies,
+#: relative (measured 6e-13 .. 4e-12 at N = 4 .. 5, every real part, coupled, lossy; the nodal solve's own
+#: conditioning near a pole is most of it).
+RTOL_CIRCUIT_ADMITTANCE = 1e-10
+#: An engine's AC run of a circuit with real parts against the circuit's exact poles and residues
+#: (:func:`lcchain.compare.poles.fit_poles`): omega_n relative, P_n absolute, as a chain's (RTOL_SPECTRUM_OMEGA,
+#: ATOL_SPECTRUM_P), and each mode's own Q_n = omega_n / gamma_n relative (measured: omega 1e-15 .. 2e-13, P and
+#: the sections' coefficients 1e-16 .. 1e-13, gamma 4e-15 .. 9e-13 absolute at gamma ~ 0.2, N = 6 .. 8).
+RTOL_CIRCUIT_SPECTRUM_OMEGA = 1e-9
+ATOL_CIRCUIT_SPECTRUM_P = 1e-9
+RTOL_CIRCUIT_SPECTRUM_Q = 1e-9
+#: The chain's driven modes must miss the same circuit by more than this (relative omega): the comparison is
+#: really against the circuit's poles (coil capacitance 0.05 C0 moves omega_n by 0.5 % .. 10 %).
+CHAIN_MISSES_CIRCUIT = 1e-4

@@ -1,0 +1,168 @@
+"""The spectrum of a circuit with real parts against the circuit's own exact poles and residues (issue 30, item 5).
+
+An AC analysis of a ladder whose effects write elements no chain has (a coil's self-capacitance or winding
+resistance, a capacitor's ESR or ESL, coupled coils with losses) is compared with the circuit's exact admittances
+(:meth:`lcchain.circuit.exact.CircuitTheory.admittances`, checked against nodal equations in
+tests/test_circuit_admittances.py): its omega_n = |p_n|, the end weights P_n = m_1 b_n of its sections, and with
+resistors each mode's own Q_n = omega_n / gamma_n.  The engines run for real.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+from helpers.tolerances import (
+    ATOL_CIRCUIT_SPECTRUM_P,
+    CHAIN_MISSES_CIRCUIT,
+    RTOL_CIRCUIT_SPECTRUM_OMEGA,
+    RTOL_CIRCUIT_SPECTRUM_Q,
+)
+
+from lcchain.circuit.effects import (
+    CapacitorESL,
+    CapacitorESR,
+    CoilCapacitance,
+    CoilResistance,
+    Coupling,
+    Effect,
+    Losses,
+)
+from lcchain.circuit.elements import Element
+from lcchain.circuit.netlist import ac_circuit_elements
+from lcchain.compare.spectral import SpectrumMetrics
+from lcchain.runs.execute import ac_metrics, execute
+from lcchain.runs.request import AC, Request, plan_request
+from lcchain.runs.spec import SpectrumTheory
+from lcchain.runs.spectrum import measure_spectrum
+from lcchain.theory.cases import chain_for_case
+from lcchain.theory.exact import driven_modes
+
+PARTS: dict[str, tuple[str, int, tuple[Effect, ...]]] = {
+    "coil capacitance": ("two-mass", 8, (CoilCapacitance(0.05),)),
+    "coil resistance": ("two-mass", 8, (CoilResistance(0.01),)),
+    "capacitor ESR": ("two-mass", 8, (CapacitorESR(0.01),)),
+    "capacitor ESL": ("two-mass", 8, (CapacitorESL(0.05),)),
+    "coupled with losses": ("two-mass", 6, (Coupling(0.2), Losses(50.0))),
+    "every part, coupled, losses": ("one-mass", 6, (Coupling(0.2), CoilCapacitance(0.05), CoilResistance(0.01),
+                                                    CapacitorESR(0.01), CapacitorESL(0.04), Losses(100.0))),
+    # a coil's capacitor and a capacitor's ESR: real poles (RC) far beyond the sweep, which no sweep can place,
+    # and a free chain's zero mode, which no resistor damps
+    "coil capacitance and ESR": ("two-mass", 8, (CoilCapacitance(0.05), CapacitorESR(0.01))),
+}
+LOSSY = {"coil resistance", "capacitor ESR", "coupled with losses", "every part, coupled, losses",
+         "coil capacitance and ESR"}
+
+
+def _check(name: str, engine: str) -> None:
+    case, N, effects = PARTS[name]
+    report = measure_spectrum(chain_for_case(case, N), effects=effects, engine=engine)
+    assert report.theory.method == "circuit"
+    assert report.seen.size == report.theory.N  # every mode of the circuit, resolved or not, is seen
+    assert report.max_rel_error_omega < RTOL_CIRCUIT_SPECTRUM_OMEGA
+    assert report.max_abs_error_P < ATOL_CIRCUIT_SPECTRUM_P
+    if name in LOSSY:
+        assert report.gamma_theory is not None and np.all(np.isfinite(report.gamma))
+        assert report.max_rel_error_Q < RTOL_CIRCUIT_SPECTRUM_Q
+        assert report.to_dict()["max_rel_error_Q"] == report.max_rel_error_Q
+    else:
+        assert report.gamma_theory is None and np.isnan(report.max_rel_error_Q)
+
+
+@pytest.mark.ngspice
+@pytest.mark.parametrize("name", PARTS)
+def test_ngspice_spectrum_is_the_circuits_poles_and_residues(name: str) -> None:
+    _check(name, "ngspice")
+
+
+@pytest.mark.gnucap
+@pytest.mark.parametrize("name", ["coil capacitance", "capacitor ESR", "every part, coupled, losses"])
+def test_gnucap_spectrum_is_the_circuits_poles_and_residues(name: str) -> None:
+    _check(name, "gnucap")
+
+
+@pytest.mark.ngspice
+def test_the_chains_driven_modes_are_clearly_not_such_a_circuits() -> None:
+    # the same samples judged against the chain (the old comparison) miss by far more than the circuit's targets:
+    # the comparison above is really against the circuit's poles
+    chain = chain_for_case("two-mass", 8)
+    spec = plan_request(Request(chain, AC(), effects=(CoilCapacitance(0.05),))).specs[0]
+    record = execute(spec)
+    assert record.ok and record.ac is not None and record.spectrum is not None
+    assert record.spectrum.max_rel_error_omega < RTOL_CIRCUIT_SPECTRUM_OMEGA
+    assert isinstance(spec.theory, SpectrumTheory)
+    as_chain = ac_metrics(replace(spec.theory, circuit=None), record.ac)
+    assert as_chain.max_rel_error_omega > CHAIN_MISSES_CIRCUIT
+    # and the circuit's frequencies are not the chain's
+    assert np.max(np.abs(record.spectrum.omega_theory - driven_modes(chain).omega)
+                  / np.maximum(driven_modes(chain).omega, 1.0)) > CHAIN_MISSES_CIRCUIT
+
+
+def test_the_plan_compares_with_the_very_elements_the_netlist_is_written_with() -> None:
+    effects: tuple[Effect, ...] = (CoilCapacitance(0.05), CapacitorESL(0.04), CoilResistance(0.01))
+    chain = chain_for_case("one-mass", 5)
+    plan = plan_request(Request(chain, AC(), effects=effects))
+    spec = plan.specs[0]
+    assert isinstance(spec.theory, SpectrumTheory) and spec.theory.circuit is not None and spec.theory.Q is None
+    circuit = spec.theory.circuit
+    assert circuit == ac_circuit_elements(plan.ladder, effects)
+    cards = [line for line in spec.netlist.splitlines() if line[:1] in "RLCK"]
+    assert cards == [e.card() for e in circuit if isinstance(e, Element)]
+    # the sweep covers every mode of the circuit: its coils' self-resonances far above the chain's band too
+    from lcchain.runs.execute import circuit_modes
+
+    modes = circuit_modes(circuit, chain.N, plan.ladder.time_unit, plan.ladder.impedance)
+    assert modes.N > chain.N and np.max(modes.omega) > 5.0
+    assert plan.omega_max is not None and plan.omega_max > np.max(modes.omega)
+    # a key of its own, while a chain's AC run keeps the fingerprint it had (no "circuit" in it)
+    assert "circuit" in spec.theory.fingerprint()
+    plain = plan_request(Request(chain, AC())).specs[0]
+    assert isinstance(plain.theory, SpectrumTheory) and plain.theory.circuit is None
+    assert "circuit" not in plain.theory.fingerprint() and plain.key("v") != spec.key("v")
+
+
+def test_the_metrics_keep_the_circuits_own_decay_rates() -> None:
+    metrics = SpectrumMetrics(np.array([0.0, 1.0]), np.array([0.0, 1.0 + 1e-12]), np.array([0.5, 0.2]),
+                              np.array([0.5, 0.2]), np.array([True, True]), gamma=np.array([0.1, 0.02]),
+                              gamma_theory=np.array([0.1, 0.02]))
+    back = SpectrumMetrics.from_dict(metrics.to_dict())
+    assert back.gamma_theory is not None and np.array_equal(back.gamma_theory, [0.1, 0.02])
+    assert back.Q_theory[1] == 1.0 / 0.02 and back.max_rel_error_Q == metrics.max_rel_error_Q
+    assert metrics.to_dict()["Q"] is None
+
+
+@pytest.mark.ngspice
+@pytest.mark.slow
+def test_a_larger_circuit_with_every_part_and_overlapping_resonances() -> None:
+    # N = 20: 39 modes (the ESL and the coils' self-capacitance resonate far above the band), resistors that make
+    # neighbouring resonances overlap near the band's top
+    effects = (CoilCapacitance(0.05), CoilResistance(0.01), CapacitorESR(0.01), CapacitorESL(0.04))
+    report = measure_spectrum(chain_for_case("two-mass", 20), effects=effects)
+    assert report.theory.N > 20 and report.seen.size == report.theory.N
+    assert report.max_rel_error_omega < RTOL_CIRCUIT_SPECTRUM_OMEGA
+    assert report.max_abs_error_P < ATOL_CIRCUIT_SPECTRUM_P
+    assert report.max_rel_error_Q < RTOL_CIRCUIT_SPECTRUM_Q
+
+
+@pytest.mark.ngspice
+def test_a_scene_and_the_command_line_take_real_parts(tmp_path, monkeypatch, capsys) -> None:
+    # The scene's AC report and lcchain spectrum, with a winding resistance: each mode decays at its own rate (no
+    # [effects.losses] Q), compared with the circuit's own poles.
+    import json
+
+    from lcchain.cli.main import main
+
+    monkeypatch.chdir(tmp_path)
+    scene = tmp_path / "parts.toml"
+    scene.write_text('[chain]\ncase = "two-mass"\nN = 8\n[effects.coil_resistance]\nR = 0.01\n'
+                     '[analysis]\nkind = "ac"\n[output]\nreport = "r.json"\n')
+    assert main(["run", str(scene), "--json"]) == 0
+    report = json.loads(capsys.readouterr().out)
+    assert "Q" not in report and report["max_rel_error_Q"] < RTOL_CIRCUIT_SPECTRUM_Q
+    assert report["max_rel_error_omega"] < RTOL_CIRCUIT_SPECTRUM_OMEGA
+    assert main(["spectrum", "--case", "two-mass", "--N", "8", "--coil-capacitance", "0.05", "--capacitor-esr",
+                 "0.01", "--json"]) == 0
+    spectrum = json.loads(capsys.readouterr().out)
+    assert spectrum["max_rel_error_omega"] < RTOL_CIRCUIT_SPECTRUM_OMEGA
+    assert spectrum["max_rel_error_pole"] < RTOL_CIRCUIT_SPECTRUM_Q
