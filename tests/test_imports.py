@@ -13,6 +13,7 @@ modules load, which no noisy machine can change.
 from __future__ import annotations
 
 import argparse
+import json
 import subprocess
 import sys
 from collections.abc import Iterator
@@ -85,6 +86,42 @@ def test_heavy_names_what_it_should() -> None:
     assert not heavy("scipy", linalg) and not heavy("scipy.linalg._basic", linalg) and not heavy("scipy._lib", linalg)
     assert heavy("scipy.optimize", linalg) and heavy("scipy.linalgx", linalg) and heavy("matplotlib", linalg)
     assert not heavy("scipy.optimize", ("scipy",)) and heavy("matplotlib.pyplot", ("scipy",))
+
+
+#: Imports every module of lcchain (the CLI's too) in turn and prints, as JSON, each heavy module (a scipy
+#: subpackage, or a package of HEAVY other than scipy) -> the lcchain module whose import first loaded it.
+EVERY_MODULE = """\
+import importlib, json, pkgutil, sys
+import lcchain
+HEAVY = {heavy!r}
+def heavy():
+    return {{m for m in sys.modules if m.partition(".")[0] in HEAVY and m != "scipy"
+             and not m.startswith(("scipy._", "scipy.version"))}}
+loaded, seen = {{}}, heavy()
+for name in sorted(m.name for m in pkgutil.walk_packages(lcchain.__path__, "lcchain.")):
+    if name.endswith("__main__"):
+        continue
+    importlib.import_module(name)
+    for module in heavy() - seen:
+        loaded[module] = name
+    seen = heavy()
+print(json.dumps(loaded))
+"""
+
+
+def test_no_module_imports_a_heavy_package_at_its_top() -> None:
+    """Every module of lcchain imports scipy's subpackages, matplotlib, pandas, xarray, dask and PySpice inside the
+    functions that use them (or ``import scipy`` and uses its submodules, which load on first use): importing a
+    module for one name never costs a command a heavy package it does not use.  Imports made at a module's top
+    are in order, in one thread, so this check is exact where a command's run (threads, lazy attributes) is not;
+    it caught ``from scipy.interpolate import AAA`` in compare.poles, which every request imported."""
+    code = EVERY_MODULE.format(heavy=HEAVY)
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT)
+    assert done.returncode == 0, done.stderr[-2000:]
+    by_module: dict[str, set[str]] = {}
+    for module, by in json.loads(done.stdout).items():  # scipy.fft._basic -> scipy.fft, matplotlib.pyplot -> matplotlib
+        by_module.setdefault(by, set()).add(".".join(module.split(".")[:2 if module.startswith("scipy.") else 1]))
+    assert not by_module, "\n".join(f"importing {by} loads {', '.join(sorted(names))}" for by, names in by_module.items())
 
 
 def test_every_command_is_found() -> None:
