@@ -162,8 +162,11 @@ def main() -> None:
     print(f"Machine: {platform.machine()}, {os.cpu_count()} cores shared with other jobs, Python "
           f"{platform.python_version()}; load average (1 min) {load_start:.2f} at the start, {load_end:.2f} at the "
           f"end.  Seconds, median of {args.repeat}, interleaved: the wall time of the whole process and its CPU "
-          "time (user + system; to the first subprocess: the process's own), in brackets above the interpreter "
-          "alone's.  With the machine shared, the CPU time is the steadier of the two.\n")
+          "time (user + system of every thread, children included; to the first subprocess: the process's own), "
+          "in brackets above the interpreter alone's.  numpy's BLAS threads start with it and spin, so CPU time "
+          "can exceed the wall time.  The fixed start is the interpreter's start to lcchain's first subprocess "
+          "(`ngspice -v`, then the sandboxed run): the imports, the parser, the allow-list, the price and the "
+          "store.\n")
     print("| command | before: wall | before: CPU | after: wall | after: CPU |")
     print("|---|---:|---:|---:|---:|")
     for name in floors:
@@ -180,6 +183,9 @@ def main() -> None:
         values = {tree: statistics.median(run.get(package, 0.0) for run in imported[tree]) for tree in trees}
         if max(values.values()) >= 0.002:
             print(f"| {package} | {values['before']:.3f} | {values['after']:.3f} |")
+    print("\nWhich modules each command imports is asserted by `tests/test_imports.py` (no scipy, matplotlib, "
+          "pandas, xarray, dask or PySpice for any `--help`, `--version` or a batch of foreign netlists); the "
+          "times are here because a noisy machine cannot fail a benchmark.")
 
 
 if __name__ == "__main__":
