@@ -49,6 +49,8 @@ PlotKind = Literal["overlay", "spacetime", "histogram", "spectrum", "spacing"]
 StudyMetric = Literal["peak", "energy", "loss", "omega", "P", "spacing"]
 #: What a run's simulator computes: loop currents against time, or complex phasors against frequency.
 AnalysisKind = Literal["transient", "ac"]
+#: How an ``.ac`` card spaces its frequencies: evenly, or so many per decade or per octave.
+AcSpacing = Literal["lin", "dec", "oct"]
 
 CASES: tuple[Case, ...] = get_args(Case)
 NAMED_CASES: tuple[Case, ...] = tuple(c for c in CASES if c != "custom")
@@ -70,6 +72,7 @@ E_SERIES_NAMES: tuple[ESeries, ...] = get_args(ESeries)
 PLOT_KINDS: tuple[PlotKind, ...] = get_args(PlotKind)
 ARRIVAL_METRICS: tuple[ArrivalMetric, ...] = get_args(ArrivalMetric)
 ANALYSIS_KINDS: tuple[AnalysisKind, ...] = get_args(AnalysisKind)
+AC_SPACINGS: tuple[AcSpacing, ...] = get_args(AcSpacing)
 STUDY_METRICS: tuple[StudyMetric, ...] = get_args(StudyMetric)
 
 #: The gaussian pulse g(t) is centred at GAUSSIAN_CENTRE standard deviations (netlist, theory and scenes).
