@@ -34,8 +34,9 @@ Method = Literal["trap", "gear"]
 Stepping = Literal["fixed", "adaptive"]
 #: The end of a chain whose loop current is compared: loop 1 or loop N.
 End = Literal["first", "last"]
-#: How a run ended: ngspice's waveforms passed validation, or not, or ngspice ran out of time.
-RunStatus = Literal["ok", "failed", "timeout"]
+#: How a run ended: ngspice's waveforms passed validation, or not, or ngspice ran out of time; or, for a netlist
+#: lcchain did not write, that it was refused before it ran (``lcchain batch``: the reason says why).
+RunStatus = Literal["ok", "failed", "timeout", "refused"]
 #: The IEC 60063 preferred-number series every L and C can be rounded to.
 ESeries = Literal["E12", "E24", "E96"]
 #: What of the first arrival a sensitivity or a worst case is about: the current peak max I_N / I_1(0), or the
