@@ -56,7 +56,8 @@ def test_a_foreign_ac_netlist_runs_in_batch_and_its_phasors_are_stored(tmp_path:
 
 
 @pytest.mark.parametrize(("card", "said"), [
-    (".ac dec 10 1 1e6", "dec and oct are not read"),
+    (".ac log 10 1 1e6", "lin|dec|oct"),
+    (".ac dec 10 0 1e6", "0 < FSTART"),
     (".ac lin 0 1 1e6", "1 <= N"),
     (".ac lin 10 1e6 1", "FSTART < FSTOP"),
 ])

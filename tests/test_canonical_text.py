@@ -207,7 +207,8 @@ def test_the_normalised_family_runs_alike_on_every_transport(tmp_path: Path,
 def test_a_default_batch_refuses_the_hidden_include_and_runs_nothing(tmp_path: Path,
                                                                      folders: tuple[Path, Path]) -> None:
     # 24 short netlists with no option: --transport auto picks the warm worker.  One hides an include behind
-    # U+2028 in a comment; the batch is refused naming it, and the secret reaches no output.
+    # U+2028 in a comment; a --strict batch is refused naming it, a default one stores it as refused and runs
+    # the others, and the secret reaches no output and no store.
     folder, secret = folders
     netlist, _, _ = _spec()
     paths = []
@@ -217,8 +218,8 @@ def test_a_default_batch_refuses_the_hidden_include_and_runs_nothing(tmp_path: P
         path.write_text(_hostile(text, "\u2028", "comment", secret, folder) if i == 17 else text)
         paths.append(path)
     store = tmp_path / "s.sqlite"
-    done = subprocess.run([sys.executable, "-m", "lcchain", "batch", *map(str, paths), "--store", str(store)],
-                          cwd=tmp_path, capture_output=True, text=True, timeout=300)
+    done = subprocess.run([sys.executable, "-m", "lcchain", "batch", *map(str, paths), "--store", str(store),
+                           "--strict"], cwd=tmp_path, capture_output=True, text=True, timeout=300)
     assert done.returncode == 2, done.stderr
     said = done.stderr.strip()
     assert len(said.splitlines()) == 1 and "n17.cir: line 2" in said and "U+2028" in said, said
@@ -228,6 +229,15 @@ def test_a_default_batch_refuses_the_hidden_include_and_runs_nothing(tmp_path: P
     done = subprocess.run([sys.executable, "-m", "lcchain", "batch", *map(str, good), "--store", str(store)],
                           cwd=tmp_path, capture_output=True, text=True, timeout=300)
     assert done.returncode == 0, done.stderr
+    carried = tmp_path / "carried.sqlite"
+    done = subprocess.run([sys.executable, "-m", "lcchain", "batch", *map(str, paths), "--store", str(carried)],
+                          cwd=tmp_path, capture_output=True, text=True, timeout=300)
+    assert done.returncode == 1, done.stderr
+    (said,) = [line for line in done.stdout.splitlines() if line.startswith("refused ")]
+    assert "n17.cir: line 2" in said and "U+2028" in said and "23 ok, 0 failed, 1 refused" in done.stdout
+    assert "lcchain-secret-line" not in done.stdout + done.stderr
+    wal = tmp_path / "carried.sqlite-wal"
+    assert b"lcchain-secret-line" not in carried.read_bytes() + (wal.read_bytes() if wal.exists() else b"")
 
 
 @pytest.mark.ngspice

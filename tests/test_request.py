@@ -16,7 +16,7 @@ import pytest
 import lcchain
 from lcchain.circuit.effects import Coupling, Losses, PreferredValues, Tolerance, Walls
 from lcchain.core.errors import ParameterError
-from lcchain.runs.request import AC, Drive, Request, Transient, plan_request
+from lcchain.runs.request import Drive, Request, Transient, plan_request
 from lcchain.runs.simulate import simulation_runs
 from lcchain.scenes.load import load_scene
 from lcchain.scenes.plan import scene_plan, scene_request
@@ -102,7 +102,6 @@ def test_simulate_plans_through_the_request():
     (lambda c: Request(c, Transient(dt=0.05), drive=Drive("pulse")), "pulse"),
     (lambda c: Request(c, Transient(dt=0.05), L0=-1.0), "L0"),
     (lambda c: Request("chain", Transient(dt=0.05)), "chain"),
-    (lambda c: plan_request(Request(c, AC(), effects=(Coupling(0.02), Losses(50.0)))), "effects"),
 ])
 def test_bad_requests_are_refused_naming_the_field(build, field):
     with pytest.raises(ParameterError) as caught:

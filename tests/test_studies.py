@@ -58,7 +58,7 @@ def test_every_executor_stores_the_same_digests(serial_store: Path, tmp_path: Pa
     summary = run_plan(sweep_plan(**SMALL), path, executor=executor, workers=2)
     assert summary.to_dict() | {"wall_s": 0} == {"total": 12, "skipped": 0, "ran": 12, "ok": 12, "failed": 0,
                                                  "combined": 0, "combined_failed": 0, "pending": 0,
-                                                 "store": str(path), "wall_s": 0}
+                                                 "refused": 0, "refusals": [], "store": str(path), "wall_s": 0}
     assert _digests(path) == _digests(serial_store) and all(len(d) == 64 for d in _digests(path))
     again = run_plan(sweep_plan(**SMALL), path, executor=executor, workers=2)
     assert (again.skipped, again.ran) == (12, 0)  # a finished study runs nothing
@@ -135,10 +135,16 @@ def test_an_unsafe_netlist_is_refused_before_anything_runs(tmp_path: Path, line:
     good = (ROOT / "netlists" / "perfect-N3.cir").read_text()
     (tmp_path / "a.cir").write_text(good)
     (tmp_path / "z.cir").write_text(good.replace(".end\n", line.format(marker=marker) + "\n.end\n"))
-    status = main(["batch", str(tmp_path / "a.cir"), str(tmp_path / "z.cir"), "--store", str(tmp_path / "u.sqlite")])
+    batch = ["batch", str(tmp_path / "a.cir"), str(tmp_path / "z.cir"), "--executor", "serial"]
+    status = main([*batch, "--store", str(tmp_path / "u.sqlite"), "--strict"])
     err = capsys.readouterr().err
     assert status == 2 and "z.cir: line" in err and "--allow-control" in err
     assert not (tmp_path / "u.sqlite").exists() and not marker.exists()
+    # without --strict: a.cir runs, z.cir is stored as refused, and still nothing of it runs
+    assert main([*batch, "--store", str(tmp_path / "c.sqlite")]) == 1
+    assert "z.cir: line" in capsys.readouterr().out and not marker.exists()
+    with Store(tmp_path / "c.sqlite") as store:
+        assert [run.status for run in store.runs()] == ["ok", "refused"]
 
 
 def test_a_spiceinit_beside_a_netlist_is_never_read(tmp_path: Path) -> None:

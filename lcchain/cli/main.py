@@ -226,6 +226,10 @@ def build_parser() -> argparse.ArgumentParser:
                         ".include/.lib of files in the netlist's folder; any other line is refused")
     p.add_argument("--allow-control", action="store_true",
                    help="run a netlist as it is (.control blocks, any include), still in the sandbox")
+    p.add_argument("--strict", action="store_true",
+                   help="stop at the first netlist lcchain will not run, with its reason, before anything runs "
+                        "(exit 2); by default each is stored as refused, with its reason, the others run, and "
+                        "the exit status is 1")
     studies.add_study_arguments(p)
     p.set_defaults(func=studies.cmd_batch)
 

@@ -64,7 +64,8 @@ def add_study_arguments(p: argparse.ArgumentParser, *, store: bool = True) -> No
     if store:
         p.add_argument("--store", required=True, metavar="FILE.sqlite", help="the results (created, or resumed)")
         p.add_argument("--json", action="store_true",
-                       help="print one summary object: total, skipped, ran, ok, failed, store")
+                       help="print one summary object: total, skipped, ran, ok, failed, refused (and each refusal's "
+                            "netlist and reason), store")
         p.add_argument("--wait", action="store_true",
                        help="when another lcchain is writing the store, wait for it to finish (default: refuse)")
         p.add_argument("--retry-failed", action="store_true",
@@ -202,14 +203,19 @@ def _run(args: argparse.Namespace, plan: Any, outputs: Outputs,
                         "from them" +
                         (f", {summary.combined_failed} failed" if summary.combined_failed else ""))
         hint = ""
+        if summary.refused:
+            hint = "; the refused ones follow, each with why (stored: the same command does not run them)"
         if summary.failed:
             hint = (f"; 'lcchain results {args.store}' says why, and the same command with --retry-failed runs "
                     "them again")
         if summary.pending:
             spent = show_seconds(budget_from_args(args).max_seconds)
             hint += f"; {summary.pending} not run: the --max-time of {spent} was spent, and the same command runs them"
+        refused = f", {summary.refused} refused" if summary.refused else ""
         print(f"{summary.total} runs in {args.store}: {summary.ran} ran now, {summary.skipped} already stored; "
-              f"{summary.ok} ok, {summary.failed} failed{combined} ({summary.wall_s:.1f} s){hint}")
+              f"{summary.ok} ok, {summary.failed} failed{refused}{combined} ({summary.wall_s:.1f} s){hint}")
+        for netlist, reason in summary.refusals:
+            print(f"refused {netlist}: {reason}")
         if after is not None:
             after(False)
     return EXIT_OK if summary.complete else EXIT_FAILED
@@ -333,14 +339,16 @@ _SWEEPS: dict[str, Callable[[argparse.Namespace, Any], Any]] = {"transient": _tr
 
 def cmd_batch(args: argparse.Namespace) -> int:
     """A batch's --max-time is its whole budget: each run's own limits come from its price (batch_plan), and no run
-    starts once the budget is spent (the runs left stay pending in the store)."""
+    starts once the budget is spent (the runs left stay pending in the store). A netlist lcchain will not run is
+    stored as refused and the others run (exit 1); with --strict the first refusal stops the batch (exit 2)."""
     from ..studies.plan import batch_plan
 
     started = time.monotonic()
     outputs = Outputs()
     _check_study_options(args, outputs)
     budget = budget_from_args(args)
-    plan = batch_plan(args.netlist, allow_control=args.allow_control, timeout=args.timeout, budget=budget)
+    plan = batch_plan(args.netlist, allow_control=args.allow_control, timeout=args.timeout, budget=budget,
+                      strict=args.strict)
     left = budget.max_seconds - INTERPRETER_SECONDS - (time.monotonic() - started)
     return _run(args, plan, outputs, max_seconds=max(left, 0.0))
 
@@ -477,7 +485,7 @@ def _print_runs(store: Any, stored: list[Any], name: str) -> None:
     runs = [run.to_dict() for run in stored]
 
     def counted(rows: list[dict[str, Any]]) -> str:
-        counts = {s: sum(r["status"] == s for r in rows) for s in ("ok", "failed", "timeout", "pending")}
+        counts = {s: sum(r["status"] == s for r in rows) for s in ("ok", "failed", "timeout", "refused", "pending")}
         return ", ".join(f"{n} {s}" for s, n in counts.items() if n)
 
     combined = [run for run in runs if run["kind"] == "combined"]
@@ -513,7 +521,7 @@ def _print_runs(store: Any, stored: list[Any], name: str) -> None:
         else:
             names = store.vector_names(run.key) if run.status == "ok" else None
             cells += [" ".join(names) if names else "", _number(run.points)]
-        seconds = run.wall_s if run.kind != "combined" else None
+        seconds = run.wall_s if run.kind != "combined" and run.status != "refused" else None  # nothing ran
         cells += [_number(seconds, ".3f"), (run.reason.splitlines() or [""])[0][:70]]
         rows.append(cells)
     print(_table(["#", "status", *map(_short, axes), *columns, "time (s)", "reason"], rows))

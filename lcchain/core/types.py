@@ -34,8 +34,9 @@ Method = Literal["trap", "gear"]
 Stepping = Literal["fixed", "adaptive"]
 #: The end of a chain whose loop current is compared: loop 1 or loop N.
 End = Literal["first", "last"]
-#: How a run ended: ngspice's waveforms passed validation, or not, or ngspice ran out of time.
-RunStatus = Literal["ok", "failed", "timeout"]
+#: How a run ended: ngspice's waveforms passed validation, or not, or ngspice ran out of time; or, for a netlist
+#: lcchain did not write, that it was refused before it ran (``lcchain batch``: the reason says why).
+RunStatus = Literal["ok", "failed", "timeout", "refused"]
 #: The IEC 60063 preferred-number series every L and C can be rounded to.
 ESeries = Literal["E12", "E24", "E96"]
 #: What of the first arrival a sensitivity or a worst case is about: the current peak max I_N / I_1(0), or the
@@ -49,6 +50,8 @@ PlotKind = Literal["overlay", "spacetime", "histogram", "spectrum", "spacing"]
 StudyMetric = Literal["peak", "energy", "loss", "omega", "P", "spacing"]
 #: What a run's simulator computes: loop currents against time, or complex phasors against frequency.
 AnalysisKind = Literal["transient", "ac"]
+#: How an ``.ac`` card spaces its frequencies: evenly, or so many per decade or per octave.
+AcSpacing = Literal["lin", "dec", "oct"]
 
 CASES: tuple[Case, ...] = get_args(Case)
 NAMED_CASES: tuple[Case, ...] = tuple(c for c in CASES if c != "custom")
@@ -70,6 +73,7 @@ E_SERIES_NAMES: tuple[ESeries, ...] = get_args(ESeries)
 PLOT_KINDS: tuple[PlotKind, ...] = get_args(PlotKind)
 ARRIVAL_METRICS: tuple[ArrivalMetric, ...] = get_args(ArrivalMetric)
 ANALYSIS_KINDS: tuple[AnalysisKind, ...] = get_args(AnalysisKind)
+AC_SPACINGS: tuple[AcSpacing, ...] = get_args(AcSpacing)
 STUDY_METRICS: tuple[StudyMetric, ...] = get_args(StudyMetric)
 
 #: The gaussian pulse g(t) is centred at GAUSSIAN_CENTRE standard deviations (netlist, theory and scenes).

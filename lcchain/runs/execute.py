@@ -71,7 +71,7 @@ class RunRecord(FrozenArrays):
     ----------
     key : str
         :meth:`RunSpec.key` for the engine version that ran it.
-    status : {"ok", "failed", "timeout"}
+    status : {"ok", "failed", "timeout", "refused"}
     reason : str
         Why it failed ("" when ok): ngspice's own words where it said any.
     log_tail : str

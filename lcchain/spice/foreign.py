@@ -54,12 +54,12 @@ from typing import ClassVar
 from ..core.budget import Estimate, show_bytes
 from ..core.errors import ParameterError
 from ..core.limits import MAX_AC_POINTS, MAX_NETLIST_BYTES
-from ..core.types import AnalysisKind
+from ..core.types import AC_SPACINGS, AcSpacing, AnalysisKind
 from .pricing import Contents, Price, read_contents, sweep_price, transient_price
 from .text import NEWLINE, canonical_text, spice_number
 
 __all__ = ["ELEMENTS", "DOT_COMMANDS", "OPTIONS", "MAX_INCLUDE_DEPTH", "Transient", "Sweep", "allowed_netlist",
-           "transient_of", "analysis_of", "foreign_estimate", "foreign_price"]
+           "transient_of", "analysis_of", "log_sweep_count", "foreign_estimate", "foreign_price"]
 
 #: First letters of the element lines lcchain runs: resistors, inductors, capacitors, coupled inductors,
 #: independent voltage and current sources, and behavioural sources (lcchain's own gaussian pulses).
@@ -306,11 +306,14 @@ class Transient:
 
 @dataclass(frozen=True)
 class Sweep:
-    """An ``.ac lin`` card read: its frequencies (Hz), evenly spaced from ``start`` to ``stop``."""
+    """An ``.ac`` card read: its frequencies (Hz) from ``start`` to ``stop``, evenly spaced (``lin``) or a
+    geometric series (``dec``, ``oct``: ``per`` points per decade or octave, counted by :func:`log_sweep_count`)."""
 
     count: int
     start: float
     stop: float
+    spacing: AcSpacing = "lin"
+    per: int = 0
     kind: ClassVar[AnalysisKind] = "ac"
     tstop: ClassVar[float] = 0.0
 
@@ -327,7 +330,82 @@ class Sweep:
         return sweep_price(contents, frequencies=self.count, saved=saved)
 
     def describe(self) -> str:
-        return f".ac lin {self.count} frequencies from {self.start:g} to {self.stop:g} Hz"
+        per = "" if self.spacing == "lin" else f" ({self.per} per {_PER[self.spacing][0]})"
+        return f".ac {self.spacing} {self.count} frequencies{per} from {self.start:g} to {self.stop:g} Hz"
+
+
+#: What one step of a logarithmic sweep spans: (its name, the ratio of a decade or an octave).
+_PER: dict[str, tuple[str, float]] = {"dec": ("decade", 10.0), "oct": ("octave", 2.0)}
+#: ngspice's default relative tolerance (``.options reltol``), which widens the end of a logarithmic sweep.
+_RELTOL = 1e-3
+
+
+def log_sweep_count(spacing: AcSpacing, per: int, start: float, stop: float, *, reltol: float = _RELTOL,
+                    version: int) -> int:
+    """How many frequencies ngspice computes for ``.ac dec|oct PER START STOP``, exactly as its ``ACan`` does.
+
+    ngspice starts at ``start`` and multiplies by a ratio ``delta`` while the frequency is at most
+    ``stop + delta * stop * reltol``.  The ratio depends on its version (``src/spicelib/analysis/acan.c``):
+
+    * ``oct``, and ``dec`` before ngspice 39: ``delta = 2 ** (1 / per)`` or ``10 ** (1 / per)``;
+    * ``dec`` in ngspice 39 to 42 (commit 75c2a3c6, "start and stop frequency always exactly included"):
+      ``steps = floor(|log10(stop / start)| * per)`` and ``delta = (stop / start) ** (1 / steps)``; with
+      ``steps = 0`` (less than one step apart) that is a division by zero after which ngspice 39 sweeps
+      ``inf`` Hz until it is killed, so it is refused here;
+    * ``dec`` from ngspice 43 (commit f15a92d9): the same, except less than a decade apart, where the ratio is
+      ``10 ** (1 / per)`` again.
+
+    The arithmetic is the C library's (``math.log``, ``math.exp``, ``math.log10`` are glibc's, as in ngspice),
+    so the boundary cases come out as ngspice's.
+
+    Parameters
+    ----------
+    spacing : {"dec", "oct"}
+    per : int
+        Points per decade or octave, at least 1.
+    start, stop : float
+        Hz, ``0 < start < stop``.
+    reltol : float
+        The netlist's ``.options reltol`` (ngspice's default 1e-3).
+    version : int
+        ngspice's major version (``39``).
+
+    Raises
+    ------
+    ParameterError
+        A sweep ngspice 39 to 42 cannot make, or one of more than
+        :data:`lcchain.core.limits.MAX_AC_POINTS` frequencies.
+    """
+    ratio = stop / start
+    delta = math.exp(math.log(_PER[spacing][1]) / per)
+    if spacing == "dec" and version >= 39 and not (version >= 43 and stop / 10.0 < start):
+        steps = math.floor(abs(math.log10(ratio)) * per)
+        if steps == 0:
+            raise ParameterError("FSTOP", stop, f"at least one step of 1/{per} decade above FSTART = {start:g} "
+                                 f"(ngspice {version} divides by zero steps and never ends such a sweep)")
+        delta = math.exp(math.log(ratio) / steps)
+    end = stop + delta * stop * reltol
+    if math.log(end / start) / math.log(delta) + 1 > MAX_AC_POINTS:  # before counting them one by one
+        raise ParameterError("N", per, f"a sweep of at most {MAX_AC_POINTS} frequencies")
+    count, frequency = 0, start
+    while frequency <= end:
+        count += 1
+        frequency *= delta
+    return count
+
+
+def _reltol(text: str) -> float:
+    """The netlist's ``.options reltol`` (the last one given), or ngspice's default."""
+    found = _RELTOL
+    for line in text.split("\n"):
+        words = re.sub(r"\s*=\s*", "=", line.strip()).split()
+        if words and words[0].lower() in (".options", ".option", ".opt"):
+            for word in words[1:]:
+                name, _, value = word.partition("=")
+                number = spice_number(value) if name.lower() == "reltol" else None
+                if number is not None and math.isfinite(number) and number > 0:
+                    found = number
+    return found
 
 
 def _analysis_cards(text: str) -> list[tuple[int, str]]:
@@ -346,27 +424,46 @@ def _one_analysis(found: list[tuple[int, str]], source: str) -> None:
                              "would run them all; lcchain prices and reads one .tran or .ac)")
 
 
-def analysis_of(text: str, source: str) -> Transient | Sweep:
-    """The netlist's one analysis, a ``.tran`` (:func:`transient_of`) or an ``.ac lin`` sweep, or a refusal
-    naming the card."""
+def analysis_of(text: str, source: str, version: Callable[[], str] | None = None) -> Transient | Sweep:
+    """The netlist's one analysis, a ``.tran`` (:func:`transient_of`) or an ``.ac lin|dec|oct`` sweep, or a
+    refusal naming the card.
+
+    ``version`` gives the ngspice version that will run it (``"39"``), asked only for an ``.ac dec`` card: how
+    many frequencies ngspice makes of one depends on it (:func:`log_sweep_count`).
+    """
     found = _analysis_cards(text)
     if not found:
-        raise ParameterError(source, ".tran/.ac", "a netlist with one .tran or .ac lin analysis")
+        raise ParameterError(source, ".tran/.ac", "a netlist with one .tran or .ac analysis")
     _one_analysis(found, source)
     number, line = found[0]
     if line.split(None, 1)[0].lower() != ".ac":
         return transient_of(text, source)
     words = [w for w in re.split(r"[\s,()]+", line) if w]
     values = [spice_number(w) for w in words[2:]]
-    allowed = (".ac lin N FSTART FSTOP with plain finite numbers, 0 <= FSTART < FSTOP and 1 <= N <= "
-               f"{MAX_AC_POINTS} (lcchain prices the run and checks what it reads back from them; dec and oct are "
-               "not read)")
-    if len(words) != 5 or words[1].lower() != "lin" or any(v is None or not math.isfinite(v) for v in values):
+    spacing = words[1].lower() if len(words) > 1 else ""
+    allowed = (".ac lin|dec|oct N FSTART FSTOP with plain finite numbers, 1 <= N, 0 <= FSTART < FSTOP (0 < FSTART "
+               f"for dec and oct) and at most {MAX_AC_POINTS} frequencies (lcchain prices the run and checks what "
+               "it reads back from them)")
+    if len(words) != 5 or spacing not in AC_SPACINGS or any(v is None or not math.isfinite(v) for v in values):
         raise ParameterError(f"{source}: line {number}", line[:200], allowed)
     count, start, stop = (float(v) for v in values)  # type: ignore[arg-type]
-    if not (count.is_integer() and 1 <= count <= MAX_AC_POINTS and 0 <= start < stop):
+    if not (count.is_integer() and 1 <= count <= MAX_AC_POINTS and 0 <= start < stop) or (
+            spacing != "lin" and start <= 0):
         raise ParameterError(f"{source}: line {number}", line[:200], allowed)
-    return Sweep(int(count), start, stop)
+    if spacing == "lin":
+        return Sweep(int(count), start, stop)
+    major = 0
+    if spacing == "dec":
+        said = version() if version is not None else ""
+        if not said.split(".")[0].isdigit():
+            raise ParameterError(f"{source}: line {number}", line[:200], "an .ac lin or oct sweep: the frequencies "
+                                 "of an .ac dec sweep depend on the ngspice version, which is not known here")
+        major = int(said.split(".")[0])
+    try:
+        frequencies = log_sweep_count(spacing, int(count), start, stop, reltol=_reltol(text), version=major)
+    except ParameterError as error:
+        raise ParameterError(f"{source}: line {number}", line[:200], error.allowed) from None
+    return Sweep(frequencies, start, stop, spacing, int(count))
 
 
 def transient_of(text: str, source: str) -> Transient:

@@ -14,7 +14,9 @@ executor, host or attempt.
 * :func:`scene_sweep_plan`: a scene with dotted keys varied, each tolerance
   sample a task of its own (``lcchain sweep SCENE.toml --vary ...``);
 * :func:`batch_plan`: netlists lcchain did not write, run as they are
-  (``lcchain batch``), refused before anything runs when unsafe.
+  (``lcchain batch``); each one lcchain will not run is a :class:`Refusal`,
+  stored as a run of status ``"refused"`` while the others run (or, with
+  ``strict``, refused before anything runs).
 """
 
 from __future__ import annotations
@@ -29,6 +31,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from ..core import __version__
 from ..core.budget import (
     RUN_START_SECONDS,
     SIMULATOR_BYTES,
@@ -47,7 +50,7 @@ from ..core.frozen import FrozenMap
 from ..core.limits import MAX_CIRCUIT_N, MAX_DESIGN_N, MAX_DT, MAX_SAMPLES, MAX_TRANSITS, MIN_N
 from ..core.types import DEFAULT_C0, DEFAULT_L0, Backend, Excitation
 from ..runs.spec import DEFAULT_TIMEOUT, RunSpec, SpectrumTheory, Theory
-from ..spice.engines import DEFAULT_ENGINE, ENGINES
+from ..spice.engines import DEFAULT_ENGINE, ENGINES, find_engine
 from ..spice.foreign import allowed_netlist, analysis_of, foreign_price
 from ..spice.runner import read_include
 from ..spice.text import canonical_text, saved_vectors
@@ -59,8 +62,8 @@ if TYPE_CHECKING:
 # A plan of foreign netlists (lcchain batch) needs none of the chains, requests and scenes: they load in the
 # functions that plan them, so that a batch starts without them (issue 35, tests/test_imports.py).
 
-__all__ = ["Task", "Combination", "Plan", "sweep_plan", "spectrum_sweep_plan", "scene_sweep_plan", "request_plan",
-           "batch_plan", "parse_vary"]
+__all__ = ["Task", "Combination", "Refusal", "Plan", "sweep_plan", "spectrum_sweep_plan", "scene_sweep_plan",
+           "request_plan", "batch_plan", "parse_vary"]
 
 
 @dataclass(frozen=True)
@@ -122,6 +125,39 @@ class Combination:
 
 
 @dataclass(frozen=True)
+class Refusal:
+    """A netlist of a batch that lcchain will not run: a row of the store with status ``"refused"`` and the
+    refusal's one line, priced at no run.
+
+    Attributes
+    ----------
+    index : int
+        Its place in the plan (the batch's order).
+    params : Mapping[str, object]
+        ``{"netlist": path as given}``, as a task's.
+    reason : str
+        The refusal's words (:class:`~lcchain.core.errors.ParameterError`: the file, line and field).
+    key : str
+        Its row's key: the netlist's path as given and its text hashed (not the reason: a refusal for the budget
+        names the budget, and a resume with another --max-time is the same batch), under ``refused``.
+    label : str
+        The file's name.
+    """
+
+    index: int
+    params: Mapping[str, Any]
+    reason: str
+    key: str
+    label: str = ""
+
+
+def _refusal_key(path: str, text: str) -> str:
+    data = {"refused": path, "text": hashlib.sha256(text.encode("utf-8", "replace")).hexdigest(),
+            "lcchain": __version__}
+    return hashlib.sha256(json.dumps(data, sort_keys=True).encode("utf-8")).hexdigest()
+
+
+@dataclass(frozen=True)
 class Plan:
     """Everything a study will run.
 
@@ -142,6 +178,8 @@ class Plan:
     planning : float
         Priced seconds of the work done in the driver to make the plan (the sensitivities, each request's choice
         of steps, a Monte Carlo's theory): the study's price counts them with its runs.
+    refusals : tuple of Refusal
+        A batch's netlists that will not run: rows of the store (status ``"refused"``), no run, no price.
     """
 
     kind: str
@@ -152,6 +190,7 @@ class Plan:
     combinations: tuple[Combination, ...] = field(default=())
     engine: str = DEFAULT_ENGINE
     planning: float = 0.0
+    refusals: tuple[Refusal, ...] = field(default=())
 
     def __post_init__(self) -> None:
         others = sorted({task.spec.engine for task in self.tasks} - {self.engine})
@@ -160,8 +199,10 @@ class Plan:
                                  "engine once; run the other engine in a study of its own)")
 
     def keys(self, ngspice_version: str) -> dict[int, str]:
-        """Every row's key by index: each task's run, and each combination's (its members' keys hashed)."""
+        """Every row's key by index: each task's run, each combination's (its members' keys hashed) and each
+        refusal's."""
         keys = {task.index: task.spec.key(ngspice_version) for task in self.tasks}
+        keys.update({refusal.index: refusal.key for refusal in self.refusals})
         for combination in self.combinations:
             from ..runs.extrapolated import combined_key
 
@@ -173,6 +214,7 @@ class Plan:
         keys = self.keys(ngspice_version)
         described = {task.index: (dict(task.params), task.spec.label) for task in self.tasks}
         described.update({c.index: (dict(c.params), c.label) for c in self.combinations})
+        described.update({r.index: (dict(r.params), r.label) for r in self.refusals})
         return [(key, *described[index]) for index, key in keys.items()]
 
     def fingerprint(self, ngspice_version: str) -> str:
@@ -593,7 +635,8 @@ def request_plan(points: Sequence[tuple[Mapping[str, Any], Request]], *, budget:
 
 
 def batch_plan(paths: Sequence[str | Path], *, allow_control: bool = False, backend: Backend = "batch",
-               timeout: float = DEFAULT_TIMEOUT, budget: Budget | None = None) -> Plan:
+               timeout: float = DEFAULT_TIMEOUT, budget: Budget | None = None, strict: bool = False,
+               engine_version: Callable[[], str] | None = None) -> Plan:
     """Foreign netlists, checked and priced before anything runs.
 
     Every netlist, and every file it includes, must be a regular file (its
@@ -606,30 +649,73 @@ def batch_plan(paths: Sequence[str | Path], *, allow_control: bool = False, back
     a timeout, a raw file and a resident memory, a few times what was priced,
     within ``budget`` and ``timeout``) and is stopped past any of them. Every run
     happens in the sandbox of :mod:`lcchain.spice.sandbox`.
+
+    A netlist refused by any of those checks is a :class:`Refusal` of the plan (its one line kept, its price
+    none) and the others are its tasks; with ``strict``, or when every netlist is refused (nothing could run:
+    bad input), the first refusal is raised instead, and nothing runs.
+    The checks read text only, so a resumed batch makes them again, cheaply, and finds each refusal stored under
+    its key (:attr:`Refusal.key`): it is neither run nor stored twice.
+
+    ``engine_version`` gives the version of the ngspice that will run the batch (:attr:`Simulator.version`),
+    asked only when a netlist has an ``.ac dec`` card (:func:`lcchain.spice.foreign.log_sweep_count`); by
+    default ngspice is found for ``backend``.
     """
     budget = budget if budget is not None else Budget()
+    version = engine_version if engine_version is not None else _version_of(backend)
     tasks = []
+    refusals = []
+    first: ParameterError | None = None
     for index, name in enumerate(paths):
         path = Path(name)
-        text = read_include(path, "NETLIST")
-        folder = path.resolve().parent
-        run_text = canonical_text(text, str(path)) if allow_control else \
-            allowed_netlist(text, str(path), folder, read_include)
-        analysis = analysis_of(run_text, str(path))
-        saved = saved_vectors(run_text)
-        price = foreign_price(run_text, analysis, len(saved), str(path))
-        price.estimate.check(budget, str(path), analysis.describe())
-        limits = price.limits(budget, timeout)
+        read: list[str] = []
         try:
-            spec = RunSpec(run_text, saved, analysis.tstop, backend=backend, timeout=limits.timeout,
-                           cwd=str(folder) if allow_control else None, trusted=allow_control, foreign=True,
-                           max_output_bytes=limits.max_output_bytes, max_resident_bytes=limits.max_resident_bytes,
-                           label=path.name, analysis=analysis.kind, points=analysis.frequencies)
+            tasks.append(_batch_task(index, path, read, allow_control, backend, timeout, budget, version))
         except ParameterError as error:
-            raise (error.renamed("--allow-control") if error.field == "trusted" else error).located(str(path)) \
-                from None
-        tasks.append(Task(index, FrozenMap({"netlist": str(path)}), spec, price.seconds,
-                          price.estimate.memory + SIMULATOR_BYTES))
+            if strict:
+                raise
+            first = first or error
+            refusals.append(Refusal(index, FrozenMap({"netlist": str(path)}), str(error),
+                                    _refusal_key(str(path), read[0] if read else ""), path.name))
+    if first is not None and not tasks:  # nothing of it can run: bad input, as with strict
+        raise first
     description = {"command": "batch", "netlists": [str(p) for p in paths], "allow_control": allow_control,
                    "backend": backend}
-    return Plan("batch", FrozenMap(description), tuple(tasks), backend, ("netlist",))
+    return Plan("batch", FrozenMap(description), tuple(tasks), backend, ("netlist",), refusals=tuple(refusals))
+
+
+def _version_of(backend: Backend) -> Callable[[], str]:
+    """The version of ngspice for ``backend``, found once when first asked."""
+    found: list[str] = []
+
+    def version() -> str:
+        if not found:
+            found.append(find_engine(DEFAULT_ENGINE, backend).version)
+        return found[0]
+
+    return version
+
+
+def _batch_task(index: int, path: Path, read: list[str], allow_control: bool, backend: Backend, timeout: float,
+                budget: Budget, version: Callable[[], str]) -> Task:
+    """One netlist of a batch checked, priced and made a task, or its refusal raised (``read`` gets its text
+    once read: the refusal's key)."""
+    text = read_include(path, "NETLIST")
+    read.append(text)
+    folder = path.resolve().parent
+    run_text = canonical_text(text, str(path)) if allow_control else \
+        allowed_netlist(text, str(path), folder, read_include)
+    analysis = analysis_of(run_text, str(path), version)
+    saved = saved_vectors(run_text)
+    price = foreign_price(run_text, analysis, len(saved), str(path))
+    price.estimate.check(budget, str(path), analysis.describe())
+    limits = price.limits(budget, timeout)
+    try:
+        spec = RunSpec(run_text, saved, analysis.tstop, backend=backend, timeout=limits.timeout,
+                       cwd=str(folder) if allow_control else None, trusted=allow_control, foreign=True,
+                       max_output_bytes=limits.max_output_bytes, max_resident_bytes=limits.max_resident_bytes,
+                       label=path.name, analysis=analysis.kind, points=analysis.frequencies)
+    except ParameterError as error:
+        raise (error.renamed("--allow-control") if error.field == "trusted" else error).located(str(path)) \
+            from None
+    return Task(index, FrozenMap({"netlist": str(path)}), spec, price.seconds,
+                price.estimate.memory + SIMULATOR_BYTES)

@@ -5,7 +5,9 @@ options, opens the store for this driver alone (refusing one that another
 driver writes, or waiting for it, and one made for another plan), starts the
 executor (a Dask scheduler that cannot be reached leaves no store behind),
 then makes the store, whole, skips every run already stored (failed ones too,
-unless ``retry_failed``), sends the others to the executor, and stores each
+unless ``retry_failed``), stores a batch's refusals (each once: a resumed
+batch finds them stored, and ``retry_failed`` leaves them: nothing of them
+could run), sends the others to the executor, and stores each
 record in its own transaction the moment it arrives, so that a killed driver
 loses nothing that finished and a restarted one redoes nothing.  An
 extrapolation's members are tasks like any other; its combination is made in
@@ -77,6 +79,9 @@ class Summary:
     ok, failed : int
         Of the runs in the store after this one, how many are ok, and how many
         failed or timed out.
+    refused : int
+        Netlists of a batch that lcchain would not run (:class:`~lcchain.studies.plan.Refusal`), counted in
+        ``total`` and stored with their reason.
     store : str
         The store's path.
     wall_s : float
@@ -86,6 +91,8 @@ class Summary:
     pending : int
         Runs not started, or stopped, because the study's time budget (``max_seconds``) was spent: not stored, so
         the same command runs them.
+    refusals : tuple of (str, str)
+        Each refusal's netlist (as given) and reason, as the store holds them, in the batch's order.
     """
 
     total: int
@@ -98,16 +105,20 @@ class Summary:
     combined: int = 0
     combined_failed: int = 0
     pending: int = 0
+    refused: int = 0
+    refusals: tuple[tuple[str, str], ...] = ()
 
     @property
     def complete(self) -> bool:
-        """Every run ok and every extrapolation combined."""
-        return self.failed == 0 and self.ok == self.total and self.combined_failed == 0
+        """Every run ok (none refused) and every extrapolation combined."""
+        return self.failed == 0 and self.refused == 0 and self.ok == self.total and self.combined_failed == 0
 
     def to_dict(self) -> dict[str, Any]:
         return {"total": self.total, "skipped": self.skipped, "ran": self.ran, "ok": self.ok,
                 "failed": self.failed, "combined": self.combined, "combined_failed": self.combined_failed,
-                "pending": self.pending, "store": self.store, "wall_s": self.wall_s}
+                "pending": self.pending, "refused": self.refused,
+                "refusals": [{"netlist": netlist, "reason": reason} for netlist, reason in self.refusals],
+                "store": self.store, "wall_s": self.wall_s}
 
 
 def run_plan(plan: Plan, store: str | Path, *, executor: str = "process", workers: int | None = None,
@@ -167,12 +178,18 @@ def run_plan(plan: Plan, store: str | Path, *, executor: str = "process", worker
                            verbose=verbose, scratch=str(Path(store).resolve().parent)) as run:
             results.adopt(fingerprint, description, rows, engine_text(simulator.engine, simulator.version))
             finished = results.finished() - (results.failed() if retry_failed else set())
+            refused = {refusal.key: refusal for refusal in plan.refusals if refusal.key not in finished}
+            # one transaction: nothing of them ran (no engine, no time), and a resume finds them stored
+            if refused:
+                results.add_many([(RunRecord(key=key, status="refused", reason=refusal.reason,
+                                             label=refusal.label), None) for key, refusal in refused.items()])
+            finished |= refused.keys()
             todo: dict[str, tuple[int, RunSpec, float]] = {}  # one run per key: two points may share a member
             for task in plan.tasks:
                 if keys[task.index] not in finished:
                     todo.setdefault(keys[task.index], (task.index, task.spec, task.seconds))
-            distinct = {keys[task.index] for task in plan.tasks}
-            skipped = len(distinct & finished)
+            distinct = {keys[task.index] for task in plan.tasks} | {refusal.key for refusal in plan.refusals}
+            skipped = len((distinct & finished) - refused.keys())  # a refusal stored now was not stored before
             if on_resume is not None:
                 on_resume(skipped, len(todo))
             combining = _Combiner(plan, keys, results)
@@ -193,12 +210,14 @@ def run_plan(plan: Plan, store: str | Path, *, executor: str = "process", worker
                 combining.ready(finished)
                 if progress is not None:
                     progress(Progress(done, len(todo), failed, time.perf_counter() - start))
-        status = {run.key: run.status for run in results.runs()}
+        stored = {run.key: run for run in results.runs()}
+    status = {key: run.status for key, run in stored.items()}
     combined = [status[keys[c.index]] for c in plan.combinations]
+    refusals = tuple((str(r.params.get("netlist", r.label)), stored[r.key].reason) for r in plan.refusals)
     return Summary(len(distinct), skipped, done, sum(status[key] == "ok" for key in distinct),
                    sum(status[key] in ("failed", "timeout") for key in distinct), str(store),
                    time.perf_counter() - start, combined.count("ok"), len(combined) - combined.count("ok"),
-                   len(todo) - done)
+                   len(todo) - done, sum(status[key] == "refused" for key in distinct), refusals)
 
 
 class _Combiner:

@@ -77,6 +77,7 @@ import numpy as np
 
 from ..core import __version__
 from ..core.errors import LcchainError, ParameterError, SimulatorMissingError
+from ..core.types import RUN_STATUSES
 from ..runs.execute import RunRecord, waveform_digest
 from ..spice.engines import DEFAULT_ENGINE
 from ..spice.inputs import file_kind
@@ -106,7 +107,9 @@ _TABLES = {
                 "lcchain_version", "points", "metrics", "arrays", "finished"),
 }
 _HEADER = b"SQLite format 3\x00"
-_STATUSES = ("ok", "failed", "timeout")
+#: What a record's status may be (:data:`lcchain.core.types.RunStatus`); a store made before there were refusals
+#: simply holds none.
+_STATUSES = RUN_STATUSES
 #: Seconds after which a hidden ``.NAME.*.new`` that no driver holds is a leftover of a killed one.
 _STALE_SECONDS = 60.0
 #: What a store's owner can do about a row or a page that is not as lcchain wrote it.
@@ -165,7 +168,8 @@ def _holder(descriptor: int) -> int | None:
 
 @dataclass(frozen=True)
 class StoredRun:
-    """One task of a study as the store has it (``status`` is ``"pending"`` until it ran)."""
+    """One task of a study as the store has it (``status`` is ``"pending"`` until it ran; ``"refused"``: a batch's
+    netlist lcchain would not run, ``reason`` says why)."""
 
     index: int
     key: str
@@ -205,9 +209,9 @@ class StoredRun:
 
     def record(self) -> RunRecord:
         """The run as a record without its arrays (:meth:`Store.waveforms` has them)."""
-        if self.status not in ("ok", "failed", "timeout"):
+        if self.status not in _STATUSES:
             raise ParameterError("run", self.index, "a run that finished (this one is pending)")
-        return RunRecord(key=self.key, status=self.status, reason=self.reason,  # type: ignore[arg-type]
+        return RunRecord(key=self.key, status=self.status, reason=self.reason,
                          log_tail=self.log_tail, digest=self.digest, wall_s=self.wall_s or 0.0,
                          total_s=self.total_s or 0.0, engine=self.engine, engine_version=self.engine_version,
                          lcchain_version=self.lcchain_version, label=self.label)
@@ -228,7 +232,7 @@ class StoredRun:
             data["arrivals"] = self.metrics.get("arrivals")
             if "effects" in self.metrics:  # against the circuit's own theory: what its effects cost the pulse
                 data["effects"] = self.metrics["effects"]
-        if self.status in ("failed", "timeout"):
+        if self.status in ("failed", "timeout", "refused"):  # a refusal's reason: the netlist, line and field
             data["error"] = self.reason + (f"\n{self.engine} said:\n{self.log_tail}" if self.log_tail else "")
         return data
 
@@ -785,7 +789,7 @@ class Store:
 
     # ------------------------------------------------------------------ records
     def finished(self) -> set[str]:
-        """The keys of every run stored (ok, failed or timed out)."""
+        """The keys of every run stored (ok, failed, timed out, or refused)."""
         return {row[0] for row in self._rows("SELECT key FROM records")}
 
     def failed(self) -> set[str]:

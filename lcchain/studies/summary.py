@@ -47,7 +47,8 @@ class Group:
     peaks : ndarray
         First-arrival peaks of the runs that finished, in task order.
     failed : int
-        Runs that failed or timed out (pending ones are not counted).
+        Runs that failed, timed out or were refused (a batch's netlist lcchain would not run): they gave no value
+        (pending ones are not counted).
     """
 
     params: dict[str, Any]
@@ -136,7 +137,7 @@ def peak_groups(runs: list[StoredRun], metric: str = "peak") -> list[Group]:
         order.setdefault(key, params)
         peaks.setdefault(key, [])
         failed.setdefault(key, 0)
-        if run.status in ("failed", "timeout"):
+        if run.status in ("failed", "timeout", "refused"):
             failed[key] += 1
         elif run.status == "ok":
             peak = _value(run, name)
