@@ -168,6 +168,12 @@ def test_batch_and_results_import_nothing_heavy(tmp_path: Path) -> None:
     assert done.returncode == 0, done.stderr[-2000:]
     assert "1 ok" in done.stdout
     assert not forbidden(chains), "\n".join(forbidden(chains))
+    refused = tmp_path / "control.cir"  # refused by the allow-list: stored as such, the batch carries on (exit 1)
+    refused.write_text(RC_NETLIST.replace(".end\n", ".control\nrun\n.endc\n.end\n"))
+    done, chains = imports(["batch", str(netlist), str(refused), "--store", str(tmp_path / "refused.sqlite")], ROOT)
+    assert done.returncode == 1, done.stderr[-2000:]
+    assert "1 refused" in done.stdout
+    assert not forbidden(chains), "\n".join(forbidden(chains))
     for argv in (["results", str(store)], ["results", str(store), "--json"], ["results", str(store), "--csv"]):
         done, chains = imports(argv, ROOT)
         assert done.returncode == 0, done.stderr[-2000:]
