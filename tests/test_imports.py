@@ -114,7 +114,7 @@ def test_no_module_imports_a_heavy_package_at_its_top() -> None:
     functions that use them (or ``import scipy`` and uses its submodules, which load on first use): importing a
     module for one name never costs a command a heavy package it does not use.  Imports made at a module's top
     are in order, in one thread, so this check is exact where a command's run (threads, lazy attributes) is not;
-    it caught ``from scipy.interpolate import AAA`` in compare.poles, which every request imported."""
+    it would have caught ``from scipy.interpolate import AAA`` in compare.poles, which every request imports."""
     code = EVERY_MODULE.format(heavy=HEAVY)
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT)
     assert done.returncode == 0, done.stderr[-2000:]
