@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import math
 import re
@@ -40,11 +41,16 @@ from ..theory.chain import Chain
 
 __all__ = ["EXIT_OK", "EXIT_FAILED", "EXIT_USAGE", "EXIT_MISSING", "EXIT_SIGPIPE", "OPTION_NAMES", "NEGATIVE_NUMBER",
            "single_valued", "count", "list_entries", "int_list",
-           "number", "size", "duration", "seconds", "budget_parent", "emit_json", "Outputs",
+           "number", "size", "duration", "seconds", "budget_parent", "emit_json", "Outputs", "STDOUT", "EXIT_EXTRA",
            "chain_from_args", "budget_from_args", "load_chain_file", "check_perfect", "echoed_command",
            "CIRCUIT_EFFECTS", "add_effect_arguments", "effects_from_args"]
 
 EXIT_OK, EXIT_FAILED, EXIT_USAGE, EXIT_MISSING = 0, 1, 2, 3
+#: A missing optional extra (pandas, xarray, Dask, PySpice): ``pip install 'lcchain[EXTRA]'`` fixes it.
+EXIT_EXTRA = 4
+#: The file name of every option that writes one text (``-o``, ``--netlist-out``, ``--waveform-out``) that
+#: means standard output, as ``-`` does for most Unix tools.
+STDOUT = "-"
 #: A reader closed the pipe (``lcchain table --json | head -2``): the exit status of a process killed by SIGPIPE.
 EXIT_SIGPIPE = 128 + 13
 
@@ -220,16 +226,24 @@ class Outputs:
     A file that cannot be written at the end (a full disk) is named in one
     line and makes the command fail (exit 1), after everything else was
     written and printed.
+
+    ``-`` (:data:`STDOUT`) names standard output for an option that writes
+    one text (no ``formats``); one option at most may take it, and the
+    command's own summary then goes to stderr (:meth:`summary`).
     """
 
     inputs: dict[str, str] = field(default_factory=dict)
     checked: dict[str, Path] = field(default_factory=dict)
     failed: list[str] = field(default_factory=list)
+    to_stdout: str | None = None
 
     def check(self, option: str, path: str | None, formats: tuple[str, ...] | None = None, *,
               make_folder: bool = False) -> None:
         """Refuse ``path`` now if it could not be written later (``make_folder``: the caller makes its folder)."""
         if path is None:
+            return
+        if path == STDOUT:
+            self.claim_stdout(option, formats)
             return
         target = check_output(option, path, formats, make_folder=make_folder)
         check_not_input(option, path, [(named, source) for named, source in self.inputs.items() if source])
@@ -237,6 +251,21 @@ class Outputs:
             if same_file(seen, target):
                 raise ParameterError(option, path, f"a file no other option writes ({other} writes it too)")
         self.checked[option] = target
+
+    def claim_stdout(self, option: str, formats: tuple[str, ...] | None = None) -> None:
+        """Let ``option`` write its text to stdout (``-``): refused for a figure or a store, or a second option."""
+        if formats is not None:
+            raise ParameterError(option, STDOUT, f"a file name ending in .{', .'.join(formats)} (- means stdout, "
+                                 "which takes only a text)")
+        if self.to_stdout is not None and self.to_stdout != option:
+            raise ParameterError(option, STDOUT, f"a file name: {self.to_stdout} writes to stdout (-) already")
+        self.to_stdout = option
+
+    def summary(self) -> contextlib.AbstractContextManager[object]:
+        """Where the command's own lines go: stdout, or stderr when an output writes its text to stdout."""
+        if self.to_stdout is None:
+            return contextlib.nullcontext()
+        return contextlib.redirect_stdout(sys.stderr)
 
     def write(self, option: str, writer: Callable[[Path], object]) -> None:
         """Run ``writer(path)`` for a checked output; report a failure by name instead of raising."""
@@ -250,6 +279,11 @@ class Outputs:
             print(f"lcchain: could not write {path} ({option}): {error.strerror or error}", file=sys.stderr)
 
     def text(self, option: str, text: str) -> None:
+        """Write a checked output's text: to its file, atomically, or to stdout for ``-``."""
+        if option == self.to_stdout:
+            sys.stdout.write(text)
+            sys.stdout.flush()
+            return
         self.write(option, lambda path: write_text(path, text))
 
 
