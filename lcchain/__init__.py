@@ -25,7 +25,7 @@ _PUBLIC = {
     "dt_for_accuracy": "compare.accuracy", "predicted_error": "compare.accuracy",
     "Interrupted": "core.errors", "LcchainError": "core.errors", "ParameterError": "core.errors",
     "DesignError": "core.errors",
-    "SimulationError": "core.errors", "SimulatorMissingError": "core.errors",
+    "SimulationError": "core.errors", "SimulatorMissingError": "core.errors", "ExtraMissingError": "core.errors",
     "Budget": "core.budget",
     "run_scene": "app.scenes",
     "RunRecord": "runs.execute", "execute": "runs.execute",
@@ -55,7 +55,8 @@ _PUBLIC = {
 
 __all__ = [
     "Ladder", "SimulationOptions", "netlist_text", "dt_for_accuracy", "predicted_error", "Interrupted",
-    "LcchainError", "ParameterError", "DesignError", "SimulationError", "SimulatorMissingError", "Budget",
+    "LcchainError", "ParameterError", "DesignError", "SimulationError", "SimulatorMissingError", "ExtraMissingError",
+    "Budget",
     "run_scene", "RunRecord",
     "execute", "SimulationReport", "simulate", "Request", "Drive", "Transient", "AC", "plan_request", "Effect",
     "Walls",
@@ -92,6 +93,7 @@ if TYPE_CHECKING:  # what a type checker and an editor see
     from .core.budget import Budget
     from .core.errors import (
         DesignError,
+        ExtraMissingError,
         Interrupted,
         LcchainError,
         ParameterError,

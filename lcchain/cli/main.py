@@ -23,7 +23,7 @@ from threadpoolctl import threadpool_limits
 from ..circuit.effects import Coupling
 from ..core import __version__
 from ..core.blas import BLAS_THREADS
-from ..core.errors import Interrupted, LcchainError, ParameterError, SimulationError, SimulatorMissingError
+from ..core.errors import ExtraMissingError, Interrupted, LcchainError, ParameterError, SimulationError, SimulatorMissingError
 from ..core.types import (
     BACKENDS,
     DEFAULT_C0,
@@ -37,6 +37,7 @@ from ..core.types import (
 from ..spice.engines import DEFAULT_ENGINE, ENGINES
 from . import commands, requirements, sensitivity, studies, validation
 from .common import (
+    EXIT_EXTRA,
     EXIT_FAILED,
     EXIT_MISSING,
     EXIT_SIGPIPE,
@@ -371,6 +372,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     except SimulatorMissingError as error:
         print(f"lcchain: {error}", file=sys.stderr)
         return EXIT_MISSING
+    except ExtraMissingError as error:
+        print(f"lcchain: {error}", file=sys.stderr)
+        return EXIT_EXTRA
     except ParameterError as error:
         print(f"lcchain: {_as_typed(error, args)}", file=sys.stderr)
         return EXIT_USAGE

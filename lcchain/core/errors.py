@@ -18,6 +18,7 @@ __all__ = [
     "ParameterError",
     "SimulationError",
     "SimulatorMissingError",
+    "ExtraMissingError",
     "DesignError",
     "Interrupted",
 ]
@@ -94,6 +95,35 @@ class SimulationError(LcchainError):
 
 class SimulatorMissingError(LcchainError):
     """ngspice (or its shared library, or PySpice) cannot be found on this machine."""
+
+
+class ExtraMissingError(LcchainError):
+    """An optional extra of lcchain is not installed (pandas, xarray, Dask, PySpice): exit status 4, not 3.
+
+    Parameters
+    ----------
+    module : str
+        The missing importable package (``"pandas"``).
+    extra : str
+        The extra of lcchain that installs it (``"data"``): ``pip install 'lcchain[data]'``.
+    purpose : str
+        What needs it, in a few words (``"Store.to_dataframe"``, ``"the dask executor"``).
+    """
+
+    def __init__(self, module: str, extra: str, purpose: str = "this"):
+        self.module = module
+        self.extra = extra
+        self.purpose = purpose
+        super().__init__(f"{purpose} needs {module}, which is not installed (an optional extra of lcchain); "
+                         f"install it with: {self.command}")
+
+    @property
+    def command(self) -> str:
+        """The command that installs it."""
+        return f"pip install 'lcchain[{self.extra}]'"
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        return (type(self), (self.module, self.extra, self.purpose))
 
 
 class DesignError(LcchainError):
