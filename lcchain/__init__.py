@@ -30,6 +30,7 @@ _PUBLIC = {
     "run_scene": "app.scenes",
     "RunRecord": "runs.execute", "execute": "runs.execute",
     "SimulationReport": "runs.simulate", "simulate": "runs.simulate",
+    "SpectrumReport": "runs.spectrum", "spectrum": "runs.spectrum",
     "Request": "runs.request", "Drive": "runs.request", "Transient": "runs.request", "AC": "runs.request",
     "plan_request": "runs.request",
     "Effect": "circuit.effects", "Walls": "circuit.effects", "Coupling": "circuit.effects",
@@ -58,7 +59,8 @@ __all__ = [
     "LcchainError", "ParameterError", "DesignError", "SimulationError", "SimulatorMissingError", "ExtraMissingError",
     "Budget",
     "run_scene", "RunRecord",
-    "execute", "SimulationReport", "simulate", "Request", "Drive", "Transient", "AC", "plan_request", "Effect",
+    "execute", "SimulationReport", "simulate", "SpectrumReport", "spectrum",
+    "Request", "Drive", "Transient", "AC", "plan_request", "Effect",
     "Walls",
     "Coupling", "Losses", "Tolerance", "PreferredValues", "RunSpec", "Theory", "load_scene", "parse_scene",
     "simulate_scene",
@@ -104,6 +106,7 @@ if TYPE_CHECKING:  # what a type checker and an editor see
     from .runs.request import AC, Drive, Request, Transient, plan_request
     from .runs.simulate import SimulationReport, simulate
     from .runs.spec import RunSpec, Theory
+    from .runs.spectrum import SpectrumReport, spectrum
     from .scenes.load import load_scene, parse_scene
     from .scenes.run import simulate_scene
     from .scenes.schema import Scene

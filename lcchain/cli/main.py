@@ -23,7 +23,14 @@ from threadpoolctl import threadpool_limits
 from ..circuit.effects import Coupling
 from ..core import __version__
 from ..core.blas import BLAS_THREADS
-from ..core.errors import ExtraMissingError, Interrupted, LcchainError, ParameterError, SimulationError, SimulatorMissingError
+from ..core.errors import (
+    ExtraMissingError,
+    Interrupted,
+    LcchainError,
+    ParameterError,
+    SimulationError,
+    SimulatorMissingError,
+)
 from ..core.types import (
     BACKENDS,
     DEFAULT_C0,

@@ -178,14 +178,14 @@ def write_scene_outputs(result: SceneResult, *, netlist_out: str | None = None,
     scene = result.scene
     good = result.good()
     written: list[str] = []
-    for path, text in ((netlist_out, lambda: good[0].netlist), (waveform_out, lambda: _csv(good[0]))):
-        if not (good and path):
+    for target, text in ((netlist_out, lambda: good[0].netlist), (waveform_out, lambda: _csv(good[0]))):
+        if not (good and target):
             continue
-        if path == "-":
+        if target == "-":
             sys.stdout.write(text())
             sys.stdout.flush()
         else:
-            written.append(str(write_text(path, text())))
+            written.append(str(write_text(target, text())))
     if not write_outputs:
         return written
     if scene_outputs(scene):
