@@ -85,3 +85,54 @@ def test_doctor_suggests_only_what_is_missing(tmp_path):
     assert checks["ngspice shared library"][0] is True
     assert checks["PySpice"][0] is False
     assert checks["shared run"] == [False, "pip install 'lcchain[shared]'"]
+
+
+def _small_cradle(folder: Path) -> Path:
+    """The bundled cradle scene at N = 10 with no [output] (nothing written beside the report)."""
+    import tomllib
+
+    from lcchain.scenes.bundled import example_text
+
+    text = example_text("cradle").replace("N = 100", "N = 10")
+    data = tomllib.loads(text)
+    assert data["chain"]["N"] == 10 and "tolerance" not in data.get("effects", {})
+    path = folder / "cradle.toml"
+    path.write_text(text.split("[output]")[0])
+    return path
+
+
+@pytest.mark.ngspice
+def test_a_monte_carlo_from_the_command_line_without_editing_the_scene(capsys, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    scene = _small_cradle(tmp_path)
+    before = scene.read_text()
+    status = main(["run", str(scene), "--tolerance", "L=0.02,C=0.01", "--series", "E24", "--samples", "2",
+                   "--seed", "7", "--json"])
+    out, err = capsys.readouterr()
+    assert status == 0, err
+    report = json.loads(out)
+    assert len(report["samples"]) == 2
+    tolerance = report["scene"]["effects"]["tolerance"]
+    assert {key: tolerance[key] for key in ("L", "C", "samples", "seed")} == {"L": 0.02, "C": 0.01, "samples": 2,
+                                                                             "seed": 7}
+    assert report["scene"]["effects"]["preferred_values"]["series"] == "E24"
+    assert scene.read_text() == before  # the file is the user's: never edited
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["--tolerance", "L=1.5"], "--tolerance L = 1.5 is not allowed: expected a relative tolerance, 0 <= L < 1"),
+    (["--tolerance", "R=0.1"], "--tolerance = 'R=0.1' is not allowed: expected L=TOL,C=TOL"),
+    (["--series", "E7"], "--series = 'E7' is not allowed: expected E12 | E24 | E96"),
+    (["--samples", "0"], "--samples = 0 is not allowed: expected an integer from 1 to 10000"),
+    (["--seed", "-1"], "--seed = -1 is not allowed"),
+])
+def test_monte_carlo_options_name_the_option_value_and_range(capsys, tmp_path, monkeypatch, argv, message):
+    monkeypatch.chdir(tmp_path)
+    scene = _small_cradle(tmp_path)
+    assert main(["run", str(scene), *argv]) == 2
+    _, err = capsys.readouterr()
+    assert err.count("\n") == 1 and message in err, err
+    assert main(["sweep", str(scene), *argv, "--store", "s.sqlite"]) == 2
+    _, err = capsys.readouterr()
+    assert message in err, err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["cradle.toml"]

@@ -589,7 +589,7 @@ def cmd_run(args: argparse.Namespace) -> int:
         option = "--netlist-out" if args.netlist_out else "--waveform-out"
         raise ParameterError(option, args.netlist_out or args.waveform_out, "one scene only (got "
                              f"{len(args.scene)})")
-    scenes = [load_scene(path) for path in args.scene]  # every file checked before anything runs
+    scenes = [_with_parts(load_scene(path), args) for path in args.scene]  # every file checked before anything runs
     outputs = Outputs()
     outputs.check("--side-by-side", args.side_by_side, FIGURE_FORMATS)
     for option in ("--netlist-out", "--waveform-out"):
@@ -644,6 +644,16 @@ def cmd_run(args: argparse.Namespace) -> int:
         emit_json(reports[0] if len(reports) == 1 else reports)
     ok = all(r.ok for r in results) and not failed_files and not outputs.failed
     return EXIT_OK if ok else EXIT_FAILED
+
+
+def _with_parts(scene: Any, args: argparse.Namespace) -> Any:
+    """The scene with ``--tolerance``, ``--series``, ``--samples`` and ``--seed`` set, when any is given."""
+    from ..scenes.load import override_parts, parse_scene
+
+    parts = {"tolerance": args.tolerance, "series": args.series, "samples": args.samples, "seed": args.seed}
+    if all(value is None for value in parts.values()):
+        return scene
+    return parse_scene(override_parts(scene.to_dict(), **parts), source=scene.source)
 
 
 def cmd_bench_accuracy(args: argparse.Namespace) -> int:

@@ -36,6 +36,7 @@ from ..core.limits import (
     MIN_N,
     MIN_TIMEOUT,
 )
+from ..core.types import E_SERIES_NAMES
 from ..report.files import check_not_input, check_output, same_file, write_text
 from ..theory.chain import Chain
 
@@ -43,7 +44,7 @@ __all__ = ["EXIT_OK", "EXIT_FAILED", "EXIT_USAGE", "EXIT_MISSING", "EXIT_SIGPIPE
            "single_valued", "count", "list_entries", "int_list",
            "number", "size", "duration", "seconds", "budget_parent", "emit_json", "Outputs", "STDOUT", "EXIT_EXTRA",
            "chain_from_args", "budget_from_args", "load_chain_file", "check_perfect", "echoed_command",
-           "CIRCUIT_EFFECTS", "add_effect_arguments", "effects_from_args"]
+           "CIRCUIT_EFFECTS", "add_effect_arguments", "effects_from_args", "tolerances", "add_parts_arguments"]
 
 EXIT_OK, EXIT_FAILED, EXIT_USAGE, EXIT_MISSING = 0, 1, 2, 3
 #: A missing optional extra (pandas, xarray, Dask, PySpice): ``pip install 'lcchain[EXTRA]'`` fixes it.
@@ -196,6 +197,36 @@ def seconds(option: str) -> Callable[[str], float]:
         return value
 
     return parse
+
+
+def tolerances(text: str) -> dict[str, float]:
+    """An argparse type: ``--tolerance L=0.05,C=0.02`` (either or both), or ``--tolerance 0.05`` for both;
+    each relative, 0 <= tol < 1 (checked by :func:`lcchain.scenes.load.override_parts`)."""
+    allowed = "L=TOL,C=TOL (either or both) or one TOL for both, each a relative tolerance 0 <= TOL < 1"
+    entries = list_entries("--tolerance", text, "L=TOL and C=TOL")
+    if len(entries) == 1 and "=" not in entries[0]:
+        value = number("--tolerance")(entries[0])
+        return {"L": value, "C": value}
+    out: dict[str, float] = {}
+    for entry in entries:
+        name, sep, value = (part.strip() for part in entry.partition("="))
+        if not sep or name not in ("L", "C") or name in out:
+            raise argparse.ArgumentTypeError(f"--tolerance = {text!r} is not allowed: expected {allowed}")
+        out[name] = number(f"--tolerance {name}")(value)
+    return out
+
+
+def add_parts_arguments(p: argparse.ArgumentParser, samples: bool = True) -> None:
+    """A scene's real parts from the command line (a Monte Carlo without editing the file): ``--tolerance``,
+    ``--series`` and (``samples``) ``--samples``, ``--seed``; each sets the scene's own key."""
+    p.add_argument("--tolerance", type=tolerances, metavar="L=TOL,C=TOL",
+                   help="with SCENE.toml: relative tolerances of the inductors and capacitors, e.g. L=0.05,C=0.02 "
+                        "or 0.05 for both (effects.tolerance.L, .C)")
+    p.add_argument("--series", metavar="|".join(E_SERIES_NAMES),
+                   help="with SCENE.toml: round every part to this IEC 60063 series (effects.preferred_values.series)")
+    if samples:
+        p.add_argument("--samples", type=int, help="with SCENE.toml: tolerance samples (effects.tolerance.samples)")
+        p.add_argument("--seed", type=int, help="with SCENE.toml: the tolerance seed (effects.tolerance.seed)")
 
 
 def budget_parent() -> argparse.ArgumentParser:

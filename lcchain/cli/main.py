@@ -51,6 +51,7 @@ from .common import (
     EXIT_USAGE,
     OPTION_NAMES,
     add_effect_arguments,
+    add_parts_arguments,
     budget_parent,
     int_list,
     list_entries,
@@ -222,6 +223,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help="figure (.png, .svg, .pdf): the scenes' overlays next to each other on shared axes")
     p.add_argument("--netlist-out", metavar="FILE", help="keep the (first sample's) netlist")
     p.add_argument("--waveform-out", metavar="FILE", help="CSV t,first,last (first sample, dimensionless)")
+    add_parts_arguments(p)
     studies.add_study_arguments(p, store=False)
     p.set_defaults(func=commands.cmd_run, executor="serial")
 
