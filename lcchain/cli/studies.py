@@ -14,7 +14,7 @@ from pathlib import Path
 from typing import Any
 
 from ..core.budget import INTERPRETER_SECONDS, show_seconds
-from ..core.errors import ParameterError, SimulatorMissingError
+from ..core.errors import ExtraMissingError, ParameterError
 from ..core.types import (
     ANALYSIS_KINDS,
     ARRIVAL_METRICS,
@@ -366,11 +366,11 @@ def cmd_batch(args: argparse.Namespace) -> int:
 
 
 def _flat(run: dict[str, Any]) -> dict[str, Any]:
-    from ..compare.spectral import SPECTRAL_METRICS
-
     row = {"index": run["index"], "kind": run["kind"], "status": run["status"], **run["params"],
            "digest": run["digest"], "max_abs_error": run.get("max_abs_error"), "wall_s": run["wall_s"]}
     if "max_rel_error_omega" in run:  # an AC run: its spectral metrics instead of a transient's
+        from ..compare.spectral import SPECTRAL_METRICS  # here: a transient's CSV needs no AC fit (nor scipy)
+
         del row["max_abs_error"]
         row.update({name: run.get(name) for name in SPECTRAL_METRICS}, points=run["points"])
     arrivals = run.get("arrivals") or []
@@ -449,8 +449,7 @@ def _require(module: str, option: str) -> None:
     import importlib.util
 
     if importlib.util.find_spec(module) is None:
-        raise SimulatorMissingError(f"{option} needs {module}, which is not installed; install it with: "
-                                    f"pip install 'lcchain[data]' {module}")
+        raise ExtraMissingError(module, "data", option, more=(module,))
 
 
 def _write_atomic(path: Path, writer: Any) -> None:

@@ -108,22 +108,25 @@ class ExtraMissingError(LcchainError):
         The extra of lcchain that installs it (``"data"``): ``pip install 'lcchain[data]'``.
     purpose : str
         What needs it, in a few words (``"Store.to_dataframe"``, ``"the dask executor"``).
+    more : tuple of str
+        Packages the extra does not hold, installed beside it (``("pyarrow",)`` for ``--parquet``).
     """
 
-    def __init__(self, module: str, extra: str, purpose: str = "this"):
+    def __init__(self, module: str, extra: str, purpose: str = "this", more: tuple[str, ...] = ()):
         self.module = module
         self.extra = extra
         self.purpose = purpose
+        self.more = tuple(more)
         super().__init__(f"{purpose} needs {module}, which is not installed (an optional extra of lcchain); "
                          f"install it with: {self.command}")
 
     @property
     def command(self) -> str:
         """The command that installs it."""
-        return f"pip install 'lcchain[{self.extra}]'"
+        return " ".join([f"pip install 'lcchain[{self.extra}]'", *self.more])
 
     def __reduce__(self) -> tuple[Any, ...]:
-        return (type(self), (self.module, self.extra, self.purpose))
+        return (type(self), (self.module, self.extra, self.purpose, self.more))
 
 
 class DesignError(LcchainError):
