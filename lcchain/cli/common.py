@@ -209,10 +209,10 @@ def tolerances(text: str) -> dict[str, float]:
         return {"L": value, "C": value}
     out: dict[str, float] = {}
     for entry in entries:
-        name, sep, value = (part.strip() for part in entry.partition("="))
+        name, sep, given = (part.strip() for part in entry.partition("="))
         if not sep or name not in ("L", "C") or name in out:
             raise argparse.ArgumentTypeError(f"--tolerance = {text!r} is not allowed: expected {allowed}")
-        out[name] = number(f"--tolerance {name}")(value)
+        out[name] = number(f"--tolerance {name}")(given)
     return out
 
 
