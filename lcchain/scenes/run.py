@@ -26,7 +26,8 @@ from ..compare.waveforms import Waveforms
 from ..core.blas import fixed_blas_threads
 from ..core.budget import Budget
 from ..core.checks import callback, instance
-from ..core.errors import ParameterError
+from ..core.errors import ParameterError, SimulationError
+from ..core.show import html_table, short_repr
 from ..runs.execute import RunRecord, execute, loop_theory, pulse_centre
 from ..runs.extrapolated import combined_record
 from ..runs.spec import RunSpec, Theory
@@ -168,6 +169,59 @@ class SceneResult:
     def good(self) -> list[SampleResult]:
         """The samples that ran."""
         return [s for s in self.samples if s.ok]
+
+    def _rows(self) -> list[tuple[str, object]]:
+        r: dict[str, Any] = dict(self.report)
+        failed = len(self.samples) - len(self.good())
+        rows: list[tuple[str, object]] = [
+            ("scene", self.scene.title), ("chain", f"{self.scene.chain.case}, N = {r.get('N')}"),
+            ("engine", f"{r.get('engine')} {r.get('engine_version')}, {r.get('analysis', 'transient')}"),
+            ("samples", f"{len(self.samples)}" + (f", {failed} failed" if failed else ""))]
+        for key, name in (("max_abs_error", "max |simulation - theory|"), ("predicted_error", "predicted error"),
+                          ("max_rel_error_omega", "max rel. error of omega_n"),
+                          ("max_abs_error_P", "max abs. error of P_n"), ("accuracy_met", "accuracy met")):
+            if r.get(key) is not None:
+                rows.append((name, r[key]))
+        return rows
+
+    def __repr__(self) -> str:
+        """A few lines (every sample's record: ``report``)."""
+        return short_repr("SceneResult", self._rows())
+
+    def _repr_html_(self) -> str:
+        return html_table("SceneResult", self._rows())
+
+    def plot(self) -> Any:
+        """The first good sample's figure: a transient's end signals over theory (residual below), or an AC
+        analysis's |P_n| against omega_n over theory.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+            Never shown.  matplotlib is imported here, not by ``import lcchain``.
+
+        Raises
+        ------
+        SimulationError
+            No sample ran.
+        """
+        from ..report import plots
+
+        good = self.good()
+        if not good:
+            raise SimulationError(f"{self.scene.title}: no sample ran, so there is nothing to plot")
+        s = good[0]
+        title = f"{self.scene.title}, N = {s.chain.N}"
+        if s.run.spectrum is not None:
+            spectrum = s.run.spectrum
+            return plots.spectrum(spectrum.omega_theory, spectrum.P_theory, spectrum.omega, spectrum.P, title=title)
+        signals = s.run.signals
+        assert signals is not None  # a sample that ran has one or the other
+        ylabel = r"$Q_1,\ Q_N\;/\;Q_1(0)$" if self.scene.excitation.kind == "displacement" else r"$I_1,\ I_N\;/\;I_0$"
+        return plots.overlay(signals.t, signals.sim[-1], signals.t, signals.theory[-1],
+                             residual=signals.sim[-1] - signals.theory[-1], first_sim=signals.sim[0],
+                             first_theory=signals.theory[0], arrivals=s.record["arrivals"], title=title,
+                             ylabel=ylabel)
 
 
 def _failed_record(index: int, chain: Chain, run: RunRecord) -> SampleRecord:
