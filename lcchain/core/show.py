@@ -8,9 +8,13 @@ predicted), made here once so that every result reads alike.
 from __future__ import annotations
 
 import html
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
+from typing import Any
 
-__all__ = ["short_repr", "html_table"]
+from .errors import ParameterError
+from .registry import Registry
+
+__all__ = ["short_repr", "html_table", "PLOTS", "plot"]
 
 Row = tuple[str, object]
 
@@ -32,3 +36,25 @@ def html_table(title: str, rows: Sequence[Row]) -> str:
     body = "".join(f"<tr><th style=\"text-align:left\">{html.escape(name)}</th>"
                    f"<td style=\"text-align:left\">{html.escape(_text(value))}</td></tr>" for name, value in rows)
     return f"<table><caption>{html.escape(title)}</caption>{body}</table>"
+
+
+def _figure_function(name: str, loaded: object) -> Callable[..., Any]:
+    if not callable(loaded):
+        raise TypeError(f"{name} is not callable")
+    return loaded
+
+
+#: What draws each kind of result: ``(result, ax=None) -> matplotlib Figure``, read from the ``lcchain.plots``
+#: entry points on first use (lcchain's own name :mod:`lcchain.report.shown`'s functions), as pandas finds its
+#: plotting backend: a result never imports ``report`` (matplotlib is its alone), and another package may draw.
+PLOTS: Registry[Callable[..., Any]] = Registry("lcchain.plots", {}, _figure_function,
+                                              "a function (result, ax=None) -> matplotlib Figure")
+
+
+def plot(kind: str, result: object, ax: Any = None) -> Any:
+    """The figure of ``result`` by the registered drawing of its ``kind`` (``"simulation"``, ``"spectrum"``,
+    ``"scene"``)."""
+    if kind not in PLOTS:
+        raise ParameterError("plot", kind, f"a kind of result with a registered drawing ({', '.join(PLOTS)}; "
+                             "lcchain's own come with its installed entry points: pip install lcchain)")
+    return PLOTS[kind](result, ax=ax)

@@ -32,7 +32,7 @@ from ..core.budget import Budget
 from ..core.checks import callback, choice, instance
 from ..core.errors import ParameterError, SimulationError
 from ..core.frozen import FrozenMap
-from ..core.show import html_table, short_repr
+from ..core.show import html_table, plot, short_repr
 from ..core.types import DEFAULT_C0, DEFAULT_I0, DEFAULT_L0, EXCITATIONS, Backend, Excitation, Method
 from ..spice.engines import DEFAULT_ENGINE
 from ..spice.runner import RunResult
@@ -232,16 +232,7 @@ class SimulationReport:
         matplotlib.figure.Figure
             Never shown; save it with ``fig.savefig(...)``.  matplotlib is imported here, not by ``import lcchain``.
         """
-        from ..report.plots import overlay
-
-        w, c = self.waveforms, self.comparison
-        return overlay(w.t, w.last, w.t, c.theory_last, residual=None if ax is not None else w.last - c.theory_last,
-                       first_sim=w.first, first_theory=c.theory_first, arrivals=[a.to_dict() for a in c.arrivals],
-                       title=f"{self.chain.name} chain, N = {self.chain.N}, dt = {self.options.dt:.4g}, "
-                             f"{self.excitation}",
-                       ylabel=r"$I_1,\ I_N\;/\;I_1(0)$" if self.excitation == "kick" else r"$Q_1,\ Q_N\;/\;Q_1(0)$",
-                       ax=ax)
-
+        return plot("simulation", self, ax=ax)
 
 def simulator_wall_time(runs: Sequence[tuple[float, float]]) -> float:
     """Seconds during which at least one of ``runs`` was running: the length of the union of the intervals

@@ -48,7 +48,7 @@ from ..compare.spectrum import SpectrumFit
 from ..core.budget import Budget
 from ..core.checks import instance
 from ..core.errors import ParameterError, SimulationError
-from ..core.show import html_table, short_repr
+from ..core.show import html_table, plot, short_repr
 from ..core.types import DEFAULT_C0, DEFAULT_L0
 from ..spice.engines import DEFAULT_ENGINE
 from ..spice.simulator import Simulator
@@ -283,11 +283,7 @@ class SpectrumReport:
             Never shown; save it with ``fig.savefig(...)``.  matplotlib is imported here, not by
             ``import lcchain``.
         """
-        from ..report.plots import spectrum as spectrum_figure
-
-        return spectrum_figure(self.omega_theory, self.P_theory, self.omega, self.P,
-                               title=f"{self.chain.name} chain, N = {self.chain.N}: {self.engine} AC against theory")
-
+        return plot("spectrum", self)
 
 def _pole(omega: np.ndarray, gamma: np.ndarray) -> np.ndarray:
     """-gamma/2 + j sqrt(omega^2 - gamma^2/4): the upper pole, the faster one of an overdamped mode (-gamma for a

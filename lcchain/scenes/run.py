@@ -26,8 +26,8 @@ from ..compare.waveforms import Waveforms
 from ..core.blas import fixed_blas_threads
 from ..core.budget import Budget
 from ..core.checks import callback, instance
-from ..core.errors import ParameterError, SimulationError
-from ..core.show import html_table, short_repr
+from ..core.errors import ParameterError
+from ..core.show import html_table, plot, short_repr
 from ..runs.execute import RunRecord, execute, loop_theory, pulse_centre
 from ..runs.extrapolated import combined_record
 from ..runs.spec import RunSpec, Theory
@@ -191,7 +191,7 @@ class SceneResult:
     def _repr_html_(self) -> str:
         return html_table("SceneResult", self._rows())
 
-    def plot(self) -> Any:
+    def plot(self, ax: Any = None) -> Any:
         """The first good sample's figure: a transient's end signals over theory (residual below), or an AC
         analysis's |P_n| against omega_n over theory.
 
@@ -205,24 +205,7 @@ class SceneResult:
         SimulationError
             No sample ran.
         """
-        from ..report import plots
-
-        good = self.good()
-        if not good:
-            raise SimulationError(f"{self.scene.title}: no sample ran, so there is nothing to plot")
-        s = good[0]
-        title = f"{self.scene.title}, N = {s.chain.N}"
-        if s.run.spectrum is not None:
-            spectrum = s.run.spectrum
-            return plots.spectrum(spectrum.omega_theory, spectrum.P_theory, spectrum.omega, spectrum.P, title=title)
-        signals = s.run.signals
-        assert signals is not None  # a sample that ran has one or the other
-        ylabel = r"$Q_1,\ Q_N\;/\;Q_1(0)$" if self.scene.excitation.kind == "displacement" else r"$I_1,\ I_N\;/\;I_0$"
-        return plots.overlay(signals.t, signals.sim[-1], signals.t, signals.theory[-1],
-                             residual=signals.sim[-1] - signals.theory[-1], first_sim=signals.sim[0],
-                             first_theory=signals.theory[0], arrivals=s.record["arrivals"], title=title,
-                             ylabel=ylabel)
-
+        return plot("scene", self, ax=ax)
 
 def _failed_record(index: int, chain: Chain, run: RunRecord) -> SampleRecord:
     error = run.reason + (f"\n{run.engine} said:\n{run.log_tail}" if run.log_tail else "")
