@@ -15,6 +15,7 @@ from fractions import Fraction
 from pathlib import Path
 from typing import Any
 
+from ..core import __version__
 from ..core.budget import design_estimate
 from ..core.errors import ParameterError
 from ..core.limits import MAX_DESIGN_N, MIN_N
@@ -391,6 +392,11 @@ def cmd_spectrum(args: argparse.Namespace) -> int:
 
     outputs = Outputs(inputs={"--chain": args.chain})
     outputs.check("--plot", args.plot, FIGURE_FORMATS)
+    outputs.check("--touchstone", args.touchstone, ("s2p",))
+    if args.z0 is not None and not args.touchstone:
+        raise ParameterError("--z0", args.z0, "only with --touchstone FILE (the two-port's reference impedance)")
+    if args.z0 is not None and not args.z0 > 0:
+        raise ParameterError("--z0", args.z0, "a reference impedance > 0 ohms")
     chain = chain_from_args(args)
     # the effect options the parser has (--Q is measure_spectrum's own, refused under its name there): effects
     # that are no chain's are compared with the circuit's own poles and residues
@@ -432,7 +438,37 @@ def cmd_spectrum(args: argparse.Namespace) -> int:
         outputs.write("--plot", lambda path: spectrum(
             report.theory.omega, report.theory.transfer, report.omega, report.P,
             title=f"{chain.name} chain, N = {chain.N}: {report.engine} AC against theory", path=path))
+    if args.touchstone:
+        _write_touchstone(args, chain, effects, outputs)
     return EXIT_FAILED if outputs.failed else EXIT_OK
+
+
+def _write_touchstone(args: argparse.Namespace, chain: Any, effects: tuple[Any, ...], outputs: Outputs) -> None:
+    """``spectrum --touchstone FILE.s2p``: the ladder's two-port from two AC analyses (one per end), checked
+    against the circuit's exact admittances (:mod:`lcchain.runs.twoport`), as Touchstone v1."""
+    import numpy as np
+
+    from ..circuit.effects import Losses
+    from ..report.touchstone import touchstone_text
+    from ..runs.request import AC, Request
+    from ..runs.twoport import DEFAULT_Z0, two_port, two_port_theory
+
+    z0 = DEFAULT_Z0 if args.z0 is None else args.z0
+    losses = (Losses(args.Q),) if args.Q is not None else ()
+    request = Request(chain, AC(args.points), effects=effects + losses, L0=args.L0, C0=args.C0, engine=args.engine)
+    measured = two_port(request, z0)
+    exact = two_port_theory(request, measured.frequency, z0)
+    error = float(np.max(np.abs(measured.S - exact.S)))
+    comments = [f"lcchain {__version__}: {chain.name} chain, N = {chain.N}, L0 = {args.L0:g} H, C0 = {args.C0:g} F, "
+                f"{measured.engine} {measured.engine_version} AC analyses",
+                "port 1: a break in loop 1 (the AC source's place, between coil 1 and the rail); current into coil 1",
+                "port 2: its mirror image in loop N; current into coil N from that end (-i(lN) in the netlist)",
+                f"max |S - S of the circuit's exact admittances| = {error:.3e}"]
+    outputs.text("--touchstone", touchstone_text(measured.frequency, measured.S, z0, comments))
+    if not args.json:
+        print(f"two-port: {measured.frequency.size} frequencies from {measured.frequency[0]:.6g} to "
+              f"{measured.frequency[-1]:.6g} Hz in z0 = {z0:g} ohm, max |S - exact| = {error:.3e}, "
+              f"reciprocity |Y12 - Y21| / max |Y| = {measured.reciprocity:.1e}")
 
 
 def _print_quality(data: dict[str, Any]) -> None:

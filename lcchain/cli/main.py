@@ -176,6 +176,13 @@ def build_parser() -> argparse.ArgumentParser:
     add_effect_arguments(p)  # --Q (each mode's fitted Q_n beside omega_n Q), the real parts, a plugin's
     p.add_argument("--plot", metavar="FILE", help="Fig. Pk20-100: |P_n| and the spacing against omega_n, the "
                    "circuit's modes on top of theory")
+    p.add_argument("--touchstone", metavar="FILE.s2p",
+                   help="also the ladder as a two-port (port 1: a break in loop 1 where the AC source sits; port 2: "
+                        "its mirror image in loop N), its S-parameters from two AC analyses (one per end) as a "
+                        "Touchstone v1 file, --points evenly spaced frequencies (default 401) up to 5 %% above the "
+                        "highest normal frequency")
+    p.add_argument("--z0", type=number("--z0"), default=None, metavar="OHMS",
+                   help="--touchstone's reference impedance on both ports, ohms (default 50)")
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=commands.cmd_spectrum)
 

@@ -1,0 +1,169 @@
+"""The ladder as a two-port: its admittance and scattering matrices from two AC analyses, and from exact theory.
+
+The ports
+---------
+Port 1 is the place of the AC source of :func:`lcchain.circuit.netlist.ac_netlist_text`: a break in loop 1 between
+the first coil's free end ``s1`` and the rail (ground, or the wall's node); its voltage V_1 is the source's, its
+current I_1 the current into ``s1``, that is loop 1's coil current ``i(l1)``.  Port 2 is its mirror image in loop
+N: a break between coil N's outer end and the rail, its current I_2 flowing into coil N from that end, which is
+``-i(lN)`` in the netlist's orientation of coil N.  Then ``I = Y V`` with::
+
+    Y11 = I_1 / V_1, Y21 = I_2 / V_1   (V_2 = 0: port 2 shorted, the ladder as lcchain writes it)
+    Y22 = I_2 / V_2, Y12 = I_1 / V_2   (V_1 = 0: the mirrored chain, masses and springs reversed, driven in its
+                                        loop 1, which is loop N: the same circuit seen from its other end)
+
+so the engine runs the AC analysis twice, once per end, on the same frequencies (the netlists are lcchain's own,
+never edited).  Reciprocity (Y12 = Y21) is a check, not an assumption.  The scattering matrix in a reference
+impedance z0 on both ports is ``S = (1 - z0 Y)(1 + z0 Y)^-1``; a lossless ladder's is unitary.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..circuit.ladder import Ladder
+from ..circuit.exact import CircuitTheory
+from ..circuit.netlist import ac_circuit_elements, ac_netlist_text, probe_names
+from ..core.checks import real
+from ..core.errors import ParameterError, SimulationError
+from ..core.limits import MAX_AC_POINTS, MIN_AC_POINTS
+from ..theory.chain import Chain
+from .execute import execute
+from .request import AC, Request
+from .spec import RunSpec
+
+__all__ = ["TwoPort", "two_port", "two_port_theory", "mirrored", "scattering", "DEFAULT_Z0", "DEFAULT_PORT_POINTS"]
+
+#: Reference impedance of both ports, ohms, when none is given (Touchstone's default).
+DEFAULT_Z0 = 50.0
+#: Frequencies of the two-port's sweep when the request names none.
+DEFAULT_PORT_POINTS = 401
+#: The sweep's top, a margin above the circuit's highest normal frequency (as the spectrum's sweep).
+_TOP_MARGIN = 1.05
+
+
+def mirrored(chain: Chain) -> Chain:
+    """The chain seen from its other end: masses and springs reversed (walls swap ends), coupling as it is."""
+    return Chain(chain.masses[::-1], chain.springs[::-1], chain.name, chain.coupling)
+
+
+def scattering(Y: np.ndarray, z0: float) -> np.ndarray:
+    """S from Y (shape (..., 2, 2), siemens) in the reference impedance z0 (ohms) on both ports:
+    (1 - z0 Y)(1 + z0 Y)^-1."""
+    unit = np.eye(Y.shape[-1])
+    return np.linalg.solve((unit + z0 * Y).swapaxes(-1, -2), (unit - z0 * Y).swapaxes(-1, -2)).swapaxes(-1, -2)
+
+
+@dataclass(frozen=True, eq=False)
+class TwoPort:
+    """The ladder's two-port matrices at the sweep's frequencies.
+
+    Attributes
+    ----------
+    frequency : ndarray
+        Hz, ascending.
+    Y : ndarray of complex, shape (points, 2, 2)
+        Siemens, ports as the module docstring defines them.
+    z0 : float
+        Reference impedance, ohms.
+    engine, engine_version : str
+        What ran the two AC analyses ("theory" for :func:`two_port_theory`).
+    reciprocity : float
+        max |Y12 - Y21| / max |Y| (rounding of the two runs; 0 in theory).
+    """
+
+    frequency: np.ndarray
+    Y: np.ndarray
+    z0: float
+    engine: str
+    engine_version: str
+    reciprocity: float
+
+    @property
+    def S(self) -> np.ndarray:
+        """Scattering matrix, shape (points, 2, 2), in :attr:`z0`."""
+        return scattering(self.Y, self.z0)
+
+
+def _ladders(request: Request) -> tuple[Ladder, Ladder]:
+    nominal = request.nominal()
+    return Ladder(nominal, request.L0, request.C0), Ladder(mirrored(nominal), request.L0, request.C0)
+
+
+def _sweep(ladder: Ladder, request: Request, points: int) -> tuple[float, float]:
+    """(omega_min, omega_max) in units of 1/sqrt(L0 C0): up to 5 % above the circuit's highest normal frequency."""
+    theory = CircuitTheory(ac_circuit_elements(ladder, request.effects))
+    poles, _, _ = theory.admittances(["i(l1)"])
+    top = _TOP_MARGIN * float(np.max(np.abs(poles))) * ladder.time_unit
+    return top / points, top
+
+
+def two_port(request: Request, z0: float = DEFAULT_Z0) -> TwoPort:
+    """The ladder's Y (and S in ``z0``) from two AC analyses of the request's engine, one per end.
+
+    Parameters
+    ----------
+    request : Request
+        With ``analysis=AC(points)`` (points: evenly spaced frequencies, default :data:`DEFAULT_PORT_POINTS`); its
+        chain, effects, L0 (H), C0 (F), engine and timeout (s).  Tolerance samples are refused: a two-port is one
+        circuit.
+    z0 : float
+        Reference impedance of both ports, ohms (> 0).
+    """
+    z0 = real("z0", z0, above=0.0)
+    if not isinstance(request.analysis, AC):
+        raise ParameterError("analysis", type(request.analysis).__name__, "AC(...) for a two-port")
+    if request.samples > 1:
+        raise ParameterError("effects.tolerance.samples", request.samples, "1 for a two-port (one circuit)")
+    request.analysis.check(request)
+    points = request.analysis.points or DEFAULT_PORT_POINTS
+    if not MIN_AC_POINTS <= points <= MAX_AC_POINTS:
+        raise ParameterError("points", points, f"{MIN_AC_POINTS} to {MAX_AC_POINTS}")
+    ladders = _ladders(request)
+    omega_min, omega_max = _sweep(ladders[0], request, points)
+    columns = []
+    for ladder in ladders:
+        text = ac_netlist_text(ladder, points=points, omega_max=omega_max, omega_min=omega_min,
+                               title="lcchain LC ladder, two-port", effects=request.effects)
+        probes = tuple(probe_names(ladder.chain.N, "ends"))
+        spec = RunSpec(text, probes, 0.0, backend=request.backend, timeout=request.timeout, foreign=False,
+                       label=f"two-port, N={ladder.chain.N}", engine=request.engine, analysis="ac", points=points)
+        record = execute(spec)
+        if not record.ok or record.ac is None:
+            raise SimulationError(record.reason, record.log_tail, record.status)
+        columns.append((record.ac, probes))
+    (first, ends), (second, mirror_ends) = columns
+    if not np.array_equal(first.frequency, second.frequency):  # the same cards: a difference is the engine's
+        raise SimulationError("the two ends' AC analyses swept different frequencies", "", "failed")
+    Y = np.empty((first.points, 2, 2), dtype=complex)
+    Y[:, 0, 0] = first.vectors[ends[0]]
+    Y[:, 1, 0] = -first.vectors[ends[1]]
+    Y[:, 1, 1] = second.vectors[mirror_ends[0]]
+    Y[:, 0, 1] = -second.vectors[mirror_ends[1]]
+    return TwoPort(np.asarray(first.frequency, dtype=float), Y, z0, first.engine, first.engine_version,
+                   _reciprocity(Y))
+
+
+def _reciprocity(Y: np.ndarray) -> float:
+    scale = float(np.max(np.abs(Y))) or 1.0
+    return float(np.max(np.abs(Y[:, 0, 1] - Y[:, 1, 0]))) / scale
+
+
+def two_port_theory(request: Request, frequency: np.ndarray, z0: float = DEFAULT_Z0) -> TwoPort:
+    """The same two-port from the circuit's exact admittances (:meth:`CircuitTheory.admittances`) at
+    ``frequency`` (Hz): the very elements the netlists are written with, no simulator."""
+    z0 = real("z0", z0, above=0.0)
+    frequency = np.asarray(frequency, dtype=float)
+    s = 2j * math.pi * frequency
+    Y = np.empty((frequency.size, 2, 2), dtype=complex)
+    for k, ladder in enumerate(_ladders(request)):
+        probes = probe_names(ladder.chain.N, "ends")
+        poles, residues, direct = CircuitTheory(ac_circuit_elements(ladder, request.effects)).admittances(probes)
+        values = direct[:, None] + residues @ (1.0 / (s[None, :] - poles[:, None]))
+        Y[:, k, k] = values[0]
+        Y[:, 1 - k, k] = -values[1]
+    return TwoPort(frequency, Y, z0, "theory", "", _reciprocity(Y))
+
