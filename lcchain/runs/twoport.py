@@ -24,8 +24,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..circuit.ladder import Ladder
 from ..circuit.exact import CircuitTheory
+from ..circuit.ladder import Ladder
 from ..circuit.netlist import ac_circuit_elements, ac_netlist_text, probe_names
 from ..core.checks import real
 from ..core.errors import ParameterError, SimulationError
