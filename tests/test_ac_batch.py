@@ -95,3 +95,43 @@ def test_a_batch_of_tran_and_ac_netlists_reads_back_on_one_point_axis(tmp_path: 
     assert "point" in data.dims and "frequency" not in data.dims and "frequency" in data.coords
     points = {run.points for run in runs.values()}
     assert data.sizes["point"] == max(points) and len(points) == 2
+
+
+@pytest.mark.ngspice
+def test_a_batch_of_tran_and_ac_netlists_goes_to_cf_netcdf_in_two_groups(tmp_path: Path, monkeypatch, capsys):
+    """Issue 33: the transient and the AC run in groups of their own, a unit on every numeric variable and
+    coordinate, the AC phasor's parts as two variables, the transient never in a ``*_real`` variable, the
+    engine's name apart from its version, and no padding: the file is about the size of the points it holds."""
+    xarray = pytest.importorskip("xarray")
+    monkeypatch.chdir(tmp_path)
+    path, _, _ = _netlist(tmp_path)
+    (tmp_path / "t.cir").write_text(LADDER)
+    assert main(["batch", str(path), "t.cir", "--store", "s.sqlite", "--executor", "serial"]) == 0
+    assert main(["results", "s.sqlite", "--netcdf", "s.nc", "--waveforms"]) == 0
+    capsys.readouterr()
+    with Store(tmp_path / "s.sqlite", "read") as store:
+        runs = {run.params["netlist"]: run for run in store.runs()}
+        stored = {name: store.waveforms(run.key) for name, run in runs.items()}
+    with xarray.open_dataset("s.nc") as root, xarray.open_dataset("s.nc", group="transient") as tran, \
+            xarray.open_dataset("s.nc", group="ac") as ac:
+        assert root.attrs["Conventions"] == "CF-1.10" and root.attrs["title"] and "lcchain" in root.attrs["history"]
+        assert set(root["engine"].values) == {"ngspice"} and all(v for v in root["engine_version"].values)
+        for dataset in (root, tran, ac):
+            for name in dataset.variables:
+                if dataset[name].dtype.kind in "fiu":
+                    assert "units" in dataset[name].attrs, name
+        assert tran["time"].attrs["units"] == "s" and ac["frequency"].attrs["units"] == "Hz"
+        assert not any(str(name).endswith(("_real", "_imag", ".real")) for name in tran.variables)
+        (transient,) = [arrays for arrays in stored.values() if "time" in arrays]
+        (phasors,) = [arrays for arrays in stored.values() if "frequency" in arrays]
+        for vector, values in transient.items():
+            if vector != "time":
+                saved = tran[vector.replace("(", "_").replace(")", "")]
+                assert saved.attrs["units"] in ("A", "V") and np.array_equal(saved.values, values)
+        for vector, values in phasors.items():
+            if vector != "frequency":
+                name = vector.replace("(", "_").replace(")", "")
+                np.testing.assert_array_equal(ac[f"{name}_real"].values, values.real)
+                np.testing.assert_array_equal(ac[f"{name}_imag"].values, values.imag)
+    held = sum(values.nbytes for arrays in stored.values() for values in arrays.values())
+    assert (tmp_path / "s.nc").stat().st_size < held + 64 * 1024  # the points, once, and headers

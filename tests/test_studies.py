@@ -330,15 +330,27 @@ def test_a_study_goes_to_netcdf_on_its_axes_with_its_waveforms(serial_store: Pat
     target = tmp_path / "s.nc"
     assert main(["results", str(serial_store), "--netcdf", str(target), "--waveforms"]) == 0
     assert capsys.readouterr().out.count("\n") == 1  # one line: what was written, not every run
-    with Store(serial_store, "read") as store, xarray.open_dataset(target) as dataset:
-        assert dict(dataset.sizes) == {"case": 2, "N": 3, "dt": 2, "point": max(r.points for r in store.runs())}
-        for run in store.runs():
+    with Store(serial_store, "read") as store, xarray.open_dataset(target) as dataset, \
+            xarray.open_dataset(target, group="transient") as waves:
+        assert dict(dataset.sizes) == {"case": 2, "N": 3, "dt": 2}  # the waveforms are in their own group
+        assert dataset.attrs["Conventions"] == "CF-1.10" and {"title", "history"} <= set(dataset.attrs)
+        runs = store.runs()
+        # issue 33: one run after another (CF's contiguous ragged array), nothing padded to the longest run
+        assert dict(waves.sizes) == {"run": len(runs), "obs": sum(r.points for r in runs)}
+        assert waves["time"].attrs["units"] == "s" and waves["i_l1"].attrs["units"] == "A"
+        assert waves["row_size"].attrs["sample_dimension"] == "obs"
+        starts = np.concatenate(([0], np.cumsum(waves["row_size"].values)[:-1]))
+        by_index = {int(i): (int(start), int(size)) for i, start, size in
+                    zip(waves["index"].values, starts, waves["row_size"].values, strict=True)}
+        for run in runs:
             cell = dataset.sel(case=run.params["case"], N=run.params["N"], dt=run.params["dt"])
             arrays = store.waveforms(run.key)
             assert cell["digest"].item() == run.digest and cell["points"].item() == run.points
+            assert cell["engine"].item() == "ngspice" and cell["engine_version"].item() == run.engine_version
+            start, size = by_index[run.index]
             for name, values in arrays.items():
-                saved = cell[name.replace("(", "_").replace(")", "")].values
-                assert np.array_equal(saved[: values.size], values) and np.isnan(saved[values.size:]).all()
+                saved = waves[name.replace("(", "_").replace(")", "")].values[start:start + size]
+                assert np.array_equal(saved, values)
     assert main(["results", str(serial_store), "--waveforms"]) == 2
     assert "--waveforms" in capsys.readouterr().err
 

@@ -133,9 +133,10 @@ def test_results_exports_are_priced_and_a_worst_case_is_one_grid_of_corners(caps
     capsys.readouterr()
     xarray = pytest.importorskip("xarray")
     assert main(["results", str(store), "--netcdf", str(target), "--waveforms"]) == 0
-    with xarray.open_dataset(target) as dataset:
-        assert dict(dataset.sizes) == {"corner": 7, "point": size.longest}
+    with xarray.open_dataset(target) as dataset, xarray.open_dataset(target, group="transient") as waves:
+        assert dict(dataset.sizes) == {"corner": 7}
         assert dataset["signs"].dims == ("corner",) and "signs" in dataset.coords
+        assert waves.sizes["run"] == 7 and waves.sizes["obs"] <= 7 * size.longest
 
 
 def test_results_takes_the_budget_options(capsys) -> None:

@@ -460,21 +460,36 @@ def _write_atomic(path: Path, writer: Any) -> None:
         writer(partial)
 
 
-def _write_netcdf(dataset: Any, path: Path) -> None:
-    """netCDF through whichever engine is there (netCDF4, h5netcdf, or scipy's netCDF3, which needs text as
-    fixed-width characters and names without brackets); a complex variable is written as ``NAME.real`` and
-    ``NAME.imag``."""
+def _write_netcdf(parts: dict[str, Any], path: Path) -> list[Path]:
+    """CF netCDF (:func:`lcchain.studies.netcdf.cf_datasets`) through whichever engine is there: netCDF4 or
+    h5netcdf write one file, the waveforms in groups, compressed; scipy's netCDF3 has no groups, so each waveform
+    group goes to a file of its own beside FILE (``FILE.stem.transient.nc``). Returns the files written."""
     import importlib.util
 
-    engine = next((e for e in ("netCDF4", "h5netcdf") if importlib.util.find_spec(e) is not None), "scipy")
-    for name in [name for name in dataset.data_vars if dataset[name].dtype.kind == "c"]:
-        # netCDF has no complex type: an AC run's phasors as their real and imaginary parts
-        dataset = dataset.assign({f"{name}.real": dataset[name].real, f"{name}.imag": dataset[name].imag})
-        dataset = dataset.drop_vars(name)
+    needs = {"netCDF4": ("netCDF4",), "h5netcdf": ("h5netcdf", "h5py")}  # h5netcdf is nothing without h5py
+    engine = next((e for e, modules in needs.items() if all(importlib.util.find_spec(m) for m in modules)), "scipy")
+    groups = {name: part for name, part in parts.items() if name}
+    root = parts[""]
     if engine == "scipy":
-        dataset = dataset.rename({name: _netcdf3_name(str(name)) for name in dataset.variables
-                                  if _netcdf3_name(str(name)) != name})
-    _write_atomic(path, lambda partial: dataset.to_netcdf(partial, engine=engine))
+        written = [path]
+        root = root.rename({name: _netcdf3_name(str(name)) for name in root.variables
+                            if _netcdf3_name(str(name)) != name})
+        _write_atomic(path, lambda partial: root.to_netcdf(partial, engine=engine))
+        for name, part in groups.items():
+            target = path.with_name(f"{path.stem}.{name}.nc")
+            _write_atomic(target, lambda partial, part=part: part.to_netcdf(partial, engine=engine))
+            written.append(target)
+        return written
+
+    def write(partial: Path) -> None:
+        root.to_netcdf(partial, engine=engine, mode="w")
+        for name, part in groups.items():
+            encoding = {str(v): {"zlib": True, "complevel": 4} for v in part.variables
+                        if part[v].dtype.kind in "fiu"}
+            part.to_netcdf(partial, engine=engine, mode="a", group=name, encoding=encoding)
+
+    _write_atomic(path, write)
+    return [path]
 
 
 def _netcdf3_name(name: str) -> str:
@@ -584,9 +599,12 @@ def cmd_results(args: argparse.Namespace) -> int:
         stored = store.runs()
         if args.summary or args.plot:
             _check_metric(args.metric, stored)  # before any file is written
+        beside: list[str] = []  # scipy's netCDF3 has no groups: the waveforms' own files
         if args.netcdf:
-            dataset = store.to_xarray(waveforms=args.waveforms)
-            outputs.write("--netcdf", lambda path: _write_netcdf(dataset, path))
+            from ..studies.netcdf import cf_datasets
+
+            parts = cf_datasets(store, waveforms=args.waveforms)
+            outputs.write("--netcdf", lambda path: beside.extend(str(p) for p in _write_netcdf(parts, path)[1:]))
         if args.parquet:
             frame = store.to_dataframe()
             outputs.write("--parquet", lambda path: _write_atomic(path, frame.to_parquet))
@@ -612,6 +630,7 @@ def cmd_results(args: argparse.Namespace) -> int:
         elif args.plot or args.netcdf or args.parquet:  # the files are what was asked for: not every run
             written = [path for option, path in (("--plot", args.plot), ("--netcdf", args.netcdf),
                                                   ("--parquet", args.parquet)) if path and option not in outputs.failed]
+            written += beside
             if written:
                 combined = sum(run.kind == "combined" for run in stored)
                 tasks = len({run.key for run in stored if run.kind != "combined"})

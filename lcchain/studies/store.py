@@ -989,7 +989,9 @@ class Store:
             first = arrivals[0] if arrivals else {}
             row = {"index": run.index, **run.params, "kind": run.kind, "status": run.status, "key": run.key,
                    "digest": run.digest or None, "points": run.points, "wall_s": run.wall_s,
-                   "engine": engine_text(run.engine, run.engine_version) if run.status != "pending" else None}
+                   # the engine's name and its version apart (engine_text's "39" is the store's column, not a name)
+                   "engine": run.engine if run.status != "pending" else None,
+                   "engine_version": run.engine_version if run.status != "pending" else None}
             if transient:
                 row.update({name: _number(metrics.get(name)) for name in ("max_abs_error", "predicted_error")})
                 row.update({name: _number(first.get(name)) for name in ("t_sim", "t_theory", "peak_sim",
@@ -1013,7 +1015,10 @@ class Store:
         positions = {d: {value: i for i, value in enumerate(dataset.indexes[d])} for d in dims}
         for name in names:
             complex_values = any(np.iscomplexobj(a[name]) for a in arrays.values() if name in a)
-            values = np.full(shape, np.nan, dtype=complex if complex_values else float)
+            # a complex vector's padding is NaN in both parts (nan + 0j would read as a real part of NaN and an
+            # imaginary part of 0)
+            values = np.full(shape, complex(np.nan, np.nan) if complex_values else np.nan,
+                             dtype=complex if complex_values else float)
             for run in runs:
                 series = arrays[run.index].get(name)
                 if series is not None:

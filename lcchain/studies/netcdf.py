@@ -1,0 +1,141 @@
+"""A store as CF-1.10 netCDF: the study's table on its axes, and each kind of waveform in a group of its own.
+
+``lcchain results STORE --netcdf FILE [--waveforms]`` writes what :func:`cf_datasets` returns:
+
+* the root: the study's runs on its axes (:meth:`lcchain.studies.store.Store.to_xarray`), each numeric variable
+  and coordinate with ``units`` (``"s"`` for wall times, ``"1"`` for the dimensionless metrics: times in units of
+  sqrt(L0 C0), currents over I_1(0)), the engine's name and version as two variables, and the CF global
+  attributes (``Conventions``, ``title``, ``history``, ``source``, ``institution``-free);
+* with waveforms, one group per kind of run: ``transient`` (time in s, currents in A, voltages in V), ``ac``
+  (frequency in Hz, each phasor as ``NAME_real`` and ``NAME_imag``, per volt of the source) and ``extrapolated``
+  (an extrapolation's combined signals, dimensionless).  No transient is ever complex, no AC vector is ever
+  mixed with a time axis.
+
+A group holds its runs end to end, as CF's *contiguous ragged array* (CF 1.10, section 9.3.3): a ``run``
+dimension with the run's task number and study parameters, ``row_size(run)`` (``sample_dimension = "obs"``),
+and each variable on ``obs``.  Run ``r``'s points are ``obs[start[r]:start[r] + row_size[r]]`` with ``start`` the
+cumulative sum of ``row_size`` before it.  Nothing is padded: a file holds each run's points once (padding every
+run to the longest, on every cell of the study's grid, is what made 15 small runs 40 MB); a vector a run did not
+save is NaN over that run's points, in both its parts.  The writer compresses (zlib) where the netCDF engine can.
+"""
+
+from __future__ import annotations
+
+import re
+from datetime import UTC, datetime
+from typing import Any
+
+import numpy as np
+
+from ..core import __version__
+from .store import Store, StoredRun
+
+__all__ = ["cf_datasets", "variable_name", "vector_units", "CONVENTIONS"]
+
+#: The CF version the files follow.
+CONVENTIONS = "CF-1.10"
+
+#: The root's variables with a unit of their own; every other numeric one is dimensionless ("1").
+_ROOT_UNITS = {"wall_s": "s", "total_s": "s"}
+_ROOT_NAMES = {"t_sim": "first arrival's time (simulation), units of sqrt(L0 C0)",
+               "t_theory": "first arrival's time (theory), units of sqrt(L0 C0)",
+               "dt": "maximum time step, units of sqrt(L0 C0)", "wall_s": "simulator's wall time",
+               "peak_sim": "first arrival's peak I_N / I_1(0) (simulation)",
+               "peak_theory": "first arrival's peak I_N / I_1(0) (theory)",
+               "max_abs_error": "max |simulation - theory|, units of I_1(0)", "points": "number of points"}
+
+
+def variable_name(vector: str) -> str:
+    """A saved vector's netCDF name: ``i(l1)`` -> ``i_l1``, ``v(n3)`` -> ``v_n3`` (letters, digits, ``_``)."""
+    return re.sub(r"[^A-Za-z0-9_]+", "_", vector).strip("_") or "_"
+
+
+def vector_units(vector: str) -> str:
+    """A saved vector's unit: ``i(...)`` amperes, ``v(...)`` volts, anything else dimensionless."""
+    kind = vector.lower()[:2]
+    return {"i(": "A", "v(": "V"}.get(kind, "1")
+
+
+def _kind(run: StoredRun, arrays: dict[str, np.ndarray]) -> str:
+    if run.kind == "combined":
+        return "extrapolated"
+    return "ac" if "frequency" in arrays else "transient"
+
+
+def _root(store: Store) -> Any:
+    dataset = store.to_xarray()
+    for name in list(dataset.variables):
+        variable = dataset[name]
+        variable.attrs.setdefault("long_name", _ROOT_NAMES.get(str(name), str(name)))
+        if variable.dtype.kind in "fiub":
+            variable.attrs["units"] = _ROOT_UNITS.get(str(name), "1")
+    return dataset
+
+
+def _group(kind: str, runs: list[tuple[StoredRun, dict[str, np.ndarray]]], axes: list[str]) -> Any:
+    import xarray
+
+    axis = "frequency" if kind == "ac" else "time"
+    sizes = np.array([arrays[axis].size for _, arrays in runs], dtype=np.int64)
+    vectors = list(dict.fromkeys(name for _, arrays in runs for name in arrays if name != axis))
+    data: dict[str, Any] = {}
+    coordinate = np.concatenate([arrays[axis] for _, arrays in runs])
+    axis_units = {"ac": "Hz", "transient": "s", "extrapolated": "1"}[kind]
+    axis_name = {"ac": "frequency", "transient": "time from the run's start",
+                 "extrapolated": "time, units of sqrt(L0 C0)"}[kind]
+    data[axis] = ("obs", coordinate, {"units": axis_units, "long_name": axis_name})
+    for vector in vectors:
+        parts = ("real", "imag") if kind == "ac" else ("",)
+        for part in parts:
+            values = np.concatenate([np.asarray(getattr(arrays[vector], part) if part else arrays[vector], float)
+                                     if vector in arrays else np.full(arrays[axis].size, np.nan)
+                                     for _, arrays in runs])
+            name = variable_name(vector) + (f"_{part}" if part else "")
+            what = f"{vector}{f', {part} part per volt of the source' if part else ''}"
+            units = "1" if kind == "extrapolated" else vector_units(vector)
+            data[name] = ("obs", values, {"units": units, "long_name": what})
+    data["row_size"] = ("run", sizes, {"long_name": "number of points of each run", "sample_dimension": "obs",
+                                       "units": "1"})
+    data["index"] = ("run", np.array([run.index for run, _ in runs], dtype=np.int64),
+                     {"long_name": "the run's task number in the store", "units": "1"})
+    data["key"] = ("run", np.array([run.key for run, _ in runs], dtype=str), {"long_name": "the run's key"})
+    for name in axes:  # the study's parameters of each run, where it has them
+        given = [run.params.get(name) for run, _ in runs]
+        if all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in given):
+            data[f"param_{name}"] = ("run", np.array(given, dtype=float), {"long_name": f"study axis {name}",
+                                                                          "units": "1"})
+        else:
+            data[f"param_{name}"] = ("run", np.array([str(v) for v in given], dtype=str),
+                                     {"long_name": f"study axis {name}"})
+    dataset = xarray.Dataset({k: xarray.Variable(*v) for k, v in data.items() if k != axis})
+    dataset = dataset.assign_coords({axis: xarray.Variable(*data[axis])})
+    dataset.attrs.update({"Conventions": CONVENTIONS, "title": f"lcchain {kind} waveforms, one run after another "
+                          "(contiguous ragged array: row_size points each)"})
+    return dataset
+
+
+def cf_datasets(store: Store, waveforms: bool = False) -> dict[str, Any]:
+    """The netCDF file's parts: ``{"": the study's table, "transient": ..., "ac": ..., "extrapolated": ...}``
+    (a waveform group only where the store holds such runs, and only with ``waveforms``); module docstring."""
+    root = _root(store)
+    now = datetime.now(UTC).strftime("%Y-%m-%dT%H:%M:%SZ")
+    root.attrs.update({"Conventions": CONVENTIONS, "title": f"lcchain study {store.path.name}",
+                       "history": f"{now} lcchain {__version__} results {store.path.name} --netcdf",
+                       "source": f"lcchain {__version__}; simulator runs from the store {store.path.name}",
+                       "references": "the engines' versions are the variables engine and engine_version"})
+    parts: dict[str, Any] = {"": root}
+    if not waveforms:
+        return parts
+    results = [run for run in store.runs() if not run.member and run.status == "ok"]
+    axes = [str(d) for d in root.dims if d != "index"]
+    grouped: dict[str, list[tuple[StoredRun, dict[str, np.ndarray]]]] = {}
+    for run in results:
+        arrays = store.waveforms(run.key)
+        if arrays:
+            grouped.setdefault(_kind(run, arrays), []).append((run, arrays))
+    for kind in ("transient", "ac", "extrapolated"):
+        if kind in grouped:
+            group = _group(kind, grouped[kind], axes)
+            group.attrs["history"] = root.attrs["history"]
+            parts[kind] = group
+    return parts
