@@ -42,7 +42,7 @@ from ..theory.chain import Chain
 
 __all__ = ["EXIT_OK", "EXIT_FAILED", "EXIT_USAGE", "EXIT_MISSING", "EXIT_SIGPIPE", "OPTION_NAMES", "NEGATIVE_NUMBER",
            "single_valued", "count", "list_entries", "int_list",
-           "number", "size", "duration", "seconds", "budget_parent", "emit_json", "Outputs", "STDOUT", "EXIT_EXTRA",
+           "number", "si_number", "SI_PREFIXES", "size", "duration", "seconds", "budget_parent", "emit_json", "Outputs", "STDOUT", "EXIT_EXTRA",
            "chain_from_args", "budget_from_args", "load_chain_file", "check_perfect", "echoed_command",
            "CIRCUIT_EFFECTS", "add_effect_arguments", "effects_from_args", "tolerances", "add_parts_arguments"]
 
@@ -142,6 +142,33 @@ def number(option: str) -> Callable[[str], float]:
             value = float(text)
         except ValueError:
             raise argparse.ArgumentTypeError(f"{option} = {text!r} is not allowed: expected a number") from None
+        if not math.isfinite(value):
+            raise argparse.ArgumentTypeError(f"{option} = {text!r} is not allowed: expected a finite number")
+        return value
+
+    return parse
+
+
+#: SI prefixes a component value may carry (``10u``, ``4.7n``, ``2.2k``); ``meg`` is SPICE's mega, ``M`` too (a
+#: bare ``m`` is milli, as in SI: never SPICE's ``M`` = milli).
+SI_PREFIXES = {"f": 1e-15, "p": 1e-12, "n": 1e-9, "u": 1e-6, "\u00b5": 1e-6, "m": 1e-3, "k": 1e3, "meg": 1e6,
+               "M": 1e6, "G": 1e9}
+_SI = re.compile(r"^\s*([-+]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][-+]?[0-9]+)?)\s*(meg|[fpnu\u00b5mkMG])?\s*"
+                 r"(H|F|ohm|\u03a9)?\s*$")
+
+
+def si_number(option: str, unit: str) -> Callable[[str], float]:
+    """An argparse type: a finite number, plain (``1e-5``) or with an SI prefix and optionally its unit
+    (``10u``, ``10uH``, ``4.7n``, ``4.7nF``), as :data:`SI_PREFIXES` lists; anything else is one line naming
+    the option."""
+
+    def parse(text: str) -> float:
+        match = _SI.match(text)
+        if match is None or (match.group(3) is not None and match.group(3) != unit):
+            raise argparse.ArgumentTypeError(
+                f"{option} = {text!r} is not allowed: expected a number in {unit}, plain or with an SI prefix "
+                f"(f p n u m k meg G), such as 10u or 10u{unit}")
+        value = float(match.group(1)) * SI_PREFIXES.get(match.group(2) or "", 1.0)
         if not math.isfinite(value):
             raise argparse.ArgumentTypeError(f"{option} = {text!r} is not allowed: expected a finite number")
         return value

@@ -40,7 +40,7 @@ from ..core.types import (
     STUDY_METRICS,
 )
 from ..spice.engines import DEFAULT_ENGINE, ENGINES
-from . import commands, requirements, sensitivity, studies, validation
+from . import bom, commands, requirements, sensitivity, studies, validation
 from .common import (
     EXIT_EXTRA,
     EXIT_FAILED,
@@ -54,6 +54,7 @@ from .common import (
     int_list,
     list_entries,
     number,
+    si_number,
     single_valued,
 )
 
@@ -101,10 +102,10 @@ def _add_circuit_arguments(p: argparse.ArgumentParser) -> None:
     coupling = Coupling.option
     assert coupling is not None  # the chain's own: every command with a circuit takes it
     p.add_argument(coupling, type=number(coupling), default=None, metavar="K", help=Coupling.option_help)
-    p.add_argument("--L0", type=number("--L0"), default=DEFAULT_L0,
-                   help=f"bulk inductance, henry (default {DEFAULT_L0:g})")
-    p.add_argument("--C0", type=number("--C0"), default=DEFAULT_C0,
-                   help=f"bulk capacitance, farad (default {DEFAULT_C0:g})")
+    p.add_argument("--L0", type=si_number("--L0", "H"), default=DEFAULT_L0,
+                   help=f"bulk inductance, henry: 1e-5, 10u or 10uH (default {DEFAULT_L0:g})")
+    p.add_argument("--C0", type=si_number("--C0", "F"), default=DEFAULT_C0,
+                   help=f"bulk capacitance, farad: 1e-8, 10n or 10nF (default {DEFAULT_C0:g})")
 
 
 def _add_chain_arguments(p: argparse.ArgumentParser) -> None:
@@ -185,6 +186,13 @@ def build_parser() -> argparse.ArgumentParser:
                    help="--touchstone's reference impedance on both ports, ohms (default 50)")
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=commands.cmd_spectrum)
+
+    p = sub.add_parser("bom", help="bill of materials: the ladder's distinct inductors and capacitors (rounded to "
+                       "a preferred-number series with --series) with their counts, as a table or --csv")
+    _add_circuit_arguments(p)
+    bom.add_bom_arguments(p)
+    add_effect_arguments(p)
+    p.set_defaults(func=bom.cmd_bom)
 
     p = sub.add_parser("sensitivity", parents=budget, help="which components move the first-arrival peak: dp/dL_i "
                        "and dp/dC_j from exact theory, ranked (--check M: against ngspice finite differences)")

@@ -1,0 +1,75 @@
+"""``lcchain bom``: the ladder's bill of materials (:func:`lcchain.circuit.bom.bill_of_materials`)."""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import io
+import re
+import sys
+
+from ..circuit.effects import E_SERIES
+from ..core.errors import ParameterError
+from .common import EXIT_OK, chain_from_args, effects_from_args
+
+__all__ = ["add_bom_arguments", "cmd_bom", "tolerance", "si_text"]
+
+_TOLERANCE = re.compile(r"^\s*([0-9]*\.?[0-9]+(?:[eE][-+]?[0-9]+)?)\s*(%)?\s*$")
+
+
+def tolerance(text: str) -> float:
+    """An argparse type: a part's relative tolerance, ``1%`` or ``0.01``, from 0 to below 100 %."""
+    match = _TOLERANCE.match(text)
+    value = None if match is None else float(match.group(1)) / (100.0 if match.group(2) else 1.0)
+    if value is None or not 0.0 <= value < 1.0:
+        raise argparse.ArgumentTypeError(f"--tolerance = {text!r} is not allowed: expected a relative tolerance "
+                                         "such as 1% or 0.01 (0 to below 100 %)")
+    return value
+
+
+def si_text(value: float, unit: str, digits: int = 6) -> str:
+    """``1.7757e-05, "H"`` -> ``17.757 uH``: the value with an SI prefix (a number without unit as it is)."""
+    if unit == "1" or value == 0:
+        return f"{value:.{digits}g}"
+    for prefix, scale in (("G", 1e9), ("M", 1e6), ("k", 1e3), ("", 1.0), ("m", 1e-3), ("u", 1e-6), ("n", 1e-9),
+                          ("p", 1e-12), ("f", 1e-15)):
+        if abs(value) >= scale * (1 - 1e-12):
+            return f"{value / scale:.{digits}g} {prefix}{unit}"
+    return f"{value:.{digits}g} {unit}"
+
+
+def add_bom_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--series", choices=tuple(E_SERIES), default=None,
+                   help="round every L and C to this preferred-number series (default: the exact values)")
+    p.add_argument("--tolerance", type=tolerance, default=None, metavar="TOL",
+                   help="every part's tolerance, 1%% or 0.01, shown in its column")
+    p.add_argument("--csv", action="store_true", help="CSV: kind,value,unit,count,tolerance,parts")
+
+
+def cmd_bom(args: argparse.Namespace) -> int:
+    from ..circuit.bom import bill_of_materials
+
+    for option, value in (("--L0", args.L0), ("--C0", args.C0)):
+        if not value > 0:
+            raise ParameterError(option, value, "a component value > 0")
+    chain = chain_from_args(args)
+    parts = bill_of_materials(chain, args.L0, args.C0, series=args.series, effects=effects_from_args(args))
+    shown = "" if args.tolerance is None else f"{100 * args.tolerance:g}%"
+    if args.csv:
+        text = io.StringIO()
+        writer = csv.writer(text, lineterminator="\n")
+        writer.writerow(["kind", "value", "unit", "count", "tolerance", "parts"])
+        for part in parts:
+            writer.writerow([part.kind, repr(part.value), part.unit, part.count, shown, " ".join(part.names)])
+        sys.stdout.write(text.getvalue())
+        return EXIT_OK
+    series = f", {args.series} values" if args.series else ", exact values"
+    coupled = f", coils coupled k = {chain.coupling:g}" if chain.coupled else ""
+    print(f"{chain.name} chain, N = {chain.N}{coupled}: L0 = {si_text(args.L0, 'H')}, C0 = {si_text(args.C0, 'F')}"
+          f"{series}; {sum(p.count for p in parts)} parts, {len(parts)} distinct")
+    print(f"{'kind':<10} {'value':>14} {'count':>6} {'tolerance':>9}  parts")
+    for part in parts:
+        names = " ".join(part.names)
+        names = names if len(names) <= 60 else names[:57] + "..."
+        print(f"{part.kind:<10} {si_text(part.value, part.unit):>14} {part.count:>6} {shown:>9}  {names}")
+    return EXIT_OK

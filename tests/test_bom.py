@@ -1,0 +1,49 @@
+"""``lcchain bom``: the ladder's distinct parts and their counts (issue 33, item 2)."""
+
+from __future__ import annotations
+
+import csv
+import io
+
+import numpy as np
+import pytest
+
+from lcchain.circuit.bom import bill_of_materials
+from lcchain.circuit.effects import E_SERIES
+from lcchain.cli.main import main
+from lcchain.theory.cases import chain_for_case
+
+
+def test_a_bom_counts_every_coil_and_capacitor_of_the_ladder_in_preferred_values(capsys) -> None:
+    assert main(["bom", "--case", "two-mass", "--N", "20", "--series", "E24", "--L0", "10u", "--C0", "10n",
+                 "--tolerance", "1%", "--csv"]) == 0
+    rows = list(csv.DictReader(io.StringIO(capsys.readouterr().out)))
+    kinds = {kind: [r for r in rows if r["kind"] == kind] for kind in ("inductor", "capacitor")}
+    # N coils and N - 1 inner capacitors (a free chain's ends are wires), each named once
+    assert sum(int(r["count"]) for r in kinds["inductor"]) == 20
+    assert sum(int(r["count"]) for r in kinds["capacitor"]) == 19
+    assert sum(len(r["parts"].split()) for r in rows) == 39 and all(r["tolerance"] == "1%" for r in rows)
+    mantissas = {round(float(r["value"]) / 10.0 ** np.floor(np.log10(float(r["value"]))), 9) for r in rows}
+    assert mantissas <= {round(m, 9) for m in E_SERIES["E24"]}
+    # the two-mass chain's bulk coils and springs are L0 and C0 themselves (Table II's chain: m = K = 1 inside)
+    bulk = {(r["kind"], float(r["value"])) for r in rows if int(r["count"]) > 2}
+    assert bulk == {("inductor", 1e-5), ("capacitor", 1e-8)}
+
+
+def test_the_exact_bom_holds_the_chain_and_what_the_effects_add(capsys) -> None:
+    chain = chain_for_case("two-mass", 6)
+    parts = bill_of_materials(chain, 2e-6, 3e-9)
+    values = sorted(v for p in parts if p.kind == "inductor" for v in [p.value] * p.count)
+    np.testing.assert_allclose(values, sorted(np.asarray(chain.masses) * 2e-6), rtol=1e-11)
+    assert main(["bom", "--case", "two-mass", "--N", "6", "--coupling", "0.1", "--Q", "100"]) == 0
+    out = capsys.readouterr().out
+    assert "coils coupled k = 0.1" in out and "resistor" in out and "coupling" in out
+
+
+@pytest.mark.parametrize("argv, option", [
+    (["--L0", "10x"], "--L0"), (["--C0", "10uH"], "--C0"), (["--L0", "0"], "--L0"),
+    (["--tolerance", "150%"], "--tolerance"), (["--series", "E7"], "--series")])
+def test_bad_bom_values_are_one_line_naming_the_option(argv: list[str], option: str, capsys) -> None:
+    assert main(["bom", "--case", "two-mass", "--N", "6", *argv]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and option in err
