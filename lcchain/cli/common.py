@@ -41,8 +41,8 @@ from ..report.files import check_not_input, check_output, same_file, write_text
 from ..theory.chain import Chain
 
 __all__ = ["EXIT_OK", "EXIT_FAILED", "EXIT_USAGE", "EXIT_MISSING", "EXIT_SIGPIPE", "OPTION_NAMES", "NEGATIVE_NUMBER",
-           "single_valued", "count", "list_entries", "int_list",
-           "number", "si_number", "SI_PREFIXES", "size", "duration", "seconds", "budget_parent", "emit_json", "Outputs", "STDOUT", "EXIT_EXTRA",
+           "single_valued", "count", "list_entries", "int_list", "si_number", "SI_PREFIXES",
+           "number", "size", "duration", "seconds", "budget_parent", "emit_json", "Outputs", "STDOUT", "EXIT_EXTRA",
            "chain_from_args", "budget_from_args", "load_chain_file", "check_perfect", "echoed_command",
            "CIRCUIT_EFFECTS", "add_effect_arguments", "effects_from_args", "tolerances", "add_parts_arguments"]
 
