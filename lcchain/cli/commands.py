@@ -236,10 +236,47 @@ def cmd_reference_netlists(args: argparse.Namespace) -> int:
 
 
 def _print_arrivals(arrivals: list[dict[str, Any]]) -> None:
-    print(f"{'arrival':>7} {'end':>5} {'t theory':>12} {'t sim':>12} {'peak theory':>12} {'peak sim':>12}")
+    physical = all("t_sim_s" in a for a in arrivals)
+    extra = f" {'t theory (s)':>13} {'t sim (s)':>13}" if physical else ""
+    print(f"{'arrival':>7} {'end':>5} {'t theory':>12} {'t sim':>12} {'peak theory':>12} {'peak sim':>12}{extra}")
     for a in arrivals:
+        seconds = f" {a['t_theory_s']:13.6e} {a['t_sim_s']:13.6e}" if physical else ""
         print(f"{a['index']:>7} {a['end']:>5} {a['t_theory']:12.4f} {a['t_sim']:12.4f} "
-              f"{a['peak_theory']:12.6f} {a['peak_sim']:12.6f}")
+              f"{a['peak_theory']:12.6f} {a['peak_sim']:12.6f}{seconds}")
+
+
+def with_physical_units(data: dict[str, Any], L0: float, C0: float) -> dict[str, Any]:
+    """A report's JSON with its bulk numbers also in SI (issue 33): ``physical`` (the units' scales,
+    :func:`lcchain.core.physical.physical_scales`), ``dt_s`` and ``tstop_s``, each arrival's ``t_theory_s`` and
+    ``t_sim_s``, each mode's ``omega_Hz`` and ``omega_theory_Hz``; the bulk keys stay as they are."""
+    from ..core.physical import hertz, physical_scales, seconds
+
+    data["physical"] = physical_scales(L0, C0)
+    for key in ("dt", "tstop"):
+        if isinstance(data.get(key), (int, float)):
+            data[f"{key}_s"] = seconds(data[key], L0, C0)
+    for arrival in data.get("arrivals") or ():
+        for key in ("t_theory", "t_sim"):
+            value = arrival.get(key)
+            arrival[f"{key}_s"] = None if value is None else seconds(value, L0, C0)
+    for mode in data.get("modes") or ():
+        for key in ("omega", "omega_theory"):
+            value = mode.get(key)
+            mode[f"{key}_Hz"] = None if value is None else hertz(value, L0, C0)
+    if isinstance(data.get("omega_max"), (int, float)):
+        data["omega_max_Hz"] = hertz(data["omega_max"], L0, C0)
+    return data
+
+
+def _print_units(L0: float, C0: float) -> None:
+    from ..core.physical import physical_scales
+    from .bom import si_text
+
+    scales = physical_scales(L0, C0)
+    print(f"units: L0 = {si_text(L0, 'H')}, C0 = {si_text(C0, 'F')}: time unit sqrt(L0 C0) = "
+          f"{si_text(scales['time_unit_s'], 's')}, angular frequency 1 = {si_text(scales['frequency_unit_Hz'], 'Hz')}, "
+          f"band top {si_text(scales['band_top_Hz'], 'Hz')}, impedance sqrt(L0/C0) = "
+          f"{si_text(scales['impedance_ohm'], 'ohm')}")
 
 
 def _print_extrapolation(x: dict[str, Any]) -> None:
@@ -327,7 +364,7 @@ def cmd_simulate(args: argparse.Namespace) -> int:
         report = simulate(request, progress=fraction(engine), budget=budget_from_args(args), on_spec=keep_netlist)
     for warning in caught:
         print(f"lcchain: warning: {warning.message}", file=sys.stderr)
-    data = report.to_dict()
+    data = with_physical_units(report.to_dict(), args.L0, args.C0)
     with outputs.summary():
         _print_simulation(args, chain, data)
     return _simulation_outputs(args, chain, report, data, outputs, kept)
@@ -344,6 +381,7 @@ def _print_simulation(args: argparse.Namespace, chain: Any, data: dict[str, Any]
                      else f"{data['points']} points in {data['wall_s']:.3f} s")
         print(f"{chain.name} chain, N = {chain.N}{coupled}: {data['engine']} {data['engine_version']} "
               f"({data['backend']}), {simulated}")
+        _print_units(args.L0, args.C0)
         extrapolation = data["extrapolation"]
         if extrapolation["runs"] > 1:
             _print_extrapolation(extrapolation)
@@ -377,7 +415,7 @@ def _simulation_outputs(args: argparse.Namespace, chain: Any, report: Any, data:
             first_theory=c.theory_first, arrivals=[a.to_dict() for a in c.arrivals],
             title=f"{chain.name} chain, N = {chain.N}, dt = {report.options.dt:.4g}, {args.excitation}",
             ylabel=r"$I_1,\ I_N\;/\;I_1(0)$" if args.excitation == "kick" else r"$Q_1,\ Q_N\;/\;Q_1(0)$",
-            path=path))
+            path=path, time_unit=data["physical"]["time_unit_s"]))
     if report.accuracy_met is False:
         steps = ", ".join(f"{h:.4g}" for h in data["extrapolation"]["dt"])
         print(f"lcchain: --accuracy {args.accuracy:g} was not met: the run reached {data['max_abs_error']:.3g} "
@@ -404,7 +442,7 @@ def cmd_spectrum(args: argparse.Namespace) -> int:
     report = measure_spectrum(chain, Q=args.Q, points=args.points, L0=args.L0, C0=args.C0,
                               budget=budget_from_args(args), engine=args.engine,
                               progress=fraction(f"{args.engine} AC analysis, then the fit"), effects=effects)
-    data = report.to_dict()
+    data = with_physical_units(report.to_dict(), args.L0, args.C0)
     if args.json:
         emit_json(data)
     else:
@@ -414,17 +452,19 @@ def cmd_spectrum(args: argparse.Namespace) -> int:
         print(f"{chain.name} chain, N = {chain.N}{coupled}{lossy}: {data['engine']} {data['engine_version']} AC "
               f"analysis, {data['points']} frequencies up to {data['omega_max']:.4g} in {data['segments']} segments, "
               f"{timings['ngspice_s']:.3f} s, fit {timings['fit_s']:.3f} s")
+        _print_units(args.L0, args.C0)
         print(f"{'n':>5} {'omega (circuit)':>19} {'omega (theory)':>19} {'rel. error':>10} {'P_n (circuit)':>14} "
-              f"{'P_n (theory)':>14} {'abs. error':>10} {'spacing':>10}")
+              f"{'P_n (theory)':>14} {'abs. error':>10} {'spacing':>10} {'f (circuit), Hz':>16}")
         previous = None
         for mode in data["modes"]:
             omega, P = mode["omega"], mode["P"]
             spacing = "" if previous is None or omega is None else f"{omega - previous:10.6f}"
             error = "" if omega is None else f"{abs(omega - mode['omega_theory']) / (mode['omega_theory'] or 1):10.2e}"
             shown = "unseen" if omega is None else f"{omega:19.15f}"
+            hz = "" if mode["omega_Hz"] is None else f"{mode['omega_Hz']:16.9e}"
             print(f"{mode['n']:>5} {shown:>19} {mode['omega_theory']:19.15f} {error:>10} "
                   f"{'' if P is None else f'{P:14.6e}':>14} {mode['P_theory']:14.6e} "
-                  f"{abs((P or 0.0) - mode['P_theory']):10.2e} {spacing:>10}")
+                  f"{abs((P or 0.0) - mode['P_theory']):10.2e} {spacing:>10} {hz:>16}")
             previous = omega if omega is not None else previous
         weak = sum(1 for m in data["modes"] if not m["resolved"])
         print(f"max relative error of omega_n = {data['max_rel_error_omega']:.3e} (modes with |P_n| >= 1e-6"
@@ -437,7 +477,8 @@ def cmd_spectrum(args: argparse.Namespace) -> int:
 
         outputs.write("--plot", lambda path: spectrum(
             report.theory.omega, report.theory.transfer, report.omega, report.P,
-            title=f"{chain.name} chain, N = {chain.N}: {report.engine} AC against theory", path=path))
+            title=f"{chain.name} chain, N = {chain.N}: {report.engine} AC against theory", path=path,
+            frequency_unit=data["physical"]["frequency_unit_Hz"]))
     if args.touchstone:
         _write_touchstone(args, chain, effects, outputs)
     return EXIT_FAILED if outputs.failed else EXIT_OK

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import decimal
 import json
 import math
 import re
@@ -149,10 +150,9 @@ def number(option: str) -> Callable[[str], float]:
     return parse
 
 
-#: SI prefixes a component value may carry (``10u``, ``4.7n``, ``2.2k``); ``meg`` is SPICE's mega, ``M`` too (a
-#: bare ``m`` is milli, as in SI: never SPICE's ``M`` = milli).
-SI_PREFIXES = {"f": 1e-15, "p": 1e-12, "n": 1e-9, "u": 1e-6, "\u00b5": 1e-6, "m": 1e-3, "k": 1e3, "meg": 1e6,
-               "M": 1e6, "G": 1e9}
+#: SI prefixes (powers of ten) a component value may carry (``10u``, ``4.7n``, ``2.2k``); ``meg`` is SPICE's
+#: mega, ``M`` too (a bare ``m`` is milli, as in SI: never SPICE's ``M`` = milli).
+SI_PREFIXES = {"f": -15, "p": -12, "n": -9, "u": -6, "\u00b5": -6, "m": -3, "k": 3, "meg": 6, "M": 6, "G": 9}
 _SI = re.compile(r"^\s*([-+]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][-+]?[0-9]+)?)\s*(meg|[fpnu\u00b5mkMG])?\s*"
                  r"(H|F|ohm|\u03a9)?\s*$")
 
@@ -168,7 +168,8 @@ def si_number(option: str, unit: str) -> Callable[[str], float]:
             raise argparse.ArgumentTypeError(
                 f"{option} = {text!r} is not allowed: expected a number in {unit}, plain or with an SI prefix "
                 f"(f p n u m k meg G), such as 10u or 10u{unit}")
-        value = float(match.group(1)) * SI_PREFIXES.get(match.group(2) or "", 1.0)
+        # decimal: 10u is the float nearest 1e-5, as "1e-5" is (10 * 1e-6 is not)
+        value = float(decimal.Decimal(match.group(1)).scaleb(SI_PREFIXES.get(match.group(2) or "", 0)))
         if not math.isfinite(value):
             raise argparse.ArgumentTypeError(f"{option} = {text!r} is not allowed: expected a finite number")
         return value

@@ -28,7 +28,7 @@ if TYPE_CHECKING:
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
-__all__ = ["overlay", "side_by_side", "spacetime", "histogram", "pareto", "mode_density", "spectrum",
+__all__ = ["physical_axis", "overlay", "side_by_side", "spacetime", "histogram", "pareto", "mode_density", "spectrum",
            "spacing_band", "TIME_LABEL"]
 
 #: Label of every time axis.
@@ -110,9 +110,27 @@ def _field(item: Any, key: str, what: str, i: int) -> Any:
 
 # --------------------------------------------------------------------------- overlay
 
+def physical_axis(ax: Axes, scale: float, unit: str, label: str) -> Any:
+    """A secondary x axis on top of ``ax`` in SI (issue 33): the bulk axis times ``scale`` (seconds per unit of
+    sqrt(L0 C0), or hertz per unit of angular frequency), labelled ``label [unit]``; the bulk axis stays below."""
+    if not (np.isfinite(scale) and scale > 0):
+        raise ParameterError("scale", scale, "a finite number > 0 (the SI value of one bulk unit)")
+    def to_si(x: Any) -> Any:
+        return np.asarray(x, dtype=float) * scale
+
+    def to_bulk(x: Any) -> Any:
+        return np.asarray(x, dtype=float) / scale
+
+    secondary = ax.secondary_xaxis("top", functions=(to_si, to_bulk))
+    secondary.set_xlabel(f"{label} [{unit}]", fontsize=8)
+    secondary.tick_params(labelsize=7)
+    return secondary
+
+
 def overlay(t_sim, y_sim, t_theory, y_theory, *, residual=None, t_residual=None, first_sim=None,
             first_theory=None, arrivals: Sequence = (), title: str = "", ylabel: str = r"$I_N\,/\,I_1(0)$",
-            path: str | os.PathLike | None = None, ax: Axes | None = None) -> Figure:
+            path: str | os.PathLike | None = None, ax: Axes | None = None,
+            time_unit: float | None = None) -> Figure:
     """Simulated end-loop signal over the theory, with the residual below; loop 1 too when given.
 
     Parameters
@@ -147,6 +165,8 @@ def overlay(t_sim, y_sim, t_theory, y_theory, *, residual=None, t_residual=None,
         Save the figure there (PNG by the suffix); the directory must exist.
     ax : matplotlib.axes.Axes, optional
         Draw the overlay only into this Axes (no residual panel).
+    time_unit : float, optional
+        Seconds per unit of sqrt(L0 C0): a second time axis on top, in seconds (:func:`physical_axis`).
 
     Returns
     -------
@@ -242,6 +262,8 @@ def overlay(t_sim, y_sim, t_theory, y_theory, *, residual=None, t_residual=None,
 
     top.set_ylabel(ylabel)
     top.grid(True, **_GRID)
+    if time_unit is not None:
+        physical_axis(top, time_unit, "s", "time")
 
     if bottom is not None:
         worst = float(np.nanmax(np.abs(residual))) if residual.size else 0.0
@@ -617,7 +639,8 @@ def mode_density(omega, density, *, path: str | os.PathLike | None = None,
 
 
 def spectrum(omega_theory, P_theory, omega_circuit, P_circuit, *, title: str = "",
-             path: str | os.PathLike | None = None) -> Figure:
+             path: str | os.PathLike | None = None, ax: Axes | None = None,
+             frequency_unit: float | None = None) -> Figure:
     """The paper's Fig. Pk20-100, with a circuit's modes on top: |P_n| against omega_n, and the spacing.
 
     Parameters
@@ -629,6 +652,11 @@ def spectrum(omega_theory, P_theory, omega_circuit, P_circuit, *, title: str = "
     title : str
     path : str or path-like, optional
         Save the figure there.
+    ax : matplotlib.axes.Axes, optional
+        Draw only the |P_n| panel into this Axes.
+    frequency_unit : float, optional
+        Hertz per unit of angular frequency, 1 / (2 pi sqrt(L0 C0)): a frequency axis on top, in Hz
+        (:func:`physical_axis`).
 
     Returns
     -------
@@ -639,8 +667,11 @@ def spectrum(omega_theory, P_theory, omega_circuit, P_circuit, *, title: str = "
     weight_t = _vector("P_theory", P_theory, min_size=2)
     omega_c = np.asarray(omega_circuit, dtype=float)
     weight_c = np.asarray(P_circuit, dtype=float)
-    fig = _new_figure()
-    top, bottom = fig.subplots(2, 1, sharex=True, height_ratios=(3, 2))
+    if ax is not None:
+        fig, top, bottom = _root_figure(ax), ax, None
+    else:
+        fig = _new_figure()
+        top, bottom = fig.subplots(2, 1, sharex=True, height_ratios=(3, 2))
     top.semilogy(omega_t, np.abs(weight_t), "-", color="0.6", linewidth=1.0, label="theory")
     top.semilogy(omega_t, np.abs(weight_t), "o", color="0.6", markersize=3)
     seen = np.isfinite(omega_c) & (weight_c != 0)
@@ -648,8 +679,13 @@ def spectrum(omega_theory, P_theory, omega_circuit, P_circuit, *, title: str = "
     top.set_ylabel(r"$|P_n|$")
     top.grid(True, **_GRID)
     top.legend(loc="lower left", fontsize=8)
+    if frequency_unit is not None:
+        physical_axis(top, frequency_unit, "Hz", "frequency")
     if title:
         top.set_title(_text(title), fontsize=10)
+    if bottom is None:
+        top.set_xlabel(r"$\omega_n$  $[1/\sqrt{L_0 C_0}]$")
+        return _finish(fig, path)
     bottom.plot(omega_t[1:], np.diff(omega_t), "-", color="0.6", linewidth=1.0, label="theory")
     pairs = np.isfinite(omega_c[1:]) & np.isfinite(omega_c[:-1])
     bottom.plot(omega_c[1:][pairs], np.diff(omega_c)[pairs], "x", color="C3", markersize=5, label="ngspice (AC)")
