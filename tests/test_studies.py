@@ -22,6 +22,7 @@ import numpy as np
 import pytest
 from helpers.netlists import stored_records
 from helpers.processes import alive, descendants
+from helpers.tolerances import RTOL_ARITHMETIC
 
 from lcchain.cli import main
 from lcchain.core.budget import Budget
@@ -373,3 +374,13 @@ def test_a_metric_the_store_cannot_give_is_refused_before_anything_prints(tmp_pa
     assert not (tmp_path / "p.png").exists()
     assert main(["results", str(store), "--summary", "--metric", "peak"]) == 0
     assert "first-arrival peak" in capsys.readouterr().out
+
+
+def test_results_json_gives_each_arrival_in_seconds_too(serial_store: Path, capsys) -> None:
+    """Issue 33: a sweep states its L0 and C0, so its arrivals' times are also in seconds, beside the bulk ones."""
+    assert main(["results", str(serial_store), "--json"]) == 0
+    runs = json.loads(capsys.readouterr().out)
+    tau = (1e-5 * 1e-8) ** 0.5  # the sweep's default L0 and C0
+    for run in runs:
+        for arrival in run["arrivals"]:
+            assert arrival["t_sim_s"] == pytest.approx(arrival["t_sim"] * tau, rel=RTOL_ARITHMETIC)

@@ -6,6 +6,7 @@ import argparse
 import contextlib
 import csv
 import io
+import json
 import logging
 import sys
 import time
@@ -460,6 +461,27 @@ def _write_atomic(path: Path, writer: Any) -> None:
         writer(partial)
 
 
+def _with_seconds(runs: list[dict[str, Any]], store: Any) -> list[dict[str, Any]]:
+    """``results --json``: each arrival's times also in seconds (``t_sim_s``, ``t_theory_s``) where the study
+    states one L0 and one C0 (a sweep's description); a batch of netlists or a study of scenes states none."""
+    from ..core.physical import seconds
+
+    try:
+        described = json.loads(store.meta().get("description") or "{}")
+    except ValueError:
+        return runs
+    given = [described.get(key) if isinstance(described, dict) else None for key in ("L0", "C0")]
+    if not all(isinstance(v, (int, float)) and not isinstance(v, bool) and v > 0 for v in given):
+        return runs
+    L0, C0 = float(given[0]), float(given[1])  # type: ignore[arg-type]  # numbers: checked above
+    for run in runs:
+        for arrival in run.get("arrivals") or ():
+            for key in ("t_sim", "t_theory"):
+                if isinstance(arrival.get(key), (int, float)):
+                    arrival[f"{key}_s"] = seconds(arrival[key], L0, C0)
+    return runs
+
+
 def _write_netcdf(parts: dict[str, Any], path: Path) -> list[Path]:
     """CF netCDF (:func:`lcchain.studies.netcdf.cf_datasets`) through whichever engine is there: netCDF4 or
     h5netcdf write one file, the waveforms in groups, compressed; scipy's netCDF3 has no groups, so each waveform
@@ -618,7 +640,7 @@ def cmd_results(args: argparse.Namespace) -> int:
         if args.summary:
             _print_summary(stored, args)
         elif args.json:
-            emit_json(runs)
+            emit_json(_with_seconds(runs, store))
         elif args.csv:
             rows = [_flat(run) for run in runs]
             columns = list(dict.fromkeys(key for row in rows for key in row))
