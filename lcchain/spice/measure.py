@@ -37,7 +37,8 @@ from collections.abc import Iterable, Mapping
 from ..core.errors import ParameterError
 from .expressions import check_expression
 
-__all__ = ["MEASURE_WORDS", "MEASURE_KINDS", "MAX_MEASUREMENTS", "check_measure", "measure_names",
+__all__ = ["measurement_fields", "MEASUREMENTS", "MEASURE_REASONS", "MEASURE_WORDS", "MEASURE_KINDS",
+           "MAX_MEASUREMENTS", "check_measure", "measure_names",
            "measure_control", "read_measurements", "Measurements"]
 
 #: The dot-commands that are measurements in ngspice 39.
@@ -157,3 +158,16 @@ def read_measurements(log: str, names: Iterable[str]) -> dict[str, tuple[float |
         else:
             found[name] = (None, f"ngspice: {reason}" if reason else "ngspice printed no value")
     return found
+
+
+#: The keys under which a run's measurements are kept in its stored metrics (JSON): values by name (None: missing),
+#: and ngspice's reason for each missing one.
+MEASUREMENTS = "measurements"
+MEASURE_REASONS = "measure_reasons"
+
+
+def measurement_fields(measurements: Measurements) -> dict[str, dict[str, object]]:
+    """A run's measurements as JSON: ``{"measurements": {name: value or None}, "measure_reasons": {name:
+    reason}}`` (the reasons of the missing ones only)."""
+    return {MEASUREMENTS: {name: value for name, (value, _) in measurements.items()},
+            MEASURE_REASONS: {name: reason for name, (value, reason) in measurements.items() if value is None}}
