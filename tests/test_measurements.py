@@ -130,3 +130,15 @@ def test_to_dataframe_and_to_xarray_have_one_column_per_measurement(store: Path)
         assert name in frame.columns and name in dataset.data_vars
     assert frame["trise"].iloc[0] == pytest.approx(RC * math.log(9.0), rel=RTOL_MEASURE_TRAN)
     assert math.isnan(frame["too_late"].iloc[0]) and math.isnan(frame["f3db"].iloc[0])
+
+
+def test_a_measured_run_is_priced_with_its_vectors_in_ngspice_memory() -> None:
+    from lcchain.spice.foreign import MEASURED_BYTES_FACTOR, analysis_of, foreign_price
+
+    plain = "\n".join(line for line in TRANSIENT.split("\n") if not line.lower().startswith(".meas")) + "\n"
+    measured, unmeasured = (foreign_price(text, analysis_of(text, "step.cir"), 0) for text in (TRANSIENT, plain))
+    kept = MEASURED_BYTES_FACTOR * unmeasured.output_bytes
+    assert kept > 0
+    # the .meas lines' own text costs a little besides (lcchain.spice.pricing: bytes of text)
+    assert measured.simulator_memory >= unmeasured.simulator_memory + kept
+    assert measured.memory >= unmeasured.memory + kept

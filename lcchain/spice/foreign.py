@@ -53,7 +53,7 @@ from __future__ import annotations
 import math
 import re
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import ClassVar
 
@@ -62,7 +62,7 @@ from ..core.errors import ParameterError
 from ..core.limits import MAX_AC_POINTS, MAX_NETLIST_BYTES
 from ..core.types import AC_SPACINGS, AcSpacing, AnalysisKind
 from .expressions import MAX_PARAMS, braced_expressions, check_expression, is_param_card, param_assignments
-from .measure import MEASURE_WORDS, check_measure
+from .measure import MEASURE_WORDS, check_measure, measure_names
 from .pricing import Contents, Price, read_contents, sweep_price, transient_price
 from .text import NEWLINE, canonical_text, spice_number
 
@@ -572,7 +572,16 @@ def foreign_price(text: str, analysis: Transient | Sweep, saved: int, source: st
     ParameterError
         A source function lcchain cannot price, naming the line.
     """
-    return analysis.price(read_contents(text, source), saved)
+    price = analysis.price(read_contents(text, source), saved)
+    if measure_names(text):  # measured, ngspice keeps every value in memory (no raw file streamed): vectors
+        kept = MEASURED_BYTES_FACTOR * price.output_bytes  # that grow by doubling
+        price = replace(price, memory=price.memory + kept, simulator_memory=price.simulator_memory + kept)
+    return price
+
+
+#: What ngspice holds of a run with ``.meas`` cards, per byte of its raw file: it keeps every vector in memory to
+#: measure them (the raw file is written at the end, :mod:`lcchain.spice.measure`), in arrays grown by doubling.
+MEASURED_BYTES_FACTOR = 2.0
 
 
 def foreign_estimate(text: str, analysis: Transient | Sweep, saved: int, source: str = "netlist") -> Estimate:

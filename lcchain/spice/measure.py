@@ -80,6 +80,7 @@ def check_measure(body: str, taken: set[str], where: str, line: str) -> set[str]
                "v(node), i(source) (vdb, vm, vp, vr, vi in an AC sweep), numbers and the keywords "
                f"{', '.join(sorted(_KEYWORDS))}")
     text = re.sub(r"\s*=\s*", "=", body.strip())
+    text = re.sub(r"\{[^{}]*\}", lambda group: "".join(group.group().split()), text)  # one word per expression
     words = text.split()
     if len(words) < 4 or words[1].lower() not in _ANALYSES:
         raise ParameterError(where, line.strip()[:200], allowed)
@@ -144,7 +145,7 @@ def read_measurements(log: str, names: Iterable[str]) -> dict[str, tuple[float |
                            re.IGNORECASE)
         error = re.compile(rf"^\s*Error:\s*measure\s+{re.escape(name)}\s+(.*)$", re.IGNORECASE)
         failed = re.compile(rf"^\s*\.meas\w*\s+\w+\s+{re.escape(name)}\s.*failed!\s*$", re.IGNORECASE)
-        reason = ""
+        reason = said = ""
         for line in lines:
             match = value.match(line)
             if match:
@@ -153,9 +154,10 @@ def read_measurements(log: str, names: Iterable[str]) -> dict[str, tuple[float |
             match = error.match(line)
             if match and not reason:
                 reason = " ".join(match.group(1).split())
-            if failed.match(line) and not reason:
-                reason = "failed"
+            if failed.match(line):  # the shared library prints this line, not "Error: measure ..."
+                said = "failed (it printed no reason)"
         else:
+            reason = reason or said
             found[name] = (None, f"ngspice: {reason}" if reason else "ngspice printed no value")
     return found
 
