@@ -18,6 +18,11 @@ from fractions import Fraction as F
 
 import numpy as np
 import pytest
+from helpers.tolerances import (
+    ATOL_PERFECT_TRANSFER,
+    RTOL_PERFECT_FRACTIONS,
+    RTOL_PERFECT_SPECTRUM,
+)
 
 import lcchain
 from lcchain.core.errors import ParameterError
@@ -26,11 +31,6 @@ from lcchain.theory.chain import Chain
 from lcchain.theory.design import optimal_two_mass
 from lcchain.theory.perfect import chain_from_spectrum, perfect_design, spectrum_of
 from lcchain.theory.spectrum import transmission_amplitude
-from tests.helpers.tolerances import (
-    ATOL_PERFECT_TRANSFER,
-    RTOL_PERFECT_FRACTIONS,
-    RTOL_PERFECT_SPECTRUM,
-)
 
 #: Table II's N = 4 optimum as Nelder-Mead finds it (xatol 1e-7 on log r, log w; observed 2e-8).
 RTOL_OPTIMUM = 1e-6

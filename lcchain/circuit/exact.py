@@ -49,10 +49,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass, replace
 
 import numpy as np
-import scipy.linalg
-import scipy.sparse
-import scipy.sparse.csgraph
-import scipy.sparse.linalg
+import scipy  # its submodules load on first use: commands that need no theory never import them
 
 from ..core.blas import fixed_blas_threads
 from ..core.errors import ParameterError

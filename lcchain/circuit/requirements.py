@@ -19,7 +19,7 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-import scipy.optimize
+import scipy  # its submodules load on first use: commands that need no theory never import them
 
 from ..core.errors import ParameterError
 from ..theory.arrivals import arrival_window, maximum_in_window

@@ -18,8 +18,6 @@ import warnings
 from collections.abc import Iterator, Sequence
 from typing import Any, NoReturn
 
-from threadpoolctl import threadpool_limits
-
 from ..circuit.effects import Coupling
 from ..core import __version__
 from ..core.blas import BLAS_THREADS
@@ -362,6 +360,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         return int(exit_.code or 0)
     args.argv_echo = argv[1:]
     logging.basicConfig(level=logging.INFO if args.verbose else logging.WARNING, format="lcchain: %(message)s")
+    from threadpoolctl import threadpool_limits  # here: --help and --version set no limit
+
     try:
         with _signals_interrupt(), threadpool_limits(limits=BLAS_THREADS, user_api="blas"), \
                 warnings.catch_warnings():

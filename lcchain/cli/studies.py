@@ -355,13 +355,14 @@ def cmd_batch(args: argparse.Namespace) -> int:
 
 
 def _flat(run: dict[str, Any]) -> dict[str, Any]:
-    from ..compare.spectral import SPECTRAL_METRICS
     from ..spice.measure import MEASUREMENTS
     from ..studies.store import measurement_column
 
     row = {"index": run["index"], "kind": run["kind"], "status": run["status"], **run["params"],
            "digest": run["digest"], "max_abs_error": run.get("max_abs_error"), "wall_s": run["wall_s"]}
     if "max_rel_error_omega" in run:  # an AC run: its spectral metrics instead of a transient's
+        from ..compare.spectral import SPECTRAL_METRICS  # here: a transient's CSV needs no AC fit (nor scipy)
+
         del row["max_abs_error"]
         row.update({name: run.get(name) for name in SPECTRAL_METRICS}, points=run["points"])
     arrivals = run.get("arrivals") or []

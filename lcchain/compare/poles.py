@@ -28,8 +28,7 @@ import warnings
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.optimize
-from scipy.interpolate import AAA
+import scipy  # its submodules load on first use: runs.request imports this module for every request
 
 from ..core.blas import fixed_blas_threads
 from ..core.errors import ParameterError
@@ -180,7 +179,7 @@ def _start(s: np.ndarray, y: np.ndarray, omega_max: float, lossy: bool) -> tuple
     """The modes of one rational fit: (params, kinds)."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # AAA warns when it stops at its largest degree
-        fit = AAA(s, y, rtol=_AAA_RTOL, max_terms=_AAA_TERMS)
+        fit = scipy.interpolate.AAA(s, y, rtol=_AAA_RTOL, max_terms=_AAA_TERMS)
         poles, residues = fit.poles(), fit.residues()
     keep = (poles.real <= _RIGHT * omega_max) & (poles.imag >= -_RIGHT * omega_max)
     keep &= np.abs(poles) <= 1.05 * omega_max

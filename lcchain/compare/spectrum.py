@@ -34,7 +34,6 @@ import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.interpolate import AAA
 
 from ..core.blas import fixed_blas_threads
 from ..core.errors import ParameterError
@@ -131,9 +130,12 @@ def _rational(z: np.ndarray, f: np.ndarray, seen: int, rtol: float = 1e-13) -> t
     """Poles and residues of an AAA fit of f(z) with at most 2 ``seen`` + :data:`_SPARE_TERMS` terms (``seen``:
     the poles the samples show; the others, weak, and the neighbours' beyond the piece take the rest).  AAA's
     own clean-up of spurious poles is left out (it cost seconds): their residues are negligible and dropped."""
+    import scipy.interpolate  # here, the one use: reading an AC store's metrics (results) imports no scipy
+
     with warnings.catch_warnings():  # AAA may stop short of rtol: Gauss-Newton finishes the job
         warnings.simplefilter("ignore", RuntimeWarning)
-        fitted = AAA(z, f, rtol=rtol, max_terms=min(z.size // 2, 2 * seen + _SPARE_TERMS), clean_up=False)
+        fitted = scipy.interpolate.AAA(z, f, rtol=rtol, max_terms=min(z.size // 2, 2 * seen + _SPARE_TERMS),
+                                       clean_up=False)
     return np.asarray(fitted.poles()), np.asarray(fitted.residues())
 
 

@@ -34,9 +34,10 @@ import ctypes
 import functools
 import threading
 from collections.abc import Callable
-from typing import ParamSpec, TypeVar
+from typing import TYPE_CHECKING, ParamSpec, TypeVar
 
-from threadpoolctl import ThreadpoolController
+if TYPE_CHECKING:  # imported by the first limit: a command's --help sets none
+    from threadpoolctl import ThreadpoolController
 
 __all__ = ["BLAS_THREADS", "fixed_blas_threads"]
 
@@ -89,6 +90,8 @@ _controller: tuple[tuple[int, int], ThreadpoolController] | None = None
 
 def _blas_controller() -> ThreadpoolController:
     """threadpoolctl's controller of the loaded libraries, kept while no shared object comes or goes."""
+    from threadpoolctl import ThreadpoolController
+
     global _controller
     loaded = _loaded_objects()
     if loaded is not None and _controller is not None and _controller[0] == loaded:

@@ -18,7 +18,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-from scipy.optimize import minimize_scalar
+import scipy  # its submodules load on first use: commands that need no theory never import them
 
 from ..circuit.ladder import Ladder
 from ..circuit.netlist import SimulationOptions, netlist_text
@@ -330,7 +330,8 @@ def _tau_minimum(sigma: float, case: DesignCase, tau_hi: float, points: int) -> 
     inner = [i for i in range(1, points - 1) if losses[i] <= losses[i - 1] and losses[i] <= losses[i + 1]]
     best_tau, best_loss = 0.0, float(losses[0])
     for i in sorted(inner, key=lambda i: losses[i])[:2]:
-        result = minimize_scalar(loss, bounds=(grid[i - 1], grid[i + 1]), method="bounded", options={"xatol": 1e-7})
+        result = scipy.optimize.minimize_scalar(loss, bounds=(grid[i - 1], grid[i + 1]), method="bounded",
+                                                options={"xatol": 1e-7})
         tau, value = (float(result.x), float(result.fun)) if result.fun < losses[i] else (grid[i], losses[i])
         if value < best_loss:
             best_tau, best_loss = float(tau), float(value)

@@ -27,18 +27,10 @@ import logging
 import time
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, replace
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from ..circuit.elements import Element, Pulse
-from ..circuit.exact import CircuitTheory, circuit_theory
-from ..circuit.netlist import probe_names
-from ..compare.accuracy import predicted_error, predicted_error_damped, split_error
-from ..compare.metrics import EffectCost, Metrics, compare_signals
-from ..compare.poles import CircuitModes, compare_poles
-from ..compare.spectral import SpectrumMetrics, compare_spectrum, spectrum_estimate
-from ..compare.waveforms import Signals, loop_signals
 from ..core import __version__
 from ..core.blas import fixed_blas_threads
 from ..core.budget import ac_run_estimate
@@ -46,17 +38,24 @@ from ..core.checks import instance
 from ..core.errors import ParameterError, SimulationError, show_value
 from ..core.frozen import FrozenArrays, FrozenMap
 from ..core.types import GAUSSIAN_CENTRE, AnalysisKind, Probes, RunStatus
-from ..spice.ac import AcResult, run_ac
 from ..spice.engines import engine_named, find_engine, run_engine
 from ..spice.measure import Measurements, measurement_fields
 from ..spice.runner import RunResult
 from ..spice.simulator import Simulator
-from ..theory.arrivals import arrival_window, maximum_in_window
-from ..theory.exact import driven_modes
 from ..theory.modes import Modes
 from ..theory.response import Response, prepare_response
-from ..theory.spectrum import normal_modes
 from .spec import RunSpec, SpectrumTheory, Theory
+
+# A foreign netlist's run (lcchain batch) compares nothing with theory: the comparisons, the circuit's theory and
+# the AC fit load in the functions that use them, so that a batch starts without them (issue 35).
+if TYPE_CHECKING:
+    from ..circuit.elements import Element, Pulse
+    from ..circuit.exact import CircuitTheory
+    from ..compare.metrics import EffectCost, Metrics
+    from ..compare.poles import CircuitModes
+    from ..compare.spectral import SpectrumMetrics
+    from ..compare.waveforms import Signals
+    from ..spice.ac import AcResult
 
 __all__ = ["signals_of", "loop_sims", "theory_at", "metrics_of", "CircuitResponse", "LoopTheory", "effect_cost",
            "loop_theory", "RunRecord", "execute", "waveform_digest", "pulse_centre", "ANALYSIS_RUNS", "ac_metrics",
@@ -188,6 +187,9 @@ def pulse_centre(excitation: str, pulse: tuple[str, float] | None) -> float:
 
 def loop_sims(theory: Theory, time_s: np.ndarray, vectors: Mapping[str, np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
     """A run's saved loops as dimensionless times and signals (no theory): (t, sim), one row per loop."""
+    from ..circuit.netlist import probe_names
+    from ..compare.waveforms import loop_signals
+
     loops = probe_names(theory.chain.N, theory.probes)
     currents = np.array([vectors[name] for name in loops])
     return loop_signals(time_s, currents, time_unit=theory.time_unit, excitation=theory.excitation, I0=theory.I0)
@@ -203,6 +205,8 @@ def signals_of(theory: Theory, result: RunResult, modes: Modes | None = None, *,
     """A run's saved loops as dimensionless signals, with the theory of the same loops at the same times.
 
     ``response``: the theory of the compared loops already prepared (:func:`_response`), else prepared here."""
+    from ..compare.waveforms import Signals
+
     t, sim = loop_sims(theory, result.time, result.vectors)
     if response is None:
         return Signals(t, sim, theory_at(theory, t, modes), theory.excitation)
@@ -210,6 +214,8 @@ def signals_of(theory: Theory, result: RunResult, modes: Modes | None = None, *,
 
 
 def _modes(theory: Theory) -> Modes:
+    from ..theory.spectrum import normal_modes
+
     return theory.modes if theory.modes is not None else normal_modes(theory.chain)
 
 
@@ -227,6 +233,9 @@ class CircuitResponse:
     """
 
     def __init__(self, theory: Theory, loops: Probes, exact: CircuitTheory | None = None):
+        from ..circuit.exact import circuit_theory
+        from ..circuit.netlist import probe_names
+
         assert theory.circuit is not None
         self.exact = exact if exact is not None else circuit_theory(theory.circuit)
         self.names = probe_names(theory.chain.N, loops)
@@ -242,6 +251,8 @@ class CircuitResponse:
 
     def predicted_error(self, dt: float, tstop: float, method: str) -> float | None:
         """The accuracy model's prediction for a fixed step, from the circuit's own modes (None with a pulse)."""
+        from ..compare.accuracy import predicted_error, predicted_error_damped
+
         charges = self.excitation == "displacement"
         damped = self.exact.damped_weights(self.names, charges=charges)
         if damped is not None:
@@ -277,6 +288,9 @@ def loop_theory(theory: Theory, loops: Probes = "ends") -> LoopTheory:
 def effect_cost(theory: Theory, circuit: LoopTheory, modes: Modes) -> EffectCost:
     """The first arrival at loop N in the circuit's exact response (``circuit``: its end loops) against the ideal
     chain's alpha_N(t) (``theory.chain`` without losses)."""
+    from ..compare.metrics import EffectCost
+    from ..theory.arrivals import arrival_window, maximum_in_window
+
     ideal = prepare_response(theory.chain, excitation=theory.excitation, pulse=theory.pulse, loops="ends",
                              modes=modes)
     transit = theory.transit_time or modes.transit_time()
@@ -305,6 +319,9 @@ def metrics_of(theory: Theory, signals: Signals, *, split: bool = True, modes: M
     it models the chain's modes).
 
     ``ends``: the theory of loops 1 and N already prepared (:func:`_response`), else prepared here."""
+    from ..compare.accuracy import split_error
+    from ..compare.metrics import Metrics, compare_signals
+
     chain = theory.chain
     modes = modes if modes is not None else _modes(theory)
     theory_ends = ends if ends is not None else _response(theory, "ends", modes)
@@ -334,6 +351,8 @@ def metrics_of(theory: Theory, signals: Signals, *, split: bool = True, modes: M
 
 @fixed_blas_threads
 def _compare(theory: Theory, result: RunResult) -> tuple[Signals, Metrics]:
+    from ..circuit.exact import circuit_theory
+
     modes = _modes(theory)
     exact = circuit_theory(theory.circuit) if theory.circuit is not None else None
     ends = _response(theory, "ends", modes, exact)
@@ -367,6 +386,9 @@ def circuit_modes(elements: tuple[Element | Pulse, ...], N: int, time_unit: floa
     """The exact modes of an AC run's circuit (its elements with the source's place,
     :func:`lcchain.circuit.netlist.ac_circuit_elements`): the poles and residues of its I_1/V and I_N/V
     (:meth:`lcchain.circuit.exact.CircuitTheory.admittances`), dimensionless (``time_unit`` s, ``impedance`` ohm)."""
+    from ..circuit.exact import circuit_theory
+    from ..compare.poles import CircuitModes
+
     exact = circuit_theory(elements)  # the planner's, when it ran in this process
     poles, residues, _ = exact.admittances(["L1", f"L{N}"])
     return CircuitModes.from_poles(poles, residues, time_unit, impedance, lossy=not exact.lossless)
@@ -376,6 +398,11 @@ def circuit_modes(elements: tuple[Element | Pulse, ...], N: int, time_unit: floa
 def ac_metrics(theory: SpectrumTheory, result: AcResult) -> SpectrumMetrics:
     """An AC run's I_1/V_1 and I_N/V_1 against the driven modes of its chain, or the circuit's own poles and
     residues when its theory carries its elements."""
+    from ..circuit.netlist import probe_names
+    from ..compare.poles import compare_poles
+    from ..compare.spectral import compare_spectrum
+    from ..theory.exact import driven_modes
+
     chain = theory.chain
     omega = 2.0 * np.pi * result.frequency * theory.time_unit
     first, last = (result.vectors[name] * theory.impedance for name in probe_names(chain.N, "ends"))
@@ -390,6 +417,9 @@ def _run_ac(spec: RunSpec, simulator: Simulator,
             progress: Callable[[float], None] | None) -> tuple[dict[str, Any], float, int, str]:
     """An AC run (:func:`lcchain.spice.ac.run_ac`), its poles and weights against its :class:`SpectrumTheory`.
     ``progress`` hears 0 at the start, the engine's share of the priced work when the engine is done, and 1."""
+    from ..compare.spectral import spectrum_estimate
+    from ..spice.ac import run_ac
+
     assert spec.points is not None  # the spec requires it for an AC run
     if progress is not None:
         progress(0.0)

@@ -24,7 +24,6 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from ..circuit.elements import Element, Pulse
-from ..circuit.exact import circuit_cost, circuit_unknowns
 from ..core import __version__
 from ..core.checks import choice, instance, integer, real
 from ..core.checks import pulse as check_pulse
@@ -152,12 +151,16 @@ class Theory:
     def unknowns(self) -> int:
         """The simulator's unknowns for the run's circuit: 2N (3N with losses), or the circuit's own count."""
         if self.circuit is not None:
+            from ..circuit.exact import circuit_unknowns  # scipy's: not for a spec without a circuit (issue 35)
+
             return circuit_unknowns(self.circuit)
         return (3 if self.Q is not None else 2) * self.chain.N
 
     def circuit_cost(self, times: float) -> tuple[float, float]:
         """(seconds, bytes) of the circuit's own theory at ``times`` times beside the run; (0, 0) for the chain's
         (priced by :func:`lcchain.core.budget.sample_theory_seconds`)."""
+        from ..circuit.exact import circuit_cost  # scipy's: not for a spec without a circuit (issue 35)
+
         return (0.0, 0.0) if self.circuit is None else circuit_cost(self.circuit, int(times) + 1)
 
     def fingerprint(self) -> dict[str, Any]:

@@ -48,7 +48,6 @@ import time
 import urllib.parse
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import FIRST_COMPLETED, ThreadPoolExecutor, wait
-from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass, replace
 from typing import Any
 
@@ -69,7 +68,6 @@ from ..spice.engines import find_engine
 from ..spice.scratch import scratch_folder
 from ..spice.simulator import Simulator
 from ..spice.warm import WARM_BELOW_SECONDS, close_workers, warm_simulator
-from .pools import interrupts_held, kill_pool, spawn_pool
 
 __all__ = ["ExecutorName", "EXECUTORS", "MIN_TASK_SECONDS", "SCHEDULER_SCHEMES", "run_groups", "open_executor",
            "check_executor", "group_tasks", "default_workers", "execute_group", "Transports", "choose_transports",
@@ -271,6 +269,11 @@ POOL_RESTARTS = 3
 def _process(groups: list[Group], simulator: Simulator, workers: int, keep_signals: bool,
              transports: Transports) -> Iterator[list[tuple[int, RunRecord]]]:
     """A spawn process pool; a pool broken by a dead worker is rebuilt and the unfinished groups resubmitted."""
+    # here, not at the top: multiprocessing and its pool take ~10 ms to import, which a serial batch never uses
+    from concurrent.futures.process import BrokenProcessPool
+
+    from .pools import kill_pool, spawn_pool
+
     left = dict(enumerate(groups))
     for attempt in range(POOL_RESTARTS + 1):
         pool = spawn_pool(workers)
@@ -361,6 +364,8 @@ def _dask(workers: int, scheduler: str | None, verbose: bool, scratch: str | Non
     except ImportError:
         raise SimulatorMissingError("the dask executor needs Dask, which is not installed; install it with: "
                                     "pip install 'lcchain[dask]'") from None
+    from .pools import interrupts_held
+
     quiet = logging.INFO if verbose else logging.CRITICAL
     with contextlib.ExitStack() as stack:
         if scheduler is None:

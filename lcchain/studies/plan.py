@@ -29,9 +29,8 @@ import tomllib
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-from ..compare.spectral import spectrum_estimate
 from ..core import __version__
 from ..core.budget import (
     RUN_START_SECONDS,
@@ -50,19 +49,18 @@ from ..core.errors import ParameterError
 from ..core.frozen import FrozenMap
 from ..core.limits import MAX_CIRCUIT_N, MAX_DESIGN_N, MAX_DT, MAX_SAMPLES, MAX_TRANSITS, MIN_N
 from ..core.types import DEFAULT_C0, DEFAULT_L0, Backend, Excitation
-from ..runs.extrapolated import combined_key
-from ..runs.request import AC, Request, plan_request
-from ..runs.simulate import simulation_runs
 from ..runs.spec import DEFAULT_TIMEOUT, RunSpec, SpectrumTheory, Theory
-from ..scenes.load import load_scene, parse_scene
-from ..scenes.plan import scene_plan, scene_specs
 from ..spice.engines import DEFAULT_ENGINE, ENGINES, find_engine
 from ..spice.foreign import allowed_netlist, analysis_of, foreign_price
 from ..spice.runner import read_include
 from ..spice.text import canonical_text, saved_vectors
-from ..theory.cases import chain_for_case
-from ..theory.spectrum import normal_modes
 from .executors import executor_cost
+
+if TYPE_CHECKING:
+    from ..runs.request import Request
+
+# A plan of foreign netlists (lcchain batch) needs none of the chains, requests and scenes: they load in the
+# functions that plan them, so that a batch starts without them (issue 35, tests/test_imports.py).
 
 __all__ = ["Task", "Combination", "Refusal", "Plan", "sweep_plan", "spectrum_sweep_plan", "scene_sweep_plan",
            "request_plan", "batch_plan", "parse_vary"]
@@ -206,6 +204,8 @@ class Plan:
         keys = {task.index: task.spec.key(ngspice_version) for task in self.tasks}
         keys.update({refusal.index: refusal.key for refusal in self.refusals})
         for combination in self.combinations:
+            from ..runs.extrapolated import combined_key
+
             keys[combination.index] = combined_key([keys[i] for i in combination.members])
         return dict(sorted(keys.items()))
 
@@ -269,6 +269,8 @@ def _seconds(spec: RunSpec) -> float:
     """A run's wall time in its simulator from the cost model (what chooses its transport): unknowns x time
     points for a transient; for an AC run the engine's frequencies x unknowns and the fit
     (:func:`lcchain.compare.spectral.spectrum_estimate`)."""
+    from ..compare.spectral import spectrum_estimate
+
     theory = spec.theory
     if isinstance(theory, SpectrumTheory) and spec.points is not None:
         whole = spectrum_estimate(spec.points, theory.chain.N, losses=theory.Q is not None)
@@ -299,6 +301,8 @@ def _compare_seconds(spec: RunSpec) -> float:
 def _memory(spec: RunSpec) -> float:
     """A run's memory where it runs: its arrays and their comparison (:func:`lcchain.core.budget.run_estimate`,
     an AC run's :func:`lcchain.compare.spectral.spectrum_estimate`) and the simulator's process."""
+    from ..compare.spectral import spectrum_estimate
+
     theory = spec.theory
     if isinstance(theory, SpectrumTheory) and spec.points is not None:
         return spectrum_estimate(spec.points, theory.chain.N, losses=theory.Q is not None).memory
@@ -348,6 +352,10 @@ def sweep_plan(*, cases: Sequence[str], Ns: Sequence[int], dts: Sequence[float] 
     accuracy that the cheapest way meets with several runs, as :func:`lcchain.simulate` chooses), a point is
     its members' tasks and their :class:`Combination`.
     """
+    from ..runs.simulate import simulation_runs
+    from ..theory.cases import chain_for_case
+    from ..theory.spectrum import normal_modes
+
     if bool(dts) == bool(accuracies):
         raise ParameterError("--dt/--accuracy", (list(dts), list(accuracies)), "steps or accuracies, not both")
     _check_axes(Ns, dts, accuracies, transits)
@@ -393,6 +401,9 @@ def spectrum_sweep_plan(*, cases: Sequence[str], Ns: Sequence[int], points: int 
     Priced from its axes first (the chains' designs), then each run by :func:`lcchain.runs.request.plan_request`
     (its frequencies x unknowns), which also refuses ``points`` too few to separate a chain's poles.
     """
+    from ..runs.request import AC, Request, plan_request
+    from ..theory.cases import chain_for_case
+
     _check_axes(Ns, (), (), ())
     combos = list(itertools.product(cases, Ns))
     planning = _price_axes(cases, Ns, [], (1,), len(combos), budget, workers)
@@ -531,6 +542,9 @@ def scene_sweep_plan(path: str | Path, varies: Sequence[tuple[str, list[Any]]], 
     """A scene with dotted keys varied (the product of their values); each tolerance sample is a task.
 
     Priced from its axes first (:func:`_price_scenes`), before any scene is planned."""
+    from ..scenes.load import load_scene, parse_scene
+    from ..scenes.plan import scene_plan, scene_specs
+
     if samples is not None:  # named as typed, and before the price (1e20 samples were priced as a study first)
         integer("--samples", samples, at_least=1, at_most=MAX_SAMPLES)
     if seed is not None:
@@ -590,6 +604,8 @@ def request_plan(points: Sequence[tuple[Mapping[str, Any], Request]], *, budget:
     Any request runs, effects of one's own included (docs/extending.md); run it with
     :func:`lcchain.studies.run.run_plan` into a store like any study.
     """
+    from ..runs.request import Request, plan_request
+
     if not points:
         raise ParameterError("points", [], "at least one (params, Request) pair")
     tasks: list[Task] = []

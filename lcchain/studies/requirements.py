@@ -19,7 +19,7 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-import scipy.interpolate
+import scipy  # its submodules load on first use: commands that need no theory never import them
 
 from ..circuit import requirements as exact
 from ..circuit.effects import Effect

@@ -29,7 +29,6 @@ import numpy as np
 from ..core.budget import Budget
 from ..core.errors import LcchainError, ParameterError
 from ..runs.execute import RunRecord, loop_sims
-from ..runs.extrapolated import combined_record
 from ..runs.spec import RunSpec
 from ..spice.engines import find_engine
 from ..spice.simulator import Simulator
@@ -243,6 +242,8 @@ class _Combiner:
     def _record(self, combination: Combination) -> tuple[RunRecord, int]:
         """The combination's record and its members' points together; a failed record, never an exception, for
         members that cannot be combined (one bad point cannot stop a study)."""
+        from ..runs.extrapolated import combined_record  # a study with combinations only: not a batch's
+
         member_keys = [self.keys[i] for i in combination.members]
         stored = self.store.records(member_keys)
         members = [run.record() for run in stored]

@@ -78,7 +78,6 @@ from typing import Any, Literal
 
 import numpy as np
 
-from ..compare.spectral import SPECTRAL_METRICS
 from ..core import __version__
 from ..core.errors import LcchainError, ParameterError, SimulatorMissingError
 from ..core.types import RUN_STATUSES
@@ -243,6 +242,8 @@ class StoredRun:
                                 "params": self.params, "label": self.label, "digest": self.digest or None,
                                 "wall_s": self.wall_s, "points": self.points}
         if self.spectral:
+            from ..compare.spectral import SPECTRAL_METRICS  # with an AC run only: a batch starts without it
+
             assert self.metrics is not None
             data.update({name: self.metrics.get(name) for name in SPECTRAL_METRICS})
         elif self.judged:
@@ -1032,6 +1033,8 @@ class Store:
                 row.update({f"effects_{name}": _number(cost.get(name))
                             for name in ("peak_ideal", "energy_ideal", "energy_loss", "delay")})
             if spectral:
+                from ..compare.spectral import SPECTRAL_METRICS  # with an AC run only: a batch starts without it
+
                 row.update({name: _number(metrics.get(name)) for name in SPECTRAL_METRICS})
             values = run.measurements
             row.update({measurement_column(name, row): _number(values.get(name)) for name in measured})

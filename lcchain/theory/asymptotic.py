@@ -76,8 +76,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
-from scipy.integrate import quad
-from scipy.optimize import minimize
+import scipy  # its submodules load on first use: commands that need no theory never import them
 
 from ..core.blas import fixed_blas_threads
 from ..core.checks import choice, real
@@ -309,7 +308,7 @@ def _quad(func: Callable[[float], float], lo: float, hi: float) -> float:
         # interval of length ~1e-14 whose error estimate never converges (seen at tau = 4.2e-6, sigma = 1.86)
         points = [lo + float(x) for x in scales if x < (hi - lo) * (1.0 - 1e-6)]
     # full_output=1 keeps quad from warning; the error estimate is checked instead.
-    value, error, *_ = quad(
+    value, error, *_ = scipy.integrate.quad(
         func,
         lo,
         hi,
@@ -549,7 +548,7 @@ def _optimum_of(case: DesignCase) -> AsymptoticOptimum:
     # The trust region brings the gradient to ~1e-7; beyond that the change of
     # alpha is below its rounding noise, so Newton steps on the gradient alone
     # (which is accurate to ~1e-14) finish the job.
-    result = minimize(
+    result = scipy.optimize.minimize(
         loss,
         np.array(best, dtype=float),
         jac=gradient,

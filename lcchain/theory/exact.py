@@ -19,7 +19,6 @@ of Eq. e.utn.
 from __future__ import annotations
 
 import numpy as np
-import scipy  # its submodules load on first use: commands that need no theory never import them
 
 from ..core.blas import fixed_blas_threads
 from ..core.errors import ParameterError
@@ -49,6 +48,8 @@ def diagonalise(chain: Chain) -> tuple[np.ndarray, np.ndarray]:
     """
     if chain.coupled:
         raise ParameterError("coupling", chain.coupling, "0 (coupled chains: theory.exact.coupled_vectors)")
+    import scipy.linalg  # on first use: theory.response imports this module for a batch that solves nothing
+
     diagonal, off = tridiagonal(chain)
     mu, U = scipy.linalg.eigh_tridiagonal(diagonal, off)
     # A free chain has mu_1 = 0 up to rounding (possibly -1e-16): clip, never NaN.
@@ -76,6 +77,8 @@ def coupled_vectors(chain: Chain) -> tuple[np.ndarray, np.ndarray]:
     if chain.N > COUPLED_MAX_N:
         raise ParameterError("N", chain.N, f"N <= {COUPLED_MAX_N} with coupled coils (the generalised eigenproblem "
                              "is solved densely)")
+    import scipy.linalg
+
     diagonal, off = chain.mass_matrix_bands()
     M = np.diag(diagonal) + np.diag(off, 1) + np.diag(off, -1)
     mu, u = scipy.linalg.eigh(_stiffness(chain), M, driver="gvd")
