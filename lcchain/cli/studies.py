@@ -575,6 +575,7 @@ def _price_results(store: Any, args: argparse.Namespace) -> None:
 
 
 def cmd_results(args: argparse.Namespace) -> int:
+    from ..spice.measure import valid_measure_name
     from ..studies.store import Store
 
     outputs = Outputs(inputs={"STORE": args.store})
@@ -583,6 +584,9 @@ def cmd_results(args: argparse.Namespace) -> int:
     outputs.check("--parquet", args.parquet, ("parquet",))
     if args.waveforms and not args.netcdf:
         raise ParameterError("--waveforms", True, "only with --netcdf FILE (the waveforms go into that file)")
+    if args.metric not in STUDY_METRICS and not valid_measure_name(args.metric):  # no store needed to see it
+        raise ParameterError("--metric", args.metric, f"one of {' | '.join(STUDY_METRICS)}, or the name of a "
+                             ".meas of the store's netlists")
     if args.parquet:
         _require("pyarrow", "--parquet")
     with Store(args.store, "read", option="STORE") as store:  # read-only: nothing is created or changed

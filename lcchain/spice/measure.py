@@ -37,9 +37,9 @@ from collections.abc import Iterable, Mapping
 from ..core.errors import ParameterError
 from .expressions import check_expression
 
-__all__ = ["measurement_fields", "MEASUREMENTS", "MEASURE_REASONS", "MEASURE_WORDS", "MEASURE_KINDS",
-           "MAX_MEASUREMENTS", "check_measure", "measure_names",
-           "measure_control", "read_measurements", "Measurements"]
+__all__ = ["valid_measure_name", "measurement_fields", "MEASUREMENTS", "MEASURE_REASONS", "MEASURE_WORDS",
+           "MEASURE_KINDS", "MAX_MEASUREMENTS", "check_measure", "measure_names", "measure_control",
+           "read_measurements", "Measurements"]
 
 #: The dot-commands that are measurements in ngspice 39.
 MEASURE_WORDS = frozenset({".meas", ".measure"})
@@ -85,7 +85,7 @@ def check_measure(body: str, taken: set[str], where: str, line: str) -> set[str]
     if len(words) < 4 or words[1].lower() not in _ANALYSES:
         raise ParameterError(where, line.strip()[:200], allowed)
     name = words[2].lower()
-    if not _NAME.fullmatch(name) or len(name) > MAX_NAME_CHARS or name in _KEYWORDS or name in MEASURE_KINDS:
+    if not valid_measure_name(name) or name in _KEYWORDS or name in MEASURE_KINDS:
         raise ParameterError(where, line.strip()[:200], f"a measurement name of at most {MAX_NAME_CHARS} letters, "
                              f"digits and _ that is no keyword, not {words[2]!r}")
     if name in taken:
@@ -113,6 +113,11 @@ def check_measure(body: str, taken: set[str], where: str, line: str) -> set[str]
             raise ParameterError(where, line.strip()[:200], f"{allowed}; not {token!r}")
     taken.add(name)
     return names
+
+
+def valid_measure_name(name: str) -> bool:
+    """Whether ``name`` could name a measurement (letters, digits and _, at most :data:`MAX_NAME_CHARS`)."""
+    return _NAME.fullmatch(name) is not None and len(name) <= MAX_NAME_CHARS
 
 
 def measure_names(text: str) -> list[str]:
