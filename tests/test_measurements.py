@@ -142,3 +142,13 @@ def test_a_measured_run_is_priced_with_its_vectors_in_ngspice_memory() -> None:
     # the .meas lines' own text costs a little besides (lcchain.spice.pricing: bytes of text)
     assert measured.simulator_memory >= unmeasured.simulator_memory + kept
     assert measured.memory >= unmeasured.memory + kept
+
+
+def test_a_netlist_run_as_it_is_is_measured_too(tmp_path: Path) -> None:
+    """--allow-control skips the allow-list, not the control block that makes ngspice measure."""
+    (tmp_path / "step.cir").write_text(TRANSIENT, encoding="utf-8")
+    store = tmp_path / "runs.sqlite"
+    assert main(["batch", str(tmp_path / "step.cir"), "--store", str(store), "--allow-control", "--json"]) == 0
+    with Store(store, "read") as opened:
+        (run,) = opened.runs()
+    assert run.measurements["trise"] == pytest.approx(RC * math.log(9.0), rel=RTOL_MEASURE_TRAN)

@@ -136,6 +136,7 @@ def measure_control(text: str, raw: str) -> str | None:
     runs as written)."""
     if not measure_names(text) or _CONTROL.search(text):
         return None
+    # the first line is the title, blank or not (ngspice 39 -b reads a blank first line as an empty title)
     head, newline, rest = text.partition("\n")
     return f"{head}\n.control\nrun\nwrite {raw}\nquit\n.endc\n{rest}" if newline else None
 
