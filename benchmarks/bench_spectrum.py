@@ -87,7 +87,7 @@ def main() -> None:
         report = measure_spectrum(chain_for_case(case, N))
         total = time.perf_counter() - clock
         t = report.timings
-        print(f"| {case} | {N} | {report.points} | {report.segments} | {report.seen.size} | "
+        print(f"| {case} | {N} | {report.points} | {report.segments} | {int(report.seen.sum())} | "
               f"{int(np.sum(report.resolved))} | {report.max_rel_error_omega:.1e} | {report.max_abs_error_P:.1e} | "
               f"{_error(report.response_error)} | {report.fit.sweeps} | {t['ngspice_s']:.2f} | {t['fit_s']:.2f} | "
               f"{total:.2f} | {spectrum_estimate(report.points, N).seconds:.2f} |", flush=True)
@@ -107,7 +107,8 @@ def main() -> None:
         report = measure_spectrum(chain_for_case(case, N), Q=Q)
         total = time.perf_counter() - clock
         t = report.timings
-        print(f"| {case} | {N} | {Q:g} | {report.points} | {report.seen.size} | {report.max_rel_error_omega:.1e} | "
+        print(f"| {case} | {N} | {Q:g} | {report.points} | {int(report.seen.sum())} | "
+              f"{report.max_rel_error_omega:.1e} | "
               f"{report.max_abs_error_P:.1e} | {report.max_rel_error_Q:.1e} | {report.max_rel_error_pole:.1e} | "
               f"{_error(report.response_error)} | {t['ngspice_s']:.2f} | {t['fit_s']:.2f} | {total:.2f} |",
               flush=True)

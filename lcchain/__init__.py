@@ -25,11 +25,12 @@ _PUBLIC = {
     "dt_for_accuracy": "compare.accuracy", "predicted_error": "compare.accuracy",
     "Interrupted": "core.errors", "LcchainError": "core.errors", "ParameterError": "core.errors",
     "DesignError": "core.errors",
-    "SimulationError": "core.errors", "SimulatorMissingError": "core.errors",
+    "SimulationError": "core.errors", "SimulatorMissingError": "core.errors", "ExtraMissingError": "core.errors",
     "Budget": "core.budget",
     "run_scene": "app.scenes",
     "RunRecord": "runs.execute", "execute": "runs.execute",
     "SimulationReport": "runs.simulate", "simulate": "runs.simulate",
+    "SpectrumReport": "runs.spectrum", "spectrum": "runs.spectrum",
     "Request": "runs.request", "Drive": "runs.request", "Transient": "runs.request", "AC": "runs.request",
     "plan_request": "runs.request",
     "Effect": "circuit.effects", "Walls": "circuit.effects", "Coupling": "circuit.effects",
@@ -55,9 +56,11 @@ _PUBLIC = {
 
 __all__ = [
     "Ladder", "SimulationOptions", "netlist_text", "dt_for_accuracy", "predicted_error", "Interrupted",
-    "LcchainError", "ParameterError", "DesignError", "SimulationError", "SimulatorMissingError", "Budget",
+    "LcchainError", "ParameterError", "DesignError", "SimulationError", "SimulatorMissingError", "ExtraMissingError",
+    "Budget",
     "run_scene", "RunRecord",
-    "execute", "SimulationReport", "simulate", "Request", "Drive", "Transient", "AC", "plan_request", "Effect",
+    "execute", "SimulationReport", "simulate", "SpectrumReport", "spectrum",
+    "Request", "Drive", "Transient", "AC", "plan_request", "Effect",
     "Walls",
     "Coupling", "Losses", "Tolerance", "PreferredValues", "RunSpec", "Theory", "load_scene", "parse_scene",
     "simulate_scene",
@@ -92,6 +95,7 @@ if TYPE_CHECKING:  # what a type checker and an editor see
     from .core.budget import Budget
     from .core.errors import (
         DesignError,
+        ExtraMissingError,
         Interrupted,
         LcchainError,
         ParameterError,
@@ -102,6 +106,7 @@ if TYPE_CHECKING:  # what a type checker and an editor see
     from .runs.request import AC, Drive, Request, Transient, plan_request
     from .runs.simulate import SimulationReport, simulate
     from .runs.spec import RunSpec, Theory
+    from .runs.spectrum import SpectrumReport, spectrum
     from .scenes.load import load_scene, parse_scene
     from .scenes.run import simulate_scene
     from .scenes.schema import Scene

@@ -17,7 +17,7 @@ import pytest
 
 INSTALL = "bash .ci/setup (or: sudo apt-get install ngspice libngspice0)"
 INSTALL_GNUCAP = "bash .ci/setup (or: sudo apt-get install gnucap)"
-INSTALL_CHROMIUM = "bash .ci/setup (or: sudo apt-get install chromium; pip install playwright)"
+INSTALL_CHROMIUM = "bash .ci/setup test (or: sudo apt-get install chromium; pip install playwright)"
 
 
 def _missing(what: str, install: str) -> None:

@@ -178,7 +178,7 @@ def cmd_netlist(args: argparse.Namespace) -> int:
                               L0=args.L0, C0=args.C0, title=args.title, comments=(f"made by: {command}",),
                               effects=effects)
     if args.output:
-        outputs.text("--output", text)
+        outputs.text("--output", text)  # "-" too: stdout
     else:
         sys.stdout.write(text)
     return EXIT_FAILED if outputs.failed else EXIT_OK
@@ -206,7 +206,7 @@ def cmd_examples(args: argparse.Namespace) -> int:
     outputs = Outputs()
     outputs.check("-o", target)
     outputs.text("-o", text)
-    if not outputs.failed:
+    if not outputs.failed and outputs.to_stdout is None:
         print(f"wrote {target}" + (f": lcchain run {target}" if Path(target).is_file() else ""))
     return EXIT_FAILED if outputs.failed else EXIT_OK
 
@@ -290,6 +290,8 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     outputs.check("--plot", args.plot, FIGURE_FORMATS)
     outputs.check("--netlist-out", args.netlist_out)
     outputs.check("--waveform-out", args.waveform_out)
+    if args.json and outputs.to_stdout:
+        raise ParameterError(outputs.to_stdout, "-", "a file name with --json (both would write to stdout)")
     chain = chain_from_args(args)
     if args.accuracy is not None and args.dt is not None:
         raise ParameterError("--accuracy", args.accuracy, "either --dt or --accuracy, not both")
@@ -298,6 +300,11 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     kept: list[str] = []
 
     def keep_netlist(spec: Any) -> None:  # before ngspice starts: a failed run still leaves it
+        if args.netlist_out == "-":  # stdout holds one netlist: the first run's
+            if not kept:
+                outputs.text("--netlist-out", spec.netlist)
+            kept.append("-" if not kept else "(not written: - holds the first run's)")
+            return
         if args.netlist_out:  # several runs (extrapolation): FILE holds the first, FILE-run2.cir ... the others
             path = Path(args.netlist_out)
             target = path if not kept else path.with_name(f"{path.stem}-run{len(kept) + 1}{path.suffix}")
@@ -320,6 +327,12 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     for warning in caught:
         print(f"lcchain: warning: {warning.message}", file=sys.stderr)
     data = report.to_dict()
+    with outputs.summary():
+        _print_simulation(args, chain, data)
+    return _simulation_outputs(args, chain, report, data, outputs, kept)
+
+
+def _print_simulation(args: argparse.Namespace, chain: Any, data: dict[str, Any]) -> None:
     if args.json:
         emit_json(data)
     else:
@@ -346,6 +359,10 @@ def cmd_simulate(args: argparse.Namespace) -> int:
         _print_arrivals(data["arrivals"])
         if "effects" in data:
             _print_effects(data["effects"])
+
+
+def _simulation_outputs(args: argparse.Namespace, chain: Any, report: Any, data: dict[str, Any],
+                        outputs: Outputs, kept: list[str]) -> int:
     if len(kept) > 1:
         print(f"--netlist-out: the {len(kept)} runs' netlists are in {', '.join(kept)} (dt = "
               f"{', '.join(f'{h:.4g}' for h in data['extrapolation']['dt'])})", file=sys.stderr)
@@ -572,12 +589,17 @@ def cmd_run(args: argparse.Namespace) -> int:
         option = "--netlist-out" if args.netlist_out else "--waveform-out"
         raise ParameterError(option, args.netlist_out or args.waveform_out, "one scene only (got "
                              f"{len(args.scene)})")
-    scenes = [load_scene(path) for path in args.scene]  # every file checked before anything runs
+    scenes = [_with_parts(load_scene(path), args) for path in args.scene]  # every file checked before anything runs
     outputs = Outputs()
     outputs.check("--side-by-side", args.side_by_side, FIGURE_FORMATS)
     for option in ("--netlist-out", "--waveform-out"):
-        if getattr(args, option[2:].replace("-", "_")) == "":
+        value = getattr(args, option[2:].replace("-", "_"))
+        if value == "":
             raise ParameterError(option, "", "a file name")
+        if value == "-":
+            outputs.claim_stdout(option)
+    if args.json and outputs.to_stdout:
+        raise ParameterError(outputs.to_stdout, "-", "a file name with --json (both would write to stdout)")
     check_scene_outputs(scenes, {"--netlist-out": args.netlist_out, "--waveform-out": args.waveform_out,
                                  "--side-by-side": args.side_by_side},
                         inputs=[("SCENE", path) for path in args.scene])
@@ -594,7 +616,8 @@ def cmd_run(args: argparse.Namespace) -> int:
             result = simulate_scene(scene, budget=budget, progress=fraction(label))
         results.append(result)
         if not args.json:
-            _print_scene_summary(result)
+            with outputs.summary():
+                _print_scene_summary(result)
         try:
             files = write_scene_outputs(result, netlist_out=args.netlist_out, waveform_out=args.waveform_out)
         except OSError as error:
@@ -605,7 +628,7 @@ def cmd_run(args: argparse.Namespace) -> int:
         result.report["files"] = files
         if not args.json:
             for path in files:
-                print(f"wrote {path}")
+                print(f"wrote {path}", file=sys.stderr if outputs.to_stdout else sys.stdout)
     if args.side_by_side:
         from ..report.plots import side_by_side
 
@@ -613,7 +636,7 @@ def cmd_run(args: argparse.Namespace) -> int:
         if panels:
             outputs.write("--side-by-side", lambda path: side_by_side(panels, path=path))
             if not args.json and "--side-by-side" not in outputs.failed:
-                print(f"wrote {args.side_by_side}")
+                print(f"wrote {args.side_by_side}", file=sys.stderr if outputs.to_stdout else sys.stdout)
         else:
             print(f"lcchain: no scene ran, so {args.side_by_side} was not drawn", file=sys.stderr)
     if args.json:
@@ -621,6 +644,16 @@ def cmd_run(args: argparse.Namespace) -> int:
         emit_json(reports[0] if len(reports) == 1 else reports)
     ok = all(r.ok for r in results) and not failed_files and not outputs.failed
     return EXIT_OK if ok else EXIT_FAILED
+
+
+def _with_parts(scene: Any, args: argparse.Namespace) -> Any:
+    """The scene with ``--tolerance``, ``--series``, ``--samples`` and ``--seed`` set, when any is given."""
+    from ..scenes.load import override_parts, parse_scene
+
+    parts = {"tolerance": args.tolerance, "series": args.series, "samples": args.samples, "seed": args.seed}
+    if all(value is None for value in parts.values()):
+        return scene
+    return parse_scene(override_parts(scene.to_dict(), **parts), source=scene.source)
 
 
 def cmd_bench_accuracy(args: argparse.Namespace) -> int:

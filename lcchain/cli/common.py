@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import math
 import re
@@ -35,16 +36,22 @@ from ..core.limits import (
     MIN_N,
     MIN_TIMEOUT,
 )
+from ..core.types import E_SERIES_NAMES
 from ..report.files import check_not_input, check_output, same_file, write_text
 from ..theory.chain import Chain
 
 __all__ = ["EXIT_OK", "EXIT_FAILED", "EXIT_USAGE", "EXIT_MISSING", "EXIT_SIGPIPE", "OPTION_NAMES", "NEGATIVE_NUMBER",
            "single_valued", "count", "list_entries", "int_list",
-           "number", "size", "duration", "seconds", "budget_parent", "emit_json", "Outputs",
+           "number", "size", "duration", "seconds", "budget_parent", "emit_json", "Outputs", "STDOUT", "EXIT_EXTRA",
            "chain_from_args", "budget_from_args", "load_chain_file", "check_perfect", "echoed_command",
-           "CIRCUIT_EFFECTS", "add_effect_arguments", "effects_from_args"]
+           "CIRCUIT_EFFECTS", "add_effect_arguments", "effects_from_args", "tolerances", "add_parts_arguments"]
 
 EXIT_OK, EXIT_FAILED, EXIT_USAGE, EXIT_MISSING = 0, 1, 2, 3
+#: A missing optional extra (pandas, xarray, Dask, PySpice): ``pip install 'lcchain[EXTRA]'`` fixes it.
+EXIT_EXTRA = 4
+#: The file name of every option that writes one text (``-o``, ``--netlist-out``, ``--waveform-out``) that
+#: means standard output, as ``-`` does for most Unix tools.
+STDOUT = "-"
 #: A reader closed the pipe (``lcchain table --json | head -2``): the exit status of a process killed by SIGPIPE.
 EXIT_SIGPIPE = 128 + 13
 
@@ -192,6 +199,36 @@ def seconds(option: str) -> Callable[[str], float]:
     return parse
 
 
+def tolerances(text: str) -> dict[str, float]:
+    """An argparse type: ``--tolerance L=0.05,C=0.02`` (either or both), or ``--tolerance 0.05`` for both;
+    each relative, 0 <= tol < 1 (checked by :func:`lcchain.scenes.load.override_parts`)."""
+    allowed = "L=TOL,C=TOL (either or both) or one TOL for both, each a relative tolerance 0 <= TOL < 1"
+    entries = list_entries("--tolerance", text, "L=TOL and C=TOL")
+    if len(entries) == 1 and "=" not in entries[0]:
+        value = number("--tolerance")(entries[0])
+        return {"L": value, "C": value}
+    out: dict[str, float] = {}
+    for entry in entries:
+        name, sep, given = (part.strip() for part in entry.partition("="))
+        if not sep or name not in ("L", "C") or name in out:
+            raise argparse.ArgumentTypeError(f"--tolerance = {text!r} is not allowed: expected {allowed}")
+        out[name] = number(f"--tolerance {name}")(given)
+    return out
+
+
+def add_parts_arguments(p: argparse.ArgumentParser, samples: bool = True) -> None:
+    """A scene's real parts from the command line (a Monte Carlo without editing the file): ``--tolerance``,
+    ``--series`` and (``samples``) ``--samples``, ``--seed``; each sets the scene's own key."""
+    p.add_argument("--tolerance", type=tolerances, metavar="L=TOL,C=TOL",
+                   help="with SCENE.toml: relative tolerances of the inductors and capacitors, e.g. L=0.05,C=0.02 "
+                        "or 0.05 for both (effects.tolerance.L, .C)")
+    p.add_argument("--series", metavar="|".join(E_SERIES_NAMES),
+                   help="with SCENE.toml: round every part to this IEC 60063 series (effects.preferred_values.series)")
+    if samples:
+        p.add_argument("--samples", type=int, help="with SCENE.toml: tolerance samples (effects.tolerance.samples)")
+        p.add_argument("--seed", type=int, help="with SCENE.toml: the tolerance seed (effects.tolerance.seed)")
+
+
 def budget_parent() -> argparse.ArgumentParser:
     """The options every command that does real work takes: its budget."""
     parent = single_valued(argparse.ArgumentParser(add_help=False))
@@ -220,16 +257,24 @@ class Outputs:
     A file that cannot be written at the end (a full disk) is named in one
     line and makes the command fail (exit 1), after everything else was
     written and printed.
+
+    ``-`` (:data:`STDOUT`) names standard output for an option that writes
+    one text (no ``formats``); one option at most may take it, and the
+    command's own summary then goes to stderr (:meth:`summary`).
     """
 
     inputs: dict[str, str] = field(default_factory=dict)
     checked: dict[str, Path] = field(default_factory=dict)
     failed: list[str] = field(default_factory=list)
+    to_stdout: str | None = None
 
     def check(self, option: str, path: str | None, formats: tuple[str, ...] | None = None, *,
               make_folder: bool = False) -> None:
         """Refuse ``path`` now if it could not be written later (``make_folder``: the caller makes its folder)."""
         if path is None:
+            return
+        if path == STDOUT:
+            self.claim_stdout(option, formats)
             return
         target = check_output(option, path, formats, make_folder=make_folder)
         check_not_input(option, path, [(named, source) for named, source in self.inputs.items() if source])
@@ -237,6 +282,21 @@ class Outputs:
             if same_file(seen, target):
                 raise ParameterError(option, path, f"a file no other option writes ({other} writes it too)")
         self.checked[option] = target
+
+    def claim_stdout(self, option: str, formats: tuple[str, ...] | None = None) -> None:
+        """Let ``option`` write its text to stdout (``-``): refused for a figure or a store, or a second option."""
+        if formats is not None:
+            raise ParameterError(option, STDOUT, f"a file name ending in .{', .'.join(formats)} (- means stdout, "
+                                 "which takes only a text)")
+        if self.to_stdout is not None and self.to_stdout != option:
+            raise ParameterError(option, STDOUT, f"a file name: {self.to_stdout} writes to stdout (-) already")
+        self.to_stdout = option
+
+    def summary(self) -> contextlib.AbstractContextManager[object]:
+        """Where the command's own lines go: stdout, or stderr when an output writes its text to stdout."""
+        if self.to_stdout is None:
+            return contextlib.nullcontext()
+        return contextlib.redirect_stdout(sys.stderr)
 
     def write(self, option: str, writer: Callable[[Path], object]) -> None:
         """Run ``writer(path)`` for a checked output; report a failure by name instead of raising."""
@@ -250,6 +310,11 @@ class Outputs:
             print(f"lcchain: could not write {path} ({option}): {error.strerror or error}", file=sys.stderr)
 
     def text(self, option: str, text: str) -> None:
+        """Write a checked output's text: to its file, atomically, or to stdout for ``-``."""
+        if option == self.to_stdout:
+            sys.stdout.write(text)
+            sys.stdout.flush()
+            return
         self.write(option, lambda path: write_text(path, text))
 
 

@@ -21,7 +21,14 @@ from typing import Any, NoReturn
 from ..circuit.effects import Coupling
 from ..core import __version__
 from ..core.blas import BLAS_THREADS
-from ..core.errors import Interrupted, LcchainError, ParameterError, SimulationError, SimulatorMissingError
+from ..core.errors import (
+    ExtraMissingError,
+    Interrupted,
+    LcchainError,
+    ParameterError,
+    SimulationError,
+    SimulatorMissingError,
+)
 from ..core.types import (
     BACKENDS,
     DEFAULT_C0,
@@ -35,12 +42,14 @@ from ..core.types import (
 from ..spice.engines import DEFAULT_ENGINE, ENGINES
 from . import commands, requirements, sensitivity, studies, validation
 from .common import (
+    EXIT_EXTRA,
     EXIT_FAILED,
     EXIT_MISSING,
     EXIT_SIGPIPE,
     EXIT_USAGE,
     OPTION_NAMES,
     add_effect_arguments,
+    add_parts_arguments,
     budget_parent,
     int_list,
     list_entries,
@@ -212,6 +221,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help="figure (.png, .svg, .pdf): the scenes' overlays next to each other on shared axes")
     p.add_argument("--netlist-out", metavar="FILE", help="keep the (first sample's) netlist")
     p.add_argument("--waveform-out", metavar="FILE", help="CSV t,first,last (first sample, dimensionless)")
+    add_parts_arguments(p)
     studies.add_study_arguments(p, store=False)
     p.set_defaults(func=commands.cmd_run, executor="serial")
 
@@ -372,6 +382,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     except SimulatorMissingError as error:
         print(f"lcchain: {error}", file=sys.stderr)
         return EXIT_MISSING
+    except ExtraMissingError as error:
+        print(f"lcchain: {error}", file=sys.stderr)
+        return EXIT_EXTRA
     except ParameterError as error:
         print(f"lcchain: {_as_typed(error, args)}", file=sys.stderr)
         return EXIT_USAGE

@@ -14,7 +14,7 @@ from pathlib import Path
 from typing import Any
 
 from ..core.budget import INTERPRETER_SECONDS, show_seconds
-from ..core.errors import ParameterError, SimulatorMissingError
+from ..core.errors import ExtraMissingError, ParameterError
 from ..core.types import (
     ANALYSIS_KINDS,
     ARRIVAL_METRICS,
@@ -28,7 +28,17 @@ from ..core.types import (
 )
 from ..report.files import FIGURE_FORMATS
 from ..spice.engines import DEFAULT_ENGINE, ENGINES
-from .common import EXIT_FAILED, EXIT_OK, Outputs, budget_from_args, emit_json, int_list, list_entries, seconds
+from .common import (
+    EXIT_FAILED,
+    EXIT_OK,
+    Outputs,
+    add_parts_arguments,
+    budget_from_args,
+    emit_json,
+    int_list,
+    list_entries,
+    seconds,
+)
 from .progress import study_counter
 
 __all__ = ["cmd_sweep", "cmd_batch", "cmd_results", "add_study_arguments"]
@@ -114,8 +124,7 @@ def add_sweep_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--vary", action="append", default=[], metavar="KEY=V1,V2,...",
                    help="with SCENE.toml: a dotted scene key and its values (repeat for more axes; keys joined "
                         "by + take the same values together)")
-    p.add_argument("--samples", type=int, help="with SCENE.toml: tolerance samples (each a task of its own)")
-    p.add_argument("--seed", type=int, help="with SCENE.toml: the tolerance seed")
+    add_parts_arguments(p)  # --tolerance, --series, --samples (each a task of its own), --seed
     p.add_argument("--worst-case", action="store_true",
                    help="with SCENE.toml (kicked, with [effects.tolerance]): run the corners of the --components "
                         "parts that move the first-arrival peak most, and the two corners the sensitivities "
@@ -240,9 +249,12 @@ def cmd_sweep(args: argparse.Namespace) -> int:
                                  "says the chain and the analysis, [analysis] kind = \"ac\" included; vary its keys "
                                  "with --vary, e.g. analysis.extrapolate=1,2)")
         plan = scene_sweep_plan(args.scene, [parse_vary(v) for v in args.vary], samples=args.samples,
-                                seed=args.seed, budget=budget, workers=_workers(args))
+                                seed=args.seed, tolerance=args.tolerance, series=args.series, budget=budget,
+                                workers=_workers(args))
     else:
-        given = [o for o, v in (("--vary", args.vary), ("--samples", args.samples), ("--seed", args.seed)) if v]
+        given = [o for o, v in (("--vary", args.vary), ("--samples", args.samples), ("--seed", args.seed),
+                                ("--tolerance", args.tolerance), ("--series", args.series))
+                 if v is not None and v != []]
         if given:
             raise ParameterError(given[0], getattr(args, given[0].lstrip("-")), "nothing without SCENE.toml")
         if not args.case or not args.N:
@@ -270,7 +282,7 @@ def _worst_case(args: argparse.Namespace, outputs: Outputs, budget: Any) -> int:
     given = [o for o, v in (("--case", args.case), ("--N", args.N), ("--dt", args.dt), ("--accuracy", args.accuracy),
                             ("--extrapolate", args.extrapolate), ("--engine", args.engine), ("--vary", args.vary),
                             ("--samples", args.samples), ("--seed", args.seed), ("--points", args.points),
-                            *_scene_says(args))
+                            ("--tolerance", args.tolerance), ("--series", args.series), *_scene_says(args))
              if v is not None and v != []]
     if given:
         raise ParameterError(given[0], getattr(args, given[0].lstrip("-")), "nothing with --worst-case (the scene "
@@ -445,8 +457,7 @@ def _require(module: str, option: str) -> None:
     import importlib.util
 
     if importlib.util.find_spec(module) is None:
-        raise SimulatorMissingError(f"{option} needs {module}, which is not installed; install it with: "
-                                    f"pip install 'lcchain[data]' {module}")
+        raise ExtraMissingError(module, "data", option, more=(module,))
 
 
 def _write_atomic(path: Path, writer: Any) -> None:

@@ -18,6 +18,7 @@ __all__ = [
     "ParameterError",
     "SimulationError",
     "SimulatorMissingError",
+    "ExtraMissingError",
     "DesignError",
     "Interrupted",
 ]
@@ -94,6 +95,38 @@ class SimulationError(LcchainError):
 
 class SimulatorMissingError(LcchainError):
     """ngspice (or its shared library, or PySpice) cannot be found on this machine."""
+
+
+class ExtraMissingError(LcchainError):
+    """An optional extra of lcchain is not installed (pandas, xarray, Dask, PySpice): exit status 4, not 3.
+
+    Parameters
+    ----------
+    module : str
+        The missing importable package (``"pandas"``).
+    extra : str
+        The extra of lcchain that installs it (``"data"``): ``pip install 'lcchain[data]'``.
+    purpose : str
+        What needs it, in a few words (``"Store.to_dataframe"``, ``"the dask executor"``).
+    more : tuple of str
+        Packages the extra does not hold, installed beside it (``("pyarrow",)`` for ``--parquet``).
+    """
+
+    def __init__(self, module: str, extra: str, purpose: str = "this", more: tuple[str, ...] = ()):
+        self.module = module
+        self.extra = extra
+        self.purpose = purpose
+        self.more = tuple(more)
+        super().__init__(f"{purpose} needs {module}, which is not installed (an optional extra of lcchain); "
+                         f"install it with: {self.command}")
+
+    @property
+    def command(self) -> str:
+        """The command that installs it."""
+        return " ".join([f"pip install 'lcchain[{self.extra}]'", *self.more])
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        return (type(self), (self.module, self.extra, self.purpose, self.more))
 
 
 class DesignError(LcchainError):

@@ -12,6 +12,7 @@ after the scene file when there is no report.
 from __future__ import annotations
 
 import json
+import sys
 from collections.abc import Callable
 from pathlib import Path
 
@@ -79,8 +80,8 @@ def check_scene_outputs(scenes: list[Scene], others: dict[str, str | None] | Non
     """
     inputs = [*(inputs or []), *(("SCENE", scene.source) for scene in scenes if scene.source)]
     seen: dict[Path, str] = {}
-    claims: list[tuple[str, Path, str | None]] = [(option, Path(path), None)
-                                                  for option, path in (others or {}).items() if path]
+    claims: list[tuple[str, Path, str | None]] = [(option, Path(path), None)  # "-": stdout, nothing to check
+                                                  for option, path in (others or {}).items() if path and path != "-"]
     for scene in scenes:
         claims += [(key, path, scene.source) for key, path in scene_outputs(scene)]
     for key, path, source in claims:
@@ -171,15 +172,20 @@ def write_scene_outputs(result: SceneResult, *, netlist_out: str | None = None,
                         waveform_out: str | None = None, write_outputs: bool = True) -> list[str]:
     """Write the first good sample's netlist and waveforms if asked, then the scene's plots and report.
 
-    Every file is written atomically.  Returns the files written, in order.
+    Every file is written atomically; ``-`` writes that text to stdout instead.  Returns the files written, in
+    order.
     """
     scene = result.scene
     good = result.good()
     written: list[str] = []
-    if good and netlist_out:
-        written.append(str(write_text(netlist_out, good[0].netlist)))
-    if good and waveform_out:
-        written.append(str(write_text(waveform_out, _csv(good[0]))))
+    for target, text in ((netlist_out, lambda: good[0].netlist), (waveform_out, lambda: _csv(good[0]))):
+        if not (good and target):
+            continue
+        if target == "-":
+            sys.stdout.write(text())
+            sys.stdout.flush()
+        else:
+            written.append(str(write_text(target, text())))
     if not write_outputs:
         return written
     if scene_outputs(scene):

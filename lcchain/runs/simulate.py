@@ -32,6 +32,7 @@ from ..core.budget import Budget
 from ..core.checks import callback, choice, instance
 from ..core.errors import ParameterError, SimulationError
 from ..core.frozen import FrozenMap
+from ..core.show import html_table, plot, short_repr
 from ..core.types import DEFAULT_C0, DEFAULT_I0, DEFAULT_L0, EXCITATIONS, Backend, Excitation, Method
 from ..spice.engines import DEFAULT_ENGINE
 from ..spice.runner import RunResult
@@ -198,6 +199,40 @@ class SimulationReport:
             "extrapolation": self.extrapolation.to_dict() if self.extrapolation is not None else None,
         } | ({} if self.effects is None else {"effects": self.effects.to_dict()})
 
+    def _rows(self) -> list[tuple[str, object]]:
+        run, c = self.run, self.comparison
+        coupled = f", coils coupled k = {self.chain.coupling:g}" if self.chain.coupled else ""
+        runs = f", {self.extrapolation.runs} runs extrapolated" if self.extrapolation is not None and \
+            self.extrapolation.runs > 1 else ""
+        return [("chain", f"{self.chain.name}, N = {self.chain.N}{coupled}"),
+                ("engine", f"{run.engine} {run.engine_version} ({run.backend}), {self.excitation}"),
+                ("dt", f"{self.options.dt:.4g}{runs}, {self.transits} transit(s)"),
+                ("max |simulation - theory|", c.max_abs_error),
+                ("predicted error", "none" if self.predicted_error is None else self.predicted_error),
+                ("accuracy", "not asked" if self.accuracy is None else
+                 f"{self.accuracy:.3g} {'met' if self.accuracy_met else 'missed'}")]
+
+    def __repr__(self) -> str:
+        """A few lines (the arrays are in ``waveforms`` and ``comparison``; all of it: :meth:`to_dict`)."""
+        return short_repr("SimulationReport", self._rows())
+
+    def _repr_html_(self) -> str:
+        return html_table("SimulationReport", self._rows())
+
+    def plot(self, ax: Any = None) -> Any:
+        """The end currents (or charges) over theory, the residual below, as ``lcchain simulate --plot`` draws.
+
+        Parameters
+        ----------
+        ax : matplotlib.axes.Axes, optional
+            Draw the far end's overlay into it (no residual panel).
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+            Never shown; save it with ``fig.savefig(...)``.  matplotlib is imported here, not by ``import lcchain``.
+        """
+        return plot("simulation", self, ax=ax)
 
 def simulator_wall_time(runs: Sequence[tuple[float, float]]) -> float:
     """Seconds during which at least one of ``runs`` was running: the length of the union of the intervals
@@ -364,6 +399,9 @@ def simulation_runs(chain: Chain | Request, *, modes: Modes | None = None, budge
             raise ParameterError(sorted(keywords)[0], keywords[sorted(keywords)[0]],
                                  "nothing beside a Request (it says the whole simulation)")
         request = chain
+        if not isinstance(request.analysis, Transient):  # one line, pointing to the function that runs it
+            raise ParameterError("analysis", type(request.analysis).__name__, "a Transient for lcchain.simulate "
+                                 "(an AC request: lcchain.spectrum(request), which returns a SpectrumReport)")
     else:
         request = simulation_request(chain, **keywords)
     plan = plan_request(request, budget, modes=modes)

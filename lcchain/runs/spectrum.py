@@ -48,6 +48,7 @@ from ..compare.spectrum import SpectrumFit
 from ..core.budget import Budget
 from ..core.checks import instance
 from ..core.errors import ParameterError, SimulationError
+from ..core.show import html_table, plot, short_repr
 from ..core.types import DEFAULT_C0, DEFAULT_L0
 from ..spice.engines import DEFAULT_ENGINE
 from ..spice.simulator import Simulator
@@ -59,7 +60,7 @@ from .execute import circuit_modes, execute
 from .request import AC, Request, plan_request
 from .spec import SpectrumTheory
 
-__all__ = ["SpectrumReport", "measure_spectrum", "OMEGA_MARGIN", "SPECTRUM_MAX_N", "OMEGA_WEIGHT_FLOOR",
+__all__ = ["SpectrumReport", "measure_spectrum", "spectrum", "OMEGA_MARGIN", "SPECTRUM_MAX_N", "OMEGA_WEIGHT_FLOOR",
            "DEFAULT_OVERSAMPLING", "RESPONSE_TIMES"]
 
 #: Times at which the fitted model's alpha_N(t) is set beside the exact response, evenly on [0, first transit].
@@ -78,9 +79,14 @@ class SpectrumReport:
         chain's, the circuit's own modes (omega_n = |p_n|, density m_1 a_n, transfer m_1 b_n from the sections of
         its exact admittances, ``method`` ``"circuit"``).
     fit : SpectrumFit
-        The modes found in the circuit.
-    seen : ndarray of int
-        For each fitted mode, the index of its theoretical mode.
+        The modes found in the circuit, in the fit's own order and number (fewer than the theory's where some
+        are unseen): the per-mode arrays below are the ones to use.
+    fitted : ndarray of int
+        For each fitted mode (each entry of ``fit``'s arrays), the index of its theoretical mode.
+
+    Every public array (``omega``, ``P``, ``gamma``, ``Q``, ``poles``, their ``*_theory``, ``seen``,
+    ``resolved``) has one entry per theoretical mode, n = 1..``theory.N`` in order; the circuit's values are NaN
+    where the mode was not seen at the ends (``seen`` False).
     points : int
         Frequencies of the AC sweep on (0, omega_max], in ``segments`` even segments.
     omega_max : float
@@ -106,7 +112,7 @@ class SpectrumReport:
     chain: Chain
     theory: Modes
     fit: SpectrumFit
-    seen: np.ndarray
+    fitted: np.ndarray
     points: int
     omega_max: float
     engine_version: str
@@ -125,8 +131,23 @@ class SpectrumReport:
 
     def _per_mode(self, values: np.ndarray, missing: float = np.nan) -> np.ndarray:
         out = np.full(self.theory.N, missing)
-        out[self.seen] = values
+        out[self.fitted] = values
         return out
+
+    @property
+    def seen(self) -> np.ndarray:
+        """Whether each theoretical mode was seen at the ends (a pole the fit found), bool per mode."""
+        return self._per_mode(np.ones(self.fitted.size), 0.0).astype(bool)
+
+    @property
+    def omega_theory(self) -> np.ndarray:
+        """The exact normal frequency omega_n of every mode, units of 1/sqrt(L0 C0)."""
+        return np.asarray(self.theory.omega, dtype=float)
+
+    @property
+    def P_theory(self) -> np.ndarray:
+        """The exact P_n = m_1 u_1n u_Nn of every mode (its weight in alpha_N(t))."""
+        return np.asarray(self.theory.transfer, dtype=float)
 
     @property
     def omega(self) -> np.ndarray:
@@ -135,8 +156,8 @@ class SpectrumReport:
 
     @property
     def P(self) -> np.ndarray:
-        """The circuit's P_n of every theoretical mode (0 where unseen)."""
-        return self._per_mode(self.chain.masses[0] * self.fit.last, 0.0)
+        """The circuit's P_n of every theoretical mode (NaN where unseen; the error of P counts it as 0)."""
+        return self._per_mode(self.chain.masses[0] * self.fit.last)
 
     @property
     def gamma(self) -> np.ndarray:
@@ -182,7 +203,8 @@ class SpectrumReport:
     @property
     def metrics(self) -> SpectrumMetrics:
         """The circuit's modes beside theory, as a run's record holds them."""
-        return SpectrumMetrics(self.theory.omega, self.omega, self.theory.transfer, self.P, self.resolved,
+        return SpectrumMetrics(self.theory.omega, self.omega, self.theory.transfer, np.nan_to_num(self.P, nan=0.0),
+                               self.resolved,
                                gamma=self.gamma if self.lossy else None, losses=self.losses,
                                gamma_theory=self.gamma_theory)
 
@@ -226,12 +248,42 @@ class SpectrumReport:
             modes.append(mode)
         return {"N": self.chain.N, "case": self.chain.name, "points": self.points, "omega_max": self.omega_max,
                 "engine": self.engine, "engine_version": self.engine_version, "netlist_sha256": self.netlist_sha256,
-                "modes": modes, "seen": int(self.seen.size), "max_rel_error_omega": self.max_rel_error_omega,
+                "modes": modes, "seen": int(self.seen.sum()), "max_rel_error_omega": self.max_rel_error_omega,
                 "max_abs_error_P": self.max_abs_error_P, "fit_steps": self.fit.sweeps, "timings": self.timings,
                 "Q": self.losses, "max_rel_error_Q": self.max_rel_error_Q if lossy else None,
                 "max_rel_error_pole": self.max_rel_error_pole, "max_abs_error_response": self.response_error,
                 "segments": self.segments} | ({} if self.theory.method != "circuit" else {"theory": "circuit"})
 
+    def _rows(self) -> list[tuple[str, object]]:
+        lossy = f", losses Q = {self.losses:g}" if self.losses is not None else ""
+        rows: list[tuple[str, object]] = [
+            ("chain", f"{self.chain.name}, N = {self.chain.N}{lossy}"),
+            ("engine", f"{self.engine} {self.engine_version} AC, {self.points} frequencies up to "
+                       f"{self.omega_max:.4g}"),
+            ("modes seen", f"{int(self.seen.sum())} of {self.theory.N}"),
+            ("max rel. error of omega_n", self.max_rel_error_omega),
+            ("max abs. error of P_n", self.max_abs_error_P)]
+        if self.lossy:
+            rows.append(("max rel. error of Q_n", self.max_rel_error_Q))
+        return rows
+
+    def __repr__(self) -> str:
+        """A few lines (the per-mode arrays: ``omega``, ``P`` ...; all of it: :meth:`to_dict`)."""
+        return short_repr("SpectrumReport", self._rows())
+
+    def _repr_html_(self) -> str:
+        return html_table("SpectrumReport", self._rows())
+
+    def plot(self) -> Any:
+        """|P_n| against omega_n, the circuit's over theory, with the spacing below (``lcchain spectrum --plot``).
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+            Never shown; save it with ``fig.savefig(...)``.  matplotlib is imported here, not by
+            ``import lcchain``.
+        """
+        return plot("spectrum", self)
 
 def _pole(omega: np.ndarray, gamma: np.ndarray) -> np.ndarray:
     """-gamma/2 + j sqrt(omega^2 - gamma^2/4): the upper pole, the faster one of an overdamped mode (-gamma for a
@@ -303,11 +355,46 @@ def measure_spectrum(chain: Chain, *, Q: float | None = None, points: int | None
     if not isinstance(effects, tuple):
         raise ParameterError("effects", effects, "a tuple of lcchain effects")
     effects = effects + (() if Q is None else (_losses(Q),))
+    request = Request(chain, AC(points), effects=effects, L0=L0, C0=C0, timeout=timeout, engine=engine)
     try:
-        plan = plan_request(Request(chain, AC(points), effects=effects, L0=L0, C0=C0, timeout=timeout,
-                                    engine=engine), budget)
+        return spectrum(request, simulator=simulator, budget=budget, progress=progress)
     except ParameterError as error:  # the AC fit's range of Q for this chain, under the argument's name
         raise (error.renamed("Q") if error.field == "effects.losses.Q" else error) from None
+
+
+def spectrum(request: Request, *, simulator: Simulator | None = None, budget: Budget | None = None,
+             progress: Callable[[float], None] | None = None) -> SpectrumReport:
+    """Run a request's AC analysis and set the ladder's modes beside theory: ``lcchain.spectrum``.
+
+    ``lcchain.simulate`` runs transients and refuses an AC request, pointing here: the two return different
+    reports (a :class:`~lcchain.runs.simulate.SimulationReport` of waveforms; a :class:`SpectrumReport` of modes,
+    one entry per theoretical mode).
+
+    Parameters
+    ----------
+    request : Request
+        With ``analysis=AC(points)``; its chain, effects (losses: :class:`~lcchain.circuit.effects.Losses`),
+        L0, C0 (H, F), engine and timeout (s) are the run's, as :func:`measure_spectrum`'s arguments are.
+    simulator, budget, progress
+        As :func:`measure_spectrum`.
+
+    Returns
+    -------
+    SpectrumReport
+
+    Examples
+    --------
+    >>> report = lcchain.spectrum(lcchain.Request(lcchain.chain_for_case("two-mass", 20), lcchain.AC()))
+    >>> report.omega.shape == report.omega_theory.shape == (20,)   # doctest: +SKIP
+    """
+    instance("request", request, Request)
+    if not isinstance(request.analysis, AC):
+        raise ParameterError("analysis", type(request.analysis).__name__,
+                             "AC(...) for lcchain.spectrum (a Transient: lcchain.simulate(request))")
+    losses = request.effect(Losses)
+    Q = None if losses is None else float(losses.Q)  # type: ignore[attr-defined]
+    chain = request.chain
+    plan = plan_request(request, budget)
     spec = plan.specs[0]
     record = execute(spec, simulator, progress=progress)
     if not record.ok or record.spectrum is None or record.ac is None:

@@ -7,6 +7,7 @@ value and what is allowed, prefixed by the file.  The loader does no physics.
 
 from __future__ import annotations
 
+import copy
 import os
 import re
 import tomllib
@@ -14,10 +15,10 @@ from collections.abc import Mapping, Sequence
 from dataclasses import MISSING
 from typing import Any
 
-from ..circuit.effects import EFFECTS, effect_fields
-from ..core.checks import choice
+from ..circuit.effects import E_SERIES, EFFECTS, effect_fields
+from ..core.checks import choice, integer, real
 from ..core.errors import ParameterError
-from ..core.limits import MAX_CIRCUIT_N, MAX_SCENE_BYTES, MIN_N
+from ..core.limits import MAX_CIRCUIT_N, MAX_SAMPLES, MAX_SCENE_BYTES, MIN_N
 from ..core.types import CASES
 from ..spice.inputs import read_input
 from .schema import (
@@ -40,7 +41,7 @@ from .schema import (
     effect_keys,
 )
 
-__all__ = ["load_scene", "parse_scene"]
+__all__ = ["load_scene", "parse_scene", "override_parts"]
 
 
 def load_scene(path: str | os.PathLike) -> Scene:
@@ -185,3 +186,42 @@ def _parse(data: Mapping, source: str | None) -> Scene:
         output=output,
         source=source,
     )
+
+
+def override_parts(data: Mapping[str, Any], *, tolerance: Mapping[str, float] | None = None,
+                   series: str | None = None, samples: int | None = None, seed: int | None = None) -> dict[str, Any]:
+    """A scene's tables with its real parts set from the command line, for a Monte Carlo without editing the file.
+
+    Each value is checked under the option that gave it (``--tolerance L = 1.5 is not allowed: ...``) before
+    the scene is; the scene's other keys stay.
+
+    Parameters
+    ----------
+    data : Mapping
+        The scene's tables (:meth:`Scene.to_dict`).
+    tolerance : mapping, optional
+        ``{"L": tol_L, "C": tol_C}`` (either or both), relative, 0 <= tol < 1: ``effects.tolerance.L``/``.C``.
+    series : str, optional
+        An IEC 60063 series (``"E12"``, ``"E24"``, ``"E96"``): ``effects.preferred_values.series``.
+    samples : int, optional
+        Tolerance samples, 1 .. :data:`~lcchain.core.limits.MAX_SAMPLES`: ``effects.tolerance.samples``.
+    seed : int, optional
+        The tolerance draw's seed, >= 0: ``effects.tolerance.seed``.
+    """
+    out = copy.deepcopy(dict(data))
+    effects = out.setdefault("effects", {})
+    drawn: dict[str, Any] = {}
+    for name, value in (tolerance or {}).items():
+        if name not in ("L", "C"):
+            raise ParameterError("--tolerance", f"{name}={value}", "L=TOL, C=TOL or one TOL for both")
+        drawn[name] = real(f"--tolerance {name}", value, at_least=0.0, below=1.0,
+                           allowed=f"a relative tolerance, 0 <= {name} < 1")
+    if samples is not None:
+        drawn["samples"] = integer("--samples", samples, at_least=1, at_most=MAX_SAMPLES)
+    if seed is not None:
+        drawn["seed"] = integer("--seed", seed, at_least=0)
+    if drawn:
+        effects.setdefault("tolerance", {}).update(drawn)
+    if series is not None:
+        effects.setdefault("preferred_values", {})["series"] = choice("--series", series, tuple(E_SERIES))
+    return out

@@ -27,6 +27,7 @@ from ..core.blas import fixed_blas_threads
 from ..core.budget import Budget
 from ..core.checks import callback, instance
 from ..core.errors import ParameterError
+from ..core.show import html_table, plot, short_repr
 from ..runs.execute import RunRecord, execute, loop_theory, pulse_centre
 from ..runs.extrapolated import combined_record
 from ..runs.spec import RunSpec, Theory
@@ -169,6 +170,42 @@ class SceneResult:
         """The samples that ran."""
         return [s for s in self.samples if s.ok]
 
+    def _rows(self) -> list[tuple[str, object]]:
+        r: dict[str, Any] = dict(self.report)
+        failed = len(self.samples) - len(self.good())
+        rows: list[tuple[str, object]] = [
+            ("scene", self.scene.title), ("chain", f"{self.scene.chain.case}, N = {r.get('N')}"),
+            ("engine", f"{r.get('engine')} {r.get('engine_version')}, {r.get('analysis', 'transient')}"),
+            ("samples", f"{len(self.samples)}" + (f", {failed} failed" if failed else ""))]
+        for key, name in (("max_abs_error", "max |simulation - theory|"), ("predicted_error", "predicted error"),
+                          ("max_rel_error_omega", "max rel. error of omega_n"),
+                          ("max_abs_error_P", "max abs. error of P_n"), ("accuracy_met", "accuracy met")):
+            if r.get(key) is not None:
+                rows.append((name, r[key]))
+        return rows
+
+    def __repr__(self) -> str:
+        """A few lines (every sample's record: ``report``)."""
+        return short_repr("SceneResult", self._rows())
+
+    def _repr_html_(self) -> str:
+        return html_table("SceneResult", self._rows())
+
+    def plot(self, ax: Any = None) -> Any:
+        """The first good sample's figure: a transient's end signals over theory (residual below), or an AC
+        analysis's |P_n| against omega_n over theory.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+            Never shown.  matplotlib is imported here, not by ``import lcchain``.
+
+        Raises
+        ------
+        SimulationError
+            No sample ran.
+        """
+        return plot("scene", self, ax=ax)
 
 def _failed_record(index: int, chain: Chain, run: RunRecord) -> SampleRecord:
     error = run.reason + (f"\n{run.engine} said:\n{run.log_tail}" if run.log_tail else "")

@@ -26,6 +26,9 @@ from .simulator import (
 
 __all__ = ["Check", "doctor"]
 
+#: The shared library alone, for a machine whose ngspice executable was found.
+LIBRARY_INSTALL_COMMAND = "sudo apt-get install libngspice0"
+
 
 @dataclass(frozen=True)
 class Check:
@@ -130,16 +133,19 @@ def doctor() -> list[Check]:
                         "bubblewrap: read-only file system, private /tmp, no network" if sandbox.available else
                         f"{sandbox.why_not}; lcchain batch runs foreign netlists without it (allow-list only)",
                         "" if sandbox.available else "sudo apt-get install bubblewrap", required=False))
-    have_lib = attempt("ngspice shared library", f"install the library: {INSTALL_COMMAND}", find_shared_library,
+    library_fix = LIBRARY_INSTALL_COMMAND if have_exe else INSTALL_COMMAND  # not the ngspice just found
+    have_lib = attempt("ngspice shared library", f"install the library: {library_fix}", find_shared_library,
                        required=False)
     have_pyspice = attempt("PySpice", PYSPICE_INSTALL_COMMAND + " (only the shared backend needs it)",
                            _pyspice_version, required=False)
     if have_lib and have_pyspice:
         attempt("shared run", "see the error; try `python -m lcchain.spice.shared_worker` by hand",
                 lambda: _doctor_run(locate("shared")), required=False)
-    else:
-        checks.append(Check("shared run", False, "skipped: shared library or PySpice missing",
-                            f"{INSTALL_COMMAND}; {PYSPICE_INSTALL_COMMAND}", required=False))
+    else:  # the fix names only what is missing: never a library that was just found
+        missing = [(what, fix) for what, have, fix in (("shared library", have_lib, library_fix),
+                                                        ("PySpice", have_pyspice, PYSPICE_INSTALL_COMMAND)) if not have]
+        checks.append(Check("shared run", False, f"skipped: {' and '.join(what for what, _ in missing)} missing",
+                            "; ".join(fix for _, fix in missing), required=False))
     for name, engine in ENGINES.items():
         attempt(f"engine {name}", f"install it: {engine.install}", functools.partial(_engine_run, name),
                 required=name == DEFAULT_ENGINE)

@@ -23,8 +23,7 @@ from __future__ import annotations
 import re
 from typing import Any
 
-from ..core.errors import ParameterError, SimulatorMissingError
-from .simulator import PYSPICE_INSTALL_COMMAND
+from ..core.errors import ExtraMissingError, ParameterError
 from .text import netlist_lines
 
 __all__ = ["circuit_from_netlist"]
@@ -50,7 +49,7 @@ def circuit_from_netlist(text: str) -> Any:
 
     Raises
     ------
-    SimulatorMissingError
+    ExtraMissingError
         PySpice is not installed.
     ParameterError
         A line that is none of lcchain's elements.
@@ -58,7 +57,7 @@ def circuit_from_netlist(text: str) -> Any:
     try:
         from PySpice.Spice.Netlist import Circuit
     except ImportError:
-        raise SimulatorMissingError(f"PySpice is not installed; install it with: {PYSPICE_INSTALL_COMMAND}") from None
+        raise ExtraMissingError("PySpice", "shared", "the shared backend") from None
     lines = netlist_lines(text)
     circuit = Circuit(lines[0] or "lcchain")
 

@@ -19,7 +19,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from ..core.checks import choice
-from ..core.errors import ParameterError, SimulatorMissingError
+from ..core.errors import ExtraMissingError, ParameterError, SimulatorMissingError
 from ..core.types import BACKENDS, TRANSPORTS, Backend, Transport
 from .log import useful_output
 from .processes import call_shared_worker, decode_worker_payload
@@ -162,11 +162,9 @@ def child_launcher() -> tuple[str, ...]:
 
 
 def require_pyspice() -> None:
-    """Raise :class:`SimulatorMissingError` unless PySpice is installed (without importing it)."""
+    """Raise :class:`~lcchain.core.errors.ExtraMissingError` unless PySpice is installed (without importing it)."""
     if importlib.util.find_spec("PySpice") is None:
-        raise SimulatorMissingError(
-            f"the shared backend needs PySpice, which is not installed; install it with: {PYSPICE_INSTALL_COMMAND} "
-            "(or use --backend batch)")
+        raise ExtraMissingError("PySpice", "shared", "the shared backend")
 
 
 def find_simulator(backend: Backend = "batch") -> Simulator:

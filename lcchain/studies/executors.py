@@ -60,7 +60,7 @@ from ..core.budget import (
     POOL_TRACKER_BYTES,
     POOL_WORKER_BYTES,
 )
-from ..core.errors import LcchainError, ParameterError, SimulatorMissingError
+from ..core.errors import ExtraMissingError, LcchainError, ParameterError, SimulatorMissingError
 from ..core.types import EXECUTORS, TRANSPORT_CHOICES, ExecutorName, TransportChoice
 from ..runs.execute import RunRecord, execute
 from ..runs.spec import RunSpec
@@ -362,8 +362,7 @@ def _dask(workers: int, scheduler: str | None, verbose: bool, scratch: str | Non
         import dask
         from distributed import Client, LocalCluster
     except ImportError:
-        raise SimulatorMissingError("the dask executor needs Dask, which is not installed; install it with: "
-                                    "pip install 'lcchain[dask]'") from None
+        raise ExtraMissingError("dask", "dask", "the dask executor") from None
     from .pools import interrupts_held
 
     quiet = logging.INFO if verbose else logging.CRITICAL

@@ -47,7 +47,7 @@ from ..core.budget import (
 from ..core.checks import instance, integer, real
 from ..core.errors import ParameterError
 from ..core.frozen import FrozenMap
-from ..core.limits import MAX_CIRCUIT_N, MAX_DESIGN_N, MAX_DT, MAX_SAMPLES, MAX_TRANSITS, MIN_N
+from ..core.limits import MAX_CIRCUIT_N, MAX_DESIGN_N, MAX_DT, MAX_TRANSITS, MIN_N
 from ..core.types import DEFAULT_C0, DEFAULT_L0, Backend, Excitation
 from ..runs.spec import DEFAULT_TIMEOUT, RunSpec, SpectrumTheory, Theory
 from ..spice.engines import DEFAULT_ENGINE, ENGINES, find_engine
@@ -537,26 +537,23 @@ def _set_one(data: dict[str, Any], dotted: str, value: Any) -> None:
 
 
 def scene_sweep_plan(path: str | Path, varies: Sequence[tuple[str, list[Any]]], *, samples: int | None = None,
-                     seed: int | None = None, budget: Budget | None = None,
+                     seed: int | None = None, tolerance: Mapping[str, float] | None = None,
+                     series: str | None = None, budget: Budget | None = None,
                      progress: Callable[[int, int, str], None] | None = None, workers: int = 1) -> Plan:
     """A scene with dotted keys varied (the product of their values); each tolerance sample is a task.
 
+    ``samples``, ``seed``, ``tolerance`` and ``series`` set the scene's real parts as ``--samples``,
+    ``--seed``, ``--tolerance`` and ``--series`` do (:func:`lcchain.scenes.load.override_parts`).
     Priced from its axes first (:func:`_price_scenes`), before any scene is planned."""
-    from ..scenes.load import load_scene, parse_scene
+    from ..scenes.load import load_scene, override_parts, parse_scene
     from ..scenes.plan import scene_plan, scene_specs
 
-    if samples is not None:  # named as typed, and before the price (1e20 samples were priced as a study first)
-        integer("--samples", samples, at_least=1, at_most=MAX_SAMPLES)
-    if seed is not None:
-        integer("--seed", seed, at_least=0)
+    # named as typed, and before the price (1e20 samples were priced as a study first)
+    parts = override_parts({}, samples=samples, seed=seed, tolerance=tolerance, series=series)
     scene = load_scene(path)
     base = scene.to_dict()
-    if samples is not None or seed is not None:
-        tolerance = base.setdefault("effects", {}).setdefault("tolerance", {})
-        if samples is not None:
-            tolerance["samples"] = samples
-        if seed is not None:
-            tolerance["seed"] = seed
+    if parts["effects"]:
+        base = override_parts(base, samples=samples, seed=seed, tolerance=tolerance, series=series)
     keys = [key for key, _ in varies]
     varied_keys = {part for key in keys for part in key.split("+")}
     for key, other in (("analysis.dt", "accuracy"), ("analysis.accuracy", "dt")):
@@ -587,7 +584,8 @@ def scene_sweep_plan(path: str | Path, varies: Sequence[tuple[str, list[Any]]], 
             _add_runs(tasks, combinations, task_params, specs[k * plan.runs:(k + 1) * plan.runs], plan.steps,
                       plan.predicted_error)
     description = {"command": "sweep", "scene": str(path), "scene_data": base, "vary": dict(varies),
-                   "samples": samples, "seed": seed}
+                   "samples": samples, "seed": seed} | ({} if tolerance is None else {"tolerance": dict(tolerance)}) \
+        | ({} if series is None else {"series": series})
     axes = tuple(keys) + (("sample",) if any("sample" in t.params for t in tasks) else ())
     engines = sorted({task.spec.engine for task in tasks}) or [scene.analysis.engine]
     if len(engines) > 1:

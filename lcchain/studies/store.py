@@ -79,7 +79,7 @@ from typing import Any, Literal
 import numpy as np
 
 from ..core import __version__
-from ..core.errors import LcchainError, ParameterError, SimulatorMissingError
+from ..core.errors import ExtraMissingError, LcchainError, ParameterError
 from ..core.types import RUN_STATUSES
 from ..runs.execute import RunRecord, waveform_digest
 from ..spice.engines import DEFAULT_ENGINE
@@ -397,8 +397,7 @@ def _optional(module: str) -> Any:
     try:
         return importlib.import_module(module)
     except ImportError:
-        raise SimulatorMissingError(f"this needs {module}, which is not installed; install it with: "
-                                    "pip install 'lcchain[data]'") from None
+        raise ExtraMissingError(module, "data", "a study's results as a table (pandas, xarray)") from None
 
 
 def _arrays(record: RunRecord) -> bytes | None:

@@ -1,0 +1,60 @@
+"""How a result shows itself in a terminal and in a notebook: a few lines, or a small escaped HTML table.
+
+A report holds arrays of thousands of points; its dataclass repr ran to 169,415 characters.  A result's
+``__repr__`` and ``_repr_html_`` show the same few rows instead (what ran, its size, its errors and what was
+predicted), made here once so that every result reads alike.
+"""
+
+from __future__ import annotations
+
+import html
+from collections.abc import Callable, Sequence
+from typing import Any
+
+from .errors import ParameterError
+from .registry import Registry
+
+__all__ = ["short_repr", "html_table", "PLOTS", "plot"]
+
+Row = tuple[str, object]
+
+
+def _text(value: object) -> str:
+    if isinstance(value, float):
+        return f"{value:.4g}"
+    return str(value)
+
+
+def short_repr(title: str, rows: Sequence[Row]) -> str:
+    """``title`` then one ``name: value`` line per row (floats to four digits)."""
+    return "\n".join([title, *(f"  {name}: {_text(value)}" for name, value in rows)])
+
+
+def html_table(title: str, rows: Sequence[Row]) -> str:
+    """The same rows as a small HTML table, every text escaped (a chain's name or a scene's title is the
+    user's)."""
+    body = "".join(f"<tr><th style=\"text-align:left\">{html.escape(name)}</th>"
+                   f"<td style=\"text-align:left\">{html.escape(_text(value))}</td></tr>" for name, value in rows)
+    return f"<table><caption>{html.escape(title)}</caption>{body}</table>"
+
+
+def _figure_function(name: str, loaded: object) -> Callable[..., Any]:
+    if not callable(loaded):
+        raise TypeError(f"{name} is not callable")
+    return loaded
+
+
+#: What draws each kind of result: ``(result, ax=None) -> matplotlib Figure``, read from the ``lcchain.plots``
+#: entry points on first use (lcchain's own name :mod:`lcchain.report.shown`'s functions), as pandas finds its
+#: plotting backend: a result never imports ``report`` (matplotlib is its alone), and another package may draw.
+PLOTS: Registry[Callable[..., Any]] = Registry("lcchain.plots", {}, _figure_function,
+                                              "a function (result, ax=None) -> matplotlib Figure")
+
+
+def plot(kind: str, result: object, ax: Any = None) -> Any:
+    """The figure of ``result`` by the registered drawing of its ``kind`` (``"simulation"``, ``"spectrum"``,
+    ``"scene"``)."""
+    if kind not in PLOTS:
+        raise ParameterError("plot", kind, f"a kind of result with a registered drawing ({', '.join(PLOTS)}; "
+                             "lcchain's own come with its installed entry points: pip install lcchain)")
+    return PLOTS[kind](result, ax=ax)

@@ -1,0 +1,59 @@
+"""A result's own figure, for ``result.plot()`` in a notebook: the registry ``lcchain.plots`` points here.
+
+A :class:`~lcchain.runs.simulate.SimulationReport`, a :class:`~lcchain.runs.spectrum.SpectrumReport` and a
+:class:`~lcchain.scenes.run.SceneResult` are data: they live below ``report/`` and never import it (matplotlib is
+``report``'s alone).  Their ``plot()`` looks its drawing up by name in :data:`lcchain.core.show.PLOTS`, which
+reads the ``lcchain.plots`` entry points (lcchain's own, in its ``pyproject.toml``, name these functions), as
+pandas' ``DataFrame.plot`` finds its plotting backend: another package may draw them its own way.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from . import plots
+
+__all__ = ["simulation_figure", "spectrum_figure", "scene_figure"]
+
+
+def simulation_figure(report: Any, ax: Any = None) -> Any:
+    """A :class:`~lcchain.runs.simulate.SimulationReport`'s end currents (or charges) over theory, the residual
+    below (``lcchain simulate --plot``); with ``ax``, the far end's overlay in it alone.  (Results are typed Any
+    here: report renders them and never imports what runs a simulator.)"""
+    w, c = report.waveforms, report.comparison
+    return plots.overlay(
+        w.t, w.last, w.t, c.theory_last, residual=None if ax is not None else w.last - c.theory_last,
+        first_sim=w.first, first_theory=c.theory_first, arrivals=[a.to_dict() for a in c.arrivals],
+        title=f"{report.chain.name} chain, N = {report.chain.N}, dt = {report.options.dt:.4g}, {report.excitation}",
+        ylabel=r"$I_1,\ I_N\;/\;I_1(0)$" if report.excitation == "kick" else r"$Q_1,\ Q_N\;/\;Q_1(0)$", ax=ax)
+
+
+def spectrum_figure(report: Any, ax: Any = None) -> Any:
+    """A :class:`~lcchain.runs.spectrum.SpectrumReport`'s |P_n| against omega_n, the circuit's over theory, the
+    spacing below (``lcchain spectrum --plot``)."""
+    del ax  # two panels of their own
+    return plots.spectrum(report.omega_theory, report.P_theory, report.omega, report.P,
+                          title=f"{report.chain.name} chain, N = {report.chain.N}: {report.engine} AC against theory")
+
+
+def scene_figure(result: Any, ax: Any = None) -> Any:
+    """A :class:`~lcchain.scenes.run.SceneResult`'s first good sample's figure: a transient's end signals over
+    theory (residual below), or an AC analysis's |P_n| against omega_n over theory."""
+    from ..core.errors import SimulationError
+
+    good = result.good()
+    if not good:
+        raise SimulationError(f"{result.scene.title}: no sample ran, so there is nothing to plot")
+    s = good[0]
+    title = f"{result.scene.title}, N = {s.chain.N}"
+    if s.run.spectrum is not None:
+        spectrum = s.run.spectrum
+        return plots.spectrum(spectrum.omega_theory, spectrum.P_theory, spectrum.omega, spectrum.P, title=title)
+    signals = s.run.signals
+    assert signals is not None  # a sample that ran has one or the other
+    displaced = result.scene.excitation.kind == "displacement"
+    return plots.overlay(signals.t, signals.sim[-1], signals.t, signals.theory[-1],
+                         residual=None if ax is not None else signals.sim[-1] - signals.theory[-1],
+                         first_sim=signals.sim[0], first_theory=signals.theory[0], arrivals=s.record["arrivals"],
+                         title=title, ylabel=r"$Q_1,\ Q_N\;/\;Q_1(0)$" if displaced else r"$I_1,\ I_N\;/\;I_0$",
+                         ax=ax)
