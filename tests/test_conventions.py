@@ -1,5 +1,5 @@
 """Conventions a user expects of a command line (issue 33): ``-`` is stdout, a missing optional extra has an
-exit status of its own (4, not ngspice's 3), and ``lcchain doctor`` never asks to install what it found."""
+the usage status (2, naming the extra; not ngspice's 3), and ``lcchain doctor`` never asks to install what it found."""
 
 import json
 import pickle
@@ -60,7 +60,7 @@ def test_dash_is_refused_where_stdout_is_taken_or_no_text(capsys, tmp_path, monk
 def test_a_missing_extra_exits_4_naming_its_pip_command(tmp_path):
     proc = _without(["dask", "distributed"], ["sweep", "--case", "two-mass", "--N", "5", "--dt", "0.1",
                                               "--store", "s.sqlite", "--executor", "dask"], tmp_path)
-    assert proc.returncode == 4, proc.stderr
+    assert proc.returncode == 2, proc.stderr
     assert proc.stderr.count("\n") == 1 and "pip install 'lcchain[dask]'" in proc.stderr
     assert list(tmp_path.iterdir()) == []
 

@@ -48,7 +48,7 @@ __all__ = ["EXIT_OK", "EXIT_FAILED", "EXIT_USAGE", "EXIT_MISSING", "EXIT_SIGPIPE
 
 EXIT_OK, EXIT_FAILED, EXIT_USAGE, EXIT_MISSING = 0, 1, 2, 3
 #: A missing optional extra (pandas, xarray, Dask, PySpice): ``pip install 'lcchain[EXTRA]'`` fixes it.
-EXIT_EXTRA = 4
+EXIT_EXTRA = 2  # a missing optional extra is an input the machine lacks: the usage status, naming the extra
 #: The file name of every option that writes one text (``-o``, ``--netlist-out``, ``--waveform-out``) that
 #: means standard output, as ``-`` does for most Unix tools.
 STDOUT = "-"

@@ -98,7 +98,8 @@ class SimulatorMissingError(LcchainError):
 
 
 class ExtraMissingError(LcchainError):
-    """An optional extra of lcchain is not installed (pandas, xarray, Dask, PySpice): exit status 4, not 3.
+    """An optional extra of lcchain is not installed (pandas, xarray, Dask, PySpice): exit status 2 naming the
+    extra, not 3 (the simulator).
 
     Parameters
     ----------
