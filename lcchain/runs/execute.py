@@ -315,8 +315,8 @@ def metrics_of(theory: Theory, signals: Signals, *, split: bool = True, modes: M
     with ``split``, the error split of :func:`lcchain.compare.accuracy.split_error`).
 
     With the circuit's own theory (``theory.circuit``): the errors are against it, the prediction from its own
-    modes, and :attr:`Metrics.effects` what its effects cost the pulse against the ideal chain (no error split:
-    it models the chain's modes).
+    modes, and :attr:`lcchain.compare.metrics.Metrics.effects` what its effects cost the pulse against the
+    ideal chain (no error split: it models the chain's modes).
 
     ``ends``: the theory of loops 1 and N already prepared (:func:`_response`), else prepared here."""
     from ..compare.accuracy import split_error

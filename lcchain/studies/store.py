@@ -208,7 +208,7 @@ class StoredRun:
 
     @property
     def spectral(self) -> bool:
-        """An AC run compared with its theory (its metrics are :data:`SPECTRAL_METRICS`)."""
+        """An AC run compared with its theory (its metrics are :data:`lcchain.compare.spectral.SPECTRAL_METRICS`)."""
         return self.metrics is not None and self.metrics.get("analysis") == "ac"
 
     @property
