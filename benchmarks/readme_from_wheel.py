@@ -1,9 +1,11 @@
-"""Every ``lcchain`` command of the README, run as written from a wheel in a fresh virtual environment.
+"""Every ``lcchain`` command of the README and the documentation's pages, run as written from a wheel in a fresh
+virtual environment.
 
 Builds the wheel (``python -m build``), makes a new virtual environment, installs the wheel with the
 ``data`` extra from the package registry (the newest versions it serves), and runs each command line of
-the README's shell blocks that starts with ``lcchain`` in one empty folder, in the README's order (so a
-scene written by ``lcchain examples`` is there for the ``lcchain run`` that follows).  Lines holding ``...``
+the shell blocks of the README and of the site's pages (``PAGES``) that starts with ``lcchain`` in one empty
+folder, in the pages' order (so a scene written by ``lcchain examples`` is there for the ``lcchain run`` that
+follows).  Lines holding ``...``
 (a placeholder for options) are listed as skipped.  Prints a markdown table: the command, its exit status
 and its wall time.
 
@@ -24,12 +26,15 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
+#: The README and the documentation's pages, in the site's order (a scene is written before it is run).
+PAGES = ["README.md", "docs/getting-started.md", "docs/physics.md"] + [f"docs/guide/{name}.md" for name in (
+    "simulate", "spectrum", "scenes", "studies", "batch", "report", "requirements")]
 
 
 def readme_commands(text: str) -> list[str]:
     """The README's ``lcchain`` command lines (continuations joined, comments cut), in order."""
     commands = []
-    for block in re.findall(r"```sh\n(.*?)```", text, flags=re.S):
+    for block in re.findall(r"```(?:sh|console)\n(.*?)```", text, flags=re.S):
         lines = block.replace("\\\n", " ").splitlines()
         for line in lines:
             line = re.sub(r"\s+#.*$", "", line).strip().removeprefix("$ ")  # "$ lcchain ...": a shown session
@@ -57,7 +62,7 @@ def main() -> int:
     print(f"Wheel {wheel.name} in a fresh virtual environment; commands run in an empty folder, in order.\n")
     print("| command | exit | seconds |\n|---|---:|---:|")
     failed = 0
-    for command in readme_commands((ROOT / "README.md").read_text()):
+    for command in [c for page in PAGES for c in readme_commands((ROOT / page).read_text())]:
         if args.only and not re.search(args.only, command):
             continue
         if "..." in command:

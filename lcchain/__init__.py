@@ -1,7 +1,7 @@
 """lcchain: quasi-uniform spring-mass chains (a Newton's cradle of springs)
 and their LC-ladder equivalent, simulated in ngspice.
 
-The package's folders follow the data's path (see README, "Layout")::
+The package's folders follow the data's path (see docs/layout.md)::
 
     core -> theory -> circuit -> spice -> compare -> runs -> scenes -> studies -> report -> cli
 

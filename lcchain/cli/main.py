@@ -269,11 +269,12 @@ def build_parser() -> argparse.ArgumentParser:
                         "5th percentile, median, best); with --json or --csv in that form")
     p.add_argument("--plot", metavar="FILE",
                    help="figure: Fig. delta for a sweep over N, histograms of the samples (one per combination)")
-    p.add_argument("--metric", choices=STUDY_METRICS, default="peak",
+    p.add_argument("--metric", default="peak", metavar="{" + ",".join(STUDY_METRICS) + "} or NAME",
                    help="what --summary and the samples' --plot show: the first arrival's peak I_N/I_1(0) "
                         "(default); after a kick the energy fraction at that peak, peak^2 L_N/L_1, or the energy "
                         "lost, 1 - that (drawn on a log scale); of an AC analysis: omega (max relative error of "
-                        "omega_n), P (max absolute error of P_n), spacing ((max - min) / mean of delta omega_n)")
+                        "omega_n), P (max absolute error of P_n), spacing ((max - min) / mean of delta omega_n); "
+                        "of a batch of netlists, the NAME of one of their .meas cards (--summary only)")
     p.add_argument("--netcdf", metavar="FILE.nc", help="write the study as a netCDF file: the study's axes as "
                    "dimensions, the metrics as variables (needs lcchain[data])")
     p.add_argument("--parquet", metavar="FILE.parquet", help="write one row per run, the axes as columns "

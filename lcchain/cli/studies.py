@@ -24,6 +24,7 @@ from ..core.types import (
     EXCITATIONS,
     EXECUTORS,
     NAMED_CASES,
+    STUDY_METRICS,
     TRANSPORT_CHOICES,
 )
 from ..report.files import FIGURE_FORMATS
@@ -367,6 +368,9 @@ def cmd_batch(args: argparse.Namespace) -> int:
 
 
 def _flat(run: dict[str, Any]) -> dict[str, Any]:
+    from ..spice.measure import MEASUREMENTS
+    from ..studies.store import measurement_column
+
     row = {"index": run["index"], "kind": run["kind"], "status": run["status"], **run["params"],
            "digest": run["digest"], "max_abs_error": run.get("max_abs_error"), "wall_s": run["wall_s"]}
     if "max_rel_error_omega" in run:  # an AC run: its spectral metrics instead of a transient's
@@ -377,6 +381,8 @@ def _flat(run: dict[str, Any]) -> dict[str, Any]:
     arrivals = run.get("arrivals") or []
     if arrivals:
         row.update(t_sim=arrivals[0]["t_sim"], peak_sim=arrivals[0]["peak_sim"], peak_theory=arrivals[0]["peak_theory"])
+    for name, value in (run.get(MEASUREMENTS) or {}).items():
+        row[measurement_column(name, row)] = value
     if "error" in run:
         row["error"] = run["error"].splitlines()[0]
     return row
@@ -431,7 +437,9 @@ def _print_summary(stored: list[Any], args: argparse.Namespace) -> None:
     what = {"peak": "first-arrival peak (max I_N/I_1(0))", "energy": "first-arrival energy fraction (peak^2 L_N/L_1)",
             "loss": "first-arrival energy lost (1 - peak^2 L_N/L_1)",
             "omega": "AC: max |omega_n - theory| / theory (relative)", "P": "AC: max |P_n - theory| (absolute)",
-            "spacing": "AC: spacing spread (max - min) / mean of delta omega_n"}[args.metric]
+            "spacing": "AC: spacing spread (max - min) / mean of delta omega_n"}.get(
+                args.metric, f"the netlists' measurement {args.metric} (.meas; runs that could not measure it "
+                "left out)")
     by = f"by {', '.join(map(_short, keys))}" if keys else "over all its runs"
     shared = ", ".join(f"{_short(k)} = {_number(v)}" for k, v in study_constants(stored).items())
     print(f"{args.store}: {what} {by}" + (f" ({shared} throughout)" if shared else "") +
@@ -542,9 +550,11 @@ def _print_runs(store: Any, stored: list[Any], name: str) -> None:
           (f"; {len(combined)} extrapolated from them: {counted(combined)}" if combined else ""))
     axes = study_axes(stored)
     spectral = any(run.spectral for run in stored)
-    theory = not spectral and any(run.metrics is not None for run in stored)
+    theory = not spectral and any(run.judged for run in stored)
     columns = (["points", "modes seen", "omega error", "P error", "spacing"] if spectral
                else ["error", "predicted", "peak"] if theory else ["vectors", "points"])
+    measured = list(dict.fromkeys(name for run in stored for name in run.measurements))
+    columns += measured
     rows = []
     shortened = False
 
@@ -569,8 +579,12 @@ def _print_runs(store: Any, stored: list[Any], name: str) -> None:
         else:
             names = store.vector_names(run.key) if run.status == "ok" else None
             cells += [" ".join(names) if names else "", _number(run.points)]
+        cells += [_number(run.measurements.get(name), ".6g") if run.measurements.get(name) is not None
+                  else "-" if name in run.measurements else "" for name in measured]
+        missing = [f"{name}: {why}" for name, why in run.measure_reasons.items()]
+        reason = run.reason or "; ".join(missing)
         seconds = run.wall_s if run.kind != "combined" and run.status != "refused" else None  # nothing ran
-        cells += [_number(seconds, ".3f"), (run.reason.splitlines() or [""])[0][:70]]
+        cells += [_number(seconds, ".3f"), (reason.splitlines() or [""])[0][:70]]
         rows.append(cells)
     print(_table(["#", "status", *map(_short, axes), *columns, "time (s)", "reason"], rows))
     if shortened:
@@ -586,6 +600,9 @@ def _print_runs(store: Any, stored: list[Any], name: str) -> None:
     else:
         print("points: time points, or an .ac netlist's frequencies; time: the simulator's own wall time of each "
               "run")
+    if measured:
+        print(f"{', '.join(measured)}: the netlists' .meas results as ngspice printed them (SI units); -: ngspice "
+              "could not make it (the reason says why)")
 
 
 def _price_results(store: Any, args: argparse.Namespace) -> None:
@@ -606,6 +623,7 @@ def _price_results(store: Any, args: argparse.Namespace) -> None:
 
 
 def cmd_results(args: argparse.Namespace) -> int:
+    from ..spice.measure import valid_measure_name
     from ..studies.store import Store
 
     outputs = Outputs(inputs={"STORE": args.store})
@@ -614,6 +632,9 @@ def cmd_results(args: argparse.Namespace) -> int:
     outputs.check("--parquet", args.parquet, ("parquet",))
     if args.waveforms and not args.netcdf:
         raise ParameterError("--waveforms", True, "only with --netcdf FILE (the waveforms go into that file)")
+    if args.metric not in STUDY_METRICS and not valid_measure_name(args.metric):  # no store needed to see it
+        raise ParameterError("--metric", args.metric, f"one of {' | '.join(STUDY_METRICS)}, or the name of a "
+                             ".meas of the store's netlists")
     if args.parquet:
         _require("pyarrow", "--parquet")
     with Store(args.store, "read", option="STORE") as store:  # read-only: nothing is created or changed
@@ -621,6 +642,9 @@ def cmd_results(args: argparse.Namespace) -> int:
         stored = store.runs()
         if args.summary or args.plot:
             _check_metric(args.metric, stored)  # before any file is written
+        if args.plot and args.metric not in STUDY_METRICS:
+            raise ParameterError("--metric", args.metric, f"one of {', '.join(STUDY_METRICS)} with --plot (a "
+                                 "measurement's distribution is printed by --summary --metric NAME)")
         beside: list[str] = []  # scipy's netCDF3 has no groups: the waveforms' own files
         if args.netcdf:
             from ..studies.netcdf import cf_datasets

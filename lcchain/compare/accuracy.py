@@ -6,7 +6,7 @@ The ladder is linear, and on each normal mode (q'' = -omega^2 q) one
 trapezoidal step of length h is the Cayley map (1 - hA/2)^-1 (1 + hA/2): a
 rotation of the mode's phase plane by exactly 2 atan(omega h / 2), with no
 change of amplitude.  All modes keep their shapes, so the simulated end
-signals are the modal sums of :mod:`lcchain.modes` with the phases
+signals are the modal sums of :mod:`lcchain.theory.modes` with the phases
 
     phi_n(t_k) = sum_{i <= k} 2 atan(omega_n h_i / 2).
 

@@ -154,7 +154,7 @@ def overlay(t_sim, y_sim, t_theory, y_theory, *, residual=None, t_residual=None,
         One entry per arrival with keys ``index``, ``t_theory``, ``t_sim``,
         ``peak_theory``, ``peak_sim`` and optionally ``end`` (``"last"``, the
         default, or ``"first"``); objects with these attributes, such as
-        :class:`lcchain.compare.ArrivalComparison`, work too.  Each is marked
+        :class:`lcchain.compare.metrics.ArrivalComparison`, work too.  Each is marked
         by a dotted vertical line at the theoretical time and a note of the
         time and peak differences, simulation minus theory; its peaks are
         marked on its loop's curves (an arrival at loop 1 without loop 1's

@@ -36,9 +36,10 @@ from ..core.blas import fixed_blas_threads
 from ..core.budget import ac_run_estimate
 from ..core.checks import instance
 from ..core.errors import ParameterError, SimulationError, show_value
-from ..core.frozen import FrozenArrays
+from ..core.frozen import FrozenArrays, FrozenMap
 from ..core.types import GAUSSIAN_CENTRE, AnalysisKind, Probes, RunStatus
 from ..spice.engines import engine_named, find_engine, run_engine
+from ..spice.measure import Measurements, measurement_fields
 from ..spice.runner import RunResult
 from ..spice.simulator import Simulator
 from ..theory.modes import Modes
@@ -123,6 +124,12 @@ class RunRecord(FrozenArrays):
         return "ac" if self.ac is not None or self.spectrum is not None else "transient"
 
     @property
+    def measurements(self) -> Measurements:
+        """The netlist's ``.meas`` results by name: (value, "") or (None, ngspice's reason); empty without any."""
+        saved = self.result if self.result is not None else self.ac
+        return saved.measurements if saved is not None else FrozenMap()
+
+    @property
     def points(self) -> int | None:
         """Time points, or an AC run's frequencies (None without arrays)."""
         saved = self.result if self.result is not None else self.ac
@@ -154,6 +161,8 @@ class RunRecord(FrozenArrays):
         for metrics in (self.metrics, self.spectrum):
             if metrics is not None:
                 data.update(metrics.to_dict())
+        if self.measurements:
+            data.update(measurement_fields(self.measurements))
         return data
 
 
@@ -306,8 +315,8 @@ def metrics_of(theory: Theory, signals: Signals, *, split: bool = True, modes: M
     with ``split``, the error split of :func:`lcchain.compare.accuracy.split_error`).
 
     With the circuit's own theory (``theory.circuit``): the errors are against it, the prediction from its own
-    modes, and :attr:`Metrics.effects` what its effects cost the pulse against the ideal chain (no error split:
-    it models the chain's modes).
+    modes, and :attr:`lcchain.compare.metrics.Metrics.effects` what its effects cost the pulse against the
+    ideal chain (no error split: it models the chain's modes).
 
     ``ends``: the theory of loops 1 and N already prepared (:func:`_response`), else prepared here."""
     from ..compare.accuracy import split_error

@@ -4,7 +4,7 @@ A :class:`RunSpec` is frozen and picklable, and it is everything a run needs:
 the netlist text (already written: runs never edit it), the vectors to read,
 the stop time, the backend, a timeout, and optionally a :class:`Theory` (the
 exact linear response of the same circuit).  :func:`lcchain.runs.execute.execute`
-turns it into a :class:`~lcchain.runs.record.RunRecord`, in this process, in a
+turns it into a :class:`~lcchain.runs.execute.RunRecord`, in this process, in a
 pool worker or on a Dask worker alike.
 
 An AC run (``analysis="ac"``) has a :class:`SpectrumTheory` instead: the chain whose driven modes its fitted

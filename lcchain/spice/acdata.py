@@ -17,6 +17,7 @@ import numpy as np
 from ..core.errors import SimulationError
 from ..core.frozen import FrozenArrays, FrozenMap
 from .log import trim_log, useful_output
+from .measure import Measurements, measure_names, read_measurements
 from .simulator import Simulator
 
 __all__ = ["AcResult", "ac_result"]
@@ -40,6 +41,8 @@ class AcResult(FrozenArrays):
     log : str
     engine : str
         The engine's name (:data:`lcchain.spice.engines.ENGINES`).
+    measurements : Mapping[str, tuple[float | None, str]]
+        The netlist's ``.meas ac`` results by name: (value, "") or (None, ngspice's reason).
     """
 
     frequency: np.ndarray
@@ -49,6 +52,7 @@ class AcResult(FrozenArrays):
     wall_s: float
     log: str = field(repr=False)
     engine: str = "ngspice"
+    measurements: Measurements = field(default_factory=FrozenMap)
 
     @property
     def points(self) -> int:
@@ -112,4 +116,5 @@ def ac_result(netlist: str, columns: Mapping[str, np.ndarray], log: str, names: 
         found[name] = values
     frequency.flags.writeable = False
     return AcResult(frequency, FrozenMap(found), simulator.version,
-                    hashlib.sha256(netlist.encode("utf-8")).hexdigest(), wall_s, trim_log(log), engine)
+                    hashlib.sha256(netlist.encode("utf-8")).hexdigest(), wall_s, trim_log(log), engine,
+                    FrozenMap(read_measurements(log, measure_names(netlist))))

@@ -21,7 +21,13 @@ Allowed
   in :data:`_CHARACTERS` (no quotes, backslashes or control characters);
 * the dot-commands of :data:`DOT_COMMANDS`, the word matched whole:
   ``.tran``, ``.ac``, ``.options`` with the names of :data:`OPTIONS`,
-  ``.save``, ``.ic``, ``.param``, ``.end``, and ``.include``/``.inc``/``.lib``
+  ``.save``, ``.ic``, ``.end``;
+* ``.param name = value ...`` (and every word ngspice 39 reads as ``.param``: ``.params``, ``.PARAM_X``), its
+  values, and every ``{...}`` expression of any card, held to numbers, ``.param`` names, arithmetic and
+  ngspice's math functions (:mod:`lcchain.spice.expressions`), at most
+  :data:`lcchain.spice.expressions.MAX_PARAMS` names;
+* ``.meas``/``.measure`` of a ``tran`` or ``ac`` analysis, in the grammar of :mod:`lcchain.spice.measure`;
+* and ``.include``/``.inc``/``.lib``
   of a regular file inside the top netlist's folder (symbolic links resolved),
   which is parsed by the same rules and inlined in place (``.lib FILE
   SECTION`` inlines that section), at most :data:`MAX_INCLUDE_DEPTH` deep and
@@ -47,7 +53,7 @@ from __future__ import annotations
 import math
 import re
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import ClassVar
 
@@ -55,6 +61,8 @@ from ..core.budget import Estimate, show_bytes
 from ..core.errors import ParameterError
 from ..core.limits import MAX_AC_POINTS, MAX_NETLIST_BYTES
 from ..core.types import AC_SPACINGS, AcSpacing, AnalysisKind
+from .expressions import MAX_PARAMS, braced_expressions, check_expression, is_param_card, param_assignments
+from .measure import MEASURE_WORDS, check_measure, measure_names
 from .pricing import Contents, Price, read_contents, sweep_price, transient_price
 from .text import NEWLINE, canonical_text, spice_number
 
@@ -65,7 +73,8 @@ __all__ = ["ELEMENTS", "DOT_COMMANDS", "OPTIONS", "MAX_INCLUDE_DEPTH", "Transien
 #: independent voltage and current sources, and behavioural sources (lcchain's own gaussian pulses).
 ELEMENTS = frozenset("RLCKVIB")
 #: Dot-commands run as they are (the word matched whole, in any case); the includes are inlined.
-DOT_COMMANDS = frozenset({".tran", ".ac", ".options", ".option", ".opt", ".save", ".ic", ".param", ".end"})
+DOT_COMMANDS = frozenset({".tran", ".ac", ".options", ".option", ".opt", ".save", ".ic", ".param", ".end",
+                          *MEASURE_WORDS})
 _INCLUDES = frozenset({".include", ".inc", ".lib"})
 #: ``.options`` names a netlist may set: tolerances, integration and solver settings, nothing that names a
 #: file, changes the output format or loads code.
@@ -96,6 +105,43 @@ _Card = tuple[str, int, str, bool]
 
 def _refuse(card: _Card, why: str) -> ParameterError:
     return ParameterError(f"{card[0]}: line {card[1]}", card[2].strip()[:200], why + _OPT_OUT)
+
+
+@dataclass
+class _Names:
+    """What the expressions of a netlist and its includes define and use, checked when all of it is read (ngspice
+    reads every ``.param`` before it evaluates a value, so a name may be used before the card that defines it)."""
+
+    params: set[str] = field(default_factory=set)
+    uses: list[tuple[_Card, set[str]]] = field(default_factory=list)
+    measurements: set[str] = field(default_factory=set)
+
+
+def _where(card: _Card) -> str:
+    return f"{card[0]}: line {card[1]}"
+
+
+def _check_param(card: _Card, body: str, state: _Names) -> None:
+    for name, value in param_assignments(body, _where(card), card[2]):
+        state.params.add(name)
+        state.uses.append((card, check_expression(value, None, _where(card), card[2])))
+    if len(state.params) > MAX_PARAMS:
+        raise _refuse(card, f"at most {MAX_PARAMS} .param names in a netlist, its includes included")
+
+
+def _check_braces(card: _Card, body: str, state: _Names) -> None:
+    groups, rest = braced_expressions(body)
+    if "{" in rest.replace("{}", "") or "}" in rest.replace("{}", ""):
+        raise _refuse(card, "braces around one expression each, not nested or unmatched")
+    for group in groups:
+        state.uses.append((card, check_expression(group, None, _where(card), card[2])))
+
+
+def _check_names(state: _Names) -> None:
+    for card, used in state.uses:
+        unknown = sorted(used - state.params)
+        if unknown:
+            raise _refuse(card, f"expressions of names a .param defines (not {', '.join(unknown)})")
 
 
 def _cards(text: str, source: str, *, title: bool) -> tuple[str, list[_Card]]:
@@ -173,7 +219,8 @@ def _section(text: str, name: str, source: str) -> str:
 
 
 def allowed_netlist(text: str, source: str, folder: Path | None, read: Callable[[Path, str], str] | None = None,
-                    *, _depth: int = 0, _seen: tuple[Path, ...] = (), _left: list[int] | None = None) -> str:
+                    *, _depth: int = 0, _seen: tuple[Path, ...] = (), _left: list[int] | None = None,
+                    _state: _Names | None = None) -> str:
     """The netlist as ngspice will receive it, or a refusal of its first line lcchain does not run.
 
     Parameters
@@ -205,6 +252,7 @@ def allowed_netlist(text: str, source: str, folder: Path | None, read: Callable[
         folder = folder.resolve()
     text = canonical_text(text, source, title=_depth == 0)  # the one text checked here and run by every transport
     left = _left if _left is not None else [MAX_NETLIST_BYTES - len(text)]  # what all includes may add, in all
+    state = _state if _state is not None else _Names()
     head, cards = _cards(text, source, title=_depth == 0)
     out = [head] if _depth == 0 else []
     changed = _depth == 0 and not text.startswith(head)  # blank lines before the title are dropped
@@ -224,31 +272,44 @@ def allowed_netlist(text: str, source: str, folder: Path | None, read: Callable[
             continue
         word = body.split(None, 1)[0].lower()
         if word in _INCLUDES:  # the one card whose file name may be quoted
-            out.extend(_inline(card, body[len(word):], folder, read, _depth, _seen, left))
+            out.extend(_inline(card, body[len(word):], folder, read, _depth, _seen, left, state))
             changed = True
             continue
         if not _CHARACTERS.fullmatch(body):
             bad = next(ch for ch in body if not _CHARACTERS.fullmatch(ch))
             raise _refuse(card, f"a line without {bad!r}: {_ALLOWED}")
         if word[0] == ".":
+            if is_param_card(word):  # ngspice 39 reads .params, .PARAM_X as .param: checked as one
+                _check_param(card, body[len(word):], state)
+                out.append(body)
+                changed |= len(body) != len(line)
+                continue
             if word not in DOT_COMMANDS:
                 raise _refuse(card, _ALLOWED)
             if word in (".options", ".option", ".opt"):
                 _check_options(card, body[len(word):])
+            if word in MEASURE_WORDS:
+                state.uses.append((card, check_measure(body, state.measurements, _where(card), card[2])))
+            else:
+                _check_braces(card, body, state)
             if word == ".end" and _depth > 0:  # an included file's .end would end the top netlist
                 changed = True
                 continue
         elif word[0].upper() not in ELEMENTS:
             raise _refuse(card, _ALLOWED)
+        else:
+            _check_braces(card, body, state)
         changed |= len(body) != len(line)
         out.append(body)
+    if _depth == 0:
+        _check_names(state)
     if _depth == 0 and not changed:
         return text
     return "\n".join(out) + ("\n" if _depth == 0 else "")
 
 
 def _inline(card: _Card, argument: str, folder: Path | None, read: Callable[[Path, str], str] | None, depth: int,
-            seen: tuple[Path, ...], left: list[int]) -> list[str]:
+            seen: tuple[Path, ...], left: list[int], state: _Names) -> list[str]:
     name, section = _included(card, argument)
     if folder is None or read is None:
         raise _refuse(card, "a netlist without includes (this netlist has no folder of its own)")
@@ -266,7 +327,8 @@ def _inline(card: _Card, argument: str, folder: Path | None, read: Callable[[Pat
         raise _refuse(card, f"includes of at most {show_bytes(MAX_NETLIST_BYTES)} in all, the netlist included")
     if section is not None:
         included = _section(included, section, str(path))
-    body = allowed_netlist(included, str(path), folder, read, _depth=depth + 1, _seen=(*seen, path), _left=left)
+    body = allowed_netlist(included, str(path), folder, read, _depth=depth + 1, _seen=(*seen, path), _left=left,
+                           _state=state)
     return [f"* lcchain: {card[2].strip()[:150]}", *body.split("\n")]
 
 
@@ -510,7 +572,16 @@ def foreign_price(text: str, analysis: Transient | Sweep, saved: int, source: st
     ParameterError
         A source function lcchain cannot price, naming the line.
     """
-    return analysis.price(read_contents(text, source), saved)
+    price = analysis.price(read_contents(text, source), saved)
+    if measure_names(text):  # measured, ngspice keeps every value in memory (no raw file streamed): vectors
+        kept = MEASURED_BYTES_FACTOR * price.output_bytes  # that grow by doubling
+        price = replace(price, memory=price.memory + kept, simulator_memory=price.simulator_memory + kept)
+    return price
+
+
+#: What ngspice holds of a run with ``.meas`` cards, per byte of its raw file: it keeps every vector in memory to
+#: measure them (the raw file is written at the end, :mod:`lcchain.spice.measure`), in arrays grown by doubling.
+MEASURED_BYTES_FACTOR = 2.0
 
 
 def foreign_estimate(text: str, analysis: Transient | Sweep, saved: int, source: str = "netlist") -> Estimate:

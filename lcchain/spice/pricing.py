@@ -43,6 +43,7 @@ import numpy as np
 
 from ..core.budget import BYTES_PER_VALUE, INTERPRETER_BYTES, Budget, Estimate, ac_run_estimate
 from ..core.errors import ParameterError
+from .expressions import is_param_card
 from .text import logical_lines, spice_number
 
 __all__ = ["Contents", "Price", "RunLimits", "read_contents", "transient_price", "sweep_price", "gap_points",
@@ -418,7 +419,7 @@ def read_contents(text: str, source: str = "netlist") -> Contents:
         elif head == ".":
             word, _, rest = line.strip().partition(" ")
             word = word.lower()
-            if word == ".param":
+            if is_param_card(word):  # .params, .PARAM_X: ngspice 39 reads them as .param
                 for name, value in re.findall(r"([A-Za-z_]\w*)\s*=\s*([^\s=]+)", rest):
                     number_ = spice_number(value.strip("{}"))
                     if number_ is not None:

@@ -64,6 +64,7 @@ from ..core.types import BACKENDS, Backend
 from .foreign import allowed_netlist
 from .inputs import read_input
 from .log import LOG_MAX_CHARS, failure_reason, fatal_lines, trim_log, useful_output
+from .measure import Measurements, measure_control, measure_names, read_measurements
 from .processes import (
     MAX_LOG_BYTES,
     PACKAGE_ROOT,
@@ -125,6 +126,9 @@ class RunResult(FrozenArrays):
         :data:`LOG_MAX_CHARS` characters.
     engine : str
         The engine's name (:data:`lcchain.spice.engines.ENGINES`), ``"ngspice"`` by default.
+    measurements : Mapping[str, tuple[float | None, str]]
+        The netlist's ``.meas`` results by name (lower case): (value, "") or (None, ngspice's reason)
+        (:func:`lcchain.spice.measure.read_measurements`).
     """
 
     time: np.ndarray
@@ -137,6 +141,7 @@ class RunResult(FrozenArrays):
     points: int
     log: str = field(repr=False)
     engine: str = "ngspice"
+    measurements: Measurements = field(default_factory=FrozenMap)
 
     @property
     def ngspice_version(self) -> str:
@@ -309,6 +314,7 @@ def run(
         backend=simulator.backend,
         points=int(time_s.size),
         log=trim_log(log),
+        measurements=FrozenMap(read_measurements(log, measure_names(text))),
     )
 
 
@@ -485,10 +491,15 @@ def _run_batch(netlist: str, simulator: Simulator, timeout: float, tstop: float,
                ) -> tuple[dict[str, np.ndarray], str, float]:
     with tempfile.TemporaryFile() as source, tempfile.TemporaryFile() as raw, \
             tempfile.TemporaryFile() as out, tempfile.TemporaryFile() as err:
-        source.write(require_canonical(netlist).encode("utf-8"))  # ngspice splits a file at LF, as the check did
-        source.seek(0)
         fd = raw.fileno()
-        command = [*place.prefix, simulator.executable, "-n", "-b", "-r", f"/dev/fd/{fd}"]
+        # ngspice measures nothing in batch mode with -r: a netlist with .meas cards writes its raw file from
+        # lcchain's control block instead (lcchain.spice.measure)
+        measured = measure_control(require_canonical(netlist), f"/dev/fd/{fd}")
+        text = measured if measured is not None else netlist
+        source.write(require_canonical(text).encode("utf-8"))  # ngspice splits a file at LF, as the check did
+        source.seek(0)
+        command = [*place.prefix, simulator.executable, "-n", "-b",
+                   *(("-r", f"/dev/fd/{fd}") if measured is None else ())]
         start = time.perf_counter()
         proc = subprocess.Popen(command, cwd=place.cwd, env=place.env, stdin=source, stdout=out, stderr=err,
                                 pass_fds=(fd,), start_new_session=True)

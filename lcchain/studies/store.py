@@ -51,7 +51,10 @@
 Tables: ``meta`` (format, plan fingerprint, description, versions),
 ``tasks`` (index, key, params, label) and ``records`` (key, status, reason,
 log tail, digest, times, versions, metrics as JSON, the saved arrays as a
-numpy ``.npz``).
+numpy ``.npz``).  A netlist's ``.meas`` results are in its metrics' JSON, under
+``"measurements"`` (name -> value, null where ngspice could not make it) and
+``"measure_reasons"`` (name -> ngspice's reason): no new column, so a store
+written before them opens and reads as it did.
 """
 
 from __future__ import annotations
@@ -68,7 +71,7 @@ import stat
 import time
 import urllib.parse
 import zipfile
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Literal
@@ -81,6 +84,7 @@ from ..core.types import RUN_STATUSES
 from ..runs.execute import RunRecord, waveform_digest
 from ..spice.engines import DEFAULT_ENGINE
 from ..spice.inputs import file_kind
+from ..spice.measure import MEASURE_REASONS, MEASUREMENTS, measurement_fields
 
 __all__ = ["Store", "StoredRun", "StoreMode", "FORMAT", "engine_text", "engine_of", "study_axes", "study_constants",
            "study_dims", "ExportSize"]
@@ -204,8 +208,24 @@ class StoredRun:
 
     @property
     def spectral(self) -> bool:
-        """An AC run compared with its theory (its metrics are :data:`SPECTRAL_METRICS`)."""
+        """An AC run compared with its theory (its metrics are :data:`lcchain.compare.spectral.SPECTRAL_METRICS`)."""
         return self.metrics is not None and self.metrics.get("analysis") == "ac"
+
+    @property
+    def measurements(self) -> dict[str, float | None]:
+        """The netlist's ``.meas`` values by name (None: ngspice could not make it, :attr:`measure_reasons`
+        says why); empty for a run without any."""
+        return dict((self.metrics or {}).get(MEASUREMENTS) or {})
+
+    @property
+    def measure_reasons(self) -> dict[str, str]:
+        """ngspice's reason for each missing measurement."""
+        return dict((self.metrics or {}).get(MEASURE_REASONS) or {})
+
+    @property
+    def judged(self) -> bool:
+        """Compared with a theory: its metrics hold more than measurements."""
+        return self.metrics is not None and any(k not in (MEASUREMENTS, MEASURE_REASONS) for k in self.metrics)
 
     def record(self) -> RunRecord:
         """The run as a record without its arrays (:meth:`Store.waveforms` has them)."""
@@ -226,12 +246,16 @@ class StoredRun:
 
             assert self.metrics is not None
             data.update({name: self.metrics.get(name) for name in SPECTRAL_METRICS})
-        elif self.metrics is not None:
+        elif self.judged:
+            assert self.metrics is not None
             data["max_abs_error"] = self.metrics.get("max_abs_error")
             data["predicted_error"] = self.metrics.get("predicted_error")
             data["arrivals"] = self.metrics.get("arrivals")
             if "effects" in self.metrics:  # against the circuit's own theory: what its effects cost the pulse
                 data["effects"] = self.metrics["effects"]
+        if self.measurements:
+            data[MEASUREMENTS] = self.measurements
+            data[MEASURE_REASONS] = self.measure_reasons
         if self.status in ("failed", "timeout", "refused"):  # a refusal's reason: the netlist, line and field
             data["error"] = self.reason + (f"\n{self.engine} said:\n{self.log_tail}" if self.log_tail else "")
         return data
@@ -358,6 +382,12 @@ def _on_frequency(dataset: Any, axes: list[np.ndarray], longest: int, mixed: boo
 def _number(value: Any) -> float:
     """A metric as a float column's value: NaN where the run has none (a batch run, a pulse's energy)."""
     return math.nan if value is None else float(value)
+
+
+def measurement_column(name: str, row: Mapping[str, Any]) -> str:
+    """A measurement's column in a run's row: its name, or ``meas_NAME`` when the row has a column of that name
+    already (a parameter, ``status``, a metric)."""
+    return f"meas_{name}" if name in row else name
 
 
 def _optional(module: str) -> Any:
@@ -809,6 +839,8 @@ class Store:
         for record, points in records:
             judged = record.metrics if record.metrics is not None else record.spectrum
             metrics = judged.to_dict() if judged is not None else None
+            if record.measurements:  # beside any theory's metrics: an old store opens and reads them the same
+                metrics = {**(metrics or {}), **measurement_fields(record.measurements)}
             rows.append((record.key, record.status, record.reason, record.log_tail, record.digest, record.wall_s,
                          record.total_s, engine_text(record.engine, record.engine_version), record.lcchain_version,
                          record.points if record.points is not None else points,
@@ -982,6 +1014,7 @@ class Store:
         spectral = any(run.spectral for run in runs)
         transient = not spectral or any(run.metrics is not None and not run.spectral for run in runs)
         costs = any(run.metrics is not None and "effects" in run.metrics for run in runs)
+        measured = list(dict.fromkeys(name for run in runs for name in run.measurements))
         rows = []
         for run in runs:
             metrics = run.metrics or {}
@@ -1004,6 +1037,8 @@ class Store:
                 from ..compare.spectral import SPECTRAL_METRICS  # with an AC run only: a batch starts without it
 
                 row.update({name: _number(metrics.get(name)) for name in SPECTRAL_METRICS})
+            values = run.measurements
+            row.update({measurement_column(name, row): _number(values.get(name)) for name in measured})
             rows.append(row)
         return rows
 

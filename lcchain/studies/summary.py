@@ -22,7 +22,7 @@ from ..core.errors import ParameterError
 from ..core.types import STUDY_METRICS, StudyMetric
 from .store import StoredRun, study_axes, study_constants
 
-__all__ = ["Group", "peak_groups", "METRICS", "available_metrics", "study_axes", "study_constants",
+__all__ = ["Group", "peak_groups", "METRICS", "available_metrics", "measurement_names", "study_axes", "study_constants",
            "check_metric"]
 
 #: What a group summarises, by name: a transient's first arrival's current peak, its energy fraction (kick only),
@@ -69,8 +69,18 @@ class Group:
         return {"params": self.params, **self.stats()}
 
 
-def _value(run: StoredRun, metric: StudyMetric) -> float | None:
-    """The run's value of a metric (None where it has none: a pulse's energy, a transient's spacing)."""
+def measurement_names(runs: list[StoredRun]) -> list[str]:
+    """The ``.meas`` names the store's finished runs measured (a value, or a missing one), in order."""
+    return list(dict.fromkeys(name for run in runs if run.status == "ok" and not run.member
+                              for name in run.measurements))
+
+
+def _value(run: StoredRun, metric: str) -> float | None:
+    """The run's value of a metric (None where it has none: a pulse's energy, a transient's spacing, a
+    measurement ngspice could not make); a name not in :data:`METRICS` is one of the netlist's measurements."""
+    if metric not in METRICS:
+        measured = run.measurements.get(metric)
+        return None if measured is None else float(measured)
     field, where = METRICS[metric]
     metrics = run.metrics or {}
     if where == "arrival":
@@ -96,7 +106,10 @@ def check_metric(metric: str, runs: list[StoredRun], option: str = "--metric") -
         Naming ``option``, the metric and the ones available; or, when none is, why: no run finished yet, or
         the runs have no theory to give one (a batch of netlists).
     """
-    choice(option, metric, tuple(METRICS))
+    measured = measurement_names(runs)
+    if metric not in METRICS and metric in measured:
+        return
+    choice(option, metric, (*METRICS, *measured))
     available = available_metrics(runs)
     if metric in available:
         return
@@ -120,11 +133,14 @@ def peak_groups(runs: list[StoredRun], metric: str = "peak") -> list[Group]:
     Parameters
     ----------
     runs : list of StoredRun
-    metric : {"peak", "energy", "loss", "omega", "P", "spacing"}
+    metric : {"peak", "energy", "loss", "omega", "P", "spacing"} or str
         The first arrival's current peak, its energy fraction, or 1 - that fraction (runs without one, i.e.
-        not kicked, are left out of the groups' values); or an AC run's spectral metric (:data:`METRICS`).
+        not kicked, are left out of the groups' values); or an AC run's spectral metric (:data:`METRICS`); or
+        the name of a netlist's ``.meas`` (a batch: its runs that could not measure it are left out of the
+        values; a name of :data:`METRICS` means that metric).
     """
-    name: StudyMetric = choice("metric", metric, STUDY_METRICS)
+    name = metric if metric not in METRICS and metric in measurement_names(runs) else \
+        choice("metric", metric, STUDY_METRICS)
     axes = [key for key in study_axes([run for run in runs if not run.member]) if key != "sample"]
     order: dict[str, dict[str, Any]] = {}
     peaks: dict[str, list[float]] = {}

@@ -30,7 +30,7 @@ def chain_for_case(case: str, N: int, walls: int = 0) -> Chain:
     ----------
     case : {"one-mass", "two-mass", "uniform-free", "uniform-bounded", "perfect"}
         ``one-mass`` and ``two-mass`` are the optimal designs for this N
-        (Tables I and II, computed by :mod:`lcchain.design`); ``perfect``
+        (Tables I and II, computed by :mod:`lcchain.theory.design`); ``perfect``
         is the perfect cradle of N masses in bulk units (central mass and
         central spring 1, :func:`lcchain.perfect_design`; N = 3, 4, 5 are the
         paper's exact fractions, N = 4 with masses (5/3, 1, 1, 5/3)).

@@ -7,7 +7,7 @@ included, 0 = free end), in units of the bulk mass m and bulk spring K
 Eq. e.mKxyz and (r, w) of Eq. e.rw, are constructors and views.
 
 Every constructor validates its input and raises
-:class:`~lcchain.errors.ParameterError` naming the field, the value and the
+:class:`~lcchain.core.errors.ParameterError` naming the field, the value and the
 allowed range.
 """
 

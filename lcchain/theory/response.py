@@ -68,7 +68,7 @@ Cost model (J times, N modes, R output rows: 2 for ``"ends"``, N for
 ``"all"``).  Free response after the kick, displacement or pulse: N J
 exponentials, cosines and sines, plus two (J x N) @ (N x R) products,
 evaluated in blocks of about 4 M elements (32 MB); without losses the
-``"ends"`` rows use :func:`lcchain.modes.cosine_sum`.  A pulse adds 16 N P
+``"ends"`` rows use :func:`lcchain.theory.modes.cosine_sum`.  A pulse adds 16 N P
 for the P panels and 16 N J_in for the J_in times inside the pulse.
 Measured (2 cores, ``"ends"``, J = 20000 on [0, 3N], any effect): N = 100
 takes 0.1-0.3 s, N = 1000 about 2 s; ``"all"`` at N = 1000 about 4 s.
@@ -351,7 +351,7 @@ def linear_response(
     modes : Modes, optional
         Modes of ``chain`` already computed (for ``"ends"``: omega, density
         U_n1^2 and transfer sqrt(m_1/m_N) U_n1 U_nN); default
-        :func:`lcchain.modes.exact_modes`.  Ignored for ``"all"``, which
+        :func:`lcchain.theory.exact.exact_modes`.  Ignored for ``"all"``, which
         needs every eigenvector.
 
     Returns
