@@ -153,8 +153,9 @@ def _reciprocity(Y: np.ndarray) -> float:
 
 
 def two_port_theory(request: Request, frequency: np.ndarray, z0: float = DEFAULT_Z0) -> TwoPort:
-    """The same two-port from the circuit's exact admittances (:meth:`lcchain.circuit.exact.CircuitTheory.admittances`) at
-    ``frequency`` (Hz): the very elements the netlists are written with, no simulator."""
+    """The same two-port from the circuit's exact admittances
+    (:meth:`lcchain.circuit.exact.CircuitTheory.admittances`) at ``frequency`` (Hz): the very elements the
+    netlists are written with, no simulator."""
     z0 = real("z0", z0, above=0.0)
     frequency = np.asarray(frequency, dtype=float)
     s = 2j * math.pi * frequency
