@@ -4,7 +4,8 @@
 
 * the root: the study's runs on its axes (:meth:`lcchain.studies.store.Store.to_xarray`), each numeric variable
   and coordinate with ``units`` (``"s"`` for wall times, ``"1"`` for the dimensionless metrics: times in units of
-  sqrt(L0 C0), currents over I_1(0)), the engine's name and version as two variables, and the CF global
+  sqrt(L0 C0), currents over I_1(0)) except a foreign netlist's ``.meas`` results, whose unit lcchain does not
+  know (their ``long_name`` says so), the engine's name and version as two variables, and the CF global
   attributes (``Conventions``, ``title``, ``history``, ``source``, ``institution``-free);
 * with waveforms, one group per kind of run: ``transient`` (time in s, currents in A, voltages in V), ``ac``
   (frequency in Hz, each phasor as ``NAME_real`` and ``NAME_imag``, per volt of the source) and ``extrapolated``
@@ -64,8 +65,15 @@ def _kind(run: StoredRun, arrays: dict[str, np.ndarray]) -> str:
 
 def _root(store: Store) -> Any:
     dataset = store.to_xarray()
+    runs = store.runs()
+    measured = {str(name) for run in runs for name in run.measurements}
+    measured |= {f"meas_{name}" for name in measured}
     for name in list(dataset.variables):
         variable = dataset[name]
+        if str(name) in measured:  # a .meas result: its unit is whatever the netlist measured (V, s, dB ...)
+            variable.attrs.setdefault("long_name", f"{name}: a .meas result, in the unit of what the netlist "
+                                      "measured (lcchain does not know it)")
+            continue
         variable.attrs.setdefault("long_name", _ROOT_NAMES.get(str(name), str(name)))
         if variable.dtype.kind in "fiub":
             variable.attrs["units"] = _ROOT_UNITS.get(str(name), "1")
