@@ -128,3 +128,24 @@ def test_the_sweep_ends_at_the_omega_max_it_reports(case, N):
     assert all(a[2] == b[1] for a, b in zip(segments[:-1], segments[1:], strict=True))
     sampled = segment_frequencies(segments)
     assert sampled.size == points and sampled.max() <= omega_max and np.all(np.diff(sampled) > 0)
+
+
+@pytest.mark.ngspice
+def test_no_segment_is_one_ngspice_cannot_sweep() -> None:
+    # ngspice 39's ".ac lin 2 f1 f2" gives one frequency: a segment of two made the two-mass N = 8 sweep of 80
+    # points fail ("ngspice returned 79 frequencies"). Every segment has three or more, and the run gets them all.
+    from lcchain.compare.grid import MIN_SEGMENT_POINTS
+    from lcchain.compare.spectral import sweep_grid
+    from lcchain.theory.exact import driven_modes
+
+    for case, N in (("two-mass", 8), ("perfect", 12), ("one-mass", 30)):
+        omega = driven_modes(chain_for_case(case, N)).omega
+        for points in (None, 60, 80, 97):
+            try:
+                segments, total, _ = sweep_grid(omega, points)
+            except ParameterError:  # fewer than the poles need: refused before any segment is made
+                continue
+            assert min(n for n, _, _ in segments) >= MIN_SEGMENT_POINTS
+            assert total == sum(n for n, _, _ in segments)
+    report = measure_spectrum(chain_for_case("two-mass", 8), points=80)
+    assert report.points == 80

@@ -391,7 +391,8 @@ def _ac_cards(segments: Sequence[tuple[int, float, float]], hertz: float) -> lis
     for k, segment in enumerate(_sequence("segments", segments, "a sequence of (points, lowest, highest)")):
         if not isinstance(segment, tuple) or len(segment) != 3:
             raise ParameterError(f"segments[{k}]", segment, "(points, lowest, highest)")
-        count = integer(f"segments[{k}].points", segment[0], at_least=2, at_most=MAX_AC_POINTS)
+        count = integer(f"segments[{k}].points", segment[0], at_least=3, at_most=MAX_AC_POINTS,
+                        allowed=f"3 to {MAX_AC_POINTS} frequencies (ngspice's .ac lin 2 gives one)")
         lowest = real(f"segments[{k}].lowest", segment[1], at_least=previous,
                       allowed=f"a number >= {previous:.17g} (the previous segment's end; segments ascend)")
         highest = real(f"segments[{k}].highest", segment[2], above=lowest)

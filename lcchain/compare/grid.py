@@ -69,6 +69,11 @@ def min_points(omega: np.ndarray, omega_max: float) -> int:
     return sum(points for points, _, _ in sweep_segments(omega, omega_max, POINTS_PER_SPACING))
 
 
+#: The fewest frequencies of a segment: ngspice 39's ``.ac lin 2 f1 f2`` gives one frequency, not two (``lin 3``
+#: and more give as many as asked).
+MIN_SEGMENT_POINTS = 3
+
+
 def sweep_segments(omega: np.ndarray, omega_max: float, density: float, points: int | None = None
                    ) -> list[Segment]:
     """The sweep's even segments for the poles ``omega`` (units of 1/sqrt(L0 C0)).
@@ -90,12 +95,12 @@ def sweep_segments(omega: np.ndarray, omega_max: float, density: float, points: 
         Disjoint, ascending; together (0, omega_max].
     """
     blocks = _blocks(omega, omega_max)
-    wanted = np.array([max(2.0, (hi - lo) * density / step) for lo, hi, step in blocks])
+    wanted = np.array([max(float(MIN_SEGMENT_POINTS), (hi - lo) * density / step) for lo, hi, step in blocks])
     if points is None:
         counts = np.ceil(wanted).astype(int)
     else:  # share exactly ``points``: floors, then the largest remainders
         share = wanted * points / wanted.sum()
-        counts = np.maximum(np.floor(share).astype(int), 2)
+        counts = np.maximum(np.floor(share).astype(int), MIN_SEGMENT_POINTS)
         order = np.argsort(counts - share)
         for k in order[: max(points - int(counts.sum()), 0)]:
             counts[k] += 1
