@@ -462,9 +462,12 @@ def cmd_spectrum(args: argparse.Namespace) -> int:
             error = "" if omega is None else f"{abs(omega - mode['omega_theory']) / (mode['omega_theory'] or 1):10.2e}"
             shown = "unseen" if omega is None else f"{omega:19.15f}"
             hz = "" if mode["omega_Hz"] is None else f"{mode['omega_Hz']:16.9e}"
+            P_theory = mode["P_theory"]
+            theory = "below precision" if P_theory is None else f"{P_theory:14.6e}"
+            P_error = "" if P_theory is None else f"{abs((P or 0.0) - P_theory):10.2e}"
             print(f"{mode['n']:>5} {shown:>19} {mode['omega_theory']:19.15f} {error:>10} "
-                  f"{'' if P is None else f'{P:14.6e}':>14} {mode['P_theory']:14.6e} "
-                  f"{abs((P or 0.0) - mode['P_theory']):10.2e} {spacing:>10} {hz:>16}")
+                  f"{'' if P is None else f'{P:14.6e}':>14} {theory:>14} "
+                  f"{P_error:>10} {spacing:>10} {hz:>16}")
             previous = omega if omega is not None else previous
         weak = sum(1 for m in data["modes"] if not m["resolved"])
         print(f"max relative error of omega_n = {data['max_rel_error_omega']:.3e} (modes with |P_n| >= 1e-6"
@@ -476,7 +479,7 @@ def cmd_spectrum(args: argparse.Namespace) -> int:
         from ..report.plots import spectrum
 
         outputs.write("--plot", lambda path: spectrum(
-            report.theory.omega, report.theory.transfer, report.omega, report.P,
+            report.theory.omega, report.P_theory, report.omega, report.P,
             title=f"{chain.name} chain, N = {chain.N}: {report.engine} AC against theory", path=path,
             frequency_unit=data["physical"]["frequency_unit_Hz"]))
     if args.touchstone:

@@ -155,7 +155,7 @@ def warped_modes(modes: Modes, dt: float) -> Modes:
     """
     omega = warped_frequencies(modes.omega, dt)
     omega.flags.writeable = False
-    return Modes(omega, modes.density, modes.transfer, modes.method, modes.k)
+    return Modes(omega, modes.density, modes.transfer, modes.method, modes.k, modes.precision)
 
 
 def _grid(dt: float, tstop: float) -> np.ndarray:

@@ -646,7 +646,8 @@ def spectrum(omega_theory, P_theory, omega_circuit, P_circuit, *, title: str = "
     Parameters
     ----------
     omega_theory, P_theory : array_like, shape (N,)
-        Exact normal frequencies (units of 1/sqrt(L0 C0)) and weights P_n of alpha_N.
+        Exact normal frequencies (units of 1/sqrt(L0 C0)) and weights P_n of alpha_N; a NaN weight (below the
+        precision it was computed with) is not drawn.
     omega_circuit, P_circuit : array_like
         The modes the AC analysis found (NaN for a mode it did not see).
     title : str
@@ -672,8 +673,9 @@ def spectrum(omega_theory, P_theory, omega_circuit, P_circuit, *, title: str = "
     else:
         fig = _new_figure()
         top, bottom = fig.subplots(2, 1, sharex=True, height_ratios=(3, 2))
-    top.semilogy(omega_t, np.abs(weight_t), "-", color="0.6", linewidth=1.0, label="theory")
-    top.semilogy(omega_t, np.abs(weight_t), "o", color="0.6", markersize=3)
+    drawn = np.isfinite(weight_t) & (weight_t != 0)  # NaN: below the precision it was computed with
+    top.semilogy(omega_t[drawn], np.abs(weight_t[drawn]), "-", color="0.6", linewidth=1.0, label="theory")
+    top.semilogy(omega_t[drawn], np.abs(weight_t[drawn]), "o", color="0.6", markersize=3)
     seen = np.isfinite(omega_c) & (weight_c != 0)
     top.semilogy(omega_c[seen], np.abs(weight_c[seen]), "x", color="C3", markersize=5, label="ngspice (AC)")
     top.set_ylabel(r"$|P_n|$")

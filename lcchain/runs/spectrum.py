@@ -54,7 +54,7 @@ from ..spice.engines import DEFAULT_ENGINE
 from ..spice.simulator import Simulator
 from ..theory.arrivals import stop_time
 from ..theory.chain import Chain
-from ..theory.modes import Modes
+from ..theory.modes import WEIGHT_PRECISION, Modes
 from ..theory.response import linear_response
 from .execute import circuit_modes, execute
 from .request import AC, Request, plan_request
@@ -146,8 +146,16 @@ class SpectrumReport:
 
     @property
     def P_theory(self) -> np.ndarray:
-        """The exact P_n = m_1 u_1n u_Nn of every mode (its weight in alpha_N(t))."""
-        return np.asarray(self.theory.transfer, dtype=float)
+        """The exact P_n = m_1 u_1n u_Nn of every mode (its weight in alpha_N(t)); NaN where it is below the
+        precision it was computed with (:attr:`below_precision`: rounding noise, not a value)."""
+        return np.where(self.below_precision, np.nan, np.asarray(self.theory.transfer, dtype=float))
+
+    @property
+    def below_precision(self) -> np.ndarray:
+        """Whether each mode's theoretical P_n is below the precision it was computed with
+        (:meth:`lcchain.theory.modes.Modes.precise`): |P_n| < 1e-15 max |P| from an eigenvector; never for the free
+        perfect cradle, whose binomial weights are exact (2^-(2N-3) = 5.0e-60 at N = 100)."""
+        return ~self.theory.precise()
 
     @property
     def omega(self) -> np.ndarray:
@@ -231,16 +239,19 @@ class SpectrumReport:
         return self.metrics.max_abs_error_P
 
     def to_dict(self) -> dict[str, Any]:
-        """``lcchain spectrum --json``."""
+        """``lcchain spectrum --json``: a mode's ``P_theory`` is null, ``below_precision`` true, where the theory's
+        value is rounding noise (:attr:`below_precision`)."""
         omega, P = self.omega, self.P
         lossy = self.lossy
         Q, Q_theory, gamma = self.Q, self.Q_theory, self.gamma
+        noise = self.below_precision
         modes = []
         for n in range(self.theory.N):
             seen = bool(np.isfinite(omega[n]))
             mode = {"n": n + 1, "omega": float(omega[n]) if seen else None, "P": float(P[n]) if seen else None,
-                    "omega_theory": float(self.theory.omega[n]), "P_theory": float(self.theory.transfer[n]),
-                    "seen": seen, "resolved": bool(self.resolved[n])}
+                    "omega_theory": float(self.theory.omega[n]),
+                    "P_theory": None if noise[n] else float(self.theory.transfer[n]),
+                    "below_precision": bool(noise[n]), "seen": seen, "resolved": bool(self.resolved[n])}
             if lossy:
                 mode |= {"Q": _finite(Q[n]), "Q_theory": _finite(Q_theory[n]), "gamma": _finite(gamma[n])}
                 if self.gamma_theory is not None:
@@ -408,7 +419,7 @@ def spectrum(request: Request, *, simulator: Simulator | None = None, budget: Bu
         mass = float(theory.chain.masses[0])
         own = Modes(spectrum.omega_theory, mass * circuit_modes(theory.circuit, chain.N, theory.time_unit,
                                                                 theory.impedance).first,
-                    spectrum.P_theory, "circuit")
+                    spectrum.P_theory, "circuit", precision=WEIGHT_PRECISION)
         return SpectrumReport(theory.chain, own, spectrum.fit, spectrum.seen, spec.points, theory.omega_max,
                               record.engine_version, record.ac.netlist_sha256, timings, None, segments, None,
                               record.engine, spectrum.gamma_theory)

@@ -405,7 +405,7 @@ class Chain:
         masses, springs = _PERFECT[int(N)]
         central = Fraction(masses[len(masses) // 2]) if bulk else Fraction(1)
         return cls(np.array([float(m / central) for m in masses]), np.array([float(k) for k in springs]),
-                   name="perfect")
+                   name="perfect", _params=("perfect",))
 
     # ------------------------------------------------------------------- views
     def _end_parameters(self) -> tuple[float, float, float, float] | None:

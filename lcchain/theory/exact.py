@@ -18,15 +18,17 @@ of Eq. e.utn.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from ..core.blas import fixed_blas_threads
 from ..core.errors import ParameterError
 from ..core.limits import COUPLED_MAX_N, EXACT_MAX_N
 from .chain import Chain
-from .modes import Modes
+from .modes import WEIGHT_PRECISION, Modes
 
-__all__ = ["tridiagonal", "diagonalise", "exact_modes", "driven_modes", "coupled_vectors", "modal_weights",
+__all__ = ["tridiagonal", "diagonalise", "exact_modes", "driven_modes", "coupled_vectors", "modal_weights", "perfect_weights",
            "EXACT_MAX_N",
            "COUPLED_MAX_N"]
 
@@ -108,7 +110,7 @@ def driven_modes(chain: Chain) -> Modes:
         return exact_modes(chain)
     omega, u = coupled_vectors(chain)
     amplitude = modal_weights(chain, u, force=True)
-    return Modes(omega, u[0, :] * amplitude, u[-1, :] * amplitude, "exact")
+    return Modes(omega, u[0, :] * amplitude, u[-1, :] * amplitude, "exact", precision=WEIGHT_PRECISION)
 
 
 @fixed_blas_threads
@@ -128,11 +130,37 @@ def exact_modes(chain: Chain) -> Modes:
     if chain.coupled:
         omega, u = coupled_vectors(chain)
         amplitude = modal_weights(chain, u)  # an initial current (charge) in loop 1
-        return Modes(omega, u[0, :] * amplitude, u[-1, :] * amplitude, "exact")
+        return Modes(omega, u[0, :] * amplitude, u[-1, :] * amplitude, "exact", precision=WEIGHT_PRECISION)
     omega, U = diagonalise(chain)
+    if is_free_perfect(chain):  # its end weights are known exactly: LAPACK's would be rounding below 1e-16
+        density = perfect_weights(chain.N)
+        return Modes(omega, density, density * _alternating(chain.N), "exact")
     first, last = U[0, :], U[-1, :]
     density = first * first
     transfer = np.sqrt(chain.masses[0] / chain.masses[-1]) * first * last
-    return Modes(omega, density, transfer, "exact")
+    return Modes(omega, density, transfer, "exact", precision=WEIGHT_PRECISION)
+
+
+def _alternating(N: int) -> np.ndarray:
+    return np.where(np.arange(N) % 2 == 0, 1.0, -1.0)
+
+
+def is_free_perfect(chain: Chain) -> bool:
+    """Whether the chain is the free perfect cradle as :func:`lcchain.perfect_design` made it (walls = 0, no
+    coupling): a sample drawn from it, or a chain rounded to preferred values, is not."""
+    return chain._params[:1] == ("perfect",) and not chain.coupled and chain.is_free
+
+
+def perfect_weights(N: int) -> np.ndarray:
+    """The free perfect cradle's mode densities, exactly: P_n = C(2N-2, N-n) / 2^(2N-3), half that for n = 1.
+
+    Computed in Python integers and rounded once to float64 (correctly rounded, down to subnormals): the
+    smallest, P_N = 2^-(2N-3), is 5.0e-60 for N = 100, far below what an eigenvector's 1e-16 resolves.  The
+    transfer weights are (-1)^(n-1) P_n (the cradle is mirror symmetric).
+    """
+    scale = 2 ** (2 * N - 3)
+    weights = [math.comb(2 * N - 2, N - n) / scale for n in range(1, N + 1)]
+    weights[0] /= 2.0
+    return np.array(weights)
 
 

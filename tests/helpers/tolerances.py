@@ -227,3 +227,10 @@ RTOL_MEASURE_TRAN = 1e-5
 #: between the points of a sweep of 1000 per decade (each 0.23 % above the last) misses the -3 dB corner by
 #: about (0.23 %)^2 / 8 of the curvature, well below this; 7 printed digits (measured: 5e-7 and 1e-7).
 RTOL_MEASURE_AC = 1e-5
+
+# The free perfect cradle's binomial end weights C(2N-2, N-n) / 2^(2N-3) (math.comb, one correctly rounded
+# division) against LAPACK's m_1 u_1n u_Nn for N <= 20: the eigenvectors' rounding, a few eps (observed 3e-15).
+ATOL_PERFECT_WEIGHTS = 1e-13
+
+# The same binomials against 2^-(2N-3), the smallest of them: one rounding of an exact quotient.
+RTOL_PERFECT_TAIL = 1e-12
