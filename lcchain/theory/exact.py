@@ -28,9 +28,8 @@ from ..core.limits import COUPLED_MAX_N, EXACT_MAX_N
 from .chain import Chain
 from .modes import WEIGHT_PRECISION, Modes
 
-__all__ = ["tridiagonal", "diagonalise", "exact_modes", "driven_modes", "coupled_vectors", "modal_weights", "perfect_weights",
-           "EXACT_MAX_N",
-           "COUPLED_MAX_N"]
+__all__ = ["tridiagonal", "diagonalise", "exact_modes", "driven_modes", "coupled_vectors", "modal_weights",
+           "perfect_weights", "is_free_perfect", "EXACT_MAX_N", "COUPLED_MAX_N"]
 
 
 def tridiagonal(chain: Chain) -> tuple[np.ndarray, np.ndarray]:
