@@ -57,7 +57,7 @@ from ..spice.text import canonical_text, saved_vectors
 from .executors import executor_cost
 
 if TYPE_CHECKING:
-    from ..runs.request import Request
+    from ..runs.request import Request, RequestPlan
 
 # A plan of foreign netlists (lcchain batch) needs none of the chains, requests and scenes: they load in the
 # functions that plan them, so that a batch starts without them (issue 35, tests/test_imports.py).
@@ -82,6 +82,10 @@ class Task:
     memory : float
         Its estimated memory where it runs, bytes: the run's arrays and comparison, and the simulator's process
         (the worker's own interpreter is the executor's, :func:`lcchain.studies.executors.executor_cost`).
+    parts : Mapping or None
+        A tolerance or preferred-value sample's realised part values, ``{"L": [L_1..L_N] (henry), "C": [C_01..
+        C_N,N+1] (farad, None where a wall is a wire)}`` (:func:`realised_parts`); stored with its run's metrics.
+        None for a nominal chain (its parts are the scene's).
     """
 
     index: int
@@ -89,6 +93,7 @@ class Task:
     spec: RunSpec
     seconds: float = 0.0
     memory: float = 0.0
+    parts: Mapping[str, Any] | None = field(default=None, compare=False, repr=False)
 
 
 @dataclass(frozen=True, eq=False)
@@ -122,6 +127,7 @@ class Combination:
     theory: Theory
     predicted_error: float | None
     label: str = ""
+    parts: Mapping[str, Any] | None = field(default=None, compare=False, repr=False)
 
 
 @dataclass(frozen=True)
@@ -320,23 +326,39 @@ def _combination_seconds(combination: Combination) -> float:
     return RUN_START_SECONDS + sample_theory_seconds(combination.theory.chain.N)
 
 
+def realised_parts(plan: RequestPlan, k: int) -> dict[str, list[float | None]] | None:
+    """The k-th realised chain's part values, ``{"L": L_i in henry, "C": C_j in farad (None: a wire)}``
+    (:class:`lcchain.circuit.ladder.Ladder`), when it is a tolerance or preferred-value sample; None when the
+    plan runs the nominal chain itself."""
+    from ..circuit.ladder import Ladder
+
+    chain = plan.chains[k]
+    if chain is plan.nominal:
+        return None
+    ladder = Ladder(chain, plan.request.L0, plan.request.C0)
+    return {"L": [float(v) for v in ladder.inductances()],
+            "C": [None if v is None else float(v) for v in ladder.capacitances()]}
+
+
 def _add_runs(tasks: list[Task], combinations: list[Combination], params: Mapping[str, Any],
-              specs: Sequence[RunSpec], steps: Sequence[float], predicted_error: float | None) -> None:
+              specs: Sequence[RunSpec], steps: Sequence[float], predicted_error: float | None,
+              parts: Mapping[str, Any] | None = None) -> None:
     """One point of a study: its run, or its extrapolation's members (``member`` 1, 2, 3, each with its own
-    ``dt``) followed by their combination (``runs``, ``dt`` the coarsest step)."""
+    ``dt``) followed by their combination (``runs``, ``dt`` the coarsest step); ``parts``: its sample's."""
     index = len(tasks) + len(combinations)
+    frozen = None if parts is None else FrozenMap(parts)
     if len(specs) == 1:
-        tasks.append(Task(index, FrozenMap(params), specs[0], _seconds(specs[0]), _memory(specs[0])))
+        tasks.append(Task(index, FrozenMap(params), specs[0], _seconds(specs[0]), _memory(specs[0]), frozen))
         return
     for i, (spec, h) in enumerate(zip(specs, steps, strict=True)):
         tasks.append(Task(index + i, FrozenMap({**params, "dt": h, "member": i + 1}), spec, _seconds(spec),
-                          _memory(spec)))
+                          _memory(spec), frozen))
     theory = specs[0].theory
     assert isinstance(theory, Theory)  # an extrapolation's members are transients
     label = f"{specs[0].label} extrapolated from {len(specs)} runs"
     combinations.append(Combination(index + len(specs), FrozenMap({**params, "dt": steps[0], "runs": len(specs)}),
                                     tuple(range(index, index + len(specs))), tuple(steps), theory, predicted_error,
-                                    label))
+                                    label, frozen))
 
 
 def sweep_plan(*, cases: Sequence[str], Ns: Sequence[int], dts: Sequence[float] = (), accuracies: Sequence[float] = (),
@@ -582,7 +604,7 @@ def scene_sweep_plan(path: str | Path, varies: Sequence[tuple[str, list[Any]]], 
         for k in range(len(plan.chains)):
             task_params = {**params, "sample": k + 1} if len(plan.chains) > 1 else params
             _add_runs(tasks, combinations, task_params, specs[k * plan.runs:(k + 1) * plan.runs], plan.steps,
-                      plan.predicted_error)
+                      plan.predicted_error, realised_parts(plan, k))
     description = {"command": "sweep", "scene": str(path), "scene_data": base, "vary": dict(varies),
                    "samples": samples, "seed": seed} | ({} if tolerance is None else {"tolerance": dict(tolerance)}) \
         | ({} if series is None else {"series": series})
@@ -620,7 +642,7 @@ def request_plan(points: Sequence[tuple[Mapping[str, Any], Request]], *, budget:
         for k in range(len(plan.chains)):
             task_params = {**params, "sample": k + 1} if len(plan.chains) > 1 else dict(params)
             _add_runs(tasks, combinations, task_params, plan.specs[k * plan.runs:(k + 1) * plan.runs], plan.steps,
-                      plan.predicted_error)
+                      plan.predicted_error, realised_parts(plan, k))
     if len(backends) > 1:
         raise ParameterError("backend", sorted(backends), "one backend for every request of a study")
     if len(engines) > 1:

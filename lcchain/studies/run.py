@@ -184,6 +184,8 @@ def run_plan(plan: Plan, store: str | Path, *, executor: str = "process", worker
                 results.add_many([(RunRecord(key=key, status="refused", reason=refusal.reason,
                                              label=refusal.label), None) for key, refusal in refused.items()])
             finished |= refused.keys()
+            # each tolerance or preferred-value sample's realised L_i and C_j, stored with its run's metrics
+            parts = {keys[task.index]: dict(task.parts) for task in plan.tasks if task.parts is not None}
             todo: dict[str, tuple[int, RunSpec, float]] = {}  # one run per key: two points may share a member
             for task in plan.tasks:
                 if keys[task.index] not in finished:
@@ -202,7 +204,7 @@ def run_plan(plan: Plan, store: str | Path, *, executor: str = "process", worker
                     if record.key != keys[index]:
                         raise ParameterError("--store", str(store), f"records under the plan's keys (run {index} "
                                              f"came back as {record.key[:12]}, expected {keys[index][:12]})")
-                results.add_many([(record, None) for _, record in group])
+                results.add_many([(record, None) for _, record in group], parts=parts)
                 for _, record in group:
                     finished.add(record.key)
                     done += 1
@@ -233,7 +235,9 @@ class _Combiner:
         waiting = []
         for combination in self.pending:
             if all(self.keys[i] in finished for i in combination.members):
-                self.store.add(*self._record(combination))
+                record, points = self._record(combination)
+                parts = combination.parts
+                self.store.add(record, points, parts=None if parts is None else dict(parts))
                 finished.add(self.keys[combination.index])
             else:
                 waiting.append(combination)

@@ -87,10 +87,13 @@ from ..spice.inputs import file_kind
 from ..spice.measure import MEASURE_REASONS, MEASUREMENTS, measurement_fields
 
 __all__ = ["Store", "StoredRun", "StoreMode", "FORMAT", "engine_text", "engine_of", "study_axes", "study_constants",
-           "study_dims", "ExportSize"]
+           "study_dims", "ExportSize", "PARTS"]
 
 #: Version of the store's tables.
 FORMAT = "1"
+#: The key of a run's metrics that holds a tolerance or preferred-value sample's realised part values,
+#: ``{"L": [...], "C": [...]}`` (henry, farad): ``lcchain results --json`` prints it as the run's ``parts``.
+PARTS = "parts"
 #: How a store is opened: to read it (``lcchain results``) or to run a study into it.
 StoreMode = Literal["read", "write"]
 
@@ -225,7 +228,15 @@ class StoredRun:
     @property
     def judged(self) -> bool:
         """Compared with a theory: its metrics hold more than measurements."""
-        return self.metrics is not None and any(k not in (MEASUREMENTS, MEASURE_REASONS) for k in self.metrics)
+        return self.metrics is not None and any(k not in (MEASUREMENTS, MEASURE_REASONS, PARTS)
+                                                for k in self.metrics)
+
+    @property
+    def parts(self) -> dict[str, list[float | None]] | None:
+        """A tolerance or preferred-value sample's realised part values: ``{"L": L_1..L_N (henry), "C": C_01..
+        C_N,N+1 (farad; None where a wall is a wire)}``; None for a nominal chain, and in stores made before."""
+        value = (self.metrics or {}).get(PARTS)
+        return dict(value) if isinstance(value, dict) else None
 
     def record(self) -> RunRecord:
         """The run as a record without its arrays (:meth:`Store.waveforms` has them)."""
@@ -253,6 +264,8 @@ class StoredRun:
             data["arrivals"] = self.metrics.get("arrivals")
             if "effects" in self.metrics:  # against the circuit's own theory: what its effects cost the pulse
                 data["effects"] = self.metrics["effects"]
+        if self.parts is not None:
+            data[PARTS] = self.parts
         if self.measurements:
             data[MEASUREMENTS] = self.measurements
             data[MEASURE_REASONS] = self.measure_reasons
@@ -825,14 +838,17 @@ class Store:
         """The keys of every run stored as failed or timed out (``--retry-failed`` runs them again)."""
         return {row[0] for row in self._rows("SELECT key FROM records WHERE status IN ('failed', 'timeout')")}
 
-    def add(self, record: RunRecord, points: int | None = None) -> None:
+    def add(self, record: RunRecord, points: int | None = None, *, parts: Mapping[str, Any] | None = None) -> None:
         """Store one finished run, in one transaction (durable when this returns); ``points`` when it has no
-        result of its own (an extrapolation: its members' points together)."""
-        self.add_many([(record, points)])
+        result of its own (an extrapolation: its members' points together); ``parts``: its sample's realised
+        part values (``{"L": [...], "C": [...]}``, :func:`lcchain.studies.plan.realised_parts`)."""
+        self.add_many([(record, points)], parts=None if parts is None else {record.key: parts})
 
-    def add_many(self, records: Sequence[tuple[RunRecord, int | None]]) -> None:
+    def add_many(self, records: Sequence[tuple[RunRecord, int | None]], *,
+                 parts: Mapping[str, Mapping[str, Any]] | None = None) -> None:
         """Store finished runs in one transaction (durable when this returns): what finished together is
-        committed together, one disk sync for all (each (record, points) as for :meth:`add`)."""
+        committed together, one disk sync for all (each (record, points) as for :meth:`add`; ``parts`` by key:
+        a sample's realised part values, kept in its metrics under :data:`PARTS`)."""
         if self.mode != "write" or self._lock is None:
             raise self._refuse("a store that holds a plan, opened for writing (adopt one first)")
         rows = []
@@ -841,6 +857,8 @@ class Store:
             metrics = judged.to_dict() if judged is not None else None
             if record.measurements:  # beside any theory's metrics: an old store opens and reads them the same
                 metrics = {**(metrics or {}), **measurement_fields(record.measurements)}
+            if parts is not None and record.key in parts:  # a key of the metrics: an old store opens the same
+                metrics = {**(metrics or {}), PARTS: dict(parts[record.key])}
             rows.append((record.key, record.status, record.reason, record.log_tail, record.digest, record.wall_s,
                          record.total_s, engine_text(record.engine, record.engine_version), record.lcchain_version,
                          record.points if record.points is not None else points,
@@ -945,9 +963,12 @@ class Store:
     def to_dataframe(self) -> Any:
         """The runs as a pandas DataFrame: one row per task (index: the task's number), the study's parameters
         as columns, then kind, status, key, digest, points, the simulator's wall time and the metrics (NaN or
-        None where a run has none). pandas is optional: ``pip install 'lcchain[data]'``."""
+        None where a run has none). A sample's realised part values are left out of the table (N + 1 columns
+        each would bury the metrics): they are :meth:`to_xarray`'s ``L`` and ``C``, and each
+        :attr:`StoredRun.parts`. pandas is optional: ``pip install 'lcchain[data]'``."""
         pd = _optional("pandas")
         return pd.DataFrame(self._table_rows(self.runs())).set_index("index")
+
 
     def to_xarray(self, waveforms: bool = False) -> Any:
         """The runs as an xarray Dataset whose dimensions are the study's axes.
@@ -957,6 +978,10 @@ class Store:
         where a combination did not run or has no such metric). An extrapolation's members are left out: its
         combined result is the point's. A study whose runs do not form a grid (two runs at the same point)
         has the task number as its one dimension, ``index``.
+
+        Tolerance or preferred-value samples also have their realised part values: ``L`` (henry) on the
+        dimension ``coil`` (1..N) and ``C`` (farad) on ``capacitor`` (0..N: C_j joins masses j and j + 1, 0 and N
+        the walls; NaN where a wall is a wire, or a run had no such part).
 
         Parameters
         ----------
@@ -973,6 +998,7 @@ class Store:
         frame = _optional("pandas").DataFrame(self._table_rows(results))
         dataset = frame.drop(columns=list(constants)).set_index(dims).to_xarray().set_coords(along)
         dataset.attrs.update({"store": str(self.path), **{key: str(value) for key, value in constants.items()}})
+        dataset = self._with_parts(dataset, dims, results)
         if waveforms:
             dataset = self._with_waveforms(dataset, dims, [run for run in results if run.status == "ok"])
         return dataset
@@ -1041,6 +1067,25 @@ class Store:
             row.update({measurement_column(name, row): _number(values.get(name)) for name in measured})
             rows.append(row)
         return rows
+
+    @staticmethod
+    def _with_parts(dataset: Any, dims: list[str], runs: list[StoredRun]) -> Any:
+        """The dataset with the samples' part values, ``L`` on ``coil`` and ``C`` on ``capacitor``."""
+        pd = _optional("pandas")
+        rows: dict[str, list[dict[str, Any]]] = {"L": [], "C": []}
+        for run in runs:
+            parts = run.parts
+            if parts is None:
+                continue
+            at = {dim: run.index if dim == "index" else run.params.get(dim) for dim in dims}
+            rows["L"] += [{**at, "coil": i + 1, "L": _number(v)} for i, v in enumerate(parts.get("L") or [])]
+            rows["C"] += [{**at, "capacitor": j, "C": _number(v)} for j, v in enumerate(parts.get("C") or [])]
+        for name, dim in (("L", "coil"), ("C", "capacitor")):
+            if rows[name]:
+                values = pd.DataFrame(rows[name]).set_index([*dims, dim]).to_xarray()
+                dataset = dataset.merge(values, join="left")
+                dataset[name].attrs["units"] = "H" if name == "L" else "F"
+        return dataset
 
     def _with_waveforms(self, dataset: Any, dims: list[str], runs: list[StoredRun]) -> Any:
         arrays = {run.index: self.waveforms(run.key) or {} for run in runs}
