@@ -29,7 +29,7 @@ if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
 __all__ = ["physical_axis", "overlay", "side_by_side", "spacetime", "histogram", "pareto", "mode_density", "spectrum",
-           "spacing_band", "TIME_LABEL"]
+           "spacing_band", "TIME_LABEL", "set_title", "wrapped"]
 
 #: Label of every time axis.
 TIME_LABEL = r"$t\,/\sqrt{L_0 C_0}$"
@@ -66,6 +66,44 @@ def _text(title: str) -> str:
     except (ValueError, RuntimeError):
         return re.sub(r"(?<!\\)\$", r"\\$", title)
     return title
+
+
+#: Average width of a character of a title, in ems (DejaVu Sans averages about 0.55 em; a little more keeps
+#: capitals and wide digits inside).
+_EM_PER_CHARACTER = 0.6
+
+
+def wrapped(title: str, width_inches: float, fontsize: float) -> str:
+    """``title`` broken at spaces into lines that fit ``width_inches`` at ``fontsize`` points (issue 33: a long
+    scene title ran past both edges of the figure); a ``$...$`` math part is never broken."""
+    columns = max(16, int(width_inches * 72.0 / (_EM_PER_CHARACTER * fontsize)))
+    if len(title) <= columns or "\n" in title:
+        return title
+    import textwrap
+
+    parts = re.split(r"((?<!\\)\$.*?(?<!\\)\$)", title)  # a math part keeps its spaces: no break inside it
+    protected = "".join(part.replace(" ", "\0") if i % 2 else part for i, part in enumerate(parts))
+    return textwrap.fill(protected, columns, break_long_words=False, break_on_hyphens=False).replace("\0", " ")
+
+
+def set_title(target: Axes | Figure, title: str, fontsize: float | str | None = None) -> None:
+    """An Axes' title or a figure's suptitle (``target``), its math checked (:func:`_text`) and wrapped to the
+    width it has (:func:`wrapped`): no title is clipped by the figure."""
+    from matplotlib import rcParams
+    from matplotlib.axes import Axes
+    from matplotlib.font_manager import FontProperties
+
+    is_axes = isinstance(target, Axes)
+    size = fontsize if fontsize is not None else rcParams["axes.titlesize" if is_axes else "figure.titlesize"]
+    points = FontProperties(size=size).get_size_in_points()
+    figure = _root_figure(target) if is_axes else target
+    width = figure.get_figwidth() * (target.get_position().width if is_axes else 1.0)
+    text = wrapped(_text(title), width, points)
+    kwargs = {} if fontsize is None else {"fontsize": fontsize}
+    if is_axes:
+        target.set_title(text, **kwargs)
+    else:
+        target.suptitle(text, **kwargs)
 
 
 def _root_figure(ax: Axes) -> Figure:
@@ -281,14 +319,14 @@ def overlay(t_sim, y_sim, t_theory, y_theory, *, residual=None, t_residual=None,
     if ax is not None:
         top.legend(loc="best", fontsize=8)
         if title:
-            top.set_title(_text(title))
+            set_title(top, title)
     else:
         # One legend below the panels: no corner of a long window is free of data.
         handles = [h for a in (top, bottom) if a is not None for h in a.get_legend_handles_labels()[0]]
         fig.legend(handles=handles, loc="outside lower center", ncols=min(3, len(handles)), fontsize=8,
                    frameon=False)
         if title:
-            fig.suptitle(_text(title))
+            set_title(fig, title)
     return _finish(fig, path)
 
 
@@ -332,7 +370,7 @@ def side_by_side(panels: Sequence[Mapping], *, title: str = "",
     span = high - low or 1.0
     axes[0].set_ylim(low - 0.05 * span, high + 0.35 * span)
     if title:
-        fig.suptitle(_text(title))
+        set_title(fig, title)
     return _finish(fig, path)
 
 
@@ -458,7 +496,7 @@ def spacetime(t, currents, *, title: str = "", max_columns: int = SPACETIME_MAX_
     if loops.size <= 12:
         ax.set_yticks(loops)
     if title:
-        ax.set_title(_text(title))
+        set_title(ax, title)
     return _finish(fig, path)
 
 
@@ -516,7 +554,7 @@ def histogram(values, *, theory: float | None = None, title: str = "", xlabel: s
     ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, title_fontsize=8, alignment="left",
               title=f"n = {values.size}\nmean = {mean:.5g}\nstd = {std:.3g}")
     if title:
-        ax.set_title(_text(title))
+        set_title(ax, title)
     return _finish(fig, path)
 
 
@@ -684,7 +722,7 @@ def spectrum(omega_theory, P_theory, omega_circuit, P_circuit, *, title: str = "
     if frequency_unit is not None:
         physical_axis(top, frequency_unit, "Hz", "frequency")
     if title:
-        top.set_title(_text(title), fontsize=10)
+        set_title(top, title, 10)
     if bottom is None:
         top.set_xlabel(r"$\omega_n$  $[1/\sqrt{L_0 C_0}]$")
         return _finish(fig, path)
@@ -744,5 +782,5 @@ def spacing_band(omega_nominal, spacings, *, title: str = "", path: str | os.Pat
     ax.grid(True, **_GRID)
     ax.legend(loc="best", fontsize=8)
     if title:
-        ax.set_title(_text(title), fontsize=10)
+        set_title(ax, title, 10)
     return _finish(fig, path)

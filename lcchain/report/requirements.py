@@ -13,14 +13,14 @@ from __future__ import annotations
 
 import os
 from collections.abc import Mapping, Sequence
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ..circuit.requirements import LOSS_TARGETS, Requirement, si
 from ..studies.requirements import ATOL_LOSS, CHECK_DT, RTOL_LOSS, CheckPoint, RequirementsCheck, point_agrees
 from .markup import esc, figure_block, num, verdict_cell
-from .plots import _finish, _new_figure
+from .plots import _finish, _new_figure, set_title
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -71,13 +71,34 @@ def requirements_chart(curves: Sequence[tuple[str, Sequence[float], Sequence[flo
         # 1.6 s for five panels), and the decades' grid reads as well
         ax.xaxis.set_minor_locator(NullLocator())
         ax.yaxis.set_minor_locator(NullLocator())
+        _few_decades(ax)
         ax.grid(alpha=0.3, linewidth=0.5)
         ax.legend(loc="upper left", fontsize="x-small")
     for ax in axes[len(curves):]:
         ax.set_visible(False)
     if title:
-        fig.suptitle(title)
+        set_title(fig, title)
     return _finish(fig, path)
+
+
+#: A log axis spanning fewer decades than this gets ticks between its powers of ten: a range of 3 to 4 had none.
+_FEW_DECADES = 2.0
+
+
+def _few_decades(ax: Any) -> None:
+    """Ticks at 1, 2, 5 (under a decade: 1 to 9) times the powers of ten, each labelled, on a log axis of few
+    decades; the decades alone otherwise."""
+    from matplotlib.ticker import LogFormatterSciNotation, LogLocator
+
+    for axis, limits in ((ax.xaxis, ax.get_xlim()), (ax.yaxis, ax.get_ylim())):
+        low, high = sorted(limits)
+        if not (low > 0 and np.isfinite(high)):
+            continue
+        decades = float(np.log10(high / low))
+        if decades < _FEW_DECADES:
+            subs = (1.0, 2.0, 5.0) if decades >= 1.0 else tuple(float(k) for k in range(1, 10))
+            axis.set_major_locator(LogLocator(subs=subs))
+            axis.set_major_formatter(LogFormatterSciNotation(labelOnlyBase=False))
 
 
 def _label(requirement: Requirement) -> str:

@@ -182,5 +182,7 @@ def samples_figure(groups: list[Group], title: str = "", xlabel: str = _AXIS["pe
             if c == 0:
                 ax.set_ylabel("samples", fontsize=8)
     if title:
-        figure.suptitle(title, fontsize=10)
+        from .plots import set_title
+
+        set_title(figure, title, 10)
     return figure
