@@ -93,17 +93,14 @@ def set_title(target: Axes | Figure, title: str, fontsize: float | str | None = 
     from matplotlib.axes import Axes
     from matplotlib.font_manager import FontProperties
 
-    is_axes = isinstance(target, Axes)
-    size = fontsize if fontsize is not None else rcParams["axes.titlesize" if is_axes else "figure.titlesize"]
-    points = FontProperties(size=size).get_size_in_points()
-    figure = _root_figure(target) if is_axes else target
-    width = figure.get_figwidth() * (target.get_position().width if is_axes else 1.0)
-    text = wrapped(_text(title), width, points)
-    kwargs = {} if fontsize is None else {"fontsize": fontsize}
-    if is_axes:
-        target.set_title(text, **kwargs)
+    default = rcParams["axes.titlesize"] if isinstance(target, Axes) else rcParams["figure.titlesize"]
+    points = FontProperties(size=fontsize if fontsize is not None else default).get_size_in_points()
+    size = points  # the size the title had: the rcParams' title size unless given (never font.size's default)
+    if isinstance(target, Axes):
+        width = _root_figure(target).get_figwidth() * target.get_position().width
+        target.set_title(wrapped(_text(title), width, points), fontsize=size)
     else:
-        target.suptitle(text, **kwargs)
+        target.suptitle(wrapped(_text(title), target.get_figwidth(), points), fontsize=size)
 
 
 def _root_figure(ax: Axes) -> Figure:
