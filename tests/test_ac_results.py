@@ -61,7 +61,9 @@ def test_an_ac_store_goes_to_netcdf_with_its_phasors(ac_store: Path, tmp_path: P
     out = tmp_path / "ac.nc"
     assert main(["results", str(ac_store), "--netcdf", str(out), "--waveforms"]) == 0
     with xarray.open_dataset(out) as data, xarray.open_dataset(out, group="ac") as ac:
-        assert set(data.sizes) == {"N", "sample"}
+        # issue 33: each tolerance sample's realised parts, L_i on coil and C_j on capacitor, in henry and farad
+        assert set(data.sizes) == {"N", "sample", "coil", "capacitor"}
+        assert data["L"].attrs["units"] == "H" and data["C"].attrs["units"] == "F"
         names = {str(name) for name in data.data_vars}
         assert {"max_rel_error_omega", "spacing_spread"} <= names
         # issue 33: each phasor's parts as two variables, in amperes per volt, on the runs' own frequencies (Hz)

@@ -37,13 +37,16 @@ __all__ = ["cf_datasets", "variable_name", "vector_units", "CONVENTIONS"]
 CONVENTIONS = "CF-1.10"
 
 #: The root's variables with a unit of their own; every other numeric one is dimensionless ("1").
-_ROOT_UNITS = {"wall_s": "s", "total_s": "s"}
+_ROOT_UNITS = {"wall_s": "s", "total_s": "s", "L": "H", "C": "F"}
 _ROOT_NAMES = {"t_sim": "first arrival's time (simulation), units of sqrt(L0 C0)",
                "t_theory": "first arrival's time (theory), units of sqrt(L0 C0)",
                "dt": "maximum time step, units of sqrt(L0 C0)", "wall_s": "simulator's wall time",
                "peak_sim": "first arrival's peak I_N / I_1(0) (simulation)",
                "peak_theory": "first arrival's peak I_N / I_1(0) (theory)",
-               "max_abs_error": "max |simulation - theory|, units of I_1(0)", "points": "number of points"}
+               "max_abs_error": "max |simulation - theory|, units of I_1(0)", "points": "number of points",
+               "L": "a sample's realised inductance L_i of coil i", "coil": "coil i = 1..N",
+               "C": "a sample's realised capacitance C_j between masses j and j + 1 (NaN: a wire)",
+               "capacitor": "capacitor j = 0..N (0 and N: the walls)"}
 
 
 def variable_name(vector: str) -> str:
