@@ -78,3 +78,42 @@ def test_an_ac_run_is_measured_at_the_1e_15_level(case, N):
     report = spectrum(Request(chain_for_case(case, N), AC()))
     assert report.seen[report.resolved].all()
     assert report.max_rel_error_omega < RTOL_SHARP_SPECTRUM
+
+
+# ---------------------------------------------------------------- item 2: overlapping modes, failed comparisons
+def test_overlapping_lossy_modes_are_refused_in_one_line_naming_Q(capsys):
+    from lcchain.cli.main import main
+
+    assert main(["spectrum", "--case", "two-mass", "--N", "37", "--Q", "3"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and "--Q = 3" in err and "28.93 <= Q" in err
+
+
+def test_a_Q_just_inside_the_range_is_measured_to_the_targets():
+    from helpers.tolerances import ATOL_SPECTRUM_P, RTOL_SPECTRUM_OMEGA, RTOL_SPECTRUM_Q
+
+    from lcchain.circuit.effects import Losses
+
+    report = spectrum(Request(chain_for_case("two-mass", 37), AC(), effects=(Losses(29.0),)))
+    assert report.failure == "" and report.seen.all()
+    assert report.max_rel_error_omega < RTOL_SPECTRUM_OMEGA and report.max_abs_error_P < ATOL_SPECTRUM_P
+    assert report.max_rel_error_Q < RTOL_SPECTRUM_Q
+
+
+def test_an_unseen_resolved_mode_fails_the_run_with_one_line(monkeypatch, capsys):
+    import dataclasses
+
+    import lcchain.runs.spectrum as runs_spectrum
+    from lcchain.cli.main import main
+
+    report = spectrum(Request(chain_for_case("two-mass", 8), AC()))
+    assert report.failure == ""
+    keep = report.fitted != 2  # mode 3 (resolved) left unseen, as a fit that lost it would
+    blunt = dataclasses.replace(report, fit=report.fit.subset(keep), fitted=report.fitted[keep])
+    assert not np.isfinite(blunt.max_rel_error_omega) and "unseen (n = 3)" in blunt.failure
+    assert blunt.to_dict()["max_rel_error_omega"] is None
+    monkeypatch.setattr(runs_spectrum, "measure_spectrum", lambda *args, **kwargs: blunt)
+    assert main(["spectrum", "--case", "two-mass", "--N", "8"]) == 1
+    captured = capsys.readouterr()
+    assert "inf" not in captured.out and "max relative error of omega_n = unseen" in captured.out
+    assert captured.err.count("\n") == 1 and "unseen (n = 3)" in captured.err

@@ -26,7 +26,8 @@ from ..core.limits import COUPLED_MAX_N, EXACT_MAX_N
 from .chain import Chain
 from .modes import Modes
 
-__all__ = ["tridiagonal", "diagonalise", "sharp_frequencies", "exact_modes", "driven_modes", "coupled_vectors", "modal_weights",
+__all__ = ["tridiagonal", "diagonalise", "sharp_frequencies", "exact_modes",
+           "driven_modes", "coupled_vectors", "modal_weights",
            "EXACT_MAX_N",
            "COUPLED_MAX_N"]
 
