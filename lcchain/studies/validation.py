@@ -134,9 +134,9 @@ class CheckJob:
     @property
     def cost(self) -> float:
         """Rough seconds it takes, for the order checks are sent to a pool in (measured: ngspice about 7 s at
-        N = 1000 with one transit at dt = 0.05, gnucap about twice that, both quadratic in N)."""
-        per_million = 7.0 if self.simulator.engine == "ngspice" else 16.0
-        return per_million * (self.N / 1000.0) ** 2 + 0.05
+        N = 1000 with one transit at dt = 0.05, quadratic in N), times its engine's ``relative_cost``: an engine
+        is priced by what it says of itself, not by its name."""
+        return 7.0 * ENGINES[self.simulator.engine].relative_cost * (self.N / 1000.0) ** 2 + 0.05
 
 
 def check_jobs(*, quick: bool = False, simulators: Sequence[Simulator] | None = None) -> list[CheckJob]:
