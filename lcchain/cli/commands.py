@@ -470,7 +470,7 @@ def cmd_spectrum(args: argparse.Namespace) -> int:
                   f"{P_error:>10} {spacing:>10} {hz:>16}")
             previous = omega if omega is not None else previous
         weak = sum(1 for m in data["modes"] if not m["resolved"])
-        print(f"max relative error of omega_n = {data['max_rel_error_omega']:.3e} (modes with |P_n| >= 1e-6"
+        print(f"max relative error of omega_n = {_error(data['max_rel_error_omega'])} (modes with |P_n| >= 1e-6"
               f"{f'; {weak} weaker modes are placed less well' if weak else ''}), max absolute error of P_n = "
               f"{data['max_abs_error_P']:.3e} ({data['seen']} of {chain.N} modes seen at the ends)")
         if data["Q"] is not None or data["max_rel_error_Q"] is not None:  # the chain's losses, a circuit's resistors
@@ -484,7 +484,18 @@ def cmd_spectrum(args: argparse.Namespace) -> int:
             frequency_unit=data["physical"]["frequency_unit_Hz"]))
     if args.touchstone:
         _write_touchstone(args, chain, effects, outputs)
+    if report.failure:  # a comparison that failed is a failed check
+        print(f"lcchain: {report.failure}", file=sys.stderr)
+        return EXIT_FAILED
     return EXIT_FAILED if outputs.failed else EXIT_OK
+
+
+def _error(value: float | None) -> str:
+    """An error as printed: a number, or 'unseen' where a resolved mode was not seen (infinite; None in the
+    JSON), 'n/a' where it is NaN: never 'inf'."""
+    if value is not None and value != value:
+        return "n/a"
+    return "unseen" if value is None or value == float("inf") else f"{value:.3e}"
 
 
 def _write_touchstone(args: argparse.Namespace, chain: Any, effects: tuple[Any, ...], outputs: Outputs) -> None:
@@ -523,7 +534,8 @@ def _print_quality(data: dict[str, Any]) -> None:
             error = abs(mode["Q"] - mode["Q_theory"]) / (mode["Q_theory"] or 1.0)
             print(f"{mode['n']:>5} {mode['Q']:19.12g} {mode['Q_theory']:19.12g} {error:10.2e}")
     response = data["max_abs_error_response"]
-    print(f"max relative error of Q_n = {data['max_rel_error_Q']:.3e}, of the poles = {data['max_rel_error_pole']:.3e}"
+    print(f"max relative error of Q_n = {_error(data['max_rel_error_Q'])}, of the poles = "
+          f"{_error(data['max_rel_error_pole'])}"
           + ("" if response is None else f"; fitted alpha_N(t) - exact lossy response: max {response:.3e}"))
 
 
@@ -592,18 +604,18 @@ def _print_spectrum_summary(result: Any) -> None:
     if "max_rel_error_omega" in report:
         good = [record for record in report["samples"] if "error" not in record]
         over = f" (the worst of {len(good)} samples, each against its own theory)" if len(good) > 1 else ""
-        print(f"max |omega_n - theory| / theory = {report['max_rel_error_omega']:.3e}, max |P_n - theory| = "
+        print(f"max |omega_n - theory| / theory = {_error(report['max_rel_error_omega'])}, max |P_n - theory| = "
               f"{report['max_abs_error_P']:.3e}{over}")
         if "max_rel_error_Q" in report:
-            print(f"losses Q = {report['Q']:g}: max |Q_n - omega_n Q| / (omega_n Q) = {report['max_rel_error_Q']:.3e}"
-                  f"{over}")
+            print(f"losses Q = {report['Q']:g}: max |Q_n - omega_n Q| / (omega_n Q) = "
+                  f"{_error(report['max_rel_error_Q'])}{over}")
         spread = report["spacing_spread"]
         print(f"spacing spread (max - min) / mean of delta omega_n: {spread['mean']:.4g} (mean over {spread['count']}"
               f" sample{'s' if spread['count'] > 1 else ''}), largest {spread['max']:.4g}; nominal theory "
               f"{spread['theory_nominal']:.3g}")
         print(f"{'sample':>6} {'modes seen':>10} {'max omega error':>16} {'max P error':>12} {'spacing spread':>15}")
         for record in good:
-            print(f"{record['sample']:>6} {record['modes_seen']:>10} {record['max_rel_error_omega']:>16.3e} "
+            print(f"{record['sample']:>6} {record['modes_seen']:>10} {_error(record['max_rel_error_omega']):>16} "
                   f"{record['max_abs_error_P']:>12.3e} {record['spacing_spread']:>15.4g}")
     for record in report["samples"]:
         if "error" in record:

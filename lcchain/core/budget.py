@@ -323,8 +323,9 @@ RUN_START_SECONDS = 0.02
 def sample_theory_seconds(N: int) -> float:
     """The theory of one realised chain (a tolerance sample): its exact modes (eigh, about 3e-10 N^3 s) and the
     comparison with the arrivals' refinement (about 50 ms at N = 50: a 2000-sample scene priced without it at
-    0.14 s ran 119 s)."""
-    return 0.05 + 3e-10 * N**3 + 2e-4 * N
+    0.14 s ran 119 s); an AC run's frequencies refined in extended precision
+    (:func:`lcchain.theory.exact.sharp_frequencies`, about 1e-6 N^2 s: 3.7 s at N = 2000 on a loaded machine)."""
+    return 0.05 + 3e-10 * N**3 + 1e-6 * N**2 + 2e-4 * N
 
 
 def accuracy_plan_seconds(N: int) -> float:

@@ -238,6 +238,22 @@ class SpectrumReport:
         """Largest |P_circuit - P_theory| over every mode (an unseen one counts with P = 0)."""
         return self.metrics.max_abs_error_P
 
+    @property
+    def failure(self) -> str:
+        """Why the comparison failed, in one line, or '' when it held: a resolved mode the fit left unseen, or an
+        error that is no number (infinite, NaN).  ``lcchain spectrum`` then exits 1: a failed comparison is a
+        failed check, whatever it printed."""
+        unseen = np.flatnonzero(self.resolved & ~self.seen) + 1
+        if unseen.size:
+            listed = ", ".join(str(n) for n in unseen[:5]) + (" ..." if unseen.size > 5 else "")
+            return (f"the fit left {unseen.size} resolved mode{'s' if unseen.size > 1 else ''} unseen (n = {listed}): "
+                    "the comparison with theory failed")
+        errors = {"omega_n": self.max_rel_error_omega, "P_n": self.max_abs_error_P}
+        if self.lossy:
+            errors["Q_n"] = self.max_rel_error_Q
+        bad = [name for name, value in errors.items() if not np.isfinite(value)]
+        return f"the error of {', '.join(bad)} is not a number: the comparison with theory failed" if bad else ""
+
     def to_dict(self) -> dict[str, Any]:
         """``lcchain spectrum --json``: a mode's ``P_theory`` is null, ``below_precision`` true, where the theory's
         value is rounding noise (:attr:`below_precision`)."""
@@ -259,11 +275,12 @@ class SpectrumReport:
             modes.append(mode)
         return {"N": self.chain.N, "case": self.chain.name, "points": self.points, "omega_max": self.omega_max,
                 "engine": self.engine, "engine_version": self.engine_version, "netlist_sha256": self.netlist_sha256,
-                "modes": modes, "seen": int(self.seen.sum()), "max_rel_error_omega": self.max_rel_error_omega,
+                "modes": modes, "seen": int(self.seen.sum()), "max_rel_error_omega": _finite(self.max_rel_error_omega),
                 "max_abs_error_P": self.max_abs_error_P, "fit_steps": self.fit.sweeps, "timings": self.timings,
-                "Q": self.losses, "max_rel_error_Q": self.max_rel_error_Q if lossy else None,
-                "max_rel_error_pole": self.max_rel_error_pole, "max_abs_error_response": self.response_error,
-                "segments": self.segments} | ({} if self.theory.method != "circuit" else {"theory": "circuit"})
+                "Q": self.losses, "max_rel_error_Q": _finite(self.max_rel_error_Q) if lossy else None,
+                "max_rel_error_pole": _finite(self.max_rel_error_pole), "max_abs_error_response": self.response_error,
+                "segments": self.segments,
+                "failure": self.failure} | ({} if self.theory.method != "circuit" else {"theory": "circuit"})
 
     def _rows(self) -> list[tuple[str, object]]:
         lossy = f", losses Q = {self.losses:g}" if self.losses is not None else ""
