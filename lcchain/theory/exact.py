@@ -111,10 +111,11 @@ def _below(edges: np.ndarray, sigma: np.ndarray) -> np.ndarray:
     tiny = np.finfo(np.longdouble).tiny
     d = -sigma
     count = np.zeros(sigma.size, dtype=np.int64)
-    for square in edges * edges:
-        d = np.where(d == 0, -tiny, d)
-        count += d < 0
-        d = -sigma - square / d
+    with np.errstate(over="ignore"):  # a pivot of +-inf is the recurrence's own (IEEE): the next one is -sigma
+        for square in edges * edges:
+            d = np.where(d == 0, -tiny, d)
+            count += d < 0
+            d = -sigma - square / d
     count += d < 0
     return count - (edges.size // 2 + 1)
 
