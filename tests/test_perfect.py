@@ -142,8 +142,9 @@ def test_closed_form_in_fractions():
 
 
 # ------------------------------------------------------------------ any N, free and with walls
-@pytest.mark.parametrize(("N", "walls"), [(6, 0), (7, 0), (50, 0), (201, 0), (2000, 0), (6, 1), (7, 2), (100, 1),
-                                          (101, 3), (300, 5)])
+@pytest.mark.parametrize(("N", "walls"), [(6, 0), (7, 0), (50, 0), (201, 0),
+                                          pytest.param(2000, 0, marks=pytest.mark.slow),  # 6 s; N = 2000 below
+                                          (6, 1), (7, 2), (100, 1), (101, 3), (300, 5)])
 def test_designed_chain_has_the_prescribed_spectrum(N, walls):
     design = perfect_design(N, walls)
     assert_shape(design)
