@@ -277,7 +277,7 @@ def test_wait_waits_for_the_driver_writing_the_store(tmp_path: Path) -> None:
     assert (json.loads(out)["skipped"], json.loads(out)["ran"]) == (2, 0)
 
 
-@pytest.mark.parametrize("wait", [False, True])
+@pytest.mark.parametrize("wait", [pytest.param(False, marks=pytest.mark.slow), True])  # 4 s each: one in the fast set
 def test_two_drivers_started_together_never_run_a_run_twice(tmp_path: Path, wait: bool) -> None:
     """Whichever way the race goes: each run is run once, the one refused says why in a line, none crashes."""
     drivers = [_sweep(tmp_path, *(["--wait"] if wait else [])) for _ in range(2)]

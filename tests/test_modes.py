@@ -123,7 +123,8 @@ def test_perfect_chain_frequencies_equally_spaced(N):
 
 
 # --------------------------------------------------- closed form against exact
-EXACT_VS_CLOSED = [(N, r, w) for N in (5, 20, 100, 1000) for (r, w) in RW_CASES] + [(5000, *TWO_MASS_100)]
+EXACT_VS_CLOSED = [(N, r, w) for N in (5, 20, 100, 1000) for (r, w) in RW_CASES] + [
+    pytest.param(5000, *TWO_MASS_100, marks=pytest.mark.slow)]  # 3 s
 
 
 @pytest.mark.parametrize("N, r, w", EXACT_VS_CLOSED)

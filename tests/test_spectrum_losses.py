@@ -115,6 +115,7 @@ def test_lossy_spectrum_in_ngspice_matches_a_dense_eigen_solution(chain, Q):
 
 
 @pytest.mark.ngspice
+@pytest.mark.slow  # 4 s: the segmented sweep's fast kin stay in the README's test command
 def test_a_large_chain_on_the_segmented_sweep():
     """Two-mass N = 400: an even sweep would need ~80,000 frequencies (its smallest spacing, at the top of the band,
     shrinks like 1/N^2); the segments hold about eight per spacing wherever the poles are."""
