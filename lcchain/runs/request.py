@@ -628,14 +628,14 @@ def _plan_ac(request: Request, budget: Budget, modes: Modes | None, design_secon
     analysis = request.analysis
     assert isinstance(analysis, AC)  # its own plan method calls this
     nominal, ladder, circuit = _nominal_ladder(request)
-    if circuit:
-        return _plan_circuit_ac(request, budget, modes, design_seconds, nominal, ladder)
     N, samples = nominal.N, request.samples
     if N > SPECTRUM_MAX_N:
         raise ParameterError("N", N, f"N <= {SPECTRUM_MAX_N} for an AC analysis (exact modes of the chain, and the "
                              "fit's dense least squares)")
     if modes is not None and modes.N != N:
         raise ParameterError("modes", f"modes of N = {modes.N}", f"the modes of this chain (N = {N})")
+    if circuit:
+        return _plan_circuit_ac(request, budget, modes, design_seconds, nominal, ladder)
     theory = driven_modes(nominal)
     check_frequency_scale(nominal, float(np.max(theory.omega)), ladder.time_unit)
     if request.Q is not None:  # before the grid: its own refusals (points) would hide the cause
@@ -697,12 +697,7 @@ def _plan_circuit_ac(request: Request, budget: Budget, modes: Modes | None, desi
     the circuit's theory."""
     analysis = request.analysis
     assert isinstance(analysis, AC)
-    N, samples = nominal.N, request.samples
-    if N > SPECTRUM_MAX_N:
-        raise ParameterError("N", N, f"N <= {SPECTRUM_MAX_N} for an AC analysis (exact modes of the chain, and the "
-                             "fit's dense least squares)")
-    if modes is not None and modes.N != N:
-        raise ParameterError("modes", f"modes of N = {modes.N}", f"the modes of this chain (N = {N})")
+    N, samples = nominal.N, request.samples  # N and the modes checked by _plan_ac
     _, elements, exact, (segments, points, omega_max) = _circuit_grid(nominal, request, analysis, ladder)
     check_frequency_scale(nominal, float(np.max(exact.omega)), ladder.time_unit)
 
