@@ -119,8 +119,8 @@ def findings(optima: dict[str, Any], rows: dict[str, dict[int, dict[str, Any]]])
     optima : dict
         case -> :class:`~lcchain.theory.asymptotic.AsymptoticOptimum` (computed by the caller).
     rows : dict
-        case -> N -> ``table --json`` row, for the rows the findings quote (N = 100, 1000; absent ones are
-        skipped).
+        case -> N -> ``table --json`` row, for the rows the findings quote (one-mass N = 100, 1000; two-mass
+        N = 20, 1000; absent ones are skipped).
     """
     one, two = optima["one-mass"], optima["two-mass"]
     items = [
@@ -146,6 +146,21 @@ def findings(optima: dict[str, Any], rows: dict[str, dict[int, dict[str, Any]]])
                       "correct": f"{row['delta_uniform']:.4f} ({row['delta_uniform']:.7f})",
                       "note": "The uniform chain's best loss over the delay s; the paper scanned s on a grid "
                               "(a step of 0.1 gives 0.5611956, which rounds to 0.5612)."})
+    row = rows.get("two-mass", {}).get(20)
+    if row is not None:
+        items.append({"where": "Table II, N = 20, column r*", "printed": "0.7713",
+                      "correct": f"{row['r']:.4f} ({row['r']:.7f})",
+                      "note": "The only Table II cell up to N = 100 that does not round to its printed digits (an "
+                              "independent dense optimisation gives r* = 0.7712484 too). The optimum is very flat "
+                              "along r: at r = 0.7713, with w re-optimised, α is lower by only 1.6e-9, so a search "
+                              "cannot tell the fourth digit unless it resolves α to 1e-9."})
+    row = rows.get("one-mass", {}).get(1000)
+    if row is not None:
+        items.append({"where": "Table I, N = 1000, column δ*", "printed": "0.1186",
+                      "correct": f"{max(row['delta'], 0.0):.4f} ({row['delta']:.7f})",
+                      "note": "Any chain's loss bounds the optimum's from above: already the paper's own x* = 0.2951 "
+                              "loses 0.1185497 < 0.11855 at its first arrival, so δ* rounds to 0.1185. Half a unit "
+                              "of the last digit, at the rounding boundary."})
     row = rows.get("two-mass", {}).get(1000)
     if row is not None:
         items.append({"where": "Table II, N = 1000, column m1*", "printed": "9.146",
@@ -189,7 +204,7 @@ def _asymptotic_value(optimum: Any, key: str) -> float | None:
 
 def _text_findings(optima: dict[str, Any]) -> list[dict[str, str]]:
     """The text's slips: Fig. int_rw's sign, a phase's sin k_n, Fig. vk's Delta, the coefficients that inherit
-    the optima's tau*, and notation."""
+    the optima's tau*, notation, and the equations' labels and references."""
     from ..theory.asymptotic import asymptotic_amplitude
 
     printed_tau, sigma = PRINTED_INT_RW
@@ -228,8 +243,30 @@ def _text_findings(optima: dict[str, Any]) -> list[dict[str, str]]:
                  "printed τ* is off (above), so these carry its last-digit offset."},
         {"where": "Notation: Secs. II.B–C, App. A, the captions of Figs. int_rw and minimiz",
          "printed": "“the frequency spacing is ω₁”; det(λ − B); two equations labelled e.N4; α∞(σ, τ)",
-         "correct": "ω₂ (ω₁ = 0 is the rigid mode); det(μ − B); e.N5 for N = 5; α∞(τ, σ)",
+         "correct": "ω₂ (ω₁ = 0 is the rigid mode); det(μ − B); a label of its own for App. A's 5 × 5 matrix; "
+                    "α∞(τ, σ)",
          "note": "No value is wrong: the values quoted are the spacing ω₂ − ω₁; the argument order follows the "
-                 "equations' α∞(τ, σ)."},
+                 "equations' α∞(τ, σ). App. A's matrix cannot take e.N5: that label is Sec. II.C's 5-mass "
+                 "result, which App. A cites (“the result (e.N5) follows”)."},
+        {"where": "Labels: Sec. IV.B's two equations labelled e.vk, cited by Sec. V.B",
+         "printed": "e.vk on v_k = (N/π) ∂_n ω and again on its small-k expansion; Sec. V.B: “N δω_n/π corresponds "
+                    "to the ‘group velocity’ (e.vk)”",
+         "correct": "a label of its own for the expansion, so that Sec. V.B cites the definition "
+                    "v_k = (N/π) ∂_n ω = (N/π) cos(k/2) ∂_n k",
+         "note": "LaTeX keeps the last of two equal labels (and warns “multiply defined”), so Sec. V.B's reference "
+                 "prints the number of the expansion, v_k = (N/t*)(1 − k²/8)/(1 − …); N δω_n/π is the "
+                 "definition's (N/π) ∂_n ω. No value is wrong."},
+        {"where": "Sec. III.B, after Eq. e.z0: the relation of Eqs. e.mKxyz that gives K01 = 0",
+         "printed": "“the second of Eqs. (e.mKxyz) tells that this implies K01 = 0”",
+         "correct": "the fourth (last) of Eqs. (e.mKxyz): K01 = (2 − y²)/(x²y²) [(2 − y²)(2 − z) − x²], zero "
+                    "at z = 2 − x²/(2 − y²)",
+         "note": "The paper counts these relations row by row: in Sec. II.C “the second of the relations "
+                 "(e.mKxyz)” is K12 = 2 m2 − 1 (the constraint A22 = 0), and after Eq. e.xyz “the second "
+                 "equality” is 2 = (K12 + K)/m2. The second relation does not contain z."},
+        {"where": "Caption of Fig. x_xy: where x* and y* are defined",
+         "printed": "“x* and y*, defined in Eqs. (e.mKxyz)”",
+         "correct": "defined in Eqs. (e.xyz): y = √(m/m2), x = (m/K) K12/√(m1 m2)",
+         "note": "Eqs. e.mKxyz invert them (the masses and springs in terms of x, y, z); Fig. m_mmK's caption "
+                 "cites the defining Eq. e.Horig for m1, m2, K12 in the same way. No value is wrong."},
     ]
     return items
