@@ -63,7 +63,8 @@ from ..core.blas import fixed_blas_threads
 from ..core.errors import ParameterError
 
 __all__ = ["Term", "Waveform", "Branch", "Coupling", "Source", "LinearCircuit", "LinearResponse",
-           "linear_response", "pwl_waveform", "pulse_waveform", "sin_waveform", "exp_waveform", "GROUND_NAMES", "MAX_ROUNDING"]
+           "linear_response", "pwl_waveform", "pulse_waveform", "sin_waveform", "exp_waveform", "GROUND_NAMES",
+           "MAX_ROUNDING"]
 
 #: Node names that are ground.
 GROUND_NAMES = frozenset({"0", "gnd"})
@@ -71,7 +72,8 @@ GROUND_NAMES = frozenset({"0", "gnd"})
 MAX_ROUNDING = 5e-10
 BranchKind = Literal["R", "L", "C"]
 SourceKind = Literal["V", "I"]
-_Complex = np.ndarray
+#: Time points evaluated at once (a modes x chunk block of complex exponentials).
+_CHUNK = 1024
 
 
 @dataclass(frozen=True)
@@ -245,12 +247,15 @@ class LinearResponse:
             self._solves[s] = solved
         return self._solves[s]
 
-    def _particular(self, terms: list[list[tuple[complex, complex, int]]], tau: np.ndarray, warp: Callable[[complex],
-                    complex]) -> tuple[np.ndarray, np.ndarray]:
-        """(x_p, x_p') at the times tau of a piece whose sources have ``terms`` (rows: unknowns, columns: tau)."""
+    def _particular(self, terms: list[list[tuple[complex, complex, int]]], tau: np.ndarray,
+                    warp: Callable[[complex], complex],
+                    rows: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """(R x_p, R x_p') at the times tau of a piece whose sources have ``terms`` (R: ``rows``, a matrix over the
+        unknowns, or the identity; columns: tau)."""
         n = self.E.shape[0]
-        x = np.zeros((n, tau.size), dtype=complex)
-        dx = np.zeros((n, tau.size), dtype=complex)
+        R = np.eye(n) if rows is None else rows
+        x = np.zeros((R.shape[0], tau.size), dtype=complex)
+        dx = np.zeros((R.shape[0], tau.size), dtype=complex)
         for j, source_terms in enumerate(terms):
             for coef, s, degree in source_terms:
                 if coef == 0:
@@ -258,10 +263,10 @@ class LinearResponse:
                 if degree == 1:
                     x1 = self._solve(0.0)[:, j]
                     x0 = self._dc_solve(self.E @ x1)
-                    x += coef * (x0[:, None] + np.outer(x1, tau))
-                    dx += coef * x1[:, None]
+                    x += coef * ((R @ x0)[:, None] + np.outer(R @ x1, tau))
+                    dx += coef * (R @ x1)[:, None]
                 else:
-                    g = self._solve(warp(s) if s != 0 else 0.0)[:, j]
+                    g = R @ self._solve(warp(s) if s != 0 else 0.0)[:, j]
                     shape = np.exp(s * tau)
                     x += coef * np.outer(g, shape)
                     dx += coef * s * np.outer(g, shape)
@@ -284,7 +289,7 @@ class LinearResponse:
         circuit = self.circuit
         n = self.E.shape[0]
         if not circuit.uic:
-            return self.E @ self.operating_point()
+            return np.asarray(self.E @ self.operating_point())
         volts = dict(circuit.initial)
         z = np.zeros(n)
         for name, value in volts.items():
@@ -327,9 +332,7 @@ class LinearResponse:
         (:func:`lcchain.compare.check.predicted_errors`)."""
         t = np.asarray(t, dtype=float)
         mapped = self.poles if poles is None else np.asarray(poles, dtype=complex)
-        if warp is None:
-            def warp(s: complex) -> complex:
-                return s
+        answer: Callable[[complex], complex] = (lambda s: s) if warp is None else warp
         cs = np.array([o.c for o in outputs]).reshape(len(outputs), -1)
         ds = np.array([o.d for o in outputs]).reshape(len(outputs), -1)
         es = np.array([o.e for o in outputs]).reshape(len(outputs), max(len(self.circuit.sources), 0))
@@ -339,25 +342,32 @@ class LinearResponse:
         rounding = 0.0
         points = self.breakpoints(tstop)
         terms = self._terms(0.0)
-        x0, _ = self._particular(terms, np.zeros(1), warp)
+        x0, _ = self._particular(terms, np.zeros(1), answer)
         amplitude = self._amplitude(self.initial_charge() - self.E @ x0[:, 0])
         for k, start in enumerate(points):
             end = points[k + 1] if k + 1 < len(points) else math.inf
             inside = (t >= start) & (t < end) if k + 1 < len(points) else (t >= start)
             tau = t[inside] - start
             if tau.size:
-                xp, dxp = self._particular(terms, tau, warp)
-                u = _inputs(terms, tau)
-                modal = weights[:, :, None] * (amplitude[None, :, None] * np.exp(np.outer(poles, tau))[None, :, :])
-                part = cs @ xp + ds @ dxp + es @ u
-                y[:, inside] = (part + modal.sum(axis=1)).real
-                rounding = max(rounding, float(np.max(np.abs(modal).sum(axis=1) + np.abs(part))))
+                xp, _ = self._particular(terms, tau, answer, cs)
+                _, dxp = self._particular(terms, tau, answer, ds)
+                part = xp + dxp + es @ _inputs(terms, tau)
+                values = part.copy()
+                size = np.abs(part)
+                for first in range(0, tau.size, _CHUNK):
+                    block = slice(first, first + _CHUNK)
+                    growth = amplitude[:, None] * np.exp(np.outer(poles, tau[block]))
+                    values[:, block] += weights @ growth
+                    if poles is self.poles:  # the rounding of the exact response only
+                        size[:, block] += np.abs(weights) @ np.abs(growth)
+                y[:, inside] = values.real
+                rounding = max(rounding, float(np.max(size)))
             if k + 1 < len(points):
                 span = end - start
-                before, _ = self._particular(terms, np.array([span]), warp)
+                before, _ = self._particular(terms, np.array([span]), answer)
                 amplitude = amplitude * np.exp(poles * span)
                 terms = self._terms(end)
-                after, _ = self._particular(terms, np.zeros(1), warp)
+                after, _ = self._particular(terms, np.zeros(1), answer)
                 amplitude = amplitude + self._amplitude(self.E @ (before[:, 0] - after[:, 0]))
         return y, float(np.finfo(float).eps) * rounding
 
@@ -556,10 +566,11 @@ def linear_response(circuit: LinearCircuit) -> LinearResponse:
         twice = sorted({n for n in names if names.count(n) > 1})
         raise _refuse("element names", twice, "each element named once")
     nodes: list[str] = []
-    for element in (*circuit.branches, *circuit.sources):
-        for node in (element.a, element.b):
-            if node not in GROUND_NAMES and node not in nodes:
-                nodes.append(node)
+    ends = [(e.a, e.b) for e in circuit.branches] + [(s.a, s.b) for s in circuit.sources]
+    for pair in ends:
+        for label in pair:
+            if label not in GROUND_NAMES and label not in nodes:
+                nodes.append(label)
     if not nodes:
         raise ParameterError("netlist", "no node but ground", "a circuit with at least one node")
     for element in circuit.branches:
@@ -569,8 +580,8 @@ def linear_response(circuit: LinearCircuit) -> LinearResponse:
     coils = [b for b in circuit.branches if b.kind == "L"]
     volts = [s for s in circuit.sources if s.kind == "V"]
     index = {f"v:{node}": k for k, node in enumerate(nodes)}
-    for k, element in enumerate([*coils, *volts]):
-        index[f"i:{element.name}"] = len(nodes) + k
+    for k, label in enumerate([*(c.name for c in coils), *(v.name for v in volts)]):
+        index[f"i:{label}"] = len(nodes) + k
     n = len(index)
     E, A = np.zeros((n, n)), np.zeros((n, n))
     B = np.zeros((n, len(circuit.sources)))

@@ -40,7 +40,7 @@ from ..core.types import (
     STUDY_METRICS,
 )
 from ..spice.engines import DEFAULT_ENGINE, ENGINES
-from . import bom, commands, requirements, sensitivity, studies, validation
+from . import bom, check, commands, requirements, sensitivity, studies, validation
 from .common import (
     EXIT_EXTRA,
     EXIT_FAILED,
@@ -257,6 +257,12 @@ def build_parser() -> argparse.ArgumentParser:
                         "the exit status is 1")
     studies.add_study_arguments(p)
     p.set_defaults(func=studies.cmd_batch)
+
+    p = sub.add_parser("check", help="a linear netlist (R L C K, V/I with DC PULSE SIN PWL EXP) run in a simulator "
+                       "and compared with its exact response: the error of every saved vector, the error the "
+                       "step predicts, the step an accuracy needs")
+    check.add_check_arguments(p, tuple(ENGINES))
+    p.set_defaults(func=check.cmd_check)
 
     p = sub.add_parser("results", parents=budget,
                        help="a store's runs: a table, --json, --csv, or a --plot of the study")

@@ -50,7 +50,7 @@ def prediction_grid(breakpoints: Sequence[float], tstop: float, step: float,
               zip(breakpoints, ends, strict=True)]
     total = sum(counts)
     pieces = []
-    for start, end, count in zip(breakpoints, ends, counts, strict=True):
+    for start, count in zip(breakpoints, counts, strict=True):
         keep = max(2, int(math.ceil(count * limit / total))) if total > limit else count
         if keep >= count:
             pieces.append(start + step * np.arange(count))

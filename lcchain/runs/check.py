@@ -32,7 +32,7 @@ from ..spice.engines import engine_named, find_engine
 from ..spice.foreign import Sweep, Transient, allowed_netlist, analysis_of
 from ..spice.runner import read_include
 from ..spice.simulator import Simulator
-from ..spice.text import canonical_vector_name
+from ..spice.text import canonical_text, canonical_vector_name
 
 __all__ = ["VectorCheck", "CheckResult", "circuit_of", "check_text", "check_file", "DEFAULT_ACCURACY"]
 
@@ -125,7 +125,7 @@ class CheckResult:
 
 
 def _arguments(card: SourceCard, count: int, defaults: list[float | None]) -> list[float] | str:
-    values: list[float | None] = list(card.arguments[:count]) + defaults[len(card.arguments):count]
+    values: list[float | None] = [*card.arguments[:count], *defaults[len(card.arguments):count]]
     if len(card.arguments) > count:
         return f"source {card.name.upper()}: {card.function.upper()} with {len(card.arguments)} arguments"
     if any(v is None for v in values):
@@ -215,24 +215,28 @@ def _unit(name: str) -> str:
     return "V" if name.startswith("v(") else "A" if name.startswith(("i(", "@")) else ""
 
 
-def _run(text: str, analysis: Transient | Sweep, simulator: Simulator, timeout: float
+def _run(text: str, analysis: Transient | Sweep, simulator: Simulator, timeout: float, trusted_in: Path | None
          ) -> tuple[np.ndarray, dict[str, np.ndarray], float, str]:
     """(time or frequency, vectors by canonical name, wall seconds, version) of the simulator's run."""
     if isinstance(analysis, Sweep):
         from ..spice.ac import run_ac
 
+        if trusted_in is not None:
+            raise ParameterError("--allow-control", True, "a .tran netlist (an .ac one runs through the allow-list)")
         ac = run_ac(text, (), analysis.count, simulator=simulator, timeout=timeout, foreign=True)
         return np.asarray(ac.frequency), {k: np.asarray(v) for k, v in ac.vectors.items()}, ac.wall_s, \
             ac.engine_version
     from ..spice.runner import run
 
-    result = run(text, (), analysis.stop, simulator=simulator, timeout=timeout, foreign=True)
+    result = run(text, (), analysis.stop, simulator=simulator, timeout=timeout, foreign=True,
+                 trusted=trusted_in is not None, cwd=trusted_in)
     return np.asarray(result.time), {k: np.asarray(v) for k, v in result.vectors.items()}, result.wall_s, \
         result.engine_version
 
 
 def check_text(text: str, source: str = "netlist", folder: Path | None = None, *, accuracy: float | None = None,
-               engine: str = "ngspice", timeout: float = 600.0, simulator: Simulator | None = None) -> CheckResult:
+               engine: str = "ngspice", timeout: float = 600.0, simulator: Simulator | None = None,
+               allow_control: bool = False) -> CheckResult:
     """Run a netlist lcchain did not write and compare every saved vector with its exact response.
 
     Parameters
@@ -245,6 +249,9 @@ def check_text(text: str, source: str = "netlist", folder: Path | None = None, *
         :data:`DEFAULT_ACCURACY`, which passes or fails nothing).
     engine : str
         A registered engine that runs foreign netlists (:attr:`lcchain.spice.engine.Engine.runs_foreign`).
+    allow_control : bool
+        Run the netlist as it is (``.control`` blocks, ``.model`` cards, diodes...: ``lcchain batch
+        --allow-control``), still in the sandbox; what is not linear then has no exact reference.
 
     Raises
     ------
@@ -262,14 +269,15 @@ def check_text(text: str, source: str = "netlist", folder: Path | None = None, *
     if not found.runs_foreign:
         raise ParameterError("--engine", engine, "an engine that runs netlists lcchain did not write ("
                              + ", ".join(n for n in ("ngspice",)) + f"): {engine} runs only lcchain's own ladders")
-    allowed = allowed_netlist(text, source, folder, read_include)
+    allowed = canonical_text(text, source) if allow_control else allowed_netlist(text, source, folder, read_include)
     if simulator is None:
         simulator = find_engine(found.name)
-    analysis = analysis_of(allowed, source, lambda: simulator.version)  # type: ignore[union-attr]
+    version_of = simulator.version
+    analysis = analysis_of(allowed, source, lambda: version_of)
     cards = read_cards(allowed, source)
     circuit = circuit_of(cards, analysis)
     method = cards.method if cards.method in _PREDICTED else cards.method
-    axis, vectors, wall, version = _run(allowed, analysis, simulator, timeout)
+    axis, vectors, wall, version = _run(allowed, analysis, simulator, timeout, folder if allow_control else None)
     names = [canonical_vector_name(n) for n in vectors]
     common: dict[str, Any] = dict(netlist=source, engine=simulator.engine, engine_version=version,
                                   analysis=analysis.kind, method=method, points=int(axis.size),
@@ -332,8 +340,9 @@ def _compare(circuit: Any, analysis: Transient | Sweep, axis: np.ndarray, vector
 
 
 def check_file(path: str | Path, *, accuracy: float | None = None, engine: str = "ngspice",
-               timeout: float = 600.0) -> CheckResult:
+               timeout: float = 600.0, allow_control: bool = False) -> CheckResult:
     """:func:`check_text` of a netlist file (its includes inside its folder)."""
     path = Path(path)
     text = read_include(path, "NETLIST")
-    return check_text(text, str(path), path.resolve().parent, accuracy=accuracy, engine=engine, timeout=timeout)
+    return check_text(text, str(path), path.resolve().parent, accuracy=accuracy, engine=engine, timeout=timeout,
+                      allow_control=allow_control)

@@ -26,7 +26,8 @@ __all__ = ["ElementCard", "SourceCard", "CouplingCard", "OtherCard", "NetlistCar
 
 #: Transient functions of an independent source, as ngspice 39 names them.
 SOURCE_FUNCTION_NAMES = frozenset({"pulse", "sin", "pwl", "exp", "sffm", "am", "trnoise", "trrandom", "pat"})
-_KEYWORD = re.compile(r"([A-Za-z_][A-Za-z0-9_]*)\s*=\s*(\S+)")
+# Blocks of cards that are not elements of the circuit (a netlist run as it is): their first and last words.
+_BLOCKS = {".control": ".endc", ".subckt": ".ends"}
 
 
 @dataclass(frozen=True)
@@ -97,9 +98,12 @@ class NetlistCards:
 
 
 def _words(text: str) -> list[str]:
-    """A card's words; parentheses and commas separate them, ``name=value`` stays one word."""
+    """A card's words; parentheses and commas separate them, ``name=value`` and ``{...}`` stay one word."""
+    groups, text = braced_expressions(text)
     text = re.sub(r"\s*=\s*", "=", text)
-    return [w for w in re.split(r"[\s,()]+", text) if w]
+    words = [w for w in re.split(r"[\s,()]+", text) if w]
+    found = iter(groups)
+    return [re.sub(r"\{\}", lambda _: "{" + next(found) + "}", w) for w in words]
 
 
 def _number(word: str, params: dict[str, float], where: str, line: str) -> float | None:
@@ -132,23 +136,25 @@ def read_cards(text: str, source: str = "netlist") -> NetlistCards:
     elements: list[ElementCard | SourceCard | CouplingCard | OtherCard] = []
     initial: list[tuple[str, float]] = []
     uic = False
+    block = ""  # inside a .control or .subckt block (a netlist run as it is): not the circuit's own cards
     for number, line in lines:
         where = f"{source}: line {number}"
         stripped = line.strip()
         if not stripped or stripped.startswith("*"):
             continue
-        groups, _ = braced_expressions(stripped)
-        for group in groups:  # an expression is one word, whatever spaces it holds
-            stripped = stripped.replace("{" + group + "}", "{" + group.replace(" ", "") + "}", 1)
+        word = stripped.split(None, 1)[0].lower()
+        if block or word in _BLOCKS:
+            block = "" if word == _BLOCKS.get(block) else (block or word)
+            continue
         head = stripped.split(None, 1)[0].lower()
         if head.startswith("."):
             if head == ".ic":
-                for word in _words(stripped)[1:]:
-                    match = re.fullmatch(r"v(\S+?)=(\S+)", word, re.IGNORECASE)
-                    value = None if match is None else _number(match.group(2), params, where, line)
-                    if match is None or value is None:
+                for item in _words(stripped)[1:]:
+                    match = re.fullmatch(r"v(\S+?)=(\S+)", item, re.IGNORECASE)
+                    volts = None if match is None else _number(match.group(2), params, where, line)
+                    if match is None or volts is None:
                         raise ParameterError(where, line.strip()[:200], ".ic v(NODE)=VALUE ...")
-                    initial.append((match.group(1).strip("()").lower(), value))
+                    initial.append((match.group(1).strip("()").lower(), volts))
             elif head == ".tran":
                 uic = "uic" in (w.lower() for w in _words(stripped))
             continue
@@ -203,7 +209,7 @@ def _source(words: list[str], letter: str, name: str, number: object, where: str
     rest = words[3:]
     dc: float | None = None
     ac = (0.0, 0.0)
-    function, arguments = "", ()
+    function, arguments = "", tuple[float, ...]()
     k = 0
     while k < len(rest):
         word = rest[k].lower()
@@ -211,7 +217,7 @@ def _source(words: list[str], letter: str, name: str, number: object, where: str
             dc = read(rest[k + 1], "the DC value")  # type: ignore[operator]
             k += 2
         elif word == "ac":
-            values = []
+            values: list[float] = []
             k += 1
             while k < len(rest) and len(values) < 2 and rest[k].lower() not in SOURCE_FUNCTION_NAMES | {"dc"}:
                 values.append(read(rest[k], "the AC magnitude and phase"))  # type: ignore[operator]
