@@ -343,7 +343,10 @@ class LinearResponse:
         points = self.breakpoints(tstop)
         terms = self._terms(0.0)
         x0, _ = self._particular(terms, np.zeros(1), answer)
-        amplitude = self._amplitude(self.initial_charge() - self.E @ x0[:, 0])
+        charge = self.initial_charge() - self.E @ x0[:, 0]
+        amplitude = self._amplitude(charge)
+        # how large each amplitude's rounding may be: the projection's terms, not only its result
+        spread = np.abs(self.project) @ np.abs(charge)
         for k, start in enumerate(points):
             end = points[k + 1] if k + 1 < len(points) else math.inf
             inside = (t >= start) & (t < end) if k + 1 < len(points) else (t >= start)
@@ -359,16 +362,20 @@ class LinearResponse:
                     growth = amplitude[:, None] * np.exp(np.outer(poles, tau[block]))
                     values[:, block] += weights @ growth
                     if poles is self.poles:  # the rounding of the exact response only
-                        size[:, block] += np.abs(weights) @ np.abs(growth)
+                        size[:, block] += np.abs(weights) @ (spread[:, None] * np.abs(growth / np.where(
+                            amplitude == 0, 1.0, amplitude)[:, None]))
                 y[:, inside] = values.real
                 rounding = max(rounding, float(np.max(size)))
             if k + 1 < len(points):
                 span = end - start
                 before, _ = self._particular(terms, np.array([span]), answer)
                 amplitude = amplitude * np.exp(poles * span)
+                spread = spread * np.abs(np.exp(poles * span))
                 terms = self._terms(end)
                 after, _ = self._particular(terms, np.zeros(1), answer)
-                amplitude = amplitude + self._amplitude(self.E @ (before[:, 0] - after[:, 0]))
+                jump = self.E @ (before[:, 0] - after[:, 0])
+                amplitude = amplitude + self._amplitude(jump)
+                spread = spread + np.abs(self.project) @ np.abs(jump)
         return y, float(np.finfo(float).eps) * rounding
 
     def _amplitude(self, charge: np.ndarray) -> np.ndarray:
@@ -654,7 +661,18 @@ def _modes(E: np.ndarray, A: np.ndarray, nodes: list[str]) -> tuple[np.ndarray, 
     finite = rank - deficit
     if finite <= 0:
         return np.zeros(0, dtype=complex), np.zeros((n, 0), dtype=complex), np.zeros((0, n), dtype=complex)
-    alpha_beta, vl, vr = scipy.linalg.eig(A / scale_a, E / scale_e, left=True, right=True, homogeneous_eigvals=True)
+    # Balanced: each unknown scaled by 1/sqrt of its capacitance or inductance (or conductance), so that the
+    # pencil's entries are of one size whatever the units (a line of 250 nH and 100 pF: 1e-9 rounding, not 1e-5).
+    diagonal = np.abs(np.diag(E))
+    fallback = np.abs(np.diag(A))
+    weight = np.where(diagonal > 0, diagonal, np.where(fallback > 0, fallback, 1.0))
+    D = 1.0 / np.sqrt(weight)
+    Eb, Ab = D[:, None] * E * D[None, :], D[:, None] * A * D[None, :]
+    scale_e = max(float(np.abs(Eb).max()), 1e-300)
+    scale_a = max(float(np.abs(Ab).max()), 1e-300)
+    alpha_beta, vl, vr = scipy.linalg.eig(Ab / scale_a, Eb / scale_e, left=True, right=True,
+                                          homogeneous_eigvals=True)
+    vl, vr = D[:, None] * vl, D[:, None] * vr
     alpha, beta = alpha_beta
     ratio = np.where(np.abs(beta) > 0, np.abs(alpha) / np.maximum(np.abs(beta), 1e-300), np.inf)
     chosen = np.argsort(ratio, kind="stable")[:finite]

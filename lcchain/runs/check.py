@@ -276,40 +276,47 @@ def check_text(text: str, source: str = "netlist", folder: Path | None = None, *
     analysis = analysis_of(allowed, source, lambda: version_of)
     cards = read_cards(allowed, source)
     circuit = circuit_of(cards, analysis)
-    method = cards.method if cards.method in _PREDICTED else cards.method
+    method = cards.method
+    response, seconds = None, 0.0
+    if not isinstance(circuit, str):  # solved before the run: what is not well posed is refused before it runs
+        from ..circuit.linear import linear_response
+
+        started = time.perf_counter()
+        response = linear_response(circuit)
+        if isinstance(analysis, Transient):
+            mismatch = response.initial_mismatch()
+            if mismatch > 1e-9:
+                raise ParameterError("initial state", f"{mismatch:.1e} of it outside the circuit's modes",
+                                     "initial conditions consistent with the circuit's constraints")
+        seconds = time.perf_counter() - started
     axis, vectors, wall, version = _run(allowed, analysis, simulator, timeout, folder if allow_control else None)
     names = [canonical_vector_name(n) for n in vectors]
     common: dict[str, Any] = dict(netlist=source, engine=simulator.engine, engine_version=version,
                                   analysis=analysis.kind, method=method, points=int(axis.size),
                                   simulator_seconds=float(wall), accuracy=accuracy_value, accuracy_given=given)
-    if isinstance(circuit, str):
+    if isinstance(circuit, str) or response is None:
         return CheckResult(vectors=tuple(VectorCheck(n, _unit(n), None, None) for n in names),
-                           reference=circuit, **common)
-    return _compare(circuit, analysis, axis, vectors, names, common, accuracy_value, method)
+                           reference=str(circuit), **common)
+    return _compare(response, seconds, analysis, axis, vectors, names, common, accuracy_value, method)
 
 
-def _compare(circuit: Any, analysis: Transient | Sweep, axis: np.ndarray, vectors: dict[str, np.ndarray],
-             names: list[str], common: dict[str, Any], accuracy: float, method: str) -> CheckResult:
-    from ..circuit.linear import linear_response
+def _compare(response: Any, solve_seconds: float, analysis: Transient | Sweep, axis: np.ndarray,
+             vectors: dict[str, np.ndarray], names: list[str], common: dict[str, Any], accuracy: float,
+             method: str) -> CheckResult:
     from ..compare.check import predicted_errors, step_for_accuracy, vector_errors
 
     started = time.perf_counter()
-    response = linear_response(circuit)
     outputs = {n: response.output(n) for n in names}
     known = [n for n in names if outputs[n] is not None]
     notes = [f"no exact reference for the vector {n} (not a node voltage or a branch current lcchain models)"
              for n in names if outputs[n] is None]
     if isinstance(analysis, Sweep):
-        exact = response.ac([outputs[n] for n in known], axis)  # type: ignore[misc]
+        exact = response.ac([outputs[n] for n in known], axis)
         rounding = None
     else:
-        mismatch = response.initial_mismatch()
-        if mismatch > 1e-9:
-            raise ParameterError("initial state", f"{mismatch:.1e} of it outside the circuit's modes",
-                                 "initial conditions consistent with the circuit's constraints")
-        exact, rounding_abs = response.transient([outputs[n] for n in known], axis, analysis.stop)  # type: ignore
+        exact, rounding_abs = response.transient([outputs[n] for n in known], axis, analysis.stop)
         rounding = rounding_abs
-    seconds = time.perf_counter() - started
+    seconds = solve_seconds + time.perf_counter() - started
     errors, scales = vector_errors([vectors[n] for n in known], exact)
     run_step = predicted = suggested = None
     predicted_each = np.full(len(known), np.nan)
@@ -320,8 +327,9 @@ def _compare(circuit: Any, analysis: Transient | Sweep, axis: np.ndarray, vector
         selected = [outputs[n] for n in known]
         predicted_each = predicted_errors(response, selected, analysis.stop, run_step, method=method)
         predicted = float(np.max(predicted_each))
+        largest = min(analysis.step, (analysis.stop - analysis.start) / 50)  # ngspice's own, without TMAX
         suggested = step_for_accuracy(response, selected, scales, analysis.stop, accuracy, method=method,
-                                      largest=analysis.max_step)
+                                      largest=largest)
         prediction = _PREDICTED.get(method, f"{method}: no model of its error (the trapezoidal rule's is shown)")
         if rounding is not None and np.any(scales > 0) and rounding > accuracy * float(np.min(scales[scales > 0])):
             notes.append(f"the exact reference's rounding ({rounding:.1e}) is above the accuracy asked for")
