@@ -337,3 +337,19 @@ def test_transmission_line_of_200_sections() -> None:
     assert result.states == 2 * N
     worst = max(result.vectors, key=lambda v: v.max_abs_error or 0.0)
     assert PREDICTION_BAND[0] <= worst.max_abs_error / worst.predicted_error <= PREDICTION_BAND[1]
+
+
+@pytest.mark.ngspice
+def test_batch_check_stores_the_error_as_a_measurement(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    linear = _write(tmp_path, BANDPASS, "bandpass.cir")
+    behavioural = _write(tmp_path, "behavioural\nV1 a 0 1\nR1 a 0 1k\nB1 b 0 V=v(a)*v(a)\nR2 b 0 1k\n"
+                         ".tran 1u 10u\n.end\n", "b.cir")
+    store = tmp_path / "batch.sqlite"
+    assert main(["batch", str(linear), str(behavioural), "--check", "--store", str(store)]) == 0
+    capsys.readouterr()
+    assert main(["results", str(store), "--json"]) == 0
+    runs = json.loads(capsys.readouterr().out)
+    errors = {Path(r["params"]["netlist"]).name: r["measurements"]["check_max_abs_error"] for r in runs}
+    assert errors["b.cir"] is None
+    direct = check_text(BANDPASS, "bandpass.cir")
+    assert errors["bandpass.cir"] == pytest.approx(direct.max_abs_error, rel=1e-6)

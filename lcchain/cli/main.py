@@ -251,6 +251,10 @@ def build_parser() -> argparse.ArgumentParser:
                         ".include/.lib of files in the netlist's folder; any other line is refused")
     p.add_argument("--allow-control", action="store_true",
                    help="run a netlist as it is (.control blocks, any include), still in the sandbox")
+    p.add_argument("--check", action="store_true",
+                   help="also compare each run's saved vectors with the netlist's exact response (lcchain check): "
+                        "the largest error, in the vectors' own units, is stored as the measurement "
+                        "check_max_abs_error (empty, with the reason, for a netlist that is not linear)")
     p.add_argument("--strict", action="store_true",
                    help="stop at the first netlist lcchain will not run, with its reason, before anything runs "
                         "(exit 2); by default each is stored as refused, with its reason, the others run, and "

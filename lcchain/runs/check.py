@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -34,7 +35,11 @@ from ..spice.runner import read_include
 from ..spice.simulator import Simulator
 from ..spice.text import canonical_text, canonical_vector_name
 
-__all__ = ["VectorCheck", "CheckResult", "circuit_of", "check_text", "check_file", "DEFAULT_ACCURACY"]
+__all__ = ["VectorCheck", "CheckResult", "circuit_of", "check_text", "check_file", "reference_measurements",
+           "CHECK_MEASUREMENT", "DEFAULT_ACCURACY"]
+
+#: The measurement a batch run with ``check`` stores: the largest error of its saved vectors (their own units).
+CHECK_MEASUREMENT = "check_max_abs_error"
 
 #: The relative accuracy whose step ``lcchain check`` suggests when none is asked for.
 DEFAULT_ACCURACY = 1e-6
@@ -354,3 +359,33 @@ def check_file(path: str | Path, *, accuracy: float | None = None, engine: str =
     text = read_include(path, "NETLIST")
     return check_text(text, str(path), path.resolve().parent, accuracy=accuracy, engine=engine, timeout=timeout,
                       allow_control=allow_control)
+
+
+def reference_measurements(netlist: str, axis: np.ndarray, vectors: Mapping[str, np.ndarray], version: str, *,
+                           trusted: bool = False, cwd: str | None = None) -> dict[str, tuple[float | None, str]]:
+    """A batch run's check (:attr:`lcchain.runs.spec.RunSpec.check`): ``{CHECK_MEASUREMENT: (the largest error of
+    its saved vectors against the exact response, "")}``, or (None, why there is none) -- a measurement, as a
+    ``.meas`` card's, so that it is stored and shown with them."""
+    try:
+        text = canonical_text(netlist, "netlist") if trusted else \
+            allowed_netlist(netlist, "netlist", Path(cwd) if cwd is not None else None, read_include)
+        analysis = analysis_of(text, "netlist", lambda: version)
+        circuit = circuit_of(read_cards(text, "netlist"), analysis)
+        if isinstance(circuit, str):
+            return {CHECK_MEASUREMENT: (None, f"no exact reference ({circuit})")}
+        from ..circuit.linear import linear_response
+        from ..compare.check import vector_errors
+
+        response = linear_response(circuit)
+        names = [n for n in vectors if response.output(n) is not None]
+        if not names:
+            return {CHECK_MEASUREMENT: (None, "no saved vector lcchain models")}
+        outputs = [response.output(n) for n in names]
+        if isinstance(analysis, Sweep):
+            exact = response.ac(outputs, axis)  # type: ignore[arg-type]
+        else:
+            exact, _ = response.transient(outputs, axis, analysis.stop)  # type: ignore[arg-type]
+        errors, _ = vector_errors([np.asarray(vectors[n]) for n in names], exact)
+        return {CHECK_MEASUREMENT: (float(np.max(errors)), "")}
+    except ParameterError as error:  # not well posed: the run stands, its check says why
+        return {CHECK_MEASUREMENT: (None, f"no exact reference ({error})")}
