@@ -353,3 +353,10 @@ def test_batch_check_stores_the_error_as_a_measurement(tmp_path: Path, capsys: p
     assert errors["b.cir"] is None
     direct = check_text(BANDPASS, "bandpass.cir")
     assert errors["bandpass.cir"] == pytest.approx(direct.max_abs_error, rel=1e-6)
+
+
+@pytest.mark.ngspice
+def test_gear_is_named_and_its_prediction_is_said_to_be_rough() -> None:
+    result = check_text(BANDPASS.replace(".end", ".options method=gear\n.end"), "gear.cir")
+    assert result.method == "gear" and "rough" in result.prediction
+    assert result.max_abs_error is not None and result.predicted_error is not None

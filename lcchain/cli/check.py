@@ -56,7 +56,8 @@ def cmd_check(args: argparse.Namespace) -> int:
     if result.analysis == "transient":
         print(f"largest step of the run {_g(result.run_step, 's')}: predicted error {_g(result.predicted_error)} "
               f"({result.prediction})")
-        need = "not reachable above tstop * 1e-9" if result.suggested_step is None else \
+        need = ("none: the predicted error stays above it down to tstop * 1e-9 (the exact reference's rounding, "
+                f"{_g(result.rounding)}, may be the floor)") if result.suggested_step is None else \
             f"{result.suggested_step:.3g} s (.tran TSTEP TSTOP 0 {result.suggested_step:.3g})"
         print(f"step for a relative accuracy of {result.accuracy:g}: {need}")
     for note in result.notes:

@@ -29,7 +29,7 @@ import numpy as np
 
 from ..core.errors import ParameterError
 from ..spice.cards import CouplingCard, ElementCard, NetlistCards, OtherCard, SourceCard, read_cards
-from ..spice.engines import engine_named, find_engine
+from ..spice.engines import ENGINES, engine_named, find_engine
 from ..spice.foreign import Sweep, Transient, allowed_netlist, analysis_of
 from ..spice.runner import read_include
 from ..spice.simulator import Simulator
@@ -272,8 +272,9 @@ def check_text(text: str, source: str = "netlist", folder: Path | None = None, *
         raise ParameterError("--accuracy", accuracy, "a relative accuracy 0 < a < 1")
     found = engine_named(engine, "--engine")
     if not found.runs_foreign:
-        raise ParameterError("--engine", engine, "an engine that runs netlists lcchain did not write ("
-                             + ", ".join(n for n in ("ngspice",)) + f"): {engine} runs only lcchain's own ladders")
+        able = ", ".join(name for name, e in ENGINES.items() if e.runs_foreign)
+        raise ParameterError("--engine", engine, f"an engine that runs netlists lcchain did not write ({able}): "
+                             f"{engine} runs only lcchain's own ladders")
     allowed = canonical_text(text, source) if allow_control else allowed_netlist(text, source, folder, read_include)
     if simulator is None:
         simulator = find_engine(found.name)
