@@ -275,6 +275,8 @@ def test_a_diode_runs_as_it_is_with_no_reference(tmp_path: Path, capsys: pytest.
     ("V1 a 0 1\nC1 a b 1u\nC2 b 0 1u\nR1 a 0 1k\n.tran 1u 10u uic\n", "V1 C1 C2"),
     ("V1 a 0 1\nV2 a 0 2\nR1 a 0 1k\n.tran 1u 10u\n", "V2 V1"),
     ("V1 a 0 1\nR1 a b 1k\nC1 b c 1u\nC2 c 0 1u\n.tran 1u 10u\n", "C1"),
+    ("I1 0 a 1m\nR1 a 0 100\nL1 a 0 1m\nL2 a 0 2m\n.tran 1u 10u\n", "L2 L1"),  # ngspice: an arbitrary split
+    ("V1 a 0 1\nR1 a b 20\nL1 b c 100u\nC1 c 0 1u\n.tran 1u 10u\n", "double pole"),  # critically damped
 ])
 def test_an_ill_posed_circuit_is_refused_naming_its_elements(tmp_path: Path, capsys: pytest.CaptureFixture[str],
                                                              cards: str, names: str) -> None:
@@ -360,3 +362,42 @@ def test_gear_is_named_and_its_prediction_is_said_to_be_rough() -> None:
     result = check_text(BANDPASS.replace(".end", ".options method=gear\n.end"), "gear.cir")
     assert result.method == "gear" and "rough" in result.prediction
     assert result.max_abs_error is not None and result.predicted_error is not None
+
+
+@pytest.mark.ngspice
+def test_ic_holds_a_node_for_the_operating_point() -> None:
+    """V1 = 1 V through 10 ohm into C || 1 kohm, .ic v(b) = 0.3: the operating point holds v(b) at 0.3, then
+    v(b) = v_inf + (0.3 - v_inf) exp(-t / tau), v_inf = 1000/1010 V, tau = C (10 || 1000) (first-order RC)."""
+    text = "ic\nV1 a 0 1\nR1 a b 10\nC1 b 0 1u\nR2 b 0 1k\n.ic v(b)=0.3\n.tran 0.1u 40u\n.end\n"
+    t = np.linspace(0.0, 40e-6, 41)
+    v_inf, tau = 1000 / 1010, 1e-6 * 10 * 1000 / 1010
+    np.testing.assert_allclose(_reference(text, ["v(b)"], t)[0], v_inf + (0.3 - v_inf) * np.exp(-t / tau),
+                               rtol=0, atol=RTOL_EXACT)
+    result = check_text(text, "ic.cir")
+    assert PREDICTION_BAND[0] <= result.max_abs_error / result.predicted_error <= PREDICTION_BAND[1]
+
+
+@pytest.mark.ngspice
+def test_uic_starts_from_the_elements_initial_conditions() -> None:
+    """uic: the capacitor at its IC= (0.5 V), the coil at its IC= (1 mA); the series RLC then rings from there."""
+    text = ("uic\nV1 a 0 PULSE(0 1 0 1u 1u 5u 20u)\nR1 a b 10\nL1 b c 1m IC=1m\nC1 c 0 1u IC=0.5\n"
+            ".tran 0.1u 40u uic\n.end\n")
+    t = np.array([0.0, 1e-6, 10e-6, 33e-6])
+    y = _reference(text, ["v(c)", "i(l1)"], t)
+    assert y[0, 0] == pytest.approx(0.5, abs=1e-12) and y[1, 0] == pytest.approx(1e-3, abs=1e-15)
+    A = np.array([[-10 / 1e-3, -1 / 1e-3], [1 / 1e-6, 0.0]])  # (i, v_C): L i' = u - R i - v_C, C v_C' = i
+    x = _expm_response(A, np.array([1 / 1e-3, 0.0]), _pulse_pieces(0, 1, 1e-6, 5e-6, 1e-6, 20e-6, 40e-6), t,
+                       x0=np.array([1e-3, 0.5]))
+    np.testing.assert_allclose(y[0], x[1], rtol=0, atol=RTOL_EXACT)
+    result = check_text(text, "uic.cir")
+    assert PREDICTION_BAND[0] <= result.max_abs_error / result.predicted_error <= PREDICTION_BAND[1]
+
+
+@pytest.mark.ngspice
+def test_a_capacitor_across_a_source_is_compared_from_its_operating_point() -> None:
+    """The source's current C du/dt jumps as the PULSE starts: at t = 0 ngspice reports the operating point's."""
+    text = ("cap across V\nV1 a 0 PULSE(0 1 0 1u 1u 5u 20u)\nC0 a 0 1u\nR1 a b 10\nC1 b 0 1u\n"
+            ".tran 0.1u 40u\n.end\n")
+    result = check_text(text, "capv.cir")
+    worst = max(result.vectors, key=lambda v: v.max_abs_error or 0.0)
+    assert PREDICTION_BAND[0] <= worst.max_abs_error / worst.predicted_error <= PREDICTION_BAND[1]

@@ -52,6 +52,7 @@ modal expansion whose rounding exceeds :data:`MAX_ROUNDING` (nearly defective po
 from __future__ import annotations
 
 import math
+import warnings
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Literal
@@ -189,6 +190,7 @@ class LinearResponse:
     states: int
     unknowns: int
     _solves: dict[complex, np.ndarray] = field(default_factory=dict, repr=False)
+    _ramps: dict[tuple[str, int], tuple[np.ndarray, np.ndarray]] = field(default_factory=dict, repr=False)
 
     # ----------------------------------------------------------------- outputs
     def output(self, name: str) -> _Output | None:
@@ -232,19 +234,33 @@ class LinearResponse:
 
     # ----------------------------------------------------------------- solves
     def _solve(self, s: complex) -> np.ndarray:
-        """(sE - A)^-1 B (cached by s)."""
+        """(sE - A)^-1 B (cached by s); at s = 0 with a zero pole (a loop of coils, with uic) the least-squares
+        solution when the equations have one (the zero mode then carries the rest)."""
         if s not in self._solves:
-            matrix = s * self.E - self.A
-            try:
-                lu = scipy.linalg.lu_factor(matrix.astype(complex if complex(s).imag else float), check_finite=True)
-            except (ValueError, np.linalg.LinAlgError):
-                raise ParameterError("source frequency", s, "a source term away from the circuit's poles") from None
-            solved = scipy.linalg.lu_solve(lu, self.B.astype(complex if complex(s).imag else float))
+            kind = complex if complex(s).imag else float
+            value = s if kind is complex else complex(s).real
+            matrix = (value * self.E - self.A).astype(kind)
             pole = float(np.min(np.abs(self.poles - s))) if self.poles.size else math.inf
-            if not np.all(np.isfinite(solved)) or pole <= 1e-9 * max(abs(s), 1.0):
-                raise ParameterError("source", f"a term exp({s:g} t)", "no source term at one of the circuit's "
+            resonant = pole <= 1e-9 * max(abs(s), float(np.max(np.abs(self.poles), initial=1.0)))
+            refusal = ParameterError("source", f"a term exp({s:g} t)", "no source term at one of the circuit's "
                                      "poles (resonance grows without bound: no modal solution)")
-            self._solves[s] = solved
+            if resonant and s != 0:
+                raise refusal
+            if resonant:
+                solved, *_ = scipy.linalg.lstsq(matrix, self.B.astype(kind))
+                residual = np.linalg.norm(matrix @ solved - self.B) / max(float(np.linalg.norm(self.B)), 1e-300)
+                if residual > 1e-9:
+                    raise refusal
+            else:
+                with warnings.catch_warnings():
+                    warnings.simplefilter("error", scipy.linalg.LinAlgWarning)
+                    try:
+                        solved = scipy.linalg.solve(matrix, self.B.astype(kind))
+                    except (ValueError, np.linalg.LinAlgError, scipy.linalg.LinAlgWarning):
+                        raise refusal from None
+            if not np.all(np.isfinite(solved)):
+                raise refusal
+            self._solves[s] = np.asarray(solved)
         return self._solves[s]
 
     def _particular(self, terms: list[list[tuple[complex, complex, int]]], tau: np.ndarray,
@@ -261,8 +277,7 @@ class LinearResponse:
                 if coef == 0:
                     continue
                 if degree == 1:
-                    x1 = self._solve(0.0)[:, j]
-                    x0 = self._dc_solve(self.E @ x1)
+                    x0, x1 = self._ramp(j)
                     x += coef * ((R @ x0)[:, None] + np.outer(R @ x1, tau))
                     dx += coef * (R @ x1)[:, None]
                 else:
@@ -272,9 +287,27 @@ class LinearResponse:
                     dx += coef * s * np.outer(g, shape)
         return x, dx
 
-    def _dc_solve(self, rhs: np.ndarray) -> np.ndarray:
-        """A^-1 rhs (A singular: refused when :func:`linear_response` found no DC path)."""
-        return np.asarray(scipy.linalg.solve(self.A, rhs))
+    def _ramp(self, j: int) -> tuple[np.ndarray, np.ndarray]:
+        """(X0, X1): x = X0 + X1 t answers a unit ramp of source j (A X1 = -B_j, A X0 = E X1).  With a zero pole
+        (a loop of coils, with uic) X1 is only fixed up to the loop's current; the part that makes E X1 a
+        right-hand side A can answer is chosen, else the ramp would grow as t^2 in the loop (refused)."""
+        key = ("ramp", j)
+        if key not in self._ramps:
+            x1 = self._solve(0.0)[:, j].real
+            null = scipy.linalg.null_space(self.A)
+            if null.size:
+                left = scipy.linalg.null_space(self.A.T)
+                shift, *_ = scipy.linalg.lstsq(left.T @ self.E @ null, -(left.T @ self.E @ x1))
+                x1 = x1 + null @ shift
+                x0, *_ = scipy.linalg.lstsq(self.A, self.E @ x1)
+                if np.linalg.norm(self.A @ x0 - self.E @ x1) > 1e-9 * max(float(np.linalg.norm(self.E @ x1)),
+                                                                             1e-300):
+                    raise ParameterError("source", "a ramp", "no ramp that drives a loop of coils with nothing "
+                                         "across it (its current would grow as t^2: no modal solution)")
+            else:
+                x0 = scipy.linalg.solve(self.A, self.E @ x1)
+            self._ramps[key] = (np.asarray(x0), np.asarray(x1))
+        return self._ramps[key]
 
     # ----------------------------------------------------------------- transient
     def breakpoints(self, tstop: float) -> list[float]:
@@ -349,7 +382,9 @@ class LinearResponse:
         spread = np.abs(self.project) @ np.abs(charge)
         for k, start in enumerate(points):
             end = points[k + 1] if k + 1 < len(points) else math.inf
-            inside = (t >= start) & (t < end) if k + 1 < len(points) else (t >= start)
+            # a time on a breakpoint belongs to the piece that ends there (the simulator's step arriving at it):
+            # what jumps there (a capacitor's current when a ramp turns) is compared as the simulator computes it
+            inside = ((t > start) | ((k == 0) & (t >= start))) & (t <= end)
             tau = t[inside] - start
             if tau.size:
                 xp, _ = self._particular(terms, tau, answer, cs)
@@ -376,6 +411,11 @@ class LinearResponse:
                 jump = self.E @ (before[:, 0] - after[:, 0])
                 amplitude = amplitude + self._amplitude(jump)
                 spread = spread + np.abs(self.project) @ np.abs(jump)
+        if not self.circuit.uic and t.size and t[0] == 0.0:
+            # t = 0 is the operating point, as the simulator reports it: what jumps as the sources start to move
+            # (a capacitor's current across a voltage source) is its value before
+            u0 = np.array([source.waveform.value(0.0) for source in self.circuit.sources])
+            y[:, t == 0.0] = (cs @ self.operating_point() + es @ u0)[:, None]
         return y, float(np.finfo(float).eps) * rounding
 
     def _amplitude(self, charge: np.ndarray) -> np.ndarray:
@@ -558,6 +598,12 @@ def _check_topology(circuit: LinearCircuit, nodes: set[str]) -> None:
                           "no such cutset with uic: the coils' initial currents would have to jump (an impulse "
                           "of voltage); drop uic to start from the operating point")
     else:
+        loop = _graph_loop(v_edges + kinds["L"])
+        if loop:
+            raise _refuse("loop of coils and voltage sources", loop,
+                          "no such loop without uic: the operating point's current around it is undefined (coils "
+                          "are shorts at DC; ngspice's is arbitrary, found by gmin stepping); uic on the .tran card "
+                          "starts from the coils' IC= instead")
         cut = _cutset(kinds["R"] + kinds["L"] + v_edges, kinds["C"] + i_edges, nodes)
         if cut:
             raise _refuse("no DC path to ground through", cut, "a DC path from every node to ground (capacitors "
@@ -686,5 +732,13 @@ def _modes(E: np.ndarray, A: np.ndarray, nodes: list[str]) -> tuple[np.ndarray, 
     if np.any(np.abs(norms) <= 1e-13 * np.linalg.norm(left, axis=0) * np.linalg.norm(E @ right, axis=0)):
         raise ParameterError("circuit", "defective poles", "poles with independent modes (a critically damped "
                              "or repeated pole with one mode has no modal solution)")
+    unit = right / np.linalg.norm(right, axis=0)
+    overlap = np.abs(unit.conj().T @ unit) - np.eye(unit.shape[1])
+    close = np.abs(poles[:, None] - poles[None, :]) <= 1e-6 * np.maximum(np.abs(poles[:, None]), 1e-300)
+    if np.any(close & (overlap > 1 - 1e-8)):
+        k = int(np.argmax(np.any(close & (overlap > 1 - 1e-8), axis=1)))
+        raise ParameterError("circuit", f"a double pole at {poles[k]:.6g} /s with one mode",
+                             "poles with a mode each (a critically damped pair has none: no modal solution; a "
+                             "resistance 1e-6 away from critical damping has)")
     project = left.conj().T / norms[:, None]
     return poles, right, project

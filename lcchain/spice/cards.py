@@ -149,12 +149,15 @@ def read_cards(text: str, source: str = "netlist") -> NetlistCards:
         head = stripped.split(None, 1)[0].lower()
         if head.startswith("."):
             if head == ".ic":
-                for item in _words(stripped)[1:]:
-                    match = re.fullmatch(r"v(\S+?)=(\S+)", item, re.IGNORECASE)
-                    volts = None if match is None else _number(match.group(2), params, where, line)
-                    if match is None or volts is None:
-                        raise ParameterError(where, line.strip()[:200], ".ic v(NODE)=VALUE ...")
-                    initial.append((match.group(1).strip("()").lower(), volts))
+                body = stripped.split(None, 1)[1] if len(stripped.split(None, 1)) > 1 else ""
+                pairs = re.findall(r"v\s*\(\s*([^()\s,]+)\s*\)\s*=\s*(\S+)", body, re.IGNORECASE)
+                if not pairs or re.sub(r"v\s*\(\s*[^()\s,]+\s*\)\s*=\s*\S+", "", body, flags=re.IGNORECASE).strip():
+                    raise ParameterError(where, line.strip()[:200], ".ic v(NODE)=VALUE ...")
+                for node, text in pairs:
+                    volts = _number(text, params, where, line)
+                    if volts is None:
+                        raise ParameterError(where, line.strip()[:200], ".ic v(NODE)=VALUE ... with numbers")
+                    initial.append((node.lower(), volts))
             elif head == ".tran":
                 uic = "uic" in (w.lower() for w in _words(stripped))
             continue
