@@ -37,6 +37,9 @@ MIN_I0, MAX_I0 = 1e-100, 1e100
 MAX_WALL_SPRING = 1e12
 #: Most tolerance samples in one scene or sweep.
 MAX_SAMPLES = 10_000
+#: Most runs one sweep of a foreign netlist makes (``sweep --netlist``: its lists and grids multiplied, times its
+#: samples), and most values one ``--vary`` grid holds.
+MAX_NETLIST_VARIANTS = 10_000
 #: Most components a worst-case study moves together (``sweep --worst-case --components``): 2^K corners.
 MAX_CORNER_COMPONENTS = 12
 #: Longest title or comment line written into a netlist.
