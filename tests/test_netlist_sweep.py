@@ -75,6 +75,18 @@ def test_a_variant_replaces_exactly_the_value_and_passes_the_allow_list_unchange
     assert allowed_netlist(variant, "rc.cir", None) == variant  # the checked text is the text that runs
 
 
+def test_one_of_several_assignments_a_coupling_and_a_title_that_looks_like_an_element() -> None:
+    text = ("R1 is the title, not the element\n.param a=1 b = {a*2}   c=3\nr1 x 0 1k\nL1 x y 1u\nL2 y 0 1u\n"
+            "K1 L1 L2 0.5\n.tran 1u 1m\n.end\n")
+    base = allowed_netlist(text, "t.cir", None)
+    targets = netlist_targets(base)
+    variant = with_values(base, {find_target(targets, name): value
+                                 for name, value in (("b", 5), ("a", -1), ("k1", 0.25), ("R1", 2e3))})
+    assert variant == text.replace("a=1 b = {a*2}", "a=-1.0 b = 5.0").replace("0 1k", "0 2000.0").replace(
+        "L2 0.5", "L2 0.25")
+    assert allowed_netlist(variant, "t.cir", None) == variant
+
+
 def test_a_value_cannot_inject_anything(tmp_path: Path) -> None:
     base = _checked(tmp_path)
     r1 = find_target(netlist_targets(base), "R1")
@@ -250,6 +262,10 @@ def test_drawn_values_are_stored_and_grouped_as_samples(tmp_path: Path, capsys) 
         frame = opened.to_dataframe()
     assert isinstance(frame, pd.DataFrame)
     assert {"R1", "sample", "cv", "v_at"} <= set(frame.columns) and len(frame) == 2 * n
+    pytest.importorskip("xarray")
+    with Store(store, "read") as opened:
+        dataset = opened.to_xarray()
+    assert dict(dataset.sizes) == {"R1": 2, "sample": n} and "cv" in dataset.coords  # drawn: along the samples
 
 
 @pytest.mark.ngspice

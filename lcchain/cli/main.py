@@ -240,7 +240,8 @@ def build_parser() -> argparse.ArgumentParser:
     studies.add_study_arguments(p, store=False)
     p.set_defaults(func=commands.cmd_run, executor="serial")
 
-    p = sub.add_parser("sweep", parents=budget, help="many runs: the product of comma-list axes, or a scene varied")
+    p = sub.add_parser("sweep", parents=budget, help="many runs: the product of comma-list axes, or a scene or a "
+                       "netlist varied")
     studies.add_sweep_arguments(p)
     p.set_defaults(func=studies.cmd_sweep)
 
