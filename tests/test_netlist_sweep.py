@@ -222,6 +222,7 @@ def test_serial_and_pool_give_the_same_runs_and_digests_and_draws(tmp_path: Path
 
 
 @pytest.mark.ngspice
+@pytest.mark.slow  # a local cluster's start: 2.5 to 6 s here
 def test_a_dask_cluster_gives_the_serial_digests(tmp_path: Path) -> None:
     pytest.importorskip("distributed")
     path = _netlist(tmp_path)
@@ -241,9 +242,12 @@ def test_drawn_values_are_stored_and_grouped_as_samples(tmp_path: Path, capsys) 
         ".meas tran trise trig v(out) val=0.1 rise=1 targ v(out) val=0.9 rise=1\n", ""))
     store = tmp_path / "mc.sqlite"
     n, sigma = 12, 0.1e-6
-    assert main(["sweep", "--netlist", str(path), "--vary", "R1=1k,2k", "--vary", "cv=normal:2u:5%", "--samples",
-                 str(n), "--seed", "5", "--store", str(store), "--workers", "2", "--json"]) == 0
+    argv = ["sweep", "--netlist", str(path), "--vary", "R1=1k,2k", "--vary", "cv=normal:2u:5%", "--samples", str(n),
+            "--seed", "5", "--store", str(store), "--workers", "2", "--json"]
+    assert main(argv) == 0
     assert json.loads(capsys.readouterr().out)["ok"] == 2 * n
+    assert main(argv) == 0  # drawn again, the same values: the same plan, resumed, runs nothing
+    assert json.loads(capsys.readouterr().out)["ran"] == 0
     with Store(store, "read") as opened:
         runs = opened.runs()
     drawn = [run.params["cv"] for run in runs]
