@@ -37,7 +37,7 @@ from ..core.checks import integer
 from ..core.errors import ParameterError
 from ..core.limits import MAX_NETLIST_VARIANTS
 
-__all__ = ["Distribution", "DistributionKind", "Vary", "SPREADS", "parse_netlist_vary", "variant_points",
+__all__ = ["Distribution", "DistributionKind", "Vary", "SPREADS", "DRAWS", "parse_netlist_vary", "variant_points",
            "spice_number_exact", "RESERVED", "DEFAULT_SEED"]
 
 #: The seed of the draws when none is given (a resumed sweep must draw the same values).
@@ -88,11 +88,11 @@ class Distribution:
     b: float
 
     def draw(self, rng: np.random.Generator) -> float:
-        return float(_DRAWS[self.kind](rng, self.a, self.b))
+        return float(DRAWS[self.kind](rng, self.a, self.b))
 
 
 #: How each distribution draws one value.
-_DRAWS: dict[str, Callable[[np.random.Generator, float, float], float]] = {
+DRAWS: dict[str, Callable[[np.random.Generator, float, float], float]] = {
     "normal": lambda rng, mean, sigma: rng.normal(mean, sigma),
     "uniform": lambda rng, lo, hi: rng.uniform(lo, hi),
 }
