@@ -40,7 +40,7 @@ from .common import (
     list_entries,
     seconds,
 )
-from .progress import study_counter
+from .progress import counter, study_counter
 
 __all__ = ["cmd_sweep", "cmd_batch", "cmd_results", "add_study_arguments"]
 
@@ -291,7 +291,8 @@ def _netlist_sweep(args: argparse.Namespace, outputs: Outputs, budget: Any) -> i
         raise ParameterError(given[0], value, "nothing with --netlist (the netlist says its circuit and its "
                              "analysis; vary its .param or element values with --vary NAME=...)")
     plan = netlist_sweep_plan(args.netlist, [parse_netlist_vary(v) for v in args.vary], samples=args.samples,
-                              seed=args.seed, backend=args.backend, timeout=args.timeout, budget=budget)
+                              seed=args.seed, backend=args.backend, timeout=args.timeout, budget=budget,
+                              progress=counter("variants"))
     left = budget.max_seconds - INTERPRETER_SECONDS - (time.monotonic() - started)
     return _run(args, plan, outputs, max_seconds=max(left, 0.0))
 

@@ -801,10 +801,15 @@ def netlist_sweep_plan(path: str | Path, varies: Sequence[Vary], *, samples: int
         except ParameterError as error:
             first = first or error
             refusals.append(Refusal(index, FrozenMap(point), str(error), _refusal_key(source, variant), label))
+    if progress is not None:
+        progress(len(points), len(points), "planning")
     if first is not None and not tasks:  # nothing of it can run: bad input
         raise first
     description = {"command": "sweep", "netlist": source, "vary": [vary.spec for vary in varies],
                    "samples": samples, "seed": seed, "backend": backend}
-    axes = tuple(dict.fromkeys(key for point in points for key in point
-                               if len({repr(p.get(key)) for p in points}) > 1))
+    seen: dict[str, set[str]] = {}
+    for point in points:
+        for key, value in point.items():
+            seen.setdefault(key, set()).add(repr(value))
+    axes = tuple(key for key, values in seen.items() if len(values) > 1)
     return Plan("netlist", FrozenMap(description), tuple(tasks), backend, axes, refusals=tuple(refusals))
