@@ -30,7 +30,7 @@ import numpy as np
 import pytest
 from helpers.catalogue import MARKER, Case, run_case
 from helpers.netlists import LADDER
-from helpers.tolerances import RTOL_MEASURE_TRAN
+from helpers.tolerances import RTOL_AC_LOWPASS, RTOL_MEASURE_TRAN
 
 from lcchain.cli import main
 from lcchain.core.errors import ParameterError
@@ -334,6 +334,20 @@ LIBRARY = """\
 .endl slow
 """
 LOADS = ".lib loads\n.subckt LOAD a b\nR1 a b 1k\n.ends LOAD\n.endl loads\n"
+#: An RC low-pass in a sub-circuit swept in AC, with an .op and a .dc that ngspice runs after the sweep.
+LOWPASS = """\
+an RC low-pass swept, and its operating points
+V1 in 0 dc 0 ac 1
+X1 in out RCF r=2k
+.subckt RCF a b params: r=1k
+R1 a b {r}
+C1 b 0 1u
+.ends
+.op
+.dc V1 0 1 0.5
+.ac dec 10 10 10k
+.end
+"""
 
 
 def _shockley_peak(volts: float, ohms: float, saturation: float) -> float:
@@ -352,12 +366,13 @@ def store(tmp_path_factory: pytest.TempPathFactory) -> Path:
     folder = tmp_path_factory.mktemp("cards")
     (folder / "cards.cir").write_text(CARDS)
     (folder / "rectifier.cir").write_text(RECTIFIER)
+    (folder / "lowpass.cir").write_text(LOWPASS)
     (folder / "models.lib").write_text(LIBRARY)
     (folder / "parts").mkdir()
     (folder / "parts" / "loads.lib").write_text(LOADS)
     path = folder / "runs.sqlite"
-    assert main(["batch", str(folder / "cards.cir"), str(folder / "rectifier.cir"), "--store", str(path),
-                 "--json"]) == 0
+    assert main(["batch", str(folder / "cards.cir"), str(folder / "rectifier.cir"), str(folder / "lowpass.cir"),
+                 "--store", str(path), "--json"]) == 0
     return path
 
 
@@ -379,7 +394,7 @@ def test_a_lib_section_and_the_lib_it_holds_are_inlined(tmp_path: Path) -> None:
 @pytest.mark.ngspice
 def test_subckts_funcs_globals_and_temp_give_the_hand_computed_values(store: Path) -> None:
     with Store(store, "read") as opened:
-        cards, rectifier = opened.runs()
+        cards, rectifier, _ = opened.runs()
     assert cards.status == rectifier.status == "ok"
     # X1: r = twice(rbase) = 2 kOhm, c = 1 uF; X2: 1 kOhm, 2 uF: both RC = 2 ms, read at 2 ms
     assert cards.measurements["vb"] == pytest.approx(1.0 - math.exp(-1.0), rel=RTOL_MEASURE_TRAN)
@@ -391,10 +406,29 @@ def test_subckts_funcs_globals_and_temp_give_the_hand_computed_values(store: Pat
 @pytest.mark.ngspice
 def test_a_diode_from_a_lib_section_rectifies_as_shockley_says(store: Path) -> None:
     with Store(store, "read") as opened:
-        _, rectifier = opened.runs()
+        _, rectifier, _ = opened.runs()
     assert rectifier.measurements["vpeak"] == pytest.approx(_shockley_peak(5.0, 1e3, 1e-14), rel=RTOL_MEASURE_TRAN)
     reverse = -(5.0 * 1e-12 + 1e-14) * 1e3  # gmin and IS, reverse-biased, through the load
     assert rectifier.measurements["vlow"] == pytest.approx(reverse, rel=1e-3)
+
+
+@pytest.mark.ngspice
+def test_an_ac_sweep_beside_an_op_and_a_dc_is_the_one_stored(store: Path) -> None:
+    """ngspice runs the .op and the .dc after the sweep; lcchain reads and stores the sweep: H = 1 / (1 + j w RC)
+    with the instance's R = 2 kOhm."""
+    with Store(store, "read") as opened:
+        lowpass = opened.runs()[2]
+        arrays = opened.waveforms(lowpass.key)
+    assert lowpass.status == "ok" and lowpass.points == 31 and arrays is not None  # 3 decades of 10, both ends
+    expected = 1.0 / (1.0 + 2j * np.pi * arrays["frequency"] * 2e3 * 1e-6)
+    np.testing.assert_allclose(arrays["v(out)"], expected, rtol=RTOL_AC_LOWPASS)
+
+
+def test_a_measured_ac_sweep_beside_an_op_is_refused() -> None:
+    """ngspice 39 measures the last plot it made, the .op's or the .dc's: every .meas ac would come back empty."""
+    text = LOWPASS.replace(".end\n", ".meas ac g1k find vdb(out) at=1k\n.end\n")
+    with pytest.raises(ParameterError, match="line 8.*no .op or .dc beside a measured .ac"):
+        analysis_of(allowed_netlist(text, "lowpass.cir", None), "lowpass.cir", lambda: "39")
 
 
 # --------------------------------------------------------------------------- what it costs

@@ -774,6 +774,8 @@ def analysis_of(text: str, source: str, version: Callable[[], str] | None = None
     if not (count.is_integer() and 1 <= count <= MAX_AC_POINTS and 0 <= start < stop) or (
             spacing != "lin" and start <= 0):
         raise ParameterError(f"{source}: line {number}", line[:200], allowed)
+    if measure_names(text):
+        _unmeasured_beside(text, source)
     if spacing == "lin":
         return Sweep(int(count), start, stop)
     major = 0
@@ -788,6 +790,17 @@ def analysis_of(text: str, source: str, version: Callable[[], str] | None = None
     except ParameterError as error:
         raise ParameterError(f"{source}: line {number}", line[:200], error.allowed) from None
     return Sweep(frequencies, start, stop, spacing, int(count))
+
+
+def _unmeasured_beside(text: str, source: str) -> None:
+    """Refuse an ``.op`` or ``.dc`` beside an ``.ac`` that is measured: ngspice 39 runs them after the sweep and
+    measures the last plot it made, so every ``.meas ac`` would come back empty (measured: "Measurements for AC
+    Analysis" and no value)."""
+    for number, line in logical_lines(text)[1:]:
+        word = line.split(None, 1)[0].lower() if line.strip() else ""
+        if word in (".op", ".dc"):
+            raise ParameterError(f"{source}: line {number}", line.strip()[:200], "no .op or .dc beside a measured "
+                                 ".ac (ngspice 39 runs them after the sweep and measures their plot instead)")
 
 
 def transient_of(text: str, source: str) -> Transient:
