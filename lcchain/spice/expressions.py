@@ -48,6 +48,10 @@ _ASSIGNMENT = re.compile(r"(?:^|(?<=\s))([A-Za-z_][A-Za-z0-9_]*)\s*=(?!=)")
 _BRACED = re.compile(r"\{([^{}]*)\}")
 
 
+_ALLOWED_EXPRESSION = (f"an expression of at most {MAX_EXPRESSION_CHARS} characters of numbers, .param names, "
+                       f"parentheses, operators and the functions {', '.join(sorted(FUNCTIONS))}")
+
+
 def is_param_card(word: str) -> bool:
     """Whether ngspice 39 reads a card whose first word is ``word`` as a ``.param`` (any word that starts with
     ``.param``, in any case)."""
@@ -65,8 +69,7 @@ def check_expression(text: str, names: Iterable[str] | None, where: str, line: s
     against the netlist's ``.func`` cards once it has read them all."""
     known = None if names is None else {n.lower() for n in names}
     used: set[str] = set()
-    allowed = (f"an expression of at most {MAX_EXPRESSION_CHARS} characters of numbers, .param names, "
-               f"parentheses, operators and the functions {', '.join(sorted(FUNCTIONS))}")
+    allowed = _ALLOWED_EXPRESSION
     if len(text) > MAX_EXPRESSION_CHARS or not text.strip():
         raise ParameterError(where, line.strip()[:200], allowed)
     position, depth = 0, 0

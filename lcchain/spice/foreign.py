@@ -201,8 +201,11 @@ def _expression(card: _Card, text: str, state: _Names, local: tuple[str, ...] = 
     """Check one expression; its names (but ``local``, a ``.func``'s arguments) and calls are checked once the
     whole netlist is read."""
     calls: set[str] = set()
-    state.uses.append((card, check_expression(text, None, _where(card), card[2], calls=calls) - set(local)))
-    state.calls.append((card, calls))
+    used = check_expression(text, None, _where(card), card[2], calls=calls)
+    if used:
+        state.uses.append((card, used.difference(local) if local else used))
+    if calls:
+        state.calls.append((card, calls))
 
 
 def _check_param(card: _Card, body: str, state: _Names) -> None:
@@ -322,10 +325,12 @@ _CARD_CHECKS: dict[str, Callable[[_Card, str, _Names], None]] = {
 def _check_element(card: _Card, body: str, state: _Names) -> None:
     letter = body[0].upper()
     if letter != "X":
-        state.elements[state.body] = state.elements.get(state.body, 0) + 1
+        body_name = state.open[-1][1].name if state.open else ""
+        state.elements[body_name] = state.elements.get(body_name, 0) + 1
         if letter in DEVICES:
             state.devices.append((card, body.split()))
-        _check_braces(card, body, state)
+        if "{" in body or "}" in body:
+            _check_braces(card, body, state)
         return
     found = instance(body)
     if found is None:

@@ -537,16 +537,17 @@ def _tally(scope: _Scope, top: bool, params: dict[str, float], models: dict[str,
     inductors: dict[str, tuple[str, str, float]] = {}
     damped: set[str] = set()
     couples: list[tuple[str, str, float]] = []
+    instances = branches = expression = reactive = 0  # counted in locals: this loop sees every element line
     for number, line in scope.cards:
         words = line.split()
         letter = words[0][0].upper()
         if letter == "X":
+            instances += 1
             found = instance(line.strip())
             if found is not None:
                 scope.calls.append(found.subckt)
                 nodes.update(found.nodes)
             continue
-        t.elements += 1
         if letter == "K":
             if len(words) >= 3:
                 k = _value(words[3], values) if len(words) > 3 else None
@@ -562,20 +563,21 @@ def _tally(scope: _Scope, top: bool, params: dict[str, float], models: dict[str,
             heavy = letter == "M" and kind is not None and kind.level > MOS_SIMPLE_LEVELS
             t.device_seconds += SECONDS_PER_BSIM_ITERATION if heavy else SECONDS_PER_DEVICE_ITERATION[letter]
             if "{" in line:
-                t.expression += sum(len(group) for group in _BRACES.findall(line))
+                expression += sum(len(group) for group in _BRACES.findall(line))
             continue
         if letter not in "RLCVIB" or len(words) < 3:
             continue
         a, b = words[1].lower(), words[2].lower()
-        nodes.update((a, b))
+        nodes.add(a)
+        nodes.add(b)
         if letter == "B":  # a voltage (V=) has a branch current; its expression is evaluated at every iteration
             body = " ".join(words[3:])
-            t.branches += _B_VOLTAGE.match(body) is not None
-            t.expression += len(body)
+            branches += _B_VOLTAGE.match(body) is not None
+            expression += len(body)
             continue
-        t.branches += letter in "LV"
+        branches += letter in "LV"
         if "{" in line:
-            t.expression += sum(len(group) for group in _BRACES.findall(line))
+            expression += sum(len(group) for group in _BRACES.findall(line))
         if letter == "R":
             damped.add(a)
             damped.add(b)
@@ -586,13 +588,14 @@ def _tally(scope: _Scope, top: bool, params: dict[str, float], models: dict[str,
             t.pwl += sum(len(s.values) // 2 for s in found_sources if s.name == "pwl")
             t.sources += found_sources
             continue
-        t.reactive += 1
+        reactive += 1
         value = abs(_value(words[3], values) or 0.0) if len(words) > 3 else 0.0
         if letter == "C":
             capacitance[a] = capacitance.get(a, 0.0) + value
             capacitance[b] = capacitance.get(b, 0.0) + value
         elif value:
             inductors[words[0].lower()] = (a, b, value)
+    t.elements, t.branches, t.expression, t.reactive = len(scope.cards) - instances, branches, expression, reactive
     own = nodes | globals_ if top else nodes - scope.ports - globals_  # a port is the instance's node
     t.nodes += sum(1 for n in own if not _is_ground(n))
     t.couplings = len(couples)
