@@ -75,6 +75,9 @@ SUB = (".subckt s a params: r=1", "R1 a 0 {r}", ".ends s")
 #: lines, nested no deeper than allowed.
 BOMB = [line for k in range(9) for line in (f".subckt s{k} a", *[f"X{j} a s{k + 1}" for j in range(10)], ".ends")]
 BOMB += [".subckt s9 a", *[f"R{j} a 0 1" for j in range(10)], ".ends", "X9 n1 s0"]
+#: Six nested sub-circuits each instantiating the next ten times: 10^6 resistors, within the element limit.
+MILLION = [line for k in range(5) for line in (f".subckt m{k} a", *[f"X{j} a m{k + 1}" for j in range(10)], ".ends")]
+MILLION += [".subckt m5 a", *[f"R{j} a 0 1" for j in range(10)], ".ends", "X9 n1 m0"]
 #: Sub-circuits nested one deeper than allowed, each instantiating the next once.
 DEEP = [line for k in range(MAX_SUBCKT_DEPTH + 1) for line in (f".subckt d{k} a", f"X1 a d{k + 1}", ".ends")]
 DEEP += [f".subckt d{MAX_SUBCKT_DEPTH + 1} a", "R1 a 0 1", ".ends", "X9 n1 d0"]
@@ -129,6 +132,9 @@ CASES: dict[str, Case] = {
     "an .end inside a .subckt": _batch(_line(13), {"n.cir": _with(".subckt s a", ".end", TOUCH, ".ends")}),
     "a .tran inside a .subckt": _batch(_line(13), {"n.cir": _with(".subckt s a", ".tran 1 2", ".ends")}),
     ".subcktx (ngspice 39 defines nothing)": _batch(_line(12), {"n.cir": _with(".subcktx s a", ".ends")}),
+    "a million elements from six nested sub-circuits, priced past --max-time": Case(
+        ["batch", "n.cir", "--store", "s.sqlite", "--max-time", "10s"], ["n.cir", "1000007 elements", "--max-time"],
+        files={"n.cir": _with(*MILLION)}, family="netlists"),
     # ------------------------------------------------------------------ .model and devices
     "a .model parameter naming /proc": _batch(_line(12, ".model"), {
         "n.cir": _with(".model dx D (file=/proc/self/environ)", "D1 n1 0 dx")}),
