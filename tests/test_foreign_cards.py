@@ -461,6 +461,20 @@ def test_ten_levels_of_ten_copies_are_refused_before_a_price_or_a_run() -> None:
         allowed_netlist(_with(*BOMB), "n.cir", None)
 
 
+def test_the_element_limit_holds_for_a_flat_body_too(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Past the limit in one body (no copies), the refusal names the first line beyond it; with copies, the
+    instance that brings the most (a limit of 5 here, for a netlist of a few lines)."""
+    import lcchain.spice.foreign as foreign
+
+    monkeypatch.setattr(foreign, "MAX_EXPANDED_ELEMENTS", 5)
+    flat = "t\n" + "".join(f"R{k} a 0 1\n" for k in range(6)) + ".tran 1 2\n.end\n"
+    with pytest.raises(ParameterError, match=r"line 7 = 'R5 a 0 1'.*at most 5 elements"):
+        allowed_netlist(flat, "n.cir", None)
+    copies = "t\n.subckt s a\nR1 a 0 1\nR2 a 0 1\n.ends\nX1 n s\nX2 n s\nX3 n s\n.tran 1 2\n.end\n"
+    with pytest.raises(ParameterError, match=r"line 6 = 'X1 n s'.*expanded"):
+        allowed_netlist(copies, "n.cir", None)
+
+
 def test_nonlinear_devices_and_operating_points_cost_more() -> None:
     """A diode costs more than the resistor in its place, a BSIM4 MOSFET more than a level-1 one, and an .op or
     a .dc beside the .tran adds its points."""

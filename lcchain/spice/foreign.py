@@ -326,7 +326,9 @@ def _check_element(card: _Card, body: str, state: _Names) -> None:
     letter = body[0].upper()
     if letter != "X":
         body_name = state.open[-1][1].name if state.open else ""
-        state.elements[body_name] = state.elements.get(body_name, 0) + 1
+        count = state.elements[body_name] = state.elements.get(body_name, 0) + 1
+        if count > MAX_EXPANDED_ELEMENTS:  # in one body, before any copy
+            raise _refuse(card, f"a netlist of at most {MAX_EXPANDED_ELEMENTS} elements")
         if letter in DEVICES:
             state.devices.append((card, body.split()))
         if "{" in body or "}" in body:
