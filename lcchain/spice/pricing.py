@@ -472,15 +472,20 @@ def _scopes(text: str) -> tuple[dict[str, _Scope], dict[str, float], dict[str, f
     globals_: set[str] = set()
     scopes: dict[str, _Scope] = {"": _Scope()}
     stack = [""]
+    control = False  # in a .control block (a netlist run as it is): commands, not elements
     for number, line in logical_lines(text)[1:]:  # the first line is the title
         head = line.lstrip()[:1]
         if head.isalpha():
-            scopes[stack[-1]].cards.append((number, line))
+            if not control:
+                scopes[stack[-1]].cards.append((number, line))
             continue
         if head != ".":
             continue
         word, _, rest = line.strip().partition(" ")
         word = word.lower()
+        if word.startswith((".control", ".endc")):
+            control = word.startswith(".control")
+            continue
         command = command_of(word)
         if is_param_card(word):  # .params, .PARAM_X: ngspice 39 reads them as .param
             for name, value in re.findall(r"([A-Za-z_]\w*)\s*=\s*([^\s=]+)", rest):
