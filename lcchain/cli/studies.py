@@ -253,15 +253,42 @@ def cmd_sweep(args: argparse.Namespace) -> int:
                                 seed=args.seed, tolerance=args.tolerance, series=args.series, budget=budget,
                                 workers=_workers(args))
     else:
-        given = [o for o, v in (("--vary", args.vary), ("--samples", args.samples), ("--seed", args.seed),
-                                ("--tolerance", args.tolerance), ("--series", args.series))
-                 if v is not None and v != []]
-        if given:
-            raise ParameterError(given[0], getattr(args, given[0].lstrip("-")), "nothing without SCENE.toml")
+        if args.vary:
+            raise ParameterError("--vary", args.vary, "nothing without SCENE.toml (without one, the axes are --case, "
+                                 "--N, --dt or --accuracy, --transits and --excitation lists)")
         if not args.case or not args.N:
             raise ParameterError("--case" if not args.case else "--N", None, "--case and --N lists (or SCENE.toml)")
-        plan = _SWEEPS[args.analysis](args, budget)
+        parts = any(v is not None for v in (args.samples, args.seed, args.tolerance, args.series))
+        plan = _parts_sweep(args, budget) if parts else _SWEEPS[args.analysis](args, budget)
     return _run(args, plan, outputs)
+
+
+def _parts_sweep(args: argparse.Namespace, budget: Any) -> Any:
+    """``sweep --case C --N N --tolerance 1% --series E24 --samples 200``: a Monte Carlo of real parts with no scene
+    file, the scene made from the options (:func:`lcchain.studies.plan.case_scene`), each list of them an axis."""
+    from ..studies.plan import case_scene, scene_sweep_plan
+
+    if args.analysis == "ac":
+        raise ParameterError("--analysis", "ac", "transient with --tolerance, --series or --samples and no scene "
+                             "(an AC Monte Carlo: a scene file with [analysis] kind = \"ac\")")
+    if args.points is not None:
+        raise ParameterError("--points", args.points, "nothing without --analysis ac")
+    steps = ("analysis.accuracy", args.accuracy) if args.accuracy else ("analysis.dt", args.dt or [0.05])
+    axes = [("chain.case", args.case), ("chain.N", args.N), steps, ("analysis.transits", args.transits or [1]),
+            ("excitation.kind", args.excitation or ["kick"])]
+    base = case_scene(args.case[0], args.N[0], dt=args.dt[0] if args.dt else None,
+                      accuracy=args.accuracy[0] if args.accuracy else None, L0=args.L0, C0=args.C0,
+                      engine=args.engine or DEFAULT_ENGINE)
+    if args.extrapolate is not None:
+        base["analysis"]["extrapolate"] = args.extrapolate
+    base["analysis"]["backend"] = args.backend
+    varies = [(key, list(values)) for key, values in axes if len(values) > 1]
+    for key, values in axes:
+        if len(values) == 1:
+            section, name = key.split(".")
+            base[section][name] = values[0]
+    return scene_sweep_plan(base, varies, samples=args.samples, seed=args.seed, tolerance=args.tolerance,
+                            series=args.series, budget=budget, workers=_workers(args))
 
 
 def _scene_says(args: argparse.Namespace) -> tuple[tuple[str, Any], ...]:

@@ -63,7 +63,7 @@ if TYPE_CHECKING:
 # functions that plan them, so that a batch starts without them (issue 35, tests/test_imports.py).
 
 __all__ = ["Task", "Combination", "Refusal", "Plan", "sweep_plan", "spectrum_sweep_plan", "scene_sweep_plan",
-           "request_plan", "batch_plan", "parse_vary"]
+           "case_scene", "request_plan", "batch_plan", "parse_vary"]
 
 
 @dataclass(frozen=True)
@@ -558,21 +558,42 @@ def _set_one(data: dict[str, Any], dotted: str, value: Any) -> None:
     table[parts[-1]] = value
 
 
-def scene_sweep_plan(path: str | Path, varies: Sequence[tuple[str, list[Any]]], *, samples: int | None = None,
-                     seed: int | None = None, tolerance: Mapping[str, float] | None = None,
+#: A scene made from the command line's options (``lcchain sweep --case ... --N ... --tolerance ...``).
+_COMMAND_LINE = "the command line"
+
+
+def case_scene(case: str, N: int, *, dt: float | None = None, accuracy: float | None = None, transits: int = 1,
+               excitation: str = "kick", L0: float = DEFAULT_L0, C0: float = DEFAULT_C0,
+               engine: str = DEFAULT_ENGINE) -> dict[str, Any]:
+    """The tables of the scene that runs ``case`` at ``N`` as ``lcchain sweep --case --N`` does (a step or an
+    accuracy, transits, a drive, L0 and C0, an engine): what a Monte Carlo from the command line varies, with no
+    scene file written."""
+    analysis: dict[str, Any] = {"transits": transits, "engine": engine}
+    analysis |= {"accuracy": accuracy} if accuracy is not None else {"dt": 0.05 if dt is None else dt}
+    return {"title": f"{case} chain, N = {N}, real parts", "chain": {"case": case, "N": N},
+            "units": {"L0": L0, "C0": C0}, "excitation": {"kind": excitation}, "analysis": analysis}
+
+
+def scene_sweep_plan(path: str | Path | Mapping[str, Any], varies: Sequence[tuple[str, list[Any]]], *,
+                     samples: int | None = None, seed: int | None = None, tolerance: Mapping[str, float] | None = None,
                      series: str | None = None, budget: Budget | None = None,
                      progress: Callable[[int, int, str], None] | None = None, workers: int = 1) -> Plan:
     """A scene with dotted keys varied (the product of their values); each tolerance sample is a task.
 
-    ``samples``, ``seed``, ``tolerance`` and ``series`` set the scene's real parts as ``--samples``,
-    ``--seed``, ``--tolerance`` and ``--series`` do (:func:`lcchain.scenes.load.override_parts`).
-    Priced from its axes first (:func:`_price_scenes`), before any scene is planned."""
+    ``path`` is the scene's file, or its tables themselves (a scene made from the command line's ``--case`` and
+    ``--N``: :func:`case_scene`). ``samples``, ``seed``, ``tolerance`` and ``series`` set the scene's real parts
+    as ``--samples``, ``--seed``, ``--tolerance`` and ``--series`` do
+    (:func:`lcchain.scenes.load.override_parts`). Priced from its axes first (:func:`_price_scenes`), before any
+    scene is planned."""
     from ..scenes.load import load_scene, override_parts, parse_scene
     from ..scenes.plan import scene_plan, scene_specs
 
     # named as typed, and before the price (1e20 samples were priced as a study first)
     parts = override_parts({}, samples=samples, seed=seed, tolerance=tolerance, series=series)
-    scene = load_scene(path)
+    if isinstance(path, Mapping):
+        scene, path = parse_scene(path, source=_COMMAND_LINE), _COMMAND_LINE
+    else:
+        scene = load_scene(path)
     base = scene.to_dict()
     if parts["effects"]:
         base = override_parts(base, samples=samples, seed=seed, tolerance=tolerance, series=series)
