@@ -218,6 +218,8 @@ _PREFIX_NETLISTS: dict[str, tuple[str, str]] = {
     # 1 kOhm at 127 C with TC1 = 0.01: 2 kOhm
     ".temp": ("t\n{w} 127\nV1 1 0 1\nR1 1 0 1k tc1=0.01\n.op\n.end\n", "-5.00000e-04"),
     ".op": ("t\nV1 1 0 1\nR1 1 0 2k\n{w}\n.end\n", "-5.00000e-04"),
+    # a sweep prints nothing in batch mode: read as .dc, it writes a DC plot to the raw file
+    ".dc": ("t\nV1 1 0 1\nR1 1 0 2k\n{w} V1 0 1 0.5\n.end\n", ""),
 }
 _VARIANTS = [(command, word) for command in _PREFIX_NETLISTS
              for word in (command, command.upper(), command + "x", command.upper() + "_X", command + "s",
@@ -233,9 +235,14 @@ def test_a_word_passes_exactly_when_ngspice_reads_it_as_that_command(command: st
     template, current = _PREFIX_NETLISTS[command]
     text = template.format(w=word)
     (tmp_path / "n.cir").write_text(text)
-    done = subprocess.run(["ngspice", "-b", "n.cir"], cwd=tmp_path, capture_output=True, text=True, timeout=60,
+    done = subprocess.run(["ngspice", "-b", "-r", "n.raw", "n.cir"] if command == ".dc" else ["ngspice", "-b", "n.cir"],
+                          cwd=tmp_path, capture_output=True, text=True, timeout=60,
                           env={"PATH": os.environ["PATH"], "HOME": str(tmp_path)})
-    read_as_command = done.returncode == 0 and re.search(rf"v1#branch\s+{current}\s", done.stdout) is not None
+    if command == ".dc":
+        raw = tmp_path / "n.raw"
+        read_as_command = done.returncode == 0 and raw.exists() and b"DC transfer" in raw.read_bytes()
+    else:
+        read_as_command = done.returncode == 0 and re.search(rf"v1#branch\s+{current}\s", done.stdout) is not None
     try:
         allowed_netlist(text, "n.cir", None)
         accepted = True
