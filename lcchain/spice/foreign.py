@@ -132,7 +132,9 @@ __all__ = ["ELEMENTS", "DOT_COMMANDS", "SUBCKT_COMMANDS", "OPTIONS", "MAX_INCLUD
 #: independent voltage and current sources, behavioural sources (lcchain's own gaussian pulses), the devices of a
 #: ``.model`` (diodes, BJTs, MOSFETs, JFETs, voltage- and current-controlled switches) and sub-circuit instances.
 ELEMENTS = frozenset("RLCKVIBDQMJSWX")
-#: Dot-commands run as they are (the word matched whole, in any case); the includes are inlined.
+#: Dot-commands run as they are (the word matched whole, in any case, except those ngspice 39 reads by their start:
+#: ``.param``, ``.ends``, ``.model``, ``.func``, ``.global``, :func:`lcchain.spice.cards.command_of`); the includes
+#: are inlined.
 DOT_COMMANDS = frozenset({".tran", ".ac", ".options", ".option", ".opt", ".save", ".ic", ".param", ".end",
                           *MEASURE_WORDS, ".subckt", ".ends", ".model", ".func", ".global", ".temp", ".op", ".dc"})
 #: What a ``.subckt`` body may hold besides element lines: its definitions (ngspice runs analyses, options and
