@@ -26,7 +26,7 @@ import scipy.linalg
 from lcchain.cli.main import main
 from lcchain.core.errors import ParameterError
 from lcchain.runs.check import check_text, circuit_of
-from lcchain.spice.cards import read_cards
+from lcchain.spice.element_values import read_cards
 from lcchain.spice.expressions import evaluate_expression, param_values
 from lcchain.spice.foreign import allowed_netlist, analysis_of
 
@@ -261,14 +261,18 @@ def test_what_is_not_linear_runs_with_no_reference(tmp_path: Path, capsys: pytes
 
 
 @pytest.mark.ngspice
-def test_a_diode_runs_as_it_is_with_no_reference(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+def test_a_diode_runs_with_no_reference(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     text = ("diode clipper\nV1 in 0 SIN(0 2 10k)\nR1 in a 1k\nD1 a 0 dmod\n.model dmod d\n.tran 1u 200u\n.end\n")
     path = _write(tmp_path, text)
-    assert main(["check", str(path)]) == 2  # the allow-list: a diode is not an element it runs
-    assert "line 4" in capsys.readouterr().err
-    assert main(["check", str(path), "--allow-control", "--json"]) == 0
+    assert main(["check", str(path), "--json"]) == 0
     data = json.loads(capsys.readouterr().out)
-    assert not data["exact_reference"] and "D1" in data["no_reference_reason"] and data["max_abs_error"] is None
+    assert not data["exact_reference"] and data["no_reference_reason"] == "nonlinear: D1"
+    assert data["max_abs_error"] is None and data["points"] > 0
+    control = _write(tmp_path, text.replace(".end", ".control\nrun\n.endc\n.end"), "control.cir")
+    assert main(["check", str(control)]) == 2  # the allow-list: no .control block
+    assert "line 7" in capsys.readouterr().err
+    assert main(["check", str(control), "--allow-control"]) == 0  # as it is, in the sandbox
+    assert "no exact reference (nonlinear: D1)" in capsys.readouterr().out
 
 
 @pytest.mark.parametrize(("cards", "names"), [
@@ -287,10 +291,12 @@ def test_an_ill_posed_circuit_is_refused_naming_its_elements(tmp_path: Path, cap
 
 
 def test_bad_input_is_one_line(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    path = _write(tmp_path, "bad value\nV1 a 0 1\nR1 a 0 abc\n.tran 1u 10u\n.end\n")
+    path = _write(tmp_path, "bad analysis\nV1 a 0 1\nR1 a 0 1k\n.tran 1u\n.end\n")
     assert main(["check", str(path)]) == 2
     err = capsys.readouterr().err
-    assert err.count("\n") == 1 and "line 3" in err
+    assert err.count("\n") == 1 and "line 4" in err
+    assert main(["check", str(path), "--accuracy", "2"]) == 2
+    assert "--accuracy" in capsys.readouterr().err
     assert main(["check", str(path), "--engine", "gnucap"]) == 2
     assert "gnucap runs only lcchain's own" in capsys.readouterr().err
     assert main(["check", str(tmp_path / "missing.cir")]) == 2

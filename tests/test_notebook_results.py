@@ -94,3 +94,72 @@ def test_repr_loads_no_matplotlib_and_plot_does(tmp_path):
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=tmp_path)
     assert proc.returncode == 0, proc.stderr
     assert proc.stdout.split() == ["False", "True"]
+
+
+#: The issue's bound on a result's repr.
+MAX_REPR_BYTES = 2048
+
+
+def _every_result(tmp_path: Path) -> dict[str, object]:
+    """One of every public result type, small."""
+    from lcchain.cli import main
+    from lcchain.studies.store import Store
+
+    report = lcchain.simulate(lcchain.chain_for_case("two-mass", 8), dt=0.1)
+    data = tomllib.loads(example_text("cradle"))
+    data["chain"]["N"] = 8
+    data.pop("output", None)
+    store = tmp_path / "s.sqlite"
+    assert main(["sweep", "--case", "two-mass", "--N", "8,10", "--dt", "0.1", "--store", str(store),
+                 "--executor", "serial", "--json"]) == 0
+    return {"SimulationReport": report, "RunRecord": report.record,
+            "SpectrumReport": lcchain.spectrum(lcchain.Request(lcchain.chain_for_case("two-mass", 8), lcchain.AC())),
+            "SceneResult": simulate_scene(parse_scene(data)),
+            "Modes": lcchain.normal_modes(lcchain.chain_for_case("perfect", 300)),
+            "Store": Store(store, "read")}
+
+
+@pytest.mark.ngspice
+def test_every_public_result_shows_itself_plots_into_an_axes_and_becomes_a_dataset(tmp_path, capsys):
+    """A notebook user's four expectations of every result type: a repr under 2 kB, a small HTML table, a figure
+    drawn into the Axes given, and an xarray Dataset whose variables carry their units."""
+    import matplotlib.pyplot as plt
+    import xarray
+
+    results = _every_result(tmp_path)
+    capsys.readouterr()
+    for name, result in results.items():
+        text = repr(result)
+        assert len(text.encode()) < MAX_REPR_BYTES and text.startswith(name), (name, len(text))
+        table = result._repr_html_()
+        assert table.startswith("<table>") and len(table) < 4 * MAX_REPR_BYTES, name
+        figure, ax = plt.subplots()
+        assert result.plot(ax=ax) is figure, name
+        assert ax.has_data(), name
+        plt.close(figure)
+        dataset = result.to_xarray()
+        assert isinstance(dataset, xarray.Dataset) and dataset.data_vars, name
+        numeric = [v for v in dataset.data_vars.values() if v.dtype.kind == "f"]
+        assert numeric and all("units" in v.attrs for v in numeric), name
+    store = results["Store"]
+    store.close()
+
+
+@pytest.mark.ngspice
+def test_a_runs_dataset_holds_its_vectors_in_their_own_units(tmp_path):
+    """RunRecord.to_xarray: ngspice's saved currents in amperes on time in seconds, the same numbers as the
+    record's arrays; SimulationReport.to_xarray: the end loops on time in seconds = t sqrt(L0 C0)."""
+    report = lcchain.simulate(lcchain.chain_for_case("two-mass", 8), dt=0.1, L0=2e-6, C0=5e-9)
+    record = report.record.to_xarray()
+    result = report.record.result
+    assert record["time"].attrs["units"] == "s"
+    np.testing.assert_array_equal(record["time"].values, result.time)
+    for vector, values in result.vectors.items():
+        name = vector.replace("(", "_").rstrip(")")
+        assert record[name].attrs["units"] == "A"
+        np.testing.assert_array_equal(record[name].values, values)
+    simulated = report.to_xarray()
+    tau = (2e-6 * 5e-9) ** 0.5
+    np.testing.assert_allclose(simulated["time"].values, report.waveforms.t * tau, rtol=1e-15)
+    np.testing.assert_array_equal(simulated["last"].values, report.waveforms.last)
+    assert simulated.attrs["N"] == 8 and simulated.attrs["case"] == "two-mass"

@@ -6,6 +6,7 @@ from __future__ import annotations
 import base64
 import hashlib
 import json
+import math
 import re
 import shutil
 from pathlib import Path
@@ -185,3 +186,17 @@ def test_each_thumbnail_is_a_link_to_itself_full_size(report_dir: Path) -> None:
     assert all(view == target for view, target in linked)
     assert len({view for view, _ in linked}) == len(linked)
     assert "figure:has(> .view:target)" in STYLE and "minmax(510px" in STYLE  # shown at their own size
+
+
+def test_the_report_says_its_units_in_si(data: dict, report_dir: Path) -> None:
+    """Issue 33, item 3: the report gives the bulk units in seconds, hertz and ohms (the circuit runs' L0 and C0),
+    each step in seconds beside sqrt(L0 C0), and each mode's frequency in hertz."""
+    physical = data["physical"]
+    tau = math.sqrt(physical["L0_H"] * physical["C0_F"])
+    assert physical["time_unit_s"] == pytest.approx(tau, rel=1e-12)
+    assert physical["frequency_unit_Hz"] == pytest.approx(1 / (2 * math.pi * tau), rel=1e-12)
+    page = (report_dir / "index.html").read_text()
+    assert "time unit sqrt(L0 C0) = 316.228 ns" in page and "impedance sqrt(L0/C0) = 31.6228 ohm" in page
+    assert "<th>dt (s)</th>" in page and "f<sub>n</sub> theory (Hz)" in page
+    circuit = next(c for c in data["checks"] if c["kind"] == "circuit" and c["dt"])
+    assert f"{circuit['dt'] * tau * 1e9:.4g} ns" in page

@@ -51,3 +51,47 @@ def test_each_samples_parts_are_stored(tmp_path: Path, capsys: pytest.CaptureFix
         np.testing.assert_allclose(dataset["C"].values[k, 1:-1], ladder.capacitances()[1:-1], rtol=RTOL_ARITHMETIC)
         assert np.isnan(dataset["C"].values[k, [0, -1]]).all()
     assert "parts" not in table.columns and "L" not in table.columns  # the table stays one row of metrics per run
+
+
+E24 = (1.0, 1.1, 1.2, 1.3, 1.5, 1.6, 1.8, 2.0, 2.2, 2.4, 2.7, 3.0, 3.3, 3.6, 3.9, 4.3, 4.7, 5.1, 5.6, 6.2, 6.8, 7.5,
+       8.2, 9.1)  # IEC 60063, written out here
+
+
+def _on_e24(value: float) -> bool:
+    mantissa = value / 10.0 ** np.floor(np.log10(value))
+    return bool(np.isclose(mantissa, E24, rtol=1e-9).any() or np.isclose(mantissa, 10.0, rtol=1e-9))
+
+
+def test_a_monte_carlo_from_the_command_line_needs_no_scene(tmp_path: Path,
+                                                           capsys: pytest.CaptureFixture[str]) -> None:
+    """``sweep --case perfect --N 8 --tolerance 1% --series E24 --samples 3``: the scene comes from the options;
+    the samples' parts are drawn around E24 values and stored."""
+    store = tmp_path / "mc.sqlite"
+    assert main(["sweep", "--case", "perfect", "--N", "8", "--tolerance", "1%", "--series", "E24", "--samples", "3",
+                 "--seed", "5", "--dt", "0.1", "--store", str(store), "--executor", "serial", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["ok"] == 3
+    assert main(["results", str(store), "--json"]) == 0
+    runs = json.loads(capsys.readouterr().out)
+    runs = runs["runs"] if isinstance(runs, dict) else runs
+    assert [run["params"]["sample"] for run in runs] == [1, 2, 3]
+    for run in runs:
+        L = np.array(run["parts"]["L"])
+        assert L.size == 8  # N = 8: one axis value, in the study's description, not a parameter of each run
+        # each part is an E24 value moved by at most its 1 % tolerance
+        nominal = [min((d * 10.0 ** e for d in E24 for e in range(-9, -3)), key=lambda v, x=x: abs(v - x))
+                   for x in L]
+        assert np.all(np.abs(L / np.array(nominal) - 1) <= 0.01 + 1e-12)
+        assert not all(_on_e24(x) for x in L)  # the tolerance moved them off the series
+    assert runs[0]["parts"]["L"] != runs[1]["parts"]["L"]
+
+
+@pytest.mark.parametrize(("given", "message"), [
+    (["--tolerance", "150%"], "--tolerance L"),
+    (["--tolerance", "1%", "--analysis", "ac"], "--analysis"),
+    (["--vary", "chain.N=8,9"], "--vary"),
+])
+def test_a_command_line_monte_carlo_names_a_bad_option(tmp_path: Path, capsys: pytest.CaptureFixture[str],
+                                                       given: list[str], message: str) -> None:
+    code = main(["sweep", "--case", "perfect", "--N", "8", *given, "--store", str(tmp_path / "s.sqlite")])
+    err = capsys.readouterr().err
+    assert code == 2 and message in err and "Traceback" not in err and len(err.strip().splitlines()) == 1

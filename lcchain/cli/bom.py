@@ -10,9 +10,10 @@ import sys
 
 from ..circuit.effects import E_SERIES
 from ..core.errors import ParameterError
+from ..core.physical import si_text
 from .common import EXIT_OK, chain_from_args, effects_from_args
 
-__all__ = ["add_bom_arguments", "cmd_bom", "tolerance", "si_text"]
+__all__ = ["add_bom_arguments", "cmd_bom", "tolerance"]
 
 _TOLERANCE = re.compile(r"^\s*([0-9]*\.?[0-9]+(?:[eE][-+]?[0-9]+)?)\s*(%)?\s*$")
 
@@ -25,17 +26,6 @@ def tolerance(text: str) -> float:
         raise argparse.ArgumentTypeError(f"--tolerance = {text!r} is not allowed: expected a relative tolerance "
                                          "such as 1% or 0.01 (0 to below 100 %)")
     return value
-
-
-def si_text(value: float, unit: str, digits: int = 6) -> str:
-    """``1.7757e-05, "H"`` -> ``17.757 uH``: the value with an SI prefix (a number without unit as it is)."""
-    if unit == "1" or value == 0:
-        return f"{value:.{digits}g}"
-    for prefix, scale in (("G", 1e9), ("M", 1e6), ("k", 1e3), ("", 1.0), ("m", 1e-3), ("u", 1e-6), ("n", 1e-9),
-                          ("p", 1e-12), ("f", 1e-15)):
-        if abs(value) >= scale * (1 - 1e-12):
-            return f"{value / scale:.{digits}g} {prefix}{unit}"
-    return f"{value:.{digits}g} {unit}"
 
 
 def add_bom_arguments(p: argparse.ArgumentParser) -> None:

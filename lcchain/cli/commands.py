@@ -269,14 +269,9 @@ def with_physical_units(data: dict[str, Any], L0: float, C0: float) -> dict[str,
 
 
 def _print_units(L0: float, C0: float) -> None:
-    from ..core.physical import physical_scales
-    from .bom import si_text
+    from ..core.physical import units_sentence
 
-    scales = physical_scales(L0, C0)
-    print(f"units: L0 = {si_text(L0, 'H')}, C0 = {si_text(C0, 'F')}: time unit sqrt(L0 C0) = "
-          f"{si_text(scales['time_unit_s'], 's')}, angular frequency 1 = {si_text(scales['frequency_unit_Hz'], 'Hz')}, "
-          f"band top {si_text(scales['band_top_Hz'], 'Hz')}, impedance sqrt(L0/C0) = "
-          f"{si_text(scales['impedance_ohm'], 'ohm')}")
+    print(f"units: {units_sentence(L0, C0)}")
 
 
 def _print_extrapolation(x: dict[str, Any]) -> None:

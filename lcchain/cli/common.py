@@ -230,31 +230,42 @@ def seconds(option: str) -> Callable[[str], float]:
 def tolerances(text: str) -> dict[str, float]:
     """An argparse type: ``--tolerance L=0.05,C=0.02`` (either or both), or ``--tolerance 0.05`` for both;
     each relative, 0 <= tol < 1 (checked by :func:`lcchain.scenes.load.override_parts`)."""
-    allowed = "L=TOL,C=TOL (either or both) or one TOL for both, each a relative tolerance 0 <= TOL < 1"
+    allowed = "L=TOL,C=TOL (either or both) or one TOL for both, each a relative tolerance 0 <= TOL < 1 (0.01 or 1%)"
     entries = list_entries("--tolerance", text, "L=TOL and C=TOL")
     if len(entries) == 1 and "=" not in entries[0]:
-        value = number("--tolerance")(entries[0])
+        value = _relative("--tolerance", entries[0], allowed)
         return {"L": value, "C": value}
     out: dict[str, float] = {}
     for entry in entries:
         name, sep, given = (part.strip() for part in entry.partition("="))
         if not sep or name not in ("L", "C") or name in out:
             raise argparse.ArgumentTypeError(f"--tolerance = {text!r} is not allowed: expected {allowed}")
-        out[name] = number(f"--tolerance {name}")(given)
+        out[name] = _relative(f"--tolerance {name}", given, allowed)
     return out
 
 
-def add_parts_arguments(p: argparse.ArgumentParser, samples: bool = True) -> None:
+def _relative(option: str, text: str, allowed: str) -> float:
+    """A relative tolerance as a fraction (``0.01``) or a percentage (``1%``)."""
+    if text.endswith("%"):
+        return number(option)(text[:-1].strip()) / 100.0
+    return number(option)(text)
+
+
+def add_parts_arguments(p: argparse.ArgumentParser, samples: bool = True, netlist: bool = False) -> None:
     """A scene's real parts from the command line (a Monte Carlo without editing the file): ``--tolerance``,
-    ``--series`` and (``samples``) ``--samples``, ``--seed``; each sets the scene's own key."""
+    ``--series`` and (``samples``) ``--samples``, ``--seed``; each sets the scene's own key (``netlist``: their
+    help also says what they do with ``sweep --netlist``)."""
+    draws = (" (with --netlist: draws of its --vary distributions)", " (with --netlist: the seed of its draws, "
+             "default 0)") if netlist else ("", "")
     p.add_argument("--tolerance", type=tolerances, metavar="L=TOL,C=TOL",
-                   help="with SCENE.toml: relative tolerances of the inductors and capacitors, e.g. L=0.05,C=0.02 "
-                        "or 0.05 for both (effects.tolerance.L, .C)")
+                   help="relative tolerances of the inductors and capacitors, e.g. L=5%%,C=0.02 or 1%% for both "
+                        "(a scene's effects.tolerance.L, .C)")
     p.add_argument("--series", metavar="|".join(E_SERIES_NAMES),
-                   help="with SCENE.toml: round every part to this IEC 60063 series (effects.preferred_values.series)")
+                   help="round every part to this IEC 60063 series (a scene's effects.preferred_values.series)")
     if samples:
-        p.add_argument("--samples", type=int, help="with SCENE.toml: tolerance samples (effects.tolerance.samples)")
-        p.add_argument("--seed", type=int, help="with SCENE.toml: the tolerance seed (effects.tolerance.seed)")
+        p.add_argument("--samples", type=int,
+                       help="tolerance samples (a scene's effects.tolerance.samples)" + draws[0])
+        p.add_argument("--seed", type=int, help="the tolerance seed (a scene's effects.tolerance.seed)" + draws[1])
 
 
 def budget_parent() -> argparse.ArgumentParser:

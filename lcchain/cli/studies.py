@@ -40,7 +40,7 @@ from .common import (
     list_entries,
     seconds,
 )
-from .progress import study_counter
+from .progress import counter, study_counter
 
 __all__ = ["cmd_sweep", "cmd_batch", "cmd_results", "add_study_arguments"]
 
@@ -98,6 +98,9 @@ def add_sweep_arguments(p: argparse.ArgumentParser) -> None:
     from .common import number
 
     p.add_argument("scene", nargs="?", metavar="SCENE.toml", help="vary a scene instead of cases (with --vary)")
+    p.add_argument("--netlist", metavar="FILE.cir",
+                   help="vary a netlist lcchain did not write instead (with --vary NAME=...): each variant checked, "
+                        "priced and run as lcchain batch runs a netlist")
     p.add_argument("--case", type=_words("--case", NAMED_CASES), help="chains, comma separated: an axis")
     p.add_argument("--N", type=int_list("--N"), help="sizes, comma separated: an axis")
     step = p.add_mutually_exclusive_group()
@@ -124,8 +127,11 @@ def add_sweep_arguments(p: argparse.ArgumentParser) -> None:
                         "[analysis] engine says it)")
     p.add_argument("--vary", action="append", default=[], metavar="KEY=V1,V2,...",
                    help="with SCENE.toml: a dotted scene key and its values (repeat for more axes; keys joined "
-                        "by + take the same values together)")
-    add_parts_arguments(p)  # --tolerance, --series, --samples (each a task of its own), --seed
+                        "by + take the same values together); with --netlist: a .param or an R, L, C, K element "
+                        "and 1k,2.2k,... or lin:START:STOP:N or log:START:STOP:N (lists and grids multiply), or "
+                        "normal:MEAN:SIGMA (SIGMA may be 5%%), uniform:LO:HI or tolerance:NOMINAL:P%% (drawn "
+                        "--samples times, seeded by --seed)")
+    add_parts_arguments(p, netlist=True)  # --tolerance, --series, --samples (each a task of its own), --seed
     p.add_argument("--worst-case", action="store_true",
                    help="with SCENE.toml (kicked, with [effects.tolerance]): run the corners of the --components "
                         "parts that move the first-arrival peak most, and the two corners the sensitivities "
@@ -240,6 +246,8 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     budget = budget_from_args(args)
     if args.worst_case or args.components is not None or args.metric is not None:
         return _worst_case(args, outputs, budget)
+    if args.netlist is not None:
+        return _netlist_sweep(args, outputs, budget)
     if args.scene:
         given = [o for o, v in (("--case", args.case), ("--N", args.N), ("--dt", args.dt),
                                 ("--accuracy", args.accuracy), ("--extrapolate", args.extrapolate),
@@ -253,15 +261,67 @@ def cmd_sweep(args: argparse.Namespace) -> int:
                                 seed=args.seed, tolerance=args.tolerance, series=args.series, budget=budget,
                                 workers=_workers(args))
     else:
-        given = [o for o, v in (("--vary", args.vary), ("--samples", args.samples), ("--seed", args.seed),
-                                ("--tolerance", args.tolerance), ("--series", args.series))
-                 if v is not None and v != []]
-        if given:
-            raise ParameterError(given[0], getattr(args, given[0].lstrip("-")), "nothing without SCENE.toml")
+        if args.vary:
+            raise ParameterError("--vary", args.vary, "nothing without SCENE.toml (without one, the axes are --case, "
+                                 "--N, --dt or --accuracy, --transits and --excitation lists)")
         if not args.case or not args.N:
             raise ParameterError("--case" if not args.case else "--N", None, "--case and --N lists (or SCENE.toml)")
-        plan = _SWEEPS[args.analysis](args, budget)
+        parts = any(v is not None for v in (args.samples, args.seed, args.tolerance, args.series))
+        plan = _parts_sweep(args, budget) if parts else _SWEEPS[args.analysis](args, budget)
     return _run(args, plan, outputs)
+
+
+def _netlist_sweep(args: argparse.Namespace, outputs: Outputs, budget: Any) -> int:
+    """``sweep --netlist FILE --vary NAME=...``: a foreign netlist's values varied, each variant run as a batch's
+    netlist; as for a batch, --max-time is the whole budget (runs not started within it stay pending)."""
+    from ..studies.plan import netlist_sweep_plan
+    from ..studies.vary import parse_netlist_vary
+
+    started = time.monotonic()
+    given = [o for o, v in (("SCENE.toml", args.scene), ("--case", args.case), ("--N", args.N), ("--dt", args.dt),
+                            ("--accuracy", args.accuracy), ("--extrapolate", args.extrapolate),
+                            ("--engine", args.engine), ("--points", args.points), ("--tolerance", args.tolerance),
+                            ("--series", args.series), ("--transits", args.transits),
+                            ("--excitation", args.excitation),
+                            ("--analysis", None if args.analysis == "transient" else args.analysis))
+             if v is not None]
+    if given:
+        value = args.scene if given[0] == "SCENE.toml" else getattr(args, given[0].lstrip("-"))
+        raise ParameterError(given[0], value, "nothing with --netlist (the netlist says its circuit and its "
+                             "analysis; vary its .param or element values with --vary NAME=...)")
+    plan = netlist_sweep_plan(args.netlist, [parse_netlist_vary(v) for v in args.vary], samples=args.samples,
+                              seed=args.seed, backend=args.backend, timeout=args.timeout, budget=budget,
+                              progress=counter("variants"))
+    left = budget.max_seconds - INTERPRETER_SECONDS - (time.monotonic() - started)
+    return _run(args, plan, outputs, max_seconds=max(left, 0.0))
+
+
+def _parts_sweep(args: argparse.Namespace, budget: Any) -> Any:
+    """``sweep --case C --N N --tolerance 1% --series E24 --samples 200``: a Monte Carlo of real parts with no scene
+    file, the scene made from the options (:func:`lcchain.studies.plan.case_scene`), each list of them an axis."""
+    from ..studies.plan import case_scene, scene_sweep_plan
+
+    if args.analysis == "ac":
+        raise ParameterError("--analysis", "ac", "transient with --tolerance, --series or --samples and no scene "
+                             "(an AC Monte Carlo: a scene file with [analysis] kind = \"ac\")")
+    if args.points is not None:
+        raise ParameterError("--points", args.points, "nothing without --analysis ac")
+    steps = ("analysis.accuracy", args.accuracy) if args.accuracy else ("analysis.dt", args.dt or [0.05])
+    axes = [("chain.case", args.case), ("chain.N", args.N), steps, ("analysis.transits", args.transits or [1]),
+            ("excitation.kind", args.excitation or ["kick"])]
+    base = case_scene(args.case[0], args.N[0], dt=args.dt[0] if args.dt else None,
+                      accuracy=args.accuracy[0] if args.accuracy else None, L0=args.L0, C0=args.C0,
+                      engine=args.engine or DEFAULT_ENGINE)
+    if args.extrapolate is not None:
+        base["analysis"]["extrapolate"] = args.extrapolate
+    base["analysis"]["backend"] = args.backend
+    varies = [(key, list(values)) for key, values in axes if len(values) > 1]
+    for key, values in axes:
+        if len(values) == 1:
+            section, name = key.split(".")
+            base[section][name] = values[0]
+    return scene_sweep_plan(base, varies, samples=args.samples, seed=args.seed, tolerance=args.tolerance,
+                            series=args.series, budget=budget, workers=_workers(args))
 
 
 def _scene_says(args: argparse.Namespace) -> tuple[tuple[str, Any], ...]:

@@ -68,7 +68,7 @@ def predicted_errors(response: LinearResponse, outputs: Sequence[object], tstop:
     model, _ = response.transient(outputs, grid, tstop, poles=trapezoidal_poles(response.poles, step),  # type: ignore[arg-type]
                                   warp=lambda s: trapezoidal_frequency(s, step))
     errors = np.max(np.abs(model - exact), axis=1)
-    return errors * (GEAR_ERROR_FACTOR if method == "gear" else 1.0)
+    return np.asarray(errors * (GEAR_ERROR_FACTOR if method == "gear" else 1.0))
 
 
 def step_for_accuracy(response: LinearResponse, outputs: Sequence[object], scales: np.ndarray, tstop: float,

@@ -8,8 +8,9 @@ a bulk number can give these beside it (never instead: tests and scripts read th
 from __future__ import annotations
 
 import math
+import re
 
-__all__ = ["physical_scales", "seconds", "hertz"]
+__all__ = ["physical_scales", "seconds", "hertz", "si_text", "units_sentence", "variable_name", "vector_units"]
 
 
 def seconds(t: float, L0: float, C0: float) -> float:
@@ -36,3 +37,36 @@ def physical_scales(L0: float, C0: float) -> dict[str, float]:
     return {"L0_H": float(L0), "C0_F": float(C0), "time_unit_s": seconds(1.0, L0, C0),
             "frequency_unit_Hz": hertz(1.0, L0, C0), "impedance_ohm": math.sqrt(L0 / C0),
             "band_top_Hz": hertz(2.0, L0, C0)}
+
+
+def si_text(value: float, unit: str, digits: int = 6) -> str:
+    """``1.7757e-05, "H"`` -> ``17.757 uH``: the value with an SI prefix (a number without unit as it is)."""
+    if unit == "1" or value == 0:
+        return f"{value:.{digits}g}"
+    for prefix, scale in (("G", 1e9), ("M", 1e6), ("k", 1e3), ("", 1.0), ("m", 1e-3), ("u", 1e-6), ("n", 1e-9),
+                          ("p", 1e-12), ("f", 1e-15)):
+        if abs(value) >= scale * (1 - 1e-12):
+            return f"{value / scale:.{digits}g} {prefix}{unit}"
+    return f"{value:.{digits}g} {unit}"
+
+
+def units_sentence(L0: float, C0: float) -> str:
+    """What the bulk units are for L0 and C0, in one line (the terminal's and the report's)."""
+    scales = physical_scales(L0, C0)
+    return (f"L0 = {si_text(L0, 'H')}, C0 = {si_text(C0, 'F')}: time unit sqrt(L0 C0) = "
+            f"{si_text(scales['time_unit_s'], 's')}, angular frequency 1 = "
+            f"{si_text(scales['frequency_unit_Hz'], 'Hz')}, "
+            f"band top {si_text(scales['band_top_Hz'], 'Hz')}, impedance sqrt(L0/C0) = "
+            f"{si_text(scales['impedance_ohm'], 'ohm')}")
+
+
+def variable_name(vector: str) -> str:
+    """A saved vector's name as a variable (netCDF, xarray): ``i(l1)`` -> ``i_l1``, ``v(n3)`` -> ``v_n3`` (letters,
+    digits, ``_``)."""
+    return re.sub(r"[^A-Za-z0-9_]+", "_", vector).strip("_") or "_"
+
+
+def vector_units(vector: str) -> str:
+    """A saved vector's unit: ``i(...)`` amperes, ``v(...)`` volts, anything else dimensionless."""
+    kind = vector.lower()[:2]
+    return {"i(": "A", "v(": "V"}.get(kind, "1")

@@ -51,10 +51,10 @@ PLOTS: Registry[Callable[..., Any]] = Registry("lcchain.plots", {}, _figure_func
                                               "a function (result, ax=None) -> matplotlib Figure")
 
 
-def plot(kind: str, result: object, ax: Any = None) -> Any:
+def plot(kind: str, result: object, ax: Any = None, **options: Any) -> Any:
     """The figure of ``result`` by the registered drawing of its ``kind`` (``"simulation"``, ``"spectrum"``,
-    ``"scene"``)."""
+    ``"scene"``, ``"record"``, ``"store"``), given ``options`` as keywords."""
     if kind not in PLOTS:
         raise ParameterError("plot", kind, f"a kind of result with a registered drawing ({', '.join(PLOTS)}; "
                              "lcchain's own come with its installed entry points: pip install lcchain)")
-    return PLOTS[kind](result, ax=ax)
+    return PLOTS[kind](result, ax=ax, **options)

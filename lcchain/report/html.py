@@ -19,6 +19,8 @@ from typing import Any
 
 import numpy as np
 
+from ..core.physical import physical_scales, si_text, units_sentence
+from ..core.types import DEFAULT_C0, DEFAULT_L0
 from .markup import esc, figure_block, num, verdict_cell
 from .requirements import requirements_html, requirements_summary
 from .spectrum import spectrum_html, spectrum_summary
@@ -185,18 +187,21 @@ def _findings_html(items: list[dict[str, str]]) -> str:
     return "\n".join(lines)
 
 
-def _circuit_html(checks: list[Any], figures: Mapping[str, bytes]) -> str:
+def _circuit_html(checks: list[Any], figures: Mapping[str, bytes], time_unit: float) -> str:
     lines = ["<p>Each run: ngspice's end-loop current I<sub>N</sub>/I<sub>1</sub>(0) (or charge, after a "
              "displacement) against lcchain's exact theory of the same chain over the whole window. A fixed-step "
              "run passes when its largest error stays below 1.5 × the trapezoidal error model's prediction "
-             "+ 1e-9; the scene with losses and walls, below the accuracy it asked for.</p>",
+             "+ 1e-9; the scene with losses and walls, below the accuracy it asked for. The step dt is in units "
+             "of sqrt(L0 C0) and in seconds.</p>",
              "<table><thead><tr><th class=l>run</th><th class=l>chain</th><th class=l>excitation</th><th>dt</th>"
+             "<th>dt (s)</th>"
              "<th>max |sim − theory|</th><th>predicted</th><th>tolerance</th><th>ngspice s</th><th>verdict</th>"
              "</tr></thead><tbody>"]
     for check in checks:
         verdict = verdict_cell(check.passed, check.reason)
         lines.append(f"<tr><td class=l>{esc(check.name)}</td><td class=l>{esc(check.what)}</td>"
                      f"<td class=l>{esc(check.excitation)}</td><td>{num(check.dt, 3)}</td>"
+                     f"<td>{'' if check.dt is None else esc(si_text(check.dt * time_unit, 's', 4))}</td>"
                      f"<td>{num(check.max_abs_error, 3)}</td><td>{num(check.predicted_error, 3)}</td>"
                      f"<td>{num(check.tolerance, 3)}</td><td>{num(check.wall_s, 2)}</td><td>{verdict}</td></tr>")
     lines.append("</tbody></table><div class=grid id=circuit-figures>")
@@ -242,6 +247,7 @@ def render_html(report: Mapping[str, Any], figures: Mapping[str, bytes], caption
     failed_list = "".join(f"<li>{esc(c['name'])}: {esc(c.get('reason') or '')} max error {num(c['max_abs_error'])}"
                           f" &gt; tolerance {num(c['tolerance'])}</li>" for c in failed)
     machine = report["machine"]
+    physical = report.get("physical") or physical_scales(DEFAULT_L0, DEFAULT_C0)
     parts = [
         "<!doctype html>",
         '<html lang="en"><head><meta charset="utf-8">',
@@ -255,6 +261,9 @@ def render_html(report: Mapping[str, Any], figures: Mapping[str, bytes], caption
         f"Python {esc(machine['python'])}"
         f" · numpy {esc(machine['numpy'])} · made {esc(report['created'])} by <code>{esc(command)}</code>"
         f"{' (quick)' if report['quick'] else ''} in {report['seconds']:.0f} s</p>",
+        f"<p class=meta>Units: lcchain computes in the chain's bulk units (times in sqrt(L0 C0), angular "
+        f"frequencies in 1/sqrt(L0 C0)); the circuit runs use "
+        f"{esc(units_sentence(physical['L0_H'], physical['C0_F']))}.</p>",
         verdict,
         f"<ul>{failed_list}</ul>" if failed else "",
         '<div class="summary">',
@@ -282,7 +291,7 @@ def render_html(report: Mapping[str, Any], figures: Mapping[str, bytes], caption
         _perfect_html(paper["perfect"]),
         _findings_html(paper["findings"]),
         f'<h2 id="circuit">The circuit validated ({esc(engines)})</h2>',
-        _circuit_html(circuit, figures),
+        _circuit_html(circuit, figures, physical["time_unit_s"]),
         '<h2 id="spectrum">The spectrum in the circuit (ngspice AC)</h2>',
         spectrum_html(spectrum, figures),
         '<h2 id="figures">The paper\'s figures, recomputed</h2>',
@@ -311,7 +320,7 @@ def _plain(value: Any) -> Any:
 def report_json(report: Mapping[str, Any]) -> str:
     """``report.json``: tables, checks, versions, created, and the paper section's details (no curves)."""
     data = {key: report[key] for key in ("title", "created", "lcchain_version", "ngspice_version", "engines",
-                                          "machine", "quick", "passed", "seconds", "tables", "checks")}
+                                          "machine", "quick", "physical", "passed", "seconds", "tables", "checks")}
     data["spectrum"] = [check.to_dict() for check in report.get("spectrum", [])]
     data["requirements"] = [check.to_dict() for check in report.get("requirements", [])]
     paper = report["paper"]

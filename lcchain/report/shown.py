@@ -9,11 +9,14 @@ pandas' ``DataFrame.plot`` finds its plotting backend: another package may draw 
 
 from __future__ import annotations
 
+import math
 from typing import Any
+
+import numpy as np
 
 from . import plots
 
-__all__ = ["simulation_figure", "spectrum_figure", "scene_figure"]
+__all__ = ["simulation_figure", "spectrum_figure", "scene_figure", "record_figure", "store_figure", "modes_figure"]
 
 
 def simulation_figure(report: Any, ax: Any = None) -> Any:
@@ -25,15 +28,17 @@ def simulation_figure(report: Any, ax: Any = None) -> Any:
         w.t, w.last, w.t, c.theory_last, residual=None if ax is not None else w.last - c.theory_last,
         first_sim=w.first, first_theory=c.theory_first, arrivals=[a.to_dict() for a in c.arrivals],
         title=f"{report.chain.name} chain, N = {report.chain.N}, dt = {report.options.dt:.4g}, {report.excitation}",
-        ylabel=r"$I_1,\ I_N\;/\;I_1(0)$" if report.excitation == "kick" else r"$Q_1,\ Q_N\;/\;Q_1(0)$", ax=ax)
+        ylabel=r"$I_1,\ I_N\;/\;I_1(0)$" if report.excitation == "kick" else r"$Q_1,\ Q_N\;/\;Q_1(0)$", ax=ax,
+        time_unit=report.ladder.time_unit)
 
 
 def spectrum_figure(report: Any, ax: Any = None) -> Any:
     """A :class:`~lcchain.runs.spectrum.SpectrumReport`'s |P_n| against omega_n, the circuit's over theory, the
-    spacing below (``lcchain spectrum --plot``)."""
-    del ax  # two panels of their own
+    spacing below (``lcchain spectrum --plot``); with ``ax``, the |P_n| panel alone in it.  A frequency axis in hertz
+    on top."""
     return plots.spectrum(report.omega_theory, report.P_theory, report.omega, report.P,
-                          title=f"{report.chain.name} chain, N = {report.chain.N}: {report.engine} AC against theory")
+                          title=f"{report.chain.name} chain, N = {report.chain.N}: {report.engine} AC against theory",
+                          ax=ax, frequency_unit=1.0 / (2 * math.pi * report.time_unit))
 
 
 def scene_figure(result: Any, ax: Any = None) -> Any:
@@ -57,3 +62,52 @@ def scene_figure(result: Any, ax: Any = None) -> Any:
                          first_sim=signals.sim[0], first_theory=signals.theory[0], arrivals=s.record["arrivals"],
                          title=title, ylabel=r"$Q_1,\ Q_N\;/\;Q_1(0)$" if displaced else r"$I_1,\ I_N\;/\;I_0$",
                          ax=ax)
+
+
+def record_figure(record: Any, ax: Any = None) -> Any:
+    """A :class:`~lcchain.runs.execute.RunRecord`'s figure: its compared loops over theory (the far end, the first
+    too; residual below) where it had a theory, else its saved vectors against time in seconds (an AC run's
+    magnitudes against frequency in hertz, on log axes)."""
+    from ..core.errors import SimulationError
+    from ..core.physical import vector_units
+
+    if not record.ok:
+        raise SimulationError(f"run {record.key[:12]} {record.status}: {record.reason}; there is nothing to plot")
+    signals = record.signals
+    if signals is not None:
+        return plots.overlay(signals.t, signals.sim[-1], signals.t, signals.theory[-1],
+                             residual=None if ax is not None else signals.sim[-1] - signals.theory[-1],
+                             first_sim=signals.sim[0], first_theory=signals.theory[0],
+                             title=f"{record.label or 'run'} ({record.engine} {record.engine_version})", ax=ax,
+                             ylabel=r"$Q\,/\,Q_1(0)$" if signals.excitation == "displacement" else r"$I\,/\,I_1(0)$")
+    fig = plots._new_figure() if ax is None else plots._root_figure(ax)
+    if ax is None:
+        ax = fig.subplots()
+    if record.result is not None:
+        x, vectors, xlabel = record.result.time, record.result.vectors, "time (s)"
+        for name, values in vectors.items():
+            ax.plot(x, values, label=f"{name} ({vector_units(name)})")
+    elif record.ac is not None:
+        x, vectors, xlabel = record.ac.frequency, record.ac.vectors, "frequency (Hz)"
+        for name, values in vectors.items():
+            ax.loglog(x, np.abs(values), label=f"|{name}| ({vector_units(name)} per V)")
+    else:
+        raise SimulationError(f"run {record.key[:12]} saved no vectors: there is nothing to plot")
+    ax.set_xlabel(xlabel)
+    if len(vectors) <= 8:
+        ax.legend(fontsize=8)
+    plots.set_title(ax, f"{record.label or 'run'} ({record.engine} {record.engine_version})")
+    return fig
+
+
+def store_figure(store: Any, ax: Any = None, metric: str = "peak") -> Any:
+    """A :class:`~lcchain.studies.store.Store`'s figure: the one its results call for
+    (:func:`lcchain.report.studies.study_figure`)."""
+    from .studies import study_figure
+
+    return study_figure(store, metric, ax=ax)
+
+
+def modes_figure(modes: Any, ax: Any = None) -> Any:
+    """A :class:`~lcchain.theory.modes.Modes`' density P_n against omega_n, the spacing on a twin axis."""
+    return plots.mode_density(modes.omega, modes.density, ax=ax)

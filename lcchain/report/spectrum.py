@@ -10,12 +10,17 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from typing import Any
 
+from ..core.physical import physical_scales
+from ..core.types import DEFAULT_C0, DEFAULT_L0
 from ..studies.spectrum_checks import VK_DELTAS, VK_N, SpectrumCheck
 from .figure_data import DesignRows, pk_data, spectrum_points, vk_data
 from .markup import esc, figure_block, num, verdict_cell
 from .paper_figures import pk_figure, vk_figure
 
 __all__ = ["SPECTRUM_FIGURES", "spectrum_figures", "spectrum_html", "spectrum_summary", "PER_MODE_CHECK"]
+
+# The spectrum checks run at the default L0 and C0 (lcchain.studies.spectrum_checks): omega = 1 in hertz.
+_HERTZ = physical_scales(DEFAULT_L0, DEFAULT_C0)["frequency_unit_Hz"]
 
 #: The section's figures: the paper's label and the caption under it in the page.
 SPECTRUM_FIGURES: tuple[tuple[str, str], ...] = (
@@ -73,8 +78,9 @@ def _summary_table(checks: Sequence[SpectrumCheck]) -> list[str]:
 
 def _per_mode_table(check: SpectrumCheck) -> list[str]:
     lines = [f'<h3 id="spectrum-modes">Every mode of {esc(check.what)}</h3>',
-             "<table><thead><tr><th>n</th><th>ω<sub>n</sub> theory</th><th>ω<sub>n</sub> ngspice</th>"
-             "<th>rel. error</th><th>δω<sub>n</sub> theory</th><th>δω<sub>n</sub> ngspice</th>"
+             "<table><thead><tr><th>n</th><th>ω<sub>n</sub> theory</th><th>f<sub>n</sub> theory (Hz)</th>"
+             "<th>ω<sub>n</sub> ngspice</th><th>rel. error</th><th>δω<sub>n</sub> theory</th>"
+             "<th>δω<sub>n</sub> ngspice</th>"
              "<th>P<sub>n</sub> theory</th><th>P<sub>n</sub> ngspice</th><th>|error|</th></tr></thead><tbody>"]
     def fixed(value: float | None, places: int) -> str:
         return "–" if value is None else f"{value:.{places}f}"
@@ -83,7 +89,8 @@ def _per_mode_table(check: SpectrumCheck) -> list[str]:
         theory, measured = mode["omega_theory"], mode["omega"]
         error = None if measured is None else abs(measured - theory) / (theory or 1.0)
         P_error = abs((mode["P"] or 0.0) - mode["P_theory"])
-        lines.append(f"<tr><td>{mode['n']}</td><td>{fixed(theory, 12)}</td><td>{fixed(measured, 12)}</td>"
+        lines.append(f"<tr><td>{mode['n']}</td><td>{fixed(theory, 12)}</td><td>{theory * _HERTZ:.9g}</td>"
+                     f"<td>{fixed(measured, 12)}</td>"
                      f"<td>{num(error, 2)}</td><td>{fixed(mode['spacing_theory'], 12)}</td>"
                      f"<td>{fixed(mode['spacing'], 12)}</td><td>{fixed(mode['P_theory'], 12)}</td>"
                      f"<td>{fixed(mode['P'], 12)}</td><td>{num(P_error, 2)}</td></tr>")

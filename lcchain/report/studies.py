@@ -40,8 +40,10 @@ _WHAT = {"peak": "transmitted peak", "energy": "energy fraction", "loss": "energ
          "P": "P error", "spacing": "spacing spread"}
 
 
-def study_figure(store: Store, metric: str = "peak") -> Any:
-    """The figure a study's results call for (see the module docstring); ``metric`` for the samples."""
+def study_figure(store: Store, metric: str = "peak", ax: Any = None) -> Any:
+    """The figure a study's results call for (see the module docstring); ``metric`` for the samples.  With
+    ``ax``, a one-panel figure (one group's histogram, or Fig. delta) is drawn into it; several groups' panels
+    are a figure of their own."""
     runs = [run for run in store.runs() if run.status == "ok" and run.metrics and not run.member]
     if not runs:
         raise ParameterError("--plot", str(store.path), "a store with finished runs to draw")
@@ -55,7 +57,7 @@ def study_figure(store: Store, metric: str = "peak") -> Any:
         xlabel = peak_label(kinds.pop()) if metric == "peak" and len(kinds) == 1 else _AXIS[metric]
         nominal = [_nominal(scene, metric) for scene in scenes]
         if len(groups) == 1:
-            return histogram(groups[0].peaks, xlabel=xlabel, theory=nominal[0],
+            return histogram(groups[0].peaks, xlabel=xlabel, theory=nominal[0], ax=ax,
                              title=f"{what} over {groups[0].peaks.size} samples ({store.path.name})")
         return samples_figure(groups, title=f"{what} by group ({store.path.name})", xlabel=xlabel,
                               log=metric == "loss", nominal=nominal)
@@ -67,7 +69,8 @@ def study_figure(store: Store, metric: str = "peak") -> Any:
             if arrivals:
                 measured[run.params["case"]].append((run.params["N"], 1.0 - arrivals[0]["peak_sim"]))
         grid = sorted(set(design_grid(max(Ns))) | set(Ns))
-        return delta_figure(delta_data(grid), measured, title=f"δ* against N: theory and ngspice ({store.path.name})")
+        return delta_figure(delta_data(grid), measured, title=f"δ* against N: theory and ngspice ({store.path.name})",
+                            ax=ax)
     raise ParameterError("--plot", str(store.path), "a sweep of transients over two or more N (with --case), or "
                          "tolerance samples (an AC sweep over N: --summary --metric omega, P or spacing)")
 

@@ -22,6 +22,8 @@ from typing import Any
 import numpy as np
 
 from ..core import __version__
+from ..core.physical import physical_scales
+from ..core.types import DEFAULT_C0, DEFAULT_L0
 from ..studies.requirements import RequirementsCheck
 from ..studies.spectrum_checks import SpectrumCheck
 from ..studies.validation import CircuitCheck
@@ -138,6 +140,7 @@ def validation_report(rows: DesignRows, circuit: Sequence[CircuitCheck], engines
         "machine": {"system": platform.system(), "release": platform.release(), "machine": platform.machine(),
                     "python": platform.python_version(), "numpy": np.__version__},
         "quick": quick,
+        "physical": physical_scales(DEFAULT_L0, DEFAULT_C0),
         "passed": all(c["passed"] for c in checks),
         "checks": checks,
         "tables": {case: [entry["row"] for entry in entries] for case, entries in paper["tables"].items()},

@@ -1,15 +1,15 @@
 """``lcchain check`` as a unit of work: a linear netlist run in a simulator and compared with its exact response.
 
 The netlist passes the allow-list (:func:`lcchain.spice.foreign.allowed_netlist`), runs in the sandbox like a
-batch's, and its element cards are read as numbers (:func:`lcchain.spice.cards.read_cards`).  When every element
-is an R, L, C, K or an independent source with a DC value, PULSE, SIN, PWL or EXP function (AC magnitude and phase
-for an ``.ac``), :func:`circuit_of` makes it a :class:`lcchain.circuit.linear.LinearCircuit` with ngspice 39's
-defaults for what the cards leave out, and :func:`check_text` compares every saved vector with the exact response
+batch's, and its element cards are read as numbers (:func:`lcchain.spice.element_values.read_cards`).
+When every element is an R, L, C, K or an independent source with a DC value, PULSE, SIN, PWL or EXP function
+(AC magnitude and phase for an ``.ac``), :func:`circuit_of` makes it a
+:class:`lcchain.circuit.linear.LinearCircuit` with ngspice 39's defaults for what the cards leave out, and :func:`check_text` compares every saved vector with the exact response
 at the simulator's own time points or frequencies (:mod:`lcchain.compare.check`), predicts the trapezoidal
 rule's error at the run's largest step, and finds the fixed step an accuracy needs.
 
-Anything else (a behavioural source, a SFFM source, an element lcchain does not model) still runs: the result
-says "no exact reference" and why, and has no errors.
+Anything else (a behavioural source, a SFFM source, a diode or transistor, a sub-circuit instance, a value that
+calls a ``.func``) still runs: the result says "no exact reference" and why, and has no errors.
 
 ngspice 39's defaults, as its manual gives them: PULSE: rise and fall TSTEP, width and period TSTOP; SIN:
 frequency 1/TSTOP; EXP: rise delay 0, rise time constant TSTEP, fall delay rise delay + TSTEP, fall time constant
@@ -28,7 +28,14 @@ from typing import Any
 import numpy as np
 
 from ..core.errors import ParameterError
-from ..spice.cards import CouplingCard, ElementCard, NetlistCards, OtherCard, SourceCard, read_cards
+from ..spice.element_values import (
+    CouplingCard,
+    ElementCard,
+    NetlistCards,
+    OtherCard,
+    SourceCard,
+    read_cards,
+)
 from ..spice.engines import ENGINES, engine_named, find_engine
 from ..spice.foreign import Sweep, Transient, allowed_netlist, analysis_of
 from ..spice.runner import read_include
@@ -190,7 +197,8 @@ def circuit_of(cards: NetlistCards, analysis: Transient | Sweep) -> Any:
     branches, sources, couplings = [], [], []
     for card in cards.elements:
         if isinstance(card, OtherCard):
-            kind = "behavioural source" if card.letter == "B" else "nonlinear or not modelled"
+            kind = {"B": "behavioural source", "X": "sub-circuit (not flattened here)"}.get(
+                card.letter, "nonlinear" if card.letter in "DQMJSWZ" else "not modelled")
             return f"{kind}: {card.name.upper()}" + (f" ({card.why})" if card.why else "")
         if isinstance(card, ElementCard):
             keywords = dict(card.keywords)

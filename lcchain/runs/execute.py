@@ -37,6 +37,7 @@ from ..core.budget import ac_run_estimate
 from ..core.checks import instance
 from ..core.errors import ParameterError, SimulationError, show_value
 from ..core.frozen import FrozenArrays, FrozenMap
+from ..core.show import html_table, plot, short_repr
 from ..core.types import GAUSSIAN_CENTRE, AnalysisKind, Probes, RunStatus
 from ..spice.engines import engine_named, find_engine, run_engine
 from ..spice.measure import Measurements, measurement_fields
@@ -164,6 +165,52 @@ class RunRecord(FrozenArrays):
         if self.measurements:
             data.update(measurement_fields(self.measurements))
         return data
+
+    def _rows(self) -> list[tuple[str, object]]:
+        rows: list[tuple[str, object]] = [
+            ("run", f"{self.label or self.analysis} ({self.key[:12]})"),
+            ("engine", f"{self.engine} {self.engine_version}".strip()),
+            ("status", self.status if self.ok else f"{self.status}: {self.reason[:120]}")]
+        if self.points is not None:
+            rows.append(("points" if self.analysis == "transient" else "frequencies", self.points))
+        rows.append(("simulator wall time (s)", self.wall_s))
+        if self.metrics is not None:
+            rows.append(("max |simulation - theory|", self.metrics.max_abs_error))
+            if self.metrics.predicted_error is not None:
+                rows.append(("predicted error", self.metrics.predicted_error))
+        if self.spectrum is not None:
+            rows.append(("max rel. error of omega_n", self.spectrum.max_rel_error_omega))
+        if self.measurements:
+            rows.append(("measurements", ", ".join(list(self.measurements)[:6])
+                         + (" ..." if len(self.measurements) > 6 else "")))
+        return rows
+
+    def __repr__(self) -> str:
+        """A few lines (the arrays: ``result``, ``ac``, ``signals``; all of it: :meth:`summary`)."""
+        return short_repr("RunRecord", self._rows())
+
+    def _repr_html_(self) -> str:
+        return html_table("RunRecord", self._rows())
+
+    def plot(self, ax: Any = None) -> Any:
+        """The run's figure: its compared loops over theory (the far end; residual below) where it had a theory,
+        else its saved vectors against time (or their magnitudes against frequency).
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+            Never shown.  matplotlib is imported here, not by ``import lcchain``.
+        """
+        return plot("record", self, ax=ax)
+
+    def to_xarray(self) -> Any:
+        """The saved vectors as an xarray Dataset on ``time`` (s) or ``frequency`` (Hz), each with its ``units``
+        (an AC phasor as ``*_real`` and ``*_imag``), the compared loops beside theory (``loop_signal``,
+        ``loop_theory``, dimensionless, and ``t``) where the run had a theory, :meth:`summary` as attributes.
+        xarray is optional: ``pip install 'lcchain[data]'``."""
+        from .datasets import record_dataset
+
+        return record_dataset(self)
 
 
 def waveform_digest(time_s: np.ndarray, vectors: Mapping[str, np.ndarray], axis: str = "time") -> str:

@@ -234,6 +234,14 @@ class SimulationReport:
         """
         return plot("simulation", self, ax=ax)
 
+    def to_xarray(self) -> Any:
+        """The end loops, simulated and in theory (``first``, ``last``, ``theory_first``, ``theory_last``,
+        dimensionless), as an xarray Dataset on ``time`` in seconds (``t`` beside it in units of sqrt(L0 C0)), the
+        scalar summary of :meth:`to_dict` as attributes.  xarray is optional: ``pip install 'lcchain[data]'``."""
+        from .datasets import simulation_dataset
+
+        return simulation_dataset(self)
+
 def simulator_wall_time(runs: Sequence[tuple[float, float]]) -> float:
     """Seconds during which at least one of ``runs`` was running: the length of the union of the intervals
     ``[start, start + wall_s]``, each run given as ``(start, wall_s)`` (``time.perf_counter()`` when its

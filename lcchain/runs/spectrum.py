@@ -29,6 +29,7 @@ make the same run.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
@@ -48,6 +49,7 @@ from ..compare.spectrum import SpectrumFit
 from ..core.budget import Budget
 from ..core.checks import instance
 from ..core.errors import ParameterError, SimulationError
+from ..core.extras import dataset_attrs, optional_module
 from ..core.show import html_table, plot, short_repr
 from ..core.types import DEFAULT_C0, DEFAULT_L0
 from ..spice.engines import DEFAULT_ENGINE
@@ -107,6 +109,8 @@ class SpectrumReport:
     gamma_theory : ndarray or None
         The circuit's own decay rate of every mode (effects that are no chain's, with resistors): Q_theory is then
         omega_n / gamma_n.
+    time_unit : float
+        sqrt(L0 C0), seconds: omega_n / (2 pi time_unit) is the mode's frequency in hertz.
     """
 
     chain: Chain
@@ -123,6 +127,7 @@ class SpectrumReport:
     response_error: float | None = None
     engine: str = DEFAULT_ENGINE
     gamma_theory: np.ndarray | None = None
+    time_unit: float = math.sqrt(DEFAULT_L0 * DEFAULT_C0)
 
     @property
     def lossy(self) -> bool:
@@ -179,7 +184,7 @@ class SpectrumReport:
         lossless ladder)."""
         if not self.lossy:
             return np.full(self.theory.N, np.nan)
-        return self.omega / self.gamma
+        return np.asarray(self.omega / self.gamma)
 
     @property
     def Q_theory(self) -> np.ndarray:
@@ -206,7 +211,7 @@ class SpectrumReport:
     def resolved(self) -> np.ndarray:
         """Whether each theoretical mode weighs enough at the ends to be placed to the targets (|P_n| >=
         :data:`OMEGA_WEIGHT_FLOOR`)."""
-        return np.abs(self.theory.transfer) >= OMEGA_WEIGHT_FLOOR
+        return np.asarray(np.abs(self.theory.transfer) >= OMEGA_WEIGHT_FLOOR)
 
     @property
     def metrics(self) -> SpectrumMetrics:
@@ -302,8 +307,13 @@ class SpectrumReport:
     def _repr_html_(self) -> str:
         return html_table("SpectrumReport", self._rows())
 
-    def plot(self) -> Any:
+    def plot(self, ax: Any = None) -> Any:
         """|P_n| against omega_n, the circuit's over theory, with the spacing below (``lcchain spectrum --plot``).
+
+        Parameters
+        ----------
+        ax : matplotlib.axes.Axes, optional
+            Draw |P_n| into it (no spacing panel).
 
         Returns
         -------
@@ -311,13 +321,40 @@ class SpectrumReport:
             Never shown; save it with ``fig.savefig(...)``.  matplotlib is imported here, not by
             ``import lcchain``.
         """
-        return plot("spectrum", self)
+        return plot("spectrum", self, ax=ax)
+
+    def to_xarray(self) -> Any:
+        """The modes as an xarray Dataset on the dimension ``mode`` (n = 1..N): the circuit's ``omega``, ``P``
+        (and ``Q``, ``gamma`` with losses) beside theory's ``*_theory``, ``seen`` and ``resolved``, NaN where a mode
+        was not seen; ``frequency`` and ``frequency_theory`` in hertz; the scalar summary as attributes.
+        xarray is optional: ``pip install 'lcchain[data]'``."""
+        xr = optional_module("xarray", "data", "SpectrumReport.to_xarray")
+        hertz = 1.0 / (2 * math.pi * self.time_unit)
+        per_unit = {"units": "1", "comment": "units of 1/sqrt(L0 C0)"}
+        variables: dict[str, Any] = {
+            "omega": ("mode", self.omega, {"long_name": "normal frequency in the circuit"} | per_unit),
+            "omega_theory": ("mode", self.omega_theory, {"long_name": "exact normal frequency"} | per_unit),
+            "frequency": ("mode", self.omega * hertz, {"long_name": "normal frequency in the circuit", "units": "Hz"}),
+            "frequency_theory": ("mode", self.omega_theory * hertz,
+                                 {"long_name": "exact normal frequency", "units": "Hz"}),
+            "P": ("mode", self.P, {"long_name": "end-to-end weight P_n in the circuit", "units": "1"}),
+            "P_theory": ("mode", self.P_theory, {"long_name": "exact end-to-end weight P_n (NaN: below precision)",
+                                                 "units": "1"}),
+            "seen": ("mode", self.seen, {"long_name": "the fit found the mode"}),
+            "resolved": ("mode", self.resolved, {"long_name": "the sweep's spacing resolves the mode"})}
+        if self.lossy:
+            variables |= {"Q": ("mode", self.Q, {"long_name": "quality factor in the circuit", "units": "1"}),
+                          "Q_theory": ("mode", self.Q_theory, {"long_name": "exact quality factor", "units": "1"}),
+                          "gamma": ("mode", self.gamma, {"long_name": "decay rate in the circuit"} | per_unit)}
+        summary = {key: value for key, value in self.to_dict().items() if key not in ("modes", "timings")}
+        return xr.Dataset(variables, coords={"mode": ("mode", np.arange(1, self.theory.N + 1), {"units": "1"})},
+                          attrs=dataset_attrs(summary | {"time_unit_s": self.time_unit}))
 
 def _pole(omega: np.ndarray, gamma: np.ndarray) -> np.ndarray:
     """-gamma/2 + j sqrt(omega^2 - gamma^2/4): the upper pole, the faster one of an overdamped mode (-gamma for a
     zero mode, whose other pole, at 0, cancels)."""
     half = 0.5 * gamma
-    return -half + 1j * np.sqrt((omega - half) * (omega + half) + 0j)
+    return np.asarray(-half + 1j * np.sqrt((omega - half) * (omega + half) + 0j))
 
 
 def _finite(value: float) -> float | None:
@@ -439,9 +476,9 @@ def spectrum(request: Request, *, simulator: Simulator | None = None, budget: Bu
                     spectrum.P_theory, "circuit", precision=WEIGHT_PRECISION)
         return SpectrumReport(theory.chain, own, spectrum.fit, spectrum.seen, spec.points, theory.omega_max,
                               record.engine_version, record.ac.netlist_sha256, timings, None, segments, None,
-                              record.engine, spectrum.gamma_theory)
+                              record.engine, spectrum.gamma_theory, time_unit=theory.time_unit)
     assert theory.modes is not None
     response = _response_error(theory.chain, theory.modes, spectrum.fit, Q)  # walls, coupling: the chain run
     return SpectrumReport(theory.chain, theory.modes, spectrum.fit, spectrum.seen, spec.points, theory.omega_max,
                           record.engine_version, record.ac.netlist_sha256, timings, Q, segments, response,
-                          record.engine)
+                          record.engine, time_unit=theory.time_unit)

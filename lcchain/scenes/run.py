@@ -207,6 +207,22 @@ class SceneResult:
         """
         return plot("scene", self, ax=ax)
 
+    def to_xarray(self) -> Any:
+        """Every sample as an xarray Dataset on ``sample``: its numbers (errors, step, points, times; NaN where it
+        has none, a failed sample's ``status`` and ``error``), its first arrival's peaks, and its realised parts,
+        ``L`` in henry on ``coil`` and ``C`` in farad on ``capacitor`` (NaN: a wire).  xarray is optional:
+        ``pip install 'lcchain[data]'``."""
+        from ..circuit.ladder import Ladder
+        from ..runs.datasets import samples_dataset
+
+        units = self.scene.units
+        parts = []
+        for sample in self.samples:
+            ladder = Ladder(sample.chain, units.L0, units.C0)
+            parts.append((np.asarray(ladder.inductances(), dtype=float),
+                          [None if c is None else float(c) for c in ladder.capacitances()]))
+        return samples_dataset(self.scene.title, [s.record for s in self.samples], parts)
+
 def _failed_record(index: int, chain: Chain, run: RunRecord) -> SampleRecord:
     error = run.reason + (f"\n{run.engine} said:\n{run.log_tail}" if run.log_tail else "")
     return {"sample": index, "chain": chain.name, "status": run.status, "error": error}
@@ -271,7 +287,7 @@ def _nominal_peak(scene: Scene, plan: ScenePlan) -> float:
     ends = loop_theory(theory, "ends")
 
     def last(t: np.ndarray) -> np.ndarray:
-        return ends(t)[-1]
+        return np.asarray(ends(t)[-1])
 
     return maximum_in_window(last, (lo + shift, hi + shift), plan.transit_time)[1]
 

@@ -22,43 +22,19 @@ save is NaN over that run's points, in both its parts.  The writer compresses (z
 
 from __future__ import annotations
 
-import re
 from datetime import UTC, datetime
 from typing import Any
 
 import numpy as np
 
 from ..core import __version__
+from ..core.physical import variable_name, vector_units
 from .store import Store, StoredRun
 
-__all__ = ["cf_datasets", "variable_name", "vector_units", "CONVENTIONS"]
+__all__ = ["cf_datasets", "CONVENTIONS"]
 
 #: The CF version the files follow.
 CONVENTIONS = "CF-1.10"
-
-#: The root's variables with a unit of their own; every other numeric one is dimensionless ("1").
-_ROOT_UNITS = {"wall_s": "s", "total_s": "s", "L": "H", "C": "F"}
-_ROOT_NAMES = {"t_sim": "first arrival's time (simulation), units of sqrt(L0 C0)",
-               "t_theory": "first arrival's time (theory), units of sqrt(L0 C0)",
-               "dt": "maximum time step, units of sqrt(L0 C0)", "wall_s": "simulator's wall time",
-               "peak_sim": "first arrival's peak I_N / I_1(0) (simulation)",
-               "peak_theory": "first arrival's peak I_N / I_1(0) (theory)",
-               "max_abs_error": "max |simulation - theory|, units of I_1(0)", "points": "number of points",
-               "L": "a sample's realised inductance L_i of coil i", "coil": "coil i = 1..N",
-               "C": "a sample's realised capacitance C_j between masses j and j + 1 (NaN: a wire)",
-               "capacitor": "capacitor j = 0..N (0 and N: the walls)"}
-
-
-def variable_name(vector: str) -> str:
-    """A saved vector's netCDF name: ``i(l1)`` -> ``i_l1``, ``v(n3)`` -> ``v_n3`` (letters, digits, ``_``)."""
-    return re.sub(r"[^A-Za-z0-9_]+", "_", vector).strip("_") or "_"
-
-
-def vector_units(vector: str) -> str:
-    """A saved vector's unit: ``i(...)`` amperes, ``v(...)`` volts, anything else dimensionless."""
-    kind = vector.lower()[:2]
-    return {"i(": "A", "v(": "V"}.get(kind, "1")
-
 
 def _kind(run: StoredRun, arrays: dict[str, np.ndarray]) -> str:
     if run.kind == "combined":
@@ -67,20 +43,7 @@ def _kind(run: StoredRun, arrays: dict[str, np.ndarray]) -> str:
 
 
 def _root(store: Store) -> Any:
-    dataset = store.to_xarray()
-    runs = store.runs()
-    measured = {str(name) for run in runs for name in run.measurements}
-    measured |= {f"meas_{name}" for name in measured}
-    for name in list(dataset.variables):
-        variable = dataset[name]
-        if str(name) in measured:  # a .meas result: its unit is whatever the netlist measured (V, s, dB ...)
-            variable.attrs.setdefault("long_name", f"{name}: a .meas result, in the unit of what the netlist "
-                                      "measured (lcchain does not know it)")
-            continue
-        variable.attrs.setdefault("long_name", _ROOT_NAMES.get(str(name), str(name)))
-        if variable.dtype.kind in "fiub":
-            variable.attrs["units"] = _ROOT_UNITS.get(str(name), "1")
-    return dataset
+    return store.to_xarray()  # its variables carry their units and names already
 
 
 def _group(kind: str, runs: list[tuple[StoredRun, dict[str, np.ndarray]]], axes: list[str]) -> Any:

@@ -79,7 +79,10 @@ from typing import Any, Literal
 import numpy as np
 
 from ..core import __version__
-from ..core.errors import ExtraMissingError, LcchainError, ParameterError
+from ..core.errors import LcchainError, ParameterError
+from ..core.extras import optional_module
+from ..core.physical import vector_units
+from ..core.show import html_table, plot, short_repr
 from ..core.types import RUN_STATUSES
 from ..runs.execute import RunRecord, waveform_digest
 from ..spice.engines import DEFAULT_ENGINE
@@ -403,14 +406,39 @@ def measurement_column(name: str, row: Mapping[str, Any]) -> str:
     return f"meas_{name}" if name in row else name
 
 
+#: The root's variables with a unit of their own; every other numeric one is dimensionless ("1").
+_ROOT_UNITS = {"wall_s": "s", "total_s": "s", "L": "H", "C": "F", "time": "s", "frequency": "Hz"}
+_ROOT_NAMES = {"t_sim": "first arrival's time (simulation), units of sqrt(L0 C0)",
+               "t_theory": "first arrival's time (theory), units of sqrt(L0 C0)",
+               "dt": "maximum time step, units of sqrt(L0 C0)", "wall_s": "simulator's wall time",
+               "peak_sim": "first arrival's peak I_N / I_1(0) (simulation)",
+               "peak_theory": "first arrival's peak I_N / I_1(0) (theory)",
+               "max_abs_error": "max |simulation - theory|, units of I_1(0)", "points": "number of points",
+               "L": "a sample's realised inductance L_i of coil i", "coil": "coil i = 1..N",
+               "C": "a sample's realised capacitance C_j between masses j and j + 1 (NaN: a wire)",
+               "capacitor": "capacitor j = 0..N (0 and N: the walls)"}
+
+
+def _described(dataset: Any, runs: list[StoredRun]) -> Any:
+    """The study's Dataset with every variable's ``long_name``, and its ``units`` where lcchain knows them (a
+    ``.meas`` result's unit is whatever the netlist measured: named as such, no unit)."""
+    measured = {str(name) for run in runs for name in run.measurements}
+    measured |= {f"meas_{name}" for name in measured}
+    for name in list(dataset.variables):
+        variable = dataset[name]
+        if str(name) in measured:
+            variable.attrs.setdefault("long_name", f"{name}: a .meas result, in the unit of what the netlist "
+                                      "measured (lcchain does not know it)")
+            continue
+        variable.attrs.setdefault("long_name", _ROOT_NAMES.get(str(name), str(name)))
+        if variable.dtype.kind in "fiubc":
+            variable.attrs.setdefault("units", _ROOT_UNITS.get(str(name), "1"))
+    return dataset
+
+
 def _optional(module: str) -> Any:
     """An optional package (pandas, xarray), or a one-line error saying how to install it."""
-    import importlib
-
-    try:
-        return importlib.import_module(module)
-    except ImportError:
-        raise ExtraMissingError(module, "data", "a study's results as a table (pandas, xarray)") from None
+    return optional_module(module, "data", "a study's results as a table (pandas, xarray)")
 
 
 def _arrays(record: RunRecord) -> bytes | None:
@@ -959,6 +987,35 @@ class Store:
     def __iter__(self) -> Iterator[StoredRun]:
         return iter(self.runs())
 
+    def _shown(self) -> list[tuple[str, object]]:
+        runs = self._light_runs()
+        counts: dict[str, int] = {}
+        for run in runs:
+            counts[run.status] = counts.get(run.status, 0) + 1
+        statuses = ", ".join(f"{count} {status}" for status, count in sorted(counts.items()))
+        dims, _ = study_dims([run for run in runs if not run.member])
+        return [("store", str(self.path)), ("runs", f"{len(runs)} ({statuses or 'none'})"),
+                ("dimensions", ", ".join(dims) if runs else "none")]
+
+    def __repr__(self) -> str:
+        """A few lines: the file, its runs by status, the study's dimensions (the runs: :meth:`runs`,
+        :meth:`to_dataframe`, :meth:`to_xarray`)."""
+        return short_repr("Store", self._shown())
+
+    def _repr_html_(self) -> str:
+        return html_table("Store", self._shown())
+
+    def plot(self, ax: Any = None, metric: str = "peak") -> Any:
+        """The figure the study's results call for, as ``lcchain results --plot`` draws it: tolerance samples'
+        histogram (``metric``: ``peak``, ``energy`` or ``loss``), or the first arrival's loss against N.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+            Never shown.  matplotlib is imported here, not by ``import lcchain``.
+        """
+        return plot("store", self, ax=ax, metric=metric)
+
     # ------------------------------------------------------------------ other shapes
     def to_dataframe(self) -> Any:
         """The runs as a pandas DataFrame: one row per task (index: the task's number), the study's parameters
@@ -1001,7 +1058,7 @@ class Store:
         dataset = self._with_parts(dataset, dims, results)
         if waveforms:
             dataset = self._with_waveforms(dataset, dims, [run for run in results if run.status == "ok"])
-        return dataset
+        return _described(dataset, results)
 
     def export_size(self, waveforms: bool = False) -> ExportSize:
         """What :meth:`to_xarray` (and the other exports) will hold, read without building any of it: the runs,
@@ -1104,7 +1161,8 @@ class Store:
                 if series is not None:
                     where = tuple(positions[d][run.index if d == "index" else run.params[d]] for d in dims)
                     values[where][: series.size] = series
-            dataset[name] = ([*dims, "point"], values)
+            units = {"time": "s", "frequency": "Hz"}.get(name) or vector_units(name)
+            dataset[name] = ([*dims, "point"], values, {"units": units, "long_name": name})
         sweeps = [a["frequency"] for a in arrays.values() if "frequency" in a]
         mixed = any("time" in a for a in arrays.values())  # a batch of .tran and .ac netlists: one point axis
         return _on_frequency(dataset, sweeps, longest, mixed)

@@ -21,12 +21,15 @@ density P_n = U_n1^2 (Eq. e.Pn).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from ..core.blas import fixed_blas_threads
+from ..core.extras import optional_module
 from ..core.frozen import FrozenArrays, readonly
+from ..core.show import html_table, plot, short_repr
 
 __all__ = ["Modes", "cosine_sum", "TRANSIT_SPACINGS", "WEIGHT_PRECISION"]
 
@@ -92,6 +95,46 @@ class Modes(FrozenArrays):
         """
         spacings = np.diff(self.omega[: TRANSIT_SPACINGS + 1])
         return float(np.pi / np.median(spacings))
+
+    def _rows(self) -> list[tuple[str, object]]:
+        rows: list[tuple[str, object]] = [("modes", f"N = {self.N}, {self.method}")]
+        if self.N:
+            rows.append(("omega_n", f"{float(self.omega[0]):.6g} .. {float(self.omega[-1]):.6g}"))
+            if self.N > 1:
+                rows.append(("transit time", self.transit_time()))
+        return rows
+
+    def __repr__(self) -> str:
+        """A few lines (the per-mode arrays: ``omega``, ``density``, ``transfer``; a table: :meth:`to_xarray`)."""
+        return short_repr("Modes", self._rows())
+
+    def _repr_html_(self) -> str:
+        return html_table("Modes", self._rows())
+
+    def plot(self, ax: Any = None) -> Any:
+        """The mode density P_n against omega_n with the spacing on a twin axis (the paper's Fig. Pk).
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+            Never shown.  matplotlib is imported here, not by ``import lcchain``.
+        """
+        return plot("modes", self, ax=ax)
+
+    def to_xarray(self) -> Any:
+        """The modes as an xarray Dataset on ``mode`` (n = 1..N): ``omega`` (units of 1/sqrt(L0 C0)),
+        ``density`` and ``transfer`` (dimensionless; NaN where below :attr:`precision`), ``k`` where the closed form
+        gives it.  xarray is optional: ``pip install 'lcchain[data]'``."""
+        xr = optional_module("xarray", "data", "Modes.to_xarray")
+        transfer = np.where(self.precise(), self.transfer, np.nan)
+        variables: dict[str, Any] = {
+            "omega": ("mode", self.omega, {"units": "1", "long_name": "normal frequency, units of 1/sqrt(L0 C0)"}),
+            "density": ("mode", self.density, {"units": "1", "long_name": "mode density at loop 1"}),
+            "transfer": ("mode", transfer, {"units": "1", "long_name": "end-to-end weight (NaN: below precision)"})}
+        if self.k is not None:
+            variables["k"] = ("mode", self.k, {"units": "1", "long_name": "pseudo wave vector of the closed form"})
+        return xr.Dataset(variables, coords={"mode": ("mode", np.arange(1, self.N + 1))},
+                          attrs={"method": self.method, "precision": self.precision})
 
     def __post_init__(self) -> None:
         for name in ("omega", "density", "transfer", "k"):

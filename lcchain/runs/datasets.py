@@ -1,0 +1,128 @@
+"""Results as xarray Datasets: ``to_xarray()`` of a run's record, a simulation's report, a scene's result.
+
+Every Dataset follows what xarray users expect and what the CF conventions ask of the files they write: one
+variable per quantity with a ``units`` attribute (seconds, hertz, amperes, volts, henries, farads, or ``"1"``
+for lcchain's dimensionless units of sqrt(L0 C0) and I_1(0)); an AC run's complex phasors as separate real and
+imaginary variables, so ``to_netcdf`` writes them as they are; the scalar summary (what ``to_dict`` gives) as
+attributes.  xarray is optional (``pip install 'lcchain[data]'``) and imported only here, on first use.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping
+from typing import Any
+
+import numpy as np
+
+from ..core.extras import dataset_attrs, optional_module
+from ..core.physical import variable_name, vector_units
+
+__all__ = ["record_dataset", "simulation_dataset", "samples_dataset"]
+
+# The results are typed Any: this module sits below the modules that define them (they import it on first use).
+
+_DIMENSIONLESS_TIME = {"units": "1", "long_name": "time, units of sqrt(L0 C0)"}
+
+
+def _xarray(purpose: str) -> Any:
+    return optional_module("xarray", "data", purpose)
+
+
+def _loops(signals: Any, time: str) -> dict[str, Any]:
+    """The compared loops beside theory, dimensionless, on ``(loop, time)``."""
+    what = "I / I_1(0)" if signals.excitation != "displacement" else "Q / Q_1(0)"
+    return {"loop_signal": (("loop", time), np.asarray(signals.sim),
+                            {"units": "1", "long_name": f"compared loops in the simulation, {what}"}),
+            "loop_theory": (("loop", time), np.asarray(signals.theory),
+                            {"units": "1", "long_name": f"compared loops in exact theory, {what}"})}
+
+
+def record_dataset(record: Any) -> Any:
+    """:meth:`RunRecord.to_xarray`: the saved vectors on ``time`` (s) or ``frequency`` (Hz), the compared loops
+    beside theory where the run had a theory, and the record's summary as attributes."""
+    xr = _xarray("RunRecord.to_xarray")
+    variables: dict[str, Any] = {}
+    coords: dict[str, Any] = {}
+    if record.result is not None:
+        result = record.result
+        coords["time"] = ("time", np.asarray(result.time), {"units": "s", "standard_name": "time",
+                                                              "long_name": "time from the run's start"})
+        for name, values in result.vectors.items():
+            variables[variable_name(name)] = ("time", np.asarray(values),
+                                              {"units": vector_units(name), "long_name": name})
+        signals = record.signals
+        if signals is not None and signals.t.size == result.time.size:
+            coords["t"] = ("time", np.asarray(signals.t), _DIMENSIONLESS_TIME)
+            variables |= _loops(signals, "time")
+    elif record.ac is not None:
+        ac = record.ac
+        coords["frequency"] = ("frequency", np.asarray(ac.frequency), {"units": "Hz", "long_name": "frequency"})
+        for name, values in ac.vectors.items():
+            phasor = np.asarray(values)
+            for part in ("real", "imag"):
+                variables[f"{variable_name(name)}_{part}"] = (
+                    "frequency", np.asarray(getattr(phasor, part), dtype=float),
+                    {"units": vector_units(name), "long_name": f"{name}, {part} part per volt of the source"})
+    summary = record.summary()
+    summary.pop("log_tail", None)
+    return xr.Dataset(variables, coords=coords, attrs=dataset_attrs(summary))
+
+
+def simulation_dataset(report: Any) -> Any:
+    """:meth:`SimulationReport.to_xarray`: the end loops simulated and in theory on ``time`` (s, with the
+    dimensionless ``t`` beside it), and the report's summary as attributes."""
+    xr = _xarray("SimulationReport.to_xarray")
+    w, c = report.waveforms, report.comparison
+    what = "I / I_1(0)" if report.excitation != "displacement" else "Q / Q_1(0)"
+    variables = {
+        "first": ("time", np.asarray(w.first), {"units": "1", "long_name": f"loop 1 in the simulation, {what}"}),
+        "last": ("time", np.asarray(w.last), {"units": "1", "long_name": f"loop N in the simulation, {what}"}),
+        "theory_first": ("time", np.asarray(c.theory_first), {"units": "1",
+                                                               "long_name": f"loop 1 in exact theory, {what}"}),
+        "theory_last": ("time", np.asarray(c.theory_last), {"units": "1",
+                                                             "long_name": f"loop N in exact theory, {what}"}),
+    }
+    coords = {"time": ("time", np.asarray(w.t) * report.ladder.time_unit,
+                       {"units": "s", "standard_name": "time", "long_name": "time from the run's start"}),
+              "t": ("time", np.asarray(w.t), _DIMENSIONLESS_TIME)}
+    summary = {key: value for key, value in report.to_dict().items()
+               if key not in ("arrivals", "options", "timings", "extrapolation", "effects")}
+    return xr.Dataset(variables, coords=coords, attrs=dataset_attrs(summary | {"time_unit_s": report.ladder.time_unit}))
+
+
+def samples_dataset(title: str, records: Iterable[Mapping[str, Any]],
+                    parts: Iterable[tuple[np.ndarray, list[float | None]]]) -> Any:
+    """:meth:`SceneResult.to_xarray`: every sample's numbers on ``sample`` (NaN where one has none, a failed one
+    with its ``status`` and ``error``), its first arrival's peaks, and its realised parts, ``L`` (H) on ``coil``
+    and ``C`` (F) on ``capacitor`` (NaN: a wire)."""
+    xr = _xarray("SceneResult.to_xarray")
+    rows = [dict(record) for record in records]
+    numbers: dict[str, list[float]] = {}
+    texts: dict[str, list[str]] = {}
+    for i, row in enumerate(rows):
+        arrivals = row.get("arrivals") or []
+        if arrivals:
+            row |= {f"first_arrival_{key}": value for key, value in arrivals[0].items()}
+        for key, value in row.items():
+            if isinstance(value, bool) or key == "sample":
+                continue
+            if isinstance(value, int | float):
+                numbers.setdefault(key, [np.nan] * len(rows))[i] = float(value)
+            elif isinstance(value, str):
+                texts.setdefault(key, [""] * len(rows))[i] = value
+    variables: dict[str, Any] = {key: ("sample", np.array(values), {"units": "s" if key.endswith("_s") else "1"})
+                                 for key, values in numbers.items()}
+    variables |= {key: ("sample", np.array(values, dtype=str), {}) for key, values in texts.items()
+                  if key not in numbers}
+    L, C = zip(*parts, strict=True) if rows else ((), ())
+    if rows:
+        variables["L"] = (("sample", "coil"), np.array(L, dtype=float), {"units": "H",
+                                                                          "long_name": "realised inductance L_i"})
+        variables["C"] = (("sample", "capacitor"), np.array([[np.nan if v is None else v for v in c] for c in C],
+                                                            dtype=float),
+                          {"units": "F", "long_name": "realised capacitance C_j between masses j and j + 1 "
+                                                      "(NaN: a wire)"})
+    coords = {"sample": ("sample", np.array([row.get("sample", i + 1) for i, row in enumerate(rows)], dtype=int))}
+    if rows:
+        coords |= {"coil": ("coil", np.arange(1, len(L[0]) + 1)), "capacitor": ("capacitor", np.arange(len(C[0])))}
+    return xr.Dataset(variables, coords=coords, attrs={"title": title})
