@@ -4,9 +4,10 @@ The netlist passes the allow-list (:func:`lcchain.spice.foreign.allowed_netlist`
 batch's, and its element cards are read as numbers (:func:`lcchain.spice.element_values.read_cards`).
 When every element is an R, L, C, K or an independent source with a DC value, PULSE, SIN, PWL or EXP function
 (AC magnitude and phase for an ``.ac``), :func:`circuit_of` makes it a
-:class:`lcchain.circuit.linear.LinearCircuit` with ngspice 39's defaults for what the cards leave out, and :func:`check_text` compares every saved vector with the exact response
-at the simulator's own time points or frequencies (:mod:`lcchain.compare.check`), predicts the trapezoidal
-rule's error at the run's largest step, and finds the fixed step an accuracy needs.
+:class:`lcchain.circuit.linear.LinearCircuit` with ngspice 39's defaults for what the cards leave out, and
+:func:`check_text` compares every saved vector with the exact response at the simulator's own time points or
+frequencies (:mod:`lcchain.compare.check`), predicts the trapezoidal rule's error at the run's largest step,
+and finds the fixed step an accuracy needs.
 
 Anything else (a behavioural source, a SFFM source, a diode or transistor, a sub-circuit instance, a value that
 calls a ``.func``) still runs: the result says "no exact reference" and why, and has no errors.
