@@ -407,3 +407,21 @@ def test_a_capacitor_across_a_source_is_compared_from_its_operating_point() -> N
     result = check_text(text, "capv.cir")
     worst = max(result.vectors, key=lambda v: v.max_abs_error or 0.0)
     assert PREDICTION_BAND[0] <= worst.max_abs_error / worst.predicted_error <= PREDICTION_BAND[1]
+
+
+@pytest.mark.ngspice
+def test_coupled_coils_are_the_state_equations_exponential() -> None:
+    """A transformer (k = 0.9) loaded by 50 ohm: [L1 M; M L2] (i1, i2)' = (u - R1 i1, -R2 i2), M = k sqrt(L1 L2)."""
+    text = ("transformer\nV1 a 0 PULSE(0 1 0 1u 1u 5u 20u)\nR1 a b 10\nL1 b 0 1m\nL2 c 0 1m\nR2 c 0 50\n"
+            "K1 L1 L2 0.9\n.tran 0.1u 40u\n.end\n")
+    t = np.linspace(0.0, 40e-6, 81)
+    inductance = np.array([[1e-3, 0.9e-3], [0.9e-3, 1e-3]])
+    A = np.linalg.solve(inductance, np.diag([-10.0, -50.0]))
+    b = np.linalg.solve(inductance, np.array([1.0, 0.0]))
+    x = _expm_response(A, b, _pulse_pieces(0, 1, 1e-6, 5e-6, 1e-6, 20e-6, 40e-6), t)
+    mine = _reference(text, ["i(l1)", "i(l2)"], t)
+    for row in (0, 1):
+        np.testing.assert_allclose(mine[row], x[row], rtol=0, atol=RTOL_EXACT * np.max(np.abs(x[row])))
+    result = check_text(text, "transformer.cir")
+    worst = max(result.vectors, key=lambda v: v.max_abs_error or 0.0)
+    assert PREDICTION_BAND[0] <= worst.max_abs_error / worst.predicted_error <= PREDICTION_BAND[1]
