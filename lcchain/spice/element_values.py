@@ -168,10 +168,10 @@ def read_cards(text: str, source: str = "netlist") -> NetlistCards:
             continue
         try:
             elements.append(_element(stripped, params, where, line))
-        except ParameterError as error:  # the allow-list let it run: no exact reference, not bad input
+        except ParameterError:  # the allow-list let it run: no exact reference, not bad input
             name = stripped.split(None, 1)[0]
-            elements.append(OtherCard(name[0].upper(), name.lower(), f"a value lcchain cannot read: {error.allowed}"
-                                      [:120], where))
+            elements.append(OtherCard(name[0].upper(), name.lower(), "a value lcchain cannot evaluate: a .func "
+                                      "call, a model name...", where))
     return NetlistCards(tuple(elements), tuple(initial), uic, tuple(sorted(parse_options(text).items())))
 
 
