@@ -222,6 +222,7 @@ def test_check_json_and_exit_codes(tmp_path: Path, capsys: pytest.CaptureFixture
     assert data["exact_reference"] and data["method"] == "trap" and data["states"] == 5
     assert data["max_abs_error"] == max(v["max_abs_error"] for v in data["vectors"])
     assert data["predicted_error"] > 0 and data["suggested_step"] > 0 and data["reference_seconds"] > 0
+    assert PREDICTION_BAND[0] <= data["max_abs_error"] / data["predicted_error"] <= PREDICTION_BAND[1]
     assert main(["check", str(path), "--accuracy", "1e-9"]) == 1  # ngspice's error at 1 us is ~1e-6
     assert "exceeds --accuracy" in capsys.readouterr().out
 
