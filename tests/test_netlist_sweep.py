@@ -288,3 +288,12 @@ def test_a_variant_beyond_the_budget_is_refused_and_the_others_run(tmp_path: Pat
     assert main(argv) == 1
     again = json.loads(capsys.readouterr().out)
     assert (again["ran"], again["skipped"]) == (0, 2)  # neither run nor refused twice
+
+
+def test_a_refused_netlist_is_not_offered_batchs_allow_control(tmp_path: Path, capsys) -> None:
+    """A sweep has no --allow-control: its refusal says what the allow-list refused, without batch's hint."""
+    netlist = _netlist(tmp_path, RC.replace(".end\n", ".control\nrun\n.endc\n.end\n"))
+    code = main(["sweep", "--netlist", str(netlist), "--vary", "R1=1k,2k", "--store", str(tmp_path / "s.sqlite")])
+    err = capsys.readouterr().err
+    assert code == 2 and ".control" in err and "--allow-control" not in err and "allow-list accepts" in err
+    assert not (tmp_path / "s.sqlite").exists()

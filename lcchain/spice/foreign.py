@@ -125,8 +125,9 @@ from .measure import MEASURE_WORDS, check_measure, measure_names
 from .pricing import Contents, Price, operating_price, read_contents, sweep_price, transient_price
 from .text import NEWLINE, canonical_text, logical_lines, spice_number
 
-__all__ = ["ELEMENTS", "DOT_COMMANDS", "SUBCKT_COMMANDS", "OPTIONS", "MAX_INCLUDE_DEPTH", "Transient", "Sweep",
-           "allowed_netlist", "transient_of", "analysis_of", "log_sweep_count", "foreign_estimate", "foreign_price"]
+__all__ = ["ALLOW_CONTROL_HINT", "ELEMENTS", "DOT_COMMANDS", "SUBCKT_COMMANDS", "OPTIONS", "MAX_INCLUDE_DEPTH",
+           "Transient", "Sweep", "allowed_netlist", "transient_of", "analysis_of", "log_sweep_count",
+           "foreign_estimate", "foreign_price"]
 
 #: First letters of the element lines lcchain runs: resistors, inductors, capacitors, coupled inductors,
 #: independent voltage and current sources, behavioural sources (lcchain's own gaussian pulses), the devices of a
@@ -161,7 +162,8 @@ _SCRIPT = re.compile(r"^\s*\*\s*(#|ng_script)", re.IGNORECASE)
 _TITLE_COMMAND = re.compile(r"^\s*(\.(?!title\s)[A-Za-z]|\*\s*(#|ng_script))", re.IGNORECASE)
 _ALLOWED = ("a netlist of comments, element lines (" + ", ".join(sorted(ELEMENTS)) + ") and the dot-commands "
             + ", ".join(sorted(DOT_COMMANDS | _INCLUDES)))
-_OPT_OUT = " (lcchain batch --allow-control runs a netlist as it is, in a sandbox)"
+#: What a refusal adds for ``lcchain batch``, whose ``--allow-control`` runs a netlist as it is.
+ALLOW_CONTROL_HINT = " (lcchain batch --allow-control runs a netlist as it is, in a sandbox)"
 
 
 # One card: (source, line number, text, joined: "+" lines were joined to it).
@@ -169,7 +171,7 @@ _Card = tuple[str, int, str, bool]
 
 
 def _refuse(card: _Card, why: str) -> ParameterError:
-    return ParameterError(f"{card[0]}: line {card[1]}", card[2].strip()[:200], why + _OPT_OUT)
+    return ParameterError(f"{card[0]}: line {card[1]}", card[2].strip()[:200], why + ALLOW_CONTROL_HINT)
 
 
 @dataclass

@@ -54,7 +54,7 @@ from ..core.limits import MAX_CIRCUIT_N, MAX_DESIGN_N, MAX_DT, MAX_TRANSITS, MIN
 from ..core.types import DEFAULT_C0, DEFAULT_L0, Backend, Excitation
 from ..runs.spec import DEFAULT_TIMEOUT, RunSpec, SpectrumTheory, Theory
 from ..spice.engines import DEFAULT_ENGINE, ENGINES, find_engine
-from ..spice.foreign import allowed_netlist, analysis_of, foreign_price
+from ..spice.foreign import ALLOW_CONTROL_HINT, allowed_netlist, analysis_of, foreign_price
 from ..spice.runner import read_include
 from ..spice.text import canonical_text, saved_vectors
 from .executors import executor_cost
@@ -779,6 +779,14 @@ def _foreign_task(index: int, params: Mapping[str, Any], run_text: str, source: 
     return Task(index, FrozenMap(dict(params)), spec, price.seconds, price.estimate.memory + SIMULATOR_BYTES)
 
 
+def _swept(error: ParameterError) -> ParameterError:
+    """An allow-list refusal as a sweep says it: a sweep has no ``--allow-control``, so batch's hint goes."""
+    if not error.allowed.endswith(ALLOW_CONTROL_HINT):
+        return error
+    return ParameterError(error.field, error.value, error.allowed.removesuffix(ALLOW_CONTROL_HINT)
+                          + " (a sweep runs only what the allow-list accepts)", error.where)
+
+
 def netlist_sweep_plan(path: str | Path, varies: Sequence[Vary], *, samples: int | None = None,
                        seed: int | None = None, backend: Backend = "batch", timeout: float = DEFAULT_TIMEOUT,
                        budget: Budget | None = None, engine_version: Callable[[], str] | None = None,
@@ -806,7 +814,10 @@ def netlist_sweep_plan(path: str | Path, varies: Sequence[Vary], *, samples: int
     source = str(path)
     points = variant_points(varies, samples=samples, seed=seed)  # before the netlist: a bad --vary is the error
     text = read_include(path, "--netlist")
-    base = allowed_netlist(text, source, path.resolve().parent, read_include)
+    try:
+        base = allowed_netlist(text, source, path.resolve().parent, read_include)
+    except ParameterError as error:
+        raise _swept(error) from None
     analysis_of(base, source, version)  # a netlist without an analysis lcchain reads is bad input, not a refusal
     targets = netlist_targets(base)
     found = {vary.column: find_target(targets, vary.name, shown=vary.spec) for vary in varies}
@@ -823,9 +834,10 @@ def netlist_sweep_plan(path: str | Path, varies: Sequence[Vary], *, samples: int
             checked = allowed_netlist(variant, source, None)  # the same allow-list: what it returns runs
             tasks.append(_foreign_task(index, point, checked, source, label, backend=backend, timeout=timeout,
                                        budget=budget, version=version))
-        except ParameterError as error:
-            first = first or error
-            refusals.append(Refusal(index, FrozenMap(point), str(error), _refusal_key(source, variant), label))
+        except ParameterError as refused:
+            said = _swept(refused)
+            first = first or said
+            refusals.append(Refusal(index, FrozenMap(point), str(said), _refusal_key(source, variant), label))
     if progress is not None:
         progress(len(points), len(points), "planning")
     if first is not None and not tasks:  # nothing of it can run: bad input
