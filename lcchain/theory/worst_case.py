@@ -48,7 +48,7 @@ from .modes import Modes
 from .sensitivity import SENSITIVITY_MAX_N, PeakSensitivity, modal_basis, sensitivity_at
 
 __all__ = ["ToleranceBox", "WorstCaseSearch", "worst_case_search", "metric_gradient", "metric_hessian",
-           "HESSIAN_STEP", "MODEL_ERROR_MARGIN", "arrival_sensitivity"]
+           "quadratic_lower_bound", "HESSIAN_STEP", "MODEL_ERROR_MARGIN", "arrival_sensitivity"]
 
 #: The Hessian's difference step in z (a fraction of each part's tolerance): see the module docstring.
 HESSIAN_STEP = 1e-3
@@ -266,7 +266,7 @@ class WorstCaseSearch:
                 "hessian_asymmetry": self.hessian_asymmetry, "model_vertices": self.model_vertices}
 
 
-def _model_bound(f0: float, g: np.ndarray, H: np.ndarray) -> float:
+def quadratic_lower_bound(f0: float, g: np.ndarray, H: np.ndarray) -> float:
     """A proved lower bound of Q(z) = f0 + g.z + z.H z / 2 over [-1, 1]^n (module docstring)."""
 
     def separable(d: np.ndarray) -> float:
@@ -403,7 +403,7 @@ def worst_case_search(box: ToleranceBox, metric: ArrivalMetric = "peak", *, rand
         ends.append(min((value, z), polished[first], key=lambda end: end[0]))
     worst_value, worst_point = min(ends, key=lambda end: end[0])
     optima = sorted({round(value, 12) for value, _ in ends})
-    model_bound = _model_bound(f0, g0, H)
+    model_bound = quadratic_lower_bound(f0, g0, H)
     # the quadratic model's error at every exact evaluation (the Hessian's own steps are no test of it)
     steps = {z.tobytes() for z, _ in hessian_points}
     errors = [abs(value - model(np.frombuffer(key))) for key, (value, _) in seen.items() if key not in steps]
