@@ -143,18 +143,21 @@ def test_the_hessian_of_the_exact_gradient_is_accurate():
         assert abs(second - H[i, j]) <= RTOL_HESSIAN_VALUES * scale, (i, j, second, H[i, j])
 
 
-def test_thequadratic_lower_bound_holds_for_random_quadratics():
+def test_the_model_bound_holds_for_random_quadratics():
     rng = np.random.default_rng(11)
     corners = np.array(list(itertools.product((-1.0, 1.0), repeat=8)))
     inside = rng.uniform(-1.0, 1.0, (4000, 8))
-    for _ in range(20):
+    for _ in range(8):
         A = rng.normal(size=(8, 8))
         H = A + A.T + rng.normal() * 3 * np.eye(8)
         g = rng.normal(size=8)
         f0 = float(rng.normal())
         points = np.vstack([corners, inside])
         q = f0 + points @ g + 0.5 * np.einsum("pi,ij,pj->p", points, H, points)
-        assert quadratic_lower_bound(f0, g, H) <= float(np.min(q)) + 1e-12
+        lowest = float(np.min(q))
+        assert quadratic_lower_bound(f0, g, H)[0] <= lowest + 1e-12  # the whole box's relaxation
+        lower, upper, nodes = quadratic_lower_bound(f0, g, H, nodes=500)  # and the branch and bound's
+        assert lower <= lowest + 1e-12 and nodes > 1
 
 
 def test_a_corner_may_lie_inside_the_box_and_nowhere_else():
