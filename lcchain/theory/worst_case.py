@@ -24,9 +24,10 @@ Certificate.  ``model_bound`` is proved for the quadratic model Q: a branch and 
 Q(c) + sum_i min_{|y_i| <= r_i} ((g + H c)_i y_i + d_i y_i^2 / 2), valid whenever H - diag(d) is positive
 semidefinite (d = lambda_min(H) for all i, or Gershgorin's rows d_i = H_ii - sum_{j != i} |H_ij|); for the
 small chains it closes (Q's minimum over the box proved to 1e-12), for N = 50 it leaves a gap after
-:data:`MODEL_NODES` boxes.  The metric itself is bounded by ``bound`` = model_bound - model_error only under an
-assumption: that |f - Q| over the box is no larger than ``model_error``, twice the largest |f - Q| seen at every
-exactly evaluated point (the vertices visited among them, where the cubic remainder is largest).  That is an
+:data:`lcchain.core.limits.WORST_CASE_MODEL_NODES` boxes.  The metric itself is bounded by ``bound`` =
+model_bound - model_error only under an assumption: that |f - Q| over the box is no larger than
+``model_error``, twice the largest |f - Q| seen at every exactly evaluated point (the vertices visited among
+them, where the cubic remainder is largest).  That is an
 estimate of the remainder, not a bound on the third derivatives over the box: the result is a proof for the
 quadratic model and an honest estimate for f, with the gap between the worst found and the bound.
 """
@@ -45,6 +46,7 @@ from scipy.optimize import minimize
 from ..core.blas import fixed_blas_threads
 from ..core.checks import choice, integer, real
 from ..core.errors import ParameterError
+from ..core.limits import WORST_CASE_MODEL_NODES
 from ..core.types import ARRIVAL_METRICS, ArrivalMetric
 from .arrivals import arrival_window
 from .chain import Chain
@@ -56,9 +58,6 @@ __all__ = ["ToleranceBox", "WorstCaseSearch", "worst_case_search", "metric_gradi
 
 #: The Hessian's difference step in z (a fraction of each part's tolerance): see the module docstring.
 HESSIAN_STEP = 1e-3
-#: Boxes the branch and bound on the quadratic model may make (N = 9: its minimum proved within 12,000; N = 50:
-#: 20,000 take about 2 s and leave a gap).
-MODEL_NODES = 20_000
 #: ``model_error`` is this times the largest |f - Q| seen at the exactly evaluated points.
 MODEL_ERROR_MARGIN = 2.0
 
@@ -462,7 +461,7 @@ def worst_case_search(box: ToleranceBox, metric: ArrivalMetric = "peak", *, rand
         ends.append(min((value, z), polished[first], key=lambda end: end[0]))
     worst_value, worst_point = min(ends, key=lambda end: end[0])
     optima = sorted({round(value, 12) for value, _ in ends})
-    model_bound, _, nodes = quadratic_lower_bound(f0, g0, H, nodes=MODEL_NODES,
+    model_bound, _, nodes = quadratic_lower_bound(f0, g0, H, nodes=WORST_CASE_MODEL_NODES,
                                                   upper=min(model(z) for z in screened))
     # the quadratic model's error at every exact evaluation (the Hessian's own steps are no test of it)
     steps = {z.tobytes() for z, _ in hessian_points}
