@@ -72,6 +72,14 @@ def _words(option: str, allowed: Sequence[str]) -> Callable[[str], list[str]]:
     return parse
 
 
+def _worst_case_method(text: str) -> str:
+    if text not in WORST_CASE_METHODS:
+        where = " (the scene goes before it: sweep SCENE.toml --worst-case)" if text.endswith(".toml") else ""
+        raise argparse.ArgumentTypeError(f"--worst-case = {text!r} is not allowed: expected "
+                                         f"{' | '.join(WORST_CASE_METHODS)} or nothing (search){where}")
+    return text
+
+
 def add_study_arguments(p: argparse.ArgumentParser, *, store: bool = True) -> None:
     """Where and how a study runs: the store, the executor, its workers, a timeout."""
     if store:
@@ -127,7 +135,7 @@ def add_sweep_arguments(p: argparse.ArgumentParser) -> None:
                    help="with SCENE.toml: a dotted scene key and its values (repeat for more axes; keys joined "
                         "by + take the same values together)")
     add_parts_arguments(p)  # --tolerance, --series, --samples (each a task of its own), --seed
-    p.add_argument("--worst-case", nargs="?", const="search", default=None, choices=WORST_CASE_METHODS,
+    p.add_argument("--worst-case", nargs="?", const="search", default=None, type=_worst_case_method,
                    metavar="{search,corners}",
                    help="with SCENE.toml (kicked, with [effects.tolerance]): the worst first arrival. search "
                         "(default): every part anywhere within its tolerance, searched in exact theory with a "
