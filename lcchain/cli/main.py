@@ -240,15 +240,17 @@ def build_parser() -> argparse.ArgumentParser:
     studies.add_study_arguments(p, store=False)
     p.set_defaults(func=commands.cmd_run, executor="serial")
 
-    p = sub.add_parser("sweep", parents=budget, help="many runs: the product of comma-list axes, or a scene varied")
+    p = sub.add_parser("sweep", parents=budget, help="many runs: the product of comma-list axes, or a scene or a "
+                       "netlist varied")
     studies.add_sweep_arguments(p)
     p.set_defaults(func=studies.cmd_sweep)
 
     p = sub.add_parser("batch", parents=budget, help="netlists lcchain did not write, checked, priced and run in a "
                        "sandbox, into a store")
     p.add_argument("netlist", nargs="+", metavar="NETLIST",
-                   help="netlist files: comments, R L C K V I B elements, .tran .options .save .ic .param .end and "
-                        ".include/.lib of files in the netlist's folder; any other line is refused")
+                   help="netlist files: comments, R L C K V I B D Q M J S W X elements, .tran .ac .options .save "
+                        ".ic .param .meas .subckt/.ends .model .func .global .temp .op .dc .end and .include/.lib of "
+                        "files in the netlist's folder; any other line is refused")
     p.add_argument("--allow-control", action="store_true",
                    help="run a netlist as it is (.control blocks, any include), still in the sandbox")
     p.add_argument("--strict", action="store_true",

@@ -41,7 +41,7 @@ from .common import (
     list_entries,
     seconds,
 )
-from .progress import study_counter
+from .progress import counter, study_counter
 
 __all__ = ["cmd_sweep", "cmd_batch", "cmd_results", "add_study_arguments"]
 
@@ -107,6 +107,9 @@ def add_sweep_arguments(p: argparse.ArgumentParser) -> None:
     from .common import number
 
     p.add_argument("scene", nargs="?", metavar="SCENE.toml", help="vary a scene instead of cases (with --vary)")
+    p.add_argument("--netlist", metavar="FILE.cir",
+                   help="vary a netlist lcchain did not write instead (with --vary NAME=...): each variant checked, "
+                        "priced and run as lcchain batch runs a netlist")
     p.add_argument("--case", type=_words("--case", NAMED_CASES), help="chains, comma separated: an axis")
     p.add_argument("--N", type=int_list("--N"), help="sizes, comma separated: an axis")
     step = p.add_mutually_exclusive_group()
@@ -133,8 +136,11 @@ def add_sweep_arguments(p: argparse.ArgumentParser) -> None:
                         "[analysis] engine says it)")
     p.add_argument("--vary", action="append", default=[], metavar="KEY=V1,V2,...",
                    help="with SCENE.toml: a dotted scene key and its values (repeat for more axes; keys joined "
-                        "by + take the same values together)")
-    add_parts_arguments(p)  # --tolerance, --series, --samples (each a task of its own), --seed
+                        "by + take the same values together); with --netlist: a .param or an R, L, C, K element "
+                        "and 1k,2.2k,... or lin:START:STOP:N or log:START:STOP:N (lists and grids multiply), or "
+                        "normal:MEAN:SIGMA (SIGMA may be 5%%), uniform:LO:HI or tolerance:NOMINAL:P%% (drawn "
+                        "--samples times, seeded by --seed)")
+    add_parts_arguments(p, netlist=True)  # --tolerance, --series, --samples (each a task of its own), --seed
     p.add_argument("--worst-case", nargs="?", const="search", default=None, type=_worst_case_method,
                    metavar="{search,corners}",
                    help="with SCENE.toml (kicked, with [effects.tolerance]): the worst first arrival. search "
@@ -253,6 +259,8 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     budget = budget_from_args(args)
     if args.worst_case is not None or args.components is not None or args.metric is not None:
         return _worst_case(args, outputs, budget)
+    if args.netlist is not None:
+        return _netlist_sweep(args, outputs, budget)
     if args.scene:
         given = [o for o, v in (("--case", args.case), ("--N", args.N), ("--dt", args.dt),
                                 ("--accuracy", args.accuracy), ("--extrapolate", args.extrapolate),
@@ -274,6 +282,31 @@ def cmd_sweep(args: argparse.Namespace) -> int:
         parts = any(v is not None for v in (args.samples, args.seed, args.tolerance, args.series))
         plan = _parts_sweep(args, budget) if parts else _SWEEPS[args.analysis](args, budget)
     return _run(args, plan, outputs)
+
+
+def _netlist_sweep(args: argparse.Namespace, outputs: Outputs, budget: Any) -> int:
+    """``sweep --netlist FILE --vary NAME=...``: a foreign netlist's values varied, each variant run as a batch's
+    netlist; as for a batch, --max-time is the whole budget (runs not started within it stay pending)."""
+    from ..studies.plan import netlist_sweep_plan
+    from ..studies.vary import parse_netlist_vary
+
+    started = time.monotonic()
+    given = [o for o, v in (("SCENE.toml", args.scene), ("--case", args.case), ("--N", args.N), ("--dt", args.dt),
+                            ("--accuracy", args.accuracy), ("--extrapolate", args.extrapolate),
+                            ("--engine", args.engine), ("--points", args.points), ("--tolerance", args.tolerance),
+                            ("--series", args.series), ("--transits", args.transits),
+                            ("--excitation", args.excitation),
+                            ("--analysis", None if args.analysis == "transient" else args.analysis))
+             if v is not None]
+    if given:
+        value = args.scene if given[0] == "SCENE.toml" else getattr(args, given[0].lstrip("-"))
+        raise ParameterError(given[0], value, "nothing with --netlist (the netlist says its circuit and its "
+                             "analysis; vary its .param or element values with --vary NAME=...)")
+    plan = netlist_sweep_plan(args.netlist, [parse_netlist_vary(v) for v in args.vary], samples=args.samples,
+                              seed=args.seed, backend=args.backend, timeout=args.timeout, budget=budget,
+                              progress=counter("variants"))
+    left = budget.max_seconds - INTERPRETER_SECONDS - (time.monotonic() - started)
+    return _run(args, plan, outputs, max_seconds=max(left, 0.0))
 
 
 def _parts_sweep(args: argparse.Namespace, budget: Any) -> Any:
@@ -323,7 +356,8 @@ def _worst_case(args: argparse.Namespace, outputs: Outputs, budget: Any) -> int:
     given = [o for o, v in (("--case", args.case), ("--N", args.N), ("--dt", args.dt), ("--accuracy", args.accuracy),
                             ("--extrapolate", args.extrapolate), ("--engine", args.engine), ("--vary", args.vary),
                             ("--samples", args.samples), ("--seed", args.seed), ("--points", args.points),
-                            ("--tolerance", args.tolerance), ("--series", args.series), *_scene_says(args))
+                            ("--tolerance", args.tolerance), ("--series", args.series), ("--netlist", args.netlist),
+                            *_scene_says(args))
              if v is not None and v != []]
     if given:
         raise ParameterError(given[0], getattr(args, given[0].lstrip("-")), "nothing with --worst-case (the scene "

@@ -51,8 +51,10 @@ import math
 import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..core.blas import fixed_blas_threads
 from ..core.budget import BudgetError
@@ -385,7 +387,7 @@ def _runs(steps: np.ndarray, order_one: np.ndarray, min_run: int = 64) -> list[t
 
 
 @fixed_blas_threads
-def trap_response(weights: np.ndarray, omega: np.ndarray, t, *, tstep: float | None = None) -> np.ndarray:
+def trap_response(weights: np.ndarray, omega: np.ndarray, t: ArrayLike, *, tstep: float | None = None) -> np.ndarray:
     """The trapezoidal rule's own solution at a simulator's time points.
 
     f(t_k) = sum_n weights_n A_n(k) cos(phi_n(k)) with phi_n(k) the sum over
@@ -473,13 +475,13 @@ class ErrorSplit:
     physics_error: float | None
     total_error: float
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         return {"integration_error": self.integration_error, "physics_error": self.physics_error,
                 "total_error": self.total_error}
 
 
 @fixed_blas_threads
-def split_error(waveforms, modes: Modes, dt: float, *, method: str = "trap",
+def split_error(waveforms: Any, modes: Modes, dt: float, *, method: str = "trap",
                 exact: tuple[np.ndarray, np.ndarray] | None = None, breakpoint: bool = True) -> ErrorSplit:
     """Split the error of a simulation into integration and physics error.
 

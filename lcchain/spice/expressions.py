@@ -48,22 +48,28 @@ _ASSIGNMENT = re.compile(r"(?:^|(?<=\s))([A-Za-z_][A-Za-z0-9_]*)\s*=(?!=)")
 _BRACED = re.compile(r"\{([^{}]*)\}")
 
 
+_ALLOWED_EXPRESSION = (f"an expression of at most {MAX_EXPRESSION_CHARS} characters of numbers, .param names, "
+                       f"parentheses, operators and the functions {', '.join(sorted(FUNCTIONS))}")
+
+
 def is_param_card(word: str) -> bool:
     """Whether ngspice 39 reads a card whose first word is ``word`` as a ``.param`` (any word that starts with
     ``.param``, in any case)."""
     return _PARAM_WORD.fullmatch(word) is not None
 
 
-def check_expression(text: str, names: Iterable[str] | None, where: str, line: str) -> set[str]:
+def check_expression(text: str, names: Iterable[str] | None, where: str, line: str, *,
+                     calls: set[str] | None = None) -> set[str]:
     """Refuse an expression that holds anything but numbers, the given parameter names, :data:`FUNCTIONS`,
     ``pi`` and operators, or is longer than :data:`MAX_EXPRESSION_CHARS` (``where``: ``"<source>: line <n>"``).
 
     Returns the parameter names it uses (lower case); with ``names`` None any name passes here, and the caller
-    checks the names returned once it knows every ``.param`` of the netlist."""
+    checks the names returned once it knows every ``.param`` of the netlist.  With ``calls`` (a set), a call of
+    a function not in :data:`FUNCTIONS` is added to it (lower case) instead of refused: the caller checks them
+    against the netlist's ``.func`` cards once it has read them all."""
     known = None if names is None else {n.lower() for n in names}
     used: set[str] = set()
-    allowed = (f"an expression of at most {MAX_EXPRESSION_CHARS} characters of numbers, .param names, "
-               f"parentheses, operators and the functions {', '.join(sorted(FUNCTIONS))}")
+    allowed = _ALLOWED_EXPRESSION
     if len(text) > MAX_EXPRESSION_CHARS or not text.strip():
         raise ParameterError(where, line.strip()[:200], allowed)
     position, depth = 0, 0
@@ -83,7 +89,9 @@ def check_expression(text: str, names: Iterable[str] | None, where: str, line: s
             word = value.lower()
             follows = tokens[k + 1][1] if k + 1 < len(tokens) else ""
             if follows == "(":
-                if word not in FUNCTIONS:
+                if word not in FUNCTIONS and calls is not None:
+                    calls.add(word)
+                elif word not in FUNCTIONS:
                     raise ParameterError(where, line.strip()[:200], f"{allowed}, not the function {value!r}")
             elif word not in CONSTANTS:
                 used.add(word)

@@ -132,6 +132,7 @@ def _refuse(scene: Any, path: str) -> Tolerance:
     if tolerance.corner is not None:
         raise ParameterError("effects.tolerance.corner", list(tolerance.corner), "none with --worst-case (it "
                              "makes the corners)", path)
+    assert isinstance(tolerance, Tolerance)  # the registry's entry for the key tolerance
     return tolerance
 
 

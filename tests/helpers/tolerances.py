@@ -227,6 +227,9 @@ RTOL_MEASURE_TRAN = 1e-5
 #: between the points of a sweep of 1000 per decade (each 0.23 % above the last) misses the -3 dB corner by
 #: about (0.23 %)^2 / 8 of the curvature, well below this; 7 printed digits (measured: 5e-7 and 1e-7).
 RTOL_MEASURE_AC = 1e-5
+#: An RC low-pass's AC phasor, run from a sub-circuit, against 1 / (1 + j w RC): one complex solve per frequency,
+#: stored as doubles; ngspice's gmin (1e-12 S) at each node shifts it by about R gmin = 2e-9.
+RTOL_AC_LOWPASS = 1e-8
 
 # The free perfect cradle's binomial end weights C(2N-2, N-n) / 2^(2N-3) (math.comb, one correctly rounded
 # division) against LAPACK's m_1 u_1n u_Nn for N <= 20: the eigenvectors' rounding, a few eps (observed 3e-15).
