@@ -196,6 +196,7 @@ def test_worst_case_searches_the_box_and_runs_its_worst_in_ngspice(capsys, tmp_p
     (["sweep", "{scene}", "--worst-case", "--transits", "2", "--store", "{tmp}/w.sqlite"], "--transits"),
     (["sweep", "{scene}", "--transits", "2", "--store", "{tmp}/w.sqlite"], "--transits"),
     (["sweep", "{scene}", "--worst-case", "everything", "--store", "{tmp}/w.sqlite"], "--worst-case"),
+    (["sweep", "--worst-case", "{scene}", "--store", "{tmp}/w.sqlite"], "the scene goes before it"),
 ])
 def test_bad_inputs_exit_2_with_one_line(capsys, tmp_path, argv, field):
     plain = tmp_path / "plain.toml"
