@@ -23,7 +23,7 @@ from helpers.catalogue import CLASSES, run_case  # noqa: E402
 from lcchain.cli import main as lcchain_main  # noqa: E402
 
 MODULES = ("test_bad_inputs", "test_boundary_netlists", "test_boundary_inputs", "test_boundary_stores",
-           "test_boundary_pricing", "test_canonical_text")
+           "test_boundary_pricing", "test_canonical_text", "test_foreign_cards")
 
 
 def main() -> int:

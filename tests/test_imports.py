@@ -180,6 +180,19 @@ def test_batch_and_results_import_nothing_heavy(tmp_path: Path) -> None:
         assert not forbidden(chains), f"{argv}:\n" + "\n".join(forbidden(chains))
 
 
+@pytest.mark.ngspice
+def test_a_sweep_of_a_netlist_imports_nothing_heavy(tmp_path: Path) -> None:
+    """``sweep --netlist``: the batch's allow-list, pricing and store, the variants' text and the seeded draws
+    (numpy only): no scipy, plots or tables."""
+    netlist = tmp_path / "rc.cir"
+    netlist.write_text(RC_NETLIST.replace("C1 out 0 1e-9", ".param cv = 1e-9\nC1 out 0 {cv}"))
+    done, chains = imports(["sweep", "--netlist", str(netlist), "--vary", "R1=1k,2k", "--vary",
+                            "cv=normal:1n:5%", "--samples", "2", "--store", str(tmp_path / "s.sqlite")], ROOT)
+    assert done.returncode == 0, done.stderr[-2000:]
+    assert "4 ok" in done.stdout
+    assert not forbidden(chains), "\n".join(forbidden(chains))
+
+
 #: Commands that do their work here (``{tmp}``: a temporary folder) -> the scipy subpackages their work needs.
 #: ``netlist`` of a chain it need not design solves the chain's modes (its stop time), nothing else.
 RUNS = {

@@ -251,17 +251,21 @@ def _relative(option: str, text: str, allowed: str) -> float:
     return number(option)(text)
 
 
-def add_parts_arguments(p: argparse.ArgumentParser, samples: bool = True) -> None:
+def add_parts_arguments(p: argparse.ArgumentParser, samples: bool = True, netlist: bool = False) -> None:
     """A scene's real parts from the command line (a Monte Carlo without editing the file): ``--tolerance``,
-    ``--series`` and (``samples``) ``--samples``, ``--seed``; each sets the scene's own key."""
+    ``--series`` and (``samples``) ``--samples``, ``--seed``; each sets the scene's own key (``netlist``: their
+    help also says what they do with ``sweep --netlist``)."""
+    draws = (" (with --netlist: draws of its --vary distributions)", " (with --netlist: the seed of its draws, "
+             "default 0)") if netlist else ("", "")
     p.add_argument("--tolerance", type=tolerances, metavar="L=TOL,C=TOL",
                    help="relative tolerances of the inductors and capacitors, e.g. L=5%%,C=0.02 or 1%% for both "
                         "(a scene's effects.tolerance.L, .C)")
     p.add_argument("--series", metavar="|".join(E_SERIES_NAMES),
                    help="round every part to this IEC 60063 series (a scene's effects.preferred_values.series)")
     if samples:
-        p.add_argument("--samples", type=int, help="tolerance samples (a scene's effects.tolerance.samples)")
-        p.add_argument("--seed", type=int, help="the tolerance seed (a scene's effects.tolerance.seed)")
+        p.add_argument("--samples", type=int,
+                       help="tolerance samples (a scene's effects.tolerance.samples)" + draws[0])
+        p.add_argument("--seed", type=int, help="the tolerance seed (a scene's effects.tolerance.seed)" + draws[1])
 
 
 def budget_parent() -> argparse.ArgumentParser:

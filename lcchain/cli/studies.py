@@ -26,6 +26,7 @@ from ..core.types import (
     NAMED_CASES,
     STUDY_METRICS,
     TRANSPORT_CHOICES,
+    WORST_CASE_METHODS,
 )
 from ..report.files import FIGURE_FORMATS
 from ..spice.engines import DEFAULT_ENGINE, ENGINES
@@ -40,7 +41,7 @@ from .common import (
     list_entries,
     seconds,
 )
-from .progress import study_counter
+from .progress import counter, study_counter
 
 __all__ = ["cmd_sweep", "cmd_batch", "cmd_results", "add_study_arguments"]
 
@@ -71,6 +72,14 @@ def _words(option: str, allowed: Sequence[str]) -> Callable[[str], list[str]]:
     return parse
 
 
+def _worst_case_method(text: str) -> str:
+    if text not in WORST_CASE_METHODS:
+        where = " (the scene goes before it: sweep SCENE.toml --worst-case)" if text.endswith(".toml") else ""
+        raise argparse.ArgumentTypeError(f"--worst-case = {text!r} is not allowed: expected "
+                                         f"{' | '.join(WORST_CASE_METHODS)} or nothing (search){where}")
+    return text
+
+
 def add_study_arguments(p: argparse.ArgumentParser, *, store: bool = True) -> None:
     """Where and how a study runs: the store, the executor, its workers, a timeout."""
     if store:
@@ -98,6 +107,9 @@ def add_sweep_arguments(p: argparse.ArgumentParser) -> None:
     from .common import number
 
     p.add_argument("scene", nargs="?", metavar="SCENE.toml", help="vary a scene instead of cases (with --vary)")
+    p.add_argument("--netlist", metavar="FILE.cir",
+                   help="vary a netlist lcchain did not write instead (with --vary NAME=...): each variant checked, "
+                        "priced and run as lcchain batch runs a netlist")
     p.add_argument("--case", type=_words("--case", NAMED_CASES), help="chains, comma separated: an axis")
     p.add_argument("--N", type=int_list("--N"), help="sizes, comma separated: an axis")
     step = p.add_mutually_exclusive_group()
@@ -124,17 +136,24 @@ def add_sweep_arguments(p: argparse.ArgumentParser) -> None:
                         "[analysis] engine says it)")
     p.add_argument("--vary", action="append", default=[], metavar="KEY=V1,V2,...",
                    help="with SCENE.toml: a dotted scene key and its values (repeat for more axes; keys joined "
-                        "by + take the same values together)")
-    add_parts_arguments(p)  # --tolerance, --series, --samples (each a task of its own), --seed
-    p.add_argument("--worst-case", action="store_true",
-                   help="with SCENE.toml (kicked, with [effects.tolerance]): run the corners of the --components "
-                        "parts that move the first-arrival peak most, and the two corners the sensitivities "
-                        "predict to be the extremes, instead of the samples")
+                        "by + take the same values together); with --netlist: a .param or an R, L, C, K element "
+                        "and 1k,2.2k,... or lin:START:STOP:N or log:START:STOP:N (lists and grids multiply), or "
+                        "normal:MEAN:SIGMA (SIGMA may be 5%%), uniform:LO:HI or tolerance:NOMINAL:P%% (drawn "
+                        "--samples times, seeded by --seed)")
+    add_parts_arguments(p, netlist=True)  # --tolerance, --series, --samples (each a task of its own), --seed
+    p.add_argument("--worst-case", nargs="?", const="search", default=None, type=_worst_case_method,
+                   metavar="{search,corners}",
+                   help="with SCENE.toml (kicked, with [effects.tolerance]): the worst first arrival. search "
+                        "(default): every part anywhere within its tolerance, searched in exact theory with a "
+                        "certificate; its worst point runs in ngspice beside the nominal and the quick corners. "
+                        "corners: only the corners of the --components parts that move the metric most and the "
+                        "two the sensitivities' signs predict (a quick look, not a search)")
     p.add_argument("--components", type=int, default=None, metavar="K",
-                   help="--worst-case: parts moved together, 2^K corners (default 2)")
+                   help="--worst-case: the quick corners move the K most sensitive parts together, 2^K corners "
+                        "(default 2)")
     p.add_argument("--metric", choices=ARRIVAL_METRICS, default=None,
-                   help="--worst-case: rank and judge the corners by the first arrival's current peak (default) or "
-                        "its energy fraction peak^2 L_N/L_1")
+                   help="--worst-case: search, rank and judge by the first arrival's current peak (default) or "
+                        "its energy fraction peak^2 L_N/L_1; the worst is the lowest")
     add_study_arguments(p)
 
 
@@ -238,8 +257,10 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     outputs = Outputs()
     _check_study_options(args, outputs)
     budget = budget_from_args(args)
-    if args.worst_case or args.components is not None or args.metric is not None:
+    if args.worst_case is not None or args.components is not None or args.metric is not None:
         return _worst_case(args, outputs, budget)
+    if args.netlist is not None:
+        return _netlist_sweep(args, outputs, budget)
     if args.scene:
         given = [o for o, v in (("--case", args.case), ("--N", args.N), ("--dt", args.dt),
                                 ("--accuracy", args.accuracy), ("--extrapolate", args.extrapolate),
@@ -261,6 +282,31 @@ def cmd_sweep(args: argparse.Namespace) -> int:
         parts = any(v is not None for v in (args.samples, args.seed, args.tolerance, args.series))
         plan = _parts_sweep(args, budget) if parts else _SWEEPS[args.analysis](args, budget)
     return _run(args, plan, outputs)
+
+
+def _netlist_sweep(args: argparse.Namespace, outputs: Outputs, budget: Any) -> int:
+    """``sweep --netlist FILE --vary NAME=...``: a foreign netlist's values varied, each variant run as a batch's
+    netlist; as for a batch, --max-time is the whole budget (runs not started within it stay pending)."""
+    from ..studies.plan import netlist_sweep_plan
+    from ..studies.vary import parse_netlist_vary
+
+    started = time.monotonic()
+    given = [o for o, v in (("SCENE.toml", args.scene), ("--case", args.case), ("--N", args.N), ("--dt", args.dt),
+                            ("--accuracy", args.accuracy), ("--extrapolate", args.extrapolate),
+                            ("--engine", args.engine), ("--points", args.points), ("--tolerance", args.tolerance),
+                            ("--series", args.series), ("--transits", args.transits),
+                            ("--excitation", args.excitation),
+                            ("--analysis", None if args.analysis == "transient" else args.analysis))
+             if v is not None]
+    if given:
+        value = args.scene if given[0] == "SCENE.toml" else getattr(args, given[0].lstrip("-"))
+        raise ParameterError(given[0], value, "nothing with --netlist (the netlist says its circuit and its "
+                             "analysis; vary its .param or element values with --vary NAME=...)")
+    plan = netlist_sweep_plan(args.netlist, [parse_netlist_vary(v) for v in args.vary], samples=args.samples,
+                              seed=args.seed, backend=args.backend, timeout=args.timeout, budget=budget,
+                              progress=counter("variants"))
+    left = budget.max_seconds - INTERPRETER_SECONDS - (time.monotonic() - started)
+    return _run(args, plan, outputs, max_seconds=max(left, 0.0))
 
 
 def _parts_sweep(args: argparse.Namespace, budget: Any) -> Any:
@@ -302,7 +348,7 @@ def _worst_case(args: argparse.Namespace, outputs: Outputs, budget: Any) -> int:
     from ..studies.store import Store
     from ..studies.worst_case import DEFAULT_COMPONENTS, worst_case_plan, worst_case_summary
 
-    if not args.worst_case:
+    if args.worst_case is None:
         option = "--components" if args.components is not None else "--metric"
         raise ParameterError(option, getattr(args, option.lstrip("-")), "only with --worst-case")
     if not args.scene:
@@ -310,14 +356,15 @@ def _worst_case(args: argparse.Namespace, outputs: Outputs, budget: Any) -> int:
     given = [o for o, v in (("--case", args.case), ("--N", args.N), ("--dt", args.dt), ("--accuracy", args.accuracy),
                             ("--extrapolate", args.extrapolate), ("--engine", args.engine), ("--vary", args.vary),
                             ("--samples", args.samples), ("--seed", args.seed), ("--points", args.points),
-                            ("--tolerance", args.tolerance), ("--series", args.series), *_scene_says(args))
+                            ("--tolerance", args.tolerance), ("--series", args.series), ("--netlist", args.netlist),
+                            *_scene_says(args))
              if v is not None and v != []]
     if given:
         raise ParameterError(given[0], getattr(args, given[0].lstrip("-")), "nothing with --worst-case (the scene "
                              "says the circuit and its [effects.tolerance]; the corners replace the samples)")
     plan, setup = worst_case_plan(args.scene, components=args.components if args.components is not None else
                                   DEFAULT_COMPONENTS, metric=args.metric or "peak", budget=budget,
-                                  workers=_workers(args))
+                                  workers=_workers(args), method=args.worst_case)
 
     def after(as_json: bool) -> dict[str, Any]:
         with Store(args.store, "read") as store:
@@ -335,6 +382,22 @@ def _print_worst_case(summary: dict[str, Any]) -> None:
     rows = [[row["corner"], f"{row['sim']:.6f}", f"{row['theory']:.6f}", f"{row['predicted']:.6f}"]
             for row in summary["corners"]]
     print(_table(["corner", f"{what} (ngspice)", f"{what} (theory)", "first order"], rows))
+    quick = summary["corner_analysis"]
+    if quick["worst"] is not None:
+        print(f"{quick['label']}: worst {quick['worst']['corner']}, {what} {quick['worst']['sim']:.6f} (ngspice)")
+    search = summary.get("search")
+    if search is not None:
+        where = ("a vertex, every part at +- its tolerance" if search["vertex"] else "a point inside the box")
+        sim = f", ngspice {search['sim']:.6f}" if "sim" in search else ""
+        print(f"search of the whole tolerance box (exact theory): worst {what} {search['worst']:.6f}{sim}, "
+              f"nominal {search['nominal']:.6f}; at {where}: signs {search['signs']} (L_1..L_N, C_0_1..C_N_N+1)")
+        optima = search["local_optima"]
+        print(f"  {search['starts']} starts ended at {len(optima)} distinct local optima ({optima[0]:.6f} .. "
+              f"{optima[-1]:.6f}); {search['evaluations']} exact evaluations, {search['seconds']:.2f} s")
+        print(f"  certificate: the quadratic model about the nominal is >= {search['model_bound']:.6f} over the box "
+              f"(proved for the model); the {what} is >= {search['bound']:.6f} if it stays within "
+              f"{search['model_error']:.2e} of the model (twice the largest distance seen at the evaluated "
+              f"points: an estimate, not a proof); gap {search['gap']:.2e}")
     if "worst" not in summary:
         return
     worst = summary["worst"]
@@ -389,7 +452,7 @@ def cmd_batch(args: argparse.Namespace) -> int:
     _check_study_options(args, outputs)
     budget = budget_from_args(args)
     plan = batch_plan(args.netlist, allow_control=args.allow_control, timeout=args.timeout, budget=budget,
-                      strict=args.strict)
+                      strict=args.strict, check=getattr(args, "check", False))
     left = budget.max_seconds - INTERPRETER_SECONDS - (time.monotonic() - started)
     return _run(args, plan, outputs, max_seconds=max(left, 0.0))
 

@@ -51,8 +51,10 @@ import math
 import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..core.blas import fixed_blas_threads
 from ..core.budget import BudgetError
@@ -70,7 +72,7 @@ __all__ = [
     "MEANINGLESS_ERROR",
     "SAFETY",
     "dt_for_accuracy",
-    "predicted_error", "predicted_error_damped",
+    "predicted_error", "predicted_error_damped", "trapezoidal_poles", "trapezoidal_frequency",
     "split_error",
     "trap_response",
     "warn_if_unreliable",
@@ -167,6 +169,19 @@ def _grid(dt: float, tstop: float) -> np.ndarray:
     return t
 
 
+def trapezoidal_poles(poles: np.ndarray, dt: float) -> np.ndarray:
+    """The poles the trapezoidal rule at fixed step dt really simulates: log((1 + p dt/2) / (1 - p dt/2)) / dt,
+    one step of a mode exp(p t) being the Cayley map (1 + p dt/2) / (1 - p dt/2) (units: those of 1/dt)."""
+    p = np.asarray(poles, dtype=complex)
+    return np.asarray(np.log((1 + 0.5 * p * dt) / (1 - 0.5 * p * dt)) / dt)
+
+
+def trapezoidal_frequency(s: complex, dt: float) -> complex:
+    """Where the trapezoidal rule answers a source exp(s t) sampled exactly at its fixed steps dt: at
+    s' = (2/dt) tanh(s dt/2) (its particular solution is the exact one at s'; s' = s for s = 0)."""
+    return complex((2.0 / dt) * np.tanh(s * dt / 2.0))
+
+
 @fixed_blas_threads
 def predicted_error_damped(poles: np.ndarray, weights: Sequence[np.ndarray], dt: float, tstop: float, *,
                            method: str = "trap") -> float:
@@ -192,7 +207,7 @@ def predicted_error_damped(poles: np.ndarray, weights: Sequence[np.ndarray], dt:
     _check_method(method)
     t = _grid(dt, tstop)
     p = np.asarray(poles, dtype=complex)
-    step = np.log((1 + 0.5 * p * dt) / (1 - 0.5 * p * dt)) / dt  # the trapezoidal rule's pole
+    step = trapezoidal_poles(p, dt)
     rows = max(1, (1 << 18) // max(p.size, 1))
     worst = 0.0
     for w in weights:
@@ -385,7 +400,7 @@ def _runs(steps: np.ndarray, order_one: np.ndarray, min_run: int = 64) -> list[t
 
 
 @fixed_blas_threads
-def trap_response(weights: np.ndarray, omega: np.ndarray, t, *, tstep: float | None = None) -> np.ndarray:
+def trap_response(weights: np.ndarray, omega: np.ndarray, t: ArrayLike, *, tstep: float | None = None) -> np.ndarray:
     """The trapezoidal rule's own solution at a simulator's time points.
 
     f(t_k) = sum_n weights_n A_n(k) cos(phi_n(k)) with phi_n(k) the sum over
@@ -473,13 +488,13 @@ class ErrorSplit:
     physics_error: float | None
     total_error: float
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         return {"integration_error": self.integration_error, "physics_error": self.physics_error,
                 "total_error": self.total_error}
 
 
 @fixed_blas_threads
-def split_error(waveforms, modes: Modes, dt: float, *, method: str = "trap",
+def split_error(waveforms: Any, modes: Modes, dt: float, *, method: str = "trap",
                 exact: tuple[np.ndarray, np.ndarray] | None = None, breakpoint: bool = True) -> ErrorSplit:
     """Split the error of a simulation into integration and physics error.
 

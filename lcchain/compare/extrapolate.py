@@ -60,7 +60,7 @@ spline through each finer run's model against the model at the grid.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -237,7 +237,7 @@ class ExtrapolationPlan:
                                for r, d, e, s in self.considered]}
 
 
-def _largest_step(error, runs: int, target: float, smallest: float,
+def _largest_step(error: Callable[[float], float], runs: int, target: float, smallest: float,
                   largest: float = MAX_ACCURACY_DT) -> tuple[float, float] | None:
     """Largest coarse step in [smallest, largest] whose error(dt) is at most target (error ~ dt^(2 runs))."""
     if largest < smallest:

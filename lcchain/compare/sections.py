@@ -88,7 +88,7 @@ class Sections:
 
     def denominators(self, w: np.ndarray, modes: slice | np.ndarray = slice(None)) -> np.ndarray:
         """D_n(w), shape (w.size, modes)."""
-        return (self.x[modes][None, :] - (w * w)[:, None]) + 1j * w[:, None] * self.gamma[modes][None, :]
+        return np.asarray((self.x[modes][None, :] - (w * w)[:, None]) + 1j * w[:, None] * self.gamma[modes][None, :])
 
     def value(self, w: np.ndarray, residues: np.ndarray, modes: slice | np.ndarray = slice(None)) -> np.ndarray:
         """sum over ``modes`` of residues_n j w / D_n(w) (infinite on a lossless pole: such samples are not fitted)."""
@@ -126,7 +126,7 @@ def _rows(w: np.ndarray, sections: Sections, lo: int, hi: int) -> tuple[np.ndarr
 
 def _weights(w: np.ndarray, sections: Sections, near: slice) -> np.ndarray:
     """min_n |D_n| / w over the modes ``near`` the rows: the inverse gain of the nearest section."""
-    return np.min(np.abs(sections.denominators(w, near)), axis=1) / w
+    return np.asarray(np.min(np.abs(sections.denominators(w, near)), axis=1) / w)
 
 
 def _solve(columns: np.ndarray, target: np.ndarray) -> np.ndarray:

@@ -198,7 +198,7 @@ class SpectrumMetrics(FrozenArrays):
         """The circuit's quality factor omega_n / gamma_n of every mode (NaN where unseen, and without losses)."""
         if self.gamma is None:
             return np.full(self.omega.size, np.nan)
-        return self.omega / self.gamma
+        return np.asarray(self.omega / self.gamma)
 
     @property
     def Q_theory(self) -> np.ndarray:

@@ -201,7 +201,7 @@ def _real_sections(poles: np.ndarray, residues: np.ndarray) -> tuple[np.ndarray,
 
 def _significant(c: np.ndarray) -> np.ndarray:
     """Sections whose residue is not negligible beside the largest."""
-    return np.abs(c) > _WEAKEST * float(np.max(np.abs(c), initial=0.0))
+    return np.asarray(np.abs(c) > _WEAKEST * float(np.max(np.abs(c), initial=0.0)))
 
 
 def fit_sections(points: float, N: int, lossy: bool = False) -> float:

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 import scipy  # its submodules load on first use: commands that need no theory never import them
+from numpy.typing import ArrayLike
 
 from ..core.checks import choice
 from ..core.frozen import FrozenArrays, readonly
@@ -82,7 +83,7 @@ def _charges(t: np.ndarray, currents: np.ndarray) -> np.ndarray:
     tt = np.concatenate(([0.0], t))
     rows = np.atleast_2d(currents)
     padded = np.concatenate((np.zeros((rows.shape[0], 1)), rows), axis=1)
-    return scipy.integrate.cumulative_trapezoid(padded, tt, axis=1)
+    return np.asarray(scipy.integrate.cumulative_trapezoid(padded, tt, axis=1))
 
 
 def loop_signals(time_s: np.ndarray, currents: Sequence[np.ndarray] | np.ndarray, *, time_unit: float,
@@ -117,7 +118,8 @@ def loop_signals(time_s: np.ndarray, currents: Sequence[np.ndarray] | np.ndarray
     return t, rows
 
 
-def normalise(time_s, i_first, i_last, *, time_unit: float, excitation: Excitation, I0: float) -> Waveforms:
+def normalise(time_s: ArrayLike, i_first: ArrayLike, i_last: ArrayLike, *, time_unit: float, excitation: Excitation,
+              I0: float) -> Waveforms:
     """Turn ngspice's end-loop currents into the compared dimensionless signals.
 
     Parameters
@@ -133,5 +135,6 @@ def normalise(time_s, i_first, i_last, *, time_unit: float, excitation: Excitati
         Kick current (A); a displacement's charge is Q0 = I0 * time_unit.
     """
     choice("excitation", excitation, EXCITATIONS)
-    t, rows = loop_signals(time_s, np.vstack([i_first, i_last]), time_unit=time_unit, excitation=excitation, I0=I0)
+    t, rows = loop_signals(np.asarray(time_s, dtype=float), np.vstack([i_first, i_last]), time_unit=time_unit,
+                           excitation=excitation, I0=I0)
     return Waveforms(readonly(t), readonly(rows[0]), readonly(rows[1]), excitation)

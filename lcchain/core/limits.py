@@ -37,6 +37,12 @@ MIN_I0, MAX_I0 = 1e-100, 1e100
 MAX_WALL_SPRING = 1e12
 #: Most tolerance samples in one scene or sweep.
 MAX_SAMPLES = 10_000
+#: Boxes the worst-case search's branch and bound on its quadratic model may make (N = 9: the model's minimum proved
+#: within 12,000; N = 50: 20,000 take about 2 s and leave a gap).
+WORST_CASE_MODEL_NODES = 20_000
+#: Most runs one sweep of a foreign netlist makes (``sweep --netlist``: its lists and grids multiplied, times its
+#: samples), and most values one ``--vary`` grid holds.
+MAX_NETLIST_VARIANTS = 10_000
 #: Most components a worst-case study moves together (``sweep --worst-case --components``): 2^K corners.
 MAX_CORNER_COMPONENTS = 12
 #: Longest title or comment line written into a netlist.
@@ -64,6 +70,12 @@ MAX_SECONDS = 365 * 86400.0
 MAX_BUDGET_BYTES = float(2**50)
 #: Largest netlist (or included file) lcchain reads: 2 N + 10 lines of at most 100 characters at MAX_CIRCUIT_N.
 MAX_NETLIST_BYTES = 64 * 2**20
+#: Most elements a foreign netlist may hold once its sub-circuits are expanded (ngspice expands them: ten
+#: sub-circuits each instantiating the next ten times are 10^10 elements in 20 lines): ten times lcchain's own
+#: largest netlist (about 2 MAX_CIRCUIT_N elements), 1.7 GB in ngspice at its 850 B an element.
+MAX_EXPANDED_ELEMENTS = 2_000_000
+#: Most points of one foreign ``.dc`` sweep (its sources' values, nested sweeps multiplied).
+MAX_DC_POINTS = 1_000_000
 #: Largest --chain file read (a JSON chain of MAX_CIRCUIT_N masses takes about 5 MB).
 MAX_CHAIN_FILE_BYTES = 64 * 2**20
 #: Largest scene file read (a custom scene lists its masses and springs like a --chain file).

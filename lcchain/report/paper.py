@@ -84,7 +84,7 @@ PRINTED_ASYMPTOTIC: dict[str, tuple[tuple[str, str, str], ...]] = {
 def last_digit_units(value: float, printed: str) -> float:
     """(value - printed) in units of the printed number's last digit ("0.04551": 1e-5)."""
     decimals = len(printed.split(".")[1]) if "." in printed else 0
-    return (value - float(printed)) * 10**decimals
+    return float((value - float(printed)) * 10**decimals)
 
 
 def printed_row(case: str, N: int) -> dict[str, str] | None:

@@ -216,7 +216,7 @@ def _curve_N(data: Mapping[str, Any]) -> np.ndarray:
 
 def _law(data: Mapping[str, Any], case: str, key: str, N: np.ndarray) -> np.ndarray:
     c, p = data["laws"][case][key]
-    value = c * N**p
+    value = np.asarray(c * N**p, dtype=float)
     if case == "two-mass" and key == "y":
         return math.sqrt(2) - value
     if case == "two-mass" and key == "m2":

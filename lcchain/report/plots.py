@@ -20,6 +20,7 @@ from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..core.errors import ParameterError
 from .files import save_figure
@@ -113,7 +114,7 @@ def _root_figure(ax: Axes) -> Figure:
         return ax.figure.figure  # SubFigure.figure and Figure.figure are the root
 
 
-def _finish(fig: Figure, path: str | os.PathLike | None) -> Figure:
+def _finish(fig: Figure, path: str | os.PathLike[str] | None) -> Figure:
     if path is not None:
         save_figure(fig, path, dpi=DPI)  # atomically, in the format the name says
     return fig
@@ -162,9 +163,11 @@ def physical_axis(ax: Axes, scale: float, unit: str, label: str) -> Any:
     return secondary
 
 
-def overlay(t_sim, y_sim, t_theory, y_theory, *, residual=None, t_residual=None, first_sim=None,
-            first_theory=None, arrivals: Sequence = (), title: str = "", ylabel: str = r"$I_N\,/\,I_1(0)$",
-            path: str | os.PathLike | None = None, ax: Axes | None = None,
+def overlay(t_sim: ArrayLike, y_sim: ArrayLike, t_theory: ArrayLike, y_theory: ArrayLike, *,
+            residual: ArrayLike | None = None, t_residual: ArrayLike | None = None,
+            first_sim: ArrayLike | None = None, first_theory: ArrayLike | None = None, arrivals: Sequence[Any] = (),
+            title: str = "", ylabel: str = r"$I_N\,/\,I_1(0)$",
+            path: str | os.PathLike[str] | None = None, ax: Axes | None = None,
             time_unit: float | None = None) -> Figure:
     """Simulated end-loop signal over the theory, with the residual below; loop 1 too when given.
 
@@ -258,7 +261,7 @@ def overlay(t_sim, y_sim, t_theory, y_theory, *, residual=None, t_residual=None,
     sim_style: dict[str, Any] = {"linestyle": "none", "marker": "o", "markersize": 3} if t_sim.size <= 200 else \
         {"linestyle": "--", "linewidth": 1.0}
     colours = {"last": ("C0", "C1"), "first": ("C2", "C4")}  # (theory, ngspice) of each loop
-    curves = [("last", " at loop N" if both else "", y_sim, y_theory)]
+    curves: list[tuple[str, str, Any, Any]] = [("last", " at loop N" if both else "", y_sim, y_theory)]
     if both:
         curves.append(("first", " at loop 1", first_sim, first_theory))
     for end, where, sim, theory in curves:
@@ -301,6 +304,7 @@ def overlay(t_sim, y_sim, t_theory, y_theory, *, residual=None, t_residual=None,
         physical_axis(top, time_unit, "s", "time")
 
     if bottom is not None:
+        residual = np.asarray(residual, dtype=float)  # given whenever there is a residual panel
         worst = float(np.nanmax(np.abs(residual))) if residual.size else 0.0
         bottom.plot(t_residual, residual, color="C3", linewidth=0.8,
                     label=f"sim − theory{' at loop N' if both else ''}, max |·| = {worst:.2e}")
@@ -327,8 +331,8 @@ def overlay(t_sim, y_sim, t_theory, y_theory, *, residual=None, t_residual=None,
     return _finish(fig, path)
 
 
-def side_by_side(panels: Sequence[Mapping], *, title: str = "",
-                 path: str | os.PathLike | None = None) -> Figure:
+def side_by_side(panels: Sequence[Mapping[str, Any]], *, title: str = "",
+                 path: str | os.PathLike[str] | None = None) -> Figure:
     """Several overlays next to each other, on shared axes (e.g. uniform against optimal ends).
 
     Parameters
@@ -373,7 +377,7 @@ def side_by_side(panels: Sequence[Mapping], *, title: str = "",
 
 # --------------------------------------------------------------------------- spacetime
 
-def _decimate_max_abs(t, data, max_columns: int) -> tuple[np.ndarray, np.ndarray]:
+def _decimate_max_abs(t: ArrayLike, data: ArrayLike, max_columns: int) -> tuple[np.ndarray, np.ndarray]:
     """Shrink the time axis of ``data`` to at most `max_columns` columns.
 
     The columns are cut into consecutive bins of ``b = ceil(n_times /
@@ -432,8 +436,8 @@ def _edges(centres: np.ndarray) -> np.ndarray:
     return np.concatenate([[2 * centres[0] - mid[0]], mid, [2 * centres[-1] - mid[-1]]])
 
 
-def spacetime(t, currents, *, title: str = "", max_columns: int = SPACETIME_MAX_COLUMNS,
-              path: str | os.PathLike | None = None, ax: Axes | None = None) -> Figure:
+def spacetime(t: ArrayLike, currents: ArrayLike, *, title: str = "", max_columns: int = SPACETIME_MAX_COLUMNS,
+              path: str | os.PathLike[str] | None = None, ax: Axes | None = None) -> Figure:
     """Loop currents as an image: loop index against time.
 
     Parameters
@@ -499,8 +503,8 @@ def spacetime(t, currents, *, title: str = "", max_columns: int = SPACETIME_MAX_
 
 # --------------------------------------------------------------------------- histogram
 
-def histogram(values, *, theory: float | None = None, title: str = "", xlabel: str = "transmitted peak",
-              path: str | os.PathLike | None = None, ax: Axes | None = None) -> Figure:
+def histogram(values: ArrayLike, *, theory: float | None = None, title: str = "", xlabel: str = "transmitted peak",
+              path: str | os.PathLike[str] | None = None, ax: Axes | None = None) -> Figure:
     """Spread of the transmitted peak over tolerance samples.
 
     Parameters
@@ -557,7 +561,7 @@ def histogram(values, *, theory: float | None = None, title: str = "", xlabel: s
 
 # --------------------------------------------------------------------------- pareto
 
-def pareto(records: Sequence[Mapping], *, path: str | os.PathLike | None = None,
+def pareto(records: Sequence[Mapping[str, Any]], *, path: str | os.PathLike[str] | None = None,
            ax: Axes | None = None) -> Figure:
     """Accuracy against cost of the simulation methods (log-log).
 
@@ -615,7 +619,7 @@ def pareto(records: Sequence[Mapping], *, path: str | os.PathLike | None = None,
 
 # --------------------------------------------------------------------------- mode density
 
-def mode_density(omega, density, *, path: str | os.PathLike | None = None,
+def mode_density(omega: ArrayLike, density: ArrayLike, *, path: str | os.PathLike[str] | None = None,
                  ax: Axes | None = None) -> Figure:
     """Weights of the normal modes and their frequency spacing.
 
@@ -673,8 +677,9 @@ def mode_density(omega, density, *, path: str | os.PathLike | None = None,
     return _finish(fig, path)
 
 
-def spectrum(omega_theory, P_theory, omega_circuit, P_circuit, *, title: str = "",
-             path: str | os.PathLike | None = None, ax: Axes | None = None,
+def spectrum(omega_theory: ArrayLike, P_theory: ArrayLike, omega_circuit: ArrayLike, P_circuit: ArrayLike, *,
+             title: str = "",
+             path: str | os.PathLike[str] | None = None, ax: Axes | None = None,
              frequency_unit: float | None = None) -> Figure:
     """The paper's Fig. Pk20-100, with a circuit's modes on top: |P_n| against omega_n, and the spacing.
 
@@ -732,7 +737,8 @@ def spectrum(omega_theory, P_theory, omega_circuit, P_circuit, *, title: str = "
     return _finish(fig, path)
 
 
-def spacing_band(omega_nominal, spacings, *, title: str = "", path: str | os.PathLike | None = None,
+def spacing_band(omega_nominal: ArrayLike, spacings: ArrayLike, *, title: str = "",
+                 path: str | os.PathLike[str] | None = None,
                  ax: Axes | None = None) -> Figure:
     """What real parts do to the equal spacing: delta omega_n of tolerance samples against the nominal theory.
 

@@ -178,7 +178,9 @@ def write_scene_outputs(result: SceneResult, *, netlist_out: str | None = None,
     scene = result.scene
     good = result.good()
     written: list[str] = []
-    for target, text in ((netlist_out, lambda: good[0].netlist), (waveform_out, lambda: _csv(good[0]))):
+    texts: tuple[tuple[str | None, Callable[[], str]], ...] = (
+        (netlist_out, lambda: good[0].netlist), (waveform_out, lambda: _csv(good[0])))
+    for target, text in texts:
         if not (good and target):
             continue
         if target == "-":

@@ -184,7 +184,7 @@ class SpectrumReport:
         lossless ladder)."""
         if not self.lossy:
             return np.full(self.theory.N, np.nan)
-        return self.omega / self.gamma
+        return np.asarray(self.omega / self.gamma)
 
     @property
     def Q_theory(self) -> np.ndarray:
@@ -211,7 +211,7 @@ class SpectrumReport:
     def resolved(self) -> np.ndarray:
         """Whether each theoretical mode weighs enough at the ends to be placed to the targets (|P_n| >=
         :data:`OMEGA_WEIGHT_FLOOR`)."""
-        return np.abs(self.theory.transfer) >= OMEGA_WEIGHT_FLOOR
+        return np.asarray(np.abs(self.theory.transfer) >= OMEGA_WEIGHT_FLOOR)
 
     @property
     def metrics(self) -> SpectrumMetrics:
@@ -354,7 +354,7 @@ def _pole(omega: np.ndarray, gamma: np.ndarray) -> np.ndarray:
     """-gamma/2 + j sqrt(omega^2 - gamma^2/4): the upper pole, the faster one of an overdamped mode (-gamma for a
     zero mode, whose other pole, at 0, cancels)."""
     half = 0.5 * gamma
-    return -half + 1j * np.sqrt((omega - half) * (omega + half) + 0j)
+    return np.asarray(-half + 1j * np.sqrt((omega - half) * (omega + half) + 0j))
 
 
 def _finite(value: float) -> float | None:

@@ -44,7 +44,7 @@ from .schema import (
 __all__ = ["load_scene", "parse_scene", "override_parts"]
 
 
-def load_scene(path: str | os.PathLike) -> Scene:
+def load_scene(path: str | os.PathLike[str]) -> Scene:
     """Read and validate a scene file.
 
     Parameters
@@ -84,7 +84,7 @@ def load_scene(path: str | os.PathLike) -> Scene:
     return parse_scene(data, source=where)
 
 
-def parse_scene(data: Mapping, source: str | None = None) -> Scene:
+def parse_scene(data: Mapping[str, Any], source: str | None = None) -> Scene:
     """Validate a scene given as nested mappings (a parsed TOML or JSON document).
 
     Parameters
@@ -109,7 +109,7 @@ def parse_scene(data: Mapping, source: str | None = None) -> Scene:
         raise ParameterError(error.field, error.value, error.allowed, source) from None
 
 
-def _table(data: Mapping, name: str, keys: Sequence[str], required: bool = False) -> dict[str, Any]:
+def _table(data: Mapping[str, Any], name: str, keys: Sequence[str], required: bool = False) -> dict[str, Any]:
     """The sub-table ``name`` of ``data`` (dotted path), with only known keys."""
     last = name.rsplit(".", 1)[-1]
     if last not in data:
@@ -123,7 +123,7 @@ def _table(data: Mapping, name: str, keys: Sequence[str], required: bool = False
     return dict(table)
 
 
-def _known_keys(table: Mapping, keys: Sequence[str], path: str) -> None:
+def _known_keys(table: Mapping[str, Any], keys: Sequence[str], path: str) -> None:
     for key in table:
         if key not in keys:
             where = f"in [{path}]" if path else "at the top level"
@@ -131,7 +131,7 @@ def _known_keys(table: Mapping, keys: Sequence[str], path: str) -> None:
             raise ParameterError(dotted, table[key], f"one of the keys {', '.join(keys)} {where} (unknown key)")
 
 
-def _parse(data: Mapping, source: str | None) -> Scene:
+def _parse(data: Mapping[str, Any], source: str | None) -> Scene:
     if not isinstance(data, Mapping):
         raise ParameterError("scene", data, "a table of tables")
     _known_keys(data, TOP_KEYS, "")

@@ -287,7 +287,7 @@ def _nominal_peak(scene: Scene, plan: ScenePlan) -> float:
     ends = loop_theory(theory, "ends")
 
     def last(t: np.ndarray) -> np.ndarray:
-        return ends(t)[-1]
+        return np.asarray(ends(t)[-1])
 
     return maximum_in_window(last, (lo + shift, hi + shift), plan.transit_time)[1]
 

@@ -17,8 +17,9 @@ Allowed
   command, nor ``*ng_script``); an inline comment after ``;`` or `` $`` is
   dropped;
 * element lines whose first letter is one of :data:`ELEMENTS` (R, L, C, K,
-  V, I and the behavioural source B that lcchain's own pulses use), written
-  in :data:`_CHARACTERS` (no quotes, backslashes or control characters);
+  V, I, the behavioural source B that lcchain's own pulses use, the devices
+  D, Q, M, J, S, W and sub-circuit instances X), written in
+  :data:`_CHARACTERS` (no quotes, backslashes or control characters);
 * the dot-commands of :data:`DOT_COMMANDS`, the word matched whole:
   ``.tran``, ``.ac``, ``.options`` with the names of :data:`OPTIONS`,
   ``.save``, ``.ic``, ``.end``;
@@ -27,6 +28,24 @@ Allowed
   ngspice's math functions (:mod:`lcchain.spice.expressions`), at most
   :data:`lcchain.spice.expressions.MAX_PARAMS` names;
 * ``.meas``/``.measure`` of a ``tran`` or ``ac`` analysis, in the grammar of :mod:`lcchain.spice.measure`;
+* sub-circuits: ``.subckt NAME NODE... [params: a=1 b={expr}]`` ... ``.ends [NAME]``, holding element lines and
+  the cards of :data:`SUBCKT_COMMANDS` only (nested definitions at most
+  :data:`lcchain.spice.cards.MAX_SUBCKT_DEPTH` deep, each name defined once), and ``X`` lines ``Xname NODE...
+  NAME [params:] [a=3 ...]`` naming a ``.subckt`` of the netlist with as many nodes and parameters it declares;
+  none may instantiate itself, directly or not, nest deeper than ``MAX_SUBCKT_DEPTH`` or make the flattened circuit
+  larger than :data:`lcchain.core.limits.MAX_EXPANDED_ELEMENTS` elements (counted, never written out: ngspice
+  expands the cards it receives);
+* ``.model NAME TYPE (name=value ...)`` of a type of :data:`lcchain.spice.cards.MODEL_TYPES` (R C L D NPN PNP NMOS
+  PMOS NJF PJF SW CSW), every value a number or a braced expression (no string, file name or bare word: none of
+  ngspice's models of these types takes one), and the device lines ``D Q M J S W`` of
+  :data:`lcchain.spice.cards.DEVICES`, each naming a ``.model`` of its type after its nodes;
+* ``.func NAME(ARG, ...) = {EXPR}``, its expression held to the grammar of ``.param`` with its arguments as names;
+  a user function may be called in any expression, but none may call itself (ngspice 39 crashes) or grow past
+  :data:`lcchain.spice.cards.MAX_FUNCTION_CHARS` with the functions it calls written out (ngspice substitutes
+  them: 18 functions each calling the last twice ran 20 s and were killed);
+* ``.global NODE...``, ``.temp VALUE``, ``.op``, and ``.dc SRC START STOP STEP [SRC2 ...]`` of plain numbers
+  (at most :data:`lcchain.core.limits.MAX_DC_POINTS` points), which ngspice runs beside the netlist's ``.tran``
+  or ``.ac`` (lcchain reads that one and prices them too);
 * and ``.include``/``.inc``/``.lib``
   of a regular file inside the top netlist's folder (symbolic links resolved),
   which is parsed by the same rules and inlined in place (``.lib FILE
@@ -42,6 +61,24 @@ The text ngspice receives is rebuilt from the accepted cards only (includes
 inlined, continuations joined, inline comments dropped), so it reads no other
 file and runs exactly what was checked; for a netlist that needs none of that
 (lcchain's own) it is the same text, byte for byte.
+
+Prefixes
+--------
+ngspice 39 reads some dot-commands by their start and others only whole; what it did with each variant (``ngspice
+-b`` on a small netlist using the card) is what is accepted, so that a card checked as one command cannot be read
+as another:
+
+* by their start, in any case: ``.param`` (``.params``, ``.PARAM_X``), ``.model`` (``.models``, ``.modelx``,
+  ``.MODEL_X`` define the model), ``.func`` (``.funcx``, ``.funcs``, ``.FUNC_X`` define the function),
+  ``.global`` (``.globalx``, ``.globals``, ``.GLOBAL_X`` make the node global) and ``.ends`` (``.endsx``,
+  ``.ENDS_X``, ``.endsrdiv`` end the sub-circuit): each such word is checked as that command;
+* only whole: ``.subckt`` (``.subcktx``, ``.SUBCKT_X``, ``.SUBCKTS`` define nothing: "Cannot find called
+  subcircuit"; ``.subck`` is a fatal mismatch), ``.temp`` (``.tempx``, ``.temps``, ``.TEMP_X``, ``.tem``,
+  ``.temperature``), ``.op`` (``.opx``, ``.ops``, ``.OP_X``), ``.dc`` (``.dcx``, ``.dcs``, ``.DC_X``): ngspice
+  stops on the variants ("unimplemented control card"), and so are they refused here;
+* shorter words are no command: ``.mod``, ``.mode``, ``.fun``, ``.glob``, ``.o``, ``.d`` are errors.
+
+:func:`lcchain.spice.cards.command_of` holds this table.
 
 Everything here is text: the caller gives a ``read`` function for included
 files (:func:`lcchain.spice.inputs.read_input` checks that they are regular
@@ -59,22 +96,51 @@ from typing import ClassVar
 
 from ..core.budget import Estimate, show_bytes
 from ..core.errors import ParameterError
-from ..core.limits import MAX_AC_POINTS, MAX_NETLIST_BYTES
+from ..core.limits import MAX_AC_POINTS, MAX_DC_POINTS, MAX_EXPANDED_ELEMENTS, MAX_NETLIST_BYTES
 from ..core.types import AC_SPACINGS, AcSpacing, AnalysisKind
-from .expressions import MAX_PARAMS, braced_expressions, check_expression, is_param_card, param_assignments
+from .cards import (
+    DEVICES,
+    MAX_FUNCTION_CHARS,
+    MAX_SUBCKT_DEPTH,
+    MODEL_TYPES,
+    NODE,
+    Cycle,
+    Function,
+    Header,
+    Instance,
+    Model,
+    TooDeep,
+    command_of,
+    dc_points,
+    device_model,
+    func_card,
+    function_sizes,
+    instance,
+    model_card,
+    multiplicities,
+    subckt_header,
+)
+from .expressions import FUNCTIONS, MAX_PARAMS, braced_expressions, check_expression, is_param_card, param_assignments
 from .measure import MEASURE_WORDS, check_measure, measure_names
-from .pricing import Contents, Price, read_contents, sweep_price, transient_price
-from .text import NEWLINE, canonical_text, spice_number
+from .pricing import Contents, Price, operating_price, read_contents, sweep_price, transient_price
+from .text import NEWLINE, canonical_text, logical_lines, spice_number
 
-__all__ = ["ELEMENTS", "DOT_COMMANDS", "OPTIONS", "MAX_INCLUDE_DEPTH", "Transient", "Sweep", "allowed_netlist",
-           "transient_of", "analysis_of", "log_sweep_count", "foreign_estimate", "foreign_price"]
+__all__ = ["ALLOW_CONTROL_HINT", "ELEMENTS", "DOT_COMMANDS", "SUBCKT_COMMANDS", "OPTIONS", "MAX_INCLUDE_DEPTH",
+           "Transient", "Sweep", "allowed_netlist", "transient_of", "analysis_of", "log_sweep_count",
+           "foreign_estimate", "foreign_price"]
 
 #: First letters of the element lines lcchain runs: resistors, inductors, capacitors, coupled inductors,
-#: independent voltage and current sources, and behavioural sources (lcchain's own gaussian pulses).
-ELEMENTS = frozenset("RLCKVIB")
-#: Dot-commands run as they are (the word matched whole, in any case); the includes are inlined.
+#: independent voltage and current sources, behavioural sources (lcchain's own gaussian pulses), the devices of a
+#: ``.model`` (diodes, BJTs, MOSFETs, JFETs, voltage- and current-controlled switches) and sub-circuit instances.
+ELEMENTS = frozenset("RLCKVIBDQMJSWX")
+#: Dot-commands run as they are (the word matched whole, in any case, except those ngspice 39 reads by their start:
+#: ``.param``, ``.ends``, ``.model``, ``.func``, ``.global``, :func:`lcchain.spice.cards.command_of`); the includes
+#: are inlined.
 DOT_COMMANDS = frozenset({".tran", ".ac", ".options", ".option", ".opt", ".save", ".ic", ".param", ".end",
-                          *MEASURE_WORDS})
+                          *MEASURE_WORDS, ".subckt", ".ends", ".model", ".func", ".global", ".temp", ".op", ".dc"})
+#: What a ``.subckt`` body may hold besides element lines: its definitions (ngspice runs analyses, options and
+#: saves of the whole netlist only).
+SUBCKT_COMMANDS = frozenset({".param", ".subckt", ".ends", ".model", ".func"})
 _INCLUDES = frozenset({".include", ".inc", ".lib"})
 #: ``.options`` names a netlist may set: tolerances, integration and solver settings, nothing that names a
 #: file, changes the output format or loads code.
@@ -96,7 +162,8 @@ _SCRIPT = re.compile(r"^\s*\*\s*(#|ng_script)", re.IGNORECASE)
 _TITLE_COMMAND = re.compile(r"^\s*(\.(?!title\s)[A-Za-z]|\*\s*(#|ng_script))", re.IGNORECASE)
 _ALLOWED = ("a netlist of comments, element lines (" + ", ".join(sorted(ELEMENTS)) + ") and the dot-commands "
             + ", ".join(sorted(DOT_COMMANDS | _INCLUDES)))
-_OPT_OUT = " (lcchain batch --allow-control runs a netlist as it is, in a sandbox)"
+#: What a refusal adds for ``lcchain batch``, whose ``--allow-control`` runs a netlist as it is.
+ALLOW_CONTROL_HINT = " (lcchain batch --allow-control runs a netlist as it is, in a sandbox)"
 
 
 # One card: (source, line number, text, joined: "+" lines were joined to it).
@@ -104,7 +171,7 @@ _Card = tuple[str, int, str, bool]
 
 
 def _refuse(card: _Card, why: str) -> ParameterError:
-    return ParameterError(f"{card[0]}: line {card[1]}", card[2].strip()[:200], why + _OPT_OUT)
+    return ParameterError(f"{card[0]}: line {card[1]}", card[2].strip()[:200], why + ALLOW_CONTROL_HINT)
 
 
 @dataclass
@@ -115,16 +182,40 @@ class _Names:
     params: set[str] = field(default_factory=set)
     uses: list[tuple[_Card, set[str]]] = field(default_factory=list)
     measurements: set[str] = field(default_factory=set)
+    calls: list[tuple[_Card, set[str]]] = field(default_factory=list)  # user functions an expression calls
+    functions: dict[str, tuple[_Card, Function]] = field(default_factory=dict)
+    subckts: dict[str, tuple[_Card, Header]] = field(default_factory=dict)
+    open: list[tuple[_Card, Header]] = field(default_factory=list)  # the .subckt cards not yet ended, innermost last
+    instances: list[tuple[_Card, str, Instance]] = field(default_factory=list)  # (card, its body, the X line)
+    elements: dict[str, int] = field(default_factory=dict)  # element lines of each body ("": the netlist's own)
+    models: dict[str, Model] = field(default_factory=dict)
+    devices: list[tuple[_Card, list[str]]] = field(default_factory=list)
+
+    @property
+    def body(self) -> str:
+        """The body the next card belongs to: the innermost open ``.subckt``, or ``""``."""
+        return self.open[-1][1].name if self.open else ""
 
 
 def _where(card: _Card) -> str:
     return f"{card[0]}: line {card[1]}"
 
 
+def _expression(card: _Card, text: str, state: _Names, local: tuple[str, ...] = ()) -> None:
+    """Check one expression; its names (but ``local``, a ``.func``'s arguments) and calls are checked once the
+    whole netlist is read."""
+    calls: set[str] = set()
+    used = check_expression(text, None, _where(card), card[2], calls=calls)
+    if used:
+        state.uses.append((card, used.difference(local) if local else used))
+    if calls:
+        state.calls.append((card, calls))
+
+
 def _check_param(card: _Card, body: str, state: _Names) -> None:
     for name, value in param_assignments(body, _where(card), card[2]):
         state.params.add(name)
-        state.uses.append((card, check_expression(value, None, _where(card), card[2])))
+        _expression(card, value, state)
     if len(state.params) > MAX_PARAMS:
         raise _refuse(card, f"at most {MAX_PARAMS} .param names in a netlist, its includes included")
 
@@ -134,7 +225,7 @@ def _check_braces(card: _Card, body: str, state: _Names) -> None:
     if "{" in rest.replace("{}", "") or "}" in rest.replace("{}", ""):
         raise _refuse(card, "braces around one expression each, not nested or unmatched")
     for group in groups:
-        state.uses.append((card, check_expression(group, None, _where(card), card[2])))
+        _expression(card, group, state)
 
 
 def _check_names(state: _Names) -> None:
@@ -142,6 +233,173 @@ def _check_names(state: _Names) -> None:
         unknown = sorted(used - state.params)
         if unknown:
             raise _refuse(card, f"expressions of names a .param defines (not {', '.join(unknown)})")
+    for card, calls in state.calls:
+        unknown = sorted(calls - set(state.functions))
+        if unknown:
+            raise _refuse(card, f"calls of the functions {', '.join(sorted(FUNCTIONS))} and of those a .func "
+                          f"defines (not {', '.join(unknown)})")
+
+
+def _check_subckt(card: _Card, body: str, state: _Names) -> None:
+    header = subckt_header(body)
+    if header is None:
+        raise _refuse(card, ".subckt NAME NODE... [params: name=value ...] (names of letters, digits and _; "
+                      "values numbers or expressions)")
+    if header.name in state.subckts:
+        raise _refuse(card, f"one .subckt of each name ({header.name} is defined at "
+                      f"{_where(state.subckts[header.name][0])})")
+    if len(state.open) >= MAX_SUBCKT_DEPTH:
+        raise _refuse(card, f"sub-circuit definitions nested at most {MAX_SUBCKT_DEPTH} deep")
+    for name, value in header.params:
+        state.params.add(name)
+        _expression(card, value, state)
+    state.subckts[header.name] = (card, header)
+    state.open.append((card, header))
+    state.elements.setdefault(header.name, 0)
+
+
+def _check_ends(card: _Card, body: str, state: _Names) -> None:
+    words = body.split()
+    if not state.open:
+        raise _refuse(card, "an .ends that closes a .subckt")
+    if len(words) > 2 or (len(words) == 2 and words[1].lower() != state.body):
+        raise _refuse(card, f".ends or .ends {state.body} (it closes the innermost open .subckt, "
+                      f"{_where(state.open[-1][0])})")
+    state.open.pop()
+
+
+def _check_model(card: _Card, body: str, state: _Names) -> None:
+    model = model_card(body)
+    if model is None:
+        raise _refuse(card, f".model NAME TYPE (name=value ...) of a type {', '.join(t.upper() for t in MODEL_TYPES)}, "
+                      "each value a number or an expression in braces (no string, file name or bare word)")
+    for _, value in model.params:
+        if spice_number(value) is None:
+            _expression(card, value, state)
+    state.models[model.name] = model
+
+
+def _check_func(card: _Card, body: str, state: _Names) -> None:
+    function = func_card(body)
+    if function is None:
+        raise _refuse(card, ".func NAME(ARG, ...) = {EXPR} (names of letters, digits and _; the expression of "
+                      "numbers, .param names, the arguments and functions)")
+    if function.name in FUNCTIONS or function.name in state.functions:
+        raise _refuse(card, "a .func of a name of its own (not one of ngspice's functions, nor one defined twice)")
+    if len(function.body) > MAX_FUNCTION_CHARS:
+        raise _refuse(card, f"a .func body of at most {MAX_FUNCTION_CHARS} characters")
+    state.functions[function.name] = (card, function)
+    _expression(card, function.body, state, function.args)
+
+
+def _check_global(card: _Card, body: str, state: _Names) -> None:
+    nodes = body.split()[1:]
+    if not nodes or not all(NODE.fullmatch(n) for n in nodes):
+        raise _refuse(card, ".global NODE... (node names)")
+
+
+def _check_temp(card: _Card, body: str, state: _Names) -> None:
+    value = body.split(None, 1)[1].strip() if len(body.split()) > 1 else ""
+    number = spice_number(value)
+    if value.startswith("{") and value.endswith("}") and "{" not in value[1:-1]:
+        _expression(card, value[1:-1], state)
+    elif number is None or not math.isfinite(number) or len(value.split()) != 1:
+        raise _refuse(card, ".temp VALUE (degrees Celsius: a number or an expression in braces)")
+
+
+def _check_op(card: _Card, body: str, state: _Names) -> None:
+    if len(body.split()) != 1:
+        raise _refuse(card, ".op alone")
+
+
+def _check_dc(card: _Card, body: str, state: _Names) -> None:
+    if dc_points(body, most=MAX_DC_POINTS) is None:
+        raise _refuse(card, ".dc SRC START STOP STEP [SRC2 START2 STOP2 STEP2] (a V, I or R name or TEMP; plain "
+                      f"numbers, STEP towards STOP; at most {MAX_DC_POINTS} points in all)")
+
+
+#: How each card of :mod:`lcchain.spice.cards` is checked, by the command ngspice 39 reads it as
+#: (:func:`lcchain.spice.cards.command_of`).
+_CARD_CHECKS: dict[str, Callable[[_Card, str, _Names], None]] = {
+    ".subckt": _check_subckt, ".ends": _check_ends, ".model": _check_model, ".func": _check_func,
+    ".global": _check_global, ".temp": _check_temp, ".op": _check_op, ".dc": _check_dc,
+}
+
+
+def _check_element(card: _Card, body: str, state: _Names) -> None:
+    letter = body[0].upper()
+    if letter != "X":
+        body_name = state.open[-1][1].name if state.open else ""
+        count = state.elements[body_name] = state.elements.get(body_name, 0) + 1
+        if count > MAX_EXPANDED_ELEMENTS:  # in one body, before any copy
+            raise _refuse(card, f"a netlist of at most {MAX_EXPANDED_ELEMENTS} elements")
+        if letter in DEVICES:
+            state.devices.append((card, body.split()))
+        if "{" in body or "}" in body:
+            _check_braces(card, body, state)
+        return
+    found = instance(body)
+    if found is None:
+        raise _refuse(card, "Xname NODE... SUBCKT [params:] [name=value ...] (values numbers or expressions)")
+    state.instances.append((card, state.body, found))
+    for _, value in found.params:
+        _expression(card, value, state)
+
+
+def _first_instance(state: _Names, body: str, subckt: str) -> _Card:
+    return next(card for card, where, x in state.instances if where == body and x.subckt == subckt)
+
+
+def _check_hierarchy(state: _Names) -> None:
+    """What only the whole netlist shows: every ``.subckt`` ended, every ``X`` naming a ``.subckt`` with its
+    nodes and parameters, none instantiating itself or nested too deep, the expanded circuit within
+    :data:`lcchain.core.limits.MAX_EXPANDED_ELEMENTS`; every device naming a ``.model`` of its type; every
+    ``.func`` within :data:`lcchain.spice.cards.MAX_FUNCTION_CHARS` written out, none calling itself."""
+    if state.open:
+        raise _refuse(state.open[-1][0], "a .subckt that an .ends closes")
+    calls: dict[str, list[str]] = {}
+    for card, body, x in state.instances:
+        if x.subckt not in state.subckts:
+            raise _refuse(card, f"an instance of a .subckt the netlist defines (not {x.subckt})")
+        where, header = state.subckts[x.subckt]
+        if len(x.nodes) != len(header.nodes):
+            raise _refuse(card, f"{len(header.nodes)} nodes for {x.subckt}, as its .subckt has ({_where(where)}), "
+                          f"not {len(x.nodes)}")
+        unknown = sorted({n for n, _ in x.params} - {n for n, _ in header.params})
+        if unknown:
+            declared = ", ".join(n for n, _ in header.params) or "none"
+            raise _refuse(card, f"parameters that {x.subckt} declares ({declared}), not {', '.join(unknown)}")
+        calls.setdefault(body, []).append(x.subckt)
+    try:
+        copies = multiplicities(calls)
+    except Cycle as error:
+        raise _refuse(_first_instance(state, error.path[-2], error.path[-1]), "sub-circuits that do not instantiate "
+                      f"themselves ({' -> '.join(error.path)}: ngspice would expand them forever)") from None
+    except TooDeep as error:
+        outer = error.path[-2] if len(error.path) > 1 else ""
+        raise _refuse(_first_instance(state, outer, error.path[-1]), f"sub-circuit instances nested at most "
+                      f"{MAX_SUBCKT_DEPTH} deep ({' -> '.join(error.path)})") from None
+    if sum(state.elements.get(name, 0) * count for name, count in copies.items()) > MAX_EXPANDED_ELEMENTS:
+        def expanded(name: str) -> int:
+            return sum(state.elements.get(n, 0) * c for n, c in multiplicities(calls, name).items())
+        card, _, x = max((i for i in state.instances if i[1] == ""), key=lambda i: expanded(i[2].subckt))
+        raise _refuse(card, f"a netlist of at most {MAX_EXPANDED_ELEMENTS} elements once its sub-circuits are "
+                      f"expanded (one {x.subckt} alone holds {expanded(x.subckt):.3g})")
+    for card, words in state.devices:
+        letter = words[0][0].upper()
+        if device_model(letter, words, state.models) is None:
+            kinds = " or ".join(t.upper() for t, used in MODEL_TYPES.items() if used == letter)
+            raise _refuse(card, f"a {letter} line naming a .model of type {kinds} after its nodes")
+    functions = {name: f for name, (_, f) in state.functions.items()}
+    try:
+        sizes = function_sizes(functions)
+    except Cycle as error:
+        raise _refuse(state.functions[error.path[0]][0], f"functions that do not call themselves "
+                      f"({' -> '.join(error.path)}: ngspice 39 crashes on one)") from None
+    for name, size in sizes.items():
+        if size > MAX_FUNCTION_CHARS:
+            raise _refuse(state.functions[name][0], f"a function of at most {MAX_FUNCTION_CHARS} characters with "
+                          f"the functions it calls written out (ngspice substitutes them: this one makes {size})")
 
 
 def _cards(text: str, source: str, *, title: bool) -> tuple[str, list[_Card]]:
@@ -279,6 +537,15 @@ def allowed_netlist(text: str, source: str, folder: Path | None, read: Callable[
             bad = next(ch for ch in body if not _CHARACTERS.fullmatch(ch))
             raise _refuse(card, f"a line without {bad!r}: {_ALLOWED}")
         if word[0] == ".":
+            command = command_of(word)
+            if state.open and not (is_param_card(word) or command in SUBCKT_COMMANDS):
+                raise _refuse(card, "inside a .subckt, element lines and the cards " + ", ".join(
+                    sorted(SUBCKT_COMMANDS)) + f" (the .subckt of {_where(state.open[-1][0])} is not ended)")
+            if command is not None:  # .models, .funcx, .ENDSX: read by ngspice 39 as .model, .func, .ends
+                _CARD_CHECKS[command](card, body, state)
+                out.append(body)
+                changed |= len(body) != len(line)
+                continue
             if is_param_card(word):  # ngspice 39 reads .params, .PARAM_X as .param: checked as one
                 _check_param(card, body[len(word):], state)
                 out.append(body)
@@ -298,10 +565,11 @@ def allowed_netlist(text: str, source: str, folder: Path | None, read: Callable[
         elif word[0].upper() not in ELEMENTS:
             raise _refuse(card, _ALLOWED)
         else:
-            _check_braces(card, body, state)
+            _check_element(card, body, state)
         changed |= len(body) != len(line)
         out.append(body)
     if _depth == 0:
+        _check_hierarchy(state)
         _check_names(state)
     if _depth == 0 and not changed:
         return text
@@ -326,7 +594,11 @@ def _inline(card: _Card, argument: str, folder: Path | None, read: Callable[[Pat
     if left[0] < 0:  # the same file included a thousand times is as large as a thousand files
         raise _refuse(card, f"includes of at most {show_bytes(MAX_NETLIST_BYTES)} in all, the netlist included")
     if section is not None:
-        included = _section(included, section, str(path))
+        try:
+            included = _section(included, section, str(path))
+        except ParameterError:
+            raise _refuse(card, f"a .lib section that {path.name} holds between .lib {section} and .endl "
+                          f"(it has no section {section})") from None
     body = allowed_netlist(included, str(path), folder, read, _depth=depth + 1, _seen=(*seen, path), _left=left,
                            _state=state)
     return [f"* lcchain: {card[2].strip()[:150]}", *body.split("\n")]
@@ -495,7 +767,8 @@ def analysis_of(text: str, source: str, version: Callable[[], str] | None = None
     """
     found = _analysis_cards(text)
     if not found:
-        raise ParameterError(source, ".tran/.ac", "a netlist with one .tran or .ac analysis")
+        raise ParameterError(source, ".tran/.ac", "a netlist with one .tran or .ac analysis (lcchain reads transients "
+                             "and AC sweeps; .op and .dc cards run beside one)")
     _one_analysis(found, source)
     number, line = found[0]
     if line.split(None, 1)[0].lower() != ".ac":
@@ -512,6 +785,8 @@ def analysis_of(text: str, source: str, version: Callable[[], str] | None = None
     if not (count.is_integer() and 1 <= count <= MAX_AC_POINTS and 0 <= start < stop) or (
             spacing != "lin" and start <= 0):
         raise ParameterError(f"{source}: line {number}", line[:200], allowed)
+    if measure_names(text):
+        _unmeasured_beside(text, source)
     if spacing == "lin":
         return Sweep(int(count), start, stop)
     major = 0
@@ -526,6 +801,17 @@ def analysis_of(text: str, source: str, version: Callable[[], str] | None = None
     except ParameterError as error:
         raise ParameterError(f"{source}: line {number}", line[:200], error.allowed) from None
     return Sweep(frequencies, start, stop, spacing, int(count))
+
+
+def _unmeasured_beside(text: str, source: str) -> None:
+    """Refuse an ``.op`` or ``.dc`` beside an ``.ac`` that is measured: ngspice 39 runs them after the sweep and
+    measures the last plot it made, so every ``.meas ac`` would come back empty (measured: "Measurements for AC
+    Analysis" and no value)."""
+    for number, line in logical_lines(text)[1:]:
+        word = line.split(None, 1)[0].lower() if line.strip() else ""
+        if word in (".op", ".dc"):
+            raise ParameterError(f"{source}: line {number}", line.strip()[:200], "no .op or .dc beside a measured "
+                                 ".ac (ngspice 39 runs them after the sweep and measures their plot instead)")
 
 
 def transient_of(text: str, source: str) -> Transient:
@@ -552,6 +838,19 @@ def transient_of(text: str, source: str) -> Transient:
     return Transient(step, stop, start, min(tmax, default) if tmax > 0 else default)
 
 
+def _operating_points(text: str) -> int:
+    """The operating points of a netlist's ``.op`` (one each) and ``.dc`` cards
+    (:func:`lcchain.spice.cards.dc_points`)."""
+    points = 0
+    for _, line in logical_lines(text)[1:]:
+        word = line.split(None, 1)[0].lower() if line.strip() else ""
+        if word == ".op":
+            points += 1
+        elif word == ".dc":
+            points += dc_points(line, most=MAX_DC_POINTS) or 0
+    return points
+
+
 def foreign_price(text: str, analysis: Transient | Sweep, saved: int, source: str = "netlist") -> Price:
     """What running a foreign netlist costs, read from its elements, couplings, sources and text
     (:mod:`lcchain.spice.pricing`), with the limits its run gets from it (:meth:`~lcchain.spice.pricing.Price.limits`).
@@ -572,7 +871,11 @@ def foreign_price(text: str, analysis: Transient | Sweep, saved: int, source: st
     ParameterError
         A source function lcchain cannot price, naming the line.
     """
-    price = analysis.price(read_contents(text, source), saved)
+    contents = read_contents(text, source)
+    price = analysis.price(contents, saved)
+    points = _operating_points(text)
+    if points:  # ngspice runs every .op and .dc card beside the analysis lcchain reads
+        price = price.plus(operating_price(contents, points=points, saved=saved))
     if measure_names(text):  # measured, ngspice keeps every value in memory (no raw file streamed): vectors
         kept = MEASURED_BYTES_FACTOR * price.output_bytes  # that grow by doubling
         price = replace(price, memory=price.memory + kept, simulator_memory=price.simulator_memory + kept)

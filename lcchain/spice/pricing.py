@@ -16,6 +16,13 @@ netlist holds decides what each point costs, and how many more points ngspice ta
   of what moves fastest: a SIN, SFFM or AM source driving a circuit with inductors or capacitors, or the
   ringing of a node where inductors and capacitors meet with no resistor (its frequency bounded by
   omega^2 <= 2 sum(1 / L) / C, each L shortened by its strongest coupling), at default tolerances;
+* **sub-circuits**: every count above is of the flattened circuit, each ``.subckt``'s contents once per copy the
+  netlist's ``X`` lines make of it, recursively (:func:`lcchain.spice.cards.multiplicities`): twenty lines can
+  hold 10^10 elements;
+* **nonlinear devices** (``D Q M J S W`` lines of a ``.model``): each costs its own load at every Newton iteration
+  (:data:`SECONDS_PER_DEVICE_ITERATION`, a BSIM MOSFET 50 times a diode), and a netlist that holds one is priced at
+  :data:`ITERATIONS_PER_FORCED_POINT` iterations at every time point;
+* **operating points**: an ``.op`` or ``.dc`` card beside the analysis runs too (:func:`operating_price`);
 * **text**: ngspice and lcchain read, check and copy every byte; a ``B`` source's expression is parsed once
   and evaluated at every iteration; a PWL source is scanned from its first point at every evaluation.
 
@@ -43,11 +50,25 @@ import numpy as np
 
 from ..core.budget import BYTES_PER_VALUE, INTERPRETER_BYTES, Budget, Estimate, ac_run_estimate
 from ..core.errors import ParameterError
+from .cards import (
+    DEVICES,
+    MAX_SUBCKT_DEPTH,
+    Cycle,
+    Model,
+    TooDeep,
+    command_of,
+    device_model,
+    instance,
+    model_card,
+    multiplicities,
+    subckt_header,
+)
 from .expressions import is_param_card
 from .text import logical_lines, spice_number
 
 __all__ = ["Contents", "Price", "RunLimits", "read_contents", "transient_price", "sweep_price", "gap_points",
-           "raw_bytes_limit", "SOURCE_FUNCTIONS", "POINTS_PER_CYCLE", "RUN_LIMIT_FACTOR", "NGSPICE_START_SECONDS"]
+           "raw_bytes_limit", "operating_price", "SOURCE_FUNCTIONS", "POINTS_PER_CYCLE", "RUN_LIMIT_FACTOR",
+           "NGSPICE_START_SECONDS"]
 
 # --------------------------------------------------------------------------- what each thing costs (measured)
 
@@ -126,6 +147,25 @@ POINTS_PER_CYCLE = 11.0
 _DEFAULT_TOLERANCE = 1e-3 * 7.0
 #: A complex solve (an AC frequency) does about four times a real one's arithmetic.
 COMPLEX_SOLVE_FACTOR = 4.0
+#: Nonlinear devices (``D Q M J S W`` lines), per Newton iteration: what loading one costs beyond a resistor.
+#: Measured on 1000 devices each driven through 1 kOhm by a PULSE of 1 ns edges (``.options acct``'s transient
+#: load time, less that of the same netlist with a resistor in each device's place): a diode 56 ns, a level-1
+#: MOSFET 117 ns, a BJT 400 ns (with RB and CJE), a BSIM4 MOSFET (level 54) 5.2 us.  J is priced as a level-1
+#: MOSFET and S and W as a diode (not measured).
+SECONDS_PER_DEVICE_ITERATION: dict[str, float] = {"D": 6e-8, "Q": 4e-7, "M": 1.2e-7, "J": 1.2e-7, "S": 6e-8,
+                                                  "W": 6e-8}
+#: MOSFET model levels 1 to 3 are the simple ones; every higher level (BSIM3 8 and 49, BSIM4 14 and 54, ...) is
+#: priced as the BSIM4 measured above.
+MOS_SIMPLE_LEVELS = 3
+SECONDS_PER_BSIM_ITERATION = 5e-6
+#: Unknowns a device adds inside itself at most in its simple models (a diode's RS, a BJT's RB RC RE, a MOSFET's or
+#: a JFET's RD RS); BSIM models add a few more, which their price per iteration already dwarfs.
+DEVICE_INTERNAL_NODES: dict[str, int] = {"D": 1, "Q": 3, "M": 2, "J": 2, "S": 0, "W": 0}
+#: Newton iterations of a nonlinear netlist: every time point is priced at ITERATIONS_PER_FORCED_POINT (2.6):
+#: the runs above took 2.1 to 2.3 per point, and 2.0 per point of a ``.dc`` sweep of 1001 points.  An ``.op``
+#: is priced at ngspice's ``itl1`` (100), the most iterations of its direct Newton solve before it steps gmin
+#: (those runs took 3 to 8).
+OP_ITERATIONS = 100.0
 #: Breakpoints enumerated one by one to find their gaps; beyond, each source is priced alone, period by period.
 MAX_ENUMERATED_BREAKPOINTS = 1_000_000
 
@@ -341,6 +381,13 @@ class Contents:
         Hz: the highest frequency a node of inductors and capacitors without a resistor can ring at (0: none).
     tolerance : float
         reltol x trtol of its ``.options`` (ngspice's defaults 1e-3 x 7).
+    nonlinear : int
+        Nonlinear devices (D, Q, M, J, S, W lines), each sub-circuit's counted once per copy.
+    device_seconds : float
+        CPU seconds their loads take per Newton iteration beyond a resistor's
+        (:data:`SECONDS_PER_DEVICE_ITERATION`).
+
+    Every count is of the flattened circuit: a sub-circuit's contents once per copy of it that the netlist holds.
     """
 
     elements: int = 0
@@ -355,9 +402,13 @@ class Contents:
     ringing: float = 0.0
     tolerance: float = _DEFAULT_TOLERANCE
     sources: tuple[_Source, ...] = field(default=(), repr=False)
+    nonlinear: int = 0
+    device_seconds: float = 0.0
 
     def describe(self) -> str:
         parts = [f"{self.unknowns} unknowns", f"{self.elements} elements"]
+        if self.nonlinear:
+            parts.append(f"{self.nonlinear} nonlinear devices")
         if self.couplings:
             parts.append(f"{self.couplings} K lines")
         if self.expression_bytes:
@@ -401,55 +452,129 @@ def _groups(pairs: list[tuple[str, str, float]]) -> dict[str, tuple[int, int]]:
     return {top: (len(members[top]), lines[top]) for top in members}
 
 
-def read_contents(text: str, source: str = "netlist") -> Contents:
-    """What ``text`` holds that its cost depends on (:class:`Contents`), in one pass over its lines.
+@dataclass
+class _Scope:
+    """What one body holds, the netlist's own or a ``.subckt``'s, before its copies are counted."""
 
-    Raises
-    ------
-    ParameterError
-        A source function lcchain cannot price, naming the line.
-    """
+    ports: frozenset[str] = frozenset()
+    defaults: dict[str, float] = field(default_factory=dict)
+    cards: list[tuple[int, str]] = field(default_factory=list)
+    calls: list[str] = field(default_factory=list)
+
+
+def _scopes(text: str) -> tuple[dict[str, _Scope], dict[str, float], dict[str, float | None], dict[str, Model],
+                                 set[str]]:
+    """(each body's element lines by definition, ``""`` the netlist's own; ``.param`` values; ``.options``;
+    ``.model`` cards; ``.global`` nodes) of a netlist's text, in one pass over its lines."""
     params: dict[str, float] = {}
     options: dict[str, float | None] = {}
-    cards: list[tuple[int, str]] = []
+    models: dict[str, Model] = {}
+    globals_: set[str] = set()
+    scopes: dict[str, _Scope] = {"": _Scope()}
+    stack = [""]
+    control = False  # in a .control block (a netlist run as it is): commands, not elements
     for number, line in logical_lines(text)[1:]:  # the first line is the title
         head = line.lstrip()[:1]
         if head.isalpha():
-            cards.append((number, line))
-        elif head == ".":
-            word, _, rest = line.strip().partition(" ")
-            word = word.lower()
-            if is_param_card(word):  # .params, .PARAM_X: ngspice 39 reads them as .param
-                for name, value in re.findall(r"([A-Za-z_]\w*)\s*=\s*([^\s=]+)", rest):
-                    number_ = spice_number(value.strip("{}"))
-                    if number_ is not None:
-                        params[name.lower()] = number_
-            elif word in (".options", ".option", ".opt"):
-                for name, value in re.findall(r"([A-Za-z_]\w*)\s*=\s*([^\s=]+)", rest):
-                    options[name.lower()] = spice_number(value)
+            if not control:
+                scopes[stack[-1]].cards.append((number, line))
+            continue
+        if head != ".":
+            continue
+        word, _, rest = line.strip().partition(" ")
+        word = word.lower()
+        if word.startswith((".control", ".endc")):
+            control = word.startswith(".control")
+            continue
+        command = command_of(word)
+        if is_param_card(word):  # .params, .PARAM_X: ngspice 39 reads them as .param
+            for name, value in re.findall(r"([A-Za-z_]\w*)\s*=\s*([^\s=]+)", rest):
+                number_ = spice_number(value.strip("{}"))
+                if number_ is not None:
+                    params[name.lower()] = number_
+        elif word in (".options", ".option", ".opt"):
+            for name, value in re.findall(r"([A-Za-z_]\w*)\s*=\s*([^\s=]+)", rest):
+                options[name.lower()] = spice_number(value)
+        elif command == ".subckt":
+            header = subckt_header(line.strip())
+            name = header.name if header is not None else f"?{number}"
+            defaults = {k: v for k, v in ((k, spice_number(v)) for k, v in (header.params if header else ()))
+                        if v is not None}
+            scopes[name] = _Scope(frozenset(header.nodes if header else ()), defaults)
+            stack.append(name)
+        elif command == ".ends" and len(stack) > 1:
+            stack.pop()
+        elif command == ".model":
+            model = model_card(line.strip())
+            if model is not None:
+                models[model.name] = model
+        elif command == ".global":
+            globals_.update(w.lower() for w in rest.split())
+    return scopes, params, options, models, globals_
+
+
+@dataclass
+class _Tally:
+    """One body's contents, its copies not yet counted."""
+
+    elements: int = 0
+    reactive: int = 0
+    nodes: int = 0
+    branches: int = 0
+    couplings: int = 0
+    coupled_work: float = 0.0
+    expression: int = 0
+    pwl: int = 0
+    nonlinear: int = 0
+    device_seconds: float = 0.0
+    omega2: float = 0.0
+    sources: list[_Source] = field(default_factory=list)
+
+
+def _tally(scope: _Scope, top: bool, params: dict[str, float], models: dict[str, Model], globals_: set[str],
+           source: str) -> _Tally:
+    """What one body holds: its elements, its own nodes (a sub-circuit's ports, the global nodes and ground are
+    its instance's or the netlist's), branches, couplings, devices and sources, and how fast it rings."""
+    values = {**params, **scope.defaults}
+    t = _Tally()
     nodes: set[str] = set()
-    branches = expression = pwl = 0
     capacitance: dict[str, float] = {}
     inductors: dict[str, tuple[str, str, float]] = {}
     damped: set[str] = set()
     couples: list[tuple[str, str, float]] = []
-    sources: list[_Source] = []
-    reactive = 0
-    for number, line in cards:
+    instances = branches = expression = reactive = 0  # counted in locals: this loop sees every element line
+    for number, line in scope.cards:
         words = line.split()
         letter = words[0][0].upper()
+        if letter == "X":
+            instances += 1
+            found = instance(line.strip())
+            if found is not None:
+                scope.calls.append(found.subckt)
+                nodes.update(found.nodes)
+            continue
         if letter == "K":
             if len(words) >= 3:
-                k = _value(words[3], params) if len(words) > 3 else None
+                k = _value(words[3], values) if len(words) > 3 else None
                 couples.append((words[1].lower(), words[2].lower(), abs(k) if k is not None else 0.5))
+            continue
+        if letter in DEVICES:
+            device = device_model(letter, words, models)
+            count = device[0] if device is not None else DEVICES[letter][0]
+            nodes.update(w.lower() for w in words[1:1 + count][:2 if letter == "W" else count])
+            kind = device[1] if device is not None else None
+            t.nonlinear += 1
+            t.nodes += DEVICE_INTERNAL_NODES[letter]
+            heavy = letter == "M" and kind is not None and kind.level > MOS_SIMPLE_LEVELS
+            t.device_seconds += SECONDS_PER_BSIM_ITERATION if heavy else SECONDS_PER_DEVICE_ITERATION[letter]
+            if "{" in line:
+                expression += sum(len(group) for group in _BRACES.findall(line))
             continue
         if letter not in "RLCVIB" or len(words) < 3:
             continue
         a, b = words[1].lower(), words[2].lower()
-        if not _is_ground(a):
-            nodes.add(a)
-        if not _is_ground(b):
-            nodes.add(b)
+        nodes.add(a)
+        nodes.add(b)
         if letter == "B":  # a voltage (V=) has a branch current; its expression is evaluated at every iteration
             body = " ".join(words[3:])
             branches += _B_VOLTAGE.match(body) is not None
@@ -464,17 +589,22 @@ def read_contents(text: str, source: str = "netlist") -> Contents:
             continue
         if letter in "VI":
             tokens = [w for w in _SPLIT.split(_BRACES.sub(" {} ", " ".join(words[3:]))) if w]
-            found = _source_functions(tokens, f"{source}: line {number}", line)
-            pwl += sum(len(s.values) // 2 for s in found if s.name == "pwl")
-            sources += found
+            found_sources = _source_functions(tokens, f"{source}: line {number}", line)
+            t.pwl += sum(len(s.values) // 2 for s in found_sources if s.name == "pwl")
+            t.sources += found_sources
             continue
         reactive += 1
-        value = abs(_value(words[3], params) or 0.0) if len(words) > 3 else 0.0
+        value = abs(_value(words[3], values) or 0.0) if len(words) > 3 else 0.0
         if letter == "C":
             capacitance[a] = capacitance.get(a, 0.0) + value
             capacitance[b] = capacitance.get(b, 0.0) + value
         elif value:
             inductors[words[0].lower()] = (a, b, value)
+    t.elements, t.branches, t.expression, t.reactive = len(scope.cards) - instances, branches, expression, reactive
+    own = nodes | globals_ if top else nodes - scope.ports - globals_  # a port is the instance's node
+    t.nodes += sum(1 for n in own if not _is_ground(n))
+    t.couplings = len(couples)
+    t.coupled_work = sum(k * k / m for m, k in _groups(couples).values())
     coupling: dict[str, float] = {}
     for first, second, k in couples:
         for name in (first, second):
@@ -483,16 +613,43 @@ def read_contents(text: str, source: str = "netlist") -> Contents:
     for name, (a, b, henry) in inductors.items():
         for node in (a, b):
             admittance[node] = admittance.get(node, 0.0) + 1.0 / (henry * (1.0 - coupling.get(name, 0.0)))
-    omega2 = max((2.0 * admittance[n] / c for n, c in capacitance.items()
-                  if c > 0 and n in admittance and n not in damped and not _is_ground(n)), default=0.0)
+    t.omega2 = max((2.0 * admittance[n] / c for n, c in capacitance.items()
+                    if c > 0 and n in admittance and n not in damped and not _is_ground(n)), default=0.0)
+    return t
+
+
+def read_contents(text: str, source: str = "netlist") -> Contents:
+    """What ``text`` holds that its cost depends on (:class:`Contents`), in one pass over its lines, every
+    sub-circuit counted as many times as the flattened circuit holds it (:func:`lcchain.spice.cards.multiplicities`).
+
+    Raises
+    ------
+    ParameterError
+        A source function lcchain cannot price, naming the line, or sub-circuits that instantiate themselves
+        or nest too deep (the allow-list refuses both first, naming the card).
+    """
+    scopes, params, options, models, globals_ = _scopes(text)
+    tallies = {name: _tally(scope, name == "", params, models, globals_, source) for name, scope in scopes.items()}
+    try:
+        copies = multiplicities({name: scope.calls for name, scope in scopes.items()})
+    except (Cycle, TooDeep) as error:
+        raise ParameterError(source, " -> ".join(error.path), f"sub-circuits nested at most {MAX_SUBCKT_DEPTH} "
+                             "deep, none instantiating itself") from None
+    reached = [(tallies[name], count) for name, count in copies.items() if name in tallies]
+
+    def total(attribute: str) -> int:
+        return sum(getattr(t, attribute) * count for t, count in reached)
+
+    reactive = total("reactive")
     reltol, trtol = options.get("reltol"), options.get("trtol")
     tolerance = (reltol if reltol and reltol > 0 else 1e-3) * (trtol if trtol and trtol > 0 else 7.0)
     return Contents(
-        elements=len(cards), reactive_elements=reactive, unknowns=max(len(nodes) + branches, 1),
-        couplings=len(couples),
-        coupled_work=sum(k * k / m for m, k in _groups(couples).values()), expression_bytes=expression,
-        pwl_pairs=pwl, text_bytes=len(text.encode("utf-8")), reactive=reactive > 0,
-        ringing=math.sqrt(omega2) / (2 * math.pi), tolerance=tolerance, sources=tuple(sources))
+        elements=total("elements"), reactive_elements=reactive, unknowns=max(total("nodes") + total("branches"), 1),
+        couplings=total("couplings"), coupled_work=float(sum(t.coupled_work * count for t, count in reached)),
+        expression_bytes=total("expression"), pwl_pairs=total("pwl"), text_bytes=len(text.encode("utf-8")),
+        reactive=reactive > 0, ringing=math.sqrt(max((t.omega2 for t, _ in reached), default=0.0)) / (2 * math.pi),
+        tolerance=tolerance, sources=tuple(s for t, _ in reached for s in t.sources), nonlinear=total("nonlinear"),
+        device_seconds=float(sum(t.device_seconds * count for t, count in reached)))
 
 
 # --------------------------------------------------------------------------- time points
@@ -594,6 +751,12 @@ class Price:
     def estimate(self) -> Estimate:
         return Estimate(self.what, self.memory, self.seconds)
 
+    def plus(self, other: Price) -> Price:
+        """Both runs' prices in one (their points those of this one's analysis)."""
+        return Price(f"{self.what}, and {other.what}", self.points, self.seconds + other.seconds,
+                     self.memory + other.memory, self.simulator_memory + other.simulator_memory,
+                     self.output_bytes + other.output_bytes)
+
     def limits(self, budget: Budget, timeout: float = math.inf) -> RunLimits:
         """The run's own limits: :data:`RUN_LIMIT_FACTOR` times its price plus a floor, within the budget (and
         ``timeout``, seconds, when the user gave one)."""
@@ -624,7 +787,8 @@ def _per_solve(contents: Contents) -> float:
     size = c.unknowns + c.elements
     return ((SECONDS_PER_UNKNOWN_ITERATION * c.unknowns + SECONDS_PER_ELEMENT_ITERATION * (c.elements
              - c.reactive_elements) + SECONDS_PER_REACTIVE_ITERATION * c.reactive_elements)
-            * math.pow(max(1.0, size / SMALL_CIRCUIT), 0.25) + SECONDS_PER_COUPLED_ITERATION * c.coupled_work)
+            * math.pow(max(1.0, size / SMALL_CIRCUIT), 0.25) + SECONDS_PER_COUPLED_ITERATION * c.coupled_work
+            + c.device_seconds)
 
 
 def transient_price(contents: Contents, *, step: float, stop: float, max_step: float, saved: int) -> Price:
@@ -640,6 +804,8 @@ def transient_price(contents: Contents, *, step: float, stop: float, max_step: f
         Values saved per time point (the ``.save`` names, or every unknown), time excluded.
     """
     points, forced = _transient_points(contents, step, stop, max_step)
+    if contents.nonlinear:  # every point is solved by Newton iterations that the devices keep busy
+        forced = points
     iterations = ITERATIONS_PER_POINT * points + (ITERATIONS_PER_FORCED_POINT - ITERATIONS_PER_POINT) * forced
     per_iteration = (_per_solve(contents) + SECONDS_PER_EXPRESSION_BYTE_ITERATION * contents.expression_bytes
                      + SECONDS_PER_PWL_PAIR_ITERATION * contents.pwl_pairs)
@@ -663,3 +829,14 @@ def sweep_price(contents: Contents, *, frequencies: int, saved: int) -> Price:
     what = f"{frequencies} frequencies x {saved or contents.unknowns} saved complex values, {contents.describe()}"
     return Price(what, float(frequencies), seconds, 2 * BYTES_PER_VALUE * values + lcchain_bytes + simulator_bytes,
                  simulator_bytes + 2 * WORKER_BYTES_PER_VALUE * values, 16.0 * values)
+
+
+def operating_price(contents: Contents, *, points: int, saved: int) -> Price:
+    """What the ``.op`` and ``.dc`` cards beside a netlist's analysis add to its price: ``points`` operating
+    points (an ``.op`` is one; a ``.dc`` sweep one per value), the first at :data:`OP_ITERATIONS` Newton
+    iterations, each other one at :data:`ITERATIONS_PER_FORCED_POINT` from its neighbour, and their rows of the
+    raw file."""
+    iterations = OP_ITERATIONS + ITERATIONS_PER_FORCED_POINT * max(points - 1, 0)
+    values = points * ((saved or contents.unknowns) + 1)
+    seconds = SHARED_MACHINE_FACTOR * (iterations * _per_solve(contents) + SECONDS_PER_POINT * points)
+    return Price(f"{points} operating points", float(points), seconds, 0.0, 0.0, 8.0 * values)

@@ -149,10 +149,10 @@ def extrapolated_record(chain: Chain, modes: Modes, *, runs: int, dt: float, tra
     }
 
 
-def _ladder_ode(chain: Chain):
+def _ladder_ode(chain: Chain) -> Callable[[float, np.ndarray], np.ndarray]:
     diagonal, off = tridiagonal(chain)
 
-    def rhs(_t, y):
+    def rhs(_t: float, y: np.ndarray) -> np.ndarray:
         n = diagonal.size
         q, p = y[:n], y[n:]
         acc = -diagonal * q
@@ -238,7 +238,7 @@ def ladder_energy(chain: Chain, *, method: Method, dt: float, transits: int, L0:
 
 
 # ------------------------------------------------------------------ the sweep
-def _plan(Ns: Sequence[int], quick: bool) -> list[tuple[str, int, dict]]:
+def _plan(Ns: Sequence[int], quick: bool) -> list[tuple[str, int, dict[str, Any]]]:
     jobs = []
     dts = QUICK_DT if quick else FIXED_DT
     for N in Ns:
@@ -360,7 +360,7 @@ def record_label(record: BenchRecord | dict[str, Any]) -> str:
     return method if method in ("DOP853", "modal sum") else f"{method} {record['stepping']}"
 
 
-def summarise(records: Sequence[BenchRecord], checks: Sequence[dict] = ()) -> dict:
+def summarise(records: Sequence[BenchRecord], checks: Sequence[dict[str, Any]] = ()) -> dict[str, Any]:
     """Fitted error and cost models and the cost of 1e-3 and 1e-5 per method and N.
 
     Error model (fixed steps): error = c dt^2, c the median of error/dt^2 over
@@ -368,7 +368,7 @@ def summarise(records: Sequence[BenchRecord], checks: Sequence[dict] = ()) -> di
     loop per time point; ngspice's unknowns are about 2N, so k/2 per unknown),
     fitted on the largest N (start-up costs dominate small runs).
     """
-    fits: dict = {"error_c": {}, "cost_k": {}}
+    fits: dict[str, dict[Any, Any]] = {"error_c": {}, "cost_k": {}}
     for method in METHODS:
         for N in sorted({r["N"] for r in records}):
             rs = [r for r in records if r["method"] == method and r["stepping"] == "fixed" and r["N"] == N]
@@ -391,11 +391,11 @@ def summarise(records: Sequence[BenchRecord], checks: Sequence[dict] = ()) -> di
     return {"fits": fits, "cost": cost, "targets": list(checks)}
 
 
-def _fmt(value, spec=".3g") -> str:
+def _fmt(value: float | None, spec: str = ".3g") -> str:
     return "–" if value is None else format(value, spec)
 
 
-def summary_markdown(summary: dict) -> str:
+def summary_markdown(summary: dict[str, Any]) -> str:
     lines = ["| method | N | 1e-3 costs (s) | 1e-5 costs (s) | best error |", "|---|---:|---:|---:|---:|"]
     for key, row in summary["cost"].items():
         label, N = key.rsplit(" N=", 1)

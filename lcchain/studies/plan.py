@@ -16,7 +16,10 @@ executor, host or attempt.
 * :func:`batch_plan`: netlists lcchain did not write, run as they are
   (``lcchain batch``); each one lcchain will not run is a :class:`Refusal`,
   stored as a run of status ``"refused"`` while the others run (or, with
-  ``strict``, refused before anything runs).
+  ``strict``, refused before anything runs);
+* :func:`netlist_sweep_plan`: one foreign netlist's ``.param`` or element
+  values varied over lists, grids and seeded draws (``lcchain sweep --netlist
+  FILE --vary ...``), each variant checked and run as a batch's netlist.
 """
 
 from __future__ import annotations
@@ -51,19 +54,20 @@ from ..core.limits import MAX_CIRCUIT_N, MAX_DESIGN_N, MAX_DT, MAX_TRANSITS, MIN
 from ..core.types import DEFAULT_C0, DEFAULT_L0, Backend, Excitation
 from ..runs.spec import DEFAULT_TIMEOUT, RunSpec, SpectrumTheory, Theory
 from ..spice.engines import DEFAULT_ENGINE, ENGINES, find_engine
-from ..spice.foreign import allowed_netlist, analysis_of, foreign_price
+from ..spice.foreign import ALLOW_CONTROL_HINT, allowed_netlist, analysis_of, foreign_price
 from ..spice.runner import read_include
 from ..spice.text import canonical_text, saved_vectors
 from .executors import executor_cost
 
 if TYPE_CHECKING:
     from ..runs.request import Request, RequestPlan
+    from .vary import Vary
 
 # A plan of foreign netlists (lcchain batch) needs none of the chains, requests and scenes: they load in the
 # functions that plan them, so that a batch starts without them (issue 35, tests/test_imports.py).
 
 __all__ = ["Task", "Combination", "Refusal", "Plan", "sweep_plan", "spectrum_sweep_plan", "scene_sweep_plan",
-           "case_scene", "request_plan", "batch_plan", "parse_vary"]
+           "case_scene", "request_plan", "batch_plan", "netlist_sweep_plan", "parse_vary"]
 
 
 @dataclass(frozen=True)
@@ -169,7 +173,7 @@ class Plan:
 
     Attributes
     ----------
-    kind : {"sweep", "scene", "batch"}
+    kind : {"sweep", "scene", "batch", "netlist"}
     description : Mapping
         What the user asked for (the command's axes), kept with the store.
     tasks : tuple of Task
@@ -265,7 +269,7 @@ class Plan:
     def _made_by(self) -> str:
         if self.kind == "batch":
             return "NETLIST"
-        if self.kind == "scene":
+        if self.kind in ("scene", "netlist"):
             return "--vary/--samples"
         axes = [f"--{name}" for name in self.axes if name in ("case", "N", "dt", "accuracy", "transits", "excitation")]
         return " x ".join(axes) or "--N"
@@ -677,7 +681,7 @@ def request_plan(points: Sequence[tuple[Mapping[str, Any], Request]], *, budget:
 
 def batch_plan(paths: Sequence[str | Path], *, allow_control: bool = False, backend: Backend = "batch",
                timeout: float = DEFAULT_TIMEOUT, budget: Budget | None = None, strict: bool = False,
-               engine_version: Callable[[], str] | None = None) -> Plan:
+               engine_version: Callable[[], str] | None = None, check: bool = False) -> Plan:
     """Foreign netlists, checked and priced before anything runs.
 
     Every netlist, and every file it includes, must be a regular file (its
@@ -697,6 +701,10 @@ def batch_plan(paths: Sequence[str | Path], *, allow_control: bool = False, back
     The checks read text only, so a resumed batch makes them again, cheaply, and finds each refusal stored under
     its key (:attr:`Refusal.key`): it is neither run nor stored twice.
 
+    With ``check``, each run's saved vectors are also compared with the netlist's exact response
+    (:attr:`lcchain.runs.spec.RunSpec.check`): the largest error is stored as the measurement
+    ``check_max_abs_error``.
+
     ``engine_version`` gives the version of the ngspice that will run the batch (:attr:`Simulator.version`),
     asked only when a netlist has an ``.ac dec`` card (:func:`lcchain.spice.foreign.log_sweep_count`); by
     default ngspice is found for ``backend``.
@@ -710,7 +718,7 @@ def batch_plan(paths: Sequence[str | Path], *, allow_control: bool = False, back
         path = Path(name)
         read: list[str] = []
         try:
-            tasks.append(_batch_task(index, path, read, allow_control, backend, timeout, budget, version))
+            tasks.append(_batch_task(index, path, read, allow_control, backend, timeout, budget, version, check))
         except ParameterError as error:
             if strict:
                 raise
@@ -720,7 +728,7 @@ def batch_plan(paths: Sequence[str | Path], *, allow_control: bool = False, back
     if first is not None and not tasks:  # nothing of it can run: bad input, as with strict
         raise first
     description = {"command": "batch", "netlists": [str(p) for p in paths], "allow_control": allow_control,
-                   "backend": backend}
+                   "backend": backend, **({"check": True} if check else {})}
     return Plan("batch", FrozenMap(description), tuple(tasks), backend, ("netlist",), refusals=tuple(refusals))
 
 
@@ -737,7 +745,7 @@ def _version_of(backend: Backend) -> Callable[[], str]:
 
 
 def _batch_task(index: int, path: Path, read: list[str], allow_control: bool, backend: Backend, timeout: float,
-                budget: Budget, version: Callable[[], str]) -> Task:
+                budget: Budget, version: Callable[[], str], check: bool = False) -> Task:
     """One netlist of a batch checked, priced and made a task, or its refusal raised (``read`` gets its text
     once read: the refusal's key)."""
     text = read_include(path, "NETLIST")
@@ -745,18 +753,100 @@ def _batch_task(index: int, path: Path, read: list[str], allow_control: bool, ba
     folder = path.resolve().parent
     run_text = canonical_text(text, str(path)) if allow_control else \
         allowed_netlist(text, str(path), folder, read_include)
-    analysis = analysis_of(run_text, str(path), version)
+    return _foreign_task(index, {"netlist": str(path)}, run_text, str(path), path.name, backend=backend,
+                         timeout=timeout, budget=budget, version=version,
+                         cwd=str(folder) if allow_control else None, trusted=allow_control, check=check)
+
+
+def _foreign_task(index: int, params: Mapping[str, Any], run_text: str, source: str, label: str, *,
+                  backend: Backend, timeout: float, budget: Budget, version: Callable[[], str],
+                  cwd: str | None = None, trusted: bool = False, check: bool = False) -> Task:
+    """A checked foreign netlist (what ngspice will receive) priced and made a task, or its refusal raised: its
+    analysis, its price against ``budget`` and its run's limits from that price."""
+    analysis = analysis_of(run_text, source, version)
     saved = saved_vectors(run_text)
-    price = foreign_price(run_text, analysis, len(saved), str(path))
-    price.estimate.check(budget, str(path), analysis.describe())
+    price = foreign_price(run_text, analysis, len(saved), source)
+    price.estimate.check(budget, source, analysis.describe())
     limits = price.limits(budget, timeout)
     try:
         spec = RunSpec(run_text, saved, analysis.tstop, backend=backend, timeout=limits.timeout,
-                       cwd=str(folder) if allow_control else None, trusted=allow_control, foreign=True,
+                       cwd=cwd, trusted=trusted, foreign=True,
                        max_output_bytes=limits.max_output_bytes, max_resident_bytes=limits.max_resident_bytes,
-                       label=path.name, analysis=analysis.kind, points=analysis.frequencies)
+                       label=label, analysis=analysis.kind, points=analysis.frequencies, check=check)
     except ParameterError as error:
-        raise (error.renamed("--allow-control") if error.field == "trusted" else error).located(str(path)) \
+        raise (error.renamed("--allow-control") if error.field == "trusted" else error).located(source) \
             from None
-    return Task(index, FrozenMap({"netlist": str(path)}), spec, price.seconds,
-                price.estimate.memory + SIMULATOR_BYTES)
+    return Task(index, FrozenMap(dict(params)), spec, price.seconds, price.estimate.memory + SIMULATOR_BYTES)
+
+
+def _swept(error: ParameterError) -> ParameterError:
+    """An allow-list refusal as a sweep says it: a sweep has no ``--allow-control``, so batch's hint goes."""
+    if not error.allowed.endswith(ALLOW_CONTROL_HINT):
+        return error
+    return ParameterError(error.field, error.value, error.allowed.removesuffix(ALLOW_CONTROL_HINT)
+                          + " (a sweep runs only what the allow-list accepts)", error.where)
+
+
+def netlist_sweep_plan(path: str | Path, varies: Sequence[Vary], *, samples: int | None = None,
+                       seed: int | None = None, backend: Backend = "batch", timeout: float = DEFAULT_TIMEOUT,
+                       budget: Budget | None = None, engine_version: Callable[[], str] | None = None,
+                       progress: Callable[[int, int, str], None] | None = None) -> Plan:
+    """A foreign netlist's ``.param`` or element values varied (``lcchain sweep --netlist FILE --vary ...``): one
+    task per variant, each checked, priced and run as :func:`batch_plan` runs a netlist.
+
+    The netlist (and every file it includes) passes the allow-list once
+    (:func:`lcchain.spice.foreign.allowed_netlist`); each varied name is found in the text it returns
+    (:func:`lcchain.spice.variants.find_target`: a name it does not define is refused, listing those it does);
+    each variant is that text with the values replaced (:func:`lcchain.spice.variants.with_values`: numbers
+    lcchain writes), checked by the allow-list again, and what comes back is what runs.  Its analysis and price
+    are the variant's own: a variant beyond ``budget`` is a :class:`Refusal` (stored as ``refused``) while the
+    others run; when every variant is refused, the first refusal is raised.
+
+    Each task's params are its values by :attr:`lcchain.studies.vary.Vary.column` (and ``sample`` for drawn
+    values, :func:`lcchain.studies.vary.variant_points`): the store's columns for them.
+    """
+    from ..spice.variants import find_target, netlist_targets, with_values
+    from .vary import variant_points
+
+    budget = budget if budget is not None else Budget()
+    version = engine_version if engine_version is not None else _version_of(backend)
+    path = Path(path)
+    source = str(path)
+    points = variant_points(varies, samples=samples, seed=seed)  # before the netlist: a bad --vary is the error
+    text = read_include(path, "--netlist")
+    try:
+        base = allowed_netlist(text, source, path.resolve().parent, read_include)
+    except ParameterError as error:
+        raise _swept(error) from None
+    analysis_of(base, source, version)  # a netlist without an analysis lcchain reads is bad input, not a refusal
+    targets = netlist_targets(base)
+    found = {vary.column: find_target(targets, vary.name, shown=vary.spec) for vary in varies}
+    tasks: list[Task] = []
+    refusals: list[Refusal] = []
+    first: ParameterError | None = None
+    for index, point in enumerate(points):
+        label = f"{path.name} " + " ".join(f"{column}={value:.6g}" for column, value in point.items()
+                                           if column in found)
+        if progress is not None:
+            progress(index, len(points), f"planning {label}")
+        variant = with_values(base, {found[column]: value for column, value in point.items() if column in found})
+        try:
+            checked = allowed_netlist(variant, source, None)  # the same allow-list: what it returns runs
+            tasks.append(_foreign_task(index, point, checked, source, label, backend=backend, timeout=timeout,
+                                       budget=budget, version=version))
+        except ParameterError as refused:
+            said = _swept(refused)
+            first = first or said
+            refusals.append(Refusal(index, FrozenMap(point), str(said), _refusal_key(source, variant), label))
+    if progress is not None:
+        progress(len(points), len(points), "planning")
+    if first is not None and not tasks:  # nothing of it can run: bad input
+        raise first
+    description = {"command": "sweep", "netlist": source, "vary": [vary.spec for vary in varies],
+                   "samples": samples, "seed": seed, "backend": backend}
+    seen: dict[str, set[str]] = {}
+    for point in points:
+        for key, value in point.items():
+            seen.setdefault(key, set()).add(repr(value))
+    axes = tuple(key for key, values in seen.items() if len(values) > 1)
+    return Plan("netlist", FrozenMap(description), tuple(tasks), backend, axes, refusals=tuple(refusals))

@@ -126,9 +126,28 @@ def check_metric(metric: str, runs: list[StoredRun], option: str = "--metric") -
                          "vectors, points and time)")
 
 
+def _drawn(runs: list[StoredRun], axes: list[str]) -> set[str]:
+    """The axes whose value the sample number alone fixes: the values a sweep of a netlist drew (one per sample,
+    the same at every point of its other axes, :func:`lcchain.studies.vary.variant_points`) belong to the samples
+    of a group, not to a group of their own.  No other study has such an axis (a scene's axes take several
+    values at one sample number)."""
+    if "sample" not in axes:
+        return set()
+    drawn = set()
+    for key in axes:
+        if key == "sample":
+            continue
+        by_sample: dict[str, str] = {}
+        if all(by_sample.setdefault(repr(run.params.get("sample")), repr(run.params.get(key)))
+               == repr(run.params.get(key)) for run in runs):
+            drawn.add(key)
+    return drawn
+
+
 def peak_groups(runs: list[StoredRun], metric: str = "peak") -> list[Group]:
-    """The runs grouped by the study's axes without ``sample`` (:func:`study_axes`), groups in the order of
-    their first task (an extrapolation counts once, by its combined result).
+    """The runs grouped by the study's axes without ``sample`` (:func:`study_axes`) and the values drawn per
+    sample (a netlist's ``--vary`` distributions), groups in the order of their first task (an extrapolation
+    counts once, by its combined result).
 
     Parameters
     ----------
@@ -141,7 +160,10 @@ def peak_groups(runs: list[StoredRun], metric: str = "peak") -> list[Group]:
     """
     name = metric if metric not in METRICS and metric in measurement_names(runs) else \
         choice("metric", metric, STUDY_METRICS)
-    axes = [key for key in study_axes([run for run in runs if not run.member]) if key != "sample"]
+    results = [run for run in runs if not run.member]
+    every = study_axes(results)
+    drawn = _drawn(results, every)
+    axes = [key for key in every if key != "sample" and key not in drawn]
     order: dict[str, dict[str, Any]] = {}
     peaks: dict[str, list[float]] = {}
     failed: dict[str, int] = {}
