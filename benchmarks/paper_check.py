@@ -7,6 +7,7 @@ for what was checked and the verdicts.
     python benchmarks/paper_check.py rows two-mass 3 4 5      # Table II rows from a dense eigensolution
     python benchmarks/paper_check.py rows one-mass 3 50       # Table I rows (and delta*(1))
     python benchmarks/paper_check.py audit rows.txt -v     # every printed cell against those rows
+    python benchmarks/paper_check.py fixed-m1 1000 9.146 0.345 0.355   # alpha with m1 held at its print
     python benchmarks/paper_check.py asymptotic               # Secs. IV.C, V.A constants by quadrature
     python benchmarks/paper_check.py appendix                 # App. A, B, C against dense algebra
 
@@ -294,6 +295,13 @@ if __name__ == "__main__":
     command, *args = sys.argv[1:] or ["rows", "two-mass", "3", "4", "5"]
     if command == "rows":
         _rows(args[0], [int(a) for a in args[1:]])
+    elif command == "fixed-m1":
+        # Table II N = 1000's finding: the best alpha with m1 held at its printed value, r optimised
+        N, m1, r_lo, r_hi = int(args[0]), float(args[1]), float(args[2]), float(args[3])
+        best = scipy.optimize.minimize_scalar(
+            lambda r: 1 - first_arrival(*two_mass_chain(N, r, r / ((2 - r) * m1)))[0], bounds=(r_lo, r_hi),
+            method="bounded", options={"xatol": 1e-9})
+        print(f"N = {N}, m1 = {m1}: best alpha {1 - best.fun:.11f} at r = {best.x:.7f}")
     elif command == "appendix":
         _appendix()
     elif command == "audit":
