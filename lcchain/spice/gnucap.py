@@ -229,6 +229,8 @@ class Gnucap(Engine):
     transports: ClassVar[tuple[Backend, ...]] = ("batch",)
     install: ClassVar[str] = INSTALL_COMMAND
     runs_foreign: ClassVar[bool] = False
+    #: ``lcchain check`` runs a foreign linear netlist in it rewritten from its cards' numbers (gnucap_check).
+    checks_cards: ClassVar[bool] = True
     extrapolates: ClassVar[bool] = False
     no_extrapolation: ClassVar[str] = ("gnucap prints, and stops, on multiples of its print step only, so it cannot "
                                        "run the aligned steps (print step = tstop) that lcchain's extrapolation "
