@@ -143,15 +143,34 @@ def test_butterworth_sine_in_gnucap_errs_as_predicted(tmp_path: Path, capsys: py
     (("RL n3 0 {r0}", "RL n3 0 {r0}\n.options method=gear"), "method=gear"),
     (("C5 n3 0 {0.618/(wc*r0)}", "C5 n3 0 {0.618/(wc*r0)} ic=0.1"), "ic= on C5"),
     ((".tran 1u 5m 0 1u", ".tran 1u 5m 1m 1u"), "start time"),
-    ((".tran 1u 5m 0 1u", ".ac dec 10 10 10k"), ".ac netlist"),
+    ((".tran 1u 5m 0 1u", ".ac dec 10 10 10k"), "an AC phase"),
     (("RL n3 0 {r0}", "RL n3 0 {r0}\nD1 n3 0 dmod\n.model dmod d"), "no exact reference"),
 ])
 def test_what_gnucap_cannot_run_exactly_is_refused_in_one_line(tmp_path: Path, capsys: pytest.CaptureFixture[str],
                                                                  change: tuple[str, str], named: str) -> None:
     text = SINE.replace(*change)
     assert text != SINE
-    path = _write(tmp_path, text.replace("SIN(0 1 700 0 0 0)", "SIN(0 1 700 0 0 0) AC 1") if "ac" in named else
-                  text)
+    path = _write(tmp_path, text.replace("SIN(0 1 700 0 0 0)", "DC 0 AC 1 30") if "AC" in named else text)
     assert main(["check", str(path), "--engine", "gnucap"]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and named in err, err
+
+
+def test_ac_sweep_in_gnucap_is_the_transfer_function(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """gnucap's phasors at its own frequencies against 1 / Z of the band-pass, written here."""
+    text = BANDPASS.replace("PULSE(0 1 0 1u 1u 20u 100u)", "DC 0 AC 1").replace(".tran 0.1u 200u 0 0.1u",
+                                                                                 ".ac dec 20 100 1meg")
+    allowed = allowed_netlist(text, "netlist", None)
+    written = check_netlist(read_cards(allowed), {}, 0.0, 0.0, 0.0, ["v(out)", "i(v1)"], sweep=("dec", 20, 100.0,
+                                                                                                  1e6))
+    run = run_check(written, 0.0, simulator=find_engine("gnucap"), timeout=60)
+    f = run.time
+    assert f.size == 81 and f[0] == pytest.approx(100) and f[-1] == pytest.approx(1e6)
+    s = 2j * np.pi * f
+    current = 1.0 / (60.0 + s * 1e-3 + 1 / (s * 100e-9))
+    np.testing.assert_allclose(run.vectors["v(out)"], 10.0 * current, rtol=1e-11)
+    np.testing.assert_allclose(run.vectors["i(v1)"], -current, rtol=1e-11)  # SPICE's sign
+    assert main(["check", str(_write(tmp_path, text)), "--engine", "gnucap", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["engine"] == "gnucap" and data["analysis"] == "ac" and data["points"] == 81
+    assert data["max_rel_error"] < 1e-11 and data["predicted_error"] is None

@@ -9,6 +9,10 @@ When every element is an R, L, C, K or an independent source with a DC value, PU
 frequencies (:mod:`lcchain.compare.check`), predicts the trapezoidal rule's error at the run's largest step,
 and finds the fixed step an accuracy needs.
 
+An engine that does not run foreign netlists but ``checks_cards`` (gnucap) runs lcchain's own copy of the
+netlist, written from the cards' numbers (:mod:`lcchain.spice.gnucap_check`), its vectors read back by the
+user's names; what it cannot run exactly (and a netlist with no exact reference) is refused.
+
 Anything else (a behavioural source, a SFFM source, a diode or transistor, a sub-circuit instance, a value that
 calls a ``.func``) still runs: the result says "no exact reference" and why, and has no errors.
 
@@ -351,9 +355,6 @@ def _run_rewritten(allowed: str, cards: NetlistCards, analysis: Transient | Swee
     (:mod:`lcchain.spice.gnucap_check`), its vectors by ngspice's names."""
     from ..spice.gnucap_check import check_netlist, run_check
 
-    if not isinstance(analysis, Transient):
-        raise ParameterError("--engine", simulator.engine, "ngspice for an .ac netlist (lcchain runs a foreign "
-                             f"netlist's transient only in {simulator.engine})")
     functions = {}
     for card in cards.elements:
         if isinstance(card, SourceCard):
@@ -362,12 +363,19 @@ def _run_rewritten(allowed: str, cards: NetlistCards, analysis: Transient | Swee
                 raise ParameterError("source", card.name, found)
             functions[card.name] = found
     names = [canonical_vector_name(v) for v in saved_vectors(allowed)]
-    written = check_netlist(cards, functions, min(analysis.step, analysis.max_step), analysis.stop,
-                            analysis.start, names)
-    run = run_check(written, analysis.stop, simulator=simulator, timeout=timeout)
+    if isinstance(analysis, Sweep):
+        count = analysis.count if analysis.spacing == "lin" else analysis.per
+        written = check_netlist(cards, functions, 0.0, 0.0, 0.0, names,
+                                sweep=(analysis.spacing, count, analysis.start, analysis.stop))
+        how = "its AC sweep"
+    else:
+        written = check_netlist(cards, functions, min(analysis.step, analysis.max_step), analysis.stop,
+                                analysis.start, names)
+        how = f"at a fixed print step {written.step:.6g} s (dtmax the same), method=trap"
+    run = run_check(written, analysis.tstop, simulator=simulator, timeout=timeout)
     renamed = ", ".join(f"{user.upper()}={own}" for user, own in written.names)
     note = (f"{simulator.engine} ran lcchain's copy of the netlist, written from its numbers ({renamed}; nodes "
-            f"n1, n2...), at a fixed print step {written.step:.6g} s (dtmax the same), method=trap")
+            f"n1, n2...), {how}")
     return np.asarray(run.time), {k: np.asarray(v) for k, v in run.vectors.items()}, run.wall_s, \
         run.engine_version, (note,)
 

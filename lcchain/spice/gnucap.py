@@ -4,7 +4,9 @@ gnucap (Debian package ``gnucap``; measured with ``master 2017.10.03``) is
 an independent circuit simulator: agreement between it and ngspice is
 evidence that neither has a bug of its own.  It runs only netlists lcchain
 wrote (``RunSpec.foreign`` False): the allow-list and the sandbox of foreign
-netlists are ngspice's.
+netlists are ngspice's.  ``lcchain check --engine gnucap`` runs a foreign
+linear netlist in it as a netlist lcchain writes from its cards' numbers
+(:mod:`lcchain.spice.gnucap_check`, ``checks_cards``).
 
 The dialect (measured on this machine)
 --------------------------------------

@@ -32,7 +32,11 @@ gnucap (``master 2017.10.03``), measured on this machine
   gnucap starts from 2 ``dtmin`` and doubles up to h, and adds a step at each source corner off the grid (the
   band-pass at h = 0.3 us: 700 steps for 667 points); its error is the fixed-step prediction's, 1.01 times it
   there, 0.96 .. 1.02 times it on the Butterworth ladder (SIN, PWL, EXP, PULSE);
-* ``.tran`` with a start time other than 0 is refused (gnucap's table would start at 0).
+* ``.tran`` with a start time other than 0 is refused (gnucap's table would start at 0);
+* ``.ac lin|dec|oct N f1 f2`` is read in SPICE's order (``oct``: gnucap's frequencies are a little off the
+  octaves, 2.00000001 kHz from 1 kHz, and the last passes f2); a source's ``AC mag phase`` loses its phase in
+  gnucap (measured: the phasor turned back by it), so a phase other than 0 is refused.  The phasors agreed
+  with the exact ones to 1e-14 of their scale (the band-pass, 100 Hz to 1 MHz; the Butterworth ladder).
 """
 
 from __future__ import annotations
@@ -46,8 +50,8 @@ import numpy as np
 
 from ..core.errors import ParameterError
 from .element_values import CouplingCard, ElementCard, NetlistCards, OtherCard, SourceCard
-from .gnucap import DTMIN_FRACTION, GMIN, SOURCE_RESISTANCE, VOLTAGE_LIMIT, _run_child
-from .gnucap_table import TITLE, read_table
+from .gnucap import AC_DIGITS, DTMIN_FRACTION, GMIN, SOURCE_RESISTANCE, VOLTAGE_LIMIT, _run_child
+from .gnucap_table import TITLE, read_ac_table, read_table
 from .simulator import Simulator
 from .text import canonical_vector_name
 
@@ -70,8 +74,8 @@ def _refuse(what: str) -> ParameterError:
 
 @dataclass(frozen=True)
 class GnucapCheckNetlist:
-    """gnucap's netlist, its fixed step h, and each saved vector (ngspice's name) as a sum of printed columns
-    (gnucap's name, coefficient)."""
+    """gnucap's netlist, its fixed step h (0 for an AC sweep), and each saved vector (ngspice's name) as a sum of
+    printed columns (gnucap's name, coefficient)."""
 
     text: str
     step: float
@@ -81,7 +85,8 @@ class GnucapCheckNetlist:
 
 @dataclass(frozen=True)
 class CheckedRun:
-    """gnucap's time points (the t = 0 row dropped), the saved vectors by ngspice's names, its wall time."""
+    """gnucap's time points (the t = 0 row dropped) or frequencies (Hz; ``time`` then holds them), the saved
+    vectors by ngspice's names (complex phasors in an AC sweep), its wall time."""
 
     time: np.ndarray
     vectors: Mapping[str, np.ndarray]
@@ -96,7 +101,8 @@ def _word(value: float) -> str:
 
 
 def check_netlist(cards: NetlistCards, functions: Mapping[str, tuple[str, tuple[float, ...]]], step: float,
-                  stop: float, start: float, vectors: Sequence[str]) -> GnucapCheckNetlist:
+                  stop: float, start: float, vectors: Sequence[str],
+                  sweep: tuple[str, int, float, float] | None = None) -> GnucapCheckNetlist:
     """gnucap's netlist of the cards.
 
     Parameters
@@ -111,6 +117,9 @@ def check_netlist(cards: NetlistCards, functions: Mapping[str, tuple[str, tuple[
     vectors : sequence of str
         Canonical names (``v(out)``, ``v(a,b)``, ``i(v1)``, ``i(l1)``, ``@r1[i]``); empty: every node voltage and
         the current of every V source and coil, as ngspice saves them.
+    sweep : (spacing, count, f1, f2), optional
+        An AC analysis instead: ``.ac lin count f1 f2`` or ``.ac dec|oct count f1 f2`` (count per decade or
+        octave); the sources' AC magnitudes, their transient functions left out (``step``, ``stop`` unused).
 
     Raises
     ------
@@ -121,7 +130,7 @@ def check_netlist(cards: NetlistCards, functions: Mapping[str, tuple[str, tuple[
         raise _refuse(".ic or uic (gnucap starts from initial conditions without ngspice's operating point)")
     if cards.method != "trap":
         raise _refuse(f"method={cards.method} (lcchain runs gnucap with the trapezoidal rule only)")
-    if start != 0:
+    if start != 0 and sweep is None:
         raise _refuse("a .tran start time other than 0 (gnucap's table starts at 0)")
     nodes: dict[str, str] = {}
 
@@ -160,8 +169,13 @@ def check_netlist(cards: NetlistCards, functions: Mapping[str, tuple[str, tuple[
                 raise _refuse(f"the coupling {card.name.upper()} before its coils")
             body.append(f"{rename('K', card.name)} {renamed[card.first]} {renamed[card.second]} {_word(card.k)}")
         else:
-            body.append(_source(card, functions.get(card.name), rename(card.letter, card.name), node(card.a),
-                                node(card.b)))
+            name = rename(card.letter, card.name)
+            if sweep is not None:
+                if card.ac[1]:
+                    raise _refuse(f"the source {card.name.upper()}: an AC phase (gnucap reads the magnitude only)")
+                body.append(f"{name} {node(card.a)} {node(card.b)} DC 0.0 AC {_word(card.ac[0])}")
+            else:
+                body.append(_source(card, functions.get(card.name), name, node(card.a), node(card.b)))
             ends[renamed[card.name]] = (node(card.a), node(card.b))
     if not nodes:
         raise _refuse("a netlist without nodes")
@@ -171,6 +185,15 @@ def check_netlist(cards: NetlistCards, functions: Mapping[str, tuple[str, tuple[
     printed = sorted({column for _, terms in read for column, _ in terms})
     if not printed:
         raise _refuse("a run without a vector to print (only ground is saved)")
+    if sweep is not None:
+        spacing, count, f1, f2 = sweep
+        if spacing not in ("lin", "dec", "oct") or count < 1 or not 0 < f1 <= f2:
+            raise _refuse(f"the sweep {spacing} {count} {f1!r} {f2!r}")
+        options = [f"numdgt={AC_DIGITS}", f"short={CHECK_SOURCE_RESISTANCE!r}", f"gmin={GMIN!r}"]
+        ac = " ".join(f"{what[0]}r{what[1:]} {what[0]}i{what[1:]}" for what in printed)
+        text = "\n".join([TITLE, *body, ".options " + " ".join(options), ".print ac " + ac,
+                          f".ac {spacing} {int(count)} {_word(f1)} {_word(f2)}", ".end"]) + "\n"
+        return GnucapCheckNetlist(text, 0.0, read, tuple(renamed.items()))
     h = stop / math.ceil(stop / step * (1 - 1e-12))  # gnucap prints, and stops, on multiples of its print step
     options = [f"numdgt={CHECK_DIGITS}", "method=trap", "noincmode", f"short={CHECK_SOURCE_RESISTANCE!r}",
                f"gmin={GMIN!r}", f"dtmin={h * DTMIN_FRACTION!r}", f"vmax={VOLTAGE_LIMIT!r}", f"vmin={-VOLTAGE_LIMIT!r}"]
@@ -250,11 +273,12 @@ def run_check(netlist: GnucapCheckNetlist, stop: float, *, simulator: Simulator,
     # gnucap's warning at the operating point with short=1e-30 (the values are those of short=1e-15, which
     # prints none, to every digit): not a row of its table
     output = "\n".join(line for line in output.splitlines() if not _OPEN_NODE.match(line))
-    columns = read_table(output, log)
-    time = columns["time"]
+    ac = netlist.step == 0.0
+    columns = read_ac_table(output, log) if ac else read_table(output, log)
+    time = columns["frequency" if ac else "time"]
     vectors: dict[str, np.ndarray] = {}
     for name, terms in netlist.vectors:
-        total = np.zeros(time.size)
+        total = np.zeros(time.size, dtype=complex if ac else float)
         for column, k in terms:
             total = total + k * columns[canonical_vector_name(column)]
         vectors[name] = total
