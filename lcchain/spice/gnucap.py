@@ -89,7 +89,7 @@ from .gnucap_table import TITLE, failure, number, quiet, quote, read_ac_table, r
 from .log import trim_log
 from .processes import child_env, kill_group, outgrown, read_all
 from .runner import RunResult, check_arguments, progress_reporter, validate_columns, wait_watching
-from .sandbox import Sandbox
+from .sandbox import SCRATCH, Sandbox, scratch_env
 from .scratch import scratch_folder
 from .simulator import Simulator, child_launcher
 from .text import canonical_vector_name, netlist_lines, parse_options, saved_vectors
@@ -429,15 +429,22 @@ def _last_time(out: IO[bytes]) -> float | None:
 
 def _run_child(text: str, simulator: Simulator, timeout: float, tstop: float,
                progress: Callable[[float], None] | None, limit: float,
-               resident: float | None = None) -> tuple[str, str, float]:
-    """gnucap's stdout and its whole output, and its wall time; in a temporary folder that is then removed."""
+               resident: float | None = None, sandbox: Sandbox | None = None) -> tuple[str, str, float]:
+    """gnucap's stdout and its whole output, and its wall time; in a temporary folder that is then removed (in
+    ``sandbox`` too when it is available: its own scratch folder and environment, :mod:`lcchain.spice.sandbox`)."""
     with scratch_folder("gnucap") as folder, tempfile.TemporaryFile() as source, \
             tempfile.TemporaryFile() as out, tempfile.TemporaryFile() as err:
         source.write(text.encode("utf-8"))
         source.seek(0)
-        command = [*simulator.launcher, simulator.executable, "-b", "/dev/stdin"]
+        program = [simulator.executable, "-b", "/dev/stdin"]
+        env = child_env()
+        if sandbox is not None and sandbox.available:
+            command = [*simulator.launcher, *sandbox.command(program)]
+            env = scratch_env(SCRATCH)
+        else:
+            command = [*simulator.launcher, *program]
         start = time.perf_counter()
-        proc = subprocess.Popen(command, cwd=folder, env=child_env(), stdin=source, stdout=out, stderr=err,
+        proc = subprocess.Popen(command, cwd=folder, env=env, stdin=source, stdout=out, stderr=err,
                                 start_new_session=True)
         try:
             status = _wait(proc, timeout, tstop, out, err, progress, limit, resident)

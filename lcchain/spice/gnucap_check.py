@@ -50,8 +50,9 @@ import numpy as np
 
 from ..core.errors import ParameterError
 from .element_values import CouplingCard, ElementCard, NetlistCards, OtherCard, SourceCard
-from .gnucap import AC_DIGITS, DTMIN_FRACTION, GMIN, SOURCE_RESISTANCE, VOLTAGE_LIMIT, _run_child
+from .gnucap import AC_DIGITS, DTMIN_FRACTION, GMIN, MAX_OUTPUT_BYTES, SOURCE_RESISTANCE, VOLTAGE_LIMIT, _run_child
 from .gnucap_table import TITLE, read_ac_table, read_table
+from .sandbox import find_sandbox
 from .simulator import Simulator
 from .text import canonical_vector_name
 
@@ -265,11 +266,13 @@ def _kirchhoff(name: str, source: str, ends: Mapping[str, tuple[str, str]]) -> t
 
 
 def run_check(netlist: GnucapCheckNetlist, stop: float, *, simulator: Simulator, timeout: float) -> CheckedRun:
-    """Run gnucap's netlist (in a scratch folder, its process group killed after ``timeout``) and read its vectors
-    back by ngspice's names."""
+    """Run gnucap's netlist (in the sandbox of foreign netlists where there is one, :mod:`lcchain.spice.sandbox`,
+    else in a scratch folder; its process group killed after ``timeout``) and read its vectors back by ngspice's
+    names."""
     if simulator.engine != "gnucap":
         raise ParameterError("simulator", simulator.engine, "a simulator found for engine gnucap")
-    output, log, wall = _run_child(netlist.text, simulator, timeout, stop, None, 2.0 * 2**30)
+    output, log, wall = _run_child(netlist.text, simulator, timeout, stop, None, MAX_OUTPUT_BYTES,
+                                   sandbox=find_sandbox())
     # gnucap's warning at the operating point with short=1e-30 (the values are those of short=1e-15, which
     # prints none, to every digit): not a row of its table
     output = "\n".join(line for line in output.splitlines() if not _OPEN_NODE.match(line))
