@@ -13,11 +13,15 @@ import numpy as np
 import pytest
 from helpers.tolerances import (
     ATOL_TRAP_MODEL,
+    ATOL_TRAP_STARTUP_CLOSED_FORM,
+    ATOL_WARP_SERIES,
     ATOL_WARPED_DT_0_01,
     ATOL_WARPED_DT_0_1,
     GEAR_FACTOR_RANGE,
     MIN_INTEGRATION_ERROR_OF_A_BUG,
     PREDICTION_FACTOR,
+    RTOL_PHYSICS_ERROR_IS_TOTAL,
+    RTOL_STEP_ERROR_OF_A_BUG,
 )
 
 from lcchain.cli import main
@@ -60,7 +64,7 @@ def test_warped_frequencies_series_and_bounds():
     warped = warped_frequencies(omega, dt)
     assert np.all(warped <= omega) and warped[0] == 0.0
     # omega~ = omega - omega^3 dt^2 / 12 + O(dt^4)
-    assert np.allclose(warped, omega - omega**3 * dt**2 / 12, atol=1e-9)
+    assert np.allclose(warped, omega - omega**3 * dt**2 / 12, atol=ATOL_WARP_SERIES)
 
 
 def test_warped_modes_keep_weights(n20):
@@ -109,7 +113,7 @@ def test_trap_response_on_a_uniform_grid_is_the_warped_sum(n20):
     shrink = 1.0 / (1.0 + (modes.omega * dt) ** 2)
     phase = 2 * np.arctan(modes.omega * dt) + (t[:, None] - 2 * dt) * warped_frequencies(modes.omega, dt)
     expected = (np.cos(phase) * shrink) @ modes.transfer
-    assert np.allclose(model[1:], expected[1:], atol=1e-12)
+    assert np.allclose(model[1:], expected[1:], atol=ATOL_TRAP_STARTUP_CLOSED_FORM)
 
 
 # ------------------------------------------------------------------ against ngspice
@@ -125,7 +129,7 @@ def test_warped_model_matches_ngspice(n20, dt, atol):
         assert np.max(np.abs(signal - cosine_sum(weights, warped.omega, w.t))[after]) < atol
     # With ngspice's own steps (and its backward-Euler start-up steps) the model is exact to rounding.
     assert report.integration_error < ATOL_TRAP_MODEL
-    assert report.physics_error == pytest.approx(report.comparison.max_abs_error, rel=1e-6)
+    assert report.physics_error == pytest.approx(report.comparison.max_abs_error, rel=RTOL_PHYSICS_ERROR_IS_TOTAL)
 
 
 @pytest.mark.ngspice
@@ -162,7 +166,7 @@ def test_error_split_catches_a_chain_that_differs_from_the_theory(n20):
     bad = split_error(report.waveforms, wrong, dt)
     assert good.integration_error < ATOL_TRAP_MODEL
     assert bad.integration_error > MIN_INTEGRATION_ERROR_OF_A_BUG
-    assert bad.physics_error == pytest.approx(good.physics_error, rel=0.05)  # the step's error is unchanged
+    assert bad.physics_error == pytest.approx(good.physics_error, rel=RTOL_STEP_ERROR_OF_A_BUG)  # the step's error is unchanged
     assert bad.total_error < 2 * good.total_error  # ... and the total alone would not tell
 
 

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from helpers.tolerances import PREDICTION_FACTOR
+from helpers.tolerances import ATOL_RESPONSE_IN_I0, PREDICTION_FACTOR
 
 import lcchain
 from lcchain.circuit.effects import (
@@ -180,5 +180,5 @@ def test_the_circuit_response_is_the_elements_response() -> None:
     response = CircuitResponse(theory, "ends")
     t = np.array([0.0, 1.0, 5.0])
     amperes = response.exact.currents(t * theory.time_unit, ["i(l1)", "i(l8)"])
-    assert np.allclose(response(t), amperes / theory.I0, rtol=0, atol=1e-15)
+    assert np.allclose(response(t), amperes / theory.I0, rtol=0, atol=ATOL_RESPONSE_IN_I0)
     assert abs(response(np.array([0.0]))[0, 0] - 1.0) < 1e-12  # the kick: I0 in L1 at t = 0

@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from helpers.state_space import dop853_currents, expm_currents
+from helpers.tolerances import RTOL_FLUX_SHARING
 
 import lcchain
 from lcchain.circuit.effects import (
@@ -156,7 +157,7 @@ def test_initial_currents_that_break_kirchhoffs_law_redistribute_conserving_flux
     # Two coils in series, only the first carrying a current: at once both carry L1 I0 / (L1 + L2).
     elements = [Element("L1", "0", "x", 1e-5, 1e-3), Element("L2", "x", "n", 3e-5), Element("C1", "n", "0", 1e-8)]
     currents = CircuitTheory(elements).currents(np.array([0.0]), ["L1", "L2"])
-    assert np.allclose(currents[:, 0], 0.25e-3, rtol=1e-12)
+    assert np.allclose(currents[:, 0], 0.25e-3, rtol=RTOL_FLUX_SHARING)
 
 
 @pytest.mark.parametrize("shape, width", [("gaussian", 0.3), ("gaussian", 2.0), ("rect", 0.5)])

@@ -11,7 +11,14 @@ import pickle
 
 import numpy as np
 import pytest
-from helpers.tolerances import ATOL_COUPLED_ODE, ATOL_DENSITY_SUM, MIN_COUPLING_EFFECT, PREDICTION_FACTOR
+from helpers.tolerances import (
+    ATOL_COUPLED_ODE,
+    ATOL_DENSITY_SUM,
+    ATOL_DOP853_COUPLED,
+    MIN_COUPLING_EFFECT,
+    PREDICTION_FACTOR,
+    RTOL_DOP853_COUPLED,
+)
 from scipy.integrate import solve_ivp
 
 import lcchain
@@ -51,7 +58,7 @@ def _integrate(chain: Chain, t: np.ndarray, start: np.ndarray, force=None) -> np
         return np.concatenate((y[N:], acceleration))
 
     y0 = np.concatenate((np.zeros(N), start))
-    solution = solve_ivp(rhs, (0.0, t[-1]), y0, t_eval=t, rtol=1e-12, atol=1e-13, method="DOP853",
+    solution = solve_ivp(rhs, (0.0, t[-1]), y0, t_eval=t, rtol=RTOL_DOP853_COUPLED, atol=ATOL_DOP853_COUPLED, method="DOP853",
                          max_step=0.05 if force is not None else np.inf)
     return solution.y[N:]
 

@@ -6,7 +6,7 @@ from typing import ClassVar
 
 import numpy as np
 import pytest
-from helpers.tolerances import ATOL_ROUND_TRIP
+from helpers.tolerances import ATOL_ROUND_TRIP, RTOL_E_SERIES_VALUE
 
 from lcchain.circuit.effects import (
     E_SERIES,
@@ -54,7 +54,7 @@ def test_walls_and_realised_chain():
     rounded = realise(chain, 10e-6, 10e-9, series="E12")
     assert rounded.springs[0] == 0 and rounded.springs[-1] == 0  # free ends stay wires
     for m in rounded.masses * 10e-6:
-        assert preferred_value(m, "E12") == pytest.approx(m, rel=1e-12)
+        assert preferred_value(m, "E12") == pytest.approx(m, rel=RTOL_E_SERIES_VALUE)
     with pytest.raises(ParameterError, match="K0"):
         with_walls(chain, -1.0)
 

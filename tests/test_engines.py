@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from helpers.processes import temporary_entries
-from helpers.tolerances import PREDICTION_FACTOR
+from helpers.tolerances import ATOL_WHOLE_STEPS, PREDICTION_FACTOR, RTOL_COUPLED_INITIAL_CURRENT, RTOL_GNUCAP_TSTOP
 from scipy.linalg import expm
 
 import lcchain
@@ -91,7 +91,7 @@ def test_the_gnucap_dialect_of_a_reference_netlist() -> None:
     (tran,) = [line for line in text.splitlines() if line.startswith(".tran")]
     step, tstop = float(tran.split()[1]), float(tran.split()[2])
     h = float(lines[-2].split()[1])
-    assert h <= step and tstop / h == pytest.approx(round(tstop / h), abs=1e-9)
+    assert h <= step and tstop / h == pytest.approx(round(tstop / h), abs=ATOL_WHOLE_STEPS)
     assert ENGINES["gnucap"].dialect(text, ["i(l1)", "i(l20)"]) == dialect  # deterministic
 
 
@@ -123,7 +123,7 @@ def test_coupled_initial_currents_are_flux_over_inductance() -> None:
     k = [("l1", "l2", 0.03), ("l2", "l3", 0.02)]
     ic = coupled_initial_currents(L, {"l1": 1e-3}, k)
     assert ic["l1"] == 1e-3 and "l3" not in ic  # l3 is not coupled to the kicked coil
-    assert ic["l2"] == pytest.approx(0.03 * math.sqrt(1e-5 * 2e-5) * 1e-3 / 2e-5, rel=1e-15)
+    assert ic["l2"] == pytest.approx(0.03 * math.sqrt(1e-5 * 2e-5) * 1e-3 / 2e-5, rel=RTOL_COUPLED_INITIAL_CURRENT)
     assert coupled_initial_currents(L, {"l1": 1e-3}, []) == {"l1": 1e-3}  # uncoupled: ic is the current
 
 
@@ -215,7 +215,7 @@ def test_gnucap_and_ngspice_agree_on_the_same_netlist() -> None:
                for name in ENGINES}
     gnucap, ngspice = results["gnucap"], results["ngspice"]
     assert (gnucap.engine, ngspice.engine) == ("gnucap", "ngspice") and gnucap.netlist_sha256 == ngspice.netlist_sha256
-    assert gnucap.time[0] > 0 and gnucap.time[-1] == pytest.approx(spec.tstop, rel=1e-9)
+    assert gnucap.time[0] > 0 and gnucap.time[-1] == pytest.approx(spec.tstop, rel=RTOL_GNUCAP_TSTOP)
     I0 = 1e-3
     for name in spec.vectors:
         difference = np.max(np.abs(np.interp(gnucap.time, ngspice.time, ngspice.vectors[name])

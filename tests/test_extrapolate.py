@@ -13,6 +13,7 @@ import sys
 
 import numpy as np
 import pytest
+from helpers.tolerances import RTOL_HALVED_STEP, RTOL_MEAN_OF_SAMPLES
 
 import lcchain
 from lcchain.compare.extrapolate import (
@@ -307,7 +308,7 @@ def test_a_scene_sweep_extrapolates_each_sample_and_sums_up_the_combinations(tmp
     assert main(["results", str(store), "--summary", "--json"]) == 0
     groups = json.loads(capsys.readouterr().out)
     assert len(groups) == 1 and groups[0]["n"] == 3  # the members are ingredients, not samples
-    assert groups[0]["mean"] == pytest.approx(alone["transmitted_peak"]["mean"], rel=1e-12)
+    assert groups[0]["mean"] == pytest.approx(alone["transmitted_peak"]["mean"], rel=RTOL_MEAN_OF_SAMPLES)
 
 
 def test_an_extrapolate_beside_a_scene_is_refused(tmp_path) -> None:
@@ -364,6 +365,6 @@ def test_netlist_out_keeps_every_run_of_an_extrapolation(tmp_path, capsys) -> No
     for path in (target, tmp_path / "x-run2.cir"):
         tran = next(line for line in path.read_text().splitlines() if line.startswith(".tran"))
         steps.append(float(tran.split()[4]))  # TMAX, the step lcchain sets
-    assert steps[1] == pytest.approx(steps[0] / 2, rel=1e-12)
+    assert steps[1] == pytest.approx(steps[0] / 2, rel=RTOL_HALVED_STEP)
     assert (tmp_path / "x-run3.cir").read_text() == "* the user's own file\n"  # never replaced
     assert "x-run3.cir exists" in err and "x-run2.cir" in err

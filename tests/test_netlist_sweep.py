@@ -18,7 +18,7 @@ import math
 from pathlib import Path
 
 import pytest
-from helpers.tolerances import RTOL_MEASURE_TRAN
+from helpers.tolerances import RTOL_MEASURE_TRAN, RTOL_SAMPLE_STD
 
 from lcchain.cli import main
 from lcchain.core.errors import ParameterError
@@ -142,7 +142,7 @@ def test_draws_follow_their_distribution() -> None:
     mean = sum(normal) / n
     std = math.sqrt(sum((v - mean) ** 2 for v in normal) / (n - 1))
     assert abs(mean - 10e-9) < 4 * 0.5e-9 / math.sqrt(n)
-    assert std == pytest.approx(0.5e-9, rel=0.1)
+    assert std == pytest.approx(0.5e-9, rel=RTOL_SAMPLE_STD)
     flat = [p["C2"] for p in variant_points([parse_netlist_vary("C2=tolerance:10n:5%")], samples=n, seed=1)]
     assert min(flat) >= 9.5e-9 and max(flat) <= 10.5e-9
     assert abs(sum(flat) / n - 10e-9) < 4 * (1e-9 / math.sqrt(12)) / math.sqrt(n)

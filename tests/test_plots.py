@@ -14,6 +14,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from helpers.figures import assert_legends_off_lines, drawn, legend_boxes
+from helpers.tolerances import ATOL_MARKER_POSITION
 
 from lcchain import plots
 
@@ -278,7 +279,7 @@ def test_overlay_notes_stay_inside_the_frame(cradle):
 
 def _markers_at(ax, t, peak):
     return [line for line in ax.get_lines() if line.get_marker() in ("+", "x")
-            and np.allclose(line.get_xydata(), [[t, peak]], atol=0.02)]
+            and np.allclose(line.get_xydata(), [[t, peak]], atol=ATOL_MARKER_POSITION)]
 
 
 def test_overlay_marks_every_arrival_on_its_own_loop(cradle):

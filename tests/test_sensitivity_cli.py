@@ -5,6 +5,7 @@ import json
 from pathlib import Path
 
 import pytest
+from helpers.tolerances import ATOL_SENSITIVITY_PERFECT_PEAK
 
 import lcchain
 from lcchain.cli import main
@@ -61,7 +62,7 @@ def test_table_ranks_components_and_json_carries_them(capsys, tmp_path):
     data = json.loads(out)
     assert status == 0 and len(data["components"]) == 13 and (tmp_path / "s.png").stat().st_size > 0
     assert {"name", "value", "derivative", "relative"} == set(data["components"][0])
-    assert data["peak"] == pytest.approx(1.0, abs=1e-9)  # a perfect cradle (Sec. II.C)
+    assert data["peak"] == pytest.approx(1.0, abs=ATOL_SENSITIVITY_PERFECT_PEAK)  # a perfect cradle (Sec. II.C)
 
 
 @pytest.mark.ngspice

@@ -3,9 +3,12 @@
 import numpy as np
 import pytest
 from helpers.tolerances import (
+    ATOL_DC_LEVEL,
     ATOL_PERFECT_PEAK,
     ATOL_SCALE_INVARIANCE,
     ATOL_SCALE_INVARIANCE_TIME,
+    ATOL_SIMULATED_ARRIVAL_TIME,
+    ATOL_TABLE_LOSS,
     RTOL_CONSERVED,
     TRAP_ERROR_COEFFICIENT_FIRST_TRANSIT,
 )
@@ -30,7 +33,7 @@ def test_perfect_chains_transmit_fully(N):
     assert abs(at - 1.0) < ATOL_PERFECT_PEAK
     first = report.comparison.arrivals[0]
     assert abs(first.peak_sim - 1.0) < ATOL_PERFECT_PEAK
-    assert first.t_sim == pytest.approx(PERFECT_ARRIVAL[N], abs=0.01)
+    assert first.t_sim == pytest.approx(PERFECT_ARRIVAL[N], abs=ATOL_SIMULATED_ARRIVAL_TIME)
 
 
 @pytest.mark.parametrize("dt", [0.1, 0.05])
@@ -41,7 +44,7 @@ def test_two_mass_optimum_n100_within_step_prediction(dt):
     # a wiring/sign/unit bug would be O(1): the error must also shrink like dt^2
     arrival = report.comparison.arrivals[0]
     assert arrival.peak_sim == pytest.approx(arrival.peak_theory, abs=0.35 * dt**2)
-    assert arrival.peak_theory == pytest.approx(1 - 0.01555, abs=5e-6)  # Table II, N = 100
+    assert arrival.peak_theory == pytest.approx(1 - 0.01555, abs=ATOL_TABLE_LOSS)  # Table II, N = 100
 
 
 def test_displacement_equals_kick_in_dimensionless_form():
@@ -80,7 +83,7 @@ def test_uniform_free_zero_mode_carries_constant_dc():
     assert np.max(np.abs(momentum - chain.masses[0])) < RTOL_CONSERVED
     # and the end current oscillates about the DC level I0 m1/M = I0/20
     report = simulate(chain, dt=0.05, transits=1)
-    assert np.mean(report.waveforms.last) == pytest.approx(1 / 20, abs=0.02)
+    assert np.mean(report.waveforms.last) == pytest.approx(1 / 20, abs=ATOL_DC_LEVEL)
 
 
 def test_same_dimensionless_result_at_any_component_scale():
