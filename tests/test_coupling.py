@@ -12,6 +12,7 @@ import pickle
 import numpy as np
 import pytest
 from helpers.tolerances import (
+    ACCURACY_COARSE,
     ATOL_COUPLED_ODE,
     ATOL_DENSITY_SUM,
     ATOL_DOP853_COUPLED,
@@ -149,16 +150,16 @@ def test_coupled_scene_and_cli(tmp_path, capsys, monkeypatch):
     scene = tmp_path / "coupled.toml"
     scene.write_text('[chain]\ncase = "two-mass"\nN = 30\n[excitation]\nkind = "pulse"\nshape = "gaussian"\n'
                      'width = 0.2\n[effects.coupling]\nk = 0.03\n[effects.tolerance]\nL = 0.02\nsamples = 2\n'
-                     '[analysis]\naccuracy = 1e-3\n[output]\nreport = "r.json"\n')
+                     f'[analysis]\naccuracy = {ACCURACY_COARSE}\n[output]\nreport = "r.json"\n')
     assert main(["run", str(scene), "--json"]) == 0
     report = json.loads(capsys.readouterr().out)
-    assert report["max_abs_error"] <= 1e-3
+    assert report["max_abs_error"] <= ACCURACY_COARSE
     lossy = tmp_path / "lossy.toml"
     lossy.write_text(scene.read_text().replace("[effects.tolerance]", "[effects.losses]\nQ = 50\n[effects.tolerance]"))
     # coupled coils with losses: no chain's theory, the circuit's own (issue 30)
     assert main(["run", str(lossy), "--json"]) == 0
     report = json.loads(capsys.readouterr().out)
-    assert report["max_abs_error"] <= 1e-3
+    assert report["max_abs_error"] <= ACCURACY_COARSE
     for argv, name in ((["--coupling", "0.7"], "--coupling"), (["--coupling", "0.02", "--N", "2500"], "--N")):
         base = ["simulate", "--case", "two-mass", "--N", "20", "--dt", "0.05"]
         assert main(base + argv) == 2

@@ -11,13 +11,17 @@ from helpers.digits import agrees_with_printed
 from helpers.tolerances import (
     ATOL_FIGURE_DENSITY,
     ATOL_FIGURE_DENSITY_SUM,
+    ATOL_FLAT_SPACING,
+    ATOL_GROUP_VELOCITY,
     ATOL_KICK_AT_ZERO,
+    ATOL_LAW_ON_PLOT,
     ATOL_MINIMIZ_TAU,
     ATOL_MINIMIZ_TAU_QUICK,
     ATOL_MINIMUM_DELTA,
     ATOL_PERFECT,
     ATOL_PRINTED_ALPHA,
     ATOL_QUOTED_FLAT_DELTA,
+    ATOL_THETA_RATIO,
     ATOL_WEIGHT_AREA,
     RTOL_CRADLE4_ARRIVAL,
     RTOL_CRADLE4_FRACTIONS,
@@ -26,6 +30,7 @@ from helpers.tolerances import (
     RTOL_ONE_OPERATION,
     RTOL_POWER_LAW_FIT,
     RTOL_ROOT_RESIDUAL,
+    RTOL_THETA_RATIO,
     RTOL_W_OF_R_STAR,
 )
 
@@ -54,9 +59,6 @@ RTOL_DENSITY = 1e-10
 #: The area under the integrand of Eq. e.uinftyz (trapezoid, 40001 points on [0, pi/2]) against lcchain's
 #: contour integral: the rule misses the fastest oscillations near pi/2 (observed 3.2e-6).
 ATOL_AREA = 1e-5
-#: (N/pi)(omega_(n+1) - omega_n) at mid-k against v_k: a centred difference of omega(n), O(1/N^2)
-#: (observed 4e-3 at N = 50).
-ATOL_GROUP_VELOCITY = 1e-2
 
 
 @pytest.fixture(scope="module")
@@ -138,7 +140,7 @@ def test_the_int_rw_pair_cancels_the_linear_and_cubic_terms() -> None:
     tau, sigma = cancelling_pair()
     # theta = O(xi^5) for the pair: theta / xi^5 stays bounded (its xi^5 coefficient) as xi halves
     ratio = _theta(tau, sigma, xi) / xi**5
-    assert np.all(np.abs(ratio) < 10) and np.ptp(ratio) < 1e-2 * max(1.0, float(np.abs(ratio).max())) + 1e-3
+    assert np.all(np.abs(ratio) < 10) and np.ptp(ratio) < RTOL_THETA_RATIO * max(1.0, float(np.abs(ratio).max())) + ATOL_THETA_RATIO
     # the printed pair leaves a cubic term 4 sqrt2 / 3
     printed = _theta(*PRINTED_INT_RW, xi) / xi**3
     assert printed == pytest.approx(4 * np.sqrt(2) / 3, rel=RTOL_CUBIC_COEFFICIENT)
@@ -179,7 +181,7 @@ def test_pk_densities_are_the_exact_ones(rows: DesignRows) -> None:
         np.testing.assert_allclose(panel["P"], exact.density, atol=ATOL_FIGURE_DENSITY)
         assert panel["spacing"].size == panel["N"] - 1
     big = data["panels"][1]
-    assert np.max(np.abs(big["spacing"][:10] - 0.95)) < 0.03  # flat near k = 0: the caption's point
+    assert np.max(np.abs(big["spacing"][:10] - 0.95)) < ATOL_FLAT_SPACING  # flat near k = 0: the caption's point
 
 
 def test_circuit_drawing_data_is_the_netlist() -> None:
@@ -330,7 +332,7 @@ def test_x_xy_laws_are_not_drawn_at_N_3_where_they_leave_the_frame(optimum: dict
     assert c * 3.0**p > ax.get_ylim()[1]  # the two-mass x* law at N = 3 is above the data's frame ...
     laws = [line for line in ax.get_lines() if line.get_marker() in ("None", "") and len(line.get_xdata()) > 50]
     law = next(line for line in laws if np.nanmax(np.abs(np.asarray(line.get_ydata()) - c * np.asarray(
-        line.get_xdata()) ** p)) < 1e-12)
+        line.get_xdata()) ** p)) < ATOL_LAW_ON_PLOT)
     assert np.isnan(law.get_ydata()[0])  # ... so it is not drawn there
 
 

@@ -19,6 +19,7 @@ from fractions import Fraction as F
 import numpy as np
 import pytest
 from helpers.tolerances import (
+    ATOL_DESIGNED_LOSS,
     ATOL_PERFECT_TRANSFER,
     RTOL_ARRIVAL_TIMES_OMEGA,
     RTOL_DESIGNED_ARRIVAL_TIME,
@@ -257,7 +258,7 @@ def test_design_json_for_any_N():
     assert data["N"] == 40 and data["case"] == "perfect" and data["walls"] == 0
     assert len(data["masses"]) == 40 and len(data["springs"]) == 41
     assert data["springs"][0] == 0.0 == data["springs"][-1]
-    assert abs(data["delta"]) < 1e-12
+    assert abs(data["delta"]) < ATOL_DESIGNED_LOSS
     assert data["frequencies"][1] * data["t_arrival"] == pytest.approx(math.pi, rel=RTOL_ARRIVAL_TIMES_OMEGA)
     assert data["spread"]["distinct_masses"] == 20
     assert Chain(data["masses"], data["springs"]) == perfect_design(40).chain

@@ -12,7 +12,7 @@ import re
 import numpy as np
 import pytest
 from helpers.figures import assert_legends_off_lines
-from helpers.tolerances import ATOL_NO_FLOOR, ATOL_PLOTTED, RTOL_PLOTTED, RTOL_RECOMPUTED_ERROR
+from helpers.tolerances import ATOL_GROUP_VELOCITY, ATOL_NO_FLOOR, ATOL_PLOTTED, RTOL_PLOTTED, RTOL_RECOMPUTED_ERROR
 
 from lcchain.core.errors import ParameterError
 from lcchain.report.figure_data import DesignRows
@@ -129,9 +129,9 @@ def test_fig_vk_has_the_circuits_group_velocity_in_every_panel(checks: list[Spec
         k = 2 * np.arcsin(omega / 2)
         np.testing.assert_allclose(v.get_xdata(), (k[1:] + k[:-1]) / 2, rtol=RTOL_PLOTTED, atol=ATOL_PLOTTED)
         np.testing.assert_allclose(v.get_ydata(), np.diff(omega) * 50 / math.pi, rtol=RTOL_PLOTTED)
-        # on the theory's curve v_k (Eq. e.vk) within the difference's O(1/N^2) (tests/test_figures.py: 1e-2)
+        # on the theory's curve v_k (Eq. e.vk) within the difference's O(1/N^2) (ATOL_GROUP_VELOCITY, as tests/test_figures.py)
         theory = next(line for line in ax.get_lines() if line.get_label() == "v_k")
-        assert np.max(np.abs(v.get_ydata() - np.interp(v.get_xdata(), *theory.get_data()))) < 1e-2
+        assert np.max(np.abs(v.get_ydata() - np.interp(v.get_xdata(), *theory.get_data()))) < ATOL_GROUP_VELOCITY
         assert "ngspice (AC): P_n" in lines
     legend = [text.get_text() for text in fig.legends[0].get_texts()]
     assert legend.count("ngspice (AC): (N/π) Δω_n") == 1

@@ -4,7 +4,13 @@ modes, where the sensitivities perturb the nominal modes)."""
 
 import numpy as np
 import pytest
-from helpers.tolerances import ATOL_SAME_PEAK, RTOL_FIRST_ORDER_CORNER, RTOL_NETLIST_VALUE, RTOL_RELATIVE_SENSITIVITY
+from helpers.tolerances import (
+    ATOL_SAME_PEAK,
+    RTOL_FIRST_ORDER_CORNER,
+    RTOL_NETLIST_VALUE,
+    RTOL_RELATIVE_SENSITIVITY,
+    RTOL_SCALING_IDENTITY,
+)
 
 from lcchain.circuit.effects import Tolerance, cornered, with_walls
 from lcchain.circuit.ladder import Ladder
@@ -76,8 +82,8 @@ def test_relative_sensitivities_sum_to_zero(make):
     # scaling every mass (or every spring) only rescales time: the peak does not move
     sensitivity = peak_sensitivity(make())
     scale = np.max(np.abs(sensitivity.relative_masses))
-    assert abs(sensitivity.relative_masses.sum()) < 1e-12 * max(1.0, scale) * sensitivity.chain.N
-    assert abs(sensitivity.relative_springs.sum()) < 1e-12 * max(1.0, scale) * sensitivity.chain.N
+    assert abs(sensitivity.relative_masses.sum()) < RTOL_SCALING_IDENTITY * max(1.0, scale) * sensitivity.chain.N
+    assert abs(sensitivity.relative_springs.sum()) < RTOL_SCALING_IDENTITY * max(1.0, scale) * sensitivity.chain.N
 
 
 def test_free_ends_have_no_relative_sensitivity_but_a_wall_spring_would_move_the_peak():
@@ -169,7 +175,7 @@ def test_energy_sensitivities_match_finite_differences_of_the_energy_fraction():
     down[0] *= 1 - h
     fd = (energy(chain.masses, up) - energy(chain.masses, down)) / (2 * h)
     assert sensitivity.energy_relative_springs[0] == pytest.approx(fd, abs=FD_TOLERANCE)
-    assert abs(sensitivity.energy_relative_masses.sum()) < 1e-12  # the scaling identity holds for e too
+    assert abs(sensitivity.energy_relative_masses.sum()) < RTOL_SCALING_IDENTITY  # the scaling identity holds for e too
 
 
 def test_a_scene_corner_is_realised_by_the_planner_and_round_trips():

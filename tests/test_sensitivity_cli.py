@@ -5,7 +5,7 @@ import json
 from pathlib import Path
 
 import pytest
-from helpers.tolerances import ATOL_SENSITIVITY_PERFECT_PEAK
+from helpers.tolerances import ATOL_SENSITIVITY_PERFECT_PEAK, MAX_ERROR_BAR_FRACTION
 
 import lcchain
 from lcchain.cli import main
@@ -78,7 +78,7 @@ def test_check_agrees_with_ngspice_finite_differences_within_their_error(capsys,
     for check in data["check"]:
         assert abs(check["fd"] - check["theory"]) <= check["error_bar"]
         # the bar is tight: far below the sensitivity itself (a wrong sign or factor would fail)
-        assert check["error_bar"] < 1e-3 * abs(check["theory"]) and check["resolved"]
+        assert check["error_bar"] < MAX_ERROR_BAR_FRACTION * abs(check["theory"]) and check["resolved"]
         assert check["runs_error"] > 0 and check["peaks"][0] != check["peaks"][1]
     with Store(store, "read") as stored:
         finished = [run for run in stored.runs() if not run.member]

@@ -23,7 +23,7 @@ from pathlib import Path
 
 import pytest
 from helpers.digits import agrees_with_printed
-from helpers.tolerances import ATOL_OPTIMISER_RW, ATOL_OPTIMISER_X
+from helpers.tolerances import ATOL_OPTIMISER_RW, ATOL_OPTIMISER_X, ATOL_PERFECT_OPTIMUM_LOSS
 
 from lcchain.report.paper import PRINTED_ROWS
 from lcchain.theory.arrivals import first_arrival
@@ -87,7 +87,7 @@ def test_perfect_small_chains_are_the_optima():
     assert optimal_one_mass(3).x == pytest.approx((2 / 3) ** 0.5, abs=ATOL_OPTIMISER_X)
     four = optimal_two_mass(4)
     assert (four.r, four.w) == pytest.approx((10 / 11, 6 / 11), abs=ATOL_OPTIMISER_RW)
-    assert four.delta < 1e-12
+    assert four.delta < ATOL_PERFECT_OPTIMUM_LOSS
 
 
 def _tex_rows(text: str, label: str) -> dict[int, tuple[str, ...]]:

@@ -476,3 +476,126 @@ RTOL_TWO_DIGITS = 1e-2
 #: The sample standard deviation of 4000 normal draws against the distribution's: its own relative standard
 #: error is 1 / sqrt(2 (n - 1)) = 1.1 %, so this is ~9 standard errors (a seeded draw, never flaky).
 RTOL_SAMPLE_STD = 0.1
+
+
+# ================================================================== bounds that were written inline in asserts (issue 34, item 6)
+# ------------------------------------------------------------ perfect chains
+#: delta = 1 - alpha_N(T) of a designed perfect N = 40 chain, from `lcchain design --json`: exact diagonalisation,
+#: rounding only (ATOL_PERFECT_TRANSFER allows 1e-10 for N up to 2000).
+ATOL_DESIGNED_LOSS = 1e-12
+#: Table II, N = 4: the two-mass optimiser's optimum is the perfect chain, so its loss is 0 to rounding.
+ATOL_PERFECT_OPTIMUM_LOSS = 1e-12
+#: The spread of the normalised spacings of a perfect chain's AC frequencies (equally spaced, Sec. II.C): the AC
+#: fit's omega_n are good to RTOL_SPECTRUM_OMEGA, so the spread of ~N of them is far below this.
+ATOL_PERFECT_SPACING_SPREAD = 1e-6
+#: A perfect chain's simulated run ends at the end of its last arrival's window (3.5 transits), not later: the
+#: window end is a product of doubles, so ngspice's last time may sit a rounding beyond it.
+RTOL_WINDOW_END = 1e-9
+
+# ------------------------------------------------------------ simulations against theory
+#: ngspice's far-end current before the pulse can reach it (N = 2000): zero in the ideal ladder, and the
+#: simulator's solution holds only rounding there.
+ATOL_BEFORE_ARRIVAL = 1e-12
+#: The first samples of a run: the far end starts at 0 and the near end at 1 (a swapped probe would be O(1));
+#: the first sample is at most a step into the run.
+ATOL_PROBES_AT_START = 1e-3
+#: A simulated two-mass N = 20 run at dt = 0.05 against transmission_amplitude over its default window: a probe
+#: or sign bug would be O(1); the trapezoid's error is ~TRAP_ERROR_COEFFICIENT_FIRST_TRANSIT dt^2 per transit.
+ATOL_RUN_AGAINST_MODES = 0.01
+#: A pulse run whose step resolves the pulse (dt = width / 8) against the exact theory: no model predicts this
+#: error; the trapezoid's error over one transit at that step is ~1e-3.
+MAX_PULSE_RUN_ERROR = 2e-3
+#: The sweep's default runs (two-mass, N = 20, its default step), each against its exact theory.
+MAX_SWEEP_RUN_ERROR = 2e-3
+#: gnucap's two-mass N = 20 run at dt = 0.05 against theory: the trapezoid's error, about
+#: TRAP_ERROR_COEFFICIENT_FIRST_TRANSIT dt^2 times the transits (8.75e-4 per transit).
+MAX_GNUCAP_ERROR_DT_0_05 = 2e-3
+#: Two engines integrating one circuit with the same rule differ by far less than either differs from theory.
+MAX_ENGINE_DIFFERENCE_FRACTION = 0.1
+#: A circuit's trapezoidal run (N = 8 two-mass, real parts, dt = 0.01) against the circuit's exact theory,
+#: in units of I0: the trapezoid's error over 16 time units, well under a percent.
+MAX_FINE_CIRCUIT_RUN_ERROR = 2e-3
+
+# ------------------------------------------------------------ the circuit's exact theory (issue 30)
+#: CircuitTheory against expm of the state matrix (small ladders, coupled, lossy, coil capacitance), in units of
+#: I0: two exact methods, rounding of a modal sum and of a matrix exponential over ~4 N time units.
+RTOL_CIRCUIT_AGAINST_EXPM = 1e-11
+#: CircuitTheory's currents or charges (in I0, I0 sqrt(L0 C0)) against the chain's own exact response, lossless or
+#: with losses: rounding.
+ATOL_CIRCUIT_AGAINST_CHAIN = 1e-12
+#: A coil split into two halves in series against the whole coil: the same circuit, rounding (units of I0).
+RTOL_SPLIT_COIL = 1e-12
+#: CircuitTheory driven by a gaussian source against DOP853 on the cards' state equations (RTOL_DOP853_CARDS)
+#: over 15 time units, in units of I0: the integrator's global error.
+RTOL_CIRCUIT_AGAINST_DOP853 = 1e-9
+#: A floating group of capacitors grounded through eps C0 (eps = 1e-6): the reference moves first order in eps,
+#: so it is within ~10 eps of the circuit theory (units of I0).
+MAX_GROUNDED_GROUP_ERROR = 1e-5
+#: The response at t = 0 in units of I0: the kick puts I0 in L1 exactly, the modal sum returns it to rounding.
+ATOL_CIRCUIT_KICK_AT_ZERO = 1e-12
+#: The effect cost's peak_circuit against the first arrival's peak of the same circuit theory: the same search on
+#: the same theory, to its resolution.
+ATOL_CIRCUIT_PEAK_IS_THEORY = 1e-9
+#: peak_ideal (a search for alpha_N's maximum) against the maximum of alpha_N on a 4001-point grid over
+#: +-20 % of t_ideal: a grid misses a flat maximum by about its spacing squared.
+ATOL_IDEAL_PEAK_ON_GRID = 1e-6
+
+# ------------------------------------------------------------ extrapolation (issue 23)
+#: ngspice against its trapezoidal model for each member of an extrapolation (N = 100 .. 1000, steps down to
+#: ~1e-3): rounding accumulated over the members' many steps (ATOL_TRAP_MODEL is one short run's).
+ATOL_TRAP_MODEL_MEMBERS = 1e-9
+#: Putting the members on one grid costs under a thousandth of the accuracy asked for.
+RTOL_INTERPOLATION_OF_ACCURACY = 1e-3
+#: lcchain's own theory against the test's independent exact solution: their difference is under a thousandth
+#: of the accuracy asked for, so the achieved error is the run's.
+RTOL_THEORY_OF_ACCURACY = 1e-3
+#: A member's time points against the aligned grid, relative to tstop: the grid is written to the netlist as
+#: doubles and ngspice's times accumulate rounding.
+RTOL_ALIGNED_GRID = 1e-9
+
+# ------------------------------------------------------------ sensitivities, requirements
+#: Scaling every mass (or every spring) only rescales time, so the relative sensitivities sum to zero: rounding
+#: of N terms of size up to the largest.
+RTOL_SCALING_IDENTITY = 1e-12
+#: `lcchain requirements --check`: the simulated loss against the theory's, at the found tolerance of a part:
+#: a small absolute part for the run's own error plus a per cent of the loss for the first-order model.
+ATOL_REQUIREMENT_LOSS = 1e-3
+RTOL_REQUIREMENT_LOSS = 0.01
+#: A finite-difference check's error bar, relative to the sensitivity itself: tight enough that a wrong sign
+#: or factor fails.
+MAX_ERROR_BAR_FRACTION = 1e-3
+
+# ------------------------------------------------------------ figures
+#: (N/pi)(omega_(n+1) - omega_n) at mid-k against v_k (Eq. e.vk), from the closed-form modes (Fig. vk) or from
+#: ngspice's AC frequencies (the report's spectrum figure): a centred difference of omega(n), O(1/N^2)
+#: (observed 4e-3 at N = 50).
+ATOL_GROUP_VELOCITY = 1e-2
+#: Fig. pk: the N = 100 panel's first ten normalised spacings against 0.95, flat near k = 0 (the caption's point).
+ATOL_FLAT_SPACING = 0.03
+#: theta / xi^5 of the pair that cancels the linear and cubic terms stays bounded as xi halves: its spread is
+#: within a per cent of its size, plus a floor where it is near zero.
+RTOL_THETA_RATIO = 1e-2
+ATOL_THETA_RATIO = 1e-3
+#: A law drawn on a figure picked out among its lines by matching c x^p on its own points: the same formula,
+#: rounding only.
+ATOL_LAW_ON_PLOT = 1e-12
+#: The perfect chains' simulated first-arrival loss in a study's summary: positive (the trapezoid's error) and small.
+MAX_PERFECT_RUN_LOSS = 1e-3
+#: The paper's printed optimum (tau, sigma to four or five digits) lies below ours: rounding the position of a
+#: flat maximum costs alpha about the square of the rounding (observed 4.1e-8 one-mass, 5.1e-9 two-mass).
+PAPER_OPTIMUM_SHORTFALL_RANGE = (1e-9, 1e-7)
+#: A drawn part within its tolerance (a capacitor C = C0 / K inverting the drawn factor, a study's part against
+#: its nominal E24 value): the quotient's rounding may cross the bound.
+RTOL_TOLERANCE_BOUND = 1e-12
+#: The trapezoidal rule's error coefficient (max error / dt^2 over one transit of optimal two-mass chains, issue 4:
+#: 0.28), predicted or fitted, is at least this (TRAP_ERROR_COEFFICIENT_FIRST_TRANSIT is its upper bound).
+MIN_TRAP_ERROR_COEFFICIENT_FIRST_TRANSIT = 0.2
+#: |alpha_N(t)| <= 1 (energy) of the closed form on hard cases near the arrival: 1 plus the closed form's
+#: rounding at extreme (r, w) (ATOL_CLOSED_FORM_EXTREME).
+ATOL_AMPLITUDE_BOUND = 1e-9
+#: An asymmetric 5-mass chain at dt = 0.01 over two transits against its exact modal theory: the trapezoid's
+#: error (~TRAP_ERROR_COEFFICIENT_FIRST_TRANSIT dt^2 a transit); symmetric-chain formulas would miss by O(1).
+MAX_ASYMMETRIC_RUN_ERROR = 5e-4
+#: The mean of n seeded random draws lies within this many standard errors (sigma / sqrt(n)) of the
+#: distribution's mean: a 4-sigma miss has probability 6e-5, and the draws are seeded, so never flaky.
+MAX_STANDARD_ERRORS = 4
