@@ -40,7 +40,7 @@ from ..core.types import (
     STUDY_METRICS,
 )
 from ..spice.engines import DEFAULT_ENGINE, ENGINES
-from . import bom, commands, requirements, sensitivity, studies, validation
+from . import bom, check, commands, requirements, sensitivity, studies, validation
 from .common import (
     EXIT_EXTRA,
     EXIT_FAILED,
@@ -253,12 +253,22 @@ def build_parser() -> argparse.ArgumentParser:
                         "files in the netlist's folder; any other line is refused")
     p.add_argument("--allow-control", action="store_true",
                    help="run a netlist as it is (.control blocks, any include), still in the sandbox")
+    p.add_argument("--check", action="store_true",
+                   help="also compare each run's saved vectors with the netlist's exact response (lcchain check): "
+                        "the largest error, in the vectors' own units, is stored as the measurement "
+                        "check_max_abs_error (empty, with the reason, for a netlist that is not linear)")
     p.add_argument("--strict", action="store_true",
                    help="stop at the first netlist lcchain will not run, with its reason, before anything runs "
                         "(exit 2); by default each is stored as refused, with its reason, the others run, and "
                         "the exit status is 1")
     studies.add_study_arguments(p)
     p.set_defaults(func=studies.cmd_batch)
+
+    p = sub.add_parser("check", help="a linear netlist (R L C K, V/I with DC PULSE SIN PWL EXP) run in a simulator "
+                       "and compared with its exact response: the error of every saved vector, the error the "
+                       "step predicts, the step an accuracy needs")
+    check.add_check_arguments(p, tuple(ENGINES))
+    p.set_defaults(func=check.cmd_check)
 
     p = sub.add_parser("results", parents=budget,
                        help="a store's runs: a table, --json, --csv, or a --plot of the study")

@@ -422,7 +422,7 @@ def cmd_batch(args: argparse.Namespace) -> int:
     _check_study_options(args, outputs)
     budget = budget_from_args(args)
     plan = batch_plan(args.netlist, allow_control=args.allow_control, timeout=args.timeout, budget=budget,
-                      strict=args.strict)
+                      strict=args.strict, check=getattr(args, "check", False))
     left = budget.max_seconds - INTERPRETER_SECONDS - (time.monotonic() - started)
     return _run(args, plan, outputs, max_seconds=max(left, 0.0))
 

@@ -72,7 +72,7 @@ __all__ = [
     "MEANINGLESS_ERROR",
     "SAFETY",
     "dt_for_accuracy",
-    "predicted_error", "predicted_error_damped",
+    "predicted_error", "predicted_error_damped", "trapezoidal_poles", "trapezoidal_frequency",
     "split_error",
     "trap_response",
     "warn_if_unreliable",
@@ -169,6 +169,19 @@ def _grid(dt: float, tstop: float) -> np.ndarray:
     return t
 
 
+def trapezoidal_poles(poles: np.ndarray, dt: float) -> np.ndarray:
+    """The poles the trapezoidal rule at fixed step dt really simulates: log((1 + p dt/2) / (1 - p dt/2)) / dt,
+    one step of a mode exp(p t) being the Cayley map (1 + p dt/2) / (1 - p dt/2) (units: those of 1/dt)."""
+    p = np.asarray(poles, dtype=complex)
+    return np.asarray(np.log((1 + 0.5 * p * dt) / (1 - 0.5 * p * dt)) / dt)
+
+
+def trapezoidal_frequency(s: complex, dt: float) -> complex:
+    """Where the trapezoidal rule answers a source exp(s t) sampled exactly at its fixed steps dt: at
+    s' = (2/dt) tanh(s dt/2) (its particular solution is the exact one at s'; s' = s for s = 0)."""
+    return complex((2.0 / dt) * np.tanh(s * dt / 2.0))
+
+
 @fixed_blas_threads
 def predicted_error_damped(poles: np.ndarray, weights: Sequence[np.ndarray], dt: float, tstop: float, *,
                            method: str = "trap") -> float:
@@ -194,7 +207,7 @@ def predicted_error_damped(poles: np.ndarray, weights: Sequence[np.ndarray], dt:
     _check_method(method)
     t = _grid(dt, tstop)
     p = np.asarray(poles, dtype=complex)
-    step = np.log((1 + 0.5 * p * dt) / (1 - 0.5 * p * dt)) / dt  # the trapezoidal rule's pole
+    step = trapezoidal_poles(p, dt)
     rows = max(1, (1 << 18) // max(p.size, 1))
     worst = 0.0
     for w in weights:

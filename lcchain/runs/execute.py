@@ -416,6 +416,11 @@ def _run_transient(spec: RunSpec, simulator: Simulator,
     result = run_engine(spec.netlist, spec.vectors, spec.tstop, simulator=simulator, timeout=spec.timeout,
                         progress=progress, cwd=spec.cwd, trusted=spec.trusted, foreign=spec.foreign,
                         max_output_bytes=spec.max_output_bytes, max_resident_bytes=spec.max_resident_bytes)
+    if spec.check:
+        from .check import reference_measurements
+
+        result = replace(result, measurements=FrozenMap({**result.measurements, **reference_measurements(
+            spec.netlist, result.time, result.vectors, simulator.version, trusted=spec.trusted, cwd=spec.cwd)}))
     signals = metrics = None
     if isinstance(spec.theory, Theory):
         try:
@@ -473,6 +478,11 @@ def _run_ac(spec: RunSpec, simulator: Simulator,
     result = run_ac(spec.netlist, spec.vectors, spec.points, simulator=simulator, timeout=spec.timeout,
                     foreign=spec.foreign, max_output_bytes=spec.max_output_bytes,
                     max_resident_bytes=spec.max_resident_bytes)
+    if spec.check:
+        from .check import reference_measurements
+
+        result = replace(result, measurements=FrozenMap({**result.measurements, **reference_measurements(
+            spec.netlist, result.frequency, result.vectors, simulator.version)}))
     spectrum = None
     if isinstance(spec.theory, SpectrumTheory):
         if progress is not None:  # the fit follows: most of the work beyond a few hundred modes

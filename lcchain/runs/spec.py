@@ -286,6 +286,10 @@ class RunSpec:
         What the netlist's analysis is: its vectors are real against time, or complex against frequency.
     points : int, optional
         An AC run's frequencies (required with ``analysis="ac"``).
+    check : bool
+        Also compare every saved vector with the netlist's exact response (``lcchain batch --check``,
+        :func:`lcchain.runs.check.reference_measurements`): the largest error is stored as the measurement
+        ``check_max_abs_error`` (None, with the reason, when the netlist has no exact reference).
     """
 
     netlist: str
@@ -303,6 +307,7 @@ class RunSpec:
     analysis: AnalysisKind = "transient"
     points: int | None = None
     max_resident_bytes: float | None = None
+    check: bool = False
 
     def __post_init__(self) -> None:
         choice("analysis", self.analysis, ANALYSIS_KINDS)
@@ -330,7 +335,7 @@ class RunSpec:
         choice("backend", self.backend, BACKENDS)
         object.__setattr__(self, "timeout", real("timeout", self.timeout, above=0.0, unit="seconds"))
         instance("theory", self.theory, SpectrumTheory if self.analysis == "ac" else Theory, optional=True)
-        for name in ("trusted", "foreign"):
+        for name in ("trusted", "foreign", "check"):
             if not isinstance(getattr(self, name), bool):
                 raise ParameterError(name, getattr(self, name), "True or False")
         for name in ("max_output_bytes", "max_resident_bytes"):
@@ -358,6 +363,8 @@ class RunSpec:
         }
         if self.analysis != "transient":  # only then: the keys of transients are those made before AC runs
             data["analysis"], data["points"] = self.analysis, self.points
+        if self.check:  # only then: the keys of runs made without it stay
+            data["check"] = True
         if self.engine != DEFAULT_ENGINE:  # and the text it runs: a change of its dialect is a new run
             data["engine"] = self.engine
             dialect = engine_named(self.engine).dialect(self.netlist, self.vectors)

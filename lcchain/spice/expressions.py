@@ -16,13 +16,15 @@ checked), while ``.par`` and ``.para`` stop it with a fatal error; :func:`is_par
 
 from __future__ import annotations
 
+import math
 import re
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable, Mapping
 
 from ..core.errors import ParameterError
+from .text import spice_number
 
 __all__ = ["FUNCTIONS", "MAX_PARAMS", "MAX_EXPRESSION_CHARS", "is_param_card", "param_assignments",
-           "check_expression", "braced_expressions"]
+           "check_expression", "braced_expressions", "evaluate_expression", "param_values"]
 
 #: The math functions an expression may call: ngspice's deterministic ones (no random draw, no table or file).
 FUNCTIONS = frozenset({
@@ -136,3 +138,155 @@ def braced_expressions(text: str) -> tuple[list[str], str]:
 
 def valid_name(name: str) -> bool:
     return _NAME.fullmatch(name) is not None
+
+
+def _power(x: float, y: float) -> float:
+    return float(x ** y) if x >= 0 or float(y).is_integer() else math.nan
+
+
+# The functions of FUNCTIONS as ngspice 39's numparam computes them (log is the natural logarithm).
+_FUNCTION_VALUES: dict[str, Callable[..., float]] = {
+    "abs": abs, "sqrt": math.sqrt, "exp": math.exp, "ln": math.log, "log": math.log, "log10": math.log10,
+    "sin": math.sin, "cos": math.cos, "tan": math.tan, "asin": math.asin, "acos": math.acos, "atan": math.atan,
+    "sinh": math.sinh, "cosh": math.cosh, "tanh": math.tanh, "asinh": math.asinh, "acosh": math.acosh,
+    "atanh": math.atanh, "min": min, "max": max, "pow": _power, "pwr": lambda x, y: math.copysign(abs(x) ** y, x),
+    "floor": math.floor, "ceil": math.ceil, "sgn": lambda x: float((x > 0) - (x < 0)), "int": math.trunc,
+    "nint": round, "u": lambda x: 1.0 if x > 0 else 0.0, "uramp": lambda x: x if x > 0 else 0.0,
+}
+# Binary operators by precedence, loosest first (the ternary ? : is looser still).
+_BINARY: tuple[dict[str, Callable[[float, float], float]], ...] = (
+    {"||": lambda a, b: float(bool(a) or bool(b))},
+    {"&&": lambda a, b: float(bool(a) and bool(b))},
+    {"==": lambda a, b: float(a == b), "!=": lambda a, b: float(a != b), "<": lambda a, b: float(a < b),
+     ">": lambda a, b: float(a > b), "<=": lambda a, b: float(a <= b), ">=": lambda a, b: float(a >= b)},
+    {"+": lambda a, b: a + b, "-": lambda a, b: a - b},
+    {"*": lambda a, b: a * b, "/": lambda a, b: a / b},
+)
+
+
+class _Evaluator:
+    """A recursive-descent reading of the grammar :func:`check_expression` admits."""
+
+    def __init__(self, tokens: list[tuple[str, str]], value: Callable[[str], float]):
+        self.tokens, self.value, self.k = tokens, value, 0
+
+    def peek(self) -> str:
+        return self.tokens[self.k][1] if self.k < len(self.tokens) else ""
+
+    def take(self, expected: str | None = None) -> tuple[str, str]:
+        if self.k >= len(self.tokens) or (expected is not None and self.tokens[self.k][1] != expected):
+            raise ValueError(f"expected {expected or 'more'}")
+        self.k += 1
+        return self.tokens[self.k - 1]
+
+    def ternary(self) -> float:
+        condition = self.binary(0)
+        if self.peek() != "?":
+            return condition
+        self.take("?")
+        yes = self.ternary()
+        self.take(":")
+        no = self.ternary()
+        return yes if condition else no
+
+    def binary(self, level: int) -> float:
+        if level == len(_BINARY):
+            return self.unary()
+        left = self.binary(level + 1)
+        while self.peek() in _BINARY[level]:
+            operator = self.take()[1]
+            left = _BINARY[level][operator](left, self.binary(level + 1))
+        return left
+
+    def unary(self) -> float:
+        if self.peek() in ("-", "+", "!"):
+            operator = self.take()[1]
+            operand = self.unary()
+            return -operand if operator == "-" else float(not operand) if operator == "!" else operand
+        return self.power()
+
+    def power(self) -> float:
+        base = self.atom()
+        if self.peek() in ("^", "**"):
+            self.take()
+            return _power(base, self.unary())  # right-associative, binds tighter than a unary minus on its left
+        return base
+
+    def atom(self) -> float:
+        kind, text = self.take()
+        if kind == "number":
+            number = spice_number(text)
+            if number is None:
+                raise ValueError(f"not a number: {text}")
+            return number
+        if kind == "name" and self.peek() == "(":
+            self.take("(")
+            arguments = [self.ternary()]
+            while self.peek() == ",":
+                self.take(",")
+                arguments.append(self.ternary())
+            self.take(")")
+            return float(_FUNCTION_VALUES[text.lower()](*arguments))
+        if kind == "name":
+            return math.pi if text.lower() == "pi" else self.value(text.lower())
+        if text == "(":
+            inner = self.ternary()
+            self.take(")")
+            return inner
+        raise ValueError(f"unexpected {text!r}")
+
+
+def evaluate_expression(text: str, values: Mapping[str, float] | Callable[[str], float], where: str = "netlist",
+                        line: str = "") -> float:
+    """The value of an expression :func:`check_expression` admits, its names read from ``values`` (lower case).
+
+    Raises a :class:`ParameterError` naming ``where`` for an expression that does not read as a number (an
+    unknown name, a division by zero, a function outside its domain, a result that is not finite)."""
+    names = set(values) if isinstance(values, Mapping) else None
+    check_expression(text, names, where, line or text)
+    tokens: list[tuple[str, str]] = []
+    position = 0
+    while text[position:].strip():
+        match = _TOKEN.match(text, position)
+        assert match is not None  # check_expression read the same tokens
+        kind = match.lastgroup or ""
+        tokens.append((kind, match.group(kind)))
+        position = match.end()
+    look = values.__getitem__ if isinstance(values, Mapping) else values
+    try:
+        reader = _Evaluator(tokens, look)
+        result = reader.ternary()
+        if reader.k != len(tokens):
+            raise ValueError("trailing text")
+        result = float(result)
+    except (ArithmeticError, ValueError, TypeError) as error:
+        raise ParameterError(where, (line or text).strip()[:200], f"an expression with a finite value ({error})") \
+            from None
+    if not math.isfinite(result):
+        raise ParameterError(where, (line or text).strip()[:200], "an expression with a finite value")
+    return result
+
+
+def param_values(definitions: Mapping[str, tuple[str, str, str]]) -> dict[str, float]:
+    """Every ``.param`` name's value: ``definitions`` maps a name (lower case) to (expression, where, line), and a
+    name may use others defined before or after it (as ngspice reads them); a cycle is refused, naming it."""
+    found: dict[str, float] = {}
+    busy: list[str] = []
+
+    def value(name: str) -> float:
+        if name in found:
+            return found[name]
+        if name not in definitions:
+            raise ValueError(f"no .param defines {name!r}")
+        expression, where, line = definitions[name]
+        if name in busy:
+            raise ParameterError(where, line.strip()[:200], f".param values that do not depend on themselves "
+                                 f"({' -> '.join(busy + [name])})")
+        busy.append(name)
+        found[name] = evaluate_expression(expression, value, where, line)
+        busy.pop()
+        return found[name]
+
+    for name in definitions:
+        value(name)
+    return found

@@ -681,7 +681,7 @@ def request_plan(points: Sequence[tuple[Mapping[str, Any], Request]], *, budget:
 
 def batch_plan(paths: Sequence[str | Path], *, allow_control: bool = False, backend: Backend = "batch",
                timeout: float = DEFAULT_TIMEOUT, budget: Budget | None = None, strict: bool = False,
-               engine_version: Callable[[], str] | None = None) -> Plan:
+               engine_version: Callable[[], str] | None = None, check: bool = False) -> Plan:
     """Foreign netlists, checked and priced before anything runs.
 
     Every netlist, and every file it includes, must be a regular file (its
@@ -701,6 +701,10 @@ def batch_plan(paths: Sequence[str | Path], *, allow_control: bool = False, back
     The checks read text only, so a resumed batch makes them again, cheaply, and finds each refusal stored under
     its key (:attr:`Refusal.key`): it is neither run nor stored twice.
 
+    With ``check``, each run's saved vectors are also compared with the netlist's exact response
+    (:attr:`lcchain.runs.spec.RunSpec.check`): the largest error is stored as the measurement
+    ``check_max_abs_error``.
+
     ``engine_version`` gives the version of the ngspice that will run the batch (:attr:`Simulator.version`),
     asked only when a netlist has an ``.ac dec`` card (:func:`lcchain.spice.foreign.log_sweep_count`); by
     default ngspice is found for ``backend``.
@@ -714,7 +718,7 @@ def batch_plan(paths: Sequence[str | Path], *, allow_control: bool = False, back
         path = Path(name)
         read: list[str] = []
         try:
-            tasks.append(_batch_task(index, path, read, allow_control, backend, timeout, budget, version))
+            tasks.append(_batch_task(index, path, read, allow_control, backend, timeout, budget, version, check))
         except ParameterError as error:
             if strict:
                 raise
@@ -724,7 +728,7 @@ def batch_plan(paths: Sequence[str | Path], *, allow_control: bool = False, back
     if first is not None and not tasks:  # nothing of it can run: bad input, as with strict
         raise first
     description = {"command": "batch", "netlists": [str(p) for p in paths], "allow_control": allow_control,
-                   "backend": backend}
+                   "backend": backend, **({"check": True} if check else {})}
     return Plan("batch", FrozenMap(description), tuple(tasks), backend, ("netlist",), refusals=tuple(refusals))
 
 
@@ -741,7 +745,7 @@ def _version_of(backend: Backend) -> Callable[[], str]:
 
 
 def _batch_task(index: int, path: Path, read: list[str], allow_control: bool, backend: Backend, timeout: float,
-                budget: Budget, version: Callable[[], str]) -> Task:
+                budget: Budget, version: Callable[[], str], check: bool = False) -> Task:
     """One netlist of a batch checked, priced and made a task, or its refusal raised (``read`` gets its text
     once read: the refusal's key)."""
     text = read_include(path, "NETLIST")
@@ -751,12 +755,12 @@ def _batch_task(index: int, path: Path, read: list[str], allow_control: bool, ba
         allowed_netlist(text, str(path), folder, read_include)
     return _foreign_task(index, {"netlist": str(path)}, run_text, str(path), path.name, backend=backend,
                          timeout=timeout, budget=budget, version=version,
-                         cwd=str(folder) if allow_control else None, trusted=allow_control)
+                         cwd=str(folder) if allow_control else None, trusted=allow_control, check=check)
 
 
 def _foreign_task(index: int, params: Mapping[str, Any], run_text: str, source: str, label: str, *,
                   backend: Backend, timeout: float, budget: Budget, version: Callable[[], str],
-                  cwd: str | None = None, trusted: bool = False) -> Task:
+                  cwd: str | None = None, trusted: bool = False, check: bool = False) -> Task:
     """A checked foreign netlist (what ngspice will receive) priced and made a task, or its refusal raised: its
     analysis, its price against ``budget`` and its run's limits from that price."""
     analysis = analysis_of(run_text, source, version)
@@ -768,7 +772,7 @@ def _foreign_task(index: int, params: Mapping[str, Any], run_text: str, source: 
         spec = RunSpec(run_text, saved, analysis.tstop, backend=backend, timeout=limits.timeout,
                        cwd=cwd, trusted=trusted, foreign=True,
                        max_output_bytes=limits.max_output_bytes, max_resident_bytes=limits.max_resident_bytes,
-                       label=label, analysis=analysis.kind, points=analysis.frequencies)
+                       label=label, analysis=analysis.kind, points=analysis.frequencies, check=check)
     except ParameterError as error:
         raise (error.renamed("--allow-control") if error.field == "trusted" else error).located(source) \
             from None

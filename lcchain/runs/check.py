@@ -1,0 +1,402 @@
+"""``lcchain check`` as a unit of work: a linear netlist run in a simulator and compared with its exact response.
+
+The netlist passes the allow-list (:func:`lcchain.spice.foreign.allowed_netlist`), runs in the sandbox like a
+batch's, and its element cards are read as numbers (:func:`lcchain.spice.element_values.read_cards`).
+When every element is an R, L, C, K or an independent source with a DC value, PULSE, SIN, PWL or EXP function
+(AC magnitude and phase for an ``.ac``), :func:`circuit_of` makes it a
+:class:`lcchain.circuit.linear.LinearCircuit` with ngspice 39's defaults for what the cards leave out, and
+:func:`check_text` compares every saved vector with the exact response at the simulator's own time points or
+frequencies (:mod:`lcchain.compare.check`), predicts the trapezoidal rule's error at the run's largest step,
+and finds the fixed step an accuracy needs.
+
+Anything else (a behavioural source, a SFFM source, a diode or transistor, a sub-circuit instance, a value that
+calls a ``.func``) still runs: the result says "no exact reference" and why, and has no errors.
+
+ngspice 39's defaults, as its manual gives them: PULSE: rise and fall TSTEP, width and period TSTOP; SIN:
+frequency 1/TSTOP; EXP: rise delay 0, rise time constant TSTEP, fall delay rise delay + TSTEP, fall time constant
+TSTEP; a source without DC value takes its transient function's value at t = 0 for the operating point.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..core.errors import ParameterError
+from ..spice.element_values import (
+    CouplingCard,
+    ElementCard,
+    NetlistCards,
+    OtherCard,
+    SourceCard,
+    read_cards,
+)
+from ..spice.engines import ENGINES, engine_named, find_engine
+from ..spice.foreign import Sweep, Transient, allowed_netlist, analysis_of
+from ..spice.runner import read_include
+from ..spice.simulator import Simulator
+from ..spice.text import canonical_text, canonical_vector_name
+
+__all__ = ["VectorCheck", "CheckResult", "circuit_of", "check_text", "check_file", "reference_measurements",
+           "CHECK_MEASUREMENT", "DEFAULT_ACCURACY"]
+
+#: The measurement a batch run with ``check`` stores: the largest error of its saved vectors (their own units).
+CHECK_MEASUREMENT = "check_max_abs_error"
+
+#: The relative accuracy whose step ``lcchain check`` suggests when none is asked for.
+DEFAULT_ACCURACY = 1e-6
+#: Methods ngspice integrates with; the prediction is the trapezoidal rule's (gear: a rough factor).
+_PREDICTED = {"trap": "the trapezoidal rule's error, predicted from the poles (exact for trap at a fixed step)",
+              "gear": "gear: 4 x the trapezoidal prediction (a factor measured on ladders only; a rough guide)"}
+
+
+@dataclass(frozen=True)
+class VectorCheck:
+    """One saved vector: its error against the exact reference (its own units), its scale (the reference's
+    largest magnitude), and the error predicted at the run's largest step (transient, trap model)."""
+
+    name: str
+    unit: str
+    max_abs_error: float | None
+    scale: float | None
+    predicted_error: float | None = None
+
+    @property
+    def max_rel_error(self) -> float | None:
+        if self.max_abs_error is None or not self.scale:
+            return None
+        return self.max_abs_error / self.scale
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"name": self.name, "unit": self.unit, "max_abs_error": self.max_abs_error, "scale": self.scale,
+                "max_rel_error": self.max_rel_error, "predicted_error": self.predicted_error}
+
+
+@dataclass(frozen=True)
+class CheckResult:
+    """What ``lcchain check`` found (see :func:`check_text`)."""
+
+    netlist: str
+    engine: str
+    engine_version: str
+    analysis: str
+    method: str
+    points: int
+    simulator_seconds: float
+    vectors: tuple[VectorCheck, ...]
+    accuracy: float
+    accuracy_given: bool
+    reference: str = ""  # "" or why there is no exact reference
+    reference_seconds: float | None = None
+    states: int | None = None
+    unknowns: int | None = None
+    rounding: float | None = None
+    run_step: float | None = None
+    predicted_error: float | None = None
+    suggested_step: float | None = None
+    prediction: str = ""
+    notes: tuple[str, ...] = field(default=())
+
+    @property
+    def max_abs_error(self) -> float | None:
+        errors = [v.max_abs_error for v in self.vectors if v.max_abs_error is not None]
+        return max(errors) if errors else None
+
+    @property
+    def max_rel_error(self) -> float | None:
+        errors = [v.max_rel_error for v in self.vectors if v.max_rel_error is not None]
+        return max(errors) if errors else None
+
+    @property
+    def passed(self) -> bool:
+        """False when an accuracy was given and a vector's relative error exceeds it."""
+        worst = self.max_rel_error
+        return not (self.accuracy_given and worst is not None and worst > self.accuracy)
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "netlist": self.netlist, "engine": self.engine, "engine_version": self.engine_version,
+            "analysis": self.analysis, "method": self.method, "points": self.points,
+            "simulator_seconds": self.simulator_seconds,
+            "exact_reference": not self.reference, "no_reference_reason": self.reference or None,
+            "max_abs_error": self.max_abs_error, "max_rel_error": self.max_rel_error,
+            "accuracy": self.accuracy, "accuracy_given": self.accuracy_given,
+            "passed": self.passed if self.accuracy_given else None,  # nothing was asked of it
+            "reference_seconds": self.reference_seconds, "states": self.states, "unknowns": self.unknowns,
+            "rounding": self.rounding, "run_step": self.run_step, "predicted_error": self.predicted_error,
+            "suggested_step": self.suggested_step, "prediction": self.prediction or None,
+            "vectors": [v.to_dict() for v in self.vectors], "notes": list(self.notes),
+        }
+
+
+# --------------------------------------------------------------------------- cards -> circuit
+
+
+def _arguments(card: SourceCard, count: int, defaults: list[float | None]) -> list[float] | str:
+    values: list[float | None] = [*card.arguments[:count], *defaults[len(card.arguments):count]]
+    if len(card.arguments) > count:
+        return f"source {card.name.upper()}: {card.function.upper()} with {len(card.arguments)} arguments"
+    if any(v is None for v in values):
+        return f"source {card.name.upper()}: {card.function.upper()} without its required arguments"
+    return [float(v) for v in values if v is not None]
+
+
+def _waveform(card: SourceCard, analysis: Transient | Sweep) -> Any:
+    """The source's waveform (lcchain.circuit.linear), or why it has no exact reference."""
+    from ..circuit.linear import Waveform, exp_waveform, pulse_waveform, pwl_waveform, sin_waveform
+
+    step, stop = (analysis.step, analysis.stop) if isinstance(analysis, Transient) else (1.0, 1.0)
+    name, function = card.name.upper(), card.function
+    if not function or isinstance(analysis, Sweep):
+        return Waveform.constant(card.dc or 0.0)
+    if function == "pulse":
+        values = _arguments(card, 8, [None, None, 0.0, step, step, stop, stop, None])
+        if isinstance(values, str):
+            values = _arguments(card, 7, [None, None, 0.0, step, step, stop, stop])
+            if isinstance(values, str):
+                return values
+        v1, v2, delay, rise, fall, width, period = values[:7]
+        count = int(values[7]) if len(values) > 7 else None
+        if rise <= 0:
+            rise = step
+        if fall <= 0:
+            fall = step
+        return pulse_waveform(v1, v2, delay, rise, fall, width, period, stop, count)
+    if function == "sin":
+        values = _arguments(card, 6, [None, None, 1.0 / stop, 0.0, 0.0, 0.0])
+        if isinstance(values, str):
+            return values
+        return sin_waveform(*values)
+    if function == "exp":
+        given = list(card.arguments)
+        if not 2 <= len(given) <= 6:
+            return f"source {name}: EXP with {len(given)} arguments"
+        delay1 = given[2] if len(given) > 2 else 0.0
+        tau1 = given[3] if len(given) > 3 and given[3] > 0 else step
+        delay2 = given[4] if len(given) > 4 and given[4] > 0 else delay1 + step
+        tau2 = given[5] if len(given) > 5 and given[5] > 0 else step
+        return exp_waveform(given[0], given[1], delay1, tau1, delay2, tau2)
+    if function == "pwl":
+        values = list(card.arguments)
+        if len(values) < 2 or len(values) % 2 or any(b < a for a, b in zip(values[0::2], values[2::2],
+                                                                               strict=False)):
+            return f"source {name}: PWL of (time, value) pairs in ascending time"
+        return pwl_waveform(list(zip(values[0::2], values[1::2], strict=True)))
+    return f"source {name}: {function.upper()}"
+
+
+def circuit_of(cards: NetlistCards, analysis: Transient | Sweep) -> Any:
+    """The :class:`lcchain.circuit.linear.LinearCircuit` of the cards, or the reason there is none (a string:
+    ``"nonlinear: D1"``, ``"source V2: SFFM"``)."""
+    from ..circuit.linear import Branch, Coupling, LinearCircuit, Source
+
+    branches, sources, couplings = [], [], []
+    for card in cards.elements:
+        if isinstance(card, OtherCard):
+            kind = {"B": "behavioural source", "X": "sub-circuit (not flattened here)"}.get(
+                card.letter, "nonlinear" if card.letter in "DQMJSWZ" else "not modelled")
+            return f"{kind}: {card.name.upper()}" + (f" ({card.why})" if card.why else "")
+        if isinstance(card, ElementCard):
+            keywords = dict(card.keywords)
+            unknown = sorted(set(keywords) - {"ic", "m"} - ({"tc1", "tc2"} if card.letter == "R" else set()))
+            if unknown or any(keywords.get(k, 0.0) for k in ("tc1", "tc2")):
+                return f"element {card.name.upper()}: {', '.join(unknown) or 'temperature coefficients'}"
+            multiplier = keywords.get("m", 1.0)
+            value = card.value / multiplier if card.letter in "RL" else card.value * multiplier
+            branches.append(Branch(card.letter, card.name, card.a, card.b, value,  # type: ignore[arg-type]
+                                   keywords.get("ic")))
+        elif isinstance(card, CouplingCard):
+            couplings.append(Coupling(card.name, card.first, card.second, card.k))
+        else:
+            waveform = _waveform(card, analysis)
+            if isinstance(waveform, str):
+                return waveform
+            phase = math.radians(card.ac[1])
+            sources.append(Source(card.letter, card.name, card.a, card.b, waveform,  # type: ignore[arg-type]
+                                  card.ac[0] * complex(math.cos(phase), math.sin(phase))))
+    return LinearCircuit(tuple(branches), tuple(sources), tuple(couplings), cards.initial, cards.uic)
+
+
+# --------------------------------------------------------------------------- the check
+
+
+def _unit(name: str) -> str:
+    return "V" if name.startswith("v(") else "A" if name.startswith(("i(", "@")) else ""
+
+
+def _run(text: str, analysis: Transient | Sweep, simulator: Simulator, timeout: float, trusted_in: Path | None
+         ) -> tuple[np.ndarray, dict[str, np.ndarray], float, str]:
+    """(time or frequency, vectors by canonical name, wall seconds, version) of the simulator's run."""
+    if isinstance(analysis, Sweep):
+        from ..spice.ac import run_ac
+
+        if trusted_in is not None:
+            raise ParameterError("--allow-control", True, "a .tran netlist (an .ac one runs through the allow-list)")
+        ac = run_ac(text, (), analysis.count, simulator=simulator, timeout=timeout, foreign=True)
+        return np.asarray(ac.frequency), {k: np.asarray(v) for k, v in ac.vectors.items()}, ac.wall_s, \
+            ac.engine_version
+    from ..spice.runner import run
+
+    result = run(text, (), analysis.stop, simulator=simulator, timeout=timeout, foreign=True,
+                 trusted=trusted_in is not None, cwd=trusted_in)
+    return np.asarray(result.time), {k: np.asarray(v) for k, v in result.vectors.items()}, result.wall_s, \
+        result.engine_version
+
+
+def check_text(text: str, source: str = "netlist", folder: Path | None = None, *, accuracy: float | None = None,
+               engine: str = "ngspice", timeout: float = 600.0, simulator: Simulator | None = None,
+               allow_control: bool = False) -> CheckResult:
+    """Run a netlist lcchain did not write and compare every saved vector with its exact response.
+
+    Parameters
+    ----------
+    text : str
+        The netlist (one ``.tran`` or ``.ac``); it must pass the allow-list, its includes in ``folder``.
+    accuracy : float, optional
+        Relative to each vector's scale (its exact reference's largest magnitude): the result does not pass when
+        a vector's error exceeds it; the suggested step is the step it needs (default
+        :data:`DEFAULT_ACCURACY`, which passes or fails nothing).
+    engine : str
+        A registered engine that runs foreign netlists (:attr:`lcchain.spice.engine.Engine.runs_foreign`).
+    allow_control : bool
+        Run the netlist as it is (``.control`` blocks, ``.model`` cards, diodes...: ``lcchain batch
+        --allow-control``), still in the sandbox; what is not linear then has no exact reference.
+
+    Raises
+    ------
+    ParameterError
+        Bad input: a line the allow-list refuses, a value that is not a number, a circuit that is not well
+        posed (naming its elements), an engine that cannot run it.
+    SimulatorMissingError, SimulationError
+        From the run.
+    """
+    given = accuracy is not None
+    accuracy_value = DEFAULT_ACCURACY if accuracy is None else float(accuracy)
+    if not (math.isfinite(accuracy_value) and 0 < accuracy_value < 1):
+        raise ParameterError("--accuracy", accuracy, "a relative accuracy 0 < a < 1")
+    found = engine_named(engine, "--engine")
+    if not found.runs_foreign:
+        able = ", ".join(name for name, e in ENGINES.items() if e.runs_foreign)
+        raise ParameterError("--engine", engine, f"an engine that runs netlists lcchain did not write ({able}): "
+                             f"{engine} runs only lcchain's own ladders")
+    allowed = canonical_text(text, source) if allow_control else allowed_netlist(text, source, folder, read_include)
+    if simulator is None:
+        simulator = find_engine(found.name)
+    version_of = simulator.version
+    analysis = analysis_of(allowed, source, lambda: version_of)
+    cards = read_cards(allowed, source)
+    circuit = circuit_of(cards, analysis)
+    method = cards.method
+    response, seconds = None, 0.0
+    if not isinstance(circuit, str):  # solved before the run: what is not well posed is refused before it runs
+        from ..circuit.linear import linear_response
+
+        started = time.perf_counter()
+        response = linear_response(circuit)
+        if isinstance(analysis, Transient):
+            mismatch = response.initial_mismatch()
+            if mismatch > 1e-9:
+                raise ParameterError("initial state", f"{mismatch:.1e} of it outside the circuit's modes",
+                                     "initial conditions consistent with the circuit's constraints")
+        seconds = time.perf_counter() - started
+    axis, vectors, wall, version = _run(allowed, analysis, simulator, timeout, folder if allow_control else None)
+    names = [canonical_vector_name(n) for n in vectors]
+    common: dict[str, Any] = dict(netlist=source, engine=simulator.engine, engine_version=version,
+                                  analysis=analysis.kind, method=method, points=int(axis.size),
+                                  simulator_seconds=float(wall), accuracy=accuracy_value, accuracy_given=given)
+    if isinstance(circuit, str) or response is None:
+        return CheckResult(vectors=tuple(VectorCheck(n, _unit(n), None, None) for n in names),
+                           reference=str(circuit), **common)
+    return _compare(response, seconds, analysis, axis, vectors, names, common, accuracy_value, method)
+
+
+def _compare(response: Any, solve_seconds: float, analysis: Transient | Sweep, axis: np.ndarray,
+             vectors: dict[str, np.ndarray], names: list[str], common: dict[str, Any], accuracy: float,
+             method: str) -> CheckResult:
+    from ..compare.check import predicted_errors, step_for_accuracy, vector_errors
+
+    started = time.perf_counter()
+    outputs = {n: response.output(n) for n in names}
+    known = [n for n in names if outputs[n] is not None]
+    notes = [f"no exact reference for the vector {n} (not a node voltage or a branch current lcchain models)"
+             for n in names if outputs[n] is None]
+    if isinstance(analysis, Sweep):
+        exact = response.ac([outputs[n] for n in known], axis)
+        rounding = None
+    else:
+        exact, rounding_abs = response.transient([outputs[n] for n in known], axis, analysis.stop)
+        rounding = rounding_abs
+    seconds = solve_seconds + time.perf_counter() - started
+    errors, scales = vector_errors([vectors[n] for n in known], exact)
+    run_step = predicted = suggested = None
+    predicted_each = np.full(len(known), np.nan)
+    prediction = ""
+    if isinstance(analysis, Transient) and known:
+        steps = np.diff(axis)
+        run_step = float(np.max(steps)) if steps.size else analysis.max_step
+        selected = [outputs[n] for n in known]
+        predicted_each = predicted_errors(response, selected, analysis.stop, run_step, method=method)
+        predicted = float(np.max(predicted_each))
+        largest = min(analysis.step, (analysis.stop - analysis.start) / 50)  # ngspice's own, without TMAX
+        suggested = step_for_accuracy(response, selected, scales, analysis.stop, accuracy, method=method,
+                                      largest=largest)
+        prediction = _PREDICTED.get(method, f"{method}: no model of its error (the trapezoidal rule's is shown)")
+        if rounding is not None and np.any(scales > 0) and rounding > accuracy * float(np.min(scales[scales > 0])):
+            notes.append(f"the exact reference's rounding ({rounding:.1e}) is above the accuracy asked for")
+    by_name = {n: k for k, n in enumerate(known)}
+    checks = []
+    for n in names:
+        if n in by_name:
+            k = by_name[n]
+            checks.append(VectorCheck(n, _unit(n), float(errors[k]), float(scales[k]),
+                                      None if np.isnan(predicted_each[k]) else float(predicted_each[k])))
+        else:
+            checks.append(VectorCheck(n, _unit(n), None, None))
+    return CheckResult(vectors=tuple(checks), reference_seconds=seconds, states=response.states,
+                       unknowns=response.unknowns, rounding=rounding, run_step=run_step, predicted_error=predicted,
+                       suggested_step=suggested, prediction=prediction, notes=tuple(notes), **common)
+
+
+def check_file(path: str | Path, *, accuracy: float | None = None, engine: str = "ngspice",
+               timeout: float = 600.0, allow_control: bool = False) -> CheckResult:
+    """:func:`check_text` of a netlist file (its includes inside its folder)."""
+    path = Path(path)
+    text = read_include(path, "NETLIST")
+    return check_text(text, str(path), path.resolve().parent, accuracy=accuracy, engine=engine, timeout=timeout,
+                      allow_control=allow_control)
+
+
+def reference_measurements(netlist: str, axis: np.ndarray, vectors: Mapping[str, np.ndarray], version: str, *,
+                           trusted: bool = False, cwd: str | None = None) -> dict[str, tuple[float | None, str]]:
+    """A batch run's check (:attr:`lcchain.runs.spec.RunSpec.check`): ``{CHECK_MEASUREMENT: (the largest error of
+    its saved vectors against the exact response, "")}``, or (None, why there is none) -- a measurement, as a
+    ``.meas`` card's, so that it is stored and shown with them."""
+    try:
+        text = canonical_text(netlist, "netlist") if trusted else \
+            allowed_netlist(netlist, "netlist", Path(cwd) if cwd is not None else None, read_include)
+        analysis = analysis_of(text, "netlist", lambda: version)
+        circuit = circuit_of(read_cards(text, "netlist"), analysis)
+        if isinstance(circuit, str):
+            return {CHECK_MEASUREMENT: (None, f"no exact reference ({circuit})")}
+        from ..circuit.linear import linear_response
+        from ..compare.check import vector_errors
+
+        response = linear_response(circuit)
+        names = [n for n in vectors if response.output(n) is not None]
+        if not names:
+            return {CHECK_MEASUREMENT: (None, "no saved vector lcchain models")}
+        outputs = [response.output(n) for n in names]
+        if isinstance(analysis, Sweep):
+            exact = response.ac(outputs, axis)  # type: ignore[arg-type]
+        else:
+            exact, _ = response.transient(outputs, axis, analysis.stop)  # type: ignore[arg-type]
+        errors, _ = vector_errors([np.asarray(vectors[n]) for n in names], exact)
+        return {CHECK_MEASUREMENT: (float(np.max(errors)), "")}
+    except ParameterError as error:  # not well posed: the run stands, its check says why
+        return {CHECK_MEASUREMENT: (None, f"no exact reference ({error})")}

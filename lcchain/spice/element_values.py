@@ -1,0 +1,262 @@
+"""A netlist's element cards read as names and numbers: what ``lcchain check`` builds its exact reference from.
+
+This reads the text :func:`lcchain.spice.foreign.allowed_netlist` returns (includes inlined, ``+`` lines
+joined, comments dropped), so it sees what ngspice will run.  It evaluates every value: SPICE numbers (``1k``,
+``10meg``), ``.param`` names and ``{...}`` expressions (:func:`lcchain.spice.expressions.evaluate_expression`).
+It knows no physics: an element is its letter, its nodes, its value and its keywords; an independent source its
+DC value, its AC magnitude and phase, and its transient function's name and arguments, as written.  What the
+elements mean (linear or not, a waveform's defaults) is decided by the caller (:mod:`lcchain.runs.check`).
+
+A card this module cannot read as numbers (an expression calling a ``.func``, a keyword without a value, a
+device or a sub-circuit instance) is kept as an :class:`OtherCard`, with why, so that the caller can say "no
+exact reference" rather than refuse the run: the allow-list (:mod:`lcchain.spice.foreign`) has already decided
+what may run.  The cards of ``.subckt`` ... ``.ends`` and ``.control`` ... ``.endc`` blocks are not the
+circuit's own and are skipped (an ``X`` line is an :class:`OtherCard`).
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field
+
+from ..core.errors import ParameterError
+from .expressions import braced_expressions, evaluate_expression, is_param_card, param_assignments, param_values
+from .text import logical_lines, parse_options, spice_number
+
+__all__ = ["ElementCard", "SourceCard", "CouplingCard", "OtherCard", "NetlistCards", "read_cards",
+           "SOURCE_FUNCTION_NAMES"]
+
+#: Transient functions of an independent source, as ngspice 39 names them.
+SOURCE_FUNCTION_NAMES = frozenset({"pulse", "sin", "pwl", "exp", "sffm", "am", "trnoise", "trrandom", "pat"})
+# Blocks of cards that are not elements of the circuit (a netlist run as it is): their first and last words.
+_BLOCKS = {".control": ".endc", ".subckt": ".ends"}
+
+
+@dataclass(frozen=True)
+class ElementCard:
+    """An R, L or C: ``letter`` (upper case), ``name`` (lower case), nodes ``a`` and ``b`` (lower case), its
+    value (ohm, henry, farad) and keywords such as ``ic`` (lower-case names, numbers)."""
+
+    letter: str
+    name: str
+    a: str
+    b: str
+    value: float
+    keywords: tuple[tuple[str, float], ...] = ()
+    where: str = ""
+
+
+@dataclass(frozen=True)
+class SourceCard:
+    """A V or I source: its DC value, its AC magnitude and phase (degrees), and its transient function (lower
+    case, "" for none) with the arguments as written, read as numbers."""
+
+    letter: str
+    name: str
+    a: str
+    b: str
+    dc: float | None
+    ac: tuple[float, float] = (0.0, 0.0)
+    function: str = ""
+    arguments: tuple[float, ...] = ()
+    where: str = ""
+
+
+@dataclass(frozen=True)
+class CouplingCard:
+    """A K line: the two coils it couples (lower case) and its coefficient."""
+
+    name: str
+    first: str
+    second: str
+    k: float
+    where: str = ""
+
+
+@dataclass(frozen=True)
+class OtherCard:
+    """An element this module does not read as numbers: its name (lower case) and why."""
+
+    letter: str
+    name: str
+    why: str
+    where: str = ""
+
+
+@dataclass(frozen=True)
+class NetlistCards:
+    """Everything :func:`read_cards` read: the element cards in order, the ``.ic`` node voltages, the ``.tran``
+    card's ``uic`` flag, and the options (``method``...)."""
+
+    elements: tuple[ElementCard | SourceCard | CouplingCard | OtherCard, ...]
+    initial: tuple[tuple[str, float], ...] = ()
+    uic: bool = False
+    options: tuple[tuple[str, str], ...] = field(default=())
+
+    @property
+    def method(self) -> str:
+        """The integration method ngspice uses (``trap`` unless ``.options method=gear``)."""
+        return dict(self.options).get("method", "trap").lower()
+
+
+def _words(text: str) -> list[str]:
+    """A card's words; parentheses and commas separate them, ``name=value`` and ``{...}`` stay one word."""
+    groups, text = braced_expressions(text)
+    text = re.sub(r"\s*=\s*", "=", text)
+    words = [w for w in re.split(r"[\s,()]+", text) if w]
+    found = iter(groups)
+    return [re.sub(r"\{\}", lambda _: "{" + next(found) + "}", w) for w in words]
+
+
+def _number(word: str, params: dict[str, float], where: str, line: str) -> float | None:
+    """A word as a number: a SPICE number, a ``{...}`` expression, or a ``.param`` name; None if none of these."""
+    if word.startswith("{") and word.endswith("}"):
+        return evaluate_expression(word[1:-1], params, where, line)
+    found = spice_number(word)
+    if found is not None:
+        return found
+    return params.get(word.lower())
+
+
+def read_cards(text: str, source: str = "netlist") -> NetlistCards:
+    """The element cards of a netlist that passed :func:`lcchain.spice.foreign.allowed_netlist`, read as numbers.
+
+    Raises
+    ------
+    ParameterError
+        A card whose value is missing or not a number (naming the source, the line and the card).
+    """
+    lines = logical_lines(text)[1:]  # the first line is the title
+    definitions: dict[str, tuple[str, str, str]] = {}
+    for number, line in lines:
+        words = line.split(None, 1)
+        if words and is_param_card(words[0]):
+            where = f"{source}: line {number}"
+            for name, value in param_assignments(words[1] if len(words) > 1 else "", where, line):
+                definitions[name] = (value, where, line)
+    try:
+        params = param_values(definitions)
+    except ParameterError:  # a .param lcchain cannot evaluate (a .func call...): the elements that use it say so
+        params = {}
+    elements: list[ElementCard | SourceCard | CouplingCard | OtherCard] = []
+    initial: list[tuple[str, float]] = []
+    uic = False
+    block = ""  # inside a .control or .subckt block (a netlist run as it is): not the circuit's own cards
+    for number, line in lines:
+        where = f"{source}: line {number}"
+        stripped = line.strip()
+        if not stripped or stripped.startswith("*"):
+            continue
+        word = stripped.split(None, 1)[0].lower()
+        if block or word in _BLOCKS:
+            block = "" if word == _BLOCKS.get(block) else (block or word)
+            continue
+        head = stripped.split(None, 1)[0].lower()
+        if head.startswith("."):
+            if head == ".ic":
+                body = stripped.split(None, 1)[1] if len(stripped.split(None, 1)) > 1 else ""
+                pairs = re.findall(r"v\s*\(\s*([^()\s,]+)\s*\)\s*=\s*(\S+)", body, re.IGNORECASE)
+                if not pairs or re.sub(r"v\s*\(\s*[^()\s,]+\s*\)\s*=\s*\S+", "", body, flags=re.IGNORECASE).strip():
+                    raise ParameterError(where, line.strip()[:200], ".ic v(NODE)=VALUE ...")
+                for node, text in pairs:
+                    volts = _number(text, params, where, line)
+                    if volts is None:
+                        raise ParameterError(where, line.strip()[:200], ".ic v(NODE)=VALUE ... with numbers")
+                    initial.append((node.lower(), volts))
+            elif head == ".tran":
+                uic = "uic" in (w.lower() for w in _words(stripped))
+            continue
+        try:
+            elements.append(_element(stripped, params, where, line))
+        except ParameterError:  # the allow-list let it run: no exact reference, not bad input
+            name = stripped.split(None, 1)[0]
+            elements.append(OtherCard(name[0].upper(), name.lower(), "a value lcchain cannot evaluate: a .func "
+                                      "call, a model name...", where))
+    return NetlistCards(tuple(elements), tuple(initial), uic, tuple(sorted(parse_options(text).items())))
+
+
+def _element(card: str, params: dict[str, float], where: str, line: str
+             ) -> ElementCard | SourceCard | CouplingCard | OtherCard:
+    words = _words(card)
+    letter, name = words[0][0].upper(), words[0].lower()
+
+    def number(word: str, what: str) -> float:
+        value = _number(word, params, where, line)
+        if value is None:
+            raise ParameterError(where, line.strip()[:200], f"{what} as a number, a .param name or a {{...}} "
+                                 f"expression, not {word!r}")
+        return value
+
+    if letter in "RLC":
+        if len(words) < 4:
+            raise ParameterError(where, line.strip()[:200], f"{letter}NAME NODE NODE VALUE [KEY=VALUE ...]")
+        rest = words[3:]
+        value_word = rest[0]
+        if "=" in value_word and value_word.split("=", 1)[0].lower() in ("r", "l", "c", "resistance",
+                                                                          "inductance", "capacitance"):
+            value_word = value_word.split("=", 1)[1]
+        elif "=" in value_word:
+            return OtherCard(letter, name, "a value given only by keywords", where)
+        keywords = []
+        for word in rest[1:]:
+            key, sep, text = word.partition("=")
+            if not sep:
+                return OtherCard(letter, name, f"the word {word!r} after its value", where)
+            keywords.append((key.lower(), number(text, key)))
+        return ElementCard(letter, name, words[1].lower(), words[2].lower(), number(value_word, "the value"),
+                           tuple(keywords), where)
+    if letter == "K":
+        if len(words) != 4:
+            raise ParameterError(where, line.strip()[:200], "KNAME LNAME LNAME COEFFICIENT")
+        return CouplingCard(name, words[1].lower(), words[2].lower(), number(words[3], "the coefficient"), where)
+    if letter in "VI":
+        return _source(words, letter, name, number, where)
+    return OtherCard(letter, name, "", where)
+
+
+def _source(words: list[str], letter: str, name: str, number: object, where: str) -> SourceCard | OtherCard:
+    read = number  # (word, what) -> float
+    if len(words) < 3:
+        return OtherCard(letter, name, "no nodes", where)
+    a, b = words[1].lower(), words[2].lower()
+    rest = words[3:]
+    dc: float | None = None
+    ac = (0.0, 0.0)
+    function, arguments = "", tuple[float, ...]()
+    k = 0
+    while k < len(rest):
+        word = rest[k].lower()
+        if word == "dc" and k + 1 < len(rest):
+            dc = read(rest[k + 1], "the DC value")  # type: ignore[operator]
+            k += 2
+        elif word == "ac":
+            values: list[float] = []
+            k += 1
+            while k < len(rest) and len(values) < 2 and rest[k].lower() not in SOURCE_FUNCTION_NAMES | {"dc"}:
+                values.append(read(rest[k], "the AC magnitude and phase"))  # type: ignore[operator]
+                k += 1
+            ac = (values[0] if values else 1.0, values[1] if len(values) > 1 else 0.0)
+        elif word in SOURCE_FUNCTION_NAMES:
+            function = word
+            k += 1
+            found = []
+            while k < len(rest) and rest[k].lower() not in ("dc", "ac"):
+                value = _maybe(rest[k], read)
+                if value is None:
+                    return OtherCard(letter, name, f"{function.upper()} argument {rest[k]!r}", where)
+                found.append(value)
+                k += 1
+            arguments = tuple(found)
+        elif dc is None and _maybe(rest[k], read) is not None:
+            dc = _maybe(rest[k], read)
+            k += 1
+        else:
+            return OtherCard(letter, name, f"the word {rest[k]!r}", where)
+    return SourceCard(letter, name, a, b, dc, ac, function, arguments, where)
+
+
+def _maybe(word: str, read: object) -> float | None:
+    try:
+        return read(word, "")  # type: ignore[operator, no-any-return]
+    except ParameterError:
+        return None

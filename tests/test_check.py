@@ -1,0 +1,428 @@
+"""``lcchain check`` (issue 31 item 5): ngspice against the exact response of linear circuits nobody here wrote.
+
+Each circuit is a netlist written here, from a textbook: a series RLC band-pass driven by a PULSE, a doubly
+terminated 5th-order Butterworth LC ladder (normalised values 0.618, 1.618, 2, 1.618, 0.618 from the table of
+Butterworth prototypes, e.g. Zverev, *Handbook of Filter Synthesis*, 1967; Matthaei, Young & Jones, 1964, Table
+4.05-1) driven by a SIN and a PWL, and a lumped transmission line of 200 LC sections driven by a step through its
+matching resistor (Z0 = sqrt(L/C)).
+
+Every exact reference of lcchain (:mod:`lcchain.circuit.linear`) is checked against one computed here
+independently: the state equations written by hand from Kirchhoff's laws and integrated by ``scipy.linalg.expm``
+of the state matrix augmented with the input's generator states (a ramp: two states; a sine: two), or a closed
+form (the AC transfer function).  ngspice's measured error is then compared with the error lcchain predicts
+from the step, within :data:`PREDICTION_BAND`.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+import scipy.linalg
+
+from lcchain.cli.main import main
+from lcchain.core.errors import ParameterError
+from lcchain.runs.check import check_text, circuit_of
+from lcchain.spice.element_values import read_cards
+from lcchain.spice.expressions import evaluate_expression, param_values
+from lcchain.spice.foreign import allowed_netlist, analysis_of
+
+#: lcchain's exact reference against the independent one (relative to the signal's scale): both are exact, so
+#: only rounding separates them (expm's and the modal sum's, measured 1e-13 .. 1e-11).
+RTOL_EXACT = 1e-9
+#: The same for the line of 200 sections driven through a 1 ns ramp: the ramp's particular solution (its slope
+#: times the line's delays, 1e3 times the signal) cancels against 400 modes at the ramp's start, which leaves
+#: 1.8e-8 of the source current's scale at t = 0 (measured; 1e-12 elsewhere).
+RTOL_EXACT_LINE = 1e-7
+#: ngspice's measured error over lcchain's predicted one (the trapezoidal model at the run's largest step) must
+#: lie in this band (measured 0.6 .. 1.0 on these circuits; ngspice's start-up steps and its breakpoints make
+#: it a little smaller than the model).
+PREDICTION_BAND = (0.3, 3.0)
+
+BANDPASS = """series RLC band-pass (f0 = 1/(2 pi sqrt(LC)) = 15.9 kHz, Q = 2.5) driven by a PULSE
+V1 in 0 PULSE(0 1 0 1u 1u 20u 100u)
+R1 in a 50
+L1 a b 1m
+C1 b out 100n
+R2 out 0 10
+.tran 0.1u 200u 0 0.1u
+.end
+"""
+
+#: The Butterworth ladder: 1 ohm, cutoff 1 kHz (values from the normalised prototype, wc = 2 pi 1 kHz).
+BUTTERWORTH = """5th-order Butterworth LC ladder, doubly terminated
+.param wc = 6283.185307179586 r0 = 1
+V1 in 0 {drive}
+RS in n1 {{r0}}
+C1 n1 0 {{0.618/(wc*r0)}}
+L2 n1 n2 {{1.618*r0/wc}}
+C3 n2 0 {{2/(wc*r0)}}
+L4 n2 n3 {{1.618*r0/wc}}
+C5 n3 0 {{0.618/(wc*r0)}}
+RL n3 0 {{r0}}
+.save v(n1) v(n2) v(n3) i(l2) i(l4) i(v1)
+.tran 1u {tstop} 0 {tmax}
+.end
+"""
+
+
+def _write(tmp_path: Path, text: str, name: str = "circuit.cir") -> Path:
+    path = tmp_path / name
+    path.write_text(text)
+    return path
+
+
+def _reference(text: str, names: list[str], t: np.ndarray) -> np.ndarray:
+    """lcchain's exact reference of the named vectors at t."""
+    from lcchain.circuit.linear import linear_response
+
+    allowed = allowed_netlist(text, "netlist", None)
+    analysis = analysis_of(allowed, "netlist")
+    response = linear_response(circuit_of(read_cards(allowed), analysis))
+    y, _ = response.transient([response.output(n) for n in names], t, analysis.tstop)
+    return y
+
+
+def _expm_response(A: np.ndarray, b: np.ndarray, pieces: list[tuple[float, float, float]], t: np.ndarray,
+                   x0: np.ndarray | None = None) -> np.ndarray:
+    """x(t) of x' = A x + b u with u piecewise linear: pieces (start, value, slope); the state augmented with
+    (u, u') and carried across each piece by expm of the augmented matrix (exact)."""
+    n = A.shape[0]
+    M = np.zeros((n + 2, n + 2))
+    M[:n, :n], M[:n, n], M[n, n + 1] = A, b, 1.0
+    out = np.zeros((n, t.size))
+    x = np.zeros(n) if x0 is None else x0
+    starts = [p[0] for p in pieces] + [math.inf]
+    for k, (start, value, slope) in enumerate(pieces):
+        z0 = np.concatenate([x, [value, slope]])
+        inside = (t >= start) & (t < starts[k + 1])
+        for i in np.flatnonzero(inside):
+            out[:, i] = (scipy.linalg.expm(M * (t[i] - start)) @ z0)[:n]
+        if starts[k + 1] < math.inf:
+            x = (scipy.linalg.expm(M * (starts[k + 1] - start)) @ z0)[:n]
+    return out
+
+
+def _bandpass_state() -> tuple[np.ndarray, np.ndarray]:
+    """States (i_L, v_C) of V1 - R1 - L1 - C1 - R2: L i' = u - (R1 + R2) i - v_C, C v_C' = i."""
+    R, L, C = 60.0, 1e-3, 100e-9
+    return np.array([[-R / L, -1 / L], [1 / C, 0.0]]), np.array([1 / L, 0.0])
+
+
+def _pulse_pieces(v1: float, v2: float, rise: float, width: float, fall: float, period: float, stop: float
+                  ) -> list[tuple[float, float, float]]:
+    pieces: list[tuple[float, float, float]] = []
+    start = 0.0
+    while start < stop:
+        pieces += [(start, v1, (v2 - v1) / rise), (start + rise, v2, 0.0), (start + rise + width, v2, (v1 - v2) / fall),
+                   (start + rise + width + fall, v1, 0.0)]
+        start += period
+    return pieces
+
+
+# --------------------------------------------------------------------------- expressions (no simulator)
+
+
+def test_param_expressions_evaluate_as_ngspice_reads_them() -> None:
+    values = param_values({"c": ("l*1meg", "x", ""), "wc": ("6283.185307179586", "x", ""),
+                           "l": ("1.618/wc", "x", "")})  # a name used before the card that defines it
+    assert values["l"] == pytest.approx(1.618 / 6283.185307179586, rel=1e-15)
+    assert values["c"] == pytest.approx(values["l"] * 1e6, rel=1e-15)
+    assert evaluate_expression("2*r+1k", {"r": 3.0}) == 1006.0
+    assert evaluate_expression("1 < 2 ? 3 : 4", {}) == 3.0
+    with pytest.raises(ParameterError, match="finite value"):
+        evaluate_expression("1/0", {})
+
+
+# --------------------------------------------------------------------------- the exact references, independently
+
+
+def test_bandpass_reference_is_the_state_equations_exponential() -> None:
+    t = np.linspace(0.0, 200e-6, 201)
+    mine = _reference(BANDPASS, ["i(l1)", "v(out)"], t)
+    A, b = _bandpass_state()
+    x = _expm_response(A, b, _pulse_pieces(0, 1, 1e-6, 20e-6, 1e-6, 100e-6, 200e-6), t)
+    np.testing.assert_allclose(mine[0], x[0], rtol=0, atol=RTOL_EXACT * np.max(np.abs(x[0])))
+    np.testing.assert_allclose(mine[1], 10.0 * x[0], rtol=0, atol=RTOL_EXACT * 10 * np.max(np.abs(x[0])))
+
+
+def _butterworth_state() -> tuple[np.ndarray, np.ndarray]:
+    """States (v1, i2, v3, i4, v5) of the ladder, RS = RL = 1 ohm, from Kirchhoff's laws."""
+    wc = 2 * math.pi * 1e3
+    C1, L2, C3, L4, C5 = 0.618 / wc, 1.618 / wc, 2 / wc, 1.618 / wc, 0.618 / wc
+    A = np.array([[-1 / C1, -1 / C1, 0, 0, 0], [1 / L2, 0, -1 / L2, 0, 0], [0, 1 / C3, 0, -1 / C3, 0],
+                  [0, 0, 1 / L4, 0, -1 / L4], [0, 0, 0, 1 / C5, -1 / C5]])
+    return A, np.array([1 / C1, 0, 0, 0, 0])
+
+
+def test_butterworth_sine_reference_is_the_state_equations_exponential() -> None:
+    """u = sin(w t): the state augmented with (sin, cos), whose generator is [[0, w], [-w, 0]]."""
+    text = BUTTERWORTH.format(drive="SIN(0 1 700 0 0 0)", tstop="5m", tmax="1u")
+    t = np.linspace(0.0, 5e-3, 401)
+    mine = _reference(text, ["v(n3)", "i(l2)"], t)
+    A, b = _butterworth_state()
+    w = 2 * math.pi * 700
+    M = np.zeros((7, 7))
+    M[:5, :5], M[:5, 5] = A, b
+    M[5, 6], M[6, 5] = w, -w
+    z0 = np.zeros(7)
+    z0[6] = 1.0  # (sin, cos) = (0, 1) at t = 0
+    x = np.array([scipy.linalg.expm(M * tk) @ z0 for tk in t]).T
+    for row, state in ((0, 4), (1, 1)):
+        np.testing.assert_allclose(mine[row], x[state], rtol=0, atol=RTOL_EXACT * np.max(np.abs(x[state])))
+
+
+def test_butterworth_pwl_reference_is_the_state_equations_exponential() -> None:
+    text = BUTTERWORTH.format(drive="PWL(0 0 0.1m 1 1m 1 1.2m -0.5 2m 0)", tstop="4m", tmax="1u")
+    t = np.linspace(0.0, 4e-3, 161)
+    mine = _reference(text, ["v(n1)", "i(l4)"], t)
+    A, b = _butterworth_state()
+    pieces = [(0.0, 0.0, 1e4), (1e-4, 1.0, 0.0), (1e-3, 1.0, -1.5 / 2e-4), (1.2e-3, -0.5, 0.5 / 8e-4),
+              (2e-3, 0.0, 0.0)]
+    x = _expm_response(A, b, pieces, t)
+    for row, state in ((0, 0), (1, 3)):
+        np.testing.assert_allclose(mine[row], x[state], rtol=0, atol=RTOL_EXACT * np.max(np.abs(x[state])))
+
+
+# --------------------------------------------------------------------------- ngspice against the reference
+
+
+@pytest.mark.ngspice
+def test_bandpass_error_is_the_predicted_one(tmp_path: Path) -> None:
+    result = check_text(BANDPASS, "bandpass.cir")
+    assert result.reference == "" and result.method == "trap" and result.states == 2
+    assert {v.name for v in result.vectors} >= {"v(out)", "i(l1)", "i(v1)", "v(b)"}
+    for vector in result.vectors:
+        if vector.name != "v(in)":  # the source's node: exact in both
+            assert PREDICTION_BAND[0] <= vector.max_abs_error / vector.predicted_error <= PREDICTION_BAND[1]
+    assert result.max_abs_error == max(v.max_abs_error for v in result.vectors)
+
+
+@pytest.mark.ngspice
+def test_butterworth_sine_error_is_predicted_and_the_suggested_step_reaches_the_accuracy(tmp_path: Path) -> None:
+    text = BUTTERWORTH.format(drive="SIN(0 1 700 0 0 0)", tstop="5m", tmax="1u")
+    result = check_text(text, "butterworth.cir", accuracy=1e-6)
+    worst = max(result.vectors, key=lambda v: v.max_abs_error or 0.0)
+    assert PREDICTION_BAND[0] <= worst.max_abs_error / worst.predicted_error <= PREDICTION_BAND[1]
+    assert result.suggested_step is not None and result.suggested_step < 1e-6
+    finer = check_text(BUTTERWORTH.format(drive="SIN(0 1 700 0 0 0)", tstop="5m", tmax=repr(result.suggested_step)),
+                       "butterworth.cir", accuracy=1e-6)
+    assert finer.passed and finer.max_rel_error <= 1e-6
+
+
+@pytest.mark.ngspice
+def test_check_json_and_exit_codes(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    path = _write(tmp_path, BUTTERWORTH.format(drive="PWL(0 0 0.1m 1 1m 1 1.2m -0.5 2m 0)", tstop="4m",
+                                               tmax="1u"))
+    assert main(["check", str(path), "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["exact_reference"] and data["method"] == "trap" and data["states"] == 5
+    assert data["max_abs_error"] == max(v["max_abs_error"] for v in data["vectors"])
+    assert data["predicted_error"] > 0 and data["suggested_step"] > 0 and data["reference_seconds"] > 0
+    assert PREDICTION_BAND[0] <= data["max_abs_error"] / data["predicted_error"] <= PREDICTION_BAND[1]
+    assert main(["check", str(path), "--accuracy", "1e-9"]) == 1  # ngspice's error at 1 us is ~1e-6
+    assert "exceeds --accuracy" in capsys.readouterr().out
+
+
+@pytest.mark.ngspice
+def test_ac_sweep_is_the_transfer_function(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    text = BANDPASS.replace("PULSE(0 1 0 1u 1u 20u 100u)", "DC 0 AC 1").replace(".tran 0.1u 200u 0 0.1u",
+                                                                                 ".ac dec 20 100 1meg")
+    from lcchain.circuit.linear import linear_response
+
+    allowed = allowed_netlist(text, "netlist", None)
+    response = linear_response(circuit_of(read_cards(allowed), analysis_of(allowed, "netlist", lambda: "39")))
+    f = np.geomspace(100, 1e6, 81)
+    mine = response.ac([response.output("v(out)")], f)[0]
+    s = 2j * np.pi * f
+    hand = 10.0 / (60.0 + s * 1e-3 + 1 / (s * 100e-9))  # v(out) = R2 I, I = 1 / Z
+    np.testing.assert_allclose(mine, hand, rtol=1e-12)
+    assert main(["check", str(_write(tmp_path, text)), "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["analysis"] == "ac" and data["points"] == 81 and data["max_rel_error"] < 1e-12
+    assert data["predicted_error"] is None
+
+
+# --------------------------------------------------------------------------- what has no exact reference, refusals
+
+
+@pytest.mark.ngspice
+@pytest.mark.parametrize(("card", "reason"), [
+    ("B1 out 0 V=v(a)*v(a)", "behavioural source: B1"),
+    ("V2 out 0 SFFM(0 1 10k 5 1k)", "source V2: SFFM"),
+])
+def test_what_is_not_linear_runs_with_no_reference(tmp_path: Path, capsys: pytest.CaptureFixture[str], card: str,
+                                                   reason: str) -> None:
+    text = f"not linear\nV1 a 0 PULSE(0 1 0 1u 1u 20u 100u)\nR1 a 0 1k\nR2 out 0 1k\n{card}\n.tran 1u 100u\n.end\n"
+    assert main(["check", str(_write(tmp_path, text))]) == 0
+    assert f"no exact reference ({reason}" in capsys.readouterr().out
+
+
+@pytest.mark.ngspice
+def test_a_diode_runs_with_no_reference(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    text = ("diode clipper\nV1 in 0 SIN(0 2 10k)\nR1 in a 1k\nD1 a 0 dmod\n.model dmod d\n.tran 1u 200u\n.end\n")
+    path = _write(tmp_path, text)
+    assert main(["check", str(path), "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert not data["exact_reference"] and data["no_reference_reason"] == "nonlinear: D1"
+    assert data["max_abs_error"] is None and data["points"] > 0
+    control = _write(tmp_path, text.replace(".end", ".control\nrun\n.endc\n.end"), "control.cir")
+    assert main(["check", str(control)]) == 2  # the allow-list: no .control block
+    assert "line 7" in capsys.readouterr().err
+    assert main(["check", str(control), "--allow-control"]) == 0  # as it is, in the sandbox
+    assert "no exact reference (nonlinear: D1)" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize(("cards", "names"), [
+    ("V1 a 0 1\nC1 a b 1u\nC2 b 0 1u\nR1 a 0 1k\n.tran 1u 10u uic\n", "V1 C1 C2"),
+    ("V1 a 0 1\nV2 a 0 2\nR1 a 0 1k\n.tran 1u 10u\n", "V2 V1"),
+    ("V1 a 0 1\nR1 a b 1k\nC1 b c 1u\nC2 c 0 1u\n.tran 1u 10u\n", "C1"),
+    ("I1 0 a 1m\nR1 a 0 100\nL1 a 0 1m\nL2 a 0 2m\n.tran 1u 10u\n", "L2 L1"),  # ngspice: an arbitrary split
+    ("V1 a 0 1\nR1 a b 20\nL1 b c 100u\nC1 c 0 1u\n.tran 1u 10u\n", "double pole"),  # critically damped
+])
+def test_an_ill_posed_circuit_is_refused_naming_its_elements(tmp_path: Path, capsys: pytest.CaptureFixture[str],
+                                                             cards: str, names: str) -> None:
+    path = _write(tmp_path, "ill posed\n" + cards + ".end\n")
+    assert main(["check", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and names.split()[0] in err and "Traceback" not in err
+
+
+def test_bad_input_is_one_line(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    path = _write(tmp_path, "bad analysis\nV1 a 0 1\nR1 a 0 1k\n.tran 1u\n.end\n")
+    assert main(["check", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "line 4" in err
+    assert main(["check", str(path), "--accuracy", "2"]) == 2
+    assert "--accuracy" in capsys.readouterr().err
+    assert main(["check", str(path), "--engine", "gnucap"]) == 2
+    assert "gnucap runs only lcchain's own" in capsys.readouterr().err
+    assert main(["check", str(tmp_path / "missing.cir")]) == 2
+
+
+# --------------------------------------------------------------------------- the slow one: a transmission line
+
+
+def _line(sections: int) -> str:
+    lines = ["lumped transmission line, Z0 = sqrt(250n/100p) = 50 ohm, driven through its matching resistor",
+             "V1 in 0 PULSE(0 1 0 1n 1n 1 1)", "RS in n0 50"]
+    for k in range(sections):
+        lines += [f"L{k + 1} n{k} n{k + 1} 250n", f"C{k + 1} n{k + 1} 0 100p"]
+    lines += [f"RL n{sections} 0 50", f".save v(n0) v(n{sections // 2}) v(n{sections}) i(v1)",
+              ".tran 1n 2u", ".end"]
+    return "\n".join(lines) + "\n"
+
+
+@pytest.mark.slow
+@pytest.mark.ngspice
+def test_transmission_line_of_200_sections() -> None:
+    """States (i_1 .. i_200, v_1 .. v_200), the source's node n0 eliminated: v0 = u - 50 i_1."""
+    N, L, C, R = 200, 250e-9, 100e-12, 50.0
+    text = _line(N)
+    A = np.zeros((2 * N, 2 * N))
+    b = np.zeros(2 * N)
+    for k in range(N):  # L i_k' = v_{k-1} - v_k
+        if k == 0:
+            A[0, 0], b[0] = -R / L, 1 / L
+        else:
+            A[k, N + k - 1] = 1 / L
+        A[k, N + k] = -1 / L
+    for k in range(N):  # C v_k' = i_k - i_{k+1} (the last: - v_N / R)
+        A[N + k, k] = 1 / C
+        if k + 1 < N:
+            A[N + k, k + 1] = -1 / C
+        else:
+            A[N + k, N + k] = -1 / (R * C)
+    t = np.linspace(0.0, 2e-6, 81)
+    x = _expm_response(A, b, [(0.0, 0.0, 1e9), (1e-9, 1.0, 0.0)], t)
+    mine = _reference(text, ["v(n100)", "v(n200)", "i(v1)"], t)
+    for row, state in ((0, N + 99), (1, 2 * N - 1), (2, 0)):
+        np.testing.assert_allclose(mine[row], -x[0] if row == 2 else x[state], rtol=0,
+                                   atol=RTOL_EXACT_LINE * np.max(np.abs(x[state])))
+    result = check_text(text, "line.cir")
+    assert result.states == 2 * N
+    worst = max(result.vectors, key=lambda v: v.max_abs_error or 0.0)
+    assert PREDICTION_BAND[0] <= worst.max_abs_error / worst.predicted_error <= PREDICTION_BAND[1]
+
+
+@pytest.mark.ngspice
+def test_batch_check_stores_the_error_as_a_measurement(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    linear = _write(tmp_path, BANDPASS, "bandpass.cir")
+    behavioural = _write(tmp_path, "behavioural\nV1 a 0 1\nR1 a 0 1k\nB1 b 0 V=v(a)*v(a)\nR2 b 0 1k\n"
+                         ".tran 1u 10u\n.end\n", "b.cir")
+    store = tmp_path / "batch.sqlite"
+    assert main(["batch", str(linear), str(behavioural), "--check", "--store", str(store)]) == 0
+    capsys.readouterr()
+    assert main(["results", str(store), "--json"]) == 0
+    runs = json.loads(capsys.readouterr().out)
+    errors = {Path(r["params"]["netlist"]).name: r["measurements"]["check_max_abs_error"] for r in runs}
+    assert errors["b.cir"] is None
+    direct = check_text(BANDPASS, "bandpass.cir")
+    assert errors["bandpass.cir"] == pytest.approx(direct.max_abs_error, rel=1e-6)
+
+
+@pytest.mark.ngspice
+def test_gear_is_named_and_its_prediction_is_said_to_be_rough() -> None:
+    result = check_text(BANDPASS.replace(".end", ".options method=gear\n.end"), "gear.cir")
+    assert result.method == "gear" and "rough" in result.prediction
+    assert result.max_abs_error is not None and result.predicted_error is not None
+
+
+@pytest.mark.ngspice
+def test_ic_holds_a_node_for_the_operating_point() -> None:
+    """V1 = 1 V through 10 ohm into C || 1 kohm, .ic v(b) = 0.3: the operating point holds v(b) at 0.3, then
+    v(b) = v_inf + (0.3 - v_inf) exp(-t / tau), v_inf = 1000/1010 V, tau = C (10 || 1000) (first-order RC)."""
+    text = "ic\nV1 a 0 1\nR1 a b 10\nC1 b 0 1u\nR2 b 0 1k\n.ic v(b)=0.3\n.tran 0.1u 40u\n.end\n"
+    t = np.linspace(0.0, 40e-6, 41)
+    v_inf, tau = 1000 / 1010, 1e-6 * 10 * 1000 / 1010
+    np.testing.assert_allclose(_reference(text, ["v(b)"], t)[0], v_inf + (0.3 - v_inf) * np.exp(-t / tau),
+                               rtol=0, atol=RTOL_EXACT)
+    result = check_text(text, "ic.cir")
+    assert PREDICTION_BAND[0] <= result.max_abs_error / result.predicted_error <= PREDICTION_BAND[1]
+
+
+@pytest.mark.ngspice
+def test_uic_starts_from_the_elements_initial_conditions() -> None:
+    """uic: the capacitor at its IC= (0.5 V), the coil at its IC= (1 mA); the series RLC then rings from there."""
+    text = ("uic\nV1 a 0 PULSE(0 1 0 1u 1u 5u 20u)\nR1 a b 10\nL1 b c 1m IC=1m\nC1 c 0 1u IC=0.5\n"
+            ".tran 0.1u 40u uic\n.end\n")
+    t = np.array([0.0, 1e-6, 10e-6, 33e-6])
+    y = _reference(text, ["v(c)", "i(l1)"], t)
+    assert y[0, 0] == pytest.approx(0.5, abs=1e-12) and y[1, 0] == pytest.approx(1e-3, abs=1e-15)
+    A = np.array([[-10 / 1e-3, -1 / 1e-3], [1 / 1e-6, 0.0]])  # (i, v_C): L i' = u - R i - v_C, C v_C' = i
+    x = _expm_response(A, np.array([1 / 1e-3, 0.0]), _pulse_pieces(0, 1, 1e-6, 5e-6, 1e-6, 20e-6, 40e-6), t,
+                       x0=np.array([1e-3, 0.5]))
+    np.testing.assert_allclose(y[0], x[1], rtol=0, atol=RTOL_EXACT)
+    result = check_text(text, "uic.cir")
+    assert PREDICTION_BAND[0] <= result.max_abs_error / result.predicted_error <= PREDICTION_BAND[1]
+
+
+@pytest.mark.ngspice
+def test_a_capacitor_across_a_source_is_compared_from_its_operating_point() -> None:
+    """The source's current C du/dt jumps as the PULSE starts: at t = 0 ngspice reports the operating point's."""
+    text = ("cap across V\nV1 a 0 PULSE(0 1 0 1u 1u 5u 20u)\nC0 a 0 1u\nR1 a b 10\nC1 b 0 1u\n"
+            ".tran 0.1u 40u\n.end\n")
+    result = check_text(text, "capv.cir")
+    worst = max(result.vectors, key=lambda v: v.max_abs_error or 0.0)
+    assert PREDICTION_BAND[0] <= worst.max_abs_error / worst.predicted_error <= PREDICTION_BAND[1]
+
+
+@pytest.mark.ngspice
+def test_coupled_coils_are_the_state_equations_exponential() -> None:
+    """A transformer (k = 0.9) loaded by 50 ohm: [L1 M; M L2] (i1, i2)' = (u - R1 i1, -R2 i2), M = k sqrt(L1 L2)."""
+    text = ("transformer\nV1 a 0 PULSE(0 1 0 1u 1u 5u 20u)\nR1 a b 10\nL1 b 0 1m\nL2 c 0 1m\nR2 c 0 50\n"
+            "K1 L1 L2 0.9\n.tran 0.1u 40u\n.end\n")
+    t = np.linspace(0.0, 40e-6, 81)
+    inductance = np.array([[1e-3, 0.9e-3], [0.9e-3, 1e-3]])
+    A = np.linalg.solve(inductance, np.diag([-10.0, -50.0]))
+    b = np.linalg.solve(inductance, np.array([1.0, 0.0]))
+    x = _expm_response(A, b, _pulse_pieces(0, 1, 1e-6, 5e-6, 1e-6, 20e-6, 40e-6), t)
+    mine = _reference(text, ["i(l1)", "i(l2)"], t)
+    for row in (0, 1):
+        np.testing.assert_allclose(mine[row], x[row], rtol=0, atol=RTOL_EXACT * np.max(np.abs(x[row])))
+    result = check_text(text, "transformer.cir")
+    worst = max(result.vectors, key=lambda v: v.max_abs_error or 0.0)
+    assert PREDICTION_BAND[0] <= worst.max_abs_error / worst.predicted_error <= PREDICTION_BAND[1]
