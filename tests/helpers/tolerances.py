@@ -599,3 +599,18 @@ MAX_ASYMMETRIC_RUN_ERROR = 5e-4
 #: The mean of n seeded random draws lies within this many standard errors (sigma / sqrt(n)) of the
 #: distribution's mean: a 4-sigma miss has probability 6e-5, and the draws are seeded, so never flaky.
 MAX_STANDARD_ERRORS = 4
+
+# ------------------------------------------------------------ `lcchain check` of a foreign netlist (issue 34)
+#: The check's linear response of a series RLC band-pass in AC against the impedance written out by hand,
+#: 10 / (60 + s L + 1 / (s C)): one complex solve per frequency against one complex quotient, rounding.
+RTOL_CHECK_AC_BY_HAND = 1e-12
+#: `lcchain check --json` of that AC sweep: ngspice's phasors against the check's linear response of the same
+#: cards, largest relative error: both solve the same complex linear system in double precision.
+RTOL_CHECK_AC = 1e-12
+#: The check's error stored by `lcchain batch --check` (a measurement in the store) against a direct check of the
+#: same netlist: two ngspice runs of one file, the same largest error.
+RTOL_STORED_CHECK_ERROR = 1e-6
+#: The check's reference at t = 0 against the elements' IC= (0.5 V on the capacitor, 1 mA in the coil) under
+#: uic: the initial state itself, rounding in volts and in amperes.
+ATOL_IC_VOLTAGE = 1e-12
+ATOL_IC_CURRENT = 1e-15
