@@ -173,9 +173,10 @@ def test_coupling_as_elements_is_the_coupled_chains_exact_theory():
     exact theory (lcchain.circuit.exact), to rounding."""
     chain = chain_for_case("two-mass", 8)
     t = np.linspace(0.0, 5e-4, 50)
-    by_chain = CircuitTheory(ladder_elements(Ladder(chain.with_coupling(0.2), 10e-6, 10e-9), kick=1e-3))
+    I0 = 1e-3
+    by_chain = CircuitTheory(ladder_elements(Ladder(chain.with_coupling(0.2), 10e-6, 10e-9), kick=I0))
     by_elements = CircuitTheory(ladder_elements(Ladder(chain, 10e-6, 10e-9), (_CouplingByElements(0.2),),
-                                                kick=1e-3))
+                                                kick=I0))
     probes = ["L1", "L8"]
     assert np.allclose(by_elements.currents(t, probes), by_chain.currents(t, probes), rtol=0.0,
-                       atol=ATOL_ROUND_TRIP * 1e-3)
+                       atol=ATOL_ROUND_TRIP * I0)

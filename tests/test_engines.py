@@ -252,16 +252,17 @@ def _coupled_exact(k: float, t: np.ndarray) -> np.ndarray:
 def test_coupled_coils_start_with_the_wanted_currents_in_both_engines() -> None:
     k, period = 0.03, 2 * math.pi * math.sqrt(1e-5 * 1e-8)
     h, tstop = period / 400, 2 * period
+    I0 = 1e-3  # L1's IC= in _coupled_netlist
     text = _coupled_netlist(k, h, tstop)
     assert " ic=" in ENGINES["gnucap"].dialect(text, ["i(l1)", "i(l2)"]).split("L2 n2 0 2e-05")[1].splitlines()[0]
     for name in ENGINES:
         result = run_engine(text, ["i(l1)", "i(l2)"], tstop, simulator=find_engine(name), foreign=False)
         exact = _coupled_exact(k, result.time)
         for row, vector in enumerate(("i(l1)", "i(l2)")):
-            error = np.max(np.abs(result.vectors[vector] - exact[row])) / 1e-3
+            error = np.max(np.abs(result.vectors[vector] - exact[row])) / I0
             assert error < ATOL_COUPLED, (name, vector, error)
         first = result.vectors["i(l1)"][0] + result.vectors["i(l2)"][0]  # untranslated: 1/(1 + k) of I0
-        assert first == pytest.approx(exact[0][0] + exact[1][0], abs=ATOL_COUPLED * 1e-3)
+        assert first == pytest.approx(exact[0][0] + exact[1][0], abs=ATOL_COUPLED * I0)
 
 
 @pytest.mark.gnucap

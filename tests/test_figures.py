@@ -30,6 +30,7 @@ from helpers.tolerances import (
     RTOL_ONE_OPERATION,
     RTOL_POWER_LAW_FIT,
     RTOL_ROOT_RESIDUAL,
+    RTOL_SPLINE_AT_POINTS,
     RTOL_THETA_RATIO,
     RTOL_W_OF_R_STAR,
 )
@@ -264,7 +265,7 @@ def test_delta_has_the_three_limits_the_enlargements_and_splines(optimum: dict) 
         curve = curves[0]
         xs, ys = np.asarray(curve.get_xdata()), np.asarray(curve.get_ydata())
         assert xs.min() == pytest.approx(N.min()) and xs.max() == pytest.approx(N.max())
-        np.testing.assert_allclose(np.interp(np.log(N), np.log(xs), ys), values, atol=2e-3 * values.max())
+        np.testing.assert_allclose(np.interp(np.log(N), np.log(xs), ys), values, atol=RTOL_SPLINE_AT_POINTS * values.max())
     for case, factor in DELTA_ENLARGE.items():  # the open symbols: the optimised cases enlarged
         values = factor * np.asarray(data[case])
         assert any(np.allclose(m.get_ydata(), values) and m.get_markerfacecolor() == "none" for m in marked), case

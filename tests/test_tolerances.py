@@ -8,15 +8,16 @@ What they catch:
 
 * a keyword argument ``rtol``, ``atol``, ``abs`` or ``rel`` (pytest.approx, numpy's isclose / allclose /
   assert_allclose, scipy's solve_ivp) given a number, written any way Python allows (``1e-9``, ``-1e-9``,
-  ``1.5e-3``, ``0.01``, ``5``).  Zero is allowed: ``rtol=0`` or ``atol=0`` switches that kind of tolerance off,
-  it is not a tolerance;
+  ``1.5e-3``, ``0.01``, ``5``), or a sum or product with a float literal below 1 (``0.35 * dt**2``,
+  ``2e-3 * values.max()``).  Zero is allowed: ``rtol=0`` or ``atol=0`` switches that kind of tolerance off, it
+  is not a tolerance;
 * an ``assert`` bounding an error from above by a number: the smaller side of ``<``, ``<=`` (or the larger of
   ``>``, ``>=``) holds ``abs(...)`` / ``np.abs(...)`` or a name containing "error", and the other side is a
   float literal between 0 and 1, or a sum or product with one (``< 1e-12``, ``< 1e-11 * I0``,
   ``< 1e-3 + 0.01 * abs(x)``, ``<= 1.0 + 1e-9``).
 
-What they do not catch (read the test, or name it anyway): a number inside a keyword's expression
-(``abs=0.35 * dt**2``); an upper bound on a quantity not written as an error (``assert four.delta < 1e-12``,
+What they do not catch (read the test, or name it anyway): an integer factor on a named tolerance
+(``abs=2 * JUMP_XTOL``); an upper bound on a quantity not written as an error (``assert four.delta < 1e-12``,
 ``t[-1] <= T * (1 + 1e-9)``); lower bounds (``> 0.1`` for "a signal arrives", ``>= 0.5 * accuracy``); literals
 of 1 or more and integers (``errors[0] / errors[1] < 13.0``, ``< 10 * eps``); powers (``c * h**6``); positional
 tolerances (``np.isclose(a, b, 1e-9)``); and tolerances outside asserts and keywords (a generator picking a line
@@ -51,13 +52,13 @@ def _number(node: ast.expr) -> int | float | None:
 
 
 def inline_keyword_tolerances(tree: ast.AST) -> Iterator[tuple[int, str]]:
-    """(line, text) of each rtol/atol/abs/rel keyword given a non-zero numeric literal."""
+    """(line, text) of each rtol/atol/abs/rel keyword given a non-zero number, or a sum or product with one."""
     for node in ast.walk(tree):
         if isinstance(node, ast.Call):
             for keyword in node.keywords:
                 if keyword.arg in KEYWORDS:
                     value = _number(keyword.value)
-                    if value is not None and value != 0:
+                    if (value is not None and value != 0) or (value is None and _literal_bound(keyword.value)):
                         yield keyword.value.lineno, f"{keyword.arg}={ast.unparse(keyword.value)}"
 
 
@@ -127,11 +128,13 @@ def test_no_error_is_bounded_by_a_number() -> None:
 def test_the_guards_see_what_they_are_for() -> None:
     """The guards find each form they promise to find, and pass what they promise to pass."""
     bad = ast.parse("pytest.approx(x, rel=1e-9)\nnp.isclose(a, b, atol=-1.5e-3)\nf(abs=+5)\n"
+                    "pytest.approx(p, abs=0.35 * dt**2)\n"
                     "assert abs(a - b) < 1e-12\nassert np.max(np.abs(d)) <= 1e-11 * I0\n"
                     "assert r.max_abs_error < 2e-3\nassert 1e-3 + 0.01 * abs(t) > abs(a - t)\n")
-    assert [line for line, _ in inline_keyword_tolerances(bad)] == [1, 2, 3]
-    assert sorted(line for line, _ in inline_error_bounds(bad)) == [4, 5, 6, 7]
+    assert [line for line, _ in inline_keyword_tolerances(bad)] == [1, 2, 3, 4]
+    assert sorted(line for line, _ in inline_error_bounds(bad)) == [5, 6, 7, 8]
     good = ast.parse("pytest.approx(x, rel=RTOL_X)\nnp.allclose(a, b, rtol=0, atol=ATOL_X)\nf(abs=0.0)\n"
+                     "pytest.approx(q, abs=2 * JUMP_XTOL)\n"
                      "assert abs(a - b) < ATOL_X * I0\nassert abs(a - b) <= accuracy\n"
                      "assert n_errors < 3\nassert c4 * h**6 > np.max(np.abs(d))\nassert t < 0.5\n"
                      "assert np.max(np.abs(signal)) > 0.1\nassert abs(alpha) <= 1.0\n")

@@ -614,3 +614,8 @@ RTOL_STORED_CHECK_ERROR = 1e-6
 #: uic: the initial state itself, rounding in volts and in amperes.
 ATOL_IC_VOLTAGE = 1e-12
 ATOL_IC_CURRENT = 1e-15
+
+# ------------------------------------------------------------ figures (continued)
+#: Fig. delta's spline through a case's points, read back by linear interpolation in log N between the curve's
+#: own samples, against the points it passes through, relative to the largest: the interpolation's error.
+RTOL_SPLINE_AT_POINTS = 2e-3
