@@ -4,6 +4,11 @@ A plain module of constants: import what you need, add what you must, and say
 in a comment why each value is what it is.  Absolute tolerances (ATOL_*) apply
 to dimensionless quantities of order one (masses and springs in bulk units,
 mode densities, amplitudes, frequencies in units of sqrt(K/m)).
+
+Mind the callers' defaults: pytest.approx(x, rel=R) also accepts |error| <= 1e-12 unless abs= is given, and
+np.isclose / np.allclose add rtol=1e-5 and atol=1e-8 to whichever of the two is not given.  A tight RTOL_* on a
+quantity in SI units (seconds, henries of order 1e-5 .. 1e-8) or an ATOL_* passed alone to np.allclose is
+then looser than its value reads.
 """
 
 # A handful of floating-point operations on parameters of order one (the
