@@ -10,7 +10,8 @@ ngspice runs at its default step (TMAX = min(TSTEP, TSTOP/50)) and at a step 10 
 compared with the exact response (:func:`lcchain.runs.check.check_text`): measured max error, predicted error
 (the trapezoidal model at the run's largest step), the exact reference's cost (solve and evaluation, seconds,
 and its states).  Then the step each relative accuracy (1e-3, 1e-6, 1e-9 of each vector's scale) needs, and,
-where the run stays under 500,000 points, ngspice run at that step and its measured relative error.
+where the run stays under 500,000 points, ngspice run at that step and its measured relative error.  Last, gnucap
+(``lcchain check --engine gnucap``) at the same two steps, beside ngspice.
 """
 
 from __future__ import annotations
@@ -81,10 +82,12 @@ def main() -> None:
           "| reference s | states |")
     print("|---|---:|---:|---:|---:|---:|---:|---:|---:|")
     needs = []
+    ngspice_errors = {}
     for name, text, tstop, default in CIRCUITS:
         for tmax in (default, default / 10):
             card = "" if tmax == default else f" 0 {tmax!r}"
             result = check_text(text(card), name, accuracy=1e-6)
+            ngspice_errors[name, tmax] = result.max_abs_error
             ratio = result.max_abs_error / result.predicted_error if result.predicted_error else float("nan")
             print(f"| {name} | {tmax:.3g} | {result.points} | {result.max_abs_error:.3g} | "
                   f"{result.predicted_error:.3g} | {ratio:.2f} | {result.max_rel_error:.3g} | "
@@ -108,6 +111,22 @@ def main() -> None:
     for name, accuracy, step, verified, search in needs:
         shown = "none: below the reference's rounding" if step is None else f"{step:.3g}"
         print(f"| {name} | {accuracy:g} | {shown} | {verified or 'not run'} | {search:.2f} |")
+    print("\n## gnucap against the same reference\n")
+    print("`lcchain check --engine gnucap`: gnucap runs lcchain's copy of each netlist, written from its numbers "
+          "(`lcchain.spice.gnucap_check`), at a fixed print step h = TMAX with dtmax h, method=trap; its error "
+          "against the same exact reference at its own points, the same prediction at its largest step, and "
+          "ngspice's error at the same TMAX (the table above) beside it. gnucap s: its wall time.\n")
+    print("| circuit | TMAX s | points | gnucap max abs error | predicted | measured / predicted | ngspice max abs "
+          "error | gnucap s |")
+    print("|---|---:|---:|---:|---:|---:|---:|---:|")
+    for name, text, _, default in CIRCUITS:
+        for tmax in (default, default / 10):
+            card = "" if tmax == default else f" 0 {tmax!r}"
+            result = check_text(text(card), name, accuracy=1e-6, engine="gnucap")
+            ratio = result.max_abs_error / result.predicted_error if result.predicted_error else float("nan")
+            print(f"| {name} | {tmax:.3g} | {result.points} | {result.max_abs_error:.3g} | "
+                  f"{result.predicted_error:.3g} | {ratio:.2f} | {ngspice_errors[name, tmax]:.3g} | "
+                  f"{result.simulator_seconds:.3g} |")
     load = subprocess.run(["uptime"], capture_output=True, text=True).stdout.strip()
     print(f"\nLoad at the end: `{load}`")
 

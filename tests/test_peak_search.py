@@ -66,6 +66,11 @@ def test_each_time_alone(excitation, pulse, Q):
     alone = np.column_stack([response(np.array([time])) for time in t])
     np.testing.assert_allclose(response.each(t), alone, rtol=0, atol=ATOL_SAME)
     np.testing.assert_allclose(response.each(t), response(t), rtol=0, atol=ATOL_SAME)
+    # times after the pulse only (a peak search's): the free oscillation's sum made once (Response._free)
+    later = np.array([7.3, 25.0, 9.1, 12.0])
+    alone = np.column_stack([response(np.array([time])) for time in later])
+    np.testing.assert_allclose(response.each(later), alone, rtol=0, atol=ATOL_SAME)
+    np.testing.assert_allclose(response.each(later[:1]), alone[:, :1], rtol=0, atol=ATOL_SAME)
 
 
 @pytest.mark.parametrize("excitation, pulse", EXCITATIONS[2:], ids=["gaussian", "rect"])

@@ -117,7 +117,7 @@ def test_an_export_price_grows_with_its_grid_and_waveforms() -> None:
 def test_results_exports_are_priced_and_a_worst_case_is_one_grid_of_corners(capsys, tmp_path) -> None:
     scene, store = tmp_path / "w.toml", tmp_path / "w.sqlite"
     scene.write_text(SCENE)
-    assert main(["sweep", str(scene), "--worst-case", "--components", "2", "--store", str(store),
+    assert main(["sweep", str(scene), "--worst-case", "corners", "--components", "2", "--store", str(store),
                  "--executor", "serial"]) == 0
     capsys.readouterr()
     with Store(store, "read") as stored:

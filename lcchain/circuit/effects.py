@@ -58,7 +58,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from ..core.checks import choice, integer, real
+from ..core.checks import choice, integer, is_number, real
 from ..core.errors import ParameterError
 from ..core.limits import MAX_Q, MAX_SAMPLES, MAX_WALL_SPRING, MIN_Q
 from ..core.registry import Registry
@@ -205,7 +205,7 @@ def _scaled(chain: Chain, L0: float, C0: float, du_L: np.ndarray | None, du_C: n
     return _chain(inductance, capacitance, wired, L0, C0, name, chain.coupling)
 
 
-def cornered(chain: Chain, L0: float, C0: float, *, signs: tuple[int, ...], tol_L: float, tol_C: float,
+def cornered(chain: Chain, L0: float, C0: float, *, signs: tuple[float, ...], tol_L: float, tol_C: float,
              name: str | None = None) -> Chain:
     """The chain at a corner of its tolerances: L_i times 1 + s_i tol_L, C_j times 1 + s_j tol_C.
 
@@ -216,7 +216,8 @@ def cornered(chain: Chain, L0: float, C0: float, *, signs: tuple[int, ...], tol_
     L0, C0 : float
         Bulk inductance (H) and capacitance (F).
     signs : tuple of int
-        2N + 1 signs in {-1, 0, 1}: L_1..L_N, then C_0_1..C_N_N+1 (a free end's sign is ignored: a wire).
+        2N + 1 positions in [-1, 1] (signs -1, 0, 1 at a corner): L_1..L_N, then C_0_1..C_N_N+1 (a free end's
+        is ignored: a wire).
     tol_L, tol_C : float
         Relative tolerances, 0 <= tol < 1.
     """
@@ -427,10 +428,11 @@ class Tolerance(Effect):
         Number of sampled circuits, 1..10000.
     seed : int
         Seed of ``numpy.random.default_rng`` (>= 0), so that a study repeats.
-    corner : tuple of int, optional
-        Instead of drawing: the one circuit with every component at nominal x (1 + sign x its tolerance),
-        2N + 1 signs in {-1, 0, 1}, L_1..L_N then C_0_1..C_N_N+1 (:func:`cornered`; ``lcchain sweep SCENE
-        --worst-case`` makes them).  One sample.
+    corner : tuple of int or float, optional
+        Instead of drawing: the one circuit with every component at nominal x (1 + s x its tolerance),
+        2N + 1 positions s in [-1, 1] (signs in {-1, 0, 1} at the corners), L_1..L_N then C_0_1..C_N_N+1
+        (:func:`cornered`; ``lcchain sweep SCENE --worst-case`` makes them, a point inside the box when its
+        search's worst is there).  One sample.
     """
 
     key: ClassVar[str] = "tolerance"
@@ -438,7 +440,7 @@ class Tolerance(Effect):
     C: float = 0.0
     samples: int = 1
     seed: int = 0
-    corner: tuple[int, ...] | None = None
+    corner: tuple[float, ...] | None = None
 
     def __post_init__(self) -> None:
         for name in ("L", "C"):
@@ -450,12 +452,15 @@ class Tolerance(Effect):
         object.__setattr__(self, "seed", integer("effects.tolerance.seed", self.seed, at_least=0))
         if self.corner is not None:
             if not isinstance(self.corner, (list, tuple)) or any(
-                    isinstance(v, bool) or v not in (-1, 0, 1) for v in self.corner):
-                raise ParameterError("effects.tolerance.corner", self.corner, "a list of signs -1, 0 or 1 (one per "
-                                     "component: L_1..L_N, then C_0_1..C_N_N+1)")
+                    isinstance(v, bool) or not is_number(v) or not -1.0 <= v <= 1.0 for v in self.corner):
+                raise ParameterError("effects.tolerance.corner", self.corner, "a list of numbers from -1 to 1, "
+                                     "signs -1, 0 or 1 at the corners (one per component: L_1..L_N, then "
+                                     "C_0_1..C_N_N+1)")
             if samples != 1:
                 raise ParameterError("effects.tolerance.samples", samples, "1 with a corner (one circuit)")
-            object.__setattr__(self, "corner", tuple(int(v) for v in self.corner))
+            # integers stay integers (a corner's signs); a point inside the box (a worst-case search's) keeps floats
+            object.__setattr__(self, "corner", tuple(int(v) if float(v).is_integer() else float(v)
+                                                     for v in self.corner))
 
     @property
     def varies(self) -> bool:

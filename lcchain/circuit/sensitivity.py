@@ -144,14 +144,15 @@ class Corner:
     ----------
     label : str
         ``"nominal"``, the moved parts (``"L1+ C1_2-"``), or ``"predicted max"`` / ``"predicted min"``.
-    signs : tuple of int
-        2N + 1 signs (L_1..L_N, then C_0_1..C_N_N+1): what :class:`lcchain.circuit.effects.Tolerance` takes.
+    signs : tuple of int or float
+        2N + 1 signs (L_1..L_N, then C_0_1..C_N_N+1): what :class:`lcchain.circuit.effects.Tolerance` takes
+        (a worst-case search's point may lie inside the box: positions in [-1, 1]).
     predicted : float
         The peak's change to first order, sum of s_x tol_x dp/d ln x.
     """
 
     label: str
-    signs: tuple[int, ...]
+    signs: tuple[float, ...]
     predicted: float
 
 

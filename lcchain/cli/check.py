@@ -17,7 +17,8 @@ def add_check_arguments(p: argparse.ArgumentParser, engines: tuple[str, ...]) ->
                         "when a vector's error exceeds it, and the step suggested is the one it needs (default: "
                         "1e-6, for the suggestion only)")
     p.add_argument("--engine", default="ngspice", choices=engines,
-                   help="the simulator (one that runs netlists lcchain did not write)")
+                   help="the simulator: ngspice runs the netlist in its sandbox; gnucap runs lcchain's copy of it, "
+                        "written from its numbers")
     p.add_argument("--timeout", type=number("--timeout"), default=600.0, metavar="SECONDS",
                    help="stop the simulator after this long (default 600)")
     p.add_argument("--allow-control", action="store_true",

@@ -26,6 +26,7 @@ from ..core.types import (
     NAMED_CASES,
     STUDY_METRICS,
     TRANSPORT_CHOICES,
+    WORST_CASE_METHODS,
 )
 from ..report.files import FIGURE_FORMATS
 from ..spice.engines import DEFAULT_ENGINE, ENGINES
@@ -69,6 +70,14 @@ def _words(option: str, allowed: Sequence[str]) -> Callable[[str], list[str]]:
         return values
 
     return parse
+
+
+def _worst_case_method(text: str) -> str:
+    if text not in WORST_CASE_METHODS:
+        where = " (the scene goes before it: sweep SCENE.toml --worst-case)" if text.endswith(".toml") else ""
+        raise argparse.ArgumentTypeError(f"--worst-case = {text!r} is not allowed: expected "
+                                         f"{' | '.join(WORST_CASE_METHODS)} or nothing (search){where}")
+    return text
 
 
 def add_study_arguments(p: argparse.ArgumentParser, *, store: bool = True) -> None:
@@ -132,15 +141,19 @@ def add_sweep_arguments(p: argparse.ArgumentParser) -> None:
                         "normal:MEAN:SIGMA (SIGMA may be 5%%), uniform:LO:HI or tolerance:NOMINAL:P%% (drawn "
                         "--samples times, seeded by --seed)")
     add_parts_arguments(p, netlist=True)  # --tolerance, --series, --samples (each a task of its own), --seed
-    p.add_argument("--worst-case", action="store_true",
-                   help="with SCENE.toml (kicked, with [effects.tolerance]): run the corners of the --components "
-                        "parts that move the first-arrival peak most, and the two corners the sensitivities "
-                        "predict to be the extremes, instead of the samples")
+    p.add_argument("--worst-case", nargs="?", const="search", default=None, type=_worst_case_method,
+                   metavar="{search,corners}",
+                   help="with SCENE.toml (kicked, with [effects.tolerance]): the worst first arrival. search "
+                        "(default): every part anywhere within its tolerance, searched in exact theory with a "
+                        "certificate; its worst point runs in ngspice beside the nominal and the quick corners. "
+                        "corners: only the corners of the --components parts that move the metric most and the "
+                        "two the sensitivities' signs predict (a quick look, not a search)")
     p.add_argument("--components", type=int, default=None, metavar="K",
-                   help="--worst-case: parts moved together, 2^K corners (default 2)")
+                   help="--worst-case: the quick corners move the K most sensitive parts together, 2^K corners "
+                        "(default 2)")
     p.add_argument("--metric", choices=ARRIVAL_METRICS, default=None,
-                   help="--worst-case: rank and judge the corners by the first arrival's current peak (default) or "
-                        "its energy fraction peak^2 L_N/L_1")
+                   help="--worst-case: search, rank and judge by the first arrival's current peak (default) or "
+                        "its energy fraction peak^2 L_N/L_1; the worst is the lowest")
     add_study_arguments(p)
 
 
@@ -244,7 +257,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     outputs = Outputs()
     _check_study_options(args, outputs)
     budget = budget_from_args(args)
-    if args.worst_case or args.components is not None or args.metric is not None:
+    if args.worst_case is not None or args.components is not None or args.metric is not None:
         return _worst_case(args, outputs, budget)
     if args.netlist is not None:
         return _netlist_sweep(args, outputs, budget)
@@ -335,7 +348,7 @@ def _worst_case(args: argparse.Namespace, outputs: Outputs, budget: Any) -> int:
     from ..studies.store import Store
     from ..studies.worst_case import DEFAULT_COMPONENTS, worst_case_plan, worst_case_summary
 
-    if not args.worst_case:
+    if args.worst_case is None:
         option = "--components" if args.components is not None else "--metric"
         raise ParameterError(option, getattr(args, option.lstrip("-")), "only with --worst-case")
     if not args.scene:
@@ -343,14 +356,15 @@ def _worst_case(args: argparse.Namespace, outputs: Outputs, budget: Any) -> int:
     given = [o for o, v in (("--case", args.case), ("--N", args.N), ("--dt", args.dt), ("--accuracy", args.accuracy),
                             ("--extrapolate", args.extrapolate), ("--engine", args.engine), ("--vary", args.vary),
                             ("--samples", args.samples), ("--seed", args.seed), ("--points", args.points),
-                            ("--tolerance", args.tolerance), ("--series", args.series), *_scene_says(args))
+                            ("--tolerance", args.tolerance), ("--series", args.series), ("--netlist", args.netlist),
+                            *_scene_says(args))
              if v is not None and v != []]
     if given:
         raise ParameterError(given[0], getattr(args, given[0].lstrip("-")), "nothing with --worst-case (the scene "
                              "says the circuit and its [effects.tolerance]; the corners replace the samples)")
     plan, setup = worst_case_plan(args.scene, components=args.components if args.components is not None else
                                   DEFAULT_COMPONENTS, metric=args.metric or "peak", budget=budget,
-                                  workers=_workers(args))
+                                  workers=_workers(args), method=args.worst_case)
 
     def after(as_json: bool) -> dict[str, Any]:
         with Store(args.store, "read") as store:
@@ -368,6 +382,22 @@ def _print_worst_case(summary: dict[str, Any]) -> None:
     rows = [[row["corner"], f"{row['sim']:.6f}", f"{row['theory']:.6f}", f"{row['predicted']:.6f}"]
             for row in summary["corners"]]
     print(_table(["corner", f"{what} (ngspice)", f"{what} (theory)", "first order"], rows))
+    quick = summary["corner_analysis"]
+    if quick["worst"] is not None:
+        print(f"{quick['label']}: worst {quick['worst']['corner']}, {what} {quick['worst']['sim']:.6f} (ngspice)")
+    search = summary.get("search")
+    if search is not None:
+        where = ("a vertex, every part at +- its tolerance" if search["vertex"] else "a point inside the box")
+        sim = f", ngspice {search['sim']:.6f}" if "sim" in search else ""
+        print(f"search of the whole tolerance box (exact theory): worst {what} {search['worst']:.6f}{sim}, "
+              f"nominal {search['nominal']:.6f}; at {where}: signs {search['signs']} (L_1..L_N, C_0_1..C_N_N+1)")
+        optima = search["local_optima"]
+        print(f"  {search['starts']} starts ended at {len(optima)} distinct local optima ({optima[0]:.6f} .. "
+              f"{optima[-1]:.6f}); {search['evaluations']} exact evaluations, {search['seconds']:.2f} s")
+        print(f"  certificate: the quadratic model about the nominal is >= {search['model_bound']:.6f} over the box "
+              f"(proved for the model); the {what} is >= {search['bound']:.6f} if it stays within "
+              f"{search['model_error']:.2e} of the model (twice the largest distance seen at the evaluated "
+              f"points: an estimate, not a proof); gap {search['gap']:.2e}")
     if "worst" not in summary:
         return
     worst = summary["worst"]

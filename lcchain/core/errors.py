@@ -155,9 +155,16 @@ class Interrupted(BaseException):
         return (type(self), (self.signum,))
 
 
+#: Longest repr an error message shows whole; a path (a string with a ``/``) may be longer, up to _MAX_PATH: a
+#: path cut in the middle names no file (a store's path in a test's folder under xdist ran past 80).
+_MAX_SHOWN, _MAX_PATH = 80, 400
+
+
 def show_value(value: object) -> str:
-    """A value as an error message shows it: repr, cut to 80 characters."""
+    """A value as an error message shows it: repr, cut to 80 characters (a path to 400)."""
     if isinstance(value, float):
         return repr(value)
     text = repr(value)
-    return text if len(text) <= 80 else text[:77] + "..."
+    path = isinstance(value, str) or hasattr(value, "__fspath__")
+    most = _MAX_PATH if path and "/" in str(value) and "\n" not in str(value) else _MAX_SHOWN
+    return text if len(text) <= most else text[:most - 3] + "..."

@@ -42,6 +42,9 @@ ESeries = Literal["E12", "E24", "E96"]
 #: What of the first arrival a sensitivity or a worst case is about: the current peak max I_N / I_1(0), or the
 #: energy fraction the last inductor holds there, peak^2 L_N / L_1 (not moved by a mismatch of the end inductors).
 ArrivalMetric = Literal["peak", "energy"]
+#: How ``sweep SCENE --worst-case`` finds the worst: a search over the whole tolerance box in exact theory (with
+#: a certificate), or only the corners of the K parts that move the metric most (a quick look, not a search).
+WorstCaseMethod = Literal["search", "corners"]
 #: The pictures a scene can ask for: a transient's (overlay, spacetime, histogram of the transmitted peak) or an AC
 #: analysis's (spectrum: Fig. Pk20-100's panels; spacing: the samples' delta omega_n against the nominal theory).
 PlotKind = Literal["overlay", "spacetime", "histogram", "spectrum", "spacing"]
@@ -56,6 +59,7 @@ AcSpacing = Literal["lin", "dec", "oct"]
 CASES: tuple[Case, ...] = get_args(Case)
 NAMED_CASES: tuple[Case, ...] = tuple(c for c in CASES if c != "custom")
 EXCITATIONS: tuple[Excitation, ...] = get_args(Excitation)
+WORST_CASE_METHODS: tuple[WorstCaseMethod, ...] = get_args(WorstCaseMethod)
 BACKENDS: tuple[Backend, ...] = get_args(Backend)
 TRANSPORTS: tuple[Transport, ...] = get_args(Transport)
 #: How a study chooses each run's transport: by its predicted cost, a process per run, or warm workers.

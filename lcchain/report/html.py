@@ -320,7 +320,8 @@ def _plain(value: Any) -> Any:
 def report_json(report: Mapping[str, Any]) -> str:
     """``report.json``: tables, checks, versions, created, and the paper section's details (no curves)."""
     data = {key: report[key] for key in ("title", "created", "lcchain_version", "ngspice_version", "engines",
-                                          "machine", "quick", "physical", "passed", "seconds", "tables", "checks")}
+                                          "machine", "quick", "passed", "seconds", "tables", "checks")}
+    data["physical"] = report.get("physical") or physical_scales(DEFAULT_L0, DEFAULT_C0)
     data["spectrum"] = [check.to_dict() for check in report.get("spectrum", [])]
     data["requirements"] = [check.to_dict() for check in report.get("requirements", [])]
     paper = report["paper"]

@@ -9,6 +9,10 @@ When every element is an R, L, C, K or an independent source with a DC value, PU
 frequencies (:mod:`lcchain.compare.check`), predicts the trapezoidal rule's error at the run's largest step,
 and finds the fixed step an accuracy needs.
 
+An engine that does not run foreign netlists but ``checks_cards`` (gnucap) runs lcchain's own copy of the
+netlist, written from the cards' numbers (:mod:`lcchain.spice.gnucap_check`), its vectors read back by the
+user's names; what it cannot run exactly (and a netlist with no exact reference) is refused.
+
 Anything else (a behavioural source, a SFFM source, a diode or transistor, a sub-circuit instance, a value that
 calls a ``.func``) still runs: the result says "no exact reference" and why, and has no errors.
 
@@ -41,7 +45,7 @@ from ..spice.engines import ENGINES, engine_named, find_engine
 from ..spice.foreign import Sweep, Transient, allowed_netlist, analysis_of
 from ..spice.runner import read_include
 from ..spice.simulator import Simulator
-from ..spice.text import canonical_text, canonical_vector_name
+from ..spice.text import canonical_text, canonical_vector_name, saved_vectors
 
 __all__ = ["VectorCheck", "CheckResult", "circuit_of", "check_text", "check_file", "reference_measurements",
            "CHECK_MEASUREMENT", "DEFAULT_ACCURACY"]
@@ -147,32 +151,27 @@ def _arguments(card: SourceCard, count: int, defaults: list[float | None]) -> li
     return [float(v) for v in values if v is not None]
 
 
-def _waveform(card: SourceCard, analysis: Transient | Sweep) -> Any:
-    """The source's waveform (lcchain.circuit.linear), or why it has no exact reference."""
-    from ..circuit.linear import Waveform, exp_waveform, pulse_waveform, pwl_waveform, sin_waveform
-
+def source_function(card: SourceCard, analysis: Transient | Sweep) -> tuple[str, tuple[float, ...]] | str:
+    """The source's transient function and its arguments with ngspice 39's defaults filled in (``("", ())`` for a
+    constant, or in an AC sweep), or why it has no exact reference."""
     step, stop = (analysis.step, analysis.stop) if isinstance(analysis, Transient) else (1.0, 1.0)
     name, function = card.name.upper(), card.function
     if not function or isinstance(analysis, Sweep):
-        return Waveform.constant(card.dc or 0.0)
+        return "", ()
     if function == "pulse":
         values = _arguments(card, 8, [None, None, 0.0, step, step, stop, stop, None])
         if isinstance(values, str):
             values = _arguments(card, 7, [None, None, 0.0, step, step, stop, stop])
             if isinstance(values, str):
                 return values
-        v1, v2, delay, rise, fall, width, period = values[:7]
-        count = int(values[7]) if len(values) > 7 else None
-        if rise <= 0:
-            rise = step
-        if fall <= 0:
-            fall = step
-        return pulse_waveform(v1, v2, delay, rise, fall, width, period, stop, count)
+        if values[3] <= 0:
+            values[3] = step
+        if values[4] <= 0:
+            values[4] = step
+        return "pulse", tuple(values)
     if function == "sin":
         values = _arguments(card, 6, [None, None, 1.0 / stop, 0.0, 0.0, 0.0])
-        if isinstance(values, str):
-            return values
-        return sin_waveform(*values)
+        return values if isinstance(values, str) else ("sin", tuple(values))
     if function == "exp":
         given = list(card.arguments)
         if not 2 <= len(given) <= 6:
@@ -181,14 +180,36 @@ def _waveform(card: SourceCard, analysis: Transient | Sweep) -> Any:
         tau1 = given[3] if len(given) > 3 and given[3] > 0 else step
         delay2 = given[4] if len(given) > 4 and given[4] > 0 else delay1 + step
         tau2 = given[5] if len(given) > 5 and given[5] > 0 else step
-        return exp_waveform(given[0], given[1], delay1, tau1, delay2, tau2)
+        return "exp", (given[0], given[1], delay1, tau1, delay2, tau2)
     if function == "pwl":
         values = list(card.arguments)
         if len(values) < 2 or len(values) % 2 or any(b < a for a, b in zip(values[0::2], values[2::2],
                                                                                strict=False)):
             return f"source {name}: PWL of (time, value) pairs in ascending time"
-        return pwl_waveform(list(zip(values[0::2], values[1::2], strict=True)))
+        return "pwl", tuple(values)
     return f"source {name}: {function.upper()}"
+
+
+def _waveform(card: SourceCard, analysis: Transient | Sweep) -> Any:
+    """The source's waveform (lcchain.circuit.linear), or why it has no exact reference."""
+    from ..circuit.linear import Waveform, exp_waveform, pulse_waveform, pwl_waveform, sin_waveform
+
+    found = source_function(card, analysis)
+    if isinstance(found, str):
+        return found
+    function, values = found
+    if not function:
+        return Waveform.constant(card.dc or 0.0)
+    if function == "pulse":
+        v1, v2, delay, rise, fall, width, period = values[:7]
+        count = int(values[7]) if len(values) > 7 else None
+        stop = analysis.stop if isinstance(analysis, Transient) else 1.0
+        return pulse_waveform(v1, v2, delay, rise, fall, width, period, stop, count)
+    if function == "sin":
+        return sin_waveform(*values)
+    if function == "exp":
+        return exp_waveform(*values)
+    return pwl_waveform(list(zip(values[0::2], values[1::2], strict=True)))
 
 
 def circuit_of(cards: NetlistCards, analysis: Transient | Sweep) -> Any:
@@ -281,10 +302,14 @@ def check_text(text: str, source: str = "netlist", folder: Path | None = None, *
     if not (math.isfinite(accuracy_value) and 0 < accuracy_value < 1):
         raise ParameterError("--accuracy", accuracy, "a relative accuracy 0 < a < 1")
     found = engine_named(engine, "--engine")
-    if not found.runs_foreign:
-        able = ", ".join(name for name, e in ENGINES.items() if e.runs_foreign)
+    rewritten = not found.runs_foreign  # run as lcchain's own netlist, written from the cards' numbers
+    if rewritten and not found.checks_cards:
+        able = ", ".join(name for name, e in ENGINES.items() if e.runs_foreign or e.checks_cards)
         raise ParameterError("--engine", engine, f"an engine that runs netlists lcchain did not write ({able}): "
                              f"{engine} runs only lcchain's own ladders")
+    if rewritten and allow_control:
+        raise ParameterError("--allow-control", True, f"ngspice ({engine} runs only the netlist lcchain writes "
+                             "from a linear netlist's numbers)")
     allowed = canonical_text(text, source) if allow_control else allowed_netlist(text, source, folder, read_include)
     if simulator is None:
         simulator = find_engine(found.name)
@@ -305,7 +330,15 @@ def check_text(text: str, source: str = "netlist", folder: Path | None = None, *
                 raise ParameterError("initial state", f"{mismatch:.1e} of it outside the circuit's modes",
                                      "initial conditions consistent with the circuit's constraints")
         seconds = time.perf_counter() - started
-    axis, vectors, wall, version = _run(allowed, analysis, simulator, timeout, folder if allow_control else None)
+    notes: tuple[str, ...] = ()
+    if rewritten:
+        if isinstance(circuit, str):
+            raise ParameterError("--engine", engine, f"ngspice for a netlist with no exact reference ({circuit}): "
+                                 f"{engine} runs only the netlist lcchain writes from a linear netlist's numbers")
+        axis, vectors, wall, version, notes = _run_rewritten(allowed, cards, analysis, simulator, timeout)
+    else:
+        axis, vectors, wall, version = _run(allowed, analysis, simulator, timeout,
+                                            folder if allow_control else None)
     names = [canonical_vector_name(n) for n in vectors]
     common: dict[str, Any] = dict(netlist=source, engine=simulator.engine, engine_version=version,
                                   analysis=analysis.kind, method=method, points=int(axis.size),
@@ -313,19 +346,50 @@ def check_text(text: str, source: str = "netlist", folder: Path | None = None, *
     if isinstance(circuit, str) or response is None:
         return CheckResult(vectors=tuple(VectorCheck(n, _unit(n), None, None) for n in names),
                            reference=str(circuit), **common)
-    return _compare(response, seconds, analysis, axis, vectors, names, common, accuracy_value, method)
+    return _compare(response, seconds, analysis, axis, vectors, names, common, accuracy_value, method, notes)
+
+
+def _run_rewritten(allowed: str, cards: NetlistCards, analysis: Transient | Sweep, simulator: Simulator,
+                   timeout: float) -> tuple[np.ndarray, dict[str, np.ndarray], float, str, tuple[str, ...]]:
+    """An engine's run (gnucap's) of the netlist lcchain writes from the cards' numbers
+    (:mod:`lcchain.spice.gnucap_check`), its vectors by ngspice's names."""
+    from ..spice.gnucap_check import check_netlist, run_check
+
+    functions = {}
+    for card in cards.elements:
+        if isinstance(card, SourceCard):
+            found = source_function(card, analysis)
+            if isinstance(found, str):  # the circuit was built, so its sources were read
+                raise ParameterError("source", card.name, found)
+            functions[card.name] = found
+    names = [canonical_vector_name(v) for v in saved_vectors(allowed)]
+    if isinstance(analysis, Sweep):
+        count = analysis.count if analysis.spacing == "lin" else analysis.per
+        written = check_netlist(cards, functions, 0.0, 0.0, 0.0, names,
+                                sweep=(analysis.spacing, count, analysis.start, analysis.stop))
+        how = "its AC sweep"
+    else:
+        written = check_netlist(cards, functions, min(analysis.step, analysis.max_step), analysis.stop,
+                                analysis.start, names)
+        how = f"at a fixed print step {written.step:.6g} s (dtmax the same), method=trap"
+    run = run_check(written, analysis.tstop, simulator=simulator, timeout=timeout)
+    renamed = ", ".join(f"{user.upper()}={own}" for user, own in written.names)
+    note = (f"{simulator.engine} ran lcchain's copy of the netlist, written from its numbers ({renamed}; nodes "
+            f"n1, n2...), {how}")
+    return np.asarray(run.time), {k: np.asarray(v) for k, v in run.vectors.items()}, run.wall_s, \
+        run.engine_version, (note,)
 
 
 def _compare(response: Any, solve_seconds: float, analysis: Transient | Sweep, axis: np.ndarray,
              vectors: dict[str, np.ndarray], names: list[str], common: dict[str, Any], accuracy: float,
-             method: str) -> CheckResult:
+             method: str, notes_before: tuple[str, ...] = ()) -> CheckResult:
     from ..compare.check import predicted_errors, step_for_accuracy, vector_errors
 
     started = time.perf_counter()
     outputs = {n: response.output(n) for n in names}
     known = [n for n in names if outputs[n] is not None]
-    notes = [f"no exact reference for the vector {n} (not a node voltage or a branch current lcchain models)"
-             for n in names if outputs[n] is None]
+    notes = [*notes_before, *(f"no exact reference for the vector {n} (not a node voltage or a branch current "
+                              "lcchain models)" for n in names if outputs[n] is None)]
     if isinstance(analysis, Sweep):
         exact = response.ac([outputs[n] for n in known], axis)
         rounding = None

@@ -67,6 +67,9 @@ class Engine(ABC):
         The backends it runs on (:data:`lcchain.core.types.BACKENDS`), the default first.
     install : str
         How to install it on Debian (quoted when it is missing).
+    checks_cards : bool
+        Whether ``lcchain check`` may run a foreign linear netlist in it as a netlist lcchain writes from the
+        netlist's cards read as numbers (:mod:`lcchain.spice.gnucap_check`), when it does not ``runs_foreign``.
     runs_foreign : bool
         Whether it runs netlists lcchain did not write (the allow-list and the sandbox are ngspice's).
     extrapolates : bool
@@ -92,6 +95,7 @@ class Engine(ABC):
     transports: ClassVar[tuple[Backend, ...]]
     install: ClassVar[str]
     runs_foreign: ClassVar[bool] = False
+    checks_cards: ClassVar[bool] = False
     extrapolates: ClassVar[bool] = False
     no_extrapolation: ClassVar[str] = "lcchain's model of aligned steps is ngspice's"
     steps_modelled: ClassVar[bool] = False

@@ -4,7 +4,9 @@ gnucap (Debian package ``gnucap``; measured with ``master 2017.10.03``) is
 an independent circuit simulator: agreement between it and ngspice is
 evidence that neither has a bug of its own.  It runs only netlists lcchain
 wrote (``RunSpec.foreign`` False): the allow-list and the sandbox of foreign
-netlists are ngspice's.
+netlists are ngspice's.  ``lcchain check --engine gnucap`` runs a foreign
+linear netlist in it as a netlist lcchain writes from its cards' numbers
+(:mod:`lcchain.spice.gnucap_check`, ``checks_cards``).
 
 The dialect (measured on this machine)
 --------------------------------------
@@ -87,7 +89,7 @@ from .gnucap_table import TITLE, failure, number, quiet, quote, read_ac_table, r
 from .log import trim_log
 from .processes import child_env, kill_group, outgrown, read_all
 from .runner import RunResult, check_arguments, progress_reporter, validate_columns, wait_watching
-from .sandbox import Sandbox
+from .sandbox import SCRATCH, Sandbox, scratch_env
 from .scratch import scratch_folder
 from .simulator import Simulator, child_launcher
 from .text import canonical_vector_name, netlist_lines, parse_options, saved_vectors
@@ -229,6 +231,8 @@ class Gnucap(Engine):
     transports: ClassVar[tuple[Backend, ...]] = ("batch",)
     install: ClassVar[str] = INSTALL_COMMAND
     runs_foreign: ClassVar[bool] = False
+    #: ``lcchain check`` runs a foreign linear netlist in it rewritten from its cards' numbers (gnucap_check).
+    checks_cards: ClassVar[bool] = True
     extrapolates: ClassVar[bool] = False
     no_extrapolation: ClassVar[str] = ("gnucap prints, and stops, on multiples of its print step only, so it cannot "
                                        "run the aligned steps (print step = tstop) that lcchain's extrapolation "
@@ -425,15 +429,22 @@ def _last_time(out: IO[bytes]) -> float | None:
 
 def _run_child(text: str, simulator: Simulator, timeout: float, tstop: float,
                progress: Callable[[float], None] | None, limit: float,
-               resident: float | None = None) -> tuple[str, str, float]:
-    """gnucap's stdout and its whole output, and its wall time; in a temporary folder that is then removed."""
+               resident: float | None = None, sandbox: Sandbox | None = None) -> tuple[str, str, float]:
+    """gnucap's stdout and its whole output, and its wall time; in a temporary folder that is then removed (in
+    ``sandbox`` too when it is available: its own scratch folder and environment, :mod:`lcchain.spice.sandbox`)."""
     with scratch_folder("gnucap") as folder, tempfile.TemporaryFile() as source, \
             tempfile.TemporaryFile() as out, tempfile.TemporaryFile() as err:
         source.write(text.encode("utf-8"))
         source.seek(0)
-        command = [*simulator.launcher, simulator.executable, "-b", "/dev/stdin"]
+        program = [simulator.executable, "-b", "/dev/stdin"]
+        env = child_env()
+        if sandbox is not None and sandbox.available:
+            command = [*simulator.launcher, *sandbox.command(program)]
+            env = scratch_env(SCRATCH)
+        else:
+            command = [*simulator.launcher, *program]
         start = time.perf_counter()
-        proc = subprocess.Popen(command, cwd=folder, env=child_env(), stdin=source, stdout=out, stderr=err,
+        proc = subprocess.Popen(command, cwd=folder, env=env, stdin=source, stdout=out, stderr=err,
                                 start_new_session=True)
         try:
             status = _wait(proc, timeout, tstop, out, err, progress, limit, resident)

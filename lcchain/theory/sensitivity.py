@@ -38,7 +38,8 @@ from .chain import Chain
 from .exact import coupled_vectors, diagonalise, modal_weights
 from .modes import Modes
 
-__all__ = ["PeakSensitivity", "peak_sensitivity", "energy_fraction", "SENSITIVITY_MAX_N"]
+__all__ = ["PeakSensitivity", "peak_sensitivity", "energy_fraction", "SENSITIVITY_MAX_N", "modal_basis",
+           "sensitivity_at", "stationary_time"]
 
 #: Largest chain whose sensitivities are computed: every eigenvector and four dense N x N products.
 SENSITIVITY_MAX_N = COUPLED_MAX_N
@@ -105,7 +106,7 @@ class PeakSensitivity(FrozenArrays):
         return np.asarray(self.energy * 2.0 * self.relative_springs / self.peak)
 
 
-def _modes(chain: Chain) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def modal_basis(chain: Chain) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """omega, the M-orthonormal modes u (columns) and b_n = (M u_n)_1."""
     if chain.coupled:
         omega, u = coupled_vectors(chain)
@@ -115,7 +116,7 @@ def _modes(chain: Chain) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return omega, u, modal_weights(chain, u)
 
 
-def _stationary(weights: np.ndarray, omega: np.ndarray, t: float) -> float:
+def stationary_time(weights: np.ndarray, omega: np.ndarray, t: float) -> float:
     """The peak time polished by Newton steps on alpha_N'(t) = 0: the envelope theorem needs the derivative
     zero to rounding, where the peak search stops at 1e-10 in time (its residual slope showed as a 3e-8 sum of
     the relative sensitivities, which the scaling identity makes 0)."""
@@ -153,14 +154,28 @@ def peak_sensitivity(chain: Chain) -> PeakSensitivity:
     if chain.N > SENSITIVITY_MAX_N:
         raise ParameterError("N", chain.N, f"N <= {SENSITIVITY_MAX_N} for sensitivities (every eigenvector and "
                              "dense N x N products, O(N^3))")
-    omega, u, b = _modes(chain)
+    omega, u, b = modal_basis(chain)
     transfer = u[-1, :] * b
     arrival = first_arrival(Modes(omega, u[0, :] * b, transfer, "exact"))
     if min(arrival.time - arrival.window[0], arrival.window[1] - arrival.time) <= 1e-9 * arrival.time:
         # at an edge of its window the peak is no stationary point: the envelope theorem does not hold
         raise ParameterError("chain", repr(chain), "a chain whose first arrival peaks inside its search window "
                              f"{arrival.window} (this one's largest value is at its edge, t = {arrival.time:.6g})")
-    t = _stationary(transfer, omega, arrival.time)
+    return sensitivity_at(chain, omega, u, b, stationary_time(transfer, omega, arrival.time))
+
+
+def sensitivity_at(chain: Chain, omega: np.ndarray, u: np.ndarray, b: np.ndarray, t: float) -> PeakSensitivity:
+    """The derivatives of alpha_N at a stationary peak time t, from the chain's modes (module docstring).
+
+    Parameters
+    ----------
+    chain : Chain
+    omega, u, b : ndarray
+        From :func:`modal_basis`: frequencies, M-orthonormal modes (columns) and b_n = (M u_n)_1.
+    t : float
+        The peak time, where d alpha_N / dt = 0 (to rounding: the envelope theorem needs it).
+    """
+    transfer = u[-1, :] * b
     # F_kn = (cos(t omega_k) - cos(t omega_n)) / (omega_k^2 - omega_n^2), without cancellation
     total = 0.5 * t * np.add.outer(omega, omega)
     half = 0.5 * t * np.subtract.outer(omega, omega)
