@@ -144,6 +144,7 @@ def test_every_public_result_shows_itself_plots_into_an_axes_and_becomes_a_datas
         assert numeric and all("units" in v.attrs for v in numeric), name
     store = results["Store"]
     store.close()
+    assert "closed" in repr(store) and len(repr(store)) < MAX_REPR_BYTES  # a closed store still shows itself
 
 
 @pytest.mark.ngspice

@@ -649,28 +649,11 @@ def _print_scene_summary(result: Any) -> None:
               file=sys.stderr)
 
 
-def _scene_in_parallel(scene: Any, args: argparse.Namespace, budget: Any, label: str) -> Any:
-    """A scene's tolerance samples on an executor (lcchain run --workers W), summed up as usual."""
-    import time
-
-    from ..scenes.plan import scene_plan, scene_specs
-    from ..scenes.run import scene_result
-    from ..studies.run import check_specs, run_specs
-
-    start = time.perf_counter()
-    plan = scene_plan(scene, budget)
-    specs = scene_specs(scene, plan)
-    executor = "process" if args.executor == "serial" else args.executor
-    check_specs(specs, budget, executor=executor, workers=args.workers)  # its workers' interpreters and runs
-    records = run_specs(specs, executor=executor, workers=args.workers, scheduler=args.scheduler,
-                        progress=study_counter(f"samples of {label}"), transport=args.transport)
-    return scene_result(scene, plan, specs, records, time.perf_counter() - start)
-
-
 def cmd_run(args: argparse.Namespace) -> int:
-    from ..report.scenes import check_scene_outputs, write_scene_outputs
+    from ..app.scenes import run_scene
+    from ..report.scenes import check_scene_outputs
     from ..scenes.load import load_scene
-    from ..scenes.run import overlay_panel, simulate_scene
+    from ..scenes.run import overlay_panel
 
     if len(args.scene) > 1 and (args.netlist_out or args.waveform_out):
         option = "--netlist-out" if args.netlist_out else "--waveform-out"
@@ -691,30 +674,24 @@ def cmd_run(args: argparse.Namespace) -> int:
                                  "--side-by-side": args.side_by_side},
                         inputs=[("SCENE", path) for path in args.scene])
     budget = budget_from_args(args)
-    if args.workers is not None and args.workers < 1:
-        raise ParameterError("--workers", args.workers, "an integer >= 1")
-    parallel = args.workers is not None and args.workers > 1 or args.executor != "serial"
-    results, failed_files = [], False
+    results, failed_files = [], []
     for scene in scenes:
         label = Path(scene.source).name if scene.source else "scene"
-        if parallel:
-            result = _scene_in_parallel(scene, args, budget, label)
-        else:
-            result = simulate_scene(scene, budget=budget, progress=fraction(label))
+
+        def unwritten(error: OSError, source: str | None = scene.source) -> None:
+            failed_files.append(source)
+            print(f"lcchain: could not write {error.filename or 'an output'} of {source}: "
+                  f"{error.strerror or error}", file=sys.stderr)
+
+        result = run_scene(scene, netlist_out=args.netlist_out, waveform_out=args.waveform_out, budget=budget,
+                           progress=fraction(label), executor=args.executor, workers=args.workers,
+                           scheduler=args.scheduler, transport=args.transport,
+                           study_progress=study_counter(f"samples of {label}"), write_error=unwritten)
         results.append(result)
         if not args.json:
             with outputs.summary():
                 _print_scene_summary(result)
-        try:
-            files = write_scene_outputs(result, netlist_out=args.netlist_out, waveform_out=args.waveform_out)
-        except OSError as error:
-            failed_files = True
-            print(f"lcchain: could not write {error.filename or 'an output'} of {scene.source}: "
-                  f"{error.strerror or error}", file=sys.stderr)
-            files = []
-        result.report["files"] = files
-        if not args.json:
-            for path in files:
+            for path in result.files:
                 print(f"wrote {path}", file=sys.stderr if outputs.to_stdout else sys.stdout)
     if args.side_by_side:
         from ..report.plots import side_by_side

@@ -988,7 +988,10 @@ class Store:
         return iter(self.runs())
 
     def _shown(self) -> list[tuple[str, object]]:
-        runs = self._light_runs()
+        try:
+            runs = self._light_runs()
+        except ParameterError:  # closed (a with block's store, shown after it), or no longer readable
+            return [("store", str(self.path)), ("runs", "not readable now (closed)")]
         counts: dict[str, int] = {}
         for run in runs:
             counts[run.status] = counts.get(run.status, 0) + 1

@@ -41,7 +41,6 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
-from scipy.optimize import minimize
 
 from ..core.blas import fixed_blas_threads
 from ..core.checks import choice, integer, real
@@ -434,6 +433,8 @@ def worst_case_search(box: ToleranceBox, metric: ArrivalMetric = "peak", *, rand
     starts = [zero, down, *screened]
     starts += [rng.choice((-1.0, 1.0), size=n) for _ in range(random_starts)]
     starts += [rng.uniform(-1.0, 1.0, size=n) for _ in range(random_starts)]
+    from scipy.optimize import minimize  # here: a command that only plans a worst case loads no optimiser
+
     polished: dict[bytes, tuple[float, np.ndarray]] = {}
     ends: list[tuple[float, np.ndarray]] = []
     diagonal = np.diag(H)
