@@ -14,11 +14,12 @@ analysis's worst: the corners of the K = 2 most sensitive parts and the two the 
 
 from __future__ import annotations
 
-import itertools
 import os
 import platform
 import subprocess
+import sys
 import time
+from pathlib import Path
 
 import numpy as np
 
@@ -30,49 +31,11 @@ from lcchain.theory.cases import chain_for_case
 from lcchain.theory.sensitivity import energy_fraction
 from lcchain.theory.worst_case import ToleranceBox, worst_case_search
 
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests"))
+from helpers.worst_brute import brute_force  # noqa: E402  (the tests' brute force, independent of lcchain)
+
 TOL = 0.05
 L0, C0 = 1e-5, 1e-8
-
-
-def brute_force(masses: np.ndarray, springs: np.ndarray, tol: float, metric: str, chunk: int = 16384,
-                grid: int = 200) -> np.ndarray:
-    """The metric at every corner of a free chain's N masses and N - 1 inner springs (see the test)."""
-    N = masses.size
-    signs = np.array(list(itertools.product((-1.0, 1.0), repeat=2 * N - 1)))
-    out = np.empty(len(signs))
-    idx = np.arange(N - 1)
-    for a in range(0, len(signs), chunk):
-        s = signs[a:a + chunk]
-        m = masses * (1.0 + tol * s[:, :N])
-        k = springs[1:-1] / (1.0 + tol * s[:, N:])
-        K = np.zeros((len(s), N, N))
-        K[:, idx, idx] += k
-        K[:, idx + 1, idx + 1] += k
-        K[:, idx, idx + 1] -= k
-        K[:, idx + 1, idx] -= k
-        r = 1.0 / np.sqrt(m)
-        lam, U = np.linalg.eigh(K * r[:, :, None] * r[:, None, :])
-        omega = np.sqrt(np.clip(lam, 0.0, None))
-        w = U[:, -1, :] * U[:, 0, :] * (r[:, -1] / r[:, 0])[:, None]
-        T = np.pi / np.median(np.diff(omega[:, :6], axis=1), axis=1)
-        lo, hi = T / 2.0, 1.5 * T
-        h = (hi - lo) / (grid - 1)
-        phase, turn = np.exp(1j * omega * lo[:, None]), np.exp(1j * omega * h[:, None])
-        best, at = np.full(len(s), -np.inf), np.zeros(len(s))
-        for g in range(grid):
-            v = np.einsum("bn,bn->b", w, phase.real)
-            better = v > best
-            best, at = np.where(better, v, best), np.where(better, lo + g * h, at)
-            phase *= turn
-        t = at
-        for _ in range(8):
-            slope = -np.sum(w * omega * np.sin(omega * t[:, None]), axis=1)
-            curvature = -np.sum(w * omega**2 * np.cos(omega * t[:, None]), axis=1)
-            step = np.where(curvature < 0, -slope / np.where(curvature < 0, curvature, 1.0), 0.0)
-            t = np.clip(t + np.clip(step, -h, h), lo, hi)
-        p = np.maximum(np.sum(w * np.cos(omega * t[:, None]), axis=1), best)
-        out[a:a + chunk] = p if metric == "peak" else p**2 * m[:, -1] / m[:, 0]
-    return out
 
 
 def old_corners(chain, metric: str) -> float:
@@ -107,7 +70,7 @@ def main() -> None:
             chain = chain_for_case(case, N)
             for metric in ("peak", "energy"):
                 started = time.perf_counter()
-                values = brute_force(np.asarray(chain.masses), np.asarray(chain.springs), TOL, metric)
+                values, _ = brute_force(np.asarray(chain.masses), np.asarray(chain.springs), TOL, metric)
                 brute_s = time.perf_counter() - started
                 found = worst_case_search(ToleranceBox(chain, TOL, TOL), metric)
                 worse = int(np.sum(values < found.worst - 1e-9))

@@ -15,7 +15,7 @@ from pathlib import Path
 
 import pytest
 from helpers.catalogue import MARKER, Case, run_case
-from helpers.netlists import LADDER
+from helpers.netlists import LADDER, fifo, link
 from helpers.tolerances import RTOL_POINTS_RATIO
 
 import lcchain
@@ -39,16 +39,6 @@ def _with(*lines: str) -> str:
     return GOOD.replace(".end\n", "\n".join(lines) + "\n.end\n")
 
 
-def _fifo(name: str) -> Callable[[Path], None]:
-    def make(folder: Path) -> None:
-        os.mkfifo(folder / name)
-    return make
-
-
-def _link(name: str, target: str) -> Callable[[Path], None]:
-    def make(folder: Path) -> None:
-        (folder / name).symlink_to(target)
-    return make
 
 
 def _batch(said: list[str], files: dict[str, str | bytes], make: Callable[[Path], None] | None = None,
@@ -98,7 +88,7 @@ CASES: dict[str, Case] = {
     ".param a backtick": _batch(_line(12), {"n.cir": _with(f".param x = {{`{TOUCH}`}}")}),
     ".param $(...)": _batch(_line(12), {"n.cir": _with(f".param x = {{$({TOUCH})}}")}),
     ".param a /proc path": _batch(_line(12), {"n.cir": _with(".param x = {1/proc/self/environ}")}),
-    ".param a path to a FIFO": _batch(_line(12), {"n.cir": _with(".param x = {{here}/fifo}")}, _fifo("fifo")),
+    ".param a path to a FIFO": _batch(_line(12), {"n.cir": _with(".param x = {{here}/fifo}")}, fifo("fifo")),
     ".param a function definition": _batch(_line(12), {"n.cir": _with(".param f(x) = {x*2}")}),
     ".param a nested brace": _batch(["n.cir: line 13", "nested"], {"n.cir": _with(".param x = 1", "R9 n1 0 {{x}}")}),
     ".param include trick": _batch(["n.cir: line 13"], {"n.cir": _with(".param x = {1}", ".include {x}")}),
@@ -109,7 +99,7 @@ CASES: dict[str, Case] = {
     "a continuation of a .param into .control": _batch(_line(12), {
         "n.cir": _with(".param x = 1", "+ .control", TOUCH, ".endc")}),
     "an included .param through a link": _batch(["p.inc: line 1", "table"], {
-        "n.cir": _with(".include link.inc"), "p.inc": ".param x = {table(1, 2)}\n"}, _link("link.inc", "p.inc")),
+        "n.cir": _with(".include link.inc"), "p.inc": ".param x = {table(1, 2)}\n"}, link("link.inc", "p.inc")),
     "too many .param names": _batch(["at most"], {"n.cir": _with(*[f".param p{k} = {k}" for k in range(1001)])}),
     "a too long expression": _batch(_line(12), {"n.cir": _with(".param x = {" + "+".join(["1"] * 300) + "}")}),
     # ------------------------------------------------------------------ .meas (issue 31)
@@ -138,13 +128,13 @@ CASES: dict[str, Case] = {
     ".lib of a system file": _batch(_line(12), {"n.cir": _with(".lib /etc/passwd typ")}),
     ".include climbing out": _batch(_line(12), {"n.cir": _with(".include ../outside.cir")}),
     ".include through a link out": _batch(_line(12), {"n.cir": _with(".include parts.inc")},
-                                          _link("parts.inc", "../outside/parts.inc")),  # dangling: reads nothing
+                                          link("parts.inc", "../outside/parts.inc")),  # dangling: reads nothing
     "an included .control block": _batch(["parts.inc: line 2"], {"n.cir": _with(".include parts.inc"),
                                                                  "parts.inc": f"R9 n1 0 1\n.control\n{TOUCH}\n.endc\n"}),
     "a nested include of a system file": _batch(["b.inc: line 1"], {"n.cir": _with(".include a.inc"),
                                                                     "a.inc": ".include b.inc\n",
                                                                     "b.inc": ".include /etc/passwd\n"}),
-    "an include of a FIFO": _batch(_line(12) + ["FIFO"], {"n.cir": _with(".include parts.inc")}, _fifo("parts.inc")),
+    "an include of a FIFO": _batch(_line(12) + ["FIFO"], {"n.cir": _with(".include parts.inc")}, fifo("parts.inc")),
     "an include of a folder": _batch(_line(12) + ["folder"], {"n.cir": _with(".include sub"), "sub/x": ""}),
     "an include of itself": _batch(["n.cir: line 12", "cycle"], {"n.cir": _with(".include n.cir")}),
     "an include that is missing": _batch(_line(12), {"n.cir": _with(".include missing.inc")}),
@@ -159,7 +149,7 @@ CASES: dict[str, Case] = {
                                                      **{f"i{k}.inc": f".include i{k + 1}.inc\n" for k in range(1, 10)},
                                                      "i10.inc": "R9 n1 0 1\n"}),
     # ------------------------------------------------------------------ the netlist file itself
-    "a netlist that is a FIFO": _batch(["NETLIST", "FIFO"], {}, _fifo("n.cir")),
+    "a netlist that is a FIFO": _batch(["NETLIST", "FIFO"], {}, fifo("n.cir")),
     "a netlist that is a folder": _batch(["NETLIST", "folder"], {"n.cir/x": ""}),
     "a netlist not UTF-8": _batch(["NETLIST", "UTF-8"], {"n.cir": GOOD.encode() + b"* \xff\n"}),
     "a netlist without .tran": _batch(["n.cir", ".tran"], {"n.cir": GOOD.replace(".tran", "* no tran")}),

@@ -29,7 +29,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from helpers.catalogue import MARKER, Case, run_case
-from helpers.netlists import LADDER
+from helpers.netlists import LADDER, fifo, link
 from helpers.tolerances import ATOL_DC_SOLVE, RTOL_AC_LOWPASS, RTOL_DC_SOLVE, RTOL_MEASURE_TRAN, RTOL_REVERSE_LEAKAGE
 
 from lcchain.cli import main
@@ -49,16 +49,6 @@ def _with(*lines: str) -> str:
     return LADDER.replace(".end\n", "\n".join(lines) + "\n.end\n")
 
 
-def _fifo(name: str) -> Callable[[Path], None]:
-    def make(folder: Path) -> None:
-        os.mkfifo(folder / name)
-    return make
-
-
-def _link(name: str, target: str) -> Callable[[Path], None]:
-    def make(folder: Path) -> None:
-        (folder / name).symlink_to(target)
-    return make
 
 
 def _batch(said: list[str], files: dict[str, str | bytes], make: Callable[[Path], None] | None = None) -> Case:
@@ -94,10 +84,10 @@ CASES: dict[str, Case] = {
     "a .subckt holding an .include of /proc/self/environ": _batch(_line(13, "inside the netlist's folder"), {
         "n.cir": _with(".subckt s a", ".include /proc/self/environ", ".ends", "X1 n1 s")}),
     "a .subckt holding an .include of a FIFO": _batch(_line(13, "FIFO"), {
-        "n.cir": _with(".subckt s a", ".include parts.inc", ".ends", "X1 n1 s")}, _fifo("parts.inc")),
+        "n.cir": _with(".subckt s a", ".include parts.inc", ".ends", "X1 n1 s")}, fifo("parts.inc")),
     "a .subckt holding an .include through a link out": _batch(_line(13, "inside the netlist's folder"), {
         "n.cir": _with(".subckt s a", ".include parts.inc", ".ends", "X1 n1 s")},
-        _link("parts.inc", "/proc/self/environ")),
+        link("parts.inc", "/proc/self/environ")),
     "an included .subckt holding a .control": _batch(["parts.inc: line 3"], {
         "n.cir": _with(".include parts.inc", "X1 n1 s"),
         "parts.inc": f".subckt s a\nR1 a 0 1\n.control\n{TOUCH}\n.endc\n.ends\n"}),
@@ -145,7 +135,7 @@ CASES: dict[str, Case] = {
     "a .model of an XSPICE file source": _batch(_line(12), {
         "n.cir": _with(".model f filesource (file=1)", "A1 %v([n1]) f")}),
     "a .models (prefix) naming a FIFO": _batch(_line(12), {"n.cir": _with(".models dx D (file={here}/fifo)")},
-                                                _fifo("fifo")),
+                                                fifo("fifo")),
     "a .model continued into .control": _batch(_line(12), {
         "n.cir": _with(".model dx D (is=1e-14", "+ .control", TOUCH, ".endc")}),
     "a .model continued into .include": _batch(_line(12), {

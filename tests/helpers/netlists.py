@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import os
 import sqlite3
+from collections.abc import Callable
 from pathlib import Path
 
 #: Perfect N=3 chain of the paper: masses (1.5, 1, 1.5) -> inductors in H, unit springs -> 1 F.
@@ -32,3 +34,17 @@ def stored_records(path: Path) -> int:
         return int(count)
     except sqlite3.Error:
         return 0
+
+
+def fifo(name: str) -> Callable[[Path], None]:
+    """Makes a FIFO ``name`` in the folder it is given (an include that would block ngspice forever)."""
+    def make(folder: Path) -> None:
+        os.mkfifo(folder / name)
+    return make
+
+
+def link(name: str, target: str) -> Callable[[Path], None]:
+    """Makes a symbolic link ``name`` to ``target`` in the folder it is given (an include out of the tree)."""
+    def make(folder: Path) -> None:
+        (folder / name).symlink_to(target)
+    return make
