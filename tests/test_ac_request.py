@@ -11,7 +11,7 @@ import json
 import numpy as np
 import pytest
 from helpers.dense import dense_modes
-from helpers.tolerances import ATOL_SPECTRUM_P, RTOL_SPECTRUM_OMEGA, RTOL_SPECTRUM_Q
+from helpers.tolerances import ATOL_PERFECT_SPACING_SPREAD, ATOL_SPECTRUM_P, RTOL_SPECTRUM_OMEGA, RTOL_SPECTRUM_Q
 
 from lcchain.circuit.effects import Losses, Tolerance
 from lcchain.compare.spectral import OMEGA_WEIGHT_FLOOR, SpectrumMetrics
@@ -67,7 +67,7 @@ def test_each_tolerance_sample_is_compared_with_its_own_chain():
         _against_dense(chain, record.spectrum)
         spreads.append(record.spectrum.spacing_spread)
     nominal_record = execute(plan_request(Request(nominal, AC())).specs[0])
-    assert nominal_record.spectrum is not None and nominal_record.spectrum.spacing_spread < 1e-6
+    assert nominal_record.spectrum is not None and nominal_record.spectrum.spacing_spread < ATOL_PERFECT_SPACING_SPREAD
     assert min(spreads) > 100 * nominal_record.spectrum.spacing_spread
 
 

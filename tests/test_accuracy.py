@@ -13,11 +13,17 @@ import numpy as np
 import pytest
 from helpers.tolerances import (
     ATOL_TRAP_MODEL,
+    ATOL_TRAP_STARTUP_CLOSED_FORM,
+    ATOL_WARP_SERIES,
     ATOL_WARPED_DT_0_01,
     ATOL_WARPED_DT_0_1,
     GEAR_FACTOR_RANGE,
     MIN_INTEGRATION_ERROR_OF_A_BUG,
+    MIN_TRAP_ERROR_COEFFICIENT_FIRST_TRANSIT,
     PREDICTION_FACTOR,
+    RTOL_PHYSICS_ERROR_IS_TOTAL,
+    RTOL_STEP_ERROR_OF_A_BUG,
+    TRAP_ERROR_COEFFICIENT_FIRST_TRANSIT,
 )
 
 from lcchain.cli import main
@@ -60,7 +66,7 @@ def test_warped_frequencies_series_and_bounds():
     warped = warped_frequencies(omega, dt)
     assert np.all(warped <= omega) and warped[0] == 0.0
     # omega~ = omega - omega^3 dt^2 / 12 + O(dt^4)
-    assert np.allclose(warped, omega - omega**3 * dt**2 / 12, atol=1e-9)
+    assert np.allclose(warped, omega - omega**3 * dt**2 / 12, atol=ATOL_WARP_SERIES)
 
 
 def test_warped_modes_keep_weights(n20):
@@ -75,7 +81,8 @@ def test_predicted_error_scales_as_dt_squared(n100):
     _, modes = n100
     tstop = stop_time(modes, 1)
     for dt in (0.1, 0.05, 0.02):
-        assert 0.2 < predicted_error(modes, dt, tstop) / dt**2 < 0.35
+        assert (MIN_TRAP_ERROR_COEFFICIENT_FIRST_TRANSIT < predicted_error(modes, dt, tstop) / dt**2
+                < TRAP_ERROR_COEFFICIENT_FIRST_TRANSIT)
     assert predicted_error(modes, 0.05, tstop, method="gear") == pytest.approx(
         4 * predicted_error(modes, 0.05, tstop))
 
@@ -109,7 +116,7 @@ def test_trap_response_on_a_uniform_grid_is_the_warped_sum(n20):
     shrink = 1.0 / (1.0 + (modes.omega * dt) ** 2)
     phase = 2 * np.arctan(modes.omega * dt) + (t[:, None] - 2 * dt) * warped_frequencies(modes.omega, dt)
     expected = (np.cos(phase) * shrink) @ modes.transfer
-    assert np.allclose(model[1:], expected[1:], atol=1e-12)
+    assert np.allclose(model[1:], expected[1:], atol=ATOL_TRAP_STARTUP_CLOSED_FORM)
 
 
 # ------------------------------------------------------------------ against ngspice
@@ -125,7 +132,7 @@ def test_warped_model_matches_ngspice(n20, dt, atol):
         assert np.max(np.abs(signal - cosine_sum(weights, warped.omega, w.t))[after]) < atol
     # With ngspice's own steps (and its backward-Euler start-up steps) the model is exact to rounding.
     assert report.integration_error < ATOL_TRAP_MODEL
-    assert report.physics_error == pytest.approx(report.comparison.max_abs_error, rel=1e-6)
+    assert report.physics_error == pytest.approx(report.comparison.max_abs_error, rel=RTOL_PHYSICS_ERROR_IS_TOTAL)
 
 
 @pytest.mark.ngspice
@@ -162,7 +169,7 @@ def test_error_split_catches_a_chain_that_differs_from_the_theory(n20):
     bad = split_error(report.waveforms, wrong, dt)
     assert good.integration_error < ATOL_TRAP_MODEL
     assert bad.integration_error > MIN_INTEGRATION_ERROR_OF_A_BUG
-    assert bad.physics_error == pytest.approx(good.physics_error, rel=0.05)  # the step's error is unchanged
+    assert bad.physics_error == pytest.approx(good.physics_error, rel=RTOL_STEP_ERROR_OF_A_BUG)  # the step's error is unchanged
     assert bad.total_error < 2 * good.total_error  # ... and the total alone would not tell
 
 
@@ -217,7 +224,8 @@ def test_cli_accuracy_json(capsys):
     assert status == 0 and err == ""
     data = json.loads(out)
     assert {"accuracy", "predicted_error", "integration_error", "physics_error"} <= set(data)
-    assert data["accuracy"] == 1e-4 and data["max_abs_error"] <= 1e-4
+    accuracy = 1e-4  # asked for on the command line
+    assert data["accuracy"] == accuracy and data["max_abs_error"] <= accuracy
     assert data["integration_error"] < ATOL_TRAP_MODEL
 
 
@@ -247,4 +255,5 @@ def test_bench_accuracy_quick_writes_its_files(tmp_path):
             single = [s for s in result["records"] if s["stepping"] == "fixed" and s["method"] == "trap"
                       and s["dt"] == r["dt"]]
             assert not single or r["error"] < single[0]["error"] / 10
-    assert 0.2 < result["summary"]["fits"]["error_c"]["trap N=20"] < 0.35  # issue 4: 0.28
+    assert (MIN_TRAP_ERROR_COEFFICIENT_FIRST_TRANSIT < result["summary"]["fits"]["error_c"]["trap N=20"]
+            < TRAP_ERROR_COEFFICIENT_FIRST_TRANSIT)  # issue 4: 0.28

@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from helpers.catalogue import Case, run_case
+from helpers.tolerances import RTOL_FLOAT32
 
 import lcchain
 from lcchain.cli import main
@@ -249,7 +250,7 @@ def test_the_python_api_refuses_what_is_not_a_number(call: Callable[[], object],
 @pytest.mark.ngspice
 def test_numpy_scalars_are_numbers() -> None:
     report = lcchain.simulate(lcchain.Chain.perfect(4), dt=np.float32(0.05), L0=np.float64(1e-5))
-    assert report.options.dt == pytest.approx(0.05, rel=1e-7)
+    assert report.options.dt == pytest.approx(0.05, rel=RTOL_FLOAT32)
 
 
 def test_a_closed_pipe_ends_quietly() -> None:

@@ -7,6 +7,7 @@ import io
 
 import numpy as np
 import pytest
+from helpers.tolerances import RTOL_BOM_VALUE
 
 from lcchain.circuit.bom import bill_of_materials
 from lcchain.circuit.effects import E_SERIES
@@ -34,7 +35,7 @@ def test_the_exact_bom_holds_the_chain_and_what_the_effects_add(capsys) -> None:
     chain = chain_for_case("two-mass", 6)
     parts = bill_of_materials(chain, 2e-6, 3e-9)
     values = sorted(v for p in parts if p.kind == "inductor" for v in [p.value] * p.count)
-    np.testing.assert_allclose(values, sorted(np.asarray(chain.masses) * 2e-6), rtol=1e-11)
+    np.testing.assert_allclose(values, sorted(np.asarray(chain.masses) * 2e-6), rtol=RTOL_BOM_VALUE)
     assert main(["bom", "--case", "two-mass", "--N", "6", "--coupling", "0.1", "--Q", "100"]) == 0
     out = capsys.readouterr().out
     assert "coils coupled k = 0.1" in out and "resistor" in out and "coupling" in out

@@ -16,6 +16,7 @@ from pathlib import Path
 import pytest
 from helpers.catalogue import MARKER, Case, run_case
 from helpers.netlists import LADDER, fifo, link
+from helpers.tolerances import RTOL_POINTS_RATIO
 
 import lcchain
 from lcchain.circuit.ladder import Ladder
@@ -281,7 +282,7 @@ def test_a_netlist_is_priced_from_its_own_transient() -> None:
     assert default.max_step == pytest.approx(0.2)  # ngspice's own default: (tstop - tstart) / 50
     cheap, dear = (foreign_price(t, transient_of(t, "n"), 2) for t in
                    (text, text.replace(".tran 1e-3 10", ".tran 1e-6 10")))
-    assert dear.points == pytest.approx(1000 * cheap.points, rel=1e-3)
+    assert dear.points == pytest.approx(1000 * cheap.points, rel=RTOL_POINTS_RATIO)
     # time points x their cost, plus a fixed part (the start, the set-up, the text) that is the same for both
     per_point = (dear.seconds - cheap.seconds) / (dear.points - cheap.points)
     assert per_point > 0 and 0 < cheap.seconds - per_point * cheap.points < 0.1

@@ -22,6 +22,14 @@ from pathlib import Path
 import numpy as np
 import pytest
 import scipy.linalg
+from helpers.tolerances import (
+    ATOL_IC_CURRENT,
+    ATOL_IC_VOLTAGE,
+    RTOL_CHECK_AC,
+    RTOL_CHECK_AC_BY_HAND,
+    RTOL_ONE_OPERATION,
+    RTOL_STORED_CHECK_ERROR,
+)
 
 from lcchain.cli.main import main
 from lcchain.core.errors import ParameterError
@@ -129,8 +137,8 @@ def _pulse_pieces(v1: float, v2: float, rise: float, width: float, fall: float, 
 def test_param_expressions_evaluate_as_ngspice_reads_them() -> None:
     values = param_values({"c": ("l*1meg", "x", ""), "wc": ("6283.185307179586", "x", ""),
                            "l": ("1.618/wc", "x", "")})  # a name used before the card that defines it
-    assert values["l"] == pytest.approx(1.618 / 6283.185307179586, rel=1e-15)
-    assert values["c"] == pytest.approx(values["l"] * 1e6, rel=1e-15)
+    assert values["l"] == pytest.approx(1.618 / 6283.185307179586, rel=RTOL_ONE_OPERATION)
+    assert values["c"] == pytest.approx(values["l"] * 1e6, rel=RTOL_ONE_OPERATION)
     assert evaluate_expression("2*r+1k", {"r": 3.0}) == 1006.0
     assert evaluate_expression("1 < 2 ? 3 : 4", {}) == 3.0
     with pytest.raises(ParameterError, match="finite value"):
@@ -204,13 +212,14 @@ def test_bandpass_error_is_the_predicted_one(tmp_path: Path) -> None:
 @pytest.mark.ngspice
 def test_butterworth_sine_error_is_predicted_and_the_suggested_step_reaches_the_accuracy(tmp_path: Path) -> None:
     text = BUTTERWORTH.format(drive="SIN(0 1 700 0 0 0)", tstop="5m", tmax="1u")
-    result = check_text(text, "butterworth.cir", accuracy=1e-6)
+    accuracy = 1e-6
+    result = check_text(text, "butterworth.cir", accuracy=accuracy)
     worst = max(result.vectors, key=lambda v: v.max_abs_error or 0.0)
     assert PREDICTION_BAND[0] <= worst.max_abs_error / worst.predicted_error <= PREDICTION_BAND[1]
     assert result.suggested_step is not None and result.suggested_step < 1e-6
     finer = check_text(BUTTERWORTH.format(drive="SIN(0 1 700 0 0 0)", tstop="5m", tmax=repr(result.suggested_step)),
-                       "butterworth.cir", accuracy=1e-6)
-    assert finer.passed and finer.max_rel_error <= 1e-6
+                       "butterworth.cir", accuracy=accuracy)
+    assert finer.passed and finer.max_rel_error <= accuracy
 
 
 @pytest.mark.ngspice
@@ -239,10 +248,10 @@ def test_ac_sweep_is_the_transfer_function(tmp_path: Path, capsys: pytest.Captur
     mine = response.ac([response.output("v(out)")], f)[0]
     s = 2j * np.pi * f
     hand = 10.0 / (60.0 + s * 1e-3 + 1 / (s * 100e-9))  # v(out) = R2 I, I = 1 / Z
-    np.testing.assert_allclose(mine, hand, rtol=1e-12)
+    np.testing.assert_allclose(mine, hand, rtol=RTOL_CHECK_AC_BY_HAND)
     assert main(["check", str(_write(tmp_path, text)), "--json"]) == 0
     data = json.loads(capsys.readouterr().out)
-    assert data["analysis"] == "ac" and data["points"] == 81 and data["max_rel_error"] < 1e-12
+    assert data["analysis"] == "ac" and data["points"] == 81 and data["max_rel_error"] < RTOL_CHECK_AC
     assert data["predicted_error"] is None
 
 
@@ -361,7 +370,7 @@ def test_batch_check_stores_the_error_as_a_measurement(tmp_path: Path, capsys: p
     errors = {Path(r["params"]["netlist"]).name: r["measurements"]["check_max_abs_error"] for r in runs}
     assert errors["b.cir"] is None
     direct = check_text(BANDPASS, "bandpass.cir")
-    assert errors["bandpass.cir"] == pytest.approx(direct.max_abs_error, rel=1e-6)
+    assert errors["bandpass.cir"] == pytest.approx(direct.max_abs_error, rel=RTOL_STORED_CHECK_ERROR)
 
 
 @pytest.mark.ngspice
@@ -391,7 +400,7 @@ def test_uic_starts_from_the_elements_initial_conditions() -> None:
             ".tran 0.1u 40u uic\n.end\n")
     t = np.array([0.0, 1e-6, 10e-6, 33e-6])
     y = _reference(text, ["v(c)", "i(l1)"], t)
-    assert y[0, 0] == pytest.approx(0.5, abs=1e-12) and y[1, 0] == pytest.approx(1e-3, abs=1e-15)
+    assert y[0, 0] == pytest.approx(0.5, abs=ATOL_IC_VOLTAGE) and y[1, 0] == pytest.approx(1e-3, abs=ATOL_IC_CURRENT)
     A = np.array([[-10 / 1e-3, -1 / 1e-3], [1 / 1e-6, 0.0]])  # (i, v_C): L i' = u - R i - v_C, C v_C' = i
     x = _expm_response(A, np.array([1 / 1e-3, 0.0]), _pulse_pieces(0, 1, 1e-6, 5e-6, 1e-6, 20e-6, 40e-6), t,
                        x0=np.array([1e-3, 0.5]))

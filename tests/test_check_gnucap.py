@@ -17,6 +17,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import scipy.linalg
+from helpers.tolerances import RTOL_CHECK_AC_GNUCAP
 from test_check import (
     BANDPASS,
     BUTTERWORTH,
@@ -168,9 +169,9 @@ def test_ac_sweep_in_gnucap_is_the_transfer_function(tmp_path: Path, capsys: pyt
     assert f.size == 81 and f[0] == pytest.approx(100) and f[-1] == pytest.approx(1e6)
     s = 2j * np.pi * f
     current = 1.0 / (60.0 + s * 1e-3 + 1 / (s * 100e-9))
-    np.testing.assert_allclose(run.vectors["v(out)"], 10.0 * current, rtol=1e-11)
-    np.testing.assert_allclose(run.vectors["i(v1)"], -current, rtol=1e-11)  # SPICE's sign
+    np.testing.assert_allclose(run.vectors["v(out)"], 10.0 * current, rtol=RTOL_CHECK_AC_GNUCAP)
+    np.testing.assert_allclose(run.vectors["i(v1)"], -current, rtol=RTOL_CHECK_AC_GNUCAP)  # SPICE's sign
     assert main(["check", str(_write(tmp_path, text)), "--engine", "gnucap", "--json"]) == 0
     data = json.loads(capsys.readouterr().out)
     assert data["engine"] == "gnucap" and data["analysis"] == "ac" and data["points"] == 81
-    assert data["max_rel_error"] < 1e-11 and data["predicted_error"] is None
+    assert data["max_rel_error"] < RTOL_CHECK_AC_GNUCAP and data["predicted_error"] is None

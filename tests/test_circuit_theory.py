@@ -12,6 +12,15 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from helpers.state_space import dop853_currents, expm_currents
+from helpers.tolerances import (
+    ATOL_CIRCUIT_AGAINST_CHAIN,
+    MAX_FINE_CIRCUIT_RUN_ERROR,
+    MAX_GROUNDED_GROUP_ERROR,
+    RTOL_CIRCUIT_AGAINST_DOP853,
+    RTOL_CIRCUIT_AGAINST_EXPM,
+    RTOL_FLUX_SHARING,
+    RTOL_SPLIT_COIL,
+)
 
 import lcchain
 from lcchain.circuit.effects import (
@@ -72,7 +81,7 @@ def test_the_circuit_theory_matches_the_matrix_exponential(name: str) -> None:
     probes = ["L1", f"L{chain.N}"]
     reference = expm_currents([e.card() for e in elements], times, probes)
     got = CircuitTheory(elements).currents(times, probes)
-    assert np.max(np.abs(got - reference)) < 1e-11 * I0
+    assert np.max(np.abs(got - reference)) < RTOL_CIRCUIT_AGAINST_EXPM * I0
 
 
 @pytest.mark.parametrize("ratio", [0.05, 0.5])
@@ -86,7 +95,7 @@ def test_a_coil_capacitance_is_followed_exactly(ratio: float, losses: float | No
     reference = expm_currents([e.card() for e in elements], times, ["L1", "L5"])
     theory = CircuitTheory(elements)
     assert theory.lossless is (losses is None)
-    assert np.max(np.abs(theory.currents(times, ["L1", "L5"]) - reference)) < 1e-11 * I0
+    assert np.max(np.abs(theory.currents(times, ["L1", "L5"]) - reference)) < RTOL_CIRCUIT_AGAINST_EXPM * I0
 
 
 CHAINS = {
@@ -120,7 +129,7 @@ def test_the_circuit_theory_is_the_chain_theory_where_both_apply(name: str, driv
         got = theory.currents(t * unit, probes) / I0
     else:
         got = theory.charges(t * unit, probes, [I0 * unit, 0.0]) / (I0 * unit)
-    assert np.max(np.abs(got - reference)) < 1e-12
+    assert np.max(np.abs(got - reference)) < ATOL_CIRCUIT_AGAINST_CHAIN
 
 
 def test_coils_in_series_are_one_coil() -> None:
@@ -134,8 +143,8 @@ def test_coils_in_series_are_one_coil() -> None:
     whole = CircuitTheory(elements).currents(times, ["L1", "L8"])
     halves = CircuitTheory(split + elements[1:])
     assert halves.states == CircuitTheory(elements).states
-    assert np.max(np.abs(halves.currents(times, ["L1", "L8"]) - whole)) < 1e-12 * I0
-    assert np.max(np.abs(halves.currents(times, ["L1b"]) - whole[:1])) < 1e-12 * I0
+    assert np.max(np.abs(halves.currents(times, ["L1", "L8"]) - whole)) < RTOL_SPLIT_COIL * I0
+    assert np.max(np.abs(halves.currents(times, ["L1b"]) - whole[:1])) < RTOL_SPLIT_COIL * I0
 
 
 @pytest.mark.parametrize("elements, said", [
@@ -156,7 +165,7 @@ def test_initial_currents_that_break_kirchhoffs_law_redistribute_conserving_flux
     # Two coils in series, only the first carrying a current: at once both carry L1 I0 / (L1 + L2).
     elements = [Element("L1", "0", "x", 1e-5, 1e-3), Element("L2", "x", "n", 3e-5), Element("C1", "n", "0", 1e-8)]
     currents = CircuitTheory(elements).currents(np.array([0.0]), ["L1", "L2"])
-    assert np.allclose(currents[:, 0], 0.25e-3, rtol=1e-12)
+    assert np.allclose(currents[:, 0], 0.25e-3, rtol=RTOL_FLUX_SHARING)
 
 
 @pytest.mark.parametrize("shape, width", [("gaussian", 0.3), ("gaussian", 2.0), ("rect", 0.5)])
@@ -185,7 +194,7 @@ def test_a_pulse_through_coil_capacitance_matches_dop853(losses: float | None) -
     times = np.linspace(0.0, 15.0, 31) * ladder.time_unit
     reference = dop853_currents([e.card() for e in elements] + [pulse.card()], pulse, times, ["L1", "L4"])
     got = CircuitTheory((*elements, pulse)).currents(times, ["L1", "L4"])
-    assert np.max(np.abs(got - reference)) < 1e-9 * I0
+    assert np.max(np.abs(got - reference)) < RTOL_CIRCUIT_AGAINST_DOP853 * I0
 
 
 @pytest.mark.parametrize("effects", [(CoilCapacitance(0.05), CapacitorESR(0.02)),
@@ -206,7 +215,7 @@ def test_a_floating_group_of_capacitors_is_the_limit_of_grounded_ones(effects: t
         grounded = [f"CE{k} {node} 0 {eps * C0!r}" for k, node in enumerate(rails)]
         reference = expm_currents([e.card() for e in elements] + grounded, times, ["L1", "L5"])
         errors.append(float(np.max(np.abs(got - reference))) / I0)
-    assert errors[1] < 1e-5
+    assert errors[1] < MAX_GROUNDED_GROUP_ERROR
     assert 7.0 < errors[0] / errors[1] < 13.0  # first order in eps: towards the circuit theory, not elsewhere
 
 
@@ -242,7 +251,7 @@ def test_the_simulators_converge_to_the_circuit_theory_of_real_parts(engine: str
     effects = REAL[name]
     coupling = 0.2 if "coupled" in name else 0.0
     coarse, fine = (_simulated_error(engine, effects, dt, coupling) for dt in (0.02, 0.01))
-    assert fine < 2e-3
+    assert fine < MAX_FINE_CIRCUIT_RUN_ERROR
     assert 2.8 < coarse / fine < 5.5, (coarse, fine)
 
 

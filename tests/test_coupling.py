@@ -11,7 +11,15 @@ import pickle
 
 import numpy as np
 import pytest
-from helpers.tolerances import ATOL_COUPLED_ODE, ATOL_DENSITY_SUM, MIN_COUPLING_EFFECT, PREDICTION_FACTOR
+from helpers.tolerances import (
+    ACCURACY_COARSE,
+    ATOL_COUPLED_ODE,
+    ATOL_DENSITY_SUM,
+    ATOL_DOP853_COUPLED,
+    MIN_COUPLING_EFFECT,
+    PREDICTION_FACTOR,
+    RTOL_DOP853_COUPLED,
+)
 from scipy.integrate import solve_ivp
 
 import lcchain
@@ -51,7 +59,7 @@ def _integrate(chain: Chain, t: np.ndarray, start: np.ndarray, force=None) -> np
         return np.concatenate((y[N:], acceleration))
 
     y0 = np.concatenate((np.zeros(N), start))
-    solution = solve_ivp(rhs, (0.0, t[-1]), y0, t_eval=t, rtol=1e-12, atol=1e-13, method="DOP853",
+    solution = solve_ivp(rhs, (0.0, t[-1]), y0, t_eval=t, rtol=RTOL_DOP853_COUPLED, atol=ATOL_DOP853_COUPLED, method="DOP853",
                          max_step=0.05 if force is not None else np.inf)
     return solution.y[N:]
 
@@ -142,16 +150,16 @@ def test_coupled_scene_and_cli(tmp_path, capsys, monkeypatch):
     scene = tmp_path / "coupled.toml"
     scene.write_text('[chain]\ncase = "two-mass"\nN = 30\n[excitation]\nkind = "pulse"\nshape = "gaussian"\n'
                      'width = 0.2\n[effects.coupling]\nk = 0.03\n[effects.tolerance]\nL = 0.02\nsamples = 2\n'
-                     '[analysis]\naccuracy = 1e-3\n[output]\nreport = "r.json"\n')
+                     f'[analysis]\naccuracy = {ACCURACY_COARSE}\n[output]\nreport = "r.json"\n')
     assert main(["run", str(scene), "--json"]) == 0
     report = json.loads(capsys.readouterr().out)
-    assert report["max_abs_error"] <= 1e-3
+    assert report["max_abs_error"] <= ACCURACY_COARSE
     lossy = tmp_path / "lossy.toml"
     lossy.write_text(scene.read_text().replace("[effects.tolerance]", "[effects.losses]\nQ = 50\n[effects.tolerance]"))
     # coupled coils with losses: no chain's theory, the circuit's own (issue 30)
     assert main(["run", str(lossy), "--json"]) == 0
     report = json.loads(capsys.readouterr().out)
-    assert report["max_abs_error"] <= 1e-3
+    assert report["max_abs_error"] <= ACCURACY_COARSE
     for argv, name in ((["--coupling", "0.7"], "--coupling"), (["--coupling", "0.02", "--N", "2500"], "--N")):
         base = ["simulate", "--case", "two-mass", "--N", "20", "--dt", "0.05"]
         assert main(base + argv) == 2

@@ -6,7 +6,7 @@ from typing import ClassVar
 
 import numpy as np
 import pytest
-from helpers.tolerances import ATOL_ROUND_TRIP
+from helpers.tolerances import ATOL_ROUND_TRIP, RTOL_E_SERIES_VALUE, RTOL_TOLERANCE_BOUND
 
 from lcchain.circuit.effects import (
     E_SERIES,
@@ -54,24 +54,25 @@ def test_walls_and_realised_chain():
     rounded = realise(chain, 10e-6, 10e-9, series="E12")
     assert rounded.springs[0] == 0 and rounded.springs[-1] == 0  # free ends stay wires
     for m in rounded.masses * 10e-6:
-        assert preferred_value(m, "E12") == pytest.approx(m, rel=1e-12)
+        assert preferred_value(m, "E12") == pytest.approx(m, rel=RTOL_E_SERIES_VALUE)
     with pytest.raises(ParameterError, match="K0"):
         with_walls(chain, -1.0)
 
 
 def test_tolerance_samples_reproducible_bounded_and_asymmetric():
     chain = Chain.from_rw(20, 0.77, 0.25)
-    a = tolerance_samples(chain, 10e-6, 10e-9, samples=5, seed=7, tol_L=0.05, tol_C=0.02)
-    b = tolerance_samples(chain, 10e-6, 10e-9, samples=8, seed=7, tol_L=0.05, tol_C=0.02)
+    tol_L, tol_C = 0.05, 0.02
+    a = tolerance_samples(chain, 10e-6, 10e-9, samples=5, seed=7, tol_L=tol_L, tol_C=tol_C)
+    b = tolerance_samples(chain, 10e-6, 10e-9, samples=8, seed=7, tol_L=tol_L, tol_C=tol_C)
     for x, y in zip(a, b, strict=False):  # sample k does not depend on how many are drawn
         assert x == y
-    c = tolerance_samples(chain, 10e-6, 10e-9, samples=5, seed=8, tol_L=0.05, tol_C=0.02)
+    c = tolerance_samples(chain, 10e-6, 10e-9, samples=5, seed=8, tol_L=tol_L, tol_C=tol_C)
     assert a[0] != c[0]
     for s in a:
         ratio = s.masses / chain.masses
-        assert np.all(np.abs(ratio - 1) <= 0.05) and np.std(ratio) > 0
+        assert np.all(np.abs(ratio - 1) <= tol_L) and np.std(ratio) > 0
         inner = chain.springs[1:-1]
-        assert np.all(np.abs(inner / s.springs[1:-1] - 1) <= 0.02 + 1e-12)  # C = C0/K within 2 %
+        assert np.all(np.abs(inner / s.springs[1:-1] - 1) <= tol_C + RTOL_TOLERANCE_BOUND)  # C = C0/K within 2 %
         assert not s.is_symmetric
 
 
@@ -172,9 +173,10 @@ def test_coupling_as_elements_is_the_coupled_chains_exact_theory():
     exact theory (lcchain.circuit.exact), to rounding."""
     chain = chain_for_case("two-mass", 8)
     t = np.linspace(0.0, 5e-4, 50)
-    by_chain = CircuitTheory(ladder_elements(Ladder(chain.with_coupling(0.2), 10e-6, 10e-9), kick=1e-3))
+    I0 = 1e-3
+    by_chain = CircuitTheory(ladder_elements(Ladder(chain.with_coupling(0.2), 10e-6, 10e-9), kick=I0))
     by_elements = CircuitTheory(ladder_elements(Ladder(chain, 10e-6, 10e-9), (_CouplingByElements(0.2),),
-                                                kick=1e-3))
+                                                kick=I0))
     probes = ["L1", "L8"]
     assert np.allclose(by_elements.currents(t, probes), by_chain.currents(t, probes), rtol=0.0,
-                       atol=ATOL_ROUND_TRIP * 1e-3)
+                       atol=ATOL_ROUND_TRIP * I0)

@@ -18,7 +18,15 @@ from pathlib import Path
 import numpy as np
 import pytest
 from helpers.processes import temporary_entries
-from helpers.tolerances import PREDICTION_FACTOR
+from helpers.tolerances import (
+    ACCURACY_COARSE,
+    ATOL_WHOLE_STEPS,
+    MAX_ENGINE_DIFFERENCE_FRACTION,
+    MAX_GNUCAP_ERROR_DT_0_05,
+    PREDICTION_FACTOR,
+    RTOL_COUPLED_INITIAL_CURRENT,
+    RTOL_GNUCAP_TSTOP,
+)
 from scipy.linalg import expm
 
 import lcchain
@@ -91,7 +99,7 @@ def test_the_gnucap_dialect_of_a_reference_netlist() -> None:
     (tran,) = [line for line in text.splitlines() if line.startswith(".tran")]
     step, tstop = float(tran.split()[1]), float(tran.split()[2])
     h = float(lines[-2].split()[1])
-    assert h <= step and tstop / h == pytest.approx(round(tstop / h), abs=1e-9)
+    assert h <= step and tstop / h == pytest.approx(round(tstop / h), abs=ATOL_WHOLE_STEPS)
     assert ENGINES["gnucap"].dialect(text, ["i(l1)", "i(l20)"]) == dialect  # deterministic
 
 
@@ -123,7 +131,7 @@ def test_coupled_initial_currents_are_flux_over_inductance() -> None:
     k = [("l1", "l2", 0.03), ("l2", "l3", 0.02)]
     ic = coupled_initial_currents(L, {"l1": 1e-3}, k)
     assert ic["l1"] == 1e-3 and "l3" not in ic  # l3 is not coupled to the kicked coil
-    assert ic["l2"] == pytest.approx(0.03 * math.sqrt(1e-5 * 2e-5) * 1e-3 / 2e-5, rel=1e-15)
+    assert ic["l2"] == pytest.approx(0.03 * math.sqrt(1e-5 * 2e-5) * 1e-3 / 2e-5, rel=RTOL_COUPLED_INITIAL_CURRENT)
     assert coupled_initial_currents(L, {"l1": 1e-3}, []) == {"l1": 1e-3}  # uncoupled: ic is the current
 
 
@@ -215,7 +223,7 @@ def test_gnucap_and_ngspice_agree_on_the_same_netlist() -> None:
                for name in ENGINES}
     gnucap, ngspice = results["gnucap"], results["ngspice"]
     assert (gnucap.engine, ngspice.engine) == ("gnucap", "ngspice") and gnucap.netlist_sha256 == ngspice.netlist_sha256
-    assert gnucap.time[0] > 0 and gnucap.time[-1] == pytest.approx(spec.tstop, rel=1e-9)
+    assert gnucap.time[0] > 0 and gnucap.time[-1] == pytest.approx(spec.tstop, rel=RTOL_GNUCAP_TSTOP)
     I0 = 1e-3
     for name in spec.vectors:
         difference = np.max(np.abs(np.interp(gnucap.time, ngspice.time, ngspice.vectors[name])
@@ -244,16 +252,17 @@ def _coupled_exact(k: float, t: np.ndarray) -> np.ndarray:
 def test_coupled_coils_start_with_the_wanted_currents_in_both_engines() -> None:
     k, period = 0.03, 2 * math.pi * math.sqrt(1e-5 * 1e-8)
     h, tstop = period / 400, 2 * period
+    I0 = 1e-3  # L1's IC= in _coupled_netlist
     text = _coupled_netlist(k, h, tstop)
     assert " ic=" in ENGINES["gnucap"].dialect(text, ["i(l1)", "i(l2)"]).split("L2 n2 0 2e-05")[1].splitlines()[0]
     for name in ENGINES:
         result = run_engine(text, ["i(l1)", "i(l2)"], tstop, simulator=find_engine(name), foreign=False)
         exact = _coupled_exact(k, result.time)
         for row, vector in enumerate(("i(l1)", "i(l2)")):
-            error = np.max(np.abs(result.vectors[vector] - exact[row])) / 1e-3
+            error = np.max(np.abs(result.vectors[vector] - exact[row])) / I0
             assert error < ATOL_COUPLED, (name, vector, error)
         first = result.vectors["i(l1)"][0] + result.vectors["i(l2)"][0]  # untranslated: 1/(1 + k) of I0
-        assert first == pytest.approx(exact[0][0] + exact[1][0], abs=ATOL_COUPLED * 1e-3)
+        assert first == pytest.approx(exact[0][0] + exact[1][0], abs=ATOL_COUPLED * I0)
 
 
 @pytest.mark.gnucap
@@ -262,7 +271,7 @@ def test_coupled_coils_start_with_the_wanted_currents_in_both_engines() -> None:
                                     {"effects": {"tolerance": {"L": 0.05, "C": 0.05, "samples": 2, "seed": 3}}}])
 def test_a_gnucap_scene_meets_its_accuracy(effect: dict) -> None:
     data = {"title": "gnucap scene", "chain": {"case": "two-mass", "N": 16},
-            "excitation": {"kind": "kick", "I0": 1e-3}, "analysis": {"transits": 1, "accuracy": 1e-3,
+            "excitation": {"kind": "kick", "I0": 1e-3}, "analysis": {"transits": 1, "accuracy": ACCURACY_COARSE,
                                                                       "engine": "gnucap"},
             "output": {"probes": "ends", "plots": []}}
     for table, values in effect.items():
@@ -273,7 +282,7 @@ def test_a_gnucap_scene_meets_its_accuracy(effect: dict) -> None:
     assert result.report["engine"] == "gnucap" and result.report["ngspice_version"] is not None
     for record in result.report["samples"]:
         assert record["status"] == "ok" and record["engine"] == "gnucap"
-        assert record["max_abs_error"] <= 1e-3
+        assert record["max_abs_error"] <= ACCURACY_COARSE
 
 
 def test_an_ngspice_scene_writes_no_engine_key() -> None:  # scenes (and stores) made before engines stay the same
@@ -338,7 +347,7 @@ def test_the_command_line_refuses_in_one_line(capsys, argv: list[str], said: str
 def test_simulate_engine_gnucap_on_the_command_line(capsys) -> None:
     status = main(["simulate", "--case", "two-mass", "--N", "20", "--dt", "0.05", "--engine", "gnucap", "--json"])
     data = json.loads(capsys.readouterr().out)
-    assert status == 0 and data["engine"] == "gnucap" and data["max_abs_error"] < 2e-3
+    assert status == 0 and data["engine"] == "gnucap" and data["max_abs_error"] < MAX_GNUCAP_ERROR_DT_0_05
 
 
 @pytest.mark.gnucap
@@ -452,7 +461,7 @@ def test_simulate_runs_one_netlist_in_both_engines_and_reports_their_difference(
     # differs from theory (their trapezoidal error is the same), yet not by nothing
     for engine in data["engines"]:
         assert engine["max_abs_error"] <= PREDICTION_FACTOR * engine["predicted_error"]
-    assert 0 < difference < 0.1 * min(errors)
+    assert 0 < difference < MAX_ENGINE_DIFFERENCE_FRACTION * min(errors)
     for bad, option in ((["--engine", "ngspice,ngspice"], "--engine"), (["--engine", "ngspice,spectre"], "--engine"),
                         (["--engine", "ngspice,gnucap", "--extrapolate", "2"], "--extrapolate"),
                         (["--engine", "ngspice,gnucap", "--plot", str(tmp_path / "p.png")], "--plot")):

@@ -13,6 +13,14 @@ import sys
 
 import numpy as np
 import pytest
+from helpers.tolerances import (
+    ATOL_TRAP_MODEL_MEMBERS,
+    RTOL_ALIGNED_GRID,
+    RTOL_HALVED_STEP,
+    RTOL_INTERPOLATION_OF_ACCURACY,
+    RTOL_MEAN_OF_SAMPLES,
+    RTOL_THEORY_OF_ACCURACY,
+)
 
 import lcchain
 from lcchain.compare.extrapolate import (
@@ -58,15 +66,15 @@ def test_accuracy_is_met_on_the_first_try_against_an_independent_solution(N: int
     achieved = float(np.max(np.abs(np.vstack([w.first, w.last]) - exact)))
     assert achieved <= eps
     assert report.predicted_error / PREDICTION_FACTOR <= achieved <= report.predicted_error * PREDICTION_FACTOR
-    assert abs(achieved - report.comparison.max_abs_error) <= 1e-3 * eps  # lcchain's theory agrees
+    assert abs(achieved - report.comparison.max_abs_error) <= RTOL_THEORY_OF_ACCURACY * eps  # lcchain's theory agrees
     if N >= 100 and eps <= 1e-7:
         assert x.runs > 1, "extrapolation is the cheapest way to 1e-7 on these chains"
     if x.runs > 1:
         # every member on its own is far from eps: the combination did the work
         assert all(m.metrics.max_abs_error > 10 * eps for m in x.members)
         assert x.steps == tuple(x.steps[0] / 2**i for i in range(x.runs))
-        assert all(m.metrics.integration_error < 1e-9 for m in x.members)  # ngspice = its trapezoidal model
-        assert x.interpolation_error < 1e-3 * eps
+        assert all(m.metrics.integration_error < ATOL_TRAP_MODEL_MEMBERS for m in x.members)  # ngspice = its trapezoidal model
+        assert x.interpolation_error < RTOL_INTERPOLATION_OF_ACCURACY * eps
         data = report.to_dict()["extrapolation"]
         assert [member["dt"] for member in data["members"]] == list(x.steps)
         assert all(member["wall_s"] > 0 and member["max_abs_error"] > 0 for member in data["members"])
@@ -83,7 +91,7 @@ def test_aligned_runs_take_the_steps_the_model_predicts() -> None:
             t = np.asarray(member.signals.t)
             grid = aligned_grid(h, report.options.tstop)
             assert t.size == grid.size
-            assert np.max(np.abs(t - grid)) <= 1e-9 * report.options.tstop
+            assert np.max(np.abs(t - grid)) <= RTOL_ALIGNED_GRID * report.options.tstop
 
 
 def test_the_combination_cancels_the_step_terms_of_a_model() -> None:
@@ -91,12 +99,13 @@ def test_the_combination_cancels_the_step_terms_of_a_model() -> None:
     t0 = np.linspace(0.0, 10.0, 201)
     times = [t0, np.linspace(0.0, 10.0, 401), np.linspace(0.0, 10.0, 801)]
     h = [0.1, 0.05, 0.025]
-    signals = [np.sin(t)[None, :] * (1 + 0.3 * hh**2 + 0.2 * hh**4) for t, hh in zip(times, h, strict=True)]
+    c2, c4 = 0.3, 0.2
+    signals = [np.sin(t)[None, :] * (1 + c2 * hh**2 + c4 * hh**4) for t, hh in zip(times, h, strict=True)]
     grid, combined, keep = combine(times, signals)
     assert keep.all() and np.array_equal(grid, t0)
-    assert np.max(np.abs(combined[0] - np.sin(t0))) < 0.2 * 0.1**6
+    assert np.max(np.abs(combined[0] - np.sin(t0))) < c4 * h[0]**6
     _, pair, _ = combine(times[:2], signals[:2])
-    assert np.max(np.abs(pair[0] - np.sin(t0))) > 0.2 * 0.1**6
+    assert np.max(np.abs(pair[0] - np.sin(t0))) > c4 * h[0]**6
 
 
 def test_the_prediction_falls_with_the_order_of_the_combination() -> None:
@@ -112,9 +121,10 @@ def test_the_prediction_falls_with_the_order_of_the_combination() -> None:
 def test_gear_is_not_extrapolated_and_says_why() -> None:
     report = lcchain.simulate(chain_for_case("two-mass", 20), dt=0.05, method="gear", extrapolate=3)
     assert report.extrapolation.runs == 1 and "gear" in report.extrapolation.reason
-    report = lcchain.simulate(chain_for_case("two-mass", 20), accuracy=1e-4, method="gear")
+    accuracy = 1e-4
+    report = lcchain.simulate(chain_for_case("two-mass", 20), accuracy=accuracy, method="gear")
     assert report.extrapolation.runs == 1 and "gear" in report.extrapolation.reason
-    assert report.comparison.max_abs_error <= 1e-4  # gear's own error model chose its step
+    assert report.comparison.max_abs_error <= accuracy  # gear's own error model chose its step
 
 
 def test_what_cannot_be_extrapolated_is_refused_with_a_reason() -> None:
@@ -164,13 +174,14 @@ def _scene(tmp_path, body: str):
 def test_a_scene_with_losses_is_extrapolated_to_its_accuracy(tmp_path) -> None:
     from lcchain.scenes.run import simulate_scene
 
+    accuracy = 1e-7
     scene = _scene(tmp_path, '[chain]\ncase = "two-mass"\nN = 60\n[effects.losses]\nQ = 50\n'
-                             '[analysis]\naccuracy = 1e-7\n')
+                             f'[analysis]\naccuracy = {accuracy!r}\n')
     result = simulate_scene(scene)
     report = result.report
     x = report["samples"][0]["extrapolation"]
     assert x["runs"] > 1 and len(report["steps"]) == x["runs"]
-    assert report["accuracy_met"] and report["max_abs_error"] <= 1e-7
+    assert report["accuracy_met"] and report["max_abs_error"] <= accuracy
     achieved = report["max_abs_error"]
     assert x["predicted_error"] / PREDICTION_FACTOR <= achieved <= x["predicted_error"] * PREDICTION_FACTOR
     assert all(member["max_abs_error"] > 10 * achieved for member in x["members"])
@@ -203,10 +214,11 @@ def test_a_sweep_runs_the_members_as_tasks_and_stores_what_simulate_gives(tmp_pa
     from lcchain.studies.store import Store
 
     chain = chain_for_case("two-mass", 40)
-    report = lcchain.simulate(chain, accuracy=1e-6)
+    accuracy = 1e-6
+    report = lcchain.simulate(chain, accuracy=accuracy)
     x = report.extrapolation
     assert x is not None and x.runs == 2  # the cheapest way to 1e-6 at N = 40 is a pair
-    summary = run_plan(sweep_plan(cases=["two-mass"], Ns=[40], accuracies=[1e-6]), tmp_path / "s.sqlite",
+    summary = run_plan(sweep_plan(cases=["two-mass"], Ns=[40], accuracies=[accuracy]), tmp_path / "s.sqlite",
                        executor="process", workers=2)
     assert (summary.total, summary.ran, summary.ok, summary.combined) == (2, 2, 2, 1)
     with Store(tmp_path / "s.sqlite") as store:
@@ -218,7 +230,7 @@ def test_a_sweep_runs_the_members_as_tasks_and_stores_what_simulate_gives(tmp_pa
     assert [run.digest for run in runs[:2]] == [member.digest for member in x.members]
     # the combination made from the store's arrays is the one simulate made from its runs
     assert runs[2].digest == x.digest and runs[2].metrics is not None
-    assert runs[2].metrics["max_abs_error"] == report.comparison.max_abs_error <= 1e-6
+    assert runs[2].metrics["max_abs_error"] == report.comparison.max_abs_error <= accuracy
     assert runs[2].metrics["predicted_error"] == x.predicted_error
     assert runs[2].points == sum(run.points for run in runs[:2])
     assert combined_arrays is not None and sorted(combined_arrays) == ["loop0", "loop1", "time"]
@@ -307,7 +319,7 @@ def test_a_scene_sweep_extrapolates_each_sample_and_sums_up_the_combinations(tmp
     assert main(["results", str(store), "--summary", "--json"]) == 0
     groups = json.loads(capsys.readouterr().out)
     assert len(groups) == 1 and groups[0]["n"] == 3  # the members are ingredients, not samples
-    assert groups[0]["mean"] == pytest.approx(alone["transmitted_peak"]["mean"], rel=1e-12)
+    assert groups[0]["mean"] == pytest.approx(alone["transmitted_peak"]["mean"], rel=RTOL_MEAN_OF_SAMPLES)
 
 
 def test_an_extrapolate_beside_a_scene_is_refused(tmp_path) -> None:
@@ -364,6 +376,6 @@ def test_netlist_out_keeps_every_run_of_an_extrapolation(tmp_path, capsys) -> No
     for path in (target, tmp_path / "x-run2.cir"):
         tran = next(line for line in path.read_text().splitlines() if line.startswith(".tran"))
         steps.append(float(tran.split()[4]))  # TMAX, the step lcchain sets
-    assert steps[1] == pytest.approx(steps[0] / 2, rel=1e-12)
+    assert steps[1] == pytest.approx(steps[0] / 2, rel=RTOL_HALVED_STEP)
     assert (tmp_path / "x-run3.cir").read_text() == "* the user's own file\n"  # never replaced
     assert "x-run3.cir exists" in err and "x-run2.cir" in err

@@ -8,6 +8,32 @@ import math
 import numpy as np
 import pytest
 from helpers.digits import agrees_with_printed
+from helpers.tolerances import (
+    ATOL_FIGURE_DENSITY,
+    ATOL_FIGURE_DENSITY_SUM,
+    ATOL_FLAT_SPACING,
+    ATOL_GROUP_VELOCITY,
+    ATOL_KICK_AT_ZERO,
+    ATOL_LAW_ON_PLOT,
+    ATOL_MINIMIZ_TAU,
+    ATOL_MINIMIZ_TAU_QUICK,
+    ATOL_MINIMUM_DELTA,
+    ATOL_PERFECT,
+    ATOL_PRINTED_ALPHA,
+    ATOL_QUOTED_FLAT_DELTA,
+    ATOL_THETA_RATIO,
+    ATOL_WEIGHT_AREA,
+    RTOL_CRADLE4_ARRIVAL,
+    RTOL_CRADLE4_FRACTIONS,
+    RTOL_CUBIC_COEFFICIENT,
+    RTOL_GRID_POINT,
+    RTOL_ONE_OPERATION,
+    RTOL_POWER_LAW_FIT,
+    RTOL_ROOT_RESIDUAL,
+    RTOL_SPLINE_AT_POINTS,
+    RTOL_THETA_RATIO,
+    RTOL_W_OF_R_STAR,
+)
 
 from lcchain.report.figure_data import (
     DesignRows,
@@ -34,9 +60,6 @@ RTOL_DENSITY = 1e-10
 #: The area under the integrand of Eq. e.uinftyz (trapezoid, 40001 points on [0, pi/2]) against lcchain's
 #: contour integral: the rule misses the fastest oscillations near pi/2 (observed 3.2e-6).
 ATOL_AREA = 1e-5
-#: (N/pi)(omega_(n+1) - omega_n) at mid-k against v_k: a centred difference of omega(n), O(1/N^2)
-#: (observed 4e-3 at N = 50).
-ATOL_GROUP_VELOCITY = 1e-2
 
 
 @pytest.fixture(scope="module")
@@ -46,14 +69,14 @@ def rows() -> DesignRows:
 
 def test_cradle4_is_the_perfect_chain_and_its_pulse_arrives_whole() -> None:
     data = cradle4_data(points_per_transit=200)
-    assert data["masses"] == pytest.approx([5 / 3, 1, 1, 5 / 3], rel=1e-15)
-    assert data["springs"] == pytest.approx([0, 5 / 6, 1, 5 / 6, 0], rel=1e-15)
-    assert data["T"] == pytest.approx(math.sqrt(3) * math.pi, rel=1e-13)
+    assert data["masses"] == pytest.approx([5 / 3, 1, 1, 5 / 3], rel=RTOL_CRADLE4_FRACTIONS)
+    assert data["springs"] == pytest.approx([0, 5 / 6, 1, 5 / 6, 0], rel=RTOL_CRADLE4_FRACTIONS)
+    assert data["T"] == pytest.approx(math.sqrt(3) * math.pi, rel=RTOL_CRADLE4_ARRIVAL)
     v, t = data["velocities"], data["t"]
-    np.testing.assert_allclose(v[:, 0], [1, 0, 0, 0], atol=1e-13)
+    np.testing.assert_allclose(v[:, 0], [1, 0, 0, 0], atol=ATOL_KICK_AT_ZERO)
     at_T = int(np.argmin(np.abs(t - data["T"])))
-    assert t[at_T] == pytest.approx(data["T"], rel=1e-14)
-    np.testing.assert_allclose(v[:, at_T], [0, 0, 0, 1], atol=1e-12)
+    assert t[at_T] == pytest.approx(data["T"], rel=RTOL_GRID_POINT)
+    np.testing.assert_allclose(v[:, at_T], [0, 0, 0, 1], atol=ATOL_PERFECT)
     assert v[-1, at_T // 2] < 0.5  # and not before
 
 
@@ -62,7 +85,7 @@ def test_vk_panels() -> None:
     assert [p["Delta"] for p in data["panels"]] == [0.30, 0.1395, 0.05]
     for panel in data["panels"]:
         Delta, N = panel["Delta"], data["N"]
-        assert panel["P_n"].sum() == pytest.approx(1.0, abs=1e-12)
+        assert panel["P_n"].sum() == pytest.approx(1.0, abs=ATOL_FIGURE_DENSITY_SUM)
         k = panel["k_n"]
         tan2 = np.tan(k / 2) ** 2
         formula = Delta * (1 + Delta) / ((N * Delta + 1 - Delta) * Delta + (N - 1 + Delta) * tan2)
@@ -86,10 +109,10 @@ def test_optimum_data_holds_the_table_rows(rows: DesignRows) -> None:
     # Fig. rw: w(r*) is almost w* for N >= 20 (the quartic mode density)
     for N, row, w_of_r in zip(data["N"], data["two-mass"], data["w_of_r"], strict=True):
         if N >= 20:
-            assert w_of_r == pytest.approx(row["w"], rel=0.03)
-    assert data["asymptotes"]["two-mass"] == pytest.approx(asymptotic_optimum("two-mass").delta, rel=1e-15)
+            assert w_of_r == pytest.approx(row["w"], rel=RTOL_W_OF_R_STAR)
+    assert data["asymptotes"]["two-mass"] == pytest.approx(asymptotic_optimum("two-mass").delta, rel=RTOL_ONE_OPERATION)
     c, p = data["laws"]["two-mass"]["r"]
-    assert (c, p) == pytest.approx((4.387, -1 / 3), rel=1e-3)
+    assert (c, p) == pytest.approx((4.387, -1 / 3), rel=RTOL_POWER_LAW_FIT)
 
 
 def test_int_rw_area_is_the_asymptotic_amplitude() -> None:
@@ -102,8 +125,8 @@ def test_int_rw_area_is_the_asymptotic_amplitude() -> None:
     for curve in data["curves"]:
         area = np.trapezoid(curve["integrand"], data["zeta"])
         assert area == pytest.approx(curve["alpha"], abs=ATOL_AREA)
-    assert np.trapezoid(data["weight"], data["zeta"]) == pytest.approx(1.0, abs=1e-6)  # the weight's area
-    assert data["curves"][1]["alpha"] == pytest.approx(0.987153, abs=5e-7)  # Sec. V.A
+    assert np.trapezoid(data["weight"], data["zeta"]) == pytest.approx(1.0, abs=ATOL_WEIGHT_AREA)  # the weight's area
+    assert data["curves"][1]["alpha"] == pytest.approx(0.987153, abs=ATOL_PRINTED_ALPHA)  # Sec. V.A
 
 
 def _theta(tau: float, sigma: float, xi: np.ndarray) -> np.ndarray:
@@ -118,10 +141,10 @@ def test_the_int_rw_pair_cancels_the_linear_and_cubic_terms() -> None:
     tau, sigma = cancelling_pair()
     # theta = O(xi^5) for the pair: theta / xi^5 stays bounded (its xi^5 coefficient) as xi halves
     ratio = _theta(tau, sigma, xi) / xi**5
-    assert np.all(np.abs(ratio) < 10) and np.ptp(ratio) < 1e-2 * max(1.0, float(np.abs(ratio).max())) + 1e-3
+    assert np.all(np.abs(ratio) < 10) and np.ptp(ratio) < RTOL_THETA_RATIO * max(1.0, float(np.abs(ratio).max())) + ATOL_THETA_RATIO
     # the printed pair leaves a cubic term 4 sqrt2 / 3
     printed = _theta(*PRINTED_INT_RW, xi) / xi**3
-    assert printed == pytest.approx(4 * np.sqrt(2) / 3, rel=1e-4)
+    assert printed == pytest.approx(4 * np.sqrt(2) / 3, rel=RTOL_CUBIC_COEFFICIENT)
 
 
 def test_the_findings_hold_the_texts_slips() -> None:
@@ -133,8 +156,8 @@ def test_the_findings_hold_the_texts_slips() -> None:
     where = [item["where"] for item in items]
     assert any("Fig. int_rw" in w for w in where) and any("Eq. e.vgquartic" in w for w in where)
     assert any("sin(k_n/2)" in item["correct"] for item in items)
-    assert vk_left_side(vk_flat_delta()) == pytest.approx(0.125, rel=1e-12) and vk_flat_delta() == pytest.approx(
-        0.325, abs=1e-3)  # the text's 0.30 gives 0.161
+    assert vk_left_side(vk_flat_delta()) == pytest.approx(0.125, rel=RTOL_ROOT_RESIDUAL) and vk_flat_delta() == pytest.approx(
+        0.325, abs=ATOL_QUOTED_FLAT_DELTA)  # the text's 0.30 gives 0.161
     inherited = next(item for item in items if "derived from τ*" in item["where"])
     assert "r 4.3868" in inherited["printed"] and "4.3871" in inherited["correct"]
     int_rw = next(item for item in items if "Fig. int_rw" in item["where"])
@@ -144,9 +167,9 @@ def test_the_findings_hold_the_texts_slips() -> None:
 def test_minimiz_has_its_minimum_at_the_optimum() -> None:
     optimum = asymptotic_optimum("two-mass")
     data = minimiz_data([2.8, optimum.sigma, 3.5])
-    assert min(data["delta_m"]) == pytest.approx(optimum.delta, abs=1e-9)
+    assert min(data["delta_m"]) == pytest.approx(optimum.delta, abs=ATOL_MINIMUM_DELTA)
     assert data["delta_m"][1] < data["delta_m"][0] and data["delta_m"][1] < data["delta_m"][2]
-    assert data["tau_m"][1] == pytest.approx(optimum.tau, abs=1e-5)
+    assert data["tau_m"][1] == pytest.approx(optimum.tau, abs=ATOL_MINIMIZ_TAU)
     assert data["tau_m"][0] < data["tau_m"][1] < data["tau_m"][2]  # tau_m grows with sigma (the blue line)
 
 
@@ -154,12 +177,12 @@ def test_pk_densities_are_the_exact_ones(rows: DesignRows) -> None:
     data = pk_data(rows)
     assert [p["N"] for p in data["panels"]] == [20, 100]
     for panel in data["panels"]:
-        assert panel["P"].sum() == pytest.approx(1.0, abs=1e-12)
+        assert panel["P"].sum() == pytest.approx(1.0, abs=ATOL_FIGURE_DENSITY_SUM)
         exact = normal_modes(Chain.from_rw(panel["N"], panel["r"], panel["w"]), method="exact")
-        np.testing.assert_allclose(panel["P"], exact.density, atol=1e-12)
+        np.testing.assert_allclose(panel["P"], exact.density, atol=ATOL_FIGURE_DENSITY)
         assert panel["spacing"].size == panel["N"] - 1
     big = data["panels"][1]
-    assert np.max(np.abs(big["spacing"][:10] - 0.95)) < 0.03  # flat near k = 0: the caption's point
+    assert np.max(np.abs(big["spacing"][:10] - 0.95)) < ATOL_FLAT_SPACING  # flat near k = 0: the caption's point
 
 
 def test_circuit_drawing_data_is_the_netlist() -> None:
@@ -168,8 +191,8 @@ def test_circuit_drawing_data_is_the_netlist() -> None:
     inductors = [e for e in data["elements"] if e["kind"] == "L"]
     capacitors = [e for e in data["elements"] if e["kind"] == "C"]
     assert len(inductors) == 6 and len(capacitors) == 5
-    np.testing.assert_allclose([e["value"] for e in inductors], chain.masses * data["L0"], rtol=1e-15)
-    np.testing.assert_allclose([e["value"] for e in capacitors], data["C0"] / chain.springs[1:-1], rtol=1e-15)
+    np.testing.assert_allclose([e["value"] for e in inductors], chain.masses * data["L0"], rtol=RTOL_ONE_OPERATION)
+    np.testing.assert_allclose([e["value"] for e in capacitors], data["C0"] / chain.springs[1:-1], rtol=RTOL_ONE_OPERATION)
     # a ladder: inductor i joins node i-1 to node i; capacitor i, i+1 hangs from node i to ground
     assert inductors[0]["nodes"][0] == "0" and inductors[-1]["nodes"][1] == "0"
     for left, right in zip(inductors, inductors[1:], strict=False):
@@ -242,7 +265,7 @@ def test_delta_has_the_three_limits_the_enlargements_and_splines(optimum: dict) 
         curve = curves[0]
         xs, ys = np.asarray(curve.get_xdata()), np.asarray(curve.get_ydata())
         assert xs.min() == pytest.approx(N.min()) and xs.max() == pytest.approx(N.max())
-        np.testing.assert_allclose(np.interp(np.log(N), np.log(xs), ys), values, atol=2e-3 * values.max())
+        np.testing.assert_allclose(np.interp(np.log(N), np.log(xs), ys), values, atol=RTOL_SPLINE_AT_POINTS * values.max())
     for case, factor in DELTA_ENLARGE.items():  # the open symbols: the optimised cases enlarged
         values = factor * np.asarray(data[case])
         assert any(np.allclose(m.get_ydata(), values) and m.get_markerfacecolor() == "none" for m in marked), case
@@ -310,7 +333,7 @@ def test_x_xy_laws_are_not_drawn_at_N_3_where_they_leave_the_frame(optimum: dict
     assert c * 3.0**p > ax.get_ylim()[1]  # the two-mass x* law at N = 3 is above the data's frame ...
     laws = [line for line in ax.get_lines() if line.get_marker() in ("None", "") and len(line.get_xdata()) > 50]
     law = next(line for line in laws if np.nanmax(np.abs(np.asarray(line.get_ydata()) - c * np.asarray(
-        line.get_xdata()) ** p)) < 1e-12)
+        line.get_xdata()) ** p)) < ATOL_LAW_ON_PLOT)
     assert np.isnan(law.get_ydata()[0])  # ... so it is not drawn there
 
 
@@ -343,8 +366,8 @@ def test_minimiz_quick_and_full_agree_and_find_the_boundary_minimum() -> None:
     quick, full = minimiz_data(sigmas, quick=True), minimiz_data(sigmas, quick=False)
     for s in sigmas:
         i, j = quick["sigma"].index(s), full["sigma"].index(s)
-        assert quick["tau_m"][i] == pytest.approx(full["tau_m"][j], abs=1e-4), s
-        assert quick["delta_m"][i] == pytest.approx(full["delta_m"][j], abs=1e-9), s
+        assert quick["tau_m"][i] == pytest.approx(full["tau_m"][j], abs=ATOL_MINIMIZ_TAU_QUICK), s
+        assert quick["delta_m"][i] == pytest.approx(full["delta_m"][j], abs=ATOL_MINIMUM_DELTA), s
     # one jump (the minimum leaves tau = 0) between 2.3 and 2.45, found at the same sigma by both
     assert len(quick["jumps"]) == len(full["jumps"]) == 1
     assert quick["jumps"][0][0] == pytest.approx(full["jumps"][0][0], abs=2 * JUMP_XTOL)

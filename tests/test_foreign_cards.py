@@ -30,7 +30,7 @@ import numpy as np
 import pytest
 from helpers.catalogue import MARKER, Case, run_case
 from helpers.netlists import LADDER, fifo, link
-from helpers.tolerances import RTOL_AC_LOWPASS, RTOL_MEASURE_TRAN
+from helpers.tolerances import ATOL_DC_SOLVE, RTOL_AC_LOWPASS, RTOL_DC_SOLVE, RTOL_MEASURE_TRAN, RTOL_REVERSE_LEAKAGE
 
 from lcchain.cli import main
 from lcchain.core.errors import ParameterError
@@ -273,8 +273,8 @@ def test_dc_sweeps_and_the_operating_point_run_as_counted(tmp_path: Path) -> Non
     assert len(sweep["i(v1)"]) == dc_points(".dc V1 1 0 -0.25 R1 1k 2k 500", most=100) == 15
     volts = np.tile([1.0, 0.75, 0.5, 0.25, 0.0], 3)  # the first source swept inside the second
     ohms = np.repeat([1e3, 1.5e3, 2e3], 5)
-    assert np.allclose(sweep["i(v1)"], -volts / ohms, rtol=1e-12, atol=1e-15)
-    assert _real_plot(raw, "Operating Point")["i(v1)"][0] == pytest.approx(-1e-3, rel=1e-12)
+    assert np.allclose(sweep["i(v1)"], -volts / ohms, rtol=RTOL_DC_SOLVE, atol=ATOL_DC_SOLVE)
+    assert _real_plot(raw, "Operating Point")["i(v1)"][0] == pytest.approx(-1e-3, rel=RTOL_DC_SOLVE)
 
 
 @pytest.mark.parametrize("card, points", [(".dc V1 0 1 0.3", 4), (".dc V1 0 1 0.25", 5), (".dc I2 5 -5 -1", 11),
@@ -412,7 +412,7 @@ def test_a_diode_from_a_lib_section_rectifies_as_shockley_says(store: Path) -> N
         _, rectifier, _ = opened.runs()
     assert rectifier.measurements["vpeak"] == pytest.approx(_shockley_peak(5.0, 1e3, 1e-14), rel=RTOL_MEASURE_TRAN)
     reverse = -(5.0 * 1e-12 + 1e-14) * 1e3  # gmin and IS, reverse-biased, through the load
-    assert rectifier.measurements["vlow"] == pytest.approx(reverse, rel=1e-3)
+    assert rectifier.measurements["vlow"] == pytest.approx(reverse, rel=RTOL_REVERSE_LEAKAGE)
 
 
 @pytest.mark.ngspice

@@ -5,6 +5,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from helpers.tolerances import RTOL_NETLIST_TMAX
 
 from lcchain.circuit.ladder import Ladder
 from lcchain.circuit.netlist import SimulationOptions, check_user_text, netlist_text, number, probe_names
@@ -75,7 +76,7 @@ def test_save_only_requested_probes_and_explicit_max_step():
     everything = netlist_text(Ladder(chain), OPTIONS, probes="all")
     assert ".save " + " ".join(f"i(l{i})" for i in range(1, 7)) in everything
     tran = re.search(r"^\.tran (\S+) (\S+) 0 (\S+) uic$", text, re.M)
-    assert tran and float(tran.group(3)) == pytest.approx(0.05 * np.sqrt(10e-6 * 10e-9), rel=1e-15)
+    assert tran and float(tran.group(3)) == pytest.approx(0.05 * np.sqrt(10e-6 * 10e-9), rel=RTOL_NETLIST_TMAX)
     options = re.search(r"^\.options (.*)$", text, re.M).group(1)
     for key in ("method=trap", "maxord=2", "reltol=", "abstol=", "vntol=", "chgtol="):
         assert key in options

@@ -18,7 +18,7 @@ import math
 from pathlib import Path
 
 import pytest
-from helpers.tolerances import RTOL_MEASURE_TRAN
+from helpers.tolerances import MAX_STANDARD_ERRORS, RTOL_MEASURE_TRAN, RTOL_SAMPLE_STD
 
 from lcchain.cli import main
 from lcchain.core.errors import ParameterError
@@ -141,11 +141,13 @@ def test_draws_follow_their_distribution() -> None:
     normal = [p["C2"] for p in variant_points([parse_netlist_vary("C2=normal:10n:5%")], samples=n, seed=1)]
     mean = sum(normal) / n
     std = math.sqrt(sum((v - mean) ** 2 for v in normal) / (n - 1))
-    assert abs(mean - 10e-9) < 4 * 0.5e-9 / math.sqrt(n)
-    assert std == pytest.approx(0.5e-9, rel=0.1)
+    sigma = 0.5e-9  # 5 % of 10 nF
+    assert abs(mean - 10e-9) < MAX_STANDARD_ERRORS * sigma / math.sqrt(n)
+    assert std == pytest.approx(sigma, rel=RTOL_SAMPLE_STD)
     flat = [p["C2"] for p in variant_points([parse_netlist_vary("C2=tolerance:10n:5%")], samples=n, seed=1)]
     assert min(flat) >= 9.5e-9 and max(flat) <= 10.5e-9
-    assert abs(sum(flat) / n - 10e-9) < 4 * (1e-9 / math.sqrt(12)) / math.sqrt(n)
+    width = 1e-9  # 9.5 nF .. 10.5 nF, uniform: sigma = width / sqrt(12)
+    assert abs(sum(flat) / n - 10e-9) < MAX_STANDARD_ERRORS * (width / math.sqrt(12)) / math.sqrt(n)
 
 
 @pytest.mark.parametrize(("argv", "says"), [
@@ -254,7 +256,7 @@ def test_drawn_values_are_stored_and_grouped_as_samples(tmp_path: Path, capsys) 
     assert drawn[:n] == drawn[n:]  # the same draws at each R
     assert drawn[:n] == [p["cv"] for p in variant_points([parse_netlist_vary("cv=normal:2u:5%")], samples=n,
                                                          seed=5)]
-    assert abs(sum(drawn[:n]) / n - 2e-6) < 4 * sigma / math.sqrt(n)
+    assert abs(sum(drawn[:n]) / n - 2e-6) < MAX_STANDARD_ERRORS * sigma / math.sqrt(n)
     for run in runs:
         rc = run.params["R1"] * run.params["cv"]
         assert run.measurements["v_at"] == pytest.approx(1.0 - math.exp(-T0 / rc), rel=RTOL_MEASURE_TRAN)

@@ -9,6 +9,7 @@ from pathlib import Path
 import matplotlib
 import numpy as np
 import pytest
+from helpers.tolerances import RTOL_ONE_OPERATION
 
 import lcchain
 from lcchain.scenes.bundled import example_text
@@ -161,6 +162,6 @@ def test_a_runs_dataset_holds_its_vectors_in_their_own_units(tmp_path):
         np.testing.assert_array_equal(record[name].values, values)
     simulated = report.to_xarray()
     tau = (2e-6 * 5e-9) ** 0.5
-    np.testing.assert_allclose(simulated["time"].values, report.waveforms.t * tau, rtol=1e-15)
+    np.testing.assert_allclose(simulated["time"].values, report.waveforms.t * tau, rtol=RTOL_ONE_OPERATION)
     np.testing.assert_array_equal(simulated["last"].values, report.waveforms.last)
     assert simulated.attrs["N"] == 8 and simulated.attrs["case"] == "two-mass"

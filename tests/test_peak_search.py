@@ -10,6 +10,7 @@ response called with one time at a time, as before.
 
 import numpy as np
 import pytest
+from helpers.tolerances import ATOL_PEAK_TIME_SEARCH
 from scipy.optimize import minimize_scalar
 
 from lcchain.theory.arrivals import _bounded_brent, arrival_window, maximum_in_window, refine_maxima
@@ -98,7 +99,7 @@ def test_searches_side_by_side_find_what_one_search_at_a_time_finds(excitation, 
         for edge, edge_value in zip((lo, hi), last(np.array([lo, hi])), strict=True):
             if edge_value > expected_value:
                 expected_t, expected_value = edge, edge_value
-        assert t == pytest.approx(expected_t, abs=1e-9) and value == pytest.approx(expected_value, abs=ATOL_SAME)
+        assert t == pytest.approx(expected_t, abs=ATOL_PEAK_TIME_SEARCH) and value == pytest.approx(expected_value, abs=ATOL_SAME)
     one_time_each = maximum_in_window(last, window, transit)
     side_by_side = maximum_in_window(last, window, transit, lambda times: response.each(times)[-1])
     assert side_by_side == pytest.approx(one_time_each, abs=ATOL_SAME)

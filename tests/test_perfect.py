@@ -19,9 +19,14 @@ from fractions import Fraction as F
 import numpy as np
 import pytest
 from helpers.tolerances import (
+    ATOL_DESIGNED_LOSS,
     ATOL_PERFECT_TRANSFER,
+    RTOL_ARRIVAL_TIMES_OMEGA,
+    RTOL_DESIGNED_ARRIVAL_TIME,
     RTOL_PERFECT_FRACTIONS,
     RTOL_PERFECT_SPECTRUM,
+    RTOL_SPECTRUM_OF_AGAINST_SVD,
+    RTOL_STIELTJES_NEWTON,
 )
 
 import lcchain
@@ -184,7 +189,7 @@ def test_spread_counts_the_values_a_builder_needs():
 
 def test_spectrum_of_is_the_chain_spectrum():
     design = perfect_design(40, 1)
-    np.testing.assert_allclose(spectrum_of(design.chain), svd_frequencies(design.chain), rtol=1e-12)
+    np.testing.assert_allclose(spectrum_of(design.chain), svd_frequencies(design.chain), rtol=RTOL_SPECTRUM_OF_AGAINST_SVD)
 
 
 @pytest.mark.parametrize(("frequencies", "free"), [(np.arange(2.0, 42.0), False),
@@ -199,7 +204,7 @@ def test_the_recursion_and_newton_continuation_agree(frequencies, free):
     by_recursion = _stieltjes(frequencies)
     by_newton = _continuation(frequencies, free, _tolerance(sites))
     inner = by_newton[1:-1] if free else by_newton
-    np.testing.assert_allclose(by_recursion, inner[: inner.size // 2], rtol=1e-11)
+    np.testing.assert_allclose(by_recursion, inner[: inner.size // 2], rtol=RTOL_STIELTJES_NEWTON)
 
 
 def test_a_spectrum_given_by_hand():
@@ -253,8 +258,8 @@ def test_design_json_for_any_N():
     assert data["N"] == 40 and data["case"] == "perfect" and data["walls"] == 0
     assert len(data["masses"]) == 40 and len(data["springs"]) == 41
     assert data["springs"][0] == 0.0 == data["springs"][-1]
-    assert abs(data["delta"]) < 1e-12
-    assert data["frequencies"][1] * data["t_arrival"] == pytest.approx(math.pi, rel=1e-12)
+    assert abs(data["delta"]) < ATOL_DESIGNED_LOSS
+    assert data["frequencies"][1] * data["t_arrival"] == pytest.approx(math.pi, rel=RTOL_ARRIVAL_TIMES_OMEGA)
     assert data["spread"]["distinct_masses"] == 20
     assert Chain(data["masses"], data["springs"]) == perfect_design(40).chain
 
@@ -286,5 +291,5 @@ def test_ngspice_reaches_one(N, walls):
     arrival = report.comparison.arrivals[0]
     assert arrival.peak_theory == pytest.approx(1.0, abs=ATOL_PERFECT_TRANSFER)
     assert abs(arrival.peak_sim - 1.0) <= report.predicted_error
-    assert arrival.t_theory == pytest.approx(perfect_design(N, walls).t_arrival, rel=1e-6)
+    assert arrival.t_theory == pytest.approx(perfect_design(N, walls).t_arrival, rel=RTOL_DESIGNED_ARRIVAL_TIME)
     assert report.integration_error <= report.predicted_error

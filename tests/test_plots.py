@@ -14,6 +14,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from helpers.figures import assert_legends_off_lines, drawn, legend_boxes
+from helpers.tolerances import ATOL_MARKER_POSITION
 
 from lcchain import plots
 
@@ -180,14 +181,15 @@ def test_shape_error_names_the_argument():
 
 def test_decimation_keeps_one_sample_spike_with_its_sign():
     t = np.linspace(0.0, 1.0, 100_003)  # not a multiple of the bin size: a short tail bin
-    data = 1e-3 * np.sin(np.arange(3)[:, None] + 50 * t)
+    amplitude = 1e-3
+    data = amplitude * np.sin(np.arange(3)[:, None] + 50 * t)
     data[1, 54_321] = -7.5
     data[2, -1] = 3.25  # in the tail bin
     t_bins, out = plots._decimate_max_abs(t, data, 2000)
     assert out.shape[0] == 3 and out.shape[1] <= 2000 and t_bins.shape == out.shape[1:]
     assert out[1].min() == -7.5
     assert out[2].max() == 3.25 and out[2, -1] == 3.25
-    assert np.max(np.abs(out[0])) <= 1e-3
+    assert np.max(np.abs(out[0])) <= amplitude
     assert np.all(np.diff(t_bins) > 0) and t[0] <= t_bins[0] and t_bins[-1] <= t[-1]
 
 
@@ -278,7 +280,7 @@ def test_overlay_notes_stay_inside_the_frame(cradle):
 
 def _markers_at(ax, t, peak):
     return [line for line in ax.get_lines() if line.get_marker() in ("+", "x")
-            and np.allclose(line.get_xydata(), [[t, peak]], atol=0.02)]
+            and np.allclose(line.get_xydata(), [[t, peak]], atol=ATOL_MARKER_POSITION)]
 
 
 def test_overlay_marks_every_arrival_on_its_own_loop(cradle):

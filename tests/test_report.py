@@ -12,6 +12,7 @@ import shutil
 from pathlib import Path
 
 import pytest
+from helpers.tolerances import ATOL_TABLE_R, RTOL_SI_UNITS
 
 from lcchain.cli import main
 from lcchain.report.html import STYLE, content_security_policy, render_html
@@ -60,7 +61,7 @@ def test_json_holds_tables_checks_and_versions(data: dict) -> None:
     assert len({tuple(names) for names in by_engine.values()}) == 1
     # Table II, N = 100 recomputed: the printed cells are the paper's and lcchain's own value is beside them
     row = next(r for r in data["tables"]["two-mass"] if r["N"] == 100)
-    assert row["r"] == pytest.approx(0.5873, abs=5e-5)
+    assert row["r"] == pytest.approx(0.5873, abs=ATOL_TABLE_R)
     assert any(f["where"].startswith("Table II, row N → ∞, column m2*") for f in data["paper"]["findings"])
 
 
@@ -193,8 +194,8 @@ def test_the_report_says_its_units_in_si(data: dict, report_dir: Path) -> None:
     each step in seconds beside sqrt(L0 C0), and each mode's frequency in hertz."""
     physical = data["physical"]
     tau = math.sqrt(physical["L0_H"] * physical["C0_F"])
-    assert physical["time_unit_s"] == pytest.approx(tau, rel=1e-12)
-    assert physical["frequency_unit_Hz"] == pytest.approx(1 / (2 * math.pi * tau), rel=1e-12)
+    assert physical["time_unit_s"] == pytest.approx(tau, rel=RTOL_SI_UNITS)
+    assert physical["frequency_unit_Hz"] == pytest.approx(1 / (2 * math.pi * tau), rel=RTOL_SI_UNITS)
     page = (report_dir / "index.html").read_text()
     assert "time unit sqrt(L0 C0) = 316.228 ns" in page and "impedance sqrt(L0/C0) = 31.6228 ohm" in page
     assert "<th>dt (s)</th>" in page and "f<sub>n</sub> theory (Hz)" in page

@@ -12,6 +12,7 @@ import re
 import numpy as np
 import pytest
 from helpers.figures import assert_legends_off_lines
+from helpers.tolerances import ATOL_GROUP_VELOCITY, ATOL_NO_FLOOR, ATOL_PLOTTED, RTOL_PLOTTED, RTOL_RECOMPUTED_ERROR
 
 from lcchain.core.errors import ParameterError
 from lcchain.report.figure_data import DesignRows
@@ -66,9 +67,9 @@ def test_every_spectrum_passes_within_its_stated_tolerances(checks: list[Spectru
         # the errors are those of the modes listed: recomputed here from the circuit's and the theory's values
         resolved = [m for m in check.modes if m["resolved"]]
         omega = max(abs(m["omega"] - m["omega_theory"]) / (m["omega_theory"] or 1.0) for m in resolved)
-        assert omega == pytest.approx(check.errors["omega"], rel=1e-9, abs=1e-300)
+        assert omega == pytest.approx(check.errors["omega"], rel=RTOL_RECOMPUTED_ERROR, abs=ATOL_NO_FLOOR)
         P = max(abs((m["P"] or 0.0) - m["P_theory"]) for m in check.modes)
-        assert P == pytest.approx(check.errors["P"], rel=1e-9, abs=1e-300)
+        assert P == pytest.approx(check.errors["P"], rel=RTOL_RECOMPUTED_ERROR, abs=ATOL_NO_FLOOR)
         assert ("Q" in check.errors) == ("losses" in check.name)  # each mode's Q_n, for the lossy ladder only
         assert check.wall_s is not None and check.points and check.points >= check.N
     walls = _by_name(checks, "two-mass-N50-walls")
@@ -105,9 +106,9 @@ def test_fig_pk20_100_has_the_circuits_points_on_top(checks: list[SpectrumCheck]
         modes = _by_name(checks, f"two-mass-N{N}").modes
         omega = np.array([m["omega"] for m in modes])
         k = 2 * np.arcsin(omega / 2)  # Eq. e.omegak
-        np.testing.assert_allclose(P_line.get_xdata(), k, rtol=1e-12, atol=1e-15)
-        np.testing.assert_allclose(P_line.get_ydata(), N * np.abs([m["P"] for m in modes]), rtol=1e-12)
-        np.testing.assert_allclose(spacing_line.get_ydata(), np.diff(omega) * N / math.pi, rtol=1e-12)
+        np.testing.assert_allclose(P_line.get_xdata(), k, rtol=RTOL_PLOTTED, atol=ATOL_PLOTTED)
+        np.testing.assert_allclose(P_line.get_ydata(), N * np.abs([m["P"] for m in modes]), rtol=RTOL_PLOTTED)
+        np.testing.assert_allclose(spacing_line.get_ydata(), np.diff(omega) * N / math.pi, rtol=RTOL_PLOTTED)
         for line, theory in ((P_line, f"N P_n, N = {N}"), (spacing_line, f"(N/π) δω_n, N = {N}")):
             assert line.get_markerfacecolor() == "none" and line.get_linestyle() in ("None", "none", "")
             drawn = [other.get_label() for other in line.axes.get_lines()]
@@ -126,11 +127,11 @@ def test_fig_vk_has_the_circuits_group_velocity_in_every_panel(checks: list[Spec
         v = lines["ngspice (AC): (N/π) Δω_n"]
         omega = np.array([m["omega"] for m in _by_name(checks, f"one-mass-N50-Delta{Delta:g}").modes])
         k = 2 * np.arcsin(omega / 2)
-        np.testing.assert_allclose(v.get_xdata(), (k[1:] + k[:-1]) / 2, rtol=1e-12, atol=1e-15)
-        np.testing.assert_allclose(v.get_ydata(), np.diff(omega) * 50 / math.pi, rtol=1e-12)
-        # on the theory's curve v_k (Eq. e.vk) within the difference's O(1/N^2) (tests/test_figures.py: 1e-2)
+        np.testing.assert_allclose(v.get_xdata(), (k[1:] + k[:-1]) / 2, rtol=RTOL_PLOTTED, atol=ATOL_PLOTTED)
+        np.testing.assert_allclose(v.get_ydata(), np.diff(omega) * 50 / math.pi, rtol=RTOL_PLOTTED)
+        # on the theory's curve v_k (Eq. e.vk) within the difference's O(1/N^2) (ATOL_GROUP_VELOCITY, as tests/test_figures.py)
         theory = next(line for line in ax.get_lines() if line.get_label() == "v_k")
-        assert np.max(np.abs(v.get_ydata() - np.interp(v.get_xdata(), *theory.get_data()))) < 1e-2
+        assert np.max(np.abs(v.get_ydata() - np.interp(v.get_xdata(), *theory.get_data()))) < ATOL_GROUP_VELOCITY
         assert "ngspice (AC): P_n" in lines
     legend = [text.get_text() for text in fig.legends[0].get_texts()]
     assert legend.count("ngspice (AC): (N/π) Δω_n") == 1

@@ -111,10 +111,11 @@ def test_bad_requests_are_refused_naming_the_field(build, field):
 
 @pytest.mark.ngspice
 def test_a_request_runs_with_every_kind_of_effect():
-    request = Request(chain_for_case("perfect", 20), Transient(accuracy=1e-4, transits=2),
+    accuracy = 1e-4
+    request = Request(chain_for_case("perfect", 20), Transient(accuracy=accuracy, transits=2),
                       drive=Drive("pulse", 1e-3, ("gaussian", 0.3)), effects=(Coupling(-0.03), Walls(0.02)))
     report = lcchain.simulate(request)
     assert report.chain.coupling == -0.03 and report.chain.springs[0] == 0.02
-    assert report.comparison.max_abs_error <= 1e-4
+    assert report.comparison.max_abs_error <= accuracy
     assert report.accuracy == 1e-4 and report.accuracy_met is True  # the request's accuracy is the report's
     assert np.all(np.isfinite(report.waveforms.last))

@@ -7,6 +7,7 @@ import math
 from pathlib import Path
 
 import pytest
+from helpers.tolerances import ATOL_REQUIREMENT_LOSS, RTOL_REQUIREMENT_LOSS
 
 import lcchain
 from lcchain.circuit.effects import CoilCapacitance
@@ -48,7 +49,7 @@ def test_the_command_puts_ngspice_points_on_the_exact_curves(tmp_path: Path,
     assert [part["part"] for part in data["parts"]] == ["capacitor_esl", "coil_resistance"]
     assert len(data["check"]) == 2
     for point in data["check"]:
-        assert abs(point["loss"] - point["theory"]) < 1e-3 + 0.01 * abs(point["theory"])
+        assert abs(point["loss"] - point["theory"]) < ATOL_REQUIREMENT_LOSS + RTOL_REQUIREMENT_LOSS * abs(point["theory"])
     assert plot.stat().st_size > 10_000
 
 

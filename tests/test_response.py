@@ -13,11 +13,16 @@ import math
 import numpy as np
 import pytest
 from helpers.tolerances import (
+    ATOL_DOP853_RESPONSE,
     ATOL_LOOPS,
     ATOL_MODAL,
     ATOL_MOMENTUM,
+    ATOL_NO_FLOOR,
     ATOL_RESPONSE_ODE,
     ATOL_SHORT_PULSE,
+    RTOL_DOP853_RESPONSE,
+    RTOL_EXPM1_BASIS,
+    RTOL_OVERDAMPED_BASIS,
 )
 from scipy.integrate import solve_ivp
 from scipy.special import ndtr
@@ -61,7 +66,7 @@ def integrate(chain, t, excitation="kick", Q=None, pulse=None):
         acceleration[0] += force(time)
         return np.concatenate((y[N:], acceleration))
 
-    options = dict(method="DOP853", rtol=1e-12, atol=1e-14)
+    options = dict(method="DOP853", rtol=RTOL_DOP853_RESPONSE, atol=ATOL_DOP853_RESPONSE)
     if pulse is None:
         solution = solve_ivp(rhs, (0.0, t[-1]), y0, t_eval=t, args=(lambda time: 0.0,), **options)
         assert solution.success
@@ -204,11 +209,11 @@ def test_mode_functions_in_every_regime():
     X, Y = _basis(omega, 2.0, t)
     np.testing.assert_allclose(X[:, 0], t * np.exp(-t), rtol=0, atol=ATOL_MODAL)
     np.testing.assert_allclose(Y[:, 0], np.exp(-t), rtol=0, atol=ATOL_MODAL)
-    np.testing.assert_allclose(X[:, 1], -np.expm1(-2.0 * t) / 2.0, rtol=1e-15, atol=0)
+    np.testing.assert_allclose(X[:, 1], -np.expm1(-2.0 * t) / 2.0, rtol=RTOL_EXPM1_BASIS, atol=0)
     X, Y = _basis(omega, 4.0, t)
     slow, fast = -2.0 + math.sqrt(3.0), -2.0 - math.sqrt(3.0)
-    np.testing.assert_allclose(X[:, 0], (np.exp(slow * t) - np.exp(fast * t)) / (slow - fast), rtol=1e-13, atol=1e-300)
-    np.testing.assert_allclose(Y[:, 0], (np.exp(slow * t) + np.exp(fast * t)) / 2, rtol=1e-13, atol=1e-300)
+    np.testing.assert_allclose(X[:, 0], (np.exp(slow * t) - np.exp(fast * t)) / (slow - fast), rtol=RTOL_OVERDAMPED_BASIS, atol=ATOL_NO_FLOOR)
+    np.testing.assert_allclose(Y[:, 0], (np.exp(slow * t) + np.exp(fast * t)) / 2, rtol=RTOL_OVERDAMPED_BASIS, atol=ATOL_NO_FLOOR)
     np.testing.assert_allclose(Y[:, 1] - 2.0 * X[:, 1], np.exp(-4.0 * t), rtol=0, atol=ATOL_MODAL)  # s' of the zero mode
 
 

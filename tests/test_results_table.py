@@ -10,6 +10,7 @@ from pathlib import Path
 
 import pytest
 from helpers.netlists import LADDER
+from helpers.tolerances import MAX_PERFECT_RUN_LOSS
 
 from lcchain.cli.main import main
 
@@ -80,7 +81,7 @@ def test_a_sweep_table_shows_its_axes_and_a_plot_no_rows(tmp_path: Path, capsys:
     rows = list(csv.DictReader(io.StringIO(capsys.readouterr().out)))
     assert [float(row["mean"]) for row in rows] == [group["mean"] for group in groups]
     perfect = [group["mean"] for group in groups if group["params"]["case"] == "perfect"]
-    assert perfect and all(0 < loss < 1e-3 for loss in perfect)
+    assert perfect and all(0 < loss < MAX_PERFECT_RUN_LOSS for loss in perfect)
     assert all(f"{loss:.4g}" in table for loss in perfect) and "0.0000" not in table
 
 

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from helpers.tolerances import RTOL_ARITHMETIC
+from helpers.tolerances import RTOL_ARITHMETIC, RTOL_E24_MANTISSA, RTOL_TOLERANCE_BOUND
 
 from lcchain.circuit.ladder import Ladder
 from lcchain.cli import main
@@ -59,7 +59,7 @@ E24 = (1.0, 1.1, 1.2, 1.3, 1.5, 1.6, 1.8, 2.0, 2.2, 2.4, 2.7, 3.0, 3.3, 3.6, 3.9
 
 def _on_e24(value: float) -> bool:
     mantissa = value / 10.0 ** np.floor(np.log10(value))
-    return bool(np.isclose(mantissa, E24, rtol=1e-9).any() or np.isclose(mantissa, 10.0, rtol=1e-9))
+    return bool(np.isclose(mantissa, E24, rtol=RTOL_E24_MANTISSA).any() or np.isclose(mantissa, 10.0, rtol=RTOL_E24_MANTISSA))
 
 
 def test_a_monte_carlo_from_the_command_line_needs_no_scene(tmp_path: Path,
@@ -78,9 +78,10 @@ def test_a_monte_carlo_from_the_command_line_needs_no_scene(tmp_path: Path,
         L = np.array(run["parts"]["L"])
         assert L.size == 8  # N = 8: one axis value, in the study's description, not a parameter of each run
         # each part is an E24 value moved by at most its 1 % tolerance
+        tolerance = 0.01
         nominal = [min((d * 10.0 ** e for d in E24 for e in range(-9, -3)), key=lambda v, x=x: abs(v - x))
                    for x in L]
-        assert np.all(np.abs(L / np.array(nominal) - 1) <= 0.01 + 1e-12)
+        assert np.all(np.abs(L / np.array(nominal) - 1) <= tolerance + RTOL_TOLERANCE_BOUND)
         assert not all(_on_e24(x) for x in L)  # the tolerance moved them off the series
     assert runs[0]["parts"]["L"] != runs[1]["parts"]["L"]
 

@@ -22,9 +22,16 @@ from helpers.processes import temporary_entries
 from helpers.tolerances import (
     ACCURACY_COARSE,
     ACCURACY_FINE,
+    ATOL_CSV_PEAK,
+    ATOL_PULSE_DELAY,
     ATOL_SPECTRUM_P,
     MIN_ERROR_WRONG_THEORY,
+    RTOL_CSV_TIME,
+    RTOL_MEAN_OF_SAMPLES,
+    RTOL_NETLIST_VALUE,
+    RTOL_ONE_OPERATION,
     RTOL_SPECTRUM_OMEGA,
+    RTOL_STD_OF_SAMPLES,
 )
 
 from lcchain.app.scenes import run_scene
@@ -202,9 +209,9 @@ def test_probes_all_saves_every_loop_current_and_nothing_else() -> None:
 def test_the_analysis_lasts_the_requested_transits(transits: int) -> None:
     scene = _scene({"analysis": {"transits": transits}})
     plan = scene_plan(scene)
-    assert plan.tstop == pytest.approx(arrival_window(transits, plan.transit_time)[1], rel=1e-15)
+    assert plan.tstop == pytest.approx(arrival_window(transits, plan.transit_time)[1], rel=RTOL_ONE_OPERATION)
     unit = math.sqrt(scene.units.L0 * scene.units.C0)
-    assert _tstop_seconds(_netlist(scene)) == pytest.approx(plan.tstop * unit, rel=1e-14)
+    assert _tstop_seconds(_netlist(scene)) == pytest.approx(plan.tstop * unit, rel=RTOL_NETLIST_VALUE)
 
 
 def test_preferred_values_are_in_the_series() -> None:
@@ -255,8 +262,8 @@ def test_tolerance_report_has_one_record_per_sample_and_the_spread(tmp_path: Pat
     spread = report["transmitted_peak"]
     assert spread["count"] == 3
     assert spread["worst"] == min(peaks) and spread["best"] == max(peaks)
-    assert spread["mean"] == pytest.approx(np.mean(peaks), rel=1e-12)
-    assert spread["std"] == pytest.approx(np.std(peaks, ddof=1), rel=1e-9) and spread["std"] > 0
+    assert spread["mean"] == pytest.approx(np.mean(peaks), rel=RTOL_MEAN_OF_SAMPLES)
+    assert spread["std"] == pytest.approx(np.std(peaks, ddof=1), rel=RTOL_STD_OF_SAMPLES) and spread["std"] > 0
     for record in report["samples"]:
         assert {"dt", "points", "netlist_sha256", "wall_s", "max_abs_error", "arrivals"} <= record.keys()
         for a in record["arrivals"]:
@@ -325,12 +332,12 @@ def test_run_keeps_the_netlist_and_waveforms(tmp_path: Path, monkeypatch, capsys
     assert rows[0] == ["t", "first", "last"]
     values = np.array(rows[1:], dtype=float)
     assert values[-1, 0] == pytest.approx(scene_plan(parse_scene({"chain": {"case": "perfect", "N": 4},
-                                                                  "analysis": {"dt": 0.01}})).tstop, rel=1e-9)
+                                                                  "analysis": {"dt": 0.01}})).tstop, rel=RTOL_CSV_TIME)
     # the perfect N = 4 chain in bulk units (masses 5/3, 1, 1, 5/3) transmits the whole kick at sqrt(3) pi: the
     # paper's sqrt(11) pi / 2 for its masses 11/12 as large (times scale as sqrt(m))
     t_star = math.sqrt(3) * math.pi
     near = np.abs(values[:, 0] - t_star) < 0.05
-    assert values[near, 2].max() == pytest.approx(1.0, abs=1e-3)
+    assert values[near, 2].max() == pytest.approx(1.0, abs=ATOL_CSV_PEAK)
 
 
 @pytest.mark.ngspice
@@ -383,7 +390,7 @@ def test_a_short_rect_pulse_tends_to_the_kick() -> None:
     pulse = run_scene(_scene({"excitation": {"kind": "pulse", "shape": "rect", "width": width}}),
                       write_outputs=False).report["arrivals"][0]
     assert pulse["peak_sim"] == pytest.approx(kick["peak_sim"], abs=ACCURACY_COARSE)
-    assert pulse["t_sim"] - kick["t_sim"] == pytest.approx(width / 2, abs=0.05)
+    assert pulse["t_sim"] - kick["t_sim"] == pytest.approx(width / 2, abs=ATOL_PULSE_DELAY)
 
 
 def test_scene_titles_say_the_size_once_and_a_pulse_peak_names_its_source() -> None:

@@ -4,6 +4,13 @@ modes, where the sensitivities perturb the nominal modes)."""
 
 import numpy as np
 import pytest
+from helpers.tolerances import (
+    ATOL_SAME_PEAK,
+    RTOL_FIRST_ORDER_CORNER,
+    RTOL_NETLIST_VALUE,
+    RTOL_RELATIVE_SENSITIVITY,
+    RTOL_SCALING_IDENTITY,
+)
 
 from lcchain.circuit.effects import Tolerance, cornered, with_walls
 from lcchain.circuit.ladder import Ladder
@@ -62,7 +69,7 @@ CASES = {
 def test_sensitivities_match_finite_differences_of_exact_theory(make):
     chain = make()
     sensitivity = peak_sensitivity(chain)
-    assert sensitivity.peak == pytest.approx(first_arrival(chain).peak, abs=1e-12)
+    assert sensitivity.peak == pytest.approx(first_arrival(chain).peak, abs=ATOL_SAME_PEAK)
     relative_m, relative_k = _central(chain)
     np.testing.assert_allclose(sensitivity.relative_masses, relative_m, rtol=0, atol=FD_TOLERANCE)
     np.testing.assert_allclose(sensitivity.relative_springs, relative_k, rtol=0, atol=FD_TOLERANCE)
@@ -75,8 +82,8 @@ def test_relative_sensitivities_sum_to_zero(make):
     # scaling every mass (or every spring) only rescales time: the peak does not move
     sensitivity = peak_sensitivity(make())
     scale = np.max(np.abs(sensitivity.relative_masses))
-    assert abs(sensitivity.relative_masses.sum()) < 1e-12 * max(1.0, scale) * sensitivity.chain.N
-    assert abs(sensitivity.relative_springs.sum()) < 1e-12 * max(1.0, scale) * sensitivity.chain.N
+    assert abs(sensitivity.relative_masses.sum()) < RTOL_SCALING_IDENTITY * max(1.0, scale) * sensitivity.chain.N
+    assert abs(sensitivity.relative_springs.sum()) < RTOL_SCALING_IDENTITY * max(1.0, scale) * sensitivity.chain.N
 
 
 def test_free_ends_have_no_relative_sensitivity_but_a_wall_spring_would_move_the_peak():
@@ -106,7 +113,7 @@ def test_components_are_named_valued_and_scaled_as_the_netlist_writes_them():
     for part in sensitivity.components:
         line = next(line for line in netlist.splitlines() if line.split()[0] == part.name)
         assert float(line.split()[3]) == part.value
-        assert part.derivative * part.value == pytest.approx(part.relative, rel=1e-12)
+        assert part.derivative * part.value == pytest.approx(part.relative, rel=RTOL_RELATIVE_SENSITIVITY)
         if part.kind == "C":  # C = C0 / K: d ln C = -d ln K
             assert part.relative == -theory.relative_springs[part.slot - 6]
     ranked = [abs(part.relative) for part in sensitivity.components]
@@ -127,7 +134,7 @@ def test_corners_move_the_ranked_parts_at_their_tolerances():
     assert Tolerance(0.05, 0.02, corner=corner.signs).draw(ladder.chain, ladder.L0, ladder.C0)[0] == chain
     np.testing.assert_allclose(chain.masses / ladder.chain.masses, 1 + 0.05 * np.array(corner.signs[:10]))
     # to first order the corner moves the peak as predicted (second order: tol^2 terms)
-    assert first_arrival(chain).peak - sensitivity.peak == pytest.approx(corner.predicted, rel=0.05)
+    assert first_arrival(chain).peak - sensitivity.peak == pytest.approx(corner.predicted, rel=RTOL_FIRST_ORDER_CORNER)
     with pytest.raises(ParameterError, match="--components"):
         corners(sensitivity, components=0, tol_L=0.05, tol_C=0.02)
 
@@ -168,7 +175,7 @@ def test_energy_sensitivities_match_finite_differences_of_the_energy_fraction():
     down[0] *= 1 - h
     fd = (energy(chain.masses, up) - energy(chain.masses, down)) / (2 * h)
     assert sensitivity.energy_relative_springs[0] == pytest.approx(fd, abs=FD_TOLERANCE)
-    assert abs(sensitivity.energy_relative_masses.sum()) < 1e-12  # the scaling identity holds for e too
+    assert abs(sensitivity.energy_relative_masses.sum()) < RTOL_SCALING_IDENTITY  # the scaling identity holds for e too
 
 
 def test_a_scene_corner_is_realised_by_the_planner_and_round_trips():
@@ -187,6 +194,6 @@ def test_a_scene_corner_is_realised_by_the_planner_and_round_trips():
     assert plan.specs[0].theory.chain == expected  # the netlist and the theory of one realised chain
     values = {line.split()[0]: float(line.split()[3]) for line in plan.specs[0].netlist.splitlines()
               if line[:1] in "LC" and not line.startswith(".")}
-    assert values["L1"] == pytest.approx(1.05 * 1e-5 * plan.nominal.masses[0], rel=1e-14)
-    assert values["L3"] == pytest.approx(0.95 * 1e-5 * plan.nominal.masses[2], rel=1e-14)
-    assert values["L2"] == pytest.approx(1e-5 * plan.nominal.masses[1], rel=1e-14)
+    assert values["L1"] == pytest.approx(1.05 * 1e-5 * plan.nominal.masses[0], rel=RTOL_NETLIST_VALUE)
+    assert values["L3"] == pytest.approx(0.95 * 1e-5 * plan.nominal.masses[2], rel=RTOL_NETLIST_VALUE)
+    assert values["L2"] == pytest.approx(1e-5 * plan.nominal.masses[1], rel=RTOL_NETLIST_VALUE)

@@ -3,10 +3,17 @@
 import numpy as np
 import pytest
 from helpers.tolerances import (
+    ATOL_DC_LEVEL,
     ATOL_PERFECT_PEAK,
+    ATOL_PROBES_AT_START,
+    ATOL_RUN_AGAINST_MODES,
     ATOL_SCALE_INVARIANCE,
     ATOL_SCALE_INVARIANCE_TIME,
+    ATOL_SIMULATED_ARRIVAL_TIME,
+    ATOL_TABLE_LOSS,
+    MAX_ASYMMETRIC_RUN_ERROR,
     RTOL_CONSERVED,
+    RTOL_WINDOW_END,
     TRAP_ERROR_COEFFICIENT_FIRST_TRANSIT,
 )
 
@@ -30,7 +37,7 @@ def test_perfect_chains_transmit_fully(N):
     assert abs(at - 1.0) < ATOL_PERFECT_PEAK
     first = report.comparison.arrivals[0]
     assert abs(first.peak_sim - 1.0) < ATOL_PERFECT_PEAK
-    assert first.t_sim == pytest.approx(PERFECT_ARRIVAL[N], abs=0.01)
+    assert first.t_sim == pytest.approx(PERFECT_ARRIVAL[N], abs=ATOL_SIMULATED_ARRIVAL_TIME)
 
 
 @pytest.mark.parametrize("dt", [0.1, 0.05])
@@ -40,8 +47,8 @@ def test_two_mass_optimum_n100_within_step_prediction(dt):
     assert report.comparison.max_abs_error_last < TRAP_ERROR_COEFFICIENT_FIRST_TRANSIT * dt**2
     # a wiring/sign/unit bug would be O(1): the error must also shrink like dt^2
     arrival = report.comparison.arrivals[0]
-    assert arrival.peak_sim == pytest.approx(arrival.peak_theory, abs=0.35 * dt**2)
-    assert arrival.peak_theory == pytest.approx(1 - 0.01555, abs=5e-6)  # Table II, N = 100
+    assert arrival.peak_sim == pytest.approx(arrival.peak_theory, abs=TRAP_ERROR_COEFFICIENT_FIRST_TRANSIT * dt**2)
+    assert arrival.peak_theory == pytest.approx(1 - 0.01555, abs=ATOL_TABLE_LOSS)  # Table II, N = 100
 
 
 def test_displacement_equals_kick_in_dimensionless_form():
@@ -66,7 +73,7 @@ def test_bounded_chain():
 def test_asymmetric_chain_uses_exact_modal_theory():
     chain = Chain([2.0, 1.0, 1.3, 0.8, 1.5], [0.0, 0.7, 1.0, 1.2, 0.9, 0.3])
     report = simulate(chain, dt=0.01, transits=2)
-    assert report.comparison.max_abs_error < 5e-4
+    assert report.comparison.max_abs_error < MAX_ASYMMETRIC_RUN_ERROR
 
 
 def test_uniform_free_zero_mode_carries_constant_dc():
@@ -80,7 +87,7 @@ def test_uniform_free_zero_mode_carries_constant_dc():
     assert np.max(np.abs(momentum - chain.masses[0])) < RTOL_CONSERVED
     # and the end current oscillates about the DC level I0 m1/M = I0/20
     report = simulate(chain, dt=0.05, transits=1)
-    assert np.mean(report.waveforms.last) == pytest.approx(1 / 20, abs=0.02)
+    assert np.mean(report.waveforms.last) == pytest.approx(1 / 20, abs=ATOL_DC_LEVEL)
 
 
 def test_same_dimensionless_result_at_any_component_scale():
@@ -118,16 +125,16 @@ def test_report_records_run_metadata():
     assert [a["end"] for a in data["arrivals"]] == ["last", "first", "last"]
     assert data["options"]["method"] == "trap"
     # the run lasts the requested transits and no longer
-    assert report.waveforms.t[-1] <= 3.5 * PERFECT_ARRIVAL[3] * (1 + 1e-9)  # window end of arrival 3
+    assert report.waveforms.t[-1] <= 3.5 * PERFECT_ARRIVAL[3] * (1 + RTOL_WINDOW_END)  # window end of arrival 3
 
 
 def test_end_signal_is_alpha_not_something_else():
     """Guard against a swapped probe: the far end starts at 0, the near end at 1."""
     report = simulate(chain_for_case("two-mass", 20), dt=0.05)
     w = report.waveforms
-    assert abs(w.last[0]) < 1e-3 and abs(w.first[0] - 1) < 1e-3
+    assert abs(w.last[0]) < ATOL_PROBES_AT_START and abs(w.first[0] - 1) < ATOL_PROBES_AT_START
     modes = normal_modes(report.chain)
-    assert np.max(np.abs(w.last - transmission_amplitude(modes, w.t))) < 0.01
+    assert np.max(np.abs(w.last - transmission_amplitude(modes, w.t))) < ATOL_RUN_AGAINST_MODES
 
 
 @pytest.mark.ngspice

@@ -23,6 +23,7 @@ from pathlib import Path
 
 import pytest
 from helpers.digits import agrees_with_printed
+from helpers.tolerances import ATOL_OPTIMISER_RW, ATOL_OPTIMISER_X, ATOL_PERFECT_OPTIMUM_LOSS
 
 from lcchain.report.paper import PRINTED_ROWS
 from lcchain.theory.arrivals import first_arrival
@@ -83,10 +84,10 @@ def test_table_ii_n1000_m1_is_a_better_optimum():
 
 def test_perfect_small_chains_are_the_optima():
     """Tables I (N=3) and II (N=3, 4): the optimum is the perfect chain of Sec. II.C."""
-    assert optimal_one_mass(3).x == pytest.approx((2 / 3) ** 0.5, abs=1e-7)
+    assert optimal_one_mass(3).x == pytest.approx((2 / 3) ** 0.5, abs=ATOL_OPTIMISER_X)
     four = optimal_two_mass(4)
-    assert (four.r, four.w) == pytest.approx((10 / 11, 6 / 11), abs=1e-6)
-    assert four.delta < 1e-12
+    assert (four.r, four.w) == pytest.approx((10 / 11, 6 / 11), abs=ATOL_OPTIMISER_RW)
+    assert four.delta < ATOL_PERFECT_OPTIMUM_LOSS
 
 
 def _tex_rows(text: str, label: str) -> dict[int, tuple[str, ...]]:

@@ -7,7 +7,7 @@ import math
 
 import numpy as np
 import pytest
-from helpers.tolerances import ATOL_PERFECT_WEIGHTS, RTOL_PERFECT_TAIL
+from helpers.tolerances import ATOL_PERFECT_WEIGHTS, RTOL_PERFECT_TAIL, RTOL_TWO_DIGITS
 
 from lcchain.cli.main import main
 from lcchain.report.shown import spectrum_figure
@@ -39,7 +39,7 @@ def test_perfect_100_smallest_weight_is_exact():
     modes = driven_modes(chain_for_case("perfect", N))
     smallest = np.min(np.abs(modes.transfer))
     assert smallest == pytest.approx(2.0 ** -(2 * N - 3), rel=RTOL_PERFECT_TAIL)
-    assert modes.transfer[-1] == pytest.approx(-5.0e-60, rel=1e-2)  # (-1)^(N-1): the mirror symmetric sign
+    assert modes.transfer[-1] == pytest.approx(-5.0e-60, rel=RTOL_TWO_DIGITS)  # (-1)^(N-1): the mirror symmetric sign
     assert perfect_weights(N)[0] == pytest.approx(math.comb(2 * N - 2, N - 1) / 2 ** (2 * N - 2),
                                                   rel=RTOL_PERFECT_TAIL)
 

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from helpers.tolerances import ATOL_TWO_PORT_S, ATOL_UNITARY
+from helpers.tolerances import ATOL_S_EXACT_PORTS, ATOL_TWO_PORT_S, ATOL_UNITARY
 
 from lcchain.cli.main import main
 from lcchain.runs.request import AC, Request
@@ -38,8 +38,8 @@ def test_scattering_of_a_matched_and_an_open_port() -> None:
     """S = (1 - z0 Y)(1 + z0 Y)^-1: two unconnected ports each loaded by 1/z0 are matched (S = 0); open ports
     (Y = 0) reflect fully (S = 1)."""
     z0 = 50.0
-    np.testing.assert_allclose(scattering(np.eye(2)[None] / z0, z0), np.zeros((1, 2, 2)), atol=1e-15)
-    np.testing.assert_allclose(scattering(np.zeros((1, 2, 2)), z0), np.eye(2)[None], atol=1e-15)
+    np.testing.assert_allclose(scattering(np.eye(2)[None] / z0, z0), np.zeros((1, 2, 2)), atol=ATOL_S_EXACT_PORTS)
+    np.testing.assert_allclose(scattering(np.zeros((1, 2, 2)), z0), np.eye(2)[None], atol=ATOL_S_EXACT_PORTS)
 
 
 def test_touchstone_options_are_refused_in_one_line(tmp_path: Path, capsys) -> None:

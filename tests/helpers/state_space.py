@@ -8,6 +8,7 @@ import numpy as np
 import scipy.integrate
 import scipy.linalg
 
+from helpers.tolerances import ATOL_DOP853_CARDS, RTOL_DOP853_CARDS
 from lcchain.circuit.elements import Pulse
 
 
@@ -107,6 +108,6 @@ def dop853_currents(cards: list[str], pulse: Pulse, times: np.ndarray, probes: l
 
     # the gaussian starts at u(0) = exp(-8) of its peak: a step, which c u' turns into a jump of the state
     start = x0 + c * float(pulse.voltage(np.array(0.0)))
-    solution = scipy.integrate.solve_ivp(rate, (0.0, float(times[-1])), start, method="DOP853", rtol=1e-12,
-                                         atol=1e-20, t_eval=times, max_step=end / 50)
+    solution = scipy.integrate.solve_ivp(rate, (0.0, float(times[-1])), start, method="DOP853", rtol=RTOL_DOP853_CARDS,
+                                         atol=ATOL_DOP853_CARDS, t_eval=times, max_step=end / 50)
     return solution.y[[n + names.index(p.lower()) for p in probes], :]
