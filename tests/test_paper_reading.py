@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 import scipy.linalg
 import scipy.optimize
+from helpers.tolerances import ATOL_PAPER_ALGEBRA, RTOL_PAPER_ALGEBRA
 
 from lcchain.report.paper import findings
 from lcchain.theory.asymptotic import asymptotic_optimum
@@ -102,11 +103,11 @@ def test_the_fourth_of_eqs_mkxyz_is_the_one_that_frees_the_chain(optima: dict) -
             m2, K12, m1 = 1 / y**2, (2 - y**2) / y**2, (2 - y**2) ** 2 / (x**2 * y**2)
             K01 = (2 - y**2) / (x**2 * y**2) * ((2 - y**2) * (2 - z) - x**2)
             # Eq. e.BN's elements (m = K = 1) give back Eq. e.xyz's x, y, z and A22 = 0
-            assert (K01 + K12) / m1 == pytest.approx(2 - z, rel=1e-12)
-            assert K12 / np.sqrt(m1 * m2) == pytest.approx(x, rel=1e-12)
-            assert 1 / np.sqrt(m2) == pytest.approx(y, rel=1e-12) and (K12 + 1) / m2 == pytest.approx(2, rel=1e-12)
-            assert K12 == pytest.approx(2 * m2 - 1, rel=1e-12)  # the second relation: no z in it
-            assert (abs(K01) < 1e-12) == (z == z0)
+            assert (K01 + K12) / m1 == pytest.approx(2 - z, rel=RTOL_PAPER_ALGEBRA)
+            assert K12 / np.sqrt(m1 * m2) == pytest.approx(x, rel=RTOL_PAPER_ALGEBRA)
+            assert 1 / np.sqrt(m2) == pytest.approx(y, rel=RTOL_PAPER_ALGEBRA) and (K12 + 1) / m2 == pytest.approx(2, rel=RTOL_PAPER_ALGEBRA)
+            assert K12 == pytest.approx(2 * m2 - 1, rel=RTOL_PAPER_ALGEBRA)  # the second relation: no z in it
+            assert (abs(K01) < ATOL_PAPER_ALGEBRA) == (z == z0)
     item = _finding(findings(optima, {}), "Sec. III.B, after Eq. e.z0")
     assert "the second of Eqs. (e.mKxyz)" in item["printed"] and item["correct"].startswith("the fourth (last)")
 

@@ -642,3 +642,9 @@ RTOL_SPLINE_AT_POINTS = 2e-3
 #: impedance written out by hand, and `lcchain check --engine gnucap`'s largest relative error against the
 #: check's linear response: gnucap's own complex solve in double precision.
 RTOL_CHECK_AC_GNUCAP = 1e-11
+
+# The paper's relations among (x, y, z), the masses and the springs (Eqs. e.BN, e.xyz, e.mKxyz), evaluated by hand
+# both ways on O(1) parameters: a dozen operations each, so agreement to rounding; K01 = 0 at z = z0 is a
+# difference of O(1) terms, zero to the same rounding (tests/test_paper_reading.py).
+RTOL_PAPER_ALGEBRA = 1e-12
+ATOL_PAPER_ALGEBRA = 1e-12
