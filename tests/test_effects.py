@@ -12,6 +12,7 @@ from lcchain.circuit.effects import (
     E_SERIES,
     CapacitorESR,
     Effect,
+    Losses,
     Walls,
     preferred_value,
     realise,
@@ -91,7 +92,7 @@ def test_ideal_netlist_is_a_pure_lc_ladder():
 def test_each_effect_adds_only_its_own_elements():
     chain = Chain.from_rw(30, 0.6, 0.1)
     ideal = netlist_text(Ladder(chain), OPTIONS)
-    lossy = netlist_text(Ladder(chain), OPTIONS, Q=100)
+    lossy = netlist_text(Ladder(chain), OPTIONS, effects=(Losses(100),))
     assert len(_lines(lossy, "R")) == 30 and not _lines(ideal, "R")
     assert not _lines(lossy, "V") and not _lines(lossy, "B")
     for shape, prefix in (("gaussian", "B"), ("rect", "V")):
@@ -109,7 +110,7 @@ def test_each_effect_adds_only_its_own_elements():
     ({"excitation": "kick", "pulse": ("gaussian", 0.2)}, "pulse"),
     ({"excitation": "pulse", "pulse": ("triangle", 0.2)}, "shape"),
     ({"excitation": "pulse", "pulse": ("rect", 0.0)}, "width"),
-    ({"Q": 0}, "Q"),
+    ({"effects": (100,)}, "effects"),  # losses are an effect, Losses(Q): no Q= of their own
 ])
 def test_bad_effect_arguments(kwargs, field):
     with pytest.raises(ParameterError, match=field):

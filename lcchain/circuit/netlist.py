@@ -69,7 +69,7 @@ from ..theory.arrivals import stop_time
 from ..theory.chain import Chain
 from ..theory.modes import Modes
 from ..theory.spectrum import normal_modes
-from .effects import Effect, Losses
+from .effects import Effect
 from .elements import Element, Pulse, ladder_elements, ladder_pulse, number
 from .ladder import Ladder
 
@@ -207,7 +207,6 @@ def netlist_text(
     probes: Probes = "ends",
     title: str = "lcchain LC ladder",
     comments: tuple[str, ...] = (),
-    Q: float | None = None,
     pulse: tuple[PulseShape, float] | None = None,
     extra_vectors: tuple[str, ...] = (),
     effects: tuple[Effect, ...] = (),
@@ -231,10 +230,6 @@ def netlist_text(
         First line of the netlist (one line, :func:`check_user_text`).
     comments : tuple of str
         Extra ``*`` comment lines after the title (validated likewise).
-    Q : float, optional
-        Losses: a resistor R_i = L_i / (Q sqrt(L0 C0)) in series with every
-        inductor (every mode then decays at the same rate), the same as
-        ``effects=(Losses(Q),)``.  None: no resistor.
     pulse : (shape, width), optional
         With ``excitation="pulse"``: a voltage source in loop 1,
         v(t) = L_1 I0 g(t), g of unit area in units of sqrt(L0 C0):
@@ -261,8 +256,6 @@ def netlist_text(
     parts = _sequence("effects", effects, "a tuple of lcchain effects")
     for part in parts:
         instance("effects", part, Effect)
-    if Q is not None:
-        parts += (Losses(real("Q", Q, above=0.0, allowed="a finite quality factor > 0")),)
     I0 = real("I0", I0, at_least=MIN_I0, at_most=MAX_I0, unit="ampere")
     title = check_user_text("title", title)
     for line in strings("comments", comments):
