@@ -17,7 +17,7 @@ from lcchain.report.build import report_rows
 from lcchain.report.figure_data import DesignRows
 from lcchain.report.paper_figures import FIGURES
 from lcchain.report.validation import paper_section
-from lcchain.studies.background import Background, Task
+from lcchain.studies.background import Background, Job
 from lcchain.studies.designs import design_row, design_task
 from lcchain.studies.validation import check_jobs, installed_engines, run_check
 
@@ -119,7 +119,7 @@ def test_a_check_run_by_the_pool_is_the_check_run_here() -> None:
     simulators = [s for s in installed_engines() if s.engine == "ngspice"]
     jobs = [job for job in check_jobs(quick=True, simulators=simulators) if job.N <= 50]
     assert any(job.chain is None for job in jobs) and len(jobs) >= 4
-    with Background([Task(i, job.cost, run_check, (job,)) for i, job in enumerate(jobs)], workers=2) as pool:
+    with Background([Job(i, job.cost, run_check, (job,)) for i, job in enumerate(jobs)], workers=2) as pool:
         pooled = [pool.take(i) for i in range(len(jobs))]
     for job, check in zip(jobs, pooled, strict=True):
         here = run_check(job)
@@ -133,7 +133,7 @@ def test_a_check_run_by_the_pool_is_the_check_run_here() -> None:
 def test_a_killed_background_worker_loses_no_task(caplog: pytest.LogCaptureFixture) -> None:
     """A worker killed from outside (the kernel, out of memory) breaks the pool: the tasks are then done here."""
     here = os.getpid()
-    with Background([Task(i, 1.0, dies_unless_in, (here, i)) for i in range(4)], workers=2) as pool:
+    with Background([Job(i, 1.0, dies_unless_in, (here, i)) for i in range(4)], workers=2) as pool:
         workers = set(pool._pool._processes) if pool._pool is not None else set()  # type: ignore[attr-defined]
         taken = [pool.take(i) for i in range(4)]
     assert taken == [0, 1, 2, 3]

@@ -16,7 +16,7 @@ from lcchain.circuit.requirements import LOSS_TARGETS, PARTS, first_arrival_ener
 from lcchain.core.errors import ParameterError
 from lcchain.report.html import render_html, report_json
 from lcchain.report.requirements import bulk_limit, requirements_figures, requirements_html, requirements_summary
-from lcchain.studies.background import Background, Task
+from lcchain.studies.background import Background, Job
 from lcchain.studies.requirements import (
     QUICK_GRID_POINTS,
     QUICK_REPORT_CHECKS,
@@ -145,7 +145,7 @@ def test_the_pool_returns_the_section_computed_here(check: RequirementsCheck) ->
     """The report runs the job in its pool (:class:`Background`): the same numbers, bit for bit (one BLAS thread
     in both, ngspice deterministic), and the parts come back as PARTS' own."""
     job = _job()
-    with Background([Task("a", job.cost, run_requirements, (job,)), Task("b", 0.0, abs, (-1,))], workers=2) as pool:
+    with Background([Job("a", job.cost, run_requirements, (job,)), Job("b", 0.0, abs, (-1,))], workers=2) as pool:
         pooled = pool.take("a")
         assert pool.take("b") == 1
     assert all(got.part is part for got, part in zip(pooled.requirements, PARTS, strict=True))

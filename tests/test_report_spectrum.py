@@ -18,7 +18,7 @@ from lcchain.core.errors import ParameterError
 from lcchain.report.figure_data import DesignRows
 from lcchain.report.html import render_html
 from lcchain.report.spectrum import PER_MODE_CHECK, spectrum_figures, spectrum_html
-from lcchain.studies.background import Background, Task
+from lcchain.studies.background import Background, Job
 from lcchain.studies.spectrum_checks import (
     VK_DELTAS,
     SpectrumCheck,
@@ -162,7 +162,7 @@ def test_a_spectrum_measured_by_the_pool_is_the_one_measured_here(checks: list[S
     """The report runs the jobs in its pool (:class:`Background`): the same numbers, bit for bit (one BLAS thread
     in both, ngspice deterministic)."""
     jobs = [job for job in spectrum_jobs(quick=True) if job.N <= 50]
-    with Background([Task(i, job.cost, run_spectrum_check, (job,)) for i, job in enumerate(jobs)], workers=2) as pool:
+    with Background([Job(i, job.cost, run_spectrum_check, (job,)) for i, job in enumerate(jobs)], workers=2) as pool:
         assert pool.workers == 2
         pooled = [pool.take(i) for i in range(len(jobs))]
     for check in pooled:

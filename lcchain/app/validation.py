@@ -17,7 +17,7 @@ from typing import Any
 from ..core.types import DesignCase
 from ..report.build import build_report, report_rows
 from ..report.figure_data import DesignRows
-from ..studies.background import Background, Task
+from ..studies.background import Background, Job
 from ..studies.designs import design_row, design_task
 from ..studies.requirements import requirements_jobs, run_requirements
 from ..studies.spectrum_checks import run_spectrum_check, spectrum_jobs
@@ -44,9 +44,9 @@ def make_report(out: str | os.PathLike[str], *, quick: bool = False, cache: str 
     spectra = spectrum_jobs(quick=quick, simulator=simulators[0])
     cradles = requirements_jobs(quick=quick)
     rows = DesignRows(cache)
-    tasks = [Task(("check", i), job.cost, run_check, (job,)) for i, job in enumerate(jobs)]
-    tasks += [Task(("spectrum", i), job.cost, run_spectrum_check, (job,)) for i, job in enumerate(spectra)]
-    tasks += [Task(("requirements", i), job.cost, run_requirements, (job,)) for i, job in enumerate(cradles)]
+    tasks = [Job(("check", i), job.cost, run_check, (job,)) for i, job in enumerate(jobs)]
+    tasks += [Job(("spectrum", i), job.cost, run_spectrum_check, (job,)) for i, job in enumerate(spectra)]
+    tasks += [Job(("requirements", i), job.cost, run_requirements, (job,)) for i, job in enumerate(cradles)]
     tasks += [design_task(case, N) for case, N in rows.missing(report_rows(quick))]
     with Background(tasks, workers) as background:
 

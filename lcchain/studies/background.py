@@ -25,14 +25,15 @@ from typing import Any
 from .executors import default_workers
 from .pools import interrupts_held, kill_pool, spawn_pool
 
-__all__ = ["Task", "Background"]
+__all__ = ["Job", "Background"]
 
 log = logging.getLogger(__name__)
 
 
 @dataclass(frozen=True)
-class Task:
-    """One piece of work: ``function(*args)``, known by ``key``, estimated to take ``cost`` seconds."""
+class Job:
+    """One piece of background work, ``function(*args)``, known by ``key``, estimated to take ``cost`` seconds (a
+    study's run is a :class:`lcchain.studies.plan.Task`)."""
 
     key: Hashable
     cost: float
@@ -45,14 +46,14 @@ class Background:
 
     Parameters
     ----------
-    tasks : iterable of Task
+    tasks : iterable of Job
         The work, sent longest first (a key given twice is done once).
     workers : int, optional
         Processes (default: one per core this process may use); with one (or fewer than two tasks) nothing is
         started and :meth:`take` does the task here.
     """
 
-    def __init__(self, tasks: Iterable[Task], workers: int | None = None):
+    def __init__(self, tasks: Iterable[Job], workers: int | None = None):
         self._tasks = {task.key: task for task in tasks}
         self.workers = min(workers or default_workers(), len(self._tasks))
         self._futures: dict[Hashable, Future[Any]] = {}

@@ -9,7 +9,7 @@ from typing import Any
 
 from ..core.types import DesignCase
 from ..theory.design import optimal_design
-from .background import Task
+from .background import Job
 
 __all__ = ["design_row", "design_cost", "design_task"]
 
@@ -27,6 +27,6 @@ def design_cost(case: str, N: int) -> float:
     return (1.2e-4 if case == "two-mass" else 2e-5) * N + 0.2
 
 
-def design_task(case: DesignCase, N: int) -> Task:
-    """The design of (case, N) as a :class:`~lcchain.studies.background.Task` keyed ``("row", case, N)``."""
-    return Task(("row", case, N), design_cost(case, N), design_row, (case, N))
+def design_task(case: DesignCase, N: int) -> Job:
+    """The design of (case, N) as a :class:`~lcchain.studies.background.Job` keyed ``("row", case, N)``."""
+    return Job(("row", case, N), design_cost(case, N), design_row, (case, N))
