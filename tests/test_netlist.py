@@ -1,4 +1,4 @@
-"""Netlist text: mapping, determinism, number format, injection safety, reference files."""
+"""Netlist text: mapping, determinism, card_number format, injection safety, reference files."""
 
 import re
 from pathlib import Path
@@ -8,7 +8,7 @@ import pytest
 from helpers.tolerances import RTOL_NETLIST_TMAX
 
 from lcchain.circuit.ladder import Ladder
-from lcchain.circuit.netlist import SimulationOptions, check_user_text, netlist_text, number, probe_names
+from lcchain.circuit.netlist import SimulationOptions, card_number, check_user_text, netlist_text, probe_names
 from lcchain.circuit.reference import REFERENCE_SET, reference_netlist
 from lcchain.core.errors import ParameterError
 from lcchain.theory.chain import Chain
@@ -66,7 +66,7 @@ def test_deterministic_bytes_and_plain_floats():
         assert re.fullmatch(r"[0-9.e+-]+", value), f"not a plain float: {value}"
         assert value == repr(float(value)), "full precision"
     # SPICE suffixes would be read as milli/femto: never emitted
-    assert number(1e-3) == "0.001" and number(1e-15) == "1e-15"
+    assert card_number(1e-3) == "0.001" and card_number(1e-15) == "1e-15"
 
 
 def test_save_only_requested_probes_and_explicit_max_step():

@@ -24,7 +24,7 @@ from ..core.types import GAUSSIAN_CENTRE, PulseShape
 from .effects import Effect
 from .ladder import Ladder
 
-__all__ = ["Element", "Pulse", "ladder_elements", "ladder_pulse", "number", "GROUND", "RECT_FALL", "ELEMENT_HOOKS",
+__all__ = ["Element", "Pulse", "ladder_elements", "ladder_pulse", "card_number", "GROUND", "RECT_FALL", "ELEMENT_HOOKS",
            "adds_elements"]
 
 #: Every Effect method :func:`ladder_elements` asks for elements: an effect that overrides none of them adds none
@@ -43,7 +43,7 @@ RECT_FALL = 1e-9
 GROUND = "0"
 
 
-def number(value: float) -> str:
+def card_number(value: float) -> str:
     """A float as SPICE reads it exactly: ``repr(float(value))``, no suffix."""
     value = float(value)
     if not math.isfinite(value):
@@ -82,8 +82,8 @@ class Element:
 
     def card(self) -> str:
         """The element's netlist line."""
-        ic = "" if self.ic is None else f" IC={number(self.ic)}"
-        return f"{self.name} {self.a} {self.b} {number(self.value)}{ic}"
+        ic = "" if self.ic is None else f" IC={card_number(self.ic)}"
+        return f"{self.name} {self.a} {self.b} {card_number(self.value)}{ic}"
 
 
 @dataclass(frozen=True)
@@ -133,12 +133,12 @@ class Pulse:
         if self.shape == "gaussian":
             sigma, centre = self.width, GAUSSIAN_CENTRE * self.width
             peak = self.area / (sigma * math.sqrt(2 * math.pi))
-            expression = f"{number(peak)}*exp(-0.5*((time-{number(centre)})/{number(sigma)})^2)"
+            expression = f"{card_number(peak)}*exp(-0.5*((time-{card_number(centre)})/{card_number(sigma)})^2)"
             return f"B1 {self.a} {self.b} V={expression}"
         duration = self.width
         level = self.area / duration
-        return (f"V1 {self.a} {self.b} PWL(0 {number(level)} {number(duration)} {number(level)} "
-                f"{number(duration * (1 + RECT_FALL))} 0)")
+        return (f"V1 {self.a} {self.b} PWL(0 {card_number(level)} {card_number(duration)} {card_number(level)} "
+                f"{card_number(duration * (1 + RECT_FALL))} 0)")
 
 
 def ladder_pulse(ladder: Ladder, shape: PulseShape, width: float, I0: float) -> Pulse:

@@ -70,7 +70,7 @@ from ..theory.chain import Chain
 from ..theory.modes import Modes
 from ..theory.spectrum import normal_modes
 from .effects import Effect
-from .elements import Element, Pulse, ladder_elements, ladder_pulse, number
+from .elements import Element, Pulse, card_number, ladder_elements, ladder_pulse
 from .ladder import Ladder
 
 __all__ = [
@@ -86,7 +86,7 @@ __all__ = [
     "check_frequency_scale",
     "check_user_text",
     "probe_names",
-    "number",
+    "card_number",
     "netlist_hash",
     "SCALED_TOLERANCES",
 ]
@@ -270,8 +270,8 @@ def netlist_text(
     lines = [title]
     lines += [f"* {line}" for line in comments]
     lines.append(
-        f"* N={N} L0={number(ladder.L0)} H C0={number(ladder.C0)} F time unit={number(unit)} s "
-        f"excitation={excitation} I0={number(I0)} A"
+        f"* N={N} L0={card_number(ladder.L0)} H C0={card_number(ladder.C0)} F time unit={card_number(unit)} s "
+        f"excitation={excitation} I0={card_number(I0)} A"
     )
     shaped = None if spec is None else (cast(PulseShape, spec[0]), spec[1])
     lines += [element.card() for element in circuit_elements(ladder, excitation=excitation, I0=I0, pulse=shaped,
@@ -281,7 +281,7 @@ def netlist_text(
     tstop = options.tstop * unit
     max_step = step if options.stepping == "fixed" else tstop / 50
     print_step = tstop if options.aligned else step  # aligned: no breakpoint at t = dt
-    lines.append(f".tran {number(print_step)} {number(tstop)} 0 {number(max_step)} uic")
+    lines.append(f".tran {card_number(print_step)} {card_number(tstop)} 0 {card_number(max_step)} uic")
     lines.append(".save " + " ".join(probe_names(N, probes) + list(extra_vectors)))
     lines.append(".end")
     return "\n".join(lines) + "\n"
@@ -351,7 +351,7 @@ def ac_netlist_text(ladder: Ladder, *, points: int | None = None, omega_max: flo
         omega_max = real("omega_max", omega_max, above=0.0)
         omega_min = real("omega_min", omega_min if omega_min is not None else omega_max / points, above=0.0,
                          below=omega_max)
-        sweeps = [f".ac lin {points} {number(omega_min * hertz)} {number(omega_max * hertz)}"]
+        sweeps = [f".ac lin {points} {card_number(omega_min * hertz)} {card_number(omega_max * hertz)}"]
     else:
         sweeps = _ac_cards(segments, hertz)
     parts = _sequence("effects", effects, "a tuple of lcchain effects")
@@ -359,8 +359,8 @@ def ac_netlist_text(ladder: Ladder, *, points: int | None = None, omega_max: flo
         instance("effects", part, Effect)
     title = check_user_text("title", title)
     N = ladder.chain.N
-    lines = [title, f"* N={N} L0={number(ladder.L0)} H C0={number(ladder.C0)} F time unit="
-                    f"{number(ladder.time_unit)} s, AC drive of 1 V in loop 1"]
+    lines = [title, f"* N={N} L0={card_number(ladder.L0)} H C0={card_number(ladder.C0)} F time unit="
+                    f"{card_number(ladder.time_unit)} s, AC drive of 1 V in loop 1"]
     lines += [element.card() for element in ladder_elements(ladder, parts, source=True)]
     lines.append(f"V1 s1 {ladder.node(0)} DC 0 AC 1")
     lines.append(".options noopac")
@@ -391,7 +391,7 @@ def _ac_cards(segments: Sequence[tuple[int, float, float]], hertz: float) -> lis
         highest = real(f"segments[{k}].highest", segment[2], above=lowest)
         step = (highest - lowest) / count
         first, last = lowest + AC_OFFSET * step, highest - (1.0 - AC_OFFSET) * step
-        cards.append(f".ac lin {count} {number(first * hertz)} {number(last * hertz)}")
+        cards.append(f".ac lin {count} {card_number(first * hertz)} {card_number(last * hertz)}")
         total, previous = total + count, highest
     integer("points", total, at_least=MIN_AC_POINTS, at_most=MAX_AC_POINTS,
             allowed=f"{MIN_AC_POINTS} to {MAX_AC_POINTS} frequencies in all segments")
@@ -404,8 +404,8 @@ def _options_line(options: SimulationOptions, I0: float, ladder: Ladder) -> str:
     V0 = I0 * ladder.impedance
     Q0 = I0 * ladder.time_unit
     scaled = {"abstol": 1e-12 * I0, "vntol": 1e-12 * V0, "chgtol": 1e-15 * Q0}
-    words = [f"method={options.method}", f"maxord={options.maxord}", f"reltol={number(options.reltol)}"]
-    words += [f"{name}={number(value)}" for name, value in scaled.items() if name not in options.ngspice_defaults]
+    words = [f"method={options.method}", f"maxord={options.maxord}", f"reltol={card_number(options.reltol)}"]
+    words += [f"{name}={card_number(value)}" for name, value in scaled.items() if name not in options.ngspice_defaults]
     words.append("trtol=1e9" if options.aligned else "trtol=7.0")
     words += [name if value is None else f"{name}={value}" for name, value in options.extra]
     return ".options " + " ".join(words)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from .common import EXIT_FAILED, EXIT_OK, emit_json, number
+from .common import EXIT_FAILED, EXIT_OK, emit_json, number_type
 
 __all__ = ["add_check_arguments", "cmd_check"]
 
@@ -12,14 +12,14 @@ __all__ = ["add_check_arguments", "cmd_check"]
 def add_check_arguments(p: argparse.ArgumentParser, engines: tuple[str, ...]) -> None:
     p.add_argument("netlist", metavar="FILE", help="a netlist with one .tran or .ac analysis (the allow-list of "
                    "lcchain batch: R L C K V I B elements, .param, .ic, .options, .save, .include in its folder)")
-    p.add_argument("--accuracy", type=number("--accuracy"), default=None, metavar="A",
+    p.add_argument("--accuracy", type=number_type("--accuracy"), default=None, metavar="A",
                    help="relative to each saved vector's scale (its exact reference's largest magnitude): exit 1 "
                         "when a vector's error exceeds it, and the step suggested is the one it needs (default: "
                         "1e-6, for the suggestion only)")
     p.add_argument("--engine", default="ngspice", choices=engines,
                    help="the simulator: ngspice runs the netlist in its sandbox; gnucap runs lcchain's copy of it, "
                         "written from its numbers")
-    p.add_argument("--timeout", type=number("--timeout"), default=600.0, metavar="SECONDS",
+    p.add_argument("--timeout", type=number_type("--timeout"), default=600.0, metavar="SECONDS",
                    help="stop the simulator after this long (default 600)")
     p.add_argument("--allow-control", action="store_true",
                    help="run the netlist as it is (.control blocks, .model cards, diodes...), still in the sandbox; "

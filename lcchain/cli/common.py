@@ -43,8 +43,8 @@ from ..theory.chain import Chain
 
 __all__ = ["EXIT_OK", "EXIT_FAILED", "EXIT_USAGE", "EXIT_MISSING", "EXIT_SIGPIPE", "OPTION_NAMES", "NEGATIVE_NUMBER",
            "single_valued", "count", "list_entries", "int_list", "si_number", "SI_PREFIXES",
-           "number", "size", "duration", "seconds", "budget_parent", "emit_json", "Outputs", "STDOUT", "EXIT_EXTRA",
-           "chain_from_args", "budget_from_args", "load_chain_file", "check_perfect", "echoed_command",
+           "number_type", "size", "duration", "seconds", "budget_parent", "emit_json", "Outputs", "STDOUT",
+           "EXIT_EXTRA", "chain_from_args", "budget_from_args", "load_chain_file", "check_perfect", "echoed_command",
            "CIRCUIT_EFFECTS", "add_effect_arguments", "effects_from_args", "tolerances", "add_parts_arguments"]
 
 EXIT_OK, EXIT_FAILED, EXIT_USAGE, EXIT_MISSING = 0, 1, 2, 3
@@ -135,7 +135,7 @@ def int_list(option: str) -> Callable[[str], list[int]]:
     return parse
 
 
-def number(option: str) -> Callable[[str], float]:
+def number_type(option: str) -> Callable[[str], float]:
     """An argparse type: a finite number."""
 
     def parse(text: str) -> float:
@@ -247,8 +247,8 @@ def tolerances(text: str) -> dict[str, float]:
 def _relative(option: str, text: str, allowed: str) -> float:
     """A relative tolerance as a fraction (``0.01``) or a percentage (``1%``)."""
     if text.endswith("%"):
-        return number(option)(text[:-1].strip()) / 100.0
-    return number(option)(text)
+        return number_type(option)(text[:-1].strip()) / 100.0
+    return number_type(option)(text)
 
 
 def add_parts_arguments(p: argparse.ArgumentParser, samples: bool = True, netlist: bool = False) -> None:
@@ -458,7 +458,7 @@ def add_effect_arguments(p: argparse.ArgumentParser) -> None:
     for cls in _effect_options():
         assert cls.option is not None
         try:
-            p.add_argument(cls.option, type=number(cls.option), default=None,
+            p.add_argument(cls.option, type=number_type(cls.option), default=None,
                            metavar=effect_fields(cls)[0].name,
                            help=f"{cls.option_help}; as a scene's [effects.{cls.key}]")
         except argparse.ArgumentError as error:  # a plugin's option taken by another

@@ -53,7 +53,7 @@ from .common import (
     budget_parent,
     int_list,
     list_entries,
-    number,
+    number_type,
     si_number,
     single_valued,
 )
@@ -101,7 +101,7 @@ def _add_circuit_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--chain", metavar="FILE", help='JSON file {"masses": [...], "springs": [...]} in bulk units')
     coupling = Coupling.option
     assert coupling is not None  # the chain's own: every command with a circuit takes it
-    p.add_argument(coupling, type=number(coupling), default=None, metavar="K", help=Coupling.option_help)
+    p.add_argument(coupling, type=number_type(coupling), default=None, metavar="K", help=Coupling.option_help)
     p.add_argument("--L0", type=si_number("--L0", "H"), default=DEFAULT_L0,
                    help=f"bulk inductance, henry: 1e-5, 10u or 10uH (default {DEFAULT_L0:g})")
     p.add_argument("--C0", type=si_number("--C0", "F"), default=DEFAULT_C0,
@@ -115,7 +115,7 @@ def _add_chain_arguments(p: argparse.ArgumentParser) -> None:
                    help="kick: initial current in L1; displacement: initial charge in loop 1")
     p.add_argument("--title", help="netlist title (one line)")
     p.add_argument("--transits", type=int, default=1, help="end-to-end transits to simulate (default 1)")
-    p.add_argument("--dt", type=number("--dt"), default=None,
+    p.add_argument("--dt", type=number_type("--dt"), default=None,
                    help=f"maximum time step in units of sqrt(L0*C0) (default {commands.DEFAULT_DT})")
 
 
@@ -182,7 +182,7 @@ def build_parser() -> argparse.ArgumentParser:
                         "its mirror image in loop N), its S-parameters from two AC analyses (one per end) as a "
                         "Touchstone v1 file, --points evenly spaced frequencies (default 401) up to 5 %% above the "
                         "highest normal frequency")
-    p.add_argument("--z0", type=number("--z0"), default=None, metavar="OHMS",
+    p.add_argument("--z0", type=number_type("--z0"), default=None, metavar="OHMS",
                    help="--touchstone's reference impedance on both ports, ohms (default 50)")
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=commands.cmd_spectrum)
@@ -216,7 +216,7 @@ def build_parser() -> argparse.ArgumentParser:
                         "fixed-step run (no --extrapolate); several, comma-separated, run the same netlist in each "
                         "and report their difference beside each one's error against theory")
     p.add_argument("--method", choices=METHODS, default="trap")
-    p.add_argument("--accuracy", type=number("--accuracy"), metavar="EPS",
+    p.add_argument("--accuracy", type=number_type("--accuracy"), metavar="EPS",
                    help="wanted max |simulation - theory|: lcchain picks the largest dt that meets it "
                         "(instead of --dt); a run that misses it exits 1")
     p.add_argument("--extrapolate", type=int, choices=(1, 2, 3), metavar="{1,2,3}",

@@ -24,7 +24,7 @@ DEFAULT_TOP = 10
 
 def add_sensitivity_arguments(p: argparse.ArgumentParser) -> None:
     from ..core.limits import SENSITIVITY_CHECK_ACCURACY as CHECK_ACCURACY  # not studies/: --help stays light
-    from .common import number
+    from .common import number_type
 
     p.add_argument("--metric", choices=ARRIVAL_METRICS, default="peak",
                    help="the first arrival's current peak p = max I_N/I_1(0) (default), or its energy fraction "
@@ -36,7 +36,7 @@ def add_sensitivity_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--check", type=int, default=0, metavar="M",
                    help="run ngspice with each of the M most sensitive components at 1 +- h and compare the "
                         "central difference with the theory (exit 1 when one disagrees beyond its error bar)")
-    p.add_argument("--accuracy", type=number("--accuracy"), default=CHECK_ACCURACY, metavar="EPS",
+    p.add_argument("--accuracy", type=number_type("--accuracy"), default=CHECK_ACCURACY, metavar="EPS",
                    help=f"--check: each run's wanted max |simulation - theory| (default {CHECK_ACCURACY:g})")
     p.add_argument("--store", metavar="FILE.sqlite", help="--check: keep its runs in this store (resumed if it "
                    "exists; default: a temporary one)")

@@ -104,7 +104,7 @@ def add_study_arguments(p: argparse.ArgumentParser, *, store: bool = True) -> No
 
 
 def add_sweep_arguments(p: argparse.ArgumentParser) -> None:
-    from .common import number
+    from .common import number_type
 
     p.add_argument("scene", nargs="?", metavar="SCENE.toml", help="vary a scene instead of cases (with --vary)")
     p.add_argument("--netlist", metavar="FILE.cir",
@@ -126,9 +126,9 @@ def add_sweep_arguments(p: argparse.ArgumentParser) -> None:
                         "against theory) from an AC sweep")
     p.add_argument("--points", type=int, help="with --analysis ac: frequencies of each sweep (default: twice the "
                                               "fewest that separate every pole)")
-    p.add_argument("--L0", type=number("--L0"), default=DEFAULT_L0,
+    p.add_argument("--L0", type=number_type("--L0"), default=DEFAULT_L0,
                    help=f"bulk inductance, henry (default {DEFAULT_L0:g})")
-    p.add_argument("--C0", type=number("--C0"), default=DEFAULT_C0,
+    p.add_argument("--C0", type=number_type("--C0"), default=DEFAULT_C0,
                    help=f"bulk capacitance, farad (default {DEFAULT_C0:g})")
     p.add_argument("--backend", choices=("batch", "shared"), default="batch")
     p.add_argument("--engine", choices=tuple(ENGINES),

@@ -85,7 +85,7 @@ from ..core.frozen import FrozenMap
 from ..core.types import Backend
 from .acdata import AcResult, ac_result
 from .engine import Engine
-from .gnucap_table import TITLE, failure, number, quiet, quote, read_ac_table, read_table, without_rows
+from .gnucap_table import TITLE, failure, quiet, quote, read_ac_table, read_table, table_number, without_rows
 from .log import trim_log
 from .processes import child_env, kill_group, outgrown, read_all
 from .runner import RunResult, check_arguments, progress_reporter, validate_columns, wait_watching
@@ -423,7 +423,7 @@ def _last_time(out: IO[bytes]) -> float | None:
     for row in reversed(tail[1:] if size > 512 else tail):
         words = row.split()
         if words:
-            return number(words[0])
+            return table_number(words[0])
     return None
 
 

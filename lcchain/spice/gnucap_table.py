@@ -25,7 +25,7 @@ from ..core.errors import SimulationError
 from .log import useful_output
 from .text import canonical_vector_name
 
-__all__ = ["read_table", "read_ac_table", "number", "failure", "quiet", "quote", "without_rows", "TITLE"]
+__all__ = ["read_table", "read_ac_table", "table_number", "failure", "quiet", "quote", "without_rows", "TITLE"]
 
 #: The title every translated netlist gets (none of the user's text reaches gnucap).
 TITLE = "* lcchain ladder in gnucap's dialect"
@@ -46,7 +46,7 @@ def failure(reason: str, log_tail: str = "", status: str = "failed") -> Simulati
 def without_rows(log: str) -> str:
     """gnucap's output without its table's rows (what :attr:`RunResult.log` keeps)."""
     return "\n".join(line for line in log.splitlines()
-                     if line.strip() and not (line.split() and number(line.split()[0]) is not None))
+                     if line.strip() and not (line.split() and table_number(line.split()[0]) is not None))
 
 
 def quiet(log: str) -> str:
@@ -59,7 +59,7 @@ def quote(log: str) -> str:
     return useful_output(quiet(log))
 
 
-def number(text: str) -> float | None:
+def table_number(text: str) -> float | None:
     """A number as gnucap prints it (``15.811388300842n``, ``-4.398E-18``), or None for any other word."""
     match = _NUMBER.match(text)
     if match is None:
@@ -126,7 +126,7 @@ def _read_rows(output: str, log: str, first: str) -> tuple[list[str], np.ndarray
         words = line.split()
         if not words or line == lines[header]:  # several .ac cards: one table each, under the same header
             continue
-        values = [number(word) for word in words]
+        values = [table_number(word) for word in words]
         if len(values) != len(names) + 1 or any(v is None for v in values):
             raise failure(f"gnucap's table has a row lcchain cannot read: {line.strip()[:200]!r}",
                                   quote(log or output))
