@@ -198,7 +198,8 @@ def test_every_effect_lcchain_writes_passes_byte_for_byte(excitation: str, pulse
     walled = lcchain.Chain([1.5, 1.0, 1.0, 1.5], [0.2, 1.0, 1.0, 1.0, 0.2])
     for chain, Q, probes in ((lcchain.Chain.perfect(5), None, "all"), (walled, 50.0, "ends")):
         text = netlist_text(Ladder(chain), SimulationOptions(dt=0.05, tstop=10.0), excitation=excitation,  # type: ignore[arg-type]
-                            Q=Q, pulse=pulse, probes=probes)  # type: ignore[arg-type]
+                            effects=() if Q is None else (lcchain.Losses(Q),), pulse=pulse,
+                            probes=probes)  # type: ignore[arg-type]
         assert allowed_netlist(text, "own", None) is text
 
 

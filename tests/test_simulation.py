@@ -17,6 +17,7 @@ from helpers.tolerances import (
     TRAP_ERROR_COEFFICIENT_FIRST_TRANSIT,
 )
 
+from lcchain.circuit.effects import Losses
 from lcchain.circuit.ladder import Ladder
 from lcchain.circuit.netlist import SimulationOptions, netlist_text, probe_names
 from lcchain.runs.simulate import simulate
@@ -139,7 +140,7 @@ def test_end_signal_is_alpha_not_something_else():
 
 @pytest.mark.ngspice
 @pytest.mark.parametrize("effects", [{"excitation": "kick"}, {"excitation": "displacement"},
-                                     {"excitation": "pulse", "pulse": ("gaussian", 0.3), "Q": 40.0},
+                                     {"excitation": "pulse", "pulse": ("gaussian", 0.3), "effects": (Losses(40.0),)},
                                      {"excitation": "pulse", "pulse": ("rect", 0.5)},
                                      {"excitation": "kick", "coupling": 0.05}],
                          ids=["kick", "displacement", "gaussian-losses", "rect", "coupled"])
