@@ -621,6 +621,26 @@ def _sample_grid(chain: Chain, request: Request, analysis: AC) -> tuple[Ladder, 
     return Ladder(chain, request.L0, request.C0), driven, sweep_grid(driven.omega, analysis.points)
 
 
+def _check_ac_price(one: Estimate, request: Request, budget: Budget, N: int, frequencies: int,
+                    design_seconds: float, extra: tuple[str, float, float] | None = None) -> None:
+    """Check one AC run's estimate (the sweep and its fit, at the engine's relative cost, plus ``extra``: what,
+    seconds, bytes of a circuit's own theory) and the request's samples of it against ``budget``, each refusal
+    naming the option that shrinks it: the chain's and the circuit's planners price alike."""
+    analysis = request.analysis
+    assert isinstance(analysis, AC)
+    samples = request.samples
+    one = replace(one, seconds=one.seconds * ac_engine(request.engine).ac_relative_cost)
+    if extra is not None:
+        what, seconds, memory = extra
+        one = Estimate(one.what + what, one.memory + memory, one.seconds + seconds)
+    name, value = ("points", frequencies) if analysis.points is not None else ("N", N)
+    one.check(budget, name, value, "fewer frequencies (--points) or a smaller chain")
+    every = Estimate(f"{samples} runs of {one.what}", one.memory,
+                     design_seconds + samples * (one.seconds + RUN_START_SECONDS + sample_theory_seconds(N)))
+    every.check(budget, "effects.tolerance.samples" if samples > 1 else name, samples if samples > 1 else value,
+                "fewer samples")
+
+
 def _plan_ac(request: Request, budget: Budget, modes: Modes | None, design_seconds: float) -> RequestPlan:
     """One AC sweep per realised chain, each against its own driven modes, on a grid placed from its own poles;
     priced (frequencies x unknowns, and the fit) on the nominal grid before the samples are drawn, and again on
@@ -628,7 +648,7 @@ def _plan_ac(request: Request, budget: Budget, modes: Modes | None, design_secon
     analysis = request.analysis
     assert isinstance(analysis, AC)  # its own plan method calls this
     nominal, ladder, circuit = _nominal_ladder(request)
-    N, samples = nominal.N, request.samples
+    N = nominal.N
     if N > SPECTRUM_MAX_N:
         raise ParameterError("N", N, f"N <= {SPECTRUM_MAX_N} for an AC analysis (exact modes of the chain, and the "
                              "fit's dense least squares)")
@@ -644,13 +664,7 @@ def _plan_ac(request: Request, budget: Budget, modes: Modes | None, design_secon
 
     def price(frequencies: int) -> None:
         one = spectrum_estimate(frequencies, N, losses=request.Q is not None)
-        one = replace(one, seconds=one.seconds * ac_engine(request.engine).ac_relative_cost)
-        name, value = ("points", frequencies) if analysis.points is not None else ("N", N)
-        one.check(budget, name, value, "fewer frequencies (--points) or a smaller chain")
-        every = Estimate(f"{samples} runs of {one.what}", one.memory,
-                         design_seconds + samples * (one.seconds + RUN_START_SECONDS + sample_theory_seconds(N)))
-        every.check(budget, "effects.tolerance.samples" if samples > 1 else name, samples if samples > 1 else value,
-                    "fewer samples")
+        _check_ac_price(one, request, budget, N, frequencies, design_seconds)
 
     price(points)
     chains = _chains(request, nominal)
@@ -697,22 +711,15 @@ def _plan_circuit_ac(request: Request, budget: Budget, modes: Modes | None, desi
     the circuit's theory."""
     analysis = request.analysis
     assert isinstance(analysis, AC)
-    N, samples = nominal.N, request.samples  # N and the modes checked by _plan_ac
+    N = nominal.N  # N and the modes checked by _plan_ac
     _, elements, exact, (segments, points, omega_max) = _circuit_grid(nominal, request, analysis, ladder)
     check_frequency_scale(nominal, float(np.max(exact.omega)), ladder.time_unit)
 
     def price(frequencies: int, count: int) -> None:
-        one = spectrum_estimate(frequencies, max(N, count), losses=exact.lossy)
-        one = replace(one, seconds=one.seconds * ac_engine(request.engine).ac_relative_cost)
         seconds, memory = circuit_cost(elements, 1)
-        one = Estimate(one.what + f" and the circuit's exact theory ({circuit_states(elements)} states)",
-                       one.memory + memory, one.seconds + seconds)
-        name, value = ("points", frequencies) if analysis.points is not None else ("N", N)
-        one.check(budget, name, value, "fewer frequencies (--points) or a smaller chain")
-        every = Estimate(f"{samples} runs of {one.what}", one.memory,
-                         design_seconds + samples * (one.seconds + RUN_START_SECONDS + sample_theory_seconds(N)))
-        every.check(budget, "effects.tolerance.samples" if samples > 1 else name, samples if samples > 1 else value,
-                    "fewer samples")
+        _check_ac_price(spectrum_estimate(frequencies, max(N, count), losses=exact.lossy), request, budget, N,
+                        frequencies, design_seconds,
+                        extra=(f" and the circuit's exact theory ({circuit_states(elements)} states)", seconds, memory))
 
     price(points, exact.N)
     chains = _chains(request, nominal)
