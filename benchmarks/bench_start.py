@@ -32,15 +32,8 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 
-#: A netlist lcchain did not write (tests/test_imports.py runs the same).
-RC_NETLIST = """\
-* an RC low-pass lcchain did not write
-V1 in 0 PULSE(0 1 0 1e-9 1e-9 1e-6 2e-6)
-R1 in out 1000
-C1 out 0 1e-9
-.tran 1e-8 2e-6
-.end
-"""
+sys.path.insert(0, str(ROOT / "tests"))
+from helpers.netlists import RC_NETLIST  # noqa: E402  (the netlist tests/test_imports.py batches)
 
 #: Runs lcchain as ``python -m lcchain`` does, and writes the time of its first subprocess to $BENCH_STAMP (the
 #: wall clock, and the process's CPU time so far).

@@ -166,18 +166,25 @@ def _butterworth_state() -> tuple[np.ndarray, np.ndarray]:
     return A, np.array([1 / C1, 0, 0, 0, 0])
 
 
-def test_butterworth_sine_reference_is_the_state_equations_exponential() -> None:
-    """u = sin(w t): the state augmented with (sin, cos), whose generator is [[0, w], [-w, 0]]."""
-    text = BUTTERWORTH.format(drive="SIN(0 1 700 0 0 0)", tstop="5m", tmax="1u")
-    t = np.linspace(0.0, 5e-3, 401)
-    mine = _reference(text, ["v(n3)", "i(l2)"], t)
+def _butterworth_sine_state(hertz: float) -> tuple[np.ndarray, np.ndarray]:
+    """The ladder driven by u = sin(w t): its state augmented with (sin, cos), whose generator is
+    [[0, w], [-w, 0]]; (matrix, state at t = 0)."""
     A, b = _butterworth_state()
-    w = 2 * math.pi * 700
+    w = 2 * math.pi * hertz
     M = np.zeros((7, 7))
     M[:5, :5], M[:5, 5] = A, b
     M[5, 6], M[6, 5] = w, -w
     z0 = np.zeros(7)
     z0[6] = 1.0  # (sin, cos) = (0, 1) at t = 0
+    return M, z0
+
+
+def test_butterworth_sine_reference_is_the_state_equations_exponential() -> None:
+    """u = sin(w t): the state augmented with (sin, cos), whose generator is [[0, w], [-w, 0]]."""
+    text = BUTTERWORTH.format(drive="SIN(0 1 700 0 0 0)", tstop="5m", tmax="1u")
+    t = np.linspace(0.0, 5e-3, 401)
+    mine = _reference(text, ["v(n3)", "i(l2)"], t)
+    M, z0 = _butterworth_sine_state(700)
     x = np.array([scipy.linalg.expm(M * tk) @ z0 for tk in t]).T
     for row, state in ((0, 4), (1, 1)):
         np.testing.assert_allclose(mine[row], x[state], rtol=0, atol=RTOL_EXACT * np.max(np.abs(x[state])))

@@ -23,7 +23,7 @@ from test_check import (
     BUTTERWORTH,
     PREDICTION_BAND,
     _bandpass_state,
-    _butterworth_state,
+    _butterworth_sine_state,
     _expm_response,
     _pulse_pieces,
     _write,
@@ -118,13 +118,7 @@ def test_butterworth_sine_in_gnucap_errs_as_predicted(tmp_path: Path, capsys: py
         assert PREDICTION_BAND[0] <= data["max_abs_error"] / data["predicted_error"] <= PREDICTION_BAND[1]
     # gnucap's waveforms against the state equations' exponential with the sine's generator
     t, vectors = _gnucap_waveforms(SINE)
-    A, b = _butterworth_state()
-    w = 2 * math.pi * 700
-    M = np.zeros((7, 7))
-    M[:5, :5], M[:5, 5] = A, b
-    M[5, 6], M[6, 5] = w, -w
-    z0 = np.zeros(7)
-    z0[6] = 1.0
+    M, z0 = _butterworth_sine_state(700)
     step = scipy.linalg.expm(M * (t[1] - t[0]))
     z = scipy.linalg.expm(M * t[0]) @ z0
     x = np.empty((7, t.size))

@@ -20,6 +20,7 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
+from helpers.netlists import RC_NETLIST
 
 from lcchain.cli.main import build_parser
 
@@ -145,15 +146,6 @@ def test_version_imports_nothing_heavy() -> None:
     assert not forbidden(chains), "\n".join(forbidden(chains))
 
 
-#: A netlist lcchain did not write, within the allow-list: what ``lcchain batch`` is for.
-RC_NETLIST = """\
-* an RC low-pass lcchain did not write
-V1 in 0 PULSE(0 1 0 1e-9 1e-9 1e-6 2e-6)
-R1 in out 1000
-C1 out 0 1e-9
-.tran 1e-8 2e-6
-.end
-"""
 
 
 @pytest.mark.ngspice

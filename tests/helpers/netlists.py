@@ -25,6 +25,17 @@ Vw3 n3 0 0
 """
 
 
+#: A netlist lcchain did not write, within the allow-list: what ``lcchain batch`` is for.
+RC_NETLIST = """\
+* an RC low-pass lcchain did not write
+V1 in 0 PULSE(0 1 0 1e-9 1e-9 1e-6 2e-6)
+R1 in out 1000
+C1 out 0 1e-9
+.tran 1e-8 2e-6
+.end
+"""
+
+
 def stored_records(path: Path) -> int:
     """Runs a store holds so far, read-only (a missing store stays missing, for the driver to make whole)."""
     try:
