@@ -482,18 +482,23 @@ class Response(FrozenArrays):
         :meth:`each`: a peak search evaluates it some 40 times, one time a call, where the checks and the
         temporaries of the general path cost more than the sum (bench.toml: 6.8 of a sample's 7.2 ms beyond the
         theory at ngspice's points)."""
-        omega, gamma = self.omega, self.gamma
         if self.cosines is not None:
             return None
+        start, p, q = self._free_state()
+        return _FreeSum(start, _ModeFunctions.of(self.omega, self.gamma), self.weights * p[:, None],
+                        self.weights * q[:, None], bool(np.any(q != 0.0)))
+
+    def _free_state(self) -> tuple[float, np.ndarray, np.ndarray]:
+        """Where the free oscillation starts (0, or the pulse's end) and its p, q: the response there is
+        sum_n weights[n] (p_n Y_n(tau) + q_n X_n(tau)).  A kick's velocity s' = Y - (gamma/2) X, a displacement's
+        position c = Y + (gamma/2) X; after a pulse, from the mode states at its end."""
+        omega, gamma = self.omega, self.gamma
         if self.pulse is None or self.edges is None or self.x is None or self.v is None:
             ones = np.ones(omega.size)
             sign = -1.0 if self.excitation == "kick" else 1.0
-            p, q, start = ones, sign * 0.5 * gamma * ones, 0.0
-        else:
-            xT, vT = self.x[-1], self.v[-1]
-            p, q, start = vT, -omega * omega * xT - 0.5 * gamma * vT, float(self.edges[-1])
-        return _FreeSum(start, _ModeFunctions.of(omega, gamma), self.weights * p[:, None], self.weights * q[:, None],
-                        bool(np.any(q != 0.0)))
+            return 0.0, ones, sign * 0.5 * gamma * ones
+        xT, vT = self.x[-1], self.v[-1]
+        return float(self.edges[-1]), vT, -omega * omega * xT - 0.5 * gamma * vT
 
     def _evaluate(self, times: np.ndarray, alone: bool) -> np.ndarray:
         omega, weights, gamma = self.omega, self.weights, self.gamma
@@ -501,22 +506,16 @@ class Response(FrozenArrays):
             # Eq. e.utn exactly as lcchain.modes evaluates it
             density, transfer = self.cosines
             return np.vstack([cosine_sum(density, omega, times), cosine_sum(transfer, omega, times)])
-        ones = np.ones(omega.size)
+        end, p, q = self._free_state()
         if self.pulse is None or self.edges is None or self.x is None or self.v is None:
-            # kick: velocity s' = Y - (gamma/2) X; displacement: position c = Y + (gamma/2) X
-            sign = -1.0 if self.excitation == "kick" else 1.0
-            return _modal_sum(weights, ones, sign * 0.5 * gamma * ones, omega, gamma, times, alone)
+            return _modal_sum(weights, p, q, omega, gamma, times, alone)
 
         shape, width = self.pulse
         edges, step, x, v = self.edges, self.step, self.x, self.v
         out = np.empty((weights.shape[1], times.size))
-        end = edges[-1]
         after = times >= end
-        if np.any(after):
-            # free oscillation from the state at the end of the pulse
-            xT, vT = x[-1], v[-1]
-            out[:, after] = _modal_sum(weights, vT, -omega * omega * xT - 0.5 * gamma * vT, omega, gamma,
-                                       times[after] - end, alone)
+        if np.any(after):  # free oscillation from the state at the end of the pulse
+            out[:, after] = _modal_sum(weights, p, q, omega, gamma, times[after] - end, alone)
         if not np.all(after):
             inside = ~after
             out[:, inside] = _pulse_inside(weights, omega, gamma, shape, width, edges, step, x, v, times[inside],
