@@ -77,6 +77,12 @@ class Ladder:
         """C_{i,i+1} = C0 / K_{i,i+1}, farad (index 0 and N are the walls); None = wire."""
         return [None if k == 0 else self.C0 / float(k) for k in self.chain.springs]
 
+    def parts(self) -> dict[str, list[float | None]]:
+        """The part values as a sample's record keeps them: ``{"L": L_i in henry, "C": C_j in farad (None: a
+        wire)}``, plain floats."""
+        return {"L": [float(v) for v in self.inductances()],
+                "C": [None if v is None else float(v) for v in self.capacitances()]}
+
     @staticmethod
     def inductor(loop: int) -> str:
         """The netlist name of L_loop (loop from 1)."""

@@ -9,7 +9,7 @@ attributes.  xarray is optional (``pip install 'lcchain[data]'``) and imported o
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable, Mapping, Sequence
 from typing import Any
 
 import numpy as np
@@ -91,7 +91,7 @@ def simulation_dataset(report: Any) -> Any:
 
 
 def samples_dataset(title: str, records: Iterable[Mapping[str, Any]],
-                    parts: Iterable[tuple[np.ndarray, list[float | None]]]) -> Any:
+                    parts: Sequence[Mapping[str, list[float | None]]]) -> Any:
     """:meth:`SceneResult.to_xarray`: every sample's numbers on ``sample`` (NaN where one has none, a failed one
     with its ``status`` and ``error``), its first arrival's peaks, and its realised parts, ``L`` (H) on ``coil``
     and ``C`` (F) on ``capacitor`` (NaN: a wire)."""
@@ -114,15 +114,12 @@ def samples_dataset(title: str, records: Iterable[Mapping[str, Any]],
                                  for key, values in numbers.items()}
     variables |= {key: ("sample", np.array(values, dtype=str), {}) for key, values in texts.items()
                   if key not in numbers}
-    L, C = zip(*parts, strict=True) if rows else ((), ())
-    if rows:
-        variables["L"] = (("sample", "coil"), np.array(L, dtype=float), {"units": "H",
-                                                                          "long_name": "realised inductance L_i"})
-        variables["C"] = (("sample", "capacitor"), np.array([[np.nan if v is None else v for v in c] for c in C],
-                                                            dtype=float),
-                          {"units": "F", "long_name": "realised capacitance C_j between masses j and j + 1 "
-                                                      "(NaN: a wire)"})
     coords = {"sample": ("sample", np.array([row.get("sample", i + 1) for i, row in enumerate(rows)], dtype=int))}
-    if rows:
-        coords |= {"coil": ("coil", np.arange(1, len(L[0]) + 1)), "capacitor": ("capacitor", np.arange(len(C[0])))}
+    if rows:  # None (a wire) becomes NaN
+        L, C = (np.array([[np.nan if v is None else v for v in part[name]] for part in parts], dtype=float)
+                for name in ("L", "C"))
+        variables["L"] = (("sample", "coil"), L, {"units": "H", "long_name": "realised inductance L_i"})
+        variables["C"] = (("sample", "capacitor"), C, {"units": "F", "long_name": "realised capacitance C_j between "
+                                                                               "masses j and j + 1 (NaN: a wire)"})
+        coords |= {"coil": ("coil", np.arange(1, L.shape[1] + 1)), "capacitor": ("capacitor", np.arange(C.shape[1]))}
     return xr.Dataset(variables, coords=coords, attrs={"title": title})

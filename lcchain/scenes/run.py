@@ -216,11 +216,7 @@ class SceneResult:
         from ..runs.datasets import samples_dataset
 
         units = self.scene.units
-        parts = []
-        for sample in self.samples:
-            ladder = Ladder(sample.chain, units.L0, units.C0)
-            parts.append((np.asarray(ladder.inductances(), dtype=float),
-                          [None if c is None else float(c) for c in ladder.capacitances()]))
+        parts = [Ladder(sample.chain, units.L0, units.C0).parts() for sample in self.samples]
         return samples_dataset(self.scene.title, [s.record for s in self.samples], parts)
 
 def _failed_record(index: int, chain: Chain, run: RunRecord) -> SampleRecord:

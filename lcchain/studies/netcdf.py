@@ -42,10 +42,6 @@ def _kind(run: StoredRun, arrays: dict[str, np.ndarray]) -> str:
     return "ac" if "frequency" in arrays else "transient"
 
 
-def _root(store: Store) -> Any:
-    return store.to_xarray()  # its variables carry their units and names already
-
-
 def _group(kind: str, runs: list[tuple[StoredRun, dict[str, np.ndarray]]], axes: list[str]) -> Any:
     import xarray
 
@@ -91,7 +87,7 @@ def _group(kind: str, runs: list[tuple[StoredRun, dict[str, np.ndarray]]], axes:
 def cf_datasets(store: Store, waveforms: bool = False) -> dict[str, Any]:
     """The netCDF file's parts: ``{"": the study's table, "transient": ..., "ac": ..., "extrapolated": ...}``
     (a waveform group only where the store holds such runs, and only with ``waveforms``); module docstring."""
-    root = _root(store)
+    root = store.to_xarray()  # its variables carry their units and names already
     now = datetime.now(UTC).strftime("%Y-%m-%dT%H:%M:%SZ")
     root.attrs.update({"Conventions": CONVENTIONS, "title": f"lcchain study {store.path.name}",
                        "history": f"{now} lcchain {__version__} results {store.path.name} --netcdf",

@@ -340,8 +340,7 @@ def realised_parts(plan: RequestPlan, k: int) -> dict[str, list[float | None]] |
     if chain is plan.nominal:
         return None
     ladder = Ladder(chain, plan.request.L0, plan.request.C0)
-    return {"L": [float(v) for v in ladder.inductances()],
-            "C": [None if v is None else float(v) for v in ladder.capacitances()]}
+    return ladder.parts()
 
 
 def _add_runs(tasks: list[Task], combinations: list[Combination], params: Mapping[str, Any],
