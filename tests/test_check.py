@@ -442,3 +442,24 @@ def test_coupled_coils_are_the_state_equations_exponential() -> None:
     result = check_text(text, "transformer.cir")
     worst = max(result.vectors, key=lambda v: v.max_abs_error or 0.0)
     assert PREDICTION_BAND[0] <= worst.max_abs_error / worst.predicted_error <= PREDICTION_BAND[1]
+
+
+def test_the_check_and_a_batchs_check_are_priced_with_their_exact_reference(tmp_path: Path,
+                                                                            capsys: pytest.CaptureFixture[str]) -> None:
+    """The dense reference grows as the cube of the circuit's unknowns: a 1000-section line is refused under a
+    30 s budget before anything runs, naming the reference; the run alone (a batch without --check) fits."""
+    from lcchain.runs.check import check_estimate
+    from lcchain.spice.foreign import foreign_price
+    from lcchain.spice.text import saved_vectors
+
+    line = _write(tmp_path, _line(1000), "line.cir")
+    assert main(["check", str(line), "--max-time", "30s"]) == 2
+    err = capsys.readouterr().err
+    assert "exact reference (2003 unknowns)" in err and "--max-time" in err and len(err.strip().splitlines()) == 1
+    store = tmp_path / "b.sqlite"
+    assert main(["batch", str(line), "--check", "--store", str(store), "--max-time", "30s"]) == 2
+    assert "exact reference (2003 unknowns)" in capsys.readouterr().err  # its only netlist refused: nothing ran
+    text = allowed_netlist(_line(1000), "line.cir", None)
+    analysis = analysis_of(text, "line.cir", lambda: "39")
+    price = foreign_price(text, analysis, len(saved_vectors(text)))
+    assert check_estimate(price, text, analysis).seconds > 10 * price.seconds  # the reference, not the run

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from .common import EXIT_FAILED, EXIT_OK, emit_json, number_type
+from .common import EXIT_FAILED, EXIT_OK, budget_from_args, emit_json, number_type
 
 __all__ = ["add_check_arguments", "cmd_check"]
 
@@ -37,7 +37,7 @@ def cmd_check(args: argparse.Namespace) -> int:
     from ..runs.check import check_file
 
     result = check_file(args.netlist, accuracy=args.accuracy, engine=args.engine, timeout=args.timeout,
-                        allow_control=args.allow_control)
+                        allow_control=args.allow_control, budget=budget_from_args(args))
     if args.json:
         emit_json(result.to_dict())
         return EXIT_OK if result.passed else EXIT_FAILED

@@ -264,9 +264,10 @@ def build_parser() -> argparse.ArgumentParser:
     studies.add_study_arguments(p)
     p.set_defaults(func=studies.cmd_batch)
 
-    p = sub.add_parser("check", help="a linear netlist (R L C K, V/I with DC PULSE SIN PWL EXP) run in a simulator "
-                       "and compared with its exact response: the error of every saved vector, the error the "
-                       "step predicts, the step an accuracy needs")
+    p = sub.add_parser("check", parents=budget,
+                       help="a linear netlist (R L C K, V/I with DC PULSE SIN PWL EXP) run in a simulator and "
+                            "compared with its exact response: the error of every saved vector, the error the step "
+                            "predicts, the step an accuracy needs")
     check.add_check_arguments(p, tuple(ENGINES))
     p.set_defaults(func=check.cmd_check)
 

@@ -32,6 +32,7 @@ from typing import Any
 
 import numpy as np
 
+from ..core.budget import Budget, Estimate
 from ..core.errors import ParameterError
 from ..spice.element_values import (
     CouplingCard,
@@ -42,13 +43,14 @@ from ..spice.element_values import (
     read_cards,
 )
 from ..spice.engines import ENGINES, engine_named, find_engine
-from ..spice.foreign import Sweep, Transient, allowed_netlist, analysis_of
+from ..spice.foreign import Sweep, Transient, allowed_netlist, analysis_of, foreign_price
+from ..spice.pricing import Price, RunLimits
 from ..spice.runner import read_include
 from ..spice.simulator import Simulator
 from ..spice.text import canonical_text, canonical_vector_name, saved_vectors
 
 __all__ = ["VectorCheck", "CheckResult", "circuit_of", "check_text", "check_file", "reference_measurements",
-           "CHECK_MEASUREMENT", "DEFAULT_ACCURACY"]
+           "check_estimate", "CHECK_MEASUREMENT", "DEFAULT_ACCURACY"]
 
 #: The measurement a batch run with ``check`` stores: the largest error of its saved vectors (their own units).
 CHECK_MEASUREMENT = "check_max_abs_error"
@@ -251,28 +253,49 @@ def _unit(name: str) -> str:
     return "V" if name.startswith("v(") else "A" if name.startswith(("i(", "@")) else ""
 
 
-def _run(text: str, analysis: Transient | Sweep, simulator: Simulator, timeout: float, trusted_in: Path | None
+def _run(text: str, analysis: Transient | Sweep, simulator: Simulator, limits: RunLimits, trusted_in: Path | None
          ) -> tuple[np.ndarray, dict[str, np.ndarray], float, str]:
-    """(time or frequency, vectors by canonical name, wall seconds, version) of the simulator's run."""
+    """(time or frequency, vectors by canonical name, wall seconds, version) of the simulator's run, within its
+    price's ``limits``."""
     if isinstance(analysis, Sweep):
         from ..spice.ac import run_ac
 
         if trusted_in is not None:
             raise ParameterError("--allow-control", True, "a .tran netlist (an .ac one runs through the allow-list)")
-        ac = run_ac(text, (), analysis.count, simulator=simulator, timeout=timeout, foreign=True)
+        ac = run_ac(text, (), analysis.count, simulator=simulator, timeout=limits.timeout, foreign=True,
+                    max_output_bytes=limits.max_output_bytes, max_resident_bytes=limits.max_resident_bytes)
         return np.asarray(ac.frequency), {k: np.asarray(v) for k, v in ac.vectors.items()}, ac.wall_s, \
             ac.engine_version
     from ..spice.runner import run
 
-    result = run(text, (), analysis.stop, simulator=simulator, timeout=timeout, foreign=True,
-                 trusted=trusted_in is not None, cwd=trusted_in)
+    result = run(text, (), analysis.stop, simulator=simulator, timeout=limits.timeout, foreign=True,
+                 trusted=trusted_in is not None, cwd=trusted_in, max_output_bytes=limits.max_output_bytes,
+                 max_resident_bytes=limits.max_resident_bytes)
     return np.asarray(result.time), {k: np.asarray(v) for k, v in result.vectors.items()}, result.wall_s, \
         result.engine_version
 
 
+def check_estimate(price: Price, text: str, analysis: Transient | Sweep, source: str = "netlist") -> Estimate:
+    """The run's price with its exact reference's (:func:`lcchain.circuit.linear.linear_cost`: the dense solution,
+    the response at the run's points, the step's search) when the netlist is linear: what ``lcchain check`` and a
+    batch's ``--check`` are priced at before anything runs."""
+    from ..circuit.linear import circuit_unknowns, linear_cost
+
+    try:
+        circuit = circuit_of(read_cards(text, source), analysis)
+    except ParameterError:  # a card the reader refuses: the run alone (its check will say why it has no reference)
+        return price.estimate
+    if isinstance(circuit, str):  # no exact reference: the run alone
+        return price.estimate
+    unknowns = circuit_unknowns(circuit)
+    seconds, memory = linear_cost(unknowns, price.points, max(len(saved_vectors(text)), 1))
+    return Estimate(f"{price.what} and its exact reference ({unknowns} unknowns)", price.memory + memory,
+                    price.seconds + seconds)
+
+
 def check_text(text: str, source: str = "netlist", folder: Path | None = None, *, accuracy: float | None = None,
                engine: str = "ngspice", timeout: float = 600.0, simulator: Simulator | None = None,
-               allow_control: bool = False) -> CheckResult:
+               allow_control: bool = False, budget: Budget | None = None) -> CheckResult:
     """Run a netlist lcchain did not write and compare every saved vector with its exact response.
 
     Parameters
@@ -288,6 +311,9 @@ def check_text(text: str, source: str = "netlist", folder: Path | None = None, *
     allow_control : bool
         Run the netlist as it is (``.control`` blocks, ``.model`` cards, diodes...: ``lcchain batch
         --allow-control``), still in the sandbox; what is not linear then has no exact reference.
+    budget : Budget, optional
+        The run and the exact reference are priced (:func:`check_estimate`) and refused beyond it; the run is
+        stopped at its price's limits (time, raw file, resident memory), as a batch's runs are.
 
     Raises
     ------
@@ -317,6 +343,10 @@ def check_text(text: str, source: str = "netlist", folder: Path | None = None, *
     analysis = analysis_of(allowed, source, lambda: version_of)
     cards = read_cards(allowed, source)
     circuit = circuit_of(cards, analysis)
+    price = foreign_price(allowed, analysis, len(saved_vectors(allowed)), source)
+    budget = budget if budget is not None else Budget()
+    check_estimate(price, allowed, analysis, source).check(budget, "FILE", source, analysis.describe())
+    limits = price.limits(budget, timeout)
     method = cards.method
     response, seconds = None, 0.0
     if not isinstance(circuit, str):  # solved before the run: what is not well posed is refused before it runs
@@ -335,10 +365,9 @@ def check_text(text: str, source: str = "netlist", folder: Path | None = None, *
         if isinstance(circuit, str):
             raise ParameterError("--engine", engine, f"ngspice for a netlist with no exact reference ({circuit}): "
                                  f"{engine} runs only the netlist lcchain writes from a linear netlist's numbers")
-        axis, vectors, wall, version, notes = _run_rewritten(allowed, cards, analysis, simulator, timeout)
+        axis, vectors, wall, version, notes = _run_rewritten(allowed, cards, analysis, simulator, limits.timeout)
     else:
-        axis, vectors, wall, version = _run(allowed, analysis, simulator, timeout,
-                                            folder if allow_control else None)
+        axis, vectors, wall, version = _run(allowed, analysis, simulator, limits, folder if allow_control else None)
     names = [canonical_vector_name(n) for n in vectors]
     common: dict[str, Any] = dict(netlist=source, engine=simulator.engine, engine_version=version,
                                   analysis=analysis.kind, method=method, points=int(axis.size),
@@ -428,12 +457,12 @@ def _compare(response: Any, solve_seconds: float, analysis: Transient | Sweep, a
 
 
 def check_file(path: str | Path, *, accuracy: float | None = None, engine: str = "ngspice",
-               timeout: float = 600.0, allow_control: bool = False) -> CheckResult:
+               timeout: float = 600.0, allow_control: bool = False, budget: Budget | None = None) -> CheckResult:
     """:func:`check_text` of a netlist file (its includes inside its folder)."""
     path = Path(path)
     text = read_include(path, "NETLIST")
     return check_text(text, str(path), path.resolve().parent, accuracy=accuracy, engine=engine, timeout=timeout,
-                      allow_control=allow_control)
+                      allow_control=allow_control, budget=budget)
 
 
 def reference_measurements(netlist: str, axis: np.ndarray, vectors: Mapping[str, np.ndarray], version: str, *,

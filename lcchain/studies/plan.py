@@ -765,7 +765,13 @@ def _foreign_task(index: int, params: Mapping[str, Any], run_text: str, source: 
     analysis = analysis_of(run_text, source, version)
     saved = saved_vectors(run_text)
     price = foreign_price(run_text, analysis, len(saved), source)
-    price.estimate.check(budget, source, analysis.describe())
+    if check:  # its exact reference too, in the worker beside the run
+        from ..runs.check import check_estimate
+
+        estimate = check_estimate(price, run_text, analysis, source)
+    else:
+        estimate = price.estimate
+    estimate.check(budget, source, analysis.describe())
     limits = price.limits(budget, timeout)
     try:
         spec = RunSpec(run_text, saved, analysis.tstop, backend=backend, timeout=limits.timeout,
@@ -775,7 +781,7 @@ def _foreign_task(index: int, params: Mapping[str, Any], run_text: str, source: 
     except ParameterError as error:
         raise (error.renamed("--allow-control") if error.field == "trusted" else error).located(source) \
             from None
-    return Task(index, FrozenMap(dict(params)), spec, price.seconds, price.estimate.memory + SIMULATOR_BYTES)
+    return Task(index, FrozenMap(dict(params)), spec, estimate.seconds, estimate.memory + SIMULATOR_BYTES)
 
 
 def _swept(error: ParameterError) -> ParameterError:
