@@ -1,10 +1,13 @@
-"""``lcchain run`` for one scene as a function: check its outputs, simulate it, write its report and plots."""
+"""``lcchain run`` as functions: for one scene (:func:`run_scene`: check its outputs, simulate it, write its
+report and plots) and for the scene files of a command line (:func:`run_scenes`)."""
 
 from __future__ import annotations
 
+import sys
 import time
-from collections.abc import Callable
-from dataclasses import replace
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field, replace
+from pathlib import Path
 from typing import Any
 
 from ..core.budget import Budget
@@ -15,8 +18,10 @@ from ..report.scenes import check_scene_outputs, write_scene_outputs
 from ..scenes.run import SceneResult, simulate_scene
 from ..scenes.schema import Scene
 from ..spice.simulator import Simulator
+from .inputs import Outputs
+from .studies import StudyOptions
 
-__all__ = ["run_scene"]
+__all__ = ["run_scene", "RunRequest", "ScenesRun", "run_scenes"]
 
 
 def run_scene(scene: Scene, *, netlist_out: str | None = None, waveform_out: str | None = None,
@@ -91,3 +96,111 @@ def _on_executor(scene: Scene, budget: Budget | None, executor: str, workers: in
     records = run_specs(specs, executor=executor, workers=workers, scheduler=scheduler, progress=progress,
                         transport=transport)
     return scene_result(scene, plan, specs, records, time.perf_counter() - start)
+
+
+@dataclass(frozen=True)
+class RunRequest:
+    """``lcchain run``: the scene files, run in order; ``parts`` the real parts set from the command line
+    (tolerance, series, samples, seed: None leaves a scene's own), the files to keep (``netlist_out``,
+    ``waveform_out``: one scene only; ``-``: stdout) and the figure of the scenes side by side; where the
+    samples run (``study``); whether the report goes out as JSON; ``progress(label)`` gives the callback of a
+    scene's fraction done, ``study_progress(label)`` that of its samples on an executor."""
+
+    scenes: tuple[str, ...]
+    parts: Mapping[str, Any] = field(default_factory=dict)
+    netlist_out: str | None = None
+    waveform_out: str | None = None
+    side_by_side: str | None = None
+    json: bool = False
+    study: StudyOptions = field(default_factory=lambda: StudyOptions(executor="serial"))
+    budget: Budget | None = None
+    progress: Callable[[str], Callable[[float], None]] | None = None
+    study_progress: Callable[[str], Callable[[Any], None]] | None = None
+
+
+@dataclass(frozen=True)
+class ScenesRun:
+    """Each scene's result, the scenes whose outputs could not be written, and the outputs checked (which of
+    them goes to stdout)."""
+
+    results: list[SceneResult]
+    failed_files: list[str | None]
+    outputs: Outputs
+
+    @property
+    def ok(self) -> bool:
+        return all(r.ok for r in self.results) and not self.failed_files and not self.outputs.failed
+
+
+def _with_parts(scene: Scene, parts: Mapping[str, Any]) -> Scene:
+    """The scene with ``--tolerance``, ``--series``, ``--samples`` and ``--seed`` set, when any is given."""
+    from ..scenes.load import override_parts, parse_scene
+
+    if all(value is None for value in parts.values()):
+        return scene
+    return parse_scene(override_parts(scene.to_dict(), **parts), source=scene.source)
+
+
+def check_run(request: RunRequest) -> tuple[list[Scene], Outputs]:
+    """Every scene file read and every output checked, before anything runs."""
+    from ..report.files import FIGURE_FORMATS
+    from ..scenes.load import load_scene
+
+    if len(request.scenes) > 1 and (request.netlist_out or request.waveform_out):
+        option = "--netlist-out" if request.netlist_out else "--waveform-out"
+        raise ParameterError(option, request.netlist_out or request.waveform_out, "one scene only (got "
+                             f"{len(request.scenes)})")
+    scenes = [_with_parts(load_scene(path), request.parts) for path in request.scenes]  # every file checked first
+    outputs = Outputs()
+    outputs.check("--side-by-side", request.side_by_side, FIGURE_FORMATS)
+    for option, value in (("--netlist-out", request.netlist_out), ("--waveform-out", request.waveform_out)):
+        if value == "":
+            raise ParameterError(option, "", "a file name")
+        if value == "-":
+            outputs.claim_stdout(option)
+    if request.json and outputs.to_stdout:
+        raise ParameterError(outputs.to_stdout, "-", "a file name with --json (both would write to stdout)")
+    check_scene_outputs(scenes, {"--netlist-out": request.netlist_out, "--waveform-out": request.waveform_out,
+                                 "--side-by-side": request.side_by_side},
+                        inputs=[("SCENE", path) for path in request.scenes])
+    return scenes, outputs
+
+
+def run_scenes(request: RunRequest, shown: Callable[[SceneResult, Outputs], None] | None = None) -> ScenesRun:
+    """Run every scene of the request in order (each checked first), calling ``shown(result, outputs)`` after
+    each; then draw the scenes side by side when asked."""
+    from ..scenes.run import overlay_panel
+
+    scenes, outputs = check_run(request)
+    study = request.study
+    results: list[SceneResult] = []
+    failed_files: list[str | None] = []
+    for scene in scenes:
+        label = Path(scene.source).name if scene.source else "scene"
+
+        def unwritten(error: OSError, source: str | None = scene.source) -> None:
+            failed_files.append(source)
+            print(f"lcchain: could not write {error.filename or 'an output'} of {source}: "
+                  f"{error.strerror or error}", file=sys.stderr)
+
+        result = run_scene(scene, netlist_out=request.netlist_out, waveform_out=request.waveform_out,
+                           budget=request.budget,
+                           progress=None if request.progress is None else request.progress(label),
+                           executor=study.executor, workers=study.workers, scheduler=study.scheduler,
+                           transport=study.transport,
+                           study_progress=None if request.study_progress is None else
+                           request.study_progress(f"samples of {label}"), write_error=unwritten)
+        results.append(result)
+        if shown is not None:
+            shown(result, outputs)
+    if request.side_by_side:
+        from ..report.plots import side_by_side
+
+        panels = [p for p in (overlay_panel(r) for r in results) if p is not None]
+        if panels:
+            outputs.write("--side-by-side", lambda path: side_by_side(panels, path=path))
+            if not request.json and "--side-by-side" not in outputs.failed:
+                print(f"wrote {request.side_by_side}", file=sys.stderr if outputs.to_stdout else sys.stdout)
+        else:
+            print(f"lcchain: no scene ran, so {request.side_by_side} was not drawn", file=sys.stderr)
+    return ScenesRun(results, failed_files, outputs)

@@ -12,6 +12,7 @@ from __future__ import annotations
 import os
 import time
 from collections.abc import Callable
+from dataclasses import dataclass
 from typing import Any
 
 from ..core.types import DesignCase
@@ -23,7 +24,30 @@ from ..studies.requirements import requirements_jobs, run_requirements
 from ..studies.spectrum_checks import run_spectrum_check, spectrum_jobs
 from ..studies.validation import check_jobs, installed_engines, run_check
 
-__all__ = ["make_report"]
+__all__ = ["make_report", "ReportRequest", "report"]
+
+
+@dataclass(frozen=True)
+class ReportRequest:
+    """``lcchain report``: the folder for index.html and report.json (created if missing), ``quick`` (the
+    paper's printed rows and a few more, fewer simulator runs), ``cache`` whether rows of Tables I and II are
+    kept and reused, ``progress(done, total, label)``, the ``command`` the page names."""
+
+    out: str
+    quick: bool = False
+    cache: bool = True
+    progress: Callable[[int, int, str], None] | None = None
+    command: str = "lcchain report"
+
+
+def report(request: ReportRequest) -> dict[str, Any]:
+    """The output folder checked, then :func:`make_report`: the report's JSON (its checks, the seconds taken)."""
+    from ..report.files import check_output_folder
+    from .figures import cache_dir
+
+    check_output_folder("--out", request.out)
+    return make_report(request.out, quick=request.quick, cache=cache_dir(request.cache), progress=request.progress,
+                       command=request.command)
 
 
 def make_report(out: str | os.PathLike[str], *, quick: bool = False, cache: str | os.PathLike[str] | None = None,

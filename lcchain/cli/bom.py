@@ -1,4 +1,4 @@
-"""``lcchain bom``: the ladder's bill of materials (:func:`lcchain.circuit.bom.bill_of_materials`)."""
+"""``lcchain bom``: the ladder's bill of materials (:func:`lcchain.app.bom.bom`)."""
 
 from __future__ import annotations
 
@@ -7,13 +7,21 @@ import csv
 import io
 import re
 import sys
+from typing import Any
 
-from ..circuit.effects import E_SERIES
-from ..core.errors import ParameterError
+from ..app.bom import BomRequest, bom
+from ..app.options import E_SERIES_NAMES
 from ..core.physical import si_text
-from .common import EXIT_OK, chain_from_args, effects_from_args
+from .common import (
+    EXIT_OK,
+    add_circuit_arguments,
+    add_effect_arguments,
+    budget_from_args,
+    chain_options,
+    effects_from_args,
+)
 
-__all__ = ["add_bom_arguments", "cmd_bom", "tolerance"]
+__all__ = ["add_parser", "add_bom_arguments", "cmd_bom", "tolerance"]
 
 _TOLERANCE = re.compile(r"^\s*([0-9]*\.?[0-9]+(?:[eE][-+]?[0-9]+)?)\s*(%)?\s*$")
 
@@ -28,8 +36,18 @@ def tolerance(text: str) -> float:
     return value
 
 
+
+def add_parser(sub: Any, budget: list[Any]) -> None:
+    p = sub.add_parser("bom", help="bill of materials: the ladder's distinct inductors and capacitors (rounded to "
+                       "a preferred-number series with --series) with their counts, as a table or --csv")
+    add_circuit_arguments(p)
+    add_bom_arguments(p)
+    add_effect_arguments(p)
+    p.set_defaults(func=cmd_bom)
+
+
 def add_bom_arguments(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--series", choices=tuple(E_SERIES), default=None,
+    p.add_argument("--series", choices=E_SERIES_NAMES, default=None,
                    help="round every L and C to this preferred-number series (default: the exact values)")
     p.add_argument("--tolerance", type=tolerance, default=None, metavar="TOL",
                    help="every part's tolerance, 1%% or 0.01, shown in its column")
@@ -37,13 +55,9 @@ def add_bom_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def cmd_bom(args: argparse.Namespace) -> int:
-    from ..circuit.bom import bill_of_materials
-
-    for option, value in (("--L0", args.L0), ("--C0", args.C0)):
-        if not value > 0:
-            raise ParameterError(option, value, "a component value > 0")
-    chain = chain_from_args(args)
-    parts = bill_of_materials(chain, args.L0, args.C0, series=args.series, effects=effects_from_args(args))
+    result = bom(BomRequest(chain_options(args), args.L0, args.C0, series=args.series,
+                            effects=effects_from_args(args), budget=budget_from_args(args)))
+    chain, parts = result.chain, result.parts
     shown = "" if args.tolerance is None else f"{100 * args.tolerance:g}%"
     if args.csv:
         text = io.StringIO()

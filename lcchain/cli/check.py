@@ -1,12 +1,26 @@
-"""``lcchain check FILE``: a linear netlist's simulation against its exact response (:mod:`lcchain.runs.check`)."""
+"""``lcchain check FILE``: a linear netlist's simulation against its exact response
+(:func:`lcchain.app.check.check`)."""
 
 from __future__ import annotations
 
 import argparse
+from typing import Any
 
+from ..app.check import CheckRequest, check
+from ..app.options import engine_names
 from .common import EXIT_FAILED, EXIT_OK, budget_from_args, emit_json, number_type
 
-__all__ = ["add_check_arguments", "cmd_check"]
+__all__ = ["add_parser", "add_check_arguments", "cmd_check"]
+
+
+
+def add_parser(sub: Any, budget: list[Any]) -> None:
+    p = sub.add_parser("check", parents=budget,
+                       help="a linear netlist (R L C K, V/I with DC PULSE SIN PWL EXP) run in a simulator and "
+                            "compared with its exact response: the error of every saved vector, the error the step "
+                            "predicts, the step an accuracy needs")
+    add_check_arguments(p, engine_names())
+    p.set_defaults(func=cmd_check)
 
 
 def add_check_arguments(p: argparse.ArgumentParser, engines: tuple[str, ...]) -> None:
@@ -34,10 +48,8 @@ def _g(value: float | None, unit: str = "") -> str:
 def cmd_check(args: argparse.Namespace) -> int:
     """Exit 0 when the run succeeded (and, with --accuracy, every vector is within it), 1 when the simulator failed
     or a vector's relative error exceeds --accuracy, 2 for bad input, 3 when the simulator is missing."""
-    from ..runs.check import check_file
-
-    result = check_file(args.netlist, accuracy=args.accuracy, engine=args.engine, timeout=args.timeout,
-                        allow_control=args.allow_control, budget=budget_from_args(args))
+    result = check(CheckRequest(args.netlist, accuracy=args.accuracy, engine=args.engine, timeout=args.timeout,
+                                allow_control=args.allow_control, budget=budget_from_args(args)))
     if args.json:
         emit_json(result.to_dict())
         return EXIT_OK if result.passed else EXIT_FAILED

@@ -1,58 +1,51 @@
-"""What every command shares: argument types, progress on a terminal, outputs, chains, budgets."""
+"""What every command's parser shares: argument types, the chain's and the effects' options, budgets, JSON out."""
 
 from __future__ import annotations
 
 import argparse
-import contextlib
 import decimal
 import json
 import math
 import re
-import sys
 from collections.abc import Callable
-from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any
 
-from ..circuit.effects import EFFECTS, Effect, effect_fields
+from ..app.inputs import ChainOptions
+from ..app.netlist import DEFAULT_DT
+from ..app.options import (
+    COUPLING_HELP,
+    COUPLING_OPTION,
+    Effect,
+    effect_options,
+    effects_from_options,
+    engine_names,
+)
 from ..core.budget import (
     DEFAULT_MAX_MEMORY,
     DEFAULT_MAX_SECONDS,
     INTERPRETER_BYTES,
     INTERPRETER_SECONDS,
     Budget,
-    perfect_estimate,
     show_bytes,
     show_seconds,
 )
 from ..core.errors import ParameterError
 from ..core.limits import (
-    COUPLED_MAX_N,
     MAX_BUDGET_BYTES,
-    MAX_CHAIN_FILE_BYTES,
-    MAX_CIRCUIT_N,
-    MAX_COMMENT_LENGTH,
-    MAX_PERFECT_N,
     MAX_SECONDS,
-    MIN_N,
     MIN_TIMEOUT,
 )
-from ..core.types import E_SERIES_NAMES
-from ..report.files import check_not_input, check_output, same_file, write_text
-from ..theory.chain import Chain
+from ..core.types import DEFAULT_C0, DEFAULT_L0, E_SERIES_NAMES, EXCITATIONS, NAMED_CASES
 
-__all__ = ["EXIT_OK", "EXIT_FAILED", "EXIT_USAGE", "EXIT_MISSING", "EXIT_SIGPIPE", "OPTION_NAMES", "NEGATIVE_NUMBER",
-           "single_valued", "count", "list_entries", "int_list", "si_number", "SI_PREFIXES",
-           "number_type", "size", "duration", "seconds", "budget_parent", "emit_json", "Outputs", "STDOUT",
-           "EXIT_EXTRA", "chain_from_args", "budget_from_args", "load_chain_file", "check_perfect", "echoed_command",
-           "CIRCUIT_EFFECTS", "add_effect_arguments", "effects_from_args", "tolerances", "add_parts_arguments"]
+__all__ = ["EXIT_OK", "EXIT_FAILED", "EXIT_USAGE", "EXIT_MISSING", "EXIT_SIGPIPE", "EXIT_EXTRA", "OPTION_NAMES",
+           "NEGATIVE_NUMBER", "single_valued", "count", "list_entries", "int_list", "si_number", "SI_PREFIXES",
+           "number_type", "size", "duration", "seconds", "budget_parent", "emit_json", "budget_from_args",
+           "chain_options", "effect_values", "add_effect_arguments", "effects_from_args", "tolerances",
+           "add_parts_arguments", "engine_list", "add_circuit_arguments", "add_chain_arguments"]
 
 EXIT_OK, EXIT_FAILED, EXIT_USAGE, EXIT_MISSING = 0, 1, 2, 3
 #: A missing optional extra (pandas, xarray, Dask, PySpice): ``pip install 'lcchain[EXTRA]'`` fixes it.
 EXIT_EXTRA = 2  # a missing optional extra is an input the machine lacks: the usage status, naming the extra
-#: The file name of every option that writes one text (``-o``, ``--netlist-out``, ``--waveform-out``) that
-#: means standard output, as ``-`` does for most Unix tools.
-STDOUT = "-"
 #: A reader closed the pipe (``lcchain table --json | head -2``): the exit status of a process killed by SIGPIPE.
 EXIT_SIGPIPE = 128 + 13
 
@@ -287,165 +280,11 @@ def emit_json(data: Any) -> None:
     print(json.dumps(data, indent=2))
 
 
-@dataclass
-class Outputs:
-    """The files a command writes: checked before any work, written after the results are shown.
-
-    ``inputs`` names the files the command reads (option -> path): an output
-    that is one of them is refused, so that no command destroys its own input.
-    A file that cannot be written at the end (a full disk) is named in one
-    line and makes the command fail (exit 1), after everything else was
-    written and printed.
-
-    ``-`` (:data:`STDOUT`) names standard output for an option that writes
-    one text (no ``formats``); one option at most may take it, and the
-    command's own summary then goes to stderr (:meth:`summary`).
-    """
-
-    inputs: dict[str, str] = field(default_factory=dict)
-    checked: dict[str, Path] = field(default_factory=dict)
-    failed: list[str] = field(default_factory=list)
-    to_stdout: str | None = None
-
-    def check(self, option: str, path: str | None, formats: tuple[str, ...] | None = None, *,
-              make_folder: bool = False) -> None:
-        """Refuse ``path`` now if it could not be written later (``make_folder``: the caller makes its folder)."""
-        if path is None:
-            return
-        if path == STDOUT:
-            self.claim_stdout(option, formats)
-            return
-        target = check_output(option, path, formats, make_folder=make_folder)
-        check_not_input(option, path, [(named, source) for named, source in self.inputs.items() if source])
-        for other, seen in self.checked.items():
-            if same_file(seen, target):
-                raise ParameterError(option, path, f"a file no other option writes ({other} writes it too)")
-        self.checked[option] = target
-
-    def claim_stdout(self, option: str, formats: tuple[str, ...] | None = None) -> None:
-        """Let ``option`` write its text to stdout (``-``): refused for a figure or a store, or a second option."""
-        if formats is not None:
-            raise ParameterError(option, STDOUT, f"a file name ending in .{', .'.join(formats)} (- means stdout, "
-                                 "which takes only a text)")
-        if self.to_stdout is not None and self.to_stdout != option:
-            raise ParameterError(option, STDOUT, f"a file name: {self.to_stdout} writes to stdout (-) already")
-        self.to_stdout = option
-
-    def summary(self) -> contextlib.AbstractContextManager[object]:
-        """Where the command's own lines go: stdout, or stderr when an output writes its text to stdout."""
-        if self.to_stdout is None:
-            return contextlib.nullcontext()
-        return contextlib.redirect_stdout(sys.stderr)
-
-    def write(self, option: str, writer: Callable[[Path], object]) -> None:
-        """Run ``writer(path)`` for a checked output; report a failure by name instead of raising."""
-        path = self.checked.get(option)
-        if path is None:
-            return
-        try:
-            writer(path)
-        except OSError as error:
-            self.failed.append(option)
-            print(f"lcchain: could not write {path} ({option}): {error.strerror or error}", file=sys.stderr)
-
-    def text(self, option: str, text: str) -> None:
-        """Write a checked output's text: to its file, atomically, or to stdout for ``-``."""
-        if option == self.to_stdout:
-            sys.stdout.write(text)
-            sys.stdout.flush()
-            return
-        self.write(option, lambda path: write_text(path, text))
-
-
-def echoed_command(command: str, argv: list[str]) -> str:
-    """The command line as a netlist's comment shows it: one printable line, cut short to fit.
-
-    A file name may hold any character and be long; the comment only
-    reminds the reader how the file was made, so it is shortened (and what
-    is not printable, a control character or undecodable byte, shown as ``?``), never a reason to refuse the command.
-    """
-    text = " ".join([command, *argv])
-    text = "".join(ch if ch.isprintable() else "?" for ch in text)
-    room = MAX_COMMENT_LENGTH - len("made by: ")
-    return text if len(text) <= room else text[:room - 5] + " ..."
-
-
-def load_chain_file(path: str, max_N: int = MAX_CIRCUIT_N) -> Chain:
-    """A chain from a JSON file ``{"masses": [...], "springs": [...]}``: a regular file, size-checked before it is
-    read (a FIFO or a device is refused, never read)."""
-    from ..spice.inputs import read_input
-
-    text = read_input(path, "--chain", MAX_CHAIN_FILE_BYTES)
-    try:
-        data = json.loads(text)
-    except json.JSONDecodeError as error:
-        raise ParameterError("--chain", path, f"valid JSON (line {error.lineno}: {error.msg})") from None
-    except RecursionError:
-        raise ParameterError("--chain", path, "JSON nested a few levels deep (lists inside an object); this "
-                             "one nests too deeply to read") from None
-    chain = Chain.from_dict(data, where=path)
-    if chain.N > max_N:
-        raise ParameterError("--chain", path, f"a chain of at most {max_N} masses (it has {chain.N})")
-    return chain
-
-
-def chain_from_args(args: argparse.Namespace, max_N: int = MAX_CIRCUIT_N) -> Chain:
-    """The chain a command is about: ``--chain FILE`` or ``--case`` and ``--N`` (never both), with ``--coupling``."""
-    chain = _chain_of_args(args, max_N)
-    coupling = getattr(args, "coupling", None)
-    if coupling is None:
-        return chain
-    if chain.coupled:
-        raise ParameterError("--coupling", coupling,
-                             f"nothing when the --chain file sets the coupling ({chain.coupling})")
-    try:
-        chain = chain.with_coupling(coupling)
-    except ParameterError as error:
-        raise error.renamed("--coupling") from None
-    if chain.coupled and chain.N > COUPLED_MAX_N:
-        raise ParameterError("N", chain.N, f"at most {COUPLED_MAX_N} masses with --coupling (the coupled modes are "
-                             "a dense generalised eigenproblem)")
-    return chain
-
-
-def _chain_of_args(args: argparse.Namespace, max_N: int) -> Chain:
-    from ..theory.cases import chain_for_case
-
-    if args.chain:
-        given = [option for option, value in (("--case", args.case), ("--N", args.N), ("--walls", args.walls or None))
-                 if value is not None]
-        if given:
-            raise ParameterError(given[0], getattr(args, given[0].lstrip("-")),
-                                 "nothing with --chain FILE (the file says the whole chain)")
-        return load_chain_file(args.chain, max_N)
-    if args.case is None or args.N is None:
-        missing = "--case" if args.case is None else "--N"
-        raise ParameterError(missing, None, "--case and --N, or --chain FILE")
-    if not 3 <= args.N <= max_N:
-        raise ParameterError("--N", args.N, f"an integer from 3 to {max_N} (masses of a circuit)")
-    if args.walls and args.case != "perfect":
-        raise ParameterError("--walls", args.walls, "0 unless --case perfect (J >= 1: a perfect cradle tied to walls)")
-    if args.case == "perfect":
-        check_perfect(args.N, args.walls, budget_from_args(args))
-    return chain_for_case(args.case, args.N, args.walls)
-
-
-def check_perfect(N: int, walls: int, budget: Budget) -> None:
-    """Refuse a perfect cradle out of range or beyond the budget, naming the option."""
-    if not MIN_N <= N <= MAX_PERFECT_N:
-        raise ParameterError("--N", N, f"an integer from {MIN_N} to {MAX_PERFECT_N} for --case perfect")
-    if walls < 0:
-        raise ParameterError("--walls", walls, "an integer J >= 0 (0: free ends; J >= 1: tied to walls)")
-    perfect_estimate(N, walls).check(budget, "--N", N)
-
-
-#: Effects every command with a circuit takes in its chain (``--coupling``), not as an effect option.
-CIRCUIT_EFFECTS = ("coupling",)
-
-
-def _effect_options() -> list[type[Effect]]:
-    """The registered effects a command line can ask for by an option of theirs (``Effect.option``)."""
-    return [cls for key, cls in EFFECTS.items() if cls.option is not None and key not in CIRCUIT_EFFECTS]
+def chain_options(args: argparse.Namespace) -> ChainOptions:
+    """How the command line named its chain: ``--chain FILE``, or ``--case``, ``--N`` and ``--walls``; with
+    ``--coupling``."""
+    return ChainOptions(case=getattr(args, "case", None), N=getattr(args, "N", None), walls=getattr(args, "walls", 0),
+                        chain=getattr(args, "chain", None), coupling=getattr(args, "coupling", None))
 
 
 def _dest(option: str) -> str:
@@ -455,28 +294,59 @@ def _dest(option: str) -> str:
 def add_effect_arguments(p: argparse.ArgumentParser) -> None:
     """One option per registered effect that states one (``--Q``, ``--coil-capacitance``, a plugin's): its value
     is the effect's one field, checked by the effect (:func:`effects_from_args`)."""
-    for cls in _effect_options():
-        assert cls.option is not None
+    for effect in effect_options():
         try:
-            p.add_argument(cls.option, type=number_type(cls.option), default=None,
-                           metavar=effect_fields(cls)[0].name,
-                           help=f"{cls.option_help}; as a scene's [effects.{cls.key}]")
+            p.add_argument(effect.option, type=number_type(effect.option), default=None, metavar=effect.metavar,
+                           help=f"{effect.help}; as a scene's [effects.{effect.key}]")
         except argparse.ArgumentError as error:  # a plugin's option taken by another
-            raise ParameterError(f"effects.{cls.key}", cls.option, f"an option no other has ({error})") from None
+            raise ParameterError(f"effects.{effect.key}", effect.option, f"an option no other has ({error})") from None
+
+
+def effect_values(args: argparse.Namespace) -> dict[str, float | None]:
+    """What the effect options were given (option -> value; None: not given)."""
+    return {effect.option: getattr(args, _dest(effect.option), None) for effect in effect_options()}
 
 
 def effects_from_args(args: argparse.Namespace) -> tuple[Effect, ...]:
     """The effects the effect options ask for, in the registry's order; a bad value is refused under its
     option's name (``--coil-capacitance = -1.0 is not allowed: ...``)."""
-    effects: list[Effect] = []
-    for cls in _effect_options():
-        assert cls.option is not None
-        value = getattr(args, _dest(cls.option), None)
-        if value is None:
-            continue
-        try:
-            effects.append(cls.from_option(value))
-        except ParameterError as error:
-            raise error.renamed(cls.option) from None
-    return tuple(effects)
+    return effects_from_options(effect_values(args))
 
+
+def engine_list(text: str) -> tuple[str, ...]:
+    """``--engine ngspice`` or ``--engine ngspice,gnucap``: registered engines, each once."""
+    names = tuple(list_entries("--engine", text, "engine names"))
+    known = engine_names()
+    for name in names:
+        if name not in known:
+            raise argparse.ArgumentTypeError(f"unknown engine {name!r}: expected {' | '.join(known)}, or several "
+                                             "separated by commas")
+    if len(set(names)) != len(names):
+        raise argparse.ArgumentTypeError(f"{text!r} names an engine twice")
+    return names
+
+
+def add_circuit_arguments(p: argparse.ArgumentParser) -> None:
+    """The circuit: a chain (named, or a file), its coils' coupling and its bulk L0, C0."""
+    p.add_argument("--case", choices=NAMED_CASES,
+                   help="named chain (one-mass/two-mass: the optimal design for N; perfect: the perfect cradle)")
+    p.add_argument("--N", type=int, help="number of masses (ladder cells)")
+    p.add_argument("--walls", type=int, default=0, metavar="J",
+                   help="--case perfect only: J >= 1 ties the perfect cradle to walls (frequencies n - 1 + 2J)")
+    p.add_argument("--chain", metavar="FILE", help='JSON file {"masses": [...], "springs": [...]} in bulk units')
+    p.add_argument(COUPLING_OPTION, type=number_type(COUPLING_OPTION), default=None, metavar="K", help=COUPLING_HELP)
+    p.add_argument("--L0", type=si_number("--L0", "H"), default=DEFAULT_L0,
+                   help=f"bulk inductance, henry: 1e-5, 10u or 10uH (default {DEFAULT_L0:g})")
+    p.add_argument("--C0", type=si_number("--C0", "F"), default=DEFAULT_C0,
+                   help=f"bulk capacitance, farad: 1e-8, 10n or 10nF (default {DEFAULT_C0:g})")
+
+
+def add_chain_arguments(p: argparse.ArgumentParser) -> None:
+    """The circuit and how a transient drives and watches it."""
+    add_circuit_arguments(p)
+    p.add_argument("--excitation", choices=EXCITATIONS, default="kick",
+                   help="kick: initial current in L1; displacement: initial charge in loop 1")
+    p.add_argument("--title", help="netlist title (one line)")
+    p.add_argument("--transits", type=int, default=1, help="end-to-end transits to simulate (default 1)")
+    p.add_argument("--dt", type=number_type("--dt"), default=None,
+                   help=f"maximum time step in units of sqrt(L0*C0) (default {DEFAULT_DT})")

@@ -5,15 +5,23 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
-from ..core.errors import ParameterError
-from ..report.files import FIGURE_FORMATS
-from .common import EXIT_FAILED, EXIT_OK, Outputs, budget_from_args, chain_from_args, emit_json
+from .common import EXIT_FAILED, EXIT_OK, add_circuit_arguments, budget_from_args, chain_options, emit_json
 from .progress import fraction
 
-__all__ = ["add_requirements_arguments", "cmd_requirements"]
+__all__ = ["add_parser", "add_requirements_arguments", "cmd_requirements"]
 
 #: ngspice runs per part unless --check says otherwise.
 DEFAULT_CHECKS = 2
+
+
+
+def add_parser(sub: Any, budget: list[Any]) -> None:
+    p = sub.add_parser("requirements", parents=budget, help="how good must the parts be: the first arrival's "
+                       "energy against a coil's self-capacitance and resistance, a capacitor's ESR and ESL, and "
+                       "coupling, from the circuit's exact theory, with ngspice points")
+    add_circuit_arguments(p)
+    add_requirements_arguments(p)
+    p.set_defaults(func=cmd_requirements)
 
 
 def add_requirements_arguments(p: argparse.ArgumentParser) -> None:
@@ -27,43 +35,17 @@ def add_requirements_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--json", action="store_true")
 
 
-def _parts(text: str | None) -> list[Any]:
-    from ..circuit.requirements import PARTS
-
-    if text is None:
-        return list(PARTS)
-    known = {part.key: part for part in PARTS}
-    names = [name.strip() for name in text.split(",")]
-    for name in names:
-        if name not in known:
-            raise ParameterError("--part", name, f"{' | '.join(known)}, or several separated by commas")
-    if len(set(names)) != len(names):
-        raise ParameterError("--part", text, "each part once")
-    return [known[name] for name in names]
-
-
 def cmd_requirements(args: argparse.Namespace) -> int:
-    from ..circuit.ladder import Ladder
-    from ..circuit.requirements import LOSS_TARGETS, first_arrival_energy, requirement
-    from ..studies.requirements import check_points, point_agrees, requirements_estimate
+    from ..app.requirements import RequirementsRequest, requirements, write_plot
 
-    outputs = Outputs(inputs={"--chain": args.chain})
-    outputs.check("--plot", args.plot, FIGURE_FORMATS)
-    if args.check < 0:
-        raise ParameterError("--check", args.check, "an integer >= 0 (0: no ngspice runs)")
-    parts = _parts(args.part)
-    chain = chain_from_args(args, max_N=2000)
-    budget = budget_from_args(args)
-    requirements_estimate(chain, parts, args.check).check(budget, "--N", chain.N)
-    ladder = Ladder(chain, args.L0, args.C0)
-    ideal = first_arrival_energy(ladder)
-    results = [requirement(ladder, part, progress=fraction(f"{part.key}: its curve")) for part in parts]
-    points = check_points(ladder, results, args.check, budget=budget, progress=fraction("ngspice on the curves")) \
-        if args.check else []
+    found = requirements(RequirementsRequest(chain_options(args), args.L0, args.C0, part=args.part,
+                                             check=args.check, plot=args.plot, budget=budget_from_args(args),
+                                             progress=fraction))
+    chain, ladder, ideal, results, points = found.chain, found.ladder, found.ideal, found.results, found.points
     if args.json:
         emit_json({"chain": chain.name, "N": chain.N, "L0": ladder.L0, "C0": ladder.C0,
                    "ideal": {"time": ideal.time, "peak": ideal.peak, "energy": ideal.energy},
-                   "targets": list(LOSS_TARGETS), "parts": [r.to_dict(ladder) for r in results],
+                   "targets": list(found.targets), "parts": [r.to_dict(ladder) for r in results],
                    "check": [point.to_dict() for point in points]})
     else:
         print(f"{chain.name} chain, N = {chain.N}, L0 = {ladder.L0:g} H, C0 = {ladder.C0:g} F: the ideal ladder's "
@@ -72,7 +54,7 @@ def cmd_requirements(args: argparse.Namespace) -> int:
               "from the circuit's exact theory:")
         for result in results:
             print(f"  {result.part.key} ({result.part.what}):")
-            for k, target in enumerate(LOSS_TARGETS):
+            for k, target in enumerate(found.targets):
                 print(f"    loss < {target:.1%}: {result.statement(k, ladder)}")
         if points:
             print("ngspice on the curves (fixed step 0.01 sqrt(L0 C0)):")
@@ -80,11 +62,5 @@ def cmd_requirements(args: argparse.Namespace) -> int:
             for point in points:
                 print(f"  {point.part:<17} {point.value:10.3g} {point.loss:14.6g} {point.theory:13.6g} "
                       f"{abs(point.loss - point.theory):9.2e}")
-    if args.plot:
-        from ..report.requirements import requirements_figure
-
-        outputs.write("--plot", lambda path: requirements_figure(
-            results, points, path=path,
-            title=f"{chain.name} chain, N = {chain.N}: the first arrival's energy loss against each part"))
-    failed = not all(point_agrees(point) for point in points)
-    return EXIT_FAILED if failed or outputs.failed else EXIT_OK
+    failed = write_plot(found)
+    return EXIT_FAILED if failed or not found.passed else EXIT_OK

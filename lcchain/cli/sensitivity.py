@@ -4,22 +4,28 @@ ngspice)."""
 from __future__ import annotations
 
 import argparse
-import contextlib
-import sys
 from typing import Any
 
-from ..core.errors import ParameterError
+from ..app.sensitivity import METRIC_NAMES, SensitivityRequest, sensitivity, write_plot
+from ..app.studies import StudyOptions
 from ..core.types import ARRIVAL_METRICS
-from ..report.files import FIGURE_FORMATS
-from ..spice.scratch import scratch_folder
-from .common import EXIT_FAILED, EXIT_OK, Outputs, budget_from_args, chain_from_args, emit_json
+from .common import EXIT_FAILED, EXIT_OK, add_circuit_arguments, budget_from_args, chain_options, emit_json
 from .progress import fraction, study_counter
-from .studies import STORE_FORMATS, _workers, add_study_arguments
+from .studies import add_study_arguments
 
-__all__ = ["add_sensitivity_arguments", "cmd_sensitivity"]
+__all__ = ["add_parser", "add_sensitivity_arguments", "cmd_sensitivity"]
 
 #: Rows of the table unless --top says otherwise.
 DEFAULT_TOP = 10
+
+
+
+def add_parser(sub: Any, budget: list[Any]) -> None:
+    p = sub.add_parser("sensitivity", parents=budget, help="which components move the first-arrival peak: dp/dL_i "
+                       "and dp/dC_j from exact theory, ranked (--check M: against ngspice finite differences)")
+    add_circuit_arguments(p)
+    add_sensitivity_arguments(p)
+    p.set_defaults(func=cmd_sensitivity)
 
 
 def add_sensitivity_arguments(p: argparse.ArgumentParser) -> None:
@@ -43,38 +49,10 @@ def add_sensitivity_arguments(p: argparse.ArgumentParser) -> None:
     add_study_arguments(p, store=False)
 
 
-def _checks(args: argparse.Namespace, sensitivity: Any, outputs: Outputs) -> list[Any]:
-    """The --check runs through a plan and a store (the user's, or a temporary one), read back as rows."""
-    from ..studies.run import run_plan
-    from ..studies.sensitivity import check_plan, check_rows
-    from ..studies.store import Store
-
-    plan, steps = check_plan(sensitivity, args.check, accuracy=args.accuracy, budget=budget_from_args(args),
-                             timeout=args.timeout)
-    workers = _workers(args)
-    plan.check(budget_from_args(args), workers, args.executor, "--check")
-    with contextlib.ExitStack() as stack:
-        store = args.store or str(stack.enter_context(scratch_folder("check", watch=True)) / "check.sqlite")
-        summary = run_plan(plan, store, executor=args.executor, workers=workers, scheduler=args.scheduler,
-                           progress=study_counter("runs"), transport=args.transport)
-        with Store(store, "read") as stored:
-            rows = check_rows(stored.runs(), steps, sensitivity.metric)
-    if summary.failed or summary.combined_failed:
-        where = f"'lcchain results {args.store}' says why" if args.store else "keep them with --store FILE to see why"
-        print(f"lcchain: {summary.failed + summary.combined_failed} of the check's runs failed ({where})",
-              file=sys.stderr)
-    return rows
-
-
-#: How each metric is named in the table: its symbol and what it is.
-_NAMES = {"peak": ("p", "first-arrival peak p = max I_N/I_1(0)"),
-          "energy": ("e", "first-arrival energy fraction e = p^2 L_N/L_1")}
-
-
 def _print(sensitivity: Any, top: list[Any], checks: list[Any]) -> None:
     ladder = sensitivity.ladder
     chain = ladder.chain
-    symbol, what = _NAMES[sensitivity.metric]
+    symbol, what = METRIC_NAMES[sensitivity.metric]
     print(f"{chain.name} chain, N = {chain.N}: {what} = {sensitivity.value:.6f} at t = {sensitivity.time:.4f} "
           f"sqrt(L0 C0) = {sensitivity.time_s:.4g} s (L0 = {ladder.L0:g} H, C0 = {ladder.C0:g} F)")
     print(f"{len(top)} of {len(sensitivity.components)} components, most sensitive first (a part at 1 + tol moves "
@@ -100,52 +78,19 @@ def _print(sensitivity: Any, top: list[Any], checks: list[Any]) -> None:
 
 
 def cmd_sensitivity(args: argparse.Namespace) -> int:
-    from ..circuit.ladder import Ladder
-    from ..circuit.sensitivity import ladder_sensitivity
-    from ..core.budget import sensitivity_estimate
-    from ..studies.executors import check_executor
-    from ..theory.sensitivity import SENSITIVITY_MAX_N
-
-    outputs = Outputs(inputs={"--chain": args.chain})
-    outputs.check("--plot", args.plot, FIGURE_FORMATS)
-    outputs.check("--store", args.store, STORE_FORMATS)
-    if args.top < 0:
-        raise ParameterError("--top", args.top, "an integer >= 0 (0: every component)")
-    if args.check < 0:
-        raise ParameterError("--check", args.check, "an integer >= 0 (0: no ngspice runs)")
-    if args.store and not args.check:
-        raise ParameterError("--store", args.store, "only with --check M (the store keeps its runs)")
-    check_executor(args.executor, args.workers, args.scheduler)
-    chain = chain_from_args(args, max_N=SENSITIVITY_MAX_N)
-    sensitivity_estimate(chain.N).check(budget_from_args(args), "N", chain.N)  # --N, or the --chain FILE
-    shown = fraction(f"sensitivities of {chain.N} masses")  # one O(N^3) step: 5 s at N = 2000
-    shown(0.0)
-    sensitivity = ladder_sensitivity(Ladder(chain, args.L0, args.C0), metric=args.metric)
-    shown(1.0)
-    top = list(sensitivity.components[: args.top or None])
-    checks = _checks(args, sensitivity, outputs) if args.check else []
+    study = StudyOptions(args.executor, args.workers, args.scheduler, args.transport, args.timeout, store=args.store)
+    result = sensitivity(SensitivityRequest(chain_options(args), args.L0, args.C0, metric=args.metric, top=args.top,
+                                            check=args.check, accuracy=args.accuracy, plot=args.plot, study=study,
+                                            budget=budget_from_args(args), progress=fraction,
+                                            study_progress=study_counter("runs")))
     if args.json:
-        data = sensitivity.to_dict()
-        data["components"] = [part.to_dict() for part in top]
+        data = result.sensitivity.to_dict()
+        data["components"] = [part.to_dict() for part in result.top]
         if args.check:
-            data["check"] = [check.to_dict() for check in checks]
-            data["passed"] = bool(checks) and all(check.passed for check in checks)
+            data["check"] = [check.to_dict() for check in result.checks]
+            data["passed"] = bool(result.checks) and all(check.passed for check in result.checks)
         emit_json(data)
     else:
-        _print(sensitivity, top, checks)
-    if args.plot:
-        from ..report.sensitivity import sensitivity_chart
-
-        N = chain.N
-        position = {part.name: part.slot + 1 if part.kind == "L" else part.slot - N + 0.5
-                    for part in sensitivity.components}
-        inductors = [(part.slot + 1, part.relative) for part in sensitivity.components if part.kind == "L"]
-        capacitors = [(part.slot - N, part.relative) for part in sensitivity.components if part.kind == "C"]
-        checked = [(position[c.component.name], c.fd, c.error_bar) for c in checks]
-        outputs.write("--plot", lambda path: sensitivity_chart(
-            sorted(inductors), sorted(capacitors), checked=checked,
-            title=f"{chain.name} chain, N = {N}: sensitivity of the {_NAMES[args.metric][1]} = "
-                  f"{sensitivity.value:.4f}", metric=_NAMES[args.metric][0],
-            path=path))
-    failed = args.check and (len(checks) < args.check or not all(check.passed for check in checks))
-    return EXIT_FAILED if failed or outputs.failed else EXIT_OK
+        _print(result.sensitivity, result.top, result.checks)
+    failed = write_plot(result)
+    return EXIT_FAILED if failed or not result.passed else EXIT_OK

@@ -1,0 +1,41 @@
+"""``lcchain batch`` as a function: netlists lcchain did not write, checked, priced and run in a sandbox, into a
+store."""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+from ..core.budget import INTERPRETER_SECONDS, Budget
+from .studies import PlannedStudy, StudyHooks, StudyOptions, StudyResult, check_study, run_study
+
+__all__ = ["BatchRequest", "batch"]
+
+
+@dataclass(frozen=True)
+class BatchRequest:
+    """The netlist files; ``allow_control`` runs each as it is (still in the sandbox); ``strict`` stops at the
+    first one lcchain will not run; ``check`` compares each run with the netlist's exact response; where the
+    runs go (``study``, its store required) and the budget (its time: the whole batch's)."""
+
+    netlists: tuple[str, ...]
+    allow_control: bool = False
+    strict: bool = False
+    check: bool = False
+    study: StudyOptions = field(default_factory=StudyOptions)
+    budget: Budget = field(default_factory=Budget)
+
+
+def batch(request: BatchRequest, hooks: StudyHooks | None = None) -> StudyResult:
+    """A batch's --max-time is its whole budget: each run's own limits come from its price (batch_plan), and no run
+    starts once the budget is spent (the runs left stay pending in the store). A netlist lcchain will not run is
+    stored as refused and the others run; with ``strict`` the first refusal stops the batch (a ParameterError)."""
+    from ..studies.plan import batch_plan
+
+    started = time.monotonic()
+    check_study(request.study)
+    budget = request.budget
+    plan = batch_plan(list(request.netlists), allow_control=request.allow_control, timeout=request.study.timeout,
+                      budget=budget, strict=request.strict, check=request.check)
+    left = budget.max_seconds - INTERPRETER_SECONDS - (time.monotonic() - started)
+    return run_study(PlannedStudy(plan, max_seconds=max(left, 0.0)), request.study, budget, hooks)

@@ -1,0 +1,14 @@
+"""``lcchain doctor`` as a function: whether ngspice, its shared library and PySpice are there."""
+
+from __future__ import annotations
+
+from typing import Any
+
+__all__ = ["doctor"]
+
+
+def doctor() -> list[Any]:
+    """Each check (:class:`lcchain.spice.doctor.Check`: name, ok, required, detail, fix), in order."""
+    from ..spice.doctor import doctor as checks
+
+    return list(checks())

@@ -1,0 +1,124 @@
+"""``lcchain netlist``, ``lcchain reference-netlists`` and ``lcchain examples`` as functions: the texts lcchain
+writes (a ladder's netlist, the reference set, the example scenes), checked and written."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from ..circuit.effects import Effect
+from ..core.budget import Budget
+from ..core.errors import ParameterError
+from ..core.types import Excitation
+from ..report.files import check_output_folder
+from .inputs import ChainOptions, Outputs, make_chain
+
+__all__ = ["DEFAULT_DT", "NetlistRequest", "NetlistResult", "netlist", "reference_netlists", "ExampleResult",
+           "example", "examples"]
+
+#: Step when neither --dt nor --accuracy is given, units of sqrt(L0*C0).
+DEFAULT_DT = 0.05
+
+
+@dataclass(frozen=True)
+class NetlistRequest:
+    """A ladder's netlist: the chain, its units, how a transient drives it, its effects; ``output`` a file
+    (``-``: stdout; None: only returned); ``command`` the command line its comment echoes."""
+
+    chain: ChainOptions
+    L0: float
+    C0: float
+    excitation: Excitation = "kick"
+    title: str | None = None
+    transits: int = 1
+    dt: float | None = None
+    effects: tuple[Effect, ...] = ()
+    command: str = "lcchain netlist"
+    output: str | None = None
+    budget: Budget = field(default_factory=Budget)
+
+
+@dataclass(frozen=True)
+class NetlistResult:
+    text: str
+    failed: bool
+
+
+def netlist(request: NetlistRequest) -> NetlistResult:
+    """The netlist's text, written to ``request.output`` when one is given."""
+    from ..circuit.netlist import make_netlist
+
+    outputs = Outputs(inputs={"--chain": request.chain.chain} if request.chain.chain else {})
+    outputs.check("--output", request.output)
+    chain = make_chain(request.chain, request.budget)
+    dt = request.dt if request.dt is not None else DEFAULT_DT
+    for effect in request.effects:  # walls and the like change the chain itself; the others add elements
+        chain = effect.realise(chain, request.L0, request.C0)
+    text, _, _ = make_netlist(chain, dt=dt, transits=request.transits, excitation=request.excitation,
+                              L0=request.L0, C0=request.C0, title=request.title,
+                              comments=(f"made by: {request.command}",), effects=request.effects)
+    if request.output:
+        outputs.text("--output", text)  # "-" too: stdout
+    return NetlistResult(text, bool(outputs.failed))
+
+
+def reference_netlists(out: str, written: Callable[[Path], None] | None = None) -> bool:
+    """Regenerate the reference netlists in folder ``out``; ``written(path)`` after each. Returns whether one
+    could not be written."""
+    from ..circuit.reference import REFERENCE_SET, reference_netlist
+
+    folder = check_output_folder("--out", out, parents=True)
+    outputs = Outputs()
+    for reference in REFERENCE_SET:
+        outputs.check(reference.name, str(folder / reference.name), make_folder=True)
+    folder.mkdir(parents=True, exist_ok=True)  # only now: every check has passed
+    for reference in REFERENCE_SET:
+        outputs.text(reference.name, reference_netlist(reference))
+        if written is not None:
+            written(folder / reference.name)
+    return bool(outputs.failed)
+
+
+def examples() -> list[tuple[str, str]]:
+    """The example scenes that ship with lcchain: (name, title)."""
+    from ..scenes.bundled import example_names, example_title
+
+    return [(name, example_title(name)) for name in example_names()]
+
+
+@dataclass(frozen=True)
+class ExampleResult:
+    """Where the example went: ``target``; ``unchanged`` when the same file was there already; ``failed`` when it
+    could not be written; ``to_stdout`` when it went to stdout (``-o -``)."""
+
+    target: str
+    unchanged: bool = False
+    failed: bool = False
+    to_stdout: bool = False
+
+
+def example(name: str, output: str | None = None) -> ExampleResult:
+    """Write the example scene ``name`` here (``NAME.toml``) or to ``output``."""
+    from ..scenes.bundled import example_text
+
+    text = example_text(name)
+    target = output or f"{name}.toml"
+    if output is None and (Path(target).exists() or Path(target).is_symlink()):
+        if _holds(Path(target), text):  # the same example written before: nothing to do
+            return ExampleResult(target, unchanged=True)
+        raise ParameterError("NAME", name, f"an example whose file is not here yet: {target} exists (your own "
+                             "copy?); write it elsewhere with -o FILE")
+    outputs = Outputs()
+    outputs.check("-o", target)
+    outputs.text("-o", text)
+    return ExampleResult(target, failed=bool(outputs.failed), to_stdout=outputs.to_stdout is not None)
+
+
+def _holds(path: Path, text: str) -> bool:
+    """Whether a regular file holds exactly this text (a special file or a link is never read)."""
+    try:
+        return not path.is_symlink() and path.is_file() and path.stat().st_size == len(text.encode()) \
+            and path.read_text(encoding="utf-8") == text
+    except (OSError, UnicodeDecodeError):
+        return False

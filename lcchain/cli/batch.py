@@ -1,0 +1,45 @@
+"""``lcchain batch``: netlists lcchain did not write, checked, priced and run in a sandbox, into a store
+(:func:`lcchain.app.batch.batch`)."""
+
+from __future__ import annotations
+
+import argparse
+from typing import Any
+
+from .common import budget_from_args
+from .studies import add_study_arguments, show_study, study_hooks, study_options
+
+__all__ = ["add_parser", "cmd_batch"]
+
+
+def add_parser(sub: Any, budget: list[Any]) -> None:
+    p = sub.add_parser("batch", parents=budget, help="netlists lcchain did not write, checked, priced and run in a "
+                       "sandbox, into a store")
+    p.add_argument("netlist", nargs="+", metavar="NETLIST",
+                   help="netlist files: comments, R L C K V I B D Q M J S W X elements, .tran .ac .options .save "
+                        ".ic .param .meas .subckt/.ends .model .func .global .temp .op .dc .end and .include/.lib of "
+                        "files in the netlist's folder; any other line is refused")
+    p.add_argument("--allow-control", action="store_true",
+                   help="run a netlist as it is (.control blocks, any include), still in the sandbox")
+    p.add_argument("--check", action="store_true",
+                   help="also compare each run's saved vectors with the netlist's exact response (lcchain check): "
+                        "the largest error, in the vectors' own units, is stored as the measurement "
+                        "check_max_abs_error (empty, with the reason, for a netlist that is not linear)")
+    p.add_argument("--strict", action="store_true",
+                   help="stop at the first netlist lcchain will not run, with its reason, before anything runs "
+                        "(exit 2); by default each is stored as refused, with its reason, the others run, and "
+                        "the exit status is 1")
+    add_study_arguments(p)
+    p.set_defaults(func=cmd_batch)
+
+
+def cmd_batch(args: argparse.Namespace) -> int:
+    """A batch's --max-time is its whole budget: each run's own limits come from its price, and no run starts once
+    the budget is spent (the runs left stay pending in the store). A netlist lcchain will not run is stored as
+    refused and the others run (exit 1); with --strict the first refusal stops the batch (exit 2)."""
+    from ..app.batch import BatchRequest, batch
+
+    request = BatchRequest(tuple(args.netlist), allow_control=args.allow_control, strict=args.strict,
+                           check=getattr(args, "check", False), study=study_options(args),
+                           budget=budget_from_args(args))
+    return show_study(args, batch(request, study_hooks(args)))

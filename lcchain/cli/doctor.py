@@ -1,0 +1,26 @@
+"""``lcchain doctor``: check ngspice, its shared library and PySpice (:func:`lcchain.app.doctor.doctor`)."""
+
+from __future__ import annotations
+
+import argparse
+from typing import Any
+
+from ..app.doctor import doctor
+from .common import EXIT_MISSING, EXIT_OK
+
+__all__ = ["add_parser", "cmd_doctor"]
+
+
+def add_parser(sub: Any, budget: list[Any]) -> None:
+    p = sub.add_parser("doctor", help="check ngspice, its shared library and PySpice")
+    p.set_defaults(func=cmd_doctor)
+
+
+def cmd_doctor(args: argparse.Namespace) -> int:
+    checks = doctor()
+    for check in checks:
+        mark = "ok  " if check.ok else "FAIL" if check.required else "warn"
+        print(f"[{mark}] {check.name}: {check.detail}")
+        if not check.ok and check.fix:
+            print(f"       fix: {check.fix}")
+    return EXIT_OK if all(c.ok for c in checks if c.required) else EXIT_MISSING

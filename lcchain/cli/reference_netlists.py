@@ -1,0 +1,23 @@
+"""``lcchain reference-netlists``: regenerate the reference netlists of netlists/
+(:func:`lcchain.app.netlist.reference_netlists`)."""
+
+from __future__ import annotations
+
+import argparse
+from typing import Any
+
+from ..app.netlist import reference_netlists
+from .common import EXIT_FAILED, EXIT_OK
+
+__all__ = ["add_parser", "cmd_reference_netlists"]
+
+
+def add_parser(sub: Any, budget: list[Any]) -> None:
+    p = sub.add_parser("reference-netlists", help="regenerate the reference netlists of netlists/")
+    p.add_argument("--out", default="netlists", help="folder (default netlists)")
+    p.set_defaults(func=cmd_reference_netlists)
+
+
+def cmd_reference_netlists(args: argparse.Namespace) -> int:
+    failed = reference_netlists(args.out, written=print)
+    return EXIT_FAILED if failed else EXIT_OK

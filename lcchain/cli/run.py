@@ -1,0 +1,119 @@
+"""``lcchain run``: run scenes (TOML experiment descriptions) (:func:`lcchain.app.scenes.run_scenes`)."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from typing import Any
+
+from ..app.studies import StudyOptions
+from .common import EXIT_FAILED, EXIT_OK, add_parts_arguments, budget_from_args, emit_json
+from .progress import fraction, study_counter
+from .simulate import print_arrivals
+from .studies import add_study_arguments
+
+__all__ = ["add_parser", "cmd_run", "error_text"]
+
+
+def add_parser(sub: Any, budget: list[Any]) -> None:
+    p = sub.add_parser("run", parents=budget, help="run a scene (TOML experiment description)")
+    p.add_argument("scene", metavar="SCENE.toml", nargs="+", help="one or more scene files, run in order")
+    p.add_argument("--json", action="store_true", help="print the report as JSON (a list for several scenes)")
+    p.add_argument("--side-by-side", metavar="FILE",
+                   help="figure (.png, .svg, .pdf): the scenes' overlays next to each other on shared axes")
+    p.add_argument("--netlist-out", metavar="FILE", help="keep the (first sample's) netlist")
+    p.add_argument("--waveform-out", metavar="FILE", help="CSV t,first,last (first sample, dimensionless)")
+    add_parts_arguments(p)
+    add_study_arguments(p, store=False)
+    p.set_defaults(func=cmd_run, executor="serial")
+
+
+def error_text(value: float | None) -> str:
+    """An error as printed: a number, or 'unseen' where a resolved mode was not seen (infinite; None in the
+    JSON), 'n/a' where it is NaN: never 'inf'."""
+    if value is not None and value != value:
+        return "n/a"
+    return "unseen" if value is None or value == float("inf") else f"{value:.3e}"
+
+
+def _print_spectrum_summary(result: Any) -> None:
+    """An AC scene: each sample's modes against its own theory, and the spacings' spread over the samples."""
+    report = result.report
+    count = len(report["samples"])
+    print(result.scene.title)
+    print(f"N = {report['N']}, AC sweep of {report['points']} frequencies up to omega = {report['omega_max']:.4g} "
+          f"(1/sqrt(L0 C0)), {count} sample{'s' if count > 1 else ''}, {report['engine']} "
+          f"{report['engine_version']}, {report['wall_s']['total']:.2f} s")
+    if "max_rel_error_omega" in report:
+        good = [record for record in report["samples"] if "error" not in record]
+        over = f" (the worst of {len(good)} samples, each against its own theory)" if len(good) > 1 else ""
+        print(f"max |omega_n - theory| / theory = {error_text(report['max_rel_error_omega'])}, max |P_n - theory| = "
+              f"{report['max_abs_error_P']:.3e}{over}")
+        if "max_rel_error_Q" in report:
+            print(f"losses Q = {report['Q']:g}: max |Q_n - omega_n Q| / (omega_n Q) = "
+                  f"{error_text(report['max_rel_error_Q'])}{over}")
+        spread = report["spacing_spread"]
+        print(f"spacing spread (max - min) / mean of delta omega_n: {spread['mean']:.4g} (mean over {spread['count']}"
+              f" sample{'s' if spread['count'] > 1 else ''}), largest {spread['max']:.4g}; nominal theory "
+              f"{spread['theory_nominal']:.3g}")
+        print(f"{'sample':>6} {'modes seen':>10} {'max omega error':>16} {'max P error':>12} {'spacing spread':>15}")
+        for record in good:
+            print(f"{record['sample']:>6} {record['modes_seen']:>10} {error_text(record['max_rel_error_omega']):>16} "
+                  f"{record['max_abs_error_P']:>12.3e} {record['spacing_spread']:>15.4g}")
+    for record in report["samples"]:
+        if "error" in record:
+            print(f"sample {record['sample']} failed: {record['error']}", file=sys.stderr)
+
+
+def _print_scene_summary(result: Any) -> None:
+    if result.report.get("analysis") == "ac":
+        _print_spectrum_summary(result)
+        return
+    report = result.report
+    count = len(report["samples"])
+    print(result.scene.title)
+    steps = report.get("steps") or [report["dt"]]
+    if len(steps) > 1:
+        print(f"each sample extrapolated from {len(steps)} runs at dt = {', '.join(f'{h:.4g}' for h in steps)}")
+    print(f"N = {report['N']}, dt = {report['dt']:.4g}, {count} sample{'s' if count > 1 else ''}, "
+          f"{report['engine']} {report['engine_version']}, {report['wall_s']['total']:.2f} s")
+    if "max_abs_error" in report:
+        good = sum("error" not in record for record in report["samples"])
+        over = f" (the worst of {good} samples, each against its own theory)" if good > 1 else ""
+        print(f"max |simulation - theory| = {report['max_abs_error']:.3e}{over}")
+        if good > 1:
+            print(f"arrivals of sample {report['arrivals_sample']} (every sample's are in the report's samples):")
+        print_arrivals(report["arrivals"])
+    if "transmitted_peak" in report:
+        p = report["transmitted_peak"]
+        print(f"transmitted peak over {p['count']} samples: mean {p['mean']:.5f}, std {p['std']:.5f}, "
+              f"worst {p['worst']:.5f} (nominal theory {p['theory_nominal']:.5f})")
+    for record in report["samples"]:
+        if "error" in record:
+            print(f"sample {record['sample']} failed: {record['error']}", file=sys.stderr)
+    if report.get("accuracy_met") is False:
+        print(f"lcchain: {result.scene.source or 'the scene'}: analysis.accuracy "
+              f"{result.scene.analysis.accuracy:g} was not met: the runs reached {report['max_abs_error']:.3g}",
+              file=sys.stderr)
+
+
+def cmd_run(args: argparse.Namespace) -> int:
+    from ..app.scenes import RunRequest, run_scenes
+
+    def shown(result: Any, outputs: Any) -> None:
+        if not args.json:
+            with outputs.summary():
+                _print_scene_summary(result)
+            for path in result.files:
+                print(f"wrote {path}", file=sys.stderr if outputs.to_stdout else sys.stdout)
+
+    parts = {"tolerance": args.tolerance, "series": args.series, "samples": args.samples, "seed": args.seed}
+    study = StudyOptions(args.executor, args.workers, args.scheduler, args.transport, args.timeout)
+    run = run_scenes(RunRequest(tuple(args.scene), parts, netlist_out=args.netlist_out,
+                                waveform_out=args.waveform_out, side_by_side=args.side_by_side, json=args.json,
+                                study=study, budget=budget_from_args(args), progress=fraction,
+                                study_progress=study_counter), shown)
+    if args.json:
+        reports = [r.report for r in run.results]
+        emit_json(reports[0] if len(reports) == 1 else reports)
+    return EXIT_OK if run.ok else EXIT_FAILED
