@@ -35,11 +35,12 @@
 * A run is stored under its key (:meth:`lcchain.runs.spec.RunSpec.key`: the
   netlist text, saved vectors, stop time, backend, theory, engine, lcchain and
   engine versions); a study that finds its key stored skips the run.
-* The engine that ran it is in the ``ngspice_version`` column (and the meta
-  row of that name), whose name is kept so that every store made before
-  there were engines reads as it did: ngspice's version alone (``"39"``), any
-  other engine's name and version (``"gnucap 2017.10.03"``;
-  :func:`engine_text`, :func:`engine_of`).
+* The engine that ran it is in the ``engine`` column (and the meta row of
+  that name): its name and version (``"ngspice 39"``, ``"gnucap
+  2017.10.03"``; :func:`engine_text`, :func:`engine_of`).  A store of format
+  1 (before there were engines, the column was ``ngspice_version`` and held
+  ngspice's version alone, ``"39"``) is read as it is, and migrated in one
+  transaction when a study opens it to write.
 * The store remembers the plan it was made for (the ordered task keys): a
   different plan, or the same one under another ngspice, is refused rather
   than mixed in silently.
@@ -93,7 +94,10 @@ __all__ = ["Store", "StoredRun", "StoreMode", "FORMAT", "engine_text", "engine_o
            "study_dims", "ExportSize", "PARTS"]
 
 #: Version of the store's tables.
-FORMAT = "1"
+FORMAT = "2"
+#: The column (and meta row) that holds the engine, by store format: format 1 named it for ngspice, and held
+#: ngspice's version alone (``"39"``), another engine's name and version (``"gnucap 2017.10.03"``).
+_ENGINE_COLUMN = {"1": "ngspice_version", FORMAT: "engine"}
 #: The key of a run's metrics that holds a tolerance or preferred-value sample's realised part values,
 #: ``{"L": [...], "C": [...]}`` (henry, farad): ``lcchain results --json`` prints it as the run's ``parts``.
 PARTS = "parts"
@@ -105,7 +109,7 @@ CREATE TABLE meta (name TEXT PRIMARY KEY, value TEXT NOT NULL);
 CREATE TABLE tasks (idx INTEGER PRIMARY KEY, key TEXT NOT NULL, params TEXT NOT NULL, label TEXT);
 CREATE TABLE records (
     key TEXT PRIMARY KEY, status TEXT NOT NULL, reason TEXT, log_tail TEXT, digest TEXT,
-    wall_s REAL, total_s REAL, ngspice_version TEXT, lcchain_version TEXT, points INTEGER,
+    wall_s REAL, total_s REAL, engine TEXT, lcchain_version TEXT, points INTEGER,
     metrics TEXT, arrays BLOB, finished REAL
 );
 """
@@ -113,9 +117,16 @@ CREATE TABLE records (
 _TABLES = {
     "meta": ("name", "value"),
     "tasks": ("idx", "key", "params", "label"),
-    "records": ("key", "status", "reason", "log_tail", "digest", "wall_s", "total_s", "ngspice_version",
+    "records": ("key", "status", "reason", "log_tail", "digest", "wall_s", "total_s", "engine",
                 "lcchain_version", "points", "metrics", "arrays", "finished"),
 }
+#: Format 1 to this one, in one transaction: the engine's column and meta row renamed, ngspice's bare versions
+#: given its name.
+_MIGRATE = ("ALTER TABLE records RENAME COLUMN ngspice_version TO engine",
+            "UPDATE records SET engine = 'ngspice ' || engine WHERE engine IS NOT NULL AND instr(engine, ' ') = 0",
+            "UPDATE meta SET name = 'engine', value = CASE WHEN instr(value, ' ') = 0 THEN 'ngspice ' || value "
+            "ELSE value END WHERE name = 'ngspice_version'",
+            f"UPDATE meta SET value = '{FORMAT}' WHERE name = 'format'")
 _HEADER = b"SQLite format 3\x00"
 #: What a record's status may be (:data:`lcchain.core.types.RunStatus`); a store made before there were refusals
 #: simply holds none.
@@ -127,13 +138,13 @@ _RESTORE = "restore it from a copy, or run the study into a new store"
 
 
 def engine_text(engine: str, version: str) -> str:
-    """What the ``ngspice_version`` column (and meta row) holds: ngspice's version alone, as in every store made
-    before there were engines (``"39"``); another engine's name and version (``"gnucap 2017.10.03"``)."""
-    return version if engine == DEFAULT_ENGINE else f"{engine} {version}"
+    """What the ``engine`` column (and meta row) holds: the engine's name and version (``"ngspice 39"``)."""
+    return f"{engine} {version}"
 
 
 def engine_of(text: str) -> tuple[str, str]:
-    """(engine, version) from :func:`engine_text`'s text (ngspice versions hold no space)."""
+    """(engine, version) from :func:`engine_text`'s text, or from a format-1 store's column, where ngspice's
+    version stood alone (``"39"``: ngspice versions hold no space)."""
     engine, _, version = text.partition(" ")
     return (engine, version) if version else (DEFAULT_ENGINE, text)
 
@@ -255,6 +266,8 @@ class StoredRun:
         data: dict[str, Any] = {"index": self.index, "key": self.key, "kind": self.kind, "status": self.status,
                                 "params": self.params, "label": self.label, "digest": self.digest or None,
                                 "wall_s": self.wall_s, "points": self.points}
+        if self.status != "pending":  # the engine that ran it (or refused it), its name and version apart
+            data.update(engine=self.engine, engine_version=self.engine_version)
         if self.spectral:
             from ..compare.spectral import SPECTRAL_METRICS  # with an AC run only: a batch starts without it
 
@@ -495,6 +508,7 @@ class Store:
         self.mode = mode
         self.option = option
         self._lock: int | None = None  # the flock'd descriptor of a store this driver writes
+        self._engine_column = _ENGINE_COLUMN[FORMAT]  # a format-1 store read as it is names it otherwise
         self._immutable: tuple[int, int, int] | None = None  # (inode, size, mtime) of a file read immutable
         self._db: sqlite3.Connection
         self._wait, self._on_wait = wait, on_wait
@@ -541,13 +555,16 @@ class Store:
         if other or tables != set(_TABLES):
             shown = ", ".join(other or sorted(tables)) or "nothing"
             raise self._refuse(f"an lcchain store (this SQLite database holds {shown})")
+        meta = dict(db.execute("SELECT name, value FROM meta").fetchall())
+        column = _ENGINE_COLUMN.get(meta.get("format", ""))
+        if column is None:
+            raise self._refuse(f"a store of format {' or '.join(_ENGINE_COLUMN)} (this one is "
+                               f"{meta.get('format', 'of none')})")
         for table, columns in _TABLES.items():
             found = tuple(row[1] for row in db.execute(f"PRAGMA table_info({table})"))
-            if found != columns:
+            if found != tuple(column if name == "engine" else name for name in columns):
                 raise self._refuse(f"an lcchain store (its table {table} has the columns {', '.join(found)})")
-        meta = dict(db.execute("SELECT name, value FROM meta").fetchall())
-        if meta.get("format") != FORMAT:
-            raise self._refuse(f"a store of format {FORMAT} (this one is {meta.get('format', 'of none')})")
+        self._engine_column = column
         if "plan" not in meta:
             raise self._refuse("a store made by lcchain sweep or batch (this one holds no plan: remove it)")
         return meta
@@ -634,7 +651,23 @@ class Store:
                 self._db = sqlite3.connect(self.path, timeout=60.0, isolation_level=None)
                 self._db.execute("PRAGMA journal_mode=WAL")
                 self._db.execute("PRAGMA synchronous=FULL")
+                if self._engine_column != _ENGINE_COLUMN[FORMAT]:
+                    self._migrate()
             return
+
+    def _migrate(self) -> None:
+        """A format-1 store to this format, in one transaction (this driver holds the lock): every run in it is
+        kept, and a failure leaves it as it was."""
+        self._db.execute("BEGIN IMMEDIATE")
+        try:
+            for statement in _MIGRATE:
+                self._db.execute(statement)
+            self._db.execute("COMMIT")
+        except BaseException:
+            with contextlib.suppress(sqlite3.Error):
+                self._db.execute("ROLLBACK")
+            raise
+        self._engine_column = _ENGINE_COLUMN[FORMAT]
 
     def _take_lock(self, descriptor: int) -> None:
         try:
@@ -717,7 +750,7 @@ class Store:
     def meta(self) -> dict[str, str]:
         return dict(self._rows("SELECT name, value FROM meta"))
 
-    def check_plan(self, fingerprint: str, description: dict[str, Any], rows: int, ngspice_version: str) -> None:
+    def check_plan(self, fingerprint: str, description: dict[str, Any], rows: int, engine: str) -> None:
         """Refuse a store that holds another plan (nothing is written).
 
         Raises
@@ -734,16 +767,16 @@ class Store:
             raise self._tampered("its description is not JSON") from None
         if same:
             held = self._rows("SELECT COUNT(*) FROM tasks")[0][0]
-            raise self._refuse("a new store: it holds this very study as another lcchain or ngspice planned it "
-                               f"({held} rows; lcchain {meta.get('lcchain_version', '?')}, ngspice "
-                               f"{meta.get('ngspice_version', '?')}; now {rows} rows, ngspice {ngspice_version}), "
-                               "and lcchain never mixes two")
+            held_by = meta.get(self._engine_column, "?")
+            raise self._refuse("a new store: it holds this very study as another lcchain or engine planned it "
+                               f"({held} rows; lcchain {meta.get('lcchain_version', '?')}, {held_by}; now {rows} "
+                               f"rows, {engine}), and lcchain never mixes two")
         raise self._refuse("a new store, or the store of this very study: it holds another "
-                           f"({meta.get('description', '?')}, ngspice {meta.get('ngspice_version', '?')}), and "
+                           f"({meta.get('description', '?')}, {meta.get(self._engine_column, '?')}), and "
                            "lcchain never mixes two")
 
     def adopt(self, fingerprint: str, description: dict[str, Any], tasks: Sequence[tuple[str, dict[str, Any], str]],
-              ngspice_version: str) -> None:
+              engine: str) -> None:
         """Make this the store of a plan, or check that it already is.
 
         A new store is made whole: built under a hidden name beside it, its plan
@@ -757,7 +790,8 @@ class Store:
             What the user asked for, in words and values (for ``lcchain results``).
         tasks : sequence of (key, params, label)
             The plan's tasks in order.
-        ngspice_version : str
+        engine : str
+            The engine's name and version (:func:`engine_text`).
 
         Raises
         ------
@@ -766,12 +800,12 @@ class Store:
         """
         if self.mode != "write":
             raise self._refuse("a store opened for writing")
-        self.check_plan(fingerprint, description, len(tasks), ngspice_version)
+        self.check_plan(fingerprint, description, len(tasks), engine)
         if "plan" in self.meta():
             return
         meta = (("format", FORMAT), ("plan", fingerprint), ("description", json.dumps(description)),
                 ("created", time.strftime("%Y-%m-%dT%H:%M:%S")), ("lcchain_version", __version__),
-                ("ngspice_version", ngspice_version))
+                ("engine", engine))
         rows = [(i, key, json.dumps(params), label) for i, (key, params, label) in enumerate(tasks)]
         self._remove_leftovers()
         hidden = self.path.parent / f".{self.path.name}.{secrets.token_hex(4)}.new"
@@ -812,7 +846,7 @@ class Store:
             os.close(descriptor)
             self._db.close()
             self._open_write()
-            self.adopt(fingerprint, description, tasks, ngspice_version)
+            self.adopt(fingerprint, description, tasks, engine)
             return
         with contextlib.suppress(OSError):
             folder = os.open(self.path.parent, os.O_RDONLY | os.O_DIRECTORY)
@@ -902,9 +936,11 @@ class Store:
                     self._db.execute("ROLLBACK")
                 raise
 
-    _SELECT = ("SELECT t.idx, t.key, t.params, t.label, r.status, r.reason, r.log_tail, r.digest, r.wall_s, "
-               "r.total_s, r.points, r.metrics, r.ngspice_version, r.lcchain_version "
-               "FROM tasks t LEFT JOIN records r ON r.key = t.key")
+    @property
+    def _select(self) -> str:
+        return ("SELECT t.idx, t.key, t.params, t.label, r.status, r.reason, r.log_tail, r.digest, r.wall_s, "
+                f"r.total_s, r.points, r.metrics, r.{self._engine_column}, r.lcchain_version "
+                "FROM tasks t LEFT JOIN records r ON r.key = t.key")
 
     def _stored(self, row: tuple[Any, ...]) -> StoredRun:
         (index, key, params, label, status, reason, log_tail, digest, wall_s, total_s, points, metrics, ngv,
@@ -940,13 +976,13 @@ class Store:
 
     def runs(self) -> list[StoredRun]:
         """Every task in plan order, with its record where it ran."""
-        return [self._stored(row) for row in self._rows(f"{self._SELECT} ORDER BY t.idx")]
+        return [self._stored(row) for row in self._rows(f"{self._select} ORDER BY t.idx")]
 
     def records(self, keys: Sequence[str]) -> list[StoredRun]:
         """The stored runs under these keys, in their order (as the first task with each key)."""
         found = []
         for key in keys:
-            rows = self._rows(f"{self._SELECT} WHERE t.key = ? AND r.key IS NOT NULL ORDER BY t.idx LIMIT 1",
+            rows = self._rows(f"{self._select} WHERE t.key = ? AND r.key IS NOT NULL ORDER BY t.idx LIMIT 1",
                               (key,))
             if not rows:
                 raise self._refuse(f"a store holding the run {key[:12]}")
@@ -1108,7 +1144,7 @@ class Store:
             first = arrivals[0] if arrivals else {}
             row = {"index": run.index, **run.params, "kind": run.kind, "status": run.status, "key": run.key,
                    "digest": run.digest or None, "points": run.points, "wall_s": run.wall_s,
-                   # the engine's name and its version apart (engine_text's "39" is the store's column, not a name)
+                   # the engine's name and its version apart, as the store's column holds them together
                    "engine": run.engine if run.status != "pending" else None,
                    "engine_version": run.engine_version if run.status != "pending" else None}
             if transient:
