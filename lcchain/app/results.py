@@ -37,7 +37,7 @@ class ResultsRequest:
 
 @dataclass(frozen=True)
 class Results:
-    """The store's runs (:class:`lcchain.studies.store.StoredRun`) and their JSON, and what the request shows:
+    """The store's runs (:class:`lcchain.studies.stored.StoredRun`) and their JSON, and what the request shows:
     ``groups`` and ``constants`` (a summary), ``runs_json`` (``--json``: arrival times also in seconds),
     ``rows`` (``--csv``), ``axes`` and each finished run's ``vectors`` (the table); ``written`` the files
     written, ``failed`` the options whose file could not be."""
@@ -135,7 +135,7 @@ def _price_results(store: Any, request: ResultsRequest) -> None:
 
 def _flat(run: dict[str, Any]) -> dict[str, Any]:
     from ..spice.measure import MEASUREMENTS
-    from ..studies.store import measurement_column
+    from ..studies.exports import measurement_column
 
     row = {"index": run["index"], "kind": run["kind"], "status": run["status"], **run["params"],
            "digest": run["digest"], "max_abs_error": run.get("max_abs_error"), "wall_s": run["wall_s"]}
