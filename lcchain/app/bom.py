@@ -3,12 +3,16 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING
 
 from ..circuit.effects import Effect
 from ..core.budget import Budget
 from ..core.errors import ParameterError
 from .inputs import ChainOptions, make_chain
+
+if TYPE_CHECKING:
+    from ..circuit.bom import Part
+    from ..theory.chain import Chain
 
 __all__ = ["BomRequest", "Bom", "bom"]
 
@@ -29,8 +33,8 @@ class BomRequest:
 class Bom:
     """The chain and its distinct parts (:class:`lcchain.circuit.bom.Part`: kind, value, unit, count, names)."""
 
-    chain: Any
-    parts: tuple[Any, ...]
+    chain: Chain
+    parts: tuple[Part, ...]
 
 
 def bom(request: BomRequest) -> Bom:

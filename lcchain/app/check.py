@@ -4,9 +4,12 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING
 
 from ..core.budget import Budget
+
+if TYPE_CHECKING:
+    from ..runs.check import CheckResult
 
 __all__ = ["CheckRequest", "check"]
 
@@ -24,7 +27,7 @@ class CheckRequest:
     budget: Budget = field(default_factory=Budget)
 
 
-def check(request: CheckRequest) -> Any:
+def check(request: CheckRequest) -> CheckResult:
     """The :class:`lcchain.runs.check.CheckResult`: each saved vector's error, the step an accuracy needs."""
     from ..runs.check import check_file
 

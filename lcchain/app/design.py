@@ -5,13 +5,18 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any, Literal
+from typing import TYPE_CHECKING, Any, Literal
 
 from ..core.budget import Budget, Estimate, design_estimate
 from ..core.errors import ParameterError
 from ..core.limits import MAX_DESIGN_N, MIN_N
 from ..core.types import DesignCase
 from .inputs import check_perfect
+
+if TYPE_CHECKING:
+    from ..theory.asymptotic import AsymptoticOptimum
+    from ..theory.design import Design
+    from ..theory.perfect import PerfectDesign
 
 __all__ = ["DesignRequest", "TableRequest", "Asymptotic", "design", "table", "asymptotic", "check_design_sizes"]
 
@@ -43,7 +48,7 @@ class Asymptotic:
     """The N -> infinity optimum (:class:`lcchain.theory.asymptotic.AsymptoticOptimum`) and the exponents of its
     scaling laws (coefficient name -> power of N)."""
 
-    optimum: Any
+    optimum: AsymptoticOptimum
     exponents: dict[str, float]
 
 
@@ -59,7 +64,7 @@ def check_design_sizes(case: str, sizes: list[int], budget: Budget) -> None:
     Estimate(what, memory, seconds).check(budget, "--N", ",".join(map(str, sizes)) if len(sizes) > 1 else sizes[0])
 
 
-def design(request: DesignRequest) -> Any:
+def design(request: DesignRequest) -> Design | PerfectDesign:
     """The design: a :class:`lcchain.theory.perfect.PerfectDesign` for ``case = "perfect"``, else a
     :class:`lcchain.theory.design.Design`."""
     from ..theory.design import optimal_design

@@ -5,12 +5,18 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from ..core.budget import Budget
 from ..core.errors import ParameterError
 from ..report.files import FIGURE_FORMATS
 from .inputs import ChainOptions, Outputs, make_chain
+
+if TYPE_CHECKING:
+    from ..circuit.ladder import Ladder
+    from ..circuit.requirements import Requirement
+    from ..studies.requirements import CheckPoint
+    from ..theory.chain import Chain
 
 __all__ = ["RequirementsRequest", "Requirements", "requirements", "write_plot", "parts_named"]
 
@@ -35,11 +41,11 @@ class Requirements:
     """The ladder, its ideal first arrival, each part's requirement, ngspice's points and the loss targets."""
 
     request: RequirementsRequest
-    chain: Any
-    ladder: Any
+    chain: Chain
+    ladder: Ladder
     ideal: Any
-    results: list[Any]
-    points: list[Any]
+    results: list[Requirement]
+    points: list[CheckPoint]
     targets: tuple[float, ...]
     outputs: Outputs
 

@@ -7,13 +7,16 @@ from __future__ import annotations
 import json
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from ..core.budget import Budget
 from ..core.errors import ExtraMissingError, ParameterError
 from ..core.types import STUDY_METRICS
 from ..report.files import FIGURE_FORMATS
 from .inputs import Outputs
+
+if TYPE_CHECKING:
+    from ..studies.stored import StoredRun
 
 __all__ = ["ResultsRequest", "Results", "results"]
 
@@ -42,7 +45,7 @@ class Results:
     ``rows`` (``--csv``), ``axes`` and each finished run's ``vectors`` (the table); ``written`` the files
     written, ``failed`` the options whose file could not be."""
 
-    stored: list[Any]
+    stored: list[StoredRun]
     runs: list[dict[str, Any]]
     groups: list[dict[str, Any]] = field(default_factory=list)
     constants: dict[str, Any] = field(default_factory=dict)

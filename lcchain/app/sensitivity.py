@@ -7,7 +7,7 @@ import contextlib
 import sys
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from ..core.budget import Budget
 from ..core.errors import ParameterError
@@ -15,6 +15,11 @@ from ..core.types import ArrivalMetric
 from ..report.files import FIGURE_FORMATS
 from .inputs import ChainOptions, Outputs, make_chain
 from .studies import STORE_FORMATS, StudyOptions, check_executor, study_workers
+
+if TYPE_CHECKING:
+    from ..circuit.sensitivity import Component, LadderSensitivity
+    from ..studies.sensitivity import Check
+    from ..theory.chain import Chain
 
 __all__ = ["SensitivityRequest", "Sensitivity", "sensitivity", "write_plot", "METRIC_NAMES"]
 
@@ -49,10 +54,10 @@ class Sensitivity:
     shown, each ngspice check (:class:`lcchain.studies.sensitivity.Check`), and the figure still to write."""
 
     request: SensitivityRequest
-    chain: Any
-    sensitivity: Any
-    top: list[Any]
-    checks: list[Any]
+    chain: Chain
+    sensitivity: LadderSensitivity
+    top: list[Component]
+    checks: list[Check]
     outputs: Outputs
 
     @property

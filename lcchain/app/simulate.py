@@ -13,7 +13,7 @@ import warnings
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from ..circuit.effects import Effect
 from ..core.budget import Budget
@@ -23,6 +23,10 @@ from ..core.types import Backend, Excitation, Method
 from ..report.files import FIGURE_FORMATS
 from .inputs import ChainOptions, Outputs, make_chain
 from .netlist import DEFAULT_DT
+
+if TYPE_CHECKING:
+    from ..runs.simulate import SimulationReport
+    from ..theory.chain import Chain
 
 __all__ = ["SimulateRequest", "Simulation", "EnginesComparison", "simulate_chain", "write_outputs",
            "with_physical_units"]
@@ -63,8 +67,8 @@ class Simulation:
     kept."""
 
     request: SimulateRequest
-    chain: Any
-    report: Any
+    chain: Chain
+    report: SimulationReport
     data: dict[str, Any]
     warnings: tuple[str, ...]
     outputs: Outputs
@@ -75,8 +79,8 @@ class Simulation:
 class EnginesComparison:
     """``simulate --engine A,B``: each engine's report, their JSON and the largest differences between them."""
 
-    chain: Any
-    reports: list[Any]
+    chain: Chain
+    reports: list[SimulationReport]
     data: dict[str, Any]
     differences: dict[str, float]
 

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from ..circuit.effects import Effect
 from ..core import __version__
@@ -15,6 +15,10 @@ from ..core.errors import ParameterError
 from ..report.files import FIGURE_FORMATS
 from .inputs import ChainOptions, Outputs, make_chain
 from .simulate import with_physical_units
+
+if TYPE_CHECKING:
+    from ..runs.spectrum import SpectrumReport
+    from ..theory.chain import Chain
 
 __all__ = ["SpectrumRequest", "Spectrum", "TwoPortSummary", "spectrum", "write_outputs"]
 
@@ -46,8 +50,8 @@ class Spectrum:
     the effects compared, and the outputs still to write."""
 
     request: SpectrumRequest
-    chain: Any
-    report: Any
+    chain: Chain
+    report: SpectrumReport
     data: dict[str, Any]
     effects: tuple[Effect, ...]
     outputs: Outputs

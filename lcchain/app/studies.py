@@ -7,10 +7,14 @@ import contextlib
 import logging
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from ..core.budget import Budget
 from .inputs import Outputs
+
+if TYPE_CHECKING:
+    from ..studies.plan import Plan
+    from ..studies.run import Summary
 
 __all__ = ["STORE_FORMATS", "StudyOptions", "StudyHooks", "PlannedStudy", "StudyResult", "study_workers",
            "check_executor", "check_study", "run_study", "dask_quiet"]
@@ -93,7 +97,7 @@ class PlannedStudy:
     """A study's plan (:class:`lcchain.studies.plan.Plan`), the seconds its runs may still start in (None: the
     whole budget is the plan's to price), and a worst case's setup (what its summary compares)."""
 
-    plan: Any
+    plan: Plan
     max_seconds: float | None = None
     worst_case: Any = None
 
@@ -103,7 +107,7 @@ class StudyResult:
     """The study's summary (:class:`lcchain.studies.run.Summary`) and, for a worst case, what it found
     (:func:`lcchain.studies.worst_case.worst_case_summary`)."""
 
-    summary: Any
+    summary: Summary
     worst_case: dict[str, Any] | None = None
 
 
