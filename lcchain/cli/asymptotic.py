@@ -7,7 +7,6 @@ import argparse
 from fractions import Fraction
 from typing import Any
 
-from ..app.design import asymptotic
 from ..core.types import DESIGN_CASES
 from .common import EXIT_OK, emit_json
 
@@ -22,6 +21,8 @@ def add_parser(sub: Any, budget: list[Any]) -> None:
 
 
 def cmd_asymptotic(args: argparse.Namespace) -> int:
+    from ..app.design import asymptotic
+
     result = asymptotic(args.case)
     optimum = result.optimum
     if args.json:

@@ -5,7 +5,6 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
-from ..app.bench import AccuracyBenchRequest, bench_accuracy, write_bench
 from .common import EXIT_OK, budget_from_args, int_list
 from .progress import counter
 
@@ -25,6 +24,8 @@ def add_parser(sub: Any, budget: list[Any]) -> None:
 
 
 def cmd_bench_accuracy(args: argparse.Namespace) -> int:
+    from ..app.bench import AccuracyBenchRequest, bench_accuracy, write_bench
+
     result = bench_accuracy(AccuracyBenchRequest(None if args.N is None else tuple(args.N), quick=args.quick,
                                                  out=args.out, budget=budget_from_args(args),
                                                  progress=counter("bench accuracy")))

@@ -9,7 +9,6 @@ import re
 import sys
 from typing import Any
 
-from ..app.bom import BomRequest, bom
 from ..app.options import E_SERIES_NAMES
 from ..core.physical import si_text
 from .common import (
@@ -55,6 +54,8 @@ def add_bom_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def cmd_bom(args: argparse.Namespace) -> int:
+    from ..app.bom import BomRequest, bom
+
     result = bom(BomRequest(chain_options(args), args.L0, args.C0, series=args.series,
                             effects=effects_from_args(args), budget=budget_from_args(args)))
     chain, parts = result.chain, result.parts

@@ -6,7 +6,6 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
-from ..app.check import CheckRequest, check
 from ..app.options import engine_names
 from .common import EXIT_FAILED, EXIT_OK, budget_from_args, emit_json, number_type
 
@@ -48,6 +47,8 @@ def _g(value: float | None, unit: str = "") -> str:
 def cmd_check(args: argparse.Namespace) -> int:
     """Exit 0 when the run succeeded (and, with --accuracy, every vector is within it), 1 when the simulator failed
     or a vector's relative error exceeds --accuracy, 2 for bad input, 3 when the simulator is missing."""
+    from ..app.check import CheckRequest, check
+
     result = check(CheckRequest(args.netlist, accuracy=args.accuracy, engine=args.engine, timeout=args.timeout,
                                 allow_control=args.allow_control, budget=budget_from_args(args)))
     if args.json:

@@ -6,7 +6,6 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
-from ..app.design import DesignRequest, design
 from ..core.types import DESIGN_CASES
 from .common import EXIT_OK, budget_from_args, emit_json
 from .progress import fraction
@@ -70,6 +69,8 @@ def _format_perfect(design: Any) -> str:
 
 
 def cmd_design(args: argparse.Namespace) -> int:
+    from ..app.design import DesignRequest, design
+
     result = design(DesignRequest(args.case, args.N, args.walls, budget_from_args(args), progress=fraction))
     if args.json:
         emit_json(result.to_dict())

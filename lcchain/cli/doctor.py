@@ -5,7 +5,6 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
-from ..app.doctor import doctor
 from .common import EXIT_MISSING, EXIT_OK
 
 __all__ = ["add_parser", "cmd_doctor"]
@@ -17,6 +16,8 @@ def add_parser(sub: Any, budget: list[Any]) -> None:
 
 
 def cmd_doctor(args: argparse.Namespace) -> int:
+    from ..app.doctor import doctor
+
     checks = doctor()
     for check in checks:
         mark = "ok  " if check.ok else "FAIL" if check.required else "warn"

@@ -7,7 +7,6 @@ import argparse
 from pathlib import Path
 from typing import Any
 
-from ..app.netlist import example, examples
 from .common import EXIT_FAILED, EXIT_OK
 
 __all__ = ["add_parser", "cmd_examples"]
@@ -22,6 +21,8 @@ def add_parser(sub: Any, budget: list[Any]) -> None:
 
 def cmd_examples(args: argparse.Namespace) -> int:
     """List the example scenes that ship with lcchain, or write one here (or to -o FILE) to run or edit."""
+    from ..app.netlist import example, examples
+
     if args.name is None:
         listed = examples()
         width = max(len(name) for name, _ in listed)

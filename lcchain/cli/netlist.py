@@ -6,8 +6,6 @@ import argparse
 import sys
 from typing import Any
 
-from ..app.inputs import echoed_command
-from ..app.netlist import NetlistRequest, netlist
 from .common import (
     EXIT_FAILED,
     EXIT_OK,
@@ -30,6 +28,9 @@ def add_parser(sub: Any, budget: list[Any]) -> None:
 
 
 def cmd_netlist(args: argparse.Namespace) -> int:
+    from ..app.inputs import echoed_command
+    from ..app.netlist import NetlistRequest, netlist
+
     result = netlist(NetlistRequest(chain_options(args), args.L0, args.C0, excitation=args.excitation,
                                     title=args.title, transits=args.transits, dt=args.dt,
                                     effects=effects_from_args(args),

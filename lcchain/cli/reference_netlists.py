@@ -6,7 +6,6 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
-from ..app.netlist import reference_netlists
 from .common import EXIT_FAILED, EXIT_OK
 
 __all__ = ["add_parser", "cmd_reference_netlists"]
@@ -19,5 +18,7 @@ def add_parser(sub: Any, budget: list[Any]) -> None:
 
 
 def cmd_reference_netlists(args: argparse.Namespace) -> int:
+    from ..app.netlist import reference_netlists
+
     failed = reference_netlists(args.out, written=print)
     return EXIT_FAILED if failed else EXIT_OK

@@ -6,7 +6,6 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
-from ..app.sensitivity import METRIC_NAMES, SensitivityRequest, sensitivity, write_plot
 from ..app.studies import StudyOptions
 from ..core.types import ARRIVAL_METRICS
 from .common import EXIT_FAILED, EXIT_OK, add_circuit_arguments, budget_from_args, chain_options, emit_json
@@ -50,6 +49,8 @@ def add_sensitivity_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def _print(sensitivity: Any, top: list[Any], checks: list[Any]) -> None:
+    from ..app.sensitivity import METRIC_NAMES
+
     ladder = sensitivity.ladder
     chain = ladder.chain
     symbol, what = METRIC_NAMES[sensitivity.metric]
@@ -78,6 +79,8 @@ def _print(sensitivity: Any, top: list[Any], checks: list[Any]) -> None:
 
 
 def cmd_sensitivity(args: argparse.Namespace) -> int:
+    from ..app.sensitivity import SensitivityRequest, sensitivity, write_plot
+
     study = StudyOptions(args.executor, args.workers, args.scheduler, args.transport, args.timeout, store=args.store)
     result = sensitivity(SensitivityRequest(chain_options(args), args.L0, args.C0, metric=args.metric, top=args.top,
                                             check=args.check, accuracy=args.accuracy, plot=args.plot, study=study,

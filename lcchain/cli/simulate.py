@@ -5,10 +5,9 @@ from __future__ import annotations
 
 import argparse
 import sys
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from ..app.options import DEFAULT_ENGINE, engine_names
-from ..app.simulate import EnginesComparison, SimulateRequest, simulate_chain, write_outputs
 from ..core.physical import units_sentence
 from ..core.types import BACKENDS, METHODS
 from .common import (
@@ -24,6 +23,9 @@ from .common import (
     number_type,
 )
 from .progress import fraction
+
+if TYPE_CHECKING:
+    from ..app.simulate import EnginesComparison
 
 __all__ = ["add_parser", "cmd_simulate", "print_arrivals", "print_units"]
 
@@ -123,6 +125,8 @@ def _print_simulation(args: argparse.Namespace, chain: Any, data: dict[str, Any]
 
 
 def cmd_simulate(args: argparse.Namespace) -> int:
+    from ..app.simulate import EnginesComparison, SimulateRequest, simulate_chain, write_outputs
+
     request = SimulateRequest(chain_options(args), args.L0, args.C0, excitation=args.excitation, title=args.title,
                               transits=args.transits, dt=args.dt, accuracy=args.accuracy,
                               extrapolate=args.extrapolate, engines=tuple(args.engine), backend=args.backend,

@@ -5,7 +5,6 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
-from ..app.design import TableRequest, table
 from ..core.types import DESIGN_CASES
 from .common import EXIT_OK, budget_from_args, emit_json, int_list
 from .design import format_table
@@ -25,6 +24,8 @@ def add_parser(sub: Any, budget: list[Any]) -> None:
 
 
 def cmd_table(args: argparse.Namespace) -> int:
+    from ..app.design import TableRequest, table
+
     progress = Progress(f"{args.case} table")
     rows = table(TableRequest(args.case, tuple(args.N), budget_from_args(args),
                               progress=lambda done, total: progress.update(done, total, unit="rows")))
