@@ -18,7 +18,8 @@ if TYPE_CHECKING:
     from ..theory.design import Design
     from ..theory.perfect import PerfectDesign
 
-__all__ = ["DesignRequest", "TableRequest", "Asymptotic", "design", "table", "asymptotic", "check_design_sizes"]
+__all__ = ["DesignRequest", "TableRequest", "Asymptotic", "AsymptoticRequest", "design", "table", "asymptotic",
+           "check_design_sizes"]
 
 
 @dataclass(frozen=True)
@@ -102,8 +103,15 @@ def table(request: TableRequest) -> list[dict[str, Any]]:
     return rows
 
 
-def asymptotic(case: DesignCase) -> Asymptotic:
+@dataclass(frozen=True)
+class AsymptoticRequest:
+    """The N -> infinity optimum of one design ``case``."""
+
+    case: DesignCase = "two-mass"
+
+
+def asymptotic(request: AsymptoticRequest) -> Asymptotic:
     """The maximum of alpha_inf(tau, sigma) and the scaling laws of the optimum's parameters."""
     from ..theory.asymptotic import EXPONENTS, asymptotic_optimum
 
-    return Asymptotic(asymptotic_optimum(case), EXPONENTS[case])
+    return Asymptotic(asymptotic_optimum(request.case), EXPONENTS[request.case])

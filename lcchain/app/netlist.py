@@ -14,8 +14,8 @@ from ..core.types import Excitation
 from ..report.files import check_output_folder
 from .inputs import ChainOptions, Outputs, make_chain
 
-__all__ = ["DEFAULT_DT", "NetlistRequest", "NetlistResult", "netlist", "reference_netlists", "ExampleResult",
-           "example", "examples"]
+__all__ = ["DEFAULT_DT", "NetlistRequest", "NetlistResult", "netlist", "ReferenceRequest", "ReferenceNetlists",
+           "reference_netlists", "ExampleRequest", "ExampleResult", "example", "examples"]
 
 #: Step when neither --dt nor --accuracy is given, units of sqrt(L0*C0).
 DEFAULT_DT = 0.05
@@ -63,12 +63,29 @@ def netlist(request: NetlistRequest) -> NetlistResult:
     return NetlistResult(text, bool(outputs.failed))
 
 
-def reference_netlists(out: str, written: Callable[[Path], None] | None = None) -> bool:
-    """Regenerate the reference netlists in folder ``out``; ``written(path)`` after each. Returns whether one
-    could not be written."""
+@dataclass(frozen=True)
+class ReferenceRequest:
+    """Where the reference netlists go (folder ``out``, made with its parents) and ``written(path)``, called
+    after each is written."""
+
+    out: str = "netlists"
+    written: Callable[[Path], None] | None = None
+
+
+@dataclass(frozen=True)
+class ReferenceNetlists:
+    """The netlists' paths, and whether one could not be written (said in one line)."""
+
+    paths: tuple[Path, ...]
+    failed: bool
+
+
+def reference_netlists(request: ReferenceRequest) -> ReferenceNetlists:
+    """Regenerate the reference netlists: every file checked before any is written."""
     from ..circuit.reference import REFERENCE_SET, reference_netlist
 
-    folder = check_output_folder("--out", out, parents=True)
+    written = request.written
+    folder = check_output_folder("--out", request.out, parents=True)
     outputs = Outputs()
     for reference in REFERENCE_SET:
         outputs.check(reference.name, str(folder / reference.name), make_folder=True)
@@ -77,7 +94,7 @@ def reference_netlists(out: str, written: Callable[[Path], None] | None = None) 
         outputs.text(reference.name, reference_netlist(reference))
         if written is not None:
             written(folder / reference.name)
-    return bool(outputs.failed)
+    return ReferenceNetlists(tuple(folder / reference.name for reference in REFERENCE_SET), bool(outputs.failed))
 
 
 def examples() -> list[tuple[str, str]]:
@@ -98,10 +115,19 @@ class ExampleResult:
     to_stdout: bool = False
 
 
-def example(name: str, output: str | None = None) -> ExampleResult:
-    """Write the example scene ``name`` here (``NAME.toml``) or to ``output``."""
+@dataclass(frozen=True)
+class ExampleRequest:
+    """The example scene ``name``, written here (``NAME.toml``) or to ``output`` (``-``: stdout)."""
+
+    name: str
+    output: str | None = None
+
+
+def example(request: ExampleRequest) -> ExampleResult:
+    """Write the example scene: a file of that name already here is kept (the same text: nothing to do)."""
     from ..scenes.bundled import example_text
 
+    name, output = request.name, request.output
     text = example_text(name)
     target = output or f"{name}.toml"
     if output is None and (Path(target).exists() or Path(target).is_symlink()):

@@ -21,9 +21,9 @@ def add_parser(sub: Any, budget: list[Any]) -> None:
 
 
 def cmd_asymptotic(args: argparse.Namespace) -> int:
-    from ..app.design import asymptotic
+    from ..app.design import AsymptoticRequest, asymptotic
 
-    result = asymptotic(args.case)
+    result = asymptotic(AsymptoticRequest(args.case))
     optimum = result.optimum
     if args.json:
         emit_json(optimum.to_dict())

@@ -21,7 +21,7 @@ def add_parser(sub: Any, budget: list[Any]) -> None:
 
 def cmd_examples(args: argparse.Namespace) -> int:
     """List the example scenes that ship with lcchain, or write one here (or to -o FILE) to run or edit."""
-    from ..app.netlist import example, examples
+    from ..app.netlist import ExampleRequest, example, examples
 
     if args.name is None:
         listed = examples()
@@ -30,7 +30,7 @@ def cmd_examples(args: argparse.Namespace) -> int:
             print(f"{name:<{width}}  {title}")
         print("\nlcchain examples NAME writes NAME.toml here (-o FILE: elsewhere); then: lcchain run NAME.toml")
         return EXIT_OK
-    result = example(args.name, args.output)
+    result = example(ExampleRequest(args.name, args.output))
     if result.unchanged:
         print(f"{result.target} is here already, unchanged: lcchain run {result.target}")
         return EXIT_OK

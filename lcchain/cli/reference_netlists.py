@@ -18,7 +18,7 @@ def add_parser(sub: Any, budget: list[Any]) -> None:
 
 
 def cmd_reference_netlists(args: argparse.Namespace) -> int:
-    from ..app.netlist import reference_netlists
+    from ..app.netlist import ReferenceRequest, reference_netlists
 
-    failed = reference_netlists(args.out, written=print)
-    return EXIT_FAILED if failed else EXIT_OK
+    result = reference_netlists(ReferenceRequest(args.out, written=print))
+    return EXIT_FAILED if result.failed else EXIT_OK
