@@ -38,10 +38,10 @@ from ..core.checks import instance
 from ..core.errors import ParameterError, SimulationError, show_value
 from ..core.frozen import FrozenArrays, FrozenMap
 from ..core.show import html_table, plot, short_repr
-from ..core.types import GAUSSIAN_CENTRE, AnalysisKind, Probes, RunStatus
+from ..core.types import DEFAULT_ENGINE, GAUSSIAN_CENTRE, AnalysisKind, Probes, RunStatus
 from ..spice.engines import engine_named, find_engine, run_engine
 from ..spice.measure import Measurements, measurement_fields
-from ..spice.runner import RunResult
+from ..spice.result import RunResult
 from ..spice.simulator import Simulator
 from ..theory.modes import Modes
 from ..theory.response import Response, prepare_response
@@ -115,7 +115,7 @@ class RunRecord(FrozenArrays):
     engine_version: str = ""
     lcchain_version: str = __version__
     label: str = ""
-    engine: str = "ngspice"
+    engine: str = DEFAULT_ENGINE
     ac: AcResult | None = None
     spectrum: SpectrumMetrics | None = None
 
@@ -142,8 +142,9 @@ class RunRecord(FrozenArrays):
 
     @property
     def ngspice_version(self) -> str:
-        """ngspice's version when ngspice ran it, else "" (records made before engines had only this field)."""
-        return self.engine_version if self.engine == "ngspice" else ""
+        """The default engine's (ngspice's) version when it ran this, else "" (records made before engines had
+        only this field)."""
+        return self.engine_version if self.engine == DEFAULT_ENGINE else ""
 
     def summary(self) -> dict[str, Any]:
         """Everything but the arrays, as JSON-serialisable data."""

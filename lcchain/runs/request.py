@@ -195,9 +195,10 @@ class AC:
 
     def check(self, request: Request) -> None:
         """Refuse an engine without an AC analysis, and a transport other than the engine's program."""
-        ac_engine(request.engine)  # an engine without an AC analysis is refused here, naming it
-        if request.backend != "batch":
-            raise ParameterError("backend", request.backend, "batch with an AC analysis (the engine's program)")
+        engine = ac_engine(request.engine)  # an engine without an AC analysis is refused here, naming it
+        if request.backend not in engine.ac_transports:
+            raise ParameterError("backend", request.backend, f"{' | '.join(engine.ac_transports)} with an AC analysis "
+                                 "(the engine's program)")
         if request.comments:
             raise ParameterError("comments", list(request.comments), "none with an AC analysis (its netlist has "
                                  "its own header)")
@@ -266,7 +267,8 @@ class Request:
         object.__setattr__(self, "L0", real("L0", self.L0, above=0.0, unit="henry"))
         object.__setattr__(self, "C0", real("C0", self.C0, above=0.0, unit="farad"))
         choice("backend", self.backend, BACKENDS)
-        engine = engine_named(self.engine)
+        engine = engine_named(self.engine)  # an Engine itself is registered under its name, which the request keeps
+        object.__setattr__(self, "engine", engine.name)
         choice("backend", self.backend, engine.transports, f" (the transports of engine {engine.name})")
         object.__setattr__(self, "comments", strings("comments", self.comments))
         object.__setattr__(self, "timeout", real("timeout", self.timeout, above=0.0, unit="seconds"))

@@ -325,9 +325,10 @@ class RunSpec:
                                      "allow-list and the sandbox: no .control blocks, includes inlined)")
             object.__setattr__(self, "tstop", real("tstop", self.tstop, at_least=0.0, at_most=0.0,
                                                    allowed="0 (an AC run has no stop time)"))
-            if self.backend != "batch":
-                raise ParameterError("backend", self.backend, "batch with an AC analysis (the engine's program; the "
-                                     "shared library runs transients only)")
+            transports = engine_named(self.engine).ac_transports
+            if self.backend not in transports:
+                raise ParameterError("backend", self.backend, f"{' | '.join(transports)} with an AC analysis (the "
+                                     "engine's program; the shared library runs transients only)")
         else:
             if self.points is not None:
                 raise ParameterError("points", self.points, "None for a transient (points are an AC run's)")

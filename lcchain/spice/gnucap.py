@@ -87,8 +87,8 @@ from .acdata import AcResult, ac_result
 from .engine import Engine
 from .gnucap_table import TITLE, failure, quiet, quote, read_ac_table, read_table, table_number, without_rows
 from .log import trim_log
-from .processes import child_env, kill_group, outgrown, read_all
-from .runner import RunResult, check_arguments, progress_reporter, validate_columns, wait_watching
+from .processes import child_env, kill_group, outgrown, progress_reporter, read_all, wait_watching
+from .result import RunResult, check_arguments, validate_columns
 from .sandbox import SCRATCH, Sandbox, scratch_env
 from .scratch import scratch_folder
 from .simulator import Simulator, child_launcher
@@ -246,6 +246,8 @@ class Gnucap(Engine):
     #: unknown lower), all on a loaded machine where ngspice itself took 1.4-1.7 times its model.
     relative_cost: ClassVar[float] = 6.0
     runs_ac: ClassVar[bool] = True
+    ac_transports: ClassVar[tuple[Backend, ...]] = ("batch",)
+    threaded_transports: ClassVar[tuple[Backend, ...]] = ("batch",)
     #: gnucap's AC process time over ngspice's for the same sweep (benchmarks/spectrum.md, "gnucap", idle machine,
     #: segmented sweeps): 1.1 to 1.8 (two-mass N = 20 to 200, perfect and uniform-bounded N = 100); 2.0 keeps a
     #: margin.  (On a loaded machine, with even sweeps, it was 1.2 to 4.2.)

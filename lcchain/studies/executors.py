@@ -33,7 +33,7 @@ Short runs are grouped so that each task sent is worth its overhead
 balance and progress.
 
 The transport of each run (:func:`choose_transports`): short ngspice runs go
-to warm shared-library workers (:mod:`lcchain.spice.warm`), one per worker
+to warm shared-library workers (:mod:`lcchain.spice.ngspice.warm`), one per worker
 thread or process, where a new ``ngspice -b`` process would cost more than the
 run; their keys and results are those of ``ngspice -b`` (bit-identical).
 """
@@ -64,10 +64,9 @@ from ..core.errors import ExtraMissingError, LcchainError, ParameterError, Simul
 from ..core.types import EXECUTORS, TRANSPORT_CHOICES, ExecutorName, TransportChoice
 from ..runs.execute import RunRecord, execute
 from ..runs.spec import RunSpec
-from ..spice.engines import find_engine
+from ..spice.engines import engine_named, find_engine
 from ..spice.scratch import scratch_folder
 from ..spice.simulator import Simulator
-from ..spice.warm import WARM_BELOW_SECONDS, close_workers, warm_simulator
 
 __all__ = ["ExecutorName", "EXECUTORS", "MIN_TASK_SECONDS", "SCHEDULER_SCHEMES", "run_groups", "open_executor",
            "check_executor", "group_tasks", "default_workers", "execute_group", "Transports", "choose_transports",
@@ -135,12 +134,15 @@ def check_transport(transport: str) -> TransportChoice:
 
 def choose_transports(items: Sequence[tuple[int, RunSpec, float]], simulator: Simulator, workers: int,
                       transport: str = "auto") -> Transports:
-    """The runs that go warm (:mod:`lcchain.spice.warm`).
+    """The runs that go to the engine's warm transport (:meth:`lcchain.spice.engine.Engine.warm`: ngspice's shared
+    library, :mod:`lcchain.spice.ngspice.warm`).
 
-    ``"process"``: none. ``"warm"``: every run that can (ngspice batch runs of netlists checked by the
-    allow-list). ``"auto"``: those predicted under :data:`~lcchain.spice.warm.WARM_BELOW_SECONDS`, when there
-    are at least :data:`WARM_MIN_RUNS_PER_WORKER` per worker and the shared library is this ngspice's version
-    (otherwise every run starts its own process, as before).
+    ``"process"``: none. ``"warm"``: every run that can (runs of the study's engine on its default transport, of
+    an analysis its warm transport runs (:attr:`~lcchain.spice.engine.Engine.warm_analyses`), of netlists checked
+    by the allow-list). ``"auto"``: those predicted under the engine's
+    :attr:`~lcchain.spice.engine.Engine.warm_below_seconds`, when there are at least
+    :data:`WARM_MIN_RUNS_PER_WORKER` per worker and the warm transport is here (for ngspice: a shared library of
+    this ngspice's version; otherwise every run starts its own process, as before).
 
     Raises
     ------
@@ -150,18 +152,19 @@ def choose_transports(items: Sequence[tuple[int, RunSpec, float]], simulator: Si
         ``"warm"`` asked for, and no shared library of this ngspice's version.
     """
     transport = check_transport(transport)
-    if transport == "process" or simulator.engine != "ngspice" or simulator.backend != "batch":
+    engine = engine_named(simulator.engine, "simulator.engine")
+    if transport == "process" or not engine.warm_below_seconds or simulator.backend != engine.default_transport:
         return Transports()
     able = [(index, seconds) for index, spec, seconds in items
-            if spec.engine == "ngspice" and not spec.trusted and spec.analysis == "transient"]  # AC: ngspice -b
+            if spec.engine == engine.name and not spec.trusted and spec.analysis in engine.warm_analyses]
     if transport == "auto":
-        able = [(index, seconds) for index, seconds in able if seconds < WARM_BELOW_SECONDS]
+        able = [(index, seconds) for index, seconds in able if seconds < engine.warm_below_seconds]
         if len(able) < WARM_MIN_RUNS_PER_WORKER * workers:
             return Transports()
     if not able:
         return Transports()
     try:
-        warm = warm_simulator(simulator)
+        warm = engine.warm(simulator)
     except SimulatorMissingError as error:
         if transport == "warm":
             raise SimulatorMissingError(f"--transport warm: {error}") from None
@@ -238,7 +241,8 @@ def execute_group(group: Group, simulator: Simulator, keep_signals: bool = False
     another version fails its runs (their keys would not be the study's).
     """
     if not os.path.exists(simulator.executable):
-        found = find_engine(simulator.engine, "shared" if simulator.backend == "shared" else "batch")
+        engine = engine_named(simulator.engine, "simulator.engine")
+        found = find_engine(engine.name, engine.transport_for(simulator.backend))
         if found.version != simulator.version:
             reason = f"this worker's {simulator.engine} is {found.version}, the study's is {simulator.version}"
             return [(index, RunRecord(key=spec.key(simulator.version), status="failed", reason=reason,
@@ -319,7 +323,7 @@ def _threaded(groups: list[Group], simulator: Simulator, workers: int, keep_sign
 
     Each run is its own task (a thread costs microseconds per task). On the way out (the end, an error, an
     interrupt) no new run starts, a running batch child is killed at its next look (its progress callback
-    raises, within :data:`~lcchain.spice.runner.PROGRESS_INTERVAL`), warm workers are killed, and the threads
+    raises, within :data:`~lcchain.spice.processes.PROGRESS_INTERVAL`), warm workers are killed, and the threads
     are joined: nothing keeps running.
     """
     stop = threading.Event()
@@ -344,7 +348,7 @@ def _threaded(groups: list[Group], simulator: Simulator, workers: int, keep_sign
     finally:
         stop.set()
         if not finished:
-            close_workers(kill=True)
+            engine_named(simulator.engine, "simulator.engine").release(kill=True)
         pool.shutdown(wait=True, cancel_futures=True)
 
 
@@ -438,7 +442,7 @@ def open_executor(simulator: Simulator, *, executor: str = "process", workers: i
                                         verbose, scratch) as run:
             yield run
     finally:
-        close_workers()
+        engine_named(simulator.engine, "simulator.engine").release()
 
 
 @contextlib.contextmanager

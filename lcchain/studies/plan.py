@@ -55,7 +55,7 @@ from ..core.types import DEFAULT_C0, DEFAULT_L0, Backend, Excitation
 from ..runs.spec import DEFAULT_TIMEOUT, RunSpec, SpectrumTheory, Theory
 from ..spice.engines import DEFAULT_ENGINE, ENGINES, find_engine
 from ..spice.foreign import ALLOW_CONTROL_HINT, allowed_netlist, analysis_of, foreign_price
-from ..spice.runner import read_include
+from ..spice.result import read_include
 from ..spice.text import canonical_text, saved_vectors
 from .executors import executor_cost
 

@@ -9,7 +9,8 @@ place that does otherwise:
   and a registered part name (a string, or a tuple/list/set of strings) on the other;
 - an ``isinstance`` check against an effect class (a registered effect type).
 
-Run it as a script (``python tests/helpers/name_comparisons.py``) to print the places and their count.
+Run it as a script (``python tests/helpers/name_comparisons.py [PACKAGE_FOLDER]``) to print the places and
+their count (another checkout's ``lcchain`` folder: its count before a change).
 """
 
 from __future__ import annotations
@@ -22,26 +23,36 @@ from pathlib import Path
 
 PACKAGE = Path(__file__).resolve().parents[2] / "lcchain"
 
-#: Identifiers that hold a part's name (the last part of an attribute, a variable, a subscript's key).
-NAME_LIKE = re.compile(r"(^|_)(name|engine|engines|backend|backends|transport|transports|analysis|analyses|kind|"
-                       r"executor|method|case|effect|key|plot)s?$", re.IGNORECASE)
+#: Identifiers that hold a part's name (the last part of an attribute, a variable, a subscript's key), each with
+#: the kinds of part whose names it is compared with; a generic one (``name``, ``kind``, ``key``) with any kind.
+NAME_LIKE: tuple[tuple[re.Pattern[str], tuple[str, ...] | None], ...] = tuple(
+    (re.compile(rf"(^|_){word}$", re.IGNORECASE), kinds) for word, kinds in (
+        (r"engines?", ("engine",)),
+        (r"(backend|transport)s?", ("transport",)),
+        (r"(analysis|analyses)", ("analysis",)),
+        (r"executors?", ("executor",)),
+        (r"cases?", ("case",)),
+        (r"(mode_)?methods?", ("mode method",)),
+        (r"effects?", ("effect",)),
+        (r"(name|kind|key|plot)s?", None),
+    ))
 
 #: The modules that are registries (where a name is looked up, which is their job).
 REGISTRIES = {"core/registry.py", "core/types.py", "core/parts.py", "spice/engines.py"}
 
 
-def part_names() -> dict[str, str]:
-    """Every registered part name -> the kind of part it names, read from the registries themselves."""
+def part_names() -> dict[str, tuple[str, ...]]:
+    """Every registered part name -> the kinds of part it names, read from the registries themselves."""
     from lcchain.circuit.effects import EFFECTS
     from lcchain.core.types import ANALYSIS_KINDS, CASES, EXECUTORS, MODE_METHODS, TRANSPORTS
     from lcchain.spice.engines import ENGINES
 
-    names: dict[str, str] = {}
+    names: dict[str, tuple[str, ...]] = {}
     for kind, keys in (("engine", ENGINES), ("transport", TRANSPORTS), ("analysis", (*ANALYSIS_KINDS, "tran")),
                        ("executor", EXECUTORS), ("case", CASES), ("mode method", MODE_METHODS),
                        ("effect", EFFECTS)):
         for key in keys:
-            names.setdefault(str(key), kind)
+            names[str(key)] = (*names.get(str(key), ()), kind)
     return names
 
 
@@ -75,9 +86,15 @@ def _identifier(node: ast.expr) -> str | None:
     return None
 
 
-def _name_like(node: ast.expr) -> bool:
+def _kinds(node: ast.expr) -> tuple[str, ...] | None | bool:
+    """The kinds of part a name-like operand's name is compared with (None: any), or False: not name-like."""
     ident = _identifier(node)
-    return ident is not None and NAME_LIKE.search(ident) is not None
+    if ident is None:
+        return False
+    for pattern, kinds in NAME_LIKE:
+        if pattern.search(ident):
+            return kinds
+    return False
 
 
 def _strings(node: ast.expr) -> list[str]:
@@ -98,12 +115,12 @@ def _pattern_strings(pattern: ast.pattern) -> list[str]:
     return []
 
 
-def _scan(tree: ast.AST, source: str, path: str, names: dict[str, str], effects: set[str]) -> list[Place]:
+def _scan(tree: ast.AST, source: str, path: str, names: dict[str, tuple[str, ...]],
+          effects: set[str]) -> list[Place]:
     found: list[Place] = []
 
-    def add(node: ast.AST, hit: str) -> None:
-        line = source.splitlines()[node.lineno - 1].strip()  # type: ignore[attr-defined]
-        found.append(Place(path, node.lineno, line, hit))  # type: ignore[attr-defined]
+    def add(node: ast.expr | ast.stmt, hit: str) -> None:
+        found.append(Place(path, node.lineno, source.splitlines()[node.lineno - 1].strip(), hit))
 
     for node in ast.walk(tree):
         if isinstance(node, ast.Compare):
@@ -112,16 +129,19 @@ def _scan(tree: ast.AST, source: str, path: str, names: dict[str, str], effects:
                 if not isinstance(op, (ast.Eq, ast.NotEq, ast.In, ast.NotIn)):
                     continue
                 for subject, other in ((left, right), (right, left)):
-                    if not _name_like(subject):
+                    kinds = _kinds(subject)
+                    if kinds is False:
                         continue
-                    hits = [s for s in _strings(other) if s in names]
+                    hits = [s for s in _strings(other) if any(kinds is None or kind in kinds for kind in names.get(s, ()))]
                     if hits:
-                        add(node, f"{names[hits[0]]} {hits[0]!r}")
+                        add(node, f"{'/'.join(names[hits[0]])} {hits[0]!r}")
                         break
-        elif isinstance(node, ast.Match) and _name_like(node.subject):
-            hits = [s for case in node.cases for s in _pattern_strings(case.pattern) if s in names]
+        elif isinstance(node, ast.Match) and _kinds(node.subject) is not False:
+            kinds = _kinds(node.subject)
+            hits = [s for case in node.cases for s in _pattern_strings(case.pattern)
+                    if any(kinds is None or kind in kinds for kind in names.get(s, ()))]
             if hits:
-                add(node, f"match on {names[hits[0]]} {hits[0]!r}")
+                add(node, f"match on {'/'.join(names[hits[0]])} {hits[0]!r}")
         elif isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id == "isinstance" \
                 and len(node.args) == 2:
             kinds = node.args[1].elts if isinstance(node.args[1], ast.Tuple) else [node.args[1]]
@@ -146,7 +166,7 @@ def name_comparisons(package: Path = PACKAGE) -> list[Place]:
 
 
 if __name__ == "__main__":
-    places = name_comparisons()
+    places = name_comparisons(Path(sys.argv[1]) if len(sys.argv) > 1 else PACKAGE)
     for place in places:
         print(place)
     print(f"{len(places)} comparisons on part names")
