@@ -32,6 +32,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..core import __version__
+from ..core.analyses import analysis_kind
 from ..core.blas import fixed_blas_threads
 from ..core.budget import ac_run_estimate
 from ..core.checks import instance
@@ -173,7 +174,7 @@ class RunRecord(FrozenArrays):
             ("engine", f"{self.engine} {self.engine_version}".strip()),
             ("status", self.status if self.ok else f"{self.status}: {self.reason[:120]}")]
         if self.points is not None:
-            rows.append(("points" if self.analysis == "transient" else "frequencies", self.points))
+            rows.append((analysis_kind(self.analysis).count, self.points))
         rows.append(("simulator wall time (s)", self.wall_s))
         if self.metrics is not None:
             rows.append(("max |simulation - theory|", self.metrics.max_abs_error))

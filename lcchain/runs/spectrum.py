@@ -460,7 +460,7 @@ def spectrum(request: Request, *, simulator: Simulator | None = None, budget: Bu
         raise ParameterError("analysis", type(request.analysis).__name__,
                              "AC(...) for lcchain.spectrum (a Transient: lcchain.simulate(request))")
     losses = request.effect(Losses)
-    Q = None if losses is None else float(losses.Q)  # type: ignore[attr-defined]
+    Q = None if losses is None else float(losses.Q)
     chain = request.chain
     plan = plan_request(request, budget)
     spec = plan.specs[0]

@@ -324,8 +324,8 @@ class Gnucap(Engine):
             else:
                 raise _refuse(f"the line {line!r}: gnucap's dialect translates lcchain's own ladders only "
                               "(L, C, R, V, K lines, .options, .tran, .ac, .save, .end)")
-        kinds = [kind for kind, _ in analyses]
-        if kinds not in (["tran"], ["ac"] * len(kinds)) or not kinds or not names:
+        cards = [card for card, _ in analyses]  # the words of the netlist's analysis cards
+        if cards not in (["tran"], ["ac"] * len(cards)) or not cards or not names:
             raise _refuse("a netlist without one analysis ('.tran ... uic', or '.ac lin ...' cards: a sweep in "
                           "segments) or without vectors to save")
         for a, b, _ in couplings:
@@ -334,16 +334,16 @@ class Gnucap(Engine):
                     raise _refuse(f"a K line that couples {coil!r}, which is not an inductor of the netlist")
         ics = coupled_initial_currents(inductances, currents, couplings)
         body = [_with_ic(line, ics) for line in body]
-        kind = kinds[0]
-        printed = " ".join(_print_name(name, kind == "ac") for name in names)
-        if kind == "ac":
+        card = cards[0]
+        printed = " ".join(_print_name(name, card == "ac") for name in names)
+        if card == "ac":
             options = [f"numdgt={AC_DIGITS}", f"short={SOURCE_RESISTANCE!r}", f"gmin={GMIN!r}", *options]
         else:
             # gnucap's absolute scales, made the circuit's: its smallest step (its start-up ramp begins there) and its
             # Newton limits on node voltages (a linear ladder needs none).
             options = ["numdgt=14", "method=trap", *options, f"dtmin={step * DTMIN_FRACTION!r}",
                        f"vmax={VOLTAGE_LIMIT!r}", f"vmin={-VOLTAGE_LIMIT!r}", f"gmin={GMIN!r}"]
-        return "\n".join([TITLE, *body, ".options " + " ".join(options), f".print {kind} {printed}",
+        return "\n".join([TITLE, *body, ".options " + " ".join(options), f".print {card} {printed}",
                           *(line for _, line in analyses), ".end"]) + "\n"
 
     def run(self, netlist: str, vectors: Sequence[str], tstop: float, *, simulator: Simulator,

@@ -68,11 +68,34 @@ from ..spice.engines import engine_named, find_engine
 from ..spice.scratch import scratch_folder
 from ..spice.simulator import Simulator
 
-__all__ = ["ExecutorName", "EXECUTORS", "MIN_TASK_SECONDS", "SCHEDULER_SCHEMES", "run_groups", "open_executor",
+__all__ = ["ExecutorName", "EXECUTORS", "ExecutorTraits", "EXECUTOR_TRAITS", "DEFAULT_EXECUTOR",
+           "MIN_TASK_SECONDS", "SCHEDULER_SCHEMES", "run_groups", "open_executor",
            "check_executor", "group_tasks", "default_workers", "execute_group", "Transports", "choose_transports",
            "WARM_MIN_RUNS_PER_WORKER", "ExecutorCost", "executor_cost", "EXECUTOR_COSTS"]
 
-#: The executors lcchain has.
+@dataclass(frozen=True)
+class ExecutorTraits:
+    """What an executor is, as a study asks it (what it does is its line in :data:`EXECUTOR_RUNNERS`, its price
+    its line in :data:`EXECUTOR_COSTS`).
+
+    Attributes
+    ----------
+    parallel : bool
+        Its runs go side by side in workers; otherwise one after the other in this process, as one worker.
+    remote : bool
+        It may reach workers elsewhere (``--scheduler ADDRESS``).
+    """
+
+    parallel: bool
+    remote: bool
+
+
+#: The executors lcchain has, by name, and what each is.
+EXECUTOR_TRAITS: dict[str, ExecutorTraits] = {"serial": ExecutorTraits(parallel=False, remote=False),
+                                              "process": ExecutorTraits(parallel=True, remote=False),
+                                              "dask": ExecutorTraits(parallel=True, remote=True)}
+#: The executor a study uses unless told otherwise; the serial executor asked for several workers uses it too.
+DEFAULT_EXECUTOR = "process"
 #: Seconds of runs worth sending as one task (Dask's overhead per task is a few ms; its documentation asks for
 #: tasks of 100 ms and more).
 MIN_TASK_SECONDS: dict[str, float] = {"serial": 0.0, "process": 0.05, "dask": 0.3}
@@ -126,6 +149,22 @@ class Transports:
 Runner = Callable[[list[Group], Transports], Iterator[list[tuple[int, RunRecord]]]]
 
 
+@dataclass(frozen=True)
+class _TransportChoice:
+    """What a ``--transport`` choice asks of a study: whether runs may go warm, chosen by their predicted cost,
+    and whether a missing warm transport is an error."""
+
+    warm: bool
+    by_cost: bool
+    required: bool
+
+
+_TRANSPORT_CHOICES: dict[str, _TransportChoice] = {
+    "auto": _TransportChoice(warm=True, by_cost=True, required=False),
+    "process": _TransportChoice(warm=False, by_cost=False, required=False),
+    "warm": _TransportChoice(warm=True, by_cost=False, required=True)}
+
+
 def check_transport(transport: str) -> TransportChoice:
     if transport not in TRANSPORT_CHOICES:
         raise ParameterError("--transport", transport, " | ".join(TRANSPORT_CHOICES))
@@ -151,13 +190,13 @@ def choose_transports(items: Sequence[tuple[int, RunSpec, float]], simulator: Si
     SimulatorMissingError
         ``"warm"`` asked for, and no shared library of this ngspice's version.
     """
-    transport = check_transport(transport)
+    choice = _TRANSPORT_CHOICES[check_transport(transport)]
     engine = engine_named(simulator.engine, "simulator.engine")
-    if transport == "process" or not engine.warm_below_seconds or simulator.backend != engine.default_transport:
+    if not choice.warm or not engine.warm_below_seconds or simulator.backend != engine.default_transport:
         return Transports()
     able = [(index, seconds) for index, spec, seconds in items
             if spec.engine == engine.name and not spec.trusted and spec.analysis in engine.warm_analyses]
-    if transport == "auto":
+    if choice.by_cost:
         able = [(index, seconds) for index, seconds in able if seconds < engine.warm_below_seconds]
         if len(able) < WARM_MIN_RUNS_PER_WORKER * workers:
             return Transports()
@@ -166,8 +205,8 @@ def choose_transports(items: Sequence[tuple[int, RunSpec, float]], simulator: Si
     try:
         warm = engine.warm(simulator)
     except SimulatorMissingError as error:
-        if transport == "warm":
-            raise SimulatorMissingError(f"--transport warm: {error}") from None
+        if choice.required:
+            raise SimulatorMissingError(f"--transport {transport}: {error}") from None
         log.info("warm transport not used: %s", error)
         return Transports()
     return Transports(warm, frozenset(index for index, _ in able))
@@ -197,8 +236,9 @@ def check_executor(executor: str, workers: int | None = None, scheduler: str | N
     if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
         raise ParameterError("--workers", workers, "an integer >= 1")
     if scheduler is not None:
-        if executor != "dask":
-            raise ParameterError("--scheduler", scheduler, "nothing unless --executor dask")
+        if not EXECUTOR_TRAITS[executor].remote:
+            remote = " | ".join(name for name, traits in EXECUTOR_TRAITS.items() if traits.remote)
+            raise ParameterError("--scheduler", scheduler, f"nothing unless --executor {remote}")
         check_scheduler(scheduler)
 
 
@@ -213,7 +253,7 @@ def default_workers() -> int:
 def group_tasks(items: Sequence[tuple[int, RunSpec, float]], executor: str, workers: int) -> list[Group]:
     """Consecutive runs grouped until a group is worth :data:`MIN_TASK_SECONDS`, keeping enough groups."""
     least = MIN_TASK_SECONDS[executor]
-    if executor == "serial" or not items:
+    if not EXECUTOR_TRAITS[executor].parallel or not items:
         return [[(index, spec)] for index, spec, _ in items]
     total = sum(seconds for _, _, seconds in items)
     # worth the minimum, unless that leaves fewer than TASKS_PER_WORKER groups per worker

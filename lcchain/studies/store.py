@@ -79,6 +79,7 @@ from typing import Any, Literal
 import numpy as np
 
 from ..core import __version__
+from ..core.analyses import ANALYSIS_KINDS_DATA, analysis_kind
 from ..core.errors import LcchainError, ParameterError
 from ..core.extras import optional_module
 from ..core.physical import vector_units
@@ -215,7 +216,8 @@ class StoredRun:
     @property
     def spectral(self) -> bool:
         """An AC run compared with its theory (its metrics are :data:`lcchain.compare.spectral.SPECTRAL_METRICS`)."""
-        return self.metrics is not None and self.metrics.get("analysis") == "ac"
+        kind = self.metrics.get("analysis") if self.metrics is not None else None
+        return isinstance(kind, str) and kind in ANALYSIS_KINDS_DATA and analysis_kind(kind).swept
 
     @property
     def measurements(self) -> dict[str, float | None]:
