@@ -22,6 +22,7 @@ from ..core.errors import ParameterError
 from ..core.limits import MAX_CIRCUIT_N, MAX_SAMPLES, MAX_SCENE_BYTES, MIN_N
 from ..core.types import ANALYSIS_KINDS, CASES
 from ..spice.inputs import read_input
+from ..theory.cases import named_case
 from .schema import (
     ANALYSIS_KEYS,
     ANALYSIS_PLOTS,
@@ -140,7 +141,7 @@ def _parse(data: Mapping[str, Any], source: str | None) -> Scene:
     chain = _table(data, "chain", CHAIN_KEYS, required=True)
     choice("chain.case", chain.get("case"), CASES)
     if "N" not in chain:
-        if chain["case"] != "custom":
+        if named_case(chain["case"]) is not None:  # a named case's size; a custom chain's is its masses
             raise ParameterError("chain.N", None, f"an integer from {MIN_N} to {MAX_CIRCUIT_N} (required)")
         masses = chain.get("masses")
         if isinstance(masses, Sequence) and not isinstance(masses, (str, bytes)):

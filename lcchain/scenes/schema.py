@@ -34,7 +34,6 @@ from ..core.limits import (
     MAX_CIRCUIT_N,
     MAX_DT,
     MAX_I0,
-    MAX_PERFECT_N,
     MAX_PULSE_WIDTH,
     MAX_TITLE_LENGTH,
     MAX_TRANSITS,
@@ -66,6 +65,7 @@ from ..core.types import (
 )
 from ..spice.engine import Engine
 from ..spice.engines import DEFAULT_ENGINE, engine_named
+from ..theory.cases import named_case
 
 __all__ = [
     "ChainSpec",
@@ -126,14 +126,15 @@ class ChainSpec:
 
     def __post_init__(self) -> None:
         choice("chain.case", self.case, CASES)
-        if self.case != "custom":
+        named = named_case(self.case)
+        if named is not None:
             for name in ("masses", "springs"):
                 if getattr(self, name) is not None:
                     raise ParameterError(f"chain.{name}", getattr(self, name), f'no {name} unless case = "custom"')
             N = integer("chain.N", self.N, at_least=MIN_N, at_most=MAX_CIRCUIT_N)
-            if self.case == "perfect" and N > MAX_PERFECT_N:
-                raise ParameterError("chain.N", self.N,
-                                     f"an integer from {MIN_N} to {MAX_PERFECT_N} for a perfect cradle")
+            if N > named.max_N:
+                raise ParameterError("chain.N", self.N, f"an integer from {MIN_N} to {named.max_N} for case "
+                                     f"{self.case}")
             object.__setattr__(self, "N", N)
             return
 
