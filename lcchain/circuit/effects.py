@@ -602,4 +602,5 @@ def _admit(name: str, loaded: object) -> type[Effect]:
 _OWN: tuple[type[Effect], ...] = (Losses, Walls, Coupling, Tolerance, PreferredValues, *REAL_PARTS)
 EFFECTS: Registry[type[Effect]] = Registry(
     "lcchain.effects", {cls.key: cls for cls in _OWN}, _admit,
-    "a frozen dataclass subclass of lcchain.circuit.effects.Effect, its key the entry point's name")
+    "a frozen dataclass subclass of lcchain.circuit.effects.Effect, its key the entry point's name",
+    name_of=lambda part: str(getattr(part, "key", "")))
