@@ -153,7 +153,8 @@ def value_key(value: Any) -> str:
 
 
 def study_dims(runs: list[StoredRun]) -> tuple[list[str], list[str]]:
-    """The dimensions of a study's dataset (:meth:`lcchain.studies.store.Store.to_xarray`), and the axes that are coordinates along them.
+    """The dimensions of a study's dataset (:meth:`lcchain.studies.store.Store.to_xarray`), and the axes that are
+    coordinates along them.
 
     Its axes (:func:`study_axes`), in order, except an axis whose value the dimensions before it already fix for
     every run: a worst case's ``signs``, one per ``corner``, is a coordinate along ``corner``, not a dimension of
