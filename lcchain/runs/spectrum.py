@@ -52,7 +52,8 @@ from ..core.errors import ParameterError, SimulationError
 from ..core.extras import dataset_attrs, optional_module
 from ..core.show import html_table, plot, short_repr
 from ..core.types import DEFAULT_C0, DEFAULT_L0
-from ..spice.engines import DEFAULT_ENGINE
+from ..spice.engine import Engine
+from ..spice.engines import DEFAULT_ENGINE, engine_named
 from ..spice.simulator import Simulator
 from ..theory.arrivals import stop_time
 from ..theory.chain import Chain
@@ -380,7 +381,7 @@ def _losses(Q: object) -> Losses:
 
 def measure_spectrum(chain: Chain, *, Q: float | None = None, points: int | None = None, L0: float = DEFAULT_L0,
                      C0: float = DEFAULT_C0, simulator: Simulator | None = None, budget: Budget | None = None,
-                     timeout: float = 3600.0, engine: str = DEFAULT_ENGINE,
+                     timeout: float = 3600.0, engine: str | Engine = DEFAULT_ENGINE,
                      progress: Callable[[float], None] | None = None,
                      effects: tuple[Effect, ...] = ()) -> SpectrumReport:
     """The ladder's spectrum in an engine's AC analysis against exact theory.
@@ -402,8 +403,9 @@ def measure_spectrum(chain: Chain, *, Q: float | None = None, points: int | None
     budget : Budget, optional
         The AC run and the fit are priced first (:func:`lcchain.compare.spectral.spectrum_estimate`, times the engine's
         ``ac_relative_cost``).
-    engine : str
-        An engine with an AC analysis (:func:`lcchain.spice.engines.ac_engine`): ``"ngspice"`` or ``"gnucap"``.
+    engine : str or Engine
+        An engine with an AC analysis (:func:`lcchain.spice.engines.ac_engine`): ``"ngspice"`` or ``"gnucap"``, or
+        an :class:`~lcchain.spice.engine.Engine` itself (registered under its name).
     progress : callable, optional
         Called with the fraction done (0 to 1): the engine's run, then the fit.
     effects : tuple of Effect
@@ -420,7 +422,8 @@ def measure_spectrum(chain: Chain, *, Q: float | None = None, points: int | None
     if not isinstance(effects, tuple):
         raise ParameterError("effects", effects, "a tuple of lcchain effects")
     effects = effects + (() if Q is None else (_losses(Q),))
-    request = Request(chain, AC(points), effects=effects, L0=L0, C0=C0, timeout=timeout, engine=engine)
+    request = Request(chain, AC(points), effects=effects, L0=L0, C0=C0, timeout=timeout,
+                      engine=engine_named(engine).name)
     try:
         return spectrum(request, simulator=simulator, budget=budget, progress=progress)
     except ParameterError as error:  # the AC fit's range of Q for this chain, under the argument's name
@@ -457,7 +460,7 @@ def spectrum(request: Request, *, simulator: Simulator | None = None, budget: Bu
         raise ParameterError("analysis", type(request.analysis).__name__,
                              "AC(...) for lcchain.spectrum (a Transient: lcchain.simulate(request))")
     losses = request.effect(Losses)
-    Q = None if losses is None else float(losses.Q)  # type: ignore[attr-defined]
+    Q = None if losses is None else float(losses.Q)
     chain = request.chain
     plan = plan_request(request, budget)
     spec = plan.specs[0]
