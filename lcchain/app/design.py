@@ -10,7 +10,8 @@ from typing import TYPE_CHECKING, Any, Literal
 from ..core.budget import Budget, Estimate, design_estimate
 from ..core.errors import ParameterError
 from ..core.limits import MAX_DESIGN_N, MIN_N
-from ..core.types import DesignCase
+from ..core.types import DESIGN_CASES, DesignCase
+from ..theory.design import DESIGN_TABLES
 from .inputs import check_perfect
 
 if TYPE_CHECKING:
@@ -18,8 +19,8 @@ if TYPE_CHECKING:
     from ..theory.design import Design
     from ..theory.perfect import PerfectDesign
 
-__all__ = ["DesignRequest", "TableRequest", "Asymptotic", "AsymptoticRequest", "design", "table", "asymptotic",
-           "check_design_sizes"]
+__all__ = ["DESIGN_TABLES", "DesignRequest", "TableRequest", "Asymptotic", "AsymptoticRequest", "design", "table",
+           "asymptotic", "check_design_sizes"]
 
 
 @dataclass(frozen=True)
@@ -70,7 +71,8 @@ def design(request: DesignRequest) -> Design | PerfectDesign:
     :class:`lcchain.theory.design.Design`."""
     from ..theory.design import optimal_design
 
-    if request.case == "perfect":
+    case = next((case for case in DESIGN_CASES if case == request.case), None)  # one of the paper's optima
+    if case is None:  # the perfect cradle, designed from its spectrum
         from ..theory.perfect import perfect_design
 
         check_perfect(request.N, request.walls, request.budget)
@@ -78,10 +80,10 @@ def design(request: DesignRequest) -> Design | PerfectDesign:
     if request.walls:
         raise ParameterError("--walls", request.walls, "0 unless --case perfect (J >= 1: a perfect cradle tied to "
                              "walls)")
-    check_design_sizes(request.case, [request.N], request.budget)
-    bar = request.progress(f"{request.case} design, N = {request.N}") \
+    check_design_sizes(case, [request.N], request.budget)
+    bar = request.progress(f"{case} design, N = {request.N}") \
         if request.progress is not None and request.N >= 10_000 else None
-    result = optimal_design(request.case, request.N, progress=bar)
+    result = optimal_design(case, request.N, progress=bar)
     if bar is not None:
         bar(1.0)
     return result

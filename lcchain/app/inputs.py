@@ -160,7 +160,7 @@ def make_chain(args: ChainOptions, budget: Budget, max_N: int = MAX_CIRCUIT_N) -
 
 
 def _chain_of_args(args: ChainOptions, budget: Budget, max_N: int) -> Chain:
-    from ..theory.cases import chain_for_case
+    from ..theory.cases import CHAIN_CASES, chain_for_case
 
     if args.chain:
         given = [option for option, value in (("--case", args.case), ("--N", args.N), ("--walls", args.walls or None))
@@ -174,9 +174,10 @@ def _chain_of_args(args: ChainOptions, budget: Budget, max_N: int) -> Chain:
         raise ParameterError(missing, None, "--case and --N, or --chain FILE")
     if not 3 <= args.N <= max_N:
         raise ParameterError("--N", args.N, f"an integer from 3 to {max_N} (masses of a circuit)")
-    if args.walls and args.case != "perfect":
+    named = CHAIN_CASES[args.case]  # a name the parser offered
+    if args.walls and not named.walls:
         raise ParameterError("--walls", args.walls, "0 unless --case perfect (J >= 1: a perfect cradle tied to walls)")
-    if args.case == "perfect":
+    if named.walls:  # the case that takes walls, the perfect cradle, is designed from its spectrum: priced first
         check_perfect(args.N, args.walls, budget)
     return chain_for_case(args.case, args.N, args.walls)
 

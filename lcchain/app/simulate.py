@@ -19,7 +19,7 @@ from ..circuit.effects import Effect
 from ..core.budget import Budget
 from ..core.errors import ParameterError
 from ..core.physical import hertz, physical_scales, seconds
-from ..core.types import Backend, Excitation, Method
+from ..core.types import BACKENDS, Backend, Excitation, Method
 from ..report.files import FIGURE_FORMATS
 from .inputs import ChainOptions, Outputs, make_chain
 from .netlist import DEFAULT_DT
@@ -217,8 +217,8 @@ def _compare_engines(request: SimulateRequest, chain: Any, dt: float | None,
     if request.plot or request.waveform_out:
         option, value = ("--plot", request.plot) if request.plot else ("--waveform-out", request.waveform_out)
         raise ParameterError(option, value, "one engine (--engine NAME)")
-    if request.backend != "batch":
-        raise ParameterError("--backend", request.backend, "batch with several engines")
+    if request.backend != BACKENDS[0]:  # the default transport, which every engine has
+        raise ParameterError("--backend", request.backend, f"{BACKENDS[0]} with several engines")
     reports: list[Any] = []
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")

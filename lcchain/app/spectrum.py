@@ -26,9 +26,9 @@ __all__ = ["SpectrumRequest", "Spectrum", "TwoPortSummary", "spectrum", "write_o
 @dataclass(frozen=True)
 class SpectrumRequest:
     """The chain and its units, the engine, the AC sweep's ``points`` (None: twice the fewest that separate
-    every pole), the chain's losses ``Q`` and other effects, the figure ``plot``, the two-port file
-    ``touchstone`` and its reference impedance ``z0`` (ohms); ``progress(label)`` gives a callback of the
-    fraction done."""
+    every pole), the chain's losses ``Q`` and the other effects (losses among them are refused), the figure
+    ``plot``, the two-port file ``touchstone`` and its reference impedance ``z0`` (ohms); ``progress(label)``
+    gives a callback of the fraction done."""
 
     chain: ChainOptions
     L0: float
@@ -70,7 +70,6 @@ class TwoPortSummary:
 
 def spectrum(request: SpectrumRequest) -> Spectrum:
     """Check the outputs, build the chain, run the AC analysis and compare it with theory."""
-    from ..circuit.effects import Losses
     from ..runs.spectrum import measure_spectrum
 
     outputs = Outputs(inputs={"--chain": request.chain.chain} if request.chain.chain else {})
@@ -81,9 +80,9 @@ def spectrum(request: SpectrumRequest) -> Spectrum:
     if request.z0 is not None and not request.z0 > 0:
         raise ParameterError("--z0", request.z0, "a reference impedance > 0 ohms")
     chain = make_chain(request.chain, request.budget)
-    # the effect options the parser has (--Q is measure_spectrum's own, refused under its name there): effects
-    # that are no chain's are compared with the circuit's own poles and residues
-    effects = tuple(effect for effect in request.effects if not isinstance(effect, Losses))
+    # effects that are no chain's are compared with the circuit's own poles and residues (the chain's losses are
+    # Q, measure_spectrum's own, refused under its name there)
+    effects = request.effects
     progress = None if request.progress is None else request.progress(f"{request.engine} AC analysis, then the fit")
     report = measure_spectrum(chain, Q=request.Q, points=request.points, L0=request.L0, C0=request.C0,
                               budget=request.budget, engine=request.engine, progress=progress, effects=effects)

@@ -42,9 +42,10 @@ class StudyOptions:
 
 def study_workers(options: StudyOptions) -> int:
     """The workers a study runs on: ``workers``, or one per core (serial: one)."""
-    from ..studies.executors import default_workers
+    from ..studies.executors import EXECUTOR_TRAITS, default_workers
 
-    return 1 if options.executor == "serial" else options.workers or default_workers()
+    traits = EXECUTOR_TRAITS.get(options.executor)  # an unknown name is refused by check_executor
+    return 1 if traits is not None and not traits.parallel else options.workers or default_workers()
 
 
 def check_executor(options: StudyOptions) -> None:

@@ -8,9 +8,10 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
+from ..core.analyses import analysis_kind
 from ..core.budget import INTERPRETER_SECONDS, Budget
 from ..core.errors import ParameterError
-from ..core.types import DEFAULT_C0, DEFAULT_L0, ArrivalMetric, Backend, Excitation, WorstCaseMethod
+from ..core.types import BACKENDS, DEFAULT_C0, DEFAULT_L0, ArrivalMetric, Backend, Excitation, WorstCaseMethod
 from ..spice.engines import DEFAULT_ENGINE
 from .studies import PlannedStudy, StudyHooks, StudyOptions, StudyResult, run_study, study_workers
 
@@ -108,7 +109,7 @@ def _netlist_sweep(request: SweepRequest, budget: Budget) -> PlannedStudy:
                             ("--tolerance", request.tolerance),
                             ("--series", request.series), ("--transits", request.transits),
                             ("--excitation", request.excitation),
-                            ("--analysis", None if request.analysis == "transient" else request.analysis))
+                            ("--analysis", request.analysis if analysis_kind(request.analysis).swept else None))
              if v is not None]
     if given:
         value = request.scene if given[0] == "SCENE.toml" else getattr(request, given[0].lstrip("-"))
@@ -127,9 +128,9 @@ def _parts_sweep(request: SweepRequest, budget: Budget) -> Any:
     file, the scene made from the options (:func:`lcchain.studies.plan.case_scene`), each list of them an axis."""
     from ..studies.plan import case_scene, scene_sweep_plan
 
-    if request.analysis == "ac":
-        raise ParameterError("--analysis", "ac", "transient with --tolerance, --series or --samples and no scene "
-                             "(an AC Monte Carlo: a scene file with [analysis] kind = \"ac\")")
+    if analysis_kind(request.analysis).swept:
+        raise ParameterError("--analysis", request.analysis, "transient with --tolerance, --series or --samples and "
+                             "no scene (an AC Monte Carlo: a scene file with [analysis] kind = \"ac\")")
     if request.points is not None:
         raise ParameterError("--points", request.points, "nothing without --analysis ac")
     cases, Ns = request.case or [], request.N or []  # both given: checked by plan_sweep
@@ -155,9 +156,9 @@ def _parts_sweep(request: SweepRequest, budget: Budget) -> Any:
 
 def _scene_says(request: SweepRequest) -> tuple[tuple[str, Any], ...]:
     """The options a scene file says itself (its analysis, drive and transport): given with SCENE.toml, refused."""
-    return (("--analysis", None if request.analysis == "transient" else request.analysis),
+    return (("--analysis", request.analysis if analysis_kind(request.analysis).swept else None),
             ("--transits", request.transits), ("--excitation", request.excitation),
-            ("--backend", None if request.backend == "batch" else request.backend))
+            ("--backend", None if request.backend == BACKENDS[0] else request.backend))
 
 
 def _worst_case(request: SweepRequest, budget: Budget) -> PlannedStudy:
@@ -206,7 +207,7 @@ def _ac_sweep(request: SweepRequest, budget: Budget) -> Any:
     from ..studies.plan import spectrum_sweep_plan
 
     given = [o for o in ("--dt", "--accuracy", "--extrapolate", "--transits", "--excitation")
-             if getattr(request, o.lstrip("-")) is not None] + (["--backend"] if request.backend != "batch" else [])
+             if getattr(request, o.lstrip("-")) is not None] + (["--backend"] if request.backend != BACKENDS[0] else [])
     if given:
         raise ParameterError(given[0], getattr(request, given[0].lstrip("-")), "nothing with --analysis ac (a "
                              "transient's option; an AC sweep has --points)")

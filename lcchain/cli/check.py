@@ -7,6 +7,7 @@ import argparse
 from typing import Any
 
 from ..app.options import engine_names
+from ..core.analyses import analysis_kind
 from .common import EXIT_FAILED, EXIT_OK, budget_from_args, emit_json, number_type
 
 __all__ = ["add_parser", "add_check_arguments", "cmd_check"]
@@ -67,7 +68,7 @@ def cmd_check(args: argparse.Namespace) -> int:
               f"{_g(v.max_rel_error):>9}  {_g(v.predicted_error, v.unit):>11}")
     print(f"max_abs_error {_g(result.max_abs_error)} (each vector in its own units), relative "
           f"{_g(result.max_rel_error)}")
-    if result.analysis == "transient":
+    if not analysis_kind(result.analysis).swept:  # a transient's step
         print(f"largest step of the run {_g(result.run_step, 's')}: predicted error {_g(result.predicted_error)} "
               f"({result.prediction})")
         need = ("none: the predicted error stays above it down to tstop * 1e-9 (the exact reference's rounding, "

@@ -302,15 +302,17 @@ def add_effect_arguments(p: argparse.ArgumentParser) -> None:
             raise ParameterError(f"effects.{effect.key}", effect.option, f"an option no other has ({error})") from None
 
 
-def effect_values(args: argparse.Namespace) -> dict[str, float | None]:
-    """What the effect options were given (option -> value; None: not given)."""
-    return {effect.option: getattr(args, _dest(effect.option), None) for effect in effect_options()}
+def effect_values(args: argparse.Namespace, but: tuple[str, ...] = ()) -> dict[str, float | None]:
+    """What the effect options were given (option -> value; None: not given), except the options ``but`` names
+    (a command that reads one itself: ``spectrum``'s ``--Q``)."""
+    return {effect.option: getattr(args, _dest(effect.option), None) for effect in effect_options()
+            if effect.option not in but}
 
 
-def effects_from_args(args: argparse.Namespace) -> tuple[Effect, ...]:
-    """The effects the effect options ask for, in the registry's order; a bad value is refused under its
-    option's name (``--coil-capacitance = -1.0 is not allowed: ...``)."""
-    return effects_from_options(effect_values(args))
+def effects_from_args(args: argparse.Namespace, but: tuple[str, ...] = ()) -> tuple[Effect, ...]:
+    """The effects the effect options ask for (except those ``but`` names), in the registry's order; a bad value
+    is refused under its option's name (``--coil-capacitance = -1.0 is not allowed: ...``)."""
+    return effects_from_options(effect_values(args, but))
 
 
 def engine_list(text: str) -> tuple[str, ...]:

@@ -37,7 +37,10 @@ def format_table(case: str, rows: list[dict[str, Any]]) -> str:
     columns = _TABLE_COLUMNS[case]
     cells = [[fmt.format(row[key]) for _, key, fmt in columns] for row in rows]
     widths = [max(len(head), *(len(c[i]) for c in cells)) for i, (head, _, _) in enumerate(columns)]
-    title = "Table I: one optimised mass" if case == "one-mass" else "Table II: two optimised masses and their spring"
+    from ..app.design import DESIGN_TABLES
+
+    table, what = DESIGN_TABLES[case]
+    title = f"{table}: {what}"
     lines = [title, "  ".join(h.rjust(w) for (h, _, _), w in zip(columns, widths, strict=True))]
     lines.append("-" * len(lines[-1]))
     lines += ["  ".join(c.rjust(w) for c, w in zip(row, widths, strict=True)) for row in cells]
@@ -74,8 +77,8 @@ def cmd_design(args: argparse.Namespace) -> int:
     result = design(DesignRequest(args.case, args.N, args.walls, budget_from_args(args), progress=fraction))
     if args.json:
         emit_json(result.to_dict())
-    elif args.case == "perfect":
-        print(_format_perfect(result))
-    else:
+    elif args.case in DESIGN_CASES:  # one of the paper's optima: its table's row
         print(format_table(args.case, [result.to_dict()]))
+    else:
+        print(_format_perfect(result))
     return EXIT_OK

@@ -7,6 +7,8 @@ import sys
 from typing import Any
 
 from ..app.studies import StudyOptions
+from ..core.analyses import analysis_kind
+from ..core.types import ANALYSIS_KINDS
 from .common import EXIT_FAILED, EXIT_OK, add_parts_arguments, budget_from_args, emit_json
 from .progress import fraction, study_counter
 from .simulate import print_arrivals
@@ -66,7 +68,7 @@ def _print_spectrum_summary(result: Any) -> None:
 
 
 def _print_scene_summary(result: Any) -> None:
-    if result.report.get("analysis") == "ac":
+    if analysis_kind(result.report.get("analysis", ANALYSIS_KINDS[0])).swept:  # an AC scene's spectra
         _print_spectrum_summary(result)
         return
     report = result.report

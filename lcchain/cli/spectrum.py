@@ -53,7 +53,7 @@ def cmd_spectrum(args: argparse.Namespace) -> int:
     from ..app.spectrum import SpectrumRequest, spectrum, write_outputs
 
     result = spectrum(SpectrumRequest(chain_options(args), args.L0, args.C0, engine=args.engine, points=args.points,
-                                      Q=args.Q, effects=effects_from_args(args), plot=args.plot,
+                                      Q=args.Q, effects=effects_from_args(args, but=("--Q",)), plot=args.plot,
                                       touchstone=args.touchstone, z0=args.z0, budget=budget_from_args(args),
                                       progress=fraction))
     chain, data = result.chain, result.data
