@@ -436,7 +436,8 @@ def cmd_spectrum(args: argparse.Namespace) -> int:
     effects = tuple(effect for effect in effects_from_args(args) if not isinstance(effect, Losses))
     report = measure_spectrum(chain, Q=args.Q, points=args.points, L0=args.L0, C0=args.C0,
                               budget=budget_from_args(args), engine=args.engine,
-                              progress=fraction(f"{args.engine} AC analysis, then the fit"), effects=effects)
+                              progress=fraction(f"{args.engine} AC analysis, then the fit"), effects=effects,
+                              shapes=args.shapes)
     data = with_physical_units(report.to_dict(), args.L0, args.C0)
     if args.json:
         emit_json(data)
@@ -470,6 +471,8 @@ def cmd_spectrum(args: argparse.Namespace) -> int:
               f"{data['max_abs_error_P']:.3e} ({data['seen']} of {chain.N} modes seen at the ends)")
         if data["Q"] is not None or data["max_rel_error_Q"] is not None:  # the chain's losses, a circuit's resistors
             _print_quality(data)
+    if report.modes is not None and not args.json:
+        _print_survey(report.modes)
     if args.plot:
         from ..report.plots import spectrum
 
@@ -482,7 +485,24 @@ def cmd_spectrum(args: argparse.Namespace) -> int:
     if report.failure:  # a comparison that failed is a failed check
         print(f"lcchain: {report.failure}", file=sys.stderr)
         return EXIT_FAILED
+    if report.modes is not None and not report.modes.resolved.all():
+        print(f"lcchain: the survey of every loop resolved {int(report.modes.resolved.sum())} of {chain.N} modes",
+              file=sys.stderr)
+        return EXIT_FAILED
     return EXIT_FAILED if outputs.failed else EXIT_OK
+
+
+def _print_survey(modes: Any) -> None:
+    """``spectrum --shapes``: every mode from the survey of every loop, beside the exact eigensolution."""
+    for name, value in modes.rows():
+        print(f"{name}: {value:.3e}" if isinstance(value, float) else f"{name}: {value}")
+    lossy = modes.losses is not None
+    print(f"{'n':>5} {'omega (survey)':>19} {'rel. error':>10} {'shape error':>11} {'P_n (shape)':>14} "
+          f"{'P_n (theory)':>14}" + (f" {'Q_n':>12} {'rel. error':>10}" if lossy else ""))
+    for n in range(modes.N):
+        quality = f" {modes.Q[n]:12.6g} {modes.Q_error[n]:10.2e}" if lossy else ""
+        print(f"{n + 1:>5} {modes.omega[n]:19.15f} {modes.omega_error[n]:10.2e} {modes.shape_error[n]:11.2e} "
+              f"{modes.P[n]:14.6e} {modes.P_theory[n]:14.6e}{quality}")
 
 
 def _error(value: float | None) -> str:

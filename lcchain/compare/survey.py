@@ -179,7 +179,8 @@ def fit_survey(omega: np.ndarray, g: np.ndarray, x0: np.ndarray, *, lossy: bool 
     else:
         sketch = g
     sweeps = 0
-    for sweeps in range(1, SWEEPS + 1):
+    while sweeps < SWEEPS:
+        sweeps += 1
         windows = _plan(w, x, gamma)
         residues = _residues(windows, sketch, x.size)
         step = max(_move_poles(window, w, sketch, x, gamma, fixed, residues, lossy) for window in windows)

@@ -31,7 +31,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -61,6 +61,7 @@ from ..theory.response import linear_response
 from .execute import circuit_modes, execute
 from .request import AC, Request, plan_request
 from .spec import SpectrumTheory
+from .survey import ModeReport, measure_modes
 
 __all__ = ["SpectrumReport", "measure_spectrum", "spectrum", "OMEGA_MARGIN", "SPECTRUM_MAX_N", "OMEGA_WEIGHT_FLOOR",
            "DEFAULT_OVERSAMPLING", "RESPONSE_TIMES"]
@@ -111,6 +112,9 @@ class SpectrumReport:
         omega_n / gamma_n.
     time_unit : float
         sqrt(L0 C0), seconds: omega_n / (2 pi time_unit) is the mode's frequency in hertz.
+    modes : ModeReport or None
+        Every mode with its shape from a second AC run that drives every loop (``measure_spectrum(...,
+        shapes=True)``, ``lcchain spectrum --shapes``: :func:`lcchain.runs.survey.measure_modes`); None: not asked.
     """
 
     chain: Chain
@@ -128,6 +132,7 @@ class SpectrumReport:
     engine: str = DEFAULT_ENGINE
     gamma_theory: np.ndarray | None = None
     time_unit: float = math.sqrt(DEFAULT_L0 * DEFAULT_C0)
+    modes: ModeReport | None = None
 
     @property
     def lossy(self) -> bool:
@@ -285,7 +290,8 @@ class SpectrumReport:
                 "Q": self.losses, "max_rel_error_Q": _finite(self.max_rel_error_Q) if lossy else None,
                 "max_rel_error_pole": _finite(self.max_rel_error_pole), "max_abs_error_response": self.response_error,
                 "segments": self.segments,
-                "failure": self.failure} | ({} if self.theory.method != "circuit" else {"theory": "circuit"})
+                "failure": self.failure} | ({} if self.theory.method != "circuit" else {"theory": "circuit"}) | (
+                {} if self.modes is None else {"survey": self.modes.to_dict()})
 
     def _rows(self) -> list[tuple[str, object]]:
         lossy = f", losses Q = {self.losses:g}" if self.losses is not None else ""
@@ -298,6 +304,8 @@ class SpectrumReport:
             ("max abs. error of P_n", self.max_abs_error_P)]
         if self.lossy:
             rows.append(("max rel. error of Q_n", self.max_rel_error_Q))
+        if self.modes is not None:
+            rows += self.modes.rows()
         return rows
 
     def __repr__(self) -> str:
@@ -382,7 +390,7 @@ def measure_spectrum(chain: Chain, *, Q: float | None = None, points: int | None
                      C0: float = DEFAULT_C0, simulator: Simulator | None = None, budget: Budget | None = None,
                      timeout: float = 3600.0, engine: str = DEFAULT_ENGINE,
                      progress: Callable[[float], None] | None = None,
-                     effects: tuple[Effect, ...] = ()) -> SpectrumReport:
+                     effects: tuple[Effect, ...] = (), shapes: bool = False) -> SpectrumReport:
     """The ladder's spectrum in an engine's AC analysis against exact theory.
 
     Parameters
@@ -410,6 +418,10 @@ def measure_spectrum(chain: Chain, *, Q: float | None = None, points: int | None
         More effects on the ladder (walls, coupling, the parts of real coils and capacitors ...), as a request's;
         those whose elements are no chain's are compared with the circuit's own poles and residues (module
         docstring).
+    shapes : bool
+        Also every mode with its shape, from a second AC run (ngspice) that drives every loop
+        (:func:`lcchain.runs.survey.measure_modes`): the report's ``modes``.  A chain with walls, coupled coils and
+        losses (``Q``); no other effects.
 
     Raises
     ------
@@ -419,12 +431,20 @@ def measure_spectrum(chain: Chain, *, Q: float | None = None, points: int | None
     instance("chain", chain, Chain)
     if not isinstance(effects, tuple):
         raise ParameterError("effects", effects, "a tuple of lcchain effects")
+    if shapes is not True and shapes is not False:
+        raise ParameterError("shapes", shapes, "True or False")
+    if shapes and effects:
+        raise ParameterError("shapes", shapes, "False with effects other than --Q (a survey of every loop measures "
+                             "a chain's modes: walls, coupled coils and losses)")
     effects = effects + (() if Q is None else (_losses(Q),))
     request = Request(chain, AC(points), effects=effects, L0=L0, C0=C0, timeout=timeout, engine=engine)
     try:
-        return spectrum(request, simulator=simulator, budget=budget, progress=progress)
+        report = spectrum(request, simulator=simulator, budget=budget, progress=progress)
     except ParameterError as error:  # the AC fit's range of Q for this chain, under the argument's name
         raise (error.renamed("Q") if error.field == "effects.losses.Q" else error) from None
+    if not shapes:
+        return report
+    return replace(report, modes=measure_modes(chain, Q=Q, L0=L0, C0=C0, timeout=timeout))
 
 
 def spectrum(request: Request, *, simulator: Simulator | None = None, budget: Budget | None = None,

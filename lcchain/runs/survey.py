@@ -213,7 +213,8 @@ class ModeReport:
     def rows(self) -> list[tuple[str, object]]:
         """The summary lines ``lcchain spectrum --shapes`` prints."""
         rows: list[tuple[str, object]] = [
-            ("every-loop survey", f"{self.points} frequencies, {self.segments} segments, ngspice {self.engine_version}"),
+            ("every-loop survey", f"{self.points} frequencies, {self.segments} segments, "
+                                  f"ngspice {self.engine_version}"),
             ("modes resolved", f"{int(self.resolved.sum())} of {self.N} (omega to {OMEGA_TARGET:g}, shape to "
                                f"{SHAPE_TARGET:g})"),
             ("max rel. error of omega_n", self.max_rel_error_omega),

@@ -648,3 +648,10 @@ RTOL_CHECK_AC_GNUCAP = 1e-11
 # difference of O(1) terms, zero to the same rounding (tests/test_paper_reading.py).
 RTOL_PAPER_ALGEBRA = 1e-12
 ATOL_PAPER_ALGEBRA = 1e-12
+
+# Issue 32's targets for a survey of every loop (lcchain.runs.survey): each omega_n relative, each M-orthonormal
+# shape's largest error over the loops relative to its largest entry, each Q_n relative (modes at least 3 widths
+# apart).  Measured well inside them (omega ~1e-14, shapes ~1e-12 .. 1e-8 at N <= 1000: benchmarks/spectrum.md).
+RTOL_SURVEY_OMEGA = 1e-9
+RTOL_SURVEY_SHAPE = 1e-7
+RTOL_SURVEY_Q = 1e-8
