@@ -78,3 +78,28 @@ def test_every_mode_at_200(case, N):
     _check_every_mode(report, chain)
     if case == "perfect":
         assert report.spacing_deviation <= RTOL_SURVEY_OMEGA
+
+
+def test_cli_shapes_json(capsys):
+    """``lcchain spectrum --shapes --json``: the survey beside the loop-1 fit, each mode's shape over the loops."""
+    import json
+
+    from lcchain.cli.main import main
+
+    assert main(["spectrum", "--case", "perfect", "--N", "10", "--shapes", "--json"]) == 0
+    survey = json.loads(capsys.readouterr().out)["survey"]
+    assert survey["resolved"] == 10
+    chain = chain_for_case("perfect", 10)
+    omega, u = dense_shapes(chain)
+    for mode, exact, shape in zip(survey["modes"], omega, u.T, strict=True):
+        assert abs(mode["omega"] - exact) <= RTOL_SURVEY_OMEGA * max(exact, 1.0)
+        measured = np.asarray(mode["shape"])
+        assert np.max(np.abs(measured - shape * np.sign(shape @ measured))) <= RTOL_SURVEY_SHAPE
+
+
+def test_shapes_refuse_other_effects():
+    from lcchain.circuit.effects import CoilResistance
+    from lcchain.runs.spectrum import measure_spectrum
+
+    with pytest.raises(ParameterError, match="shapes"):
+        measure_spectrum(chain_for_case("two-mass", 8), shapes=True, effects=(CoilResistance(0.01),))

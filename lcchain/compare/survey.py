@@ -41,12 +41,14 @@ __all__ = ["ModeSurvey", "fit_survey", "survey_amplitudes", "mode_shapes", "CORE
 
 #: Modes whose parameters one window keeps.
 CORE = 8
+#: Up to this many modes, one window holds them all (no far modes, no Python loop over windows).
+ONE_WINDOW = 128
 #: Neighbours on each side fitted beside a window's modes (their values are the neighbouring windows').
 HALO = 4
 #: Neighbours beyond the halo on each side whose current model is subtracted from a window's samples.
 FAR = 64
 #: Terms of the smooth correction a window fits beside its sections (the modes beyond the far ones).
-BACKGROUND = 8
+BACKGROUND = 12
 #: Gauss-Newton steps on the poles at most (each: the residues of every window at once, then each window's step).
 SWEEPS = 8
 #: A step below this (relative to its window's largest x) ends them: the poles have settled.
@@ -80,7 +82,8 @@ class ModeSurvey(FrozenArrays):
         r_n = u_n (u_n . b) of g = I / (j w).
     sweeps : int
     residual : float
-        Largest misfit left on a window's samples, relative to the largest sample there.
+        Largest misfit left on a window's samples (of the loops' random combinations the poles are fitted on),
+        relative to the largest sample there.
     """
 
     omega: np.ndarray
@@ -184,11 +187,13 @@ def fit_survey(omega: np.ndarray, g: np.ndarray, x0: np.ndarray, *, lossy: bool 
         windows = _plan(w, x, gamma)
         residues = _residues(windows, sketch, x.size)
         step = max(_move_poles(window, w, sketch, x, gamma, fixed, residues, lossy) for window in windows)
-        if step <= _SETTLED:
+        if step <= _SETTLED:  # the windows' sections are the poles' to within rounding: keep them
             break
-    windows = _plan(w, x, gamma)
+    else:
+        windows = _plan(w, x, gamma)
+        residues = _residues(windows, sketch, x.size)
+    worst = max(_misfit(window, sketch, residues) for window in windows)  # the sketch's misfit: the loops' mixed
     residues = _residues(windows, g, x.size)
-    worst = max(_misfit(window, g, residues) for window in windows)
     return ModeSurvey(np.sqrt(np.clip(x, 0.0, None)), gamma, residues, sweeps, worst)
 
 
@@ -213,9 +218,10 @@ def _sections(ws: np.ndarray, x: np.ndarray, gamma: np.ndarray) -> np.ndarray:
 
 def _plan(w: np.ndarray, x: np.ndarray, gamma: np.ndarray) -> list[_Window]:
     n_modes = x.size
+    core = n_modes if n_modes <= ONE_WINDOW else CORE
     windows = []
-    for lo in range(0, n_modes, CORE):
-        hi = min(lo + CORE, n_modes)
+    for lo in range(0, n_modes, core):
+        hi = min(lo + core, n_modes)
         a, z = max(lo - HALO, 0), min(hi + HALO, n_modes)
         rows = _edges(x, w, a, z)
         ws = w[rows]
