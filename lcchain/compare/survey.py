@@ -31,6 +31,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+import scipy.linalg
 
 from ..core.blas import fixed_blas_threads
 from ..core.errors import ParameterError
@@ -44,9 +45,9 @@ CORE = 8
 #: Up to this many modes, one window holds them all (no far modes, no Python loop over windows).
 ONE_WINDOW = 128
 #: Neighbours on each side fitted beside a window's modes (their values are the neighbouring windows').
-HALO = 4
+HALO = 8
 #: Neighbours beyond the halo on each side whose current model is subtracted from a window's samples.
-FAR = 64
+FAR = 32
 #: Terms of the smooth correction a window fits beside its sections (the modes beyond the far ones).
 BACKGROUND = 12
 #: Gauss-Newton steps on the poles at most (each: the residues of every window at once, then each window's step).
@@ -239,7 +240,7 @@ def _plan(w: np.ndarray, x: np.ndarray, gamma: np.ndarray) -> list[_Window]:
         basis = basis * weight[:, None]
         scale = np.linalg.norm(basis, axis=0)
         q, r = np.linalg.qr(basis / scale)
-        solve = np.linalg.solve(r, q.conj().T * weight[None, :]) / scale[:, None]
+        solve = scipy.linalg.solve_triangular(r, q.conj().T * weight[None, :]) / scale[:, None]
         windows.append(_Window(lo, hi, rows, explicit, far, weight, q, solve,
                                _sections(ws, x[far], gamma[far])))
     return windows
@@ -293,30 +294,24 @@ def _move_poles(window: _Window, w: np.ndarray, g: np.ndarray, x: np.ndarray, ga
     coeffs = window.solve @ target
     weighted = target * window.weight[:, None]
     misfit = weighted - window.q @ (window.q.conj().T @ weighted)
-    A = _sections(ws, x[window.explicit], gamma[window.explicit])
-    params, columns = [], []
-    for j, n in enumerate(window.explicit):
-        if not fixed[n]:
-            params.append((j, n, "x"))
-            columns.append(-A[:, j] ** 2 * window.weight)
-        if lossy:
-            params.append((j, n, "gamma"))
-            columns.append(-1j * ws * A[:, j] ** 2 * window.weight)
-    if not params:
+    explicit = window.explicit
+    slope = -_sections(ws, x[explicit], gamma[explicit]) ** 2 * window.weight[:, None]  # d/dx of each section
+    moves_x = np.flatnonzero(~fixed[explicit])
+    which = [moves_x] + ([np.arange(explicit.size)] if lossy else [])
+    columns = [slope[:, moves_x]] + ([1j * ws[:, None] * slope] if lossy else [])  # d/dgamma = j w d/dx
+    if not moves_x.size and not lossy:
         return 0.0
-    V = np.stack(columns, axis=1)
+    V = np.hstack(columns)
     V = V - window.q @ (window.q.conj().T @ V)
-    c = coeffs[[j for j, _, _ in params]]
+    c = coeffs[np.concatenate(which)]
     normal = ((V.conj().T @ V) * (c.conj() @ c.T)).real
     rhs = (c.conj() * (V.conj().T @ misfit)).sum(axis=1).real
     delta = np.linalg.lstsq(normal, rhs, rcond=None)[0]
-    largest = 0.0
-    for (_, n, kind), d in zip(params, delta, strict=True):
-        if not window.lo <= n < window.hi:  # a halo mode: its own window places it
-            continue
-        if kind == "x":
-            x[n] += d
-        else:
-            gamma[n] += d
-        largest = max(largest, abs(float(d)))
-    return largest / max(float(np.max(x[window.explicit])), np.finfo(float).tiny)
+    core = (explicit >= window.lo) & (explicit < window.hi)  # a halo mode: its own window places it
+    dx = np.zeros(explicit.size)
+    dx[moves_x] = delta[:moves_x.size]
+    dgamma = delta[moves_x.size:] if lossy else np.zeros(explicit.size)
+    x[explicit[core]] += dx[core]
+    gamma[explicit[core]] += dgamma[core]
+    largest = float(np.max(np.abs(np.concatenate((dx[core], dgamma[core]))), initial=0.0))
+    return largest / max(float(np.max(x[explicit])), np.finfo(float).tiny)
