@@ -16,14 +16,21 @@ the mode's shape, with no knowledge of L or C.  A drive with random complex ampl
 cradle's edge modes, whose weight at the ends (2^-(2N-3)) no fit of a drive in loop 1 can see.
 
 :func:`fit_survey` identifies every (x_n, gamma_n) and every r_n from the samples g (frequencies x loops), starting
-from the predicted poles, window by window: each window of :data:`CORE` modes is fitted on the samples around it
-with its modes and :data:`HALO` neighbours on each side as explicit sections, the current model of
-:data:`FAR` further neighbours on each side subtracted, and a smooth correction (:data:`BACKGROUND` Chebyshev
-terms) beside; the poles move by Gauss-Newton on every loop at once (variable projection with Kaufman's
-Jacobian: the loops only enter through two products, so the normal equations are (parameters x parameters)),
-the residues by one linear least squares with the loops as right-hand sides.  Block Gauss-Seidel over the windows,
-:data:`SWEEPS` times.  Cost per sweep: O(samples x (CORE + 2 HALO + 2 FAR) x loops), O(N^2) on a grid of O(N)
-frequencies; memory: the samples and the residues, (samples + N) x loops complex values.
+from the predicted poles, in windows of :data:`CORE` modes.  A window is fitted on the samples around its modes
+and :data:`HALO` neighbours on each side (explicit sections), less the current model of :data:`FAR` further
+neighbours on each side, with a smooth correction of :data:`BACKGROUND` Chebyshev terms beside (the modes beyond);
+each row is weighted by the nearest section's inverse gain.  At fixed poles a window's residues are linear in its
+far neighbours', so every window together is one banded linear system: the residues of every mode on every loop
+come from one sparse LU solve with the loops as right-hand sides.  The poles move by Gauss-Newton, window by
+window, on :data:`SKETCH` random combinations of the loops (every mode is in each): variable projection with
+Kaufman's Jacobian, whose normal equations over all the columns are (parameters x parameters).  Up to
+:data:`SWEEPS` steps, until none moves a pole by more than ``_SETTLED`` (from theory's poles: one or two).
+
+Cost: the windows' least squares and the far modes' sections, O(samples x (CORE + 2 HALO + 2 FAR)); the loops
+enter through the right-hand sides, O(samples x CORE x N) to form them and the banded solve, O(N x (CORE + 2 HALO
++ 2 FAR) x N): O(N^2) on a grid of O(N) frequencies.  Memory: the samples, N x samples complex values, and the
+residues, N x N.  Up to :data:`ONE_WINDOW` modes, one window holds every mode (its model exact, no background).
+Measured against exact theory in ``benchmarks/spectrum.md``.
 """
 
 from __future__ import annotations
