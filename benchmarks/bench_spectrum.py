@@ -137,6 +137,9 @@ def main() -> None:
         rows.append({"case": case, "N": N, "omega": report.max_rel_error_omega, "P": report.max_abs_error_P,
                      "ngspice": t["ngspice_s"], "fit": t["fit_s"], "shape": survey.max_shape_error,
                      "survey_engine": survey.timings["engine_s"], "survey_fit": survey.timings["fit_s"]})
+    print("\nThe survey's whole cost, (its ngspice + its fit) / N^2, seconds: " + ", ".join(
+        f"{row['case']} N = {row['N']}: {(row['survey_engine'] + row['survey_fit']) / row['N'] ** 2:.1e}"
+        for row in rows if row["N"] >= 500) + ".")
     if args.plot:
         _plot(rows, args.plot)
     print("\n## With losses (`--Q`)\n")

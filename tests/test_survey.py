@@ -103,3 +103,17 @@ def test_shapes_refuse_other_effects():
 
     with pytest.raises(ParameterError, match="shapes"):
         measure_spectrum(chain_for_case("two-mass", 8), shapes=True, effects=(CoilResistance(0.01),))
+
+
+def test_a_sweep_cut_into_several_runs_gives_the_same_modes(monkeypatch):
+    """A survey larger than one run's share of values is cut into runs of the same frequencies (the engine's raw
+    file stays small): the modes are the same as from one run, to rounding of a few frequencies' cards."""
+    import lcchain.runs.survey as survey
+
+    chain = chain_for_case("two-mass", 24)
+    whole = measure_modes(chain)
+    monkeypatch.setattr(survey, "RUN_VALUES", 24 * 40)
+    cut = measure_modes(chain)
+    assert cut.points == whole.points
+    _check_every_mode(cut, chain)
+    assert np.all(np.abs(cut.omega - whole.omega) <= RTOL_SURVEY_OMEGA * np.maximum(whole.omega, 1.0))

@@ -15,6 +15,7 @@ follows from the measured shape.
 
 from __future__ import annotations
 
+import hashlib
 import math
 import time
 from dataclasses import dataclass, field
@@ -25,7 +26,7 @@ import numpy as np
 from ..circuit.effects import Losses
 from ..circuit.ladder import Ladder
 from ..circuit.netlist import probe_names, survey_netlist_text
-from ..compare.grid import sweep_segments
+from ..compare.grid import MIN_SEGMENT_POINTS, sweep_segments
 from ..compare.spectral import OMEGA_MARGIN
 from ..compare.survey import ModeSurvey, fit_survey, signed_shapes, survey_amplitudes
 from ..core.checks import instance, real
@@ -45,6 +46,9 @@ __all__ = ["ModeReport", "measure_modes", "exact_shapes", "SURVEY_DENSITY", "SUR
 SURVEY_DENSITY = 4.0
 #: Neighbours closer than this many widths 1/Q overlap: Q_n's target holds beyond (issue 32).
 SEPARATION = 3.0
+#: Complex values (frequencies x loops) one engine run returns at most: a larger sweep is cut into several runs, so
+#: the engine's raw file and the vectors read from it stay near 64 MB beside the samples' own array.
+RUN_VALUES = 2**22
 #: The most loops a survey measures (its exact reference is dense for coupled coils).
 SURVEY_MAX_N = COUPLED_MAX_N
 #: A mode is resolved when its frequency is within this (relative) of theory ...
@@ -83,12 +87,13 @@ class ModeReport:
     losses : float or None
         Every coil's Q (``--Q``), None: lossless.
     points, segments : int
-        The sweep's frequencies and ``.ac lin`` cards.
+        The sweep's frequencies and ``.ac lin`` cards (over one or more engine runs: :data:`RUN_VALUES`).
     sweeps : int
         Gauss-Newton steps on the poles.
     residual : float
         The fit's largest misfit relative to the largest sample of its window.
     engine_version, netlist_sha256 : str
+        The engine's version; the SHA-256 of the runs' netlists' digests, in order.
     timings : dict
         Seconds: the engine's process (``engine_s``), the fit (``fit_s``), the exact eigensolution (``theory_s``)
         and the whole call (``total_s``).
@@ -287,17 +292,28 @@ def measure_modes(chain: Chain, *, Q: float | None = None, L0: float = DEFAULT_L
     top = float(omega_theory[-1])
     segments = sweep_segments(omega_theory, (1.0 + OMEGA_MARGIN) * top, density)
     amplitudes = survey_amplitudes(chain.N)
-    netlist = survey_netlist_text(ladder, segments, list(amplitudes), effects=effects)
     points = sum(count for count, _, _ in segments)
-    result = run_ac(netlist, probe_names(chain.N, "all"), points, simulator=simulator, timeout=timeout)
-    started = time.perf_counter()
-    w = np.asarray(result.frequency) * (2.0 * math.pi * ladder.time_unit)
-    g = np.empty((w.size, chain.N), dtype=complex)
-    scale = ladder.impedance / (1j * w)
-    for k, name in enumerate(probe_names(chain.N, "all")):
-        g[:, k] = result.vectors[name] * scale
-    engine = (result.wall_s, result.engine_version, result.netlist_sha256)
-    del result  # the engine's vectors: as large as g
+    names = probe_names(chain.N, "all")
+    g = np.empty((points, chain.N), dtype=complex)
+    w = np.empty(points)
+    engine_s, version, digest, row = 0.0, "", hashlib.sha256(), 0
+    fill_s = 0.0
+    for part in _runs(segments, chain.N):  # several runs: each one's raw file and vectors stay small
+        netlist = survey_netlist_text(ladder, part, list(amplitudes), effects=effects)
+        count = sum(n for n, _, _ in part)
+        result = run_ac(netlist, names, count, simulator=simulator, timeout=timeout)
+        started = time.perf_counter()
+        rows = slice(row, row + count)
+        w[rows] = np.asarray(result.frequency) * (2.0 * math.pi * ladder.time_unit)
+        scale = ladder.impedance / (1j * w[rows])
+        for k, name in enumerate(names):
+            g[rows, k] = result.vectors[name] * scale
+        engine_s, version, row = engine_s + result.wall_s, result.engine_version, row + count
+        digest.update(result.netlist_sha256.encode())
+        del result  # before the next run's
+        fill_s += time.perf_counter() - started
+    started = time.perf_counter() - fill_s
+    engine = (engine_s, version, digest.hexdigest())
     zero = omega_theory <= 1e-9 * top
     x0 = np.where(zero, 0.0, omega_theory ** 2)
     lossy = Q is not None
@@ -310,6 +326,30 @@ def measure_modes(chain: Chain, *, Q: float | None = None, L0: float = DEFAULT_L
                "total_s": time.perf_counter() - clock}
     return ModeReport(chain, fit.omega, omega_theory, fit.gamma, shapes, shapes_theory, Q, points, len(segments),
                       fit.sweeps, fit.residual, engine[1], engine[2], timings)
+
+
+def _runs(segments: list[tuple[int, float, float]], N: int) -> list[list[tuple[int, float, float]]]:
+    """The sweep's segments in groups of at most :data:`RUN_VALUES` / N frequencies (a segment longer than that cut
+    into pieces of the same step), one engine run each."""
+    most = max(RUN_VALUES // N, 2 * MIN_SEGMENT_POINTS)
+    pieces: list[tuple[int, float, float]] = []
+    for count, lowest, highest in segments:
+        step = (highest - lowest) / count
+        start = 0
+        while start < count:
+            take = count - start if count - start <= most + MIN_SEGMENT_POINTS else most
+            pieces.append((take, lowest + start * step, highest if start + take == count else
+                           lowest + (start + take) * step))
+            start += take
+    groups: list[list[tuple[int, float, float]]] = [[]]
+    held = 0
+    for piece in pieces:
+        if groups[-1] and held + piece[0] > most:
+            groups.append([])
+            held = 0
+        groups[-1].append(piece)
+        held += piece[0]
+    return groups
 
 
 def _losses(Q: object) -> Losses:
