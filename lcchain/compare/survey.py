@@ -237,6 +237,10 @@ def _plan(w: np.ndarray, x: np.ndarray, gamma: np.ndarray) -> list[_Window]:
         hi = min(lo + core, n_modes)
         a, z = max(lo - HALO, 0), min(hi + HALO, n_modes)
         rows = _edges(x, w, a, z)
+        needed = z - a + (BACKGROUND if core < n_modes else 0) + 2
+        if rows.size < needed:  # poles crowded closer than the samples (merged lossy modes): the nearest samples
+            middle = 0.5 * (np.sqrt(max(x[a], 0.0)) + np.sqrt(max(x[z - 1], 0.0)))
+            rows = np.sort(np.argsort(np.abs(w - middle), kind="stable")[:min(needed, w.size)])
         ws = w[rows]
         explicit = np.arange(a, z)
         far = np.r_[max(a - FAR, 0):a, z:min(z + FAR, n_modes)].astype(int)
@@ -314,10 +318,22 @@ def _move_poles(window: _Window, w: np.ndarray, g: np.ndarray, x: np.ndarray, ga
     normal = ((V.conj().T @ V) * (c.conj() @ c.T)).real
     rhs = (c.conj() * (V.conj().T @ misfit)).sum(axis=1).real
     delta = np.linalg.lstsq(normal, rhs, rcond=None)[0]
+    if not np.all(np.isfinite(delta)):  # a singular window (modes merged beyond telling apart): no step
+        return 0.0
     core = (explicit >= window.lo) & (explicit < window.hi)  # a halo mode: its own window places it
     dx = np.zeros(explicit.size)
     dx[moves_x] = delta[:moves_x.size]
     dgamma = delta[moves_x.size:] if lossy else np.zeros(explicit.size)
+    # a trust region: no pole moves by more than a quarter of its distance to a neighbour, no decay rate by more
+    # than half itself (modes merged beyond telling apart would otherwise wander off)
+    gaps = np.diff(x[max(explicit[0] - 1, 0):explicit[-1] + 2])
+    room = 0.25 * np.minimum(np.r_[np.inf, gaps], np.r_[gaps, np.inf])
+    room = room[1:explicit.size + 1] if explicit[0] > 0 else room[:explicit.size]
+    excess = max(float(np.max(np.abs(dx) / np.maximum(room, np.finfo(float).tiny), initial=0.0)),
+                 float(np.max(np.abs(dgamma) / np.maximum(0.5 * gamma[explicit], np.finfo(float).tiny),
+                              initial=0.0)) if lossy else 0.0)
+    if excess > 1.0:
+        dx, dgamma = dx / excess, dgamma / excess
     x[explicit[core]] += dx[core]
     gamma[explicit[core]] += dgamma[core]
     largest = float(np.max(np.abs(np.concatenate((dx[core], dgamma[core]))), initial=0.0))
