@@ -117,3 +117,12 @@ def test_a_sweep_cut_into_several_runs_gives_the_same_modes(monkeypatch):
     assert cut.points == whole.points
     _check_every_mode(cut, chain)
     assert np.all(np.abs(cut.omega - whole.omega) <= RTOL_SURVEY_OMEGA * np.maximum(whole.omega, 1.0))
+
+
+def test_coupled_coils_every_mode_and_no_losses():
+    """Coupled coils: M is tridiagonal (mutual inductances), the shapes M-orthonormal all the same; their losses
+    are not proportional to M, so a survey with --Q is refused by name."""
+    chain = chain_for_case("two-mass", 16).with_coupling(0.2)
+    _check_every_mode(measure_modes(chain), chain)
+    with pytest.raises(ParameterError, match="Q"):
+        measure_modes(chain, Q=100.0)

@@ -266,6 +266,7 @@ def measure_modes(chain: Chain, *, Q: float | None = None, L0: float = DEFAULT_L
         Walls and coupled coils included; N <= :data:`SURVEY_MAX_N`.
     Q : float, optional
         Every coil's quality factor (a resistor L_i / (Q sqrt(L0 C0)) in series, as ``--Q``); None: lossless.
+        Not with coupled coils.
     L0, C0 : float
         Bulk inductance (H) and capacitance (F).
     simulator : Simulator, optional
@@ -284,6 +285,9 @@ def measure_modes(chain: Chain, *, Q: float | None = None, L0: float = DEFAULT_L
     if chain.N > SURVEY_MAX_N:
         raise ParameterError("N", chain.N, f"N <= {SURVEY_MAX_N} for a survey of every loop")
     density = real("density", density, at_least=3.0, at_most=64.0)
+    if Q is not None and chain.coupled:  # the resistors damp L_i, not the mutual inductances: no common 1/Q
+        raise ParameterError("Q", Q, "none with coupled coils (their losses are not proportional to M: the modes "
+                             "and decay rates differ from the lossless chain's)")
     effects = () if Q is None else (_losses(Q),)
     ladder = Ladder(chain, L0, C0)
     clock = time.perf_counter()
