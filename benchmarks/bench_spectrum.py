@@ -176,9 +176,15 @@ def main() -> None:
           "time is then frequencies x unknowns, O(N^2). The fit's rational fits work on pieces of fixed size, "
           "O(frequencies); each Gauss-Newton sweep solves windows of 64 modes, O(N), and updates the model on every "
           "frequency, O(frequencies x N) = O(N^2), which dominates beyond N ~ 1000. With losses the modes closer "
-          "than their width 1/Q merge: two-mass N = 100 at Q = 10 is out of reach, and beyond 128 modes the "
-          "windows place Q_n less well than one Gauss-Newton on all (N = 400, Q = 1000). Taken on the idle "
-          "2-core machine; the curves are in benchmarks/spectrum.png.")
+          "than their width 1/Q merge: two-mass N = 100 at Q = 10 is out of reach, and the loop-1 fit refuses "
+          "losses beyond N = 100. Taken on the shared 2-core machine (the load column); the curves are in "
+          "benchmarks/spectrum.png.")
+    print("\nThe survey's samples are the same segments at 4 per spacing (half the loop-1 fit's default): its "
+          "ngspice run saves N vectors, frequencies x N complex values, O(N^2), cut into several runs of at most "
+          "2^22 values each so that the raw file stays small. Its fit forms each window's right-hand sides and "
+          "solves one banded system with the N loops as right-hand sides, O(N^2) too; the poles move on 16 random "
+          "combinations of the loops. 'peak MB' of the engines counts the forked child before it becomes ngspice "
+          "(the Python process's size at that moment), not ngspice's own memory.")
 
 
 if __name__ == "__main__":
