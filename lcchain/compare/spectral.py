@@ -31,7 +31,7 @@ from .grid import POINTS_PER_SPACING, Segment, min_points, sweep_segments
 from .spectrum import SpectrumFit, fit_sections, fit_spectrum
 
 __all__ = ["SpectrumMetrics", "SPECTRAL_METRICS", "spacing_spread", "sweep_grid", "compare_spectrum",
-           "spectrum_estimate", "nearest_modes", "largest_relative_error",
+           "spectrum_estimate", "nearest_modes", "largest_relative_error", "relative_errors",
            "OMEGA_MARGIN", "OMEGA_WEIGHT_FLOOR", "DEFAULT_OVERSAMPLING", "SPECTRUM_MAX_N", "LOSSY_MAX_N",
            "lossy_range", "check_lossy"]
 
@@ -97,11 +97,22 @@ def check_lossy(name: str, Q: float, modes: Modes) -> None:
                              "closer than their width 1/Q merge; above, the decay rates are beyond the fit)")
 
 
-def largest_relative_error(values: np.ndarray, theory: np.ndarray, where: np.ndarray) -> float:
-    """max |values - theory| / |theory| over ``where`` (where |theory| = 0: absolute; a NaN value, a mode the
-    circuit did not show: infinite); 0 over no mode."""
+def relative_errors(values: np.ndarray, theory: np.ndarray, low: np.ndarray | None = None) -> np.ndarray:
+    """|values - (theory + low)| / |theory| per entry (where |theory| = 0: absolute; NaN where a value is NaN);
+    ``low``: the rest of a reference known beyond float64 (:attr:`lcchain.theory.modes.Modes.omega_low`),
+    subtracted after the float64 difference, which is exact for values this close (Sterbenz)."""
     scale = np.abs(theory)
-    error = np.abs(values - theory) / np.where(scale > 0, scale, 1.0)
+    difference = values - theory
+    if low is not None:
+        difference = difference - low
+    return np.asarray(np.abs(difference) / np.where(scale > 0, scale, 1.0))
+
+
+def largest_relative_error(values: np.ndarray, theory: np.ndarray, where: np.ndarray,
+                           low: np.ndarray | None = None) -> float:
+    """max |values - theory| / |theory| over ``where`` (:func:`relative_errors`; a NaN value, a mode the circuit
+    did not show: infinite); 0 over no mode."""
+    error = relative_errors(values, theory, low)
     error = np.where(np.isnan(error), np.inf, error)
     return float(np.max(error[where], initial=0.0))
 
@@ -140,6 +151,9 @@ class SpectrumMetrics(FrozenArrays):
     gamma_theory : ndarray, optional
         Each mode's own decay rate in theory (a circuit whose losses are not the chain's: its exact poles,
         :func:`lcchain.compare.poles.compare_poles`), instead of 1/Q for every mode.
+    omega_low, omega_bound, P_bound : ndarray, optional
+        The reference's rest beyond float64 and its own error bounds (relative on omega_n, absolute on P_n:
+        :class:`lcchain.theory.modes.Modes`); None where the reference states none.
     """
 
     omega_theory: np.ndarray
@@ -152,6 +166,9 @@ class SpectrumMetrics(FrozenArrays):
     gamma: np.ndarray | None = None
     losses: float | None = None
     gamma_theory: np.ndarray | None = None
+    omega_low: np.ndarray | None = None
+    omega_bound: np.ndarray | None = None
+    P_bound: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         if (self.gamma is None) != (self.losses is None and self.gamma_theory is None) \
@@ -159,7 +176,8 @@ class SpectrumMetrics(FrozenArrays):
             raise ParameterError("gamma", self.losses, "decay rates with the losses' Q or the theory's own decay "
                                  "rates (one of them), or neither")
         arrays = ("omega_theory", "omega", "P_theory", "P", "resolved") + tuple(
-            name for name in ("gamma", "gamma_theory") if getattr(self, name) is not None)
+            name for name in ("gamma", "gamma_theory", "omega_low", "omega_bound", "P_bound")
+            if getattr(self, name) is not None)
         sizes = {np.shape(getattr(self, name)) for name in arrays}
         if len(sizes) != 1 or len(next(iter(sizes))) != 1:
             raise ParameterError("metrics", sorted(sizes), "one value per mode in every array")
@@ -169,7 +187,27 @@ class SpectrumMetrics(FrozenArrays):
     def max_rel_error_omega(self) -> float:
         """Largest |omega - omega_theory| / omega_theory over the resolved modes (a zero mode: absolute); an unseen
         resolved mode is an infinite error."""
-        return largest_relative_error(self.omega, self.omega_theory, self.resolved)
+        return largest_relative_error(self.omega, self.omega_theory, self.resolved, self.omega_low)
+
+    @property
+    def reference_bound_omega(self) -> float | None:
+        """The reference's own relative error bound on omega_n, the largest over the resolved modes (None where it
+        states none): the measured error is the circuit's where this is well below it."""
+        if self.omega_bound is None:
+            return None
+        return float(np.max(self.omega_bound[self.resolved], initial=0.0))
+
+    @property
+    def reference_bound_P(self) -> float | None:
+        """The reference's own absolute error bound on P_n, the largest over every mode (None where it states
+        none)."""
+        return None if self.P_bound is None else float(np.max(self.P_bound, initial=0.0))
+
+    @property
+    def reference_bound_Q(self) -> float | None:
+        """The reference's own relative bound on Q_n = omega_n Q: omega_n's, and the product's rounding."""
+        bound = self.reference_bound_omega
+        return None if bound is None or self.losses is None else bound + float(np.finfo(float).eps)
 
     @property
     def max_abs_error_P(self) -> float:
@@ -218,6 +256,12 @@ class SpectrumMetrics(FrozenArrays):
         return largest_relative_error(self.Q, self.Q_theory, self.resolved & (self.omega_theory > 0))
 
     @property
+    def reference_bounds(self) -> dict[str, float | None]:
+        """The reference's own bounds by metric (:attr:`reference_bound_omega`, ``_P``, ``_Q``)."""
+        return {"reference_bound_omega": self.reference_bound_omega, "reference_bound_P": self.reference_bound_P,
+                "reference_bound_Q": self.reference_bound_Q}
+
+    @property
     def modes_seen(self) -> int:
         return int(np.count_nonzero(np.isfinite(self.omega)))
 
@@ -229,7 +273,9 @@ class SpectrumMetrics(FrozenArrays):
                 "spacing_spread_theory": spacing_spread(self.spacings(theory=True))[0],
                 "omega": [float(w) if np.isfinite(w) else None for w in self.omega],
                 "omega_theory": self.omega_theory.tolist(), "P": self.P.tolist(), "P_theory": self.P_theory.tolist(),
-                "resolved": self.resolved.tolist()} | ({} if self.gamma is None else {
+                "resolved": self.resolved.tolist()} | self.reference_bounds | {
+                    name: getattr(self, name).tolist() for name in ("omega_low", "omega_bound", "P_bound")
+                    if getattr(self, name) is not None} | ({} if self.gamma is None else {
                     "Q": self.losses, "max_rel_error_Q": self.max_rel_error_Q,
                     "gamma": [float(g) if np.isfinite(g) else None for g in self.gamma]}) | (
                     {} if self.gamma_theory is None else {"gamma_theory": self.gamma_theory.tolist()})
@@ -244,9 +290,16 @@ class SpectrumMetrics(FrozenArrays):
                        np.asarray(data["P_theory"], dtype=float), np.asarray(data["P"], dtype=float),
                        np.asarray(data["resolved"], dtype=bool), gamma=None if gamma is None else
                        np.array([np.nan if g is None else g for g in gamma], dtype=float), losses=data.get("Q"),
-                       gamma_theory=None if gamma_theory is None else np.asarray(gamma_theory, dtype=float))
+                       gamma_theory=None if gamma_theory is None else np.asarray(gamma_theory, dtype=float),
+                       omega_low=_optional(data, "omega_low"), omega_bound=_optional(data, "omega_bound"),
+                       P_bound=_optional(data, "P_bound"))
         except (KeyError, TypeError, ValueError):
             raise ParameterError("metrics", sorted(data), "an AC run's metrics (omega, P and their theory)") from None
+
+
+def _optional(data: dict[str, Any], name: str) -> np.ndarray | None:
+    value = data.get(name)
+    return None if value is None else np.asarray(value, dtype=float)
 
 
 def sweep_grid(omega: np.ndarray, points: int | None = None) -> tuple[list[Segment], int, float]:
@@ -334,4 +387,5 @@ def compare_spectrum(theory: Modes, omega: np.ndarray, y11: np.ndarray, yN1: np.
     P[seen] = mass * fit.last
     return SpectrumMetrics(np.asarray(theory.omega, dtype=float), circuit, np.asarray(theory.transfer, dtype=float),
                            P, np.abs(theory.transfer) >= OMEGA_WEIGHT_FLOOR, fit, seen,
-                           gamma if Q is not None else None, Q)
+                           gamma if Q is not None else None, Q, omega_low=theory.omega_low,
+                           omega_bound=theory.omega_bound, P_bound=theory.transfer_bound)

@@ -44,6 +44,7 @@ from ..compare.spectral import (
     SPECTRUM_MAX_N,
     SpectrumMetrics,
     largest_relative_error,
+    relative_errors,
 )
 from ..compare.spectrum import SpectrumFit
 from ..core.budget import Budget
@@ -219,7 +220,21 @@ class SpectrumReport:
         return SpectrumMetrics(self.theory.omega, self.omega, self.theory.transfer, np.nan_to_num(self.P, nan=0.0),
                                self.resolved,
                                gamma=self.gamma if self.lossy else None, losses=self.losses,
-                               gamma_theory=self.gamma_theory)
+                               gamma_theory=self.gamma_theory, omega_low=self.theory.omega_low,
+                               omega_bound=self.theory.omega_bound, P_bound=self.theory.transfer_bound)
+
+    @property
+    def omega_error(self) -> np.ndarray:
+        """|omega_circuit - omega_theory| / omega_theory of every mode, against the reference beyond float64 where
+        it has one (NaN where unseen; a zero mode: absolute)."""
+        return relative_errors(self.omega, self.omega_theory, self.theory.omega_low)
+
+    @property
+    def reference_bounds(self) -> dict[str, float | None]:
+        """The reference's own error bounds, beside the errors they let be measured: ``reference_bound_omega``
+        (relative, the resolved modes'), ``reference_bound_P`` (absolute), ``reference_bound_Q`` (relative; None
+        without losses); None where the reference states none (a circuit's own poles)."""
+        return self.metrics.reference_bounds
 
     @property
     def max_rel_error_omega(self) -> float:
@@ -266,13 +281,18 @@ class SpectrumReport:
         lossy = self.lossy
         Q, Q_theory, gamma = self.Q, self.Q_theory, self.gamma
         noise = self.below_precision
+        omega_error = self.omega_error
+        omega_bound, P_bound = self.theory.omega_bound, self.theory.transfer_bound
         modes = []
         for n in range(self.theory.N):
             seen = bool(np.isfinite(omega[n]))
             mode = {"n": n + 1, "omega": float(omega[n]) if seen else None, "P": float(P[n]) if seen else None,
                     "omega_theory": float(self.theory.omega[n]),
                     "P_theory": None if noise[n] else float(self.theory.transfer[n]),
-                    "below_precision": bool(noise[n]), "seen": seen, "resolved": bool(self.resolved[n])}
+                    "below_precision": bool(noise[n]), "seen": seen, "resolved": bool(self.resolved[n]),
+                    "omega_error": float(omega_error[n]) if seen else None,
+                    "omega_bound": None if omega_bound is None else float(omega_bound[n]),
+                    "P_bound": None if P_bound is None else float(P_bound[n])}
             if lossy:
                 mode |= {"Q": _finite(Q[n]), "Q_theory": _finite(Q_theory[n]), "gamma": _finite(gamma[n])}
                 if self.gamma_theory is not None:
@@ -285,19 +305,21 @@ class SpectrumReport:
                 "Q": self.losses, "max_rel_error_Q": _finite(self.max_rel_error_Q) if lossy else None,
                 "max_rel_error_pole": _finite(self.max_rel_error_pole), "max_abs_error_response": self.response_error,
                 "segments": self.segments,
-                "failure": self.failure} | ({} if self.theory.method != "circuit" else {"theory": "circuit"})
+                "failure": self.failure} | self.reference_bounds | (
+                    {} if self.theory.method != "circuit" else {"theory": "circuit"})
 
     def _rows(self) -> list[tuple[str, object]]:
+        bounds = self.reference_bounds
         lossy = f", losses Q = {self.losses:g}" if self.losses is not None else ""
         rows: list[tuple[str, object]] = [
             ("chain", f"{self.chain.name}, N = {self.chain.N}{lossy}"),
             ("engine", f"{self.engine} {self.engine_version} AC, {self.points} frequencies up to "
                        f"{self.omega_max:.4g}"),
             ("modes seen", f"{int(self.seen.sum())} of {self.theory.N}"),
-            ("max rel. error of omega_n", self.max_rel_error_omega),
-            ("max abs. error of P_n", self.max_abs_error_P)]
+            ("max rel. error of omega_n", _beside(self.max_rel_error_omega, bounds["reference_bound_omega"])),
+            ("max abs. error of P_n", _beside(self.max_abs_error_P, bounds["reference_bound_P"]))]
         if self.lossy:
-            rows.append(("max rel. error of Q_n", self.max_rel_error_Q))
+            rows.append(("max rel. error of Q_n", _beside(self.max_rel_error_Q, bounds["reference_bound_Q"])))
         return rows
 
     def __repr__(self) -> str:
@@ -355,6 +377,11 @@ def _pole(omega: np.ndarray, gamma: np.ndarray) -> np.ndarray:
     zero mode, whose other pole, at 0, cancels)."""
     half = 0.5 * gamma
     return np.asarray(-half + 1j * np.sqrt((omega - half) * (omega + half) + 0j))
+
+
+def _beside(error: float, bound: float | None) -> str:
+    """An error with its reference's own bound beside it."""
+    return f"{error:.3e}" + ("" if bound is None else f" (reference bound {bound:.1e})")
 
 
 def _finite(value: float) -> float | None:

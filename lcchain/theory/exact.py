@@ -27,8 +27,10 @@ from ..core.errors import ParameterError
 from ..core.limits import COUPLED_MAX_N, EXACT_MAX_N
 from .chain import Chain
 from .modes import WEIGHT_PRECISION, Modes
+from .reference import certify_frequencies, lapack_bounds, transfer_weights
 
-__all__ = ["tridiagonal", "diagonalise", "sharp_frequencies", "exact_modes", "driven_modes", "coupled_vectors",
+__all__ = ["tridiagonal", "diagonalise", "sharp_frequencies", "sharp_frequencies_extended", "exact_modes",
+           "driven_modes", "coupled_vectors",
            "modal_weights", "perfect_weights", "is_free_perfect", "EXACT_MAX_N", "COUPLED_MAX_N"]
 
 
@@ -121,6 +123,12 @@ def _below(edges: np.ndarray, sigma: np.ndarray) -> np.ndarray:
 
 
 def sharp_frequencies(chain: Chain, omega: np.ndarray) -> np.ndarray:
+    """The normal frequencies ``omega`` refined to high relative accuracy (:func:`sharp_frequencies_extended`),
+    rounded to float64."""
+    return np.asarray(sharp_frequencies_extended(chain, omega), dtype=float)
+
+
+def sharp_frequencies_extended(chain: Chain, omega: np.ndarray) -> np.ndarray:
     """The normal frequencies ``omega`` (ascending, LAPACK's) refined to high relative accuracy, every one.
 
     LAPACK places the eigenvalues mu_n = omega_n^2 of B to eps ||B|| absolute: a low mode's relative error is
@@ -138,7 +146,7 @@ def sharp_frequencies(chain: Chain, omega: np.ndarray) -> np.ndarray:
     omega = np.asarray(omega, dtype=float)
     moving = np.flatnonzero(omega > 0)
     if moving.size == 0:
-        return omega.copy()
+        return omega.astype(np.longdouble)
     index = moving
     mu = omega[moving].astype(np.longdouble) ** 2
     slack = 64 * np.finfo(float).eps * float(np.max(edges * edges)) * 4 + np.finfo(float).tiny
@@ -155,8 +163,8 @@ def sharp_frequencies(chain: Chain, omega: np.ndarray) -> np.ndarray:
         above = _below(edges, mid) > index[open_]
         hi[open_] = np.where(above, mid, hi[open_])
         lo[open_] = np.where(above, lo[open_], mid)
-    sharp = omega.copy()
-    sharp[moving] = (0.5 * (lo + hi)).astype(float)
+    sharp = omega.astype(np.longdouble)
+    sharp[moving] = 0.5 * (lo + hi)
     return sharp
 
 
@@ -168,17 +176,28 @@ def driven_modes(chain: Chain) -> Modes:
     m_1 u_1n, not by the kick's (M u_n)_1.  They are m_1 times the residues of the transfer admittances
     Y_11 Z0 and Y_N1 Z0 at s^2 = -omega_n^2 (:mod:`lcchain.compare.spectrum`).
 
-    They are the reference an AC run is measured against, to ~1e-16: without coupling every omega_n is refined to
-    high relative accuracy (:func:`sharp_frequencies`; LAPACK's alone loses eps ||B|| / omega_n^2 on the low
-    modes).  Coupled coils keep LAPACK's generalised solver's.
+    They are the reference an AC run is measured against, each with its own error bound (``omega_bound``,
+    ``transfer_bound``): without coupling every omega_n is refined to high relative accuracy
+    (:func:`sharp_frequencies_extended`; LAPACK's alone loses eps ||B|| / omega_n^2 on the low modes) and certified,
+    kept beyond float64 (``omega_low``), and every P_n follows from the frequencies alone
+    (:mod:`lcchain.theory.reference`: about 1e-18 relative on omega_n, 1e-16 absolute on P_n).  Coupled coils
+    keep LAPACK's generalised solver's, with LAPACK's known bounds.
     """
     if not chain.coupled:
         modes = exact_modes(chain)
-        return Modes(sharp_frequencies(chain, modes.omega), modes.density, modes.transfer, modes.method,
-                     precision=modes.precision)
+        extended = sharp_frequencies_extended(chain, modes.omega)
+        omega, low, bound = certify_frequencies(chain, extended)
+        transfer, transfer_bound = transfer_weights(chain, extended, bound)
+        return Modes(omega, modes.density, transfer, modes.method, omega_low=low, omega_bound=bound,
+                     transfer_bound=transfer_bound)
     omega, u = coupled_vectors(chain)
     amplitude = modal_weights(chain, u, force=True)
-    return Modes(omega, u[0, :] * amplitude, u[-1, :] * amplitude, "exact", precision=WEIGHT_PRECISION)
+    transfer = u[-1, :] * amplitude
+    omega_bound, vector_bound = lapack_bounds(omega**2, float(np.max(omega, initial=0.0)) ** 2)
+    scale = float(chain.masses[0]) / math.sqrt(float(np.min(chain.masses)))  # u is M-orthonormal
+    transfer_bound = scale * vector_bound * (np.abs(u[0, :]) + np.abs(u[-1, :]) + vector_bound)
+    return Modes(omega, u[0, :] * amplitude, transfer, "exact", precision=WEIGHT_PRECISION,
+                 omega_bound=omega_bound, transfer_bound=transfer_bound)
 
 
 @fixed_blas_threads

@@ -1,0 +1,95 @@
+"""Issue 32 item 2: every AC comparison states its reference's own error bound, and the bound is at least
+:data:`REFERENCE_MARGIN` times below what it measures (ngspice, lossless and lossy).
+
+The bounds (:mod:`lcchain.theory.reference`) are checked against the test's own computation in 50-digit decimal
+arithmetic: omega_n by Sturm bisection of B (Eq. e.BN) itself, and P_n = sqrt(m_1/m_N) u_1n u_Nn from B's
+eigenvector by its three-term recurrence from mass 1 (not the residue product lcchain uses).
+"""
+
+from __future__ import annotations
+
+from decimal import Decimal, localcontext
+
+import numpy as np
+import pytest
+from helpers.tolerances import DECIMAL_DIGITS, REFERENCE_MARGIN
+
+from lcchain.circuit.effects import Losses
+from lcchain.runs.request import AC, Request
+from lcchain.runs.spectrum import spectrum
+from lcchain.theory.cases import chain_for_case
+from lcchain.theory.exact import driven_modes
+
+
+def _below(diagonal: list[Decimal], off2: list[Decimal], mu: Decimal) -> int:
+    """Eigenvalues of the tridiagonal (diagonal, squared off-diagonal off2) below mu: its negative pivots."""
+    count, d = 0, diagonal[0] - mu
+    for i in range(1, len(diagonal) + 1):
+        count += d < 0
+        if i == len(diagonal):
+            break
+        d = diagonal[i] - mu - off2[i - 1] / (d if d != 0 else Decimal("1e-90"))
+    return count
+
+
+def _decimal_modes(chain, approx: np.ndarray) -> tuple[list[Decimal], list[Decimal]]:
+    """omega_n and P_n of B, every mode, in decimal arithmetic from the chain's float masses and springs."""
+    with localcontext() as context:
+        context.prec = DECIMAL_DIGITS
+        m = [Decimal(float(x)) for x in chain.masses]
+        K = [Decimal(float(x)) for x in chain.springs]
+        N = len(m)
+        diagonal = [(K[i] + K[i + 1]) / m[i] for i in range(N)]
+        off = [-K[i + 1] / (m[i] * m[i + 1]).sqrt() for i in range(N - 1)]
+        off2 = [b * b for b in off]
+        omegas, weights = [], []
+        for n, w in enumerate(approx):
+            if w == 0:
+                mu = Decimal(0)
+            else:
+                mu = Decimal(float(w)) ** 2
+                lo, hi = mu * (1 - Decimal("1e-10")), mu * (1 + Decimal("1e-10"))
+                assert _below(diagonal, off2, lo) <= n < _below(diagonal, off2, hi)
+                while hi - lo > mu * Decimal(10) ** (8 - DECIMAL_DIGITS):
+                    mid = (lo + hi) / 2
+                    lo, hi = (lo, mid) if _below(diagonal, off2, mid) > n else (mid, hi)
+                mu = (lo + hi) / 2
+            u = [Decimal(1), (mu - diagonal[0]) / off[0]]
+            for i in range(1, N - 1):
+                u.append(((mu - diagonal[i]) * u[i] - off[i - 1] * u[i - 1]) / off[i])
+            norm = sum(x * x for x in u)
+            omegas.append(mu.sqrt())
+            weights.append((m[0] / m[-1]).sqrt() * u[0] * u[-1] / norm)
+        return omegas, weights
+
+
+@pytest.mark.parametrize("case, N", [("two-mass", 37), ("one-mass", 60), ("perfect", 24)])
+def test_the_reference_holds_its_own_bounds(case, N):
+    chain = chain_for_case(case, N)
+    modes = driven_modes(chain)
+    omega, P = _decimal_modes(chain, modes.omega)
+    assert modes.omega_low is not None and modes.omega_bound is not None and modes.transfer_bound is not None
+    for n in range(N):
+        if omega[n]:
+            error = abs(Decimal(float(modes.omega[n])) + Decimal(float(modes.omega_low[n])) - omega[n]) / omega[n]
+            assert float(error) <= modes.omega_bound[n], n
+        assert float(abs(Decimal(float(modes.transfer[n])) - P[n])) <= modes.transfer_bound[n], n
+    # sharp enough to be worth stating: 1e-17 relative on omega_n, 1e-15 absolute on P_n
+    assert np.max(modes.omega_bound) < 1e-17 and np.max(modes.transfer_bound) < 1e-15
+
+
+@pytest.mark.parametrize("case, N", [("one-mass", 150), ("two-mass", 37)])
+def test_an_ac_run_is_measured_against_a_reference_ten_times_sharper(case, N):
+    report = spectrum(Request(chain_for_case(case, N), AC()))
+    bounds = report.reference_bounds
+    assert bounds["reference_bound_omega"] * REFERENCE_MARGIN <= report.max_rel_error_omega
+    assert bounds["reference_bound_P"] * REFERENCE_MARGIN <= report.max_abs_error_P
+    data = report.to_dict()
+    assert data["reference_bound_omega"] == bounds["reference_bound_omega"]
+    assert all(mode["omega_bound"] is not None and mode["P_bound"] is not None for mode in data["modes"])
+
+
+def test_a_lossy_run_states_the_bound_of_its_quality_factors():
+    report = spectrum(Request(chain_for_case("two-mass", 20), AC(), effects=(Losses(300.0),)))
+    bound = report.reference_bounds["reference_bound_Q"]
+    assert bound is not None and bound * REFERENCE_MARGIN <= report.max_rel_error_Q
