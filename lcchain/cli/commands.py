@@ -456,22 +456,34 @@ def cmd_spectrum(args: argparse.Namespace) -> int:
             spacing = "" if previous is None or omega is None else f"{omega - previous:10.6f}"
             error = "" if omega is None else f"{mode['omega_error']:10.2e}"  # against the reference beyond float64
             bound = "" if mode["omega_bound"] is None else f"{mode['omega_bound']:10.1e}"
-            shown = "unseen" if omega is None else f"{omega:19.15f}"
+            shown = ("merged" if mode["merged"] else "unseen") if omega is None else f"{omega:19.15f}"
             hz = "" if mode["omega_Hz"] is None else f"{mode['omega_Hz']:16.9e}"
             P_theory = mode["P_theory"]
             theory = "below precision" if P_theory is None else f"{P_theory:14.6e}"
-            P_error = "" if P_theory is None else f"{abs((P or 0.0) - P_theory):10.2e}"
+            P_error = "" if P_theory is None or mode["merged"] else f"{abs((P or 0.0) - P_theory):10.2e}"
             print(f"{mode['n']:>5} {shown:>19} {mode['omega_theory']:19.15f} {error:>10} {bound:>10} "
                   f"{'' if P is None else f'{P:14.6e}':>14} {theory:>14} "
                   f"{P_error:>10} {spacing:>10} {hz:>16}")
             previous = omega if omega is not None else previous
-        weak = sum(1 for m in data["modes"] if not m["resolved"])
-        print(f"max relative error of omega_n = {_error(data['max_rel_error_omega'])}{_bound(data, 'omega')} (modes "
-              f"with |P_n| >= 1e-6{f'; {weak} weaker modes are placed less well' if weak else ''}), max absolute "
-              f"error of P_n = {data['max_abs_error_P']:.3e}{_bound(data, 'P')} ({data['seen']} of {chain.N} modes "
-              "seen at the ends)")
+        weak = sum(1 for m in data["modes"] if not m["resolved"] and not m["merged"])
+        if any(m["resolved"] for m in data["modes"]):
+            print(f"max relative error of omega_n = {_error(data['max_rel_error_omega'])}{_bound(data, 'omega')} "
+                  f"(modes with |P_n| >= 1e-6{f'; {weak} weaker modes are placed less well' if weak else ''}"
+                  f"{'; merged modes not compared' if data['merged'] else ''}), max absolute error of P_n = "
+                  f"{data['max_abs_error_P']:.3e}{_bound(data, 'P')} ({data['seen']} of {chain.N} modes seen at the "
+                  "ends)")
+        else:
+            print("no mode is resolved: omega_n, P_n and Q_n are not compared")
         if data["Q"] is not None or data["max_rel_error_Q"] is not None:  # the chain's losses, a circuit's resistors
             _print_quality(data)
+        if data["merged"]:
+            from ..runs.spectrum import merged_text
+
+            print(f"merged by the losses (half-power bands overlap, said and not compared): "
+                  f"{merged_text(report.merged_modes)}")
+        if data["max_rel_error_Y11"] is not None:
+            print(f"Y_11 against the exact lossy admittance over the sweep: max relative error "
+                  f"{data['max_rel_error_Y11']:.3e}")
     if args.plot:
         from ..report.plots import spectrum
 
@@ -531,6 +543,8 @@ def _write_touchstone(args: argparse.Namespace, chain: Any, effects: tuple[Any, 
 
 def _print_quality(data: dict[str, Any]) -> None:
     """``lcchain spectrum --Q``: each seen mode's Q_n beside omega_n Q, and the fitted response's error."""
+    if not any(mode["resolved"] for mode in data["modes"]):
+        return
     print(f"{'n':>5} {'Q_n (circuit)':>19} {'Q_n (theory)':>19} {'rel. error':>10}")
     for mode in data["modes"]:
         if mode["Q"] is not None and mode["Q_theory"] is not None:

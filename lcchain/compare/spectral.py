@@ -26,14 +26,16 @@ from ..core.checks import integer
 from ..core.errors import ParameterError
 from ..core.frozen import FrozenArrays
 from ..core.limits import COUPLED_MAX_N, MAX_AC_POINTS, MIN_AC_POINTS
+from ..theory.chain import Chain
 from ..theory.modes import Modes
+from ..theory.spectrum import driving_admittance
 from .grid import POINTS_PER_SPACING, Segment, min_points, sweep_segments
 from .spectrum import SpectrumFit, fit_sections, fit_spectrum
 
 __all__ = ["SpectrumMetrics", "SPECTRAL_METRICS", "spacing_spread", "sweep_grid", "compare_spectrum",
            "spectrum_estimate", "nearest_modes", "largest_relative_error", "relative_errors",
            "OMEGA_MARGIN", "OMEGA_WEIGHT_FLOOR", "DEFAULT_OVERSAMPLING", "SPECTRUM_MAX_N", "LOSSY_MAX_N",
-           "lossy_range", "check_lossy"]
+           "lossy_range", "check_lossy", "merged_modes"]
 
 #: The sweep ends this far above the highest normal frequency (relative).
 OMEGA_MARGIN = 0.05
@@ -83,18 +85,38 @@ def lossy_range(modes: Modes) -> tuple[float, float]:
     return lowest, min(LOSSY_MAX_Q, LOSSY_QN / omega.size)
 
 
+def merged_modes(modes: Modes, Q: float) -> np.ndarray:
+    """Which of a chain's modes losses of quality factor Q merge, bool per mode (ascending omega_n).
+
+    Within the range the fit was measured on (:func:`lossy_range`) none is: the fit separates modes whose
+    half-power bands overlap down to :data:`LOSSY_GAP_Q` widths apart.  Below it, a mode is merged when its
+    half-power band (width gamma = 1/Q) overlaps a neighbour's, |omega_n - omega_(n+-1)| < 1/Q, or reaches zero
+    frequency, 0 < omega_n < 1/Q (a free chain's translation, exactly 0, merges only with a mode within 1/Q of it).
+    The rest stay resolved (measured, ngspice, one- and two-mass N = 10 to 60 down to Q = 1: their Q_n to 2e-13,
+    where the fit's modes inside a merged cluster were off by up to 40 %).
+    """
+    omega = np.asarray(modes.omega, dtype=float)
+    lowest, _ = lossy_range(modes)
+    if Q >= lowest or omega.size == 0:
+        return np.zeros(omega.size, dtype=bool)
+    gaps = np.diff(omega)
+    nearest = np.full(omega.size, np.inf)
+    nearest[:-1], nearest[1:] = gaps, np.minimum(nearest[1:], gaps)
+    return np.asarray((nearest * Q < 1.0) | ((omega > 0) & (omega * Q < 1.0)))
+
+
 def check_lossy(name: str, Q: float, modes: Modes) -> None:
-    """Refuse a losses' Q whose spectrum the fit cannot identify on this chain, naming ``name``, Q and the range."""
-    lowest, highest = lossy_range(modes)
+    """Refuse a losses' Q whose decay rates the fit cannot place on this chain (above the range), or a chain too
+    long for the lossy fit, naming ``name``, Q and the range.  Below the range the run goes ahead and says which
+    modes merged (:func:`merged_modes`)."""
+    _, highest = lossy_range(modes)
     if modes.N > LOSSY_MAX_N:
         raise ParameterError(name, Q, f"no losses on an AC analysis of N = {modes.N} > {LOSSY_MAX_N} masses (the "
                              "lossy fit is measured only up to there; a transient takes any N)")
-    if lowest > highest:
-        raise ParameterError(name, Q, f"no Q on this chain's AC analysis: its modes need Q >= {lowest:.4g} to be told "
-                             f"apart and their decay rates are placed only up to Q = {highest:.4g}")
-    if not lowest <= Q <= highest:
-        raise ParameterError(name, Q, f"{lowest:.4g} <= Q <= {highest:.4g} on this chain's AC analysis (below, modes "
-                             "closer than their width 1/Q merge; above, the decay rates are beyond the fit)")
+    if Q > highest:
+        raise ParameterError(name, Q, f"Q <= {highest:.4g} on this chain's AC analysis (above, the decay rates are "
+                             "beyond the fit; below the modes' own range, those closer than their width 1/Q are "
+                             "reported as merged)")
 
 
 def relative_errors(values: np.ndarray, theory: np.ndarray, low: np.ndarray | None = None) -> np.ndarray:
@@ -154,6 +176,11 @@ class SpectrumMetrics(FrozenArrays):
     omega_low, omega_bound, P_bound : ndarray, optional
         The reference's rest beyond float64 and its own error bounds (relative on omega_n, absolute on P_n:
         :class:`lcchain.theory.modes.Modes`); None where the reference states none.
+    merged : ndarray of bool, optional
+        The modes losses merge (:func:`merged_modes`): reported as merged, not compared (not errors).
+    envelope_error : float, optional
+        max |Y_11 - exact Y_11| / |exact Y_11| over the sweep (:func:`lcchain.theory.spectrum.driving_admittance`):
+        the response itself, what is measured whatever merged.
     """
 
     omega_theory: np.ndarray
@@ -169,6 +196,8 @@ class SpectrumMetrics(FrozenArrays):
     omega_low: np.ndarray | None = None
     omega_bound: np.ndarray | None = None
     P_bound: np.ndarray | None = None
+    merged: np.ndarray | None = None
+    envelope_error: float | None = None
 
     def __post_init__(self) -> None:
         if (self.gamma is None) != (self.losses is None and self.gamma_theory is None) \
@@ -176,7 +205,7 @@ class SpectrumMetrics(FrozenArrays):
             raise ParameterError("gamma", self.losses, "decay rates with the losses' Q or the theory's own decay "
                                  "rates (one of them), or neither")
         arrays = ("omega_theory", "omega", "P_theory", "P", "resolved") + tuple(
-            name for name in ("gamma", "gamma_theory", "omega_low", "omega_bound", "P_bound")
+            name for name in ("gamma", "gamma_theory", "omega_low", "omega_bound", "P_bound", "merged")
             if getattr(self, name) is not None)
         sizes = {np.shape(getattr(self, name)) for name in arrays}
         if len(sizes) != 1 or len(next(iter(sizes))) != 1:
@@ -210,9 +239,14 @@ class SpectrumMetrics(FrozenArrays):
         return None if bound is None or self.losses is None else bound + float(np.finfo(float).eps)
 
     @property
+    def compared(self) -> np.ndarray:
+        """The modes whose P_n is compared: every mode but the merged ones."""
+        return np.ones(self.omega.size, dtype=bool) if self.merged is None else ~self.merged
+
+    @property
     def max_abs_error_P(self) -> float:
-        """Largest |P - P_theory| over every mode (an unseen one counts with P = 0)."""
-        return float(np.max(np.abs(self.P - self.P_theory), initial=0.0))
+        """Largest |P - P_theory| over every mode not merged (an unseen one counts with P = 0)."""
+        return float(np.max(np.abs(self.P - self.P_theory)[self.compared], initial=0.0))
 
     def spacings(self, theory: bool = False) -> np.ndarray:
         """delta omega_n = omega_{n+1} - omega_n between neighbouring resolved nonzero modes (NaN elsewhere, and
@@ -274,8 +308,9 @@ class SpectrumMetrics(FrozenArrays):
                 "omega": [float(w) if np.isfinite(w) else None for w in self.omega],
                 "omega_theory": self.omega_theory.tolist(), "P": self.P.tolist(), "P_theory": self.P_theory.tolist(),
                 "resolved": self.resolved.tolist()} | self.reference_bounds | {
-                    name: getattr(self, name).tolist() for name in ("omega_low", "omega_bound", "P_bound")
-                    if getattr(self, name) is not None} | ({} if self.gamma is None else {
+                    name: getattr(self, name).tolist() for name in ("omega_low", "omega_bound", "P_bound", "merged")
+                    if getattr(self, name) is not None} | ({} if self.envelope_error is None else {
+                        "max_rel_error_Y11": self.envelope_error}) | ({} if self.gamma is None else {
                     "Q": self.losses, "max_rel_error_Q": self.max_rel_error_Q,
                     "gamma": [float(g) if np.isfinite(g) else None for g in self.gamma]}) | (
                     {} if self.gamma_theory is None else {"gamma_theory": self.gamma_theory.tolist()})
@@ -292,7 +327,9 @@ class SpectrumMetrics(FrozenArrays):
                        np.array([np.nan if g is None else g for g in gamma], dtype=float), losses=data.get("Q"),
                        gamma_theory=None if gamma_theory is None else np.asarray(gamma_theory, dtype=float),
                        omega_low=_optional(data, "omega_low"), omega_bound=_optional(data, "omega_bound"),
-                       P_bound=_optional(data, "P_bound"))
+                       P_bound=_optional(data, "P_bound"),
+                       merged=None if data.get("merged") is None else np.asarray(data["merged"], dtype=bool),
+                       envelope_error=data.get("max_rel_error_Y11"))
         except (KeyError, TypeError, ValueError):
             raise ParameterError("metrics", sorted(data), "an AC run's metrics (omega, P and their theory)") from None
 
@@ -363,7 +400,7 @@ def nearest_modes(omega: np.ndarray, theory: np.ndarray) -> np.ndarray:
 
 
 def compare_spectrum(theory: Modes, omega: np.ndarray, y11: np.ndarray, yN1: np.ndarray,
-                     mass: float, Q: float | None = None) -> SpectrumMetrics:
+                     mass: float, Q: float | None = None, chain: Chain | None = None) -> SpectrumMetrics:
     """An AC run's poles and residues against the driven modes of the same chain.
 
     Parameters
@@ -377,7 +414,11 @@ def compare_spectrum(theory: Modes, omega: np.ndarray, y11: np.ndarray, yN1: np.
     mass : float
         m_1 (P_n = m_1 times the residue of Y_N1).
     Q : float, optional
-        The losses' quality factor (every mode decays at gamma = 1/Q): the fit then finds each mode's decay rate.
+        The losses' quality factor (every mode decays at gamma = 1/Q): the fit then finds each mode's decay rate,
+        and the modes the losses merge (:func:`merged_modes`) are said, not compared.
+    chain : Chain, optional
+        The chain itself: with losses, Y_11 is then compared over the whole sweep with its exact admittance
+        (``envelope_error``), what is measured however the modes merge.
     """
     fit = _matched(fit_spectrum(omega, y11, yN1, lossy=Q is not None), theory)
     seen = nearest_modes(fit.omega, theory.omega)
@@ -385,7 +426,16 @@ def compare_spectrum(theory: Modes, omega: np.ndarray, y11: np.ndarray, yN1: np.
     circuit[seen], gamma[seen] = fit.omega, fit.gamma
     P = np.zeros(theory.N)
     P[seen] = mass * fit.last
+    merged = None if Q is None else merged_modes(theory, Q)
+    if merged is not None:  # a merged mode's pole is the fit's guess inside the cluster: not the circuit's
+        circuit[merged], gamma[merged], P[merged] = np.nan, np.nan, 0.0
+    envelope = None
+    if chain is not None and Q is not None:
+        exact = driving_admittance(chain, omega, Q)
+        envelope = float(np.max(np.abs(y11 - exact) / np.abs(exact), initial=0.0))
+    resolved = np.abs(theory.transfer) >= OMEGA_WEIGHT_FLOOR
     return SpectrumMetrics(np.asarray(theory.omega, dtype=float), circuit, np.asarray(theory.transfer, dtype=float),
-                           P, np.abs(theory.transfer) >= OMEGA_WEIGHT_FLOOR, fit, seen,
+                           P, resolved if merged is None else resolved & ~merged, fit, seen,
                            gamma if Q is not None else None, Q, omega_low=theory.omega_low,
-                           omega_bound=theory.omega_bound, P_bound=theory.transfer_bound)
+                           omega_bound=theory.omega_bound, P_bound=theory.transfer_bound, merged=merged,
+                           envelope_error=envelope)
