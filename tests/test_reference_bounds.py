@@ -93,3 +93,33 @@ def test_a_lossy_run_states_the_bound_of_its_quality_factors():
     report = spectrum(Request(chain_for_case("two-mass", 20), AC(), effects=(Losses(300.0),)))
     bound = report.reference_bounds["reference_bound_Q"]
     assert bound is not None and bound * REFERENCE_MARGIN <= report.max_rel_error_Q
+
+
+@pytest.mark.parametrize("N, walls", [(12, 0), (12, 1), (30, 2), (60, 1)])
+def test_a_perfect_cradles_weights_follow_its_prescribed_spectrum_in_closed_form(N, walls):
+    """P_n = c / prod_(m != n) |mu_n - mu_m| with mu_n = (n - 1 + 2 walls)^2: written here in Python fractions."""
+    from fractions import Fraction
+
+    from helpers.tolerances import ATOL_PERFECT_CLOSED_FORM, RTOL_PERFECT_CLOSED_FORM
+
+    from lcchain.theory.exact import exact_modes, perfect_weights
+    from lcchain.theory.perfect import perfect_design
+
+    mu = [(n + 2 * walls) ** 2 for n in range(N)]
+    inverse = []
+    for n in range(N):
+        product = 1
+        for m in range(N):
+            if m != n:
+                product *= abs(mu[n] - mu[m])
+        inverse.append(Fraction(1, product))
+    total = sum(inverse)
+    exact = np.array([float(w / total) for w in inverse])
+    closed = perfect_weights(N, walls)
+    assert np.array_equal(closed, exact) or np.max(np.abs(closed - exact) / exact) < RTOL_PERFECT_CLOSED_FORM
+    chain = perfect_design(N, walls).chain
+    sign = np.where(np.arange(N) % 2 == 0, 1.0, -1.0)
+    reference = driven_modes(chain).transfer  # from the designed chain's own frequencies
+    assert np.max(np.abs(reference - sign * exact)) < ATOL_PERFECT_CLOSED_FORM
+    assert np.max(np.abs(reference - sign * exact) / exact) < RTOL_PERFECT_CLOSED_FORM
+    assert np.array_equal(exact_modes(chain).density, closed)  # the transient's theory takes the closed form

@@ -18,6 +18,7 @@ of Eq. e.utn.
 
 from __future__ import annotations
 
+import decimal
 import math
 
 import numpy as np
@@ -31,7 +32,7 @@ from .reference import certify_frequencies, lapack_bounds, transfer_weights
 
 __all__ = ["tridiagonal", "diagonalise", "sharp_frequencies", "sharp_frequencies_extended", "exact_modes",
            "driven_modes", "coupled_vectors",
-           "modal_weights", "perfect_weights", "is_free_perfect", "EXACT_MAX_N", "COUPLED_MAX_N"]
+           "modal_weights", "perfect_weights", "is_free_perfect", "perfect_walls", "EXACT_MAX_N", "COUPLED_MAX_N"]
 
 
 def tridiagonal(chain: Chain) -> tuple[np.ndarray, np.ndarray]:
@@ -219,8 +220,9 @@ def exact_modes(chain: Chain) -> Modes:
         amplitude = modal_weights(chain, u)  # an initial current (charge) in loop 1
         return Modes(omega, u[0, :] * amplitude, u[-1, :] * amplitude, "exact", precision=WEIGHT_PRECISION)
     omega, U = diagonalise(chain)
-    if is_free_perfect(chain):  # its end weights are known exactly: LAPACK's would be rounding below 1e-16
-        density = perfect_weights(chain.N)
+    walls = perfect_walls(chain)
+    if walls is not None:  # its end weights are known exactly: LAPACK's would be rounding below 1e-16
+        density = perfect_weights(chain.N, walls)
         return Modes(omega, density, density * _alternating(chain.N), "exact")
     first, last = U[0, :], U[-1, :]
     density = first * first
@@ -235,19 +237,43 @@ def _alternating(N: int) -> np.ndarray:
 def is_free_perfect(chain: Chain) -> bool:
     """Whether the chain is the free perfect cradle as :func:`lcchain.perfect_design` made it (walls = 0, no
     coupling): a sample drawn from it, or a chain rounded to preferred values, is not."""
-    return chain._params[:1] == ("perfect",) and not chain.coupled and chain.is_free
+    return perfect_walls(chain) == 0 and chain.is_free
 
 
-def perfect_weights(N: int) -> np.ndarray:
-    """The free perfect cradle's mode densities, exactly: P_n = C(2N-2, N-n) / 2^(2N-3), half that for n = 1.
+def perfect_walls(chain: Chain) -> int | None:
+    """The walls j of a perfect cradle as :func:`lcchain.perfect_design` made it (0: free), None for any other
+    chain (a sample drawn from one, a chain rounded to preferred values, coupled coils)."""
+    if chain._params[:1] != ("perfect",) or chain.coupled:
+        return None
+    return int(chain._params[1]) if len(chain._params) > 1 else 0
 
-    Computed in Python integers and rounded once to float64 (correctly rounded, down to subnormals): the
-    smallest, P_N = 2^-(2N-3), is 5.0e-60 for N = 100, far below what an eigenvector's 1e-16 resolves.  The
-    transfer weights are (-1)^(n-1) P_n (the cradle is mirror symmetric).
+
+def perfect_weights(N: int, walls: int = 0) -> np.ndarray:
+    """A perfect cradle's mode densities from its prescribed spectrum omega_n = n - 1 + 2 walls, in closed form.
+
+    A persymmetric chain's weights are P_n = c / prod_(m != n) |mu_n - mu_m| (mu = omega^2; the Jacobi
+    matrix's residue, :mod:`lcchain.theory.reference`), here with mu_n - mu_m = (n - m)(n + m - 2 + 4 walls):
+    integers.  Free (walls = 0): P_n = C(2N-2, N-n) / 2^(2N-3), half that for n = 1, in Python integers, rounded
+    once (the smallest, P_N = 2^-(2N-3), is 5.0e-60 for N = 100, far below what an eigenvector's 1e-16
+    resolves).  With walls, the ratio of neighbours is the exact rational
+
+        P_(n+1) / P_n = (N - n)/n * (n - 1 + 4j)/(n + N - 1 + 4j) * (2n + 4j)/(2n - 2 + 4j),
+
+    multiplied up in 40-digit decimal arithmetic (N roundings of 1e-40: exact in float64).  The transfer weights
+    are (-1)^(n-1) P_n (the cradle is mirror symmetric).
     """
-    scale = 2 ** (2 * N - 3)
-    weights = [math.comb(2 * N - 2, N - n) / scale for n in range(1, N + 1)]
-    weights[0] /= 2.0
-    return np.array(weights)
-
-
+    if walls == 0:
+        scale = 2 ** (2 * N - 3)
+        weights = [math.comb(2 * N - 2, N - n) / scale for n in range(1, N + 1)]
+        weights[0] /= 2.0
+        return np.array(weights)
+    with decimal.localcontext() as context:
+        context.prec = 40
+        j4 = 4 * walls
+        values = [decimal.Decimal(1)]
+        for n in range(1, N):
+            ratio = decimal.Decimal((N - n) * (n - 1 + j4) * (2 * n + j4)) / decimal.Decimal(
+                n * (n + N - 1 + j4) * (2 * n - 2 + j4))
+            values.append(values[-1] * ratio)
+        total = sum(values)
+        return np.array([float(value / total) for value in values])

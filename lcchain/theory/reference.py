@@ -18,8 +18,9 @@ The reference it is held to must be at least ten times sharper, and say by how m
   with mu = omega^2 and mu_n - mu_m = (omega_n - omega_m)(omega_n + omega_m) from the certified frequencies.  Its
   bound, per mode, is first order in the frequencies' bounds plus the extended precision's rounding of every
   factor.  LAPACK's eigenvectors lose eps ||B|| / gap_n (one-mass N = 150: 7e-13 on the lowest modes, fifty times
-  what the circuit is measured to).  A free perfect cradle keeps its exact binomials
-  (:func:`lcchain.theory.exact.perfect_weights`).
+  what the circuit is measured to).  On a perfect cradle they agree with the weights of its prescribed spectrum
+  in closed form (:func:`lcchain.theory.exact.perfect_weights`) to the design's own rounding (N = 30, two walls:
+  1.7e-15 absolute; N = 60, one wall: 3.6e-14 relative down to weights of 1.9e-33).
 
 Coupled coils (a generalised problem, LAPACK's dense ``eigh``) keep LAPACK's values with LAPACK's known bounds:
 eps ||A|| on the eigenvalues, eps ||A|| / gap on the vectors.
