@@ -387,7 +387,8 @@ class SpectrumReport:
             "P_theory": ("mode", self.P_theory, {"long_name": "exact end-to-end weight P_n (NaN: below precision)",
                                                  "units": "1"}),
             "seen": ("mode", self.seen, {"long_name": "the fit found the mode"}),
-            "resolved": ("mode", self.resolved, {"long_name": "the sweep's spacing resolves the mode"})}
+            "resolved": ("mode", self.resolved, {"long_name": "the sweep's spacing resolves the mode"}),
+            "merged": ("mode", self.merged_modes, {"long_name": "merged with a neighbour by the losses"})}
         if self.lossy:
             variables |= {"Q": ("mode", self.Q, {"long_name": "quality factor in the circuit", "units": "1"}),
                           "Q_theory": ("mode", self.Q_theory, {"long_name": "exact quality factor", "units": "1"}),

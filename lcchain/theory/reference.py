@@ -151,15 +151,17 @@ def certify_frequencies(chain: Chain, omega: np.ndarray) -> tuple[np.ndarray, np
     moving = np.flatnonzero(omega > 0)
     if moving.size == 0:
         return high, low, bound
-    squares = _edges_squared(chain)
+    with np.errstate(all="ignore"):  # a chain beyond float64 is refused by the caller's own checks
+        squares = _edges_squared(chain)
     rounding = 2 * squares[0].size * _EPS_DD
     width = np.full(moving.size, CERTIFIED_BRACKET)
     pending = np.ones(moving.size, dtype=bool)
     for _ in range(_WIDENINGS):
         index, value = moving[pending], omega[moving[pending]]
         step = width[pending].astype(np.longdouble)
-        below = _below_dd(squares, _ld_to_dd(value * (1 - step)))
-        above = _below_dd(squares, _ld_to_dd(value * (1 + step)))
+        with np.errstate(all="ignore"):
+            below = _below_dd(squares, _ld_to_dd(value * (1 - step)))
+            above = _below_dd(squares, _ld_to_dd(value * (1 + step)))
         held = (below <= index) & (above > index)
         where = np.flatnonzero(pending)
         pending[where[held]] = False
@@ -182,6 +184,13 @@ def _product(factors: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def transfer_weights(chain: Chain, omega: np.ndarray, bound: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`_transfer_weights`; a chain beyond float64 (refused by its caller's own checks) gives inf or NaN
+    there, quietly."""
+    with np.errstate(all="ignore"):
+        return _transfer_weights(chain, omega, bound)
+
+
+def _transfer_weights(chain: Chain, omega: np.ndarray, bound: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Every P_n = sqrt(m_1/m_N) u_1n u_Nn from the frequencies alone (module docstring), and its absolute bound.
 
     Parameters
