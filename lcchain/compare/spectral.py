@@ -221,16 +221,18 @@ class SpectrumMetrics(FrozenArrays):
     @property
     def reference_bound_omega(self) -> float | None:
         """The reference's own relative error bound on omega_n, the largest over the resolved modes (None where it
-        states none): the measured error is the circuit's where this is well below it."""
-        if self.omega_bound is None:
+        states none, or no mode is resolved): the measured error is the circuit's where this is well below it."""
+        if self.omega_bound is None or not self.resolved.any():
             return None
-        return float(np.max(self.omega_bound[self.resolved], initial=0.0))
+        return float(np.max(self.omega_bound[self.resolved]))
 
     @property
     def reference_bound_P(self) -> float | None:
-        """The reference's own absolute error bound on P_n, the largest over every mode (None where it states
-        none)."""
-        return None if self.P_bound is None else float(np.max(self.P_bound, initial=0.0))
+        """The reference's own absolute error bound on P_n, the largest over the modes compared (None where it
+        states none, or none is compared)."""
+        if self.P_bound is None or not self.compared.any():
+            return None
+        return float(np.max(self.P_bound[self.compared]))
 
     @property
     def reference_bound_Q(self) -> float | None:

@@ -302,6 +302,7 @@ class SpectrumReport:
         omega_error = self.omega_error
         omega_bound, P_bound = self.theory.omega_bound, self.theory.transfer_bound
         merged = self.merged_modes
+        compared = bool(self.resolved.any())  # every mode merged: no error to give, not an error of 0
         modes = []
         for n in range(self.theory.N):
             seen = bool(np.isfinite(omega[n]))
@@ -319,10 +320,13 @@ class SpectrumReport:
             modes.append(mode)
         return {"N": self.chain.N, "case": self.chain.name, "points": self.points, "omega_max": self.omega_max,
                 "engine": self.engine, "engine_version": self.engine_version, "netlist_sha256": self.netlist_sha256,
-                "modes": modes, "seen": int(self.seen.sum()), "max_rel_error_omega": _finite(self.max_rel_error_omega),
-                "max_abs_error_P": self.max_abs_error_P, "fit_steps": self.fit.sweeps, "timings": self.timings,
-                "Q": self.losses, "max_rel_error_Q": _finite(self.max_rel_error_Q) if lossy else None,
-                "max_rel_error_pole": _finite(self.max_rel_error_pole), "max_abs_error_response": self.response_error,
+                "modes": modes, "seen": int(self.seen.sum()),
+                "max_rel_error_omega": _finite(self.max_rel_error_omega) if compared else None,
+                "max_abs_error_P": self.max_abs_error_P if compared else None, "fit_steps": self.fit.sweeps,
+                "timings": self.timings,
+                "Q": self.losses, "max_rel_error_Q": _finite(self.max_rel_error_Q) if lossy and compared else None,
+                "max_rel_error_pole": _finite(self.max_rel_error_pole) if compared else None,
+                "max_abs_error_response": self.response_error,
                 "segments": self.segments, "merged": [int(n) + 1 for n in np.flatnonzero(merged)],
                 "max_rel_error_Y11": self.envelope_error,
                 "failure": self.failure} | self.reference_bounds | (
