@@ -326,9 +326,9 @@ def sample_theory_seconds(N: int) -> float:
     comparison with the arrivals' refinement (about 50 ms at N = 50: a 2000-sample scene priced without it at
     0.14 s ran 119 s); an AC run's frequencies refined in extended precision
     (:func:`lcchain.theory.exact.sharp_frequencies`, about 1e-6 N^2 s: 3.7 s at N = 2000 on a loaded machine) and
-    certified in double-double with the weights from them (:mod:`lcchain.theory.reference`: 5.2 s and 0.4 s more
-    at N = 2000 under load, 11.6 s in all: 3e-6 N^2 s)."""
-    return 0.05 + 3e-10 * N**3 + 3e-6 * N**2 + 2e-4 * N
+    certified in double-double with the weights from them (:mod:`lcchain.theory.reference`; benchmarks/reference.md,
+    N = 2000 under a load of 9: bisection 10.3 s, certification 6.1 s, weights 0.6 s: 4e-6 N^2 s in all)."""
+    return 0.05 + 3e-10 * N**3 + 4e-6 * N**2 + 2e-4 * N
 
 
 def accuracy_plan_seconds(N: int) -> float:
