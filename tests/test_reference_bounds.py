@@ -123,3 +123,13 @@ def test_a_perfect_cradles_weights_follow_its_prescribed_spectrum_in_closed_form
     assert np.max(np.abs(reference - sign * exact)) < ATOL_PERFECT_CLOSED_FORM
     assert np.max(np.abs(reference - sign * exact) / exact) < RTOL_PERFECT_CLOSED_FORM
     assert np.array_equal(exact_modes(chain).density, closed)  # the transient's theory takes the closed form
+
+
+def test_the_table_prints_each_modes_bound_beside_its_error(capsys):
+    from lcchain.cli.main import main
+
+    assert main(["spectrum", "--case", "two-mass", "--N", "8"]) == 0
+    out = capsys.readouterr().out
+    assert "ref. bound" in out and out.count("(reference bound ") == 2  # omega_n's and P_n's, on the summary line
+    rows = [line.split() for line in out.splitlines() if line.split() and line.split()[0] in {"2", "3", "4"}]
+    assert len(rows) == 3 and all(float(row[4]) < 1e-17 for row in rows)  # the column after the error
