@@ -78,9 +78,12 @@ def test_the_reference_holds_its_own_bounds(case, N):
     assert np.max(modes.omega_bound) < 1e-17 and np.max(modes.transfer_bound) < 1e-15
 
 
-@pytest.mark.parametrize("case, N", [("one-mass", 150), ("two-mass", 37)])
-def test_an_ac_run_is_measured_against_a_reference_ten_times_sharper(case, N):
-    report = spectrum(Request(chain_for_case(case, N), AC()))
+@pytest.mark.parametrize("case, N, coupling", [("one-mass", 150, 0.0), ("two-mass", 37, 0.0), ("two-mass", 20, 0.2)])
+def test_an_ac_run_is_measured_against_a_reference_ten_times_sharper(case, N, coupling):
+    from lcchain.theory.chain import Chain
+
+    chain = chain_for_case(case, N)
+    report = spectrum(Request(Chain(chain.masses, chain.springs, coupling=coupling), AC()))
     bounds = report.reference_bounds
     assert bounds["reference_bound_omega"] * REFERENCE_MARGIN <= report.max_rel_error_omega
     assert bounds["reference_bound_P"] * REFERENCE_MARGIN <= report.max_abs_error_P
@@ -133,3 +136,60 @@ def test_the_table_prints_each_modes_bound_beside_its_error(capsys):
     assert "ref. bound" in out and out.count("(reference bound ") == 2  # omega_n's and P_n's, on the summary line
     rows = [line.split() for line in out.splitlines() if line.split() and line.split()[0] in {"2", "3", "4"}]
     assert len(rows) == 3 and all(float(row[4]) < 1e-17 for row in rows)  # the column after the error
+
+
+def _decimal_pencil_modes(chain, approx: np.ndarray) -> tuple[list[Decimal], list[Decimal]]:
+    """Coupled coils: omega_n of K u = mu M u by Sturm bisection of K - mu M, and m_1 u_1n u_Nn from the pencil's
+    eigenvector by its three-term recurrence, M-normalised, all in decimal arithmetic."""
+    with localcontext() as context:
+        context.prec = DECIMAL_DIGITS
+        m = [Decimal(float(x)) for x in chain.masses]
+        K = [Decimal(float(x)) for x in chain.springs]
+        k = Decimal(float(chain.coupling))
+        N = len(m)
+        mo = [k * (m[i] * m[i + 1]).sqrt() for i in range(N - 1)]
+
+        def bands(mu):
+            return ([K[i] + K[i + 1] - mu * m[i] for i in range(N)],
+                    [-K[i + 1] - mu * mo[i] for i in range(N - 1)])
+
+        def below(mu):
+            a, b = bands(mu)
+            return _below(a, [x * x for x in b], Decimal(0))
+
+        omegas, weights = [], []
+        for n, w in enumerate(approx):
+            if w == 0:
+                mu = Decimal(0)
+            else:
+                mu = Decimal(float(w)) ** 2
+                lo, hi = mu * (1 - Decimal("1e-9")), mu * (1 + Decimal("1e-9"))
+                assert below(lo) <= n < below(hi)
+                while hi - lo > mu * Decimal(10) ** (8 - DECIMAL_DIGITS):
+                    mid = (lo + hi) / 2
+                    lo, hi = (lo, mid) if below(mid) > n else (mid, hi)
+                mu = (lo + hi) / 2
+            a, b = bands(mu)
+            u = [Decimal(1), -a[0] / b[0]]
+            for i in range(1, N - 1):
+                u.append(-(b[i - 1] * u[i - 1] + a[i] * u[i]) / b[i])
+            norm = sum(m[i] * u[i] * u[i] for i in range(N)) + 2 * sum(mo[i] * u[i] * u[i + 1] for i in range(N - 1))
+            omegas.append(mu.sqrt())
+            weights.append(m[0] * u[0] * u[-1] / norm)
+        return omegas, weights
+
+
+@pytest.mark.parametrize("coupling", [0.2, -0.3])
+def test_coupled_coils_reference_holds_its_own_bounds(coupling):
+    from lcchain.theory.chain import Chain
+
+    base = chain_for_case("two-mass", 20)
+    chain = Chain(base.masses, base.springs, coupling=coupling)
+    modes = driven_modes(chain)
+    omega, P = _decimal_pencil_modes(chain, modes.omega)
+    for n in range(chain.N):
+        if omega[n]:
+            error = abs(Decimal(float(modes.omega[n])) + Decimal(float(modes.omega_low[n])) - omega[n]) / omega[n]
+            assert float(error) <= modes.omega_bound[n], n
+        assert float(abs(Decimal(float(modes.transfer[n])) - P[n])) <= modes.transfer_bound[n], n
+    assert np.max(modes.omega_bound) < 1e-17 and np.max(modes.transfer_bound) < 1e-15

@@ -64,7 +64,8 @@ class Modes(FrozenArrays):
         ones (the free perfect cradle's binomials, :func:`lcchain.theory.exact.perfect_weights`).
     omega_low : ndarray or None
         Where the frequencies are known beyond float64 (an AC run's reference, :mod:`lcchain.theory.reference`):
-        the rest of each, omega_n + omega_low_n, so a comparison is not limited by float64's rounding of them.
+        the rest of each, the reference being omega_n + omega_low_n, so a comparison is not limited by float64's
+        rounding of them (coupled coils: omega_n stays LAPACK's and omega_low holds the whole refinement).
     omega_bound : ndarray or None
         Each frequency's own relative error bound (of omega + omega_low), where it is stated.
     transfer_bound : ndarray or None
