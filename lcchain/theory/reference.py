@@ -9,7 +9,7 @@ The reference it is held to must be at least ten times sharper, and say by how m
   double-double arithmetic (about 106 bits) just below and just above it, and the bracket that holds exactly the
   mode's index is its bound (relative, :data:`CERTIFIED_BRACKET` at first, widened until it holds).  The counts'
   own rounding perturbs the entries by about 2^-104 each, which moves a singular value by at most 2N 2^-104
-  relative (Demmel and Kahan 1990): added to the bound.  The value is kept as a pair of float64 (``omega`` and
+  relative (Demmel and Kahan 1990): added to the bound, as 2N 2^-90 to be safe.  The value is kept as a pair of float64 (``omega`` and
   ``omega_low``), so the comparison is not limited by float64's own rounding of the reference (1.1e-16).
 * **End-to-end weights.**  For a Jacobi matrix the residue of its resolvent's corner gives, without eigenvectors,
 
@@ -159,7 +159,7 @@ def certify_frequencies(chain: Chain, omega: np.ndarray) -> tuple[np.ndarray, np
         return high, low, bound
     with np.errstate(all="ignore"):  # a chain beyond float64 is refused by the caller's own checks
         squares = _edges_squared(chain)
-    rounding = 2 * squares[0].size * _EPS_DD
+    rounding = squares[0].size * _DD_SUMS  # the counts' own rounding, conservatively (see _DD_SUMS)
     width = np.full(moving.size, CERTIFIED_BRACKET)
     pending = np.ones(moving.size, dtype=bool)
     for _ in range(_WIDENINGS):
