@@ -9,8 +9,9 @@ The reference it is held to must be at least ten times sharper, and say by how m
   double-double arithmetic (about 106 bits) just below and just above it, and the bracket that holds exactly the
   mode's index is its bound (relative, :data:`CERTIFIED_BRACKET` at first, widened until it holds).  The counts'
   own rounding perturbs the entries by about 2^-104 each, which moves a singular value by at most 2N 2^-104
-  relative (Demmel and Kahan 1990): added to the bound, as 2N 2^-90 to be safe.  The value is kept as a pair of float64 (``omega`` and
-  ``omega_low``), so the comparison is not limited by float64's own rounding of the reference (1.1e-16).
+  relative (Demmel and Kahan 1990): added to the bound, as 2N 2^-90 to be safe.  The value is kept as a pair of
+  float64 (``omega`` and ``omega_low``), so the comparison is not limited by float64's own rounding of the
+  reference (1.1e-16).
 * **End-to-end weights.**  For a Jacobi matrix the residue of its resolvent's corner gives, without eigenvectors,
 
       P_n = sqrt(m_1/m_N) u_1n u_Nn = (-1)^(n-1) prod_(i<N) K_(i,i+1) / prod_(i>1) m_i / prod_(m!=n) |mu_n - mu_m|
