@@ -13,8 +13,8 @@ interleaved rounds (each round runs every contender once, in a rotated order) so
 load falls on all of them alike; the table gives the median over the rounds.  ``xargs`` and the bash loop run
 ``ngspice -b`` alone: they are the limit one process per run can reach.  lcchain's foreign netlists run in its
 sandbox (bubblewrap), which the bare ngspice contenders do not pay.  The first table measures one run by
-itself (``lcchain.spice.runner.run``): a new ``ngspice -b`` process against a warm worker, where the
-crossover that :data:`lcchain.spice.warm.WARM_BELOW_SECONDS` is set from shows.
+itself (``lcchain.spice.ngspice.runner.run``): a new ``ngspice -b`` process against a warm worker, where the
+crossover that :data:`lcchain.spice.ngspice.warm.WARM_BELOW_SECONDS` is set from shows.
 """
 
 from __future__ import annotations
@@ -34,9 +34,9 @@ from pathlib import Path
 
 import lcchain
 from lcchain.runs.simulate import simulation_spec
-from lcchain.spice.runner import run
-from lcchain.spice.simulator import find_simulator
-from lcchain.spice.warm import WARM_BELOW_SECONDS, close_workers, warm_simulator
+from lcchain.spice.ngspice.find import find_simulator
+from lcchain.spice.ngspice.runner import run
+from lcchain.spice.ngspice.warm import WARM_BELOW_SECONDS, close_workers, warm_simulator
 from lcchain.studies.plan import _seconds
 
 ROUNDS = int(os.environ.get("LCCHAIN_BENCH_ROUNDS", "5"))
@@ -158,8 +158,9 @@ def main() -> None:
            f"Machine: {platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}, "
            f"ngspice {batch.version}, lcchain {lcchain.__version__}. Chains: optimal two-mass, kick, one transit.",
            "", "## One run by itself", "",
-           "Wall time of `lcchain.spice.runner.run` on lcchain's own netlist (no sandbox), median: a new "
-           "`ngspice -b` process each time, or the same warm worker (`lcchain.spice.warm`). \"predicted\" is the "
+           "Wall time of `lcchain.spice.ngspice.runner.run` on lcchain's own netlist (no sandbox), median: a new "
+           "`ngspice -b` process each time, or the same warm worker (`lcchain.spice.ngspice.warm`). "
+           "\"predicted\" is the "
            f"study planner's price of the run; studies send runs predicted under {WARM_BELOW_SECONDS} s to warm "
            "workers (`--transport auto`).", ""]
     out += per_run_table()
