@@ -27,8 +27,9 @@ __all__ = ["SpectrumRequest", "Spectrum", "TwoPortSummary", "spectrum", "write_o
 class SpectrumRequest:
     """The chain and its units, the engine, the AC sweep's ``points`` (None: twice the fewest that separate
     every pole), the chain's losses ``Q`` and the other effects (losses among them are refused), the figure
-    ``plot``, the two-port file ``touchstone`` and its reference impedance ``z0`` (ohms); ``progress(label)``
-    gives a callback of the fraction done."""
+    ``plot``, the two-port file ``touchstone`` and its reference impedance ``z0`` (ohms), ``shapes`` every mode
+    with its shape from a second AC run that drives every loop; ``progress(label)`` gives a callback of the
+    fraction done."""
 
     chain: ChainOptions
     L0: float
@@ -40,6 +41,7 @@ class SpectrumRequest:
     plot: str | None = None
     touchstone: str | None = None
     z0: float | None = None
+    shapes: bool = False
     budget: Budget = field(default_factory=Budget)
     progress: Callable[[str], Callable[[float], None]] | None = None
 
@@ -47,7 +49,7 @@ class SpectrumRequest:
 @dataclass(frozen=True)
 class Spectrum:
     """The chain, the spectrum's report (:class:`lcchain.runs.spectrum.SpectrumReport`), its JSON with SI units,
-    the effects compared, and the outputs still to write."""
+    the effects compared, the outputs still to write, and the modes the losses merged, as a line says them."""
 
     request: SpectrumRequest
     chain: Chain
@@ -55,6 +57,7 @@ class Spectrum:
     data: dict[str, Any]
     effects: tuple[Effect, ...]
     outputs: Outputs
+    merged: str = ""
 
 
 @dataclass(frozen=True)
@@ -70,7 +73,7 @@ class TwoPortSummary:
 
 def spectrum(request: SpectrumRequest) -> Spectrum:
     """Check the outputs, build the chain, run the AC analysis and compare it with theory."""
-    from ..runs.spectrum import measure_spectrum
+    from ..runs.spectrum import measure_spectrum, merged_text
 
     outputs = Outputs(inputs={"--chain": request.chain.chain} if request.chain.chain else {})
     outputs.check("--plot", request.plot, FIGURE_FORMATS)
@@ -85,9 +88,11 @@ def spectrum(request: SpectrumRequest) -> Spectrum:
     effects = request.effects
     progress = None if request.progress is None else request.progress(f"{request.engine} AC analysis, then the fit")
     report = measure_spectrum(chain, Q=request.Q, points=request.points, L0=request.L0, C0=request.C0,
-                              budget=request.budget, engine=request.engine, progress=progress, effects=effects)
+                              budget=request.budget, engine=request.engine, progress=progress, effects=effects,
+                              shapes=request.shapes)
     data = with_physical_units(report.to_dict(), request.L0, request.C0)
-    return Spectrum(request, chain, report, data, effects, outputs)
+    merged = merged_text(report.merged_modes) if data["merged"] else ""
+    return Spectrum(request, chain, report, data, effects, outputs, merged)
 
 
 def write_outputs(result: Spectrum) -> TwoPortSummary | None:

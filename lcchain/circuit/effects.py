@@ -376,8 +376,9 @@ class Losses(Effect):
     ----------
     Q : float
         Quality factor of every inductor at 1/sqrt(L0*C0) (dimensionless, :data:`lcchain.core.limits.MIN_Q` to
-        :data:`~lcchain.core.limits.MAX_Q`; an AC analysis narrows it to what its fit identifies,
-        :func:`lcchain.compare.spectral.lossy_range`).
+        :data:`~lcchain.core.limits.MAX_Q`; an AC analysis refuses a Q above what its fit places,
+        :func:`lcchain.compare.spectral.lossy_range`, and below its range says which modes merged,
+        :func:`lcchain.compare.spectral.merged_modes`).
     """
 
     key: ClassVar[str] = "losses"

@@ -326,8 +326,10 @@ def sample_theory_seconds(N: int) -> float:
     """The theory of one realised chain (a tolerance sample): its exact modes (eigh, about 3e-10 N^3 s) and the
     comparison with the arrivals' refinement (about 50 ms at N = 50: a 2000-sample scene priced without it at
     0.14 s ran 119 s); an AC run's frequencies refined in extended precision
-    (:func:`lcchain.theory.exact.sharp_frequencies`, about 1e-6 N^2 s: 3.7 s at N = 2000 on a loaded machine)."""
-    return 0.05 + 3e-10 * N**3 + 1e-6 * N**2 + 2e-4 * N
+    (:func:`lcchain.theory.exact.sharp_frequencies`, about 1e-6 N^2 s: 3.7 s at N = 2000 on a loaded machine) and
+    certified in double-double with the weights from them (:mod:`lcchain.theory.reference`; benchmarks/reference.md,
+    N = 2000 under a load of 9: bisection 10.3 s, certification 6.1 s, weights 0.6 s: 4e-6 N^2 s in all)."""
+    return 0.05 + 3e-10 * N**3 + 4e-6 * N**2 + 2e-4 * N
 
 
 def accuracy_plan_seconds(N: int) -> float:

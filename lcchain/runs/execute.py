@@ -464,7 +464,7 @@ def ac_metrics(theory: SpectrumTheory, result: AcResult) -> SpectrumMetrics:
         exact = circuit_modes(theory.circuit, chain.N, theory.time_unit, theory.impedance)
         return compare_poles(exact, omega, first, last, float(chain.masses[0]))
     modes = theory.modes if theory.modes is not None else driven_modes(chain)
-    return compare_spectrum(modes, omega, first, last, float(chain.masses[0]), theory.Q)
+    return compare_spectrum(modes, omega, first, last, float(chain.masses[0]), theory.Q, chain=chain)
 
 
 def _run_ac(spec: RunSpec, simulator: Simulator,
