@@ -199,7 +199,8 @@ def _workers(args: argparse.Namespace) -> int:
 
 
 def _run(args: argparse.Namespace, plan: Any, outputs: Outputs,
-         after: Callable[[bool], dict[str, Any]] | None = None, max_seconds: float | None = None) -> int:
+         after: Callable[[bool], dict[str, Any]] | None = None, max_seconds: float | None = None,
+         pool: Any = None) -> int:
     """Run a study's plan into --store and print its summary; ``after(json)`` adds what the study itself says
     (printed, or returned to join the JSON object); ``max_seconds``: the study's time budget left (runs not
     started within it stay pending)."""
@@ -223,7 +224,7 @@ def _run(args: argparse.Namespace, plan: Any, outputs: Outputs,
         summary = run_plan(plan, args.store, executor=args.executor, workers=workers, scheduler=args.scheduler,
                            progress=study_counter("runs"), on_resume=resumed, retry_failed=args.retry_failed,
                            wait=args.wait, on_wait=waiting, verbose=verbose, transport=args.transport,
-                           max_seconds=max_seconds)
+                           max_seconds=max_seconds, pool=pool)
     if args.json:
         emit_json({**summary.to_dict(), **(after(True) if after is not None else {})})
     else:
@@ -280,6 +281,12 @@ def cmd_sweep(args: argparse.Namespace) -> int:
         if not args.case or not args.N:
             raise ParameterError("--case" if not args.case else "--N", None, "--case and --N lists (or SCENE.toml)")
         parts = any(v is not None for v in (args.samples, args.seed, args.tolerance, args.series))
+        if not parts and args.analysis == "transient" and args.executor == "process" and _workers(args) > 1:
+            from ..studies.pools import started_pool
+
+            # the pool's workers start now and design the chains while the driver plans (issue 35)
+            with started_pool(_workers(args)) as pool:
+                return _run(args, _transient_sweep(args, budget, pool), outputs, pool=pool)
         plan = _parts_sweep(args, budget) if parts else _SWEEPS[args.analysis](args, budget)
     return _run(args, plan, outputs)
 
@@ -411,7 +418,7 @@ def _print_worst_case(summary: dict[str, Any]) -> None:
               f"{'within' if mc['within'] else 'BEYOND'} the worst corner's {mc['worst_corner_theory']:.6f}")
 
 
-def _transient_sweep(args: argparse.Namespace, budget: Any) -> Any:
+def _transient_sweep(args: argparse.Namespace, budget: Any, pool: Any = None) -> Any:
     from ..studies.plan import sweep_plan
 
     if args.points is not None:
@@ -421,7 +428,7 @@ def _transient_sweep(args: argparse.Namespace, budget: Any) -> Any:
                       accuracies=args.accuracy or [], transits=args.transits or [1],
                       excitations=args.excitation or ["kick"], L0=args.L0, C0=args.C0, backend=args.backend,
                       timeout=args.timeout, budget=budget, extrapolate=args.extrapolate, workers=_workers(args),
-                      engine=args.engine or DEFAULT_ENGINE)
+                      engine=args.engine or DEFAULT_ENGINE, pool=pool)
 
 
 def _ac_sweep(args: argparse.Namespace, budget: Any) -> Any:
