@@ -219,10 +219,10 @@ def run_plan(plan: Plan, store: str | Path, *, executor: str = "process", worker
                 combining.ready(finished)
                 if progress is not None:
                     progress(Progress(done, len(todo), failed, time.perf_counter() - start))
-        stored = {run.key: run for run in results.runs()}
-    status = {key: run.status for key, run in stored.items()}
+        stored = results.statuses()
+    status = {key: stored.get(key, ("pending", ""))[0] for key in keys.values()}
     combined = [status[keys[c.index]] for c in plan.combinations]
-    refusals = tuple((str(r.params.get("netlist", r.label)), stored[r.key].reason) for r in plan.refusals)
+    refusals = tuple((str(r.params.get("netlist", r.label)), stored[r.key][1]) for r in plan.refusals)
     return Summary(len(distinct), skipped, done, sum(status[key] == "ok" for key in distinct),
                    sum(status[key] in ("failed", "timeout") for key in distinct), str(store),
                    time.perf_counter() - start, combined.count("ok"), len(combined) - combined.count("ok"),
@@ -234,7 +234,7 @@ class _Combiner:
 
     def __init__(self, plan: Plan, keys: dict[int, str], store: Store):
         self.keys, self.store = keys, store
-        done = {run.key for run in store.runs() if run.status == "ok"}
+        done = {key for key, (status, _) in store.statuses().items() if status == "ok"} if plan.combinations else set()
         # a failed combination is made again: it costs no ngspice run, and its members may be fine
         self.pending = [c for c in plan.combinations if keys[c.index] not in done]
 

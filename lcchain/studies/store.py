@@ -946,6 +946,16 @@ class Store:
         """Every task in plan order, with its record where it ran."""
         return [self._stored(row) for row in self._rows(f"{self._SELECT} ORDER BY t.idx")]
 
+    def statuses(self) -> dict[str, tuple[str, str]]:
+        """Each stored run's (status, reason) by key, its metrics and arrays unread: what a study's summary
+        counts (reading every run's metrics for it grew the driver with the study)."""
+        found = {}
+        for key, status, reason in self._rows("SELECT key, status, reason FROM records"):
+            if status not in _STATUSES:
+                raise self._tampered(f"run {str(key)[:12]} has the status {str(status)[:20]!r}")
+            found[key] = (status, reason or "")
+        return found
+
     def records(self, keys: Sequence[str]) -> list[StoredRun]:
         """The stored runs under these keys, in their order (as the first task with each key)."""
         found = []
