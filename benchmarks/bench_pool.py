@@ -3,6 +3,7 @@
 Run from the repository root:
 
     .venv/bin/python benchmarks/bench_pool.py [--rounds 2] > benchmarks/pool.md
+    .venv/bin/python benchmarks/bench_pool.py --plan-only [--rounds 2]   # the plan alone: driver or pool
 
 The sweep of ``benchmarks/pool.md``: the optimal two-mass chain, N = 300, 310, ..., 410, dt = 0.02 (runs of
 1 to 2 s).  Four commands, each a whole process timed from here, in interleaved rounds (each round runs all four,
@@ -50,10 +51,48 @@ def rows(store: Path) -> list[tuple[str, str, str]]:
         return sorted(db.execute("SELECT key, digest, metrics FROM records").fetchall())
 
 
+def plan_table(rounds: int) -> list[str]:
+    """The sweep's plan alone, in this process: designed in the driver, or on a pool started for it (its start
+    included), interleaved; wall and CPU time (the driver's, and the workers'), the plans' fingerprints compared."""
+    import resource
+
+    from lcchain.studies.plan import sweep_plan
+    from lcchain.studies.pools import started_pool
+
+    def cpu(who: int) -> float:
+        used = resource.getrusage(who)
+        return used.ru_utime + used.ru_stime
+
+    axes = {"cases": ["two-mass"], "Ns": NS, "dts": [float(DT)]}
+    rows = []
+    same = True
+    before = load()
+    for _ in range(rounds):
+        driver, start = cpu(resource.RUSAGE_SELF), time.perf_counter()
+        alone = sweep_plan(**axes)
+        rows.append(("in the driver", time.perf_counter() - start, cpu(resource.RUSAGE_SELF) - driver, 0.0))
+        driver, workers, start = cpu(resource.RUSAGE_SELF), cpu(resource.RUSAGE_CHILDREN), time.perf_counter()
+        with started_pool(2) as pool:
+            shared = sweep_plan(**axes, pool=pool)
+            wall = time.perf_counter() - start
+        rows.append(("on 2 workers started for it (their start included)", wall,
+                     cpu(resource.RUSAGE_SELF) - driver, cpu(resource.RUSAGE_CHILDREN) - workers))
+        same = same and alone.fingerprint("39") == shared.fingerprint("39")
+    lines = [f"The plan alone: `sweep_plan` of the 12 points in one process, {rounds} interleaved rounds, load "
+             f"average {before:.2f} to {load():.2f}; the same plan both ways (fingerprints equal): {same}.", "",
+             "| designed | wall (s) | driver's CPU (s) | workers' CPU (s) |", "|---|---:|---:|---:|"]
+    lines += [f"| {where} | {wall:.2f} | {mine:.2f} | {theirs:.2f} |" for where, wall, mine, theirs in rows]
+    return lines
+
+
 def main() -> None:
     parser = argparse.ArgumentParser()
     parser.add_argument("--rounds", type=int, default=2)
+    parser.add_argument("--plan-only", action="store_true", help="only the plan, in the driver or on the pool")
     args = parser.parse_args()
+    if args.plan_only:
+        print("\n".join(plan_table(args.rounds)))
+        return
     env = ENV
     ngspice = shutil.which("ngspice") or "ngspice"
     sweep = [LCCHAIN, "sweep", "--case", "two-mass", "--N", ",".join(map(str, NS)), "--dt", DT]
