@@ -18,9 +18,9 @@ table gives the median over the rounds and the load average (1 min) before and a
 ``lcchain`` command (the console script beside this interpreter), reading its bytecode as an installed lcchain
 does (``PYTHONDONTWRITEBYTECODE`` dropped).  ``xargs`` and the bash loop run ``ngspice -b`` alone: they are the
 limit one process per run can reach.  lcchain's foreign netlists run in its sandbox (bubblewrap), which the bare
-ngspice contenders do not pay.  The first table measures one run by itself (``lcchain.spice.runner.run``): a new
-``ngspice -b`` process against a warm worker, where the crossover that
-:data:`lcchain.spice.warm.WARM_BELOW_SECONDS` is set from shows.
+ngspice contenders do not pay.  The first table measures one run by itself
+(``lcchain.spice.ngspice.runner.run``): a new ``ngspice -b`` process against a warm worker, where the crossover that
+:data:`lcchain.spice.ngspice.warm.WARM_BELOW_SECONDS` is set from shows.
 
 "runs only" is lcchain's own ``wall_s`` (from the first run's start to the last one stored); the difference
 from the whole command is split after each table: the command's fixed start (``lcchain batch --help``: the
@@ -46,9 +46,9 @@ from pathlib import Path
 
 import lcchain
 from lcchain.runs.simulate import simulation_spec
-from lcchain.spice.runner import run
-from lcchain.spice.simulator import find_simulator
-from lcchain.spice.warm import WARM_BELOW_SECONDS, close_workers, warm_simulator
+from lcchain.spice.ngspice.find import find_simulator
+from lcchain.spice.ngspice.runner import run
+from lcchain.spice.ngspice.warm import WARM_BELOW_SECONDS, close_workers, warm_simulator
 from lcchain.studies.plan import _seconds, batch_plan
 
 ROUNDS = int(os.environ.get("LCCHAIN_BENCH_ROUNDS", "5"))
@@ -248,10 +248,10 @@ def main() -> None:
            "chain, the step through 0.04 (1 + i / count), the title names the run; kick, one transit."]
     if not args.skip_single:
         out += ["", "## One run by itself", "",
-                "Wall time of `lcchain.spice.runner.run` on lcchain's own netlist (no sandbox), median: a new "
-                "`ngspice -b` process each time, or the same warm worker (`lcchain.spice.warm`). \"predicted\" is "
-                f"the study planner's price of the run; studies send runs predicted under {WARM_BELOW_SECONDS} s to "
-                "warm workers (`--transport auto`).", ""]
+                "Wall time of `lcchain.spice.ngspice.runner.run` on lcchain's own netlist (no sandbox), median: a "
+                "new `ngspice -b` process each time, or the same warm worker (`lcchain.spice.ngspice.warm`). "
+                "\"predicted\" is the study planner's price of the run; studies send runs predicted under "
+                f"{WARM_BELOW_SECONDS} s to warm workers (`--transport auto`).", ""]
         out += per_run_table()
     with tempfile.TemporaryDirectory(prefix="lcchain-bench-batch-") as folder:
         work = Path(folder)

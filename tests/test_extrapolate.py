@@ -239,7 +239,7 @@ def test_a_sweep_runs_the_members_as_tasks_and_stores_what_simulate_gives(tmp_pa
 def _sweep_to_the_middle(store_path, stored: int):
     """A sweep whose driver died after ``stored`` of its member runs were stored: they are stored by hand."""
     from lcchain.runs.execute import execute
-    from lcchain.spice.simulator import find_simulator
+    from lcchain.spice.ngspice.find import find_simulator
     from lcchain.studies.plan import sweep_plan
     from lcchain.studies.store import Store
 

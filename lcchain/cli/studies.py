@@ -14,11 +14,13 @@ from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
 from typing import Any
 
+from ..core.analyses import ANALYSIS_KINDS_DATA
 from ..core.budget import INTERPRETER_SECONDS, show_seconds
 from ..core.errors import ExtraMissingError, ParameterError
 from ..core.types import (
     ANALYSIS_KINDS,
     ARRIVAL_METRICS,
+    BACKENDS,
     DEFAULT_C0,
     DEFAULT_L0,
     EXCITATIONS,
@@ -121,7 +123,7 @@ def add_sweep_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--transits", type=int_list("--transits"), help="transits, comma separated (default 1)")
     p.add_argument("--excitation", type=_words("--excitation", EXCITATIONS),
                    help="kick and/or displacement, comma separated (default kick)")
-    p.add_argument("--analysis", choices=ANALYSIS_KINDS, default="transient",
+    p.add_argument("--analysis", choices=tuple(ANALYSIS_KINDS_DATA), default=ANALYSIS_KINDS[0],
                    help="transient (default), or ac: each chain's spectrum (normal frequencies and end weights "
                         "against theory) from an AC sweep")
     p.add_argument("--points", type=int, help="with --analysis ac: frequencies of each sweep (default: twice the "
@@ -130,7 +132,7 @@ def add_sweep_arguments(p: argparse.ArgumentParser) -> None:
                    help=f"bulk inductance, henry (default {DEFAULT_L0:g})")
     p.add_argument("--C0", type=number_type("--C0"), default=DEFAULT_C0,
                    help=f"bulk capacitance, farad (default {DEFAULT_C0:g})")
-    p.add_argument("--backend", choices=("batch", "shared"), default="batch")
+    p.add_argument("--backend", choices=BACKENDS, default=BACKENDS[0])
     p.add_argument("--engine", choices=tuple(ENGINES),
                    help="the circuit simulator of every run (default ngspice; with SCENE.toml its "
                         "[analysis] engine says it)")

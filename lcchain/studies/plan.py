@@ -55,9 +55,9 @@ from ..core.types import DEFAULT_C0, DEFAULT_L0, Backend, Excitation
 from ..runs.spec import DEFAULT_TIMEOUT, RunSpec, SpectrumTheory, Theory
 from ..spice.engines import DEFAULT_ENGINE, ENGINES, find_engine
 from ..spice.foreign import ALLOW_CONTROL_HINT, allowed_netlist, analysis_of, foreign_price
-from ..spice.runner import read_include
+from ..spice.result import read_include
 from ..spice.text import canonical_text, saved_vectors
-from .executors import executor_cost
+from .executors import EXECUTOR_TRAITS, executor_cost
 
 if TYPE_CHECKING:
     from concurrent.futures import Executor
@@ -248,10 +248,11 @@ class Plan:
         worker holding the largest run (and a warm worker beside it, for transient runs), and the extrapolations
         combined in the driver."""
         distinct = list(self._runs().values())
-        used = 1 if executor == "serial" else max(1, min(workers, len(distinct)))
+        used = max(1, min(workers, len(distinct))) if EXECUTOR_TRAITS[executor].parallel else 1
         cost = executor_cost(executor, used, light=all(task.spec.theory is None for task in distinct))
         largest = max((task.memory for task in distinct), default=0.0)
-        warm = WARM_WORKER_BYTES if any(task.spec.analysis == "transient" for task in distinct) else 0.0
+        warm = WARM_WORKER_BYTES if any(task.spec.analysis in ENGINES[task.spec.engine].warm_analyses
+                                        for task in distinct) else 0.0
         combining = sum(_combination_seconds(c) for c in self.combinations)
         runs = sum(task.seconds + _compare_seconds(task.spec) for task in distinct)
         seconds = self.planning + cost.start + runs / used + combining
@@ -269,12 +270,15 @@ class Plan:
                                             "--max-memory")
 
     def _made_by(self) -> str:
-        if self.kind == "batch":
-            return "NETLIST"
-        if self.kind in ("scene", "netlist"):
-            return "--vary/--samples"
+        made_by = _MADE_BY.get(self.kind)  # what the user gave that makes a plan of this kind's runs
+        if made_by is not None:
+            return made_by
         axes = [f"--{name}" for name in self.axes if name in ("case", "N", "dt", "accuracy", "transits", "excitation")]
         return " x ".join(axes) or "--N"
+
+
+#: What the user gave that makes the runs of a plan of each kind (a sweep's: its axes' options).
+_MADE_BY = {"batch": "NETLIST", "scene": "--vary/--samples", "netlist": "--vary/--samples"}
 
 
 def _seconds(spec: RunSpec) -> float:
