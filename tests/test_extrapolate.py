@@ -359,7 +359,7 @@ def test_members_that_cannot_be_combined_make_a_failed_row_not_a_crash(tmp_path,
     with sqlite3.connect(path) as db:  # the same command, planned otherwise (as another lcchain would)
         db.execute("UPDATE meta SET value = 'another' WHERE name = 'plan'")
     assert main(argv) == 2
-    assert "holds this very study as another lcchain or ngspice planned it" in capsys.readouterr().err
+    assert "holds this very study as another lcchain or engine planned it" in capsys.readouterr().err
 
 
 @pytest.mark.ngspice

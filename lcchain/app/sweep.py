@@ -59,12 +59,32 @@ def sweep(request: SweepRequest, hooks: StudyHooks | None = None) -> StudyResult
     from .studies import check_study
 
     check_study(request.study)
-    planned = plan_sweep(request)
-    return run_study(planned, request.study, request.budget, hooks)
+    if _pool_first(request):
+        from ..studies.pools import started_pool
+
+        # the pool's workers start now and design the chains while the driver plans (issue 35)
+        with started_pool(study_workers(request.study)) as pool:
+            return run_study(plan_sweep(request, pool), request.study, request.budget, hooks, pool=pool)
+    return run_study(plan_sweep(request), request.study, request.budget, hooks)
 
 
-def plan_sweep(request: SweepRequest) -> PlannedStudy:
-    """The sweep's plan, checked against its options, before anything runs (the store is not touched)."""
+def _pool_first(request: SweepRequest) -> bool:
+    """A sweep of cases and sizes whose transient runs go to a local pool of several workers: the pool starts
+    before the plan, which designs the chains on it."""
+    from ..studies.executors import EXECUTOR_TRAITS
+
+    traits = EXECUTOR_TRAITS.get(request.study.executor)
+    parts = any(v is not None for v in (request.samples, request.seed, request.tolerance, request.series))
+    return (request.worst_case is None and request.components is None and request.metric is None
+            and request.netlist is None and not request.scene and not request.vary and bool(request.case)
+            and bool(request.N) and not parts and not analysis_kind(request.analysis).swept
+            and traits is not None and traits.parallel and not traits.remote and study_workers(request.study) > 1)
+
+
+def plan_sweep(request: SweepRequest, pool: Any = None) -> PlannedStudy:
+    """The sweep's plan, checked against its options, before anything runs (the store is not touched); ``pool``:
+    a transient sweep's started process pool (:func:`lcchain.studies.pools.started_pool`), which designs its
+    chains."""
     from ..studies.plan import parse_vary, scene_sweep_plan
 
     budget = request.budget
@@ -91,7 +111,7 @@ def plan_sweep(request: SweepRequest) -> PlannedStudy:
         if not request.case or not request.N:
             raise ParameterError("--case" if not request.case else "--N", None, "--case and --N lists (or SCENE.toml)")
         parts = any(v is not None for v in (request.samples, request.seed, request.tolerance, request.series))
-        plan = _parts_sweep(request, budget) if parts else _SWEEPS[request.analysis](request, budget)
+        plan = _parts_sweep(request, budget) if parts else _SWEEPS[request.analysis](request, budget, pool)
     return PlannedStudy(plan)
 
 
@@ -188,7 +208,7 @@ def _worst_case(request: SweepRequest, budget: Budget) -> PlannedStudy:
     return PlannedStudy(plan, worst_case=setup)
 
 
-def _transient_sweep(request: SweepRequest, budget: Budget) -> Any:
+def _transient_sweep(request: SweepRequest, budget: Budget, pool: Any = None) -> Any:
     from ..studies.plan import sweep_plan
 
     if request.points is not None:
@@ -200,10 +220,10 @@ def _transient_sweep(request: SweepRequest, budget: Budget) -> Any:
                       excitations=request.excitation or ["kick"], L0=request.L0, C0=request.C0, backend=request.backend,
                       timeout=request.study.timeout, budget=budget, extrapolate=request.extrapolate,
                       workers=study_workers(request.study),
-                      engine=request.engine or DEFAULT_ENGINE)
+                      engine=request.engine or DEFAULT_ENGINE, pool=pool)
 
 
-def _ac_sweep(request: SweepRequest, budget: Budget) -> Any:
+def _ac_sweep(request: SweepRequest, budget: Budget, pool: Any = None) -> Any:
     from ..studies.plan import spectrum_sweep_plan
 
     given = [o for o in ("--dt", "--accuracy", "--extrapolate", "--transits", "--excitation")
@@ -218,6 +238,6 @@ def _ac_sweep(request: SweepRequest, budget: Budget) -> Any:
 
 
 #: How ``lcchain sweep --case ... --N ...`` plans each ``--analysis``.
-_SWEEPS: dict[str, Callable[[SweepRequest, Budget], Any]] = {"transient": _transient_sweep, "ac": _ac_sweep}
+_SWEEPS: dict[str, Callable[[SweepRequest, Budget, Any], Any]] = {"transient": _transient_sweep, "ac": _ac_sweep}
 
 

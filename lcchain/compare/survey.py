@@ -38,7 +38,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.linalg
 
 from ..core.blas import fixed_blas_threads
 from ..core.errors import ParameterError
@@ -230,6 +229,8 @@ def _sections(ws: np.ndarray, x: np.ndarray, gamma: np.ndarray) -> np.ndarray:
 
 
 def _plan(w: np.ndarray, x: np.ndarray, gamma: np.ndarray) -> list[_Window]:
+    import scipy.linalg  # here: importing the survey (every report and app module does) costs no scipy
+
     n_modes = x.size
     core = n_modes if n_modes <= ONE_WINDOW else CORE
     windows = []

@@ -49,7 +49,7 @@ import urllib.parse
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import FIRST_COMPLETED, ThreadPoolExecutor, wait
 from dataclasses import dataclass, replace
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from ..core.budget import (
     DASK_SCHEDULER_BYTES,
@@ -67,6 +67,9 @@ from ..runs.spec import RunSpec
 from ..spice.engines import engine_named, find_engine
 from ..spice.scratch import scratch_folder
 from ..spice.simulator import Simulator
+
+if TYPE_CHECKING:  # multiprocessing's pool takes ~10 ms to import, which a batch never uses
+    from concurrent.futures import ProcessPoolExecutor
 
 __all__ = ["ExecutorName", "EXECUTORS", "ExecutorTraits", "EXECUTOR_TRAITS", "DEFAULT_EXECUTOR",
            "MIN_TASK_SECONDS", "SCHEDULER_SCHEMES", "run_groups", "open_executor",
@@ -251,25 +254,27 @@ def default_workers() -> int:
 
 
 def group_tasks(items: Sequence[tuple[int, RunSpec, float]], executor: str, workers: int) -> list[Group]:
-    """Consecutive runs grouped until a group is worth :data:`MIN_TASK_SECONDS`, keeping enough groups."""
+    """Consecutive runs grouped until a group is worth :data:`MIN_TASK_SECONDS`, keeping enough groups; the
+    longest groups first (stable among equals), so that the last group to finish is a short one: a sweep of
+    N = 300 to 410 in plan order ended on its longest run, with the other worker idle."""
     least = MIN_TASK_SECONDS[executor]
     if not EXECUTOR_TRAITS[executor].parallel or not items:
         return [[(index, spec)] for index, spec, _ in items]
     total = sum(seconds for _, _, seconds in items)
     # worth the minimum, unless that leaves fewer than TASKS_PER_WORKER groups per worker
     target = min(least, total / (TASKS_PER_WORKER * workers))
-    groups: list[Group] = []
+    groups: list[tuple[float, Group]] = []
     current: Group = []
     held = 0.0
     for index, spec, seconds in items:
         current.append((index, spec))
         held += seconds
         if held >= target:
-            groups.append(current)
+            groups.append((held, current))
             current, held = [], 0.0
     if current:
-        groups.append(current)
-    return groups
+        groups.append((held, current))
+    return [group for _, group in sorted(groups, key=lambda g: -g[0])]
 
 
 def execute_group(group: Group, simulator: Simulator, keep_signals: bool = False,
@@ -311,8 +316,10 @@ POOL_RESTARTS = 3
 
 
 def _process(groups: list[Group], simulator: Simulator, workers: int, keep_signals: bool,
-             transports: Transports) -> Iterator[list[tuple[int, RunRecord]]]:
-    """A spawn process pool; a pool broken by a dead worker is rebuilt and the unfinished groups resubmitted."""
+             transports: Transports, started: ProcessPoolExecutor | None = None
+             ) -> Iterator[list[tuple[int, RunRecord]]]:
+    """A spawn process pool (``started``: one whose workers started before, while the study was planned); a pool
+    broken by a dead worker is rebuilt and the unfinished groups resubmitted."""
     # here, not at the top: multiprocessing and its pool take ~10 ms to import, which a serial batch never uses
     from concurrent.futures.process import BrokenProcessPool
 
@@ -320,7 +327,7 @@ def _process(groups: list[Group], simulator: Simulator, workers: int, keep_signa
 
     left = dict(enumerate(groups))
     for attempt in range(POOL_RESTARTS + 1):
-        pool = spawn_pool(workers)
+        pool = started if attempt == 0 and started is not None else spawn_pool(workers)
         finished = False
         try:
             pending = {pool.submit(execute_group, group, simulator, keep_signals, transports): number
@@ -342,7 +349,8 @@ def _process(groups: list[Group], simulator: Simulator, workers: int, keep_signa
             log.warning("a pool worker died; restarting the pool for the %d unfinished groups", len(left))
         finally:
             if finished:
-                pool.shutdown(wait=True)
+                if pool is not started:  # a started pool is its owner's to shut down
+                    pool.shutdown(wait=True)
             else:  # interrupted, or broken: nothing may keep running
                 kill_pool(pool)
 
@@ -451,7 +459,7 @@ def _on_dask(client: Any, groups: list[Group], simulator: Simulator, keep_signal
 @contextlib.contextmanager
 def open_executor(simulator: Simulator, *, executor: str = "process", workers: int | None = None,
                   scheduler: str | None = None, keep_signals: bool = False, verbose: bool = False,
-                  scratch: str | None = None) -> Iterator[Runner]:
+                  scratch: str | None = None, pool: ProcessPoolExecutor | None = None) -> Iterator[Runner]:
     """An executor, started (a Dask cluster up, or its scheduler reached) before the block runs.
 
     Parameters
@@ -469,6 +477,9 @@ def open_executor(simulator: Simulator, *, executor: str = "process", workers: i
     scratch : str, optional
         A folder for an executor's scratch space (a local Dask cluster's): the store's, so that nothing of
         the study is made in the temporary folder; default the temporary folder.
+    pool : ProcessPoolExecutor, optional
+        The study's process workers, started before (:func:`lcchain.studies.pools.started_pool`, while the study
+        was planned): the process executor runs on them instead of starting its own; the others ignore it.
 
     Yields
     ------
@@ -479,7 +490,7 @@ def open_executor(simulator: Simulator, *, executor: str = "process", workers: i
     check_executor(executor, workers, scheduler)
     try:
         with EXECUTOR_RUNNERS[executor](simulator, workers or default_workers(), scheduler, keep_signals,
-                                        verbose, scratch) as run:
+                                        verbose, scratch, pool) as run:
             yield run
     finally:
         engine_named(simulator.engine, "simulator.engine").release()
@@ -487,26 +498,26 @@ def open_executor(simulator: Simulator, *, executor: str = "process", workers: i
 
 @contextlib.contextmanager
 def _serial_runner(simulator: Simulator, workers: int, scheduler: str | None, keep_signals: bool,
-                   verbose: bool, scratch: str | None) -> Iterator[Runner]:
+                   verbose: bool, scratch: str | None, pool: ProcessPoolExecutor | None) -> Iterator[Runner]:
     yield lambda groups, transports: (execute_group(group, simulator, keep_signals, transports) for group in groups)
 
 
 @contextlib.contextmanager
 def _process_runner(simulator: Simulator, workers: int, scheduler: str | None, keep_signals: bool,
-                    verbose: bool, scratch: str | None) -> Iterator[Runner]:
+                    verbose: bool, scratch: str | None, pool: ProcessPoolExecutor | None) -> Iterator[Runner]:
     def run(groups: list[Group], transports: Transports) -> Iterator[list[tuple[int, RunRecord]]]:
         if workers == 1:  # one worker: no pool to start
             return (execute_group(group, simulator, keep_signals, transports) for group in groups)
         if _light(groups):  # all the work is in the simulator's processes: threads drive them
             return _threaded(groups, simulator, workers, keep_signals, transports)
-        return _process(groups, simulator, workers, keep_signals, transports)
+        return _process(groups, simulator, workers, keep_signals, transports, pool)
 
     yield run
 
 
 @contextlib.contextmanager
 def _dask_runner(simulator: Simulator, workers: int, scheduler: str | None, keep_signals: bool,
-                 verbose: bool, scratch: str | None) -> Iterator[Runner]:
+                 verbose: bool, scratch: str | None, pool: ProcessPoolExecutor | None) -> Iterator[Runner]:
     with _dask(workers, scheduler, verbose, scratch) as client:
         yield lambda groups, transports: _on_dask(client, groups, simulator, keep_signals, transports)
 
@@ -557,11 +568,12 @@ def executor_cost(executor: str, workers: int, light: bool = False) -> ExecutorC
     return EXECUTOR_COSTS[executor](workers, light)
 
 
-#: Each executor: a context manager (simulator, workers, scheduler, keep_signals, verbose, scratch) that yields a
-#: runner (``scratch``: where it may make a scratch folder, or None for the temporary folder).
+#: Each executor: a context manager (simulator, workers, scheduler, keep_signals, verbose, scratch, pool) that
+#: yields a runner (``scratch``: where it may make a scratch folder, or None for the temporary folder; ``pool``: a
+#: process pool already started, which an executor may run on or ignore).
 #: To add one: a context manager here, its cost in :data:`EXECUTOR_COSTS` and its name in
 #: :data:`lcchain.core.types.ExecutorName`.
-_RunnerFactory = Callable[[Simulator, int, str | None, bool, bool, str | None],
+_RunnerFactory = Callable[[Simulator, int, str | None, bool, bool, str | None, "ProcessPoolExecutor | None"],
                           contextlib.AbstractContextManager[Runner]]
 EXECUTOR_RUNNERS: dict[str, _RunnerFactory] = {
     "serial": _serial_runner, "process": _process_runner, "dask": _dask_runner,
