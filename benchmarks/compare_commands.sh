@@ -1,6 +1,7 @@
 #!/bin/bash
 # Every command's output, before and after a change: stdout, stderr, exit status and the files it leaves, with
-# times masked (wall_s and the other seconds, "in 0.03 s", progress lines, the wall_s column of --csv). Used for issue 34 item 3 (the commands moved into app/).
+# times masked (wall_s and the other seconds, "in 0.03 s", progress lines, the wall_s column of --csv, the time
+# column of a results table). Used for issue 34 item 3 (the commands moved into app/).
 #
 #   benchmarks/compare_commands.sh REF        # REF: the git ref of "before" (default main); after: this tree
 #
@@ -20,7 +21,7 @@ cp "$ROOT/netlists/perfect-N4.cir" "$ROOT/lcchain/scenes/examples/cradle.toml" \
    "$ROOT/lcchain/scenes/examples/spectrum.toml" "$WORK/fixtures/"
 printf '{"masses": [1, 1.5, 1, 1], "springs": [0, 1, 1, 1, 0]}' > "$WORK/fixtures/chain.json"
 
-mask() { grep -v 'elapsed' | sed -E 's/[0-9]+\.[0-9]+ s\b/T s/g; s/\([0-9.]+ s\)/(T s)/g; s/in [0-9.]+ s/in T s/g; s/"[a-z_]*_s": [0-9.e+-]+/"X_s": T/g; s/"(ngspice|total|overhead_fraction|simulator_seconds|reference_seconds)": [0-9.e+-]+/"\1": T/g'; }
+mask() { grep -v 'elapsed' | sed -E 's/[0-9]+\.[0-9]+ s\b/T s/g; s/\([0-9.]+ s\)/(T s)/g; s/in [0-9.]+ s/in T s/g; s/"[a-z_]*_s": [0-9.e+-]+/"X_s": T/g; s/"(ngspice|total|overhead_fraction|simulator_seconds|reference_seconds)": [0-9.e+-]+/"\1": T/g; s/ [0-9]+\.[0-9]{3} +$/ T/'; }
 root_of() { if [ "$1" = base ]; then echo "$WORK/base"; else echo "$ROOT"; fi; }
 
 n=0; bad=0
