@@ -13,13 +13,22 @@ from pathlib import Path
 import pytest
 from helpers.processes import as_from_a_terminal, descendants, dies_unless_in, gone, reaped
 
-from lcchain.report.build import report_rows
+from lcchain.circuit.reference import REFERENCE_SET
+from lcchain.report.build import check_figure_png, paper_figure_png, report_rows
 from lcchain.report.figure_data import DesignRows
 from lcchain.report.paper_figures import FIGURES
 from lcchain.report.validation import paper_section
+from lcchain.spice.simulator import Simulator
 from lcchain.studies.background import Background, Job
 from lcchain.studies.designs import design_row, design_task
-from lcchain.studies.validation import check_jobs, installed_engines, run_check
+from lcchain.studies.validation import (
+    DISPLACEMENT_MAX_N,
+    OTHER_ENGINES_MAX_N,
+    QUICK_MAX_N,
+    check_jobs,
+    installed_engines,
+    run_check,
+)
 
 #: Seconds to wait for the pool's workers to start, and for them to die.
 START_TIMEOUT, DEATH_TIMEOUT = 120.0, 10.0
@@ -139,3 +148,51 @@ def test_a_killed_background_worker_loses_no_task(caplog: pytest.LogCaptureFixtu
     assert taken == [0, 1, 2, 3]
     assert "remaining tasks run in this process" in caplog.text
     assert workers and all(gone(pid) for pid in workers)
+
+
+def _runs(jobs: list, engine: str) -> set[tuple[int, str, str]]:
+    """(N, excitation, what) of an engine's reference runs (the scene left out)."""
+    return {(job.N, job.excitation, job.what) for job in jobs if job.simulator.engine == engine and job.chain}
+
+
+def test_the_checks_run_every_netlist_at_the_sizes_that_test_something() -> None:
+    """Issue 35: the default engine runs every reference netlist (a kick), a displacement up to
+    DISPLACEMENT_MAX_N; another engine every reference chain up to OTHER_ENGINES_MAX_N, both excitations; each
+    engine the scene; --quick every engine up to QUICK_MAX_N.  (Descriptions of engines: nothing runs.)"""
+    engines = [Simulator("batch", "/usr/bin/ngspice", "39"), Simulator("batch", "/usr/bin/gnucap", "x", engine="gnucap")]
+    jobs = check_jobs(simulators=engines)
+    every = {(ref.N, f"{ref.case}, N = {ref.N}") for ref in REFERENCE_SET}
+    ngspice, gnucap = _runs(jobs, "ngspice"), _runs(jobs, "gnucap")
+    assert {(N, what) for N, excitation, what in ngspice if excitation == "kick"} == every
+    assert {(N, what) for N, excitation, what in ngspice if excitation == "displacement"} == \
+        {(N, what) for N, what in every if N <= DISPLACEMENT_MAX_N}
+    assert any(N > DISPLACEMENT_MAX_N for N, _ in every)  # the rule leaves something out
+    assert gnucap == {(N, excitation, what) for N, what in every if N <= OTHER_ENGINES_MAX_N
+                      for excitation in ("kick", "displacement")}
+    assert sum(job.chain is None for job in jobs) == 2  # the scene, in each engine
+    quick = check_jobs(quick=True, simulators=engines)
+    assert _runs(quick, "ngspice") == _runs(quick, "gnucap") == \
+        {(N, excitation, what) for N, what in every if N <= QUICK_MAX_N for excitation in ("kick", "displacement")}
+
+
+def test_a_figure_drawn_by_the_pool_is_the_figure_drawn_here() -> None:
+    """The report draws the paper's figures that need no row, and each check's figure, in its pool's workers:
+    the same PNG bytes as drawn here."""
+    cradle = next(figure for figure in FIGURES if figure.label == "cradle4")
+    assert not cradle.uses_rows
+    tasks = [Job("cradle4", 1.0, paper_figure_png, (cradle, None, True))]
+    with Background(tasks, workers=2) as pool:
+        pooled = pool.take("cradle4")
+    assert pooled[:8] == b"\x89PNG\r\n\x1a\n" and pooled == paper_figure_png(cradle, None, True)
+
+
+@pytest.mark.ngspice
+def test_a_check_figure_drawn_by_the_pool_is_the_one_drawn_here() -> None:
+    simulators = [s for s in installed_engines() if s.engine == "ngspice"]
+    job = next(job for job in check_jobs(quick=True, simulators=simulators) if job.N == 20)
+    check = run_check(job)
+    with Background([Job(0, 1.0, check_figure_png, (check,)), Job(1, 1.0, check_figure_png, (check,))],
+                    workers=2) as pool:
+        pooled = pool.take(0)
+    here = check_figure_png(check)
+    assert here is not None and pooled == here
