@@ -22,9 +22,8 @@ from lcchain.spice.simulator import Simulator
 from lcchain.studies.background import Background, Job
 from lcchain.studies.designs import design_row, design_task
 from lcchain.studies.validation import (
-    DISPLACEMENT_MAX_N,
-    OTHER_ENGINES_MAX_N,
-    QUICK_MAX_N,
+    CHECKED_MAX_N,
+    LARGE_CHECKS,
     check_jobs,
     installed_engines,
     run_check,
@@ -155,24 +154,23 @@ def _runs(jobs: list, engine: str) -> set[tuple[int, str, str]]:
     return {(job.N, job.excitation, job.what) for job in jobs if job.simulator.engine == engine and job.chain}
 
 
-def test_the_checks_run_every_netlist_at_the_sizes_that_test_something() -> None:
-    """Issue 35: the default engine runs every reference netlist (a kick), a displacement up to
-    DISPLACEMENT_MAX_N; another engine every reference chain up to OTHER_ENGINES_MAX_N, both excitations; each
-    engine the scene; --quick every engine up to QUICK_MAX_N.  (Descriptions of engines: nothing runs.)"""
+def test_the_checks_run_at_the_sizes_that_test_something() -> None:
+    """Issue 35: every engine runs every reference chain up to CHECKED_MAX_N with both excitations, and the scene;
+    above that only the default engine's LARGE_CHECKS run, and none with --quick.  (Descriptions of engines:
+    nothing runs.)"""
     engines = [Simulator("batch", "/usr/bin/ngspice", "39"), Simulator("batch", "/usr/bin/gnucap", "x", engine="gnucap")]
+    small = {(ref.N, excitation, f"{ref.case}, N = {ref.N}") for ref in REFERENCE_SET if ref.N <= CHECKED_MAX_N
+             for excitation in ("kick", "displacement")}
+    large = {(ref.N, excitation, f"{ref.case}, N = {ref.N}") for ref in REFERENCE_SET
+             for name, excitation in LARGE_CHECKS if ref.name == name}
+    assert len(large) == len(LARGE_CHECKS) and all(N > CHECKED_MAX_N for N, _, _ in large)
+    assert len(small) < 2 * len(REFERENCE_SET)  # the rule leaves something out
     jobs = check_jobs(simulators=engines)
-    every = {(ref.N, f"{ref.case}, N = {ref.N}") for ref in REFERENCE_SET}
-    ngspice, gnucap = _runs(jobs, "ngspice"), _runs(jobs, "gnucap")
-    assert {(N, what) for N, excitation, what in ngspice if excitation == "kick"} == every
-    assert {(N, what) for N, excitation, what in ngspice if excitation == "displacement"} == \
-        {(N, what) for N, what in every if N <= DISPLACEMENT_MAX_N}
-    assert any(N > DISPLACEMENT_MAX_N for N, _ in every)  # the rule leaves something out
-    assert gnucap == {(N, excitation, what) for N, what in every if N <= OTHER_ENGINES_MAX_N
-                      for excitation in ("kick", "displacement")}
+    assert _runs(jobs, "ngspice") == small | large
+    assert _runs(jobs, "gnucap") == small
     assert sum(job.chain is None for job in jobs) == 2  # the scene, in each engine
     quick = check_jobs(quick=True, simulators=engines)
-    assert _runs(quick, "ngspice") == _runs(quick, "gnucap") == \
-        {(N, excitation, what) for N, what in every if N <= QUICK_MAX_N for excitation in ("kick", "displacement")}
+    assert _runs(quick, "ngspice") == _runs(quick, "gnucap") == small
 
 
 def test_a_figure_drawn_by_the_pool_is_the_figure_drawn_here() -> None:
