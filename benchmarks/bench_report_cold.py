@@ -2,7 +2,7 @@
 
 Run from the repository root (about 15 minutes on 2 cores):
 
-    .venv/bin/python benchmarks/bench_report_cold.py [BEFORE_COMMIT] > benchmarks/report_cold.md
+    .venv/bin/python benchmarks/bench_report_cold.py [BEFORE_COMMIT [ROUNDS]] > benchmarks/report_cold.md
 
 Each round runs, one after the other and in alternating order, the whole ``python -m lcchain report --out DIR``
 as a user would, cold: ``XDG_CACHE_HOME`` points at an empty folder of its own, so that every row of Tables I
@@ -115,6 +115,7 @@ def _cold_report(source: Path, scratch: Path, name: str) -> dict[str, Any]:
 
 def main() -> None:
     before = sys.argv[1] if len(sys.argv) > 1 else BEFORE
+    rounds = int(sys.argv[2]) if len(sys.argv) > 2 else ROUNDS
     with tempfile.TemporaryDirectory(prefix="lcchain-bench-report-") as folder:
         scratch = Path(folder)
         old = scratch / "before-src"
@@ -122,12 +123,14 @@ def main() -> None:
         archive = subprocess.run(["git", "archive", before, "lcchain"], cwd=ROOT, check=True, capture_output=True)
         subprocess.run(["tar", "-x", "-C", str(old)], input=archive.stdout, check=True)
         runs: dict[str, list[dict[str, Any]]] = {"before": [], "after": []}
-        for i in range(ROUNDS):
+        for i in range(rounds):
             order = ["before", "after"] if i % 2 == 0 else ["after", "before"]
             for which in order:
                 source = old if which == "before" else ROOT
                 runs[which].append(_cold_report(source, scratch, f"{which}-{i}"))
-                print(f"round {i + 1} {which}: {runs[which][-1]['wall']:.1f} s", file=sys.stderr, flush=True)
+                r = runs[which][-1]
+                print(f"round {i + 1} {which}: load {r['load']:.2f}, wall {r['wall']:.1f} s, CPU {r['cpu']:.1f} s",
+                      file=sys.stderr, flush=True)
         compared = [compare_reports(a["out"], b["out"]) for a in runs["before"] for b in runs["after"]]
         differences = sorted({d for found, _ in compared for d in found})
         dropped = compared[0][1]
@@ -135,7 +138,8 @@ def main() -> None:
         print("# `lcchain report` cold: the whole command, before and after issue 35\n")
         print(f"Machine: {os.cpu_count()} cores ({len(os.sched_getaffinity(0))} usable), Python "
               f"{platform.python_version()}, shared with other work (load average before each run below). "
-              f"Command: `{sys.executable} benchmarks/bench_report_cold.py {before} > benchmarks/report_cold.md` "
+              f"Command: `{sys.executable} benchmarks/bench_report_cold.py {before} {rounds} > "
+              "benchmarks/report_cold.md` "
               f"(after = {head.stdout.strip()}{' with uncommitted changes' if _dirty() else ''}).\n")
         print("Each run: `python -m lcchain report --out DIR` in a process of its own with `XDG_CACHE_HOME` an "
               "empty folder (every row designed again), before and after alternating. *wall*: the whole "
@@ -146,7 +150,7 @@ def main() -> None:
               "where it ran).\n")
         print("| round | code | load before | wall s | CPU s | idle estimate s | rows s (summed) |")
         print("|---|---|---|---|---|---|---|")
-        for i in range(ROUNDS):
+        for i in range(rounds):
             for which in ("before", "after"):
                 r = runs[which][i]
                 print(f"| {i + 1} | {which} | {r['load']:.2f} | {r['wall']:.1f} | {r['cpu']:.1f} | "
