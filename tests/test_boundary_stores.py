@@ -220,6 +220,51 @@ def _bwrap_works() -> bool:
     return done.returncode == 0
 
 
+def _format_1(path: Path) -> None:
+    """The store as lcchain wrote it before there were engines (format 1): the engine's column and meta row were
+    named ``ngspice_version`` and held ngspice's version alone."""
+    with sqlite3.connect(path) as db:
+        db.execute("ALTER TABLE records RENAME COLUMN engine TO ngspice_version")
+        db.execute("UPDATE records SET ngspice_version = substr(ngspice_version, 9) "
+                   "WHERE ngspice_version LIKE 'ngspice %'")
+        db.execute("UPDATE meta SET name = 'ngspice_version', value = substr(value, 9) WHERE name = 'engine'")
+        db.execute("UPDATE meta SET value = '1' WHERE name = 'format'")
+    db.close()
+
+
+def test_a_format_1_store_reads_as_it_did_and_a_study_migrates_it(tmp_path: Path,
+                                                                  capsys: pytest.CaptureFixture[str]) -> None:
+    path = _store(tmp_path)
+    assert main(["results", str(path), "--json"]) == 0
+    made = json.loads(capsys.readouterr().out)
+    _format_1(path)
+    before = path.read_bytes()
+    assert main(["results", str(path), "--json"]) == 0  # read as it is, and left so
+    assert json.loads(capsys.readouterr().out) == made and path.read_bytes() == before
+    assert {(run["engine"], run["engine_version"]) for run in made} == {("ngspice", made[0]["engine_version"])}
+    again = run_plan(sweep_plan(cases=["two-mass"], Ns=[4], dts=[0.05, 0.04]), path, executor="serial")
+    assert (again.skipped, again.ran) == (2, 0)  # resumed: every run kept
+    with sqlite3.connect(path) as db:
+        columns = [row[1] for row in db.execute("PRAGMA table_info(records)")]
+        engines = {row[0] for row in db.execute("SELECT engine FROM records")}
+        meta = dict(db.execute("SELECT name, value FROM meta").fetchall())
+    db.close()
+    assert "engine" in columns and "ngspice_version" not in columns
+    assert engines == {f"ngspice {made[0]['engine_version']}"}
+    assert meta["format"] == "2" and meta["engine"] == f"ngspice {made[0]['engine_version']}"
+    assert main(["results", str(path), "--json"]) == 0
+    assert json.loads(capsys.readouterr().out) == made
+
+
+def test_a_store_of_an_unknown_format_is_refused_naming_the_formats(tmp_path: Path) -> None:
+    path = _store(tmp_path)
+    with sqlite3.connect(path) as db:
+        db.execute("UPDATE meta SET value = '9' WHERE name = 'format'")
+    db.close()
+    with pytest.raises(ParameterError, match="format 1 or 2 .this one is 9"):
+        Store(path, "read")
+
+
 def test_results_works_on_read_only_media(tmp_path: Path) -> None:
     """The store's folder mounted read-only (as a CD or a read-only share would be): results reads it."""
     if not _bwrap_works():

@@ -178,8 +178,9 @@ def test_a_spec_is_checked_against_its_engine() -> None:
         RunSpec(spec.netlist, spec.vectors, spec.tstop, foreign=False, backend="shared", engine="gnucap")
 
 
-def test_the_store_column_keeps_ngspice_versions_as_they_were() -> None:
-    assert engine_text("ngspice", "39") == "39" and engine_of("39") == ("ngspice", "39")
+def test_the_store_column_holds_the_engine_and_reads_format_1() -> None:
+    assert engine_text("ngspice", "39") == "ngspice 39" and engine_of("ngspice 39") == ("ngspice", "39")
+    assert engine_of("39") == ("ngspice", "39")  # a format-1 store's ngspice row
     assert engine_of(engine_text("gnucap", "2017.10.03")) == ("gnucap", "2017.10.03")
 
 
@@ -362,7 +363,7 @@ def test_a_gnucap_sweep_stores_its_engine_and_resumes(tmp_path: Path) -> None:
         runs = store.runs()
         assert {(run.engine, run.ngspice_version) for run in runs} == {("gnucap", "")}
         assert all(run.engine_version == find_engine("gnucap").version for run in runs)
-        assert store.meta()["ngspice_version"].startswith("gnucap ")
+        assert store.meta()["engine"].startswith("gnucap ")
     again = run_plan(sweep_plan(cases=["two-mass"], Ns=[20], dts=[0.05, 0.1], engine="gnucap"), path,
                      executor="serial")
     assert (again.skipped, again.ran) == (2, 0)

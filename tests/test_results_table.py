@@ -88,7 +88,7 @@ def test_a_sweep_table_shows_its_axes_and_a_plot_no_rows(tmp_path: Path, capsys:
 def test_the_axes_are_what_every_point_varies_by() -> None:
     """A real-parts sweep whose N = 200 points were extrapolated: their dt and runs are no axes (the summary had
     blank dt and runs columns, the figure empty panels titled 'dt = None, runs = None')."""
-    from lcchain.studies.store import StoredRun, study_axes
+    from lcchain.studies.stored import StoredRun, study_axes
     from lcchain.studies.summary import study_constants
 
     def run(index: int, **params: object) -> StoredRun:

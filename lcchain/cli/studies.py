@@ -459,7 +459,7 @@ def cmd_batch(args: argparse.Namespace) -> int:
 
 def _flat(run: dict[str, Any]) -> dict[str, Any]:
     from ..spice.measure import MEASUREMENTS
-    from ..studies.store import measurement_column
+    from ..studies.exports import measurement_column
 
     row = {"index": run["index"], "kind": run["kind"], "status": run["status"], **run["params"],
            "digest": run["digest"], "max_abs_error": run.get("max_abs_error"), "wall_s": run["wall_s"]}

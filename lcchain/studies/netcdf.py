@@ -29,7 +29,8 @@ import numpy as np
 
 from ..core import __version__
 from ..core.physical import variable_name, vector_units
-from .store import Store, StoredRun
+from .store import Store
+from .stored import StoredRun
 
 __all__ = ["cf_datasets", "CONVENTIONS"]
 

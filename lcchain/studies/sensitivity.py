@@ -31,7 +31,7 @@ from ..core.limits import ACCURACY_FLOOR, SENSITIVITY_CHECK_ACCURACY
 from ..core.types import ArrivalMetric
 from ..runs.request import Request, Transient
 from .plan import Plan, request_plan
-from .store import StoredRun
+from .stored import StoredRun
 
 __all__ = ["CHECK_STEP", "CHECK_MAX_STEP", "CHECK_MARGIN", "CHECK_ACCURACY", "Check", "check_plan", "check_rows",
            "arrival_values"]

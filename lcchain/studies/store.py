@@ -35,11 +35,12 @@
 * A run is stored under its key (:meth:`lcchain.runs.spec.RunSpec.key`: the
   netlist text, saved vectors, stop time, backend, theory, engine, lcchain and
   engine versions); a study that finds its key stored skips the run.
-* The engine that ran it is in the ``ngspice_version`` column (and the meta
-  row of that name), whose name is kept so that every store made before
-  there were engines reads as it did: ngspice's version alone (``"39"``), any
-  other engine's name and version (``"gnucap 2017.10.03"``;
-  :func:`engine_text`, :func:`engine_of`).
+* The engine that ran it is in the ``engine`` column (and the meta row of
+  that name): its name and version (``"ngspice 39"``, ``"gnucap
+  2017.10.03"``; :func:`engine_text`, :func:`engine_of`).  A store of format
+  1 (before there were engines, the column was ``ngspice_version`` and held
+  ngspice's version alone, ``"39"``) is read as it is, and migrated in one
+  transaction when a study opens it to write.
 * The store remembers the plan it was made for (the ordered task keys): a
   different plan, or the same one under another ngspice, is refused rather
   than mixed in silently.
@@ -63,7 +64,6 @@ import contextlib
 import fcntl
 import io
 import json
-import math
 import os
 import secrets
 import sqlite3
@@ -72,7 +72,6 @@ import time
 import urllib.parse
 import zipfile
 from collections.abc import Callable, Iterator, Mapping, Sequence
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Literal
 
@@ -80,23 +79,22 @@ import numpy as np
 
 from ..core import __version__
 from ..core.errors import LcchainError, ParameterError
-from ..core.extras import optional_module
-from ..core.physical import vector_units
 from ..core.show import html_table, plot, short_repr
 from ..core.types import RUN_STATUSES
 from ..runs.execute import RunRecord, waveform_digest
 from ..spice.engines import DEFAULT_ENGINE
 from ..spice.inputs import file_kind
-from ..spice.measure import MEASURE_REASONS, MEASUREMENTS, measurement_fields
+from ..spice.measure import measurement_fields
+from .exports import ExportSize, export_size, to_dataframe, to_xarray
+from .stored import ARRAY_AXES, PARTS, StoredRun, study_dims
 
-__all__ = ["Store", "StoredRun", "StoreMode", "FORMAT", "engine_text", "engine_of", "study_axes", "study_constants",
-           "study_dims", "ExportSize", "PARTS"]
+__all__ = ["Store", "StoreMode", "FORMAT", "engine_text", "engine_of"]
 
 #: Version of the store's tables.
-FORMAT = "1"
-#: The key of a run's metrics that holds a tolerance or preferred-value sample's realised part values,
-#: ``{"L": [...], "C": [...]}`` (henry, farad): ``lcchain results --json`` prints it as the run's ``parts``.
-PARTS = "parts"
+FORMAT = "2"
+#: The column (and meta row) that holds the engine, by store format: format 1 named it for ngspice, and held
+#: ngspice's version alone (``"39"``), another engine's name and version (``"gnucap 2017.10.03"``).
+_ENGINE_COLUMN = {"1": "ngspice_version", FORMAT: "engine"}
 #: How a store is opened: to read it (``lcchain results``) or to run a study into it.
 StoreMode = Literal["read", "write"]
 
@@ -105,7 +103,7 @@ CREATE TABLE meta (name TEXT PRIMARY KEY, value TEXT NOT NULL);
 CREATE TABLE tasks (idx INTEGER PRIMARY KEY, key TEXT NOT NULL, params TEXT NOT NULL, label TEXT);
 CREATE TABLE records (
     key TEXT PRIMARY KEY, status TEXT NOT NULL, reason TEXT, log_tail TEXT, digest TEXT,
-    wall_s REAL, total_s REAL, ngspice_version TEXT, lcchain_version TEXT, points INTEGER,
+    wall_s REAL, total_s REAL, engine TEXT, lcchain_version TEXT, points INTEGER,
     metrics TEXT, arrays BLOB, finished REAL
 );
 """
@@ -113,9 +111,16 @@ CREATE TABLE records (
 _TABLES = {
     "meta": ("name", "value"),
     "tasks": ("idx", "key", "params", "label"),
-    "records": ("key", "status", "reason", "log_tail", "digest", "wall_s", "total_s", "ngspice_version",
+    "records": ("key", "status", "reason", "log_tail", "digest", "wall_s", "total_s", "engine",
                 "lcchain_version", "points", "metrics", "arrays", "finished"),
 }
+#: Format 1 to this one, in one transaction: the engine's column and meta row renamed, ngspice's bare versions
+#: given its name.
+_MIGRATE = ("ALTER TABLE records RENAME COLUMN ngspice_version TO engine",
+            "UPDATE records SET engine = 'ngspice ' || engine WHERE engine IS NOT NULL AND instr(engine, ' ') = 0",
+            "UPDATE meta SET name = 'engine', value = CASE WHEN instr(value, ' ') = 0 THEN 'ngspice ' || value "
+            "ELSE value END WHERE name = 'ngspice_version'",
+            f"UPDATE meta SET value = '{FORMAT}' WHERE name = 'format'")
 _HEADER = b"SQLite format 3\x00"
 #: What a record's status may be (:data:`lcchain.core.types.RunStatus`); a store made before there were refusals
 #: simply holds none.
@@ -127,13 +132,13 @@ _RESTORE = "restore it from a copy, or run the study into a new store"
 
 
 def engine_text(engine: str, version: str) -> str:
-    """What the ``ngspice_version`` column (and meta row) holds: ngspice's version alone, as in every store made
-    before there were engines (``"39"``); another engine's name and version (``"gnucap 2017.10.03"``)."""
-    return version if engine == DEFAULT_ENGINE else f"{engine} {version}"
+    """What the ``engine`` column (and meta row) holds: the engine's name and version (``"ngspice 39"``)."""
+    return f"{engine} {version}"
 
 
 def engine_of(text: str) -> tuple[str, str]:
-    """(engine, version) from :func:`engine_text`'s text (ngspice versions hold no space)."""
+    """(engine, version) from :func:`engine_text`'s text, or from a format-1 store's column, where ngspice's
+    version stood alone (``"39"``: ngspice versions hold no space)."""
     engine, _, version = text.partition(" ")
     return (engine, version) if version else (DEFAULT_ENGINE, text)
 
@@ -176,185 +181,6 @@ def _holder(descriptor: int) -> int | None:
     return None
 
 
-@dataclass(frozen=True)
-class StoredRun:
-    """One task of a study as the store has it (``status`` is ``"pending"`` until it ran; ``"refused"``: a batch's
-    netlist lcchain would not run, ``reason`` says why)."""
-
-    index: int
-    key: str
-    params: dict[str, Any]
-    label: str
-    status: str
-    reason: str = ""
-    log_tail: str = ""
-    digest: str = ""
-    wall_s: float | None = None
-    total_s: float | None = None
-    points: int | None = None
-    metrics: dict[str, Any] | None = None
-    engine_version: str = ""
-    lcchain_version: str = ""
-    engine: str = DEFAULT_ENGINE
-
-    @property
-    def ngspice_version(self) -> str:
-        """ngspice's version when ngspice ran it, else ""."""
-        return self.engine_version if self.engine == DEFAULT_ENGINE else ""
-
-    @property
-    def kind(self) -> str:
-        """``"run"``; ``"member"``, a run made to be extrapolated with others; or ``"combined"``, their
-        extrapolation (its params hold ``runs``): the result, where the members are its ingredients."""
-        return "member" if "member" in self.params else "combined" if "runs" in self.params else "run"
-
-    @property
-    def member(self) -> bool:
-        return self.kind == "member"
-
-    @property
-    def spectral(self) -> bool:
-        """An AC run compared with its theory (its metrics are :data:`lcchain.compare.spectral.SPECTRAL_METRICS`)."""
-        return self.metrics is not None and self.metrics.get("analysis") == "ac"
-
-    @property
-    def measurements(self) -> dict[str, float | None]:
-        """The netlist's ``.meas`` values by name (None: ngspice could not make it, :attr:`measure_reasons`
-        says why); empty for a run without any."""
-        return dict((self.metrics or {}).get(MEASUREMENTS) or {})
-
-    @property
-    def measure_reasons(self) -> dict[str, str]:
-        """ngspice's reason for each missing measurement."""
-        return dict((self.metrics or {}).get(MEASURE_REASONS) or {})
-
-    @property
-    def judged(self) -> bool:
-        """Compared with a theory: its metrics hold more than measurements."""
-        return self.metrics is not None and any(k not in (MEASUREMENTS, MEASURE_REASONS, PARTS)
-                                                for k in self.metrics)
-
-    @property
-    def parts(self) -> dict[str, list[float | None]] | None:
-        """A tolerance or preferred-value sample's realised part values: ``{"L": L_1..L_N (henry), "C": C_01..
-        C_N,N+1 (farad; None where a wall is a wire)}``; None for a nominal chain, and in stores made before."""
-        value = (self.metrics or {}).get(PARTS)
-        return dict(value) if isinstance(value, dict) else None
-
-    def record(self) -> RunRecord:
-        """The run as a record without its arrays (:meth:`Store.waveforms` has them)."""
-        if self.status not in _STATUSES:
-            raise ParameterError("run", self.index, "a run that finished (this one is pending)")
-        return RunRecord(key=self.key, status=self.status, reason=self.reason,
-                         log_tail=self.log_tail, digest=self.digest, wall_s=self.wall_s or 0.0,
-                         total_s=self.total_s or 0.0, engine=self.engine, engine_version=self.engine_version,
-                         lcchain_version=self.lcchain_version, label=self.label)
-
-    def to_dict(self) -> dict[str, Any]:
-        """The object ``lcchain results --json`` prints for this task."""
-        data: dict[str, Any] = {"index": self.index, "key": self.key, "kind": self.kind, "status": self.status,
-                                "params": self.params, "label": self.label, "digest": self.digest or None,
-                                "wall_s": self.wall_s, "points": self.points}
-        if self.spectral:
-            from ..compare.spectral import SPECTRAL_METRICS  # with an AC run only: a batch starts without it
-
-            assert self.metrics is not None
-            data.update({name: self.metrics.get(name) for name in SPECTRAL_METRICS})
-        elif self.judged:
-            assert self.metrics is not None
-            data["max_abs_error"] = self.metrics.get("max_abs_error")
-            data["predicted_error"] = self.metrics.get("predicted_error")
-            data["arrivals"] = self.metrics.get("arrivals")
-            if "effects" in self.metrics:  # against the circuit's own theory: what its effects cost the pulse
-                data["effects"] = self.metrics["effects"]
-        if self.parts is not None:
-            data[PARTS] = self.parts
-        if self.measurements:
-            data[MEASUREMENTS] = self.measurements
-            data[MEASURE_REASONS] = self.measure_reasons
-        if self.status in ("failed", "timeout", "refused"):  # a refusal's reason: the netlist, line and field
-            data["error"] = self.reason + (f"\n{self.engine} said:\n{self.log_tail}" if self.log_tail else "")
-        return data
-
-
-def study_axes(runs: list[StoredRun]) -> list[str]:
-    """The parameters that vary across the study's tasks, in the plan's order. A constant one is no axis (every
-    run shares it), nor one only some tasks have (an extrapolation's ``dt`` and ``runs`` where other points
-    ran once, a member's ``member``). A study of a single task has no axes."""
-    values: dict[str, set[str]] = {}
-    for run in runs:
-        for key, value in run.params.items():
-            values.setdefault(key, set()).add(repr(value))
-    keys = list(dict.fromkeys(key for run in runs for key in run.params))
-    return [key for key in keys if len(values[key]) > 1 and all(key in run.params for run in runs)]
-
-
-def study_constants(runs: list[StoredRun]) -> dict[str, Any]:
-    """The parameters every task (extrapolation members aside) shares, with their one value."""
-    runs = [run for run in runs if not run.member]
-    axes = set(study_axes(runs))
-    keys = list(dict.fromkeys(key for run in runs for key in run.params))
-    return {key: runs[0].params[key] for key in keys
-            if key not in axes and all(key in run.params for run in runs)} if runs else {}
-
-
-def _value_key(value: Any) -> str:
-    return json.dumps(value, sort_keys=True, default=str)
-
-
-def study_dims(runs: list[StoredRun]) -> tuple[list[str], list[str]]:
-    """The dimensions of a study's dataset (:meth:`Store.to_xarray`), and the axes that are coordinates along them.
-
-    Its axes (:func:`study_axes`), in order, except an axis whose value the dimensions before it already fix for
-    every run: a worst case's ``signs``, one per ``corner``, is a coordinate along ``corner``, not a dimension of
-    its own (259 corners made a grid of 259 x 259 points, all but 259 of them empty, 2.5 GB of waveforms). Runs
-    that are no grid (two at the same point) have the task number, ``index``, as their one dimension.
-    """
-    axes = study_axes(runs)
-    points = [tuple(_value_key(run.params.get(axis)) for axis in axes) for run in runs]
-    if not axes or len(set(points)) < len(points):
-        return ["index"], []
-    dims: list[int] = []
-    along: list[int] = []
-    for i in range(len(axes)):
-        fixed: dict[tuple[str, ...], str] = {}
-        if dims and all(fixed.setdefault(tuple(point[d] for d in dims), point[i]) == point[i] for point in points):
-            along.append(i)
-        else:
-            dims.append(i)
-    return [axes[i] for i in dims], [axes[i] for i in along]
-
-
-@dataclass(frozen=True)
-class ExportSize:
-    """What exporting a store holds at once: the numbers ``lcchain results`` is priced by
-    (:func:`lcchain.core.budget.export_estimate`).
-
-    Attributes
-    ----------
-    runs : int
-        Runs exported (extrapolation members left out).
-    cells : int
-        Points of the dataset's grid: the product of its dimensions' sizes (:func:`study_dims`).
-    metrics : int
-        Bytes of the stored metrics (JSON text), every row's.
-    stored : int
-        Bytes of the saved arrays read back (finished runs; 0 without waveforms).
-    longest : int
-        Points of the longest saved array (0 without waveforms).
-    per_point : int
-        Bytes per point of the dataset's waveform variables: every saved vector's and its axis's, each at its
-        type's size (0 without waveforms).
-    """
-
-    runs: int
-    cells: int
-    metrics: int
-    stored: int = 0
-    longest: int = 0
-    per_point: int = 0
-
-
 def _array_headers(blob: bytes) -> dict[str, tuple[int, int]]:
     """Each saved array's (points, bytes per value) from a run's ``.npz`` without reading its values."""
     with zipfile.ZipFile(io.BytesIO(blob)) as archive:
@@ -371,74 +197,11 @@ def _array_headers(blob: bytes) -> dict[str, tuple[int, int]]:
     return sizes
 
 
-#: The axis of a run's saved arrays: a transient's time, or an AC run's frequency.
-_AXES = ("time", "frequency")
-
-
 def _saved(values: np.ndarray) -> np.ndarray:
     """A stored array as lcchain wrote it: complex128 (an AC run's vectors) or float64; nothing else."""
     if values.dtype.kind not in "fc":
         raise ValueError("not a float or complex array")
     return np.asarray(values, dtype=complex if values.dtype.kind == "c" else float)
-
-
-def _on_frequency(dataset: Any, axes: list[np.ndarray], longest: int, mixed: bool) -> Any:
-    """AC runs' spectra on a ``frequency`` coordinate (Hz): the dimension itself when every run is an AC run that
-    swept the same frequencies, else a coordinate beside the ``point`` dimension (NaN where a run swept fewer, or
-    is a transient: ``mixed``)."""
-    if not axes:
-        return dataset
-    same = all(axis.shape == axes[0].shape and np.array_equal(axis, axes[0]) for axis in axes)
-    if same and not mixed and axes[0].size == longest:
-        dataset = dataset.drop_vars("frequency").rename({"point": "frequency"})
-        return dataset.assign_coords(frequency=axes[0])
-    return dataset.set_coords("frequency")
-
-
-def _number(value: Any) -> float:
-    """A metric as a float column's value: NaN where the run has none (a batch run, a pulse's energy)."""
-    return math.nan if value is None else float(value)
-
-
-def measurement_column(name: str, row: Mapping[str, Any]) -> str:
-    """A measurement's column in a run's row: its name, or ``meas_NAME`` when the row has a column of that name
-    already (a parameter, ``status``, a metric)."""
-    return f"meas_{name}" if name in row else name
-
-
-#: The root's variables with a unit of their own; every other numeric one is dimensionless ("1").
-_ROOT_UNITS = {"wall_s": "s", "total_s": "s", "L": "H", "C": "F", "time": "s", "frequency": "Hz"}
-_ROOT_NAMES = {"t_sim": "first arrival's time (simulation), units of sqrt(L0 C0)",
-               "t_theory": "first arrival's time (theory), units of sqrt(L0 C0)",
-               "dt": "maximum time step, units of sqrt(L0 C0)", "wall_s": "simulator's wall time",
-               "peak_sim": "first arrival's peak I_N / I_1(0) (simulation)",
-               "peak_theory": "first arrival's peak I_N / I_1(0) (theory)",
-               "max_abs_error": "max |simulation - theory|, units of I_1(0)", "points": "number of points",
-               "L": "a sample's realised inductance L_i of coil i", "coil": "coil i = 1..N",
-               "C": "a sample's realised capacitance C_j between masses j and j + 1 (NaN: a wire)",
-               "capacitor": "capacitor j = 0..N (0 and N: the walls)"}
-
-
-def _described(dataset: Any, runs: list[StoredRun]) -> Any:
-    """The study's Dataset with every variable's ``long_name``, and its ``units`` where lcchain knows them (a
-    ``.meas`` result's unit is whatever the netlist measured: named as such, no unit)."""
-    measured = {str(name) for run in runs for name in run.measurements}
-    measured |= {f"meas_{name}" for name in measured}
-    for name in list(dataset.variables):
-        variable = dataset[name]
-        if str(name) in measured:
-            variable.attrs.setdefault("long_name", f"{name}: a .meas result, in the unit of what the netlist "
-                                      "measured (lcchain does not know it)")
-            continue
-        variable.attrs.setdefault("long_name", _ROOT_NAMES.get(str(name), str(name)))
-        if variable.dtype.kind in "fiubc":
-            variable.attrs.setdefault("units", _ROOT_UNITS.get(str(name), "1"))
-    return dataset
-
-
-def _optional(module: str) -> Any:
-    """An optional package (pandas, xarray), or a one-line error saying how to install it."""
-    return optional_module(module, "data", "a study's results as a table (pandas, xarray)")
 
 
 def _arrays(record: RunRecord) -> bytes | None:
@@ -495,6 +258,7 @@ class Store:
         self.mode = mode
         self.option = option
         self._lock: int | None = None  # the flock'd descriptor of a store this driver writes
+        self._engine_column = _ENGINE_COLUMN[FORMAT]  # a format-1 store read as it is names it otherwise
         self._immutable: tuple[int, int, int] | None = None  # (inode, size, mtime) of a file read immutable
         self._db: sqlite3.Connection
         self._wait, self._on_wait = wait, on_wait
@@ -541,13 +305,16 @@ class Store:
         if other or tables != set(_TABLES):
             shown = ", ".join(other or sorted(tables)) or "nothing"
             raise self._refuse(f"an lcchain store (this SQLite database holds {shown})")
+        meta = dict(db.execute("SELECT name, value FROM meta").fetchall())
+        column = _ENGINE_COLUMN.get(meta.get("format", ""))
+        if column is None:
+            raise self._refuse(f"a store of format {' or '.join(_ENGINE_COLUMN)} (this one is "
+                               f"{meta.get('format', 'of none')})")
         for table, columns in _TABLES.items():
             found = tuple(row[1] for row in db.execute(f"PRAGMA table_info({table})"))
-            if found != columns:
+            if found != tuple(column if name == "engine" else name for name in columns):
                 raise self._refuse(f"an lcchain store (its table {table} has the columns {', '.join(found)})")
-        meta = dict(db.execute("SELECT name, value FROM meta").fetchall())
-        if meta.get("format") != FORMAT:
-            raise self._refuse(f"a store of format {FORMAT} (this one is {meta.get('format', 'of none')})")
+        self._engine_column = column
         if "plan" not in meta:
             raise self._refuse("a store made by lcchain sweep or batch (this one holds no plan: remove it)")
         return meta
@@ -634,7 +401,23 @@ class Store:
                 self._db = sqlite3.connect(self.path, timeout=60.0, isolation_level=None)
                 self._db.execute("PRAGMA journal_mode=WAL")
                 self._db.execute("PRAGMA synchronous=FULL")
+                if self._engine_column != _ENGINE_COLUMN[FORMAT]:
+                    self._migrate()
             return
+
+    def _migrate(self) -> None:
+        """A format-1 store to this format, in one transaction (this driver holds the lock): every run in it is
+        kept, and a failure leaves it as it was."""
+        self._db.execute("BEGIN IMMEDIATE")
+        try:
+            for statement in _MIGRATE:
+                self._db.execute(statement)
+            self._db.execute("COMMIT")
+        except BaseException:
+            with contextlib.suppress(sqlite3.Error):
+                self._db.execute("ROLLBACK")
+            raise
+        self._engine_column = _ENGINE_COLUMN[FORMAT]
 
     def _take_lock(self, descriptor: int) -> None:
         try:
@@ -717,7 +500,7 @@ class Store:
     def meta(self) -> dict[str, str]:
         return dict(self._rows("SELECT name, value FROM meta"))
 
-    def check_plan(self, fingerprint: str, description: dict[str, Any], rows: int, ngspice_version: str) -> None:
+    def check_plan(self, fingerprint: str, description: dict[str, Any], rows: int, engine: str) -> None:
         """Refuse a store that holds another plan (nothing is written).
 
         Raises
@@ -734,16 +517,16 @@ class Store:
             raise self._tampered("its description is not JSON") from None
         if same:
             held = self._rows("SELECT COUNT(*) FROM tasks")[0][0]
-            raise self._refuse("a new store: it holds this very study as another lcchain or ngspice planned it "
-                               f"({held} rows; lcchain {meta.get('lcchain_version', '?')}, ngspice "
-                               f"{meta.get('ngspice_version', '?')}; now {rows} rows, ngspice {ngspice_version}), "
-                               "and lcchain never mixes two")
+            held_by = meta.get(self._engine_column, "?")
+            raise self._refuse("a new store: it holds this very study as another lcchain or engine planned it "
+                               f"({held} rows; lcchain {meta.get('lcchain_version', '?')}, {held_by}; now {rows} "
+                               f"rows, {engine}), and lcchain never mixes two")
         raise self._refuse("a new store, or the store of this very study: it holds another "
-                           f"({meta.get('description', '?')}, ngspice {meta.get('ngspice_version', '?')}), and "
+                           f"({meta.get('description', '?')}, {meta.get(self._engine_column, '?')}), and "
                            "lcchain never mixes two")
 
     def adopt(self, fingerprint: str, description: dict[str, Any], tasks: Sequence[tuple[str, dict[str, Any], str]],
-              ngspice_version: str) -> None:
+              engine: str) -> None:
         """Make this the store of a plan, or check that it already is.
 
         A new store is made whole: built under a hidden name beside it, its plan
@@ -757,7 +540,8 @@ class Store:
             What the user asked for, in words and values (for ``lcchain results``).
         tasks : sequence of (key, params, label)
             The plan's tasks in order.
-        ngspice_version : str
+        engine : str
+            The engine's name and version (:func:`engine_text`).
 
         Raises
         ------
@@ -766,12 +550,12 @@ class Store:
         """
         if self.mode != "write":
             raise self._refuse("a store opened for writing")
-        self.check_plan(fingerprint, description, len(tasks), ngspice_version)
+        self.check_plan(fingerprint, description, len(tasks), engine)
         if "plan" in self.meta():
             return
         meta = (("format", FORMAT), ("plan", fingerprint), ("description", json.dumps(description)),
                 ("created", time.strftime("%Y-%m-%dT%H:%M:%S")), ("lcchain_version", __version__),
-                ("ngspice_version", ngspice_version))
+                ("engine", engine))
         rows = [(i, key, json.dumps(params), label) for i, (key, params, label) in enumerate(tasks)]
         self._remove_leftovers()
         hidden = self.path.parent / f".{self.path.name}.{secrets.token_hex(4)}.new"
@@ -812,7 +596,7 @@ class Store:
             os.close(descriptor)
             self._db.close()
             self._open_write()
-            self.adopt(fingerprint, description, tasks, ngspice_version)
+            self.adopt(fingerprint, description, tasks, engine)
             return
         with contextlib.suppress(OSError):
             folder = os.open(self.path.parent, os.O_RDONLY | os.O_DIRECTORY)
@@ -902,9 +686,11 @@ class Store:
                     self._db.execute("ROLLBACK")
                 raise
 
-    _SELECT = ("SELECT t.idx, t.key, t.params, t.label, r.status, r.reason, r.log_tail, r.digest, r.wall_s, "
-               "r.total_s, r.points, r.metrics, r.ngspice_version, r.lcchain_version "
-               "FROM tasks t LEFT JOIN records r ON r.key = t.key")
+    @property
+    def _select(self) -> str:
+        return ("SELECT t.idx, t.key, t.params, t.label, r.status, r.reason, r.log_tail, r.digest, r.wall_s, "
+                f"r.total_s, r.points, r.metrics, r.{self._engine_column}, r.lcchain_version "
+                "FROM tasks t LEFT JOIN records r ON r.key = t.key")
 
     def _stored(self, row: tuple[Any, ...]) -> StoredRun:
         (index, key, params, label, status, reason, log_tail, digest, wall_s, total_s, points, metrics, ngv,
@@ -922,7 +708,7 @@ class Store:
         return StoredRun(index, key, params, label or "", status or "pending", reason or "",
                          log_tail or "", digest or "", wall_s, total_s, points, metrics, version, lcv or "", engine)
 
-    def _light_runs(self) -> list[StoredRun]:
+    def light_runs(self) -> list[StoredRun]:
         """Every task in plan order with its params and status only (its metrics unread: a price is taken before
         they are parsed)."""
         runs = []
@@ -940,13 +726,13 @@ class Store:
 
     def runs(self) -> list[StoredRun]:
         """Every task in plan order, with its record where it ran."""
-        return [self._stored(row) for row in self._rows(f"{self._SELECT} ORDER BY t.idx")]
+        return [self._stored(row) for row in self._rows(f"{self._select} ORDER BY t.idx")]
 
     def records(self, keys: Sequence[str]) -> list[StoredRun]:
         """The stored runs under these keys, in their order (as the first task with each key)."""
         found = []
         for key in keys:
-            rows = self._rows(f"{self._SELECT} WHERE t.key = ? AND r.key IS NOT NULL ORDER BY t.idx LIMIT 1",
+            rows = self._rows(f"{self._select} WHERE t.key = ? AND r.key IS NOT NULL ORDER BY t.idx LIMIT 1",
                               (key,))
             if not rows:
                 raise self._refuse(f"a store holding the run {key[:12]}")
@@ -966,7 +752,7 @@ class Store:
                 arrays = {name: _saved(npz[f"v{i}"]) for i, name in enumerate(names)}
         except (OSError, ValueError, KeyError, EOFError, TypeError, zipfile.BadZipFile):
             raise self._tampered(f"the arrays of run {key[:12]} are not lcchain's .npz") from None
-        axis = next((name for name in _AXES if name in arrays), None)
+        axis = next((name for name in ARRAY_AXES if name in arrays), None)
         if axis is None or np.iscomplexobj(arrays[axis]) or (digest and waveform_digest(
                 arrays[axis], {k: v for k, v in arrays.items() if k != axis}, axis) != digest):
             raise self._tampered(f"the arrays of run {key[:12]} do not match its digest")
@@ -980,7 +766,7 @@ class Store:
             return None
         try:
             with np.load(io.BytesIO(rows[0][0]), allow_pickle=False) as npz:
-                return [str(n) for n in npz["names"] if str(n) not in _AXES]
+                return [str(n) for n in npz["names"] if str(n) not in ARRAY_AXES]
         except (OSError, ValueError, KeyError, EOFError, TypeError, zipfile.BadZipFile):
             raise self._tampered(f"the arrays of run {key[:12]} are not lcchain's .npz") from None
 
@@ -989,7 +775,7 @@ class Store:
 
     def _shown(self) -> list[tuple[str, object]]:
         try:
-            runs = self._light_runs()
+            runs = self.light_runs()
         except ParameterError:  # closed (a with block's store, shown after it), or no longer readable
             return [("store", str(self.path)), ("runs", "not readable now (closed)")]
         counts: dict[str, int] = {}
@@ -1019,153 +805,33 @@ class Store:
         """
         return plot("store", self, ax=ax, metric=metric)
 
-    # ------------------------------------------------------------------ other shapes
-    def to_dataframe(self) -> Any:
-        """The runs as a pandas DataFrame: one row per task (index: the task's number), the study's parameters
-        as columns, then kind, status, key, digest, points, the simulator's wall time and the metrics (NaN or
-        None where a run has none). A sample's realised part values are left out of the table (N + 1 columns
-        each would bury the metrics): they are :meth:`to_xarray`'s ``L`` and ``C``, and each
-        :attr:`StoredRun.parts`. pandas is optional: ``pip install 'lcchain[data]'``."""
-        pd = _optional("pandas")
-        return pd.DataFrame(self._table_rows(self.runs())).set_index("index")
+    def metrics_bytes(self) -> int:
+        """Bytes of the stored metrics (JSON text), every row's."""
+        return int(self._rows("SELECT COALESCE(SUM(LENGTH(metrics)), 0) FROM records")[0][0])
 
+    def array_sizes(self, key: str) -> dict[str, tuple[int, int]] | None:
+        """A stored run's saved arrays as (points, bytes per value) by name, read from their headers only, and
+        under ``""`` the bytes the store holds for them; None when it saved none."""
+        rows = self._rows("SELECT arrays FROM records WHERE key = ?", (key,))
+        if not rows or rows[0][0] is None:
+            return None
+        blob = rows[0][0]
+        try:
+            sizes = _array_headers(blob)
+        except (OSError, ValueError, KeyError, EOFError, TypeError, zipfile.BadZipFile):
+            raise self._tampered(f"the arrays of run {key[:12]} are not lcchain's .npz") from None
+        return {"": (0, len(blob)), **sizes}
+
+    # ------------------------------------------------------------------ other shapes (lcchain.studies.exports)
+    def to_dataframe(self) -> Any:
+        """The runs as a pandas DataFrame (:func:`lcchain.studies.exports.to_dataframe`)."""
+        return to_dataframe(self)
 
     def to_xarray(self, waveforms: bool = False) -> Any:
-        """The runs as an xarray Dataset whose dimensions are the study's axes.
-
-        Each axis (a parameter that varies across the study's results: ``N``, ``case``, ``dt``, ``sample``,
-        ``netlist``...) is a dimension with its values as coordinate; every metric is a variable on them (NaN
-        where a combination did not run or has no such metric). An extrapolation's members are left out: its
-        combined result is the point's. A study whose runs do not form a grid (two runs at the same point)
-        has the task number as its one dimension, ``index``.
-
-        Tolerance or preferred-value samples also have their realised part values: ``L`` (henry) on the
-        dimension ``coil`` (1..N) and ``C`` (farad) on ``capacitor`` (0..N: C_j joins masses j and j + 1, 0 and N
-        the walls; NaN where a wall is a wire, or a run had no such part).
-
-        Parameters
-        ----------
-        waveforms : bool
-            Also each run's saved vectors and their time, on a ``point`` dimension (a run's own time values,
-            padded with NaN to the longest run): the variable ``time`` and one per vector.
-
-        xarray is optional: ``pip install 'lcchain[data]'``.
-        """
-        _optional("xarray")
-        results = [run for run in self.runs() if not run.member]
-        dims, along = study_dims(results)
-        constants = study_constants(results)
-        frame = _optional("pandas").DataFrame(self._table_rows(results))
-        dataset = frame.drop(columns=list(constants)).set_index(dims).to_xarray().set_coords(along)
-        dataset.attrs.update({"store": str(self.path), **{key: str(value) for key, value in constants.items()}})
-        dataset = self._with_parts(dataset, dims, results)
-        if waveforms:
-            dataset = self._with_waveforms(dataset, dims, [run for run in results if run.status == "ok"])
-        return _described(dataset, results)
+        """The runs as an xarray Dataset whose dimensions are the study's axes, with each run's saved vectors
+        when ``waveforms`` (:func:`lcchain.studies.exports.to_xarray`)."""
+        return to_xarray(self, waveforms)
 
     def export_size(self, waveforms: bool = False) -> ExportSize:
-        """What :meth:`to_xarray` (and the other exports) will hold, read without building any of it: the runs,
-        the grid of the study's dimensions, the metrics' text and, with ``waveforms``, each finished run's saved
-        arrays (their headers only, a run at a time)."""
-        results = [run for run in self._light_runs() if not run.member]
-        dims, _ = study_dims(results)
-        cells = len(results) if dims == ["index"] else math.prod(
-            len({_value_key(run.params.get(d)) for run in results}) for d in dims)
-        metrics = int(self._rows("SELECT COALESCE(SUM(LENGTH(metrics)), 0) FROM records")[0][0])
-        if not waveforms:
-            return ExportSize(len(results), cells, metrics)
-        stored = longest = 0
-        per_name: dict[str, int] = {}
-        for run in results:
-            if run.status != "ok":
-                continue
-            rows = self._rows("SELECT arrays FROM records WHERE key = ?", (run.key,))
-            if not rows or rows[0][0] is None:
-                continue
-            blob = rows[0][0]
-            stored += len(blob)
-            try:
-                sizes = _array_headers(blob)
-            except (OSError, ValueError, KeyError, EOFError, TypeError, zipfile.BadZipFile):
-                raise self._tampered(f"the arrays of run {run.key[:12]} are not lcchain's .npz") from None
-            for name, (points, itemsize) in sizes.items():
-                longest = max(longest, points)
-                per_name[name] = max(per_name.get(name, 0), itemsize)
-        return ExportSize(len(results), cells, metrics, stored, longest, sum(per_name.values()))
-
-    @staticmethod
-    def _table_rows(runs: list[StoredRun]) -> list[dict[str, Any]]:
-        """One row per run: its parameters, status and metrics (a transient's, an AC run's, or both kinds' in a
-        store that holds both)."""
-        spectral = any(run.spectral for run in runs)
-        transient = not spectral or any(run.metrics is not None and not run.spectral for run in runs)
-        costs = any(run.metrics is not None and "effects" in run.metrics for run in runs)
-        measured = list(dict.fromkeys(name for run in runs for name in run.measurements))
-        rows = []
-        for run in runs:
-            metrics = run.metrics or {}
-            arrivals = metrics.get("arrivals") or []
-            first = arrivals[0] if arrivals else {}
-            row = {"index": run.index, **run.params, "kind": run.kind, "status": run.status, "key": run.key,
-                   "digest": run.digest or None, "points": run.points, "wall_s": run.wall_s,
-                   # the engine's name and its version apart (engine_text's "39" is the store's column, not a name)
-                   "engine": run.engine if run.status != "pending" else None,
-                   "engine_version": run.engine_version if run.status != "pending" else None}
-            if transient:
-                row.update({name: _number(metrics.get(name)) for name in ("max_abs_error", "predicted_error")})
-                row.update({name: _number(first.get(name)) for name in ("t_sim", "t_theory", "peak_sim",
-                                                                          "peak_theory", "energy_sim")})
-            if costs:  # runs against their circuit's own theory: what the effects cost the ideal chain's pulse
-                cost = metrics.get("effects") or {}
-                row.update({f"effects_{name}": _number(cost.get(name))
-                            for name in ("peak_ideal", "energy_ideal", "energy_loss", "delay")})
-            if spectral:
-                from ..compare.spectral import SPECTRAL_METRICS  # with an AC run only: a batch starts without it
-
-                row.update({name: _number(metrics.get(name)) for name in SPECTRAL_METRICS})
-            values = run.measurements
-            row.update({measurement_column(name, row): _number(values.get(name)) for name in measured})
-            rows.append(row)
-        return rows
-
-    @staticmethod
-    def _with_parts(dataset: Any, dims: list[str], runs: list[StoredRun]) -> Any:
-        """The dataset with the samples' part values, ``L`` on ``coil`` and ``C`` on ``capacitor``."""
-        pd = _optional("pandas")
-        rows: dict[str, list[dict[str, Any]]] = {"L": [], "C": []}
-        for run in runs:
-            parts = run.parts
-            if parts is None:
-                continue
-            at = {dim: run.index if dim == "index" else run.params.get(dim) for dim in dims}
-            rows["L"] += [{**at, "coil": i + 1, "L": _number(v)} for i, v in enumerate(parts.get("L") or [])]
-            rows["C"] += [{**at, "capacitor": j, "C": _number(v)} for j, v in enumerate(parts.get("C") or [])]
-        for name, dim in (("L", "coil"), ("C", "capacitor")):
-            if rows[name]:
-                values = pd.DataFrame(rows[name]).set_index([*dims, dim]).to_xarray()
-                dataset = dataset.merge(values, join="left")
-                dataset[name].attrs["units"] = "H" if name == "L" else "F"
-        return dataset
-
-    def _with_waveforms(self, dataset: Any, dims: list[str], runs: list[StoredRun]) -> Any:
-        arrays = {run.index: self.waveforms(run.key) or {} for run in runs}
-        longest = max((a[axis].size for a in arrays.values() for axis in _AXES if axis in a), default=0)
-        names = list(dict.fromkeys(name for a in arrays.values() for name in a))
-        shape = [dataset.sizes[d] for d in dims] + [longest]
-        positions = {d: {value: i for i, value in enumerate(dataset.indexes[d])} for d in dims}
-        for name in names:
-            complex_values = any(np.iscomplexobj(a[name]) for a in arrays.values() if name in a)
-            # a complex vector's padding is NaN in both parts (nan + 0j would read as a real part of NaN and an
-            # imaginary part of 0)
-            values = np.full(shape, complex(np.nan, np.nan) if complex_values else np.nan,
-                             dtype=complex if complex_values else float)
-            for run in runs:
-                series = arrays[run.index].get(name)
-                if series is not None:
-                    where = tuple(positions[d][run.index if d == "index" else run.params[d]] for d in dims)
-                    values[where][: series.size] = series
-            units = {"time": "s", "frequency": "Hz"}.get(name) or vector_units(name)
-            dataset[name] = ([*dims, "point"], values, {"units": units, "long_name": name})
-        sweeps = [a["frequency"] for a in arrays.values() if "frequency" in a]
-        mixed = any("time" in a for a in arrays.values())  # a batch of .tran and .ac netlists: one point axis
-        return _on_frequency(dataset, sweeps, longest, mixed)
+        """What :meth:`to_xarray` (and the other exports) will hold (:func:`lcchain.studies.exports.export_size`)."""
+        return export_size(self, waveforms)

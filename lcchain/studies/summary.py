@@ -20,7 +20,7 @@ import numpy as np
 from ..core.checks import choice
 from ..core.errors import ParameterError
 from ..core.types import STUDY_METRICS, StudyMetric
-from .store import StoredRun, study_axes, study_constants
+from .stored import StoredRun, study_axes, study_constants
 
 __all__ = ["Group", "peak_groups", "METRICS", "available_metrics", "measurement_names", "study_axes", "study_constants",
            "check_metric"]

@@ -58,7 +58,7 @@ from ..theory.sensitivity import energy_fraction
 from ..theory.worst_case import ToleranceBox, WorstCaseSearch, worst_case_search
 from .plan import Combination, Plan, Task, _add_runs, _compare_seconds, _seconds
 from .sensitivity import arrival_values
-from .store import StoredRun
+from .stored import StoredRun
 
 __all__ = ["WorstCase", "worst_case_plan", "worst_case_summary", "DEFAULT_COMPONENTS", "SEARCH_LABEL",
            "corners_label"]
