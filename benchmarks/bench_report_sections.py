@@ -2,7 +2,7 @@
 
 Run from the repository root (about 10 minutes on 2 cores):
 
-    .venv/bin/python benchmarks/bench_report_sections.py [BEFORE_COMMIT] > benchmarks/report_sections.md
+    .venv/bin/python benchmarks/bench_report_sections.py [BEFORE_COMMIT | none] > benchmarks/report_sections.md
 
 Each section of the report is done here one piece after the other, in a process of its own per code version
 (the before code exported with ``git archive``; ``XDG_CACHE_HOME`` an empty folder), and measured in CPU seconds
@@ -88,41 +88,42 @@ def main() -> None:
         scratch = Path(folder)
         old = scratch / "before-src"
         old.mkdir()
-        archive = subprocess.run(["git", "archive", before, "lcchain"], cwd=ROOT, check=True, capture_output=True)
-        subprocess.run(["tar", "-x", "-C", str(old)], input=archive.stdout, check=True)
+        if before != "none":
+            archive = subprocess.run(["git", "archive", before, "lcchain"], cwd=ROOT, check=True, capture_output=True)
+            subprocess.run(["tar", "-x", "-C", str(old)], input=archive.stdout, check=True)
         loads, results = {}, {}
-        for which, source in (("before", old), ("after", ROOT)):
+        versions = (("before", old), ("after", ROOT)) if before != "none" else (("after", ROOT),)
+        for which, source in versions:
             loads[which] = os.getloadavg()[0]
             results[which] = _measure(source, scratch / which)
             print(f"{which}: done", file=sys.stderr, flush=True)
     head = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, capture_output=True, text=True)
     print("# `lcchain report` cold, section by section: CPU seconds\n")
+    said = ", ".join(f"{which} {load:.2f}" for which, load in loads.items())
     print(f"Machine: {os.cpu_count()} cores, Python {platform.python_version()}, shared with other work (load "
-          f"average before: before {loads['before']:.2f}, after {loads['after']:.2f}). Command: `{sys.executable} "
+          f"average before: {said}). Command: `{sys.executable} "
           f"benchmarks/bench_report_sections.py {before} > benchmarks/report_sections.md` (after = "
           f"{head.stdout.strip()}).\n")
     print("Every piece of a cold report done one after the other in one process (no pool), CPU seconds of the "
           "process (*lcchain*) and of its children (*engines*: ngspice, gnucap). On 2 cores the report cannot "
           "take less wall time than half the total.\n")
-    print("| section | before: pieces | before: lcchain s | before: engines s | after: pieces | after: lcchain s "
-          "| after: engines s |")
-    print("|---|---|---|---|---|---|---|")
-    sections = list(dict.fromkeys(row[0] for which in ("before", "after") for row in results[which]))
-    totals = {which: [0.0, 0.0] for which in results}
+    names = list(results)
+    print("| section | " + " | ".join(f"{w}: pieces | {w}: lcchain s | {w}: engines s" for w in names) + " |")
+    print("|---|" + "---|---|---|" * len(names))
+    sections = list(dict.fromkeys(row[0] for which in names for row in results[which]))
+    totals = {which: [0.0, 0.0] for which in names}
     for section in sections:
         cells = []
-        for which in ("before", "after"):
+        for which in names:
             pieces = [row for row in results[which] if row[0] == section]
             own, kids = sum(row[2] for row in pieces), sum(row[3] for row in pieces)
             totals[which][0] += own
             totals[which][1] += kids
             cells += [str(len(pieces)), f"{own:.1f}", f"{kids:.1f}"]
         print(f"| {section} | " + " | ".join(cells) + " |")
-    b, a = sum(totals["before"]), sum(totals["after"])
-    print(f"| **total** | | {totals['before'][0]:.1f} | {totals['before'][1]:.1f} | | {totals['after'][0]:.1f} | "
-          f"{totals['after'][1]:.1f} |")
-    print(f"\nTotal CPU: before {b:.1f} s, after {a:.1f} s; half of it (the least wall time on 2 cores): before "
-          f"{b / 2:.1f} s, after {a / 2:.1f} s.")
+    print("| **total** | " + " | ".join(f" | {totals[w][0]:.1f} | {totals[w][1]:.1f}" for w in names) + " |")
+    print("\nTotal CPU: " + ", ".join(f"{w} {sum(totals[w]):.1f} s (half: {sum(totals[w]) / 2:.1f} s, the least "
+                                       "wall time on 2 cores)" for w in names) + ".")
     print("\nThe ten most expensive pieces after:\n")
     for row in sorted(results["after"], key=lambda row: -(row[2] + row[3]))[:10]:
         print(f"- {row[0]}: {row[1]}, {row[2] + row[3]:.2f} s")
