@@ -32,9 +32,9 @@ from typing import Any
 ROOT = Path(__file__).resolve().parent.parent
 #: main before issue 35's report work (the checks at every size, the figures drawn after the pool's work).
 BEFORE = "b97ce31"
-#: Seconds of a cold report that no second core can share, measured on the loaded machine in the after code's
-#: progress lines: start-up and pricing before the pool's first job (about 2 s) and the page's rendering once the
-#: pool's last job is in (about 3 s).
+#: Seconds of a cold report that no second core can share, an upper bound: measured by bench_report_timeline.py
+#: (at load 2.5-3.9), 0.9 s before the pool has its work and 0.5 s after its last result; the rest of the 5 s is
+#: room for the workers' start and for the last job ending on one core.
 SERIAL_S = 5.0
 ROUNDS = 2
 
