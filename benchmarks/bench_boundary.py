@@ -6,7 +6,7 @@ Run from the repository root:
 
 * the allow-list (:func:`lcchain.spice.foreign.allowed_netlist`) on lcchain's
   own netlists, which every run passes (in process, median of many calls);
-* one N = 20 and one N = 100 run through :func:`lcchain.spice.runner.run` as
+* one N = 20 and one N = 100 run through :func:`lcchain.spice.ngspice.runner.run` as
   lcchain's own netlist (no sandbox) and as a foreign one (bubblewrap),
   interleaved, median of the wall time lcchain waits for;
 * ngspice's process alone (``ngspice -n -b -r FILE``, a bash loop), for scale;
@@ -25,8 +25,8 @@ from pathlib import Path
 import lcchain
 from lcchain.circuit.netlist import make_netlist
 from lcchain.spice.foreign import allowed_netlist, foreign_estimate, transient_of
-from lcchain.spice.runner import run
-from lcchain.spice.simulator import find_simulator
+from lcchain.spice.ngspice.find import find_simulator
+from lcchain.spice.ngspice.runner import run
 from lcchain.spice.text import saved_vectors
 
 REPEAT = 30

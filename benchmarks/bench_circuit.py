@@ -16,7 +16,7 @@ from pathlib import Path
 
 from lcchain.circuit.netlist import make_netlist
 from lcchain.runs.simulate import simulate
-from lcchain.spice.simulator import find_ngspice
+from lcchain.spice.ngspice.find import find_ngspice
 from lcchain.theory.cases import chain_for_case
 from lcchain.theory.spectrum import normal_modes
 

@@ -26,7 +26,7 @@ import time
 
 from lcchain import simulate
 from lcchain.compare.accuracy import dt_for_accuracy
-from lcchain.spice.simulator import find_simulator
+from lcchain.spice.ngspice.find import find_simulator
 from lcchain.theory.arrivals import stop_time
 from lcchain.theory.cases import chain_for_case
 from lcchain.theory.spectrum import normal_modes

@@ -22,7 +22,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from lcchain.spice.simulator import find_simulator
+from lcchain.spice.ngspice.find import find_simulator
 from lcchain.studies.plan import sweep_plan
 from lcchain.studies.run import run_plan
 from lcchain.studies.store import Store

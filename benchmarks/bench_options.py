@@ -14,7 +14,7 @@ from lcchain.circuit.ladder import Ladder
 from lcchain.circuit.netlist import SimulationOptions, netlist_text, probe_names
 from lcchain.compare.waveforms import normalise
 from lcchain.core.errors import LcchainError
-from lcchain.spice.runner import run
+from lcchain.spice.ngspice.runner import run
 from lcchain.theory.arrivals import stop_time
 from lcchain.theory.cases import chain_for_case
 from lcchain.theory.spectrum import normal_modes, transmission_amplitude

@@ -27,9 +27,9 @@ import numpy as np
 import lcchain
 from lcchain.runs.execute import execute
 from lcchain.runs.simulate import simulation_spec
-from lcchain.spice.runner import run
-from lcchain.spice.simulator import find_simulator
-from lcchain.spice.warm import close_workers, warm_simulator
+from lcchain.spice.ngspice.find import find_simulator
+from lcchain.spice.ngspice.runner import run
+from lcchain.spice.ngspice.warm import close_workers, warm_simulator
 
 N = 30
 REPEAT = 40
@@ -108,7 +108,7 @@ def main() -> None:
     print(f"| lcchain: `spice.run` beyond ngspice (start, wait, read, validate) | {beyond('run')} |")
     print(f"| lcchain: `execute` beyond ngspice (run + theory + comparison + digest) | {beyond('execute')} |")
     print(f"| lcchain: `simulate` beyond ngspice (all of the above) | {beyond('simulate')} |")
-    print(f"| one run in a warm worker (`lcchain.spice.warm`), whole call | {median_ms(rows['warm'])} |")
+    print(f"| one run in a warm worker (`lcchain.spice.ngspice.warm`), whole call | {median_ms(rows['warm'])} |")
     print(f"| `ngspice -v`, which every run used to start as well | {median_ms(rows['version'])} |")
 
 if __name__ == "__main__":

@@ -11,12 +11,19 @@ even segments placed where the poles are dense) runs in ngspice and is fitted
 (:func:`lcchain.compare.spectrum.fit_spectrum`); errors are against lcchain's exact modes (the tests check the
 same against an independent dense eigen-solution).  With losses (`--Q`), each mode's Q_n against omega_n Q, and
 the fitted alpha_N(t) against the exact lossy response.
+
+Beside each, the survey of every loop (`lcchain spectrum --shapes`, :func:`lcchain.runs.survey.measure_modes`):
+a second ngspice run that drives every loop and saves every loop's current, each mode's frequency, shape and Q_n
+against the chain's exact eigensolution.  Each row gives the 1-minute load average when it ended (the machine is
+shared: its timings are the engine's and the fit's on the same loaded cores, so their ratio is what to read).
 """
 
 from __future__ import annotations
 
 import argparse
+import os
 import platform
+import resource
 import time
 from pathlib import Path
 from typing import Any
@@ -25,13 +32,34 @@ import numpy as np
 
 import lcchain
 from lcchain.compare.spectral import spectrum_estimate
+from lcchain.core.errors import ParameterError
 from lcchain.runs.spectrum import OMEGA_WEIGHT_FLOOR, measure_spectrum
+from lcchain.runs.survey import OMEGA_TARGET, SEPARATION, SHAPE_TARGET, ModeReport, measure_modes
 from lcchain.theory.cases import chain_for_case
 
 CASES = [("two-mass", N) for N in (20, 50, 100, 200, 500, 1000, 2000)] + [
-    ("perfect", N) for N in (20, 100, 400, 1000)] + [("one-mass", 100), ("one-mass", 1000), ("uniform-bounded", 100)]
+    ("perfect", N) for N in (20, 60, 100, 200, 400, 1000)] + [("one-mass", 100), ("one-mass", 1000),
+                                                            ("uniform-bounded", 100)]
 LOSSY = [("two-mass", N, Q) for N in (20, 100) for Q in (10.0, 100.0, 1000.0, 1e4)] + [
-    ("uniform-bounded", 24, 100.0), ("two-mass", 400, 1000.0)]
+    ("uniform-bounded", 24, 100.0), ("two-mass", 400, 1000.0), ("two-mass", 1000, 1000.0), ("perfect", 400, 1e4),
+    ("perfect", 1000, 1e4)]
+
+
+def _load() -> str:
+    return f"{os.getloadavg()[0]:.1f}"
+
+
+def _peak_mb() -> str:
+    """Peak resident memory so far, MB: this process (the fit), the engines it started."""
+    own = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+    children = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024
+    return f"{own:.0f} / {children:.0f}"
+
+
+def _survey_cells(survey: ModeReport) -> str:
+    t = survey.timings
+    return (f"{int(survey.resolved.sum())} | {survey.max_rel_error_omega:.1e} | {survey.max_shape_error:.1e} | "
+            f"{t['engine_s']:.2f} | {t['fit_s']:.2f} | {t['fit_s'] / t['engine_s']:.2f}")
 
 
 def _error(value: float) -> str:
@@ -55,6 +83,11 @@ def _plot(rows: list[dict[str, Any]], path: Path) -> None:
                         label=f"{case}: P_n (absolute)")
         cost_ax.loglog(N, [row["ngspice"] for row in series], "o-", color=colour, label=f"{case}: ngspice")
         cost_ax.loglog(N, [row["fit"] for row in series], "s--", color=colour, mfc="none", label=f"{case}: fit")
+        error_ax.loglog(N, [max(row["shape"], 1e-17) for row in series], "^:", color=colour,
+                        label=f"{case}: shape (survey)")
+        cost_ax.loglog(N, [row["survey_engine"] for row in series], "^-", color=colour, alpha=0.5,
+                       label=f"{case}: ngspice (survey)")
+        cost_ax.loglog(N, [row["survey_fit"] for row in series], "v:", color=colour, label=f"{case}: fit (survey)")
     error_ax.axhline(1e-9, color="k", linewidth=0.8, linestyle=":", label="target 1e-9")
     error_ax.set(xlabel="N (masses)", ylabel="largest error against exact theory",
                  title="accuracy of the circuit's spectrum")
@@ -79,9 +112,16 @@ def main() -> None:
           "P_theory| over every mode, an unseen one counted with P = 0; response: max |alpha_N(t) of the fitted "
           "modes - exact alpha_N(t)| over the first transit. Seconds: ngspice's process, the fit, the whole call "
           "(theory included), and what the budget priced beforehand.\n")
+    print(f"Survey (every loop driven, every loop's current saved): resolved = modes with omega within "
+          f"{OMEGA_TARGET:g} and shape within {SHAPE_TARGET:g} of the exact eigensolution (shape error: max over "
+          "loops |u_kn - u_kn exact| / max_k |u_kn exact|, the largest over modes); seconds: its ngspice process "
+          "and its fit; peak MB: this process / the largest engine process so far.\n")
     print("| chain | N | points | segments | modes seen | resolved | omega error | P error | response | "
-          "fit sweeps | ngspice s | fit s | total s | priced s |")
-    print("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+          "fit sweeps | ngspice s | fit s | total s | priced s | survey points | survey resolved | survey omega "
+          "error | shape error | survey ngspice s | survey fit s | fit / ngspice | spacing deviation | peak MB | "
+          "load |")
+    print("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
+          "---:|---:|---:|")
     for case, N in CASES:
         clock = time.perf_counter()
         report = measure_spectrum(chain_for_case(case, N))
@@ -90,27 +130,45 @@ def main() -> None:
         print(f"| {case} | {N} | {report.points} | {report.segments} | {int(report.seen.sum())} | "
               f"{int(np.sum(report.resolved))} | {report.max_rel_error_omega:.1e} | {report.max_abs_error_P:.1e} | "
               f"{_error(report.response_error)} | {report.fit.sweeps} | {t['ngspice_s']:.2f} | {t['fit_s']:.2f} | "
-              f"{total:.2f} | {spectrum_estimate(report.points, N).seconds:.2f} |", flush=True)
+              f"{total:.2f} | {spectrum_estimate(report.points, N).seconds:.2f} | ", end="", flush=True)
+        survey = measure_modes(chain_for_case(case, N))
+        print(f"{survey.points} | {_survey_cells(survey)} | {survey.spacing_deviation:.1e} | {_peak_mb()} | "
+              f"{_load()} |", flush=True)
         rows.append({"case": case, "N": N, "omega": report.max_rel_error_omega, "P": report.max_abs_error_P,
-                     "ngspice": t["ngspice_s"], "fit": t["fit_s"]})
+                     "ngspice": t["ngspice_s"], "fit": t["fit_s"], "shape": survey.max_shape_error,
+                     "survey_engine": survey.timings["engine_s"], "survey_fit": survey.timings["fit_s"]})
+    print("\nThe survey's whole cost, (its ngspice + its fit) / N^2, seconds: " + ", ".join(
+        f"{row['case']} N = {row['N']}: {(row['survey_engine'] + row['survey_fit']) / row['N'] ** 2:.1e}"
+        for row in rows if row["N"] >= 500) + ".")
     if args.plot:
         _plot(rows, args.plot)
     print("\n## With losses (`--Q`)\n")
     print("Q error: max |Q_n - omega_n Q| / (omega_n Q) over the resolved modes of nonzero frequency; pole error: "
           "max |p_n - p_theory| / |p_theory|, p_theory = -1/(2Q) + j sqrt(omega_n^2 - 1/(4Q^2)). An unseen resolved "
           "mode makes both infinite.\n")
+    print(f"Survey: Q error over the modes at least {SEPARATION:g} widths 1/Q from both neighbours (separated); "
+          "'-' on the left: the loop-1 fit refuses the chain at that Q.\n")
     print("| chain | N | Q | points | modes seen | omega error | P error | Q error | pole error | response | "
-          "ngspice s | fit s | total s |")
-    print("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+          "ngspice s | fit s | total s | survey resolved | survey omega error | shape error | survey ngspice s | "
+          "survey fit s | fit / ngspice | separated | survey Q error | load |")
+    print("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
+          "---:|")
     for case, N, Q in LOSSY:
         clock = time.perf_counter()
-        report = measure_spectrum(chain_for_case(case, N), Q=Q)
-        total = time.perf_counter() - clock
-        t = report.timings
-        print(f"| {case} | {N} | {Q:g} | {report.points} | {int(report.seen.sum())} | "
-              f"{report.max_rel_error_omega:.1e} | "
-              f"{report.max_abs_error_P:.1e} | {report.max_rel_error_Q:.1e} | {report.max_rel_error_pole:.1e} | "
-              f"{_error(report.response_error)} | {t['ngspice_s']:.2f} | {t['fit_s']:.2f} | {total:.2f} |",
+        try:
+            report = measure_spectrum(chain_for_case(case, N), Q=Q)
+        except ParameterError:
+            print(f"| {case} | {N} | {Q:g} | - | - | - | - | - | - | - | - | - | - | ", end="", flush=True)
+        else:
+            total = time.perf_counter() - clock
+            t = report.timings
+            print(f"| {case} | {N} | {Q:g} | {report.points} | {int(report.seen.sum())} | "
+                  f"{report.max_rel_error_omega:.1e} | "
+                  f"{report.max_abs_error_P:.1e} | {report.max_rel_error_Q:.1e} | {report.max_rel_error_pole:.1e} | "
+                  f"{_error(report.response_error)} | {t['ngspice_s']:.2f} | {t['fit_s']:.2f} | {total:.2f} | ",
+                  end="", flush=True)
+        survey = measure_modes(chain_for_case(case, N), Q=Q)
+        print(f"{_survey_cells(survey)} | {int(survey.separated.sum())} | {survey.max_rel_error_Q:.1e} | {_load()} |",
               flush=True)
     print("\nThe sweep is cut into even segments, each as fine as the spacing of the predicted poles it holds, so the "
           "frequencies grow like N for every chain (an even sweep grows like N^2 for the optimised chains, whose "
@@ -118,9 +176,15 @@ def main() -> None:
           "time is then frequencies x unknowns, O(N^2). The fit's rational fits work on pieces of fixed size, "
           "O(frequencies); each Gauss-Newton sweep solves windows of 64 modes, O(N), and updates the model on every "
           "frequency, O(frequencies x N) = O(N^2), which dominates beyond N ~ 1000. With losses the modes closer "
-          "than their width 1/Q merge: two-mass N = 100 at Q = 10 is out of reach, and beyond 128 modes the "
-          "windows place Q_n less well than one Gauss-Newton on all (N = 400, Q = 1000). Taken on the idle "
-          "2-core machine; the curves are in benchmarks/spectrum.png.")
+          "than their width 1/Q merge: two-mass N = 100 at Q = 10 is out of reach, and the loop-1 fit refuses "
+          "losses beyond N = 100. Taken on the shared 2-core machine (the load column); the curves are in "
+          "benchmarks/spectrum.png.")
+    print("\nThe survey's samples are the same segments at 4 per spacing (half the loop-1 fit's default): its "
+          "ngspice run saves N vectors, frequencies x N complex values, O(N^2), cut into several runs of at most "
+          "2^22 values each so that the raw file stays small. Its fit forms each window's right-hand sides and "
+          "solves one banded system with the N loops as right-hand sides, O(N^2) too; the poles move on 16 random "
+          "combinations of the loops. 'peak MB' of the engines counts the forked child before it becomes ngspice "
+          "(the Python process's size at that moment), not ngspice's own memory.")
 
 
 if __name__ == "__main__":

@@ -38,7 +38,7 @@ _PUBLIC = {
     "RunSpec": "runs.spec", "Theory": "runs.spec",
     "load_scene": "scenes.load", "parse_scene": "scenes.load",
     "simulate_scene": "scenes.run", "Scene": "scenes.schema",
-    "Simulator": "spice.simulator", "find_simulator": "spice.simulator",
+    "Simulator": "spice.simulator", "find_simulator": "spice.ngspice.find",
     "Arrival": "theory.arrivals", "arrivals": "theory.arrivals", "first_arrival": "theory.arrivals",
     "asymptotic_amplitude": "theory.asymptotic", "asymptotic_optimum": "theory.asymptotic",
     "chain_for_case": "theory.cases",
@@ -110,7 +110,8 @@ if TYPE_CHECKING:  # what a type checker and an editor see
     from .scenes.load import load_scene, parse_scene
     from .scenes.run import simulate_scene
     from .scenes.schema import Scene
-    from .spice.simulator import Simulator, find_simulator
+    from .spice.ngspice.find import find_simulator
+    from .spice.simulator import Simulator
     from .theory.arrivals import Arrival, arrivals, first_arrival
     from .theory.asymptotic import asymptotic_amplitude, asymptotic_optimum
     from .theory.cases import chain_for_case

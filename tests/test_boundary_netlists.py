@@ -25,7 +25,8 @@ from lcchain.cli import main
 from lcchain.core.budget import BYTES_PER_VALUE
 from lcchain.core.errors import ParameterError, SimulationError
 from lcchain.spice.foreign import allowed_netlist, foreign_price, transient_of
-from lcchain.spice.runner import read_include, run
+from lcchain.spice.ngspice.runner import run
+from lcchain.spice.result import read_include
 from lcchain.spice.sandbox import find_sandbox
 from lcchain.spice.text import saved_vectors
 

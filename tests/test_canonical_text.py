@@ -27,11 +27,14 @@ import lcchain
 from lcchain.cli import main
 from lcchain.core.errors import ParameterError
 from lcchain.runs.simulate import simulation_spec
-from lcchain.spice import warm
 from lcchain.spice.engines import engine_named
 from lcchain.spice.foreign import allowed_netlist
-from lcchain.spice.runner import TRANSPORT_RUNS, _placement, read_include, run
-from lcchain.spice.simulator import Simulator, find_simulator
+from lcchain.spice.ngspice import warm
+from lcchain.spice.ngspice.find import find_simulator
+from lcchain.spice.ngspice.place import placement as _placement
+from lcchain.spice.ngspice.runner import TRANSPORT_RUNS, run
+from lcchain.spice.result import read_include
+from lcchain.spice.simulator import Simulator
 from lcchain.spice.text import canonical_text, circuit_lines, netlist_lines, text_digest
 from lcchain.studies.plan import batch_plan
 from lcchain.studies.run import run_plan

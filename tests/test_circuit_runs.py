@@ -137,11 +137,12 @@ def test_tolerance_samples_are_each_compared_with_their_own_circuit(tmp_path) ->
         assert coil.value == Ladder(chain).inductances()[0]
     summary = run_plan(request_plan([({"case": "tolerance"}, request)]), tmp_path / "t.sqlite")
     assert summary.ok == 3 and summary.failed == 0
+    from lcchain.studies.exports import table_rows
     from lcchain.studies.store import Store
 
     with Store(tmp_path / "t.sqlite") as store:  # the two numbers, stored apart and read back
         runs = store.runs()
-        rows = store._table_rows(runs)
+        rows = table_rows(runs)
     for run, row in zip(runs, rows, strict=True):
         cost = run.to_dict()["effects"]
         assert row["effects_energy_loss"] == cost["energy_loss"] and cost["peak_circuit"] != cost["peak_ideal"]

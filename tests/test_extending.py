@@ -29,9 +29,11 @@ from lcchain.runs.request import Request, Transient, plan_request
 from lcchain.runs.spectrum import measure_spectrum
 from lcchain.spice.ac import run_ac
 from lcchain.spice.engines import ENGINES
-from lcchain.spice.ngspice import Ngspice
-from lcchain.spice.runner import RunResult, run
-from lcchain.spice.simulator import Simulator, find_simulator
+from lcchain.spice.ngspice.engine import Ngspice
+from lcchain.spice.ngspice.find import find_simulator
+from lcchain.spice.ngspice.runner import run
+from lcchain.spice.result import RunResult
+from lcchain.spice.simulator import Simulator
 from lcchain.studies.plan import request_plan
 from lcchain.studies.run import run_plan
 from lcchain.studies.store import Store

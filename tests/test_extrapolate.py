@@ -239,7 +239,7 @@ def test_a_sweep_runs_the_members_as_tasks_and_stores_what_simulate_gives(tmp_pa
 def _sweep_to_the_middle(store_path, stored: int):
     """A sweep whose driver died after ``stored`` of its member runs were stored: they are stored by hand."""
     from lcchain.runs.execute import execute
-    from lcchain.spice.simulator import find_simulator
+    from lcchain.spice.ngspice.find import find_simulator
     from lcchain.studies.plan import sweep_plan
     from lcchain.studies.store import Store
 
@@ -359,7 +359,7 @@ def test_members_that_cannot_be_combined_make_a_failed_row_not_a_crash(tmp_path,
     with sqlite3.connect(path) as db:  # the same command, planned otherwise (as another lcchain would)
         db.execute("UPDATE meta SET value = 'another' WHERE name = 'plan'")
     assert main(argv) == 2
-    assert "holds this very study as another lcchain or ngspice planned it" in capsys.readouterr().err
+    assert "holds this very study as another lcchain or engine planned it" in capsys.readouterr().err
 
 
 @pytest.mark.ngspice

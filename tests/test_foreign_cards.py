@@ -38,7 +38,7 @@ from lcchain.core.limits import MAX_EXPANDED_ELEMENTS
 from lcchain.spice.cards import MAX_SUBCKT_DEPTH, command_of, dc_points
 from lcchain.spice.foreign import allowed_netlist, analysis_of, foreign_price
 from lcchain.spice.pricing import read_contents
-from lcchain.spice.runner import read_include
+from lcchain.spice.result import read_include
 from lcchain.studies.store import Store
 
 TOUCH = f"shell touch {{here}}/{MARKER}"

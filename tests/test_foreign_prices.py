@@ -20,11 +20,12 @@ import pytest
 from lcchain.core.budget import Budget
 from lcchain.core.errors import ParameterError, SimulationError
 from lcchain.runs.execute import execute
-from lcchain.spice import processes, warm
+from lcchain.spice import processes
 from lcchain.spice.foreign import analysis_of, foreign_estimate, foreign_price
+from lcchain.spice.ngspice import warm
+from lcchain.spice.ngspice.find import find_simulator
+from lcchain.spice.ngspice.runner import run
 from lcchain.spice.pricing import RUN_LIMIT_FACTOR, RUN_SECONDS_FLOOR, read_contents
-from lcchain.spice.runner import run
-from lcchain.spice.simulator import find_simulator
 from lcchain.spice.text import saved_vectors
 from lcchain.studies.plan import batch_plan
 from lcchain.studies.run import run_plan

@@ -35,7 +35,7 @@ from lcchain.compare.accuracy import AccuracyWarning, predicted_error, trap_resp
 from lcchain.compare.waveforms import normalise
 from lcchain.core.errors import ParameterError
 from lcchain.runs.simulate import simulate
-from lcchain.spice.runner import run
+from lcchain.spice.ngspice.runner import run
 from lcchain.studies.bench import ladder_energy
 from lcchain.theory.cases import chain_for_case
 from lcchain.theory.chain import Chain

@@ -32,6 +32,19 @@ ROOT = Path(__file__).resolve().parent.parent
 HEAVY = ("scipy", "matplotlib", "pandas", "xarray", "dask", "distributed", "PySpice")
 
 
+#: Lighter modules a batch of foreign netlists has no use for, each found on its start once (issue 35): numpy's
+#: masked arrays (``np.unique`` imports them), its polynomials (a pulse's quadrature nodes), a process pool's
+#: machinery (a batch's runs are driven by threads).
+BATCH_UNNEEDED = ("numpy.ma", "numpy.polynomial", "multiprocessing", "concurrent.futures.process")
+
+
+def loaded(chains: dict[str, list[str]], names: tuple[str, ...]) -> list[str]:
+    """The modules of ``names`` (or their submodules) in ``chains``, each with the chain that imported it."""
+    return [" <- ".join(chain) for name, chain in chains.items()
+            if any(name == n or name.startswith(n + ".") for n in names)
+            and not any(importer.startswith(names) for importer in chain[1:])]
+
+
 def heavy(module: str, allowed: tuple[str, ...] = ()) -> bool:
     """One of :data:`HEAVY` or a module of one (``scipy.interpolate._bsplines``, ``matplotlib.pyplot``), unless
     ``allowed`` names its scipy subpackage (``("scipy.linalg",)`` allows it, scipy and scipy's private modules)."""
@@ -160,6 +173,7 @@ def test_batch_and_results_import_nothing_heavy(tmp_path: Path) -> None:
     assert done.returncode == 0, done.stderr[-2000:]
     assert "1 ok" in done.stdout
     assert not forbidden(chains), "\n".join(forbidden(chains))
+    assert not loaded(chains, BATCH_UNNEEDED), "\n".join(loaded(chains, BATCH_UNNEEDED))
     refused = tmp_path / "control.cir"  # refused by the allow-list: stored as such, the batch carries on (exit 1)
     refused.write_text(RC_NETLIST.replace(".end\n", ".control\nrun\n.endc\n.end\n"))
     done, chains = imports(["batch", str(netlist), str(refused), "--store", str(tmp_path / "refused.sqlite")], ROOT)

@@ -44,7 +44,7 @@ def _children(parent: int) -> dict[int, str]:
 
 
 def _simulator_of(proc: subprocess.Popen[bytes], backend: str) -> int:
-    marker = "ngspice" if backend == "batch" else "lcchain.spice.shared_worker"
+    marker = "ngspice" if backend == "batch" else "lcchain.spice.ngspice.shared_worker"
     deadline = time.monotonic() + START_TIMEOUT
     while time.monotonic() < deadline:
         assert proc.poll() is None, proc.communicate()

@@ -57,7 +57,7 @@ def _netlist(folder: Path, text: str = RC) -> Path:
 
 def _checked(folder: Path) -> str:
     path = _netlist(folder)
-    from lcchain.spice.runner import read_include
+    from lcchain.spice.result import read_include
 
     return allowed_netlist(path.read_text(), str(path), folder, read_include)
 

@@ -14,10 +14,11 @@ from helpers.processes import temporary_entries
 
 from lcchain.core.errors import ParameterError, SimulationError
 from lcchain.spice import doctor as doctor_module
-from lcchain.spice import runner
-from lcchain.spice.raw import read_raw
-from lcchain.spice.runner import TSTOP_RTOL, RunResult, run
-from lcchain.spice.simulator import find_simulator, ngspice_version
+from lcchain.spice.ngspice import batch
+from lcchain.spice.ngspice.find import find_simulator, ngspice_version
+from lcchain.spice.ngspice.raw import read_raw
+from lcchain.spice.ngspice.runner import run
+from lcchain.spice.result import TSTOP_RTOL, RunResult
 from lcchain.spice.text import canonical_vector_name, parse_options
 
 TSTOP = 7.7
@@ -217,7 +218,7 @@ def test_batch_run_reports_its_progress(monkeypatch) -> None:
     from lcchain.circuit.netlist import make_netlist
     from lcchain.theory.cases import chain_for_case
 
-    monkeypatch.setattr(runner, "PROGRESS_INTERVAL", 0.02)
+    monkeypatch.setattr(batch, "PROGRESS_INTERVAL", 0.02)
     text, ladder, options = make_netlist(chain_for_case("two-mass", 300), dt=0.02, transits=1)
     seen: list[float] = []
     run(text, ["i(l1)", "i(l300)"], options.tstop * ladder.time_unit, progress=seen.append)

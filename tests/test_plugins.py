@@ -111,7 +111,8 @@ def test_a_broken_plugin_is_one_line_naming_its_entry_point(tmp_path):
 
 
 def test_importing_lcchain_reads_no_entry_points(tmp_path):
-    """The groups are read the first time a registry is, not when lcchain (its runs, scenes, studies) loads."""
+    """The groups are read the first time a registry is asked for a name it does not hold or listed, not when
+    lcchain (its runs, scenes, studies) loads, nor for lcchain's own parts (which no plugin can take)."""
     env = {**os.environ, "TMPDIR": str(tmp_path), "PYTHONDONTWRITEBYTECODE": "1"}
     done = _python(env, tmp_path, """
         import lcchain.runs.simulate, lcchain.scenes.load, lcchain.studies.plan
@@ -119,7 +120,9 @@ def test_importing_lcchain_reads_no_entry_points(tmp_path):
         from lcchain.spice.engines import ENGINES
 
         print(repr(EFFECTS).endswith("plugins not read yet)"), repr(ENGINES).endswith("plugins not read yet)"))
-        print("losses" in EFFECTS, repr(EFFECTS).endswith("plugins not read yet)"))
+        print("losses" in EFFECTS, ENGINES["ngspice"].name, repr(EFFECTS).endswith("plugins not read yet)"),
+              repr(ENGINES).endswith("plugins not read yet)"))
+        print("no-such-effect" in EFFECTS, repr(EFFECTS).endswith("plugins not read yet)"))
     """)
     assert done.returncode == 0, done.stderr
-    assert done.stdout.split() == ["True", "True", "True", "False"]
+    assert done.stdout.split() == ["True", "True", "True", "ngspice", "True", "True", "False", "False"]

@@ -21,7 +21,7 @@ from lcchain.circuit.effects import Losses
 from lcchain.circuit.ladder import Ladder
 from lcchain.circuit.netlist import SimulationOptions, netlist_text, probe_names
 from lcchain.runs.simulate import simulate
-from lcchain.spice.runner import run
+from lcchain.spice.ngspice.runner import run
 from lcchain.theory.cases import chain_for_case
 from lcchain.theory.chain import PERFECT_ARRIVAL, Chain
 from lcchain.theory.spectrum import normal_modes, transmission_amplitude

@@ -20,7 +20,7 @@ from lcchain.compare.spectral import sweep_grid
 from lcchain.compare.spectrum import fit_spectrum, min_points
 from lcchain.core.errors import ParameterError, SimulationError
 from lcchain.runs.spectrum import OMEGA_WEIGHT_FLOOR, measure_spectrum
-from lcchain.spice.raw import read_raw
+from lcchain.spice.ngspice.raw import read_raw
 from lcchain.theory.cases import chain_for_case
 from lcchain.theory.exact import driven_modes
 

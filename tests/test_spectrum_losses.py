@@ -29,7 +29,7 @@ from lcchain.compare.grid import min_points, segment_frequencies, sweep_segments
 from lcchain.compare.spectrum import fit_spectrum
 from lcchain.core.errors import ParameterError
 from lcchain.runs.spectrum import OMEGA_WEIGHT_FLOOR, measure_spectrum
-from lcchain.spice.raw import read_raw
+from lcchain.spice.ngspice.raw import read_raw
 from lcchain.theory.cases import chain_for_case
 from lcchain.theory.chain import Chain
 

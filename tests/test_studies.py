@@ -65,6 +65,20 @@ def test_every_executor_stores_the_same_digests(serial_store: Path, tmp_path: Pa
     assert (again.skipped, again.ran) == (12, 0)  # a finished study runs nothing
 
 
+def test_a_sweep_planned_on_its_started_pool_is_the_serial_one(serial_store: Path, tmp_path: Path) -> None:
+    """Issue 35: the pool's workers start first and design the chains while the driver plans, then run the
+    study; the plan (its keys hold every netlist) and the stored digests are those of the serial study."""
+    from lcchain.studies.pools import started_pool
+
+    path = tmp_path / "started.sqlite"
+    with started_pool(2) as pool:
+        plan = sweep_plan(**SMALL, pool=pool)
+        summary = run_plan(plan, path, executor="process", workers=2, pool=pool)
+    assert (summary.ran, summary.ok) == (12, 12)
+    assert plan.fingerprint("39") == sweep_plan(**SMALL).fingerprint("39")
+    assert _digests(path) == _digests(serial_store)
+
+
 def test_a_store_of_another_plan_is_refused(serial_store: Path, capsys: pytest.CaptureFixture[str]) -> None:
     status = main(["sweep", "--case", "two-mass", "--N", "20", "--store", str(serial_store)])
     err = capsys.readouterr().err

@@ -24,9 +24,11 @@ from helpers.processes import alive, as_from_a_terminal, descendants, gone, reap
 import lcchain
 from lcchain.core.errors import ParameterError, SimulationError, SimulatorMissingError
 from lcchain.runs.simulate import simulation_spec
-from lcchain.spice import warm
-from lcchain.spice.runner import RunResult, run
-from lcchain.spice.simulator import Simulator, find_simulator
+from lcchain.spice.ngspice import warm
+from lcchain.spice.ngspice.find import find_simulator
+from lcchain.spice.ngspice.runner import run
+from lcchain.spice.result import RunResult
+from lcchain.spice.simulator import Simulator
 from lcchain.studies.executors import Transports, choose_transports
 from lcchain.studies.plan import batch_plan
 from lcchain.studies.run import run_plan

@@ -15,6 +15,7 @@ from ..report.scenes import check_scene_outputs, write_scene_outputs
 from ..scenes.run import SceneResult, simulate_scene
 from ..scenes.schema import Scene
 from ..spice.simulator import Simulator
+from ..studies.executors import DEFAULT_EXECUTOR, EXECUTOR_TRAITS
 
 __all__ = ["run_scene"]
 
@@ -59,8 +60,10 @@ def run_scene(scene: Scene, *, netlist_out: str | None = None, waveform_out: str
         if path is not None:
             check_output(option, path)  # a file name, not a number or bytes
     check_scene_outputs([scene] if write_outputs else [], others)
-    if workers is not None and workers > 1 or executor != "serial":
-        result = _on_executor(scene, budget, "process" if executor == "serial" else executor, workers, scheduler,
+    traits = EXECUTOR_TRAITS.get(executor)  # an unknown name goes on, to be refused with the executors' names
+    parallel = traits is None or traits.parallel
+    if workers is not None and workers > 1 or parallel:  # several workers asked of the serial executor: a pool
+        result = _on_executor(scene, budget, executor if parallel else DEFAULT_EXECUTOR, workers, scheduler,
                               transport, study_progress)
     else:
         result = simulate_scene(scene, progress=progress, simulator=simulator, budget=budget)

@@ -24,6 +24,7 @@ from ..studies.designs import design_row, design_task
 from ..studies.requirements import RequirementsCheck, RequirementsJob, requirements_jobs, run_requirements
 from ..studies.spectrum_checks import run_spectrum_check, spectrum_jobs
 from ..studies.validation import CheckJob, CircuitCheck, check_jobs, installed_engines, run_check
+from ..theory.design import DESIGN_TABLES
 
 __all__ = ["make_report", "HERE_S"]
 
@@ -84,7 +85,7 @@ def make_report(out: str | os.PathLike[str], *, quick: bool = False, cache: str 
         ordered = sorted(needed, key=lambda pair: ("row", *pair) in background)
         for i, (case, N) in enumerate(ordered):
             if progress is not None:
-                progress(i, len(ordered), f"Table {'I' if case == 'one-mass' else 'II'}, N = {N}")
+                progress(i, len(ordered), f"{DESIGN_TABLES[case][0]}, N = {N}")
             rows.row(case, N)
         paper = paper_section(rows, quick=quick)
         figures = {f"paper:{figure.label}": paper_figure_png(figure, rows, quick)

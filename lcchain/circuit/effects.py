@@ -259,6 +259,9 @@ class Effect:
     """
 
     key: ClassVar[str] = ""
+    #: Whether it acts on the part values of a realised circuit (rounding them, drawing them within tolerances),
+    #: after the nominal chain: the nominal chain is made without it.
+    on_parts: ClassVar[bool] = False
     #: The command-line option that asks for this effect (``lcchain simulate --coil-capacitance 0.01``), or None;
     #: its value is the effect's one field.  ``option_help`` says what it adds, in bulk units.
     option: ClassVar[str | None] = None
@@ -373,8 +376,9 @@ class Losses(Effect):
     ----------
     Q : float
         Quality factor of every inductor at 1/sqrt(L0*C0) (dimensionless, :data:`lcchain.core.limits.MIN_Q` to
-        :data:`~lcchain.core.limits.MAX_Q`; an AC analysis narrows it to what its fit identifies,
-        :func:`lcchain.compare.spectral.lossy_range`).
+        :data:`~lcchain.core.limits.MAX_Q`; an AC analysis refuses a Q above what its fit places,
+        :func:`lcchain.compare.spectral.lossy_range`, and below its range says which modes merged,
+        :func:`lcchain.compare.spectral.merged_modes`).
     """
 
     key: ClassVar[str] = "losses"
@@ -407,6 +411,7 @@ class PreferredValues(Effect):
     """
 
     key: ClassVar[str] = "preferred_values"
+    on_parts: ClassVar[bool] = True
     series: ESeries
 
     def __post_init__(self) -> None:
@@ -436,6 +441,7 @@ class Tolerance(Effect):
     """
 
     key: ClassVar[str] = "tolerance"
+    on_parts: ClassVar[bool] = True
     L: float = 0.0
     C: float = 0.0
     samples: int = 1
@@ -597,4 +603,5 @@ def _admit(name: str, loaded: object) -> type[Effect]:
 _OWN: tuple[type[Effect], ...] = (Losses, Walls, Coupling, Tolerance, PreferredValues, *REAL_PARTS)
 EFFECTS: Registry[type[Effect]] = Registry(
     "lcchain.effects", {cls.key: cls for cls in _OWN}, _admit,
-    "a frozen dataclass subclass of lcchain.circuit.effects.Effect, its key the entry point's name")
+    "a frozen dataclass subclass of lcchain.circuit.effects.Effect, its key the entry point's name",
+    name_of=lambda part: str(getattr(part, "key", "")))

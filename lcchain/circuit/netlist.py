@@ -74,6 +74,7 @@ from .elements import Element, Pulse, card_number, ladder_elements, ladder_pulse
 from .ladder import Ladder
 
 __all__ = [
+    "survey_netlist_text",
     "ac_circuit_elements",
     "Ladder",
     "SimulationOptions",
@@ -366,6 +367,60 @@ def ac_netlist_text(ladder: Ladder, *, points: int | None = None, omega_max: flo
     lines.append(".options noopac")
     lines += sweeps
     lines.append(".save " + " ".join(probe_names(N, "ends")))
+    lines.append(".end")
+    return "\n".join(lines) + "\n"
+
+
+def survey_netlist_text(ladder: Ladder, segments: Sequence[tuple[int, float, float]], amplitudes: Sequence[complex],
+                        *, title: str = "lcchain LC ladder, AC survey", effects: tuple[Effect, ...] = ()) -> str:
+    """The ladder driven in every loop, for every loop's current: a mode survey
+    (:mod:`lcchain.compare.survey`).
+
+    Parameters
+    ----------
+    ladder : Ladder
+    segments : sequence of (points, lowest, highest)
+        The sweep's even segments, as :func:`ac_netlist_text` takes them (units of 1/sqrt(L0 C0)).
+    amplitudes : sequence of complex
+        The AC voltage b_k (V) of the source in series with each loop's coil, k = 1..N
+        (:func:`lcchain.compare.survey.survey_amplitudes`).
+    title : str
+    effects : tuple of Effect
+        Their elements, as :func:`netlist_text`.
+
+    Returns
+    -------
+    str
+        ``V<k> s<k> <rail node> DC 0 AC |b_k| arg(b_k)`` (degrees) before each coil L_k, whose current counts from
+        ``s<k>``; ``.options noopac``; ``.save`` of every coil's current and nothing else (N x frequencies complex
+        values: the node voltages would triple them).
+    """
+    instance("ladder", ladder, Ladder)
+    N = ladder.chain.N
+    values = list(_sequence("amplitudes", amplitudes, "a sequence of N complex amplitudes"))
+    if len(values) != N or not all(isinstance(v, (int, float, complex)) and math.isfinite(abs(v)) for v in values):
+        raise ParameterError("amplitudes", f"{len(values)} values", f"{N} finite complex amplitudes, one per loop")
+    hertz = 1.0 / (2.0 * math.pi * ladder.time_unit)
+    sweeps = _ac_cards(segments, hertz)
+    parts = _sequence("effects", effects, "a tuple of lcchain effects")
+    for part in parts:
+        instance("effects", part, Effect)
+    title = check_user_text("title", title)
+    lines = [title, f"* N={N} L0={card_number(ladder.L0)} H C0={card_number(ladder.C0)} F time unit="
+                    f"{card_number(ladder.time_unit)} s, AC drive in every loop"]
+    inductors = {Ladder.inductor(i): i for i in range(1, N + 1)}
+    for element in ladder_elements(ladder, parts):
+        loop = inductors.get(element.name)
+        if loop is None:
+            lines.append(element.card())
+            continue
+        b = complex(values[loop - 1])
+        lines.append(f"V{loop} s{loop} {element.a} DC 0 AC {card_number(abs(b))} "
+                     f"{card_number(math.degrees(math.atan2(b.imag, b.real)))}")
+        lines.append(Element(element.name, f"s{loop}", element.b, element.value).card())
+    lines.append(".options noopac")
+    lines += sweeps
+    lines.append(".save " + " ".join(probe_names(N, "all")))
     lines.append(".end")
     return "\n".join(lines) + "\n"
 

@@ -26,6 +26,7 @@ from dataclasses import dataclass
 from ..theory.arrivals import stop_time
 from ..theory.cases import chain_for_case
 from ..theory.chain import Chain
+from ..theory.design import DESIGN_CHAINS
 from ..theory.spectrum import normal_modes
 from .netlist import make_netlist
 
@@ -77,10 +78,8 @@ REFERENCE_SET: tuple[ReferenceCase, ...] = (
 def reference_chain(reference: ReferenceCase) -> Chain:
     """The chain of a reference netlist, from its golden parameters (no optimiser runs)."""
     params = dict(reference.params)
-    if reference.case == "one-mass":
-        return Chain.one_mass(reference.N, params["x"])
-    if reference.case == "two-mass":
-        return Chain.from_rw(reference.N, params["r"], params["w"])
+    if reference.case in DESIGN_CHAINS:  # an optimised design: its golden parameters
+        return DESIGN_CHAINS[reference.case](reference.N, params)
     return chain_for_case(reference.case, reference.N)
 
 

@@ -436,7 +436,8 @@ def cmd_spectrum(args: argparse.Namespace) -> int:
     effects = tuple(effect for effect in effects_from_args(args) if not isinstance(effect, Losses))
     report = measure_spectrum(chain, Q=args.Q, points=args.points, L0=args.L0, C0=args.C0,
                               budget=budget_from_args(args), engine=args.engine,
-                              progress=fraction(f"{args.engine} AC analysis, then the fit"), effects=effects)
+                              progress=fraction(f"{args.engine} AC analysis, then the fit"), effects=effects,
+                              shapes=args.shapes)
     data = with_physical_units(report.to_dict(), args.L0, args.C0)
     if args.json:
         emit_json(data)
@@ -448,28 +449,44 @@ def cmd_spectrum(args: argparse.Namespace) -> int:
               f"analysis, {data['points']} frequencies up to {data['omega_max']:.4g} in {data['segments']} segments, "
               f"{timings['ngspice_s']:.3f} s, fit {timings['fit_s']:.3f} s")
         _print_units(args.L0, args.C0)
-        print(f"{'n':>5} {'omega (circuit)':>19} {'omega (theory)':>19} {'rel. error':>10} {'P_n (circuit)':>14} "
-              f"{'P_n (theory)':>14} {'abs. error':>10} {'spacing':>10} {'f (circuit), Hz':>16}")
+        print(f"{'n':>5} {'omega (circuit)':>19} {'omega (theory)':>19} {'rel. error':>10} {'ref. bound':>10} "
+              f"{'P_n (circuit)':>14} {'P_n (theory)':>14} {'abs. error':>10} {'spacing':>10} {'f (circuit), Hz':>16}")
         previous = None
         for mode in data["modes"]:
             omega, P = mode["omega"], mode["P"]
             spacing = "" if previous is None or omega is None else f"{omega - previous:10.6f}"
-            error = "" if omega is None else f"{abs(omega - mode['omega_theory']) / (mode['omega_theory'] or 1):10.2e}"
-            shown = "unseen" if omega is None else f"{omega:19.15f}"
+            error = "" if omega is None else f"{mode['omega_error']:10.2e}"  # against the reference beyond float64
+            bound = "" if mode["omega_bound"] is None else f"{mode['omega_bound']:10.1e}"
+            shown = ("merged" if mode["merged"] else "unseen") if omega is None else f"{omega:19.15f}"
             hz = "" if mode["omega_Hz"] is None else f"{mode['omega_Hz']:16.9e}"
             P_theory = mode["P_theory"]
             theory = "below precision" if P_theory is None else f"{P_theory:14.6e}"
-            P_error = "" if P_theory is None else f"{abs((P or 0.0) - P_theory):10.2e}"
-            print(f"{mode['n']:>5} {shown:>19} {mode['omega_theory']:19.15f} {error:>10} "
+            P_error = "" if P_theory is None or mode["merged"] else f"{abs((P or 0.0) - P_theory):10.2e}"
+            print(f"{mode['n']:>5} {shown:>19} {mode['omega_theory']:19.15f} {error:>10} {bound:>10} "
                   f"{'' if P is None else f'{P:14.6e}':>14} {theory:>14} "
                   f"{P_error:>10} {spacing:>10} {hz:>16}")
             previous = omega if omega is not None else previous
-        weak = sum(1 for m in data["modes"] if not m["resolved"])
-        print(f"max relative error of omega_n = {_error(data['max_rel_error_omega'])} (modes with |P_n| >= 1e-6"
-              f"{f'; {weak} weaker modes are placed less well' if weak else ''}), max absolute error of P_n = "
-              f"{data['max_abs_error_P']:.3e} ({data['seen']} of {chain.N} modes seen at the ends)")
+        weak = sum(1 for m in data["modes"] if not m["resolved"] and not m["merged"])
+        if any(m["resolved"] for m in data["modes"]):
+            print(f"max relative error of omega_n = {_error(data['max_rel_error_omega'])}{_bound(data, 'omega')} "
+                  f"(modes with |P_n| >= 1e-6{f'; {weak} weaker modes are placed less well' if weak else ''}"
+                  f"{'; merged modes not compared' if data['merged'] else ''}), max absolute error of P_n = "
+                  f"{data['max_abs_error_P']:.3e}{_bound(data, 'P')} ({data['seen']} of {chain.N} modes seen at the "
+                  "ends)")
+        else:
+            print("no mode is resolved: omega_n, P_n and Q_n are not compared")
         if data["Q"] is not None or data["max_rel_error_Q"] is not None:  # the chain's losses, a circuit's resistors
             _print_quality(data)
+        if data["merged"]:
+            from ..runs.spectrum import merged_text
+
+            print(f"merged by the losses (half-power bands overlap, said and not compared): "
+                  f"{merged_text(report.merged_modes)}")
+        if data["max_rel_error_Y11"] is not None:
+            print(f"Y_11 against the exact lossy admittance over the sweep: max relative error "
+                  f"{data['max_rel_error_Y11']:.3e}")
+    if report.modes is not None and not args.json:
+        _print_survey(report.modes)
     if args.plot:
         from ..report.plots import spectrum
 
@@ -482,7 +499,30 @@ def cmd_spectrum(args: argparse.Namespace) -> int:
     if report.failure:  # a comparison that failed is a failed check
         print(f"lcchain: {report.failure}", file=sys.stderr)
         return EXIT_FAILED
+    if report.modes is not None and not report.modes.resolved.all():
+        print(f"lcchain: the survey of every loop resolved {int(report.modes.resolved.sum())} of {chain.N} modes",
+              file=sys.stderr)
+        return EXIT_FAILED
     return EXIT_FAILED if outputs.failed else EXIT_OK
+
+
+def _print_survey(modes: Any) -> None:
+    """``spectrum --shapes``: every mode from the survey of every loop, beside the exact eigensolution."""
+    for name, value in modes.rows():
+        print(f"{name}: {value:.3e}" if isinstance(value, float) else f"{name}: {value}")
+    lossy = modes.losses is not None
+    print(f"{'n':>5} {'omega (survey)':>19} {'rel. error':>10} {'shape error':>11} {'P_n (shape)':>14} "
+          f"{'P_n (theory)':>14}" + (f" {'Q_n':>12} {'rel. error':>10}" if lossy else ""))
+    for n in range(modes.N):
+        quality = f" {modes.Q[n]:12.6g} {modes.Q_error[n]:10.2e}" if lossy else ""
+        print(f"{n + 1:>5} {modes.omega[n]:19.15f} {modes.omega_error[n]:10.2e} {modes.shape_error[n]:11.2e} "
+              f"{modes.P[n]:14.6e} {modes.P_theory[n]:14.6e}{quality}")
+
+
+def _bound(data: dict[str, Any], name: str) -> str:
+    """The reference's own bound on a metric, as printed beside its error ('' where it states none)."""
+    bound = data.get(f"reference_bound_{name}")
+    return "" if bound is None else f" (reference bound {bound:.1e})"
 
 
 def _error(value: float | None) -> str:
@@ -523,13 +563,15 @@ def _write_touchstone(args: argparse.Namespace, chain: Any, effects: tuple[Any, 
 
 def _print_quality(data: dict[str, Any]) -> None:
     """``lcchain spectrum --Q``: each seen mode's Q_n beside omega_n Q, and the fitted response's error."""
+    if not any(mode["resolved"] for mode in data["modes"]):
+        return
     print(f"{'n':>5} {'Q_n (circuit)':>19} {'Q_n (theory)':>19} {'rel. error':>10}")
     for mode in data["modes"]:
         if mode["Q"] is not None and mode["Q_theory"] is not None:
             error = abs(mode["Q"] - mode["Q_theory"]) / (mode["Q_theory"] or 1.0)
             print(f"{mode['n']:>5} {mode['Q']:19.12g} {mode['Q_theory']:19.12g} {error:10.2e}")
     response = data["max_abs_error_response"]
-    print(f"max relative error of Q_n = {_error(data['max_rel_error_Q'])}, of the poles = "
+    print(f"max relative error of Q_n = {_error(data['max_rel_error_Q'])}{_bound(data, 'Q')}, of the poles = "
           f"{_error(data['max_rel_error_pole'])}"
           + ("" if response is None else f"; fitted alpha_N(t) - exact lossy response: max {response:.3e}"))
 

@@ -184,6 +184,9 @@ def build_parser() -> argparse.ArgumentParser:
                         "highest normal frequency")
     p.add_argument("--z0", type=number_type("--z0"), default=None, metavar="OHMS",
                    help="--touchstone's reference impedance on both ports, ohms (default 50)")
+    p.add_argument("--shapes", action="store_true",
+                   help="also every mode with its shape, from a second AC run (ngspice) that drives every loop and "
+                        "saves every loop's current, against the chain's exact eigensolution")
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=commands.cmd_spectrum)
 

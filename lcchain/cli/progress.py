@@ -5,9 +5,9 @@ elapsed and, once it means something, the time left::
 
     [#########.....................] runs: 120/400, 41.3/s, 2 failed, 3s elapsed, about 7s left
 
-On a terminal it is one line redrawn in place (stderr); on a pipe or a log file the same text as a line of
-its own, ``lcchain: ...``, at each new phase, every 10 % and at least every 30 s, and at the end, once the
-work has lasted 2 s (short work prints nothing).  The time
+On a terminal it is one line redrawn in place (stderr, at most every 0.1 s); on a pipe or a log file the same
+text as a line of its own, ``lcchain: ...``, at each new phase, every 10 % and at least every 30 s, and at the
+end, once the work has lasted 2 s (short work prints nothing); its text is made only when it is shown.  The time
 left is shown only once three units are done and a second has passed since the first one: it is estimated
 from the rate since the first one finished, so a slow start (imports, a pool starting, the first design)
 does not inflate it (the first estimate of a 1200-run sweep once said 2h36m).
@@ -27,6 +27,8 @@ __all__ = ["Progress", "duration", "counter", "fraction", "study_counter"]
 LINE_SECONDS, LINE_FRACTION, QUIET_SECONDS = 30.0, 0.1, 2.0
 #: The time left is shown from this many units done, and this many seconds after the first.
 ETA_AFTER_UNITS, ETA_AFTER_SECONDS = 3, 1.0
+#: On a terminal: the line is redrawn at most this often (seconds), and at each new phase and at the end.
+REDRAW_SECONDS = 0.1
 _WIDTH = 30
 
 
@@ -48,6 +50,7 @@ class Progress:
         self.first: tuple[float, float] | None = None  # (time, done) when the first unit finished
         self.phase: str | None = None
         self.line = (-1.0, 0.0)  # (fraction, time) of the last line on a pipe
+        self.drawn = -REDRAW_SECONDS  # when the line was last drawn on a terminal
         self.ended = False
 
     def text(self, done: float, total: float, failed: int = 0, unit: str = "") -> str:
@@ -81,15 +84,17 @@ class Progress:
             self.first = (now, float(done))
         fraction = done / total if total else float(done)
         finished = fraction >= 1.0
-        text = self.text(done, total, failed, unit)
-        if self.terminal:
-            filled = int(_WIDTH * min(max(fraction, 0.0), 1.0))
-            self.stream.write(f"\r[{'#' * filled}{'.' * (_WIDTH - filled)}] {text}\033[K" + ("\n" if finished else ""))
-            self.stream.flush()
+        if self.terminal:  # redrawn at most every REDRAW_SECONDS: a batch of 10,000 runs is 10,000 updates
+            if new_phase or finished or now - self.drawn >= REDRAW_SECONDS:
+                self.drawn = now
+                filled = int(_WIDTH * min(max(fraction, 0.0), 1.0))
+                self.stream.write(f"\r[{'#' * filled}{'.' * (_WIDTH - filled)}] {self.text(done, total, failed, unit)}"
+                                  "\033[K" + ("\n" if finished else ""))
+                self.stream.flush()
         elif now - self.start >= QUIET_SECONDS and (new_phase or finished or fraction - self.line[0] >= LINE_FRACTION
                                                      or now - self.line[1] >= LINE_SECONDS):
             self.line = (fraction, now)
-            print(f"lcchain: {text}", file=self.stream, flush=True)
+            print(f"lcchain: {self.text(done, total, failed, unit)}", file=self.stream, flush=True)
         if finished and phase is None:
             self.ended = True
 

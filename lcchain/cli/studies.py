@@ -14,11 +14,13 @@ from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
 from typing import Any
 
+from ..core.analyses import ANALYSIS_KINDS_DATA
 from ..core.budget import INTERPRETER_SECONDS, show_seconds
 from ..core.errors import ExtraMissingError, ParameterError
 from ..core.types import (
     ANALYSIS_KINDS,
     ARRIVAL_METRICS,
+    BACKENDS,
     DEFAULT_C0,
     DEFAULT_L0,
     EXCITATIONS,
@@ -121,7 +123,7 @@ def add_sweep_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--transits", type=int_list("--transits"), help="transits, comma separated (default 1)")
     p.add_argument("--excitation", type=_words("--excitation", EXCITATIONS),
                    help="kick and/or displacement, comma separated (default kick)")
-    p.add_argument("--analysis", choices=ANALYSIS_KINDS, default="transient",
+    p.add_argument("--analysis", choices=tuple(ANALYSIS_KINDS_DATA), default=ANALYSIS_KINDS[0],
                    help="transient (default), or ac: each chain's spectrum (normal frequencies and end weights "
                         "against theory) from an AC sweep")
     p.add_argument("--points", type=int, help="with --analysis ac: frequencies of each sweep (default: twice the "
@@ -130,7 +132,7 @@ def add_sweep_arguments(p: argparse.ArgumentParser) -> None:
                    help=f"bulk inductance, henry (default {DEFAULT_L0:g})")
     p.add_argument("--C0", type=number_type("--C0"), default=DEFAULT_C0,
                    help=f"bulk capacitance, farad (default {DEFAULT_C0:g})")
-    p.add_argument("--backend", choices=("batch", "shared"), default="batch")
+    p.add_argument("--backend", choices=BACKENDS, default=BACKENDS[0])
     p.add_argument("--engine", choices=tuple(ENGINES),
                    help="the circuit simulator of every run (default ngspice; with SCENE.toml its "
                         "[analysis] engine says it)")
@@ -199,7 +201,8 @@ def _workers(args: argparse.Namespace) -> int:
 
 
 def _run(args: argparse.Namespace, plan: Any, outputs: Outputs,
-         after: Callable[[bool], dict[str, Any]] | None = None, max_seconds: float | None = None) -> int:
+         after: Callable[[bool], dict[str, Any]] | None = None, max_seconds: float | None = None,
+         pool: Any = None) -> int:
     """Run a study's plan into --store and print its summary; ``after(json)`` adds what the study itself says
     (printed, or returned to join the JSON object); ``max_seconds``: the study's time budget left (runs not
     started within it stay pending)."""
@@ -223,7 +226,7 @@ def _run(args: argparse.Namespace, plan: Any, outputs: Outputs,
         summary = run_plan(plan, args.store, executor=args.executor, workers=workers, scheduler=args.scheduler,
                            progress=study_counter("runs"), on_resume=resumed, retry_failed=args.retry_failed,
                            wait=args.wait, on_wait=waiting, verbose=verbose, transport=args.transport,
-                           max_seconds=max_seconds)
+                           max_seconds=max_seconds, pool=pool)
     if args.json:
         emit_json({**summary.to_dict(), **(after(True) if after is not None else {})})
     else:
@@ -280,6 +283,12 @@ def cmd_sweep(args: argparse.Namespace) -> int:
         if not args.case or not args.N:
             raise ParameterError("--case" if not args.case else "--N", None, "--case and --N lists (or SCENE.toml)")
         parts = any(v is not None for v in (args.samples, args.seed, args.tolerance, args.series))
+        if not parts and args.analysis == "transient" and args.executor == "process" and _workers(args) > 1:
+            from ..studies.pools import started_pool
+
+            # the pool's workers start now and design the chains while the driver plans (issue 35)
+            with started_pool(_workers(args)) as pool:
+                return _run(args, _transient_sweep(args, budget, pool), outputs, pool=pool)
         plan = _parts_sweep(args, budget) if parts else _SWEEPS[args.analysis](args, budget)
     return _run(args, plan, outputs)
 
@@ -411,7 +420,7 @@ def _print_worst_case(summary: dict[str, Any]) -> None:
               f"{'within' if mc['within'] else 'BEYOND'} the worst corner's {mc['worst_corner_theory']:.6f}")
 
 
-def _transient_sweep(args: argparse.Namespace, budget: Any) -> Any:
+def _transient_sweep(args: argparse.Namespace, budget: Any, pool: Any = None) -> Any:
     from ..studies.plan import sweep_plan
 
     if args.points is not None:
@@ -421,7 +430,7 @@ def _transient_sweep(args: argparse.Namespace, budget: Any) -> Any:
                       accuracies=args.accuracy or [], transits=args.transits or [1],
                       excitations=args.excitation or ["kick"], L0=args.L0, C0=args.C0, backend=args.backend,
                       timeout=args.timeout, budget=budget, extrapolate=args.extrapolate, workers=_workers(args),
-                      engine=args.engine or DEFAULT_ENGINE)
+                      engine=args.engine or DEFAULT_ENGINE, pool=pool)
 
 
 def _ac_sweep(args: argparse.Namespace, budget: Any) -> Any:

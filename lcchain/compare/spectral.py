@@ -26,14 +26,16 @@ from ..core.checks import integer
 from ..core.errors import ParameterError
 from ..core.frozen import FrozenArrays
 from ..core.limits import COUPLED_MAX_N, MAX_AC_POINTS, MIN_AC_POINTS
+from ..theory.chain import Chain
 from ..theory.modes import Modes
+from ..theory.spectrum import driving_admittance
 from .grid import POINTS_PER_SPACING, Segment, min_points, sweep_segments
 from .spectrum import SpectrumFit, fit_sections, fit_spectrum
 
 __all__ = ["SpectrumMetrics", "SPECTRAL_METRICS", "spacing_spread", "sweep_grid", "compare_spectrum",
-           "spectrum_estimate", "nearest_modes", "largest_relative_error",
+           "spectrum_estimate", "nearest_modes", "largest_relative_error", "relative_errors",
            "OMEGA_MARGIN", "OMEGA_WEIGHT_FLOOR", "DEFAULT_OVERSAMPLING", "SPECTRUM_MAX_N", "LOSSY_MAX_N",
-           "lossy_range", "check_lossy"]
+           "lossy_range", "check_lossy", "merged_modes"]
 
 #: The sweep ends this far above the highest normal frequency (relative).
 OMEGA_MARGIN = 0.05
@@ -83,25 +85,56 @@ def lossy_range(modes: Modes) -> tuple[float, float]:
     return lowest, min(LOSSY_MAX_Q, LOSSY_QN / omega.size)
 
 
+def merged_modes(modes: Modes, Q: float) -> np.ndarray:
+    """Which of a chain's modes losses of quality factor Q merge, bool per mode (ascending omega_n).
+
+    Within the range the fit was measured on (:func:`lossy_range`) none is: the fit separates modes whose
+    half-power bands overlap down to :data:`LOSSY_GAP_Q` widths apart.  Below it, a mode is merged when its
+    half-power band (width gamma = 1/Q) overlaps a neighbour's, |omega_n - omega_(n+-1)| < 1/Q, or reaches zero
+    frequency, 0 < omega_n < 1/Q (a free chain's translation, exactly 0, merges only with a mode within 1/Q of it).
+    The rest stay resolved (measured, ngspice, one- and two-mass N = 10 to 60 down to Q = 1: their Q_n to 2e-13,
+    where the fit's modes inside a merged cluster were off by up to 40 %).
+    """
+    omega = np.asarray(modes.omega, dtype=float)
+    lowest, _ = lossy_range(modes)
+    if Q >= lowest or omega.size == 0:
+        return np.zeros(omega.size, dtype=bool)
+    gaps = np.diff(omega)
+    nearest = np.full(omega.size, np.inf)
+    nearest[:-1], nearest[1:] = gaps, np.minimum(nearest[1:], gaps)
+    return np.asarray((nearest * Q < 1.0) | ((omega > 0) & (omega * Q < 1.0)))
+
+
 def check_lossy(name: str, Q: float, modes: Modes) -> None:
-    """Refuse a losses' Q whose spectrum the fit cannot identify on this chain, naming ``name``, Q and the range."""
-    lowest, highest = lossy_range(modes)
+    """Refuse a losses' Q whose decay rates the fit cannot place on this chain (above the range), or a chain too
+    long for the lossy fit, naming ``name``, Q and the range.  Below the range the run goes ahead and says which
+    modes merged (:func:`merged_modes`)."""
+    _, highest = lossy_range(modes)
     if modes.N > LOSSY_MAX_N:
         raise ParameterError(name, Q, f"no losses on an AC analysis of N = {modes.N} > {LOSSY_MAX_N} masses (the "
                              "lossy fit is measured only up to there; a transient takes any N)")
-    if lowest > highest:
-        raise ParameterError(name, Q, f"no Q on this chain's AC analysis: its modes need Q >= {lowest:.4g} to be told "
-                             f"apart and their decay rates are placed only up to Q = {highest:.4g}")
-    if not lowest <= Q <= highest:
-        raise ParameterError(name, Q, f"{lowest:.4g} <= Q <= {highest:.4g} on this chain's AC analysis (below, modes "
-                             "closer than their width 1/Q merge; above, the decay rates are beyond the fit)")
+    if Q > highest:
+        raise ParameterError(name, Q, f"Q <= {highest:.4g} on this chain's AC analysis (above, the decay rates are "
+                             "beyond the fit; below the modes' own range, those closer than their width 1/Q are "
+                             "reported as merged)")
 
 
-def largest_relative_error(values: np.ndarray, theory: np.ndarray, where: np.ndarray) -> float:
-    """max |values - theory| / |theory| over ``where`` (where |theory| = 0: absolute; a NaN value, a mode the
-    circuit did not show: infinite); 0 over no mode."""
+def relative_errors(values: np.ndarray, theory: np.ndarray, low: np.ndarray | None = None) -> np.ndarray:
+    """|values - (theory + low)| / |theory| per entry (where |theory| = 0: absolute; NaN where a value is NaN);
+    ``low``: the rest of a reference known beyond float64 (:attr:`lcchain.theory.modes.Modes.omega_low`),
+    subtracted after the float64 difference, which is exact for values this close (Sterbenz)."""
     scale = np.abs(theory)
-    error = np.abs(values - theory) / np.where(scale > 0, scale, 1.0)
+    difference = values - theory
+    if low is not None:
+        difference = difference - low
+    return np.asarray(np.abs(difference) / np.where(scale > 0, scale, 1.0))
+
+
+def largest_relative_error(values: np.ndarray, theory: np.ndarray, where: np.ndarray,
+                           low: np.ndarray | None = None) -> float:
+    """max |values - theory| / |theory| over ``where`` (:func:`relative_errors`; a NaN value, a mode the circuit
+    did not show: infinite); 0 over no mode."""
+    error = relative_errors(values, theory, low)
     error = np.where(np.isnan(error), np.inf, error)
     return float(np.max(error[where], initial=0.0))
 
@@ -140,6 +173,14 @@ class SpectrumMetrics(FrozenArrays):
     gamma_theory : ndarray, optional
         Each mode's own decay rate in theory (a circuit whose losses are not the chain's: its exact poles,
         :func:`lcchain.compare.poles.compare_poles`), instead of 1/Q for every mode.
+    omega_low, omega_bound, P_bound : ndarray, optional
+        The reference's rest beyond float64 and its own error bounds (relative on omega_n, absolute on P_n:
+        :class:`lcchain.theory.modes.Modes`); None where the reference states none.
+    merged : ndarray of bool, optional
+        The modes losses merge (:func:`merged_modes`): reported as merged, not compared (not errors).
+    envelope_error : float, optional
+        max |Y_11 - exact Y_11| / |exact Y_11| over the sweep (:func:`lcchain.theory.spectrum.driving_admittance`):
+        the response itself, what is measured whatever merged.
     """
 
     omega_theory: np.ndarray
@@ -152,6 +193,11 @@ class SpectrumMetrics(FrozenArrays):
     gamma: np.ndarray | None = None
     losses: float | None = None
     gamma_theory: np.ndarray | None = None
+    omega_low: np.ndarray | None = None
+    omega_bound: np.ndarray | None = None
+    P_bound: np.ndarray | None = None
+    merged: np.ndarray | None = None
+    envelope_error: float | None = None
 
     def __post_init__(self) -> None:
         if (self.gamma is None) != (self.losses is None and self.gamma_theory is None) \
@@ -159,7 +205,8 @@ class SpectrumMetrics(FrozenArrays):
             raise ParameterError("gamma", self.losses, "decay rates with the losses' Q or the theory's own decay "
                                  "rates (one of them), or neither")
         arrays = ("omega_theory", "omega", "P_theory", "P", "resolved") + tuple(
-            name for name in ("gamma", "gamma_theory") if getattr(self, name) is not None)
+            name for name in ("gamma", "gamma_theory", "omega_low", "omega_bound", "P_bound", "merged")
+            if getattr(self, name) is not None)
         sizes = {np.shape(getattr(self, name)) for name in arrays}
         if len(sizes) != 1 or len(next(iter(sizes))) != 1:
             raise ParameterError("metrics", sorted(sizes), "one value per mode in every array")
@@ -169,12 +216,39 @@ class SpectrumMetrics(FrozenArrays):
     def max_rel_error_omega(self) -> float:
         """Largest |omega - omega_theory| / omega_theory over the resolved modes (a zero mode: absolute); an unseen
         resolved mode is an infinite error."""
-        return largest_relative_error(self.omega, self.omega_theory, self.resolved)
+        return largest_relative_error(self.omega, self.omega_theory, self.resolved, self.omega_low)
+
+    @property
+    def reference_bound_omega(self) -> float | None:
+        """The reference's own relative error bound on omega_n, the largest over the resolved modes (None where it
+        states none, or no mode is resolved): the measured error is the circuit's where this is well below it."""
+        if self.omega_bound is None or not self.resolved.any():
+            return None
+        return float(np.max(self.omega_bound[self.resolved]))
+
+    @property
+    def reference_bound_P(self) -> float | None:
+        """The reference's own absolute error bound on P_n, the largest over the modes compared (None where it
+        states none, or none is compared)."""
+        if self.P_bound is None or not self.compared.any():
+            return None
+        return float(np.max(self.P_bound[self.compared]))
+
+    @property
+    def reference_bound_Q(self) -> float | None:
+        """The reference's own relative bound on Q_n = omega_n Q: omega_n's, and the product's rounding."""
+        bound = self.reference_bound_omega
+        return None if bound is None or self.losses is None else bound + float(np.finfo(float).eps)
+
+    @property
+    def compared(self) -> np.ndarray:
+        """The modes whose P_n is compared: every mode but the merged ones."""
+        return np.ones(self.omega.size, dtype=bool) if self.merged is None else ~self.merged
 
     @property
     def max_abs_error_P(self) -> float:
-        """Largest |P - P_theory| over every mode (an unseen one counts with P = 0)."""
-        return float(np.max(np.abs(self.P - self.P_theory), initial=0.0))
+        """Largest |P - P_theory| over every mode not merged (an unseen one counts with P = 0)."""
+        return float(np.max(np.abs(self.P - self.P_theory)[self.compared], initial=0.0))
 
     def spacings(self, theory: bool = False) -> np.ndarray:
         """delta omega_n = omega_{n+1} - omega_n between neighbouring resolved nonzero modes (NaN elsewhere, and
@@ -218,6 +292,12 @@ class SpectrumMetrics(FrozenArrays):
         return largest_relative_error(self.Q, self.Q_theory, self.resolved & (self.omega_theory > 0))
 
     @property
+    def reference_bounds(self) -> dict[str, float | None]:
+        """The reference's own bounds by metric (:attr:`reference_bound_omega`, ``_P``, ``_Q``)."""
+        return {"reference_bound_omega": self.reference_bound_omega, "reference_bound_P": self.reference_bound_P,
+                "reference_bound_Q": self.reference_bound_Q}
+
+    @property
     def modes_seen(self) -> int:
         return int(np.count_nonzero(np.isfinite(self.omega)))
 
@@ -229,7 +309,10 @@ class SpectrumMetrics(FrozenArrays):
                 "spacing_spread_theory": spacing_spread(self.spacings(theory=True))[0],
                 "omega": [float(w) if np.isfinite(w) else None for w in self.omega],
                 "omega_theory": self.omega_theory.tolist(), "P": self.P.tolist(), "P_theory": self.P_theory.tolist(),
-                "resolved": self.resolved.tolist()} | ({} if self.gamma is None else {
+                "resolved": self.resolved.tolist()} | self.reference_bounds | {
+                    name: getattr(self, name).tolist() for name in ("omega_low", "omega_bound", "P_bound", "merged")
+                    if getattr(self, name) is not None} | ({} if self.envelope_error is None else {
+                        "max_rel_error_Y11": self.envelope_error}) | ({} if self.gamma is None else {
                     "Q": self.losses, "max_rel_error_Q": self.max_rel_error_Q,
                     "gamma": [float(g) if np.isfinite(g) else None for g in self.gamma]}) | (
                     {} if self.gamma_theory is None else {"gamma_theory": self.gamma_theory.tolist()})
@@ -244,9 +327,18 @@ class SpectrumMetrics(FrozenArrays):
                        np.asarray(data["P_theory"], dtype=float), np.asarray(data["P"], dtype=float),
                        np.asarray(data["resolved"], dtype=bool), gamma=None if gamma is None else
                        np.array([np.nan if g is None else g for g in gamma], dtype=float), losses=data.get("Q"),
-                       gamma_theory=None if gamma_theory is None else np.asarray(gamma_theory, dtype=float))
+                       gamma_theory=None if gamma_theory is None else np.asarray(gamma_theory, dtype=float),
+                       omega_low=_optional(data, "omega_low"), omega_bound=_optional(data, "omega_bound"),
+                       P_bound=_optional(data, "P_bound"),
+                       merged=None if data.get("merged") is None else np.asarray(data["merged"], dtype=bool),
+                       envelope_error=data.get("max_rel_error_Y11"))
         except (KeyError, TypeError, ValueError):
             raise ParameterError("metrics", sorted(data), "an AC run's metrics (omega, P and their theory)") from None
+
+
+def _optional(data: dict[str, Any], name: str) -> np.ndarray | None:
+    value = data.get(name)
+    return None if value is None else np.asarray(value, dtype=float)
 
 
 def sweep_grid(omega: np.ndarray, points: int | None = None) -> tuple[list[Segment], int, float]:
@@ -310,7 +402,7 @@ def nearest_modes(omega: np.ndarray, theory: np.ndarray) -> np.ndarray:
 
 
 def compare_spectrum(theory: Modes, omega: np.ndarray, y11: np.ndarray, yN1: np.ndarray,
-                     mass: float, Q: float | None = None) -> SpectrumMetrics:
+                     mass: float, Q: float | None = None, chain: Chain | None = None) -> SpectrumMetrics:
     """An AC run's poles and residues against the driven modes of the same chain.
 
     Parameters
@@ -324,7 +416,11 @@ def compare_spectrum(theory: Modes, omega: np.ndarray, y11: np.ndarray, yN1: np.
     mass : float
         m_1 (P_n = m_1 times the residue of Y_N1).
     Q : float, optional
-        The losses' quality factor (every mode decays at gamma = 1/Q): the fit then finds each mode's decay rate.
+        The losses' quality factor (every mode decays at gamma = 1/Q): the fit then finds each mode's decay rate,
+        and the modes the losses merge (:func:`merged_modes`) are said, not compared.
+    chain : Chain, optional
+        The chain itself: with losses, Y_11 is then compared over the whole sweep with its exact admittance
+        (``envelope_error``), what is measured however the modes merge.
     """
     fit = _matched(fit_spectrum(omega, y11, yN1, lossy=Q is not None), theory)
     seen = nearest_modes(fit.omega, theory.omega)
@@ -332,6 +428,16 @@ def compare_spectrum(theory: Modes, omega: np.ndarray, y11: np.ndarray, yN1: np.
     circuit[seen], gamma[seen] = fit.omega, fit.gamma
     P = np.zeros(theory.N)
     P[seen] = mass * fit.last
+    merged = None if Q is None else merged_modes(theory, Q)
+    if merged is not None:  # a merged mode's pole is the fit's guess inside the cluster: not the circuit's
+        circuit[merged], gamma[merged], P[merged] = np.nan, np.nan, 0.0
+    envelope = None
+    if chain is not None and Q is not None:
+        exact = driving_admittance(chain, omega, Q)
+        envelope = float(np.max(np.abs(y11 - exact) / np.abs(exact), initial=0.0))
+    resolved = np.abs(theory.transfer) >= OMEGA_WEIGHT_FLOOR
     return SpectrumMetrics(np.asarray(theory.omega, dtype=float), circuit, np.asarray(theory.transfer, dtype=float),
-                           P, np.abs(theory.transfer) >= OMEGA_WEIGHT_FLOOR, fit, seen,
-                           gamma if Q is not None else None, Q)
+                           P, resolved if merged is None else resolved & ~merged, fit, seen,
+                           gamma if Q is not None else None, Q, omega_low=theory.omega_low,
+                           omega_bound=theory.omega_bound, P_bound=theory.transfer_bound, merged=merged,
+                           envelope_error=envelope)

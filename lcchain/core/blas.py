@@ -101,7 +101,7 @@ def _blas_controller() -> ThreadpoolController:
     return controller
 
 
-def _load_blas() -> None:
+def load_blas() -> None:
     """Load every BLAS library the theory calls (scipy's own OpenBLAS comes with ``scipy.linalg``) before a
     limit is set, so that none is loaded inside it with its default threads."""
     import scipy.linalg  # noqa: F401  (loaded once; later imports are a dictionary look-up)
@@ -114,7 +114,7 @@ def fixed_blas_threads(function: Callable[P, R]) -> Callable[P, R]:
     def limited(*args: P.args, **kwargs: P.kwargs) -> R:
         if getattr(_state, "depth", 0):
             return function(*args, **kwargs)
-        _load_blas()
+        load_blas()
         _state.depth = 1
         try:
             with _blas_controller().limit(limits=BLAS_THREADS, user_api="blas"):

@@ -33,6 +33,7 @@ benchmarks/theory.md):
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 from .checks import real
@@ -325,8 +326,10 @@ def sample_theory_seconds(N: int) -> float:
     """The theory of one realised chain (a tolerance sample): its exact modes (eigh, about 3e-10 N^3 s) and the
     comparison with the arrivals' refinement (about 50 ms at N = 50: a 2000-sample scene priced without it at
     0.14 s ran 119 s); an AC run's frequencies refined in extended precision
-    (:func:`lcchain.theory.exact.sharp_frequencies`, about 1e-6 N^2 s: 3.7 s at N = 2000 on a loaded machine)."""
-    return 0.05 + 3e-10 * N**3 + 1e-6 * N**2 + 2e-4 * N
+    (:func:`lcchain.theory.exact.sharp_frequencies`, about 1e-6 N^2 s: 3.7 s at N = 2000 on a loaded machine) and
+    certified in double-double with the weights from them (:mod:`lcchain.theory.reference`; benchmarks/reference.md,
+    N = 2000 under a load of 9: bisection 10.3 s, certification 6.1 s, weights 0.6 s: 4e-6 N^2 s in all)."""
+    return 0.05 + 3e-10 * N**3 + 4e-6 * N**2 + 2e-4 * N
 
 
 def accuracy_plan_seconds(N: int) -> float:
@@ -361,8 +364,13 @@ def worst_case_search_estimate(N: int, parts: int) -> Estimate:
 def chain_seconds(case: str, N: int) -> float:
     """Making a named case's chain and its modes before a run is planned: its design, if any, and the modes."""
     design = (design_estimate(case, N).seconds if case in DESIGN_SECONDS_PER_MASS
-              else perfect_estimate(N, 0).seconds if case == "perfect" else 0.0)
+              else _CASE_SECONDS[case](N) if case in _CASE_SECONDS else 0.0)
     return design + 2e-4 * N
+
+
+#: Making a named case's chain that is no optimised design (those: :data:`DESIGN_SECONDS_PER_MASS`), seconds; a
+#: case not here (a uniform chain, a custom one) costs nothing to make.
+_CASE_SECONDS: dict[str, Callable[[int], float]] = {"perfect": lambda N: perfect_estimate(N, 0).seconds}
 
 
 def perfect_estimate(N: int, walls: int) -> Estimate:

@@ -15,7 +15,7 @@ Excitation = Literal["kick", "displacement"]
 #: How ngspice is driven: ``ngspice -b`` subprocess, or the shared library through PySpice.
 Backend = Literal["batch", "shared"]
 #: How a simulator runs a netlist: a backend, or the warm shared-library workers a study may choose
-#: (lcchain.spice.warm); never part of a run's key.
+#: (lcchain.spice.ngspice.warm); never part of a run's key.
 Transport = Literal["batch", "shared", "warm"]
 #: How normal modes are computed: exact diagonalisation or the paper's closed form.
 ModeMethod = Literal["auto", "exact", "closed-form"]
@@ -82,6 +82,9 @@ STUDY_METRICS: tuple[StudyMetric, ...] = get_args(StudyMetric)
 
 #: The gaussian pulse g(t) is centred at GAUSSIAN_CENTRE standard deviations (netlist, theory and scenes).
 GAUSSIAN_CENTRE = 4.0
+#: The engine every run uses unless told otherwise (lcchain.spice.engines.ENGINES holds it first); records made
+#: before there were engines hold its version alone.
+DEFAULT_ENGINE = "ngspice"
 #: Where a study's runs execute (lcchain.studies.executors).
 ExecutorName = Literal["serial", "process", "dask"]
 EXECUTORS: tuple[ExecutorName, ...] = get_args(ExecutorName)

@@ -29,7 +29,7 @@ from ..studies.designs import design_row
 from ..theory.asymptotic import EXPONENTS, asymptotic_amplitude, asymptotic_optimum
 from ..theory.cases import chain_for_case
 from ..theory.closed_form import closed_form_modes
-from ..theory.design import quartic_w
+from ..theory.design import DESIGN_CHAINS, quartic_w
 from ..theory.perfect import perfect_design
 from ..theory.response import linear_response
 from .files import write_text
@@ -79,18 +79,19 @@ def _row_digest(key: str, name: str, row: Mapping[str, Any]) -> str:
     return hashlib.sha256(json.dumps([key, name, row], sort_keys=True).encode()).hexdigest()
 
 
+#: What else a design's row must satisfy beyond its chain: Table I's Delta follows from its x.
+_ROW_CHECKS: dict[str, Callable[[Mapping[str, Any]], bool]] = {
+    "one-mass": lambda row: math.isclose(row["Delta"], row["x"] ** 2 / (2 - row["x"] ** 2), rel_tol=_ROW_RTOL)}
+
+
 def _consistent(case: str, N: int, row: Mapping[str, Any]) -> bool:
     """Whether a row's derived numbers follow from its parameters ((r, w) or x), as the design computed them: a
     number edited by hand, or made by other code, is caught even with a fingerprint that matches."""
-    from ..theory.chain import Chain
-
     try:
-        if case == "two-mass":
-            chain = Chain.from_rw(N, row["r"], row["w"])
-        else:
-            chain = Chain.one_mass(N, row["x"])
-            if not math.isclose(row["Delta"], row["x"] ** 2 / (2 - row["x"] ** 2), rel_tol=_ROW_RTOL):
-                return False
+        chain = DESIGN_CHAINS[case](N, row)
+        check = _ROW_CHECKS.get(case)
+        if check is not None and not check(row):
+            return False
     except (ValueError, ArithmeticError):  # ParameterError is a ValueError: parameters no chain has
         return False
     derived = (float(chain.masses[0]), float(chain.masses[1]), float(chain.springs[1]), *chain.xyz(), N + row["s"])

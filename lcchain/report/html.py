@@ -22,6 +22,7 @@ import numpy as np
 from ..core.physical import physical_scales, si_text, units_sentence
 from ..core.types import DEFAULT_C0, DEFAULT_L0
 from ..studies.validation import CHECKED_MAX_N, LARGE_CHECKS
+from ..theory.design import DESIGN_TABLES
 from .markup import esc, figure_block, num, verdict_cell
 from .requirements import requirements_html, requirements_summary
 from .spectrum import spectrum_html, spectrum_summary
@@ -101,11 +102,13 @@ _DEFAULT_DECIMALS = {"x": 4, "delta": 4, "s": 2, "m1": 3, "Delta": 4, "delta_uni
                      "K12": 4}
 
 
+#: Decimals a design's table shows beyond the defaults: Table II's delta (the paper prints five).
+_CASE_DECIMALS: dict[str, dict[str, int]] = {"two-mass": {"delta": 5}}
+
+
 def _table_html(case: str, entries: list[dict[str, Any]], columns: tuple[str, ...]) -> str:
-    title = "Table I: one optimised mass" if case == "one-mass" else "Table II: two optimised masses and their spring"
-    decimals = dict(_DEFAULT_DECIMALS)
-    if case == "two-mass":
-        decimals["delta"] = 5
+    title = ": ".join(DESIGN_TABLES[case])
+    decimals = {**_DEFAULT_DECIMALS, **_CASE_DECIMALS.get(case, {})}
     head = "".join(f"<th>{esc(_COLUMN_TITLES[c])}</th>" for c in columns)
     lines = [f'<h3 id="{case}">{esc(title)}</h3>',
              "<p class=meta>Each cell: lcchain's value to two more digits than the paper prints; under it the "

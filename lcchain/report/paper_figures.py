@@ -217,11 +217,16 @@ def _curve_N(data: Mapping[str, Any]) -> np.ndarray:
 def _law(data: Mapping[str, Any], case: str, key: str, N: np.ndarray) -> np.ndarray:
     c, p = data["laws"][case][key]
     value = np.asarray(c * N**p, dtype=float)
-    if case == "two-mass" and key == "y":
-        return math.sqrt(2) - value
-    if case == "two-mass" and key == "m2":
-        return 0.5 + value
-    return value
+    limit = _LAW_LIMITS.get((case, key))
+    return value if limit is None else limit(value)
+
+
+#: The laws that give a parameter's distance from its large-N limit (Table II's y -> sqrt 2, m2 -> 1/2), not
+#: the parameter itself.
+_LAW_LIMITS: dict[tuple[str, str], Callable[[np.ndarray], np.ndarray]] = {
+    ("two-mass", "y"): lambda value: math.sqrt(2) - value,
+    ("two-mass", "m2"): lambda value: 0.5 + value,
+}
 
 
 def _against_N(ax: Any, ylabel: str, title: str, *, log_y: bool = True) -> None:

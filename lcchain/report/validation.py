@@ -28,6 +28,7 @@ from ..studies.requirements import RequirementsCheck
 from ..studies.spectrum_checks import SpectrumCheck
 from ..studies.validation import CircuitCheck
 from ..theory.asymptotic import asymptotic_optimum
+from ..theory.design import DESIGN_TABLES
 from ..theory.perfect import perfect_design
 from .figure_data import FULL_N, DesignRows
 from .paper import PRINTED_ASYMPTOTIC, PRINTED_COLUMNS, PRINTED_ROWS, compare_row, findings, last_digit_units
@@ -92,7 +93,7 @@ def paper_section(rows: DesignRows, *, quick: bool = False,
         out = []
         for N in Ns:
             if progress is not None:
-                progress(done, total, f"Table {'I' if case == 'one-mass' else 'II'}, N = {N}")
+                progress(done, total, f"{DESIGN_TABLES[case][0]}, N = {N}")
             out.extend(_table(case, rows, [N]))
             done += 1
         tables[case] = out
@@ -102,7 +103,7 @@ def paper_section(rows: DesignRows, *, quick: bool = False,
     optima = {case: asymptotic_optimum(case) for case in ("one-mass", "two-mass")}
     checks = []
     for case, entries in tables.items():
-        label = "Table I" if case == "one-mass" else "Table II"
+        label = DESIGN_TABLES[case][0]
         for entry in entries:
             if entry["printed"]:
                 checks.append({"name": f"{label}, N = {entry['row']['N']}: every printed cell", "kind": "paper",

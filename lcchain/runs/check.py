@@ -45,7 +45,7 @@ from ..spice.element_values import (
 from ..spice.engines import ENGINES, engine_named, find_engine
 from ..spice.foreign import Sweep, Transient, allowed_netlist, analysis_of, foreign_price
 from ..spice.pricing import Price, RunLimits
-from ..spice.runner import read_include
+from ..spice.result import read_include
 from ..spice.simulator import Simulator
 from ..spice.text import canonical_text, canonical_vector_name, saved_vectors
 
@@ -266,7 +266,7 @@ def _run(text: str, analysis: Transient | Sweep, simulator: Simulator, limits: R
                     max_output_bytes=limits.max_output_bytes, max_resident_bytes=limits.max_resident_bytes)
         return np.asarray(ac.frequency), {k: np.asarray(v) for k, v in ac.vectors.items()}, ac.wall_s, \
             ac.engine_version
-    from ..spice.runner import run
+    from ..spice.ngspice.runner import run
 
     result = run(text, (), analysis.stop, simulator=simulator, timeout=limits.timeout, foreign=True,
                  trusted=trusted_in is not None, cwd=trusted_in, max_output_bytes=limits.max_output_bytes,

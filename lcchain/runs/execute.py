@@ -32,16 +32,17 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..core import __version__
+from ..core.analyses import analysis_kind
 from ..core.blas import fixed_blas_threads
 from ..core.budget import ac_run_estimate
 from ..core.checks import instance
 from ..core.errors import ParameterError, SimulationError, show_value
 from ..core.frozen import FrozenArrays, FrozenMap
 from ..core.show import html_table, plot, short_repr
-from ..core.types import GAUSSIAN_CENTRE, AnalysisKind, Probes, RunStatus
+from ..core.types import DEFAULT_ENGINE, GAUSSIAN_CENTRE, AnalysisKind, Probes, RunStatus
 from ..spice.engines import engine_named, find_engine, run_engine
 from ..spice.measure import Measurements, measurement_fields
-from ..spice.runner import RunResult
+from ..spice.result import RunResult
 from ..spice.simulator import Simulator
 from ..theory.modes import Modes
 from ..theory.response import Response, prepare_response
@@ -115,7 +116,7 @@ class RunRecord(FrozenArrays):
     engine_version: str = ""
     lcchain_version: str = __version__
     label: str = ""
-    engine: str = "ngspice"
+    engine: str = DEFAULT_ENGINE
     ac: AcResult | None = None
     spectrum: SpectrumMetrics | None = None
 
@@ -142,8 +143,9 @@ class RunRecord(FrozenArrays):
 
     @property
     def ngspice_version(self) -> str:
-        """ngspice's version when ngspice ran it, else "" (records made before engines had only this field)."""
-        return self.engine_version if self.engine == "ngspice" else ""
+        """The default engine's (ngspice's) version when it ran this, else "" (records made before engines had
+        only this field)."""
+        return self.engine_version if self.engine == DEFAULT_ENGINE else ""
 
     def summary(self) -> dict[str, Any]:
         """Everything but the arrays, as JSON-serialisable data."""
@@ -172,7 +174,7 @@ class RunRecord(FrozenArrays):
             ("engine", f"{self.engine} {self.engine_version}".strip()),
             ("status", self.status if self.ok else f"{self.status}: {self.reason[:120]}")]
         if self.points is not None:
-            rows.append(("points" if self.analysis == "transient" else "frequencies", self.points))
+            rows.append((analysis_kind(self.analysis).count, self.points))
         rows.append(("simulator wall time (s)", self.wall_s))
         if self.metrics is not None:
             rows.append(("max |simulation - theory|", self.metrics.max_abs_error))
@@ -462,7 +464,7 @@ def ac_metrics(theory: SpectrumTheory, result: AcResult) -> SpectrumMetrics:
         exact = circuit_modes(theory.circuit, chain.N, theory.time_unit, theory.impedance)
         return compare_poles(exact, omega, first, last, float(chain.masses[0]))
     modes = theory.modes if theory.modes is not None else driven_modes(chain)
-    return compare_spectrum(modes, omega, first, last, float(chain.masses[0]), theory.Q)
+    return compare_spectrum(modes, omega, first, last, float(chain.masses[0]), theory.Q, chain=chain)
 
 
 def _run_ac(spec: RunSpec, simulator: Simulator,

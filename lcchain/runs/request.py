@@ -20,6 +20,7 @@ is in its own planner, and the specs say how they run
 from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
+from typing import TypeVar
 
 import numpy as np
 
@@ -91,6 +92,10 @@ __all__ = ["Drive", "Transient", "AC", "Analysis", "Request", "RequestPlan", "pl
 
 #: With probes = "all", the step's error is predicted on at most this many loops, evenly spaced, ends included.
 ACCURACY_LOOPS = 64
+
+
+#: An effect's type, for :meth:`Request.effect`.
+E = TypeVar("E", bound=Effect)
 
 
 @dataclass(frozen=True)
@@ -195,9 +200,10 @@ class AC:
 
     def check(self, request: Request) -> None:
         """Refuse an engine without an AC analysis, and a transport other than the engine's program."""
-        ac_engine(request.engine)  # an engine without an AC analysis is refused here, naming it
-        if request.backend != "batch":
-            raise ParameterError("backend", request.backend, "batch with an AC analysis (the engine's program)")
+        engine = ac_engine(request.engine)  # an engine without an AC analysis is refused here, naming it
+        if request.backend not in engine.ac_transports:
+            raise ParameterError("backend", request.backend, f"{' | '.join(engine.ac_transports)} with an AC analysis "
+                                 "(the engine's program)")
         if request.comments:
             raise ParameterError("comments", list(request.comments), "none with an AC analysis (its netlist has "
                                  "its own header)")
@@ -266,7 +272,8 @@ class Request:
         object.__setattr__(self, "L0", real("L0", self.L0, above=0.0, unit="henry"))
         object.__setattr__(self, "C0", real("C0", self.C0, above=0.0, unit="farad"))
         choice("backend", self.backend, BACKENDS)
-        engine = engine_named(self.engine)
+        engine = engine_named(self.engine)  # an Engine itself is registered under its name, which the request keeps
+        object.__setattr__(self, "engine", engine.name)
         choice("backend", self.backend, engine.transports, f" (the transports of engine {engine.name})")
         object.__setattr__(self, "comments", strings("comments", self.comments))
         object.__setattr__(self, "timeout", real("timeout", self.timeout, above=0.0, unit="seconds"))
@@ -280,8 +287,8 @@ class Request:
                                  "through plan_request and execute, or measure_spectrum for one chain)")
         return self.analysis
 
-    def effect(self, kind: type[Effect]) -> Effect | None:
-        """The request's effect of this type, or None."""
+    def effect(self, kind: type[E]) -> E | None:
+        """The request's effect of this type (typed as it), or None."""
         return next((effect for effect in self.effects if isinstance(effect, kind)), None)
 
     @property
@@ -294,7 +301,7 @@ class Request:
         """The chain with the effects that change it (walls, coupling), before rounding and tolerances."""
         chain = self.chain
         for effect in self.effects:
-            if not isinstance(effect, (PreferredValues, Tolerance)):
+            if not effect.on_parts:
                 chain = effect.realise(chain, self.L0, self.C0)
         return chain
 
@@ -302,13 +309,13 @@ class Request:
     def realised(self) -> bool:
         """Whether the runs simulate chains other than the nominal one (rounded or toleranced)."""
         tolerance = self.effect(Tolerance)
-        return self.effect(PreferredValues) is not None or (isinstance(tolerance, Tolerance) and tolerance.varies)
+        return self.effect(PreferredValues) is not None or (tolerance is not None and tolerance.varies)
 
     @property
     def samples(self) -> int:
         """How many circuits the request runs."""
         tolerance = self.effect(Tolerance)
-        return tolerance.samples if isinstance(tolerance, Tolerance) and tolerance.varies else 1
+        return tolerance.samples if tolerance is not None and tolerance.varies else 1
 
 
 @dataclass(frozen=True, eq=False)
@@ -476,10 +483,10 @@ def _chains(request: Request, nominal: Chain) -> list[Chain]:
     """The realised chains: one per tolerance sample, else the nominal or its rounding."""
     series = request.effect(PreferredValues)
     tolerance = request.effect(Tolerance)
-    name = series.series if isinstance(series, PreferredValues) else None
-    if isinstance(tolerance, Tolerance) and tolerance.varies:
+    name = series.series if series is not None else None
+    if tolerance is not None and tolerance.varies:
         return tolerance.draw(nominal, request.L0, request.C0, series=name)
-    if isinstance(series, PreferredValues):
+    if series is not None:
         chain = series.realise(nominal, request.L0, request.C0)
         return [Chain(chain.masses, chain.springs, name=f"{nominal.name} {name}", coupling=chain.coupling)]
     return [nominal]

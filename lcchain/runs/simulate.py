@@ -34,8 +34,9 @@ from ..core.errors import ParameterError, SimulationError
 from ..core.frozen import FrozenMap
 from ..core.show import html_table, plot, short_repr
 from ..core.types import DEFAULT_C0, DEFAULT_I0, DEFAULT_L0, EXCITATIONS, Backend, Excitation, Method
-from ..spice.engines import DEFAULT_ENGINE
-from ..spice.runner import RunResult
+from ..spice.engine import Engine
+from ..spice.engines import DEFAULT_ENGINE, engine_named
+from ..spice.result import RunResult
 from ..spice.simulator import Simulator
 from ..theory.chain import Chain
 from ..theory.modes import Modes
@@ -271,7 +272,7 @@ def _execute_members(specs: list[RunSpec], steps: tuple[float, ...], simulator: 
 
     The finest run (the longest) starts first; the others follow on the second thread.  If one fails or the
     caller is interrupted, the others are stopped from their progress callbacks (their ngspice groups are
-    killed within :data:`lcchain.spice.runner.PROGRESS_INTERVAL`) before the exception propagates.
+    killed within :data:`lcchain.spice.processes.PROGRESS_INTERVAL`) before the exception propagates.
     """
     runs = len(specs)
     weights = [1.0 / h for h in steps]
@@ -302,7 +303,7 @@ def _execute_members(specs: list[RunSpec], steps: tuple[float, ...], simulator: 
         return record
 
     workers = min(runs, len(os.sched_getaffinity(0)), MEMBER_THREADS)
-    if workers <= 1 or specs[0].backend != "batch":
+    if workers <= 1 or specs[0].backend not in engine_named(specs[0].engine).threaded_transports:
         return [one(i) for i in range(runs)]
     with ThreadPoolExecutor(max_workers=workers, thread_name_prefix="lcchain-member") as pool:
         futures = {i: pool.submit(one, i) for i in reversed(range(runs))}
@@ -330,7 +331,7 @@ def simulation_request(
     method: Method = "trap",
     title: str | None = None,
     timeout: float = DEFAULT_TIMEOUT,
-    engine: str = DEFAULT_ENGINE,
+    engine: str | Engine = DEFAULT_ENGINE,
 ) -> Request:
     """The :class:`~lcchain.runs.request.Request` of :func:`simulate`'s keywords (parameters as there)."""
     instance("chain", chain, Chain)
@@ -338,7 +339,7 @@ def simulation_request(
     return Request(chain, Transient(dt=dt, accuracy=accuracy, transits=transits, method=method,
                                     extrapolate=extrapolate),
                    drive=Drive(excitation, I0), L0=L0, C0=C0, backend=backend, title=title, timeout=timeout,
-                   engine=engine)
+                   engine=engine_named(engine).name)
 
 
 def simulation_spec(chain: Chain, *, dt: float | None = None, accuracy: float | None = None,
@@ -437,7 +438,7 @@ def simulate(
     budget: Budget | None = None,
     on_spec: Callable[[RunSpec], None] | None = None,
     extrapolate: int | None = None,
-    engine: str = DEFAULT_ENGINE,
+    engine: str | Engine = DEFAULT_ENGINE,
 ) -> SimulationReport:
     """Simulate the chain's LC ladder in ngspice and compare with theory.
 
@@ -481,10 +482,10 @@ def simulate(
         With ``accuracy`` and None, lcchain picks the cheapest of 1, 2 and 3 runs predicted to meet it; with
         ``dt`` and None, one run.  Gear falls back to one run, with the reason in ``report.extrapolation``.
 
-    engine : str
+    engine : str or Engine
         The circuit simulator, a name in :data:`lcchain.spice.engines.ENGINES` (``"ngspice"`` or
-        ``"gnucap"``); an engine without aligned steps (gnucap) refuses ``extrapolate`` > 1 and makes one run
-        for an ``accuracy``.
+        ``"gnucap"``), or an :class:`~lcchain.spice.engine.Engine` itself (registered under its name); an
+        engine without aligned steps (gnucap) refuses ``extrapolate`` > 1 and makes one run for an ``accuracy``.
 
     Raises
     ------

@@ -25,6 +25,7 @@ from typing import Any
 
 from ..circuit.elements import Element, Pulse
 from ..core import __version__
+from ..core.analyses import analysis_kind
 from ..core.checks import choice, instance, integer, real
 from ..core.checks import pulse as check_pulse
 from ..core.errors import ParameterError
@@ -318,23 +319,24 @@ class RunSpec:
                 or not all(isinstance(v, str) for v in vectors):
             raise ParameterError("vectors", vectors, "a tuple of vector names")
         object.__setattr__(self, "vectors", tuple(self.vectors))
-        if self.analysis == "ac":
+        if analysis_kind(self.analysis).swept:
             integer("points", self.points, at_least=1 if self.foreign else MIN_AC_POINTS, at_most=MAX_AC_POINTS)
             if self.trusted is not False:
                 raise ParameterError("trusted", self.trusted, "False with an AC analysis (it runs through the "
                                      "allow-list and the sandbox: no .control blocks, includes inlined)")
             object.__setattr__(self, "tstop", real("tstop", self.tstop, at_least=0.0, at_most=0.0,
                                                    allowed="0 (an AC run has no stop time)"))
-            if self.backend != "batch":
-                raise ParameterError("backend", self.backend, "batch with an AC analysis (the engine's program; the "
-                                     "shared library runs transients only)")
+            transports = engine_named(self.engine).ac_transports
+            if self.backend not in transports:
+                raise ParameterError("backend", self.backend, f"{' | '.join(transports)} with an AC analysis (the "
+                                     "engine's program; the shared library runs transients only)")
         else:
             if self.points is not None:
                 raise ParameterError("points", self.points, "None for a transient (points are an AC run's)")
             object.__setattr__(self, "tstop", real("tstop", self.tstop, above=0.0, unit="seconds"))
         choice("backend", self.backend, BACKENDS)
         object.__setattr__(self, "timeout", real("timeout", self.timeout, above=0.0, unit="seconds"))
-        instance("theory", self.theory, SpectrumTheory if self.analysis == "ac" else Theory, optional=True)
+        instance("theory", self.theory, SpectrumTheory if analysis_kind(self.analysis).swept else Theory, optional=True)
         for name in ("trusted", "foreign", "check"):
             if not isinstance(getattr(self, name), bool):
                 raise ParameterError(name, getattr(self, name), "True or False")
@@ -361,7 +363,7 @@ class RunSpec:
             "ngspice": engine_version,
             "theory": None if self.theory is None else self.theory.fingerprint(),
         }
-        if self.analysis != "transient":  # only then: the keys of transients are those made before AC runs
+        if analysis_kind(self.analysis).keyed:  # only then: the keys of transients are those made before AC runs
             data["analysis"], data["points"] = self.analysis, self.points
         if self.check:  # only then: the keys of runs made without it stay
             data["check"] = True

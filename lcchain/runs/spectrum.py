@@ -31,7 +31,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -44,6 +44,7 @@ from ..compare.spectral import (
     SPECTRUM_MAX_N,
     SpectrumMetrics,
     largest_relative_error,
+    relative_errors,
 )
 from ..compare.spectrum import SpectrumFit
 from ..core.budget import Budget
@@ -52,7 +53,8 @@ from ..core.errors import ParameterError, SimulationError
 from ..core.extras import dataset_attrs, optional_module
 from ..core.show import html_table, plot, short_repr
 from ..core.types import DEFAULT_C0, DEFAULT_L0
-from ..spice.engines import DEFAULT_ENGINE
+from ..spice.engine import Engine
+from ..spice.engines import DEFAULT_ENGINE, engine_named
 from ..spice.simulator import Simulator
 from ..theory.arrivals import stop_time
 from ..theory.chain import Chain
@@ -61,9 +63,10 @@ from ..theory.response import linear_response
 from .execute import circuit_modes, execute
 from .request import AC, Request, plan_request
 from .spec import SpectrumTheory
+from .survey import ModeReport, measure_modes
 
-__all__ = ["SpectrumReport", "measure_spectrum", "spectrum", "OMEGA_MARGIN", "SPECTRUM_MAX_N", "OMEGA_WEIGHT_FLOOR",
-           "DEFAULT_OVERSAMPLING", "RESPONSE_TIMES"]
+__all__ = ["SpectrumReport", "measure_spectrum", "spectrum", "merged_text", "OMEGA_MARGIN", "SPECTRUM_MAX_N",
+           "OMEGA_WEIGHT_FLOOR", "DEFAULT_OVERSAMPLING", "RESPONSE_TIMES"]
 
 #: Times at which the fitted model's alpha_N(t) is set beside the exact response, evenly on [0, first transit].
 RESPONSE_TIMES = 2001
@@ -111,6 +114,15 @@ class SpectrumReport:
         omega_n / gamma_n.
     time_unit : float
         sqrt(L0 C0), seconds: omega_n / (2 pi time_unit) is the mode's frequency in hertz.
+    merged : ndarray of bool or None
+        The modes the losses merge (:func:`lcchain.compare.spectral.merged_modes`: half-power bands overlapping,
+        below the Q range the fit separates them in): said, not compared; their circuit values are NaN.
+    envelope_error : float or None
+        With losses: max |Y_11 - exact Y_11| / |exact Y_11| over the sweep
+        (:func:`lcchain.theory.spectrum.driving_admittance`), the response the merged modes make together.
+    modes : ModeReport or None
+        Every mode with its shape from a second AC run that drives every loop (``measure_spectrum(...,
+        shapes=True)``, ``lcchain spectrum --shapes``: :func:`lcchain.runs.survey.measure_modes`); None: not asked.
     """
 
     chain: Chain
@@ -128,6 +140,14 @@ class SpectrumReport:
     engine: str = DEFAULT_ENGINE
     gamma_theory: np.ndarray | None = None
     time_unit: float = math.sqrt(DEFAULT_L0 * DEFAULT_C0)
+    merged: np.ndarray | None = None
+    envelope_error: float | None = None
+    modes: ModeReport | None = None
+
+    @property
+    def merged_modes(self) -> np.ndarray:
+        """Whether each theoretical mode is merged with a neighbour by the losses, bool per mode."""
+        return np.zeros(self.theory.N, dtype=bool) if self.merged is None else np.asarray(self.merged, dtype=bool)
 
     @property
     def lossy(self) -> bool:
@@ -137,6 +157,7 @@ class SpectrumReport:
     def _per_mode(self, values: np.ndarray, missing: float = np.nan) -> np.ndarray:
         out = np.full(self.theory.N, missing)
         out[self.fitted] = values
+        out[self.merged_modes] = missing  # the fit's guess inside a merged cluster is no mode of the circuit
         return out
 
     @property
@@ -210,8 +231,8 @@ class SpectrumReport:
     @property
     def resolved(self) -> np.ndarray:
         """Whether each theoretical mode weighs enough at the ends to be placed to the targets (|P_n| >=
-        :data:`OMEGA_WEIGHT_FLOOR`)."""
-        return np.asarray(np.abs(self.theory.transfer) >= OMEGA_WEIGHT_FLOOR)
+        :data:`OMEGA_WEIGHT_FLOOR`) and is not merged by the losses."""
+        return np.asarray((np.abs(self.theory.transfer) >= OMEGA_WEIGHT_FLOOR) & ~self.merged_modes)
 
     @property
     def metrics(self) -> SpectrumMetrics:
@@ -219,7 +240,22 @@ class SpectrumReport:
         return SpectrumMetrics(self.theory.omega, self.omega, self.theory.transfer, np.nan_to_num(self.P, nan=0.0),
                                self.resolved,
                                gamma=self.gamma if self.lossy else None, losses=self.losses,
-                               gamma_theory=self.gamma_theory)
+                               gamma_theory=self.gamma_theory, omega_low=self.theory.omega_low,
+                               omega_bound=self.theory.omega_bound, P_bound=self.theory.transfer_bound,
+                               merged=self.merged, envelope_error=self.envelope_error)
+
+    @property
+    def omega_error(self) -> np.ndarray:
+        """|omega_circuit - omega_theory| / omega_theory of every mode, against the reference beyond float64 where
+        it has one (NaN where unseen; a zero mode: absolute)."""
+        return relative_errors(self.omega, self.omega_theory, self.theory.omega_low)
+
+    @property
+    def reference_bounds(self) -> dict[str, float | None]:
+        """The reference's own error bounds, beside the errors they let be measured: ``reference_bound_omega``
+        (relative, the resolved modes'), ``reference_bound_P`` (absolute), ``reference_bound_Q`` (relative; None
+        without losses); None where the reference states none (a circuit's own poles)."""
+        return self.metrics.reference_bounds
 
     @property
     def max_rel_error_omega(self) -> float:
@@ -246,7 +282,8 @@ class SpectrumReport:
     @property
     def failure(self) -> str:
         """Why the comparison failed, in one line, or '' when it held: a resolved mode the fit left unseen, or an
-        error that is no number (infinite, NaN).  ``lcchain spectrum`` then exits 1: a failed comparison is a
+        error that is no number (infinite, NaN).  Merged modes are no failure: they are said (:attr:`merged`),
+        and what they make together, Y_11, is compared.  ``lcchain spectrum`` then exits 1: a failed comparison is a
         failed check, whatever it printed."""
         unseen = np.flatnonzero(self.resolved & ~self.seen) + 1
         if unseen.size:
@@ -256,6 +293,8 @@ class SpectrumReport:
         errors = {"omega_n": self.max_rel_error_omega, "P_n": self.max_abs_error_P}
         if self.lossy:
             errors["Q_n"] = self.max_rel_error_Q
+        if self.envelope_error is not None:
+            errors["Y_11"] = self.envelope_error
         bad = [name for name, value in errors.items() if not np.isfinite(value)]
         return f"the error of {', '.join(bad)} is not a number: the comparison with theory failed" if bad else ""
 
@@ -266,13 +305,20 @@ class SpectrumReport:
         lossy = self.lossy
         Q, Q_theory, gamma = self.Q, self.Q_theory, self.gamma
         noise = self.below_precision
+        omega_error = self.omega_error
+        omega_bound, P_bound = self.theory.omega_bound, self.theory.transfer_bound
+        merged = self.merged_modes
+        compared = bool(self.resolved.any())  # every mode merged: no error to give, not an error of 0
         modes = []
         for n in range(self.theory.N):
             seen = bool(np.isfinite(omega[n]))
             mode = {"n": n + 1, "omega": float(omega[n]) if seen else None, "P": float(P[n]) if seen else None,
                     "omega_theory": float(self.theory.omega[n]),
                     "P_theory": None if noise[n] else float(self.theory.transfer[n]),
-                    "below_precision": bool(noise[n]), "seen": seen, "resolved": bool(self.resolved[n])}
+                    "below_precision": bool(noise[n]), "seen": seen, "resolved": bool(self.resolved[n]),
+                    "omega_error": float(omega_error[n]) if seen else None,
+                    "omega_bound": None if omega_bound is None else float(omega_bound[n]),
+                    "P_bound": None if P_bound is None else float(P_bound[n]), "merged": bool(merged[n])}
             if lossy:
                 mode |= {"Q": _finite(Q[n]), "Q_theory": _finite(Q_theory[n]), "gamma": _finite(gamma[n])}
                 if self.gamma_theory is not None:
@@ -280,24 +326,37 @@ class SpectrumReport:
             modes.append(mode)
         return {"N": self.chain.N, "case": self.chain.name, "points": self.points, "omega_max": self.omega_max,
                 "engine": self.engine, "engine_version": self.engine_version, "netlist_sha256": self.netlist_sha256,
-                "modes": modes, "seen": int(self.seen.sum()), "max_rel_error_omega": _finite(self.max_rel_error_omega),
-                "max_abs_error_P": self.max_abs_error_P, "fit_steps": self.fit.sweeps, "timings": self.timings,
-                "Q": self.losses, "max_rel_error_Q": _finite(self.max_rel_error_Q) if lossy else None,
-                "max_rel_error_pole": _finite(self.max_rel_error_pole), "max_abs_error_response": self.response_error,
-                "segments": self.segments,
-                "failure": self.failure} | ({} if self.theory.method != "circuit" else {"theory": "circuit"})
+                "modes": modes, "seen": int(self.seen.sum()),
+                "max_rel_error_omega": _finite(self.max_rel_error_omega) if compared else None,
+                "max_abs_error_P": self.max_abs_error_P if compared else None, "fit_steps": self.fit.sweeps,
+                "timings": self.timings,
+                "Q": self.losses, "max_rel_error_Q": _finite(self.max_rel_error_Q) if lossy and compared else None,
+                "max_rel_error_pole": _finite(self.max_rel_error_pole) if compared else None,
+                "max_abs_error_response": self.response_error,
+                "segments": self.segments, "merged": [int(n) + 1 for n in np.flatnonzero(merged)],
+                "max_rel_error_Y11": self.envelope_error,
+                "failure": self.failure} | self.reference_bounds | (
+                    {} if self.theory.method != "circuit" else {"theory": "circuit"}) | (
+                    {} if self.modes is None else {"survey": self.modes.to_dict()})
 
     def _rows(self) -> list[tuple[str, object]]:
+        bounds = self.reference_bounds
         lossy = f", losses Q = {self.losses:g}" if self.losses is not None else ""
         rows: list[tuple[str, object]] = [
             ("chain", f"{self.chain.name}, N = {self.chain.N}{lossy}"),
             ("engine", f"{self.engine} {self.engine_version} AC, {self.points} frequencies up to "
                        f"{self.omega_max:.4g}"),
             ("modes seen", f"{int(self.seen.sum())} of {self.theory.N}"),
-            ("max rel. error of omega_n", self.max_rel_error_omega),
-            ("max abs. error of P_n", self.max_abs_error_P)]
+            ("max rel. error of omega_n", _beside(self.max_rel_error_omega, bounds["reference_bound_omega"])),
+            ("max abs. error of P_n", _beside(self.max_abs_error_P, bounds["reference_bound_P"]))]
         if self.lossy:
-            rows.append(("max rel. error of Q_n", self.max_rel_error_Q))
+            rows.append(("max rel. error of Q_n", _beside(self.max_rel_error_Q, bounds["reference_bound_Q"])))
+        if self.merged_modes.any():
+            rows.append(("merged by the losses", merged_text(self.merged_modes)))
+        if self.envelope_error is not None:
+            rows.append(("max rel. error of Y_11", self.envelope_error))
+        if self.modes is not None:
+            rows += self.modes.rows()
         return rows
 
     def __repr__(self) -> str:
@@ -341,7 +400,8 @@ class SpectrumReport:
             "P_theory": ("mode", self.P_theory, {"long_name": "exact end-to-end weight P_n (NaN: below precision)",
                                                  "units": "1"}),
             "seen": ("mode", self.seen, {"long_name": "the fit found the mode"}),
-            "resolved": ("mode", self.resolved, {"long_name": "the sweep's spacing resolves the mode"})}
+            "resolved": ("mode", self.resolved, {"long_name": "the sweep's spacing resolves the mode"}),
+            "merged": ("mode", self.merged_modes, {"long_name": "merged with a neighbour by the losses"})}
         if self.lossy:
             variables |= {"Q": ("mode", self.Q, {"long_name": "quality factor in the circuit", "units": "1"}),
                           "Q_theory": ("mode", self.Q_theory, {"long_name": "exact quality factor", "units": "1"}),
@@ -355,6 +415,23 @@ def _pole(omega: np.ndarray, gamma: np.ndarray) -> np.ndarray:
     zero mode, whose other pole, at 0, cancels)."""
     half = 0.5 * gamma
     return np.asarray(-half + 1j * np.sqrt((omega - half) * (omega + half) + 0j))
+
+
+def merged_text(merged: np.ndarray) -> str:
+    """The merged modes as runs, 'n = 2, 30-37 (9 of 37 modes)'."""
+    numbers = (np.flatnonzero(merged) + 1).tolist()
+    runs: list[str] = []
+    for n in numbers:
+        if runs and n - 1 in numbers:
+            runs[-1] = f"{runs[-1].split('-')[0]}-{n}"
+        else:
+            runs.append(f"{n}")
+    return f"n = {', '.join(runs)} ({len(numbers)} of {merged.size} modes)"
+
+
+def _beside(error: float, bound: float | None) -> str:
+    """An error with its reference's own bound beside it."""
+    return f"{error:.3e}" + ("" if bound is None else f" (reference bound {bound:.1e})")
 
 
 def _finite(value: float) -> float | None:
@@ -380,9 +457,9 @@ def _losses(Q: object) -> Losses:
 
 def measure_spectrum(chain: Chain, *, Q: float | None = None, points: int | None = None, L0: float = DEFAULT_L0,
                      C0: float = DEFAULT_C0, simulator: Simulator | None = None, budget: Budget | None = None,
-                     timeout: float = 3600.0, engine: str = DEFAULT_ENGINE,
+                     timeout: float = 3600.0, engine: str | Engine = DEFAULT_ENGINE,
                      progress: Callable[[float], None] | None = None,
-                     effects: tuple[Effect, ...] = ()) -> SpectrumReport:
+                     effects: tuple[Effect, ...] = (), shapes: bool = False) -> SpectrumReport:
     """The ladder's spectrum in an engine's AC analysis against exact theory.
 
     Parameters
@@ -402,14 +479,19 @@ def measure_spectrum(chain: Chain, *, Q: float | None = None, points: int | None
     budget : Budget, optional
         The AC run and the fit are priced first (:func:`lcchain.compare.spectral.spectrum_estimate`, times the engine's
         ``ac_relative_cost``).
-    engine : str
-        An engine with an AC analysis (:func:`lcchain.spice.engines.ac_engine`): ``"ngspice"`` or ``"gnucap"``.
+    engine : str or Engine
+        An engine with an AC analysis (:func:`lcchain.spice.engines.ac_engine`): ``"ngspice"`` or ``"gnucap"``, or
+        an :class:`~lcchain.spice.engine.Engine` itself (registered under its name).
     progress : callable, optional
         Called with the fraction done (0 to 1): the engine's run, then the fit.
     effects : tuple of Effect
         More effects on the ladder (walls, coupling, the parts of real coils and capacitors ...), as a request's;
         those whose elements are no chain's are compared with the circuit's own poles and residues (module
         docstring).
+    shapes : bool
+        Also every mode with its shape, from a second AC run (ngspice) that drives every loop
+        (:func:`lcchain.runs.survey.measure_modes`): the report's ``modes``.  A chain with walls, coupled coils and
+        losses (``Q``); no other effects.
 
     Raises
     ------
@@ -419,12 +501,21 @@ def measure_spectrum(chain: Chain, *, Q: float | None = None, points: int | None
     instance("chain", chain, Chain)
     if not isinstance(effects, tuple):
         raise ParameterError("effects", effects, "a tuple of lcchain effects")
+    if shapes is not True and shapes is not False:
+        raise ParameterError("shapes", shapes, "True or False")
+    if shapes and effects:
+        raise ParameterError("shapes", shapes, "False with effects other than --Q (a survey of every loop measures "
+                             "a chain's modes: walls, coupled coils and losses)")
     effects = effects + (() if Q is None else (_losses(Q),))
-    request = Request(chain, AC(points), effects=effects, L0=L0, C0=C0, timeout=timeout, engine=engine)
+    request = Request(chain, AC(points), effects=effects, L0=L0, C0=C0, timeout=timeout,
+                      engine=engine_named(engine).name)
     try:
-        return spectrum(request, simulator=simulator, budget=budget, progress=progress)
+        report = spectrum(request, simulator=simulator, budget=budget, progress=progress)
     except ParameterError as error:  # the AC fit's range of Q for this chain, under the argument's name
         raise (error.renamed("Q") if error.field == "effects.losses.Q" else error) from None
+    if not shapes:
+        return report
+    return replace(report, modes=measure_modes(chain, Q=Q, L0=L0, C0=C0, timeout=timeout))
 
 
 def spectrum(request: Request, *, simulator: Simulator | None = None, budget: Budget | None = None,
@@ -457,7 +548,7 @@ def spectrum(request: Request, *, simulator: Simulator | None = None, budget: Bu
         raise ParameterError("analysis", type(request.analysis).__name__,
                              "AC(...) for lcchain.spectrum (a Transient: lcchain.simulate(request))")
     losses = request.effect(Losses)
-    Q = None if losses is None else float(losses.Q)  # type: ignore[attr-defined]
+    Q = None if losses is None else float(losses.Q)
     chain = request.chain
     plan = plan_request(request, budget)
     spec = plan.specs[0]
@@ -478,7 +569,10 @@ def spectrum(request: Request, *, simulator: Simulator | None = None, budget: Bu
                               record.engine_version, record.ac.netlist_sha256, timings, None, segments, None,
                               record.engine, spectrum.gamma_theory, time_unit=theory.time_unit)
     assert theory.modes is not None
-    response = _response_error(theory.chain, theory.modes, spectrum.fit, Q)  # walls, coupling: the chain run
+    # the fitted model's alpha_N(t) holds the fit's guesses inside merged clusters: no claim to make of it then
+    merged = spectrum.merged is not None and bool(np.any(spectrum.merged))
+    response = None if merged else _response_error(theory.chain, theory.modes, spectrum.fit, Q)
     return SpectrumReport(theory.chain, theory.modes, spectrum.fit, spectrum.seen, spec.points, theory.omega_max,
                           record.engine_version, record.ac.netlist_sha256, timings, Q, segments, response,
-                          record.engine, time_unit=theory.time_unit)
+                          record.engine, time_unit=theory.time_unit, merged=spectrum.merged,
+                          envelope_error=spectrum.envelope_error)

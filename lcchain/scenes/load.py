@@ -16,11 +16,13 @@ from dataclasses import MISSING
 from typing import Any
 
 from ..circuit.effects import E_SERIES, EFFECTS, effect_fields
+from ..core.analyses import analysis_kind
 from ..core.checks import choice, integer, real
 from ..core.errors import ParameterError
 from ..core.limits import MAX_CIRCUIT_N, MAX_SAMPLES, MAX_SCENE_BYTES, MIN_N
-from ..core.types import CASES
+from ..core.types import ANALYSIS_KINDS, CASES
 from ..spice.inputs import read_input
+from ..theory.cases import named_case
 from .schema import (
     ANALYSIS_KEYS,
     ANALYSIS_PLOTS,
@@ -139,7 +141,7 @@ def _parse(data: Mapping[str, Any], source: str | None) -> Scene:
     chain = _table(data, "chain", CHAIN_KEYS, required=True)
     choice("chain.case", chain.get("case"), CASES)
     if "N" not in chain:
-        if chain["case"] != "custom":
+        if named_case(chain["case"]) is not None:  # a named case's size; a custom chain's is its masses
             raise ParameterError("chain.N", None, f"an integer from {MIN_N} to {MAX_CIRCUIT_N} (required)")
         masses = chain.get("masses")
         if isinstance(masses, Sequence) and not isinstance(masses, (str, bytes)):
@@ -168,8 +170,8 @@ def _parse(data: Mapping[str, Any], source: str | None) -> Scene:
 
     analysis_table = _table(data, "analysis", ANALYSIS_KEYS)
     output_table = _table(data, "output", OUTPUT_KEYS)
-    kind = analysis_table.get("kind", "transient")
-    if kind == "ac":  # a transient's key is refused even at its default value
+    kind = analysis_table.get("kind", ANALYSIS_KINDS[0])
+    if kind in ANALYSIS_KINDS and analysis_kind(kind).swept:  # a transient's key is refused even at its default
         check_ac_keys(analysis_table)
     if kind in ANALYSIS_PLOTS:
         output_table.setdefault("plots", ANALYSIS_PLOTS[kind][:1])

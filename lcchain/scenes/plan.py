@@ -21,7 +21,7 @@ from ..core.errors import ParameterError
 from ..core.types import AnalysisKind, PulseShape
 from ..runs.request import AC, ACCURACY_LOOPS, Analysis, Drive, Request, RequestPlan, Transient, plan_request
 from ..runs.spec import RunSpec
-from ..theory.cases import chain_for_case
+from ..theory.cases import chain_for_case, named_case
 from ..theory.chain import Chain
 from .schema import Scene
 
@@ -35,10 +35,10 @@ ScenePlan = RequestPlan
 def case_chain(scene: Scene) -> Chain:
     """The chain of the scene's case (or its custom masses and springs), before any effect."""
     spec = scene.chain
-    if spec.case == "custom":
-        assert spec.masses is not None and spec.springs is not None
-        return Chain(np.array(spec.masses), np.array(spec.springs), name="custom")
-    return chain_for_case(spec.case, spec.N)
+    if named_case(spec.case) is not None:
+        return chain_for_case(spec.case, spec.N)
+    assert spec.masses is not None and spec.springs is not None  # a custom chain: its own masses and springs
+    return Chain(np.array(spec.masses), np.array(spec.springs), name=spec.case)
 
 
 def _transient(scene: Scene) -> Analysis:
@@ -102,7 +102,8 @@ def scene_plan(scene: Scene, budget: Budget | None = None) -> ScenePlan:
     except ParameterError as error:
         named = error.renamed(_SCENE_KEYS[error.field]) if error.field in _SCENE_KEYS else error
         if error.field == "chain":  # the chain itself (its time scale, its poles): the keys that make it
-            named = error.renamed("chain.masses/chain.springs" if scene.chain.case == "custom" else "chain.N")
+            named = error.renamed("chain.N" if named_case(scene.chain.case) is not None
+                                  else "chain.masses/chain.springs")
         raise named.located(scene.source) from None
 
 

@@ -25,6 +25,7 @@ from pathlib import PurePosixPath
 from typing import Any, TypeVar
 
 from ..circuit.effects import EFFECTS, Effect, Losses, PreferredValues, Tolerance, Walls, effect_fields
+from ..core.analyses import analysis_kind
 from ..core.checks import choice, instance, integer, is_integer, numbers_list, real, text_line
 from ..core.errors import ParameterError
 from ..core.frozen import FrozenMap
@@ -33,7 +34,6 @@ from ..core.limits import (
     MAX_CIRCUIT_N,
     MAX_DT,
     MAX_I0,
-    MAX_PERFECT_N,
     MAX_PULSE_WIDTH,
     MAX_TITLE_LENGTH,
     MAX_TRANSITS,
@@ -65,6 +65,7 @@ from ..core.types import (
 )
 from ..spice.engine import Engine
 from ..spice.engines import DEFAULT_ENGINE, engine_named
+from ..theory.cases import named_case
 
 __all__ = [
     "ChainSpec",
@@ -125,14 +126,15 @@ class ChainSpec:
 
     def __post_init__(self) -> None:
         choice("chain.case", self.case, CASES)
-        if self.case != "custom":
+        named = named_case(self.case)
+        if named is not None:
             for name in ("masses", "springs"):
                 if getattr(self, name) is not None:
                     raise ParameterError(f"chain.{name}", getattr(self, name), f'no {name} unless case = "custom"')
             N = integer("chain.N", self.N, at_least=MIN_N, at_most=MAX_CIRCUIT_N)
-            if self.case == "perfect" and N > MAX_PERFECT_N:
-                raise ParameterError("chain.N", self.N,
-                                     f"an integer from {MIN_N} to {MAX_PERFECT_N} for a perfect cradle")
+            if N > named.max_N:
+                raise ParameterError("chain.N", self.N, f"an integer from {MIN_N} to {named.max_N} for case "
+                                     f"{self.case}")
             object.__setattr__(self, "N", N)
             return
 
@@ -357,7 +359,7 @@ class Analysis:
 
     def __post_init__(self) -> None:
         choice("analysis.kind", self.kind, ANALYSIS_KINDS)
-        if self.kind == "ac":
+        if analysis_kind(self.kind).swept:
             self._check_ac()
             return
         if self.points is not None:
@@ -402,7 +404,7 @@ class Analysis:
 
     def keys(self) -> tuple[str, ...]:
         """The keys of the table this analysis has (an AC sweep: none of a transient's)."""
-        if self.kind == "ac":
+        if analysis_kind(self.kind).swept:
             return tuple(key for key in ANALYSIS_KEYS if key not in TRANSIENT_KEYS)
         return tuple(key for key in ANALYSIS_KEYS if key not in ("kind", "points"))
 
@@ -481,10 +483,10 @@ class Scene:
         if any(plot not in drawn for plot in plots):
             raise ParameterError("output.plots", plots, f"plots of an analysis of kind {kind!r}: "
                                  f"{', '.join(drawn)}")
-        if kind == "ac" and self.excitation != ExcitationSpec():
+        if analysis_kind(kind).swept and self.excitation != ExcitationSpec():
             raise ParameterError("excitation", self.excitation.kind, 'no [excitation] with analysis.kind = "ac" (the '
                                  "sweep drives loop 1 with a unit AC voltage)")
-        if kind == "ac" and self.output.probes != "ends":
+        if analysis_kind(kind).swept and self.output.probes != "ends":
             raise ParameterError("output.probes", self.output.probes, 'ends with analysis.kind = "ac" (the sweep '
                                  "saves I_1 and I_N)")
         if "spacetime" in plots and self.output.probes != "all":

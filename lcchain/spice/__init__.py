@@ -5,6 +5,6 @@ engines (:data:`~lcchain.spice.engines.ENGINES`: ngspice, gnucap; each a
 :class:`~lcchain.spice.engine.Engine`) are found once
 (:func:`~lcchain.spice.engines.find_engine`) and run lcchain's netlists
 (:func:`~lcchain.spice.engines.run_engine`); ngspice's runner
-(:func:`~lcchain.spice.runner.run`) reads its raw file and checks a foreign
+(:func:`~lcchain.spice.ngspice.runner.run`) reads its raw file and checks a foreign
 netlist against the allow-list; ``doctor`` says what is missing.
 """

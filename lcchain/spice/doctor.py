@@ -13,16 +13,10 @@ from dataclasses import dataclass
 from ..core.errors import SimulationError
 from ..core.types import Backend
 from .engines import DEFAULT_ENGINE, ENGINES, find_engine, run_engine
-from .runner import run
+from .ngspice.find import INSTALL_COMMAND, PYSPICE_INSTALL_COMMAND, find_shared_library, find_simulator, require_pyspice
+from .ngspice.runner import run
 from .sandbox import find_sandbox
-from .simulator import (
-    INSTALL_COMMAND,
-    PYSPICE_INSTALL_COMMAND,
-    Simulator,
-    find_shared_library,
-    find_simulator,
-    require_pyspice,
-)
+from .simulator import Simulator
 
 __all__ = ["Check", "doctor"]
 
@@ -139,7 +133,7 @@ def doctor() -> list[Check]:
     have_pyspice = attempt("PySpice", PYSPICE_INSTALL_COMMAND + " (only the shared backend needs it)",
                            _pyspice_version, required=False)
     if have_lib and have_pyspice:
-        attempt("shared run", "see the error; try `python -m lcchain.spice.shared_worker` by hand",
+        attempt("shared run", "see the error; try `python -m lcchain.spice.ngspice.shared_worker` by hand",
                 lambda: _doctor_run(locate("shared")), required=False)
     else:  # the fix names only what is missing: never a library that was just found
         missing = [(what, fix) for what, have, fix in (("shared library", have_lib, library_fix),

@@ -26,7 +26,7 @@ and add one line to :data:`lcchain.spice.engines.ENGINES`:
     knows nothing of chains.
 ``run(netlist, vectors, tstop, simulator=..., ...)``
     Run a transient and return a validated
-    :class:`~lcchain.spice.runner.RunResult` (time and the named real
+    :class:`~lcchain.spice.result.RunResult` (time and the named real
     vectors, finite, ending at ``tstop``), or raise
     :class:`~lcchain.core.errors.SimulationError`; the child runs in a
     process group of its own, is killed on a timeout or an interrupt, and
@@ -47,10 +47,10 @@ from abc import ABC, abstractmethod
 from collections.abc import Callable, Sequence
 from typing import ClassVar
 
-from ..core.errors import ParameterError
-from ..core.types import Backend
+from ..core.errors import ParameterError, SimulatorMissingError
+from ..core.types import AnalysisKind, Backend
 from .acdata import AcResult
-from .runner import RunResult
+from .result import RunResult
 from .simulator import Simulator
 
 __all__ = ["Engine"]
@@ -89,6 +89,16 @@ class Engine(ABC):
         :func:`lcchain.spice.engines.ac_engine`, naming ``engine``.
     ac_relative_cost : float
         Its wall time per AC point over ngspice's (the spectrum's price is scaled by it).
+    ac_transports : tuple of str
+        The transports its AC analysis runs on (a request or a spec on another is refused, naming ``backend``).
+    threaded_transports : tuple of str
+        The transports whose runs may go side by side in threads of one process (the members of an
+        extrapolation); runs on the others go one after the other.
+    warm_below_seconds : float
+        Runs predicted under this many seconds may go to its warm transport (:meth:`warm`) when a study chooses
+        (``--transport auto``); 0: it has none.
+    warm_analyses : tuple of str
+        The analyses (:data:`lcchain.core.types.ANALYSIS_KINDS`) its warm transport runs.
     """
 
     name: ClassVar[str]
@@ -102,6 +112,10 @@ class Engine(ABC):
     relative_cost: ClassVar[float] = 1.0
     runs_ac: ClassVar[bool] = False
     ac_relative_cost: ClassVar[float] = 1.0
+    ac_transports: ClassVar[tuple[Backend, ...]] = ()
+    threaded_transports: ClassVar[tuple[Backend, ...]] = ()
+    warm_below_seconds: ClassVar[float] = 0.0
+    warm_analyses: ClassVar[tuple[AnalysisKind, ...]] = ()
 
     @abstractmethod
     def find(self, backend: Backend = "batch") -> Simulator:
@@ -116,8 +130,9 @@ class Engine(ABC):
             timeout: float = 600.0, progress: Callable[[float], None] | None = None, cwd: str | None = None,
             trusted: bool = False, foreign: bool = True, max_output_bytes: float | None = None,
             max_resident_bytes: float | None = None) -> RunResult:
-        """Run lcchain's netlist text (ngspice's dialect) in the engine; see :func:`lcchain.spice.runner.run` (its
-        limits: ``timeout``, ``max_output_bytes``, ``max_resident_bytes``)."""
+        """Run lcchain's netlist text (ngspice's dialect) in the engine; see
+        :func:`lcchain.spice.ngspice.runner.run` (its limits: ``timeout``, ``max_output_bytes``,
+        ``max_resident_bytes``)."""
 
     def run_ac(self, netlist: str, vectors: Sequence[str], points: int, *, simulator: Simulator,
                timeout: float = 600.0, foreign: bool = False, max_output_bytes: float | None = None,
@@ -128,6 +143,26 @@ class Engine(ABC):
         memory at ``max_resident_bytes``).  An
         engine without ``runs_ac`` keeps this refusal."""
         raise ParameterError("engine", self.name, "an engine with an AC analysis (its runs_ac)")
+
+    @property
+    def default_transport(self) -> Backend:
+        """The transport a run uses unless told otherwise: the first of :attr:`transports`."""
+        return self.transports[0]
+
+    def transport_for(self, backend: str) -> Backend:
+        """The transport to find this engine again for a simulator on ``backend``: the same one when the engine
+        offers it, else (a warm simulator, chosen per run by a study) the default one."""
+        return next((transport for transport in self.transports if transport == backend), self.default_transport)
+
+    def warm(self, simulator: Simulator) -> Simulator:
+        """Its warm transport for ``simulator`` (on the default transport): the same program kept loaded between
+        runs, which must give the same bits (keys and results do not depend on it).  Only for an engine with
+        ``warm_below_seconds``; raises :class:`~lcchain.core.errors.SimulatorMissingError` when it is not here."""
+        raise SimulatorMissingError(f"engine {self.name} has no warm transport")
+
+    def release(self, kill: bool = False) -> None:
+        """End what :meth:`warm` keeps running (a study calls it when it ends, ``kill`` on an interrupt)."""
+        return None  # an engine without a warm transport keeps nothing running
 
     def __repr__(self) -> str:
         return f"<engine {self.name}>"

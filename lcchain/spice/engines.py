@@ -12,11 +12,11 @@ from collections.abc import Callable, Sequence
 from ..core.checks import choice
 from ..core.errors import ParameterError
 from ..core.registry import Registry
-from ..core.types import Backend
+from ..core.types import DEFAULT_ENGINE, Backend
 from .engine import Engine
 from .gnucap import Gnucap
-from .ngspice import Ngspice
-from .runner import RunResult
+from .ngspice.engine import Ngspice
+from .result import RunResult
 from .simulator import Simulator
 
 __all__ = ["ENGINES", "DEFAULT_ENGINE", "engine_named", "ac_engine", "find_engine", "run_engine"]
@@ -35,14 +35,18 @@ def _admit(name: str, loaded: object) -> Engine:
 #: Engine name -> implementation; the first is the default.  Then the engines of the ``lcchain.engines`` entry
 #: points of installed packages, read the first time the registry is.
 ENGINES: Registry[Engine] = Registry("lcchain.engines", {"ngspice": Ngspice(), "gnucap": Gnucap()}, _admit,
-                                     "an lcchain.spice.engine.Engine, named as the entry point")
-#: The engine every run uses unless told otherwise.
-DEFAULT_ENGINE = "ngspice"
+                                     "an lcchain.spice.engine.Engine, named as the entry point",
+                                     name_of=lambda part: str(getattr(part, "name", "")))
 
 
 def engine_named(name: object, field: str = "engine") -> Engine:
-    """The registered engine of that name (a :class:`~lcchain.core.errors.ParameterError` naming ``field``)."""
-    return ENGINES[choice(field, name, tuple(ENGINES))]
+    """The registered engine of that name, or ``name`` itself when it is an :class:`Engine` (or an Engine
+    subclass, made with no arguments): registered under its own ``name`` the first time, as
+    ``simulate(..., engine=MyEngine())`` gives it (a :class:`~lcchain.core.errors.ParameterError` naming
+    ``field``)."""
+    if isinstance(name, str):
+        return ENGINES[choice(field, name, tuple(ENGINES))]
+    return ENGINES.accept(field, name)
 
 
 def ac_engine(name: object, field: str = "engine") -> Engine:

@@ -87,8 +87,8 @@ from .acdata import AcResult, ac_result
 from .engine import Engine
 from .gnucap_table import TITLE, failure, quiet, quote, read_ac_table, read_table, table_number, without_rows
 from .log import trim_log
-from .processes import child_env, kill_group, outgrown, read_all
-from .runner import RunResult, check_arguments, progress_reporter, validate_columns, wait_watching
+from .processes import child_env, kill_group, outgrown, progress_reporter, read_all, wait_watching
+from .result import RunResult, check_arguments, validate_columns
 from .sandbox import SCRATCH, Sandbox, scratch_env
 from .scratch import scratch_folder
 from .simulator import Simulator, child_launcher
@@ -246,6 +246,8 @@ class Gnucap(Engine):
     #: unknown lower), all on a loaded machine where ngspice itself took 1.4-1.7 times its model.
     relative_cost: ClassVar[float] = 6.0
     runs_ac: ClassVar[bool] = True
+    ac_transports: ClassVar[tuple[Backend, ...]] = ("batch",)
+    threaded_transports: ClassVar[tuple[Backend, ...]] = ("batch",)
     #: gnucap's AC process time over ngspice's for the same sweep (benchmarks/spectrum.md, "gnucap", idle machine,
     #: segmented sweeps): 1.1 to 1.8 (two-mass N = 20 to 200, perfect and uniform-bounded N = 100); 2.0 keeps a
     #: margin.  (On a loaded machine, with even sweeps, it was 1.2 to 4.2.)
@@ -322,8 +324,8 @@ class Gnucap(Engine):
             else:
                 raise _refuse(f"the line {line!r}: gnucap's dialect translates lcchain's own ladders only "
                               "(L, C, R, V, K lines, .options, .tran, .ac, .save, .end)")
-        kinds = [kind for kind, _ in analyses]
-        if kinds not in (["tran"], ["ac"] * len(kinds)) or not kinds or not names:
+        cards = [card for card, _ in analyses]  # the words of the netlist's analysis cards
+        if cards not in (["tran"], ["ac"] * len(cards)) or not cards or not names:
             raise _refuse("a netlist without one analysis ('.tran ... uic', or '.ac lin ...' cards: a sweep in "
                           "segments) or without vectors to save")
         for a, b, _ in couplings:
@@ -332,16 +334,16 @@ class Gnucap(Engine):
                     raise _refuse(f"a K line that couples {coil!r}, which is not an inductor of the netlist")
         ics = coupled_initial_currents(inductances, currents, couplings)
         body = [_with_ic(line, ics) for line in body]
-        kind = kinds[0]
-        printed = " ".join(_print_name(name, kind == "ac") for name in names)
-        if kind == "ac":
+        card = cards[0]
+        printed = " ".join(_print_name(name, card == "ac") for name in names)
+        if card == "ac":
             options = [f"numdgt={AC_DIGITS}", f"short={SOURCE_RESISTANCE!r}", f"gmin={GMIN!r}", *options]
         else:
             # gnucap's absolute scales, made the circuit's: its smallest step (its start-up ramp begins there) and its
             # Newton limits on node voltages (a linear ladder needs none).
             options = ["numdgt=14", "method=trap", *options, f"dtmin={step * DTMIN_FRACTION!r}",
                        f"vmax={VOLTAGE_LIMIT!r}", f"vmin={-VOLTAGE_LIMIT!r}", f"gmin={GMIN!r}"]
-        return "\n".join([TITLE, *body, ".options " + " ".join(options), f".print {kind} {printed}",
+        return "\n".join([TITLE, *body, ".options " + " ".join(options), f".print {card} {printed}",
                           *(line for _, line in analyses), ".end"]) + "\n"
 
     def run(self, netlist: str, vectors: Sequence[str], tstop: float, *, simulator: Simulator,

@@ -268,9 +268,8 @@ def _kirchhoff(name: str, source: str, ends: Mapping[str, tuple[str, str]]) -> t
 def run_check(netlist: GnucapCheckNetlist, stop: float, *, simulator: Simulator, timeout: float) -> CheckedRun:
     """Run gnucap's netlist (in the sandbox of foreign netlists where there is one, :mod:`lcchain.spice.sandbox`,
     else in a scratch folder; its process group killed after ``timeout``) and read its vectors back by ngspice's
-    names."""
-    if simulator.engine != "gnucap":
-        raise ParameterError("simulator", simulator.engine, "a simulator found for engine gnucap")
+    names.  ``simulator`` is gnucap's program, as an engine that ``checks_cards`` found it (the caller chose
+    the engine by that attribute, :func:`lcchain.runs.check.check_text`; its name is not asked here)."""
     output, log, wall = _run_child(netlist.text, simulator, timeout, stop, None, MAX_OUTPUT_BYTES,
                                    sandbox=find_sandbox())
     # gnucap's warning at the operating point with short=1e-30 (the values are those of short=1e-15, which

@@ -673,9 +673,16 @@ def gap_points(gaps: np.ndarray, max_step: float) -> np.ndarray:
     return steps
 
 
+def _distinct(values: np.ndarray) -> np.ndarray:
+    """``np.unique(values)`` for floats without NaN, without importing ``numpy.ma`` (``np.unique`` does, 10 ms of a
+    batch's start)."""
+    ordered = np.sort(values)
+    return ordered[np.concatenate([[True], ordered[1:] != ordered[:-1]])] if ordered.size else ordered
+
+
 def _listed(times: np.ndarray, stop: float, max_step: float) -> float:
     """Time points from 0 to ``stop`` with breakpoints at ``times`` (at least one per ``max_step``)."""
-    times = np.unique(np.concatenate([times[(times > 0.0) & (times < stop)], [0.0, stop]]))
+    times = _distinct(np.concatenate([times[(times > 0.0) & (times < stop)], [0.0, stop]]))
     return float(gap_points(np.diff(times), max_step).sum()) + 1.0
 
 
@@ -690,7 +697,7 @@ def _edge_points(edges: list[Edges], stop: float, max_step: float) -> float:
     for e in edges:
         points += _listed(np.asarray(e.once, dtype=float), stop, max_step) - plain
         if e.count and e.offsets:
-            one = np.unique(np.concatenate([np.asarray(e.offsets) % e.period, [0.0, e.period]]))
+            one = _distinct(np.concatenate([np.asarray(e.offsets) % e.period, [0.0, e.period]]))
             per_period = float(gap_points(np.diff(one), max_step).sum())
             points += e.count * max(per_period - e.period / max_step, 0.0)
     return points

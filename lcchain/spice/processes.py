@@ -1,37 +1,40 @@
-"""Child processes: started in a session of their own, killed as a group, dead with lcchain."""
+"""Child processes of every engine: started in a session of their own, killed as a group, dead with lcchain.
+
+Engine-neutral: ngspice's transports (:mod:`lcchain.spice.ngspice`) and gnucap (:mod:`lcchain.spice.gnucap`)
+both start their children with :func:`child_env`, wait for them with :func:`wait_watching` (a pidfd wakes the
+wait the moment a child exits), stop one that :func:`outgrown` its limits and kill its whole group with
+:func:`kill_group`.
+"""
 
 from __future__ import annotations
 
-import io
-import json
+import contextlib
 import os
+import select
 import signal
 import subprocess
-import sys
-import tempfile
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
-from typing import IO, Any
-
-import numpy as np
+from typing import IO
 
 from ..core.budget import show_bytes
-from ..core.errors import SimulationError
-from .log import useful_output
 
-__all__ = ["PACKAGE_ROOT", "CHILD_HOME", "child_env", "kill_group", "read_all", "call_shared_worker",
-           "decode_worker_payload", "resident_bytes", "outgrown", "MAX_LOG_BYTES", "WATCH_INTERVAL"]
+__all__ = ["PACKAGE_ROOT", "CHILD_HOME", "child_env", "kill_group", "read_all", "resident_bytes", "outgrown",
+           "exited", "wait_watching", "progress_reporter", "MAX_LOG_BYTES", "WATCH_INTERVAL", "PROGRESS_INTERVAL"]
 
-#: The folder lcchain is imported from: the shared-library child imports it there.
+#: The folder lcchain is imported from: a Python child (ngspice's shared-library workers) imports it there.
 PACKAGE_ROOT = str(Path(__file__).resolve().parents[2])
-#: HOME of every ngspice child: a folder that does not exist, so no ~/.spiceinit is read.
+#: HOME of every simulator child: a folder that does not exist, so no ~/.spiceinit is read.
 CHILD_HOME = "/nonexistent/lcchain"
 #: What a watched run (a foreign netlist) may print on stdout and stderr before it is stopped.
 MAX_LOG_BYTES = 16 * 2**20
 #: Seconds between two looks at a running child whose memory or output is watched: ngspice grows by tens of MB a
 #: second at most, so a child is stopped within a few MB of its limit.
 WATCH_INTERVAL = 0.1
+#: Seconds between two looks at a running batch run, when there is something to look at (a progress callback,
+#: a raw-file limit); its exit is seen at once.
+PROGRESS_INTERVAL = 0.5
 
 
 def child_env() -> dict[str, str]:
@@ -98,53 +101,56 @@ def read_all(handle: IO[bytes]) -> bytes:
     return handle.read()
 
 
-def call_shared_worker(launcher: tuple[str, ...], request: dict[str, Any], timeout: float, cwd: str,
-                       what: str, env: dict[str, str] | None = None, max_output_bytes: float | None = None,
-                       max_resident_bytes: float | None = None) -> tuple[bytes, str, int]:
-    """Start the shared-library child, send it a request, return (stdout, stderr text, exit status).
+def exited(proc: subprocess.Popen[bytes], pidfd: int | None, seconds: float) -> int | None:
+    """A child's exit status as soon as it exits within ``seconds``, else None.
 
-    ``launcher`` prefixes its command line (setpriv, a sandbox); ``env`` is its environment (default
-    :func:`child_env`), to which the package's folder is added on ``PYTHONPATH``.  While it runs it is watched as
-    :func:`outgrown` says (its reply, the vectors, against ``max_output_bytes``; its memory against
-    ``max_resident_bytes``), every :data:`WATCH_INTERVAL` seconds when a limit is given.
+    A pidfd (Linux) wakes this the moment the child exits; Popen.wait with a timeout would sleep-poll it
+    (1, 3, 7 ... 50 ms late), a delay that every short run paid in full.
     """
-    env = dict(env) if env is not None else child_env()
-    env["PYTHONPATH"] = os.pathsep.join(p for p in (PACKAGE_ROOT, env.get("PYTHONPATH")) if p)
-    watched = max_output_bytes is not None or max_resident_bytes is not None
-    with tempfile.TemporaryFile() as source, tempfile.TemporaryFile() as out, tempfile.TemporaryFile() as err:
-        source.write(json.dumps(request).encode("utf-8"))
-        source.seek(0)
-        # Files, not pipes: a child is never blocked on a full pipe while it is watched, and its output survives a kill.
-        proc = subprocess.Popen([*launcher, sys.executable, "-P", "-m", "lcchain.spice.shared_worker"], cwd=cwd,
-                                env=env, stdin=source, stdout=out, stderr=err, start_new_session=True)
-        deadline = time.monotonic() + timeout
+    if pidfd is None:
         try:
-            while True:
-                left = deadline - time.monotonic()
-                if left <= 0:
-                    kill_group(proc)
-                    log = read_all(err).decode("utf-8", "replace")
-                    raise SimulationError(f"the ngspice shared-library child ({what}) timed out after {timeout:g} s "
-                                          "and was killed", useful_output(log), "timeout")
-                try:
-                    proc.wait(min(WATCH_INTERVAL, left) if watched else left)
-                    break
-                except subprocess.TimeoutExpired:
-                    pass
-                why = outgrown(proc.pid, "ngspice's shared-library child", printed=(err,), output=out,
-                               output_name="vectors", max_output_bytes=max_output_bytes,
-                               max_resident_bytes=max_resident_bytes)
-                if why is not None:
-                    kill_group(proc)
-                    raise SimulationError(why, useful_output(read_all(err).decode("utf-8", "replace")))
-        finally:
-            if proc.poll() is None:  # interrupted: the whole group goes
-                kill_group(proc)
-        return read_all(out), read_all(err).decode("utf-8", "replace"), proc.returncode
+            return proc.wait(timeout=seconds)
+        except subprocess.TimeoutExpired:
+            return None
+    ready, _, _ = select.select([pidfd], [], [], seconds)
+    return proc.wait() if ready else None
 
 
-def decode_worker_payload(payload: bytes) -> tuple[dict[str, Any], list[np.ndarray]]:
-    with np.load(io.BytesIO(payload), allow_pickle=False) as npz:
-        meta = json.loads(npz["meta"].tobytes().decode("utf-8"))
-        arrays = [npz[f"v{i}"] for i in range(len(meta.get("names", [])))]
-    return meta, arrays
+def wait_watching(proc: subprocess.Popen[bytes], timeout: float, look: Callable[[], None] | None,
+                  interval: float = PROGRESS_INTERVAL) -> int | None:
+    """A child's exit status, or None after ``timeout`` seconds; ``look`` (which may raise to stop the run) is
+    called every ``interval`` seconds while it runs, and without it the wait sleeps to the exit at once."""
+    deadline = time.monotonic() + timeout
+    try:
+        pidfd: int | None = os.pidfd_open(proc.pid)
+    except (AttributeError, OSError):  # not Linux, or an old kernel
+        pidfd = None
+    try:
+        while True:
+            left = deadline - time.monotonic()
+            if left <= 0:
+                return None
+            status = exited(proc, pidfd, min(interval, left) if look is not None else left)
+            if status is not None:
+                return status
+            if look is not None:
+                look()
+    finally:
+        if pidfd is not None:
+            with contextlib.suppress(OSError):
+                os.close(pidfd)
+
+
+def progress_reporter(progress: Callable[[float], None], tstop: float,
+                      simulated: Callable[[], float | None]) -> Callable[[], None]:
+    """A look that reports the fraction of ``tstop`` simulated so far (never going back)."""
+    fraction = 0.0
+
+    def report() -> None:
+        nonlocal fraction
+        t = simulated()
+        fraction = max(fraction, min(max(t / tstop, 0.0), 1.0)) if t is not None else fraction
+        progress(fraction)
+
+    return report
+

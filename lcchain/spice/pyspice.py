@@ -14,7 +14,7 @@ names, nodes and values.  The analysis is left to the caller, e.g.::
     simulator = circuit.simulator()
     analysis = simulator.transient(step_time=..., end_time=..., use_initial_condition=True)
 
-(lcchain itself runs ngspice through :mod:`lcchain.spice.runner`, which avoids
+(lcchain itself runs ngspice through :mod:`lcchain.spice.ngspice.runner`, which avoids
 PySpice's high-level simulator: it leaks memory per run with ngspice 39.)
 """
 

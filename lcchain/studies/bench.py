@@ -46,7 +46,8 @@ from ..core.types import DEFAULT_C0, DEFAULT_I0, DEFAULT_L0, METHODS, Method
 from ..runs.execute import RunRecord, execute
 from ..runs.simulate import simulate
 from ..runs.spec import RunSpec, Theory
-from ..spice.simulator import Simulator, find_simulator
+from ..spice.ngspice.find import find_simulator
+from ..spice.simulator import Simulator
 from ..theory.arrivals import stop_time
 from ..theory.cases import chain_for_case
 from ..theory.chain import Chain
@@ -315,16 +316,15 @@ def bench_accuracy(Ns: Sequence[int] | None = None, *, quick: bool = False, targ
     target_jobs = [(eps, N) for eps in ACCURACY_TARGETS for N in TARGET_N if N in Ns] if targets else []
     total = len(jobs) + len(target_jobs)
     records: list[BenchRecord] = []
-    for k, (kind, N, params) in enumerate(jobs):
-        show(k, total, f"{kind} N={N} {params}")
-        if kind == "ngspice":
-            records.append(ngspice_record(chains[N], modes[N], simulator=simulator, **params))
-        elif kind == "extrapolated":
-            records.append(extrapolated_record(chains[N], modes[N], simulator=simulator, **params))
-        elif kind == "dop853":
-            records.append(dop853_record(chains[N], modes[N], **params))
-        else:
-            records.append(modal_record(chains[N]))
+    solvers: dict[str, Callable[[int, dict[str, Any]], BenchRecord]] = {
+        "ngspice": lambda N, params: ngspice_record(chains[N], modes[N], simulator=simulator, **params),
+        "extrapolated": lambda N, params: extrapolated_record(chains[N], modes[N], simulator=simulator, **params),
+        "dop853": lambda N, params: dop853_record(chains[N], modes[N], **params),
+        "modal": lambda N, params: modal_record(chains[N]),
+    }
+    for k, (solver, N, params) in enumerate(jobs):
+        show(k, total, f"{solver} N={N} {params}")
+        records.append(solvers[solver](N, params))
     checks = []
     for k, (eps, N) in enumerate(target_jobs):
         show(len(jobs) + k, total, f"--accuracy {eps:g} N={N}")

@@ -33,7 +33,7 @@ Short runs are grouped so that each task sent is worth its overhead
 balance and progress.
 
 The transport of each run (:func:`choose_transports`): short ngspice runs go
-to warm shared-library workers (:mod:`lcchain.spice.warm`), one per worker
+to warm shared-library workers (:mod:`lcchain.spice.ngspice.warm`), one per worker
 thread or process, where a new ``ngspice -b`` process would cost more than the
 run; their keys and results are those of ``ngspice -b`` (bit-identical).
 """
@@ -49,7 +49,7 @@ import urllib.parse
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import FIRST_COMPLETED, ThreadPoolExecutor, wait
 from dataclasses import dataclass, replace
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from ..core.budget import (
     DASK_SCHEDULER_BYTES,
@@ -64,16 +64,41 @@ from ..core.errors import ExtraMissingError, LcchainError, ParameterError, Simul
 from ..core.types import EXECUTORS, TRANSPORT_CHOICES, ExecutorName, TransportChoice
 from ..runs.execute import RunRecord, execute
 from ..runs.spec import RunSpec
-from ..spice.engines import find_engine
+from ..spice.engines import engine_named, find_engine
 from ..spice.scratch import scratch_folder
 from ..spice.simulator import Simulator
-from ..spice.warm import WARM_BELOW_SECONDS, close_workers, warm_simulator
 
-__all__ = ["ExecutorName", "EXECUTORS", "MIN_TASK_SECONDS", "SCHEDULER_SCHEMES", "run_groups", "open_executor",
+if TYPE_CHECKING:  # multiprocessing's pool takes ~10 ms to import, which a batch never uses
+    from concurrent.futures import ProcessPoolExecutor
+
+__all__ = ["ExecutorName", "EXECUTORS", "ExecutorTraits", "EXECUTOR_TRAITS", "DEFAULT_EXECUTOR",
+           "MIN_TASK_SECONDS", "SCHEDULER_SCHEMES", "run_groups", "open_executor",
            "check_executor", "group_tasks", "default_workers", "execute_group", "Transports", "choose_transports",
            "WARM_MIN_RUNS_PER_WORKER", "ExecutorCost", "executor_cost", "EXECUTOR_COSTS"]
 
-#: The executors lcchain has.
+@dataclass(frozen=True)
+class ExecutorTraits:
+    """What an executor is, as a study asks it (what it does is its line in :data:`EXECUTOR_RUNNERS`, its price
+    its line in :data:`EXECUTOR_COSTS`).
+
+    Attributes
+    ----------
+    parallel : bool
+        Its runs go side by side in workers; otherwise one after the other in this process, as one worker.
+    remote : bool
+        It may reach workers elsewhere (``--scheduler ADDRESS``).
+    """
+
+    parallel: bool
+    remote: bool
+
+
+#: The executors lcchain has, by name, and what each is.
+EXECUTOR_TRAITS: dict[str, ExecutorTraits] = {"serial": ExecutorTraits(parallel=False, remote=False),
+                                              "process": ExecutorTraits(parallel=True, remote=False),
+                                              "dask": ExecutorTraits(parallel=True, remote=True)}
+#: The executor a study uses unless told otherwise; the serial executor asked for several workers uses it too.
+DEFAULT_EXECUTOR = "process"
 #: Seconds of runs worth sending as one task (Dask's overhead per task is a few ms; its documentation asks for
 #: tasks of 100 ms and more).
 MIN_TASK_SECONDS: dict[str, float] = {"serial": 0.0, "process": 0.05, "dask": 0.3}
@@ -127,6 +152,22 @@ class Transports:
 Runner = Callable[[list[Group], Transports], Iterator[list[tuple[int, RunRecord]]]]
 
 
+@dataclass(frozen=True)
+class _TransportChoice:
+    """What a ``--transport`` choice asks of a study: whether runs may go warm, chosen by their predicted cost,
+    and whether a missing warm transport is an error."""
+
+    warm: bool
+    by_cost: bool
+    required: bool
+
+
+_TRANSPORT_CHOICES: dict[str, _TransportChoice] = {
+    "auto": _TransportChoice(warm=True, by_cost=True, required=False),
+    "process": _TransportChoice(warm=False, by_cost=False, required=False),
+    "warm": _TransportChoice(warm=True, by_cost=False, required=True)}
+
+
 def check_transport(transport: str) -> TransportChoice:
     if transport not in TRANSPORT_CHOICES:
         raise ParameterError("--transport", transport, " | ".join(TRANSPORT_CHOICES))
@@ -135,12 +176,15 @@ def check_transport(transport: str) -> TransportChoice:
 
 def choose_transports(items: Sequence[tuple[int, RunSpec, float]], simulator: Simulator, workers: int,
                       transport: str = "auto") -> Transports:
-    """The runs that go warm (:mod:`lcchain.spice.warm`).
+    """The runs that go to the engine's warm transport (:meth:`lcchain.spice.engine.Engine.warm`: ngspice's shared
+    library, :mod:`lcchain.spice.ngspice.warm`).
 
-    ``"process"``: none. ``"warm"``: every run that can (ngspice batch runs of netlists checked by the
-    allow-list). ``"auto"``: those predicted under :data:`~lcchain.spice.warm.WARM_BELOW_SECONDS`, when there
-    are at least :data:`WARM_MIN_RUNS_PER_WORKER` per worker and the shared library is this ngspice's version
-    (otherwise every run starts its own process, as before).
+    ``"process"``: none. ``"warm"``: every run that can (runs of the study's engine on its default transport, of
+    an analysis its warm transport runs (:attr:`~lcchain.spice.engine.Engine.warm_analyses`), of netlists checked
+    by the allow-list). ``"auto"``: those predicted under the engine's
+    :attr:`~lcchain.spice.engine.Engine.warm_below_seconds`, when there are at least
+    :data:`WARM_MIN_RUNS_PER_WORKER` per worker and the warm transport is here (for ngspice: a shared library of
+    this ngspice's version; otherwise every run starts its own process, as before).
 
     Raises
     ------
@@ -149,22 +193,23 @@ def choose_transports(items: Sequence[tuple[int, RunSpec, float]], simulator: Si
     SimulatorMissingError
         ``"warm"`` asked for, and no shared library of this ngspice's version.
     """
-    transport = check_transport(transport)
-    if transport == "process" or simulator.engine != "ngspice" or simulator.backend != "batch":
+    choice = _TRANSPORT_CHOICES[check_transport(transport)]
+    engine = engine_named(simulator.engine, "simulator.engine")
+    if not choice.warm or not engine.warm_below_seconds or simulator.backend != engine.default_transport:
         return Transports()
     able = [(index, seconds) for index, spec, seconds in items
-            if spec.engine == "ngspice" and not spec.trusted and spec.analysis == "transient"]  # AC: ngspice -b
-    if transport == "auto":
-        able = [(index, seconds) for index, seconds in able if seconds < WARM_BELOW_SECONDS]
+            if spec.engine == engine.name and not spec.trusted and spec.analysis in engine.warm_analyses]
+    if choice.by_cost:
+        able = [(index, seconds) for index, seconds in able if seconds < engine.warm_below_seconds]
         if len(able) < WARM_MIN_RUNS_PER_WORKER * workers:
             return Transports()
     if not able:
         return Transports()
     try:
-        warm = warm_simulator(simulator)
+        warm = engine.warm(simulator)
     except SimulatorMissingError as error:
-        if transport == "warm":
-            raise SimulatorMissingError(f"--transport warm: {error}") from None
+        if choice.required:
+            raise SimulatorMissingError(f"--transport {transport}: {error}") from None
         log.info("warm transport not used: %s", error)
         return Transports()
     return Transports(warm, frozenset(index for index, _ in able))
@@ -194,8 +239,9 @@ def check_executor(executor: str, workers: int | None = None, scheduler: str | N
     if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
         raise ParameterError("--workers", workers, "an integer >= 1")
     if scheduler is not None:
-        if executor != "dask":
-            raise ParameterError("--scheduler", scheduler, "nothing unless --executor dask")
+        if not EXECUTOR_TRAITS[executor].remote:
+            remote = " | ".join(name for name, traits in EXECUTOR_TRAITS.items() if traits.remote)
+            raise ParameterError("--scheduler", scheduler, f"nothing unless --executor {remote}")
         check_scheduler(scheduler)
 
 
@@ -208,25 +254,27 @@ def default_workers() -> int:
 
 
 def group_tasks(items: Sequence[tuple[int, RunSpec, float]], executor: str, workers: int) -> list[Group]:
-    """Consecutive runs grouped until a group is worth :data:`MIN_TASK_SECONDS`, keeping enough groups."""
+    """Consecutive runs grouped until a group is worth :data:`MIN_TASK_SECONDS`, keeping enough groups; the
+    longest groups first (stable among equals), so that the last group to finish is a short one: a sweep of
+    N = 300 to 410 in plan order ended on its longest run, with the other worker idle."""
     least = MIN_TASK_SECONDS[executor]
-    if executor == "serial" or not items:
+    if not EXECUTOR_TRAITS[executor].parallel or not items:
         return [[(index, spec)] for index, spec, _ in items]
     total = sum(seconds for _, _, seconds in items)
     # worth the minimum, unless that leaves fewer than TASKS_PER_WORKER groups per worker
     target = min(least, total / (TASKS_PER_WORKER * workers))
-    groups: list[Group] = []
+    groups: list[tuple[float, Group]] = []
     current: Group = []
     held = 0.0
     for index, spec, seconds in items:
         current.append((index, spec))
         held += seconds
         if held >= target:
-            groups.append(current)
+            groups.append((held, current))
             current, held = [], 0.0
     if current:
-        groups.append(current)
-    return groups
+        groups.append((held, current))
+    return [group for _, group in sorted(groups, key=lambda g: -g[0])]
 
 
 def execute_group(group: Group, simulator: Simulator, keep_signals: bool = False,
@@ -238,7 +286,8 @@ def execute_group(group: Group, simulator: Simulator, keep_signals: bool = False
     another version fails its runs (their keys would not be the study's).
     """
     if not os.path.exists(simulator.executable):
-        found = find_engine(simulator.engine, "shared" if simulator.backend == "shared" else "batch")
+        engine = engine_named(simulator.engine, "simulator.engine")
+        found = find_engine(engine.name, engine.transport_for(simulator.backend))
         if found.version != simulator.version:
             reason = f"this worker's {simulator.engine} is {found.version}, the study's is {simulator.version}"
             return [(index, RunRecord(key=spec.key(simulator.version), status="failed", reason=reason,
@@ -267,8 +316,10 @@ POOL_RESTARTS = 3
 
 
 def _process(groups: list[Group], simulator: Simulator, workers: int, keep_signals: bool,
-             transports: Transports) -> Iterator[list[tuple[int, RunRecord]]]:
-    """A spawn process pool; a pool broken by a dead worker is rebuilt and the unfinished groups resubmitted."""
+             transports: Transports, started: ProcessPoolExecutor | None = None
+             ) -> Iterator[list[tuple[int, RunRecord]]]:
+    """A spawn process pool (``started``: one whose workers started before, while the study was planned); a pool
+    broken by a dead worker is rebuilt and the unfinished groups resubmitted."""
     # here, not at the top: multiprocessing and its pool take ~10 ms to import, which a serial batch never uses
     from concurrent.futures.process import BrokenProcessPool
 
@@ -276,7 +327,7 @@ def _process(groups: list[Group], simulator: Simulator, workers: int, keep_signa
 
     left = dict(enumerate(groups))
     for attempt in range(POOL_RESTARTS + 1):
-        pool = spawn_pool(workers)
+        pool = started if attempt == 0 and started is not None else spawn_pool(workers)
         finished = False
         try:
             pending = {pool.submit(execute_group, group, simulator, keep_signals, transports): number
@@ -298,7 +349,8 @@ def _process(groups: list[Group], simulator: Simulator, workers: int, keep_signa
             log.warning("a pool worker died; restarting the pool for the %d unfinished groups", len(left))
         finally:
             if finished:
-                pool.shutdown(wait=True)
+                if pool is not started:  # a started pool is its owner's to shut down
+                    pool.shutdown(wait=True)
             else:  # interrupted, or broken: nothing may keep running
                 kill_pool(pool)
 
@@ -319,7 +371,7 @@ def _threaded(groups: list[Group], simulator: Simulator, workers: int, keep_sign
 
     Each run is its own task (a thread costs microseconds per task). On the way out (the end, an error, an
     interrupt) no new run starts, a running batch child is killed at its next look (its progress callback
-    raises, within :data:`~lcchain.spice.runner.PROGRESS_INTERVAL`), warm workers are killed, and the threads
+    raises, within :data:`~lcchain.spice.processes.PROGRESS_INTERVAL`), warm workers are killed, and the threads
     are joined: nothing keeps running.
     """
     stop = threading.Event()
@@ -344,7 +396,7 @@ def _threaded(groups: list[Group], simulator: Simulator, workers: int, keep_sign
     finally:
         stop.set()
         if not finished:
-            close_workers(kill=True)
+            engine_named(simulator.engine, "simulator.engine").release(kill=True)
         pool.shutdown(wait=True, cancel_futures=True)
 
 
@@ -407,7 +459,7 @@ def _on_dask(client: Any, groups: list[Group], simulator: Simulator, keep_signal
 @contextlib.contextmanager
 def open_executor(simulator: Simulator, *, executor: str = "process", workers: int | None = None,
                   scheduler: str | None = None, keep_signals: bool = False, verbose: bool = False,
-                  scratch: str | None = None) -> Iterator[Runner]:
+                  scratch: str | None = None, pool: ProcessPoolExecutor | None = None) -> Iterator[Runner]:
     """An executor, started (a Dask cluster up, or its scheduler reached) before the block runs.
 
     Parameters
@@ -425,6 +477,9 @@ def open_executor(simulator: Simulator, *, executor: str = "process", workers: i
     scratch : str, optional
         A folder for an executor's scratch space (a local Dask cluster's): the store's, so that nothing of
         the study is made in the temporary folder; default the temporary folder.
+    pool : ProcessPoolExecutor, optional
+        The study's process workers, started before (:func:`lcchain.studies.pools.started_pool`, while the study
+        was planned): the process executor runs on them instead of starting its own; the others ignore it.
 
     Yields
     ------
@@ -435,34 +490,34 @@ def open_executor(simulator: Simulator, *, executor: str = "process", workers: i
     check_executor(executor, workers, scheduler)
     try:
         with EXECUTOR_RUNNERS[executor](simulator, workers or default_workers(), scheduler, keep_signals,
-                                        verbose, scratch) as run:
+                                        verbose, scratch, pool) as run:
             yield run
     finally:
-        close_workers()
+        engine_named(simulator.engine, "simulator.engine").release()
 
 
 @contextlib.contextmanager
 def _serial_runner(simulator: Simulator, workers: int, scheduler: str | None, keep_signals: bool,
-                   verbose: bool, scratch: str | None) -> Iterator[Runner]:
+                   verbose: bool, scratch: str | None, pool: ProcessPoolExecutor | None) -> Iterator[Runner]:
     yield lambda groups, transports: (execute_group(group, simulator, keep_signals, transports) for group in groups)
 
 
 @contextlib.contextmanager
 def _process_runner(simulator: Simulator, workers: int, scheduler: str | None, keep_signals: bool,
-                    verbose: bool, scratch: str | None) -> Iterator[Runner]:
+                    verbose: bool, scratch: str | None, pool: ProcessPoolExecutor | None) -> Iterator[Runner]:
     def run(groups: list[Group], transports: Transports) -> Iterator[list[tuple[int, RunRecord]]]:
         if workers == 1:  # one worker: no pool to start
             return (execute_group(group, simulator, keep_signals, transports) for group in groups)
         if _light(groups):  # all the work is in the simulator's processes: threads drive them
             return _threaded(groups, simulator, workers, keep_signals, transports)
-        return _process(groups, simulator, workers, keep_signals, transports)
+        return _process(groups, simulator, workers, keep_signals, transports, pool)
 
     yield run
 
 
 @contextlib.contextmanager
 def _dask_runner(simulator: Simulator, workers: int, scheduler: str | None, keep_signals: bool,
-                 verbose: bool, scratch: str | None) -> Iterator[Runner]:
+                 verbose: bool, scratch: str | None, pool: ProcessPoolExecutor | None) -> Iterator[Runner]:
     with _dask(workers, scheduler, verbose, scratch) as client:
         yield lambda groups, transports: _on_dask(client, groups, simulator, keep_signals, transports)
 
@@ -513,11 +568,12 @@ def executor_cost(executor: str, workers: int, light: bool = False) -> ExecutorC
     return EXECUTOR_COSTS[executor](workers, light)
 
 
-#: Each executor: a context manager (simulator, workers, scheduler, keep_signals, verbose, scratch) that yields a
-#: runner (``scratch``: where it may make a scratch folder, or None for the temporary folder).
+#: Each executor: a context manager (simulator, workers, scheduler, keep_signals, verbose, scratch, pool) that
+#: yields a runner (``scratch``: where it may make a scratch folder, or None for the temporary folder; ``pool``: a
+#: process pool already started, which an executor may run on or ignore).
 #: To add one: a context manager here, its cost in :data:`EXECUTOR_COSTS` and its name in
 #: :data:`lcchain.core.types.ExecutorName`.
-_RunnerFactory = Callable[[Simulator, int, str | None, bool, bool, str | None],
+_RunnerFactory = Callable[[Simulator, int, str | None, bool, bool, str | None, "ProcessPoolExecutor | None"],
                           contextlib.AbstractContextManager[Runner]]
 EXECUTOR_RUNNERS: dict[str, _RunnerFactory] = {
     "serial": _serial_runner, "process": _process_runner, "dask": _dask_runner,

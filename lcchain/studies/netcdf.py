@@ -22,6 +22,7 @@ save is NaN over that run's points, in both its parts.  The writer compresses (z
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from datetime import UTC, datetime
 from typing import Any
 
@@ -37,6 +38,22 @@ __all__ = ["cf_datasets", "CONVENTIONS"]
 #: The CF version the files follow.
 CONVENTIONS = "CF-1.10"
 
+@dataclass(frozen=True)
+class _Group:
+    """One group of a file's runs, by what their arrays are: a transient's, an AC run's or an extrapolation's."""
+
+    axis: str
+    axis_units: str
+    axis_name: str
+    parts: tuple[str, ...]  # a complex vector's parts, each its own variable; ("",): a real vector
+    scaled: bool  # in units of the chain (I / I0 against t / sqrt(L0 C0)): every variable's unit is "1"
+
+
+_GROUPS = {"ac": _Group("frequency", "Hz", "frequency", ("real", "imag"), scaled=False),
+           "transient": _Group("time", "s", "time from the run's start", ("",), scaled=False),
+           "extrapolated": _Group("time", "1", "time, units of sqrt(L0 C0)", ("",), scaled=True)}
+
+
 def _kind(run: StoredRun, arrays: dict[str, np.ndarray]) -> str:
     if run.kind == "combined":
         return "extrapolated"
@@ -46,24 +63,21 @@ def _kind(run: StoredRun, arrays: dict[str, np.ndarray]) -> str:
 def _group(kind: str, runs: list[tuple[StoredRun, dict[str, np.ndarray]]], axes: list[str]) -> Any:
     import xarray
 
-    axis = "frequency" if kind == "ac" else "time"
+    group = _GROUPS[kind]
+    axis = group.axis
     sizes = np.array([arrays[axis].size for _, arrays in runs], dtype=np.int64)
     vectors = list(dict.fromkeys(name for _, arrays in runs for name in arrays if name != axis))
     data: dict[str, Any] = {}
     coordinate = np.concatenate([arrays[axis] for _, arrays in runs])
-    axis_units = {"ac": "Hz", "transient": "s", "extrapolated": "1"}[kind]
-    axis_name = {"ac": "frequency", "transient": "time from the run's start",
-                 "extrapolated": "time, units of sqrt(L0 C0)"}[kind]
-    data[axis] = ("obs", coordinate, {"units": axis_units, "long_name": axis_name})
+    data[axis] = ("obs", coordinate, {"units": group.axis_units, "long_name": group.axis_name})
     for vector in vectors:
-        parts = ("real", "imag") if kind == "ac" else ("",)
-        for part in parts:
+        for part in group.parts:
             values = np.concatenate([np.asarray(getattr(arrays[vector], part) if part else arrays[vector], float)
                                      if vector in arrays else np.full(arrays[axis].size, np.nan)
                                      for _, arrays in runs])
             name = variable_name(vector) + (f"_{part}" if part else "")
             what = f"{vector}{f', {part} part per volt of the source' if part else ''}"
-            units = "1" if kind == "extrapolated" else vector_units(vector)
+            units = "1" if group.scaled else vector_units(vector)
             data[name] = ("obs", values, {"units": units, "long_name": what})
     data["row_size"] = ("run", sizes, {"long_name": "number of points of each run", "sample_dimension": "obs",
                                        "units": "1"})

@@ -18,13 +18,39 @@ import threading
 from collections.abc import Iterator
 from concurrent.futures import ProcessPoolExecutor
 
-__all__ = ["spawn_pool", "kill_pool", "die_with_parent", "interrupts_held"]
+__all__ = ["spawn_pool", "started_pool", "kill_pool", "die_with_parent", "interrupts_held"]
 
 
 def spawn_pool(workers: int) -> ProcessPoolExecutor:
     """A spawn process pool of ``workers`` processes that ignore Ctrl-C and die with this process."""
     return ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("spawn"),
                                initializer=die_with_parent, initargs=(os.getpid(),))
+
+
+def _ready() -> None:
+    """A worker's first task: what a study's run imports (the run, its comparison, the designs, scipy's BLAS), so
+    that the worker is ready when its first run comes."""
+    from ..core.blas import load_blas
+    from ..runs import execute  # noqa: F401
+    from ..theory import design  # noqa: F401
+
+    load_blas()
+
+
+@contextlib.contextmanager
+def started_pool(workers: int) -> Iterator[ProcessPoolExecutor]:
+    """A :func:`spawn_pool` whose workers start now, importing what a study's run needs while the driver does
+    something else (plans the study: a sweep designs its chains on them); killed if the block raises, shut down
+    otherwise."""
+    pool = spawn_pool(workers)
+    for _ in range(workers):  # each submit finds no idle worker and starts one (spawn pools start on demand)
+        pool.submit(_ready)
+    try:
+        yield pool
+    except BaseException:
+        kill_pool(pool)
+        raise
+    pool.shutdown(wait=True)
 
 
 def die_with_parent(parent: int) -> None:

@@ -22,7 +22,7 @@ import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -43,6 +43,9 @@ from .executors import (
 )
 from .plan import Combination, Plan, Task, _memory, _seconds
 from .store import Store, engine_text
+
+if TYPE_CHECKING:
+    from concurrent.futures import ProcessPoolExecutor
 
 __all__ = ["Summary", "Progress", "run_plan", "run_specs", "check_specs"]
 
@@ -126,7 +129,8 @@ def run_plan(plan: Plan, store: str | Path, *, executor: str = "process", worker
              progress: Callable[[Progress], None] | None = None,
              on_resume: Callable[[int, int], None] | None = None, retry_failed: bool = False, wait: bool = False,
              on_wait: Callable[[int | None], None] | None = None, verbose: bool = False,
-             transport: str = "auto", max_seconds: float | None = None) -> Summary:
+             transport: str = "auto", max_seconds: float | None = None,
+             pool: ProcessPoolExecutor | None = None) -> Summary:
     """Run a plan into a store, skipping what the store already holds.
 
     Parameters
@@ -161,6 +165,9 @@ def run_plan(plan: Plan, store: str | Path, *, executor: str = "process", worker
     max_seconds : float, optional
         The study's time budget from now, seconds: no run starts after it and a run still going then is stopped;
         neither is stored (:attr:`Summary.pending`), so the same call runs them.
+    pool : ProcessPoolExecutor, optional
+        The process executor's workers, started while the plan was made (:func:`~lcchain.studies.pools.started_pool`);
+        its owner shuts it down.
     """
     start = time.perf_counter()
     deadline = None if max_seconds is None else time.time() + max_seconds
@@ -175,7 +182,7 @@ def run_plan(plan: Plan, store: str | Path, *, executor: str = "process", worker
         results.check_plan(fingerprint, description, len(rows), engine_text(simulator.engine, simulator.version))
         results.runs()  # every stored row read, and checked, before anything starts
         with open_executor(simulator, executor=executor, workers=workers, scheduler=scheduler,
-                           verbose=verbose, scratch=str(Path(store).resolve().parent)) as run:
+                           verbose=verbose, scratch=str(Path(store).resolve().parent), pool=pool) as run:
             results.adopt(fingerprint, description, rows, engine_text(simulator.engine, simulator.version))
             finished = results.finished() - (results.failed() if retry_failed else set())
             refused = {refusal.key: refusal for refusal in plan.refusals if refusal.key not in finished}
@@ -212,10 +219,10 @@ def run_plan(plan: Plan, store: str | Path, *, executor: str = "process", worker
                 combining.ready(finished)
                 if progress is not None:
                     progress(Progress(done, len(todo), failed, time.perf_counter() - start))
-        stored = {run.key: run for run in results.runs()}
-    status = {key: run.status for key, run in stored.items()}
+        stored = results.statuses()
+    status = {key: stored.get(key, ("pending", ""))[0] for key in keys.values()}
     combined = [status[keys[c.index]] for c in plan.combinations]
-    refusals = tuple((str(r.params.get("netlist", r.label)), stored[r.key].reason) for r in plan.refusals)
+    refusals = tuple((str(r.params.get("netlist", r.label)), stored[r.key][1]) for r in plan.refusals)
     return Summary(len(distinct), skipped, done, sum(status[key] == "ok" for key in distinct),
                    sum(status[key] in ("failed", "timeout") for key in distinct), str(store),
                    time.perf_counter() - start, combined.count("ok"), len(combined) - combined.count("ok"),
@@ -227,7 +234,7 @@ class _Combiner:
 
     def __init__(self, plan: Plan, keys: dict[int, str], store: Store):
         self.keys, self.store = keys, store
-        done = {run.key for run in store.runs() if run.status == "ok"}
+        done = {key for key, (status, _) in store.statuses().items() if status == "ok"} if plan.combinations else set()
         # a failed combination is made again: it costs no ngspice run, and its members may be fine
         self.pending = [c for c in plan.combinations if keys[c.index] not in done]
 

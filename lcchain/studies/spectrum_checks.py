@@ -203,7 +203,11 @@ class SpectrumCheck:
 
 
 def _modes(omega: np.ndarray, theory: np.ndarray, P: np.ndarray, P_theory: np.ndarray,
-           resolved: np.ndarray) -> list[dict[str, Any]]:
+           resolved: np.ndarray, low: np.ndarray | None = None,
+           bound: np.ndarray | None = None) -> list[dict[str, Any]]:
+    """Every mode's values; ``omega_theory_low``: the reference's rest beyond float64
+    (:attr:`lcchain.theory.modes.Modes.omega_low`, 0 where it has none), which its error is measured against, and
+    ``omega_bound``: the reference's own relative bound (None where it states none)."""
     def plain(value: float) -> float | None:
         return float(value) if np.isfinite(value) else None
 
@@ -214,7 +218,8 @@ def _modes(omega: np.ndarray, theory: np.ndarray, P: np.ndarray, P_theory: np.nd
                     "spacing": plain(omega[n] - omega[n - 1]) if n else None,
                     "spacing_theory": float(theory[n] - theory[n - 1]) if n else None,
                     "P": float(P[n]) if seen else None, "P_theory": float(P_theory[n]), "seen": seen,
-                    "resolved": bool(resolved[n])})
+                    "resolved": bool(resolved[n]), "omega_theory_low": 0.0 if low is None else float(low[n]),
+                    "omega_bound": None if bound is None else float(bound[n])})
     return out
 
 
@@ -253,7 +258,9 @@ def run_spectrum_check(job: SpectrumJob) -> SpectrumCheck:
     if report.losses is not None:
         errors["Q"] = report.max_rel_error_Q
     check = SpectrumCheck(job.name, job.what, chain.N, job.figure, job.panel,
-                          _modes(omega, theory, report.P, report.theory.transfer, resolved), errors, tolerances,
+                          _modes(omega, theory, report.P, report.theory.transfer, resolved, report.theory.omega_low,
+                                 report.theory.omega_bound),
+                          errors, tolerances,
                           False, report.points, report.timings.get("ngspice_s"))
     check.passed = all(check.verdicts().values())
     return check

@@ -1,8 +1,12 @@
 """The result store: one SQLite file that survives a crash, never mixes two studies and is written by one driver.
 
-* stdlib ``sqlite3`` in WAL mode with ``synchronous = FULL``: every finished
-  run is one transaction, durable when it returns, so killing the driver
-  (Ctrl-C or SIGKILL) loses no finished run.
+* stdlib ``sqlite3`` in WAL mode with ``synchronous = NORMAL``: every
+  finished run is committed to the log when it returns, so killing the
+  driver (Ctrl-C or SIGKILL) loses no finished run; the disk is synced at
+  each checkpoint, not at each commit (a commit's sync was the largest
+  per-run cost of a batch of short runs, 2 ms a run), so only a crash of
+  the machine itself can lose the last runs, which the same command runs
+  again.
 * One driver writes a store at a time: it holds an exclusive ``flock`` on the
   store file itself for as long as it is open for writing (nothing is left
   beside the store; the kernel drops the lock when the driver dies).  A second
@@ -400,7 +404,7 @@ class Store:
             with self._guard():
                 self._db = sqlite3.connect(self.path, timeout=60.0, isolation_level=None)
                 self._db.execute("PRAGMA journal_mode=WAL")
-                self._db.execute("PRAGMA synchronous=FULL")
+                self._db.execute("PRAGMA synchronous=NORMAL")
                 if self._engine_column != _ENGINE_COLUMN[FORMAT]:
                     self._migrate()
             return
@@ -608,7 +612,7 @@ class Store:
         self._lock = descriptor
         with self._guard():
             self._db = sqlite3.connect(self.path, timeout=60.0, isolation_level=None)
-            self._db.execute("PRAGMA synchronous=FULL")
+            self._db.execute("PRAGMA synchronous=NORMAL")
 
     def _remove_leftovers(self) -> None:
         """Hidden stores that a driver killed while making them left beside this one (no driver holds them)."""
@@ -651,16 +655,16 @@ class Store:
         return {row[0] for row in self._rows("SELECT key FROM records WHERE status IN ('failed', 'timeout')")}
 
     def add(self, record: RunRecord, points: int | None = None, *, parts: Mapping[str, Any] | None = None) -> None:
-        """Store one finished run, in one transaction (durable when this returns); ``points`` when it has no
-        result of its own (an extrapolation: its members' points together); ``parts``: its sample's realised
-        part values (``{"L": [...], "C": [...]}``, :func:`lcchain.studies.plan.realised_parts`)."""
+        """Store one finished run, in one transaction (in the log when this returns: a killed driver keeps it);
+        ``points`` when it has no result of its own (an extrapolation: its members' points together); ``parts``: its
+        sample's realised part values (``{"L": [...], "C": [...]}``, :func:`lcchain.studies.plan.realised_parts`)."""
         self.add_many([(record, points)], parts=None if parts is None else {record.key: parts})
 
     def add_many(self, records: Sequence[tuple[RunRecord, int | None]], *,
                  parts: Mapping[str, Mapping[str, Any]] | None = None) -> None:
-        """Store finished runs in one transaction (durable when this returns): what finished together is
-        committed together, one disk sync for all (each (record, points) as for :meth:`add`; ``parts`` by key:
-        a sample's realised part values, kept in its metrics under :data:`PARTS`)."""
+        """Store finished runs in one transaction (in the log when this returns): what finished together is
+        committed together (each (record, points) as for :meth:`add`; ``parts`` by key: a sample's realised part
+        values, kept in its metrics under :data:`PARTS`)."""
         if self.mode != "write" or self._lock is None:
             raise self._refuse("a store that holds a plan, opened for writing (adopt one first)")
         rows = []
@@ -727,6 +731,16 @@ class Store:
     def runs(self) -> list[StoredRun]:
         """Every task in plan order, with its record where it ran."""
         return [self._stored(row) for row in self._rows(f"{self._select} ORDER BY t.idx")]
+
+    def statuses(self) -> dict[str, tuple[str, str]]:
+        """Each stored run's (status, reason) by key, its metrics and arrays unread: what a study's summary
+        counts (reading every run's metrics for it grew the driver with the study)."""
+        found = {}
+        for key, status, reason in self._rows("SELECT key, status, reason FROM records"):
+            if status not in _STATUSES:
+                raise self._tampered(f"run {str(key)[:12]} has the status {str(status)[:20]!r}")
+            found[key] = (status, reason or "")
+        return found
 
     def records(self, keys: Sequence[str]) -> list[StoredRun]:
         """The stored runs under these keys, in their order (as the first task with each key)."""

@@ -8,6 +8,7 @@ import json
 from dataclasses import dataclass
 from typing import Any
 
+from ..core.analyses import ANALYSIS_KINDS_DATA, analysis_kind
 from ..core.errors import ParameterError
 from ..core.types import RUN_STATUSES
 from ..runs.execute import RunRecord
@@ -61,7 +62,8 @@ class StoredRun:
     @property
     def spectral(self) -> bool:
         """An AC run compared with its theory (its metrics are :data:`lcchain.compare.spectral.SPECTRAL_METRICS`)."""
-        return self.metrics is not None and self.metrics.get("analysis") == "ac"
+        kind = self.metrics.get("analysis") if self.metrics is not None else None
+        return isinstance(kind, str) and kind in ANALYSIS_KINDS_DATA and analysis_kind(kind).swept
 
     @property
     def measurements(self) -> dict[str, float | None]:
@@ -88,7 +90,7 @@ class StoredRun:
         return dict(value) if isinstance(value, dict) else None
 
     def record(self) -> RunRecord:
-        """The run as a record without its arrays (:meth:`Store.waveforms` has them)."""
+        """The run as a record without its arrays (:meth:`lcchain.studies.store.Store.waveforms` has them)."""
         if self.status not in RUN_STATUSES:
             raise ParameterError("run", self.index, "a run that finished (this one is pending)")
         return RunRecord(key=self.key, status=self.status, reason=self.reason,
@@ -151,7 +153,8 @@ def value_key(value: Any) -> str:
 
 
 def study_dims(runs: list[StoredRun]) -> tuple[list[str], list[str]]:
-    """The dimensions of a study's dataset (:meth:`Store.to_xarray`), and the axes that are coordinates along them.
+    """The dimensions of a study's dataset (:meth:`lcchain.studies.store.Store.to_xarray`), and the axes that are
+    coordinates along them.
 
     Its axes (:func:`study_axes`), in order, except an axis whose value the dimensions before it already fix for
     every run: a worst case's ``signs``, one per ``corner``, is a coordinate along ``corner``, not a dimension of

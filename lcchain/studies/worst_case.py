@@ -37,6 +37,7 @@ from ..circuit.effects import PreferredValues, Tolerance, rounded
 from ..circuit.elements import adds_elements
 from ..circuit.ladder import Ladder
 from ..circuit.sensitivity import Corner, LadderSensitivity, corners, ladder_sensitivity
+from ..core.analyses import analysis_kind
 from ..core.budget import (
     Budget,
     Estimate,
@@ -115,11 +116,11 @@ def _signs_text(signs: Sequence[float]) -> str:
 
 
 def _refuse(scene: Any, path: str) -> Tolerance:
-    tolerance = scene.effects.get(Tolerance)
+    tolerance: Tolerance | None = scene.effects.get(Tolerance)
     if tolerance is None or not (tolerance.L or tolerance.C):
         raise ParameterError("--worst-case", path, "a scene with [effects.tolerance] L or C > 0 (the corners sit at "
                              "the tolerances)")
-    if scene.analysis.kind != "transient":
+    if analysis_kind(scene.analysis.kind).swept:
         raise ParameterError("analysis.kind", scene.analysis.kind, '"transient" with --worst-case (the corners are '
                              "judged by the first arrival's peak)", path)
     if scene.excitation.kind != "kick":
@@ -132,7 +133,6 @@ def _refuse(scene: Any, path: str) -> Tolerance:
     if tolerance.corner is not None:
         raise ParameterError("effects.tolerance.corner", list(tolerance.corner), "none with --worst-case (it "
                              "makes the corners)", path)
-    assert isinstance(tolerance, Tolerance)  # the registry's entry for the key tolerance
     return tolerance
 
 
@@ -176,7 +176,7 @@ def worst_case_plan(path: str | Path, *, components: int = DEFAULT_COMPONENTS, m
     request = monte_carlo.request
     series = request.effect(PreferredValues)
     nominal = monte_carlo.nominal
-    if isinstance(series, PreferredValues):
+    if series is not None:
         nominal = rounded(nominal, request.L0, request.C0, series.series)
     sensitivity_estimate(nominal.N).check(budget, "--worst-case", str(path))
     sensitivity = ladder_sensitivity(Ladder(nominal, request.L0, request.C0), metric=metric)
@@ -188,7 +188,7 @@ def worst_case_plan(path: str | Path, *, components: int = DEFAULT_COMPONENTS, m
         searching.check(budget, "--worst-case", method, "--worst-case corners (a quick look, not a search)")
 
     def corner_plan(corner: Corner) -> Any:
-        effects = tuple(replace(tolerance, samples=1, corner=corner.signs) if isinstance(effect, Tolerance)
+        effects = tuple(replace(tolerance, samples=1, corner=corner.signs) if effect == tolerance
                         else effect for effect in request.effects)
         return plan_request(replace(request, effects=effects), budget)
 

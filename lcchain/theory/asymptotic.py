@@ -151,10 +151,15 @@ _GRID_SIGMA = np.linspace(0.25, 6.0, 24)
 _GRID_TAU = np.geomspace(3e-3, 1.0, 16)
 
 
+#: Each design's rational factor of the end response, by case.
+_RATIONALS: dict[str, Callable[[complex], complex]] = {
+    "one-mass": lambda z: 1.0 / ((1.0 - 1j * z) * (1.0 - 1j * z)),
+    "two-mass": lambda z: 1.0 / ((1.0 - z * z - 1j * _SQRT2 * z) * (1.0 - z * z - 1j * _SQRT2 * z)),
+}
+
+
 def _rational(case: str) -> Callable[[complex], complex]:
-    if case == "one-mass":
-        return lambda z: 1.0 / ((1.0 - 1j * z) * (1.0 - 1j * z))
-    return lambda z: 1.0 / ((1.0 - z * z - 1j * _SQRT2 * z) * (1.0 - z * z - 1j * _SQRT2 * z))
+    return _RATIONALS[case]
 
 
 def _check_case(case: object) -> DesignCase:
@@ -463,10 +468,16 @@ class AsymptoticOptimum:
 def _coefficients(case: str, tau: float, sigma: float) -> dict[str, float]:
     c_delta = (3.0 * tau) ** (1.0 / 3.0)
     coefficients = {"Delta": c_delta, "s": sigma / (2.0 * c_delta)}
-    if case == "one-mass":
-        coefficients["x"] = math.sqrt(2.0 * c_delta)
-        coefficients["m1"] = 1.0 / (2.0 * c_delta)
-        return coefficients
+    coefficients.update(_DESIGN_COEFFICIENTS[case](c_delta))
+    return coefficients
+
+
+def _one_mass_coefficients(c_delta: float) -> dict[str, float]:
+    return {"x": math.sqrt(2.0 * c_delta), "m1": 1.0 / (2.0 * c_delta)}
+
+
+def _two_mass_coefficients(c_delta: float) -> dict[str, float]:
+    coefficients: dict[str, float] = {}
     c_r = 4.0 * _SQRT2 * c_delta
     coefficients.update(
         r=c_r,
@@ -478,6 +489,11 @@ def _coefficients(case: str, tau: float, sigma: float) -> dict[str, float]:
         K12=c_r / 2.0,
     )
     return coefficients
+
+
+#: Each design's own coefficients of its large-N laws, from c_Delta = (3 tau)^(1/3).
+_DESIGN_COEFFICIENTS: dict[str, Callable[[float], dict[str, float]]] = {
+    "one-mass": _one_mass_coefficients, "two-mass": _two_mass_coefficients}
 
 
 def asymptotic_optimum(case: DesignCase = "two-mass") -> AsymptoticOptimum:

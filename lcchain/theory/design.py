@@ -42,7 +42,25 @@ from .closed_form import closed_form_modes
 from .exact import exact_modes
 from .modes import Modes
 
-__all__ = ["Design", "optimal_design", "optimal_one_mass", "optimal_two_mass", "quartic_w"]
+__all__ = ["Design", "optimal_design", "optimal_one_mass", "optimal_two_mass", "quartic_w", "DESIGN_CHAINS",
+           "DESIGN_TABLES", "design_chain"]
+
+#: Each optimised design's chain from its parameters (the paper's x of Table I; r and w of Table II).
+DESIGN_CHAINS: dict[str, Callable[[int, Any], Chain]] = {
+    "one-mass": lambda N, params: Chain.one_mass(N, params["x"]),
+    "two-mass": lambda N, params: Chain.from_rw(N, params["r"], params["w"]),
+}
+#: Each optimised design's table in the paper and what it optimises.
+DESIGN_TABLES: dict[str, tuple[str, str]] = {"one-mass": ("Table I", "one optimised mass"),
+                                             "two-mass": ("Table II", "two optimised masses and their spring")}
+#: The fields of :meth:`Design.to_dict` that only one design has.
+_DESIGN_FIELDS: dict[str, tuple[str, ...]] = {"one-mass": ("Delta", "delta_uniform"), "two-mass": ("r", "w")}
+
+
+def design_chain(case: str, N: int, params: Any) -> Chain:
+    """The chain of design ``case`` (``"one-mass"``, ``"two-mass"``) for N masses from its parameters (a mapping
+    holding ``x``, or ``r`` and ``w``)."""
+    return DESIGN_CHAINS[choice("case", case, DESIGN_CASES)](N, params)
 
 
 @dataclass(frozen=True)
@@ -91,10 +109,7 @@ class Design:
     @property
     def chain(self) -> Chain:
         """The optimised chain."""
-        if self.case == "one-mass":
-            return Chain.one_mass(self.N, self.x)
-        assert self.r is not None and self.w is not None  # a two-mass design has (r, w)
-        return Chain.from_rw(self.N, self.r, self.w)
+        return design_chain(self.case, self.N, {"x": self.x, "r": self.r, "w": self.w})
 
     def to_dict(self) -> dict[str, Any]:
         """JSON object: N, case, delta, s, t_arrival, m1, m2, K12, x, y, z and r, w or Delta, delta_uniform."""
@@ -102,10 +117,7 @@ class Design:
             "N": self.N, "case": self.case, "delta": self.delta, "s": self.s, "t_arrival": self.t_arrival,
             "m1": self.m1, "m2": self.m2, "K12": self.K12, "x": self.x, "y": self.y, "z": self.z,
         }
-        if self.case == "two-mass":
-            data.update(r=self.r, w=self.w)
-        else:
-            data.update(Delta=self.Delta, delta_uniform=self.delta_uniform)
+        data.update({name: getattr(self, name) for name in _DESIGN_FIELDS[self.case]})
         return {key: (float(v) if isinstance(v, (float, np.floating)) else v) for key, v in data.items()}
 
 
@@ -274,4 +286,9 @@ def optimal_two_mass(N: int, progress: Callable[[float], None] | None = None) ->
 def optimal_design(case: DesignCase, N: int, progress: Callable[[float], None] | None = None) -> Design:
     """Optimal design of the given case (``"one-mass"`` or ``"two-mass"``) for N masses."""
     choice("case", case, DESIGN_CASES)
-    return optimal_one_mass(N, progress) if case == "one-mass" else optimal_two_mass(N, progress)
+    return _OPTIMISERS[case](N, progress)
+
+
+#: Each design's optimiser.
+_OPTIMISERS: dict[str, Callable[[int, Callable[[float], None] | None], Design]] = {
+    "one-mass": optimal_one_mass, "two-mass": optimal_two_mass}

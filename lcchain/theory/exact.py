@@ -18,6 +18,7 @@ of Eq. e.utn.
 
 from __future__ import annotations
 
+import decimal
 import math
 
 import numpy as np
@@ -27,9 +28,11 @@ from ..core.errors import ParameterError
 from ..core.limits import COUPLED_MAX_N, EXACT_MAX_N
 from .chain import Chain
 from .modes import WEIGHT_PRECISION, Modes
+from .reference import certify_frequencies, coupled_reference, lapack_bounds, transfer_weights
 
-__all__ = ["tridiagonal", "diagonalise", "sharp_frequencies", "exact_modes", "driven_modes", "coupled_vectors",
-           "modal_weights", "perfect_weights", "is_free_perfect", "EXACT_MAX_N", "COUPLED_MAX_N"]
+__all__ = ["tridiagonal", "diagonalise", "sharp_frequencies", "sharp_frequencies_extended", "exact_modes",
+           "driven_modes", "coupled_vectors",
+           "modal_weights", "perfect_weights", "is_free_perfect", "perfect_walls", "EXACT_MAX_N", "COUPLED_MAX_N"]
 
 
 def tridiagonal(chain: Chain) -> tuple[np.ndarray, np.ndarray]:
@@ -121,6 +124,12 @@ def _below(edges: np.ndarray, sigma: np.ndarray) -> np.ndarray:
 
 
 def sharp_frequencies(chain: Chain, omega: np.ndarray) -> np.ndarray:
+    """The normal frequencies ``omega`` refined to high relative accuracy (:func:`sharp_frequencies_extended`),
+    rounded to float64."""
+    return np.asarray(sharp_frequencies_extended(chain, omega), dtype=float)
+
+
+def sharp_frequencies_extended(chain: Chain, omega: np.ndarray) -> np.ndarray:
     """The normal frequencies ``omega`` (ascending, LAPACK's) refined to high relative accuracy, every one.
 
     LAPACK places the eigenvalues mu_n = omega_n^2 of B to eps ||B|| absolute: a low mode's relative error is
@@ -138,7 +147,7 @@ def sharp_frequencies(chain: Chain, omega: np.ndarray) -> np.ndarray:
     omega = np.asarray(omega, dtype=float)
     moving = np.flatnonzero(omega > 0)
     if moving.size == 0:
-        return omega.copy()
+        return omega.astype(np.longdouble)
     index = moving
     mu = omega[moving].astype(np.longdouble) ** 2
     slack = 64 * np.finfo(float).eps * float(np.max(edges * edges)) * 4 + np.finfo(float).tiny
@@ -155,8 +164,8 @@ def sharp_frequencies(chain: Chain, omega: np.ndarray) -> np.ndarray:
         above = _below(edges, mid) > index[open_]
         hi[open_] = np.where(above, mid, hi[open_])
         lo[open_] = np.where(above, lo[open_], mid)
-    sharp = omega.copy()
-    sharp[moving] = (0.5 * (lo + hi)).astype(float)
+    sharp = omega.astype(np.longdouble)
+    sharp[moving] = 0.5 * (lo + hi)
     return sharp
 
 
@@ -168,17 +177,39 @@ def driven_modes(chain: Chain) -> Modes:
     m_1 u_1n, not by the kick's (M u_n)_1.  They are m_1 times the residues of the transfer admittances
     Y_11 Z0 and Y_N1 Z0 at s^2 = -omega_n^2 (:mod:`lcchain.compare.spectrum`).
 
-    They are the reference an AC run is measured against, to ~1e-16: without coupling every omega_n is refined to
-    high relative accuracy (:func:`sharp_frequencies`; LAPACK's alone loses eps ||B|| / omega_n^2 on the low
-    modes).  Coupled coils keep LAPACK's generalised solver's.
+    They are the reference an AC run is measured against, each with its own error bound (``omega_bound``,
+    ``transfer_bound``): without coupling every omega_n is refined to high relative accuracy
+    (:func:`sharp_frequencies_extended`; LAPACK's alone loses eps ||B|| / omega_n^2 on the low modes) and certified,
+    kept beyond float64 (``omega_low``), and every P_n follows from the frequencies alone
+    (:mod:`lcchain.theory.reference`: about 1e-18 relative on omega_n, 1e-16 absolute on P_n).  Coupled coils
+    refine LAPACK's generalised solution by double-double Rayleigh quotients with Temple's bound, and the weights
+    by the pencil's residue (:func:`lcchain.theory.reference.coupled_reference`), keeping LAPACK's values and
+    known bounds only where modes are degenerate to rounding.
     """
     if not chain.coupled:
         modes = exact_modes(chain)
-        return Modes(sharp_frequencies(chain, modes.omega), modes.density, modes.transfer, modes.method,
-                     precision=modes.precision)
+        extended = sharp_frequencies_extended(chain, modes.omega)
+        omega, low, bound = certify_frequencies(chain, extended)
+        transfer, transfer_bound = transfer_weights(chain, extended, bound)
+        return Modes(omega, modes.density, transfer, modes.method, omega_low=low, omega_bound=bound,
+                     transfer_bound=transfer_bound)
     omega, u = coupled_vectors(chain)
     amplitude = modal_weights(chain, u, force=True)
-    return Modes(omega, u[0, :] * amplitude, u[-1, :] * amplitude, "exact", precision=WEIGHT_PRECISION)
+    transfer = u[-1, :] * amplitude
+    lapack_omega, vector_bound = lapack_bounds(omega**2, float(np.max(omega, initial=0.0)) ** 2)
+    scale = float(chain.masses[0]) / math.sqrt(float(np.min(chain.masses)))  # u is M-orthonormal
+    lapack_transfer = scale * vector_bound * (np.abs(u[0, :]) + np.abs(u[-1, :]) + vector_bound)
+    sharp, low, omega_bound, weights, transfer_bound = coupled_reference(chain, u)
+    # where Temple's bound says nothing (modes degenerate to rounding), LAPACK's values with LAPACK's bounds
+    held = np.isfinite(omega_bound) & np.isfinite(sharp)
+    weighed = held & np.isfinite(weights) & np.isfinite(transfer_bound)
+    # omega stays LAPACK's, the refinement is all in omega_low: the sweep is placed from omega, and a sweep moved by
+    # the last bits of its poles changed the fit's result (two-mass N = 100, k = 0.2: its zero mode then unseen)
+    correction = (sharp - omega) + low
+    return Modes(omega, u[0, :] * amplitude, np.where(weighed, weights, transfer), "exact",
+                 precision=WEIGHT_PRECISION, omega_low=np.where(held, correction, 0.0),
+                 omega_bound=np.where(held, omega_bound, lapack_omega),
+                 transfer_bound=np.where(weighed, transfer_bound, lapack_transfer))
 
 
 @fixed_blas_threads
@@ -200,8 +231,9 @@ def exact_modes(chain: Chain) -> Modes:
         amplitude = modal_weights(chain, u)  # an initial current (charge) in loop 1
         return Modes(omega, u[0, :] * amplitude, u[-1, :] * amplitude, "exact", precision=WEIGHT_PRECISION)
     omega, U = diagonalise(chain)
-    if is_free_perfect(chain):  # its end weights are known exactly: LAPACK's would be rounding below 1e-16
-        density = perfect_weights(chain.N)
+    walls = perfect_walls(chain)
+    if walls is not None:  # its end weights are known exactly: LAPACK's would be rounding below 1e-16
+        density = perfect_weights(chain.N, walls)
         return Modes(omega, density, density * _alternating(chain.N), "exact")
     first, last = U[0, :], U[-1, :]
     density = first * first
@@ -216,19 +248,43 @@ def _alternating(N: int) -> np.ndarray:
 def is_free_perfect(chain: Chain) -> bool:
     """Whether the chain is the free perfect cradle as :func:`lcchain.perfect_design` made it (walls = 0, no
     coupling): a sample drawn from it, or a chain rounded to preferred values, is not."""
-    return chain._params[:1] == ("perfect",) and not chain.coupled and chain.is_free
+    return perfect_walls(chain) == 0 and chain.is_free
 
 
-def perfect_weights(N: int) -> np.ndarray:
-    """The free perfect cradle's mode densities, exactly: P_n = C(2N-2, N-n) / 2^(2N-3), half that for n = 1.
+def perfect_walls(chain: Chain) -> int | None:
+    """The walls j of a perfect cradle as :func:`lcchain.perfect_design` made it (0: free), None for any other
+    chain (a sample drawn from one, a chain rounded to preferred values, coupled coils)."""
+    if chain._params[:1] != ("perfect",) or chain.coupled:
+        return None
+    return int(chain._params[1]) if len(chain._params) > 1 else 0
 
-    Computed in Python integers and rounded once to float64 (correctly rounded, down to subnormals): the
-    smallest, P_N = 2^-(2N-3), is 5.0e-60 for N = 100, far below what an eigenvector's 1e-16 resolves.  The
-    transfer weights are (-1)^(n-1) P_n (the cradle is mirror symmetric).
+
+def perfect_weights(N: int, walls: int = 0) -> np.ndarray:
+    """A perfect cradle's mode densities from its prescribed spectrum omega_n = n - 1 + 2 walls, in closed form.
+
+    A persymmetric chain's weights are P_n = c / prod_(m != n) |mu_n - mu_m| (mu = omega^2; the Jacobi
+    matrix's residue, :mod:`lcchain.theory.reference`), here with mu_n - mu_m = (n - m)(n + m - 2 + 4 walls):
+    integers.  Free (walls = 0): P_n = C(2N-2, N-n) / 2^(2N-3), half that for n = 1, in Python integers, rounded
+    once (the smallest, P_N = 2^-(2N-3), is 5.0e-60 for N = 100, far below what an eigenvector's 1e-16
+    resolves).  With walls, the ratio of neighbours is the exact rational
+
+        P_(n+1) / P_n = (N - n)/n * (n - 1 + 4j)/(n + N - 1 + 4j) * (2n + 4j)/(2n - 2 + 4j),
+
+    multiplied up in 40-digit decimal arithmetic (N roundings of 1e-40: exact in float64).  The transfer weights
+    are (-1)^(n-1) P_n (the cradle is mirror symmetric).
     """
-    scale = 2 ** (2 * N - 3)
-    weights = [math.comb(2 * N - 2, N - n) / scale for n in range(1, N + 1)]
-    weights[0] /= 2.0
-    return np.array(weights)
-
-
+    if walls == 0:
+        scale = 2 ** (2 * N - 3)
+        weights = [math.comb(2 * N - 2, N - n) / scale for n in range(1, N + 1)]
+        weights[0] /= 2.0
+        return np.array(weights)
+    with decimal.localcontext() as context:
+        context.prec = 40
+        j4 = 4 * walls
+        values = [decimal.Decimal(1)]
+        for n in range(1, N):
+            ratio = decimal.Decimal((N - n) * (n - 1 + j4) * (2 * n + j4)) / decimal.Decimal(
+                n * (n + N - 1 + j4) * (2 * n - 2 + j4))
+            values.append(values[-1] * ratio)
+        total = sum(values)
+        return np.array([float(value / total) for value in values])

@@ -62,6 +62,15 @@ class Modes(FrozenArrays):
         Relative precision of the weights: a |weight| below ``precision`` times the largest is rounding noise,
         not a value (:meth:`precise`).  :data:`WEIGHT_PRECISION` for weights computed in float64; 0 for exact
         ones (the free perfect cradle's binomials, :func:`lcchain.theory.exact.perfect_weights`).
+    omega_low : ndarray or None
+        Where the frequencies are known beyond float64 (an AC run's reference, :mod:`lcchain.theory.reference`):
+        the rest of each, the reference being omega_n + omega_low_n, so a comparison is not limited by float64's
+        rounding of them (coupled coils: omega_n stays LAPACK's and omega_low holds the whole refinement).
+    omega_bound : ndarray or None
+        Each frequency's own relative error bound (of omega + omega_low), where it is stated.
+    transfer_bound : ndarray or None
+        Each end-to-end weight's own absolute error bound, where it is stated: a weight above it is a value
+        (:meth:`precise`).
     """
 
     omega: np.ndarray
@@ -70,10 +79,16 @@ class Modes(FrozenArrays):
     method: str
     k: np.ndarray | None = None
     precision: float = 0.0
+    omega_low: np.ndarray | None = None
+    omega_bound: np.ndarray | None = None
+    transfer_bound: np.ndarray | None = None
 
     def precise(self, weights: np.ndarray | None = None) -> np.ndarray:
         """Whether each weight (default: ``transfer``) is above the precision it was computed with, bool per
-        mode: False marks rounding noise (printed as "below precision", not drawn on a log axis)."""
+        mode: False marks rounding noise (printed as "below precision", not drawn on a log axis).  With stated
+        bounds (``transfer_bound``): whether the weight is above its own bound."""
+        if weights is None and self.transfer_bound is not None:
+            return np.asarray(np.abs(self.transfer) > self.transfer_bound)
         values = np.abs(np.asarray(self.transfer if weights is None else weights, dtype=float))
         return np.asarray(values >= self.precision * float(np.max(values, initial=0.0)))
 
@@ -137,7 +152,7 @@ class Modes(FrozenArrays):
                           attrs={"method": self.method, "precision": self.precision})
 
     def __post_init__(self) -> None:
-        for name in ("omega", "density", "transfer", "k"):
+        for name in ("omega", "density", "transfer", "k", "omega_low", "omega_bound", "transfer_bound"):
             value = getattr(self, name)
             if value is not None and not isinstance(value, np.ndarray):
                 object.__setattr__(self, name, readonly(value))

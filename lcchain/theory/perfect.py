@@ -579,8 +579,9 @@ def perfect_design(N: int, walls: int = 0) -> PerfectDesign:
     if walls == 0 and N in PERFECT_N:
         # the paper's exact fractions, which the algorithm reproduces to rounding (tests): correct to the last digit
         chain = Chain.perfect(N, bulk=True)
-    if walls == 0:  # marked: its modes' end weights are exact binomials (lcchain.theory.exact.perfect_weights)
-        chain = Chain(chain.masses, chain.springs, name="perfect", _params=("perfect",))
+    # marked: its modes' end weights are known from its spectrum in closed form (lcchain.theory.exact.perfect_weights)
+    marks = ("perfect",) if walls == 0 else ("perfect", walls)
+    chain = Chain(chain.masses, chain.springs, name="perfect", _params=marks)
     T = math.pi / scale  # dw = scale in bulk units
     # the check: the chain's own frequencies, recomputed from its masses and springs, and their mode density
     measured = spectrum_of(chain)

@@ -82,7 +82,6 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
-from numpy.polynomial.legendre import leggauss
 from numpy.typing import ArrayLike
 
 from ..core.blas import fixed_blas_threads
@@ -124,7 +123,18 @@ LOOPS: tuple[str, ...] = PROBES
 GAUSSIAN_SPAN = 12.0
 
 _BLOCK = 1 << 22  # elements per temporary block (32 MB of float64)
-_NODES, _WEIGHTS = leggauss(16)
+
+
+@functools.cache
+def _gauss() -> tuple[np.ndarray, np.ndarray]:
+    """The 16 Gauss-Legendre nodes and weights on [-1, 1], made on first use: ``numpy.polynomial`` is 10 ms of
+    the start of a command that never integrates a pulse (a batch of foreign netlists)."""
+    from numpy.polynomial.legendre import leggauss
+
+    nodes, weights = leggauss(16)
+    return nodes, weights
+
+
 # Panel length times the fastest rate max|lambda|: with 16 nodes the quadrature
 # error of an exponential on such a panel is ~ (1.5)^32 / 32! ~ 1e-31.
 _PANEL_RATE = 3.0
@@ -266,13 +276,14 @@ def _pulse_states(omega: np.ndarray, gamma: float, shape: str,
     # the same propagator and node functions serve every panel
     Xs, Ys = _basis(omega, gamma, np.array([step]))
     Xs, Ys = Xs[0], Ys[0]
-    Xn, Yn = _basis(omega, gamma, 0.5 * step * (1.0 - _NODES))  # s, at t_end - t' for each node t'
+    nodes, node_weights = _gauss()
+    Xn, Yn = _basis(omega, gamma, 0.5 * step * (1.0 - nodes))  # s, at t_end - t' for each node t'
     Vn = Yn - half * Xn
     x = np.zeros((panels + 1, omega.size))
     v = np.zeros((panels + 1, omega.size))
     w2 = omega * omega
     for k in range(panels):
-        gw = 0.5 * step * _WEIGHTS * _pulse_shape(shape, width, edges[k] + 0.5 * step * (1.0 + _NODES))
+        gw = 0.5 * step * node_weights * _pulse_shape(shape, width, edges[k] + 0.5 * step * (1.0 + nodes))
         x[k + 1] = (Ys + half * Xs) * x[k] + Xs * v[k] + gw @ Xn
         v[k + 1] = -w2 * Xs * x[k] + (Ys - half * Xs) * v[k] + gw @ Vn
     return edges, step, x, v
@@ -284,9 +295,10 @@ def _pulse_inside(weights: np.ndarray, omega: np.ndarray, gamma: float, shape: s
     """Velocity rows at times inside the pulse, shape (R, times.size); ``alone`` as :func:`_modal_sum`'s."""
     half = 0.5 * gamma
     w2 = omega * omega
+    nodes, node_weights = _gauss()
     out = np.empty((weights.shape[1], times.size))
     panel = np.clip(np.floor(times / step).astype(int), 0, edges.size - 2)
-    rows = max(1, _BLOCK // max(omega.size * (_NODES.size + 1), 1))
+    rows = max(1, _BLOCK // max(omega.size * (nodes.size + 1), 1))
     for start in range(0, times.size, rows):
         t = times[start : start + rows]
         k = panel[start : start + rows]
@@ -294,11 +306,11 @@ def _pulse_inside(weights: np.ndarray, omega: np.ndarray, gamma: float, shape: s
         X, Y = _basis(omega, gamma, delta)
         velocity = -w2 * X * x[k] + (Y - half * X) * v[k]
         # quadrature over [b_k, t]: nodes t' = b_k + delta (1 + x_i)/2, lag t - t' = delta (1 - x_i)/2
-        lag = np.multiply.outer(delta, 0.5 * (1.0 - _NODES))
-        source = _pulse_shape(shape, width, edges[k][:, None] + np.multiply.outer(delta, 0.5 * (1.0 + _NODES)))
-        gw = 0.5 * delta[:, None] * _WEIGHTS * source
+        lag = np.multiply.outer(delta, 0.5 * (1.0 - nodes))
+        source = _pulse_shape(shape, width, edges[k][:, None] + np.multiply.outer(delta, 0.5 * (1.0 + nodes)))
+        gw = 0.5 * delta[:, None] * node_weights * source
         Xn, Yn = _basis(omega, gamma, lag)
-        Vn = (Yn - half * Xn).reshape(t.size, _NODES.size, omega.size)
+        Vn = (Yn - half * Xn).reshape(t.size, nodes.size, omega.size)
         velocity += _rows(lambda g, u: np.einsum("jn,jnm->jm", g, u), alone, gw, Vn)
         out[:, start : start + rows] = _rows(lambda u: u @ weights, alone, velocity).T
     return out

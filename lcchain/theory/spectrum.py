@@ -23,7 +23,7 @@ from .exact import exact_modes
 from .modes import Modes, cosine_sum
 
 __all__ = ["normal_modes", "modes_of", "MODE_SOLVERS", "transmission_amplitude", "return_amplitude",
-           "CLOSED_FORM_MIN_N"]
+           "CLOSED_FORM_MIN_N", "driving_admittance"]
 
 #: Below this N the "auto" method diagonalises exactly (it is cheap and needs no model).
 CLOSED_FORM_MIN_N = 400
@@ -117,3 +117,33 @@ def return_amplitude(chain_or_modes: Chain | Modes, t: Any, method: ModeMethod =
     """
     modes = modes_of(chain_or_modes, method)
     return cosine_sum(modes.density, modes.omega, _finite_times(t))
+
+
+def driving_admittance(chain: Chain, omega: np.ndarray, Q: float | None = None) -> np.ndarray:
+    """The ladder's Y_11 Z0 = I_1/V_1 sqrt(L0/C0) at s = j omega, exactly: the velocity of mass 1 per unit force on
+    it, s [(s^2 + s/Q) M + K]^(-1)_11 (Eq. e.Horig with losses proportional to the masses, gamma = 1/Q).
+
+    No modes: the (1, 1) entry of the tridiagonal's inverse by its continued fraction from the far end, in
+    extended precision (``numpy.clongdouble``), so a merged spectrum's envelope is compared with the circuit's
+    whatever the modes' overlap.
+
+    Parameters
+    ----------
+    chain : Chain
+        Any chain (walls and coupled coils included: M is then tridiagonal).
+    omega : ndarray
+        Angular frequencies, units of 1/sqrt(L0 C0), > 0.
+    Q : float, optional
+        The losses' quality factor; None: lossless.
+    """
+    instance("chain", chain, Chain)
+    s = 1j * np.asarray(omega, dtype=np.longdouble)
+    lam = s * s + (0 if Q is None else s / np.longdouble(Q))
+    mass, coupling = (np.asarray(band, dtype=np.longdouble) for band in chain.mass_matrix_bands())
+    K = np.asarray(chain.springs, dtype=np.longdouble)
+    diagonal = lam[None, :] * mass[:, None] + (K[:-1] + K[1:])[:, None]
+    off = lam[None, :] * coupling[:, None] - K[1:-1][:, None]
+    pivot = diagonal[-1]
+    for i in range(chain.N - 2, -1, -1):
+        pivot = diagonal[i] - off[i] * off[i] / pivot
+    return np.asarray(s / pivot, dtype=complex)

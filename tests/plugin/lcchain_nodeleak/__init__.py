@@ -10,9 +10,11 @@ from typing import Any, ClassVar
 from lcchain.circuit.effects import Effect
 from lcchain.circuit.ladder import Ladder
 from lcchain.core.checks import real
-from lcchain.spice.ngspice import Ngspice
-from lcchain.spice.runner import RunResult, run
-from lcchain.spice.simulator import Simulator, find_simulator
+from lcchain.spice.ngspice.engine import Ngspice
+from lcchain.spice.ngspice.find import find_simulator
+from lcchain.spice.ngspice.runner import run
+from lcchain.spice.result import RunResult
+from lcchain.spice.simulator import Simulator
 
 
 @dataclass(frozen=True)

@@ -1,22 +1,26 @@
 """ngspice as an :class:`~lcchain.spice.engine.Engine`: lcchain's netlists are written in its dialect.
 
-It wraps what was there before engines: :func:`lcchain.spice.simulator.find_simulator` (both transports,
-``ngspice -b`` and the shared library) and :func:`lcchain.spice.runner.run` (the allow-list and the sandbox
+It wraps what was there before engines: :func:`lcchain.spice.ngspice.find.find_simulator` (both transports,
+``ngspice -b`` and the shared library) and :func:`lcchain.spice.ngspice.runner.run` (the allow-list and the sandbox
 for netlists lcchain did not write), unchanged.  Its AC analysis runs the netlist as it is in the batch transport
-(:func:`lcchain.spice.runner.run_plot`) and reads the raw file's complex AC plot.
+(:func:`lcchain.spice.ngspice.runner.run_plot`) and reads the raw file's complex AC plot.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
+from dataclasses import replace
 from typing import ClassVar
 
-from ..core.types import Backend
-from .acdata import AcResult, ac_result
-from .engine import Engine
-from .runner import RunResult, run, run_plot
-from .simulator import INSTALL_COMMAND, Simulator, find_simulator
-from .text import require_canonical
+from ...core.types import AnalysisKind, Backend
+from ..acdata import AcResult, ac_result
+from ..engine import Engine
+from ..result import RunResult
+from ..simulator import Simulator
+from ..text import require_canonical
+from .find import INSTALL_COMMAND, find_simulator
+from .runner import PLOT_TRANSPORTS, run, run_plot
+from .warm import WARM_BELOW_SECONDS, close_workers, warm_simulator
 
 __all__ = ["Ngspice"]
 
@@ -31,9 +35,13 @@ class Ngspice(Engine):
     extrapolates: ClassVar[bool] = True
     steps_modelled: ClassVar[bool] = True
     runs_ac: ClassVar[bool] = True
+    ac_transports: ClassVar[tuple[Backend, ...]] = PLOT_TRANSPORTS
+    threaded_transports: ClassVar[tuple[Backend, ...]] = ("batch",)
+    warm_below_seconds: ClassVar[float] = WARM_BELOW_SECONDS
+    warm_analyses: ClassVar[tuple[AnalysisKind, ...]] = ("transient",)  # an AC run goes through ngspice -b
 
     def find(self, backend: Backend = "batch") -> Simulator:
-        return find_simulator(backend)
+        return replace(find_simulator(backend), engine=self.name)  # a subclass under another name finds its own
 
     def dialect(self, netlist: str, vectors: Sequence[str]) -> str:
         return require_canonical(netlist)  # ngspice runs the text as it is, split at LF as it was checked
@@ -45,6 +53,12 @@ class Ngspice(Engine):
         return run(netlist, vectors, tstop, simulator=simulator, timeout=timeout, progress=progress, cwd=cwd,
                    trusted=trusted, foreign=foreign, max_output_bytes=max_output_bytes,
                    max_resident_bytes=max_resident_bytes)
+
+    def warm(self, simulator: Simulator) -> Simulator:
+        return warm_simulator(simulator)
+
+    def release(self, kill: bool = False) -> None:
+        close_workers(kill)
 
     def run_ac(self, netlist: str, vectors: Sequence[str], points: int, *, simulator: Simulator,
                timeout: float = 600.0, foreign: bool = False, max_output_bytes: float | None = None,

@@ -1,6 +1,6 @@
 """Child-process entry point of the ``"shared"`` backend (private).
 
-Run as ``python -m lcchain.spice.shared_worker`` by :mod:`lcchain.spice.runner`
+Run as ``python -m lcchain.spice.ngspice.shared_worker`` by :mod:`lcchain.spice.ngspice.runner`
 (under ``setpriv --pdeathsig KILL`` where available, in a session of its own,
 with ``HOME`` pointing nowhere). It reads one JSON request
 ``{"netlist": str, "library": str}`` from stdin, runs the netlist once in the

@@ -7,8 +7,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..core.errors import SimulationError
-from .text import canonical_vector_name
+from ...core.errors import SimulationError
+from ..text import canonical_vector_name
 
 __all__ = ["read_raw"]
 

@@ -1,7 +1,7 @@
 """Child-process entry point of the ``"warm"`` transport (private): ngspice's shared library, loaded once.
 
-Run as ``python -P -m lcchain.spice.warm_worker LIBRARY`` by
-:mod:`lcchain.spice.warm` (under ``setpriv --pdeathsig KILL``, in a session of
+Run as ``python -P -m lcchain.spice.ngspice.warm_worker LIBRARY`` by
+:mod:`lcchain.spice.ngspice.warm` (under ``setpriv --pdeathsig KILL``, in a session of
 its own, with ``HOME`` pointing nowhere, and in the sandbox for netlists lcchain
 did not write).  It loads ``libngspice.so.0`` through :mod:`ctypes` (no PySpice,
 no numpy: it starts in tens of milliseconds) and then serves one netlist after

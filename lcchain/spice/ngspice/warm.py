@@ -2,7 +2,7 @@
 
 An ``ngspice -b`` process costs about 6 ms of CPU before it reads a netlist;
 a small circuit (N = 10) then computes in 2 to 3 ms.  A warm worker
-(``python -m lcchain.spice.warm_worker``, :mod:`ctypes` on ``libngspice.so.0``,
+(``python -m lcchain.spice.ngspice.warm_worker``, :mod:`ctypes` on ``libngspice.so.0``,
 no PySpice) pays the start once and then runs each netlist for what ngspice
 computes.  Its results are bit-identical to ``ngspice -b``'s raw files (tested),
 so a run's key and digest do not depend on the transport that ran it: studies
@@ -48,14 +48,16 @@ from typing import IO, Any
 
 import numpy as np
 
-from ..core.budget import show_bytes
-from ..core.errors import SimulationError, SimulatorMissingError
-from .log import failure_reason, useful_output
-from .processes import PACKAGE_ROOT, WATCH_INTERVAL, child_env, kill_group, outgrown, read_all, resident_bytes
-from .simulator import Simulator, find_shared_library
-from .text import canonical_vector_name, circuit_lines, text_digest
+from ...core.budget import show_bytes
+from ...core.errors import SimulationError, SimulatorMissingError
+from ..log import failure_reason, useful_output
+from ..processes import PACKAGE_ROOT, WATCH_INTERVAL, child_env, kill_group, outgrown, read_all, resident_bytes
+from ..simulator import Simulator
+from ..text import canonical_vector_name, circuit_lines, text_digest
+from .find import find_shared_library
+from .place import Place
 
-__all__ = ["WarmWorker", "worker_for", "close_workers", "warm_simulator", "WARM_BELOW_SECONDS",
+__all__ = ["WarmWorker", "run_warm", "worker_for", "close_workers", "warm_simulator", "WARM_BELOW_SECONDS",
            "MAX_WORKER_BYTES", "MAX_WORKER_RUNS", "RESTART_SHARE"]
 
 #: Runs predicted to take less than this (seconds of ``ngspice -b``, start included) go warm when a study
@@ -91,9 +93,10 @@ class WarmWorker:
         env = dict(env)
         env["PYTHONPATH"] = os.pathsep.join(p for p in (PACKAGE_ROOT, env.get("PYTHONPATH")) if p)
         self._err: IO[bytes] = tempfile.TemporaryFile()
-        self.proc = subprocess.Popen([*prefix, sys.executable, "-P", "-m", "lcchain.spice.warm_worker", library],
-                                     cwd=cwd, env=env, stdin=subprocess.PIPE, stdout=subprocess.PIPE,
-                                     stderr=self._err, start_new_session=True)
+        worker = "lcchain.spice.ngspice.warm_worker"
+        self.proc = subprocess.Popen([*prefix, sys.executable, "-P", "-m", worker, library], cwd=cwd, env=env,
+                                     stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=self._err,
+                                     start_new_session=True)
         self.runs = 0
         self.rss = 0
         self.alive = True
@@ -298,3 +301,12 @@ def warm_simulator(simulator: Simulator) -> Simulator:
         raise SimulatorMissingError(f"ngspice's shared library {library} is version {worker.version}, the ngspice "
                                     f"program {simulator.version}: the warm transport would change results")
     return replace(simulator, backend="warm", executable=library)
+
+
+def run_warm(netlist: str, simulator: Simulator, timeout: float, tstop: float,
+              progress: Callable[[float], None] | None, place: Place,
+              limit: float | None, resident: float | None) -> tuple[dict[str, np.ndarray], str, float]:
+    # This thread's long-lived worker (worker_for); no progress to report: studies send it short runs.
+    worker = worker_for(simulator.executable, place.prefix, place.cwd, place.env, resident)
+    return worker.run(netlist, timeout, limit, resident)
+

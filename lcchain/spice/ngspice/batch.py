@@ -1,0 +1,114 @@
+"""ngspice's ``"batch"`` transport: ``ngspice -b``, the netlist on standard input, the raw file on a descriptor.
+
+No file or folder ever has a name (the raw file goes to an inherited descriptor of an *unlinked* temporary
+file), so nothing is left behind however lcchain ends.  The progress of a run is read from ngspice's
+``Reference value`` lines.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import subprocess
+import tempfile
+import time
+from collections.abc import Callable
+from typing import IO
+
+import numpy as np
+
+from ...core.errors import SimulationError
+from ..log import failure_reason, useful_output
+from ..measure import measure_control
+from ..processes import (
+    PROGRESS_INTERVAL,
+    WATCH_INTERVAL,
+    kill_group,
+    outgrown,
+    progress_reporter,
+    read_all,
+    wait_watching,
+)
+from ..simulator import Simulator
+from ..text import require_canonical
+from .place import Place
+from .raw import read_raw
+
+__all__ = ["run_batch"]
+
+
+# Only complete lines (ngspice ends each with "\r"): a number cut by a partial write must not count.
+_REFERENCE_VALUE = re.compile(rb"Reference value\s*:\s*([-+0-9.eE]+)[ \t]*[\r\n]")
+
+
+def _simulated_time(err: IO[bytes]) -> float | None:
+    """The last ``Reference value : t`` ngspice wrote to stderr (its progress, in seconds)."""
+    fd = err.fileno()
+    size = os.fstat(fd).st_size
+    tail = os.pread(fd, 256, max(0, size - 256))
+    found = _REFERENCE_VALUE.findall(tail)
+    return float(found[-1]) if found else None
+
+
+
+def _wait(proc: subprocess.Popen[bytes], timeout: float, tstop: float, out: IO[bytes], err: IO[bytes],
+          raw: IO[bytes], progress: Callable[[float], None] | None, limit: float | None,
+          resident: float | None) -> int | None:
+    """Exit status of ngspice, or None after the timeout; reports progress meanwhile and stops a run that
+    outgrows its limits (:func:`~lcchain.spice.processes.outgrown`: its raw file past ``limit``, its output past
+    :data:`MAX_LOG_BYTES`, its memory past ``resident``)."""
+    report = progress_reporter(progress, tstop, lambda: _simulated_time(err)) if progress is not None else None
+    watched = limit is not None or resident is not None
+
+    def look() -> None:
+        why = outgrown(proc.pid, "ngspice", printed=(out, err), output=raw, max_output_bytes=limit,
+                       max_resident_bytes=resident) if watched else None
+        if why is not None:
+            kill_group(proc)
+            raise SimulationError(why, "")
+        if report is not None:  # at every poll, so that a caller can also stop the run from it
+            report()
+
+    return wait_watching(proc, timeout, look if (progress is not None or watched) else None,
+                         WATCH_INTERVAL if watched else PROGRESS_INTERVAL)
+
+
+def run_batch(netlist: str, simulator: Simulator, timeout: float, tstop: float,
+               progress: Callable[[float], None] | None, place: Place, limit: float | None,
+               resident: float | None = None, plot: str = "transient", joined: bool = False
+               ) -> tuple[dict[str, np.ndarray], str, float]:
+    with tempfile.TemporaryFile() as source, tempfile.TemporaryFile() as raw, \
+            tempfile.TemporaryFile() as out, tempfile.TemporaryFile() as err:
+        fd = raw.fileno()
+        # ngspice measures nothing in batch mode with -r: a netlist with .meas cards writes its raw file from
+        # lcchain's control block instead (lcchain.spice.measure)
+        measured = measure_control(require_canonical(netlist), f"/dev/fd/{fd}")
+        text = measured if measured is not None else netlist
+        source.write(require_canonical(text).encode("utf-8"))  # ngspice splits a file at LF, as the check did
+        source.seek(0)
+        command = [*place.prefix, simulator.executable, "-n", "-b",
+                   *(("-r", f"/dev/fd/{fd}") if measured is None else ())]
+        start = time.perf_counter()
+        proc = subprocess.Popen(command, cwd=place.cwd, env=place.env, stdin=source, stdout=out, stderr=err,
+                                pass_fds=(fd,), start_new_session=True)
+        try:
+            status = _wait(proc, timeout, tstop, out, err, raw, progress, limit, resident)
+        finally:
+            if proc.poll() is None:  # timed out, or interrupted: the whole group goes
+                kill_group(proc)
+        wall = time.perf_counter() - start
+        log = (read_all(out) + b"\n" + read_all(err)).decode("utf-8", "replace")
+        if status is None:
+            raise SimulationError(f"ngspice timed out after {timeout:g} s and was killed", useful_output(log),
+                                  "timeout")
+        if status != 0:
+            raise SimulationError(failure_reason(log, f"ngspice exited with status {status}"), useful_output(log))
+        data = read_all(raw)
+    if not data:
+        raise SimulationError("ngspice wrote no raw file", useful_output(log))
+    try:
+        columns = read_raw(data, plot, joined=joined)
+    except SimulationError as exc:
+        raise SimulationError(exc.reason, useful_output(log)) from None
+    return columns, log, wall
+
