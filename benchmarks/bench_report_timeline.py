@@ -33,7 +33,7 @@ def main() -> None:
     rows = max(t for t, label in marks if label.startswith("Table"))
     pool = next(t for t, label in marks if label == "done")
     print(f"pool started {started:.1f} s, rows all in {rows:.1f} s, pool's last result {pool:.1f} s, end {end:.1f} s: "
-          f"alone {started:.1f} + {end - pool:.1f} s; load average before {os.getloadavg()[0]:.2f} (at the end)")
+          f"alone {started:.1f} + {end - pool:.1f} s; load average at the end {os.getloadavg()[0]:.2f}")
 
 
 if __name__ == "__main__":
