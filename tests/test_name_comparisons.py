@@ -25,8 +25,8 @@ LEFT: dict[tuple[str, str], int] = {
     ("cli/commands.py", "isinstance"): 1,
     ("cli/commands.py", "transport"): 1,
     ("cli/common.py", "case"): 2,
-    ("cli/studies.py", "analysis"): 3,
-    ("cli/studies.py", "executor"): 1,
+    ("cli/studies.py", "analysis"): 4,
+    ("cli/studies.py", "executor"): 2,
     ("cli/studies.py", "transport"): 2,
 }
 
