@@ -1,18 +1,19 @@
-"""``lcchain report`` cold (issue 23): its rows designed on every core against the code before, side by side.
+"""``lcchain report`` cold (issues 23 and 35): the whole command against the code before, side by side.
 
 Run from the repository root (about 15 minutes on 2 cores):
 
-    .venv/bin/python benchmarks/bench_report_cold.py [BEFORE_COMMIT] > benchmarks/report_cold.md
+    .venv/bin/python benchmarks/bench_report_cold.py [BEFORE_COMMIT [ROUNDS]] > benchmarks/report_cold.md
 
 Each round runs, one after the other and in alternating order, the whole ``python -m lcchain report --out DIR``
 as a user would, cold: ``XDG_CACHE_HOME`` points at an empty folder of its own, so that every row of Tables I
-and II is designed again; the before code is ``BEFORE_COMMIT`` (default: the commit before the rows went to a
-process pool) exported with ``git archive`` into a temporary folder.  Measured: the command's wall time
+and II is designed again; the before code is ``BEFORE_COMMIT`` (default: the commit before issue 35's work)
+exported with ``git archive`` into a temporary folder.  Measured: the command's wall time
 (``time.perf_counter`` around the process, start-up included) and the CPU time of it and its children
 (``os.wait4``: lcchain, ngspice, gnucap and the pool's workers), with the load average before each run since
-the machine is shared.  The reports are then compared: ``report.json`` and ``index.html`` must be the same
-except for the timings (when it was made, seconds per row, ngspice's seconds per run, the total): see
-:func:`same_report`.
+the machine is shared; with the load, the wall an idle machine would see is estimated as CPU / 2 plus the part
+that runs alone (:data:`SERIAL_S`).  The reports are then compared (:func:`compare_reports`): every number of
+``report.json`` and every figure of ``index.html`` must be the same, timings aside, except the circuit checks the
+after code no longer runs (issue 35's sizes), which are listed.
 """
 
 from __future__ import annotations
@@ -29,8 +30,12 @@ from pathlib import Path
 from typing import Any
 
 ROOT = Path(__file__).resolve().parent.parent
-#: The last commit whose report designed its rows one after the other, in the driver.
-BEFORE = "17182ab"
+#: main before issue 35's report work (the checks at every size, the figures drawn after the pool's work).
+BEFORE = "b97ce31"
+#: Seconds of a cold report that no second core can share, an upper bound: measured by bench_report_timeline.py
+#: (at load 2.5-3.9), 0.9 s before the pool has its work and 0.5 s after its last result; the rest of the 5 s is
+#: room for the workers' start and for the last job ending on one core.
+SERIAL_S = 5.0
 ROUNDS = 2
 
 _TIMING_KEYS = {"created", "seconds", "wall_s", "row_seconds"}
@@ -61,15 +66,33 @@ def _html_without_timings(text: str) -> str:
     return "\n".join(out)
 
 
-def same_report(a: Path, b: Path) -> list[str]:
-    """What differs between two report folders beyond their timings (empty: the same report)."""
+_FIGURE = re.compile(r'<span class=view id="([^"]+)"></span><a class=open [^>]*><img alt="[^"]*" '
+                     r'src="data:image/png;base64,([^"]+)">')
+
+
+def compare_reports(before: Path, after: Path) -> tuple[list[str], list[str]]:
+    """What differs between two report folders beyond their timings, and the checks only ``before`` has.
+
+    ``report.json``: every key the same, and the after's checks the before's without those it no longer runs
+    (its new sizes); ``index.html``: every figure (by its view anchor) the same PNG, the before's figures of the
+    checks left out aside.  The page's text is not compared: it says the new sizes.
+    """
     differences = []
-    ja, jb = (_without_timings(json.loads((p / "report.json").read_text())) for p in (a, b))
-    if ja != jb:
-        differences.append("report.json")
-    if _html_without_timings((a / "index.html").read_text()) != _html_without_timings((b / "index.html").read_text()):
-        differences.append("index.html")
-    return differences
+    ja, jb = (_without_timings(json.loads((p / "report.json").read_text())) for p in (before, after))
+    kept = {check["name"] for check in jb["checks"]}
+    dropped = [check["name"] for check in ja["checks"] if check["name"] not in kept]
+    ja["checks"] = [check for check in ja["checks"] if check["name"] in kept]
+    for key in sorted(set(ja) | set(jb)):
+        if ja.get(key) != jb.get(key):
+            differences.append(f"report.json {key}")
+    fa, fb = (dict(_FIGURE.findall((p / "index.html").read_text())) for p in (before, after))
+    gone = {"view-check-" + "".join(c if c.isalnum() or c in "-_" else "-" for c in name) for name in dropped}
+    for view in sorted(set(fa) | set(fb)):
+        if view in gone and view not in fb:
+            continue
+        if fa.get(view) != fb.get(view):
+            differences.append(f"index.html figure {view}")
+    return differences, dropped
 
 
 def _cold_report(source: Path, scratch: Path, name: str) -> dict[str, Any]:
@@ -92,6 +115,7 @@ def _cold_report(source: Path, scratch: Path, name: str) -> dict[str, Any]:
 
 def main() -> None:
     before = sys.argv[1] if len(sys.argv) > 1 else BEFORE
+    rounds = int(sys.argv[2]) if len(sys.argv) > 2 else ROUNDS
     with tempfile.TemporaryDirectory(prefix="lcchain-bench-report-") as folder:
         scratch = Path(folder)
         old = scratch / "before-src"
@@ -99,37 +123,46 @@ def main() -> None:
         archive = subprocess.run(["git", "archive", before, "lcchain"], cwd=ROOT, check=True, capture_output=True)
         subprocess.run(["tar", "-x", "-C", str(old)], input=archive.stdout, check=True)
         runs: dict[str, list[dict[str, Any]]] = {"before": [], "after": []}
-        for i in range(ROUNDS):
+        for i in range(rounds):
             order = ["before", "after"] if i % 2 == 0 else ["after", "before"]
             for which in order:
                 source = old if which == "before" else ROOT
                 runs[which].append(_cold_report(source, scratch, f"{which}-{i}"))
-                print(f"round {i + 1} {which}: {runs[which][-1]['wall']:.1f} s", file=sys.stderr, flush=True)
-        differences = sorted({d for a in runs["before"] for b in runs["after"]
-                              for d in same_report(a["out"], b["out"])})
+                r = runs[which][-1]
+                print(f"round {i + 1} {which}: load {r['load']:.2f}, wall {r['wall']:.1f} s, CPU {r['cpu']:.1f} s",
+                      file=sys.stderr, flush=True)
+        compared = [compare_reports(a["out"], b["out"]) for a in runs["before"] for b in runs["after"]]
+        differences = sorted({d for found, _ in compared for d in found})
+        dropped = compared[0][1]
         head = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, capture_output=True, text=True)
-        print("# `lcchain report` cold: rows designed on every core\n")
+        print("# `lcchain report` cold: the whole command, before and after issue 35\n")
         print(f"Machine: {os.cpu_count()} cores ({len(os.sched_getaffinity(0))} usable), Python "
               f"{platform.python_version()}, shared with other work (load average before each run below). "
-              f"Command: `{sys.executable} benchmarks/bench_report_cold.py {before} > benchmarks/report_cold.md` "
+              f"Command: `{sys.executable} benchmarks/bench_report_cold.py {before} {rounds} > "
+              "benchmarks/report_cold.md` "
               f"(after = {head.stdout.strip()}{' with uncommitted changes' if _dirty() else ''}).\n")
         print("Each run: `python -m lcchain report --out DIR` in a process of its own with `XDG_CACHE_HOME` an "
               "empty folder (every row designed again), before and after alternating. *wall*: the whole "
               "command, start-up included; *CPU*: user + system time of it and all its children (lcchain, "
-              "ngspice, gnucap, the pool's workers); *rows*: the seconds the rows' designs took, summed (each "
-              "measured where it ran).\n")
-        print("| round | code | load before | wall s | CPU s | rows s (summed) |")
-        print("|---|---|---|---|---|---|")
-        for i in range(ROUNDS):
+              "ngspice, gnucap, the pool's workers); *idle estimate*: CPU / 2 + "
+              f"{SERIAL_S:g} s run alone, the wall a 2-core machine with nothing else to do would see (an "
+              "estimate, not a measurement); *rows*: the seconds the rows' designs took, summed (each measured "
+              "where it ran).\n")
+        print("| round | code | load before | wall s | CPU s | idle estimate s | rows s (summed) |")
+        print("|---|---|---|---|---|---|---|")
+        for i in range(rounds):
             for which in ("before", "after"):
                 r = runs[which][i]
                 print(f"| {i + 1} | {which} | {r['load']:.2f} | {r['wall']:.1f} | {r['cpu']:.1f} | "
-                      f"{r['row_seconds']:.1f} |")
+                      f"{r['cpu'] / 2 + SERIAL_S:.1f} | {r['row_seconds']:.1f} |")
         best = {which: min(r["wall"] for r in runs[which]) for which in runs}
+        cpu = {which: min(r["cpu"] for r in runs[which]) for which in runs}
         print(f"\nBest wall: before {best['before']:.1f} s, after {best['after']:.1f} s "
-              f"({best['before'] / best['after']:.2f}x).\n")
-        print("Reports compared (every before against every after, timings blanked: `same_report` in the "
-              f"script): {'identical' if not differences else 'DIFFERENT in ' + ', '.join(differences)}.")
+              f"({best['before'] / best['after']:.2f}x); least CPU: before {cpu['before']:.1f} s, after "
+              f"{cpu['after']:.1f} s ({cpu['before'] / cpu['after']:.2f}x).\n")
+        print(f"Reports compared (every before against every after, timings blanked: `compare_reports` in the "
+              f"script): {'the same' if not differences else 'DIFFERENT in ' + ', '.join(differences)}, but for "
+              f"the {len(dropped)} checks the after code no longer runs: {', '.join(dropped) or 'none'}.")
 
 
 def _dirty() -> bool:

@@ -13,13 +13,21 @@ from pathlib import Path
 import pytest
 from helpers.processes import as_from_a_terminal, descendants, dies_unless_in, gone, reaped
 
-from lcchain.report.build import report_rows
+from lcchain.circuit.reference import REFERENCE_SET
+from lcchain.report.build import check_figure_png, paper_figure_png, report_rows
 from lcchain.report.figure_data import DesignRows
 from lcchain.report.paper_figures import FIGURES
 from lcchain.report.validation import paper_section
+from lcchain.spice.simulator import Simulator
 from lcchain.studies.background import Background, Job
 from lcchain.studies.designs import design_row, design_task
-from lcchain.studies.validation import check_jobs, installed_engines, run_check
+from lcchain.studies.validation import (
+    CHECKED_MAX_N,
+    LARGE_CHECKS,
+    check_jobs,
+    installed_engines,
+    run_check,
+)
 
 #: Seconds to wait for the pool's workers to start, and for them to die.
 START_TIMEOUT, DEATH_TIMEOUT = 120.0, 10.0
@@ -139,3 +147,50 @@ def test_a_killed_background_worker_loses_no_task(caplog: pytest.LogCaptureFixtu
     assert taken == [0, 1, 2, 3]
     assert "remaining tasks run in this process" in caplog.text
     assert workers and all(gone(pid) for pid in workers)
+
+
+def _runs(jobs: list, engine: str) -> set[tuple[int, str, str]]:
+    """(N, excitation, what) of an engine's reference runs (the scene left out)."""
+    return {(job.N, job.excitation, job.what) for job in jobs if job.simulator.engine == engine and job.chain}
+
+
+def test_the_checks_run_at_the_sizes_that_test_something() -> None:
+    """Issue 35: every engine runs every reference chain up to CHECKED_MAX_N with both excitations, and the scene;
+    above that only the default engine's LARGE_CHECKS run, and none with --quick.  (Descriptions of engines:
+    nothing runs.)"""
+    engines = [Simulator("batch", "/usr/bin/ngspice", "39"), Simulator("batch", "/usr/bin/gnucap", "x", engine="gnucap")]
+    small = {(ref.N, excitation, f"{ref.case}, N = {ref.N}") for ref in REFERENCE_SET if ref.N <= CHECKED_MAX_N
+             for excitation in ("kick", "displacement")}
+    large = {(ref.N, excitation, f"{ref.case}, N = {ref.N}") for ref in REFERENCE_SET
+             for name, excitation in LARGE_CHECKS if ref.name == name}
+    assert len(large) == len(LARGE_CHECKS) and all(N > CHECKED_MAX_N for N, _, _ in large)
+    assert len(small) < 2 * len(REFERENCE_SET)  # the rule leaves something out
+    jobs = check_jobs(simulators=engines)
+    assert _runs(jobs, "ngspice") == small | large
+    assert _runs(jobs, "gnucap") == small
+    assert sum(job.chain is None for job in jobs) == 2  # the scene, in each engine
+    quick = check_jobs(quick=True, simulators=engines)
+    assert _runs(quick, "ngspice") == _runs(quick, "gnucap") == small
+
+
+def test_a_figure_drawn_by_the_pool_is_the_figure_drawn_here() -> None:
+    """The report draws the paper's figures that need no row, and each check's figure, in its pool's workers:
+    the same PNG bytes as drawn here."""
+    cradle = next(figure for figure in FIGURES if figure.label == "cradle4")
+    assert not cradle.uses_rows
+    tasks = [Job("cradle4", 1.0, paper_figure_png, (cradle, None, True))]
+    with Background(tasks, workers=2) as pool:
+        pooled = pool.take("cradle4")
+    assert pooled[:8] == b"\x89PNG\r\n\x1a\n" and pooled == paper_figure_png(cradle, None, True)
+
+
+@pytest.mark.ngspice
+def test_a_check_figure_drawn_by_the_pool_is_the_one_drawn_here() -> None:
+    simulators = [s for s in installed_engines() if s.engine == "ngspice"]
+    job = next(job for job in check_jobs(quick=True, simulators=simulators) if job.N == 20)
+    check = run_check(job)
+    with Background([Job(0, 1.0, check_figure_png, (check,)), Job(1, 1.0, check_figure_png, (check,))],
+                    workers=2) as pool:
+        pooled = pool.take(0)
+    here = check_figure_png(check)
+    assert here is not None and pooled == here

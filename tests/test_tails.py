@@ -14,7 +14,7 @@ from lcchain.report.shown import spectrum_figure
 from lcchain.runs.spectrum import measure_spectrum
 from lcchain.theory.cases import chain_for_case
 from lcchain.theory.chain import Chain
-from lcchain.theory.exact import driven_modes, perfect_weights
+from lcchain.theory.exact import driven_modes, exact_modes, perfect_weights
 from lcchain.theory.modes import WEIGHT_PRECISION
 
 
@@ -45,8 +45,9 @@ def test_perfect_100_smallest_weight_is_exact():
 
 
 def test_noise_is_flagged_not_a_value():
-    """The same N = 100 cradle without the mark: LAPACK's tail is rounding, flagged below precision."""
-    modes = driven_modes(_untagged(chain_for_case("perfect", 100)))
+    """The same N = 100 cradle without the mark: the kick's modes come from LAPACK's vectors, whose tail is
+    rounding, flagged below precision."""
+    modes = exact_modes(_untagged(chain_for_case("perfect", 100)))
     precise = modes.precise()
     assert not precise.all() and precise[:20].all()
     assert np.all(np.abs(modes.transfer[~precise]) < WEIGHT_PRECISION * np.max(np.abs(modes.transfer)))
@@ -60,12 +61,13 @@ def test_spectrum_json_prints_no_noise(capsys, tmp_path):
     P_theory = np.array([mode["P_theory"] for mode in data["modes"]], dtype=float)
     np.testing.assert_allclose(P_theory, exact, rtol=RTOL_PERFECT_TAIL, atol=0)
     assert not any(mode["below_precision"] for mode in data["modes"])
-    # the unmarked chain: its noise is null and flagged in the JSON, and not drawn
+    # the unmarked chain: the AC reference's weights come from its frequencies alone (the residue product), so
+    # they are the closed form's, to the last weight, and none is noise
     report = measure_spectrum(_untagged(chain_for_case("perfect", N)))
     modes = report.to_dict()["modes"]
     noisy = [mode for mode in modes if mode["below_precision"]]
-    assert noisy and all(mode["P_theory"] is None for mode in noisy)
-    assert np.isnan(report.P_theory[report.below_precision]).all()
+    assert not noisy
+    np.testing.assert_allclose(report.P_theory, exact, rtol=RTOL_PERFECT_TAIL, atol=0)
     fig = spectrum_figure(report)
     theory_points = fig.axes[0].lines[1].get_ydata()
     assert len(theory_points) == N - len(noisy)

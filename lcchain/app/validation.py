@@ -1,10 +1,10 @@
 """``lcchain report`` as a function: run the circuit's checks in every engine, then render the whole report.
 
-The checks and the rows of Tables I and II that are not in the cache (together most of a cold report's time)
-are independent: they are done on every core by one process pool (:class:`lcchain.studies.background.Background`),
-the longest first, while this process draws each check's figure and then the tables and the paper's figures as
-their rows arrive.  The pool is closed, its workers and their simulators gone, when the report is written or
-abandoned.
+The checks, the rows of Tables I and II that are not in the cache and the paper's figures that need no row are
+independent: they are done on every core by one process pool (:class:`lcchain.studies.background.Background`),
+the longest first, and each check's figure (and each cradle's chart) is drawn in the process that ran it.  This
+process meanwhile takes the rows as they arrive and draws the paper's figures made of them, then renders the
+page.  The pool is closed, its workers and their simulators gone, when the report is written or abandoned.
 """
 
 from __future__ import annotations
@@ -16,16 +16,36 @@ from dataclasses import dataclass
 from typing import Any
 
 from ..core.types import DesignCase
-from ..report.build import build_report, report_rows
+from ..report.build import build_report, check_figure_png, paper_figure_png, report_rows, requirements_figure_png
 from ..report.figure_data import DesignRows
+from ..report.paper_figures import FIGURES
+from ..report.validation import paper_section
 from ..studies.background import Background, Job
 from ..studies.designs import design_row, design_task
-from ..studies.requirements import requirements_jobs, run_requirements
+from ..studies.requirements import RequirementsCheck, RequirementsJob, requirements_jobs, run_requirements
 from ..studies.spectrum_checks import run_spectrum_check, spectrum_jobs
-from ..studies.validation import check_jobs, installed_engines, run_check
+from ..studies.validation import CheckJob, CircuitCheck, check_jobs, installed_engines, run_check
+from ..theory.design import DESIGN_TABLES
 
-__all__ = ["make_report", "ReportRequest", "report"]
+__all__ = ["make_report", "HERE_S", "ReportRequest", "report"]
 
+#: A row of Tables I and II estimated to take at most this (seconds, :func:`lcchain.studies.designs.design_cost`:
+#: two-mass up to N = 2000, one-mass up to N = 10000: 80 rows, 8.7 s of CPU in all, measured) is designed here
+#: while the pool does the longer work, rather than queued behind it: the figures made of the rows can then be
+#: drawn here before the pool is done.
+HERE_S = 0.5
+
+
+def _check_drawn(job: CheckJob) -> tuple[CircuitCheck, bytes | None]:
+    """A check run, and its figure drawn where it ran (its curves need not travel to be drawn)."""
+    check = run_check(job)
+    return check, check_figure_png(check)
+
+
+def _cradle_drawn(job: RequirementsJob) -> tuple[RequirementsCheck, bytes | None]:
+    """A cradle's requirements, and their chart drawn where they were computed."""
+    cradle = run_requirements(job)
+    return cradle, requirements_figure_png(cradle)
 
 @dataclass(frozen=True)
 class ReportRequest:
@@ -54,13 +74,13 @@ def make_report(out: str | os.PathLike[str], *, quick: bool = False, cache: str 
                 progress: Callable[[int, int, str], None] | None = None,
                 command: str = "lcchain report", workers: int | None = None) -> dict[str, Any]:
     """The validation report: every installed engine on the reference set
-    (:func:`lcchain.studies.validation.circuit_checks`), ngspice's spectra of the reference ladders
+    (:func:`lcchain.studies.validation.check_jobs`), ngspice's spectra of the reference ladders
     (:func:`lcchain.studies.spectrum_checks.spectrum_jobs`) and the cradles' parts' requirements
     (:func:`lcchain.studies.requirements.requirements_jobs`), then the paper's tables and figures and the page
     (:func:`lcchain.report.build.build_report`) in ``out``.
 
-    The checks, and the table rows not in ``cache``, are done by ``workers`` processes (default: one per core;
-    1 does them here, one after the other); the numbers are the same either way.
+    The checks, the table rows not in ``cache`` and the paper's figures that need no row are done by ``workers``
+    processes (default: one per core; 1 does them here, one after the other); the numbers are the same either way.
     """
     start = time.perf_counter()
     simulators = installed_engines()
@@ -68,10 +88,14 @@ def make_report(out: str | os.PathLike[str], *, quick: bool = False, cache: str 
     spectra = spectrum_jobs(quick=quick, simulator=simulators[0])
     cradles = requirements_jobs(quick=quick)
     rows = DesignRows(cache)
-    tasks = [Job(("check", i), job.cost, run_check, (job,)) for i, job in enumerate(jobs)]
+    needed = report_rows(quick)
+    alone = [figure for figure in FIGURES if not figure.uses_rows]
+    tasks = [Job(("check", i), job.cost, _check_drawn, (job,)) for i, job in enumerate(jobs)]
     tasks += [Job(("spectrum", i), job.cost, run_spectrum_check, (job,)) for i, job in enumerate(spectra)]
-    tasks += [Job(("requirements", i), job.cost, run_requirements, (job,)) for i, job in enumerate(cradles)]
-    tasks += [design_task(case, N) for case, N in rows.missing(report_rows(quick))]
+    tasks += [Job(("requirements", i), job.cost, _cradle_drawn, (job,)) for i, job in enumerate(cradles)]
+    tasks += [Job(("paper", figure.label), figure.seconds, paper_figure_png, (figure, None, quick))
+              for figure in alone]
+    tasks += [task for task in (design_task(case, N) for case, N in rows.missing(needed)) if task.cost > HERE_S]
     with Background(tasks, workers) as background:
 
         def design(case: DesignCase, N: int) -> dict[str, Any]:
@@ -79,19 +103,44 @@ def make_report(out: str | os.PathLike[str], *, quick: bool = False, cache: str 
             return background.take(key) if key in background else design_row(case, N)
 
         rows.design = design
-        keys = [("check", i) for i in range(len(jobs))] + [("spectrum", i) for i in range(len(spectra))]
-        keys += [("requirements", i) for i in range(len(cradles))]
-        labels = [job.label or job.name for job in jobs] + [job.label for job in spectra]
-        labels += [job.label for job in cradles]
-        results = []
-        for i, (key, label) in enumerate(zip(keys, labels, strict=True)):
+        # the rows first (the short ones designed here, while the pool has the long ones), then the paper's half
+        # and the figures made of them, while the pool does the rest
+        ordered = sorted(needed, key=lambda pair: ("row", *pair) in background)
+        for i, (case, N) in enumerate(ordered):
             if progress is not None:
-                progress(i, len(keys), label)
-            results.append(background.take(key))
+                progress(i, len(ordered), f"{DESIGN_TABLES[case][0]}, N = {N}")
+            rows.row(case, N)
+        paper = paper_section(rows, quick=quick)
+        figures = {f"paper:{figure.label}": paper_figure_png(figure, rows, quick)
+                   for figure in FIGURES if figure.uses_rows}
+        labels = [job.label or job.name for job in jobs] + [job.label for job in spectra]
+        labels += [job.label for job in cradles] + [f"Fig. {figure.label}" for figure in alone]
+        total, done = len(labels), 0
+
+        def take(key: Any) -> Any:
+            nonlocal done
+            if progress is not None:
+                progress(done, total, labels[done])
+            done += 1
+            return background.take(key)
+
+        circuit = []
+        for i in range(len(jobs)):
+            check, png = take(("check", i))
+            circuit.append(check)
+            if png is not None:
+                figures[f"check:{check.name}"] = png
+        spectrum = [take(("spectrum", i)) for i in range(len(spectra))]
+        requirements = []
+        for i in range(len(cradles)):
+            cradle, png = take(("requirements", i))
+            requirements.append(cradle)
+            if png is not None:
+                figures[f"requirements:{cradle.name}"] = png
+        for figure in alone:
+            figures[f"paper:{figure.label}"] = take(("paper", figure.label))
         if progress is not None:
-            progress(len(keys), len(keys), "done")
-        spectrum_end = len(jobs) + len(spectra)
-        return build_report(out, results[:len(jobs)], {s.engine: s.version for s in simulators}, quick=quick,
-                            cache=cache, progress=progress, command=command, seconds=time.perf_counter() - start,
-                            rows=rows, spectrum=results[len(jobs):spectrum_end],
-                            requirements=results[spectrum_end:])
+            progress(total, total, "done")
+        return build_report(out, circuit, {s.engine: s.version for s in simulators}, quick=quick, cache=cache,
+                            progress=progress, command=command, seconds=time.perf_counter() - start, rows=rows,
+                            spectrum=spectrum, requirements=requirements, figures=figures, paper=paper)

@@ -14,13 +14,14 @@ from ..studies.validation import CircuitCheck
 from .figure_data import FULL_N, QUICK_N, DesignRows
 from .files import write_text
 from .html import figure_png, render_html, report_json
-from .paper_figures import FIGURES, make_figures
+from .paper_figures import FIGURES, PaperFigure, make_figures
 from .plots import overlay
 from .requirements import requirements_figures
 from .spectrum import spectrum_figures
 from .validation import QUICK_REPORT_N, REPORT_N, validation_report
 
-__all__ = ["build_figures", "build_report", "report_rows"]
+__all__ = ["build_figures", "build_report", "report_rows", "check_figure_png", "paper_figure_png",
+           "requirements_figure_png"]
 
 Progress = Callable[[int, int, str], None]
 
@@ -40,6 +41,23 @@ def _check_figure(check: Any) -> Any:
     return figure
 
 
+def check_figure_png(check: CircuitCheck) -> bytes | None:
+    """A circuit check's figure as the page shows it (None: the check has no curves); a function of its own, so
+    that it may be drawn in the process that ran the check."""
+    return figure_png(_check_figure(check), dpi=90) if check.curves else None
+
+
+def paper_figure_png(figure: PaperFigure, rows: DesignRows | None, quick: bool) -> bytes:
+    """One of the paper's figures as the page shows it (``rows`` None for a figure that uses none)."""
+    return figure_png(figure.build(rows, quick))
+
+
+def requirements_figure_png(check: RequirementsCheck) -> bytes | None:
+    """A cradle's chart of its parts' requirements as the page shows it (None: its study failed)."""
+    figure = requirements_figures([check]).get(check.name)
+    return None if figure is None else figure_png(figure, dpi=90)
+
+
 def report_rows(quick: bool = False) -> list[tuple[DesignCase, int]]:
     """Every row of Tables I and II the report reads: its tables' (:data:`.validation.REPORT_N`, or
     :data:`.validation.QUICK_REPORT_N`) and its figures' (:data:`.figure_data.FULL_N` or ``QUICK_N`` for both
@@ -56,33 +74,44 @@ def build_report(out: str | os.PathLike[str], circuit: Sequence[CircuitCheck], e
                  quick: bool = False, cache: str | os.PathLike[str] | None = None, progress: Progress | None = None,
                  command: str = "lcchain report", seconds: float = 0.0, rows: DesignRows | None = None,
                  spectrum: Sequence[SpectrumCheck] = (),
-                 requirements: Sequence[RequirementsCheck] = ()) -> dict[str, Any]:
+                 requirements: Sequence[RequirementsCheck] = (), figures: Mapping[str, bytes] | None = None,
+                 paper: dict[str, Any] | None = None) -> dict[str, Any]:
     """Compute the paper's half of the validation report, render it with the circuit's runs, spectra and the
     cradles' parts' requirements (already made), then write ``out/index.html`` and ``out/report.json``; return it
     as data.
 
     ``rows`` gives the tables' rows (default: ``DesignRows(cache)``, designed here as they are read); the
     circuit's figures are drawn first, so that rows still being designed elsewhere
-    (:class:`lcchain.studies.background.Background`) are not waited for meanwhile.
+    (:class:`lcchain.studies.background.Background`) are not waited for meanwhile.  ``figures`` are PNGs already
+    drawn (:func:`check_figure_png` as ``check:<name>``, :func:`paper_figure_png` as ``paper:<label>``, e.g. by the
+    processes that ran the checks; ``requirements:<name>`` as :func:`requirements_figure_png`): they are not drawn
+    again; ``paper`` is :func:`lcchain.report.validation.paper_section` of ``rows`` if already made.
     """
     rows = rows if rows is not None else DesignRows(cache)
-    figures: dict[str, bytes] = {}
+    drawn = dict(figures or {})
+    pngs: dict[str, bytes] = {}
     for check in circuit:
-        if check.curves:
-            figures[f"check:{check.name}"] = figure_png(_check_figure(check), dpi=90)
+        key = f"check:{check.name}"
+        png = drawn[key] if key in drawn else check_figure_png(check)
+        if png is not None:
+            pngs[key] = png
     report = validation_report(rows, circuit, engines, quick=quick, progress=progress, seconds=seconds,
-                               spectrum=spectrum, requirements=requirements)
+                               spectrum=spectrum, requirements=requirements, paper=paper)
     for label, figure in spectrum_figures(spectrum, rows).items():
-        figures[f"spectrum:{label}"] = figure_png(figure)
-    for name, figure in requirements_figures(requirements).items():
-        figures[f"requirements:{name}"] = figure_png(figure, dpi=90)
+        pngs[f"spectrum:{label}"] = figure_png(figure)
+    for cradle in requirements:
+        key = f"requirements:{cradle.name}"
+        png = drawn[key] if key in drawn else requirements_figure_png(cradle)
+        if png is not None:
+            pngs[key] = png
     for i, paper_figure in enumerate(FIGURES):
         if progress is not None:
             progress(i, len(FIGURES), f"Fig. {paper_figure.label}")
-        figures[f"paper:{paper_figure.label}"] = figure_png(paper_figure.build(rows, quick))
+        key = f"paper:{paper_figure.label}"
+        pngs[key] = drawn[key] if key in drawn else paper_figure_png(paper_figure, rows, quick)
     if progress is not None:
         progress(len(FIGURES), len(FIGURES), "writing")
-    page = render_html(report, figures, [(f.label, f.caption) for f in FIGURES], command=command)
+    page = render_html(report, pngs, [(f.label, f.caption) for f in FIGURES], command=command)
     folder = Path(out)
     folder.mkdir(parents=True, exist_ok=True)
     write_text(folder / "report.json", report_json(report))

@@ -524,31 +524,75 @@ def circuit_figure(data: Mapping[str, Any]) -> Any:
 # ------------------------------------------------------------------ the set
 @dataclass(frozen=True)
 class PaperFigure:
-    """One figure of the paper: its label (the file's name) and how it is built from shared rows."""
+    """One figure of the paper: its label (the file's name), its data and how it is drawn.
+
+    ``data(rows, quick)`` computes the numbers (:mod:`.figure_data`; ``rows`` None when ``uses_rows`` is False) and
+    ``draw(data)`` returns the Figure.  Both are functions of a module, so that a figure pickles and may be computed
+    in another process; ``seconds`` is roughly what its data take without ``quick`` (issue 35's profile), for the
+    order a pool takes work in.
+    """
 
     label: str
     caption: str
-    build: Callable[[DesignRows, bool], Any]
+    data: Callable[[DesignRows | None, bool], Any]
+    draw: Callable[[Any], Any]
+    uses_rows: bool = False
+    seconds: float = 0.3
+
+    def build(self, rows: DesignRows | None, quick: bool) -> Any:
+        """The Figure: its data drawn."""
+        return self.draw(self.data(rows, quick))
 
 
-def _optimum(rows: DesignRows, quick: bool) -> dict[str, Any]:
-    return optimum_data(rows, QUICK_N if quick else FULL_N)
+def _rows(rows: DesignRows | None) -> DesignRows:
+    if rows is None:
+        raise ValueError("this figure is drawn from rows of Tables I and II: rows=None")
+    return rows
+
+
+def _optimum(rows: DesignRows | None, quick: bool) -> dict[str, Any]:
+    return optimum_data(_rows(rows), QUICK_N if quick else FULL_N)
+
+
+def _delta(rows: DesignRows | None, quick: bool) -> dict[str, Any]:
+    return delta_from_optimum(_optimum(rows, quick))
+
+
+def _cradle4(rows: DesignRows | None, quick: bool) -> dict[str, Any]:
+    return cradle4_data()
+
+
+def _vk(rows: DesignRows | None, quick: bool) -> dict[str, Any]:
+    return vk_data()
+
+
+def _int_rw(rows: DesignRows | None, quick: bool) -> dict[str, Any]:
+    return int_rw_data()
+
+
+def _minimiz(rows: DesignRows | None, quick: bool) -> dict[str, Any]:
+    return minimiz_data(quick=quick)
+
+
+def _pk(rows: DesignRows | None, quick: bool) -> dict[str, Any]:
+    return pk_data(_rows(rows))
+
+
+def _circuit(rows: DesignRows | None, quick: bool) -> dict[str, Any]:
+    return circuit_data()
 
 
 FIGURES: tuple[PaperFigure, ...] = (
-    PaperFigure("cradle4", "The perfect 4-mass cradle and its pulse",
-                lambda rows, quick: cradle4_figure(cradle4_data())),
-    PaperFigure("vk", "Group velocity and mode density, N = 50, three Δ", lambda rows, quick: vk_figure(vk_data())),
-    PaperFigure("delta", "Transmission loss δ* against N",
-                lambda rows, quick: paper_delta_figure(delta_from_optimum(_optimum(rows, quick)))),
-    PaperFigure("x_xy", "Optimal x*, y* against N", lambda rows, quick: x_xy_figure(_optimum(rows, quick))),
-    PaperFigure("m_mmK", "Optimal m1*, m2*, K12* against N", lambda rows, quick: m_mmK_figure(_optimum(rows, quick))),
-    PaperFigure("int_rw", "The integrand of α∞(τ, σ)", lambda rows, quick: int_rw_figure(int_rw_data())),
-    PaperFigure("minimiz", "Minimising δ∞(σ, τ)",
-                lambda rows, quick: minimiz_figure(minimiz_data(quick=quick))),
-    PaperFigure("rw", "Optimal r*, w* against N", lambda rows, quick: rw_figure(_optimum(rows, quick))),
-    PaperFigure("Pk20-100", "Mode density and spacing, N = 20 and 100", lambda rows, quick: pk_figure(pk_data(rows))),
-    PaperFigure("LCcircuit", "The LC ladder", lambda rows, quick: circuit_figure(circuit_data())),
+    PaperFigure("cradle4", "The perfect 4-mass cradle and its pulse", _cradle4, cradle4_figure),
+    PaperFigure("vk", "Group velocity and mode density, N = 50, three Δ", _vk, vk_figure),
+    PaperFigure("delta", "Transmission loss δ* against N", _delta, paper_delta_figure, uses_rows=True),
+    PaperFigure("x_xy", "Optimal x*, y* against N", _optimum, x_xy_figure, uses_rows=True),
+    PaperFigure("m_mmK", "Optimal m1*, m2*, K12* against N", _optimum, m_mmK_figure, uses_rows=True),
+    PaperFigure("int_rw", "The integrand of α∞(τ, σ)", _int_rw, int_rw_figure),
+    PaperFigure("minimiz", "Minimising δ∞(σ, τ)", _minimiz, minimiz_figure, seconds=15.0),
+    PaperFigure("rw", "Optimal r*, w* against N", _optimum, rw_figure, uses_rows=True),
+    PaperFigure("Pk20-100", "Mode density and spacing, N = 20 and 100", _pk, pk_figure, uses_rows=True),
+    PaperFigure("LCcircuit", "The LC ladder", _circuit, circuit_figure),
 )
 
 

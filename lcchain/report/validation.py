@@ -118,17 +118,19 @@ def paper_section(rows: DesignRows, *, quick: bool = False,
 def validation_report(rows: DesignRows, circuit: Sequence[CircuitCheck], engines: Mapping[str, str], *,
                       quick: bool = False, progress: Callable[[int, int, str], None] | None = None,
                       seconds: float = 0.0, spectrum: Sequence[SpectrumCheck] = (),
-                      requirements: Sequence[RequirementsCheck] = ()) -> dict[str, Any]:
+                      requirements: Sequence[RequirementsCheck] = (),
+                      paper: dict[str, Any] | None = None) -> dict[str, Any]:
     """Everything the page shows, as data (figures excepted: :mod:`.html` draws them from ``curves``).
 
     ``circuit`` are the ngspice runs already made (:func:`lcchain.studies.validation.circuit_checks`, by
     :mod:`lcchain.app.validation`), ``spectrum`` the AC measurements
     (:func:`lcchain.studies.spectrum_checks.run_spectrum_check`) and ``requirements`` the cradles' parts
     (:func:`lcchain.studies.requirements.run_requirements`): the report renders them and runs nothing;
-    ``seconds`` is what they took.  Every one of their checks counts in the verdict.
+    ``seconds`` is what they took.  Every one of their checks counts in the verdict.  ``paper`` is
+    :func:`paper_section` of the same rows if already made (default: made here).
     """
     start = time.perf_counter()
-    paper = paper_section(rows, quick=quick, progress=progress)
+    paper = paper if paper is not None else paper_section(rows, quick=quick, progress=progress)
     circuit, spectrum, requirements = list(circuit), list(spectrum), list(requirements)
     checks = [*paper["checks"], *(c.to_dict() for c in circuit), *(line for c in spectrum for line in c.checks()),
               *(line for c in requirements for line in c.checks())]
