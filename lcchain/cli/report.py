@@ -22,15 +22,14 @@ def add_parser(sub: Any, budget: list[Any]) -> None:
 
 def add_report_arguments(p: argparse.ArgumentParser) -> None:
     p.description = ("The validation report: the paper reproduced and the circuit validated in every engine "
-                     "installed. Cold (no row cached): about 97 s of CPU, done on both cores; estimated 54 s on an "
-                     "idle 2-core machine, measured 91 s with another program using one of its cores "
-                     "(benchmarks/report_cold.md). With its rows cached: 49 s of CPU less.")
+                     "installed. Cold (no row cached): measured 48 s on a quiet 2-core machine (about 94 s of "
+                     "CPU, done on both cores; 91 s with another program using one of the cores; "
+                     "benchmarks/report_cold.md). With its rows cached: 49 s of CPU less.")
     p.add_argument("--out", required=True, metavar="DIR",
                    help="folder for index.html and report.json (created if missing)")
     p.add_argument("--quick", action="store_true",
                    help="the paper's printed rows and a few more, and the circuit's runs up to N = 100 (cold: "
-                        "about 31 s of CPU, estimated 17 s on an idle 2-core machine, measured 42 s with one core "
-                        "busy)")
+                        "measured 17 s on a quiet 2-core machine, about 32 s of CPU; 42 s with one core busy)")
     add_cache_argument(p)
 
 
