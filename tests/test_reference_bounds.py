@@ -32,6 +32,20 @@ def _below(diagonal: list[Decimal], off2: list[Decimal], mu: Decimal) -> int:
     return count
 
 
+def _bisected(below, n: int, w: float, spread: str) -> Decimal:
+    """The n-th eigenvalue mu = omega^2 (0-based) by bisection on Sturm counts ``below(mu)``, from the float
+    omega_n ``w`` (bracketed within ``spread`` relative) down to DECIMAL_DIGITS - 8 digits."""
+    if w == 0:
+        return Decimal(0)
+    mu = Decimal(float(w)) ** 2
+    lo, hi = mu * (1 - Decimal(spread)), mu * (1 + Decimal(spread))
+    assert below(lo) <= n < below(hi)
+    while hi - lo > mu * Decimal(10) ** (8 - DECIMAL_DIGITS):
+        mid = (lo + hi) / 2
+        lo, hi = (lo, mid) if below(mid) > n else (mid, hi)
+    return (lo + hi) / 2
+
+
 def _decimal_modes(chain, approx: np.ndarray) -> tuple[list[Decimal], list[Decimal]]:
     """omega_n and P_n of B, every mode, in decimal arithmetic from the chain's float masses and springs."""
     with localcontext() as context:
@@ -44,16 +58,7 @@ def _decimal_modes(chain, approx: np.ndarray) -> tuple[list[Decimal], list[Decim
         off2 = [b * b for b in off]
         omegas, weights = [], []
         for n, w in enumerate(approx):
-            if w == 0:
-                mu = Decimal(0)
-            else:
-                mu = Decimal(float(w)) ** 2
-                lo, hi = mu * (1 - Decimal("1e-10")), mu * (1 + Decimal("1e-10"))
-                assert _below(diagonal, off2, lo) <= n < _below(diagonal, off2, hi)
-                while hi - lo > mu * Decimal(10) ** (8 - DECIMAL_DIGITS):
-                    mid = (lo + hi) / 2
-                    lo, hi = (lo, mid) if _below(diagonal, off2, mid) > n else (mid, hi)
-                mu = (lo + hi) / 2
+            mu = _bisected(lambda x: _below(diagonal, off2, x), n, w, "1e-10")
             u = [Decimal(1), (mu - diagonal[0]) / off[0]]
             for i in range(1, N - 1):
                 u.append(((mu - diagonal[i]) * u[i] - off[i - 1] * u[i - 1]) / off[i])
@@ -159,16 +164,7 @@ def _decimal_pencil_modes(chain, approx: np.ndarray) -> tuple[list[Decimal], lis
 
         omegas, weights = [], []
         for n, w in enumerate(approx):
-            if w == 0:
-                mu = Decimal(0)
-            else:
-                mu = Decimal(float(w)) ** 2
-                lo, hi = mu * (1 - Decimal("1e-9")), mu * (1 + Decimal("1e-9"))
-                assert below(lo) <= n < below(hi)
-                while hi - lo > mu * Decimal(10) ** (8 - DECIMAL_DIGITS):
-                    mid = (lo + hi) / 2
-                    lo, hi = (lo, mid) if below(mid) > n else (mid, hi)
-                mu = (lo + hi) / 2
+            mu = _bisected(below, n, w, "1e-9")
             a, b = bands(mu)
             u = [Decimal(1), -a[0] / b[0]]
             for i in range(1, N - 1):
