@@ -227,3 +227,29 @@ def test_an_effect_option_reaches_the_netlist_and_runs(capsys, tmp_path, option,
     assert card in netlist.read_text()
     assert status == 0, err
     assert json.loads(out)["max_abs_error"] < ATOL_EFFECT_RUN
+
+
+def test_each_command_listed_by_its_own_help():
+    """``lcchain --help`` lists every command from main.COMMANDS without importing its module: each one-line help
+    there is the one the command's own parser gives, and a command's parser built alone lists the others."""
+    import argparse
+
+    from lcchain.cli.main import COMMANDS, build_parser
+
+    def helps(parser: argparse.ArgumentParser) -> dict[str, str | None]:
+        sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+        return {choice.dest: choice.help for choice in sub._choices_actions}
+
+    listed = {name: help_ for name, (_, help_) in COMMANDS.items()}
+    assert helps(build_parser()) == listed
+    assert helps(build_parser("")) == listed == helps(build_parser("batch"))
+
+
+def test_a_command_start_imports_no_other_command(tmp_path):
+    """``lcchain batch --help`` imports cli.batch (and what it uses), not the other commands' modules."""
+    code = ("import sys; from lcchain.cli.main import main; main(['batch', '--help']); "
+            "print(sorted(m for m in sys.modules if m in ('lcchain.cli.report', 'lcchain.cli.simulate', "
+            "'lcchain.cli.figures', 'lcchain.cli.batch')))")
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=tmp_path)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.strip().splitlines()[-1] == "['lcchain.cli.batch']"

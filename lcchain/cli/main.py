@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import importlib
 import logging
 import os
 import signal
@@ -16,6 +17,7 @@ import sys
 import threading
 import warnings
 from collections.abc import Iterator, Sequence
+from types import ModuleType
 from typing import Any, NoReturn
 
 from ..core import __version__
@@ -27,28 +29,6 @@ from ..core.errors import (
     ParameterError,
     SimulationError,
     SimulatorMissingError,
-)
-from . import (
-    asymptotic,
-    batch,
-    bench,
-    bom,
-    check,
-    design,
-    doctor,
-    examples,
-    figures,
-    netlist,
-    reference_netlists,
-    report,
-    requirements,
-    results,
-    run,
-    sensitivity,
-    simulate,
-    spectrum,
-    sweep,
-    table,
 )
 from .common import (
     EXIT_EXTRA,
@@ -63,10 +43,67 @@ from .common import (
 
 __all__ = ["main", "build_parser", "COMMANDS"]
 
-#: The commands, in the order ``lcchain --help`` lists them: each a module of cli/ holding its parser
-#: (``add_parser(sub, budget)``) and its ``cmd_*``, which calls the command's function in app/.
-COMMANDS = (design, table, asymptotic, netlist, examples, reference_netlists, spectrum, bom, sensitivity,
-            requirements, simulate, run, sweep, batch, check, results, figures, report, bench, doctor)
+#: The commands, in the order ``lcchain --help`` lists them: name -> (its module of cli/, holding its parser,
+#: ``add_parser(sub, budget)``, and its ``cmd_*``, which calls the command's function in app/; its one-line help).
+#: Only the command asked for is imported and given its whole parser (its options, the plugin groups read for them):
+#: the others are listed by this help alone, so that a command's start pays for no other command's modules.
+#: tests/test_cli.py checks that each help here is the one its module's parser gives.
+COMMANDS: dict[str, tuple[str, str]] = {
+    'design': ('design',
+                'optimal one-mass or two-mass chain for N (a row of Table I or II), or a perfect cradle'),
+    'table': ('table',
+               'Table I (one-mass) or II (two-mass) for a list of N'),
+    'asymptotic': ('asymptotic',
+                    'N -> infinity: maximum of alpha_inf(tau, sigma) and the scaling laws'),
+    'netlist': ('netlist',
+                 'SPICE netlist of the equivalent LC ladder'),
+    'examples': ('examples',
+                  'the example scenes that ship with lcchain: list them, or write one here'),
+    'reference-netlists': ('reference_netlists',
+                            'regenerate the reference netlists of netlists/'),
+    'spectrum': ('spectrum',
+                  "the ladder's normal frequencies and mode weights from an AC analysis in ngspice (or gnucap), "
+                  'beside theory'),
+    'bom': ('bom',
+             "bill of materials: the ladder's distinct inductors and capacitors (rounded to a preferred-number series"
+             ' with --series) with their counts, as a table or --csv'),
+    'sensitivity': ('sensitivity',
+                     'which components move the first-arrival peak: dp/dL_i and dp/dC_j from exact theory, ranked '
+                     '(--check M: against ngspice finite differences)'),
+    'requirements': ('requirements',
+                      "how good must the parts be: the first arrival's energy against a coil's self-capacitance and "
+                      "resistance, a capacitor's ESR and ESL, and coupling, from the circuit's exact theory, with "
+                      'ngspice points'),
+    'simulate': ('simulate',
+                  'run the ladder in ngspice (or gnucap) and compare with alpha_N(t)'),
+    'run': ('run',
+             'run a scene (TOML experiment description)'),
+    'sweep': ('sweep',
+               'many runs: the product of comma-list axes, or a scene or a netlist varied'),
+    'batch': ('batch',
+               'netlists lcchain did not write, checked, priced and run in a sandbox, into a store'),
+    'check': ('check',
+               'a linear netlist (R L C K, V/I with DC PULSE SIN PWL EXP) run in a simulator and compared with its '
+               'exact response: the error of every saved vector, the error the step predicts, the step an accuracy '
+               'needs'),
+    'results': ('results',
+                 "a store's runs: a table, --json, --csv, or a --plot of the study"),
+    'figures': ('figures',
+                 "the paper's figures, recomputed: one file per figure, named by its label"),
+    'report': ('report',
+                'the validation report: the paper reproduced and the circuit validated, in DIR/index.html and '
+                'DIR/report.json (exit 1 when a check fails)'),
+    'bench': ('bench',
+               'benchmarks (accuracy: what each digit costs per method and N)'),
+    'doctor': ('doctor',
+                'check ngspice, its shared library and PySpice'),
+}
+
+
+def command_module(name: str) -> ModuleType:
+    """The module of cli/ that holds command ``name``'s parser and its ``cmd_*`` (imported now)."""
+    return importlib.import_module(f"{__package__}.{COMMANDS[name][0]}")
+
 
 log = logging.getLogger("lcchain")
 
@@ -87,7 +124,9 @@ class _Parser(argparse.ArgumentParser):
         raise _UsageError(f"{self.prog}: {message} (see '{self.prog} --help')")
 
 
-def build_parser() -> argparse.ArgumentParser:
+def build_parser(only: str | None = None) -> argparse.ArgumentParser:
+    """The whole parser, or with ``only`` (a command's name, or ``""`` for none) that command's parser alone,
+    the other commands listed by their help (:data:`COMMANDS`)."""
     parser = _Parser(prog="lcchain", description="Quasi-uniform spring-mass chains and their LC ladders in ngspice.")
     parser.add_argument("-v", "--verbose", action="store_true", help="log every ngspice run to stderr")
     parser.add_argument("--version", action="version", version=f"lcchain {__version__}")
@@ -95,8 +134,11 @@ def build_parser() -> argparse.ArgumentParser:
     sub.required = True
     budget: list[Any] = [budget_parent()]  # argparse parents (typeshed wants the subparser class)
 
-    for command in COMMANDS:
-        command.add_parser(sub, budget)
+    for name, (_, help_) in COMMANDS.items():
+        if only is None or name == only:
+            command_module(name).add_parser(sub, budget)
+        else:
+            sub.add_parser(name, help=help_)
     return parser
 
 
@@ -161,11 +203,18 @@ def _show_warning(message: Warning | str, category: type[Warning], filename: str
     print(f"lcchain: warning: {message}", file=sys.stderr)
 
 
+def _command_asked(argv: Sequence[str]) -> str:
+    """The command argv names, or "" when it names none of :data:`COMMANDS` (``--help``, ``--version``, a typo):
+    the first word that is not an option, since no option of lcchain's own takes a value."""
+    word = next((arg for arg in argv if not arg.startswith("-")), "")
+    return word if word in COMMANDS else ""
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line; returns the exit status."""
     argv = list(sys.argv[1:] if argv is None else argv)
     try:
-        parser = build_parser()  # reads the registries: a broken plugin is bad input, one line
+        parser = build_parser(_command_asked(argv))  # reads the registries: a broken plugin is bad input, one line
     except ParameterError as error:
         print(f"lcchain: {error}", file=sys.stderr)
         return EXIT_USAGE
