@@ -34,8 +34,9 @@ HEAVY = ("scipy", "matplotlib", "pandas", "xarray", "dask", "distributed", "PySp
 
 #: Lighter modules a batch of foreign netlists has no use for, each found on its start once (issue 35): numpy's
 #: masked arrays (``np.unique`` imports them), its polynomials (a pulse's quadrature nodes), a process pool's
-#: machinery (a batch's runs are driven by threads).
-BATCH_UNNEEDED = ("numpy.ma", "numpy.polynomial", "multiprocessing", "concurrent.futures.process")
+#: machinery (a batch's runs are driven by threads), the entry points' reader (ngspice is an own engine, which no
+#: plugin can take: looking it up reads no entry point).
+BATCH_UNNEEDED = ("numpy.ma", "numpy.polynomial", "multiprocessing", "concurrent.futures.process", "importlib.metadata")
 
 
 def loaded(chains: dict[str, list[str]], names: tuple[str, ...]) -> list[str]:

@@ -128,6 +128,13 @@ class Registry(MutableMapping[str, V]):
             raise ParameterError(field, value, f"a part under a name no other part has: {name!r} is taken")
         return held
 
+    @property
+    def held(self) -> frozenset[str]:
+        """The names held without reading the entry points (lcchain's own parts, those set here, and the plugins'
+        once read): looking one up reads no entry point (``importlib.metadata`` and every installed package's
+        metadata, about 15 ms of a batch's start)."""
+        return frozenset(self._items)
+
     def __getitem__(self, name: str) -> V:
         if name in self._items:  # an own part (or one set here): no plugin can have its name
             return self._items[name]

@@ -45,6 +45,8 @@ def engine_named(name: object, field: str = "engine") -> Engine:
     ``simulate(..., engine=MyEngine())`` gives it (a :class:`~lcchain.core.errors.ParameterError` naming
     ``field``)."""
     if isinstance(name, str):
+        if name in ENGINES.held:  # an own engine (no plugin can take its name): no entry point is read for it
+            return ENGINES[name]
         return ENGINES[choice(field, name, tuple(ENGINES))]
     return ENGINES.accept(field, name)
 
