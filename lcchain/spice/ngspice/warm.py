@@ -55,7 +55,7 @@ from ..processes import PACKAGE_ROOT, WATCH_INTERVAL, child_env, kill_group, out
 from ..simulator import Simulator
 from ..text import canonical_vector_name, circuit_lines, text_digest
 from .find import find_shared_library
-from .place import Place
+from .place import Place, placement
 
 __all__ = ["WarmWorker", "run_warm", "worker_for", "close_workers", "warm_simulator", "WARM_BELOW_SECONDS",
            "MAX_WORKER_BYTES", "MAX_WORKER_RUNS", "RESTART_SHARE"]
@@ -251,6 +251,8 @@ class WarmWorker:
 # ------------------------------------------------------------------ one worker per thread
 _lock = threading.Lock()
 _workers: set[WarmWorker] = set()
+#: The worker :func:`warm_simulator` started to check the library's version, by key, until a thread takes it over.
+_spare: dict[tuple[Any, ...], WarmWorker] = {}
 _local = threading.local()
 
 
@@ -267,9 +269,12 @@ def worker_for(library: str, prefix: tuple[str, ...], cwd: str, env: dict[str, s
         worker.close()
         worker = None
     if worker is None:
-        worker = WarmWorker(library, prefix, cwd, env)
         with _lock:
-            _workers.add(worker)
+            worker = _spare.pop(key, None)
+        if worker is None or not worker.alive:
+            worker = WarmWorker(library, prefix, cwd, env)
+            with _lock:
+                _workers.add(worker)
         mine[key] = worker
     return worker
 
@@ -278,6 +283,7 @@ def close_workers(kill: bool = False) -> None:
     """End every warm worker of this process (every thread's)."""
     with _lock:
         workers = list(_workers)
+        _spare.clear()
     for worker in workers:
         worker.close(kill)
 
@@ -295,12 +301,29 @@ def warm_simulator(simulator: Simulator) -> Simulator:
         No shared library, or one of another version than ``simulator``'s ngspice.
     """
     library = find_shared_library()
-    worker = WarmWorker(library, simulator.launcher, "/", child_env())
-    worker.close()
+    warm = replace(simulator, backend="warm", executable=library)
+    if not simulator.sandbox.available:
+        worker = WarmWorker(library, simulator.launcher, "/", child_env())
+        worker.close()
+    else:
+        # checked where a netlist lcchain did not write runs warm (in the sandbox, a placement that makes no
+        # folder), and kept: the first thread to run one there takes this worker over instead of starting its own
+        # (a worker's start, 40 to 70 ms, off a batch's path to its first run)
+        with placement(warm, True, None) as place:
+            worker = WarmWorker(library, place.prefix, place.cwd, place.env)
+        if worker.version == simulator.version:
+            with _lock:
+                _workers.add(worker)
+                old = _spare.pop((library, place.prefix, place.cwd), None)
+                _spare[(library, place.prefix, place.cwd)] = worker
+            if old is not None:
+                old.close()
+        else:
+            worker.close()
     if worker.version != simulator.version:
         raise SimulatorMissingError(f"ngspice's shared library {library} is version {worker.version}, the ngspice "
                                     f"program {simulator.version}: the warm transport would change results")
-    return replace(simulator, backend="warm", executable=library)
+    return warm
 
 
 def run_warm(netlist: str, simulator: Simulator, timeout: float, tstop: float,
