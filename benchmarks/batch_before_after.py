@@ -1,0 +1,82 @@
+"""``lcchain batch`` of one tree against another, beside ``xargs -P2 ngspice -b``, in interleaved rounds.
+
+Run from the repository root, with the tree before the change unpacked elsewhere
+(``git archive COMMIT | tar -x -C /tmp/before``):
+
+    .venv/bin/python benchmarks/batch_before_after.py /tmp/before [N] [COUNT] [ROUNDS]
+
+Each round runs, in a rotated order, ``xargs -P2 ngspice -b`` on the same distinct netlists
+(:func:`bench_batch.write_netlists`), ``lcchain batch --json`` (default options) of each tree and
+``lcchain batch --help`` of each tree; a tree is chosen by ``PYTHONPATH`` under this interpreter, and
+bytecode is written and read as an installed lcchain does.  Prints each contender's median wall time, its ratio
+to xargs, lcchain's own ``wall_s`` ("runs only") and every round's time, with the load average (1 min) before
+and after.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from collections.abc import Callable
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from bench_batch import write_netlists  # noqa: E402
+
+AFTER = str(Path(__file__).resolve().parent.parent)
+ENV = {name: value for name, value in os.environ.items() if name != "PYTHONDONTWRITEBYTECODE"}
+LCCHAIN = [sys.executable, "-c", "import sys; from lcchain.cli import main; sys.exit(main())"]
+
+
+def main() -> None:
+    before = sys.argv[1]
+    N, count, rounds = (int(v) for v in (sys.argv[2:] + ["100", "40", "7"][len(sys.argv) - 2:])[:3])
+    work = Path(tempfile.mkdtemp(prefix="lcchain-before-after-"))
+    paths = write_netlists(work / "netlists", N, count)
+    ngspice = shutil.which("ngspice") or "ngspice"
+
+    def batch(tree: str) -> Callable[[str], tuple[list[str], dict[str, str]]]:
+        return lambda tag: ([*LCCHAIN, "batch", *paths, "--json", "--store", str(work / f"{tag}.sqlite")],
+                            {**ENV, "PYTHONPATH": tree})
+
+    def helps(tree: str) -> Callable[[str], tuple[list[str], dict[str, str]]]:
+        return lambda tag: ([*LCCHAIN, "batch", "--help"], {**ENV, "PYTHONPATH": tree})
+
+    contenders: dict[str, Callable[[str], tuple[list[str], dict[str, str]]]] = {
+        "xargs -P2 ngspice -b": lambda tag: (["bash", "-c", f'printf "%s\\n" "$@" | xargs -P2 -I{{}} {ngspice} -b '
+                                              '-r {}.raw {} >/dev/null 2>&1', "_", *paths], ENV),
+        "lcchain batch, before": batch(before), "lcchain batch, after": batch(AFTER),
+        "lcchain batch --help, before": helps(before), "lcchain batch --help, after": helps(AFTER)}
+    names = list(contenders)
+    walls: dict[str, list[float]] = {name: [] for name in names}
+    inside: dict[str, list[float]] = {name: [] for name in names}
+    load = os.getloadavg()[0]
+    for r in range(rounds):
+        for i, name in enumerate(names[r % len(names):] + names[:r % len(names)]):
+            command, env = contenders[name](f"r{r}c{i}")
+            start = time.perf_counter()
+            done = subprocess.run(command, capture_output=True, env=env, cwd=work)
+            walls[name].append(time.perf_counter() - start)
+            if done.returncode:
+                raise SystemExit(f"{name}: {done.stderr.decode()[-1500:]}")
+            if b'"wall_s"' in done.stdout:
+                inside[name].append(float(json.loads(done.stdout)["wall_s"]))
+    print(f"{count} distinct N = {N} netlists, {rounds} rounds; load average (1 min) {load:.2f} before, "
+          f"{os.getloadavg()[0]:.2f} after")
+    xargs = statistics.median(walls[names[0]])
+    for name in names:
+        median = statistics.median(walls[name])
+        runs = f"{statistics.median(inside[name]):.3f}" if inside[name] else "-"
+        print(f"{name}: {median:.3f} s ({median / xargs:.2f}x xargs), runs only {runs} s; each "
+              + ", ".join(f"{v:.2f}" for v in walls[name]))
+    shutil.rmtree(work)
+
+
+if __name__ == "__main__":
+    main()
