@@ -13,6 +13,7 @@ from typing import Any
 from ..app.inputs import ChainOptions
 from ..app.netlist import DEFAULT_DT
 from ..app.options import (
+    CASE_CHOICES,
     COUPLING_HELP,
     COUPLING_OPTION,
     Effect,
@@ -330,8 +331,9 @@ def engine_list(text: str) -> tuple[str, ...]:
 
 def add_circuit_arguments(p: argparse.ArgumentParser) -> None:
     """The circuit: a chain (named, or a file), its coils' coupling and its bulk L0, C0."""
-    p.add_argument("--case", choices=NAMED_CASES,
-                   help="named chain (one-mass/two-mass: the optimal design for N; perfect: the perfect cradle)")
+    p.add_argument("--case", choices=CASE_CHOICES, metavar="CASE",
+                   help=f"named chain: {', '.join(NAMED_CASES)} or a plugin's (one-mass/two-mass: the optimal "
+                        "design for N; perfect: the perfect cradle)")
     p.add_argument("--N", type=int, help="number of masses (ladder cells)")
     p.add_argument("--walls", type=int, default=0, metavar="J",
                    help="--case perfect only: J >= 1 ties the perfect cradle to walls (frequencies n - 1 + 2J)")

@@ -1,0 +1,120 @@
+"""Every kind of part in an open registry (issue 34, item 1): cases, mode methods and executors.
+
+Each registry maps a name to a part and, as ``solve_ivp(method=MyOdeSolver)`` does, also takes the part itself:
+a part written here, outside the package, is given as an object to the public function that takes its kind,
+and it works (the executor's runs go through real ngspice).  The ``Literal`` option sets mypy reads stay
+static, and a test checks that each one is its registry's names, so that the two cannot drift apart.
+"""
+
+from __future__ import annotations
+
+import contextlib
+from collections.abc import Iterator
+from typing import Any, get_args
+
+import pytest
+
+from lcchain.app.options import CASE_CHOICES, EXECUTOR_CHOICES
+from lcchain.cli.main import build_parser
+from lcchain.core.errors import ParameterError
+from lcchain.core.registry import Registry
+from lcchain.core.types import Case, ExecutorName, ModeMethod
+from lcchain.runs.request import Request, Transient, plan_request
+from lcchain.studies.executors import EXECUTOR_TRAITS, Executor, execute_group
+from lcchain.studies.run import run_specs
+from lcchain.theory.cases import CHAIN_CASES, ChainCase, chain_for_case
+from lcchain.theory.chain import Chain
+from lcchain.theory.exact import exact_modes
+from lcchain.theory.modes import Modes
+from lcchain.theory.spectrum import MODE_SOLVERS, normal_modes
+
+
+@pytest.fixture
+def forget() -> Iterator[list[tuple[Registry[Any], str]]]:
+    """Parts a test registers, taken out again after it: the registries are the process's."""
+    added: list[tuple[Registry[Any], str]] = []
+    yield added
+    for registry, name in added:
+        registry.pop(name, None)
+
+
+@pytest.mark.parametrize("literal, registry, outside", [
+    (ModeMethod, MODE_SOLVERS, ()),
+    (Case, CHAIN_CASES, ("custom",)),  # a scene's own masses and springs: no case makes them
+    (ExecutorName, EXECUTOR_TRAITS, ()),
+], ids=["mode method", "case", "executor"])
+def test_each_literal_option_set_is_its_registrys_names(literal, registry, outside):
+    assert tuple(name for name in get_args(literal) if name not in outside) == tuple(registry)
+
+
+def test_the_command_lines_case_and_executor_choices_are_the_registries(forget):
+    assert tuple(CASE_CHOICES) == tuple(CHAIN_CASES) and tuple(EXECUTOR_CHOICES) == tuple(EXECUTOR_TRAITS)
+    case = ChainCase("test-uniform", lambda N, walls: Chain.uniform_free(N))
+    forget.append((CHAIN_CASES, case.name))
+    assert "test-uniform" not in CASE_CHOICES
+    CHAIN_CASES.accept("case", case)
+    assert "test-uniform" in CASE_CHOICES  # read when argparse checks the value, not when the parser was built
+    args = build_parser().parse_args(["simulate", "--case", "test-uniform", "--N", "5"])
+    assert args.case == "test-uniform"
+
+
+def test_a_mode_method_of_ones_own_is_taken_as_itself(forget):
+    calls: list[int] = []
+
+    def counted_exact(chain: Chain) -> Modes:
+        calls.append(chain.N)
+        return exact_modes(chain)
+
+    forget.append((MODE_SOLVERS, "counted_exact"))
+    chain = Chain.uniform_free(6)
+    modes = normal_modes(chain, method=counted_exact)
+    assert calls == [6] and len(modes.omega) == 6
+    assert normal_modes(chain, method="counted_exact").omega.shape == (6,)  # registered under its name
+    assert calls == [6, 6]
+
+    def counted_exact_2(chain: Chain) -> Modes:
+        return exact_modes(chain)
+
+    counted_exact_2.__name__ = "counted_exact"  # another function under a name already taken: refused
+    with pytest.raises(ParameterError, match="'counted_exact' is taken"):
+        normal_modes(chain, method=counted_exact_2)
+    with pytest.raises(ParameterError, match="method"):
+        normal_modes(chain, method=lambda c: exact_modes(c))  # no name to register it under
+
+
+def test_a_case_of_ones_own_is_taken_as_itself(forget):
+    case = ChainCase("test-uniform", lambda N, walls: Chain.uniform_free(N), max_N=50)
+    forget.append((CHAIN_CASES, case.name))
+    made = chain_for_case(case, 7)
+    assert made.N == 7 and list(made.masses) == list(Chain.uniform_free(7).masses)
+    assert chain_for_case("test-uniform", 5).N == 5  # by name, once given
+    with pytest.raises(ParameterError, match="walls"):
+        chain_for_case(case, 7, walls=1)  # it does not take walls
+    with pytest.raises(ParameterError, match="'test-uniform' is taken"):
+        chain_for_case(ChainCase("test-uniform", lambda N, walls: Chain.uniform_bounded(N)), 7)
+    with pytest.raises(ParameterError, match="case"):
+        chain_for_case(object(), 7)
+
+
+@pytest.mark.ngspice
+def test_an_executor_of_ones_own_runs_a_tiny_study_through_ngspice(forget):
+    groups_seen: list[int] = []
+
+    @contextlib.contextmanager
+    def counting_runner(simulator, workers, scheduler, keep_signals, verbose, scratch, pool):
+        def run(groups, transports):
+            for group in groups:
+                groups_seen.append(len(group))
+                yield execute_group(group, simulator, keep_signals, transports)
+
+        yield run
+
+    mine = Executor(parallel=False, remote=False, name="test-counting", runner=counting_runner)
+    forget.append((EXECUTOR_TRAITS, mine.name))
+    specs = [plan_request(Request(Chain.uniform_free(N), Transient(dt=0.05))).specs[0] for N in (4, 5)]
+    records = run_specs(specs, executor=mine, workers=1, transport="process")
+    assert [record.status for record in records] == ["ok", "ok"]
+    assert groups_seen == [1, 1]  # a serial executor: one run per group, both through this runner
+    assert "test-counting" in EXECUTOR_TRAITS and "test-counting" in EXECUTOR_CHOICES
+    with pytest.raises(ParameterError, match="--executor"):
+        run_specs(specs, executor=object(), workers=1)
