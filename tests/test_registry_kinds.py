@@ -1,4 +1,5 @@
-"""Every kind of part in an open registry (issue 34, item 1): cases, mode methods and executors.
+"""Every kind of part in an open registry (issue 34, item 1): cases, mode methods, executors and ngspice's
+transports.
 
 Each registry maps a name to a part and, as ``solve_ivp(method=MyOdeSolver)`` does, also takes the part itself:
 a part written here, outside the package, is given as an object to the public function that takes its kind,
@@ -9,19 +10,25 @@ static, and a test checks that each one is its registry's names, so that the two
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 from collections.abc import Iterator
 from typing import Any, get_args
 
 import pytest
+from helpers.netlists import RC_NETLIST
 
 from lcchain.app.options import CASE_CHOICES, EXECUTOR_CHOICES
 from lcchain.cli.main import build_parser
 from lcchain.core.errors import ParameterError
 from lcchain.core.registry import Registry
-from lcchain.core.types import Case, ExecutorName, ModeMethod
+from lcchain.core.types import Backend, Case, ExecutorName, ModeMethod, Transport
 from lcchain.runs.request import Request, Transient, plan_request
 from lcchain.studies.executors import EXECUTOR_TRAITS, Executor, execute_group
 from lcchain.studies.run import run_specs
+from lcchain.spice.ngspice.batch import run_batch
+from lcchain.spice.ngspice.find import find_batch, find_simulator
+from lcchain.spice.ngspice.runner import run
+from lcchain.spice.ngspice.transports import TRANSPORT_RUNS, NgspiceTransport
 from lcchain.theory.cases import CHAIN_CASES, ChainCase, chain_for_case
 from lcchain.theory.chain import Chain
 from lcchain.theory.exact import exact_modes
@@ -42,9 +49,14 @@ def forget() -> Iterator[list[tuple[Registry[Any], str]]]:
     (ModeMethod, MODE_SOLVERS, ()),
     (Case, CHAIN_CASES, ("custom",)),  # a scene's own masses and springs: no case makes them
     (ExecutorName, EXECUTOR_TRAITS, ()),
-], ids=["mode method", "case", "executor"])
+    (Transport, TRANSPORT_RUNS, ()),
+], ids=["mode method", "case", "executor", "transport"])
 def test_each_literal_option_set_is_its_registrys_names(literal, registry, outside):
     assert tuple(name for name in get_args(literal) if name not in outside) == tuple(registry)
+
+
+def test_the_backends_are_the_transports_a_user_names():
+    assert get_args(Backend) == tuple(name for name, part in TRANSPORT_RUNS.items() if part.find is not None)
 
 
 def test_the_command_lines_case_and_executor_choices_are_the_registries(forget):
@@ -118,3 +130,24 @@ def test_an_executor_of_ones_own_runs_a_tiny_study_through_ngspice(forget):
     assert "test-counting" in EXECUTOR_TRAITS and "test-counting" in EXECUTOR_CHOICES
     with pytest.raises(ParameterError, match="--executor"):
         run_specs(specs, executor=object(), workers=1)
+
+
+@pytest.mark.ngspice
+def test_a_transport_of_ones_own_runs_a_netlist_through_ngspice(forget):
+    runs: list[str] = []
+
+    def counted_batch(text, simulator, *rest):
+        runs.append(simulator.backend)
+        return run_batch(text, simulator, *rest)
+
+    def find(launcher):
+        return dataclasses.replace(find_batch(launcher), backend="test-counted")
+
+    mine = NgspiceTransport("test-counted", counted_batch, find)
+    forget.append((TRANSPORT_RUNS, mine.name))
+    simulator = find_simulator(mine)
+    assert simulator.backend == "test-counted" and find_simulator("batch").version == simulator.version
+    result = run(RC_NETLIST, ["v(out)"], 2e-6, simulator=simulator, foreign=True)
+    assert runs == ["test-counted"] and result.points > 10
+    with pytest.raises(ParameterError, match="backend = 'warm'"):
+        find_simulator(TRANSPORT_RUNS["warm"])  # a study starts it: no user names it

@@ -14,16 +14,19 @@ import re
 import shutil
 import subprocess
 import sys
-from collections.abc import Callable
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from ...core.checks import choice
-from ...core.errors import ExtraMissingError, SimulatorMissingError
+from ...core.errors import ExtraMissingError, ParameterError, SimulatorMissingError
 from ...core.types import BACKENDS, Backend
 from ..log import useful_output
 from ..sandbox import find_sandbox
 from ..simulator import Simulator, child_launcher
 from .shared_child import call_shared_worker, decode_worker_payload
+
+if TYPE_CHECKING:
+    from .transports import NgspiceTransport
 
 __all__ = [
     "find_simulator",
@@ -126,12 +129,14 @@ def require_pyspice() -> None:
         raise ExtraMissingError("PySpice", "shared", "the shared backend")
 
 
-def find_simulator(backend: Backend = "batch") -> Simulator:
+def find_simulator(backend: Backend | NgspiceTransport = "batch") -> Simulator:
     """Locate ngspice for a backend and ask its version, once (and whether a sandbox works here).
 
     Parameters
     ----------
-    backend : {"batch", "shared"}
+    backend : {"batch", "shared"} or NgspiceTransport
+        A transport of one's own is used as given (registered under its ``name`` the first time); its
+        ``find`` locates ngspice for it.
 
     Raises
     ------
@@ -139,23 +144,24 @@ def find_simulator(backend: Backend = "batch") -> Simulator:
         ngspice, its shared library or (shared) PySpice is missing; the message
         says how to install it.
     """
-    return _TRANSPORT_FINDERS[choice("backend", backend, BACKENDS)](child_launcher())
+    from .transports import TRANSPORT_RUNS  # the transports import this module's finders
+
+    transport = TRANSPORT_RUNS[choice("backend", backend, BACKENDS)] if isinstance(backend, str) else \
+        TRANSPORT_RUNS.accept("backend", backend)
+    if transport.find is None:  # the warm transport: a study starts it on a shared library it found
+        raise ParameterError("backend", transport.name, f"a transport a user names: {' | '.join(BACKENDS)}")
+    return transport.find(child_launcher())
 
 
-def _find_batch(launcher: tuple[str, ...]) -> Simulator:
+def find_batch(launcher: tuple[str, ...]) -> Simulator:
     exe = find_ngspice()
     return Simulator("batch", exe, ngspice_version(exe), launcher, find_sandbox())
 
 
-def _find_shared(launcher: tuple[str, ...]) -> Simulator:
+def find_shared(launcher: tuple[str, ...]) -> Simulator:
     library = find_shared_library()
     require_pyspice()
     return Simulator("shared", library, shared_library_version(library, launcher), launcher, find_sandbox())
-
-
-#: ngspice's transports, by name: how each is found (its run: lcchain.spice.ngspice.runner.TRANSPORT_RUNS).
-_TRANSPORT_FINDERS: dict[str, Callable[[tuple[str, ...]], Simulator]] = {"batch": _find_batch,
-                                                                          "shared": _find_shared}
 
 
 def shared_library_version(library: str, launcher: tuple[str, ...] = ()) -> str:
