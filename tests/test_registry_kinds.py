@@ -23,12 +23,13 @@ from lcchain.core.errors import ParameterError
 from lcchain.core.registry import Registry
 from lcchain.core.types import Backend, Case, ExecutorName, ModeMethod, Transport
 from lcchain.runs.request import Request, Transient, plan_request
-from lcchain.studies.executors import EXECUTOR_TRAITS, Executor, execute_group
-from lcchain.studies.run import run_specs
 from lcchain.spice.ngspice.batch import run_batch
-from lcchain.spice.ngspice.find import find_batch, find_simulator
+from lcchain.spice.ngspice.find import find_simulator
+from lcchain.spice.ngspice.locate import find_batch
 from lcchain.spice.ngspice.runner import run
 from lcchain.spice.ngspice.transports import TRANSPORT_RUNS, NgspiceTransport
+from lcchain.studies.executors import EXECUTOR_TRAITS, Executor, execute_group
+from lcchain.studies.run import run_specs
 from lcchain.theory.cases import CHAIN_CASES, ChainCase, chain_for_case
 from lcchain.theory.chain import Chain
 from lcchain.theory.exact import exact_modes

@@ -17,7 +17,7 @@ import numpy as np
 from ...core.registry import Registry
 from ..simulator import Simulator
 from .batch import run_batch
-from .find import find_batch, find_shared
+from .locate import find_batch, find_shared
 from .place import Place
 from .shared import run_shared
 from .warm import run_warm
