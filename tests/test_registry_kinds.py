@@ -23,6 +23,7 @@ from lcchain.core.errors import ParameterError
 from lcchain.core.registry import Registry
 from lcchain.core.types import Backend, Case, ExecutorName, ModeMethod, Transport
 from lcchain.runs.request import Request, Transient, plan_request
+from lcchain.scenes.schema import ChainSpec
 from lcchain.spice.ngspice.batch import run_batch
 from lcchain.spice.ngspice.find import find_simulator
 from lcchain.spice.ngspice.locate import find_batch
@@ -101,6 +102,9 @@ def test_a_case_of_ones_own_is_taken_as_itself(forget):
     made = chain_for_case(case, 7)
     assert made.N == 7 and list(made.masses) == list(Chain.uniform_free(7).masses)
     assert chain_for_case("test-uniform", 5).N == 5  # by name, once given
+    assert ChainSpec(case="test-uniform", N=9).case == "test-uniform"  # a scene may name it
+    with pytest.raises(ParameterError, match="chain.N"):
+        ChainSpec(case="test-uniform", N=60)  # beyond its max_N
     with pytest.raises(ParameterError, match="walls"):
         chain_for_case(case, 7, walls=1)  # it does not take walls
     with pytest.raises(ParameterError, match="'test-uniform' is taken"):

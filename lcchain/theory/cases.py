@@ -8,10 +8,10 @@ from dataclasses import dataclass
 from ..core.errors import ParameterError
 from ..core.limits import MAX_CIRCUIT_N, MAX_PERFECT_N
 from ..core.registry import Registry
-from ..core.types import NAMED_CASES
+from ..core.types import CASES, NAMED_CASES
 from .chain import Chain
 
-__all__ = ["chain_for_case", "NAMED_CASES", "ChainCase", "CHAIN_CASES", "named_case"]
+__all__ = ["chain_for_case", "NAMED_CASES", "ChainCase", "CHAIN_CASES", "named_case", "scene_cases"]
 
 
 @dataclass(frozen=True)
@@ -78,6 +78,12 @@ def _admit(name: str, loaded: object) -> ChainCase:
 CHAIN_CASES: Registry[ChainCase] = Registry("lcchain.cases", {case.name: case for case in _OWN_CASES}, _admit,
                                             "an lcchain.theory.cases.ChainCase, named as the entry point",
                                             name_of=lambda part: str(getattr(part, "name", "")))
+
+
+def scene_cases() -> tuple[str, ...]:
+    """What a scene's ``chain.case`` may be: the registry's cases (plugins included), then the literal's cases
+    that no registered case makes (``custom``: the scene's own masses and springs)."""
+    return (*CHAIN_CASES, *(case for case in CASES if case not in CHAIN_CASES))
 
 
 def named_case(case: str | ChainCase) -> ChainCase | None:
