@@ -36,9 +36,10 @@ def engine_names() -> tuple[str, ...]:
 
 class RegistryNames:
     """A registry's names as a command line's choices, read when argparse first lists or checks them, not when
-    the parser is built (by then a plugin's part given as itself is in the registry too), and imported only then:
-    the executors' registry lives beside the runs' execution, which a command such as ``batch`` does not load.
-    Give the option a ``metavar``: argparse would list the choices in every usage line otherwise."""
+    the parser is built (by then a plugin's part given as itself is in the registry too), and imported only then.
+    Give the option a ``metavar`` (argparse lists the choices in every usage line otherwise); where the
+    registry's module is heavy (the executors' lives beside the runs' execution), check the value with
+    ``lcchain.cli.common.registry_name`` instead of ``choices``, which ``--help`` lists."""
 
     def __init__(self, load: Callable[[], Mapping[str, object]]) -> None:
         self._load = load

@@ -17,6 +17,7 @@ from ..app.options import (
     COUPLING_HELP,
     COUPLING_OPTION,
     Effect,
+    RegistryNames,
     effect_options,
     effects_from_options,
     engine_names,
@@ -327,6 +328,18 @@ def engine_list(text: str) -> tuple[str, ...]:
     if len(set(names)) != len(names):
         raise argparse.ArgumentTypeError(f"{text!r} names an engine twice")
     return names
+
+
+def registry_name(option: str, names: RegistryNames) -> Callable[[str], str]:
+    """An argparse type: a name the registry holds, looked up when a value is given (so that ``--help`` imports
+    no registry whose module is heavy, as the executors' is), in the line every refused option has."""
+
+    def parse(text: str) -> str:
+        if text not in names:
+            raise argparse.ArgumentTypeError(f"{option} = {text!r} is not allowed: expected {' | '.join(names)}")
+        return text
+
+    return parse
 
 
 def add_circuit_arguments(p: argparse.ArgumentParser) -> None:
