@@ -32,7 +32,8 @@ from lcchain.spice.foreign import allowed_netlist
 from lcchain.spice.ngspice import warm
 from lcchain.spice.ngspice.find import find_simulator
 from lcchain.spice.ngspice.place import placement as _placement
-from lcchain.spice.ngspice.runner import TRANSPORT_RUNS, run
+from lcchain.spice.ngspice.runner import run
+from lcchain.spice.ngspice.transports import TRANSPORT_RUNS
 from lcchain.spice.result import read_include
 from lcchain.spice.simulator import Simulator
 from lcchain.spice.text import canonical_text, circuit_lines, netlist_lines, text_digest
@@ -146,7 +147,7 @@ def test_no_transport_runs_a_text_that_is_not_canonical(backend: str, simulators
     for char in ("\u2028", "\x85", "\x0c", "\r"):
         text = _hostile(netlist, char, "comment", secret, folder)
         with _placement(simulator, True, None) as place, pytest.raises(ParameterError, match="line 2"):
-            TRANSPORT_RUNS[backend](text, simulator, 60.0, tstop, None, place, None, None)
+            TRANSPORT_RUNS[backend].run(text, simulator, 60.0, tstop, None, place, None, None)
     result = run(netlist, vectors, tstop, simulator=simulator, foreign=True)  # the transport still works
     assert result.points > 10 and "lcchain-secret-line" not in result.log
 

@@ -8,7 +8,7 @@ study, no scipy submodule).
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Iterator, Mapping
 
 from ..circuit.effects import E_SERIES, EFFECTS, Coupling, Effect, effect_fields
 from ..core.errors import ParameterError
@@ -16,7 +16,8 @@ from ..report.files import FIGURE_FORMATS
 from ..spice.engines import DEFAULT_ENGINE, ENGINES
 from ..theory.chain import Chain
 
-__all__ = ["Chain", "Effect", "DEFAULT_ENGINE", "FIGURE_FORMATS", "E_SERIES_NAMES", "COUPLING_OPTION", "COUPLING_HELP",
+__all__ = ["Chain", "Effect", "CASE_CHOICES", "EXECUTOR_CHOICES", "RegistryNames", "DEFAULT_ENGINE",
+           "FIGURE_FORMATS", "E_SERIES_NAMES", "COUPLING_OPTION", "COUPLING_HELP",
            "CIRCUIT_EFFECTS", "EffectOption", "effect_options", "effects_from_options", "engine_names"]
 
 #: The preferred-number series a part may be rounded to (``--series``).
@@ -31,6 +32,43 @@ CIRCUIT_EFFECTS = ("coupling",)
 def engine_names() -> tuple[str, ...]:
     """The registered engines' names (plugins included), in the registry's order."""
     return tuple(ENGINES)
+
+
+class RegistryNames:
+    """A registry's names as a command line's choices, read when argparse first lists or checks them, not when
+    the parser is built (by then a plugin's part given as itself is in the registry too), and imported only then.
+    Give the option a ``metavar`` (argparse lists the choices in every usage line otherwise); where the
+    registry's module is heavy (the executors' lives beside the runs' execution), check the value with
+    ``lcchain.cli.common.registry_name`` instead of ``choices``, which ``--help`` lists."""
+
+    def __init__(self, load: Callable[[], Mapping[str, object]]) -> None:
+        self._load = load
+
+    def __contains__(self, name: object) -> bool:
+        return name in self._load()
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._load())
+
+
+def _cases() -> Mapping[str, object]:
+    from ..theory.cases import CHAIN_CASES
+
+    return CHAIN_CASES
+
+
+#: The named cases (``--case``), plugins included: :data:`lcchain.theory.cases.CHAIN_CASES`.
+CASE_CHOICES = RegistryNames(_cases)
+
+
+def _executors() -> Mapping[str, object]:
+    from ..studies.executors import EXECUTOR_TRAITS
+
+    return EXECUTOR_TRAITS
+
+
+#: The executors (``--executor``), plugins included: :data:`lcchain.studies.executors.EXECUTOR_TRAITS`.
+EXECUTOR_CHOICES = RegistryNames(_executors)
 
 
 class EffectOption:

@@ -13,9 +13,11 @@ from typing import Any
 from ..app.inputs import ChainOptions
 from ..app.netlist import DEFAULT_DT
 from ..app.options import (
+    CASE_CHOICES,
     COUPLING_HELP,
     COUPLING_OPTION,
     Effect,
+    RegistryNames,
     effect_options,
     effects_from_options,
     engine_names,
@@ -328,10 +330,23 @@ def engine_list(text: str) -> tuple[str, ...]:
     return names
 
 
+def registry_name(option: str, names: RegistryNames) -> Callable[[str], str]:
+    """An argparse type: a name the registry holds, looked up when a value is given (so that ``--help`` imports
+    no registry whose module is heavy, as the executors' is), in the line every refused option has."""
+
+    def parse(text: str) -> str:
+        if text not in names:
+            raise argparse.ArgumentTypeError(f"{option} = {text!r} is not allowed: expected {' | '.join(names)}")
+        return text
+
+    return parse
+
+
 def add_circuit_arguments(p: argparse.ArgumentParser) -> None:
     """The circuit: a chain (named, or a file), its coils' coupling and its bulk L0, C0."""
-    p.add_argument("--case", choices=NAMED_CASES,
-                   help="named chain (one-mass/two-mass: the optimal design for N; perfect: the perfect cradle)")
+    p.add_argument("--case", choices=CASE_CHOICES, metavar="CASE",
+                   help=f"named chain: {', '.join(NAMED_CASES)} or a plugin's (one-mass/two-mass: the optimal "
+                        "design for N; perfect: the perfect cradle)")
     p.add_argument("--N", type=int, help="number of masses (ladder cells)")
     p.add_argument("--walls", type=int, default=0, metavar="J",
                    help="--case perfect only: J >= 1 ties the perfect cradle to walls (frequencies n - 1 + 2J)")

@@ -7,10 +7,11 @@ import argparse
 import sys
 from typing import Any
 
+from ..app.options import EXECUTOR_CHOICES
 from ..app.studies import StudyHooks, StudyOptions, StudyResult
 from ..core.budget import show_seconds
 from ..core.types import EXECUTORS, TRANSPORT_CHOICES
-from .common import EXIT_FAILED, EXIT_OK, budget_from_args, emit_json, seconds
+from .common import EXIT_FAILED, EXIT_OK, budget_from_args, emit_json, registry_name, seconds
 from .progress import study_counter
 
 __all__ = ["add_study_arguments", "study_options", "study_hooks", "show_study", "table", "number", "short"]
@@ -27,7 +28,9 @@ def add_study_arguments(p: argparse.ArgumentParser, *, store: bool = True) -> No
                        help="when another lcchain is writing the store, wait for it to finish (default: refuse)")
         p.add_argument("--retry-failed", action="store_true",
                        help="run again the runs the store holds as failed or timed out")
-    p.add_argument("--executor", choices=EXECUTORS, default="process", help="where the runs execute (default process)")
+    p.add_argument("--executor", type=registry_name("--executor", EXECUTOR_CHOICES), metavar="EXECUTOR",
+                   default="process",
+                   help=f"where the runs execute: {', '.join(EXECUTORS)} or a plugin's (default process)")
     p.add_argument("--workers", type=int, default=None, help="worker processes (default: one per core)")
     p.add_argument("--scheduler", metavar="tcp://HOST:PORT", help="an existing Dask scheduler (--executor dask)")
     p.add_argument("--transport", choices=TRANSPORT_CHOICES, default="auto",

@@ -18,7 +18,9 @@ first time, so that what lcchain keeps (a spec, a record, a store's row) is the 
 
 from __future__ import annotations
 
+import dataclasses
 import threading
+import types
 from collections.abc import Callable, Iterator, Mapping, MutableMapping
 from typing import TYPE_CHECKING, TypeVar
 
@@ -124,7 +126,10 @@ class Registry(MutableMapping[str, V]):
             raise ParameterError(field, value, f"{allowed}, or {self.what} ({_one_line(str(error))})") from None
         with self._loading:
             held = self._items.setdefault(name, part)
-        if held is not part and (isinstance(part, type) or type(held) is not type(part)):
+        # the same part again (an engine made twice, an equal frozen record) is the one held; another is refused
+        same = not isinstance(part, (type, types.FunctionType)) and type(held) is type(part) \
+            and (not dataclasses.is_dataclass(part) or held == part)
+        if held is not part and not same:
             raise ParameterError(field, value, f"a part under a name no other part has: {name!r} is taken")
         return held
 

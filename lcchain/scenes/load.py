@@ -20,9 +20,9 @@ from ..core.analyses import analysis_kind
 from ..core.checks import choice, integer, real
 from ..core.errors import ParameterError
 from ..core.limits import MAX_CIRCUIT_N, MAX_SAMPLES, MAX_SCENE_BYTES, MIN_N
-from ..core.types import ANALYSIS_KINDS, CASES
+from ..core.types import ANALYSIS_KINDS
 from ..spice.inputs import read_input
-from ..theory.cases import named_case
+from ..theory.cases import named_case, scene_cases
 from .schema import (
     ANALYSIS_KEYS,
     ANALYSIS_PLOTS,
@@ -139,7 +139,7 @@ def _parse(data: Mapping[str, Any], source: str | None) -> Scene:
     _known_keys(data, TOP_KEYS, "")
 
     chain = _table(data, "chain", CHAIN_KEYS, required=True)
-    choice("chain.case", chain.get("case"), CASES)
+    choice("chain.case", chain.get("case"), scene_cases())
     if "N" not in chain:
         if named_case(chain["case"]) is not None:  # a named case's size; a custom chain's is its masses
             raise ParameterError("chain.N", None, f"an integer from {MIN_N} to {MAX_CIRCUIT_N} (required)")

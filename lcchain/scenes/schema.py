@@ -45,7 +45,6 @@ from ..core.limits import (
 from ..core.types import (
     ANALYSIS_KINDS,
     BACKENDS,
-    CASES,
     DEFAULT_C0,
     DEFAULT_I0,
     DEFAULT_L0,
@@ -65,7 +64,7 @@ from ..core.types import (
 )
 from ..spice.engine import Engine
 from ..spice.engines import DEFAULT_ENGINE, engine_named
-from ..theory.cases import named_case
+from ..theory.cases import named_case, scene_cases
 
 __all__ = [
     "ChainSpec",
@@ -125,7 +124,7 @@ class ChainSpec:
     springs: tuple[float, ...] | None = None
 
     def __post_init__(self) -> None:
-        choice("chain.case", self.case, CASES)
+        choice("chain.case", self.case, scene_cases())
         named = named_case(self.case)
         if named is not None:
             for name in ("masses", "springs"):

@@ -12,7 +12,6 @@ import shutil
 import sys
 from dataclasses import dataclass
 
-from ..core.checks import choice
 from ..core.errors import ParameterError
 from ..core.types import TRANSPORTS, Transport
 from .sandbox import Sandbox
@@ -51,7 +50,10 @@ class Simulator:
     engine: str = "ngspice"
 
     def __post_init__(self) -> None:
-        choice("backend", self.backend, TRANSPORTS)
+        if self.backend not in TRANSPORTS and not (isinstance(self.backend, str) and self.backend.isprintable()
+                                                   and self.backend and " " not in self.backend):
+            raise ParameterError("backend", self.backend, f"{' | '.join(TRANSPORTS)}, or a transport's name "
+                                 "(its engine refuses one it does not have)")
         if not isinstance(self.engine, str) or not self.engine:
             raise ParameterError("engine", self.engine, "an engine's name, such as 'ngspice'")
 

@@ -29,7 +29,7 @@ cannot be reached leaves no store behind; :func:`check_executor` checks the
 options before that, without a network.
 
 Short runs are grouped so that each task sent is worth its overhead
-(:data:`MIN_TASK_SECONDS`), while keeping several tasks per worker for
+(:attr:`Executor.min_task_seconds`), while keeping several tasks per worker for
 balance and progress.
 
 The transport of each run (:func:`choose_transports`): short ngspice runs go
@@ -61,6 +61,7 @@ from ..core.budget import (
     POOL_WORKER_BYTES,
 )
 from ..core.errors import ExtraMissingError, LcchainError, ParameterError, SimulatorMissingError
+from ..core.registry import Registry
 from ..core.types import EXECUTORS, TRANSPORT_CHOICES, ExecutorName, TransportChoice
 from ..runs.execute import RunRecord, execute
 from ..runs.spec import RunSpec
@@ -72,14 +73,14 @@ if TYPE_CHECKING:  # multiprocessing's pool takes ~10 ms to import, which a batc
     from concurrent.futures import ProcessPoolExecutor
 
 __all__ = ["ExecutorName", "EXECUTORS", "ExecutorTraits", "EXECUTOR_TRAITS", "DEFAULT_EXECUTOR",
-           "MIN_TASK_SECONDS", "SCHEDULER_SCHEMES", "run_groups", "open_executor",
+           "SCHEDULER_SCHEMES", "run_groups", "open_executor",
            "check_executor", "group_tasks", "default_workers", "execute_group", "Transports", "choose_transports",
-           "WARM_MIN_RUNS_PER_WORKER", "ExecutorCost", "executor_cost", "EXECUTOR_COSTS"]
+           "WARM_MIN_RUNS_PER_WORKER", "ExecutorCost", "executor_cost", "Executor", "RunnerFactory"]
 
 @dataclass(frozen=True)
 class ExecutorTraits:
-    """What an executor is, as a study asks it (what it does is its line in :data:`EXECUTOR_RUNNERS`, its price
-    its line in :data:`EXECUTOR_COSTS`).
+    """What an executor is, as a study asks it (what it does and what it costs are the rest of its
+    :class:`Executor`).
 
     Attributes
     ----------
@@ -93,15 +94,8 @@ class ExecutorTraits:
     remote: bool
 
 
-#: The executors lcchain has, by name, and what each is.
-EXECUTOR_TRAITS: dict[str, ExecutorTraits] = {"serial": ExecutorTraits(parallel=False, remote=False),
-                                              "process": ExecutorTraits(parallel=True, remote=False),
-                                              "dask": ExecutorTraits(parallel=True, remote=True)}
 #: The executor a study uses unless told otherwise; the serial executor asked for several workers uses it too.
 DEFAULT_EXECUTOR = "process"
-#: Seconds of runs worth sending as one task (Dask's overhead per task is a few ms; its documentation asks for
-#: tasks of 100 ms and more).
-MIN_TASK_SECONDS: dict[str, float] = {"serial": 0.0, "process": 0.05, "dask": 0.3}
 #: The protocols a Dask scheduler address may name (``HOST:PORT`` alone is ``tcp``).
 SCHEDULER_SCHEMES = ("tcp", "tls")
 #: Seconds to reach a Dask scheduler before it counts as unreachable.
@@ -232,14 +226,13 @@ def check_scheduler(address: str) -> str:
     return text
 
 
-def check_executor(executor: str, workers: int | None = None, scheduler: str | None = None) -> None:
+def check_executor(executor: str | Executor, workers: int | None = None, scheduler: str | None = None) -> None:
     """Refuse an unknown executor, workers below 1, or a scheduler that is no address or not for Dask."""
-    if executor not in EXECUTORS:
-        raise ParameterError("--executor", executor, " | ".join(EXECUTORS))
+    EXECUTOR_TRAITS.accept("--executor", executor)
     if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
         raise ParameterError("--workers", workers, "an integer >= 1")
     if scheduler is not None:
-        if not EXECUTOR_TRAITS[executor].remote:
+        if not EXECUTOR_TRAITS.accept("--executor", executor).remote:
             remote = " | ".join(name for name, traits in EXECUTOR_TRAITS.items() if traits.remote)
             raise ParameterError("--scheduler", scheduler, f"nothing unless --executor {remote}")
         check_scheduler(scheduler)
@@ -253,12 +246,13 @@ def default_workers() -> int:
         return max(1, os.cpu_count() or 1)
 
 
-def group_tasks(items: Sequence[tuple[int, RunSpec, float]], executor: str, workers: int) -> list[Group]:
-    """Consecutive runs grouped until a group is worth :data:`MIN_TASK_SECONDS`, keeping enough groups; the
-    longest groups first (stable among equals), so that the last group to finish is a short one: a sweep of
-    N = 300 to 410 in plan order ended on its longest run, with the other worker idle."""
-    least = MIN_TASK_SECONDS[executor]
-    if not EXECUTOR_TRAITS[executor].parallel or not items:
+def group_tasks(items: Sequence[tuple[int, RunSpec, float]], executor: str | Executor, workers: int) -> list[Group]:
+    """Consecutive runs grouped until a group is worth its executor's :attr:`Executor.min_task_seconds`, keeping
+    enough groups; the longest groups first (stable among equals), so that the last group to finish is a short
+    one: a sweep of N = 300 to 410 in plan order ended on its longest run, with the other worker idle."""
+    chosen = EXECUTOR_TRAITS.accept("--executor", executor)
+    least = chosen.min_task_seconds
+    if not chosen.parallel or not items:
         return [[(index, spec)] for index, spec, _ in items]
     total = sum(seconds for _, _, seconds in items)
     # worth the minimum, unless that leaves fewer than TASKS_PER_WORKER groups per worker
@@ -457,7 +451,7 @@ def _on_dask(client: Any, groups: list[Group], simulator: Simulator, keep_signal
 
 
 @contextlib.contextmanager
-def open_executor(simulator: Simulator, *, executor: str = "process", workers: int | None = None,
+def open_executor(simulator: Simulator, *, executor: str | Executor = "process", workers: int | None = None,
                   scheduler: str | None = None, keep_signals: bool = False, verbose: bool = False,
                   scratch: str | None = None, pool: ProcessPoolExecutor | None = None) -> Iterator[Runner]:
     """An executor, started (a Dask cluster up, or its scheduler reached) before the block runs.
@@ -465,7 +459,8 @@ def open_executor(simulator: Simulator, *, executor: str = "process", workers: i
     Parameters
     ----------
     simulator : Simulator
-    executor : {"serial", "process", "dask"}
+    executor : {"serial", "process", "dask"} or Executor
+        An :class:`Executor` of one's own is used as given (registered under its ``name`` the first time).
     workers : int, optional
         Processes (default: one per core).
     scheduler : str, optional
@@ -489,8 +484,8 @@ def open_executor(simulator: Simulator, *, executor: str = "process", workers: i
     """
     check_executor(executor, workers, scheduler)
     try:
-        with EXECUTOR_RUNNERS[executor](simulator, workers or default_workers(), scheduler, keep_signals,
-                                        verbose, scratch, pool) as run:
+        runner = EXECUTOR_TRAITS.accept("--executor", executor).runner
+        with runner(simulator, workers or default_workers(), scheduler, keep_signals, verbose, scratch, pool) as run:
             yield run
     finally:
         engine_named(simulator.engine, "simulator.engine").release()
@@ -555,33 +550,72 @@ def _dask_cost(workers: int, light: bool) -> ExecutorCost:
     return ExecutorCost(DASK_WORKER_BYTES, DASK_SCHEDULER_BYTES, DASK_START_SECONDS + INTERPRETER_SECONDS * rounds)
 
 
-#: What each executor costs beside its runs, given its workers and whether its runs are light (no theory to
-#: compute): ``(workers, light) -> ExecutorCost``.  A new executor adds its line here too.
-EXECUTOR_COSTS: dict[str, Callable[[int, bool], ExecutorCost]] = {
-    "serial": lambda workers, light: ExecutorCost(), "process": _pool_cost, "dask": _dask_cost,
-}
+def _no_cost(workers: int, light: bool) -> ExecutorCost:
+    return ExecutorCost()
 
 
-def executor_cost(executor: str, workers: int, light: bool = False) -> ExecutorCost:
-    """What ``executor`` with ``workers`` costs beside its runs (:data:`EXECUTOR_COSTS`)."""
+#: A context manager (simulator, workers, scheduler, keep_signals, verbose, scratch, pool) that yields a runner
+#: (``scratch``: where it may make a scratch folder, or None for the temporary folder; ``pool``: a process pool
+#: already started, which an executor may run on or ignore).
+RunnerFactory = Callable[[Simulator, int, str | None, bool, bool, str | None, "ProcessPoolExecutor | None"],
+                         contextlib.AbstractContextManager[Runner]]
+
+
+@dataclass(frozen=True)
+class Executor(ExecutorTraits):
+    """An executor: where a study's runs execute, what it costs and what it is (its traits).
+
+    Attributes
+    ----------
+    name : str
+        The name ``--executor`` and a study's record give it.
+    runner : callable
+        A :data:`RunnerFactory`: the context manager that starts it and yields its runner.
+    cost : callable
+        ``(workers, light) -> ExecutorCost``: what it costs beside its runs, given its workers and whether its
+        runs are light (no theory to compute).
+    min_task_seconds : float
+        Seconds of runs worth sending as one task (Dask's overhead per task is a few ms; its documentation asks
+        for tasks of 100 ms and more).
+    """
+
+    name: str = ""
+    runner: RunnerFactory = _serial_runner
+    cost: Callable[[int, bool], ExecutorCost] = _no_cost
+    min_task_seconds: float = 0.0
+
+
+def _admit(name: str, loaded: object) -> Executor:
+    """An ``lcchain.executors`` entry point's object (or an executor given as itself): an Executor of that
+    name."""
+    if not isinstance(loaded, Executor) or loaded.name != name or not name:
+        raise TypeError(f"{loaded!r} is not an Executor named {name!r}")
+    return loaded
+
+
+#: Each executor, by name (the default, :data:`DEFAULT_EXECUTOR`, among them), then those of the
+#: ``lcchain.executors`` entry points.  To add one: its :class:`Executor` here and its name in
+#: :data:`lcchain.core.types.ExecutorName` (a test checks the two agree).
+EXECUTOR_TRAITS: Registry[Executor] = Registry(
+    "lcchain.executors",
+    {"serial": Executor(parallel=False, remote=False, name="serial", runner=_serial_runner, cost=_no_cost),
+     "process": Executor(parallel=True, remote=False, name="process", runner=_process_runner, cost=_pool_cost,
+                         min_task_seconds=0.05),
+     "dask": Executor(parallel=True, remote=True, name="dask", runner=_dask_runner, cost=_dask_cost,
+                      min_task_seconds=0.3)},
+    _admit, "an lcchain.studies.executors.Executor, named as the entry point",
+    name_of=lambda part: str(getattr(part, "name", "")))
+
+
+def executor_cost(executor: str | Executor, workers: int, light: bool = False) -> ExecutorCost:
+    """What ``executor`` with ``workers`` costs beside its runs (its :attr:`Executor.cost`)."""
     check_executor(executor, workers)
-    return EXECUTOR_COSTS[executor](workers, light)
+    return EXECUTOR_TRAITS.accept("--executor", executor).cost(workers, light)
 
 
-#: Each executor: a context manager (simulator, workers, scheduler, keep_signals, verbose, scratch, pool) that
-#: yields a runner (``scratch``: where it may make a scratch folder, or None for the temporary folder; ``pool``: a
-#: process pool already started, which an executor may run on or ignore).
-#: To add one: a context manager here, its cost in :data:`EXECUTOR_COSTS` and its name in
-#: :data:`lcchain.core.types.ExecutorName`.
-_RunnerFactory = Callable[[Simulator, int, str | None, bool, bool, str | None, "ProcessPoolExecutor | None"],
-                          contextlib.AbstractContextManager[Runner]]
-EXECUTOR_RUNNERS: dict[str, _RunnerFactory] = {
-    "serial": _serial_runner, "process": _process_runner, "dask": _dask_runner,
-}
-
-
-def run_groups(groups: list[Group], simulator: Simulator, *, executor: str = "process", workers: int | None = None,
-               scheduler: str | None = None, keep_signals: bool = False, verbose: bool = False,
+def run_groups(groups: list[Group], simulator: Simulator, *, executor: str | Executor = "process",
+               workers: int | None = None, scheduler: str | None = None, keep_signals: bool = False,
+               verbose: bool = False,
                transports: Transports = Transports()) -> Iterator[list[tuple[int, RunRecord]]]:
     """Execute groups of runs on an executor; yields each group's (index, record) pairs as it finishes."""
     with open_executor(simulator, executor=executor, workers=workers, scheduler=scheduler,

@@ -33,6 +33,7 @@ from ..runs.spec import RunSpec
 from ..spice.engines import find_engine
 from ..spice.simulator import Simulator
 from .executors import (
+    Executor,
     check_executor,
     check_transport,
     choose_transports,
@@ -292,7 +293,7 @@ def check_specs(specs: Sequence[RunSpec], budget: Budget, *, executor: str = "pr
         budget, option, workers, "fewer workers, or a larger --max-memory or --max-time")
 
 
-def run_specs(specs: Sequence[RunSpec], *, executor: str = "process", workers: int | None = None,
+def run_specs(specs: Sequence[RunSpec], *, executor: str | Executor = "process", workers: int | None = None,
               scheduler: str | None = None, simulator: Simulator | None = None,
               progress: Callable[[Progress], None] | None = None, verbose: bool = False,
               transport: str = "auto") -> list[RunRecord]:

@@ -14,9 +14,10 @@ from typing import Any
 import numpy as np
 
 from ..core.blas import fixed_blas_threads
-from ..core.checks import choice, instance
+from ..core.checks import instance
 from ..core.errors import ParameterError
-from ..core.types import MODE_METHODS, ModeMethod
+from ..core.registry import Registry
+from ..core.types import ModeMethod
 from .chain import Chain
 from .closed_form import closed_form_applies, closed_form_modes
 from .exact import exact_modes
@@ -25,26 +26,30 @@ from .modes import Modes, cosine_sum
 __all__ = ["normal_modes", "modes_of", "MODE_SOLVERS", "transmission_amplitude", "return_amplitude",
            "CLOSED_FORM_MIN_N", "driving_admittance"]
 
+#: A mode method: the normal modes of a chain.
+ModeSolver = Callable[[Chain], Modes]
+
 #: Below this N the "auto" method diagonalises exactly (it is cheap and needs no model).
 CLOSED_FORM_MIN_N = 400
 
 
 @fixed_blas_threads
-def normal_modes(chain: Chain, method: ModeMethod = "auto") -> Modes:
+def normal_modes(chain: Chain, method: ModeMethod | ModeSolver = "auto") -> Modes:
     """Normal modes of a chain by the requested method.
 
     Parameters
     ----------
     chain : Chain
-    method : {"auto", "exact", "closed-form"}
+    method : {"auto", "exact", "closed-form"} or callable
         ``"closed-form"`` uses the paper's Eqs. e.kn1, e.psik and e.Pk and
         needs a free quasi-uniform chain (one-mass, two-mass, uniform free)
         with N >= 5; ``"auto"`` uses it for N >= :data:`CLOSED_FORM_MIN_N`
-        when it applies, and exact diagonalisation otherwise.
+        when it applies, and exact diagonalisation otherwise.  A function ``Chain -> Modes`` (a mode method
+        of one's own, as ``solve_ivp(method=MyOdeSolver)``) is used as given, registered in
+        :data:`MODE_SOLVERS` under its ``__name__`` the first time.
     """
     instance("chain", chain, Chain)
-    choice("method", method, MODE_METHODS)
-    return MODE_SOLVERS[method](chain)
+    return MODE_SOLVERS.accept("method", method)(chain)
 
 
 def _closed_form(chain: Chain) -> Modes:
@@ -62,13 +67,27 @@ def _auto(chain: Chain) -> Modes:
     return exact_modes(chain)
 
 
-#: Each mode method's solver.  To add one: a function Chain -> Modes here, its name in
-#: :data:`lcchain.core.types.ModeMethod`.
-MODE_SOLVERS: dict[str, Callable[[Chain], Modes]] = {"exact": exact_modes, "closed-form": _closed_form,
-                                                     "auto": _auto}
+def _admit(name: str, loaded: object) -> ModeSolver:
+    """An ``lcchain.mode_methods`` entry point's object (or a mode method given as itself): a function."""
+    if not callable(loaded) or isinstance(loaded, type):
+        raise TypeError(f"{loaded!r} is not a function Chain -> Modes")
+    if not name or name == "<lambda>":
+        raise TypeError("it has no name (a def, not a lambda)")
+    solver: ModeSolver = loaded
+    return solver
 
 
-def modes_of(chain_or_modes: Chain | Modes, method: ModeMethod = "auto") -> Modes:
+_OWN_METHODS: dict[str, ModeSolver] = {"auto": _auto, "exact": exact_modes, "closed-form": _closed_form}
+
+#: Each mode method's solver, the default first, then those of the ``lcchain.mode_methods`` entry points.  To
+#: add one: a function Chain -> Modes here, its name in :data:`lcchain.core.types.ModeMethod` (a test checks
+#: the two agree).
+MODE_SOLVERS: Registry[ModeSolver] = Registry("lcchain.mode_methods", _OWN_METHODS, _admit,
+                                              "a function Chain -> Modes, named as the entry point",
+                                              name_of=lambda part: str(getattr(part, "__name__", "")))
+
+
+def modes_of(chain_or_modes: Chain | Modes, method: ModeMethod | ModeSolver = "auto") -> Modes:
     """The modes given, or those of the chain given (ParameterError for anything else)."""
     instance("chain_or_modes", chain_or_modes, (Chain, Modes))
     return chain_or_modes if isinstance(chain_or_modes, Modes) else normal_modes(chain_or_modes, method)
@@ -102,7 +121,7 @@ def transmission_amplitude(chain_or_modes: Chain | Modes, t: Any,
     chain_or_modes : Chain or Modes
     t : float or array_like
         Time in units of sqrt(m/K) (in the circuit, sqrt(L0*C0)).
-    method : {"auto", "exact", "closed-form"}
+    method : {"auto", "exact", "closed-form"} or callable
         How to compute the modes when a Chain is given.
     """
     modes = modes_of(chain_or_modes, method)

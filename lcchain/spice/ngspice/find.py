@@ -3,27 +3,26 @@
 :func:`find_simulator` locates the executable (``"batch"``) or the shared
 library and PySpice (``"shared"``), asks for the version once, and returns a
 frozen, picklable :class:`Simulator`; a run is then one process start, not
-two (``ngspice -v`` used to cost 14-25 ms of a 60-90 ms small run).
+two (``ngspice -v`` used to cost 14-25 ms of a 60-90 ms small run).  How each
+transport is found is its ``find`` (:mod:`lcchain.spice.ngspice.locate`).
 """
 
 from __future__ import annotations
 
-import importlib.util
-import os
-import re
-import shutil
-import subprocess
-import sys
-from collections.abc import Callable
-from pathlib import Path
-
 from ...core.checks import choice
-from ...core.errors import ExtraMissingError, SimulatorMissingError
+from ...core.errors import ParameterError
 from ...core.types import BACKENDS, Backend
-from ..log import useful_output
-from ..sandbox import find_sandbox
 from ..simulator import Simulator, child_launcher
-from .shared_child import call_shared_worker, decode_worker_payload
+from .locate import (
+    INSTALL_COMMAND,
+    PYSPICE_INSTALL_COMMAND,
+    find_ngspice,
+    find_shared_library,
+    ngspice_version,
+    require_pyspice,
+    shared_library_version,
+)
+from .transports import TRANSPORT_RUNS, NgspiceTransport
 
 __all__ = [
     "find_simulator",
@@ -36,102 +35,15 @@ __all__ = [
     "require_pyspice",
 ]
 
-#: How to install ngspice and its shared library on Debian/Ubuntu.
-INSTALL_COMMAND = "sudo apt-get install ngspice libngspice0"
-#: How to install what the shared backend needs from PyPI (PySpice is an optional extra).
-PYSPICE_INSTALL_COMMAND = "pip install 'lcchain[shared]'"
 
-_VERSION = re.compile(r"ngspice-(\d+(?:\.\d+)*)", re.IGNORECASE)
-
-
-
-def find_ngspice() -> str:
-    """Path of the ngspice executable.
-
-    Raises
-    ------
-    SimulatorMissingError
-        If ngspice is not on ``PATH``; the message says how to install it.
-    """
-    path = shutil.which("ngspice")
-    if path is None:
-        raise SimulatorMissingError(f"the ngspice executable is not on PATH; install it with: {INSTALL_COMMAND}")
-    return path
-
-
-def ngspice_version(executable: str | None = None) -> str:
-    """Version of an ngspice executable (``ngspice -v``), e.g. ``"39"``.
-
-    Raises
-    ------
-    SimulatorMissingError
-        If ngspice is missing or does not report a version.
-    """
-    exe = executable or find_ngspice()
-    try:
-        proc = subprocess.run([exe, "-v"], capture_output=True, text=True, timeout=30, stdin=subprocess.DEVNULL)
-    except (OSError, subprocess.TimeoutExpired) as exc:
-        raise SimulatorMissingError(f"cannot run {exe} -v: {exc}; install ngspice with: {INSTALL_COMMAND}") from exc
-    match = _VERSION.search(proc.stdout + proc.stderr)
-    if match is None:
-        output = (proc.stdout + proc.stderr)[:200]
-        raise SimulatorMissingError(f"{exe} -v did not report an ngspice version: {output!r}")
-    return match.group(1)
-
-
-def find_shared_library() -> str:
-    """Path of the ngspice shared library.
-
-    Looks at ``$NGSPICE_LIBRARY_PATH`` (read, never written), the usual
-    library directories (Debian installs ``/usr/lib/<triplet>/libngspice.so.0``
-    without the unversioned ``.so`` unless ``libngspice0-dev`` is installed),
-    then ``ctypes.util.find_library("ngspice")``.
-
-    Raises
-    ------
-    SimulatorMissingError
-        If no library is found, or ``$NGSPICE_LIBRARY_PATH`` names no readable
-        file; the message says how to fix it.
-    """
-    explicit = os.environ.get("NGSPICE_LIBRARY_PATH")
-    if explicit:
-        if not (Path(explicit).is_file() and os.access(explicit, os.R_OK)):
-            raise SimulatorMissingError(
-                f"NGSPICE_LIBRARY_PATH = {explicit!r} is not a readable file; unset it, or point it at "
-                f"libngspice.so.0 (install with: {INSTALL_COMMAND})")
-        return explicit
-    dirs = [Path(sys.prefix) / "lib", Path("/usr/local/lib"), Path("/usr/lib64"), Path("/usr/lib"),
-            Path("/opt/homebrew/lib")]
-    dirs[3:3] = sorted(Path("/usr/lib").glob("*-linux-gnu*"))
-    for directory in dirs:
-        for pattern in ("libngspice.so", "libngspice.so.0", "libngspice.so.*", "libngspice.dylib"):
-            hits = sorted(p for p in directory.glob(pattern) if p.is_file())
-            if hits:
-                return str(hits[0])
-    import ctypes.util  # only needed for this fallback
-
-    name = ctypes.util.find_library("ngspice")
-    if name:
-        return name
-    raise SimulatorMissingError(
-        f"the ngspice shared library (libngspice.so.0) was not found; install it with: {INSTALL_COMMAND}"
-    )
-
-
-
-
-def require_pyspice() -> None:
-    """Raise :class:`~lcchain.core.errors.ExtraMissingError` unless PySpice is installed (without importing it)."""
-    if importlib.util.find_spec("PySpice") is None:
-        raise ExtraMissingError("PySpice", "shared", "the shared backend")
-
-
-def find_simulator(backend: Backend = "batch") -> Simulator:
+def find_simulator(backend: Backend | NgspiceTransport = "batch") -> Simulator:
     """Locate ngspice for a backend and ask its version, once (and whether a sandbox works here).
 
     Parameters
     ----------
-    backend : {"batch", "shared"}
+    backend : {"batch", "shared"} or NgspiceTransport
+        A transport of one's own is used as given (registered under its ``name`` the first time); its
+        ``find`` locates ngspice for it.
 
     Raises
     ------
@@ -139,31 +51,8 @@ def find_simulator(backend: Backend = "batch") -> Simulator:
         ngspice, its shared library or (shared) PySpice is missing; the message
         says how to install it.
     """
-    return _TRANSPORT_FINDERS[choice("backend", backend, BACKENDS)](child_launcher())
-
-
-def _find_batch(launcher: tuple[str, ...]) -> Simulator:
-    exe = find_ngspice()
-    return Simulator("batch", exe, ngspice_version(exe), launcher, find_sandbox())
-
-
-def _find_shared(launcher: tuple[str, ...]) -> Simulator:
-    library = find_shared_library()
-    require_pyspice()
-    return Simulator("shared", library, shared_library_version(library, launcher), launcher, find_sandbox())
-
-
-#: ngspice's transports, by name: how each is found (its run: lcchain.spice.ngspice.runner.TRANSPORT_RUNS).
-_TRANSPORT_FINDERS: dict[str, Callable[[tuple[str, ...]], Simulator]] = {"batch": _find_batch,
-                                                                          "shared": _find_shared}
-
-
-def shared_library_version(library: str, launcher: tuple[str, ...] = ()) -> str:
-    """ngspice's version as the shared library reports it (loads it once, in a child)."""
-    stdout, log, status = call_shared_worker(launcher, {"library": library}, 120.0, "/", "version")
-    try:
-        meta, _ = decode_worker_payload(stdout)
-    except Exception as exc:  # noqa: BLE001 - a crashed child leaves empty or partial bytes
-        raise SimulatorMissingError(f"the ngspice shared library {library} could not be loaded (exit status "
-                                    f"{status}: {exc}); {useful_output(log) or 'no output'}") from None
-    return str(meta["version"])
+    transport = TRANSPORT_RUNS[choice("backend", backend, BACKENDS)] if isinstance(backend, str) else \
+        TRANSPORT_RUNS.accept("backend", backend)
+    if transport.find is None:  # the warm transport: a study starts it on a shared library it found
+        raise ParameterError("backend", transport.name, f"a transport a user names: {' | '.join(BACKENDS)}")
+    return transport.find(child_launcher())

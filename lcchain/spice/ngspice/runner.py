@@ -57,9 +57,8 @@ from ..simulator import Simulator
 from ..text import canonical_text, parse_options
 from .batch import run_batch
 from .find import find_simulator
-from .place import Place, placement
-from .shared import run_shared
-from .warm import run_warm
+from .place import placement
+from .transports import TRANSPORT_RUNS
 
 __all__ = ["run", "run_plot", "TRANSPORT_RUNS", "PLOT_TRANSPORTS"]
 
@@ -160,8 +159,8 @@ def run(
     if progress is not None:
         progress(0.0)
     with placement(simulator, foreign, str(cwd) if trusted and cwd is not None else None) as place:
-        columns, log, wall = TRANSPORT_RUNS[simulator.backend](text, simulator, timeout, tstop, progress, place, limit,
-                                                               resident)
+        columns, log, wall = TRANSPORT_RUNS[simulator.backend].run(text, simulator, timeout, tstop, progress, place,
+                                                                   limit, resident)
     time_s, found = _validate(columns, log, names, tstop)
     if progress is not None:
         progress(1.0)
@@ -233,12 +232,6 @@ def run_plot(netlist: str, plot: str, *, simulator: Simulator, timeout: float = 
         raise SimulationError(failure_reason(log, ""), useful_output(log))
     return columns, log, wall
 
-
-
-#: ngspice's transports, by name: how each runs a netlist (how each is found: lcchain.spice.simulator).
-_TransportRun = Callable[[str, Simulator, float, float, Callable[[float], None] | None, Place, float | None,
-                          float | None], tuple[dict[str, np.ndarray], str, float]]
-TRANSPORT_RUNS: dict[str, _TransportRun] = {"batch": run_batch, "shared": run_shared, "warm": run_warm}
 
 
 def _validate(columns: dict[str, np.ndarray], log: str, names: list[str],

@@ -54,7 +54,7 @@ from ..log import failure_reason, useful_output
 from ..processes import PACKAGE_ROOT, WATCH_INTERVAL, child_env, kill_group, outgrown, read_all, resident_bytes
 from ..simulator import Simulator
 from ..text import canonical_vector_name, circuit_lines, text_digest
-from .find import find_shared_library
+from .locate import find_shared_library
 from .place import Place, placement
 
 __all__ = ["WarmWorker", "run_warm", "worker_for", "close_workers", "warm_simulator", "WARM_BELOW_SECONDS",

@@ -1,0 +1,69 @@
+"""ngspice's transports, by name: one registry, :data:`TRANSPORT_RUNS`.
+
+A transport is how a netlist reaches ngspice and its columns come back: ``ngspice -b`` (``batch``), the shared
+library in a child per run (``shared``), or in long-lived workers (``warm``).  Each is an
+:class:`NgspiceTransport`: its run, and how it is found when a user names it (``--backend``); the warm transport
+is not named by users, a study starts it.  Adding one is a module and one line here, or, from a package of its
+own, an entry point in the ``lcchain.ngspice_transports`` group.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from ...core.registry import Registry
+from ..simulator import Simulator
+from .batch import run_batch
+from .locate import find_batch, find_shared
+from .place import Place
+from .shared import run_shared
+from .warm import run_warm
+
+__all__ = ["NgspiceTransport", "TransportRun", "TRANSPORT_RUNS"]
+
+#: How a transport runs a netlist: (text, simulator, timeout, tstop, progress, place, max output bytes, max
+#: resident bytes) -> (columns, log, wall seconds).
+TransportRun = Callable[[str, Simulator, float, float, Callable[[float], None] | None, Place, float | None,
+                         float | None], tuple[dict[str, np.ndarray], str, float]]
+
+
+@dataclass(frozen=True)
+class NgspiceTransport:
+    """One of ngspice's transports.
+
+    Attributes
+    ----------
+    name : str
+        The simulator's ``backend`` that selects it.
+    run : callable
+        A :data:`TransportRun`.
+    find : callable, optional
+        ``find(launcher) -> Simulator``: ngspice located for it and its version asked; None for a transport a
+        user does not name (the warm one, which a study starts on a shared library it found).
+    """
+
+    name: str
+    run: TransportRun
+    find: Callable[[tuple[str, ...]], Simulator] | None = None
+
+
+def _admit(name: str, loaded: object) -> NgspiceTransport:
+    """An ``lcchain.ngspice_transports`` entry point's object (or a transport given as itself)."""
+    if not isinstance(loaded, NgspiceTransport) or loaded.name != name or not name:
+        raise TypeError(f"{loaded!r} is not an NgspiceTransport named {name!r}")
+    return loaded
+
+
+#: ngspice's transports, by name, the default first; then those of the ``lcchain.ngspice_transports`` entry
+#: points.  Its names are :data:`lcchain.core.types.Transport`, and those with a ``find`` are
+#: :data:`lcchain.core.types.Backend` (a test checks both).
+TRANSPORT_RUNS: Registry[NgspiceTransport] = Registry(
+    "lcchain.ngspice_transports",
+    {"batch": NgspiceTransport("batch", run_batch, find_batch),
+     "shared": NgspiceTransport("shared", run_shared, find_shared),
+     "warm": NgspiceTransport("warm", run_warm)},
+    _admit, "an lcchain.spice.ngspice.transports.NgspiceTransport, named as the entry point",
+    name_of=lambda part: str(getattr(part, "name", "")))
