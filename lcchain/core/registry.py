@@ -112,6 +112,8 @@ class Registry(MutableMapping[str, V]):
             Naming ``field``: a name the registry does not hold, an object that is not a part of this kind, or
             a part whose name another part already holds.
         """
+        if isinstance(value, str) and value in self._items:  # held (an own part's name no plugin can take)
+            return self._items[value]  # no entry point read for it
         allowed = " | ".join(self._load())
         if isinstance(value, str):
             if value in self._items:
