@@ -17,6 +17,7 @@ import subprocess
 import sys
 import time
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
@@ -398,3 +399,24 @@ def test_results_json_gives_each_arrival_in_seconds_too(serial_store: Path, caps
     for run in runs:
         for arrival in run["arrivals"]:
             assert arrival["t_sim_s"] == pytest.approx(arrival["t_sim"] * tau, rel=RTOL_ARITHMETIC)
+
+
+@pytest.mark.parametrize("scene_from", ["file", "options"])
+def test_a_scene_sweep_takes_the_timeout_given(scene_from: str) -> None:
+    """``sweep SCENE --timeout S`` (and a scene made from the options) limits every run to S seconds: each run keeps
+    the smaller of its own limit and S, and its key is the same, so a study resumes under another timeout."""
+    from lcchain.app.studies import StudyOptions
+    from lcchain.app.sweep import SweepRequest, plan_sweep
+
+    asked: dict[str, Any]
+    if scene_from == "file":
+        asked = {"scene": str(ROOT / "examples" / "scenes" / "real-parts.toml"), "vary": ["chain.N=10,12"],
+                 "samples": 2}
+    else:
+        asked = {"case": ["two-mass"], "N": [10, 12], "tolerance": {"L": 0.01, "C": 0.01}, "samples": 2}
+    free = plan_sweep(SweepRequest(**asked)).plan
+    limited = plan_sweep(SweepRequest(**asked, study=StudyOptions(timeout=0.5))).plan
+    assert len(limited.tasks) == len(free.tasks) >= 4
+    assert all(task.spec.timeout > 0.5 for task in free.tasks)
+    assert all(task.spec.timeout == 0.5 for task in limited.tasks)
+    assert [task.spec.key("39") for task in limited.tasks] == [task.spec.key("39") for task in free.tasks]

@@ -103,7 +103,7 @@ def plan_sweep(request: SweepRequest, pool: Any = None) -> PlannedStudy:
                                  "with --vary, e.g. analysis.extrapolate=1,2)")
         plan = scene_sweep_plan(request.scene, [parse_vary(v) for v in request.vary], samples=request.samples,
                                 seed=request.seed, tolerance=request.tolerance, series=request.series, budget=budget,
-                                workers=study_workers(request.study))
+                                workers=study_workers(request.study)).limited(request.study.timeout)
     else:
         if request.vary:
             raise ParameterError("--vary", request.vary, "nothing without SCENE.toml (without one, the axes are "
@@ -171,7 +171,8 @@ def _parts_sweep(request: SweepRequest, budget: Budget) -> Any:
             section, name = key.split(".")
             base[section][name] = values[0]
     return scene_sweep_plan(base, varies, samples=request.samples, seed=request.seed, tolerance=request.tolerance,
-                            series=request.series, budget=budget, workers=study_workers(request.study))
+                            series=request.series, budget=budget,
+                            workers=study_workers(request.study)).limited(request.study.timeout)
 
 
 def _scene_says(request: SweepRequest) -> tuple[tuple[str, Any], ...]:

@@ -30,7 +30,7 @@ import itertools
 import json
 import tomllib
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -209,6 +209,15 @@ class Plan:
         if others:
             raise ParameterError("engine", others[0], f"one engine per study, {self.engine!r} (a study finds its "
                                  "engine once; run the other engine in a study of its own)")
+
+    def limited(self, timeout: float) -> Plan:
+        """The plan with no run allowed more than ``timeout`` seconds (``--timeout``): each run keeps the smaller of
+        its own limit (a scene's come from their prices) and this one. A run's key does not hold its timeout, so a
+        study resumes under another one."""
+        timeout = real("timeout", timeout, above=0.0, unit="seconds")
+        tasks = tuple(task if task.spec.timeout <= timeout else
+                      replace(task, spec=replace(task.spec, timeout=timeout)) for task in self.tasks)
+        return replace(self, tasks=tasks)
 
     def keys(self, ngspice_version: str) -> dict[int, str]:
         """Every row's key by index: each task's run, each combination's (its members' keys hashed) and each
