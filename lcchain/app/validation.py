@@ -124,19 +124,19 @@ def make_report(out: str | os.PathLike[str], *, quick: bool = False, cache: str 
             done += 1
             return background.take(key)
 
-        circuit = []
-        for i in range(len(jobs)):
-            check, png = take(("check", i))
-            circuit.append(check)
-            if png is not None:
-                figures[f"check:{check.name}"] = png
+        def drawn(kind: str, count: int) -> list[Any]:
+            """The pool's results of one kind in order, each figure it drew kept under ``KIND:NAME``."""
+            made = []
+            for i in range(count):
+                result, png = take((kind, i))
+                made.append(result)
+                if png is not None:
+                    figures[f"{kind}:{result.name}"] = png
+            return made
+
+        circuit = drawn("check", len(jobs))
         spectrum = [take(("spectrum", i)) for i in range(len(spectra))]
-        requirements = []
-        for i in range(len(cradles)):
-            cradle, png = take(("requirements", i))
-            requirements.append(cradle)
-            if png is not None:
-                figures[f"requirements:{cradle.name}"] = png
+        requirements = drawn("requirements", len(cradles))
         for figure in alone:
             figures[f"paper:{figure.label}"] = take(("paper", figure.label))
         if progress is not None:
