@@ -16,10 +16,12 @@ from pathlib import Path
 from ..core.budget import Budget, perfect_estimate
 from ..core.errors import ParameterError
 from ..core.limits import COUPLED_MAX_N, MAX_CHAIN_FILE_BYTES, MAX_CIRCUIT_N, MAX_COMMENT_LENGTH, MAX_PERFECT_N, MIN_N
+from ..core.types import Excitation
 from ..report.files import check_not_input, check_output, same_file, write_text
 from ..theory.chain import Chain
 
-__all__ = ["STDOUT", "Outputs", "ChainOptions", "make_chain", "load_chain_file", "check_perfect", "echoed_command"]
+__all__ = ["STDOUT", "Outputs", "ChainOptions", "LadderRequest", "make_chain", "load_chain_file", "check_perfect",
+           "echoed_command"]
 
 #: The file name of every option that writes one text (``-o``, ``--netlist-out``, ``--waveform-out``) that
 #: means standard output, as ``-`` does for most Unix tools.
@@ -36,6 +38,21 @@ class ChainOptions:
     walls: int = 0
     chain: str | None = None
     coupling: float | None = None
+
+
+@dataclass(frozen=True)
+class LadderRequest:
+    """What a netlist and a simulation both start from: the chain and its units, how a transient drives it
+    (``excitation``, ``transits``, ``dt``) and its title (:class:`lcchain.app.netlist.NetlistRequest` and
+    :class:`lcchain.app.simulate.SimulateRequest` add what each does with it)."""
+
+    chain: ChainOptions
+    L0: float
+    C0: float
+    excitation: Excitation = "kick"
+    title: str | None = None
+    transits: int = 1
+    dt: float | None = None
 
 
 @dataclass

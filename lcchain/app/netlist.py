@@ -10,9 +10,8 @@ from pathlib import Path
 from ..circuit.effects import Effect
 from ..core.budget import Budget
 from ..core.errors import ParameterError
-from ..core.types import Excitation
 from ..report.files import check_output_folder
-from .inputs import ChainOptions, Outputs, make_chain
+from .inputs import LadderRequest, Outputs, make_chain
 
 __all__ = ["DEFAULT_DT", "NetlistRequest", "NetlistResult", "netlist", "ReferenceRequest", "ReferenceNetlists",
            "reference_netlists", "ExampleRequest", "ExampleResult", "example", "examples"]
@@ -22,17 +21,10 @@ DEFAULT_DT = 0.05
 
 
 @dataclass(frozen=True)
-class NetlistRequest:
+class NetlistRequest(LadderRequest):
     """A ladder's netlist: the chain, its units, how a transient drives it, its effects; ``output`` a file
     (``-``: stdout; None: only returned); ``command`` the command line its comment echoes."""
 
-    chain: ChainOptions
-    L0: float
-    C0: float
-    excitation: Excitation = "kick"
-    title: str | None = None
-    transits: int = 1
-    dt: float | None = None
     effects: tuple[Effect, ...] = ()
     command: str = "lcchain netlist"
     output: str | None = None

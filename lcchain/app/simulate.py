@@ -19,9 +19,9 @@ from ..circuit.effects import Effect
 from ..core.budget import Budget
 from ..core.errors import ParameterError
 from ..core.physical import hertz, physical_scales, seconds
-from ..core.types import BACKENDS, Backend, Excitation, Method
+from ..core.types import BACKENDS, Backend, Method
 from ..report.files import FIGURE_FORMATS
-from .inputs import ChainOptions, Outputs, make_chain
+from .inputs import LadderRequest, Outputs, make_chain
 from .netlist import DEFAULT_DT
 
 if TYPE_CHECKING:
@@ -33,19 +33,12 @@ __all__ = ["SimulateRequest", "Simulation", "EnginesComparison", "simulate_chain
 
 
 @dataclass(frozen=True)
-class SimulateRequest:
+class SimulateRequest(LadderRequest):
     """What ``lcchain simulate`` asks: the chain and its units, the drive, the step (``dt``, or ``accuracy``
     and ``extrapolate``), the engines (several: one netlist in each), backend and method, the effects, the files
     to write (``plot``, ``netlist_out``, ``waveform_out``; ``-``: stdout), whether the result goes out as JSON,
     the budget and ``progress(label)``, a callback of the fraction done."""
 
-    chain: ChainOptions
-    L0: float
-    C0: float
-    excitation: Excitation = "kick"
-    title: str | None = None
-    transits: int = 1
-    dt: float | None = None
     accuracy: float | None = None
     extrapolate: int | None = None
     engines: tuple[str, ...] = ("ngspice",)
