@@ -34,7 +34,7 @@ class Readable(Protocol):
 
     def metrics_bytes(self) -> int: ...
 
-    def array_sizes(self, key: str) -> dict[str, tuple[int, int]] | None: ...
+    def array_sizes(self, key: str) -> tuple[int, dict[str, tuple[int, int]]] | None: ...
 
 
 @dataclass(frozen=True)
@@ -185,10 +185,11 @@ def export_size(store: Readable, waveforms: bool = False) -> ExportSize:
     for run in results:
         if run.status != "ok":
             continue
-        sizes = store.array_sizes(run.key)
-        if sizes is None:
+        saved = store.array_sizes(run.key)
+        if saved is None:
             continue
-        stored += sizes.pop("", (0, 0))[1]
+        blob, sizes = saved
+        stored += blob
         for name, (points, itemsize) in sizes.items():
             longest = max(longest, points)
             per_name[name] = max(per_name.get(name, 0), itemsize)

@@ -823,9 +823,9 @@ class Store:
         """Bytes of the stored metrics (JSON text), every row's."""
         return int(self._rows("SELECT COALESCE(SUM(LENGTH(metrics)), 0) FROM records")[0][0])
 
-    def array_sizes(self, key: str) -> dict[str, tuple[int, int]] | None:
-        """A stored run's saved arrays as (points, bytes per value) by name, read from their headers only, and
-        under ``""`` the bytes the store holds for them; None when it saved none."""
+    def array_sizes(self, key: str) -> tuple[int, dict[str, tuple[int, int]]] | None:
+        """The bytes the store holds for a run's saved arrays, and each array's (points, bytes per value) by name,
+        read from their headers only; None when it saved none."""
         rows = self._rows("SELECT arrays FROM records WHERE key = ?", (key,))
         if not rows or rows[0][0] is None:
             return None
@@ -834,7 +834,7 @@ class Store:
             sizes = _array_headers(blob)
         except (OSError, ValueError, KeyError, EOFError, TypeError, zipfile.BadZipFile):
             raise self._tampered(f"the arrays of run {key[:12]} are not lcchain's .npz") from None
-        return {"": (0, len(blob)), **sizes}
+        return len(blob), sizes
 
     # ------------------------------------------------------------------ other shapes (lcchain.studies.exports)
     def to_dataframe(self) -> Any:
