@@ -282,7 +282,7 @@ def fit_spectrum(omega: np.ndarray, y11: np.ndarray, yN1: np.ndarray, *, lossy: 
 
 #: The fit from theory's poles (:func:`fit_from_theory`) holds every mode in one window up to this many, and beyond
 #: keeps this many per window (measured, two-mass N = 50 to 200: ...).
-_THEORY_ONE_WINDOW = 64
+_THEORY_ONE_WINDOW = 16
 _THEORY_CORE = 32
 #: The fit from theory's poles stands when its largest misfit (relative to the largest sample of its window) is at
 #: most this; above, the samples are not the predicted poles' (a circuit that is not its theory), and the fit from
