@@ -10,6 +10,12 @@ Without losses every gamma_n = 0: g(x) = Im(Y Z0) / w is then a real rational fu
 real poles.  Losses proportional to the masses (:class:`lcchain.circuit.effects.Losses`) keep the modes and
 give every one the same gamma = 1/Q: its poles move to -gamma/2 +- j sqrt(w_n^2 - gamma^2/4).
 
+Without losses, an AC run is fitted from its theory's poles first (:func:`fit_from_theory`: the survey's
+windows, variable projection and banded solves, :func:`lcchain.compare.survey.fit_survey`, on Y_11 and Y_N1 together),
+O(samples x N) per sweep and one or two sweeps: a fraction of the engine's time (``benchmarks/spectrum.md``).  Where it
+does not explain the samples (its misfit above :data:`THEORY_MISFIT`: a circuit that is not its theory), and with
+losses, :func:`fit_spectrum` identifies every section from the samples alone.
+
 :func:`fit_spectrum` identifies every section (a_n, gamma_n, w_n) and every b_n from samples on a grid of
 frequencies (:mod:`lcchain.compare.grid`):
 
@@ -281,7 +287,8 @@ def fit_spectrum(omega: np.ndarray, y11: np.ndarray, yN1: np.ndarray, *, lossy: 
 
 
 #: The fit from theory's poles (:func:`fit_from_theory`) holds every mode in one window up to this many, and beyond
-#: keeps this many per window (measured, two-mass N = 50 to 200: ...).
+#: keeps this many per window (measured in-process, two-mass N = 100 and 200: 22 and 48 ms in windows of 32 beyond
+#: 16, 35 and 74 ms in one window up to 64; windows of 16 or 96 no faster, on a machine at load 6 to 8).
 _THEORY_ONE_WINDOW = 16
 _THEORY_CORE = 32
 #: The fit from theory's poles stands when its largest misfit (relative to the largest sample of its window) is at

@@ -26,6 +26,13 @@ window, on :data:`SKETCH` random combinations of the loops (every mode is in eac
 Kaufman's Jacobian, whose normal equations over all the columns are (parameters x parameters).  Up to
 :data:`SWEEPS` steps, until none moves a pole by more than ``_SETTLED`` (from theory's poles: one or two).
 
+With ``exact=True`` (a few columns: the loop-1 fit from theory, :func:`lcchain.compare.spectrum.fit_from_theory`) every
+other mode's exact model is subtracted from a window's samples, not only its far neighbours': the banded solve's
+residues are refined on the whole residual and the poles move on it, O(samples x N x columns) a sweep, so the
+residues reach the samples' rounding.  The sweeps then end when no pole the samples place (standard error at most
+:data:`PLACED` of a quarter gap) moved by more than :data:`_SURPRISE` standard errors; the others, too weak to place,
+are reported through :attr:`ModeSurvey.placed`.
+
 Cost: the windows' least squares and the far modes' sections, O(samples x (CORE + 2 HALO + 2 FAR)); the loops
 enter through the right-hand sides, O(samples x CORE x N) to form them and the banded solve, O(N x (CORE + 2 HALO
 + 2 FAR) x N): O(N^2) on a grid of O(N) frequencies.  Memory: the samples, N x samples complex values, and the
@@ -220,16 +227,20 @@ def fit_survey(omega: np.ndarray, g: np.ndarray, x0: np.ndarray, *, lossy: bool 
     else:
         sketch = g
     fit = _Fit(w, x, gamma, fixed, lossy, exact, one_window, core)
-    sweeps = 0
+    sweeps, before = 0, np.inf
     while sweeps < SWEEPS:
         sweeps += 1
         fit.plan()
         fit.solve(sketch)
-        step = max(fit.move(window, sketch) for window in fit.windows)
-        if step <= _SETTLED:  # the windows' sections are the poles' to within rounding: keep them
+        step, misfit, surprise = fit.move(sketch)
+        settled = surprise <= _SURPRISE and misfit <= _NOISE**2 * fit.scale(sketch) if exact else step <= _SETTLED
+        if settled:  # exact: no placed pole moved by many standard errors, on samples fitted to their noise
             break
-    if sweeps == SWEEPS or (exact and step > _ROUNDING):  # at the poles as they now are (exact: a step of
-        fit.plan()                                            # 1e-12 is not the rounding)
+        if exact and misfit > _GAIN * before:  # the misfit no longer falls
+            break
+        before = misfit
+    if sweeps == SWEEPS or (exact and surprise > 1.0):  # the residues at the poles as they now are (exact: the
+        fit.plan()                                          # last step was within the poles' standard errors)
         fit.solve(sketch)
     worst = max(fit.misfit(window, sketch) for window in fit.windows)  # the sketch's misfit: the loops' mixed
     if sketch is not g:
@@ -240,13 +251,18 @@ def fit_survey(omega: np.ndarray, g: np.ndarray, x0: np.ndarray, *, lossy: bool 
 #: Passes of the exact residual's refinement (``exact=True``): each shrinks the residues' error by the far modes'
 #: smooth remainder, about 1e-9 (measured: two-mass N = 1000, ...).
 REFINE = 1
-#: A last step this small (relative) moved the poles by their rounding: the residues at the poles before it stay.
-_ROUNDING = 8 * float(np.finfo(float).eps)
-#: A pole moves when its standard error is at most this fraction of its room (a quarter of its nearest gap): the perfect
-#: cradle's weak modes (|u_1n| ~ 1e-10) otherwise wander by their standard error, 1e-5 relative, sweep after sweep.
+#: The samples place a pole when its standard error is at most this fraction of its room (a quarter of its nearest
+#: gap): :attr:`ModeSurvey.placed`.
 PLACED = 1e-3
-#: ... and has settled when its step is below this fraction of its standard error.
-_WITHIN = 3.0
+#: With ``exact``, the sweeps also end when one lowers the misfit (squared) by less than this factor.
+_GAIN = 0.5
+#: ... and when no placed pole moved by more than this many of its standard errors: Gauss-Newton converges
+#: quadratically there, the next step is below one (perfect N = 100 on ngspice: 4.9, then 12 as the misfit fell
+#: 150-fold, then 0.15; omega_n 1.1e-14 after three sweeps, ... after one).
+_SURPRISE = 16.0
+#: ... and the misfit's root mean square is at most this relative to the weighted samples' (ngspice's: 1e-14 ..
+#: 1e-12; from poles 1e-3 of a gap off, 8e-4, where the standard errors are the misfit's and say nothing).
+_NOISE = 1e-9
 #: Samples closer than this (relative) to a lossless pole are left out: there the circuit's own rounding moves the
 #: pole by more than the sample's distance to it (:data:`lcchain.compare.sections`' measure).
 _TOO_CLOSE = 1e-9
@@ -323,12 +339,21 @@ class _Fit:
         return float(np.max(np.abs(misfit), initial=0.0) / max(float(np.max(scale, initial=0.0)),
                                                                np.finfo(float).tiny))
 
-    def move(self, window: _Window, g: np.ndarray) -> float:
-        """One Gauss-Newton step on the window's core poles (:func:`_move_poles`); their standard errors kept."""
-        step, spread = _move_poles(window, self.w, self.target(window, g), self.x, self.gamma, self.fixed,
-                                   self.lossy)
-        self.spread[window.lo:window.hi] = spread
-        return step
+    def scale(self, g: np.ndarray) -> float:
+        """The sum over the windows of their weighted samples' squares (what :meth:`move`'s misfit is set against)."""
+        return float(sum(np.sum(np.abs(g[window.rows] * window.weight[:, None]) ** 2) for window in self.windows))
+
+    def move(self, g: np.ndarray) -> tuple[float, float, float]:
+        """One Gauss-Newton step on every window's core poles (:func:`_move_poles`), their standard errors kept:
+        the largest step (relative to its window's largest x), the sum of the windows' squared weighted misfits
+        before it, and the largest step of a placed pole over its standard error."""
+        largest, total, surprise = 0.0, 0.0, 0.0
+        for window in self.windows:
+            step, spread, misfit, own = _move_poles(window, self.w, self.target(window, g), self.x, self.gamma,
+                                                    self.fixed, self.lossy)
+            self.spread[window.lo:window.hi] = spread
+            largest, total, surprise = max(largest, step), total + misfit, max(surprise, own)
+        return largest, total, surprise
 
 
 def _plan(w: np.ndarray, x: np.ndarray, gamma: np.ndarray, lossy: bool = True,
@@ -425,7 +450,7 @@ def _model(w: np.ndarray, x: np.ndarray, gamma: np.ndarray, residues: np.ndarray
 
 
 def _move_poles(window: _Window, w: np.ndarray, target: np.ndarray, x: np.ndarray, gamma: np.ndarray,
-                fixed: np.ndarray, lossy: bool) -> tuple[float, np.ndarray]:
+                fixed: np.ndarray, lossy: bool) -> tuple[float, np.ndarray, float, float]:
     """One Gauss-Newton step on the window's core poles, every column at once (variable projection, Kaufman's
     Jacobian J_k[:, i] = P_perp dA_i c_ik: the normal equations are Re((V^H V) * (conj(C) C^T))).  The largest
     step, relative to the largest x of the window (0: nothing moves), and each core pole's standard error on x
@@ -442,21 +467,17 @@ def _move_poles(window: _Window, w: np.ndarray, target: np.ndarray, x: np.ndarra
     which = [moves_x] + ([np.arange(explicit.size)] if lossy else [])
     columns = [slope[:, moves_x]] + ([1j * ws[:, None] * slope] if lossy else [])  # d/dgamma = j w d/dx
     if not moves_x.size and not lossy:
-        return 0.0, spread
+        return 0.0, spread, 0.0, 0.0
     V = np.hstack(columns)
     V = V - window.q @ (window.q.conj().T @ V)
     c = coeffs[np.concatenate(which)]
     normal = ((V.conj().T @ V) * (c.conj() @ c.T)).real
     rhs = (c.conj() * (V.conj().T @ misfit)).sum(axis=1).real
     room = _room(x)[explicit]
-    errors = _standard_errors(normal, misfit, moves_x.size)
-    spread[np.flatnonzero(~fixed[explicit][core])] = errors[core[moves_x]]
-    # a pole the samples do not place (its mode too weak where it lives) stays: its step would be their noise
-    placed = np.concatenate((errors <= PLACED * room[moves_x], np.ones(normal.shape[0] - moves_x.size, dtype=bool)))
-    delta = np.zeros(normal.shape[0])
-    delta[placed] = np.linalg.lstsq(normal[np.ix_(placed, placed)], rhs[placed], rcond=None)[0]
+    delta, errors = _step(normal, rhs, misfit)
+    spread[np.flatnonzero(~fixed[explicit][core])] = errors[:moves_x.size][core[moves_x]]
     if not np.all(np.isfinite(delta)):  # a singular window (modes merged beyond telling apart): no step
-        return 0.0, spread
+        return 0.0, spread, 0.0, 0.0
     dx = np.zeros(explicit.size)
     dx[moves_x] = delta[:moves_x.size]
     dgamma = delta[moves_x.size:] if lossy else np.zeros(explicit.size)
@@ -469,10 +490,14 @@ def _move_poles(window: _Window, w: np.ndarray, target: np.ndarray, x: np.ndarra
         dx, dgamma = dx / excess, dgamma / excess
     x[explicit[core]] += dx[core]
     gamma[explicit[core]] += dgamma[core]
-    # a pole that moves well within its own standard error has settled as far as the samples tell
-    moving = np.abs(dx[core]) > _WITHIN * np.where(np.isfinite(spread), spread, 0.0)
-    largest = float(np.max(np.abs(np.concatenate((dx[core][moving], dgamma[core]))), initial=0.0))
-    return largest / max(float(np.max(x[explicit])), np.finfo(float).tiny), spread
+    largest = float(np.max(np.abs(np.concatenate((dx[core], dgamma[core]))), initial=0.0))
+    # each placed pole's step against what the samples tell of it (its standard error, or its rounding): <= 1 when
+    # none moved by more; a pole the samples do not place wanders by its noise and tells nothing
+    own = np.maximum(np.where(np.isfinite(spread), spread, 0.0), 4.0 * np.finfo(float).eps * x[explicit[core]])
+    placed = spread <= PLACED * room[core]
+    surprise = float(np.max((np.abs(dx[core]) / np.maximum(own, np.finfo(float).tiny))[placed], initial=0.0))
+    return (largest / max(float(np.max(x[explicit])), np.finfo(float).tiny), spread,
+            float(np.sum(np.abs(misfit) ** 2)), surprise)
 
 
 def _room(x: np.ndarray) -> np.ndarray:
@@ -481,14 +506,19 @@ def _room(x: np.ndarray) -> np.ndarray:
     return np.asarray(0.25 * np.minimum(np.r_[np.inf, gaps], np.r_[gaps, np.inf]))
 
 
-def _standard_errors(normal: np.ndarray, misfit: np.ndarray, count: int) -> np.ndarray:
-    """The first ``count`` parameters' standard errors: the misfit's variance per real value through the inverse
-    of the (diagonally scaled) normal equations; infinite where a parameter moves nothing."""
+def _step(normal: np.ndarray, rhs: np.ndarray, misfit: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The Gauss-Newton step of the normal equations and each parameter's standard error (the misfit's variance
+    per real value through their inverse; infinite where a parameter moves nothing), from one eigen-decomposition
+    scaled to a unit diagonal first: the residues span many decades (a perfect cradle's |u_1n|^2 from 1e-2 to
+    1e-20), and unscaled the weak modes' steps fell below the solver's cut-off and stayed where they started."""
     values = misfit.size * (2 if np.iscomplexobj(misfit) else 1)
     variance = float(np.sum(np.abs(misfit) ** 2)) / max(values - normal.shape[0], 1)
     diagonal = np.diag(normal).copy()
     scale = np.sqrt(np.where(diagonal > 0, diagonal, 1.0))
-    inverse = np.diag(np.linalg.pinv(normal / np.outer(scale, scale), hermitian=True))
+    eigenvalues, vectors = np.linalg.eigh(normal / np.outer(scale, scale))
+    kept = eigenvalues > normal.shape[0] * np.finfo(float).eps * max(float(eigenvalues[-1]), 0.0)
+    inverse = np.where(kept, 1.0 / np.where(kept, eigenvalues, 1.0), 0.0)
+    delta = vectors @ (inverse * (vectors.T @ (rhs / scale))) / scale
     with np.errstate(divide="ignore", invalid="ignore"):
-        out = np.sqrt(variance * np.abs(inverse)) / scale
-    return np.asarray(np.where(diagonal[:count] > 0, out[:count], np.inf))
+        errors = np.sqrt(variance * ((vectors**2) @ inverse)) / scale
+    return np.asarray(delta), np.asarray(np.where(diagonal > 0, errors, np.inf))
