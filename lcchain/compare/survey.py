@@ -239,8 +239,10 @@ def fit_survey(omega: np.ndarray, g: np.ndarray, x0: np.ndarray, *, lossy: bool 
         if exact and misfit > _GAIN * before:  # the misfit no longer falls
             break
         before = misfit
-    if sweeps == SWEEPS or (exact and surprise > 1.0):  # the residues at the poles as they now are (exact: the
-        fit.plan()                                          # last step was within the poles' standard errors)
+    if exact:  # the residues at the poles as they now are, refined on the whole residual with the windows' plan
+        fit.update(sketch)
+    elif sweeps == SWEEPS:
+        fit.plan()
         fit.solve(sketch)
     worst = max(fit.misfit(window, sketch) for window in fit.windows)  # the sketch's misfit: the loops' mixed
     if sketch is not g:
@@ -315,12 +317,18 @@ class _Fit:
         residual, whose model is kept for the poles' steps)."""
         self.residues = _solve_band(self._lu, _rhs(self.windows, g, self.x.size))
         self.model = None
-        if not self.exact or len(self.windows) == 1:  # one window's model is every mode's already
-            return
-        for _ in range(REFINE):
-            model = _model(self.w, self.x, self.gamma, self.residues, self.lossy)
+        if self.exact:
+            self.update(g, REFINE if len(self.windows) > 1 else 0)  # one window's model is every mode's already
+
+    def update(self, g: np.ndarray, passes: int = REFINE) -> None:
+        """Refine the residues on the whole residual at the poles as they are (moved since the plan: by so little
+        that the plan's least squares still project the residual well, the fixed point is theirs to second order),
+        and keep the whole model."""
+        model = _model(self.w, self.x, self.gamma, self.residues, self.lossy)
+        for _ in range(passes):
             self.residues = self.residues + _solve_band(self._lu, _rhs(self.windows, g - model, self.x.size))
-        self.model = _model(self.w, self.x, self.gamma, self.residues, self.lossy)
+            model = _model(self.w, self.x, self.gamma, self.residues, self.lossy)
+        self.model = model
 
     def target(self, window: _Window, g: np.ndarray) -> np.ndarray:
         """The window's samples less the modes it does not hold explicitly: exactly (``exact``), or its far
@@ -331,8 +339,13 @@ class _Fit:
         return np.asarray(g[window.rows] - window.far_columns @ self.residues[window.far])
 
     def misfit(self, window: _Window, g: np.ndarray) -> float:
-        """The window's largest weighted misfit relative to its largest weighted sample (exact: of the samples
-        themselves, as the target is then only what the window's modes make: noise where they are weak)."""
+        """The window's largest weighted misfit relative to its largest weighted sample (exact: the whole model's,
+        relative to the samples themselves, as the target is then only what the window's modes make: noise where
+        they are weak)."""
+        if self.model is not None:
+            weight = window.weight[:, None]
+            return float(np.max(np.abs((g[window.rows] - self.model[window.rows]) * weight), initial=0.0)
+                         / max(float(np.max(np.abs(g[window.rows] * weight), initial=0.0)), np.finfo(float).tiny))
         target = self.target(window, g) * window.weight[:, None]
         misfit = target - window.q @ (window.q.conj().T @ target)
         scale = np.abs(g[window.rows] * window.weight[:, None]) if self.model is not None else np.abs(target)
