@@ -239,8 +239,8 @@ def fit_survey(omega: np.ndarray, g: np.ndarray, x0: np.ndarray, *, lossy: bool 
         if exact and misfit > _GAIN * before:  # the misfit no longer falls
             break
         before = misfit
-    if exact:  # the residues at the poles as they now are, refined on the whole residual with the windows' plan
-        fit.update(sketch)
+    if exact and surprise > 1.0:  # the residues at the poles as they now are (within their standard errors of
+        fit.update(sketch)          # the plan's, they stand), refined on the whole residual with the windows' plan
     elif sweeps == SWEEPS:
         fit.plan()
         fit.solve(sketch)
