@@ -24,6 +24,7 @@ from lcchain.core.registry import Registry
 from lcchain.core.types import Backend, Case, ExecutorName, ModeMethod, Transport
 from lcchain.runs.request import Request, Transient, plan_request
 from lcchain.scenes.schema import ChainSpec
+from lcchain.spice.job import RunJob
 from lcchain.spice.ngspice.batch import run_batch
 from lcchain.spice.ngspice.find import find_simulator
 from lcchain.spice.ngspice.locate import find_batch
@@ -141,9 +142,9 @@ def test_an_executor_of_ones_own_runs_a_tiny_study_through_ngspice(forget):
 def test_a_transport_of_ones_own_runs_a_netlist_through_ngspice(forget):
     runs: list[str] = []
 
-    def counted_batch(text, simulator, *rest):
+    def counted_batch(job, simulator, place, progress=None):
         runs.append(simulator.backend)
-        return run_batch(text, simulator, *rest)
+        return run_batch(job, simulator, place, progress)
 
     def find(launcher):
         return dataclasses.replace(find_batch(launcher), backend="test-counted")
@@ -152,7 +153,7 @@ def test_a_transport_of_ones_own_runs_a_netlist_through_ngspice(forget):
     forget.append((TRANSPORT_RUNS, mine.name))
     simulator = find_simulator(mine)
     assert simulator.backend == "test-counted" and find_simulator("batch").version == simulator.version
-    result = run(RC_NETLIST, ["v(out)"], 2e-6, simulator=simulator, foreign=True)
+    result = run(RunJob(RC_NETLIST, ["v(out)"], 2e-6, foreign=True), simulator)
     assert runs == ["test-counted"] and result.points > 10
     with pytest.raises(ParameterError, match="backend = 'warm'"):
         find_simulator(TRANSPORT_RUNS["warm"])  # a study starts it: no user names it

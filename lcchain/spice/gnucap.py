@@ -83,12 +83,13 @@ from ..core.budget import show_bytes
 from ..core.errors import ParameterError, SimulatorMissingError
 from ..core.frozen import FrozenMap
 from ..core.types import Backend
-from .acdata import AcResult, ac_result
+from .acdata import ac_result
 from .engine import Engine
 from .gnucap_table import TITLE, failure, quiet, quote, read_ac_table, read_table, table_number, without_rows
+from .job import AcJob, Progress, RunJob
 from .log import trim_log
 from .processes import child_env, kill_group, outgrown, progress_reporter, read_all, wait_watching
-from .result import RunResult, check_arguments, validate_columns
+from .result import RunResult, TransientData, validate_columns
 from .sandbox import SCRATCH, Sandbox, scratch_env
 from .scratch import scratch_folder
 from .simulator import Simulator, child_launcher
@@ -346,43 +347,37 @@ class Gnucap(Engine):
         return "\n".join([TITLE, *body, ".options " + " ".join(options), f".print {card} {printed}",
                           *(line for _, line in analyses), ".end"]) + "\n"
 
-    def run(self, netlist: str, vectors: Sequence[str], tstop: float, *, simulator: Simulator,
-            timeout: float = 600.0, progress: Callable[[float], None] | None = None, cwd: str | None = None,
-            trusted: bool = False, foreign: bool = True, max_output_bytes: float | None = None,
-            max_resident_bytes: float | None = None) -> RunResult:
-        if foreign or trusted:
+    def run(self, job: RunJob, simulator: Simulator, progress: Progress | None = None) -> RunResult:
+        if job.foreign or job.trusted:
             raise _refuse("a netlist lcchain did not write (gnucap runs only lcchain's own ladders; the "
                           "allow-list and the sandbox of foreign netlists are ngspice's)")
         if simulator.engine != self.name:
             raise ParameterError("simulator", simulator.engine, "a simulator found for engine gnucap")
-        netlist, names, tstop, timeout, limit = check_arguments(netlist, vectors, tstop, timeout, max_output_bytes)
-        names = names or [canonical_vector_name(v) for v in saved_vectors(netlist)]
+        netlist, tstop = job.netlist, job.tstop
+        names = job.vectors or tuple(canonical_vector_name(v) for v in saved_vectors(netlist))
         text = self.dialect(netlist, names)
         if progress is not None:
             progress(0.0)
-        output, log, wall = _run_child(text, simulator, timeout, tstop, progress, limit or MAX_OUTPUT_BYTES,
-                                       max_resident_bytes)
+        output, log, wall = _run_child(text, simulator, job.timeout, tstop, progress,
+                                       job.max_output_bytes or MAX_OUTPUT_BYTES, job.max_resident_bytes)
         columns = read_table(output, log)
         time_s, found = validate_columns(columns, quiet(log), names, tstop, self.name)
         if progress is not None:
             progress(1.0)
-        return RunResult(time=time_s, vectors=FrozenMap(found), engine_version=simulator.version,
-                         netlist_sha256=_sha256(netlist), options=FrozenMap(parse_options(netlist)), wall_s=wall,
-                         backend=simulator.backend, points=int(time_s.size), log=trim_log(without_rows(log)),
-                         engine=self.name)
+        return RunResult(data=TransientData(time_s, FrozenMap(found)), engine_version=simulator.version,
+                         netlist_sha256=_sha256(netlist), wall_s=wall, log=trim_log(without_rows(log)),
+                         engine=self.name, options=FrozenMap(parse_options(netlist)), backend=simulator.backend)
 
-    def run_ac(self, netlist: str, vectors: Sequence[str], points: int, *, simulator: Simulator,
-               timeout: float = 600.0, foreign: bool = False, max_output_bytes: float | None = None,
-               max_resident_bytes: float | None = None) -> AcResult:
-        if foreign:
+    def run_ac(self, job: AcJob, simulator: Simulator) -> RunResult:
+        if job.foreign:
             raise ParameterError("engine", self.name, "ngspice for a netlist lcchain did not write (the allow-list "
                                  "and the sandbox are ngspice's)")
         if simulator.engine != self.name:
             raise ParameterError("simulator", simulator.engine, "a simulator found for engine gnucap")
-        output, log, wall = _run_child(self.dialect(netlist, vectors), simulator, timeout, 1.0, None,
-                                       MAX_OUTPUT_BYTES, max_resident_bytes)
+        output, log, wall = _run_child(self.dialect(job.netlist, job.vectors), simulator, job.timeout, 1.0, None,
+                                       MAX_OUTPUT_BYTES, job.max_resident_bytes)
         columns = read_ac_table(output, log)
-        return ac_result(netlist, columns, quiet(log), vectors, points, simulator, wall)
+        return ac_result(job, columns, quiet(log), simulator, wall)
 
 
 def _sha256(text: str) -> str:
