@@ -78,7 +78,7 @@ class RunJob:
         Seconds after which the engine's process group is killed (keyword).
     max_output_bytes : float, optional
         Stop the run (a failure) when its raw file (the vectors, on the warm and shared transports) grows past
-        this many bytes, or its output past :data:`lcchain.spice.log.MAX_LOG_BYTES`.
+        this many bytes, or its output past ``lcchain.spice.processes.MAX_LOG_BYTES``.
     max_resident_bytes : float, optional
         Stop the run (a failure) when the simulator's processes hold more than this many bytes resident.
     foreign : bool
