@@ -76,7 +76,7 @@ import shutil
 import subprocess
 import tempfile
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from typing import IO, ClassVar
 
 from ..core.budget import show_bytes
@@ -86,7 +86,7 @@ from ..core.types import Backend
 from .acdata import ac_result
 from .engine import Engine
 from .gnucap_table import TITLE, failure, quiet, quote, read_ac_table, read_table, table_number, without_rows
-from .job import AcJob, Progress, RunJob
+from .job import AcJob, Progress, RunJob, TransportJob
 from .log import trim_log
 from .processes import child_env, kill_group, outgrown, progress_reporter, read_all, wait_watching
 from .result import RunResult, TransientData, validate_columns
@@ -358,8 +358,7 @@ class Gnucap(Engine):
         text = self.dialect(netlist, names)
         if progress is not None:
             progress(0.0)
-        output, log, wall = _run_child(text, simulator, job.timeout, tstop, progress,
-                                       job.max_output_bytes or MAX_OUTPUT_BYTES, job.max_resident_bytes)
+        output, log, wall = _run_child(TransportJob.checked(text, job), simulator, progress)
         columns = read_table(output, log)
         time_s, found = validate_columns(columns, quiet(log), names, tstop, self.name)
         if progress is not None:
@@ -374,8 +373,10 @@ class Gnucap(Engine):
                                  "and the sandbox are ngspice's)")
         if simulator.engine != self.name:
             raise ParameterError("simulator", simulator.engine, "a simulator found for engine gnucap")
-        output, log, wall = _run_child(self.dialect(job.netlist, job.vectors), simulator, job.timeout, 1.0, None,
-                                       MAX_OUTPUT_BYTES, job.max_resident_bytes)
+        # its table's text, not the raw bytes a price holds the AC run to: gnucap's own bound
+        text = self.dialect(job.netlist, job.vectors)
+        output, log, wall = _run_child(TransportJob(text, 1.0, job.timeout, MAX_OUTPUT_BYTES, job.max_resident_bytes),
+                                       simulator)
         columns = read_ac_table(output, log)
         return ac_result(job, columns, quiet(log), simulator, wall)
 
@@ -424,14 +425,16 @@ def _last_time(out: IO[bytes]) -> float | None:
     return None
 
 
-def _run_child(text: str, simulator: Simulator, timeout: float, tstop: float,
-               progress: Callable[[float], None] | None, limit: float,
-               resident: float | None = None, sandbox: Sandbox | None = None) -> tuple[str, str, float]:
-    """gnucap's stdout and its whole output, and its wall time; in a temporary folder that is then removed (in
-    ``sandbox`` too when it is available: its own scratch folder and environment, :mod:`lcchain.spice.sandbox`)."""
+def _run_child(job: TransportJob, simulator: Simulator, progress: Progress | None = None,
+               sandbox: Sandbox | None = None) -> tuple[str, str, float]:
+    """gnucap's stdout and its whole output, and its wall time, for the job's text (gnucap's dialect, canonical);
+    in a temporary folder that is then removed (in ``sandbox`` too when it is available: its own scratch folder
+    and environment, :mod:`lcchain.spice.sandbox`).  Its output may not pass the job's ``max_output_bytes``
+    (default :data:`MAX_OUTPUT_BYTES`)."""
+    timeout = job.timeout
     with scratch_folder("gnucap") as folder, tempfile.TemporaryFile() as source, \
             tempfile.TemporaryFile() as out, tempfile.TemporaryFile() as err:
-        source.write(text.encode("utf-8"))
+        source.write(job.text.encode("utf-8"))
         source.seek(0)
         program = [simulator.executable, "-b", "/dev/stdin"]
         env = child_env()
@@ -444,7 +447,7 @@ def _run_child(text: str, simulator: Simulator, timeout: float, tstop: float,
         proc = subprocess.Popen(command, cwd=folder, env=env, stdin=source, stdout=out, stderr=err,
                                 start_new_session=True)
         try:
-            status = _wait(proc, timeout, tstop, out, err, progress, limit, resident)
+            status = _wait(proc, job, (out, err), progress)
         finally:
             if proc.poll() is None:  # timed out, or interrupted: the whole group goes
                 kill_group(proc)
@@ -458,11 +461,14 @@ def _run_child(text: str, simulator: Simulator, timeout: float, tstop: float,
     return output, log, wall
 
 
-def _wait(proc: subprocess.Popen[bytes], timeout: float, tstop: float, out: IO[bytes], err: IO[bytes],
-          progress: Callable[[float], None] | None, limit: float, resident: float | None = None) -> int | None:
-    """gnucap's exit status, or None after the timeout; reports progress and stops a run whose output outgrows
-    ``limit``, or whose memory outgrows ``resident``, meanwhile."""
-    report = progress_reporter(progress, tstop, lambda: _last_time(out)) if progress is not None else None
+def _wait(proc: subprocess.Popen[bytes], job: TransportJob, files: tuple[IO[bytes], IO[bytes]],
+          progress: Progress | None) -> int | None:
+    """gnucap's exit status, or None after the job's timeout; reports progress and stops a run whose output
+    (``files``: out, err) outgrows the job's ``max_output_bytes``, or whose memory outgrows its
+    ``max_resident_bytes``, meanwhile."""
+    out, err = files
+    limit, resident = job.max_output_bytes or MAX_OUTPUT_BYTES, job.max_resident_bytes
+    report = progress_reporter(progress, job.tstop, lambda: _last_time(out)) if progress is not None else None
 
     def look() -> None:
         if os.fstat(out.fileno()).st_size + os.fstat(err.fileno()).st_size > limit:
@@ -476,4 +482,4 @@ def _wait(proc: subprocess.Popen[bytes], timeout: float, tstop: float, out: IO[b
         if report is not None:
             report()
 
-    return wait_watching(proc, timeout, look)
+    return wait_watching(proc, job.timeout, look)

@@ -164,10 +164,10 @@ class AcJob:
 
 @dataclass(frozen=True)
 class TransportJob:
-    """What one of ngspice's transports runs: a checked text, the plot to read, the limits.
+    """What a transport runs: a checked text, the plot to read, the limits.
 
-    Made by :meth:`checked` from a checked job and the text its check returned; a transport runs ``text`` as it
-    is and holds a worker to ``lines``.
+    Made by :meth:`checked` from a checked job and the text its check returned (or, for gnucap's child, the
+    text of its dialect); a transport runs ``text`` as it is and holds a worker to ``lines``.
 
     Attributes
     ----------
