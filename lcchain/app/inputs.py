@@ -192,6 +192,8 @@ def _chain_of_args(args: ChainOptions, budget: Budget, max_N: int) -> Chain:
     if not 3 <= args.N <= max_N:
         raise ParameterError("--N", args.N, f"an integer from 3 to {max_N} (masses of a circuit)")
     named = CHAIN_CASES[args.case]  # a name the parser offered
+    if args.N > named.max_N:  # a case's own limit (a plugin's may be below the circuit's), as a scene checks it
+        raise ParameterError("--N", args.N, f"an integer from 3 to {named.max_N} for --case {args.case}")
     if args.walls and not named.walls:
         raise ParameterError("--walls", args.walls, "0 unless --case perfect (J >= 1: a perfect cradle tied to walls)")
     if named.walls:  # the case that takes walls, the perfect cradle, is designed from its spectrum: priced first

@@ -8,7 +8,7 @@ study, no scipy submodule).
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator, Mapping
+from collections.abc import Callable, Collection, Iterator, Mapping
 
 from ..circuit.effects import E_SERIES, EFFECTS, Coupling, Effect, effect_fields
 from ..core.errors import ParameterError
@@ -16,7 +16,8 @@ from ..report.files import FIGURE_FORMATS
 from ..spice.engines import DEFAULT_ENGINE, ENGINES
 from ..theory.chain import Chain
 
-__all__ = ["Chain", "Effect", "CASE_CHOICES", "EXECUTOR_CHOICES", "RegistryNames", "DEFAULT_ENGINE",
+__all__ = ["Chain", "Effect", "CASE_CHOICES", "EXECUTOR_CHOICES", "BACKEND_CHOICES", "RegistryNames",
+           "DEFAULT_ENGINE",
            "FIGURE_FORMATS", "E_SERIES_NAMES", "COUPLING_OPTION", "COUPLING_HELP",
            "CIRCUIT_EFFECTS", "EffectOption", "effect_options", "effects_from_options", "engine_names"]
 
@@ -41,7 +42,7 @@ class RegistryNames:
     registry's module is heavy (the executors' lives beside the runs' execution), check the value with
     ``lcchain.cli.common.registry_name`` instead of ``choices``, which ``--help`` lists."""
 
-    def __init__(self, load: Callable[[], Mapping[str, object]]) -> None:
+    def __init__(self, load: Callable[[], Collection[str]]) -> None:
         self._load = load
 
     def __contains__(self, name: object) -> bool:
@@ -49,6 +50,9 @@ class RegistryNames:
 
     def __iter__(self) -> Iterator[str]:
         return iter(self._load())
+
+    def __len__(self) -> int:
+        return len(self._load())
 
 
 def _cases() -> Mapping[str, object]:
@@ -69,6 +73,17 @@ def _executors() -> Mapping[str, object]:
 
 #: The executors (``--executor``), plugins included: :data:`lcchain.studies.executors.EXECUTOR_TRAITS`.
 EXECUTOR_CHOICES = RegistryNames(_executors)
+
+
+def _backends() -> Collection[str]:
+    from ..spice.ngspice.transports import named_transports
+
+    return named_transports()
+
+
+#: The transports a user names (``--backend``), plugins included: those of
+#: :data:`lcchain.spice.ngspice.transports.TRANSPORT_RUNS` with a ``find``.
+BACKEND_CHOICES = RegistryNames(_backends)
 
 
 class EffectOption:

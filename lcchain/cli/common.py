@@ -37,7 +37,7 @@ from ..core.limits import (
     MAX_SECONDS,
     MIN_TIMEOUT,
 )
-from ..core.types import DEFAULT_C0, DEFAULT_L0, E_SERIES_NAMES, EXCITATIONS, NAMED_CASES
+from ..core.types import DEFAULT_C0, DEFAULT_L0, E_SERIES_NAMES, EXCITATIONS
 
 __all__ = ["EXIT_OK", "EXIT_FAILED", "EXIT_USAGE", "EXIT_MISSING", "EXIT_SIGPIPE", "EXIT_EXTRA", "OPTION_NAMES",
            "NEGATIVE_NUMBER", "single_valued", "count", "list_entries", "int_list", "si_number", "SI_PREFIXES",
@@ -344,9 +344,9 @@ def registry_name(option: str, names: RegistryNames) -> Callable[[str], str]:
 
 def add_circuit_arguments(p: argparse.ArgumentParser) -> None:
     """The circuit: a chain (named, or a file), its coils' coupling and its bulk L0, C0."""
-    p.add_argument("--case", choices=CASE_CHOICES, metavar="CASE",
-                   help=f"named chain: {', '.join(NAMED_CASES)} or a plugin's (one-mass/two-mass: the optimal "
-                        "design for N; perfect: the perfect cradle)")
+    p.add_argument("--case", choices=CASE_CHOICES, metavar="CASE",  # %(choices)s: read when --help prints
+                   help="named chain: %(choices)s (one-mass/two-mass: the optimal design for N; perfect: the "
+                        "perfect cradle)")
     p.add_argument("--N", type=int, help="number of masses (ladder cells)")
     p.add_argument("--walls", type=int, default=0, metavar="J",
                    help="--case perfect only: J >= 1 ties the perfect cradle to walls (frequencies n - 1 + 2J)")

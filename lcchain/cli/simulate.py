@@ -7,9 +7,9 @@ import argparse
 import sys
 from typing import TYPE_CHECKING, Any
 
-from ..app.options import DEFAULT_ENGINE, engine_names
+from ..app.options import BACKEND_CHOICES, DEFAULT_ENGINE, engine_names
 from ..core.physical import units_sentence
-from ..core.types import BACKENDS, METHODS
+from ..core.types import METHODS
 from .common import (
     EXIT_FAILED,
     EXIT_OK,
@@ -34,7 +34,8 @@ def add_parser(sub: Any, budget: list[Any]) -> None:
     p = sub.add_parser("simulate", parents=budget, help="run the ladder in ngspice (or gnucap) and compare with "
                        "alpha_N(t)")
     add_chain_arguments(p)
-    p.add_argument("--backend", choices=BACKENDS, default="batch")
+    p.add_argument("--backend", choices=BACKEND_CHOICES, default="batch", metavar="BACKEND",
+                   help="how ngspice runs: %(choices)s (default %(default)s)")
     p.add_argument("--engine", type=engine_list, default=(DEFAULT_ENGINE,), metavar="ENGINE[,ENGINE]",
                    help=f"the circuit simulator: {' or '.join(engine_names())} (default {DEFAULT_ENGINE}); gnucap "
                         "runs one fixed-step run (no --extrapolate); several, comma-separated, run the same netlist in "

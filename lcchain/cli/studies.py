@@ -10,7 +10,7 @@ from typing import Any
 from ..app.options import EXECUTOR_CHOICES
 from ..app.studies import StudyHooks, StudyOptions, StudyResult
 from ..core.budget import show_seconds
-from ..core.types import EXECUTORS, TRANSPORT_CHOICES
+from ..core.types import TRANSPORT_CHOICES
 from .common import EXIT_FAILED, EXIT_OK, budget_from_args, emit_json, registry_name, seconds
 from .progress import study_counter
 
@@ -28,9 +28,10 @@ def add_study_arguments(p: argparse.ArgumentParser, *, store: bool = True) -> No
                        help="when another lcchain is writing the store, wait for it to finish (default: refuse)")
         p.add_argument("--retry-failed", action="store_true",
                        help="run again the runs the store holds as failed or timed out")
-    p.add_argument("--executor", type=registry_name("--executor", EXECUTOR_CHOICES), metavar="EXECUTOR",
-                   default="process",
-                   help=f"where the runs execute: {', '.join(EXECUTORS)} or a plugin's (default process)")
+    # choices: --help lists the registry (plugins included), read only then; the value is checked by the type
+    p.add_argument("--executor", type=registry_name("--executor", EXECUTOR_CHOICES), choices=EXECUTOR_CHOICES,
+                   metavar="EXECUTOR", default="process",
+                   help="where the runs execute: %(choices)s (default %(default)s)")
     p.add_argument("--workers", type=int, default=None, help="worker processes (default: one per core)")
     p.add_argument("--scheduler", metavar="tcp://HOST:PORT", help="an existing Dask scheduler (--executor dask)")
     p.add_argument("--transport", choices=TRANSPORT_CHOICES, default="auto",

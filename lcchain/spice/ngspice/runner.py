@@ -45,10 +45,10 @@ from pathlib import Path
 
 import numpy as np
 
-from ...core.checks import choice, real
+from ...core.checks import real
 from ...core.errors import ParameterError, SimulationError
 from ...core.frozen import FrozenMap
-from ...core.types import BACKENDS, Backend
+from ...core.types import Backend
 from ..foreign import allowed_netlist
 from ..log import failure_reason, fatal_lines, trim_log, useful_output
 from ..measure import measure_names, read_measurements
@@ -150,7 +150,7 @@ def run(
     text = canonical_text(netlist, "netlist") if trusted else \
         allowed_netlist(netlist, "netlist", Path(cwd) if cwd is not None else None, read_include)
     if simulator is None:
-        simulator = find_simulator(choice("backend", backend or "batch", BACKENDS))
+        simulator = find_simulator(backend or "batch")
     elif simulator.backend not in TRANSPORT_RUNS:
         raise ParameterError("simulator", simulator.backend,
                              f"one of ngspice's transports: {' | '.join(TRANSPORT_RUNS)}")
