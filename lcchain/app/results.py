@@ -43,7 +43,7 @@ class Results:
     """The store's runs (:class:`lcchain.studies.stored.StoredRun`) and their JSON, and what the request shows:
     ``groups`` and ``constants`` (a summary), ``runs_json`` (``--json``: arrival times also in seconds),
     ``rows`` (``--csv``), ``axes`` and each finished run's ``vectors`` (the table); ``written`` the files
-    written, ``failed`` the options whose file could not be."""
+    written, ``failed`` the options whose file could not be, and ``notes`` the lines that say why."""
 
     stored: list[StoredRun]
     runs: list[dict[str, Any]]
@@ -55,6 +55,7 @@ class Results:
     vectors: dict[str, list[str] | None] = field(default_factory=dict)
     written: list[str] = field(default_factory=list)
     failed: list[str] = field(default_factory=list)
+    notes: list[str] = field(default_factory=list)
 
 
 def results(request: ResultsRequest) -> Results:
@@ -99,16 +100,18 @@ def results(request: ResultsRequest) -> Results:
         runs = [run.to_dict() for run in stored]
         written = [path for option, path in (("--plot", request.plot), ("--netcdf", request.netcdf),
                                              ("--parquet", request.parquet)) if path and option not in outputs.failed]
-        found = Results(stored, runs, written=written + beside, failed=list(outputs.failed))
+        found = Results(stored, runs, written=written + beside, failed=list(outputs.failed),
+                        notes=list(outputs.notes))
         if request.summary:
             return Results(stored, runs, groups=[group.to_dict() for group in peak_groups(stored, request.metric)],
-                           constants=study_constants(stored), written=found.written, failed=found.failed)
+                           constants=study_constants(stored), written=found.written, failed=found.failed,
+                           notes=found.notes)
         if request.json:
             return Results(stored, runs, runs_json=_with_seconds(runs, store), written=found.written,
-                           failed=found.failed)
+                           failed=found.failed, notes=found.notes)
         if request.csv:
             return Results(stored, runs, rows=[_flat(run) for run in runs], written=found.written,
-                           failed=found.failed)
+                           failed=found.failed, notes=found.notes)
         if request.plot or request.netcdf or request.parquet:
             return found
         spectral = any(run.spectral for run in stored)
@@ -116,7 +119,7 @@ def results(request: ResultsRequest) -> Results:
         vectors = {} if spectral or theory else {run.key: store.vector_names(run.key) for run in stored
                                                  if run.status == "ok"}
         return Results(stored, runs, axes=study_axes(stored), vectors=vectors, written=found.written,
-                       failed=found.failed)
+                       failed=found.failed, notes=found.notes)
 
 
 def _price_results(store: Any, request: ResultsRequest) -> None:

@@ -8,7 +8,6 @@ With several engines it runs one netlist in each (an :class:`EnginesComparison`)
 
 from __future__ import annotations
 
-import sys
 import warnings
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -70,12 +69,14 @@ class Simulation:
 
 @dataclass(frozen=True)
 class EnginesComparison:
-    """``simulate --engine A,B``: each engine's report, their JSON and the largest differences between them."""
+    """``simulate --engine A,B``: each engine's report, their JSON, the largest differences between them and the
+    warnings the runs raised (each once)."""
 
     chain: Chain
     reports: list[SimulationReport]
     data: dict[str, Any]
     differences: dict[str, float]
+    warnings: tuple[str, ...] = ()
 
 
 def with_physical_units(data: dict[str, Any], L0: float, C0: float) -> dict[str, Any]:
@@ -145,8 +146,8 @@ def _prepare(request: SimulateRequest) -> tuple[Outputs, Any, float | None, list
             path = Path(request.netlist_out)
             target = path if not kept else path.with_name(f"{path.stem}-run{len(kept) + 1}{path.suffix}")
             if kept and (target.exists() or target.is_symlink()):  # a name the user did not give: never replaced
-                print(f"lcchain: warning: --netlist-out: {target} exists and was left as it is; run "
-                      f"{len(kept) + 1}'s netlist was not written", file=sys.stderr)
+                outputs.notes.append(f"warning: --netlist-out: {target} exists and was left as it is; run "
+                                     f"{len(kept) + 1}'s netlist was not written")
                 kept.append(f"{target} (not written)")
                 return
             write_text(target, spec.netlist)
@@ -175,12 +176,12 @@ def simulate_chain(request: SimulateRequest) -> Simulation | EnginesComparison:
 
 def write_outputs(simulation: Simulation) -> bool:
     """Write the waveforms and the figure of a run (after it was shown); returns whether the run failed: an
-    accuracy not met, or an output that could not be written (each said in one line on stderr)."""
+    accuracy not met, or an output that could not be written (each said in a note of ``simulation.outputs``)."""
     request, chain, report, data, outputs, kept = (simulation.request, simulation.chain, simulation.report,
                                                    simulation.data, simulation.outputs, simulation.kept)
     if len(kept) > 1:
-        print(f"--netlist-out: the {len(kept)} runs' netlists are in {', '.join(kept)} (dt = "
-              f"{', '.join(f'{h:.4g}' for h in data['extrapolation']['dt'])})", file=sys.stderr)
+        outputs.notes.append(f"--netlist-out: the {len(kept)} runs' netlists are in {', '.join(kept)} (dt = "
+                             f"{', '.join(f'{h:.4g}' for h in data['extrapolation']['dt'])})")
     outputs.text("--waveform-out", report.waveforms.to_csv())
     if request.plot:
         from ..report.plots import overlay
@@ -194,8 +195,8 @@ def write_outputs(simulation: Simulation) -> bool:
             path=path, time_unit=data["physical"]["time_unit_s"]))
     if report.accuracy_met is False:
         steps = ", ".join(f"{h:.4g}" for h in data["extrapolation"]["dt"])
-        print(f"lcchain: --accuracy {request.accuracy:g} was not met: the run reached {data['max_abs_error']:.3g} "
-              f"(dt = {steps}, predicted {data['predicted_error']:.3g})", file=sys.stderr)
+        outputs.notes.append(f"--accuracy {request.accuracy:g} was not met: the run reached "
+                             f"{data['max_abs_error']:.3g} (dt = {steps}, predicted {data['predicted_error']:.3g})")
         return True
     return bool(outputs.failed)
 
@@ -222,8 +223,6 @@ def _compare_engines(request: SimulateRequest, chain: Any, dt: float | None,
                                        extrapolate=1, engine=engine, backend="batch")
             reports.append(simulate(made, progress=_progress(request, engine), budget=request.budget,
                                     on_spec=None if reports else keep_netlist))
-    for warning in sorted({str(w.message) for w in caught}):
-        print(f"lcchain: warning: {warning}", file=sys.stderr)
     first = reports[0]
     differences = {}
     for other in reports[1:]:
@@ -236,4 +235,4 @@ def _compare_engines(request: SimulateRequest, chain: Any, dt: float | None,
                                 b.last - other.comparison.theory_last))
     data = {"engines": [report.to_dict() for report in reports], "max_abs_difference": differences,
             "netlist_sha256": first.run.netlist_sha256}
-    return EnginesComparison(chain, reports, data, differences)
+    return EnginesComparison(chain, reports, data, differences, tuple(sorted({str(w.message) for w in caught})))

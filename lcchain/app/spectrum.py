@@ -97,7 +97,7 @@ def spectrum(request: SpectrumRequest) -> Spectrum:
 
 def write_outputs(result: Spectrum) -> TwoPortSummary | None:
     """Draw ``plot`` and write ``touchstone`` (after the spectrum was shown); the two-port's summary when one was
-    made.  A file that cannot be written is said in one line and leaves ``result.outputs.failed`` set."""
+    made.  A file that cannot be written is said in a note of ``result.outputs`` and leaves its ``failed`` set."""
     request, chain, report, data = result.request, result.chain, result.report, result.data
     if request.plot:
         from ..report.plots import spectrum as spectrum_figure

@@ -10,13 +10,13 @@ import sys
 from typing import Any
 
 from ..core.types import STUDY_METRICS
-from .common import EXIT_FAILED, EXIT_OK, budget_from_args, emit_json
+from .common import EXIT_FAILED, EXIT_OK, Parser, Subcommands, budget_from_args, emit_json, print_notes
 from .studies import number, short, table
 
 __all__ = ["add_parser", "cmd_results"]
 
 
-def add_parser(sub: Any, budget: list[Any]) -> None:
+def add_parser(sub: Subcommands, budget: list[Parser]) -> None:
     p = sub.add_parser("results", parents=budget,
                        help="a store's runs: a table, --json, --csv, or a --plot of the study")
     p.add_argument("store", metavar="STORE.sqlite")
@@ -70,6 +70,7 @@ def cmd_results(args: argparse.Namespace) -> int:
                   + f" written to {', '.join(found.written)}")
     else:
         _print_runs(found, args.store)
+    print_notes(found.notes)
     return EXIT_FAILED if found.failed else EXIT_OK
 
 

@@ -4,7 +4,6 @@
 from __future__ import annotations
 
 import argparse
-import sys
 from typing import TYPE_CHECKING, Any
 
 from ..app.options import BACKEND_CHOICES, DEFAULT_ENGINE, engine_names
@@ -13,6 +12,8 @@ from ..core.types import METHODS
 from .common import (
     EXIT_FAILED,
     EXIT_OK,
+    Parser,
+    Subcommands,
     add_chain_arguments,
     add_effect_arguments,
     budget_from_args,
@@ -21,6 +22,8 @@ from .common import (
     emit_json,
     engine_list,
     number_type,
+    print_notes,
+    summary_stream,
 )
 from .progress import fraction
 
@@ -30,7 +33,7 @@ if TYPE_CHECKING:
 __all__ = ["add_parser", "cmd_simulate", "print_arrivals", "print_units"]
 
 
-def add_parser(sub: Any, budget: list[Any]) -> None:
+def add_parser(sub: Subcommands, budget: list[Parser]) -> None:
     p = sub.add_parser("simulate", parents=budget, help="run the ladder in ngspice (or gnucap) and compare with "
                        "alpha_N(t)")
     add_chain_arguments(p)
@@ -137,16 +140,19 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     result = simulate_chain(request)
     if isinstance(result, EnginesComparison):
         return _print_engines(args, result)
-    for warning in result.warnings:
-        print(f"lcchain: warning: {warning}", file=sys.stderr)
-    with result.outputs.summary():
+    print_notes(f"warning: {warning}" for warning in result.warnings)
+    print_notes(result.outputs.take_notes())  # said while it ran: a run's netlist not kept
+    with summary_stream(result.outputs):
         _print_simulation(args, result.chain, result.data)
-    return EXIT_FAILED if write_outputs(result) else EXIT_OK
+    failed = write_outputs(result)
+    print_notes(result.outputs.take_notes())
+    return EXIT_FAILED if failed else EXIT_OK
 
 
 def _print_engines(args: argparse.Namespace, result: EnginesComparison) -> int:
     """``simulate --engine A,B``: each engine against theory, and their difference."""
     chain, reports, data, differences = result.chain, result.reports, result.data, result.differences
+    print_notes(f"warning: {warning}" for warning in result.warnings)
     first = reports[0]
     if args.json:
         emit_json(data)

@@ -11,6 +11,8 @@ from ..app.options import DEFAULT_ENGINE, engine_names
 from .common import (
     EXIT_FAILED,
     EXIT_OK,
+    Parser,
+    Subcommands,
     add_circuit_arguments,
     add_effect_arguments,
     budget_from_args,
@@ -18,6 +20,7 @@ from .common import (
     effects_from_args,
     emit_json,
     number_type,
+    print_notes,
 )
 from .progress import fraction
 from .run import error_text
@@ -26,7 +29,7 @@ from .simulate import print_units
 __all__ = ["add_parser", "cmd_spectrum"]
 
 
-def add_parser(sub: Any, budget: list[Any]) -> None:
+def add_parser(sub: Subcommands, budget: list[Parser]) -> None:
     p = sub.add_parser("spectrum", parents=budget, help="the ladder's normal frequencies and mode weights from an AC "
                        "analysis in ngspice (or gnucap), beside theory")
     add_circuit_arguments(p)
@@ -107,6 +110,7 @@ def cmd_spectrum(args: argparse.Namespace) -> int:
     if result.report.modes is not None and not args.json:
         _print_survey(result.report.modes)
     two_port = write_outputs(result)
+    print_notes(result.outputs.take_notes())
     if two_port is not None and not args.json:
         print(f"two-port: {two_port.frequency.size} frequencies from {two_port.frequency[0]:.6g} to "
               f"{two_port.frequency[-1]:.6g} Hz in z0 = {two_port.z0:g} ohm, max |S - exact| = "

@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import argparse
 from collections.abc import Callable, Collection
-from typing import Any
 
 from ..app.options import BACKEND_CHOICES, CASE_CHOICES, engine_names
 from ..core.analyses import ANALYSIS_KINDS_DATA
@@ -17,14 +16,14 @@ from ..core.types import (
     EXCITATIONS,
     WORST_CASE_METHODS,
 )
-from .common import add_parts_arguments, budget_from_args, int_list, list_entries, number_type
+from .common import Parser, Subcommands, add_parts_arguments, budget_from_args, int_list, list_entries, number_type
 from .progress import counter
 from .studies import add_study_arguments, show_study, study_hooks, study_options
 
 __all__ = ["add_parser", "add_sweep_arguments", "cmd_sweep"]
 
 
-def add_parser(sub: Any, budget: list[Any]) -> None:
+def add_parser(sub: Subcommands, budget: list[Parser]) -> None:
     p = sub.add_parser("sweep", parents=budget, help="many runs: the product of comma-list axes, or a scene or a "
                        "netlist varied")
     add_sweep_arguments(p)
