@@ -6,14 +6,14 @@ from __future__ import annotations
 import contextlib
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from ..core.budget import Budget
 from ..core.errors import ParameterError
 from ..core.types import ArrivalMetric
 from ..report.files import FIGURE_FORMATS
 from .inputs import ChainOptions, Outputs, make_chain
-from .studies import STORE_FORMATS, StudyOptions, check_executor, study_workers
+from .studies import STORE_FORMATS, StudyOptions, StudyProgress, check_executor, study_workers
 
 if TYPE_CHECKING:
     from ..circuit.sensitivity import Component, LadderSensitivity
@@ -44,7 +44,7 @@ class SensitivityRequest:
     study: StudyOptions = field(default_factory=StudyOptions)
     budget: Budget = field(default_factory=Budget)
     progress: Callable[[str], Callable[[float], None]] | None = None
-    study_progress: Callable[[Any], None] | None = None
+    study_progress: Callable[[StudyProgress], None] | None = None
 
 
 @dataclass(frozen=True)
@@ -68,7 +68,7 @@ class Sensitivity:
         return not wanted or (len(self.checks) >= wanted and all(check.passed for check in self.checks))
 
 
-def _checks(request: SensitivityRequest, sensitivity: Any) -> tuple[list[Any], tuple[str, ...]]:
+def _checks(request: SensitivityRequest, sensitivity: LadderSensitivity) -> tuple[list[Check], tuple[str, ...]]:
     """The check's runs through a plan and a store (the user's, or a temporary one), read back as rows; and the
     note that says how many failed, if any did."""
     from ..spice.scratch import scratch_folder

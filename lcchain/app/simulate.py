@@ -12,19 +12,21 @@ import warnings
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from ..circuit.effects import Effect
 from ..core.budget import Budget
 from ..core.errors import ParameterError
 from ..core.physical import hertz, physical_scales, seconds
-from ..core.types import BACKENDS, Backend, Method
+from ..core.types import BACKENDS, Backend, JSONObject, Method
 from ..report.files import FIGURE_FORMATS
 from .inputs import LadderRequest, Outputs, make_chain
 from .netlist import DEFAULT_DT
 
 if TYPE_CHECKING:
+    from ..runs.request import Request
     from ..runs.simulate import SimulationReport
+    from ..runs.spec import RunSpec
     from ..theory.chain import Chain
 
 __all__ = ["SimulateRequest", "Simulation", "EnginesComparison", "simulate_chain", "write_outputs",
@@ -61,7 +63,7 @@ class Simulation:
     request: SimulateRequest
     chain: Chain
     report: SimulationReport
-    data: dict[str, Any]
+    data: JSONObject
     warnings: tuple[str, ...]
     outputs: Outputs
     kept: list[str]
@@ -74,12 +76,12 @@ class EnginesComparison:
 
     chain: Chain
     reports: list[SimulationReport]
-    data: dict[str, Any]
+    data: JSONObject
     differences: dict[str, float]
     warnings: tuple[str, ...] = ()
 
 
-def with_physical_units(data: dict[str, Any], L0: float, C0: float) -> dict[str, Any]:
+def with_physical_units(data: JSONObject, L0: float, C0: float) -> JSONObject:
     """A report's JSON with its bulk numbers also in SI (issue 33): ``physical`` (the units' scales,
     :func:`lcchain.core.physical.physical_scales`), ``dt_s`` and ``tstop_s``, each arrival's ``t_theory_s`` and
     ``t_sim_s``, each mode's ``omega_Hz`` and ``omega_theory_Hz``; the bulk keys stay as they are."""
@@ -104,8 +106,8 @@ def _progress(request: SimulateRequest, label: str) -> Callable[[float], None] |
     return None if request.progress is None else request.progress(label)
 
 
-def _simulation_request(request: SimulateRequest, chain: Any, *, dt: float | None, accuracy: float | None,
-                        extrapolate: int | None, engine: str, backend: Any) -> Any:
+def _simulation_request(request: SimulateRequest, chain: Chain, *, dt: float | None, accuracy: float | None,
+                        extrapolate: int | None, engine: str, backend: Backend) -> Request:
     """What ``simulate`` asks for: the chain, the step, and the effects its options ask for (``--Q``,
     ``--coil-capacitance``, ...), as one Request."""
     import dataclasses
@@ -119,7 +121,7 @@ def _simulation_request(request: SimulateRequest, chain: Any, *, dt: float | Non
     return dataclasses.replace(made, effects=effects) if effects else made
 
 
-def _prepare(request: SimulateRequest) -> tuple[Outputs, Any, float | None, list[str], Callable[[Any], None]]:
+def _prepare(request: SimulateRequest) -> tuple[Outputs, Chain, float | None, list[str], Callable[[RunSpec], None]]:
     """The outputs checked, the chain, the step, and the hook that keeps each run's netlist before it starts."""
     from ..report.files import write_text
 
@@ -136,7 +138,7 @@ def _prepare(request: SimulateRequest) -> tuple[Outputs, Any, float | None, list
 
     kept: list[str] = []
 
-    def keep_netlist(spec: Any) -> None:  # before ngspice starts: a failed run still leaves it
+    def keep_netlist(spec: RunSpec) -> None:  # before ngspice starts: a failed run still leaves it
         if request.netlist_out == "-":  # stdout holds one netlist: the first run's
             if not kept:
                 outputs.text("--netlist-out", spec.netlist)
@@ -201,8 +203,8 @@ def write_outputs(simulation: Simulation) -> bool:
     return bool(outputs.failed)
 
 
-def _compare_engines(request: SimulateRequest, chain: Any, dt: float | None,
-                     keep_netlist: Callable[[Any], None]) -> EnginesComparison:
+def _compare_engines(request: SimulateRequest, chain: Chain, dt: float | None,
+                     keep_netlist: Callable[[RunSpec], None]) -> EnginesComparison:
     from ..compare.metrics import residual_difference
     from ..runs.simulate import simulate
 
@@ -213,7 +215,7 @@ def _compare_engines(request: SimulateRequest, chain: Any, dt: float | None,
         raise ParameterError(option, value, "one engine (--engine NAME)")
     if request.backend != BACKENDS[0]:  # the default transport, which every engine has
         raise ParameterError("--backend", request.backend, f"{BACKENDS[0]} with several engines")
-    reports: list[Any] = []
+    reports: list[SimulationReport] = []
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         for engine in request.engines:

@@ -304,7 +304,8 @@ def budget_from_args(args: argparse.Namespace) -> Budget:
     return Budget(getattr(args, "max_memory", DEFAULT_MAX_MEMORY), getattr(args, "max_time", DEFAULT_MAX_SECONDS))
 
 
-def emit_json(data: Any) -> None:
+def emit_json(data: object) -> None:
+    """Print a JSON document (what ``json.dumps`` takes), indented."""
     print(json.dumps(data, indent=2))
 
 

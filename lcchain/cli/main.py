@@ -18,7 +18,7 @@ import threading
 import warnings
 from collections.abc import Iterator, Sequence
 from types import ModuleType
-from typing import Any
+from typing import TextIO
 
 from ..core import __version__
 from ..core.blas import BLAS_THREADS
@@ -184,7 +184,7 @@ def _quiet_stdout() -> None:
 
 
 def _show_warning(message: Warning | str, category: type[Warning], filename: str, lineno: int,
-                  file: Any = None, line: str | None = None) -> None:
+                  file: TextIO | None = None, line: str | None = None) -> None:
     print(f"lcchain: warning: {message}", file=sys.stderr)
 
 

@@ -4,7 +4,7 @@ ngspice)."""
 from __future__ import annotations
 
 import argparse
-from typing import Any
+from typing import TYPE_CHECKING
 
 from ..app.studies import StudyOptions
 from ..core.types import ARRIVAL_METRICS
@@ -21,6 +21,9 @@ from .common import (
 )
 from .progress import fraction, study_counter
 from .studies import add_study_arguments
+
+if TYPE_CHECKING:
+    from ..app.sensitivity import Sensitivity
 
 __all__ = ["add_parser", "add_sensitivity_arguments", "cmd_sensitivity"]
 
@@ -58,7 +61,8 @@ def add_sensitivity_arguments(p: argparse.ArgumentParser) -> None:
     add_study_arguments(p, store=False)
 
 
-def _print(sensitivity: Any, top: list[Any], checks: list[Any]) -> None:
+def _print(result: Sensitivity) -> None:
+    sensitivity, top, checks = result.sensitivity, result.top, result.checks
     from ..app.sensitivity import METRIC_NAMES
 
     ladder = sensitivity.ladder
@@ -105,7 +109,7 @@ def cmd_sensitivity(args: argparse.Namespace) -> int:
             data["passed"] = bool(result.checks) and all(check.passed for check in result.checks)
         emit_json(data)
     else:
-        _print(result.sensitivity, result.top, result.checks)
+        _print(result)
     failed = write_plot(result)
     print_notes(result.outputs.take_notes())
     return EXIT_FAILED if failed or not result.passed else EXIT_OK

@@ -4,11 +4,11 @@
 from __future__ import annotations
 
 import argparse
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
-from ..app.options import BACKEND_CHOICES, DEFAULT_ENGINE, engine_names
+from ..app.options import BACKEND_CHOICES, DEFAULT_ENGINE, Chain, engine_names
 from ..core.physical import units_sentence
-from ..core.types import METHODS
+from ..core.types import METHODS, JSONObject
 from .common import (
     EXIT_FAILED,
     EXIT_OK,
@@ -58,7 +58,7 @@ def add_parser(sub: Subcommands, budget: list[Parser]) -> None:
     p.set_defaults(func=cmd_simulate)
 
 
-def print_arrivals(arrivals: list[dict[str, Any]]) -> None:
+def print_arrivals(arrivals: list[JSONObject]) -> None:
     physical = all("t_sim_s" in a for a in arrivals)
     extra = f" {'t theory (s)':>13} {'t sim (s)':>13}" if physical else ""
     print(f"{'arrival':>7} {'end':>5} {'t theory':>12} {'t sim':>12} {'peak theory':>12} {'peak sim':>12}{extra}")
@@ -72,7 +72,7 @@ def print_units(L0: float, C0: float) -> None:
     print(f"units: {units_sentence(L0, C0)}")
 
 
-def _print_extrapolation(x: dict[str, Any]) -> None:
+def _print_extrapolation(x: JSONObject) -> None:
     plan = x["plan"]
     why = ""
     if plan is not None and len(plan["considered"]) > 1:
@@ -88,7 +88,7 @@ def _print_extrapolation(x: dict[str, Any]) -> None:
           f"{x['interpolation_error']:.1e})")
 
 
-def _print_effects(cost: dict[str, Any]) -> None:
+def _print_effects(cost: JSONObject) -> None:
     """What the effects cost the pulse: the circuit's exact first arrival against the ideal chain's."""
     energy = "" if cost["energy_loss"] is None else (
         f", energy {cost['energy_circuit']:.4f} against {cost['energy_ideal']:.4f} "
@@ -98,7 +98,7 @@ def _print_effects(cost: dict[str, Any]) -> None:
           f"arriving {cost['delay']:+.3g} sqrt(L0 C0) later")
 
 
-def _print_simulation(args: argparse.Namespace, chain: Any, data: dict[str, Any]) -> None:
+def _print_simulation(args: argparse.Namespace, chain: Chain, data: JSONObject) -> None:
     if args.json:
         emit_json(data)
     else:

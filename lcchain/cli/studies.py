@@ -5,12 +5,11 @@ from __future__ import annotations
 
 import argparse
 import sys
-from typing import Any
 
 from ..app.options import EXECUTOR_CHOICES
 from ..app.studies import StudyHooks, StudyOptions, StudyResult
 from ..core.budget import show_seconds
-from ..core.types import TRANSPORT_CHOICES
+from ..core.types import TRANSPORT_CHOICES, JSONObject
 from .common import EXIT_FAILED, EXIT_OK, budget_from_args, emit_json, registry_name, seconds
 from .progress import study_counter
 
@@ -98,7 +97,7 @@ def show_study(args: argparse.Namespace, result: StudyResult) -> int:
     return EXIT_OK if summary.complete else EXIT_FAILED
 
 
-def _print_worst_case(summary: dict[str, Any]) -> None:
+def _print_worst_case(summary: JSONObject) -> None:
     what = summary["metric"]
     rows = [[row["corner"], f"{row['sim']:.6f}", f"{row['theory']:.6f}", f"{row['predicted']:.6f}"]
             for row in summary["corners"]]
@@ -137,7 +136,7 @@ def short(key: str) -> str:
     return "+".join(part.rsplit(".", 1)[-1] for part in key.split("+"))
 
 
-def number(value: Any, digits: str = ".3g") -> str:
+def number(value: object, digits: str = ".3g") -> str:
     """A table cell: blank for no value, never ``None`` or ``-0``."""
     if value is None:
         return ""
