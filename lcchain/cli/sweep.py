@@ -4,7 +4,7 @@ worst case (:func:`lcchain.app.sweep.sweep`)."""
 from __future__ import annotations
 
 import argparse
-from collections.abc import Callable, Collection
+from collections.abc import Callable, Collection, Iterator
 
 from ..app.options import BACKEND_CHOICES, CASE_CHOICES, engine_names
 from ..core.analyses import ANALYSIS_KINDS_DATA
@@ -54,6 +54,20 @@ def _words(option: str, allowed: Collection[str]) -> Callable[[str], list[str]]:
     return parse
 
 
+class _EachOf:
+    """A comma list option's choices: ``--help`` lists the names (read only then), and a list (what its type
+    returned, each entry checked there) is among them when each entry is."""
+
+    def __init__(self, names: Collection[str]) -> None:
+        self._names = names
+
+    def __contains__(self, value: object) -> bool:
+        return isinstance(value, list) and all(entry in self._names for entry in value)
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._names)
+
+
 def _worst_case_method(text: str) -> str:
     if text not in WORST_CASE_METHODS:
         where = " (the scene goes before it: sweep SCENE.toml --worst-case)" if text.endswith(".toml") else ""
@@ -67,8 +81,8 @@ def add_sweep_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--netlist", metavar="FILE.cir",
                    help="vary a netlist lcchain did not write instead (with --vary NAME=...): each variant checked, "
                         "priced and run as lcchain batch runs a netlist")
-    p.add_argument("--case", type=_words("--case", CASE_CHOICES),
-                   help=f"chains, comma separated: an axis ({', '.join(CASE_CHOICES)})")
+    p.add_argument("--case", type=_words("--case", CASE_CHOICES), choices=_EachOf(CASE_CHOICES), metavar="CASE",
+                   help="chains, comma separated: an axis (%(choices)s)")
     p.add_argument("--N", type=int_list("--N"), help="sizes, comma separated: an axis")
     step = p.add_mutually_exclusive_group()
     step.add_argument("--dt", type=_floats("--dt"), help="steps, comma separated: an axis")
