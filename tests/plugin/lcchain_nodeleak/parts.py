@@ -54,9 +54,9 @@ def _counting_runner(simulator: Simulator, workers: int, scheduler: str | None, 
 SERIAL = Executor(parallel=False, remote=False, name="nodeleak-serial", runner=_counting_runner)
 
 
-def _counted_batch(text: str, simulator: Simulator, *rest: Any) -> Any:
+def _counted_batch(job: Any, simulator: Simulator, place: Any, progress: Any = None) -> Any:
     _said(f"transport counted-batch ran on {simulator.backend}")
-    return run_batch(text, simulator, *rest)
+    return run_batch(job, simulator, place, progress)
 
 
 def _find(launcher: tuple[str, ...]) -> Simulator:
