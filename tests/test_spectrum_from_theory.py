@@ -22,7 +22,7 @@ from lcchain.compare.survey import PLACED
 from lcchain.core.errors import ParameterError
 from lcchain.runs.request import AC, Request, plan_request
 from lcchain.runs.spectrum import OMEGA_WEIGHT_FLOOR
-from lcchain.spice.ac import run_ac
+from lcchain.spice.ac import AcJob, run_ac
 from lcchain.spice.engines import find_engine
 from lcchain.theory.cases import chain_for_case
 from lcchain.theory.chain import Chain
@@ -83,7 +83,7 @@ def test_the_fit_from_theory_lands_on_exact_samples_poles(chain):
 def _ngspice_samples(chain: Chain) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Y_11 Z0 and Y_N1 Z0 from ngspice on the default sweep (lcchain spectrum's netlist)."""
     spec = plan_request(Request(chain, AC())).specs[0]
-    result = run_ac(spec.netlist, spec.vectors, spec.points, simulator=find_engine(spec.engine))
+    result = run_ac(AcJob(spec.netlist, spec.vectors, spec.points), find_engine(spec.engine))
     theory = spec.theory
     w = 2.0 * np.pi * result.frequency * theory.time_unit
     first, last = (result.vectors[name] * theory.impedance for name in probe_names(chain.N, "ends"))
