@@ -251,7 +251,8 @@ def fit_survey(omega: np.ndarray, g: np.ndarray, x0: np.ndarray, *, lossy: bool 
 
 
 #: Passes of the exact residual's refinement (``exact=True``): each shrinks the residues' error by the far modes'
-#: smooth remainder, about 1e-9 (measured: two-mass N = 1000, ...).
+#: smooth remainder (measured on ngspice's two-mass N = 100 in windows of 8: omega_n to 1.0e-11 and P_n to 1.2e-12
+#: without it, 2.3e-16 and 8.7e-16 after one pass).
 REFINE = 1
 #: The samples place a pole when its standard error is at most this fraction of its room (a quarter of its nearest
 #: gap): :attr:`ModeSurvey.placed`.
@@ -260,7 +261,7 @@ PLACED = 1e-3
 _GAIN = 0.5
 #: ... and when no placed pole moved by more than this many of its standard errors: Gauss-Newton converges
 #: quadratically there, the next step is below one (perfect N = 100 on ngspice: 4.9, then 12 as the misfit fell
-#: 150-fold, then 0.15; omega_n 1.1e-14 after three sweeps, ... after one).
+#: 150-fold, then 0.15; omega_n 1.1e-14 after three sweeps, 8.6e-14 stopping after the first).
 _SURPRISE = 16.0
 #: ... and the misfit's root mean square is at most this relative to the weighted samples' (ngspice's: 1e-14 ..
 #: 1e-12; from poles 1e-3 of a gap off, 8e-4, where the standard errors are the misfit's and say nothing).
