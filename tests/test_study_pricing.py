@@ -56,10 +56,11 @@ def test_the_fit_prices_its_window_of_sections() -> None:
 
 
 def test_an_ac_price_grows_with_frequencies_times_sections() -> None:
-    """Memory and time grow with the frequencies, faster than them while the window widens, and with losses."""
+    """Memory grows with the frequencies, faster than them while the window widens; time in proportion to them
+    (the fit from theory's poles is O(frequencies x N)); both with losses."""
     prices = [spectrum_estimate(points, 20) for points in (5_000, 50_000, 500_000)]
     assert prices[0].memory < prices[1].memory < prices[2].memory
-    assert prices[2].memory / prices[1].memory > 10 and prices[2].seconds / prices[1].seconds > 10
+    assert prices[2].memory / prices[1].memory > 10 and prices[2].seconds / prices[1].seconds > 9
     lossless, lossy = spectrum_estimate(50_000, 100), spectrum_estimate(50_000, 100, losses=True)
     assert lossy.memory > lossless.memory and lossy.seconds > lossless.seconds
     assert spectrum_estimate(10**6, 20).total_memory > DEFAULT_MAX_MEMORY  # issue 29: priced 283 MiB, ran past 5 GiB

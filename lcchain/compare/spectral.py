@@ -60,9 +60,11 @@ LOSSY_WEAK_RATIO = 0.1
 #: to LOSSY_QN over N (two-mass N = 100: 2e4 right, 2.2e5 wrong; N = 10: 1e5 right, 4.6e5 wrong).
 LOSSY_MAX_Q = 1e5
 LOSSY_QN = 2e6
-#: The largest lossy ladder whose spectrum the fit was measured on: beyond it misses came inside every window
-#: (N = 200 to 700: P_n off by 1e-4 to 1e+91 at some Q between the bounds above).
-LOSSY_MAX_N = 100
+#: The largest lossy ladder measured: the fit from theory's lossy poles
+#: (:func:`lcchain.compare.spectrum.fit_from_theory`) places them up to there (benchmarks/spectrum.md, "With
+#: losses"); the rational fits alone (:func:`lcchain.compare.spectrum.fit_spectrum`, its fallback) had misses inside
+#: every window beyond N = 100 (N = 200 to 700: P_n off by 1e-4 to 1e+91 at some Q between the bounds above).
+LOSSY_MAX_N = SPECTRUM_MAX_N
 
 #: The spectral metrics a store's runs hold (``lcchain results --metric``), with their units.
 SPECTRAL_METRICS = {"max_rel_error_omega": "relative", "max_abs_error_P": "absolute",
@@ -376,11 +378,19 @@ def sweep_grid(omega: np.ndarray, points: int | None = None) -> tuple[list[Segme
     return sweep_segments(omega, omega_max, POINTS_PER_SPACING, points), points, omega_max
 
 
-def spectrum_estimate(points: float, N: int, losses: bool = False) -> Estimate:
+def spectrum_estimate(points: float, N: int, losses: bool = False, circuit: bool = False) -> Estimate:
     """The price of an AC run of a ladder of N masses on ``points`` frequencies and of its comparison
-    (:func:`compare_spectrum`): :func:`lcchain.core.budget.ac_estimate` with the sections the fit moves at once
-    (:func:`lcchain.compare.spectrum.fit_sections`)."""
-    return ac_estimate(points=points, N=N, sections=fit_sections(points, N, losses), losses=losses)
+    (:func:`compare_spectrum`): :func:`lcchain.core.budget.ac_estimate` of the fit that runs, from theory's poles
+    (:func:`lcchain.compare.spectrum.fit_from_theory`), or for a ``circuit`` whose effects are no chain's the fit
+    from its samples (:func:`lcchain.compare.poles.fit_poles`), its memory from the sections that fit moves at once
+    (:func:`lcchain.compare.spectrum.fit_sections`, a bound for both).
+
+    The fit from the samples alone (:func:`lcchain.compare.spectrum.fit_spectrum`) is a chain's fallback, made only
+    where the fit from theory leaves a misfit above :data:`lcchain.compare.spectrum.THEORY_MISFIT` (samples that are
+    not the chain's): never on lcchain's chains measured (benchmarks/spectrum.md, with losses and without), so it is
+    not priced."""
+    return ac_estimate(points=points, N=N, sections=fit_sections(points, N, losses), losses=losses,
+                       from_theory=not circuit)
 
 
 def _matched(fit: SpectrumFit, theory: Modes) -> SpectrumFit:
@@ -396,13 +406,18 @@ def _matched(fit: SpectrumFit, theory: Modes) -> SpectrumFit:
 
 def _fitted(theory: Modes, omega: np.ndarray, y11: np.ndarray, yN1: np.ndarray, Q: float | None
             ) -> tuple[SpectrumFit, np.ndarray]:
-    """The modes fitted to the samples and the index of each one's theoretical mode: from theory's poles without
-    losses (:func:`lcchain.compare.spectrum.fit_from_theory`) while that fit explains the samples, else from the
-    samples alone (:func:`lcchain.compare.spectrum.fit_spectrum`'s rational fits)."""
-    if Q is None:
-        fit, seen = fit_from_theory(omega, y11, yN1, np.asarray(theory.omega, dtype=float))
-        if fit.residual <= THEORY_MISFIT:
-            return fit, seen
+    """The modes fitted to the samples and the index of each one's theoretical mode: from theory's poles, lossless or
+    lossy (:func:`lcchain.compare.spectrum.fit_from_theory`), while that fit explains the samples, else from the
+    samples alone (:func:`lcchain.compare.spectrum.fit_spectrum`'s rational fits).  With losses the modes they merge
+    keep theory's poles in the fit and are never seen; when every mode merged there is nothing to fit (the envelope,
+    compared by :func:`compare_spectrum`, is what is measured)."""
+    merged = None if Q is None else merged_modes(theory, Q)
+    if merged is not None and merged.all():
+        empty = np.zeros(0)
+        return SpectrumFit(empty, empty, empty, 0, 0.0, empty), np.zeros(0, dtype=int)
+    fit, seen = fit_from_theory(omega, y11, yN1, np.asarray(theory.omega, dtype=float), Q, merged)
+    if fit.residual <= THEORY_MISFIT:
+        return fit, seen
     fit = _matched(fit_spectrum(omega, y11, yN1, lossy=Q is not None), theory)
     return fit, nearest_modes(fit.omega, theory.omega)
 

@@ -297,17 +297,20 @@ _THEORY_CORE = 32
 THEORY_MISFIT = 1e-8
 
 
-def fit_from_theory(omega: np.ndarray, y11: np.ndarray, yN1: np.ndarray, predicted: np.ndarray
-                    ) -> tuple[SpectrumFit, np.ndarray]:
-    """Identify a lossless ladder's modes starting from its predicted poles, at a fraction of the engine's cost.
+def fit_from_theory(omega: np.ndarray, y11: np.ndarray, yN1: np.ndarray, predicted: np.ndarray,
+                    Q: float | None = None, merged: np.ndarray | None = None) -> tuple[SpectrumFit, np.ndarray]:
+    """Identify a ladder's modes starting from its predicted poles, at a fraction of the engine's cost.
 
-    Y_11 / (j w) and Y_N1 / (j w) are real, sum_n (a_n, b_n) / (x_n - w^2): the two are fitted together as the
-    survey fits its loops (:func:`lcchain.compare.survey.fit_survey` with ``exact=True``): windows of
-    neighbouring modes, variable projection of the poles from the predicted ones, the residues of every window
-    from one banded solve refined on the whole residual.  O(samples x N) per sweep; from theory's poles one sweep
-    moves them by their rounding.  A mode is seen when the samples place its pole (its standard error at most
-    :data:`lcchain.compare.survey.PLACED` of a quarter of its nearest gap): a mode too weak at the ends to be
-    placed stays unseen, as the rational fit of :func:`fit_spectrum` leaves it.
+    Y_11 / (j w) and Y_N1 / (j w) are sum_n (a_n, b_n) / D_n(w), D_n = x_n - w^2 + j gamma_n w (real without
+    losses, gamma_n = 0): the two are fitted together as the survey fits its loops
+    (:func:`lcchain.compare.survey.fit_survey` with ``exact=True``): windows of neighbouring modes, variable
+    projection of the poles from the predicted ones, the residues of every window from one banded solve refined on
+    the whole residual.  O(samples x N) per sweep; from theory's poles one sweep moves them by their rounding.
+    With losses of quality factor ``Q`` every pole starts at gamma_n = 1/Q (the chain's proportional losses:
+    -1/(2Q) +- j sqrt(omega_n^2 - 1/(4Q^2))) and its complex section moves in x_n and gamma_n.  A mode is seen
+    when the samples place its pole (its standard error at most :data:`lcchain.compare.survey.PLACED` of a quarter
+    of its nearest gap): a mode too weak at the ends to be placed, or merged with a neighbour by the losses, stays
+    unseen.
 
     Parameters
     ----------
@@ -317,6 +320,8 @@ def fit_from_theory(omega: np.ndarray, y11: np.ndarray, yN1: np.ndarray, predict
         Y_11 Z0 and Y_N1 Z0 at those frequencies.
     predicted : ndarray
         The predicted normal frequencies, ascending (a free chain's first is 0 and stays there).
+    Q : float, optional
+        The losses' quality factor (every mode's predicted decay rate is 1/Q); None: lossless.
 
     Returns
     -------
@@ -331,11 +336,18 @@ def fit_from_theory(omega: np.ndarray, y11: np.ndarray, yN1: np.ndarray, predict
     predicted = np.asarray(predicted, dtype=float)
     if w.ndim != 1 or w.size < 8 or not np.all(np.diff(w) > 0) or w[0] <= 0:
         raise ParameterError("omega", f"{w.size} frequencies", "at least 8 ascending frequencies > 0")
-    g = np.column_stack((y11.imag, yN1.imag)) / w[:, None]  # Y / (j w): real without losses
+    lossy = Q is not None
+    if lossy:  # Y / (j w), complex with losses
+        g: np.ndarray = np.column_stack((y11, yN1)) / (1j * w)[:, None]
+    else:  # Y / (j w): real without losses
+        g = np.column_stack((y11.imag, yN1.imag)) / w[:, None]
     zero = predicted <= 1e-9 * float(np.max(predicted, initial=0.0))
-    survey = fit_survey(w, g, np.where(zero, 0.0, predicted) ** 2, fixed_x=zero, exact=True,
-                        one_window=_THEORY_ONE_WINDOW, core=_THEORY_CORE)
-    first, last = survey.residues[:, 0], survey.residues[:, 1]
-    seen = np.flatnonzero(np.where(zero, _significant(first), survey.placed))
-    fit = SpectrumFit(survey.omega[seen], first[seen], last[seen], survey.sweeps, survey.residual)
+    gamma0 = np.full(predicted.size, 1.0 / float(Q)) if Q is not None else None
+    held = np.zeros(predicted.size, dtype=bool) if merged is None or not lossy else np.asarray(merged, dtype=bool)
+    survey = fit_survey(w, g, np.where(zero, 0.0, predicted) ** 2, lossy=lossy, gamma0=gamma0, fixed_x=zero | held,
+                        fixed_gamma=held, real=True, exact=True, one_window=_THEORY_ONE_WINDOW, core=_THEORY_CORE)
+    first, last = survey.residues[:, 0].real, survey.residues[:, 1].real
+    seen = np.flatnonzero(np.where(zero, _significant(first), survey.placed) & ~held)
+    fit = SpectrumFit(survey.omega[seen], first[seen], last[seen], survey.sweeps, survey.residual,
+                      survey.gamma[seen])
     return fit, seen

@@ -191,9 +191,23 @@ def run_estimate(*, points: float, saved: int, compared: int, unknowns: float, e
 AC_SECONDS_PER_UNKNOWN_FREQUENCY = 1.5e-7
 #: ... and per frequency whatever the circuit.
 AC_SECONDS_PER_FREQUENCY = 2e-5
-#: The fit's cost per sample per mode beyond its windows: the model's update in every Gauss-Newton sweep
-#: (O(points x N) each) and each window's choice of rows; measured (under load, benchmarks/spectrum.md)
-#: 0.5e-6 .. 1.4e-6 at N = 500 .. 2000.
+#: The fit from theory's poles (:func:`lcchain.compare.spectrum.fit_from_theory`, what a chain's AC run fits, with
+#: losses or without): per sample whatever N (each window's least squares on its rows, its far modes' sections)
+#: and per sample per mode (the whole model, formed twice a sweep, one or two sweeps), with the reading of the
+#: engine's output and the fitted alpha_N(t) beside the exact one.  Measured in-process on ngspice's samples, the
+#: least of 3 (load 2 to 5): lossy two-mass N = 100, 200, 400 (1444 .. 5402 samples) 0.04, 0.10, 0.25 s, perfect
+#: N = 1000 at Q = 1e4 (8072) 0.48 s; lossless (benchmarks/spectrum.md, everything around the engine) two-mass
+#: N = 100 .. 2000 0.057 .. 3.2 s (26092 samples): these constants price each of them 1.2 to 3 times over.
+THEORY_FIT_SECONDS_PER_SAMPLE = 3e-5
+THEORY_FIT_SECONDS_PER_SAMPLE_MODE = 8e-8
+#: With losses, Y_11 is compared over the whole sweep with the chain's exact admittance, a continued fraction in
+#: long double (:func:`lcchain.theory.spectrum.driving_admittance`): per sample per mass, measured 2.0e-7 (perfect
+#: N = 1000, 8072 samples: 1.6 s, load 2).
+ENVELOPE_SECONDS_PER_SAMPLE_MODE = 2.5e-7
+#: The fit from the samples alone (:func:`lcchain.compare.spectrum.fit_spectrum`, the rational fits; and a circuit's
+#: own poles, :func:`lcchain.compare.poles.fit_poles`): per sample per mode beyond its windows, the model's update
+#: in every Gauss-Newton sweep (O(points x N) each) and each window's choice of rows; measured (under load,
+#: benchmarks/spectrum.md before the fit from theory) 0.5e-6 .. 1.4e-6 at N = 500 .. 2000.
 FIT_SECONDS_PER_SAMPLE_MODE = 6e-7
 #: The fit's cost per sample whatever N: its rational fits (pieces of fixed size) and windows' least squares'
 #: setup; with losses the rational fits of pieces of 512 samples take up to 256 terms (two-mass N = 100, Q = 100:
@@ -222,7 +236,8 @@ def ac_run_estimate(*, points: float, saved: int, unknowns: float) -> Estimate:
                     * (saved + 1), seconds)
 
 
-def ac_estimate(*, points: float, N: int, sections: float, losses: bool = False) -> Estimate:
+def ac_estimate(*, points: float, N: int, sections: float, losses: bool = False, from_theory: bool = False
+                ) -> Estimate:
     """The cost of an AC run of lcchain's ladder and its comparison (``lcchain spectrum``, and each AC run of a
     study): ngspice's AC analysis of ``points`` frequencies, the fit, and the exact modes and response it is
     compared with.
@@ -234,14 +249,22 @@ def ac_estimate(*, points: float, N: int, sections: float, losses: bool = False)
     N : int
         Masses (loops): 2 N unknowns, 3 N with losses (a node between each coil and its resistor).
     sections : float
-        The most sections one Gauss-Newton step of the fit moves at once (its matrices are points x sections:
-        :func:`lcchain.compare.spectrum.fit_sections` says how many).
+        The most sections one Gauss-Newton step of the fit from the samples moves at once (its matrices are points
+        x sections: :func:`lcchain.compare.spectrum.fit_sections` says how many): the memory of either fit (a bound
+        of the fit from theory's, whose windows hold fewer), and the fit's time unless ``from_theory``.
     losses : bool
+    from_theory : bool
+        The fit starts from theory's poles (:data:`THEORY_FIT_SECONDS_PER_SAMPLE`, and with losses the envelope's
+        :data:`ENVELOPE_SECONDS_PER_SAMPLE_MODE`); else it is made from the samples alone (the rational fits).
     """
     unknowns = (3 if losses else 2) * N
     engine = ac_run_estimate(points=points, saved=2, unknowns=unknowns)
-    fit = points * (FIT_SECONDS_PER_SAMPLE[losses] + FIT_SECONDS_PER_SAMPLE_MODE * N
-                    + FIT_SECONDS_PER_SAMPLE_SECTION * sections + FIT_SECONDS_PER_SAMPLE_SECTION2 * sections**2)
+    if from_theory:
+        fit = points * (THEORY_FIT_SECONDS_PER_SAMPLE + THEORY_FIT_SECONDS_PER_SAMPLE_MODE * N
+                        + (ENVELOPE_SECONDS_PER_SAMPLE_MODE * N if losses else 0.0))
+    else:
+        fit = points * (FIT_SECONDS_PER_SAMPLE[losses] + FIT_SECONDS_PER_SAMPLE_MODE * N
+                        + FIT_SECONDS_PER_SAMPLE_SECTION * sections + FIT_SECONDS_PER_SAMPLE_SECTION2 * sections**2)
     seconds = engine.seconds + fit + 3e-10 * N**3  # exact modes
     # ngspice's process; the fit's matrices; the exact modes (eigh: the matrix, its eigenvectors, workspace); the
     # fitted and the exact responses (times x N complex, each with its temporaries)

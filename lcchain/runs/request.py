@@ -722,8 +722,8 @@ def _plan_circuit_ac(request: Request, budget: Budget, modes: Modes | None, desi
 
     def price(frequencies: int, count: int) -> None:
         seconds, memory = circuit_cost(elements, 1)
-        _check_ac_price(spectrum_estimate(frequencies, max(N, count), losses=exact.lossy), request, budget, N,
-                        frequencies, design_seconds,
+        _check_ac_price(spectrum_estimate(frequencies, max(N, count), losses=exact.lossy, circuit=True), request,
+                        budget, N, frequencies, design_seconds,
                         extra=(f" and the circuit's exact theory ({circuit_states(elements)} states)", seconds, memory))
 
     price(points, exact.N)

@@ -186,6 +186,13 @@ ATOL_SPECTRUM_RESPONSE = 1e-9
 #: samples and ngspice's (measured: omega <= 3.1e-14, P <= 1.7e-14): far inside the issue's targets above.
 RTOL_SPECTRUM_FROM_THEORY_OMEGA = 1e-12
 ATOL_SPECTRUM_FROM_THEORY_P = 1e-12
+#: ... with losses (the fit from theory's lossy poles, started off in omega_n and Q), Q_n = omega_n / gamma_n (relative)
+#: of the modes weighing |P_n| >= 1e-6 and at least 3 widths 1/Q from both neighbours: the issue's target (measured
+#: 1e-12 .. 2e-10 on exact samples and ngspice's, N = 40 to 200, Q = 100 to 1e4); P_n (absolute) likewise (measured
+#: up to 3e-13); omega_n is held to RTOL_SPECTRUM_OMEGA (measured up to 1.4e-10: a perfect cradle's modes near
+#: |P_n| = 1e-6 at Q = 1e4, whose sharp resonances the samples place less well than lossless poles).
+RTOL_SPECTRUM_FROM_THEORY_Q = 1e-8
+ATOL_SPECTRUM_FROM_THEORY_LOSSY_P = 1e-11
 
 # ------------------------------------------------------------ the circuit theory's hard cases (issue 30, item 6)
 #: A well-conditioned hard case (self-resonance 1.001x the band top, ESL resonance at it, Q = 1 .. 1e6, coupling
