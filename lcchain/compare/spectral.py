@@ -57,9 +57,11 @@ LOSSY_GAP_Q = 0.15
 LOSSY_GAP_Q_WEAK = 0.7
 LOSSY_WEAK_RATIO = 0.1
 #: ... and places the decay rates (1/Q, against every pole's distance from its neighbours) for Q up to this, and up
-#: to LOSSY_QN over N (two-mass N = 100: 2e4 right, 2.2e5 wrong; N = 10: 1e5 right, 4.6e5 wrong).
+#: to LOSSY_QN over N (the rational fits: two-mass N = 100: 2e4 right, 2.2e5 wrong; N = 10: 1e5 right, 4.6e5 wrong;
+#: the fit from theory's lossy poles on ngspice, Q_n over the resolved modes: perfect N = 400 and 1000 at Q = 1e4,
+#: 8.2e-10 and 4.9e-10; two-mass N = 400 at 1e4, 1.4e-9; N = 100 at 1e5, 3.0e-7).
 LOSSY_MAX_Q = 1e5
-LOSSY_QN = 2e6
+LOSSY_QN = 1e7
 #: The largest lossy ladder measured: the fit from theory's lossy poles
 #: (:func:`lcchain.compare.spectrum.fit_from_theory`) places them up to there (benchmarks/spectrum.md, "With
 #: losses"); the rational fits alone (:func:`lcchain.compare.spectrum.fit_spectrum`, its fallback) had misses inside
@@ -74,7 +76,9 @@ SPECTRAL_METRICS = {"max_rel_error_omega": "relative", "max_abs_error_P": "absol
 def lossy_range(modes: Modes) -> tuple[float, float]:
     """The quality factors Q whose lossy spectrum the fit identifies, for a chain's driven modes (their
     frequencies, units of 1/sqrt(L0 C0), and weights P_n): (lowest, highest); lowest > highest when none does
-    (N > :data:`LOSSY_MAX_N`, or modes too close to be told apart below :data:`LOSSY_MAX_Q`)."""
+    (N > :data:`LOSSY_MAX_N`, or modes too close to be told apart below :data:`LOSSY_MAX_Q`).  The lowest is the
+    rational fits' range (:data:`LOSSY_GAP_Q`), which says which modes are reported as merged (:func:`merged_modes`);
+    the fit from theory's lossy poles holds them where they merge and measures the rest."""
     order = np.argsort(modes.omega)
     omega, weight = np.asarray(modes.omega, dtype=float)[order], np.abs(modes.transfer)[order]
     if omega.size > LOSSY_MAX_N:
@@ -404,18 +408,20 @@ def _matched(fit: SpectrumFit, theory: Modes) -> SpectrumFit:
     return fit if keep.all() else fit.subset(keep)
 
 
-def _fitted(theory: Modes, omega: np.ndarray, y11: np.ndarray, yN1: np.ndarray, Q: float | None
+def _fitted(theory: Modes, omega: np.ndarray, y11: np.ndarray, yN1: np.ndarray, Q: float | None, mass: float = 1.0
             ) -> tuple[SpectrumFit, np.ndarray]:
     """The modes fitted to the samples and the index of each one's theoretical mode: from theory's poles, lossless or
     lossy (:func:`lcchain.compare.spectrum.fit_from_theory`), while that fit explains the samples, else from the
     samples alone (:func:`lcchain.compare.spectrum.fit_spectrum`'s rational fits).  With losses the modes they merge
-    keep theory's poles in the fit and are never seen; when every mode merged there is nothing to fit (the envelope,
-    compared by :func:`compare_spectrum`, is what is measured)."""
+    are theory's in the fit (their residues: the density and P_n over ``mass`` = m_1) and are never seen; when every
+    mode merged there is nothing to fit (the envelope, compared by :func:`compare_spectrum`, is what is
+    measured)."""
     merged = None if Q is None else merged_modes(theory, Q)
     if merged is not None and merged.all():
         empty = np.zeros(0)
         return SpectrumFit(empty, empty, empty, 0, 0.0, empty), np.zeros(0, dtype=int)
-    fit, seen = fit_from_theory(omega, y11, yN1, np.asarray(theory.omega, dtype=float), Q, merged)
+    residues = (np.asarray(theory.density, dtype=float) / mass, np.asarray(theory.transfer, dtype=float) / mass)
+    fit, seen = fit_from_theory(omega, y11, yN1, np.asarray(theory.omega, dtype=float), Q, merged, residues)
     if fit.residual <= THEORY_MISFIT:
         return fit, seen
     fit = _matched(fit_spectrum(omega, y11, yN1, lossy=Q is not None), theory)
@@ -450,7 +456,7 @@ def compare_spectrum(theory: Modes, omega: np.ndarray, y11: np.ndarray, yN1: np.
         The chain itself: with losses, Y_11 is then compared over the whole sweep with its exact admittance
         (``envelope_error``), what is measured however the modes merge.
     """
-    fit, seen = _fitted(theory, omega, y11, yN1, Q)
+    fit, seen = _fitted(theory, omega, y11, yN1, Q, mass)
     circuit, gamma = np.full(theory.N, np.nan), np.full(theory.N, np.nan)
     circuit[seen], gamma[seen] = fit.omega, fit.gamma
     P = np.zeros(theory.N)

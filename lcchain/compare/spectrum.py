@@ -10,11 +10,11 @@ Without losses every gamma_n = 0: g(x) = Im(Y Z0) / w is then a real rational fu
 real poles.  Losses proportional to the masses (:class:`lcchain.circuit.effects.Losses`) keep the modes and
 give every one the same gamma = 1/Q: its poles move to -gamma/2 +- j sqrt(w_n^2 - gamma^2/4).
 
-Without losses, an AC run is fitted from its theory's poles first (:func:`fit_from_theory`: the survey's
-windows, variable projection and banded solves, :func:`lcchain.compare.survey.fit_survey`, on Y_11 and Y_N1 together),
-O(samples x N) per sweep and one or two sweeps: a fraction of the engine's time (``benchmarks/spectrum.md``).  Where it
-does not explain the samples (its misfit above :data:`THEORY_MISFIT`: a circuit that is not its theory), and with
-losses, :func:`fit_spectrum` identifies every section from the samples alone.
+An AC run is fitted from its theory's poles first (:func:`fit_from_theory`: the survey's windows, variable
+projection and banded solves, :func:`lcchain.compare.survey.fit_survey`, on Y_11 and Y_N1 together; with losses from
+theory's lossy poles, every gamma_n = 1/Q, the residues held real), O(samples x N) per sweep and one or two sweeps
+(``benchmarks/spectrum.md``).  Where it does not explain the samples (its misfit above :data:`THEORY_MISFIT`: a
+circuit that is not its theory), :func:`fit_spectrum` identifies every section from the samples alone.
 
 :func:`fit_spectrum` identifies every section (a_n, gamma_n, w_n) and every b_n from samples on a grid of
 frequencies (:mod:`lcchain.compare.grid`):
@@ -298,7 +298,8 @@ THEORY_MISFIT = 1e-8
 
 
 def fit_from_theory(omega: np.ndarray, y11: np.ndarray, yN1: np.ndarray, predicted: np.ndarray,
-                    Q: float | None = None, merged: np.ndarray | None = None) -> tuple[SpectrumFit, np.ndarray]:
+                    Q: float | None = None, merged: np.ndarray | None = None,
+                    merged_residues: tuple[np.ndarray, np.ndarray] | None = None) -> tuple[SpectrumFit, np.ndarray]:
     """Identify a ladder's modes starting from its predicted poles, at a fraction of the engine's cost.
 
     Y_11 / (j w) and Y_N1 / (j w) are sum_n (a_n, b_n) / D_n(w), D_n = x_n - w^2 + j gamma_n w (real without
@@ -322,6 +323,14 @@ def fit_from_theory(omega: np.ndarray, y11: np.ndarray, yN1: np.ndarray, predict
         The predicted normal frequencies, ascending (a free chain's first is 0 and stays there).
     Q : float, optional
         The losses' quality factor (every mode's predicted decay rate is 1/Q); None: lossless.
+    merged : ndarray of bool, optional
+        With losses, the modes they merge (:func:`lcchain.compare.spectral.merged_modes`): the samples cannot tell
+        them apart (two-mass N = 1000 at Q = 1000: 205 modes at the top of the band, some 500 spacings to a width),
+        so their theory, ``merged_residues``, is subtracted from the samples and the others are fitted; they are
+        never seen.  Without ``merged_residues`` their poles are held at theory's and their residues fitted (enough
+        where the clusters are small: two-mass N = 400 at Q = 1000; at N = 1000 that left a misfit of 2e2).
+    merged_residues : (ndarray, ndarray), optional
+        Theory's residues (a_n, b_n) of every mode (those of the merged ones are used).
 
     Returns
     -------
@@ -344,10 +353,21 @@ def fit_from_theory(omega: np.ndarray, y11: np.ndarray, yN1: np.ndarray, predict
     zero = predicted <= 1e-9 * float(np.max(predicted, initial=0.0))
     gamma0 = np.full(predicted.size, 1.0 / float(Q)) if Q is not None else None
     held = np.zeros(predicted.size, dtype=bool) if merged is None or not lossy else np.asarray(merged, dtype=bool)
-    survey = fit_survey(w, g, np.where(zero, 0.0, predicted) ** 2, lossy=lossy, gamma0=gamma0, fixed_x=zero | held,
+    fitted = np.arange(predicted.size)
+    if held.any() and merged_residues is not None and gamma0 is not None:  # the merged modes' theory, subtracted
+        known = np.column_stack(merged_residues)[held].astype(complex)
+        x_held = np.where(zero, 0.0, predicted)[held] ** 2
+        D = x_held[None, :] - (w * w)[:, None] + 1j * w[:, None] * gamma0[held][None, :]
+        g = g - (1.0 / D) @ known
+        fitted, held = np.flatnonzero(~held), held[~held]
+        if fitted.size == 0:
+            empty = np.zeros(0)
+            return SpectrumFit(empty, empty, empty, 0, 0.0, empty), fitted
+    survey = fit_survey(w, g, np.where(zero, 0.0, predicted)[fitted] ** 2, lossy=lossy,
+                        gamma0=None if gamma0 is None else gamma0[fitted], fixed_x=zero[fitted] | held,
                         fixed_gamma=held, real=True, exact=True, one_window=_THEORY_ONE_WINDOW, core=_THEORY_CORE)
     first, last = survey.residues[:, 0].real, survey.residues[:, 1].real
-    seen = np.flatnonzero(np.where(zero, _significant(first), survey.placed) & ~held)
+    seen = np.flatnonzero(np.where(zero[fitted], _significant(first), survey.placed) & ~held)
     fit = SpectrumFit(survey.omega[seen], first[seen], last[seen], survey.sweeps, survey.residual,
                       survey.gamma[seen])
-    return fit, seen
+    return fit, fitted[seen]

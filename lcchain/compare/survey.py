@@ -250,8 +250,8 @@ def fit_survey(omega: np.ndarray, g: np.ndarray, x0: np.ndarray, *, lossy: bool 
         if exact and misfit > _GAIN * before:  # the misfit no longer falls
             break
         before = misfit
-    if exact and surprise > 1.0:  # the residues at the poles as they now are (within their standard errors of
-        fit.update(sketch)          # the plan's, they stand), refined on the whole residual with the windows' plan
+    if exact and max(surprise, fit.gamma_surprise) > 1.0:  # the residues at the poles as they now are (within
+        fit.update(sketch)  # their standard errors of the plan's, they stand), refined on the whole residual
     elif sweeps == SWEEPS:
         fit.plan()
         fit.solve(sketch)
@@ -320,6 +320,9 @@ class _Fit:
         self.w, self.x, self.gamma, self.fixed, self.lossy = w, x, gamma, fixed, lossy
         self.exact, self.one_window, self.core, self.real = exact, one_window, core, real
         self.fixed_gamma = np.zeros(x.size, dtype=bool)
+        #: the last :meth:`move`'s largest step of a placed pole's decay rate over its standard error (the sweeps'
+        #: stopping rule is on x alone; a decay rate that moved more than its error has the residues solved again)
+        self.gamma_surprise = 0.0
         self.windows: list[_Window] = []
         self.residues = np.zeros((x.size, 0))
         self.model: np.ndarray | None = None
@@ -381,11 +384,13 @@ class _Fit:
         the largest step (relative to its window's largest x), the sum of the windows' squared weighted misfits
         before it, and the largest step of a placed pole over its standard error."""
         largest, total, surprise = 0.0, 0.0, 0.0
+        self.gamma_surprise = 0.0
         for window in self.windows:
-            step, spread, misfit, own = _move_poles(window, self.w, self.target(window, g), self.x, self.gamma,
-                                                    self.fixed, self.lossy, self.fixed_gamma)
+            step, spread, misfit, own, own_gamma = _move_poles(window, self.w, self.target(window, g), self.x,
+                                                               self.gamma, self.fixed, self.lossy, self.fixed_gamma)
             self.spread[window.lo:window.hi] = spread
             largest, total, surprise = max(largest, step), total + misfit, max(surprise, own)
+            self.gamma_surprise = max(self.gamma_surprise, own_gamma)
         return largest, total, surprise
 
 
@@ -490,7 +495,7 @@ def _model(w: np.ndarray, x: np.ndarray, gamma: np.ndarray, residues: np.ndarray
 
 def _move_poles(window: _Window, w: np.ndarray, target: np.ndarray, x: np.ndarray, gamma: np.ndarray,
                 fixed: np.ndarray, lossy: bool, fixed_gamma: np.ndarray | None = None
-                ) -> tuple[float, np.ndarray, float, float]:
+                ) -> tuple[float, np.ndarray, float, float, float]:
     """One Gauss-Newton step on the window's core poles, every column at once (variable projection, Kaufman's
     Jacobian J_k[:, i] = P_perp dA_i c_ik: the normal equations are Re((V^H V) * (conj(C) C^T))).  The largest
     step, relative to the largest x of the window (0: nothing moves), and each core pole's standard error on x
@@ -509,7 +514,7 @@ def _move_poles(window: _Window, w: np.ndarray, target: np.ndarray, x: np.ndarra
     which = [moves_x] + ([moves_gamma] if lossy else [])
     columns = [slope[:, moves_x]] + ([1j * ws[:, None] * slope[:, moves_gamma]] if lossy else [])  # d/dgamma = j w d/dx
     if not moves_x.size and not moves_gamma.size:
-        return 0.0, spread, 0.0, 0.0
+        return 0.0, spread, 0.0, 0.0, 0.0
     V = np.hstack(columns)
     V = _stack(V, window.real)
     V = V - window.q @ (window.q.conj().T @ V)
@@ -520,7 +525,7 @@ def _move_poles(window: _Window, w: np.ndarray, target: np.ndarray, x: np.ndarra
     delta, errors = _step(normal, rhs, misfit)
     spread[np.flatnonzero(~fixed[explicit][core])] = errors[:moves_x.size][core[moves_x]]
     if not np.all(np.isfinite(delta)):  # a singular window (modes merged beyond telling apart): no step
-        return 0.0, spread, 0.0, 0.0
+        return 0.0, spread, 0.0, 0.0, 0.0
     dx = np.zeros(explicit.size)
     dx[moves_x] = delta[:moves_x.size]
     dgamma = np.zeros(explicit.size)
@@ -540,15 +545,16 @@ def _move_poles(window: _Window, w: np.ndarray, target: np.ndarray, x: np.ndarra
     own = np.maximum(np.where(np.isfinite(spread), spread, 0.0), 4.0 * np.finfo(float).eps * x[explicit[core]])
     placed = spread <= PLACED * room[core]
     surprise = float(np.max((np.abs(dx[core]) / np.maximum(own, np.finfo(float).tiny))[placed], initial=0.0))
-    if lossy and moves_gamma.size:  # and each placed pole's decay rate against its own standard error
+    surprise_gamma = 0.0
+    if lossy and moves_gamma.size:  # the same of each placed pole's decay rate
         spread_gamma = np.full(explicit.size, np.inf)
         spread_gamma[moves_gamma] = errors[moves_x.size:]
         own_gamma = np.maximum(np.where(np.isfinite(spread_gamma), spread_gamma, 0.0),
                                4.0 * np.finfo(float).eps * gamma[explicit])[core]
-        surprise = max(surprise, float(np.max((np.abs(dgamma[core]) / np.maximum(own_gamma, np.finfo(float).tiny))
-                                              [placed], initial=0.0)))
+        surprise_gamma = float(np.max((np.abs(dgamma[core]) / np.maximum(own_gamma, np.finfo(float).tiny))[placed],
+                                      initial=0.0))
     return (largest / max(float(np.max(x[explicit])), np.finfo(float).tiny), spread,
-            float(np.sum(np.abs(misfit) ** 2)), surprise)
+            float(np.sum(np.abs(misfit) ** 2)), surprise, surprise_gamma)
 
 
 def _room(x: np.ndarray) -> np.ndarray:

@@ -194,16 +194,16 @@ AC_SECONDS_PER_FREQUENCY = 2e-5
 #: The fit from theory's poles (:func:`lcchain.compare.spectrum.fit_from_theory`, what a chain's AC run fits, with
 #: losses or without): per sample whatever N (each window's least squares on its rows, its far modes' sections)
 #: and per sample per mode (the whole model, formed twice a sweep, one or two sweeps), with the reading of the
-#: engine's output and the fitted alpha_N(t) beside the exact one.  Measured in-process on ngspice's samples, the
-#: least of 3 (load 2 to 5): lossy two-mass N = 100, 200, 400 (1444 .. 5402 samples) 0.04, 0.10, 0.25 s, perfect
-#: N = 1000 at Q = 1e4 (8072) 0.48 s; lossless (benchmarks/spectrum.md, everything around the engine) two-mass
-#: N = 100 .. 2000 0.057 .. 3.2 s (26092 samples): these constants price each of them 1.2 to 3 times over.
+#: engine's output and the fitted alpha_N(t) beside the exact one.  Measured in-process on ngspice's samples: lossy
+#: two-mass N = 100, 200, 400 (1444 .. 5402 samples) 0.04 .. 0.08, 0.10 .. 0.17, 0.25 .. 0.46 s (load 2 to 7),
+#: perfect N = 1000 at Q = 1e4 (8072) 0.48 s (load 2); lossless (benchmarks/spectrum.md, everything around the
+#: engine) two-mass N = 100 .. 2000 0.057 .. 3.2 s (26092 samples).
 THEORY_FIT_SECONDS_PER_SAMPLE = 3e-5
-THEORY_FIT_SECONDS_PER_SAMPLE_MODE = 8e-8
+THEORY_FIT_SECONDS_PER_SAMPLE_MODE = 1.5e-7
 #: With losses, Y_11 is compared over the whole sweep with the chain's exact admittance, a continued fraction in
 #: long double (:func:`lcchain.theory.spectrum.driving_admittance`): per sample per mass, measured 2.0e-7 (perfect
-#: N = 1000, 8072 samples: 1.6 s, load 2).
-ENVELOPE_SECONDS_PER_SAMPLE_MODE = 2.5e-7
+#: N = 1000, 8072 samples: 1.6 s, load 2) to 4.6e-7 (two-mass N = 400, load 7).
+ENVELOPE_SECONDS_PER_SAMPLE_MODE = 5e-7
 #: The fit from the samples alone (:func:`lcchain.compare.spectrum.fit_spectrum`, the rational fits; and a circuit's
 #: own poles, :func:`lcchain.compare.poles.fit_poles`): per sample per mode beyond its windows, the model's update
 #: in every Gauss-Newton sweep (O(points x N) each) and each window's choice of rows; measured (under load,

@@ -4,7 +4,9 @@ AC analysis.
 :func:`measure_spectrum` drives the ladder in loop 1 with a unit AC voltage in ngspice or gnucap
 (:func:`lcchain.circuit.netlist.ac_netlist_text`, :func:`lcchain.spice.ac.run_ac`) on a sweep in even segments
 placed from the predicted poles (:func:`lcchain.compare.grid.sweep_segments`), identifies the modes of
-I_1/V_1 and I_N/V_1 (:func:`lcchain.compare.spectrum.fit_spectrum`), and sets them beside the exact theory:
+I_1/V_1 and I_N/V_1 from the predicted poles (:func:`lcchain.compare.spectrum.fit_from_theory`; from the samples
+alone where those do not explain them, :func:`lcchain.compare.spectrum.fit_spectrum`), and sets them beside the
+exact theory:
 omega_n, and P_n, the mode's coefficient in alpha_N(t) = sum_n P_n cos(omega_n t) (m_1 times the residue of
 Y_N1 Z0; for a symmetric chain (-1)^(n-1) times the mode density of Eq. e.Pn).
 
