@@ -33,7 +33,7 @@ import numpy as np
 import lcchain
 from lcchain.compare.spectral import spectrum_estimate
 from lcchain.core.errors import ParameterError
-from lcchain.runs.spectrum import OMEGA_WEIGHT_FLOOR, measure_spectrum
+from lcchain.runs.spectrum import OMEGA_WEIGHT_FLOOR, SpectrumOptions, measure_spectrum
 from lcchain.runs.survey import OMEGA_TARGET, SEPARATION, SHAPE_TARGET, ModeReport, measure_modes
 from lcchain.theory.cases import chain_for_case
 
@@ -156,7 +156,7 @@ def main() -> None:
     for case, N, Q in LOSSY:
         clock = time.perf_counter()
         try:
-            report = measure_spectrum(chain_for_case(case, N), Q=Q)
+            report = measure_spectrum(chain_for_case(case, N), options=SpectrumOptions(Q=Q))
         except ParameterError:
             print(f"| {case} | {N} | {Q:g} | - | - | - | - | - | - | - | - | - | - | ", end="", flush=True)
         else:

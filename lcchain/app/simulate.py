@@ -109,12 +109,13 @@ def _simulation_request(request: SimulateRequest, chain: Any, *, dt: float | Non
     ``--coil-capacitance``, ...), as one Request."""
     import dataclasses
 
-    from ..runs.simulate import simulation_request
+    from ..runs.simulate import ChainOptions
 
     effects = request.effects
-    made = simulation_request(chain, dt=dt, accuracy=accuracy, extrapolate=extrapolate, transits=request.transits,
-                              excitation=request.excitation, L0=request.L0, C0=request.C0, backend=backend,
-                              method=request.method, title=request.title, engine=engine)
+    options = ChainOptions(dt=dt, accuracy=accuracy, extrapolate=extrapolate, transits=request.transits,
+                           excitation=request.excitation, L0=request.L0, C0=request.C0, backend=backend,
+                           method=request.method, title=request.title, engine=engine)
+    made = options.request(chain)
     return dataclasses.replace(made, effects=effects) if effects else made
 
 
@@ -158,7 +159,7 @@ def _prepare(request: SimulateRequest) -> tuple[Outputs, Any, float | None, list
 def simulate_chain(request: SimulateRequest) -> Simulation | EnginesComparison:
     """Run the ladder: one engine (a :class:`Simulation`, whose files :func:`write_outputs` writes), or the same
     netlist in several (an :class:`EnginesComparison`)."""
-    from ..runs.simulate import simulate
+    from ..runs.simulate import run_simulation, simulation_runs
 
     outputs, chain, dt, kept, keep_netlist = _prepare(request)
     if len(request.engines) > 1:
@@ -168,7 +169,10 @@ def simulate_chain(request: SimulateRequest) -> Simulation | EnginesComparison:
         warnings.simplefilter("always")
         made = _simulation_request(request, chain, dt=dt, accuracy=request.accuracy,
                                    extrapolate=request.extrapolate, engine=engine, backend=request.backend)
-        report = simulate(made, progress=_progress(request, engine), budget=request.budget, on_spec=keep_netlist)
+        planned = simulation_runs(made, budget=request.budget)
+        for spec in planned.specs:  # before the simulator starts: a failed run still leaves them
+            keep_netlist(spec)
+        report = run_simulation(planned, progress=_progress(request, engine))
     data = with_physical_units(report.to_dict(), request.L0, request.C0)
     return Simulation(request, chain, report, data, tuple(str(w.message) for w in caught), outputs, kept)
 
@@ -203,7 +207,7 @@ def write_outputs(simulation: Simulation) -> bool:
 def _compare_engines(request: SimulateRequest, chain: Any, dt: float | None,
                      keep_netlist: Callable[[Any], None]) -> EnginesComparison:
     from ..compare.metrics import residual_difference
-    from ..runs.simulate import simulate
+    from ..runs.simulate import run_simulation, simulation_runs
 
     if request.extrapolate is not None and request.extrapolate > 1:
         raise ParameterError("--extrapolate", request.extrapolate, "1 with several engines (they run one netlist)")
@@ -220,8 +224,10 @@ def _compare_engines(request: SimulateRequest, chain: Any, dt: float | None,
             step = dt if not reports else reports[0].options.dt
             made = _simulation_request(request, chain, dt=step, accuracy=request.accuracy if not reports else None,
                                        extrapolate=1, engine=engine, backend="batch")
-            reports.append(simulate(made, progress=_progress(request, engine), budget=request.budget,
-                                    on_spec=None if reports else keep_netlist))
+            planned = simulation_runs(made, budget=request.budget)
+            if not reports:  # one netlist: the first engine's
+                keep_netlist(planned.specs[0])
+            reports.append(run_simulation(planned, progress=_progress(request, engine)))
     for warning in sorted({str(w.message) for w in caught}):
         print(f"lcchain: warning: {warning}", file=sys.stderr)
     first = reports[0]

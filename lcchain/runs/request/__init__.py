@@ -22,12 +22,13 @@ run (:data:`lcchain.runs.execute.ANALYSIS_RUNS`).
 
 from __future__ import annotations
 
-# Re-exported by name (no __all__): the API reference documents each on its own module's page.
+# Re-exported by name (no __all__): the API reference documents each on its own module's page.  Drive is the
+# netlist's (lcchain.circuit.netlist), a request's as well.
+from ...circuit.netlist import Drive as Drive
 from .plan import plan_request as plan_request
 from .transient import ACCURACY_LOOPS as ACCURACY_LOOPS
 from .types import AC as AC
 from .types import Analysis as Analysis
-from .types import Drive as Drive
 from .types import Request as Request
 from .types import RequestPlan as RequestPlan
 from .types import Transient as Transient

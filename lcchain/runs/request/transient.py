@@ -11,9 +11,10 @@ import numpy as np
 from ...circuit.elements import Element, Pulse, ladder_elements
 from ...circuit.exact import circuit_cost, circuit_states, circuit_theory, circuit_unknowns
 from ...circuit.ladder import Ladder
-from ...circuit.netlist import SimulationOptions, check_run_length, netlist_text, probe_names
+from ...circuit.netlist import NetlistOutput, SimulationOptions, check_run_length, netlist_text, probe_names
 from ...compare.accuracy import dt_for_accuracy, predicted_error, warn_if_unreliable
 from ...compare.extrapolate import (
+    AccuracyOptions,
     ExtrapolationPlan,
     member_steps,
     plan_for_accuracy,
@@ -91,8 +92,8 @@ def plan_transient(request: Request, budget: Budget, modes: Modes | None, design
         own = None if elements is None else elements if chain is nominal else request_elements(request, sample)
         for i, h in enumerate(steps):
             options = SimulationOptions(dt=h, tstop=tstop, method=analysis.method, aligned=aligned)
-            text = netlist_text(sample, options, excitation=drive.kind, I0=drive.I0, probes=analysis.probes,
-                                title=title, comments=request.comments, pulse=drive.pulse, effects=request.effects)
+            text = netlist_text(sample, options, drive, effects=request.effects,
+                                output=NetlistOutput(title=title, comments=request.comments, probes=analysis.probes))
             # the circuit's own theory carries its losses among its elements; the chain is then the ideal ladder
             theory = Theory(chain, ladder.time_unit, I0=drive.I0, excitation=drive.kind,
                             Q=request.Q if own is None else None, pulse=drive.pulse, probes=analysis.probes,
@@ -167,8 +168,9 @@ def _choose_steps(request: Request, nominal: Chain, modes: Modes, tstop: float, 
             reason = "probes = \"all\": the extrapolation's prediction covers the end loops only" \
                 if (asked or 0) > 1 else (refused if asked is None else "")
         else:
-            plan = plan_for_accuracy(modes, analysis.accuracy, tstop, extrapolate=asked, refused=refused, Q=Q,
-                                     method=analysis.method, max_points=points)
+            bounds = AccuracyOptions(extrapolate=asked, refused=refused, Q=Q, method=analysis.method,
+                                     max_points=points)
+            plan = plan_for_accuracy(modes, analysis.accuracy, tstop, bounds)
             steps = member_steps(plan.dt, plan.runs)
             reason = refused if (refused and asked != 1) else plan.reason
             predicted = plan.predicted_error if plan.runs > 1 else None

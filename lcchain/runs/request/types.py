@@ -1,7 +1,7 @@
 """The request types: what a user asks of one simulation, and what a planner decides it will run.
 
 A :class:`Request` is what a user asked for, frozen and picklable: the chain,
-its units, how it is driven (:class:`Drive`), the effects on the ladder, the
+its units, how it is driven (:class:`lcchain.circuit.netlist.Drive`), the effects on the ladder, the
 analysis (a :class:`Transient`, or an :class:`AC` sweep of the ladder's
 spectrum), and where it runs.  A :class:`RequestPlan` is what one of the
 planners (:mod:`lcchain.runs.request.transient`, :mod:`lcchain.runs.request.ac`)
@@ -19,62 +19,32 @@ from typing import TypeVar
 from ...circuit.effects import Effect, Losses, PreferredValues, Tolerance
 from ...circuit.elements import Element, Pulse, adds_elements, ladder_elements
 from ...circuit.ladder import Ladder
-from ...circuit.netlist import SimulationOptions, circuit_elements
+from ...circuit.netlist import Drive, SimulationOptions, circuit_elements
 from ...compare.extrapolate import ExtrapolationPlan
 from ...core.checks import choice, instance, integer, real, strings
-from ...core.checks import pulse as check_pulse
 from ...core.errors import ParameterError
-from ...core.limits import MAX_AC_POINTS, MAX_DT, MAX_I0, MAX_TRANSITS, MIN_AC_POINTS, MIN_I0
+from ...core.limits import MAX_AC_POINTS, MAX_DT, MAX_TRANSITS, MIN_AC_POINTS
 from ...core.types import (
     BACKENDS,
     DEFAULT_C0,
-    DEFAULT_I0,
     DEFAULT_L0,
-    EXCITATION_KINDS,
     METHODS,
     PROBES,
-    PULSE_SHAPES,
     Backend,
-    ExcitationKind,
     Method,
     Probes,
-    PulseShape,
 )
 from ...spice.engines import DEFAULT_ENGINE, ac_engine, engine_named
 from ...theory.chain import Chain
 from ...theory.modes import Modes
 from ..spec import DEFAULT_TIMEOUT, RunSpec, Theory
 
-__all__ = ["Drive", "Transient", "AC", "Analysis", "Request", "RequestPlan", "nominal_ladder", "chain_follows",
+__all__ = ["Transient", "AC", "Analysis", "Request", "RequestPlan", "nominal_ladder", "chain_follows",
            "request_elements", "realised_chains", "netlist_title"]
 
 
 #: An effect's type, for :meth:`Request.effect`.
 E = TypeVar("E", bound=Effect)
-
-
-@dataclass(frozen=True)
-class Drive:
-    """How loop 1 is set in motion.
-
-    Parameters
-    ----------
-    kind : {"kick", "displacement", "pulse"}
-        An initial current I0 in L_1, an initial charge I0 sqrt(L0 C0) in loop 1, or a voltage pulse in loop 1.
-    I0 : float
-        Scale of the excitation, ampere (> 0).
-    pulse : (shape, width), optional
-        With ``kind="pulse"`` only: ``"gaussian"`` or ``"rect"``, width in units of sqrt(L0 C0).
-    """
-
-    kind: ExcitationKind = "kick"
-    I0: float = DEFAULT_I0
-    pulse: tuple[PulseShape, float] | None = None
-
-    def __post_init__(self) -> None:
-        object.__setattr__(self, "I0", real("I0", self.I0, at_least=MIN_I0, at_most=MAX_I0, unit="ampere"))
-        spec = check_pulse(self.kind, self.pulse, EXCITATION_KINDS, PULSE_SHAPES)
-        object.__setattr__(self, "pulse", spec)
 
 
 @dataclass(frozen=True)
