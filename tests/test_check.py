@@ -224,8 +224,7 @@ def test_butterworth_sine_error_is_predicted_and_the_suggested_step_reaches_the_
     worst = max(result.vectors, key=lambda v: v.max_abs_error or 0.0)
     assert PREDICTION_BAND[0] <= worst.max_abs_error / worst.predicted_error <= PREDICTION_BAND[1]
     assert result.suggested_step is not None and result.suggested_step < 1e-6
-    finer = check_text(BUTTERWORTH.format(drive="SIN(0 1 700 0 0 0)", tstop="5m", tmax=repr(result.suggested_step)),
-                       "butterworth.cir", options=CheckOptions(accuracy=accuracy))
+    finer = check_text(BUTTERWORTH.format(drive="SIN(0 1 700 0 0 0)", tstop="5m", tmax=repr(result.suggested_step)), "butterworth.cir", options=CheckOptions(accuracy=accuracy))
     assert finer.passed and finer.max_rel_error <= accuracy
 
 
