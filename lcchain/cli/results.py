@@ -7,16 +7,19 @@ import argparse
 import csv
 import io
 import sys
-from typing import Any
+from typing import TYPE_CHECKING
 
-from ..core.types import STUDY_METRICS
-from .common import EXIT_FAILED, EXIT_OK, budget_from_args, emit_json
+from ..core.types import STUDY_METRICS, JSONObject
+from .common import EXIT_FAILED, EXIT_OK, Parser, Subcommands, budget_from_args, emit_json, print_notes
 from .studies import number, short, table
+
+if TYPE_CHECKING:
+    from ..app.results import Results
 
 __all__ = ["add_parser", "cmd_results"]
 
 
-def add_parser(sub: Any, budget: list[Any]) -> None:
+def add_parser(sub: Subcommands, budget: list[Parser]) -> None:
     p = sub.add_parser("results", parents=budget,
                        help="a store's runs: a table, --json, --csv, or a --plot of the study")
     p.add_argument("store", metavar="STORE.sqlite")
@@ -70,10 +73,11 @@ def cmd_results(args: argparse.Namespace) -> int:
                   + f" written to {', '.join(found.written)}")
     else:
         _print_runs(found, args.store)
+    print_notes(found.notes)
     return EXIT_FAILED if found.failed else EXIT_OK
 
 
-def _print_summary(found: Any, args: argparse.Namespace) -> None:
+def _print_summary(found: Results, args: argparse.Namespace) -> None:
     """Per combination of the study's axes: the first-arrival metric's distribution over the samples."""
     groups = found.groups
     if args.json:
@@ -113,12 +117,12 @@ def _print_summary(found: Any, args: argparse.Namespace) -> None:
 _LONGEST_CELL = 24
 
 
-def _print_runs(found: Any, name: str) -> None:
+def _print_runs(found: Results, name: str) -> None:
     """One row per task: its axes, status, and what it gave: errors against theory, or (no theory: a batch of
     netlists) its vectors, points and the simulator's time; a failure's reason."""
     stored, runs = found.stored, found.runs
 
-    def counted(rows: list[dict[str, Any]]) -> str:
+    def counted(rows: list[JSONObject]) -> str:
         counts = {s: sum(r["status"] == s for r in rows) for s in ("ok", "failed", "timeout", "refused", "pending")}
         return ", ".join(f"{n} {s}" for s, n in counts.items() if n)
 
@@ -136,7 +140,7 @@ def _print_runs(found: Any, name: str) -> None:
     rows = []
     shortened = False
 
-    def axis_cell(value: Any) -> str:  # a long parameter (a worst case's signs, a path) cut in its middle
+    def axis_cell(value: object) -> str:  # a long parameter (a worst case's signs, a path) cut in its middle
         nonlocal shortened
         text = number(value)
         if len(text) <= _LONGEST_CELL:

@@ -36,7 +36,7 @@ from ..core.checks import callback, choice, instance, real
 from ..core.errors import ParameterError, SimulationError
 from ..core.frozen import FrozenMap
 from ..core.show import html_table, plot, short_repr
-from ..core.types import BACKENDS, DEFAULT_C0, DEFAULT_I0, DEFAULT_L0, EXCITATIONS, Backend, Excitation, Method
+from ..core.types import DEFAULT_C0, DEFAULT_I0, DEFAULT_L0, EXCITATIONS, Backend, Excitation, Method
 from ..spice.engine import Engine
 from ..spice.engines import DEFAULT_ENGINE, engine_named
 from ..spice.result import RunResult
@@ -388,8 +388,7 @@ class ChainOptions:
         object.__setattr__(self, "engine", engine.name)
         object.__setattr__(self, "L0", real("L0", self.L0, above=0.0, unit="henry"))
         object.__setattr__(self, "C0", real("C0", self.C0, above=0.0, unit="farad"))
-        choice("backend", self.backend, BACKENDS)
-        choice("backend", self.backend, engine.transports, f" (the transports of engine {engine.name})")
+        choice("backend", self.backend, engine.user_transports(), f" (the transports of engine {engine.name})")
         object.__setattr__(self, "timeout", real("timeout", self.timeout, above=0.0, unit="seconds"))
 
     @property
