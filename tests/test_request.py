@@ -92,6 +92,14 @@ def test_each_analysis_has_one_planner_found_from_its_type():
     assert transient.steps == (0.05,) and ac.steps == () and ac.points is not None
 
 
+def test_simulate_given_a_chain_points_to_simulate_chain():
+    """simulate takes a Request only; a chain, its old first argument, is refused in one line naming the function
+    a chain goes to (nothing runs)."""
+    with pytest.raises(ParameterError, match=r"simulate_chain\(chain, lcchain.ChainOptions") as caught:
+        lcchain.simulate(chain_for_case("two-mass", 6))
+    assert caught.value.field == "request" and "\n" not in str(caught.value)
+
+
 def test_simulate_plans_through_the_request():
     chain = chain_for_case("two-mass", 40)
     by_keywords = simulation_runs(ChainOptions(accuracy=1e-6, transits=2, excitation="displacement").request(chain))

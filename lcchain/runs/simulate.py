@@ -479,6 +479,9 @@ def simulation_runs(request: Request, *, modes: Modes | None = None, budget: Bud
         As :func:`simulate`, before anything runs.
     """
     clock = time.perf_counter()
+    if isinstance(request, Chain):  # the one-argument form simulate had before: point to its new name
+        raise ParameterError("request", f"a Chain ({request.name}, N = {request.N})", "a Request (a chain with "
+                             "options: lcchain.simulate_chain(chain, lcchain.ChainOptions(dt=...)))")
     instance("request", request, Request)
     if not isinstance(request.analysis, Transient):  # one line, pointing to the function that runs it
         raise ParameterError("analysis", type(request.analysis).__name__, "a Transient for lcchain.simulate "
