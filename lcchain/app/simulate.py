@@ -1,7 +1,7 @@
 """``lcchain simulate`` as functions: run the ladder in one engine (or the same netlist in several) against
 theory, then write what was asked for.
 
-:func:`simulate_chain` checks the outputs, builds the chain, keeps the netlist before the simulator starts and
+:func:`simulate` checks the outputs, builds the chain, keeps the netlist before the simulator starts and
 runs it; the caller shows the result; :func:`write_outputs` then writes the waveforms and the figure.
 With several engines it runs one netlist in each (an :class:`EnginesComparison`).
 """
@@ -29,7 +29,7 @@ if TYPE_CHECKING:
     from ..runs.spec import RunSpec
     from ..theory.chain import Chain
 
-__all__ = ["SimulateRequest", "Simulation", "EnginesComparison", "simulate_chain", "write_outputs",
+__all__ = ["SimulateRequest", "Simulation", "EnginesComparison", "simulate", "write_outputs",
            "with_physical_units"]
 
 
@@ -159,7 +159,7 @@ def _prepare(request: SimulateRequest) -> tuple[Outputs, Chain, float | None, li
     return outputs, chain, dt, kept, keep_netlist
 
 
-def simulate_chain(request: SimulateRequest) -> Simulation | EnginesComparison:
+def simulate(request: SimulateRequest) -> Simulation | EnginesComparison:
     """Run the ladder: one engine (a :class:`Simulation`, whose files :func:`write_outputs` writes), or the same
     netlist in several (an :class:`EnginesComparison`)."""
     from ..runs.simulate import run_simulation, simulation_runs
