@@ -11,7 +11,7 @@ from typing import TYPE_CHECKING
 
 from ..core.types import STUDY_METRICS, JSONObject
 from .common import EXIT_FAILED, EXIT_OK, Parser, Subcommands, budget_from_args, emit_json, print_notes
-from .studies import number, short, table
+from .studies import format_number, short, table
 
 if TYPE_CHECKING:
     from ..app.results import Results
@@ -86,8 +86,8 @@ def _print_summary(found: Results, args: argparse.Namespace) -> None:
     keys = list(dict.fromkeys(key for group in groups for key in group["params"]))
     stats = ["n", "failed", "mean", "std", "min", "p05", "median", "max"]
     def rows_with(digits: str) -> list[list[str]]:
-        return [[number(group["params"].get(key)) for key in keys]
-                + [str(group[s]) if s in ("n", "failed") else number(group[s], digits) for s in stats]
+        return [[format_number(group["params"].get(key)) for key in keys]
+                + [str(group[s]) if s in ("n", "failed") else format_number(group[s], digits) for s in stats]
                 for group in groups]
 
     # the table: 4 significant digits (a perfect cradle's loss is 2e-4, which 4 decimals showed as 0.0002 or
@@ -107,7 +107,7 @@ def _print_summary(found: Results, args: argparse.Namespace) -> None:
                 args.metric, f"the netlists' measurement {args.metric} (.meas; runs that could not measure it "
                 "left out)")
     by = f"by {', '.join(map(short, keys))}" if keys else "over all its runs"
-    shared = ", ".join(f"{short(k)} = {number(v)}" for k, v in found.constants.items())
+    shared = ", ".join(f"{short(k)} = {format_number(v)}" for k, v in found.constants.items())
     print(f"{args.store}: {what} {by}" + (f" ({shared} throughout)" if shared else "") +
           "; n finished runs, std over them (ddof 1)")
     print(table([*map(short, keys), *stats], rows))
@@ -142,7 +142,7 @@ def _print_runs(found: Results, name: str) -> None:
 
     def axis_cell(value: object) -> str:  # a long parameter (a worst case's signs, a path) cut in its middle
         nonlocal shortened
-        text = number(value)
+        text = format_number(value)
         if len(text) <= _LONGEST_CELL:
             return text
         shortened = True
@@ -152,21 +152,22 @@ def _print_runs(found: Results, name: str) -> None:
     for run, shown in zip(stored, runs, strict=True):
         cells = [str(run.index), run.status, *(axis_cell(run.params.get(key)) for key in axes)]
         if spectral:
-            cells += [number(run.points), number(shown.get("modes_seen")), number(shown.get("max_rel_error_omega")),
-                      number(shown.get("max_abs_error_P")), number(shown.get("spacing_spread"), ".4g")]
+            cells += [format_number(run.points), format_number(shown.get("modes_seen")),
+                      format_number(shown.get("max_rel_error_omega")), format_number(shown.get("max_abs_error_P")),
+                      format_number(shown.get("spacing_spread"), ".4g")]
         elif theory:
             arrivals = shown.get("arrivals") or []
-            cells += [number(shown.get("max_abs_error")), number(shown.get("predicted_error")),
-                      number(arrivals[0].get("peak_sim"), ".6f") if arrivals else ""]
+            cells += [format_number(shown.get("max_abs_error")), format_number(shown.get("predicted_error")),
+                      format_number(arrivals[0].get("peak_sim"), ".6f") if arrivals else ""]
         else:
             names = found.vectors.get(run.key) if run.status == "ok" else None
-            cells += [" ".join(names) if names else "", number(run.points)]
-        cells += [number(run.measurements.get(name), ".6g") if run.measurements.get(name) is not None
+            cells += [" ".join(names) if names else "", format_number(run.points)]
+        cells += [format_number(run.measurements.get(name), ".6g") if run.measurements.get(name) is not None
                   else "-" if name in run.measurements else "" for name in measured]
         missing = [f"{name}: {why}" for name, why in run.measure_reasons.items()]
         reason = run.reason or "; ".join(missing)
         seconds = run.wall_s if run.kind != "combined" and run.status != "refused" else None  # nothing ran
-        cells += [number(seconds, ".3f"), (reason.splitlines() or [""])[0][:70]]
+        cells += [format_number(seconds, ".3f"), (reason.splitlines() or [""])[0][:70]]
         rows.append(cells)
     print(table(["#", "status", *map(short, axes), *columns, "time (s)", "reason"], rows))
     if shortened:

@@ -13,7 +13,7 @@ from ..core.types import TRANSPORT_CHOICES, JSONObject
 from .common import EXIT_FAILED, EXIT_OK, budget_from_args, emit_json, registry_name, seconds
 from .progress import study_counter
 
-__all__ = ["add_study_arguments", "study_options", "study_hooks", "show_study", "table", "number", "short"]
+__all__ = ["add_study_arguments", "study_options", "study_hooks", "show_study", "table", "format_number", "short"]
 
 
 def add_study_arguments(p: argparse.ArgumentParser, *, store: bool = True) -> None:
@@ -136,7 +136,7 @@ def short(key: str) -> str:
     return "+".join(part.rsplit(".", 1)[-1] for part in key.split("+"))
 
 
-def number(value: object, digits: str = ".3g") -> str:
+def format_number(value: object, digits: str = ".3g") -> str:
     """A table cell: blank for no value, never ``None`` or ``-0``."""
     if value is None:
         return ""
