@@ -388,7 +388,7 @@ class ChainOptions:
         object.__setattr__(self, "engine", engine.name)
         object.__setattr__(self, "L0", real("L0", self.L0, above=0.0, unit="henry"))
         object.__setattr__(self, "C0", real("C0", self.C0, above=0.0, unit="farad"))
-        choice("backend", self.backend, engine.user_transports(), f" (the transports of engine {engine.name})")
+        engine.check_transport("backend", self.backend)
         object.__setattr__(self, "timeout", real("timeout", self.timeout, above=0.0, unit="seconds"))
 
     @property
