@@ -15,6 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...core.registry import Registry
+from ..job import Progress, TransportJob
 from ..simulator import Simulator
 from .batch import run_batch
 from .locate import find_batch, find_shared
@@ -22,12 +23,12 @@ from .place import Place
 from .shared import run_shared
 from .warm import run_warm
 
-__all__ = ["NgspiceTransport", "TransportRun", "TRANSPORT_RUNS"]
+__all__ = ["NgspiceTransport", "TransportRun", "TRANSPORT_RUNS", "named_transports"]
 
-#: How a transport runs a netlist: (text, simulator, timeout, tstop, progress, place, max output bytes, max
-#: resident bytes) -> (columns, log, wall seconds).
-TransportRun = Callable[[str, Simulator, float, float, Callable[[float], None] | None, Place, float | None,
-                         float | None], tuple[dict[str, np.ndarray], str, float]]
+#: How a transport runs a checked text: (job, simulator, place, progress) -> (columns, log, wall seconds).  The
+#: job (:class:`lcchain.spice.job.TransportJob`) carries the text its check returned, the digest of its lines, the
+#: plot to read and the limits; the transport runs ``job.text`` as it is.
+TransportRun = Callable[[TransportJob, Simulator, Place, Progress | None], tuple[dict[str, np.ndarray], str, float]]
 
 
 @dataclass(frozen=True)
@@ -67,3 +68,9 @@ TRANSPORT_RUNS: Registry[NgspiceTransport] = Registry(
      "warm": NgspiceTransport("warm", run_warm)},
     _admit, "an lcchain.spice.ngspice.transports.NgspiceTransport, named as the entry point",
     name_of=lambda part: str(getattr(part, "name", "")))
+
+
+def named_transports() -> tuple[str, ...]:
+    """The transports a user names (``--backend``, a scene's ``analysis.backend``): those with a ``find``, the
+    default first, plugins included (:data:`lcchain.core.types.Backend` holds lcchain's own, a test checks)."""
+    return tuple(name for name, transport in TRANSPORT_RUNS.items() if transport.find is not None)
