@@ -8,6 +8,10 @@ read from, or written to, a JSON file as it is.
 * :data:`JSONValue` is a value ``json.dumps`` can write as lcchain makes them: any mapping or sequence of such
   values (a ``dict[str, float]`` is one, a tuple too), read-only, so that a ``dict[str, float]`` may be given
   where one is expected; :data:`JSONDict` is the dict a ``to_dict()`` returns.
+
+:data:`lcchain.core.types.JSON` is another name, for ``Any``: a document the command layer reads by key without
+narrowing. These are checked: a value of them is narrowed (``isinstance``) before it is used as a number or a
+table.
 """
 
 from __future__ import annotations
