@@ -3,7 +3,6 @@ report and plots) and for the scene files of a command line (:func:`run_scenes`)
 
 from __future__ import annotations
 
-import sys
 import time
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field, replace
@@ -166,12 +165,14 @@ class RunRequest:
 
 @dataclass(frozen=True)
 class ScenesRun:
-    """Each scene's result, the scenes whose outputs could not be written, and the outputs checked (which of
-    them goes to stdout)."""
+    """Each scene's result, the scenes whose outputs could not be written, the outputs checked (which of them
+    goes to stdout; their notes say what was not written) and the figure of the scenes side by side, when
+    drawn."""
 
     results: list[SceneResult]
     failed_files: list[str | None]
     outputs: Outputs
+    side_by_side: str | None = None
 
     @property
     def ok(self) -> bool:
@@ -226,8 +227,8 @@ def run_scenes(request: RunRequest, shown: Callable[[SceneResult, Outputs], None
 
         def unwritten(error: OSError, source: str | None = scene.source) -> None:
             failed_files.append(source)
-            print(f"lcchain: could not write {error.filename or 'an output'} of {source}: "
-                  f"{error.strerror or error}", file=sys.stderr)
+            outputs.notes.append(f"could not write {error.filename or 'an output'} of {source}: "
+                                 f"{error.strerror or error}")
 
         options = SceneRun(request.netlist_out, request.waveform_out, budget=request.budget,
                            executor=study.executor, workers=study.workers, scheduler=study.scheduler,
@@ -239,14 +240,15 @@ def run_scenes(request: RunRequest, shown: Callable[[SceneResult, Outputs], None
         results.append(result)
         if shown is not None:
             shown(result, outputs)
+    drawn = None
     if request.side_by_side:
         from ..report.plots import side_by_side
 
         panels = [p for p in (overlay_panel(r) for r in results) if p is not None]
         if panels:
             outputs.write("--side-by-side", lambda path: side_by_side(panels, path=path))
-            if not request.json and "--side-by-side" not in outputs.failed:
-                print(f"wrote {request.side_by_side}", file=sys.stderr if outputs.to_stdout else sys.stdout)
+            if "--side-by-side" not in outputs.failed:
+                drawn = request.side_by_side
         else:
-            print(f"lcchain: no scene ran, so {request.side_by_side} was not drawn", file=sys.stderr)
-    return ScenesRun(results, failed_files, outputs)
+            outputs.notes.append(f"no scene ran, so {request.side_by_side} was not drawn")
+    return ScenesRun(results, failed_files, outputs, drawn)
