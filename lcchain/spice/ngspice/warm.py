@@ -60,10 +60,12 @@ from .place import Place, placement
 __all__ = ["WarmWorker", "run_warm", "worker_for", "close_workers", "warm_simulator", "WARM_BELOW_SECONDS",
            "MAX_WORKER_BYTES", "MAX_WORKER_RUNS", "RESTART_SHARE"]
 
-#: Runs predicted to take less than this (seconds of ``ngspice -b``, start included) go warm when a study
-#: chooses (``--transport auto``): below it the saved start-up outweighs the library's slower big runs
-#: (measured crossover, benchmarks/batch.md).
-WARM_BELOW_SECONDS = 0.2
+#: Runs priced under this (:func:`lcchain.spice.foreign.foreign_price`'s seconds, which are about three times what a
+#: run takes) go warm when a study chooses (``--transport auto``): below it the saved start (the sandbox and a new
+#: ngspice, about 10 to 20 ms of CPU a run) outweighs the library's slower big runs.  CPU a run (all processes),
+#: ``benchmarks/transport_cpu.py``, warm against a process in the sandbox: priced 0.25 s (N = 100) 70 against
+#: 81 ms, 0.48 s 152 against 167, 0.77 s 234 against 255, 1.59 s (N = 300) 594 against 545 (benchmarks/batch.md).
+WARM_BELOW_SECONDS = 1.0
 #: A worker whose resident memory passes this is replaced after its run (the library keeps ~0.6 KiB a run).
 MAX_WORKER_BYTES = 512 * 2**20
 #: A worker is replaced after this many runs, whatever its memory.

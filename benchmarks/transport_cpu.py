@@ -1,0 +1,42 @@
+"""CPU (all processes: the driver, the sandbox, ngspice) of one foreign netlist run REPEAT times through one of
+ngspice's transports, in one process: what ``--transport auto``'s threshold trades.
+
+    perf stat -e task-clock -x, .venv/bin/python benchmarks/transport_cpu.py {warm|process|none} N REPEAT
+
+prints the run's price (``foreign_price``'s seconds) and its median wall; ``perf stat``'s task-clock (CPU ms,
+children included: the sandbox, ngspice, the warm worker) minus that of ``none`` (the same script, no run), divided
+by REPEAT, is a run's CPU through that transport.  CPU, unlike wall time, does not change much with the load of a
+shared machine.
+"""
+
+from __future__ import annotations
+
+import statistics
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import lcchain
+from lcchain.runs.simulate import simulation_spec
+from lcchain.spice.ngspice.find import find_simulator
+from lcchain.spice.ngspice.runner import run
+from lcchain.spice.ngspice.warm import close_workers, warm_simulator
+from lcchain.studies.plan import batch_plan
+
+transport, N, repeat = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
+spec, _, _ = simulation_spec(lcchain.chain_for_case("two-mass", N), dt=0.04)
+with tempfile.TemporaryDirectory() as folder:
+    path = Path(folder) / "n.cir"
+    path.write_text(spec.netlist)
+    task = batch_plan([path]).tasks[0]
+if transport != "none":
+    batch = find_simulator("batch")
+    simulator = warm_simulator(batch) if transport == "warm" else batch
+    walls = []
+    for _ in range(repeat):
+        start = time.perf_counter()
+        run(task.spec.netlist, task.spec.vectors, task.spec.tstop, simulator=simulator, foreign=True)
+        walls.append(time.perf_counter() - start)
+    close_workers()
+    print(f"N={N} {transport} price {task.seconds:.3f} s, wall median {1e3 * statistics.median(walls):.1f} ms")
