@@ -119,9 +119,10 @@ def check_study(options: StudyOptions) -> None:
 
 
 def run_study(planned: PlannedStudy, options: StudyOptions, budget: Budget, hooks: StudyHooks | None = None,
-              pool: Any = None) -> StudyResult:
+              pool: Any = None, simulator: Any = None) -> StudyResult:
     """Price the plan for its workers, run it into ``options.store`` (resumed; ``pool``: the process executor's
-    workers, started while the plan was made), and read a worst case's summary."""
+    workers, started while the plan was made; ``simulator``: the engine, found while the plan was made), and read
+    a worst case's summary."""
     from ..studies.run import run_plan
 
     hooks = hooks or StudyHooks()
@@ -133,7 +134,7 @@ def run_study(planned: PlannedStudy, options: StudyOptions, budget: Budget, hook
                            scheduler=options.scheduler, progress=hooks.progress, on_resume=hooks.on_resume,
                            retry_failed=options.retry_failed, wait=options.wait, on_wait=hooks.on_wait,
                            verbose=hooks.verbose, transport=options.transport, max_seconds=planned.max_seconds,
-                           pool=pool)
+                           pool=pool, simulator=simulator)
     worst = None
     if planned.worst_case is not None:
         from ..studies.store import Store

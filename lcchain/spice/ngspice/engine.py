@@ -54,8 +54,8 @@ class Ngspice(Engine):
                    trusted=trusted, foreign=foreign, max_output_bytes=max_output_bytes,
                    max_resident_bytes=max_resident_bytes)
 
-    def warm(self, simulator: Simulator) -> Simulator:
-        return warm_simulator(simulator)
+    def warm(self, simulator: Simulator, workers: int = 1) -> Simulator:
+        return warm_simulator(simulator, workers)
 
     def release(self, kill: bool = False) -> None:
         close_workers(kill)
