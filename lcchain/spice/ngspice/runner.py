@@ -49,7 +49,7 @@ from ...core.checks import choice, real
 from ...core.errors import ParameterError, SimulationError
 from ...core.frozen import FrozenMap
 from ...core.types import BACKENDS, Backend
-from ..foreign import allowed_netlist
+from ..foreign import CheckedText, allowed_netlist
 from ..log import failure_reason, fatal_lines, trim_log, useful_output
 from ..measure import measure_names, read_measurements
 from ..result import RunResult, check_arguments, read_include, validate_columns
@@ -90,7 +90,9 @@ def run(
         Complete netlist text with one ``.tran`` analysis ending at ``tstop``
         and ``.save`` lines for the wanted vectors. Unless ``trusted``, it must
         pass :func:`lcchain.spice.foreign.allowed_netlist` (its includes, in
-        ``cwd``, are inlined), and ngspice receives the text it returns.
+        ``cwd``, are inlined), and ngspice receives the text it returns; a
+        :class:`~lcchain.spice.foreign.CheckedText` (that function's own
+        output) is not checked again.
     vectors : Sequence[str]
         Vector names as saved, e.g. ``["i(l1)", "v(n3)"]`` or ``["l1#branch"]``;
         empty: every vector the raw file holds.
@@ -147,7 +149,8 @@ def run(
     netlist, names, tstop, timeout, limit = check_arguments(netlist, vectors, tstop, timeout, max_output_bytes)
     resident = None if max_resident_bytes is None else real("max_resident_bytes", max_resident_bytes, above=0.0,
                                                             unit="bytes")
-    text = canonical_text(netlist, "netlist") if trusted else \
+    # a CheckedText is the allow-list's own output (includes inlined): checked once, in the plan, and run as it is
+    text = canonical_text(netlist, "netlist") if trusted else netlist if isinstance(netlist, CheckedText) else \
         allowed_netlist(netlist, "netlist", Path(cwd) if cwd is not None else None, read_include)
     if simulator is None:
         simulator = find_simulator(choice("backend", backend or "batch", BACKENDS))
