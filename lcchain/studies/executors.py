@@ -43,11 +43,12 @@ from __future__ import annotations
 import contextlib
 import logging
 import os
+import queue
 import threading
 import time
 import urllib.parse
 from collections.abc import Callable, Iterator, Sequence
-from concurrent.futures import FIRST_COMPLETED, ThreadPoolExecutor, wait
+from concurrent.futures import FIRST_COMPLETED, Future, ThreadPoolExecutor, wait
 from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, Any
 
@@ -437,8 +438,11 @@ def _threaded(groups: list[Group], simulator: Simulator, workers: int, keep_sign
               transports: Transports) -> Iterator[list[tuple[int, RunRecord]]]:
     """Threads of this process, each driving one simulator child at a time: no pool to start or feed.
 
-    Each run is its own task (a thread costs microseconds per task). On the way out (the end, an error, an
-    interrupt) no new run starts, a running batch child is killed at its next look (its progress callback
+    Each run is its own task (a thread costs microseconds per task); each finished task is put on a queue as it
+    finishes, and whatever the queue holds is yielded together (stored in one transaction).  Waiting on the
+    queue costs the same whatever the batch's size: ``concurrent.futures.wait`` on the pending tasks locked and
+    scanned every one of them each time, a cost a run that grew with the batch.  On the way out (the end, an
+    error, an interrupt) no new run starts, a running batch child is killed at its next look (its progress callback
     raises, within :data:`~lcchain.spice.processes.PROGRESS_INTERVAL`), warm workers are killed, and the threads
     are joined: nothing keeps running.
     """
@@ -455,11 +459,20 @@ def _threaded(groups: list[Group], simulator: Simulator, workers: int, keep_sign
 
     pool = ThreadPoolExecutor(max_workers=workers, thread_name_prefix="lcchain-run")
     finished = False
+    done: queue.SimpleQueue[Future[list[tuple[int, RunRecord]]]] = queue.SimpleQueue()
     try:
-        pending = {pool.submit(one, index, spec) for group in groups for index, spec in group}
-        while pending:
-            done, pending = wait(pending, return_when=FIRST_COMPLETED)
-            yield [pair for future in done for pair in future.result()]  # stored together: one disk sync
+        left = 0
+        for group in groups:
+            for index, spec in group:
+                pool.submit(one, index, spec).add_done_callback(done.put)
+                left += 1
+        while left:
+            ready = [done.get()]
+            with contextlib.suppress(queue.Empty):
+                while True:
+                    ready.append(done.get_nowait())
+            left -= len(ready)
+            yield [pair for future in ready for pair in future.result()]  # stored together: one disk sync
         finished = True
     finally:
         stop.set()
