@@ -1,12 +1,12 @@
 """CPU (all processes: the driver, the sandbox, ngspice) of one foreign netlist run REPEAT times through one of
 ngspice's transports, in one process: what ``--transport auto``'s threshold trades.
 
-    perf stat -e task-clock -x, .venv/bin/python benchmarks/transport_cpu.py {warm|process|none} N REPEAT
+    for R in 5 25; do perf stat -e task-clock -x, .venv/bin/python benchmarks/transport_cpu.py {warm|process} N $R; done
 
-prints the run's price (``foreign_price``'s seconds) and its median wall; ``perf stat``'s task-clock (CPU ms,
-children included: the sandbox, ngspice, the warm worker) minus that of ``none`` (the same script, no run), divided
-by REPEAT, is a run's CPU through that transport.  CPU, unlike wall time, does not change much with the load of a
-shared machine.
+prints the run's price (``foreign_price``'s seconds) and its median wall; the difference of ``perf stat``'s
+task-clock (CPU ms, children included: the sandbox, ngspice, the warm worker) between 25 and 5 runs, divided by 20,
+is a run's CPU through that transport, without the interpreter's start, the imports and the worker's start (``none``
+runs nothing: that fixed part alone).  CPU, unlike wall time, changes little with the load of a shared machine.
 """
 
 from __future__ import annotations
