@@ -46,6 +46,7 @@ from pathlib import Path
 
 import lcchain
 from lcchain.runs.simulate import simulation_spec
+from lcchain.spice.job import RunJob
 from lcchain.spice.ngspice.find import find_simulator
 from lcchain.spice.ngspice.runner import run
 from lcchain.spice.ngspice.warm import WARM_BELOW_SECONDS, close_workers, warm_simulator
@@ -96,11 +97,11 @@ def per_run_table() -> list[str]:
         spec, _, _ = simulation_spec(lcchain.chain_for_case("two-mass", N), dt=0.05)
         repeat = 21 if N <= 100 else 7 if N <= 300 else 3
         times: dict[str, list[float]] = {"batch": [], "warm": []}
-        run(spec.netlist, spec.vectors, spec.tstop, simulator=hot, trusted=True, foreign=False)  # worker started
+        run(RunJob(spec.netlist, spec.vectors, spec.tstop, trusted=True, foreign=False), hot)  # worker started
         for _ in range(repeat):
             for name, simulator in (("batch", batch), ("warm", hot)):
                 start = time.perf_counter()
-                run(spec.netlist, spec.vectors, spec.tstop, simulator=simulator, trusted=True, foreign=False)
+                run(RunJob(spec.netlist, spec.vectors, spec.tstop, trusted=True, foreign=False), simulator)
                 times[name].append(time.perf_counter() - start)
         b, w = (statistics.median(times[k]) for k in ("batch", "warm"))
         lines.append(f"| {N} | {_seconds(spec):.3f} | {1e3 * b:.1f} | {1e3 * w:.1f} | {b / w:.2f} |")

@@ -25,6 +25,7 @@ from pathlib import Path
 import lcchain
 from lcchain.circuit.netlist import make_netlist
 from lcchain.spice.foreign import allowed_netlist, foreign_estimate, transient_of
+from lcchain.spice.job import RunJob
 from lcchain.spice.ngspice.find import find_simulator
 from lcchain.spice.ngspice.runner import run
 from lcchain.spice.text import saved_vectors
@@ -72,7 +73,7 @@ def main() -> None:
         for _ in range(REPEAT):
             for flag, times in ((False, own), (True, foreign)):
                 start = time.perf_counter()
-                result = run(text, vectors, tstop, simulator=simulator, foreign=flag)
+                result = run(RunJob(text, vectors, tstop, foreign=flag), simulator)
                 times.append(time.perf_counter() - start)
                 points = result.points
         with tempfile.TemporaryDirectory() as folder:
@@ -102,7 +103,7 @@ def priced() -> None:
         times = []
         for _ in range(3):
             start = time.perf_counter()
-            run(text, saved, transient.stop, simulator=simulator)
+            run(RunJob(text, saved, transient.stop), simulator)
             times.append(time.perf_counter() - start)
         measured = statistics.median(times)
         unknowns = estimate.what.rsplit(", ", 1)[-1].split()[0]

@@ -14,6 +14,7 @@ from lcchain.circuit.ladder import Ladder
 from lcchain.circuit.netlist import SimulationOptions, netlist_text, probe_names
 from lcchain.compare.waveforms import normalise
 from lcchain.core.errors import LcchainError
+from lcchain.spice.job import RunJob
 from lcchain.spice.ngspice.runner import run
 from lcchain.theory.arrivals import stop_time
 from lcchain.theory.cases import chain_for_case
@@ -37,7 +38,7 @@ def netlist(scale=SCALES["10 uH / 10 nF / 1 mA"], *, extra=(), adaptive=False, d
 
 
 def measure(text, ladder, I0):
-    result = run(text, NAMES, TSTOP * ladder.time_unit)
+    result = run(RunJob(text, NAMES, TSTOP * ladder.time_unit))
     w = normalise(result.time, result.vectors[NAMES[0]], result.vectors[NAMES[1]], time_unit=ladder.time_unit,
                   excitation="kick", I0=I0)
     return result, w, float(np.max(np.abs(w.last - transmission_amplitude(MODES, w.t))))

@@ -27,6 +27,7 @@ import numpy as np
 import lcchain
 from lcchain.runs.execute import execute
 from lcchain.runs.simulate import simulation_spec
+from lcchain.spice.job import RunJob
 from lcchain.spice.ngspice.find import find_simulator
 from lcchain.spice.ngspice.runner import run
 from lcchain.spice.ngspice.warm import close_workers, warm_simulator
@@ -52,7 +53,7 @@ def main() -> None:
     folder = tempfile.TemporaryDirectory(prefix="lcchain-bench-")
     netlist, raw = Path(folder.name) / "run.cir", Path(folder.name) / "run.raw"
     netlist.write_text(spec.netlist)
-    run(spec.netlist, spec.vectors, spec.tstop, simulator=hot, trusted=True, foreign=False)  # its worker started
+    run(RunJob(spec.netlist, spec.vectors, spec.tstop, trusted=True, foreign=False), hot)  # its worker started
     for _ in range(REPEAT):
         start = time.perf_counter()
         subprocess.run([simulator.executable, "-n", "-b", "-r", str(raw), str(netlist)], capture_output=True,
@@ -64,12 +65,12 @@ def main() -> None:
         rows["build"].append(time.perf_counter() - start)
 
         start = time.perf_counter()
-        result = run(spec.netlist, spec.vectors, spec.tstop, simulator=simulator)
+        result = run(RunJob(spec.netlist, spec.vectors, spec.tstop), simulator)
         rows["run"].append(time.perf_counter() - start)
         rows["ngspice"].append(result.wall_s)
 
         start = time.perf_counter()
-        run(spec.netlist, spec.vectors, spec.tstop, simulator=hot, trusted=True, foreign=False)
+        run(RunJob(spec.netlist, spec.vectors, spec.tstop, trusted=True, foreign=False), hot)
         rows["warm"].append(time.perf_counter() - start)
 
         start = time.perf_counter()

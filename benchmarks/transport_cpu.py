@@ -19,6 +19,7 @@ from pathlib import Path
 
 import lcchain
 from lcchain.runs.simulate import simulation_spec
+from lcchain.spice.job import RunJob
 from lcchain.spice.ngspice.find import find_simulator
 from lcchain.spice.ngspice.runner import run
 from lcchain.spice.ngspice.warm import close_workers, warm_simulator
@@ -36,7 +37,7 @@ if transport != "none":
     walls = []
     for _ in range(repeat):
         start = time.perf_counter()
-        run(task.spec.netlist, task.spec.vectors, task.spec.tstop, simulator=simulator, foreign=True)
+        run(RunJob(task.spec.netlist, task.spec.vectors, task.spec.tstop, foreign=True), simulator)
         walls.append(time.perf_counter() - start)
     close_workers()
     print(f"N={N} {transport} price {task.seconds:.3f} s, wall median {1e3 * statistics.median(walls):.1f} ms")

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import os
 import shutil
+import stat
 import tempfile
 from collections.abc import Iterator
 from pathlib import Path
@@ -54,3 +55,19 @@ def private_temporary_folder(tmp_path_factory: pytest.TempPathFactory) -> Iterat
         patch.setenv("TMPDIR", str(folder))
         patch.setattr(tempfile, "tempdir", str(folder))
         yield folder
+
+
+def _devnull_is_a_device() -> bool:
+    return stat.S_ISCHR(os.stat(os.devnull).st_mode)
+
+
+@pytest.fixture(autouse=True)
+def devnull_left_alone() -> Iterator[None]:
+    """The test that turns the machine's ``/dev/null`` into a file fails, by name: CI runs as root, where renaming
+    over a device replaces it (it happened once on this machine, from an unknown command, and every gnucap
+    version check that reads ``/dev/null`` then hung)."""
+    before = _devnull_is_a_device()
+    yield
+    if before and not _devnull_is_a_device():
+        pytest.fail(f"this test replaced {os.devnull} (now a {stat.filemode(os.stat(os.devnull).st_mode)} file): "
+                    "tests must write only inside their tmp_path", pytrace=False)

@@ -25,6 +25,7 @@ from lcchain.cli import main
 from lcchain.core.budget import BYTES_PER_VALUE
 from lcchain.core.errors import ParameterError, SimulationError
 from lcchain.spice.foreign import allowed_netlist, foreign_price, transient_of
+from lcchain.spice.job import RunJob
 from lcchain.spice.ngspice.runner import run
 from lcchain.spice.result import read_include
 from lcchain.spice.sandbox import find_sandbox
@@ -222,8 +223,8 @@ def test_an_included_netlist_runs_as_its_inlined_twin(tmp_path: Path) -> None:
     (tmp_path / "ladder.inc").write_text("".join(parts))
     split = "".join(line for line in lines if line not in parts).replace(".options", ".include ladder.inc\n.options")
     tstop = transient_of(GOOD, "good").stop
-    whole = run(GOOD, saved_vectors(GOOD), tstop)
-    included = run(split, saved_vectors(GOOD), tstop, cwd=tmp_path)
+    whole = run(RunJob(GOOD, saved_vectors(GOOD), tstop))
+    included = run(RunJob(split, saved_vectors(GOOD), tstop, cwd=tmp_path))
     for name, values in whole.vectors.items():
         assert included.vectors[name].tolist() == values.tolist()
 
@@ -266,8 +267,8 @@ def test_a_netlist_run_as_it_is_cannot_write_outside_its_scratch(tmp_path: Path)
 @pytest.mark.ngspice
 def test_the_sandbox_changes_no_result() -> None:
     tstop = transient_of(GOOD, "good").stop
-    inside = run(GOOD, saved_vectors(GOOD), tstop, foreign=True)
-    outside = run(GOOD, saved_vectors(GOOD), tstop, foreign=False)
+    inside = run(RunJob(GOOD, saved_vectors(GOOD), tstop, foreign=True))
+    outside = run(RunJob(GOOD, saved_vectors(GOOD), tstop, foreign=False))
     assert inside.time.tolist() == outside.time.tolist()
     for name, values in outside.vectors.items():
         assert inside.vectors[name].tolist() == values.tolist()
@@ -296,4 +297,4 @@ def test_a_netlist_is_priced_from_its_own_transient() -> None:
 def test_a_raw_file_that_outgrows_its_budget_stops_the_run() -> None:
     long = GOOD.replace(".tran 0.001 7.7 0 0.001 uic", ".tran 1e-6 100 0 1e-6 uic")  # 1e8 points, minutes
     with pytest.raises(SimulationError, match="raw file grew past"):
-        run(long, ["i(l1)"], 100.0, max_output_bytes=2e6)
+        run(RunJob(long, ["i(l1)"], 100.0, max_output_bytes=2e6))

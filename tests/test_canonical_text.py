@@ -29,6 +29,7 @@ from lcchain.core.errors import ParameterError
 from lcchain.runs.simulate import simulation_spec
 from lcchain.spice.engines import engine_named
 from lcchain.spice.foreign import allowed_netlist
+from lcchain.spice.job import RunJob, TransportJob
 from lcchain.spice.ngspice import warm
 from lcchain.spice.ngspice.find import find_simulator
 from lcchain.spice.ngspice.place import placement as _placement
@@ -36,7 +37,7 @@ from lcchain.spice.ngspice.runner import run
 from lcchain.spice.ngspice.transports import TRANSPORT_RUNS
 from lcchain.spice.result import read_include
 from lcchain.spice.simulator import Simulator
-from lcchain.spice.text import canonical_text, circuit_lines, netlist_lines, text_digest
+from lcchain.spice.text import canonical_text, canonical_vector_name, circuit_lines, netlist_lines, text_digest
 from lcchain.studies.plan import batch_plan
 from lcchain.studies.run import run_plan
 from lcchain.studies.store import Store
@@ -140,15 +141,22 @@ def simulators() -> Iterator[dict[str, Simulator]]:
 @pytest.mark.parametrize("backend", ["batch", "warm", "shared"])
 def test_no_transport_runs_a_text_that_is_not_canonical(backend: str, simulators: dict[str, Simulator],
                                                         folders: tuple[Path, Path]) -> None:
-    # Each transport, called directly with a text no check made canonical, refuses it before ngspice starts.
+    # A transport runs a TransportJob, and a TransportJob holds a canonical text only: a text no check made
+    # canonical cannot be handed to any transport (refused, naming the line, before ngspice starts).
     folder, secret = folders
     netlist, vectors, tstop = _spec()
     simulator = simulators[backend]
+    job = RunJob(netlist, vectors, tstop, foreign=True)
     for char in ("\u2028", "\x85", "\x0c", "\r"):
         text = _hostile(netlist, char, "comment", secret, folder)
-        with _placement(simulator, True, None) as place, pytest.raises(ParameterError, match="line 2"):
-            TRANSPORT_RUNS[backend].run(text, simulator, 60.0, tstop, None, place, None, None)
-    result = run(netlist, vectors, tstop, simulator=simulator, foreign=True)  # the transport still works
+        with pytest.raises(ParameterError, match="line 2"):
+            TransportJob.checked(text, job)
+        with pytest.raises(ParameterError, match="line 2"):
+            TransportJob(text, tstop, 60.0, None, None)
+    with _placement(simulator, True, None) as place:  # the transport itself runs the checked text it is given
+        columns, _, _ = TRANSPORT_RUNS[backend].run(TransportJob.checked(netlist, job), simulator, place, None)
+    assert {canonical_vector_name(v) for v in vectors} <= set(columns)
+    result = run(job, simulator)  # and through the runner
     assert result.points > 10 and "lcchain-secret-line" not in result.log
 
 
@@ -160,7 +168,7 @@ def test_the_workers_hand_ngspice_the_checked_lines(backend: str, simulators: di
     netlist, vectors, tstop = _spec()
     for text in (netlist, netlist.rstrip("\n")):
         assert text_digest(circuit_lines(text)) == text_digest(netlist.split("\n"))
-        run(text, vectors, tstop, simulator=simulators[backend], foreign=True)
+        run(RunJob(text, vectors, tstop, foreign=True), simulators[backend])
 
 
 #: Texts that differ from the plain netlist only in what canonical_text normalises or what every reader splits
@@ -247,8 +255,8 @@ def test_a_default_batch_refuses_the_hidden_include_and_runs_nothing(tmp_path: P
 @pytest.mark.ngspice
 def test_a_result_is_the_same_whatever_the_line_ends(simulators: dict[str, Simulator]) -> None:
     netlist, vectors, tstop = _spec()
-    plain = run(netlist, vectors, tstop, simulator=simulators["batch"], foreign=True)
-    crlf = run(netlist.replace("\n", "\r\n"), vectors, tstop, simulator=simulators["warm"], foreign=True)
+    plain = run(RunJob(netlist, vectors, tstop, foreign=True), simulators["batch"])
+    crlf = run(RunJob(netlist.replace("\n", "\r\n"), vectors, tstop, foreign=True), simulators["warm"])
     assert all(np.array_equal(plain.vectors[k], crlf.vectors[k]) for k in plain.vectors)
     assert plain.options == crlf.options
 

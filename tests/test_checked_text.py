@@ -16,6 +16,7 @@ from helpers.netlists import LADDER, RC_NETLIST
 
 from lcchain.core.errors import ParameterError
 from lcchain.spice.foreign import CheckedText, allowed_netlist
+from lcchain.spice.job import RunJob
 from lcchain.spice.ngspice import runner
 from lcchain.studies.plan import batch_plan
 
@@ -72,7 +73,7 @@ def _refuse_all(text: str, source: str, folder: Path | None, read: object = None
 def test_the_runner_checks_only_what_the_allow_list_did_not(monkeypatch: pytest.MonkeyPatch) -> None:
     checked = allowed_netlist(RC_NETLIST, "netlist", None)
     monkeypatch.setattr(runner, "allowed_netlist", _refuse_all)
-    result = runner.run(checked, ["v(out)"], 2e-6)  # real ngspice, no second check
+    result = runner.run(RunJob(checked, ["v(out)"], 2e-6))  # real ngspice, no second check
     assert result.points > 0
     with pytest.raises(ParameterError, match="second check"):  # any other text is checked
-        runner.run(str(checked), ["v(out)"], 2e-6)
+        runner.run(RunJob(str(checked), ["v(out)"], 2e-6))

@@ -39,6 +39,7 @@ from lcchain.circuit.ladder import Ladder
 from lcchain.circuit.netlist import SimulationOptions, netlist_text
 from lcchain.core.errors import ParameterError
 from lcchain.spice.engines import find_engine, run_engine
+from lcchain.spice.job import RunJob
 from lcchain.theory.response import linear_response
 
 L0, C0, I0 = 1e-5, 1e-8, 1e-3
@@ -236,8 +237,7 @@ def _simulated_error(engine: str, effects: tuple[Effect, ...], dt: float, coupli
     ladder = Ladder(_chain("two-mass", 8, coupling=coupling), L0, C0)
     options = SimulationOptions(dt=dt, tstop=16.0)
     netlist = netlist_text(ladder, options, I0=I0, effects=effects)
-    result = run_engine(netlist, ["i(l1)", "i(l8)"], 16.0 * ladder.time_unit, simulator=find_engine(engine),
-                        foreign=False)
+    result = run_engine(RunJob(netlist, ["i(l1)", "i(l8)"], 16.0 * ladder.time_unit, foreign=False), find_engine(engine))
     theory = CircuitTheory(ladder_elements(ladder, effects, kick=I0)).currents(result.time, ["L1", "L8"])
     return max(float(np.max(np.abs(result.vectors[k] - theory[j]))) for j, k in enumerate(("i(l1)", "i(l8)"))) / I0
 

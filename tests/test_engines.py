@@ -44,6 +44,7 @@ from lcchain.spice.doctor import doctor
 from lcchain.spice.engine import Engine
 from lcchain.spice.engines import DEFAULT_ENGINE, ENGINES, find_engine, run_engine
 from lcchain.spice.gnucap import coupled_initial_currents, read_table
+from lcchain.spice.job import RunJob
 from lcchain.studies.plan import sweep_plan
 from lcchain.studies.run import run_plan
 from lcchain.studies.store import Store, engine_of, engine_text
@@ -220,7 +221,7 @@ def test_gnucap_meets_the_predicted_error_at_any_scale(scale: dict) -> None:
 @pytest.mark.ngspice
 def test_gnucap_and_ngspice_agree_on_the_same_netlist() -> None:
     spec, _, _ = simulation_spec(chain_for_case("perfect", 40), dt=0.04, transits=2)
-    results = {name: run_engine(spec.netlist, spec.vectors, spec.tstop, simulator=find_engine(name), foreign=False)
+    results = {name: run_engine(RunJob(spec.netlist, spec.vectors, spec.tstop, foreign=False), find_engine(name))
                for name in ENGINES}
     gnucap, ngspice = results["gnucap"], results["ngspice"]
     assert (gnucap.engine, ngspice.engine) == ("gnucap", "ngspice") and gnucap.netlist_sha256 == ngspice.netlist_sha256
@@ -257,7 +258,7 @@ def test_coupled_coils_start_with_the_wanted_currents_in_both_engines() -> None:
     text = _coupled_netlist(k, h, tstop)
     assert " ic=" in ENGINES["gnucap"].dialect(text, ["i(l1)", "i(l2)"]).split("L2 n2 0 2e-05")[1].splitlines()[0]
     for name in ENGINES:
-        result = run_engine(text, ["i(l1)", "i(l2)"], tstop, simulator=find_engine(name), foreign=False)
+        result = run_engine(RunJob(text, ["i(l1)", "i(l2)"], tstop, foreign=False), find_engine(name))
         exact = _coupled_exact(k, result.time)
         for row, vector in enumerate(("i(l1)", "i(l2)")):
             error = np.max(np.abs(result.vectors[vector] - exact[row])) / I0
@@ -328,7 +329,7 @@ def test_gear_with_gnucap_is_refused() -> None:
 def test_a_foreign_netlist_never_runs_in_gnucap() -> None:
     text = _reference("two-mass-N20.cir")
     with pytest.raises(ParameterError, match="ngspice for a netlist lcchain did not write"):
-        run_engine(text, ["i(l1)"], 1e-6, simulator=find_engine("gnucap"))
+        run_engine(RunJob(text, ["i(l1)"], 1e-6), find_engine("gnucap"))
 
 
 @pytest.mark.parametrize("argv, said", [
@@ -412,8 +413,7 @@ def test_a_gnucap_timeout_kills_it_and_leaves_nothing() -> None:
     before = temporary_entries()
     spec, _, _ = simulation_spec(chain_for_case("two-mass", 400), dt=0.002, transits=3)
     with pytest.raises(SimulationError, match="gnucap timed out after 0.3 s and was killed") as caught:
-        run_engine(spec.netlist, spec.vectors, spec.tstop, simulator=find_engine("gnucap"), timeout=0.3,
-                   foreign=False)
+        run_engine(RunJob(spec.netlist, spec.vectors, spec.tstop, timeout=0.3, foreign=False), find_engine("gnucap"))
     assert caught.value.status == "timeout"
     assert "gnucap" not in descendants(os.getpid()).values() and temporary_entries() == before
 

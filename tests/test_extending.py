@@ -12,7 +12,7 @@ import textwrap
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, ClassVar
+from typing import ClassVar
 
 import numpy as np
 import pytest
@@ -27,8 +27,9 @@ from lcchain.core.errors import ParameterError
 from lcchain.core.types import Backend
 from lcchain.runs.request import Request, Transient, plan_request
 from lcchain.runs.spectrum import measure_spectrum
-from lcchain.spice.ac import run_ac
+from lcchain.spice.ac import AcJob, run_ac
 from lcchain.spice.engines import ENGINES
+from lcchain.spice.job import Progress, RunJob
 from lcchain.spice.ngspice.engine import Ngspice
 from lcchain.spice.ngspice.find import find_simulator
 from lcchain.spice.ngspice.runner import run
@@ -109,10 +110,9 @@ class WrappedNgspice(Ngspice):
         title, rest = netlist.split("\n", 1)
         return f"{title}\n{self.MARK}\n{rest}"
 
-    def run(self, netlist: str, vectors: Sequence[str], tstop: float, *, simulator: Simulator,
-            **options: Any) -> RunResult:
-        result = run(self.dialect(netlist, vectors), vectors, tstop,
-                     simulator=dataclasses.replace(simulator, engine="ngspice"), **options)
+    def run(self, job: RunJob, simulator: Simulator, progress: Progress | None = None) -> RunResult:
+        ours = dataclasses.replace(job, netlist=self.dialect(job.netlist, job.vectors))
+        result = run(ours, dataclasses.replace(simulator, engine="ngspice"), progress=progress)
         return dataclasses.replace(result, engine=self.name)
 
 
@@ -145,7 +145,7 @@ def test_an_outside_engine_without_an_ac_analysis_is_refused_in_one_line(monkeyp
     assert error.value.field == "engine"
     text = ac_netlist_text(Ladder(chain, 10e-6, 1e-6), points=32, omega_max=2.1)
     with pytest.raises(ParameterError, match="engine = 'wrapped-ngspice'"):
-        run_ac(text, ["i(l1)"], 32, simulator=WrappedNgspice().find())
+        run_ac(AcJob(text, ["i(l1)"], 32), WrappedNgspice().find())
     assert main(["spectrum", "--case", "two-mass", "--N", "8", "--engine", "wrapped-ngspice"]) == 2
     err = capsys.readouterr().err.strip()
     assert "wrapped-ngspice" in err and "\n" not in err

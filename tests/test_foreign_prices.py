@@ -22,6 +22,7 @@ from lcchain.core.errors import ParameterError, SimulationError
 from lcchain.runs.execute import execute
 from lcchain.spice import processes
 from lcchain.spice.foreign import analysis_of, foreign_estimate, foreign_price
+from lcchain.spice.job import RunJob
 from lcchain.spice.ngspice import warm
 from lcchain.spice.ngspice.find import find_simulator
 from lcchain.spice.ngspice.runner import run
@@ -161,10 +162,10 @@ def test_every_transport_stops_a_run_past_its_memory(backend: str) -> None:
     if backend == "warm":
         simulator = warm.warm_simulator(simulator)
     with pytest.raises(SimulationError) as caught:
-        run(MANY, ["v(n0)"], 1e-8, simulator=simulator, max_resident_bytes=LIMIT)
+        run(RunJob(MANY, ["v(n0)"], 1e-8, max_resident_bytes=LIMIT), simulator)
     assert caught.value.status == "failed"
     assert "memory grew past 40 MiB resident" in caught.value.reason and "was stopped" in caught.value.reason
-    assert run(MANY, ["v(n0)"], 1e-8, simulator=simulator, max_resident_bytes=512 * 2**20).points > 1
+    assert run(RunJob(MANY, ["v(n0)"], 1e-8, max_resident_bytes=512 * 2**20), simulator).points > 1
 
 
 @pytest.mark.ngspice
@@ -174,16 +175,15 @@ def test_a_warm_run_that_prints_past_its_limit_is_stopped(monkeypatch: pytest.Mo
     long = _netlist("t" * 200, "V1 in 0 SIN(0 1 1meg)\n" + RC, ".tran 1p 1u 0 1p")  # a million points
     monkeypatch.setattr(processes, "MAX_LOG_BYTES", 100)
     with pytest.raises(SimulationError, match="printed more than 100 B"):
-        run(long, ["v(out)"], 1e-6, simulator=simulator, max_output_bytes=1e9)
+        run(RunJob(long, ["v(out)"], 1e-6, max_output_bytes=1e9), simulator)
     assert not [w for w in warm._workers if w.alive]  # the worker went with the run
 
 
 @pytest.mark.ngspice
 def test_a_warm_worker_keeps_its_log_per_run() -> None:
     simulator = warm.warm_simulator(find_simulator("batch"))
-    first = run(_netlist("first title", "V1 in 0 DC 1\n" + RC, ".tran 1n 10n"), ["v(out)"], 1e-8, simulator=simulator)
-    second = run(_netlist("second title", "V1 in 0 DC 1\n" + RC, ".tran 1n 10n"), ["v(out)"], 1e-8,
-                 simulator=simulator)
+    first = run(RunJob(_netlist("first title", "V1 in 0 DC 1\n" + RC, ".tran 1n 10n"), ["v(out)"], 1e-8), simulator)
+    second = run(RunJob(_netlist("second title", "V1 in 0 DC 1\n" + RC, ".tran 1n 10n"), ["v(out)"], 1e-8), simulator)
     assert "first title" in first.log and "first title" not in second.log and "second title" in second.log
 
 

@@ -35,6 +35,7 @@ from lcchain.compare.accuracy import AccuracyWarning, predicted_error, trap_resp
 from lcchain.compare.waveforms import normalise
 from lcchain.core.errors import ParameterError
 from lcchain.runs.simulate import simulate
+from lcchain.spice.job import RunJob
 from lcchain.spice.ngspice.runner import run
 from lcchain.studies.bench import ladder_energy
 from lcchain.theory.cases import chain_for_case
@@ -104,7 +105,7 @@ def _long_ladder(N, tstop=30.0, dt=0.1):
     ladder = Ladder(chain)
     text = netlist_text(ladder, SimulationOptions(dt=dt, tstop=tstop), title=f"long ladder N={N}")
     names = probe_names(N, "ends")
-    result = run(text, names, tstop * ladder.time_unit, timeout=1800.0)
+    result = run(RunJob(text, names, tstop * ladder.time_unit, timeout=1800.0))
     w = normalise(result.time, result.vectors[names[0]], result.vectors[names[1]], time_unit=ladder.time_unit,
                   excitation="kick", I0=1e-3)
     model = trap_response(modes.density, modes.omega, w.t, tstep=dt)

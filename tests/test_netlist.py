@@ -106,11 +106,12 @@ def test_titles_that_ngspice_reads_as_text_are_accepted(title):
 
 @pytest.mark.ngspice
 def test_a_shell_title_executes_nothing_in_ngspice(tmp_path):
+    from lcchain.spice.job import RunJob
     from lcchain.spice.ngspice.runner import run
 
     marker = tmp_path / "executed"
     text = netlist_text(Ladder(Chain.uniform_free(3)), OPTIONS, title=f"shell touch {marker}")
-    run(text, ["i(l1)"], OPTIONS.tstop * Ladder(Chain.uniform_free(3)).time_unit)
+    run(RunJob(text, ["i(l1)"], OPTIONS.tstop * Ladder(Chain.uniform_free(3)).time_unit))
     assert not marker.exists()
 
 

@@ -14,6 +14,7 @@ from helpers.processes import temporary_entries
 
 from lcchain.core.errors import ParameterError, SimulationError
 from lcchain.spice import doctor as doctor_module
+from lcchain.spice.job import RunJob
 from lcchain.spice.ngspice import batch
 from lcchain.spice.ngspice.find import find_simulator, ngspice_version
 from lcchain.spice.ngspice.raw import read_raw
@@ -43,7 +44,7 @@ def leaves_nothing_behind():
 
 @pytest.fixture(scope="module")
 def batch_result() -> RunResult:
-    return run(LADDER, ["i(l1)", "i(l3)"], TSTOP)
+    return run(RunJob(LADDER, ["i(l1)", "i(l3)"], TSTOP))
 
 
 # --------------------------------------------------------------------------- pure helpers
@@ -69,16 +70,16 @@ def test_lines_outside_the_allow_list_are_refused_by_both_backends(line: str) ->
     netlist = LADDER.replace(".end\n", f"{line}\n.end\n")
     for backend in ("batch", "shared"):
         with pytest.raises(ParameterError, match="netlist: line 12"):
-            run(netlist, ["i(l1)"], TSTOP, backend=backend)
+            run(RunJob(netlist, ["i(l1)"], TSTOP), backend=backend)
 
 
 def test_bad_arguments_are_parameter_errors() -> None:
     with pytest.raises(ParameterError, match="backend"):
-        run(LADDER, ["i(l1)"], TSTOP, backend="spectre")  # type: ignore[arg-type]
+        run(RunJob(LADDER, ["i(l1)"], TSTOP), backend="spectre")  # type: ignore[arg-type]
     with pytest.raises(ParameterError, match="tstop"):
-        run(LADDER, ["i(l1)"], -1.0)
+        run(RunJob(LADDER, ["i(l1)"], -1.0))
     with pytest.raises(ParameterError, match="vectors"):
-        run(LADDER, "i(l1)", TSTOP)  # type: ignore[arg-type]
+        run(RunJob(LADDER, "i(l1)", TSTOP))
 
 
 def _raw_file(tmp_path: Path, flags: str, points: int, values: np.ndarray) -> Path:
@@ -140,7 +141,7 @@ def test_batch_run_transfers_the_kick_perfectly(batch_result: RunResult) -> None
 @pytest.mark.ngspice
 def test_shared_backend_is_bit_identical_to_batch(batch_result: RunResult) -> None:
     shared_simulator = find_simulator("shared")
-    results = [run(LADDER, ["i(l1)", "i(l3)"], TSTOP, simulator=shared_simulator) for _ in range(3)]
+    results = [run(RunJob(LADDER, ["i(l1)", "i(l3)"], TSTOP), shared_simulator) for _ in range(3)]
     for shared in results:  # repeated runs leak no state: identical every time
         assert shared.backend == "shared"
         assert shared.ngspice_version == batch_result.ngspice_version
@@ -155,7 +156,7 @@ def test_shared_backend_is_bit_identical_to_batch(batch_result: RunResult) -> No
 def test_both_save_syntaxes_give_the_same_keys(backend: str) -> None:
     netlist = LADDER.replace(".save i(l1) i(l3)", ".save l1#branch v(n1) I(L3)")
     seen: list[float] = []
-    result = run(netlist, ["l1#branch", "v(n1)", "i(l3)"], TSTOP, backend=backend, progress=seen.append)
+    result = run(RunJob(netlist, ["l1#branch", "v(n1)", "i(l3)"], TSTOP), backend=backend, progress=seen.append)
     assert set(result.vectors) == {"i(l1)", "v(n1)", "i(l3)"}
     assert seen == [0.0, 1.0]
 
@@ -175,7 +176,7 @@ def test_both_save_syntaxes_give_the_same_keys(backend: str) -> None:
 def test_bad_netlist_raises_with_ngspice_message(backend: str, broken: str, said: str, leaves_nothing_behind) -> None:
     # trusted: what ngspice itself says (a Q element would not get past the allow-list)
     with pytest.raises(SimulationError) as info:
-        run(broken, ["i(l1)", "i(l3)"], TSTOP, backend=backend, trusted=True)
+        run(RunJob(broken, ["i(l1)", "i(l3)"], TSTOP, trusted=True), backend=backend)
     assert said in str(info.value)
     assert info.value.status == "failed" and info.value.reason and said in info.value.reason + info.value.log_tail
 
@@ -184,20 +185,20 @@ def test_bad_netlist_raises_with_ngspice_message(backend: str, broken: str, said
 @pytest.mark.parametrize("backend", ["batch", "shared"])
 def test_vector_not_saved_is_named(backend: str, leaves_nothing_behind) -> None:
     with pytest.raises(SimulationError, match=re.escape("i(l2)")):
-        run(LADDER, ["i(l1)", "i(l2)"], TSTOP, backend=backend)
+        run(RunJob(LADDER, ["i(l1)", "i(l2)"], TSTOP), backend=backend)
 
 
 @pytest.mark.ngspice
 def test_wrong_tstop_is_detected(leaves_nothing_behind) -> None:
     with pytest.raises(SimulationError, match="tstop"):
-        run(LADDER, ["i(l1)"], 2 * TSTOP)
+        run(RunJob(LADDER, ["i(l1)"], 2 * TSTOP))
 
 
 @pytest.mark.ngspice
 @pytest.mark.parametrize("backend", ["batch", "shared"])
 def test_timeout_kills_the_simulator(backend: str, leaves_nothing_behind) -> None:
     with pytest.raises(SimulationError, match="timed out") as info:
-        run(ENDLESS, ["i(l1)"], 1e6, backend=backend, timeout=TIMEOUT_KILL_S)
+        run(RunJob(ENDLESS, ["i(l1)"], 1e6, timeout=TIMEOUT_KILL_S), backend=backend)
     assert info.value.status == "timeout"
 
 
@@ -221,7 +222,7 @@ def test_batch_run_reports_its_progress(monkeypatch) -> None:
     monkeypatch.setattr(batch, "PROGRESS_INTERVAL", 0.02)
     text, ladder, options = make_netlist(chain_for_case("two-mass", 300), dt=0.02, transits=1)
     seen: list[float] = []
-    run(text, ["i(l1)", "i(l300)"], options.tstop * ladder.time_unit, progress=seen.append)
+    run(RunJob(text, ["i(l1)", "i(l300)"], options.tstop * ladder.time_unit), progress=seen.append)
     assert seen[0] == 0.0 and seen[-1] == 1.0
     assert any(0.0 < f < 1.0 for f in seen), seen
     assert seen == sorted(seen)

@@ -24,11 +24,14 @@ from lcchain.core.registry import Registry
 from lcchain.core.types import Backend, Case, ExecutorName, ModeMethod, Transport
 from lcchain.runs.request import Request, Transient, plan_request
 from lcchain.scenes.schema import ChainSpec
+from lcchain.spice.foreign import allowed_netlist
+from lcchain.spice.job import RunJob
 from lcchain.spice.ngspice.batch import run_batch
 from lcchain.spice.ngspice.find import find_simulator
 from lcchain.spice.ngspice.locate import find_batch
 from lcchain.spice.ngspice.runner import run
 from lcchain.spice.ngspice.transports import TRANSPORT_RUNS, NgspiceTransport
+from lcchain.spice.result import read_include
 from lcchain.studies.executors import EXECUTOR_TRAITS, Executor, execute_group
 from lcchain.studies.run import run_specs
 from lcchain.theory.cases import CHAIN_CASES, ChainCase, chain_for_case
@@ -140,10 +143,12 @@ def test_an_executor_of_ones_own_runs_a_tiny_study_through_ngspice(forget):
 @pytest.mark.ngspice
 def test_a_transport_of_ones_own_runs_a_netlist_through_ngspice(forget):
     runs: list[str] = []
+    texts: list[str] = []
 
-    def counted_batch(text, simulator, *rest):
+    def counted_batch(job, simulator, place, progress=None):
         runs.append(simulator.backend)
-        return run_batch(text, simulator, *rest)
+        texts.append(job.text)
+        return run_batch(job, simulator, place, progress)
 
     def find(launcher):
         return dataclasses.replace(find_batch(launcher), backend="test-counted")
@@ -152,7 +157,9 @@ def test_a_transport_of_ones_own_runs_a_netlist_through_ngspice(forget):
     forget.append((TRANSPORT_RUNS, mine.name))
     simulator = find_simulator(mine)
     assert simulator.backend == "test-counted" and find_simulator("batch").version == simulator.version
-    result = run(RC_NETLIST, ["v(out)"], 2e-6, simulator=simulator, foreign=True)
+    result = run(RunJob(RC_NETLIST, ["v(out)"], 2e-6, foreign=True), simulator)
     assert runs == ["test-counted"] and result.points > 10
+    # the transport is handed the text the allow-list returned, and nothing else
+    assert texts == [allowed_netlist(RC_NETLIST, "netlist", None, read_include)]
     with pytest.raises(ParameterError, match="backend = 'warm'"):
         find_simulator(TRANSPORT_RUNS["warm"])  # a study starts it: no user names it

@@ -21,6 +21,7 @@ from lcchain.circuit.effects import Losses
 from lcchain.circuit.ladder import Ladder
 from lcchain.circuit.netlist import SimulationOptions, netlist_text, probe_names
 from lcchain.runs.simulate import simulate
+from lcchain.spice.job import RunJob
 from lcchain.spice.ngspice.runner import run
 from lcchain.theory.cases import chain_for_case
 from lcchain.theory.chain import PERFECT_ARRIVAL, Chain
@@ -83,7 +84,7 @@ def test_uniform_free_zero_mode_carries_constant_dc():
     ladder = Ladder(chain, 10e-6, 10e-9)
     options = SimulationOptions(dt=0.05, tstop=60.0)
     names = probe_names(chain.N, "all")
-    result = run(netlist_text(ladder, options, probes="all"), names, options.tstop * ladder.time_unit)
+    result = run(RunJob(netlist_text(ladder, options, probes="all"), names, options.tstop * ladder.time_unit))
     momentum = sum(float(m) * result.vectors[name] for m, name in zip(chain.masses, names, strict=True)) / 1e-3
     assert np.max(np.abs(momentum - chain.masses[0])) < RTOL_CONSERVED
     # and the end current oscillates about the DC level I0 m1/M = I0/20
@@ -158,8 +159,8 @@ def test_pyspice_circuit_is_the_same_ladder(effects):
     circuit_text = str(circuit_from_netlist(ours)) + "\n".join(analysis) + "\n.end\n"
     assert circuit_text != ours  # PySpice wrote it
     names = probe_names(chain.N)
-    a = run(ours, names, options.tstop * ladder.time_unit)
-    b = run(circuit_text, names, options.tstop * ladder.time_unit)
+    a = run(RunJob(ours, names, options.tstop * ladder.time_unit))
+    b = run(RunJob(circuit_text, names, options.tstop * ladder.time_unit))
     assert np.array_equal(a.time, b.time)
     for name in names:
         assert np.array_equal(a.vectors[name], b.vectors[name])

@@ -19,7 +19,7 @@ from lcchain.cli.main import main
 from lcchain.core.budget import INTERPRETER_SECONDS, Budget, BudgetError, run_estimate
 from lcchain.core.errors import ParameterError, SimulationError
 from lcchain.runs.spectrum import OMEGA_WEIGHT_FLOOR, measure_spectrum
-from lcchain.spice.ac import run_ac
+from lcchain.spice.ac import AcJob, run_ac
 from lcchain.spice.engines import ENGINES
 from lcchain.spice.gnucap import read_ac_table
 from lcchain.theory.cases import chain_for_case
@@ -50,7 +50,7 @@ def test_ngspice_and_gnucap_agree_on_the_same_ac_netlist():
     chain = chain_for_case("uniform-bounded", 12)
     text = _ac_netlist(chain, 300)
     vectors = ("i(l1)", "i(l12)")
-    ngspice, gnucap = (run_ac(text, vectors, 300, engine=name) for name in ("ngspice", "gnucap"))
+    ngspice, gnucap = (run_ac(AcJob(text, vectors, 300), engine=name) for name in ("ngspice", "gnucap"))
     assert (ngspice.engine, gnucap.engine) == ("ngspice", "gnucap")
     assert ngspice.netlist_sha256 == gnucap.netlist_sha256  # lcchain's text, whichever dialect ran
     assert np.allclose(gnucap.frequency, ngspice.frequency, rtol=RTOL_ENGINES_AC, atol=0.0)
@@ -100,12 +100,12 @@ def test_gnucap_runs_a_sweep_in_segments():
     text = _ac_netlist(chain, 64)
     card = next(line for line in text.splitlines() if line.startswith(".ac"))
     low, high = ".ac lin 40 1000.0 150000.0", ".ac lin 24 150500.0 390000.0"
-    alone = [run_ac(text.replace(card, c), ["i(l10)"], n, engine="gnucap") for c, n in ((low, 40), (high, 24))]
-    both = run_ac(text.replace(card, f"{high}\n{low}"), ["i(l10)"], 64, engine="gnucap")
+    alone = [run_ac(AcJob(text.replace(card, c), ["i(l10)"], n), engine="gnucap") for c, n in ((low, 40), (high, 24))]
+    both = run_ac(AcJob(text.replace(card, f"{high}\n{low}"), ["i(l10)"], 64), engine="gnucap")
     assert np.array_equal(both.frequency, np.concatenate([r.frequency for r in alone]))
     assert np.array_equal(both.vectors["i(l10)"], np.concatenate([r.vectors["i(l10)"] for r in alone]))
     with pytest.raises(SimulationError, match="twice"):
-        run_ac(text.replace(card, f"{low}\n{low}"), ["i(l10)"], 80, engine="gnucap")
+        run_ac(AcJob(text.replace(card, f"{low}\n{low}"), ["i(l10)"], 80), engine="gnucap")
 
 
 def test_gnucaps_sweep_is_priced_at_its_own_cost_before_it_runs():

@@ -25,6 +25,7 @@ from helpers.processes import alive, as_from_a_terminal, descendants, gone, reap
 import lcchain
 from lcchain.core.errors import ParameterError, SimulationError, SimulatorMissingError
 from lcchain.runs.simulate import simulation_spec
+from lcchain.spice.job import RunJob
 from lcchain.spice.ngspice import warm
 from lcchain.spice.ngspice.find import find_simulator
 from lcchain.spice.ngspice.runner import run
@@ -72,10 +73,10 @@ def _workers() -> list[warm.WarmWorker]:
 def test_a_warm_run_is_ngspice_b_to_the_bit(simulators, N: int, foreign: bool) -> None:
     batch, hot = simulators
     netlist, vectors, tstop = _netlist(N)
-    kinds = {"trusted": not foreign, "foreign": foreign}
-    expected = run(netlist, vectors, tstop, simulator=batch, **kinds)
-    first = run(netlist, vectors, tstop, simulator=hot, **kinds)
-    again = run(netlist, vectors, tstop, simulator=hot, **kinds)  # the same worker, a second time
+    job = RunJob(netlist, vectors, tstop, trusted=not foreign, foreign=foreign)
+    expected = run(job, batch)
+    first = run(job, hot)
+    again = run(job, hot)  # the same worker, a second time
     assert (expected.backend, first.backend) == ("batch", "warm")
     assert _same(expected, first) and _same(expected, again)
     assert first.points == expected.points > 100
@@ -85,10 +86,10 @@ def test_a_netlist_leaves_nothing_to_the_next(simulators) -> None:
     batch, hot = simulators
     netlist, vectors, tstop = _netlist(10)
     odd = netlist.replace(".tran", ".options reltol=1e-2 method=gear maxord=2 abstol=1e-6\n.tran", 1)
-    plain, other = (run(text, vectors, tstop, simulator=batch) for text in (netlist, odd))
+    plain, other = (run(RunJob(text, vectors, tstop), batch) for text in (netlist, odd))
     assert not _same(plain, other)  # the options matter, so the check below can fail
-    assert _same(run(odd, vectors, tstop, simulator=hot), other)
-    assert _same(run(netlist, vectors, tstop, simulator=hot), plain)
+    assert _same(run(RunJob(odd, vectors, tstop), hot), other)
+    assert _same(run(RunJob(netlist, vectors, tstop), hot), plain)
     assert len(_workers()) == 1  # both in one worker
 
 
@@ -100,28 +101,28 @@ def test_a_failing_netlist_fails_alone(simulators) -> None:
     reasons = []
     for simulator in (batch, hot):
         with pytest.raises(SimulationError) as caught:
-            run(broken, vectors, tstop, simulator=simulator)
+            run(RunJob(broken, vectors, tstop), simulator)
         reasons.append(caught.value.reason)
     assert all("singular" in reason.lower() for reason in reasons), reasons
-    assert _same(run(netlist, vectors, tstop, simulator=hot), run(netlist, vectors, tstop, simulator=batch))
+    assert _same(run(RunJob(netlist, vectors, tstop), hot), run(RunJob(netlist, vectors, tstop), batch))
 
 
 def test_a_crash_fails_that_run_only(simulators) -> None:
     batch, hot = simulators
     long_netlist, long_vectors, long_tstop = _netlist(300, dt=0.01, transits=3)
     netlist, vectors, tstop = _netlist(10)
-    run(netlist, vectors, tstop, simulator=hot)
+    run(RunJob(netlist, vectors, tstop), hot)
     (worker,) = _workers()
     killer = threading.Timer(0.3, lambda: os.kill(worker.proc.pid, signal.SIGKILL))
     killer.start()
     try:
         with pytest.raises(SimulationError) as caught:
-            run(long_netlist, long_vectors, long_tstop, simulator=hot)
+            run(RunJob(long_netlist, long_vectors, long_tstop), hot)
     finally:
         killer.cancel()
     assert "SIGKILL" in caught.value.reason and caught.value.status == "failed"
     assert not alive(worker.proc.pid)
-    assert _same(run(netlist, vectors, tstop, simulator=hot), run(netlist, vectors, tstop, simulator=batch))
+    assert _same(run(RunJob(netlist, vectors, tstop), hot), run(RunJob(netlist, vectors, tstop), batch))
     (replacement,) = _workers()
     assert replacement is not worker
 
@@ -130,7 +131,7 @@ def test_a_run_past_its_timeout_kills_its_worker(simulators) -> None:
     _, hot = simulators
     netlist, vectors, tstop = _netlist(300, dt=0.01, transits=3)
     with pytest.raises(SimulationError) as caught:
-        run(netlist, vectors, tstop, simulator=hot, timeout=0.2)
+        run(RunJob(netlist, vectors, tstop, timeout=0.2), hot)
     assert caught.value.status == "timeout"
     assert _workers() == []
 
@@ -141,7 +142,7 @@ def test_a_spent_worker_is_replaced(simulators, monkeypatch: pytest.MonkeyPatch)
     netlist, vectors, tstop = _netlist(10)
     pids = []
     for _ in range(5):
-        run(netlist, vectors, tstop, simulator=hot)
+        run(RunJob(netlist, vectors, tstop), hot)
         pids.append(_workers()[0].proc.pid)
     assert pids[0] == pids[1] != pids[2] == pids[3] != pids[4]
 

@@ -258,19 +258,21 @@ def _run(text: str, analysis: Transient | Sweep, simulator: Simulator, limits: R
     """(time or frequency, vectors by canonical name, wall seconds, version) of the simulator's run, within its
     price's ``limits``."""
     if isinstance(analysis, Sweep):
-        from ..spice.ac import run_ac
+        from ..spice.ac import AcJob, run_ac
 
         if trusted_in is not None:
             raise ParameterError("--allow-control", True, "a .tran netlist (an .ac one runs through the allow-list)")
-        ac = run_ac(text, (), analysis.count, simulator=simulator, timeout=limits.timeout, foreign=True,
-                    max_output_bytes=limits.max_output_bytes, max_resident_bytes=limits.max_resident_bytes)
+        ac = run_ac(AcJob(text, (), analysis.count, timeout=limits.timeout, foreign=True,
+                          max_output_bytes=limits.max_output_bytes, max_resident_bytes=limits.max_resident_bytes),
+                    simulator)
         return np.asarray(ac.frequency), {k: np.asarray(v) for k, v in ac.vectors.items()}, ac.wall_s, \
             ac.engine_version
+    from ..spice.job import RunJob
     from ..spice.ngspice.runner import run
 
-    result = run(text, (), analysis.stop, simulator=simulator, timeout=limits.timeout, foreign=True,
-                 trusted=trusted_in is not None, cwd=trusted_in, max_output_bytes=limits.max_output_bytes,
-                 max_resident_bytes=limits.max_resident_bytes)
+    result = run(RunJob(text, (), analysis.stop, timeout=limits.timeout, foreign=True, trusted=trusted_in is not None,
+                        cwd=trusted_in, max_output_bytes=limits.max_output_bytes,
+                        max_resident_bytes=limits.max_resident_bytes), simulator)
     return np.asarray(result.time), {k: np.asarray(v) for k, v in result.vectors.items()}, result.wall_s, \
         result.engine_version
 

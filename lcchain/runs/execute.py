@@ -41,6 +41,7 @@ from ..core.frozen import FrozenArrays, FrozenMap
 from ..core.show import html_table, plot, short_repr
 from ..core.types import DEFAULT_ENGINE, GAUSSIAN_CENTRE, AnalysisKind, Probes, RunStatus
 from ..spice.engines import engine_named, find_engine, run_engine
+from ..spice.job import RunJob
 from ..spice.measure import Measurements, measurement_fields
 from ..spice.result import RunResult
 from ..spice.simulator import Simulator
@@ -415,9 +416,10 @@ def _compare(theory: Theory, result: RunResult) -> tuple[Signals, Metrics]:
 def _run_transient(spec: RunSpec, simulator: Simulator,
                    progress: Callable[[float], None] | None) -> tuple[dict[str, Any], float, int, str]:
     """A transient run in its engine, compared with its :class:`Theory`: (record fields, wall, points, digest)."""
-    result = run_engine(spec.netlist, spec.vectors, spec.tstop, simulator=simulator, timeout=spec.timeout,
-                        progress=progress, cwd=spec.cwd, trusted=spec.trusted, foreign=spec.foreign,
-                        max_output_bytes=spec.max_output_bytes, max_resident_bytes=spec.max_resident_bytes)
+    job = RunJob(spec.netlist, spec.vectors, spec.tstop, timeout=spec.timeout, cwd=spec.cwd, trusted=spec.trusted,
+                 foreign=spec.foreign, max_output_bytes=spec.max_output_bytes,
+                 max_resident_bytes=spec.max_resident_bytes)
+    result = run_engine(job, simulator, progress)
     if spec.check:
         from .check import reference_measurements
 
@@ -472,14 +474,14 @@ def _run_ac(spec: RunSpec, simulator: Simulator,
     """An AC run (:func:`lcchain.spice.ac.run_ac`), its poles and weights against its :class:`SpectrumTheory`.
     ``progress`` hears 0 at the start, the engine's share of the priced work when the engine is done, and 1."""
     from ..compare.spectral import spectrum_estimate
-    from ..spice.ac import run_ac
+    from ..spice.ac import AcJob, run_ac
 
     assert spec.points is not None  # the spec requires it for an AC run
     if progress is not None:
         progress(0.0)
-    result = run_ac(spec.netlist, spec.vectors, spec.points, simulator=simulator, timeout=spec.timeout,
-                    foreign=spec.foreign, max_output_bytes=spec.max_output_bytes,
-                    max_resident_bytes=spec.max_resident_bytes)
+    result = run_ac(AcJob(spec.netlist, spec.vectors, spec.points, timeout=spec.timeout, foreign=spec.foreign,
+                          max_output_bytes=spec.max_output_bytes, max_resident_bytes=spec.max_resident_bytes),
+                    simulator)
     if spec.check:
         from .check import reference_measurements
 

@@ -34,7 +34,7 @@ from ..core.errors import ParameterError
 from ..core.limits import COUPLED_MAX_N
 from ..core.show import short_repr
 from ..core.types import DEFAULT_C0, DEFAULT_L0
-from ..spice.ac import run_ac
+from ..spice.ac import AcJob, run_ac
 from ..spice.simulator import Simulator
 from ..theory.chain import Chain
 
@@ -305,7 +305,7 @@ def measure_modes(chain: Chain, *, Q: float | None = None, L0: float = DEFAULT_L
     for part in _runs(segments, chain.N):  # several runs: each one's raw file and vectors stay small
         netlist = survey_netlist_text(ladder, part, list(amplitudes), effects=effects)
         count = sum(n for n, _, _ in part)
-        result = run_ac(netlist, names, count, simulator=simulator, timeout=timeout)
+        result = run_ac(AcJob(netlist, names, count, timeout=timeout), simulator)
         started = time.perf_counter()
         rows = slice(row, row + count)
         w[rows] = np.asarray(result.frequency) * (2.0 * math.pi * ladder.time_unit)

@@ -1,4 +1,5 @@
-"""What an AC analysis returns, whichever engine ran it: :class:`AcResult`, checked by :func:`ac_result`.
+"""What an AC analysis returns, whichever engine ran it: a :class:`~lcchain.spice.result.RunResult` of an
+:class:`~lcchain.spice.result.AcData` (:data:`AcResult` names the same record), checked by :func:`ac_result`.
 
 Every engine's :meth:`~lcchain.spice.engine.Engine.run_ac` reads its own output into columns (``"frequency"`` in
 Hz and complex vectors by canonical name) and hands them to :func:`ac_result`, so that every engine's result
@@ -9,73 +10,42 @@ passes the same checks: as many frequencies as asked, each once, every vector pr
 from __future__ import annotations
 
 import hashlib
-from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from collections.abc import Mapping
 
 import numpy as np
 
 from ..core.errors import SimulationError
-from ..core.frozen import FrozenArrays, FrozenMap
+from ..core.frozen import FrozenMap
+from .job import AcJob
 from .log import trim_log, useful_output
-from .measure import Measurements, measure_names, read_measurements
+from .measure import measure_names, read_measurements
+from .result import AcData, RunResult
 from .simulator import Simulator
+from .text import parse_options
 
 __all__ = ["AcResult", "ac_result"]
 
 
-@dataclass(frozen=True, eq=False)
-class AcResult(FrozenArrays):
-    """One AC analysis.
-
-    Attributes
-    ----------
-    frequency : numpy.ndarray
-        Hz, ascending (read-only).
-    vectors : Mapping[str, numpy.ndarray]
-        Complex phasors (A for a branch current) by canonical name, for a source of 1 V.
-    engine_version : str
-    netlist_sha256 : str
-        Of lcchain's netlist text (ngspice's dialect), whichever engine ran it.
-    wall_s : float
-        The engine's process's wall time.
-    log : str
-    engine : str
-        The engine's name (:data:`lcchain.spice.engines.ENGINES`).
-    measurements : Mapping[str, tuple[float | None, str]]
-        The netlist's ``.meas ac`` results by name: (value, "") or (None, ngspice's reason).
-    """
-
-    frequency: np.ndarray
-    vectors: Mapping[str, np.ndarray]
-    engine_version: str
-    netlist_sha256: str
-    wall_s: float
-    log: str = field(repr=False)
-    engine: str = "ngspice"
-    measurements: Measurements = field(default_factory=FrozenMap)
-
-    @property
-    def points(self) -> int:
-        return int(self.frequency.size)
+#: An AC analysis's record: the same record as a transient's (:class:`lcchain.spice.result.RunResult`), whose
+#: ``data`` is an :class:`~lcchain.spice.result.AcData` (``frequency`` in Hz, complex ``vectors``); the name is kept
+#: for the code that says which analysis it holds.
+AcResult = RunResult
 
 
-def ac_result(netlist: str, columns: Mapping[str, np.ndarray], log: str, names: Sequence[str], points: int,
-              simulator: Simulator, wall_s: float) -> AcResult:
-    """An engine's AC columns as an :class:`AcResult`, checked.
+def ac_result(job: AcJob, columns: Mapping[str, np.ndarray], log: str, simulator: Simulator,
+              wall_s: float) -> RunResult:
+    """An engine's AC columns as a run's record (an :class:`~lcchain.spice.result.AcData`), checked.
 
     Parameters
     ----------
-    netlist : str
-        lcchain's netlist text (hashed into the result).
+    job : AcJob
+        The run asked for: its netlist (lcchain's text, hashed into the result), the canonical names of its
+        vectors (none: every vector the engine saved) and the frequencies its ``.ac`` cards ask for.
     columns : Mapping[str, numpy.ndarray]
         ``"frequency"`` (Hz, real) and complex vectors by canonical name, as the engine read them (in any order:
         they are sorted by frequency).
     log : str
         The engine's output worth keeping and quoting.
-    names : sequence of str
-        The canonical names asked for (none: every vector the engine saved).
-    points : int
-        The frequencies the netlist's ``.ac`` line asks for.
     simulator : Simulator
         The one that ran (its engine and version go into the result).
     wall_s : float
@@ -87,7 +57,7 @@ def ac_result(netlist: str, columns: Mapping[str, np.ndarray], log: str, names: 
         A frequency or a vector missing, too few or too many frequencies, one twice (overlapping cards), or a value
         that is not finite.
     """
-    engine = simulator.engine
+    engine, netlist, names, points = simulator.engine, job.netlist, job.vectors, job.points
 
     def fail(reason: str) -> SimulationError:
         return SimulationError(reason, useful_output(log), "failed", engine)
@@ -115,6 +85,7 @@ def ac_result(netlist: str, columns: Mapping[str, np.ndarray], log: str, names: 
             raise fail(f"the vector {name!r} holds a value that is not finite (a frequency at a pole?)")
         found[name] = values
     frequency.flags.writeable = False
-    return AcResult(frequency, FrozenMap(found), simulator.version,
-                    hashlib.sha256(netlist.encode("utf-8")).hexdigest(), wall_s, trim_log(log), engine,
-                    FrozenMap(read_measurements(log, measure_names(netlist))))
+    return RunResult(AcData(frequency, FrozenMap(found)), simulator.version,
+                     hashlib.sha256(netlist.encode("utf-8")).hexdigest(), wall_s, trim_log(log), engine,
+                     FrozenMap(read_measurements(log, measure_names(netlist))), FrozenMap(parse_options(netlist)),
+                     simulator.backend)

@@ -13,6 +13,7 @@ from dataclasses import dataclass
 from ..core.errors import SimulationError
 from ..core.types import Backend
 from .engines import DEFAULT_ENGINE, ENGINES, find_engine, run_engine
+from .job import RunJob
 from .ngspice.find import INSTALL_COMMAND, PYSPICE_INSTALL_COMMAND, find_shared_library, find_simulator, require_pyspice
 from .ngspice.runner import run
 from .sandbox import find_sandbox
@@ -61,12 +62,14 @@ V0 n0 0 0
 .save i(l1)
 .end
 """
+#: The doctor's run: the unit LC loop for 1 s, lcchain's own text.
+_DOCTOR_JOB = RunJob(_DOCTOR_NETLIST, ["i(l1)"], 1.0, timeout=60.0, foreign=False)
 #: Tolerance of the doctor's check i(l1)(t=1 s) = cos(1) for the unit LC loop.
 _DOCTOR_ATOL = 1e-4
 
 
 def _doctor_run(simulator: Simulator) -> str:
-    result = run(_DOCTOR_NETLIST, ["i(l1)"], 1.0, simulator=simulator, timeout=60.0, foreign=False)
+    result = run(_DOCTOR_JOB, simulator)
     error = abs(float(result.vectors["i(l1)"][-1]) - math.cos(1.0))
     if error > _DOCTOR_ATOL:
         raise SimulationError(f"i(l1)(1 s) differs from cos(1) by {error:.3g}")
@@ -75,7 +78,7 @@ def _doctor_run(simulator: Simulator) -> str:
 
 def _engine_run(name: str) -> str:
     simulator = find_engine(name)
-    result = run_engine(_DOCTOR_NETLIST, ["i(l1)"], 1.0, simulator=simulator, timeout=60.0, foreign=False)
+    result = run_engine(_DOCTOR_JOB, simulator)
     error = abs(float(result.vectors["i(l1)"][-1]) - math.cos(1.0))
     if error > _DOCTOR_ATOL:
         raise SimulationError(f"i(l1)(1 s) differs from cos(1) by {error:.3g}")

@@ -24,32 +24,35 @@ and add one line to :data:`lcchain.spice.engines.ENGINES`:
     translate exactly raises :class:`~lcchain.core.errors.ParameterError`
     naming ``engine`` and what it cannot do.  It works on text: ``spice``
     knows nothing of chains.
-``run(netlist, vectors, tstop, simulator=..., ...)``
-    Run a transient and return a validated
-    :class:`~lcchain.spice.result.RunResult` (time and the named real
+``run(job, simulator, progress=None)``
+    Run a transient (a :class:`~lcchain.spice.job.RunJob`: the netlist, the
+    vectors, ``tstop`` and the run's limits, checked when it was made) and
+    return a validated :class:`~lcchain.spice.result.RunResult` whose ``data``
+    is a :class:`~lcchain.spice.result.TransientData` (time and the named real
     vectors, finite, ending at ``tstop``), or raise
     :class:`~lcchain.core.errors.SimulationError`; the child runs in a
     process group of its own, is killed on a timeout or an interrupt, and
     leaves nothing behind.
-``run_ac(netlist, vectors, points, simulator=..., timeout=...)``
-    Only for an engine with ``runs_ac``: run lcchain's AC netlist
-    (:func:`lcchain.circuit.netlist.ac_netlist_text`: a ``V ... DC 0 AC 1``
+``run_ac(job, simulator)``
+    Only for an engine with ``runs_ac``: run lcchain's AC netlist (an
+    :class:`~lcchain.spice.job.AcJob`; :func:`lcchain.circuit.netlist.ac_netlist_text`: a ``V ... DC 0 AC 1``
     source, ``.options noopac``, ``.ac lin P f1 f2``, ``.save``) with the same
     discipline and return :func:`lcchain.spice.acdata.ac_result` of its
-    columns (frequency in Hz, complex vectors by canonical name).  Its
-    arguments arrive checked (:func:`lcchain.spice.ac.run_ac`, the entry
-    point, dispatches by ``simulator.engine``).
+    columns (frequency in Hz, complex vectors by canonical name): the same
+    :class:`~lcchain.spice.result.RunResult`, whose ``data`` is an
+    :class:`~lcchain.spice.result.AcData`.  :func:`lcchain.spice.ac.run_ac`,
+    the entry point, dispatches by ``simulator.engine``.
 """
 
 from __future__ import annotations
 
 from abc import ABC, abstractmethod
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from typing import ClassVar
 
 from ..core.errors import ParameterError, SimulatorMissingError
 from ..core.types import AnalysisKind, Backend
-from .acdata import AcResult
+from .job import AcJob, Progress, RunJob
 from .result import RunResult
 from .simulator import Simulator
 
@@ -126,22 +129,16 @@ class Engine(ABC):
         """lcchain's netlist text in the engine's own dialect, saving ``vectors`` (canonical names)."""
 
     @abstractmethod
-    def run(self, netlist: str, vectors: Sequence[str], tstop: float, *, simulator: Simulator,
-            timeout: float = 600.0, progress: Callable[[float], None] | None = None, cwd: str | None = None,
-            trusted: bool = False, foreign: bool = True, max_output_bytes: float | None = None,
-            max_resident_bytes: float | None = None) -> RunResult:
-        """Run lcchain's netlist text (ngspice's dialect) in the engine; see
-        :func:`lcchain.spice.ngspice.runner.run` (its limits: ``timeout``, ``max_output_bytes``,
-        ``max_resident_bytes``)."""
+    def run(self, job: RunJob, simulator: Simulator, progress: Progress | None = None) -> RunResult:
+        """Run a transient of lcchain's netlist text (ngspice's dialect) in the engine, within the job's limits
+        (``timeout``, ``max_output_bytes``, ``max_resident_bytes``; see :func:`lcchain.spice.ngspice.runner.run`).
+        ``progress`` hears the fraction of ``tstop`` simulated, 0.0 first and 1.0 after a successful run."""
 
-    def run_ac(self, netlist: str, vectors: Sequence[str], points: int, *, simulator: Simulator,
-               timeout: float = 600.0, foreign: bool = False, max_output_bytes: float | None = None,
-               max_resident_bytes: float | None = None) -> AcResult:
-        """Run an AC netlist (ngspice's dialect) in the engine: ``points`` frequencies, the complex ``vectors``
-        (canonical names; none: every vector saved).  ``foreign``: a netlist lcchain did not write, already through
-        the allow-list, for an engine that ``runs_foreign`` only (its output capped at ``max_output_bytes``, its
-        memory at ``max_resident_bytes``).  An
-        engine without ``runs_ac`` keeps this refusal."""
+    def run_ac(self, job: AcJob, simulator: Simulator) -> RunResult:
+        """Run an AC netlist (ngspice's dialect) in the engine: ``job.points`` frequencies, the complex
+        ``job.vectors`` (none: every vector saved).  ``job.foreign``: a netlist lcchain did not write, already
+        through the allow-list, for an engine that ``runs_foreign`` only.  An engine without ``runs_ac`` keeps
+        this refusal."""
         raise ParameterError("engine", self.name, "an engine with an AC analysis (its runs_ac)")
 
     @property

@@ -7,14 +7,13 @@ Everything else (``--engine``, ``[analysis] engine``, ``RunSpec.engine``, ``doct
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
-
 from ..core.checks import choice
 from ..core.errors import ParameterError
 from ..core.registry import Registry
 from ..core.types import DEFAULT_ENGINE, Backend
 from .engine import Engine
 from .gnucap import Gnucap
+from .job import Progress, RunJob
 from .ngspice.engine import Ngspice
 from .result import RunResult
 from .simulator import Simulator
@@ -76,11 +75,7 @@ def find_engine(engine: str = DEFAULT_ENGINE, backend: Backend = "batch") -> Sim
     return found.find(backend)
 
 
-def run_engine(netlist: str, vectors: Sequence[str], tstop: float, *, simulator: Simulator,
-               timeout: float = 600.0, progress: Callable[[float], None] | None = None, cwd: str | None = None,
-               trusted: bool = False, foreign: bool = True, max_output_bytes: float | None = None,
-               max_resident_bytes: float | None = None) -> RunResult:
-    """Run lcchain's netlist text in the simulator's engine (:meth:`lcchain.spice.engine.Engine.run`)."""
-    return engine_named(simulator.engine, "simulator.engine").run(
-        netlist, vectors, tstop, simulator=simulator, timeout=timeout, progress=progress, cwd=cwd,
-        trusted=trusted, foreign=foreign, max_output_bytes=max_output_bytes, max_resident_bytes=max_resident_bytes)
+def run_engine(job: RunJob, simulator: Simulator, progress: Progress | None = None) -> RunResult:
+    """Run a transient (a checked :class:`~lcchain.spice.job.RunJob`) in the simulator's engine
+    (:meth:`lcchain.spice.engine.Engine.run`)."""
+    return engine_named(simulator.engine, "simulator.engine").run(job, simulator, progress)

@@ -76,19 +76,20 @@ import shutil
 import subprocess
 import tempfile
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from typing import IO, ClassVar
 
 from ..core.budget import show_bytes
 from ..core.errors import ParameterError, SimulatorMissingError
 from ..core.frozen import FrozenMap
 from ..core.types import Backend
-from .acdata import AcResult, ac_result
+from .acdata import ac_result
 from .engine import Engine
 from .gnucap_table import TITLE, failure, quiet, quote, read_ac_table, read_table, table_number, without_rows
+from .job import AcJob, Progress, RunJob, TransportJob
 from .log import trim_log
 from .processes import child_env, kill_group, outgrown, progress_reporter, read_all, wait_watching
-from .result import RunResult, check_arguments, validate_columns
+from .result import RunResult, TransientData, validate_columns
 from .sandbox import SCRATCH, Sandbox, scratch_env
 from .scratch import scratch_folder
 from .simulator import Simulator, child_launcher
@@ -346,43 +347,38 @@ class Gnucap(Engine):
         return "\n".join([TITLE, *body, ".options " + " ".join(options), f".print {card} {printed}",
                           *(line for _, line in analyses), ".end"]) + "\n"
 
-    def run(self, netlist: str, vectors: Sequence[str], tstop: float, *, simulator: Simulator,
-            timeout: float = 600.0, progress: Callable[[float], None] | None = None, cwd: str | None = None,
-            trusted: bool = False, foreign: bool = True, max_output_bytes: float | None = None,
-            max_resident_bytes: float | None = None) -> RunResult:
-        if foreign or trusted:
+    def run(self, job: RunJob, simulator: Simulator, progress: Progress | None = None) -> RunResult:
+        if job.foreign or job.trusted:
             raise _refuse("a netlist lcchain did not write (gnucap runs only lcchain's own ladders; the "
                           "allow-list and the sandbox of foreign netlists are ngspice's)")
         if simulator.engine != self.name:
             raise ParameterError("simulator", simulator.engine, "a simulator found for engine gnucap")
-        netlist, names, tstop, timeout, limit = check_arguments(netlist, vectors, tstop, timeout, max_output_bytes)
-        names = names or [canonical_vector_name(v) for v in saved_vectors(netlist)]
+        netlist, tstop = job.netlist, job.tstop
+        names = job.vectors or tuple(canonical_vector_name(v) for v in saved_vectors(netlist))
         text = self.dialect(netlist, names)
         if progress is not None:
             progress(0.0)
-        output, log, wall = _run_child(text, simulator, timeout, tstop, progress, limit or MAX_OUTPUT_BYTES,
-                                       max_resident_bytes)
+        output, log, wall = _run_child(TransportJob.checked(text, job), simulator, progress)
         columns = read_table(output, log)
         time_s, found = validate_columns(columns, quiet(log), names, tstop, self.name)
         if progress is not None:
             progress(1.0)
-        return RunResult(time=time_s, vectors=FrozenMap(found), engine_version=simulator.version,
-                         netlist_sha256=_sha256(netlist), options=FrozenMap(parse_options(netlist)), wall_s=wall,
-                         backend=simulator.backend, points=int(time_s.size), log=trim_log(without_rows(log)),
-                         engine=self.name)
+        return RunResult(data=TransientData(time_s, FrozenMap(found)), engine_version=simulator.version,
+                         netlist_sha256=_sha256(netlist), wall_s=wall, log=trim_log(without_rows(log)),
+                         engine=self.name, options=FrozenMap(parse_options(netlist)), backend=simulator.backend)
 
-    def run_ac(self, netlist: str, vectors: Sequence[str], points: int, *, simulator: Simulator,
-               timeout: float = 600.0, foreign: bool = False, max_output_bytes: float | None = None,
-               max_resident_bytes: float | None = None) -> AcResult:
-        if foreign:
+    def run_ac(self, job: AcJob, simulator: Simulator) -> RunResult:
+        if job.foreign:
             raise ParameterError("engine", self.name, "ngspice for a netlist lcchain did not write (the allow-list "
                                  "and the sandbox are ngspice's)")
         if simulator.engine != self.name:
             raise ParameterError("simulator", simulator.engine, "a simulator found for engine gnucap")
-        output, log, wall = _run_child(self.dialect(netlist, vectors), simulator, timeout, 1.0, None,
-                                       MAX_OUTPUT_BYTES, max_resident_bytes)
+        # its table's text, not the raw bytes a price holds the AC run to: gnucap's own bound
+        text = self.dialect(job.netlist, job.vectors)
+        output, log, wall = _run_child(TransportJob(text, 1.0, job.timeout, MAX_OUTPUT_BYTES, job.max_resident_bytes),
+                                       simulator)
         columns = read_ac_table(output, log)
-        return ac_result(netlist, columns, quiet(log), vectors, points, simulator, wall)
+        return ac_result(job, columns, quiet(log), simulator, wall)
 
 
 def _sha256(text: str) -> str:
@@ -429,14 +425,16 @@ def _last_time(out: IO[bytes]) -> float | None:
     return None
 
 
-def _run_child(text: str, simulator: Simulator, timeout: float, tstop: float,
-               progress: Callable[[float], None] | None, limit: float,
-               resident: float | None = None, sandbox: Sandbox | None = None) -> tuple[str, str, float]:
-    """gnucap's stdout and its whole output, and its wall time; in a temporary folder that is then removed (in
-    ``sandbox`` too when it is available: its own scratch folder and environment, :mod:`lcchain.spice.sandbox`)."""
+def _run_child(job: TransportJob, simulator: Simulator, progress: Progress | None = None,
+               sandbox: Sandbox | None = None) -> tuple[str, str, float]:
+    """gnucap's stdout and its whole output, and its wall time, for the job's text (gnucap's dialect, canonical);
+    in a temporary folder that is then removed (in ``sandbox`` too when it is available: its own scratch folder
+    and environment, :mod:`lcchain.spice.sandbox`).  Its output may not pass the job's ``max_output_bytes``
+    (default :data:`MAX_OUTPUT_BYTES`)."""
+    timeout = job.timeout
     with scratch_folder("gnucap") as folder, tempfile.TemporaryFile() as source, \
             tempfile.TemporaryFile() as out, tempfile.TemporaryFile() as err:
-        source.write(text.encode("utf-8"))
+        source.write(job.text.encode("utf-8"))
         source.seek(0)
         program = [simulator.executable, "-b", "/dev/stdin"]
         env = child_env()
@@ -449,7 +447,7 @@ def _run_child(text: str, simulator: Simulator, timeout: float, tstop: float,
         proc = subprocess.Popen(command, cwd=folder, env=env, stdin=source, stdout=out, stderr=err,
                                 start_new_session=True)
         try:
-            status = _wait(proc, timeout, tstop, out, err, progress, limit, resident)
+            status = _wait(proc, job, (out, err), progress)
         finally:
             if proc.poll() is None:  # timed out, or interrupted: the whole group goes
                 kill_group(proc)
@@ -463,11 +461,14 @@ def _run_child(text: str, simulator: Simulator, timeout: float, tstop: float,
     return output, log, wall
 
 
-def _wait(proc: subprocess.Popen[bytes], timeout: float, tstop: float, out: IO[bytes], err: IO[bytes],
-          progress: Callable[[float], None] | None, limit: float, resident: float | None = None) -> int | None:
-    """gnucap's exit status, or None after the timeout; reports progress and stops a run whose output outgrows
-    ``limit``, or whose memory outgrows ``resident``, meanwhile."""
-    report = progress_reporter(progress, tstop, lambda: _last_time(out)) if progress is not None else None
+def _wait(proc: subprocess.Popen[bytes], job: TransportJob, files: tuple[IO[bytes], IO[bytes]],
+          progress: Progress | None) -> int | None:
+    """gnucap's exit status, or None after the job's timeout; reports progress and stops a run whose output
+    (``files``: out, err) outgrows the job's ``max_output_bytes``, or whose memory outgrows its
+    ``max_resident_bytes``, meanwhile."""
+    out, err = files
+    limit, resident = job.max_output_bytes or MAX_OUTPUT_BYTES, job.max_resident_bytes
+    report = progress_reporter(progress, job.tstop, lambda: _last_time(out)) if progress is not None else None
 
     def look() -> None:
         if os.fstat(out.fileno()).st_size + os.fstat(err.fileno()).st_size > limit:
@@ -481,4 +482,4 @@ def _wait(proc: subprocess.Popen[bytes], timeout: float, tstop: float, out: IO[b
         if report is not None:
             report()
 
-    return wait_watching(proc, timeout, look)
+    return wait_watching(proc, job.timeout, look)

@@ -52,6 +52,7 @@ from ..core.errors import ParameterError
 from .element_values import CouplingCard, ElementCard, NetlistCards, OtherCard, SourceCard
 from .gnucap import AC_DIGITS, DTMIN_FRACTION, GMIN, MAX_OUTPUT_BYTES, SOURCE_RESISTANCE, VOLTAGE_LIMIT, _run_child
 from .gnucap_table import TITLE, read_ac_table, read_table
+from .job import TransportJob
 from .sandbox import find_sandbox
 from .simulator import Simulator
 from .text import canonical_vector_name
@@ -270,7 +271,7 @@ def run_check(netlist: GnucapCheckNetlist, stop: float, *, simulator: Simulator,
     else in a scratch folder; its process group killed after ``timeout``) and read its vectors back by ngspice's
     names.  ``simulator`` is gnucap's program, as an engine that ``checks_cards`` found it (the caller chose
     the engine by that attribute, :func:`lcchain.runs.check.check_text`; its name is not asked here)."""
-    output, log, wall = _run_child(netlist.text, simulator, timeout, stop, None, MAX_OUTPUT_BYTES,
+    output, log, wall = _run_child(TransportJob(netlist.text, stop, timeout, MAX_OUTPUT_BYTES, None), simulator,
                                    sandbox=find_sandbox())
     # gnucap's warning at the operating point with short=1e-30 (the values are those of short=1e-15, which
     # prints none, to every digit): not a row of its table

@@ -1,83 +1,156 @@
-"""A transient run's result, as every engine returns it, and the checks every engine's run goes through.
+"""One run's record, whichever analysis and engine made it, and the checks every engine's run goes through.
 
-An engine (:class:`lcchain.spice.engine.Engine`) checks a run's arguments with :func:`check_arguments`, reads its
+A run of any analysis is one :class:`RunResult`: what every run shares (the engine and its version, the netlist's
+digest, the wall time, the log, the ``.meas`` results, the ``.options``, the transport) and the analysis's own
+data as a field, :attr:`RunResult.data`: a :class:`TransientData` (time and real vectors) or an :class:`AcData`
+(frequency and complex phasors), as python-control's ``TimeResponseData`` and ``FrequencyResponseData`` share one
+shape.  ``time``, ``frequency``, ``vectors`` and ``points`` read the data through the record.
+
+An engine (:class:`lcchain.spice.engine.Engine`) receives a checked :class:`~lcchain.spice.job.RunJob`, reads its
 program's output into columns, checks them with :func:`validate_columns` (points, last time point equal to
 ``tstop`` within :data:`TSTOP_RTOL`, every requested vector present, all finite) and returns a
-:class:`RunResult`.
+:class:`RunResult` of a :class:`TransientData`; an AC analysis's columns go through
+:func:`lcchain.spice.acdata.ac_result`.
 """
 
 from __future__ import annotations
 
 import math
-import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import ClassVar, Literal
 
 import numpy as np
 
-from ..core.checks import real
-from ..core.errors import ParameterError, SimulationError
+from ..core.errors import SimulationError
 from ..core.frozen import FrozenArrays, FrozenMap
 from ..core.limits import MAX_NETLIST_BYTES
 from ..core.types import DEFAULT_ENGINE
 from .inputs import read_input
 from .log import useful_output
 from .measure import Measurements
-from .text import canonical_vector_name
 
-__all__ = ["RunResult", "read_include", "check_arguments", "validate_columns", "TSTOP_RTOL"]
+__all__ = ["RunResult", "TransientData", "AcData", "read_include", "validate_columns", "TSTOP_RTOL"]
 
 #: Relative tolerance on the last time point versus the requested ``tstop``.
 TSTOP_RTOL = 1e-9
 
 
 @dataclass(frozen=True, eq=False)
-class RunResult(FrozenArrays):
-    """Waveforms and metadata of one transient run (in ngspice or another engine).
+class TransientData(FrozenArrays):
+    """A transient's waveforms.
 
     Attributes
     ----------
     time : numpy.ndarray
         Time points in seconds (read-only), ending at ``tstop``.
     vectors : Mapping[str, numpy.ndarray]
-        Requested vectors (read-only arrays, amperes or volts) keyed by their
-        normalised name (:func:`lcchain.spice.text.canonical_vector_name`).
+        Real vectors (read-only arrays, amperes or volts) by canonical name
+        (:func:`lcchain.spice.text.canonical_vector_name`).
+    """
+
+    analysis: ClassVar[Literal["transient"]] = "transient"
+
+    time: np.ndarray
+    vectors: Mapping[str, np.ndarray]
+
+    @property
+    def axis(self) -> np.ndarray:
+        """The analysis's scale: :attr:`time`."""
+        return self.time
+
+
+@dataclass(frozen=True, eq=False)
+class AcData(FrozenArrays):
+    """An AC analysis's phasors.
+
+    Attributes
+    ----------
+    frequency : numpy.ndarray
+        Hz, ascending (read-only).
+    vectors : Mapping[str, numpy.ndarray]
+        Complex phasors (A for a branch current) by canonical name, for a source of 1 V.
+    """
+
+    analysis: ClassVar[Literal["ac"]] = "ac"
+
+    frequency: np.ndarray
+    vectors: Mapping[str, np.ndarray]
+
+    @property
+    def axis(self) -> np.ndarray:
+        """The analysis's scale: :attr:`frequency`."""
+        return self.frequency
+
+
+@dataclass(frozen=True, eq=False)
+class RunResult:
+    """One run in an engine: its analysis's data and what every run records.
+
+    Attributes
+    ----------
+    data : TransientData or AcData
+        The analysis's own data.
     engine_version : str
         The engine's version, e.g. ``"39"`` for ngspice.
     netlist_sha256 : str
-        SHA-256 (hex) of the netlist text encoded as UTF-8.
-    options : Mapping[str, str]
-        The ``.options`` the netlist sets (:func:`lcchain.spice.text.parse_options`).
+        SHA-256 (hex) of the netlist text (lcchain's, in ngspice's dialect, whichever engine ran it) as UTF-8.
     wall_s : float
-        Wall time of the simulator in seconds: the ``ngspice -b`` process for
-        ``"batch"``, loading and running the circuit inside the child for
-        ``"shared"`` (child start-up excluded).
-    backend : str
-        ``"batch"`` or ``"shared"``.
-    points : int
-        Number of time points.
+        Wall time of the simulator in seconds: the ``ngspice -b`` process for ``"batch"``, loading and running
+        the circuit inside the child for ``"shared"`` (child start-up excluded).
     log : str
         The simulator's output without blank lines and resource chatter, trimmed to
-        :data:`LOG_MAX_CHARS` characters.
+        :data:`lcchain.spice.log.LOG_MAX_CHARS` characters.
     engine : str
         The engine's name (:data:`lcchain.spice.engines.ENGINES`), ``"ngspice"`` by default.
     measurements : Mapping[str, tuple[float | None, str]]
         The netlist's ``.meas`` results by name (lower case): (value, "") or (None, ngspice's reason)
         (:func:`lcchain.spice.measure.read_measurements`).
+    options : Mapping[str, str]
+        The ``.options`` the netlist sets (:func:`lcchain.spice.text.parse_options`); a transient's.
+    backend : str
+        The transport that ran it: ``"batch"``, ``"shared"``, ``"warm"``.
     """
 
-    time: np.ndarray
-    vectors: Mapping[str, np.ndarray]
+    data: TransientData | AcData
     engine_version: str
     netlist_sha256: str
-    options: Mapping[str, str]
     wall_s: float
-    backend: str
-    points: int
     log: str = field(repr=False)
     engine: str = DEFAULT_ENGINE
     measurements: Measurements = field(default_factory=FrozenMap)
+    options: Mapping[str, str] = field(default_factory=FrozenMap)
+    backend: str = "batch"
+
+    @property
+    def analysis(self) -> Literal["transient", "ac"]:
+        """``"transient"`` or ``"ac"``: the kind of :attr:`data`."""
+        return self.data.analysis
+
+    @property
+    def time(self) -> np.ndarray:
+        """A transient's time points, seconds (an AttributeError for another analysis)."""
+        if not isinstance(self.data, TransientData):
+            raise AttributeError(f"an {self.analysis} run has no time points (its scale is data.axis)")
+        return self.data.time
+
+    @property
+    def frequency(self) -> np.ndarray:
+        """An AC analysis's frequencies, Hz (an AttributeError for another analysis)."""
+        if not isinstance(self.data, AcData):
+            raise AttributeError(f"a {self.analysis} run has no frequencies (its scale is data.axis)")
+        return self.data.frequency
+
+    @property
+    def vectors(self) -> Mapping[str, np.ndarray]:
+        """The analysis's vectors by canonical name."""
+        return self.data.vectors
+
+    @property
+    def points(self) -> int:
+        """Time points or frequencies."""
+        return int(self.data.axis.size)
 
     @property
     def ngspice_version(self) -> str:
@@ -94,8 +167,11 @@ class RunResult(FrozenArrays):
             Keys ``engine``, ``engine_version``, ``ngspice_version`` (as the
             property), ``netlist_sha256``, ``options``,
             ``wall_s``, ``backend``, ``points``, ``vectors`` (the names),
-            ``t_end`` (last time point, s) and ``log``.
+            ``t_end`` (a transient's last time point, s; an AC analysis's ``f_end``, its last frequency, Hz)
+            and ``log``.
         """
+        end = {"t_end": float(self.time[-1])} if isinstance(self.data, TransientData) else \
+            {"f_end": float(self.frequency[-1])}
         return {
             "engine": self.engine,
             "engine_version": self.engine_version,
@@ -104,32 +180,11 @@ class RunResult(FrozenArrays):
             "options": dict(self.options),
             "wall_s": float(self.wall_s),
             "backend": self.backend,
-            "points": int(self.points),
+            "points": self.points,
             "vectors": list(self.vectors),
-            "t_end": float(self.time[-1]),
+            **end,
             "log": self.log,
         }
-
-
-def check_arguments(netlist: object, vectors: object, tstop: object, timeout: object,
-                    max_output_bytes: object) -> tuple[str, list[str], float, float, float | None]:
-    """A run's arguments, checked: the text, the canonical vector names (no ``time``), tstop, timeout, limit."""
-    if not isinstance(netlist, str) or not netlist.strip():
-        raise ParameterError("netlist", netlist, "non-empty netlist text")
-    tstop = real("tstop", tstop, above=0.0, unit="seconds")
-    timeout = real("timeout", timeout, above=0.0, unit="seconds")
-    limit = None if max_output_bytes is None else real("max_output_bytes", max_output_bytes, above=0.0,
-                                                        unit="bytes")
-    if isinstance(vectors, str) or not isinstance(vectors, Sequence):
-        raise ParameterError("vectors", vectors, "a sequence of vector names, not one string")
-    names: list[str] = []
-    for name in vectors:
-        if not isinstance(name, str) or not name.strip() or re.search(r"\s", name.strip()):
-            raise ParameterError("vectors", name, "an ngspice vector name such as 'i(l1)' or 'v(n3)'")
-        key = canonical_vector_name(name)
-        if key != "time" and key not in names:
-            names.append(key)
-    return netlist, names, tstop, timeout, limit
 
 
 def read_include(path: Path, field: str) -> str:
@@ -138,8 +193,7 @@ def read_include(path: Path, field: str) -> str:
     return read_input(path, field, MAX_NETLIST_BYTES)
 
 
-
-def validate_columns(columns: dict[str, np.ndarray], log: str, names: list[str], tstop: float,
+def validate_columns(columns: dict[str, np.ndarray], log: str, names: Sequence[str], tstop: float,
                      engine: str = DEFAULT_ENGINE) -> tuple[np.ndarray, dict[str, np.ndarray]]:
     """The time vector and the requested vectors of a run, checked: points, last time = tstop (within
     :data:`TSTOP_RTOL`), every name present, equal lengths, all finite; read-only float64 arrays.

@@ -32,6 +32,7 @@ from ..core.checks import integer, real
 from ..core.errors import ParameterError, SimulationError
 from ..core.types import DEFAULT_C0, DEFAULT_L0
 from ..spice.engines import find_engine, run_engine
+from ..spice.job import RunJob
 from ..spice.simulator import Simulator
 from ..theory.arrivals import arrival_window, maximum_in_window
 from ..theory.cases import chain_for_case
@@ -128,8 +129,7 @@ def _energy(ladder: Ladder, effects: tuple[Effect, ...], options: SimulationOpti
     netlist = netlist_text(ladder, options, I0=1.0, effects=effects, title=f"lcchain requirements, {chain.name}")
     last = f"i(l{chain.N})"
     tstop = options.tstop * ladder.time_unit
-    result = run_engine(netlist, [last], tstop, simulator=simulator, foreign=False,
-                        timeout=max(1.0, budget.max_seconds))
+    result = run_engine(RunJob(netlist, [last], tstop, foreign=False, timeout=max(1.0, budget.max_seconds)), simulator)
     t = result.time / ladder.time_unit
     spline = scipy.interpolate.CubicSpline(t, result.vectors[last])
     _, peak = maximum_in_window(lambda s: np.asarray(spline(s)), window, transit)

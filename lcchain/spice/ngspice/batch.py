@@ -12,12 +12,12 @@ import re
 import subprocess
 import tempfile
 import time
-from collections.abc import Callable
 from typing import IO
 
 import numpy as np
 
 from ...core.errors import SimulationError
+from ..job import Progress, TransportJob
 from ..log import failure_reason, useful_output
 from ..measure import measure_control
 from ..processes import (
@@ -51,13 +51,15 @@ def _simulated_time(err: IO[bytes]) -> float | None:
 
 
 
-def _wait(proc: subprocess.Popen[bytes], timeout: float, tstop: float, out: IO[bytes], err: IO[bytes],
-          raw: IO[bytes], progress: Callable[[float], None] | None, limit: float | None,
-          resident: float | None) -> int | None:
-    """Exit status of ngspice, or None after the timeout; reports progress meanwhile and stops a run that
-    outgrows its limits (:func:`~lcchain.spice.processes.outgrown`: its raw file past ``limit``, its output past
-    :data:`MAX_LOG_BYTES`, its memory past ``resident``)."""
-    report = progress_reporter(progress, tstop, lambda: _simulated_time(err)) if progress is not None else None
+def _wait(proc: subprocess.Popen[bytes], job: TransportJob, files: tuple[IO[bytes], IO[bytes], IO[bytes]],
+          progress: Progress | None) -> int | None:
+    """Exit status of ngspice, or None after the job's timeout; reports progress meanwhile and stops a run that
+    outgrows its limits (:func:`~lcchain.spice.processes.outgrown`: its raw file, the last of ``files`` (out,
+    err, raw), past ``job.max_output_bytes``, its output past :data:`MAX_LOG_BYTES`, its memory past
+    ``job.max_resident_bytes``)."""
+    out, err, raw = files
+    timeout, limit, resident = job.timeout, job.max_output_bytes, job.max_resident_bytes
+    report = progress_reporter(progress, job.tstop, lambda: _simulated_time(err)) if progress is not None else None
     watched = limit is not None or resident is not None
 
     def look() -> None:
@@ -73,17 +75,18 @@ def _wait(proc: subprocess.Popen[bytes], timeout: float, tstop: float, out: IO[b
                          WATCH_INTERVAL if watched else PROGRESS_INTERVAL)
 
 
-def run_batch(netlist: str, simulator: Simulator, timeout: float, tstop: float,
-               progress: Callable[[float], None] | None, place: Place, limit: float | None,
-               resident: float | None = None, plot: str = "transient", joined: bool = False
-               ) -> tuple[dict[str, np.ndarray], str, float]:
+def run_batch(job: TransportJob, simulator: Simulator, place: Place,
+              progress: Progress | None = None) -> tuple[dict[str, np.ndarray], str, float]:
+    """Run the job's checked text in ``ngspice -b`` at ``place``: the columns of its raw file's ``job.plot``, its
+    output, its wall time (s)."""
+    timeout = job.timeout
     with tempfile.TemporaryFile() as source, tempfile.TemporaryFile() as raw, \
             tempfile.TemporaryFile() as out, tempfile.TemporaryFile() as err:
         fd = raw.fileno()
         # ngspice measures nothing in batch mode with -r: a netlist with .meas cards writes its raw file from
         # lcchain's control block instead (lcchain.spice.measure)
-        measured = measure_control(require_canonical(netlist), f"/dev/fd/{fd}")
-        text = measured if measured is not None else netlist
+        measured = measure_control(job.text, f"/dev/fd/{fd}")
+        text = measured if measured is not None else job.text
         source.write(require_canonical(text).encode("utf-8"))  # ngspice splits a file at LF, as the check did
         source.seek(0)
         command = [*place.prefix, simulator.executable, "-n", "-b",
@@ -92,7 +95,7 @@ def run_batch(netlist: str, simulator: Simulator, timeout: float, tstop: float,
         proc = subprocess.Popen(command, cwd=place.cwd, env=place.env, stdin=source, stdout=out, stderr=err,
                                 pass_fds=(fd,), start_new_session=True)
         try:
-            status = _wait(proc, timeout, tstop, out, err, raw, progress, limit, resident)
+            status = _wait(proc, job, (out, err, raw), progress)
         finally:
             if proc.poll() is None:  # timed out, or interrupted: the whole group goes
                 kill_group(proc)
@@ -107,7 +110,7 @@ def run_batch(netlist: str, simulator: Simulator, timeout: float, tstop: float,
     if not data:
         raise SimulationError("ngspice wrote no raw file", useful_output(log))
     try:
-        columns = read_raw(data, plot, joined=joined)
+        columns = read_raw(data, job.plot, joined=job.joined)
     except SimulationError as exc:
         raise SimulationError(exc.reason, useful_output(log)) from None
     return columns, log, wall

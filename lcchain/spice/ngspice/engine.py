@@ -8,13 +8,14 @@ for netlists lcchain did not write), unchanged.  Its AC analysis runs the netlis
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from dataclasses import replace
 from typing import ClassVar
 
 from ...core.types import AnalysisKind, Backend
-from ..acdata import AcResult, ac_result
+from ..acdata import ac_result
 from ..engine import Engine
+from ..job import AcJob, Progress, RunJob
 from ..result import RunResult
 from ..simulator import Simulator
 from ..text import require_canonical
@@ -46,13 +47,8 @@ class Ngspice(Engine):
     def dialect(self, netlist: str, vectors: Sequence[str]) -> str:
         return require_canonical(netlist)  # ngspice runs the text as it is, split at LF as it was checked
 
-    def run(self, netlist: str, vectors: Sequence[str], tstop: float, *, simulator: Simulator,
-            timeout: float = 600.0, progress: Callable[[float], None] | None = None, cwd: str | None = None,
-            trusted: bool = False, foreign: bool = True, max_output_bytes: float | None = None,
-            max_resident_bytes: float | None = None) -> RunResult:
-        return run(netlist, vectors, tstop, simulator=simulator, timeout=timeout, progress=progress, cwd=cwd,
-                   trusted=trusted, foreign=foreign, max_output_bytes=max_output_bytes,
-                   max_resident_bytes=max_resident_bytes)
+    def run(self, job: RunJob, simulator: Simulator, progress: Progress | None = None) -> RunResult:
+        return run(job, simulator, progress=progress)
 
     def warm(self, simulator: Simulator, workers: int = 1) -> Simulator:
         return warm_simulator(simulator, workers)
@@ -60,12 +56,8 @@ class Ngspice(Engine):
     def release(self, kill: bool = False) -> None:
         close_workers(kill)
 
-    def run_ac(self, netlist: str, vectors: Sequence[str], points: int, *, simulator: Simulator,
-               timeout: float = 600.0, foreign: bool = False, max_output_bytes: float | None = None,
-               max_resident_bytes: float | None = None) -> AcResult:
-        columns, log, wall = run_plot(netlist, "ac", simulator=simulator, timeout=timeout, foreign=foreign,
-                                      max_output_bytes=max_output_bytes, joined=True,  # one plot per .ac card
-                                      max_resident_bytes=max_resident_bytes)
+    def run_ac(self, job: AcJob, simulator: Simulator) -> RunResult:
+        columns, log, wall = run_plot(job, "ac", simulator)  # every .ac card's plot, one after the other
         if "frequency" in columns:  # ngspice leaves the frequency's imaginary part undefined
             columns["frequency"] = columns["frequency"].real
-        return ac_result(netlist, columns, log, vectors, points, simulator, wall)
+        return ac_result(job, columns, log, simulator, wall)

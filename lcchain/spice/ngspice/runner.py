@@ -39,20 +39,20 @@ default) and a missing node; only the netlist generator can prevent those.
 from __future__ import annotations
 
 import hashlib
-import os
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
 
-from ...core.checks import choice, real
+from ...core.checks import choice
 from ...core.errors import ParameterError, SimulationError
 from ...core.frozen import FrozenMap
 from ...core.types import BACKENDS, Backend
 from ..foreign import CheckedText, allowed_netlist
+from ..job import AcJob, Progress, RunJob, TransportJob
 from ..log import failure_reason, fatal_lines, trim_log, useful_output
 from ..measure import measure_names, read_measurements
-from ..result import RunResult, check_arguments, read_include, validate_columns
+from ..result import RunResult, TransientData, read_include, validate_columns
 from ..simulator import Simulator
 from ..text import canonical_text, parse_options
 from .batch import run_batch
@@ -67,74 +67,35 @@ __all__ = ["run", "run_plot", "TRANSPORT_RUNS", "PLOT_TRANSPORTS"]
 PLOT_TRANSPORTS: tuple[Backend, ...] = ("batch",)
 
 
-def run(
-    netlist: str,
-    vectors: Sequence[str],
-    tstop: float,
-    *,
-    simulator: Simulator | None = None,
-    backend: Backend | None = None,
-    timeout: float = 600.0,
-    progress: Callable[[float], None] | None = None,
-    cwd: str | os.PathLike[str] | None = None,
-    trusted: bool = False,
-    foreign: bool = True,
-    max_output_bytes: float | None = None,
-    max_resident_bytes: float | None = None,
-) -> RunResult:
+def run(job: RunJob, simulator: Simulator | None = None, *, backend: Backend | None = None,
+        progress: Progress | None = None) -> RunResult:
     """Run a transient netlist in ngspice and return validated waveforms.
 
     Parameters
     ----------
-    netlist : str
-        Complete netlist text with one ``.tran`` analysis ending at ``tstop``
-        and ``.save`` lines for the wanted vectors. Unless ``trusted``, it must
-        pass :func:`lcchain.spice.foreign.allowed_netlist` (its includes, in
-        ``cwd``, are inlined), and ngspice receives the text it returns; a
-        :class:`~lcchain.spice.foreign.CheckedText` (that function's own
-        output) is not checked again.
-    vectors : Sequence[str]
-        Vector names as saved, e.g. ``["i(l1)", "v(n3)"]`` or ``["l1#branch"]``;
-        empty: every vector the raw file holds.
-    tstop : float
-        End time of the ``.tran`` analysis in seconds; the last time point
-        must equal it.
+    job : RunJob
+        The netlist, the vectors, ``tstop`` and the run's limits, checked (:class:`lcchain.spice.job.RunJob`).
+        Unless ``job.trusted``, the netlist must pass :func:`lcchain.spice.foreign.allowed_netlist` (its
+        includes, in ``job.cwd``, are inlined), and every transport runs the text it returns
+        (:class:`lcchain.spice.job.TransportJob`); a :class:`~lcchain.spice.foreign.CheckedText` (that function's
+        own output, which a batch's plan carries) is not checked again.  A ``job.foreign`` netlist runs in the
+        sandbox of :mod:`lcchain.spice.sandbox` (scratch HOME and working folder, no init file, read-only file
+        system, no network).  The job's ``max_output_bytes`` and ``max_resident_bytes`` are watched every
+        :data:`~lcchain.spice.processes.WATCH_INTERVAL` seconds while it runs, on every transport.
     simulator : Simulator, optional
-        From :func:`lcchain.spice.ngspice.find.find_simulator`; found here (for
-        ``backend``) when omitted.
+        From :func:`lcchain.spice.ngspice.find.find_simulator`; found here (for ``backend``) when omitted.
     backend : {"batch", "shared"}, optional
-        Only when no simulator is given (default ``"batch"``).
-    timeout : float
-        Seconds after which ngspice's process group is killed.
+        Only when no simulator is given (default ``"batch"``), or equal to its backend.
     progress : callable, optional
-        Called with the fraction of ``tstop`` simulated: 0.0 before, then
-        (batch backend) about every :data:`PROGRESS_INTERVAL` seconds from
-        ngspice's ``Reference value`` lines, and 1.0 after a successful run.
-        An exception it raises stops the run: ngspice's group is killed and
-        the exception propagates (how a caller cancels a run from a thread).
-    cwd : path-like, optional
-        The netlist's own folder: its ``.include`` files must lie inside it;
-        None for a netlist that includes nothing.
-    trusted : bool
-        Skip the allow-list and run the netlist as it is, in ``cwd`` (the user
-        said so: ``lcchain batch --allow-control``); it still runs in the
-        sandbox when ``foreign``.
-    foreign : bool
-        The netlist was not written by lcchain: ngspice runs it in the
-        sandbox of :mod:`lcchain.spice.sandbox` (scratch HOME and working
-        folder, no init file, read-only file system, no network).
-    max_output_bytes : float, optional
-        Stop the run (a failure) when its raw file (the vectors, on the warm
-        and shared transports) grows past this many bytes, or its output past
-        :data:`MAX_LOG_BYTES`; checked every
-        :data:`~lcchain.spice.processes.WATCH_INTERVAL` seconds while it runs.
-    max_resident_bytes : float, optional
-        Stop the run (a failure) when the simulator's processes hold more
-        than this many bytes resident, checked as often (every transport).
+        Called with the fraction of ``tstop`` simulated: 0.0 before, then (batch backend) about every
+        :data:`PROGRESS_INTERVAL` seconds from ngspice's ``Reference value`` lines, and 1.0 after a successful
+        run.  An exception it raises stops the run: ngspice's group is killed and the exception propagates (how
+        a caller cancels a run from a thread).
 
     Returns
     -------
     RunResult
+        Its ``data`` a :class:`~lcchain.spice.result.TransientData`.
 
     Raises
     ------
@@ -143,15 +104,16 @@ def run(
     SimulatorMissingError
         ngspice (or its shared library, or PySpice) is not installed.
     SimulationError
-        ngspice failed, timed out (``status == "timeout"``), outgrew
-        ``max_output_bytes`` or ``max_resident_bytes``, or its output failed validation.
+        ngspice failed, timed out (``status == "timeout"``), outgrew ``max_output_bytes`` or
+        ``max_resident_bytes``, or its output failed validation.
     """
-    netlist, names, tstop, timeout, limit = check_arguments(netlist, vectors, tstop, timeout, max_output_bytes)
-    resident = None if max_resident_bytes is None else real("max_resident_bytes", max_resident_bytes, above=0.0,
-                                                            unit="bytes")
+    if not isinstance(job, RunJob):
+        raise ParameterError("job", type(job).__name__, "an lcchain.spice.job.RunJob")
+    cwd = job.cwd
     # a CheckedText is the allow-list's own output (includes inlined): checked once, in the plan, and run as it is
-    text = canonical_text(netlist, "netlist") if trusted else netlist if isinstance(netlist, CheckedText) else \
-        allowed_netlist(netlist, "netlist", Path(cwd) if cwd is not None else None, read_include)
+    text = canonical_text(job.netlist, "netlist") if job.trusted else job.netlist \
+        if isinstance(job.netlist, CheckedText) else \
+        allowed_netlist(job.netlist, "netlist", Path(cwd) if cwd is not None else None, read_include)
     if simulator is None:
         simulator = find_simulator(choice("backend", backend or "batch", BACKENDS))
     elif simulator.backend not in TRANSPORT_RUNS:
@@ -159,56 +121,44 @@ def run(
                              f"one of ngspice's transports: {' | '.join(TRANSPORT_RUNS)}")
     elif backend is not None and backend != simulator.backend:
         raise ParameterError("backend", backend, f"the simulator's own backend, {simulator.backend!r}")
+    checked = TransportJob.checked(text, job)
     if progress is not None:
         progress(0.0)
-    with placement(simulator, foreign, str(cwd) if trusted and cwd is not None else None) as place:
-        columns, log, wall = TRANSPORT_RUNS[simulator.backend].run(text, simulator, timeout, tstop, progress, place,
-                                                                   limit, resident)
-    time_s, found = _validate(columns, log, names, tstop)
+    with placement(simulator, job.foreign, str(cwd) if job.trusted and cwd is not None else None) as place:
+        columns, log, wall = TRANSPORT_RUNS[simulator.backend].run(checked, simulator, place, progress)
+    time_s, found = _validate(columns, log, job.vectors, job.tstop)
     if progress is not None:
         progress(1.0)
     return RunResult(
-        time=time_s,
-        vectors=FrozenMap(found),
+        data=TransientData(time_s, FrozenMap(found)),
         engine_version=simulator.version,
-        netlist_sha256=hashlib.sha256(netlist.encode("utf-8")).hexdigest(),
-        options=FrozenMap(parse_options(text)),
+        netlist_sha256=hashlib.sha256(job.netlist.encode("utf-8")).hexdigest(),
         wall_s=wall,
-        backend=simulator.backend,
-        points=int(time_s.size),
         log=trim_log(log),
         engine=simulator.engine,
         measurements=FrozenMap(read_measurements(log, measure_names(text))),
+        options=FrozenMap(parse_options(text)),
+        backend=simulator.backend,
     )
 
 
-def run_plot(netlist: str, plot: str, *, simulator: Simulator, timeout: float = 600.0, foreign: bool = False,
-             max_output_bytes: float | None = None, joined: bool = False,
-             max_resident_bytes: float | None = None) -> tuple[dict[str, np.ndarray], str, float]:
+def run_plot(job: AcJob, plot: str, simulator: Simulator) -> tuple[dict[str, np.ndarray], str, float]:
     """Run lcchain's own netlist text in ngspice's batch transport and read one plot of its raw file.
 
     The analyses other than the transient (:meth:`lcchain.spice.ngspice.Ngspice.run_ac`) go through here: the
     same discipline as :func:`run` (own process group, timeout, nothing left behind), no allow-list (lcchain's
-    text, or a foreign one already through it), no check of the plot's vectors (the caller's analysis knows them).
+    text, or a foreign one already through it: ``job.foreign`` runs it in the sandbox), no check of the plot's
+    vectors (the caller's analysis knows them).
 
     Parameters
     ----------
-    netlist : str
-        Netlist text lcchain wrote.
+    job : AcJob
+        The netlist (text lcchain wrote, or a foreign one already checked) and the run's limits.
     plot : str
-        The raw file's plot to read (:func:`lcchain.spice.ngspice.raw.read_raw`: ``"transient"``, ``"ac"``).
+        The raw file's plot to read (:func:`lcchain.spice.ngspice.raw.read_raw`: ``"transient"``, ``"ac"``);
+        an AC analysis's plots are read one after the other (a sweep in several ``.ac`` cards).
     simulator : Simulator
         ngspice's batch transport.
-    timeout : float
-        Seconds after which ngspice's process group is killed.
-    foreign : bool
-        A netlist lcchain did not write, already through the allow-list: it runs in the sandbox.
-    max_output_bytes : float, optional
-        ngspice is stopped when its raw file outgrows this.
-    joined : bool
-        Every plot of that analysis one after the other (a sweep in several ``.ac`` cards), not only the last.
-    max_resident_bytes : float, optional
-        ngspice is stopped when its resident memory outgrows this.
 
     Returns
     -------
@@ -228,16 +178,14 @@ def run_plot(netlist: str, plot: str, *, simulator: Simulator, timeout: float = 
     """
     if simulator.backend not in PLOT_TRANSPORTS:
         raise ParameterError("simulator", simulator.backend, f"ngspice's {' | '.join(PLOT_TRANSPORTS)} transport")
-    with placement(simulator, foreign, None) as place:
-        columns, log, wall = run_batch(netlist, simulator, timeout, 0.0, None, place, max_output_bytes,
-                                        max_resident_bytes, plot=plot, joined=joined)
+    with placement(simulator, job.foreign, None) as place:
+        columns, log, wall = run_batch(TransportJob.checked(job.netlist, job, plot), simulator, place)
     if fatal_lines(log):
         raise SimulationError(failure_reason(log, ""), useful_output(log))
     return columns, log, wall
 
 
-
-def _validate(columns: dict[str, np.ndarray], log: str, names: list[str],
+def _validate(columns: dict[str, np.ndarray], log: str, names: Sequence[str],
               tstop: float) -> tuple[np.ndarray, dict[str, np.ndarray]]:
     if fatal_lines(log):
         raise SimulationError(failure_reason(log, ""), useful_output(log))

@@ -6,28 +6,26 @@ survives between runs; PySpice is imported only there, so ``import lcchain`` nev
 
 from __future__ import annotations
 
-from collections.abc import Callable
-
 import numpy as np
 
 from ...core.budget import show_bytes
 from ...core.errors import SimulationError
+from ..job import Progress, TransportJob
 from ..log import failure_reason, useful_output
 from ..simulator import Simulator
-from ..text import canonical_vector_name, circuit_lines, require_canonical, text_digest
+from ..text import canonical_vector_name
 from .place import Place
 from .shared_child import call_shared_worker, decode_worker_payload
 
 __all__ = ["run_shared"]
 
 
-def run_shared(netlist: str, simulator: Simulator, timeout: float, tstop: float,
-                progress: Callable[[float], None] | None, place: Place,
-                limit: float | None, resident: float | None) -> tuple[dict[str, np.ndarray], str, float]:
+def run_shared(job: TransportJob, simulator: Simulator, place: Place,
+               progress: Progress | None = None) -> tuple[dict[str, np.ndarray], str, float]:
     # One call in a child that exits after the run: no progress to report; its memory and output are watched.
-    stdout, log, status = call_shared_worker(place.prefix, {"netlist": require_canonical(netlist),
-                                                            "library": simulator.executable},
-                                             timeout, place.cwd, "run", place.env, limit, resident)
+    limit = job.max_output_bytes
+    stdout, log, status = call_shared_worker(place.prefix, {"netlist": job.text, "library": simulator.executable},
+                                             job.timeout, place.cwd, "run", place.env, limit, job.max_resident_bytes)
     if limit is not None and len(stdout) > limit:
         raise SimulationError(f"the ngspice shared-library child's vectors grew past {show_bytes(limit)}, the most "
                               "this run may write (its price, within --max-memory)", useful_output(log))
@@ -36,7 +34,7 @@ def run_shared(netlist: str, simulator: Simulator, timeout: float, tstop: float,
     except Exception as exc:  # noqa: BLE001 - a crashed child leaves empty or partial bytes
         raise SimulationError(f"the shared-library child (exit status {status}) returned no result ({exc})",
                               useful_output(log)) from None
-    if meta.get("lines") != text_digest(circuit_lines(netlist)):
+    if meta.get("lines") != job.lines:
         raise SimulationError("the shared-library child handed ngspice other lines than the ones lcchain checked",
                               useful_output(log))
     if meta["errors"]:

@@ -15,6 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...core.registry import Registry
+from ..job import Progress, TransportJob
 from ..simulator import Simulator
 from .batch import run_batch
 from .locate import find_batch, find_shared
@@ -24,10 +25,10 @@ from .warm import run_warm
 
 __all__ = ["NgspiceTransport", "TransportRun", "TRANSPORT_RUNS"]
 
-#: How a transport runs a netlist: (text, simulator, timeout, tstop, progress, place, max output bytes, max
-#: resident bytes) -> (columns, log, wall seconds).
-TransportRun = Callable[[str, Simulator, float, float, Callable[[float], None] | None, Place, float | None,
-                         float | None], tuple[dict[str, np.ndarray], str, float]]
+#: How a transport runs a checked text: (job, simulator, place, progress) -> (columns, log, wall seconds).  The
+#: job (:class:`lcchain.spice.job.TransportJob`) carries the text its check returned, the digest of its lines, the
+#: plot to read and the limits; the transport runs ``job.text`` as it is.
+TransportRun = Callable[[TransportJob, Simulator, Place, Progress | None], tuple[dict[str, np.ndarray], str, float]]
 
 
 @dataclass(frozen=True)

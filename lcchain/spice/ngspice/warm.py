@@ -50,10 +50,11 @@ import numpy as np
 
 from ...core.budget import show_bytes
 from ...core.errors import SimulationError, SimulatorMissingError
+from ..job import Progress, TransportJob
 from ..log import failure_reason, useful_output
 from ..processes import PACKAGE_ROOT, WATCH_INTERVAL, child_env, kill_group, outgrown, read_all, resident_bytes
 from ..simulator import Simulator
-from ..text import canonical_vector_name, circuit_lines, text_digest
+from ..text import canonical_vector_name
 from .locate import find_shared_library
 from .place import Place, placement
 
@@ -175,23 +176,22 @@ class WarmWorker:
         return SimulationError(f"ngspice's shared library ended its worker while {what} ({how})", useful_output(log))
 
     # -------------------------------------------------------------- runs
-    def run(self, netlist: str, timeout: float, limit: float | None = None,
-            resident: float | None = None) -> tuple[dict[str, np.ndarray], str, float]:
-        """Run one netlist: its vectors by canonical name, ngspice's output and its wall time (seconds).
+    def run(self, job: TransportJob) -> tuple[dict[str, np.ndarray], str, float]:
+        """Run one job's checked text: its vectors by canonical name, ngspice's output and its wall time (s).
 
-        While it runs, what it prints and (with ``resident``) the worker's resident memory are watched
-        (:func:`lcchain.spice.processes.outgrown`); its vectors may not pass ``limit`` bytes.
+        While it runs, what it prints and (with ``job.max_resident_bytes``) the worker's resident memory are
+        watched (:func:`lcchain.spice.processes.outgrown`); its vectors may not pass ``job.max_output_bytes``.
 
         Raises
         ------
         SimulationError
             The library failed or asked to exit, the worker died (this run fails; the worker is replaced on
-            the next), the run outlived ``timeout`` (status ``"timeout"``, the worker killed), its output or
-            memory outgrew its limits (the worker killed), or its vectors outgrew ``limit`` bytes.
+            the next), the run outlived its timeout (status ``"timeout"``, the worker killed), its output or
+            memory outgrew its limits (the worker killed), or its vectors outgrew ``max_output_bytes``.
         """
         assert self.proc.stdin is not None
-        lines = text_digest(circuit_lines(netlist))  # refuses a text that is not canonical before it is sent
-        data = netlist.encode("utf-8")
+        timeout, limit, resident = job.timeout, job.max_output_bytes, job.max_resident_bytes
+        data = job.text.encode("utf-8")
         self._err.seek(0)
         self._err.truncate()  # this run's output only (the worker writes at the offset the parent shares)
         deadline = time.monotonic() + timeout
@@ -231,7 +231,7 @@ class WarmWorker:
             self.close(kill=True)
             raise SimulationError(failure_reason(log, f"ngspice exited with status {header['exit']}"),
                                   useful_output(log))
-        if header.get("lines") != lines:  # the worker split the text other than the check: run nothing of it
+        if header.get("lines") != job.lines:  # the worker split the text other than the check: run nothing of it
             self.close(kill=True)
             raise SimulationError("the warm worker handed ngspice other lines than the ones lcchain checked", "")
         if header["errors"]:
@@ -365,10 +365,9 @@ def _same_version(worker: WarmWorker, simulator: Simulator) -> None:
                                     f"ngspice program {simulator.version}: the warm transport would change results")
 
 
-def run_warm(netlist: str, simulator: Simulator, timeout: float, tstop: float,
-              progress: Callable[[float], None] | None, place: Place,
-              limit: float | None, resident: float | None) -> tuple[dict[str, np.ndarray], str, float]:
+def run_warm(job: TransportJob, simulator: Simulator, place: Place,
+             progress: Progress | None = None) -> tuple[dict[str, np.ndarray], str, float]:
     # This thread's long-lived worker (worker_for); no progress to report: studies send it short runs.
-    worker = worker_for(simulator.executable, place.prefix, place.cwd, place.env, resident)
-    return worker.run(netlist, timeout, limit, resident)
+    worker = worker_for(simulator.executable, place.prefix, place.cwd, place.env, job.max_resident_bytes)
+    return worker.run(job)
 

@@ -5,11 +5,12 @@ from __future__ import annotations
 import dataclasses
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any, ClassVar
+from typing import ClassVar
 
 from lcchain.circuit.effects import Effect
 from lcchain.circuit.ladder import Ladder
 from lcchain.core.checks import real
+from lcchain.spice.job import Progress, RunJob
 from lcchain.spice.ngspice.engine import Ngspice
 from lcchain.spice.ngspice.find import find_simulator
 from lcchain.spice.ngspice.runner import run
@@ -46,7 +47,6 @@ class RenamedNgspice(Ngspice):
     def dialect(self, netlist: str, vectors: Sequence[str]) -> str:
         return netlist
 
-    def run(self, netlist: str, vectors: Sequence[str], tstop: float, *, simulator: Simulator,
-            **options: Any) -> RunResult:
-        result = run(netlist, vectors, tstop, simulator=dataclasses.replace(simulator, engine="ngspice"), **options)
+    def run(self, job: RunJob, simulator: Simulator, progress: Progress | None = None) -> RunResult:
+        result = run(job, dataclasses.replace(simulator, engine="ngspice"), progress=progress)
         return dataclasses.replace(result, engine=self.name)
