@@ -1,5 +1,6 @@
-"""Parts from a package installed apart from lcchain (issue 30): the ``lcchain.effects`` and ``lcchain.engines``
-entry-point groups.  tests/plugin/ is such a package; each test installs it with pip into its own folder (no
+"""Parts from a package installed apart from lcchain (issues 30 and 34): the ``lcchain.effects``,
+``lcchain.engines``, ``lcchain.cases``, ``lcchain.mode_methods``, ``lcchain.executors`` and
+``lcchain.ngspice_transports`` entry-point groups.  tests/plugin/ is such a package; each test installs it with pip into its own folder (no
 network: the package's build backend is its own few lines) and uses it in a fresh interpreter whose PYTHONPATH
 holds that folder, as a user's environment would."""
 
@@ -7,6 +8,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -39,6 +41,13 @@ def _python(env: dict[str, str], cwd: Path, code: str) -> subprocess.CompletedPr
 def _lcchain(env: dict[str, str], cwd: Path, *argv: str) -> subprocess.CompletedProcess[str]:
     return subprocess.run([sys.executable, "-m", "lcchain", *argv], env=env, cwd=cwd, capture_output=True,
                           text=True, timeout=600)
+
+
+def _help(env: dict[str, str], cwd: Path, command: str) -> str:
+    """``lcchain COMMAND --help`` in one line, argparse's wrapping undone (it also breaks lines after a hyphen)."""
+    helped = _lcchain(env, cwd, command, "--help")
+    assert helped.returncode == 0, helped.stderr
+    return re.sub(r"-\s+", "-", " ".join(helped.stdout.split()))
 
 
 def test_an_installed_effect_is_in_the_registry_the_scene_schema_and_the_options(tmp_path):
@@ -90,6 +99,58 @@ def test_an_installed_effect_and_engine_run_through_ngspice(tmp_path):
     assert ran.returncode == 0, ran.stderr
     data = json.loads(ran.stdout)
     assert data["engine"] == "renamed-ngspice" and data["max_abs_error"] < ATOL_EFFECT_RUN
+
+
+def test_an_installed_case_executor_transport_and_mode_method_are_offered(tmp_path):
+    """Each is in the registry of its kind and the command line's choices (``--help`` lists them, read from the
+    registries, not from the ``Literal`` sets), and the mode method computes modes; no simulator runs."""
+    env = _install(tmp_path)
+    done = _python(env, tmp_path, """
+        from lcchain.studies.executors import EXECUTOR_TRAITS
+        from lcchain.spice.ngspice.transports import TRANSPORT_RUNS, named_transports
+        from lcchain.theory.cases import CHAIN_CASES, chain_for_case
+        from lcchain.theory.spectrum import MODE_SOLVERS, normal_modes
+
+        print(list(CHAIN_CASES)[-1], list(EXECUTOR_TRAITS)[-1], list(TRANSPORT_RUNS)[-1], named_transports()[-1],
+              list(MODE_SOLVERS)[-1])
+        chain = chain_for_case("nodeleak-uniform", 6)
+        print(len(normal_modes(chain, method="nodeleak_exact").omega))
+    """)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.split() == ["nodeleak-uniform", "nodeleak-serial", "counted-batch", "counted-batch",
+                                   "nodeleak_exact", "6"]
+    assert "mode method nodeleak_exact" in done.stderr  # the plugin's function computed them
+    simulate = _help(env, tmp_path, "simulate")
+    assert "perfect, nodeleak-uniform (" in simulate  # --case
+    assert "how ngspice runs: batch, shared, counted-batch (default batch)" in simulate  # --backend
+    sweep = _help(env, tmp_path, "sweep")
+    assert "serial, process, dask, nodeleak-serial (default process)" in sweep  # --executor
+    assert "perfect, nodeleak-uniform)" in sweep and "batch, shared, counted-batch" in sweep  # --case, --backend
+    refused = _lcchain(env, tmp_path, "simulate", "--case", "nodeleak-uniform", "--N", "41")
+    assert refused.returncode == 2 and refused.stderr.count("\n") == 1 and "41" in refused.stderr  # its max_N
+
+
+@pytest.mark.ngspice
+def test_an_installed_case_transport_and_executor_run_a_sweep_through_ngspice(tmp_path):
+    """``sweep`` over the plugin's case and one of lcchain's, on the plugin's executor and ngspice transport: every
+    run goes through both (each says so on stderr) and passes; the store holds the transport's name."""
+    env = _install(tmp_path)
+    ran = _lcchain(env, tmp_path, "sweep", "--case", "nodeleak-uniform,two-mass", "--N", "4,5", "--dt", "0.05",
+                   "--executor", "nodeleak-serial", "--backend", "counted-batch", "--store", "s.sqlite", "--json")
+    assert ran.returncode == 0, ran.stderr
+    summary = json.loads(ran.stdout)
+    assert (summary["total"], summary["ok"], summary["failed"]) == (4, 4, 0)
+    said = ran.stderr.splitlines()
+    assert said.count("lcchain_nodeleak: executor nodeleak-serial ran a group of 1") == 4
+    assert said.count("lcchain_nodeleak: transport counted-batch ran on counted-batch") == 4
+    assert {"lcchain_nodeleak: case nodeleak-uniform N = 4", "lcchain_nodeleak: case nodeleak-uniform N = 5"} <= \
+        set(said)
+    simulated = _lcchain(env, tmp_path, "simulate", "--case", "nodeleak-uniform", "--N", "6", "--dt", "0.02",
+                         "--backend", "counted-batch", "--node-leakage", "1000", "--json")
+    assert simulated.returncode == 0, simulated.stderr
+    data = json.loads(simulated.stdout)
+    assert data["backend"] == "counted-batch" and data["max_abs_error"] < ATOL_EFFECT_RUN
+    assert "transport counted-batch ran on counted-batch" in simulated.stderr
 
 
 def test_a_broken_plugin_is_one_line_naming_its_entry_point(tmp_path):

@@ -17,20 +17,21 @@ from typing import Any, get_args
 import pytest
 from helpers.netlists import RC_NETLIST
 
-from lcchain.app.options import CASE_CHOICES, EXECUTOR_CHOICES
+from lcchain.app.options import BACKEND_CHOICES, CASE_CHOICES, EXECUTOR_CHOICES
 from lcchain.cli.main import build_parser
 from lcchain.core.errors import ParameterError
 from lcchain.core.registry import Registry
 from lcchain.core.types import Backend, Case, ExecutorName, ModeMethod, Transport
 from lcchain.runs.request import Request, Transient, plan_request
 from lcchain.scenes.schema import ChainSpec
+from lcchain.spice.engines import ENGINES
 from lcchain.spice.foreign import allowed_netlist
 from lcchain.spice.job import RunJob
 from lcchain.spice.ngspice.batch import run_batch
 from lcchain.spice.ngspice.find import find_simulator
 from lcchain.spice.ngspice.locate import find_batch
 from lcchain.spice.ngspice.runner import run
-from lcchain.spice.ngspice.transports import TRANSPORT_RUNS, NgspiceTransport
+from lcchain.spice.ngspice.transports import TRANSPORT_RUNS, NgspiceTransport, named_transports
 from lcchain.spice.result import read_include
 from lcchain.studies.executors import EXECUTOR_TRAITS, Executor, execute_group
 from lcchain.studies.run import run_specs
@@ -62,6 +63,19 @@ def test_each_literal_option_set_is_its_registrys_names(literal, registry, outsi
 
 def test_the_backends_are_the_transports_a_user_names():
     assert get_args(Backend) == tuple(name for name, part in TRANSPORT_RUNS.items() if part.find is not None)
+    assert tuple(BACKEND_CHOICES) == named_transports() == get_args(Backend)  # --backend's choices
+
+
+def test_a_transport_of_ones_own_is_a_backend_choice(forget):
+    """Registered (as itself, or by an entry point), a transport is ``--backend``'s choice and ngspice's."""
+    mine = NgspiceTransport("test-choice", run_batch, find_batch)
+    forget.append((TRANSPORT_RUNS, mine.name))
+    assert "test-choice" not in BACKEND_CHOICES
+    TRANSPORT_RUNS.accept("backend", mine)
+    assert "test-choice" in BACKEND_CHOICES and "test-choice" in ENGINES["ngspice"].user_transports()
+    assert build_parser().parse_args(["simulate", "--case", "perfect", "--N", "4", "--backend", "test-choice"]
+                                     ).backend == "test-choice"
+    assert "test-choice" not in ENGINES["gnucap"].user_transports()  # ngspice's transports, not gnucap's
 
 
 def test_the_command_lines_case_and_executor_choices_are_the_registries(forget):

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any
 
 from ..core.budget import Budget
+from ..core.types import JSONObject
 from ..report.files import check_output_folder
 
 __all__ = ["AccuracyBenchRequest", "AccuracyBench", "bench_accuracy", "write_bench"]
@@ -28,7 +28,7 @@ class AccuracyBench:
     """The benchmark's table as Markdown, and everything it measured (written by :func:`write_bench`)."""
 
     markdown: str
-    data: dict[str, Any]
+    data: JSONObject
 
 
 def bench_accuracy(request: AccuracyBenchRequest) -> AccuracyBench:

@@ -5,12 +5,12 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any, Literal
+from typing import TYPE_CHECKING, Literal
 
 from ..core.budget import Budget, Estimate, design_estimate
 from ..core.errors import ParameterError
 from ..core.limits import MAX_DESIGN_N, MIN_N
-from ..core.types import DESIGN_CASES, DesignCase
+from ..core.types import DESIGN_CASES, DesignCase, JSONObject
 from ..theory.design import DESIGN_TABLES
 from .inputs import check_perfect
 
@@ -89,7 +89,7 @@ def design(request: DesignRequest) -> Design | PerfectDesign:
     return result
 
 
-def table(request: TableRequest) -> list[dict[str, Any]]:
+def table(request: TableRequest) -> list[JSONObject]:
     """The table's rows, one design per size, as :meth:`lcchain.theory.design.Design.to_dict` gives them."""
     from ..theory.design import optimal_design
 

@@ -2,11 +2,14 @@
 
 Moved from ``cli/common.py`` (issue 34): the command line parses options into a :class:`ChainOptions` and calls
 these; a file that cannot be written is named in one line (:class:`Outputs`), never a traceback.
+
+app/ prints nothing to stderr itself: what a command has to say beside its result (a file it could not write, a
+target it missed) is a note, a line the command's result holds (``notes``, or :attr:`Outputs.notes`) and the
+command line prints (``lcchain: <note>``).
 """
 
 from __future__ import annotations
 
-import contextlib
 import json
 import sys
 from collections.abc import Callable
@@ -62,18 +65,25 @@ class Outputs:
     ``inputs`` names the files the command reads (option -> path): an output
     that is one of them is refused, so that no command destroys its own input.
     A file that cannot be written at the end (a full disk) is named in one
-    line and makes the command fail (exit 1), after everything else was
-    written and printed.
+    note (:attr:`notes`, which the caller prints) and makes the command fail
+    (exit 1), after everything else was written and printed.
 
     ``-`` (:data:`STDOUT`) names standard output for an option that writes
     one text (no ``formats``); one option at most may take it, and the
-    command's own summary then goes to stderr (:meth:`summary`).
+    command's own summary then goes to stderr (``lcchain.cli.common.summary_stream``).
     """
 
     inputs: dict[str, str] = field(default_factory=dict)
     checked: dict[str, Path] = field(default_factory=dict)
     failed: list[str] = field(default_factory=list)
     to_stdout: str | None = None
+    notes: list[str] = field(default_factory=list)
+
+    def take_notes(self) -> list[str]:
+        """The notes said since the last call (a caller prints them as they come: before and after writing)."""
+        taken = list(self.notes)
+        self.notes.clear()
+        return taken
 
     def check(self, option: str, path: str | None, formats: tuple[str, ...] | None = None, *,
               make_folder: bool = False) -> None:
@@ -99,12 +109,6 @@ class Outputs:
             raise ParameterError(option, STDOUT, f"a file name: {self.to_stdout} writes to stdout (-) already")
         self.to_stdout = option
 
-    def summary(self) -> contextlib.AbstractContextManager[object]:
-        """Where the command's own lines go: stdout, or stderr when an output writes its text to stdout."""
-        if self.to_stdout is None:
-            return contextlib.nullcontext()
-        return contextlib.redirect_stdout(sys.stderr)
-
     def write(self, option: str, writer: Callable[[Path], object]) -> None:
         """Run ``writer(path)`` for a checked output; report a failure by name instead of raising."""
         path = self.checked.get(option)
@@ -114,7 +118,7 @@ class Outputs:
             writer(path)
         except OSError as error:
             self.failed.append(option)
-            print(f"lcchain: could not write {path} ({option}): {error.strerror or error}", file=sys.stderr)
+            self.notes.append(f"could not write {path} ({option}): {error.strerror or error}")
 
     def text(self, option: str, text: str) -> None:
         """Write a checked output's text: to its file, atomically, or to stdout for ``-``."""
@@ -192,6 +196,8 @@ def _chain_of_args(args: ChainOptions, budget: Budget, max_N: int) -> Chain:
     if not 3 <= args.N <= max_N:
         raise ParameterError("--N", args.N, f"an integer from 3 to {max_N} (masses of a circuit)")
     named = CHAIN_CASES[args.case]  # a name the parser offered
+    if args.N > named.max_N:  # a case's own limit (a plugin's may be below the circuit's), as a scene checks it
+        raise ParameterError("--N", args.N, f"an integer from 3 to {named.max_N} for --case {args.case}")
     if args.walls and not named.walls:
         raise ParameterError("--walls", args.walls, "0 unless --case perfect (J >= 1: a perfect cradle tied to walls)")
     if named.walls:  # the case that takes walls, the perfect cradle, is designed from its spectrum: priced first

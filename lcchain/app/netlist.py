@@ -33,8 +33,11 @@ class NetlistRequest(LadderRequest):
 
 @dataclass(frozen=True)
 class NetlistResult:
+    """The netlist's text; whether ``output`` could not be written, and the note that says so."""
+
     text: str
     failed: bool
+    notes: tuple[str, ...] = ()
 
 
 def netlist(request: NetlistRequest) -> NetlistResult:
@@ -52,7 +55,7 @@ def netlist(request: NetlistRequest) -> NetlistResult:
                               comments=(f"made by: {request.command}",), effects=request.effects)
     if request.output:
         outputs.text("--output", text)  # "-" too: stdout
-    return NetlistResult(text, bool(outputs.failed))
+    return NetlistResult(text, bool(outputs.failed), tuple(outputs.notes))
 
 
 @dataclass(frozen=True)
@@ -66,10 +69,11 @@ class ReferenceRequest:
 
 @dataclass(frozen=True)
 class ReferenceNetlists:
-    """The netlists' paths, and whether one could not be written (said in one line)."""
+    """The netlists' paths, and whether one could not be written (said in a note)."""
 
     paths: tuple[Path, ...]
     failed: bool
+    notes: tuple[str, ...] = ()
 
 
 def reference_netlists(request: ReferenceRequest) -> ReferenceNetlists:
@@ -86,7 +90,8 @@ def reference_netlists(request: ReferenceRequest) -> ReferenceNetlists:
         outputs.text(reference.name, reference_netlist(reference))
         if written is not None:
             written(folder / reference.name)
-    return ReferenceNetlists(tuple(folder / reference.name for reference in REFERENCE_SET), bool(outputs.failed))
+    return ReferenceNetlists(tuple(folder / reference.name for reference in REFERENCE_SET), bool(outputs.failed),
+                             tuple(outputs.notes))
 
 
 def examples() -> list[tuple[str, str]]:
@@ -99,12 +104,13 @@ def examples() -> list[tuple[str, str]]:
 @dataclass(frozen=True)
 class ExampleResult:
     """Where the example went: ``target``; ``unchanged`` when the same file was there already; ``failed`` when it
-    could not be written; ``to_stdout`` when it went to stdout (``-o -``)."""
+    could not be written (``notes`` says why); ``to_stdout`` when it went to stdout (``-o -``)."""
 
     target: str
     unchanged: bool = False
     failed: bool = False
     to_stdout: bool = False
+    notes: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -130,7 +136,8 @@ def example(request: ExampleRequest) -> ExampleResult:
     outputs = Outputs()
     outputs.check("-o", target)
     outputs.text("-o", text)
-    return ExampleResult(target, failed=bool(outputs.failed), to_stdout=outputs.to_stdout is not None)
+    return ExampleResult(target, failed=bool(outputs.failed), to_stdout=outputs.to_stdout is not None,
+                         notes=tuple(outputs.notes))
 
 
 def _holds(path: Path, text: str) -> bool:

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from ..core.budget import Budget
 from ..core.errors import ParameterError
@@ -14,7 +14,7 @@ from .inputs import ChainOptions, Outputs, make_chain
 
 if TYPE_CHECKING:
     from ..circuit.ladder import Ladder
-    from ..circuit.requirements import Requirement
+    from ..circuit.requirements import Arrival, Part, Requirement
     from ..studies.requirements import CheckPoint
     from ..theory.chain import Chain
 
@@ -43,7 +43,7 @@ class Requirements:
     request: RequirementsRequest
     chain: Chain
     ladder: Ladder
-    ideal: Any
+    ideal: Arrival
     results: list[Requirement]
     points: list[CheckPoint]
     targets: tuple[float, ...]
@@ -57,7 +57,7 @@ class Requirements:
         return all(point_agrees(point) for point in self.points)
 
 
-def parts_named(text: str | None) -> list[Any]:
+def parts_named(text: str | None) -> list[Part]:
     """The parts ``--part`` names (comma-separated keys; None: all)."""
     from ..circuit.requirements import PARTS
 

@@ -4,18 +4,21 @@ rows, a table's columns)."""
 
 from __future__ import annotations
 
+import functools
 import json
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from ..core.budget import Budget
 from ..core.errors import ExtraMissingError, ParameterError
-from ..core.types import STUDY_METRICS
+from ..core.types import STUDY_METRICS, JSONObject
 from ..report.files import FIGURE_FORMATS
 from .inputs import Outputs
 
 if TYPE_CHECKING:
+    from ..studies.store import Store
     from ..studies.stored import StoredRun
 
 __all__ = ["ResultsRequest", "Results", "results"]
@@ -43,18 +46,19 @@ class Results:
     """The store's runs (:class:`lcchain.studies.stored.StoredRun`) and their JSON, and what the request shows:
     ``groups`` and ``constants`` (a summary), ``runs_json`` (``--json``: arrival times also in seconds),
     ``rows`` (``--csv``), ``axes`` and each finished run's ``vectors`` (the table); ``written`` the files
-    written, ``failed`` the options whose file could not be."""
+    written, ``failed`` the options whose file could not be, and ``notes`` the lines that say why."""
 
     stored: list[StoredRun]
-    runs: list[dict[str, Any]]
-    groups: list[dict[str, Any]] = field(default_factory=list)
-    constants: dict[str, Any] = field(default_factory=dict)
-    runs_json: list[dict[str, Any]] = field(default_factory=list)
-    rows: list[dict[str, Any]] = field(default_factory=list)
+    runs: list[JSONObject]
+    groups: list[JSONObject] = field(default_factory=list)
+    constants: JSONObject = field(default_factory=dict)
+    runs_json: list[JSONObject] = field(default_factory=list)
+    rows: list[JSONObject] = field(default_factory=list)
     axes: list[str] = field(default_factory=list)
     vectors: dict[str, list[str] | None] = field(default_factory=dict)
     written: list[str] = field(default_factory=list)
     failed: list[str] = field(default_factory=list)
+    notes: list[str] = field(default_factory=list)
 
 
 def results(request: ResultsRequest) -> Results:
@@ -99,16 +103,18 @@ def results(request: ResultsRequest) -> Results:
         runs = [run.to_dict() for run in stored]
         written = [path for option, path in (("--plot", request.plot), ("--netcdf", request.netcdf),
                                              ("--parquet", request.parquet)) if path and option not in outputs.failed]
-        found = Results(stored, runs, written=written + beside, failed=list(outputs.failed))
+        found = Results(stored, runs, written=written + beside, failed=list(outputs.failed),
+                        notes=list(outputs.notes))
         if request.summary:
             return Results(stored, runs, groups=[group.to_dict() for group in peak_groups(stored, request.metric)],
-                           constants=study_constants(stored), written=found.written, failed=found.failed)
+                           constants=study_constants(stored), written=found.written, failed=found.failed,
+                           notes=found.notes)
         if request.json:
             return Results(stored, runs, runs_json=_with_seconds(runs, store), written=found.written,
-                           failed=found.failed)
+                           failed=found.failed, notes=found.notes)
         if request.csv:
             return Results(stored, runs, rows=[_flat(run) for run in runs], written=found.written,
-                           failed=found.failed)
+                           failed=found.failed, notes=found.notes)
         if request.plot or request.netcdf or request.parquet:
             return found
         spectral = any(run.spectral for run in stored)
@@ -116,10 +122,10 @@ def results(request: ResultsRequest) -> Results:
         vectors = {} if spectral or theory else {run.key: store.vector_names(run.key) for run in stored
                                                  if run.status == "ok"}
         return Results(stored, runs, axes=study_axes(stored), vectors=vectors, written=found.written,
-                       failed=found.failed)
+                       failed=found.failed, notes=found.notes)
 
 
-def _price_results(store: Any, request: ResultsRequest) -> None:
+def _price_results(store: Store, request: ResultsRequest) -> None:
     """Refuse, before the runs are read, a ``results`` whose reading and exports exceed --max-memory or
     --max-time (:func:`lcchain.core.budget.export_estimate`): the waveforms of a 259-corner store ran to 2.5 GiB
     and a MemoryError."""
@@ -136,7 +142,7 @@ def _price_results(store: Any, request: ResultsRequest) -> None:
                    "--netcdf without --waveforms, or a larger --max-memory" if waveforms else "")
 
 
-def _flat(run: dict[str, Any]) -> dict[str, Any]:
+def _flat(run: JSONObject) -> JSONObject:
     from ..spice.measure import MEASUREMENTS
     from ..studies.exports import measurement_column
 
@@ -164,7 +170,7 @@ def _require(module: str, option: str) -> None:
         raise ExtraMissingError(module, "data", option, more=(module,))
 
 
-def _write_atomic(path: Path, writer: Any) -> None:
+def _write_atomic(path: Path, writer: Callable[[Path], object]) -> None:
     """Write through a hidden temporary name in the same folder, renamed over ``path`` only when complete."""
     from ..report.files import atomic_path
 
@@ -172,7 +178,7 @@ def _write_atomic(path: Path, writer: Any) -> None:
         writer(partial)
 
 
-def _with_seconds(runs: list[dict[str, Any]], store: Any) -> list[dict[str, Any]]:
+def _with_seconds(runs: list[JSONObject], store: Store) -> list[JSONObject]:
     """``results --json``: each arrival's times also in seconds (``t_sim_s``, ``t_theory_s``) where the study
     states one L0 and one C0 (a sweep's description); a batch of netlists or a study of scenes states none."""
     from ..core.physical import seconds
@@ -193,7 +199,11 @@ def _with_seconds(runs: list[dict[str, Any]], store: Any) -> list[dict[str, Any]
     return runs
 
 
-def _write_netcdf(parts: dict[str, Any], path: Path) -> list[Path]:
+def _to_netcdf(part: Any, engine: str, path: Path) -> None:  # an xarray Dataset
+    part.to_netcdf(path, engine=engine)
+
+
+def _write_netcdf(parts: dict[str, Any], path: Path) -> list[Path]:  # xarray Datasets
     """CF netCDF (:func:`lcchain.studies.netcdf.cf_datasets`) through whichever engine is there: netCDF4 or
     h5netcdf write one file, the waveforms in groups, compressed; scipy's netCDF3 has no groups, so each waveform
     group goes to a file of its own beside FILE (``FILE.stem.transient.nc``). Returns the files written."""
@@ -210,7 +220,7 @@ def _write_netcdf(parts: dict[str, Any], path: Path) -> list[Path]:
         _write_atomic(path, lambda partial: root.to_netcdf(partial, engine=engine))
         for name, part in groups.items():
             target = path.with_name(f"{path.stem}.{name}.nc")
-            _write_atomic(target, lambda partial, part=part: part.to_netcdf(partial, engine=engine))
+            _write_atomic(target, functools.partial(_to_netcdf, part, engine))
             written.append(target)
         return written
 

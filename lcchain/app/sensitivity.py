@@ -4,17 +4,16 @@ exact theory; with ``check``, ngspice's central differences against it (runs thr
 from __future__ import annotations
 
 import contextlib
-import sys
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from ..core.budget import Budget
 from ..core.errors import ParameterError
 from ..core.types import ArrivalMetric
 from ..report.files import FIGURE_FORMATS
 from .inputs import ChainOptions, Outputs, make_chain
-from .studies import STORE_FORMATS, StudyOptions, check_executor, study_workers
+from .studies import STORE_FORMATS, StudyOptions, StudyProgress, check_executor, study_workers
 
 if TYPE_CHECKING:
     from ..circuit.sensitivity import Component, LadderSensitivity
@@ -45,13 +44,14 @@ class SensitivityRequest:
     study: StudyOptions = field(default_factory=StudyOptions)
     budget: Budget = field(default_factory=Budget)
     progress: Callable[[str], Callable[[float], None]] | None = None
-    study_progress: Callable[[Any], None] | None = None
+    study_progress: Callable[[StudyProgress], None] | None = None
 
 
 @dataclass(frozen=True)
 class Sensitivity:
     """The ladder's sensitivities (:class:`lcchain.circuit.sensitivity.LadderSensitivity`), the ``top`` components
-    shown, each ngspice check (:class:`lcchain.studies.sensitivity.Check`), and the figure still to write."""
+    shown, each ngspice check (:class:`lcchain.studies.sensitivity.Check`), the figure still to write (its
+    ``outputs``), and ``notes``: what the command says beside the result (the check's runs that failed)."""
 
     request: SensitivityRequest
     chain: Chain
@@ -59,6 +59,7 @@ class Sensitivity:
     top: list[Component]
     checks: list[Check]
     outputs: Outputs
+    notes: tuple[str, ...] = ()
 
     @property
     def passed(self) -> bool:
@@ -67,8 +68,9 @@ class Sensitivity:
         return not wanted or (len(self.checks) >= wanted and all(check.passed for check in self.checks))
 
 
-def _checks(request: SensitivityRequest, sensitivity: Any) -> list[Any]:
-    """The check's runs through a plan and a store (the user's, or a temporary one), read back as rows."""
+def _checks(request: SensitivityRequest, sensitivity: LadderSensitivity) -> tuple[list[Check], tuple[str, ...]]:
+    """The check's runs through a plan and a store (the user's, or a temporary one), read back as rows; and the
+    note that says how many failed, if any did."""
     from ..spice.scratch import scratch_folder
     from ..studies.run import run_plan
     from ..studies.sensitivity import check_plan, check_rows
@@ -87,9 +89,8 @@ def _checks(request: SensitivityRequest, sensitivity: Any) -> list[Any]:
             rows = check_rows(stored.runs(), steps, sensitivity.metric)
     if summary.failed or summary.combined_failed:
         where = f"'lcchain results {study.store}' says why" if study.store else "keep them with --store FILE to see why"
-        print(f"lcchain: {summary.failed + summary.combined_failed} of the check's runs failed ({where})",
-              file=sys.stderr)
-    return rows
+        return rows, (f"{summary.failed + summary.combined_failed} of the check's runs failed ({where})",)
+    return rows, ()
 
 
 def sensitivity(request: SensitivityRequest) -> Sensitivity:
@@ -118,13 +119,13 @@ def sensitivity(request: SensitivityRequest) -> Sensitivity:
     if shown is not None:
         shown(1.0)
     top = list(result.components[: request.top or None])
-    checks = _checks(request, result) if request.check else []
-    return Sensitivity(request, chain, result, top, checks, outputs)
+    checks, notes = _checks(request, result) if request.check else ([], ())
+    return Sensitivity(request, chain, result, top, checks, outputs, notes)
 
 
 def write_plot(result: Sensitivity) -> bool:
     """Draw ``--plot`` (after the result was shown): dp/d ln x along the chain; returns whether it could not be
-    written (said in one line)."""
+    written (said in a note of ``result.outputs``)."""
     request, chain, sensitivity, checks, outputs = (result.request, result.chain, result.sensitivity,
                                                     result.checks, result.outputs)
     if request.plot:

@@ -8,24 +8,25 @@ With several engines it runs one netlist in each (an :class:`EnginesComparison`)
 
 from __future__ import annotations
 
-import sys
 import warnings
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from ..circuit.effects import Effect
 from ..core.budget import Budget
 from ..core.errors import ParameterError
 from ..core.physical import hertz, physical_scales, seconds
-from ..core.types import BACKENDS, Backend, Method
+from ..core.types import BACKENDS, Backend, JSONObject, Method
 from ..report.files import FIGURE_FORMATS
 from .inputs import LadderRequest, Outputs, make_chain
 from .netlist import DEFAULT_DT
 
 if TYPE_CHECKING:
+    from ..runs.request import Request
     from ..runs.simulate import SimulationReport
+    from ..runs.spec import RunSpec
     from ..theory.chain import Chain
 
 __all__ = ["SimulateRequest", "Simulation", "EnginesComparison", "simulate_chain", "write_outputs",
@@ -62,7 +63,7 @@ class Simulation:
     request: SimulateRequest
     chain: Chain
     report: SimulationReport
-    data: dict[str, Any]
+    data: JSONObject
     warnings: tuple[str, ...]
     outputs: Outputs
     kept: list[str]
@@ -70,15 +71,17 @@ class Simulation:
 
 @dataclass(frozen=True)
 class EnginesComparison:
-    """``simulate --engine A,B``: each engine's report, their JSON and the largest differences between them."""
+    """``simulate --engine A,B``: each engine's report, their JSON, the largest differences between them and the
+    warnings the runs raised (each once)."""
 
     chain: Chain
     reports: list[SimulationReport]
-    data: dict[str, Any]
+    data: JSONObject
     differences: dict[str, float]
+    warnings: tuple[str, ...] = ()
 
 
-def with_physical_units(data: dict[str, Any], L0: float, C0: float) -> dict[str, Any]:
+def with_physical_units(data: JSONObject, L0: float, C0: float) -> JSONObject:
     """A report's JSON with its bulk numbers also in SI (issue 33): ``physical`` (the units' scales,
     :func:`lcchain.core.physical.physical_scales`), ``dt_s`` and ``tstop_s``, each arrival's ``t_theory_s`` and
     ``t_sim_s``, each mode's ``omega_Hz`` and ``omega_theory_Hz``; the bulk keys stay as they are."""
@@ -103,8 +106,8 @@ def _progress(request: SimulateRequest, label: str) -> Callable[[float], None] |
     return None if request.progress is None else request.progress(label)
 
 
-def _simulation_request(request: SimulateRequest, chain: Any, *, dt: float | None, accuracy: float | None,
-                        extrapolate: int | None, engine: str, backend: Any) -> Any:
+def _simulation_request(request: SimulateRequest, chain: Chain, *, dt: float | None, accuracy: float | None,
+                        extrapolate: int | None, engine: str, backend: Backend) -> Request:
     """What ``simulate`` asks for: the chain, the step, and the effects its options ask for (``--Q``,
     ``--coil-capacitance``, ...), as one Request."""
     import dataclasses
@@ -118,7 +121,7 @@ def _simulation_request(request: SimulateRequest, chain: Any, *, dt: float | Non
     return dataclasses.replace(made, effects=effects) if effects else made
 
 
-def _prepare(request: SimulateRequest) -> tuple[Outputs, Any, float | None, list[str], Callable[[Any], None]]:
+def _prepare(request: SimulateRequest) -> tuple[Outputs, Chain, float | None, list[str], Callable[[RunSpec], None]]:
     """The outputs checked, the chain, the step, and the hook that keeps each run's netlist before it starts."""
     from ..report.files import write_text
 
@@ -135,7 +138,7 @@ def _prepare(request: SimulateRequest) -> tuple[Outputs, Any, float | None, list
 
     kept: list[str] = []
 
-    def keep_netlist(spec: Any) -> None:  # before ngspice starts: a failed run still leaves it
+    def keep_netlist(spec: RunSpec) -> None:  # before ngspice starts: a failed run still leaves it
         if request.netlist_out == "-":  # stdout holds one netlist: the first run's
             if not kept:
                 outputs.text("--netlist-out", spec.netlist)
@@ -145,8 +148,8 @@ def _prepare(request: SimulateRequest) -> tuple[Outputs, Any, float | None, list
             path = Path(request.netlist_out)
             target = path if not kept else path.with_name(f"{path.stem}-run{len(kept) + 1}{path.suffix}")
             if kept and (target.exists() or target.is_symlink()):  # a name the user did not give: never replaced
-                print(f"lcchain: warning: --netlist-out: {target} exists and was left as it is; run "
-                      f"{len(kept) + 1}'s netlist was not written", file=sys.stderr)
+                outputs.notes.append(f"warning: --netlist-out: {target} exists and was left as it is; run "
+                                     f"{len(kept) + 1}'s netlist was not written")
                 kept.append(f"{target} (not written)")
                 return
             write_text(target, spec.netlist)
@@ -175,12 +178,12 @@ def simulate_chain(request: SimulateRequest) -> Simulation | EnginesComparison:
 
 def write_outputs(simulation: Simulation) -> bool:
     """Write the waveforms and the figure of a run (after it was shown); returns whether the run failed: an
-    accuracy not met, or an output that could not be written (each said in one line on stderr)."""
+    accuracy not met, or an output that could not be written (each said in a note of ``simulation.outputs``)."""
     request, chain, report, data, outputs, kept = (simulation.request, simulation.chain, simulation.report,
                                                    simulation.data, simulation.outputs, simulation.kept)
     if len(kept) > 1:
-        print(f"--netlist-out: the {len(kept)} runs' netlists are in {', '.join(kept)} (dt = "
-              f"{', '.join(f'{h:.4g}' for h in data['extrapolation']['dt'])})", file=sys.stderr)
+        outputs.notes.append(f"--netlist-out: the {len(kept)} runs' netlists are in {', '.join(kept)} (dt = "
+                             f"{', '.join(f'{h:.4g}' for h in data['extrapolation']['dt'])})")
     outputs.text("--waveform-out", report.waveforms.to_csv())
     if request.plot:
         from ..report.plots import overlay
@@ -194,14 +197,14 @@ def write_outputs(simulation: Simulation) -> bool:
             path=path, time_unit=data["physical"]["time_unit_s"]))
     if report.accuracy_met is False:
         steps = ", ".join(f"{h:.4g}" for h in data["extrapolation"]["dt"])
-        print(f"lcchain: --accuracy {request.accuracy:g} was not met: the run reached {data['max_abs_error']:.3g} "
-              f"(dt = {steps}, predicted {data['predicted_error']:.3g})", file=sys.stderr)
+        outputs.notes.append(f"--accuracy {request.accuracy:g} was not met: the run reached "
+                             f"{data['max_abs_error']:.3g} (dt = {steps}, predicted {data['predicted_error']:.3g})")
         return True
     return bool(outputs.failed)
 
 
-def _compare_engines(request: SimulateRequest, chain: Any, dt: float | None,
-                     keep_netlist: Callable[[Any], None]) -> EnginesComparison:
+def _compare_engines(request: SimulateRequest, chain: Chain, dt: float | None,
+                     keep_netlist: Callable[[RunSpec], None]) -> EnginesComparison:
     from ..compare.metrics import residual_difference
     from ..runs.simulate import simulate
 
@@ -212,7 +215,7 @@ def _compare_engines(request: SimulateRequest, chain: Any, dt: float | None,
         raise ParameterError(option, value, "one engine (--engine NAME)")
     if request.backend != BACKENDS[0]:  # the default transport, which every engine has
         raise ParameterError("--backend", request.backend, f"{BACKENDS[0]} with several engines")
-    reports: list[Any] = []
+    reports: list[SimulationReport] = []
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         for engine in request.engines:
@@ -222,8 +225,6 @@ def _compare_engines(request: SimulateRequest, chain: Any, dt: float | None,
                                        extrapolate=1, engine=engine, backend="batch")
             reports.append(simulate(made, progress=_progress(request, engine), budget=request.budget,
                                     on_spec=None if reports else keep_netlist))
-    for warning in sorted({str(w.message) for w in caught}):
-        print(f"lcchain: warning: {warning}", file=sys.stderr)
     first = reports[0]
     differences = {}
     for other in reports[1:]:
@@ -236,4 +237,4 @@ def _compare_engines(request: SimulateRequest, chain: Any, dt: float | None,
                                 b.last - other.comparison.theory_last))
     data = {"engines": [report.to_dict() for report in reports], "max_abs_difference": differences,
             "netlist_sha256": first.run.netlist_sha256}
-    return EnginesComparison(chain, reports, data, differences)
+    return EnginesComparison(chain, reports, data, differences, tuple(sorted({str(w.message) for w in caught})))

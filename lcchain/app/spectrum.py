@@ -6,17 +6,21 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from ..circuit.effects import Effect
 from ..core import __version__
 from ..core.budget import Budget
 from ..core.errors import ParameterError
+from ..core.types import JSONObject
 from ..report.files import FIGURE_FORMATS
 from .inputs import ChainOptions, Outputs, make_chain
 from .simulate import with_physical_units
 
 if TYPE_CHECKING:
+    import numpy as np
+    from numpy.typing import NDArray
+
     from ..runs.spectrum import SpectrumReport
     from ..theory.chain import Chain
 
@@ -54,7 +58,7 @@ class Spectrum:
     request: SpectrumRequest
     chain: Chain
     report: SpectrumReport
-    data: dict[str, Any]
+    data: JSONObject
     effects: tuple[Effect, ...]
     outputs: Outputs
     merged: str = ""
@@ -65,7 +69,7 @@ class TwoPortSummary:
     """``--touchstone``: the frequencies (Hz), the reference impedance, the largest |S - exact| and the
     reciprocity |Y12 - Y21| / max |Y|."""
 
-    frequency: Any
+    frequency: NDArray[np.float64]
     z0: float
     error: float
     reciprocity: float
@@ -97,7 +101,7 @@ def spectrum(request: SpectrumRequest) -> Spectrum:
 
 def write_outputs(result: Spectrum) -> TwoPortSummary | None:
     """Draw ``plot`` and write ``touchstone`` (after the spectrum was shown); the two-port's summary when one was
-    made.  A file that cannot be written is said in one line and leaves ``result.outputs.failed`` set."""
+    made.  A file that cannot be written is said in a note of ``result.outputs`` and leaves its ``failed`` set."""
     request, chain, report, data = result.request, result.chain, result.report, result.data
     if request.plot:
         from ..report.plots import spectrum as spectrum_figure
@@ -111,7 +115,7 @@ def write_outputs(result: Spectrum) -> TwoPortSummary | None:
     return None
 
 
-def _write_touchstone(request: SpectrumRequest, chain: Any, effects: tuple[Effect, ...],
+def _write_touchstone(request: SpectrumRequest, chain: Chain, effects: tuple[Effect, ...],
                       outputs: Outputs) -> TwoPortSummary:
     """``spectrum --touchstone FILE.s2p``: the ladder's two-port from two AC analyses (one per end), checked
     against the circuit's exact admittances (:mod:`lcchain.runs.twoport`), as Touchstone v1."""

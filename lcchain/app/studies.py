@@ -7,14 +7,19 @@ import contextlib
 import logging
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Protocol
 
 from ..core.budget import Budget
+from ..core.types import JSONObject
 from .inputs import Outputs
 
 if TYPE_CHECKING:
+    from concurrent.futures import ProcessPoolExecutor
+
+    from ..spice.simulator import Simulator
     from ..studies.plan import Plan
     from ..studies.run import Summary
+    from ..studies.worst_case import WorstCase
 
 __all__ = ["STORE_FORMATS", "StudyOptions", "StudyHooks", "PlannedStudy", "StudyResult", "study_workers",
            "check_executor", "check_study", "run_study", "dask_quiet"]
@@ -81,13 +86,27 @@ def dask_quiet(verbose: bool) -> Iterator[None]:
             handler.removeFilter(quiet)
 
 
+class StudyProgress(Protocol):
+    """Where a study is, as its progress callback gets it (:class:`lcchain.studies.run.Progress`): runs done of
+    the total, and how many failed."""
+
+    @property
+    def done(self) -> int: ...
+
+    @property
+    def total(self) -> int: ...
+
+    @property
+    def failed(self) -> int: ...
+
+
 @dataclass(frozen=True)
 class StudyHooks:
     """What the caller shows while a study runs: ``progress`` with each :class:`lcchain.studies.run.Progress`,
     ``on_resume(skipped, todo)`` when the store holds runs already, ``on_wait(pid)`` while another writer holds
     it; ``verbose`` lets Dask's own log through."""
 
-    progress: Callable[[Any], None] | None = None
+    progress: Callable[[StudyProgress], None] | None = None
     on_resume: Callable[[int, int], None] | None = None
     on_wait: Callable[[int | None], None] | None = None
     verbose: bool = False
@@ -100,7 +119,7 @@ class PlannedStudy:
 
     plan: Plan
     max_seconds: float | None = None
-    worst_case: Any = None
+    worst_case: WorstCase | None = None
 
 
 @dataclass(frozen=True)
@@ -109,7 +128,7 @@ class StudyResult:
     (:func:`lcchain.studies.worst_case.worst_case_summary`)."""
 
     summary: Summary
-    worst_case: dict[str, Any] | None = None
+    worst_case: JSONObject | None = None
 
 
 def check_study(options: StudyOptions) -> None:
@@ -119,7 +138,7 @@ def check_study(options: StudyOptions) -> None:
 
 
 def run_study(planned: PlannedStudy, options: StudyOptions, budget: Budget, hooks: StudyHooks | None = None,
-              pool: Any = None, simulator: Any = None) -> StudyResult:
+              pool: ProcessPoolExecutor | None = None, simulator: Simulator | None = None) -> StudyResult:
     """Price the plan for its workers, run it into ``options.store`` (resumed; ``pool``: the process executor's
     workers, started while the plan was made; ``simulator``: the engine, found while the plan was made), and read
     a worst case's summary."""

@@ -6,14 +6,19 @@ from __future__ import annotations
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING
 
 from ..core.analyses import analysis_kind
 from ..core.budget import INTERPRETER_SECONDS, Budget
 from ..core.errors import ParameterError
-from ..core.types import BACKENDS, DEFAULT_C0, DEFAULT_L0, ArrivalMetric, Backend, Excitation, WorstCaseMethod
+from ..core.types import BACKENDS, DEFAULT_C0, DEFAULT_L0, JSON, ArrivalMetric, Backend, Excitation, WorstCaseMethod
 from ..spice.engines import DEFAULT_ENGINE
 from .studies import PlannedStudy, StudyHooks, StudyOptions, StudyResult, run_study, study_workers
+
+if TYPE_CHECKING:
+    from concurrent.futures import ProcessPoolExecutor
+
+    from ..studies.plan import Plan
 
 __all__ = ["SweepRequest", "plan_sweep", "sweep"]
 
@@ -81,7 +86,7 @@ def _pool_first(request: SweepRequest) -> bool:
             and traits is not None and traits.parallel and not traits.remote and study_workers(request.study) > 1)
 
 
-def plan_sweep(request: SweepRequest, pool: Any = None) -> PlannedStudy:
+def plan_sweep(request: SweepRequest, pool: ProcessPoolExecutor | None = None) -> PlannedStudy:
     """The sweep's plan, checked against its options, before anything runs (the store is not touched); ``pool``:
     a transient sweep's started process pool (:func:`lcchain.studies.pools.started_pool`), which designs its
     chains."""
@@ -143,7 +148,7 @@ def _netlist_sweep(request: SweepRequest, budget: Budget) -> PlannedStudy:
     return PlannedStudy(plan, max_seconds=max(left, 0.0))
 
 
-def _parts_sweep(request: SweepRequest, budget: Budget) -> Any:
+def _parts_sweep(request: SweepRequest, budget: Budget) -> Plan:
     """``sweep --case C --N N --tolerance 1% --series E24 --samples 200``: a Monte Carlo of real parts with no scene
     file, the scene made from the options (:func:`lcchain.studies.plan.case_scene`), each list of them an axis."""
     from ..studies.plan import case_scene, scene_sweep_plan
@@ -154,9 +159,9 @@ def _parts_sweep(request: SweepRequest, budget: Budget) -> Any:
     if request.points is not None:
         raise ParameterError("--points", request.points, "nothing without --analysis ac")
     cases, Ns = request.case or [], request.N or []  # both given: checked by plan_sweep
-    steps: tuple[str, Sequence[Any]] = ("analysis.accuracy", request.accuracy) if request.accuracy else \
+    steps: tuple[str, Sequence[JSON]] = ("analysis.accuracy", request.accuracy) if request.accuracy else \
         ("analysis.dt", request.dt or [0.05])
-    axes: list[tuple[str, Sequence[Any]]] = [("chain.case", cases), ("chain.N", Ns), steps,
+    axes: list[tuple[str, Sequence[JSON]]] = [("chain.case", cases), ("chain.N", Ns), steps,
                                              ("analysis.transits", request.transits or [1]),
                                              ("excitation.kind", request.excitation or ["kick"])]
     base = case_scene(cases[0], Ns[0], dt=request.dt[0] if request.dt else None,
@@ -175,7 +180,7 @@ def _parts_sweep(request: SweepRequest, budget: Budget) -> Any:
                             workers=study_workers(request.study)).limited(request.study.timeout)
 
 
-def _scene_says(request: SweepRequest) -> tuple[tuple[str, Any], ...]:
+def _scene_says(request: SweepRequest) -> tuple[tuple[str, JSON], ...]:
     """The options a scene file says itself (its analysis, drive and transport): given with SCENE.toml, refused."""
     return (("--analysis", request.analysis if analysis_kind(request.analysis).swept else None),
             ("--transits", request.transits), ("--excitation", request.excitation),
@@ -209,7 +214,7 @@ def _worst_case(request: SweepRequest, budget: Budget) -> PlannedStudy:
     return PlannedStudy(plan, worst_case=setup)
 
 
-def _transient_sweep(request: SweepRequest, budget: Budget, pool: Any = None) -> Any:
+def _transient_sweep(request: SweepRequest, budget: Budget, pool: ProcessPoolExecutor | None = None) -> Plan:
     from ..studies.plan import sweep_plan
 
     if request.points is not None:
@@ -224,7 +229,7 @@ def _transient_sweep(request: SweepRequest, budget: Budget, pool: Any = None) ->
                       engine=request.engine or DEFAULT_ENGINE, pool=pool)
 
 
-def _ac_sweep(request: SweepRequest, budget: Budget, pool: Any = None) -> Any:
+def _ac_sweep(request: SweepRequest, budget: Budget, pool: ProcessPoolExecutor | None = None) -> Plan:
     from ..studies.plan import spectrum_sweep_plan
 
     given = [o for o in ("--dt", "--accuracy", "--extrapolate", "--transits", "--excitation")
@@ -239,6 +244,7 @@ def _ac_sweep(request: SweepRequest, budget: Budget, pool: Any = None) -> Any:
 
 
 #: How ``lcchain sweep --case ... --N ...`` plans each ``--analysis``.
-_SWEEPS: dict[str, Callable[[SweepRequest, Budget, Any], Any]] = {"transient": _transient_sweep, "ac": _ac_sweep}
+_SWEEPS: dict[str, Callable[[SweepRequest, Budget, ProcessPoolExecutor | None], Plan]] = {
+    "transient": _transient_sweep, "ac": _ac_sweep}
 
 

@@ -15,7 +15,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
-from ..core.types import DesignCase
+from ..core.types import DesignCase, JSONObject
 from ..report.build import build_report, check_figure_png, paper_figure_png, report_rows, requirements_figure_png
 from ..report.figure_data import DesignRows
 from ..report.paper_figures import FIGURES
@@ -60,7 +60,7 @@ class ReportRequest:
     command: str = "lcchain report"
 
 
-def report(request: ReportRequest) -> dict[str, Any]:
+def report(request: ReportRequest) -> JSONObject:
     """The output folder checked, then :func:`make_report`: the report's JSON (its checks, the seconds taken)."""
     from ..report.files import check_output_folder
     from .figures import cache_dir
@@ -72,7 +72,7 @@ def report(request: ReportRequest) -> dict[str, Any]:
 
 def make_report(out: str | os.PathLike[str], *, quick: bool = False, cache: str | os.PathLike[str] | None = None,
                 progress: Callable[[int, int, str], None] | None = None,
-                command: str = "lcchain report", workers: int | None = None) -> dict[str, Any]:
+                command: str = "lcchain report", workers: int | None = None) -> JSONObject:
     """The validation report: every installed engine on the reference set
     (:func:`lcchain.studies.validation.check_jobs`), ngspice's spectra of the reference ladders
     (:func:`lcchain.studies.spectrum_checks.spectrum_jobs`) and the cradles' parts' requirements
@@ -98,7 +98,7 @@ def make_report(out: str | os.PathLike[str], *, quick: bool = False, cache: str 
     tasks += [task for task in (design_task(case, N) for case, N in rows.missing(needed)) if task.cost > HERE_S]
     with Background(tasks, workers) as background:
 
-        def design(case: DesignCase, N: int) -> dict[str, Any]:
+        def design(case: DesignCase, N: int) -> JSONObject:
             key = ("row", case, N)
             return background.take(key) if key in background else design_row(case, N)
 

@@ -5,15 +5,14 @@ from __future__ import annotations
 
 import argparse
 from fractions import Fraction
-from typing import Any
 
 from ..core.types import DESIGN_CASES
-from .common import EXIT_OK, emit_json
+from .common import EXIT_OK, Parser, Subcommands, emit_json
 
 __all__ = ["add_parser", "cmd_asymptotic"]
 
 
-def add_parser(sub: Any, budget: list[Any]) -> None:
+def add_parser(sub: Subcommands, budget: list[Parser]) -> None:
     p = sub.add_parser("asymptotic", help="N -> infinity: maximum of alpha_inf(tau, sigma) and the scaling laws")
     p.add_argument("--case", choices=DESIGN_CASES, default="two-mass")
     p.add_argument("--json", action="store_true")

@@ -4,15 +4,14 @@
 from __future__ import annotations
 
 import argparse
-from typing import Any
 
-from .common import budget_from_args
+from .common import Parser, Subcommands, budget_from_args
 from .studies import add_study_arguments, show_study, study_hooks, study_options
 
 __all__ = ["add_parser", "cmd_batch"]
 
 
-def add_parser(sub: Any, budget: list[Any]) -> None:
+def add_parser(sub: Subcommands, budget: list[Parser]) -> None:
     p = sub.add_parser("batch", parents=budget, help="netlists lcchain did not write, checked, priced and run in a "
                        "sandbox, into a store")
     p.add_argument("netlist", nargs="+", metavar="NETLIST",

@@ -3,15 +3,14 @@
 from __future__ import annotations
 
 import argparse
-from typing import Any
 
-from .common import EXIT_OK, budget_from_args, int_list
+from .common import EXIT_OK, Parser, Subcommands, budget_from_args, int_list
 from .progress import counter
 
 __all__ = ["add_parser", "cmd_bench_accuracy"]
 
 
-def add_parser(sub: Any, budget: list[Any]) -> None:
+def add_parser(sub: Subcommands, budget: list[Parser]) -> None:
     p = sub.add_parser("bench", help="benchmarks (accuracy: what each digit costs per method and N)")
     bench = p.add_subparsers(dest="bench", metavar="BENCH", parser_class=sub._parser_class)
     bench.required = True

@@ -7,12 +7,13 @@ import csv
 import io
 import re
 import sys
-from typing import Any
 
 from ..app.options import E_SERIES_NAMES
 from ..core.physical import si_text
 from .common import (
     EXIT_OK,
+    Parser,
+    Subcommands,
     add_circuit_arguments,
     add_effect_arguments,
     budget_from_args,
@@ -36,7 +37,7 @@ def tolerance(text: str) -> float:
 
 
 
-def add_parser(sub: Any, budget: list[Any]) -> None:
+def add_parser(sub: Subcommands, budget: list[Parser]) -> None:
     p = sub.add_parser("bom", help="bill of materials: the ladder's distinct inductors and capacitors (rounded to "
                        "a preferred-number series with --series) with their counts, as a table or --csv")
     add_circuit_arguments(p)

@@ -4,17 +4,16 @@
 from __future__ import annotations
 
 import argparse
-from typing import Any
 
 from ..app.options import engine_names
 from ..core.analyses import analysis_kind
-from .common import EXIT_FAILED, EXIT_OK, budget_from_args, emit_json, number_type
+from .common import EXIT_FAILED, EXIT_OK, Parser, Subcommands, budget_from_args, emit_json, number_type
 
 __all__ = ["add_parser", "add_check_arguments", "cmd_check"]
 
 
 
-def add_parser(sub: Any, budget: list[Any]) -> None:
+def add_parser(sub: Subcommands, budget: list[Parser]) -> None:
     p = sub.add_parser("check", parents=budget,
                        help="a linear netlist (R L C K, V/I with DC PULSE SIN PWL EXP) run in a simulator and "
                             "compared with its exact response: the error of every saved vector, the error the step "

@@ -3,14 +3,16 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
 import decimal
 import json
 import math
 import re
-from collections.abc import Callable
-from typing import Any
+import sys
+from collections.abc import Callable, Iterable
+from typing import Any, NoReturn, TypeAlias
 
-from ..app.inputs import ChainOptions
+from ..app.inputs import ChainOptions, Outputs
 from ..app.netlist import DEFAULT_DT
 from ..app.options import (
     CASE_CHOICES,
@@ -37,12 +39,14 @@ from ..core.limits import (
     MAX_SECONDS,
     MIN_TIMEOUT,
 )
-from ..core.types import DEFAULT_C0, DEFAULT_L0, E_SERIES_NAMES, EXCITATIONS, NAMED_CASES
+from ..core.types import DEFAULT_C0, DEFAULT_L0, E_SERIES_NAMES, EXCITATIONS
 
-__all__ = ["EXIT_OK", "EXIT_FAILED", "EXIT_USAGE", "EXIT_MISSING", "EXIT_SIGPIPE", "EXIT_EXTRA", "OPTION_NAMES",
+__all__ = ["Parser", "UsageError", "Subcommands", "EXIT_OK", "EXIT_FAILED", "EXIT_USAGE", "EXIT_MISSING",
+           "EXIT_SIGPIPE", "EXIT_EXTRA", "OPTION_NAMES",
            "NEGATIVE_NUMBER", "single_valued", "count", "list_entries", "int_list", "si_number", "SI_PREFIXES",
            "number_type", "size", "duration", "seconds", "budget_parent", "emit_json", "budget_from_args",
-           "chain_options", "effect_values", "add_effect_arguments", "effects_from_args", "tolerances",
+           "chain_options", "print_notes", "summary_stream",
+           "effect_values", "add_effect_arguments", "effects_from_args", "tolerances",
            "add_parts_arguments", "engine_list", "add_circuit_arguments", "add_chain_arguments"]
 
 EXIT_OK, EXIT_FAILED, EXIT_USAGE, EXIT_MISSING = 0, 1, 2, 3
@@ -78,6 +82,28 @@ class _StoreOnce(argparse._StoreAction):
                                          "(one value, or a comma-separated list where the option takes several)")
         given.add(self.dest)
         super().__call__(parser, namespace, values, option_string)
+
+
+class UsageError(Exception):
+    """Bad usage, in the one line :meth:`Parser.error` made of it (exit 2)."""
+
+
+class Parser(argparse.ArgumentParser):
+    """argparse that reports bad usage as one line (exit 2), never a traceback; a single-value option given twice
+    is bad usage, and ``-1e-5`` is a value, not an option (:func:`single_valued`).  Every command's parser is one,
+    and so are the parents they share (:func:`budget_parent`), as typeshed wants of a subparser's parents."""
+
+    def __init__(self, *args: Any, **kwargs: Any) -> None:  # argparse's own arguments, passed on as they are
+        super().__init__(*args, **kwargs)
+        single_valued(self)
+
+    def error(self, message: str) -> NoReturn:
+        raise UsageError(f"{self.prog}: {message} (see '{self.prog} --help')")
+
+
+#: What ``lcchain``'s parser hands each command's ``add_parser(sub, budget)``: the subcommands to add its parser
+#: to, and the parents it may take (its budget's options).
+Subcommands: TypeAlias = "argparse._SubParsersAction[Parser]"  # generic in typeshed only: a string at run time
 
 
 def single_valued(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
@@ -263,9 +289,9 @@ def add_parts_arguments(p: argparse.ArgumentParser, samples: bool = True, netlis
         p.add_argument("--seed", type=int, help="the tolerance seed (a scene's effects.tolerance.seed)" + draws[1])
 
 
-def budget_parent() -> argparse.ArgumentParser:
+def budget_parent() -> Parser:
     """The options every command that does real work takes: its budget."""
-    parent = single_valued(argparse.ArgumentParser(add_help=False))
+    parent = Parser(add_help=False)
     parent.add_argument("--max-memory", type=size, default=DEFAULT_MAX_MEMORY, metavar="SIZE",
                         help="most memory one request may use (default 8G)")
     parent.add_argument("--max-time", type=duration, default=DEFAULT_MAX_SECONDS, metavar="DURATION",
@@ -278,8 +304,23 @@ def budget_from_args(args: argparse.Namespace) -> Budget:
     return Budget(getattr(args, "max_memory", DEFAULT_MAX_MEMORY), getattr(args, "max_time", DEFAULT_MAX_SECONDS))
 
 
-def emit_json(data: Any) -> None:
+def emit_json(data: object) -> None:
+    """Print a JSON document (what ``json.dumps`` takes), indented."""
     print(json.dumps(data, indent=2))
+
+
+def summary_stream(outputs: Outputs) -> contextlib.AbstractContextManager[object]:
+    """Where a command's own lines go: stdout, or stderr when one of its outputs writes its text to stdout (``-``)."""
+    if outputs.to_stdout is None:
+        return contextlib.nullcontext()
+    return contextlib.redirect_stdout(sys.stderr)
+
+
+def print_notes(notes: Iterable[str]) -> None:
+    """What a command's result says beside it (a file it could not write, a target it missed): app/ prints
+    nothing itself; each note is one line on stderr."""
+    for note in notes:
+        print(f"lcchain: {note}", file=sys.stderr)
 
 
 def chain_options(args: argparse.Namespace) -> ChainOptions:
@@ -344,9 +385,9 @@ def registry_name(option: str, names: RegistryNames) -> Callable[[str], str]:
 
 def add_circuit_arguments(p: argparse.ArgumentParser) -> None:
     """The circuit: a chain (named, or a file), its coils' coupling and its bulk L0, C0."""
-    p.add_argument("--case", choices=CASE_CHOICES, metavar="CASE",
-                   help=f"named chain: {', '.join(NAMED_CASES)} or a plugin's (one-mass/two-mass: the optimal "
-                        "design for N; perfect: the perfect cradle)")
+    p.add_argument("--case", choices=CASE_CHOICES, metavar="CASE",  # %(choices)s: read when --help prints
+                   help="named chain: %(choices)s (one-mass/two-mass: the optimal design for N; perfect: the "
+                        "perfect cradle)")
     p.add_argument("--N", type=int, help="number of masses (ladder cells)")
     p.add_argument("--walls", type=int, default=0, metavar="J",
                    help="--case perfect only: J >= 1 ties the perfect cradle to walls (frequencies n - 1 + 2J)")

@@ -6,8 +6,8 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
-from ..core.types import DESIGN_CASES
-from .common import EXIT_OK, budget_from_args, emit_json
+from ..core.types import DESIGN_CASES, JSONObject
+from .common import EXIT_OK, Parser, Subcommands, budget_from_args, emit_json
 from .progress import fraction
 
 __all__ = ["add_parser", "cmd_design", "format_table"]
@@ -20,7 +20,7 @@ _TABLE_COLUMNS = {
 }
 
 
-def add_parser(sub: Any, budget: list[Any]) -> None:
+def add_parser(sub: Subcommands, budget: list[Parser]) -> None:
     p = sub.add_parser("design", parents=budget,
                        help="optimal one-mass or two-mass chain for N (a row of Table I or II), or a perfect cradle")
     p.add_argument("--case", choices=(*DESIGN_CASES, "perfect"), required=True,
@@ -33,7 +33,7 @@ def add_parser(sub: Any, budget: list[Any]) -> None:
     p.set_defaults(func=cmd_design)
 
 
-def format_table(case: str, rows: list[dict[str, Any]]) -> str:
+def format_table(case: str, rows: list[JSONObject]) -> str:
     columns = _TABLE_COLUMNS[case]
     cells = [[fmt.format(row[key]) for _, key, fmt in columns] for row in rows]
     widths = [max(len(head), *(len(c[i]) for c in cells)) for i, (head, _, _) in enumerate(columns)]

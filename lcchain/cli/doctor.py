@@ -3,14 +3,13 @@
 from __future__ import annotations
 
 import argparse
-from typing import Any
 
-from .common import EXIT_MISSING, EXIT_OK
+from .common import EXIT_MISSING, EXIT_OK, Parser, Subcommands
 
 __all__ = ["add_parser", "cmd_doctor"]
 
 
-def add_parser(sub: Any, budget: list[Any]) -> None:
+def add_parser(sub: Subcommands, budget: list[Parser]) -> None:
     p = sub.add_parser("doctor", help="check ngspice, its shared library and PySpice")
     p.set_defaults(func=cmd_doctor)
 

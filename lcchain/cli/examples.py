@@ -5,14 +5,13 @@ from __future__ import annotations
 
 import argparse
 from pathlib import Path
-from typing import Any
 
-from .common import EXIT_FAILED, EXIT_OK
+from .common import EXIT_FAILED, EXIT_OK, Parser, Subcommands, print_notes
 
 __all__ = ["add_parser", "cmd_examples"]
 
 
-def add_parser(sub: Any, budget: list[Any]) -> None:
+def add_parser(sub: Subcommands, budget: list[Parser]) -> None:
     p = sub.add_parser("examples", help="the example scenes that ship with lcchain: list them, or write one here")
     p.add_argument("name", nargs="?", metavar="NAME", help="the example to write (default: list them)")
     p.add_argument("-o", "--output", metavar="FILE", help="where to write it (default: NAME.toml here)")
@@ -34,6 +33,7 @@ def cmd_examples(args: argparse.Namespace) -> int:
     if result.unchanged:
         print(f"{result.target} is here already, unchanged: lcchain run {result.target}")
         return EXIT_OK
+    print_notes(result.notes)
     if not result.failed and not result.to_stdout:
         print(f"wrote {result.target}" + (f": lcchain run {result.target}" if Path(result.target).is_file() else ""))
     return EXIT_FAILED if result.failed else EXIT_OK

@@ -4,15 +4,14 @@
 from __future__ import annotations
 
 import argparse
-from typing import Any
 
-from .common import EXIT_OK
+from .common import EXIT_OK, Parser, Subcommands
 from .progress import counter
 
 __all__ = ["add_parser", "add_cache_argument", "add_figures_arguments", "cmd_figures"]
 
 
-def add_parser(sub: Any, budget: list[Any]) -> None:
+def add_parser(sub: Subcommands, budget: list[Parser]) -> None:
     p = sub.add_parser("figures", help="the paper's figures, recomputed: one file per figure, named by its label")
     add_figures_arguments(p)
     p.set_defaults(func=cmd_figures)

@@ -18,7 +18,7 @@ import threading
 import warnings
 from collections.abc import Iterator, Sequence
 from types import ModuleType
-from typing import Any, NoReturn
+from typing import TextIO
 
 from ..core import __version__
 from ..core.blas import BLAS_THREADS
@@ -37,8 +37,9 @@ from .common import (
     EXIT_SIGPIPE,
     EXIT_USAGE,
     OPTION_NAMES,
+    Parser,
+    UsageError,
     budget_parent,
-    single_valued,
 )
 
 __all__ = ["main", "build_parser", "COMMANDS"]
@@ -108,31 +109,15 @@ def command_module(name: str) -> ModuleType:
 log = logging.getLogger("lcchain")
 
 
-class _UsageError(Exception):
-    pass
-
-
-class _Parser(argparse.ArgumentParser):
-    """argparse that reports bad usage as one line (exit 2), never a traceback; a single-value option given twice
-    is bad usage, and ``-1e-5`` is a value, not an option (:func:`~lcchain.cli.common.single_valued`)."""
-
-    def __init__(self, *args: Any, **kwargs: Any) -> None:
-        super().__init__(*args, **kwargs)
-        single_valued(self)
-
-    def error(self, message: str) -> NoReturn:
-        raise _UsageError(f"{self.prog}: {message} (see '{self.prog} --help')")
-
-
 def build_parser(only: str | None = None) -> argparse.ArgumentParser:
     """The whole parser, or with ``only`` (a command's name, or ``""`` for none) that command's parser alone,
     the other commands listed by their help (:data:`COMMANDS`)."""
-    parser = _Parser(prog="lcchain", description="Quasi-uniform spring-mass chains and their LC ladders in ngspice.")
+    parser = Parser(prog="lcchain", description="Quasi-uniform spring-mass chains and their LC ladders in ngspice.")
     parser.add_argument("-v", "--verbose", action="store_true", help="log every ngspice run to stderr")
     parser.add_argument("--version", action="version", version=f"lcchain {__version__}")
-    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=Parser)
     sub.required = True
-    budget: list[Any] = [budget_parent()]  # argparse parents (typeshed wants the subparser class)
+    budget = [budget_parent()]  # argparse parents, of the subparsers' class as typeshed wants
 
     for name, (_, help_) in COMMANDS.items():
         if only is None or name == only:
@@ -199,7 +184,7 @@ def _quiet_stdout() -> None:
 
 
 def _show_warning(message: Warning | str, category: type[Warning], filename: str, lineno: int,
-                  file: Any = None, line: str | None = None) -> None:
+                  file: TextIO | None = None, line: str | None = None) -> None:
     print(f"lcchain: warning: {message}", file=sys.stderr)
 
 
@@ -220,7 +205,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         return EXIT_USAGE
     try:
         args = parser.parse_args(argv)
-    except _UsageError as error:
+    except UsageError as error:
         print(str(error), file=sys.stderr)
         return EXIT_USAGE
     except SystemExit as exit_:  # --help, --version

@@ -4,22 +4,24 @@ from __future__ import annotations
 
 import argparse
 import sys
-from typing import Any
 
 from .common import (
     EXIT_FAILED,
     EXIT_OK,
+    Parser,
+    Subcommands,
     add_chain_arguments,
     add_effect_arguments,
     budget_from_args,
     chain_options,
     effects_from_args,
+    print_notes,
 )
 
 __all__ = ["add_parser", "cmd_netlist"]
 
 
-def add_parser(sub: Any, budget: list[Any]) -> None:
+def add_parser(sub: Subcommands, budget: list[Parser]) -> None:
     p = sub.add_parser("netlist", help="SPICE netlist of the equivalent LC ladder")
     add_chain_arguments(p)
     add_effect_arguments(p)
@@ -38,4 +40,5 @@ def cmd_netlist(args: argparse.Namespace) -> int:
                                     budget=budget_from_args(args)))
     if not args.output:
         sys.stdout.write(result.text)
+    print_notes(result.notes)
     return EXIT_FAILED if result.failed else EXIT_OK

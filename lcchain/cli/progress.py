@@ -18,7 +18,10 @@ from __future__ import annotations
 import sys
 import time
 from collections.abc import Callable
-from typing import Any
+from typing import TYPE_CHECKING, TextIO
+
+if TYPE_CHECKING:
+    from ..app.studies import StudyProgress
 
 __all__ = ["Progress", "duration", "counter", "fraction", "study_counter"]
 
@@ -42,7 +45,7 @@ def duration(seconds: float) -> str:
 class Progress:
     """A progress line for one command; call :meth:`update` as work finishes (``total`` 0: a fraction)."""
 
-    def __init__(self, what: str, stream: Any = None) -> None:
+    def __init__(self, what: str, stream: TextIO | None = None) -> None:
         self.what = what
         self.stream = stream if stream is not None else sys.stderr
         self.terminal = bool(getattr(self.stream, "isatty", lambda: False)())
@@ -116,7 +119,7 @@ def fraction(what: str) -> Callable[[float], None]:
     return lambda done: progress.update(done)
 
 
-def study_counter(unit: str) -> Callable[[Any], None]:
+def study_counter(unit: str) -> Callable[[StudyProgress], None]:
     """A study's callback: it gets a :class:`lcchain.studies.run.Progress` (done, total, failed)."""
     progress = Progress("")
     return lambda p: progress.update(p.done, p.total, failed=p.failed, unit=unit)

@@ -4,16 +4,15 @@ and DIR/report.json (:func:`lcchain.app.validation.report`)."""
 from __future__ import annotations
 
 import argparse
-from typing import Any
 
-from .common import EXIT_FAILED, EXIT_OK
+from .common import EXIT_FAILED, EXIT_OK, Parser, Subcommands
 from .figures import add_cache_argument
 from .progress import counter
 
 __all__ = ["add_parser", "add_report_arguments", "cmd_report"]
 
 
-def add_parser(sub: Any, budget: list[Any]) -> None:
+def add_parser(sub: Subcommands, budget: list[Parser]) -> None:
     p = sub.add_parser("report", help="the validation report: the paper reproduced and the circuit validated, in "
                        "DIR/index.html and DIR/report.json (exit 1 when a check fails)")
     add_report_arguments(p)

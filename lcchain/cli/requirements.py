@@ -3,9 +3,18 @@
 from __future__ import annotations
 
 import argparse
-from typing import Any
 
-from .common import EXIT_FAILED, EXIT_OK, add_circuit_arguments, budget_from_args, chain_options, emit_json
+from .common import (
+    EXIT_FAILED,
+    EXIT_OK,
+    Parser,
+    Subcommands,
+    add_circuit_arguments,
+    budget_from_args,
+    chain_options,
+    emit_json,
+    print_notes,
+)
 from .progress import fraction
 
 __all__ = ["add_parser", "add_requirements_arguments", "cmd_requirements"]
@@ -15,7 +24,7 @@ DEFAULT_CHECKS = 2
 
 
 
-def add_parser(sub: Any, budget: list[Any]) -> None:
+def add_parser(sub: Subcommands, budget: list[Parser]) -> None:
     p = sub.add_parser("requirements", parents=budget, help="how good must the parts be: the first arrival's "
                        "energy against a coil's self-capacitance and resistance, a capacitor's ESR and ESL, and "
                        "coupling, from the circuit's exact theory, with ngspice points")
@@ -63,4 +72,5 @@ def cmd_requirements(args: argparse.Namespace) -> int:
                 print(f"  {point.part:<17} {point.value:10.3g} {point.loss:14.6g} {point.theory:13.6g} "
                       f"{abs(point.loss - point.theory):9.2e}")
     failed = write_plot(found)
+    print_notes(found.outputs.take_notes())
     return EXIT_FAILED if failed or not found.passed else EXIT_OK

@@ -7,16 +7,19 @@ import argparse
 import csv
 import io
 import sys
-from typing import Any
+from typing import TYPE_CHECKING
 
-from ..core.types import STUDY_METRICS
-from .common import EXIT_FAILED, EXIT_OK, budget_from_args, emit_json
-from .studies import number, short, table
+from ..core.types import STUDY_METRICS, JSONObject
+from .common import EXIT_FAILED, EXIT_OK, Parser, Subcommands, budget_from_args, emit_json, print_notes
+from .studies import format_number, short, table
+
+if TYPE_CHECKING:
+    from ..app.results import Results
 
 __all__ = ["add_parser", "cmd_results"]
 
 
-def add_parser(sub: Any, budget: list[Any]) -> None:
+def add_parser(sub: Subcommands, budget: list[Parser]) -> None:
     p = sub.add_parser("results", parents=budget,
                        help="a store's runs: a table, --json, --csv, or a --plot of the study")
     p.add_argument("store", metavar="STORE.sqlite")
@@ -70,10 +73,11 @@ def cmd_results(args: argparse.Namespace) -> int:
                   + f" written to {', '.join(found.written)}")
     else:
         _print_runs(found, args.store)
+    print_notes(found.notes)
     return EXIT_FAILED if found.failed else EXIT_OK
 
 
-def _print_summary(found: Any, args: argparse.Namespace) -> None:
+def _print_summary(found: Results, args: argparse.Namespace) -> None:
     """Per combination of the study's axes: the first-arrival metric's distribution over the samples."""
     groups = found.groups
     if args.json:
@@ -82,8 +86,8 @@ def _print_summary(found: Any, args: argparse.Namespace) -> None:
     keys = list(dict.fromkeys(key for group in groups for key in group["params"]))
     stats = ["n", "failed", "mean", "std", "min", "p05", "median", "max"]
     def rows_with(digits: str) -> list[list[str]]:
-        return [[number(group["params"].get(key)) for key in keys]
-                + [str(group[s]) if s in ("n", "failed") else number(group[s], digits) for s in stats]
+        return [[format_number(group["params"].get(key)) for key in keys]
+                + [str(group[s]) if s in ("n", "failed") else format_number(group[s], digits) for s in stats]
                 for group in groups]
 
     # the table: 4 significant digits (a perfect cradle's loss is 2e-4, which 4 decimals showed as 0.0002 or
@@ -103,7 +107,7 @@ def _print_summary(found: Any, args: argparse.Namespace) -> None:
                 args.metric, f"the netlists' measurement {args.metric} (.meas; runs that could not measure it "
                 "left out)")
     by = f"by {', '.join(map(short, keys))}" if keys else "over all its runs"
-    shared = ", ".join(f"{short(k)} = {number(v)}" for k, v in found.constants.items())
+    shared = ", ".join(f"{short(k)} = {format_number(v)}" for k, v in found.constants.items())
     print(f"{args.store}: {what} {by}" + (f" ({shared} throughout)" if shared else "") +
           "; n finished runs, std over them (ddof 1)")
     print(table([*map(short, keys), *stats], rows))
@@ -113,12 +117,12 @@ def _print_summary(found: Any, args: argparse.Namespace) -> None:
 _LONGEST_CELL = 24
 
 
-def _print_runs(found: Any, name: str) -> None:
+def _print_runs(found: Results, name: str) -> None:
     """One row per task: its axes, status, and what it gave: errors against theory, or (no theory: a batch of
     netlists) its vectors, points and the simulator's time; a failure's reason."""
     stored, runs = found.stored, found.runs
 
-    def counted(rows: list[dict[str, Any]]) -> str:
+    def counted(rows: list[JSONObject]) -> str:
         counts = {s: sum(r["status"] == s for r in rows) for s in ("ok", "failed", "timeout", "refused", "pending")}
         return ", ".join(f"{n} {s}" for s, n in counts.items() if n)
 
@@ -136,9 +140,9 @@ def _print_runs(found: Any, name: str) -> None:
     rows = []
     shortened = False
 
-    def axis_cell(value: Any) -> str:  # a long parameter (a worst case's signs, a path) cut in its middle
+    def axis_cell(value: object) -> str:  # a long parameter (a worst case's signs, a path) cut in its middle
         nonlocal shortened
-        text = number(value)
+        text = format_number(value)
         if len(text) <= _LONGEST_CELL:
             return text
         shortened = True
@@ -148,21 +152,22 @@ def _print_runs(found: Any, name: str) -> None:
     for run, shown in zip(stored, runs, strict=True):
         cells = [str(run.index), run.status, *(axis_cell(run.params.get(key)) for key in axes)]
         if spectral:
-            cells += [number(run.points), number(shown.get("modes_seen")), number(shown.get("max_rel_error_omega")),
-                      number(shown.get("max_abs_error_P")), number(shown.get("spacing_spread"), ".4g")]
+            cells += [format_number(run.points), format_number(shown.get("modes_seen")),
+                      format_number(shown.get("max_rel_error_omega")), format_number(shown.get("max_abs_error_P")),
+                      format_number(shown.get("spacing_spread"), ".4g")]
         elif theory:
             arrivals = shown.get("arrivals") or []
-            cells += [number(shown.get("max_abs_error")), number(shown.get("predicted_error")),
-                      number(arrivals[0].get("peak_sim"), ".6f") if arrivals else ""]
+            cells += [format_number(shown.get("max_abs_error")), format_number(shown.get("predicted_error")),
+                      format_number(arrivals[0].get("peak_sim"), ".6f") if arrivals else ""]
         else:
             names = found.vectors.get(run.key) if run.status == "ok" else None
-            cells += [" ".join(names) if names else "", number(run.points)]
-        cells += [number(run.measurements.get(name), ".6g") if run.measurements.get(name) is not None
+            cells += [" ".join(names) if names else "", format_number(run.points)]
+        cells += [format_number(run.measurements.get(name), ".6g") if run.measurements.get(name) is not None
                   else "-" if name in run.measurements else "" for name in measured]
         missing = [f"{name}: {why}" for name, why in run.measure_reasons.items()]
         reason = run.reason or "; ".join(missing)
         seconds = run.wall_s if run.kind != "combined" and run.status != "refused" else None  # nothing ran
-        cells += [number(seconds, ".3f"), (reason.splitlines() or [""])[0][:70]]
+        cells += [format_number(seconds, ".3f"), (reason.splitlines() or [""])[0][:70]]
         rows.append(cells)
     print(table(["#", "status", *map(short, axes), *columns, "time (s)", "reason"], rows))
     if shortened:

@@ -9,7 +9,17 @@ from typing import Any
 from ..app.studies import StudyOptions
 from ..core.analyses import analysis_kind
 from ..core.types import ANALYSIS_KINDS
-from .common import EXIT_FAILED, EXIT_OK, add_parts_arguments, budget_from_args, emit_json
+from .common import (
+    EXIT_FAILED,
+    EXIT_OK,
+    Parser,
+    Subcommands,
+    add_parts_arguments,
+    budget_from_args,
+    emit_json,
+    print_notes,
+    summary_stream,
+)
 from .progress import fraction, study_counter
 from .simulate import print_arrivals
 from .studies import add_study_arguments
@@ -17,7 +27,7 @@ from .studies import add_study_arguments
 __all__ = ["add_parser", "cmd_run", "error_text"]
 
 
-def add_parser(sub: Any, budget: list[Any]) -> None:
+def add_parser(sub: Subcommands, budget: list[Parser]) -> None:
     p = sub.add_parser("run", parents=budget, help="run a scene (TOML experiment description)")
     p.add_argument("scene", metavar="SCENE.toml", nargs="+", help="one or more scene files, run in order")
     p.add_argument("--json", action="store_true", help="print the report as JSON (a list for several scenes)")
@@ -104,7 +114,7 @@ def cmd_run(args: argparse.Namespace) -> int:
 
     def shown(result: Any, outputs: Any) -> None:
         if not args.json:
-            with outputs.summary():
+            with summary_stream(outputs):
                 _print_scene_summary(result)
             for path in result.files:
                 print(f"wrote {path}", file=sys.stderr if outputs.to_stdout else sys.stdout)
@@ -115,6 +125,7 @@ def cmd_run(args: argparse.Namespace) -> int:
                                 waveform_out=args.waveform_out, side_by_side=args.side_by_side, json=args.json,
                                 study=study, budget=budget_from_args(args), progress=fraction,
                                 study_progress=study_counter), shown)
+    print_notes(run.outputs.take_notes())  # --side-by-side not written
     if args.json:
         reports = [r.report for r in run.results]
         emit_json(reports[0] if len(reports) == 1 else reports)

@@ -4,13 +4,26 @@ ngspice)."""
 from __future__ import annotations
 
 import argparse
-from typing import Any
+from typing import TYPE_CHECKING
 
 from ..app.studies import StudyOptions
 from ..core.types import ARRIVAL_METRICS
-from .common import EXIT_FAILED, EXIT_OK, add_circuit_arguments, budget_from_args, chain_options, emit_json
+from .common import (
+    EXIT_FAILED,
+    EXIT_OK,
+    Parser,
+    Subcommands,
+    add_circuit_arguments,
+    budget_from_args,
+    chain_options,
+    emit_json,
+    print_notes,
+)
 from .progress import fraction, study_counter
 from .studies import add_study_arguments
+
+if TYPE_CHECKING:
+    from ..app.sensitivity import Sensitivity
 
 __all__ = ["add_parser", "add_sensitivity_arguments", "cmd_sensitivity"]
 
@@ -19,7 +32,7 @@ DEFAULT_TOP = 10
 
 
 
-def add_parser(sub: Any, budget: list[Any]) -> None:
+def add_parser(sub: Subcommands, budget: list[Parser]) -> None:
     p = sub.add_parser("sensitivity", parents=budget, help="which components move the first-arrival peak: dp/dL_i "
                        "and dp/dC_j from exact theory, ranked (--check M: against ngspice finite differences)")
     add_circuit_arguments(p)
@@ -48,7 +61,8 @@ def add_sensitivity_arguments(p: argparse.ArgumentParser) -> None:
     add_study_arguments(p, store=False)
 
 
-def _print(sensitivity: Any, top: list[Any], checks: list[Any]) -> None:
+def _print(result: Sensitivity) -> None:
+    sensitivity, top, checks = result.sensitivity, result.top, result.checks
     from ..app.sensitivity import METRIC_NAMES
 
     ladder = sensitivity.ladder
@@ -86,6 +100,7 @@ def cmd_sensitivity(args: argparse.Namespace) -> int:
                                             check=args.check, accuracy=args.accuracy, plot=args.plot, study=study,
                                             budget=budget_from_args(args), progress=fraction,
                                             study_progress=study_counter("runs")))
+    print_notes(result.notes)
     if args.json:
         data = result.sensitivity.to_dict()
         data["components"] = [part.to_dict() for part in result.top]
@@ -94,6 +109,7 @@ def cmd_sensitivity(args: argparse.Namespace) -> int:
             data["passed"] = bool(result.checks) and all(check.passed for check in result.checks)
         emit_json(data)
     else:
-        _print(result.sensitivity, result.top, result.checks)
+        _print(result)
     failed = write_plot(result)
+    print_notes(result.outputs.take_notes())
     return EXIT_FAILED if failed or not result.passed else EXIT_OK

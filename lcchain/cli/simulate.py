@@ -4,15 +4,16 @@
 from __future__ import annotations
 
 import argparse
-import sys
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
-from ..app.options import DEFAULT_ENGINE, engine_names
+from ..app.options import BACKEND_CHOICES, DEFAULT_ENGINE, Chain, engine_names
 from ..core.physical import units_sentence
-from ..core.types import BACKENDS, METHODS
+from ..core.types import METHODS, JSONObject
 from .common import (
     EXIT_FAILED,
     EXIT_OK,
+    Parser,
+    Subcommands,
     add_chain_arguments,
     add_effect_arguments,
     budget_from_args,
@@ -21,6 +22,8 @@ from .common import (
     emit_json,
     engine_list,
     number_type,
+    print_notes,
+    summary_stream,
 )
 from .progress import fraction
 
@@ -30,11 +33,12 @@ if TYPE_CHECKING:
 __all__ = ["add_parser", "cmd_simulate", "print_arrivals", "print_units"]
 
 
-def add_parser(sub: Any, budget: list[Any]) -> None:
+def add_parser(sub: Subcommands, budget: list[Parser]) -> None:
     p = sub.add_parser("simulate", parents=budget, help="run the ladder in ngspice (or gnucap) and compare with "
                        "alpha_N(t)")
     add_chain_arguments(p)
-    p.add_argument("--backend", choices=BACKENDS, default="batch")
+    p.add_argument("--backend", choices=BACKEND_CHOICES, default="batch", metavar="BACKEND",
+                   help="how ngspice runs: %(choices)s (default %(default)s)")
     p.add_argument("--engine", type=engine_list, default=(DEFAULT_ENGINE,), metavar="ENGINE[,ENGINE]",
                    help=f"the circuit simulator: {' or '.join(engine_names())} (default {DEFAULT_ENGINE}); gnucap "
                         "runs one fixed-step run (no --extrapolate); several, comma-separated, run the same netlist in "
@@ -54,7 +58,7 @@ def add_parser(sub: Any, budget: list[Any]) -> None:
     p.set_defaults(func=cmd_simulate)
 
 
-def print_arrivals(arrivals: list[dict[str, Any]]) -> None:
+def print_arrivals(arrivals: list[JSONObject]) -> None:
     physical = all("t_sim_s" in a for a in arrivals)
     extra = f" {'t theory (s)':>13} {'t sim (s)':>13}" if physical else ""
     print(f"{'arrival':>7} {'end':>5} {'t theory':>12} {'t sim':>12} {'peak theory':>12} {'peak sim':>12}{extra}")
@@ -68,7 +72,7 @@ def print_units(L0: float, C0: float) -> None:
     print(f"units: {units_sentence(L0, C0)}")
 
 
-def _print_extrapolation(x: dict[str, Any]) -> None:
+def _print_extrapolation(x: JSONObject) -> None:
     plan = x["plan"]
     why = ""
     if plan is not None and len(plan["considered"]) > 1:
@@ -84,7 +88,7 @@ def _print_extrapolation(x: dict[str, Any]) -> None:
           f"{x['interpolation_error']:.1e})")
 
 
-def _print_effects(cost: dict[str, Any]) -> None:
+def _print_effects(cost: JSONObject) -> None:
     """What the effects cost the pulse: the circuit's exact first arrival against the ideal chain's."""
     energy = "" if cost["energy_loss"] is None else (
         f", energy {cost['energy_circuit']:.4f} against {cost['energy_ideal']:.4f} "
@@ -94,7 +98,7 @@ def _print_effects(cost: dict[str, Any]) -> None:
           f"arriving {cost['delay']:+.3g} sqrt(L0 C0) later")
 
 
-def _print_simulation(args: argparse.Namespace, chain: Any, data: dict[str, Any]) -> None:
+def _print_simulation(args: argparse.Namespace, chain: Chain, data: JSONObject) -> None:
     if args.json:
         emit_json(data)
     else:
@@ -136,16 +140,19 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     result = simulate_chain(request)
     if isinstance(result, EnginesComparison):
         return _print_engines(args, result)
-    for warning in result.warnings:
-        print(f"lcchain: warning: {warning}", file=sys.stderr)
-    with result.outputs.summary():
+    print_notes(f"warning: {warning}" for warning in result.warnings)
+    print_notes(result.outputs.take_notes())  # said while it ran: a run's netlist not kept
+    with summary_stream(result.outputs):
         _print_simulation(args, result.chain, result.data)
-    return EXIT_FAILED if write_outputs(result) else EXIT_OK
+    failed = write_outputs(result)
+    print_notes(result.outputs.take_notes())
+    return EXIT_FAILED if failed else EXIT_OK
 
 
 def _print_engines(args: argparse.Namespace, result: EnginesComparison) -> int:
     """``simulate --engine A,B``: each engine against theory, and their difference."""
     chain, reports, data, differences = result.chain, result.reports, result.data, result.differences
+    print_notes(f"warning: {warning}" for warning in result.warnings)
     first = reports[0]
     if args.json:
         emit_json(data)

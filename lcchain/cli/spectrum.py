@@ -8,9 +8,12 @@ import sys
 from typing import Any
 
 from ..app.options import DEFAULT_ENGINE, engine_names
+from ..core.types import JSONObject
 from .common import (
     EXIT_FAILED,
     EXIT_OK,
+    Parser,
+    Subcommands,
     add_circuit_arguments,
     add_effect_arguments,
     budget_from_args,
@@ -18,6 +21,7 @@ from .common import (
     effects_from_args,
     emit_json,
     number_type,
+    print_notes,
 )
 from .progress import fraction
 from .run import error_text
@@ -26,7 +30,7 @@ from .simulate import print_units
 __all__ = ["add_parser", "cmd_spectrum"]
 
 
-def add_parser(sub: Any, budget: list[Any]) -> None:
+def add_parser(sub: Subcommands, budget: list[Parser]) -> None:
     p = sub.add_parser("spectrum", parents=budget, help="the ladder's normal frequencies and mode weights from an AC "
                        "analysis in ngspice (or gnucap), beside theory")
     add_circuit_arguments(p)
@@ -107,6 +111,7 @@ def cmd_spectrum(args: argparse.Namespace) -> int:
     if result.report.modes is not None and not args.json:
         _print_survey(result.report.modes)
     two_port = write_outputs(result)
+    print_notes(result.outputs.take_notes())
     if two_port is not None and not args.json:
         print(f"two-port: {two_port.frequency.size} frequencies from {two_port.frequency[0]:.6g} to "
               f"{two_port.frequency[-1]:.6g} Hz in z0 = {two_port.z0:g} ohm, max |S - exact| = "
@@ -135,13 +140,13 @@ def _print_survey(modes: Any) -> None:
               f"{modes.P[n]:14.6e} {modes.P_theory[n]:14.6e}{quality}")
 
 
-def _bound(data: dict[str, Any], name: str) -> str:
+def _bound(data: JSONObject, name: str) -> str:
     """The reference's own bound on a metric, as printed beside its error ('' where it states none)."""
     bound = data.get(f"reference_bound_{name}")
     return "" if bound is None else f" (reference bound {bound:.1e})"
 
 
-def _print_quality(data: dict[str, Any]) -> None:
+def _print_quality(data: JSONObject) -> None:
     """``lcchain spectrum --Q``: each seen mode's Q_n beside omega_n Q, and the fitted response's error."""
     if not any(mode["resolved"] for mode in data["modes"]):
         return

@@ -5,16 +5,15 @@ from __future__ import annotations
 
 import argparse
 import sys
-from typing import Any
 
 from ..app.options import EXECUTOR_CHOICES
 from ..app.studies import StudyHooks, StudyOptions, StudyResult
 from ..core.budget import show_seconds
-from ..core.types import EXECUTORS, TRANSPORT_CHOICES
+from ..core.types import TRANSPORT_CHOICES, JSONObject
 from .common import EXIT_FAILED, EXIT_OK, budget_from_args, emit_json, registry_name, seconds
 from .progress import study_counter
 
-__all__ = ["add_study_arguments", "study_options", "study_hooks", "show_study", "table", "number", "short"]
+__all__ = ["add_study_arguments", "study_options", "study_hooks", "show_study", "table", "format_number", "short"]
 
 
 def add_study_arguments(p: argparse.ArgumentParser, *, store: bool = True) -> None:
@@ -28,9 +27,10 @@ def add_study_arguments(p: argparse.ArgumentParser, *, store: bool = True) -> No
                        help="when another lcchain is writing the store, wait for it to finish (default: refuse)")
         p.add_argument("--retry-failed", action="store_true",
                        help="run again the runs the store holds as failed or timed out")
-    p.add_argument("--executor", type=registry_name("--executor", EXECUTOR_CHOICES), metavar="EXECUTOR",
-                   default="process",
-                   help=f"where the runs execute: {', '.join(EXECUTORS)} or a plugin's (default process)")
+    # choices: --help lists the registry (plugins included), read only then; the value is checked by the type
+    p.add_argument("--executor", type=registry_name("--executor", EXECUTOR_CHOICES), choices=EXECUTOR_CHOICES,
+                   metavar="EXECUTOR", default="process",
+                   help="where the runs execute: %(choices)s (default %(default)s)")
     p.add_argument("--workers", type=int, default=None, help="worker processes (default: one per core)")
     p.add_argument("--scheduler", metavar="tcp://HOST:PORT", help="an existing Dask scheduler (--executor dask)")
     p.add_argument("--transport", choices=TRANSPORT_CHOICES, default="auto",
@@ -97,7 +97,7 @@ def show_study(args: argparse.Namespace, result: StudyResult) -> int:
     return EXIT_OK if summary.complete else EXIT_FAILED
 
 
-def _print_worst_case(summary: dict[str, Any]) -> None:
+def _print_worst_case(summary: JSONObject) -> None:
     what = summary["metric"]
     rows = [[row["corner"], f"{row['sim']:.6f}", f"{row['theory']:.6f}", f"{row['predicted']:.6f}"]
             for row in summary["corners"]]
@@ -136,7 +136,7 @@ def short(key: str) -> str:
     return "+".join(part.rsplit(".", 1)[-1] for part in key.split("+"))
 
 
-def number(value: Any, digits: str = ".3g") -> str:
+def format_number(value: object, digits: str = ".3g") -> str:
     """A table cell: blank for no value, never ``None`` or ``-0``."""
     if value is None:
         return ""

@@ -4,29 +4,26 @@ worst case (:func:`lcchain.app.sweep.sweep`)."""
 from __future__ import annotations
 
 import argparse
-from collections.abc import Callable, Sequence
-from typing import Any
+from collections.abc import Callable, Collection, Iterator
 
-from ..app.options import engine_names
+from ..app.options import BACKEND_CHOICES, CASE_CHOICES, engine_names
 from ..core.analyses import ANALYSIS_KINDS_DATA
 from ..core.types import (
     ANALYSIS_KINDS,
     ARRIVAL_METRICS,
-    BACKENDS,
     DEFAULT_C0,
     DEFAULT_L0,
     EXCITATIONS,
-    NAMED_CASES,
     WORST_CASE_METHODS,
 )
-from .common import add_parts_arguments, budget_from_args, int_list, list_entries, number_type
+from .common import Parser, Subcommands, add_parts_arguments, budget_from_args, int_list, list_entries, number_type
 from .progress import counter
 from .studies import add_study_arguments, show_study, study_hooks, study_options
 
 __all__ = ["add_parser", "add_sweep_arguments", "cmd_sweep"]
 
 
-def add_parser(sub: Any, budget: list[Any]) -> None:
+def add_parser(sub: Subcommands, budget: list[Parser]) -> None:
     p = sub.add_parser("sweep", parents=budget, help="many runs: the product of comma-list axes, or a scene or a "
                        "netlist varied")
     add_sweep_arguments(p)
@@ -45,7 +42,7 @@ def _floats(option: str) -> Callable[[str], list[float]]:
     return parse
 
 
-def _words(option: str, allowed: Sequence[str]) -> Callable[[str], list[str]]:
+def _words(option: str, allowed: Collection[str]) -> Callable[[str], list[str]]:
     def parse(text: str) -> list[str]:
         values = list_entries(option, text, " | ".join(allowed))
         bad = [v for v in values if v not in allowed]
@@ -55,6 +52,20 @@ def _words(option: str, allowed: Sequence[str]) -> Callable[[str], list[str]]:
         return values
 
     return parse
+
+
+class _EachOf:
+    """A comma list option's choices: ``--help`` lists the names (read only then), and a list (what its type
+    returned, each entry checked there) is among them when each entry is."""
+
+    def __init__(self, names: Collection[str]) -> None:
+        self._names = names
+
+    def __contains__(self, value: object) -> bool:
+        return isinstance(value, list) and all(entry in self._names for entry in value)
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._names)
 
 
 def _worst_case_method(text: str) -> str:
@@ -70,7 +81,8 @@ def add_sweep_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--netlist", metavar="FILE.cir",
                    help="vary a netlist lcchain did not write instead (with --vary NAME=...): each variant checked, "
                         "priced and run as lcchain batch runs a netlist")
-    p.add_argument("--case", type=_words("--case", NAMED_CASES), help="chains, comma separated: an axis")
+    p.add_argument("--case", type=_words("--case", CASE_CHOICES), choices=_EachOf(CASE_CHOICES), metavar="CASE",
+                   help="chains, comma separated: an axis (%(choices)s)")
     p.add_argument("--N", type=int_list("--N"), help="sizes, comma separated: an axis")
     step = p.add_mutually_exclusive_group()
     step.add_argument("--dt", type=_floats("--dt"), help="steps, comma separated: an axis")
@@ -90,7 +102,8 @@ def add_sweep_arguments(p: argparse.ArgumentParser) -> None:
                    help=f"bulk inductance, henry (default {DEFAULT_L0:g})")
     p.add_argument("--C0", type=number_type("--C0"), default=DEFAULT_C0,
                    help=f"bulk capacitance, farad (default {DEFAULT_C0:g})")
-    p.add_argument("--backend", choices=BACKENDS, default=BACKENDS[0])
+    p.add_argument("--backend", choices=BACKEND_CHOICES, default="batch", metavar="BACKEND",
+                   help="how ngspice runs: %(choices)s (default %(default)s)")
     p.add_argument("--engine", choices=engine_names(),
                    help="the circuit simulator of every run (default ngspice; with SCENE.toml its "
                         "[analysis] engine says it)")

@@ -3,17 +3,16 @@
 from __future__ import annotations
 
 import argparse
-from typing import Any
 
 from ..core.types import DESIGN_CASES
-from .common import EXIT_OK, budget_from_args, emit_json, int_list
+from .common import EXIT_OK, Parser, Subcommands, budget_from_args, emit_json, int_list
 from .design import format_table
 from .progress import Progress
 
 __all__ = ["add_parser", "cmd_table"]
 
 
-def add_parser(sub: Any, budget: list[Any]) -> None:
+def add_parser(sub: Subcommands, budget: list[Parser]) -> None:
     p = sub.add_parser("table", parents=budget, help="Table I (one-mass) or II (two-mass) for a list of N")
     p.add_argument("--case", choices=DESIGN_CASES, required=True)
     p.add_argument("--N", type=int_list("--N"), default=[3, 4, 5, 6, 7, 8, 9, 10, 12, 14, 16, 18, 20, 100, 1000])

@@ -29,7 +29,7 @@ from .errors import ParameterError
 if TYPE_CHECKING:  # importlib.metadata and the email package: 30 ms, imported when a group is read
     from importlib.metadata import EntryPoint
 
-__all__ = ["Registry", "PluginError"]
+__all__ = ["Registry", "PluginError", "entry_point_names"]
 
 V = TypeVar("V")
 
@@ -40,6 +40,14 @@ class PluginError(ParameterError):
     ``field`` is ``"entry point <group> <name>"``, ``value`` what it points to (``module:attribute``) and
     ``allowed`` what the group holds, with the reason it was refused.
     """
+
+
+def entry_point_names(group: str) -> tuple[str, ...]:
+    """The names the installed packages give parts in ``group``, sorted, without loading any (a ``--help`` lists
+    them beside lcchain's own without importing the registry's module)."""
+    from importlib.metadata import entry_points
+
+    return tuple(sorted({point.name for point in entry_points(group=group)}))
 
 
 def _one_line(text: str) -> str:

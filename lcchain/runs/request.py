@@ -64,7 +64,6 @@ from ..core.checks import pulse as check_pulse
 from ..core.errors import ParameterError
 from ..core.limits import EXACT_MAX_N, MAX_AC_POINTS, MAX_DT, MAX_I0, MAX_TRANSITS, MIN_AC_POINTS, MIN_I0
 from ..core.types import (
-    BACKENDS,
     DEFAULT_C0,
     DEFAULT_I0,
     DEFAULT_L0,
@@ -271,10 +270,9 @@ class Request:
                 raise ParameterError("effects", effect.key, "each effect at most once")
         object.__setattr__(self, "L0", real("L0", self.L0, above=0.0, unit="henry"))
         object.__setattr__(self, "C0", real("C0", self.C0, above=0.0, unit="farad"))
-        choice("backend", self.backend, BACKENDS)
         engine = engine_named(self.engine)  # an Engine itself is registered under its name, which the request keeps
         object.__setattr__(self, "engine", engine.name)
-        choice("backend", self.backend, engine.transports, f" (the transports of engine {engine.name})")
+        choice("backend", self.backend, engine.user_transports(), f" (the transports of engine {engine.name})")
         object.__setattr__(self, "comments", strings("comments", self.comments))
         object.__setattr__(self, "timeout", real("timeout", self.timeout, above=0.0, unit="seconds"))
         self.analysis.check(self)

@@ -32,7 +32,6 @@ from ..core.errors import ParameterError
 from ..core.limits import MAX_AC_POINTS, MAX_TRANSITS, MIN_AC_POINTS
 from ..core.types import (
     ANALYSIS_KINDS,
-    BACKENDS,
     DEFAULT_I0,
     EXCITATION_KINDS,
     METHODS,
@@ -334,7 +333,6 @@ class RunSpec:
             if self.points is not None:
                 raise ParameterError("points", self.points, "None for a transient (points are an AC run's)")
             object.__setattr__(self, "tstop", real("tstop", self.tstop, above=0.0, unit="seconds"))
-        choice("backend", self.backend, BACKENDS)
         object.__setattr__(self, "timeout", real("timeout", self.timeout, above=0.0, unit="seconds"))
         instance("theory", self.theory, SpectrumTheory if analysis_kind(self.analysis).swept else Theory, optional=True)
         for name in ("trusted", "foreign", "check"):
@@ -344,7 +342,7 @@ class RunSpec:
             if getattr(self, name) is not None:
                 real(name, getattr(self, name), above=0.0, unit="bytes")
         engine = engine_named(self.engine)
-        choice("backend", self.backend, engine.transports, f" (the transports of engine {engine.name})")
+        choice("backend", self.backend, engine.user_transports(), f" (the transports of engine {engine.name})")
         if not engine.runs_foreign and (self.foreign or self.trusted):
             raise ParameterError("engine", self.engine, "ngspice for a netlist lcchain did not write (foreign or "
                                  f"trusted): {self.engine} runs only lcchain's own netlists")

@@ -44,7 +44,6 @@ from ..core.limits import (
 )
 from ..core.types import (
     ANALYSIS_KINDS,
-    BACKENDS,
     DEFAULT_C0,
     DEFAULT_I0,
     DEFAULT_L0,
@@ -388,9 +387,8 @@ class Analysis:
                                  f"1 with engine {engine.name} (no extrapolation): {engine.no_extrapolation}")
 
     def _check_engine(self) -> Engine:
-        choice("analysis.backend", self.backend, BACKENDS)
         engine = engine_named(self.engine, "analysis.engine")
-        choice("analysis.backend", self.backend, engine.transports, f" (the transports of engine {engine.name})")
+        choice("analysis.backend", self.backend, engine.user_transports(), f" (the transports of engine {engine.name})")
         return engine
 
     def _check_ac(self) -> None:

@@ -82,7 +82,8 @@ def _engine_run(name: str) -> str:
     error = abs(float(result.vectors["i(l1)"][-1]) - math.cos(1.0))
     if error > _DOCTOR_ATOL:
         raise SimulationError(f"i(l1)(1 s) differs from cos(1) by {error:.3g}")
-    return (f"{simulator.executable} ({name} {simulator.version}; transports {', '.join(ENGINES[name].transports)})"
+    transports = ", ".join(ENGINES[name].user_transports())
+    return (f"{simulator.executable} ({name} {simulator.version}; transports {transports})"
             f", a run: |i - cos t| = {error:.1e}")
 
 

@@ -108,7 +108,7 @@ def _words(text: str) -> list[str]:
     return [re.sub(r"\{\}", lambda _: "{" + next(found) + "}", w) for w in words]
 
 
-def _number(word: str, params: dict[str, float], where: str, line: str) -> float | None:
+def _element_value(word: str, params: dict[str, float], where: str, line: str) -> float | None:
     """A word as a number: a SPICE number, a ``{...}`` expression, or a ``.param`` name; None if none of these."""
     if word.startswith("{") and word.endswith("}"):
         return evaluate_expression(word[1:-1], params, where, line)
@@ -159,7 +159,7 @@ def read_cards(text: str, source: str = "netlist") -> NetlistCards:
                 if not pairs or re.sub(r"v\s*\(\s*[^()\s,]+\s*\)\s*=\s*\S+", "", body, flags=re.IGNORECASE).strip():
                     raise ParameterError(where, line.strip()[:200], ".ic v(NODE)=VALUE ...")
                 for node, text in pairs:
-                    volts = _number(text, params, where, line)
+                    volts = _element_value(text, params, where, line)
                     if volts is None:
                         raise ParameterError(where, line.strip()[:200], ".ic v(NODE)=VALUE ... with numbers")
                     initial.append((node.lower(), volts))
@@ -180,8 +180,8 @@ def _element(card: str, params: dict[str, float], where: str, line: str
     words = _words(card)
     letter, name = words[0][0].upper(), words[0].lower()
 
-    def number(word: str, what: str) -> float:
-        value = _number(word, params, where, line)
+    def value_of(word: str, what: str) -> float:
+        value = _element_value(word, params, where, line)
         if value is None:
             raise ParameterError(where, line.strip()[:200], f"{what} as a number, a .param name or a {{...}} "
                                  f"expression, not {word!r}")
@@ -202,20 +202,20 @@ def _element(card: str, params: dict[str, float], where: str, line: str
             key, sep, text = word.partition("=")
             if not sep:
                 return OtherCard(letter, name, f"the word {word!r} after its value", where)
-            keywords.append((key.lower(), number(text, key)))
-        return ElementCard(letter, name, words[1].lower(), words[2].lower(), number(value_word, "the value"),
+            keywords.append((key.lower(), value_of(text, key)))
+        return ElementCard(letter, name, words[1].lower(), words[2].lower(), value_of(value_word, "the value"),
                            tuple(keywords), where)
     if letter == "K":
         if len(words) != 4:
             raise ParameterError(where, line.strip()[:200], "KNAME LNAME LNAME COEFFICIENT")
-        return CouplingCard(name, words[1].lower(), words[2].lower(), number(words[3], "the coefficient"), where)
+        return CouplingCard(name, words[1].lower(), words[2].lower(), value_of(words[3], "the coefficient"), where)
     if letter in "VI":
-        return _source(words, letter, name, number, where)
+        return _source(words, letter, name, value_of, where)
     return OtherCard(letter, name, "", where)
 
 
-def _source(words: list[str], letter: str, name: str, number: object, where: str) -> SourceCard | OtherCard:
-    read = number  # (word, what) -> float
+def _source(words: list[str], letter: str, name: str, value_of: object, where: str) -> SourceCard | OtherCard:
+    read = value_of  # (word, what) -> float
     if len(words) < 3:
         return OtherCard(letter, name, "no nodes", where)
     a, b = words[1].lower(), words[2].lower()

@@ -121,7 +121,7 @@ class Engine(ABC):
     warm_analyses: ClassVar[tuple[AnalysisKind, ...]] = ()
 
     @abstractmethod
-    def find(self, backend: Backend = "batch") -> Simulator:
+    def find(self, backend: str = "batch") -> Simulator:
         """Locate the engine for a transport and ask its version once."""
 
     @abstractmethod
@@ -146,10 +146,17 @@ class Engine(ABC):
         """The transport a run uses unless told otherwise: the first of :attr:`transports`."""
         return self.transports[0]
 
-    def transport_for(self, backend: str) -> Backend:
+    def user_transports(self) -> tuple[str, ...]:
+        """The transports a user may name for this engine (``--backend``, ``analysis.backend``): its
+        :attr:`transports`, and for an engine whose transports are a registry (ngspice's), that registry's
+        plugins too."""
+        return self.transports
+
+    def transport_for(self, backend: str) -> str:
         """The transport to find this engine again for a simulator on ``backend``: the same one when the engine
         offers it, else (a warm simulator, chosen per run by a study) the default one."""
-        return next((transport for transport in self.transports if transport == backend), self.default_transport)
+        return next((transport for transport in self.user_transports() if transport == backend),
+                    self.default_transport)
 
     def warm(self, simulator: Simulator, workers: int = 1) -> Simulator:
         """Its warm transport for ``simulator`` (on the default transport): the same program kept loaded between

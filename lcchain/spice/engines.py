@@ -10,7 +10,7 @@ from __future__ import annotations
 from ..core.checks import choice
 from ..core.errors import ParameterError
 from ..core.registry import Registry
-from ..core.types import DEFAULT_ENGINE, Backend
+from ..core.types import DEFAULT_ENGINE
 from .engine import Engine
 from .gnucap import Gnucap
 from .job import Progress, RunJob
@@ -60,7 +60,7 @@ def ac_engine(name: object, field: str = "engine") -> Engine:
     return found
 
 
-def find_engine(engine: str = DEFAULT_ENGINE, backend: Backend = "batch") -> Simulator:
+def find_engine(engine: str = DEFAULT_ENGINE, backend: str = "batch") -> Simulator:
     """Locate an engine for a transport and ask its version once.
 
     Raises
@@ -71,7 +71,7 @@ def find_engine(engine: str = DEFAULT_ENGINE, backend: Backend = "batch") -> Sim
         The engine is not installed; the message says how to install it.
     """
     found = engine_named(engine)
-    choice("backend", backend, found.transports, f" (the transports of engine {found.name})")
+    choice("backend", backend, found.user_transports(), f" (the transports of engine {found.name})")
     return found.find(backend)
 
 

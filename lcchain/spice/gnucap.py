@@ -254,7 +254,7 @@ class Gnucap(Engine):
     #: margin.  (On a loaded machine, with even sweeps, it was 1.2 to 4.2.)
     ac_relative_cost: ClassVar[float] = 2.0
 
-    def find(self, backend: Backend = "batch") -> Simulator:
+    def find(self, backend: str = "batch") -> Simulator:
         if backend not in self.transports:
             raise ParameterError("backend", backend, "batch with engine gnucap (the shared library is ngspice's)")
         exe = shutil.which("gnucap")

@@ -104,6 +104,8 @@ class RunJob:
     cwd: str | os.PathLike[str] | None = None
 
     analysis: ClassVar[Literal["transient"]] = "transient"
+    #: A transient's run writes one plot.
+    joins_plots: ClassVar[bool] = False
 
     def __post_init__(self) -> None:
         if not isinstance(self.netlist, str) or not self.netlist.strip():
@@ -150,6 +152,8 @@ class AcJob:
     foreign: bool = False
 
     analysis: ClassVar[Literal["ac"]] = "ac"
+    #: A sweep in several ``.ac`` cards writes one plot a card: read one after the other.
+    joins_plots: ClassVar[bool] = True
 
     def __post_init__(self) -> None:
         if not isinstance(self.netlist, str) or ".ac " not in self.netlist.lower():
@@ -199,7 +203,7 @@ class TransportJob:
         """The transport's job for ``job``'s checked ``text`` (refused if it is not canonical), reading ``plot``
         (every plot of an ``"ac"`` analysis one after the other: a sweep in several ``.ac`` cards)."""
         return cls(text, job.tstop if isinstance(job, RunJob) else 0.0, job.timeout,
-                   job.max_output_bytes, job.max_resident_bytes, plot, plot == "ac")
+                   job.max_output_bytes, job.max_resident_bytes, plot, job.joins_plots)
 
     @cached_property
     def lines(self) -> str:

@@ -21,6 +21,7 @@ from ..simulator import Simulator
 from ..text import require_canonical
 from .find import INSTALL_COMMAND, find_simulator
 from .runner import PLOT_TRANSPORTS, run, run_plot
+from .transports import named_transports
 from .warm import WARM_BELOW_SECONDS, close_workers, warm_simulator
 
 __all__ = ["Ngspice"]
@@ -30,7 +31,7 @@ class Ngspice(Engine):
     """ngspice: the identity dialect, both transports, and foreign netlists (allow-list, sandbox)."""
 
     name: ClassVar[str] = "ngspice"
-    transports: ClassVar[tuple[Backend, ...]] = ("batch", "shared")
+    transports: ClassVar[tuple[Backend, ...]] = ("batch", "shared")  # its own; user_transports adds plugins'
     install: ClassVar[str] = INSTALL_COMMAND
     runs_foreign: ClassVar[bool] = True
     extrapolates: ClassVar[bool] = True
@@ -41,7 +42,10 @@ class Ngspice(Engine):
     warm_below_seconds: ClassVar[float] = WARM_BELOW_SECONDS
     warm_analyses: ClassVar[tuple[AnalysisKind, ...]] = ("transient",)  # an AC run goes through ngspice -b
 
-    def find(self, backend: Backend = "batch") -> Simulator:
+    def user_transports(self) -> tuple[str, ...]:
+        return named_transports()  # read from the registry: a plugin's transport is ngspice's too
+
+    def find(self, backend: str = "batch") -> Simulator:
         return replace(find_simulator(backend), engine=self.name)  # a subclass under another name finds its own
 
     def dialect(self, netlist: str, vectors: Sequence[str]) -> str:

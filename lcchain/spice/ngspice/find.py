@@ -9,9 +9,7 @@ transport is found is its ``find`` (:mod:`lcchain.spice.ngspice.locate`).
 
 from __future__ import annotations
 
-from ...core.checks import choice
 from ...core.errors import ParameterError
-from ...core.types import BACKENDS, Backend
 from ..simulator import Simulator, child_launcher
 from .locate import (
     INSTALL_COMMAND,
@@ -22,7 +20,7 @@ from .locate import (
     require_pyspice,
     shared_library_version,
 )
-from .transports import TRANSPORT_RUNS, NgspiceTransport
+from .transports import TRANSPORT_RUNS, NgspiceTransport, named_transports
 
 __all__ = [
     "find_simulator",
@@ -36,13 +34,14 @@ __all__ = [
 ]
 
 
-def find_simulator(backend: Backend | NgspiceTransport = "batch") -> Simulator:
+def find_simulator(backend: str | NgspiceTransport = "batch") -> Simulator:
     """Locate ngspice for a backend and ask its version, once (and whether a sandbox works here).
 
     Parameters
     ----------
-    backend : {"batch", "shared"} or NgspiceTransport
-        A transport of one's own is used as given (registered under its ``name`` the first time); its
+    backend : str or NgspiceTransport
+        A transport's name (:func:`~lcchain.spice.ngspice.transports.named_transports`: ``"batch"``, ``"shared"``
+        or a plugin's); a transport of one's own is used as given (registered under its ``name`` the first time); its
         ``find`` locates ngspice for it.
 
     Raises
@@ -51,8 +50,12 @@ def find_simulator(backend: Backend | NgspiceTransport = "batch") -> Simulator:
         ngspice, its shared library or (shared) PySpice is missing; the message
         says how to install it.
     """
-    transport = TRANSPORT_RUNS[choice("backend", backend, BACKENDS)] if isinstance(backend, str) else \
-        TRANSPORT_RUNS.accept("backend", backend)
+    if isinstance(backend, str):  # a name: lcchain's own or a plugin's
+        if backend not in (names := named_transports()):
+            raise ParameterError("backend", backend, " | ".join(names))
+        transport = TRANSPORT_RUNS[backend]
+    else:
+        transport = TRANSPORT_RUNS.accept("backend", backend)
     if transport.find is None:  # the warm transport: a study starts it on a shared library it found
-        raise ParameterError("backend", transport.name, f"a transport a user names: {' | '.join(BACKENDS)}")
+        raise ParameterError("backend", transport.name, f"a transport a user names: {' | '.join(named_transports())}")
     return transport.find(child_launcher())

@@ -44,10 +44,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ...core.checks import choice
 from ...core.errors import ParameterError, SimulationError
 from ...core.frozen import FrozenMap
-from ...core.types import BACKENDS, Backend
+from ...core.types import Backend
 from ..foreign import CheckedText, allowed_netlist
 from ..job import AcJob, Progress, RunJob, TransportJob
 from ..log import failure_reason, fatal_lines, trim_log, useful_output
@@ -115,7 +114,7 @@ def run(job: RunJob, simulator: Simulator | None = None, *, backend: Backend | N
         if isinstance(job.netlist, CheckedText) else \
         allowed_netlist(job.netlist, "netlist", Path(cwd) if cwd is not None else None, read_include)
     if simulator is None:
-        simulator = find_simulator(choice("backend", backend or "batch", BACKENDS))
+        simulator = find_simulator(backend or "batch")
     elif simulator.backend not in TRANSPORT_RUNS:
         raise ParameterError("simulator", simulator.backend,
                              f"one of ngspice's transports: {' | '.join(TRANSPORT_RUNS)}")

@@ -23,7 +23,7 @@ from .place import Place
 from .shared import run_shared
 from .warm import run_warm
 
-__all__ = ["NgspiceTransport", "TransportRun", "TRANSPORT_RUNS"]
+__all__ = ["NgspiceTransport", "TransportRun", "TRANSPORT_RUNS", "named_transports"]
 
 #: How a transport runs a checked text: (job, simulator, place, progress) -> (columns, log, wall seconds).  The
 #: job (:class:`lcchain.spice.job.TransportJob`) carries the text its check returned, the digest of its lines, the
@@ -68,3 +68,9 @@ TRANSPORT_RUNS: Registry[NgspiceTransport] = Registry(
      "warm": NgspiceTransport("warm", run_warm)},
     _admit, "an lcchain.spice.ngspice.transports.NgspiceTransport, named as the entry point",
     name_of=lambda part: str(getattr(part, "name", "")))
+
+
+def named_transports() -> tuple[str, ...]:
+    """The transports a user names (``--backend``, a scene's ``analysis.backend``): those with a ``find``, the
+    default first, plugins included (:data:`lcchain.core.types.Backend` holds lcchain's own, a test checks)."""
+    return tuple(name for name, transport in TRANSPORT_RUNS.items() if transport.find is not None)
