@@ -342,7 +342,8 @@ class RunSpec:
             if getattr(self, name) is not None:
                 real(name, getattr(self, name), above=0.0, unit="bytes")
         engine = engine_named(self.engine)
-        choice("backend", self.backend, engine.user_transports(), f" (the transports of engine {engine.name})")
+        if self.backend not in engine.transports:  # its own need no look at the plugins' entry points
+            choice("backend", self.backend, engine.user_transports(), f" (the transports of engine {engine.name})")
         if not engine.runs_foreign and (self.foreign or self.trusted):
             raise ParameterError("engine", self.engine, "ngspice for a netlist lcchain did not write (foreign or "
                                  f"trusted): {self.engine} runs only lcchain's own netlists")

@@ -71,7 +71,8 @@ def find_engine(engine: str = DEFAULT_ENGINE, backend: str = "batch") -> Simulat
         The engine is not installed; the message says how to install it.
     """
     found = engine_named(engine)
-    choice("backend", backend, found.user_transports(), f" (the transports of engine {found.name})")
+    if backend not in found.transports:  # its own need no look at the plugins' entry points (importlib.metadata)
+        choice("backend", backend, found.user_transports(), f" (the transports of engine {found.name})")
     return found.find(backend)
 
 
