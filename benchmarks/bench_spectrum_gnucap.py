@@ -12,6 +12,8 @@ behind :attr:`lcchain.spice.gnucap.Gnucap.ac_relative_cost`.
 
 from __future__ import annotations
 
+import os
+
 from lcchain.runs.spectrum import measure_spectrum
 from lcchain.theory.cases import chain_for_case
 
@@ -20,8 +22,9 @@ CASES = [("two-mass", 20), ("two-mass", 100), ("perfect", 100), ("uniform-bounde
 
 def main() -> None:
     print("\n## gnucap\n")
-    print("Command: `.venv/bin/python benchmarks/bench_spectrum_gnucap.py >> benchmarks/spectrum.md` (the idle "
-          "machine). Errors as above; seconds: the engine's process.\n")
+    print("Command: `.venv/bin/python benchmarks/bench_spectrum_gnucap.py >> benchmarks/spectrum.md` (single runs, "
+          f"load {os.getloadavg()[0]:.1f} at the start). Errors as above; seconds: the engine's process and lcchain's "
+          "time around it.\n")
     print("| chain | N | points | engine | omega error | P error | engine s | fit s | gnucap s / ngspice s |")
     print("|---|---:|---:|---|---:|---:|---:|---:|---:|")
     for case, N in CASES:

@@ -30,7 +30,7 @@ from ..theory.chain import Chain
 from ..theory.modes import Modes
 from ..theory.spectrum import driving_admittance
 from .grid import POINTS_PER_SPACING, Segment, min_points, sweep_segments
-from .spectrum import SpectrumFit, fit_sections, fit_spectrum
+from .spectrum import THEORY_MISFIT, SpectrumFit, fit_from_theory, fit_sections, fit_spectrum
 
 __all__ = ["SpectrumMetrics", "SPECTRAL_METRICS", "spacing_spread", "sweep_grid", "compare_spectrum",
            "spectrum_estimate", "nearest_modes", "largest_relative_error", "relative_errors",
@@ -394,6 +394,19 @@ def _matched(fit: SpectrumFit, theory: Modes) -> SpectrumFit:
     return fit if keep.all() else fit.subset(keep)
 
 
+def _fitted(theory: Modes, omega: np.ndarray, y11: np.ndarray, yN1: np.ndarray, Q: float | None
+            ) -> tuple[SpectrumFit, np.ndarray]:
+    """The modes fitted to the samples and the index of each one's theoretical mode: from theory's poles without
+    losses (:func:`lcchain.compare.spectrum.fit_from_theory`) while that fit explains the samples, else from the
+    samples alone (:func:`lcchain.compare.spectrum.fit_spectrum`'s rational fits)."""
+    if Q is None:
+        fit, seen = fit_from_theory(omega, y11, yN1, np.asarray(theory.omega, dtype=float))
+        if fit.residual <= THEORY_MISFIT:
+            return fit, seen
+    fit = _matched(fit_spectrum(omega, y11, yN1, lossy=Q is not None), theory)
+    return fit, nearest_modes(fit.omega, theory.omega)
+
+
 def nearest_modes(omega: np.ndarray, theory: np.ndarray) -> np.ndarray:
     """The index of the theoretical frequency (ascending) nearest each of ``omega``."""
     right = np.clip(np.searchsorted(theory, omega), 1, max(theory.size - 1, 1))
@@ -422,8 +435,7 @@ def compare_spectrum(theory: Modes, omega: np.ndarray, y11: np.ndarray, yN1: np.
         The chain itself: with losses, Y_11 is then compared over the whole sweep with its exact admittance
         (``envelope_error``), what is measured however the modes merge.
     """
-    fit = _matched(fit_spectrum(omega, y11, yN1, lossy=Q is not None), theory)
-    seen = nearest_modes(fit.omega, theory.omega)
+    fit, seen = _fitted(theory, omega, y11, yN1, Q)
     circuit, gamma = np.full(theory.N, np.nan), np.full(theory.N, np.nan)
     circuit[seen], gamma[seen] = fit.omega, fit.gamma
     P = np.zeros(theory.N)

@@ -10,6 +10,12 @@ Without losses every gamma_n = 0: g(x) = Im(Y Z0) / w is then a real rational fu
 real poles.  Losses proportional to the masses (:class:`lcchain.circuit.effects.Losses`) keep the modes and
 give every one the same gamma = 1/Q: its poles move to -gamma/2 +- j sqrt(w_n^2 - gamma^2/4).
 
+Without losses, an AC run is fitted from its theory's poles first (:func:`fit_from_theory`: the survey's
+windows, variable projection and banded solves, :func:`lcchain.compare.survey.fit_survey`, on Y_11 and Y_N1 together),
+O(samples x N) per sweep and one or two sweeps: a fraction of the engine's time (``benchmarks/spectrum.md``).  Where it
+does not explain the samples (its misfit above :data:`THEORY_MISFIT`: a circuit that is not its theory), and with
+losses, :func:`fit_spectrum` identifies every section from the samples alone.
+
 :func:`fit_spectrum` identifies every section (a_n, gamma_n, w_n) and every b_n from samples on a grid of
 frequencies (:mod:`lcchain.compare.grid`):
 
@@ -40,8 +46,10 @@ from ..core.errors import ParameterError
 from ..core.frozen import FrozenArrays
 from .grid import POINTS_PER_SPACING, min_points
 from .sections import ONE_WINDOW, WINDOW_SECTIONS, Sections, refine_sections, section_residues
+from .survey import fit_survey
 
-__all__ = ["SpectrumFit", "fit_spectrum", "fit_sections", "min_points", "POINTS_PER_SPACING"]
+__all__ = ["SpectrumFit", "fit_spectrum", "fit_from_theory", "fit_sections", "min_points", "POINTS_PER_SPACING",
+           "THEORY_MISFIT"]
 
 #: Samples in one rational fit (beyond 1.5 times this, the samples are cut into overlapping pieces): with losses
 #: longer pieces, whose poles are found among more neighbours (two-mass N = 100, Q = 100: a mode missed by pieces
@@ -276,3 +284,58 @@ def fit_spectrum(omega: np.ndarray, y11: np.ndarray, yN1: np.ndarray, *, lossy: 
     last = section_residues(w, yN1, sections)
     return SpectrumFit(np.sqrt(np.clip(sections.x, 0.0, None)), sections.c, last, sweeps, misfit,
                        sections.gamma)
+
+
+#: The fit from theory's poles (:func:`fit_from_theory`) holds every mode in one window up to this many, and beyond
+#: keeps this many per window (measured in-process, two-mass N = 100 and 200: 22 and 48 ms in windows of 32 beyond
+#: 16, 35 and 74 ms in one window up to 64; windows of 16 or 96 no faster, on a machine at load 6 to 8).
+_THEORY_ONE_WINDOW = 16
+_THEORY_CORE = 32
+#: The fit from theory's poles stands when its largest misfit (relative to the largest sample of its window) is at
+#: most this; above, the samples are not the predicted poles' (a circuit that is not its theory), and the fit from
+#: the samples alone (:func:`fit_spectrum`) is made instead.  Measured: 1e-14 .. 1e-11 on ngspice's samples.
+THEORY_MISFIT = 1e-8
+
+
+def fit_from_theory(omega: np.ndarray, y11: np.ndarray, yN1: np.ndarray, predicted: np.ndarray
+                    ) -> tuple[SpectrumFit, np.ndarray]:
+    """Identify a lossless ladder's modes starting from its predicted poles, at a fraction of the engine's cost.
+
+    Y_11 / (j w) and Y_N1 / (j w) are real, sum_n (a_n, b_n) / (x_n - w^2): the two are fitted together as the
+    survey fits its loops (:func:`lcchain.compare.survey.fit_survey` with ``exact=True``): windows of
+    neighbouring modes, variable projection of the poles from the predicted ones, the residues of every window
+    from one banded solve refined on the whole residual.  O(samples x N) per sweep; from theory's poles one sweep
+    moves them by their rounding.  A mode is seen when the samples place its pole (its standard error at most
+    :data:`lcchain.compare.survey.PLACED` of a quarter of its nearest gap): a mode too weak at the ends to be
+    placed stays unseen, as the rational fit of :func:`fit_spectrum` leaves it.
+
+    Parameters
+    ----------
+    omega : ndarray
+        Angular frequencies of the samples, units of 1/sqrt(L0 C0), ascending, > 0.
+    y11, yN1 : ndarray, complex
+        Y_11 Z0 and Y_N1 Z0 at those frequencies.
+    predicted : ndarray
+        The predicted normal frequencies, ascending (a free chain's first is 0 and stays there).
+
+    Returns
+    -------
+    fit : SpectrumFit
+        The seen modes; ``residual`` the largest misfit relative to its window's largest sample (compare with
+        :data:`THEORY_MISFIT`).
+    seen : ndarray of int
+        The index of each seen mode among ``predicted``.
+    """
+    w = np.asarray(omega, dtype=float)
+    y11, yN1 = np.asarray(y11, dtype=complex), np.asarray(yN1, dtype=complex)
+    predicted = np.asarray(predicted, dtype=float)
+    if w.ndim != 1 or w.size < 8 or not np.all(np.diff(w) > 0) or w[0] <= 0:
+        raise ParameterError("omega", f"{w.size} frequencies", "at least 8 ascending frequencies > 0")
+    g = np.column_stack((y11.imag, yN1.imag)) / w[:, None]  # Y / (j w): real without losses
+    zero = predicted <= 1e-9 * float(np.max(predicted, initial=0.0))
+    survey = fit_survey(w, g, np.where(zero, 0.0, predicted) ** 2, fixed_x=zero, exact=True,
+                        one_window=_THEORY_ONE_WINDOW, core=_THEORY_CORE)
+    first, last = survey.residues[:, 0], survey.residues[:, 1]
+    seen = np.flatnonzero(np.where(zero, _significant(first), survey.placed))
+    fit = SpectrumFit(survey.omega[seen], first[seen], last[seen], survey.sweeps, survey.residual)
+    return fit, seen

@@ -26,6 +26,13 @@ window, on :data:`SKETCH` random combinations of the loops (every mode is in eac
 Kaufman's Jacobian, whose normal equations over all the columns are (parameters x parameters).  Up to
 :data:`SWEEPS` steps, until none moves a pole by more than ``_SETTLED`` (from theory's poles: one or two).
 
+With ``exact=True`` (a few columns: the loop-1 fit from theory, :func:`lcchain.compare.spectrum.fit_from_theory`) every
+other mode's exact model is subtracted from a window's samples, not only its far neighbours': the banded solve's
+residues are refined on the whole residual and the poles move on it, O(samples x N x columns) a sweep, so the
+residues reach the samples' rounding.  The sweeps then end when no pole the samples place (standard error at most
+:data:`PLACED` of a quarter gap) moved by more than :data:`_SURPRISE` standard errors; the others, too weak to place,
+are reported through :attr:`ModeSurvey.placed`.
+
 Cost: the windows' least squares and the far modes' sections, O(samples x (CORE + 2 HALO + 2 FAR)); the loops
 enter through the right-hand sides, O(samples x CORE x N) to form them and the banded solve, O(N x (CORE + 2 HALO
 + 2 FAR) x N): O(N^2) on a grid of O(N) frequencies.  Memory: the samples, N x samples complex values, and the
@@ -35,7 +42,8 @@ Measured against exact theory in ``benchmarks/spectrum.md``.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -92,6 +100,9 @@ class ModeSurvey(FrozenArrays):
     residual : float
         Largest misfit left on a window's samples (of the loops' random combinations the poles are fitted on),
         relative to the largest sample there.
+    spread : ndarray
+        Each x_n's standard error from the last Gauss-Newton step (the misfit's spread through its normal
+        equations; infinite where the samples do not place the pole, and for a pole held fixed).
     """
 
     omega: np.ndarray
@@ -99,18 +110,28 @@ class ModeSurvey(FrozenArrays):
     residues: np.ndarray
     sweeps: int
     residual: float
+    spread: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
     def __post_init__(self) -> None:
         self._freeze_arrays()
+
+    @property
+    def placed(self) -> np.ndarray:
+        """The modes whose pole the samples place: its standard error at most :data:`PLACED` of a quarter of its
+        nearest gap (the others stayed where they started, their step being the samples' noise), bool per mode."""
+        return np.asarray(self.spread <= PLACED * _room(self.omega ** 2))
 
     def shapes(self, amplitudes: np.ndarray) -> np.ndarray:
         """u_n = r_n / sqrt(r_n . b) (:func:`mode_shapes`), (loops, modes)."""
         return mode_shapes(self.residues, amplitudes)
 
 
+@fixed_blas_threads
 def mode_shapes(residues: np.ndarray, amplitudes: np.ndarray) -> np.ndarray:
     """The M-orthonormal shapes u_n = r_n / sqrt(r_n . b) as real columns (loops, modes), signed by
-    :func:`signed_shapes`.  The imaginary part left (rounding) is dropped."""
+    :func:`signed_shapes`.  The imaginary part left (rounding) is dropped.  Under one BLAS thread, as the fit: a
+    second thread woken for this small product cost 10 ms on the loaded machine (the survey's N = 100 fit took
+    50 ms)."""
     r = np.asarray(residues, dtype=complex)
     u = r / np.sqrt(r @ np.asarray(amplitudes, dtype=complex))[:, None]
     first = _first_large(u.T)
@@ -153,25 +174,36 @@ def _edges(x: np.ndarray, w: np.ndarray, lo: int, hi: int) -> np.ndarray:
 @fixed_blas_threads
 def fit_survey(omega: np.ndarray, g: np.ndarray, x0: np.ndarray, *, lossy: bool = False,
                gamma0: np.ndarray | None = None, fixed_x: np.ndarray | None = None,
-               seed: int = SURVEY_SEED) -> ModeSurvey:
+               seed: int = SURVEY_SEED, exact: bool = False, one_window: int = ONE_WINDOW,
+               core: int = CORE) -> ModeSurvey:
     """Identify every mode of g = I / (j w) sampled on every loop (module docstring).
 
     Parameters
     ----------
     omega : ndarray
         Angular frequencies of the samples, ascending, > 0, units of 1/sqrt(L0 C0).
-    g : ndarray, complex, (samples, loops)
-        The loop currents over j w (times Z0).
+    g : ndarray, complex or real, (samples, loops)
+        The loop currents over j w (times Z0); real for a lossless ladder's Im(I) / w, whose model is real.
     x0 : ndarray
         The predicted squared frequencies x_n, ascending (one per mode).
     lossy : bool
-        Fit each mode's decay rate (from ``gamma0``); else every gamma_n = 0.
+        Fit each mode's decay rate (from ``gamma0``); else every gamma_n = 0 and the sections are real.
     gamma0 : ndarray, optional
         The predicted decay rates.
     fixed_x : ndarray of bool, optional
         Modes whose x_n stays (a free chain's zero mode: x = 0 exactly).
     seed : int
         Of the loops' random combinations the poles are fitted on (:data:`SKETCH` of them).
+    exact : bool
+        Subtract every other mode's exact model from a window's samples, not only its :data:`FAR` neighbours':
+        the windows' residues are refined on the whole residual (:data:`REFINE` passes of the same banded
+        solve) and the poles move on it.  O(samples x modes x loops) per sweep: for a few loops (a drive in loop
+        1), whose residues then reach the samples' rounding where the far modes' smooth remainder stopped them
+        near 1e-11 (two-mass N = 100 in windows of :data:`CORE`).
+    one_window : int
+        Up to this many modes, one window holds every mode.
+    core : int
+        Beyond ``one_window``, the modes whose parameters one window keeps.
 
     Raises
     ------
@@ -179,7 +211,8 @@ def fit_survey(omega: np.ndarray, g: np.ndarray, x0: np.ndarray, *, lossy: bool 
         Samples that are not a survey's (not ascending, or a shape that does not match).
     """
     w = np.asarray(omega, dtype=float)
-    g = np.asarray(g, dtype=complex)
+    g = np.asarray(g)
+    g = g.astype(float if np.isrealobj(g) and not lossy else complex, copy=False)
     if w.ndim != 1 or w.size < 8 or not np.all(np.diff(w) > 0) or w[0] <= 0:
         raise ParameterError("omega", f"{w.size} frequencies", "at least 8 ascending frequencies > 0")
     if g.ndim != 2 or g.shape[0] != w.size:
@@ -193,20 +226,51 @@ def fit_survey(omega: np.ndarray, g: np.ndarray, x0: np.ndarray, *, lossy: bool 
         sketch = g @ mix
     else:
         sketch = g
-    sweeps = 0
+    fit = _Fit(w, x, gamma, fixed, lossy, exact, one_window, core)
+    sweeps, before = 0, np.inf
     while sweeps < SWEEPS:
         sweeps += 1
-        windows = _plan(w, x, gamma)
-        residues = _residues(windows, sketch, x.size)
-        step = max(_move_poles(window, w, sketch, x, gamma, fixed, residues, lossy) for window in windows)
-        if step <= _SETTLED:  # the windows' sections are the poles' to within rounding: keep them
+        fit.plan()
+        fit.solve(sketch)
+        step, misfit, surprise = fit.move(sketch)
+        settled = surprise <= _SURPRISE and misfit <= _NOISE**2 * fit.scale(sketch) if exact else step <= _SETTLED
+        if settled:  # exact: no placed pole moved by many standard errors, on samples fitted to their noise
             break
-    else:
-        windows = _plan(w, x, gamma)
-        residues = _residues(windows, sketch, x.size)
-    worst = max(_misfit(window, sketch, residues) for window in windows)  # the sketch's misfit: the loops' mixed
-    residues = _residues(windows, g, x.size)
-    return ModeSurvey(np.sqrt(np.clip(x, 0.0, None)), gamma, residues, sweeps, worst)
+        if exact and misfit > _GAIN * before:  # the misfit no longer falls
+            break
+        before = misfit
+    if exact and surprise > 1.0:  # the residues at the poles as they now are (within their standard errors of
+        fit.update(sketch)          # the plan's, they stand), refined on the whole residual with the windows' plan
+    elif sweeps == SWEEPS:
+        fit.plan()
+        fit.solve(sketch)
+    worst = max(fit.misfit(window, sketch) for window in fit.windows)  # the sketch's misfit: the loops' mixed
+    if sketch is not g:
+        fit.solve(g)
+    return ModeSurvey(np.sqrt(np.clip(x, 0.0, None)), gamma, fit.residues, sweeps, worst, fit.spread)
+
+
+#: Passes of the exact residual's refinement (``exact=True``): each shrinks the residues' error by the far modes'
+#: smooth remainder (measured on ngspice's two-mass N = 100 in windows of 8: omega_n to 1.0e-11 and P_n to 1.2e-12
+#: without it, 2.3e-16 and 8.7e-16 after one pass).
+REFINE = 1
+#: The samples place a pole when its standard error is at most this fraction of its room (a quarter of its nearest
+#: gap): :attr:`ModeSurvey.placed`.
+PLACED = 1e-3
+#: With ``exact``, the sweeps also end when one lowers the misfit (squared) by less than this factor.
+_GAIN = 0.5
+#: ... and when no placed pole moved by more than this many of its standard errors: Gauss-Newton converges
+#: quadratically there, the next step is below one (perfect N = 100 on ngspice: 4.9, then 12 as the misfit fell
+#: 150-fold, then 0.15; omega_n 1.1e-14 after three sweeps, 8.6e-14 stopping after the first).
+_SURPRISE = 16.0
+#: ... and the misfit's root mean square is at most this relative to the weighted samples' (ngspice's: 1e-14 ..
+#: 1e-12; from poles 1e-3 of a gap off, 8e-4, where the standard errors are the misfit's and say nothing).
+_NOISE = 1e-9
+#: Samples closer than this (relative) to a lossless pole are left out: there the circuit's own rounding moves the
+#: pole by more than the sample's distance to it (:data:`lcchain.compare.sections`' measure).
+_TOO_CLOSE = 1e-9
+#: Values of a block of the exact model formed at once (samples x modes).
+_BLOCK_VALUES = 2**20
 
 
 @dataclass
@@ -221,18 +285,97 @@ class _Window:
     weight: np.ndarray
     q: np.ndarray
     solve: np.ndarray  # (explicit + background) x rows: the weighted rows' least squares
+    columns: np.ndarray  # rows x explicit: the explicit modes' sections on the rows
     far_columns: np.ndarray  # rows x far: the far modes' sections on the rows
 
 
-def _sections(ws: np.ndarray, x: np.ndarray, gamma: np.ndarray) -> np.ndarray:
-    return np.asarray(1.0 / (x[None, :] - (ws * ws)[:, None] + 1j * ws[:, None] * gamma[None, :]))
+def _sections(ws: np.ndarray, x: np.ndarray, gamma: np.ndarray, lossy: bool = True) -> np.ndarray:
+    """1 / D_n(w) on the samples ``ws`` (rows) for the modes of ``x`` (columns): real without losses."""
+    D = x[None, :] - (ws * ws)[:, None]
+    return np.asarray(1.0 / (D + 1j * ws[:, None] * gamma[None, :] if lossy else D))
 
 
-def _plan(w: np.ndarray, x: np.ndarray, gamma: np.ndarray) -> list[_Window]:
+class _Fit:
+    """The poles (``x``, ``gamma``, moved in place), their windows' plans and the residues at the poles."""
+
+    def __init__(self, w: np.ndarray, x: np.ndarray, gamma: np.ndarray, fixed: np.ndarray, lossy: bool,
+                 exact: bool, one_window: int, core: int):
+        self.w, self.x, self.gamma, self.fixed, self.lossy = w, x, gamma, fixed, lossy
+        self.exact, self.one_window, self.core = exact, one_window, core
+        self.windows: list[_Window] = []
+        self.residues = np.zeros((x.size, 0))
+        self.model: np.ndarray | None = None
+        self.spread = np.full(x.size, np.inf)
+        self._lu: Any = None
+
+    def plan(self) -> None:
+        """Each window's rows and least squares at the current poles, and the banded system that couples them."""
+        self.windows = _plan(self.w, self.x, self.gamma, self.lossy, self.one_window, self.core)
+        self._lu = _band(self.windows, self.x.size)
+
+    def solve(self, g: np.ndarray) -> None:
+        """Every mode's residues on every column of ``g`` at the planned poles (exact: refined on the whole
+        residual, whose model is kept for the poles' steps)."""
+        self.residues = _solve_band(self._lu, _rhs(self.windows, g, self.x.size))
+        self.model = None
+        if self.exact:
+            self.update(g, REFINE if len(self.windows) > 1 else 0)  # one window's model is every mode's already
+
+    def update(self, g: np.ndarray, passes: int = REFINE) -> None:
+        """Refine the residues on the whole residual at the poles as they are (moved since the plan: by so little
+        that the plan's least squares still project the residual well, the fixed point is theirs to second order),
+        and keep the whole model."""
+        model = _model(self.w, self.x, self.gamma, self.residues, self.lossy)
+        for _ in range(passes):
+            self.residues = self.residues + _solve_band(self._lu, _rhs(self.windows, g - model, self.x.size))
+            model = _model(self.w, self.x, self.gamma, self.residues, self.lossy)
+        self.model = model
+
+    def target(self, window: _Window, g: np.ndarray) -> np.ndarray:
+        """The window's samples less the modes it does not hold explicitly: exactly (``exact``), or its far
+        neighbours' (the rest is the background's)."""
+        if self.model is not None:
+            own = window.columns @ self.residues[window.explicit]
+            return np.asarray(g[window.rows] - self.model[window.rows] + own)
+        return np.asarray(g[window.rows] - window.far_columns @ self.residues[window.far])
+
+    def misfit(self, window: _Window, g: np.ndarray) -> float:
+        """The window's largest weighted misfit relative to its largest weighted sample (exact: the whole model's,
+        relative to the samples themselves, as the target is then only what the window's modes make: noise where
+        they are weak)."""
+        if self.model is not None:
+            weight = window.weight[:, None]
+            return float(np.max(np.abs((g[window.rows] - self.model[window.rows]) * weight), initial=0.0)
+                         / max(float(np.max(np.abs(g[window.rows] * weight), initial=0.0)), np.finfo(float).tiny))
+        target = self.target(window, g) * window.weight[:, None]
+        misfit = target - window.q @ (window.q.conj().T @ target)
+        scale = np.abs(g[window.rows] * window.weight[:, None]) if self.model is not None else np.abs(target)
+        return float(np.max(np.abs(misfit), initial=0.0) / max(float(np.max(scale, initial=0.0)),
+                                                               np.finfo(float).tiny))
+
+    def scale(self, g: np.ndarray) -> float:
+        """The sum over the windows of their weighted samples' squares (what :meth:`move`'s misfit is set against)."""
+        return float(sum(np.sum(np.abs(g[window.rows] * window.weight[:, None]) ** 2) for window in self.windows))
+
+    def move(self, g: np.ndarray) -> tuple[float, float, float]:
+        """One Gauss-Newton step on every window's core poles (:func:`_move_poles`), their standard errors kept:
+        the largest step (relative to its window's largest x), the sum of the windows' squared weighted misfits
+        before it, and the largest step of a placed pole over its standard error."""
+        largest, total, surprise = 0.0, 0.0, 0.0
+        for window in self.windows:
+            step, spread, misfit, own = _move_poles(window, self.w, self.target(window, g), self.x, self.gamma,
+                                                    self.fixed, self.lossy)
+            self.spread[window.lo:window.hi] = spread
+            largest, total, surprise = max(largest, step), total + misfit, max(surprise, own)
+        return largest, total, surprise
+
+
+def _plan(w: np.ndarray, x: np.ndarray, gamma: np.ndarray, lossy: bool = True,
+          one_window: int = ONE_WINDOW, size: int = CORE) -> list[_Window]:
     import scipy.linalg  # here: importing the survey (every report and app module does) costs no scipy
 
     n_modes = x.size
-    core = n_modes if n_modes <= ONE_WINDOW else CORE
+    core = n_modes if n_modes <= one_window else size
     windows = []
     for lo in range(0, n_modes, core):
         hi = min(lo + core, n_modes)
@@ -242,94 +385,118 @@ def _plan(w: np.ndarray, x: np.ndarray, gamma: np.ndarray) -> list[_Window]:
         if rows.size < needed:  # poles crowded closer than the samples (merged lossy modes): the nearest samples
             middle = 0.5 * (np.sqrt(max(x[a], 0.0)) + np.sqrt(max(x[z - 1], 0.0)))
             rows = np.sort(np.argsort(np.abs(w - middle), kind="stable")[:min(needed, w.size)])
-        ws = w[rows]
         explicit = np.arange(a, z)
         far = np.r_[max(a - FAR, 0):a, z:min(z + FAR, n_modes)].astype(int)
-        A = _sections(ws, x[explicit], gamma[explicit])
+        with np.errstate(divide="ignore"):  # a sample on a lossless pole: left out below
+            A = _sections(w[rows], x[explicit], gamma[explicit], lossy)
         weight = np.min(np.abs(1.0 / A), axis=1)  # the nearest section's inverse gain: rows carry rounding alike
+        if not lossy:  # a sample on top of a pole tells nothing
+            near = weight > _TOO_CLOSE * w[rows] ** 2
+            rows, A, weight = rows[near], A[near], weight[near]
+        ws = w[rows]
         # the modes beyond the far ones, smooth here; a window of every mode has the exact model and none
         basis = np.hstack((A, _chebyshev(ws * ws, BACKGROUND))) if BACKGROUND and core < n_modes else A
         basis = basis * weight[:, None]
         scale = np.linalg.norm(basis, axis=0)
         q, r = np.linalg.qr(basis / scale)
         solve = scipy.linalg.solve_triangular(r, q.conj().T * weight[None, :]) / scale[:, None]
-        windows.append(_Window(lo, hi, rows, explicit, far, weight, q, solve,
-                               _sections(ws, x[far], gamma[far])))
+        windows.append(_Window(lo, hi, rows, explicit, far, weight, q, solve, A,
+                               _sections(ws, x[far], gamma[far], lossy)))
     return windows
 
 
-def _residues(windows: list[_Window], g: np.ndarray, n_modes: int) -> np.ndarray:
-    """Every mode's residues on every column of ``g`` at fixed poles: each window's core residues are its least
-    squares of (samples - far modes' sections), linear in the far modes' residues, so all windows together are
-    one sparse (banded) linear system, solved directly."""
+def _band(windows: list[_Window], n_modes: int) -> Any:
+    """The LU factors of the banded system of every window's core residues (:func:`_rhs`): each window's core
+    residues are its least squares of (samples - far modes' sections), linear in the far modes' residues."""
     import scipy.sparse
     import scipy.sparse.linalg
 
-    rhs = np.empty((n_modes, g.shape[1]), dtype=complex)
     rows_i, cols_i, values = [], [], []
     for window in windows:
         core = slice(window.lo - window.explicit[0], window.hi - window.explicit[0])
-        solve = window.solve[core]
-        rhs[window.lo:window.hi] = solve @ g[window.rows]
-        coupling = solve @ window.far_columns  # core x far
+        coupling = window.solve[core] @ window.far_columns  # core x far
         modes = np.arange(window.lo, window.hi)
         rows_i.append(np.repeat(modes, window.far.size))
         cols_i.append(np.tile(window.far, modes.size))
         values.append(coupling.ravel())
     rows_i.append(np.arange(n_modes))
     cols_i.append(np.arange(n_modes))
-    values.append(np.ones(n_modes, dtype=complex))
+    values.append(np.ones(n_modes))
     matrix = scipy.sparse.csc_matrix((np.concatenate(values), (np.concatenate(rows_i), np.concatenate(cols_i))),
                                      shape=(n_modes, n_modes))
-    return np.asarray(scipy.sparse.linalg.splu(matrix).solve(rhs))
+    return scipy.sparse.linalg.splu(matrix)
 
 
-def _target(window: _Window, g: np.ndarray, residues: np.ndarray) -> np.ndarray:
-    return np.asarray(g[window.rows] - window.far_columns @ residues[window.far])
+def _rhs(windows: list[_Window], g: np.ndarray, n_modes: int) -> np.ndarray:
+    """Each window's least squares of its samples, its core modes' rows of the banded system."""
+    rhs = np.empty((n_modes, g.shape[1]), dtype=np.result_type(windows[0].solve, g))
+    for window in windows:
+        core = slice(window.lo - window.explicit[0], window.hi - window.explicit[0])
+        rhs[window.lo:window.hi] = _product(window.solve[core], g[window.rows])
+    return rhs
 
 
-def _misfit(window: _Window, g: np.ndarray, residues: np.ndarray) -> float:
-    """The window's largest weighted misfit relative to its largest weighted sample."""
-    target = _target(window, g, residues) * window.weight[:, None]
-    misfit = target - window.q @ (window.q.conj().T @ target)
-    return float(np.max(np.abs(misfit), initial=0.0) / max(float(np.max(np.abs(target), initial=0.0)),
-                                                           np.finfo(float).tiny))
+def _product(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """a @ b; a real matrix times a complex one as one real product of b's real and imaginary parts side by side
+    (numpy would make ``a`` complex: twice the work)."""
+    if np.iscomplexobj(a) or not np.iscomplexobj(b):
+        return np.asarray(a @ b)
+    return np.asarray((a @ np.ascontiguousarray(b).view(float)).view(complex))
 
 
-def _move_poles(window: _Window, w: np.ndarray, g: np.ndarray, x: np.ndarray, gamma: np.ndarray,
-                fixed: np.ndarray, residues: np.ndarray, lossy: bool) -> float:
+def _solve_band(lu: Any, rhs: np.ndarray) -> np.ndarray:
+    """The banded system's solution for ``rhs`` (a real system's real and imaginary parts apart)."""
+    if np.iscomplexobj(rhs) and not np.iscomplexobj(lu.L.data):
+        both = np.asarray(lu.solve(np.ascontiguousarray(np.hstack((rhs.real, rhs.imag)))))
+        return np.asarray(both[:, :rhs.shape[1]] + 1j * both[:, rhs.shape[1]:])
+    return np.asarray(lu.solve(rhs))
+
+
+def _model(w: np.ndarray, x: np.ndarray, gamma: np.ndarray, residues: np.ndarray, lossy: bool) -> np.ndarray:
+    """sum_n r_n / D_n(w) on every sample, :data:`_BLOCK_VALUES` values at a time (a sample on a lossless pole,
+    left out of every window, is infinite)."""
+    out = np.empty((w.size, residues.shape[1]), dtype=np.result_type(residues, complex if lossy else float))
+    step = max(1, _BLOCK_VALUES // max(1, x.size))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        for start in range(0, w.size, step):
+            out[start:start + step] = _product(_sections(w[start:start + step], x, gamma, lossy), residues)
+    return out
+
+
+def _move_poles(window: _Window, w: np.ndarray, target: np.ndarray, x: np.ndarray, gamma: np.ndarray,
+                fixed: np.ndarray, lossy: bool) -> tuple[float, np.ndarray, float, float]:
     """One Gauss-Newton step on the window's core poles, every column at once (variable projection, Kaufman's
     Jacobian J_k[:, i] = P_perp dA_i c_ik: the normal equations are Re((V^H V) * (conj(C) C^T))).  The largest
-    step, relative to the largest x of the window (0: nothing moves)."""
+    step, relative to the largest x of the window (0: nothing moves), and each core pole's standard error on x
+    (the misfit's spread through the normal equations; infinite where the samples do not place it)."""
     ws = w[window.rows]
-    target = _target(window, g, residues)
     coeffs = window.solve @ target
     weighted = target * window.weight[:, None]
     misfit = weighted - window.q @ (window.q.conj().T @ weighted)
     explicit = window.explicit
-    slope = -_sections(ws, x[explicit], gamma[explicit]) ** 2 * window.weight[:, None]  # d/dx of each section
+    core = (explicit >= window.lo) & (explicit < window.hi)  # a halo mode: its own window places it
+    slope = -window.columns ** 2 * window.weight[:, None]  # d/dx of each section
     moves_x = np.flatnonzero(~fixed[explicit])
+    spread = np.full(window.hi - window.lo, np.inf)
     which = [moves_x] + ([np.arange(explicit.size)] if lossy else [])
     columns = [slope[:, moves_x]] + ([1j * ws[:, None] * slope] if lossy else [])  # d/dgamma = j w d/dx
     if not moves_x.size and not lossy:
-        return 0.0
+        return 0.0, spread, 0.0, 0.0
     V = np.hstack(columns)
     V = V - window.q @ (window.q.conj().T @ V)
     c = coeffs[np.concatenate(which)]
     normal = ((V.conj().T @ V) * (c.conj() @ c.T)).real
     rhs = (c.conj() * (V.conj().T @ misfit)).sum(axis=1).real
-    delta = np.linalg.lstsq(normal, rhs, rcond=None)[0]
+    room = _room(x)[explicit]
+    delta, errors = _step(normal, rhs, misfit)
+    spread[np.flatnonzero(~fixed[explicit][core])] = errors[:moves_x.size][core[moves_x]]
     if not np.all(np.isfinite(delta)):  # a singular window (modes merged beyond telling apart): no step
-        return 0.0
-    core = (explicit >= window.lo) & (explicit < window.hi)  # a halo mode: its own window places it
+        return 0.0, spread, 0.0, 0.0
     dx = np.zeros(explicit.size)
     dx[moves_x] = delta[:moves_x.size]
     dgamma = delta[moves_x.size:] if lossy else np.zeros(explicit.size)
     # a trust region: no pole moves by more than a quarter of its distance to a neighbour, no decay rate by more
     # than half itself (modes merged beyond telling apart would otherwise wander off)
-    gaps = np.diff(x[max(explicit[0] - 1, 0):explicit[-1] + 2])
-    room = 0.25 * np.minimum(np.r_[np.inf, gaps], np.r_[gaps, np.inf])
-    room = room[1:explicit.size + 1] if explicit[0] > 0 else room[:explicit.size]
     excess = max(float(np.max(np.abs(dx) / np.maximum(room, np.finfo(float).tiny), initial=0.0)),
                  float(np.max(np.abs(dgamma) / np.maximum(0.5 * gamma[explicit], np.finfo(float).tiny),
                               initial=0.0)) if lossy else 0.0)
@@ -338,4 +505,34 @@ def _move_poles(window: _Window, w: np.ndarray, g: np.ndarray, x: np.ndarray, ga
     x[explicit[core]] += dx[core]
     gamma[explicit[core]] += dgamma[core]
     largest = float(np.max(np.abs(np.concatenate((dx[core], dgamma[core]))), initial=0.0))
-    return largest / max(float(np.max(x[explicit])), np.finfo(float).tiny)
+    # each placed pole's step against what the samples tell of it (its standard error, or its rounding): <= 1 when
+    # none moved by more; a pole the samples do not place wanders by its noise and tells nothing
+    own = np.maximum(np.where(np.isfinite(spread), spread, 0.0), 4.0 * np.finfo(float).eps * x[explicit[core]])
+    placed = spread <= PLACED * room[core]
+    surprise = float(np.max((np.abs(dx[core]) / np.maximum(own, np.finfo(float).tiny))[placed], initial=0.0))
+    return (largest / max(float(np.max(x[explicit])), np.finfo(float).tiny), spread,
+            float(np.sum(np.abs(misfit) ** 2)), surprise)
+
+
+def _room(x: np.ndarray) -> np.ndarray:
+    """A quarter of each pole's distance to its nearest neighbour (in x = omega^2)."""
+    gaps = np.diff(x)
+    return np.asarray(0.25 * np.minimum(np.r_[np.inf, gaps], np.r_[gaps, np.inf]))
+
+
+def _step(normal: np.ndarray, rhs: np.ndarray, misfit: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The Gauss-Newton step of the normal equations and each parameter's standard error (the misfit's variance
+    per real value through their inverse; infinite where a parameter moves nothing), from one eigen-decomposition
+    scaled to a unit diagonal first: the residues span many decades (a perfect cradle's |u_1n|^2 from 1e-2 to
+    1e-20), and unscaled the weak modes' steps fell below the solver's cut-off and stayed where they started."""
+    values = misfit.size * (2 if np.iscomplexobj(misfit) else 1)
+    variance = float(np.sum(np.abs(misfit) ** 2)) / max(values - normal.shape[0], 1)
+    diagonal = np.diag(normal).copy()
+    scale = np.sqrt(np.where(diagonal > 0, diagonal, 1.0))
+    eigenvalues, vectors = np.linalg.eigh(normal / np.outer(scale, scale))
+    kept = eigenvalues > normal.shape[0] * np.finfo(float).eps * max(float(eigenvalues[-1]), 0.0)
+    inverse = np.where(kept, 1.0 / np.where(kept, eigenvalues, 1.0), 0.0)
+    delta = vectors @ (inverse * (vectors.T @ (rhs / scale))) / scale
+    with np.errstate(divide="ignore", invalid="ignore"):
+        errors = np.sqrt(variance * ((vectors**2) @ inverse)) / scale
+    return np.asarray(delta), np.asarray(np.where(diagonal > 0, errors, np.inf))

@@ -272,7 +272,7 @@ class Request:
         object.__setattr__(self, "C0", real("C0", self.C0, above=0.0, unit="farad"))
         engine = engine_named(self.engine)  # an Engine itself is registered under its name, which the request keeps
         object.__setattr__(self, "engine", engine.name)
-        choice("backend", self.backend, engine.user_transports(), f" (the transports of engine {engine.name})")
+        engine.check_transport("backend", self.backend)
         object.__setattr__(self, "comments", strings("comments", self.comments))
         object.__setattr__(self, "timeout", real("timeout", self.timeout, above=0.0, unit="seconds"))
         self.analysis.check(self)

@@ -342,8 +342,7 @@ class RunSpec:
             if getattr(self, name) is not None:
                 real(name, getattr(self, name), above=0.0, unit="bytes")
         engine = engine_named(self.engine)
-        if self.backend not in engine.transports:  # its own need no look at the plugins' entry points
-            choice("backend", self.backend, engine.user_transports(), f" (the transports of engine {engine.name})")
+        engine.check_transport("backend", self.backend)
         if not engine.runs_foreign and (self.foreign or self.trusted):
             raise ParameterError("engine", self.engine, "ngspice for a netlist lcchain did not write (foreign or "
                                  f"trusted): {self.engine} runs only lcchain's own netlists")

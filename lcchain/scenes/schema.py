@@ -388,7 +388,7 @@ class Analysis:
 
     def _check_engine(self) -> Engine:
         engine = engine_named(self.engine, "analysis.engine")
-        choice("analysis.backend", self.backend, engine.user_transports(), f" (the transports of engine {engine.name})")
+        engine.check_transport("analysis.backend", self.backend)
         return engine
 
     def _check_ac(self) -> None:

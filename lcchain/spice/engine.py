@@ -152,11 +152,28 @@ class Engine(ABC):
         plugins too."""
         return self.transports
 
+    def takes_transport(self, name: str) -> bool:
+        """Whether a user may name ``name`` for this engine (one of :meth:`user_transports`): a lookup, which an
+        engine whose transports are a registry answers for its own names without reading the plugins."""
+        return name in self.user_transports()
+
+    def check_transport(self, field: str, name: object) -> str:
+        """``name``, a transport a user may name for this engine (:meth:`takes_transport`).
+
+        Raises
+        ------
+        ParameterError
+            Naming ``field``, the value and this engine's transports.
+        """
+        if not isinstance(name, str) or not self.takes_transport(name):
+            raise ParameterError(field, name, f"{' | '.join(self.user_transports())} (the transports of engine "
+                                 f"{self.name})")
+        return name
+
     def transport_for(self, backend: str) -> str:
         """The transport to find this engine again for a simulator on ``backend``: the same one when the engine
         offers it, else (a warm simulator, chosen per run by a study) the default one."""
-        return next((transport for transport in self.user_transports() if transport == backend),
-                    self.default_transport)
+        return backend if self.takes_transport(backend) else self.default_transport
 
     def warm(self, simulator: Simulator, workers: int = 1) -> Simulator:
         """Its warm transport for ``simulator`` (on the default transport): the same program kept loaded between

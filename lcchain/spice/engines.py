@@ -71,8 +71,7 @@ def find_engine(engine: str = DEFAULT_ENGINE, backend: str = "batch") -> Simulat
         The engine is not installed; the message says how to install it.
     """
     found = engine_named(engine)
-    if backend not in found.transports:  # its own need no look at the plugins' entry points (importlib.metadata)
-        choice("backend", backend, found.user_transports(), f" (the transports of engine {found.name})")
+    found.check_transport("backend", backend)
     return found.find(backend)
 
 

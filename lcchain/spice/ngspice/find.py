@@ -50,9 +50,9 @@ def find_simulator(backend: str | NgspiceTransport = "batch") -> Simulator:
         ngspice, its shared library or (shared) PySpice is missing; the message
         says how to install it.
     """
-    if isinstance(backend, str):  # a name: lcchain's own (held: no entry point read) or a plugin's
-        if backend not in TRANSPORT_RUNS.held and backend not in (names := named_transports()):
-            raise ParameterError("backend", backend, " | ".join(names))
+    if isinstance(backend, str):  # a name: lcchain's own (no plugin's metadata read for it) or a plugin's
+        if backend not in TRANSPORT_RUNS:
+            raise ParameterError("backend", backend, " | ".join(named_transports()))
         transport = TRANSPORT_RUNS[backend]
     else:
         transport = TRANSPORT_RUNS.accept("backend", backend)
