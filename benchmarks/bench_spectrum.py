@@ -38,7 +38,7 @@ import numpy as np
 import lcchain
 from lcchain.compare.spectral import spectrum_estimate
 from lcchain.core.errors import ParameterError
-from lcchain.runs.spectrum import OMEGA_WEIGHT_FLOOR, measure_spectrum
+from lcchain.runs.spectrum import OMEGA_WEIGHT_FLOOR, SpectrumOptions, measure_spectrum
 from lcchain.runs.survey import OMEGA_TARGET, SEPARATION, SHAPE_TARGET, ModeReport, measure_modes
 from lcchain.spice.engines import find_engine
 from lcchain.theory.cases import chain_for_case
@@ -187,7 +187,7 @@ def main() -> None:
     for case, N, Q in LOSSY:
         clock = time.perf_counter()
         try:
-            report = measure_spectrum(chain_for_case(case, N), Q=Q, simulator=simulator)
+            report = measure_spectrum(chain_for_case(case, N), SpectrumOptions(Q=Q), simulator=simulator)
         except ParameterError:
             print(f"| {case} | {N} | {Q:g} | - | - | - | - | - | - | - | - | - | - | ", end="", flush=True)
         else:

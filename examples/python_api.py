@@ -32,7 +32,7 @@ def main(out: Path) -> None:
     print(f"optimal two-mass N = 1000: r* = {design.r:.6f}, w* = {design.w:.6f}, delta* = {design.delta:.3e}")
 
     # The LC ladder in ngspice against alpha_N(t), the step chosen for an accuracy.
-    report = lcchain.simulate(chain, accuracy=1e-3, transits=1)
+    report = lcchain.simulate_chain(chain, lcchain.ChainOptions(accuracy=1e-3, transits=1))
     print(f"ngspice {report.run.ngspice_version}: dt = {report.options.dt:.4f}, "
           f"max |simulation - theory| = {report.comparison.max_abs_error:.2e}")
     w, c = report.waveforms, report.comparison

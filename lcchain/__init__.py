@@ -29,7 +29,8 @@ _PUBLIC = {
     "Budget": "core.budget",
     "run_scene": "app.scenes",
     "RunRecord": "runs.execute", "execute": "runs.execute",
-    "SimulationReport": "runs.simulate", "simulate": "runs.simulate",
+    "SimulationReport": "runs.simulate", "simulate": "runs.simulate", "simulate_chain": "runs.simulate",
+    "ChainOptions": "runs.simulate",
     "SpectrumReport": "runs.spectrum", "spectrum": "runs.spectrum",
     "Request": "runs.request", "Drive": "runs.request", "Transient": "runs.request", "AC": "runs.request",
     "plan_request": "runs.request",
@@ -59,7 +60,7 @@ __all__ = [
     "LcchainError", "ParameterError", "DesignError", "SimulationError", "SimulatorMissingError", "ExtraMissingError",
     "Budget",
     "run_scene", "RunRecord",
-    "execute", "SimulationReport", "simulate", "SpectrumReport", "spectrum",
+    "execute", "SimulationReport", "simulate", "simulate_chain", "ChainOptions", "SpectrumReport", "spectrum",
     "Request", "Drive", "Transient", "AC", "plan_request", "Effect",
     "Walls",
     "Coupling", "Losses", "Tolerance", "PreferredValues", "RunSpec", "Theory", "load_scene", "parse_scene",
@@ -104,7 +105,7 @@ if TYPE_CHECKING:  # what a type checker and an editor see
     )
     from .runs.execute import RunRecord, execute
     from .runs.request import AC, Drive, Request, Transient, plan_request
-    from .runs.simulate import SimulationReport, simulate
+    from .runs.simulate import ChainOptions, SimulationReport, simulate, simulate_chain
     from .runs.spec import RunSpec, Theory
     from .runs.spectrum import SpectrumReport, spectrum
     from .scenes.load import load_scene, parse_scene

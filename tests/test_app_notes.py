@@ -12,7 +12,7 @@ import pytest
 
 from lcchain.app.inputs import ChainOptions
 from lcchain.app.netlist import NetlistRequest, netlist
-from lcchain.app.simulate import SimulateRequest, simulate_chain, write_outputs
+from lcchain.app.simulate import SimulateRequest, simulate, write_outputs
 from lcchain.cli import main
 
 APP = Path(__file__).parent.parent / "lcchain" / "app"
@@ -57,7 +57,7 @@ def test_a_missed_accuracy_is_a_note(tmp_path, capsys):
     test_bad_inputs' "accuracy not met" case): its note says so and write_outputs says the run failed."""
     request = SimulateRequest(ChainOptions(case="uniform-bounded", N=10), 1e-5, 1e-8, accuracy=1e-9, extrapolate=1,
                               waveform_out=str(tmp_path / "w.csv"))
-    simulation = simulate_chain(request)
+    simulation = simulate(request)
     assert write_outputs(simulation) is True
     notes = simulation.outputs.take_notes()
     assert len(notes) == 1 and notes[0].startswith("--accuracy 1e-09 was not met: the run reached ")

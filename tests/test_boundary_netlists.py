@@ -20,7 +20,7 @@ from helpers.tolerances import RTOL_POINTS_RATIO
 
 import lcchain
 from lcchain.circuit.ladder import Ladder
-from lcchain.circuit.netlist import SimulationOptions, netlist_text
+from lcchain.circuit.netlist import Drive, NetlistOutput, SimulationOptions, netlist_text
 from lcchain.cli import main
 from lcchain.core.budget import BYTES_PER_VALUE
 from lcchain.core.errors import ParameterError, SimulationError
@@ -199,9 +199,7 @@ def test_every_effect_lcchain_writes_passes_byte_for_byte(excitation: str, pulse
     """Losses, walls, pulses (a B source, a PWL source), every loop saved: all inside the allow-list."""
     walled = lcchain.Chain([1.5, 1.0, 1.0, 1.5], [0.2, 1.0, 1.0, 1.0, 0.2])
     for chain, Q, probes in ((lcchain.Chain.perfect(5), None, "all"), (walled, 50.0, "ends")):
-        text = netlist_text(Ladder(chain), SimulationOptions(dt=0.05, tstop=10.0), excitation=excitation,  # type: ignore[arg-type]
-                            effects=() if Q is None else (lcchain.Losses(Q),), pulse=pulse,
-                            probes=probes)  # type: ignore[arg-type]
+        text = netlist_text(Ladder(chain), SimulationOptions(dt=0.05, tstop=10.0), Drive(kind=excitation, pulse=pulse), effects=() if Q is None else (lcchain.Losses(Q),), output=NetlistOutput(probes=probes))  # type: ignore[arg-type]
         assert allowed_netlist(text, "own", None) == text
 
 

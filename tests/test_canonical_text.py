@@ -26,7 +26,7 @@ from helpers.netlists import LADDER
 import lcchain
 from lcchain.cli import main
 from lcchain.core.errors import ParameterError
-from lcchain.runs.simulate import simulation_spec
+from lcchain.runs.simulate import ChainOptions, simulation_spec
 from lcchain.spice.engines import engine_named
 from lcchain.spice.foreign import allowed_netlist
 from lcchain.spice.job import RunJob, TransportJob
@@ -56,7 +56,7 @@ PLACES = ("title", "comment", "inline", "element", "included")
 
 @functools.cache
 def _spec(N: int = 10) -> tuple[str, tuple[str, ...], float]:
-    spec, _, _ = simulation_spec(lcchain.chain_for_case("two-mass", N), dt=0.05, transits=1)
+    spec, _, _ = simulation_spec(lcchain.chain_for_case("two-mass", N), ChainOptions(dt=0.05, transits=1))
     return spec.netlist, spec.vectors, spec.tstop
 
 

@@ -24,7 +24,7 @@ from helpers.processes import alive, as_from_a_terminal, descendants, gone, reap
 
 import lcchain
 from lcchain.core.errors import ParameterError, SimulationError, SimulatorMissingError
-from lcchain.runs.simulate import simulation_spec
+from lcchain.runs.simulate import ChainOptions, simulation_spec
 from lcchain.spice.job import RunJob
 from lcchain.spice.ngspice import warm
 from lcchain.spice.ngspice.find import find_simulator
@@ -54,7 +54,7 @@ def _no_worker_outlives_a_test():
 
 
 def _netlist(N: int, dt: float = 0.05, transits: int = 1) -> tuple[str, tuple[str, ...], float]:
-    spec, _, _ = simulation_spec(lcchain.chain_for_case("two-mass", N), dt=dt, transits=transits)
+    spec, _, _ = simulation_spec(lcchain.chain_for_case("two-mass", N), ChainOptions(dt=dt, transits=transits))
     return spec.netlist, spec.vectors, spec.tstop
 
 

@@ -1,5 +1,5 @@
 """``lcchain simulate``: run the ladder in ngspice (or gnucap) and compare with alpha_N(t)
-(:func:`lcchain.app.simulate.simulate_chain`)."""
+(:func:`lcchain.app.simulate.simulate`)."""
 
 from __future__ import annotations
 
@@ -129,7 +129,7 @@ def _print_simulation(args: argparse.Namespace, chain: Chain, data: JSONObject) 
 
 
 def cmd_simulate(args: argparse.Namespace) -> int:
-    from ..app.simulate import EnginesComparison, SimulateRequest, simulate_chain, write_outputs
+    from ..app.simulate import EnginesComparison, SimulateRequest, simulate, write_outputs
 
     request = SimulateRequest(chain_options(args), args.L0, args.C0, excitation=args.excitation, title=args.title,
                               transits=args.transits, dt=args.dt, accuracy=args.accuracy,
@@ -137,7 +137,7 @@ def cmd_simulate(args: argparse.Namespace) -> int:
                               method=args.method, effects=effects_from_args(args), plot=args.plot,
                               netlist_out=args.netlist_out, waveform_out=args.waveform_out, json=args.json,
                               budget=budget_from_args(args), progress=fraction)
-    result = simulate_chain(request)
+    result = simulate(request)
     if isinstance(result, EnginesComparison):
         return _print_engines(args, result)
     print_notes(f"warning: {warning}" for warning in result.warnings)

@@ -405,7 +405,7 @@ def sweep_plan(*, cases: Sequence[str], Ns: Sequence[int], dts: Sequence[float] 
     chain of N = 400 takes 0.28 s to design: 12 of them were 2.9 s in the driver before the first run).  The
     chains are the same bits wherever they are designed (theory runs under a fixed BLAS thread limit).
     """
-    from ..runs.simulate import simulation_runs
+    from ..runs.simulate import ChainOptions, simulation_runs
     from ..theory.cases import chain_for_case
     from ..theory.spectrum import normal_modes
 
@@ -427,10 +427,10 @@ def sweep_plan(*, cases: Sequence[str], Ns: Sequence[int], dts: Sequence[float] 
             chain = designed[(case, N)].result() if designed else chain_for_case(case, N)
             chains[(case, N)] = (chain, normal_modes(chain))
         chain, modes = chains[(case, N)]
-        runs = simulation_runs(chain, transits=transit, excitation=excitation, L0=L0, C0=C0, backend=backend,
-                               timeout=timeout, modes=modes, budget=budget, extrapolate=extrapolate,
-                               dt=value if step == "dt" else None, accuracy=value if step == "accuracy" else None,
-                               engine=engine)
+        options = ChainOptions(transits=transit, excitation=excitation, L0=L0, C0=C0, backend=backend,
+                               timeout=timeout, extrapolate=extrapolate, dt=value if step == "dt" else None,
+                               accuracy=value if step == "accuracy" else None, engine=engine)
+        runs = simulation_runs(options.request(chain), modes=modes, budget=budget)
         params = {"case": case, "N": N, step: value, "transits": transit, "excitation": excitation}
         if step == "accuracy":
             params["dt"] = runs.options.dt

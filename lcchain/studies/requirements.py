@@ -24,7 +24,7 @@ import scipy  # its submodules load on first use: commands that need no theory n
 from ..circuit import requirements as exact
 from ..circuit.effects import Effect
 from ..circuit.ladder import Ladder
-from ..circuit.netlist import SimulationOptions, netlist_text
+from ..circuit.netlist import Drive, NetlistOutput, SimulationOptions, netlist_text
 from ..circuit.requirements import GRID_POINTS, LOSS_TARGETS, PARTS, Arrival, Part, Requirement, requirements_cost
 from ..core.blas import fixed_blas_threads
 from ..core.budget import Budget, Estimate, run_estimate
@@ -126,7 +126,8 @@ def check_points(ladder: Ladder, requirements: Sequence[Requirement], count: int
 def _energy(ladder: Ladder, effects: tuple[Effect, ...], options: SimulationOptions, window: tuple[float, float],
             transit: float, budget: Budget, simulator: Simulator) -> float:
     chain = ladder.chain
-    netlist = netlist_text(ladder, options, I0=1.0, effects=effects, title=f"lcchain requirements, {chain.name}")
+    netlist = netlist_text(ladder, options, Drive(I0=1.0), effects=effects,
+                           output=NetlistOutput(title=f"lcchain requirements, {chain.name}"))
     last = f"i(l{chain.N})"
     tstop = options.tstop * ladder.time_unit
     result = run_engine(RunJob(netlist, [last], tstop, foreign=False, timeout=max(1.0, budget.max_seconds)), simulator)

@@ -27,7 +27,7 @@ from ..core.blas import fixed_blas_threads
 from ..core.checks import real
 from ..core.errors import ParameterError, SimulationError
 from ..core.types import DEFAULT_C0, DEFAULT_L0
-from ..runs.spectrum import measure_spectrum
+from ..runs.spectrum import SpectrumOptions, measure_spectrum
 from ..spice.simulator import Simulator
 from ..theory.cases import chain_for_case
 from ..theory.chain import Chain
@@ -246,7 +246,8 @@ def run_spectrum_check(job: SpectrumJob) -> SpectrumCheck:
         for effect in job.effects:
             chain = effect.realise(chain, DEFAULT_L0, DEFAULT_C0)
             keywords.update(effect.response())
-        report = measure_spectrum(chain, L0=DEFAULT_L0, C0=DEFAULT_C0, simulator=job.simulator, **keywords)
+        options = SpectrumOptions(L0=DEFAULT_L0, C0=DEFAULT_C0, **keywords)
+        report = measure_spectrum(chain, options, simulator=job.simulator)
     except (SimulationError, ParameterError) as error:
         keys = [key for key in tolerances if key != "Q" or any("Q" in effect.response() for effect in job.effects)]
         return SpectrumCheck(job.name, job.what, job.N, job.figure, job.panel, [],

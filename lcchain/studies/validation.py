@@ -18,7 +18,7 @@ from ..circuit.reference import REFERENCE_DT, REFERENCE_SET, reference_chain
 from ..core.errors import SimulationError, SimulatorMissingError
 from ..core.types import EXCITATIONS, Excitation
 from ..runs.execute import RunRecord
-from ..runs.simulate import simulate
+from ..runs.simulate import ChainOptions, simulate_chain
 from ..scenes.load import parse_scene
 from ..scenes.run import simulate_scene
 from ..spice.engines import DEFAULT_ENGINE, ENGINES, find_engine
@@ -184,8 +184,8 @@ def run_check(job: CheckJob) -> CircuitCheck:
     engine = job.simulator.engine
     if job.chain is not None:
         try:
-            report = simulate(job.chain, dt=REFERENCE_DT, excitation=job.excitation, simulator=job.simulator,
-                              engine=engine)
+            options = ChainOptions(dt=REFERENCE_DT, excitation=job.excitation, engine=engine)
+            report = simulate_chain(job.chain, options, simulator=job.simulator)
             return _check(job.name, job.what, job.N, job.excitation, REFERENCE_DT, report.record,
                           _fixed_step_tolerance, engine=engine)
         except SimulationError as error:
