@@ -24,7 +24,7 @@ import time
 from pathlib import Path
 
 import lcchain
-from lcchain.runs.simulate import simulation_spec
+from lcchain.runs.simulate import ChainOptions, simulation_spec
 
 LCCHAIN = str(Path(sys.executable).with_name("lcchain"))
 ENV = {name: value for name, value in os.environ.items() if name != "PYTHONDONTWRITEBYTECODE"}
@@ -36,7 +36,7 @@ def make(folder: Path, count: int) -> None:
     chains = {case: lcchain.chain_for_case(case, 10) for case in CASES}
     for i in range(count):
         case = CASES[i % len(CASES)]
-        spec, _, _ = simulation_spec(chains[case], dt=0.04 * (1 + i / count))
+        spec, _, _ = simulation_spec(chains[case], ChainOptions(dt=0.04 * (1 + i / count)))
         _, _, body = spec.netlist.partition("\n")
         (folder / f"{i:05d}").write_text(f"run {i} of a user's study: {case} N=10\n{body}")
 

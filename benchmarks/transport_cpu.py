@@ -18,7 +18,7 @@ import time
 from pathlib import Path
 
 import lcchain
-from lcchain.runs.simulate import simulation_spec
+from lcchain.runs.simulate import ChainOptions, simulation_spec
 from lcchain.spice.job import RunJob
 from lcchain.spice.ngspice.find import find_simulator
 from lcchain.spice.ngspice.runner import run
@@ -26,7 +26,7 @@ from lcchain.spice.ngspice.warm import close_workers, warm_simulator
 from lcchain.studies.plan import batch_plan
 
 transport, N, repeat = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
-spec, _, _ = simulation_spec(lcchain.chain_for_case("two-mass", N), dt=0.04)
+spec, _, _ = simulation_spec(lcchain.chain_for_case("two-mass", N), ChainOptions(dt=0.04))
 with tempfile.TemporaryDirectory() as folder:
     path = Path(folder) / "n.cir"
     path.write_text(spec.netlist)

@@ -13,7 +13,7 @@ import pytest
 import lcchain
 from lcchain.app.batch import BatchRequest, batch
 from lcchain.app.studies import StudyOptions
-from lcchain.runs.simulate import simulation_spec
+from lcchain.runs.simulate import ChainOptions, simulation_spec
 from lcchain.runs.spec import RunSpec
 from lcchain.studies import executors
 
@@ -24,7 +24,7 @@ COUNT = 2 * executors.WARM_MIN_RUNS_PER_WORKER + 2
 
 
 def _netlists(folder: Path) -> tuple[str, ...]:
-    spec, _, _ = simulation_spec(lcchain.chain_for_case("two-mass", 10), dt=0.05)
+    spec, _, _ = simulation_spec(lcchain.chain_for_case("two-mass", 10), ChainOptions(dt=0.05))
     paths = []
     for i in range(COUNT):  # distinct: each its own title
         path = folder / f"n{i:03d}.cir"
