@@ -27,7 +27,7 @@ _PUBLIC = {
     "DesignError": "core.errors",
     "SimulationError": "core.errors", "SimulatorMissingError": "core.errors", "ExtraMissingError": "core.errors",
     "Budget": "core.budget",
-    "run_scene": "app.scenes",
+    "run_scene": "app.scenes", "SceneRun": "app.scenes", "SceneHooks": "app.scenes",
     "RunRecord": "runs.execute", "execute": "runs.execute",
     "SimulationReport": "runs.simulate", "simulate": "runs.simulate", "simulate_chain": "runs.simulate",
     "ChainOptions": "runs.simulate",
@@ -59,7 +59,7 @@ __all__ = [
     "Ladder", "SimulationOptions", "netlist_text", "dt_for_accuracy", "predicted_error", "Interrupted",
     "LcchainError", "ParameterError", "DesignError", "SimulationError", "SimulatorMissingError", "ExtraMissingError",
     "Budget",
-    "run_scene", "RunRecord",
+    "run_scene", "SceneRun", "SceneHooks", "RunRecord",
     "execute", "SimulationReport", "simulate", "simulate_chain", "ChainOptions", "SpectrumReport", "spectrum",
     "Request", "Drive", "Transient", "AC", "plan_request", "Effect",
     "Walls",
@@ -88,7 +88,7 @@ def __dir__() -> list[str]:
 
 
 if TYPE_CHECKING:  # what a type checker and an editor see
-    from .app.scenes import run_scene
+    from .app.scenes import SceneHooks, SceneRun, run_scene
     from .circuit.effects import Coupling, Effect, Losses, PreferredValues, Tolerance, Walls
     from .circuit.ladder import Ladder
     from .circuit.netlist import SimulationOptions, netlist_text

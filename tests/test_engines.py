@@ -45,7 +45,8 @@ from lcchain.spice.engine import Engine
 from lcchain.spice.engines import DEFAULT_ENGINE, ENGINES, find_engine, run_engine
 from lcchain.spice.gnucap import coupled_initial_currents, read_table
 from lcchain.spice.job import RunJob
-from lcchain.studies.plan import sweep_plan
+from lcchain.studies.options import RunOptions
+from lcchain.studies.plan import SweepAxes, sweep_plan
 from lcchain.studies.run import run_plan
 from lcchain.studies.store import Store, engine_of, engine_text
 from lcchain.theory.cases import chain_for_case
@@ -356,20 +357,19 @@ def test_simulate_engine_gnucap_on_the_command_line(capsys) -> None:
 def test_a_gnucap_sweep_stores_its_engine_and_resumes(tmp_path: Path) -> None:
     before = temporary_entries()
     path = tmp_path / "g.sqlite"
-    plan = sweep_plan(cases=["two-mass"], Ns=[20], dts=[0.05, 0.1], engine="gnucap")
+    plan = sweep_plan(SweepAxes(cases=["two-mass"], Ns=[20], dts=[0.05, 0.1], engine="gnucap"))
     assert plan.engine == "gnucap" and plan.description["engine"] == "gnucap"
-    summary = run_plan(plan, path, executor="serial")
+    summary = run_plan(plan, path, RunOptions(executor="serial"))
     assert (summary.ran, summary.ok) == (2, 2)
     with Store(path, "read") as store:
         runs = store.runs()
         assert {(run.engine, run.ngspice_version) for run in runs} == {("gnucap", "")}
         assert all(run.engine_version == find_engine("gnucap").version for run in runs)
         assert store.meta()["engine"].startswith("gnucap ")
-    again = run_plan(sweep_plan(cases=["two-mass"], Ns=[20], dts=[0.05, 0.1], engine="gnucap"), path,
-                     executor="serial")
+    again = run_plan(sweep_plan(SweepAxes(cases=["two-mass"], Ns=[20], dts=[0.05, 0.1], engine="gnucap")), path, RunOptions(executor="serial"))
     assert (again.skipped, again.ran) == (2, 0)
     with pytest.raises(ParameterError, match="holds another"):  # the ngspice study is another plan
-        run_plan(sweep_plan(cases=["two-mass"], Ns=[20], dts=[0.05, 0.1]), path, executor="serial")
+        run_plan(sweep_plan(SweepAxes(cases=["two-mass"], Ns=[20], dts=[0.05, 0.1])), path, RunOptions(executor="serial"))
     assert temporary_entries() == before  # gnucap's folders and files are gone
 
 

@@ -35,6 +35,7 @@ from lcchain.spice.ngspice.find import find_simulator
 from lcchain.spice.ngspice.runner import run
 from lcchain.spice.result import RunResult
 from lcchain.spice.simulator import Simulator
+from lcchain.studies.options import RunOptions
 from lcchain.studies.plan import request_plan
 from lcchain.studies.run import run_plan
 from lcchain.studies.store import Store
@@ -92,7 +93,7 @@ def test_an_outside_effect_runs_in_simulate_and_in_a_study(tmp_path):
     points = [({"factor": f}, Request(chain, Transient(dt=0.05), effects=(HeavyEnds(f),))) for f in (1.0, 1.2)]
     plan = request_plan(points)
     assert plan.axes == ("factor",) and len(plan.tasks) == 2
-    summary = run_plan(plan, tmp_path / "heavy.sqlite", executor="process", workers=2)
+    summary = run_plan(plan, tmp_path / "heavy.sqlite", RunOptions(executor="process", workers=2))
     assert summary.ok == 2 and summary.failed == 0
 
 
@@ -129,7 +130,7 @@ def test_an_outside_engine_runs_in_simulate_and_in_a_study(tmp_path, monkeypatch
     points = [({"N": n}, Request(chain_for_case("perfect", n), Transient(dt=0.05), engine="wrapped-ngspice"))
               for n in (8, 12)]
     store = tmp_path / "wrapped.sqlite"
-    summary = run_plan(request_plan(points), store, executor="serial")
+    summary = run_plan(request_plan(points), store, RunOptions(executor="serial"))
     assert summary.ok == 2
     with Store(store, "read") as opened:
         engines = {row.engine for row in opened.runs()}

@@ -32,6 +32,8 @@ from lcchain.compare.extrapolate import (
     refusal,
 )
 from lcchain.core.errors import ParameterError
+from lcchain.studies.options import RunOptions
+from lcchain.studies.plan import SweepAxes
 from lcchain.theory.arrivals import stop_time
 from lcchain.theory.cases import chain_for_case
 from lcchain.theory.chain import Chain
@@ -219,8 +221,7 @@ def test_a_sweep_runs_the_members_as_tasks_and_stores_what_simulate_gives(tmp_pa
     report = lcchain.simulate_chain(chain, lcchain.ChainOptions(accuracy=accuracy))
     x = report.extrapolation
     assert x is not None and x.runs == 2  # the cheapest way to 1e-6 at N = 40 is a pair
-    summary = run_plan(sweep_plan(cases=["two-mass"], Ns=[40], accuracies=[accuracy]), tmp_path / "s.sqlite",
-                       executor="process", workers=2)
+    summary = run_plan(sweep_plan(SweepAxes(cases=["two-mass"], Ns=[40], accuracies=[accuracy])), tmp_path / "s.sqlite", RunOptions(executor="process", workers=2))
     assert (summary.total, summary.ran, summary.ok, summary.combined) == (2, 2, 2, 1)
     with Store(tmp_path / "s.sqlite") as store:
         runs = store.runs()
@@ -244,7 +245,7 @@ def _sweep_to_the_middle(store_path, stored: int):
     from lcchain.studies.plan import sweep_plan
     from lcchain.studies.store import Store
 
-    plan = sweep_plan(cases=["two-mass"], Ns=[30], dts=[0.05], extrapolate=3)
+    plan = sweep_plan(SweepAxes(cases=["two-mass"], Ns=[30], dts=[0.05], extrapolate=3))
     simulator = find_simulator("batch")
     with Store(store_path) as store:
         store.adopt(plan.fingerprint(simulator.version), dict(plan.description), plan.rows(simulator.version),
@@ -260,10 +261,9 @@ def test_a_resumed_sweep_combines_members_stored_before_the_crash(tmp_path, stor
     from lcchain.studies.run import run_plan
     from lcchain.studies.store import Store
 
-    clean = run_plan(_sweep_to_the_middle(tmp_path / "clean.sqlite", 0), tmp_path / "clean.sqlite",
-                     executor="serial")
+    clean = run_plan(_sweep_to_the_middle(tmp_path / "clean.sqlite", 0), tmp_path / "clean.sqlite", RunOptions(executor="serial"))
     plan = _sweep_to_the_middle(tmp_path / "resumed.sqlite", stored)
-    resumed = run_plan(plan, tmp_path / "resumed.sqlite", executor="serial")
+    resumed = run_plan(plan, tmp_path / "resumed.sqlite", RunOptions(executor="serial"))
     assert (clean.ran, clean.combined) == (3, 1)
     assert (resumed.skipped, resumed.ran, resumed.ok, resumed.combined) == (stored, 3 - stored, 3, 1)
     with Store(tmp_path / "clean.sqlite") as a, Store(tmp_path / "resumed.sqlite") as b:
@@ -277,11 +277,11 @@ def test_points_sharing_a_member_run_it_once(tmp_path) -> None:
     from lcchain.studies.run import run_plan
 
     # the pair at 0.04 ends with an aligned run at 0.02, the pair at 0.02 starts with it
-    plan = sweep_plan(cases=["two-mass"], Ns=[20], dts=[0.04, 0.02], extrapolate=2)
-    summary = run_plan(plan, tmp_path / "s.sqlite", executor="serial")
+    plan = sweep_plan(SweepAxes(cases=["two-mass"], Ns=[20], dts=[0.04, 0.02], extrapolate=2))
+    summary = run_plan(plan, tmp_path / "s.sqlite", RunOptions(executor="serial"))
     assert (summary.total, summary.ran, summary.ok, summary.combined) == (3, 3, 3, 2) and summary.complete
     assert plan.estimate() < sum(task.seconds for task in plan.tasks)  # the shared run is priced once
-    again = run_plan(plan, tmp_path / "s.sqlite", executor="serial")
+    again = run_plan(plan, tmp_path / "s.sqlite", RunOptions(executor="serial"))
     assert (again.total, again.skipped, again.ran) == (3, 3, 0)
 
 
@@ -291,8 +291,8 @@ def test_a_failed_member_fails_its_combination_and_names_the_run(tmp_path) -> No
     from lcchain.studies.run import run_plan
     from lcchain.studies.store import Store
 
-    plan = sweep_plan(cases=["two-mass"], Ns=[2000], dts=[0.01], extrapolate=2, timeout=0.5)
-    summary = run_plan(plan, tmp_path / "s.sqlite", executor="serial")
+    plan = sweep_plan(SweepAxes(cases=["two-mass"], Ns=[2000], dts=[0.01], extrapolate=2, timeout=0.5))
+    summary = run_plan(plan, tmp_path / "s.sqlite", RunOptions(executor="serial"))
     assert (summary.ok, summary.failed, summary.combined, summary.combined_failed) == (0, 2, 0, 1)
     with Store(tmp_path / "s.sqlite") as store:
         combined = store.runs()[2]

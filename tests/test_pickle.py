@@ -118,4 +118,4 @@ def test_run_records_and_reports_pickle() -> None:
     round_trip(failed)
     scene = lcchain.parse_scene({"chain": {"case": "two-mass", "N": 10},
                                  "effects": {"tolerance": {"C": 0.02, "samples": 2, "seed": 1}}})
-    round_trip(lcchain.run_scene(scene, write_outputs=False))
+    round_trip(lcchain.run_scene(scene, lcchain.SceneRun(write_outputs=False)))

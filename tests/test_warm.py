@@ -32,6 +32,7 @@ from lcchain.spice.ngspice.runner import run
 from lcchain.spice.result import RunResult
 from lcchain.spice.simulator import Simulator
 from lcchain.studies.executors import Transports, choose_transports
+from lcchain.studies.options import RunOptions
 from lcchain.studies.plan import batch_plan
 from lcchain.studies.run import run_plan
 
@@ -248,8 +249,7 @@ def test_a_batch_is_the_same_whichever_transport(simulators, tmp_path: Path, exe
     stores = {}
     for transport in ("process", "warm", "auto"):
         stores[transport] = tmp_path / f"{transport}.sqlite"
-        summary = run_plan(plan, stores[transport], executor=executor, workers=2, simulator=batch,
-                           transport=transport)
+        summary = run_plan(plan, stores[transport], RunOptions(executor=executor, workers=2, simulator=batch, transport=transport))
         assert summary.ok == 24 and summary.failed == 0
         assert _workers() == []  # every warm worker ended with its study
     rows = {transport: _stored(path) for transport, path in stores.items()}

@@ -190,15 +190,16 @@ def write_outputs(simulation: Simulation) -> bool:
                              f"{', '.join(f'{h:.4g}' for h in data['extrapolation']['dt'])})")
     outputs.text("--waveform-out", report.waveforms.to_csv())
     if request.plot:
-        from ..report.plots import overlay
+        from ..report.plots import OverlayCurves, overlay
 
         w, c = report.waveforms, report.comparison
+        curves = OverlayCurves(w.t, w.last, w.t, c.theory_last, residual=w.last - c.theory_last, first_sim=w.first,
+                               first_theory=c.theory_first, arrivals=[a.to_dict() for a in c.arrivals],
+                               time_unit=data["physical"]["time_unit_s"])
         outputs.write("--plot", lambda path: overlay(
-            w.t, w.last, w.t, c.theory_last, residual=w.last - c.theory_last, first_sim=w.first,
-            first_theory=c.theory_first, arrivals=[a.to_dict() for a in c.arrivals],
-            title=f"{chain.name} chain, N = {chain.N}, dt = {report.options.dt:.4g}, {request.excitation}",
+            curves, title=f"{chain.name} chain, N = {chain.N}, dt = {report.options.dt:.4g}, {request.excitation}",
             ylabel=r"$I_1,\ I_N\;/\;I_1(0)$" if request.excitation == "kick" else r"$Q_1,\ Q_N\;/\;Q_1(0)$",
-            path=path, time_unit=data["physical"]["time_unit_s"]))
+            path=path))
     if report.accuracy_met is False:
         steps = ", ".join(f"{h:.4g}" for h in data["extrapolation"]["dt"])
         outputs.notes.append(f"--accuracy {request.accuracy:g} was not met: the run reached "

@@ -16,7 +16,16 @@ from dataclasses import dataclass
 from typing import Any
 
 from ..core.types import DesignCase, JSONObject
-from ..report.build import build_report, check_figure_png, paper_figure_png, report_rows, requirements_figure_png
+from ..report.build import (
+    ReportOptions,
+    ReportParts,
+    ValidationRuns,
+    build_report,
+    check_figure_png,
+    paper_figure_png,
+    report_rows,
+    requirements_figure_png,
+)
 from ..report.figure_data import DesignRows
 from ..report.paper_figures import FIGURES
 from ..report.validation import paper_section
@@ -141,6 +150,7 @@ def make_report(out: str | os.PathLike[str], *, quick: bool = False, cache: str 
             figures[f"paper:{figure.label}"] = take(("paper", figure.label))
         if progress is not None:
             progress(total, total, "done")
-        return build_report(out, circuit, {s.engine: s.version for s in simulators}, quick=quick, cache=cache,
-                            progress=progress, command=command, seconds=time.perf_counter() - start, rows=rows,
-                            spectrum=spectrum, requirements=requirements, figures=figures, paper=paper)
+        runs = ValidationRuns(circuit, {s.engine: s.version for s in simulators}, spectrum, requirements,
+                              time.perf_counter() - start)
+        return build_report(out, runs, ReportOptions(quick, cache, command), ReportParts(rows, figures, paper),
+                            progress)

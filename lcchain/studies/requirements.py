@@ -16,7 +16,6 @@ import math
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 import scipy  # its submodules load on first use: commands that need no theory never import them
@@ -30,6 +29,7 @@ from ..core.blas import fixed_blas_threads
 from ..core.budget import Budget, Estimate, run_estimate
 from ..core.checks import integer, real
 from ..core.errors import ParameterError, SimulationError
+from ..core.json import JSONDict
 from ..core.types import DEFAULT_C0, DEFAULT_L0
 from ..spice.engines import find_engine, run_engine
 from ..spice.job import RunJob
@@ -219,7 +219,7 @@ class RequirementsCheck:
         ratios = [abs(p.loss - p.theory) / (ATOL_LOSS + RTOL_LOSS * abs(p.theory)) for p in self.points]
         return max(ratios, default=None) if all(map(math.isfinite, ratios)) else math.inf
 
-    def to_dict(self) -> dict[str, Any]:
+    def to_dict(self) -> JSONDict:
         """The section's numbers (``report.json``'s ``requirements``)."""
         ideal = None if self.ideal is None else {"time": self.ideal.time, "peak": self.ideal.peak,
                                                   "energy": self.ideal.energy}
@@ -229,7 +229,7 @@ class RequirementsCheck:
                 "check": [point.to_dict() for point in self.points], "passed": self.passed,
                 "estimate_s": self.estimate_s, "wall_s": self.wall_s, "reason": self.reason}
 
-    def checks(self) -> list[dict[str, Any]]:
+    def checks(self) -> list[JSONDict]:
         """The report's line for it: its ngspice points against the exact curves."""
         return [{"name": f"requirements {self.name}: ngspice on the exact curves", "what": self.what,
                  "kind": "requirements", "passed": self.passed, "max_abs_error": self.worst, "tolerance": 1.0,

@@ -26,6 +26,7 @@ from ..circuit.effects import Effect, Losses, Walls
 from ..core.blas import fixed_blas_threads
 from ..core.checks import real
 from ..core.errors import ParameterError, SimulationError
+from ..core.json import JSONDict
 from ..core.types import DEFAULT_C0, DEFAULT_L0
 from ..runs.spectrum import SpectrumOptions, measure_spectrum
 from ..spice.simulator import Simulator
@@ -185,13 +186,13 @@ class SpectrumCheck:
         """Each quantity's verdict."""
         return {key: error is not None and error <= self.tolerances[key] for key, error in self.errors.items()}
 
-    def to_dict(self) -> dict[str, Any]:
+    def to_dict(self) -> JSONDict:
         """The check with every mode (``report.json``'s ``spectrum``)."""
         return {"name": self.name, "what": self.what, "N": self.N, "figure": self.figure, "panel": self.panel,
                 "passed": self.passed, "errors": self.errors, "tolerances": self.tolerances, "points": self.points,
                 "wall_s": self.wall_s, "reason": self.reason, "modes": self.modes}
 
-    def checks(self) -> list[dict[str, Any]]:
+    def checks(self) -> list[JSONDict]:
         """One line of the report's list of checks per quantity (omega_n, delta omega_n, P_n)."""
         units = {"omega": "relative", "spacing": "relative", "P": "absolute", "Q": "relative"}
         verdicts = self.verdicts()
@@ -211,7 +212,7 @@ def _modes(omega: np.ndarray, theory: np.ndarray, P: np.ndarray, P_theory: np.nd
     def plain(value: float) -> float | None:
         return float(value) if np.isfinite(value) else None
 
-    out = []
+    out: list[dict[str, Any]] = []
     for n in range(omega.size):
         seen = bool(np.isfinite(omega[n]))
         out.append({"n": n + 1, "omega": plain(omega[n]), "omega_theory": float(theory[n]),

@@ -1,0 +1,31 @@
+"""The types of values that really are arbitrary JSON (a store's description, a report as written).
+
+Where a value has a shape lcchain knows, it gets that type (a dataclass, a ``TypedDict``); these are for what is
+read from, or written to, a JSON file as it is.
+
+* :data:`JSON` is a JSON value as ``json.loads`` makes it (dicts and lists all the way down), and
+  :data:`JSONObject` one of its objects;
+* :data:`JSONValue` is a value ``json.dumps`` can write as lcchain makes them: any mapping or sequence of such
+  values (a ``dict[str, float]`` is one, a tuple too), read-only, so that a ``dict[str, float]`` may be given
+  where one is expected; :data:`JSONDict` is the dict a ``to_dict()`` returns.
+
+:data:`lcchain.core.types.JSON` is another name, for ``Any``: a document the command layer reads by key without
+narrowing. These are checked: a value of them is narrowed (``isinstance``) before it is used as a number or a
+table.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from typing import TypeAlias
+
+__all__ = ["JSON", "JSONObject", "JSONValue", "JSONDict"]
+
+#: A JSON value: an object, an array, a string, a number, a boolean or null.
+JSON: TypeAlias = dict[str, "JSON"] | list["JSON"] | str | int | float | bool | None
+#: A JSON object (the top of a report or a store's description).
+JSONObject: TypeAlias = dict[str, JSON]
+#: A value ``json.dumps`` writes as JSON, as lcchain makes them (mappings and sequences of such values).
+JSONValue: TypeAlias = Mapping[str, "JSONValue"] | Sequence["JSONValue"] | str | int | float | bool | None
+#: A JSON object as a ``to_dict()`` returns it.
+JSONDict: TypeAlias = dict[str, JSONValue]
