@@ -17,6 +17,7 @@ import threading
 import time
 from dataclasses import replace
 from pathlib import Path
+from typing import Any
 
 import pytest
 from helpers.processes import alive, as_from_a_terminal, descendants, gone, reaped
@@ -172,6 +173,66 @@ def test_choose_transports(simulators, tmp_path: Path) -> None:
     assert choose_transports(trusted, batch, 1, "warm") == Transports()
     with pytest.raises(ParameterError, match="--transport"):
         choose_transports(items, batch, 1, "fast")
+
+
+def _started_by(monkeypatch: pytest.MonkeyPatch) -> list[str]:
+    """The names of the threads that start warm workers from now on (a spy on the constructor: the workers are
+    real)."""
+    names: list[str] = []
+    start = warm.WarmWorker.__init__
+
+    def spied(self: warm.WarmWorker, *args: Any, **kwargs: Any) -> None:
+        names.append(threading.current_thread().name)
+        start(self, *args, **kwargs)
+
+    monkeypatch.setattr(warm.WarmWorker, "__init__", spied)
+    return names
+
+
+def test_a_batch_runs_on_the_workers_started_while_it_planned(tmp_path: Path,
+                                                                monkeypatch: pytest.MonkeyPatch) -> None:
+    """lcchain batch finds ngspice and starts one warm worker per thread while it plans (EngineStart); the run
+    threads take them over, and they live on after the thread that started them is done with them (a worker
+    dies with the *thread* that started it: setpriv --pdeathsig)."""
+    from lcchain.app.batch import BatchRequest, batch
+    from lcchain.app.studies import StudyOptions
+
+    started = _started_by(monkeypatch)
+    paths = _netlists(tmp_path, 25)
+    result = batch(BatchRequest(tuple(map(str, paths)), study=StudyOptions(workers=2,
+                                                                          store=str(tmp_path / "s.sqlite"))))
+    assert (result.summary.ok, result.summary.failed) == (25, 0)
+    assert started == ["lcchain-engine-start"] * 2  # none by the run threads
+    assert _workers() == []  # ended with the study
+
+
+def test_the_workers_started_while_planning_end_with_a_refused_plan(tmp_path: Path,
+                                                                    monkeypatch: pytest.MonkeyPatch) -> None:
+    from lcchain.app.batch import BatchRequest, batch
+    from lcchain.app.studies import StudyOptions
+
+    started = _started_by(monkeypatch)
+    paths = _netlists(tmp_path, 25)
+    paths[-1].write_text(paths[-1].read_text() + ".control\nshell true\n.endc\n")
+    with pytest.raises(ParameterError):
+        batch(BatchRequest(tuple(map(str, paths)), strict=True,
+                           study=StudyOptions(workers=2, store=str(tmp_path / "s.sqlite"))))
+    assert started == ["lcchain-engine-start"] * 2
+    assert _workers() == []
+    assert not (tmp_path / "s.sqlite").exists()
+
+
+def test_few_runs_start_no_worker_while_planning(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Under WARM_MIN_RUNS_PER_WORKER runs a worker, every run starts its own process: no worker is started."""
+    from lcchain.studies.executors import WARM_MIN_RUNS_PER_WORKER, EngineStart
+
+    started = _started_by(monkeypatch)
+    with EngineStart("ngspice", "batch", runs=2 * WARM_MIN_RUNS_PER_WORKER - 1, workers=2, executor="process",
+                     transport="auto") as engine:
+        assert engine.simulator().version
+    with EngineStart("ngspice", "batch", runs=100, workers=2, executor="process", transport="process") as engine:
+        assert engine.simulator().version
+    assert started == []
 
 
 def _stored(path: Path) -> list[tuple[str, str, str, int]]:

@@ -17,6 +17,7 @@ from .inputs import Outputs
 if TYPE_CHECKING:
     from concurrent.futures import ProcessPoolExecutor
 
+    from ..spice.simulator import Simulator
     from ..studies.plan import Plan
     from ..studies.run import Summary
     from ..studies.worst_case import WorstCase
@@ -131,9 +132,10 @@ def check_study(options: StudyOptions) -> None:
 
 
 def run_study(planned: PlannedStudy, options: StudyOptions, budget: Budget, hooks: StudyHooks | None = None,
-              pool: ProcessPoolExecutor | None = None) -> StudyResult:
+              pool: ProcessPoolExecutor | None = None, simulator: Simulator | None = None) -> StudyResult:
     """Price the plan for its workers, run it into ``options.store`` (resumed; ``pool``: the process executor's
-    workers, started while the plan was made), and read a worst case's summary."""
+    workers, started while the plan was made; ``simulator``: the engine, found while the plan was made), and read
+    a worst case's summary."""
     from ..studies.options import RunOptions
     from ..studies.run import run_plan
 
@@ -143,7 +145,7 @@ def run_study(planned: PlannedStudy, options: StudyOptions, budget: Budget, hook
     planned.plan.check(budget, workers, options.executor)
     with dask_quiet(hooks.verbose):
         run = RunOptions(options.executor, workers, options.scheduler, options.transport, options.retry_failed,
-                         options.wait, planned.max_seconds, pool=pool)
+                         options.wait, planned.max_seconds, pool=pool, simulator=simulator)
         summary = run_plan(planned.plan, options.store, run, hooks)
     worst = None
     if planned.worst_case is not None:

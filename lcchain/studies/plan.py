@@ -222,7 +222,14 @@ class Plan:
 
     def keys(self, ngspice_version: str) -> dict[int, str]:
         """Every row's key by index: each task's run, each combination's (its members' keys hashed) and each
-        refusal's."""
+        refusal's.  Made once for each version (a study asks for them for its keys, its rows and its fingerprint,
+        each run's text hashed each time: 0.1 to 1 ms a run), kept beside the frozen fields."""
+        made: dict[str, dict[int, str]] = self.__dict__.setdefault("_made_keys", {})
+        if ngspice_version not in made:
+            made[ngspice_version] = self._keys(ngspice_version)
+        return dict(made[ngspice_version])
+
+    def _keys(self, ngspice_version: str) -> dict[int, str]:
         keys = {task.index: task.spec.key(ngspice_version) for task in self.tasks}
         keys.update({refusal.index: refusal.key for refusal in self.refusals})
         for combination in self.combinations:
@@ -245,7 +252,8 @@ class Plan:
 
     def _runs(self) -> dict[str, Task]:
         """Each distinct run (a run that points share, once), by its key."""
-        return {task.spec.key(""): task for task in self.tasks}
+        keys = self.keys("")
+        return {keys[task.index]: task for task in self.tasks}
 
     def estimate(self) -> float:
         """Estimated seconds of all its runs together, on one worker (a run that points share, once)."""
