@@ -94,10 +94,13 @@ def xargs_row(names: list[str], folder: Path, work: Path) -> str:
     ngspice = shutil.which("ngspice") or "ngspice"
     load = os.getloadavg()[0]
     start = time.perf_counter()
-    # the raw files go to /dev/null: xargs writes nothing it must delete, as lcchain's store is its own cost
-    subprocess.run(counted(["bash", "-c", f'printf "%s\\n" "$@" | xargs -P2 -I{{}} {ngspice} -b -r /dev/null {{}} '
+    # each run writes its raw file beside its netlist, as bench_batch.py's xargs does (never to a device: a
+    # benchmark run as root must not be able to touch the machine's /dev/null), removed after the timing
+    subprocess.run(counted(["bash", "-c", f'printf "%s\\n" "$@" | xargs -P2 -I{{}} {ngspice} -b -r {{}}.raw {{}} '
                             '>/dev/null 2>&1', "_", *names], folder, csv), cwd=folder, check=True, env=ENV)
     wall = time.perf_counter() - start
+    for name in names:
+        (folder / f"{name}.raw").unlink(missing_ok=True)
     return (f"| `xargs -P2 ngspice -b` | {len(names)} | {wall:.1f} | {len(names) / wall:.1f} | {cpu_of(csv)} | | | "
             f"{load:.1f} to {os.getloadavg()[0]:.1f} |")
 
