@@ -17,8 +17,9 @@ from typing import TYPE_CHECKING
 from ..circuit.effects import Effect
 from ..core.budget import Budget
 from ..core.errors import ParameterError
+from ..core.json import LooseJSONObject
 from ..core.physical import hertz, physical_scales, seconds
-from ..core.types import BACKENDS, Backend, JSONObject, Method
+from ..core.types import BACKENDS, Backend, Method
 from ..report.files import FIGURE_FORMATS
 from .inputs import LadderRequest, Outputs, make_chain
 from .netlist import DEFAULT_DT
@@ -63,7 +64,7 @@ class Simulation:
     request: SimulateRequest
     chain: Chain
     report: SimulationReport
-    data: JSONObject
+    data: LooseJSONObject
     warnings: tuple[str, ...]
     outputs: Outputs
     kept: list[str]
@@ -76,12 +77,12 @@ class EnginesComparison:
 
     chain: Chain
     reports: list[SimulationReport]
-    data: JSONObject
+    data: LooseJSONObject
     differences: dict[str, float]
     warnings: tuple[str, ...] = ()
 
 
-def with_physical_units(data: JSONObject, L0: float, C0: float) -> JSONObject:
+def with_physical_units(data: LooseJSONObject, L0: float, C0: float) -> LooseJSONObject:
     """A report's JSON with its bulk numbers also in SI (issue 33): ``physical`` (the units' scales,
     :func:`lcchain.core.physical.physical_scales`), ``dt_s`` and ``tstop_s``, each arrival's ``t_theory_s`` and
     ``t_sim_s``, each mode's ``omega_Hz`` and ``omega_theory_Hz``; the bulk keys stay as they are."""

@@ -12,7 +12,7 @@ from ..circuit.effects import Effect
 from ..core import __version__
 from ..core.budget import Budget
 from ..core.errors import ParameterError
-from ..core.types import JSONObject
+from ..core.json import LooseJSONObject
 from ..report.files import FIGURE_FORMATS
 from .inputs import ChainOptions, Outputs, make_chain
 from .simulate import with_physical_units
@@ -58,7 +58,7 @@ class Spectrum:
     request: SpectrumRequest
     chain: Chain
     report: SpectrumReport
-    data: JSONObject
+    data: LooseJSONObject
     effects: tuple[Effect, ...]
     outputs: Outputs
     merged: str = ""

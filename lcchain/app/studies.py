@@ -10,7 +10,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Protocol
 
 from ..core.budget import Budget
-from ..core.types import JSONObject
+from ..core.json import LooseJSONObject
 from ..studies.options import RunHooks
 from .inputs import Outputs
 
@@ -122,7 +122,7 @@ class StudyResult:
     (:func:`lcchain.studies.worst_case.worst_case_summary`)."""
 
     summary: Summary
-    worst_case: JSONObject | None = None
+    worst_case: LooseJSONObject | None = None
 
 
 def check_study(options: StudyOptions) -> None:

@@ -11,7 +11,8 @@ from typing import TYPE_CHECKING
 from ..core.analyses import analysis_kind
 from ..core.budget import INTERPRETER_SECONDS, Budget
 from ..core.errors import ParameterError
-from ..core.types import BACKENDS, DEFAULT_C0, DEFAULT_L0, JSON, ArrivalMetric, Backend, Excitation, WorstCaseMethod
+from ..core.json import LooseJSON
+from ..core.types import BACKENDS, DEFAULT_C0, DEFAULT_L0, ArrivalMetric, Backend, Excitation, WorstCaseMethod
 from ..spice.engines import DEFAULT_ENGINE
 from .studies import PlannedStudy, StudyHooks, StudyOptions, StudyResult, run_study, study_workers
 
@@ -165,9 +166,9 @@ def _parts_sweep(request: SweepRequest, budget: Budget) -> Plan:
     if request.points is not None:
         raise ParameterError("--points", request.points, "nothing without --analysis ac")
     cases, Ns = request.case or [], request.N or []  # both given: checked by plan_sweep
-    steps: tuple[str, Sequence[JSON]] = ("analysis.accuracy", request.accuracy) if request.accuracy else \
+    steps: tuple[str, Sequence[LooseJSON]] = ("analysis.accuracy", request.accuracy) if request.accuracy else \
         ("analysis.dt", request.dt or [0.05])
-    axes: list[tuple[str, Sequence[JSON]]] = [("chain.case", cases), ("chain.N", Ns), steps,
+    axes: list[tuple[str, Sequence[LooseJSON]]] = [("chain.case", cases), ("chain.N", Ns), steps,
                                              ("analysis.transits", request.transits or [1]),
                                              ("excitation.kind", request.excitation or ["kick"])]
     base = case_scene(CasePoint(cases[0], Ns[0], dt=request.dt[0] if request.dt else None,
@@ -185,7 +186,7 @@ def _parts_sweep(request: SweepRequest, budget: Budget) -> Plan:
                             Planning(budget, study_workers(request.study))).limited(request.study.timeout)
 
 
-def _scene_says(request: SweepRequest) -> tuple[tuple[str, JSON], ...]:
+def _scene_says(request: SweepRequest) -> tuple[tuple[str, LooseJSON], ...]:
     """The options a scene file says itself (its analysis, drive and transport): given with SCENE.toml, refused."""
     return (("--analysis", request.analysis if analysis_kind(request.analysis).swept else None),
             ("--transits", request.transits), ("--excitation", request.excitation),
