@@ -90,18 +90,27 @@ def plan_ac(request: Request, budget: Budget, modes: Modes | None, design_second
     largest = max(grid[1] for _, _, grid in drawn)
     if largest > points:
         price(largest)
+    sweeps = [(chain, sample, grid, SpectrumTheory(chain, ladder.time_unit, ladder.impedance, grid[2], modes=driven,
+                                                   Q=request.Q))
+              for chain, (sample, driven, grid) in zip(chains, drawn, strict=True)]
+    return _ac_plan(request, nominal, modes, sweeps, (segments, points, omega_max))
+
+
+def _ac_plan(request: Request, nominal: Chain, modes: Modes | None,
+             sweeps: list[tuple[Chain, Ladder, _Grid, SpectrumTheory]], grid: _Grid, note: str = "") -> RequestPlan:
+    """The plan of one AC sweep per realised chain: (chain, its ladder, its grid, its theory) each; ``grid`` is
+    the nominal chain's, ``note`` ends each run's label."""
+    N = nominal.N
     title = netlist_title(request, nominal, "AC")
     probes = tuple(probe_names(N, "ends"))
-    specs = []
-    for chain, (sample, driven, grid) in zip(chains, drawn, strict=True):
-        text = ac_netlist_text(sample, segments=grid[0], title=title, effects=request.effects)
-        spectrum = SpectrumTheory(chain, ladder.time_unit, ladder.impedance, grid[2], modes=driven, Q=request.Q)
-        specs.append(RunSpec(text, probes, 0.0, backend=request.backend, timeout=request.timeout, theory=spectrum,
-                             foreign=False, label=f"{chain.name} N={N} AC {grid[1]} frequencies",
-                             engine=request.engine, analysis="ac", points=grid[1]))
+    specs = tuple(RunSpec(ac_netlist_text(sample, segments=own[0], title=title, effects=request.effects), probes, 0.0,
+                          backend=request.backend, timeout=request.timeout, theory=spectrum, foreign=False,
+                          label=f"{chain.name} N={N} AC {own[1]} frequencies{note}", engine=request.engine,
+                          analysis="ac", points=own[1])
+                  for chain, sample, own, spectrum in sweeps)
     modes = modes if modes is not None else normal_modes(nominal)
-    return RequestPlan(request, nominal, tuple(chains), modes, modes.transit_time(), 0.0, (), None, "", None,
-                       tuple(specs), points, omega_max)
+    return RequestPlan(request, nominal, tuple(chain for chain, *_ in sweeps), modes, modes.transit_time(), 0.0, (),
+                       None, "", None, specs, grid[1], grid[2])
 
 
 def _circuit_grid(chain: Chain, request: Request, analysis: AC, ladder: Ladder | None = None
@@ -145,16 +154,7 @@ def _plan_circuit_ac(request: Request, budget: Budget, modes: Modes | None, desi
     largest = max(grid[1] for *_, grid in drawn)
     if largest > points:
         price(largest, max(own.N for _, _, own, _ in drawn))
-    title = netlist_title(request, nominal, "AC")
-    probes = tuple(probe_names(N, "ends"))
-    specs = []
-    for chain, (sample, own, _, grid) in zip(chains, drawn, strict=True):
-        text = ac_netlist_text(sample, segments=grid[0], title=title, effects=request.effects)
-        # the circuit's theory carries its losses among its elements; the chain is the ideal ladder
-        spectrum = SpectrumTheory(chain, ladder.time_unit, ladder.impedance, grid[2], circuit=own)
-        specs.append(RunSpec(text, probes, 0.0, backend=request.backend, timeout=request.timeout, theory=spectrum,
-                             foreign=False, label=f"{chain.name} N={N} AC {grid[1]} frequencies (circuit)",
-                             engine=request.engine, analysis="ac", points=grid[1]))
-    modes = modes if modes is not None else normal_modes(nominal)
-    return RequestPlan(request, nominal, tuple(chains), modes, modes.transit_time(), 0.0, (), None, "", None,
-                       tuple(specs), points, omega_max)
+    # the circuit's theory carries its losses among its elements; the chain is the ideal ladder
+    sweeps = [(chain, sample, grid, SpectrumTheory(chain, ladder.time_unit, ladder.impedance, grid[2], circuit=own))
+              for chain, (sample, own, _, grid) in zip(chains, drawn, strict=True)]
+    return _ac_plan(request, nominal, modes, sweeps, (segments, points, omega_max), " (circuit)")
