@@ -10,7 +10,9 @@ Each round runs, in a rotated order, ``xargs -P2 ngspice -b`` on the same distin
 ``lcchain batch --help`` of each tree; a tree is chosen by ``PYTHONPATH`` under this interpreter, and
 bytecode is written and read as an installed lcchain does.  Prints each contender's median wall time, its ratio
 to xargs, lcchain's own ``wall_s`` ("runs only") and every round's time, with the load average (1 min) before
-and after.
+and after.  Where ``perf`` is on the PATH each command runs under ``perf stat -e task-clock``, and the median CPU
+of all its processes (the sandbox, ngspice and the warm workers included; the load changes it less than the wall
+time) is printed beside it.
 """
 
 from __future__ import annotations
@@ -56,15 +58,23 @@ def main() -> None:
     names = list(contenders)
     walls: dict[str, list[float]] = {name: [] for name in names}
     inside: dict[str, list[float]] = {name: [] for name in names}
+    cpus: dict[str, list[float]] = {name: [] for name in names}
+    perf = shutil.which("perf")
     load = os.getloadavg()[0]
     for r in range(rounds):
         for i, name in enumerate(names[r % len(names):] + names[:r % len(names)]):
             command, env = contenders[name](f"r{r}c{i}")
+            counted = work / "task-clock.csv"
+            if perf is not None:
+                command = [perf, "stat", "-x,", "-e", "task-clock", "-o", str(counted), "--", *command]
             start = time.perf_counter()
             done = subprocess.run(command, capture_output=True, env=env, cwd=work)
             walls[name].append(time.perf_counter() - start)
             if done.returncode:
                 raise SystemExit(f"{name}: {done.stderr.decode()[-1500:]}")
+            if perf is not None:
+                line = next(line for line in counted.read_text().splitlines() if "task-clock" in line)
+                cpus[name].append(float(line.split(",")[0]) / 1e3)
             if b'"wall_s"' in done.stdout:
                 inside[name].append(float(json.loads(done.stdout)["wall_s"]))
     print(f"{count} distinct N = {N} netlists, {rounds} rounds; load average (1 min) {load:.2f} before, "
@@ -73,7 +83,8 @@ def main() -> None:
     for name in names:
         median = statistics.median(walls[name])
         runs = f"{statistics.median(inside[name]):.3f}" if inside[name] else "-"
-        print(f"{name}: {median:.3f} s ({median / xargs:.2f}x xargs), runs only {runs} s; each "
+        cpu = f", CPU {statistics.median(cpus[name]):.3f} s" if cpus[name] else ""
+        print(f"{name}: {median:.3f} s ({median / xargs:.2f}x xargs){cpu}, runs only {runs} s; each "
               + ", ".join(f"{v:.2f}" for v in walls[name]))
     shutil.rmtree(work)
 

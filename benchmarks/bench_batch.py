@@ -45,7 +45,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 import lcchain
-from lcchain.runs.simulate import simulation_spec
+from lcchain.runs.simulate import ChainOptions, simulation_spec
 from lcchain.spice.job import RunJob
 from lcchain.spice.ngspice.find import find_simulator
 from lcchain.spice.ngspice.runner import run
@@ -80,7 +80,7 @@ def write_netlists(folder: Path, N: int, count: int) -> list[str]:
     paths = []
     for i in range(count):
         case = CASES[i % len(CASES)]
-        spec, _, _ = simulation_spec(chains[case], dt=0.04 * (1 + i / count))
+        spec, _, _ = simulation_spec(chains[case], ChainOptions(dt=0.04 * (1 + i / count)))
         title, _, body = spec.netlist.partition("\n")
         path = folder / f"n{i:05d}.cir"
         path.write_text(f"run {i} of a user's study: {case} N={N}\n{body}")
@@ -94,7 +94,7 @@ def per_run_table() -> list[str]:
     lines = ["| N | predicted (s) | `ngspice -b` process (ms) | warm worker (ms) | process / warm |",
              "|---:|---:|---:|---:|---:|"]
     for N in (10, 30, 100, 150, 200, 300, 1000):
-        spec, _, _ = simulation_spec(lcchain.chain_for_case("two-mass", N), dt=0.05)
+        spec, _, _ = simulation_spec(lcchain.chain_for_case("two-mass", N), ChainOptions(dt=0.05))
         repeat = 21 if N <= 100 else 7 if N <= 300 else 3
         times: dict[str, list[float]] = {"batch": [], "warm": []}
         run(RunJob(spec.netlist, spec.vectors, spec.tstop, trusted=True, foreign=False), hot)  # worker started

@@ -23,7 +23,7 @@ import time
 from pathlib import Path
 
 import lcchain
-from lcchain.circuit.netlist import make_netlist
+from lcchain.circuit.netlist import ChainNetlist, make_netlist
 from lcchain.spice.foreign import allowed_netlist, foreign_estimate, transient_of
 from lcchain.spice.job import RunJob
 from lcchain.spice.ngspice.find import find_simulator
@@ -53,7 +53,7 @@ def main() -> None:
     print("| N | lines | ms per netlist |")
     print("|---:|---:|---:|")
     for N in (20, 100, 1000, 10000):
-        text, _, _ = make_netlist(lcchain.Chain.from_rw(N, r=0.5873, w=0.0972), dt=0.05)
+        text, _, _ = make_netlist(lcchain.Chain.from_rw(N, r=0.5873, w=0.0972), ChainNetlist(dt=0.05))
         repeat = 200 if N <= 1000 else 20
         cost = _median_ms(lambda t=text: allowed_netlist(t, "own", None), repeat)
         print(f"| {N} | {text.count(chr(10))} | {cost:.3f} |")
@@ -64,7 +64,7 @@ def main() -> None:
           "| sandbox's share |")
     print("|---:|---:|---:|---:|---:|---:|")
     for N in (20, 100):
-        text, _, _ = make_netlist(lcchain.Chain.from_rw(N, r=0.5873, w=0.0972), dt=0.05)
+        text, _, _ = make_netlist(lcchain.Chain.from_rw(N, r=0.5873, w=0.0972), ChainNetlist(dt=0.05))
         tstop = transient_of(text, "own").stop
         vectors = saved_vectors(text)
         own: list[float] = []

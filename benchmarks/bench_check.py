@@ -22,7 +22,7 @@ import subprocess
 import sys
 import time
 
-from lcchain.runs.check import check_text
+from lcchain.runs.check import CheckOptions, check_text
 
 BANDPASS = """series RLC band-pass driven by a PULSE
 V1 in 0 PULSE(0 1 0 1u 1u 20u 100u)
@@ -86,7 +86,7 @@ def main() -> None:
     for name, text, tstop, default in CIRCUITS:
         for tmax in (default, default / 10):
             card = "" if tmax == default else f" 0 {tmax!r}"
-            result = check_text(text(card), name, accuracy=1e-6)
+            result = check_text(text(card), name, options=CheckOptions(accuracy=1e-6))
             ngspice_errors[name, tmax] = result.max_abs_error
             ratio = result.max_abs_error / result.predicted_error if result.predicted_error else float("nan")
             print(f"| {name} | {tmax:.3g} | {result.points} | {result.max_abs_error:.3g} | "
@@ -94,12 +94,12 @@ def main() -> None:
                   f"{result.reference_seconds:.3g} | {result.states} |")
         for accuracy in ACCURACIES:
             started = time.perf_counter()
-            result = check_text(text(""), name, accuracy=accuracy)
+            result = check_text(text(""), name, options=CheckOptions(accuracy=accuracy))
             search = time.perf_counter() - started
             step = result.suggested_step
             verified = ""
             if step is not None and tstop / step <= MAX_VERIFIED_POINTS:
-                run = check_text(text(f" 0 {step!r}"), name, accuracy=accuracy)
+                run = check_text(text(f" 0 {step!r}"), name, options=CheckOptions(accuracy=accuracy))
                 verified = f"{run.max_rel_error:.3g} ({run.points} points)"
             needs.append((name, accuracy, step, verified, search))
     print("\n## The step each accuracy needs\n")
@@ -122,7 +122,7 @@ def main() -> None:
     for name, text, _, default in CIRCUITS:
         for tmax in (default, default / 10):
             card = "" if tmax == default else f" 0 {tmax!r}"
-            result = check_text(text(card), name, accuracy=1e-6, engine="gnucap")
+            result = check_text(text(card), name, options=CheckOptions(accuracy=1e-6, engine="gnucap"))
             ratio = result.max_abs_error / result.predicted_error if result.predicted_error else float("nan")
             print(f"| {name} | {tmax:.3g} | {result.points} | {result.max_abs_error:.3g} | "
                   f"{result.predicted_error:.3g} | {ratio:.2f} | {ngspice_errors[name, tmax]:.3g} | "

@@ -14,8 +14,8 @@ import tempfile
 import time
 from pathlib import Path
 
-from lcchain.circuit.netlist import make_netlist
-from lcchain.runs.simulate import simulate
+from lcchain.circuit.netlist import ChainNetlist, make_netlist
+from lcchain.runs.simulate import ChainOptions, simulate
 from lcchain.spice.ngspice.find import find_ngspice
 from lcchain.theory.cases import chain_for_case
 from lcchain.theory.spectrum import normal_modes
@@ -40,10 +40,10 @@ def main():
         chain = chain_for_case("two-mass", N)
         modes = normal_modes(chain)
         start = time.perf_counter()
-        report = simulate(chain, dt=0.05, transits=1, modes=modes)
+        report = simulate(ChainOptions(dt=0.05, transits=1).request(chain), modes=modes)
         total = time.perf_counter() - start
         overhead = total - report.run.wall_s
-        text, _, _ = make_netlist(chain, dt=0.05, transits=1, modes=modes)
+        text, _, _ = make_netlist(chain, ChainNetlist(dt=0.05, transits=1), modes=modes)
         size = raw_size(text)
         print(f"| {N} | {report.run.points} | {report.run.wall_s:.2f} | {overhead:.3f} | "
               f"{100 * overhead / report.run.wall_s:.1f} | {size} | {size / report.run.points:.1f} | "

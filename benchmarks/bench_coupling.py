@@ -70,7 +70,7 @@ def main() -> None:
         sims = []
         for k in KS:
             clock = time.perf_counter()
-            report = lcchain.simulate(chain.with_coupling(k), accuracy=ACCURACY)
+            report = lcchain.simulate_chain(chain.with_coupling(k), lcchain.ChainOptions(accuracy=ACCURACY))
             wall = time.perf_counter() - clock
             first = report.comparison.arrivals[0]
             runs = report.extrapolation.runs if report.extrapolation is not None else 1

@@ -24,8 +24,8 @@ import platform
 import statistics
 import time
 
-from lcchain import simulate
 from lcchain.compare.accuracy import dt_for_accuracy
+from lcchain.runs.simulate import ChainOptions, simulate
 from lcchain.spice.ngspice.find import find_simulator
 from lcchain.theory.arrivals import stop_time
 from lcchain.theory.cases import chain_for_case
@@ -56,10 +56,10 @@ def main() -> None:
         modes = normal_modes(chain)
         repeats = 3 if N <= 100 else 1
         if repeats > 1:
-            simulate(chain, accuracy=eps, modes=modes)
+            simulate(ChainOptions(accuracy=eps).request(chain), modes=modes)
         dt1 = dt_for_accuracy(modes, eps, stop_time(modes, 1), safety=1.0)
-        wall1, single = timed(repeats, lambda: simulate(chain, dt=dt1, modes=modes))  # noqa: B023
-        wall, report = timed(repeats, lambda: simulate(chain, accuracy=eps, modes=modes))  # noqa: B023
+        wall1, single = timed(repeats, lambda: simulate(ChainOptions(dt=dt1).request(chain), modes=modes))  # noqa: B023
+        wall, report = timed(repeats, lambda: simulate(ChainOptions(accuracy=eps).request(chain), modes=modes))  # noqa: B023
         x = report.extrapolation
         members_wall = sum(m.wall_s for m in x.members)
         serial = report.timings["total_s"] - report.timings["execute_s"] + members_wall

@@ -23,7 +23,8 @@ import time
 from pathlib import Path
 
 from lcchain.spice.ngspice.find import find_simulator
-from lcchain.studies.plan import sweep_plan
+from lcchain.studies.options import RunOptions
+from lcchain.studies.plan import SweepAxes, sweep_plan
 from lcchain.studies.run import run_plan
 from lcchain.studies.store import Store
 
@@ -37,8 +38,8 @@ def main() -> None:
         for k in range(REPEATS):
             path = Path(folder) / f"s{k}.sqlite"
             clock = time.perf_counter()
-            plan = sweep_plan(cases=["two-mass"], Ns=[100, 1000], accuracies=[1e-7])
-            summary = run_plan(plan, path, executor="process", workers=2)
+            plan = sweep_plan(SweepAxes(cases=["two-mass"], Ns=[100, 1000], accuracies=[1e-7]))
+            summary = run_plan(plan, path, RunOptions(executor="process", workers=2))
             walls.append(time.perf_counter() - clock)
             assert summary.complete, summary
         with Store(path) as store:

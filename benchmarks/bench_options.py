@@ -11,7 +11,7 @@ max |I_N/I0 - alpha_N(t)| at ngspice's points.
 import numpy as np
 
 from lcchain.circuit.ladder import Ladder
-from lcchain.circuit.netlist import SimulationOptions, netlist_text, probe_names
+from lcchain.circuit.netlist import Drive, SimulationOptions, netlist_text, probe_names
 from lcchain.compare.waveforms import normalise
 from lcchain.core.errors import LcchainError
 from lcchain.spice.job import RunJob
@@ -34,7 +34,7 @@ def netlist(scale=SCALES["10 uH / 10 nF / 1 mA"], *, extra=(), adaptive=False, d
     ladder = Ladder(CHAIN, L0, C0)
     settings = SimulationOptions(dt=dt, tstop=TSTOP, stepping="adaptive" if adaptive else "fixed", extra=extra,
                                  ngspice_defaults=defaults, **options)
-    return netlist_text(ladder, settings, I0=I0), ladder, I0
+    return netlist_text(ladder, settings, Drive(I0=I0)), ladder, I0
 
 
 def measure(text, ladder, I0):

@@ -26,7 +26,7 @@ import numpy as np
 
 import lcchain
 from lcchain.runs.execute import execute
-from lcchain.runs.simulate import simulation_spec
+from lcchain.runs.simulate import ChainOptions, simulation_spec
 from lcchain.spice.job import RunJob
 from lcchain.spice.ngspice.find import find_simulator
 from lcchain.spice.ngspice.runner import run
@@ -44,7 +44,7 @@ def main() -> None:
     simulator = find_simulator("batch")
     chain = lcchain.chain_for_case("two-mass", N)
     modes = lcchain.normal_modes(chain)
-    spec, _, _ = simulation_spec(chain, dt=0.05, modes=modes)
+    spec, _, _ = simulation_spec(chain, ChainOptions(dt=0.05), modes=modes)
     execute(spec, simulator)  # warm caches, imports and the BLAS limit
 
     rows: dict[str, list[float]] = {k: [] for k in ("build", "alone", "ngspice", "run", "execute", "simulate",
@@ -61,7 +61,7 @@ def main() -> None:
         rows["alone"].append(time.perf_counter() - start)
 
         start = time.perf_counter()
-        spec, _, _ = simulation_spec(chain, dt=0.05, modes=modes)
+        spec, _, _ = simulation_spec(chain, ChainOptions(dt=0.05), modes=modes)
         rows["build"].append(time.perf_counter() - start)
 
         start = time.perf_counter()
@@ -78,7 +78,7 @@ def main() -> None:
         rows["execute"].append(time.perf_counter() - start)
 
         start = time.perf_counter()
-        lcchain.simulate(chain, dt=0.05, simulator=simulator)
+        lcchain.simulate_chain(chain, lcchain.ChainOptions(dt=0.05), simulator=simulator)
         rows["simulate"].append(time.perf_counter() - start)
 
         start = time.perf_counter()

@@ -56,7 +56,7 @@ def plan_table(rounds: int) -> list[str]:
     included), interleaved; wall and CPU time (the driver's, and the workers'), the plans' fingerprints compared."""
     import resource
 
-    from lcchain.studies.plan import sweep_plan
+    from lcchain.studies.plan import SweepAxes, sweep_plan
     from lcchain.studies.pools import started_pool
 
     def cpu(who: int) -> float:
@@ -69,11 +69,11 @@ def plan_table(rounds: int) -> list[str]:
     before = load()
     for _ in range(rounds):
         driver, start = cpu(resource.RUSAGE_SELF), time.perf_counter()
-        alone = sweep_plan(**axes)
+        alone = sweep_plan(SweepAxes(**axes))
         rows.append(("in the driver", time.perf_counter() - start, cpu(resource.RUSAGE_SELF) - driver, 0.0))
         driver, workers, start = cpu(resource.RUSAGE_SELF), cpu(resource.RUSAGE_CHILDREN), time.perf_counter()
         with started_pool(2) as pool:
-            shared = sweep_plan(**axes, pool=pool)
+            shared = sweep_plan(SweepAxes(**axes), pool=pool)
             wall = time.perf_counter() - start
         rows.append(("on 2 workers started for it (their start included)", wall,
                      cpu(resource.RUSAGE_SELF) - driver, cpu(resource.RUSAGE_CHILDREN) - workers))

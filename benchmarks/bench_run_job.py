@@ -18,7 +18,7 @@ import time
 from collections.abc import Callable
 
 import lcchain
-from lcchain.runs.simulate import simulation_spec
+from lcchain.runs.simulate import ChainOptions, simulation_spec
 from lcchain.spice.job import RunJob, TransportJob
 from lcchain.spice.text import require_canonical
 
@@ -39,7 +39,7 @@ def per_call(work: Callable[[], object]) -> float:
 
 def row(N: int) -> str:
     """The table's row for the perfect chain of N masses."""
-    spec, _, _ = simulation_spec(lcchain.chain_for_case("perfect", N), dt=0.05, transits=1)
+    spec, _, _ = simulation_spec(lcchain.chain_for_case("perfect", N), ChainOptions(dt=0.05, transits=1))
     text, vectors, tstop = spec.netlist, spec.vectors, spec.tstop
     job = RunJob(text, vectors, tstop, foreign=False)
     make = per_call(lambda: RunJob(text, vectors, tstop, foreign=False))

@@ -38,7 +38,7 @@ import numpy as np
 import lcchain
 from lcchain.compare.spectral import spectrum_estimate
 from lcchain.core.errors import ParameterError
-from lcchain.runs.spectrum import OMEGA_WEIGHT_FLOOR, measure_spectrum
+from lcchain.runs.spectrum import OMEGA_WEIGHT_FLOOR, SpectrumOptions, measure_spectrum
 from lcchain.runs.survey import OMEGA_TARGET, SEPARATION, SHAPE_TARGET, ModeReport, measure_modes
 from lcchain.spice.engines import find_engine
 from lcchain.theory.cases import chain_for_case
@@ -242,7 +242,7 @@ def _lossy(simulator: Any) -> None:
         try:
             for _ in range(1 if N > 1000 else 3 if N <= 200 else 2):
                 clock = time.perf_counter()
-                report = measure_spectrum(chain_for_case(case, N), Q=Q, simulator=simulator)
+                report = measure_spectrum(chain_for_case(case, N), SpectrumOptions(Q=Q), simulator=simulator)
                 runs.append(report.timings | {"call_s": time.perf_counter() - clock, "loop1_s": clock_fit.seconds})
         except ParameterError:
             print(f"| {case} | {N} | {Q:g} | - | - | - | - | - | - | - | - | - | - | - | - | - | - | - | - | ",

@@ -4,17 +4,17 @@ Run from the repository root, after bench_spectrum.py (it appends its section):
 
     .venv/bin/python benchmarks/bench_spectrum_gnucap.py >> benchmarks/spectrum.md
 
-Each chain's default sweep runs in both engines (``measure_spectrum(..., engine=...)``) and is fitted the same
-way; errors are against lcchain's exact modes.  ``timings["ngspice_s"]`` is the process time of whichever
-engine ran (the key predates engines).  The last column is gnucap's process time over ngspice's, the measurement
-behind :attr:`lcchain.spice.gnucap.Gnucap.ac_relative_cost`.
+Each chain's default sweep runs in both engines (``measure_spectrum(..., SpectrumOptions(engine=...))``) and is
+fitted the same way; errors are against lcchain's exact modes.  ``timings["ngspice_s"]`` is the process time of
+whichever engine ran (the key predates engines).  The last column is gnucap's process time over ngspice's, the
+measurement behind :attr:`lcchain.spice.gnucap.Gnucap.ac_relative_cost`.
 """
 
 from __future__ import annotations
 
 import os
 
-from lcchain.runs.spectrum import measure_spectrum
+from lcchain.runs.spectrum import SpectrumOptions, measure_spectrum
 from lcchain.theory.cases import chain_for_case
 
 CASES = [("two-mass", 20), ("two-mass", 100), ("perfect", 100), ("uniform-bounded", 100), ("two-mass", 200)]
@@ -29,7 +29,7 @@ def main() -> None:
     print("|---|---:|---:|---|---:|---:|---:|---:|---:|")
     for case, N in CASES:
         chain = chain_for_case(case, N)
-        reports = {engine: measure_spectrum(chain, engine=engine) for engine in ("ngspice", "gnucap")}
+        reports = {engine: measure_spectrum(chain, SpectrumOptions(engine=engine)) for engine in ("ngspice", "gnucap")}
         ratio = reports["gnucap"].timings["ngspice_s"] / reports["ngspice"].timings["ngspice_s"]
         for engine, report in reports.items():
             t = report.timings

@@ -23,7 +23,7 @@ import time
 from pathlib import Path
 
 import lcchain
-from lcchain.runs.simulate import simulation_spec
+from lcchain.runs.simulate import ChainOptions, simulation_spec
 
 REPEAT = 21
 
@@ -31,7 +31,7 @@ REPEAT = 21
 def main() -> None:
     with tempfile.TemporaryDirectory(prefix="lcchain-bench-startup-") as folder:
         netlist = Path(folder) / "n10.cir"
-        spec, _, _ = simulation_spec(lcchain.chain_for_case("two-mass", 10), dt=0.05)
+        spec, _, _ = simulation_spec(lcchain.chain_for_case("two-mass", 10), ChainOptions(dt=0.05))
         netlist.write_text(spec.netlist)
         commands = {
             "`python -c pass` (the interpreter alone)": [sys.executable, "-c", "pass"],

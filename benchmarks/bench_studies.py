@@ -22,7 +22,8 @@ import numpy as np
 
 from lcchain.report.files import save_figure
 from lcchain.report.studies import study_figure
-from lcchain.studies.plan import scene_sweep_plan, sweep_plan
+from lcchain.studies.options import RunHooks, RunOptions
+from lcchain.studies.plan import RealParts, SweepAxes, scene_sweep_plan, sweep_plan
 from lcchain.studies.run import Progress, run_plan
 from lcchain.studies.store import Store
 
@@ -38,12 +39,12 @@ def rss_mib() -> float:
 
 def throughput(N: int, runs: int, executor: str) -> tuple[float, float]:
     """(wall seconds, runs per second after the first finished) of `runs` distinct runs of size N."""
-    plan = sweep_plan(cases=["two-mass"], Ns=[N], dts=list(np.linspace(0.04, 0.05, runs)))
+    plan = sweep_plan(SweepAxes(cases=["two-mass"], Ns=[N], dts=list(np.linspace(0.04, 0.05, runs))))
     finished: list[float] = []
     with tempfile.TemporaryDirectory() as folder:
         start = time.perf_counter()
-        run_plan(plan, Path(folder) / "t.sqlite", executor=executor, workers=2,
-                 progress=lambda p: finished.append(time.perf_counter()))
+        run_plan(plan, Path(folder) / "t.sqlite", RunOptions(executor=executor, workers=2),
+                 RunHooks(progress=lambda p: finished.append(time.perf_counter())))
         wall = time.perf_counter() - start
     steady = (runs - 1) / (finished[-1] - finished[0]) if len(finished) > 1 and finished[-1] > finished[0] else \
         float("nan")
@@ -69,7 +70,7 @@ def main() -> None:
               flush=True)
 
     print("\n## 1000 runs of N = 20: lcchain's overhead, the driver's memory, the temporary folder\n")
-    plan = sweep_plan(cases=["two-mass"], Ns=[20], dts=list(np.linspace(0.03, 0.05, 1000)))
+    plan = sweep_plan(SweepAxes(cases=["two-mass"], Ns=[20], dts=list(np.linspace(0.03, 0.05, 1000))))
     memory: dict[int, float] = {}
     walls: list[float] = []
 
@@ -85,7 +86,7 @@ def main() -> None:
     for suffix in ("", "-wal", "-shm"):
         Path(f"{store}{suffix}").unlink(missing_ok=True)
     start = time.perf_counter()
-    run_plan(plan, store, executor="serial", progress=watch)
+    run_plan(plan, store, RunOptions(executor="serial"), RunHooks(progress=watch))
     wall = time.perf_counter() - start
     with Store(store) as results:
         runs = results.runs()
@@ -111,9 +112,9 @@ def main() -> None:
     for suffix in ("", "-wal", "-shm"):
         Path(f"{store}{suffix}").unlink(missing_ok=True)
     start = time.perf_counter()
-    plan = scene_sweep_plan("examples/scenes/bench.toml", [], samples=1000, seed=7)
+    plan = scene_sweep_plan("examples/scenes/bench.toml", [], RealParts(samples=1000, seed=7))
     planned = time.perf_counter() - start
-    summary = run_plan(plan, store, executor="process", workers=2)
+    summary = run_plan(plan, store, RunOptions(executor="process", workers=2))
     with Store(store) as results:
         figure = study_figure(results)
         peaks = [r.metrics["arrivals"][0]["peak_sim"] for r in results.runs() if r.metrics]

@@ -32,12 +32,12 @@ def main(out: Path) -> None:
     print(f"optimal two-mass N = 1000: r* = {design.r:.6f}, w* = {design.w:.6f}, delta* = {design.delta:.3e}")
 
     # The LC ladder in ngspice against alpha_N(t), the step chosen for an accuracy.
-    report = lcchain.simulate(chain, accuracy=1e-3, transits=1)
+    report = lcchain.simulate_chain(chain, lcchain.ChainOptions(accuracy=1e-3, transits=1))
     print(f"ngspice {report.run.ngspice_version}: dt = {report.options.dt:.4f}, "
           f"max |simulation - theory| = {report.comparison.max_abs_error:.2e}")
     w, c = report.waveforms, report.comparison
-    plots.overlay(w.t, w.last, t, alpha, residual=w.last - c.theory_last, title="N = 100 two-mass, ngspice",
-                  path=out / "python-api-overlay.png")
+    plots.overlay(plots.OverlayCurves(w.t, w.last, t, alpha, residual=w.last - c.theory_last),
+                  title="N = 100 two-mass, ngspice", path=out / "python-api-overlay.png")
 
     # A scene built in Python rather than read from TOML: losses and a gaussian pulse.
     scene = lcchain.parse_scene({
@@ -47,7 +47,7 @@ def main(out: Path) -> None:
         "effects": {"losses": {"Q": 80}},
         "output": {"probes": "all", "plots": ["spacetime"]},
     }, source="examples/python_api.py")
-    result = lcchain.run_scene(scene, write_outputs=False)
+    result = lcchain.run_scene(scene, lcchain.SceneRun(write_outputs=False))
     sample = result.samples[0]
     print(f"scene: max |simulation - theory| over every loop = {result.report['max_abs_error']:.2e}")
     plots.spacetime(sample.t, sample.sim, title=scene.title, path=out / "python-api-spacetime.png")

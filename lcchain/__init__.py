@@ -27,9 +27,10 @@ _PUBLIC = {
     "DesignError": "core.errors",
     "SimulationError": "core.errors", "SimulatorMissingError": "core.errors", "ExtraMissingError": "core.errors",
     "Budget": "core.budget",
-    "run_scene": "app.scenes",
+    "run_scene": "app.scenes", "SceneRun": "app.scenes", "SceneHooks": "app.scenes",
     "RunRecord": "runs.execute", "execute": "runs.execute",
-    "SimulationReport": "runs.simulate", "simulate": "runs.simulate",
+    "SimulationReport": "runs.simulate", "simulate": "runs.simulate", "simulate_chain": "runs.simulate",
+    "ChainOptions": "runs.simulate",
     "SpectrumReport": "runs.spectrum", "spectrum": "runs.spectrum",
     "Request": "runs.request", "Drive": "runs.request", "Transient": "runs.request", "AC": "runs.request",
     "plan_request": "runs.request",
@@ -58,8 +59,8 @@ __all__ = [
     "Ladder", "SimulationOptions", "netlist_text", "dt_for_accuracy", "predicted_error", "Interrupted",
     "LcchainError", "ParameterError", "DesignError", "SimulationError", "SimulatorMissingError", "ExtraMissingError",
     "Budget",
-    "run_scene", "RunRecord",
-    "execute", "SimulationReport", "simulate", "SpectrumReport", "spectrum",
+    "run_scene", "SceneRun", "SceneHooks", "RunRecord",
+    "execute", "SimulationReport", "simulate", "simulate_chain", "ChainOptions", "SpectrumReport", "spectrum",
     "Request", "Drive", "Transient", "AC", "plan_request", "Effect",
     "Walls",
     "Coupling", "Losses", "Tolerance", "PreferredValues", "RunSpec", "Theory", "load_scene", "parse_scene",
@@ -87,7 +88,7 @@ def __dir__() -> list[str]:
 
 
 if TYPE_CHECKING:  # what a type checker and an editor see
-    from .app.scenes import run_scene
+    from .app.scenes import SceneHooks, SceneRun, run_scene
     from .circuit.effects import Coupling, Effect, Losses, PreferredValues, Tolerance, Walls
     from .circuit.ladder import Ladder
     from .circuit.netlist import SimulationOptions, netlist_text
@@ -104,7 +105,7 @@ if TYPE_CHECKING:  # what a type checker and an editor see
     )
     from .runs.execute import RunRecord, execute
     from .runs.request import AC, Drive, Request, Transient, plan_request
-    from .runs.simulate import SimulationReport, simulate
+    from .runs.simulate import ChainOptions, SimulationReport, simulate, simulate_chain
     from .runs.spec import RunSpec, Theory
     from .runs.spectrum import SpectrumReport, spectrum
     from .scenes.load import load_scene, parse_scene

@@ -20,6 +20,7 @@ from lcchain.core.errors import ParameterError
 from lcchain.runs.execute import execute, waveform_digest
 from lcchain.runs.request import AC, Request, Transient, plan_request
 from lcchain.runs.spec import RunSpec, SpectrumTheory
+from lcchain.studies.options import RunOptions
 from lcchain.studies.plan import request_plan
 from lcchain.studies.run import run_plan
 from lcchain.studies.store import Store
@@ -103,7 +104,7 @@ def test_a_study_of_ac_requests_stores_complex_arrays_and_their_digests(tmp_path
     plan = request_plan([({"N": 12}, Request(chain, AC())),
                          ({"N": 10}, Request(chain_for_case("two-mass", 10), AC()))])
     path = tmp_path / "ac.sqlite"
-    run_plan(plan, path, executor="serial")
+    run_plan(plan, path, RunOptions(executor="serial"))
     with Store(path, "read") as store:
         runs = store.runs()
         assert [run.status for run in runs] == ["ok", "ok"] and all(run.spectral for run in runs)
@@ -136,7 +137,7 @@ def test_each_sample_has_its_own_sweep_on_the_samples_axis(tmp_path):
     request = Request(chain_for_case("perfect", 10), AC(), effects=(Tolerance(L=0.01, C=0.01, samples=2, seed=3),))
     specs = plan_request(request).specs
     assert len({spec.points for spec in specs}) == 1 and specs[0].netlist != specs[1].netlist
-    run_plan(request_plan([({"N": 10}, request)]), tmp_path / "s.sqlite", executor="serial")
+    run_plan(request_plan([({"N": 10}, request)]), tmp_path / "s.sqlite", RunOptions(executor="serial"))
     with Store(tmp_path / "s.sqlite", "read") as store:
         data = store.to_xarray(waveforms=True)
     points = specs[0].points

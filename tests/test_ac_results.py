@@ -16,6 +16,7 @@ from lcchain.circuit.effects import Tolerance
 from lcchain.cli.main import main
 from lcchain.compare.spectral import OMEGA_WEIGHT_FLOOR, SpectrumMetrics
 from lcchain.runs.request import AC, Request
+from lcchain.studies.options import RunOptions
 from lcchain.studies.plan import request_plan
 from lcchain.studies.run import run_plan
 from lcchain.studies.store import Store
@@ -28,7 +29,7 @@ def ac_store(tmp_path_factory: pytest.TempPathFactory) -> Path:
     plan = request_plan([({"N": N}, Request(chain_for_case("perfect", N), AC(),
                                             effects=(Tolerance(L=0.01, C=0.01, samples=3, seed=1),)))
                          for N in (10, 14)])
-    run_plan(plan, path, executor="serial")
+    run_plan(plan, path, RunOptions(executor="serial"))
     return path
 
 

@@ -39,7 +39,7 @@ from lcchain.compare.accuracy import (
     warped_modes,
 )
 from lcchain.core.errors import ParameterError
-from lcchain.runs.simulate import simulate
+from lcchain.runs.simulate import ChainOptions, simulate, simulate_chain
 from lcchain.theory.arrivals import stop_time
 from lcchain.theory.cases import chain_for_case
 from lcchain.theory.chain import Chain
@@ -124,7 +124,7 @@ def test_trap_response_on_a_uniform_grid_is_the_warped_sum(n20):
 @pytest.mark.parametrize("dt, atol", [(0.1, ATOL_WARPED_DT_0_1), (0.01, ATOL_WARPED_DT_0_01)])
 def test_warped_model_matches_ngspice(n20, dt, atol):
     chain, modes = n20
-    report = simulate(chain, dt=dt, modes=modes)
+    report = simulate(ChainOptions(dt=dt).request(chain), modes=modes)
     w = report.waveforms
     warped = warped_modes(modes, dt)
     after = w.t > 3 * dt  # after the start-up steps
@@ -139,7 +139,7 @@ def test_warped_model_matches_ngspice(n20, dt, atol):
 @pytest.mark.parametrize("N, dt", [(20, 0.2), (100, 0.1), (100, 0.05)])
 def test_predicted_error_matches_achieved(N, dt):
     chain = chain_for_case("two-mass", N)
-    report = simulate(chain, dt=dt)
+    report = simulate_chain(chain, ChainOptions(dt=dt))
     achieved = report.comparison.max_abs_error
     assert achieved / PREDICTION_FACTOR <= report.predicted_error <= achieved * PREDICTION_FACTOR
 
@@ -148,7 +148,7 @@ def test_predicted_error_matches_achieved(N, dt):
 @pytest.mark.parametrize("accuracy", [1e-3, 1e-4])
 def test_accuracy_is_met_on_n100(n100, accuracy):
     chain, modes = n100
-    report = simulate(chain, accuracy=accuracy, modes=modes)
+    report = simulate(ChainOptions(accuracy=accuracy).request(chain), modes=modes)
     assert report.comparison.max_abs_error <= accuracy
     assert report.comparison.max_abs_error >= 0.5 * accuracy  # not a wastefully small step
     data = report.to_dict()
@@ -161,7 +161,7 @@ def test_error_split_catches_a_chain_that_differs_from_the_theory(n20):
     """A mass 1e-3 off: the step's error hides it in the total, the integration error shows it."""
     chain, modes = n20
     dt = 0.1
-    report = simulate(chain, dt=dt, modes=modes)
+    report = simulate(ChainOptions(dt=dt).request(chain), modes=modes)
     masses = np.array(chain.masses)
     masses[5] *= 1 + 1e-3
     wrong = normal_modes(Chain(masses, chain.springs))
@@ -176,8 +176,8 @@ def test_error_split_catches_a_chain_that_differs_from_the_theory(n20):
 @pytest.mark.ngspice
 def test_gear_error_is_about_four_times_trap(n20):
     chain, modes = n20
-    trap = simulate(chain, dt=0.05, modes=modes, method="trap")
-    gear = simulate(chain, dt=0.05, modes=modes, method="gear")
+    trap = simulate(ChainOptions(dt=0.05, method="trap").request(chain), modes=modes)
+    gear = simulate(ChainOptions(dt=0.05, method="gear").request(chain), modes=modes)
     ratio = gear.comparison.max_abs_error / trap.comparison.max_abs_error
     assert GEAR_FACTOR_RANGE[0] < ratio < GEAR_FACTOR_RANGE[1]
     assert gear.integration_error is None and gear.to_dict()["physics_error"] is None
@@ -187,22 +187,21 @@ def test_gear_error_is_about_four_times_trap(n20):
 def test_gear_over_several_transits_warns(n20):
     chain, modes = n20
     with pytest.warns(AccuracyWarning, match="gear loses energy"):
-        simulate(chain, dt=0.1, transits=2, modes=modes, method="gear")
+        simulate(ChainOptions(dt=0.1, transits=2, method="gear").request(chain), modes=modes)
 
 
 @pytest.mark.ngspice
 def test_coarse_step_warns():
     with pytest.warns(AccuracyWarning, match="meaningless"):
-        report = simulate(Chain.uniform_bounded(20), dt=0.5)
+        report = simulate_chain(Chain.uniform_bounded(20), ChainOptions(dt=0.5))
     assert report.predicted_error > 0.1
 
 
-def test_simulate_needs_exactly_one_of_dt_and_accuracy(n20):
-    chain, modes = n20
+def test_simulate_needs_exactly_one_of_dt_and_accuracy():
     with pytest.raises(ParameterError, match="dt/accuracy"):
-        simulate(chain, modes=modes)
+        ChainOptions()
     with pytest.raises(ParameterError, match="dt/accuracy"):
-        simulate(chain, dt=0.1, accuracy=1e-3, modes=modes)
+        ChainOptions(dt=0.1, accuracy=1e-3)
 
 
 # ------------------------------------------------------------------ command line

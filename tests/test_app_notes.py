@@ -12,13 +12,13 @@ import pytest
 
 from lcchain.app.inputs import ChainOptions
 from lcchain.app.netlist import NetlistRequest, netlist
-from lcchain.app.simulate import SimulateRequest, simulate_chain, write_outputs
+from lcchain.app.simulate import SimulateRequest, simulate, write_outputs
 from lcchain.cli import main
 
 APP = Path(__file__).parent.parent / "lcchain" / "app"
-#: app/ modules that still print a line of their own, left to the work that owns them (issue 34's studies part):
-#: run_scenes' "could not write ... of SCENE" and its --side-by-side lines.
-STILL_PRINTING = {"scenes.py"}
+#: app/ modules that still print a line of their own (none: run_scenes' lines are notes and a field since
+#: issue 34's last round).
+STILL_PRINTING: set[str] = set()
 
 
 def _prints(path: Path) -> list[str]:
@@ -57,9 +57,27 @@ def test_a_missed_accuracy_is_a_note(tmp_path, capsys):
     test_bad_inputs' "accuracy not met" case): its note says so and write_outputs says the run failed."""
     request = SimulateRequest(ChainOptions(case="uniform-bounded", N=10), 1e-5, 1e-8, accuracy=1e-9, extrapolate=1,
                               waveform_out=str(tmp_path / "w.csv"))
-    simulation = simulate_chain(request)
+    simulation = simulate(request)
     assert write_outputs(simulation) is True
     notes = simulation.outputs.take_notes()
     assert len(notes) == 1 and notes[0].startswith("--accuracy 1e-09 was not met: the run reached ")
     assert (tmp_path / "w.csv").is_file() and simulation.outputs.notes == []
     assert capsys.readouterr().err == ""
+
+
+@pytest.mark.ngspice
+def test_a_scene_file_not_written_is_a_note_and_the_side_by_side_figure_a_field(tmp_path, capsys, monkeypatch):
+    from lcchain.app.scenes import RunRequest, run_scenes
+
+    monkeypatch.chdir(tmp_path)
+    scene = str(Path(__file__).parent.parent / "examples" / "scenes" / "cradle.toml")
+    fifo = tmp_path / "n.cir"  # a FIFO nobody reads: the netlist cannot be written once the run is over
+    os.mkfifo(fifo)
+    run = run_scenes(RunRequest((scene,), netlist_out=str(fifo), side_by_side="pair.png"))
+    assert run.failed_files == [scene] and not run.ok and run.side_by_side == "pair.png"
+    notes = run.outputs.take_notes()
+    assert len(notes) == 1 and notes[0].startswith(f"could not write {fifo} of {scene}: ")
+    assert capsys.readouterr() == ("", "")  # said by the result, not printed
+    status = main(["run", scene, "--netlist-out", str(fifo), "--side-by-side", "again.png"])
+    out, err = capsys.readouterr()
+    assert status == 1 and f"lcchain: {notes[0]}\n" in err and "wrote again.png\n" in out

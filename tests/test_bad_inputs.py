@@ -249,7 +249,7 @@ def test_the_python_api_refuses_what_is_not_a_number(call: Callable[[], object],
 
 @pytest.mark.ngspice
 def test_numpy_scalars_are_numbers() -> None:
-    report = lcchain.simulate(lcchain.Chain.perfect(4), dt=np.float32(0.05), L0=np.float64(1e-5))
+    report = lcchain.simulate_chain(lcchain.Chain.perfect(4), lcchain.ChainOptions(dt=np.float32(0.05), L0=np.float64(1e-5)))
     assert report.options.dt == pytest.approx(0.05, rel=RTOL_FLOAT32)
 
 

@@ -26,6 +26,7 @@ from lcchain.core.budget import Budget
 from lcchain.core.errors import ParameterError
 from lcchain.spice.engines import find_engine
 from lcchain.spice.foreign import log_sweep_count
+from lcchain.studies.options import RunOptions
 from lcchain.studies.plan import batch_plan
 from lcchain.studies.run import run_plan
 from lcchain.studies.store import Store
@@ -164,7 +165,7 @@ def test_refused_runs_read_back_as_a_dataframe(tmp_path: Path) -> None:
     folder.mkdir()
     paths, _, _ = _batch(folder)
     plan = batch_plan(paths[:2], budget=Budget(max_memory=4e9, max_seconds=600.0))
-    summary = run_plan(plan, tmp_path / "r.sqlite", executor="serial")
+    summary = run_plan(plan, tmp_path / "r.sqlite", RunOptions(executor="serial"))
     assert (summary.total, summary.ran, summary.refused, summary.ok) == (2, 1, 1, 1) and not summary.complete
     with Store(tmp_path / "r.sqlite", "read") as store:
         frame = store.to_dataframe()

@@ -22,6 +22,7 @@ import pytest
 from helpers.catalogue import Case, run_case
 
 import lcchain
+from lcchain.circuit.netlist import NetlistOutput
 from lcchain.cli import main
 
 SCENE = '[chain]\ncase = "two-mass"\nN = 6\n'
@@ -234,14 +235,18 @@ def test_a_symlink_to_a_folder_outside_is_refused(tmp_path: Path) -> None:
 # ------------------------------------------------------------------ the Python API
 CHAIN4 = lcchain.Chain.perfect(4)
 API: dict[str, tuple[Callable[[], object], str]] = {
-    "simulate with a budget as text": (lambda: lcchain.simulate(CHAIN4, dt=0.05, budget="8G"), "budget"),
-    "simulate with dt as text": (lambda: lcchain.simulate(CHAIN4, dt="0.05"), "dt"),
-    "simulate with modes as text": (lambda: lcchain.simulate(CHAIN4, dt=0.05, modes="x"), "modes"),
-    "simulate with a simulator as text": (lambda: lcchain.simulate(CHAIN4, dt=0.05, simulator="ngspice"),
+    "simulate with a budget as text": (lambda: lcchain.simulate_chain(CHAIN4, lcchain.ChainOptions(dt=0.05), budget="8G"), "budget"),
+    "simulate with dt as text": (lambda: lcchain.simulate_chain(CHAIN4, lcchain.ChainOptions(dt="0.05")), "dt"),
+    "simulate with modes as text": (lambda: lcchain.simulate(lcchain.ChainOptions(dt=0.05).request(CHAIN4), modes="x"), "modes"),
+    "simulate with a simulator as text": (lambda: lcchain.simulate_chain(CHAIN4, lcchain.ChainOptions(dt=0.05), simulator="ngspice"),
                                           "simulator"),
-    "simulate with a progress that is no function": (lambda: lcchain.simulate(CHAIN4, dt=0.05, progress=1),
+    "simulate with a progress that is no function": (lambda: lcchain.simulate_chain(CHAIN4, lcchain.ChainOptions(dt=0.05), progress=1),
                                                      "progress"),
-    "simulate a chain given as text": (lambda: lcchain.simulate("two-mass", dt=0.05), "chain"),
+    "simulate a chain where a request goes": (lambda: lcchain.simulate(CHAIN4), "request"),
+    "simulate a chain with its options as a dict": (lambda: lcchain.simulate_chain(CHAIN4, {"dt": 0.05}), "options"),
+    "chain options with a negative L0": (lambda: lcchain.ChainOptions(dt=0.05, L0=-1.0), "L0"),
+    "chain options with an unknown engine": (lambda: lcchain.ChainOptions(dt=0.05, engine="spectre"), "engine"),
+    "simulate a chain given as text": (lambda: lcchain.simulate_chain("two-mass", lcchain.ChainOptions(dt=0.05)), "chain"),
     "execute a netlist string": (lambda: lcchain.execute("R1 1 0 1"), "spec"),
     "transmission amplitude of text": (lambda: lcchain.transmission_amplitude("x", [1.0]), "chain_or_modes"),
     "return amplitude of None": (lambda: lcchain.return_amplitude(None, [1.0]), "chain_or_modes"),
@@ -274,12 +279,8 @@ API: dict[str, tuple[Callable[[], object], str]] = {
     "options with extra as a number": (lambda: lcchain.SimulationOptions(0.05, 10.0, extra=1), "extra"),
     "options with ngspice defaults as text": (lambda: lcchain.SimulationOptions(0.05, 10.0, ngspice_defaults="abstol"),
                                               "ngspice_defaults"),
-    "netlist with comments as None": (lambda: lcchain.netlist_text(lcchain.Ladder(CHAIN4),
-                                                                   lcchain.SimulationOptions(0.05, 10.0),
-                                                                   comments=None), "comments"),
-    "netlist with extra vectors as a number": (lambda: lcchain.netlist_text(lcchain.Ladder(CHAIN4),
-                                                                            lcchain.SimulationOptions(0.05, 10.0),
-                                                                            extra_vectors=3), "extra_vectors"),
+    "netlist with comments as None": (lambda: lcchain.netlist_text(lcchain.Ladder(CHAIN4), lcchain.SimulationOptions(0.05, 10.0), output=NetlistOutput(comments=None)), "comments"),
+    "netlist with extra vectors as a number": (lambda: lcchain.netlist_text(lcchain.Ladder(CHAIN4), lcchain.SimulationOptions(0.05, 10.0), output=NetlistOutput(extra_vectors=3)), "extra_vectors"),
 }
 
 

@@ -44,7 +44,8 @@ from helpers.processes import reaped
 
 from lcchain.cli import main
 from lcchain.core.errors import ParameterError
-from lcchain.studies.plan import sweep_plan
+from lcchain.studies.options import RunOptions
+from lcchain.studies.plan import SweepAxes, sweep_plan
 from lcchain.studies.run import run_plan
 
 pytestmark = pytest.mark.ngspice
@@ -243,8 +244,7 @@ def test_a_read_only_folder_resumes_with_no_run_lost_or_redone(tmp_path: Path, s
         assert status == 2 and out == "" and len(_said(err)) == 1 and "Traceback" not in err, err
         assert "--store = 's.sqlite'" in err and "writable" in err
         with pytest.raises(ParameterError) as refused:  # from Python, past the command line's check of the folder
-            run_plan(sweep_plan(cases=["uniform-free"], Ns=list(range(10, 26, 2)), dts=[0.05]),
-                     study / "s.sqlite", executor="serial")
+            run_plan(sweep_plan(SweepAxes(cases=["uniform-free"], Ns=list(range(10, 26, 2)), dts=[0.05])), study / "s.sqlite", RunOptions(executor="serial"))
         assert "s.sqlite" in str(refused.value) and "writable and run the same command" in str(refused.value)
     assert tree(study) == before
     # the store and its log copied to read-only media without the -shm: SQLite cannot read the log there, and

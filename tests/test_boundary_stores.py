@@ -34,7 +34,8 @@ from helpers.processes import descendants, temporary_entries
 
 from lcchain.cli import main
 from lcchain.core.errors import ParameterError
-from lcchain.studies.plan import sweep_plan
+from lcchain.studies.options import RunOptions
+from lcchain.studies.plan import SweepAxes, sweep_plan
 from lcchain.studies.run import run_plan
 from lcchain.studies.store import Store
 
@@ -47,7 +48,7 @@ TINY = ["--case", "two-mass", "--N", "4", "--dt", "0.05,0.04"]
 
 def _store(folder: Path, name: str = "s.sqlite") -> Path:
     path = folder / name
-    summary = run_plan(sweep_plan(cases=["two-mass"], Ns=[4], dts=[0.05, 0.04]), path, executor="serial")
+    summary = run_plan(sweep_plan(SweepAxes(cases=["two-mass"], Ns=[4], dts=[0.05, 0.04])), path, RunOptions(executor="serial"))
     assert summary.ok == 2
     return path
 
@@ -242,7 +243,7 @@ def test_a_format_1_store_reads_as_it_did_and_a_study_migrates_it(tmp_path: Path
     assert main(["results", str(path), "--json"]) == 0  # read as it is, and left so
     assert json.loads(capsys.readouterr().out) == made and path.read_bytes() == before
     assert {(run["engine"], run["engine_version"]) for run in made} == {("ngspice", made[0]["engine_version"])}
-    again = run_plan(sweep_plan(cases=["two-mass"], Ns=[4], dts=[0.05, 0.04]), path, executor="serial")
+    again = run_plan(sweep_plan(SweepAxes(cases=["two-mass"], Ns=[4], dts=[0.05, 0.04])), path, RunOptions(executor="serial"))
     assert (again.skipped, again.ran) == (2, 0)  # resumed: every run kept
     with sqlite3.connect(path) as db:
         columns = [row[1] for row in db.execute("PRAGMA table_info(records)")]
@@ -348,14 +349,14 @@ def test_two_drivers_started_together_never_run_a_run_twice(tmp_path: Path, wait
 
 def test_a_store_exists_only_once_it_holds_its_whole_plan(tmp_path: Path) -> None:
     path = tmp_path / "s.sqlite"
-    plan = sweep_plan(cases=["two-mass"], Ns=[4], dts=[0.05, 0.04])
+    plan = sweep_plan(SweepAxes(cases=["two-mass"], Ns=[4], dts=[0.05, 0.04]))
     with Store(path) as store:  # opened for writing, and closed before a plan was adopted
         assert store.runs() == [] and os.listdir(tmp_path) == []
     assert os.listdir(tmp_path) == []
     leftover = tmp_path / ".s.sqlite.dead.new"  # a driver killed while it made the store, long ago
     leftover.write_bytes(b"half a store")
     os.utime(leftover, (time.time() - 3600, time.time() - 3600))
-    run_plan(plan, path, executor="serial")
+    run_plan(plan, path, RunOptions(executor="serial"))
     assert sorted(os.listdir(tmp_path)) == ["s.sqlite"]
     with sqlite3.connect(f"file:{path}?mode=ro", uri=True) as db:
         assert db.execute("SELECT COUNT(*) FROM tasks").fetchone()[0] == 2
@@ -372,8 +373,7 @@ def test_an_unreachable_scheduler_leaves_no_store(tmp_path: Path, monkeypatch: p
         s.bind(("127.0.0.1", 0))
         port = s.getsockname()[1]  # closed again below: nothing listens there
     with pytest.raises(ParameterError) as error:
-        run_plan(sweep_plan(cases=["two-mass"], Ns=[4], dts=[0.05]), tmp_path / "s.sqlite", executor="dask",
-                 scheduler=f"tcp://127.0.0.1:{port}")
+        run_plan(sweep_plan(SweepAxes(cases=["two-mass"], Ns=[4], dts=[0.05])), tmp_path / "s.sqlite", RunOptions(executor="dask", scheduler=f"tcp://127.0.0.1:{port}"))
     assert error.value.field == "--scheduler" and "running Dask scheduler" in str(error.value)
     assert os.listdir(tmp_path) == []
 
@@ -471,7 +471,6 @@ def test_a_dask_sweep_leaves_nothing_and_says_nothing_of_dask(tmp_path: Path) ->
 def test_a_dask_sweep_in_process_leaves_nothing_in_the_temporary_folder(tmp_path: Path) -> None:
     pytest.importorskip("distributed")
     before = temporary_entries()
-    summary = run_plan(sweep_plan(cases=["two-mass"], Ns=[4], dts=[0.05, 0.04]), tmp_path / "s.sqlite",
-                       executor="dask", workers=2)
+    summary = run_plan(sweep_plan(SweepAxes(cases=["two-mass"], Ns=[4], dts=[0.05, 0.04])), tmp_path / "s.sqlite", RunOptions(executor="dask", workers=2))
     assert summary.ok == 2
     assert temporary_entries() - before == set()

@@ -26,7 +26,7 @@ from helpers.netlists import LADDER
 import lcchain
 from lcchain.cli import main
 from lcchain.core.errors import ParameterError
-from lcchain.runs.simulate import simulation_spec
+from lcchain.runs.simulate import ChainOptions, simulation_spec
 from lcchain.spice.engines import engine_named
 from lcchain.spice.foreign import allowed_netlist
 from lcchain.spice.job import RunJob, TransportJob
@@ -38,6 +38,7 @@ from lcchain.spice.ngspice.transports import TRANSPORT_RUNS
 from lcchain.spice.result import read_include
 from lcchain.spice.simulator import Simulator
 from lcchain.spice.text import canonical_text, canonical_vector_name, circuit_lines, netlist_lines, text_digest
+from lcchain.studies.options import RunOptions
 from lcchain.studies.plan import batch_plan
 from lcchain.studies.run import run_plan
 from lcchain.studies.store import Store
@@ -56,7 +57,7 @@ PLACES = ("title", "comment", "inline", "element", "included")
 
 @functools.cache
 def _spec(N: int = 10) -> tuple[str, tuple[str, ...], float]:
-    spec, _, _ = simulation_spec(lcchain.chain_for_case("two-mass", N), dt=0.05, transits=1)
+    spec, _, _ = simulation_spec(lcchain.chain_for_case("two-mass", N), ChainOptions(dt=0.05, transits=1))
     return spec.netlist, spec.vectors, spec.tstop
 
 
@@ -206,7 +207,7 @@ def test_the_normalised_family_runs_alike_on_every_transport(tmp_path: Path,
         texts = {Path(task.params["netlist"]).stem: task.spec.netlist for task in plan.tasks}
         assert texts["plain"] == texts["crlf"] == texts["bom"] == texts["mixed"]  # one canonical text, one run
         store = tmp_path / f"{backend}-{transport}.sqlite"
-        summary = run_plan(plan, store, executor="serial", simulator=simulators[backend], transport=transport)
+        summary = run_plan(plan, store, RunOptions(executor="serial", simulator=simulators[backend], transport=transport))
         assert summary.failed == 0 and summary.ok == summary.total == len(set(texts.values())), (backend, transport)
         with Store(store, "read") as opened:
             digests[backend, transport] = {r.key: r.digest for r in opened.runs()}
@@ -282,7 +283,7 @@ def test_a_foreign_ac_sweep_runs_the_checked_text(tmp_path: Path, folders: tuple
         batch_plan([bad])
     plan = batch_plan([good])
     assert "\r" not in plan.tasks[0].spec.netlist
-    summary = run_plan(plan, tmp_path / "ac.sqlite", executor="serial")
+    summary = run_plan(plan, tmp_path / "ac.sqlite", RunOptions(executor="serial"))
     assert summary.ok == 1
 
 

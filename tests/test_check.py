@@ -33,7 +33,7 @@ from helpers.tolerances import (
 
 from lcchain.cli.main import main
 from lcchain.core.errors import ParameterError
-from lcchain.runs.check import check_text, circuit_of
+from lcchain.runs.check import CheckOptions, check_text, circuit_of
 from lcchain.spice.element_values import read_cards
 from lcchain.spice.expressions import evaluate_expression, param_values
 from lcchain.spice.foreign import allowed_netlist, analysis_of
@@ -220,12 +220,11 @@ def test_bandpass_error_is_the_predicted_one(tmp_path: Path) -> None:
 def test_butterworth_sine_error_is_predicted_and_the_suggested_step_reaches_the_accuracy(tmp_path: Path) -> None:
     text = BUTTERWORTH.format(drive="SIN(0 1 700 0 0 0)", tstop="5m", tmax="1u")
     accuracy = 1e-6
-    result = check_text(text, "butterworth.cir", accuracy=accuracy)
+    result = check_text(text, "butterworth.cir", options=CheckOptions(accuracy=accuracy))
     worst = max(result.vectors, key=lambda v: v.max_abs_error or 0.0)
     assert PREDICTION_BAND[0] <= worst.max_abs_error / worst.predicted_error <= PREDICTION_BAND[1]
     assert result.suggested_step is not None and result.suggested_step < 1e-6
-    finer = check_text(BUTTERWORTH.format(drive="SIN(0 1 700 0 0 0)", tstop="5m", tmax=repr(result.suggested_step)),
-                       "butterworth.cir", accuracy=accuracy)
+    finer = check_text(BUTTERWORTH.format(drive="SIN(0 1 700 0 0 0)", tstop="5m", tmax=repr(result.suggested_step)), "butterworth.cir", options=CheckOptions(accuracy=accuracy))
     assert finer.passed and finer.max_rel_error <= accuracy
 
 

@@ -30,7 +30,7 @@ from test_check import (
 )
 
 from lcchain.cli.main import main
-from lcchain.runs.check import check_text, source_function
+from lcchain.runs.check import CheckOptions, check_text, source_function
 from lcchain.spice.element_values import SourceCard, read_cards
 from lcchain.spice.engines import find_engine
 from lcchain.spice.foreign import allowed_netlist, analysis_of
@@ -86,8 +86,8 @@ def _by_name(result: object) -> dict[str, object]:
 
 
 def test_bandpass_pulse_in_gnucap_errs_as_predicted() -> None:
-    gnucap = check_text(BANDPASS, "bandpass.cir", engine="gnucap")
-    ngspice = check_text(BANDPASS, "bandpass.cir", engine="ngspice")
+    gnucap = check_text(BANDPASS, "bandpass.cir", options=CheckOptions(engine="gnucap"))
+    ngspice = check_text(BANDPASS, "bandpass.cir", options=CheckOptions(engine="ngspice"))
     assert gnucap.engine == "gnucap" and gnucap.reference == "" and gnucap.run_step == pytest.approx(1e-7)
     mine, theirs = _by_name(gnucap), _by_name(ngspice)
     assert set(mine) == set(theirs) == {"v(in)", "v(a)", "v(b)", "v(out)", "i(v1)", "i(l1)"}

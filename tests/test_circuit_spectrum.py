@@ -35,7 +35,7 @@ from lcchain.compare.spectral import SpectrumMetrics
 from lcchain.runs.execute import ac_metrics, execute
 from lcchain.runs.request import AC, Request, plan_request
 from lcchain.runs.spec import SpectrumTheory
-from lcchain.runs.spectrum import measure_spectrum
+from lcchain.runs.spectrum import SpectrumOptions, measure_spectrum
 from lcchain.theory.cases import chain_for_case
 from lcchain.theory.exact import driven_modes
 
@@ -57,7 +57,7 @@ LOSSY = {"coil resistance", "capacitor ESR", "coupled with losses", "every part,
 
 def _check(name: str, engine: str) -> None:
     case, N, effects = PARTS[name]
-    report = measure_spectrum(chain_for_case(case, N), effects=effects, engine=engine)
+    report = measure_spectrum(chain_for_case(case, N), options=SpectrumOptions(effects=effects, engine=engine))
     assert report.theory.method == "circuit"
     assert report.seen.all()  # every mode of the circuit, resolved or not, is seen
     assert report.max_rel_error_omega < RTOL_CIRCUIT_SPECTRUM_OMEGA
@@ -138,7 +138,7 @@ def test_a_larger_circuit_with_every_part_and_overlapping_resonances() -> None:
     # N = 20: 39 modes (the ESL and the coils' self-capacitance resonate far above the band), resistors that make
     # neighbouring resonances overlap near the band's top
     effects = (CoilCapacitance(0.05), CoilResistance(0.01), CapacitorESR(0.01), CapacitorESL(0.04))
-    report = measure_spectrum(chain_for_case("two-mass", 20), effects=effects)
+    report = measure_spectrum(chain_for_case("two-mass", 20), options=SpectrumOptions(effects=effects))
     assert report.theory.N > 20 and report.seen.all()
     assert report.max_rel_error_omega < RTOL_CIRCUIT_SPECTRUM_OMEGA
     assert report.max_abs_error_P < ATOL_CIRCUIT_SPECTRUM_P

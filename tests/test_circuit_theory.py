@@ -36,7 +36,7 @@ from lcchain.circuit.effects import (
 from lcchain.circuit.elements import RECT_FALL, Element, ladder_elements, ladder_pulse
 from lcchain.circuit.exact import CircuitTheory
 from lcchain.circuit.ladder import Ladder
-from lcchain.circuit.netlist import SimulationOptions, netlist_text
+from lcchain.circuit.netlist import Drive, SimulationOptions, netlist_text
 from lcchain.core.errors import ParameterError
 from lcchain.spice.engines import find_engine, run_engine
 from lcchain.spice.job import RunJob
@@ -236,7 +236,7 @@ REAL = {
 def _simulated_error(engine: str, effects: tuple[Effect, ...], dt: float, coupling: float) -> float:
     ladder = Ladder(_chain("two-mass", 8, coupling=coupling), L0, C0)
     options = SimulationOptions(dt=dt, tstop=16.0)
-    netlist = netlist_text(ladder, options, I0=I0, effects=effects)
+    netlist = netlist_text(ladder, options, Drive(I0=I0), effects=effects)
     result = run_engine(RunJob(netlist, ["i(l1)", "i(l8)"], 16.0 * ladder.time_unit, foreign=False), find_engine(engine))
     theory = CircuitTheory(ladder_elements(ladder, effects, kick=I0)).currents(result.time, ["L1", "L8"])
     return max(float(np.max(np.abs(result.vectors[k] - theory[j]))) for j, k in enumerate(("i(l1)", "i(l8)"))) / I0

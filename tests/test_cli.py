@@ -1,5 +1,6 @@
 """Command line: the issue's exact forms, JSON keys, exit codes, one-line errors."""
 
+import ast
 import json
 import subprocess
 import sys
@@ -126,13 +127,15 @@ def test_import_loads_neither_matplotlib_nor_pyspice():
 
 def test_the_parser_loads_no_physics_and_no_scipy():
     """``lcchain --help`` and ``--version`` build every subcommand's parser: none may import the studies, the runs
-    or scipy's submodules to fill its help (a default read from studies/ once made --version take 0.66 s)."""
+    or scipy's submodules to fill its help (a default read from studies/ once made --version take 0.66 s).  The
+    study's options (``lcchain.studies.options``: dataclasses checked by ``core.checks``) are the one part of
+    studies/ the command layer names as it builds a request, and they import nothing else of it."""
     code = ("import sys; from lcchain.cli.main import build_parser; build_parser(); "
             "print(sorted(m for m in sys.modules if m.startswith(('lcchain.studies', 'lcchain.runs', 'scipy.', "
             "'matplotlib'))))")
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT)
     assert proc.returncode == 0, proc.stderr
-    assert proc.stdout.strip() == "[]"
+    assert set(ast.literal_eval(proc.stdout.strip())) <= {"lcchain.studies", "lcchain.studies.options"}
 
 
 def test_missing_ngspice_exits_3_with_install_command(tmp_path):

@@ -135,7 +135,7 @@ def test_losses_with_coupling_are_refused_not_guessed():
                                                     ("two-mass", 20, 0.1, "displacement")])
 def test_ngspice_matches_the_coupled_theory_within_the_predicted_error(case, N, k, excitation):
     chain = chain_for_case(case, N).with_coupling(k)
-    report = lcchain.simulate(chain, dt=0.02, transits=2, excitation=excitation)
+    report = lcchain.simulate_chain(chain, lcchain.ChainOptions(dt=0.02, transits=2, excitation=excitation))
     assert report.netlist.count("\nK") == N - 1
     assert report.predicted_error is not None
     assert report.comparison.max_abs_error <= PREDICTION_FACTOR * report.predicted_error
@@ -175,7 +175,7 @@ def test_both_engines_match_the_coupled_theory(k):
     """--coupling in theory and in both engines: gnucap reads a coupled coil's ic= as flux over inductance, and
     its dialect translates the kick's currents (lcchain.spice.gnucap)."""
     chain = chain_for_case("two-mass", 30).with_coupling(k)
-    reports = {engine: lcchain.simulate(chain, dt=0.02, transits=2, engine=engine) for engine in ("ngspice", "gnucap")}
+    reports = {engine: lcchain.simulate_chain(chain, lcchain.ChainOptions(dt=0.02, transits=2, engine=engine)) for engine in ("ngspice", "gnucap")}
     for engine, report in reports.items():
         assert report.run.engine == engine
         assert report.predicted_error is not None

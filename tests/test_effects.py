@@ -22,7 +22,7 @@ from lcchain.circuit.effects import (
 from lcchain.circuit.elements import ELEMENT_HOOKS, ladder_elements
 from lcchain.circuit.exact import CircuitTheory
 from lcchain.circuit.ladder import Ladder
-from lcchain.circuit.netlist import SimulationOptions, netlist_text
+from lcchain.circuit.netlist import Drive, NetlistOutput, SimulationOptions, netlist_text
 from lcchain.core.errors import ParameterError
 from lcchain.theory.cases import chain_for_case
 from lcchain.theory.chain import Chain
@@ -96,12 +96,12 @@ def test_each_effect_adds_only_its_own_elements():
     assert len(_lines(lossy, "R")) == 30 and not _lines(ideal, "R")
     assert not _lines(lossy, "V") and not _lines(lossy, "B")
     for shape, prefix in (("gaussian", "B"), ("rect", "V")):
-        pulsed = netlist_text(Ladder(chain), OPTIONS, excitation="pulse", pulse=(shape, 0.2))
+        pulsed = netlist_text(Ladder(chain), OPTIONS, Drive(kind="pulse", pulse=(shape, 0.2)))
         assert len(_lines(pulsed, prefix)) == 1 and not _lines(pulsed, "R")
         assert "IC=" not in pulsed
     walled = netlist_text(Ladder(with_walls(chain, 0.01)), OPTIONS)
     assert len(_lines(walled, "C")) == 31 and re.search(r"^C0_1 n0 0 1e-06$", walled, re.M)
-    everything = netlist_text(Ladder(chain), OPTIONS, probes="all")
+    everything = netlist_text(Ladder(chain), OPTIONS, output=NetlistOutput(probes="all"))
     assert everything.count("i(l") == 30
 
 
@@ -114,7 +114,9 @@ def test_each_effect_adds_only_its_own_elements():
 ])
 def test_bad_effect_arguments(kwargs, field):
     with pytest.raises(ParameterError, match=field):
-        netlist_text(Ladder(Chain.uniform_free(5)), OPTIONS, **kwargs)
+        effects = kwargs.pop("effects", ())
+        drive = Drive(kwargs["excitation"], pulse=kwargs.get("pulse")) if kwargs else None
+        netlist_text(Ladder(Chain.uniform_free(5)), OPTIONS, drive, effects=effects)
 
 
 # ------------------------------------------------------ the element hooks (issue 30)

@@ -36,7 +36,7 @@ from lcchain.cli import main
 from lcchain.core import __version__
 from lcchain.core.errors import ParameterError, SimulationError
 from lcchain.runs.execute import execute
-from lcchain.runs.simulate import simulation_spec
+from lcchain.runs.simulate import ChainOptions, simulation_spec
 from lcchain.runs.spec import RunSpec
 from lcchain.scenes.load import parse_scene
 from lcchain.scenes.run import simulate_scene
@@ -45,7 +45,8 @@ from lcchain.spice.engine import Engine
 from lcchain.spice.engines import DEFAULT_ENGINE, ENGINES, find_engine, run_engine
 from lcchain.spice.gnucap import coupled_initial_currents, read_table
 from lcchain.spice.job import RunJob
-from lcchain.studies.plan import sweep_plan
+from lcchain.studies.options import RunOptions
+from lcchain.studies.plan import SweepAxes, sweep_plan
 from lcchain.studies.run import run_plan
 from lcchain.studies.store import Store, engine_of, engine_text
 from lcchain.theory.cases import chain_for_case
@@ -158,19 +159,19 @@ def test_read_table_takes_suffixes_drops_the_t0_row_and_refuses_messages() -> No
 
 
 def test_ngspice_keys_are_those_of_stores_made_before_engines() -> None:
-    spec, _, _ = simulation_spec(chain_for_case("two-mass", 20), dt=0.05)
+    spec, _, _ = simulation_spec(chain_for_case("two-mass", 20), ChainOptions(dt=0.05))
     assert spec.engine == "ngspice"
     old = {"netlist": spec.netlist, "vectors": list(spec.vectors), "tstop": float(spec.tstop).hex(),
            "backend": spec.backend, "cwd": spec.cwd, "trusted": spec.trusted, "lcchain": __version__,
            "ngspice": "39", "theory": spec.theory.fingerprint() if spec.theory is not None else None}
     assert spec.key("39") == hashlib.sha256(json.dumps(old, sort_keys=True).encode("utf-8")).hexdigest()
-    gnucap, _, _ = simulation_spec(chain_for_case("two-mass", 20), dt=0.05, engine="gnucap")
+    gnucap, _, _ = simulation_spec(chain_for_case("two-mass", 20), ChainOptions(dt=0.05, engine="gnucap"))
     assert gnucap.netlist == spec.netlist and gnucap.key("39") != spec.key("39")
     assert pickle.loads(pickle.dumps(gnucap)) == gnucap
 
 
 def test_a_spec_is_checked_against_its_engine() -> None:
-    spec, _, _ = simulation_spec(chain_for_case("two-mass", 20), dt=0.05)
+    spec, _, _ = simulation_spec(chain_for_case("two-mass", 20), ChainOptions(dt=0.05))
     with pytest.raises(ParameterError, match="engine = 'bogus'"):
         RunSpec(spec.netlist, spec.vectors, spec.tstop, foreign=False, engine="bogus")
     with pytest.raises(ParameterError, match="ngspice for a netlist lcchain did not write"):
@@ -198,7 +199,7 @@ def test_the_store_column_holds_the_engine_and_reads_format_1() -> None:
 ])
 def test_gnucap_meets_the_predicted_error_against_exact_theory(case: str, N: int, dt: float, excitation: str,
                                                                walls: int) -> None:
-    report = lcchain.simulate(chain_for_case(case, N, walls), dt=dt, excitation=excitation, engine="gnucap")
+    report = lcchain.simulate_chain(chain_for_case(case, N, walls), lcchain.ChainOptions(dt=dt, excitation=excitation, engine="gnucap"))
     achieved = report.comparison.max_abs_error
     assert report.predicted_error is not None
     assert achieved / PREDICTION_FACTOR <= report.predicted_error <= achieved * PREDICTION_FACTOR
@@ -211,7 +212,7 @@ def test_gnucap_meets_the_predicted_error_against_exact_theory(case: str, N: int
 @pytest.mark.gnucap
 @pytest.mark.parametrize("scale", SCALES)
 def test_gnucap_meets_the_predicted_error_at_any_scale(scale: dict) -> None:
-    report = lcchain.simulate(chain_for_case("perfect", 60), dt=0.005, engine="gnucap", **scale)
+    report = lcchain.simulate_chain(chain_for_case("perfect", 60), lcchain.ChainOptions(dt=0.005, engine="gnucap", **scale))
     achieved = report.comparison.max_abs_error
     assert report.predicted_error is not None
     assert achieved / PREDICTION_FACTOR <= report.predicted_error <= achieved * PREDICTION_FACTOR
@@ -220,7 +221,7 @@ def test_gnucap_meets_the_predicted_error_at_any_scale(scale: dict) -> None:
 @pytest.mark.gnucap
 @pytest.mark.ngspice
 def test_gnucap_and_ngspice_agree_on_the_same_netlist() -> None:
-    spec, _, _ = simulation_spec(chain_for_case("perfect", 40), dt=0.04, transits=2)
+    spec, _, _ = simulation_spec(chain_for_case("perfect", 40), ChainOptions(dt=0.04, transits=2))
     results = {name: run_engine(RunJob(spec.netlist, spec.vectors, spec.tstop, foreign=False), find_engine(name))
                for name in ENGINES}
     gnucap, ngspice = results["gnucap"], results["ngspice"]
@@ -294,7 +295,7 @@ def test_an_ngspice_scene_writes_no_engine_key() -> None:  # scenes (and stores)
 
 @pytest.mark.gnucap
 def test_gnucap_accuracy_makes_one_run_and_meets_it() -> None:
-    report = lcchain.simulate(chain_for_case("two-mass", 40), accuracy=1e-3, engine="gnucap")
+    report = lcchain.simulate_chain(chain_for_case("two-mass", 40), lcchain.ChainOptions(accuracy=1e-3, engine="gnucap"))
     assert report.extrapolation is not None and report.extrapolation.runs == 1
     assert report.accuracy_met
 
@@ -304,7 +305,7 @@ def test_gnucap_accuracy_makes_one_run_and_meets_it() -> None:
 
 def test_extrapolation_with_gnucap_is_refused_naming_the_option() -> None:
     with pytest.raises(ParameterError, match=r"extrapolate = 2 is not allowed: expected 1 with engine gnucap"):
-        lcchain.simulate(chain_for_case("two-mass", 20), dt=0.05, extrapolate=2, engine="gnucap")
+        lcchain.simulate_chain(chain_for_case("two-mass", 20), lcchain.ChainOptions(dt=0.05, extrapolate=2, engine="gnucap"))
     with pytest.raises(ParameterError, match=r"analysis.extrapolate = 3 .*engine gnucap"):
         parse_scene({"chain": {"case": "two-mass", "N": 16}, "analysis": {"extrapolate": 3, "engine": "gnucap"}},
                     source="t.toml")
@@ -322,7 +323,7 @@ def test_pulse_scenes_are_refused_with_gnucap_before_anything_runs(excitation: d
 
 def test_gear_with_gnucap_is_refused() -> None:
     with pytest.raises(ParameterError, match="method = 'gear'"):
-        lcchain.simulate(chain_for_case("two-mass", 20), dt=0.05, method="gear", engine="gnucap")
+        lcchain.simulate_chain(chain_for_case("two-mass", 20), lcchain.ChainOptions(dt=0.05, method="gear", engine="gnucap"))
 
 
 @pytest.mark.gnucap
@@ -356,26 +357,25 @@ def test_simulate_engine_gnucap_on_the_command_line(capsys) -> None:
 def test_a_gnucap_sweep_stores_its_engine_and_resumes(tmp_path: Path) -> None:
     before = temporary_entries()
     path = tmp_path / "g.sqlite"
-    plan = sweep_plan(cases=["two-mass"], Ns=[20], dts=[0.05, 0.1], engine="gnucap")
+    plan = sweep_plan(SweepAxes(cases=["two-mass"], Ns=[20], dts=[0.05, 0.1], engine="gnucap"))
     assert plan.engine == "gnucap" and plan.description["engine"] == "gnucap"
-    summary = run_plan(plan, path, executor="serial")
+    summary = run_plan(plan, path, RunOptions(executor="serial"))
     assert (summary.ran, summary.ok) == (2, 2)
     with Store(path, "read") as store:
         runs = store.runs()
         assert {(run.engine, run.ngspice_version) for run in runs} == {("gnucap", "")}
         assert all(run.engine_version == find_engine("gnucap").version for run in runs)
         assert store.meta()["engine"].startswith("gnucap ")
-    again = run_plan(sweep_plan(cases=["two-mass"], Ns=[20], dts=[0.05, 0.1], engine="gnucap"), path,
-                     executor="serial")
+    again = run_plan(sweep_plan(SweepAxes(cases=["two-mass"], Ns=[20], dts=[0.05, 0.1], engine="gnucap")), path, RunOptions(executor="serial"))
     assert (again.skipped, again.ran) == (2, 0)
     with pytest.raises(ParameterError, match="holds another"):  # the ngspice study is another plan
-        run_plan(sweep_plan(cases=["two-mass"], Ns=[20], dts=[0.05, 0.1]), path, executor="serial")
+        run_plan(sweep_plan(SweepAxes(cases=["two-mass"], Ns=[20], dts=[0.05, 0.1])), path, RunOptions(executor="serial"))
     assert temporary_entries() == before  # gnucap's folders and files are gone
 
 
 @pytest.mark.gnucap
 def test_a_record_of_a_gnucap_run_says_so() -> None:
-    spec, _, _ = simulation_spec(chain_for_case("two-mass", 20), dt=0.1, engine="gnucap")
+    spec, _, _ = simulation_spec(chain_for_case("two-mass", 20), ChainOptions(dt=0.1, engine="gnucap"))
     record = execute(spec)
     assert record.ok and (record.engine, record.ngspice_version) == ("gnucap", "")
     assert record.summary()["engine"] == "gnucap" and record.key == spec.key(record.engine_version)
@@ -395,12 +395,12 @@ def test_a_gnucap_run_is_priced_at_its_own_cost() -> None:
     from lcchain.core.budget import INTERPRETER_SECONDS, Budget, BudgetError, run_estimate
 
     chain = chain_for_case("two-mass", 400)
-    spec, _, options = simulation_spec(chain, dt=0.02)
+    spec, _, options = simulation_spec(chain, ChainOptions(dt=0.02))
     seconds = run_estimate(points=options.tstop / 0.02, saved=2, compared=2, unknowns=800).seconds
     budget = Budget(max_seconds=INTERPRETER_SECONDS + 2 * seconds)  # ngspice fits, gnucap (6x) does not
-    simulation_spec(chain, dt=0.02, budget=budget)
+    simulation_spec(chain, ChainOptions(dt=0.02), budget=budget)
     with pytest.raises(BudgetError, match="dt = 0.02"):
-        simulation_spec(chain, dt=0.02, budget=budget, engine="gnucap")
+        simulation_spec(chain, ChainOptions(dt=0.02, engine="gnucap"), budget=budget)
     assert ENGINES["gnucap"].relative_cost > ENGINES["ngspice"].relative_cost == 1.0
 
 
@@ -411,7 +411,7 @@ def test_a_gnucap_timeout_kills_it_and_leaves_nothing() -> None:
     from helpers.processes import descendants
 
     before = temporary_entries()
-    spec, _, _ = simulation_spec(chain_for_case("two-mass", 400), dt=0.002, transits=3)
+    spec, _, _ = simulation_spec(chain_for_case("two-mass", 400), ChainOptions(dt=0.002, transits=3))
     with pytest.raises(SimulationError, match="gnucap timed out after 0.3 s and was killed") as caught:
         run_engine(RunJob(spec.netlist, spec.vectors, spec.tstop, timeout=0.3, foreign=False), find_engine("gnucap"))
     assert caught.value.status == "timeout"

@@ -26,7 +26,7 @@ from lcchain.cli.main import main
 from lcchain.core.errors import ParameterError
 from lcchain.core.types import Backend
 from lcchain.runs.request import Request, Transient, plan_request
-from lcchain.runs.spectrum import measure_spectrum
+from lcchain.runs.spectrum import SpectrumOptions, measure_spectrum
 from lcchain.spice.ac import AcJob, run_ac
 from lcchain.spice.engines import ENGINES
 from lcchain.spice.job import Progress, RunJob
@@ -35,6 +35,7 @@ from lcchain.spice.ngspice.find import find_simulator
 from lcchain.spice.ngspice.runner import run
 from lcchain.spice.result import RunResult
 from lcchain.spice.simulator import Simulator
+from lcchain.studies.options import RunOptions
 from lcchain.studies.plan import request_plan
 from lcchain.studies.run import run_plan
 from lcchain.studies.store import Store
@@ -92,7 +93,7 @@ def test_an_outside_effect_runs_in_simulate_and_in_a_study(tmp_path):
     points = [({"factor": f}, Request(chain, Transient(dt=0.05), effects=(HeavyEnds(f),))) for f in (1.0, 1.2)]
     plan = request_plan(points)
     assert plan.axes == ("factor",) and len(plan.tasks) == 2
-    summary = run_plan(plan, tmp_path / "heavy.sqlite", executor="process", workers=2)
+    summary = run_plan(plan, tmp_path / "heavy.sqlite", RunOptions(executor="process", workers=2))
     assert summary.ok == 2 and summary.failed == 0
 
 
@@ -120,8 +121,8 @@ class WrappedNgspice(Ngspice):
 def test_an_outside_engine_runs_in_simulate_and_in_a_study(tmp_path, monkeypatch):
     monkeypatch.setitem(ENGINES, WrappedNgspice.name, WrappedNgspice())  # one registry line, from outside
     chain = chain_for_case("perfect", 16)
-    ours = lcchain.simulate(chain, dt=0.05, engine="wrapped-ngspice")
-    plain = lcchain.simulate(chain, dt=0.05)
+    ours = lcchain.simulate_chain(chain, lcchain.ChainOptions(dt=0.05, engine="wrapped-ngspice"))
+    plain = lcchain.simulate_chain(chain, lcchain.ChainOptions(dt=0.05))
     assert ours.run.engine == "wrapped-ngspice" and ours.record.engine == "wrapped-ngspice"
     assert ours.run.netlist_sha256 != plain.run.netlist_sha256  # it ran its own dialect...
     assert np.array_equal(ours.waveforms.last, plain.waveforms.last)  # ...of the same circuit
@@ -129,7 +130,7 @@ def test_an_outside_engine_runs_in_simulate_and_in_a_study(tmp_path, monkeypatch
     points = [({"N": n}, Request(chain_for_case("perfect", n), Transient(dt=0.05), engine="wrapped-ngspice"))
               for n in (8, 12)]
     store = tmp_path / "wrapped.sqlite"
-    summary = run_plan(request_plan(points), store, executor="serial")
+    summary = run_plan(request_plan(points), store, RunOptions(executor="serial"))
     assert summary.ok == 2
     with Store(store, "read") as opened:
         engines = {row.engine for row in opened.runs()}
@@ -141,7 +142,7 @@ def test_an_outside_engine_without_an_ac_analysis_is_refused_in_one_line(monkeyp
     monkeypatch.setitem(ENGINES, WrappedNgspice.name, WrappedNgspice())
     chain = chain_for_case("two-mass", 8)
     with pytest.raises(ParameterError, match="engine = 'wrapped-ngspice' .*an AC analysis: ngspice") as error:
-        measure_spectrum(chain, engine="wrapped-ngspice")
+        measure_spectrum(chain, options=SpectrumOptions(engine="wrapped-ngspice"))
     assert error.value.field == "engine"
     text = ac_netlist_text(Ladder(chain, 10e-6, 1e-6), points=32, omega_max=2.1)
     with pytest.raises(ParameterError, match="engine = 'wrapped-ngspice'"):

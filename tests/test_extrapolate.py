@@ -24,6 +24,7 @@ from helpers.tolerances import (
 
 import lcchain
 from lcchain.compare.extrapolate import (
+    AccuracyOptions,
     aligned_grid,
     combine,
     plan_for_accuracy,
@@ -31,6 +32,8 @@ from lcchain.compare.extrapolate import (
     refusal,
 )
 from lcchain.core.errors import ParameterError
+from lcchain.studies.options import RunOptions
+from lcchain.studies.plan import SweepAxes
 from lcchain.theory.arrivals import stop_time
 from lcchain.theory.cases import chain_for_case
 from lcchain.theory.chain import Chain
@@ -59,7 +62,7 @@ def exact_end_currents(chain: Chain, t: np.ndarray) -> np.ndarray:
                                         pytest.param(1000, 1e-7, marks=pytest.mark.slow)])  # 16 s
 def test_accuracy_is_met_on_the_first_try_against_an_independent_solution(N: int, eps: float) -> None:
     chain = chain_for_case("two-mass", N)
-    report = lcchain.simulate(chain, accuracy=eps)
+    report = lcchain.simulate_chain(chain, lcchain.ChainOptions(accuracy=eps))
     x = report.extrapolation
     w = report.waveforms
     exact = exact_end_currents(chain, w.t)
@@ -85,7 +88,7 @@ def test_aligned_runs_take_the_steps_the_model_predicts() -> None:
     chain = chain_for_case("two-mass", 20)
     modes = normal_modes(chain)
     for dt in (0.09, 0.0123):
-        report = lcchain.simulate(chain, dt=dt, extrapolate=2, modes=modes)
+        report = lcchain.simulate(lcchain.ChainOptions(dt=dt, extrapolate=2).request(chain), modes=modes)
         for h, member in zip(report.extrapolation.steps, report.extrapolation.members, strict=True):
             assert member.signals is not None
             t = np.asarray(member.signals.t)
@@ -119,10 +122,10 @@ def test_the_prediction_falls_with_the_order_of_the_combination() -> None:
 
 @pytest.mark.ngspice
 def test_gear_is_not_extrapolated_and_says_why() -> None:
-    report = lcchain.simulate(chain_for_case("two-mass", 20), dt=0.05, method="gear", extrapolate=3)
+    report = lcchain.simulate_chain(chain_for_case("two-mass", 20), lcchain.ChainOptions(dt=0.05, method="gear", extrapolate=3))
     assert report.extrapolation.runs == 1 and "gear" in report.extrapolation.reason
     accuracy = 1e-4
-    report = lcchain.simulate(chain_for_case("two-mass", 20), accuracy=accuracy, method="gear")
+    report = lcchain.simulate_chain(chain_for_case("two-mass", 20), lcchain.ChainOptions(accuracy=accuracy, method="gear"))
     assert report.extrapolation.runs == 1 and "gear" in report.extrapolation.reason
     assert report.comparison.max_abs_error <= accuracy  # gear's own error model chose its step
 
@@ -133,12 +136,12 @@ def test_what_cannot_be_extrapolated_is_refused_with_a_reason() -> None:
     assert "rect" in refusal(pulse=("rect", 2.0))
     assert refusal(pulse=("gaussian", 2.0)) == ""
     modes = normal_modes(chain_for_case("two-mass", 50))
-    plan = plan_for_accuracy(modes, 1e-7, stop_time(modes, 1), refused=refusal(stepping="adaptive"))
+    plan = plan_for_accuracy(modes, 1e-7, stop_time(modes, 1), AccuracyOptions(refused=refusal(stepping="adaptive")))
     assert plan.runs == 1 and "adaptive" in plan.reason
     with pytest.raises(ParameterError, match="extrapolate"):
-        plan_for_accuracy(modes, 1e-5, stop_time(modes, 1), extrapolate=4)
+        plan_for_accuracy(modes, 1e-5, stop_time(modes, 1), AccuracyOptions(extrapolate=4))
     with pytest.raises(ParameterError, match="extrapolate"):
-        lcchain.simulate(chain_for_case("two-mass", 20), dt=0.05, extrapolate=True)  # type: ignore[arg-type]
+        lcchain.simulate_chain(chain_for_case("two-mass", 20), lcchain.ChainOptions(dt=0.05, extrapolate=True))  # type: ignore[arg-type]
 
 
 def _cli(*argv: str) -> subprocess.CompletedProcess[str]:
@@ -215,11 +218,10 @@ def test_a_sweep_runs_the_members_as_tasks_and_stores_what_simulate_gives(tmp_pa
 
     chain = chain_for_case("two-mass", 40)
     accuracy = 1e-6
-    report = lcchain.simulate(chain, accuracy=accuracy)
+    report = lcchain.simulate_chain(chain, lcchain.ChainOptions(accuracy=accuracy))
     x = report.extrapolation
     assert x is not None and x.runs == 2  # the cheapest way to 1e-6 at N = 40 is a pair
-    summary = run_plan(sweep_plan(cases=["two-mass"], Ns=[40], accuracies=[accuracy]), tmp_path / "s.sqlite",
-                       executor="process", workers=2)
+    summary = run_plan(sweep_plan(SweepAxes(cases=["two-mass"], Ns=[40], accuracies=[accuracy])), tmp_path / "s.sqlite", RunOptions(executor="process", workers=2))
     assert (summary.total, summary.ran, summary.ok, summary.combined) == (2, 2, 2, 1)
     with Store(tmp_path / "s.sqlite") as store:
         runs = store.runs()
@@ -243,7 +245,7 @@ def _sweep_to_the_middle(store_path, stored: int):
     from lcchain.studies.plan import sweep_plan
     from lcchain.studies.store import Store
 
-    plan = sweep_plan(cases=["two-mass"], Ns=[30], dts=[0.05], extrapolate=3)
+    plan = sweep_plan(SweepAxes(cases=["two-mass"], Ns=[30], dts=[0.05], extrapolate=3))
     simulator = find_simulator("batch")
     with Store(store_path) as store:
         store.adopt(plan.fingerprint(simulator.version), dict(plan.description), plan.rows(simulator.version),
@@ -259,10 +261,9 @@ def test_a_resumed_sweep_combines_members_stored_before_the_crash(tmp_path, stor
     from lcchain.studies.run import run_plan
     from lcchain.studies.store import Store
 
-    clean = run_plan(_sweep_to_the_middle(tmp_path / "clean.sqlite", 0), tmp_path / "clean.sqlite",
-                     executor="serial")
+    clean = run_plan(_sweep_to_the_middle(tmp_path / "clean.sqlite", 0), tmp_path / "clean.sqlite", RunOptions(executor="serial"))
     plan = _sweep_to_the_middle(tmp_path / "resumed.sqlite", stored)
-    resumed = run_plan(plan, tmp_path / "resumed.sqlite", executor="serial")
+    resumed = run_plan(plan, tmp_path / "resumed.sqlite", RunOptions(executor="serial"))
     assert (clean.ran, clean.combined) == (3, 1)
     assert (resumed.skipped, resumed.ran, resumed.ok, resumed.combined) == (stored, 3 - stored, 3, 1)
     with Store(tmp_path / "clean.sqlite") as a, Store(tmp_path / "resumed.sqlite") as b:
@@ -276,11 +277,11 @@ def test_points_sharing_a_member_run_it_once(tmp_path) -> None:
     from lcchain.studies.run import run_plan
 
     # the pair at 0.04 ends with an aligned run at 0.02, the pair at 0.02 starts with it
-    plan = sweep_plan(cases=["two-mass"], Ns=[20], dts=[0.04, 0.02], extrapolate=2)
-    summary = run_plan(plan, tmp_path / "s.sqlite", executor="serial")
+    plan = sweep_plan(SweepAxes(cases=["two-mass"], Ns=[20], dts=[0.04, 0.02], extrapolate=2))
+    summary = run_plan(plan, tmp_path / "s.sqlite", RunOptions(executor="serial"))
     assert (summary.total, summary.ran, summary.ok, summary.combined) == (3, 3, 3, 2) and summary.complete
     assert plan.estimate() < sum(task.seconds for task in plan.tasks)  # the shared run is priced once
-    again = run_plan(plan, tmp_path / "s.sqlite", executor="serial")
+    again = run_plan(plan, tmp_path / "s.sqlite", RunOptions(executor="serial"))
     assert (again.total, again.skipped, again.ran) == (3, 3, 0)
 
 
@@ -290,8 +291,8 @@ def test_a_failed_member_fails_its_combination_and_names_the_run(tmp_path) -> No
     from lcchain.studies.run import run_plan
     from lcchain.studies.store import Store
 
-    plan = sweep_plan(cases=["two-mass"], Ns=[2000], dts=[0.01], extrapolate=2, timeout=0.5)
-    summary = run_plan(plan, tmp_path / "s.sqlite", executor="serial")
+    plan = sweep_plan(SweepAxes(cases=["two-mass"], Ns=[2000], dts=[0.01], extrapolate=2, timeout=0.5))
+    summary = run_plan(plan, tmp_path / "s.sqlite", RunOptions(executor="serial"))
     assert (summary.ok, summary.failed, summary.combined, summary.combined_failed) == (0, 2, 0, 1)
     with Store(tmp_path / "s.sqlite") as store:
         combined = store.runs()[2]

@@ -7,8 +7,7 @@ import os
 
 import pytest
 
-from lcchain import simulate
-from lcchain.runs.simulate import simulator_wall_time
+from lcchain.runs.simulate import ChainOptions, simulate_chain, simulator_wall_time
 from lcchain.theory.cases import chain_for_case
 
 
@@ -27,7 +26,7 @@ def test_simulator_wall_time_is_the_union_of_the_runs() -> None:
 def test_overhead_of_members_run_two_at_a_time_is_never_negative() -> None:
     # N = 300 at dt = 0.05 and 0.025: the two ngspice runs (1 s and 2 s) overlap by more than lcchain's own work,
     # so their summed times exceed the call's
-    report = simulate(chain_for_case("two-mass", 300), dt=0.05, extrapolate=2)
+    report = simulate_chain(chain_for_case("two-mass", 300), ChainOptions(dt=0.05, extrapolate=2))
     t = report.timings
     members = report.extrapolation.members
     walls = [m.wall_s for m in members]

@@ -28,6 +28,7 @@ from lcchain.spice.ngspice.find import find_simulator
 from lcchain.spice.ngspice.runner import run
 from lcchain.spice.pricing import RUN_LIMIT_FACTOR, RUN_SECONDS_FLOOR, read_contents
 from lcchain.spice.text import saved_vectors
+from lcchain.studies.options import RunOptions
 from lcchain.studies.plan import batch_plan
 from lcchain.studies.run import run_plan
 from lcchain.studies.store import Store
@@ -203,9 +204,9 @@ def _batch(folder: Path, count: int, tran: str = ".tran 1n 100n") -> list[Path]:
 def test_a_spent_budget_leaves_the_runs_pending_for_the_same_command(tmp_path: Path) -> None:
     plan = batch_plan(_batch(tmp_path, 3))
     store = tmp_path / "s.sqlite"
-    summary = run_plan(plan, store, executor="serial", max_seconds=0.0)
+    summary = run_plan(plan, store, RunOptions(executor="serial", max_seconds=0.0))
     assert (summary.ran, summary.pending, summary.ok, summary.failed) == (0, 3, 0, 0) and not summary.complete
-    again = run_plan(plan, store, executor="serial")
+    again = run_plan(plan, store, RunOptions(executor="serial"))
     assert (again.skipped, again.ran, again.ok, again.pending) == (0, 3, 3, 0) and again.complete
 
 
@@ -216,7 +217,7 @@ def test_a_run_going_when_the_budget_ends_is_stopped_and_stays_pending(tmp_path:
     runs are neither stored as timed out nor lost."""
     plan = batch_plan(_batch(tmp_path, 2, ".tran 1p 10u 0 1p"))
     store = tmp_path / "s.sqlite"
-    summary = run_plan(plan, store, executor=executor, workers=2, max_seconds=1.0)
+    summary = run_plan(plan, store, RunOptions(executor=executor, workers=2, max_seconds=1.0))
     assert (summary.ran, summary.pending, summary.failed) == (0, 2, 0)
     assert not [w for w in warm._workers if w.alive]
     with Store(store, "read") as stored:

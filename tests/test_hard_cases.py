@@ -30,11 +30,11 @@ from helpers.tolerances import (
 )
 
 from lcchain.circuit.ladder import Ladder
-from lcchain.circuit.netlist import SimulationOptions, netlist_text, probe_names
+from lcchain.circuit.netlist import NetlistOutput, SimulationOptions, netlist_text, probe_names
 from lcchain.compare.accuracy import AccuracyWarning, predicted_error, trap_response
 from lcchain.compare.waveforms import normalise
 from lcchain.core.errors import ParameterError
-from lcchain.runs.simulate import simulate
+from lcchain.runs.simulate import ChainOptions, simulate_chain
 from lcchain.spice.job import RunJob
 from lcchain.spice.ngspice.runner import run
 from lcchain.studies.bench import ladder_energy
@@ -50,7 +50,7 @@ from lcchain.theory.spectrum import normal_modes, transmission_amplitude
 @pytest.mark.parametrize("chain", [Chain.uniform_free(50), Chain.uniform_bounded(50)], ids=["free", "bounded"])
 def test_uniform_chains(chain):
     """A kicked uniform end excites the whole band: a larger step error, still exactly the model's."""
-    report = simulate(chain, dt=0.02)
+    report = simulate_chain(chain, ChainOptions(dt=0.02))
     assert report.integration_error < ATOL_TRAP_MODEL
     achieved = report.comparison.max_abs_error
     assert achieved / PREDICTION_FACTOR <= report.predicted_error <= achieved * PREDICTION_FACTOR
@@ -67,7 +67,7 @@ def _energy_case(N, transits):
     assert np.max(np.abs(trap["momentum"] - 1.0)) < RTOL_CONSERVED
     # (at dt = 0.3 over 10 transits gear's predicted error is also "meaningless": warn on gear alone here)
     with pytest.warns(AccuracyWarning, match="gear loses energy"):
-        simulate(chain, dt=0.05, transits=2, method="gear")
+        simulate_chain(chain, ChainOptions(dt=0.05, transits=2, method="gear"))
 
 
 @pytest.mark.ngspice
@@ -92,8 +92,8 @@ def test_zero_mode_of_a_free_uniform_chain():
 def test_nanohenry_picofarad_microampere():
     """nH / pF / uA: tolerances scaled to the circuit keep the dimensionless result."""
     chain = chain_for_case("two-mass", 20)
-    small = simulate(chain, dt=0.05, L0=1e-9, C0=1e-12, I0=1e-6)
-    bulk = simulate(chain, dt=0.05)
+    small = simulate_chain(chain, ChainOptions(dt=0.05, L0=1e-9, C0=1e-12, I0=1e-6))
+    bulk = simulate_chain(chain, ChainOptions(dt=0.05))
     assert small.integration_error < ATOL_TRAP_MODEL
     assert np.max(np.abs(small.waveforms.last - bulk.waveforms.last)) < ATOL_SCALE_INVARIANCE
 
@@ -103,7 +103,7 @@ def _long_ladder(N, tstop=30.0, dt=0.1):
     chain = chain_for_case("two-mass", N)
     modes = normal_modes(chain)
     ladder = Ladder(chain)
-    text = netlist_text(ladder, SimulationOptions(dt=dt, tstop=tstop), title=f"long ladder N={N}")
+    text = netlist_text(ladder, SimulationOptions(dt=dt, tstop=tstop), output=NetlistOutput(title=f"long ladder N={N}"))
     names = probe_names(N, "ends")
     result = run(RunJob(text, names, tstop * ladder.time_unit, timeout=1800.0))
     w = normalise(result.time, result.vectors[names[0]], result.vectors[names[1]], time_unit=ladder.time_unit,
@@ -172,14 +172,14 @@ def test_vanishing_end_mass():
 @pytest.mark.ngspice
 def test_near_uniform_chain_in_ngspice():
     chain = Chain.from_rw(50, 1 - 1e-9, 1 - 1e-9)
-    report = simulate(chain, dt=0.05)
+    report = simulate_chain(chain, ChainOptions(dt=0.05))
     assert report.integration_error < ATOL_TRAP_MODEL
 
 
 # ------------------------------------------------------------------ the perfect chain stays periodic
 def _perfect_periodic(transits, dt, atol_model=ATOL_TRAP_MODEL):
     chain = Chain.perfect(4)
-    report = simulate(chain, dt=dt, transits=transits)
+    report = simulate_chain(chain, ChainOptions(dt=dt, transits=transits))
     T = np.sqrt(11) * np.pi / 2  # Sec. II.C: alpha_4 = 1 at t = sqrt(11) pi / 2, and then at every odd multiple
     for a in report.comparison.arrivals:
         assert a.t_theory == pytest.approx(a.index * T, abs=ATOL_LATER_ARRIVAL_TIME)  # a flat maximum: time to ~sqrt(eps)
@@ -203,7 +203,7 @@ def test_perfect_chain_two_hundred_transits():
 def test_meaningless_step_warns():
     chain = Chain.uniform_free(20)
     with pytest.warns(AccuracyWarning, match="meaningless"):
-        report = simulate(chain, dt=0.5)
+        report = simulate_chain(chain, ChainOptions(dt=0.5))
     assert report.predicted_error > 0.1
     # the warning is about the step, not the circuit: the model still holds exactly
     assert report.integration_error < ATOL_TRAP_MODEL

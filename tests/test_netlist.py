@@ -8,7 +8,15 @@ import pytest
 from helpers.tolerances import RTOL_NETLIST_TMAX
 
 from lcchain.circuit.ladder import Ladder
-from lcchain.circuit.netlist import SimulationOptions, card_number, check_user_text, netlist_text, probe_names
+from lcchain.circuit.netlist import (
+    Drive,
+    NetlistOutput,
+    SimulationOptions,
+    card_number,
+    check_user_text,
+    netlist_text,
+    probe_names,
+)
 from lcchain.circuit.reference import REFERENCE_SET, reference_netlist
 from lcchain.core.errors import ParameterError
 from lcchain.theory.chain import Chain
@@ -45,9 +53,9 @@ def test_free_ends_are_wires_and_bounded_ends_capacitors():
 
 def test_excitations_set_initial_conditions():
     chain = Chain.uniform_bounded(4)
-    kick = netlist_text(Ladder(chain, 1.0, 1.0), OPTIONS, excitation="kick", I0=2.0)
+    kick = netlist_text(Ladder(chain, 1.0, 1.0), OPTIONS, Drive(kind="kick", I0=2.0))
     assert re.search(r"^L1 n0 n1 1.0 IC=2.0$", kick, re.M)
-    disp = netlist_text(Ladder(chain, 1.0, 1.0), OPTIONS, excitation="displacement", I0=2.0)
+    disp = netlist_text(Ladder(chain, 1.0, 1.0), OPTIONS, Drive(kind="displacement", I0=2.0))
     # Q0 = I0 sqrt(L0 C0) = 2: V(n1) = Q0/C12 = 2, V(n0) = -Q0/C01 = -2
     assert re.search(r"^C1_2 n1 0 1.0 IC=2.0$", disp, re.M)
     assert re.search(r"^C0_1 n0 0 1.0 IC=-2.0$", disp, re.M)
@@ -73,7 +81,7 @@ def test_save_only_requested_probes_and_explicit_max_step():
     chain = Chain.uniform_free(6)
     text = netlist_text(Ladder(chain), OPTIONS)
     assert re.search(r"^\.save i\(l1\) i\(l6\)$", text, re.M)
-    everything = netlist_text(Ladder(chain), OPTIONS, probes="all")
+    everything = netlist_text(Ladder(chain), OPTIONS, output=NetlistOutput(probes="all"))
     assert ".save " + " ".join(f"i(l{i})" for i in range(1, 7)) in everything
     tran = re.search(r"^\.tran (\S+) (\S+) 0 (\S+) uic$", text, re.M)
     assert tran and float(tran.group(3)) == pytest.approx(0.05 * np.sqrt(10e-6 * 10e-9), rel=RTOL_NETLIST_TMAX)
@@ -90,7 +98,7 @@ def test_save_only_requested_probes_and_explicit_max_step():
 )
 def test_user_text_cannot_add_lines_or_commands(title):
     with pytest.raises(ParameterError, match="title"):
-        netlist_text(Ladder(Chain.uniform_free(3)), OPTIONS, title=title)
+        netlist_text(Ladder(Chain.uniform_free(3)), OPTIONS, output=NetlistOutput(title=title))
 
 
 #: Titles ngspice 39 reads as plain text (measured: it executes none of them); refusing them would be wrong.
@@ -100,7 +108,7 @@ HARMLESS_TITLES = ["shell model of a spring chain", ".5 uH ladder", "x .control"
 
 @pytest.mark.parametrize("title", HARMLESS_TITLES)
 def test_titles_that_ngspice_reads_as_text_are_accepted(title):
-    text = netlist_text(Ladder(Chain.uniform_free(3)), OPTIONS, title=title)
+    text = netlist_text(Ladder(Chain.uniform_free(3)), OPTIONS, output=NetlistOutput(title=title))
     assert text.splitlines()[0] == title
 
 
@@ -110,13 +118,13 @@ def test_a_shell_title_executes_nothing_in_ngspice(tmp_path):
     from lcchain.spice.ngspice.runner import run
 
     marker = tmp_path / "executed"
-    text = netlist_text(Ladder(Chain.uniform_free(3)), OPTIONS, title=f"shell touch {marker}")
+    text = netlist_text(Ladder(Chain.uniform_free(3)), OPTIONS, output=NetlistOutput(title=f"shell touch {marker}"))
     run(RunJob(text, ["i(l1)"], OPTIONS.tstop * Ladder(Chain.uniform_free(3)).time_unit))
     assert not marker.exists()
 
 
 def test_no_generated_netlist_contains_a_control_block():
-    text = netlist_text(Ladder(Chain.uniform_free(3)), OPTIONS, title="safe title: N=3 (ok)")
+    text = netlist_text(Ladder(Chain.uniform_free(3)), OPTIONS, output=NetlistOutput(title="safe title: N=3 (ok)"))
     lowered = text.lower()
     assert ".control" not in lowered and "shell" not in lowered
     assert text.splitlines()[0] == "safe title: N=3 (ok)"

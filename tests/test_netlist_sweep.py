@@ -24,7 +24,8 @@ from lcchain.cli import main
 from lcchain.core.errors import ParameterError
 from lcchain.spice.foreign import allowed_netlist
 from lcchain.spice.variants import find_target, netlist_targets, with_values
-from lcchain.studies.plan import netlist_sweep_plan
+from lcchain.studies.options import RunOptions
+from lcchain.studies.plan import NetlistSweep, netlist_sweep_plan
 from lcchain.studies.run import run_plan
 from lcchain.studies.store import Store
 from lcchain.studies.vary import parse_netlist_vary, variant_points
@@ -214,9 +215,9 @@ def test_serial_and_pool_give_the_same_runs_and_digests_and_draws(tmp_path: Path
     varies = [parse_netlist_vary("R1=1k,2.2k"), parse_netlist_vary("cv=normal:2u:5%")]
     digests = {}
     for executor, workers in (("serial", 1), ("process", 2)):
-        plan = netlist_sweep_plan(path, varies, samples=3, seed=11)
+        plan = netlist_sweep_plan(path, varies, NetlistSweep(samples=3, seed=11))
         store = tmp_path / f"{executor}.sqlite"
-        assert run_plan(plan, store, executor=executor, workers=workers).ok == 6
+        assert run_plan(plan, store, RunOptions(executor=executor, workers=workers)).ok == 6
         with Store(store, "read") as opened:
             digests[executor] = [(run.params, run.digest) for run in opened.runs()]
     assert digests["serial"] == digests["process"]
@@ -232,7 +233,7 @@ def test_a_dask_cluster_gives_the_serial_digests(tmp_path: Path) -> None:
     digests = {}
     for executor in ("serial", "dask"):
         store = tmp_path / f"{executor}.sqlite"
-        assert run_plan(netlist_sweep_plan(path, varies), store, executor=executor, workers=2).ok == 3
+        assert run_plan(netlist_sweep_plan(path, varies), store, RunOptions(executor=executor, workers=2)).ok == 3
         with Store(store, "read") as opened:
             digests[executor] = [(run.params, run.digest) for run in opened.runs()]
     assert digests["serial"] == digests["dask"] and all(d for _, d in digests["dask"])

@@ -216,11 +216,11 @@ def test_doctor_is_all_ok_here() -> None:
 @pytest.mark.ngspice
 def test_batch_run_reports_its_progress(monkeypatch) -> None:
     # ngspice -b writes "Reference value : t" to stderr as it goes; run() turns it into fractions of tstop.
-    from lcchain.circuit.netlist import make_netlist
+    from lcchain.circuit.netlist import ChainNetlist, make_netlist
     from lcchain.theory.cases import chain_for_case
 
     monkeypatch.setattr(batch, "PROGRESS_INTERVAL", 0.02)
-    text, ladder, options = make_netlist(chain_for_case("two-mass", 300), dt=0.02, transits=1)
+    text, ladder, options = make_netlist(chain_for_case("two-mass", 300), ChainNetlist(dt=0.02, transits=1))
     seen: list[float] = []
     run(RunJob(text, ["i(l1)", "i(l300)"], options.tstop * ladder.time_unit), progress=seen.append)
     assert seen[0] == 0.0 and seen[-1] == 1.0

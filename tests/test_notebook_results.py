@@ -32,7 +32,7 @@ def test_a_simulation_shows_itself_in_a_few_lines_and_plots(tmp_path):
     import matplotlib.pyplot as plt
     from matplotlib.figure import Figure
 
-    report = lcchain.simulate(lcchain.chain_for_case("two-mass", 10), dt=0.05)
+    report = lcchain.simulate_chain(lcchain.chain_for_case("two-mass", 10), lcchain.ChainOptions(dt=0.05))
     text = repr(report)
     _short(text)
     assert "two-mass, N = 10" in text and "ngspice" in text and "max |simulation - theory|" in text
@@ -89,7 +89,7 @@ def test_the_spectrum_is_its_own_public_function_with_one_entry_per_mode():
 
 @pytest.mark.ngspice
 def test_repr_loads_no_matplotlib_and_plot_does(tmp_path):
-    code = ("import sys, lcchain; r = lcchain.simulate(lcchain.chain_for_case('two-mass', 5), dt=0.1); "
+    code = ("import sys, lcchain; r = lcchain.simulate_chain(lcchain.chain_for_case('two-mass', 5), lcchain.ChainOptions(dt=0.1)); "
             "repr(r); r._repr_html_(); print('matplotlib' in sys.modules); "
             "r.plot(); print('matplotlib' in sys.modules)")
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=tmp_path)
@@ -106,7 +106,7 @@ def _every_result(tmp_path: Path) -> dict[str, object]:
     from lcchain.cli import main
     from lcchain.studies.store import Store
 
-    report = lcchain.simulate(lcchain.chain_for_case("two-mass", 8), dt=0.1)
+    report = lcchain.simulate_chain(lcchain.chain_for_case("two-mass", 8), lcchain.ChainOptions(dt=0.1))
     data = tomllib.loads(example_text("cradle"))
     data["chain"]["N"] = 8
     data.pop("output", None)
@@ -151,7 +151,7 @@ def test_every_public_result_shows_itself_plots_into_an_axes_and_becomes_a_datas
 def test_a_runs_dataset_holds_its_vectors_in_their_own_units(tmp_path):
     """RunRecord.to_xarray: ngspice's saved currents in amperes on time in seconds, the same numbers as the
     record's arrays; SimulationReport.to_xarray: the end loops on time in seconds = t sqrt(L0 C0)."""
-    report = lcchain.simulate(lcchain.chain_for_case("two-mass", 8), dt=0.1, L0=2e-6, C0=5e-9)
+    report = lcchain.simulate_chain(lcchain.chain_for_case("two-mass", 8), lcchain.ChainOptions(dt=0.1, L0=2e-6, C0=5e-9))
     record = report.record.to_xarray()
     result = report.record.result
     assert record["time"].attrs["units"] == "s"

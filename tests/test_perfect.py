@@ -287,7 +287,7 @@ def test_ngspice_reaches_one(N, walls):
     """The ladder of a designed chain carries the whole pulse: I_N/I0 at the arrival reaches 1 within the
     integration error lcchain predicts for the step (and the arrival is where theory puts it)."""
     chain = chain_for_case("perfect", N, walls)
-    report = lcchain.simulate(chain, dt=0.02, transits=1)
+    report = lcchain.simulate_chain(chain, lcchain.ChainOptions(dt=0.02, transits=1))
     arrival = report.comparison.arrivals[0]
     assert arrival.peak_theory == pytest.approx(1.0, abs=ATOL_PERFECT_TRANSFER)
     assert abs(arrival.peak_sim - 1.0) <= report.predicted_error

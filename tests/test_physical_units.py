@@ -44,10 +44,10 @@ def test_simulate_and_spectrum_json_add_seconds_and_hertz(capsys, tmp_path) -> N
 
 def test_plots_carry_a_second_axis_in_si() -> None:
     pytest.importorskip("matplotlib")
-    from lcchain.report.plots import overlay, spectrum
+    from lcchain.report.plots import OverlayCurves, overlay, spectrum
 
     t = np.linspace(0.0, 10.0, 50)
-    figure = overlay(t, np.sin(t), t, np.sin(t), time_unit=3e-7)
+    figure = overlay(OverlayCurves(t, np.sin(t), t, np.sin(t), time_unit=3e-7))
     labels = [child.get_xlabel() for ax in figure.axes for child in ax.child_axes]
     assert "time [s]" in labels
     omega = np.array([0.5, 1.0, 1.5])

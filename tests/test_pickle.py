@@ -21,7 +21,7 @@ from lcchain.core.errors import Interrupted, LcchainError, ParameterError, Simul
 from lcchain.core.frozen import FrozenMap
 from lcchain.core.registry import PluginError
 from lcchain.runs.execute import execute
-from lcchain.runs.simulate import simulation_spec
+from lcchain.runs.simulate import ChainOptions, simulation_spec
 from lcchain.scenes.plan import scene_plan
 from lcchain.spice.doctor import Check
 from lcchain.spice.simulator import Simulator
@@ -74,7 +74,7 @@ def _theory_values() -> list[object]:
         lcchain.asymptotic_optimum("one-mass"), lcchain.Ladder(chain), lcchain.SimulationOptions(dt=0.05, tstop=40.0),
         scene, scene_plan(scene), REFERENCE_SET[-1], FrozenMap({"a": 1.0, "b": np.arange(3.0)}),
         ErrorSplit(1e-13, 1e-3, 1e-3), Simulator("batch", "/usr/bin/ngspice", "39"), Check("x", True, "ok"),
-        simulation_spec(chain, dt=0.05)[0],
+        simulation_spec(chain, ChainOptions(dt=0.05))[0],
     ]
 
 
@@ -108,14 +108,14 @@ def test_a_chain_stays_immutable_after_pickling() -> None:
 @pytest.mark.ngspice
 def test_run_records_and_reports_pickle() -> None:
     chain = lcchain.chain_for_case("two-mass", 12)
-    report = lcchain.simulate(chain, dt=0.05, transits=2)
+    report = lcchain.simulate_chain(chain, lcchain.ChainOptions(dt=0.05, transits=2))
     round_trip(report)
     assert report.record is not None
     round_trip(report.record)
-    spec = simulation_spec(chain, dt=0.05)[0]
+    spec = simulation_spec(chain, ChainOptions(dt=0.05))[0]
     failed = execute(dataclasses.replace(spec, netlist=spec.netlist.replace("L3 ", "Q3 "), trusted=True))
     assert failed.status == "failed"
     round_trip(failed)
     scene = lcchain.parse_scene({"chain": {"case": "two-mass", "N": 10},
                                  "effects": {"tolerance": {"C": 0.02, "samples": 2, "seed": 1}}})
-    round_trip(lcchain.run_scene(scene, write_outputs=False))
+    round_trip(lcchain.run_scene(scene, lcchain.SceneRun(write_outputs=False)))

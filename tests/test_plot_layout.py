@@ -25,8 +25,7 @@ def _wave(n: int = 400):
 def test_overlay(title, residual):
     t, y = _wave()
     arrivals = [{"index": 1, "t_theory": 40.0, "t_sim": 40.01, "peak_theory": 0.99, "peak_sim": 0.98}]
-    assert_readable(plots.overlay(t, y, t, y, residual=(y * 1e-6) if residual else None, arrivals=arrivals,
-                                  title=title, time_unit=1e-6))
+    assert_readable(plots.overlay(plots.OverlayCurves(t, y, t, y, residual=(y * 1e-6) if residual else None, arrivals=arrivals, time_unit=1e-6), title=title))
 
 
 @pytest.mark.parametrize("title", ["", LONG])

@@ -59,8 +59,7 @@ RECORDS = [
 
 def test_overlay_writes_png_with_residual_panel(tmp_path, wave):
     t_sim, y_sim, t_th, y_th, res, arr = wave
-    fig = plots.overlay(t_sim, y_sim, t_th, y_th, residual=res, arrivals=arr, title="N = 10",
-                        path=tmp_path / "overlay.png")
+    fig = plots.overlay(plots.OverlayCurves(t_sim, y_sim, t_th, y_th, residual=res, arrivals=arr), title="N = 10", path=tmp_path / "overlay.png")
     assert_png(tmp_path / "overlay.png")
     assert len(fig.axes) == 2
     assert fig.get_suptitle() == "N = 10"
@@ -70,7 +69,7 @@ def test_overlay_writes_png_with_residual_panel(tmp_path, wave):
 
 def test_overlay_without_residual_has_one_panel(wave):
     t_sim, y_sim, t_th, y_th, _, _ = wave
-    assert len(plots.overlay(t_sim, y_sim, t_th, y_th).axes) == 1
+    assert len(plots.overlay(plots.OverlayCurves(t_sim, y_sim, t_th, y_th)).axes) == 1
 
 
 def test_overlay_accepts_objects_with_arrival_attributes(wave):
@@ -78,7 +77,7 @@ def test_overlay_accepts_objects_with_arrival_attributes(wave):
 
     t_sim, y_sim, t_th, y_th, _, _ = wave
     arr = ArrivalComparison(index=1, end="last", t_theory=30.0, t_sim=30.0, peak_theory=1.0, peak_sim=1.0)
-    plots.overlay(t_sim, y_sim, t_th, y_th, arrivals=[arr])
+    plots.overlay(plots.OverlayCurves(t_sim, y_sim, t_th, y_th, arrivals=[arr]))
 
 
 def test_spacetime_writes_png(tmp_path):
@@ -117,7 +116,7 @@ def test_mode_density_writes_png(tmp_path):
 def test_functions_draw_into_given_axes(wave):
     t_sim, y_sim, t_th, y_th, res, arr = wave
     calls = [
-        lambda ax: plots.overlay(t_sim, y_sim, t_th, y_th, residual=res, arrivals=arr, ax=ax),
+        lambda ax: plots.overlay(plots.OverlayCurves(t_sim, y_sim, t_th, y_th, residual=res, arrivals=arr), ax=ax),
         lambda ax: plots.spacetime(t_sim, np.vstack([y_sim, y_sim]), ax=ax),
         lambda ax: plots.histogram(y_sim, ax=ax),
         lambda ax: plots.pareto(RECORDS, ax=ax),
@@ -134,7 +133,7 @@ def test_functions_draw_into_given_axes(wave):
 def test_overlay_into_axes_has_no_residual_panel(wave):
     t_sim, y_sim, t_th, y_th, res, _ = wave
     fig, ax = new_axes()
-    plots.overlay(t_sim, y_sim, t_th, y_th, residual=res, ax=ax)
+    plots.overlay(plots.OverlayCurves(t_sim, y_sim, t_th, y_th, residual=res), ax=ax)
     assert fig.axes == [ax]
 
 
@@ -149,13 +148,11 @@ def test_axes_in_subfigure_returns_root_figure(wave):
 # --------------------------------------------------------------------------- validation
 
 @pytest.mark.parametrize("call", [
-    lambda: plots.overlay(np.arange(5.0), np.arange(4.0), np.arange(3.0), np.arange(3.0)),
-    lambda: plots.overlay(np.arange(5.0), np.arange(5.0), np.arange(3.0), np.arange(4.0)),
-    lambda: plots.overlay(np.arange(5.0), np.arange(5.0), np.arange(3.0), np.arange(3.0), residual=np.zeros(4)),
-    lambda: plots.overlay(np.arange(5.0), np.arange(5.0), np.arange(3.0), np.arange(3.0),
-                          residual=np.zeros(5), t_residual=np.arange(6.0)),
-    lambda: plots.overlay(np.arange(5.0), np.arange(5.0), np.arange(3.0), np.arange(3.0),
-                          arrivals=[{"index": 1, "t_theory": 1.0}]),
+    lambda: plots.overlay(plots.OverlayCurves(np.arange(5.0), np.arange(4.0), np.arange(3.0), np.arange(3.0))),
+    lambda: plots.overlay(plots.OverlayCurves(np.arange(5.0), np.arange(5.0), np.arange(3.0), np.arange(4.0))),
+    lambda: plots.overlay(plots.OverlayCurves(np.arange(5.0), np.arange(5.0), np.arange(3.0), np.arange(3.0), residual=np.zeros(4))),
+    lambda: plots.overlay(plots.OverlayCurves(np.arange(5.0), np.arange(5.0), np.arange(3.0), np.arange(3.0), residual=np.zeros(5), t_residual=np.arange(6.0))),
+    lambda: plots.overlay(plots.OverlayCurves(np.arange(5.0), np.arange(5.0), np.arange(3.0), np.arange(3.0), arrivals=[{"index": 1, "t_theory": 1.0}])),
     lambda: plots.spacetime(np.arange(5.0), np.zeros((3, 4))),
     lambda: plots.spacetime(np.arange(5.0), np.zeros(5)),
     lambda: plots.histogram(np.zeros((2, 3))),
@@ -174,7 +171,7 @@ def test_bad_input_raises_value_error(call):
 
 def test_shape_error_names_the_argument():
     with pytest.raises(ValueError, match=r"y_sim\.shape = \(4,\).*t_sim, \(5,\)"):
-        plots.overlay(np.arange(5.0), np.arange(4.0), np.arange(3.0), np.arange(3.0))
+        plots.overlay(plots.OverlayCurves(np.arange(5.0), np.arange(4.0), np.arange(3.0), np.arange(3.0)))
 
 
 # --------------------------------------------------------------------------- decimation
@@ -263,15 +260,13 @@ def cradle():
 
 def test_overlay_legend_is_off_the_lines(cradle):
     t, last, first, arrivals = cradle
-    fig = plots.overlay(t, last + 1e-4, t, last, residual=np.full_like(t, 1e-4), first_sim=first,
-                        first_theory=first, arrivals=arrivals, title="two-mass chain, N = 100")
+    fig = plots.overlay(plots.OverlayCurves(t, last + 1e-4, t, last, residual=np.full_like(t, 1e-4), first_sim=first, first_theory=first, arrivals=arrivals), title="two-mass chain, N = 100")
     assert_legends_off_lines(fig)
 
 
 def test_overlay_notes_stay_inside_the_frame(cradle):
     t, last, first, arrivals = cradle
-    fig = plots.overlay(t, last, t, last, residual=np.zeros_like(t), first_sim=first, first_theory=first,
-                        arrivals=arrivals)
+    fig = plots.overlay(plots.OverlayCurves(t, last, t, last, residual=np.zeros_like(t), first_sim=first, first_theory=first, arrivals=arrivals))
     assert len(fig.axes[0].texts) == 3
     _assert_notes_inside(fig)
     fig.set_size_inches(5.6, 3.8)  # the report's thumbnails
@@ -285,8 +280,7 @@ def _markers_at(ax, t, peak):
 
 def test_overlay_marks_every_arrival_on_its_own_loop(cradle):
     t, last, first, arrivals = cradle
-    fig = plots.overlay(t, last, t, last, residual=np.zeros_like(t), first_sim=first, first_theory=first,
-                        arrivals=arrivals)
+    fig = plots.overlay(plots.OverlayCurves(t, last, t, last, residual=np.zeros_like(t), first_sim=first, first_theory=first, arrivals=arrivals))
     top = fig.axes[0]
     colours = {line.get_label(): line.get_color() for line in top.get_lines()}
     for a in arrivals:
@@ -301,7 +295,7 @@ def test_overlay_marks_every_arrival_on_its_own_loop(cradle):
 def test_overlay_wants_both_loop_1_signals(cradle):
     t, last, first, _ = cradle
     with pytest.raises(ValueError, match="first_sim"):
-        plots.overlay(t, last, t, last, first_sim=first)
+        plots.overlay(plots.OverlayCurves(t, last, t, last, first_sim=first))
 
 
 def test_histogram_draws_the_nominal_line_and_keeps_its_legend_off_the_bars():

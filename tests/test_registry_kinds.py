@@ -34,6 +34,7 @@ from lcchain.spice.ngspice.runner import run
 from lcchain.spice.ngspice.transports import TRANSPORT_RUNS, NgspiceTransport, named_transports
 from lcchain.spice.result import read_include
 from lcchain.studies.executors import EXECUTOR_TRAITS, Executor, execute_group
+from lcchain.studies.options import RunOptions
 from lcchain.studies.run import run_specs
 from lcchain.theory.cases import CHAIN_CASES, ChainCase, chain_for_case
 from lcchain.theory.chain import Chain
@@ -146,12 +147,12 @@ def test_an_executor_of_ones_own_runs_a_tiny_study_through_ngspice(forget):
     mine = Executor(parallel=False, remote=False, name="test-counting", runner=counting_runner)
     forget.append((EXECUTOR_TRAITS, mine.name))
     specs = [plan_request(Request(Chain.uniform_free(N), Transient(dt=0.05))).specs[0] for N in (4, 5)]
-    records = run_specs(specs, executor=mine, workers=1, transport="process")
+    records = run_specs(specs, RunOptions(executor=mine, workers=1, transport="process"))
     assert [record.status for record in records] == ["ok", "ok"]
     assert groups_seen == [1, 1]  # a serial executor: one run per group, both through this runner
     assert "test-counting" in EXECUTOR_TRAITS and "test-counting" in EXECUTOR_CHOICES
     with pytest.raises(ParameterError, match="--executor"):
-        run_specs(specs, executor=object(), workers=1)
+        run_specs(specs, RunOptions(executor=object(), workers=1))
 
 
 @pytest.mark.ngspice

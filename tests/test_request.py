@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import pickle
 import re
+import typing
 from pathlib import Path
 
 import numpy as np
@@ -16,8 +17,9 @@ import pytest
 import lcchain
 from lcchain.circuit.effects import Coupling, Losses, PreferredValues, Tolerance, Walls
 from lcchain.core.errors import ParameterError
-from lcchain.runs.request import Drive, Request, Transient, plan_request
-from lcchain.runs.simulate import simulation_runs
+from lcchain.runs.request import AC, Analysis, Drive, Request, Transient, plan_request
+from lcchain.runs.request.plan import PLANNERS
+from lcchain.runs.simulate import ChainOptions, simulation_runs
 from lcchain.scenes.load import load_scene
 from lcchain.scenes.plan import scene_plan, scene_request
 from lcchain.theory.cases import chain_for_case
@@ -82,9 +84,25 @@ def test_a_scene_is_a_request():
     assert [s.netlist for s in plan_request(request).specs] == [s.netlist for s in scene_plan(scene).specs]
 
 
+def test_each_analysis_has_one_planner_found_from_its_type():
+    """plan_request finds the planner from the analysis object's type (runs/request/plan.py), no name compared."""
+    assert set(PLANNERS) == set(typing.get_args(Analysis))
+    transient = plan_request(Request(chain_for_case("two-mass", 6), Transient(dt=0.05)))
+    ac = plan_request(Request(chain_for_case("two-mass", 6), AC()))
+    assert transient.steps == (0.05,) and ac.steps == () and ac.points is not None
+
+
+def test_simulate_given_a_chain_points_to_simulate_chain():
+    """simulate takes a Request only; a chain, its old first argument, is refused in one line naming the function
+    a chain goes to (nothing runs)."""
+    with pytest.raises(ParameterError, match=r"simulate_chain\(chain, lcchain.ChainOptions") as caught:
+        lcchain.simulate(chain_for_case("two-mass", 6))
+    assert caught.value.field == "request" and "\n" not in str(caught.value)
+
+
 def test_simulate_plans_through_the_request():
     chain = chain_for_case("two-mass", 40)
-    by_keywords = simulation_runs(chain, accuracy=1e-6, transits=2, excitation="displacement")
+    by_keywords = simulation_runs(ChainOptions(accuracy=1e-6, transits=2, excitation="displacement").request(chain))
     request = Request(chain, Transient(accuracy=1e-6, transits=2), drive=Drive("displacement"))
     by_request = simulation_runs(request)
     assert by_keywords.request == request

@@ -34,7 +34,7 @@ from helpers.tolerances import (
     RTOL_STD_OF_SAMPLES,
 )
 
-from lcchain.app.scenes import run_scene
+from lcchain.app.scenes import SceneRun, run_scene
 from lcchain.circuit.effects import E_SERIES
 from lcchain.cli import main
 from lcchain.core.errors import ParameterError
@@ -127,7 +127,7 @@ def _netlist(scene) -> str:
 @pytest.mark.ngspice
 @pytest.mark.parametrize("effect", sorted(EFFECTS))
 def test_each_effect_alone_meets_the_accuracy_against_exact_theory(effect: str) -> None:
-    result = run_scene(_scene(EFFECTS[effect]), write_outputs=False)
+    result = run_scene(_scene(EFFECTS[effect]), SceneRun(write_outputs=False))
     assert result.ok, result.report["samples"]
     for sample in result.samples:  # the theory computes every loop only when every loop is saved
         rows = sample.chain.N if effect == "all-probes" else 2
@@ -141,13 +141,13 @@ def test_each_effect_alone_meets_the_accuracy_against_exact_theory(effect: str) 
 @pytest.mark.ngspice
 def test_every_effect_combined_meets_a_fine_accuracy() -> None:
     scene = _scene(COMBINED, {"analysis": {"accuracy": ACCURACY_FINE}})
-    result = run_scene(scene, write_outputs=False)
+    result = run_scene(scene, SceneRun(write_outputs=False))
     assert result.ok, result.report["samples"]
     assert len(result.samples) == 3
     for record in result.report["samples"]:
         assert record["max_abs_error"] <= ACCURACY_FINE, record
     # The error is the step's, not a modelling gap: it shrinks as dt^2 when asked for less.
-    coarse = run_scene(_scene(COMBINED), write_outputs=False)
+    coarse = run_scene(_scene(COMBINED), SceneRun(write_outputs=False))
     assert coarse.report["max_abs_error"] > 10 * result.report["max_abs_error"]
 
 
@@ -160,13 +160,13 @@ def test_a_wrong_quality_factor_in_the_theory_is_caught(monkeypatch) -> None:
         return real(*args, **{**kwargs, "Q": 60.0})
 
     monkeypatch.setattr(execute_module, "prepare_response", theory_off)
-    result = run_scene(_scene(EFFECTS["losses"]), write_outputs=False)
+    result = run_scene(_scene(EFFECTS["losses"]), SceneRun(write_outputs=False))
     assert result.report["max_abs_error"] > MIN_ERROR_WRONG_THEORY
 
 
 @pytest.mark.ngspice
 def test_every_loop_current_matches_its_theory() -> None:
-    result = run_scene(_scene(EFFECTS["all-probes"], EFFECTS["displacement"]), write_outputs=False)
+    result = run_scene(_scene(EFFECTS["all-probes"], EFFECTS["displacement"]), SceneRun(write_outputs=False))
     (sample,) = result.samples
     assert sample.sim.shape == sample.theory.shape == (N, sample.t.size)
     worst = float(np.max(np.abs(sample.sim - sample.theory)))
@@ -385,10 +385,10 @@ def test_every_scene_file_is_checked_before_anything_runs(tmp_path: Path, capsys
 @pytest.mark.ngspice
 def test_a_short_rect_pulse_tends_to_the_kick() -> None:
     # g of unit area and width w -> 0 gives L_1 the current I0: a kick, delayed by about w / 2.
-    kick = run_scene(_scene(), write_outputs=False).report["arrivals"][0]
+    kick = run_scene(_scene(), SceneRun(write_outputs=False)).report["arrivals"][0]
     width = 0.02
     pulse = run_scene(_scene({"excitation": {"kind": "pulse", "shape": "rect", "width": width}}),
-                      write_outputs=False).report["arrivals"][0]
+                      SceneRun(write_outputs=False)).report["arrivals"][0]
     assert pulse["peak_sim"] == pytest.approx(kick["peak_sim"], abs=ACCURACY_COARSE)
     assert pulse["t_sim"] - kick["t_sim"] == pytest.approx(width / 2, abs=ATOL_PULSE_DELAY)
 

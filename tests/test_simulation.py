@@ -19,8 +19,8 @@ from helpers.tolerances import (
 
 from lcchain.circuit.effects import Losses
 from lcchain.circuit.ladder import Ladder
-from lcchain.circuit.netlist import SimulationOptions, netlist_text, probe_names
-from lcchain.runs.simulate import simulate
+from lcchain.circuit.netlist import Drive, NetlistOutput, SimulationOptions, netlist_text, probe_names
+from lcchain.runs.simulate import ChainOptions, simulate_chain
 from lcchain.spice.job import RunJob
 from lcchain.spice.ngspice.runner import run
 from lcchain.theory.cases import chain_for_case
@@ -33,7 +33,7 @@ pytestmark = pytest.mark.ngspice
 @pytest.mark.parametrize("N", [3, 4, 5])
 def test_perfect_chains_transmit_fully(N):
     """Sec. II.C: I_N/I0 = 1 at t = sqrt(3/2) pi, sqrt(11) pi/2, sqrt(5) pi."""
-    report = simulate(Chain.perfect(N), dt=0.005, transits=1)
+    report = simulate_chain(Chain.perfect(N), ChainOptions(dt=0.005, transits=1))
     w = report.waveforms
     at = np.interp(PERFECT_ARRIVAL[N], w.t, w.last)
     assert abs(at - 1.0) < ATOL_PERFECT_PEAK
@@ -45,7 +45,7 @@ def test_perfect_chains_transmit_fully(N):
 @pytest.mark.parametrize("dt", [0.1, 0.05])
 def test_two_mass_optimum_n100_within_step_prediction(dt):
     """Trap rule with fixed maximum step: error ~ 0.28 dt^2 over the first transit, Table II chain."""
-    report = simulate(chain_for_case("two-mass", 100), dt=dt, transits=1)
+    report = simulate_chain(chain_for_case("two-mass", 100), ChainOptions(dt=dt, transits=1))
     assert report.comparison.max_abs_error_last < TRAP_ERROR_COEFFICIENT_FIRST_TRANSIT * dt**2
     # a wiring/sign/unit bug would be O(1): the error must also shrink like dt^2
     arrival = report.comparison.arrivals[0]
@@ -56,8 +56,8 @@ def test_two_mass_optimum_n100_within_step_prediction(dt):
 def test_displacement_equals_kick_in_dimensionless_form():
     """Eq. e.qit vs e.dotqit: Q_N/Q_1(0) after a displacement is the same alpha_N as I_N/I_1(0) after a kick."""
     chain = chain_for_case("two-mass", 20)
-    kick = simulate(chain, dt=0.02, transits=2, excitation="kick")
-    disp = simulate(chain, dt=0.02, transits=2, excitation="displacement")
+    kick = simulate_chain(chain, ChainOptions(dt=0.02, transits=2, excitation="kick"))
+    disp = simulate_chain(chain, ChainOptions(dt=0.02, transits=2, excitation="displacement"))
     bound = TRAP_ERROR_COEFFICIENT_FIRST_TRANSIT * 2 * 0.02**2 * 4
     assert kick.comparison.max_abs_error < bound
     assert disp.comparison.max_abs_error < bound
@@ -67,14 +67,14 @@ def test_displacement_equals_kick_in_dimensionless_form():
 
 def test_bounded_chain():
     """Uniform chain tied to walls (capacitors to ground) against its exact modes."""
-    report = simulate(Chain.uniform_bounded(20), dt=0.02, transits=1)
+    report = simulate_chain(Chain.uniform_bounded(20), ChainOptions(dt=0.02, transits=1))
     # uniform chains excite the whole band: 10-20 x the optimal chains' error (issue 4)
     assert report.comparison.max_abs_error < 20 * TRAP_ERROR_COEFFICIENT_FIRST_TRANSIT * 0.02**2
 
 
 def test_asymmetric_chain_uses_exact_modal_theory():
     chain = Chain([2.0, 1.0, 1.3, 0.8, 1.5], [0.0, 0.7, 1.0, 1.2, 0.9, 0.3])
-    report = simulate(chain, dt=0.01, transits=2)
+    report = simulate_chain(chain, ChainOptions(dt=0.01, transits=2))
     assert report.comparison.max_abs_error < MAX_ASYMMETRIC_RUN_ERROR
 
 
@@ -84,17 +84,17 @@ def test_uniform_free_zero_mode_carries_constant_dc():
     ladder = Ladder(chain, 10e-6, 10e-9)
     options = SimulationOptions(dt=0.05, tstop=60.0)
     names = probe_names(chain.N, "all")
-    result = run(RunJob(netlist_text(ladder, options, probes="all"), names, options.tstop * ladder.time_unit))
+    result = run(RunJob(netlist_text(ladder, options, output=NetlistOutput(probes="all")), names, options.tstop * ladder.time_unit))
     momentum = sum(float(m) * result.vectors[name] for m, name in zip(chain.masses, names, strict=True)) / 1e-3
     assert np.max(np.abs(momentum - chain.masses[0])) < RTOL_CONSERVED
     # and the end current oscillates about the DC level I0 m1/M = I0/20
-    report = simulate(chain, dt=0.05, transits=1)
+    report = simulate_chain(chain, ChainOptions(dt=0.05, transits=1))
     assert np.mean(report.waveforms.last) == pytest.approx(1 / 20, abs=ATOL_DC_LEVEL)
 
 
 def test_same_dimensionless_result_at_any_component_scale():
     chain = chain_for_case("two-mass", 20)
-    results = [simulate(chain, dt=0.05, L0=L0, C0=C0, I0=I0)
+    results = [simulate_chain(chain, ChainOptions(dt=0.05, L0=L0, C0=C0, I0=I0))
                for L0, C0, I0 in ((1.0, 1.0, 1.0), (10e-6, 10e-9, 1e-3), (1e-9, 1e-12, 1e-6))]
     # ngspice's start-up steps differ slightly at 1 H / 1 F (709 vs 711 points), so the
     # waveforms are compared through their error against theory at their own points.
@@ -109,8 +109,8 @@ def test_same_dimensionless_result_at_any_component_scale():
 
 def test_backends_bit_identical():
     chain = chain_for_case("two-mass", 20)
-    batch = simulate(chain, dt=0.05, backend="batch")
-    shared = simulate(chain, dt=0.05, backend="shared")
+    batch = simulate_chain(chain, ChainOptions(dt=0.05, backend="batch"))
+    shared = simulate_chain(chain, ChainOptions(dt=0.05, backend="shared"))
     assert np.array_equal(batch.run.time, shared.run.time)
     for name in batch.run.vectors:
         assert np.array_equal(batch.run.vectors[name], shared.run.vectors[name])
@@ -118,7 +118,7 @@ def test_backends_bit_identical():
 
 
 def test_report_records_run_metadata():
-    report = simulate(Chain.perfect(3), dt=0.01, transits=3)
+    report = simulate_chain(Chain.perfect(3), ChainOptions(dt=0.01, transits=3))
     data = report.to_dict()
     for key in ("N", "dt", "backend", "ngspice_version", "wall_s", "max_abs_error", "arrivals",
                 "netlist_sha256", "options"):
@@ -132,7 +132,7 @@ def test_report_records_run_metadata():
 
 def test_end_signal_is_alpha_not_something_else():
     """Guard against a swapped probe: the far end starts at 0, the near end at 1."""
-    report = simulate(chain_for_case("two-mass", 20), dt=0.05)
+    report = simulate_chain(chain_for_case("two-mass", 20), ChainOptions(dt=0.05))
     w = report.waveforms
     assert abs(w.last[0]) < ATOL_PROBES_AT_START and abs(w.first[0] - 1) < ATOL_PROBES_AT_START
     modes = normal_modes(report.chain)
@@ -151,10 +151,11 @@ def test_pyspice_circuit_is_the_same_ladder(effects):
 
     effects = dict(effects)
     coupling = effects.pop("coupling", 0.0)
+    drive = Drive(effects.pop("excitation"), pulse=effects.pop("pulse", None))
     chain = Chain([1.7, 0.9, 1.0, 0.9, 1.7], [0.2, 0.8, 1.0, 1.0, 0.8, 0.0], coupling=coupling)
     ladder = Ladder(chain)
     options = SimulationOptions(dt=0.05, tstop=12.0)
-    ours = netlist_text(ladder, options, **effects)
+    ours = netlist_text(ladder, options, drive, **effects)
     analysis = [line for line in ours.splitlines() if line.startswith((".options", ".tran", ".save"))]
     circuit_text = str(circuit_from_netlist(ours)) + "\n".join(analysis) + "\n.end\n"
     assert circuit_text != ours  # PySpice wrote it

@@ -19,7 +19,7 @@ from lcchain.compare.grid import segment_frequencies
 from lcchain.compare.spectral import sweep_grid
 from lcchain.compare.spectrum import fit_spectrum, min_points
 from lcchain.core.errors import ParameterError, SimulationError
-from lcchain.runs.spectrum import OMEGA_WEIGHT_FLOOR, measure_spectrum
+from lcchain.runs.spectrum import OMEGA_WEIGHT_FLOOR, SpectrumOptions, measure_spectrum
 from lcchain.spice.ngspice.raw import read_raw
 from lcchain.theory.cases import chain_for_case
 from lcchain.theory.exact import driven_modes
@@ -147,5 +147,5 @@ def test_no_segment_is_one_ngspice_cannot_sweep() -> None:
                 continue
             assert min(n for n, _, _ in segments) >= MIN_SEGMENT_POINTS
             assert total == sum(n for n, _, _ in segments)
-    report = measure_spectrum(chain_for_case("two-mass", 8), points=80)
+    report = measure_spectrum(chain_for_case("two-mass", 8), options=SpectrumOptions(points=80))
     assert report.points == 80

@@ -18,7 +18,7 @@ from lcchain.circuit.netlist import ac_netlist_text
 from lcchain.cli.main import main
 from lcchain.core.budget import INTERPRETER_SECONDS, Budget, BudgetError, run_estimate
 from lcchain.core.errors import ParameterError, SimulationError
-from lcchain.runs.spectrum import OMEGA_WEIGHT_FLOOR, measure_spectrum
+from lcchain.runs.spectrum import OMEGA_WEIGHT_FLOOR, SpectrumOptions, measure_spectrum
 from lcchain.spice.ac import AcJob, run_ac
 from lcchain.spice.engines import ENGINES
 from lcchain.spice.gnucap import read_ac_table
@@ -34,7 +34,7 @@ def _ac_netlist(chain, points):
                                    chain_for_case("two-mass", 16).with_coupling(0.03)],
                          ids=["two-mass-20", "perfect-walled-20", "coupled-16"])
 def test_gnucap_spectrum_matches_a_dense_eigen_solution(chain):
-    report = measure_spectrum(chain, engine="gnucap")
+    report = measure_spectrum(chain, options=SpectrumOptions(engine="gnucap"))
     assert report.engine == "gnucap" and report.to_dict()["engine"] == "gnucap" and report.engine_version
     omega, P = dense_modes(chain)
     strong = np.abs(P) >= OMEGA_WEIGHT_FLOOR
@@ -86,7 +86,7 @@ def test_gnucaps_ac_table_is_read_in_pairs():
 
 def test_an_unknown_engine_is_refused(capsys):
     with pytest.raises(ParameterError, match="engine"):
-        measure_spectrum(chain_for_case("two-mass", 8), engine="spectre")
+        measure_spectrum(chain_for_case("two-mass", 8), options=SpectrumOptions(engine="spectre"))
     assert main(["spectrum", "--case", "two-mass", "--N", "8", "--engine", "spectre"]) == 2
     err = capsys.readouterr().err
     assert "--engine" in err and "spectre" in err and err.count("\n") <= 2  # usage and one line
@@ -115,4 +115,4 @@ def test_gnucaps_sweep_is_priced_at_its_own_cost_before_it_runs():
     budget = Budget(max_seconds=between)
     assert ngspice.fits(budget)  # ngspice's sweep would be allowed...
     with pytest.raises(BudgetError, match="points = 200000"):  # ...gnucap's, slower, is not
-        measure_spectrum(chain_for_case("two-mass", 100), points=points, budget=budget, engine="gnucap")
+        measure_spectrum(chain_for_case("two-mass", 100), options=SpectrumOptions(points=points, engine="gnucap"), budget=budget)

@@ -28,7 +28,7 @@ from lcchain.cli.main import main
 from lcchain.compare.grid import min_points, segment_frequencies, sweep_segments
 from lcchain.compare.spectrum import fit_spectrum
 from lcchain.core.errors import ParameterError
-from lcchain.runs.spectrum import OMEGA_WEIGHT_FLOOR, measure_spectrum
+from lcchain.runs.spectrum import OMEGA_WEIGHT_FLOOR, SpectrumOptions, measure_spectrum
 from lcchain.spice.ngspice.raw import read_raw
 from lcchain.theory.cases import chain_for_case
 from lcchain.theory.chain import Chain
@@ -94,7 +94,7 @@ def _oscillator(squares: np.ndarray, gamma: float, t: float) -> np.ndarray:
                                           (chain_for_case("uniform-bounded", 24), 1e4)],
                          ids=["two-mass-20-Q100", "two-mass-20-Q10", "perfect-walled-20-Q1000", "walls-24-Q1e4"])
 def test_lossy_spectrum_in_ngspice_matches_a_dense_eigen_solution(chain, Q):
-    report = measure_spectrum(chain, Q=Q)
+    report = measure_spectrum(chain, options=SpectrumOptions(Q=Q))
     squares, _, b = _dense(chain)
     omega, P = np.sqrt(squares), chain.masses[0] * b
     strong = np.abs(P) >= OMEGA_WEIGHT_FLOOR

@@ -27,7 +27,8 @@ from helpers.tolerances import MAX_SWEEP_RUN_ERROR, RTOL_ARITHMETIC
 
 from lcchain.cli import main
 from lcchain.core.budget import Budget
-from lcchain.studies.plan import batch_plan, sweep_plan
+from lcchain.studies.options import RunOptions
+from lcchain.studies.plan import RealParts, SweepAxes, batch_plan, sweep_plan
 from lcchain.studies.run import run_plan
 from lcchain.studies.store import Store
 
@@ -49,7 +50,7 @@ def _digests(path: Path) -> list[str]:
 @pytest.fixture(scope="module")
 def serial_store(tmp_path_factory: pytest.TempPathFactory) -> Path:
     path = tmp_path_factory.mktemp("serial") / "s.sqlite"
-    summary = run_plan(sweep_plan(**SMALL), path, executor="serial")
+    summary = run_plan(sweep_plan(SweepAxes(**SMALL)), path, RunOptions(executor="serial"))
     assert (summary.total, summary.ran, summary.ok) == (12, 12, 12)
     return path
 
@@ -57,12 +58,12 @@ def serial_store(tmp_path_factory: pytest.TempPathFactory) -> Path:
 @pytest.mark.parametrize("executor", ["process", "dask"])
 def test_every_executor_stores_the_same_digests(serial_store: Path, tmp_path: Path, executor: str) -> None:
     path = tmp_path / f"{executor}.sqlite"
-    summary = run_plan(sweep_plan(**SMALL), path, executor=executor, workers=2)
+    summary = run_plan(sweep_plan(SweepAxes(**SMALL)), path, RunOptions(executor=executor, workers=2))
     assert summary.to_dict() | {"wall_s": 0} == {"total": 12, "skipped": 0, "ran": 12, "ok": 12, "failed": 0,
                                                  "combined": 0, "combined_failed": 0, "pending": 0,
                                                  "refused": 0, "refusals": [], "store": str(path), "wall_s": 0}
     assert _digests(path) == _digests(serial_store) and all(len(d) == 64 for d in _digests(path))
-    again = run_plan(sweep_plan(**SMALL), path, executor=executor, workers=2)
+    again = run_plan(sweep_plan(SweepAxes(**SMALL)), path, RunOptions(executor=executor, workers=2))
     assert (again.skipped, again.ran) == (12, 0)  # a finished study runs nothing
 
 
@@ -73,10 +74,10 @@ def test_a_sweep_planned_on_its_started_pool_is_the_serial_one(serial_store: Pat
 
     path = tmp_path / "started.sqlite"
     with started_pool(2) as pool:
-        plan = sweep_plan(**SMALL, pool=pool)
-        summary = run_plan(plan, path, executor="process", workers=2, pool=pool)
+        plan = sweep_plan(SweepAxes(**SMALL), pool=pool)
+        summary = run_plan(plan, path, RunOptions(executor="process", workers=2, pool=pool))
     assert (summary.ran, summary.ok) == (12, 12)
-    assert plan.fingerprint("39") == sweep_plan(**SMALL).fingerprint("39")
+    assert plan.fingerprint("39") == sweep_plan(SweepAxes(**SMALL)).fingerprint("39")
     assert _digests(path) == _digests(serial_store)
 
 
@@ -178,7 +179,7 @@ def test_a_timeout_is_a_record_and_leaves_no_ngspice(tmp_path: Path) -> None:
     (tmp_path / "endless.cir").write_text(endless)
     plan = batch_plan([tmp_path / "endless.cir"], timeout=1.0, budget=Budget(1e15, 1e7))  # priced far beyond 1 s
     before = set(descendants(os.getpid()))
-    summary = run_plan(plan, tmp_path / "t.sqlite", executor="process", workers=1)
+    summary = run_plan(plan, tmp_path / "t.sqlite", RunOptions(executor="process", workers=1))
     assert (summary.failed, summary.ok) == (1, 0)
     with Store(tmp_path / "t.sqlite") as store:
         (run,) = store.runs()
@@ -221,7 +222,7 @@ def test_joined_keys_vary_together() -> None:
 
     key, values = parse_vary(" effects.tolerance.L + effects.tolerance.C = 0.0, 0.05")
     assert (key, values) == ("effects.tolerance.L+effects.tolerance.C", [0.0, 0.05])
-    plan = scene_sweep_plan(ROOT / "examples" / "scenes" / "real-parts.toml", [(key, values)], samples=2)
+    plan = scene_sweep_plan(ROOT / "examples" / "scenes" / "real-parts.toml", [(key, values)], RealParts(samples=2))
     netlists = {(t.params[key], t.params["sample"]): t.spec.netlist for t in plan.tasks}
 
     def values_of(text: str, kind: str) -> list[str]:

@@ -20,7 +20,7 @@ from lcchain.core.budget import (
     POOL_WORKER_BYTES,
     export_estimate,
 )
-from lcchain.studies.plan import sweep_plan
+from lcchain.studies.plan import SweepAxes, sweep_plan
 from lcchain.studies.store import Store
 
 #: A worst case of a small ladder at a fixed step: 2^2 + 3 corners that run in well under a second each.
@@ -75,7 +75,7 @@ def test_a_spectrum_past_its_memory_is_refused_before_ngspice_starts(capsys) -> 
 
 def test_a_study_prices_its_pool_workers() -> None:
     """Each pool worker is an interpreter of its own holding a run; the driver alone runs one worker's runs."""
-    plan = sweep_plan(cases=["two-mass"], Ns=[10, 12, 14, 16], dts=[0.05])
+    plan = sweep_plan(SweepAxes(cases=["two-mass"], Ns=[10, 12, 14, 16], dts=[0.05]))
     one, two, four = (plan.price(workers, "process") for workers in (1, 2, 4))
     assert two.memory - one.memory >= 2 * POOL_WORKER_BYTES and four.memory > two.memory
     assert plan.price(4, "serial").memory == one.memory  # serial: no worker whatever --workers says

@@ -99,10 +99,10 @@ def test_cli_shapes_json(capsys):
 
 def test_shapes_refuse_other_effects():
     from lcchain.circuit.effects import CoilResistance
-    from lcchain.runs.spectrum import measure_spectrum
+    from lcchain.runs.spectrum import SpectrumOptions, measure_spectrum
 
     with pytest.raises(ParameterError, match="shapes"):
-        measure_spectrum(chain_for_case("two-mass", 8), shapes=True, effects=(CoilResistance(0.01),))
+        measure_spectrum(chain_for_case("two-mass", 8), options=SpectrumOptions(shapes=True, effects=(CoilResistance(0.01),)))
 
 
 def test_a_sweep_cut_into_several_runs_gives_the_same_modes(monkeypatch):

@@ -51,8 +51,8 @@ def test_an_object_that_is_no_engine_is_refused_in_one_line() -> None:
 @pytest.mark.ngspice
 def test_a_renamed_ngspice_runs_a_transient_through_the_public_api(renamed: RenamedNgspice) -> None:
     chain = lcchain.chain_for_case("perfect", 12)
-    ours = lcchain.simulate(chain, dt=0.05, engine=renamed)
-    plain = lcchain.simulate(chain, dt=0.05)
+    ours = lcchain.simulate_chain(chain, lcchain.ChainOptions(dt=0.05, engine=renamed))
+    plain = lcchain.simulate_chain(chain, lcchain.ChainOptions(dt=0.05))
     assert ours.run.engine == renamed.name and ours.record.engine == renamed.name
     assert ours.run.netlist_sha256 == plain.run.netlist_sha256  # the same text (ngspice's dialect) ...
     assert np.array_equal(ours.waveforms.last, plain.waveforms.last)  # ... gives ngspice's own bits

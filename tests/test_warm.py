@@ -17,13 +17,14 @@ import threading
 import time
 from dataclasses import replace
 from pathlib import Path
+from typing import Any
 
 import pytest
 from helpers.processes import alive, as_from_a_terminal, descendants, gone, reaped
 
 import lcchain
 from lcchain.core.errors import ParameterError, SimulationError, SimulatorMissingError
-from lcchain.runs.simulate import simulation_spec
+from lcchain.runs.simulate import ChainOptions, simulation_spec
 from lcchain.spice.job import RunJob
 from lcchain.spice.ngspice import warm
 from lcchain.spice.ngspice.find import find_simulator
@@ -31,6 +32,7 @@ from lcchain.spice.ngspice.runner import run
 from lcchain.spice.result import RunResult
 from lcchain.spice.simulator import Simulator
 from lcchain.studies.executors import Transports, choose_transports
+from lcchain.studies.options import RunOptions
 from lcchain.studies.plan import batch_plan
 from lcchain.studies.run import run_plan
 
@@ -53,7 +55,7 @@ def _no_worker_outlives_a_test():
 
 
 def _netlist(N: int, dt: float = 0.05, transits: int = 1) -> tuple[str, tuple[str, ...], float]:
-    spec, _, _ = simulation_spec(lcchain.chain_for_case("two-mass", N), dt=dt, transits=transits)
+    spec, _, _ = simulation_spec(lcchain.chain_for_case("two-mass", N), ChainOptions(dt=dt, transits=transits))
     return spec.netlist, spec.vectors, spec.tstop
 
 
@@ -173,6 +175,66 @@ def test_choose_transports(simulators, tmp_path: Path) -> None:
         choose_transports(items, batch, 1, "fast")
 
 
+def _started_by(monkeypatch: pytest.MonkeyPatch) -> list[str]:
+    """The names of the threads that start warm workers from now on (a spy on the constructor: the workers are
+    real)."""
+    names: list[str] = []
+    start = warm.WarmWorker.__init__
+
+    def spied(self: warm.WarmWorker, *args: Any, **kwargs: Any) -> None:
+        names.append(threading.current_thread().name)
+        start(self, *args, **kwargs)
+
+    monkeypatch.setattr(warm.WarmWorker, "__init__", spied)
+    return names
+
+
+def test_a_batch_runs_on_the_workers_started_while_it_planned(tmp_path: Path,
+                                                                monkeypatch: pytest.MonkeyPatch) -> None:
+    """lcchain batch finds ngspice and starts one warm worker per thread while it plans (EngineStart); the run
+    threads take them over, and they live on after the thread that started them is done with them (a worker
+    dies with the *thread* that started it: setpriv --pdeathsig)."""
+    from lcchain.app.batch import BatchRequest, batch
+    from lcchain.app.studies import StudyOptions
+
+    started = _started_by(monkeypatch)
+    paths = _netlists(tmp_path, 25)
+    result = batch(BatchRequest(tuple(map(str, paths)), study=StudyOptions(workers=2,
+                                                                          store=str(tmp_path / "s.sqlite"))))
+    assert (result.summary.ok, result.summary.failed) == (25, 0)
+    assert started == ["lcchain-engine-start"] * 2  # none by the run threads
+    assert _workers() == []  # ended with the study
+
+
+def test_the_workers_started_while_planning_end_with_a_refused_plan(tmp_path: Path,
+                                                                    monkeypatch: pytest.MonkeyPatch) -> None:
+    from lcchain.app.batch import BatchRequest, batch
+    from lcchain.app.studies import StudyOptions
+
+    started = _started_by(monkeypatch)
+    paths = _netlists(tmp_path, 25)
+    paths[-1].write_text(paths[-1].read_text() + ".control\nshell true\n.endc\n")
+    with pytest.raises(ParameterError):
+        batch(BatchRequest(tuple(map(str, paths)), strict=True,
+                           study=StudyOptions(workers=2, store=str(tmp_path / "s.sqlite"))))
+    assert started == ["lcchain-engine-start"] * 2
+    assert _workers() == []
+    assert not (tmp_path / "s.sqlite").exists()
+
+
+def test_few_runs_start_no_worker_while_planning(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Under WARM_MIN_RUNS_PER_WORKER runs a worker, every run starts its own process: no worker is started."""
+    from lcchain.studies.executors import WARM_MIN_RUNS_PER_WORKER, EngineStart
+
+    started = _started_by(monkeypatch)
+    with EngineStart("ngspice", "batch", runs=2 * WARM_MIN_RUNS_PER_WORKER - 1, workers=2, executor="process",
+                     transport="auto") as engine:
+        assert engine.simulator().version
+    with EngineStart("ngspice", "batch", runs=100, workers=2, executor="process", transport="process") as engine:
+        assert engine.simulator().version
+    assert started == []
+
+
 def _stored(path: Path) -> list[tuple[str, str, str, int]]:
     with sqlite3.connect(path) as db:
         rows = db.execute("SELECT key, status, digest, points FROM records ORDER BY key").fetchall()
@@ -187,8 +249,7 @@ def test_a_batch_is_the_same_whichever_transport(simulators, tmp_path: Path, exe
     stores = {}
     for transport in ("process", "warm", "auto"):
         stores[transport] = tmp_path / f"{transport}.sqlite"
-        summary = run_plan(plan, stores[transport], executor=executor, workers=2, simulator=batch,
-                           transport=transport)
+        summary = run_plan(plan, stores[transport], RunOptions(executor=executor, workers=2, simulator=batch, transport=transport))
         assert summary.ok == 24 and summary.failed == 0
         assert _workers() == []  # every warm worker ended with its study
     rows = {transport: _stored(path) for transport, path in stores.items()}

@@ -17,6 +17,6 @@ scene = lcchain.parse_scene({
                 "preferred_values": {"series": "E24"}},
     "analysis": {"transits": 1, "accuracy": 1e-3},
 }, source="plot_tolerances.py")
-result = lcchain.run_scene(scene, write_outputs=False)
+result = lcchain.run_scene(scene, lcchain.SceneRun(write_outputs=False))
 print(result)
 fig = result.plot()

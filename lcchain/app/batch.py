@@ -7,7 +7,7 @@ import time
 from dataclasses import dataclass, field
 
 from ..core.budget import INTERPRETER_SECONDS, Budget
-from .studies import PlannedStudy, StudyHooks, StudyOptions, StudyResult, check_study, run_study
+from .studies import PlannedStudy, StudyHooks, StudyOptions, StudyResult, check_study, run_study, study_workers
 
 __all__ = ["BatchRequest", "batch"]
 
@@ -30,12 +30,20 @@ def batch(request: BatchRequest, hooks: StudyHooks | None = None) -> StudyResult
     """A batch's --max-time is its whole budget: each run's own limits come from its price (batch_plan), and no run
     starts once the budget is spent (the runs left stay pending in the store). A netlist lcchain will not run is
     stored as refused and the others run; with ``strict`` the first refusal stops the batch (a ParameterError)."""
+    from ..spice.engines import DEFAULT_ENGINE
+    from ..studies.executors import EngineStart
     from ..studies.plan import batch_plan
 
     started = time.monotonic()
     check_study(request.study)
     budget = request.budget
-    plan = batch_plan(list(request.netlists), allow_control=request.allow_control, timeout=request.study.timeout,
-                      budget=budget, strict=request.strict, check=request.check)
-    left = budget.max_seconds - INTERPRETER_SECONDS - (time.monotonic() - started)
-    return run_study(PlannedStudy(plan, max_seconds=max(left, 0.0)), request.study, budget, hooks)
+    options = request.study
+    # ngspice found and its warm workers started while the netlists are read, checked and priced
+    with EngineStart(DEFAULT_ENGINE, "batch", runs=0 if request.allow_control else len(request.netlists),
+                     workers=study_workers(options), executor=options.executor,
+                     transport=options.transport) as engine:
+        plan = batch_plan(list(request.netlists), allow_control=request.allow_control, timeout=options.timeout,
+                          budget=budget, strict=request.strict, check=request.check)
+        left = budget.max_seconds - INTERPRETER_SECONDS - (time.monotonic() - started)
+        return run_study(PlannedStudy(plan, max_seconds=max(left, 0.0)), options, budget, hooks,
+                         simulator=engine.simulator())

@@ -6,7 +6,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 from ..core.budget import Budget
-from ..core.types import JSONObject
+from ..core.json import LooseJSONObject
 from ..report.files import check_output_folder
 
 __all__ = ["AccuracyBenchRequest", "AccuracyBench", "bench_accuracy", "write_bench"]
@@ -28,7 +28,7 @@ class AccuracyBench:
     """The benchmark's table as Markdown, and everything it measured (written by :func:`write_bench`)."""
 
     markdown: str
-    data: JSONObject
+    data: LooseJSONObject
 
 
 def bench_accuracy(request: AccuracyBenchRequest) -> AccuracyBench:

@@ -29,7 +29,8 @@ class CheckRequest:
 
 def check(request: CheckRequest) -> CheckResult:
     """The :class:`lcchain.runs.check.CheckResult`: each saved vector's error, the step an accuracy needs."""
-    from ..runs.check import check_file
+    from ..runs.check import CheckOptions, check_file
 
-    return check_file(request.netlist, accuracy=request.accuracy, engine=request.engine, timeout=request.timeout,
-                      allow_control=request.allow_control, budget=request.budget)
+    return check_file(request.netlist, CheckOptions(accuracy=request.accuracy, engine=request.engine,
+                                                    timeout=request.timeout, allow_control=request.allow_control,
+                                                    budget=request.budget))

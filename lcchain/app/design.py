@@ -9,8 +9,9 @@ from typing import TYPE_CHECKING, Literal
 
 from ..core.budget import Budget, Estimate, design_estimate
 from ..core.errors import ParameterError
+from ..core.json import LooseJSONObject
 from ..core.limits import MAX_DESIGN_N, MIN_N
-from ..core.types import DESIGN_CASES, DesignCase, JSONObject
+from ..core.types import DESIGN_CASES, DesignCase
 from ..theory.design import DESIGN_TABLES
 from .inputs import check_perfect
 
@@ -89,7 +90,7 @@ def design(request: DesignRequest) -> Design | PerfectDesign:
     return result
 
 
-def table(request: TableRequest) -> list[JSONObject]:
+def table(request: TableRequest) -> list[LooseJSONObject]:
     """The table's rows, one design per size, as :meth:`lcchain.theory.design.Design.to_dict` gives them."""
     from ..theory.design import optimal_design
 

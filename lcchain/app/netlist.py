@@ -42,7 +42,7 @@ class NetlistResult:
 
 def netlist(request: NetlistRequest) -> NetlistResult:
     """The netlist's text, written to ``request.output`` when one is given."""
-    from ..circuit.netlist import make_netlist
+    from ..circuit.netlist import ChainNetlist, Drive, make_netlist
 
     outputs = Outputs(inputs={"--chain": request.chain.chain} if request.chain.chain else {})
     outputs.check("--output", request.output)
@@ -50,9 +50,10 @@ def netlist(request: NetlistRequest) -> NetlistResult:
     dt = request.dt if request.dt is not None else DEFAULT_DT
     for effect in request.effects:  # walls and the like change the chain itself; the others add elements
         chain = effect.realise(chain, request.L0, request.C0)
-    text, _, _ = make_netlist(chain, dt=dt, transits=request.transits, excitation=request.excitation,
-                              L0=request.L0, C0=request.C0, title=request.title,
-                              comments=(f"made by: {request.command}",), effects=request.effects)
+    options = ChainNetlist(dt=dt, transits=request.transits, L0=request.L0, C0=request.C0,
+                           drive=Drive(request.excitation), title=request.title,
+                           comments=(f"made by: {request.command}",), effects=request.effects)
+    text, _, _ = make_netlist(chain, options)
     if request.output:
         outputs.text("--output", text)  # "-" too: stdout
     return NetlistResult(text, bool(outputs.failed), tuple(outputs.notes))

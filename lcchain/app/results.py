@@ -13,7 +13,8 @@ from typing import TYPE_CHECKING, Any
 
 from ..core.budget import Budget
 from ..core.errors import ExtraMissingError, ParameterError
-from ..core.types import STUDY_METRICS, JSONObject
+from ..core.json import LooseJSONObject
+from ..core.types import STUDY_METRICS
 from ..report.files import FIGURE_FORMATS
 from .inputs import Outputs
 
@@ -49,11 +50,11 @@ class Results:
     written, ``failed`` the options whose file could not be, and ``notes`` the lines that say why."""
 
     stored: list[StoredRun]
-    runs: list[JSONObject]
-    groups: list[JSONObject] = field(default_factory=list)
-    constants: JSONObject = field(default_factory=dict)
-    runs_json: list[JSONObject] = field(default_factory=list)
-    rows: list[JSONObject] = field(default_factory=list)
+    runs: list[LooseJSONObject]
+    groups: list[LooseJSONObject] = field(default_factory=list)
+    constants: LooseJSONObject = field(default_factory=dict)
+    runs_json: list[LooseJSONObject] = field(default_factory=list)
+    rows: list[LooseJSONObject] = field(default_factory=list)
     axes: list[str] = field(default_factory=list)
     vectors: dict[str, list[str] | None] = field(default_factory=dict)
     written: list[str] = field(default_factory=list)
@@ -142,7 +143,7 @@ def _price_results(store: Store, request: ResultsRequest) -> None:
                    "--netcdf without --waveforms, or a larger --max-memory" if waveforms else "")
 
 
-def _flat(run: JSONObject) -> JSONObject:
+def _flat(run: LooseJSONObject) -> LooseJSONObject:
     from ..spice.measure import MEASUREMENTS
     from ..studies.exports import measurement_column
 
@@ -178,7 +179,7 @@ def _write_atomic(path: Path, writer: Callable[[Path], object]) -> None:
         writer(partial)
 
 
-def _with_seconds(runs: list[JSONObject], store: Store) -> list[JSONObject]:
+def _with_seconds(runs: list[LooseJSONObject], store: Store) -> list[LooseJSONObject]:
     """``results --json``: each arrival's times also in seconds (``t_sim_s``, ``t_theory_s``) where the study
     states one L0 and one C0 (a sweep's description); a batch of netlists or a study of scenes states none."""
     from ..core.physical import seconds

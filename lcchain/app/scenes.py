@@ -3,7 +3,6 @@ report and plots) and for the scene files of a command line (:func:`run_scenes`)
 
 from __future__ import annotations
 
-import sys
 import time
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field, replace
@@ -19,62 +18,104 @@ from ..scenes.run import SceneResult, simulate_scene
 from ..scenes.schema import Scene
 from ..spice.simulator import Simulator
 from ..studies.executors import DEFAULT_EXECUTOR, EXECUTOR_TRAITS
+from ..studies.options import Progress, RunOptions
 from .inputs import Outputs
 from .studies import StudyOptions
 
-__all__ = ["run_scene", "RunRequest", "ScenesRun", "run_scenes"]
+__all__ = ["SceneRun", "SceneHooks", "run_scene", "RunRequest", "ScenesRun", "run_scenes"]
 
 
-def run_scene(scene: Scene, *, netlist_out: str | None = None, waveform_out: str | None = None,
-              write_outputs: bool = True, progress: Callable[[float], None] | None = None,
-              simulator: Simulator | None = None, budget: Budget | None = None, executor: str = "serial",
-              workers: int | None = None, scheduler: str | None = None, transport: str = "auto",
-              study_progress: Callable[[Any], None] | None = None,
-              write_error: Callable[[OSError], None] | None = None) -> SceneResult:
+@dataclass(frozen=True)
+class SceneRun:
+    """How :func:`run_scene` runs a scene and what it keeps.
+
+    Attributes
+    ----------
+    netlist_out, waveform_out : str, optional
+        Keep the (first sample's) netlist, and its end waveforms as CSV ``t,first,last`` (dimensionless, as
+        ``lcchain simulate`` writes them); ``-``: stdout.
+    write_outputs : bool
+        Write the report file and plots named by the scene's ``[output]``.
+    budget : Budget, optional
+        The most memory and time the scene may take.
+    executor, workers, scheduler, transport
+        The samples on an executor of :mod:`lcchain.studies.executors` (``"process"``, ``"dask"``; workers >= 1,
+        and > 1 with ``"serial"`` means a process pool), as a study runs them
+        (``lcchain.studies.options.RunOptions``).  Default: one after the other in this process.
+    simulator : Simulator, optional
+        Found once by the caller; found here when omitted.
+
+    ``write_outputs``, ``workers`` and the two file names are checked here; the executor where the samples go to
+    one (an unknown name is refused with the executors' names).
+    """
+
+    netlist_out: str | None = None
+    waveform_out: str | None = None
+    write_outputs: bool = True
+    budget: Budget | None = None
+    executor: str = "serial"
+    workers: int | None = None
+    scheduler: str | None = None
+    transport: str = "auto"
+    simulator: Simulator | None = field(default=None, compare=False)
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.write_outputs, bool):
+            raise ParameterError("write_outputs", self.write_outputs, "True or False")
+        if self.workers is not None and (not isinstance(self.workers, int) or isinstance(self.workers, bool)
+                                         or self.workers < 1):
+            raise ParameterError("--workers", self.workers, "an integer >= 1")
+        for option, path in self.others().items():
+            if path is not None:
+                check_output(option, path)  # a file name, not a number or bytes
+
+    def others(self) -> dict[str, str | None]:
+        """The files kept beside the scene's own outputs, by option."""
+        return {"netlist_out": self.netlist_out, "waveform_out": self.waveform_out}
+
+
+@dataclass(frozen=True)
+class SceneHooks:
+    """What :func:`run_scene` calls while it runs: ``progress`` with the fraction of the scene's simulations done
+    (0 to 1, one after the other), ``study_progress`` with each ``lcchain.studies.options.Progress`` of its
+    samples on an executor, and ``write_error`` with the error when an output cannot be written (a full disk:
+    the result is returned, with no files; default: the error is raised)."""
+
+    progress: Callable[[float], None] | None = None
+    study_progress: Callable[[Progress], None] | None = None
+    write_error: Callable[[OSError], None] | None = None
+
+
+def run_scene(scene: Scene, options: SceneRun | None = None, hooks: SceneHooks | None = None) -> SceneResult:
     """Run every sample of a scene, write its report and plots, return the result: ``lcchain run``.
 
     Parameters
     ----------
     scene : Scene
-    netlist_out, waveform_out : str, optional
-        Keep the (first sample's) netlist, and its end waveforms as CSV
-        ``t,first,last`` (dimensionless, as ``lcchain simulate`` writes them).
-    write_outputs : bool
-        Write the report file and plots named by the scene's ``[output]``.
-    progress : callable, optional
-        Called with the fraction of the scene's simulations done (0 to 1), one after the other.
-    simulator : Simulator, optional
-        Found once by the caller; found here when omitted.
-    budget : Budget, optional
-        The most memory and time the scene may take.
-    executor, workers, scheduler, transport
-        The samples on an executor of :mod:`lcchain.studies.executors` (``"process"``, ``"dask"``; workers > 1
-        with ``"serial"`` means a process pool), as a study runs them; ``study_progress`` is called with each
-        :class:`lcchain.studies.run.Progress`.  Default: one after the other in this process.
-    write_error : callable, optional
-        Called with the error when an output cannot be written (a full disk): the result is returned, with no
-        files.  Default: the error is raised.
+    options : SceneRun, optional
+        The files it keeps, whether it writes its own, its budget and where its samples run (default: every
+        output the scene names, one sample after the other in this process).
+    hooks : SceneHooks, optional
+        Its progress, its samples' progress on an executor, and what an output that cannot be written does.
     """
     instance("scene", scene, Scene)
-    if not isinstance(write_outputs, bool):
-        raise ParameterError("write_outputs", write_outputs, "True or False")
-    if workers is not None and (not isinstance(workers, int) or isinstance(workers, bool) or workers < 1):
-        raise ParameterError("--workers", workers, "an integer >= 1")
-    others = {"netlist_out": netlist_out, "waveform_out": waveform_out}
-    for option, path in others.items():
-        if path is not None:
-            check_output(option, path)  # a file name, not a number or bytes
-    check_scene_outputs([scene] if write_outputs else [], others)
+    options = options if options is not None else SceneRun()
+    hooks = hooks if hooks is not None else SceneHooks()
+    instance("options", options, SceneRun)
+    check_scene_outputs([scene] if options.write_outputs else [], options.others())
+    executor, workers = options.executor, options.workers
     traits = EXECUTOR_TRAITS.get(executor)  # an unknown name goes on, to be refused with the executors' names
     parallel = traits is None or traits.parallel
     if workers is not None and workers > 1 or parallel:  # several workers asked of the serial executor: a pool
-        result = _on_executor(scene, budget, executor if parallel else DEFAULT_EXECUTOR, workers, scheduler,
-                              transport, study_progress)
+        result = _on_executor(scene, options.budget, RunOptions(executor if parallel else DEFAULT_EXECUTOR, workers,
+                                                                options.scheduler, options.transport),
+                              hooks.study_progress)
     else:
-        result = simulate_scene(scene, progress=progress, simulator=simulator, budget=budget)
+        result = simulate_scene(scene, progress=hooks.progress, simulator=options.simulator, budget=options.budget)
+    write_error = hooks.write_error
     try:
-        files = write_scene_outputs(result, netlist_out=netlist_out, waveform_out=waveform_out,
-                                    write_outputs=write_outputs)
+        files = write_scene_outputs(result, netlist_out=options.netlist_out, waveform_out=options.waveform_out,
+                                    write_outputs=options.write_outputs)
     except OSError as error:
         if write_error is None:
             raise
@@ -84,20 +125,21 @@ def run_scene(scene: Scene, *, netlist_out: str | None = None, waveform_out: str
     return replace(result, files=tuple(files))
 
 
-def _on_executor(scene: Scene, budget: Budget | None, executor: str, workers: int | None, scheduler: str | None,
-                 transport: str, progress: Callable[[Any], None] | None) -> SceneResult:
+def _on_executor(scene: Scene, budget: Budget | None, options: RunOptions,
+                 progress: Callable[[Progress], None] | None) -> SceneResult:
     """A scene's tolerance samples on an executor, summed up as one after the other would be."""
     from ..scenes.plan import scene_plan, scene_specs
     from ..scenes.run import scene_result
+    from ..studies.options import RunHooks
     from ..studies.run import check_specs, run_specs
 
     start = time.perf_counter()
     plan = scene_plan(scene, budget)
     specs = scene_specs(scene, plan)
     # its workers' interpreters and runs, priced
-    check_specs(specs, budget if budget is not None else Budget(), executor=executor, workers=workers)
-    records = run_specs(specs, executor=executor, workers=workers, scheduler=scheduler, progress=progress,
-                        transport=transport)
+    assert isinstance(options.executor, str)  # run_scene's executor is a registry name
+    check_specs(specs, budget if budget is not None else Budget(), executor=options.executor, workers=options.workers)
+    records = run_specs(specs, options, RunHooks(progress=progress))
     return scene_result(scene, plan, specs, records, time.perf_counter() - start)
 
 
@@ -123,12 +165,14 @@ class RunRequest:
 
 @dataclass(frozen=True)
 class ScenesRun:
-    """Each scene's result, the scenes whose outputs could not be written, and the outputs checked (which of
-    them goes to stdout)."""
+    """Each scene's result, the scenes whose outputs could not be written, the outputs checked (which of them
+    goes to stdout; their notes say what was not written) and the figure of the scenes side by side, when
+    drawn."""
 
     results: list[SceneResult]
     failed_files: list[str | None]
     outputs: Outputs
+    side_by_side: str | None = None
 
     @property
     def ok(self) -> bool:
@@ -183,27 +227,28 @@ def run_scenes(request: RunRequest, shown: Callable[[SceneResult, Outputs], None
 
         def unwritten(error: OSError, source: str | None = scene.source) -> None:
             failed_files.append(source)
-            print(f"lcchain: could not write {error.filename or 'an output'} of {source}: "
-                  f"{error.strerror or error}", file=sys.stderr)
+            outputs.notes.append(f"could not write {error.filename or 'an output'} of {source}: "
+                                 f"{error.strerror or error}")
 
-        result = run_scene(scene, netlist_out=request.netlist_out, waveform_out=request.waveform_out,
-                           budget=request.budget,
-                           progress=None if request.progress is None else request.progress(label),
+        options = SceneRun(request.netlist_out, request.waveform_out, budget=request.budget,
                            executor=study.executor, workers=study.workers, scheduler=study.scheduler,
-                           transport=study.transport,
-                           study_progress=None if request.study_progress is None else
-                           request.study_progress(f"samples of {label}"), write_error=unwritten)
+                           transport=study.transport)
+        hooks = SceneHooks(None if request.progress is None else request.progress(label),
+                           None if request.study_progress is None else request.study_progress(f"samples of {label}"),
+                           unwritten)
+        result = run_scene(scene, options, hooks)
         results.append(result)
         if shown is not None:
             shown(result, outputs)
+    drawn = None
     if request.side_by_side:
         from ..report.plots import side_by_side
 
         panels = [p for p in (overlay_panel(r) for r in results) if p is not None]
         if panels:
             outputs.write("--side-by-side", lambda path: side_by_side(panels, path=path))
-            if not request.json and "--side-by-side" not in outputs.failed:
-                print(f"wrote {request.side_by_side}", file=sys.stderr if outputs.to_stdout else sys.stdout)
+            if "--side-by-side" not in outputs.failed:
+                drawn = request.side_by_side
         else:
-            print(f"lcchain: no scene ran, so {request.side_by_side} was not drawn", file=sys.stderr)
-    return ScenesRun(results, failed_files, outputs)
+            outputs.notes.append(f"no scene ran, so {request.side_by_side} was not drawn")
+    return ScenesRun(results, failed_files, outputs, drawn)

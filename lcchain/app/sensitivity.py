@@ -72,6 +72,7 @@ def _checks(request: SensitivityRequest, sensitivity: LadderSensitivity) -> tupl
     """The check's runs through a plan and a store (the user's, or a temporary one), read back as rows; and the
     note that says how many failed, if any did."""
     from ..spice.scratch import scratch_folder
+    from ..studies.options import RunHooks, RunOptions
     from ..studies.run import run_plan
     from ..studies.sensitivity import check_plan, check_rows
     from ..studies.store import Store
@@ -83,8 +84,8 @@ def _checks(request: SensitivityRequest, sensitivity: LadderSensitivity) -> tupl
     plan.check(request.budget, workers, study.executor, "--check")
     with contextlib.ExitStack() as stack:
         store = study.store or str(stack.enter_context(scratch_folder("check", watch=True)) / "check.sqlite")
-        summary = run_plan(plan, store, executor=study.executor, workers=workers, scheduler=study.scheduler,
-                           progress=request.study_progress, transport=study.transport)
+        summary = run_plan(plan, store, RunOptions(study.executor, workers, study.scheduler, study.transport),
+                           RunHooks(progress=request.study_progress))
         with Store(store, "read") as stored:
             rows = check_rows(stored.runs(), steps, sensitivity.metric)
     if summary.failed or summary.combined_failed:

@@ -1,7 +1,7 @@
 """``lcchain simulate`` as functions: run the ladder in one engine (or the same netlist in several) against
 theory, then write what was asked for.
 
-:func:`simulate_chain` checks the outputs, builds the chain, keeps the netlist before the simulator starts and
+:func:`simulate` checks the outputs, builds the chain, keeps the netlist before the simulator starts and
 runs it; the caller shows the result; :func:`write_outputs` then writes the waveforms and the figure.
 With several engines it runs one netlist in each (an :class:`EnginesComparison`).
 """
@@ -17,8 +17,9 @@ from typing import TYPE_CHECKING
 from ..circuit.effects import Effect
 from ..core.budget import Budget
 from ..core.errors import ParameterError
+from ..core.json import LooseJSONObject
 from ..core.physical import hertz, physical_scales, seconds
-from ..core.types import BACKENDS, Backend, JSONObject, Method
+from ..core.types import BACKENDS, Backend, Method
 from ..report.files import FIGURE_FORMATS
 from .inputs import LadderRequest, Outputs, make_chain
 from .netlist import DEFAULT_DT
@@ -29,7 +30,7 @@ if TYPE_CHECKING:
     from ..runs.spec import RunSpec
     from ..theory.chain import Chain
 
-__all__ = ["SimulateRequest", "Simulation", "EnginesComparison", "simulate_chain", "write_outputs",
+__all__ = ["SimulateRequest", "Simulation", "EnginesComparison", "simulate", "write_outputs",
            "with_physical_units"]
 
 
@@ -63,7 +64,7 @@ class Simulation:
     request: SimulateRequest
     chain: Chain
     report: SimulationReport
-    data: JSONObject
+    data: LooseJSONObject
     warnings: tuple[str, ...]
     outputs: Outputs
     kept: list[str]
@@ -76,12 +77,12 @@ class EnginesComparison:
 
     chain: Chain
     reports: list[SimulationReport]
-    data: JSONObject
+    data: LooseJSONObject
     differences: dict[str, float]
     warnings: tuple[str, ...] = ()
 
 
-def with_physical_units(data: JSONObject, L0: float, C0: float) -> JSONObject:
+def with_physical_units(data: LooseJSONObject, L0: float, C0: float) -> LooseJSONObject:
     """A report's JSON with its bulk numbers also in SI (issue 33): ``physical`` (the units' scales,
     :func:`lcchain.core.physical.physical_scales`), ``dt_s`` and ``tstop_s``, each arrival's ``t_theory_s`` and
     ``t_sim_s``, each mode's ``omega_Hz`` and ``omega_theory_Hz``; the bulk keys stay as they are."""
@@ -112,12 +113,13 @@ def _simulation_request(request: SimulateRequest, chain: Chain, *, dt: float | N
     ``--coil-capacitance``, ...), as one Request."""
     import dataclasses
 
-    from ..runs.simulate import simulation_request
+    from ..runs.simulate import ChainOptions
 
     effects = request.effects
-    made = simulation_request(chain, dt=dt, accuracy=accuracy, extrapolate=extrapolate, transits=request.transits,
-                              excitation=request.excitation, L0=request.L0, C0=request.C0, backend=backend,
-                              method=request.method, title=request.title, engine=engine)
+    options = ChainOptions(dt=dt, accuracy=accuracy, extrapolate=extrapolate, transits=request.transits,
+                           excitation=request.excitation, L0=request.L0, C0=request.C0, backend=backend,
+                           method=request.method, title=request.title, engine=engine)
+    made = options.request(chain)
     return dataclasses.replace(made, effects=effects) if effects else made
 
 
@@ -158,10 +160,10 @@ def _prepare(request: SimulateRequest) -> tuple[Outputs, Chain, float | None, li
     return outputs, chain, dt, kept, keep_netlist
 
 
-def simulate_chain(request: SimulateRequest) -> Simulation | EnginesComparison:
+def simulate(request: SimulateRequest) -> Simulation | EnginesComparison:
     """Run the ladder: one engine (a :class:`Simulation`, whose files :func:`write_outputs` writes), or the same
     netlist in several (an :class:`EnginesComparison`)."""
-    from ..runs.simulate import simulate
+    from ..runs.simulate import run_simulation, simulation_runs
 
     outputs, chain, dt, kept, keep_netlist = _prepare(request)
     if len(request.engines) > 1:
@@ -171,7 +173,10 @@ def simulate_chain(request: SimulateRequest) -> Simulation | EnginesComparison:
         warnings.simplefilter("always")
         made = _simulation_request(request, chain, dt=dt, accuracy=request.accuracy,
                                    extrapolate=request.extrapolate, engine=engine, backend=request.backend)
-        report = simulate(made, progress=_progress(request, engine), budget=request.budget, on_spec=keep_netlist)
+        planned = simulation_runs(made, budget=request.budget)
+        for spec in planned.specs:  # before the simulator starts: a failed run still leaves them
+            keep_netlist(spec)
+        report = run_simulation(planned, progress=_progress(request, engine))
     data = with_physical_units(report.to_dict(), request.L0, request.C0)
     return Simulation(request, chain, report, data, tuple(str(w.message) for w in caught), outputs, kept)
 
@@ -186,15 +191,16 @@ def write_outputs(simulation: Simulation) -> bool:
                              f"{', '.join(f'{h:.4g}' for h in data['extrapolation']['dt'])})")
     outputs.text("--waveform-out", report.waveforms.to_csv())
     if request.plot:
-        from ..report.plots import overlay
+        from ..report.plots import OverlayCurves, overlay
 
         w, c = report.waveforms, report.comparison
+        curves = OverlayCurves(w.t, w.last, w.t, c.theory_last, residual=w.last - c.theory_last, first_sim=w.first,
+                               first_theory=c.theory_first, arrivals=[a.to_dict() for a in c.arrivals],
+                               time_unit=data["physical"]["time_unit_s"])
         outputs.write("--plot", lambda path: overlay(
-            w.t, w.last, w.t, c.theory_last, residual=w.last - c.theory_last, first_sim=w.first,
-            first_theory=c.theory_first, arrivals=[a.to_dict() for a in c.arrivals],
-            title=f"{chain.name} chain, N = {chain.N}, dt = {report.options.dt:.4g}, {request.excitation}",
+            curves, title=f"{chain.name} chain, N = {chain.N}, dt = {report.options.dt:.4g}, {request.excitation}",
             ylabel=r"$I_1,\ I_N\;/\;I_1(0)$" if request.excitation == "kick" else r"$Q_1,\ Q_N\;/\;Q_1(0)$",
-            path=path, time_unit=data["physical"]["time_unit_s"]))
+            path=path))
     if report.accuracy_met is False:
         steps = ", ".join(f"{h:.4g}" for h in data["extrapolation"]["dt"])
         outputs.notes.append(f"--accuracy {request.accuracy:g} was not met: the run reached "
@@ -206,7 +212,7 @@ def write_outputs(simulation: Simulation) -> bool:
 def _compare_engines(request: SimulateRequest, chain: Chain, dt: float | None,
                      keep_netlist: Callable[[RunSpec], None]) -> EnginesComparison:
     from ..compare.metrics import residual_difference
-    from ..runs.simulate import simulate
+    from ..runs.simulate import run_simulation, simulation_runs
 
     if request.extrapolate is not None and request.extrapolate > 1:
         raise ParameterError("--extrapolate", request.extrapolate, "1 with several engines (they run one netlist)")
@@ -223,8 +229,10 @@ def _compare_engines(request: SimulateRequest, chain: Chain, dt: float | None,
             step = dt if not reports else reports[0].options.dt
             made = _simulation_request(request, chain, dt=step, accuracy=request.accuracy if not reports else None,
                                        extrapolate=1, engine=engine, backend="batch")
-            reports.append(simulate(made, progress=_progress(request, engine), budget=request.budget,
-                                    on_spec=None if reports else keep_netlist))
+            planned = simulation_runs(made, budget=request.budget)
+            if not reports:  # one netlist: the first engine's
+                keep_netlist(planned.specs[0])
+            reports.append(run_simulation(planned, progress=_progress(request, engine)))
     first = reports[0]
     differences = {}
     for other in reports[1:]:

@@ -12,7 +12,7 @@ from ..circuit.effects import Effect
 from ..core import __version__
 from ..core.budget import Budget
 from ..core.errors import ParameterError
-from ..core.types import JSONObject
+from ..core.json import LooseJSONObject
 from ..report.files import FIGURE_FORMATS
 from .inputs import ChainOptions, Outputs, make_chain
 from .simulate import with_physical_units
@@ -58,7 +58,7 @@ class Spectrum:
     request: SpectrumRequest
     chain: Chain
     report: SpectrumReport
-    data: JSONObject
+    data: LooseJSONObject
     effects: tuple[Effect, ...]
     outputs: Outputs
     merged: str = ""
@@ -77,7 +77,7 @@ class TwoPortSummary:
 
 def spectrum(request: SpectrumRequest) -> Spectrum:
     """Check the outputs, build the chain, run the AC analysis and compare it with theory."""
-    from ..runs.spectrum import measure_spectrum, merged_text
+    from ..runs.spectrum import SpectrumOptions, measure_spectrum, merged_text
 
     outputs = Outputs(inputs={"--chain": request.chain.chain} if request.chain.chain else {})
     outputs.check("--plot", request.plot, FIGURE_FORMATS)
@@ -91,9 +91,9 @@ def spectrum(request: SpectrumRequest) -> Spectrum:
     # Q, measure_spectrum's own, refused under its name there)
     effects = request.effects
     progress = None if request.progress is None else request.progress(f"{request.engine} AC analysis, then the fit")
-    report = measure_spectrum(chain, Q=request.Q, points=request.points, L0=request.L0, C0=request.C0,
-                              budget=request.budget, engine=request.engine, progress=progress, effects=effects,
-                              shapes=request.shapes)
+    options = SpectrumOptions(Q=request.Q, points=request.points, L0=request.L0, C0=request.C0,
+                              engine=request.engine, effects=effects, shapes=request.shapes)
+    report = measure_spectrum(chain, options, budget=request.budget, progress=progress)
     data = with_physical_units(report.to_dict(), request.L0, request.C0)
     merged = merged_text(report.merged_modes) if data["merged"] else ""
     return Spectrum(request, chain, report, data, effects, outputs, merged)

@@ -5,17 +5,19 @@ from __future__ import annotations
 
 import contextlib
 import logging
-from collections.abc import Callable, Iterator
+from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Protocol
 
 from ..core.budget import Budget
-from ..core.types import JSONObject
+from ..core.json import LooseJSONObject
+from ..studies.options import RunHooks
 from .inputs import Outputs
 
 if TYPE_CHECKING:
     from concurrent.futures import ProcessPoolExecutor
 
+    from ..spice.simulator import Simulator
     from ..studies.plan import Plan
     from ..studies.run import Summary
     from ..studies.worst_case import WorstCase
@@ -99,16 +101,9 @@ class StudyProgress(Protocol):
     def failed(self) -> int: ...
 
 
-@dataclass(frozen=True)
-class StudyHooks:
-    """What the caller shows while a study runs: ``progress`` with each :class:`lcchain.studies.run.Progress`,
-    ``on_resume(skipped, todo)`` when the store holds runs already, ``on_wait(pid)`` while another writer holds
-    it; ``verbose`` lets Dask's own log through."""
-
-    progress: Callable[[StudyProgress], None] | None = None
-    on_resume: Callable[[int, int], None] | None = None
-    on_wait: Callable[[int | None], None] | None = None
-    verbose: bool = False
+#: What the caller shows while a study runs (progress, a resumed store, a wait for another writer, Dask's log):
+#: the studies' own hooks (:class:`lcchain.studies.options.RunHooks`), under the name the commands use.
+StudyHooks = RunHooks
 
 
 @dataclass(frozen=True)
@@ -127,7 +122,7 @@ class StudyResult:
     (:func:`lcchain.studies.worst_case.worst_case_summary`)."""
 
     summary: Summary
-    worst_case: JSONObject | None = None
+    worst_case: LooseJSONObject | None = None
 
 
 def check_study(options: StudyOptions) -> None:
@@ -137,9 +132,11 @@ def check_study(options: StudyOptions) -> None:
 
 
 def run_study(planned: PlannedStudy, options: StudyOptions, budget: Budget, hooks: StudyHooks | None = None,
-              pool: ProcessPoolExecutor | None = None) -> StudyResult:
+              pool: ProcessPoolExecutor | None = None, simulator: Simulator | None = None) -> StudyResult:
     """Price the plan for its workers, run it into ``options.store`` (resumed; ``pool``: the process executor's
-    workers, started while the plan was made), and read a worst case's summary."""
+    workers, started while the plan was made; ``simulator``: the engine, found while the plan was made), and read
+    a worst case's summary."""
+    from ..studies.options import RunOptions
     from ..studies.run import run_plan
 
     hooks = hooks or StudyHooks()
@@ -147,11 +144,9 @@ def run_study(planned: PlannedStudy, options: StudyOptions, budget: Budget, hook
     workers = study_workers(options)
     planned.plan.check(budget, workers, options.executor)
     with dask_quiet(hooks.verbose):
-        summary = run_plan(planned.plan, options.store, executor=options.executor, workers=workers,
-                           scheduler=options.scheduler, progress=hooks.progress, on_resume=hooks.on_resume,
-                           retry_failed=options.retry_failed, wait=options.wait, on_wait=hooks.on_wait,
-                           verbose=hooks.verbose, transport=options.transport, max_seconds=planned.max_seconds,
-                           pool=pool)
+        run = RunOptions(options.executor, workers, options.scheduler, options.transport, options.retry_failed,
+                         options.wait, planned.max_seconds, pool=pool, simulator=simulator)
+        summary = run_plan(planned.plan, options.store, run, hooks)
     worst = None
     if planned.worst_case is not None:
         from ..studies.store import Store

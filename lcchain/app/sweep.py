@@ -11,14 +11,15 @@ from typing import TYPE_CHECKING
 from ..core.analyses import analysis_kind
 from ..core.budget import INTERPRETER_SECONDS, Budget
 from ..core.errors import ParameterError
-from ..core.types import BACKENDS, DEFAULT_C0, DEFAULT_L0, JSON, ArrivalMetric, Backend, Excitation, WorstCaseMethod
+from ..core.json import LooseJSON
+from ..core.types import BACKENDS, DEFAULT_C0, DEFAULT_L0, ArrivalMetric, Backend, Excitation, WorstCaseMethod
 from ..spice.engines import DEFAULT_ENGINE
 from .studies import PlannedStudy, StudyHooks, StudyOptions, StudyResult, run_study, study_workers
 
 if TYPE_CHECKING:
     from concurrent.futures import ProcessPoolExecutor
 
-    from ..studies.plan import Plan
+    from ..studies.plan import Plan, RealParts
 
 __all__ = ["SweepRequest", "plan_sweep", "sweep"]
 
@@ -90,7 +91,7 @@ def plan_sweep(request: SweepRequest, pool: ProcessPoolExecutor | None = None) -
     """The sweep's plan, checked against its options, before anything runs (the store is not touched); ``pool``:
     a transient sweep's started process pool (:func:`lcchain.studies.pools.started_pool`), which designs its
     chains."""
-    from ..studies.plan import parse_vary, scene_sweep_plan
+    from ..studies.plan import Planning, parse_vary, scene_sweep_plan
 
     budget = request.budget
     if request.worst_case is not None or request.components is not None or request.metric is not None:
@@ -106,9 +107,8 @@ def plan_sweep(request: SweepRequest, pool: ProcessPoolExecutor | None = None) -
             raise ParameterError(given[0], getattr(request, given[0].lstrip("-")), "nothing with SCENE.toml (the scene "
                                  "says the chain and the analysis, [analysis] kind = \"ac\" included; vary its keys "
                                  "with --vary, e.g. analysis.extrapolate=1,2)")
-        plan = scene_sweep_plan(request.scene, [parse_vary(v) for v in request.vary], samples=request.samples,
-                                seed=request.seed, tolerance=request.tolerance, series=request.series, budget=budget,
-                                workers=study_workers(request.study)).limited(request.study.timeout)
+        plan = scene_sweep_plan(request.scene, [parse_vary(v) for v in request.vary], _real_parts(request),
+                                Planning(budget, study_workers(request.study))).limited(request.study.timeout)
     else:
         if request.vary:
             raise ParameterError("--vary", request.vary, "nothing without SCENE.toml (without one, the axes are "
@@ -123,7 +123,7 @@ def plan_sweep(request: SweepRequest, pool: ProcessPoolExecutor | None = None) -
 def _netlist_sweep(request: SweepRequest, budget: Budget) -> PlannedStudy:
     """``sweep --netlist FILE --vary NAME=...``: a foreign netlist's values varied, each variant run as a batch's
     netlist; as for a batch, --max-time is the whole budget (runs not started within it stay pending)."""
-    from ..studies.plan import netlist_sweep_plan
+    from ..studies.plan import NetlistSweep, Planning, netlist_sweep_plan
     from ..studies.vary import parse_netlist_vary
 
     started = time.monotonic()
@@ -141,17 +141,24 @@ def _netlist_sweep(request: SweepRequest, budget: Budget) -> PlannedStudy:
         raise ParameterError(given[0], value, "nothing with --netlist (the netlist says its circuit and its "
                              "analysis; vary its .param or element values with --vary NAME=...)")
     assert request.netlist is not None  # plan_sweep came here for it
-    plan = netlist_sweep_plan(request.netlist, [parse_netlist_vary(v) for v in request.vary], samples=request.samples,
-                              seed=request.seed, backend=request.backend, timeout=request.study.timeout, budget=budget,
-                              progress=request.variants_progress)
+    plan = netlist_sweep_plan(request.netlist, [parse_netlist_vary(v) for v in request.vary],
+                              NetlistSweep(request.samples, request.seed, request.backend, request.study.timeout),
+                              Planning(budget, progress=request.variants_progress))
     left = budget.max_seconds - INTERPRETER_SECONDS - (time.monotonic() - started)
     return PlannedStudy(plan, max_seconds=max(left, 0.0))
+
+
+def _real_parts(request: SweepRequest) -> RealParts:
+    """The real parts the options set (``--samples``, ``--seed``, ``--tolerance``, ``--series``), checked."""
+    from ..studies.plan import RealParts
+
+    return RealParts(request.samples, request.seed, request.tolerance, request.series)
 
 
 def _parts_sweep(request: SweepRequest, budget: Budget) -> Plan:
     """``sweep --case C --N N --tolerance 1% --series E24 --samples 200``: a Monte Carlo of real parts with no scene
     file, the scene made from the options (:func:`lcchain.studies.plan.case_scene`), each list of them an axis."""
-    from ..studies.plan import case_scene, scene_sweep_plan
+    from ..studies.plan import CasePoint, Planning, case_scene, scene_sweep_plan
 
     if analysis_kind(request.analysis).swept:
         raise ParameterError("--analysis", request.analysis, "transient with --tolerance, --series or --samples and "
@@ -159,14 +166,14 @@ def _parts_sweep(request: SweepRequest, budget: Budget) -> Plan:
     if request.points is not None:
         raise ParameterError("--points", request.points, "nothing without --analysis ac")
     cases, Ns = request.case or [], request.N or []  # both given: checked by plan_sweep
-    steps: tuple[str, Sequence[JSON]] = ("analysis.accuracy", request.accuracy) if request.accuracy else \
+    steps: tuple[str, Sequence[LooseJSON]] = ("analysis.accuracy", request.accuracy) if request.accuracy else \
         ("analysis.dt", request.dt or [0.05])
-    axes: list[tuple[str, Sequence[JSON]]] = [("chain.case", cases), ("chain.N", Ns), steps,
+    axes: list[tuple[str, Sequence[LooseJSON]]] = [("chain.case", cases), ("chain.N", Ns), steps,
                                              ("analysis.transits", request.transits or [1]),
                                              ("excitation.kind", request.excitation or ["kick"])]
-    base = case_scene(cases[0], Ns[0], dt=request.dt[0] if request.dt else None,
-                      accuracy=request.accuracy[0] if request.accuracy else None, L0=request.L0, C0=request.C0,
-                      engine=request.engine or DEFAULT_ENGINE)
+    base = case_scene(CasePoint(cases[0], Ns[0], dt=request.dt[0] if request.dt else None,
+                                accuracy=request.accuracy[0] if request.accuracy else None, L0=request.L0,
+                                C0=request.C0, engine=request.engine or DEFAULT_ENGINE))
     if request.extrapolate is not None:
         base["analysis"]["extrapolate"] = request.extrapolate
     base["analysis"]["backend"] = request.backend
@@ -175,12 +182,11 @@ def _parts_sweep(request: SweepRequest, budget: Budget) -> Plan:
         if len(values) == 1:
             section, name = key.split(".")
             base[section][name] = values[0]
-    return scene_sweep_plan(base, varies, samples=request.samples, seed=request.seed, tolerance=request.tolerance,
-                            series=request.series, budget=budget,
-                            workers=study_workers(request.study)).limited(request.study.timeout)
+    return scene_sweep_plan(base, varies, _real_parts(request),
+                            Planning(budget, study_workers(request.study))).limited(request.study.timeout)
 
 
-def _scene_says(request: SweepRequest) -> tuple[tuple[str, JSON], ...]:
+def _scene_says(request: SweepRequest) -> tuple[tuple[str, LooseJSON], ...]:
     """The options a scene file says itself (its analysis, drive and transport): given with SCENE.toml, refused."""
     return (("--analysis", request.analysis if analysis_kind(request.analysis).swept else None),
             ("--transits", request.transits), ("--excitation", request.excitation),
@@ -189,6 +195,7 @@ def _scene_says(request: SweepRequest) -> tuple[tuple[str, JSON], ...]:
 
 def _worst_case(request: SweepRequest, budget: Budget) -> PlannedStudy:
     """``sweep SCENE --worst-case``: the corners run like the scene's samples, then which is worst."""
+    from ..studies.plan import Planning
     from ..studies.worst_case import DEFAULT_COMPONENTS, worst_case_plan
 
     if request.worst_case is None:
@@ -208,39 +215,37 @@ def _worst_case(request: SweepRequest, budget: Budget) -> PlannedStudy:
         raise ParameterError(given[0], getattr(request, given[0].lstrip("-")), "nothing with --worst-case (the scene "
                              "says the circuit and its [effects.tolerance]; the corners replace the samples)")
     plan, setup = worst_case_plan(request.scene, components=request.components if request.components is not None else
-                                  DEFAULT_COMPONENTS, metric=request.metric or "peak", budget=budget,
-                                  workers=study_workers(request.study), method=request.worst_case)
+                                  DEFAULT_COMPONENTS, metric=request.metric or "peak", method=request.worst_case,
+                                  planning=Planning(budget, study_workers(request.study)))
 
     return PlannedStudy(plan, worst_case=setup)
 
 
 def _transient_sweep(request: SweepRequest, budget: Budget, pool: ProcessPoolExecutor | None = None) -> Plan:
-    from ..studies.plan import sweep_plan
+    from ..studies.plan import Planning, SweepAxes, sweep_plan
 
     if request.points is not None:
         raise ParameterError("--points", request.points, "nothing without --analysis ac (a transient's steps are --dt "
                              "or --accuracy)")
-    return sweep_plan(cases=request.case or [], Ns=request.N or [],
-                      dts=request.dt or ([] if request.accuracy else [0.05]),
-                      accuracies=request.accuracy or [], transits=request.transits or [1],
-                      excitations=request.excitation or ["kick"], L0=request.L0, C0=request.C0, backend=request.backend,
-                      timeout=request.study.timeout, budget=budget, extrapolate=request.extrapolate,
-                      workers=study_workers(request.study),
-                      engine=request.engine or DEFAULT_ENGINE, pool=pool)
+    axes = SweepAxes(cases=request.case or [], Ns=request.N or [],
+                     dts=request.dt or ([] if request.accuracy else [0.05]), accuracies=request.accuracy or [],
+                     transits=request.transits or [1], excitations=request.excitation or ["kick"], L0=request.L0,
+                     C0=request.C0, backend=request.backend, timeout=request.study.timeout,
+                     extrapolate=request.extrapolate, engine=request.engine or DEFAULT_ENGINE)
+    return sweep_plan(axes, Planning(budget, study_workers(request.study)), pool=pool)
 
 
 def _ac_sweep(request: SweepRequest, budget: Budget, pool: ProcessPoolExecutor | None = None) -> Plan:
-    from ..studies.plan import spectrum_sweep_plan
+    from ..studies.plan import Planning, SpectrumAxes, spectrum_sweep_plan
 
     given = [o for o in ("--dt", "--accuracy", "--extrapolate", "--transits", "--excitation")
              if getattr(request, o.lstrip("-")) is not None] + (["--backend"] if request.backend != BACKENDS[0] else [])
     if given:
         raise ParameterError(given[0], getattr(request, given[0].lstrip("-")), "nothing with --analysis ac (a "
                              "transient's option; an AC sweep has --points)")
-    return spectrum_sweep_plan(cases=request.case or [], Ns=request.N or [], points=request.points, L0=request.L0,
-                               C0=request.C0,
-                               timeout=request.study.timeout, budget=budget, workers=study_workers(request.study),
-                               engine=request.engine or DEFAULT_ENGINE)
+    axes = SpectrumAxes(cases=request.case or [], Ns=request.N or [], points=request.points, L0=request.L0,
+                        C0=request.C0, timeout=request.study.timeout, engine=request.engine or DEFAULT_ENGINE)
+    return spectrum_sweep_plan(axes, Planning(budget, study_workers(request.study)))
 
 
 #: How ``lcchain sweep --case ... --N ...`` plans each ``--analysis``.

@@ -15,8 +15,18 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
-from ..core.types import DesignCase, JSONObject
-from ..report.build import build_report, check_figure_png, paper_figure_png, report_rows, requirements_figure_png
+from ..core.json import LooseJSONObject
+from ..core.types import DesignCase
+from ..report.build import (
+    ReportOptions,
+    ReportParts,
+    ValidationRuns,
+    build_report,
+    check_figure_png,
+    paper_figure_png,
+    report_rows,
+    requirements_figure_png,
+)
 from ..report.figure_data import DesignRows
 from ..report.paper_figures import FIGURES
 from ..report.validation import paper_section
@@ -60,7 +70,7 @@ class ReportRequest:
     command: str = "lcchain report"
 
 
-def report(request: ReportRequest) -> JSONObject:
+def report(request: ReportRequest) -> LooseJSONObject:
     """The output folder checked, then :func:`make_report`: the report's JSON (its checks, the seconds taken)."""
     from ..report.files import check_output_folder
     from .figures import cache_dir
@@ -72,7 +82,7 @@ def report(request: ReportRequest) -> JSONObject:
 
 def make_report(out: str | os.PathLike[str], *, quick: bool = False, cache: str | os.PathLike[str] | None = None,
                 progress: Callable[[int, int, str], None] | None = None,
-                command: str = "lcchain report", workers: int | None = None) -> JSONObject:
+                command: str = "lcchain report", workers: int | None = None) -> LooseJSONObject:
     """The validation report: every installed engine on the reference set
     (:func:`lcchain.studies.validation.check_jobs`), ngspice's spectra of the reference ladders
     (:func:`lcchain.studies.spectrum_checks.spectrum_jobs`) and the cradles' parts' requirements
@@ -98,7 +108,7 @@ def make_report(out: str | os.PathLike[str], *, quick: bool = False, cache: str 
     tasks += [task for task in (design_task(case, N) for case, N in rows.missing(needed)) if task.cost > HERE_S]
     with Background(tasks, workers) as background:
 
-        def design(case: DesignCase, N: int) -> JSONObject:
+        def design(case: DesignCase, N: int) -> LooseJSONObject:
             key = ("row", case, N)
             return background.take(key) if key in background else design_row(case, N)
 
@@ -141,6 +151,7 @@ def make_report(out: str | os.PathLike[str], *, quick: bool = False, cache: str 
             figures[f"paper:{figure.label}"] = take(("paper", figure.label))
         if progress is not None:
             progress(total, total, "done")
-        return build_report(out, circuit, {s.engine: s.version for s in simulators}, quick=quick, cache=cache,
-                            progress=progress, command=command, seconds=time.perf_counter() - start, rows=rows,
-                            spectrum=spectrum, requirements=requirements, figures=figures, paper=paper)
+        runs = ValidationRuns(circuit, {s.engine: s.version for s in simulators}, spectrum, requirements,
+                              time.perf_counter() - start)
+        return build_report(out, runs, ReportOptions(quick, cache, command), ReportParts(rows, figures, paper),
+                            progress)

@@ -64,8 +64,8 @@ from ..core.blas import fixed_blas_threads
 from ..core.errors import ParameterError
 
 __all__ = ["Term", "Waveform", "Branch", "Coupling", "Source", "LinearCircuit", "LinearResponse",
-           "linear_response", "pwl_waveform", "pulse_waveform", "sin_waveform", "exp_waveform", "GROUND_NAMES",
-           "MAX_ROUNDING", "circuit_unknowns", "linear_cost"]
+           "linear_response", "pwl_waveform", "PulseSource", "pulse_waveform", "sin_waveform", "exp_waveform",
+           "GROUND_NAMES", "MAX_ROUNDING", "circuit_unknowns", "linear_cost"]
 
 #: Node names that are ground.
 GROUND_NAMES = frozenset({"0", "gnd"})
@@ -503,9 +503,44 @@ def pwl_waveform(points: Sequence[tuple[float, float]]) -> Waveform:
     return Waveform(tuple(merged))
 
 
-def pulse_waveform(v1: float, v2: float, delay: float, rise: float, fall: float, width: float, period: float,
-                   tstop: float, count: int | None = None) -> Waveform:
-    """ngspice's PULSE up to ``tstop`` (``count`` pulses, or as many as fit), as a piecewise-linear waveform."""
+@dataclass(frozen=True)
+class PulseSource:
+    """ngspice's PULSE(V1 V2 TD TR TF PW PER NP), its values as the card gives them (SI units).
+
+    Parameters
+    ----------
+    v1, v2 : float
+        The initial and the pulsed value.
+    delay, rise, fall, width, period : float
+        TD, TR, TF, PW and PER, seconds; a period of 0 (or shorter than rise + width + fall) makes one pulse.
+    count : int, optional
+        NP, the number of pulses (None: as many as fit).
+
+    The values are those a netlist's card gave, read and checked by its reader
+    (:func:`lcchain.runs.check.source_function`); only their types are made exact here.
+    """
+
+    v1: float
+    v2: float
+    delay: float
+    rise: float
+    fall: float
+    width: float
+    period: float
+    count: int | None = None
+
+    def __post_init__(self) -> None:
+        for name in ("v1", "v2", "delay", "rise", "fall", "width", "period"):
+            object.__setattr__(self, name, float(getattr(self, name)))
+        if self.count is not None:
+            object.__setattr__(self, "count", int(self.count))
+
+
+def pulse_waveform(pulse: PulseSource, tstop: float) -> Waveform:
+    """ngspice's PULSE up to ``tstop`` (``pulse.count`` pulses, or as many as fit), as a piecewise-linear
+    waveform."""
+    v1, v2, delay, rise, fall, width, period, count = (pulse.v1, pulse.v2, pulse.delay, pulse.rise, pulse.fall,
+                                                      pulse.width, pulse.period, pulse.count)
     points: list[tuple[float, float]] = [(0.0, v1)] if delay > 0 else []
     start = delay
     k = 0

@@ -34,7 +34,7 @@ import hashlib
 import math
 import re
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any, cast
 
 from ..core.checks import choice, instance, integer, real, strings, text_line
@@ -78,10 +78,13 @@ __all__ = [
     "ac_circuit_elements",
     "Ladder",
     "SimulationOptions",
+    "Drive",
+    "NetlistOutput",
     "netlist_text",
     "circuit_elements",
     "ac_netlist_text",
     "AC_OFFSET",
+    "ChainNetlist",
     "make_netlist",
     "check_run_length",
     "check_frequency_scale",
@@ -199,19 +202,65 @@ def probe_names(N: int, probes: Probes = "ends") -> list[str]:
     return [f"i(l{i})" for i in loops]
 
 
-def netlist_text(
-    ladder: Ladder,
-    options: SimulationOptions,
-    *,
-    excitation: ExcitationKind = "kick",
-    I0: float = DEFAULT_I0,
-    probes: Probes = "ends",
-    title: str = "lcchain LC ladder",
-    comments: tuple[str, ...] = (),
-    pulse: tuple[PulseShape, float] | None = None,
-    extra_vectors: tuple[str, ...] = (),
-    effects: tuple[Effect, ...] = (),
-) -> str:
+@dataclass(frozen=True)
+class Drive:
+    """How loop 1 is set in motion (a request's drive, and the netlist's).
+
+    Parameters
+    ----------
+    kind : {"kick", "displacement", "pulse"}
+        An initial current I0 in L_1, an initial charge I0 sqrt(L0 C0) in loop 1, or a voltage pulse in loop 1.
+    I0 : float
+        Scale of the excitation, ampere (> 0).
+    pulse : (shape, width), optional
+        With ``kind="pulse"`` only: ``"gaussian"`` or ``"rect"``, width in units of sqrt(L0 C0).
+    """
+
+    kind: ExcitationKind = "kick"
+    I0: float = DEFAULT_I0
+    pulse: tuple[PulseShape, float] | None = None
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "I0", real("I0", self.I0, at_least=MIN_I0, at_most=MAX_I0, unit="ampere"))
+        spec = check_pulse(self.kind, self.pulse, EXCITATION_KINDS, PULSE_SHAPES)
+        object.__setattr__(self, "pulse", spec)
+
+
+@dataclass(frozen=True)
+class NetlistOutput:
+    """What a transient's netlist says and saves besides its circuit and its analysis.
+
+    Parameters
+    ----------
+    title : str
+        First line of the netlist (one line, :func:`check_user_text`).
+    comments : tuple of str
+        Extra ``*`` comment lines after the title (validated likewise).
+    probes : {"ends", "all"}
+        Save the two end-loop currents, or every loop current.
+    extra_vectors : tuple of str
+        More vectors to save after the probes (node voltages ``v(n3)``...).
+    """
+
+    title: str = "lcchain LC ladder"
+    comments: tuple[str, ...] = ()
+    probes: Probes = "ends"
+    extra_vectors: tuple[str, ...] = ()
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "title", check_user_text("title", self.title))
+        object.__setattr__(self, "comments", strings("comments", self.comments))
+        for line in self.comments:
+            check_user_text("comment", line, max_length=MAX_COMMENT_LENGTH, title=False)
+        object.__setattr__(self, "extra_vectors", strings("extra_vectors", self.extra_vectors))
+        for name in self.extra_vectors:
+            if not isinstance(name, str) or not _VECTOR.match(name):
+                raise ParameterError("extra_vectors", name, "vector names such as 'v(n3)' without spaces")
+        choice("probes", self.probes, PROBES)
+
+
+def netlist_text(ladder: Ladder, options: SimulationOptions, drive: Drive | None = None, *,
+                 effects: tuple[Effect, ...] = (), output: NetlistOutput | None = None) -> str:
     """The SPICE netlist of the ladder and its transient analysis.
 
     Parameters
@@ -220,31 +269,20 @@ def netlist_text(
         Chain and bulk values L0 (H), C0 (F).
     options : SimulationOptions
         Step, stop time (units of sqrt(L0 C0)) and integrator settings.
-    excitation : {"kick", "displacement", "pulse"}
-        Initial current I0 in L_1, initial charge Q0 = I0 sqrt(L0 C0) in
-        loop 1, or (with ``pulse``) a voltage source in loop 1.
-    I0 : float
-        Scale of the excitation, ampere (> 0).
-    probes : {"ends", "all"}
-        Save the two end-loop currents, or every loop current.
-    title : str
-        First line of the netlist (one line, :func:`check_user_text`).
-    comments : tuple of str
-        Extra ``*`` comment lines after the title (validated likewise).
-    pulse : (shape, width), optional
-        With ``excitation="pulse"``: a voltage source in loop 1,
-        v(t) = L_1 I0 g(t), g of unit area in units of sqrt(L0 C0):
-        ``"gaussian"`` (standard deviation ``width``, centred at 4 width, a
-        B-source) or ``"rect"`` (1/width on [0, width), a PWL source whose
-        fall takes 1e-9 width).  None: no source.
-    extra_vectors : tuple of str
-        More vectors to save after the probes (node voltages ``v(n3)``...).
+    drive : Drive, optional
+        How loop 1 is set in motion (default ``Drive()``, a kick of :data:`lcchain.core.types.DEFAULT_I0`):
+        an initial current I0 in L_1, an initial charge Q0 = I0 sqrt(L0 C0) in loop 1, or a voltage pulse in
+        loop 1, v(t) = L_1 I0 g(t), g of unit area in units of sqrt(L0 C0): ``"gaussian"`` (standard deviation
+        ``width``, centred at 4 width, a B-source) or ``"rect"`` (1/width on [0, width), a PWL source whose
+        fall takes 1e-9 width).
     effects : tuple of Effect
         The elements each effect puts in series with the inductors
         (:meth:`lcchain.circuit.effects.Effect.in_series`), in order.  What
         effects do to the chain (walls, coupling, preferred values) is already
         in ``ladder.chain``: a coupled chain's neighbouring coils get ``K``
         elements.
+    output : NetlistOutput, optional
+        The title, the comment lines, the loops saved and more vectors (default ``NetlistOutput()``).
 
     Returns
     -------
@@ -253,17 +291,13 @@ def netlist_text(
     """
     instance("ladder", ladder, Ladder)
     instance("options", options, SimulationOptions)
-    spec = check_pulse(excitation, pulse, EXCITATION_KINDS, PULSE_SHAPES)
+    drive = instance("drive", drive, Drive, optional=True) or Drive()
     parts = _sequence("effects", effects, "a tuple of lcchain effects")
     for part in parts:
         instance("effects", part, Effect)
-    I0 = real("I0", I0, at_least=MIN_I0, at_most=MAX_I0, unit="ampere")
-    title = check_user_text("title", title)
-    for line in strings("comments", comments):
-        check_user_text("comment", line, max_length=MAX_COMMENT_LENGTH, title=False)
-    for name in strings("extra_vectors", extra_vectors):
-        if not isinstance(name, str) or not _VECTOR.match(name):
-            raise ParameterError("extra_vectors", name, "vector names such as 'v(n3)' without spaces")
+    output = instance("output", output, NetlistOutput, optional=True) or NetlistOutput()
+    excitation, I0, spec = drive.kind, drive.I0, drive.pulse
+    title, comments, probes, extra_vectors = output.title, output.comments, output.probes, output.extra_vectors
     chain = ladder.chain
     N = chain.N
     unit = ladder.time_unit
@@ -498,66 +532,84 @@ def check_frequency_scale(chain: Chain, omega_max: float, time_unit: float) -> N
                          "and spring are 1)")
 
 
-def make_netlist(
-    chain: Chain,
-    *,
-    dt: float,
-    transits: int = 1,
-    excitation: ExcitationKind = "kick",
-    L0: float = DEFAULT_L0,
-    C0: float = DEFAULT_C0,
-    I0: float = DEFAULT_I0,
-    method: Method = "trap",
-    title: str | None = None,
-    comments: tuple[str, ...] = (),
-    modes: Modes | None = None,
-    tstop: float | None = None,
-    aligned: bool = False,
-    effects: tuple[Effect, ...] = (),
-) -> tuple[str, Ladder, SimulationOptions]:
-    """The netlist :func:`lcchain.simulate` runs: a chain, kicked or displaced, over some transits.
+@dataclass(frozen=True)
+class ChainNetlist:
+    """What :func:`make_netlist` writes of a chain: the step, how long, the units, the drive and the effects.
 
     Parameters
     ----------
-    chain : Chain
     dt : float
         Maximum step, units of sqrt(L0 C0).
     transits : int
         Arrivals to watch; the run stops at :func:`lcchain.theory.arrivals.stop_time`.
-    excitation : {"kick", "displacement"}
+    tstop : float, optional
+        The stop time (units of sqrt(L0 C0)) instead of the one the transits give.
+    method : {"trap", "gear"}
+    aligned : bool
+        Steps the same at every dt up to scale (:attr:`SimulationOptions.aligned`).
     L0, C0 : float
         Bulk inductance (H) and capacitance (F).
-    I0 : float
-        Kick current, ampere.
-    method : {"trap", "gear"}
+    drive : Drive
+        A kick or a displacement of loop 1 (default: a kick of :data:`lcchain.core.types.DEFAULT_I0`).
     title : str, optional
         First line (default: the chain's name and N).
     comments : tuple of str
         ``*`` lines after the title.
-    modes : Modes, optional
-        The chain's modes, when already computed (they give the stop time).
-    tstop : float, optional
-        The stop time (units of sqrt(L0 C0)) instead of the one the transits give.
-    aligned : bool
-        Steps the same at every dt up to scale (:attr:`SimulationOptions.aligned`).
     effects : tuple of Effect
         The elements each effect adds (:func:`netlist_text`); what they do to the chain (walls, coupling) is
-        already in ``chain``.
+        already in the chain.
+
+    The numbers are checked where they are used, each naming its field and range: the units by
+    :class:`~lcchain.circuit.ladder.Ladder`, the step, stop time and method by :class:`SimulationOptions`, the run's
+    length by :func:`check_run_length`, the title and comments by :class:`NetlistOutput`; here, the parts' types.
+    """
+
+    dt: float
+    transits: int = 1
+    tstop: float | None = None
+    method: Method = "trap"
+    aligned: bool = False
+    L0: float = DEFAULT_L0
+    C0: float = DEFAULT_C0
+    drive: Drive = field(default_factory=Drive)
+    title: str | None = None
+    comments: tuple[str, ...] = ()
+    effects: tuple[Effect, ...] = ()
+
+    def __post_init__(self) -> None:
+        instance("drive", self.drive, Drive)
+        object.__setattr__(self, "effects", _sequence("effects", self.effects, "a tuple of lcchain effects"))
+
+
+def make_netlist(chain: Chain, options: ChainNetlist, *, modes: Modes | None = None
+                 ) -> tuple[str, Ladder, SimulationOptions]:
+    """The netlist :func:`lcchain.simulate_chain` runs: a chain, kicked or displaced, over some transits.
+
+    Parameters
+    ----------
+    chain : Chain
+    options : ChainNetlist
+        The step, the transits or the stop time, the units, the drive, the title, the effects.
+    modes : Modes, optional
+        The chain's modes, when already computed (they give the stop time).
 
     Returns
     -------
     text, ladder, options
     """
-    ladder = Ladder(chain, L0, C0)
+    instance("options", options, ChainNetlist)
+    dt, transits, tstop = options.dt, options.transits, options.tstop
+    ladder = Ladder(chain, options.L0, options.C0)
     if tstop is None:
         modes = modes if modes is not None else normal_modes(chain)
         tstop = stop_time(modes, transits)
         check_run_length(chain, tstop, ladder.time_unit, dt)
-    options = SimulationOptions(dt=dt, tstop=tstop, method=method, aligned=aligned)
-    title = title if title is not None else f"lcchain {chain.name} chain N={chain.N}, {excitation}"
-    text = netlist_text(ladder, options, excitation=excitation, I0=I0, title=title, comments=comments,
-                        effects=effects)
-    return text, ladder, options
+    analysis = SimulationOptions(dt=dt, tstop=tstop, method=options.method, aligned=options.aligned)
+    title = options.title if options.title is not None else \
+        f"lcchain {chain.name} chain N={chain.N}, {options.drive.kind}"
+    text = netlist_text(ladder, analysis, options.drive, effects=options.effects,
+                        output=NetlistOutput(title=title, comments=options.comments))
+    return text, ladder, analysis
 
 
 def netlist_hash(text: str) -> str:

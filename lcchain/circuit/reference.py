@@ -28,7 +28,7 @@ from ..theory.cases import chain_for_case
 from ..theory.chain import Chain
 from ..theory.design import DESIGN_CHAINS
 from ..theory.spectrum import normal_modes
-from .netlist import make_netlist
+from .netlist import ChainNetlist, make_netlist
 
 __all__ = ["REFERENCE_SET", "ReferenceCase", "reference_chain", "reference_netlist"]
 
@@ -101,6 +101,6 @@ def reference_netlist(reference: ReferenceCase) -> str:
                    f"--L0 {REFERENCE_L0!r} --C0 {REFERENCE_C0!r} --excitation kick --dt {REFERENCE_DT!r} "
                    f"--transits {REFERENCE_TRANSITS}, stop time rounded up to 6 digits)")
     tstop = _round_up(stop_time(normal_modes(chain), REFERENCE_TRANSITS))
-    text, _, _ = make_netlist(chain, dt=REFERENCE_DT, L0=REFERENCE_L0, C0=REFERENCE_C0, comments=(comment,),
-                              tstop=tstop)
+    text, _, _ = make_netlist(chain, ChainNetlist(dt=REFERENCE_DT, tstop=tstop, L0=REFERENCE_L0, C0=REFERENCE_C0,
+                                                  comments=(comment,)))
     return text

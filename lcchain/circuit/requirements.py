@@ -22,6 +22,7 @@ import numpy as np
 import scipy  # its submodules load on first use: commands that need no theory never import them
 
 from ..core.errors import ParameterError
+from ..core.json import JSONDict
 from ..theory.arrivals import arrival_window, maximum_in_window
 from ..theory.chain import MAX_COUPLING, Chain
 from ..theory.spectrum import normal_modes
@@ -160,7 +161,7 @@ class Requirement:
             return f"not met even at {self.part.symbol} = {self.part.low:g}"
         return self.part.physical(limit, ladder)
 
-    def to_dict(self, ladder: Ladder) -> dict[str, object]:
+    def to_dict(self, ladder: Ladder) -> JSONDict:
         return {"part": self.part.key, "symbol": self.part.symbol, "what": self.part.what,
                 "values": list(self.values), "losses": list(self.losses),
                 "limits": {f"{target:g}": limit for target, limit in zip(LOSS_TARGETS, self.limits, strict=True)},

@@ -6,7 +6,8 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
-from ..core.types import DESIGN_CASES, JSONObject
+from ..core.json import LooseJSONObject
+from ..core.types import DESIGN_CASES
 from .common import EXIT_OK, Parser, Subcommands, budget_from_args, emit_json
 from .progress import fraction
 
@@ -33,7 +34,7 @@ def add_parser(sub: Subcommands, budget: list[Parser]) -> None:
     p.set_defaults(func=cmd_design)
 
 
-def format_table(case: str, rows: list[JSONObject]) -> str:
+def format_table(case: str, rows: list[LooseJSONObject]) -> str:
     columns = _TABLE_COLUMNS[case]
     cells = [[fmt.format(row[key]) for _, key, fmt in columns] for row in rows]
     widths = [max(len(head), *(len(c[i]) for c in cells)) for i, (head, _, _) in enumerate(columns)]

@@ -9,7 +9,8 @@ import io
 import sys
 from typing import TYPE_CHECKING
 
-from ..core.types import STUDY_METRICS, JSONObject
+from ..core.json import LooseJSONObject
+from ..core.types import STUDY_METRICS
 from .common import EXIT_FAILED, EXIT_OK, Parser, Subcommands, budget_from_args, emit_json, print_notes
 from .studies import format_number, short, table
 
@@ -122,7 +123,7 @@ def _print_runs(found: Results, name: str) -> None:
     netlists) its vectors, points and the simulator's time; a failure's reason."""
     stored, runs = found.stored, found.runs
 
-    def counted(rows: list[JSONObject]) -> str:
+    def counted(rows: list[LooseJSONObject]) -> str:
         counts = {s: sum(r["status"] == s for r in rows) for s in ("ok", "failed", "timeout", "refused", "pending")}
         return ", ".join(f"{n} {s}" for s, n in counts.items() if n)
 

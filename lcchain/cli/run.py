@@ -113,6 +113,7 @@ def cmd_run(args: argparse.Namespace) -> int:
     from ..app.scenes import RunRequest, run_scenes
 
     def shown(result: Any, outputs: Any) -> None:
+        print_notes(outputs.take_notes())  # a scene's file not written
         if not args.json:
             with summary_stream(outputs):
                 _print_scene_summary(result)
@@ -126,6 +127,8 @@ def cmd_run(args: argparse.Namespace) -> int:
                                 study=study, budget=budget_from_args(args), progress=fraction,
                                 study_progress=study_counter), shown)
     print_notes(run.outputs.take_notes())  # --side-by-side not written
+    if run.side_by_side and not args.json:
+        print(f"wrote {run.side_by_side}", file=sys.stderr if run.outputs.to_stdout else sys.stdout)
     if args.json:
         reports = [r.report for r in run.results]
         emit_json(reports[0] if len(reports) == 1 else reports)

@@ -1,5 +1,5 @@
 """``lcchain simulate``: run the ladder in ngspice (or gnucap) and compare with alpha_N(t)
-(:func:`lcchain.app.simulate.simulate_chain`)."""
+(:func:`lcchain.app.simulate.simulate`)."""
 
 from __future__ import annotations
 
@@ -7,8 +7,9 @@ import argparse
 from typing import TYPE_CHECKING
 
 from ..app.options import BACKEND_CHOICES, DEFAULT_ENGINE, Chain, engine_names
+from ..core.json import LooseJSONObject
 from ..core.physical import units_sentence
-from ..core.types import METHODS, JSONObject
+from ..core.types import METHODS
 from .common import (
     EXIT_FAILED,
     EXIT_OK,
@@ -58,7 +59,7 @@ def add_parser(sub: Subcommands, budget: list[Parser]) -> None:
     p.set_defaults(func=cmd_simulate)
 
 
-def print_arrivals(arrivals: list[JSONObject]) -> None:
+def print_arrivals(arrivals: list[LooseJSONObject]) -> None:
     physical = all("t_sim_s" in a for a in arrivals)
     extra = f" {'t theory (s)':>13} {'t sim (s)':>13}" if physical else ""
     print(f"{'arrival':>7} {'end':>5} {'t theory':>12} {'t sim':>12} {'peak theory':>12} {'peak sim':>12}{extra}")
@@ -72,7 +73,7 @@ def print_units(L0: float, C0: float) -> None:
     print(f"units: {units_sentence(L0, C0)}")
 
 
-def _print_extrapolation(x: JSONObject) -> None:
+def _print_extrapolation(x: LooseJSONObject) -> None:
     plan = x["plan"]
     why = ""
     if plan is not None and len(plan["considered"]) > 1:
@@ -88,7 +89,7 @@ def _print_extrapolation(x: JSONObject) -> None:
           f"{x['interpolation_error']:.1e})")
 
 
-def _print_effects(cost: JSONObject) -> None:
+def _print_effects(cost: LooseJSONObject) -> None:
     """What the effects cost the pulse: the circuit's exact first arrival against the ideal chain's."""
     energy = "" if cost["energy_loss"] is None else (
         f", energy {cost['energy_circuit']:.4f} against {cost['energy_ideal']:.4f} "
@@ -98,7 +99,7 @@ def _print_effects(cost: JSONObject) -> None:
           f"arriving {cost['delay']:+.3g} sqrt(L0 C0) later")
 
 
-def _print_simulation(args: argparse.Namespace, chain: Chain, data: JSONObject) -> None:
+def _print_simulation(args: argparse.Namespace, chain: Chain, data: LooseJSONObject) -> None:
     if args.json:
         emit_json(data)
     else:
@@ -129,7 +130,7 @@ def _print_simulation(args: argparse.Namespace, chain: Chain, data: JSONObject) 
 
 
 def cmd_simulate(args: argparse.Namespace) -> int:
-    from ..app.simulate import EnginesComparison, SimulateRequest, simulate_chain, write_outputs
+    from ..app.simulate import EnginesComparison, SimulateRequest, simulate, write_outputs
 
     request = SimulateRequest(chain_options(args), args.L0, args.C0, excitation=args.excitation, title=args.title,
                               transits=args.transits, dt=args.dt, accuracy=args.accuracy,
@@ -137,7 +138,7 @@ def cmd_simulate(args: argparse.Namespace) -> int:
                               method=args.method, effects=effects_from_args(args), plot=args.plot,
                               netlist_out=args.netlist_out, waveform_out=args.waveform_out, json=args.json,
                               budget=budget_from_args(args), progress=fraction)
-    result = simulate_chain(request)
+    result = simulate(request)
     if isinstance(result, EnginesComparison):
         return _print_engines(args, result)
     print_notes(f"warning: {warning}" for warning in result.warnings)

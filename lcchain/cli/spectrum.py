@@ -1,3 +1,4 @@
+
 """``lcchain spectrum``: the ladder's normal frequencies and mode weights from an AC analysis in ngspice (or
 gnucap), beside theory (:func:`lcchain.app.spectrum.spectrum`)."""
 
@@ -8,7 +9,7 @@ import sys
 from typing import Any
 
 from ..app.options import DEFAULT_ENGINE, engine_names
-from ..core.types import JSONObject
+from ..core.json import LooseJSONObject
 from .common import (
     EXIT_FAILED,
     EXIT_OK,
@@ -140,13 +141,13 @@ def _print_survey(modes: Any) -> None:
               f"{modes.P[n]:14.6e} {modes.P_theory[n]:14.6e}{quality}")
 
 
-def _bound(data: JSONObject, name: str) -> str:
+def _bound(data: LooseJSONObject, name: str) -> str:
     """The reference's own bound on a metric, as printed beside its error ('' where it states none)."""
     bound = data.get(f"reference_bound_{name}")
     return "" if bound is None else f" (reference bound {bound:.1e})"
 
 
-def _print_quality(data: JSONObject) -> None:
+def _print_quality(data: LooseJSONObject) -> None:
     """``lcchain spectrum --Q``: each seen mode's Q_n beside omega_n Q, and the fitted response's error."""
     if not any(mode["resolved"] for mode in data["modes"]):
         return

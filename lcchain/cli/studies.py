@@ -9,7 +9,8 @@ import sys
 from ..app.options import EXECUTOR_CHOICES
 from ..app.studies import StudyHooks, StudyOptions, StudyResult
 from ..core.budget import show_seconds
-from ..core.types import TRANSPORT_CHOICES, JSONObject
+from ..core.json import LooseJSONObject
+from ..core.types import TRANSPORT_CHOICES
 from .common import EXIT_FAILED, EXIT_OK, budget_from_args, emit_json, registry_name, seconds
 from .progress import study_counter
 
@@ -97,7 +98,7 @@ def show_study(args: argparse.Namespace, result: StudyResult) -> int:
     return EXIT_OK if summary.complete else EXIT_FAILED
 
 
-def _print_worst_case(summary: JSONObject) -> None:
+def _print_worst_case(summary: LooseJSONObject) -> None:
     what = summary["metric"]
     rows = [[row["corner"], f"{row['sim']:.6f}", f"{row['theory']:.6f}", f"{row['predicted']:.6f}"]
             for row in summary["corners"]]

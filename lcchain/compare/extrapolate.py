@@ -75,7 +75,8 @@ from ..theory.modes import Modes, cosine_sum
 from .accuracy import SAFETY, dt_for_accuracy, predicted_error, trap_response, warped_frequencies
 
 __all__ = ["WEIGHTS", "SPLINE_DEGREE", "EXTRAPOLATIONS", "ALIGNED_RAMP", "aligned_grid", "member_steps",
-           "refusal", "runs_for_step", "predicted_extrapolated_error", "ExtrapolationPlan", "plan_for_accuracy",
+           "refusal", "runs_for_step", "predicted_extrapolated_error", "ExtrapolationPlan", "AccuracyOptions",
+           "plan_for_accuracy",
            "combine",
            "interpolation_error", "run_seconds"]
 
@@ -291,11 +292,49 @@ def _single_run(modes: Modes, accuracy: float, tstop: float, safety: float, max_
     return dt, predicted_error(modes, dt, tstop, method=method)
 
 
+@dataclass(frozen=True)
+class AccuracyOptions:
+    """What bounds :func:`plan_for_accuracy`'s choice besides the chain, the accuracy and the stop time.
+
+    Parameters
+    ----------
+    extrapolate : {1, 2, 3}, optional
+        Force this many runs; None: the cheapest.
+    refused : str
+        A reason extrapolation does not apply (:func:`refusal`): one run, and the reason is kept.
+    Q : float, optional
+        Uniform losses (the prediction decays with them).
+    safety : float
+        Fraction of the accuracy aimed at.
+    max_points : float, optional
+        The most time points one run may have (its budget): the finest member's.
+    unknowns : float, optional
+        ngspice's unknowns per point (default 2 N).
+    method : {"trap", "gear"}
+        The single run's method (gear is never extrapolated: give its ``refused`` reason too).
+
+    Raises
+    ------
+    ParameterError
+        ``extrapolate`` other than 1, 2, 3 or None.
+    """
+
+    extrapolate: int | None = None
+    refused: str = ""
+    Q: float | None = None
+    safety: float = SAFETY
+    max_points: float | None = None
+    unknowns: float | None = None
+    method: str = "trap"
+
+    def __post_init__(self) -> None:
+        if self.extrapolate is not None and self.extrapolate not in EXTRAPOLATIONS:
+            raise ParameterError("extrapolate", self.extrapolate, "1, 2 or 3 runs (1: no extrapolation)")
+
+
 @fixed_blas_threads
-def plan_for_accuracy(modes: Modes, accuracy: float, tstop: float, *, extrapolate: int | None = None,
-                      refused: str = "", Q: float | None = None, safety: float = SAFETY,
-                      max_points: float | None = None, unknowns: float | None = None,
-                      method: str = "trap") -> ExtrapolationPlan:
+def plan_for_accuracy(modes: Modes, accuracy: float, tstop: float,
+                      options: AccuracyOptions | None = None) -> ExtrapolationPlan:
     """The cheapest of one run, a pair and a triple that meets ``accuracy`` (predicted), or the one forced.
 
     Parameters
@@ -305,20 +344,9 @@ def plan_for_accuracy(modes: Modes, accuracy: float, tstop: float, *, extrapolat
         Wanted max |result - theory|, at least :data:`lcchain.core.limits.ACCURACY_FLOOR`.
     tstop : float
         End of the runs, units of sqrt(L0 C0).
-    extrapolate : {1, 2, 3}, optional
-        Force this many runs; None: the cheapest.
-    refused : str
-        A reason extrapolation does not apply (:func:`refusal`): one run, and the reason is kept.
-    Q : float, optional
-        Uniform losses (the prediction decays with them).
-    safety : float
-        Fraction of ``accuracy`` aimed at.
-    max_points : float, optional
-        The most time points one run may have (its budget): the finest member's.
-    unknowns : float, optional
-        ngspice's unknowns per point (default 2 N).
-    method : {"trap", "gear"}
-        The single run's method (gear is never extrapolated: pass its ``refused`` reason too).
+    options : AccuracyOptions, optional
+        The runs forced or refused, the losses, the safety margin, the budget's points, the method (default
+        :class:`AccuracyOptions`: the cheapest of 1, 2, 3 runs, trap, no losses, no budget).
 
     Raises
     ------
@@ -330,15 +358,19 @@ def plan_for_accuracy(modes: Modes, accuracy: float, tstop: float, *, extrapolat
     if accuracy < ACCURACY_FLOOR:
         raise ParameterError("accuracy", accuracy, f"an accuracy >= {ACCURACY_FLOOR:g}: ngspice's rounding grows "
                              "with its steps, so it does not reliably reach less")
-    if extrapolate is not None and extrapolate not in EXTRAPOLATIONS:
-        raise ParameterError("extrapolate", extrapolate, "1, 2 or 3 runs (1: no extrapolation)")
-    options = [1] if refused else ([extrapolate] if extrapolate is not None else list(EXTRAPOLATIONS))
+    if options is None:
+        options = AccuracyOptions()
+    elif not isinstance(options, AccuracyOptions):
+        raise ParameterError("options", options, "an AccuracyOptions")
+    extrapolate, refused, Q, safety = options.extrapolate, options.refused, options.Q, options.safety
+    max_points, unknowns, method = options.max_points, options.unknowns, options.method
+    choices = [1] if refused else ([extrapolate] if extrapolate is not None else list(EXTRAPOLATIONS))
     target = safety * accuracy
     considered = []
-    for runs in options:
+    for runs in choices:
         if runs == 1:  # an ordinary run, with its breakpoint: the model of lcchain.compare.accuracy
             found: tuple[float, float] | None = _single_run(modes, accuracy, tstop, safety, max_points,
-                                                            exact=len(options) == 1, method=method)
+                                                            exact=len(choices) == 1, method=method)
         else:
             # the budget's smallest step, and the model's: its cost grows with the finest run's points
             budget_points = MODEL_MAX_POINTS if max_points is None else min(max_points, MODEL_MAX_POINTS)
@@ -358,7 +390,7 @@ def plan_for_accuracy(modes: Modes, accuracy: float, tstop: float, *, extrapolat
         raise BudgetError("accuracy", accuracy, "an accuracy this machine can afford with one, two or three runs "
                           "(each is limited by --max-memory and --max-time)")
     runs, dt, e, seconds = min(considered, key=lambda option: option[3])
-    if runs == 1 and len(options) > 1:  # the estimate won: now the exact step
+    if runs == 1 and len(choices) > 1:  # the estimate won: now the exact step
         try:
             dt = dt_for_accuracy(modes, accuracy, tstop, safety=safety, max_points=max_points, method=method)
             e = predicted_error(modes, dt, tstop, method=method)

@@ -3,7 +3,8 @@
 An analysis kind (:data:`lcchain.core.types.AnalysisKind`) describes itself here: the vector it runs along, whether
 it sweeps frequencies (complex phasors, a count of points, no stop time), what its points are called, and whether
 a run's key names it.  Code elsewhere asks these attributes, never the kind's name; what an analysis *does* (its
-check and its plan, its run and its comparison) is its type in :mod:`lcchain.runs.request` and its line in
+check, its plan, its run and its comparison) is its type in :mod:`lcchain.runs.request.types`, its planner (a
+module of :mod:`lcchain.runs.request`, a line in ``PLANNERS``) and its line in
 :data:`lcchain.runs.execute.ANALYSIS_RUNS`.
 """
 

@@ -6,7 +6,7 @@ allowed values are derived from them (``get_args``), never written again.
 
 from __future__ import annotations
 
-from typing import Any, Literal, TypeAlias, get_args
+from typing import Literal, get_args
 
 #: Families of chains lcchain can build by name.
 Case = Literal["one-mass", "two-mass", "uniform-free", "uniform-bounded", "perfect", "custom"]
@@ -95,10 +95,3 @@ DEFAULT_L0 = 10e-6
 DEFAULT_C0 = 10e-9
 DEFAULT_I0 = 1e-3
 
-#: A value as JSON holds it (a record's ``to_dict``, a command's ``--json``, a report's data, a scene's TOML
-#: value): numbers, strings, booleans, None, and lists and objects of them, read by key where the code knows the
-#: document's shape.  Its shape is the keys it is read by, not a type: the one place the command layer's types say
-#: Any.
-JSON: TypeAlias = Any
-#: A JSON object: names to :data:`JSON` values.
-JSONObject: TypeAlias = dict[str, JSON]

@@ -3,24 +3,30 @@
 from __future__ import annotations
 
 import os
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
+from ..core.checks import instance, text_line
+from ..core.errors import ParameterError
 from ..core.types import DesignCase
 from ..studies.requirements import RequirementsCheck
-from ..studies.spectrum_checks import SpectrumCheck
 from ..studies.validation import CircuitCheck
 from .figure_data import FULL_N, QUICK_N, DesignRows
 from .files import write_text
 from .html import figure_png, render_html, report_json
 from .paper_figures import FIGURES, PaperFigure, make_figures
-from .plots import overlay
+from .plots import OverlayCurves, overlay
 from .requirements import requirements_figures
 from .spectrum import spectrum_figures
-from .validation import QUICK_REPORT_N, REPORT_N, validation_report
+from .validation import QUICK_REPORT_N, REPORT_N, ValidationRuns, validation_report
 
-__all__ = ["build_figures", "build_report", "report_rows", "check_figure_png", "paper_figure_png",
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+__all__ = ["ReportOptions", "ReportParts", "ValidationRuns", "build_figures", "build_report", "report_rows",
+           "check_figure_png", "paper_figure_png",
            "requirements_figure_png"]
 
 Progress = Callable[[int, int, str], None]
@@ -32,11 +38,12 @@ def build_figures(out: str | os.PathLike[str], *, quick: bool = False, fmt: str 
     return make_figures(out, quick=quick, fmt=fmt, rows=DesignRows(cache), progress=progress)
 
 
-def _check_figure(check: Any) -> Any:
+def _check_figure(check: CircuitCheck) -> Figure:
     curves = check.curves
     ylabel = "$Q_N\\,/\\,Q_1(0)$" if check.excitation == "displacement" else "$I_N\\,/\\,I_1(0)$"
-    figure = overlay(curves["t"], curves["sim"], curves["t"], curves["theory"], residual=curves["residual"],
-                     arrivals=curves["arrivals"], title=f"{check.name} ({check.what})", ylabel=ylabel)
+    figure = overlay(OverlayCurves(curves["t"], curves["sim"], curves["t"], curves["theory"],
+                                   residual=curves["residual"], arrivals=curves["arrivals"]),
+                     title=f"{check.name} ({check.what})", ylabel=ylabel)
     figure.set_size_inches(5.6, 3.8)
     return figure
 
@@ -70,33 +77,63 @@ def report_rows(quick: bool = False) -> list[tuple[DesignCase, int]]:
     return list(dict.fromkeys(pairs))
 
 
-def build_report(out: str | os.PathLike[str], circuit: Sequence[CircuitCheck], engines: Mapping[str, str], *,
-                 quick: bool = False, cache: str | os.PathLike[str] | None = None, progress: Progress | None = None,
-                 command: str = "lcchain report", seconds: float = 0.0, rows: DesignRows | None = None,
-                 spectrum: Sequence[SpectrumCheck] = (),
-                 requirements: Sequence[RequirementsCheck] = (), figures: Mapping[str, bytes] | None = None,
-                 paper: dict[str, Any] | None = None) -> dict[str, Any]:
-    """Compute the paper's half of the validation report, render it with the circuit's runs, spectra and the
-    cradles' parts' requirements (already made), then write ``out/index.html`` and ``out/report.json``; return it
-    as data.
+@dataclass(frozen=True)
+class ReportOptions:
+    """How the report is made: ``quick`` (the paper's printed rows and a few more, instead of every N of
+    :data:`.validation.REPORT_N`), where the designed rows are kept between runs (``cache``, a folder; None: not
+    kept), and the ``command`` the page says made it."""
 
-    ``rows`` gives the tables' rows (default: ``DesignRows(cache)``, designed here as they are read); the
-    circuit's figures are drawn first, so that rows still being designed elsewhere
-    (:class:`lcchain.studies.background.Background`) are not waited for meanwhile.  ``figures`` are PNGs already
-    drawn (:func:`check_figure_png` as ``check:<name>``, :func:`paper_figure_png` as ``paper:<label>``, e.g. by the
-    processes that ran the checks; ``requirements:<name>`` as :func:`requirements_figure_png`): they are not drawn
-    again; ``paper`` is :func:`lcchain.report.validation.paper_section` of ``rows`` if already made.
+    quick: bool = False
+    cache: str | os.PathLike[str] | None = None
+    command: str = "lcchain report"
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.quick, bool):
+            raise ParameterError("quick", self.quick, "True or False")
+        text_line("command", self.command, 1000)
+
+
+@dataclass(frozen=True)
+class ReportParts:
+    """What of the report was made already, elsewhere (the processes that ran the checks): ``rows`` gives the
+    tables' rows (None: ``DesignRows(cache)``, designed as they are read); ``figures`` are PNGs drawn
+    (:func:`check_figure_png` as ``check:<name>``, :func:`paper_figure_png` as ``paper:<label>``,
+    :func:`requirements_figure_png` as ``requirements:<name>``), not drawn again; ``paper`` is
+    :func:`lcchain.report.validation.paper_section` of ``rows``."""
+
+    rows: DesignRows | None = field(default=None, compare=False)
+    figures: Mapping[str, bytes] = field(default_factory=dict)
+    paper: dict[str, Any] | None = None
+
+    def __post_init__(self) -> None:
+        instance("rows", self.rows, DesignRows, optional=True)
+        instance("figures", self.figures, Mapping)
+        if self.paper is not None and self.rows is None:
+            raise ParameterError("paper", "a paper section", "the rows it was made of too (rows=...)")
+
+
+def build_report(out: str | os.PathLike[str], runs: ValidationRuns, options: ReportOptions | None = None,
+                 made: ReportParts | None = None, progress: Progress | None = None) -> dict[str, Any]:
+    """Compute the paper's half of the validation report, render it with the circuit's runs, spectra and the
+    cradles' parts' requirements (already made, ``runs``), then write ``out/index.html`` and ``out/report.json``;
+    return it as data.
+
+    The circuit's figures are drawn first, so that rows still being designed elsewhere
+    (:class:`lcchain.studies.background.Background`) are not waited for meanwhile; what ``made`` holds is not
+    made again.
     """
-    rows = rows if rows is not None else DesignRows(cache)
-    drawn = dict(figures or {})
+    options = options if options is not None else ReportOptions()
+    made = made if made is not None else ReportParts()
+    quick, circuit, spectrum, requirements = options.quick, runs.circuit, runs.spectrum, runs.requirements
+    rows = made.rows if made.rows is not None else DesignRows(options.cache)
+    drawn = dict(made.figures)
     pngs: dict[str, bytes] = {}
     for check in circuit:
         key = f"check:{check.name}"
         png = drawn[key] if key in drawn else check_figure_png(check)
         if png is not None:
             pngs[key] = png
-    report = validation_report(rows, circuit, engines, quick=quick, progress=progress, seconds=seconds,
-                               spectrum=spectrum, requirements=requirements, paper=paper)
+    report = validation_report(rows, runs, quick=quick, progress=progress, paper=made.paper)
     for label, figure in spectrum_figures(spectrum, rows).items():
         pngs[f"spectrum:{label}"] = figure_png(figure)
     for cradle in requirements:
@@ -111,7 +148,7 @@ def build_report(out: str | os.PathLike[str], circuit: Sequence[CircuitCheck], e
         pngs[key] = drawn[key] if key in drawn else paper_figure_png(paper_figure, rows, quick)
     if progress is not None:
         progress(len(FIGURES), len(FIGURES), "writing")
-    page = render_html(report, pngs, [(f.label, f.caption) for f in FIGURES], command=command)
+    page = render_html(report, pngs, [(f.label, f.caption) for f in FIGURES], command=options.command)
     folder = Path(out)
     folder.mkdir(parents=True, exist_ok=True)
     write_text(folder / "report.json", report_json(report))

@@ -21,7 +21,7 @@ import numpy as np
 import scipy  # its submodules load on first use: commands that need no theory never import them
 
 from ..circuit.ladder import Ladder
-from ..circuit.netlist import SimulationOptions, netlist_text
+from ..circuit.netlist import NetlistOutput, SimulationOptions, netlist_text
 from ..core import __version__
 from ..core.blas import fixed_blas_threads
 from ..core.types import DEFAULT_C0, DEFAULT_L0, DesignCase
@@ -434,7 +434,8 @@ def circuit_data(case: str = "two-mass", N: int = 6, L0: float = DEFAULT_L0, C0:
     """
     chain = chain_for_case(case, N)
     ladder = Ladder(chain, L0=L0, C0=C0)
-    text = netlist_text(ladder, SimulationOptions(dt=0.05, tstop=1.0), title=f"lcchain {case} N={N}")
+    text = netlist_text(ladder, SimulationOptions(dt=0.05, tstop=1.0),
+                        output=NetlistOutput(title=f"lcchain {case} N={N}"))
     elements = []
     for line in text.splitlines():
         fields = line.split()

@@ -8,12 +8,16 @@ matplotlib Figure (never shown, saved by the caller).
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ..theory.asymptotic import asymptotic_optimum
 from ..theory.design import optimal_one_mass, optimal_two_mass
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
 
 __all__ = ["delta_data", "delta_figure", "design_grid", "spline_through", "PERFECT_LOSS", "UNIFORM_LIMIT"]
 
@@ -76,8 +80,8 @@ def spline_through(N: Sequence[float] | np.ndarray, values: Sequence[float] | np
 
 
 def delta_figure(data: Mapping[str, Any], measured: Mapping[str, Sequence[tuple[int, float]]] | None = None,
-                 *, title: str = "", ax: Any = None, scale: str = "log",
-                 enlarge: Mapping[str, float] | None = None) -> Any:
+                 *, title: str = "", ax: Axes | None = None, scale: str = "log",
+                 enlarge: Mapping[str, float] | None = None) -> Figure:
     """Fig. delta: the transmission loss δ* against N (N on a log axis), points joined by splines.
 
     Filled symbols are the losses (green triangles: uniform chain; blue squares: one optimal mass; red
@@ -105,7 +109,9 @@ def delta_figure(data: Mapping[str, Any], measured: Mapping[str, Sequence[tuple[
     if scale not in ("log", "linear"):
         raise ValueError(f"scale = {scale!r}: expected 'log' or 'linear'")
     log = scale == "log"
-    fig = Figure(figsize=(9.5, 4.8), layout="constrained") if ax is None else ax.get_figure(root=True)
+    from .plots import _root_figure
+
+    fig = Figure(figsize=(9.5, 4.8), layout="constrained") if ax is None else _root_figure(ax)
     ax = ax if ax is not None else fig.add_subplot()
     styles = {"uniform": ("#2f8f3f", "uniform chain, δ*(1)"), "one-mass": ("#1f5fbf", "one optimal mass"),
               "two-mass": ("#c0282d", "two optimal masses and their spring")}

@@ -23,9 +23,12 @@ import stat
 import tempfile
 from collections.abc import Iterable, Iterator
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from ..core.errors import ParameterError
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
 __all__ = ["FIGURE_FORMATS", "check_output", "check_output_folder", "check_not_input", "check_inside", "same_file",
            "write_text", "save_figure", "atomic_path"]
@@ -245,7 +248,7 @@ def write_text(path: str | os.PathLike[str], text: str) -> Path:
     return Path(path)
 
 
-def save_figure(figure: Any, path: str | os.PathLike[str], **kwargs: Any) -> Path:
+def save_figure(figure: Figure, path: str | os.PathLike[str], **kwargs: Any) -> Path:
     """Save a matplotlib Figure to ``path`` atomically, in the format its name says."""
     target = Path(path)
     with atomic_path(target) as temporary:

@@ -15,17 +15,20 @@ import json
 import math
 from collections.abc import Iterable, Mapping
 from fractions import Fraction
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ..core.physical import physical_scales, si_text, units_sentence
 from ..core.types import DEFAULT_C0, DEFAULT_L0
-from ..studies.validation import CHECKED_MAX_N, LARGE_CHECKS
+from ..studies.validation import CHECKED_MAX_N, LARGE_CHECKS, CircuitCheck
 from ..theory.design import DESIGN_TABLES
 from .markup import esc, figure_block, num, verdict_cell
 from .requirements import requirements_html, requirements_summary
 from .spectrum import spectrum_html, spectrum_summary
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
 __all__ = ["render_html", "report_json", "figure_png", "STYLE", "content_security_policy"]
 
@@ -79,7 +82,7 @@ def content_security_policy(style: str = STYLE) -> str:
             "form-action 'none'")
 
 
-def figure_png(figure: Any, dpi: int = 110) -> bytes:
+def figure_png(figure: Figure, dpi: int = 110) -> bytes:
     """A matplotlib Figure as PNG bytes (never shown, never written to disk)."""
     buffer = io.BytesIO()
     figure.savefig(buffer, format="png", dpi=dpi)
@@ -205,7 +208,7 @@ def _sizes_html(quick: bool, default_engine: str) -> str:
             "numbers).</p>")
 
 
-def _circuit_html(checks: list[Any], figures: Mapping[str, bytes], time_unit: float, quick: bool = False,
+def _circuit_html(checks: list[CircuitCheck], figures: Mapping[str, bytes], time_unit: float, quick: bool = False,
                   default_engine: str = "ngspice") -> str:
     lines = [_sizes_html(quick, default_engine),
              "<p>Each run: ngspice's end-loop current I<sub>N</sub>/I<sub>1</sub>(0) (or charge, after a "
@@ -324,7 +327,7 @@ def render_html(report: Mapping[str, Any], figures: Mapping[str, bytes], caption
     return "\n".join(part for part in parts if part)
 
 
-def _plain(value: Any) -> Any:
+def _plain(value: object) -> object:
     if isinstance(value, np.ndarray):
         return value.tolist()
     if isinstance(value, (np.floating, np.integer)):

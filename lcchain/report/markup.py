@@ -5,12 +5,11 @@ from __future__ import annotations
 import base64
 import html
 import math
-from typing import Any
 
 __all__ = ["esc", "num", "figure_block", "verdict_cell"]
 
 
-def esc(value: Any) -> str:
+def esc(value: object) -> str:
     """``value`` as text, escaped for HTML."""
     return html.escape(str(value))
 

@@ -10,7 +10,10 @@ rounded strings would.
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from ..theory.asymptotic import AsymptoticOptimum
 
 __all__ = ["PRINTED_COLUMNS", "PRINTED_ROWS", "PRINTED_ASYMPTOTIC", "last_digit_units", "compare_row", "findings",
            "printed_row"]
@@ -111,7 +114,8 @@ def compare_row(case: str, computed: dict[str, Any]) -> list[dict[str, Any]]:
     return cells
 
 
-def findings(optima: dict[str, Any], rows: dict[str, dict[int, dict[str, Any]]]) -> list[dict[str, str]]:
+def findings(optima: dict[str, AsymptoticOptimum],
+             rows: dict[str, dict[int, dict[str, Any]]]) -> list[dict[str, str]]:
     """Where the paper's printed numbers are wrong or off, each with the cell, the printed and the right value.
 
     Parameters
@@ -195,14 +199,14 @@ def vk_flat_delta(N: int = VK_N) -> float:
     return float(scipy.optimize.brentq(lambda delta: vk_left_side(delta, N) - 0.125, 0.05, 0.95, xtol=1e-14))
 
 
-def _asymptotic_value(optimum: Any, key: str) -> float | None:
+def _asymptotic_value(optimum: AsymptoticOptimum, key: str) -> float | None:
     if key in ("alpha", "delta", "tau", "sigma"):
         return float(getattr(optimum, key))
     value = optimum.coefficients.get(key)  # y and m2: the coefficient of their N^-1/3 correction, as printed
     return None if value is None else float(value)
 
 
-def _text_findings(optima: dict[str, Any]) -> list[dict[str, str]]:
+def _text_findings(optima: dict[str, AsymptoticOptimum]) -> list[dict[str, str]]:
     """The text's slips: Fig. int_rw's sign, a phase's sin k_n, Fig. vk's Delta, the coefficients that inherit
     the optima's tau*, notation, and the equations' labels and references."""
     from ..theory.asymptotic import asymptotic_amplitude

@@ -12,7 +12,7 @@ import os
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any, TypedDict
 
 import numpy as np
 
@@ -31,6 +31,11 @@ from .figure_data import (
 from .figures import UNIFORM_LIMIT, delta_figure
 from .files import save_figure
 
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+    from matplotlib.patches import Rectangle
+
 __all__ = ["FIGURES", "PaperFigure", "make_figures", "cradle4_figure", "vk_figure", "x_xy_figure", "m_mmK_figure",
            "int_rw_figure", "minimiz_figure", "rw_figure", "pk_figure", "circuit_figure", "delta_from_optimum",
            "paper_delta_figure", "DELTA_ENLARGE"]
@@ -39,14 +44,14 @@ _BLUE, _RED, _GREEN = "#1f5fbf", "#c0282d", "#2f8f3f"
 _AUX = "#7cc68a"  # Fig. cradle4's auxiliary (green) masses
 
 
-def _figure(width: float = 7.5, height: float = 4.6) -> Any:
+def _figure(width: float = 7.5, height: float = 4.6) -> Figure:
     from matplotlib.figure import Figure
 
     return Figure(figsize=(width, height), layout="constrained")
 
 
 # ------------------------------------------------------------------ cradle4
-def _spring(ax: Any, x0: float, x1: float, y: float, label: str, coils: int = 6) -> None:
+def _spring(ax: Axes, x0: float, x1: float, y: float, label: str, coils: int = 6) -> None:
     xs = np.linspace(x0, x1, 2 * coils + 3)
     ys = np.full_like(xs, y)
     ys[1:-1:2] += 0.12
@@ -63,13 +68,13 @@ def _fraction(value: float) -> str:
     return str(exact) if abs(float(exact) - value) < 1e-9 else f"{value:.4g}"
 
 
-def cradle4_figure(data: Mapping[str, Any]) -> Any:
+def cradle4_figure(data: Mapping[str, Any]) -> Figure:
     """Fig. cradle4: the chain (masses as blocks of area ∝ mass, springs labelled) and its pulse.
 
     Left below: each mass's velocity over two transits; right: the space-time map of the same.
     """
     fig = _figure(9.5, 6.0)
-    top, bottom = fig.subfigures(2, 1, height_ratios=[1.0, 1.5])
+    top, bottom = fig.subfigures(2, 1, height_ratios=[1.0, 1.5], squeeze=False)[:, 0]
     ax = top.add_subplot()
     masses, springs = data["masses"], data["springs"]
     gap, touch = 1.6, 0.12
@@ -132,7 +137,7 @@ def cradle4_figure(data: Mapping[str, Any]) -> Any:
     return fig
 
 
-def _rectangle(x: float, y: float, w: float, h: float, colour: str) -> Any:
+def _rectangle(x: float, y: float, w: float, h: float, colour: str) -> Rectangle:
     from matplotlib.patches import Rectangle
 
     return Rectangle((x, y), w, h, facecolor=colour, edgecolor="0.2", linewidth=1.0)
@@ -145,10 +150,17 @@ def _edges(centres: np.ndarray) -> np.ndarray:
 
 # ------------------------------------------------------------------ vk
 #: The circuit's points on Figs. vk and Pk20-100: open black rings around the theory's symbols.
-_CIRCUIT = {"color": "k", "markerfacecolor": "none", "markeredgewidth": 0.9, "linestyle": "none"}
+class _Markers(TypedDict):
+    color: str
+    markerfacecolor: str
+    markeredgewidth: float
+    linestyle: str
 
 
-def vk_figure(data: Mapping[str, Any], circuit: Mapping[float, Mapping[str, Any]] | None = None) -> Any:
+_CIRCUIT: _Markers = {"color": "k", "markerfacecolor": "none", "markeredgewidth": 0.9, "linestyle": "none"}
+
+
+def vk_figure(data: Mapping[str, Any], circuit: Mapping[float, Mapping[str, Any]] | None = None) -> Figure:
     """Fig. vk: v_k (red) and P_k (blue dashed, arbitrary units) for N = 50 at three Δ; uniform v_k dotted.
 
     ``circuit`` maps a panel's Δ to a circuit's modes (:func:`~lcchain.report.figure_data.spectrum_points`),
@@ -203,7 +215,7 @@ def delta_from_optimum(data: Mapping[str, Any]) -> dict[str, Any]:
             "asymptotes": {"uniform": UNIFORM_LIMIT, **data["asymptotes"]}}
 
 
-def paper_delta_figure(data: Mapping[str, Any]) -> Any:
+def paper_delta_figure(data: Mapping[str, Any]) -> Figure:
     """Fig. delta as the caption has it: δ* on a linear axis, filled symbols, splines, the three limits
     1, δ*∞(one-mass), δ*∞(two-mass) dotted, and the two optimised cases enlarged (open symbols)."""
     return delta_figure(data, scale="linear", enlarge=DELTA_ENLARGE,
@@ -229,7 +241,7 @@ _LAW_LIMITS: dict[tuple[str, str], Callable[[np.ndarray], np.ndarray]] = {
 }
 
 
-def _against_N(ax: Any, ylabel: str, title: str, *, log_y: bool = True) -> None:
+def _against_N(ax: Axes, ylabel: str, title: str, *, log_y: bool = True) -> None:
     """The axes of an optimum against N: N on a log scale (y too unless ``log_y`` is False), grid, a legend
     outside the frame (never on the data), title."""
     ax.set_xscale("log")
@@ -246,7 +258,7 @@ def _values(data: Mapping[str, Any], case: str, key: str) -> np.ndarray:
     return np.asarray([row[key] for row in data[case]], dtype=float)
 
 
-def _points(ax: Any, data: Mapping[str, Any], case: str, key: str, colour: str, marker: str,
+def _points(ax: Axes, data: Mapping[str, Any], case: str, key: str, colour: str, marker: str,
             label: str | None = None) -> np.ndarray:
     """The optimum's ``key`` against N as filled symbols; returns the values drawn."""
     N = np.asarray(data["N"], dtype=float)
@@ -266,24 +278,24 @@ def _frame(values: Sequence[np.ndarray], *, log_y: bool, floor: float | None = N
     return (floor if floor is not None else lo - pad), hi + pad
 
 
-def _law_in_frame(ax: Any, N: np.ndarray, law: np.ndarray, frame: tuple[float, float], colour: str) -> None:
+def _law_in_frame(ax: Axes, N: np.ndarray, law: np.ndarray, frame: tuple[float, float], colour: str) -> None:
     """A large-N law drawn only where it lies inside the frame (outside it: not drawn, never clipped)."""
     inside = (law >= frame[0]) & (law <= frame[1])
     ax.plot(N, np.where(inside, law, np.nan), color=colour, linewidth=0.9, alpha=0.85)
 
 
-def _tag(ax: Any, N: float, value: float, text: str, colour: str = "0.15") -> None:
+def _tag(ax: Axes, N: float, value: float, text: str, colour: str = "0.15") -> None:
     """A quantity's name just right of its last point, where no data are (the x axis leaves room)."""
     ax.annotate(text, (N, value), textcoords="offset points", xytext=(9, 0), ha="left", va="center", fontsize=9,
                 color=colour)
 
 
-def _room_right(ax: Any, data: Mapping[str, Any]) -> None:
+def _room_right(ax: Axes, data: Mapping[str, Any]) -> None:
     """N limits with room right of the last point for the tags of :func:`_tag`."""
     ax.set_xlim(min(data["N"]) / 1.3, max(data["N"]) * 2.2)
 
 
-def x_xy_figure(data: Mapping[str, Any]) -> Any:
+def x_xy_figure(data: Mapping[str, Any]) -> Figure:
     """Fig. x_xy: x* (one-mass, y = 1: blue squares) and x*, y* (two-mass: red circles) against N, with
     the large-N laws of Eqs. e.asymp_x and e.xy_N drawn where they stay inside the frame the data set."""
     fig = _figure(9.5, 4.6)
@@ -305,7 +317,7 @@ def x_xy_figure(data: Mapping[str, Any]) -> Any:
     return fig
 
 
-def m_mmK_figure(data: Mapping[str, Any]) -> Any:
+def m_mmK_figure(data: Mapping[str, Any]) -> Figure:
     """Fig. m_mmK: m1* (one-mass, m2 = K12 = 1: blue squares) and m1*, m2*, K12* (two-mass: red circles)
     against N, with the large-N laws drawn where they stay inside the frame the data set."""
     fig = _figure(9.5, 4.6)
@@ -331,7 +343,7 @@ def m_mmK_figure(data: Mapping[str, Any]) -> Any:
     return fig
 
 
-def rw_figure(data: Mapping[str, Any]) -> Any:
+def rw_figure(data: Mapping[str, Any]) -> Figure:
     """Fig. rw: r* (red squares) and w* (blue circles) against N, the laws of Eq. e.rw_N where they stay
     inside the frame, and w(r*) of Eq. e.wr (open circles)."""
     fig = _figure(9.5, 4.6)
@@ -351,7 +363,7 @@ def rw_figure(data: Mapping[str, Any]) -> Any:
 
 
 # ------------------------------------------------------------------ int_rw, minimiz
-def int_rw_figure(data: Mapping[str, Any]) -> Any:
+def int_rw_figure(data: Mapping[str, Any]) -> Figure:
     """Fig. int_rw: the integrand of Eq. e.uinftyz; its area is α∞(τ, σ)."""
     fig = _figure()
     ax = fig.add_subplot()
@@ -384,7 +396,7 @@ def _broken_at(sigma: Sequence[float], values: Sequence[float], jumps: Sequence[
     return np.asarray(xs), np.asarray(ys)
 
 
-def minimiz_figure(data: Mapping[str, Any]) -> Any:
+def minimiz_figure(data: Mapping[str, Any]) -> Figure:
     """Fig. minimiz: τ_m(σ) (blue line, left axis) and δ∞(σ, τ_m(σ)) (red line, right axis, log), its global
     minimum at σ*.  Where τ_m jumps (the minimum leaves τ = 0) the blue line breaks; a dotted segment joins
     the two sides."""
@@ -415,7 +427,7 @@ def minimiz_figure(data: Mapping[str, Any]) -> Any:
 
 
 # ------------------------------------------------------------------ Pk20-100
-def pk_figure(data: Mapping[str, Any], circuit: Mapping[int, Mapping[str, Any]] | None = None) -> Any:
+def pk_figure(data: Mapping[str, Any], circuit: Mapping[int, Mapping[str, Any]] | None = None) -> Figure:
     """Fig. Pk20-100: P_n (squares, left) and (N/π) δω_n (circles, right) for N = 20 (filled), 100 (open).
 
     ``circuit`` maps a panel's N to a circuit's modes (:func:`~lcchain.report.figure_data.spectrum_points`),
@@ -454,7 +466,7 @@ def pk_figure(data: Mapping[str, Any], circuit: Mapping[int, Mapping[str, Any]] 
 
 
 # ------------------------------------------------------------------ LCcircuit
-def _inductor(ax: Any, x0: float, x1: float, y: float) -> None:
+def _inductor(ax: Axes, x0: float, x1: float, y: float) -> None:
     turns = 4
     lead = 0.12 * (x1 - x0)
     ax.plot([x0, x0 + lead], [y, y], color="k", linewidth=1.2)
@@ -466,7 +478,7 @@ def _inductor(ax: Any, x0: float, x1: float, y: float) -> None:
         ax.plot(cx + width / 2 * np.cos(theta), y + width / 2 * np.sin(theta), color="k", linewidth=1.2)
 
 
-def _capacitor(ax: Any, x: float, y0: float, y1: float) -> None:
+def _capacitor(ax: Axes, x: float, y0: float, y1: float) -> None:
     mid = (y0 + y1) / 2
     ax.plot([x, x], [y0, mid + 0.06], color="k", linewidth=1.2)
     ax.plot([x, x], [mid - 0.06, y1], color="k", linewidth=1.2)
@@ -481,7 +493,7 @@ def _si(value: float, unit: str) -> str:
     return f"{value:.3g} {unit}"
 
 
-def circuit_figure(data: Mapping[str, Any]) -> Any:
+def circuit_figure(data: Mapping[str, Any]) -> Figure:
     """Fig. LCcircuit: the ladder drawn from the netlist's own elements, each with its value.
 
     Inductors (the masses) in series along the top carry the loop currents; capacitors (the springs) to
@@ -535,11 +547,11 @@ class PaperFigure:
     label: str
     caption: str
     data: Callable[[DesignRows | None, bool], Any]
-    draw: Callable[[Any], Any]
+    draw: Callable[[Mapping[str, Any]], Figure]
     uses_rows: bool = False
     seconds: float = 0.3
 
-    def build(self, rows: DesignRows | None, quick: bool) -> Any:
+    def build(self, rows: DesignRows | None, quick: bool) -> Figure:
         """The Figure: its data drawn."""
         return self.draw(self.data(rows, quick))
 

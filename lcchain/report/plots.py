@@ -17,7 +17,8 @@ from __future__ import annotations
 import os
 import re
 from collections.abc import Mapping, Sequence
-from typing import TYPE_CHECKING, Any
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any, TypedDict
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -27,10 +28,11 @@ from .files import save_figure
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
+    from matplotlib.axes._secondary_axes import SecondaryAxis
     from matplotlib.figure import Figure
 
-__all__ = ["physical_axis", "overlay", "side_by_side", "spacetime", "histogram", "pareto", "mode_density", "spectrum",
-           "spacing_band", "TIME_LABEL", "set_title", "wrapped"]
+__all__ = ["physical_axis", "OverlayCurves", "overlay", "side_by_side", "spacetime", "histogram", "pareto",
+           "mode_density", "spectrum", "spacing_band", "TIME_LABEL", "set_title", "wrapped"]
 
 #: Label of every time axis.
 TIME_LABEL = r"$t\,/\sqrt{L_0 C_0}$"
@@ -41,7 +43,19 @@ DPI = 150
 #: Most time columns :func:`spacetime` draws (see :func:`_decimate_max_abs`).
 SPACETIME_MAX_COLUMNS = 2000
 
-_GRID: dict[str, Any] = {"alpha": 0.3, "linewidth": 0.5}
+class _Grid(TypedDict):
+    alpha: float
+    linewidth: float
+
+
+_GRID: _Grid = {"alpha": 0.3, "linewidth": 0.5}
+
+
+class _LineStyle(TypedDict, total=False):
+    linestyle: str
+    marker: str
+    markersize: float
+    linewidth: float
 _ARRIVAL_KEYS = ("index", "t_theory", "t_sim", "peak_theory", "peak_sim")
 _RECORD_KEYS = ("method", "N", "wall_s", "error")
 
@@ -120,7 +134,7 @@ def _finish(fig: Figure, path: str | os.PathLike[str] | None) -> Figure:
     return fig
 
 
-def _vector(name: str, values: Any, *, min_size: int = 1) -> np.ndarray:
+def _vector(name: str, values: ArrayLike, *, min_size: int = 1) -> np.ndarray:
     a = np.asarray(values, dtype=float)
     if a.ndim != 1:
         raise ParameterError(f"{name}.shape", a.shape, "a one-dimensional array")
@@ -146,15 +160,15 @@ def _field(item: Any, key: str, what: str, i: int) -> Any:
 
 # --------------------------------------------------------------------------- overlay
 
-def physical_axis(ax: Axes, scale: float, unit: str, label: str) -> Any:
+def physical_axis(ax: Axes, scale: float, unit: str, label: str) -> SecondaryAxis:
     """A secondary x axis on top of ``ax`` in SI (issue 33): the bulk axis times ``scale`` (seconds per unit of
     sqrt(L0 C0), or hertz per unit of angular frequency), labelled ``label [unit]``; the bulk axis stays below."""
     if not (np.isfinite(scale) and scale > 0):
         raise ParameterError("scale", scale, "a finite number > 0 (the SI value of one bulk unit)")
-    def to_si(x: Any) -> Any:
+    def to_si(x: ArrayLike) -> np.ndarray:
         return np.asarray(x, dtype=float) * scale
 
-    def to_bulk(x: Any) -> Any:
+    def to_bulk(x: ArrayLike) -> np.ndarray:
         return np.asarray(x, dtype=float) / scale
 
     secondary = ax.secondary_xaxis("top", functions=(to_si, to_bulk))
@@ -163,15 +177,12 @@ def physical_axis(ax: Axes, scale: float, unit: str, label: str) -> Any:
     return secondary
 
 
-def overlay(t_sim: ArrayLike, y_sim: ArrayLike, t_theory: ArrayLike, y_theory: ArrayLike, *,
-            residual: ArrayLike | None = None, t_residual: ArrayLike | None = None,
-            first_sim: ArrayLike | None = None, first_theory: ArrayLike | None = None, arrivals: Sequence[Any] = (),
-            title: str = "", ylabel: str = r"$I_N\,/\,I_1(0)$",
-            path: str | os.PathLike[str] | None = None, ax: Axes | None = None,
-            time_unit: float | None = None) -> Figure:
-    """Simulated end-loop signal over the theory, with the residual below; loop 1 too when given.
+@dataclass(frozen=True, eq=False)
+class OverlayCurves:
+    """What :func:`overlay` draws: loop N's simulated signal over its theory, the residual, loop 1's too when
+    given, and the arrivals marked on them.
 
-    Parameters
+    Attributes
     ----------
     t_sim, y_sim : array_like, shape (n,)
         Simulated signal of loop N at the simulator's time points; time in
@@ -181,7 +192,7 @@ def overlay(t_sim: ArrayLike, y_sim: ArrayLike, t_theory: ArrayLike, y_theory: A
     residual : array_like, optional
         Simulation minus theory, dimensionless; drawn in a lower panel with
         its largest absolute value in the legend.  Ignored (but checked) when
-        `ax` is given.
+        the overlay is drawn into an ``ax``.
     t_residual : array_like, optional
         Times of `residual`, in units of sqrt(L0 C0); default `t_sim`.
     first_sim, first_theory : array_like, optional
@@ -197,14 +208,96 @@ def overlay(t_sim: ArrayLike, y_sim: ArrayLike, t_theory: ArrayLike, y_theory: A
         time and peak differences, simulation minus theory; its peaks are
         marked on its loop's curves (an arrival at loop 1 without loop 1's
         curves keeps its line and note, its note naming the loop).
+    time_unit : float, optional
+        Seconds per unit of sqrt(L0 C0): a second time axis on top, in seconds (:func:`physical_axis`).
+
+    The arrays are checked here (one-dimensional, each of its time grid's length; loop 1's both or neither; a
+    residual's times only with a residual), and the arrivals (every key, ``end`` first or last), each refusal
+    naming the field.
+    """
+
+    t_sim: ArrayLike
+    y_sim: ArrayLike
+    t_theory: ArrayLike
+    y_theory: ArrayLike
+    residual: ArrayLike | None = None
+    t_residual: ArrayLike | None = None
+    first_sim: ArrayLike | None = None
+    first_theory: ArrayLike | None = None
+    arrivals: Sequence[Any] = ()
+    time_unit: float | None = None
+
+    def __post_init__(self) -> None:
+        def keep(name: str, value: np.ndarray) -> None:
+            object.__setattr__(self, name, value)
+
+        t_sim = _vector("t_sim", self.t_sim)
+        keep("t_sim", t_sim)
+        keep("y_sim", _vector("y_sim", self.y_sim))
+        _same_length("y_sim", self.sim, "t_sim", t_sim)
+        t_theory = _vector("t_theory", self.t_theory)
+        keep("t_theory", t_theory)
+        keep("y_theory", _vector("y_theory", self.y_theory))
+        _same_length("y_theory", self.theory, "t_theory", t_theory)
+        if (self.first_sim is None) != (self.first_theory is None):
+            raise ParameterError("first_sim, first_theory", "one of them", "both arrays or neither")
+        if self.first_sim is not None and self.first_theory is not None:
+            keep("first_sim", _vector("first_sim", self.first_sim))
+            _same_length("first_sim", _array(self.first_sim), "t_sim", t_sim)
+            keep("first_theory", _vector("first_theory", self.first_theory))
+            _same_length("first_theory", _array(self.first_theory), "t_theory", t_theory)
+        if self.residual is not None:
+            residual = _vector("residual", self.residual)
+            keep("residual", residual)
+            t_residual = t_sim if self.t_residual is None else _vector("t_residual", self.t_residual)
+            keep("t_residual", t_residual)
+            _same_length("residual", residual, "t_residual" if t_residual is not t_sim else "t_sim", t_residual)
+        elif self.t_residual is not None:
+            raise ParameterError("t_residual", "an array", "None when residual is None")
+        object.__setattr__(self, "arrivals", tuple(self.arrivals))
+        self.marks()
+
+    @property
+    def sim(self) -> np.ndarray:
+        return _array(self.y_sim)
+
+    @property
+    def theory(self) -> np.ndarray:
+        return _array(self.y_theory)
+
+    def marks(self) -> list[dict[str, float | bool]]:
+        """Each arrival's numbers and whether it arrives at loop 1 (``first``)."""
+        marks: list[dict[str, float | bool]] = []
+        for i, a in enumerate(self.arrivals):
+            mark: dict[str, float | bool] = {key: float(_field(a, key, "arrivals", i)) for key in _ARRIVAL_KEYS}
+            end = a.get("end", "last") if isinstance(a, Mapping) else getattr(a, "end", "last")
+            if end not in ("first", "last"):
+                raise ParameterError("arrivals[].end", end, "'first' or 'last'")
+            mark["first"] = end == "first"
+            marks.append(mark)
+        return marks
+
+
+def _array(values: ArrayLike | None) -> np.ndarray:
+    """An array :class:`OverlayCurves` checked already."""
+    assert isinstance(values, np.ndarray)
+    return values
+
+
+def overlay(curves: OverlayCurves, *, title: str = "", ylabel: str = r"$I_N\,/\,I_1(0)$",
+            path: str | os.PathLike[str] | None = None, ax: Axes | None = None) -> Figure:
+    """Simulated end-loop signal over the theory, with the residual below; loop 1 too when given.
+
+    Parameters
+    ----------
+    curves : OverlayCurves
+        The signals, the residual, the arrivals and the time unit.
     title, ylabel : str
         Figure title (top panel) and label of the signal axis.
     path : str or path-like, optional
         Save the figure there (PNG by the suffix); the directory must exist.
     ax : matplotlib.axes.Axes, optional
         Draw the overlay only into this Axes (no residual panel).
-    time_unit : float, optional
-        Seconds per unit of sqrt(L0 C0): a second time axis on top, in seconds (:func:`physical_axis`).
 
     Returns
     -------
@@ -212,39 +305,12 @@ def overlay(t_sim: ArrayLike, y_sim: ArrayLike, t_theory: ArrayLike, y_theory: A
         The new figure, or the figure of `ax`.  A new figure has one legend
         above the panels, off the data; into `ax`, the legend goes where it
         covers the fewest lines (matplotlib's ``"best"``).
-
-    Raises
-    ------
-    ValueError
-        If an array is not one-dimensional, lengths differ, only one of the
-        loop 1 signals is given, or an arrival lacks a key.
     """
-    t_sim = _vector("t_sim", t_sim)
-    y_sim = _vector("y_sim", y_sim)
-    _same_length("y_sim", y_sim, "t_sim", t_sim)
-    t_theory = _vector("t_theory", t_theory)
-    y_theory = _vector("y_theory", y_theory)
-    _same_length("y_theory", y_theory, "t_theory", t_theory)
-    if (first_sim is None) != (first_theory is None):
-        raise ParameterError("first_sim, first_theory", "one of them", "both arrays or neither")
-    if first_sim is not None:
-        first_sim = _vector("first_sim", first_sim)
-        _same_length("first_sim", first_sim, "t_sim", t_sim)
-        first_theory = _vector("first_theory", first_theory)
-        _same_length("first_theory", first_theory, "t_theory", t_theory)
-    if residual is not None:
-        residual = _vector("residual", residual)
-        t_residual = t_sim if t_residual is None else _vector("t_residual", t_residual)
-        _same_length("residual", residual, "t_residual" if t_residual is not t_sim else "t_sim", t_residual)
-    elif t_residual is not None:
-        raise ParameterError("t_residual", "an array", "None when residual is None")
-    marks = [{key: float(_field(a, key, "arrivals", i)) for key in _ARRIVAL_KEYS}
-             for i, a in enumerate(arrivals)]
-    for mark, a in zip(marks, arrivals, strict=True):
-        end = a.get("end", "last") if isinstance(a, Mapping) else getattr(a, "end", "last")
-        if end not in ("first", "last"):
-            raise ParameterError("arrivals[].end", end, "'first' or 'last'")
-        mark["first"] = end == "first"
+    t_sim, y_sim, t_theory, y_theory = _array(curves.t_sim), curves.sim, _array(curves.t_theory), curves.theory
+    residual, t_residual, time_unit = curves.residual, curves.t_residual, curves.time_unit
+    first_sim = None if curves.first_sim is None else _array(curves.first_sim)
+    first_theory = None if curves.first_theory is None else _array(curves.first_theory)
+    marks = curves.marks()
 
     if ax is not None:
         fig = _root_figure(ax)
@@ -258,13 +324,13 @@ def overlay(t_sim: ArrayLike, y_sim: ArrayLike, t_theory: ArrayLike, y_theory: A
 
     both = first_sim is not None
     # Markers let sparse simulator points be seen one by one; many points read better as a line.
-    sim_style: dict[str, Any] = {"linestyle": "none", "marker": "o", "markersize": 3} if t_sim.size <= 200 else \
+    sim_style: _LineStyle = {"linestyle": "none", "marker": "o", "markersize": 3} if t_sim.size <= 200 else \
         {"linestyle": "--", "linewidth": 1.0}
     colours = {"last": ("C0", "C1"), "first": ("C2", "C4")}  # (theory, ngspice) of each loop
-    curves: list[tuple[str, str, Any, Any]] = [("last", " at loop N" if both else "", y_sim, y_theory)]
-    if both:
-        curves.append(("first", " at loop 1", first_sim, first_theory))
-    for end, where, sim, theory in curves:
+    loops: list[tuple[str, str, np.ndarray, np.ndarray]] = [("last", " at loop N" if both else "", y_sim, y_theory)]
+    if first_sim is not None and first_theory is not None:
+        loops.append(("first", " at loop 1", first_sim, first_theory))
+    for end, where, sim, theory in loops:
         top.plot(t_theory, theory, color=colours[end][0], linewidth=1.2, label=f"theory{where}", zorder=2)
         top.plot(t_sim, sim, color=colours[end][1], label=f"ngspice{where}", zorder=3, **sim_style)
 
@@ -362,9 +428,9 @@ def side_by_side(panels: Sequence[Mapping[str, Any]], *, title: str = "",
             keys = sorted(panel) if isinstance(panel, Mapping) else type(panel).__name__
             raise ParameterError(f"panels[{i}]", keys, "a mapping with keys t, sim, theory, title")
     for i, (ax, panel) in enumerate(zip(axes, panels, strict=False)):
-        overlay(panel["t"], panel["sim"], panel["t"], panel["theory"], arrivals=panel.get("arrivals", ()),
-                title=str(panel["title"]), ylabel=panel.get("ylabel", r"$I_N\,/\,I_1(0)$") if i == 0 else "",
-                ax=ax)
+        overlay(OverlayCurves(panel["t"], panel["sim"], panel["t"], panel["theory"],
+                              arrivals=panel.get("arrivals", ())), title=str(panel["title"]),
+                ylabel=panel.get("ylabel", r"$I_N\,/\,I_1(0)$") if i == 0 else "", ax=ax)
     # Shared y: each overlay set its own head room; span every panel's data instead.
     low = min(float(min(np.min(p["sim"]), np.min(p["theory"]))) for p in panels)
     high = max(float(max(np.max(p["sim"]), np.max(p["theory"]))) for p in panels)

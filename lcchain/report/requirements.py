@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import os
 from collections.abc import Mapping, Sequence
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -23,6 +23,7 @@ from .markup import esc, figure_block, num, verdict_cell
 from .plots import _finish, _new_figure, set_title
 
 if TYPE_CHECKING:
+    from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
 __all__ = ["requirements_chart", "requirements_figure", "requirements_figures", "requirements_html",
@@ -85,7 +86,7 @@ def requirements_chart(curves: Sequence[tuple[str, Sequence[float], Sequence[flo
 _FEW_DECADES = 2.0
 
 
-def _few_decades(ax: Any) -> None:
+def _few_decades(ax: Axes) -> None:
     """Ticks at 1, 2, 5 (under a decade: 1 to 9) times the powers of ten, each labelled, on a log axis of few
     decades; the decades alone otherwise."""
     from matplotlib.ticker import LogFormatterSciNotation, LogLocator

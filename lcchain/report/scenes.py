@@ -118,10 +118,10 @@ def _overlay(result: SceneResult, path: Path) -> None:
     signals = s.run.signals
     assert signals is not None
     ylabel = r"$Q_1,\ Q_N\;/\;Q_1(0)$" if scene.excitation.kind == "displacement" else r"$I_1,\ I_N\;/\;I_0$"
-    plots.overlay(signals.t, signals.sim[-1], signals.t, signals.theory[-1],
-                  residual=signals.sim[-1] - signals.theory[-1], first_sim=signals.sim[0],
-                  first_theory=signals.theory[0], arrivals=s.record["arrivals"],
-                  title=_with_size(scene.title, s.chain.N), ylabel=ylabel, path=path)
+    curves = plots.OverlayCurves(signals.t, signals.sim[-1], signals.t, signals.theory[-1],
+                                 residual=signals.sim[-1] - signals.theory[-1], first_sim=signals.sim[0],
+                                 first_theory=signals.theory[0], arrivals=s.record["arrivals"])
+    plots.overlay(curves, title=_with_size(scene.title, s.chain.N), ylabel=ylabel, path=path)
 
 
 def _spacetime(result: SceneResult, path: Path) -> None:

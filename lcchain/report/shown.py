@@ -10,29 +10,41 @@ pandas' ``DataFrame.plot`` finds its plotting backend: another package may draw 
 from __future__ import annotations
 
 import math
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from . import plots
 
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+
+    from ..runs.spectrum import SpectrumReport
+    from ..scenes.run import SceneResult
+    from ..studies.store import Store
+    from ..theory.modes import Modes
+
 __all__ = ["simulation_figure", "spectrum_figure", "scene_figure", "record_figure", "store_figure", "modes_figure"]
 
 
-def simulation_figure(report: Any, ax: Any = None) -> Any:
+def simulation_figure(report: Any, ax: Axes | None = None) -> Figure:
     """A :class:`~lcchain.runs.simulate.SimulationReport`'s end currents (or charges) over theory, the residual
-    below (``lcchain simulate --plot``); with ``ax``, the far end's overlay in it alone.  (Results are typed Any
-    here: report renders them and never imports what runs a simulator.)"""
+    below (``lcchain simulate --plot``); with ``ax``, the far end's overlay in it alone.  (A simulation report and
+    a run's record are typed Any here: report renders them and never imports the modules that run a simulator,
+    where they are defined.)"""
     w, c = report.waveforms, report.comparison
+    curves = plots.OverlayCurves(w.t, w.last, w.t, c.theory_last,
+                                 residual=None if ax is not None else w.last - c.theory_last, first_sim=w.first,
+                                 first_theory=c.theory_first, arrivals=[a.to_dict() for a in c.arrivals],
+                                 time_unit=report.ladder.time_unit)
     return plots.overlay(
-        w.t, w.last, w.t, c.theory_last, residual=None if ax is not None else w.last - c.theory_last,
-        first_sim=w.first, first_theory=c.theory_first, arrivals=[a.to_dict() for a in c.arrivals],
+        curves,
         title=f"{report.chain.name} chain, N = {report.chain.N}, dt = {report.options.dt:.4g}, {report.excitation}",
-        ylabel=r"$I_1,\ I_N\;/\;I_1(0)$" if report.excitation == "kick" else r"$Q_1,\ Q_N\;/\;Q_1(0)$", ax=ax,
-        time_unit=report.ladder.time_unit)
+        ylabel=r"$I_1,\ I_N\;/\;I_1(0)$" if report.excitation == "kick" else r"$Q_1,\ Q_N\;/\;Q_1(0)$", ax=ax)
 
 
-def spectrum_figure(report: Any, ax: Any = None) -> Any:
+def spectrum_figure(report: SpectrumReport, ax: Axes | None = None) -> Figure:
     """A :class:`~lcchain.runs.spectrum.SpectrumReport`'s |P_n| against omega_n, the circuit's over theory, the
     spacing below (``lcchain spectrum --plot``); with ``ax``, the |P_n| panel alone in it.  A frequency axis in hertz
     on top."""
@@ -41,7 +53,7 @@ def spectrum_figure(report: Any, ax: Any = None) -> Any:
                           ax=ax, frequency_unit=1.0 / (2 * math.pi * report.time_unit))
 
 
-def scene_figure(result: Any, ax: Any = None) -> Any:
+def scene_figure(result: SceneResult, ax: Axes | None = None) -> Figure:
     """A :class:`~lcchain.scenes.run.SceneResult`'s first good sample's figure: a transient's end signals over
     theory (residual below), or an AC analysis's |P_n| against omega_n over theory."""
     from ..core.errors import SimulationError
@@ -57,14 +69,15 @@ def scene_figure(result: Any, ax: Any = None) -> Any:
     signals = s.run.signals
     assert signals is not None  # a sample that ran has one or the other
     displaced = result.scene.excitation.kind == "displacement"
-    return plots.overlay(signals.t, signals.sim[-1], signals.t, signals.theory[-1],
-                         residual=None if ax is not None else signals.sim[-1] - signals.theory[-1],
-                         first_sim=signals.sim[0], first_theory=signals.theory[0], arrivals=s.record["arrivals"],
-                         title=title, ylabel=r"$Q_1,\ Q_N\;/\;Q_1(0)$" if displaced else r"$I_1,\ I_N\;/\;I_0$",
+    curves = plots.OverlayCurves(signals.t, signals.sim[-1], signals.t, signals.theory[-1],
+                                 residual=None if ax is not None else signals.sim[-1] - signals.theory[-1],
+                                 first_sim=signals.sim[0], first_theory=signals.theory[0],
+                                 arrivals=s.record["arrivals"])
+    return plots.overlay(curves, title=title, ylabel=r"$Q_1,\ Q_N\;/\;Q_1(0)$" if displaced else r"$I_1,\ I_N\;/\;I_0$",
                          ax=ax)
 
 
-def record_figure(record: Any, ax: Any = None) -> Any:
+def record_figure(record: Any, ax: Axes | None = None) -> Figure:
     """A :class:`~lcchain.runs.execute.RunRecord`'s figure: its compared loops over theory (the far end, the first
     too; residual below) where it had a theory, else its saved vectors against time in seconds (an AC run's
     magnitudes against frequency in hertz, on log axes)."""
@@ -75,10 +88,10 @@ def record_figure(record: Any, ax: Any = None) -> Any:
         raise SimulationError(f"run {record.key[:12]} {record.status}: {record.reason}; there is nothing to plot")
     signals = record.signals
     if signals is not None:
-        return plots.overlay(signals.t, signals.sim[-1], signals.t, signals.theory[-1],
-                             residual=None if ax is not None else signals.sim[-1] - signals.theory[-1],
-                             first_sim=signals.sim[0], first_theory=signals.theory[0],
-                             title=f"{record.label or 'run'} ({record.engine} {record.engine_version})", ax=ax,
+        curves = plots.OverlayCurves(signals.t, signals.sim[-1], signals.t, signals.theory[-1],
+                                     residual=None if ax is not None else signals.sim[-1] - signals.theory[-1],
+                                     first_sim=signals.sim[0], first_theory=signals.theory[0])
+        return plots.overlay(curves, title=f"{record.label or 'run'} ({record.engine} {record.engine_version})", ax=ax,
                              ylabel=r"$Q\,/\,Q_1(0)$" if signals.excitation == "displacement" else r"$I\,/\,I_1(0)$")
     fig = plots._new_figure() if ax is None else plots._root_figure(ax)
     if ax is None:
@@ -100,7 +113,7 @@ def record_figure(record: Any, ax: Any = None) -> Any:
     return fig
 
 
-def store_figure(store: Any, ax: Any = None, metric: str = "peak") -> Any:
+def store_figure(store: Store, ax: Axes | None = None, metric: str = "peak") -> Figure:
     """A :class:`~lcchain.studies.store.Store`'s figure: the one its results call for
     (:func:`lcchain.report.studies.study_figure`)."""
     from .studies import study_figure
@@ -108,6 +121,6 @@ def store_figure(store: Any, ax: Any = None, metric: str = "peak") -> Any:
     return study_figure(store, metric, ax=ax)
 
 
-def modes_figure(modes: Any, ax: Any = None) -> Any:
+def modes_figure(modes: Modes, ax: Axes | None = None) -> Figure:
     """A :class:`~lcchain.theory.modes.Modes`' density P_n against omega_n, the spacing on a twin axis."""
     return plots.mode_density(modes.omega, modes.density, ax=ax)

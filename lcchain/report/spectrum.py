@@ -8,7 +8,7 @@ and writes what they hold.
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from ..core.physical import physical_scales
 from ..core.types import DEFAULT_C0, DEFAULT_L0
@@ -16,6 +16,9 @@ from ..studies.spectrum_checks import VK_DELTAS, VK_N, SpectrumCheck
 from .figure_data import DesignRows, pk_data, spectrum_points, vk_data
 from .markup import esc, figure_block, num, verdict_cell
 from .paper_figures import pk_figure, vk_figure
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
 __all__ = ["SPECTRUM_FIGURES", "spectrum_figures", "spectrum_html", "spectrum_summary", "PER_MODE_CHECK"]
 
@@ -33,7 +36,7 @@ SPECTRUM_FIGURES: tuple[tuple[str, str], ...] = (
 PER_MODE_CHECK = "two-mass-N20"
 
 
-def spectrum_figures(checks: Sequence[SpectrumCheck], rows: DesignRows) -> dict[str, Any]:
+def spectrum_figures(checks: Sequence[SpectrumCheck], rows: DesignRows) -> dict[str, Figure]:
     """Figs. Pk20-100 and vk (matplotlib Figures, by label) with the points of the checks made for them; a figure
     none of the checks is for is left out."""
     on: dict[str, dict[float, dict[str, Any]]] = {"Pk20-100": {}, "vk": {}}

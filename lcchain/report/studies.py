@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import copy
 from collections import defaultdict
-from typing import Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -24,6 +24,10 @@ from ..studies.summary import Group, peak_groups
 from .figures import delta_data, delta_figure, design_grid
 from .plots import histogram
 from .scenes import peak_label
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
 
 #: Parameters that name the design: drawn as colours within a panel rather than as panels of their own.
 _HUE_KEYS = ("chain.case", "case")
@@ -40,7 +44,7 @@ _WHAT = {"peak": "transmitted peak", "energy": "energy fraction", "loss": "energ
          "P": "P error", "spacing": "spacing spread"}
 
 
-def study_figure(store: Store, metric: str = "peak", ax: Any = None) -> Any:
+def study_figure(store: Store, metric: str = "peak", ax: Axes | None = None) -> Figure:
     """The figure a study's results call for (see the module docstring); ``metric`` for the samples.  With
     ``ax``, a one-panel figure (one group's histogram, or Fig. delta) is drawn into it; several groups' panels
     are a figure of their own."""
@@ -105,7 +109,7 @@ def _nominal(scene: Scene | None, metric: str) -> float | None:
     return {"peak": peak, "energy": energy, "loss": 1.0 - energy}[metric]
 
 
-def _label(key: str, value: Any) -> str:
+def _label(key: str, value: object) -> str:
     name = "+".join(part.rsplit(".", 1)[-1] for part in key.split("+"))
     if isinstance(value, float) and name in ("L", "C", "L+C"):
         return f"{name} ±{100 * value:g} %"
@@ -113,7 +117,7 @@ def _label(key: str, value: Any) -> str:
 
 
 def samples_figure(groups: list[Group], title: str = "", xlabel: str = _AXIS["peak"], log: bool = False,
-                   nominal: list[float | None] | None = None) -> Any:
+                   nominal: list[float | None] | None = None) -> Figure:
     """One panel per combination of the varied axes but the design; the designs' histograms overlaid.
 
     Rows follow the first varied axis (chain.N in a study of sizes), columns the others.  Each histogram's

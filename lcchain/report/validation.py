@@ -17,11 +17,14 @@ import datetime
 import platform
 import time
 from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
 from ..core import __version__
+from ..core.checks import instance, real
+from ..core.frozen import FrozenMap
 from ..core.physical import physical_scales
 from ..core.types import DEFAULT_C0, DEFAULT_L0
 from ..studies.requirements import RequirementsCheck
@@ -33,7 +36,7 @@ from ..theory.perfect import perfect_design
 from .figure_data import FULL_N, DesignRows
 from .paper import PRINTED_ASYMPTOTIC, PRINTED_COLUMNS, PRINTED_ROWS, compare_row, findings, last_digit_units
 
-__all__ = ["REPORT_N", "QUICK_REPORT_N", "CircuitCheck", "paper_section", "validation_report",
+__all__ = ["REPORT_N", "QUICK_REPORT_N", "CircuitCheck", "ValidationRuns", "paper_section", "validation_report",
            "MAX_UNITS_OFF"]
 
 #: Every N of the report's tables (issue 12): one-mass up to 500000, two-mass up to 100000.
@@ -115,23 +118,56 @@ def paper_section(rows: DesignRows, *, quick: bool = False,
 
 
 # ------------------------------------------------------------------ the whole report
-def validation_report(rows: DesignRows, circuit: Sequence[CircuitCheck], engines: Mapping[str, str], *,
-                      quick: bool = False, progress: Callable[[int, int, str], None] | None = None,
-                      seconds: float = 0.0, spectrum: Sequence[SpectrumCheck] = (),
-                      requirements: Sequence[RequirementsCheck] = (),
+@dataclass(frozen=True)
+class ValidationRuns:
+    """The circuit's half of the report, already run (the report renders it and runs nothing).
+
+    Attributes
+    ----------
+    circuit : sequence of CircuitCheck
+        The engines' runs on the reference chains and scenes (:func:`lcchain.studies.validation.circuit_checks`,
+        by :mod:`lcchain.app.validation`).
+    engines : mapping of str to str
+        Each engine that ran, by name, and its version.
+    spectrum : sequence of SpectrumCheck
+        The AC measurements (:func:`lcchain.studies.spectrum_checks.run_spectrum_check`).
+    requirements : sequence of RequirementsCheck
+        The cradles' parts (:func:`lcchain.studies.requirements.run_requirements`).
+    seconds : float
+        What they took, wall seconds (>= 0).
+    """
+
+    circuit: Sequence[CircuitCheck]
+    engines: Mapping[str, str]
+    spectrum: Sequence[SpectrumCheck] = ()
+    requirements: Sequence[RequirementsCheck] = ()
+    seconds: float = 0.0
+
+    def __post_init__(self) -> None:
+        for name, cls in (("circuit", CircuitCheck), ("spectrum", SpectrumCheck),
+                          ("requirements", RequirementsCheck)):
+            items = tuple(getattr(self, name))
+            for i, item in enumerate(items):
+                instance(f"{name}[{i}]", item, cls)
+            object.__setattr__(self, name, items)
+        instance("engines", self.engines, Mapping)
+        object.__setattr__(self, "engines", FrozenMap(self.engines))
+        real("seconds", self.seconds, at_least=0.0, unit="seconds")
+
+
+def validation_report(rows: DesignRows, runs: ValidationRuns, *, quick: bool = False,
+                      progress: Callable[[int, int, str], None] | None = None,
                       paper: dict[str, Any] | None = None) -> dict[str, Any]:
     """Everything the page shows, as data (figures excepted: :mod:`.html` draws them from ``curves``).
 
-    ``circuit`` are the ngspice runs already made (:func:`lcchain.studies.validation.circuit_checks`, by
-    :mod:`lcchain.app.validation`), ``spectrum`` the AC measurements
-    (:func:`lcchain.studies.spectrum_checks.run_spectrum_check`) and ``requirements`` the cradles' parts
-    (:func:`lcchain.studies.requirements.run_requirements`): the report renders them and runs nothing;
-    ``seconds`` is what they took.  Every one of their checks counts in the verdict.  ``paper`` is
-    :func:`paper_section` of the same rows if already made (default: made here).
+    ``runs`` are the circuit's checks, spectra and cradles already made (:class:`ValidationRuns`): every one of
+    their checks counts in the verdict.  ``paper`` is :func:`paper_section` of the same rows if already made
+    (default: made here).
     """
     start = time.perf_counter()
     paper = paper if paper is not None else paper_section(rows, quick=quick, progress=progress)
-    circuit, spectrum, requirements = list(circuit), list(spectrum), list(requirements)
+    circuit, spectrum, requirements = list(runs.circuit), list(runs.spectrum), list(runs.requirements)
+    engines = runs.engines
     checks = [*paper["checks"], *(c.to_dict() for c in circuit), *(line for c in spectrum for line in c.checks()),
               *(line for c in requirements for line in c.checks())]
     return {
@@ -151,5 +187,5 @@ def validation_report(rows: DesignRows, circuit: Sequence[CircuitCheck], engines
         "circuit": circuit,
         "spectrum": spectrum,
         "requirements": requirements,
-        "seconds": seconds + time.perf_counter() - start,
+        "seconds": runs.seconds + time.perf_counter() - start,
     }

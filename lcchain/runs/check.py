@@ -49,8 +49,8 @@ from ..spice.result import read_include
 from ..spice.simulator import Simulator
 from ..spice.text import canonical_text, canonical_vector_name, saved_vectors
 
-__all__ = ["VectorCheck", "CheckResult", "circuit_of", "check_text", "check_file", "reference_measurements",
-           "check_estimate", "CHECK_MEASUREMENT", "DEFAULT_ACCURACY"]
+__all__ = ["VectorCheck", "CheckResult", "CheckOptions", "circuit_of", "check_text", "check_file",
+           "reference_measurements", "check_estimate", "CHECK_MEASUREMENT", "DEFAULT_ACCURACY"]
 
 #: The measurement a batch run with ``check`` stores: the largest error of its saved vectors (their own units).
 CHECK_MEASUREMENT = "check_max_abs_error"
@@ -194,7 +194,7 @@ def source_function(card: SourceCard, analysis: Transient | Sweep) -> tuple[str,
 
 def _waveform(card: SourceCard, analysis: Transient | Sweep) -> Any:
     """The source's waveform (lcchain.circuit.linear), or why it has no exact reference."""
-    from ..circuit.linear import Waveform, exp_waveform, pulse_waveform, pwl_waveform, sin_waveform
+    from ..circuit.linear import PulseSource, Waveform, exp_waveform, pulse_waveform, pwl_waveform, sin_waveform
 
     found = source_function(card, analysis)
     if isinstance(found, str):
@@ -206,7 +206,7 @@ def _waveform(card: SourceCard, analysis: Transient | Sweep) -> Any:
         v1, v2, delay, rise, fall, width, period = values[:7]
         count = int(values[7]) if len(values) > 7 else None
         stop = analysis.stop if isinstance(analysis, Transient) else 1.0
-        return pulse_waveform(v1, v2, delay, rise, fall, width, period, stop, count)
+        return pulse_waveform(PulseSource(v1, v2, delay, rise, fall, width, period, count), stop)
     if function == "sin":
         return sin_waveform(*values)
     if function == "exp":
@@ -295,21 +295,21 @@ def check_estimate(price: Price, text: str, analysis: Transient | Sweep, source:
                     price.seconds + seconds)
 
 
-def check_text(text: str, source: str = "netlist", folder: Path | None = None, *, accuracy: float | None = None,
-               engine: str = "ngspice", timeout: float = 600.0, simulator: Simulator | None = None,
-               allow_control: bool = False, budget: Budget | None = None) -> CheckResult:
-    """Run a netlist lcchain did not write and compare every saved vector with its exact response.
+@dataclass(frozen=True)
+class CheckOptions:
+    """How :func:`check_text` checks a netlist, checked when made.
 
     Parameters
     ----------
-    text : str
-        The netlist (one ``.tran`` or ``.ac``); it must pass the allow-list, its includes in ``folder``.
     accuracy : float, optional
         Relative to each vector's scale (its exact reference's largest magnitude): the result does not pass when
         a vector's error exceeds it; the suggested step is the step it needs (default
         :data:`DEFAULT_ACCURACY`, which passes or fails nothing).
     engine : str
-        A registered engine that runs foreign netlists (:attr:`lcchain.spice.engine.Engine.runs_foreign`).
+        A registered engine that runs foreign netlists (:attr:`lcchain.spice.engine.Engine.runs_foreign`), or
+        one that checks their cards (it runs the netlist lcchain writes from their numbers).
+    timeout : float
+        Seconds before the simulator is stopped (the price's own limit may be smaller).
     allow_control : bool
         Run the netlist as it is (``.control`` blocks, ``.model`` cards, diodes...: ``lcchain batch
         --allow-control``), still in the sandbox; what is not linear then has no exact reference.
@@ -320,24 +320,75 @@ def check_text(text: str, source: str = "netlist", folder: Path | None = None, *
     Raises
     ------
     ParameterError
+        An accuracy outside 0 < a < 1, an engine that cannot run netlists lcchain did not write, or
+        ``allow_control`` with an engine that only runs lcchain's copy (named as the command line's options).
+    """
+
+    accuracy: float | None = None
+    engine: str = "ngspice"
+    timeout: float = 600.0
+    allow_control: bool = False
+    budget: Budget | None = None
+
+    def __post_init__(self) -> None:
+        if not (math.isfinite(self.accuracy_value) and 0 < self.accuracy_value < 1):
+            raise ParameterError("--accuracy", self.accuracy, "a relative accuracy 0 < a < 1")
+        found = engine_named(self.engine, "--engine")
+        if self.rewritten and not found.checks_cards:
+            able = ", ".join(name for name, e in ENGINES.items() if e.runs_foreign or e.checks_cards)
+            raise ParameterError("--engine", self.engine, f"an engine that runs netlists lcchain did not write "
+                                 f"({able}): {self.engine} runs only lcchain's own ladders")
+        if self.rewritten and self.allow_control:
+            raise ParameterError("--allow-control", True, f"ngspice ({self.engine} runs only the netlist lcchain "
+                                 "writes from a linear netlist's numbers)")
+
+    @property
+    def accuracy_value(self) -> float:
+        """The accuracy asked for, or :data:`DEFAULT_ACCURACY`."""
+        return DEFAULT_ACCURACY if self.accuracy is None else float(self.accuracy)
+
+    @property
+    def rewritten(self) -> bool:
+        """Whether the engine runs lcchain's copy of the netlist, written from the cards' numbers (it runs no
+        foreign netlist)."""
+        return not engine_named(self.engine, "--engine").runs_foreign
+
+
+def check_text(text: str, source: str = "netlist", folder: Path | None = None, options: CheckOptions | None = None,
+               *, simulator: Simulator | None = None) -> CheckResult:
+    """Run a netlist lcchain did not write and compare every saved vector with its exact response.
+
+    Parameters
+    ----------
+    text : str
+        The netlist (one ``.tran`` or ``.ac``); it must pass the allow-list, its includes in ``folder``.
+    source : str
+        Its name in messages.
+    folder : Path, optional
+        Where its includes are (and, with ``allow_control``, where it runs).
+    options : CheckOptions, optional
+        The accuracy, the engine, the timeout, whether its ``.control`` blocks run, the budget (default
+        :class:`CheckOptions`).
+    simulator : Simulator, optional
+        The engine's simulator, found once by the caller (found here when omitted).
+
+    Raises
+    ------
+    ParameterError
         Bad input: a line the allow-list refuses, a value that is not a number, a circuit that is not well
         posed (naming its elements), an engine that cannot run it.
     SimulatorMissingError, SimulationError
         From the run.
     """
-    given = accuracy is not None
-    accuracy_value = DEFAULT_ACCURACY if accuracy is None else float(accuracy)
-    if not (math.isfinite(accuracy_value) and 0 < accuracy_value < 1):
-        raise ParameterError("--accuracy", accuracy, "a relative accuracy 0 < a < 1")
+    if options is None:
+        options = CheckOptions()
+    elif not isinstance(options, CheckOptions):
+        raise ParameterError("options", options, "a CheckOptions")
+    given = options.accuracy is not None
+    accuracy_value = options.accuracy_value
+    engine, timeout, allow_control, budget = options.engine, options.timeout, options.allow_control, options.budget
     found = engine_named(engine, "--engine")
-    rewritten = not found.runs_foreign  # run as lcchain's own netlist, written from the cards' numbers
-    if rewritten and not found.checks_cards:
-        able = ", ".join(name for name, e in ENGINES.items() if e.runs_foreign or e.checks_cards)
-        raise ParameterError("--engine", engine, f"an engine that runs netlists lcchain did not write ({able}): "
-                             f"{engine} runs only lcchain's own ladders")
-    if rewritten and allow_control:
-        raise ParameterError("--allow-control", True, f"ngspice ({engine} runs only the netlist lcchain writes "
-                             "from a linear netlist's numbers)")
+    rewritten = options.rewritten
     allowed = canonical_text(text, source) if allow_control else allowed_netlist(text, source, folder, read_include)
     if simulator is None:
         simulator = find_engine(found.name)
@@ -377,7 +428,7 @@ def check_text(text: str, source: str = "netlist", folder: Path | None = None, *
     if isinstance(circuit, str) or response is None:
         return CheckResult(vectors=tuple(VectorCheck(n, _unit(n), None, None) for n in names),
                            reference=str(circuit), **common)
-    return _compare(response, seconds, analysis, axis, vectors, names, common, accuracy_value, method, notes)
+    return _compare(response, seconds, analysis, axis, vectors, names, common, notes)
 
 
 def _run_rewritten(allowed: str, cards: NetlistCards, analysis: Transient | Sweep, simulator: Simulator,
@@ -412,9 +463,14 @@ def _run_rewritten(allowed: str, cards: NetlistCards, analysis: Transient | Swee
 
 
 def _compare(response: Any, solve_seconds: float, analysis: Transient | Sweep, axis: np.ndarray,
-             vectors: dict[str, np.ndarray], names: list[str], common: dict[str, Any], accuracy: float,
-             method: str, notes_before: tuple[str, ...] = ()) -> CheckResult:
+             vectors: dict[str, np.ndarray], names: list[str], common: dict[str, Any],
+             notes_before: tuple[str, ...] = ()) -> CheckResult:
+    """The result's comparison of the run's ``vectors`` with the exact ``response``; ``common`` holds the result's
+    other fields, the accuracy and the method among them."""
     from ..compare.check import predicted_errors, step_for_accuracy, vector_errors
+
+    accuracy: float = common["accuracy"]
+    method: str = common["method"]
 
     started = time.perf_counter()
     outputs = {n: response.output(n) for n in names}
@@ -458,13 +514,11 @@ def _compare(response: Any, solve_seconds: float, analysis: Transient | Sweep, a
                        suggested_step=suggested, prediction=prediction, notes=tuple(notes), **common)
 
 
-def check_file(path: str | Path, *, accuracy: float | None = None, engine: str = "ngspice",
-               timeout: float = 600.0, allow_control: bool = False, budget: Budget | None = None) -> CheckResult:
+def check_file(path: str | Path, options: CheckOptions | None = None) -> CheckResult:
     """:func:`check_text` of a netlist file (its includes inside its folder)."""
     path = Path(path)
     text = read_include(path, "NETLIST")
-    return check_text(text, str(path), path.resolve().parent, accuracy=accuracy, engine=engine, timeout=timeout,
-                      allow_control=allow_control, budget=budget)
+    return check_text(text, str(path), path.resolve().parent, options)
 
 
 def reference_measurements(netlist: str, axis: np.ndarray, vectors: Mapping[str, np.ndarray], version: str, *,

@@ -1,21 +1,24 @@
 """One simulation of a chain, end to end: chain -> netlist -> ngspice -> comparison.
 
-:func:`simulate` chooses the step (given, or from a wanted accuracy), writes
-the netlist, describes the run as a :class:`~lcchain.runs.spec.RunSpec` and
-executes it (:func:`lcchain.runs.execute.execute`): it holds no physics and no
+Two functions, as python-control has one per kind of input: :func:`simulate` takes a
+:class:`~lcchain.runs.request.Request` (the whole simulation: effects, pulses, every loop...), and
+:func:`simulate_chain` a chain with :class:`ChainOptions` (a kick or a displacement, the step or the accuracy, the
+units and the engine), which it makes into that request.  :func:`simulate` is :func:`simulation_runs` (choose the
+step or steps, write the netlists, describe the runs as :class:`~lcchain.runs.spec.RunSpec`) and then
+:func:`run_simulation` (execute them with :func:`lcchain.runs.execute.execute`, combine an extrapolation, compare);
+a caller may call the two apart, to keep the netlists before the simulator starts.  It holds no physics and no
 ngspice handling of its own.
 """
 
 from __future__ import annotations
 
-import inspect
 import math
 import os
 import threading
 import time
 from collections.abc import Callable, Mapping, Sequence
 from concurrent.futures import ThreadPoolExecutor
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 from ..circuit.ladder import Ladder
@@ -29,7 +32,7 @@ from ..compare.metrics import Comparison, EffectCost
 from ..compare.waveforms import Waveforms
 from ..core.blas import fixed_blas_threads
 from ..core.budget import Budget
-from ..core.checks import callback, choice, instance
+from ..core.checks import callback, choice, instance, real
 from ..core.errors import ParameterError, SimulationError
 from ..core.frozen import FrozenMap
 from ..core.show import html_table, plot, short_repr
@@ -48,7 +51,8 @@ from .spec import DEFAULT_TIMEOUT, RunSpec, Theory
 #: ngspice runs of one extrapolation executed at once (each is single-threaded; never more than the cores).
 MEMBER_THREADS = 2
 
-__all__ = ["SimulationReport", "Extrapolation", "SimulationRuns", "simulate", "simulation_runs", "simulation_spec",
+__all__ = ["SimulationReport", "Extrapolation", "SimulationRuns", "ChainOptions", "simulate", "simulate_chain",
+           "run_simulation", "simulation_runs", "simulation_spec",
            "simulator_wall_time"]
 
 
@@ -316,139 +320,25 @@ def _execute_members(specs: list[RunSpec], steps: tuple[float, ...], simulator: 
             raise
 
 
-def simulation_request(
-    chain: Chain,
-    *,
-    dt: float | None = None,
-    accuracy: float | None = None,
-    extrapolate: int | None = None,
-    transits: int = 1,
-    excitation: Excitation = "kick",
-    L0: float = DEFAULT_L0,
-    C0: float = DEFAULT_C0,
-    I0: float = DEFAULT_I0,
-    backend: Backend = "batch",
-    method: Method = "trap",
-    title: str | None = None,
-    timeout: float = DEFAULT_TIMEOUT,
-    engine: str | Engine = DEFAULT_ENGINE,
-) -> Request:
-    """The :class:`~lcchain.runs.request.Request` of :func:`simulate`'s keywords (parameters as there)."""
-    instance("chain", chain, Chain)
-    choice("excitation", excitation, EXCITATIONS)
-    return Request(chain, Transient(dt=dt, accuracy=accuracy, transits=transits, method=method,
-                                    extrapolate=extrapolate),
-                   drive=Drive(excitation, I0), L0=L0, C0=C0, backend=backend, title=title, timeout=timeout,
-                   engine=engine_named(engine).name)
+@dataclass(frozen=True)
+class ChainOptions:
+    """How :func:`simulate_chain` simulates a chain: everything but the chain, checked when made.
 
-
-def simulation_spec(chain: Chain, *, dt: float | None = None, accuracy: float | None = None,
-                    modes: Modes | None = None, budget: Budget | None = None,
-                    **keywords: Any) -> tuple[RunSpec, Ladder, SimulationOptions]:
-    """The one run :func:`simulate` makes without extrapolation, described and not yet executed.
-
-    Keywords as :func:`simulate`'s.  The run's cost is estimated before anything else is computed, and a run
-    beyond ``budget`` is refused (:class:`~lcchain.core.budget.BudgetError`).
-
-    Returns
-    -------
-    spec, ladder, options
-    """
-    request = simulation_request(chain, dt=dt, accuracy=accuracy, extrapolate=1, **keywords)
-    plan = plan_request(request, budget, modes=modes)
-    return plan.specs[0], plan.ladder, plan.options()
-
-
-@dataclass(frozen=True, eq=False)
-class SimulationRuns:
-    """The runs one simulation makes, described and not yet executed: one, or an extrapolation's members.
-
-    Attributes
-    ----------
-    steps : tuple of float
-        Each run's fixed step, coarsest first (units of sqrt(L0 C0)).
-    specs : tuple of RunSpec
-        One per step (aligned steps when there are several).
-    ladder, options : the coarsest run's circuit and analysis
-    modes : Modes
-    predicted_error : float or None
-        The extrapolation's predicted error (None for one run: its spec's theory holds its own).
-    reason : str
-        Why extrapolation was not used when it was asked or considered ("" otherwise).
-    plan : ExtrapolationPlan or None
-        With ``accuracy``: the options weighed and the one chosen.
-    """
-
-    steps: tuple[float, ...]
-    specs: tuple[RunSpec, ...]
-    ladder: Ladder
-    options: SimulationOptions
-    modes: Modes
-    predicted_error: float | None
-    reason: str = ""
-    plan: ExtrapolationPlan | None = None
-    request: Request | None = None
-
-    @property
-    def runs(self) -> int:
-        return len(self.steps)
-
-
-def simulation_runs(chain: Chain | Request, *, modes: Modes | None = None, budget: Budget | None = None,
-                    **keywords: Any) -> SimulationRuns:
-    """The runs :func:`simulate` makes (parameters as there): the step or steps chosen, every run's spec built.
-
-    Raises
-    ------
-    ParameterError, BudgetError
-        As :func:`simulate`, before anything runs.
-    """
-    if isinstance(chain, Request):
-        if keywords:
-            raise ParameterError(sorted(keywords)[0], keywords[sorted(keywords)[0]],
-                                 "nothing beside a Request (it says the whole simulation)")
-        request = chain
-        if not isinstance(request.analysis, Transient):  # one line, pointing to the function that runs it
-            raise ParameterError("analysis", type(request.analysis).__name__, "a Transient for lcchain.simulate "
-                                 "(an AC request: lcchain.spectrum(request), which returns a SpectrumReport)")
-    else:
-        request = simulation_request(chain, **keywords)
-    plan = plan_request(request, budget, modes=modes)
-    return SimulationRuns(plan.steps, plan.specs, plan.ladder, plan.options(), plan.modes, plan.predicted_error,
-                          plan.reason, plan.accuracy_plan, request)
-
-
-def simulate(
-    chain: Chain | Request,
-    *,
-    dt: float | None = None,
-    transits: int = 1,
-    excitation: Excitation = "kick",
-    L0: float = DEFAULT_L0,
-    C0: float = DEFAULT_C0,
-    I0: float = DEFAULT_I0,
-    backend: Backend = "batch",
-    method: Method = "trap",
-    title: str | None = None,
-    timeout: float = DEFAULT_TIMEOUT,
-    modes: Modes | None = None,
-    accuracy: float | None = None,
-    progress: Callable[[float], None] | None = None,
-    simulator: Simulator | None = None,
-    budget: Budget | None = None,
-    on_spec: Callable[[RunSpec], None] | None = None,
-    extrapolate: int | None = None,
-    engine: str | Engine = DEFAULT_ENGINE,
-) -> SimulationReport:
-    """Simulate the chain's LC ladder in ngspice and compare with theory.
+    A shorthand for the :class:`~lcchain.runs.request.Request` it makes (:meth:`request`): a kick or a
+    displacement of loop 1, no effects, the two end loops saved.  Anything more (effects, a pulse, every loop,
+    an AC sweep) is a Request, run by :func:`simulate`.
 
     Parameters
     ----------
-    chain : Chain or Request
-        The chain, described by the keywords below; or a whole
-        :class:`~lcchain.runs.request.Request` (effects, pulses, every loop...), with none of them.
     dt : float, optional
         Maximum time step in units of sqrt(L0 C0); give it or ``accuracy``.
+    accuracy : float, optional
+        Wanted max |simulation - theory| (dimensionless); dt is then
+        :func:`lcchain.compare.accuracy.dt_for_accuracy` (give dt or accuracy, not both).
+    extrapolate : {1, 2, 3}, optional
+        Combine this many runs at dt, dt/2, dt/4 (Richardson: the dt^2 term, then the dt^4 term cancel).
+        With ``accuracy`` and None, lcchain picks the cheapest of 1, 2 and 3 runs predicted to meet it; with
+        ``dt`` and None, one run.  Gear falls back to one run, with the reason in ``report.extrapolation``.
     transits : int
         Arrivals to watch (1 = until the pulse reaches the far end).
     excitation : {"kick", "displacement"}
@@ -461,60 +351,222 @@ def simulate(
     title : str, optional
         Netlist title (one line, validated).
     timeout : float
-        Seconds before ngspice is killed.
-    modes : Modes, optional
-        Precomputed modes of ``chain``.
-    accuracy : float, optional
-        Wanted max |simulation - theory| (dimensionless); dt is then
-        :func:`lcchain.compare.accuracy.dt_for_accuracy` (give dt or accuracy, not both).
-    progress : callable, optional
-        Called with the fraction of the analysis ngspice has done (0 to 1).
-    simulator : Simulator, optional
-        Found once by the caller; found here for ``backend`` when omitted.
-    budget : Budget, optional
-        The most memory and time the run may take (default: :class:`~lcchain.core.budget.Budget`).
-    on_spec : callable, optional
-        Called with each run's spec before ngspice starts (the command line
-        keeps the netlists there, so that a failed run still leaves them): once,
-        or, with several runs, once per run from the coarsest step to the finest.
-    extrapolate : {1, 2, 3}, optional
-        Combine this many runs at dt, dt/2, dt/4 (Richardson: the dt^2 term, then the dt^4 term cancel).
-        With ``accuracy`` and None, lcchain picks the cheapest of 1, 2 and 3 runs predicted to meet it; with
-        ``dt`` and None, one run.  Gear falls back to one run, with the reason in ``report.extrapolation``.
-
+        Seconds before the simulator is killed.
     engine : str or Engine
         The circuit simulator, a name in :data:`lcchain.spice.engines.ENGINES` (``"ngspice"`` or
-        ``"gnucap"``), or an :class:`~lcchain.spice.engine.Engine` itself (registered under its name); an
-        engine without aligned steps (gnucap) refuses ``extrapolate`` > 1 and makes one run for an ``accuracy``.
+        ``"gnucap"``), or an :class:`~lcchain.spice.engine.Engine` itself (registered under its name, which the
+        options keep); an engine without aligned steps (gnucap) refuses ``extrapolate`` > 1 and makes one run
+        for an ``accuracy``.
+
+    Raises
+    ------
+    ParameterError
+        A value out of its range, naming the field, the value and what is allowed.
+    """
+
+    dt: float | None = None
+    accuracy: float | None = None
+    extrapolate: int | None = None
+    transits: int = 1
+    excitation: Excitation = "kick"
+    L0: float = DEFAULT_L0
+    C0: float = DEFAULT_C0
+    I0: float = DEFAULT_I0
+    backend: Backend = "batch"
+    method: Method = "trap"
+    title: str | None = None
+    timeout: float = DEFAULT_TIMEOUT
+    engine: str | Engine = DEFAULT_ENGINE
+
+    def __post_init__(self) -> None:
+        # in the order a Request made of them checks them: the analysis and the drive check (and convert) their
+        # own fields, then the engine is found, then the units and the transport
+        choice("excitation", self.excitation, EXCITATIONS)
+        object.__setattr__(self, "dt", self.transient.dt)
+        object.__setattr__(self, "I0", Drive(self.excitation, self.I0).I0)
+        engine = engine_named(self.engine)  # an Engine itself is registered under its name, which is kept
+        object.__setattr__(self, "engine", engine.name)
+        object.__setattr__(self, "L0", real("L0", self.L0, above=0.0, unit="henry"))
+        object.__setattr__(self, "C0", real("C0", self.C0, above=0.0, unit="farad"))
+        engine.check_transport("backend", self.backend)
+        object.__setattr__(self, "timeout", real("timeout", self.timeout, above=0.0, unit="seconds"))
+
+    @property
+    def transient(self) -> Transient:
+        """The transient analysis these options ask for."""
+        return Transient(dt=self.dt, accuracy=self.accuracy, transits=self.transits, method=self.method,
+                         extrapolate=self.extrapolate)
+
+    def request(self, chain: Chain) -> Request:
+        """The :class:`~lcchain.runs.request.Request` that simulates ``chain`` with these options."""
+        instance("chain", chain, Chain)
+        return Request(chain, self.transient, drive=Drive(self.excitation, self.I0), L0=self.L0, C0=self.C0,
+                       backend=self.backend, title=self.title, timeout=self.timeout, engine=str(self.engine))
+
+
+def simulation_spec(chain: Chain, options: ChainOptions, *, modes: Modes | None = None,
+                    budget: Budget | None = None) -> tuple[RunSpec, Ladder, SimulationOptions]:
+    """The one run :func:`simulate_chain` makes without extrapolation, described and not yet executed.
+
+    The run's cost is estimated before anything else is computed, and a run beyond ``budget`` is refused
+    (:class:`~lcchain.core.budget.BudgetError`).
+
+    Parameters
+    ----------
+    chain : Chain
+    options : ChainOptions
+        As :func:`simulate_chain`'s (its ``extrapolate`` is set to 1).
+    modes : Modes, optional
+        Precomputed modes of ``chain``.
+    budget : Budget, optional
+
+    Returns
+    -------
+    spec, ladder, options
+    """
+    instance("options", options, ChainOptions)
+    one = replace(options, extrapolate=1)
+    plan = plan_request(one.request(chain), budget, modes=modes)
+    return plan.specs[0], plan.ladder, plan.options()
+
+
+@dataclass(frozen=True, eq=False)
+class SimulationRuns:
+    """The runs one simulation makes, described and not yet executed: one, or an extrapolation's members.
+
+    Attributes
+    ----------
+    request : Request
+        What was asked.
+    steps : tuple of float
+        Each run's fixed step, coarsest first (units of sqrt(L0 C0)).
+    specs : tuple of RunSpec
+        One per step (aligned steps when there are several).
+    ladder, options : the coarsest run's circuit and analysis
+    modes : Modes
+    predicted_error : float or None
+        The extrapolation's predicted error (None for one run: its spec's theory holds its own).
+    reason : str
+        Why extrapolation was not used when it was asked or considered ("" otherwise).
+    plan : ExtrapolationPlan or None
+        With ``accuracy``: the options weighed and the one chosen.
+    plan_s : float
+        Seconds spent choosing the steps and writing the netlists.
+    """
+
+    request: Request
+    steps: tuple[float, ...]
+    specs: tuple[RunSpec, ...]
+    ladder: Ladder
+    options: SimulationOptions
+    modes: Modes
+    predicted_error: float | None
+    reason: str = ""
+    plan: ExtrapolationPlan | None = None
+    plan_s: float = 0.0
+
+    @property
+    def runs(self) -> int:
+        return len(self.steps)
+
+
+def simulation_runs(request: Request, *, modes: Modes | None = None, budget: Budget | None = None) -> SimulationRuns:
+    """The runs :func:`simulate` makes (parameters as there): the step or steps chosen, every run's spec built.
+
+    Raises
+    ------
+    ParameterError, BudgetError
+        As :func:`simulate`, before anything runs.
+    """
+    clock = time.perf_counter()
+    if isinstance(request, Chain):  # the one-argument form simulate had before: point to its new name
+        raise ParameterError("request", f"a Chain ({request.name}, N = {request.N})", "a Request (a chain with "
+                             "options: lcchain.simulate_chain(chain, lcchain.ChainOptions(dt=...)))")
+    instance("request", request, Request)
+    if not isinstance(request.analysis, Transient):  # one line, pointing to the function that runs it
+        raise ParameterError("analysis", type(request.analysis).__name__, "a Transient for lcchain.simulate "
+                             "(an AC request: lcchain.spectrum(request), which returns a SpectrumReport)")
+    plan = plan_request(request, budget, modes=modes)
+    return SimulationRuns(request, plan.steps, plan.specs, plan.ladder, plan.options(), plan.modes,
+                          plan.predicted_error, plan.reason, plan.accuracy_plan, time.perf_counter() - clock)
+
+
+def simulate(request: Request, *, modes: Modes | None = None, budget: Budget | None = None,
+             progress: Callable[[float], None] | None = None, simulator: Simulator | None = None
+             ) -> SimulationReport:
+    """Simulate a request's LC ladder in its engine and compare with theory.
+
+    :func:`simulate_chain` is the shorthand for a chain and a few options; a request says the whole
+    simulation (effects, pulses, every loop...).  It is :func:`simulation_runs` (plan) then
+    :func:`run_simulation` (run and compare), which a caller may call apart, to keep the netlists before the
+    simulator starts.
+
+    Parameters
+    ----------
+    request : Request
+        With a :class:`~lcchain.runs.request.Transient` analysis (an AC sweep: :func:`lcchain.spectrum`).
+    modes : Modes, optional
+        Precomputed modes of the request's nominal chain.
+    budget : Budget, optional
+        The most memory and time the run may take (default: :class:`~lcchain.core.budget.Budget`).
+    progress : callable, optional
+        Called with the fraction of the analysis the simulator has done (0 to 1).
+    simulator : Simulator, optional
+        Found once by the caller; found here for the request's backend when omitted.
 
     Raises
     ------
     BudgetError
         The run's estimated cost is beyond the budget (before anything runs).
     SimulationError
-        ngspice failed or timed out (the reason and ngspice's output in the message).
+        The simulator failed or timed out (the reason and its output in the message).
 
     Warns
     -----
     lcchain.compare.accuracy.AccuracyWarning
         Gear over more than one transit; a dt whose predicted error exceeds 0.1.
     """
-    clock = time.perf_counter()
     instance("simulator", simulator, Simulator, optional=True)
     callback("progress", progress)
-    callback("on_spec", on_spec)
-    physics = {"dt": dt, "accuracy": accuracy, "extrapolate": extrapolate, "transits": transits,
-               "excitation": excitation, "L0": L0, "C0": C0, "I0": I0, "backend": backend, "method": method,
-               "title": title, "timeout": timeout, "engine": engine}
-    if isinstance(chain, Request):
-        physics = {name: value for name, value in physics.items() if value != _DEFAULTS[name]}
-    planned = simulation_runs(chain, modes=modes, budget=budget, **physics)
+    return run_simulation(simulation_runs(request, modes=modes, budget=budget), progress=progress,
+                          simulator=simulator)
+
+
+def simulate_chain(chain: Chain, options: ChainOptions, *, budget: Budget | None = None,
+                   progress: Callable[[float], None] | None = None, simulator: Simulator | None = None
+                   ) -> SimulationReport:
+    """Simulate a chain's LC ladder (kicked or displaced in loop 1) and compare with theory.
+
+    ``simulate_chain(chain, ChainOptions(dt=0.05, transits=2))`` is
+    ``simulate(ChainOptions(dt=0.05, transits=2).request(chain))``.
+
+    Parameters
+    ----------
+    chain : Chain
+    options : ChainOptions
+        The step or the accuracy, the drive, the units, the engine.
+    budget, progress, simulator
+        As :func:`simulate`'s.
+
+    Raises, Warns
+    -------------
+    As :func:`simulate`.
+    """
+    instance("options", options, ChainOptions)
+    return simulate(options.request(chain), budget=budget, progress=progress, simulator=simulator)
+
+
+def run_simulation(planned: SimulationRuns, *, progress: Callable[[float], None] | None = None,
+                   simulator: Simulator | None = None) -> SimulationReport:
+    """Run the runs :func:`simulation_runs` planned (two at a time where the machine has the cores), combine an
+    extrapolation's members, and compare with theory (parameters as :func:`simulate`'s)."""
+    instance("planned", planned, SimulationRuns)
+    instance("simulator", simulator, Simulator, optional=True)
+    callback("progress", progress)
     steps, runs, modes, plan, reason = planned.steps, planned.runs, planned.modes, planned.plan, planned.reason
     spec, ladder, options = planned.specs[0], planned.ladder, planned.options
-    if on_spec is not None:
-        for member in planned.specs:
-            on_spec(member)
     built = time.perf_counter()
+    clock = built - planned.plan_s
     starts: list[float] = []
     records = _execute_members(list(planned.specs), steps, simulator, progress, starts)
     done = time.perf_counter()
@@ -550,7 +602,6 @@ def simulate(
     timings["overhead_s"] = timings["total_s"] - simulating_s
     timings["overhead_fraction"] = timings["overhead_s"] / simulating_s
     request = planned.request
-    assert request is not None
     return SimulationReport(planned.ladder.chain, ladder, options, request.drive.kind, request.transient.transits,
                             spec.netlist, result,
                             signals.waveforms(), Comparison.of(metrics, signals), FrozenMap(timings),
@@ -558,7 +609,3 @@ def simulate(
                             integration_error=metrics.integration_error, physics_error=metrics.physics_error,
                             record=first, extrapolation=extrapolation, effects=metrics.effects)
 
-
-#: simulate's keywords at their defaults, read from its signature: with a Request, any other value is refused.
-_DEFAULTS: dict[str, Any] = {name: parameter.default for name, parameter in
-                             inspect.signature(simulate).parameters.items() if name != "chain"}

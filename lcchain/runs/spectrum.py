@@ -67,8 +67,8 @@ from .request import AC, Request, plan_request
 from .spec import SpectrumTheory
 from .survey import ModeReport, measure_modes
 
-__all__ = ["SpectrumReport", "measure_spectrum", "spectrum", "merged_text", "OMEGA_MARGIN", "SPECTRUM_MAX_N",
-           "OMEGA_WEIGHT_FLOOR", "DEFAULT_OVERSAMPLING", "RESPONSE_TIMES"]
+__all__ = ["SpectrumReport", "SpectrumOptions", "measure_spectrum", "spectrum", "merged_text", "OMEGA_MARGIN",
+           "SPECTRUM_MAX_N", "OMEGA_WEIGHT_FLOOR", "DEFAULT_OVERSAMPLING", "RESPONSE_TIMES"]
 
 #: Times at which the fitted model's alpha_N(t) is set beside the exact response, evenly on [0, first transit].
 RESPONSE_TIMES = 2001
@@ -124,7 +124,8 @@ class SpectrumReport:
         (:func:`lcchain.theory.spectrum.driving_admittance`), the response the merged modes make together.
     modes : ModeReport or None
         Every mode with its shape from a second AC run that drives every loop (``measure_spectrum(...,
-        shapes=True)``, ``lcchain spectrum --shapes``: :func:`lcchain.runs.survey.measure_modes`); None: not asked.
+        SpectrumOptions(shapes=True))``, ``lcchain spectrum --shapes``: :func:`lcchain.runs.survey.measure_modes`);
+        None: not asked.
     """
 
     chain: Chain
@@ -457,17 +458,12 @@ def _losses(Q: object) -> Losses:
         raise error.renamed("Q") from None
 
 
-def measure_spectrum(chain: Chain, *, Q: float | None = None, points: int | None = None, L0: float = DEFAULT_L0,
-                     C0: float = DEFAULT_C0, simulator: Simulator | None = None, budget: Budget | None = None,
-                     timeout: float = 3600.0, engine: str | Engine = DEFAULT_ENGINE,
-                     progress: Callable[[float], None] | None = None,
-                     effects: tuple[Effect, ...] = (), shapes: bool = False) -> SpectrumReport:
-    """The ladder's spectrum in an engine's AC analysis against exact theory.
+@dataclass(frozen=True)
+class SpectrumOptions:
+    """How :func:`measure_spectrum` measures a chain's spectrum, checked when made.
 
     Parameters
     ----------
-    chain : Chain
-        A chain (walls and coupled coils included), N <= :data:`SPECTRUM_MAX_N`.
     Q : float, optional
         Losses: the quality factor (> 0) of every inductor, a resistor L_i / (Q sqrt(L0 C0)) in series with each
         (:class:`lcchain.circuit.effects.Losses`, as the transient's); not with coupled coils.  None: lossless.
@@ -476,16 +472,11 @@ def measure_spectrum(chain: Chain, *, Q: float | None = None, points: int | None
         (:func:`lcchain.compare.grid.min_points`).  Fewer than that are refused, naming the minimum.
     L0, C0 : float
         Bulk inductance (H) and capacitance (F).
-    simulator : Simulator, optional
-        The engine's batch transport.
-    budget : Budget, optional
-        The AC run and the fit are priced first (:func:`lcchain.compare.spectral.spectrum_estimate`, times the engine's
-        ``ac_relative_cost``).
+    timeout : float
+        Seconds before the engine is stopped.
     engine : str or Engine
         An engine with an AC analysis (:func:`lcchain.spice.engines.ac_engine`): ``"ngspice"`` or ``"gnucap"``, or
-        an :class:`~lcchain.spice.engine.Engine` itself (registered under its name).
-    progress : callable, optional
-        Called with the fraction done (0 to 1): the engine's run, then the fit.
+        an :class:`~lcchain.spice.engine.Engine` itself (registered under its name, which the options keep).
     effects : tuple of Effect
         More effects on the ladder (walls, coupling, the parts of real coils and capacitors ...), as a request's;
         those whose elements are no chain's are compared with the circuit's own poles and residues (module
@@ -497,27 +488,76 @@ def measure_spectrum(chain: Chain, *, Q: float | None = None, points: int | None
 
     Raises
     ------
+    ParameterError
+        A value out of its range, naming the field (``Q``, not the scene's ``effects.losses.Q``).
+    """
+
+    Q: float | None = None
+    points: int | None = None
+    L0: float = DEFAULT_L0
+    C0: float = DEFAULT_C0
+    timeout: float = 3600.0
+    engine: str | Engine = DEFAULT_ENGINE
+    effects: tuple[Effect, ...] = ()
+    shapes: bool = False
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.effects, tuple):
+            raise ParameterError("effects", self.effects, "a tuple of lcchain effects")
+        if self.shapes is not True and self.shapes is not False:
+            raise ParameterError("shapes", self.shapes, "True or False")
+        if self.shapes and self.effects:
+            raise ParameterError("shapes", self.shapes, "False with effects other than --Q (a survey of every loop "
+                                 "measures a chain's modes: walls, coupled coils and losses)")
+        if self.Q is not None:
+            object.__setattr__(self, "Q", _losses(self.Q).Q)
+        object.__setattr__(self, "engine", engine_named(self.engine).name)  # an Engine itself: registered
+
+    def request(self, chain: Chain) -> Request:
+        """The AC :class:`~lcchain.runs.request.Request` these options make of ``chain``."""
+        effects = self.effects + (() if self.Q is None else (Losses(self.Q),))
+        return Request(chain, AC(self.points), effects=effects, L0=self.L0, C0=self.C0, timeout=self.timeout,
+                       engine=str(self.engine))
+
+
+def measure_spectrum(chain: Chain, options: SpectrumOptions | None = None, *, simulator: Simulator | None = None,
+                     budget: Budget | None = None, progress: Callable[[float], None] | None = None
+                     ) -> SpectrumReport:
+    """The ladder's spectrum in an engine's AC analysis against exact theory.
+
+    Parameters
+    ----------
+    chain : Chain
+        A chain (walls and coupled coils included), N <= :data:`SPECTRUM_MAX_N`.
+    options : SpectrumOptions, optional
+        The losses, the sweep's points, the units, the engine, more effects, the shapes (default
+        :class:`SpectrumOptions`: lossless, ngspice, the default sweep).
+    simulator : Simulator, optional
+        The engine's batch transport.
+    budget : Budget, optional
+        The AC run and the fit are priced first (:func:`lcchain.compare.spectral.spectrum_estimate`, times the engine's
+        ``ac_relative_cost``).
+    progress : callable, optional
+        Called with the fraction done (0 to 1): the engine's run, then the fit.
+
+    Raises
+    ------
     ParameterError, BudgetError
         Before the engine starts.
     """
     instance("chain", chain, Chain)
-    if not isinstance(effects, tuple):
-        raise ParameterError("effects", effects, "a tuple of lcchain effects")
-    if shapes is not True and shapes is not False:
-        raise ParameterError("shapes", shapes, "True or False")
-    if shapes and effects:
-        raise ParameterError("shapes", shapes, "False with effects other than --Q (a survey of every loop measures "
-                             "a chain's modes: walls, coupled coils and losses)")
-    effects = effects + (() if Q is None else (_losses(Q),))
-    request = Request(chain, AC(points), effects=effects, L0=L0, C0=C0, timeout=timeout,
-                      engine=engine_named(engine).name)
+    if options is None:
+        options = SpectrumOptions()
+    instance("options", options, SpectrumOptions)
+    request = options.request(chain)
     try:
         report = spectrum(request, simulator=simulator, budget=budget, progress=progress)
     except ParameterError as error:  # the AC fit's range of Q for this chain, under the argument's name
         raise (error.renamed("Q") if error.field == "effects.losses.Q" else error) from None
-    if not shapes:
+    if not options.shapes:
         return report
-    return replace(report, modes=measure_modes(chain, Q=Q, L0=L0, C0=C0, timeout=timeout))
+    return replace(report, modes=measure_modes(chain, Q=options.Q, L0=options.L0, C0=options.C0,
+                                               timeout=options.timeout))
 
 
 def spectrum(request: Request, *, simulator: Simulator | None = None, budget: Budget | None = None,

@@ -175,10 +175,12 @@ class Engine(ABC):
         offers it, else (a warm simulator, chosen per run by a study) the default one."""
         return backend if self.takes_transport(backend) else self.default_transport
 
-    def warm(self, simulator: Simulator) -> Simulator:
+    def warm(self, simulator: Simulator, workers: int = 1) -> Simulator:
         """Its warm transport for ``simulator`` (on the default transport): the same program kept loaded between
         runs, which must give the same bits (keys and results do not depend on it).  Only for an engine with
-        ``warm_below_seconds``; raises :class:`~lcchain.core.errors.SimulatorMissingError` when it is not here."""
+        ``warm_below_seconds``; raises :class:`~lcchain.core.errors.SimulatorMissingError` when it is not here.
+        ``workers``: how many threads will run on it (an engine may start that many loaded programs now, and
+        find them started when asked again)."""
         raise SimulatorMissingError(f"engine {self.name} has no warm transport")
 
     def release(self, kill: bool = False) -> None:

@@ -92,7 +92,7 @@ import re
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import ClassVar
+from typing import Any, ClassVar
 
 from ..core.budget import Estimate, show_bytes
 from ..core.errors import ParameterError
@@ -126,7 +126,7 @@ from .pricing import Contents, Price, operating_price, read_contents, sweep_pric
 from .text import NEWLINE, canonical_text, logical_lines, spice_number
 
 __all__ = ["ALLOW_CONTROL_HINT", "ELEMENTS", "DOT_COMMANDS", "SUBCKT_COMMANDS", "OPTIONS", "MAX_INCLUDE_DEPTH",
-           "Transient", "Sweep", "allowed_netlist", "transient_of", "analysis_of", "log_sweep_count",
+           "Transient", "Sweep", "CheckedText", "allowed_netlist", "transient_of", "analysis_of", "log_sweep_count",
            "foreign_estimate", "foreign_price"]
 
 #: First letters of the element lines lcchain runs: resistors, inductors, capacitors, coupled inductors,
@@ -476,9 +476,33 @@ def _section(text: str, name: str, source: str) -> str:
     raise ParameterError(f"{source}", name, "a .lib section that the file holds between .lib NAME and .endl")
 
 
-def allowed_netlist(text: str, source: str, folder: Path | None, read: Callable[[Path, str], str] | None = None,
-                    *, _depth: int = 0, _seen: tuple[Path, ...] = (), _left: list[int] | None = None,
-                    _state: _Names | None = None) -> str:
+#: What only :func:`allowed_netlist` holds: the key that makes a :class:`CheckedText`.
+_CHECKER = object()
+
+
+class CheckedText(str):
+    """Netlist text the allow-list accepted, exactly as :func:`allowed_netlist` returned it.
+
+    Only :func:`allowed_netlist` makes one, and any edit of it (``+``, ``replace``, a slice) is a plain ``str``
+    again: so a run handed a ``CheckedText`` (a batch's plan carries it in its :class:`~lcchain.runs.spec.RunSpec`)
+    runs the text the allow-list checked without checking it again
+    (:func:`lcchain.spice.ngspice.runner.run`), and any other text is checked there.  Sent to another process
+    (pickled: a pool's or a Dask worker) it is checked again where it lands.
+    """
+
+    __slots__ = ()
+
+    def __new__(cls, text: str, key: object = None) -> CheckedText:
+        if key is not _CHECKER:
+            raise TypeError("a CheckedText is made by lcchain.spice.foreign.allowed_netlist only")
+        return super().__new__(cls, text)
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        return allowed_netlist, (str(self), "netlist", None)
+
+
+def allowed_netlist(text: str, source: str, folder: Path | None,
+                    read: Callable[[Path, str], str] | None = None) -> CheckedText:
     """The netlist as ngspice will receive it, or a refusal of its first line lcchain does not run.
 
     Parameters
@@ -497,8 +521,8 @@ def allowed_netlist(text: str, source: str, folder: Path | None, read: Callable[
 
     Returns
     -------
-    str
-        The title and the accepted cards, includes inlined: ``text`` itself
+    CheckedText
+        The title and the accepted cards, includes inlined: ``text``'s characters
         when there was nothing to inline, join or drop.
 
     Raises
@@ -506,6 +530,13 @@ def allowed_netlist(text: str, source: str, folder: Path | None, read: Callable[
     ParameterError
         Naming ``"<source>: line <n>"``, the line and what is allowed.
     """
+    return CheckedText(_allowed(text, source, folder, read), _CHECKER)
+
+
+def _allowed(text: str, source: str, folder: Path | None, read: Callable[[Path, str], str] | None = None,
+             *, _depth: int = 0, _seen: tuple[Path, ...] = (), _left: list[int] | None = None,
+             _state: _Names | None = None) -> str:
+    """:func:`allowed_netlist`'s check of a netlist (``_depth`` 0) or of a file it includes."""
     if _depth == 0 and folder is not None:
         folder = folder.resolve()
     text = canonical_text(text, source, title=_depth == 0)  # the one text checked here and run by every transport
@@ -599,8 +630,8 @@ def _inline(card: _Card, argument: str, folder: Path | None, read: Callable[[Pat
         except ParameterError:
             raise _refuse(card, f"a .lib section that {path.name} holds between .lib {section} and .endl "
                           f"(it has no section {section})") from None
-    body = allowed_netlist(included, str(path), folder, read, _depth=depth + 1, _seen=(*seen, path), _left=left,
-                           _state=state)
+    body = _allowed(included, str(path), folder, read, _depth=depth + 1, _seen=(*seen, path), _left=left,
+                    _state=state)
     return [f"* lcchain: {card[2].strip()[:150]}", *body.split("\n")]
 
 

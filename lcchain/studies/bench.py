@@ -37,14 +37,14 @@ from typing import Any, TypedDict
 import numpy as np
 
 from ..circuit.ladder import Ladder
-from ..circuit.netlist import SimulationOptions, netlist_text, probe_names
+from ..circuit.netlist import Drive, NetlistOutput, SimulationOptions, netlist_text, probe_names
 from ..compare.accuracy import predicted_error
 from ..core.blas import fixed_blas_threads
 from ..core.budget import RUN_START_SECONDS, Estimate, chain_seconds, ngspice_seconds, run_estimate
 from ..core.errors import SimulationError
 from ..core.types import DEFAULT_C0, DEFAULT_I0, DEFAULT_L0, METHODS, Method
 from ..runs.execute import RunRecord, execute
-from ..runs.simulate import simulate
+from ..runs.simulate import ChainOptions, simulate
 from ..runs.spec import RunSpec, Theory
 from ..spice.ngspice.find import find_simulator
 from ..spice.simulator import Simulator
@@ -119,7 +119,7 @@ def ngspice_record(chain: Chain, modes: Modes, *, method: Method, dt: float | No
     ladder = Ladder(chain, L0, C0)
     options = SimulationOptions(dt=dt if dt is not None else 0.1, tstop=tstop, method=method, reltol=reltol,
                                 stepping="fixed" if dt is not None else "adaptive")
-    text = netlist_text(ladder, options, I0=I0, title=f"lcchain bench N={chain.N}")
+    text = netlist_text(ladder, options, Drive(I0=I0), output=NetlistOutput(title=f"lcchain bench N={chain.N}"))
     theory = Theory(chain, ladder.time_unit, I0=I0, transits=transits, method=method, modes=modes)
     record = _checked(execute(RunSpec(text, tuple(probe_names(chain.N)), tstop * ladder.time_unit, theory=theory,
                                       foreign=False), simulator))
@@ -137,8 +137,8 @@ def extrapolated_record(chain: Chain, modes: Modes, *, runs: int, dt: float, tra
                         simulator: Simulator | None = None) -> BenchRecord:
     """Runs at dt, dt/2[, dt/4] combined (:mod:`lcchain.compare.extrapolate`); wall: the runs' ngspice times summed
     (what they cost on one core: ``simulate`` runs two at a time)."""
-    report = simulate(chain, dt=dt, extrapolate=runs, transits=transits, modes=modes, simulator=simulator, L0=L0,
-                      C0=C0, I0=I0)
+    options = ChainOptions(dt=dt, extrapolate=runs, transits=transits, L0=L0, C0=C0, I0=I0)
+    report = simulate(options.request(chain), modes=modes, simulator=simulator)
     x = report.extrapolation
     assert x is not None and x.runs == runs
     return {
@@ -224,8 +224,8 @@ def ladder_energy(chain: Chain, *, method: Method, dt: float, transits: int, L0:
     caps = [(i, c) for i, c in enumerate(ladder.capacitances()) if c is not None]
     volts = tuple(f"v({ladder.node(i)})" for i, _ in caps)
     currents = tuple(probe_names(chain.N, "all"))
-    text = netlist_text(ladder, SimulationOptions(dt=dt, tstop=tstop, method=method), I0=I0, probes="all",
-                        extra_vectors=volts, title=f"lcchain energy N={chain.N}")
+    text = netlist_text(ladder, SimulationOptions(dt=dt, tstop=tstop, method=method), Drive(I0=I0),
+                        output=NetlistOutput(probes="all", extra_vectors=volts, title=f"lcchain energy N={chain.N}"))
     record = _checked(execute(RunSpec(text, currents + volts, tstop * ladder.time_unit, foreign=False), simulator))
     run = record.result
     assert run is not None
@@ -336,7 +336,7 @@ def bench_accuracy(Ns: Sequence[int] | None = None, *, quick: bool = False, targ
 
 def _target_check(chain: Chain, modes: Modes, eps: float, records: list[BenchRecord],
                   simulator: Simulator) -> dict[str, Any]:
-    report = simulate(chain, accuracy=eps, transits=1, modes=modes, simulator=simulator)
+    report = simulate(ChainOptions(accuracy=eps, transits=1).request(chain), modes=modes, simulator=simulator)
     fixed = [r for r in records if r["method"] == "trap" and r["stepping"] == "fixed" and r["N"] == chain.N
              and r["error"] <= eps]
     cheapest = min(fixed, key=lambda r: r["wall_s"]) if fixed else None

@@ -41,13 +41,15 @@ run; their keys and results are those of ``ngspice -b`` (bit-identical).
 from __future__ import annotations
 
 import contextlib
+import itertools
 import logging
 import os
+import queue
 import threading
 import time
 import urllib.parse
 from collections.abc import Callable, Iterator, Sequence
-from concurrent.futures import FIRST_COMPLETED, ThreadPoolExecutor, wait
+from concurrent.futures import FIRST_COMPLETED, Future, ThreadPoolExecutor, wait
 from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, Any
 
@@ -62,7 +64,7 @@ from ..core.budget import (
 )
 from ..core.errors import ExtraMissingError, LcchainError, ParameterError, SimulatorMissingError
 from ..core.registry import Registry
-from ..core.types import EXECUTORS, TRANSPORT_CHOICES, ExecutorName, TransportChoice
+from ..core.types import EXECUTORS, TRANSPORT_CHOICES, Backend, ExecutorName, TransportChoice
 from ..runs.execute import RunRecord, execute
 from ..runs.spec import RunSpec
 from ..spice.engines import engine_named, find_engine
@@ -75,7 +77,7 @@ if TYPE_CHECKING:  # multiprocessing's pool takes ~10 ms to import, which a batc
 __all__ = ["ExecutorName", "EXECUTORS", "ExecutorTraits", "EXECUTOR_TRAITS", "DEFAULT_EXECUTOR",
            "SCHEDULER_SCHEMES", "run_groups", "open_executor",
            "check_executor", "group_tasks", "default_workers", "execute_group", "Transports", "choose_transports",
-           "WARM_MIN_RUNS_PER_WORKER", "ExecutorCost", "executor_cost", "Executor", "RunnerFactory"]
+           "WARM_MIN_RUNS_PER_WORKER", "ExecutorCost", "executor_cost", "Executor", "RunnerFactory", "EngineStart"]
 
 @dataclass(frozen=True)
 class ExecutorTraits:
@@ -104,6 +106,9 @@ SCHEDULER_TIMEOUT = 30.0
 TASKS_PER_WORKER = 4
 
 log = logging.getLogger("lcchain")
+
+#: Runs a thread of a threaded study has waiting beside the one it runs (:func:`_threaded`).
+RUNS_AHEAD = 4
 
 #: Short runs a study sends to warm workers only when there are at least this many per worker: a worker's start
 #: (about 70 ms) is then paid back several times over.
@@ -200,13 +205,87 @@ def choose_transports(items: Sequence[tuple[int, RunSpec, float]], simulator: Si
     if not able:
         return Transports()
     try:
-        warm = engine.warm(simulator)
+        warm = engine.warm(simulator, workers)
     except SimulatorMissingError as error:
         if choice.required:
             raise SimulatorMissingError(f"--transport {transport}: {error}") from None
         log.info("warm transport not used: %s", error)
         return Transports()
     return Transports(warm, frozenset(index for index, _ in able))
+
+
+class EngineStart:
+    """A study's engine found, and its warm workers started, in a thread of their own while the driver plans.
+
+    Before a study's first run its engine must be found (``ngspice -v``, the sandbox's trial run) and, when its
+    runs go warm, the shared library's workers started and their version checked: about 0.1 s of waiting, which
+    the plan (reading, checking and pricing every netlist: CPU in this thread) can hide.  Workers are started
+    (:meth:`lcchain.spice.engine.Engine.warm`, one per thread that will run) only when the study's runs will
+    likely go warm: ``transport`` not ``"process"``, an executor whose runs go in this process's threads, and, for
+    ``"auto"``, at least :data:`WARM_MIN_RUNS_PER_WORKER` runs a worker; :func:`choose_transports` then finds them
+    started.  A worker started for nothing (every run priced long) is ended with the study.
+
+    Use it as a context manager around the plan and the study: :meth:`simulator` waits for the engine (and raises
+    what finding it raised); a block left by an exception (a refused plan, an interrupt) ends the workers.
+    """
+
+    def __init__(self, engine: str, backend: Backend, *, runs: int, workers: int, executor: str | Executor,
+                 transport: str) -> None:
+        threads = workers if executor == "process" else 1 if executor == "serial" else 0
+        choice = _TRANSPORT_CHOICES.get(transport)
+        enough = runs >= (WARM_MIN_RUNS_PER_WORKER * threads if choice is not None and choice.by_cost else 1)
+        self._spares = threads if choice is not None and choice.warm and threads and enough else 0
+        self._engine, self._backend = engine, backend
+        self._found: list[Simulator] = []
+        self._failed: list[BaseException] = []
+        self._ready, self._done = threading.Event(), threading.Event()
+        self._thread = threading.Thread(target=self._start, name="lcchain-engine-start", daemon=True)
+
+    def _start(self) -> None:
+        try:
+            self._find()
+        finally:
+            self._ready.set()
+        # The workers die with the thread that started them (``setpriv --pdeathsig`` is the parent *thread*'s
+        # death): this one waits for the study's end.
+        self._done.wait()
+
+    def _find(self) -> None:
+        try:
+            simulator = find_engine(self._engine, self._backend)
+            self._found.append(simulator)
+            engine = engine_named(simulator.engine, "simulator.engine")
+            if self._spares and engine.warm_below_seconds and simulator.backend == engine.default_transport:
+                engine.warm(simulator, self._spares)
+        except SimulatorMissingError as error:
+            if not self._found:  # no warm transport is no error: the runs start their own processes
+                self._failed.append(error)
+        except BaseException as error:  # raised where the driver asks for the engine
+            self._failed.append(error)
+
+    def __enter__(self) -> EngineStart:
+        self._thread.start()
+        return self
+
+    def __exit__(self, kind: object, error: object, traceback: object) -> None:
+        self._ready.wait()
+        if kind is not None and self._found:
+            engine_named(self._found[0].engine, "simulator.engine").release(kill=True)
+        self._done.set()
+        self._thread.join()
+
+    def simulator(self) -> Simulator:
+        """The engine, found (waits for it).
+
+        Raises
+        ------
+        SimulatorMissingError, ParameterError
+            As :func:`lcchain.spice.engines.find_engine`.
+        """
+        self._ready.wait()
+        if self._failed:
+            raise self._failed[0]
+        return self._found[0]
 
 
 def check_scheduler(address: str) -> str:
@@ -363,8 +442,13 @@ def _threaded(groups: list[Group], simulator: Simulator, workers: int, keep_sign
               transports: Transports) -> Iterator[list[tuple[int, RunRecord]]]:
     """Threads of this process, each driving one simulator child at a time: no pool to start or feed.
 
-    Each run is its own task (a thread costs microseconds per task). On the way out (the end, an error, an
-    interrupt) no new run starts, a running batch child is killed at its next look (its progress callback
+    Each run is its own task (a thread costs microseconds per task); each finished task is put on a queue as it
+    finishes, and whatever the queue holds is yielded together (stored in one transaction).  Waiting on the
+    queue costs the same whatever the batch's size: ``concurrent.futures.wait`` on the pending tasks locked and
+    scanned every one of them each time, a cost a run that grew with the batch.  At most
+    :data:`RUNS_AHEAD` runs a thread wait their turn, the others are handed over as runs finish (in the groups'
+    order): a submitted run holds about 2 KB until it is done, 200 MB for 100,000.  On the way out (the end, an
+    error, an interrupt) no new run starts, a running batch child is killed at its next look (its progress callback
     raises, within :data:`~lcchain.spice.processes.PROGRESS_INTERVAL`), warm workers are killed, and the threads
     are joined: nothing keeps running.
     """
@@ -381,11 +465,25 @@ def _threaded(groups: list[Group], simulator: Simulator, workers: int, keep_sign
 
     pool = ThreadPoolExecutor(max_workers=workers, thread_name_prefix="lcchain-run")
     finished = False
+    done: queue.SimpleQueue[Future[list[tuple[int, RunRecord]]]] = queue.SimpleQueue()
+    runs = ((index, spec) for group in groups for index, spec in group)
+
+    def hand_over(count: int) -> int:
+        handed = 0
+        for index, spec in itertools.islice(runs, count):
+            pool.submit(one, index, spec).add_done_callback(done.put)
+            handed += 1
+        return handed
+
     try:
-        pending = {pool.submit(one, index, spec) for group in groups for index, spec in group}
-        while pending:
-            done, pending = wait(pending, return_when=FIRST_COMPLETED)
-            yield [pair for future in done for pair in future.result()]  # stored together: one disk sync
+        left = hand_over((RUNS_AHEAD + 1) * workers)
+        while left:
+            ready = [done.get()]
+            with contextlib.suppress(queue.Empty):
+                while True:
+                    ready.append(done.get_nowait())
+            left += hand_over(len(ready)) - len(ready)
+            yield [pair for future in ready for pair in future.result()]  # stored together: one disk sync
         finished = True
     finally:
         stop.set()

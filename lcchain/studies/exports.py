@@ -9,13 +9,17 @@ import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Protocol
+from typing import TYPE_CHECKING, Any, Protocol
 
 import numpy as np
 
 from ..core.extras import optional_module
 from ..core.physical import vector_units
 from .stored import ARRAY_AXES, StoredRun, study_constants, study_dims, value_key
+
+if TYPE_CHECKING:
+    import pandas as pd
+    import xarray as xr
 
 __all__ = ["ExportSize", "Readable", "to_dataframe", "to_xarray", "export_size", "table_rows",
            "measurement_column"]
@@ -67,7 +71,7 @@ class ExportSize:
     per_point: int = 0
 
 
-def _on_frequency(dataset: Any, axes: list[np.ndarray], longest: int, mixed: bool) -> Any:
+def _on_frequency(dataset: xr.Dataset, axes: list[np.ndarray], longest: int, mixed: bool) -> xr.Dataset:
     """AC runs' spectra on a ``frequency`` coordinate (Hz): the dimension itself when every run is an AC run that
     swept the same frequencies, else a coordinate beside the ``point`` dimension (NaN where a run swept fewer, or
     is a transient: ``mixed``)."""
@@ -85,7 +89,7 @@ def _number(value: Any) -> float:
     return math.nan if value is None else float(value)
 
 
-def measurement_column(name: str, row: Mapping[str, Any]) -> str:
+def measurement_column(name: str, row: Mapping[str, object]) -> str:
     """A measurement's column in a run's row: its name, or ``meas_NAME`` when the row has a column of that name
     already (a parameter, ``status``, a metric)."""
     return f"meas_{name}" if name in row else name
@@ -104,7 +108,7 @@ _ROOT_NAMES = {"t_sim": "first arrival's time (simulation), units of sqrt(L0 C0)
                "capacitor": "capacitor j = 0..N (0 and N: the walls)"}
 
 
-def _described(dataset: Any, runs: list[StoredRun]) -> Any:
+def _described(dataset: xr.Dataset, runs: list[StoredRun]) -> xr.Dataset:
     """The study's Dataset with every variable's ``long_name``, and its ``units`` where lcchain knows them (a
     ``.meas`` result's unit is whatever the netlist measured: named as such, no unit)."""
     measured = {str(name) for run in runs for name in run.measurements}
@@ -126,7 +130,7 @@ def _optional(module: str) -> Any:
     return optional_module(module, "data", "a study's results as a table (pandas, xarray)")
 
 
-def to_dataframe(store: Readable) -> Any:
+def to_dataframe(store: Readable) -> pd.DataFrame:
     """The runs as a pandas DataFrame: one row per task (index: the task's number), the study's parameters
     as columns, then kind, status, key, digest, points, the simulator's wall time and the metrics (NaN or
     None where a run has none). A sample's realised part values are left out of the table (N + 1 columns
@@ -135,7 +139,7 @@ def to_dataframe(store: Readable) -> Any:
     pd = _optional("pandas")
     return pd.DataFrame(table_rows(store.runs())).set_index("index")
 
-def to_xarray(store: Readable, waveforms: bool = False) -> Any:
+def to_xarray(store: Readable, waveforms: bool = False) -> xr.Dataset:
     """The runs as an xarray Dataset whose dimensions are the study's axes.
 
     Each axis (a parameter that varies across the study's results: ``N``, ``case``, ``dt``, ``sample``,
@@ -231,7 +235,7 @@ def table_rows(runs: list[StoredRun]) -> list[dict[str, Any]]:
     return rows
 
 
-def _with_parts(dataset: Any, dims: list[str], runs: list[StoredRun]) -> Any:
+def _with_parts(dataset: xr.Dataset, dims: list[str], runs: list[StoredRun]) -> xr.Dataset:
     """The dataset with the samples' part values, ``L`` on ``coil`` and ``C`` on ``capacitor``."""
     pd = _optional("pandas")
     rows: dict[str, list[dict[str, Any]]] = {"L": [], "C": []}
@@ -250,7 +254,7 @@ def _with_parts(dataset: Any, dims: list[str], runs: list[StoredRun]) -> Any:
     return dataset
 
 
-def _with_waveforms(store: Readable, dataset: Any, dims: list[str], runs: list[StoredRun]) -> Any:
+def _with_waveforms(store: Readable, dataset: xr.Dataset, dims: list[str], runs: list[StoredRun]) -> xr.Dataset:
     arrays = {run.index: store.waveforms(run.key) or {} for run in runs}
     longest = max((a[axis].size for a in arrays.values() for axis in ARRAY_AXES if axis in a), default=0)
     names = list(dict.fromkeys(name for a in arrays.values() for name in a))

@@ -24,7 +24,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from datetime import UTC, datetime
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -32,6 +32,9 @@ from ..core import __version__
 from ..core.physical import variable_name, vector_units
 from .store import Store
 from .stored import StoredRun
+
+if TYPE_CHECKING:
+    import xarray as xr
 
 __all__ = ["cf_datasets", "CONVENTIONS"]
 
@@ -60,7 +63,7 @@ def _kind(run: StoredRun, arrays: dict[str, np.ndarray]) -> str:
     return "ac" if "frequency" in arrays else "transient"
 
 
-def _group(kind: str, runs: list[tuple[StoredRun, dict[str, np.ndarray]]], axes: list[str]) -> Any:
+def _group(kind: str, runs: list[tuple[StoredRun, dict[str, np.ndarray]]], axes: list[str]) -> xr.Dataset:
     import xarray
 
     group = _GROUPS[kind]
@@ -99,7 +102,7 @@ def _group(kind: str, runs: list[tuple[StoredRun, dict[str, np.ndarray]]], axes:
     return dataset
 
 
-def cf_datasets(store: Store, waveforms: bool = False) -> dict[str, Any]:
+def cf_datasets(store: Store, waveforms: bool = False) -> dict[str, xr.Dataset]:
     """The netCDF file's parts: ``{"": the study's table, "transient": ..., "ac": ..., "extrapolated": ...}``
     (a waveform group only where the store holds such runs, and only with ``waveforms``); module docstring."""
     root = store.to_xarray()  # its variables carry their units and names already
@@ -108,7 +111,7 @@ def cf_datasets(store: Store, waveforms: bool = False) -> dict[str, Any]:
                        "history": f"{now} lcchain {__version__} results {store.path.name} --netcdf",
                        "source": f"lcchain {__version__}; simulator runs from the store {store.path.name}",
                        "references": "the engines' versions are the variables engine and engine_version"})
-    parts: dict[str, Any] = {"": root}
+    parts: dict[str, xr.Dataset] = {"": root}
     if not waveforms:
         return parts
     results = [run for run in store.runs() if not run.member and run.status == "ok"]

@@ -47,9 +47,10 @@ from ..core.budget import (
     run_estimate,
     sample_theory_seconds,
 )
-from ..core.checks import instance, integer, real
+from ..core.checks import callback, instance, integer, real
 from ..core.errors import ParameterError
 from ..core.frozen import FrozenMap
+from ..core.json import JSON
 from ..core.limits import MAX_CIRCUIT_N, MAX_DESIGN_N, MAX_DT, MAX_TRANSITS, MIN_N
 from ..core.types import DEFAULT_C0, DEFAULT_L0, Backend, Excitation
 from ..runs.spec import DEFAULT_TIMEOUT, RunSpec, SpectrumTheory, Theory
@@ -95,11 +96,11 @@ class Task:
     """
 
     index: int
-    params: Mapping[str, Any]
+    params: Mapping[str, object]
     spec: RunSpec
     seconds: float = 0.0
     memory: float = 0.0
-    parts: Mapping[str, Any] | None = field(default=None, compare=False, repr=False)
+    parts: Mapping[str, Sequence[float | None]] | None = field(default=None, compare=False, repr=False)
 
 
 @dataclass(frozen=True, eq=False)
@@ -127,13 +128,13 @@ class Combination:
     """
 
     index: int
-    params: Mapping[str, Any]
+    params: Mapping[str, object]
     members: tuple[int, ...]
     steps: tuple[float, ...]
     theory: Theory
     predicted_error: float | None
     label: str = ""
-    parts: Mapping[str, Any] | None = field(default=None, compare=False, repr=False)
+    parts: Mapping[str, Sequence[float | None]] | None = field(default=None, compare=False, repr=False)
 
 
 @dataclass(frozen=True)
@@ -157,7 +158,7 @@ class Refusal:
     """
 
     index: int
-    params: Mapping[str, Any]
+    params: Mapping[str, object]
     reason: str
     key: str
     label: str = ""
@@ -195,7 +196,7 @@ class Plan:
     """
 
     kind: str
-    description: Mapping[str, Any]
+    description: Mapping[str, JSON]
     tasks: tuple[Task, ...]
     backend: Backend = "batch"
     axes: tuple[str, ...] = field(default=())
@@ -221,7 +222,14 @@ class Plan:
 
     def keys(self, ngspice_version: str) -> dict[int, str]:
         """Every row's key by index: each task's run, each combination's (its members' keys hashed) and each
-        refusal's."""
+        refusal's.  Made once for each version (a study asks for them for its keys, its rows and its fingerprint,
+        each run's text hashed each time: 0.1 to 1 ms a run), kept beside the frozen fields."""
+        made: dict[str, dict[int, str]] = self.__dict__.setdefault("_made_keys", {})
+        if ngspice_version not in made:
+            made[ngspice_version] = self._keys(ngspice_version)
+        return dict(made[ngspice_version])
+
+    def _keys(self, ngspice_version: str) -> dict[int, str]:
         keys = {task.index: task.spec.key(ngspice_version) for task in self.tasks}
         keys.update({refusal.index: refusal.key for refusal in self.refusals})
         for combination in self.combinations:
@@ -230,7 +238,7 @@ class Plan:
             keys[combination.index] = combined_key([keys[i] for i in combination.members])
         return dict(sorted(keys.items()))
 
-    def rows(self, ngspice_version: str) -> list[tuple[str, dict[str, Any], str]]:
+    def rows(self, ngspice_version: str) -> list[tuple[str, dict[str, object], str]]:
         """(key, params, label) of every row in index order: what the store's tasks table holds."""
         keys = self.keys(ngspice_version)
         described = {task.index: (dict(task.params), task.spec.label) for task in self.tasks}
@@ -244,7 +252,8 @@ class Plan:
 
     def _runs(self) -> dict[str, Task]:
         """Each distinct run (a run that points share, once), by its key."""
-        return {task.spec.key(""): task for task in self.tasks}
+        keys = self.keys("")
+        return {keys[task.index]: task for task in self.tasks}
 
     def estimate(self) -> float:
         """Estimated seconds of all its runs together, on one worker (a run that points share, once)."""
@@ -358,9 +367,9 @@ def realised_parts(plan: RequestPlan, k: int) -> dict[str, list[float | None]] |
     return ladder.parts()
 
 
-def _add_runs(tasks: list[Task], combinations: list[Combination], params: Mapping[str, Any],
+def _add_runs(tasks: list[Task], combinations: list[Combination], params: Mapping[str, object],
               specs: Sequence[RunSpec], steps: Sequence[float], predicted_error: float | None,
-              parts: Mapping[str, Any] | None = None) -> None:
+              parts: Mapping[str, Sequence[float | None]] | None = None) -> None:
     """One point of a study: its run, or its extrapolation's members (``member`` 1, 2, 3, each with its own
     ``dt``) followed by their combination (``runs``, ``dt`` the coarsest step); ``parts``: its sample's."""
     index = len(tasks) + len(combinations)
@@ -379,17 +388,112 @@ def _add_runs(tasks: list[Task], combinations: list[Combination], params: Mappin
                                     label, frozen))
 
 
-def sweep_plan(*, cases: Sequence[str], Ns: Sequence[int], dts: Sequence[float] = (), accuracies: Sequence[float] = (),
-               transits: Sequence[int] = (1,), excitations: Sequence[Excitation] = ("kick",), L0: float = DEFAULT_L0,
-               C0: float = DEFAULT_C0, backend: Backend = "batch", timeout: float = DEFAULT_TIMEOUT,
-               budget: Budget | None = None, extrapolate: int | None = None,
-               progress: Callable[[int, int, str], None] | None = None, workers: int = 1,
-               engine: str = DEFAULT_ENGINE, pool: Executor | None = None) -> Plan:
+@dataclass(frozen=True)
+class Planning:
+    """How a plan is made, whatever it plans: the ``budget`` each run and the whole study are checked against
+    (None: each run's own default, :class:`~lcchain.core.budget.Budget`), the ``workers`` the study will run on
+    (its price shares the runs among them) and ``progress(done, total, what)`` while planning."""
+
+    budget: Budget | None = None
+    workers: int = 1
+    progress: Callable[[int, int, str], None] | None = field(default=None, compare=False)
+
+    def __post_init__(self) -> None:
+        instance("budget", self.budget, Budget, optional=True)
+        integer("workers", self.workers, at_least=1)
+        if self.progress is not None:
+            callback("progress", self.progress)
+
+
+def _tuple(holder: object, name: str) -> None:
+    """A frozen dataclass's sequence field kept as a tuple (a list given is copied: the plan cannot change)."""
+    value = getattr(holder, name)
+    if isinstance(value, (str, bytes)) or not isinstance(value, Sequence):
+        raise ParameterError(name, value, "a list of values")
+    object.__setattr__(holder, name, tuple(value))
+
+
+@dataclass(frozen=True)
+class SweepAxes:
+    """The axes of a transient sweep of named cases (``lcchain sweep --case ... --N ...``) and what every run of
+    it shares: one task per (case, N, dt or accuracy, transits, excitation).
+
+    Attributes
+    ----------
+    cases : sequence of str
+        Named cases (:data:`lcchain.theory.cases.CHAIN_CASES`).
+    Ns : sequence of int
+        Sizes, :data:`~lcchain.core.limits.MIN_N` .. :data:`~lcchain.core.limits.MAX_CIRCUIT_N`.
+    dts, accuracies : sequence of float
+        Fixed steps (units of sqrt(L0 C0), 0 < dt <= :data:`~lcchain.core.limits.MAX_DT`) or accuracies
+        (0 < accuracy < 1): one of the two, not both.
+    transits : sequence of int
+        Transits of the chain each run lasts, 1 .. :data:`~lcchain.core.limits.MAX_TRANSITS`.
+    excitations : sequence of {"kick", "displacement"}
+    L0, C0 : float
+        The unit inductance (henry) and capacitance (farad).
+    backend : {"batch", "shared"}
+    timeout : float
+        Each run's limit, seconds.
+    extrapolate : int, optional
+        Runs combined into each point (Richardson extrapolation).
+    engine : str
+        The engine every run uses (:data:`lcchain.spice.engines.ENGINES`).
+
+    The axes are checked here, before anything is priced or designed; the values every run shares (units,
+    backend, timeout, engine, extrapolate) by each run's own request, which names them as these fields do.
+    """
+
+    cases: Sequence[str]
+    Ns: Sequence[int]
+    dts: Sequence[float] = ()
+    accuracies: Sequence[float] = ()
+    transits: Sequence[int] = (1,)
+    excitations: Sequence[Excitation] = ("kick",)
+    L0: float = DEFAULT_L0
+    C0: float = DEFAULT_C0
+    backend: Backend = "batch"
+    timeout: float = DEFAULT_TIMEOUT
+    extrapolate: int | None = None
+    engine: str = DEFAULT_ENGINE
+
+    def __post_init__(self) -> None:
+        for name in ("cases", "Ns", "dts", "accuracies", "transits", "excitations"):
+            _tuple(self, name)
+        if bool(self.dts) == bool(self.accuracies):
+            raise ParameterError("--dt/--accuracy", (list(self.dts), list(self.accuracies)),
+                                 "steps or accuracies, not both")
+        _check_axes(self.Ns, self.dts, self.accuracies, self.transits)
+
+
+@dataclass(frozen=True)
+class SpectrumAxes:
+    """The axes of an AC sweep of named cases (``lcchain sweep --analysis ac --case ... --N ...``): one task per
+    (case, N), each the ladder's spectrum over ``points`` frequencies (None: the request's default), with the unit
+    inductance ``L0`` (henry) and capacitance ``C0`` (farad), each run's ``timeout`` (seconds) and ``engine``.
+    The sizes are checked here (:data:`~lcchain.core.limits.MIN_N` .. :data:`~lcchain.core.limits.MAX_CIRCUIT_N`);
+    ``points`` by each run's request, which also refuses too few to separate a chain's poles."""
+
+    cases: Sequence[str]
+    Ns: Sequence[int]
+    points: int | None = None
+    L0: float = DEFAULT_L0
+    C0: float = DEFAULT_C0
+    timeout: float = DEFAULT_TIMEOUT
+    engine: str = DEFAULT_ENGINE
+
+    def __post_init__(self) -> None:
+        _tuple(self, "cases")
+        _tuple(self, "Ns")
+        _check_axes(self.Ns, (), (), ())
+
+
+def sweep_plan(axes: SweepAxes, planning: Planning | None = None, *, pool: Executor | None = None) -> Plan:
     """The product of the axes: one task per (case, N, dt or accuracy, transits, excitation).
 
     The study is priced from its axes first (:func:`_price_axes`), before any chain is designed; then every
-    run is checked against ``budget`` as :func:`lcchain.simulate` would.  With ``extrapolate`` (or an
-    accuracy that the cheapest way meets with several runs, as :func:`lcchain.simulate` chooses), a point is
+    run is checked against ``planning.budget`` as :func:`lcchain.simulate` would.  With ``axes.extrapolate`` (or
+    an accuracy that the cheapest way meets with several runs, as :func:`lcchain.simulate` chooses), a point is
     its members' tasks and their :class:`Combination`.
 
     ``pool``: the study's workers, already started (:func:`lcchain.studies.pools.started_pool`): the chains are
@@ -397,52 +501,54 @@ def sweep_plan(*, cases: Sequence[str], Ns: Sequence[int], dts: Sequence[float] 
     chain of N = 400 takes 0.28 s to design: 12 of them were 2.9 s in the driver before the first run).  The
     chains are the same bits wherever they are designed (theory runs under a fixed BLAS thread limit).
     """
-    from ..runs.simulate import simulation_runs
+    from ..runs.simulate import ChainOptions, simulation_runs
     from ..theory.cases import chain_for_case
+    from ..theory.chain import Chain
+    from ..theory.modes import Modes
     from ..theory.spectrum import normal_modes
 
-    if bool(dts) == bool(accuracies):
-        raise ParameterError("--dt/--accuracy", (list(dts), list(accuracies)), "steps or accuracies, not both")
-    _check_axes(Ns, dts, accuracies, transits)
+    planning = planning if planning is not None else Planning()
+    cases, Ns, dts, accuracies = axes.cases, axes.Ns, axes.dts, axes.accuracies
+    transits, excitations, budget = axes.transits, axes.excitations, planning.budget
     steps = [("dt", v) for v in dts] + [("accuracy", v) for v in accuracies]
     combos = list(itertools.product(cases, Ns, steps, transits, excitations))
-    planning = _price_axes(cases, Ns, steps, transits, len(combos), budget, workers)
-    chains: dict[tuple[str, int], Any] = {}
+    priced = _price_axes(cases, Ns, steps, transits, len(combos), budget, planning.workers)
+    chains: dict[tuple[str, int], tuple[Chain, Modes]] = {}
     designed = {} if pool is None else {(case, N): pool.submit(chain_for_case, case, N)
                                         for case, N in dict.fromkeys((case, N) for case, N, *_ in combos)}
     tasks: list[Task] = []
     combinations: list[Combination] = []
     for index, (case, N, (step, value), transit, excitation) in enumerate(combos):
-        if progress is not None:
-            progress(index, len(combos), f"planning {case} N={N}")
+        if planning.progress is not None:
+            planning.progress(index, len(combos), f"planning {case} N={N}")
         if (case, N) not in chains:
             chain = designed[(case, N)].result() if designed else chain_for_case(case, N)
             chains[(case, N)] = (chain, normal_modes(chain))
         chain, modes = chains[(case, N)]
-        runs = simulation_runs(chain, transits=transit, excitation=excitation, L0=L0, C0=C0, backend=backend,
-                               timeout=timeout, modes=modes, budget=budget, extrapolate=extrapolate,
+        options = ChainOptions(transits=transit, excitation=excitation, L0=axes.L0, C0=axes.C0,
+                               backend=axes.backend, timeout=axes.timeout, extrapolate=axes.extrapolate,
                                dt=value if step == "dt" else None, accuracy=value if step == "accuracy" else None,
-                               engine=engine)
-        params = {"case": case, "N": N, step: value, "transits": transit, "excitation": excitation}
+                               engine=axes.engine)
+        runs = simulation_runs(options.request(chain), modes=modes, budget=budget)
+        params: dict[str, JSON] = {"case": case, "N": N, step: value, "transits": transit, "excitation": excitation}
         if step == "accuracy":
             params["dt"] = runs.options.dt
         _add_runs(tasks, combinations, params, runs.specs, runs.steps, runs.predicted_error)
-    description = {"command": "sweep", "case": list(cases), "N": list(Ns), "dt": list(dts),
-                   "accuracy": list(accuracies), "transits": list(transits), "excitation": list(excitations),
-                   "L0": L0, "C0": C0, "backend": backend}
-    if extrapolate is not None:
-        description["extrapolate"] = extrapolate
-    if engine != DEFAULT_ENGINE:  # an ngspice study's description is what stores made before engines hold
-        description["engine"] = engine
-    axes = tuple(name for name, values in (("case", cases), ("N", Ns), ("dt", dts), ("accuracy", accuracies),
-                                           ("transits", transits), ("excitation", excitations)) if len(values) > 1)
-    return Plan("sweep", FrozenMap(description), tuple(tasks), backend, axes, tuple(combinations), engine, planning)
+    description: dict[str, JSON] = {
+        "command": "sweep", "case": list(cases), "N": list(Ns), "dt": list(dts), "accuracy": list(accuracies),
+        "transits": list(transits), "excitation": list(excitations), "L0": axes.L0, "C0": axes.C0,
+        "backend": axes.backend}
+    if axes.extrapolate is not None:
+        description["extrapolate"] = axes.extrapolate
+    if axes.engine != DEFAULT_ENGINE:  # an ngspice study's description is what stores made before engines hold
+        description["engine"] = axes.engine
+    varied = tuple(name for name, values in (("case", cases), ("N", Ns), ("dt", dts), ("accuracy", accuracies),
+                                             ("transits", transits), ("excitation", excitations)) if len(values) > 1)
+    return Plan("sweep", FrozenMap(description), tuple(tasks), axes.backend, varied, tuple(combinations), axes.engine,
+                priced)
 
 
-def spectrum_sweep_plan(*, cases: Sequence[str], Ns: Sequence[int], points: int | None = None,
-                        L0: float = DEFAULT_L0, C0: float = DEFAULT_C0, timeout: float = DEFAULT_TIMEOUT,
-                        budget: Budget | None = None, progress: Callable[[int, int, str], None] | None = None,
-                        workers: int = 1, engine: str = DEFAULT_ENGINE) -> Plan:
+def spectrum_sweep_plan(axes: SpectrumAxes, planning: Planning | None = None) -> Plan:
     """The product of cases and sizes, each an AC sweep of its spectrum (:class:`lcchain.runs.request.AC`).
 
     Priced from its axes first (the chains' designs), then each run by :func:`lcchain.runs.request.plan_request`
@@ -451,14 +557,16 @@ def spectrum_sweep_plan(*, cases: Sequence[str], Ns: Sequence[int], points: int 
     from ..runs.request import AC, Request, plan_request
     from ..theory.cases import chain_for_case
 
-    _check_axes(Ns, (), (), ())
+    planning = planning if planning is not None else Planning()
+    cases, Ns, budget = axes.cases, axes.Ns, planning.budget
     combos = list(itertools.product(cases, Ns))
-    planning = _price_axes(cases, Ns, [], (1,), len(combos), budget, workers)
+    priced = _price_axes(cases, Ns, [], (1,), len(combos), budget, planning.workers)
     tasks: list[Task] = []
     for index, (case, N) in enumerate(combos):
-        if progress is not None:
-            progress(index, len(combos), f"planning {case} N={N}")
-        request = Request(chain_for_case(case, N), AC(points), L0=L0, C0=C0, timeout=timeout, engine=engine)
+        if planning.progress is not None:
+            planning.progress(index, len(combos), f"planning {case} N={N}")
+        request = Request(chain_for_case(case, N), AC(axes.points), L0=axes.L0, C0=axes.C0, timeout=axes.timeout,
+                          engine=axes.engine)
         try:
             spec = plan_request(request, budget).specs[0]
         except ParameterError as error:  # the chain of this point: its N on the axis, with its case
@@ -466,10 +574,10 @@ def spectrum_sweep_plan(*, cases: Sequence[str], Ns: Sequence[int], points: int 
                 raise
             raise ParameterError("N", N, f"{error.allowed} ({case})") from None
         tasks.append(Task(index, FrozenMap({"case": case, "N": N}), spec, _seconds(spec), _memory(spec)))
-    description = {"command": "sweep", "analysis": "ac", "case": list(cases), "N": list(Ns), "points": points,
-                   "L0": L0, "C0": C0, "engine": engine}
-    axes = tuple(name for name, values in (("case", cases), ("N", Ns)) if len(values) > 1)
-    return Plan("sweep", FrozenMap(description), tuple(tasks), "batch", axes, (), engine, planning)
+    description: dict[str, JSON] = {"command": "sweep", "analysis": "ac", "case": list(cases), "N": list(Ns),
+                                    "points": axes.points, "L0": axes.L0, "C0": axes.C0, "engine": axes.engine}
+    varied = tuple(name for name, values in (("case", cases), ("N", Ns)) if len(values) > 1)
+    return Plan("sweep", FrozenMap(description), tuple(tasks), "batch", varied, (), axes.engine, priced)
 
 
 def _check_axes(Ns: Sequence[int], dts: Sequence[float], accuracies: Sequence[float], transits: Sequence[int]) -> None:
@@ -522,16 +630,16 @@ def _price_axes(cases: Sequence[str], Ns: Sequence[int], steps: Sequence[tuple[s
                         runs, workers, "")
 
 
-def _price_scenes(datas: Sequence[Mapping[str, Any]], budget: Budget | None, workers: int) -> float:
+def _price_scenes(datas: Sequence[Mapping[str, object]], budget: Budget | None, workers: int) -> float:
     """Refuse a scene sweep whose chains (designed here) and samples' theory (on ``workers``) exceed the budget,
     read from the varied scenes' tables alone, before any is planned. Each scene's own runs are priced when it
     is planned (:func:`lcchain.scenes.plan.scene_plan`)."""
     planning = work = 0.0
     for data in datas:
-        chain = data.get("chain", {}) if isinstance(data.get("chain"), dict) else {}
+        chain = _table(data, "chain")
         N, case = chain.get("N"), chain.get("case", "two-mass")
-        tolerance = data.get("effects", {}).get("tolerance", {}) if isinstance(data.get("effects"), dict) else {}
-        samples = tolerance.get("samples", 1) if isinstance(tolerance, dict) else 1
+        tolerance = _table(_table(data, "effects"), "tolerance")
+        samples = tolerance.get("samples", 1)
         if not isinstance(N, int) or isinstance(N, bool) or not isinstance(samples, int) or N < 1 or samples < 1:
             continue  # the scene's own check names what is wrong
         planning += chain_seconds(str(case), min(N, MAX_DESIGN_N))
@@ -543,7 +651,7 @@ def _price_scenes(datas: Sequence[Mapping[str, Any]], budget: Budget | None, wor
                         "fewer samples, ")
 
 
-def parse_vary(text: str) -> tuple[str, list[Any]]:
+def parse_vary(text: str) -> tuple[str, list[object]]:
     """``KEY=V1,V2,...`` -> (dotted key, TOML values): ``chain.N=50,100`` -> ("chain.N", [50, 100]).
 
     Keys joined by ``+`` take the same value together, one axis:
@@ -568,18 +676,26 @@ def parse_vary(text: str) -> tuple[str, list[Any]]:
     return key, parsed
 
 
-def _set(data: dict[str, Any], key: str, value: Any) -> None:
+def _table(data: Mapping[str, object], key: str) -> Mapping[str, object]:
+    """A scene's table under ``key``, or an empty one where it has none (or not a table: the scene's own check
+    names it)."""
+    table = data.get(key)
+    return table if isinstance(table, dict) else {}
+
+
+def _set(data: dict[str, object], key: str, value: object) -> None:
     for dotted in key.split("+"):
         _set_one(data, dotted, value)
 
 
-def _set_one(data: dict[str, Any], dotted: str, value: Any) -> None:
+def _set_one(data: dict[str, object], dotted: str, value: object) -> None:
     parts = dotted.split(".")
     table = data
     for part in parts[:-1]:
-        table = table.setdefault(part, {})
-        if not isinstance(table, dict):
+        inner = table.setdefault(part, {})
+        if not isinstance(inner, dict):
             raise ParameterError("--vary", dotted, f"a key inside a table ({part} is not a table)")
+        table = inner
     table[parts[-1]] = value
 
 
@@ -587,41 +703,88 @@ def _set_one(data: dict[str, Any], dotted: str, value: Any) -> None:
 _COMMAND_LINE = "the command line"
 
 
-def case_scene(case: str, N: int, *, dt: float | None = None, accuracy: float | None = None, transits: int = 1,
-               excitation: str = "kick", L0: float = DEFAULT_L0, C0: float = DEFAULT_C0,
-               engine: str = DEFAULT_ENGINE) -> dict[str, Any]:
-    """The tables of the scene that runs ``case`` at ``N`` as ``lcchain sweep --case --N`` does (a step or an
-    accuracy, transits, a drive, L0 and C0, an engine): what a Monte Carlo from the command line varies, with no
-    scene file written."""
-    analysis: dict[str, Any] = {"transits": transits, "engine": engine}
-    analysis |= {"accuracy": accuracy} if accuracy is not None else {"dt": 0.05 if dt is None else dt}
-    return {"title": f"{case} chain, N = {N}, real parts", "chain": {"case": case, "N": N},
-            "units": {"L0": L0, "C0": C0}, "excitation": {"kind": excitation}, "analysis": analysis}
+@dataclass(frozen=True)
+class CasePoint:
+    """One point of ``lcchain sweep --case --N``: a named ``case`` at ``N``, a fixed step ``dt`` (units of
+    sqrt(L0 C0); 0.05 when neither is given) or an ``accuracy``, the ``transits`` the run lasts, its
+    ``excitation``, the unit inductance ``L0`` (henry) and capacitance ``C0`` (farad), and the ``engine``.
+    Its values are checked as the scene made of it (:func:`case_scene`) is parsed, under their scene keys."""
+
+    case: str
+    N: int
+    dt: float | None = None
+    accuracy: float | None = None
+    transits: int = 1
+    excitation: str = "kick"
+    L0: float = DEFAULT_L0
+    C0: float = DEFAULT_C0
+    engine: str = DEFAULT_ENGINE
+
+    def __post_init__(self) -> None:
+        if self.dt is not None and self.accuracy is not None:
+            raise ParameterError("dt/accuracy", (self.dt, self.accuracy), "a step or an accuracy, not both")
 
 
-def scene_sweep_plan(path: str | Path | Mapping[str, Any], varies: Sequence[tuple[str, list[Any]]], *,
-                     samples: int | None = None, seed: int | None = None, tolerance: Mapping[str, float] | None = None,
-                     series: str | None = None, budget: Budget | None = None,
-                     progress: Callable[[int, int, str], None] | None = None, workers: int = 1) -> Plan:
+def case_scene(point: CasePoint) -> dict[str, Any]:
+    """The tables of the scene that runs ``point`` as ``lcchain sweep --case --N`` does (a step or an accuracy,
+    transits, a drive, L0 and C0, an engine): what a Monte Carlo from the command line varies, with no scene file
+    written."""
+    analysis: dict[str, Any] = {"transits": point.transits, "engine": point.engine}
+    analysis |= {"accuracy": point.accuracy} if point.accuracy is not None else \
+        {"dt": 0.05 if point.dt is None else point.dt}
+    return {"title": f"{point.case} chain, N = {point.N}, real parts", "chain": {"case": point.case, "N": point.N},
+            "units": {"L0": point.L0, "C0": point.C0}, "excitation": {"kind": point.excitation},
+            "analysis": analysis}
+
+
+@dataclass(frozen=True)
+class RealParts:
+    """A scene's real parts set as the command line's options set them (:func:`lcchain.scenes.load.override_parts`):
+    ``samples`` (``--samples``, 1 .. :data:`~lcchain.core.limits.MAX_SAMPLES`), the draw's ``seed`` (>= 0),
+    ``tolerance`` (``{"L": tol, "C": tol}``, relative, 0 <= tol < 1) and a preferred-number ``series``
+    (``"E12"``, ``"E24"``, ``"E96"``). Each is checked here, under its option's name."""
+
+    samples: int | None = None
+    seed: int | None = None
+    tolerance: Mapping[str, float] | None = None
+    series: str | None = None
+
+    def __post_init__(self) -> None:
+        if self.tolerance is not None:
+            if not isinstance(self.tolerance, Mapping):
+                raise ParameterError("--tolerance", self.tolerance, "L=TOL, C=TOL or one TOL for both")
+            object.__setattr__(self, "tolerance", FrozenMap(self.tolerance))
+        self.applied({})  # named as typed, and before any price (1e20 samples were priced as a study first)
+
+    def applied(self, data: Mapping[str, Any]) -> dict[str, Any]:
+        """A scene's tables with these parts set (the scene's other keys stay)."""
+        from ..scenes.load import override_parts
+
+        return override_parts(data, samples=self.samples, seed=self.seed, tolerance=self.tolerance,
+                              series=self.series)
+
+
+def scene_sweep_plan(path: str | Path | Mapping[str, Any], varies: Sequence[tuple[str, Sequence[object]]],
+                     parts: RealParts | None = None, planning: Planning | None = None) -> Plan:
     """A scene with dotted keys varied (the product of their values); each tolerance sample is a task.
 
     ``path`` is the scene's file, or its tables themselves (a scene made from the command line's ``--case`` and
-    ``--N``: :func:`case_scene`). ``samples``, ``seed``, ``tolerance`` and ``series`` set the scene's real parts
-    as ``--samples``, ``--seed``, ``--tolerance`` and ``--series`` do
-    (:func:`lcchain.scenes.load.override_parts`). Priced from its axes first (:func:`_price_scenes`), before any
-    scene is planned."""
-    from ..scenes.load import load_scene, override_parts, parse_scene
+    ``--N``: :func:`case_scene`). ``parts`` set the scene's real parts as ``--samples``, ``--seed``,
+    ``--tolerance`` and ``--series`` do (:class:`RealParts`). Priced from its axes first (:func:`_price_scenes`),
+    before any scene is planned."""
+    from ..scenes.load import load_scene, parse_scene
     from ..scenes.plan import scene_plan, scene_specs
 
-    # named as typed, and before the price (1e20 samples were priced as a study first)
-    parts = override_parts({}, samples=samples, seed=seed, tolerance=tolerance, series=series)
+    parts = parts if parts is not None else RealParts()
+    planning = planning if planning is not None else Planning()
+    budget, progress = planning.budget, planning.progress
     if isinstance(path, Mapping):
         scene, path = parse_scene(path, source=_COMMAND_LINE), _COMMAND_LINE
     else:
         scene = load_scene(path)
     base = scene.to_dict()
-    if parts["effects"]:
-        base = override_parts(base, samples=samples, seed=seed, tolerance=tolerance, series=series)
+    if parts.applied({})["effects"]:
+        base = parts.applied(base)
     keys = [key for key, _ in varies]
     varied_keys = {part for key in keys for part in key.split("+")}
     for key, other in (("analysis.dt", "accuracy"), ("analysis.accuracy", "dt")):
@@ -634,7 +797,7 @@ def scene_sweep_plan(path: str | Path | Mapping[str, Any], varies: Sequence[tupl
         for key, value in zip(keys, values, strict=True):
             _set(data, key, value)
         datas.append(data)
-    planning = _price_scenes(datas, budget, workers)
+    priced = _price_scenes(datas, budget, planning.workers)
     tasks: list[Task] = []
     combinations: list[Combination] = []
     for n, (values, data) in enumerate(zip(combos, datas, strict=True)):
@@ -652,18 +815,19 @@ def scene_sweep_plan(path: str | Path | Mapping[str, Any], varies: Sequence[tupl
             _add_runs(tasks, combinations, task_params, specs[k * plan.runs:(k + 1) * plan.runs], plan.steps,
                       plan.predicted_error, realised_parts(plan, k))
     description = {"command": "sweep", "scene": str(path), "scene_data": base, "vary": dict(varies),
-                   "samples": samples, "seed": seed} | ({} if tolerance is None else {"tolerance": dict(tolerance)}) \
-        | ({} if series is None else {"series": series})
+                   "samples": parts.samples, "seed": parts.seed} \
+        | ({} if parts.tolerance is None else {"tolerance": dict(parts.tolerance)}) \
+        | ({} if parts.series is None else {"series": parts.series})
     axes = tuple(keys) + (("sample",) if any("sample" in t.params for t in tasks) else ())
     engines = sorted({task.spec.engine for task in tasks}) or [scene.analysis.engine]
     if len(engines) > 1:
         raise ParameterError("--vary", f"analysis.engine={','.join(engines)}", "one engine per study (a study finds "
                              "its engine once): run each engine in a study of its own")
     return Plan("scene", FrozenMap(json.loads(json.dumps(description, default=str))), tuple(tasks),
-                scene.analysis.backend, axes, tuple(combinations), engines[0], planning)
+                scene.analysis.backend, axes, tuple(combinations), engines[0], priced)
 
 
-def request_plan(points: Sequence[tuple[Mapping[str, Any], Request]], *, budget: Budget | None = None) -> Plan:
+def request_plan(points: Sequence[tuple[Mapping[str, object], Request]], *, budget: Budget | None = None) -> Plan:
     """A study of requests made in Python: each point's params (its place on the study's axes, JSON values) and
     its :class:`~lcchain.runs.request.Request`, planned by :func:`lcchain.runs.request.plan_request`.
 
@@ -695,7 +859,8 @@ def request_plan(points: Sequence[tuple[Mapping[str, Any], Request]], *, budget:
         raise ParameterError("engine", sorted(engines), "one engine per study (a study finds its engine once)")
     axes = tuple(name for name, values in names.items() if len(values) > 1) + (
         ("sample",) if any("sample" in t.params for t in tasks) else ())
-    description = {"command": "requests", "points": [json.loads(json.dumps(dict(p), default=str)) for p, _ in points]}
+    description: dict[str, JSON] = {
+        "command": "requests", "points": [json.loads(json.dumps(dict(p), default=str)) for p, _ in points]}
     return Plan("sweep", FrozenMap(description), tuple(tasks), backends.pop(), axes, tuple(combinations),
                 engines.pop())
 
@@ -732,6 +897,7 @@ def batch_plan(paths: Sequence[str | Path], *, allow_control: bool = False, back
     """
     budget = budget if budget is not None else Budget()
     version = engine_version if engine_version is not None else _version_of(backend)
+    runs = _ForeignRuns(backend, timeout, budget, version, trusted=allow_control, check=check)
     tasks = []
     refusals = []
     first: ParameterError | None = None
@@ -739,7 +905,7 @@ def batch_plan(paths: Sequence[str | Path], *, allow_control: bool = False, back
         path = Path(name)
         read: list[str] = []
         try:
-            tasks.append(_batch_task(index, path, read, allow_control, backend, timeout, budget, version, check))
+            tasks.append(_batch_task(index, path, read, runs))
         except ParameterError as error:
             if strict:
                 raise
@@ -748,8 +914,10 @@ def batch_plan(paths: Sequence[str | Path], *, allow_control: bool = False, back
                                     _refusal_key(str(path), read[0] if read else ""), path.name))
     if first is not None and not tasks:  # nothing of it can run: bad input, as with strict
         raise first
-    description = {"command": "batch", "netlists": [str(p) for p in paths], "allow_control": allow_control,
-                   "backend": backend, **({"check": True} if check else {})}
+    description: dict[str, JSON] = {"command": "batch", "netlists": [str(p) for p in paths],
+                                    "allow_control": allow_control, "backend": backend}
+    if check:
+        description["check"] = True
     return Plan("batch", FrozenMap(description), tuple(tasks), backend, ("netlist",), refusals=tuple(refusals))
 
 
@@ -765,25 +933,38 @@ def _version_of(backend: Backend) -> Callable[[], str]:
     return version
 
 
-def _batch_task(index: int, path: Path, read: list[str], allow_control: bool, backend: Backend, timeout: float,
-                budget: Budget, version: Callable[[], str], check: bool = False) -> Task:
+@dataclass(frozen=True)
+class _ForeignRuns:
+    """How every foreign netlist of a plan runs: its ``backend``, each run's ``timeout`` (seconds; its price's
+    limits within it), the ``budget`` each is priced against, the engine's ``version`` (asked only for an ``.ac
+    dec`` card); ``trusted`` (``--allow-control``: run as it is, in its own folder) and ``check`` (compared with
+    its exact response)."""
+
+    backend: Backend
+    timeout: float
+    budget: Budget
+    version: Callable[[], str]
+    trusted: bool = False
+    check: bool = False
+
+
+def _batch_task(index: int, path: Path, read: list[str], runs: _ForeignRuns) -> Task:
     """One netlist of a batch checked, priced and made a task, or its refusal raised (``read`` gets its text
     once read: the refusal's key)."""
     text = read_include(path, "NETLIST")
     read.append(text)
     folder = path.resolve().parent
-    run_text = canonical_text(text, str(path)) if allow_control else \
+    run_text = canonical_text(text, str(path)) if runs.trusted else \
         allowed_netlist(text, str(path), folder, read_include)
-    return _foreign_task(index, {"netlist": str(path)}, run_text, str(path), path.name, backend=backend,
-                         timeout=timeout, budget=budget, version=version,
-                         cwd=str(folder) if allow_control else None, trusted=allow_control, check=check)
+    return _foreign_task(index, {"netlist": str(path)}, run_text, str(path), path.name, runs,
+                         cwd=str(folder) if runs.trusted else None)
 
 
-def _foreign_task(index: int, params: Mapping[str, Any], run_text: str, source: str, label: str, *,
-                  backend: Backend, timeout: float, budget: Budget, version: Callable[[], str],
-                  cwd: str | None = None, trusted: bool = False, check: bool = False) -> Task:
+def _foreign_task(index: int, params: Mapping[str, object], run_text: str, source: str, label: str,
+                  runs: _ForeignRuns, *, cwd: str | None = None) -> Task:
     """A checked foreign netlist (what ngspice will receive) priced and made a task, or its refusal raised: its
-    analysis, its price against ``budget`` and its run's limits from that price."""
+    analysis, its price against the budget and its run's limits from that price."""
+    backend, budget, version, trusted, check = runs.backend, runs.budget, runs.version, runs.trusted, runs.check
     analysis = analysis_of(run_text, source, version)
     saved = saved_vectors(run_text)
     price = foreign_price(run_text, analysis, len(saved), source)
@@ -794,7 +975,7 @@ def _foreign_task(index: int, params: Mapping[str, Any], run_text: str, source: 
     else:
         estimate = price.estimate
     estimate.check(budget, source, analysis.describe())
-    limits = price.limits(budget, timeout)
+    limits = price.limits(budget, runs.timeout)
     try:
         spec = RunSpec(run_text, saved, analysis.tstop, backend=backend, timeout=limits.timeout,
                        cwd=cwd, trusted=trusted, foreign=True,
@@ -814,10 +995,27 @@ def _swept(error: ParameterError) -> ParameterError:
                           + " (a sweep runs only what the allow-list accepts)", error.where)
 
 
-def netlist_sweep_plan(path: str | Path, varies: Sequence[Vary], *, samples: int | None = None,
-                       seed: int | None = None, backend: Backend = "batch", timeout: float = DEFAULT_TIMEOUT,
-                       budget: Budget | None = None, engine_version: Callable[[], str] | None = None,
-                       progress: Callable[[int, int, str], None] | None = None) -> Plan:
+@dataclass(frozen=True)
+class NetlistSweep:
+    """How a foreign netlist's variants are drawn and run (``lcchain sweep --netlist FILE``): ``samples`` draws of
+    each distribution (``--samples``) from ``seed`` (``--seed``), each variant on ``backend`` within ``timeout``
+    seconds (and its own price's limits); ``engine_version`` gives the version of the ngspice that will run them
+    (asked only for an ``.ac dec`` card; by default ngspice is found for ``backend``). ``samples`` and ``seed``
+    are checked with the --vary values they draw (:func:`lcchain.studies.vary.variant_points`)."""
+
+    samples: int | None = None
+    seed: int | None = None
+    backend: Backend = "batch"
+    timeout: float = DEFAULT_TIMEOUT
+    engine_version: Callable[[], str] | None = field(default=None, compare=False)
+
+    def __post_init__(self) -> None:
+        real("timeout", self.timeout, above=0.0, unit="seconds")
+        callback("engine_version", self.engine_version)
+
+
+def netlist_sweep_plan(path: str | Path, varies: Sequence[Vary], options: NetlistSweep | None = None,
+                       planning: Planning | None = None) -> Plan:
     """A foreign netlist's ``.param`` or element values varied (``lcchain sweep --netlist FILE --vary ...``): one
     task per variant, each checked, priced and run as :func:`batch_plan` runs a netlist.
 
@@ -835,8 +1033,13 @@ def netlist_sweep_plan(path: str | Path, varies: Sequence[Vary], *, samples: int
     from ..spice.variants import find_target, netlist_targets, with_values
     from .vary import variant_points
 
-    budget = budget if budget is not None else Budget()
-    version = engine_version if engine_version is not None else _version_of(backend)
+    options = options if options is not None else NetlistSweep()
+    planning = planning if planning is not None else Planning()
+    samples, seed, backend, timeout, progress = (options.samples, options.seed, options.backend, options.timeout,
+                                                 planning.progress)
+    budget = planning.budget if planning.budget is not None else Budget()
+    version = options.engine_version if options.engine_version is not None else _version_of(backend)
+    runs = _ForeignRuns(backend, timeout, budget, version)
     path = Path(path)
     source = str(path)
     points = variant_points(varies, samples=samples, seed=seed)  # before the netlist: a bad --vary is the error
@@ -859,8 +1062,7 @@ def netlist_sweep_plan(path: str | Path, varies: Sequence[Vary], *, samples: int
         variant = with_values(base, {found[column]: value for column, value in point.items() if column in found})
         try:
             checked = allowed_netlist(variant, source, None)  # the same allow-list: what it returns runs
-            tasks.append(_foreign_task(index, point, checked, source, label, backend=backend, timeout=timeout,
-                                       budget=budget, version=version))
+            tasks.append(_foreign_task(index, point, checked, source, label, runs))
         except ParameterError as refused:
             said = _swept(refused)
             first = first or said
@@ -869,7 +1071,7 @@ def netlist_sweep_plan(path: str | Path, varies: Sequence[Vary], *, samples: int
         progress(len(points), len(points), "planning")
     if first is not None and not tasks:  # nothing of it can run: bad input
         raise first
-    description = {"command": "sweep", "netlist": source, "vary": [vary.spec for vary in varies],
+    description: dict[str, JSON] = {"command": "sweep", "netlist": source, "vary": [vary.spec for vary in varies],
                    "samples": samples, "seed": seed, "backend": backend}
     seen: dict[str, set[str]] = {}
     for point in points:

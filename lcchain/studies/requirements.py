@@ -16,7 +16,6 @@ import math
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 import scipy  # its submodules load on first use: commands that need no theory never import them
@@ -24,12 +23,13 @@ import scipy  # its submodules load on first use: commands that need no theory n
 from ..circuit import requirements as exact
 from ..circuit.effects import Effect
 from ..circuit.ladder import Ladder
-from ..circuit.netlist import SimulationOptions, netlist_text
+from ..circuit.netlist import Drive, NetlistOutput, SimulationOptions, netlist_text
 from ..circuit.requirements import GRID_POINTS, LOSS_TARGETS, PARTS, Arrival, Part, Requirement, requirements_cost
 from ..core.blas import fixed_blas_threads
 from ..core.budget import Budget, Estimate, run_estimate
 from ..core.checks import integer, real
 from ..core.errors import ParameterError, SimulationError
+from ..core.json import JSONDict
 from ..core.types import DEFAULT_C0, DEFAULT_L0
 from ..spice.engines import find_engine, run_engine
 from ..spice.job import RunJob
@@ -126,7 +126,8 @@ def check_points(ladder: Ladder, requirements: Sequence[Requirement], count: int
 def _energy(ladder: Ladder, effects: tuple[Effect, ...], options: SimulationOptions, window: tuple[float, float],
             transit: float, budget: Budget, simulator: Simulator) -> float:
     chain = ladder.chain
-    netlist = netlist_text(ladder, options, I0=1.0, effects=effects, title=f"lcchain requirements, {chain.name}")
+    netlist = netlist_text(ladder, options, Drive(I0=1.0), effects=effects,
+                           output=NetlistOutput(title=f"lcchain requirements, {chain.name}"))
     last = f"i(l{chain.N})"
     tstop = options.tstop * ladder.time_unit
     result = run_engine(RunJob(netlist, [last], tstop, foreign=False, timeout=max(1.0, budget.max_seconds)), simulator)
@@ -218,7 +219,7 @@ class RequirementsCheck:
         ratios = [abs(p.loss - p.theory) / (ATOL_LOSS + RTOL_LOSS * abs(p.theory)) for p in self.points]
         return max(ratios, default=None) if all(map(math.isfinite, ratios)) else math.inf
 
-    def to_dict(self) -> dict[str, Any]:
+    def to_dict(self) -> JSONDict:
         """The section's numbers (``report.json``'s ``requirements``)."""
         ideal = None if self.ideal is None else {"time": self.ideal.time, "peak": self.ideal.peak,
                                                   "energy": self.ideal.energy}
@@ -228,7 +229,7 @@ class RequirementsCheck:
                 "check": [point.to_dict() for point in self.points], "passed": self.passed,
                 "estimate_s": self.estimate_s, "wall_s": self.wall_s, "reason": self.reason}
 
-    def checks(self) -> list[dict[str, Any]]:
+    def checks(self) -> list[JSONDict]:
         """The report's line for it: its ngspice points against the exact curves."""
         return [{"name": f"requirements {self.name}: ngspice on the exact curves", "what": self.what,
                  "kind": "requirements", "passed": self.passed, "max_abs_error": self.worst, "tolerance": 1.0,

@@ -19,53 +19,34 @@ stored (after a restart too).  :func:`run_specs` runs specs without a store
 from __future__ import annotations
 
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..core.budget import Budget
 from ..core.errors import LcchainError, ParameterError
+from ..core.json import JSONDict
 from ..runs.execute import RunRecord, loop_sims
 from ..runs.spec import RunSpec
 from ..spice.engines import find_engine
-from ..spice.simulator import Simulator
 from .executors import (
-    Executor,
-    check_executor,
-    check_transport,
     choose_transports,
     default_workers,
     group_tasks,
     open_executor,
     run_groups,
 )
+from .options import Progress, RunHooks, RunOptions
 from .plan import Combination, Plan, Task, _memory, _seconds
 from .store import Store, engine_text
 
 if TYPE_CHECKING:
-    from concurrent.futures import ProcessPoolExecutor
+    pass
 
-__all__ = ["Summary", "Progress", "run_plan", "run_specs", "check_specs"]
-
-
-@dataclass(frozen=True)
-class Progress:
-    """Where a study is: given to the progress callback after every finished group of runs."""
-
-    done: int
-    total: int
-    failed: int
-    elapsed: float
-
-    @property
-    def remaining(self) -> float | None:
-        """Seconds left at the pace so far (None before the first run finished)."""
-        if self.done == 0 or self.done >= self.total:
-            return None if self.done == 0 else 0.0
-        return self.elapsed / self.done * (self.total - self.done)
+__all__ = ["Summary", "Progress", "RunOptions", "RunHooks", "run_plan", "run_specs", "check_specs"]
 
 
 @dataclass(frozen=True)
@@ -117,7 +98,7 @@ class Summary:
         """Every run ok (none refused) and every extrapolation combined."""
         return self.failed == 0 and self.refused == 0 and self.ok == self.total and self.combined_failed == 0
 
-    def to_dict(self) -> dict[str, Any]:
+    def to_dict(self) -> JSONDict:
         return {"total": self.total, "skipped": self.skipped, "ran": self.ran, "ok": self.ok,
                 "failed": self.failed, "combined": self.combined, "combined_failed": self.combined_failed,
                 "pending": self.pending, "refused": self.refused,
@@ -125,13 +106,8 @@ class Summary:
                 "store": self.store, "wall_s": self.wall_s}
 
 
-def run_plan(plan: Plan, store: str | Path, *, executor: str = "process", workers: int | None = None,
-             scheduler: str | None = None, simulator: Simulator | None = None,
-             progress: Callable[[Progress], None] | None = None,
-             on_resume: Callable[[int, int], None] | None = None, retry_failed: bool = False, wait: bool = False,
-             on_wait: Callable[[int | None], None] | None = None, verbose: bool = False,
-             transport: str = "auto", max_seconds: float | None = None,
-             pool: ProcessPoolExecutor | None = None) -> Summary:
+def run_plan(plan: Plan, store: str | Path, options: RunOptions | None = None,
+             hooks: RunHooks | None = None) -> Summary:
     """Run a plan into a store, skipping what the store already holds.
 
     Parameters
@@ -140,52 +116,31 @@ def run_plan(plan: Plan, store: str | Path, *, executor: str = "process", worker
     store : path-like
         The ``.sqlite`` file; made (whole) when missing; refused when it is not an lcchain store, holds another
         plan, or another driver writes it.
-    executor : {"serial", "process", "dask"}
-    workers : int, optional
-        Processes (default: one per core).
-    scheduler : str, optional
-        ``tcp://host:port`` of a running Dask scheduler (``executor="dask"``).
-    simulator : Simulator, optional
-        Found once here for the plan's backend when omitted.
-    progress : callable, optional
-        Called with a :class:`Progress` after every finished group of runs.
-    on_resume : callable, optional
-        Called with (runs already stored, runs to do) before anything runs.
-    retry_failed : bool
-        Run again the runs stored as failed or timed out (a run killed from outside, say).
-    wait : bool
-        Wait for another driver writing the store to finish, instead of refusing it.
-    on_wait : callable, optional
-        Called with that driver's pid (None when unknown) before waiting.
-    verbose : bool
-        Dask's workers log what they do.
-    transport : {"auto", "process", "warm"}
-        How each ngspice run starts: warm shared-library workers for runs predicted short (``"auto"``), a
-        process per run, or warm workers for all (:func:`~lcchain.studies.executors.choose_transports`). Keys
-        and results do not depend on it.
-    max_seconds : float, optional
-        The study's time budget from now, seconds: no run starts after it and a run still going then is stopped;
-        neither is stored (:attr:`Summary.pending`), so the same call runs them.
-    pool : ProcessPoolExecutor, optional
-        The process executor's workers, started while the plan was made (:func:`~lcchain.studies.pools.started_pool`);
-        its owner shuts it down.
+    options : RunOptions, optional
+        Where and how the runs execute (the executor, its workers, the transport, the time budget, whether to
+        wait for another driver and to retry failed runs); by default a process per core.
+    hooks : RunHooks, optional
+        What the caller is shown: :class:`Progress` after every finished group of runs, (runs already stored,
+        runs to do) before anything runs, another driver's pid before waiting for it; Dask's log with
+        ``verbose``.
     """
     start = time.perf_counter()
-    deadline = None if max_seconds is None else time.time() + max_seconds
-    check_executor(executor, workers, scheduler)
-    check_transport(transport)
-    simulator = simulator if simulator is not None else find_engine(plan.engine, plan.backend)
+    options = options if options is not None else RunOptions()
+    hooks = hooks if hooks is not None else RunHooks()
+    executor, scheduler, progress = options.executor, options.scheduler, hooks.progress
+    deadline = None if options.max_seconds is None else time.time() + options.max_seconds
+    simulator = options.simulator if options.simulator is not None else find_engine(plan.engine, plan.backend)
     keys = plan.keys(simulator.version)
     fingerprint, description = plan.fingerprint(simulator.version), dict(plan.description)
     rows = plan.rows(simulator.version)
-    workers = workers or default_workers()
-    with Store(store, wait=wait, on_wait=on_wait) as results:
+    workers = options.workers or default_workers()
+    with Store(store, wait=options.wait, on_wait=hooks.on_wait) as results:
         results.check_plan(fingerprint, description, len(rows), engine_text(simulator.engine, simulator.version))
         results.runs()  # every stored row read, and checked, before anything starts
         with open_executor(simulator, executor=executor, workers=workers, scheduler=scheduler,
-                           verbose=verbose, scratch=str(Path(store).resolve().parent), pool=pool) as run:
+                           verbose=hooks.verbose, scratch=str(Path(store).resolve().parent), pool=options.pool) as run:
             results.adopt(fingerprint, description, rows, engine_text(simulator.engine, simulator.version))
-            finished = results.finished() - (results.failed() if retry_failed else set())
+            finished = results.finished() - (results.failed() if options.retry_failed else set())
             refused = {refusal.key: refusal for refusal in plan.refusals if refusal.key not in finished}
             # one transaction: nothing of them ran (no engine, no time), and a resume finds them stored
             if refused:
@@ -200,12 +155,12 @@ def run_plan(plan: Plan, store: str | Path, *, executor: str = "process", worker
                     todo.setdefault(keys[task.index], (task.index, task.spec, task.seconds))
             distinct = {keys[task.index] for task in plan.tasks} | {refusal.key for refusal in plan.refusals}
             skipped = len((distinct & finished) - refused.keys())  # a refusal stored now was not stored before
-            if on_resume is not None:
-                on_resume(skipped, len(todo))
+            if hooks.on_resume is not None:
+                hooks.on_resume(skipped, len(todo))
             combining = _Combiner(plan, keys, results)
             combining.ready(finished)  # members stored by an earlier, interrupted run
             done = failed = 0
-            transports = replace(choose_transports(list(todo.values()), simulator, workers, transport),
+            transports = replace(choose_transports(list(todo.values()), simulator, workers, options.transport),
                                  deadline=deadline)
             for group in run(group_tasks(list(todo.values()), executor, workers), transports):
                 for index, record in group:
@@ -293,24 +248,28 @@ def check_specs(specs: Sequence[RunSpec], budget: Budget, *, executor: str = "pr
         budget, option, workers, "fewer workers, or a larger --max-memory or --max-time")
 
 
-def run_specs(specs: Sequence[RunSpec], *, executor: str | Executor = "process", workers: int | None = None,
-              scheduler: str | None = None, simulator: Simulator | None = None,
-              progress: Callable[[Progress], None] | None = None, verbose: bool = False,
-              transport: str = "auto") -> list[RunRecord]:
+def run_specs(specs: Sequence[RunSpec], options: RunOptions | None = None,
+              hooks: RunHooks | None = None) -> list[RunRecord]:
     """Run specs on an executor without a store; the records come back in the specs' order, signals kept.
-    ``transport`` as for :func:`run_plan` (runs with a theory are priced by it; others count as long)."""
+    ``options`` and ``hooks`` as for :func:`run_plan` (of the options, the executor, its workers and scheduler,
+    the transport and the simulator; runs with a theory are priced by the transport's choice, others count as
+    long)."""
     start = time.perf_counter()
     if not specs:
         return []
-    simulator = simulator if simulator is not None else find_engine(specs[0].engine, specs[0].backend)
-    workers = workers or default_workers()
-    check_transport(transport)
+    options = options if options is not None else RunOptions()
+    hooks = hooks if hooks is not None else RunHooks()
+    executor, progress = options.executor, hooks.progress
+    simulator = options.simulator if options.simulator is not None else find_engine(specs[0].engine,
+                                                                                    specs[0].backend)
+    workers = options.workers or default_workers()
     items = [(i, spec, _seconds(spec) if spec.theory is not None else 1.0) for i, spec in enumerate(specs)]
-    transports = choose_transports(items, simulator, workers, transport)
+    transports = choose_transports(items, simulator, workers, options.transport)
     records: dict[int, RunRecord] = {}
     failed = 0
     for group in run_groups(group_tasks(items, executor, workers), simulator, executor=executor, workers=workers,
-                            scheduler=scheduler, keep_signals=True, verbose=verbose, transports=transports):
+                            scheduler=options.scheduler, keep_signals=True, verbose=hooks.verbose,
+                            transports=transports):
         for index, record in group:
             records[index] = record
             failed += not record.ok

@@ -20,13 +20,13 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
-from typing import Any
 
 from ..circuit.effects import Tolerance
 from ..circuit.sensitivity import Component, LadderSensitivity
 from ..core.budget import Budget, Estimate, accuracy_plan_seconds, sensitivity_estimate
 from ..core.checks import integer, real
 from ..core.frozen import FrozenMap
+from ..core.json import JSON, JSONDict
 from ..core.limits import ACCURACY_FLOOR, SENSITIVITY_CHECK_ACCURACY
 from ..core.types import ArrivalMetric
 from ..runs.request import Request, Transient
@@ -93,7 +93,7 @@ class Check:
         """Whether the error bar is below a tenth of the sensitivity (else agreement says little)."""
         return self.error_bar < 0.1 * abs(self.component.relative)
 
-    def to_dict(self) -> dict[str, Any]:
+    def to_dict(self) -> JSONDict:
         return {"name": self.component.name, "step": self.step, "theory": self.component.relative, "fd": self.fd,
                 "error_bar": self.error_bar, "runs_error": self.runs_error, "truncation": self.truncation,
                 "theory_fd": self.theory_fd, "peaks": list(self.peaks), "passed": self.passed,
@@ -148,10 +148,9 @@ def check_plan(sensitivity: LadderSensitivity, count: int, *, accuracy: float = 
                               L0=ladder.L0, C0=ladder.C0, timeout=timeout)
             points.append(({"component": part.name, "factor": 1.0 + sign * h}, request))
     plan = request_plan(points, budget=budget)
-    description = {"command": "sensitivity --check", "metric": sensitivity.metric, "N": ladder.chain.N,
-                   "L0": ladder.L0, "C0": ladder.C0,
-                   "accuracy": accuracy, "chain": ladder.chain.to_dict(),
-                   "components": [part.name for part, _ in steps]}
+    description: dict[str, JSON] = {"command": "sensitivity --check", "metric": sensitivity.metric,
+                                    "N": ladder.chain.N, "L0": ladder.L0, "C0": ladder.C0, "accuracy": accuracy,
+                                    "chain": ladder.chain.to_dict(), "components": [part.name for part, _ in steps]}
     return replace(plan, description=FrozenMap(description), planning=planning), steps
 
 

@@ -26,8 +26,9 @@ from ..circuit.effects import Effect, Losses, Walls
 from ..core.blas import fixed_blas_threads
 from ..core.checks import real
 from ..core.errors import ParameterError, SimulationError
+from ..core.json import JSONDict
 from ..core.types import DEFAULT_C0, DEFAULT_L0
-from ..runs.spectrum import measure_spectrum
+from ..runs.spectrum import SpectrumOptions, measure_spectrum
 from ..spice.simulator import Simulator
 from ..theory.cases import chain_for_case
 from ..theory.chain import Chain
@@ -185,13 +186,13 @@ class SpectrumCheck:
         """Each quantity's verdict."""
         return {key: error is not None and error <= self.tolerances[key] for key, error in self.errors.items()}
 
-    def to_dict(self) -> dict[str, Any]:
+    def to_dict(self) -> JSONDict:
         """The check with every mode (``report.json``'s ``spectrum``)."""
         return {"name": self.name, "what": self.what, "N": self.N, "figure": self.figure, "panel": self.panel,
                 "passed": self.passed, "errors": self.errors, "tolerances": self.tolerances, "points": self.points,
                 "wall_s": self.wall_s, "reason": self.reason, "modes": self.modes}
 
-    def checks(self) -> list[dict[str, Any]]:
+    def checks(self) -> list[JSONDict]:
         """One line of the report's list of checks per quantity (omega_n, delta omega_n, P_n)."""
         units = {"omega": "relative", "spacing": "relative", "P": "absolute", "Q": "relative"}
         verdicts = self.verdicts()
@@ -211,7 +212,7 @@ def _modes(omega: np.ndarray, theory: np.ndarray, P: np.ndarray, P_theory: np.nd
     def plain(value: float) -> float | None:
         return float(value) if np.isfinite(value) else None
 
-    out = []
+    out: list[dict[str, Any]] = []
     for n in range(omega.size):
         seen = bool(np.isfinite(omega[n]))
         out.append({"n": n + 1, "omega": plain(omega[n]), "omega_theory": float(theory[n]),
@@ -246,7 +247,8 @@ def run_spectrum_check(job: SpectrumJob) -> SpectrumCheck:
         for effect in job.effects:
             chain = effect.realise(chain, DEFAULT_L0, DEFAULT_C0)
             keywords.update(effect.response())
-        report = measure_spectrum(chain, L0=DEFAULT_L0, C0=DEFAULT_C0, simulator=job.simulator, **keywords)
+        options = SpectrumOptions(L0=DEFAULT_L0, C0=DEFAULT_C0, **keywords)
+        report = measure_spectrum(chain, options, simulator=job.simulator)
     except (SimulationError, ParameterError) as error:
         keys = [key for key in tolerances if key != "Q" or any("Q" in effect.response() for effect in job.effects)]
         return SpectrumCheck(job.name, job.what, job.N, job.figure, job.panel, [],

@@ -77,12 +77,13 @@ import urllib.parse
 import zipfile
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from pathlib import Path
-from typing import Any, Literal
+from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 
 from ..core import __version__
 from ..core.errors import LcchainError, ParameterError
+from ..core.json import JSON
 from ..core.show import html_table, plot, short_repr
 from ..core.types import RUN_STATUSES
 from ..runs.execute import RunRecord, waveform_digest
@@ -91,6 +92,10 @@ from ..spice.inputs import file_kind
 from ..spice.measure import measurement_fields
 from .exports import ExportSize, export_size, to_dataframe, to_xarray
 from .stored import ARRAY_AXES, PARTS, StoredRun, study_dims
+
+if TYPE_CHECKING:
+    import pandas as pd
+    import xarray as xr
 
 __all__ = ["Store", "StoreMode", "FORMAT", "engine_text", "engine_of"]
 
@@ -504,7 +509,7 @@ class Store:
     def meta(self) -> dict[str, str]:
         return dict(self._rows("SELECT name, value FROM meta"))
 
-    def check_plan(self, fingerprint: str, description: dict[str, Any], rows: int, engine: str) -> None:
+    def check_plan(self, fingerprint: str, description: Mapping[str, JSON], rows: int, engine: str) -> None:
         """Refuse a store that holds another plan (nothing is written).
 
         Raises
@@ -529,8 +534,8 @@ class Store:
                            f"({meta.get('description', '?')}, {meta.get(self._engine_column, '?')}), and "
                            "lcchain never mixes two")
 
-    def adopt(self, fingerprint: str, description: dict[str, Any], tasks: Sequence[tuple[str, dict[str, Any], str]],
-              engine: str) -> None:
+    def adopt(self, fingerprint: str, description: Mapping[str, JSON],
+              tasks: Sequence[tuple[str, Mapping[str, object], str]], engine: str) -> None:
         """Make this the store of a plan, or check that it already is.
 
         A new store is made whole: built under a hidden name beside it, its plan
@@ -654,14 +659,15 @@ class Store:
         """The keys of every run stored as failed or timed out (``--retry-failed`` runs them again)."""
         return {row[0] for row in self._rows("SELECT key FROM records WHERE status IN ('failed', 'timeout')")}
 
-    def add(self, record: RunRecord, points: int | None = None, *, parts: Mapping[str, Any] | None = None) -> None:
+    def add(self, record: RunRecord, points: int | None = None, *,
+            parts: Mapping[str, Sequence[float | None]] | None = None) -> None:
         """Store one finished run, in one transaction (in the log when this returns: a killed driver keeps it);
         ``points`` when it has no result of its own (an extrapolation: its members' points together); ``parts``: its
         sample's realised part values (``{"L": [...], "C": [...]}``, :func:`lcchain.studies.plan.realised_parts`)."""
         self.add_many([(record, points)], parts=None if parts is None else {record.key: parts})
 
     def add_many(self, records: Sequence[tuple[RunRecord, int | None]], *,
-                 parts: Mapping[str, Mapping[str, Any]] | None = None) -> None:
+                 parts: Mapping[str, Mapping[str, Sequence[float | None]]] | None = None) -> None:
         """Store finished runs in one transaction (in the log when this returns): what finished together is
         committed together (each (record, points) as for :meth:`add`; ``parts`` by key: a sample's realised part
         values, kept in its metrics under :data:`PARTS`)."""
@@ -837,11 +843,11 @@ class Store:
         return len(blob), sizes
 
     # ------------------------------------------------------------------ other shapes (lcchain.studies.exports)
-    def to_dataframe(self) -> Any:
+    def to_dataframe(self) -> pd.DataFrame:
         """The runs as a pandas DataFrame (:func:`lcchain.studies.exports.to_dataframe`)."""
         return to_dataframe(self)
 
-    def to_xarray(self, waveforms: bool = False) -> Any:
+    def to_xarray(self, waveforms: bool = False) -> xr.Dataset:
         """The runs as an xarray Dataset whose dimensions are the study's axes, with each run's saved vectors
         when ``waveforms`` (:func:`lcchain.studies.exports.to_xarray`)."""
         return to_xarray(self, waveforms)

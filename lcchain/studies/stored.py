@@ -10,6 +10,7 @@ from typing import Any
 
 from ..core.analyses import ANALYSIS_KINDS_DATA, analysis_kind
 from ..core.errors import ParameterError
+from ..core.json import JSONDict
 from ..core.types import RUN_STATUSES
 from ..runs.execute import RunRecord
 from ..spice.engines import DEFAULT_ENGINE
@@ -30,7 +31,7 @@ class StoredRun:
 
     index: int
     key: str
-    params: dict[str, Any]
+    params: dict[str, Any]  # JSON read from the store: its values are narrowed where they are read
     label: str
     status: str
     reason: str = ""
@@ -39,7 +40,7 @@ class StoredRun:
     wall_s: float | None = None
     total_s: float | None = None
     points: int | None = None
-    metrics: dict[str, Any] | None = None
+    metrics: dict[str, Any] | None = None  # JSON read from the store, as ``params``
     engine_version: str = ""
     lcchain_version: str = ""
     engine: str = DEFAULT_ENGINE
@@ -98,9 +99,9 @@ class StoredRun:
                          total_s=self.total_s or 0.0, engine=self.engine, engine_version=self.engine_version,
                          lcchain_version=self.lcchain_version, label=self.label)
 
-    def to_dict(self) -> dict[str, Any]:
+    def to_dict(self) -> JSONDict:
         """The object ``lcchain results --json`` prints for this task."""
-        data: dict[str, Any] = {"index": self.index, "key": self.key, "kind": self.kind, "status": self.status,
+        data: JSONDict = {"index": self.index, "key": self.key, "kind": self.kind, "status": self.status,
                                 "params": self.params, "label": self.label, "digest": self.digest or None,
                                 "wall_s": self.wall_s, "points": self.points}
         if self.status != "pending":  # the engine that ran it (or refused it), its name and version apart
@@ -148,7 +149,7 @@ def study_constants(runs: list[StoredRun]) -> dict[str, Any]:
             if key not in axes and all(key in run.params for run in runs)} if runs else {}
 
 
-def value_key(value: Any) -> str:
+def value_key(value: object) -> str:
     return json.dumps(value, sort_keys=True, default=str)
 
 

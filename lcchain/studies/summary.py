@@ -19,6 +19,7 @@ import numpy as np
 
 from ..core.checks import choice
 from ..core.errors import ParameterError
+from ..core.json import JSONDict
 from ..core.types import STUDY_METRICS, StudyMetric
 from .stored import StoredRun, study_axes, study_constants
 
@@ -55,7 +56,7 @@ class Group:
     peaks: np.ndarray
     failed: int
 
-    def stats(self) -> dict[str, Any]:
+    def stats(self) -> dict[str, float | None]:
         """n, failed, mean, std (ddof 1), min, p05, median, max of the peaks (None when there are none)."""
         p = self.peaks
         if p.size == 0:
@@ -65,7 +66,7 @@ class Group:
                 "std": float(p.std(ddof=1)) if p.size > 1 else 0.0, "min": float(p.min()),
                 "p05": float(np.percentile(p, 5)), "median": float(np.median(p)), "max": float(p.max())}
 
-    def to_dict(self) -> dict[str, Any]:
+    def to_dict(self) -> JSONDict:
         return {"params": self.params, **self.stats()}
 
 

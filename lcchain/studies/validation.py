@@ -12,13 +12,16 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, TypedDict
+
+import numpy as np
 
 from ..circuit.reference import REFERENCE_DT, REFERENCE_SET, reference_chain
 from ..core.errors import SimulationError, SimulatorMissingError
+from ..core.json import JSONDict
 from ..core.types import EXCITATIONS, Excitation
 from ..runs.execute import RunRecord
-from ..runs.simulate import simulate
+from ..runs.simulate import ChainOptions, simulate_chain
 from ..scenes.load import parse_scene
 from ..scenes.run import simulate_scene
 from ..spice.engines import DEFAULT_ENGINE, ENGINES, find_engine
@@ -49,6 +52,18 @@ LARGE_CHECKS: tuple[tuple[str, Excitation], ...] = (("one-mass-N1000.cir", "kick
 _CURVE_POINTS = 1500
 
 
+class CheckCurves(TypedDict, total=False):
+    """A check's loop N for the page's figure, decimated (none when the run gave no signals): the times, the
+    simulation, the theory and their difference (units of sqrt(L0 C0) and of the excitation), and each arrival
+    compared (:meth:`lcchain.compare.metrics.ArrivalComparison.to_dict`)."""
+
+    t: np.ndarray
+    sim: np.ndarray
+    theory: np.ndarray
+    residual: np.ndarray
+    arrivals: list[dict[str, Any]]
+
+
 @dataclass
 class CircuitCheck:
     """One ngspice run against the theory: the numbers, the verdict, and the end-loop curves for the page."""
@@ -64,21 +79,21 @@ class CircuitCheck:
     passed: bool
     wall_s: float | None = None
     reason: str = ""
-    curves: dict[str, Any] = field(default_factory=dict)
+    curves: CheckCurves = field(default_factory=lambda: CheckCurves())
     engine: str = "ngspice"
 
-    def to_dict(self) -> dict[str, Any]:
+    def to_dict(self) -> JSONDict:
         return {"name": self.name, "what": self.what, "kind": "circuit", "N": self.N, "excitation": self.excitation,
                 "dt": self.dt, "passed": self.passed, "max_abs_error": self.max_abs_error,
                 "predicted_error": self.predicted_error, "tolerance": self.tolerance, "wall_s": self.wall_s,
                 "reason": self.reason, "engine": self.engine}
 
 
-def _curves(record: RunRecord) -> dict[str, Any]:
+def _curves(record: RunRecord) -> CheckCurves:
     """Loop N's simulation, theory and residual, decimated for a figure."""
     signals = record.signals
     if signals is None:
-        return {}
+        return CheckCurves()
     step = max(1, signals.t.size // _CURVE_POINTS)
     t = signals.t[::step]
     return {"t": t, "sim": signals.sim[-1][::step], "theory": signals.theory[-1][::step],
@@ -86,8 +101,11 @@ def _curves(record: RunRecord) -> dict[str, Any]:
             "arrivals": [a.to_dict() for a in (record.metrics.arrivals if record.metrics else ())]}
 
 
-def _check(name: str, what: str, N: int, excitation: str, dt: float | None, record: RunRecord | None,
-           tolerance_of: Callable[[float | None], float], error: str = "", *, engine: str) -> CircuitCheck:
+def _check(job: CheckJob, dt: float | None, record: RunRecord | None, tolerance_of: Callable[[float | None], float],
+           error: str = "") -> CircuitCheck:
+    """The job's run judged: its error against ``tolerance_of`` its predicted error (failed, with ``error`` or
+    the record's reason, when it did not run or has no metrics)."""
+    name, what, N, excitation, engine = job.name, job.what, job.N, job.excitation, job.simulator.engine
     if record is None or not record.ok or record.metrics is None:
         reason = error or (record.reason if record is not None else "did not run")
         return CircuitCheck(name, what, N, excitation, dt, None, None, math.nan, False, reason=reason, engine=engine)
@@ -184,19 +202,16 @@ def run_check(job: CheckJob) -> CircuitCheck:
     engine = job.simulator.engine
     if job.chain is not None:
         try:
-            report = simulate(job.chain, dt=REFERENCE_DT, excitation=job.excitation, simulator=job.simulator,
-                              engine=engine)
-            return _check(job.name, job.what, job.N, job.excitation, REFERENCE_DT, report.record,
-                          _fixed_step_tolerance, engine=engine)
+            options = ChainOptions(dt=REFERENCE_DT, excitation=job.excitation, engine=engine)
+            report = simulate_chain(job.chain, options, simulator=job.simulator)
+            return _check(job, REFERENCE_DT, report.record, _fixed_step_tolerance)
         except SimulationError as error:
-            return _check(job.name, job.what, job.N, job.excitation, REFERENCE_DT, None, _fixed_step_tolerance,
-                          str(error), engine=engine)
+            return _check(job, REFERENCE_DT, None, _fixed_step_tolerance, str(error))
     data = dict(LOSSES_AND_WALLS_SCENE, analysis={**LOSSES_AND_WALLS_SCENE["analysis"], "engine": engine})
     scene = parse_scene(data, source="the report's scene")
     result = simulate_scene(scene, simulator=job.simulator)
     sample = result.samples[0] if result.samples else None
-    return _check(job.name, job.what, job.N, job.excitation, result.report.get("dt"),
-                  sample.run if sample is not None else None, _scene_tolerance, engine=engine)
+    return _check(job, result.report.get("dt"), sample.run if sample is not None else None, _scene_tolerance)
 
 
 def circuit_checks(*, quick: bool = False, progress: Callable[[int, int, str], None] | None = None,

@@ -29,7 +29,7 @@ import math
 import re
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import Any, Literal
+from typing import Literal
 
 import numpy as np
 
@@ -234,7 +234,7 @@ def _stream(seed: int, name: str) -> np.random.SeedSequence:
 
 
 def variant_points(varies: Sequence[Vary], *, samples: int | None = None,
-                   seed: int | None = None) -> list[dict[str, Any]]:
+                   seed: int | None = None) -> list[dict[str, float]]:
     """Every run's varied values, by column (:attr:`Vary.column`), in the sweep's order: the product of the lists
     and grids (the first ``--vary`` slowest); with distributions, each point once per sample, ``sample`` (1 to
     ``samples``) before the drawn values.
@@ -276,7 +276,7 @@ def variant_points(varies: Sequence[Vary], *, samples: int | None = None,
                               for child in _stream(seed, vary.name).spawn(samples)]
     points = []
     for values in itertools.product(*[vary.values for vary in listed]):
-        point: dict[str, Any] = {vary.column: value for vary, value in zip(listed, values, strict=True)}
+        point: dict[str, float] = {vary.column: value for vary, value in zip(listed, values, strict=True)}
         if not drawn:
             points.append(point)
             continue

@@ -49,15 +49,17 @@ from ..core.budget import (
 from ..core.checks import choice
 from ..core.errors import ParameterError
 from ..core.frozen import FrozenMap
+from ..core.json import JSON
 from ..core.types import WORST_CASE_METHODS, ArrivalMetric, WorstCaseMethod
-from ..runs.request import plan_request
+from ..runs.request import RequestPlan, plan_request
 from ..scenes.load import load_scene
 from ..scenes.plan import scene_plan
+from ..scenes.schema import Scene
 from ..theory.arrivals import first_arrival
 from ..theory.chain import Chain
 from ..theory.sensitivity import energy_fraction
 from ..theory.worst_case import ToleranceBox, WorstCaseSearch, worst_case_search
-from .plan import Combination, Plan, Task, _add_runs, _compare_seconds, _seconds
+from .plan import Combination, Plan, Planning, Task, _add_runs, _compare_seconds, _seconds
 from .sensitivity import arrival_values
 from .stored import StoredRun
 
@@ -115,7 +117,7 @@ def _signs_text(signs: Sequence[float]) -> str:
     return ",".join("0" if s == 0 else f"{s:+.6g}" for s in signs)
 
 
-def _refuse(scene: Any, path: str) -> Tolerance:
+def _refuse(scene: Scene, path: str) -> Tolerance:
     tolerance: Tolerance | None = scene.effects.get(Tolerance)
     if tolerance is None or not (tolerance.L or tolerance.C):
         raise ParameterError("--worst-case", path, "a scene with [effects.tolerance] L or C > 0 (the corners sit at "
@@ -143,8 +145,7 @@ def _metric(chain: Chain, metric: ArrivalMetric) -> float:
 
 
 def worst_case_plan(path: str | Path, *, components: int = DEFAULT_COMPONENTS, metric: ArrivalMetric = "peak",
-                    budget: Budget | None = None, workers: int = 1,
-                    method: WorstCaseMethod = "search") -> tuple[Plan, WorstCase]:
+                    method: WorstCaseMethod = "search", planning: Planning | None = None) -> tuple[Plan, WorstCase]:
     """The worst case of a scene as a study, and what its summary compares it with.
 
     Parameters
@@ -155,12 +156,11 @@ def worst_case_plan(path: str | Path, *, components: int = DEFAULT_COMPONENTS, m
         K, the parts moved together (2^K corners), 1 .. :data:`lcchain.core.limits.MAX_CORNER_COMPONENTS`.
     metric : {"peak", "energy"}
         What the corners are ranked and judged by: the first arrival's current peak or its energy fraction.
-    budget : Budget, optional
-    workers : int
-        The runs' workers, for the price.
     method : {"search", "corners"}
         ``search``: the whole box searched in exact theory (its worst point runs beside the nominal and the
         quick corners); ``corners``: the quick corners alone.
+    planning : Planning, optional
+        The budget, and the runs' workers for the price.
 
     Raises
     ------
@@ -169,7 +169,9 @@ def worst_case_plan(path: str | Path, *, components: int = DEFAULT_COMPONENTS, m
         (naming ``--components``).
     """
     choice("--worst-case", method, WORST_CASE_METHODS)
-    budget = budget if budget is not None else Budget()
+    made = planning if planning is not None else Planning()
+    budget = made.budget if made.budget is not None else Budget()
+    workers = made.workers
     scene = load_scene(path)
     tolerance = _refuse(scene, str(path))
     monte_carlo = scene_plan(scene, budget)  # the samples (and the nominal) as the scene's own study has them
@@ -187,7 +189,7 @@ def worst_case_plan(path: str | Path, *, components: int = DEFAULT_COMPONENTS, m
     if method == "search":  # priced before anything runs, and on its own: its advice is the other method
         searching.check(budget, "--worst-case", method, "--worst-case corners (a quick look, not a search)")
 
-    def corner_plan(corner: Corner) -> Any:
+    def corner_plan(corner: Corner) -> RequestPlan:
         effects = tuple(replace(tolerance, samples=1, corner=corner.signs) if effect == tolerance
                         else effect for effect in request.effects)
         return plan_request(replace(request, effects=effects), budget)
@@ -198,14 +200,14 @@ def worst_case_plan(path: str | Path, *, components: int = DEFAULT_COMPONENTS, m
     per_request = (accuracy_plan_seconds(N) if getattr(request.analysis, "accuracy", None) is not None else 0.0) \
         + 2e-4 * N + 3e-10 * N**3
     points = quick + (method == "search")
-    planning = (sensitivity_estimate(N).seconds + (1 + points) * per_request
-                + (searching.seconds if method == "search" else 0.0)
-                + (request.samples * sample_theory_seconds(N) if request.samples > 1 else 0.0))
+    planned = (sensitivity_estimate(N).seconds + (1 + points) * per_request
+               + (searching.seconds if method == "search" else 0.0)
+               + (request.samples * sample_theory_seconds(N) if request.samples > 1 else 0.0))
     first = corner_plan(found[0])
     each = sum(_seconds(spec) + _compare_seconds(spec) for spec in first.specs)
     what = f"{quick} corners" + (" and the search's worst" if method == "search" else "")
     Estimate(f"{what} on {workers} worker{'s' if workers > 1 else ''}", 0.0,
-             planning + each * points / max(1, workers)).check(
+             planned + each * points / max(1, workers)).check(
         budget, "--components", components, "fewer --components (2^K corners)")
     search = None
     if method == "search":
@@ -216,15 +218,15 @@ def worst_case_plan(path: str | Path, *, components: int = DEFAULT_COMPONENTS, m
     tasks: list[Task] = []
     combinations: list[Combination] = []
     for corner in found:
-        plan = first if corner is found[0] else corner_plan(corner)
-        _add_runs(tasks, combinations, {"corner": corner.label, "signs": _signs_text(corner.signs)}, plan.specs,
-                  plan.steps, plan.predicted_error)
+        runs = first if corner is found[0] else corner_plan(corner)
+        _add_runs(tasks, combinations, {"corner": corner.label, "signs": _signs_text(corner.signs)}, runs.specs,
+                  runs.steps, runs.predicted_error)
     values = tuple(_metric(chain, metric) for chain in monte_carlo.chains) if request.samples > 1 else ()
-    description = {"command": "sweep --worst-case", "scene": str(path), "scene_data": scene.to_dict(),
-                   "method": method, "components": components, "metric": metric,
-                   "ranked": [part.name for part in sensitivity.components]}
+    description: dict[str, JSON] = {"command": "sweep --worst-case", "scene": str(path),
+                                    "scene_data": scene.to_dict(), "method": method, "components": components,
+                                    "metric": metric, "ranked": [part.name for part in sensitivity.components]}
     plan = Plan("scene", FrozenMap(description), tuple(tasks), request.backend, ("corner", "signs"),
-                tuple(combinations), request.engine, planning)
+                tuple(combinations), request.engine, planned)
     return plan, WorstCase(sensitivity, tuple(found), values, method, components, search,
                            (tolerance.L, tolerance.C))
 

@@ -58,8 +58,8 @@ class Ngspice(Engine):
     def run(self, job: RunJob, simulator: Simulator, progress: Progress | None = None) -> RunResult:
         return run(job, simulator, progress=progress)
 
-    def warm(self, simulator: Simulator) -> Simulator:
-        return warm_simulator(simulator)
+    def warm(self, simulator: Simulator, workers: int = 1) -> Simulator:
+        return warm_simulator(simulator, workers)
 
     def release(self, kill: bool = False) -> None:
         close_workers(kill)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import contextlib
+import functools
 import sys
 from collections.abc import Iterator
 from dataclasses import dataclass
@@ -25,6 +26,13 @@ class Place:
     env: dict[str, str]
 
 
+@functools.cache
+def _installed_in_tmp() -> tuple[str, ...]:
+    """The interpreter's and lcchain's folders that lie in the host's /tmp (resolved once: every run of a batch
+    is placed, and resolving them was four ``realpath`` walks a run)."""
+    return tuple(p for p in dict.fromkeys((sys.prefix, PACKAGE_ROOT)) if Path(p).resolve().is_relative_to("/tmp"))
+
+
 @contextlib.contextmanager
 def placement(simulator: Simulator, foreign: bool, own_folder: str | None) -> Iterator[Place]:
     """lcchain's own netlists run in ``/`` with a HOME that does not exist; a foreign one in a scratch folder,
@@ -35,7 +43,7 @@ def placement(simulator: Simulator, foreign: bool, own_folder: str | None) -> It
         # What the run reads from the host's /tmp (the netlist's folder; an interpreter and lcchain installed
         # there, for the shared backend's child) is shown in the sandbox, whose /tmp is its own.
         shown = [own_folder] if own_folder else []
-        shown += [p for p in dict.fromkeys((sys.prefix, PACKAGE_ROOT)) if Path(p).resolve().is_relative_to("/tmp")]
+        shown += _installed_in_tmp()
         prefix = (*simulator.launcher, *simulator.sandbox.command([], own_folder or SCRATCH, shown))
         yield Place(prefix, "/", scratch_env(SCRATCH))
     else:

@@ -47,7 +47,7 @@ import numpy as np
 from ...core.errors import ParameterError, SimulationError
 from ...core.frozen import FrozenMap
 from ...core.types import Backend
-from ..foreign import allowed_netlist
+from ..foreign import CheckedText, allowed_netlist
 from ..job import AcJob, Progress, RunJob, TransportJob
 from ..log import failure_reason, fatal_lines, trim_log, useful_output
 from ..measure import measure_names, read_measurements
@@ -76,9 +76,10 @@ def run(job: RunJob, simulator: Simulator | None = None, *, backend: Backend | N
         The netlist, the vectors, ``tstop`` and the run's limits, checked (:class:`lcchain.spice.job.RunJob`).
         Unless ``job.trusted``, the netlist must pass :func:`lcchain.spice.foreign.allowed_netlist` (its
         includes, in ``job.cwd``, are inlined), and every transport runs the text it returns
-        (:class:`lcchain.spice.job.TransportJob`).  A ``job.foreign`` netlist runs in the sandbox of
-        :mod:`lcchain.spice.sandbox` (scratch HOME and working folder, no init file, read-only file system, no
-        network).  The job's ``max_output_bytes`` and ``max_resident_bytes`` are watched every
+        (:class:`lcchain.spice.job.TransportJob`); a :class:`~lcchain.spice.foreign.CheckedText` (that function's
+        own output, which a batch's plan carries) is not checked again.  A ``job.foreign`` netlist runs in the
+        sandbox of :mod:`lcchain.spice.sandbox` (scratch HOME and working folder, no init file, read-only file
+        system, no network).  The job's ``max_output_bytes`` and ``max_resident_bytes`` are watched every
         :data:`~lcchain.spice.processes.WATCH_INTERVAL` seconds while it runs, on every transport.
     simulator : Simulator, optional
         From :func:`lcchain.spice.ngspice.find.find_simulator`; found here (for ``backend``) when omitted.
@@ -108,7 +109,9 @@ def run(job: RunJob, simulator: Simulator | None = None, *, backend: Backend | N
     if not isinstance(job, RunJob):
         raise ParameterError("job", type(job).__name__, "an lcchain.spice.job.RunJob")
     cwd = job.cwd
-    text = canonical_text(job.netlist, "netlist") if job.trusted else \
+    # a CheckedText is the allow-list's own output (includes inlined): checked once, in the plan, and run as it is
+    text = canonical_text(job.netlist, "netlist") if job.trusted else job.netlist \
+        if isinstance(job.netlist, CheckedText) else \
         allowed_netlist(job.netlist, "netlist", Path(cwd) if cwd is not None else None, read_include)
     if simulator is None:
         simulator = find_simulator(backend or "batch")

@@ -61,10 +61,12 @@ from .place import Place, placement
 __all__ = ["WarmWorker", "run_warm", "worker_for", "close_workers", "warm_simulator", "WARM_BELOW_SECONDS",
            "MAX_WORKER_BYTES", "MAX_WORKER_RUNS", "RESTART_SHARE"]
 
-#: Runs predicted to take less than this (seconds of ``ngspice -b``, start included) go warm when a study
-#: chooses (``--transport auto``): below it the saved start-up outweighs the library's slower big runs
-#: (measured crossover, benchmarks/batch.md).
-WARM_BELOW_SECONDS = 0.2
+#: Runs priced under this (:func:`lcchain.spice.foreign.foreign_price`'s seconds, which are about three times what a
+#: run takes) go warm when a study chooses (``--transport auto``): below it the saved start (the sandbox and a new
+#: ngspice, about 10 to 20 ms of CPU a run) outweighs the library's slower big runs.  CPU a run (all processes),
+#: ``benchmarks/transport_cpu.py``, warm against a process in the sandbox: priced 0.25 s (N = 100) 70 against
+#: 81 ms, 0.48 s 152 against 167, 0.77 s 234 against 255, 1.59 s (N = 300) 594 against 545 (benchmarks/batch.md).
+WARM_BELOW_SECONDS = 1.0
 #: A worker whose resident memory passes this is replaced after its run (the library keeps ~0.6 KiB a run).
 MAX_WORKER_BYTES = 512 * 2**20
 #: A worker is replaced after this many runs, whatever its memory.
@@ -88,9 +90,13 @@ class WarmWorker:
         Its command line's prefix (``setpriv``, the sandbox).
     cwd, env
         Its working folder and environment (``HOME`` nowhere; the package on ``PYTHONPATH`` is added here).
+    greet : bool
+        Wait for its hello (the library loaded, its version) before returning; False: the process is started and
+        :meth:`greet` waits for it later, so that several workers start side by side.
     """
 
-    def __init__(self, library: str, prefix: tuple[str, ...], cwd: str, env: dict[str, str]) -> None:
+    def __init__(self, library: str, prefix: tuple[str, ...], cwd: str, env: dict[str, str],
+                 greet: bool = True) -> None:
         env = dict(env)
         env["PYTHONPATH"] = os.pathsep.join(p for p in (PACKAGE_ROOT, env.get("PYTHONPATH")) if p)
         self._err: IO[bytes] = tempfile.TemporaryFile()
@@ -101,6 +107,21 @@ class WarmWorker:
         self.runs = 0
         self.rss = 0
         self.alive = True
+        self.library = library
+        self.version = ""
+        if greet:
+            self.greet()
+
+    def greet(self) -> str:
+        """Wait for the worker's hello (once): the library's version.
+
+        Raises
+        ------
+        SimulatorMissingError
+            The library did not load (the worker is ended).
+        """
+        if self.version:
+            return self.version
         try:
             hello = json.loads(self._frame(time.monotonic() + START_TIMEOUT, "starting"))
         except BaseException:
@@ -108,8 +129,10 @@ class WarmWorker:
             raise
         if "error" in hello:
             self.close(kill=True)
-            raise SimulatorMissingError(f"ngspice's shared library {library} could not be loaded: {hello['error']}")
+            raise SimulatorMissingError(f"ngspice's shared library {self.library} could not be loaded: "
+                                        f"{hello['error']}")
         self.version = str(hello["version"])
+        return self.version
 
     # -------------------------------------------------------------- frames
     def _read(self, size: int, deadline: float, what: str, watch: Callable[[], None] | None = None) -> bytes:
@@ -251,8 +274,9 @@ class WarmWorker:
 # ------------------------------------------------------------------ one worker per thread
 _lock = threading.Lock()
 _workers: set[WarmWorker] = set()
-#: The worker :func:`warm_simulator` started to check the library's version, by key, until a thread takes it over.
-_spare: dict[tuple[Any, ...], WarmWorker] = {}
+#: The workers :func:`warm_simulator` started (and checked the library's version with), by key, until threads take
+#: them over, one each.
+_spare: dict[tuple[Any, ...], list[WarmWorker]] = {}
 _local = threading.local()
 
 
@@ -270,7 +294,8 @@ def worker_for(library: str, prefix: tuple[str, ...], cwd: str, env: dict[str, s
         worker = None
     if worker is None:
         with _lock:
-            worker = _spare.pop(key, None)
+            spares = _spare.get(key, [])
+            worker = spares.pop(0) if spares else None
         if worker is None or not worker.alive:
             worker = WarmWorker(library, prefix, cwd, env)
             with _lock:
@@ -291,9 +316,14 @@ def close_workers(kill: bool = False) -> None:
 atexit.register(close_workers, True)
 
 
-def warm_simulator(simulator: Simulator) -> Simulator:
+def warm_simulator(simulator: Simulator, workers: int = 1) -> Simulator:
     """The warm transport for a batch simulator: the shared library, checked to be the same ngspice version
     (so that keys and results do not depend on the transport).
+
+    Where the sandbox works, the workers that checked it are kept, ``workers`` of them (started side by side): the
+    first threads to run a netlist lcchain did not write take them over instead of starting their own (a worker's
+    start, 40 to 70 ms, off each thread's path to its first run).  Spares already kept and checked count: a study
+    that started them while it planned (:class:`lcchain.studies.executors.EngineStart`) finds them here.
 
     Raises
     ------
@@ -305,25 +335,34 @@ def warm_simulator(simulator: Simulator) -> Simulator:
     if not simulator.sandbox.available:
         worker = WarmWorker(library, simulator.launcher, "/", child_env())
         worker.close()
-    else:
-        # checked where a netlist lcchain did not write runs warm (in the sandbox, a placement that makes no
-        # folder), and kept: the first thread to run one there takes this worker over instead of starting its own
-        # (a worker's start, 40 to 70 ms, off a batch's path to its first run)
-        with placement(warm, True, None) as place:
-            worker = WarmWorker(library, place.prefix, place.cwd, place.env)
-        if worker.version == simulator.version:
-            with _lock:
-                _workers.add(worker)
-                old = _spare.pop((library, place.prefix, place.cwd), None)
-                _spare[(library, place.prefix, place.cwd)] = worker
-            if old is not None:
-                old.close()
-        else:
-            worker.close()
-    if worker.version != simulator.version:
-        raise SimulatorMissingError(f"ngspice's shared library {library} is version {worker.version}, the ngspice "
-                                    f"program {simulator.version}: the warm transport would change results")
+        _same_version(worker, simulator)
+        return warm
+    # checked where a netlist lcchain did not write runs warm (in the sandbox, a placement that makes no folder)
+    with placement(warm, True, None) as place:
+        key = (library, place.prefix, place.cwd)
+        with _lock:
+            kept = [worker for worker in _spare.get(key, []) if worker.alive and worker.version == simulator.version]
+        started = [WarmWorker(library, place.prefix, place.cwd, place.env, greet=False)
+                   for _ in range(max(0, workers - len(kept)) if kept else max(1, workers))]
+    with _lock:
+        _workers.update(started)
+    try:
+        for worker in started:
+            worker.greet()
+            _same_version(worker, simulator)
+    except BaseException:
+        for worker in started:
+            worker.close(kill=True)
+        raise
+    with _lock:
+        _spare[key] = [*(worker for worker in _spare.get(key, []) if worker.alive), *started]
     return warm
+
+
+def _same_version(worker: WarmWorker, simulator: Simulator) -> None:
+    if worker.version != simulator.version:
+        raise SimulatorMissingError(f"ngspice's shared library {worker.library} is version {worker.version}, the "
+                                    f"ngspice program {simulator.version}: the warm transport would change results")
 
 
 def run_warm(job: TransportJob, simulator: Simulator, place: Place,

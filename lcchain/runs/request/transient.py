@@ -1,0 +1,183 @@
+"""The transient's planner: a :class:`~lcchain.runs.request.types.Transient` request's stop time, its step or the
+steps of an extrapolation, its price, and one :class:`~lcchain.runs.spec.RunSpec` per realised chain and step, each
+with the exact theory of its own circuit (:func:`plan_transient`)."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+
+from ...circuit.elements import Element, Pulse, ladder_elements
+from ...circuit.exact import circuit_cost, circuit_states, circuit_theory, circuit_unknowns
+from ...circuit.ladder import Ladder
+from ...circuit.netlist import NetlistOutput, SimulationOptions, check_run_length, netlist_text, probe_names
+from ...compare.accuracy import dt_for_accuracy, predicted_error, warn_if_unreliable
+from ...compare.extrapolate import (
+    AccuracyOptions,
+    ExtrapolationPlan,
+    member_steps,
+    plan_for_accuracy,
+    predicted_extrapolated_error,
+    refusal,
+    runs_for_step,
+)
+from ...core.budget import RUN_START_SECONDS, Budget, Estimate, max_points, run_estimate, sample_theory_seconds
+from ...core.errors import ParameterError
+from ...core.limits import EXACT_MAX_N
+from ...spice.engines import engine_named
+from ...theory.arrivals import arrival_window
+from ...theory.chain import Chain
+from ...theory.modes import Modes
+from ...theory.response import loop_weights
+from ...theory.spectrum import normal_modes
+from ..execute import pulse_centre
+from ..spec import RunSpec, Theory
+from .types import Request, RequestPlan, netlist_title, nominal_ladder, realised_chains, request_elements
+
+__all__ = ["plan_transient", "ACCURACY_LOOPS"]
+
+#: With probes = "all", the step's error is predicted on at most this many loops, evenly spaced, ends included.
+ACCURACY_LOOPS = 64
+
+
+def plan_transient(request: Request, budget: Budget, modes: Modes | None, design_seconds: float) -> RequestPlan:
+    """The transient's runs (:func:`lcchain.runs.request.plan.plan_request`)."""
+    analysis, drive = request.transient, request.drive
+    nominal, ladder, circuit = nominal_ladder(request)
+    N, samples = nominal.N, request.samples
+    if N > EXACT_MAX_N and (request.realised or analysis.probes == "all" or circuit):
+        why = ("every loop's response" if analysis.probes == "all" else "tolerances or preferred values"
+               if request.realised else "the circuit's own theory (effects that are no chain's)")
+        raise ParameterError("N", N, f"N <= {EXACT_MAX_N} with {why} (the theory needs the exact modes of each "
+                             "realised chain)")
+    if modes is not None and modes.N != N:
+        raise ParameterError("modes", f"modes of N = {modes.N}", f"the modes of this chain (N = {N})")
+    modes = modes if modes is not None else normal_modes(nominal)
+    T = modes.transit_time()
+    tstop = arrival_window(analysis.transits, T)[1] + pulse_centre(drive.kind, drive.pulse)
+    check_run_length(nominal, tstop, ladder.time_unit, analysis.dt)
+    elements = request_elements(request, ladder) if circuit else None
+    cost = _cost(request, N, elements)
+    points = max_points(budget, saved=cost["saved"], compared=cost["compared"], unknowns=cost["unknowns"])
+    steps, predicted, reason, accuracy_plan = _choose_steps(request, nominal, modes, tstop, points)
+    one = run_estimate(points=tstop / steps[-1], **cost)
+    one = replace(one, seconds=one.seconds * engine_named(request.engine).relative_cost)  # the engine's own speed
+    if elements is not None:  # the circuit's own theory beside each run: its eigen-solution and its response
+        seconds, memory = circuit_cost(elements, int(tstop / steps[-1]) + 1)
+        one = Estimate(one.what + f" and the circuit's exact theory ({circuit_states(elements)} states)",
+                       one.memory + memory, one.seconds + seconds)
+    name, value = ("dt", analysis.dt) if analysis.dt is not None else ("accuracy", analysis.accuracy)
+    one.check(budget, name, value, "a larger step, a coarser accuracy or fewer transits")
+    per_sample = sum(steps[-1] / h for h in steps)  # the members' costs relative to the finest
+    compare = sample_theory_seconds(N)  # each realised chain's own modes (or the nominal's) and its comparison
+    every = Estimate(f"{samples * len(steps)} runs of up to {one.what}", one.memory,
+                     design_seconds + samples * (one.seconds * per_sample + RUN_START_SECONDS * len(steps) + compare))
+    every.check(budget, "effects.tolerance.samples" if samples > 1 else name, samples if samples > 1 else value,
+                "fewer samples")
+    if elements is not None:
+        _check_circuit(request, ladder, elements)
+    chains = realised_chains(request, nominal)  # the samples are drawn once the request is known to fit
+    single = None
+    if len(steps) == 1 and drive.pulse is None and request.Q is None and analysis.probes == "ends" and not circuit:
+        # the accuracy model's prediction for the nominal chain's one run (samples: their own chains differ)
+        single = predicted_error(modes, steps[0], tstop, method=analysis.method)
+        warn_if_unreliable(method=analysis.method, transits=analysis.transits, predicted=single)
+    specs = []
+    aligned = len(steps) > 1
+    probes = tuple(probe_names(N, analysis.probes))
+    title = netlist_title(request, nominal, drive.kind)
+    for chain in chains:
+        sample = ladder if chain is nominal else Ladder(chain, request.L0, request.C0)
+        own = None if elements is None else elements if chain is nominal else request_elements(request, sample)
+        for i, h in enumerate(steps):
+            options = SimulationOptions(dt=h, tstop=tstop, method=analysis.method, aligned=aligned)
+            text = netlist_text(sample, options, drive, effects=request.effects,
+                                output=NetlistOutput(title=title, comments=request.comments, probes=analysis.probes))
+            # the circuit's own theory carries its losses among its elements; the chain is then the ideal ladder
+            theory = Theory(chain, ladder.time_unit, I0=drive.I0, excitation=drive.kind,
+                            Q=request.Q if own is None else None, pulse=drive.pulse, probes=analysis.probes,
+                            transits=analysis.transits, dt=h, method=analysis.method,
+                            predicted_error=single if chain is nominal else None, transit_time=T, aligned=aligned,
+                            modes=modes if chain is nominal else None, circuit=own)
+            label = f"{chain.name} N={N} dt={h:.4g}" + (f" run {i + 1} of {len(steps)}" if aligned else "")
+            specs.append(RunSpec(text, probes, tstop * ladder.time_unit, backend=request.backend,
+                                 timeout=request.timeout, theory=theory, foreign=False, label=label,
+                                 engine=request.engine))
+    return RequestPlan(request, nominal, tuple(chains), modes, T, tstop, tuple(steps), predicted, reason,
+                       accuracy_plan, tuple(specs))
+
+
+def _cost(request: Request, N: int, elements: tuple[Element | Pulse, ...] | None = None) -> dict[str, int]:
+    """The numbers a run costs by (:func:`lcchain.core.budget.run_estimate`): with the circuit's elements, the
+    simulator's unknowns are its nodes and coils (the circuit's theory is priced beside it)."""
+    saved = N if request.transient.probes == "all" else 2
+    unknowns = (3 if request.Q is not None else 2) * N if elements is None else circuit_unknowns(elements)
+    return {"saved": saved, "compared": saved, "unknowns": unknowns,
+            "exact_N": N if (request.realised or request.transient.probes == "all") else 0}
+
+
+def _check_circuit(request: Request, ladder: Ladder, elements: tuple[Element | Pulse, ...]) -> None:
+    """Refuse, before anything runs, a nominal circuit whose exact theory float64 cannot give, naming the effect's
+    parameter that wrote the element the theory names (found from what each effect writes, not from its type)."""
+    try:
+        circuit_theory(elements)
+    except ParameterError as error:
+        plain = {element.name for element in ladder_elements(ladder, ())}
+        for effect in request.effects:
+            names = {element.name for element in ladder_elements(ladder, (effect,))} - plain
+            kinds = {name[0] for name in names}
+            if error.field in names or error.field in kinds:
+                parameters = list(getattr(effect, "__dataclass_fields__", {}))
+                where = f"effects.{effect.key}" + (f".{parameters[0]}" if len(parameters) == 1 else "")
+                raise ParameterError(where, getattr(effect, parameters[0]) if len(parameters) == 1 else effect,
+                                     f"a circuit whose exact theory float64 can give ({error.field}: "
+                                     f"{error.allowed})") from None
+        raise
+
+
+def _accuracy_weights(request: Request, nominal: Chain) -> list[np.ndarray] | None:
+    if request.transient.probes != "all":
+        return None
+    # Interior loops can have 4x the ends' error: predict it on up to ACCURACY_LOOPS of them.
+    _, every = loop_weights(nominal)
+    loops = np.unique(np.linspace(0, every.shape[1] - 1, min(ACCURACY_LOOPS, every.shape[1])).round().astype(int))
+    return [every[:, i] for i in loops]
+
+
+def _choose_steps(request: Request, nominal: Chain, modes: Modes, tstop: float, points: float
+                  ) -> tuple[tuple[float, ...], float | None, str, ExtrapolationPlan | None]:
+    """Each sample's steps, the extrapolation's predicted error, why not extrapolated, and the accuracy's plan."""
+    analysis, drive, Q = request.transient, request.drive, request.Q
+    engine = engine_named(request.engine)
+    refused = refusal(method=analysis.method, pulse=drive.pulse) or (
+        "" if engine.extrapolates else f"engine {engine.name}: {engine.no_extrapolation}")
+    asked = analysis.extrapolate
+    plan = None
+    predicted = None
+    if analysis.dt is not None:
+        runs, reason = runs_for_step(asked, refused)
+        steps = member_steps(float(analysis.dt), runs)
+    else:
+        assert analysis.accuracy is not None
+        weights = _accuracy_weights(request, nominal)
+        if weights is not None:
+            # one run: the single-run model knows interior loops
+            steps = (dt_for_accuracy(modes, analysis.accuracy, tstop, method=analysis.method, weights=weights,
+                                     max_points=points),)
+            reason = "probes = \"all\": the extrapolation's prediction covers the end loops only" \
+                if (asked or 0) > 1 else (refused if asked is None else "")
+        else:
+            bounds = AccuracyOptions(extrapolate=asked, refused=refused, Q=Q, method=analysis.method,
+                                     max_points=points)
+            plan = plan_for_accuracy(modes, analysis.accuracy, tstop, bounds)
+            steps = member_steps(plan.dt, plan.runs)
+            reason = refused if (refused and asked != 1) else plan.reason
+            predicted = plan.predicted_error if plan.runs > 1 else None
+    if drive.pulse is not None and steps[0] > drive.pulse[1] / 8:
+        # the accuracy model is for free oscillation; resolve the pulse too
+        steps = member_steps(drive.pulse[1] / 8, len(steps))
+        predicted = None
+    if len(steps) > 1 and predicted is None:
+        predicted = predicted_extrapolated_error(modes, steps[0], len(steps), tstop, Q=Q)
+    return steps, predicted, reason, plan

@@ -1,0 +1,94 @@
+"""What a batch does once, not once a run, and no cost a run that grows with the batch (issue 35): guards for
+what was made fast, with real ngspice.  Timings are in benchmarks/batch.md, never here."""
+
+from __future__ import annotations
+
+import threading
+from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+import lcchain
+from lcchain.app.batch import BatchRequest, batch
+from lcchain.app.studies import StudyOptions
+from lcchain.runs.simulate import ChainOptions, simulation_spec
+from lcchain.runs.spec import RunSpec
+from lcchain.studies import executors
+
+pytestmark = pytest.mark.ngspice
+
+#: Runs in the guarded batch: enough for the warm workers (WARM_MIN_RUNS_PER_WORKER a thread).
+COUNT = 2 * executors.WARM_MIN_RUNS_PER_WORKER + 2
+
+
+def _netlists(folder: Path) -> tuple[str, ...]:
+    spec, _, _ = simulation_spec(lcchain.chain_for_case("two-mass", 10), ChainOptions(dt=0.05))
+    paths = []
+    for i in range(COUNT):  # distinct: each its own title
+        path = folder / f"n{i:03d}.cir"
+        path.write_text(spec.netlist.replace("\n", f" #{i}\n", 1))
+        paths.append(str(path))
+    return tuple(paths)
+
+
+def test_a_run_is_keyed_once_by_the_plan_and_once_where_it_runs(tmp_path: Path,
+                                                                monkeypatch: pytest.MonkeyPatch) -> None:
+    """run_plan asks a plan for its keys, rows and fingerprint, and the pricing for its distinct runs: the plan
+    makes each key once (per version), and the run's record makes its own."""
+    calls: list[str] = []
+    key = RunSpec.key
+
+    def counted(self: RunSpec, engine_version: str) -> str:
+        with lock:
+            calls.append(engine_version)
+        return key(self, engine_version)
+
+    lock = threading.Lock()
+    monkeypatch.setattr(RunSpec, "key", counted)
+    result = batch(BatchRequest(_netlists(tmp_path), study=StudyOptions(store=str(tmp_path / "s.sqlite"))))
+    assert result.summary.ok == COUNT
+    assert len(calls) <= 3 * COUNT  # the pricing's (""), the plan's (the version) and the run's
+
+
+def test_a_threaded_batch_never_waits_on_every_pending_run(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """concurrent.futures.wait locks and scans every pending run at each finished one: the threads' results come
+    off a queue instead."""
+
+    def refused(*args: Any, **kwargs: Any) -> Any:
+        raise AssertionError("concurrent.futures.wait on the pending runs")
+
+    monkeypatch.setattr(executors, "wait", refused)
+    result = batch(BatchRequest(_netlists(tmp_path), study=StudyOptions(workers=2,
+                                                                       store=str(tmp_path / "s.sqlite"))))
+    assert (result.summary.ok, result.summary.failed) == (COUNT, 0)
+
+
+def test_a_threaded_batch_holds_a_few_runs_a_thread_not_the_whole_batch(tmp_path: Path,
+                                                                        monkeypatch: pytest.MonkeyPatch) -> None:
+    """A submitted run holds about 2 KB until it is done (200 MB for 100,000 runs): at most RUNS_AHEAD runs a
+    thread wait beside the ones running, the rest are handed over as runs finish."""
+    most = [0]
+    outstanding = [0]
+    lock = threading.Lock()
+
+    class Counted(ThreadPoolExecutor):
+        def submit(self, *args: Any, **kwargs: Any) -> Any:
+            future = super().submit(*args, **kwargs)
+            with lock:
+                outstanding[0] += 1
+                most[0] = max(most[0], outstanding[0])
+            future.add_done_callback(finished)
+            return future
+
+    def finished(future: Any) -> None:
+        with lock:
+            outstanding[0] -= 1
+
+    monkeypatch.setattr(executors, "ThreadPoolExecutor", Counted)
+    monkeypatch.setattr(executors, "RUNS_AHEAD", 1)
+    result = batch(BatchRequest(_netlists(tmp_path), study=StudyOptions(workers=2,
+                                                                       store=str(tmp_path / "s.sqlite"))))
+    assert (result.summary.ok, result.summary.failed) == (COUNT, 0)
+    assert 0 < most[0] <= (1 + 1) * 2 < COUNT
