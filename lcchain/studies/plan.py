@@ -307,7 +307,8 @@ def _seconds(spec: RunSpec) -> float:
 
     theory = spec.theory
     if isinstance(theory, SpectrumTheory) and spec.points is not None:
-        whole = spectrum_estimate(spec.points, theory.chain.N, losses=theory.Q is not None)
+        whole = spectrum_estimate(spec.points, theory.chain.N, losses=theory.Q is not None,
+                                  circuit=theory.circuit is not None)
         return whole.seconds * ENGINES[spec.engine].ac_relative_cost + RUN_START_SECONDS
     if isinstance(theory, Theory) and theory.dt is not None:
         points = spec.tstop / theory.time_unit / theory.dt
