@@ -46,7 +46,7 @@ from ..core.errors import ParameterError
 from ..core.frozen import FrozenArrays
 from .grid import POINTS_PER_SPACING, min_points
 from .sections import ONE_WINDOW, WINDOW_SECTIONS, Sections, refine_sections, section_residues
-from .survey import fit_survey
+from .survey import PoleStart, SurveyOptions, fit_survey
 
 __all__ = ["SpectrumFit", "fit_spectrum", "fit_from_theory", "fit_sections", "min_points", "POINTS_PER_SPACING",
            "THEORY_MISFIT"]
@@ -363,9 +363,10 @@ def fit_from_theory(omega: np.ndarray, y11: np.ndarray, yN1: np.ndarray, predict
         if fitted.size == 0:
             empty = np.zeros(0)
             return SpectrumFit(empty, empty, empty, 0, 0.0, empty), fitted
-    survey = fit_survey(w, g, np.where(zero, 0.0, predicted)[fitted] ** 2, lossy=lossy,
-                        gamma0=None if gamma0 is None else gamma0[fitted], fixed_x=zero[fitted] | held,
-                        fixed_gamma=held, real=True, exact=True, one_window=_THEORY_ONE_WINDOW, core=_THEORY_CORE)
+    start = PoleStart(np.where(zero, 0.0, predicted)[fitted] ** 2, None if gamma0 is None else gamma0[fitted],
+                      zero[fitted] | held, held)
+    survey = fit_survey(w, g, start, SurveyOptions(lossy=lossy, real=True, exact=True,
+                                                   one_window=_THEORY_ONE_WINDOW, core=_THEORY_CORE))
     first, last = survey.residues[:, 0].real, survey.residues[:, 1].real
     seen = np.flatnonzero(np.where(zero[fitted], _significant(first), survey.placed) & ~held)
     fit = SpectrumFit(survey.omega[seen], first[seen], last[seen], survey.sweeps, survey.residual,

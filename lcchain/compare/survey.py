@@ -51,8 +51,8 @@ from ..core.blas import fixed_blas_threads
 from ..core.errors import ParameterError
 from ..core.frozen import FrozenArrays
 
-__all__ = ["ModeSurvey", "fit_survey", "survey_amplitudes", "mode_shapes", "CORE", "HALO", "FAR", "SWEEPS",
-           "BACKGROUND", "SURVEY_SEED", "SKETCH", "signed_shapes"]
+__all__ = ["ModeSurvey", "PoleStart", "SurveyOptions", "fit_survey", "survey_amplitudes", "mode_shapes", "CORE",
+           "HALO", "FAR", "SWEEPS", "BACKGROUND", "SURVEY_SEED", "SKETCH", "signed_shapes"]
 
 #: Modes whose parameters one window keeps.
 CORE = 8
@@ -172,30 +172,38 @@ def _edges(x: np.ndarray, w: np.ndarray, lo: int, hi: int) -> np.ndarray:
 
 
 @fixed_blas_threads
-def fit_survey(omega: np.ndarray, g: np.ndarray, x0: np.ndarray, *, lossy: bool = False,
-               gamma0: np.ndarray | None = None, fixed_x: np.ndarray | None = None,
-               fixed_gamma: np.ndarray | None = None, real: bool = False, seed: int = SURVEY_SEED,
-               exact: bool = False, one_window: int = ONE_WINDOW,
-               core: int = CORE) -> ModeSurvey:
-    """Identify every mode of g = I / (j w) sampled on every loop (module docstring).
+@dataclass(frozen=True, eq=False)
+class PoleStart:
+    """Where :func:`fit_survey` starts each mode's pole, and which parts of it stay.
 
-    Parameters
+    Attributes
     ----------
-    omega : ndarray
-        Angular frequencies of the samples, ascending, > 0, units of 1/sqrt(L0 C0).
-    g : ndarray, complex or real, (samples, loops)
-        The loop currents over j w (times Z0); real for a lossless ladder's Im(I) / w, whose model is real.
-    x0 : ndarray
+    x : ndarray
         The predicted squared frequencies x_n, ascending (one per mode).
-    lossy : bool
-        Fit each mode's decay rate (from ``gamma0``); else every gamma_n = 0 and the sections are real.
-    gamma0 : ndarray, optional
-        The predicted decay rates.
+    gamma : ndarray, optional
+        The predicted decay rates (with losses).
     fixed_x : ndarray of bool, optional
         Modes whose x_n stays (a free chain's zero mode: x = 0 exactly).
     fixed_gamma : ndarray of bool, optional
         With losses, modes whose gamma_n stays (with their x_n in ``fixed_x``: modes the losses merge, whose poles
         the samples cannot tell apart; their residues are still fitted, so that they explain the samples).
+    """
+
+    x: np.ndarray
+    gamma: np.ndarray | None = None
+    fixed_x: np.ndarray | None = None
+    fixed_gamma: np.ndarray | None = None
+
+
+@dataclass(frozen=True)
+class SurveyOptions:
+    """How :func:`fit_survey` fits.
+
+    Attributes
+    ----------
+    lossy : bool
+        Fit each mode's decay rate (from :attr:`PoleStart.gamma`); else every gamma_n = 0 and the sections are
+        real.
     real : bool
         With losses, hold every residue real (proportional losses keep the modes real: the loop-1 fit's a_n and
         b_n); each window's least squares is then on the samples' real and imaginary parts stacked.  A complex
@@ -213,12 +221,39 @@ def fit_survey(omega: np.ndarray, g: np.ndarray, x0: np.ndarray, *, lossy: bool 
         Up to this many modes, one window holds every mode.
     core : int
         Beyond ``one_window``, the modes whose parameters one window keeps.
+    """
+
+    lossy: bool = False
+    real: bool = False
+    seed: int = SURVEY_SEED
+    exact: bool = False
+    one_window: int = ONE_WINDOW
+    core: int = CORE
+
+
+def fit_survey(omega: np.ndarray, g: np.ndarray, start: PoleStart,
+               options: SurveyOptions = SurveyOptions()) -> ModeSurvey:
+    """Identify every mode of g = I / (j w) sampled on every loop (module docstring).
+
+    Parameters
+    ----------
+    omega : ndarray
+        Angular frequencies of the samples, ascending, > 0, units of 1/sqrt(L0 C0).
+    g : ndarray, complex or real, (samples, loops)
+        The loop currents over j w (times Z0); real for a lossless ladder's Im(I) / w, whose model is real.
+    start : PoleStart
+        The predicted poles, and which of them stay.
+    options : SurveyOptions
+        Losses, real residues, the seed, the exact subtraction and the windows' sizes.
 
     Raises
     ------
     ParameterError
         Samples that are not a survey's (not ascending, or a shape that does not match).
     """
+    lossy, real, seed, exact = options.lossy, options.real, options.seed, options.exact
+    one_window, core = options.one_window, options.core
+    x0, gamma0, fixed_x, fixed_gamma = start.x, start.gamma, start.fixed_x, start.fixed_gamma
     w = np.asarray(omega, dtype=float)
     g = np.asarray(g)
     g = g.astype(float if np.isrealobj(g) and not lossy else complex, copy=False)

@@ -28,7 +28,7 @@ from ..circuit.ladder import Ladder
 from ..circuit.netlist import probe_names, survey_netlist_text
 from ..compare.grid import MIN_SEGMENT_POINTS, sweep_segments
 from ..compare.spectral import OMEGA_MARGIN
-from ..compare.survey import ModeSurvey, fit_survey, signed_shapes, survey_amplitudes
+from ..compare.survey import ModeSurvey, PoleStart, SurveyOptions, fit_survey, signed_shapes, survey_amplitudes
 from ..core.checks import instance, real
 from ..core.errors import ParameterError
 from ..core.limits import COUPLED_MAX_N
@@ -321,8 +321,8 @@ def measure_modes(chain: Chain, *, Q: float | None = None, L0: float = DEFAULT_L
     zero = omega_theory <= 1e-9 * top
     x0 = np.where(zero, 0.0, omega_theory ** 2)
     lossy = Q is not None
-    fit: ModeSurvey = fit_survey(w, g, x0, lossy=lossy, gamma0=np.full(chain.N, 1.0 / Q if Q else 0.0),
-                                 fixed_x=zero)
+    fit: ModeSurvey = fit_survey(w, g, PoleStart(x0, np.full(chain.N, 1.0 / Q if Q else 0.0), zero),
+                                 SurveyOptions(lossy=lossy))
     del g
     shapes = fit.shapes(amplitudes)
     fit_s = time.perf_counter() - started
