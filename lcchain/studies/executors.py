@@ -231,7 +231,7 @@ class EngineStart:
 
     def __init__(self, engine: str, backend: Backend, *, runs: int, workers: int, executor: str | Executor,
                  transport: str) -> None:
-        threads = workers if executor == "process" else 1 if executor == "serial" else 0
+        threads = EXECUTOR_TRAITS.accept("executor", executor).threads_here(workers)
         choice = _TRANSPORT_CHOICES.get(transport)
         enough = runs >= (WARM_MIN_RUNS_PER_WORKER * threads if choice is not None and choice.by_cost else 1)
         self._spares = threads if choice is not None and choice.warm and threads and enough else 0
@@ -659,6 +659,18 @@ RunnerFactory = Callable[[Simulator, int, str | None, bool, bool, str | None, "P
                          contextlib.AbstractContextManager[Runner]]
 
 
+def _no_threads_here(workers: int) -> int:
+    return 0
+
+
+def _one_thread_here(workers: int) -> int:
+    return 1
+
+
+def _a_thread_a_worker(workers: int) -> int:
+    return workers
+
+
 @dataclass(frozen=True)
 class Executor(ExecutorTraits):
     """An executor: where a study's runs execute, what it costs and what it is (its traits).
@@ -675,12 +687,16 @@ class Executor(ExecutorTraits):
     min_task_seconds : float
         Seconds of runs worth sending as one task (Dask's overhead per task is a few ms; its documentation asks
         for tasks of 100 ms and more).
+    threads_here : callable
+        ``workers -> threads``: how many of this process's threads run a batch's runs (whose warm workers a study
+        may start while it plans: :class:`EngineStart`); 0 where the runs go to other processes.
     """
 
     name: str = ""
     runner: RunnerFactory = _serial_runner
     cost: Callable[[int, bool], ExecutorCost] = _no_cost
     min_task_seconds: float = 0.0
+    threads_here: Callable[[int], int] = _no_threads_here
 
 
 def _admit(name: str, loaded: object) -> Executor:
@@ -696,9 +712,10 @@ def _admit(name: str, loaded: object) -> Executor:
 #: :data:`lcchain.core.types.ExecutorName` (a test checks the two agree).
 EXECUTOR_TRAITS: Registry[Executor] = Registry(
     "lcchain.executors",
-    {"serial": Executor(parallel=False, remote=False, name="serial", runner=_serial_runner, cost=_no_cost),
+    {"serial": Executor(parallel=False, remote=False, name="serial", runner=_serial_runner, cost=_no_cost,
+                        threads_here=_one_thread_here),
      "process": Executor(parallel=True, remote=False, name="process", runner=_process_runner, cost=_pool_cost,
-                         min_task_seconds=0.05),
+                         min_task_seconds=0.05, threads_here=_a_thread_a_worker),
      "dask": Executor(parallel=True, remote=True, name="dask", runner=_dask_runner, cost=_dask_cost,
                       min_task_seconds=0.3)},
     _admit, "an lcchain.studies.executors.Executor, named as the entry point",
