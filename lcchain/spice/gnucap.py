@@ -399,10 +399,10 @@ def gnucap_version(executable: str, launcher: tuple[str, ...] = ()) -> str:
         gnucap cannot run or prints no version.
     """
     with scratch_folder("gnucap") as folder:
-        try:
-            proc = subprocess.run([*launcher, executable, "-b", "/dev/null"], capture_output=True, text=True,
-                                  timeout=30, stdin=subprocess.DEVNULL, cwd=folder, env=child_env(),
-                                  start_new_session=True)
+        try:  # an empty circuit on a pipe, as a run's netlist goes (not the machine's /dev/null: once, on this
+            # machine, something replaced it with a file of ngspice's output, and gnucap read it until the timeout)
+            proc = subprocess.run([*launcher, executable, "-b", "/dev/stdin"], capture_output=True, text=True,
+                                  timeout=30, input="", cwd=folder, env=child_env(), start_new_session=True)
         except (OSError, subprocess.TimeoutExpired) as exc:
             raise SimulatorMissingError(f"cannot run {executable}: {exc}; install gnucap with: "
                                         f"{INSTALL_COMMAND}") from exc
