@@ -21,7 +21,7 @@ from ..simulator import Simulator
 from ..text import require_canonical
 from .find import INSTALL_COMMAND, find_simulator
 from .runner import PLOT_TRANSPORTS, run, run_plot
-from .transports import TRANSPORT_RUNS, named_transports
+from .transports import is_named_transport, named_transports
 from .warm import WARM_BELOW_SECONDS, close_workers, warm_simulator
 
 __all__ = ["Ngspice"]
@@ -46,8 +46,7 @@ class Ngspice(Engine):
         return named_transports()  # read from the registry: a plugin's transport is ngspice's too
 
     def takes_transport(self, name: str) -> bool:
-        # a held name reads no entry point (importlib.metadata and every package's metadata: a batch's start)
-        return name in TRANSPORT_RUNS and TRANSPORT_RUNS[name].find is not None
+        return is_named_transport(name)
 
     def find(self, backend: str = "batch") -> Simulator:
         return replace(find_simulator(backend), engine=self.name)  # a subclass under another name finds its own

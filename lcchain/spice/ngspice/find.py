@@ -20,7 +20,7 @@ from .locate import (
     require_pyspice,
     shared_library_version,
 )
-from .transports import TRANSPORT_RUNS, NgspiceTransport, named_transports
+from .transports import TRANSPORT_RUNS, NgspiceTransport, is_named_transport, named_transports
 
 __all__ = [
     "find_simulator",
@@ -51,7 +51,7 @@ def find_simulator(backend: str | NgspiceTransport = "batch") -> Simulator:
         says how to install it.
     """
     if isinstance(backend, str):  # a name: lcchain's own (no plugin's metadata read for it) or a plugin's
-        if backend not in TRANSPORT_RUNS:
+        if not is_named_transport(backend):
             raise ParameterError("backend", backend, " | ".join(named_transports()))
         transport = TRANSPORT_RUNS[backend]
     else:

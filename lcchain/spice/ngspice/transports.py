@@ -23,7 +23,7 @@ from .place import Place
 from .shared import run_shared
 from .warm import run_warm
 
-__all__ = ["NgspiceTransport", "TransportRun", "TRANSPORT_RUNS", "named_transports"]
+__all__ = ["NgspiceTransport", "TransportRun", "TRANSPORT_RUNS", "named_transports", "is_named_transport"]
 
 #: How a transport runs a checked text: (job, simulator, place, progress) -> (columns, log, wall seconds).  The
 #: job (:class:`lcchain.spice.job.TransportJob`) carries the text its check returned, the digest of its lines, the
@@ -74,3 +74,9 @@ def named_transports() -> tuple[str, ...]:
     """The transports a user names (``--backend``, a scene's ``analysis.backend``): those with a ``find``, the
     default first, plugins included (:data:`lcchain.core.types.Backend` holds lcchain's own, a test checks)."""
     return tuple(name for name, transport in TRANSPORT_RUNS.items() if transport.find is not None)
+
+
+def is_named_transport(name: str) -> bool:
+    """Whether ``name`` is one of :func:`named_transports`, by a lookup: a name the registry holds reads no entry
+    point (``importlib.metadata`` and every installed package's metadata, on a batch's start)."""
+    return name in TRANSPORT_RUNS and TRANSPORT_RUNS[name].find is not None
