@@ -14,6 +14,7 @@ from typing import Any
 
 import numpy as np
 
+from ..core.analyses import analysis_kind
 from ..core.extras import dataset_attrs, optional_module
 from ..core.physical import variable_name, vector_units
 
@@ -43,21 +44,21 @@ def record_dataset(record: Any) -> Any:
     xr = _xarray("RunRecord.to_xarray")
     variables: dict[str, Any] = {}
     coords: dict[str, Any] = {}
-    if record.result is not None:
-        result = record.result
-        coords["time"] = ("time", np.asarray(result.time), {"units": "s", "standard_name": "time",
-                                                              "long_name": "time from the run's start"})
-        for name, values in result.vectors.items():
+    run = record.run
+    if run is not None and not analysis_kind(run.analysis).swept:
+        time = np.asarray(run.data.axis)
+        coords["time"] = ("time", time, {"units": "s", "standard_name": "time",
+                                         "long_name": "time from the run's start"})
+        for name, values in run.vectors.items():
             variables[variable_name(name)] = ("time", np.asarray(values),
                                               {"units": vector_units(name), "long_name": name})
         signals = record.signals
-        if signals is not None and signals.t.size == result.time.size:
+        if signals is not None and signals.t.size == time.size:
             coords["t"] = ("time", np.asarray(signals.t), _DIMENSIONLESS_TIME)
             variables |= _loops(signals, "time")
-    elif record.ac is not None:
-        ac = record.ac
-        coords["frequency"] = ("frequency", np.asarray(ac.frequency), {"units": "Hz", "long_name": "frequency"})
-        for name, values in ac.vectors.items():
+    elif run is not None:
+        coords["frequency"] = ("frequency", np.asarray(run.data.axis), {"units": "Hz", "long_name": "frequency"})
+        for name, values in run.vectors.items():
             phasor = np.asarray(values)
             for part in ("real", "imag"):
                 variables[f"{variable_name(name)}_{part}"] = (

@@ -94,7 +94,7 @@ class Extrapolation:
         members = []
         for h, record in zip(self.steps, self.members, strict=True):
             metrics = record.metrics
-            members.append({"dt": h, "points": record.result.points if record.result is not None else None,
+            members.append({"dt": h, "points": record.run.points if record.run is not None else None,
                             "wall_s": record.wall_s, "digest": record.digest,
                             "max_abs_error": metrics.max_abs_error if metrics is not None else None,
                             "predicted_error": metrics.predicted_error if metrics is not None else None})
@@ -187,8 +187,8 @@ class SimulationReport:
             "ngspice_version": run.ngspice_version,
             "netlist_sha256": run.netlist_sha256,
             "options": dict(run.options),
-            "points": sum(m.result.points for m in self._members() if m.result is not None),
-            "wall_s": sum(m.result.wall_s for m in self._members() if m.result is not None),
+            "points": sum(m.run.points for m in self._members() if m.run is not None),
+            "wall_s": sum(m.run.wall_s for m in self._members() if m.run is not None),
             "max_abs_error": self.comparison.max_abs_error,
             "max_abs_error_first": self.comparison.max_abs_error_first,
             "max_abs_error_last": self.comparison.max_abs_error_last,
@@ -571,8 +571,8 @@ def run_simulation(planned: SimulationRuns, *, progress: Callable[[float], None]
     records = _execute_members(list(planned.specs), steps, simulator, progress, starts)
     done = time.perf_counter()
     first = records[0]
-    assert first.result is not None and first.signals is not None and first.metrics is not None
-    result = first.result
+    assert first.run is not None and first.signals is not None and first.metrics is not None
+    result = first.run
     if runs == 1:
         signals, metrics = first.signals, first.metrics
         predicted = metrics.predicted_error
@@ -588,8 +588,8 @@ def run_simulation(planned: SimulationRuns, *, progress: Callable[[float], None]
                                       interpolation_error(modes, member_times, signals.t, steps), reason, plan,
                                       combined.digest)
     compared = time.perf_counter()
-    simulator_s = sum(r.result.wall_s for r in records if r.result is not None)
-    simulating_s = simulator_wall_time([(start, r.result.wall_s if r.result is not None else 0.0)
+    simulator_s = sum(r.run.wall_s for r in records if r.run is not None)
+    simulating_s = simulator_wall_time([(start, r.run.wall_s if r.run is not None else 0.0)
                                         for start, r in zip(starts, records, strict=True)])
     timings = {
         "netlist_and_modes_s": built - clock,

@@ -597,7 +597,7 @@ def spectrum(request: Request, *, simulator: Simulator | None = None, budget: Bu
     # found before the run's clock starts: asking the engine its version is no part of the fit's seconds
     simulator = simulator if simulator is not None else find_engine(spec.engine, spec.backend)
     record = execute(spec, simulator, progress=progress)
-    if not record.ok or record.spectrum is None or record.ac is None:
+    if not record.ok or record.spectrum is None or record.run is None:
         raise SimulationError(record.reason, record.log_tail, record.status)
     spectrum, theory = record.spectrum, spec.theory
     assert spectrum.fit is not None and spectrum.seen is not None and spec.points is not None  # execute's own
@@ -610,13 +610,13 @@ def spectrum(request: Request, *, simulator: Simulator | None = None, budget: Bu
                                                                 theory.impedance).first,
                     spectrum.P_theory, "circuit", precision=WEIGHT_PRECISION)
         return SpectrumReport(theory.chain, own, spectrum.fit, spectrum.seen, spec.points, theory.omega_max,
-                              record.engine_version, record.ac.netlist_sha256, timings, None, segments, None,
+                              record.engine_version, record.run.netlist_sha256, timings, None, segments, None,
                               record.engine, spectrum.gamma_theory, time_unit=theory.time_unit)
     assert theory.modes is not None
     # the fitted model's alpha_N(t) holds the fit's guesses inside merged clusters: no claim to make of it then
     merged = spectrum.merged is not None and bool(np.any(spectrum.merged))
     response = None if merged else _response_error(theory.chain, theory.modes, spectrum.fit, Q)
     return SpectrumReport(theory.chain, theory.modes, spectrum.fit, spectrum.seen, spec.points, theory.omega_max,
-                          record.engine_version, record.ac.netlist_sha256, timings, Q, segments, response,
+                          record.engine_version, record.run.netlist_sha256, timings, Q, segments, response,
                           record.engine, time_unit=theory.time_unit, merged=spectrum.merged,
                           envelope_error=spectrum.envelope_error)

@@ -123,12 +123,12 @@ def ngspice_record(chain: Chain, modes: Modes, *, method: Method, dt: float | No
     theory = Theory(chain, ladder.time_unit, I0=I0, transits=transits, method=method, modes=modes)
     record = _checked(execute(RunSpec(text, tuple(probe_names(chain.N)), tstop * ladder.time_unit, theory=theory,
                                       foreign=False), simulator))
-    assert record.result is not None and record.metrics is not None
+    assert record.run is not None and record.metrics is not None
     return {
         "method": method, "stepping": options.stepping, "N": chain.N,
         "dt": dt, "rtol": reltol if dt is None else None, "wall_s": record.wall_s,
         "error": max(record.metrics.max_abs_error_first, record.metrics.max_abs_error_last),
-        "points": record.result.points,
+        "points": record.run.points,
         "predicted_error": predicted_error(modes, dt, tstop, method=method) if dt is not None else None,
     }
 
@@ -145,7 +145,7 @@ def extrapolated_record(chain: Chain, modes: Modes, *, runs: int, dt: float, tra
         "method": "trap", "stepping": EXTRAPOLATED_LABEL[runs], "N": chain.N, "dt": dt, "rtol": None,
         "wall_s": sum(m.wall_s for m in x.members),
         "error": max(report.comparison.max_abs_error_first, report.comparison.max_abs_error_last),
-        "points": sum(m.result.points for m in x.members if m.result is not None),
+        "points": sum(m.run.points for m in x.members if m.run is not None),
         "predicted_error": report.predicted_error,
     }
 
@@ -227,7 +227,7 @@ def ladder_energy(chain: Chain, *, method: Method, dt: float, transits: int, L0:
     text = netlist_text(ladder, SimulationOptions(dt=dt, tstop=tstop, method=method), Drive(I0=I0),
                         output=NetlistOutput(probes="all", extra_vectors=volts, title=f"lcchain energy N={chain.N}"))
     record = _checked(execute(RunSpec(text, currents + volts, tstop * ladder.time_unit, foreign=False), simulator))
-    run = record.result
+    run = record.run
     assert run is not None
     L = np.array(ladder.inductances())
     current = np.array([run.vectors[name] for name in currents])

@@ -82,6 +82,7 @@ from typing import TYPE_CHECKING, Any, Literal
 import numpy as np
 
 from ..core import __version__
+from ..core.analyses import analysis_kind
 from ..core.errors import LcchainError, ParameterError
 from ..core.json import JSON
 from ..core.show import html_table, plot, short_repr
@@ -217,10 +218,8 @@ def _arrays(record: RunRecord) -> bytes | None:
     """The saved arrays: ngspice's (time in seconds, each vector; an AC run's frequency in Hz and its complex
     vectors), or for an extrapolation, which has no run of its own, the combined signals it was compared by
     (dimensionless time, ``loop0``, ``loop1``...)."""
-    if record.result is not None:
-        arrays = {"time": record.result.time, **record.result.vectors}
-    elif record.ac is not None:
-        arrays = {"frequency": record.ac.frequency, **record.ac.vectors}
+    if record.run is not None:
+        arrays = {analysis_kind(record.run.analysis).axis: record.run.data.axis, **record.run.vectors}
     elif record.signals is not None:
         arrays = {"time": record.signals.t, **{f"loop{i}": row for i, row in enumerate(record.signals.sim)}}
     else:
