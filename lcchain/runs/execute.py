@@ -27,7 +27,7 @@ import logging
 import time
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, replace
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -38,6 +38,7 @@ from ..core.budget import ac_run_estimate
 from ..core.checks import instance
 from ..core.errors import ParameterError, SimulationError, show_value
 from ..core.frozen import FrozenArrays, FrozenMap
+from ..core.json import JSONDict
 from ..core.show import html_table, plot, short_repr
 from ..core.types import DEFAULT_ENGINE, GAUSSIAN_CENTRE, AnalysisKind, Probes, RunStatus
 from ..spice.engines import engine_named, find_engine, run_engine
@@ -52,6 +53,8 @@ from .spec import RunSpec, SpectrumTheory, Theory
 # A foreign netlist's run (lcchain batch) compares nothing with theory: the comparisons, the circuit's theory and
 # the AC fit load in the functions that use them, so that a batch starts without them (issue 35).
 if TYPE_CHECKING:
+    import xarray as xr
+
     from ..circuit.elements import Element, Pulse
     from ..circuit.exact import CircuitTheory
     from ..compare.metrics import EffectCost, Metrics
@@ -147,9 +150,9 @@ class RunRecord(FrozenArrays):
         only this field)."""
         return self.engine_version if self.engine == DEFAULT_ENGINE else ""
 
-    def summary(self) -> dict[str, Any]:
+    def summary(self) -> JSONDict:
         """Everything but the arrays, as JSON-serialisable data."""
-        data: dict[str, Any] = {
+        data: JSONDict = {
             "key": self.key, "label": self.label, "status": self.status, "reason": self.reason,
             "digest": self.digest, "wall_s": self.wall_s, "total_s": self.total_s,
             "engine": self.engine, "engine_version": self.engine_version,
@@ -193,7 +196,7 @@ class RunRecord(FrozenArrays):
     def _repr_html_(self) -> str:
         return html_table("RunRecord", self._rows())
 
-    def plot(self, ax: Any = None) -> Any:
+    def plot(self, ax: object = None) -> object:
         """The run's figure: its compared loops over theory (the far end; residual below) where it had a theory,
         else its saved vectors against time (or their magnitudes against frequency).
 
@@ -204,14 +207,14 @@ class RunRecord(FrozenArrays):
         """
         return plot("record", self, ax=ax)
 
-    def to_xarray(self) -> Any:
+    def to_xarray(self) -> xr.Dataset:
         """The saved vectors as an xarray Dataset on ``time`` (s) or ``frequency`` (Hz), each with its ``units``
         (an AC phasor as ``*_real`` and ``*_imag``), the compared loops beside theory (``loop_signal``,
         ``loop_theory``, dimensionless, and ``t``) where the run had a theory, :meth:`summary` as attributes.
         xarray is optional: ``pip install 'lcchain[data]'``."""
         from .datasets import record_dataset
 
-        return record_dataset(self)
+        return record_dataset(self.run, self.signals, self.summary())
 
 
 def waveform_digest(time_s: np.ndarray, vectors: Mapping[str, np.ndarray], axis: str = "time") -> str:
