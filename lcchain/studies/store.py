@@ -84,7 +84,7 @@ import numpy as np
 from ..core import __version__
 from ..core.analyses import analysis_kind
 from ..core.errors import LcchainError, ParameterError
-from ..core.json import JSON
+from ..core.json import JSON, LooseJSONObject
 from ..core.show import html_table, plot, short_repr
 from ..core.types import RUN_STATUSES
 from ..runs.execute import RunRecord, waveform_digest
@@ -642,7 +642,7 @@ class Store:
             finally:
                 os.close(descriptor)
 
-    def description(self) -> dict[str, Any]:
+    def description(self) -> LooseJSONObject:
         try:
             described = json.loads(self.meta().get("description", "{}"))
         except json.JSONDecodeError:
@@ -813,7 +813,7 @@ class Store:
     def _repr_html_(self) -> str:
         return html_table("Store", self._shown())
 
-    def plot(self, ax: Any = None, metric: str = "peak") -> Any:
+    def plot(self, ax: object = None, metric: str = "peak") -> object:
         """The figure the study's results call for, as ``lcchain results --plot`` draws it: tolerance samples'
         histogram (``metric``: ``peak``, ``energy`` or ``loss``), or the first arrival's loss against N.
 
