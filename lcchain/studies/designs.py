@@ -31,6 +31,6 @@ def design_cost(case: str, N: int) -> float:
 _COST_PER_MASS = {"one-mass": 2e-5, "two-mass": 1.2e-4}
 
 
-def design_task(case: DesignCase, N: int) -> Job:
+def design_task(case: DesignCase, N: int) -> Job[LooseJSONObject]:
     """The design of (case, N) as a :class:`~lcchain.studies.background.Job` keyed ``("row", case, N)``."""
     return Job(("row", case, N), design_cost(case, N), design_row, (case, N))
