@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import argparse
 import sys
-from typing import Any
+from typing import TYPE_CHECKING
 
 from ..app.options import DEFAULT_ENGINE, engine_names
 from ..core.json import LooseJSONObject
@@ -27,6 +27,9 @@ from .common import (
 from .progress import fraction
 from .run import error_text
 from .simulate import print_units
+
+if TYPE_CHECKING:
+    from ..app.spectrum import ModeReport
 
 __all__ = ["add_parser", "cmd_spectrum"]
 
@@ -128,7 +131,7 @@ def cmd_spectrum(args: argparse.Namespace) -> int:
     return EXIT_FAILED if result.outputs.failed else EXIT_OK
 
 
-def _print_survey(modes: Any) -> None:
+def _print_survey(modes: ModeReport) -> None:
     """``spectrum --shapes``: every mode from the survey of every loop, beside the exact eigensolution."""
     for name, value in modes.rows():
         print(f"{name}: {value:.3e}" if isinstance(value, float) else f"{name}: {value}")
