@@ -60,6 +60,7 @@ def ac_result(job: AcJob, columns: Mapping[str, np.ndarray], log: str, simulator
         that is not finite.
     """
     import numpy as np
+
     engine, netlist, names, points = simulator.engine, job.netlist, job.vectors, job.points
 
     def fail(reason: str) -> SimulationError:

@@ -274,6 +274,7 @@ def run_check(netlist: GnucapCheckNetlist, stop: float, *, simulator: Simulator,
     names.  ``simulator`` is gnucap's program, as an engine that ``checks_cards`` found it (the caller chose
     the engine by that attribute, :func:`lcchain.runs.check.check_text`; its name is not asked here)."""
     import numpy as np
+
     output, log, wall = _run_child(TransportJob(netlist.text, stop, timeout, MAX_OUTPUT_BYTES, None), simulator,
                                    sandbox=find_sandbox())
     # gnucap's warning at the operating point with short=1e-30 (the values are those of short=1e-15, which

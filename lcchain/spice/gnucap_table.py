@@ -85,6 +85,7 @@ def read_table(output: str, log: str = "") -> dict[str, np.ndarray]:
         No table, a message from gnucap before it (gnucap exits 0 after an error), or a malformed row.
     """
     import numpy as np
+
     names, table = _read_rows(output, log, "#Time")
     if len(table) and table[0, 0] == 0.0:
         table = table[1:]
@@ -101,6 +102,7 @@ def read_ac_table(output: str, log: str = "") -> dict[str, np.ndarray]:
         As :func:`read_table`, or a part without its other half.
     """
     import numpy as np
+
     names, table = _read_rows(output, log, "#Freq")
     columns = {"frequency": np.ascontiguousarray(table[:, 0])}
     parts = {name: table[:, j] for j, name in enumerate(names, start=1)}
@@ -117,6 +119,7 @@ def _read_rows(output: str, log: str, first: str) -> tuple[list[str], np.ndarray
     """The canonical names of gnucap's printed columns after the first, and its table's rows (the first column
     headed ``first``)."""
     import numpy as np
+
     lines = output.splitlines()
     header = next((i for i, line in enumerate(lines) if line.startswith(first)), None)
     messages = [line.strip() for line in lines[: len(lines) if header is None else header]

@@ -205,6 +205,7 @@ def validate_columns(columns: dict[str, np.ndarray], log: str, names: Sequence[s
         Naming what failed, with the useful end of the engine's output ``log``.
     """
     import numpy as np
+
     def fail(reason: str) -> SimulationError:
         return SimulationError(reason, useful_output(log), "failed", engine)
 

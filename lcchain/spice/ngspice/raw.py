@@ -44,6 +44,7 @@ def read_raw(source: str | os.PathLike[str] | bytes, plot: str = "transient", *,
         Not a binary raw file, truncated, or without a plot of that analysis.
     """
     import numpy as np
+
     if plot not in PLOTS:
         raise SimulationError(f"lcchain reads transient and AC plots, not {plot!r}")
     complex_data = PLOTS[plot]

@@ -74,6 +74,7 @@ def call_shared_worker(launcher: tuple[str, ...], request: dict[str, Any], timeo
 
 def decode_worker_payload(payload: bytes) -> tuple[dict[str, Any], list[np.ndarray]]:
     import numpy as np
+
     with np.load(io.BytesIO(payload), allow_pickle=False) as npz:
         meta = json.loads(npz["meta"].tobytes().decode("utf-8"))
         arrays = [npz[f"v{i}"] for i in range(len(meta.get("names", [])))]

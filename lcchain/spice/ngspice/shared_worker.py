@@ -76,6 +76,7 @@ def simulate(netlist: str, library: str) -> tuple[dict[str, Any], list[np.ndarra
         The vectors of the last transient plot, in the order of ``meta["names"]``.
     """
     import numpy as np
+
     errors: list[str] = []
     pyspice_logger = logging.getLogger("PySpice")
     pyspice_logger.addHandler(_PySpiceLog(level=logging.WARNING))
@@ -160,6 +161,7 @@ def main() -> int:
     A request without ``"netlist"`` asks for the library's version only.
     """
     import numpy as np
+
     request = json.loads(sys.stdin.buffer.read().decode("utf-8"))
     protocol = os.fdopen(os.dup(1), "wb")
     os.dup2(2, 1)

@@ -191,6 +191,7 @@ class WarmWorker:
             memory outgrew its limits (the worker killed), or its vectors outgrew ``max_output_bytes``.
         """
         import numpy as np
+
         assert self.proc.stdin is not None
         timeout, limit, resident = job.timeout, job.max_output_bytes, job.max_resident_bytes
         data = job.text.encode("utf-8")
