@@ -16,13 +16,13 @@ import tempfile
 import time
 from typing import TYPE_CHECKING
 
-import numpy as np
-
 from ...core.errors import SimulationError
 from ..log import useful_output
 from ..processes import PACKAGE_ROOT, WATCH_INTERVAL, child_env, kill_group, outgrown, read_all
 
 if TYPE_CHECKING:  # the worker's module is the child's: the parent names its messages' types only
+    import numpy as np
+
     from .shared_worker import WorkerMeta, WorkerRequest
 
 __all__ = ["call_shared_worker", "decode_worker_payload"]
@@ -75,6 +75,8 @@ def call_shared_worker(launcher: tuple[str, ...], request: WorkerRequest, timeou
 
 
 def decode_worker_payload(payload: bytes) -> tuple[WorkerMeta, list[np.ndarray]]:
+    import numpy as np
+
     with np.load(io.BytesIO(payload), allow_pickle=False) as npz:
         meta: WorkerMeta = json.loads(npz["meta"].tobytes().decode("utf-8"))
         arrays = [npz[f"v{i}"] for i in range(len(meta.get("names", [])))]

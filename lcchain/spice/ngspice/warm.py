@@ -46,8 +46,6 @@ from collections.abc import Callable
 from dataclasses import replace
 from typing import IO, TYPE_CHECKING, TypeAlias
 
-import numpy as np
-
 from ...core.budget import show_bytes
 from ...core.errors import SimulationError, SimulatorMissingError
 from ..job import Progress, TransportJob
@@ -59,6 +57,8 @@ from .locate import find_shared_library
 from .place import Place, placement
 
 if TYPE_CHECKING:  # the worker's module is the child's: the parent names its frames' types only
+    import numpy as np
+
     from .warm_worker import Hello, RunHeader
 
 __all__ = ["WarmWorker", "run_warm", "worker_for", "close_workers", "warm_simulator", "WARM_BELOW_SECONDS",
@@ -192,6 +192,8 @@ class WarmWorker:
             the next), the run outlived its timeout (status ``"timeout"``, the worker killed), its output or
             memory outgrew its limits (the worker killed), or its vectors outgrew ``max_output_bytes``.
         """
+        import numpy as np
+
         assert self.proc.stdin is not None
         timeout, limit, resident = job.timeout, job.max_output_bytes, job.max_resident_bytes
         data = job.text.encode("utf-8")
