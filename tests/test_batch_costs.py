@@ -3,6 +3,7 @@ what was made fast, with real ngspice.  Timings are in benchmarks/batch.md, neve
 
 from __future__ import annotations
 
+import gc
 import threading
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
@@ -15,7 +16,7 @@ from lcchain.app.batch import BatchRequest, batch
 from lcchain.app.studies import StudyOptions
 from lcchain.runs.simulate import ChainOptions, simulation_spec
 from lcchain.runs.spec import RunSpec
-from lcchain.studies import executors
+from lcchain.studies import executors, stream
 
 pytestmark = pytest.mark.ngspice
 
@@ -92,3 +93,57 @@ def test_a_threaded_batch_holds_a_few_runs_a_thread_not_the_whole_batch(tmp_path
                                                                        store=str(tmp_path / "s.sqlite"))))
     assert (result.summary.ok, result.summary.failed) == (COUNT, 0)
     assert 0 < most[0] <= (1 + 1) * 2 < COUNT
+
+
+def test_a_batch_holds_a_window_of_its_runs_not_every_run(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """A batch's runs are read back from disk as the threads ask for them (lcchain.studies.stream): the runs alive
+    in the driver while it runs are those started or queued (RUNS_AHEAD a thread), whatever the batch's size (a
+    plan that held them all held 2 KB a run, 400 MB at 100,000 runs)."""
+    count, workers = 6 * COUNT, 2
+    paths = [*_netlists(tmp_path)]
+    spec, _, _ = simulation_spec(lcchain.chain_for_case("one-mass", 10), ChainOptions(dt=0.05))
+    for i in range(count - len(paths)):
+        path = tmp_path / f"m{i:03d}.cir"
+        path.write_text(spec.netlist.replace("\n", f" #{i}\n", 1))
+        paths.append(str(path))
+    alive: list[int] = []
+    execute_group = executors.execute_group
+
+    def counted(group: Any, *args: Any, **kwargs: Any) -> Any:
+        if len(alive) < 20 or group[0][0] % 10 == 0:
+            gc.collect()
+            alive.append(sum(isinstance(thing, RunSpec) for thing in gc.get_objects()))
+        return execute_group(group, *args, **kwargs)
+
+    monkeypatch.setattr(executors, "execute_group", counted)
+    monkeypatch.setattr(stream, "HELD", 0)  # every run spooled (a batch holds its first HELD, ~5 MB)
+    result = batch(BatchRequest(tuple(paths), study=StudyOptions(workers=workers, store=str(tmp_path / "s.sqlite"))))
+    assert (result.summary.ok, result.summary.failed) == (count, 0)
+    # each thread's queued and running runs, and the one being read back from the spool
+    assert 0 < max(alive) <= (executors.RUNS_AHEAD + 1) * workers + 1 < count
+
+
+def test_a_streamed_batch_stores_the_rows_and_keys_of_the_whole_plan(tmp_path: Path,
+                                                                     monkeypatch: pytest.MonkeyPatch) -> None:
+    """Runs held and runs spooled, a refusal and a netlist given twice: the store holds the rows, keys and
+    fingerprint batch_plan makes (what a resume, or another executor, finds), and the summary counts each run once;
+    a second call runs nothing."""
+    from lcchain.studies.plan import batch_plan
+    from lcchain.studies.store import Store
+
+    paths = [*_netlists(tmp_path)]
+    bad = tmp_path / "bad.cir"
+    bad.write_text("bad\nV1 1 0 1\n.control\nshell true\n.endc\n.tran 1 2\n.end\n")
+    paths[3:3] = [str(bad), paths[5]]  # a refusal, and a netlist given twice
+    monkeypatch.setattr(stream, "HELD", 4)
+    store = tmp_path / "s.sqlite"
+    first = batch(BatchRequest(tuple(paths), study=StudyOptions(workers=2, store=str(store)))).summary
+    assert (first.total, first.ran, first.ok, first.refused, first.skipped) == (COUNT + 1, COUNT, COUNT, 1, 0)
+    assert first.refusals[0][0] == str(bad)
+    with Store(store, "read") as stored:
+        version = stored.meta()["engine"].split()[-1]
+        plan = batch_plan(paths, engine_version=lambda: version)
+        assert stored.meta()["plan"] == plan.fingerprint(version)
+        assert [(run.key, run.params, run.label) for run in stored.light_runs()] == plan.rows(version)
+    again = batch(BatchRequest(tuple(paths), study=StudyOptions(workers=2, store=str(store)))).summary
+    assert (again.total, again.ran, again.skipped, again.ok, again.refused) == (COUNT + 1, 0, COUNT + 1, COUNT, 1)

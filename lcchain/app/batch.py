@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field
+from pathlib import Path
 
 from ..core.budget import INTERPRETER_SECONDS, Budget
 from .studies import PlannedStudy, StudyHooks, StudyOptions, StudyResult, check_study, run_study, study_workers
@@ -41,10 +42,23 @@ def batch(request: BatchRequest, hooks: StudyHooks | None = None) -> StudyResult
     with EngineStart(DEFAULT_ENGINE, "batch", runs=0 if request.allow_control else len(request.netlists),
                      workers=study_workers(options), executor=options.executor,
                      transport=options.transport) as engine:
-        from ..studies.plan import batch_plan  # numpy and the plan's modules load while the engine starts
+        from ..studies.plan import Plan, batch_plan  # numpy and the plan's modules load while the engine starts
+        from ..studies.stream import StreamedPlan, streamed_batch_plan, streams
 
-        plan = batch_plan(list(request.netlists), allow_control=request.allow_control, timeout=options.timeout,
-                          budget=budget, strict=request.strict, check=request.check)
+        plan: Plan
+        if streams(options.executor, study_workers(options)):  # its runs in this process: read from disk as they go
+            assert options.store is not None
+            plan = streamed_batch_plan(list(request.netlists), lambda: engine.simulator().version,
+                                       allow_control=request.allow_control, timeout=options.timeout, budget=budget,
+                                       strict=request.strict, check=request.check,
+                                       folder=str(Path(options.store).resolve().parent))
+        else:
+            plan = batch_plan(list(request.netlists), allow_control=request.allow_control, timeout=options.timeout,
+                              budget=budget, strict=request.strict, check=request.check)
         left = budget.max_seconds - INTERPRETER_SECONDS - (time.monotonic() - started)
-        return run_study(PlannedStudy(plan, max_seconds=max(left, 0.0)), options, budget, hooks,
-                         simulator=engine.simulator())
+        try:
+            return run_study(PlannedStudy(plan, max_seconds=max(left, 0.0)), options, budget, hooks,
+                             simulator=engine.simulator())
+        finally:
+            if isinstance(plan, StreamedPlan):
+                plan.spool.close()

@@ -48,7 +48,7 @@ import queue
 import threading
 import time
 import urllib.parse
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Container, Iterable, Iterator, Sequence
 from concurrent.futures import FIRST_COMPLETED, Future, ThreadPoolExecutor, wait
 from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, TypeAlias
@@ -76,11 +76,13 @@ if TYPE_CHECKING:  # multiprocessing's pool takes ~10 ms to import, which a batc
     from distributed import Client
 
     from ..runs.execute import RunRecord  # imported where runs execute: the engine starts before numpy loads
+    from ..spice.engine import Engine
 
 __all__ = ["ExecutorName", "EXECUTORS", "ExecutorTraits", "EXECUTOR_TRAITS", "DEFAULT_EXECUTOR",
            "SCHEDULER_SCHEMES", "run_groups", "open_executor",
            "check_executor", "group_tasks", "default_workers", "execute_group", "Transports", "choose_transports",
-           "WARM_MIN_RUNS_PER_WORKER", "ExecutorCost", "executor_cost", "Executor", "RunnerFactory", "EngineStart"]
+           "WARM_MIN_RUNS_PER_WORKER", "choose_transports_by", "RunMask", "RunStream", "ExecutorCost",
+           "executor_cost", "Executor", "RunnerFactory", "EngineStart"]
 
 @dataclass(frozen=True)
 class ExecutorTraits:
@@ -130,8 +132,8 @@ class Transports:
     Attributes
     ----------
     warm : Simulator, optional
-    runs : frozenset of int
-        The runs that go warm.
+    runs : container of int
+        The runs that go warm (a :class:`RunMask` for a streamed batch: a byte a run).
     deadline : float, optional
         The wall-clock time (``time.time()``) the study's time budget ends at: no run starts after it, a run
         started before it is stopped at it, and neither is returned (they stay pending in the store, for the same
@@ -139,7 +141,7 @@ class Transports:
     """
 
     warm: Simulator | None = None
-    runs: frozenset[int] = frozenset()
+    runs: Container[int] = frozenset()
     deadline: float | None = None
 
     def simulator_for(self, index: int, simulator: Simulator) -> Simulator:
@@ -151,7 +153,7 @@ class Transports:
 
 #: What an open executor is: groups (and their transports) in, each group's (index, record) pairs out as it
 #: finishes.
-Runner: TypeAlias = "Callable[[list[Group], Transports], Iterator[list[tuple[int, RunRecord]]]]"
+Runner: TypeAlias = "Callable[[Iterable[Group], Transports], Iterator[list[tuple[int, RunRecord]]]]"
 
 
 @dataclass(frozen=True)
@@ -195,17 +197,28 @@ def choose_transports(items: Sequence[tuple[int, RunSpec, float]], simulator: Si
     SimulatorMissingError
         ``"warm"`` asked for, and no shared library of this ngspice's version.
     """
+    def able(engine: Engine, by_cost: bool) -> tuple[frozenset[int], int]:
+        chosen = frozenset(index for index, spec, seconds in items
+                           if spec.engine == engine.name and not spec.trusted and spec.analysis in engine.warm_analyses
+                           and (not by_cost or seconds < engine.warm_below_seconds))
+        return chosen, len(chosen)
+
+    return choose_transports_by(able, simulator, workers, transport)
+
+
+def choose_transports_by(able: Callable[[Engine, bool], tuple[Container[int], int]], simulator: Simulator,
+                         workers: int, transport: str = "auto") -> Transports:
+    """:func:`choose_transports` for runs that are not all at hand (a streamed batch's): ``able(engine, by_cost)``
+    gives the runs the engine's warm transport may carry (only those predicted under its
+    :attr:`~lcchain.spice.engine.Engine.warm_below_seconds` when ``by_cost``) and their number."""
     choice = _TRANSPORT_CHOICES[check_transport(transport)]
     engine = engine_named(simulator.engine, "simulator.engine")
     if not choice.warm or not engine.warm_below_seconds or simulator.backend != engine.default_transport:
         return Transports()
-    able = [(index, seconds) for index, spec, seconds in items
-            if spec.engine == engine.name and not spec.trusted and spec.analysis in engine.warm_analyses]
-    if choice.by_cost:
-        able = [(index, seconds) for index, seconds in able if seconds < engine.warm_below_seconds]
-        if len(able) < WARM_MIN_RUNS_PER_WORKER * workers:
-            return Transports()
-    if not able:
+    runs, count = able(engine, choice.by_cost)
+    if choice.by_cost and count < WARM_MIN_RUNS_PER_WORKER * workers:
+        return Transports()
+    if not count:
         return Transports()
     try:
         warm = engine.warm(simulator, workers)
@@ -214,7 +227,36 @@ def choose_transports(items: Sequence[tuple[int, RunSpec, float]], simulator: Si
             raise SimulatorMissingError(f"--transport {transport}: {error}") from None
         log.info("warm transport not used: %s", error)
         return Transports()
-    return Transports(warm, frozenset(index for index, _ in able))
+    return Transports(warm, runs)
+
+
+class RunMask:
+    """Runs chosen by index, a byte a run (a frozenset of a batch's 100,000 indices held 6 MB for the whole
+    batch)."""
+
+    __slots__ = ("_flags",)
+
+    def __init__(self, flags: bytes) -> None:
+        self._flags = bytes(flags)
+
+    def __contains__(self, index: object) -> bool:
+        return isinstance(index, int) and 0 <= index < len(self._flags) and self._flags[index] == 1
+
+    def __reduce__(self) -> tuple[type[RunMask], tuple[bytes]]:
+        return RunMask, (self._flags,)
+
+
+class RunStream:
+    """A batch's runs made as an executor asks for them (each a group of one), none with a theory to compute:
+    an executor holds only those it has started or queued (:data:`RUNS_AHEAD` a thread)."""
+
+    light = True
+
+    def __init__(self, runs: Iterable[tuple[int, RunSpec]]) -> None:
+        self._runs = iter(runs)
+
+    def __iter__(self) -> Iterator[Group]:
+        return ([run] for run in self._runs)
 
 
 class EngineStart:
@@ -393,7 +435,7 @@ def execute_group(group: Group, simulator: Simulator, keep_signals: bool = False
 POOL_RESTARTS = 3
 
 
-def _process(groups: list[Group], simulator: Simulator, workers: int, keep_signals: bool,
+def _process(groups: Iterable[Group], simulator: Simulator, workers: int, keep_signals: bool,
              transports: Transports, started: ProcessPoolExecutor | None = None
              ) -> Iterator[list[tuple[int, RunRecord]]]:
     """A spawn process pool (``started``: one whose workers started before, while the study was planned); a pool
@@ -438,12 +480,14 @@ class _Stopped(BaseException):
     """Raised in a worker thread once its study stopped: past every ``except Exception``, and never seen."""
 
 
-def _light(groups: list[Group]) -> bool:
+def _light(groups: Iterable[Group]) -> bool:
     """Runs with no theory to compute: lcchain's work on each is reading and checking what the simulator wrote."""
+    if isinstance(groups, RunStream):
+        return groups.light
     return all(spec.theory is None for group in groups for _, spec in group)
 
 
-def _threaded(groups: list[Group], simulator: Simulator, workers: int, keep_signals: bool,
+def _threaded(groups: Iterable[Group], simulator: Simulator, workers: int, keep_signals: bool,
               transports: Transports) -> Iterator[list[tuple[int, RunRecord]]]:
     """Threads of this process, each driving one simulator child at a time: no pool to start or feed.
 
@@ -537,7 +581,7 @@ def _dask(workers: int, scheduler: str | None, verbose: bool, scratch: str | Non
         yield client
 
 
-def _on_dask(client: Client, groups: list[Group], simulator: Simulator, keep_signals: bool,
+def _on_dask(client: Client, groups: Iterable[Group], simulator: Simulator, keep_signals: bool,
              transports: Transports) -> Iterator[list[tuple[int, RunRecord]]]:
     from distributed import as_completed as completed
 
@@ -603,7 +647,7 @@ def _serial_runner(simulator: Simulator, workers: int, scheduler: str | None, ke
 @contextlib.contextmanager
 def _process_runner(simulator: Simulator, workers: int, scheduler: str | None, keep_signals: bool,
                     verbose: bool, scratch: str | None, pool: ProcessPoolExecutor | None) -> Iterator[Runner]:
-    def run(groups: list[Group], transports: Transports) -> Iterator[list[tuple[int, RunRecord]]]:
+    def run(groups: Iterable[Group], transports: Transports) -> Iterator[list[tuple[int, RunRecord]]]:
         if workers == 1:  # one worker: no pool to start
             return (execute_group(group, simulator, keep_signals, transports) for group in groups)
         if _light(groups):  # all the work is in the simulator's processes: threads drive them

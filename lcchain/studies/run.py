@@ -33,7 +33,10 @@ from ..runs.execute import RunRecord, loop_sims
 from ..runs.spec import RunSpec
 from ..spice.engines import find_engine
 from .executors import (
+    RunMask,
+    RunStream,
     choose_transports,
+    choose_transports_by,
     default_workers,
     group_tasks,
     open_executor,
@@ -42,9 +45,10 @@ from .executors import (
 from .options import Progress, RunHooks, RunOptions
 from .plan import Combination, Plan, Task, _memory, _seconds
 from .store import Store, engine_text
+from .stream import WINDOW, StreamedPlan
 
 if TYPE_CHECKING:
-    pass
+    from ..spice.engine import Engine
 
 __all__ = ["Summary", "Progress", "RunOptions", "RunHooks", "run_plan", "run_specs", "check_specs"]
 
@@ -127,6 +131,8 @@ def run_plan(plan: Plan, store: str | Path, options: RunOptions | None = None,
     start = time.perf_counter()
     options = options if options is not None else RunOptions()
     hooks = hooks if hooks is not None else RunHooks()
+    if isinstance(plan, StreamedPlan):
+        return _run_streamed(plan, store, options, hooks, start)
     executor, scheduler, progress = options.executor, options.scheduler, hooks.progress
     deadline = None if options.max_seconds is None else time.time() + options.max_seconds
     simulator = options.simulator if options.simulator is not None else find_engine(plan.engine, plan.backend)
@@ -183,6 +189,68 @@ def run_plan(plan: Plan, store: str | Path, options: RunOptions | None = None,
                    sum(status[key] in ("failed", "timeout") for key in distinct), str(store),
                    time.perf_counter() - start, combined.count("ok"), len(combined) - combined.count("ok"),
                    len(todo) - done, sum(status[key] == "refused" for key in distinct), refusals)
+
+
+def _run_streamed(plan: StreamedPlan, store: str | Path, options: RunOptions, hooks: RunHooks,
+                  start: float) -> Summary:
+    """:func:`run_plan` of a batch whose runs are on disk (:mod:`lcchain.studies.stream`): the same store, rows,
+    skips and summary, with nothing kept a run but a byte or two (what is stored is asked of the store a window of
+    keys at a time, the runs are read back from the spool as the executor asks for them, and the summary is counted
+    by the store)."""
+    executor, progress, spool = options.executor, hooks.progress, plan.spool
+    deadline = None if options.max_seconds is None else time.time() + options.max_seconds
+    simulator = options.simulator if options.simulator is not None else find_engine(plan.engine, plan.backend)
+    engine = engine_text(simulator.engine, simulator.version)
+    fingerprint, description = plan.fingerprint(simulator.version), dict(plan.description)
+    workers = options.workers or default_workers()
+    rows = len(spool)
+    with Store(store, wait=options.wait, on_wait=hooks.on_wait) as results:
+        results.check_plan(fingerprint, description, rows, engine)
+        results.runs()  # every stored row read, and checked, before anything starts
+        with open_executor(simulator, executor=executor, workers=workers, scheduler=options.scheduler,
+                           verbose=hooks.verbose, scratch=str(Path(store).resolve().parent), pool=options.pool) as run:
+            results.adopt(fingerprint, description, plan.streamed_rows(simulator.version), engine, count=rows)
+            first = spool.first()
+            stored = bytearray(rows)  # 1: stored before this run (failed ones not, with retry_failed)
+            for low in range(0, rows, WINDOW):
+                window = [spool.key(i) for i in range(low, min(rows, low + WINDOW))]
+                held = results.stored_among(window, options.retry_failed)
+                for offset, key in enumerate(window):
+                    stored[low + offset] = key in held
+            # one transaction: nothing of them ran (no engine, no time), and a resume finds them stored
+            refused = {refusal.key: refusal for refusal in plan.refusals if not stored[refusal.index]}
+            if refused:
+                results.add_many([(RunRecord(key=key, status="refused", reason=refusal.reason,
+                                             label=refusal.label), None) for key, refusal in refused.items()])
+            todo = bytearray(a & b & (not c) for a, b, c in zip(first, spool.runs, stored, strict=True))
+            distinct, skipped, count = sum(first), sum(a & b for a, b in zip(first, stored, strict=True)), sum(todo)
+            if hooks.on_resume is not None:
+                hooks.on_resume(skipped, count)
+
+            def able(engine: Engine, by_cost: bool) -> tuple[RunMask, int]:
+                below = engine.warm_below_seconds if by_cost else float("inf")
+                chosen = bytes(int(t and w and s < below) for t, w, s in zip(todo, spool.warm, spool.seconds,
+                                                                               strict=True))
+                return RunMask(chosen), chosen.count(1)
+
+            transports = replace(choose_transports_by(able, simulator, workers, options.transport),
+                                 deadline=deadline)
+            done = failed = 0
+            for group in run(RunStream(spool.specs(todo)), transports):
+                for index, record in group:
+                    if record.key != spool.key(index):
+                        raise ParameterError("--store", str(store), f"records under the plan's keys (run {index} "
+                                             f"came back as {record.key[:12]}, expected {spool.key(index)[:12]})")
+                results.add_many([(record, None) for _, record in group])
+                done += len(group)
+                failed += sum(not record.ok for _, record in group)
+                if progress is not None:
+                    progress(Progress(done, count, failed, time.perf_counter() - start))
+        counts = results.status_counts()
+        reasons = results.reasons([refusal.key for refusal in plan.refusals])
+    refusals = tuple((str(r.params.get("netlist", r.label)), reasons[r.key]) for r in plan.refusals)
+    return Summary(distinct, skipped, done, counts.get("ok", 0), counts.get("failed", 0) + counts.get("timeout", 0),
+                   str(store), time.perf_counter() - start, 0, 0, count - done, counts.get("refused", 0), refusals)
 
 
 class _Combiner:

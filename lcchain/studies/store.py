@@ -75,7 +75,7 @@ import stat
 import time
 import urllib.parse
 import zipfile
-from collections.abc import Callable, Iterator, Mapping, Sequence
+from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Literal, TypeAlias
 
@@ -100,6 +100,8 @@ if TYPE_CHECKING:
 
 __all__ = ["Store", "StoreMode", "FORMAT", "engine_text", "engine_of"]
 
+#: Keys asked of the records table in one query (SQLite allows 32,766 parameters since 3.32, 999 before).
+_KEYS_A_QUERY = 500
 #: Version of the store's tables.
 FORMAT = "2"
 #: The column (and meta row) that holds the engine, by store format: format 1 named it for ngspice, and held
@@ -556,7 +558,8 @@ class Store:
                            "lcchain never mixes two")
 
     def adopt(self, fingerprint: str, description: Mapping[str, JSON],
-              tasks: Sequence[tuple[str, Mapping[str, object], str]], engine: str) -> None:
+              tasks: Iterable[tuple[str, Mapping[str, object], str]], engine: str, *,
+              count: int | None = None) -> None:
         """Make this the store of a plan, or check that it already is.
 
         A new store is made whole: built under a hidden name beside it, its plan
@@ -568,8 +571,10 @@ class Store:
             The plan's fingerprint (its ordered task keys, hashed).
         description : dict
             What the user asked for, in words and values (for ``lcchain results``).
-        tasks : sequence of (key, params, label)
-            The plan's tasks in order.
+        tasks : iterable of (key, params, label)
+            The plan's tasks in order (read once, as they are written, when ``count`` is given).
+        count : int, optional
+            How many ``tasks`` holds (by default its length).
         engine : str
             The engine's name and version (:func:`engine_text`).
 
@@ -580,13 +585,16 @@ class Store:
         """
         if self.mode != "write":
             raise self._refuse("a store opened for writing")
-        self.check_plan(fingerprint, description, len(tasks), engine)
+        count = count if count is not None else len(tasks) if isinstance(tasks, Sequence) else None
+        if count is None:
+            raise TypeError("adopt: the count of tasks given as an iterator")
+        self.check_plan(fingerprint, description, count, engine)
         if "plan" in self.meta():
             return
         meta = (("format", FORMAT), ("plan", fingerprint), ("description", json.dumps(description)),
                 ("created", time.strftime("%Y-%m-%dT%H:%M:%S")), ("lcchain_version", __version__),
                 ("engine", engine))
-        rows = [(i, key, json.dumps(params), label) for i, (key, params, label) in enumerate(tasks)]
+        rows = ((i, key, json.dumps(params), label) for i, (key, params, label) in enumerate(tasks))
         self._remove_leftovers()
         hidden = self.path.parent / f".{self.path.name}.{secrets.token_hex(4)}.new"
         try:
@@ -626,7 +634,8 @@ class Store:
             os.close(descriptor)
             self._db.close()
             self._open_write()
-            self.adopt(fingerprint, description, tasks, engine)
+            # it holds a plan now, which adopt checks (an iterator of tasks is read already: none is written)
+            self.adopt(fingerprint, description, tasks if isinstance(tasks, Sequence) else (), engine, count=count)
             return
         with contextlib.suppress(OSError):
             folder = os.open(self.path.parent, os.O_RDONLY | os.O_DIRECTORY)
@@ -680,6 +689,40 @@ class Store:
         """The keys of every run stored as failed or timed out (``--retry-failed`` runs them again)."""
         return {key for key, in self._rows("SELECT key FROM records WHERE status IN ('failed', 'timeout')")
                 if isinstance(key, str)}
+
+    def stored_among(self, keys: Sequence[str], retry_failed: bool = False) -> set[str]:
+        """Those of ``keys`` stored (ok, failed, timed out or refused; with ``retry_failed``, not failed or timed
+        out): asked a window of keys at a time, so that a study holds no set of every stored key."""
+        found: set[str] = set()
+        skip = " AND status NOT IN ('failed', 'timeout')" if retry_failed else ""
+        for start in range(0, len(keys), _KEYS_A_QUERY):
+            window = keys[start:start + _KEYS_A_QUERY]
+            marks = ", ".join("?" * len(window))
+            found.update(key for key, in self._rows(f"SELECT key FROM records WHERE key IN ({marks}){skip}",
+                                                    window) if isinstance(key, str))
+        return found
+
+    def status_counts(self) -> dict[str, int]:
+        """How many of the plan's runs are stored under each status (a key the plan holds twice, once)."""
+        counts: dict[str, int] = {}
+        for status, count in self._rows("SELECT status, COUNT(*) FROM records WHERE key IN (SELECT key FROM tasks) "
+                                        "GROUP BY status"):
+            if not isinstance(status, str) or status not in _STATUSES or not isinstance(count, int):
+                raise self._tampered(f"a run has the status {str(status)[:20]!r}")
+            counts[status] = count
+        return counts
+
+    def reasons(self, keys: Sequence[str]) -> dict[str, str]:
+        """The stored reason of each of ``keys`` stored."""
+        found: dict[str, str] = {}
+        for start in range(0, len(keys), _KEYS_A_QUERY):
+            window = keys[start:start + _KEYS_A_QUERY]
+            marks = ", ".join("?" * len(window))
+            for key, reason in self._rows(f"SELECT key, reason FROM records WHERE key IN ({marks})", window):
+                if not isinstance(key, str) or not isinstance(reason, str | None):
+                    raise self._tampered(f"run {str(key)[:12]} has a key or reason that is not text")
+                found[key] = reason or ""
+        return found
 
     def add(self, record: RunRecord, points: int | None = None, *,
             parts: Mapping[str, Sequence[float | None]] | None = None) -> None:
