@@ -703,10 +703,10 @@ class Store:
         return found
 
     def status_counts(self) -> dict[str, int]:
-        """How many of the plan's runs are stored under each status (a key the plan holds twice, once)."""
+        """How many of the plan's runs are stored under each status (a key the plan holds twice, once: the records
+        of a store are its plan's)."""
         counts: dict[str, int] = {}
-        for status, count in self._rows("SELECT status, COUNT(*) FROM records WHERE key IN (SELECT key FROM tasks) "
-                                        "GROUP BY status"):
+        for status, count in self._rows("SELECT status, COUNT(*) FROM records GROUP BY status"):
             if not isinstance(status, str) or status not in _STATUSES or not isinstance(count, int):
                 raise self._tampered(f"a run has the status {str(status)[:20]!r}")
             counts[status] = count
