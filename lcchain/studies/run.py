@@ -12,7 +12,10 @@ record in its own transaction the moment it arrives, so that a killed driver
 loses nothing that finished and a restarted one redoes nothing.  An
 extrapolation's members are tasks like any other; its combination is made in
 the driver, from the members' stored arrays, as soon as the last of them is
-stored (after a restart too).  :func:`run_specs` runs specs without a store
+stored (after a restart too).  A batch planned to disk (:class:`~lcchain.studies.stream.StreamedPlan`) runs
+the same way with nothing kept a run but its key and a few bytes: its rows written from an iterator, what is
+stored asked a window of keys at a time, its summary counted by the store.  :func:`run_specs` runs specs without a
+store
 (``lcchain run --workers``) and returns the records in order.
 """
 
