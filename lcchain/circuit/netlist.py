@@ -35,7 +35,7 @@ import math
 import re
 from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Any, cast
+from typing import Any
 
 from ..core.checks import choice, instance, integer, real, strings, text_line
 from ..core.checks import pulse as check_pulse
@@ -308,7 +308,7 @@ def netlist_text(ladder: Ladder, options: SimulationOptions, drive: Drive | None
         f"* N={N} L0={card_number(ladder.L0)} H C0={card_number(ladder.C0)} F time unit={card_number(unit)} s "
         f"excitation={excitation} I0={card_number(I0)} A"
     )
-    shaped = None if spec is None else (cast(PulseShape, spec[0]), spec[1])
+    shaped = None if spec is None else (spec[0], spec[1])
     lines += [element.card() for element in circuit_elements(ladder, excitation=excitation, I0=I0, pulse=shaped,
                                                              effects=parts)]
     lines.append(_options_line(options, I0, ladder))

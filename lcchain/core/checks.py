@@ -12,10 +12,11 @@ from __future__ import annotations
 import math
 import numbers
 import re
-from collections.abc import Mapping, Sequence
-from typing import Any, TypeVar, cast
+from collections.abc import Callable, Mapping, Sequence
+from typing import Literal, SupportsFloat, TypeVar, cast, overload
 
 import numpy as np
+import numpy.typing as npt
 
 from .errors import ParameterError
 from .limits import MAX_PULSE_WIDTH, MAX_TITLE_BYTES, MIN_PULSE_WIDTH
@@ -25,6 +26,8 @@ from .limits import MAX_PULSE_WIDTH, MAX_TITLE_BYTES, MIN_PULSE_WIDTH
 # the whole file a script (the same rule as lcchain.spice.foreign's for a netlist's first line).
 #: A choice from a set of allowed strings (a Literal alias).
 _Option = TypeVar("_Option", bound=str)
+#: The class an :func:`instance` check asks for.
+_Instance = TypeVar("_Instance")
 
 _DOT_COMMAND = re.compile(r"^\s*(\.[A-Za-z]|\*\s*(#|ng_script))", re.IGNORECASE)
 
@@ -181,7 +184,7 @@ def pulse(excitation: object, value: object, kinds: Sequence[str], shapes: Seque
                                                           at_most=MAX_PULSE_WIDTH, unit="units of sqrt(L0*C0)")
 
 
-def numbers_list(name: str, values: object, allowed: str) -> tuple[Any, ...]:
+def numbers_list(name: str, values: object, allowed: str) -> tuple[SupportsFloat, ...]:
     """A list or tuple (or 1-d numpy array) of real numbers, as given (unconverted, unchecked for range)."""
     if isinstance(values, np.ndarray):
         if values.ndim != 1:
@@ -192,10 +195,17 @@ def numbers_list(name: str, values: object, allowed: str) -> tuple[Any, ...]:
     for i, value in enumerate(values):
         if not is_number(value):
             raise ParameterError(f"{name}[{i}]", value, "a number")
-    return tuple(values)
+    # every value is a numbers.Real (checked just above), and a numbers.Real has __float__
+    return cast(tuple[SupportsFloat, ...], tuple(values))
 
 
-def instance(name: str, value: object, cls: type | tuple[type, ...], optional: bool = False) -> Any:
+@overload
+def instance(name: str, value: object, cls: type[_Instance], optional: Literal[False] = False) -> _Instance: ...
+@overload
+def instance(name: str, value: object, cls: type[_Instance], optional: Literal[True]) -> _Instance | None: ...
+@overload
+def instance(name: str, value: object, cls: tuple[type, ...], optional: bool = False) -> object: ...
+def instance(name: str, value: object, cls: type | tuple[type, ...], optional: bool = False) -> object:
     """``value`` itself if it is an instance of ``cls`` (one class or a tuple of them; or None when optional)."""
     if (value is None and optional) or isinstance(value, cls):
         return value
@@ -203,7 +213,7 @@ def instance(name: str, value: object, cls: type | tuple[type, ...], optional: b
     raise ParameterError(name, type(value).__name__, f"a {names}" + (" or None" if optional else ""))
 
 
-def callback(name: str, value: object) -> Any:
+def callback(name: str, value: object) -> Callable[..., object] | None:
     """A function to call (a progress report, say), or None."""
     if value is None or callable(value):
         return value
@@ -220,7 +230,7 @@ def strings(name: str, values: object, allowed: str = "a list or tuple of string
     return tuple(values)
 
 
-def time_array(name: str, t: Any) -> np.ndarray:
+def time_array(name: str, t: npt.ArrayLike) -> np.ndarray:
     """A one-dimensional array of finite times >= 0 (units of sqrt(L0*C0))."""
     if type(t) is np.ndarray and t.dtype == np.float64 and t.ndim == 1 and bool(np.isfinite(t).all()) \
             and bool((t >= 0).all()):

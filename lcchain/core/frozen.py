@@ -10,18 +10,22 @@ type :class:`FrozenMap`, and re-freeze their arrays when unpickled
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Iterator, Mapping
-from typing import Any, Generic, TypeVar
+from collections.abc import Callable, Iterator, Mapping
+from typing import Generic, TypeAlias, TypeVar
 
 import numpy as np
+import numpy.typing as npt
 
-__all__ = ["readonly", "FrozenMap", "FrozenArrays"]
+__all__ = ["readonly", "FrozenMap", "FrozenArrays", "Reduced"]
+
+#: What ``__reduce__`` returns: a callable that rebuilds the object, and the arguments it is called with.
+Reduced: TypeAlias = tuple[Callable[..., object], tuple[object, ...]]
 
 K = TypeVar("K")
 V = TypeVar("V")
 
 
-def readonly(values: Any, dtype: Any = float) -> np.ndarray:
+def readonly(values: npt.ArrayLike, dtype: npt.DTypeLike = float) -> np.ndarray:
     """A contiguous copy of ``values`` that cannot be written to."""
     array = np.array(values, dtype=dtype)
     array.flags.writeable = False
@@ -59,7 +63,7 @@ class FrozenMap(Mapping[K, V], Generic[K, V]):
     def __setattr__(self, name: str, value: object) -> None:
         raise AttributeError("FrozenMap is read-only")
 
-    def __reduce__(self) -> tuple[Any, ...]:
+    def __reduce__(self) -> Reduced:
         return (type(self), (dict(self._data),))
 
     def __hash__(self) -> int:
@@ -85,11 +89,11 @@ class FrozenArrays:
                 view.flags.writeable = False
                 object.__setattr__(self, f.name, view)
 
-    def __setstate__(self, state: dict[str, Any]) -> None:
+    def __setstate__(self, state: dict[str, object]) -> None:
         for key, value in state.items():
             if isinstance(value, np.ndarray):
                 value.flags.writeable = False
             object.__setattr__(self, key, value)
 
-    def __getstate__(self) -> dict[str, Any]:
+    def __getstate__(self) -> dict[str, object]:
         return {f.name: getattr(self, f.name) for f in dataclasses.fields(self)}  # type: ignore[arg-type]

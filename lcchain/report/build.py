@@ -107,7 +107,7 @@ class ReportParts:
 
     def __post_init__(self) -> None:
         instance("rows", self.rows, DesignRows, optional=True)
-        instance("figures", self.figures, Mapping)
+        instance("figures", self.figures, (Mapping,))
         if self.paper is not None and self.rows is None:
             raise ParameterError("paper", "a paper section", "the rows it was made of too (rows=...)")
 

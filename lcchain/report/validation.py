@@ -150,7 +150,7 @@ class ValidationRuns:
             for i, item in enumerate(items):
                 instance(f"{name}[{i}]", item, cls)
             object.__setattr__(self, name, items)
-        instance("engines", self.engines, Mapping)
+        instance("engines", self.engines, (Mapping,))
         object.__setattr__(self, "engines", FrozenMap(self.engines))
         real("seconds", self.seconds, at_least=0.0, unit="seconds")
 
