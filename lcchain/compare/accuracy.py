@@ -60,6 +60,7 @@ from ..core.blas import fixed_blas_threads
 from ..core.budget import BudgetError
 from ..core.checks import choice, instance, real, strings
 from ..core.errors import ParameterError
+from ..core.json import JSONDict
 from ..core.limits import ACCURACY_FLOOR, MAX_ACCURACY_DT
 from ..core.types import METHODS
 from ..theory.modes import Modes, cosine_sum
@@ -488,7 +489,7 @@ class ErrorSplit:
     physics_error: float | None
     total_error: float
 
-    def to_dict(self) -> dict[str, Any]:
+    def to_dict(self) -> JSONDict:
         return {"integration_error": self.integration_error, "physics_error": self.physics_error,
                 "total_error": self.total_error}
 

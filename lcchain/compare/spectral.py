@@ -307,8 +307,10 @@ class SpectrumMetrics(FrozenArrays):
     def modes_seen(self) -> int:
         return int(np.count_nonzero(np.isfinite(self.omega)))
 
-    def to_dict(self) -> dict[str, Any]:
-        """JSON: the metrics, and the modes (``None`` for a frequency the circuit did not show)."""
+    def to_dict(self) -> dict[str, object]:
+        """JSON: the metrics, and the modes (``None`` for a frequency the circuit did not show).
+
+        Typed ``dict[str, object]``: a store adds a run's measurements to it (:mod:`lcchain.studies.store`)."""
         return {"analysis": "ac", "modes": int(self.omega.size), "modes_seen": self.modes_seen,
                 "max_rel_error_omega": self.max_rel_error_omega, "max_abs_error_P": self.max_abs_error_P,
                 "spacing_spread": self.spacing_spread, "spacing_std": self.spacing_std,

@@ -29,6 +29,7 @@ from ..core.analyses import analysis_kind
 from ..core.checks import choice, instance, integer, is_integer, numbers_list, real, text_line
 from ..core.errors import ParameterError
 from ..core.frozen import FrozenMap
+from ..core.json import LooseJSONObject
 from ..core.limits import (
     MAX_AC_POINTS,
     MAX_CIRCUIT_N,
@@ -493,15 +494,16 @@ class Scene:
             if spread in plots and (tolerance is None or tolerance.samples < 2):
                 raise ParameterError("output.plots", plots, f'no "{spread}" unless effects.tolerance.samples > 1')
 
-    def to_dict(self) -> dict[str, Any]:
+    def to_dict(self) -> LooseJSONObject:
         """The scene as plain data with the file's keys (JSON- and TOML-writable).
 
         Keys left at None are omitted, ``effects`` holds only the effects
-        present, and ``parse_scene(scene.to_dict()) == scene``.
+        present, and ``parse_scene(scene.to_dict()) == scene``.  A TOML document: the studies read and edit it by
+        key (a varied part), hence :data:`~lcchain.core.json.LooseJSONObject`.
         """
 
-        def table(obj: object, keys: Sequence[str]) -> dict[str, Any]:
-            out = {}
+        def table(obj: object, keys: Sequence[str]) -> dict[str, object]:
+            out: dict[str, object] = {}
             for key in keys:
                 value = getattr(obj, key)
                 if value is not None:

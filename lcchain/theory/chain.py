@@ -24,6 +24,7 @@ import numpy as np
 from ..core.checks import integer, is_number, real
 from ..core.errors import ParameterError
 from ..core.frozen import readonly
+from ..core.json import JSONObject
 from ..core.limits import MAX_DESIGN_N, MIN_N
 
 __all__ = ["Chain", "MIN_N", "PERFECT_N", "PERFECT_ARRIVAL", "MAX_COUPLING"]
@@ -221,9 +222,9 @@ class Chain:
         return (f"Chain(name={self.name!r}, N={self.N}, masses={short(self.masses)}, springs={short(self.springs)}"
                 f"{coupled})")
 
-    def to_dict(self) -> dict[str, Any]:
+    def to_dict(self) -> JSONObject:
         """The chain as the JSON object ``{"masses": [...], "springs": [...]}`` (bulk units; ``coupling`` if not 0)."""
-        data: dict[str, Any] = {"masses": [float(m) for m in self.masses], "springs": [float(k) for k in self.springs]}
+        data: JSONObject = {"masses": [float(m) for m in self.masses], "springs": [float(k) for k in self.springs]}
         if self.coupled:
             data["coupling"] = self.coupling
         return data

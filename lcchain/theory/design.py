@@ -34,6 +34,7 @@ import scipy  # its submodules load on first use: commands that need no theory n
 
 from ..core.blas import fixed_blas_threads
 from ..core.checks import choice, integer
+from ..core.json import JSONDict
 from ..core.limits import MAX_DESIGN_N, MIN_N
 from ..core.types import DESIGN_CASES, DesignCase
 from .arrivals import arrival_window, first_arrival, refine_peak
@@ -111,9 +112,9 @@ class Design:
         """The optimised chain."""
         return design_chain(self.case, self.N, {"x": self.x, "r": self.r, "w": self.w})
 
-    def to_dict(self) -> dict[str, Any]:
+    def to_dict(self) -> JSONDict:
         """JSON object: N, case, delta, s, t_arrival, m1, m2, K12, x, y, z and r, w or Delta, delta_uniform."""
-        data = {
+        data: dict[str, str | float | None] = {
             "N": self.N, "case": self.case, "delta": self.delta, "s": self.s, "t_arrival": self.t_arrival,
             "m1": self.m1, "m2": self.m2, "K12": self.K12, "x": self.x, "y": self.y, "z": self.z,
         }

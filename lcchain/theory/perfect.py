@@ -81,6 +81,7 @@ import scipy  # its submodules load on first use: commands that need no theory n
 from ..core.blas import fixed_blas_threads
 from ..core.checks import instance, integer, numbers_list
 from ..core.errors import DesignError, ParameterError
+from ..core.json import JSONDict
 from ..core.limits import MAX_PERFECT_N, MIN_N
 from .chain import PERFECT_N, Chain
 
@@ -543,7 +544,7 @@ class PerfectDesign:
         return {"mass_max": float(m.max()), "mass_min": float(m.min()), "spring_max": float(inner.max()),
                 "spring_min": float(inner.min()), "distinct_masses": distinct(m), "distinct_springs": distinct(inner)}
 
-    def to_dict(self) -> dict[str, Any]:
+    def to_dict(self) -> JSONDict:
         """The JSON of ``lcchain design --case perfect``."""
         return {"N": self.N, "case": "perfect", "walls": self.walls, "masses": [float(v) for v in self.chain.masses],
                 "springs": [float(v) for v in self.chain.springs], "t_arrival": self.t_arrival, "delta": self.delta,
