@@ -51,7 +51,6 @@ import math
 import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -64,6 +63,7 @@ from ..core.json import JSONDict
 from ..core.limits import ACCURACY_FLOOR, MAX_ACCURACY_DT
 from ..core.types import METHODS
 from ..theory.modes import Modes, cosine_sum
+from .waveforms import Waveforms
 
 __all__ = [
     "AccuracyWarning",
@@ -495,7 +495,7 @@ class ErrorSplit:
 
 
 @fixed_blas_threads
-def split_error(waveforms: Any, modes: Modes, dt: float, *, method: str = "trap",
+def split_error(waveforms: Waveforms, modes: Modes, dt: float, *, method: str = "trap",
                 exact: tuple[np.ndarray, np.ndarray] | None = None, breakpoint: bool = True) -> ErrorSplit:
     """Split the error of a simulation into integration and physics error.
 

@@ -17,7 +17,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 
@@ -25,6 +24,7 @@ from ..core.budget import Estimate, ac_estimate
 from ..core.checks import integer
 from ..core.errors import ParameterError
 from ..core.frozen import FrozenArrays
+from ..core.json import LooseJSONObject
 from ..core.limits import COUPLED_MAX_N, MAX_AC_POINTS, MIN_AC_POINTS
 from ..theory.chain import Chain
 from ..theory.modes import Modes
@@ -326,8 +326,8 @@ class SpectrumMetrics(FrozenArrays):
                     {} if self.gamma_theory is None else {"gamma_theory": self.gamma_theory.tolist()})
 
     @classmethod
-    def from_dict(cls, data: dict[str, Any]) -> SpectrumMetrics:
-        """The metrics a store kept (:meth:`to_dict`)."""
+    def from_dict(cls, data: LooseJSONObject) -> SpectrumMetrics:
+        """The metrics a store kept (:meth:`to_dict`): JSON read by key, any shape refused as one error."""
         try:
             gamma, gamma_theory = data.get("gamma"), data.get("gamma_theory")
             return cls(np.asarray(data["omega_theory"], dtype=float),
@@ -344,7 +344,7 @@ class SpectrumMetrics(FrozenArrays):
             raise ParameterError("metrics", sorted(data), "an AC run's metrics (omega, P and their theory)") from None
 
 
-def _optional(data: dict[str, Any], name: str) -> np.ndarray | None:
+def _optional(data: LooseJSONObject, name: str) -> np.ndarray | None:
     value = data.get(name)
     return None if value is None else np.asarray(value, dtype=float)
 

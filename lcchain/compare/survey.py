@@ -43,13 +43,16 @@ Measured against exact theory in ``benchmarks/spectrum.md``.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..core.blas import fixed_blas_threads
 from ..core.errors import ParameterError
 from ..core.frozen import FrozenArrays
+
+if TYPE_CHECKING:
+    from scipy.sparse.linalg import SuperLU
 
 __all__ = ["ModeSurvey", "PoleStart", "SurveyOptions", "fit_survey", "survey_amplitudes", "mode_shapes", "CORE",
            "HALO", "FAR", "SWEEPS", "BACKGROUND", "SURVEY_SEED", "SKETCH", "signed_shapes"]
@@ -362,7 +365,7 @@ class _Fit:
         self.residues = np.zeros((x.size, 0))
         self.model: np.ndarray | None = None
         self.spread = np.full(x.size, np.inf)
-        self._lu: Any = None
+        self._lu: SuperLU | None = None
 
     def plan(self) -> None:
         """Each window's rows and least squares at the current poles, and the banded system that couples them."""
@@ -469,7 +472,7 @@ def _plan(w: np.ndarray, x: np.ndarray, gamma: np.ndarray, lossy: bool = True,
     return windows
 
 
-def _band(windows: list[_Window], n_modes: int) -> Any:
+def _band(windows: list[_Window], n_modes: int) -> SuperLU:
     """The LU factors of the banded system of every window's core residues (:func:`_rhs`): each window's core
     residues are its least squares of (samples - far modes' sections), linear in the far modes' residues."""
     import scipy.sparse
@@ -509,7 +512,7 @@ def _product(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.asarray((a @ np.ascontiguousarray(b).view(float)).view(complex))
 
 
-def _solve_band(lu: Any, rhs: np.ndarray) -> np.ndarray:
+def _solve_band(lu: SuperLU, rhs: np.ndarray) -> np.ndarray:
     """The banded system's solution for ``rhs`` (a real system's real and imaginary parts apart)."""
     if np.iscomplexobj(rhs) and not np.iscomplexobj(lu.L.data):
         both = np.asarray(lu.solve(np.ascontiguousarray(np.hstack((rhs.real, rhs.imag)))))

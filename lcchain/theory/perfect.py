@@ -72,8 +72,8 @@ from __future__ import annotations
 
 import math
 import warnings
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 import scipy  # its submodules load on first use: commands that need no theory never import them
@@ -377,7 +377,7 @@ def _solve(omega: np.ndarray, free: bool) -> np.ndarray:
 
 
 # ------------------------------------------------------------------ public
-def _check_spectrum(omega: Any) -> tuple[np.ndarray, bool]:
+def _check_spectrum(omega: object) -> tuple[np.ndarray, bool]:
     values = np.array(numbers_list("frequencies", omega, "ascending frequencies omega_1 < ... < omega_N"))
     if values.size < MIN_N:
         raise ParameterError("frequencies", f"{values.size} values", f"at least {MIN_N} frequencies (one per mass)")
@@ -432,7 +432,7 @@ def mode_density_from_spectrum(mu: np.ndarray) -> np.ndarray:
     return np.asarray(weight / weight.sum())
 
 
-def chain_from_spectrum(frequencies: Any, name: str = "from spectrum") -> tuple[Chain, float]:
+def chain_from_spectrum(frequencies: Sequence[float] | np.ndarray, name: str = "from spectrum") -> tuple[Chain, float]:
     """The mirror-symmetric chain with exactly these frequencies.
 
     Parameters

@@ -9,9 +9,9 @@ the return amplitude are modal cosine sums (:func:`lcchain.theory.modes.cosine_s
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..core.blas import fixed_blas_threads
 from ..core.checks import instance
@@ -94,7 +94,7 @@ def modes_of(chain_or_modes: Chain | Modes, method: ModeMethod | ModeSolver = "a
 
 
 # ------------------------------------------------------------------ responses
-def _finite_times(t: Any) -> Any:
+def _finite_times(t: ArrayLike) -> ArrayLike:
     """Times as given (a number or an array), or ParameterError naming the first that is not finite."""
     try:
         times = np.asarray(t, dtype=float)
@@ -107,7 +107,7 @@ def _finite_times(t: Any) -> Any:
 
 
 @fixed_blas_threads
-def transmission_amplitude(chain_or_modes: Chain | Modes, t: Any,
+def transmission_amplitude(chain_or_modes: Chain | Modes, t: ArrayLike,
                            method: ModeMethod = "auto") -> np.ndarray | float:
     """Transmission amplitude alpha_N(t), Eq. e.utn.
 
@@ -129,7 +129,7 @@ def transmission_amplitude(chain_or_modes: Chain | Modes, t: Any,
 
 
 @fixed_blas_threads
-def return_amplitude(chain_or_modes: Chain | Modes, t: Any, method: ModeMethod = "auto") -> np.ndarray | float:
+def return_amplitude(chain_or_modes: Chain | Modes, t: ArrayLike, method: ModeMethod = "auto") -> np.ndarray | float:
     """The first mass's own response, sum_n P_n cos(omega_n t) (1 at t = 0).
 
     This is what comes back to loop 1 after each round trip.
