@@ -22,13 +22,13 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, fields
 from pathlib import PurePosixPath
-from typing import Any, TypeVar
+from typing import TypeVar
 
 from ..circuit.effects import EFFECTS, Effect, Losses, PreferredValues, Tolerance, Walls, effect_fields
 from ..core.analyses import analysis_kind
 from ..core.checks import choice, instance, integer, is_integer, numbers_list, real, text_line
 from ..core.errors import ParameterError
-from ..core.frozen import FrozenMap
+from ..core.frozen import FrozenMap, Reduced
 from ..core.json import LooseJSONObject
 from ..core.limits import (
     MAX_AC_POINTS,
@@ -277,7 +277,7 @@ class Effects:
     def __repr__(self) -> str:
         return f"Effects({', '.join(f'{key}={part!r}' for key, part in self._parts.items())})"
 
-    def __reduce__(self) -> tuple[Any, ...]:
+    def __reduce__(self) -> Reduced:
         return (type(self), (dict(self._parts),))
 
     def get(self, kind: type[E]) -> E | None:
@@ -296,7 +296,7 @@ class Effects:
 
 #: The ``[analysis]`` keys of a transient only, refused with ``kind = "ac"``.
 TRANSIENT_KEYS = ("transits", "accuracy", "dt", "method", "extrapolate")
-def check_ac_keys(table: Mapping[str, Any]) -> None:
+def check_ac_keys(table: Mapping[str, object]) -> None:
     """Refuse a transient's key in the ``[analysis]`` table of an AC sweep, naming it."""
     for key in TRANSIENT_KEYS:
         if key in table:
