@@ -18,7 +18,7 @@ import os
 import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any, TypedDict
+from typing import TYPE_CHECKING, SupportsFloat, SupportsIndex, SupportsInt, TypedDict
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -30,6 +30,8 @@ if TYPE_CHECKING:
     from matplotlib.axes import Axes
     from matplotlib.axes._secondary_axes import SecondaryAxis
     from matplotlib.figure import Figure
+
+    from ..scenes.run import OverlayPanel
 
 __all__ = ["physical_axis", "OverlayCurves", "overlay", "side_by_side", "spacetime", "histogram", "pareto",
            "mode_density", "spectrum", "spacing_band", "TIME_LABEL", "set_title", "wrapped"]
@@ -148,7 +150,7 @@ def _same_length(name: str, a: np.ndarray, ref_name: str, ref: np.ndarray) -> No
         raise ParameterError(f"{name}.shape", a.shape, f"the shape of {ref_name}, {ref.shape}")
 
 
-def _field(item: Any, key: str, what: str, i: int) -> Any:
+def _field(item: object, key: str, what: str, i: int) -> object:
     """``item[key]`` for a mapping, ``item.key`` for an object (e.g. ArrivalComparison)."""
     if isinstance(item, Mapping):
         if key in item:
@@ -156,6 +158,21 @@ def _field(item: Any, key: str, what: str, i: int) -> Any:
     elif hasattr(item, key):
         return getattr(item, key)
     raise ParameterError(f"{what}[{i}]", item, f"a mapping with key {key!r}")
+
+
+def _float(value: object) -> float:
+    """``float(value)`` of a value read by :func:`_field` (float's own TypeError for what it cannot convert)."""
+    if isinstance(value, (str, bytes, bytearray, SupportsFloat, SupportsIndex)):
+        return float(value)
+    raise TypeError(f"float() argument must be a string or a real number, not '{type(value).__name__}'")
+
+
+def _int(value: object) -> int:
+    """``int(value)`` of a value read by :func:`_field` (int's own TypeError for what it cannot convert)."""
+    if isinstance(value, (str, bytes, bytearray, SupportsInt, SupportsIndex)):
+        return int(value)
+    raise TypeError(f"int() argument must be a string, a bytes-like object or a real number, not "
+                    f"'{type(value).__name__}'")
 
 
 # --------------------------------------------------------------------------- overlay
@@ -224,7 +241,7 @@ class OverlayCurves:
     t_residual: ArrayLike | None = None
     first_sim: ArrayLike | None = None
     first_theory: ArrayLike | None = None
-    arrivals: Sequence[Any] = ()
+    arrivals: Sequence[object] = ()
     time_unit: float | None = None
 
     def __post_init__(self) -> None:
@@ -269,7 +286,7 @@ class OverlayCurves:
         """Each arrival's numbers and whether it arrives at loop 1 (``first``)."""
         marks: list[dict[str, float | bool]] = []
         for i, a in enumerate(self.arrivals):
-            mark: dict[str, float | bool] = {key: float(_field(a, key, "arrivals", i)) for key in _ARRIVAL_KEYS}
+            mark: dict[str, float | bool] = {key: _float(_field(a, key, "arrivals", i)) for key in _ARRIVAL_KEYS}
             end = a.get("end", "last") if isinstance(a, Mapping) else getattr(a, "end", "last")
             if end not in ("first", "last"):
                 raise ParameterError("arrivals[].end", end, "'first' or 'last'")
@@ -397,7 +414,7 @@ def overlay(curves: OverlayCurves, *, title: str = "", ylabel: str = r"$I_N\,/\,
     return _finish(fig, path)
 
 
-def side_by_side(panels: Sequence[Mapping[str, Any]], *, title: str = "",
+def side_by_side(panels: Sequence[OverlayPanel], *, title: str = "",
                  path: str | os.PathLike[str] | None = None) -> Figure:
     """Several overlays next to each other, on shared axes (e.g. uniform against optimal ends).
 
@@ -627,7 +644,7 @@ def histogram(values: ArrayLike, *, theory: float | None = None, title: str = ""
 
 # --------------------------------------------------------------------------- pareto
 
-def pareto(records: Sequence[Mapping[str, Any]], *, path: str | os.PathLike[str] | None = None,
+def pareto(records: Sequence[Mapping[str, object]], *, path: str | os.PathLike[str] | None = None,
            ax: Axes | None = None) -> Figure:
     """Accuracy against cost of the simulation methods (log-log).
 
@@ -656,11 +673,11 @@ def pareto(records: Sequence[Mapping[str, Any]], *, path: str | os.PathLike[str]
     groups: dict[tuple[str, int], list[tuple[float, float]]] = {}
     for i, rec in enumerate(records):
         method, n, wall, err = (_field(rec, key, "records", i) for key in _RECORD_KEYS)
-        wall, err = float(wall), float(err)
+        wall, err = _float(wall), _float(err)
         for key, v in (("wall_s", wall), ("error", err)):
             if not (np.isfinite(v) and v > 0):
                 raise ParameterError(f"records[{i}][{key!r}]", v, "a finite number > 0 (log axes)")
-        groups.setdefault((str(method), int(n)), []).append((wall, err))
+        groups.setdefault((str(method), _int(n)), []).append((wall, err))
     if not groups:
         raise ParameterError("records", records, "at least one record")
 
