@@ -13,7 +13,7 @@ import math
 import numbers
 import re
 from collections.abc import Callable, Mapping, Sequence
-from typing import Literal, SupportsFloat, TypeVar, cast, overload
+from typing import Literal, SupportsFloat, SupportsIndex, SupportsInt, TypeVar, cast, overload
 
 import numpy as np
 import numpy.typing as npt
@@ -249,3 +249,20 @@ def time_array(name: str, t: npt.ArrayLike) -> np.ndarray:
     if bad.size:
         raise ParameterError(f"{name}[{bad[0]}]", float(times[bad[0]]), allowed)
     return times
+
+
+def as_float(value: object) -> float:
+    """``float(value)`` of a value read from a document or an object by name: float's own TypeError for what it
+    cannot convert (a checked conversion, where the value's type is not known)."""
+    if isinstance(value, (str, bytes, bytearray, SupportsFloat, SupportsIndex)):
+        return float(value)
+    raise TypeError(f"float() argument must be a string or a real number, not '{type(value).__name__}'")
+
+
+def as_int(value: object) -> int:
+    """``int(value)`` of a value read from a document or an object by name: int's own TypeError for what it
+    cannot convert."""
+    if isinstance(value, (str, bytes, bytearray, SupportsInt, SupportsIndex)):
+        return int(value)
+    raise TypeError(f"int() argument must be a string, a bytes-like object or a real number, not "
+                    f"'{type(value).__name__}'")

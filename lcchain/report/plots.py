@@ -18,11 +18,12 @@ import os
 import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, SupportsFloat, SupportsIndex, SupportsInt, TypedDict
+from typing import TYPE_CHECKING, TypedDict
 
 import numpy as np
 from numpy.typing import ArrayLike
 
+from ..core.checks import as_float, as_int
 from ..core.errors import ParameterError
 from .files import save_figure
 
@@ -160,21 +161,6 @@ def _field(item: object, key: str, what: str, i: int) -> object:
     raise ParameterError(f"{what}[{i}]", item, f"a mapping with key {key!r}")
 
 
-def _float(value: object) -> float:
-    """``float(value)`` of a value read by :func:`_field` (float's own TypeError for what it cannot convert)."""
-    if isinstance(value, (str, bytes, bytearray, SupportsFloat, SupportsIndex)):
-        return float(value)
-    raise TypeError(f"float() argument must be a string or a real number, not '{type(value).__name__}'")
-
-
-def _int(value: object) -> int:
-    """``int(value)`` of a value read by :func:`_field` (int's own TypeError for what it cannot convert)."""
-    if isinstance(value, (str, bytes, bytearray, SupportsInt, SupportsIndex)):
-        return int(value)
-    raise TypeError(f"int() argument must be a string, a bytes-like object or a real number, not "
-                    f"'{type(value).__name__}'")
-
-
 # --------------------------------------------------------------------------- overlay
 
 def physical_axis(ax: Axes, scale: float, unit: str, label: str) -> SecondaryAxis:
@@ -286,7 +272,7 @@ class OverlayCurves:
         """Each arrival's numbers and whether it arrives at loop 1 (``first``)."""
         marks: list[dict[str, float | bool]] = []
         for i, a in enumerate(self.arrivals):
-            mark: dict[str, float | bool] = {key: _float(_field(a, key, "arrivals", i)) for key in _ARRIVAL_KEYS}
+            mark: dict[str, float | bool] = {key: as_float(_field(a, key, "arrivals", i)) for key in _ARRIVAL_KEYS}
             end = a.get("end", "last") if isinstance(a, Mapping) else getattr(a, "end", "last")
             if end not in ("first", "last"):
                 raise ParameterError("arrivals[].end", end, "'first' or 'last'")
@@ -673,11 +659,11 @@ def pareto(records: Sequence[Mapping[str, object]], *, path: str | os.PathLike[s
     groups: dict[tuple[str, int], list[tuple[float, float]]] = {}
     for i, rec in enumerate(records):
         method, n, wall, err = (_field(rec, key, "records", i) for key in _RECORD_KEYS)
-        wall, err = _float(wall), _float(err)
+        wall, err = as_float(wall), as_float(err)
         for key, v in (("wall_s", wall), ("error", err)):
             if not (np.isfinite(v) and v > 0):
                 raise ParameterError(f"records[{i}][{key!r}]", v, "a finite number > 0 (log axes)")
-        groups.setdefault((str(method), _int(n)), []).append((wall, err))
+        groups.setdefault((str(method), as_int(n)), []).append((wall, err))
     if not groups:
         raise ParameterError("records", records, "at least one record")
 
