@@ -98,7 +98,7 @@ def scene_figure(result: SceneResult, ax: Axes | None = None) -> Figure:
                          ax=ax)
 
 
-def record_figure(record: Any, ax: Axes | None = None) -> Figure:  # a RunRecord: report may not import runs.execute
+def record_figure(record: Any, ax: Axes | None = None) -> Figure:  # a RunRecord (runs.execute is not report's to load)
     """A :class:`~lcchain.runs.execute.RunRecord`'s figure: its compared loops over theory (the far end, the first
     too; residual below) where it had a theory, else its saved vectors against time in seconds (an AC run's
     magnitudes against frequency in hertz, on log axes)."""
