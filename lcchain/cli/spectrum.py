@@ -10,20 +10,8 @@ from typing import Any
 
 from ..app.options import DEFAULT_ENGINE, engine_names
 from ..core.json import LooseJSONObject
-from .common import (
-    EXIT_FAILED,
-    EXIT_OK,
-    Parser,
-    Subcommands,
-    add_circuit_arguments,
-    add_effect_arguments,
-    budget_from_args,
-    chain_options,
-    effects_from_args,
-    emit_json,
-    number_type,
-    print_notes,
-)
+from .chains import add_circuit_arguments, add_effect_arguments, chain_options, effects_from_args
+from .common import EXIT_FAILED, EXIT_OK, Parser, Subcommands, budget_from_args, emit_json, number_type, print_notes
 from .progress import fraction
 from .run import error_text
 from .simulate import print_units

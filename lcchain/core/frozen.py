@@ -10,13 +10,15 @@ type :class:`FrozenMap`, and re-freeze their arrays when unpickled
 from __future__ import annotations
 
 import dataclasses
+import sys
 from collections.abc import Callable, Iterator, Mapping
-from typing import Generic, TypeAlias, TypeVar
+from typing import TYPE_CHECKING, Generic, TypeAlias, TypeGuard, TypeVar
 
-import numpy as np
-import numpy.typing as npt
+if TYPE_CHECKING:
+    import numpy as np
+    import numpy.typing as npt
 
-__all__ = ["readonly", "FrozenMap", "FrozenArrays", "Reduced"]
+__all__ = ["readonly", "FrozenMap", "FrozenArrays", "is_array", "Reduced"]
 
 #: What ``__reduce__`` returns: a callable that rebuilds the object, and the arguments it is called with.
 Reduced: TypeAlias = tuple[Callable[..., object], tuple[object, ...]]
@@ -25,8 +27,17 @@ K = TypeVar("K")
 V = TypeVar("V")
 
 
+def is_array(value: object) -> TypeGuard[np.ndarray]:
+    """``value`` is a numpy array.  Asked without importing numpy: no array exists before numpy is imported, so a
+    process that never imports it (a batch's start) pays nothing for the question."""
+    numpy = sys.modules.get("numpy")
+    return numpy is not None and isinstance(value, numpy.ndarray)
+
+
 def readonly(values: npt.ArrayLike, dtype: npt.DTypeLike = float) -> np.ndarray:
     """A contiguous copy of ``values`` that cannot be written to."""
+    import numpy as np
+
     array = np.array(values, dtype=dtype)
     array.flags.writeable = False
     return array
@@ -44,7 +55,7 @@ class FrozenMap(Mapping[K, V], Generic[K, V]):
     def __init__(self, data: Mapping[K, V] | None = None):
         items: dict[K, V] = dict(data) if data is not None else {}
         for key, value in items.items():
-            if isinstance(value, np.ndarray) and value.flags.writeable:
+            if is_array(value) and value.flags.writeable:
                 items[key] = readonly(value, value.dtype)  # type: ignore[assignment]
         object.__setattr__(self, "_data", items)
 
@@ -84,14 +95,14 @@ class FrozenArrays:
     def _freeze_arrays(self) -> None:
         for f in dataclasses.fields(self):  # type: ignore[arg-type]
             value = getattr(self, f.name)
-            if isinstance(value, np.ndarray) and value.flags.writeable:
+            if is_array(value) and value.flags.writeable:
                 view = value.view()
                 view.flags.writeable = False
                 object.__setattr__(self, f.name, view)
 
     def __setstate__(self, state: dict[str, object]) -> None:
         for key, value in state.items():
-            if isinstance(value, np.ndarray):
+            if is_array(value):
                 value.flags.writeable = False
             object.__setattr__(self, key, value)
 

@@ -21,9 +21,8 @@ from __future__ import annotations
 import hashlib
 import json
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-from ..circuit.elements import Element, Pulse
 from ..core import __version__
 from ..core.analyses import analysis_kind
 from ..core.checks import choice, instance, integer, real
@@ -45,8 +44,11 @@ from ..core.types import (
     PulseShape,
 )
 from ..spice.engines import DEFAULT_ENGINE, engine_named
-from ..theory.chain import Chain
-from ..theory.modes import Modes
+
+if TYPE_CHECKING:  # a spec's theory is imported with it: a batch's specs have none, and start without numpy
+    from ..circuit.elements import Element, Pulse
+    from ..theory.chain import Chain
+    from ..theory.modes import Modes
 
 __all__ = ["Theory", "SpectrumTheory", "RunSpec", "DEFAULT_TIMEOUT"]
 
@@ -122,6 +124,10 @@ class Theory:
     circuit: tuple[Element | Pulse, ...] | None = None
 
     def __post_init__(self) -> None:
+        from ..circuit.elements import Element, Pulse
+        from ..theory.chain import Chain
+        from ..theory.modes import Modes
+
         instance("chain", self.chain, Chain)
         real("time_unit", self.time_unit, above=0.0, unit="seconds")
         real("I0", self.I0, above=0.0, unit="ampere")
@@ -214,6 +220,10 @@ class SpectrumTheory:
     circuit: tuple[Element | Pulse, ...] | None = None
 
     def __post_init__(self) -> None:
+        from ..circuit.elements import Element, Pulse
+        from ..theory.chain import Chain
+        from ..theory.modes import Modes
+
         instance("chain", self.chain, Chain)
         real("time_unit", self.time_unit, above=0.0, unit="seconds")
         real("impedance", self.impedance, above=0.0, unit="ohm")

@@ -51,7 +51,7 @@ import urllib.parse
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import FIRST_COMPLETED, Future, ThreadPoolExecutor, wait
 from dataclasses import dataclass, replace
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, TypeAlias
 
 from ..core.budget import (
     DASK_SCHEDULER_BYTES,
@@ -65,7 +65,6 @@ from ..core.budget import (
 from ..core.errors import ExtraMissingError, LcchainError, ParameterError, SimulatorMissingError
 from ..core.registry import Registry
 from ..core.types import EXECUTORS, TRANSPORT_CHOICES, Backend, ExecutorName, TransportChoice
-from ..runs.execute import RunRecord, execute
 from ..runs.spec import RunSpec
 from ..spice.engines import engine_named, find_engine
 from ..spice.scratch import scratch_folder
@@ -73,6 +72,8 @@ from ..spice.simulator import Simulator
 
 if TYPE_CHECKING:  # multiprocessing's pool takes ~10 ms to import, which a batch never uses
     from concurrent.futures import ProcessPoolExecutor
+
+    from ..runs.execute import RunRecord  # imported where runs execute: the engine starts before numpy loads
 
 __all__ = ["ExecutorName", "EXECUTORS", "ExecutorTraits", "EXECUTOR_TRAITS", "DEFAULT_EXECUTOR",
            "SCHEDULER_SCHEMES", "run_groups", "open_executor",
@@ -148,7 +149,7 @@ class Transports:
 
 #: What an open executor is: groups (and their transports) in, each group's (index, record) pairs out as it
 #: finishes.
-Runner = Callable[[list[Group], Transports], Iterator[list[tuple[int, RunRecord]]]]
+Runner: TypeAlias = "Callable[[list[Group], Transports], Iterator[list[tuple[int, RunRecord]]]]"
 
 
 @dataclass(frozen=True)
@@ -358,6 +359,8 @@ def execute_group(group: Group, simulator: Simulator, keep_signals: bool = False
     A worker whose engine is elsewhere finds its own; one whose engine has
     another version fails its runs (their keys would not be the study's).
     """
+    from ..runs.execute import RunRecord, execute
+
     if not os.path.exists(simulator.executable):
         engine = engine_named(simulator.engine, "simulator.engine")
         found = find_engine(engine.name, engine.transport_for(simulator.backend))

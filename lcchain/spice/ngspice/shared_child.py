@@ -14,13 +14,14 @@ import subprocess
 import sys
 import tempfile
 import time
-from typing import Any
-
-import numpy as np
+from typing import TYPE_CHECKING, Any
 
 from ...core.errors import SimulationError
 from ..log import useful_output
 from ..processes import PACKAGE_ROOT, WATCH_INTERVAL, child_env, kill_group, outgrown, read_all
+
+if TYPE_CHECKING:
+    import numpy as np
 
 __all__ = ["call_shared_worker", "decode_worker_payload"]
 
@@ -72,6 +73,8 @@ def call_shared_worker(launcher: tuple[str, ...], request: dict[str, Any], timeo
 
 
 def decode_worker_payload(payload: bytes) -> tuple[dict[str, Any], list[np.ndarray]]:
+    import numpy as np
+
     with np.load(io.BytesIO(payload), allow_pickle=False) as npz:
         meta = json.loads(npz["meta"].tobytes().decode("utf-8"))
         arrays = [npz[f"v{i}"] for i in range(len(meta.get("names", [])))]

@@ -29,11 +29,12 @@ import logging
 import os
 import sys
 import time
-from typing import Any
-
-import numpy as np
+from typing import TYPE_CHECKING, Any
 
 from lcchain.spice.text import circuit_lines, text_digest
+
+if TYPE_CHECKING:
+    import numpy as np
 
 
 class _PySpiceLog(logging.Handler):
@@ -74,6 +75,8 @@ def simulate(netlist: str, library: str) -> tuple[dict[str, Any], list[np.ndarra
     arrays : list of numpy.ndarray
         The vectors of the last transient plot, in the order of ``meta["names"]``.
     """
+    import numpy as np
+
     errors: list[str] = []
     pyspice_logger = logging.getLogger("PySpice")
     pyspice_logger.addHandler(_PySpiceLog(level=logging.WARNING))
@@ -157,6 +160,8 @@ def main() -> int:
 
     A request without ``"netlist"`` asks for the library's version only.
     """
+    import numpy as np
+
     request = json.loads(sys.stdin.buffer.read().decode("utf-8"))
     protocol = os.fdopen(os.dup(1), "wb")
     os.dup2(2, 1)

@@ -44,9 +44,7 @@ import threading
 import time
 from collections.abc import Callable
 from dataclasses import replace
-from typing import IO, Any
-
-import numpy as np
+from typing import IO, TYPE_CHECKING, Any
 
 from ...core.budget import show_bytes
 from ...core.errors import SimulationError, SimulatorMissingError
@@ -57,6 +55,9 @@ from ..simulator import Simulator
 from ..text import canonical_vector_name
 from .locate import find_shared_library
 from .place import Place, placement
+
+if TYPE_CHECKING:
+    import numpy as np
 
 __all__ = ["WarmWorker", "run_warm", "worker_for", "close_workers", "warm_simulator", "WARM_BELOW_SECONDS",
            "MAX_WORKER_BYTES", "MAX_WORKER_RUNS", "RESTART_SHARE"]
@@ -189,6 +190,8 @@ class WarmWorker:
             the next), the run outlived its timeout (status ``"timeout"``, the worker killed), its output or
             memory outgrew its limits (the worker killed), or its vectors outgrew ``max_output_bytes``.
         """
+        import numpy as np
+
         assert self.proc.stdin is not None
         timeout, limit, resident = job.timeout, job.max_output_bytes, job.max_resident_bytes
         data = job.text.encode("utf-8")
