@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import argparse
 import sys
-from typing import Any
+from typing import TYPE_CHECKING
 
 from ..app.options import DEFAULT_ENGINE, engine_names
 from ..core.json import LooseJSONObject
@@ -15,6 +15,9 @@ from .common import EXIT_FAILED, EXIT_OK, Parser, Subcommands, budget_from_args,
 from .progress import fraction
 from .run import error_text
 from .simulate import print_units
+
+if TYPE_CHECKING:
+    from ..app.spectrum import ModeReport
 
 __all__ = ["add_parser", "cmd_spectrum"]
 
@@ -116,7 +119,7 @@ def cmd_spectrum(args: argparse.Namespace) -> int:
     return EXIT_FAILED if result.outputs.failed else EXIT_OK
 
 
-def _print_survey(modes: Any) -> None:
+def _print_survey(modes: ModeReport) -> None:
     """``spectrum --shapes``: every mode from the survey of every loop, beside the exact eigensolution."""
     for name, value in modes.rows():
         print(f"{name}: {value:.3e}" if isinstance(value, float) else f"{name}: {value}")

@@ -139,9 +139,8 @@ class Metrics:
     physics_error: float | None = None
     effects: EffectCost | None = None
 
-    def to_dict(self) -> dict[str, object]:
-        # JSON, typed as dict[str, object]: a store adds a run's measurements to it (lcchain.studies.store)
-        data: dict[str, object] = {
+    def to_dict(self) -> JSONDict:
+        data: JSONDict = {
             "max_abs_error": self.max_abs_error,
             "max_abs_error_first": self.max_abs_error_first,
             "max_abs_error_last": self.max_abs_error_last,

@@ -24,7 +24,7 @@ from ..core.budget import Estimate, ac_estimate
 from ..core.checks import integer
 from ..core.errors import ParameterError
 from ..core.frozen import FrozenArrays
-from ..core.json import LooseJSONObject
+from ..core.json import JSONDict, LooseJSONObject
 from ..core.limits import COUPLED_MAX_N, MAX_AC_POINTS, MIN_AC_POINTS
 from ..theory.chain import Chain
 from ..theory.modes import Modes
@@ -307,10 +307,8 @@ class SpectrumMetrics(FrozenArrays):
     def modes_seen(self) -> int:
         return int(np.count_nonzero(np.isfinite(self.omega)))
 
-    def to_dict(self) -> dict[str, object]:
-        """JSON: the metrics, and the modes (``None`` for a frequency the circuit did not show).
-
-        Typed ``dict[str, object]``: a store adds a run's measurements to it (:mod:`lcchain.studies.store`)."""
+    def to_dict(self) -> JSONDict:
+        """JSON: the metrics, and the modes (``None`` for a frequency the circuit did not show)."""
         return {"analysis": "ac", "modes": int(self.omega.size), "modes_seen": self.modes_seen,
                 "max_rel_error_omega": self.max_rel_error_omega, "max_abs_error_P": self.max_abs_error_P,
                 "spacing_spread": self.spacing_spread, "spacing_std": self.spacing_std,

@@ -242,8 +242,8 @@ def _run_record(index: int, chain: Chain, run: RunRecord, netlist_sha256: str, p
 def _sample_record(index: int, chain: Chain, dt: float, run: RunRecord) -> SampleRecord:
     if not run.ok:
         return _failed_record(index, chain, run)
-    assert run.result is not None and run.metrics is not None
-    record = _run_record(index, chain, run, run.result.netlist_sha256, run.result.points)
+    assert run.run is not None and run.metrics is not None
+    record = _run_record(index, chain, run, run.run.netlist_sha256, run.run.points)
     record.update({"dt": dt, "max_abs_error": run.metrics.max_abs_error,
                    "arrivals": [a.to_dict() for a in run.metrics.arrivals]})
     if run.metrics.effects is not None:  # against the circuit's own theory: what its effects cost the pulse
@@ -254,8 +254,8 @@ def _sample_record(index: int, chain: Chain, dt: float, run: RunRecord) -> Sampl
 def _spectrum_record(index: int, chain: Chain, run: RunRecord) -> SampleRecord:
     if not run.ok:
         return _failed_record(index, chain, run)
-    assert run.ac is not None and run.spectrum is not None
-    record = _run_record(index, chain, run, run.ac.netlist_sha256, run.ac.points)
+    assert run.run is not None and run.spectrum is not None
+    record = _run_record(index, chain, run, run.run.netlist_sha256, run.run.points)
     spectrum = run.spectrum  # its SPECTRAL_METRICS, in their order, as its to_dict has them
     record.update({"max_rel_error_omega": spectrum.max_rel_error_omega, "max_abs_error_P": spectrum.max_abs_error_P,
                    "spacing_spread": spectrum.spacing_spread, "spacing_std": spectrum.spacing_std,
@@ -306,7 +306,7 @@ def transmitted_peaks(result: SceneResult) -> list[float]:
 
 def _members(plan: ScenePlan, records: Sequence[RunRecord]) -> JSONDict:
     members: list[JSONDict] = [
-        {"dt": h, "status": r.status, "points": r.result.points if r.result is not None else None,
+        {"dt": h, "status": r.status, "points": r.run.points if r.run is not None else None,
          "wall_s": r.wall_s, "max_abs_error": r.metrics.max_abs_error if r.metrics is not None else None}
         for h, r in zip(plan.steps, records, strict=True)]
     return {"runs": plan.runs, "dt": list(plan.steps), "weights": list(WEIGHTS[plan.runs]), "members": members,

@@ -51,7 +51,7 @@ import urllib.parse
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import FIRST_COMPLETED, Future, ThreadPoolExecutor, wait
 from dataclasses import dataclass, replace
-from typing import TYPE_CHECKING, Any, TypeAlias
+from typing import TYPE_CHECKING, TypeAlias
 
 from ..core.budget import (
     DASK_SCHEDULER_BYTES,
@@ -70,8 +70,10 @@ from ..spice.engines import engine_named, find_engine
 from ..spice.scratch import scratch_folder
 from ..spice.simulator import Simulator
 
-if TYPE_CHECKING:  # multiprocessing's pool takes ~10 ms to import, which a batch never uses
+if TYPE_CHECKING:  # multiprocessing's pool takes ~10 ms to import, which a batch never uses; Dask is optional
     from concurrent.futures import ProcessPoolExecutor
+
+    from distributed import Client
 
     from ..runs.execute import RunRecord  # imported where runs execute: the engine starts before numpy loads
 
@@ -497,7 +499,7 @@ def _threaded(groups: list[Group], simulator: Simulator, workers: int, keep_sign
 
 # ------------------------------------------------------------------ Dask
 @contextlib.contextmanager
-def _dask(workers: int, scheduler: str | None, verbose: bool, scratch: str | None = None) -> Iterator[Any]:
+def _dask(workers: int, scheduler: str | None, verbose: bool, scratch: str | None = None) -> Iterator[Client]:
     """A Dask client: on a LocalCluster whose scratch space is removed after it closed, or on ``scheduler``.
 
     The scratch space is a folder of the driver's own (:func:`lcchain.spice.scratch.scratch_folder`) in
@@ -535,7 +537,7 @@ def _dask(workers: int, scheduler: str | None, verbose: bool, scratch: str | Non
         yield client
 
 
-def _on_dask(client: Any, groups: list[Group], simulator: Simulator, keep_signals: bool,
+def _on_dask(client: Client, groups: list[Group], simulator: Simulator, keep_signals: bool,
              transports: Transports) -> Iterator[list[tuple[int, RunRecord]]]:
     from distributed import as_completed as completed
 
@@ -741,5 +743,5 @@ def run_groups(groups: list[Group], simulator: Simulator, *, executor: str | Exe
         yield from run(groups, transports)
 
 
-def describe(executor: str, workers: int, scheduler: str | None) -> dict[str, Any]:
+def describe(executor: str, workers: int, scheduler: str | None) -> dict[str, str | int | None]:
     return {"executor": executor, "workers": workers, "scheduler": scheduler}

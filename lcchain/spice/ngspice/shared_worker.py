@@ -29,12 +29,32 @@ import logging
 import os
 import sys
 import time
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, TypedDict
 
 from lcchain.spice.text import circuit_lines, text_digest
 
 if TYPE_CHECKING:
     import numpy as np
+
+
+class WorkerRequest(TypedDict, total=False):
+    """What the parent sends, as JSON: the library's path, and the netlist (without it: the version only)."""
+
+    library: str
+    netlist: str
+
+
+class WorkerMeta(TypedDict, total=False):
+    """What the worker answers, as JSON beside its arrays: the version (alone, for a version request), and for a
+    run the vectors' names in the arrays' order, ngspice's wall seconds, its errors, whether the plot held complex
+    vectors (not read), and the digest of the lines ngspice was given."""
+
+    version: str
+    names: list[str]
+    wall_s: float
+    errors: list[str]
+    complex: bool
+    lines: str
 
 
 class _PySpiceLog(logging.Handler):
@@ -56,7 +76,7 @@ def _echo(line: str) -> None:
     stream.flush()
 
 
-def simulate(netlist: str, library: str) -> tuple[dict[str, Any], list[np.ndarray]]:
+def simulate(netlist: str, library: str) -> tuple[WorkerMeta, list[np.ndarray]]:
     """Run a netlist once in the ngspice shared library.
 
     ngspice's output goes to stderr line by line as it comes.
@@ -140,8 +160,8 @@ def simulate(netlist: str, library: str) -> tuple[dict[str, Any], list[np.ndarra
         except Exception as exc:  # noqa: BLE001 - cleanup must not hide the result
             _echo(f"PySpice {command}: {type(exc).__name__}: {exc}")
 
-    meta = {"names": names, "version": version, "wall_s": wall, "errors": errors, "complex": is_complex,
-            "lines": text_digest(given)}
+    meta: WorkerMeta = {"names": names, "version": version, "wall_s": wall, "errors": errors,
+                        "complex": is_complex, "lines": text_digest(given)}
     return meta, arrays
 
 
@@ -162,12 +182,12 @@ def main() -> int:
     """
     import numpy as np
 
-    request = json.loads(sys.stdin.buffer.read().decode("utf-8"))
+    request: WorkerRequest = json.loads(sys.stdin.buffer.read().decode("utf-8"))
     protocol = os.fdopen(os.dup(1), "wb")
     os.dup2(2, 1)
     sys.stdout = sys.stderr
     if "netlist" not in request:
-        meta: dict[str, Any] = {"version": version(request["library"])}
+        meta: WorkerMeta = {"version": version(request["library"])}
         arrays: list[np.ndarray] = []
     else:
         meta, arrays = simulate(request["netlist"], request["library"])
