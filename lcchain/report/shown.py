@@ -10,7 +10,8 @@ pandas' ``DataFrame.plot`` finds its plotting backend: another package may draw 
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING, Any, Protocol
+from collections.abc import Mapping
+from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 
@@ -23,7 +24,7 @@ if TYPE_CHECKING:
     from ..circuit.ladder import Ladder
     from ..circuit.netlist import SimulationOptions
     from ..compare.metrics import Comparison
-    from ..compare.waveforms import Waveforms
+    from ..compare.waveforms import Signals, Waveforms
     from ..runs.spectrum import SpectrumReport
     from ..scenes.run import SceneResult
     from ..studies.store import Store
@@ -98,7 +99,47 @@ def scene_figure(result: SceneResult, ax: Axes | None = None) -> Figure:
                          ax=ax)
 
 
-def record_figure(record: Any, ax: Axes | None = None) -> Figure:  # a RunRecord (runs.execute is not report's to load)
+class _RunData(Protocol):
+    @property
+    def axis(self) -> np.ndarray: ...
+
+
+class _Run(Protocol):
+    """What :func:`record_figure` reads of a run's :class:`~lcchain.spice.result.RunResult`."""
+
+    @property
+    def analysis(self) -> str: ...
+    @property
+    def data(self) -> _RunData: ...
+    @property
+    def vectors(self) -> Mapping[str, np.ndarray]: ...
+
+
+class Recorded(Protocol):
+    """What :func:`record_figure` reads of a :class:`~lcchain.runs.execute.RunRecord` (report never imports the
+    modules that run a simulator, where it and its run are defined)."""
+
+    @property
+    def ok(self) -> bool: ...
+    @property
+    def key(self) -> str: ...
+    @property
+    def status(self) -> str: ...
+    @property
+    def reason(self) -> str: ...
+    @property
+    def label(self) -> str: ...
+    @property
+    def engine(self) -> str: ...
+    @property
+    def engine_version(self) -> str: ...
+    @property
+    def signals(self) -> Signals | None: ...
+    @property
+    def run(self) -> _Run | None: ...
+
+
+def record_figure(record: Recorded, ax: Axes | None = None) -> Figure:
     """A :class:`~lcchain.runs.execute.RunRecord`'s figure: its compared loops over theory (the far end, the first
     too; residual below) where it had a theory, else its saved vectors against time in seconds (an AC run's
     magnitudes against frequency in hertz, on log axes)."""
