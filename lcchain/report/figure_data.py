@@ -23,6 +23,7 @@ import scipy  # its submodules load on first use: commands that need no theory n
 from ..circuit.ladder import Ladder
 from ..circuit.netlist import NetlistOutput, SimulationOptions, netlist_text
 from ..core import __version__
+from ..core.arrays import FloatArray
 from ..core.blas import fixed_blas_threads
 from ..core.errors import ParameterError
 from ..core.types import DEFAULT_C0, DEFAULT_L0, DesignCase
@@ -253,8 +254,8 @@ class Cradle4Data(TypedDict):
     masses: list[float]
     springs: list[float]
     T: float
-    t: np.ndarray
-    velocities: np.ndarray
+    t: FloatArray
+    velocities: FloatArray
 
 
 class VkPanel(TypedDict):
@@ -262,20 +263,20 @@ class VkPanel(TypedDict):
 
     Delta: float
     x: float
-    v: np.ndarray
-    P: np.ndarray
-    k_n: np.ndarray
-    P_n: np.ndarray
-    k_mid: np.ndarray
-    v_n: np.ndarray
+    v: FloatArray
+    P: FloatArray
+    k_n: FloatArray
+    P_n: FloatArray
+    k_mid: FloatArray
+    v_n: FloatArray
 
 
 class VkData(TypedDict):
     """:func:`vk_data`."""
 
     N: int
-    k: np.ndarray
-    uniform_v: np.ndarray
+    k: FloatArray
+    uniform_v: FloatArray
     panels: list[VkPanel]
 
 
@@ -292,15 +293,15 @@ class IntRwCurve(TypedDict):
     name: str
     tau: float
     sigma: float
-    integrand: np.ndarray
+    integrand: FloatArray
     alpha: float
 
 
 class IntRwData(TypedDict):
     """:func:`int_rw_data`."""
 
-    zeta: np.ndarray
-    weight: np.ndarray
+    zeta: FloatArray
+    weight: FloatArray
     curves: list[IntRwCurve]
 
 
@@ -323,17 +324,17 @@ class PkPanel(TypedDict):
     N: int
     r: float
     w: float
-    k: np.ndarray
-    P: np.ndarray
-    spacing: np.ndarray
+    k: FloatArray
+    P: FloatArray
+    spacing: FloatArray
 
 
 class PkData(TypedDict):
     """:func:`pk_data`."""
 
     panels: list[PkPanel]
-    k: np.ndarray
-    uniform_v: np.ndarray
+    k: FloatArray
+    uniform_v: FloatArray
 
 
 class CircuitElement(TypedDict):

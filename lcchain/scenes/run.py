@@ -23,6 +23,7 @@ import numpy as np
 from ..compare.extrapolate import WEIGHTS
 from ..compare.spectral import OMEGA_WEIGHT_FLOOR, SpectrumMetrics
 from ..compare.waveforms import Waveforms
+from ..core.arrays import FloatArray
 from ..core.blas import fixed_blas_threads
 from ..core.budget import Budget
 from ..core.checks import callback, instance
@@ -445,9 +446,9 @@ def simulate_scene(scene: Scene, *, progress: Callable[[float], None] | None = N
 class OverlayPanel(TypedDict):
     """A column of :func:`lcchain.report.plots.side_by_side`: loop N's signal over its theory, and its arrivals."""
 
-    t: np.ndarray
-    sim: np.ndarray
-    theory: np.ndarray
+    t: FloatArray
+    sim: FloatArray
+    theory: FloatArray
     title: str
     arrivals: list[JSONDict]
     ylabel: str
