@@ -166,24 +166,24 @@ def _continued_fraction(chain: Chain, omega: np.ndarray, Q: float | None, extend
     coupled = bool(np.any(coupling != 0))
     pivot = lam * real(mass[-1]) + diagonal[-1]
     error = c * (size * mass[-1] + sizes[-1])  # |d - exact|, absolute
-    modulus = np.abs(pivot).astype(float)
+    modulus = np.abs(pivot) if not extended else np.abs(pivot).astype(float)
     for i in range(chain.N - 2, -1, -1):
+        # |o^2 / d| carries d's error relative, o's twice and the products' rounding; d_i = a_i - o^2 / d adds a_i's
+        # rounding and the difference's
         if coupled:
             off = lam * real(coupling[i]) - springs[i + 1]
             off_size = np.abs(off).astype(float)
-            off_error = c * (size * abs(coupling[i]) + K[i + 1])
             term = off * off / pivot
+            term_size = off_size * off_size / modulus
+            term_error = term_size * (error / modulus + c + u) + 2.0 * off_size * c * (
+                size * abs(coupling[i]) + K[i + 1]) / modulus
         else:
-            off_size = np.full(w.size, K[i + 1])
-            off_error = 0.0
             term = square[i] / pivot
-        term_size = off_size * off_size / modulus
-        # |o^2 / d| carries d's error relative, o's twice, and the products' rounding
-        term_error = term_size * (error / modulus + c) + 2.0 * off_size * off_error / modulus
+            term_size = (K[i + 1] * K[i + 1]) / modulus
+            term_error = term_size * (error / modulus + (c + u))
         pivot = lam * real(mass[i]) + diagonal[i] - term
-        diagonal_size = size * mass[i] + sizes[i]
-        error = c * diagonal_size + term_error + u * (diagonal_size + term_size)
-        modulus = np.abs(pivot).astype(float)
+        error = term_error + (c + u) * (size * mass[i] + sizes[i])
+        modulus = np.abs(pivot) if not extended else np.abs(pivot).astype(float)
     return pivot, error / modulus
 
 
