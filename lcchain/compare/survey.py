@@ -337,6 +337,8 @@ _NOISE = 1e-9
 #: Samples closer than this (relative) to a lossless pole are left out: there the circuit's own rounding moves the
 #: pole by more than the sample's distance to it (:data:`lcchain.compare.sections`' measure).
 _TOO_CLOSE = 1e-9
+#: A window's least squares of at most this many columns goes through its QR factors, not its formed ``solve``.
+_FEW_COLUMNS = 4
 #: Values of a block of the exact model formed at once (samples x modes).
 _BLOCK_VALUES = 2**20
 #: Up to this many values (samples x modes, complex: 64 MiB), the exact model's sections are kept while the poles
@@ -356,10 +358,37 @@ class _Window:
     far: np.ndarray
     weight: np.ndarray
     q: np.ndarray
-    solve: np.ndarray  # (explicit + background) x rows: the weighted rows' least squares
+    r: np.ndarray  # the weighted, scaled basis = q r
+    scale: np.ndarray  # each basis column's norm before the QR
     columns: np.ndarray  # rows x explicit: the explicit modes' sections on the rows
     far_columns: np.ndarray  # rows x far: the far modes' sections on the rows
     real: bool = False  # real residues: ``q`` and ``solve`` act on the rows' real and imaginary parts stacked
+    _solve: np.ndarray | None = None
+
+    @property
+    def solve(self) -> np.ndarray:
+        """(explicit + background) x rows: the weighted rows' least squares, formed on first use."""
+        if self._solve is None:
+            import scipy.linalg
+
+            self._solve = scipy.linalg.solve_triangular(self.r, self.q.conj().T * self._rows_weight()[None, :],
+                                                        check_finite=False) / self.scale[:, None]
+        return self._solve
+
+    def _rows_weight(self) -> np.ndarray:
+        return np.concatenate((self.weight, self.weight)) if self.real else self.weight  # the stacked rows'
+
+    def least_squares(self, b: np.ndarray) -> np.ndarray:
+        """``solve @ b`` for the stacked rows ``b``: a few columns (the loop-1 fit's two) through the QR factors
+        themselves, cols x rows x columns, where forming ``solve`` costs cols^2 x rows; more columns (a survey's
+        loops, the banded system's far modes) through ``solve``, formed once."""
+        if self._solve is not None or b.shape[1] > _FEW_COLUMNS:
+            return _product(self.solve, b)
+        import scipy.linalg
+
+        projected = _product(self.q.conj().T, b * self._rows_weight()[:, None])
+        return np.asarray(scipy.linalg.solve_triangular(self.r, projected, check_finite=False)
+                          / self.scale[:, None])
 
 
 def _stack(z: np.ndarray, real: bool) -> np.ndarray:
@@ -519,10 +548,8 @@ def _plan(w: np.ndarray, x: np.ndarray, gamma: np.ndarray, lossy: bool = True,
             basis = A
         basis = _stack(basis * weight[:, None], real)
         scale = np.linalg.norm(basis, axis=0)
-        q, r = np.linalg.qr(basis / scale)
-        rows_weight = np.concatenate((weight, weight)) if real else weight  # the stacked rows' weights
-        solve = scipy.linalg.solve_triangular(r, q.conj().T * rows_weight[None, :]) / scale[:, None]
-        windows.append(_Window(lo, hi, rows, explicit, far, weight, q, solve, A,
+        q, r = scipy.linalg.qr(basis / scale, mode="economic", check_finite=False)  # half numpy's time here
+        windows.append(_Window(lo, hi, rows, explicit, far, weight, q, r, scale, A,
                                _sections(ws, x[far], gamma[far], lossy) if far_columns else np.zeros((ws.size, 0)),
                                real))
     return windows
@@ -553,10 +580,10 @@ def _band(windows: list[_Window], n_modes: int) -> Any:
 def _rhs(windows: list[_Window], g: np.ndarray, n_modes: int) -> np.ndarray:
     """Each window's least squares of its samples, its core modes' rows of the banded system."""
     real = windows[0].real
-    rhs = np.empty((n_modes, g.shape[1]), dtype=float if real else np.result_type(windows[0].solve, g))
+    rhs = np.empty((n_modes, g.shape[1]), dtype=float if real else np.result_type(windows[0].q, g))
     for window in windows:
         core = slice(window.lo - window.explicit[0], window.hi - window.explicit[0])
-        rhs[window.lo:window.hi] = _product(window.solve[core], _stack(g[window.rows], real))
+        rhs[window.lo:window.hi] = window.least_squares(_stack(g[window.rows], real))[core]
     return rhs
 
 
@@ -598,7 +625,7 @@ def _move_poles(window: _Window, w: np.ndarray, target: np.ndarray, x: np.ndarra
     step, relative to the largest x of the window (0: nothing moves), and each core pole's standard error on x
     (the misfit's spread through the normal equations; infinite where the samples do not place it)."""
     ws = w[window.rows]
-    coeffs = window.solve @ _stack(target, window.real)
+    coeffs = window.least_squares(_stack(target, window.real))
     weighted = _stack(target * window.weight[:, None], window.real)
     misfit = weighted - window.q @ (window.q.conj().T @ weighted)
     explicit = window.explicit
