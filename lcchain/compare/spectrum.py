@@ -320,7 +320,9 @@ def fit_from_theory(omega: np.ndarray, y11: np.ndarray, yN1: np.ndarray, predict
     projection of the poles from the predicted ones, the residues of every window from one banded solve refined on
     the whole residual.  O(samples x N) per sweep; from theory's poles one sweep moves them by their rounding.
     With losses of quality factor ``Q`` every pole starts at gamma_n = 1/Q (the chain's proportional losses:
-    -1/(2Q) +- j sqrt(omega_n^2 - 1/(4Q^2))) and its complex section moves in x_n and gamma_n.  A mode is seen
+    -1/(2Q) +- j sqrt(omega_n^2 - 1/(4Q^2))) and its complex section moves in x_n and gamma_n; given theory's
+    residues (``merged_residues``) the fit starts from them too, so that every window fits the whole residual's
+    correction in smaller windows (:data:`_LOSSY_CORE`).  A mode is seen
     when the samples place its pole (its standard error at most :data:`lcchain.compare.survey.PLACED` of a quarter
     of its nearest gap): a mode too weak at the ends to be placed, or merged with a neighbour by the losses, stays
     unseen.
@@ -342,7 +344,8 @@ def fit_from_theory(omega: np.ndarray, y11: np.ndarray, yN1: np.ndarray, predict
         never seen.  Without ``merged_residues`` their poles are held at theory's and their residues fitted (enough
         where the clusters are small: two-mass N = 400 at Q = 1000; at N = 1000 that left a misfit of 2e2).
     merged_residues : (ndarray, ndarray), optional
-        Theory's residues (a_n, b_n) of every mode (those of the merged ones are used).
+        Theory's residues (a_n, b_n) of every mode: the merged ones' are subtracted, the others' are where the
+        lossy fit starts.
 
     Returns
     -------
