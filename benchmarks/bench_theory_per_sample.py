@@ -60,11 +60,11 @@ def main() -> None:
     for round_ in range(args.repeat):
         for spec in specs:
             record = execute(spec, simulator)
-            assert record.ok and record.result is not None, record.reason
+            assert record.ok and record.run is not None, record.reason
             rows["ngspice"].append(record.wall_s)
             rows["execute"].append(record.total_s - record.wall_s)
             if round_ == 0:
-                results.append(record.result)
+                results.append(record.run)
     points = results[0].points
     limited = fixed_blas_threads(lambda: None)
     for _ in range(args.repeat):

@@ -45,10 +45,10 @@ def test_an_ac_request_runs_through_execute_against_a_dense_eigen_solution():
     spec = plan.specs[0]
     assert spec.analysis == "ac" and spec.points == plan.points and ".ac lin" in spec.netlist
     record = execute(spec)
-    assert record.ok and record.spectrum is not None and record.ac is not None and record.result is None
+    assert record.ok and record.spectrum is not None and record.run is not None and record.analysis == "ac"
     _against_dense(chain, record.spectrum)
     assert record.points == plan.points
-    assert record.digest == waveform_digest(record.ac.frequency, record.ac.vectors, "frequency")
+    assert record.digest == waveform_digest(record.run.frequency, record.run.vectors, "frequency")
     summary = record.summary()
     assert summary["points"] == plan.points and summary["max_rel_error_omega"] < RTOL_SPECTRUM_OMEGA
 
@@ -113,8 +113,8 @@ def test_a_study_of_ac_requests_stores_complex_arrays_and_their_digests(tmp_path
         assert runs[0].digest == waveform_digest(arrays["frequency"], {k: v for k, v in arrays.items()
                                                                        if k != "frequency"}, "frequency")
         again = execute(plan.tasks[0].spec)
-        assert again.ac is not None and again.digest == runs[0].digest  # the same bits, stored and rerun
-        np.testing.assert_array_equal(arrays["i(l1)"], again.ac.vectors["i(l1)"])
+        assert again.run is not None and again.digest == runs[0].digest  # the same bits, stored and rerun
+        np.testing.assert_array_equal(arrays["i(l1)"], again.run.vectors["i(l1)"])
         assert runs[0].metrics is not None
         _against_dense(chain, SpectrumMetrics.from_dict(runs[0].metrics))
         data = store.to_xarray(waveforms=True)

@@ -154,6 +154,12 @@ CASES: dict[str, Case] = {
     "results of params that are a list": Case(["results", "s.sqlite"], ["STORE", "not a JSON object"],
                                               make=_tampered("UPDATE tasks SET params = '[1, 2]'"),
                                               family="stores"),
+    "results of a wall time that is text": Case(["results", "s.sqlite"], ["STORE", "wrong type", "restore"],
+                                                make=_tampered("UPDATE records SET wall_s = 'fast'"),
+                                                family="stores"),
+    "results of a task label that is a blob": Case(["results", "s.sqlite"], ["STORE", "wrong type", "restore"],
+                                                   make=_tampered("UPDATE tasks SET label = X'00'"),
+                                                   family="stores"),
     "sweep into a description that is not JSON": Case(
         ["sweep", "--case", "one-mass", "--N", "4", "--executor", "serial", "--store", "s.sqlite"],
         ["--store", "description", "not JSON"],
@@ -381,7 +387,7 @@ def test_an_unreachable_scheduler_leaves_no_store(tmp_path: Path, monkeypatch: p
 # ------------------------------------------------------------------ tampered arrays, a full disk, failed runs
 
 
-@pytest.mark.parametrize("change, said", [("arrays = X'00'", "not lcchain's .npz"),
+@pytest.mark.parametrize("change, said", [("arrays = X'00'", "not lcchain's .npz"), ("arrays = 'text'", "not lcchain's .npz"),
                                           ("digest = '" + "0" * 64 + "'", "do not match its digest")])
 def test_tampered_arrays_are_refused_by_name(tmp_path: Path, change: str, said: str) -> None:
     path = _store(tmp_path)

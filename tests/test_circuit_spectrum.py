@@ -89,10 +89,10 @@ def test_the_chains_driven_modes_are_clearly_not_such_a_circuits() -> None:
     chain = chain_for_case("two-mass", 8)
     spec = plan_request(Request(chain, AC(), effects=(CoilCapacitance(0.05),))).specs[0]
     record = execute(spec)
-    assert record.ok and record.ac is not None and record.spectrum is not None
+    assert record.ok and record.run is not None and record.spectrum is not None
     assert record.spectrum.max_rel_error_omega < RTOL_CIRCUIT_SPECTRUM_OMEGA
     assert isinstance(spec.theory, SpectrumTheory)
-    as_chain = ac_metrics(replace(spec.theory, circuit=None), record.ac)
+    as_chain = ac_metrics(replace(spec.theory, circuit=None), record.run)
     assert as_chain.max_rel_error_omega > CHAIN_MISSES_CIRCUIT
     # and the circuit's frequencies are not the chain's
     assert np.max(np.abs(record.spectrum.omega_theory - driven_modes(chain).omega)

@@ -162,6 +162,43 @@ def test_version_imports_nothing_heavy() -> None:
 
 
 
+#: Commands that start without numpy (issue 35: a fixed start under 0.15 s, of which numpy alone took 0.08 s and,
+#: with OpenBLAS's threads spinning, 0.15 s of CPU): those about no chain.  A command about a chain imports it
+#: with the chain's options and effects, which compute.
+WITHOUT_NUMPY = (("--version",), ("--help",), ("batch", "--help"), ("results", "--help"), ("report", "--help"))
+
+
+@pytest.mark.parametrize("command", WITHOUT_NUMPY, ids=" ".join)
+def test_a_command_about_no_chain_starts_without_numpy(command: tuple[str, ...]) -> None:
+    done, chains = imports(list(command), ROOT)
+    assert done.returncode == 0, done.stderr[-2000:]
+    assert not loaded(chains, ("numpy",)), "\n".join(loaded(chains, ("numpy",)))
+
+
+#: A batch's engine found (``ngspice -v``, the sandbox's trial run) by what ``lcchain batch`` imports before its
+#: plan: prints the numpy modules loaded by then.
+ENGINE_FIRST = """\
+import sys
+from lcchain.app.batch import batch
+from lcchain.spice.engines import DEFAULT_ENGINE
+from lcchain.studies.executors import EngineStart
+with EngineStart(DEFAULT_ENGINE, "batch", runs=0, workers=1, executor="process", transport="auto") as start:
+    print(start.simulator().engine)
+print(sorted(name for name in sys.modules if name.partition(".")[0] == "numpy"))
+"""
+
+
+@pytest.mark.ngspice
+def test_a_batch_finds_its_engine_before_numpy_loads(tmp_path: Path) -> None:
+    """``lcchain batch`` starts finding ngspice (a subprocess, and the sandbox's) before it plans: the modules that
+    do it load no numpy, so the engine's start overlaps numpy's import and the plan's, not the other way round."""
+    done = subprocess.run([sys.executable, "-c", ENGINE_FIRST], capture_output=True, text=True, cwd=tmp_path)
+    assert done.returncode == 0, done.stderr[-2000:]
+    engine, numpy_modules = done.stdout.splitlines()
+    assert engine == "ngspice"
+    assert numpy_modules == "[]"
+
+
 @pytest.mark.ngspice
 def test_batch_and_results_import_nothing_heavy(tmp_path: Path) -> None:
     """A foreign netlist checked, priced, run in ngspice and stored, then the store read back as a table: the

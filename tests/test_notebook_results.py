@@ -153,7 +153,7 @@ def test_a_runs_dataset_holds_its_vectors_in_their_own_units(tmp_path):
     record's arrays; SimulationReport.to_xarray: the end loops on time in seconds = t sqrt(L0 C0)."""
     report = lcchain.simulate_chain(lcchain.chain_for_case("two-mass", 8), lcchain.ChainOptions(dt=0.1, L0=2e-6, C0=5e-9))
     record = report.record.to_xarray()
-    result = report.record.result
+    result = report.record.run
     assert record["time"].attrs["units"] == "s"
     np.testing.assert_array_equal(record["time"].values, result.time)
     for vector, values in result.vectors.items():

@@ -102,3 +102,24 @@ def test_a_transient_and_an_ac_run_are_one_record() -> None:
         assert type(back.data) is type(one.data) and not back.data.axis.flags.writeable
         assert all(np.array_equal(back.vectors[k], one.vectors[k]) and not back.vectors[k].flags.writeable
                    for k in one.vectors)
+
+
+@pytest.mark.ngspice
+def test_a_transient_and_an_ac_run_are_one_record_with_the_engine_run_as_one_field() -> None:
+    from dataclasses import fields
+
+    from lcchain.runs.execute import RunRecord, execute
+    from lcchain.runs.spec import RunSpec
+
+    assert {"result", "ac"}.isdisjoint(field.name for field in fields(RunRecord))
+    transient = execute(RunSpec(TRANSIENT, ("i(l1)", "i(l8)"), TSTOP, foreign=False))
+    ac = execute(RunSpec(AC_TEXT, ("i(l1)", "i(l8)"), 0.0, foreign=False, analysis="ac", points=32))
+    for record, data, kind in ((transient, TransientData, "transient"), (ac, AcData, "ac")):
+        assert record.ok and record.run is not None, record.reason
+        assert isinstance(record.run.data, data) and record.analysis == kind
+        assert record.points == record.run.points == record.run.data.axis.size
+        assert record.summary()["netlist_sha256"] == record.run.netlist_sha256
+        again = pickle.loads(pickle.dumps(record))
+        assert again.run is not None and again.digest == record.digest
+        np.testing.assert_array_equal(again.run.vectors["i(l8)"], record.run.vectors["i(l8)"])
+    assert ac.run is not None and ac.points == 32 and np.iscomplexobj(ac.run.vectors["i(l1)"])

@@ -31,8 +31,7 @@ def batch(request: BatchRequest, hooks: StudyHooks | None = None) -> StudyResult
     starts once the budget is spent (the runs left stay pending in the store). A netlist lcchain will not run is
     stored as refused and the others run; with ``strict`` the first refusal stops the batch (a ParameterError)."""
     from ..spice.engines import DEFAULT_ENGINE
-    from ..studies.executors import EngineStart
-    from ..studies.plan import batch_plan
+    from ..studies.executors import EngineStart  # without numpy (tests/test_imports.py): it starts the engine first
 
     started = time.monotonic()
     check_study(request.study)
@@ -42,6 +41,8 @@ def batch(request: BatchRequest, hooks: StudyHooks | None = None) -> StudyResult
     with EngineStart(DEFAULT_ENGINE, "batch", runs=0 if request.allow_control else len(request.netlists),
                      workers=study_workers(options), executor=options.executor,
                      transport=options.transport) as engine:
+        from ..studies.plan import batch_plan  # numpy and the plan's modules load while the engine starts
+
         plan = batch_plan(list(request.netlists), allow_control=request.allow_control, timeout=options.timeout,
                           budget=budget, strict=request.strict, check=request.check)
         left = budget.max_seconds - INTERPRETER_SECONDS - (time.monotonic() - started)

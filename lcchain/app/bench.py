@@ -40,7 +40,7 @@ def bench_accuracy(request: AccuracyBenchRequest) -> AccuracyBench:
     bench_estimate(Ns, quick=request.quick).check(request.budget, "bench accuracy",
                                                   "--quick" if request.quick else "the full sweep", "--quick or --N")
     result = run(Ns, quick=request.quick, progress=request.progress)
-    return AccuracyBench(result["markdown"], result)
+    return AccuracyBench(result["markdown"], dict(result))
 
 
 def write_bench(out: str, bench: AccuracyBench) -> list[str]:

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Literal
+from typing import TYPE_CHECKING, Literal, TypeGuard
 
 from ..core.budget import Budget, Estimate, design_estimate
 from ..core.errors import ParameterError
@@ -18,10 +18,10 @@ from .inputs import check_perfect
 if TYPE_CHECKING:
     from ..theory.asymptotic import AsymptoticOptimum
     from ..theory.design import Design
-    from ..theory.perfect import PerfectDesign
+    from ..theory.perfect import PerfectDesign as PerfectDesign  # named for the command line, which prints it
 
 __all__ = ["DESIGN_TABLES", "DesignRequest", "TableRequest", "Asymptotic", "AsymptoticRequest", "design", "table",
-           "asymptotic", "check_design_sizes"]
+           "asymptotic", "check_design_sizes", "is_perfect"]
 
 
 @dataclass(frozen=True)
@@ -88,6 +88,13 @@ def design(request: DesignRequest) -> Design | PerfectDesign:
     if bar is not None:
         bar(1.0)
     return result
+
+
+def is_perfect(result: Design | PerfectDesign) -> TypeGuard[PerfectDesign]:
+    """Whether :func:`design` gave a perfect cradle (else one of the paper's optima)."""
+    from ..theory.perfect import PerfectDesign
+
+    return isinstance(result, PerfectDesign)
 
 
 def table(request: TableRequest) -> list[LooseJSONObject]:

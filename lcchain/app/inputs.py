@@ -15,13 +15,16 @@ import sys
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from ..core.budget import Budget, perfect_estimate
 from ..core.errors import ParameterError
 from ..core.limits import COUPLED_MAX_N, MAX_CHAIN_FILE_BYTES, MAX_CIRCUIT_N, MAX_COMMENT_LENGTH, MAX_PERFECT_N, MIN_N
 from ..core.types import Excitation
 from ..report.files import check_not_input, check_output, same_file, write_text
-from ..theory.chain import Chain
+
+if TYPE_CHECKING:
+    from ..theory.chain import Chain
 
 __all__ = ["STDOUT", "Outputs", "ChainOptions", "LadderRequest", "make_chain", "load_chain_file", "check_perfect",
            "echoed_command"]
@@ -146,6 +149,7 @@ def load_chain_file(path: str, max_N: int = MAX_CIRCUIT_N) -> Chain:
     """A chain from a JSON file ``{"masses": [...], "springs": [...]}``: a regular file, size-checked before it is
     read (a FIFO or a device is refused, never read)."""
     from ..spice.inputs import read_input
+    from ..theory.chain import Chain  # here: a command that names no chain (a batch) starts without its numerics
 
     text = read_input(path, "--chain", MAX_CHAIN_FILE_BYTES)
     try:

@@ -8,15 +8,14 @@ study, no scipy submodule).
 
 from __future__ import annotations
 
-from collections.abc import Callable, Collection, Iterator, Mapping
+from collections.abc import Mapping
 
 from ..circuit.effects import E_SERIES, EFFECTS, Coupling, Effect, effect_fields
 from ..core.errors import ParameterError
-from ..core.registry import entry_point_names
-from ..core.types import EXECUTORS
 from ..report.files import FIGURE_FORMATS
 from ..spice.engines import DEFAULT_ENGINE, ENGINES
 from ..theory.chain import Chain
+from .choices import BACKEND_CHOICES, CASE_CHOICES, EXECUTOR_CHOICES, RegistryNames
 
 __all__ = ["Chain", "Effect", "CASE_CHOICES", "EXECUTOR_CHOICES", "BACKEND_CHOICES", "RegistryNames",
            "DEFAULT_ENGINE",
@@ -35,71 +34,6 @@ CIRCUIT_EFFECTS = ("coupling",)
 def engine_names() -> tuple[str, ...]:
     """The registered engines' names (plugins included), in the registry's order."""
     return tuple(ENGINES)
-
-
-class RegistryNames:
-    """A registry's names as a command line's choices, read when argparse first lists or checks them, not when
-    the parser is built (by then a plugin's part given as itself is in the registry too), and imported only then.
-    Give the option a ``metavar`` (argparse lists the choices in every usage line otherwise); where the
-    registry's module is heavy (the executors' lives beside the runs' execution), check the value with
-    ``lcchain.cli.common.registry_name`` instead of ``choices``, which ``--help`` lists."""
-
-    def __init__(self, load: Callable[[], Collection[str]], listed: Callable[[], Collection[str]] | None = None
-                 ) -> None:
-        self._load = load
-        self._listed = listed or load  # what --help lists, when reading the registry itself costs a command's start
-
-    def __contains__(self, name: object) -> bool:
-        return name in self._load()
-
-    def __iter__(self) -> Iterator[str]:
-        return iter(self._listed())
-
-    def __len__(self) -> int:
-        return len(self._listed())
-
-
-def _cases() -> Mapping[str, object]:
-    from ..theory.cases import CHAIN_CASES
-
-    return CHAIN_CASES
-
-
-#: The named cases (``--case``), plugins included: :data:`lcchain.theory.cases.CHAIN_CASES`.
-CASE_CHOICES = RegistryNames(_cases)
-
-
-def _executors() -> Mapping[str, object]:
-    from ..studies.executors import EXECUTOR_TRAITS
-
-    return EXECUTOR_TRAITS
-
-
-#: The executors' entry-point group (:data:`lcchain.studies.executors.EXECUTOR_TRAITS`' ``group``; tests/test_plugins.py
-#: sees an installed executor listed by ``--help``).
-EXECUTORS_GROUP = "lcchain.executors"
-
-
-def _executors_listed() -> tuple[str, ...]:
-    # lcchain's own (the ExecutorName literal, which a test holds to the registry's own) and the plugins' names,
-    # read from their metadata: --help does not import the executors' module (25 to 60 modules, 0.1 to 0.3 s)
-    return (*EXECUTORS, *entry_point_names(EXECUTORS_GROUP))
-
-
-#: The executors (``--executor``), plugins included: :data:`lcchain.studies.executors.EXECUTOR_TRAITS`; listed
-#: without importing it.
-EXECUTOR_CHOICES = RegistryNames(_executors, _executors_listed)
-
-
-def _backends() -> Collection[str]:
-    from ..spice.ngspice.transports import named_transports
-
-    return named_transports()
-
-
-#: The transports a user names (``--backend``), plugins included: those of
-#: :data:`lcchain.spice.ngspice.transports.TRANSPORT_RUNS` with a ``find``.
-BACKEND_CHOICES = RegistryNames(_backends)
 
 
 class EffectOption:

@@ -9,7 +9,7 @@ import json
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Literal, TypeAlias
 
 from ..core.budget import Budget
 from ..core.errors import ExtraMissingError, ParameterError
@@ -19,6 +19,8 @@ from ..report.files import FIGURE_FORMATS
 from .inputs import Outputs
 
 if TYPE_CHECKING:
+    import xarray as xr
+
     from ..studies.store import Store
     from ..studies.stored import StoredRun
 
@@ -200,18 +202,24 @@ def _with_seconds(runs: list[LooseJSONObject], store: Store) -> list[LooseJSONOb
     return runs
 
 
-def _to_netcdf(part: Any, engine: str, path: Path) -> None:  # an xarray Dataset
+#: The engines xarray writes netCDF with, by the names its ``to_netcdf`` takes.
+NetcdfEngine: TypeAlias = Literal["netcdf4", "h5netcdf", "scipy"]
+
+
+def _to_netcdf(part: xr.Dataset, engine: NetcdfEngine, path: Path) -> None:
     part.to_netcdf(path, engine=engine)
 
 
-def _write_netcdf(parts: dict[str, Any], path: Path) -> list[Path]:  # xarray Datasets
+def _write_netcdf(parts: dict[str, xr.Dataset], path: Path) -> list[Path]:
     """CF netCDF (:func:`lcchain.studies.netcdf.cf_datasets`) through whichever engine is there: netCDF4 or
     h5netcdf write one file, the waveforms in groups, compressed; scipy's netCDF3 has no groups, so each waveform
     group goes to a file of its own beside FILE (``FILE.stem.transient.nc``). Returns the files written."""
     import importlib.util
 
-    needs = {"netCDF4": ("netCDF4",), "h5netcdf": ("h5netcdf", "h5py")}  # h5netcdf is nothing without h5py
-    engine = next((e for e, modules in needs.items() if all(importlib.util.find_spec(m) for m in modules)), "scipy")
+    # the engine's name as to_netcdf takes it ("netcdf4": the netCDF4 module), and the modules it needs
+    needs: dict[NetcdfEngine, tuple[str, ...]] = {"netcdf4": ("netCDF4",), "h5netcdf": ("h5netcdf", "h5py")}
+    engine: NetcdfEngine = next((e for e, modules in needs.items()
+                                 if all(importlib.util.find_spec(m) for m in modules)), "scipy")
     groups = {name: part for name, part in parts.items() if name}
     root = parts[""]
     if engine == "scipy":

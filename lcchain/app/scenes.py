@@ -7,7 +7,7 @@ import time
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import Any
+from typing import TypedDict
 
 from ..core.budget import Budget
 from ..core.checks import instance
@@ -22,7 +22,8 @@ from ..studies.options import Progress, RunOptions
 from .inputs import Outputs
 from .studies import StudyOptions
 
-__all__ = ["SceneRun", "SceneHooks", "run_scene", "RunRequest", "ScenesRun", "run_scenes"]
+__all__ = ["SceneRun", "SceneHooks", "run_scene", "RunRequest", "ScenesRun", "run_scenes", "PartOverrides",
+           "SceneResult"]
 
 
 @dataclass(frozen=True)
@@ -143,6 +144,16 @@ def _on_executor(scene: Scene, budget: Budget | None, options: RunOptions,
     return scene_result(scene, plan, specs, records, time.perf_counter() - start)
 
 
+class PartOverrides(TypedDict, total=False):
+    """A scene's real parts set from the command line (``--tolerance``, ``--series``, ``--samples``, ``--seed``;
+    None: the scene's own), checked by :func:`lcchain.scenes.load.override_parts`."""
+
+    tolerance: Mapping[str, float] | None
+    series: str | None
+    samples: int | None
+    seed: int | None
+
+
 @dataclass(frozen=True)
 class RunRequest:
     """``lcchain run``: the scene files, run in order; ``parts`` the real parts set from the command line
@@ -152,7 +163,7 @@ class RunRequest:
     scene's fraction done, ``study_progress(label)`` that of its samples on an executor."""
 
     scenes: tuple[str, ...]
-    parts: Mapping[str, Any] = field(default_factory=dict)
+    parts: PartOverrides = field(default_factory=lambda: PartOverrides())
     netlist_out: str | None = None
     waveform_out: str | None = None
     side_by_side: str | None = None
@@ -160,7 +171,7 @@ class RunRequest:
     study: StudyOptions = field(default_factory=lambda: StudyOptions(executor="serial"))
     budget: Budget | None = None
     progress: Callable[[str], Callable[[float], None]] | None = None
-    study_progress: Callable[[str], Callable[[Any], None]] | None = None
+    study_progress: Callable[[str], Callable[[Progress], None]] | None = None
 
 
 @dataclass(frozen=True)
@@ -179,7 +190,7 @@ class ScenesRun:
         return all(r.ok for r in self.results) and not self.failed_files and not self.outputs.failed
 
 
-def _with_parts(scene: Scene, parts: Mapping[str, Any]) -> Scene:
+def _with_parts(scene: Scene, parts: PartOverrides) -> Scene:
     """The scene with ``--tolerance``, ``--series``, ``--samples`` and ``--seed`` set, when any is given."""
     from ..scenes.load import override_parts, parse_scene
 

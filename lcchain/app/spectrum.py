@@ -22,6 +22,7 @@ if TYPE_CHECKING:
     from numpy.typing import NDArray
 
     from ..runs.spectrum import SpectrumReport
+    from ..runs.survey import ModeReport as ModeReport  # named for the command line, which prints it
     from ..theory.chain import Chain
 
 __all__ = ["SpectrumRequest", "Spectrum", "TwoPortSummary", "spectrum", "write_outputs"]

@@ -11,9 +11,9 @@ from __future__ import annotations
 
 import os
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Hashable
 from dataclasses import dataclass
-from typing import Any
+from typing import Protocol, TypeVar
 
 from ..core.json import LooseJSONObject
 from ..core.types import DesignCase
@@ -33,7 +33,7 @@ from ..report.validation import paper_section
 from ..studies.background import Background, Job
 from ..studies.designs import design_row, design_task
 from ..studies.requirements import RequirementsCheck, RequirementsJob, requirements_jobs, run_requirements
-from ..studies.spectrum_checks import run_spectrum_check, spectrum_jobs
+from ..studies.spectrum_checks import SpectrumCheck, run_spectrum_check, spectrum_jobs
 from ..studies.validation import CheckJob, CircuitCheck, check_jobs, installed_engines, run_check
 from ..theory.design import DESIGN_TABLES
 
@@ -44,6 +44,32 @@ __all__ = ["make_report", "HERE_S", "ReportRequest", "report"]
 #: while the pool does the longer work, rather than queued behind it: the figures made of the rows can then be
 #: drawn here before the pool is done.
 HERE_S = 0.5
+
+T = TypeVar("T")
+
+
+class _Named(Protocol):
+    @property
+    def name(self) -> str: ...
+
+
+#: A check or a cradle: a result whose figure is kept under its name.
+Checked = TypeVar("Checked", bound=_Named)
+
+
+def _expected(key: Hashable, found: object, kind: type[T]) -> T:
+    """A background task's result, of the type its key's task returns."""
+    if not isinstance(found, kind):
+        raise TypeError(f"the background task {key!r} returned a {type(found).__name__}, not a {kind.__name__}")
+    return found
+
+
+def _drawn_pair(key: Hashable, found: object, kind: type[T]) -> tuple[T, bytes | None]:
+    """A task's (result, its figure's PNG or None), as :func:`_check_drawn` and :func:`_cradle_drawn` return them."""
+    result, png = _expected(key, found, tuple)
+    if png is not None and not isinstance(png, bytes):
+        raise TypeError(f"the background task {key!r} returned a {type(png).__name__} for its figure, not bytes")
+    return _expected(key, result, kind), png
 
 
 def _check_drawn(job: CheckJob) -> tuple[CircuitCheck, bytes | None]:
@@ -100,7 +126,7 @@ def make_report(out: str | os.PathLike[str], *, quick: bool = False, cache: str 
     rows = DesignRows(cache)
     needed = report_rows(quick)
     alone = [figure for figure in FIGURES if not figure.uses_rows]
-    tasks = [Job(("check", i), job.cost, _check_drawn, (job,)) for i, job in enumerate(jobs)]
+    tasks: list[Job[object]] = [Job(("check", i), job.cost, _check_drawn, (job,)) for i, job in enumerate(jobs)]
     tasks += [Job(("spectrum", i), job.cost, run_spectrum_check, (job,)) for i, job in enumerate(spectra)]
     tasks += [Job(("requirements", i), job.cost, _cradle_drawn, (job,)) for i, job in enumerate(cradles)]
     tasks += [Job(("paper", figure.label), figure.seconds, paper_figure_png, (figure, None, quick))
@@ -110,7 +136,7 @@ def make_report(out: str | os.PathLike[str], *, quick: bool = False, cache: str 
 
         def design(case: DesignCase, N: int) -> LooseJSONObject:
             key = ("row", case, N)
-            return background.take(key) if key in background else design_row(case, N)
+            return _expected(key, background.take(key), dict) if key in background else design_row(case, N)
 
         rows.design = design
         # the rows first (the short ones designed here, while the pool has the long ones), then the paper's half
@@ -127,28 +153,28 @@ def make_report(out: str | os.PathLike[str], *, quick: bool = False, cache: str 
         labels += [job.label for job in cradles] + [f"Fig. {figure.label}" for figure in alone]
         total, done = len(labels), 0
 
-        def take(key: Any) -> Any:
+        def take(key: Hashable) -> object:
             nonlocal done
             if progress is not None:
                 progress(done, total, labels[done])
             done += 1
             return background.take(key)
 
-        def drawn(kind: str, count: int) -> list[Any]:
+        def drawn(kind: str, count: int, made_of: type[Checked]) -> list[Checked]:
             """The pool's results of one kind in order, each figure it drew kept under ``KIND:NAME``."""
             made = []
             for i in range(count):
-                result, png = take((kind, i))
+                result, png = _drawn_pair((kind, i), take((kind, i)), made_of)
                 made.append(result)
                 if png is not None:
                     figures[f"{kind}:{result.name}"] = png
             return made
 
-        circuit = drawn("check", len(jobs))
-        spectrum = [take(("spectrum", i)) for i in range(len(spectra))]
-        requirements = drawn("requirements", len(cradles))
+        circuit = drawn("check", len(jobs), CircuitCheck)
+        spectrum = [_expected(("spectrum", i), take(("spectrum", i)), SpectrumCheck) for i in range(len(spectra))]
+        requirements = drawn("requirements", len(cradles), RequirementsCheck)
         for figure in alone:
-            figures[f"paper:{figure.label}"] = take(("paper", figure.label))
+            figures[f"paper:{figure.label}"] = _expected(("paper", figure.label), take(("paper", figure.label)), bytes)
         if progress is not None:
             progress(total, total, "done")
         runs = ValidationRuns(circuit, {s.engine: s.version for s in simulators}, spectrum, requirements,

@@ -10,16 +10,8 @@ import sys
 
 from ..app.options import E_SERIES_NAMES
 from ..core.physical import si_text
-from .common import (
-    EXIT_OK,
-    Parser,
-    Subcommands,
-    add_circuit_arguments,
-    add_effect_arguments,
-    budget_from_args,
-    chain_options,
-    effects_from_args,
-)
+from .chains import add_circuit_arguments, add_effect_arguments, chain_options, effects_from_args
+from .common import EXIT_OK, Parser, Subcommands, budget_from_args
 
 __all__ = ["add_parser", "add_bom_arguments", "cmd_bom", "tolerance"]
 

@@ -4,12 +4,15 @@
 from __future__ import annotations
 
 import argparse
-from typing import Any
+from typing import TYPE_CHECKING
 
 from ..core.json import LooseJSONObject
 from ..core.types import DESIGN_CASES
 from .common import EXIT_OK, Parser, Subcommands, budget_from_args, emit_json
 from .progress import fraction
+
+if TYPE_CHECKING:
+    from ..app.design import PerfectDesign
 
 __all__ = ["add_parser", "cmd_design", "format_table"]
 
@@ -48,7 +51,7 @@ def format_table(case: str, rows: list[LooseJSONObject]) -> str:
     return "\n".join(lines)
 
 
-def _format_perfect(design: Any) -> str:
+def _format_perfect(design: PerfectDesign) -> str:
     """A perfect cradle as a reader wants it: what it achieves, how its values spread, then the values."""
     spread = design.spread()
     walls = f", tied to walls (j = {design.walls})" if design.walls else ", free ends"
@@ -73,13 +76,13 @@ def _format_perfect(design: Any) -> str:
 
 
 def cmd_design(args: argparse.Namespace) -> int:
-    from ..app.design import DesignRequest, design
+    from ..app.design import DesignRequest, design, is_perfect
 
     result = design(DesignRequest(args.case, args.N, args.walls, budget_from_args(args), progress=fraction))
     if args.json:
         emit_json(result.to_dict())
-    elif args.case in DESIGN_CASES:  # one of the paper's optima: its table's row
-        print(format_table(args.case, [result.to_dict()]))
-    else:
+    elif is_perfect(result):
         print(_format_perfect(result))
+    else:  # one of the paper's optima: its table's row
+        print(format_table(args.case, [result.to_dict()]))
     return EXIT_OK

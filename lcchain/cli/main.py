@@ -198,6 +198,11 @@ def _command_asked(argv: Sequence[str]) -> str:
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line; returns the exit status."""
     argv = list(sys.argv[1:] if argv is None else argv)
+    if "numpy" not in sys.modules:
+        # numpy's OpenBLAS starts its threads when numpy loads, and they spin: 0.06 to 0.08 s of CPU at every start
+        # on this 2-core machine, taken from the runs of a batch.  Every command computes under a limit of
+        # BLAS_THREADS (below): its BLAS starts with that many, and so do the workers it spawns.
+        os.environ.setdefault("OPENBLAS_NUM_THREADS", str(BLAS_THREADS))
     try:
         parser = build_parser(_command_asked(argv))  # reads the registries: a broken plugin is bad input, one line
     except ParameterError as error:

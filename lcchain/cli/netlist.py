@@ -5,18 +5,8 @@ from __future__ import annotations
 import argparse
 import sys
 
-from .common import (
-    EXIT_FAILED,
-    EXIT_OK,
-    Parser,
-    Subcommands,
-    add_chain_arguments,
-    add_effect_arguments,
-    budget_from_args,
-    chain_options,
-    effects_from_args,
-    print_notes,
-)
+from .chains import add_chain_arguments, add_effect_arguments, chain_options, effects_from_args
+from .common import EXIT_FAILED, EXIT_OK, Parser, Subcommands, budget_from_args, print_notes
 
 __all__ = ["add_parser", "cmd_netlist"]
 

@@ -4,17 +4,8 @@ from __future__ import annotations
 
 import argparse
 
-from .common import (
-    EXIT_FAILED,
-    EXIT_OK,
-    Parser,
-    Subcommands,
-    add_circuit_arguments,
-    budget_from_args,
-    chain_options,
-    emit_json,
-    print_notes,
-)
+from .chains import add_circuit_arguments, chain_options
+from .common import EXIT_FAILED, EXIT_OK, Parser, Subcommands, budget_from_args, emit_json, print_notes
 from .progress import fraction
 
 __all__ = ["add_parser", "add_requirements_arguments", "cmd_requirements"]

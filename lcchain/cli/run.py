@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 import sys
-from typing import Any
+from typing import TYPE_CHECKING
 
 from ..app.studies import StudyOptions
 from ..core.analyses import analysis_kind
@@ -23,6 +23,10 @@ from .common import (
 from .progress import fraction, study_counter
 from .simulate import print_arrivals
 from .studies import add_study_arguments
+
+if TYPE_CHECKING:
+    from ..app.inputs import Outputs
+    from ..app.scenes import SceneResult
 
 __all__ = ["add_parser", "cmd_run", "error_text"]
 
@@ -48,7 +52,7 @@ def error_text(value: float | None) -> str:
     return "unseen" if value is None or value == float("inf") else f"{value:.3e}"
 
 
-def _print_spectrum_summary(result: Any) -> None:
+def _print_spectrum_summary(result: SceneResult) -> None:
     """An AC scene: each sample's modes against its own theory, and the spacings' spread over the samples."""
     report = result.report
     count = len(report["samples"])
@@ -77,7 +81,7 @@ def _print_spectrum_summary(result: Any) -> None:
             print(f"sample {record['sample']} failed: {record['error']}", file=sys.stderr)
 
 
-def _print_scene_summary(result: Any) -> None:
+def _print_scene_summary(result: SceneResult) -> None:
     if analysis_kind(result.report.get("analysis", ANALYSIS_KINDS[0])).swept:  # an AC scene's spectra
         _print_spectrum_summary(result)
         return
@@ -110,9 +114,9 @@ def _print_scene_summary(result: Any) -> None:
 
 
 def cmd_run(args: argparse.Namespace) -> int:
-    from ..app.scenes import RunRequest, run_scenes
+    from ..app.scenes import PartOverrides, RunRequest, run_scenes
 
-    def shown(result: Any, outputs: Any) -> None:
+    def shown(result: SceneResult, outputs: Outputs) -> None:
         print_notes(outputs.take_notes())  # a scene's file not written
         if not args.json:
             with summary_stream(outputs):
@@ -120,7 +124,7 @@ def cmd_run(args: argparse.Namespace) -> int:
             for path in result.files:
                 print(f"wrote {path}", file=sys.stderr if outputs.to_stdout else sys.stdout)
 
-    parts = {"tolerance": args.tolerance, "series": args.series, "samples": args.samples, "seed": args.seed}
+    parts = PartOverrides(tolerance=args.tolerance, series=args.series, samples=args.samples, seed=args.seed)
     study = StudyOptions(args.executor, args.workers, args.scheduler, args.transport, args.timeout)
     run = run_scenes(RunRequest(tuple(args.scene), parts, netlist_out=args.netlist_out,
                                 waveform_out=args.waveform_out, side_by_side=args.side_by_side, json=args.json,

@@ -8,17 +8,8 @@ from typing import TYPE_CHECKING
 
 from ..app.studies import StudyOptions
 from ..core.types import ARRIVAL_METRICS
-from .common import (
-    EXIT_FAILED,
-    EXIT_OK,
-    Parser,
-    Subcommands,
-    add_circuit_arguments,
-    budget_from_args,
-    chain_options,
-    emit_json,
-    print_notes,
-)
+from .chains import add_circuit_arguments, chain_options
+from .common import EXIT_FAILED, EXIT_OK, Parser, Subcommands, budget_from_args, emit_json, print_notes
 from .progress import fraction, study_counter
 from .studies import add_study_arguments
 

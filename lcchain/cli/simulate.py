@@ -10,18 +10,14 @@ from ..app.options import BACKEND_CHOICES, DEFAULT_ENGINE, Chain, engine_names
 from ..core.json import LooseJSONObject
 from ..core.physical import units_sentence
 from ..core.types import METHODS
+from .chains import add_chain_arguments, add_effect_arguments, chain_options, effects_from_args, engine_list
 from .common import (
     EXIT_FAILED,
     EXIT_OK,
     Parser,
     Subcommands,
-    add_chain_arguments,
-    add_effect_arguments,
     budget_from_args,
-    chain_options,
-    effects_from_args,
     emit_json,
-    engine_list,
     number_type,
     print_notes,
     summary_stream,

@@ -6,27 +6,18 @@ from __future__ import annotations
 
 import argparse
 import sys
-from typing import Any
+from typing import TYPE_CHECKING
 
 from ..app.options import DEFAULT_ENGINE, engine_names
 from ..core.json import LooseJSONObject
-from .common import (
-    EXIT_FAILED,
-    EXIT_OK,
-    Parser,
-    Subcommands,
-    add_circuit_arguments,
-    add_effect_arguments,
-    budget_from_args,
-    chain_options,
-    effects_from_args,
-    emit_json,
-    number_type,
-    print_notes,
-)
+from .chains import add_circuit_arguments, add_effect_arguments, chain_options, effects_from_args
+from .common import EXIT_FAILED, EXIT_OK, Parser, Subcommands, budget_from_args, emit_json, number_type, print_notes
 from .progress import fraction
 from .run import error_text
 from .simulate import print_units
+
+if TYPE_CHECKING:
+    from ..app.spectrum import ModeReport
 
 __all__ = ["add_parser", "cmd_spectrum"]
 
@@ -128,7 +119,7 @@ def cmd_spectrum(args: argparse.Namespace) -> int:
     return EXIT_FAILED if result.outputs.failed else EXIT_OK
 
 
-def _print_survey(modes: Any) -> None:
+def _print_survey(modes: ModeReport) -> None:
     """``spectrum --shapes``: every mode from the survey of every loop, beside the exact eigensolution."""
     for name, value in modes.rows():
         print(f"{name}: {value:.3e}" if isinstance(value, float) else f"{name}: {value}")

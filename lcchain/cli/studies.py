@@ -6,7 +6,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from ..app.options import EXECUTOR_CHOICES
+from ..app.choices import EXECUTOR_CHOICES
 from ..app.studies import StudyHooks, StudyOptions, StudyResult
 from ..core.budget import show_seconds
 from ..core.json import LooseJSONObject

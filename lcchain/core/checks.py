@@ -13,12 +13,14 @@ import math
 import numbers
 import re
 from collections.abc import Mapping, Sequence
-from typing import Any, TypeVar, cast
-
-import numpy as np
+from typing import TYPE_CHECKING, Any, TypeVar, cast
 
 from .errors import ParameterError
+from .frozen import is_array
 from .limits import MAX_PULSE_WIDTH, MAX_TITLE_BYTES, MIN_PULSE_WIDTH
+
+if TYPE_CHECKING:
+    import numpy as np
 
 #: A dot followed by a letter at the start of a line: ngspice may read it as a command.
 # A title ngspice would read as a command: a dot-command, "*#" (a command line), or "*ng_script", which makes
@@ -45,13 +47,13 @@ __all__ = [
 
 
 def is_number(value: object) -> bool:
-    """A real number (int, float, numpy scalar), not a boolean."""
-    return isinstance(value, numbers.Real) and not isinstance(value, (bool, np.bool_))
+    """A real number (int, float, numpy scalar), not a boolean (numpy's booleans are no ``numbers.Real``)."""
+    return isinstance(value, numbers.Real) and not isinstance(value, bool)
 
 
 def is_integer(value: object) -> bool:
-    """An integer (int, numpy integer), not a boolean."""
-    return isinstance(value, numbers.Integral) and not isinstance(value, (bool, np.bool_))
+    """An integer (int, numpy integer), not a boolean (numpy's booleans are no ``numbers.Integral``)."""
+    return isinstance(value, numbers.Integral) and not isinstance(value, bool)
 
 
 def _range_text(what: str, above: float | None, at_least: float | None, below: float | None,
@@ -183,7 +185,7 @@ def pulse(excitation: object, value: object, kinds: Sequence[str], shapes: Seque
 
 def numbers_list(name: str, values: object, allowed: str) -> tuple[Any, ...]:
     """A list or tuple (or 1-d numpy array) of real numbers, as given (unconverted, unchecked for range)."""
-    if isinstance(values, np.ndarray):
+    if is_array(values):
         if values.ndim != 1:
             raise ParameterError(name, f"an array of shape {values.shape}", allowed)
         values = values.tolist()
@@ -222,6 +224,8 @@ def strings(name: str, values: object, allowed: str = "a list or tuple of string
 
 def time_array(name: str, t: Any) -> np.ndarray:
     """A one-dimensional array of finite times >= 0 (units of sqrt(L0*C0))."""
+    import numpy as np  # here, not at the top: a command that checks no times (a batch) starts without numpy
+
     if type(t) is np.ndarray and t.dtype == np.float64 and t.ndim == 1 and bool(np.isfinite(t).all()) \
             and bool((t >= 0).all()):
         return t  # what the checks below return for it (a peak search asks some 40 times, one time a call)

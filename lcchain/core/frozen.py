@@ -10,19 +10,30 @@ type :class:`FrozenMap`, and re-freeze their arrays when unpickled
 from __future__ import annotations
 
 import dataclasses
+import sys
 from collections.abc import Iterator, Mapping
-from typing import Any, Generic, TypeVar
+from typing import TYPE_CHECKING, Any, Generic, TypeGuard, TypeVar
 
-import numpy as np
+if TYPE_CHECKING:
+    import numpy as np
 
-__all__ = ["readonly", "FrozenMap", "FrozenArrays"]
+__all__ = ["readonly", "FrozenMap", "FrozenArrays", "is_array"]
 
 K = TypeVar("K")
 V = TypeVar("V")
 
 
+def is_array(value: object) -> TypeGuard[np.ndarray]:
+    """``value`` is a numpy array.  Asked without importing numpy: no array exists before numpy is imported, so a
+    process that never imports it (a batch's start) pays nothing for the question."""
+    numpy = sys.modules.get("numpy")
+    return numpy is not None and isinstance(value, numpy.ndarray)
+
+
 def readonly(values: Any, dtype: Any = float) -> np.ndarray:
     """A contiguous copy of ``values`` that cannot be written to."""
+    import numpy as np
+
     array = np.array(values, dtype=dtype)
     array.flags.writeable = False
     return array
@@ -40,7 +51,7 @@ class FrozenMap(Mapping[K, V], Generic[K, V]):
     def __init__(self, data: Mapping[K, V] | None = None):
         items: dict[K, V] = dict(data) if data is not None else {}
         for key, value in items.items():
-            if isinstance(value, np.ndarray) and value.flags.writeable:
+            if is_array(value) and value.flags.writeable:
                 items[key] = readonly(value, value.dtype)  # type: ignore[assignment]
         object.__setattr__(self, "_data", items)
 
@@ -80,14 +91,14 @@ class FrozenArrays:
     def _freeze_arrays(self) -> None:
         for f in dataclasses.fields(self):  # type: ignore[arg-type]
             value = getattr(self, f.name)
-            if isinstance(value, np.ndarray) and value.flags.writeable:
+            if is_array(value) and value.flags.writeable:
                 view = value.view()
                 view.flags.writeable = False
                 object.__setattr__(self, f.name, view)
 
     def __setstate__(self, state: dict[str, Any]) -> None:
         for key, value in state.items():
-            if isinstance(value, np.ndarray):
+            if is_array(value):
                 value.flags.writeable = False
             object.__setattr__(self, key, value)
 

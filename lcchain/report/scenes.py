@@ -103,7 +103,7 @@ def _csv(sample: SampleResult) -> str:
     """A sample's saved arrays as CSV: loops 1 and N against time, or an AC run's phasors against frequency."""
     if sample.waveforms is not None:
         return sample.waveforms.to_csv()
-    ac = sample.run.ac
+    ac = sample.run.run
     assert ac is not None  # a sample that ran has one or the other
     header = ["frequency_hz"] + [f"{part}({name})" for name in ac.vectors for part in ("re", "im")]
     columns = [ac.frequency] + [getattr(values, part) for values in ac.vectors.values() for part in ("real", "imag")]

@@ -81,6 +81,7 @@ def record_figure(record: Any, ax: Axes | None = None) -> Figure:
     """A :class:`~lcchain.runs.execute.RunRecord`'s figure: its compared loops over theory (the far end, the first
     too; residual below) where it had a theory, else its saved vectors against time in seconds (an AC run's
     magnitudes against frequency in hertz, on log axes)."""
+    from ..core.analyses import analysis_kind
     from ..core.errors import SimulationError
     from ..core.physical import vector_units
 
@@ -96,16 +97,16 @@ def record_figure(record: Any, ax: Axes | None = None) -> Figure:
     fig = plots._new_figure() if ax is None else plots._root_figure(ax)
     if ax is None:
         ax = fig.subplots()
-    if record.result is not None:
-        x, vectors, xlabel = record.result.time, record.result.vectors, "time (s)"
-        for name, values in vectors.items():
-            ax.plot(x, values, label=f"{name} ({vector_units(name)})")
-    elif record.ac is not None:
-        x, vectors, xlabel = record.ac.frequency, record.ac.vectors, "frequency (Hz)"
-        for name, values in vectors.items():
-            ax.loglog(x, np.abs(values), label=f"|{name}| ({vector_units(name)} per V)")
-    else:
+    run = record.run
+    if run is None:
         raise SimulationError(f"run {record.key[:12]} saved no vectors: there is nothing to plot")
+    kind = analysis_kind(run.analysis)
+    x, vectors, xlabel = run.data.axis, run.vectors, f"{kind.axis} ({kind.axis_units})"
+    for name, values in vectors.items():
+        if kind.swept:  # complex phasors per volt of the source
+            ax.loglog(x, np.abs(values), label=f"|{name}| ({vector_units(name)} per V)")
+        else:
+            ax.plot(x, values, label=f"{name} ({vector_units(name)})")
     ax.set_xlabel(xlabel)
     if len(vectors) <= 8:
         ax.legend(fontsize=8)

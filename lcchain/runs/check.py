@@ -28,12 +28,13 @@ import time
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, TypedDict
 
 import numpy as np
 
 from ..core.budget import Budget, Estimate
 from ..core.errors import ParameterError
+from ..core.json import JSONDict
 from ..spice.element_values import (
     CouplingCard,
     ElementCard,
@@ -48,6 +49,9 @@ from ..spice.pricing import Price, RunLimits
 from ..spice.result import read_include
 from ..spice.simulator import Simulator
 from ..spice.text import canonical_text, canonical_vector_name, saved_vectors
+
+if TYPE_CHECKING:  # the exact reference loads where a check uses it (a batch without --check starts without it)
+    from ..circuit.linear import LinearCircuit, LinearResponse, Waveform
 
 __all__ = ["VectorCheck", "CheckResult", "CheckOptions", "circuit_of", "check_text", "check_file",
            "reference_measurements", "check_estimate", "CHECK_MEASUREMENT", "DEFAULT_ACCURACY"]
@@ -79,7 +83,7 @@ class VectorCheck:
             return None
         return self.max_abs_error / self.scale
 
-    def to_dict(self) -> dict[str, Any]:
+    def to_dict(self) -> JSONDict:
         return {"name": self.name, "unit": self.unit, "max_abs_error": self.max_abs_error, "scale": self.scale,
                 "max_rel_error": self.max_rel_error, "predicted_error": self.predicted_error}
 
@@ -125,7 +129,7 @@ class CheckResult:
         worst = self.max_rel_error
         return not (self.accuracy_given and worst is not None and worst > self.accuracy)
 
-    def to_dict(self) -> dict[str, Any]:
+    def to_dict(self) -> JSONDict:
         return {
             "netlist": self.netlist, "engine": self.engine, "engine_version": self.engine_version,
             "analysis": self.analysis, "method": self.method, "points": self.points,
@@ -192,7 +196,7 @@ def source_function(card: SourceCard, analysis: Transient | Sweep) -> tuple[str,
     return f"source {name}: {function.upper()}"
 
 
-def _waveform(card: SourceCard, analysis: Transient | Sweep) -> Any:
+def _waveform(card: SourceCard, analysis: Transient | Sweep) -> Waveform | str:
     """The source's waveform (lcchain.circuit.linear), or why it has no exact reference."""
     from ..circuit.linear import PulseSource, Waveform, exp_waveform, pulse_waveform, pwl_waveform, sin_waveform
 
@@ -214,7 +218,7 @@ def _waveform(card: SourceCard, analysis: Transient | Sweep) -> Any:
     return pwl_waveform(list(zip(values[0::2], values[1::2], strict=True)))
 
 
-def circuit_of(cards: NetlistCards, analysis: Transient | Sweep) -> Any:
+def circuit_of(cards: NetlistCards, analysis: Transient | Sweep) -> LinearCircuit | str:
     """The :class:`lcchain.circuit.linear.LinearCircuit` of the cards, or the reason there is none (a string:
     ``"nonlinear: D1"``, ``"source V2: SFFM"``)."""
     from ..circuit.linear import Branch, Coupling, LinearCircuit, Source
@@ -422,9 +426,9 @@ def check_text(text: str, source: str = "netlist", folder: Path | None = None, o
     else:
         axis, vectors, wall, version = _run(allowed, analysis, simulator, limits, folder if allow_control else None)
     names = [canonical_vector_name(n) for n in vectors]
-    common: dict[str, Any] = dict(netlist=source, engine=simulator.engine, engine_version=version,
-                                  analysis=analysis.kind, method=method, points=int(axis.size),
-                                  simulator_seconds=float(wall), accuracy=accuracy_value, accuracy_given=given)
+    common = _Common(netlist=source, engine=simulator.engine, engine_version=version, analysis=analysis.kind,
+                     method=method, points=int(axis.size), simulator_seconds=float(wall), accuracy=accuracy_value,
+                     accuracy_given=given)
     if isinstance(circuit, str) or response is None:
         return CheckResult(vectors=tuple(VectorCheck(n, _unit(n), None, None) for n in names),
                            reference=str(circuit), **common)
@@ -462,21 +466,35 @@ def _run_rewritten(allowed: str, cards: NetlistCards, analysis: Transient | Swee
         run.engine_version, (note,)
 
 
-def _compare(response: Any, solve_seconds: float, analysis: Transient | Sweep, axis: np.ndarray,
-             vectors: dict[str, np.ndarray], names: list[str], common: dict[str, Any],
+class _Common(TypedDict):
+    """The fields of a :class:`CheckResult` known when the run is done, with or without a reference."""
+
+    netlist: str
+    engine: str
+    engine_version: str
+    analysis: str
+    method: str
+    points: int
+    simulator_seconds: float
+    accuracy: float
+    accuracy_given: bool
+
+
+def _compare(response: LinearResponse, solve_seconds: float, analysis: Transient | Sweep, axis: np.ndarray,
+             vectors: dict[str, np.ndarray], names: list[str], common: _Common,
              notes_before: tuple[str, ...] = ()) -> CheckResult:
     """The result's comparison of the run's ``vectors`` with the exact ``response``; ``common`` holds the result's
     other fields, the accuracy and the method among them."""
     from ..compare.check import predicted_errors, step_for_accuracy, vector_errors
 
-    accuracy: float = common["accuracy"]
-    method: str = common["method"]
+    accuracy, method = common["accuracy"], common["method"]
 
     started = time.perf_counter()
-    outputs = {n: response.output(n) for n in names}
-    known = [n for n in names if outputs[n] is not None]
+    found = {n: response.output(n) for n in names}
+    outputs = {n: output for n, output in found.items() if output is not None}
+    known = list(outputs)
     notes = [*notes_before, *(f"no exact reference for the vector {n} (not a node voltage or a branch current "
-                              "lcchain models)" for n in names if outputs[n] is None)]
+                              "lcchain models)" for n in names if n not in outputs)]
     if isinstance(analysis, Sweep):
         exact = response.ac([outputs[n] for n in known], axis)
         rounding = None
@@ -537,14 +555,15 @@ def reference_measurements(netlist: str, axis: np.ndarray, vectors: Mapping[str,
         from ..compare.check import vector_errors
 
         response = linear_response(circuit)
-        names = [n for n in vectors if response.output(n) is not None]
-        if not names:
+        found = {n: response.output(n) for n in vectors}
+        modelled = {n: output for n, output in found.items() if output is not None}
+        if not modelled:
             return {CHECK_MEASUREMENT: (None, "no saved vector lcchain models")}
-        outputs = [response.output(n) for n in names]
+        names, outputs = list(modelled), list(modelled.values())
         if isinstance(analysis, Sweep):
-            exact = response.ac(outputs, axis)  # type: ignore[arg-type]
+            exact = response.ac(outputs, axis)
         else:
-            exact, _ = response.transient(outputs, axis, analysis.stop)  # type: ignore[arg-type]
+            exact, _ = response.transient(outputs, axis, analysis.stop)
         errors, _ = vector_errors([np.asarray(vectors[n]) for n in names], exact)
         return {CHECK_MEASUREMENT: (float(np.max(errors)), "")}
     except ParameterError as error:  # not well posed: the run stands, its check says why

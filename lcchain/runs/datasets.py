@@ -10,25 +10,39 @@ attributes.  xarray is optional (``pip install 'lcchain[data]'``) and imported o
 from __future__ import annotations
 
 from collections.abc import Iterable, Mapping, Sequence
-from typing import Any
+from typing import TYPE_CHECKING, TypeAlias
 
 import numpy as np
 
+from ..core.analyses import analysis_kind
 from ..core.extras import dataset_attrs, optional_module
 from ..core.physical import variable_name, vector_units
 
-__all__ = ["record_dataset", "simulation_dataset", "samples_dataset"]
+# The records give their parts (this module sits below the modules that define them: they import it on first use).
+if TYPE_CHECKING:
+    import xarray as xr
 
-# The results are typed Any: this module sits below the modules that define them (they import it on first use).
+    from ..compare.metrics import Comparison
+    from ..compare.waveforms import Signals, Waveforms
+    from ..spice.result import RunResult
+
+__all__ = ["record_dataset", "simulation_dataset", "samples_dataset", "make_dataset", "Variable"]
+
+#: A Dataset's variable or coordinate as xarray takes it: (its dimensions, its values, its attributes).
+Variable: TypeAlias = tuple[str | tuple[str, ...], np.ndarray, Mapping[str, str]] | tuple[str, np.ndarray]
 
 _DIMENSIONLESS_TIME = {"units": "1", "long_name": "time, units of sqrt(L0 C0)"}
 
 
-def _xarray(purpose: str) -> Any:
-    return optional_module("xarray", "data", purpose)
+def make_dataset(purpose: str, variables: Mapping[str, Variable], coords: Mapping[str, Variable],
+             attrs: Mapping[str, object]) -> xr.Dataset:
+    """An xarray Dataset (xarray is optional: an :class:`~lcchain.core.errors.ExtraMissingError` without it)."""
+    xarray = optional_module("xarray", "data", purpose)
+    dataset: xr.Dataset = xarray.Dataset(variables, coords=coords, attrs=attrs)
+    return dataset
 
 
-def _loops(signals: Any, time: str) -> dict[str, Any]:
+def _loops(signals: Signals, time: str) -> dict[str, Variable]:
     """The compared loops beside theory, dimensionless, on ``(loop, time)``."""
     what = "I / I_1(0)" if signals.excitation != "displacement" else "Q / Q_1(0)"
     return {"loop_signal": (("loop", time), np.asarray(signals.sim),
@@ -37,44 +51,40 @@ def _loops(signals: Any, time: str) -> dict[str, Any]:
                             {"units": "1", "long_name": f"compared loops in exact theory, {what}"})}
 
 
-def record_dataset(record: Any) -> Any:
-    """:meth:`RunRecord.to_xarray`: the saved vectors on ``time`` (s) or ``frequency`` (Hz), the compared loops
-    beside theory where the run had a theory, and the record's summary as attributes."""
-    xr = _xarray("RunRecord.to_xarray")
-    variables: dict[str, Any] = {}
-    coords: dict[str, Any] = {}
-    if record.result is not None:
-        result = record.result
-        coords["time"] = ("time", np.asarray(result.time), {"units": "s", "standard_name": "time",
-                                                              "long_name": "time from the run's start"})
-        for name, values in result.vectors.items():
+def record_dataset(run: RunResult | None, signals: Signals | None, summary: Mapping[str, object]) -> xr.Dataset:
+    """:meth:`RunRecord.to_xarray`: the saved vectors of the ``run`` on ``time`` (s) or ``frequency`` (Hz), the
+    compared loops beside theory (``signals``) where the run had a theory, and the record's ``summary`` as
+    attributes."""
+    variables: dict[str, Variable] = {}
+    coords: dict[str, Variable] = {}
+    if run is not None and not analysis_kind(run.analysis).swept:
+        time = np.asarray(run.data.axis)
+        coords["time"] = ("time", time, {"units": "s", "standard_name": "time",
+                                         "long_name": "time from the run's start"})
+        for name, values in run.vectors.items():
             variables[variable_name(name)] = ("time", np.asarray(values),
                                               {"units": vector_units(name), "long_name": name})
-        signals = record.signals
-        if signals is not None and signals.t.size == result.time.size:
+        if signals is not None and signals.t.size == time.size:
             coords["t"] = ("time", np.asarray(signals.t), _DIMENSIONLESS_TIME)
             variables |= _loops(signals, "time")
-    elif record.ac is not None:
-        ac = record.ac
-        coords["frequency"] = ("frequency", np.asarray(ac.frequency), {"units": "Hz", "long_name": "frequency"})
-        for name, values in ac.vectors.items():
+    elif run is not None:
+        coords["frequency"] = ("frequency", np.asarray(run.data.axis), {"units": "Hz", "long_name": "frequency"})
+        for name, values in run.vectors.items():
             phasor = np.asarray(values)
             for part in ("real", "imag"):
                 variables[f"{variable_name(name)}_{part}"] = (
                     "frequency", np.asarray(getattr(phasor, part), dtype=float),
                     {"units": vector_units(name), "long_name": f"{name}, {part} part per volt of the source"})
-    summary = record.summary()
-    summary.pop("log_tail", None)
-    return xr.Dataset(variables, coords=coords, attrs=dataset_attrs(summary))
+    attrs = dataset_attrs({key: value for key, value in summary.items() if key != "log_tail"})
+    return make_dataset("RunRecord.to_xarray", variables, coords, attrs)
 
 
-def simulation_dataset(report: Any) -> Any:
-    """:meth:`SimulationReport.to_xarray`: the end loops simulated and in theory on ``time`` (s, with the
-    dimensionless ``t`` beside it), and the report's summary as attributes."""
-    xr = _xarray("SimulationReport.to_xarray")
-    w, c = report.waveforms, report.comparison
-    what = "I / I_1(0)" if report.excitation != "displacement" else "Q / Q_1(0)"
-    variables = {
+def simulation_dataset(w: Waveforms, c: Comparison, excitation: str, time_unit: float,
+                       summary: Mapping[str, object]) -> xr.Dataset:
+    """:meth:`SimulationReport.to_xarray`: the end loops simulated (``w``) and in theory (``c``) on ``time`` (s,
+    with the dimensionless ``t`` beside it; ``time_unit`` seconds), and the report's ``summary`` as attributes."""
+    what = "I / I_1(0)" if excitation != "displacement" else "Q / Q_1(0)"
+    variables: dict[str, Variable] = {
         "first": ("time", np.asarray(w.first), {"units": "1", "long_name": f"loop 1 in the simulation, {what}"}),
         "last": ("time", np.asarray(w.last), {"units": "1", "long_name": f"loop N in the simulation, {what}"}),
         "theory_first": ("time", np.asarray(c.theory_first), {"units": "1",
@@ -82,26 +92,27 @@ def simulation_dataset(report: Any) -> Any:
         "theory_last": ("time", np.asarray(c.theory_last), {"units": "1",
                                                              "long_name": f"loop N in exact theory, {what}"}),
     }
-    coords = {"time": ("time", np.asarray(w.t) * report.ladder.time_unit,
-                       {"units": "s", "standard_name": "time", "long_name": "time from the run's start"}),
-              "t": ("time", np.asarray(w.t), _DIMENSIONLESS_TIME)}
-    summary = {key: value for key, value in report.to_dict().items()
+    coords: dict[str, Variable] = {
+        "time": ("time", np.asarray(w.t) * time_unit,
+                 {"units": "s", "standard_name": "time", "long_name": "time from the run's start"}),
+        "t": ("time", np.asarray(w.t), _DIMENSIONLESS_TIME)}
+    scalars = {key: value for key, value in summary.items()
                if key not in ("arrivals", "options", "timings", "extrapolation", "effects")}
-    return xr.Dataset(variables, coords=coords, attrs=dataset_attrs(summary | {"time_unit_s": report.ladder.time_unit}))
+    return make_dataset("SimulationReport.to_xarray", variables, coords,
+                    dataset_attrs(scalars | {"time_unit_s": time_unit}))
 
 
-def samples_dataset(title: str, records: Iterable[Mapping[str, Any]],
-                    parts: Sequence[Mapping[str, list[float | None]]]) -> Any:
+def samples_dataset(title: str, records: Iterable[Mapping[str, object]],
+                    parts: Sequence[Mapping[str, list[float | None]]]) -> xr.Dataset:
     """:meth:`SceneResult.to_xarray`: every sample's numbers on ``sample`` (NaN where one has none, a failed one
     with its ``status`` and ``error``), its first arrival's peaks, and its realised parts, ``L`` (H) on ``coil``
     and ``C`` (F) on ``capacitor`` (NaN: a wire)."""
-    xr = _xarray("SceneResult.to_xarray")
-    rows = [dict(record) for record in records]
+    rows: list[dict[str, object]] = [dict(record) for record in records]
     numbers: dict[str, list[float]] = {}
     texts: dict[str, list[str]] = {}
     for i, row in enumerate(rows):
-        arrivals = row.get("arrivals") or []
-        if arrivals:
+        arrivals = row.get("arrivals")
+        if isinstance(arrivals, Sequence) and arrivals and isinstance(arrivals[0], Mapping):
             row |= {f"first_arrival_{key}": value for key, value in arrivals[0].items()}
         for key, value in row.items():
             if isinstance(value, bool) or key == "sample":
@@ -110,11 +121,13 @@ def samples_dataset(title: str, records: Iterable[Mapping[str, Any]],
                 numbers.setdefault(key, [np.nan] * len(rows))[i] = float(value)
             elif isinstance(value, str):
                 texts.setdefault(key, [""] * len(rows))[i] = value
-    variables: dict[str, Any] = {key: ("sample", np.array(values), {"units": "s" if key.endswith("_s") else "1"})
-                                 for key, values in numbers.items()}
+    variables: dict[str, Variable] = {
+        key: ("sample", np.array(values), {"units": "s" if key.endswith("_s") else "1"})
+        for key, values in numbers.items()}
     variables |= {key: ("sample", np.array(values, dtype=str), {}) for key, values in texts.items()
                   if key not in numbers}
-    coords = {"sample": ("sample", np.array([row.get("sample", i + 1) for i, row in enumerate(rows)], dtype=int))}
+    coords: dict[str, Variable] = {
+        "sample": ("sample", np.array([row.get("sample", i + 1) for i, row in enumerate(rows)], dtype=int))}
     if rows:  # None (a wire) becomes NaN
         L, C = (np.array([[np.nan if v is None else v for v in part[name]] for part in parts], dtype=float)
                 for name in ("L", "C"))
@@ -122,4 +135,4 @@ def samples_dataset(title: str, records: Iterable[Mapping[str, Any]],
         variables["C"] = (("sample", "capacitor"), C, {"units": "F", "long_name": "realised capacitance C_j between "
                                                                                "masses j and j + 1 (NaN: a wire)"})
         coords |= {"coil": ("coil", np.arange(1, L.shape[1] + 1)), "capacitor": ("capacitor", np.arange(C.shape[1]))}
-    return xr.Dataset(variables, coords=coords, attrs={"title": title})
+    return make_dataset("SceneResult.to_xarray", variables, coords, {"title": title})

@@ -27,7 +27,7 @@ import logging
 import time
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, replace
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -38,6 +38,7 @@ from ..core.budget import ac_run_estimate
 from ..core.checks import instance
 from ..core.errors import ParameterError, SimulationError, show_value
 from ..core.frozen import FrozenArrays, FrozenMap
+from ..core.json import JSONDict
 from ..core.show import html_table, plot, short_repr
 from ..core.types import DEFAULT_ENGINE, GAUSSIAN_CENTRE, AnalysisKind, Probes, RunStatus
 from ..spice.engines import engine_named, find_engine, run_engine
@@ -52,17 +53,18 @@ from .spec import RunSpec, SpectrumTheory, Theory
 # A foreign netlist's run (lcchain batch) compares nothing with theory: the comparisons, the circuit's theory and
 # the AC fit load in the functions that use them, so that a batch starts without them (issue 35).
 if TYPE_CHECKING:
+    import xarray as xr
+
     from ..circuit.elements import Element, Pulse
     from ..circuit.exact import CircuitTheory
     from ..compare.metrics import EffectCost, Metrics
     from ..compare.poles import CircuitModes
     from ..compare.spectral import SpectrumMetrics
     from ..compare.waveforms import Signals
-    from ..spice.ac import AcResult
 
 __all__ = ["signals_of", "loop_sims", "theory_at", "metrics_of", "CircuitResponse", "LoopTheory", "effect_cost",
-           "loop_theory", "RunRecord", "execute", "waveform_digest", "pulse_centre", "ANALYSIS_RUNS", "ac_metrics",
-           "circuit_modes"]
+           "loop_theory", "RunRecord", "Analysed", "execute", "waveform_digest", "pulse_centre", "ANALYSIS_RUNS",
+           "ac_metrics", "circuit_modes"]
 
 log = logging.getLogger("lcchain")
 
@@ -80,8 +82,11 @@ class RunRecord(FrozenArrays):
         Why it failed ("" when ok): ngspice's own words where it said any.
     log_tail : str
         The useful end of ngspice's output when it failed.
-    result : RunResult or None
-        The waveforms (seconds, amperes, volts) and ngspice's metadata.
+    run : RunResult or None
+        What the engine returned, whichever the analysis (``run.data``: a transient's
+        :class:`~lcchain.spice.result.TransientData`, time in seconds and vectors in amperes or volts, or an AC
+        run's :class:`~lcchain.spice.result.AcData`, frequencies in Hz and complex vectors), and its metadata.
+        None when the run failed, and for a record read back from a store or an extrapolation's.
     signals : Signals or None
         The compared loops, dimensionless, beside the theory (runs with a theory).
     metrics : Metrics or None
@@ -98,8 +103,6 @@ class RunRecord(FrozenArrays):
         The spec's label.
     engine : str
         The engine's name (:data:`lcchain.spice.engines.ENGINES`).
-    ac : AcResult or None
-        An AC run's frequencies (Hz) and complex vectors (``result`` is then None).
     spectrum : SpectrumMetrics or None
         An AC run's poles and weights beside its theory (AC runs with a theory; ``metrics`` is then None).
     """
@@ -108,7 +111,7 @@ class RunRecord(FrozenArrays):
     status: RunStatus
     reason: str = ""
     log_tail: str = ""
-    result: RunResult | None = None
+    run: RunResult | None = None
     signals: Signals | None = None
     metrics: Metrics | None = None
     digest: str = ""
@@ -118,25 +121,24 @@ class RunRecord(FrozenArrays):
     lcchain_version: str = __version__
     label: str = ""
     engine: str = DEFAULT_ENGINE
-    ac: AcResult | None = None
     spectrum: SpectrumMetrics | None = None
 
     @property
     def analysis(self) -> AnalysisKind:
-        """``"ac"`` for an AC run's record, else ``"transient"``."""
-        return "ac" if self.ac is not None or self.spectrum is not None else "transient"
+        """The analysis of the run (``"transient"``, ``"ac"``); without arrays, ``"ac"`` where it has a spectrum."""
+        if self.run is not None:
+            return self.run.analysis
+        return "ac" if self.spectrum is not None else "transient"
 
     @property
     def measurements(self) -> Measurements:
         """The netlist's ``.meas`` results by name: (value, "") or (None, ngspice's reason); empty without any."""
-        saved = self.result if self.result is not None else self.ac
-        return saved.measurements if saved is not None else FrozenMap()
+        return self.run.measurements if self.run is not None else FrozenMap()
 
     @property
     def points(self) -> int | None:
         """Time points, or an AC run's frequencies (None without arrays)."""
-        saved = self.result if self.result is not None else self.ac
-        return saved.points if saved is not None else None
+        return self.run.points if self.run is not None else None
 
     @property
     def ok(self) -> bool:
@@ -148,9 +150,9 @@ class RunRecord(FrozenArrays):
         only this field)."""
         return self.engine_version if self.engine == DEFAULT_ENGINE else ""
 
-    def summary(self) -> dict[str, Any]:
+    def summary(self) -> JSONDict:
         """Everything but the arrays, as JSON-serialisable data."""
-        data: dict[str, Any] = {
+        data: JSONDict = {
             "key": self.key, "label": self.label, "status": self.status, "reason": self.reason,
             "digest": self.digest, "wall_s": self.wall_s, "total_s": self.total_s,
             "engine": self.engine, "engine_version": self.engine_version,
@@ -158,10 +160,9 @@ class RunRecord(FrozenArrays):
         }
         if self.status != "ok":
             data["log_tail"] = self.log_tail
-        saved = self.result if self.result is not None else self.ac
-        if saved is not None:
-            data["points"] = saved.points
-            data["netlist_sha256"] = saved.netlist_sha256
+        if self.run is not None:
+            data["points"] = self.run.points
+            data["netlist_sha256"] = self.run.netlist_sha256
         for metrics in (self.metrics, self.spectrum):
             if metrics is not None:
                 data.update(metrics.to_dict())
@@ -189,13 +190,13 @@ class RunRecord(FrozenArrays):
         return rows
 
     def __repr__(self) -> str:
-        """A few lines (the arrays: ``result``, ``ac``, ``signals``; all of it: :meth:`summary`)."""
+        """A few lines (the arrays: ``run``, ``signals``; all of it: :meth:`summary`)."""
         return short_repr("RunRecord", self._rows())
 
     def _repr_html_(self) -> str:
         return html_table("RunRecord", self._rows())
 
-    def plot(self, ax: Any = None) -> Any:
+    def plot(self, ax: object = None) -> object:
         """The run's figure: its compared loops over theory (the far end; residual below) where it had a theory,
         else its saved vectors against time (or their magnitudes against frequency).
 
@@ -206,14 +207,14 @@ class RunRecord(FrozenArrays):
         """
         return plot("record", self, ax=ax)
 
-    def to_xarray(self) -> Any:
+    def to_xarray(self) -> xr.Dataset:
         """The saved vectors as an xarray Dataset on ``time`` (s) or ``frequency`` (Hz), each with its ``units``
         (an AC phasor as ``*_real`` and ``*_imag``), the compared loops beside theory (``loop_signal``,
         ``loop_theory``, dimensionless, and ``t``) where the run had a theory, :meth:`summary` as attributes.
         xarray is optional: ``pip install 'lcchain[data]'``."""
         from .datasets import record_dataset
 
-        return record_dataset(self)
+        return record_dataset(self.run, self.signals, self.summary())
 
 
 def waveform_digest(time_s: np.ndarray, vectors: Mapping[str, np.ndarray], axis: str = "time") -> str:
@@ -413,9 +414,21 @@ def _compare(theory: Theory, result: RunResult) -> tuple[Signals, Metrics]:
                                ends=ends)
 
 
-def _run_transient(spec: RunSpec, simulator: Simulator,
-                   progress: Callable[[float], None] | None) -> tuple[dict[str, Any], float, int, str]:
-    """A transient run in its engine, compared with its :class:`Theory`: (record fields, wall, points, digest)."""
+@dataclass(frozen=True, eq=False)
+class Analysed:
+    """What one analysis gives :func:`execute` for a run that went through its engine: the engine's run, the
+    digest of its arrays (:func:`waveform_digest`), and its comparison with theory where the spec had one (a
+    transient's ``signals`` and ``metrics``, an AC run's ``spectrum``)."""
+
+    run: RunResult
+    digest: str
+    signals: Signals | None = None
+    metrics: Metrics | None = None
+    spectrum: SpectrumMetrics | None = None
+
+
+def _run_transient(spec: RunSpec, simulator: Simulator, progress: Callable[[float], None] | None) -> Analysed:
+    """A transient run in its engine, compared with its :class:`Theory`."""
     job = RunJob(spec.netlist, spec.vectors, spec.tstop, timeout=spec.timeout, cwd=spec.cwd, trusted=spec.trusted,
                  foreign=spec.foreign, max_output_bytes=spec.max_output_bytes,
                  max_resident_bytes=spec.max_resident_bytes)
@@ -433,8 +446,7 @@ def _run_transient(spec: RunSpec, simulator: Simulator,
             if spec.theory.circuit is None:  # result, not a traceback (the nominal one is refused when planned)
                 raise
             raise SimulationError(f"the circuit's exact theory: {error}", engine=spec.engine) from None
-    return ({"result": result, "signals": signals, "metrics": metrics}, result.wall_s, result.points,
-            waveform_digest(result.time, result.vectors))
+    return Analysed(result, waveform_digest(result.time, result.vectors), signals=signals, metrics=metrics)
 
 
 @fixed_blas_threads
@@ -451,7 +463,7 @@ def circuit_modes(elements: tuple[Element | Pulse, ...], N: int, time_unit: floa
 
 
 @fixed_blas_threads
-def ac_metrics(theory: SpectrumTheory, result: AcResult) -> SpectrumMetrics:
+def ac_metrics(theory: SpectrumTheory, result: RunResult) -> SpectrumMetrics:
     """An AC run's I_1/V_1 and I_N/V_1 against the driven modes of its chain, or the circuit's own poles and
     residues when its theory carries its elements."""
     from ..circuit.netlist import probe_names
@@ -469,8 +481,7 @@ def ac_metrics(theory: SpectrumTheory, result: AcResult) -> SpectrumMetrics:
     return compare_spectrum(modes, omega, first, last, float(chain.masses[0]), theory.Q, chain=chain)
 
 
-def _run_ac(spec: RunSpec, simulator: Simulator,
-            progress: Callable[[float], None] | None) -> tuple[dict[str, Any], float, int, str]:
+def _run_ac(spec: RunSpec, simulator: Simulator, progress: Callable[[float], None] | None) -> Analysed:
     """An AC run (:func:`lcchain.spice.ac.run_ac`), its poles and weights against its :class:`SpectrumTheory`.
     ``progress`` hears 0 at the start, the engine's share of the priced work when the engine is done, and 1."""
     from ..compare.spectral import spectrum_estimate
@@ -506,14 +517,12 @@ def _run_ac(spec: RunSpec, simulator: Simulator,
                                   engine=spec.engine) from None
     if progress is not None:
         progress(1.0)
-    return ({"ac": result, "spectrum": spectrum}, result.wall_s, result.points,
-            waveform_digest(result.frequency, result.vectors, "frequency"))
+    return Analysed(result, waveform_digest(result.frequency, result.vectors, "frequency"), spectrum=spectrum)
 
 
-#: How a spec of each analysis runs and is compared: ``(spec, simulator, progress) -> (record fields, simulator
-#: seconds, points, digest)``.  A new analysis adds its line here.
-ANALYSIS_RUNS: dict[AnalysisKind, Callable[[RunSpec, Simulator, Callable[[float], None] | None],
-                                           tuple[dict[str, Any], float, int, str]]] = {
+#: How a spec of each analysis runs and is compared: ``(spec, simulator, progress) -> Analysed``.  A new analysis
+#: adds its line here.
+ANALYSIS_RUNS: dict[AnalysisKind, Callable[[RunSpec, Simulator, Callable[[float], None] | None], Analysed]] = {
     "transient": _run_transient,
     "ac": _run_ac,
 }
@@ -553,15 +562,16 @@ def execute(spec: RunSpec, simulator: Simulator | None = None, *,
     if simulator.engine != spec.engine:
         raise ParameterError("simulator", simulator.engine, f"a simulator of the spec's engine, {spec.engine!r}")
     key = spec.key(simulator.version)
-    common: dict[str, Any] = {"key": key, "engine": spec.engine, "engine_version": simulator.version,
-                              "label": spec.label}
     try:
-        fields, wall, points, digest = ANALYSIS_RUNS[spec.analysis](spec, simulator, progress)
+        done = ANALYSIS_RUNS[spec.analysis](spec, simulator, progress)
     except SimulationError as error:
         log.info("%s: %s (%s)", spec.label or key[:12], error.status, error.reason)
-        return RunRecord(status="timeout" if error.status == "timeout" else "failed", reason=error.reason,
-                         log_tail=error.log_tail, total_s=time.perf_counter() - start, **common)
-    total = time.perf_counter() - start
-    log.info("%s: ok, %d points, %s %.3f s, lcchain %.3f s", spec.label or key[:12], points, spec.engine,
+        return RunRecord(key=key, status="timeout" if error.status == "timeout" else "failed", reason=error.reason,
+                         log_tail=error.log_tail, total_s=time.perf_counter() - start, engine=spec.engine,
+                         engine_version=simulator.version, label=spec.label)
+    total, wall = time.perf_counter() - start, done.run.wall_s
+    log.info("%s: ok, %d points, %s %.3f s, lcchain %.3f s", spec.label or key[:12], done.run.points, spec.engine,
              wall, total - wall)
-    return RunRecord(status="ok", digest=digest, wall_s=wall, total_s=total, **fields, **common)
+    return RunRecord(key=key, status="ok", run=done.run, signals=done.signals, metrics=done.metrics,
+                     digest=done.digest, wall_s=wall, total_s=total, engine=spec.engine,
+                     engine_version=simulator.version, label=spec.label, spectrum=done.spectrum)

@@ -19,7 +19,7 @@ import time
 from collections.abc import Callable, Mapping, Sequence
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field, replace
-from typing import Any
+from typing import TYPE_CHECKING
 
 from ..circuit.ladder import Ladder
 from ..circuit.netlist import SimulationOptions
@@ -35,6 +35,7 @@ from ..core.budget import Budget
 from ..core.checks import callback, choice, instance, real
 from ..core.errors import ParameterError, SimulationError
 from ..core.frozen import FrozenMap
+from ..core.json import JSONValue
 from ..core.show import html_table, plot, short_repr
 from ..core.types import DEFAULT_C0, DEFAULT_I0, DEFAULT_L0, EXCITATIONS, Backend, Excitation, Method
 from ..spice.engine import Engine
@@ -47,6 +48,9 @@ from .execute import RunRecord, execute
 from .extrapolated import combined_record
 from .request import Drive, Request, Transient, plan_request
 from .spec import DEFAULT_TIMEOUT, RunSpec, Theory
+
+if TYPE_CHECKING:
+    import xarray as xr
 
 #: ngspice runs of one extrapolation executed at once (each is single-threaded; never more than the cores).
 MEMBER_THREADS = 2
@@ -90,11 +94,11 @@ class Extrapolation:
     plan: ExtrapolationPlan | None = None
     digest: str = ""
 
-    def to_dict(self) -> dict[str, Any]:
-        members = []
+    def to_dict(self) -> dict[str, object]:  # its plan's to_dict is dict[str, object]
+        members: list[JSONValue] = []
         for h, record in zip(self.steps, self.members, strict=True):
             metrics = record.metrics
-            members.append({"dt": h, "points": record.result.points if record.result is not None else None,
+            members.append({"dt": h, "points": record.run.points if record.run is not None else None,
                             "wall_s": record.wall_s, "digest": record.digest,
                             "max_abs_error": metrics.max_abs_error if metrics is not None else None,
                             "predicted_error": metrics.predicted_error if metrics is not None else None})
@@ -168,10 +172,20 @@ class SimulationReport:
             return self.extrapolation.members
         return (self.record,) if self.record is not None else ()
 
-    def to_dict(self) -> dict[str, Any]:
+    @property
+    def points(self) -> int:
+        """The time points of all the runs (an extrapolation's members')."""
+        return sum(m.run.points for m in self._members() if m.run is not None)
+
+    @property
+    def wall_s(self) -> float:
+        """The simulator's seconds in all the runs, one after the other (an extrapolation's members')."""
+        return sum(m.run.wall_s for m in self._members() if m.run is not None)
+
+    def to_dict(self) -> dict[str, object]:  # its extrapolation's is dict[str, object]
         """The JSON report of ``lcchain simulate --json`` (points and wall_s: all the runs')."""
         run = self.run
-        return {
+        data: dict[str, object] = {
             "N": self.chain.N,
             "case": self.chain.name,
             "excitation": self.excitation,
@@ -187,8 +201,8 @@ class SimulationReport:
             "ngspice_version": run.ngspice_version,
             "netlist_sha256": run.netlist_sha256,
             "options": dict(run.options),
-            "points": sum(m.result.points for m in self._members() if m.result is not None),
-            "wall_s": sum(m.result.wall_s for m in self._members() if m.result is not None),
+            "points": self.points,
+            "wall_s": self.wall_s,
             "max_abs_error": self.comparison.max_abs_error,
             "max_abs_error_first": self.comparison.max_abs_error_first,
             "max_abs_error_last": self.comparison.max_abs_error_last,
@@ -202,7 +216,10 @@ class SimulationReport:
             "digest": (self.extrapolation.digest if self.extrapolation is not None and self.extrapolation.digest
                        else self.record.digest if self.record is not None else None),
             "extrapolation": self.extrapolation.to_dict() if self.extrapolation is not None else None,
-        } | ({} if self.effects is None else {"effects": self.effects.to_dict()})
+        }
+        if self.effects is not None:
+            data["effects"] = self.effects.to_dict()
+        return data
 
     def _rows(self) -> list[tuple[str, object]]:
         run, c = self.run, self.comparison
@@ -224,7 +241,7 @@ class SimulationReport:
     def _repr_html_(self) -> str:
         return html_table("SimulationReport", self._rows())
 
-    def plot(self, ax: Any = None) -> Any:
+    def plot(self, ax: object = None) -> object:
         """The end currents (or charges) over theory, the residual below, as ``lcchain simulate --plot`` draws.
 
         Parameters
@@ -239,13 +256,14 @@ class SimulationReport:
         """
         return plot("simulation", self, ax=ax)
 
-    def to_xarray(self) -> Any:
+    def to_xarray(self) -> xr.Dataset:
         """The end loops, simulated and in theory (``first``, ``last``, ``theory_first``, ``theory_last``,
         dimensionless), as an xarray Dataset on ``time`` in seconds (``t`` beside it in units of sqrt(L0 C0)), the
         scalar summary of :meth:`to_dict` as attributes.  xarray is optional: ``pip install 'lcchain[data]'``."""
         from .datasets import simulation_dataset
 
-        return simulation_dataset(self)
+        return simulation_dataset(self.waveforms, self.comparison, self.excitation, self.ladder.time_unit,
+                                  self.to_dict())
 
 def simulator_wall_time(runs: Sequence[tuple[float, float]]) -> float:
     """Seconds during which at least one of ``runs`` was running: the length of the union of the intervals
@@ -571,8 +589,8 @@ def run_simulation(planned: SimulationRuns, *, progress: Callable[[float], None]
     records = _execute_members(list(planned.specs), steps, simulator, progress, starts)
     done = time.perf_counter()
     first = records[0]
-    assert first.result is not None and first.signals is not None and first.metrics is not None
-    result = first.result
+    assert first.run is not None and first.signals is not None and first.metrics is not None
+    result = first.run
     if runs == 1:
         signals, metrics = first.signals, first.metrics
         predicted = metrics.predicted_error
@@ -588,8 +606,8 @@ def run_simulation(planned: SimulationRuns, *, progress: Callable[[float], None]
                                       interpolation_error(modes, member_times, signals.t, steps), reason, plan,
                                       combined.digest)
     compared = time.perf_counter()
-    simulator_s = sum(r.result.wall_s for r in records if r.result is not None)
-    simulating_s = simulator_wall_time([(start, r.result.wall_s if r.result is not None else 0.0)
+    simulator_s = sum(r.run.wall_s for r in records if r.run is not None)
+    simulating_s = simulator_wall_time([(start, r.run.wall_s if r.run is not None else 0.0)
                                         for start, r in zip(starts, records, strict=True)])
     timings = {
         "netlist_and_modes_s": built - clock,

@@ -21,14 +21,14 @@ from __future__ import annotations
 import hashlib
 import json
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING
 
-from ..circuit.elements import Element, Pulse
 from ..core import __version__
 from ..core.analyses import analysis_kind
 from ..core.checks import choice, instance, integer, real
 from ..core.checks import pulse as check_pulse
 from ..core.errors import ParameterError
+from ..core.json import JSONDict
 from ..core.limits import MAX_AC_POINTS, MAX_TRANSITS, MIN_AC_POINTS
 from ..core.types import (
     ANALYSIS_KINDS,
@@ -45,8 +45,11 @@ from ..core.types import (
     PulseShape,
 )
 from ..spice.engines import DEFAULT_ENGINE, engine_named
-from ..theory.chain import Chain
-from ..theory.modes import Modes
+
+if TYPE_CHECKING:  # a spec's theory is imported with it: a batch's specs have none, and start without numpy
+    from ..circuit.elements import Element, Pulse
+    from ..theory.chain import Chain
+    from ..theory.modes import Modes
 
 __all__ = ["Theory", "SpectrumTheory", "RunSpec", "DEFAULT_TIMEOUT"]
 
@@ -54,7 +57,7 @@ __all__ = ["Theory", "SpectrumTheory", "RunSpec", "DEFAULT_TIMEOUT"]
 DEFAULT_TIMEOUT = 3600.0
 
 
-def _chain_fingerprint(chain: Chain) -> dict[str, Any]:
+def _chain_fingerprint(chain: Chain) -> JSONDict:
     """The chain's values in full (its coupling only when coupled: the keys of stores made before coupling)."""
     return {"masses": [float(m).hex() for m in chain.masses], "springs": [float(k).hex() for k in chain.springs]} | (
         {"coupling": float(chain.coupling).hex()} if chain.coupled else {})
@@ -122,6 +125,10 @@ class Theory:
     circuit: tuple[Element | Pulse, ...] | None = None
 
     def __post_init__(self) -> None:
+        from ..circuit.elements import Element, Pulse
+        from ..theory.chain import Chain
+        from ..theory.modes import Modes
+
         instance("chain", self.chain, Chain)
         real("time_unit", self.time_unit, above=0.0, unit="seconds")
         real("I0", self.I0, above=0.0, unit="ampere")
@@ -163,7 +170,7 @@ class Theory:
 
         return (0.0, 0.0) if self.circuit is None else circuit_cost(self.circuit, int(times) + 1)
 
-    def fingerprint(self) -> dict[str, Any]:
+    def fingerprint(self) -> JSONDict:
         """Everything that determines the comparison, as plain JSON (the chain's values in full)."""
         return {
             **_chain_fingerprint(self.chain),
@@ -214,6 +221,10 @@ class SpectrumTheory:
     circuit: tuple[Element | Pulse, ...] | None = None
 
     def __post_init__(self) -> None:
+        from ..circuit.elements import Element, Pulse
+        from ..theory.chain import Chain
+        from ..theory.modes import Modes
+
         instance("chain", self.chain, Chain)
         real("time_unit", self.time_unit, above=0.0, unit="seconds")
         real("impedance", self.impedance, above=0.0, unit="ohm")
@@ -230,7 +241,7 @@ class SpectrumTheory:
             if self.Q is not None:
                 raise ParameterError("Q", self.Q, "None with a circuit (its resistors are among its elements)")
 
-    def fingerprint(self) -> dict[str, Any]:
+    def fingerprint(self) -> JSONDict:
         """Everything that determines the comparison, as plain JSON (the circuit's cards only when it has one: the
         keys of chains' runs are unchanged)."""
         return {"analysis": "ac", **_chain_fingerprint(self.chain), "time_unit": float(self.time_unit).hex(),
@@ -355,7 +366,7 @@ class RunSpec:
         it runs (its dialect) only when it is not ngspice: the keys of ngspice runs are those of stores made
         before there were engines.
         """
-        data: dict[str, Any] = {
+        data: JSONDict = {
             "netlist": self.netlist, "vectors": list(self.vectors), "tstop": float(self.tstop).hex(),
             "backend": self.backend, "cwd": self.cwd, "trusted": self.trusted, "lcchain": __version__,
             "ngspice": engine_version,

@@ -34,7 +34,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
-from typing import Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -52,7 +52,8 @@ from ..compare.spectrum import SpectrumFit
 from ..core.budget import Budget
 from ..core.checks import instance
 from ..core.errors import ParameterError, SimulationError
-from ..core.extras import dataset_attrs, optional_module
+from ..core.extras import dataset_attrs
+from ..core.json import JSONDict, JSONValue
 from ..core.show import html_table, plot, short_repr
 from ..core.types import DEFAULT_C0, DEFAULT_L0
 from ..spice.engine import Engine
@@ -62,8 +63,12 @@ from ..theory.arrivals import stop_time
 from ..theory.chain import Chain
 from ..theory.modes import WEIGHT_PRECISION, Modes
 from ..theory.response import linear_response
+from .datasets import Variable, make_dataset
 from .execute import circuit_modes, execute
 from .request import AC, Request, plan_request
+
+if TYPE_CHECKING:
+    import xarray as xr
 from .spec import SpectrumTheory
 from .survey import ModeReport, measure_modes
 
@@ -306,7 +311,7 @@ class SpectrumReport:
         bad = [name for name, value in errors.items() if not np.isfinite(value)]
         return f"the error of {', '.join(bad)} is not a number: the comparison with theory failed" if bad else ""
 
-    def to_dict(self) -> dict[str, Any]:
+    def to_dict(self) -> JSONDict:
         """``lcchain spectrum --json``: a mode's ``P_theory`` is null, ``below_precision`` true, where the theory's
         value is rounding noise (:attr:`below_precision`)."""
         omega, P = self.omega, self.P
@@ -317,10 +322,11 @@ class SpectrumReport:
         omega_bound, P_bound = self.theory.omega_bound, self.theory.transfer_bound
         merged = self.merged_modes
         compared = bool(self.resolved.any())  # every mode merged: no error to give, not an error of 0
-        modes = []
+        modes: list[JSONValue] = []
         for n in range(self.theory.N):
             seen = bool(np.isfinite(omega[n]))
-            mode = {"n": n + 1, "omega": float(omega[n]) if seen else None, "P": float(P[n]) if seen else None,
+            mode: JSONDict = {"n": n + 1, "omega": float(omega[n]) if seen else None,
+                              "P": float(P[n]) if seen else None,
                     "omega_theory": float(self.theory.omega[n]),
                     "P_theory": None if noise[n] else float(self.theory.transfer[n]),
                     "below_precision": bool(noise[n]), "seen": seen, "resolved": bool(self.resolved[n]),
@@ -332,7 +338,8 @@ class SpectrumReport:
                 if self.gamma_theory is not None:
                     mode["gamma_theory"] = float(self.gamma_theory[n])
             modes.append(mode)
-        return {"N": self.chain.N, "case": self.chain.name, "points": self.points, "omega_max": self.omega_max,
+        data: JSONDict = {
+                "N": self.chain.N, "case": self.chain.name, "points": self.points, "omega_max": self.omega_max,
                 "engine": self.engine, "engine_version": self.engine_version, "netlist_sha256": self.netlist_sha256,
                 "modes": modes, "seen": int(self.seen.sum()),
                 "max_rel_error_omega": _finite(self.max_rel_error_omega) if compared else None,
@@ -343,9 +350,11 @@ class SpectrumReport:
                 "max_abs_error_response": self.response_error,
                 "segments": self.segments, "merged": [int(n) + 1 for n in np.flatnonzero(merged)],
                 "max_rel_error_Y11": self.envelope_error, "reference_bound_Y11": self.envelope_bound,
-                "failure": self.failure} | self.reference_bounds | (
-                    {} if self.theory.method != "circuit" else {"theory": "circuit"}) | (
-                    {} if self.modes is None else {"survey": self.modes.to_dict()})
+                "failure": self.failure}
+        data.update(self.reference_bounds)
+        data.update({} if self.theory.method != "circuit" else {"theory": "circuit"})
+        data.update({} if self.modes is None else {"survey": self.modes.to_dict()})
+        return data
 
     def _rows(self) -> list[tuple[str, object]]:
         bounds = self.reference_bounds
@@ -374,7 +383,7 @@ class SpectrumReport:
     def _repr_html_(self) -> str:
         return html_table("SpectrumReport", self._rows())
 
-    def plot(self, ax: Any = None) -> Any:
+    def plot(self, ax: object = None) -> object:
         """|P_n| against omega_n, the circuit's over theory, with the spacing below (``lcchain spectrum --plot``).
 
         Parameters
@@ -390,15 +399,14 @@ class SpectrumReport:
         """
         return plot("spectrum", self, ax=ax)
 
-    def to_xarray(self) -> Any:
+    def to_xarray(self) -> xr.Dataset:
         """The modes as an xarray Dataset on the dimension ``mode`` (n = 1..N): the circuit's ``omega``, ``P``
         (and ``Q``, ``gamma`` with losses) beside theory's ``*_theory``, ``seen`` and ``resolved``, NaN where a mode
         was not seen; ``frequency`` and ``frequency_theory`` in hertz; the scalar summary as attributes.
         xarray is optional: ``pip install 'lcchain[data]'``."""
-        xr = optional_module("xarray", "data", "SpectrumReport.to_xarray")
         hertz = 1.0 / (2 * math.pi * self.time_unit)
         per_unit = {"units": "1", "comment": "units of 1/sqrt(L0 C0)"}
-        variables: dict[str, Any] = {
+        variables: dict[str, Variable] = {
             "omega": ("mode", self.omega, {"long_name": "normal frequency in the circuit"} | per_unit),
             "omega_theory": ("mode", self.omega_theory, {"long_name": "exact normal frequency"} | per_unit),
             "frequency": ("mode", self.omega * hertz, {"long_name": "normal frequency in the circuit", "units": "Hz"}),
@@ -415,8 +423,9 @@ class SpectrumReport:
                           "Q_theory": ("mode", self.Q_theory, {"long_name": "exact quality factor", "units": "1"}),
                           "gamma": ("mode", self.gamma, {"long_name": "decay rate in the circuit"} | per_unit)}
         summary = {key: value for key, value in self.to_dict().items() if key not in ("modes", "timings")}
-        return xr.Dataset(variables, coords={"mode": ("mode", np.arange(1, self.theory.N + 1), {"units": "1"})},
-                          attrs=dataset_attrs(summary | {"time_unit_s": self.time_unit}))
+        return make_dataset("SpectrumReport.to_xarray", variables,
+                            {"mode": ("mode", np.arange(1, self.theory.N + 1), {"units": "1"})},
+                            dataset_attrs(summary | {"time_unit_s": self.time_unit}))
 
 def _pole(omega: np.ndarray, gamma: np.ndarray) -> np.ndarray:
     """-gamma/2 + j sqrt(omega^2 - gamma^2/4): the upper pole, the faster one of an overdamped mode (-gamma for a
@@ -602,7 +611,7 @@ def spectrum(request: Request, *, simulator: Simulator | None = None, budget: Bu
     # found before the run's clock starts: asking the engine its version is no part of the fit's seconds
     simulator = simulator if simulator is not None else find_engine(spec.engine, spec.backend)
     record = execute(spec, simulator, progress=progress)
-    if not record.ok or record.spectrum is None or record.ac is None:
+    if not record.ok or record.spectrum is None or record.run is None:
         raise SimulationError(record.reason, record.log_tail, record.status)
     spectrum, theory = record.spectrum, spec.theory
     assert spectrum.fit is not None and spectrum.seen is not None and spec.points is not None  # execute's own
@@ -615,13 +624,13 @@ def spectrum(request: Request, *, simulator: Simulator | None = None, budget: Bu
                                                                 theory.impedance).first,
                     spectrum.P_theory, "circuit", precision=WEIGHT_PRECISION)
         return SpectrumReport(theory.chain, own, spectrum.fit, spectrum.seen, spec.points, theory.omega_max,
-                              record.engine_version, record.ac.netlist_sha256, timings, None, segments, None,
+                              record.engine_version, record.run.netlist_sha256, timings, None, segments, None,
                               record.engine, spectrum.gamma_theory, time_unit=theory.time_unit)
     assert theory.modes is not None
     # the fitted model's alpha_N(t) holds the fit's guesses inside merged clusters: no claim to make of it then
     merged = spectrum.merged is not None and bool(np.any(spectrum.merged))
     response = None if merged else _response_error(theory.chain, theory.modes, spectrum.fit, Q)
     return SpectrumReport(theory.chain, theory.modes, spectrum.fit, spectrum.seen, spec.points, theory.omega_max,
-                          record.engine_version, record.ac.netlist_sha256, timings, Q, segments, response,
+                          record.engine_version, record.run.netlist_sha256, timings, Q, segments, response,
                           record.engine, time_unit=theory.time_unit, merged=spectrum.merged,
                           envelope_error=spectrum.envelope_error, envelope_bound=spectrum.envelope_bound)

@@ -19,7 +19,6 @@ import hashlib
 import math
 import time
 from dataclasses import dataclass, field
-from typing import Any
 
 import numpy as np
 
@@ -31,6 +30,7 @@ from ..compare.spectral import OMEGA_MARGIN
 from ..compare.survey import ModeSurvey, PoleStart, SurveyOptions, fit_survey, signed_shapes, survey_amplitudes
 from ..core.checks import instance, real
 from ..core.errors import ParameterError
+from ..core.json import JSONDict, JSONValue
 from ..core.limits import COUPLED_MAX_N
 from ..core.show import short_repr
 from ..core.types import DEFAULT_C0, DEFAULT_L0
@@ -206,12 +206,12 @@ class ModeReport:
         middle = float(np.median(gaps))
         return float(np.max(np.abs(gaps - middle)) / middle)
 
-    def to_dict(self) -> dict[str, Any]:
+    def to_dict(self) -> JSONDict:
         """Per mode: omega, Q (with losses), P and the shape over the loops, each beside theory, and its errors."""
         lossy = self.losses is not None
-        modes = []
+        modes: list[JSONValue] = []
         for n in range(self.N):
-            mode: dict[str, Any] = {
+            mode: JSONDict = {
                 "n": n + 1, "omega": float(self.omega[n]), "omega_theory": float(self.omega_theory[n]),
                 "omega_error": float(self.omega_error[n]), "P": float(self.P[n]), "P_theory": float(self.P_theory[n]),
                 "shape_error": float(self.shape_error[n]), "resolved": bool(self.resolved[n]),

@@ -132,9 +132,9 @@ def two_port(request: Request, z0: float = DEFAULT_Z0) -> TwoPort:
         spec = RunSpec(text, probes, 0.0, backend=request.backend, timeout=request.timeout, foreign=False,
                        label=f"two-port, N={ladder.chain.N}", engine=request.engine, analysis="ac", points=points)
         record = execute(spec)
-        if not record.ok or record.ac is None:
+        if not record.ok or record.run is None:
             raise SimulationError(record.reason, record.log_tail, record.status)
-        columns.append((record.ac, probes))
+        columns.append((record.run, probes))
     (first, ends), (second, mirror_ends) = columns
     if not np.array_equal(first.frequency, second.frequency):  # the same cards: a difference is the engine's
         raise SimulationError("the two ends' AC analyses swept different frequencies", "", "failed")

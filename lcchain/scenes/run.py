@@ -237,8 +237,8 @@ def _run_record(index: int, chain: Chain, run: RunRecord, netlist_sha256: str, p
 def _sample_record(index: int, chain: Chain, dt: float, run: RunRecord) -> SampleRecord:
     if not run.ok:
         return _failed_record(index, chain, run)
-    assert run.result is not None and run.metrics is not None
-    record = _run_record(index, chain, run, run.result.netlist_sha256, run.result.points)
+    assert run.run is not None and run.metrics is not None
+    record = _run_record(index, chain, run, run.run.netlist_sha256, run.run.points)
     record.update({"dt": dt, "max_abs_error": run.metrics.max_abs_error,
                    "arrivals": [a.to_dict() for a in run.metrics.arrivals]})
     if run.metrics.effects is not None:  # against the circuit's own theory: what its effects cost the pulse
@@ -249,8 +249,8 @@ def _sample_record(index: int, chain: Chain, dt: float, run: RunRecord) -> Sampl
 def _spectrum_record(index: int, chain: Chain, run: RunRecord) -> SampleRecord:
     if not run.ok:
         return _failed_record(index, chain, run)
-    assert run.ac is not None and run.spectrum is not None
-    record = _run_record(index, chain, run, run.ac.netlist_sha256, run.ac.points)
+    assert run.run is not None and run.spectrum is not None
+    record = _run_record(index, chain, run, run.run.netlist_sha256, run.run.points)
     metrics = run.spectrum.to_dict()
     record.update({name: metrics[name] for name in SPECTRAL_METRICS})  # type: ignore[typeddict-item]
     if "max_rel_error_Q" in metrics:  # losses: each mode's Q_n against omega_n Q
@@ -294,7 +294,7 @@ def transmitted_peaks(result: SceneResult) -> list[float]:
 
 
 def _members(plan: ScenePlan, records: Sequence[RunRecord]) -> dict[str, Any]:
-    members = [{"dt": h, "status": r.status, "points": r.result.points if r.result is not None else None,
+    members = [{"dt": h, "status": r.status, "points": r.run.points if r.run is not None else None,
                 "wall_s": r.wall_s, "max_abs_error": r.metrics.max_abs_error if r.metrics is not None else None}
                for h, r in zip(plan.steps, records, strict=True)]
     return {"runs": plan.runs, "dt": list(plan.steps), "weights": list(WEIGHTS[plan.runs]), "members": members,

@@ -11,8 +11,7 @@ from __future__ import annotations
 
 import hashlib
 from collections.abc import Mapping
-
-import numpy as np
+from typing import TYPE_CHECKING
 
 from ..core.errors import SimulationError
 from ..core.frozen import FrozenMap
@@ -22,6 +21,9 @@ from .measure import measure_names, read_measurements
 from .result import AcData, RunResult
 from .simulator import Simulator
 from .text import parse_options
+
+if TYPE_CHECKING:
+    import numpy as np
 
 __all__ = ["AcResult", "ac_result"]
 
@@ -57,6 +59,8 @@ def ac_result(job: AcJob, columns: Mapping[str, np.ndarray], log: str, simulator
         A frequency or a vector missing, too few or too many frequencies, one twice (overlapping cards), or a value
         that is not finite.
     """
+    import numpy as np
+
     engine, netlist, names, points = simulator.engine, job.netlist, job.vectors, job.points
 
     def fail(reason: str) -> SimulationError:

@@ -92,7 +92,7 @@ import re
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import Any, ClassVar
+from typing import ClassVar
 
 from ..core.budget import Estimate, show_bytes
 from ..core.errors import ParameterError
@@ -497,7 +497,7 @@ class CheckedText(str):
             raise TypeError("a CheckedText is made by lcchain.spice.foreign.allowed_netlist only")
         return super().__new__(cls, text)
 
-    def __reduce__(self) -> tuple[Any, ...]:
+    def __reduce__(self) -> tuple[Callable[..., CheckedText], tuple[str, str, None]]:
         return allowed_netlist, (str(self), "netlist", None)
 
 

@@ -45,8 +45,7 @@ import math
 import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
-
-import numpy as np
+from typing import TYPE_CHECKING
 
 from ..core.errors import ParameterError
 from .element_values import CouplingCard, ElementCard, NetlistCards, OtherCard, SourceCard
@@ -56,6 +55,9 @@ from .job import TransportJob
 from .sandbox import find_sandbox
 from .simulator import Simulator
 from .text import canonical_vector_name
+
+if TYPE_CHECKING:
+    import numpy as np
 
 __all__ = ["GnucapCheckNetlist", "CheckedRun", "check_netlist", "run_check", "GROUND", "CHECK_DIGITS"]
 
@@ -271,6 +273,8 @@ def run_check(netlist: GnucapCheckNetlist, stop: float, *, simulator: Simulator,
     else in a scratch folder; its process group killed after ``timeout``) and read its vectors back by ngspice's
     names.  ``simulator`` is gnucap's program, as an engine that ``checks_cards`` found it (the caller chose
     the engine by that attribute, :func:`lcchain.runs.check.check_text`; its name is not asked here)."""
+    import numpy as np
+
     output, log, wall = _run_child(TransportJob(netlist.text, stop, timeout, MAX_OUTPUT_BYTES, None), simulator,
                                    sandbox=find_sandbox())
     # gnucap's warning at the operating point with short=1e-30 (the values are those of short=1e-15, which

@@ -18,12 +18,14 @@ header, read one after the other.
 from __future__ import annotations
 
 import re
-
-import numpy as np
+from typing import TYPE_CHECKING
 
 from ..core.errors import SimulationError
 from .log import useful_output
 from .text import canonical_vector_name
+
+if TYPE_CHECKING:
+    import numpy as np
 
 __all__ = ["read_table", "read_ac_table", "table_number", "failure", "quiet", "quote", "without_rows", "TITLE"]
 
@@ -82,6 +84,8 @@ def read_table(output: str, log: str = "") -> dict[str, np.ndarray]:
     SimulationError
         No table, a message from gnucap before it (gnucap exits 0 after an error), or a malformed row.
     """
+    import numpy as np
+
     names, table = _read_rows(output, log, "#Time")
     if len(table) and table[0, 0] == 0.0:
         table = table[1:]
@@ -97,6 +101,8 @@ def read_ac_table(output: str, log: str = "") -> dict[str, np.ndarray]:
     SimulationError
         As :func:`read_table`, or a part without its other half.
     """
+    import numpy as np
+
     names, table = _read_rows(output, log, "#Freq")
     columns = {"frequency": np.ascontiguousarray(table[:, 0])}
     parts = {name: table[:, j] for j, name in enumerate(names, start=1)}
@@ -112,6 +118,8 @@ def read_ac_table(output: str, log: str = "") -> dict[str, np.ndarray]:
 def _read_rows(output: str, log: str, first: str) -> tuple[list[str], np.ndarray]:
     """The canonical names of gnucap's printed columns after the first, and its table's rows (the first column
     headed ``first``)."""
+    import numpy as np
+
     lines = output.splitlines()
     header = next((i for i, line in enumerate(lines) if line.startswith(first)), None)
     messages = [line.strip() for line in lines[: len(lines) if header is None else header]

@@ -174,7 +174,7 @@ MEASUREMENTS = "measurements"
 MEASURE_REASONS = "measure_reasons"
 
 
-def measurement_fields(measurements: Measurements) -> dict[str, dict[str, object]]:
+def measurement_fields(measurements: Measurements) -> dict[str, dict[str, float | str | None]]:
     """A run's measurements as JSON: ``{"measurements": {name: value or None}, "measure_reasons": {name:
     reason}}`` (the reasons of the missing ones only)."""
     return {MEASUREMENTS: {name: value for name, (value, _) in measurements.items()},

@@ -45,8 +45,7 @@ import math
 import re
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-
-import numpy as np
+from typing import TYPE_CHECKING
 
 from ..core.budget import BYTES_PER_VALUE, INTERPRETER_BYTES, Budget, Estimate, ac_run_estimate
 from ..core.errors import ParameterError
@@ -65,6 +64,9 @@ from .cards import (
 )
 from .expressions import is_param_card
 from .text import logical_lines, spice_number
+
+if TYPE_CHECKING:
+    import numpy as np
 
 __all__ = ["Contents", "Price", "RunLimits", "read_contents", "transient_price", "sweep_price", "gap_points",
            "raw_bytes_limit", "operating_price", "SOURCE_FUNCTIONS", "POINTS_PER_CYCLE", "RUN_LIMIT_FACTOR",
@@ -209,6 +211,8 @@ class Edges:
         return len(self.once) + self.count * len(self.offsets)
 
     def times(self) -> np.ndarray:
+        import numpy as np
+
         periodic = np.empty(0)
         if self.count and self.offsets:
             starts = self.start + self.period * np.arange(int(self.count))
@@ -663,6 +667,8 @@ def gap_points(gaps: np.ndarray, max_step: float) -> np.ndarray:
     Checked on an RC: a PULSE of 4 ps edges every 20, 200 and 2000 ps takes 1.1, 1.0 and 0.94 times the points
     this counts; PWL sources of 1,000 to 100,000 points 0.7 to 1.35 times.
     """
+    import numpy as np
+
     gaps = np.asarray(gaps, dtype=float)
     if gaps.size == 0:
         return gaps
@@ -676,12 +682,16 @@ def gap_points(gaps: np.ndarray, max_step: float) -> np.ndarray:
 def _distinct(values: np.ndarray) -> np.ndarray:
     """``np.unique(values)`` for floats without NaN, without importing ``numpy.ma`` (``np.unique`` does, 10 ms of a
     batch's start)."""
+    import numpy as np
+
     ordered = np.sort(values)
     return ordered[np.concatenate([[True], ordered[1:] != ordered[:-1]])] if ordered.size else ordered
 
 
 def _listed(times: np.ndarray, stop: float, max_step: float) -> float:
     """Time points from 0 to ``stop`` with breakpoints at ``times`` (at least one per ``max_step``)."""
+    import numpy as np
+
     times = _distinct(np.concatenate([times[(times > 0.0) & (times < stop)], [0.0, stop]]))
     return float(gap_points(np.diff(times), max_step).sum()) + 1.0
 
@@ -690,6 +700,8 @@ def _edge_points(edges: list[Edges], stop: float, max_step: float) -> float:
     """Time points from 0 to ``stop`` with every source's breakpoints: listed together when there are at most
     :data:`MAX_ENUMERATED_BREAKPOINTS`, else each source alone (its listed times, and one period times its
     count) added to the points a run without breakpoints has."""
+    import numpy as np
+
     if sum(e.total for e in edges) <= MAX_ENUMERATED_BREAKPOINTS:
         return _listed(np.concatenate([e.times() for e in edges] + [np.empty(0)]), stop, max_step)
     plain = _listed(np.empty(0), stop, max_step)

@@ -21,10 +21,13 @@ PySpice's high-level simulator: it leaks memory per run with ngspice 39.)
 from __future__ import annotations
 
 import re
-from typing import Any
+from typing import TYPE_CHECKING
 
 from ..core.errors import ExtraMissingError, ParameterError
 from .text import netlist_lines
+
+if TYPE_CHECKING:  # PySpice is optional (the shared extra), and has no annotations of its own
+    from PySpice.Spice.Netlist import Circuit
 
 __all__ = ["circuit_from_netlist"]
 
@@ -34,7 +37,7 @@ _B_SOURCE = re.compile(r"^B(\S+)\s+(\S+)\s+(\S+)\s+V=(.+)$", re.IGNORECASE)
 _PWL = re.compile(r"^V(\S+)\s+(\S+)\s+(\S+)\s+PWL\((.*)\)$", re.IGNORECASE)
 
 
-def circuit_from_netlist(text: str) -> Any:
+def circuit_from_netlist(text: str) -> Circuit:
     """Build the netlist's elements as a ``PySpice.Spice.Netlist.Circuit``.
 
     Parameters
@@ -61,7 +64,7 @@ def circuit_from_netlist(text: str) -> Any:
     lines = netlist_lines(text)
     circuit = Circuit(lines[0] or "lcchain")
 
-    def node(name: str) -> Any:
+    def node(name: str) -> object:  # a node name, or the circuit's ground
         return circuit.gnd if name == "0" else name
 
     for number, line in enumerate(lines[1:], start=2):

@@ -19,9 +19,7 @@ import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import ClassVar, Literal
-
-import numpy as np
+from typing import TYPE_CHECKING, ClassVar, Literal
 
 from ..core.errors import SimulationError
 from ..core.frozen import FrozenArrays, FrozenMap
@@ -30,6 +28,9 @@ from ..core.types import DEFAULT_ENGINE
 from .inputs import read_input
 from .log import useful_output
 from .measure import Measurements
+
+if TYPE_CHECKING:
+    import numpy as np
 
 __all__ = ["RunResult", "TransientData", "AcData", "read_include", "validate_columns", "TSTOP_RTOL"]
 
@@ -203,6 +204,8 @@ def validate_columns(columns: dict[str, np.ndarray], log: str, names: Sequence[s
     SimulationError
         Naming what failed, with the useful end of the engine's output ``log``.
     """
+    import numpy as np
+
     def fail(reason: str) -> SimulationError:
         return SimulationError(reason, useful_output(log), "failed", engine)
 

@@ -20,7 +20,7 @@ from concurrent.futures import Future, ProcessPoolExecutor
 from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass
 from types import TracebackType
-from typing import Any
+from typing import Generic, TypeVar
 
 from .executors import default_workers
 from .pools import interrupts_held, kill_pool, spawn_pool
@@ -29,16 +29,19 @@ __all__ = ["Job", "Background"]
 
 log = logging.getLogger(__name__)
 
+#: What a job's function returns.
+R = TypeVar("R", covariant=True)
+
 
 @dataclass(frozen=True)
-class Job:
+class Job(Generic[R]):
     """One piece of background work, ``function(*args)``, known by ``key``, estimated to take ``cost`` seconds (a
     study's run is a :class:`lcchain.studies.plan.Task`)."""
 
     key: Hashable
     cost: float
-    function: Callable[..., Any]
-    args: tuple[Any, ...] = ()
+    function: Callable[..., R]
+    args: tuple[object, ...] = ()
 
 
 class Background:
@@ -53,10 +56,10 @@ class Background:
         started and :meth:`take` does the task here.
     """
 
-    def __init__(self, tasks: Iterable[Job], workers: int | None = None):
+    def __init__(self, tasks: Iterable[Job[object]], workers: int | None = None):
         self._tasks = {task.key: task for task in tasks}
         self.workers = min(workers or default_workers(), len(self._tasks))
-        self._futures: dict[Hashable, Future[Any]] = {}
+        self._futures: dict[Hashable, Future[object]] = {}
         self._pool: ProcessPoolExecutor | None = None
         if self.workers <= 1:
             return
@@ -74,9 +77,10 @@ class Background:
     def __contains__(self, key: object) -> bool:
         return key in self._tasks
 
-    def take(self, key: Hashable) -> Any:
+    def take(self, key: Hashable) -> object:
         """The result of the task ``key``: waits for it if the pool has it, else does it here (its exception,
-        if it raised one, is raised here)."""
+        if it raised one, is raised here).  The tasks of one pool return different types: the caller, who knows
+        the key's, narrows it."""
         future = self._futures.get(key)
         if future is not None:
             try:

@@ -31,8 +31,8 @@ from __future__ import annotations
 
 import math
 import time
-from collections.abc import Callable, Sequence
-from typing import Any, TypedDict
+from collections.abc import Callable, Mapping, Sequence
+from typing import TypedDict
 
 import numpy as np
 
@@ -94,6 +94,61 @@ class BenchRecord(TypedDict):
     predicted_error: float | None
 
 
+class TargetCheck(TypedDict):
+    """``simulate(accuracy=eps)`` against the cheapest fixed step of the sweep that met eps."""
+
+    N: int
+    accuracy: float
+    dt: float
+    runs: int
+    error: float
+    predicted_error: float | None
+    integration_error: float | None
+    wall_s: float
+    points: int
+    cheapest_fixed_dt: float | None
+    cheapest_fixed_wall_s: float | None
+    wall_ratio: float | None
+    met: bool
+
+
+class BenchSummary(TypedDict):
+    """The fitted models (``fits``: ``error_c`` and ``cost_k`` by ``"method N=..."``), the cost of each accuracy
+    target by method and N (``cost``: seconds by ``f"{eps:g}"``, and ``best_error``), and the target checks."""
+
+    fits: dict[str, dict[str, float]]
+    cost: dict[str, dict[str, float | None]]
+    targets: list[TargetCheck]
+
+
+class BenchResult(TypedDict):
+    """What :func:`bench_accuracy` measured, and its summary as a Markdown table."""
+
+    records: list[BenchRecord]
+    targets: list[TargetCheck]
+    summary: BenchSummary
+    markdown: str
+
+
+class LadderEnergy(TypedDict):
+    """:func:`ladder_energy`: its arrays against ``t`` (units of sqrt(L0 C0)), and the simulator's seconds."""
+
+    t: np.ndarray
+    energy: np.ndarray
+    momentum: np.ndarray
+    wall_s: float
+
+
+class _Params(TypedDict, total=False):
+    """The keywords of one run of the sweep, as its solver takes them."""
+
+    method: Method
+    dt: float
+    reltol: float
+    runs: int
+    rtol: float
+
+
 #: The bench's columns, from :class:`BenchRecord` (stated once).
 RECORD_FIELDS: tuple[str, ...] = tuple(BenchRecord.__annotations__)
 
@@ -123,12 +178,12 @@ def ngspice_record(chain: Chain, modes: Modes, *, method: Method, dt: float | No
     theory = Theory(chain, ladder.time_unit, I0=I0, transits=transits, method=method, modes=modes)
     record = _checked(execute(RunSpec(text, tuple(probe_names(chain.N)), tstop * ladder.time_unit, theory=theory,
                                       foreign=False), simulator))
-    assert record.result is not None and record.metrics is not None
+    assert record.run is not None and record.metrics is not None
     return {
         "method": method, "stepping": options.stepping, "N": chain.N,
         "dt": dt, "rtol": reltol if dt is None else None, "wall_s": record.wall_s,
         "error": max(record.metrics.max_abs_error_first, record.metrics.max_abs_error_last),
-        "points": record.result.points,
+        "points": record.run.points,
         "predicted_error": predicted_error(modes, dt, tstop, method=method) if dt is not None else None,
     }
 
@@ -145,7 +200,7 @@ def extrapolated_record(chain: Chain, modes: Modes, *, runs: int, dt: float, tra
         "method": "trap", "stepping": EXTRAPOLATED_LABEL[runs], "N": chain.N, "dt": dt, "rtol": None,
         "wall_s": sum(m.wall_s for m in x.members),
         "error": max(report.comparison.max_abs_error_first, report.comparison.max_abs_error_last),
-        "points": sum(m.result.points for m in x.members if m.result is not None),
+        "points": sum(m.run.points for m in x.members if m.run is not None),
         "predicted_error": report.predicted_error,
     }
 
@@ -208,7 +263,7 @@ def modal_record(chain: Chain, transits: int = 1) -> BenchRecord:
 
 
 def ladder_energy(chain: Chain, *, method: Method, dt: float, transits: int, L0: float = L0, C0: float = C0,
-                  I0: float = I0, simulator: Simulator | None = None) -> dict[str, Any]:
+                  I0: float = I0, simulator: Simulator | None = None) -> LadderEnergy:
     """Energy and momentum of the ladder over a run, from every loop current and node voltage.
 
     Returns
@@ -227,7 +282,7 @@ def ladder_energy(chain: Chain, *, method: Method, dt: float, transits: int, L0:
     text = netlist_text(ladder, SimulationOptions(dt=dt, tstop=tstop, method=method), Drive(I0=I0),
                         output=NetlistOutput(probes="all", extra_vectors=volts, title=f"lcchain energy N={chain.N}"))
     record = _checked(execute(RunSpec(text, currents + volts, tstop * ladder.time_unit, foreign=False), simulator))
-    run = record.result
+    run = record.run
     assert run is not None
     L = np.array(ladder.inductances())
     current = np.array([run.vectors[name] for name in currents])
@@ -239,8 +294,8 @@ def ladder_energy(chain: Chain, *, method: Method, dt: float, transits: int, L0:
 
 
 # ------------------------------------------------------------------ the sweep
-def _plan(Ns: Sequence[int], quick: bool) -> list[tuple[str, int, dict[str, Any]]]:
-    jobs = []
+def _plan(Ns: Sequence[int], quick: bool) -> list[tuple[str, int, _Params]]:
+    jobs: list[tuple[str, int, _Params]] = []
     dts = QUICK_DT if quick else FIXED_DT
     for N in Ns:
         for method in METHODS:
@@ -278,7 +333,7 @@ def bench_estimate(Ns: Sequence[int] | None = None, *, quick: bool = False, targ
 
 def bench_accuracy(Ns: Sequence[int] | None = None, *, quick: bool = False, targets: bool | None = None,
                    progress: Callable[[int, int, str], None] | None = None,
-                   simulator: Simulator | None = None) -> dict[str, Any]:
+                   simulator: Simulator | None = None) -> BenchResult:
     """Run the sweep (the files are written by :func:`lcchain.report.bench.write_accuracy_bench`).
 
     Parameters
@@ -316,10 +371,12 @@ def bench_accuracy(Ns: Sequence[int] | None = None, *, quick: bool = False, targ
     target_jobs = [(eps, N) for eps in ACCURACY_TARGETS for N in TARGET_N if N in Ns] if targets else []
     total = len(jobs) + len(target_jobs)
     records: list[BenchRecord] = []
-    solvers: dict[str, Callable[[int, dict[str, Any]], BenchRecord]] = {
-        "ngspice": lambda N, params: ngspice_record(chains[N], modes[N], simulator=simulator, **params),
-        "extrapolated": lambda N, params: extrapolated_record(chains[N], modes[N], simulator=simulator, **params),
-        "dop853": lambda N, params: dop853_record(chains[N], modes[N], **params),
+    solvers: dict[str, Callable[[int, _Params], BenchRecord]] = {
+        "ngspice": lambda N, params: ngspice_record(chains[N], modes[N], simulator=simulator, method=params["method"],
+                                                    dt=params.get("dt"), reltol=params.get("reltol", 1e-3)),
+        "extrapolated": lambda N, params: extrapolated_record(chains[N], modes[N], simulator=simulator,
+                                                              runs=params["runs"], dt=params["dt"]),
+        "dop853": lambda N, params: dop853_record(chains[N], modes[N], rtol=params["rtol"]),
         "modal": lambda N, params: modal_record(chains[N]),
     }
     for k, (solver, N, params) in enumerate(jobs):
@@ -335,18 +392,18 @@ def bench_accuracy(Ns: Sequence[int] | None = None, *, quick: bool = False, targ
 
 
 def _target_check(chain: Chain, modes: Modes, eps: float, records: list[BenchRecord],
-                  simulator: Simulator) -> dict[str, Any]:
+                  simulator: Simulator) -> TargetCheck:
     report = simulate(ChainOptions(accuracy=eps, transits=1).request(chain), modes=modes, simulator=simulator)
     fixed = [r for r in records if r["method"] == "trap" and r["stepping"] == "fixed" and r["N"] == chain.N
              and r["error"] <= eps]
     cheapest = min(fixed, key=lambda r: r["wall_s"]) if fixed else None
-    data = report.to_dict()
-    wall = data["wall_s"]  # every run's ngspice time
+    wall = report.wall_s  # every run's ngspice time
+    assert report.extrapolation is not None  # an accuracy asked for: its plan chose the runs
     return {
-        "N": chain.N, "accuracy": eps, "dt": report.options.dt, "runs": data["extrapolation"]["runs"],
+        "N": chain.N, "accuracy": eps, "dt": report.options.dt, "runs": report.extrapolation.runs,
         "error": report.comparison.max_abs_error,
         "predicted_error": report.predicted_error, "integration_error": report.integration_error,
-        "wall_s": wall, "points": data["points"],
+        "wall_s": wall, "points": report.points,
         "cheapest_fixed_dt": cheapest["dt"] if cheapest else None,
         "cheapest_fixed_wall_s": cheapest["wall_s"] if cheapest else None,
         "wall_ratio": wall / cheapest["wall_s"] if cheapest else None,
@@ -355,12 +412,12 @@ def _target_check(chain: Chain, modes: Modes, eps: float, records: list[BenchRec
 
 
 # ------------------------------------------------------------------ models and summary
-def record_label(record: BenchRecord | dict[str, Any]) -> str:
+def record_label(record: BenchRecord | Mapping[str, object]) -> str:
     method = record["method"]
     return method if method in ("DOP853", "modal sum") else f"{method} {record['stepping']}"
 
 
-def summarise(records: Sequence[BenchRecord], checks: Sequence[dict[str, Any]] = ()) -> dict[str, Any]:
+def summarise(records: Sequence[BenchRecord], checks: Sequence[TargetCheck] = ()) -> BenchSummary:
     """Fitted error and cost models and the cost of 1e-3 and 1e-5 per method and N.
 
     Error model (fixed steps): error = c dt^2, c the median of error/dt^2 over
@@ -368,7 +425,7 @@ def summarise(records: Sequence[BenchRecord], checks: Sequence[dict[str, Any]] =
     loop per time point; ngspice's unknowns are about 2N, so k/2 per unknown),
     fitted on the largest N (start-up costs dominate small runs).
     """
-    fits: dict[str, dict[Any, Any]] = {"error_c": {}, "cost_k": {}}
+    fits: dict[str, dict[str, float]] = {"error_c": {}, "cost_k": {}}
     for method in METHODS:
         for N in sorted({r["N"] for r in records}):
             rs = [r for r in records if r["method"] == method and r["stepping"] == "fixed" and r["N"] == N]
@@ -378,11 +435,11 @@ def summarise(records: Sequence[BenchRecord], checks: Sequence[dict[str, Any]] =
             costs = [r["wall_s"] / (N * r["points"]) for r in rs if r["wall_s"] > 0.5]
             if costs:
                 fits["cost_k"][f"{method} N={N}"] = float(np.median(costs))
-    cost = {}
+    cost: dict[str, dict[str, float | None]] = {}
     for label in sorted({record_label(r) for r in records}):
         for N in sorted({r["N"] for r in records if record_label(r) == label}):
             rs = [r for r in records if record_label(r) == label and r["N"] == N]
-            row = {}
+            row: dict[str, float | None] = {}
             for eps in ACCURACY_TARGETS:
                 ok = [r for r in rs if r["error"] <= eps]
                 row[f"{eps:g}"] = min(r["wall_s"] for r in ok) if ok else None
@@ -395,7 +452,7 @@ def _fmt(value: float | None, spec: str = ".3g") -> str:
     return "–" if value is None else format(value, spec)
 
 
-def summary_markdown(summary: dict[str, Any]) -> str:
+def summary_markdown(summary: BenchSummary) -> str:
     lines = ["| method | N | 1e-3 costs (s) | 1e-5 costs (s) | best error |", "|---|---:|---:|---:|---:|"]
     for key, row in summary["cost"].items():
         label, N = key.rsplit(" N=", 1)
@@ -409,9 +466,9 @@ def summary_markdown(summary: dict[str, Any]) -> str:
     if summary["targets"]:
         lines += ["", "| --accuracy | N | runs | dt | error | wall s | cheapest fixed dt | its wall s | ratio | met |",
                   "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|"]
-        for c in summary["targets"]:
-            lines.append(f"| {c['accuracy']:g} | {c['N']} | {c.get('runs', 1)} | {c['dt']:.4g} | {c['error']:.3e} | "
-                         f"{c['wall_s']:.3g} | "
-                         f"{_fmt(c['cheapest_fixed_dt'], 'g')} | {_fmt(c['cheapest_fixed_wall_s'])} | "
-                         f"{_fmt(c['wall_ratio'], '.2f')} | {'yes' if c['met'] else 'NO'} |")
+        for t in summary["targets"]:
+            lines.append(f"| {t['accuracy']:g} | {t['N']} | {t.get('runs', 1)} | {t['dt']:.4g} | {t['error']:.3e} | "
+                         f"{t['wall_s']:.3g} | "
+                         f"{_fmt(t['cheapest_fixed_dt'], 'g')} | {_fmt(t['cheapest_fixed_wall_s'])} | "
+                         f"{_fmt(t['wall_ratio'], '.2f')} | {'yes' if t['met'] else 'NO'} |")
     return "\n".join(lines) + "\n"

@@ -5,8 +5,8 @@ its time on them; :class:`lcchain.studies.background.Background` designs them on
 from __future__ import annotations
 
 import time
-from typing import Any
 
+from ..core.json import LooseJSONObject
 from ..core.types import DesignCase
 from ..theory.design import optimal_design
 from .background import Job
@@ -14,7 +14,7 @@ from .background import Job
 __all__ = ["design_row", "design_cost", "design_task"]
 
 
-def design_row(case: DesignCase, N: int) -> dict[str, Any]:
+def design_row(case: DesignCase, N: int) -> LooseJSONObject:
     """One row of Table I or II: ``Design.to_dict()`` and the ``seconds`` its design took."""
     start = time.perf_counter()
     row = optimal_design(case, N).to_dict()
@@ -31,6 +31,6 @@ def design_cost(case: str, N: int) -> float:
 _COST_PER_MASS = {"one-mass": 2e-5, "two-mass": 1.2e-4}
 
 
-def design_task(case: DesignCase, N: int) -> Job:
+def design_task(case: DesignCase, N: int) -> Job[LooseJSONObject]:
     """The design of (case, N) as a :class:`~lcchain.studies.background.Job` keyed ``("row", case, N)``."""
     return Job(("row", case, N), design_cost(case, N), design_row, (case, N))

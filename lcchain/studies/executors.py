@@ -51,7 +51,7 @@ import urllib.parse
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import FIRST_COMPLETED, Future, ThreadPoolExecutor, wait
 from dataclasses import dataclass, replace
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, TypeAlias
 
 from ..core.budget import (
     DASK_SCHEDULER_BYTES,
@@ -65,14 +65,17 @@ from ..core.budget import (
 from ..core.errors import ExtraMissingError, LcchainError, ParameterError, SimulatorMissingError
 from ..core.registry import Registry
 from ..core.types import EXECUTORS, TRANSPORT_CHOICES, Backend, ExecutorName, TransportChoice
-from ..runs.execute import RunRecord, execute
 from ..runs.spec import RunSpec
 from ..spice.engines import engine_named, find_engine
 from ..spice.scratch import scratch_folder
 from ..spice.simulator import Simulator
 
-if TYPE_CHECKING:  # multiprocessing's pool takes ~10 ms to import, which a batch never uses
+if TYPE_CHECKING:  # multiprocessing's pool takes ~10 ms to import, which a batch never uses; Dask is optional
     from concurrent.futures import ProcessPoolExecutor
+
+    from distributed import Client
+
+    from ..runs.execute import RunRecord  # imported where runs execute: the engine starts before numpy loads
 
 __all__ = ["ExecutorName", "EXECUTORS", "ExecutorTraits", "EXECUTOR_TRAITS", "DEFAULT_EXECUTOR",
            "SCHEDULER_SCHEMES", "run_groups", "open_executor",
@@ -148,7 +151,7 @@ class Transports:
 
 #: What an open executor is: groups (and their transports) in, each group's (index, record) pairs out as it
 #: finishes.
-Runner = Callable[[list[Group], Transports], Iterator[list[tuple[int, RunRecord]]]]
+Runner: TypeAlias = "Callable[[list[Group], Transports], Iterator[list[tuple[int, RunRecord]]]]"
 
 
 @dataclass(frozen=True)
@@ -358,6 +361,8 @@ def execute_group(group: Group, simulator: Simulator, keep_signals: bool = False
     A worker whose engine is elsewhere finds its own; one whose engine has
     another version fails its runs (their keys would not be the study's).
     """
+    from ..runs.execute import RunRecord, execute
+
     if not os.path.exists(simulator.executable):
         engine = engine_named(simulator.engine, "simulator.engine")
         found = find_engine(engine.name, engine.transport_for(simulator.backend))
@@ -494,7 +499,7 @@ def _threaded(groups: list[Group], simulator: Simulator, workers: int, keep_sign
 
 # ------------------------------------------------------------------ Dask
 @contextlib.contextmanager
-def _dask(workers: int, scheduler: str | None, verbose: bool, scratch: str | None = None) -> Iterator[Any]:
+def _dask(workers: int, scheduler: str | None, verbose: bool, scratch: str | None = None) -> Iterator[Client]:
     """A Dask client: on a LocalCluster whose scratch space is removed after it closed, or on ``scheduler``.
 
     The scratch space is a folder of the driver's own (:func:`lcchain.spice.scratch.scratch_folder`) in
@@ -532,7 +537,7 @@ def _dask(workers: int, scheduler: str | None, verbose: bool, scratch: str | Non
         yield client
 
 
-def _on_dask(client: Any, groups: list[Group], simulator: Simulator, keep_signals: bool,
+def _on_dask(client: Client, groups: list[Group], simulator: Simulator, keep_signals: bool,
              transports: Transports) -> Iterator[list[tuple[int, RunRecord]]]:
     from distributed import as_completed as completed
 
@@ -738,5 +743,5 @@ def run_groups(groups: list[Group], simulator: Simulator, *, executor: str | Exe
         yield from run(groups, transports)
 
 
-def describe(executor: str, workers: int, scheduler: str | None) -> dict[str, Any]:
+def describe(executor: str, workers: int, scheduler: str | None) -> dict[str, str | int | None]:
     return {"executor": executor, "workers": workers, "scheduler": scheduler}

@@ -9,11 +9,13 @@ import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Protocol
+from types import ModuleType
+from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 
 from ..core.extras import optional_module
+from ..core.json import LooseJSONObject
 from ..core.physical import vector_units
 from .stored import ARRAY_AXES, StoredRun, study_constants, study_dims, value_key
 
@@ -84,7 +86,7 @@ def _on_frequency(dataset: xr.Dataset, axes: list[np.ndarray], longest: int, mix
     return dataset.set_coords("frequency")
 
 
-def _number(value: Any) -> float:
+def _number(value: float | None) -> float:
     """A metric as a float column's value: NaN where the run has none (a batch run, a pulse's energy)."""
     return math.nan if value is None else float(value)
 
@@ -125,9 +127,10 @@ def _described(dataset: xr.Dataset, runs: list[StoredRun]) -> xr.Dataset:
     return dataset
 
 
-def _optional(module: str) -> Any:
+def _optional(module: str) -> ModuleType:
     """An optional package (pandas, xarray), or a one-line error saying how to install it."""
-    return optional_module(module, "data", "a study's results as a table (pandas, xarray)")
+    found: ModuleType = optional_module(module, "data", "a study's results as a table (pandas, xarray)")
+    return found
 
 
 def to_dataframe(store: Readable) -> pd.DataFrame:
@@ -200,19 +203,20 @@ def export_size(store: Readable, waveforms: bool = False) -> ExportSize:
     return ExportSize(len(results), cells, metrics, stored, longest, sum(per_name.values()))
 
 
-def table_rows(runs: list[StoredRun]) -> list[dict[str, Any]]:
+def table_rows(runs: list[StoredRun]) -> list[LooseJSONObject]:
     """One row per run: its parameters, status and metrics (a transient's, an AC run's, or both kinds' in a
     store that holds both)."""
     spectral = any(run.spectral for run in runs)
     transient = not spectral or any(run.metrics is not None and not run.spectral for run in runs)
     costs = any(run.metrics is not None and "effects" in run.metrics for run in runs)
     measured = list(dict.fromkeys(name for run in runs for name in run.measurements))
-    rows = []
+    rows: list[LooseJSONObject] = []
     for run in runs:
         metrics = run.metrics or {}
         arrivals = metrics.get("arrivals") or []
         first = arrivals[0] if arrivals else {}
-        row = {"index": run.index, **run.params, "kind": run.kind, "status": run.status, "key": run.key,
+        row: LooseJSONObject = {
+               "index": run.index, **run.params, "kind": run.kind, "status": run.status, "key": run.key,
                "digest": run.digest or None, "points": run.points, "wall_s": run.wall_s,
                # the engine's name and its version apart, as the store's column holds them together
                "engine": run.engine if run.status != "pending" else None,
@@ -238,7 +242,7 @@ def table_rows(runs: list[StoredRun]) -> list[dict[str, Any]]:
 def _with_parts(dataset: xr.Dataset, dims: list[str], runs: list[StoredRun]) -> xr.Dataset:
     """The dataset with the samples' part values, ``L`` on ``coil`` and ``C`` on ``capacitor``."""
     pd = _optional("pandas")
-    rows: dict[str, list[dict[str, Any]]] = {"L": [], "C": []}
+    rows: dict[str, list[LooseJSONObject]] = {"L": [], "C": []}
     for run in runs:
         parts = run.parts
         if parts is None:

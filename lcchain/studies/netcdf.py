@@ -24,12 +24,13 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from datetime import UTC, datetime
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..core import __version__
 from ..core.physical import variable_name, vector_units
+from ..runs.datasets import Variable
 from .store import Store
 from .stored import StoredRun
 
@@ -70,7 +71,7 @@ def _group(kind: str, runs: list[tuple[StoredRun, dict[str, np.ndarray]]], axes:
     axis = group.axis
     sizes = np.array([arrays[axis].size for _, arrays in runs], dtype=np.int64)
     vectors = list(dict.fromkeys(name for _, arrays in runs for name in arrays if name != axis))
-    data: dict[str, Any] = {}
+    data: dict[str, Variable] = {}
     coordinate = np.concatenate([arrays[axis] for _, arrays in runs])
     data[axis] = ("obs", coordinate, {"units": group.axis_units, "long_name": group.axis_name})
     for vector in vectors:

@@ -32,7 +32,7 @@ import tomllib
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from ..core import __version__
 from ..core.budget import (
@@ -50,7 +50,7 @@ from ..core.budget import (
 from ..core.checks import callback, instance, integer, real
 from ..core.errors import ParameterError
 from ..core.frozen import FrozenMap
-from ..core.json import JSON
+from ..core.json import JSON, LooseJSON, LooseJSONObject
 from ..core.limits import MAX_CIRCUIT_N, MAX_DESIGN_N, MAX_DT, MAX_TRANSITS, MIN_N
 from ..core.types import DEFAULT_C0, DEFAULT_L0, Backend, Excitation
 from ..runs.spec import DEFAULT_TIMEOUT, RunSpec, SpectrumTheory, Theory
@@ -726,11 +726,11 @@ class CasePoint:
             raise ParameterError("dt/accuracy", (self.dt, self.accuracy), "a step or an accuracy, not both")
 
 
-def case_scene(point: CasePoint) -> dict[str, Any]:
+def case_scene(point: CasePoint) -> LooseJSONObject:
     """The tables of the scene that runs ``point`` as ``lcchain sweep --case --N`` does (a step or an accuracy,
     transits, a drive, L0 and C0, an engine): what a Monte Carlo from the command line varies, with no scene file
     written."""
-    analysis: dict[str, Any] = {"transits": point.transits, "engine": point.engine}
+    analysis: LooseJSONObject = {"transits": point.transits, "engine": point.engine}
     analysis |= {"accuracy": point.accuracy} if point.accuracy is not None else \
         {"dt": 0.05 if point.dt is None else point.dt}
     return {"title": f"{point.case} chain, N = {point.N}, real parts", "chain": {"case": point.case, "N": point.N},
@@ -757,7 +757,7 @@ class RealParts:
             object.__setattr__(self, "tolerance", FrozenMap(self.tolerance))
         self.applied({})  # named as typed, and before any price (1e20 samples were priced as a study first)
 
-    def applied(self, data: Mapping[str, Any]) -> dict[str, Any]:
+    def applied(self, data: Mapping[str, LooseJSON]) -> LooseJSONObject:
         """A scene's tables with these parts set (the scene's other keys stay)."""
         from ..scenes.load import override_parts
 
@@ -765,7 +765,7 @@ class RealParts:
                               series=self.series)
 
 
-def scene_sweep_plan(path: str | Path | Mapping[str, Any], varies: Sequence[tuple[str, Sequence[object]]],
+def scene_sweep_plan(path: str | Path | Mapping[str, LooseJSON], varies: Sequence[tuple[str, Sequence[object]]],
                      parts: RealParts | None = None, planning: Planning | None = None) -> Plan:
     """A scene with dotted keys varied (the product of their values); each tolerance sample is a task.
 

@@ -26,7 +26,7 @@ from ..circuit.effects import Effect, Losses, Walls
 from ..core.blas import fixed_blas_threads
 from ..core.checks import real
 from ..core.errors import ParameterError, SimulationError
-from ..core.json import JSONDict
+from ..core.json import JSONDict, LooseJSONObject
 from ..core.types import DEFAULT_C0, DEFAULT_L0
 from ..runs.spectrum import SpectrumOptions, measure_spectrum
 from ..spice.simulator import Simulator
@@ -136,8 +136,9 @@ def spectrum_jobs(*, quick: bool = False, simulator: Simulator | None = None,
     ladder (two-mass N = 20, Q = 100: each mode's Q_n against omega_n Q) and the one-mass chains of Fig. vk
     (N = 50, three Δ).  ``quick`` keeps Fig. vk's middle (optimal) panel only and
     leaves out the two-mass chain with walls."""
-    def job(name: str, what: str, N: int, make: Callable[[], Chain], **options: Any) -> SpectrumJob:
-        return SpectrumJob(name, what, N, make, simulator=simulator, tolerances=tolerances, **options)
+    def job(name: str, what: str, N: int, make: Callable[[], Chain], *, effects: tuple[Effect, ...] = (),
+            figure: str = "", panel: float | None = None) -> SpectrumJob:
+        return SpectrumJob(name, what, N, make, effects, figure, panel, tolerances, simulator)
 
     jobs = [job("two-mass-N20", "two-mass, N = 20", 20, partial(chain_for_case, "two-mass", 20),
                 figure="Pk20-100", panel=20),
@@ -174,7 +175,7 @@ class SpectrumCheck:
     N: int
     figure: str
     panel: float | None
-    modes: list[dict[str, Any]]
+    modes: list[LooseJSONObject]
     errors: dict[str, float | None]
     tolerances: dict[str, float]
     passed: bool
@@ -205,14 +206,14 @@ class SpectrumCheck:
 
 def _modes(omega: np.ndarray, theory: np.ndarray, P: np.ndarray, P_theory: np.ndarray,
            resolved: np.ndarray, low: np.ndarray | None = None,
-           bound: np.ndarray | None = None) -> list[dict[str, Any]]:
+           bound: np.ndarray | None = None) -> list[LooseJSONObject]:
     """Every mode's values; ``omega_theory_low``: the reference's rest beyond float64
     (:attr:`lcchain.theory.modes.Modes.omega_low`, 0 where it has none), which its error is measured against, and
     ``omega_bound``: the reference's own relative bound (None where it states none)."""
     def plain(value: float) -> float | None:
         return float(value) if np.isfinite(value) else None
 
-    out: list[dict[str, Any]] = []
+    out: list[LooseJSONObject] = []
     for n in range(omega.size):
         seen = bool(np.isfinite(omega[n]))
         out.append({"n": n + 1, "omega": plain(omega[n]), "omega_theory": float(theory[n]),
@@ -243,7 +244,7 @@ def run_spectrum_check(job: SpectrumJob) -> SpectrumCheck:
     tolerances = job.tolerances.to_dict()
     try:
         chain = job.chain()
-        keywords: dict[str, Any] = {}
+        keywords: dict[str, Any] = {}  # Effect.response()'s floats by SpectrumOptions field: checked there
         for effect in job.effects:
             chain = effect.realise(chain, DEFAULT_L0, DEFAULT_C0)
             keywords.update(effect.response())

@@ -77,13 +77,14 @@ import urllib.parse
 import zipfile
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Literal
+from typing import TYPE_CHECKING, Literal, TypeAlias
 
 import numpy as np
 
 from ..core import __version__
+from ..core.analyses import analysis_kind
 from ..core.errors import LcchainError, ParameterError
-from ..core.json import JSON
+from ..core.json import JSON, LooseJSONObject
 from ..core.show import html_table, plot, short_repr
 from ..core.types import RUN_STATUSES
 from ..runs.execute import RunRecord, waveform_digest
@@ -138,6 +139,10 @@ _STATUSES = RUN_STATUSES
 _STALE_SECONDS = 60.0
 #: What a store's owner can do about a row or a page that is not as lcchain wrote it.
 _RESTORE = "restore it from a copy, or run the study into a new store"
+#: A value as SQLite gives it back: TEXT, INTEGER, REAL, BLOB or NULL; a row is a tuple of them, each narrowed to
+#: its column's type where it is read (a store changed outside lcchain is refused).
+SQLValue: TypeAlias = str | int | float | bytes | None
+Row: TypeAlias = tuple[SQLValue, ...]
 
 
 def engine_text(engine: str, version: str) -> str:
@@ -217,10 +222,8 @@ def _arrays(record: RunRecord) -> bytes | None:
     """The saved arrays: ngspice's (time in seconds, each vector; an AC run's frequency in Hz and its complex
     vectors), or for an extrapolation, which has no run of its own, the combined signals it was compared by
     (dimensionless time, ``loop0``, ``loop1``...)."""
-    if record.result is not None:
-        arrays = {"time": record.result.time, **record.result.vectors}
-    elif record.ac is not None:
-        arrays = {"frequency": record.ac.frequency, **record.ac.vectors}
+    if record.run is not None:
+        arrays = {analysis_kind(record.run.analysis).axis: record.run.data.axis, **record.run.vectors}
     elif record.signals is not None:
         arrays = {"time": record.signals.t, **{f"loop{i}": row for i, row in enumerate(record.signals.sim)}}
     else:
@@ -489,7 +492,7 @@ class Store:
         return self._refuse(f"a store whose rows are as lcchain wrote them ({what}: it was changed outside "
                             f"lcchain): {_RESTORE}")
 
-    def _rows(self, sql: str, args: Sequence[Any] = ()) -> list[Any]:
+    def _rows(self, sql: str, args: Sequence[SQLValue] = ()) -> list[Row]:
         """A query's rows; a store read ``immutable`` that a driver started writing meanwhile (new runs in its
         log, its main file torn by a checkpoint) is read again, with its log."""
         with self._guard():
@@ -505,9 +508,27 @@ class Store:
                 rows = self._db.execute(sql, args).fetchall()
         return rows
 
+    def _count(self, sql: str) -> int:
+        """A query's one integer (a COUNT, a SUM)."""
+        value = self._rows(sql)[0][0]
+        if not isinstance(value, int):
+            raise self._tampered(f"{sql!r} gave {str(value)[:20]!r}, not a count")
+        return value
+
+    def _blob(self, key: str, value: SQLValue) -> bytes:
+        """A run's saved arrays as stored: bytes, else refused."""
+        if not isinstance(value, bytes):
+            raise self._tampered(f"the arrays of run {key[:12]} are not lcchain's .npz")
+        return value
+
     # ------------------------------------------------------------------ the plan
     def meta(self) -> dict[str, str]:
-        return dict(self._rows("SELECT name, value FROM meta"))
+        meta = {}
+        for name, value in self._rows("SELECT name, value FROM meta"):
+            if not isinstance(name, str) or not isinstance(value, str):
+                raise self._tampered(f"its meta row {str(name)[:20]!r} is not text")
+            meta[name] = value
+        return meta
 
     def check_plan(self, fingerprint: str, description: Mapping[str, JSON], rows: int, engine: str) -> None:
         """Refuse a store that holds another plan (nothing is written).
@@ -525,7 +546,7 @@ class Store:
         except json.JSONDecodeError:
             raise self._tampered("its description is not JSON") from None
         if same:
-            held = self._rows("SELECT COUNT(*) FROM tasks")[0][0]
+            held = self._count("SELECT COUNT(*) FROM tasks")
             held_by = meta.get(self._engine_column, "?")
             raise self._refuse("a new store: it holds this very study as another lcchain or engine planned it "
                                f"({held} rows; lcchain {meta.get('lcchain_version', '?')}, {held_by}; now {rows} "
@@ -643,7 +664,7 @@ class Store:
             finally:
                 os.close(descriptor)
 
-    def description(self) -> dict[str, Any]:
+    def description(self) -> LooseJSONObject:
         try:
             described = json.loads(self.meta().get("description", "{}"))
         except json.JSONDecodeError:
@@ -653,11 +674,12 @@ class Store:
     # ------------------------------------------------------------------ records
     def finished(self) -> set[str]:
         """The keys of every run stored (ok, failed, timed out, or refused)."""
-        return {row[0] for row in self._rows("SELECT key FROM records")}
+        return {key for key, in self._rows("SELECT key FROM records") if isinstance(key, str)}
 
     def failed(self) -> set[str]:
         """The keys of every run stored as failed or timed out (``--retry-failed`` runs them again)."""
-        return {row[0] for row in self._rows("SELECT key FROM records WHERE status IN ('failed', 'timeout')")}
+        return {key for key, in self._rows("SELECT key FROM records WHERE status IN ('failed', 'timeout')")
+                if isinstance(key, str)}
 
     def add(self, record: RunRecord, points: int | None = None, *,
             parts: Mapping[str, Sequence[float | None]] | None = None) -> None:
@@ -702,21 +724,38 @@ class Store:
                 f"r.total_s, r.points, r.metrics, r.{self._engine_column}, r.lcchain_version "
                 "FROM tasks t LEFT JOIN records r ON r.key = t.key")
 
-    def _stored(self, row: tuple[Any, ...]) -> StoredRun:
+    def _task(self, index: SQLValue, key: SQLValue, label: SQLValue, status: SQLValue) -> tuple[int, str, str, str]:
+        """A task's number, key, label and status ("pending" before it ran), as the store must hold them."""
+        if not isinstance(index, int) or not isinstance(key, str) or not isinstance(label, str | None) or \
+                not isinstance(status, str | None):
+            raise self._tampered(f"task {str(index)[:20]} has a number, key, label or status of the wrong type")
+        return index, key, label or "", status or "pending"
+
+    def _stored(self, row: Row) -> StoredRun:
         (index, key, params, label, status, reason, log_tail, digest, wall_s, total_s, points, metrics, ngv,
          lcv) = row
         try:
+            if not isinstance(params, str | bytes) or not (metrics is None or isinstance(metrics, str | bytes)):
+                raise TypeError
             params = json.loads(params)
             metrics = json.loads(metrics) if metrics else None
         except (json.JSONDecodeError, TypeError):
-            raise self._tampered(f"run {index} holds params or metrics that are not JSON") from None
+            raise self._tampered(f"run {index!r} holds params or metrics that are not JSON") from None
         if not isinstance(params, dict) or not (metrics is None or isinstance(metrics, dict)):
-            raise self._tampered(f"run {index} holds params or metrics that are not JSON objects")
+            raise self._tampered(f"run {index!r} holds params or metrics that are not JSON objects")
         if status is not None and status not in _STATUSES:
-            raise self._tampered(f"run {index} has the status {str(status)[:20]!r}")
-        engine, version = engine_of(ngv or "")
-        return StoredRun(index, key, params, label or "", status or "pending", reason or "",
-                         log_tail or "", digest or "", wall_s, total_s, points, metrics, version, lcv or "", engine)
+            raise self._tampered(f"run {index!r} has the status {str(status)[:20]!r}")
+        index, key, label, status = self._task(index, key, label, status)
+        texts = (reason, log_tail, digest, ngv, lcv)
+        if not all(isinstance(text, str | None) for text in texts) or not all(
+                isinstance(number, int | float | None) for number in (wall_s, total_s)) or not isinstance(
+                points, int | None):
+            raise self._tampered(f"run {index} holds a column of the wrong type")
+        reason, log_tail, digest, ngv, lcv = (str(text or "") for text in texts)
+        engine, version = engine_of(ngv)
+        return StoredRun(index, key, params, label, status, reason, log_tail, digest,
+                         None if wall_s is None else float(wall_s), None if total_s is None else float(total_s),
+                         points, metrics, version, lcv, engine)
 
     def light_runs(self) -> list[StoredRun]:
         """Every task in plan order with its params and status only (its metrics unread: a price is taken before
@@ -726,12 +765,15 @@ class Store:
                 "SELECT t.idx, t.key, t.params, t.label, r.status FROM tasks t LEFT JOIN records r ON r.key = t.key "
                 "ORDER BY t.idx"):
             try:
+                if not isinstance(params, str | bytes):
+                    raise TypeError
                 params = json.loads(params)
             except (json.JSONDecodeError, TypeError):
-                raise self._tampered(f"run {index} holds params that are not JSON") from None
+                raise self._tampered(f"run {index!r} holds params that are not JSON") from None
             if not isinstance(params, dict):
-                raise self._tampered(f"run {index} holds params that are not a JSON object")
-            runs.append(StoredRun(index, key, params, label or "", status or "pending"))
+                raise self._tampered(f"run {index!r} holds params that are not a JSON object")
+            number, name, title, state = self._task(index, key, label, status)
+            runs.append(StoredRun(number, name, params, title, state))
         return runs
 
     def runs(self) -> list[StoredRun]:
@@ -741,10 +783,12 @@ class Store:
     def statuses(self) -> dict[str, tuple[str, str]]:
         """Each stored run's (status, reason) by key, its metrics and arrays unread: what a study's summary
         counts (reading every run's metrics for it grew the driver with the study)."""
-        found = {}
+        found: dict[str, tuple[str, str]] = {}
         for key, status, reason in self._rows("SELECT key, status, reason FROM records"):
-            if status not in _STATUSES:
+            if status not in _STATUSES or not isinstance(status, str):
                 raise self._tampered(f"run {str(key)[:12]} has the status {str(status)[:20]!r}")
+            if not isinstance(key, str) or not isinstance(reason, str | None):
+                raise self._tampered(f"run {str(key)[:12]} has a key or reason that is not text")
             found[key] = (status, reason or "")
         return found
 
@@ -765,7 +809,7 @@ class Store:
         rows = self._rows("SELECT arrays, digest FROM records WHERE key = ?", (key,))
         if not rows or rows[0][0] is None:
             return None
-        blob, digest = rows[0]
+        blob, digest = self._blob(key, rows[0][0]), rows[0][1]
         try:
             with np.load(io.BytesIO(blob), allow_pickle=False) as npz:
                 names = [str(n) for n in npz["names"]]
@@ -785,7 +829,7 @@ class Store:
         if not rows or rows[0][0] is None:
             return None
         try:
-            with np.load(io.BytesIO(rows[0][0]), allow_pickle=False) as npz:
+            with np.load(io.BytesIO(self._blob(key, rows[0][0])), allow_pickle=False) as npz:
                 return [str(n) for n in npz["names"] if str(n) not in ARRAY_AXES]
         except (OSError, ValueError, KeyError, EOFError, TypeError, zipfile.BadZipFile):
             raise self._tampered(f"the arrays of run {key[:12]} are not lcchain's .npz") from None
@@ -814,7 +858,7 @@ class Store:
     def _repr_html_(self) -> str:
         return html_table("Store", self._shown())
 
-    def plot(self, ax: Any = None, metric: str = "peak") -> Any:
+    def plot(self, ax: object = None, metric: str = "peak") -> object:
         """The figure the study's results call for, as ``lcchain results --plot`` draws it: tolerance samples'
         histogram (``metric``: ``peak``, ``energy`` or ``loss``), or the first arrival's loss against N.
 
@@ -827,7 +871,7 @@ class Store:
 
     def metrics_bytes(self) -> int:
         """Bytes of the stored metrics (JSON text), every row's."""
-        return int(self._rows("SELECT COALESCE(SUM(LENGTH(metrics)), 0) FROM records")[0][0])
+        return self._count("SELECT COALESCE(SUM(LENGTH(metrics)), 0) FROM records")
 
     def array_sizes(self, key: str) -> tuple[int, dict[str, tuple[int, int]]] | None:
         """The bytes the store holds for a run's saved arrays, and each array's (points, bytes per value) by name,
@@ -835,7 +879,7 @@ class Store:
         rows = self._rows("SELECT arrays FROM records WHERE key = ?", (key,))
         if not rows or rows[0][0] is None:
             return None
-        blob = rows[0][0]
+        blob = self._blob(key, rows[0][0])
         try:
             sizes = _array_headers(blob)
         except (OSError, ValueError, KeyError, EOFError, TypeError, zipfile.BadZipFile):

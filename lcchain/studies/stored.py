@@ -6,11 +6,10 @@ from __future__ import annotations
 
 import json
 from dataclasses import dataclass
-from typing import Any
 
 from ..core.analyses import ANALYSIS_KINDS_DATA, analysis_kind
 from ..core.errors import ParameterError
-from ..core.json import JSONDict
+from ..core.json import JSONDict, LooseJSONObject
 from ..core.types import RUN_STATUSES
 from ..runs.execute import RunRecord
 from ..spice.engines import DEFAULT_ENGINE
@@ -31,7 +30,7 @@ class StoredRun:
 
     index: int
     key: str
-    params: dict[str, Any]  # JSON read from the store: its values are narrowed where they are read
+    params: LooseJSONObject  # JSON read from the store: its values are narrowed where they are read
     label: str
     status: str
     reason: str = ""
@@ -40,7 +39,7 @@ class StoredRun:
     wall_s: float | None = None
     total_s: float | None = None
     points: int | None = None
-    metrics: dict[str, Any] | None = None  # JSON read from the store, as ``params``
+    metrics: LooseJSONObject | None = None  # JSON read from the store, as ``params``
     engine_version: str = ""
     lcchain_version: str = ""
     engine: str = DEFAULT_ENGINE
@@ -140,7 +139,7 @@ def study_axes(runs: list[StoredRun]) -> list[str]:
     return [key for key in keys if len(values[key]) > 1 and all(key in run.params for run in runs)]
 
 
-def study_constants(runs: list[StoredRun]) -> dict[str, Any]:
+def study_constants(runs: list[StoredRun]) -> LooseJSONObject:
     """The parameters every task (extrapolation members aside) shares, with their one value."""
     runs = [run for run in runs if not run.member]
     axes = set(study_axes(runs))

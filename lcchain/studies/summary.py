@@ -13,13 +13,12 @@ figure draws the same groups.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 
 from ..core.checks import choice
 from ..core.errors import ParameterError
-from ..core.json import JSONDict
+from ..core.json import JSONDict, LooseJSONObject
 from ..core.types import STUDY_METRICS, StudyMetric
 from .stored import StoredRun, study_axes, study_constants
 
@@ -52,7 +51,7 @@ class Group:
         (pending ones are not counted).
     """
 
-    params: dict[str, Any]
+    params: LooseJSONObject
     peaks: np.ndarray
     failed: int
 
@@ -165,7 +164,7 @@ def peak_groups(runs: list[StoredRun], metric: str = "peak") -> list[Group]:
     every = study_axes(results)
     drawn = _drawn(results, every)
     axes = [key for key in every if key != "sample" and key not in drawn]
-    order: dict[str, dict[str, Any]] = {}
+    order: dict[str, LooseJSONObject] = {}
     peaks: dict[str, list[float]] = {}
     failed: dict[str, int] = {}
     for run in runs:

@@ -12,13 +12,13 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import Any, TypedDict
+from typing import TypedDict
 
 import numpy as np
 
 from ..circuit.reference import REFERENCE_DT, REFERENCE_SET, reference_chain
 from ..core.errors import SimulationError, SimulatorMissingError
-from ..core.json import JSONDict
+from ..core.json import JSONDict, LooseJSONObject
 from ..core.types import EXCITATIONS, Excitation
 from ..runs.execute import RunRecord
 from ..runs.simulate import ChainOptions, simulate_chain
@@ -61,7 +61,7 @@ class CheckCurves(TypedDict, total=False):
     sim: np.ndarray
     theory: np.ndarray
     residual: np.ndarray
-    arrivals: list[dict[str, Any]]
+    arrivals: list[LooseJSONObject]
 
 
 @dataclass
@@ -126,7 +126,7 @@ def _fixed_step_tolerance(predicted: float | None) -> float:
 
 #: The scene with losses and walls: the two-mass chain of N = 50 between weak walls, inductors of Q = 300,
 #: kicked; ngspice's step from the accuracy asked for.
-LOSSES_AND_WALLS_SCENE: dict[str, Any] = {
+LOSSES_AND_WALLS_SCENE: LooseJSONObject = {
     "title": "Two-mass chain N = 50, walls K0 = 0.01, Q = 300, kick",
     "chain": {"case": "two-mass", "N": 50},
     "excitation": {"kind": "kick", "I0": 1e-3},

@@ -29,7 +29,6 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 
@@ -49,7 +48,7 @@ from ..core.budget import (
 from ..core.checks import choice
 from ..core.errors import ParameterError
 from ..core.frozen import FrozenMap
-from ..core.json import JSON
+from ..core.json import JSON, LooseJSONObject
 from ..core.types import WORST_CASE_METHODS, ArrivalMetric, WorstCaseMethod
 from ..runs.request import RequestPlan, plan_request
 from ..scenes.load import load_scene
@@ -231,7 +230,7 @@ def worst_case_plan(path: str | Path, *, components: int = DEFAULT_COMPONENTS, m
                            (tolerance.L, tolerance.C))
 
 
-def worst_case_summary(runs: Sequence[StoredRun], setup: WorstCase) -> dict[str, Any]:
+def worst_case_summary(runs: Sequence[StoredRun], setup: WorstCase) -> LooseJSONObject:
     """The corners' metric from the store, the worst against the nominal, and the Monte Carlo beside them.
 
     Returns
@@ -258,7 +257,7 @@ def worst_case_summary(runs: Sequence[StoredRun], setup: WorstCase) -> dict[str,
         simulated, theory, _ = arrival_values(run, metric)
         rows.append({"corner": label, "sim": simulated, "theory": theory,
                      "predicted": setup.sensitivity.value + predicted[label]})
-    summary: dict[str, Any] = {"method": setup.method, "metric": metric, "corners": rows,
+    summary: LooseJSONObject = {"method": setup.method, "metric": metric, "corners": rows,
                                "nominal_theory": setup.sensitivity.value}
     quick = [row for row in rows if row["corner"] not in ("nominal", SEARCH_LABEL)]
     summary["corner_analysis"] = {"label": corners_label(setup.components), "components": setup.components,
@@ -281,7 +280,7 @@ def worst_case_summary(runs: Sequence[StoredRun], setup: WorstCase) -> dict[str,
     return summary
 
 
-def _search_summary(setup: WorstCase, row: dict[str, Any] | None) -> dict[str, Any]:
+def _search_summary(setup: WorstCase, row: LooseJSONObject | None) -> LooseJSONObject:
     """The search's result with its point named part by part, and its ngspice value once it ran."""
     assert setup.search is not None
     search = setup.search

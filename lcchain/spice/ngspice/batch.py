@@ -12,9 +12,7 @@ import re
 import subprocess
 import tempfile
 import time
-from typing import IO
-
-import numpy as np
+from typing import IO, TYPE_CHECKING
 
 from ...core.errors import SimulationError
 from ..job import Progress, TransportJob
@@ -33,6 +31,9 @@ from ..simulator import Simulator
 from ..text import require_canonical
 from .place import Place
 from .raw import read_raw
+
+if TYPE_CHECKING:
+    import numpy as np
 
 __all__ = ["run_batch"]
 

@@ -4,11 +4,13 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
-
-import numpy as np
+from typing import TYPE_CHECKING
 
 from ...core.errors import SimulationError
 from ..text import canonical_vector_name
+
+if TYPE_CHECKING:
+    import numpy as np
 
 __all__ = ["read_raw"]
 
@@ -41,6 +43,8 @@ def read_raw(source: str | os.PathLike[str] | bytes, plot: str = "transient", *,
     SimulationError
         Not a binary raw file, truncated, or without a plot of that analysis.
     """
+    import numpy as np
+
     if plot not in PLOTS:
         raise SimulationError(f"lcchain reads transient and AC plots, not {plot!r}")
     complex_data = PLOTS[plot]

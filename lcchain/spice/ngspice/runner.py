@@ -41,8 +41,7 @@ from __future__ import annotations
 import hashlib
 from collections.abc import Sequence
 from pathlib import Path
-
-import numpy as np
+from typing import TYPE_CHECKING
 
 from ...core.errors import ParameterError, SimulationError
 from ...core.frozen import FrozenMap
@@ -58,6 +57,9 @@ from .batch import run_batch
 from .find import find_simulator
 from .place import placement
 from .transports import TRANSPORT_RUNS
+
+if TYPE_CHECKING:
+    import numpy as np
 
 __all__ = ["run", "run_plot", "TRANSPORT_RUNS", "PLOT_TRANSPORTS"]
 

@@ -6,7 +6,7 @@ survives between runs; PySpice is imported only there, so ``import lcchain`` nev
 
 from __future__ import annotations
 
-import numpy as np
+from typing import TYPE_CHECKING
 
 from ...core.budget import show_bytes
 from ...core.errors import SimulationError
@@ -16,6 +16,9 @@ from ..simulator import Simulator
 from ..text import canonical_vector_name
 from .place import Place
 from .shared_child import call_shared_worker, decode_worker_payload
+
+if TYPE_CHECKING:
+    import numpy as np
 
 __all__ = ["run_shared"]
 

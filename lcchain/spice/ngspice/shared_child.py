@@ -14,18 +14,21 @@ import subprocess
 import sys
 import tempfile
 import time
-from typing import Any
-
-import numpy as np
+from typing import TYPE_CHECKING
 
 from ...core.errors import SimulationError
 from ..log import useful_output
 from ..processes import PACKAGE_ROOT, WATCH_INTERVAL, child_env, kill_group, outgrown, read_all
 
+if TYPE_CHECKING:  # the worker's module is the child's: the parent names its messages' types only
+    import numpy as np
+
+    from .shared_worker import WorkerMeta, WorkerRequest
+
 __all__ = ["call_shared_worker", "decode_worker_payload"]
 
 
-def call_shared_worker(launcher: tuple[str, ...], request: dict[str, Any], timeout: float, cwd: str,
+def call_shared_worker(launcher: tuple[str, ...], request: WorkerRequest, timeout: float, cwd: str,
                        what: str, env: dict[str, str] | None = None, max_output_bytes: float | None = None,
                        max_resident_bytes: float | None = None) -> tuple[bytes, str, int]:
     """Start the shared-library child, send it a request, return (stdout, stderr text, exit status).
@@ -71,8 +74,10 @@ def call_shared_worker(launcher: tuple[str, ...], request: dict[str, Any], timeo
         return read_all(out), read_all(err).decode("utf-8", "replace"), proc.returncode
 
 
-def decode_worker_payload(payload: bytes) -> tuple[dict[str, Any], list[np.ndarray]]:
+def decode_worker_payload(payload: bytes) -> tuple[WorkerMeta, list[np.ndarray]]:
+    import numpy as np
+
     with np.load(io.BytesIO(payload), allow_pickle=False) as npz:
-        meta = json.loads(npz["meta"].tobytes().decode("utf-8"))
+        meta: WorkerMeta = json.loads(npz["meta"].tobytes().decode("utf-8"))
         arrays = [npz[f"v{i}"] for i in range(len(meta.get("names", [])))]
     return meta, arrays

@@ -29,11 +29,32 @@ import logging
 import os
 import sys
 import time
-from typing import Any
-
-import numpy as np
+from typing import TYPE_CHECKING, TypedDict
 
 from lcchain.spice.text import circuit_lines, text_digest
+
+if TYPE_CHECKING:
+    import numpy as np
+
+
+class WorkerRequest(TypedDict, total=False):
+    """What the parent sends, as JSON: the library's path, and the netlist (without it: the version only)."""
+
+    library: str
+    netlist: str
+
+
+class WorkerMeta(TypedDict, total=False):
+    """What the worker answers, as JSON beside its arrays: the version (alone, for a version request), and for a
+    run the vectors' names in the arrays' order, ngspice's wall seconds, its errors, whether the plot held complex
+    vectors (not read), and the digest of the lines ngspice was given."""
+
+    version: str
+    names: list[str]
+    wall_s: float
+    errors: list[str]
+    complex: bool
+    lines: str
 
 
 class _PySpiceLog(logging.Handler):
@@ -55,7 +76,7 @@ def _echo(line: str) -> None:
     stream.flush()
 
 
-def simulate(netlist: str, library: str) -> tuple[dict[str, Any], list[np.ndarray]]:
+def simulate(netlist: str, library: str) -> tuple[WorkerMeta, list[np.ndarray]]:
     """Run a netlist once in the ngspice shared library.
 
     ngspice's output goes to stderr line by line as it comes.
@@ -74,6 +95,8 @@ def simulate(netlist: str, library: str) -> tuple[dict[str, Any], list[np.ndarra
     arrays : list of numpy.ndarray
         The vectors of the last transient plot, in the order of ``meta["names"]``.
     """
+    import numpy as np
+
     errors: list[str] = []
     pyspice_logger = logging.getLogger("PySpice")
     pyspice_logger.addHandler(_PySpiceLog(level=logging.WARNING))
@@ -137,8 +160,8 @@ def simulate(netlist: str, library: str) -> tuple[dict[str, Any], list[np.ndarra
         except Exception as exc:  # noqa: BLE001 - cleanup must not hide the result
             _echo(f"PySpice {command}: {type(exc).__name__}: {exc}")
 
-    meta = {"names": names, "version": version, "wall_s": wall, "errors": errors, "complex": is_complex,
-            "lines": text_digest(given)}
+    meta: WorkerMeta = {"names": names, "version": version, "wall_s": wall, "errors": errors,
+                        "complex": is_complex, "lines": text_digest(given)}
     return meta, arrays
 
 
@@ -157,12 +180,14 @@ def main() -> int:
 
     A request without ``"netlist"`` asks for the library's version only.
     """
-    request = json.loads(sys.stdin.buffer.read().decode("utf-8"))
+    import numpy as np
+
+    request: WorkerRequest = json.loads(sys.stdin.buffer.read().decode("utf-8"))
     protocol = os.fdopen(os.dup(1), "wb")
     os.dup2(2, 1)
     sys.stdout = sys.stderr
     if "netlist" not in request:
-        meta: dict[str, Any] = {"version": version(request["library"])}
+        meta: WorkerMeta = {"version": version(request["library"])}
         arrays: list[np.ndarray] = []
     else:
         meta, arrays = simulate(request["netlist"], request["library"])

@@ -11,8 +11,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
-
-import numpy as np
+from typing import TYPE_CHECKING, TypeAlias
 
 from ...core.registry import Registry
 from ..job import Progress, TransportJob
@@ -23,12 +22,16 @@ from .place import Place
 from .shared import run_shared
 from .warm import run_warm
 
+if TYPE_CHECKING:
+    import numpy as np
+
 __all__ = ["NgspiceTransport", "TransportRun", "TRANSPORT_RUNS", "named_transports", "is_named_transport"]
 
 #: How a transport runs a checked text: (job, simulator, place, progress) -> (columns, log, wall seconds).  The
 #: job (:class:`lcchain.spice.job.TransportJob`) carries the text its check returned, the digest of its lines, the
 #: plot to read and the limits; the transport runs ``job.text`` as it is.
-TransportRun = Callable[[TransportJob, Simulator, Place, Progress | None], tuple[dict[str, np.ndarray], str, float]]
+TransportRun: TypeAlias = (  # a string: read by the type checker, so that importing this module loads no numpy
+    "Callable[[TransportJob, Simulator, Place, Progress | None], tuple[dict[str, np.ndarray], str, float]]")
 
 
 @dataclass(frozen=True)

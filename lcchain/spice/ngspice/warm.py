@@ -44,9 +44,7 @@ import threading
 import time
 from collections.abc import Callable
 from dataclasses import replace
-from typing import IO, Any
-
-import numpy as np
+from typing import IO, TYPE_CHECKING, TypeAlias
 
 from ...core.budget import show_bytes
 from ...core.errors import SimulationError, SimulatorMissingError
@@ -57,6 +55,11 @@ from ..simulator import Simulator
 from ..text import canonical_vector_name
 from .locate import find_shared_library
 from .place import Place, placement
+
+if TYPE_CHECKING:  # the worker's module is the child's: the parent names its frames' types only
+    import numpy as np
+
+    from .warm_worker import Hello, RunHeader
 
 __all__ = ["WarmWorker", "run_warm", "worker_for", "close_workers", "warm_simulator", "WARM_BELOW_SECONDS",
            "MAX_WORKER_BYTES", "MAX_WORKER_RUNS", "RESTART_SHARE"]
@@ -123,7 +126,7 @@ class WarmWorker:
         if self.version:
             return self.version
         try:
-            hello = json.loads(self._frame(time.monotonic() + START_TIMEOUT, "starting"))
+            hello: Hello = json.loads(self._frame(time.monotonic() + START_TIMEOUT, "starting"))
         except BaseException:
             self.close(kill=True)
             raise
@@ -189,6 +192,8 @@ class WarmWorker:
             the next), the run outlived its timeout (status ``"timeout"``, the worker killed), its output or
             memory outgrew its limits (the worker killed), or its vectors outgrew ``max_output_bytes``.
         """
+        import numpy as np
+
         assert self.proc.stdin is not None
         timeout, limit, resident = job.timeout, job.max_output_bytes, job.max_resident_bytes
         data = job.text.encode("utf-8")
@@ -208,7 +213,7 @@ class WarmWorker:
         try:
             self.proc.stdin.write(_HEADER.pack(len(data)) + data)
             self.proc.stdin.flush()
-            header = json.loads(self._frame(deadline, "running", watch))
+            header: RunHeader = json.loads(self._frame(deadline, "running", watch))
             size = 8 * sum(int(length) for length in header["lengths"])
             if limit is not None and size > limit:  # not read at all: the worker goes with it
                 self.close(kill=True)
@@ -273,10 +278,12 @@ class WarmWorker:
 
 # ------------------------------------------------------------------ one worker per thread
 _lock = threading.Lock()
+#: A worker's library, placement prefix and folder: workers of one key are interchangeable.
+WorkerKey: TypeAlias = tuple[str, tuple[str, ...], str]
 _workers: set[WarmWorker] = set()
 #: The workers :func:`warm_simulator` started (and checked the library's version with), by key, until threads take
 #: them over, one each.
-_spare: dict[tuple[Any, ...], list[WarmWorker]] = {}
+_spare: dict[WorkerKey, list[WarmWorker]] = {}
 _local = threading.local()
 
 
@@ -286,7 +293,7 @@ def worker_for(library: str, prefix: tuple[str, ...], cwd: str, env: dict[str, s
     or (before a run whose memory limit is ``resident`` bytes) when it already holds more than
     :data:`RESTART_SHARE` of it."""
     key = (library, prefix, cwd)
-    mine: dict[tuple[Any, ...], WarmWorker] = _local.__dict__.setdefault("workers", {})
+    mine: dict[WorkerKey, WarmWorker] = _local.__dict__.setdefault("workers", {})
     worker = mine.get(key)
     if worker is not None and (not worker.alive or worker.spent or (
             resident is not None and worker.runs and worker.resident() > RESTART_SHARE * resident)):

@@ -42,9 +42,31 @@ import re
 import struct
 import sys
 import time
-from typing import Any, BinaryIO
+from typing import BinaryIO, TypedDict
 
 from lcchain.spice.text import circuit_lines, text_digest
+
+
+class Hello(TypedDict, total=False):
+    """The worker's first frame, as JSON: the library's version, or why it could not be loaded."""
+
+    version: str
+    error: str
+
+
+class RunHeader(TypedDict):
+    """The frame before a run's vectors, as JSON: their names and lengths (float64 values, in this order), whether
+    the plot held complex vectors (not sent), ngspice's errors and wall seconds, the worker's resident bytes,
+    ngspice's exit status when it asked to exit (else None), and the digest of the lines it was given."""
+
+    names: list[str]
+    lengths: list[int]
+    complex: bool
+    errors: list[str]
+    wall_s: float
+    rss: int
+    exit: int | None
+    lines: str
 
 _HEADER = struct.Struct("<Q")
 _VERSION = re.compile(r"ngspice-([0-9][^\s]*)")
@@ -110,7 +132,7 @@ class Library:
             raise RuntimeError("the library did not report an ngspice version")
         return match.group(1)
 
-    def run(self, netlist: str) -> tuple[dict[str, Any], bytes]:
+    def run(self, netlist: str) -> tuple[RunHeader, bytes]:
         errors: list[str] = []
         try:
             given = circuit_lines(netlist)  # split at LF alone, as the allow-list split it
@@ -147,8 +169,8 @@ class Library:
         if self.exit_status is None:
             for command in ("destroy all", "remcirc"):
                 self.command(command)
-        header = {"names": names, "lengths": lengths, "complex": is_complex, "errors": errors,
-                  "wall_s": wall, "rss": _rss(), "exit": self.exit_status, "lines": text_digest(given)}
+        header: RunHeader = {"names": names, "lengths": lengths, "complex": is_complex, "errors": errors,
+                             "wall_s": wall, "rss": _rss(), "exit": self.exit_status, "lines": text_digest(given)}
         return header, b"".join(chunks)
 
 
@@ -192,9 +214,10 @@ def main(argv: list[str]) -> int:
     sys.stdout = sys.stderr
     try:
         library = Library(argv[1])
-        hello: dict[str, Any] = {"version": library.version()}
+        hello: Hello = {"version": library.version()}
     except (OSError, RuntimeError, IndexError) as error:
-        _write_frame(replies, json.dumps({"error": str(error)}).encode("utf-8"))
+        refused: Hello = {"error": str(error)}
+        _write_frame(replies, json.dumps(refused).encode("utf-8"))
         replies.flush()
         return 1
     _write_frame(replies, json.dumps(hello).encode("utf-8"))
