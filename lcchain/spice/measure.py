@@ -58,7 +58,9 @@ _NUMBER = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?[A-Za-z]*")
 _NODE = r"[A-Za-z0-9_#.]+"
 _VECTOR = re.compile(rf"(v|vdb|vm|vp|vr|vi|i|idb|im|ip|ir|ii)\(({_NODE})(,{_NODE})?\)", re.IGNORECASE)
 _NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
-_CARD = re.compile(r"^\s*\.meas(?:ure)?\s+(?:tran|ac)\s+([A-Za-z_][A-Za-z0-9_]*)\b", re.IGNORECASE)
+# A measurement's card, found in a whole text at once (its blanks are blanks but LF: the lines are split there).
+_CARDS = re.compile(r"^[^\S\n]*\.meas(?:ure)?[^\S\n]+(?:tran|ac)[^\S\n]+([A-Za-z_][A-Za-z0-9_]*)\b",
+                    re.IGNORECASE | re.MULTILINE)
 _CONTROL = re.compile(r"^\s*\.control", re.IGNORECASE | re.MULTILINE)
 
 #: A run's measurements: name (lower case) -> (value, or None where ngspice could not make it; ngspice's reason).
@@ -122,12 +124,7 @@ def valid_measure_name(name: str) -> bool:
 
 def measure_names(text: str) -> list[str]:
     """The measurement names of a checked netlist's ``.meas`` cards, in order (lower case)."""
-    names = []
-    for line in text.split("\n"):
-        match = _CARD.match(line)
-        if match:
-            names.append(match.group(1).lower())
-    return list(dict.fromkeys(names))
+    return list(dict.fromkeys(match.group(1).lower() for match in _CARDS.finditer(text)))
 
 
 def measure_control(text: str, raw: str) -> str | None:
