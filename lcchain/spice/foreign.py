@@ -121,7 +121,7 @@ from .cards import (
     subckt_header,
 )
 from .expressions import FUNCTIONS, MAX_PARAMS, braced_expressions, check_expression, is_param_card, param_assignments
-from .measure import MEASURE_WORDS, check_measure, measure_names
+from .measure import MEASURE_WORDS, check_measure, measure_names_in
 from .pricing import Contents, Price, operating_price, read_contents, sweep_price, transient_price
 from .text import NEWLINE, DotCard, canonical_text, dot_cards, require_canonical, saved_in, spice_number
 
@@ -337,7 +337,11 @@ def _count_element(card: _Card, state: _Names) -> None:
     body_name = state.open[-1][1].name if state.open else ""
     count = state.elements[body_name] = state.elements.get(body_name, 0) + 1
     if count > MAX_EXPANDED_ELEMENTS:
-        raise _refuse(card, f"a netlist of at most {MAX_EXPANDED_ELEMENTS} elements")
+        raise _too_many_elements(card)
+
+
+def _too_many_elements(card: _Card) -> ParameterError:
+    return _refuse(card, f"a netlist of at most {MAX_EXPANDED_ELEMENTS} elements")
 
 
 def _check_element(card: _Card, body: str, state: _Names) -> None:
@@ -434,7 +438,9 @@ def _cards(text: str, source: str, *, title: bool) -> tuple[str, list[_Card]]:
     last = -1  # the card a "+" line continues: the last element or dot-command card
     for number in range(start + 1, len(lines) + 1):
         line = lines[number - 1]
-        first = line.lstrip()[:1]
+        first = line[:1]
+        if first.isspace():  # most lines start with their card
+            first = line.lstrip()[:1]
         if first == "+":
             if last < 0:
                 raise _refuse((source, number, line, False), "a continuation (+) of an element or dot-command line")
@@ -557,11 +563,15 @@ def _allowed(text: str, source: str, folder: Path | None, read: Callable[[Path, 
     out = [head] if _depth == 0 else []
     changed = _depth == 0 and not text.startswith(head)  # blank lines before the title are dropped
     plain = _PLAIN_ELEMENT.fullmatch
+    elements = state.elements
     for card in cards:
         line = card[2]
         changed |= card[3]
         if plain(line):  # most lines of a ladder: what the checks below make of them, told by one match
-            _count_element(card, state)
+            body_name = state.open[-1][1].name if state.open else ""
+            count = elements[body_name] = elements.get(body_name, 0) + 1
+            if count > MAX_EXPANDED_ELEMENTS:
+                raise _too_many_elements(card)
             out.append(line)
             continue
         stripped = line.strip()
@@ -813,7 +823,8 @@ def analysis_of(text: str, source: str, version: Callable[[], str] | None = None
     ``version`` gives the ngspice version that will run it (``"39"``), asked only for an ``.ac dec`` card: how
     many frequencies ngspice makes of one depends on it (:func:`log_sweep_count`).
     """
-    return _analysis(text, dot_cards(text, canonical=False), bool(measure_names(text)), source, version)
+    dots = dot_cards(text, canonical=False)
+    return _analysis(text, dots, bool(measure_names_in(dots)), source, version)
 
 
 def _analysis(text: str, dots: Sequence[DotCard], measured: bool, source: str,
@@ -932,7 +943,8 @@ def foreign_price(text: str, analysis: Transient | Sweep, saved: int, source: st
         A source function lcchain cannot price, naming the line.
     """
     contents = read_contents(text, source)
-    return _priced(contents, dot_cards(text), bool(measure_names(text)), analysis, saved)
+    dots = dot_cards(text)
+    return _priced(contents, dots, bool(measure_names_in(dots)), analysis, saved)
 
 
 def _priced(contents: Contents, dots: Sequence[DotCard], measured: bool, analysis: Transient | Sweep,
@@ -989,7 +1001,7 @@ def read_foreign(text: str, source: str, version: Callable[[], str] | None = Non
         As those three.
     """
     dots = dot_cards(text, canonical=False)
-    measured = bool(measure_names(text))
+    measured = bool(measure_names_in(dots))
     analysis = _analysis(text, dots, measured, source, version)
     require_canonical(text)  # as saved_vectors refuses a text that is not
     saved = saved_in(dots)

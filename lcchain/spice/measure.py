@@ -32,13 +32,15 @@ ngspice's reason, and does not fail the run.
 from __future__ import annotations
 
 import re
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable, Mapping, Sequence
 
 from ..core.errors import ParameterError
 from .expressions import check_expression
+from .text import DotCard, dot_cards
 
 __all__ = ["valid_measure_name", "measurement_fields", "MEASUREMENTS", "MEASURE_REASONS", "MEASURE_WORDS",
-           "MEASURE_KINDS", "MAX_MEASUREMENTS", "check_measure", "measure_names", "measure_control",
+           "MEASURE_KINDS", "MAX_MEASUREMENTS", "check_measure", "measure_names", "measure_names_in",
+           "measure_control",
            "read_measurements", "Measurements"]
 
 #: The dot-commands that are measurements in ngspice 39.
@@ -58,9 +60,7 @@ _NUMBER = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?[A-Za-z]*")
 _NODE = r"[A-Za-z0-9_#.]+"
 _VECTOR = re.compile(rf"(v|vdb|vm|vp|vr|vi|i|idb|im|ip|ir|ii)\(({_NODE})(,{_NODE})?\)", re.IGNORECASE)
 _NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
-# A measurement's card, found in a whole text at once (its blanks are blanks but LF: the lines are split there).
-_CARDS = re.compile(r"^[^\S\n]*\.meas(?:ure)?[^\S\n]+(?:tran|ac)[^\S\n]+([A-Za-z_][A-Za-z0-9_]*)\b",
-                    re.IGNORECASE | re.MULTILINE)
+_CARD = re.compile(r"^\s*\.meas(?:ure)?\s+(?:tran|ac)\s+([A-Za-z_][A-Za-z0-9_]*)\b", re.IGNORECASE)
 _CONTROL = re.compile(r"^\s*\.control", re.IGNORECASE | re.MULTILINE)
 
 #: A run's measurements: name (lower case) -> (value, or None where ngspice could not make it; ngspice's reason).
@@ -124,7 +124,17 @@ def valid_measure_name(name: str) -> bool:
 
 def measure_names(text: str) -> list[str]:
     """The measurement names of a checked netlist's ``.meas`` cards, in order (lower case)."""
-    return list(dict.fromkeys(match.group(1).lower() for match in _CARDS.finditer(text)))
+    return measure_names_in(dot_cards(text, canonical=False))  # a .meas card is a dot card
+
+
+def measure_names_in(cards: Sequence[DotCard]) -> list[str]:
+    """:func:`measure_names` of a netlist's :func:`~lcchain.spice.text.dot_cards`."""
+    names = []
+    for _, line, _ in cards:  # each physical line that starts a card
+        match = _CARD.match(line)
+        if match:
+            names.append(match.group(1).lower())
+    return list(dict.fromkeys(names))
 
 
 def measure_control(text: str, raw: str) -> str | None:
