@@ -14,9 +14,47 @@ The public names below load on first use (Scientific Python's SPEC 1), so
 from __future__ import annotations
 
 import importlib
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from .core import __version__
+
+if TYPE_CHECKING:  # what a type checker reads for each public name (they load on first use, below)
+    from .app.scenes import SceneHooks, SceneRun, run_scene
+    from .circuit.effects import Coupling, Effect, Losses, PreferredValues, Tolerance, Walls
+    from .circuit.ladder import Ladder
+    from .circuit.netlist import SimulationOptions, netlist_text
+    from .compare.accuracy import dt_for_accuracy, predicted_error
+    from .core.budget import Budget
+    from .core.errors import (
+        DesignError,
+        ExtraMissingError,
+        Interrupted,
+        LcchainError,
+        ParameterError,
+        SimulationError,
+        SimulatorMissingError,
+    )
+    from .report import plots as plots
+    from .runs.execute import RunRecord, execute
+    from .runs.request import AC, Drive, Request, Transient, plan_request
+    from .runs.simulate import ChainOptions, SimulationReport, simulate, simulate_chain
+    from .runs.spec import RunSpec, Theory
+    from .runs.spectrum import SpectrumReport, spectrum
+    from .scenes.load import load_scene, parse_scene
+    from .scenes.run import simulate_scene
+    from .scenes.schema import Scene
+    from .spice.ngspice.find import find_simulator
+    from .spice.simulator import Simulator
+    from .theory.arrivals import Arrival, arrivals, first_arrival
+    from .theory.asymptotic import asymptotic_amplitude, asymptotic_optimum
+    from .theory.cases import chain_for_case
+    from .theory.chain import PERFECT_ARRIVAL, Chain
+    from .theory.closed_form import closed_form_modes
+    from .theory.design import Design, optimal_design, optimal_one_mass, optimal_two_mass
+    from .theory.modes import Modes
+    from .theory.perfect import PerfectDesign, chain_from_spectrum, perfect_design, spectrum_of
+    from .theory.response import linear_response
+    from .theory.spectrum import normal_modes, return_amplitude, transmission_amplitude
 
 #: Public name -> the module that defines it.
 _PUBLIC = {
@@ -73,7 +111,7 @@ __all__ = [
 ]
 
 
-def __getattr__(name: str) -> Any:
+def __getattr__(name: str) -> object:
     if name == "plots":  # matplotlib loads only when a figure is wanted
         return importlib.import_module(".report.plots", __name__)
     if name in _PUBLIC:

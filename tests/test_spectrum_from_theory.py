@@ -142,6 +142,9 @@ _Q_OFF = 1.0 + 1e-4
 #: targets): at Q = 1e4 a perfect cradle's weak modes, which the samples do not place, stay where they start, and
 #: from 1e-3 off (N = 40 on ngspice) they left a misfit of 3e-8, above THEORY_MISFIT (from theory's poles: 4e-11).
 _START_OFF_LOSSY = 1e-4
+#: ... and, started from residues as well (as the loop-1 fit is from theory's), each residue off by this relative
+#: amount (1e6 times the P target's scale): the fit must correct it, not copy it.
+_RESIDUES_OFF = 1e-6
 #: Q_n is held to the target for modes weighing at least this at the ends: a weaker mode's decay rate is placed by
 #: its resonance's few samples (measured on ngspice's perfect cradle N = 40 at Q = 1000: the mode of |P_n| = 1.4e-6
 #: to 4.6e-8 from this start, to 1.5e-8 by the rational fits of the samples alone; 1e-11 .. 2e-9 above 1e-4).
@@ -155,11 +158,23 @@ def _separated(omega: np.ndarray, Q: float) -> np.ndarray:
     return np.asarray((nearest >= 3.0 / Q) & (omega > 0))
 
 
-def _check_lossy(chain: Chain, Q: float, w: np.ndarray, y11: np.ndarray, yN1: np.ndarray) -> np.ndarray:
-    """Fit from the moved start (omega_n and Q off) and compare every separated, weighty mode with the dense
-    solution: omega_n, Q_n = omega_n / gamma_n against omega_n Q, P_n; the seen modes' indices."""
+def _residues_off(chain: Chain) -> tuple[np.ndarray, np.ndarray]:
+    """The dense solution's residues (u_1n^2, u_1n u_Nn) each moved by a relative :data:`_RESIDUES_OFF` (a seeded
+    generator): a start the fit must correct, not copy."""
+    _, u = dense_shapes(chain)
+    rng = np.random.default_rng(5)
+    return (u[0] ** 2 * (1 + _RESIDUES_OFF * rng.standard_normal(chain.N)),
+            u[0] * u[-1] * (1 + _RESIDUES_OFF * rng.standard_normal(chain.N)))
+
+
+def _check_lossy(chain: Chain, Q: float, w: np.ndarray, y11: np.ndarray, yN1: np.ndarray,
+                 residues: bool = False) -> np.ndarray:
+    """Fit from the moved start (omega_n and Q off; with ``residues``, from moved residues too, as the loop-1 fit
+    starts from theory's) and compare every separated, weighty mode with the dense solution: omega_n,
+    Q_n = omega_n / gamma_n against omega_n Q, P_n; the seen modes' indices."""
     omega, P = dense_modes(chain)
-    fit, seen = fit_from_theory(w, y11, yN1, _start(omega, _START_OFF_LOSSY), Q * _Q_OFF)
+    fit, seen = fit_from_theory(w, y11, yN1, _start(omega, _START_OFF_LOSSY), Q * _Q_OFF,
+                                merged_residues=_residues_off(chain) if residues else None)
     assert fit.residual <= THEORY_MISFIT  # the fit stands (no fall back to the rational fits)
     held = _separated(omega, Q) & (np.abs(P) >= OMEGA_WEIGHT_FLOOR)
     assert held.sum() >= chain.N // 2 and np.isin(np.flatnonzero(held), seen).all()
@@ -188,16 +203,19 @@ def _lossy_samples(chain: Chain, Q: float) -> tuple[np.ndarray, np.ndarray, np.n
                                           (chain_for_case("two-mass", 60), 1000.0),
                                           (chain_for_case("uniform-bounded", 40), 1e4)],
                          ids=["two-mass-12-Q100", "two-mass-60-Q1000", "walls-40-Q1e4"])
-def test_the_lossy_fit_from_theory_lands_on_exact_samples_poles(chain, Q):
-    """Exact lossy samples of the dense solution: one window (N = 12) and several (N = 40, 60)."""
-    _check_lossy(chain, Q, *_lossy_samples(chain, Q))
+@pytest.mark.parametrize("residues", [False, True], ids=["poles", "poles-and-residues"])
+def test_the_lossy_fit_from_theory_lands_on_exact_samples_poles(chain, Q, residues):
+    """Exact lossy samples of the dense solution: one window (N = 12) and several (N = 40, 60); started from moved
+    poles alone, and from moved residues too (the windows then fit the whole residual's correction)."""
+    _check_lossy(chain, Q, *_lossy_samples(chain, Q), residues=residues)
 
 
 @pytest.mark.ngspice
 @pytest.mark.parametrize(("chain", "Q"), [(chain_for_case("two-mass", 200), 1000.0),
                                           (chain_for_case("perfect", 40), 1000.0)],
                          ids=["two-mass-200-Q1000", "perfect-40-Q1000"])
-def test_the_lossy_fit_from_theory_lands_on_ngspices_poles(chain, Q):
+@pytest.mark.parametrize("residues", [False, True], ids=["poles", "poles-and-residues"])
+def test_the_lossy_fit_from_theory_lands_on_ngspices_poles(chain, Q, residues):
     """ngspice's lossy ladder (the resistors L_i / (Q tau)) on lcchain's sweep for it: beyond the 100 masses the
     rational fits were measured on, in windows.  (At Q = 1e4 the sweep, 4 samples per spacing, does not resolve
     the resonances: a perfect cradle's Q_n from this start land to 1e-9 .. 7e-9 for |P_n| >= 1e-3, 2e-8 at 1e-4 and
@@ -208,7 +226,7 @@ def test_the_lossy_fit_from_theory_lands_on_ngspices_poles(chain, Q):
     result = run_ac(AcJob(spec.netlist, spec.vectors, spec.points), find_engine(spec.engine))
     w = 2.0 * np.pi * result.frequency * spec.theory.time_unit
     first, last = (result.vectors[name] * spec.theory.impedance for name in probe_names(chain.N, "ends"))
-    _check_lossy(chain, Q, w, first, last)
+    _check_lossy(chain, Q, w, first, last, residues=residues)
 
 
 def test_a_lossy_circuit_that_is_not_its_theory_is_measured_as_it_is():

@@ -54,7 +54,7 @@ for the nominal chain; each tolerance sample only multiplies the rounded values.
 from __future__ import annotations
 
 from dataclasses import Field, dataclass, fields
-from typing import Any, ClassVar
+from typing import ClassVar
 
 import numpy as np
 
@@ -245,7 +245,7 @@ def tolerance_samples(chain: Chain, L0: float, C0: float, *, samples: int, seed:
 
 
 # ------------------------------------------------------------------- the parts
-def effect_fields(cls: type[Effect]) -> tuple[Field[Any], ...]:
+def effect_fields(cls: type[Effect]) -> tuple[Field[object], ...]:
     """An effect type's fields: the keys of its scene table (every effect type is a dataclass)."""
     return fields(cls)  # type: ignore[arg-type]  # Effect's subclasses are dataclasses; Effect itself is not
 

@@ -35,7 +35,7 @@ import math
 import re
 from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Any, cast
+from typing import cast
 
 from ..core.checks import choice, instance, integer, real, strings, text_line
 from ..core.checks import pulse as check_pulse
@@ -188,11 +188,17 @@ class SimulationOptions:
             raise ParameterError("aligned", self.aligned, "aligned steps with stepping='fixed' only")
 
 
-def _sequence(name: str, values: object, allowed: str) -> tuple[Any, ...]:
+def _sequence(name: str, values: object, allowed: str) -> tuple[object, ...]:
     """A list or tuple as a tuple (a string, a set or a number is refused, naming the field)."""
     if isinstance(values, (list, tuple)):
         return tuple(values)
     raise ParameterError(name, values, allowed)
+
+
+def _effects(values: object) -> tuple[Effect, ...]:
+    """A list or tuple of lcchain effects as a tuple, each checked."""
+    parts = _sequence("effects", values, "a tuple of lcchain effects")
+    return tuple(instance("effects", part, Effect) for part in parts)
 
 
 def probe_names(N: int, probes: Probes = "ends") -> list[str]:
@@ -292,9 +298,7 @@ def netlist_text(ladder: Ladder, options: SimulationOptions, drive: Drive | None
     instance("ladder", ladder, Ladder)
     instance("options", options, SimulationOptions)
     drive = instance("drive", drive, Drive, optional=True) or Drive()
-    parts = _sequence("effects", effects, "a tuple of lcchain effects")
-    for part in parts:
-        instance("effects", part, Effect)
+    parts = _effects(effects)
     output = instance("output", output, NetlistOutput, optional=True) or NetlistOutput()
     excitation, I0, spec = drive.kind, drive.I0, drive.pulse
     title, comments, probes, extra_vectors = output.title, output.comments, output.probes, output.extra_vectors
@@ -308,7 +312,7 @@ def netlist_text(ladder: Ladder, options: SimulationOptions, drive: Drive | None
         f"* N={N} L0={card_number(ladder.L0)} H C0={card_number(ladder.C0)} F time unit={card_number(unit)} s "
         f"excitation={excitation} I0={card_number(I0)} A"
     )
-    shaped = None if spec is None else (cast(PulseShape, spec[0]), spec[1])
+    shaped = None if spec is None else (spec[0], spec[1])
     lines += [element.card() for element in circuit_elements(ladder, excitation=excitation, I0=I0, pulse=shaped,
                                                              effects=parts)]
     lines.append(_options_line(options, I0, ladder))
@@ -345,7 +349,7 @@ def ac_circuit_elements(ladder: Ladder, effects: tuple[Effect, ...] = ()) -> tup
     open at ``s1``, and the AC source's place (``s1`` to the rail node n0, or ground) as a unit rect pulse, the
     source :class:`lcchain.circuit.exact.CircuitTheory` folds in: its admittances are per volt of it, whatever its
     shape (:meth:`lcchain.circuit.exact.CircuitTheory.admittances`)."""
-    parts = _sequence("effects", effects, "a tuple of lcchain effects")
+    parts = _effects(effects)
     return (*ladder_elements(ladder, parts, source=True),
             Pulse("s1", ladder.node(0), "rect", ladder.time_unit, ladder.time_unit))
 
@@ -389,9 +393,7 @@ def ac_netlist_text(ladder: Ladder, *, points: int | None = None, omega_max: flo
         sweeps = [f".ac lin {points} {card_number(omega_min * hertz)} {card_number(omega_max * hertz)}"]
     else:
         sweeps = _ac_cards(segments, hertz)
-    parts = _sequence("effects", effects, "a tuple of lcchain effects")
-    for part in parts:
-        instance("effects", part, Effect)
+    parts = _effects(effects)
     title = check_user_text("title", title)
     N = ladder.chain.N
     lines = [title, f"* N={N} L0={card_number(ladder.L0)} H C0={card_number(ladder.C0)} F time unit="
@@ -431,14 +433,13 @@ def survey_netlist_text(ladder: Ladder, segments: Sequence[tuple[int, float, flo
     """
     instance("ladder", ladder, Ladder)
     N = ladder.chain.N
-    values = list(_sequence("amplitudes", amplitudes, "a sequence of N complex amplitudes"))
-    if len(values) != N or not all(isinstance(v, (int, float, complex)) and math.isfinite(abs(v)) for v in values):
-        raise ParameterError("amplitudes", f"{len(values)} values", f"{N} finite complex amplitudes, one per loop")
+    given = list(_sequence("amplitudes", amplitudes, "a sequence of N complex amplitudes"))
+    if len(given) != N or not all(isinstance(v, (int, float, complex)) and math.isfinite(abs(v)) for v in given):
+        raise ParameterError("amplitudes", f"{len(given)} values", f"{N} finite complex amplitudes, one per loop")
+    values = cast(list[complex], given)  # each an int, float or complex: checked just above
     hertz = 1.0 / (2.0 * math.pi * ladder.time_unit)
     sweeps = _ac_cards(segments, hertz)
-    parts = _sequence("effects", effects, "a tuple of lcchain effects")
-    for part in parts:
-        instance("effects", part, Effect)
+    parts = _effects(effects)
     title = check_user_text("title", title)
     lines = [title, f"* N={N} L0={card_number(ladder.L0)} H C0={card_number(ladder.C0)} F time unit="
                     f"{card_number(ladder.time_unit)} s, AC drive in every loop"]

@@ -16,12 +16,12 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 import scipy  # its submodules load on first use: commands that need no theory never import them
 
 from ..core.errors import ParameterError
+from ..core.frozen import Reduced
 from ..core.json import JSONDict
 from ..theory.arrivals import arrival_window, maximum_in_window
 from ..theory.chain import MAX_COUPLING, Chain
@@ -69,7 +69,7 @@ class Part:
     build: Callable[[Chain, float], tuple[Chain, tuple[Effect, ...]]]
     physical: Callable[[float, Ladder], str]
 
-    def __reduce__(self) -> tuple[Any, ...]:
+    def __reduce__(self) -> Reduced:
         # a part of PARTS travels by its key (its callables are lambdas, which do not pickle): a requirement
         # computed in the report's pool comes back holding the same part
         if any(part is self for part in PARTS):

@@ -51,7 +51,6 @@ import math
 import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -60,9 +59,11 @@ from ..core.blas import fixed_blas_threads
 from ..core.budget import BudgetError
 from ..core.checks import choice, instance, real, strings
 from ..core.errors import ParameterError
+from ..core.json import JSONDict
 from ..core.limits import ACCURACY_FLOOR, MAX_ACCURACY_DT
 from ..core.types import METHODS
 from ..theory.modes import Modes, cosine_sum
+from .waveforms import Waveforms
 
 __all__ = [
     "AccuracyWarning",
@@ -488,13 +489,13 @@ class ErrorSplit:
     physics_error: float | None
     total_error: float
 
-    def to_dict(self) -> dict[str, Any]:
+    def to_dict(self) -> JSONDict:
         return {"integration_error": self.integration_error, "physics_error": self.physics_error,
                 "total_error": self.total_error}
 
 
 @fixed_blas_threads
-def split_error(waveforms: Any, modes: Modes, dt: float, *, method: str = "trap",
+def split_error(waveforms: Waveforms, modes: Modes, dt: float, *, method: str = "trap",
                 exact: tuple[np.ndarray, np.ndarray] | None = None, breakpoint: bool = True) -> ErrorSplit:
     """Split the error of a simulation into integration and physics error.
 

@@ -15,13 +15,13 @@ from __future__ import annotations
 import functools
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 
 from ..core.blas import fixed_blas_threads
 from ..core.errors import ParameterError
 from ..core.frozen import FrozenArrays
+from ..core.json import JSONDict
 from ..theory.arrivals import arrival_window, maximum_in_window
 from .waveforms import Signals
 
@@ -58,8 +58,8 @@ class ArrivalComparison:
     peak_sim: float
     energy_sim: float | None = None
 
-    def to_dict(self) -> dict[str, Any]:
-        data = {"index": self.index, "end": self.end, "t_theory": self.t_theory, "t_sim": self.t_sim,
+    def to_dict(self) -> JSONDict:
+        data: JSONDict = {"index": self.index, "end": self.end, "t_theory": self.t_theory, "t_sim": self.t_sim,
                 "peak_theory": self.peak_theory, "peak_sim": self.peak_sim}
         if self.energy_sim is not None:
             data["energy_sim"] = self.energy_sim
@@ -101,7 +101,7 @@ class EffectCost:
         """t_circuit - t_ideal, units of sqrt(L0 C0)."""
         return self.t_circuit - self.t_ideal
 
-    def to_dict(self) -> dict[str, Any]:
+    def to_dict(self) -> JSONDict:
         return {"t_circuit": self.t_circuit, "t_ideal": self.t_ideal, "peak_circuit": self.peak_circuit,
                 "peak_ideal": self.peak_ideal, "energy_circuit": self.energy_circuit,
                 "energy_ideal": self.energy_ideal, "energy_loss": self.energy_loss, "delay": self.delay}
@@ -139,8 +139,8 @@ class Metrics:
     physics_error: float | None = None
     effects: EffectCost | None = None
 
-    def to_dict(self) -> dict[str, Any]:
-        data = {
+    def to_dict(self) -> JSONDict:
+        data: JSONDict = {
             "max_abs_error": self.max_abs_error,
             "max_abs_error_first": self.max_abs_error_first,
             "max_abs_error_last": self.max_abs_error_last,
@@ -176,7 +176,7 @@ class Comparison(FrozenArrays):
     theory_first: np.ndarray
     theory_last: np.ndarray
 
-    def to_dict(self) -> dict[str, Any]:
+    def to_dict(self) -> JSONDict:
         return {
             "max_abs_error": self.max_abs_error,
             "max_abs_error_first": self.max_abs_error_first,

@@ -37,7 +37,7 @@ O(samples x N) per Gauss-Newton sweep.  Measured against exact theory, see ``ben
 from __future__ import annotations
 
 import warnings
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -291,6 +291,18 @@ def fit_spectrum(omega: np.ndarray, y11: np.ndarray, yN1: np.ndarray, *, lossy: 
 #: 16, 35 and 74 ms in one window up to 64; windows of 16 or 96 no faster, on a machine at load 6 to 8).
 _THEORY_ONE_WINDOW = 16
 _THEORY_CORE = 32
+#: With losses the fit starts from theory's residues as well as its poles (:attr:`lcchain.compare.survey.PoleStart.
+#: residues`): every other mode's model is then subtracted from a window's samples from the start, and the windows
+#: are smaller: 16 modes, 2 neighbours on each side and 6 smooth terms (measured in-process on ngspice's samples,
+#: CPU seconds on the loaded machine: two-mass N = 100, 200, 400 at Q = 1000 and perfect N = 400 at 1e4 in 19, 48,
+#: 129 and 85 ms, against 36, 90, 236 and 155 ms with windows of 32, 8 and 12; as many modes seen, Q_n, omega_n and
+#: P_n as close; with no smooth term 12 of the perfect N = 400's weak modes went unseen, omega_n 8 times further off).
+_LOSSY_CORE = 16
+#: ... and up to this many modes one window holds them all, as without losses: windows of 16 at two-mass N = 20 and
+#: uniform N = 24 left omega_n 7 and 5 times further off (3.4e-14 and 2.2e-15).
+_LOSSY_ONE_WINDOW = 32
+_LOSSY_HALO = 2
+_LOSSY_BACKGROUND = 6
 #: The fit from theory's poles stands when its largest misfit (relative to the largest sample of its window) is at
 #: most this; above, the samples are not the predicted poles' (a circuit that is not its theory), and the fit from
 #: the samples alone (:func:`fit_spectrum`) is made instead.  Measured: 1e-14 .. 1e-11 on ngspice's samples.
@@ -308,7 +320,9 @@ def fit_from_theory(omega: np.ndarray, y11: np.ndarray, yN1: np.ndarray, predict
     projection of the poles from the predicted ones, the residues of every window from one banded solve refined on
     the whole residual.  O(samples x N) per sweep; from theory's poles one sweep moves them by their rounding.
     With losses of quality factor ``Q`` every pole starts at gamma_n = 1/Q (the chain's proportional losses:
-    -1/(2Q) +- j sqrt(omega_n^2 - 1/(4Q^2))) and its complex section moves in x_n and gamma_n.  A mode is seen
+    -1/(2Q) +- j sqrt(omega_n^2 - 1/(4Q^2))) and its complex section moves in x_n and gamma_n; given theory's
+    residues (``merged_residues``) the fit starts from them too, so that every window fits the whole residual's
+    correction in smaller windows (:data:`_LOSSY_CORE`).  A mode is seen
     when the samples place its pole (its standard error at most :data:`lcchain.compare.survey.PLACED` of a quarter
     of its nearest gap): a mode too weak at the ends to be placed, or merged with a neighbour by the losses, stays
     unseen.
@@ -330,7 +344,8 @@ def fit_from_theory(omega: np.ndarray, y11: np.ndarray, yN1: np.ndarray, predict
         never seen.  Without ``merged_residues`` their poles are held at theory's and their residues fitted (enough
         where the clusters are small: two-mass N = 400 at Q = 1000; at N = 1000 that left a misfit of 2e2).
     merged_residues : (ndarray, ndarray), optional
-        Theory's residues (a_n, b_n) of every mode (those of the merged ones are used).
+        Theory's residues (a_n, b_n) of every mode: the merged ones' are subtracted, the others' are where the
+        lossy fit starts.
 
     Returns
     -------
@@ -363,10 +378,16 @@ def fit_from_theory(omega: np.ndarray, y11: np.ndarray, yN1: np.ndarray, predict
         if fitted.size == 0:
             empty = np.zeros(0)
             return SpectrumFit(empty, empty, empty, 0, 0.0, empty), fitted
+    # with losses from theory's residues too: the windows then fit the whole residual's correction alone
+    known_residues = (np.column_stack(merged_residues)[fitted].astype(float)
+                      if lossy and merged_residues is not None else None)
     start = PoleStart(np.where(zero, 0.0, predicted)[fitted] ** 2, None if gamma0 is None else gamma0[fitted],
-                      zero[fitted] | held, held)
-    survey = fit_survey(w, g, start, SurveyOptions(lossy=lossy, real=True, exact=True,
-                                                   one_window=_THEORY_ONE_WINDOW, core=_THEORY_CORE))
+                      zero[fitted] | held, held, known_residues)
+    options = SurveyOptions(lossy=lossy, real=True, exact=True, one_window=_THEORY_ONE_WINDOW, core=_THEORY_CORE)
+    if known_residues is not None:
+        options = replace(options, one_window=_LOSSY_ONE_WINDOW, core=_LOSSY_CORE, halo=_LOSSY_HALO,
+                          background=_LOSSY_BACKGROUND)
+    survey = fit_survey(w, g, start, options)
     first, last = survey.residues[:, 0].real, survey.residues[:, 1].real
     seen = np.flatnonzero(np.where(zero[fitted], _significant(first), survey.placed) & ~held)
     fit = SpectrumFit(survey.omega[seen], first[seen], last[seen], survey.sweeps, survey.residual,

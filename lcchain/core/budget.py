@@ -201,9 +201,12 @@ AC_SECONDS_PER_FREQUENCY = 2e-5
 THEORY_FIT_SECONDS_PER_SAMPLE = 3e-5
 THEORY_FIT_SECONDS_PER_SAMPLE_MODE = 1.5e-7
 #: With losses, Y_11 is compared over the whole sweep with the chain's exact admittance, a continued fraction in
-#: long double (:func:`lcchain.theory.spectrum.driving_admittance`): per sample per mass, measured 2.0e-7 (perfect
-#: N = 1000, 8072 samples: 1.6 s, load 2) to 4.6e-7 (two-mass N = 400, load 7).
-ENVELOPE_SECONDS_PER_SAMPLE_MODE = 5e-7
+#: float64 with a running error bound, in long double where that bound is too wide
+#: (:func:`lcchain.compare.spectral.compare_envelope`): per sample per mass, measured 1.4e-8 .. 3.5e-8 (two-mass
+#: N = 100 .. 2000 at Q = 1000 and 1e4, perfect N = 400 and 1000 at 1e4; two-mass N = 2000: 1.0 s, load 2); it was
+#: 2.0e-7 .. 4.6e-7 in long double everywhere.  The fit's kept sections (at most 64 MiB, samples x modes) are within
+#: the memory priced for the fit from the samples (:data:`FIT_BYTES_PER_SAMPLE_SECTION`, the bound used for both).
+ENVELOPE_SECONDS_PER_SAMPLE_MODE = 5e-8
 #: The fit from the samples alone (:func:`lcchain.compare.spectrum.fit_spectrum`, the rational fits; and a circuit's
 #: own poles, :func:`lcchain.compare.poles.fit_poles`): per sample per mode beyond its windows, the model's update
 #: in every Gauss-Newton sweep (O(points x N) each) and each window's choice of rows; measured (under load,

@@ -12,8 +12,8 @@ from __future__ import annotations
 import math
 import numbers
 import re
-from collections.abc import Mapping, Sequence
-from typing import TYPE_CHECKING, Any, TypeVar, cast
+from collections.abc import Callable, Mapping, Sequence
+from typing import TYPE_CHECKING, Literal, SupportsFloat, SupportsIndex, SupportsInt, TypeVar, cast, overload
 
 from .errors import ParameterError
 from .frozen import is_array
@@ -21,12 +21,15 @@ from .limits import MAX_PULSE_WIDTH, MAX_TITLE_BYTES, MIN_PULSE_WIDTH
 
 if TYPE_CHECKING:
     import numpy as np
+    import numpy.typing as npt
 
 #: A dot followed by a letter at the start of a line: ngspice may read it as a command.
 # A title ngspice would read as a command: a dot-command, "*#" (a command line), or "*ng_script", which makes
 # the whole file a script (the same rule as lcchain.spice.foreign's for a netlist's first line).
 #: A choice from a set of allowed strings (a Literal alias).
 _Option = TypeVar("_Option", bound=str)
+#: The class an :func:`instance` check asks for.
+_Instance = TypeVar("_Instance")
 
 _DOT_COMMAND = re.compile(r"^\s*(\.[A-Za-z]|\*\s*(#|ng_script))", re.IGNORECASE)
 
@@ -183,7 +186,7 @@ def pulse(excitation: object, value: object, kinds: Sequence[str], shapes: Seque
                                                           at_most=MAX_PULSE_WIDTH, unit="units of sqrt(L0*C0)")
 
 
-def numbers_list(name: str, values: object, allowed: str) -> tuple[Any, ...]:
+def numbers_list(name: str, values: object, allowed: str) -> tuple[SupportsFloat, ...]:
     """A list or tuple (or 1-d numpy array) of real numbers, as given (unconverted, unchecked for range)."""
     if is_array(values):
         if values.ndim != 1:
@@ -194,10 +197,17 @@ def numbers_list(name: str, values: object, allowed: str) -> tuple[Any, ...]:
     for i, value in enumerate(values):
         if not is_number(value):
             raise ParameterError(f"{name}[{i}]", value, "a number")
-    return tuple(values)
+    # every value is a numbers.Real (checked just above), and a numbers.Real has __float__
+    return cast(tuple[SupportsFloat, ...], tuple(values))
 
 
-def instance(name: str, value: object, cls: type | tuple[type, ...], optional: bool = False) -> Any:
+@overload
+def instance(name: str, value: object, cls: type[_Instance], optional: Literal[False] = False) -> _Instance: ...
+@overload
+def instance(name: str, value: object, cls: type[_Instance], optional: Literal[True]) -> _Instance | None: ...
+@overload
+def instance(name: str, value: object, cls: tuple[type, ...], optional: bool = False) -> object: ...
+def instance(name: str, value: object, cls: type | tuple[type, ...], optional: bool = False) -> object:
     """``value`` itself if it is an instance of ``cls`` (one class or a tuple of them; or None when optional)."""
     if (value is None and optional) or isinstance(value, cls):
         return value
@@ -205,7 +215,7 @@ def instance(name: str, value: object, cls: type | tuple[type, ...], optional: b
     raise ParameterError(name, type(value).__name__, f"a {names}" + (" or None" if optional else ""))
 
 
-def callback(name: str, value: object) -> Any:
+def callback(name: str, value: object) -> Callable[..., object] | None:
     """A function to call (a progress report, say), or None."""
     if value is None or callable(value):
         return value
@@ -222,7 +232,7 @@ def strings(name: str, values: object, allowed: str = "a list or tuple of string
     return tuple(values)
 
 
-def time_array(name: str, t: Any) -> np.ndarray:
+def time_array(name: str, t: npt.ArrayLike) -> np.ndarray:
     """A one-dimensional array of finite times >= 0 (units of sqrt(L0*C0))."""
     import numpy as np  # here, not at the top: a command that checks no times (a batch) starts without numpy
 
@@ -243,3 +253,20 @@ def time_array(name: str, t: Any) -> np.ndarray:
     if bad.size:
         raise ParameterError(f"{name}[{bad[0]}]", float(times[bad[0]]), allowed)
     return times
+
+
+def as_float(value: object) -> float:
+    """``float(value)`` of a value read from a document or an object by name: float's own TypeError for what it
+    cannot convert (a checked conversion, where the value's type is not known)."""
+    if isinstance(value, (str, bytes, bytearray, SupportsFloat, SupportsIndex)):
+        return float(value)
+    raise TypeError(f"float() argument must be a string or a real number, not '{type(value).__name__}'")
+
+
+def as_int(value: object) -> int:
+    """``int(value)`` of a value read from a document or an object by name: int's own TypeError for what it
+    cannot convert."""
+    if isinstance(value, (str, bytes, bytearray, SupportsInt, SupportsIndex)):
+        return int(value)
+    raise TypeError(f"int() argument must be a string, a bytes-like object or a real number, not "
+                    f"'{type(value).__name__}'")

@@ -11,7 +11,10 @@ raised in a worker process or on a Dask worker reaches the user as itself.
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from .frozen import Reduced
 
 __all__ = [
     "LcchainError",
@@ -52,7 +55,7 @@ class ParameterError(LcchainError, ValueError):
         prefix = f"{where}: " if where else ""
         super().__init__(f"{prefix}{field} = {show_value(value)} is not allowed: expected {allowed}")
 
-    def __reduce__(self) -> tuple[Any, ...]:
+    def __reduce__(self) -> Reduced:
         return (type(self), (self.field, self.value, self.allowed, self.where))
 
     def located(self, where: str | None) -> ParameterError:
@@ -89,7 +92,7 @@ class SimulationError(LcchainError):
         said = f"\n{engine} said:\n{log_tail}" if log_tail else ""
         super().__init__(f"{reason}{said}")
 
-    def __reduce__(self) -> tuple[Any, ...]:
+    def __reduce__(self) -> Reduced:
         return (type(self), (self.reason, self.log_tail, self.status, self.engine))
 
 
@@ -126,7 +129,7 @@ class ExtraMissingError(LcchainError):
         """The command that installs it."""
         return " ".join([f"pip install 'lcchain[{self.extra}]'", *self.more])
 
-    def __reduce__(self) -> tuple[Any, ...]:
+    def __reduce__(self) -> Reduced:
         return (type(self), (self.module, self.extra, self.purpose, self.more))
 
 
@@ -151,7 +154,7 @@ class Interrupted(BaseException):
         self.signum = signum
         super().__init__(f"signal {signum}")
 
-    def __reduce__(self) -> tuple[Any, ...]:
+    def __reduce__(self) -> Reduced:
         return (type(self), (self.signum,))
 
 

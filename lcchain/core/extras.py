@@ -10,14 +10,15 @@ from __future__ import annotations
 import importlib
 import math
 from collections.abc import Mapping
-from typing import Any
+from types import ModuleType
 
 from .errors import ExtraMissingError
 
 __all__ = ["optional_module", "dataset_attrs"]
 
 
-def optional_module(module: str, extra: str = "data", purpose: str = "a result as a table (pandas, xarray)") -> Any:
+def optional_module(module: str, extra: str = "data",
+                    purpose: str = "a result as a table (pandas, xarray)") -> ModuleType:
     """The module ``module`` of the optional extra ``extra``, or an :class:`ExtraMissingError` saying how to install
     it (``purpose``: what needs it, in a few words)."""
     try:
@@ -26,11 +27,11 @@ def optional_module(module: str, extra: str = "data", purpose: str = "a result a
         raise ExtraMissingError(module, extra, purpose) from None
 
 
-def dataset_attrs(values: Mapping[str, Any]) -> dict[str, Any]:
+def dataset_attrs(values: Mapping[str, object]) -> dict[str, str | int | float]:
     """The scalar entries of ``values`` as a Dataset's attributes a netCDF file can hold: strings and finite
     numbers as they are, booleans as "true"/"false"; None, NaN, lists and mappings left out (they are variables,
     or :meth:`to_dict`'s)."""
-    attrs: dict[str, Any] = {}
+    attrs: dict[str, str | int | float] = {}
     for name, value in values.items():
         if isinstance(value, bool):
             attrs[name] = "true" if value else "false"

@@ -11,13 +11,17 @@ from __future__ import annotations
 
 import dataclasses
 import sys
-from collections.abc import Iterator, Mapping
-from typing import TYPE_CHECKING, Any, Generic, TypeGuard, TypeVar
+from collections.abc import Callable, Iterator, Mapping
+from typing import TYPE_CHECKING, Generic, TypeAlias, TypeGuard, TypeVar
 
 if TYPE_CHECKING:
     import numpy as np
+    import numpy.typing as npt
 
-__all__ = ["readonly", "FrozenMap", "FrozenArrays", "is_array"]
+__all__ = ["readonly", "FrozenMap", "FrozenArrays", "is_array", "Reduced"]
+
+#: What ``__reduce__`` returns: a callable that rebuilds the object, and the arguments it is called with.
+Reduced: TypeAlias = tuple[Callable[..., object], tuple[object, ...]]
 
 K = TypeVar("K")
 V = TypeVar("V")
@@ -30,7 +34,7 @@ def is_array(value: object) -> TypeGuard[np.ndarray]:
     return numpy is not None and isinstance(value, numpy.ndarray)
 
 
-def readonly(values: Any, dtype: Any = float) -> np.ndarray:
+def readonly(values: npt.ArrayLike, dtype: npt.DTypeLike = float) -> np.ndarray:
     """A contiguous copy of ``values`` that cannot be written to."""
     import numpy as np
 
@@ -70,7 +74,7 @@ class FrozenMap(Mapping[K, V], Generic[K, V]):
     def __setattr__(self, name: str, value: object) -> None:
         raise AttributeError("FrozenMap is read-only")
 
-    def __reduce__(self) -> tuple[Any, ...]:
+    def __reduce__(self) -> Reduced:
         return (type(self), (dict(self._data),))
 
     def __hash__(self) -> int:
@@ -96,11 +100,11 @@ class FrozenArrays:
                 view.flags.writeable = False
                 object.__setattr__(self, f.name, view)
 
-    def __setstate__(self, state: dict[str, Any]) -> None:
+    def __setstate__(self, state: dict[str, object]) -> None:
         for key, value in state.items():
             if is_array(value):
                 value.flags.writeable = False
             object.__setattr__(self, key, value)
 
-    def __getstate__(self) -> dict[str, Any]:
+    def __getstate__(self) -> dict[str, object]:
         return {f.name: getattr(self, f.name) for f in dataclasses.fields(self)}  # type: ignore[arg-type]

@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import html
 from collections.abc import Callable, Sequence
-from typing import Any
 
 from .errors import ParameterError
 from .registry import Registry
@@ -38,7 +37,7 @@ def html_table(title: str, rows: Sequence[Row]) -> str:
     return f"<table><caption>{html.escape(title)}</caption>{body}</table>"
 
 
-def _figure_function(name: str, loaded: object) -> Callable[..., Any]:
+def _figure_function(name: str, loaded: object) -> Callable[..., object]:
     if not callable(loaded):
         raise TypeError(f"{name} is not callable")
     return loaded
@@ -47,13 +46,16 @@ def _figure_function(name: str, loaded: object) -> Callable[..., Any]:
 #: What draws each kind of result: ``(result, ax=None) -> matplotlib Figure``, read from the ``lcchain.plots``
 #: entry points on first use (lcchain's own name :mod:`lcchain.report.shown`'s functions), as pandas finds its
 #: plotting backend: a result never imports ``report`` (matplotlib is its alone), and another package may draw.
-PLOTS: Registry[Callable[..., Any]] = Registry("lcchain.plots", {}, _figure_function,
+PLOTS: Registry[Callable[..., object]] = Registry("lcchain.plots", {}, _figure_function,
                                               "a function (result, ax=None) -> matplotlib Figure")
 
 
-def plot(kind: str, result: object, ax: Any = None, **options: Any) -> Any:
+def plot(kind: str, result: object, ax: object = None, **options: object) -> object:
     """The figure of ``result`` by the registered drawing of its ``kind`` (``"simulation"``, ``"spectrum"``,
-    ``"scene"``, ``"record"``, ``"store"``), given ``options`` as keywords."""
+    ``"scene"``, ``"record"``, ``"store"``), given ``options`` as keywords.
+
+    Typed ``object``: ``ax`` and the figure are matplotlib's, which only ``report`` may name (the drawing is any
+    registered function, lcchain's or another package's)."""
     if kind not in PLOTS:
         raise ParameterError("plot", kind, f"a kind of result with a registered drawing ({', '.join(PLOTS)}; "
                              "lcchain's own come with its installed entry points: pip install lcchain)")

@@ -5,17 +5,19 @@ from __future__ import annotations
 import csv
 import io
 import json
+from collections.abc import Mapping
 from pathlib import Path
-from typing import Any
 
+from ..core.json import LooseJSON
 from ..studies.bench import RECORD_FIELDS, record_label
 from .files import write_text
 
 __all__ = ["write_accuracy_bench"]
 
 
-def write_accuracy_bench(out: str | Path, bench: dict[str, Any]) -> list[str]:
-    """Write a :func:`lcchain.studies.bench.bench_accuracy` result into the folder ``out`` (created).
+def write_accuracy_bench(out: str | Path, bench: Mapping[str, LooseJSON]) -> list[str]:
+    """Write a :func:`lcchain.studies.bench.bench_accuracy` result into the folder ``out`` (created): a JSON
+    document read by key.
 
     Returns
     -------

@@ -6,21 +6,22 @@ import os
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from ..core.checks import instance, text_line
 from ..core.errors import ParameterError
+from ..core.json import LooseJSONObject
 from ..core.types import DesignCase
 from ..studies.requirements import RequirementsCheck
 from ..studies.validation import CircuitCheck
 from .figure_data import FULL_N, QUICK_N, DesignRows
 from .files import write_text
 from .html import figure_png, render_html, report_json
-from .paper_figures import FIGURES, PaperFigure, make_figures
+from .paper_figures import FIGURES, AnyPaperFigure, make_figures
 from .plots import OverlayCurves, overlay
 from .requirements import requirements_figures
 from .spectrum import spectrum_figures
-from .validation import QUICK_REPORT_N, REPORT_N, ValidationRuns, validation_report
+from .validation import QUICK_REPORT_N, REPORT_N, PaperSection, ValidationRuns, validation_report
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -54,7 +55,7 @@ def check_figure_png(check: CircuitCheck) -> bytes | None:
     return figure_png(_check_figure(check), dpi=90) if check.curves else None
 
 
-def paper_figure_png(figure: PaperFigure, rows: DesignRows | None, quick: bool) -> bytes:
+def paper_figure_png(figure: AnyPaperFigure, rows: DesignRows | None, quick: bool) -> bytes:
     """One of the paper's figures as the page shows it (``rows`` None for a figure that uses none)."""
     return figure_png(figure.build(rows, quick))
 
@@ -103,17 +104,17 @@ class ReportParts:
 
     rows: DesignRows | None = field(default=None, compare=False)
     figures: Mapping[str, bytes] = field(default_factory=dict)
-    paper: dict[str, Any] | None = None
+    paper: PaperSection | None = None
 
     def __post_init__(self) -> None:
         instance("rows", self.rows, DesignRows, optional=True)
-        instance("figures", self.figures, Mapping)
+        instance("figures", self.figures, (Mapping,))
         if self.paper is not None and self.rows is None:
             raise ParameterError("paper", "a paper section", "the rows it was made of too (rows=...)")
 
 
 def build_report(out: str | os.PathLike[str], runs: ValidationRuns, options: ReportOptions | None = None,
-                 made: ReportParts | None = None, progress: Progress | None = None) -> dict[str, Any]:
+                 made: ReportParts | None = None, progress: Progress | None = None) -> LooseJSONObject:
     """Compute the paper's half of the validation report, render it with the circuit's runs, spectra and the
     cradles' parts' requirements (already made, ``runs``), then write ``out/index.html`` and ``out/report.json``;
     return it as data.
@@ -153,4 +154,5 @@ def build_report(out: str | os.PathLike[str], runs: ValidationRuns, options: Rep
     folder.mkdir(parents=True, exist_ok=True)
     write_text(folder / "report.json", report_json(report))
     write_text(folder / "index.html", page)
-    return report
+    returned: LooseJSONObject = dict(report)  # the command layer reads it by key
+    return returned

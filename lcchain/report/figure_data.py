@@ -15,7 +15,7 @@ import math
 import os
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from pathlib import Path
-from typing import Any
+from typing import NotRequired, TypedDict, cast
 
 import numpy as np
 import scipy  # its submodules load on first use: commands that need no theory never import them
@@ -23,7 +23,9 @@ import scipy  # its submodules load on first use: commands that need no theory n
 from ..circuit.ladder import Ladder
 from ..circuit.netlist import NetlistOutput, SimulationOptions, netlist_text
 from ..core import __version__
+from ..core.arrays import FloatArray
 from ..core.blas import fixed_blas_threads
+from ..core.errors import ParameterError
 from ..core.types import DEFAULT_C0, DEFAULT_L0, DesignCase
 from ..studies.designs import design_row
 from ..theory.asymptotic import EXPONENTS, asymptotic_amplitude, asymptotic_optimum
@@ -35,8 +37,10 @@ from ..theory.response import linear_response
 from .files import write_text
 from .paper import cancelling_pair
 
-__all__ = ["DesignRows", "QUICK_N", "FULL_N", "cradle4_data", "vk_data", "optimum_data", "int_rw_data",
-           "minimiz_data", "pk_data", "circuit_data", "cache_key", "spectrum_points"]
+__all__ = ["DesignRows", "DesignRow", "QUICK_N", "FULL_N", "cradle4_data", "vk_data", "optimum_data", "int_rw_data",
+           "minimiz_data", "pk_data", "circuit_data", "cache_key", "spectrum_points", "Cradle4Data", "VkPanel",
+           "VkData", "OptimumData", "IntRwCurve", "IntRwData", "MinimizData", "PkPanel", "PkData", "CircuitElement",
+           "CircuitData"]
 
 #: Sizes of the N axes with --quick (a few seconds) and without (every row of the report, up to 1e5).
 QUICK_N = [3, 4, 5, 6, 7, 8, 9, 10, 12, 14, 16, 18, 20, 30, 50, 100, 200, 500, 1000]
@@ -74,21 +78,43 @@ def cache_key() -> str:
     return digest.hexdigest()[:16]
 
 
-def _row_digest(key: str, name: str, row: Mapping[str, Any]) -> str:
+class DesignRow(TypedDict):
+    """A row of Table I or II: ``Design.to_dict()`` and the ``seconds`` its design took (:data:`_ROW_KEYS`; the
+    report's tables keep the seconds beside the row)."""
+
+    N: int
+    case: str
+    delta: float
+    s: float
+    t_arrival: float
+    m1: float
+    m2: float
+    K12: float
+    x: float
+    y: float
+    z: float
+    seconds: NotRequired[float]  # every row DesignRows gives has it
+    Delta: NotRequired[float]  # one-mass
+    delta_uniform: NotRequired[float]  # one-mass
+    r: NotRequired[float]  # two-mass
+    w: NotRequired[float]  # two-mass
+
+
+def _row_digest(key: str, name: str, row: Mapping[str, object]) -> str:
     """The fingerprint a row is stored with: the code's key, the row's (case, N) and its numbers."""
     return hashlib.sha256(json.dumps([key, name, row], sort_keys=True).encode()).hexdigest()
 
 
 #: What else a design's row must satisfy beyond its chain: Table I's Delta follows from its x.
-_ROW_CHECKS: dict[str, Callable[[Mapping[str, Any]], bool]] = {
+_ROW_CHECKS: dict[str, Callable[[DesignRow], bool]] = {
     "one-mass": lambda row: math.isclose(row["Delta"], row["x"] ** 2 / (2 - row["x"] ** 2), rel_tol=_ROW_RTOL)}
 
 
-def _consistent(case: str, N: int, row: Mapping[str, Any]) -> bool:
+def _consistent(case: str, N: int, row: DesignRow) -> bool:
     """Whether a row's derived numbers follow from its parameters ((r, w) or x), as the design computed them: a
     number edited by hand, or made by other code, is caught even with a fingerprint that matches."""
     try:
-        chain = DESIGN_CHAINS[case](N, row)
+        chain = DESIGN_CHAINS[case](N, {"x": row["x"], "r": row.get("r"), "w": row.get("w")})
         check = _ROW_CHECKS.get(case)
         if check is not None and not check(row):
             return False
@@ -99,14 +125,10 @@ def _consistent(case: str, N: int, row: Mapping[str, Any]) -> bool:
     return all(math.isclose(a, b, rel_tol=_ROW_RTOL, abs_tol=1e-300) for a, b in zip(derived, stored, strict=True))
 
 
-def _valid_row(key: str, name: str, entry: object) -> dict[str, Any] | None:
-    """The row of a cache entry, or None when the entry is malformed, stale or not what the code makes."""
-    if not isinstance(entry, dict) or set(entry) != {"row", "sha256"}:
-        return None
-    row, digest = entry["row"], entry["sha256"]
-    case, _, size = name.partition(":")
+def _row_of(case: str, row: object) -> DesignRow | None:
+    """``row`` if it has the keys and kinds of a row of ``case`` (:data:`_ROW_KEYS`), else None."""
     schema = _ROW_KEYS.get(case)
-    if schema is None or not size.isdigit() or not isinstance(row, dict) or set(row) != set(schema):
+    if schema is None or not isinstance(row, dict) or set(row) != set(schema):
         return None
     for field_name, kind in schema.items():
         value = row[field_name]
@@ -117,6 +139,18 @@ def _valid_row(key: str, name: str, entry: object) -> dict[str, Any] | None:
                 return None
         elif not isinstance(value, kind):
             return None
+    return cast(DesignRow, row)  # every key and its kind checked just above
+
+
+def _valid_row(key: str, name: str, entry: object) -> DesignRow | None:
+    """The row of a cache entry, or None when the entry is malformed, stale or not what the code makes."""
+    if not isinstance(entry, dict) or set(entry) != {"row", "sha256"}:
+        return None
+    digest = entry["sha256"]
+    case, _, size = name.partition(":")
+    row = _row_of(case, entry["row"]) if size.isdigit() else None
+    if row is None:
+        return None
     if row["case"] != case or row["N"] != int(size) or row["seconds"] < 0 or digest != _row_digest(key, name, row):
         return None
     return row if _consistent(case, row["N"], row) else None
@@ -148,10 +182,10 @@ class DesignRows:
 
     def __init__(self, cache: str | os.PathLike[str] | None = None,
                  progress: Callable[[str, int, float], None] | None = None,
-                 design: Callable[[DesignCase, int], dict[str, Any]] | None = None):
+                 design: Callable[[DesignCase, int], Mapping[str, object]] | None = None):
         self._key = cache_key()
         self._path = Path(cache) / f"designs-{self._key}.json" if cache is not None else None
-        self._rows: dict[str, dict[str, Any]] = {}
+        self._rows: dict[str, DesignRow] = {}
         self._progress = progress
         self.design = design or design_row
         self.computed = 0
@@ -160,7 +194,7 @@ class DesignRows:
         if self._path is not None and self._path.is_file():
             self._rows = self._read(self._path)
 
-    def _read(self, path: Path) -> dict[str, dict[str, Any]]:
+    def _read(self, path: Path) -> dict[str, DesignRow]:
         try:
             data = json.loads(path.read_text())
         except (OSError, ValueError, RecursionError):
@@ -177,11 +211,16 @@ class DesignRows:
                 rows[name] = row
         return rows
 
-    def row(self, case: str, N: int) -> dict[str, Any]:
+    def row(self, case: str, N: int) -> DesignRow:
         """The design of (case, N) as ``lcchain table --json`` prints it, with its computing time."""
         key = f"{case}:{N}"
         if key not in self._rows:
-            self._rows[key] = self.design(case, N)  # type: ignore[arg-type]
+            designed = self.design(case, N)  # type: ignore[arg-type]
+            row = _row_of(case, designed)
+            if row is None:
+                raise ParameterError("design", f"{case}:{N}", f"a row of {case} with the keys "
+                                     f"{', '.join(_ROW_KEYS.get(case, {}))}")
+            self._rows[key] = row
             self.computed += 1
             if self._progress is not None:
                 self._progress(case, N, self._rows[key]["seconds"])
@@ -192,7 +231,7 @@ class DesignRows:
         """The (case, N) of ``pairs`` neither computed nor in the cache, in their order, each once."""
         return list(dict.fromkeys(pair for pair in pairs if f"{pair[0]}:{pair[1]}" not in self._rows))
 
-    def rows(self, case: str, Ns: Iterable[int]) -> list[dict[str, Any]]:
+    def rows(self, case: str, Ns: Iterable[int]) -> list[DesignRow]:
         return [self.row(case, N) for N in Ns]
 
     def _save(self) -> None:
@@ -208,8 +247,120 @@ class DesignRows:
             self._path = None  # an unwritable cache only costs time
 
 
+# ------------------------------------------------------------------ the figures' data
+class Cradle4Data(TypedDict):
+    """:func:`cradle4_data`."""
+
+    masses: list[float]
+    springs: list[float]
+    T: float
+    t: FloatArray
+    velocities: FloatArray
+
+
+class VkPanel(TypedDict):
+    """One Δ of :func:`vk_data`: the curves on k and the modes' points."""
+
+    Delta: float
+    x: float
+    v: FloatArray
+    P: FloatArray
+    k_n: FloatArray
+    P_n: FloatArray
+    k_mid: FloatArray
+    v_n: FloatArray
+
+
+class VkData(TypedDict):
+    """:func:`vk_data`."""
+
+    N: int
+    k: FloatArray
+    uniform_v: FloatArray
+    panels: list[VkPanel]
+
+
+#: :func:`optimum_data`: both cases' rows against N, their large-N laws (case -> key -> (coefficient, power)) and
+#: limits, and w(r*) of each two-mass row.
+OptimumData = TypedDict("OptimumData", {"N": list[int], "one-mass": list[DesignRow], "two-mass": list[DesignRow],
+                                        "laws": dict[str, dict[str, tuple[float, float]]],
+                                        "asymptotes": dict[str, float], "w_of_r": list[float]})
+
+
+class IntRwCurve(TypedDict):
+    """One (τ, σ) of :func:`int_rw_data`."""
+
+    name: str
+    tau: float
+    sigma: float
+    integrand: FloatArray
+    alpha: float
+
+
+class IntRwData(TypedDict):
+    """:func:`int_rw_data`."""
+
+    zeta: FloatArray
+    weight: FloatArray
+    curves: list[IntRwCurve]
+
+
+class MinimizData(TypedDict):
+    """:func:`minimiz_data`."""
+
+    case: str
+    sigma: list[float]
+    tau_m: list[float]
+    delta_m: list[float]
+    jumps: list[tuple[float, float]]
+    sigma_star: float
+    tau_star: float
+    delta_star: float
+
+
+class PkPanel(TypedDict):
+    """One N of :func:`pk_data`."""
+
+    N: int
+    r: float
+    w: float
+    k: FloatArray
+    P: FloatArray
+    spacing: FloatArray
+
+
+class PkData(TypedDict):
+    """:func:`pk_data`."""
+
+    panels: list[PkPanel]
+    k: FloatArray
+    uniform_v: FloatArray
+
+
+class CircuitElement(TypedDict):
+    """An inductor or capacitor of :func:`circuit_data`, as its netlist card has it."""
+
+    name: str
+    kind: str
+    nodes: tuple[str, str]
+    value: float
+
+
+class CircuitData(TypedDict):
+    """:func:`circuit_data`."""
+
+    case: str
+    N: int
+    netlist: str
+    elements: list[CircuitElement]
+    masses: list[float]
+    springs: list[float]
+    L0: float
+    C0: float
+
+
 # ------------------------------------------------------------------ Fig. cradle4
-def cradle4_data(points_per_transit: int = 300, transits: int = 2) -> dict[str, Any]:
+def cradle4_data(points_per_transit: int = 300, transits: int = 2) -> Cradle4Data:
     """The 4-mass perfect cradle (bulk units: masses 5/3, 1, 1, 5/3, end springs 5/6) and its pulse.
 
     Returns ``masses``, ``springs``, ``T`` (= sqrt(3) pi), ``t`` (0 .. transits T, T on the grid) and
@@ -224,7 +375,7 @@ def cradle4_data(points_per_transit: int = 300, transits: int = 2) -> dict[str, 
 
 
 # ------------------------------------------------------------------ Fig. vk
-def vk_data(N: int = 50, deltas: Sequence[float] = (0.30, 0.1395, 0.05), points: int = 801) -> dict[str, Any]:
+def vk_data(N: int = 50, deltas: Sequence[float] = (0.30, 0.1395, 0.05), points: int = 801) -> VkData:
     """Group velocity v_k and mode density P_k of the one-mass chain (Sec. IV.B) for each Δ.
 
     Δ = x^2 / (2 - x^2), i.e. x^2 = 2Δ/(1 + Δ).  Curves on k in [0, pi): v_k = N/(N + 2 psi'_k) cos(k/2)
@@ -233,7 +384,7 @@ def vk_data(N: int = 50, deltas: Sequence[float] = (0.30, 0.1395, 0.05), points:
     """
     k = np.linspace(0.0, math.pi, points, endpoint=False)
     tan2 = np.tan(k / 2) ** 2
-    panels = []
+    panels: list[VkPanel] = []
     for Delta in deltas:
         x2 = 2 * Delta / (1 + Delta)
         two_psi_prime = (1 - Delta) * (Delta - tan2) / (Delta**2 + tan2)
@@ -252,7 +403,7 @@ def _law(coefficient: float, power: float) -> Callable[[np.ndarray], np.ndarray]
     return lambda N: coefficient * N**power
 
 
-def optimum_data(rows: DesignRows, Ns: Sequence[int]) -> dict[str, Any]:
+def optimum_data(rows: DesignRows, Ns: Sequence[int]) -> OptimumData:
     """The optimal parameters against N for both cases, with the large-N laws (Figs. delta, x_xy, m_mmK, rw).
 
     ``one-mass`` / ``two-mass``: lists of table rows; ``laws``: for each case a dict of key ->
@@ -262,8 +413,8 @@ def optimum_data(rows: DesignRows, Ns: Sequence[int]) -> dict[str, Any]:
     """
     sizes = sorted({int(n) for n in Ns})
     one, two = rows.rows("one-mass", sizes), rows.rows("two-mass", sizes)
-    laws = {}
-    asymptotes = {}
+    laws: dict[str, dict[str, tuple[float, float]]] = {}
+    asymptotes: dict[str, float] = {}
     cases: tuple[DesignCase, ...] = ("one-mass", "two-mass")
     for case in cases:
         optimum = asymptotic_optimum(case)
@@ -274,7 +425,7 @@ def optimum_data(rows: DesignRows, Ns: Sequence[int]) -> dict[str, Any]:
 
 
 # ------------------------------------------------------------------ Figs. int_rw and minimiz
-def int_rw_data(points: int = 4001, pairs: Sequence[tuple[str, float, float]] | None = None) -> dict[str, Any]:
+def int_rw_data(points: int = 4001, pairs: Sequence[tuple[str, float, float]] | None = None) -> IntRwData:
     """The integrand of Eq. e.uinftyz on ζ in [0, pi/2] for (τ, σ) pairs, with its weighting function.
 
     Default pairs (the caption of Fig. int_rw): the one that cancels the linear and cubic terms of θ,
@@ -296,7 +447,7 @@ def int_rw_data(points: int = 4001, pairs: Sequence[tuple[str, float, float]] | 
     weight[-1] = 0.0
     # 2 atan(sqrt2 xi / (1 - xi^2)) continuous in xi = tan(zeta): atan2 of the same numerator and denominator
     shift = 2 * np.arctan2(math.sqrt(2) * tan, 1 - tan**2)
-    curves = []
+    curves: list[IntRwCurve] = []
     for name, tau, sigma in pairs:
         theta = tau * tan**3 - sigma * tan + shift
         integrand = weight * np.cos(theta)
@@ -342,7 +493,7 @@ def _tau_minimum(sigma: float, case: DesignCase, tau_hi: float, points: int) -> 
 
 @fixed_blas_threads
 def minimiz_data(sigmas: Sequence[float] | None = None, case: DesignCase = "two-mass", *,
-                 quick: bool = False) -> dict[str, Any]:
+                 quick: bool = False) -> MinimizData:
     """τ_m(σ), the τ >= 0 that minimises δ∞(σ, τ) for each σ, and δ∞ there (Fig. minimiz), with the optimum.
 
     τ_m jumps where the minimum leaves the boundary τ = 0 for an inner one (near σ = 2.4 for two masses):
@@ -386,13 +537,13 @@ def minimiz_data(sigmas: Sequence[float] | None = None, case: DesignCase = "two-
 
 
 # ------------------------------------------------------------------ Fig. Pk20-100
-def pk_data(rows: DesignRows, Ns: Sequence[int] = (20, 100)) -> dict[str, Any]:
+def pk_data(rows: DesignRows, Ns: Sequence[int] = (20, 100)) -> PkData:
     """Mode density P_n and frequency spacing of the optimal two-mass chains (Fig. Pk20-100).
 
     For each N: ``k`` (k_n), ``P`` (P_n, sums to 1), ``spacing`` ((N/pi)(omega_n - omega_(n-1)) at k_n,
     n >= 2: comparable with the uniform chain's group velocity cos(k/2)).
     """
-    panels = []
+    panels: list[PkPanel] = []
     for N in Ns:
         row = rows.row("two-mass", N)
         modes = closed_form_modes(N, row["r"], row["w"])
@@ -403,7 +554,7 @@ def pk_data(rows: DesignRows, Ns: Sequence[int] = (20, 100)) -> dict[str, Any]:
     return {"panels": panels, "k": k, "uniform_v": np.cos(k / 2)}
 
 
-def spectrum_points(modes: Sequence[Mapping[str, Any]], N: int) -> dict[str, np.ndarray]:
+def spectrum_points(modes: Sequence[Mapping[str, object]], N: int) -> dict[str, np.ndarray]:
     """A circuit's measured modes (:class:`lcchain.studies.spectrum_checks.SpectrumCheck`'s ``modes``) as Figs.
     Pk20-100 and vk draw the theory's, from the circuit's numbers alone.
 
@@ -419,14 +570,14 @@ def spectrum_points(modes: Sequence[Mapping[str, Any]], N: int) -> dict[str, np.
     k = 2.0 * np.arcsin(np.clip(omega / 2.0, 0.0, 1.0))
     n = np.array([mode["n"] for mode in seen], dtype=int)
     neighbours = np.flatnonzero(np.diff(n) == 1)
-    return {"k": k, "P": np.abs([mode["P"] for mode in seen]),
+    return {"k": k, "P": np.abs(np.array([mode["P"] for mode in seen])),
             "zero": np.array([mode["omega_theory"] == 0.0 for mode in seen], dtype=bool),
             "v": (omega[neighbours + 1] - omega[neighbours]) * N / math.pi, "k_upper": k[neighbours + 1],
             "k_mid": 0.5 * (k[neighbours] + k[neighbours + 1])}
 
 
 # ------------------------------------------------------------------ Fig. LCcircuit
-def circuit_data(case: str = "two-mass", N: int = 6, L0: float = DEFAULT_L0, C0: float = DEFAULT_C0) -> dict[str, Any]:
+def circuit_data(case: str = "two-mass", N: int = 6, L0: float = DEFAULT_L0, C0: float = DEFAULT_C0) -> CircuitData:
     """The ladder's elements as a generated netlist lists them: name, two nodes, value (H or F).
 
     Returns ``netlist`` (the text), ``elements`` (list of dicts name/kind/nodes/value, netlist order) and
@@ -436,7 +587,7 @@ def circuit_data(case: str = "two-mass", N: int = 6, L0: float = DEFAULT_L0, C0:
     ladder = Ladder(chain, L0=L0, C0=C0)
     text = netlist_text(ladder, SimulationOptions(dt=0.05, tstop=1.0),
                         output=NetlistOutput(title=f"lcchain {case} N={N}"))
-    elements = []
+    elements: list[CircuitElement] = []
     for line in text.splitlines():
         fields = line.split()
         if fields and fields[0][0] in "LC" and len(fields) >= 4:

@@ -8,7 +8,7 @@ matplotlib Figure (never shown, saved by the caller).
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Literal, TypedDict
 
 import numpy as np
 
@@ -19,7 +19,14 @@ if TYPE_CHECKING:
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
-__all__ = ["delta_data", "delta_figure", "design_grid", "spline_through", "PERFECT_LOSS", "UNIFORM_LIMIT"]
+__all__ = ["delta_data", "delta_figure", "design_grid", "spline_through", "PERFECT_LOSS", "UNIFORM_LIMIT", "DeltaData"]
+
+#: :func:`delta_data`: δ* of each chain against N (the uniform chain's None where a design has none), and the
+#: limits for N -> infinity by case.
+DeltaData = TypedDict("DeltaData", {"N": list[int], "uniform": list[float | None], "one-mass": list[float],
+                                    "two-mass": list[float], "asymptotes": dict[str, float]})
+#: The curves of Fig. delta.
+_Curve = Literal["uniform", "one-mass", "two-mass"]
 
 #: A loss below this is a perfect chain's (zero up to rounding: ~1e-16).
 PERFECT_LOSS = 1e-9
@@ -33,7 +40,7 @@ def design_grid(largest: int, points: int = 14) -> list[int]:
     return sorted({int(round(n)) for n in np.geomspace(3, max(largest, 4), points)})
 
 
-def delta_data(Ns: Sequence[int]) -> dict[str, Any]:
+def delta_data(Ns: Sequence[int]) -> DeltaData:
     """δ* against N for the uniform chain and the one-mass and two-mass optima, with their asymptotes.
 
     Returns
@@ -79,7 +86,7 @@ def spline_through(N: Sequence[float] | np.ndarray, values: Sequence[float] | np
     return np.exp(grid), np.exp(curve) if log_values else curve
 
 
-def delta_figure(data: Mapping[str, Any], measured: Mapping[str, Sequence[tuple[int, float]]] | None = None,
+def delta_figure(data: DeltaData, measured: Mapping[str, Sequence[tuple[int, float]]] | None = None,
                  *, title: str = "", ax: Axes | None = None, scale: str = "log",
                  enlarge: Mapping[str, float] | None = None) -> Figure:
     """Fig. delta: the transmission loss δ* against N (N on a log axis), points joined by splines.
@@ -113,8 +120,9 @@ def delta_figure(data: Mapping[str, Any], measured: Mapping[str, Sequence[tuple[
 
     fig = Figure(figsize=(9.5, 4.8), layout="constrained") if ax is None else _root_figure(ax)
     ax = ax if ax is not None else fig.add_subplot()
-    styles = {"uniform": ("#2f8f3f", "uniform chain, δ*(1)"), "one-mass": ("#1f5fbf", "one optimal mass"),
-              "two-mass": ("#c0282d", "two optimal masses and their spring")}
+    styles: dict[_Curve, tuple[str, str]] = {
+        "uniform": ("#2f8f3f", "uniform chain, δ*(1)"), "one-mass": ("#1f5fbf", "one optimal mass"),
+        "two-mass": ("#c0282d", "two optimal masses and their spring")}
     markers = {"uniform": "^", "one-mass": "s", "two-mass": "o"}
     asymptotes = {"uniform": UNIFORM_LIMIT, **data.get("asymptotes", {})}
     N = np.asarray(data["N"], dtype=float)
@@ -141,11 +149,12 @@ def delta_figure(data: Mapping[str, Any], measured: Mapping[str, Sequence[tuple[
                 scaled = f"{factor:g} × " if factor != 1 else ""
                 ax.axhline(limit, color=color, linestyle=":", linewidth=1.0,
                            label=f"limit N → ∞: {scaled}{asymptotes[case]:.4g}")
-    for case, points in (measured or {}).items():
+    for name, points in (measured or {}).items():
         if points:
             xs, ys = zip(*points, strict=True)
-            ax.plot(xs, np.maximum(ys, PERFECT_LOSS) if log else ys, "o", color=styles.get(case, ("k", ""))[0],
-                    markersize=8, markerfacecolor="none", markeredgewidth=1.5, label=f"{case}: ngspice, 1 - peak")
+            colour = styles[name][0] if name in styles else "k"
+            ax.plot(xs, np.maximum(ys, PERFECT_LOSS) if log else ys, "o", color=colour,
+                    markersize=8, markerfacecolor="none", markeredgewidth=1.5, label=f"{name}: ngspice, 1 - peak")
     if perfect:
         ax.plot([], [], " ", label="perfect (δ* = 0, not drawn): " + "; ".join(perfect))
     ax.set_xscale("log")

@@ -23,7 +23,7 @@ import stat
 import tempfile
 from collections.abc import Iterable, Iterator
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from ..core.errors import ParameterError
 
@@ -248,9 +248,10 @@ def write_text(path: str | os.PathLike[str], text: str) -> Path:
     return Path(path)
 
 
-def save_figure(figure: Figure, path: str | os.PathLike[str], **kwargs: Any) -> Path:
-    """Save a matplotlib Figure to ``path`` atomically, in the format its name says."""
+def save_figure(figure: Figure, path: str | os.PathLike[str], *, dpi: float | None = None) -> Path:
+    """Save a matplotlib Figure to ``path`` atomically, in the format its name says, at ``dpi`` (None:
+    matplotlib's ``savefig.dpi``)."""
     target = Path(path)
     with atomic_path(target) as temporary:
-        figure.savefig(temporary, format=target.suffix.lower().lstrip(".") or None, **kwargs)
+        figure.savefig(temporary, format=target.suffix.lower().lstrip(".") or None, dpi=dpi)
     return target

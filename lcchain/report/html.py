@@ -15,10 +15,11 @@ import json
 import math
 from collections.abc import Iterable, Mapping
 from fractions import Fraction
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ..core.checks import as_float
 from ..core.physical import physical_scales, si_text, units_sentence
 from ..core.types import DEFAULT_C0, DEFAULT_L0
 from ..studies.validation import CHECKED_MAX_N, LARGE_CHECKS, CircuitCheck
@@ -26,6 +27,7 @@ from ..theory.design import DESIGN_TABLES
 from .markup import esc, figure_block, num, verdict_cell
 from .requirements import requirements_html, requirements_summary
 from .spectrum import spectrum_html, spectrum_summary
+from .validation import AsymptoticEntry, Perfect, TableEntry, ValidationReport
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -109,7 +111,7 @@ _DEFAULT_DECIMALS = {"x": 4, "delta": 4, "s": 2, "m1": 3, "Delta": 4, "delta_uni
 _CASE_DECIMALS: dict[str, dict[str, int]] = {"two-mass": {"delta": 5}}
 
 
-def _table_html(case: str, entries: list[dict[str, Any]], columns: tuple[str, ...]) -> str:
+def _table_html(case: str, entries: list[TableEntry], columns: tuple[str, ...]) -> str:
     title = ": ".join(DESIGN_TABLES[case])
     decimals = {**_DEFAULT_DECIMALS, **_CASE_DECIMALS.get(case, {})}
     head = "".join(f"<th>{esc(_COLUMN_TITLES[c])}</th>" for c in columns)
@@ -120,11 +122,11 @@ def _table_html(case: str, entries: list[dict[str, Any]], columns: tuple[str, ..
              "scratch.</p>",
              f'<table class="rows"><thead><tr><th>N</th>{head}<th>seconds</th></tr></thead><tbody>']
     for entry in entries:
-        row = entry["row"]
+        row: Mapping[str, object] = entry["row"]  # read by the columns' names
         printed = {cell["key"]: cell for cell in entry["printed"]}
         cells = []
         for key in columns:
-            value = float(row[key]) if row[key] is not None else math.nan
+            value = as_float(row[key]) if row[key] is not None else math.nan
             if key == "delta":
                 value = max(value, 0.0)
             cell = printed.get(key)
@@ -143,7 +145,7 @@ def _table_html(case: str, entries: list[dict[str, Any]], columns: tuple[str, ..
     return "\n".join(lines)
 
 
-def _asymptotic_html(items: list[dict[str, Any]]) -> str:
+def _asymptotic_html(items: list[AsymptoticEntry]) -> str:
     lines = ['<h3 id="asymptotic">The large-N constants</h3>',
              "<table><thead><tr><th class=l>case</th><th class=l>quantity</th><th class=l>printed in</th>"
              "<th>printed</th><th>lcchain</th><th>units off</th></tr></thead><tbody>"]
@@ -158,7 +160,7 @@ def _asymptotic_html(items: list[dict[str, Any]]) -> str:
     return "\n".join(lines)
 
 
-def _perfect_html(perfect: Mapping[str, Any]) -> str:
+def _perfect_html(perfect: Perfect) -> str:
     lines = ['<h3 id="perfect">The perfect chains</h3>',
              "<p>The paper's perfect cradles (Sec. II.C and Appendix A), recomputed by lcchain's inverse spectral "
              "design (bulk units: central mass and central spring 1; the paper's N = 4 chain of Sec. II.C is this "
@@ -174,11 +176,11 @@ def _perfect_html(perfect: Mapping[str, Any]) -> str:
                  "<table><thead><tr><th>N</th><th>walls j</th><th>T</th><th>1 − α<sub>N</sub>(T)</th>"
                  "<th>masses</th><th>springs</th><th>distinct masses</th><th>distinct springs</th></tr></thead>"
                  "<tbody>")
-    for item in perfect["any_N"]:
-        lines.append(f"<tr><td>{item['N']}</td><td>{item['walls']}</td><td>{item['t_arrival']:.6g}</td>"
-                     f"<td>{num(item['delta'], 2)}</td><td>{item['mass_min']:.4g} – {item['mass_max']:.4g}</td>"
-                     f"<td>{item['spring_min']:.4g} – {item['spring_max']:.4g}</td>"
-                     f"<td>{item['distinct_masses']}</td><td>{item['distinct_springs']}</td></tr>")
+    for chain in perfect["any_N"]:
+        lines.append(f"<tr><td>{chain['N']}</td><td>{chain['walls']}</td><td>{chain['t_arrival']:.6g}</td>"
+                     f"<td>{num(chain['delta'], 2)}</td><td>{chain['mass_min']:.4g} – {chain['mass_max']:.4g}</td>"
+                     f"<td>{chain['spring_min']:.4g} – {chain['spring_max']:.4g}</td>"
+                     f"<td>{chain['distinct_masses']}</td><td>{chain['distinct_springs']}</td></tr>")
     lines.append("</tbody></table>")
     return "\n".join(lines)
 
@@ -247,7 +249,12 @@ def _figures_html(figures: Mapping[str, bytes], captions: Iterable[tuple[str, st
     return "\n".join(lines)
 
 
-def render_html(report: Mapping[str, Any], figures: Mapping[str, bytes], captions: Iterable[tuple[str, str]],
+def _number(value: object) -> float | None:
+    """A check's number as JSON holds it (None: it has none)."""
+    return None if value is None else as_float(value)
+
+
+def render_html(report: ValidationReport, figures: Mapping[str, bytes], captions: Iterable[tuple[str, str]],
                 command: str = "lcchain report") -> str:
     """The page: verdict first, then the paper reproduced, the circuit validated, the figures and how good the
     parts must be."""
@@ -258,7 +265,7 @@ def render_html(report: Mapping[str, Any], figures: Mapping[str, bytes], caption
     verdict = ('<span class="verdict ok">Every check passed</span>' if not failed else
                f'<span class="verdict bad">{len(failed)} of {len(checks)} checks failed</span>')
     paper = report["paper"]
-    worst_paper = max((c["max_abs_error"] for c in paper_checks), default=0.0)
+    worst_paper = max((as_float(c["max_abs_error"]) for c in paper_checks), default=0.0)
     worst_ratio = max(((c.max_abs_error or 0.0) / c.tolerance for c in circuit if c.tolerance), default=0.0)
     rows_computed = sum(len(v) for v in paper["tables"].values())
     spectrum = report.get("spectrum", [])
@@ -267,8 +274,9 @@ def render_html(report: Mapping[str, Any], figures: Mapping[str, bytes], caption
     points_agreeing, points = requirements_summary(requirements)
     engines = ", ".join(f"{name} {version}" for name, version in
                         (report.get("engines") or {"ngspice": report["ngspice_version"]}).items())
-    failed_list = "".join(f"<li>{esc(c['name'])}: {esc(c.get('reason') or '')} max error {num(c['max_abs_error'])}"
-                          f" &gt; tolerance {num(c['tolerance'])}</li>" for c in failed)
+    failed_list = "".join(f"<li>{esc(c['name'])}: {esc(c.get('reason') or '')} max error "
+                          f"{num(_number(c['max_abs_error']))} &gt; tolerance {num(_number(c['tolerance']))}</li>"
+                          for c in failed)
     machine = report["machine"]
     physical = report.get("physical") or physical_scales(DEFAULT_L0, DEFAULT_C0)
     parts = [
@@ -341,10 +349,11 @@ def _plain(value: object) -> object:
     return value
 
 
-def report_json(report: Mapping[str, Any]) -> str:
+def report_json(report: ValidationReport) -> str:
     """``report.json``: tables, checks, versions, created, and the paper section's details (no curves)."""
-    data = {key: report[key] for key in ("title", "created", "lcchain_version", "ngspice_version", "engines",
-                                          "machine", "quick", "passed", "seconds", "tables", "checks")}
+    data: dict[str, object] = {key: report[key] for key in (
+        "title", "created", "lcchain_version", "ngspice_version", "engines", "machine", "quick", "passed", "seconds",
+        "tables", "checks")}
     data["physical"] = report.get("physical") or physical_scales(DEFAULT_L0, DEFAULT_C0)
     data["spectrum"] = [check.to_dict() for check in report.get("spectrum", [])]
     data["requirements"] = [check.to_dict() for check in report.get("requirements", [])]

@@ -10,7 +10,10 @@ rounded strings would.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from collections.abc import Mapping
+from typing import TYPE_CHECKING, TypedDict
+
+from ..core.checks import as_float, as_int
 
 if TYPE_CHECKING:
     from ..theory.asymptotic import AsymptoticOptimum
@@ -96,18 +99,27 @@ def printed_row(case: str, N: int) -> dict[str, str] | None:
     return dict(zip(PRINTED_COLUMNS[case], row, strict=True)) if row is not None else None
 
 
-def compare_row(case: str, computed: dict[str, Any]) -> list[dict[str, Any]]:
+class PrintedCell(TypedDict):
+    """A cell the paper prints, against lcchain's value (:func:`compare_row`)."""
+
+    key: str
+    computed: float
+    printed: str
+    units: float
+
+
+def compare_row(case: str, computed: Mapping[str, object]) -> list[PrintedCell]:
     """Each printed cell of the row of ``computed`` (a ``table --json`` row): computed, printed, units off.
 
     A perfect chain's loss prints as 0.0000: a computed -1e-16 is compared as 0.  Empty when the paper has no
     row for this N.
     """
-    printed = printed_row(case, int(computed["N"]))
+    printed = printed_row(case, as_int(computed["N"]))
     if printed is None:
         return []
-    cells = []
+    cells: list[PrintedCell] = []
     for key, text in printed.items():
-        value = float(computed[key])
+        value = as_float(computed[key])
         if key == "delta":
             value = max(value, 0.0)
         cells.append({"key": key, "computed": value, "printed": text, "units": last_digit_units(value, text)})
@@ -115,7 +127,7 @@ def compare_row(case: str, computed: dict[str, Any]) -> list[dict[str, Any]]:
 
 
 def findings(optima: dict[str, AsymptoticOptimum],
-             rows: dict[str, dict[int, dict[str, Any]]]) -> list[dict[str, str]]:
+             rows: Mapping[str, Mapping[int, Mapping[str, object]]]) -> list[dict[str, str]]:
     """Where the paper's printed numbers are wrong or off, each with the cell, the printed and the right value.
 
     Parameters
@@ -161,7 +173,7 @@ def findings(optima: dict[str, AsymptoticOptimum],
     row = rows.get("one-mass", {}).get(1000)
     if row is not None:
         items.append({"where": "Table I, N = 1000, column δ*", "printed": "0.1186",
-                      "correct": f"{max(row['delta'], 0.0):.4f} ({row['delta']:.7f})",
+                      "correct": f"{max(as_float(row['delta']), 0.0):.4f} ({row['delta']:.7f})",
                       "note": "Any chain's loss bounds the optimum's from above: already the paper's own x* = 0.2951 "
                               "loses 0.1185497 < 0.11855 at its first arrival, so δ* rounds to 0.1185. Half a unit "
                               "of the last digit, at the rounding boundary."})

@@ -12,14 +12,22 @@ import os
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, TypedDict
+from typing import TYPE_CHECKING, Generic, Literal, TypeAlias, TypedDict, TypeVar
 
 import numpy as np
 
+from ..core.types import DesignCase
 from .figure_data import (
     FULL_N,
     QUICK_N,
+    CircuitData,
+    Cradle4Data,
     DesignRows,
+    IntRwData,
+    MinimizData,
+    OptimumData,
+    PkData,
+    VkData,
     circuit_data,
     cradle4_data,
     int_rw_data,
@@ -28,17 +36,18 @@ from .figure_data import (
     pk_data,
     vk_data,
 )
-from .figures import UNIFORM_LIMIT, delta_figure
+from .figures import UNIFORM_LIMIT, DeltaData, delta_figure
 from .files import save_figure
 
 if TYPE_CHECKING:
+    from matplotlib.artist import Artist
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
     from matplotlib.patches import Rectangle
 
-__all__ = ["FIGURES", "PaperFigure", "make_figures", "cradle4_figure", "vk_figure", "x_xy_figure", "m_mmK_figure",
-           "int_rw_figure", "minimiz_figure", "rw_figure", "pk_figure", "circuit_figure", "delta_from_optimum",
-           "paper_delta_figure", "DELTA_ENLARGE"]
+__all__ = ["FIGURES", "PaperFigure", "AnyPaperFigure", "make_figures", "cradle4_figure", "vk_figure", "x_xy_figure",
+           "m_mmK_figure", "int_rw_figure", "minimiz_figure", "rw_figure", "pk_figure", "circuit_figure",
+           "delta_from_optimum", "paper_delta_figure", "DELTA_ENLARGE"]
 
 _BLUE, _RED, _GREEN = "#1f5fbf", "#c0282d", "#2f8f3f"
 _AUX = "#7cc68a"  # Fig. cradle4's auxiliary (green) masses
@@ -68,7 +77,7 @@ def _fraction(value: float) -> str:
     return str(exact) if abs(float(exact) - value) < 1e-9 else f"{value:.4g}"
 
 
-def cradle4_figure(data: Mapping[str, Any]) -> Figure:
+def cradle4_figure(data: Cradle4Data) -> Figure:
     """Fig. cradle4: the chain (masses as blocks of area ∝ mass, springs labelled) and its pulse.
 
     Left below: each mass's velocity over two transits; right: the space-time map of the same.
@@ -160,7 +169,7 @@ class _Markers(TypedDict):
 _CIRCUIT: _Markers = {"color": "k", "markerfacecolor": "none", "markeredgewidth": 0.9, "linestyle": "none"}
 
 
-def vk_figure(data: Mapping[str, Any], circuit: Mapping[float, Mapping[str, Any]] | None = None) -> Figure:
+def vk_figure(data: VkData, circuit: Mapping[float, Mapping[str, np.ndarray]] | None = None) -> Figure:
     """Fig. vk: v_k (red) and P_k (blue dashed, arbitrary units) for N = 50 at three Δ; uniform v_k dotted.
 
     ``circuit`` maps a panel's Δ to a circuit's modes (:func:`~lcchain.report.figure_data.spectrum_points`),
@@ -191,7 +200,7 @@ def vk_figure(data: Mapping[str, Any], circuit: Mapping[float, Mapping[str, Any]
         ax.grid(True, alpha=0.3, linewidth=0.5)
     first = np.atleast_1d(axes)[0]
     first.set_ylabel("v_k, P_k (arb. units)")
-    labels: dict[str, Any] = {}
+    labels: dict[str, Artist] = {}
     for ax in np.atleast_1d(axes):  # every entry once, the circuit's from whichever panel has them
         for handle, label in zip(*ax.get_legend_handles_labels(), strict=True):
             labels.setdefault(label, handle)
@@ -207,7 +216,7 @@ def vk_figure(data: Mapping[str, Any], circuit: Mapping[float, Mapping[str, Any]
 DELTA_ENLARGE = {"one-mass": 5.0, "two-mass": 50.0}
 
 
-def delta_from_optimum(data: Mapping[str, Any]) -> dict[str, Any]:
+def delta_from_optimum(data: OptimumData) -> DeltaData:
     """The data of Fig. delta taken from :func:`optimum_data`'s rows (no design computed twice)."""
     return {"N": data["N"], "uniform": [row["delta_uniform"] for row in data["one-mass"]],
             "one-mass": [max(row["delta"], 0.0) for row in data["one-mass"]],
@@ -215,18 +224,18 @@ def delta_from_optimum(data: Mapping[str, Any]) -> dict[str, Any]:
             "asymptotes": {"uniform": UNIFORM_LIMIT, **data["asymptotes"]}}
 
 
-def paper_delta_figure(data: Mapping[str, Any]) -> Figure:
+def paper_delta_figure(data: DeltaData) -> Figure:
     """Fig. delta as the caption has it: δ* on a linear axis, filled symbols, splines, the three limits
     1, δ*∞(one-mass), δ*∞(two-mass) dotted, and the two optimised cases enlarged (open symbols)."""
     return delta_figure(data, scale="linear", enlarge=DELTA_ENLARGE,
                         title="Fig. delta: minimal transmission loss δ* against N")
 
 
-def _curve_N(data: Mapping[str, Any]) -> np.ndarray:
+def _curve_N(data: OptimumData) -> np.ndarray:
     return np.geomspace(min(data["N"]), max(data["N"]), 200)
 
 
-def _law(data: Mapping[str, Any], case: str, key: str, N: np.ndarray) -> np.ndarray:
+def _law(data: OptimumData, case: str, key: str, N: np.ndarray) -> np.ndarray:
     c, p = data["laws"][case][key]
     value = np.asarray(c * N**p, dtype=float)
     limit = _LAW_LIMITS.get((case, key))
@@ -254,11 +263,15 @@ def _against_N(ax: Axes, ylabel: str, title: str, *, log_y: bool = True) -> None
     ax.set_title(title, fontsize=10)
 
 
-def _values(data: Mapping[str, Any], case: str, key: str) -> np.ndarray:
+#: The numbers of a design's row that are drawn against N.
+_RowKey = Literal["m1", "m2", "K12", "x", "y", "r", "w"]
+
+
+def _values(data: OptimumData, case: DesignCase, key: _RowKey) -> np.ndarray:
     return np.asarray([row[key] for row in data[case]], dtype=float)
 
 
-def _points(ax: Axes, data: Mapping[str, Any], case: str, key: str, colour: str, marker: str,
+def _points(ax: Axes, data: OptimumData, case: DesignCase, key: _RowKey, colour: str, marker: str,
             label: str | None = None) -> np.ndarray:
     """The optimum's ``key`` against N as filled symbols; returns the values drawn."""
     N = np.asarray(data["N"], dtype=float)
@@ -290,12 +303,12 @@ def _tag(ax: Axes, N: float, value: float, text: str, colour: str = "0.15") -> N
                 color=colour)
 
 
-def _room_right(ax: Axes, data: Mapping[str, Any]) -> None:
+def _room_right(ax: Axes, data: OptimumData) -> None:
     """N limits with room right of the last point for the tags of :func:`_tag`."""
     ax.set_xlim(min(data["N"]) / 1.3, max(data["N"]) * 2.2)
 
 
-def x_xy_figure(data: Mapping[str, Any]) -> Figure:
+def x_xy_figure(data: OptimumData) -> Figure:
     """Fig. x_xy: x* (one-mass, y = 1: blue squares) and x*, y* (two-mass: red circles) against N, with
     the large-N laws of Eqs. e.asymp_x and e.xy_N drawn where they stay inside the frame the data set."""
     fig = _figure(9.5, 4.6)
@@ -317,7 +330,11 @@ def x_xy_figure(data: Mapping[str, Any]) -> Figure:
     return fig
 
 
-def m_mmK_figure(data: Mapping[str, Any]) -> Figure:
+#: The two-mass chain's end parameters, Fig. m_mmK's red circles.
+_TWO_MASS_ENDS: tuple[_RowKey, ...] = ("m1", "m2", "K12")
+
+
+def m_mmK_figure(data: OptimumData) -> Figure:
     """Fig. m_mmK: m1* (one-mass, m2 = K12 = 1: blue squares) and m1*, m2*, K12* (two-mass: red circles)
     against N, with the large-N laws drawn where they stay inside the frame the data set."""
     fig = _figure(9.5, 4.6)
@@ -327,7 +344,7 @@ def m_mmK_figure(data: Mapping[str, Any]) -> Figure:
     one = _points(ax, data, "one-mass", "m1", _BLUE, "s", "one-mass chain (Sec. IV, m2 = K12 = 1): m1*")
     two = {key: _points(ax, data, "two-mass", key, _RED, "o",
                         "two-mass chain (Sec. V): m1*, m2*, K12*" if key == "m1" else None)
-           for key in ("m1", "m2", "K12")}
+           for key in _TWO_MASS_ENDS}
     ax.axhline(1.0, color=_BLUE, linestyle=":", linewidth=0.9, label="m2 = K12 = 1, one-mass chain")
     frame = _frame([one, *two.values(), np.ones(1)], log_y=True)
     _law_in_frame(ax, N, _law(data, "one-mass", "m1", N), frame, _BLUE)
@@ -343,7 +360,7 @@ def m_mmK_figure(data: Mapping[str, Any]) -> Figure:
     return fig
 
 
-def rw_figure(data: Mapping[str, Any]) -> Figure:
+def rw_figure(data: OptimumData) -> Figure:
     """Fig. rw: r* (red squares) and w* (blue circles) against N, the laws of Eq. e.rw_N where they stay
     inside the frame, and w(r*) of Eq. e.wr (open circles)."""
     fig = _figure(9.5, 4.6)
@@ -363,7 +380,7 @@ def rw_figure(data: Mapping[str, Any]) -> Figure:
 
 
 # ------------------------------------------------------------------ int_rw, minimiz
-def int_rw_figure(data: Mapping[str, Any]) -> Figure:
+def int_rw_figure(data: IntRwData) -> Figure:
     """Fig. int_rw: the integrand of Eq. e.uinftyz; its area is α∞(τ, σ)."""
     fig = _figure()
     ax = fig.add_subplot()
@@ -396,7 +413,7 @@ def _broken_at(sigma: Sequence[float], values: Sequence[float], jumps: Sequence[
     return np.asarray(xs), np.asarray(ys)
 
 
-def minimiz_figure(data: Mapping[str, Any]) -> Figure:
+def minimiz_figure(data: MinimizData) -> Figure:
     """Fig. minimiz: τ_m(σ) (blue line, left axis) and δ∞(σ, τ_m(σ)) (red line, right axis, log), its global
     minimum at σ*.  Where τ_m jumps (the minimum leaves τ = 0) the blue line breaks; a dotted segment joins
     the two sides."""
@@ -427,7 +444,7 @@ def minimiz_figure(data: Mapping[str, Any]) -> Figure:
 
 
 # ------------------------------------------------------------------ Pk20-100
-def pk_figure(data: Mapping[str, Any], circuit: Mapping[int, Mapping[str, Any]] | None = None) -> Figure:
+def pk_figure(data: PkData, circuit: Mapping[int, Mapping[str, np.ndarray]] | None = None) -> Figure:
     """Fig. Pk20-100: P_n (squares, left) and (N/π) δω_n (circles, right) for N = 20 (filled), 100 (open).
 
     ``circuit`` maps a panel's N to a circuit's modes (:func:`~lcchain.report.figure_data.spectrum_points`),
@@ -493,7 +510,7 @@ def _si(value: float, unit: str) -> str:
     return f"{value:.3g} {unit}"
 
 
-def circuit_figure(data: Mapping[str, Any]) -> Figure:
+def circuit_figure(data: CircuitData) -> Figure:
     """Fig. LCcircuit: the ladder drawn from the netlist's own elements, each with its value.
 
     Inductors (the masses) in series along the top carry the loop currents; capacitors (the springs) to
@@ -534,8 +551,12 @@ def circuit_figure(data: Mapping[str, Any]) -> Figure:
 
 
 # ------------------------------------------------------------------ the set
+#: A figure's data (:mod:`.figure_data`).
+_Data = TypeVar("_Data", Cradle4Data, VkData, DeltaData, OptimumData, IntRwData, MinimizData, PkData, CircuitData)
+
+
 @dataclass(frozen=True)
-class PaperFigure:
+class PaperFigure(Generic[_Data]):
     """One figure of the paper: its label (the file's name), its data and how it is drawn.
 
     ``data(rows, quick)`` computes the numbers (:mod:`.figure_data`; ``rows`` None when ``uses_rows`` is False) and
@@ -546,8 +567,8 @@ class PaperFigure:
 
     label: str
     caption: str
-    data: Callable[[DesignRows | None, bool], Any]
-    draw: Callable[[Mapping[str, Any]], Figure]
+    data: Callable[[DesignRows | None, bool], _Data]
+    draw: Callable[[_Data], Figure]
     uses_rows: bool = False
     seconds: float = 0.3
 
@@ -556,45 +577,51 @@ class PaperFigure:
         return self.draw(self.data(rows, quick))
 
 
+#: One of the paper's figures, whatever its data.
+AnyPaperFigure: TypeAlias = (PaperFigure[Cradle4Data] | PaperFigure[VkData] | PaperFigure[DeltaData]
+                             | PaperFigure[OptimumData] | PaperFigure[IntRwData] | PaperFigure[MinimizData]
+                             | PaperFigure[PkData] | PaperFigure[CircuitData])
+
+
 def _rows(rows: DesignRows | None) -> DesignRows:
     if rows is None:
         raise ValueError("this figure is drawn from rows of Tables I and II: rows=None")
     return rows
 
 
-def _optimum(rows: DesignRows | None, quick: bool) -> dict[str, Any]:
+def _optimum(rows: DesignRows | None, quick: bool) -> OptimumData:
     return optimum_data(_rows(rows), QUICK_N if quick else FULL_N)
 
 
-def _delta(rows: DesignRows | None, quick: bool) -> dict[str, Any]:
+def _delta(rows: DesignRows | None, quick: bool) -> DeltaData:
     return delta_from_optimum(_optimum(rows, quick))
 
 
-def _cradle4(rows: DesignRows | None, quick: bool) -> dict[str, Any]:
+def _cradle4(rows: DesignRows | None, quick: bool) -> Cradle4Data:
     return cradle4_data()
 
 
-def _vk(rows: DesignRows | None, quick: bool) -> dict[str, Any]:
+def _vk(rows: DesignRows | None, quick: bool) -> VkData:
     return vk_data()
 
 
-def _int_rw(rows: DesignRows | None, quick: bool) -> dict[str, Any]:
+def _int_rw(rows: DesignRows | None, quick: bool) -> IntRwData:
     return int_rw_data()
 
 
-def _minimiz(rows: DesignRows | None, quick: bool) -> dict[str, Any]:
+def _minimiz(rows: DesignRows | None, quick: bool) -> MinimizData:
     return minimiz_data(quick=quick)
 
 
-def _pk(rows: DesignRows | None, quick: bool) -> dict[str, Any]:
+def _pk(rows: DesignRows | None, quick: bool) -> PkData:
     return pk_data(_rows(rows))
 
 
-def _circuit(rows: DesignRows | None, quick: bool) -> dict[str, Any]:
+def _circuit(rows: DesignRows | None, quick: bool) -> CircuitData:
     return circuit_data()
 
 
-FIGURES: tuple[PaperFigure, ...] = (
+FIGURES: tuple[AnyPaperFigure, ...] = (
     PaperFigure("cradle4", "The perfect 4-mass cradle and its pulse", _cradle4, cradle4_figure),
     PaperFigure("vk", "Group velocity and mode density, N = 50, three Δ", _vk, vk_figure),
     PaperFigure("delta", "Transmission loss δ* against N", _delta, paper_delta_figure, uses_rows=True),

@@ -18,11 +18,12 @@ import os
 import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any, TypedDict
+from typing import TYPE_CHECKING, TypedDict
 
 import numpy as np
 from numpy.typing import ArrayLike
 
+from ..core.checks import as_float, as_int
 from ..core.errors import ParameterError
 from .files import save_figure
 
@@ -30,6 +31,8 @@ if TYPE_CHECKING:
     from matplotlib.axes import Axes
     from matplotlib.axes._secondary_axes import SecondaryAxis
     from matplotlib.figure import Figure
+
+    from ..scenes.run import OverlayPanel
 
 __all__ = ["physical_axis", "OverlayCurves", "overlay", "side_by_side", "spacetime", "histogram", "pareto",
            "mode_density", "spectrum", "spacing_band", "TIME_LABEL", "set_title", "wrapped"]
@@ -148,7 +151,7 @@ def _same_length(name: str, a: np.ndarray, ref_name: str, ref: np.ndarray) -> No
         raise ParameterError(f"{name}.shape", a.shape, f"the shape of {ref_name}, {ref.shape}")
 
 
-def _field(item: Any, key: str, what: str, i: int) -> Any:
+def _field(item: object, key: str, what: str, i: int) -> object:
     """``item[key]`` for a mapping, ``item.key`` for an object (e.g. ArrivalComparison)."""
     if isinstance(item, Mapping):
         if key in item:
@@ -224,7 +227,7 @@ class OverlayCurves:
     t_residual: ArrayLike | None = None
     first_sim: ArrayLike | None = None
     first_theory: ArrayLike | None = None
-    arrivals: Sequence[Any] = ()
+    arrivals: Sequence[object] = ()
     time_unit: float | None = None
 
     def __post_init__(self) -> None:
@@ -269,7 +272,7 @@ class OverlayCurves:
         """Each arrival's numbers and whether it arrives at loop 1 (``first``)."""
         marks: list[dict[str, float | bool]] = []
         for i, a in enumerate(self.arrivals):
-            mark: dict[str, float | bool] = {key: float(_field(a, key, "arrivals", i)) for key in _ARRIVAL_KEYS}
+            mark: dict[str, float | bool] = {key: as_float(_field(a, key, "arrivals", i)) for key in _ARRIVAL_KEYS}
             end = a.get("end", "last") if isinstance(a, Mapping) else getattr(a, "end", "last")
             if end not in ("first", "last"):
                 raise ParameterError("arrivals[].end", end, "'first' or 'last'")
@@ -397,7 +400,7 @@ def overlay(curves: OverlayCurves, *, title: str = "", ylabel: str = r"$I_N\,/\,
     return _finish(fig, path)
 
 
-def side_by_side(panels: Sequence[Mapping[str, Any]], *, title: str = "",
+def side_by_side(panels: Sequence[OverlayPanel], *, title: str = "",
                  path: str | os.PathLike[str] | None = None) -> Figure:
     """Several overlays next to each other, on shared axes (e.g. uniform against optimal ends).
 
@@ -627,7 +630,7 @@ def histogram(values: ArrayLike, *, theory: float | None = None, title: str = ""
 
 # --------------------------------------------------------------------------- pareto
 
-def pareto(records: Sequence[Mapping[str, Any]], *, path: str | os.PathLike[str] | None = None,
+def pareto(records: Sequence[Mapping[str, object]], *, path: str | os.PathLike[str] | None = None,
            ax: Axes | None = None) -> Figure:
     """Accuracy against cost of the simulation methods (log-log).
 
@@ -656,11 +659,11 @@ def pareto(records: Sequence[Mapping[str, Any]], *, path: str | os.PathLike[str]
     groups: dict[tuple[str, int], list[tuple[float, float]]] = {}
     for i, rec in enumerate(records):
         method, n, wall, err = (_field(rec, key, "records", i) for key in _RECORD_KEYS)
-        wall, err = float(wall), float(err)
+        wall, err = as_float(wall), as_float(err)
         for key, v in (("wall_s", wall), ("error", err)):
             if not (np.isfinite(v) and v > 0):
                 raise ParameterError(f"records[{i}][{key!r}]", v, "a finite number > 0 (log axes)")
-        groups.setdefault((str(method), int(n)), []).append((wall, err))
+        groups.setdefault((str(method), as_int(n)), []).append((wall, err))
     if not groups:
         raise ParameterError("records", records, "at least one record")
 

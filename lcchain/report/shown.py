@@ -10,7 +10,8 @@ pandas' ``DataFrame.plot`` finds its plotting backend: another package may draw 
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING, Any
+from collections.abc import Mapping
+from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 
@@ -20,19 +21,40 @@ if TYPE_CHECKING:
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
+    from ..circuit.ladder import Ladder
+    from ..circuit.netlist import SimulationOptions
+    from ..compare.metrics import Comparison
+    from ..compare.waveforms import Signals, Waveforms
     from ..runs.spectrum import SpectrumReport
     from ..scenes.run import SceneResult
     from ..studies.store import Store
+    from ..theory.chain import Chain
     from ..theory.modes import Modes
 
 __all__ = ["simulation_figure", "spectrum_figure", "scene_figure", "record_figure", "store_figure", "modes_figure"]
 
 
-def simulation_figure(report: Any, ax: Axes | None = None) -> Figure:
+class Simulated(Protocol):
+    """What :func:`simulation_figure` reads of a :class:`~lcchain.runs.simulate.SimulationReport` (report renders
+    it and never imports the modules that run a simulator, where it is defined)."""
+
+    @property
+    def waveforms(self) -> Waveforms: ...
+    @property
+    def comparison(self) -> Comparison: ...
+    @property
+    def ladder(self) -> Ladder: ...
+    @property
+    def chain(self) -> Chain: ...
+    @property
+    def options(self) -> SimulationOptions: ...
+    @property
+    def excitation(self) -> str: ...
+
+
+def simulation_figure(report: Simulated, ax: Axes | None = None) -> Figure:
     """A :class:`~lcchain.runs.simulate.SimulationReport`'s end currents (or charges) over theory, the residual
-    below (``lcchain simulate --plot``); with ``ax``, the far end's overlay in it alone.  (A simulation report and
-    a run's record are typed Any here: report renders them and never imports the modules that run a simulator,
-    where they are defined.)"""
+    below (``lcchain simulate --plot``); with ``ax``, the far end's overlay in it alone."""
     w, c = report.waveforms, report.comparison
     curves = plots.OverlayCurves(w.t, w.last, w.t, c.theory_last,
                                  residual=None if ax is not None else w.last - c.theory_last, first_sim=w.first,
@@ -77,7 +99,47 @@ def scene_figure(result: SceneResult, ax: Axes | None = None) -> Figure:
                          ax=ax)
 
 
-def record_figure(record: Any, ax: Axes | None = None) -> Figure:
+class _RunData(Protocol):
+    @property
+    def axis(self) -> np.ndarray: ...
+
+
+class _Run(Protocol):
+    """What :func:`record_figure` reads of a run's :class:`~lcchain.spice.result.RunResult`."""
+
+    @property
+    def analysis(self) -> str: ...
+    @property
+    def data(self) -> _RunData: ...
+    @property
+    def vectors(self) -> Mapping[str, np.ndarray]: ...
+
+
+class Recorded(Protocol):
+    """What :func:`record_figure` reads of a :class:`~lcchain.runs.execute.RunRecord` (report never imports the
+    modules that run a simulator, where it and its run are defined)."""
+
+    @property
+    def ok(self) -> bool: ...
+    @property
+    def key(self) -> str: ...
+    @property
+    def status(self) -> str: ...
+    @property
+    def reason(self) -> str: ...
+    @property
+    def label(self) -> str: ...
+    @property
+    def engine(self) -> str: ...
+    @property
+    def engine_version(self) -> str: ...
+    @property
+    def signals(self) -> Signals | None: ...
+    @property
+    def run(self) -> _Run | None: ...
+
+
+def record_figure(record: Recorded, ax: Axes | None = None) -> Figure:
     """A :class:`~lcchain.runs.execute.RunRecord`'s figure: its compared loops over theory (the far end, the first
     too; residual below) where it had a theory, else its saved vectors against time in seconds (an AC run's
     magnitudes against frequency in hertz, on log axes)."""

@@ -8,7 +8,7 @@ and writes what they hold.
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from ..core.physical import physical_scales
 from ..core.types import DEFAULT_C0, DEFAULT_L0
@@ -18,6 +18,7 @@ from .markup import esc, figure_block, num, verdict_cell
 from .paper_figures import pk_figure, vk_figure
 
 if TYPE_CHECKING:
+    import numpy as np
     from matplotlib.figure import Figure
 
 __all__ = ["SPECTRUM_FIGURES", "spectrum_figures", "spectrum_html", "spectrum_summary", "PER_MODE_CHECK"]
@@ -39,7 +40,7 @@ PER_MODE_CHECK = "two-mass-N20"
 def spectrum_figures(checks: Sequence[SpectrumCheck], rows: DesignRows) -> dict[str, Figure]:
     """Figs. Pk20-100 and vk (matplotlib Figures, by label) with the points of the checks made for them; a figure
     none of the checks is for is left out."""
-    on: dict[str, dict[float, dict[str, Any]]] = {"Pk20-100": {}, "vk": {}}
+    on: dict[str, dict[float, dict[str, np.ndarray]]] = {"Pk20-100": {}, "vk": {}}
     for check in checks:
         if check.figure in on and check.modes and check.panel is not None:
             on[check.figure][check.panel] = spectrum_points(check.modes, check.N)

@@ -18,13 +18,14 @@ import platform
 import time
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import NotRequired, TypedDict
 
 import numpy as np
 
 from ..core import __version__
 from ..core.checks import instance, real
 from ..core.frozen import FrozenMap
+from ..core.json import JSONDict
 from ..core.physical import physical_scales
 from ..core.types import DEFAULT_C0, DEFAULT_L0
 from ..studies.requirements import RequirementsCheck
@@ -33,8 +34,16 @@ from ..studies.validation import CircuitCheck
 from ..theory.asymptotic import asymptotic_optimum
 from ..theory.design import DESIGN_TABLES
 from ..theory.perfect import perfect_design
-from .figure_data import FULL_N, DesignRows
-from .paper import PRINTED_ASYMPTOTIC, PRINTED_COLUMNS, PRINTED_ROWS, compare_row, findings, last_digit_units
+from .figure_data import FULL_N, DesignRow, DesignRows
+from .paper import (
+    PRINTED_ASYMPTOTIC,
+    PRINTED_COLUMNS,
+    PRINTED_ROWS,
+    PrintedCell,
+    compare_row,
+    findings,
+    last_digit_units,
+)
 
 __all__ = ["REPORT_N", "QUICK_REPORT_N", "CircuitCheck", "ValidationRuns", "paper_section", "validation_report",
            "MAX_UNITS_OFF"]
@@ -48,10 +57,80 @@ QUICK_REPORT_N: dict[str, list[int]] = {case: sorted({*PRINTED_ROWS[case], 30, 5
 #: rounding boundaries and coarse delay grid, see :func:`lcchain.report.paper.findings`); more is a failure.
 MAX_UNITS_OFF = 1.5
 # ------------------------------------------------------------------ the paper
-def _table(case: str, rows: DesignRows, Ns: list[int]) -> list[dict[str, Any]]:
-    out = []
+class TableEntry(TypedDict):
+    """A row of the report's Tables I and II: the design (its seconds beside it), and each cell the paper prints."""
+
+    row: DesignRow
+    seconds: float | None
+    printed: list[PrintedCell]
+    worst_units: float | None
+
+
+class AsymptoticEntry(TypedDict):
+    """A large-N constant the paper prints, against lcchain's."""
+
+    case: str
+    key: str
+    printed: str
+    where: str
+    computed: float
+    units: float
+
+
+class PerfectEntry(TypedDict):
+    """A perfect chain the paper prints (N = 3, 4, 5), recomputed."""
+
+    N: int
+    masses: list[float]
+    springs: list[float]
+    t_arrival: float
+    delta: float
+
+
+class Perfect(TypedDict):
+    """The paper's perfect chains, and perfect chains of any N (their numbers and spreads, by name)."""
+
+    paper: list[PerfectEntry]
+    any_N: list[dict[str, float]]
+
+
+class PaperSection(TypedDict):
+    """:func:`paper_section`."""
+
+    tables: dict[str, list[TableEntry]]
+    columns: dict[str, tuple[str, ...]]
+    asymptotic: list[AsymptoticEntry]
+    perfect: Perfect
+    findings: list[dict[str, str]]
+    checks: list[JSONDict]
+
+
+class ValidationReport(TypedDict):
+    """:func:`validation_report`: everything the page shows (a report made by an older lcchain may lack the keys
+    marked not required)."""
+
+    title: str
+    created: str
+    lcchain_version: str
+    ngspice_version: str
+    engines: NotRequired[dict[str, str]]
+    machine: dict[str, str]
+    quick: bool
+    physical: NotRequired[dict[str, float]]
+    passed: NotRequired[bool]
+    checks: list[JSONDict]
+    tables: NotRequired[dict[str, list[DesignRow]]]
+    paper: PaperSection
+    circuit: list[CircuitCheck]
+    spectrum: NotRequired[list[SpectrumCheck]]
+    requirements: NotRequired[list[RequirementsCheck]]
+    seconds: float
+
+
+def _table(case: str, rows: DesignRows, Ns: list[int]) -> list[TableEntry]:
+    out: list[TableEntry] = []
     for N in Ns:
-        row = dict(rows.row(case, N))
+        row = rows.row(case, N).copy()
         seconds = row.pop("seconds", None)
         cells = compare_row(case, row)
         worst = max((abs(c["units"]) for c in cells), default=None)
@@ -59,8 +138,8 @@ def _table(case: str, rows: DesignRows, Ns: list[int]) -> list[dict[str, Any]]:
     return out
 
 
-def _asymptotic() -> list[dict[str, Any]]:
-    out = []
+def _asymptotic() -> list[AsymptoticEntry]:
+    out: list[AsymptoticEntry] = []
     for case, items in PRINTED_ASYMPTOTIC.items():
         optimum = asymptotic_optimum(case)  # type: ignore[arg-type]
         for key, printed, where in items:
@@ -70,13 +149,13 @@ def _asymptotic() -> list[dict[str, Any]]:
     return out
 
 
-def _perfect() -> dict[str, Any]:
-    small = []
+def _perfect() -> Perfect:
+    small: list[PerfectEntry] = []
     for N in (3, 4, 5):
         design = perfect_design(N)
         small.append({"N": N, "masses": design.chain.masses.tolist(), "springs": design.chain.springs.tolist(),
                       "t_arrival": design.t_arrival, "delta": design.delta})
-    larger = []
+    larger: list[dict[str, float]] = []
     for N, walls in ((10, 0), (100, 0), (1000, 0), (100, 1)):
         design = perfect_design(N, walls)
         larger.append({"N": N, "walls": walls, "t_arrival": design.t_arrival, "delta": design.delta,
@@ -85,15 +164,15 @@ def _perfect() -> dict[str, Any]:
 
 
 def paper_section(rows: DesignRows, *, quick: bool = False,
-                  progress: Callable[[int, int, str], None] | None = None) -> dict[str, Any]:
+                  progress: Callable[[int, int, str], None] | None = None) -> PaperSection:
     """Tables I and II at every N (``quick``: the printed ones and a few more), the constants, perfect chains,
     the slips; and one check per printed row (its worst cell within :data:`MAX_UNITS_OFF` units)."""
     sizes = QUICK_REPORT_N if quick else REPORT_N
     total = sum(len(v) for v in sizes.values())
     done = 0
-    tables = {}
+    tables: dict[str, list[TableEntry]] = {}
     for case, Ns in sizes.items():
-        out = []
+        out: list[TableEntry] = []
         for N in Ns:
             if progress is not None:
                 progress(done, total, f"{DESIGN_TABLES[case][0]}, N = {N}")
@@ -104,14 +183,15 @@ def paper_section(rows: DesignRows, *, quick: bool = False,
         progress(total, total, "tables done")
     by_N = {case: {entry["row"]["N"]: entry["row"] for entry in entries} for case, entries in tables.items()}
     optima = {case: asymptotic_optimum(case) for case in ("one-mass", "two-mass")}
-    checks = []
+    checks: list[JSONDict] = []
     for case, entries in tables.items():
         label = DESIGN_TABLES[case][0]
         for entry in entries:
-            if entry["printed"]:
+            worst = entry["worst_units"]  # None exactly when the paper prints no cell of the row
+            if entry["printed"] and worst is not None:
                 checks.append({"name": f"{label}, N = {entry['row']['N']}: every printed cell", "kind": "paper",
-                               "passed": entry["worst_units"] <= MAX_UNITS_OFF,
-                               "max_abs_error": entry["worst_units"], "tolerance": MAX_UNITS_OFF,
+                               "passed": worst <= MAX_UNITS_OFF,
+                               "max_abs_error": worst, "tolerance": MAX_UNITS_OFF,
                                "unit": "units of the last printed digit"})
     return {"tables": tables, "columns": PRINTED_COLUMNS, "asymptotic": _asymptotic(), "perfect": _perfect(),
             "findings": findings(optima, by_N), "checks": checks}
@@ -150,14 +230,14 @@ class ValidationRuns:
             for i, item in enumerate(items):
                 instance(f"{name}[{i}]", item, cls)
             object.__setattr__(self, name, items)
-        instance("engines", self.engines, Mapping)
+        instance("engines", self.engines, (Mapping,))
         object.__setattr__(self, "engines", FrozenMap(self.engines))
         real("seconds", self.seconds, at_least=0.0, unit="seconds")
 
 
 def validation_report(rows: DesignRows, runs: ValidationRuns, *, quick: bool = False,
                       progress: Callable[[int, int, str], None] | None = None,
-                      paper: dict[str, Any] | None = None) -> dict[str, Any]:
+                      paper: PaperSection | None = None) -> ValidationReport:
     """Everything the page shows, as data (figures excepted: :mod:`.html` draws them from ``curves``).
 
     ``runs`` are the circuit's checks, spectra and cradles already made (:class:`ValidationRuns`): every one of
@@ -168,8 +248,9 @@ def validation_report(rows: DesignRows, runs: ValidationRuns, *, quick: bool = F
     paper = paper if paper is not None else paper_section(rows, quick=quick, progress=progress)
     circuit, spectrum, requirements = list(runs.circuit), list(runs.spectrum), list(runs.requirements)
     engines = runs.engines
-    checks = [*paper["checks"], *(c.to_dict() for c in circuit), *(line for c in spectrum for line in c.checks()),
-              *(line for c in requirements for line in c.checks())]
+    checks: list[JSONDict] = [*paper["checks"], *(c.to_dict() for c in circuit),
+                              *(line for c in spectrum for line in c.checks()),
+                              *(line for c in requirements for line in c.checks())]
     return {
         "title": "lcchain validation report",
         "created": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),

@@ -127,6 +127,9 @@ class SpectrumReport:
     envelope_error : float or None
         With losses: max |Y_11 - exact Y_11| / |exact Y_11| over the sweep
         (:func:`lcchain.theory.spectrum.driving_admittance`), the response the merged modes make together.
+    envelope_bound : float or None
+        The exact admittance's own relative error bound, the largest over the sweep
+        (:func:`lcchain.compare.spectral.compare_envelope`).
     modes : ModeReport or None
         Every mode with its shape from a second AC run that drives every loop (``measure_spectrum(...,
         SpectrumOptions(shapes=True))``, ``lcchain spectrum --shapes``: :func:`lcchain.runs.survey.measure_modes`);
@@ -151,6 +154,7 @@ class SpectrumReport:
     merged: np.ndarray | None = None
     envelope_error: float | None = None
     modes: ModeReport | None = None
+    envelope_bound: float | None = None
 
     @property
     def merged_modes(self) -> np.ndarray:
@@ -250,7 +254,8 @@ class SpectrumReport:
                                gamma=self.gamma if self.lossy else None, losses=self.losses,
                                gamma_theory=self.gamma_theory, omega_low=self.theory.omega_low,
                                omega_bound=self.theory.omega_bound, P_bound=self.theory.transfer_bound,
-                               merged=self.merged, envelope_error=self.envelope_error)
+                               merged=self.merged, envelope_error=self.envelope_error,
+                               envelope_bound=self.envelope_bound)
 
     @property
     def omega_error(self) -> np.ndarray:
@@ -344,7 +349,7 @@ class SpectrumReport:
                 "max_rel_error_pole": _finite(self.max_rel_error_pole) if compared else None,
                 "max_abs_error_response": self.response_error,
                 "segments": self.segments, "merged": [int(n) + 1 for n in np.flatnonzero(merged)],
-                "max_rel_error_Y11": self.envelope_error,
+                "max_rel_error_Y11": self.envelope_error, "reference_bound_Y11": self.envelope_bound,
                 "failure": self.failure}
         data.update(self.reference_bounds)
         data.update({} if self.theory.method != "circuit" else {"theory": "circuit"})
@@ -366,7 +371,7 @@ class SpectrumReport:
         if self.merged_modes.any():
             rows.append(("merged by the losses", merged_text(self.merged_modes)))
         if self.envelope_error is not None:
-            rows.append(("max rel. error of Y_11", self.envelope_error))
+            rows.append(("max rel. error of Y_11", _beside(self.envelope_error, self.envelope_bound)))
         if self.modes is not None:
             rows += self.modes.rows()
         return rows
@@ -628,4 +633,4 @@ def spectrum(request: Request, *, simulator: Simulator | None = None, budget: Bu
     return SpectrumReport(theory.chain, theory.modes, spectrum.fit, spectrum.seen, spec.points, theory.omega_max,
                           record.engine_version, record.run.netlist_sha256, timings, Q, segments, response,
                           record.engine, time_unit=theory.time_unit, merged=spectrum.merged,
-                          envelope_error=spectrum.envelope_error)
+                          envelope_error=spectrum.envelope_error, envelope_bound=spectrum.envelope_bound)

@@ -13,12 +13,12 @@ import re
 import tomllib
 from collections.abc import Mapping, Sequence
 from dataclasses import MISSING
-from typing import Any
 
-from ..circuit.effects import E_SERIES, EFFECTS, effect_fields
+from ..circuit.effects import E_SERIES, EFFECTS, Effect, effect_fields
 from ..core.analyses import analysis_kind
 from ..core.checks import choice, integer, real
 from ..core.errors import ParameterError
+from ..core.json import LooseJSON, LooseJSONObject
 from ..core.limits import MAX_CIRCUIT_N, MAX_SAMPLES, MAX_SCENE_BYTES, MIN_N
 from ..core.types import ANALYSIS_KINDS
 from ..spice.inputs import read_input
@@ -86,7 +86,7 @@ def load_scene(path: str | os.PathLike[str]) -> Scene:
     return parse_scene(data, source=where)
 
 
-def parse_scene(data: Mapping[str, Any], source: str | None = None) -> Scene:
+def parse_scene(data: Mapping[str, LooseJSON], source: str | None = None) -> Scene:
     """Validate a scene given as nested mappings (a parsed TOML or JSON document).
 
     Parameters
@@ -111,7 +111,7 @@ def parse_scene(data: Mapping[str, Any], source: str | None = None) -> Scene:
         raise ParameterError(error.field, error.value, error.allowed, source) from None
 
 
-def _table(data: Mapping[str, Any], name: str, keys: Sequence[str], required: bool = False) -> dict[str, Any]:
+def _table(data: Mapping[str, LooseJSON], name: str, keys: Sequence[str], required: bool = False) -> LooseJSONObject:
     """The sub-table ``name`` of ``data`` (dotted path), with only known keys."""
     last = name.rsplit(".", 1)[-1]
     if last not in data:
@@ -125,7 +125,7 @@ def _table(data: Mapping[str, Any], name: str, keys: Sequence[str], required: bo
     return dict(table)
 
 
-def _known_keys(table: Mapping[str, Any], keys: Sequence[str], path: str) -> None:
+def _known_keys(table: Mapping[str, object], keys: Sequence[str], path: str) -> None:
     for key in table:
         if key not in keys:
             where = f"in [{path}]" if path else "at the top level"
@@ -133,7 +133,7 @@ def _known_keys(table: Mapping[str, Any], keys: Sequence[str], path: str) -> Non
             raise ParameterError(dotted, table[key], f"one of the keys {', '.join(keys)} {where} (unknown key)")
 
 
-def _parse(data: Mapping[str, Any], source: str | None) -> Scene:
+def _parse(data: Mapping[str, LooseJSON], source: str | None) -> Scene:
     if not isinstance(data, Mapping):
         raise ParameterError("scene", data, "a table of tables")
     _known_keys(data, TOP_KEYS, "")
@@ -157,7 +157,7 @@ def _parse(data: Mapping[str, Any], source: str | None) -> Scene:
     excitation = ExcitationSpec(**_table(data, "excitation", EXCITATION_KEYS))
 
     effects_table = _table(data, "effects", tuple(EFFECTS))
-    effects: dict[str, Any] = {}
+    effects: dict[str, Effect] = {}
     for name, cls in EFFECTS.items():
         if name not in effects_table:
             continue
@@ -190,8 +190,8 @@ def _parse(data: Mapping[str, Any], source: str | None) -> Scene:
     )
 
 
-def override_parts(data: Mapping[str, Any], *, tolerance: Mapping[str, float] | None = None,
-                   series: str | None = None, samples: int | None = None, seed: int | None = None) -> dict[str, Any]:
+def override_parts(data: Mapping[str, LooseJSON], *, tolerance: Mapping[str, float] | None = None,
+                   series: str | None = None, samples: int | None = None, seed: int | None = None) -> LooseJSONObject:
     """A scene's tables with its real parts set from the command line, for a Monte Carlo without editing the file.
 
     Each value is checked under the option that gave it (``--tolerance L = 1.5 is not allowed: ...``) before
@@ -212,7 +212,7 @@ def override_parts(data: Mapping[str, Any], *, tolerance: Mapping[str, float] | 
     """
     out = copy.deepcopy(dict(data))
     effects = out.setdefault("effects", {})
-    drawn: dict[str, Any] = {}
+    drawn: dict[str, float] = {}
     for name, value in (tolerance or {}).items():
         if name not in ("L", "C"):
             raise ParameterError("--tolerance", f"{name}={value}", "L=TOL, C=TOL or one TOL for both")

@@ -16,17 +16,19 @@ from __future__ import annotations
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import Any, TypedDict
+from typing import TYPE_CHECKING, TypedDict
 
 import numpy as np
 
 from ..compare.extrapolate import WEIGHTS
-from ..compare.spectral import OMEGA_WEIGHT_FLOOR, SPECTRAL_METRICS, SpectrumMetrics
+from ..compare.spectral import OMEGA_WEIGHT_FLOOR, SpectrumMetrics
 from ..compare.waveforms import Waveforms
+from ..core.arrays import FloatArray
 from ..core.blas import fixed_blas_threads
 from ..core.budget import Budget
 from ..core.checks import callback, instance
 from ..core.errors import ParameterError
+from ..core.json import JSONDict, LooseJSONObject
 from ..core.show import html_table, plot, short_repr
 from ..runs.execute import RunRecord, execute, loop_theory, pulse_centre
 from ..runs.extrapolated import combined_record
@@ -39,8 +41,11 @@ from ..theory.exact import driven_modes
 from .plan import ScenePlan, losses_and_pulse, scene_plan, scene_specs
 from .schema import Scene
 
-__all__ = ["SampleResult", "SceneResult", "simulate_scene", "scene_result", "overlay_panel", "transmitted_peaks",
-           "nominal_peak"]
+if TYPE_CHECKING:
+    import xarray
+
+__all__ = ["SampleResult", "SceneResult", "simulate_scene", "scene_result", "overlay_panel", "OverlayPanel",
+           "transmitted_peaks", "nominal_peak"]
 
 
 class SampleRecord(TypedDict, total=False):
@@ -60,21 +65,21 @@ class SampleRecord(TypedDict, total=False):
     wall_s: float
     theory_and_compare_s: float
     max_abs_error: float
-    arrivals: list[dict[str, Any]]
-    extrapolation: dict[str, Any]
+    arrivals: list[JSONDict]
+    extrapolation: JSONDict
     max_rel_error_omega: float
     max_abs_error_P: float
     spacing_spread: float
     spacing_std: float
     modes_seen: int
     max_rel_error_Q: float
-    effects: dict[str, Any]
+    effects: JSONDict
 
 
 class SceneReport(TypedDict, total=False):
     """A scene's JSON report (:attr:`SceneResult.report`); the numbers over samples only when some ran."""
 
-    scene: dict[str, Any]
+    scene: LooseJSONObject
     source: str | None
     N: int
     dt: float
@@ -88,9 +93,9 @@ class SceneReport(TypedDict, total=False):
     wall_s: dict[str, float]
     max_abs_error: float
     accuracy_met: bool
-    arrivals: list[dict[str, Any]]
+    arrivals: list[JSONDict]
     arrivals_sample: int
-    transmitted_peak: dict[str, Any]
+    transmitted_peak: dict[str, float]
     files: list[str]
     analysis: str
     points: int
@@ -98,7 +103,7 @@ class SceneReport(TypedDict, total=False):
     omega_nominal: list[float]
     max_rel_error_omega: float
     max_abs_error_P: float
-    spacing_spread: dict[str, Any]
+    spacing_spread: dict[str, float]
     Q: float
     max_rel_error_Q: float
 
@@ -171,7 +176,7 @@ class SceneResult:
         return [s for s in self.samples if s.ok]
 
     def _rows(self) -> list[tuple[str, object]]:
-        r: dict[str, Any] = dict(self.report)
+        r: dict[str, object] = dict(self.report)
         failed = len(self.samples) - len(self.good())
         rows: list[tuple[str, object]] = [
             ("scene", self.scene.title), ("chain", f"{self.scene.chain.case}, N = {r.get('N')}"),
@@ -191,7 +196,7 @@ class SceneResult:
     def _repr_html_(self) -> str:
         return html_table("SceneResult", self._rows())
 
-    def plot(self, ax: Any = None) -> Any:
+    def plot(self, ax: object = None) -> object:
         """The first good sample's figure: a transient's end signals over theory (residual below), or an AC
         analysis's |P_n| against omega_n over theory.
 
@@ -207,7 +212,7 @@ class SceneResult:
         """
         return plot("scene", self, ax=ax)
 
-    def to_xarray(self) -> Any:
+    def to_xarray(self) -> xarray.Dataset:
         """Every sample as an xarray Dataset on ``sample``: its numbers (errors, step, points, times; NaN where it
         has none, a failed sample's ``status`` and ``error``), its first arrival's peaks, and its realised parts,
         ``L`` in henry on ``coil`` and ``C`` in farad on ``capacitor`` (NaN: a wire).  xarray is optional:
@@ -217,7 +222,8 @@ class SceneResult:
 
         units = self.scene.units
         parts = [Ladder(sample.chain, units.L0, units.C0).parts() for sample in self.samples]
-        return samples_dataset(self.scene.title, [s.record for s in self.samples], parts)
+        dataset: xarray.Dataset = samples_dataset(self.scene.title, [s.record for s in self.samples], parts)
+        return dataset
 
 def _failed_record(index: int, chain: Chain, run: RunRecord) -> SampleRecord:
     error = run.reason + (f"\n{run.engine} said:\n{run.log_tail}" if run.log_tail else "")
@@ -251,14 +257,16 @@ def _spectrum_record(index: int, chain: Chain, run: RunRecord) -> SampleRecord:
         return _failed_record(index, chain, run)
     assert run.run is not None and run.spectrum is not None
     record = _run_record(index, chain, run, run.run.netlist_sha256, run.run.points)
-    metrics = run.spectrum.to_dict()
-    record.update({name: metrics[name] for name in SPECTRAL_METRICS})  # type: ignore[typeddict-item]
-    if "max_rel_error_Q" in metrics:  # losses: each mode's Q_n against omega_n Q
-        record["max_rel_error_Q"] = metrics["max_rel_error_Q"]
+    spectrum = run.spectrum  # its SPECTRAL_METRICS, in their order, as its to_dict has them
+    record.update({"max_rel_error_omega": spectrum.max_rel_error_omega, "max_abs_error_P": spectrum.max_abs_error_P,
+                   "spacing_spread": spectrum.spacing_spread, "spacing_std": spectrum.spacing_std,
+                   "modes_seen": spectrum.modes_seen})
+    if spectrum.gamma is not None:  # losses: each mode's Q_n against omega_n Q
+        record["max_rel_error_Q"] = spectrum.max_rel_error_Q
     return record
 
 
-def _spread(values: Sequence[float]) -> dict[str, Any]:
+def _spread(values: Sequence[float]) -> dict[str, float]:
     array = np.asarray(values, dtype=float)
     return {"mean": float(array.mean()), "std": float(array.std(ddof=1)) if array.size > 1 else 0.0,
             "worst": float(array.min()), "best": float(array.max()), "count": int(array.size)}
@@ -289,14 +297,19 @@ def _nominal_peak(scene: Scene, plan: ScenePlan) -> float:
 
 
 def transmitted_peaks(result: SceneResult) -> list[float]:
-    """The first arrival's simulated peak of every sample that ran."""
-    return [s.record["arrivals"][0]["peak_sim"] for s in result.good()]
+    """The first arrival's simulated peak of every sample that ran (its record's ``arrivals[0]["peak_sim"]``)."""
+    peaks = []
+    for s in result.good():
+        assert s.run.metrics is not None  # a transient's sample that ran has its metrics (_sample_record)
+        peaks.append(s.run.metrics.arrivals[0].peak_sim)
+    return peaks
 
 
-def _members(plan: ScenePlan, records: Sequence[RunRecord]) -> dict[str, Any]:
-    members = [{"dt": h, "status": r.status, "points": r.run.points if r.run is not None else None,
-                "wall_s": r.wall_s, "max_abs_error": r.metrics.max_abs_error if r.metrics is not None else None}
-               for h, r in zip(plan.steps, records, strict=True)]
+def _members(plan: ScenePlan, records: Sequence[RunRecord]) -> JSONDict:
+    members: list[JSONDict] = [
+        {"dt": h, "status": r.status, "points": r.run.points if r.run is not None else None,
+         "wall_s": r.wall_s, "max_abs_error": r.metrics.max_abs_error if r.metrics is not None else None}
+        for h, r in zip(plan.steps, records, strict=True)]
     return {"runs": plan.runs, "dt": list(plan.steps), "weights": list(WEIGHTS[plan.runs]), "members": members,
             "predicted_error": plan.predicted_error, "reason": plan.reason}
 
@@ -430,7 +443,18 @@ def simulate_scene(scene: Scene, *, progress: Callable[[float], None] | None = N
     return scene_result(scene, plan, specs, records, time.perf_counter() - clock)
 
 
-def overlay_panel(result: SceneResult) -> dict[str, Any] | None:
+class OverlayPanel(TypedDict):
+    """A column of :func:`lcchain.report.plots.side_by_side`: loop N's signal over its theory, and its arrivals."""
+
+    t: FloatArray
+    sim: FloatArray
+    theory: FloatArray
+    title: str
+    arrivals: list[JSONDict]
+    ylabel: str
+
+
+def overlay_panel(result: SceneResult) -> OverlayPanel | None:
     """The far-end overlay of a scene's first good sample, for :func:`lcchain.report.plots.side_by_side`."""
     good = result.good()
     if not good:

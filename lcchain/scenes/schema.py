@@ -22,13 +22,14 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, fields
 from pathlib import PurePosixPath
-from typing import Any, TypeVar
+from typing import TypeVar
 
 from ..circuit.effects import EFFECTS, Effect, Losses, PreferredValues, Tolerance, Walls, effect_fields
 from ..core.analyses import analysis_kind
 from ..core.checks import choice, instance, integer, is_integer, numbers_list, real, text_line
 from ..core.errors import ParameterError
-from ..core.frozen import FrozenMap
+from ..core.frozen import FrozenMap, Reduced
+from ..core.json import LooseJSONObject
 from ..core.limits import (
     MAX_AC_POINTS,
     MAX_CIRCUIT_N,
@@ -276,7 +277,7 @@ class Effects:
     def __repr__(self) -> str:
         return f"Effects({', '.join(f'{key}={part!r}' for key, part in self._parts.items())})"
 
-    def __reduce__(self) -> tuple[Any, ...]:
+    def __reduce__(self) -> Reduced:
         return (type(self), (dict(self._parts),))
 
     def get(self, kind: type[E]) -> E | None:
@@ -295,7 +296,7 @@ class Effects:
 
 #: The ``[analysis]`` keys of a transient only, refused with ``kind = "ac"``.
 TRANSIENT_KEYS = ("transits", "accuracy", "dt", "method", "extrapolate")
-def check_ac_keys(table: Mapping[str, Any]) -> None:
+def check_ac_keys(table: Mapping[str, object]) -> None:
     """Refuse a transient's key in the ``[analysis]`` table of an AC sweep, naming it."""
     for key in TRANSIENT_KEYS:
         if key in table:
@@ -493,15 +494,16 @@ class Scene:
             if spread in plots and (tolerance is None or tolerance.samples < 2):
                 raise ParameterError("output.plots", plots, f'no "{spread}" unless effects.tolerance.samples > 1')
 
-    def to_dict(self) -> dict[str, Any]:
+    def to_dict(self) -> LooseJSONObject:
         """The scene as plain data with the file's keys (JSON- and TOML-writable).
 
         Keys left at None are omitted, ``effects`` holds only the effects
-        present, and ``parse_scene(scene.to_dict()) == scene``.
+        present, and ``parse_scene(scene.to_dict()) == scene``.  A TOML document: the studies read and edit it by
+        key (a varied part), hence :data:`~lcchain.core.json.LooseJSONObject`.
         """
 
-        def table(obj: object, keys: Sequence[str]) -> dict[str, Any]:
-            out = {}
+        def table(obj: object, keys: Sequence[str]) -> dict[str, object]:
+            out: dict[str, object] = {}
             for key in keys:
                 value = getattr(obj, key)
                 if value is not None:

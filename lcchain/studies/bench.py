@@ -121,8 +121,9 @@ class BenchSummary(TypedDict):
     targets: list[TargetCheck]
 
 
-class BenchResult(TypedDict):
-    """What :func:`bench_accuracy` measured, and its summary as a Markdown table."""
+class BenchDocument(TypedDict):
+    """What :func:`bench_accuracy` measured, and its summary as a Markdown table: the JSON document the bench
+    writes, typed (not a result class of its own)."""
 
     records: list[BenchRecord]
     targets: list[TargetCheck]
@@ -333,7 +334,7 @@ def bench_estimate(Ns: Sequence[int] | None = None, *, quick: bool = False, targ
 
 def bench_accuracy(Ns: Sequence[int] | None = None, *, quick: bool = False, targets: bool | None = None,
                    progress: Callable[[int, int, str], None] | None = None,
-                   simulator: Simulator | None = None) -> BenchResult:
+                   simulator: Simulator | None = None) -> BenchDocument:
     """Run the sweep (the files are written by :func:`lcchain.report.bench.write_accuracy_bench`).
 
     Parameters

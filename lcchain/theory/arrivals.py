@@ -29,12 +29,12 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Generator, Sequence
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 
 from ..core.blas import fixed_blas_threads
 from ..core.checks import integer
+from ..core.json import JSONDict
 from ..core.limits import MAX_TRANSITS
 from .chain import Chain
 from .modes import Modes, cosine_sum
@@ -74,7 +74,7 @@ class Arrival:
         """1 - peak (delta of the paper for the first arrival)."""
         return 1.0 - self.peak
 
-    def to_dict(self) -> dict[str, Any]:
+    def to_dict(self) -> JSONDict:
         return {"index": self.index, "end": self.end, "time": self.time, "peak": self.peak,
                 "window": list(self.window)}
 

@@ -73,7 +73,7 @@ import functools
 import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TypedDict
 
 import numpy as np
 import scipy  # its submodules load on first use: commands that need no theory never import them
@@ -87,6 +87,7 @@ __all__ = [
     "asymptotic_amplitude",
     "asymptotic_optimum",
     "AsymptoticOptimum",
+    "OptimumDict",
     "EXPONENTS",
 ]
 
@@ -403,6 +404,17 @@ def asymptotic_amplitude(tau: float, sigma: float, case: DesignCase = "two-mass"
     return _PREFACTOR[case] * _integral(tau, sigma, case)
 
 
+class OptimumDict(TypedDict):
+    """:meth:`AsymptoticOptimum.to_dict`: its fields, the coefficients as a dict."""
+
+    case: str
+    alpha: float
+    delta: float
+    sigma: float
+    tau: float
+    coefficients: dict[str, float]
+
+
 @dataclass(frozen=True)
 class AsymptoticOptimum:
     """The maximum of alpha_inf(tau, sigma) and the large-N laws it implies.
@@ -453,7 +465,7 @@ class AsymptoticOptimum:
         frozen = FrozenMap({str(k): float(v) for k, v in dict(self.coefficients).items()})
         object.__setattr__(self, "coefficients", frozen)
 
-    def to_dict(self) -> dict[str, Any]:
+    def to_dict(self) -> OptimumDict:
         """Plain, JSON-serialisable dictionary of the optimum and its coefficients."""
         return {
             "case": str(self.case),

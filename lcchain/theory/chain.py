@@ -17,13 +17,14 @@ import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from fractions import Fraction
-from typing import Any
+from typing import TypeAlias
 
 import numpy as np
 
 from ..core.checks import integer, is_number, real
 from ..core.errors import ParameterError
-from ..core.frozen import readonly
+from ..core.frozen import Reduced, readonly
+from ..core.json import JSONObject
 from ..core.limits import MAX_DESIGN_N, MIN_N
 
 __all__ = ["Chain", "MIN_N", "PERFECT_N", "PERFECT_ARRIVAL", "MAX_COUPLING"]
@@ -65,6 +66,12 @@ def _check_N(N: object, field_name: str = "N") -> int:
 
 def _check_real(name: str, value: object) -> float:
     return real(name, value, allowed="a finite real number")
+
+
+#: What a chain's masses and springs may be (the words of their errors).
+_MASSES, _SPRINGS = "a list of N positive numbers", "a list of N+1 non-negative numbers"
+#: How a named chain was built, for its views: ("xyz", x, y, z), ("rw", r, w) or ("perfect",); () for others.
+ChainParams: TypeAlias = tuple[()] | tuple[str, *tuple[float, ...]]
 
 
 def _numeric_array(name: str, values: object, allowed: str) -> np.ndarray:
@@ -115,11 +122,11 @@ class Chain:
     springs: np.ndarray
     name: str = "custom"
     coupling: float = 0.0
-    _params: tuple[Any, ...] = field(default=(), repr=False, compare=False)
+    _params: ChainParams = field(default=(), repr=False, compare=False)
 
     def __post_init__(self) -> None:
-        masses = _numeric_array("masses", self.masses, "a list of N positive numbers")
-        springs = _numeric_array("springs", self.springs, "a list of N+1 non-negative numbers")
+        masses = _numeric_array("masses", self.masses, _MASSES)
+        springs = _numeric_array("springs", self.springs, _SPRINGS)
         if masses.ndim != 1:
             raise ParameterError("masses", self.masses, "a flat list of N positive numbers")
         N = masses.size
@@ -148,7 +155,7 @@ class Chain:
                                 "(the mass matrix stays positive definite for every N)")
         object.__setattr__(self, "coupling", coupling + 0.0)  # -0.0 is 0.0
 
-    def __reduce__(self) -> tuple[Any, ...]:
+    def __reduce__(self) -> Reduced:
         # Rebuilt through __init__: validated again, and the arrays read-only again.
         return (type(self), (self.masses, self.springs, self.name, self.coupling, self._params))
 
@@ -221,9 +228,9 @@ class Chain:
         return (f"Chain(name={self.name!r}, N={self.N}, masses={short(self.masses)}, springs={short(self.springs)}"
                 f"{coupled})")
 
-    def to_dict(self) -> dict[str, Any]:
+    def to_dict(self) -> JSONObject:
         """The chain as the JSON object ``{"masses": [...], "springs": [...]}`` (bulk units; ``coupling`` if not 0)."""
-        data: dict[str, Any] = {"masses": [float(m) for m in self.masses], "springs": [float(k) for k in self.springs]}
+        data: JSONObject = {"masses": [float(m) for m in self.masses], "springs": [float(k) for k in self.springs]}
         if self.coupled:
             data["coupling"] = self.coupling
         return data
@@ -261,13 +268,14 @@ class Chain:
 
     # ------------------------------------------------------------ constructors
     @classmethod
-    def from_physical(cls, masses: Any, springs: Any, name: str = "custom") -> Chain:
+    def from_physical(cls, masses: Sequence[float] | np.ndarray, springs: Sequence[float] | np.ndarray,
+                      name: str = "custom") -> Chain:
         """The chain with the given masses and springs (bulk units); same as ``Chain(...)``."""
-        return cls(masses, springs, name=name)
+        return cls(_numeric_array("masses", masses, _MASSES), _numeric_array("springs", springs, _SPRINGS), name=name)
 
     @classmethod
     def _quasi_uniform(cls, N: int, m1: float, m2: float, K01: float, K12: float, name: str,
-                       params: tuple[Any, ...]) -> Chain:
+                       params: ChainParams) -> Chain:
         N = _check_N(N)
         masses = np.ones(N)
         springs = np.ones(N + 1)
@@ -460,7 +468,8 @@ class Chain:
     def rw(self) -> tuple[float, float]:
         """The paper's (r, w) of this chain, Eq. e.rw (free quasi-uniform chains only)."""
         if self._params and self._params[0] == "rw":
-            return float(self._params[1]), float(self._params[2])
+            r, w = self._params[1:]
+            return float(r), float(w)
         if not self.is_free:
             raise ParameterError("chain", self.name, "a chain with free ends (K01 = 0) for the (r, w) view")
         x, y, _ = self.xyz()

@@ -25,15 +25,17 @@ the single parameter w and its optimum is the perfect chain, as in Table II.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
-from typing import Any
+from typing import TypeAlias, TypedDict
 
 import numpy as np
 import scipy  # its submodules load on first use: commands that need no theory never import them
 
 from ..core.blas import fixed_blas_threads
 from ..core.checks import choice, integer
+from ..core.errors import ParameterError
+from ..core.json import JSONDict
 from ..core.limits import MAX_DESIGN_N, MIN_N
 from ..core.types import DESIGN_CASES, DesignCase
 from .arrivals import arrival_window, first_arrival, refine_peak
@@ -45,10 +47,21 @@ from .modes import Modes
 __all__ = ["Design", "optimal_design", "optimal_one_mass", "optimal_two_mass", "quartic_w", "DESIGN_CHAINS",
            "DESIGN_TABLES", "design_chain"]
 
+#: A design's parameters by name: ``x``, or ``r`` and ``w`` (None: a parameter the other design has).
+DesignParams: TypeAlias = Mapping[str, float | None]
+
+
+def _parameter(params: DesignParams, name: str) -> float:
+    value = params[name]
+    if value is None:  # the words the chain's own check says for None
+        raise ParameterError(name, value, "a finite real number")
+    return value
+
+
 #: Each optimised design's chain from its parameters (the paper's x of Table I; r and w of Table II).
-DESIGN_CHAINS: dict[str, Callable[[int, Any], Chain]] = {
-    "one-mass": lambda N, params: Chain.one_mass(N, params["x"]),
-    "two-mass": lambda N, params: Chain.from_rw(N, params["r"], params["w"]),
+DESIGN_CHAINS: dict[str, Callable[[int, DesignParams], Chain]] = {
+    "one-mass": lambda N, params: Chain.one_mass(N, _parameter(params, "x")),
+    "two-mass": lambda N, params: Chain.from_rw(N, _parameter(params, "r"), _parameter(params, "w")),
 }
 #: Each optimised design's table in the paper and what it optimises.
 DESIGN_TABLES: dict[str, tuple[str, str]] = {"one-mass": ("Table I", "one optimised mass"),
@@ -57,7 +70,7 @@ DESIGN_TABLES: dict[str, tuple[str, str]] = {"one-mass": ("Table I", "one optimi
 _DESIGN_FIELDS: dict[str, tuple[str, ...]] = {"one-mass": ("Delta", "delta_uniform"), "two-mass": ("r", "w")}
 
 
-def design_chain(case: str, N: int, params: Any) -> Chain:
+def design_chain(case: str, N: int, params: DesignParams) -> Chain:
     """The chain of design ``case`` (``"one-mass"``, ``"two-mass"``) for N masses from its parameters (a mapping
     holding ``x``, or ``r`` and ``w``)."""
     return DESIGN_CHAINS[choice("case", case, DESIGN_CASES)](N, params)
@@ -111,9 +124,9 @@ class Design:
         """The optimised chain."""
         return design_chain(self.case, self.N, {"x": self.x, "r": self.r, "w": self.w})
 
-    def to_dict(self) -> dict[str, Any]:
+    def to_dict(self) -> JSONDict:
         """JSON object: N, case, delta, s, t_arrival, m1, m2, K12, x, y, z and r, w or Delta, delta_uniform."""
-        data = {
+        data: dict[str, str | float | None] = {
             "N": self.N, "case": self.case, "delta": self.delta, "s": self.s, "t_arrival": self.t_arrival,
             "m1": self.m1, "m2": self.m2, "K12": self.K12, "x": self.x, "y": self.y, "z": self.z,
         }
@@ -183,7 +196,23 @@ class _Amplitude:
         return arrival.peak
 
 
-def _finish(case: str, N: int, r: float, w: float, chain: Chain) -> dict[str, Any]:
+class _Found(TypedDict):
+    """The fields of a :class:`Design` both designs compute alike."""
+
+    case: str
+    N: int
+    delta: float
+    s: float
+    t_arrival: float
+    m1: float
+    m2: float
+    K12: float
+    x: float
+    y: float
+    z: float
+
+
+def _finish(case: str, N: int, r: float, w: float, chain: Chain) -> _Found:
     arrival = first_arrival(_modes(N, r, w))
     m1, m2, K12 = float(chain.masses[0]), float(chain.masses[1]), float(chain.springs[1])
     x, y, z = chain.xyz()

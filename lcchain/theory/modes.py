@@ -21,7 +21,7 @@ density P_n = U_n1^2 (Eq. e.Pn).
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -30,6 +30,9 @@ from ..core.blas import fixed_blas_threads
 from ..core.extras import optional_module
 from ..core.frozen import FrozenArrays, readonly
 from ..core.show import html_table, plot, short_repr
+
+if TYPE_CHECKING:
+    import xarray
 
 __all__ = ["Modes", "cosine_sum", "TRANSIT_SPACINGS", "WEIGHT_PRECISION"]
 
@@ -126,7 +129,7 @@ class Modes(FrozenArrays):
     def _repr_html_(self) -> str:
         return html_table("Modes", self._rows())
 
-    def plot(self, ax: Any = None) -> Any:
+    def plot(self, ax: object = None) -> object:
         """The mode density P_n against omega_n with the spacing on a twin axis (the paper's Fig. Pk).
 
         Returns
@@ -136,13 +139,15 @@ class Modes(FrozenArrays):
         """
         return plot("modes", self, ax=ax)
 
-    def to_xarray(self) -> Any:
+    def to_xarray(self) -> xarray.Dataset:
         """The modes as an xarray Dataset on ``mode`` (n = 1..N): ``omega`` (units of 1/sqrt(L0 C0)),
         ``density`` and ``transfer`` (dimensionless; NaN where below :attr:`precision`), ``k`` where the closed form
         gives it.  xarray is optional: ``pip install 'lcchain[data]'``."""
-        xr = optional_module("xarray", "data", "Modes.to_xarray")
+        optional_module("xarray", "data", "Modes.to_xarray")  # or the error naming the extra that installs it
+        import xarray as xr
+
         transfer = np.where(self.precise(), self.transfer, np.nan)
-        variables: dict[str, Any] = {
+        variables: dict[str, tuple[str, np.ndarray, dict[str, str]]] = {
             "omega": ("mode", self.omega, {"units": "1", "long_name": "normal frequency, units of 1/sqrt(L0 C0)"}),
             "density": ("mode", self.density, {"units": "1", "long_name": "mode density at loop 1"}),
             "transfer": ("mode", transfer, {"units": "1", "long_name": "end-to-end weight (NaN: below precision)"})}

@@ -72,8 +72,8 @@ from __future__ import annotations
 
 import math
 import warnings
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 import scipy  # its submodules load on first use: commands that need no theory never import them
@@ -81,6 +81,7 @@ import scipy  # its submodules load on first use: commands that need no theory n
 from ..core.blas import fixed_blas_threads
 from ..core.checks import instance, integer, numbers_list
 from ..core.errors import DesignError, ParameterError
+from ..core.json import JSONDict
 from ..core.limits import MAX_PERFECT_N, MIN_N
 from .chain import PERFECT_N, Chain
 
@@ -376,7 +377,7 @@ def _solve(omega: np.ndarray, free: bool) -> np.ndarray:
 
 
 # ------------------------------------------------------------------ public
-def _check_spectrum(omega: Any) -> tuple[np.ndarray, bool]:
+def _check_spectrum(omega: object) -> tuple[np.ndarray, bool]:
     values = np.array(numbers_list("frequencies", omega, "ascending frequencies omega_1 < ... < omega_N"))
     if values.size < MIN_N:
         raise ParameterError("frequencies", f"{values.size} values", f"at least {MIN_N} frequencies (one per mass)")
@@ -431,7 +432,7 @@ def mode_density_from_spectrum(mu: np.ndarray) -> np.ndarray:
     return np.asarray(weight / weight.sum())
 
 
-def chain_from_spectrum(frequencies: Any, name: str = "from spectrum") -> tuple[Chain, float]:
+def chain_from_spectrum(frequencies: Sequence[float] | np.ndarray, name: str = "from spectrum") -> tuple[Chain, float]:
     """The mirror-symmetric chain with exactly these frequencies.
 
     Parameters
@@ -543,7 +544,7 @@ class PerfectDesign:
         return {"mass_max": float(m.max()), "mass_min": float(m.min()), "spring_max": float(inner.max()),
                 "spring_min": float(inner.min()), "distinct_masses": distinct(m), "distinct_springs": distinct(inner)}
 
-    def to_dict(self) -> dict[str, Any]:
+    def to_dict(self) -> JSONDict:
         """The JSON of ``lcchain design --case perfect``."""
         return {"N": self.N, "case": "perfect", "walls": self.walls, "masses": [float(v) for v in self.chain.masses],
                 "springs": [float(v) for v in self.chain.springs], "t_arrival": self.t_arrival, "delta": self.delta,

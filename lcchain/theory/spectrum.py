@@ -9,9 +9,9 @@ the return amplitude are modal cosine sums (:func:`lcchain.theory.modes.cosine_s
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..core.blas import fixed_blas_threads
 from ..core.checks import instance
@@ -24,7 +24,7 @@ from .exact import exact_modes
 from .modes import Modes, cosine_sum
 
 __all__ = ["normal_modes", "modes_of", "MODE_SOLVERS", "transmission_amplitude", "return_amplitude",
-           "CLOSED_FORM_MIN_N", "driving_admittance"]
+           "CLOSED_FORM_MIN_N", "driving_admittance", "admittance_with_bound"]
 
 #: A mode method: the normal modes of a chain.
 ModeSolver = Callable[[Chain], Modes]
@@ -94,7 +94,7 @@ def modes_of(chain_or_modes: Chain | Modes, method: ModeMethod | ModeSolver = "a
 
 
 # ------------------------------------------------------------------ responses
-def _finite_times(t: Any) -> Any:
+def _finite_times(t: ArrayLike) -> ArrayLike:
     """Times as given (a number or an array), or ParameterError naming the first that is not finite."""
     try:
         times = np.asarray(t, dtype=float)
@@ -107,7 +107,7 @@ def _finite_times(t: Any) -> Any:
 
 
 @fixed_blas_threads
-def transmission_amplitude(chain_or_modes: Chain | Modes, t: Any,
+def transmission_amplitude(chain_or_modes: Chain | Modes, t: ArrayLike,
                            method: ModeMethod = "auto") -> np.ndarray | float:
     """Transmission amplitude alpha_N(t), Eq. e.utn.
 
@@ -129,7 +129,7 @@ def transmission_amplitude(chain_or_modes: Chain | Modes, t: Any,
 
 
 @fixed_blas_threads
-def return_amplitude(chain_or_modes: Chain | Modes, t: Any, method: ModeMethod = "auto") -> np.ndarray | float:
+def return_amplitude(chain_or_modes: Chain | Modes, t: ArrayLike, method: ModeMethod = "auto") -> np.ndarray | float:
     """The first mass's own response, sum_n P_n cos(omega_n t) (1 at t = 0).
 
     This is what comes back to loop 1 after each round trip.
@@ -138,13 +138,105 @@ def return_amplitude(chain_or_modes: Chain | Modes, t: Any, method: ModeMethod =
     return cosine_sum(modes.density, modes.omega, _finite_times(t))
 
 
-def driving_admittance(chain: Chain, omega: np.ndarray, Q: float | None = None) -> np.ndarray:
+#: A complex operation's relative rounding in the running error bound of :func:`admittance_with_bound`, in units of
+#: the unit roundoff u (Higham, *Accuracy and Stability of Numerical Algorithms*, 2nd ed., Sec. 3.6: a complex
+#: product within sqrt(2) gamma_2, a quotient within sqrt(2) gamma_4 ~ 5.7 u; 8 u bounds either, with the input's
+#: own rounding).
+_COMPLEX_ROUNDING = 8.0
+
+
+def _continued_fraction(chain: Chain, omega: np.ndarray, Q: float | None, extended: bool
+                        ) -> tuple[np.ndarray, np.ndarray]:
+    """The first pivot d_1 of (s^2 + s/Q) M + K at s = j omega, eliminated from the far end, d_i = a_i - o_i^2 /
+    d_(i+1), in float64 or (``extended``) long double, and its first-order running error bound |d_1 - exact| /
+    |d_1| (Wilkinson's running error analysis: each step's rounding from the computed values themselves).  O(N)
+    vector operations on the frequencies, never an (N x frequencies) array."""
+    real = np.longdouble if extended else np.float64
+    u = float(np.finfo(real).eps) / 2.0
+    c = _COMPLEX_ROUNDING * u
+    w: np.ndarray = np.asarray(omega, dtype=real)
+    s: np.ndarray = w * np.asarray(1j, dtype=np.clongdouble if extended else np.complex128)
+    lam = s * s + (0 if Q is None else s / real(Q))
+    size = np.abs(lam).astype(float)  # |lambda|: the bound needs no extended precision
+    mass, coupling = (np.asarray(band, dtype=float) for band in chain.mass_matrix_bands())
+    K = np.asarray(chain.springs, dtype=float)
+    springs: np.ndarray = np.asarray(K, dtype=real)  # the sums and squares of the springs in the working precision
+    diagonal, square = springs[:-1] + springs[1:], springs[1:-1] * springs[1:-1]
+    sizes = K[:-1] + K[1:]
+    coupled = bool(np.any(coupling != 0))
+    pivot = lam * real(mass[-1]) + diagonal[-1]
+    error = c * (size * mass[-1] + sizes[-1])  # |d - exact|, absolute
+    modulus = np.abs(pivot) if not extended else np.abs(pivot).astype(float)
+    for i in range(chain.N - 2, -1, -1):
+        # |o^2 / d| carries d's error relative, o's twice and the products' rounding; d_i = a_i - o^2 / d adds a_i's
+        # rounding and the difference's
+        if coupled:
+            off = lam * real(coupling[i]) - springs[i + 1]
+            off_size = np.abs(off).astype(float)
+            term = off * off / pivot
+            term_size = off_size * off_size / modulus
+            term_error = term_size * (error / modulus + c + u) + 2.0 * off_size * c * (
+                size * abs(coupling[i]) + K[i + 1]) / modulus
+        else:
+            term = square[i] / pivot
+            term_size = (K[i + 1] * K[i + 1]) / modulus
+            term_error = term_size * (error / modulus + (c + u))
+        pivot = lam * real(mass[i]) + diagonal[i] - term
+        error = term_error + (c + u) * (size * mass[i] + sizes[i])
+        modulus = np.abs(pivot) if not extended else np.abs(pivot).astype(float)
+    return pivot, error / modulus
+
+
+def admittance_with_bound(chain: Chain, omega: np.ndarray, Q: float | None = None,
+                          rtol: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+    """The ladder's Y_11 Z0 (:func:`driving_admittance`) and a bound on its relative error at each frequency.
+
+    The continued fraction runs in float64 with a first-order running error bound (Wilkinson; Higham, Sec. 3.3):
+    at each pivot d_i = a_i - o_i^2 / d_(i+1) the rounding of a_i, of o_i^2 and of the quotient (each within
+    :data:`_COMPLEX_ROUNDING` u of its size) and d_(i+1)'s own error, taken relative to |d_i|.  The bound grows
+    where a pivot cancels (near a resonance of Y_11's chain or of a tail's: about u Q omega_n at a lossy peak).
+    Where it exceeds ``rtol`` the frequency is computed again in long double (``numpy.clongdouble``, u = 2^-64 on
+    x86-64), whose bound is the same running sum in that unit.
+
+    Parameters
+    ----------
+    chain : Chain
+    omega : ndarray
+        Angular frequencies, units of 1/sqrt(L0 C0), > 0.
+    Q : float, optional
+        The losses' quality factor; None: lossless.
+    rtol : float
+        The relative bound wanted; 0: every frequency in long double.
+
+    Returns
+    -------
+    Y : ndarray, complex
+    bound : ndarray
+        Each frequency's relative error bound (first order).
+    """
+    instance("chain", chain, Chain)
+    w = np.asarray(omega, dtype=float)
+    Y, bound = np.empty(w.size, dtype=complex), np.empty(w.size)
+    again = np.ones(w.size, dtype=bool)
+    if rtol > 0:
+        pivot, relative = _continued_fraction(chain, w, Q, extended=False)
+        Y, bound = 1j * w / pivot, relative + _COMPLEX_ROUNDING * float(np.finfo(float).eps)
+        again = bound > rtol
+    if again.any():
+        pivot, relative = _continued_fraction(chain, w[again], Q, extended=True)
+        Y[again] = np.asarray(1j * w[again].astype(np.longdouble) / pivot, dtype=complex)
+        bound[again] = relative + float(np.finfo(float).eps)  # the long double result rounded to float64
+    return Y, bound
+
+
+def driving_admittance(chain: Chain, omega: np.ndarray, Q: float | None = None, rtol: float = 0.0) -> np.ndarray:
     """The ladder's Y_11 Z0 = I_1/V_1 sqrt(L0/C0) at s = j omega, exactly: the velocity of mass 1 per unit force on
     it, s [(s^2 + s/Q) M + K]^(-1)_11 (Eq. e.Horig with losses proportional to the masses, gamma = 1/Q).
 
-    No modes: the (1, 1) entry of the tridiagonal's inverse by its continued fraction from the far end, in
-    extended precision (``numpy.clongdouble``), so a merged spectrum's envelope is compared with the circuit's
-    whatever the modes' overlap.
+    No modes: the (1, 1) entry of the tridiagonal's inverse by its continued fraction from the far end, so a merged
+    spectrum's envelope is compared with the circuit's whatever the modes' overlap; in float64 where its running
+    error bound is at most ``rtol``, else in extended precision (:func:`admittance_with_bound`, which also returns
+    the bound; ``rtol`` = 0: every frequency in long double).
 
     Parameters
     ----------
@@ -154,15 +246,7 @@ def driving_admittance(chain: Chain, omega: np.ndarray, Q: float | None = None) 
         Angular frequencies, units of 1/sqrt(L0 C0), > 0.
     Q : float, optional
         The losses' quality factor; None: lossless.
+    rtol : float
+        The relative error bound that float64 must meet at a frequency (0: long double everywhere).
     """
-    instance("chain", chain, Chain)
-    s = 1j * np.asarray(omega, dtype=np.longdouble)
-    lam = s * s + (0 if Q is None else s / np.longdouble(Q))
-    mass, coupling = (np.asarray(band, dtype=np.longdouble) for band in chain.mass_matrix_bands())
-    K = np.asarray(chain.springs, dtype=np.longdouble)
-    diagonal = lam[None, :] * mass[:, None] + (K[:-1] + K[1:])[:, None]
-    off = lam[None, :] * coupling[:, None] - K[1:-1][:, None]
-    pivot = diagonal[-1]
-    for i in range(chain.N - 2, -1, -1):
-        pivot = diagonal[i] - off[i] * off[i] / pivot
-    return np.asarray(s / pivot, dtype=complex)
+    return admittance_with_bound(chain, omega, Q, rtol)[0]

@@ -38,13 +38,13 @@ import heapq
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any
 
 import numpy as np
 
 from ..core.blas import fixed_blas_threads
 from ..core.checks import choice, integer, real
 from ..core.errors import ParameterError
+from ..core.json import JSONDict
 from ..core.limits import WORST_CASE_MODEL_NODES
 from ..core.types import ARRIVAL_METRICS, ArrivalMetric
 from .arrivals import arrival_window
@@ -265,7 +265,7 @@ class WorstCaseSearch:
         """The worst point as corner signs, when it is a vertex."""
         return tuple(int(round(v)) for v in self.point) if self.vertex else None
 
-    def to_dict(self) -> dict[str, Any]:
+    def to_dict(self) -> JSONDict:
         return {"method": "search", "metric": self.metric, "nominal": self.nominal, "worst": self.worst,
                 "point": list(self.point), "vertex": self.vertex, "gradient_corner": self.gradient_corner,
                 "model_bound": self.model_bound, "model_error": self.model_error, "bound": self.bound,

@@ -27,3 +27,38 @@ def dense_shapes(chain: Chain) -> tuple[np.ndarray, np.ndarray]:
     if chain.is_free:
         omega[0] = 0.0
     return omega, u
+
+
+def rational_admittance(chain: Chain, omega: float, Q: float) -> complex:
+    """Y_11 Z0 = s [(s^2 + s/Q) M + K]^-1_11 at s = j omega in exact rational arithmetic (fractions.Fraction, complex
+    numbers as pairs), eliminating the tridiagonal from the far end: the float inputs taken as the exact rationals
+    they are, one rounding at the end.  Independent of lcchain's own evaluation (float64 and long double)."""
+    from fractions import Fraction
+
+    def mul(a: tuple[Fraction, Fraction], b: tuple[Fraction, Fraction]) -> tuple[Fraction, Fraction]:
+        return a[0] * b[0] - a[1] * b[1], a[0] * b[1] + a[1] * b[0]
+
+    def inv(a: tuple[Fraction, Fraction]) -> tuple[Fraction, Fraction]:
+        size = a[0] * a[0] + a[1] * a[1]
+        return a[0] / size, -a[1] / size
+
+    w, q = Fraction(omega), Fraction(Q)
+    lam = (-w * w, w / q)  # s^2 + s/Q at s = j omega
+    m = [Fraction(v) for v in chain.masses]
+    K = [Fraction(v) for v in chain.springs]
+    mutual = [Fraction(v) for v in chain.mass_matrix_bands()[1]]
+    N = len(m)
+
+    def diagonal(i: int) -> tuple[Fraction, Fraction]:
+        return lam[0] * m[i] + K[i] + K[i + 1], lam[1] * m[i]
+
+    def off(i: int) -> tuple[Fraction, Fraction]:  # entry (i, i + 1)
+        return lam[0] * mutual[i] - K[i + 1], lam[1] * mutual[i]
+
+    pivot = diagonal(N - 1)
+    for i in range(N - 2, -1, -1):
+        term = mul(mul(off(i), off(i)), inv(pivot))
+        d = diagonal(i)
+        pivot = (d[0] - term[0], d[1] - term[1])
+    y = mul((Fraction(0), w), inv(pivot))
+    return complex(float(y[0]), float(y[1]))
