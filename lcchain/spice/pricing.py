@@ -485,13 +485,15 @@ def _scopes(text: str) -> tuple[dict[str, _Scope], dict[str, float], dict[str, f
     stack = [""]
     control = False  # in a .control block (a netlist run as it is): commands, not elements
     cards = scopes[""].cards  # the innermost open body's
-    for number, line in logical_lines(text)[1:]:  # the first line is the title
+    lines = logical_lines(text)
+    for k in range(1, len(lines)):  # the first line is the title
+        number, line = lines[k]
         head = line[:1]
         if not head.isalpha():  # an element line starts with its letter, but may follow blanks
             head = line.lstrip()[:1]
         if head.isalpha():
             if not control:
-                cards.append((number, line))
+                cards.append(lines[k])
             continue
         if head != ".":
             continue
