@@ -9,8 +9,10 @@ cards, ``+`` continuations, upper case, CRLF, ``.meas``, ``.op`` and ``.dc`` car
   (:func:`lcchain.spice.text.dot_cards`) instead of a look at every line: compared with the per-line readers they
   replaced, written out below as they were;
 * the common element line (an R, L, C, K, V, I or B line of plain characters) takes one match in the allow-list
-  (``foreign._PLAIN_ELEMENT``), an inductor or a capacitor a short branch in the price (``pricing._PLAIN_REACTIVE``):
-  compared with the general path, which the tests take by emptying those two (``monkeypatch``);
+  (``foreign._PLAIN_ELEMENT``), an inductor or a capacitor a short branch in the price (``pricing._PLAIN_REACTIVE``),
+  a netlist without ``+`` lines is split into cards at once (``foreign._CONTINUED``) and an ASCII one is told
+  canonical without a search (``text._CANONICAL_ASCII``): compared with the general path, which the tests take by
+  emptying those (``monkeypatch``);
 * :func:`lcchain.spice.foreign.read_foreign` reads the analysis, the saves and the price at once: compared with
   :func:`~lcchain.spice.foreign.analysis_of`, :func:`~lcchain.spice.text.saved_vectors` and
   :func:`~lcchain.spice.foreign.foreign_price` called one after the other, as the plan called them.
@@ -185,6 +187,7 @@ def _plan(path: Path, trusted: bool) -> tuple[object, ...]:
 def _slow_path(monkeypatch: pytest.MonkeyPatch) -> None:
     """The general path everywhere: no line is plain, no ASCII text is canonical without a search."""
     monkeypatch.setattr(foreign, "_PLAIN_ELEMENT", re.compile(r"(?!)"))
+    monkeypatch.setattr(foreign, "_CONTINUED", re.compile(""))  # found everywhere: every line looked at
     monkeypatch.setattr(pricing, "_PLAIN_REACTIVE", frozenset())
     monkeypatch.setattr(text_module, "_CANONICAL_ASCII", b"")
 

@@ -162,6 +162,8 @@ _INLINE_COMMENT = re.compile(r"(;|\s\$).*$")
 # without a blank at either end (it is its own stripped body), so without an inline comment (no ";" or "$").
 _PLAIN_CHARACTER = r"A-Za-z0-9_.+\-*/^()\[\],=<>!&|?:%#@"  # _CHARACTERS but braces, space and tab
 _PLAIN_ELEMENT = re.compile(rf"[BCIKLRVbciklrv](?:[{_PLAIN_CHARACTER} \t]*[{_PLAIN_CHARACTER}])?")
+# A line that continues another (its first character that is not blank a "+"), past the first line.
+_CONTINUED = re.compile(r"\n[^\S\n]*\+")
 _SCRIPT = re.compile(r"^\s*\*\s*(#|ng_script)", re.IGNORECASE)
 # A title ngspice would read as a command; ".title TEXT" (PySpice writes it) only sets the title.
 _TITLE_COMMAND = re.compile(r"^\s*(\.(?!title\s)[A-Za-z]|\*\s*(#|ng_script))", re.IGNORECASE)
@@ -434,6 +436,8 @@ def _cards(text: str, source: str, *, title: bool) -> tuple[str, list[_Card]]:
             raise _refuse((source, start + 1, head, False), "a title line (the first line is the netlist's title; "
                           "a dot-command, *# or *ng_script there would make ngspice read it as a command)")
         start += 1
+    if _CONTINUED.search(text) is None and lines[0].lstrip()[:1] != "+":  # no line continues another
+        return head, [(source, number, line, False) for number, line in enumerate(lines[start:], start + 1)]
     cards: list[_Card] = []
     last = -1  # the card a "+" line continues: the last element or dot-command card
     for number in range(start + 1, len(lines) + 1):
