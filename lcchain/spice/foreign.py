@@ -89,7 +89,7 @@ from __future__ import annotations
 
 import math
 import re
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import ClassVar
@@ -121,13 +121,13 @@ from .cards import (
     subckt_header,
 )
 from .expressions import FUNCTIONS, MAX_PARAMS, braced_expressions, check_expression, is_param_card, param_assignments
-from .measure import MEASURE_WORDS, check_measure, measure_names
+from .measure import MEASURE_WORDS, check_measure, measure_names_in
 from .pricing import Contents, Price, operating_price, read_contents, sweep_price, transient_price
-from .text import NEWLINE, canonical_text, logical_lines, spice_number
+from .text import NEWLINE, DotCard, canonical_text, dot_cards, require_canonical, saved_in, spice_number
 
 __all__ = ["ALLOW_CONTROL_HINT", "ELEMENTS", "DOT_COMMANDS", "SUBCKT_COMMANDS", "OPTIONS", "MAX_INCLUDE_DEPTH",
            "Transient", "Sweep", "CheckedText", "allowed_netlist", "transient_of", "analysis_of", "log_sweep_count",
-           "foreign_estimate", "foreign_price"]
+           "foreign_estimate", "foreign_price", "ForeignRun", "read_foreign"]
 
 #: First letters of the element lines lcchain runs: resistors, inductors, capacitors, coupled inductors,
 #: independent voltage and current sources, behavioural sources (lcchain's own gaussian pulses), the devices of a
@@ -157,6 +157,13 @@ MAX_INCLUDE_DEPTH = 8
 # names), backslash, backtick, control character or non-ASCII letter.
 _CHARACTERS = re.compile(r"[A-Za-z0-9_.+\-*/^(){}\[\],=<>!&|?:%#@ \t]*")
 _INLINE_COMMENT = re.compile(r"(;|\s\$).*$")
+# An element line the checks of _allowed accept as it is, counting it and nothing more: its letter one of
+# ELEMENTS that names no model nor sub-circuit, written in _CHARACTERS without braces (no expression to check) and
+# without a blank at either end (it is its own stripped body), so without an inline comment (no ";" or "$").
+_PLAIN_CHARACTER = r"A-Za-z0-9_.+\-*/^()\[\],=<>!&|?:%#@"  # _CHARACTERS but braces, space and tab
+_PLAIN_ELEMENT = re.compile(rf"[BCIKLRVbciklrv](?:[{_PLAIN_CHARACTER} \t]*[{_PLAIN_CHARACTER}])?")
+# A line that continues another (its first character that is not blank a "+"), past the first line.
+_CONTINUED = re.compile(r"\n[^\S\n]*\+")
 _SCRIPT = re.compile(r"^\s*\*\s*(#|ng_script)", re.IGNORECASE)
 # A title ngspice would read as a command; ".title TEXT" (PySpice writes it) only sets the title.
 _TITLE_COMMAND = re.compile(r"^\s*(\.(?!title\s)[A-Za-z]|\*\s*(#|ng_script))", re.IGNORECASE)
@@ -326,13 +333,23 @@ _CARD_CHECKS: dict[str, Callable[[_Card, str, _Names], None]] = {
 }
 
 
+def _count_element(card: _Card, state: _Names) -> None:
+    """One more element line in the body it is in, refused past :data:`lcchain.core.limits.MAX_EXPANDED_ELEMENTS`
+    in one body, before any copy."""
+    body_name = state.open[-1][1].name if state.open else ""
+    count = state.elements[body_name] = state.elements.get(body_name, 0) + 1
+    if count > MAX_EXPANDED_ELEMENTS:
+        raise _too_many_elements(card)
+
+
+def _too_many_elements(card: _Card) -> ParameterError:
+    return _refuse(card, f"a netlist of at most {MAX_EXPANDED_ELEMENTS} elements")
+
+
 def _check_element(card: _Card, body: str, state: _Names) -> None:
     letter = body[0].upper()
     if letter != "X":
-        body_name = state.open[-1][1].name if state.open else ""
-        count = state.elements[body_name] = state.elements.get(body_name, 0) + 1
-        if count > MAX_EXPANDED_ELEMENTS:  # in one body, before any copy
-            raise _refuse(card, f"a netlist of at most {MAX_EXPANDED_ELEMENTS} elements")
+        _count_element(card, state)
         if letter in DEVICES:
             state.devices.append((card, body.split()))
         if "{" in body or "}" in body:
@@ -419,11 +436,15 @@ def _cards(text: str, source: str, *, title: bool) -> tuple[str, list[_Card]]:
             raise _refuse((source, start + 1, head, False), "a title line (the first line is the netlist's title; "
                           "a dot-command, *# or *ng_script there would make ngspice read it as a command)")
         start += 1
+    if _CONTINUED.search(text) is None and lines[0].lstrip()[:1] != "+":  # no line continues another
+        return head, [(source, number, line, False) for number, line in enumerate(lines[start:], start + 1)]
     cards: list[_Card] = []
     last = -1  # the card a "+" line continues: the last element or dot-command card
     for number in range(start + 1, len(lines) + 1):
         line = lines[number - 1]
-        first = line.lstrip()[:1]
+        first = line[:1]
+        if first.isspace():  # most lines start with their card
+            first = line.lstrip()[:1]
         if first == "+":
             if last < 0:
                 raise _refuse((source, number, line, False), "a continuation (+) of an element or dot-command line")
@@ -545,10 +566,19 @@ def _allowed(text: str, source: str, folder: Path | None, read: Callable[[Path, 
     head, cards = _cards(text, source, title=_depth == 0)
     out = [head] if _depth == 0 else []
     changed = _depth == 0 and not text.startswith(head)  # blank lines before the title are dropped
+    plain = _PLAIN_ELEMENT.fullmatch
+    elements = state.elements
     for card in cards:
         line = card[2]
-        stripped = line.strip()
         changed |= card[3]
+        if plain(line):  # most lines of a ladder: what the checks below make of them, told by one match
+            body_name = state.open[-1][1].name if state.open else ""
+            count = elements[body_name] = elements.get(body_name, 0) + 1
+            if count > MAX_EXPANDED_ELEMENTS:
+                raise _too_many_elements(card)
+            out.append(line)
+            continue
+        stripped = line.strip()
         if not stripped or stripped[0] == "*":
             if _SCRIPT.match(stripped):
                 raise _refuse(card, "a comment that does not start with *# or *ng_script (ngspice reads those "
@@ -773,10 +803,11 @@ def _reltol(text: str) -> float:
     return found
 
 
-def _analysis_cards(text: str) -> list[tuple[int, str]]:
-    """(line number, card) of every analysis: ngspice runs each one it finds."""
+def _analysis_cards(dots: Sequence[DotCard]) -> list[tuple[int, str]]:
+    """(line number, card) of every analysis among a text's :func:`~lcchain.spice.text.dot_cards` (read as they
+    are, canonical or not): ngspice runs each one it finds."""
     found: list[tuple[int, str]] = []
-    for number, line in enumerate(text.split("\n"), start=1):
+    for number, line, _ in dots:  # each physical line that starts a card
         word = line.split(None, 1)[0].lower() if line.strip() else ""
         if word in (".tran", ".ac"):
             found.append((number, line.strip()))
@@ -796,14 +827,22 @@ def analysis_of(text: str, source: str, version: Callable[[], str] | None = None
     ``version`` gives the ngspice version that will run it (``"39"``), asked only for an ``.ac dec`` card: how
     many frequencies ngspice makes of one depends on it (:func:`log_sweep_count`).
     """
-    found = _analysis_cards(text)
+    dots = dot_cards(text, canonical=False)
+    return _analysis(text, dots, bool(measure_names_in(dots)), source, version)
+
+
+def _analysis(text: str, dots: Sequence[DotCard], measured: bool, source: str,
+              version: Callable[[], str] | None) -> Transient | Sweep:
+    """:func:`analysis_of` of a text with its :func:`~lcchain.spice.text.dot_cards` (not required canonical) and
+    whether it has ``.meas`` cards."""
+    found = _analysis_cards(dots)
     if not found:
         raise ParameterError(source, ".tran/.ac", "a netlist with one .tran or .ac analysis (lcchain reads transients "
                              "and AC sweeps; .op and .dc cards run beside one)")
     _one_analysis(found, source)
     number, line = found[0]
     if line.split(None, 1)[0].lower() != ".ac":
-        return transient_of(text, source)
+        return _transient(found, source)
     words = [w for w in re.split(r"[\s,()]+", line) if w]
     values = [spice_number(w) for w in words[2:]]
     spacing = words[1].lower() if len(words) > 1 else ""
@@ -816,8 +855,9 @@ def analysis_of(text: str, source: str, version: Callable[[], str] | None = None
     if not (count.is_integer() and 1 <= count <= MAX_AC_POINTS and 0 <= start < stop) or (
             spacing != "lin" and start <= 0):
         raise ParameterError(f"{source}: line {number}", line[:200], allowed)
-    if measure_names(text):
-        _unmeasured_beside(text, source)
+    if measured:
+        require_canonical(text)
+        _unmeasured_beside(dots, source)
     if spacing == "lin":
         return Sweep(int(count), start, stop)
     major = 0
@@ -834,12 +874,12 @@ def analysis_of(text: str, source: str, version: Callable[[], str] | None = None
     return Sweep(frequencies, start, stop, spacing, int(count))
 
 
-def _unmeasured_beside(text: str, source: str) -> None:
+def _unmeasured_beside(dots: Sequence[DotCard], source: str) -> None:
     """Refuse an ``.op`` or ``.dc`` beside an ``.ac`` that is measured: ngspice 39 runs them after the sweep and
     measures the last plot it made, so every ``.meas ac`` would come back empty (measured: "Measurements for AC
     Analysis" and no value)."""
-    for number, line in logical_lines(text)[1:]:
-        word = line.split(None, 1)[0].lower() if line.strip() else ""
+    for number, _, line in dots:
+        word = line.split(None, 1)[0].lower() if number > 1 else ""  # the first line is the title
         if word in (".op", ".dc"):
             raise ParameterError(f"{source}: line {number}", line.strip()[:200], "no .op or .dc beside a measured "
                                  ".ac (ngspice 39 runs them after the sweep and measures their plot instead)")
@@ -851,7 +891,11 @@ def transient_of(text: str, source: str) -> Transient:
     ngspice runs every analysis card it finds, so a second one (a cheap ``.tran`` priced, a dear one run)
     is refused, and so is an ``.ac`` beside it: lcchain reads one transient.
     """
-    found = _analysis_cards(text)
+    return _transient(_analysis_cards(dot_cards(text, canonical=False)), source)
+
+
+def _transient(found: list[tuple[int, str]], source: str) -> Transient:
+    """:func:`transient_of` of the analysis cards ``found`` (:func:`_analysis_cards`)."""
     if not found or found[0][1].split(None, 1)[0].lower() != ".tran":
         raise ParameterError(source, ".tran", "a netlist with a .tran analysis (lcchain reads transients)")
     _one_analysis(found, source)
@@ -869,12 +913,12 @@ def transient_of(text: str, source: str) -> Transient:
     return Transient(step, stop, start, min(tmax, default) if tmax > 0 else default)
 
 
-def _operating_points(text: str) -> int:
+def _operating_points(dots: Sequence[DotCard]) -> int:
     """The operating points of a netlist's ``.op`` (one each) and ``.dc`` cards
-    (:func:`lcchain.spice.cards.dc_points`)."""
+    (:func:`lcchain.spice.cards.dc_points`), among its :func:`~lcchain.spice.text.dot_cards`."""
     points = 0
-    for _, line in logical_lines(text)[1:]:
-        word = line.split(None, 1)[0].lower() if line.strip() else ""
+    for number, _, line in dots:
+        word = line.split(None, 1)[0].lower() if number > 1 else ""  # the first line is the title
         if word == ".op":
             points += 1
         elif word == ".dc":
@@ -903,11 +947,19 @@ def foreign_price(text: str, analysis: Transient | Sweep, saved: int, source: st
         A source function lcchain cannot price, naming the line.
     """
     contents = read_contents(text, source)
+    dots = dot_cards(text)
+    return _priced(contents, dots, bool(measure_names_in(dots)), analysis, saved)
+
+
+def _priced(contents: Contents, dots: Sequence[DotCard], measured: bool, analysis: Transient | Sweep,
+            saved: int) -> Price:
+    """:func:`foreign_price` of a netlist's contents, :func:`~lcchain.spice.text.dot_cards` and whether it has
+    ``.meas`` cards."""
     price = analysis.price(contents, saved)
-    points = _operating_points(text)
+    points = _operating_points(dots)
     if points:  # ngspice runs every .op and .dc card beside the analysis lcchain reads
         price = price.plus(operating_price(contents, points=points, saved=saved))
-    if measure_names(text):  # measured, ngspice keeps every value in memory (no raw file streamed): vectors
+    if measured:  # measured, ngspice keeps every value in memory (no raw file streamed): vectors
         kept = MEASURED_BYTES_FACTOR * price.output_bytes  # that grow by doubling
         price = replace(price, memory=price.memory + kept, simulator_memory=price.simulator_memory + kept)
     return price
@@ -921,3 +973,41 @@ MEASURED_BYTES_FACTOR = 2.0
 def foreign_estimate(text: str, analysis: Transient | Sweep, saved: int, source: str = "netlist") -> Estimate:
     """:func:`foreign_price` as the estimate a budget checks."""
     return foreign_price(text, analysis, saved, source).estimate
+
+
+@dataclass(frozen=True)
+class ForeignRun:
+    """What a checked foreign netlist will run and cost (:func:`read_foreign`).
+
+    Attributes
+    ----------
+    analysis : Transient or Sweep
+        Its one analysis (:func:`analysis_of`).
+    saved : tuple of str
+        The vectors its ``.save`` lines name (:func:`lcchain.spice.text.saved_vectors`).
+    price : Price
+        What its run costs (:func:`foreign_price` with ``len(saved)``).
+    """
+
+    analysis: Transient | Sweep
+    saved: tuple[str, ...]
+    price: Price
+
+
+def read_foreign(text: str, source: str, version: Callable[[], str] | None = None) -> ForeignRun:
+    """:func:`analysis_of`, :func:`lcchain.spice.text.saved_vectors` and :func:`foreign_price` of one netlist (as
+    ngspice will receive it), each exactly as called alone and in that order (the same refusals first), its text
+    searched once for the dot-commands all three read: what a batch's plan needs of each netlist.
+
+    Raises
+    ------
+    ParameterError
+        As those three.
+    """
+    dots = dot_cards(text, canonical=False)
+    measured = bool(measure_names_in(dots))
+    analysis = _analysis(text, dots, measured, source, version)
+    require_canonical(text)  # as saved_vectors refuses a text that is not
+    saved = saved_in(dots)
+    price = _priced(read_contents(text, source), dots, measured, analysis, len(saved))
+    return ForeignRun(analysis, saved, price)

@@ -32,13 +32,15 @@ ngspice's reason, and does not fail the run.
 from __future__ import annotations
 
 import re
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable, Mapping, Sequence
 
 from ..core.errors import ParameterError
 from .expressions import check_expression
+from .text import DotCard, dot_cards
 
 __all__ = ["valid_measure_name", "measurement_fields", "MEASUREMENTS", "MEASURE_REASONS", "MEASURE_WORDS",
-           "MEASURE_KINDS", "MAX_MEASUREMENTS", "check_measure", "measure_names", "measure_control",
+           "MEASURE_KINDS", "MAX_MEASUREMENTS", "check_measure", "measure_names", "measure_names_in",
+           "measure_control",
            "read_measurements", "Measurements"]
 
 #: The dot-commands that are measurements in ngspice 39.
@@ -122,8 +124,13 @@ def valid_measure_name(name: str) -> bool:
 
 def measure_names(text: str) -> list[str]:
     """The measurement names of a checked netlist's ``.meas`` cards, in order (lower case)."""
+    return measure_names_in(dot_cards(text, canonical=False))  # a .meas card is a dot card
+
+
+def measure_names_in(cards: Sequence[DotCard]) -> list[str]:
+    """:func:`measure_names` of a netlist's :func:`~lcchain.spice.text.dot_cards`."""
     names = []
-    for line in text.split("\n"):
+    for _, line, _ in cards:  # each physical line that starts a card
         match = _CARD.match(line)
         if match:
             names.append(match.group(1).lower())

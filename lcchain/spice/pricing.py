@@ -300,6 +300,9 @@ _VALUE_WORDS = frozenset({"dc", "ac", "distof1", "distof2"})
 _BRACES = re.compile(r"\{[^{}]*\}")
 _SPLIT = re.compile(r"[\s,()=]+")
 _B_VOLTAGE = re.compile(r"v\s*=", re.IGNORECASE)
+#: The letters of the element lines :func:`_tally` reads first, and most often: inductors and capacitors.
+_PLAIN_REACTIVE = frozenset("CL")
+_ASSIGNMENT = re.compile(r"([A-Za-z_]\w*)\s*=\s*([^\s=]+)")  # of a .param or .options card
 
 
 @dataclass(frozen=True)
@@ -422,8 +425,12 @@ class Contents:
         return ", ".join(parts)
 
 
+#: The names of ground, which is no unknown (lower case).
+_GROUND = frozenset({"0", "gnd"})
+
+
 def _is_ground(node: str) -> bool:
-    return node == "0" or node == "gnd"
+    return node in _GROUND
 
 
 def _value(word: str, params: dict[str, float]) -> float | None:
@@ -477,11 +484,16 @@ def _scopes(text: str) -> tuple[dict[str, _Scope], dict[str, float], dict[str, f
     scopes: dict[str, _Scope] = {"": _Scope()}
     stack = [""]
     control = False  # in a .control block (a netlist run as it is): commands, not elements
-    for number, line in logical_lines(text)[1:]:  # the first line is the title
-        head = line.lstrip()[:1]
+    cards = scopes[""].cards  # the innermost open body's
+    lines = logical_lines(text)
+    for k in range(1, len(lines)):  # the first line is the title
+        number, line = lines[k]
+        head = line[:1]
+        if not head.isalpha():  # an element line starts with its letter, but may follow blanks
+            head = line.lstrip()[:1]
         if head.isalpha():
             if not control:
-                scopes[stack[-1]].cards.append((number, line))
+                cards.append(lines[k])
             continue
         if head != ".":
             continue
@@ -492,12 +504,12 @@ def _scopes(text: str) -> tuple[dict[str, _Scope], dict[str, float], dict[str, f
             continue
         command = command_of(word)
         if is_param_card(word):  # .params, .PARAM_X: ngspice 39 reads them as .param
-            for name, value in re.findall(r"([A-Za-z_]\w*)\s*=\s*([^\s=]+)", rest):
+            for name, value in _ASSIGNMENT.findall(rest):
                 number_ = spice_number(value.strip("{}"))
                 if number_ is not None:
                     params[name.lower()] = number_
         elif word in (".options", ".option", ".opt"):
-            for name, value in re.findall(r"([A-Za-z_]\w*)\s*=\s*([^\s=]+)", rest):
+            for name, value in _ASSIGNMENT.findall(rest):
                 options[name.lower()] = spice_number(value)
         elif command == ".subckt":
             header = subckt_header(line.strip())
@@ -506,8 +518,10 @@ def _scopes(text: str) -> tuple[dict[str, _Scope], dict[str, float], dict[str, f
                         if v is not None}
             scopes[name] = _Scope(frozenset(header.nodes if header else ()), defaults)
             stack.append(name)
+            cards = scopes[name].cards
         elif command == ".ends" and len(stack) > 1:
             stack.pop()
+            cards = scopes[stack[-1]].cards
         elif command == ".model":
             model = model_card(line.strip())
             if model is not None:
@@ -547,9 +561,26 @@ def _tally(scope: _Scope, top: bool, params: dict[str, float], models: dict[str,
     damped: set[str] = set()
     couples: list[tuple[str, str, float]] = []
     instances = branches = expression = reactive = 0  # counted in locals: this loop sees every element line
+    known: dict[str, float | None] = {}  # each value's word read once: a ladder's repeat
     for number, line in scope.cards:
         words = line.split()
         letter = words[0][0].upper()
+        if letter in _PLAIN_REACTIVE and len(words) > 3 and "{" not in line:
+            # most lines of a ladder: what the branches below make of an inductor or a capacitor given a value
+            a, b = words[1].lower(), words[2].lower()
+            nodes.add(a)
+            nodes.add(b)
+            reactive += 1
+            word = words[3]
+            value = abs((known[word] if word in known else known.setdefault(word, _value(word, values))) or 0.0)
+            if letter == "C":
+                capacitance[a] = capacitance.get(a, 0.0) + value
+                capacitance[b] = capacitance.get(b, 0.0) + value
+            else:
+                branches += 1
+                if value:
+                    inductors[words[0].lower()] = (a, b, value)
+            continue
         if letter == "X":
             instances += 1
             found = instance(line.strip())
@@ -598,7 +629,12 @@ def _tally(scope: _Scope, top: bool, params: dict[str, float], models: dict[str,
             t.sources += found_sources
             continue
         reactive += 1
-        value = abs(_value(words[3], values) or 0.0) if len(words) > 3 else 0.0
+        if len(words) > 3:
+            word = words[3]
+            found_value = known[word] if word in known else known.setdefault(word, _value(word, values))
+            value = abs(found_value or 0.0)
+        else:
+            value = 0.0
         if letter == "C":
             capacitance[a] = capacitance.get(a, 0.0) + value
             capacitance[b] = capacitance.get(b, 0.0) + value
@@ -606,7 +642,7 @@ def _tally(scope: _Scope, top: bool, params: dict[str, float], models: dict[str,
             inductors[words[0].lower()] = (a, b, value)
     t.elements, t.branches, t.expression, t.reactive = len(scope.cards) - instances, branches, expression, reactive
     own = nodes | globals_ if top else nodes - scope.ports - globals_  # a port is the instance's node
-    t.nodes += sum(1 for n in own if not _is_ground(n))
+    t.nodes += len(own - _GROUND)
     t.couplings = len(couples)
     t.coupled_work = sum(k * k / m for m, k in _groups(couples).values())
     coupling: dict[str, float] = {}
@@ -702,6 +738,8 @@ def _edge_points(edges: list[Edges], stop: float, max_step: float) -> float:
     count) added to the points a run without breakpoints has."""
     import numpy as np
 
+    if not edges and stop > 0.0:  # no source has an edge: one gap, what _listed makes of [0, stop]
+        return float(gap_points(np.array([stop]), max_step).sum()) + 1.0
     if sum(e.total for e in edges) <= MAX_ENUMERATED_BREAKPOINTS:
         return _listed(np.concatenate([e.times() for e in edges] + [np.empty(0)]), stop, max_step)
     plain = _listed(np.empty(0), stop, max_step)

@@ -41,22 +41,36 @@ from __future__ import annotations
 import hashlib
 import re
 import unicodedata
+from collections.abc import Sequence
 
 from ..core.errors import ParameterError
 from ..core.limits import MAX_TITLE_BYTES
 
 __all__ = ["canonical_vector_name", "parse_options", "logical_lines", "spice_number", "saved_vectors",
-           "canonical_text", "require_canonical", "netlist_lines", "circuit_lines", "text_digest", "NEWLINE"]
+           "canonical_text", "require_canonical", "netlist_lines", "circuit_lines", "text_digest", "NEWLINE",
+           "DotCard", "dot_cards", "saved_in"]
 
+#: A card of :func:`dot_cards`: (line number, its first physical line, the logical line).
+DotCard = tuple[int, str, str]
 #: The one line separator of a canonical netlist.
 NEWLINE = "\n"
 # What a canonical netlist may not hold: every control character but tab and LF (C0, DEL, C1 with NEL), the
 # Unicode line and paragraph separators, and a byte-order mark (U+FEFF) past the first character.
 _NOT_CANONICAL = re.compile("[\x00-\x08\x0b-\x1f\x7f-\x9f\u2028\u2029\ufeff]")
+# The ASCII characters a canonical netlist may hold: what _NOT_CANONICAL leaves of them.
+_CANONICAL_ASCII = b"\t\n" + bytes(range(0x20, 0x7F))
 
 _OPTIONS_LINE = re.compile(r"^\s*\.opt(ion|ions)?\b(.*)$", re.IGNORECASE)
 
 _SAVE = re.compile(r"^\s*\.save\b(.*)$", re.IGNORECASE)
+# A logical line whose first character that is not blank (str.isspace, as str.split and str.strip read it: the same
+# set as \s) is a dot, with the physical lines that continue it (those that start with "+": logical_lines joins
+# them, each's "+" replaced by a space).
+# Searched for after an LF (a literal first: many times faster than a search for "^" at every character), and
+# matched at the text's start for its first line.
+_DOT_CARD_TEXT = r"[^\S\n]*\.[^\n]*(?:\n\+[^\n]*)*"
+_DOT_CARD = re.compile(f"\\n({_DOT_CARD_TEXT})")
+_FIRST_DOT_CARD = re.compile(_DOT_CARD_TEXT)
 _NUMBER = re.compile(r"^([-+]?(?:\d+\.?\d*|\.\d+)(?:e[-+]?\d+)?)(meg|mil|[tgkmunpf])?[a-z]*$", re.IGNORECASE)
 _SCALE = {"t": 1e12, "g": 1e9, "meg": 1e6, "k": 1e3, "m": 1e-3, "mil": 25.4e-6, "u": 1e-6, "n": 1e-9, "p": 1e-12,
           "f": 1e-15}
@@ -72,8 +86,13 @@ def spice_number(text: str) -> float | None:
 
 def saved_vectors(netlist: str) -> tuple[str, ...]:
     """The vectors the ``.save`` lines name (empty: ngspice saves every node voltage and branch current)."""
+    return saved_in(dot_cards(netlist))  # a .save line is a dot card: the other lines need not be read
+
+
+def saved_in(cards: Sequence[DotCard]) -> tuple[str, ...]:
+    """:func:`saved_vectors` of a netlist's :func:`dot_cards`."""
     names: list[str] = []
-    for _, line in logical_lines(netlist):
+    for _, _, line in cards:
         match = _SAVE.match(line)
         if match:
             names += [w for w in match.group(1).split() if w.lower() not in ("all", "allv", "alli")]
@@ -171,6 +190,8 @@ def require_canonical(text: str, source: str = "netlist") -> str:
     Every transport calls it (through :func:`netlist_lines`) on what it is about to run, so that a text no
     check has made canonical can never reach an engine that would split it otherwise.
     """
+    if text.isascii() and not text.encode("ascii").translate(None, _CANONICAL_ASCII):
+        return text  # the common case, told without a search of every character for a class of them
     bad = _NOT_CANONICAL.search(text)
     if bad is not None:
         number = text.count(NEWLINE, 0, bad.start()) + 1
@@ -201,14 +222,44 @@ def text_digest(lines: list[str]) -> str:
 
 def logical_lines(netlist: str) -> list[tuple[int, str]]:
     """(first physical line number, text) of each logical line, ``+`` continuations joined."""
+    physical = netlist_lines(netlist)
+    if "\n+" not in netlist:  # no line continues another (a first line's "+" continues nothing): one per line
+        return list(enumerate(physical, start=1))
     lines: list[tuple[int, str]] = []
-    for number, raw in enumerate(netlist_lines(netlist), start=1):
+    for number, raw in enumerate(physical, start=1):
         if raw.startswith("+") and lines:
             first, text = lines[-1]
             lines[-1] = (first, text + " " + raw[1:])
         else:
             lines.append((number, raw))
     return lines
+
+
+def dot_cards(netlist: str, *, canonical: bool = True) -> list[DotCard]:
+    """(line number, physical line, logical line) of each logical line whose first character that is not blank is
+    a dot, in order: what :func:`logical_lines` gives of them (``+`` continuations joined), with the first
+    physical line of each, found by one search of the text rather than a look at every line.
+
+    A netlist of a thousand element lines has a handful of dot-commands (its analysis, options, saves), which
+    every reader of those needs: so each reads only these.  With ``canonical`` (the default) the text is refused
+    as :func:`logical_lines` refuses it (:func:`require_canonical`); without, it is split at LF alone, as
+    ``text.split("\\n")`` splits it.
+    """
+    if canonical:
+        require_canonical(netlist)
+    found: list[DotCard] = []
+    first = _FIRST_DOT_CARD.match(netlist)
+    if first is not None:
+        card = first.group()
+        found.append((1, card.partition(NEWLINE)[0], card.replace("\n+", " ")))
+    number, at = 1, 0
+    for match in _DOT_CARD.finditer(netlist, first.end() if first is not None else 0):
+        start = match.start(1)
+        number += netlist.count(NEWLINE, at, start)
+        at = start
+        card = match.group(1)
+        found.append((number, card.partition(NEWLINE)[0], card.replace("\n+", " ")))
+    return found
 
 
 def parse_options(netlist: str) -> dict[str, str]:

@@ -55,9 +55,9 @@ from ..core.limits import MAX_CIRCUIT_N, MAX_DESIGN_N, MAX_DT, MAX_TRANSITS, MIN
 from ..core.types import DEFAULT_C0, DEFAULT_L0, Backend, Excitation
 from ..runs.spec import DEFAULT_TIMEOUT, RunSpec, SpectrumTheory, Theory
 from ..spice.engines import DEFAULT_ENGINE, ENGINES, find_engine
-from ..spice.foreign import ALLOW_CONTROL_HINT, allowed_netlist, analysis_of, foreign_price
+from ..spice.foreign import ALLOW_CONTROL_HINT, allowed_netlist, analysis_of, read_foreign
 from ..spice.result import read_include
-from ..spice.text import canonical_text, saved_vectors
+from ..spice.text import canonical_text
 from .executors import EXECUTOR_TRAITS, executor_cost
 
 if TYPE_CHECKING:
@@ -966,9 +966,8 @@ def _foreign_task(index: int, params: Mapping[str, object], run_text: str, sourc
     """A checked foreign netlist (what ngspice will receive) priced and made a task, or its refusal raised: its
     analysis, its price against the budget and its run's limits from that price."""
     backend, budget, version, trusted, check = runs.backend, runs.budget, runs.version, runs.trusted, runs.check
-    analysis = analysis_of(run_text, source, version)
-    saved = saved_vectors(run_text)
-    price = foreign_price(run_text, analysis, len(saved), source)
+    read = read_foreign(run_text, source, version)  # its analysis, saves and price: its text searched once
+    analysis, saved, price = read.analysis, read.saved, read.price
     if check:  # its exact reference too, in the worker beside the run
         from ..runs.check import check_estimate
 
