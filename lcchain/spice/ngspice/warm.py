@@ -259,10 +259,17 @@ class WarmWorker:
         within a second) kills its process group."""
         if not self.alive:
             return
+        self._hang_up()
+        self._end(kill)
+
+    def _hang_up(self) -> None:
+        """Close the worker's input: it ends its ngspice and exits (:meth:`_end` waits for it)."""
         self.alive = False
         with contextlib.suppress(OSError):
             assert self.proc.stdin is not None
             self.proc.stdin.close()
+
+    def _end(self, kill: bool) -> None:
         if not kill:
             with contextlib.suppress(subprocess.TimeoutExpired):
                 self.proc.wait(1.0)
@@ -314,10 +321,12 @@ def worker_for(library: str, prefix: tuple[str, ...], cwd: str, env: dict[str, s
 def close_workers(kill: bool = False) -> None:
     """End every warm worker of this process (every thread's)."""
     with _lock:
-        workers = list(_workers)
+        workers = [worker for worker in _workers if worker.alive]
         _spare.clear()
+    for worker in workers:  # every worker told first, then each waited for: they end side by side
+        worker._hang_up()
     for worker in workers:
-        worker.close(kill)
+        worker._end(kill)
 
 
 atexit.register(close_workers, True)
