@@ -28,7 +28,7 @@ from ..core.json import JSONDict, LooseJSONObject
 from ..core.limits import COUPLED_MAX_N, MAX_AC_POINTS, MIN_AC_POINTS
 from ..theory.chain import Chain
 from ..theory.modes import Modes
-from ..theory.spectrum import admittance_with_bound
+from ..theory.spectrum import ARITHMETICS, admittance_with_bound
 from .grid import POINTS_PER_SPACING, Segment, min_points, sweep_segments
 from .spectrum import THEORY_MISFIT, SpectrumFit, fit_from_theory, fit_sections, fit_spectrum
 
@@ -433,7 +433,7 @@ def _fitted(theory: Modes, omega: np.ndarray, y11: np.ndarray, yN1: np.ndarray, 
 
 
 #: The exact admittance is at least this many times sharper (its own bound) than the envelope error it measures,
-#: wherever long double reaches (:func:`compare_envelope`).
+#: wherever double-double reaches: everywhere the error is above ten float64 roundings (:func:`compare_envelope`).
 ENVELOPE_MARGIN = 10.0
 
 
@@ -442,10 +442,12 @@ def compare_envelope(chain: Chain, omega: np.ndarray, y11: np.ndarray, Q: float)
 
     The exact admittance (:func:`lcchain.theory.spectrum.admittance_with_bound`) is taken in float64 first, with
     its running error bound; the frequencies where that bound is above 1 / :data:`ENVELOPE_MARGIN` of the largest
-    error measured are computed again in long double, until none is (the first errors are measured against float64
-    itself).  Float64 holds away from the peaks (two-mass N = 1000 at Q = 1000: long double at 112, then 1,623 more,
-    of 13,174 frequencies; 0.70 s against 1.82 s in long double everywhere, and 0.29 s in float64 alone, under load;
-    O(N x frequencies) either way).
+    error measured are computed again in the next arithmetic (long double, then double-double:
+    :data:`lcchain.theory.spectrum.ARITHMETICS`), until none is or every such frequency is in double-double (the
+    first errors are measured against float64 itself; the bound of each includes the final rounding to float64,
+    u = 1.1e-16, so an error below ten of those cannot have its margin).  Float64 holds away from the peaks
+    (two-mass N = 1000 at Q = 1000: long double at 112, then 1,623 more, of 13,174 frequencies; 0.70 s against
+    1.82 s in long double everywhere, and 0.29 s in float64 alone, under load; O(N x frequencies) either way).
 
     Returns
     -------
@@ -455,16 +457,19 @@ def compare_envelope(chain: Chain, omega: np.ndarray, y11: np.ndarray, Q: float)
         The largest relative error bound of the exact admittance (first order) over the sweep.
     """
     y11, omega = np.asarray(y11, dtype=complex), np.asarray(omega, dtype=float)
-    exact, bound = admittance_with_bound(chain, omega, Q, rtol=np.inf)
+    exact, bound = admittance_with_bound(chain, omega, Q, rtol=np.inf, start=ARITHMETICS[0])
     measured = np.abs(y11 - exact) / np.abs(exact)
-    extended = np.zeros(omega.size, dtype=bool)
-    while True:  # the largest error is float64's until its peaks are long double's: the threshold falls, then stays
-        again = ~extended & (bound > float(np.max(measured, initial=0.0)) / ENVELOPE_MARGIN)
+    tier = np.zeros(omega.size, dtype=int)  # each frequency's arithmetic, an index in ARITHMETICS
+    while True:  # the largest error is float64's until its peaks are sharper: the threshold falls, then stays
+        again = (tier < len(ARITHMETICS) - 1) & (bound > float(np.max(measured, initial=0.0)) / ENVELOPE_MARGIN)
         if not again.any():
             break
-        exact[again], bound[again] = admittance_with_bound(chain, omega[again], Q, rtol=0.0)
+        for current in np.unique(tier[again]):
+            now = again & (tier == current)
+            exact[now], bound[now] = admittance_with_bound(chain, omega[now], Q, rtol=np.inf,
+                                                           start=ARITHMETICS[int(current) + 1])
         measured[again] = np.abs(y11[again] - exact[again]) / np.abs(exact[again])
-        extended |= again
+        tier[again] += 1
     return float(np.max(measured, initial=0.0)), float(np.max(bound, initial=0.0))
 
 

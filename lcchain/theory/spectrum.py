@@ -9,6 +9,7 @@ the return amplitude are modal cosine sums (:func:`lcchain.theory.modes.cosine_s
 from __future__ import annotations
 
 from collections.abc import Callable
+from typing import Literal, TypeAlias, get_args
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -24,7 +25,8 @@ from .exact import exact_modes
 from .modes import Modes, cosine_sum
 
 __all__ = ["normal_modes", "modes_of", "MODE_SOLVERS", "transmission_amplitude", "return_amplitude",
-           "CLOSED_FORM_MIN_N", "driving_admittance", "admittance_with_bound"]
+           "CLOSED_FORM_MIN_N", "driving_admittance", "admittance_with_bound",
+           "Arithmetic", "ARITHMETICS"]
 
 #: A mode method: the normal modes of a chain.
 ModeSolver = Callable[[Chain], Modes]
@@ -187,8 +189,180 @@ def _continued_fraction(chain: Chain, omega: np.ndarray, Q: float | None, extend
     return pivot, error / modulus
 
 
-def admittance_with_bound(chain: Chain, omega: np.ndarray, Q: float | None = None,
-                          rtol: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+# Double-double ("double-word") arithmetic: a real is an unevaluated sum hi + lo of float64s, |lo| <= ulp(hi) / 2.
+# Exact transformations (Knuth's two-sum, Dekker's fast two-sum and his two-product by Veltkamp's splitting, no FMA)
+# and the double-word blocks analysed by Joldes, Muller & Popescu (ACM TOMS 44(2), 2017): the accurate sum within
+# 3u^2 + 13u^3, the quotient within 15u^2 + 56u^3; the product (exact two-product, the cross terms in float64) within
+# 2^-102 (CRlibm's Mul22).  u = 2^-53; every array below is one float64 array per frequency, never N x frequencies.
+
+#: The unit of one double-double operation in :func:`_continued_fraction_dd`'s running bound: 16 u^2 = 2^-102 bounds
+#: the sum's, the product's and the quotient's relative error above (no underflow: the chain's values are O(1)), so
+#: the complex bounds of :data:`_COMPLEX_ROUNDING` hold in this unit as they do in float64's (Higham, Sec. 3.6:
+#: each real operation's relative error at most the unit).
+_DOUBLE_DOUBLE_UNIT = 2.0 ** -102
+
+_SPLITTER = 2.0 ** 27 + 1.0  # Veltkamp: a float64 into two halves of 26 bits whose products are exact
+
+DD: TypeAlias = tuple[np.ndarray, np.ndarray]
+
+
+def _two_sum(a: np.ndarray, b: np.ndarray) -> DD:
+    s = a + b
+    v = s - a
+    return s, (a - (s - v)) + (b - v)
+
+
+def _fast_two_sum(a: np.ndarray, b: np.ndarray) -> DD:  # |a| >= |b|
+    s = a + b
+    return s, b - (s - a)
+
+
+def _two_prod(a: np.ndarray, b: np.ndarray) -> DD:
+    p = a * b
+    t = _SPLITTER * a
+    ah = t - (t - a)
+    al = a - ah
+    t = _SPLITTER * b
+    bh = t - (t - b)
+    bl = b - bh
+    return p, ((ah * bh - p) + ah * bl + al * bh) + al * bl
+
+
+def _dd_add(x: DD, y: DD) -> DD:  # the accurate sum (Joldes et al., Alg. 6)
+    sh, sl = _two_sum(x[0], y[0])
+    th, tl = _two_sum(x[1], y[1])
+    vh, vl = _fast_two_sum(sh, sl + th)
+    return _fast_two_sum(vh, tl + vl)
+
+
+def _dd_neg(x: DD) -> DD:
+    return -x[0], -x[1]
+
+
+def _dd_mul(x: DD, y: DD) -> DD:  # exact product of the highs, cross terms in float64 (Alg. 10; Mul22)
+    ch, cl = _two_prod(x[0], y[0])
+    return _fast_two_sum(ch, cl + (x[0] * y[1] + x[1] * y[0]))
+
+
+def _dd_div(x: DD, y: DD) -> DD:  # Alg. 15: one float64 quotient corrected once
+    th = x[0] / y[0]
+    rh, rl = _dd_mul(y, (th, np.zeros_like(th)))
+    delta = (x[0] - rh) + (x[1] - rl)
+    return _fast_two_sum(th, delta / y[0])
+
+
+def _dd_of(value: float) -> DD:
+    """A float64 as a double-double of shape (1,), broadcast against the frequencies."""
+    return np.array([value], dtype=float), np.zeros(1)
+
+
+CDD: TypeAlias = tuple[DD, DD]  # real and imaginary parts
+
+
+def _c_mul(x: CDD, y: CDD) -> CDD:
+    (a, b), (c, d) = x, y
+    return (_dd_add(_dd_mul(a, c), _dd_neg(_dd_mul(b, d))), _dd_add(_dd_mul(a, d), _dd_mul(b, c)))
+
+
+def _c_div(x: CDD, y: CDD) -> CDD:  # the naive quotient (Higham, Sec. 3.6: within sqrt(2) gamma_4 normwise)
+    (a, b), (c, d) = x, y
+    size = _dd_add(_dd_mul(c, c), _dd_mul(d, d))
+    real = _dd_add(_dd_mul(a, c), _dd_mul(b, d))
+    imag = _dd_add(_dd_mul(b, c), _dd_neg(_dd_mul(a, d)))
+    return _dd_div(real, size), _dd_div(imag, size)
+
+
+def _r_div(a: DD, y: CDD) -> CDD:  # _c_div with a real numerator: fewer roundings, the same bound
+    (c, d) = y
+    size = _dd_add(_dd_mul(c, c), _dd_mul(d, d))
+    return _dd_div(_dd_mul(a, c), size), _dd_neg(_dd_div(_dd_mul(a, d), size))
+
+
+def _c_sub(x: CDD, y: CDD) -> CDD:
+    return _dd_add(x[0], _dd_neg(y[0])), _dd_add(x[1], _dd_neg(y[1]))
+
+
+def _c_scale(x: CDD, v: float) -> CDD:
+    scale = _dd_of(v)
+    return _dd_mul(x[0], scale), _dd_mul(x[1], scale)
+
+
+def _c_modulus(x: CDD) -> np.ndarray:
+    return np.hypot(x[0][0], x[1][0])
+
+
+def _continued_fraction_dd(chain: Chain, omega: np.ndarray, Q: float | None) -> tuple[CDD, np.ndarray]:
+    """:func:`_continued_fraction` in double-double: the pivot d_1 (real and imaginary parts, each hi + lo) and its
+    first-order running error bound relative to |d_1|, the same sum in the unit :data:`_DOUBLE_DOUBLE_UNIT`."""
+    u = _DOUBLE_DOUBLE_UNIT
+    c = _COMPLEX_ROUNDING * u
+    w = np.asarray(omega, dtype=float)
+    zero = np.zeros_like(w)
+    square = _two_prod(w, w)
+    lam: CDD = (_dd_neg(square), (zero.copy(), zero.copy()) if Q is None else _dd_div((w, zero), _dd_of(float(Q))))
+    size = np.hypot(lam[0][0], lam[1][0])
+    mass, coupling = (np.asarray(band, dtype=float) for band in chain.mass_matrix_bands())
+    K = np.asarray(chain.springs, dtype=float)
+    sizes = K[:-1] + K[1:]
+    diagonals, squares = _two_sum(K[:-1], K[1:]), _two_prod(K, K)  # exact
+    coupled = bool(np.any(coupling != 0))
+
+    def diagonal(i: int) -> CDD:
+        scaled = _c_scale(lam, float(mass[i]))
+        return _dd_add(scaled[0], (diagonals[0][i:i + 1], diagonals[1][i:i + 1])), scaled[1]
+
+    pivot = diagonal(chain.N - 1)
+    error = c * (size * mass[-1] + sizes[-1])
+    modulus = _c_modulus(pivot)
+    for i in range(chain.N - 2, -1, -1):
+        if coupled:
+            scaled = _c_scale(lam, float(coupling[i]))
+            off: CDD = (_dd_add(scaled[0], _dd_of(-K[i + 1])), scaled[1])
+            off_size = _c_modulus(off)
+            term = _c_div(_c_mul(off, off), pivot)
+            term_size = off_size * off_size / modulus
+            term_error = term_size * (error / modulus + c + u) + 2.0 * off_size * c * (
+                size * abs(coupling[i]) + K[i + 1]) / modulus
+        else:
+            term = _r_div((squares[0][i + 1:i + 2], squares[1][i + 1:i + 2]), pivot)
+            term_size = (K[i + 1] * K[i + 1]) / modulus
+            term_error = term_size * (error / modulus + (c + u))
+        pivot = _c_sub(diagonal(i), term)
+        error = term_error + (c + u) * (size * mass[i] + sizes[i])
+        modulus = _c_modulus(pivot)
+    return pivot, error / modulus
+
+
+def _admittance_dd(chain: Chain, omega: np.ndarray, Q: float | None) -> tuple[CDD, np.ndarray]:
+    """Y_11 Z0 = j omega / d_1 in double-double, unrounded, and its relative bound (the pivot's and the quotient's)."""
+    w = np.asarray(omega, dtype=float)
+    pivot, relative = _continued_fraction_dd(chain, w, Q)
+    real, imag = _r_div((w, np.zeros_like(w)), pivot)  # omega / d_1; times j exactly
+    return (_dd_neg(imag), real), relative + _COMPLEX_ROUNDING * _DOUBLE_DOUBLE_UNIT
+
+
+#: The arithmetics of the exact admittance, bluntest (and cheapest) first: :func:`admittance_with_bound` passes a
+#: frequency to the next where the bound of one is above what is wanted.
+Arithmetic = Literal["float64", "long double", "double-double"]
+ARITHMETICS: tuple[Arithmetic, ...] = get_args(Arithmetic)
+
+
+def _admittance_in(chain: Chain, w: np.ndarray, Q: float | None, arithmetic: Arithmetic
+                   ) -> tuple[np.ndarray, np.ndarray]:
+    """Y_11 Z0 in one arithmetic, rounded to complex128, and its relative bound (that rounding included)."""
+    eps = float(np.finfo(float).eps)
+    if arithmetic == "float64":
+        pivot, relative = _continued_fraction(chain, w, Q, extended=False)
+        return 1j * w / pivot, relative + _COMPLEX_ROUNDING * eps
+    if arithmetic == "long double":
+        pivot, relative = _continued_fraction(chain, w, Q, extended=True)
+        return np.asarray(1j * w.astype(np.longdouble) / pivot, dtype=complex), relative + eps
+    (real, imag), relative = _admittance_dd(chain, w, Q)
+    return (real[0] + real[1]) + 1j * (imag[0] + imag[1]), relative + eps
+
+
+def admittance_with_bound(chain: Chain, omega: np.ndarray, Q: float | None = None, rtol: float = 0.0,
+                          start: Arithmetic = "float64") -> tuple[np.ndarray, np.ndarray]:
     """The ladder's Y_11 Z0 (:func:`driving_admittance`) and a bound on its relative error at each frequency.
 
     The continued fraction runs in float64 with a first-order running error bound (Wilkinson; Higham, Sec. 3.3):
@@ -196,7 +370,10 @@ def admittance_with_bound(chain: Chain, omega: np.ndarray, Q: float | None = Non
     :data:`_COMPLEX_ROUNDING` u of its size) and d_(i+1)'s own error, taken relative to |d_i|.  The bound grows
     where a pivot cancels (near a resonance of Y_11's chain or of a tail's: about u Q omega_n at a lossy peak).
     Where it exceeds ``rtol`` the frequency is computed again in long double (``numpy.clongdouble``, u = 2^-64 on
-    x86-64), whose bound is the same running sum in that unit.
+    x86-64), and where that bound still exceeds ``rtol``, in double-double (:data:`_DOUBLE_DOUBLE_UNIT` = 2^-102),
+    each bound the same running sum in that arithmetic's unit (:data:`ARITHMETICS`).  A frequency one arithmetic
+    settles keeps that arithmetic's value, bit for bit.  Every result is rounded to complex128 (its bound includes
+    that rounding, u = 2^-53: no arithmetic's bound goes below it).
 
     Parameters
     ----------
@@ -206,7 +383,10 @@ def admittance_with_bound(chain: Chain, omega: np.ndarray, Q: float | None = Non
     Q : float, optional
         The losses' quality factor; None: lossless.
     rtol : float
-        The relative bound wanted; 0: every frequency in long double.
+        The relative bound wanted; 0: every frequency in the sharpest arithmetic (double-double); inf: every
+        frequency in ``start``.
+    start : {"float64", "long double", "double-double"}
+        The first arithmetic tried.
 
     Returns
     -------
@@ -215,17 +395,19 @@ def admittance_with_bound(chain: Chain, omega: np.ndarray, Q: float | None = Non
         Each frequency's relative error bound (first order).
     """
     instance("chain", chain, Chain)
+    if start not in ARITHMETICS:
+        raise ParameterError("start", start, f"one of {', '.join(ARITHMETICS)}")
     w = np.asarray(omega, dtype=float)
     Y, bound = np.empty(w.size, dtype=complex), np.empty(w.size)
     again = np.ones(w.size, dtype=bool)
-    if rtol > 0:
-        pivot, relative = _continued_fraction(chain, w, Q, extended=False)
-        Y, bound = 1j * w / pivot, relative + _COMPLEX_ROUNDING * float(np.finfo(float).eps)
-        again = bound > rtol
-    if again.any():
-        pivot, relative = _continued_fraction(chain, w[again], Q, extended=True)
-        Y[again] = np.asarray(1j * w[again].astype(np.longdouble) / pivot, dtype=complex)
-        bound[again] = relative + float(np.finfo(float).eps)  # the long double result rounded to float64
+    tiers = ARITHMETICS[ARITHMETICS.index(start):]
+    if rtol <= 0:
+        tiers = tiers[-1:]
+    for arithmetic in tiers:
+        Y[again], bound[again] = _admittance_in(chain, w[again], Q, arithmetic)
+        again &= bound > rtol
+        if not again.any():
+            break
     return Y, bound
 
 
@@ -235,8 +417,8 @@ def driving_admittance(chain: Chain, omega: np.ndarray, Q: float | None = None, 
 
     No modes: the (1, 1) entry of the tridiagonal's inverse by its continued fraction from the far end, so a merged
     spectrum's envelope is compared with the circuit's whatever the modes' overlap; in float64 where its running
-    error bound is at most ``rtol``, else in extended precision (:func:`admittance_with_bound`, which also returns
-    the bound; ``rtol`` = 0: every frequency in long double).
+    error bound is at most ``rtol``, else in long double, else in double-double (:func:`admittance_with_bound`, which
+    also returns the bound; ``rtol`` = 0: every frequency in double-double).
 
     Parameters
     ----------
@@ -247,6 +429,6 @@ def driving_admittance(chain: Chain, omega: np.ndarray, Q: float | None = None, 
     Q : float, optional
         The losses' quality factor; None: lossless.
     rtol : float
-        The relative error bound that float64 must meet at a frequency (0: long double everywhere).
+        The relative error bound wanted at each frequency (0: double-double everywhere).
     """
     return admittance_with_bound(chain, omega, Q, rtol)[0]

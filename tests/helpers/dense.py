@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from fractions import Fraction
+
 import numpy as np
 from scipy.linalg import eigh
 
@@ -30,10 +32,17 @@ def dense_shapes(chain: Chain) -> tuple[np.ndarray, np.ndarray]:
 
 
 def rational_admittance(chain: Chain, omega: float, Q: float) -> complex:
+    """Y_11 Z0 = s [(s^2 + s/Q) M + K]^-1_11 at s = j omega in exact rational arithmetic
+    (:func:`exact_admittance`), rounded once to complex."""
+    real, imag = exact_admittance(chain, omega, Q)
+    return complex(float(real), float(imag))
+
+
+def exact_admittance(chain: Chain, omega: float, Q: float) -> tuple[Fraction, Fraction]:
     """Y_11 Z0 = s [(s^2 + s/Q) M + K]^-1_11 at s = j omega in exact rational arithmetic (fractions.Fraction, complex
     numbers as pairs), eliminating the tridiagonal from the far end: the float inputs taken as the exact rationals
-    they are, one rounding at the end.  Independent of lcchain's own evaluation (float64 and long double)."""
-    from fractions import Fraction
+    they are, no rounding at all (real and imaginary parts).  Independent of lcchain's own evaluation (float64, long
+    double and double-double)."""
 
     def mul(a: tuple[Fraction, Fraction], b: tuple[Fraction, Fraction]) -> tuple[Fraction, Fraction]:
         return a[0] * b[0] - a[1] * b[1], a[0] * b[1] + a[1] * b[0]
@@ -60,5 +69,4 @@ def rational_admittance(chain: Chain, omega: float, Q: float) -> complex:
         term = mul(mul(off(i), off(i)), inv(pivot))
         d = diagonal(i)
         pivot = (d[0] - term[0], d[1] - term[1])
-    y = mul((Fraction(0), w), inv(pivot))
-    return complex(float(y[0]), float(y[1]))
+    return mul((Fraction(0), w), inv(pivot))

@@ -679,6 +679,10 @@ DECIMAL_DIGITS = 50
 #: continued fraction in extended precision), relative, every frequency of the sweep: what is measured however
 #: the modes merge (measured 1.3e-14 .. 1.7e-14, two-mass N = 37, Q = 3 and 15; ngspice's complex solve).
 RTOL_ENVELOPE_Y11 = 1e-11
+#: The double-double admittance's running bound against long double's, before either is rounded to float64: at
+#: most this fraction (the units' ratio 2^-102 / 2^-64 = 3.6e-12 with the same sum; measured 4.8e-12 .. 6.3e-12,
+#: two-mass N = 30 and 40, one-mass N = 20, Q = 10 .. 1e4).
+DOUBLE_DOUBLE_SHARPER = 1e-10
 #: A designed perfect cradle's reference end weights (the residue product on its float masses and springs) against
 #: the closed form of its prescribed spectrum (lcchain.theory.exact.perfect_weights): the design's own rounding,
 #: absolute and relative (measured 1.7e-15 and 3.6e-14 on N = 12 to 60 with 0 to 2 walls, weights down to 2e-33).
