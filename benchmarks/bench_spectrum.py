@@ -231,7 +231,8 @@ def _lossy(simulator: Any) -> None:
           "the comparison, with losses Y_11 against the exact admittance over the sweep); the whole call; the price "
           "(`spectrum_estimate`). Y_11 error: max |Y_11 - exact| / |exact| over the sweep; Y_11 bound: the exact "
           "admittance's own error bound (float64 with a first-order running error bound, long double where that "
-          "bound is above a tenth of the error: `compare.spectral.compare_envelope`).\n")
+          "bound is above a tenth of the error, double-double where long double's still is: "
+          "`compare.spectral.compare_envelope`).\n")
     print(f"Survey: Q error over the modes at least {SEPARATION:g} widths 1/Q from both neighbours (separated); "
           "seconds, the least of as many runs as the loop-1 fit's; '-' on the left: the loop-1 fit refuses the chain "
           "at that Q.\n")

@@ -256,68 +256,76 @@ def _dd_of(value: float) -> DD:
     return np.array([value], dtype=float), np.zeros(1)
 
 
-CDD: TypeAlias = tuple[DD, DD]  # real and imaginary parts
+# A complex double-double is one double-double of shape (2, frequencies): the real parts in row 0, the imaginary in
+# row 1, so that each complex operation is a few double-double operations on both rows at once.
+_CONJUGATE, _REAL = np.array([[1.0], [-1.0]]), np.array([[1.0], [0.0]])
 
 
-def _c_mul(x: CDD, y: CDD) -> CDD:
-    (a, b), (c, d) = x, y
-    return (_dd_add(_dd_mul(a, c), _dd_neg(_dd_mul(b, d))), _dd_add(_dd_mul(a, d), _dd_mul(b, c)))
+def _rows(x: DD, i: int) -> DD:
+    return x[0][i], x[1][i]
 
 
-def _c_div(x: CDD, y: CDD) -> CDD:  # the naive quotient (Higham, Sec. 3.6: within sqrt(2) gamma_4 normwise)
-    (a, b), (c, d) = x, y
-    size = _dd_add(_dd_mul(c, c), _dd_mul(d, d))
-    real = _dd_add(_dd_mul(a, c), _dd_mul(b, d))
-    imag = _dd_add(_dd_mul(b, c), _dd_neg(_dd_mul(a, d)))
-    return _dd_div(real, size), _dd_div(imag, size)
+def _stacked(x: DD, y: DD) -> DD:
+    return np.stack((x[0], y[0])), np.stack((x[1], y[1]))
 
 
-def _r_div(a: DD, y: CDD) -> CDD:  # _c_div with a real numerator: fewer roundings, the same bound
-    (c, d) = y
-    size = _dd_add(_dd_mul(c, c), _dd_mul(d, d))
-    return _dd_div(_dd_mul(a, c), size), _dd_neg(_dd_div(_dd_mul(a, d), size))
+def _c_size(y: DD) -> DD:  # |y|^2
+    squares = _dd_mul(y, y)
+    return _dd_add(_rows(squares, 0), _rows(squares, 1))
 
 
-def _c_sub(x: CDD, y: CDD) -> CDD:
-    return _dd_add(x[0], _dd_neg(y[0])), _dd_add(x[1], _dd_neg(y[1]))
+def _c_mul(x: DD, y: DD) -> DD:
+    straight, crossed = _dd_mul(x, y), _dd_mul(x, (y[0][::-1], y[1][::-1]))
+    return _dd_add(_stacked(_rows(straight, 0), _rows(crossed, 0)),
+                   _stacked(_dd_neg(_rows(straight, 1)), _rows(crossed, 1)))
 
 
-def _c_scale(x: CDD, v: float) -> CDD:
-    scale = _dd_of(v)
-    return _dd_mul(x[0], scale), _dd_mul(x[1], scale)
+def _c_div(x: DD, y: DD) -> DD:  # the naive quotient (Higham, Sec. 3.6: within sqrt(2) gamma_4 normwise)
+    straight, crossed = _dd_mul(x, y), _dd_mul(x, (y[0][::-1], y[1][::-1]))
+    numerator = _dd_add(_stacked(_rows(straight, 0), _rows(crossed, 1)),
+                        _stacked(_rows(straight, 1), _dd_neg(_rows(crossed, 0))))
+    return _dd_div(numerator, _c_size(y))
 
 
-def _c_modulus(x: CDD) -> np.ndarray:
-    return np.hypot(x[0][0], x[1][0])
+def _r_div(a: DD, y: DD) -> DD:  # _c_div with a real numerator: fewer roundings, the same bound
+    quotient = _dd_div(_dd_mul(a, y), _c_size(y))
+    return quotient[0] * _CONJUGATE, quotient[1] * _CONJUGATE
 
 
-def _continued_fraction_dd(chain: Chain, omega: np.ndarray, Q: float | None) -> tuple[CDD, np.ndarray]:
-    """:func:`_continued_fraction` in double-double: the pivot d_1 (real and imaginary parts, each hi + lo) and its
-    first-order running error bound relative to |d_1|, the same sum in the unit :data:`_DOUBLE_DOUBLE_UNIT`."""
+def _c_modulus(x: DD) -> np.ndarray:
+    modulus: np.ndarray = np.hypot(x[0][0], x[0][1])
+    return modulus
+
+
+def _continued_fraction_dd(chain: Chain, omega: np.ndarray, Q: float | None) -> tuple[DD, np.ndarray]:
+    """:func:`_continued_fraction` in double-double: the pivot d_1 (a complex double-double, real and imaginary
+    rows) and its first-order running error bound relative to |d_1|, the same sum in the unit
+    :data:`_DOUBLE_DOUBLE_UNIT`."""
     u = _DOUBLE_DOUBLE_UNIT
     c = _COMPLEX_ROUNDING * u
     w = np.asarray(omega, dtype=float)
     zero = np.zeros_like(w)
-    square = _two_prod(w, w)
-    lam: CDD = (_dd_neg(square), (zero.copy(), zero.copy()) if Q is None else _dd_div((w, zero), _dd_of(float(Q))))
-    size = np.hypot(lam[0][0], lam[1][0])
+    imag = (zero, zero) if Q is None else _dd_div((w, zero), _dd_of(float(Q)))
+    lam = _stacked(_dd_neg(_two_prod(w, w)), imag)
+    size = np.hypot(lam[0][0], lam[0][1])
     mass, coupling = (np.asarray(band, dtype=float) for band in chain.mass_matrix_bands())
     K = np.asarray(chain.springs, dtype=float)
     sizes = K[:-1] + K[1:]
-    diagonals, squares = _two_sum(K[:-1], K[1:]), _two_prod(K, K)  # exact
+    high, low = _two_sum(K[:-1], K[1:])  # exact; as complex columns (2 x 1) that broadcast
+    diagonals = np.zeros((chain.N, 2, 1)), np.zeros((chain.N, 2, 1))
+    diagonals[0][:, 0, 0], diagonals[1][:, 0, 0] = high, low
+    squares = _two_prod(K, K)
     coupled = bool(np.any(coupling != 0))
 
-    def diagonal(i: int) -> CDD:
-        scaled = _c_scale(lam, float(mass[i]))
-        return _dd_add(scaled[0], (diagonals[0][i:i + 1], diagonals[1][i:i + 1])), scaled[1]
+    def diagonal(i: int) -> DD:
+        return _dd_add(_dd_mul(lam, _dd_of(float(mass[i]))), (diagonals[0][i], diagonals[1][i]))
 
     pivot = diagonal(chain.N - 1)
     error = c * (size * mass[-1] + sizes[-1])
     modulus = _c_modulus(pivot)
     for i in range(chain.N - 2, -1, -1):
         if coupled:
-            scaled = _c_scale(lam, float(coupling[i]))
-            off: CDD = (_dd_add(scaled[0], _dd_of(-K[i + 1])), scaled[1])
+            off = _dd_add(_dd_mul(lam, _dd_of(float(coupling[i]))), (_REAL * -K[i + 1], np.zeros((2, 1))))
             off_size = _c_modulus(off)
             term = _c_div(_c_mul(off, off), pivot)
             term_size = off_size * off_size / modulus
@@ -327,18 +335,19 @@ def _continued_fraction_dd(chain: Chain, omega: np.ndarray, Q: float | None) -> 
             term = _r_div((squares[0][i + 1:i + 2], squares[1][i + 1:i + 2]), pivot)
             term_size = (K[i + 1] * K[i + 1]) / modulus
             term_error = term_size * (error / modulus + (c + u))
-        pivot = _c_sub(diagonal(i), term)
+        pivot = _dd_add(diagonal(i), _dd_neg(term))
         error = term_error + (c + u) * (size * mass[i] + sizes[i])
         modulus = _c_modulus(pivot)
     return pivot, error / modulus
 
 
-def _admittance_dd(chain: Chain, omega: np.ndarray, Q: float | None) -> tuple[CDD, np.ndarray]:
-    """Y_11 Z0 = j omega / d_1 in double-double, unrounded, and its relative bound (the pivot's and the quotient's)."""
+def _admittance_dd(chain: Chain, omega: np.ndarray, Q: float | None) -> tuple[tuple[DD, DD], np.ndarray]:
+    """Y_11 Z0 = j omega / d_1 in double-double, unrounded (real and imaginary parts, each hi + lo), and its relative
+    bound (the pivot's and the quotient's)."""
     w = np.asarray(omega, dtype=float)
     pivot, relative = _continued_fraction_dd(chain, w, Q)
-    real, imag = _r_div((w, np.zeros_like(w)), pivot)  # omega / d_1; times j exactly
-    return (_dd_neg(imag), real), relative + _COMPLEX_ROUNDING * _DOUBLE_DOUBLE_UNIT
+    quotient = _r_div((w, np.zeros_like(w)), pivot)  # omega / d_1; times j exactly
+    return (_dd_neg(_rows(quotient, 1)), _rows(quotient, 0)), relative + _COMPLEX_ROUNDING * _DOUBLE_DOUBLE_UNIT
 
 
 #: The arithmetics of the exact admittance, bluntest (and cheapest) first: :func:`admittance_with_bound` passes a
