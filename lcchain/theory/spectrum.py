@@ -217,15 +217,25 @@ def _fast_two_sum(a: np.ndarray, b: np.ndarray) -> DD:  # |a| >= |b|
     return s, b - (s - a)
 
 
-def _two_prod(a: np.ndarray, b: np.ndarray) -> DD:
-    p = a * b
+def _split(a: np.ndarray) -> DD:
+    """Veltkamp's halves of a (26 bits each): their pairwise products are exact."""
     t = _SPLITTER * a
-    ah = t - (t - a)
-    al = a - ah
-    t = _SPLITTER * b
-    bh = t - (t - b)
-    bl = b - bh
+    high = t - (t - a)
+    return high, a - high
+
+
+def _two_prod(a: np.ndarray, b: np.ndarray, a_halves: DD | None = None, b_halves: DD | None = None) -> DD:
+    """Dekker's exact product; an operand's halves may be given when it is split once and used many times."""
+    p = a * b
+    ah, al = _split(a) if a_halves is None else a_halves
+    bh, bl = _split(b) if b_halves is None else b_halves
     return p, ((ah * bh - p) + ah * bl + al * bh) + al * bl
+
+
+def _dd_times(x: DD, y: np.ndarray, x_halves: DD | None = None, y_halves: DD | None = None) -> DD:
+    """A double-double times a float64: _dd_mul with y's low part zero, the same values."""
+    ch, cl = _two_prod(x[0], y, x_halves, y_halves)
+    return _fast_two_sum(ch, cl + x[1] * y)
 
 
 def _dd_add(x: DD, y: DD) -> DD:  # the accurate sum (Joldes et al., Alg. 6)
@@ -246,7 +256,7 @@ def _dd_mul(x: DD, y: DD) -> DD:  # exact product of the highs, cross terms in f
 
 def _dd_div(x: DD, y: DD) -> DD:  # Alg. 15: one float64 quotient corrected once
     th = x[0] / y[0]
-    rh, rl = _dd_mul(y, (th, np.zeros_like(th)))
+    rh, rl = _dd_times(y, th)
     delta = (x[0] - rh) + (x[1] - rl)
     return _fast_two_sum(th, delta / y[0])
 
@@ -287,8 +297,15 @@ def _c_div(x: DD, y: DD) -> DD:  # the naive quotient (Higham, Sec. 3.6: within 
     return _dd_div(numerator, _c_size(y))
 
 
-def _r_div(a: DD, y: DD) -> DD:  # _c_div with a real numerator: fewer roundings, the same bound
-    quotient = _dd_div(_dd_mul(a, y), _c_size(y))
+def _r_div(a: DD, y: DD, a_halves: DD | None = None) -> DD:
+    """_c_div with a real numerator: fewer roundings, the same bound.  y's high parts split once for its square and
+    the product."""
+    halves = _split(y[0])
+    ch, cl = _two_prod(y[0], y[0], halves, halves)
+    squares = _fast_two_sum(ch, cl + (y[0] * y[1] + y[1] * y[0]))  # _dd_mul(y, y)
+    size = _dd_add(_rows(squares, 0), _rows(squares, 1))
+    ch, cl = _two_prod(a[0], y[0], a_halves, halves)
+    quotient = _dd_div(_fast_two_sum(ch, cl + (a[0] * y[1] + a[1] * y[0])), size)  # _dd_mul(a, y) / |y|^2
     return quotient[0] * _CONJUGATE, quotient[1] * _CONJUGATE
 
 
@@ -317,8 +334,11 @@ def _continued_fraction_dd(chain: Chain, omega: np.ndarray, Q: float | None) -> 
     squares = _two_prod(K, K)
     coupled = bool(np.any(coupling != 0))
 
+    lam_halves, mass_halves, square_halves = _split(lam[0]), _split(mass), _split(squares[0])
+
     def diagonal(i: int) -> DD:
-        return _dd_add(_dd_mul(lam, _dd_of(float(mass[i]))), (diagonals[0][i], diagonals[1][i]))
+        scaled = _dd_times(lam, mass[i:i + 1], lam_halves, (mass_halves[0][i:i + 1], mass_halves[1][i:i + 1]))
+        return _dd_add(scaled, (diagonals[0][i], diagonals[1][i]))
 
     pivot = diagonal(chain.N - 1)
     error = c * (size * mass[-1] + sizes[-1])
@@ -332,7 +352,8 @@ def _continued_fraction_dd(chain: Chain, omega: np.ndarray, Q: float | None) -> 
             term_error = term_size * (error / modulus + c + u) + 2.0 * off_size * c * (
                 size * abs(coupling[i]) + K[i + 1]) / modulus
         else:
-            term = _r_div((squares[0][i + 1:i + 2], squares[1][i + 1:i + 2]), pivot)
+            term = _r_div((squares[0][i + 1:i + 2], squares[1][i + 1:i + 2]), pivot,
+                          (square_halves[0][i + 1:i + 2], square_halves[1][i + 1:i + 2]))
             term_size = (K[i + 1] * K[i + 1]) / modulus
             term_error = term_size * (error / modulus + (c + u))
         pivot = _dd_add(diagonal(i), _dd_neg(term))
