@@ -10,7 +10,7 @@ from pathlib import Path
 from ..core.budget import INTERPRETER_SECONDS, Budget
 from .studies import PlannedStudy, StudyHooks, StudyOptions, StudyResult, check_study, run_study, study_workers
 
-__all__ = ["BatchRequest", "batch"]
+__all__ = ["BatchRequest", "batch", "listed_netlists"]
 
 
 @dataclass(frozen=True)
@@ -25,6 +25,19 @@ class BatchRequest:
     check: bool = False
     study: StudyOptions = field(default_factory=StudyOptions)
     budget: Budget = field(default_factory=Budget)
+
+
+def listed_netlists(path: str, text: str | None = None) -> tuple[str, ...]:
+    """The netlist file names a list holds (``lcchain batch --from LIST``): one a line, as given (relative to the
+    current folder), blank lines skipped.  ``text``: the list already read (standard input); else the file at
+    ``path``, a regular file of at most :data:`~lcchain.core.limits.MAX_NETLIST_LIST_BYTES`.  A batch of more
+    names than a command line holds, and no copy of each name in the interpreter's own arguments."""
+    from ..core.limits import MAX_NETLIST_LIST_BYTES
+    from ..spice.inputs import read_input
+
+    if text is None:
+        text = read_input(path, "--from", MAX_NETLIST_LIST_BYTES)
+    return tuple(line for line in text.splitlines() if line.strip())
 
 
 def batch(request: BatchRequest, hooks: StudyHooks | None = None) -> StudyResult:

@@ -4,7 +4,9 @@
 from __future__ import annotations
 
 import argparse
+import sys
 
+from ..core.errors import ParameterError
 from .common import Parser, Subcommands, budget_from_args
 from .studies import add_study_arguments, show_study, study_hooks, study_options
 
@@ -14,10 +16,14 @@ __all__ = ["add_parser", "cmd_batch"]
 def add_parser(sub: Subcommands, budget: list[Parser]) -> None:
     p = sub.add_parser("batch", parents=budget, help="netlists lcchain did not write, checked, priced and run in a "
                        "sandbox, into a store")
-    p.add_argument("netlist", nargs="+", metavar="NETLIST",
+    p.add_argument("netlist", nargs="*", metavar="NETLIST",
                    help="netlist files: comments, R L C K V I B D Q M J S W X elements, .tran .ac .options .save "
                         ".ic .param .meas .subckt/.ends .model .func .global .temp .op .dc .end and .include/.lib of "
                         "files in the netlist's folder; any other line is refused")
+    p.add_argument("--from", dest="from_list", metavar="LIST",
+                   help="also the netlists LIST names, one file name a line (blank lines skipped; - reads the names "
+                        "from standard input): more netlists than a command line holds, e.g. find runs -name "
+                        "'*.cir' | lcchain batch --from - --store runs.sqlite")
     p.add_argument("--allow-control", action="store_true",
                    help="run a netlist as it is (.control blocks, any include), still in the sandbox")
     p.add_argument("--check", action="store_true",
@@ -36,9 +42,22 @@ def cmd_batch(args: argparse.Namespace) -> int:
     """A batch's --max-time is its whole budget: each run's own limits come from its price, and no run starts once
     the budget is spent (the runs left stay pending in the store). A netlist lcchain will not run is stored as
     refused and the others run (exit 1); with --strict the first refusal stops the batch (exit 2)."""
-    from ..app.batch import BatchRequest, batch
+    from ..app.batch import BatchRequest, batch, listed_netlists
 
-    request = BatchRequest(tuple(args.netlist), allow_control=args.allow_control, strict=args.strict,
+    netlists = tuple(args.netlist)
+    if args.from_list is not None:
+        netlists += listed_netlists(args.from_list, _stdin_text() if args.from_list == "-" else None)
+    if not netlists:
+        raise ParameterError("NETLIST", "none", "at least one netlist file, given or listed (--from LIST)")
+    request = BatchRequest(netlists, allow_control=args.allow_control, strict=args.strict,
                            check=getattr(args, "check", False), study=study_options(args),
                            budget=budget_from_args(args))
     return show_study(args, batch(request, study_hooks(args)))
+
+
+def _stdin_text() -> str:
+    """The names piped to ``--from -``."""
+    try:
+        return sys.stdin.buffer.read().decode("utf-8")
+    except UnicodeDecodeError:
+        raise ParameterError("--from", "-", "netlist names in UTF-8 on standard input") from None

@@ -70,6 +70,8 @@ MAX_SECONDS = 365 * 86400.0
 MAX_BUDGET_BYTES = float(2**50)
 #: Largest netlist (or included file) lcchain reads: 2 N + 10 lines of at most 100 characters at MAX_CIRCUIT_N.
 MAX_NETLIST_BYTES = 64 * 2**20
+#: The largest list of netlist names ``lcchain batch --from`` reads (a million names of 60 characters).
+MAX_NETLIST_LIST_BYTES = 64 * 2**20
 #: Most elements a foreign netlist may hold once its sub-circuits are expanded (ngspice expands them: ten
 #: sub-circuits each instantiating the next ten times are 10^10 elements in 20 lines): ten times lcchain's own
 #: largest netlist (about 2 MAX_CIRCUIT_N elements), 1.7 GB in ngspice at its 850 B an element.
