@@ -16,7 +16,13 @@ from helpers.tolerances import DOUBLE_DOUBLE_SHARPER
 from lcchain.compare.spectral import ENVELOPE_MARGIN, compare_envelope
 from lcchain.theory.cases import chain_for_case
 from lcchain.theory.chain import Chain
-from lcchain.theory.spectrum import _admittance_dd, _continued_fraction, admittance_with_bound
+from lcchain.theory.spectrum import (
+    _FEW_FREQUENCIES,
+    _admittance_dd,
+    _admittance_dd_few,
+    _continued_fraction,
+    admittance_with_bound,
+)
 
 
 def _chain(case: str, N: int, coupling: float) -> Chain:
@@ -105,3 +111,20 @@ def test_the_envelope_reference_is_ten_times_sharper_than_the_error_where_long_d
     long_double = admittance_with_bound(chain, omega, Q, rtol=np.inf, start="long double")[1]
     assert float(np.max(long_double)) * ENVELOPE_MARGIN > error  # long double alone would not do
     assert bound * ENVELOPE_MARGIN <= error
+
+
+@pytest.mark.parametrize("case, N, Q", [("two-mass", 40, 1e3), ("perfect", 30, None), ("one-mass", 25, 1e4)])
+def test_a_few_frequencies_on_python_floats_give_the_same_double_doubles(case, N, Q):
+    """The pass for a few frequencies (Python floats, one at a time) and the vectorised one: the same operations,
+    the same values bit for bit, and within the bound of the exact rational admittance."""
+    chain = chain_for_case(case, N)
+    omega = _frequencies(chain, 1e3)[:: 7][:_FEW_FREQUENCIES]
+    (real, imag), bound = _admittance_dd_few(chain, omega, Q)
+    many = np.concatenate((omega, omega))  # above _FEW_FREQUENCIES: the vectorised pass
+    (vector_real, vector_imag), _ = _admittance_dd(chain, many, Q)
+    for ours, theirs in zip((*real, *imag), (*vector_real, *vector_imag), strict=True):
+        assert np.array_equal(ours, theirs[:omega.size])
+    if Q is not None:
+        for k, w in enumerate(omega):
+            squared = _relative_error(real, imag, k, exact_admittance(chain, float(w), Q))
+            assert squared <= Fraction(float(bound[k])) ** 2
