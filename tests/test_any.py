@@ -41,3 +41,20 @@ def test_any_only_where_a_value_is_arbitrary() -> None:
 def test_the_count_sees_an_annotation() -> None:
     code = "from typing import Any\nimport typing\ndef f(x: Any) -> typing.Any:\n    '''Any chain.'''\n"
     assert uses_of_any(ast.parse(code)) == 2
+
+
+def test_every_lazy_public_name_is_typed_as_itself() -> None:
+    """``lcchain/__init__.py`` loads its public names on first use (``_PUBLIC``: name -> module) and, for a type
+    checker, imports each under ``TYPE_CHECKING`` from the same module: the two lists must agree, or a new name
+    would be typed ``object`` by the module's ``__getattr__``."""
+    import lcchain
+
+    tree = ast.parse((PACKAGE / "__init__.py").read_text())
+    typed: dict[str, str] = {}
+    for node in ast.walk(tree):
+        if isinstance(node, ast.If) and isinstance(node.test, ast.Name) and node.test.id == "TYPE_CHECKING":
+            for statement in node.body:
+                if isinstance(statement, ast.ImportFrom) and statement.level == 1 and statement.module:
+                    typed.update({alias.asname or alias.name: statement.module for alias in statement.names})
+    typed.pop("plots")  # lcchain.plots: a module of its own, loaded by __getattr__'s first branch
+    assert typed == lcchain._PUBLIC

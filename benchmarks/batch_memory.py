@@ -1,0 +1,72 @@
+"""The driver's peak memory of ``lcchain batch`` against the batch's size (issue 35: flat memory from 100 to
+100,000 runs), with the names on the command line and listed in a file (``--from LIST``).
+
+    .venv/bin/python benchmarks/batch_memory.py FOLDER 1000 10000 100000 > benchmarks/batch_memory.md
+
+FOLDER holds the netlists (``benchmarks/batch_scale.py --make COUNT FOLDER``: distinct N = 10 netlists); the first
+COUNT of them, sorted, make each batch.  The peak is the driver's own ``VmHWM`` (``/proc/PID/status``, the kernel's
+high-water mark of its resident memory), read every 0.2 s while it runs: its ngspice workers are other processes,
+not counted.  Every store and list goes to a temporary folder, removed at the end.
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+LCCHAIN = str(Path(sys.executable).with_name("lcchain"))
+ENV = {name: value for name, value in os.environ.items() if name != "PYTHONDONTWRITEBYTECODE"}
+
+
+def peak(command: list[str], cwd: Path) -> tuple[float, float, str]:
+    """(wall seconds, the driver's VmHWM in MB, what it printed)."""
+    start = time.perf_counter()
+    process = subprocess.Popen(command, cwd=cwd, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, env=ENV,
+                               text=True)
+    high = 0
+    while process.poll() is None:
+        try:
+            with open(f"/proc/{process.pid}/status") as status:
+                for line in status:
+                    if line.startswith("VmHWM"):
+                        high = max(high, int(line.split()[1]))
+        except OSError:
+            pass
+        time.sleep(0.2)
+    assert process.stdout is not None
+    said = process.stdout.read().strip()
+    if process.returncode != 0:
+        raise SystemExit(f"lcchain batch failed: {said}")
+    return time.perf_counter() - start, high / 1024, said
+
+
+def main() -> None:
+    folder, counts = Path(sys.argv[1]).resolve(), [int(c) for c in sys.argv[2:]]
+    names = sorted(os.listdir(folder))
+    print("# A batch's driver memory against its size\n")
+    print(f"Command: `.venv/bin/python benchmarks/batch_memory.py FOLDER {' '.join(map(str, counts))}` (FOLDER: "
+          "`benchmarks/batch_scale.py --make`'s distinct N = 10 netlists). The driver's own peak resident memory "
+          "(VmHWM, read every 0.2 s), the whole command's wall time, the load average (1 min) before and after.\n")
+    print("| runs | names | wall (s) | runs/s | driver peak (MB) | load |")
+    print("|---:|---|---:|---:|---:|---|")
+    with tempfile.TemporaryDirectory() as scratch:
+        work = Path(scratch)
+        for count in counts:
+            listed = work / f"names{count}.txt"
+            listed.write_text("\n".join(names[:count]) + "\n")
+            for how, args in (("on the command line", names[:count]), ("`--from LIST`", ["--from", str(listed)])):
+                store = work / f"s{count}.sqlite"
+                load = os.getloadavg()[0]
+                wall, high, _ = peak([LCCHAIN, "batch", *args, "--store", str(store)], folder)
+                for suffix in ("", "-wal", "-shm"):
+                    Path(f"{store}{suffix}").unlink(missing_ok=True)
+                print(f"| {count} | {how} | {wall:.1f} | {count / wall:.0f} | {high:.0f} | {load:.1f} to "
+                      f"{os.getloadavg()[0]:.1f} |", flush=True)
+
+
+if __name__ == "__main__":
+    main()
