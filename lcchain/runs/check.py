@@ -26,9 +26,9 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import TYPE_CHECKING, TypedDict
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -426,13 +426,14 @@ def check_text(text: str, source: str = "netlist", folder: Path | None = None, o
     else:
         axis, vectors, wall, version = _run(allowed, analysis, simulator, limits, folder if allow_control else None)
     names = [canonical_vector_name(n) for n in vectors]
-    common = _Common(netlist=source, engine=simulator.engine, engine_version=version, analysis=analysis.kind,
-                     method=method, points=int(axis.size), simulator_seconds=float(wall), accuracy=accuracy_value,
-                     accuracy_given=given)
+    # the result without a reference: what the comparison, when there is one, completes
+    unchecked = CheckResult(netlist=source, engine=simulator.engine, engine_version=version, analysis=analysis.kind,
+                            method=method, points=int(axis.size), simulator_seconds=float(wall),
+                            vectors=tuple(VectorCheck(n, _unit(n), None, None) for n in names),
+                            accuracy=accuracy_value, accuracy_given=given)
     if isinstance(circuit, str) or response is None:
-        return CheckResult(vectors=tuple(VectorCheck(n, _unit(n), None, None) for n in names),
-                           reference=str(circuit), **common)
-    return _compare(response, seconds, analysis, axis, vectors, names, common, notes)
+        return replace(unchecked, reference=str(circuit))
+    return _compare(response, seconds, analysis, axis, vectors, names, unchecked, notes)
 
 
 def _run_rewritten(allowed: str, cards: NetlistCards, analysis: Transient | Sweep, simulator: Simulator,
@@ -466,28 +467,14 @@ def _run_rewritten(allowed: str, cards: NetlistCards, analysis: Transient | Swee
         run.engine_version, (note,)
 
 
-class _Common(TypedDict):
-    """The fields of a :class:`CheckResult` known when the run is done, with or without a reference."""
-
-    netlist: str
-    engine: str
-    engine_version: str
-    analysis: str
-    method: str
-    points: int
-    simulator_seconds: float
-    accuracy: float
-    accuracy_given: bool
-
-
 def _compare(response: LinearResponse, solve_seconds: float, analysis: Transient | Sweep, axis: np.ndarray,
-             vectors: dict[str, np.ndarray], names: list[str], common: _Common,
+             vectors: dict[str, np.ndarray], names: list[str], unchecked: CheckResult,
              notes_before: tuple[str, ...] = ()) -> CheckResult:
-    """The result's comparison of the run's ``vectors`` with the exact ``response``; ``common`` holds the result's
-    other fields, the accuracy and the method among them."""
+    """The result's comparison of the run's ``vectors`` with the exact ``response``: ``unchecked`` (the result
+    without a reference, the accuracy and the method among its fields) completed."""
     from ..compare.check import predicted_errors, step_for_accuracy, vector_errors
 
-    accuracy, method = common["accuracy"], common["method"]
+    accuracy, method = unchecked.accuracy, unchecked.method
 
     started = time.perf_counter()
     found = {n: response.output(n) for n in names}
@@ -527,9 +514,9 @@ def _compare(response: LinearResponse, solve_seconds: float, analysis: Transient
                                       None if np.isnan(predicted_each[k]) else float(predicted_each[k])))
         else:
             checks.append(VectorCheck(n, _unit(n), None, None))
-    return CheckResult(vectors=tuple(checks), reference_seconds=seconds, states=response.states,
-                       unknowns=response.unknowns, rounding=rounding, run_step=run_step, predicted_error=predicted,
-                       suggested_step=suggested, prediction=prediction, notes=tuple(notes), **common)
+    return replace(unchecked, vectors=tuple(checks), reference_seconds=seconds, states=response.states,
+                   unknowns=response.unknowns, rounding=rounding, run_step=run_step, predicted_error=predicted,
+                   suggested_step=suggested, prediction=prediction, notes=tuple(notes))
 
 
 def check_file(path: str | Path, options: CheckOptions | None = None) -> CheckResult:

@@ -26,8 +26,8 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass
-from typing import TypeAlias, TypedDict
+from dataclasses import dataclass, replace
+from typing import TypeAlias
 
 import numpy as np
 import scipy  # its submodules load on first use: commands that need no theory never import them
@@ -196,28 +196,13 @@ class _Amplitude:
         return arrival.peak
 
 
-class _Found(TypedDict):
-    """The fields of a :class:`Design` both designs compute alike."""
-
-    case: str
-    N: int
-    delta: float
-    s: float
-    t_arrival: float
-    m1: float
-    m2: float
-    K12: float
-    x: float
-    y: float
-    z: float
-
-
-def _finish(case: str, N: int, r: float, w: float, chain: Chain) -> _Found:
+def _finish(case: str, N: int, r: float, w: float, chain: Chain) -> Design:
+    """The fields both designs compute alike; each adds its own (:func:`dataclasses.replace`)."""
     arrival = first_arrival(_modes(N, r, w))
     m1, m2, K12 = float(chain.masses[0]), float(chain.masses[1]), float(chain.springs[1])
     x, y, z = chain.xyz()
-    return dict(case=case, N=N, delta=1.0 - arrival.peak, s=arrival.time - N, t_arrival=arrival.time,
-                m1=m1, m2=m2, K12=K12, x=x, y=y, z=z)
+    return Design(case=case, N=N, delta=1.0 - arrival.peak, s=arrival.time - N, t_arrival=arrival.time,
+                  m1=m1, m2=m2, K12=K12, x=x, y=y, z=z)
 
 
 @fixed_blas_threads
@@ -250,8 +235,8 @@ def optimal_one_mass(N: int, progress: Callable[[float], None] | None = None) ->
         raise RuntimeError(f"one-mass optimum for N={N} hit the search bound at x={x}")
     uniform = first_arrival(_modes(N, 1.0, 1.0))
     chain = Chain.one_mass(N, x)
-    row = _finish("one-mass", N, 1.0, x * x, chain)
-    return Design(**row, Delta=x * x / (2 - x * x), delta_uniform=1.0 - uniform.peak)
+    return replace(_finish("one-mass", N, 1.0, x * x, chain), Delta=x * x / (2 - x * x),
+                   delta_uniform=1.0 - uniform.peak)
 
 
 @fixed_blas_threads
@@ -307,8 +292,7 @@ def optimal_two_mass(N: int, progress: Callable[[float], None] | None = None) ->
         result.x = np.exp(result.x)
         r, w = (float(v) for v in result.x)
     chain = Chain.from_rw(N, r, w)
-    row = _finish("two-mass", N, r, w, chain)
-    return Design(**row, r=r, w=w)
+    return replace(_finish("two-mass", N, r, w, chain), r=r, w=w)
 
 
 @fixed_blas_threads
