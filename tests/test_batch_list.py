@@ -61,3 +61,18 @@ def test_no_netlist_or_a_bad_list_is_one_line(argv: list[str], said: list[str], 
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and all(word in err for word in said), err
     assert not (tmp_path / "s.sqlite").exists()
+
+
+@pytest.mark.parametrize(("data", "said"), [(b"\xff\xfe.cir\n", "UTF-8"), (None, "at most")],
+                         ids=["not UTF-8", "endless"])
+def test_bad_names_on_standard_input_are_one_line(data: bytes | None, said: str, tmp_path: Path) -> None:
+    """Standard input is read up to the list's limit: a stream without end (here the limit and one byte more) is
+    refused, not read on."""
+    from lcchain.core.limits import MAX_NETLIST_LIST_BYTES
+
+    given = data if data is not None else b"a" * (MAX_NETLIST_LIST_BYTES + 1)
+    done = subprocess.run([sys.executable, "-m", "lcchain", "batch", "--from", "-", "--store", "s.sqlite"],
+                          input=given, capture_output=True, cwd=tmp_path)
+    err = done.stderr.decode().strip()
+    assert done.returncode == 2 and len(err.splitlines()) == 1 and "--from" in err and said in err, err
+    assert not (tmp_path / "s.sqlite").exists()

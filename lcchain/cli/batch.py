@@ -56,8 +56,15 @@ def cmd_batch(args: argparse.Namespace) -> int:
 
 
 def _stdin_text() -> str:
-    """The names piped to ``--from -``."""
+    """The names piped to ``--from -``: at most as much as a list file may hold (``< /dev/zero`` is refused, not
+    read without end)."""
+    from ..core.limits import MAX_NETLIST_LIST_BYTES
+
+    data = sys.stdin.buffer.read(MAX_NETLIST_LIST_BYTES + 1)
+    if len(data) > MAX_NETLIST_LIST_BYTES:
+        raise ParameterError("--from", "-", f"at most {MAX_NETLIST_LIST_BYTES} bytes of netlist names on standard "
+                             "input")
     try:
-        return sys.stdin.buffer.read().decode("utf-8")
+        return data.decode("utf-8")
     except UnicodeDecodeError:
         raise ParameterError("--from", "-", "netlist names in UTF-8 on standard input") from None
