@@ -18,9 +18,9 @@ def test_a_spool_marks_the_first_row_of_each_key_even_when_keys_share_their_firs
     spool = TaskSpool()
     try:
         for index, key in enumerate(keys):
-            spool.add(Refusal(index, FrozenMap({"netlist": str(index)}), "", key), key)
+            spool.add(Refusal(index, FrozenMap({"netlist": str(index)}), "", key), key, str(index))
         expected = [int(key not in keys[:index]) for index, key in enumerate(keys)]
-        assert list(spool.first()) == expected
+        assert spool.first() == expected
         assert [spool.key(i) for i in range(len(keys))] == keys
     finally:
         spool.close()

@@ -3,21 +3,25 @@ store."""
 
 from __future__ import annotations
 
+import os
+import stat
 import time
+from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..core.budget import INTERPRETER_SECONDS, Budget
 from .studies import PlannedStudy, StudyHooks, StudyOptions, StudyResult, check_study, run_study, study_workers
 
-__all__ = ["BatchRequest", "batch", "listed_netlists"]
+__all__ = ["BatchRequest", "batch", "listed_netlists", "listed_names"]
 
 
 @dataclass(frozen=True)
 class BatchRequest:
-    """The netlist files; ``allow_control`` runs each as it is (still in the sandbox); ``strict`` stops at the
-    first one lcchain will not run; ``check`` compares each run with the netlist's exact response; where the
-    runs go (``study``, its store required) and the budget (its time: the whole batch's)."""
+    """The netlist files; ``listed``: a file that lists more, one name a line (:func:`listed_names`: read as the
+    batch is planned, none of its names kept); ``allow_control`` runs each as it is (still in the sandbox);
+    ``strict`` stops at the first one lcchain will not run; ``check`` compares each run with the netlist's exact
+    response; where the runs go (``study``, its store required) and the budget (its time: the whole batch's)."""
 
     netlists: tuple[str, ...]
     allow_control: bool = False
@@ -25,19 +29,64 @@ class BatchRequest:
     check: bool = False
     study: StudyOptions = field(default_factory=StudyOptions)
     budget: Budget = field(default_factory=Budget)
+    listed: str | None = None
+
+    def names(self) -> Iterator[str]:
+        """Every netlist's name: those given, then those listed (read from the list as they are asked for)."""
+        yield from self.netlists
+        if self.listed is not None:
+            yield from listed_names(self.listed)
+
+    def count(self) -> int:
+        """How many netlists the batch has (the list read once through, and checked: one line naming it for a list
+        lcchain cannot read)."""
+        return len(self.netlists) + (sum(1 for _ in listed_names(self.listed)) if self.listed is not None else 0)
 
 
 def listed_netlists(path: str, text: str | None = None) -> tuple[str, ...]:
     """The netlist file names a list holds (``lcchain batch --from LIST``): one a line, as given (relative to the
-    current folder), blank lines skipped.  ``text``: the list already read (standard input); else the file at
-    ``path``, a regular file of at most :data:`~lcchain.core.limits.MAX_NETLIST_LIST_BYTES`.  A batch of more
-    names than a command line holds, and no copy of each name in the interpreter's own arguments."""
-    from ..core.limits import MAX_NETLIST_LIST_BYTES
-    from ..spice.inputs import read_input
-
+    current folder), blank lines skipped.  ``text``: the list already read; else the file at ``path``
+    (:func:`listed_names`)."""
     if text is None:
-        text = read_input(path, "--from", MAX_NETLIST_LIST_BYTES)
+        return tuple(listed_names(path))
     return tuple(line for line in text.splitlines() if line.strip())
+
+
+def listed_names(path: str, option: str = "--from") -> Iterator[str]:
+    """The names the list at ``path`` holds, one a line, blank lines skipped, read a line at a time: a regular file
+    of at most :data:`~lcchain.core.limits.MAX_NETLIST_LIST_BYTES` of UTF-8 text (else a
+    :class:`~lcchain.core.errors.ParameterError` naming ``option`` and the path, as for any input file).  A batch
+    of more names than a command line holds, with none of them kept, nor copied into the interpreter's own
+    arguments."""
+    from ..core.budget import show_bytes
+    from ..core.errors import ParameterError
+    from ..core.limits import MAX_NETLIST_LIST_BYTES
+    from ..spice.inputs import file_kind
+
+    most = MAX_NETLIST_LIST_BYTES
+    try:  # never blocked by a FIFO: refused below, as anything but a regular file
+        descriptor = os.open(path, os.O_RDONLY | os.O_NONBLOCK | os.O_CLOEXEC)
+    except OSError as error:
+        raise ParameterError(option, path, f"a readable file ({error.strerror})") from None
+    info = os.fstat(descriptor)
+    if not stat.S_ISREG(info.st_mode) or info.st_size > most:
+        os.close(descriptor)
+        if not stat.S_ISREG(info.st_mode):
+            raise ParameterError(option, path, f"a regular file (this is {file_kind(info.st_mode)})")
+        raise ParameterError(option, path, f"a file of at most {show_bytes(most)} (this one has "
+                             f"{show_bytes(info.st_size)})")
+    with os.fdopen(descriptor, "rb", buffering=1 << 16) as handle:
+        size = 0
+        for number, data in enumerate(handle, 1):
+            size += len(data)
+            if size > most:  # it grew while being read
+                raise ParameterError(option, path, f"a file of at most {show_bytes(most)}")
+            try:
+                line = data.decode("utf-8")
+            except UnicodeDecodeError as error:  # strict, as read_input: a byte of the list not UTF-8
+                raise ParameterError(option, path, f"UTF-8 text ({error.reason}: byte {data[error.start]:#04x} at "
+                                     f"byte {size - len(data) + error.start}, line {number})") from None
+            yield from (name for name in line.splitlines() if name.strip())
 
 
 def batch(request: BatchRequest, hooks: StudyHooks | None = None) -> StudyResult:
@@ -51,8 +100,13 @@ def batch(request: BatchRequest, hooks: StudyHooks | None = None) -> StudyResult
     check_study(request.study)
     budget = request.budget
     options = request.study
+    count = request.count()
+    if not count:
+        from ..core.errors import ParameterError
+
+        raise ParameterError("NETLIST", "none", "at least one netlist file, given or listed (--from LIST)")
     # ngspice found and its warm workers started while the netlists are read, checked and priced
-    with EngineStart(DEFAULT_ENGINE, "batch", runs=0 if request.allow_control else len(request.netlists),
+    with EngineStart(DEFAULT_ENGINE, "batch", runs=0 if request.allow_control else count,
                      workers=study_workers(options), executor=options.executor,
                      transport=options.transport) as engine:
         from ..studies.plan import Plan, batch_plan  # numpy and the plan's modules load while the engine starts
@@ -61,12 +115,12 @@ def batch(request: BatchRequest, hooks: StudyHooks | None = None) -> StudyResult
         plan: Plan
         if streams(options.executor, study_workers(options)):  # its runs in this process: read from disk as they go
             assert options.store is not None
-            plan = streamed_batch_plan(list(request.netlists), lambda: engine.simulator().version,
+            plan = streamed_batch_plan(request.names(), lambda: engine.simulator().version,
                                        allow_control=request.allow_control, timeout=options.timeout, budget=budget,
                                        strict=request.strict, check=request.check,
                                        folder=str(Path(options.store).resolve().parent))
         else:
-            plan = batch_plan(list(request.netlists), allow_control=request.allow_control, timeout=options.timeout,
+            plan = batch_plan(list(request.names()), allow_control=request.allow_control, timeout=options.timeout,
                               budget=budget, strict=request.strict, check=request.check)
         left = budget.max_seconds - INTERPRETER_SECONDS - (time.monotonic() - started)
         try:

@@ -4,7 +4,11 @@
 from __future__ import annotations
 
 import argparse
+import codecs
+import contextlib
 import sys
+import tempfile
+from collections.abc import Iterator
 
 from ..core.errors import ParameterError
 from .common import Parser, Subcommands, budget_from_args
@@ -41,30 +45,45 @@ def add_parser(sub: Subcommands, budget: list[Parser]) -> None:
 def cmd_batch(args: argparse.Namespace) -> int:
     """A batch's --max-time is its whole budget: each run's own limits come from its price, and no run starts once
     the budget is spent (the runs left stay pending in the store). A netlist lcchain will not run is stored as
-    refused and the others run (exit 1); with --strict the first refusal stops the batch (exit 2)."""
-    from ..app.batch import BatchRequest, batch, listed_netlists
+    refused and the others run (exit 1); with --strict the first refusal stops the batch (exit 2).  A list's names
+    (--from) are read as the batch is planned, none of them kept: standard input is copied to an unnamed temporary
+    file first."""
+    from ..app.batch import BatchRequest, batch
 
-    netlists = tuple(args.netlist)
-    if args.from_list is not None:
-        netlists += listed_netlists(args.from_list, _stdin_text() if args.from_list == "-" else None)
-    if not netlists:
+    if not args.netlist and args.from_list is None:
         raise ParameterError("NETLIST", "none", "at least one netlist file, given or listed (--from LIST)")
-    request = BatchRequest(netlists, allow_control=args.allow_control, strict=args.strict,
-                           check=getattr(args, "check", False), study=study_options(args),
-                           budget=budget_from_args(args))
-    return show_study(args, batch(request, study_hooks(args)))
+    with contextlib.ExitStack() as stack:
+        listed = args.from_list
+        if listed == "-":
+            listed = stack.enter_context(_stdin_list())
+        request = BatchRequest(tuple(args.netlist), allow_control=args.allow_control, strict=args.strict,
+                               check=getattr(args, "check", False), study=study_options(args),
+                               budget=budget_from_args(args), listed=listed)
+        return show_study(args, batch(request, study_hooks(args)))
 
 
-def _stdin_text() -> str:
-    """The names piped to ``--from -``: at most as much as a list file may hold (``< /dev/zero`` is refused, not
-    read without end)."""
+@contextlib.contextmanager
+def _stdin_list() -> Iterator[str]:
+    """The names piped to ``--from -``, copied to a temporary file (removed after) a chunk at a time: at most as
+    much as a list file may hold (``< /dev/zero`` is refused, not read without end), UTF-8."""
     from ..core.limits import MAX_NETLIST_LIST_BYTES
 
-    data = sys.stdin.buffer.read(MAX_NETLIST_LIST_BYTES + 1)
-    if len(data) > MAX_NETLIST_LIST_BYTES:
-        raise ParameterError("--from", "-", f"at most {MAX_NETLIST_LIST_BYTES} bytes of netlist names on standard "
-                             "input")
-    try:
-        return data.decode("utf-8")
-    except UnicodeDecodeError:
-        raise ParameterError("--from", "-", "netlist names in UTF-8 on standard input") from None
+    decoder = codecs.getincrementaldecoder("utf-8")()
+    with tempfile.NamedTemporaryFile(prefix="lcchain-names-", suffix=".txt") as copy:
+        size = 0
+        while chunk := sys.stdin.buffer.read(min(1 << 16, MAX_NETLIST_LIST_BYTES + 1 - size)):
+            size += len(chunk)
+            if size > MAX_NETLIST_LIST_BYTES:
+                raise ParameterError("--from", "-", f"at most {MAX_NETLIST_LIST_BYTES} bytes of netlist names on "
+                                     "standard input")
+            try:
+                decoder.decode(chunk)
+            except UnicodeDecodeError:
+                raise ParameterError("--from", "-", "netlist names in UTF-8 on standard input") from None
+            copy.write(chunk)
+        try:
+            decoder.decode(b"", final=True)
+        except UnicodeDecodeError:
+            raise ParameterError("--from", "-", "netlist names in UTF-8 on standard input") from None
+        copy.flush()
+        yield copy.name

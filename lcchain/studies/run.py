@@ -48,7 +48,7 @@ from .executors import (
 from .options import Progress, RunHooks, RunOptions
 from .plan import Combination, Plan, Task, _memory, _seconds
 from .store import Store, engine_text
-from .stream import WINDOW, StreamedPlan
+from .stream import StreamedPlan
 
 if TYPE_CHECKING:
     from ..spice.engine import Engine
@@ -145,7 +145,7 @@ def run_plan(plan: Plan, store: str | Path, options: RunOptions | None = None,
     workers = options.workers or default_workers()
     with Store(store, wait=options.wait, on_wait=hooks.on_wait) as results:
         results.check_plan(fingerprint, description, len(rows), engine_text(simulator.engine, simulator.version))
-        results.runs()  # every stored row read, and checked, before anything starts
+        results.check_runs()  # every stored row read, and checked, before anything starts (none kept)
         with open_executor(simulator, executor=executor, workers=workers, scheduler=scheduler,
                            verbose=hooks.verbose, scratch=str(Path(store).resolve().parent), pool=options.pool) as run:
             results.adopt(fingerprint, description, rows, engine_text(simulator.engine, simulator.version))
@@ -207,39 +207,33 @@ def _run_streamed(plan: StreamedPlan, store: str | Path, options: RunOptions, ho
     fingerprint, description = plan.fingerprint(simulator.version), dict(plan.description)
     workers = options.workers or default_workers()
     rows = len(spool)
+    listed = (plan.LISTED[0], plan.netlists)
     with Store(store, wait=options.wait, on_wait=hooks.on_wait) as results:
-        results.check_plan(fingerprint, description, rows, engine)
-        results.runs()  # every stored row read, and checked, before anything starts
+        results.check_plan(fingerprint, description, rows, engine, listed=listed)
+        results.check_runs()  # every stored row read, and checked, before anything starts (none kept)
         with open_executor(simulator, executor=executor, workers=workers, scheduler=options.scheduler,
                            verbose=hooks.verbose, scratch=str(Path(store).resolve().parent), pool=options.pool) as run:
-            results.adopt(fingerprint, description, plan.streamed_rows(simulator.version), engine, count=rows)
-            first = spool.first()
-            stored = bytearray(rows)  # 1: stored before this run (failed ones not, with retry_failed)
-            for low in range(0, rows, WINDOW):
-                window = [spool.key(i) for i in range(low, min(rows, low + WINDOW))]
-                held = results.stored_among(window, options.retry_failed)
-                for offset, key in enumerate(window):
-                    stored[low + offset] = key in held
+            results.adopt(fingerprint, description, plan.streamed_rows(simulator.version), engine, count=rows,
+                          listed=listed)
+            # what is stored, asked of the store a window of keys at a time (failed ones not, with retry_failed)
+            skipped = spool.mark_stored(lambda keys: results.stored_among(keys, options.retry_failed))
             # one transaction: nothing of them ran (no engine, no time), and a resume finds them stored
-            refused = {refusal.key: refusal for refusal in plan.refusals if not stored[refusal.index]}
+            refused = {refusal.key: refusal for refusal in plan.refusals if not spool.stored(refusal.index)}
             if refused:
                 results.add_many([(RunRecord(key=key, status="refused", reason=refusal.reason,
                                              label=refusal.label), None) for key, refusal in refused.items()])
-            todo = bytearray(a & b & (not c) for a, b, c in zip(first, spool.runs, stored, strict=True))
-            distinct, skipped, count = sum(first), sum(a & b for a, b in zip(first, stored, strict=True)), sum(todo)
+            distinct, count = spool.keyed(), spool.todo()
             if hooks.on_resume is not None:
                 hooks.on_resume(skipped, count)
 
             def able(engine: Engine, by_cost: bool) -> tuple[RunMask, int]:
-                below = engine.warm_below_seconds if by_cost else float("inf")
-                chosen = bytes(int(t and w and s < below) for t, w, s in zip(todo, spool.warm, spool.seconds,
-                                                                               strict=True))
+                chosen = spool.chosen(engine.warm_below_seconds if by_cost else float("inf"))
                 return RunMask(chosen), chosen.count(1)
 
             transports = replace(choose_transports_by(able, simulator, workers, options.transport),
                                  deadline=deadline)
             done = failed = 0
-            for group in run(RunStream(spool.specs(todo)), transports):
+            for group in run(RunStream(spool.specs()), transports):
                 for index, record in group:
                     if record.key != spool.key(index):
                         raise ParameterError("--store", str(store), f"records under the plan's keys (run {index} "

@@ -147,6 +147,27 @@ SQLValue: TypeAlias = str | int | float | bytes | None
 Row: TypeAlias = tuple[SQLValue, ...]
 
 
+#: A key of a plan's description whose list is given item by item (:meth:`Store.adopt`), and what gives them.
+Listed: TypeAlias = tuple[str, Callable[[], Iterable[JSON]]]
+#: A placeholder no description holds, where a listed key's items go.
+_LISTED_HERE = "\x00listed\x00"
+
+
+def _described(description: Mapping[str, JSON], listed: Listed | None) -> str:
+    """The description's JSON text, as ``json.dumps`` writes it; a ``listed`` key's list written an item at a
+    time (a batch's 100,000 netlists: their text alone, never a Python list of them)."""
+    if listed is None:
+        return json.dumps(description)
+    key, items = listed
+    before, _, after = json.dumps({**description, key: _LISTED_HERE}).partition(json.dumps(_LISTED_HERE))
+    text = io.StringIO()
+    text.write(before + "[")
+    for at, item in enumerate(items()):
+        text.write((", " if at else "") + json.dumps(item))
+    text.write("]" + after)
+    return text.getvalue()
+
+
 def engine_text(engine: str, version: str) -> str:
     """What the ``engine`` column (and meta row) holds: the engine's name and version (``"ngspice 39"``)."""
     return f"{engine} {version}"
@@ -532,8 +553,10 @@ class Store:
             meta[name] = value
         return meta
 
-    def check_plan(self, fingerprint: str, description: Mapping[str, JSON], rows: int, engine: str) -> None:
-        """Refuse a store that holds another plan (nothing is written).
+    def check_plan(self, fingerprint: str, description: Mapping[str, JSON], rows: int, engine: str, *,
+                   listed: Listed | None = None) -> None:
+        """Refuse a store that holds another plan (nothing is written); ``listed`` as for :meth:`adopt` (read only
+        when the store holds another plan, to tell whether it is this study as another engine planned it).
 
         Raises
         ------
@@ -544,7 +567,7 @@ class Store:
         if "plan" not in meta or meta["plan"] == fingerprint:
             return
         try:
-            same = json.loads(meta.get("description", "null")) == json.loads(json.dumps(description))
+            same = json.loads(meta.get("description", "null")) == json.loads(_described(description, listed))
         except json.JSONDecodeError:
             raise self._tampered("its description is not JSON") from None
         if same:
@@ -559,7 +582,7 @@ class Store:
 
     def adopt(self, fingerprint: str, description: Mapping[str, JSON],
               tasks: Iterable[tuple[str, Mapping[str, object], str]], engine: str, *,
-              count: int | None = None) -> None:
+              count: int | None = None, listed: Listed | None = None) -> None:
         """Make this the store of a plan, or check that it already is.
 
         A new store is made whole: built under a hidden name beside it, its plan
@@ -577,6 +600,9 @@ class Store:
             How many ``tasks`` holds (by default its length).
         engine : str
             The engine's name and version (:func:`engine_text`).
+        listed : (str, callable), optional
+            A key of ``description`` whose list is too long to hold (a batch's netlists), and what gives its
+            items, read once as the description is written: its value in ``description`` is a placeholder.
 
         Raises
         ------
@@ -588,10 +614,10 @@ class Store:
         count = count if count is not None else len(tasks) if isinstance(tasks, Sequence) else None
         if count is None:
             raise TypeError("adopt: the count of tasks given as an iterator")
-        self.check_plan(fingerprint, description, count, engine)
+        self.check_plan(fingerprint, description, count, engine, listed=listed)
         if "plan" in self.meta():
             return
-        meta = (("format", FORMAT), ("plan", fingerprint), ("description", json.dumps(description)),
+        meta = (("format", FORMAT), ("plan", fingerprint), ("description", _described(description, listed)),
                 ("created", time.strftime("%Y-%m-%dT%H:%M:%S")), ("lcchain_version", __version__),
                 ("engine", engine))
         rows = ((i, key, json.dumps(params), label) for i, (key, params, label) in enumerate(tasks))
@@ -635,7 +661,8 @@ class Store:
             self._db.close()
             self._open_write()
             # it holds a plan now, which adopt checks (an iterator of tasks is read already: none is written)
-            self.adopt(fingerprint, description, tasks if isinstance(tasks, Sequence) else (), engine, count=count)
+            self.adopt(fingerprint, description, tasks if isinstance(tasks, Sequence) else (), engine, count=count,
+                       listed=listed)
             return
         with contextlib.suppress(OSError):
             folder = os.open(self.path.parent, os.O_RDONLY | os.O_DIRECTORY)
@@ -822,6 +849,19 @@ class Store:
     def runs(self) -> list[StoredRun]:
         """Every task in plan order, with its record where it ran."""
         return [self._stored(row) for row in self._rows(f"{self._select} ORDER BY t.idx")]
+
+    def check_runs(self) -> int:
+        """Every task read and checked as :meth:`runs` reads it (a row changed outside lcchain is refused), a
+        window of rows at a time and none kept: what a study checks before it resumes, whatever its size (a
+        resumed batch of 100,000 runs held them all).  How many tasks the store holds."""
+        count = 0
+        with self._guard():
+            cursor = self._db.execute(f"{self._select} ORDER BY t.idx")
+            while rows := cursor.fetchmany(_KEYS_A_QUERY):
+                for row in rows:
+                    self._stored(row)
+                count += len(rows)
+        return count
 
     def statuses(self) -> dict[str, tuple[str, str]]:
         """Each stored run's (status, reason) by key, its metrics and arrays unread: what a study's summary

@@ -16,15 +16,15 @@ theory, and go to threads); the others (Dask, an executor of one's own) take the
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import pickle
+import sqlite3
 import tempfile
-from array import array
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-
-import numpy as np
+from typing import Any
 
 from ..core.budget import WARM_WORKER_BYTES, Budget, Estimate
 from ..core.errors import LcchainError, ParameterError
@@ -45,12 +45,21 @@ HELD = 2048
 #: Netlists planned before their keys are made (the engine's version, which every key holds, is found meanwhile)
 #: and runs read back from the spool at a time.
 WINDOW = 256
-_DIGEST = 32  # bytes of a key (a SHA-256)
+#: The spool's SQLite page cache, KB: what its rows cost the driver, whatever the batch's size.
+_CACHE_KB = 1024
+_SPOOL_SCHEMA = """
+CREATE TABLE rows (idx INTEGER PRIMARY KEY, key TEXT NOT NULL, path TEXT NOT NULL, run INTEGER NOT NULL,
+                   warm INTEGER NOT NULL, seconds REAL NOT NULL, cost REAL NOT NULL, start_at INTEGER,
+                   end_at INTEGER, first INTEGER NOT NULL, stored INTEGER NOT NULL, todo INTEGER NOT NULL);
+CREATE TABLE seen (key TEXT PRIMARY KEY) WITHOUT ROWID;
+"""
 
 
 class TaskSpool:
-    """A batch's rows in plan order: each run's spec pickled into an unnamed temporary file in ``folder``, and of
-    every row (runs and refusals) its key, its seconds, its price's seconds and flags in arrays (~50 bytes a row).
+    """A batch's rows in plan order, on disk: each run's spec pickled into an unnamed temporary file in ``folder``,
+    and of every row (runs and refusals) its key, its netlist's path, its seconds, its price's seconds and flags in
+    a private temporary SQLite database (SQLite's own temporary folder; a bounded page cache: nothing a row is kept
+    in the driver).  A row's first appearance of its key is found as it is added (a UNIQUE table of the keys seen).
     """
 
     def __init__(self, folder: str | None = None) -> None:
@@ -58,98 +67,166 @@ class TaskSpool:
             self._file = tempfile.TemporaryFile(dir=folder)
         except OSError:  # a folder it cannot write in (the store's: its own error comes where it is made)
             self._file = tempfile.TemporaryFile()
-        self._ends = array("Q")  # where each row's pickle ends (a refusal's, and a held run's, is empty)
-        self._held: list[RunSpec] = []  # the first HELD runs, as they were planned
-        self._first: bytearray | None = None  # made once every row is added (:meth:`first`)
-        self.keys = bytearray()  # each row's key, 32 bytes
-        self.seconds = array("d")  # each run's predicted seconds (a refusal's 0)
-        self.cost = array("d")  # each run's seconds and its comparison's (the study's price)
-        self.runs = bytearray()  # 1 for a run, 0 for a refusal
-        self.warm = bytearray()  # 1 for a run an engine's warm transport may carry (its engine, analysis, text)
+        self._end = 0  # where the spool file ends
+        self._held: dict[int, RunSpec] = {}  # the first HELD runs by row, as they were planned
+        self._rows = 0
         self.memory = 0.0  # the largest run's memory, bytes
         self.light = True  # no run has a theory to compute
+        self._db = sqlite3.connect("", isolation_level=None, check_same_thread=False)  # deleted when closed
+        self._db.execute(f"PRAGMA cache_size = -{_CACHE_KB}")
+        self._db.execute("PRAGMA journal_mode = OFF")
+        self._db.execute("PRAGMA synchronous = OFF")
+        self._db.executescript(_SPOOL_SCHEMA)
+        self._pending: list[tuple[object, ...]] = []  # rows not yet written (at most WINDOW)
 
     def __len__(self) -> int:
-        return len(self._ends)
+        return self._rows
 
-    def add(self, item: Task | Refusal, key: str) -> None:
+    def add(self, item: Task | Refusal, key: str, path: str) -> None:
+        """A row: a run or a refusal, its key, and its netlist's name as given."""
         blob = b""
+        index = self._rows
         if isinstance(item, Task):
             spec = item.spec
             if len(self._held) < HELD:
-                self._held.append(spec)
+                self._held[index] = spec
             else:
                 blob = pickle.dumps(spec, protocol=pickle.HIGHEST_PROTOCOL)
             self.memory = max(self.memory, item.memory)
             self.light = self.light and spec.theory is None
             engine = ENGINES[spec.engine]
-            self.warm.append(int(spec.engine == engine.name and not spec.trusted
-                                 and spec.analysis in engine.warm_analyses))
-            self.seconds.append(item.seconds)
-            self.cost.append(item.seconds + _compare_seconds(spec))
-            self.runs.append(1)
+            warm = int(spec.engine == engine.name and not spec.trusted and spec.analysis in engine.warm_analyses)
+            seconds, cost, run = item.seconds, item.seconds + _compare_seconds(spec), 1
         else:
-            self.warm.append(0)
-            self.seconds.append(0.0)
-            self.cost.append(0.0)
-            self.runs.append(0)
+            warm, seconds, cost, run = 0, 0.0, 0.0, 0
         try:
             self._file.write(blob)
         except OSError as error:
             why = error.strerror or str(error)
             raise LcchainError(f"the batch's runs could not be spooled to disk beside its store ({why}): make room "
                                "and run the same command again") from None
-        self._ends.append((self._ends[-1] if self._ends else 0) + len(blob))
-        self.keys += bytes.fromhex(key)
+        self._pending.append((index, key, path, run, warm, seconds, cost, self._end if blob else None,
+                              self._end + len(blob) if blob else None))
+        self._end += len(blob)
+        self._rows += 1
+        if len(self._pending) >= WINDOW:
+            self._write()
+
+    def _write(self) -> None:
+        """The rows added since the last write, in one transaction; each row's ``first`` marks the first row of
+        its key (two netlists of the same text, path and options are one run)."""
+        if not self._pending:
+            return
+        with self._guard():
+            self._db.execute("BEGIN")
+            for row in self._pending:
+                new = self._db.execute("INSERT OR IGNORE INTO seen VALUES (?)", (row[1],)).rowcount
+                self._db.execute("INSERT INTO rows VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, 0, 0)", (*row, new))
+            self._db.execute("COMMIT")
+        self._pending.clear()
+
+    @contextlib.contextmanager
+    def _guard(self) -> Iterator[None]:
+        try:
+            yield
+        except sqlite3.Error as error:
+            raise LcchainError(f"the batch's rows could not be spooled to the temporary folder (SQLite says: "
+                               f"{error}): make room there (TMPDIR) and run the same command again") from None
+
+    def _query(self, sql: str, args: Sequence[object] = ()) -> Iterator[tuple[Any, ...]]:
+        """A query's rows as they are read (a window at a time: none held)."""
+        self._write()
+        with self._guard():
+            cursor = self._db.execute(sql, args)
+            while rows := cursor.fetchmany(WINDOW):
+                yield from rows
+
+    def _one(self, sql: str, args: Sequence[object] = ()) -> tuple[Any, ...]:
+        return next(self._query(sql, args))
 
     def key(self, index: int) -> str:
-        return self.keys[_DIGEST * index:_DIGEST * (index + 1)].hex()
+        found = next(self._query("SELECT key FROM rows WHERE idx = ?", (index,)), None)
+        if found is None:
+            raise IndexError(f"the spool has no row {index}")
+        return str(found[0])
 
-    def first(self) -> bytearray:
-        """1 for each row whose key no earlier row has (two netlists of the same text, path and options are one
-        run).  Rows are ranked by their keys' first 8 bytes (2 MB for 100,000 rows; ``numpy.unique`` of the whole
-        keys took 15 MB); only rows that share those are compared whole."""
-        if self._first is None:
-            first = bytearray(b"\x01" * len(self))
-            prefix = np.frombuffer(self.keys, dtype=np.uint64)[::_DIGEST // 8]
-            order = np.argsort(prefix, kind="stable")  # among equal prefixes, the earlier row first
-            ranked = prefix[order]
-            del prefix  # a view of the keys: released before any row is added
-            shared = np.flatnonzero(ranked[1:] == ranked[:-1]).tolist()
-            seen: set[str] = set()
-            for at, position in enumerate(shared):
-                if at == 0 or shared[at - 1] != position - 1:  # a new run of rows sharing a prefix
-                    seen = {self.key(int(order[position]))}
-                later = int(order[position + 1])
-                key = self.key(later)
-                if key in seen:
-                    first[later] = 0
-                seen.add(key)
-            self._first = first
-        return self._first
+    def keys(self) -> Iterator[str]:
+        """Each row's key, in plan order."""
+        return (key for key, in self._query("SELECT key FROM rows ORDER BY idx"))
 
-    def specs(self, chosen: bytearray) -> Iterator[tuple[int, RunSpec]]:
-        """The spec of each row marked in ``chosen``, in plan order: held, or read back from disk (and its text
-        checked again) as it is asked for."""
+    def rows(self) -> Iterator[tuple[str, str]]:
+        """Each row's (key, netlist's name as given), in plan order."""
+        return ((key, path) for key, path in self._query("SELECT key, path FROM rows ORDER BY idx"))
+
+    def first(self) -> list[int]:
+        """1 for each row whose key no earlier row has (a list: for tests and small batches)."""
+        return [first for first, in self._query("SELECT first FROM rows ORDER BY idx")]
+
+    def distinct(self) -> tuple[int, float]:
+        """The distinct runs (refusals not counted) and their seconds together, with their comparisons."""
+        count, seconds = self._one("SELECT COUNT(*), TOTAL(cost) FROM rows WHERE first AND run")
+        return int(count), float(seconds)
+
+    def keyed(self) -> int:
+        """The distinct keys of the rows (runs and refusals)."""
+        return int(self._one("SELECT COUNT(*) FROM rows WHERE first")[0])
+
+    def any_warm(self) -> bool:
+        return bool(self._one("SELECT EXISTS (SELECT 1 FROM rows WHERE warm)")[0])
+
+    def mark_stored(self, stored_among: Callable[[list[str]], set[str]]) -> int:
+        """Mark each row whose key ``stored_among`` (asked a window of keys at a time) finds stored, and each
+        row to run now (the first of its key, a run, not stored); the distinct rows stored."""
+        self._write()
+        low = 0
+        while True:
+            window = list(self._query("SELECT idx, key FROM rows WHERE idx >= ? ORDER BY idx LIMIT ?",
+                                      (low, WINDOW)))
+            if not window:
+                break
+            held = stored_among([key for _, key in window])
+            with self._guard():
+                self._db.executemany("UPDATE rows SET stored = 1 WHERE idx = ?",
+                                     [(index,) for index, key in window if key in held])
+            low = window[-1][0] + 1
+        with self._guard():
+            self._db.execute("UPDATE rows SET todo = (first AND run AND NOT stored)")
+        return int(self._one("SELECT COUNT(*) FROM rows WHERE first AND stored")[0])
+
+    def stored(self, index: int) -> bool:
+        return bool(self._one("SELECT stored FROM rows WHERE idx = ?", (index,))[0])
+
+    def todo(self) -> int:
+        return int(self._one("SELECT COUNT(*) FROM rows WHERE todo")[0])
+
+    def chosen(self, below: float) -> bytes:
+        """A byte a row: 1 for a row to run now whose engine's warm transport may carry it, priced below
+        ``below`` seconds (:class:`~lcchain.studies.executors.RunMask`)."""
+        chosen = bytearray(len(self))
+        for index, in self._query("SELECT idx FROM rows WHERE todo AND warm AND seconds < ?", (below,)):
+            chosen[index] = 1
+        return bytes(chosen)
+
+    def specs(self) -> Iterator[tuple[int, RunSpec]]:
+        """The spec of each row to run now (:meth:`mark_stored`), in plan order: held, or read back from disk (and
+        its text checked again) as it is asked for."""
         self._file.flush()
-        start = 0
-        held = iter(self._held)
-        for index, end in enumerate(self._ends):
-            if self.runs[index] and end == start:  # a held run
-                spec = next(held)
-                if chosen[index]:
-                    yield index, spec
-            elif chosen[index] and end > start:
-                self._file.seek(start)
-                spec = pickle.loads(self._file.read(end - start))  # the spool is this driver's own, unnamed file
-                if not isinstance(spec, RunSpec):
-                    raise TypeError(f"row {index} of the spool is not a run")
-                yield index, spec
-            start = end
+        for index, start, end in self._query("SELECT idx, start_at, end_at FROM rows WHERE todo ORDER BY idx"):
+            if start is None:
+                yield index, self._held[index]
+                continue
+            self._file.seek(start)
+            spec = pickle.loads(self._file.read(end - start))  # the spool is this driver's own, unnamed file
+            if not isinstance(spec, RunSpec):
+                raise TypeError(f"row {index} of the spool is not a run")
+            yield index, spec
 
     def close(self) -> None:
         self._held.clear()
+        self._pending.clear()
         self._file.close()
+        with contextlib.suppress(sqlite3.Error):
+            self._db.close()
 
 
 @dataclass(frozen=True)
@@ -159,7 +236,10 @@ class StreamedPlan(Plan):
 
     spool: TaskSpool = field(default_factory=TaskSpool, compare=False, repr=False)
     version: str = ""
-    paths: tuple[str, ...] = ()
+
+    #: The description's key that lists every row's netlist: the store writes it from the rows it stores
+    #: (:meth:`lcchain.studies.store.Store.adopt`'s ``listed``), and the plan holds none of them.
+    LISTED = ("netlists", "netlist")
 
     def keys(self, ngspice_version: str) -> dict[int, str]:
         raise TypeError("a streamed plan keeps no keys in memory: run it with lcchain.studies.run.run_plan")
@@ -175,22 +255,24 @@ class StreamedPlan(Plan):
     def streamed_rows(self, ngspice_version: str) -> Iterator[tuple[str, dict[str, object], str]]:
         """(key, params, label) of every row in index order, made as the store's tasks table is written."""
         self._keyed(ngspice_version)
-        for index, path in enumerate(self.paths):
-            yield self.spool.key(index), {"netlist": path}, Path(path).name
+        for key, given in self.spool.rows():
+            path = Path(given)  # as batch_plan's rows: the path as pathlib spells it, the name as given
+            yield key, {"netlist": str(path)}, path.name
+
+    def netlists(self) -> Iterator[str]:
+        """Every row's netlist as given, in plan order (the description's list, made as it is asked for)."""
+        return (path for _, path in self.spool.rows())
 
     def fingerprint(self, ngspice_version: str) -> str:
         self._keyed(ngspice_version)
         digest = hashlib.sha256()
-        for index in range(len(self.spool)):
-            digest.update((b"\n" if index else b"") + self.spool.key(index).encode())
+        for index, key in enumerate(self.spool.keys()):
+            digest.update((b"\n" if index else b"") + key.encode())
         return digest.hexdigest()
 
     def distinct(self) -> tuple[int, float]:
         """The distinct runs (refusals not counted) and their seconds together, with their comparisons."""
-        first, spool = self.spool.first(), self.spool
-        chosen = np.frombuffer(bytes(first), dtype=np.uint8).astype(bool) & \
-            np.frombuffer(bytes(spool.runs), dtype=np.uint8).astype(bool)
-        return int(chosen.sum()), float(np.asarray(spool.cost)[chosen].sum()) if len(spool) else 0.0
+        return self.spool.distinct()
 
     def estimate(self) -> float:
         return self.distinct()[1]
@@ -199,7 +281,7 @@ class StreamedPlan(Plan):
         runs, seconds = self.distinct()
         used = max(1, min(workers, runs)) if EXECUTOR_TRAITS[executor].parallel else 1
         cost = executor_cost(executor, used, light=self.spool.light)
-        warm = WARM_WORKER_BYTES if any(self.spool.warm) else 0.0
+        warm = WARM_WORKER_BYTES if self.spool.any_warm() else 0.0
         return Estimate(f"{runs} runs on {used} worker{'s' if used > 1 else ''}",
                         cost.fixed + used * (cost.per_worker + self.spool.memory + warm),
                         self.planning + cost.start + seconds / used)
@@ -215,15 +297,17 @@ def streams(executor: object, workers: int) -> bool:
     return EXECUTOR_TRAITS.accept("--executor", executor).threads_here(workers) > 0
 
 
-def streamed_batch_plan(paths: Sequence[str | Path], key_version: Callable[[], str], *, allow_control: bool = False,
+def streamed_batch_plan(paths: Iterable[str | Path], key_version: Callable[[], str], *, allow_control: bool = False,
                         backend: Backend = "batch", timeout: float = DEFAULT_TIMEOUT, budget: Budget | None = None,
                         strict: bool = False, engine_version: Callable[[], str] | None = None, check: bool = False,
                         folder: str | None = None) -> StreamedPlan:
     """:func:`lcchain.studies.plan.batch_plan`'s plan (the same checks, refusals, prices, keys and rows), its runs
     spooled to disk in ``folder`` (the store's; default the temporary folder) as they are planned.
 
+    ``paths`` is read once, as the netlists are planned (a list file's lines, say: none of them is kept).
     ``key_version`` gives the version of the engine that will run the batch (every key holds it): asked once the
-    first :data:`WINDOW` netlists are planned (an engine found meanwhile is not waited for).
+    first :data:`WINDOW` netlists are planned (an engine found meanwhile is not waited for).  The plan's
+    description lists no netlist: the store lists them from its rows (:attr:`StreamedPlan.LISTED`).
     """
     budget = budget if budget is not None else Budget()
     version = engine_version if engine_version is not None else _version_of(backend)
@@ -231,15 +315,16 @@ def streamed_batch_plan(paths: Sequence[str | Path], key_version: Callable[[], s
     spool = TaskSpool(folder)
     refusals: list[Refusal] = []
     first: ParameterError | None = None
-    window: list[Task | Refusal] = []
+    window: list[tuple[Task | Refusal, str]] = []  # each with its netlist's name as given
     keyed = ""
     planned = 0
     try:
         for index, name in enumerate(paths):
             path = Path(name)
+            given = str(name)
             read: list[str] = []
             try:
-                window.append(_batch_task(index, path, read, runs))
+                window.append((_batch_task(index, path, read, runs), given))
                 planned += 1
             except ParameterError as error:
                 if strict:
@@ -248,7 +333,7 @@ def streamed_batch_plan(paths: Sequence[str | Path], key_version: Callable[[], s
                 refusal = Refusal(index, FrozenMap({"netlist": str(path)}), str(error),
                                   _refusal_key(str(path), read[0] if read else ""), path.name)
                 refusals.append(refusal)
-                window.append(refusal)
+                window.append((refusal, given))
             if len(window) >= WINDOW:
                 keyed = keyed or key_version()
                 _spool(spool, window, keyed)
@@ -259,16 +344,16 @@ def streamed_batch_plan(paths: Sequence[str | Path], key_version: Callable[[], s
     except BaseException:
         spool.close()
         raise
-    description: dict[str, JSON] = {"command": "batch", "netlists": [str(p) for p in paths],
+    # batch_plan's description, its list of netlists made by the store from the rows (in its place, as there)
+    description: dict[str, JSON] = {"command": "batch", StreamedPlan.LISTED[0]: [],
                                     "allow_control": allow_control, "backend": backend}
     if check:
         description["check"] = True
     return StreamedPlan("batch", FrozenMap(description), (), backend, ("netlist",),
-                        engine=DEFAULT_ENGINE, refusals=tuple(refusals), spool=spool, version=keyed,
-                        paths=tuple(str(p) for p in paths))
+                        engine=DEFAULT_ENGINE, refusals=tuple(refusals), spool=spool, version=keyed)
 
 
-def _spool(spool: TaskSpool, window: list[Task | Refusal], version: str) -> None:
-    for item in window:
-        spool.add(item, item.spec.key(version) if isinstance(item, Task) else item.key)
+def _spool(spool: TaskSpool, window: list[tuple[Task | Refusal, str]], version: str) -> None:
+    for item, given in window:
+        spool.add(item, item.spec.key(version) if isinstance(item, Task) else item.key, given)
     window.clear()

@@ -688,3 +688,11 @@ DOUBLE_DOUBLE_SHARPER = 1e-10
 #: absolute and relative (measured 1.7e-15 and 3.6e-14 on N = 12 to 60 with 0 to 2 walls, weights down to 2e-33).
 ATOL_PERFECT_CLOSED_FORM = 1e-13
 RTOL_PERFECT_CLOSED_FORM = 1e-11
+
+# Bytes of Python memory a batch's driver keeps a run while it runs (tests/test_batch_memory.py: traced by
+# tracemalloc, the growth from a batch of 80 listed netlists to one of 400, over the 320 runs more; each the least
+# seen at the same few runs' starts, one worker).  A streamed batch keeps about a byte a run (the warm transport's
+# RunMask), and caches that fill up to a bound (sqlite3's cursor references, the regular expressions' and the
+# allocator's) showed as 15 to 21 bytes a run; the plan that held every name's copies, its list in the
+# description and the spool's arrays showed 196.
+MAX_BATCH_BYTES_PER_RUN = 64
