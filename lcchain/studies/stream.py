@@ -3,9 +3,11 @@
 :func:`lcchain.studies.plan.batch_plan` keeps every task (its checked text, ~2 KB a run) for the whole batch: 400 MB
 of driver at 100,000 runs.  :func:`streamed_batch_plan` checks, prices and keys every netlist the same way
 (:func:`lcchain.studies.plan._batch_task`, before anything runs: refusals, ``strict`` and the budget as there), but
-keeps of each run only its key (32 bytes), its predicted seconds and a few flags; the run itself, past the first
-:data:`HELD`, is pickled into :class:`TaskSpool`, an unnamed temporary file beside the store (nothing of it outlives
-the driver, even killed).
+keeps nothing of a run in the driver: the names are read as they are planned (a list file's lines, say), each row's
+key, name, price and flags go to :class:`TaskSpool`'s private temporary SQLite database (its page cache bounded),
+and the run itself, past the first :data:`HELD`, is pickled into its unnamed temporary file beside the store
+(nothing of either outlives the driver, even killed).  The store writes the description's list of netlists from
+the spool, a name at a time.
 :func:`lcchain.studies.run.run_plan` reads the runs back one by one as the executor asks for them: a
 :class:`~lcchain.spice.foreign.CheckedText` unpickled is checked again by the allow-list, so what runs is what was
 checked, whatever happened to the spool or to the netlist's file meanwhile.
@@ -21,6 +23,7 @@ import hashlib
 import pickle
 import sqlite3
 import tempfile
+import threading
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -78,6 +81,7 @@ class TaskSpool:
         self._db.execute("PRAGMA synchronous = OFF")
         self._db.executescript(_SPOOL_SCHEMA)
         self._pending: list[tuple[object, ...]] = []  # rows not yet written (at most WINDOW)
+        self._lock = threading.Lock()
 
     def __len__(self) -> int:
         return self._rows
@@ -117,7 +121,7 @@ class TaskSpool:
         its key (two netlists of the same text, path and options are one run)."""
         if not self._pending:
             return
-        with self._guard():
+        with self._guard(), self._lock:
             self._db.execute("BEGIN")
             for row in self._pending:
                 new = self._db.execute("INSERT OR IGNORE INTO seen VALUES (?)", (row[1],)).rowcount
@@ -134,11 +138,17 @@ class TaskSpool:
                                f"{error}): make room there (TMPDIR) and run the same command again") from None
 
     def _query(self, sql: str, args: Sequence[object] = ()) -> Iterator[tuple[Any, ...]]:
-        """A query's rows as they are read (a window at a time: none held)."""
+        """A query's rows as they are read (a window at a time: none held).  The runs are read back in an
+        executor's thread while the driver asks for keys: each call into SQLite holds the spool's lock."""
         self._write()
         with self._guard():
-            cursor = self._db.execute(sql, args)
-            while rows := cursor.fetchmany(WINDOW):
+            with self._lock:
+                cursor = self._db.execute(sql, args)
+            while True:
+                with self._lock:
+                    rows = cursor.fetchmany(WINDOW)
+                if not rows:
+                    break
                 yield from rows
 
     def _one(self, sql: str, args: Sequence[object] = ()) -> tuple[Any, ...]:
@@ -185,11 +195,11 @@ class TaskSpool:
             if not window:
                 break
             held = stored_among([key for _, key in window])
-            with self._guard():
+            with self._guard(), self._lock:
                 self._db.executemany("UPDATE rows SET stored = 1 WHERE idx = ?",
                                      [(index,) for index, key in window if key in held])
             low = window[-1][0] + 1
-        with self._guard():
+        with self._guard(), self._lock:
             self._db.execute("UPDATE rows SET todo = (first AND run AND NOT stored)")
         return int(self._one("SELECT COUNT(*) FROM rows WHERE first AND stored")[0])
 
@@ -256,8 +266,7 @@ class StreamedPlan(Plan):
         """(key, params, label) of every row in index order, made as the store's tasks table is written."""
         self._keyed(ngspice_version)
         for key, given in self.spool.rows():
-            path = Path(given)  # as batch_plan's rows: the path as pathlib spells it, the name as given
-            yield key, {"netlist": str(path)}, path.name
+            yield key, {"netlist": given}, Path(given).name
 
     def netlists(self) -> Iterator[str]:
         """Every row's netlist as given, in plan order (the description's list, made as it is asked for)."""
