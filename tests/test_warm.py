@@ -254,6 +254,48 @@ def test_workers_started_on_a_wrong_guess_are_ended() -> None:
     assert warm._guessed == {}
 
 
+ENGINE_MISSING = """\
+from lcchain.core.errors import SimulatorMissingError
+from lcchain.spice.ngspice import warm
+from lcchain.studies.executors import EngineStart
+
+started = []
+start = warm.WarmWorker.__init__
+
+
+def spied(self, *args, **kwargs):
+    started.append(self)
+    start(self, *args, **kwargs)
+
+
+warm.WarmWorker.__init__ = spied
+try:
+    with EngineStart("ngspice", "batch", runs=100, workers=2, executor="process", transport="auto") as engine:
+        engine.simulator()
+except SimulatorMissingError:
+    print(len(started), sum(worker.proc.poll() is None for worker in started), len(warm._workers))
+"""
+
+
+def test_workers_started_for_an_engine_not_found_end_with_the_block(tmp_path: Path) -> None:
+    """Where the shared library and bubblewrap are found but the ngspice program is not, the workers EngineStart
+    started on its guess end when the study's block ends with the missing engine's error, not at the
+    interpreter's exit."""
+    import shutil
+
+    programs = tmp_path / "bin"
+    programs.mkdir()
+    for name in ("bwrap", "setpriv", "true"):
+        found = shutil.which(name)
+        if found is None:
+            pytest.skip(f"{name} is not installed")
+        (programs / name).symlink_to(found)
+    done = subprocess.run([sys.executable, "-c", ENGINE_MISSING], capture_output=True, text=True, cwd=tmp_path,
+                          env={**os.environ, "PATH": str(programs)})
+    assert done.returncode == 0, done.stderr[-2000:]
+    assert done.stdout.split() == ["2", "0", "0"], done.stdout + done.stderr[-2000:]
+
+
 def test_few_runs_start_no_worker_while_planning(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     """Under WARM_MIN_RUNS_PER_WORKER runs a worker, every run starts its own process: no worker is started."""
     from lcchain.studies.executors import WARM_MIN_RUNS_PER_WORKER, EngineStart
