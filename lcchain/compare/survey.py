@@ -55,7 +55,8 @@ if TYPE_CHECKING:
     from scipy.sparse.linalg import SuperLU
 
 __all__ = ["ModeSurvey", "PoleStart", "SurveyOptions", "fit_survey", "survey_amplitudes", "mode_shapes", "CORE",
-           "HALO", "FAR", "SWEEPS", "BACKGROUND", "SURVEY_SEED", "SKETCH", "signed_shapes"]
+           "HALO", "FAR", "SWEEPS", "BACKGROUND", "SURVEY_SEED", "SKETCH", "signed_shapes",
+           "remove_modes"]
 
 #: Modes whose parameters one window keeps.
 CORE = 8
@@ -155,6 +156,25 @@ def signed_shapes(u: np.ndarray) -> np.ndarray:
     largest size is positive: measured and theoretical shapes signed alike."""
     u = np.asarray(u, dtype=float)
     return np.asarray(u * np.sign(u[_first_large(u), np.arange(u.shape[1])]))
+
+
+@fixed_blas_threads
+def remove_modes(omega: np.ndarray, g: np.ndarray, x: np.ndarray, gamma: np.ndarray, shapes: np.ndarray,
+                 amplitudes: np.ndarray) -> None:
+    """Subtract the given modes' model from the samples, in place: g -= sum_n u_n (u_n . b) / D_n(w), their
+    residues r_n = u_n (u_n . b) from the shapes ``shapes`` (loops x these modes, M-orthonormal) and the drive
+    ``amplitudes`` b, D_n = x_n - w^2 + j gamma_n w (the modes losses merge, whose theory is subtracted before the
+    others are fitted, as the loop-1 fit's :func:`lcchain.compare.spectrum.fit_from_theory` does).  A block of
+    :data:`_BLOCK_VALUES` / loops frequencies at a time, two real products (the shapes are real):
+    O(frequencies x these modes x loops)."""
+    u = np.ascontiguousarray(shapes, dtype=float)
+    weight = u.T @ np.asarray(amplitudes, dtype=complex)  # u_n . b
+    step = max(1, _BLOCK_VALUES // max(1, g.shape[1]))
+    for start in range(0, omega.size, step):
+        rows = slice(start, start + step)
+        columns = _sections(omega[rows], x, gamma, True) * weight[None, :]
+        g[rows] -= _product(u, np.ascontiguousarray(columns.T)).T
+    return None
 
 
 def _chebyshev(x: np.ndarray, terms: int) -> np.ndarray:

@@ -26,7 +26,7 @@ from .exact import exact_modes
 from .modes import Modes, cosine_sum
 
 __all__ = ["normal_modes", "modes_of", "MODE_SOLVERS", "transmission_amplitude", "return_amplitude",
-           "CLOSED_FORM_MIN_N", "driving_admittance", "admittance_with_bound",
+           "CLOSED_FORM_MIN_N", "driving_admittance", "admittance_with_bound", "loop_currents",
            "Arithmetic", "ARITHMETICS"]
 
 #: A mode method: the normal modes of a chain.
@@ -529,3 +529,61 @@ def driving_admittance(chain: Chain, omega: np.ndarray, Q: float | None = None, 
         The relative error bound wanted at each frequency (0: double-double everywhere).
     """
     return admittance_with_bound(chain, omega, Q, rtol)[0]
+
+
+#: Frequencies of :func:`loop_currents`' elimination at once: its two (loops x block) complex arrays stay small
+#: (N = 1000: 16 MB).
+_CURRENTS_BLOCK = 1024
+
+
+def loop_currents(chain: Chain, omega: np.ndarray, drive: np.ndarray, Q: float | None = None) -> np.ndarray:
+    """Every loop's current over j omega when every loop is driven, exactly from the chain: g = I / (j omega) Z0 =
+    [K - omega^2 M + j omega M / Q]^(-1) b (the survey's samples, :mod:`lcchain.compare.survey`), no modes.
+
+    The tridiagonal is eliminated from loop 1 (the Thomas algorithm, frequencies side by side), so modes merged by
+    the losses are compared however they overlap; float64, O(frequencies x N).
+
+    Parameters
+    ----------
+    chain : Chain
+        Any chain (coupled coils: M is then tridiagonal).
+    omega : ndarray
+        Angular frequencies, units of 1/sqrt(L0 C0), > 0.
+    drive : ndarray, complex
+        The sources' amplitudes b_k in loops 1..N.
+    Q : float, optional
+        The losses' quality factor; None: lossless.
+
+    Returns
+    -------
+    ndarray, complex, (frequencies, loops)
+    """
+    instance("chain", chain, Chain)
+    w = np.asarray(omega, dtype=float)
+    b = np.asarray(drive, dtype=complex)
+    if b.shape != (chain.N,):
+        raise ParameterError("drive", b.shape, f"one amplitude per loop ({chain.N})")
+    K = np.asarray(chain.springs, dtype=float)
+    m, mutual = chain.mass_matrix_bands()
+    out = np.empty((w.size, chain.N), dtype=complex)
+    for start in range(0, w.size, _CURRENTS_BLOCK):
+        ws = w[start:start + _CURRENTS_BLOCK]
+        lam = -ws * ws + (0.0 if Q is None else 1j * ws / Q)  # (s^2 + s/Q) at s = j omega
+        pivots = np.empty((chain.N, ws.size), dtype=complex)
+        rhs = np.empty((chain.N, ws.size), dtype=complex)
+        for i in range(chain.N):
+            diagonal = K[i] + K[i + 1] + lam * m[i]
+            if i:
+                below = -K[i] + lam * mutual[i - 1]  # A[i, i-1] = A[i-1, i]
+                factor = below / pivots[i - 1]
+                diagonal = diagonal - factor * below
+                rhs[i] = b[i] - factor * rhs[i - 1]
+            else:
+                rhs[i] = b[i]
+            pivots[i] = diagonal
+        current = rhs[-1] / pivots[-1]
+        out[start:start + ws.size, -1] = current
+        for i in range(chain.N - 2, -1, -1):
+            current = (rhs[i] - (-K[i + 1] + lam * mutual[i]) * current) / pivots[i]
+            out[start:start + ws.size, i] = current
+    return out
