@@ -278,3 +278,17 @@ def test_results_of_an_ac_study_import_nothing_heavy(tmp_path: Path) -> None:
         done, chains = imports(argv, ROOT)
         assert done.returncode == 0, done.stderr[-2000:]
         assert not forbidden(chains), f"{argv}:\n" + "\n".join(forbidden(chains))
+
+
+def test_a_warm_worker_greets_before_loading_what_it_does_not_need_for_it() -> None:
+    """A warm worker (``python -S -P -m lcchain.spice.ngspice.warm_worker``, started for every batch) sends its hello
+    after loading only the library: its module imports no ``typing``, ``json``, ``re`` or ``hashlib`` (OpenSSL), which
+    together cost it about 20 ms of a batch's start; the line split and digest load after the hello."""
+    from lcchain.spice.processes import PACKAGE_ROOT
+
+    probe = "import sys, lcchain.spice.ngspice.warm_worker; print(' '.join(sorted(sys.modules)))"
+    done = subprocess.run([sys.executable, "-S", "-P", "-c", probe], capture_output=True, text=True, check=True,
+                          env={"PYTHONPATH": PACKAGE_ROOT})
+    modules = set(done.stdout.split())
+    assert "lcchain.spice.ngspice.warm_worker" in modules
+    assert not modules & {"typing", "re", "json", "hashlib", "_hashlib", "lcchain.spice.text"}, sorted(modules)

@@ -297,6 +297,9 @@ class EngineStart:
 
     def _find(self) -> None:
         try:
+            named = engine_named(self._engine)
+            if self._spares and named.warm_below_seconds and self._backend == named.default_transport:
+                named.prestart(self._spares)  # the workers start beside ngspice -v and the sandbox's trial
             simulator = find_engine(self._engine, self._backend)
             self._found.append(simulator)
             engine = engine_named(simulator.engine, "simulator.engine")
