@@ -18,11 +18,19 @@ from dataclasses import replace
 import numpy as np
 import pytest
 from helpers.dense import dense_shapes
-from helpers.tolerances import RTOL_SURVEY_CURRENTS, RTOL_SURVEY_OMEGA, RTOL_SURVEY_Q, RTOL_SURVEY_SHAPE
+from helpers.tolerances import (
+    RTOL_LOOP_CURRENTS,
+    RTOL_SURVEY_CURRENTS,
+    RTOL_SURVEY_OMEGA,
+    RTOL_SURVEY_Q,
+    RTOL_SURVEY_SHAPE,
+)
 
 from lcchain.compare.spectral import LOSSY_GAP_Q, LOSSY_GAP_Q_WEAK, LOSSY_WEAK_RATIO
+from lcchain.compare.survey import survey_amplitudes
 from lcchain.runs.survey import measure_modes
 from lcchain.theory.cases import chain_for_case
+from lcchain.theory.spectrum import loop_currents
 
 pytestmark = pytest.mark.ngspice
 
@@ -136,3 +144,20 @@ def test_cli_every_mode_merged_is_said_not_compared(capsys):
     assert "no mode is measured: omega_n, the shapes, P_n and Q_n are not compared" in survey
     assert "n = 1-20 (20 of 20 modes)" in survey and "max rel. error of the loops' currents" in survey
     assert "nan" not in survey and "inf" not in survey and captured.err == ""
+
+
+@pytest.mark.parametrize(("chain", "Q"), [(chain_for_case("two-mass", 16), 100.0), (chain_for_case("perfect", 12), 1000.0),
+                                          (chain_for_case("two-mass", 16).with_coupling(0.2), 50.0)],
+                         ids=["two-mass", "perfect", "coupled"])
+def test_loop_currents_are_the_dense_solution(chain, Q):
+    """The reference merged modes are measured by: every loop's current from the tridiagonal's elimination against
+    numpy.linalg.solve of the dense K - omega^2 M + j omega M / Q written here (coupled coils: M tridiagonal)."""
+    m, K = chain.masses, chain.springs
+    mutual = chain.coupling * np.sqrt(m[:-1] * m[1:])
+    M = np.diag(m) + np.diag(mutual, 1) + np.diag(mutual, -1)
+    S = np.diag(K[:-1] + K[1:]) - np.diag(K[1:-1], 1) - np.diag(K[1:-1], -1)
+    omega = np.linspace(0.013, 2.2, 3001)
+    b = survey_amplitudes(chain.N)
+    dense = np.array([np.linalg.solve(S - w * w * M + 1j * w / Q * M, b) for w in omega])
+    got = loop_currents(chain, omega, b, Q)
+    assert np.max(np.max(np.abs(got - dense), axis=1) / np.max(np.abs(dense), axis=1)) <= RTOL_LOOP_CURRENTS

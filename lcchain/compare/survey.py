@@ -54,9 +54,11 @@ from ..core.frozen import FrozenArrays
 if TYPE_CHECKING:
     from scipy.sparse.linalg import SuperLU
 
+    from ..theory.chain import Chain
+
 __all__ = ["ModeSurvey", "PoleStart", "SurveyOptions", "fit_survey", "survey_amplitudes", "mode_shapes", "CORE",
            "HALO", "FAR", "SWEEPS", "BACKGROUND", "SURVEY_SEED", "SKETCH", "signed_shapes",
-           "remove_modes"]
+           "remove_modes", "currents_error"]
 
 #: Modes whose parameters one window keeps.
 CORE = 8
@@ -175,6 +177,22 @@ def remove_modes(omega: np.ndarray, g: np.ndarray, x: np.ndarray, gamma: np.ndar
         columns = _sections(omega[rows], x, gamma, True) * weight[None, :]
         g[rows] -= _product(u, np.ascontiguousarray(columns.T)).T
     return None
+
+
+def currents_error(chain: Chain, omega: np.ndarray, g: np.ndarray, amplitudes: np.ndarray, Q: float | None) -> float:
+    """max over the samples of max_k |g_k - g_k exact| / max_k |g_k exact|: every loop's current against the chain's
+    own (:func:`lcchain.theory.spectrum.loop_currents`, no modes), what modes merged by the losses are measured by.
+    A block of 2^20 / loops frequencies at a time (no array of the whole sweep beside the samples)."""
+    from ..theory.spectrum import loop_currents
+
+    worst = 0.0
+    step = max(1, 2**20 // max(1, g.shape[1]))
+    for start in range(0, omega.size, step):
+        rows = slice(start, start + step)
+        exact = loop_currents(chain, omega[rows], amplitudes, Q)
+        error = np.max(np.abs(g[rows] - exact), axis=1) / np.max(np.abs(exact), axis=1)
+        worst = max(worst, float(np.max(error, initial=0.0)))
+    return worst
 
 
 def _chebyshev(x: np.ndarray, terms: int) -> np.ndarray:

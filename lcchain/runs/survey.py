@@ -38,6 +38,7 @@ from ..compare.survey import (
     ModeSurvey,
     PoleStart,
     SurveyOptions,
+    currents_error,
     fit_survey,
     remove_modes,
     signed_shapes,
@@ -53,7 +54,6 @@ from ..spice.ac import AcJob, run_ac
 from ..spice.simulator import Simulator
 from ..theory.chain import Chain
 from ..theory.modes import Modes
-from ..theory.spectrum import loop_currents
 
 __all__ = ["ModeReport", "measure_modes", "exact_shapes", "SURVEY_DENSITY", "SURVEY_MAX_N", "OMEGA_TARGET",
            "SHAPE_TARGET", "SEPARATION"]
@@ -408,9 +408,7 @@ def measure_modes(chain: Chain, *, Q: float | None = None, L0: float = DEFAULT_L
     merged = _merged(chain, np.where(zero, 0.0, omega_theory), shapes_theory, Q)
     envelope = None
     if merged.any():  # what the merged modes make together, before their theory leaves the samples
-        exact = loop_currents(chain, w, amplitudes, Q)
-        envelope = float(np.max(np.max(np.abs(g - exact), axis=1) / np.max(np.abs(exact), axis=1)))
-        del exact
+        envelope = currents_error(chain, w, g, amplitudes, Q)
         remove_modes(w, g, x0[merged], gamma0[merged], shapes_theory[:, merged], amplitudes)
     kept = np.flatnonzero(~merged)
     omega = np.full(chain.N, np.nan)
