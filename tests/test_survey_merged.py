@@ -26,10 +26,11 @@ from helpers.tolerances import (
     RTOL_SURVEY_SHAPE,
 )
 
-from lcchain.compare.spectral import LOSSY_GAP_Q, LOSSY_GAP_Q_WEAK, LOSSY_WEAK_RATIO
+from lcchain.compare.spectral import LOSSY_GAP_Q, LOSSY_GAP_Q_WEAK, LOSSY_WEAK_RATIO, merged_modes
 from lcchain.compare.survey import survey_amplitudes
 from lcchain.runs.survey import measure_modes
 from lcchain.theory.cases import chain_for_case
+from lcchain.theory.exact import driven_modes
 from lcchain.theory.spectrum import loop_currents
 
 pytestmark = pytest.mark.ngspice
@@ -67,6 +68,7 @@ def test_merged_modes_are_said_and_the_rest_measured(case, N, fraction):
     Q, merged, omega, u = _expected(chain, fraction)
     report = measure_modes(chain, Q=Q)
     assert np.array_equal(report.merged_modes, merged)
+    assert np.array_equal(report.merged_modes, merged_modes(driven_modes(chain), Q))  # the loop-1 fit's own
     assert (fraction < 1.0) == bool(merged.any())  # the family straddles the boundary
     assert not (report.resolved & merged).any()
     assert np.all(np.isnan(report.omega[merged])) and np.all(np.isnan(report.shapes[:, merged]))
