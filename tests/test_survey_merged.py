@@ -57,9 +57,11 @@ def _expected(chain, fraction: float) -> tuple[float, np.ndarray, np.ndarray, np
     return Q, merged, omega, u
 
 
-# (case, N, Q as a fraction of the boundary): 0.1 every mode merged, 0.6 and 0.9 some, 1.1 and 3 none
+# (case, N, Q as a fraction of the boundary): 0.1 every mode merged, 0.6 and 0.9 some, 1.1 and 3 none; two-mass
+# N = 100 at Q = 10.5 and 105 (the boundary is 210), about the benchmark's rows at Q = 10 (every mode merged) and 100
 FAMILY = [(case, N, fraction) for case, N in (("two-mass", 20), ("two-mass", 30), ("two-mass", 40))
-          for fraction in (0.1, 0.6, 0.9, 1.1, 3.0)] + [("one-mass", 30, 0.6), ("one-mass", 30, 1.1)]
+          for fraction in (0.1, 0.6, 0.9, 1.1, 3.0)] + [("one-mass", 30, 0.6), ("one-mass", 30, 1.1),
+                                                         ("two-mass", 100, 0.05), ("two-mass", 100, 0.5)]
 
 
 @pytest.mark.parametrize(("case", "N", "fraction"), FAMILY)
