@@ -32,6 +32,7 @@ from __future__ import annotations
 
 import atexit
 import contextlib
+import importlib
 import json
 import os
 import select
@@ -195,9 +196,8 @@ class WarmWorker:
             the next), the run outlived its timeout (status ``"timeout"``, the worker killed), its output or
             memory outgrew its limits (the worker killed), or its vectors outgrew ``max_output_bytes``.
         """
-        import numpy as np
-
         assert self.proc.stdin is not None
+        _numpy_beside()
         timeout, limit, resident = job.timeout, job.max_output_bytes, job.max_resident_bytes
         data = job.text.encode("utf-8")
         self._err.seek(0)
@@ -245,6 +245,8 @@ class WarmWorker:
         if header["errors"]:
             raise SimulationError(failure_reason(log, "the ngspice shared library failed: "
                                                  + "; ".join(header["errors"])), useful_output(log))
+        import numpy as np  # loaded while the first run computed (_numpy_beside)
+
         columns: dict[str, np.ndarray] = {}
         offset = 0
         for name, length in zip(header["names"], header["lengths"], strict=True):
@@ -298,6 +300,19 @@ _local = threading.local()
 #: The workers :func:`prestart_workers` started before the engine was found, by key: :func:`warm_simulator` adopts
 #: those under the key it finds, and ends the others.
 _guessed: dict[WorkerKey, list[WarmWorker]] = {}
+_numpy_loader: threading.Thread | None = None
+
+
+def _numpy_beside() -> None:
+    """Import numpy in a thread of its own, once, as the first run is sent: its import (50 ms idle, 100 ms on a busy
+    machine) then overlaps ngspice's run instead of delaying a batch's start (nothing before the first run needs
+    it: tests/test_imports.py), and the run's reply finds it loaded (or waits on the import's lock)."""
+    global _numpy_loader
+    with _lock:
+        if _numpy_loader is not None or "numpy" in sys.modules:
+            return
+        _numpy_loader = threading.Thread(target=importlib.import_module, args=("numpy",), name="lcchain-numpy")
+    _numpy_loader.start()
 
 
 def worker_for(library: str, prefix: tuple[str, ...], cwd: str, env: dict[str, str],
