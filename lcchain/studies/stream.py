@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import contextlib
 import hashlib
+import math
 import pickle
 import sqlite3
 import tempfile
@@ -173,9 +174,18 @@ class TaskSpool:
         return [first for first, in self._query("SELECT first FROM rows ORDER BY idx")]
 
     def distinct(self) -> tuple[int, float]:
-        """The distinct runs (refusals not counted) and their seconds together, with their comparisons."""
-        count, seconds = self._one("SELECT COUNT(*), TOTAL(cost) FROM rows WHERE first AND run")
-        return int(count), float(seconds)
+        """The distinct runs (refusals not counted) and their seconds together, with their comparisons (summed
+        exactly, ``math.fsum``, a window of rows at a time)."""
+        count = 0
+
+        def costs() -> Iterator[float]:
+            nonlocal count
+            for cost, in self._query("SELECT cost FROM rows WHERE first AND run ORDER BY idx"):
+                count += 1
+                yield float(cost)
+
+        seconds = math.fsum(costs())
+        return count, seconds
 
     def keyed(self) -> int:
         """The distinct keys of the rows (runs and refusals)."""
@@ -280,7 +290,8 @@ class StreamedPlan(Plan):
         return digest.hexdigest()
 
     def distinct(self) -> tuple[int, float]:
-        """The distinct runs (refusals not counted) and their seconds together, with their comparisons."""
+        """The distinct runs (refusals not counted) and their seconds together, with their comparisons (summed
+        exactly: ``math.fsum``)."""
         return self.spool.distinct()
 
     def estimate(self) -> float:
