@@ -76,8 +76,14 @@ def _peak_mb() -> str:
 
 
 def _survey_cells(survey: ModeReport, t: dict[str, float]) -> str:
-    return (f"{int(survey.resolved.sum())} | {survey.max_rel_error_omega:.1e} | {survey.max_shape_error:.1e} | "
-            f"{t['engine_s']:.3f} | {t['fit_s']:.3f} | {t['fit_s'] / t['engine_s']:.2f}")
+    """Resolved modes, errors over the measured ones ('-': none measured, every mode merged), seconds."""
+    return (f"{int(survey.resolved.sum())} | {_finite(survey.max_rel_error_omega)} | "
+            f"{_finite(survey.max_shape_error)} | {t['engine_s']:.3f} | {t['fit_s']:.3f} | "
+            f"{t['fit_s'] / t['engine_s']:.2f}")
+
+
+def _finite(value: float | None) -> str:
+    return "-" if value is None or not math.isfinite(value) else f"{value:.1e}"
 
 
 class _FitClock:
@@ -233,15 +239,19 @@ def _lossy(simulator: Any) -> None:
           "admittance's own error bound (float64 with a first-order running error bound, long double where that "
           "bound is above a tenth of the error, double-double where long double's still is: "
           "`compare.spectral.compare_envelope`).\n")
-    print(f"Survey: Q error over the modes at least {SEPARATION:g} widths 1/Q from both neighbours (separated); "
-          "seconds, the least of as many runs as the loop-1 fit's; '-' on the left: the loop-1 fit refuses the chain "
-          "at that Q.\n")
+    print(f"Survey: 'survey merged' the modes the losses merge, by the loop-1 fit's rule (said, not measured: their "
+          "theory is subtracted before the fit); resolved, omega and shape errors over the measured modes ('-': none "
+          f"measured); Q error over the modes at least {SEPARATION:g} widths 1/Q from both neighbours (separated); "
+          "currents error: max over the sweep of max_k |g_k - exact| / max_k |exact| of the loops' currents, with "
+          "merged modes (float64 reference); seconds, the least of as many runs as the loop-1 fit's; '-' on the "
+          "left: the loop-1 fit refuses the chain at that Q.\n")
     print("| chain | N | Q | points | modes seen | merged | omega error | P error | Q error | separated | "
           "Q error (separated) | pole error | response | Y_11 error | Y_11 bound | ngspice s | loop-1 fit s | "
-          "loop-1 fit / ngspice | fit s | fit / ngspice | total s | priced s | survey resolved | survey omega error | "
-          "shape error | survey ngspice s | survey fit s | survey fit / ngspice | separated | survey Q error | load |")
+          "loop-1 fit / ngspice | fit s | fit / ngspice | total s | priced s | survey merged | survey resolved | "
+          "survey omega error | shape error | survey ngspice s | survey fit s | survey fit / ngspice | separated | "
+          "survey Q error | currents error | load |")
     print("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
-          "---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+          "---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
     ratios: list[tuple[float, float, float, str]] = []
     for case, N, Q in LOSSY:
         runs = []
@@ -267,13 +277,13 @@ def _lossy(simulator: Any) -> None:
             ratios.append((t["loop1_s"] / t["ngspice_s"], t["fit_s"] / t["ngspice_s"], math.nan, f"{case} N = {N}, "
                            f"Q = {Q:g}"))
         if N > SURVEY_MAX_N:
-            print(f"- | - | - | - | - | - | - | - | {_load()} |", flush=True)
+            print(f"- | - | - | - | - | - | - | - | - | - | {_load()} |", flush=True)
             continue
         surveys = [measure_modes(chain_for_case(case, N), Q=Q, simulator=simulator)
                    for _ in range(3 if N <= 200 else 2)]
         survey, s = surveys[-1], _least([dict(run.timings) for run in surveys])
-        print(f"{_survey_cells(survey, s)} | {int(survey.separated.sum())} | "
-              f"{survey.max_rel_error_Q:.1e} | {_load()} |", flush=True)
+        print(f"{int(survey.merged_modes.sum())} | {_survey_cells(survey, s)} | {int(survey.separated.sum())} | "
+              f"{_finite(survey.max_rel_error_Q)} | {_finite(survey.envelope_error)} | {_load()} |", flush=True)
         if ratios and ratios[-1][3].startswith(f"{case} N = {N}, Q = {Q:g}"):
             ratios[-1] = ratios[-1][:2] + (s["fit_s"] / s["engine_s"], ratios[-1][3])
     if ratios:
@@ -301,8 +311,12 @@ def _lossy(simulator: Any) -> None:
           "ngspice run saves N vectors, frequencies x N complex values, O(N^2), cut into several runs of at most "
           "2^22 values each so that the raw file stays small. Its fit forms each window's right-hand sides and "
           "solves one banded system with the N loops as right-hand sides, O(N^2) too; the poles move on 16 random "
-          "combinations of the loops. 'peak MB' of the engines counts the forked child before it becomes ngspice "
-          "(the Python process's size at that moment), not ngspice's own memory.")
+          "combinations of the loops. With losses the modes they merge (the loop-1 fit's rule, "
+          "`compare.spectral.merged_modes`) are decided before the fit: their theory is subtracted from the samples, "
+          "O(frequencies x merged x N), and only the others' poles move; with every mode merged nothing is fitted, "
+          "and the loops' currents are compared with the chain's exact ones (`theory.spectrum.loop_currents`, "
+          "O(frequencies x N)). 'peak MB' of the engines counts the forked child before it becomes ngspice (the "
+          "Python process's size at that moment), not ngspice's own memory.")
 
 
 if __name__ == "__main__":

@@ -278,3 +278,56 @@ def test_results_of_an_ac_study_import_nothing_heavy(tmp_path: Path) -> None:
         done, chains = imports(argv, ROOT)
         assert done.returncode == 0, done.stderr[-2000:]
         assert not forbidden(chains), f"{argv}:\n" + "\n".join(forbidden(chains))
+
+
+def test_a_warm_worker_greets_before_loading_what_it_does_not_need_for_it() -> None:
+    """A warm worker (``python -S -P -m lcchain.spice.ngspice.warm_worker``, started for every batch) sends its hello
+    after loading only the library: its module imports no ``typing``, ``json``, ``re`` or ``hashlib`` (OpenSSL), which
+    together cost it about 20 ms of a batch's start; the line split and digest load after the hello."""
+    from lcchain.spice.processes import PACKAGE_ROOT
+
+    probe = "import sys, lcchain.spice.ngspice.warm_worker; print(' '.join(sorted(sys.modules)))"
+    done = subprocess.run([sys.executable, "-S", "-P", "-c", probe], capture_output=True, text=True, check=True,
+                          env={"PYTHONPATH": PACKAGE_ROOT})
+    modules = set(done.stdout.split())
+    assert "lcchain.spice.ngspice.warm_worker" in modules
+    assert not modules & {"typing", "re", "json", "hashlib", "_hashlib", "lcchain.spice.text"}, sorted(modules)
+
+
+FIRST_RUN = """\
+import sys
+from lcchain.spice.ngspice import warm
+
+loaded = []
+original = warm.WarmWorker.run
+
+
+def run(self, job):
+    loaded.append("numpy" in sys.modules)
+    return original(self, job)
+
+
+warm.WarmWorker.run = run
+from lcchain.cli.main import main
+
+status = main(["batch", *sys.argv[1:], "--workers", "1", "--store", "s.sqlite", "--json"])
+print(status, loaded[0] if loaded else "no warm run", "numpy" in sys.modules)
+"""
+
+
+@pytest.mark.ngspice
+def test_a_batch_sends_its_first_run_before_numpy_loads(tmp_path: Path) -> None:
+    """``lcchain batch`` of netlists without breakpoints plans, prices, keys and stores every run and sends the first
+    to a warm worker with no numpy loaded: numpy's import (50 to 100 ms) then overlaps that run (a thread of its
+    own) instead of delaying the start, and the run's reply finds it loaded."""
+    import lcchain
+    from lcchain.runs.simulate import ChainOptions, simulation_spec
+
+    spec, _, _ = simulation_spec(lcchain.chain_for_case("two-mass", 6), ChainOptions(dt=0.05, transits=1))
+    names = []
+    for i in range(12):  # distinct netlists, enough for a warm worker (WARM_MIN_RUNS_PER_WORKER)
+        (tmp_path / f"n{i:02d}.cir").write_text(spec.netlist.replace("\n", f" #{i}\n", 1))
+        names.append(f"n{i:02d}.cir")
+    done = subprocess.run([sys.executable, "-c", FIRST_RUN, *names], capture_output=True, text=True, cwd=tmp_path)
+    assert done.returncode == 0, done.stderr[-2000:]
+    assert done.stdout.splitlines()[-1].split() == ["0", "False", "True"], done.stdout + done.stderr[-2000:]

@@ -37,8 +37,7 @@ def _frequencies(chain) -> np.ndarray:
 
 def _half_power_overlap(omega: np.ndarray, Q: float) -> np.ndarray:
     gaps = np.diff(omega)
-    nearest = np.full(omega.size, np.inf)
-    nearest[:-1], nearest[1:] = gaps, np.minimum(nearest[1:], gaps)
+    nearest = np.minimum(np.r_[np.inf, gaps], np.r_[gaps, np.inf])  # the gap on either side
     return (nearest < 1 / Q) | ((omega > 0) & (omega < 1 / Q))
 
 

@@ -222,6 +222,80 @@ def test_the_workers_started_while_planning_end_with_a_refused_plan(tmp_path: Pa
     assert not (tmp_path / "s.sqlite").exists()
 
 
+def test_workers_started_before_the_engine_is_found_are_adopted_where_it_runs_them() -> None:
+    """EngineStart starts its workers beside ``ngspice -v`` and the sandbox's trial (prestart_workers, a guess of
+    the placement): warm_simulator adopts them, greeted and version-checked, where the found engine runs foreign
+    netlists, and starts no other."""
+    batch = find_simulator("batch")
+    if not batch.sandbox.available:
+        pytest.skip(f"no sandbox here: {batch.sandbox.why_not}")
+    warm.prestart_workers(2)
+    guessed = [worker for workers in warm._guessed.values() for worker in workers]
+    assert len(guessed) == 2 and not any(worker.version for worker in guessed)  # started, not yet greeted
+    warm.warm_simulator(batch, 2)
+    spares = [worker for workers in warm._spare.values() for worker in workers]
+    assert {id(worker) for worker in spares} == {id(worker) for worker in guessed}
+    assert all(worker.version == batch.version for worker in spares)
+    assert warm._guessed == {}
+
+
+def test_workers_started_on_a_wrong_guess_are_ended() -> None:
+    """Where the found engine has no sandbox (its trial failed), the workers started in bubblewrap on the guess are
+    ended, not used: a foreign netlist runs where the found engine says."""
+    from lcchain.spice.sandbox import Sandbox
+
+    batch = find_simulator("batch")
+    warm.prestart_workers(2)
+    guessed = [worker for workers in warm._guessed.values() for worker in workers]
+    if not guessed:
+        pytest.skip("no bubblewrap here: nothing is started on a guess")
+    warm.warm_simulator(replace(batch, sandbox=Sandbox(why_not="its trial run failed")), 1)
+    assert not any(worker.alive for worker in guessed)
+    assert warm._guessed == {}
+
+
+ENGINE_MISSING = """\
+from lcchain.core.errors import SimulatorMissingError
+from lcchain.spice.ngspice import warm
+from lcchain.studies.executors import EngineStart
+
+started = []
+start = warm.WarmWorker.__init__
+
+
+def spied(self, *args, **kwargs):
+    started.append(self)
+    start(self, *args, **kwargs)
+
+
+warm.WarmWorker.__init__ = spied
+try:
+    with EngineStart("ngspice", "batch", runs=100, workers=2, executor="process", transport="auto") as engine:
+        engine.simulator()
+except SimulatorMissingError:
+    print(len(started), sum(worker.proc.poll() is None for worker in started), len(warm._workers))
+"""
+
+
+def test_workers_started_for_an_engine_not_found_end_with_the_block(tmp_path: Path) -> None:
+    """Where the shared library and bubblewrap are found but the ngspice program is not, the workers EngineStart
+    started on its guess end when the study's block ends with the missing engine's error, not at the
+    interpreter's exit."""
+    import shutil
+
+    programs = tmp_path / "bin"
+    programs.mkdir()
+    for name in ("bwrap", "setpriv", "true"):
+        found = shutil.which(name)
+        if found is None:
+            pytest.skip(f"{name} is not installed")
+        (programs / name).symlink_to(found)
+    done = subprocess.run([sys.executable, "-c", ENGINE_MISSING], capture_output=True, text=True, cwd=tmp_path,
+                          env={**os.environ, "PATH": str(programs)})
+    assert done.returncode == 0, done.stderr[-2000:]
+    assert done.stdout.split() == ["2", "0", "0"], done.stdout + done.stderr[-2000:]
+
+
 def test_few_runs_start_no_worker_while_planning(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     """Under WARM_MIN_RUNS_PER_WORKER runs a worker, every run starts its own process: no worker is started."""
     from lcchain.studies.executors import WARM_MIN_RUNS_PER_WORKER, EngineStart

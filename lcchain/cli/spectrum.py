@@ -112,9 +112,8 @@ def cmd_spectrum(args: argparse.Namespace) -> int:
     if report.failure:  # a comparison that failed is a failed check
         print(f"lcchain: {report.failure}", file=sys.stderr)
         return EXIT_FAILED
-    if report.modes is not None and not report.modes.resolved.all():
-        print(f"lcchain: the survey of every loop resolved {int(report.modes.resolved.sum())} of {chain.N} modes",
-              file=sys.stderr)
+    if report.modes is not None and report.modes.failure:  # merged modes are said, as the loop-1 fit's: no failure
+        print(f"lcchain: {report.modes.failure}", file=sys.stderr)
         return EXIT_FAILED
     return EXIT_FAILED if result.outputs.failed else EXIT_OK
 
@@ -126,7 +125,11 @@ def _print_survey(modes: ModeReport) -> None:
     lossy = modes.losses is not None
     print(f"{'n':>5} {'omega (survey)':>19} {'rel. error':>10} {'shape error':>11} {'P_n (shape)':>14} "
           f"{'P_n (theory)':>14}" + (f" {'Q_n':>12} {'rel. error':>10}" if lossy else ""))
+    merged = modes.merged_modes
     for n in range(modes.N):
+        if merged[n]:  # said, not measured: theory's P_n beside no value and no error
+            print(f"{n + 1:>5} {'merged':>19} {'':>10} {'':>11} {'':>14} {modes.P_theory[n]:14.6e}")
+            continue
         quality = f" {modes.Q[n]:12.6g} {modes.Q_error[n]:10.2e}" if lossy else ""
         print(f"{n + 1:>5} {modes.omega[n]:19.15f} {modes.omega_error[n]:10.2e} {modes.shape_error[n]:11.2e} "
               f"{modes.P[n]:14.6e} {modes.P_theory[n]:14.6e}{quality}")

@@ -35,7 +35,7 @@ from .spectrum import THEORY_MISFIT, SpectrumFit, fit_from_theory, fit_sections,
 __all__ = ["SpectrumMetrics", "SPECTRAL_METRICS", "spacing_spread", "sweep_grid", "compare_spectrum",
            "spectrum_estimate", "nearest_modes", "largest_relative_error", "relative_errors",
            "OMEGA_MARGIN", "OMEGA_WEIGHT_FLOOR", "DEFAULT_OVERSAMPLING", "SPECTRUM_MAX_N", "LOSSY_MAX_N",
-           "lossy_range", "check_lossy", "merged_modes", "compare_envelope", "ENVELOPE_MARGIN"]
+           "lossy_range", "check_lossy", "merged_modes", "merged_text", "compare_envelope", "ENVELOPE_MARGIN"]
 
 #: The sweep ends this far above the highest normal frequency (relative).
 OMEGA_MARGIN = 0.05
@@ -106,9 +106,20 @@ def merged_modes(modes: Modes, Q: float) -> np.ndarray:
     if Q >= lowest or omega.size == 0:
         return np.zeros(omega.size, dtype=bool)
     gaps = np.diff(omega)
-    nearest = np.full(omega.size, np.inf)
-    nearest[:-1], nearest[1:] = gaps, np.minimum(nearest[1:], gaps)
+    nearest = np.minimum(np.r_[np.inf, gaps], np.r_[gaps, np.inf])  # the gap on either side, whichever is smaller
     return np.asarray((nearest * Q < 1.0) | ((omega > 0) & (omega * Q < 1.0)))
+
+
+def merged_text(merged: np.ndarray) -> str:
+    """The merged modes as runs, 'n = 2, 30-37 (9 of 37 modes)'."""
+    numbers = (np.flatnonzero(merged) + 1).tolist()
+    runs: list[str] = []
+    for n in numbers:
+        if runs and n - 1 in numbers:
+            runs[-1] = f"{runs[-1].split('-')[0]}-{n}"
+        else:
+            runs.append(f"{n}")
+    return f"n = {', '.join(runs)} ({len(numbers)} of {merged.size} modes)"
 
 
 def check_lossy(name: str, Q: float, modes: Modes) -> None:

@@ -54,8 +54,11 @@ from ..core.frozen import FrozenArrays
 if TYPE_CHECKING:
     from scipy.sparse.linalg import SuperLU
 
+    from ..theory.chain import Chain
+
 __all__ = ["ModeSurvey", "PoleStart", "SurveyOptions", "fit_survey", "survey_amplitudes", "mode_shapes", "CORE",
-           "HALO", "FAR", "SWEEPS", "BACKGROUND", "SURVEY_SEED", "SKETCH", "signed_shapes"]
+           "HALO", "FAR", "SWEEPS", "BACKGROUND", "SURVEY_SEED", "SKETCH", "signed_shapes",
+           "remove_modes", "currents_error"]
 
 #: Modes whose parameters one window keeps.
 CORE = 8
@@ -155,6 +158,41 @@ def signed_shapes(u: np.ndarray) -> np.ndarray:
     largest size is positive: measured and theoretical shapes signed alike."""
     u = np.asarray(u, dtype=float)
     return np.asarray(u * np.sign(u[_first_large(u), np.arange(u.shape[1])]))
+
+
+@fixed_blas_threads
+def remove_modes(omega: np.ndarray, g: np.ndarray, x: np.ndarray, gamma: np.ndarray, shapes: np.ndarray,
+                 amplitudes: np.ndarray) -> None:
+    """Subtract the given modes' model from the samples, in place: g -= sum_n u_n (u_n . b) / D_n(w), their
+    residues r_n = u_n (u_n . b) from the shapes ``shapes`` (loops x these modes, M-orthonormal) and the drive
+    ``amplitudes`` b, D_n = x_n - w^2 + j gamma_n w (the modes losses merge, whose theory is subtracted before the
+    others are fitted, as the loop-1 fit's :func:`lcchain.compare.spectrum.fit_from_theory` does).  A block of
+    :data:`_BLOCK_VALUES` / loops frequencies at a time, two real products (the shapes are real):
+    O(frequencies x these modes x loops)."""
+    u = np.ascontiguousarray(shapes, dtype=float)
+    weight = u.T @ np.asarray(amplitudes, dtype=complex)  # u_n . b
+    step = max(1, _BLOCK_VALUES // max(1, g.shape[1]))
+    for start in range(0, omega.size, step):
+        rows = slice(start, start + step)
+        columns = _sections(omega[rows], x, gamma, True) * weight[None, :]
+        g[rows] -= _product(u, np.ascontiguousarray(columns.T)).T
+    return None
+
+
+def currents_error(chain: Chain, omega: np.ndarray, g: np.ndarray, amplitudes: np.ndarray, Q: float | None) -> float:
+    """max over the samples of max_k |g_k - g_k exact| / max_k |g_k exact|: every loop's current against the chain's
+    own (:func:`lcchain.theory.spectrum.loop_currents`, no modes), what modes merged by the losses are measured by.
+    A block of 2^20 / loops frequencies at a time (no array of the whole sweep beside the samples)."""
+    from ..theory.spectrum import loop_currents
+
+    worst = 0.0
+    step = max(1, 2**20 // max(1, g.shape[1]))
+    for start in range(0, omega.size, step):
+        rows = slice(start, start + step)
+        exact = loop_currents(chain, omega[rows], amplitudes, Q)
+        error = np.max(np.abs(g[rows] - exact), axis=1) / np.max(np.abs(exact), axis=1)
+        worst = max(worst, float(np.max(error, initial=0.0)))
+    return worst
 
 
 def _chebyshev(x: np.ndarray, terms: int) -> np.ndarray:

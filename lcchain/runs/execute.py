@@ -27,9 +27,7 @@ import logging
 import time
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, replace
-from typing import TYPE_CHECKING
-
-import numpy as np
+from typing import TYPE_CHECKING, TypeAlias
 
 from ..core import __version__
 from ..core.analyses import analysis_kind
@@ -46,13 +44,12 @@ from ..spice.job import RunJob
 from ..spice.measure import Measurements, measurement_fields
 from ..spice.result import RunResult
 from ..spice.simulator import Simulator
-from ..theory.modes import Modes
-from ..theory.response import Response, prepare_response
 from .spec import RunSpec, SpectrumTheory, Theory
 
 # A foreign netlist's run (lcchain batch) compares nothing with theory: the comparisons, the circuit's theory and
 # the AC fit load in the functions that use them, so that a batch starts without them (issue 35).
 if TYPE_CHECKING:
+    import numpy as np
     import xarray as xr
 
     from ..circuit.elements import Element, Pulse
@@ -61,6 +58,8 @@ if TYPE_CHECKING:
     from ..compare.poles import CircuitModes
     from ..compare.spectral import SpectrumMetrics
     from ..compare.waveforms import Signals
+    from ..theory.modes import Modes
+    from ..theory.response import Response
 
 __all__ = ["signals_of", "loop_sims", "theory_at", "metrics_of", "CircuitResponse", "LoopTheory", "effect_cost",
            "loop_theory", "RunRecord", "Analysed", "execute", "waveform_digest", "pulse_centre", "ANALYSIS_RUNS",
@@ -220,6 +219,7 @@ class RunRecord(FrozenArrays):
 def waveform_digest(time_s: np.ndarray, vectors: Mapping[str, np.ndarray], axis: str = "time") -> str:
     """SHA-256 of a run's saved arrays: the axis (``"time"``, or an AC run's ``"frequency"``), then every vector
     by sorted name, little-endian float64 (complex128 for a complex array)."""
+    import numpy as np
     digest = hashlib.sha256()
     for name, values in [(axis, time_s), *sorted(vectors.items())]:
         digest.update(name.encode("utf-8") + b"\0")
@@ -238,6 +238,8 @@ def pulse_centre(excitation: str, pulse: tuple[str, float] | None) -> float:
 
 def loop_sims(theory: Theory, time_s: np.ndarray, vectors: Mapping[str, np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
     """A run's saved loops as dimensionless times and signals (no theory): (t, sim), one row per loop."""
+    import numpy as np
+
     from ..circuit.netlist import probe_names
     from ..compare.waveforms import loop_signals
 
@@ -294,6 +296,7 @@ class CircuitResponse:
         self.scale = theory.I0 * (theory.time_unit if theory.excitation == "displacement" else 1.0)
 
     def __call__(self, t: np.ndarray) -> np.ndarray:
+        import numpy as np
         times = np.asarray(t, dtype=float) * self.unit
         if self.excitation == "displacement":  # the loop charges: loop 1 starts with Q0
             start = [self.scale if k == 0 else 0.0 for k in range(len(self.names))]
@@ -313,17 +316,21 @@ class CircuitResponse:
         if modal is None:
             return None
         omega, weights = modal
+        from ..theory.modes import Modes
+
         modes = Modes(omega * self.unit, weights[0], weights[-1], "circuit")
         return predicted_error(modes, dt, tstop, method=method, weights=list(weights / self.scale))
 
 
 #: The theory of some loops, callable with dimensionless times: the chain's or the circuit's.
-LoopTheory = Response | CircuitResponse
+LoopTheory: TypeAlias = "Response | CircuitResponse"
 
 
 def _response(theory: Theory, probes: Probes, modes: Modes, exact: CircuitTheory | None = None) -> LoopTheory:
     """The theory of the loops ``probes``, prepared once for the grid and the peak search's ~75 calls: the
     circuit's own (:class:`CircuitResponse`) when the spec carries its elements, else the chain's."""
+    from ..theory.response import prepare_response
+
     if theory.circuit is not None:
         return CircuitResponse(theory, probes, exact)
     return prepare_response(theory.chain, excitation=theory.excitation, Q=theory.Q, pulse=theory.pulse,
@@ -339,8 +346,11 @@ def loop_theory(theory: Theory, loops: Probes = "ends") -> LoopTheory:
 def effect_cost(theory: Theory, circuit: LoopTheory, modes: Modes) -> EffectCost:
     """The first arrival at loop N in the circuit's exact response (``circuit``: its end loops) against the ideal
     chain's alpha_N(t) (``theory.chain`` without losses)."""
+    import numpy as np
+
     from ..compare.metrics import EffectCost
     from ..theory.arrivals import arrival_window, maximum_in_window
+    from ..theory.response import prepare_response
 
     ideal = prepare_response(theory.chain, excitation=theory.excitation, pulse=theory.pulse, loops="ends",
                              modes=modes)
@@ -372,6 +382,7 @@ def metrics_of(theory: Theory, signals: Signals, *, split: bool = True, modes: M
     ``ends``: the theory of loops 1 and N already prepared (:func:`_response`), else prepared here."""
     from ..compare.accuracy import split_error
     from ..compare.metrics import Metrics, compare_signals
+    from ..theory.response import Response
 
     chain = theory.chain
     modes = modes if modes is not None else _modes(theory)
@@ -466,6 +477,8 @@ def circuit_modes(elements: tuple[Element | Pulse, ...], N: int, time_unit: floa
 def ac_metrics(theory: SpectrumTheory, result: RunResult) -> SpectrumMetrics:
     """An AC run's I_1/V_1 and I_N/V_1 against the driven modes of its chain, or the circuit's own poles and
     residues when its theory carries its elements."""
+    import numpy as np
+
     from ..circuit.netlist import probe_names
     from ..compare.poles import compare_poles
     from ..compare.spectral import compare_spectrum
@@ -484,6 +497,8 @@ def ac_metrics(theory: SpectrumTheory, result: RunResult) -> SpectrumMetrics:
 def _run_ac(spec: RunSpec, simulator: Simulator, progress: Callable[[float], None] | None) -> Analysed:
     """An AC run (:func:`lcchain.spice.ac.run_ac`), its poles and weights against its :class:`SpectrumTheory`.
     ``progress`` hears 0 at the start, the engine's share of the priced work when the engine is done, and 1."""
+    import numpy as np
+
     from ..compare.spectral import spectrum_estimate
     from ..spice.ac import AcJob, run_ac
 

@@ -46,6 +46,7 @@ from ..compare.spectral import (
     SPECTRUM_MAX_N,
     SpectrumMetrics,
     largest_relative_error,
+    merged_text,
     relative_errors,
 )
 from ..compare.spectrum import SpectrumFit
@@ -432,18 +433,6 @@ def _pole(omega: np.ndarray, gamma: np.ndarray) -> np.ndarray:
     zero mode, whose other pole, at 0, cancels)."""
     half = 0.5 * gamma
     return np.asarray(-half + 1j * np.sqrt((omega - half) * (omega + half) + 0j))
-
-
-def merged_text(merged: np.ndarray) -> str:
-    """The merged modes as runs, 'n = 2, 30-37 (9 of 37 modes)'."""
-    numbers = (np.flatnonzero(merged) + 1).tolist()
-    runs: list[str] = []
-    for n in numbers:
-        if runs and n - 1 in numbers:
-            runs[-1] = f"{runs[-1].split('-')[0]}-{n}"
-        else:
-            runs.append(f"{n}")
-    return f"n = {', '.join(runs)} ({len(numbers)} of {merged.size} modes)"
 
 
 def _beside(error: float, bound: float | None) -> str:

@@ -11,6 +11,13 @@ strong residue on the loops where it lives, so each of the N is measured.
 Each is set beside the chain's exact eigensolution (LAPACK, tridiagonal; dense for coupled coils): omega_n, Q_n
 (with losses), the M-orthonormal shape u_n over the loops, and the ends' weight P_n = m_1 u_1n u_Nn, which
 follows from the measured shape.
+
+With losses, the modes they merge are decided from theory before the fit, by the loop-1 fit's own rule
+(:func:`lcchain.compare.spectral.merged_modes`: below the Q range the lossy fit separates modes in, those whose
+half-power band overlaps a neighbour's), so that ``spectrum`` and ``spectrum --shapes`` say the same modes merged.
+Their exact model is subtracted from the samples (:func:`lcchain.compare.survey.remove_modes`) and the others are
+fitted; a merged mode has no measured value and no error.  What they make together, every loop's current over the
+sweep, is compared with the chain's own (:func:`lcchain.theory.spectrum.loop_currents`: ``envelope_error``).
 """
 
 from __future__ import annotations
@@ -26,8 +33,17 @@ from ..circuit.effects import Losses
 from ..circuit.ladder import Ladder
 from ..circuit.netlist import probe_names, survey_netlist_text
 from ..compare.grid import MIN_SEGMENT_POINTS, sweep_segments
-from ..compare.spectral import OMEGA_MARGIN
-from ..compare.survey import ModeSurvey, PoleStart, SurveyOptions, fit_survey, signed_shapes, survey_amplitudes
+from ..compare.spectral import OMEGA_MARGIN, merged_modes, merged_text
+from ..compare.survey import (
+    ModeSurvey,
+    PoleStart,
+    SurveyOptions,
+    currents_error,
+    fit_survey,
+    remove_modes,
+    signed_shapes,
+    survey_amplitudes,
+)
 from ..core.checks import instance, real
 from ..core.errors import ParameterError
 from ..core.json import JSONDict, JSONValue
@@ -37,6 +53,7 @@ from ..core.types import DEFAULT_C0, DEFAULT_L0
 from ..spice.ac import AcJob, run_ac
 from ..spice.simulator import Simulator
 from ..theory.chain import Chain
+from ..theory.modes import Modes
 
 __all__ = ["ModeReport", "measure_modes", "exact_shapes", "SURVEY_DENSITY", "SURVEY_MAX_N", "OMEGA_TARGET",
            "SHAPE_TARGET", "SEPARATION"]
@@ -97,6 +114,15 @@ class ModeReport:
     timings : dict
         Seconds: the engine's process (``engine_s``), the fit (``fit_s``), the exact eigensolution (``theory_s``)
         and the whole call (``total_s``).
+    merged : ndarray of bool or None
+        The modes the losses merge (:func:`lcchain.compare.spectral.merged_modes`, the loop-1 fit's rule): said,
+        not measured; their ``omega``, ``gamma`` and shapes are NaN and they have no error.
+    envelope_error : float or None
+        With merged modes: the largest misfit of every loop's current to the chain's exact one over the sweep,
+        max_w max_k |g_k - g_k exact| / max_k |g_k exact| (:func:`lcchain.theory.spectrum.loop_currents`), what is
+        measured however the modes merge; None without merged modes.
+
+    The error columns (``max_*``) cover the measured modes (:attr:`measured`), NaN when there are none.
     """
 
     chain: Chain
@@ -113,10 +139,22 @@ class ModeReport:
     engine_version: str
     netlist_sha256: str
     timings: dict[str, float] = field(default_factory=dict)
+    merged: np.ndarray | None = None
+    envelope_error: float | None = None
 
     @property
     def N(self) -> int:
         return int(self.omega.size)
+
+    @property
+    def merged_modes(self) -> np.ndarray:
+        """Whether each mode is merged with a neighbour by the losses, bool per mode."""
+        return np.zeros(self.N, dtype=bool) if self.merged is None else np.asarray(self.merged, dtype=bool)
+
+    @property
+    def measured(self) -> np.ndarray:
+        """The modes the survey measured: every mode but the merged ones, bool per mode."""
+        return np.asarray(~self.merged_modes)
 
     @property
     def moving(self) -> np.ndarray:
@@ -131,7 +169,7 @@ class ModeReport:
 
     @property
     def shape_error(self) -> np.ndarray:
-        """max over loops |u_kn - u_kn theory| / max_k |u_kn theory|, per mode."""
+        """max over loops |u_kn - u_kn theory| / max_k |u_kn theory|, per mode (NaN for a merged mode)."""
         return np.asarray(np.max(np.abs(self.shapes - self.shapes_theory), axis=0)
                           / np.max(np.abs(self.shapes_theory), axis=0))
 
@@ -158,7 +196,7 @@ class ModeReport:
             return self.moving
         gaps = np.diff(self.omega_theory)
         nearest = np.minimum(np.r_[np.inf, gaps], np.r_[gaps, np.inf])
-        return np.asarray(self.moving & (nearest * self.losses >= SEPARATION))
+        return np.asarray(self.moving & (nearest * self.losses >= SEPARATION) & self.measured)
 
     @property
     def Q_error(self) -> np.ndarray:
@@ -181,11 +219,13 @@ class ModeReport:
 
     @property
     def max_rel_error_omega(self) -> float:
-        return float(np.max(self.omega_error))
+        """Largest omega_n error over the measured modes (NaN: none measured)."""
+        return _largest(self.omega_error, self.measured)
 
     @property
     def max_shape_error(self) -> float:
-        return float(np.max(self.shape_error))
+        """Largest shape error over the measured modes (NaN: none measured)."""
+        return _largest(self.shape_error, self.measured)
 
     @property
     def max_rel_error_Q(self) -> float:
@@ -196,53 +236,91 @@ class ModeReport:
 
     @property
     def max_abs_error_P(self) -> float:
-        return float(np.max(np.abs(self.P - self.P_theory)))
+        """Largest |P_n - P_theory| over the measured modes (NaN: none measured)."""
+        return _largest(np.abs(self.P - self.P_theory), self.measured)
 
     @property
     def spacing_deviation(self) -> float:
         """max_n |(omega_n+1 - omega_n) - s| / s over the whole band, s the median spacing in the circuit: a
-        perfect cradle's is constant (its theory's to rounding)."""
+        perfect cradle's is constant (its theory's to rounding).  Over the spacings between measured neighbours
+        (NaN: none)."""
         gaps = np.diff(self.omega)
+        gaps = gaps[np.isfinite(gaps)]
+        if not gaps.size:
+            return math.nan
         middle = float(np.median(gaps))
         return float(np.max(np.abs(gaps - middle)) / middle)
 
+    @property
+    def failure(self) -> str:
+        """Why the survey failed, in one line, or '' when it held: a measured mode outside the targets, or an
+        envelope error that is no number.  Merged modes are no failure: they are said (:attr:`merged`), and what
+        they make together is compared (:attr:`envelope_error`).  ``lcchain spectrum --shapes`` then exits 1."""
+        missed = np.flatnonzero(self.measured & ~self.resolved) + 1
+        if missed.size:
+            listed = ", ".join(str(n) for n in missed[:5]) + (" ..." if missed.size > 5 else "")
+            merged = int(self.merged_modes.sum())
+            return (f"the survey of every loop resolved {int(self.resolved.sum())} of {int(self.measured.sum())} "
+                    f"measured modes (not n = {listed}){f'; {merged} merged by the losses' if merged else ''}")
+        if self.envelope_error is not None and not math.isfinite(self.envelope_error):
+            return "the error of the loops' currents is not a number: the survey's comparison with theory failed"
+        return ""
+
     def to_dict(self) -> JSONDict:
-        """Per mode: omega, Q (with losses), P and the shape over the loops, each beside theory, and its errors."""
+        """Per mode: omega, Q (with losses), P and the shape over the loops, each beside theory, and its errors; a
+        merged mode's measured values and errors are null (said, not measured), as are the summary's errors when no
+        mode was measured."""
         lossy = self.losses is not None
+        merged = self.merged_modes
         modes: list[JSONValue] = []
         for n in range(self.N):
             mode: JSONDict = {
-                "n": n + 1, "omega": float(self.omega[n]), "omega_theory": float(self.omega_theory[n]),
-                "omega_error": float(self.omega_error[n]), "P": float(self.P[n]), "P_theory": float(self.P_theory[n]),
-                "shape_error": float(self.shape_error[n]), "resolved": bool(self.resolved[n]),
-                "shape": [float(v) for v in self.shapes[:, n]],
+                "n": n + 1, "omega": _finite(self.omega[n]), "omega_theory": float(self.omega_theory[n]),
+                "omega_error": _finite(self.omega_error[n]), "P": _finite(self.P[n]),
+                "P_theory": float(self.P_theory[n]), "shape_error": _finite(self.shape_error[n]),
+                "resolved": bool(self.resolved[n]), "merged": bool(merged[n]),
+                "shape": None if merged[n] else [float(v) for v in self.shapes[:, n]],
                 "shape_theory": [float(v) for v in self.shapes_theory[:, n]]}
             if lossy:
                 mode |= {"Q": _finite(self.Q[n]), "Q_theory": _finite(self.Q_theory[n]),
-                         "gamma": float(self.gamma[n])}
+                         "gamma": _finite(self.gamma[n])}
             modes.append(mode)
         return {"N": self.N, "case": self.chain.name, "Q": self.losses, "points": self.points,
                 "segments": self.segments, "engine_version": self.engine_version,
                 "netlist_sha256": self.netlist_sha256, "resolved": int(self.resolved.sum()),
-                "max_rel_error_omega": self.max_rel_error_omega, "max_shape_error": self.max_shape_error,
-                "max_abs_error_P": self.max_abs_error_P, "spacing_deviation": self.spacing_deviation,
-                "max_rel_error_Q": _finite(self.max_rel_error_Q) if lossy else None, "sweeps": self.sweeps,
-                "residual": self.residual, "timings": self.timings, "modes": modes}
+                "measured": int(self.measured.sum()), "merged": [int(n) + 1 for n in np.flatnonzero(merged)],
+                "max_rel_error_omega": _finite(self.max_rel_error_omega),
+                "max_shape_error": _finite(self.max_shape_error), "max_abs_error_P": _finite(self.max_abs_error_P),
+                "spacing_deviation": _finite(self.spacing_deviation),
+                "max_rel_error_Q": _finite(self.max_rel_error_Q) if lossy else None,
+                "max_rel_error_currents": self.envelope_error, "sweeps": self.sweeps,
+                "residual": _finite(self.residual), "timings": self.timings, "failure": self.failure, "modes": modes}
 
     def rows(self) -> list[tuple[str, object]]:
-        """The summary lines ``lcchain spectrum --shapes`` prints."""
+        """The summary lines ``lcchain spectrum --shapes`` prints (no error of a merged mode: none is measured)."""
+        merged = self.merged_modes
+        measured = int(self.measured.sum())
         rows: list[tuple[str, object]] = [
             ("every-loop survey", f"{self.points} frequencies, {self.segments} segments, "
                                   f"ngspice {self.engine_version}"),
-            ("modes resolved", f"{int(self.resolved.sum())} of {self.N} (omega to {OMEGA_TARGET:g}, shape to "
-                               f"{SHAPE_TARGET:g})"),
-            ("max rel. error of omega_n", self.max_rel_error_omega),
-            ("max error of the shapes u_n", self.max_shape_error),
-            ("max abs. error of P_n (from the shapes)", self.max_abs_error_P),
-            ("spacing's largest deviation", self.spacing_deviation)]
-        if self.losses is not None:
-            rows.append((f"max rel. error of Q_n ({int(self.separated.sum())} modes {SEPARATION:g} widths apart)",
-                         self.max_rel_error_Q))
+            ("modes resolved", f"{int(self.resolved.sum())} of {measured} measured"
+                               f"{f' ({self.N} modes, {int(merged.sum())} merged)' if merged.any() else ''} "
+                               f"(omega to {OMEGA_TARGET:g}, shape to {SHAPE_TARGET:g})")]
+        if merged.any():
+            rows.append(("merged by the losses (said, not measured)", merged_text(merged)))
+        if measured:
+            rows += [("max rel. error of omega_n", self.max_rel_error_omega),
+                     ("max error of the shapes u_n", self.max_shape_error),
+                     ("max abs. error of P_n (from the shapes)", self.max_abs_error_P)]
+            if math.isfinite(self.spacing_deviation):
+                rows.append(("spacing's largest deviation", self.spacing_deviation))
+            if self.losses is not None:
+                rows.append((f"max rel. error of Q_n ({int(self.separated.sum())} modes {SEPARATION:g} widths "
+                             "apart)", self.max_rel_error_Q if self.separated.any() else "none compared"))
+        else:
+            rows.append(("no mode is measured", "omega_n, the shapes, P_n and Q_n are not compared"))
+        if self.envelope_error is not None:
+            rows.append(("max rel. error of the loops' currents over the sweep", self.envelope_error))
         rows.append(("seconds (engine, fit)", f"{self.timings.get('engine_s', math.nan):.2f}, "
                                               f"{self.timings.get('fit_s', math.nan):.2f}"))
         return rows
@@ -253,6 +331,12 @@ class ModeReport:
 
 def _finite(value: float) -> float | None:
     return float(value) if np.isfinite(value) else None
+
+
+def _largest(values: np.ndarray, where: np.ndarray) -> float:
+    """The largest of ``values`` where ``where`` holds; NaN where it holds nowhere (nothing measured: no error to
+    give, not an error of 0)."""
+    return float(np.max(values[where])) if np.any(where) else math.nan
 
 
 def measure_modes(chain: Chain, *, Q: float | None = None, L0: float = DEFAULT_L0, C0: float = DEFAULT_C0,
@@ -320,16 +404,38 @@ def measure_modes(chain: Chain, *, Q: float | None = None, L0: float = DEFAULT_L
     engine = (engine_s, version, digest.hexdigest())
     zero = omega_theory <= 1e-9 * top
     x0 = np.where(zero, 0.0, omega_theory ** 2)
-    lossy = Q is not None
-    fit: ModeSurvey = fit_survey(w, g, PoleStart(x0, np.full(chain.N, 1.0 / Q if Q else 0.0), zero),
-                                 SurveyOptions(lossy=lossy))
+    gamma0 = np.full(chain.N, 1.0 / Q if Q else 0.0)
+    merged = _merged(chain, np.where(zero, 0.0, omega_theory), shapes_theory, Q)
+    envelope = None
+    if merged.any():  # what the merged modes make together, before their theory leaves the samples
+        envelope = currents_error(chain, w, g, amplitudes, Q)
+        remove_modes(w, g, x0[merged], gamma0[merged], shapes_theory[:, merged], amplitudes)
+    kept = np.flatnonzero(~merged)
+    omega = np.full(chain.N, np.nan)
+    gamma = np.full(chain.N, np.nan)
+    shapes = np.full((chain.N, chain.N), np.nan)
+    sweeps, residual = 0, math.nan
+    if kept.size:  # the merged modes cost no sweep: only the others' poles are fitted
+        fit: ModeSurvey = fit_survey(w, g, PoleStart(x0[kept], gamma0[kept], zero[kept]),
+                                     SurveyOptions(lossy=Q is not None))
+        omega[kept], gamma[kept], shapes[:, kept] = fit.omega, fit.gamma, fit.shapes(amplitudes)
+        sweeps, residual = fit.sweeps, fit.residual
     del g
-    shapes = fit.shapes(amplitudes)
     fit_s = time.perf_counter() - started
     timings = {"engine_s": engine[0], "fit_s": fit_s, "theory_s": theory_s,
                "total_s": time.perf_counter() - clock}
-    return ModeReport(chain, fit.omega, omega_theory, fit.gamma, shapes, shapes_theory, Q, points, len(segments),
-                      fit.sweeps, fit.residual, engine[1], engine[2], timings)
+    return ModeReport(chain, omega, omega_theory, gamma, shapes, shapes_theory, Q, points, len(segments), sweeps,
+                      residual, engine[1], engine[2], timings, merged if Q is not None else None, envelope)
+
+
+def _merged(chain: Chain, omega: np.ndarray, shapes: np.ndarray, Q: float | None) -> np.ndarray:
+    """The modes losses of quality factor ``Q`` merge, by the loop-1 fit's own rule on the same frequencies and end
+    weights P_n = m_1 u_1n u_Nn (:func:`lcchain.compare.spectral.merged_modes`), bool per mode; none without
+    losses."""
+    if Q is None:
+        return np.zeros(chain.N, dtype=bool)
+    first = float(chain.masses[0]) * shapes[0]
+    return merged_modes(Modes(omega, first * shapes[0], first * shapes[-1], "exact"), Q)
 
 
 def _runs(segments: list[tuple[int, float, float]], N: int) -> list[list[tuple[int, float, float]]]:

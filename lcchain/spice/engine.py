@@ -183,6 +183,13 @@ class Engine(ABC):
         find them started when asked again)."""
         raise SimulatorMissingError(f"engine {self.name} has no warm transport")
 
+    def prestart(self, workers: int) -> None:
+        """Start ``workers`` of its warm programs before the engine is found (:meth:`find` on the default
+        transport), on a guess of where they will run, so that their start overlaps the finding; :meth:`warm`
+        adopts those the found engine can use and ends the others, and :meth:`release` ends them all.  A hint:
+        an engine may start nothing."""
+        return None
+
     def release(self, kill: bool = False) -> None:
         """End what :meth:`warm` keeps running (a study calls it when it ends, ``kill`` on an interrupt)."""
         return None  # an engine without a warm transport keeps nothing running

@@ -781,6 +781,14 @@ def gap_points(gaps: np.ndarray, max_step: float) -> np.ndarray:
     return steps
 
 
+def _one_gap_points(gap: float, max_step: float) -> float:
+    """:func:`gap_points` of one gap after the run's start, in floats (the same operations in the same order):
+    the price of a netlist without breakpoints needs no numpy (a batch's plan then loads none before its runs)."""
+    first = 0.1 * min(min(max_step / 2, max_step), gap)
+    reach = min(gap, max_step)
+    return math.ceil(math.log2(reach / first + 1.0)) + 1.0 + max(gap - 2.0 * reach, 0.0) / max_step
+
+
 def _distinct(values: np.ndarray) -> np.ndarray:
     """``np.unique(values)`` for floats without NaN, without importing ``numpy.ma`` (``np.unique`` does, 10 ms of a
     batch's start)."""
@@ -802,10 +810,10 @@ def _edge_points(edges: list[Edges], stop: float, max_step: float) -> float:
     """Time points from 0 to ``stop`` with every source's breakpoints: listed together when there are at most
     :data:`MAX_ENUMERATED_BREAKPOINTS`, else each source alone (its listed times, and one period times its
     count) added to the points a run without breakpoints has."""
+    if not edges and stop > 0.0:  # no source has an edge: one gap, what _listed makes of [0, stop]
+        return _one_gap_points(stop, max_step) + 1.0
     import numpy as np
 
-    if not edges and stop > 0.0:  # no source has an edge: one gap, what _listed makes of [0, stop]
-        return float(gap_points(np.array([stop]), max_step).sum()) + 1.0
     if sum(e.total for e in edges) <= MAX_ENUMERATED_BREAKPOINTS:
         return _listed(np.concatenate([e.times() for e in edges] + [np.empty(0)]), stop, max_step)
     plain = _listed(np.empty(0), stop, max_step)

@@ -27,7 +27,7 @@ import sys
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-__all__ = ["SCRATCH", "SCRATCH_BYTES", "Sandbox", "find_sandbox", "scratch_env"]
+__all__ = ["SCRATCH", "SCRATCH_BYTES", "Sandbox", "find_sandbox", "likely_sandbox", "scratch_env"]
 
 #: The scratch folder inside the sandbox (its own tmpfs): HOME, TMPDIR and the working folder.
 SCRATCH = "/tmp/lcchain-scratch"
@@ -73,14 +73,22 @@ def _bwrap_prefix(bwrap: str) -> tuple[str, ...]:
             "--tmpfs", "/tmp", "--dir", SCRATCH, "--unshare-all", "--die-with-parent", "--new-session")
 
 
-def find_sandbox() -> Sandbox:
-    """bubblewrap's sandbox if it works here (one trial run of ``true`` in it), else the reason it does not."""
+def likely_sandbox() -> Sandbox:
+    """The sandbox :func:`find_sandbox` finds if its trial run works (bubblewrap installed, on Linux), without the
+    trial: a guess, for starting a worker before the trial has said (its start then proves nothing)."""
     if not sys.platform.startswith("linux"):
         return Sandbox(why_not=f"no sandbox on {sys.platform} (bubblewrap is Linux only)")
     bwrap = shutil.which("bwrap")
     if bwrap is None:
         return Sandbox(why_not="bubblewrap (bwrap) is not installed: sudo apt-get install bubblewrap")
-    sandbox = Sandbox(_bwrap_prefix(bwrap))
+    return Sandbox(_bwrap_prefix(bwrap))
+
+
+def find_sandbox() -> Sandbox:
+    """bubblewrap's sandbox if it works here (one trial run of ``true`` in it), else the reason it does not."""
+    sandbox = likely_sandbox()
+    if not sandbox.available:
+        return sandbox
     try:
         done = subprocess.run(sandbox.command([shutil.which("true") or "/bin/true"]), capture_output=True, timeout=30,
                               stdin=subprocess.DEVNULL, env=scratch_env("/"))

@@ -283,6 +283,7 @@ class EngineStart:
         self._engine, self._backend = engine, backend
         self._found: list[Simulator] = []
         self._failed: list[BaseException] = []
+        self._prestarted: list[Engine] = []
         self._ready, self._done = threading.Event(), threading.Event()
         self._thread = threading.Thread(target=self._start, name="lcchain-engine-start", daemon=True)
 
@@ -297,6 +298,10 @@ class EngineStart:
 
     def _find(self) -> None:
         try:
+            named = engine_named(self._engine)
+            if self._spares and named.warm_below_seconds and self._backend == named.default_transport:
+                self._prestarted.append(named)
+                named.prestart(self._spares)  # the workers start beside ngspice -v and the sandbox's trial
             simulator = find_engine(self._engine, self._backend)
             self._found.append(simulator)
             engine = engine_named(simulator.engine, "simulator.engine")
@@ -314,8 +319,10 @@ class EngineStart:
 
     def __exit__(self, kind: object, error: object, traceback: object) -> None:
         self._ready.wait()
-        if kind is not None and self._found:
-            engine_named(self._found[0].engine, "simulator.engine").release(kill=True)
+        if kind is not None:  # what was started for the study ends with it (an engine not found, a refused plan)
+            ended = [engine_named(self._found[0].engine, "simulator.engine")] if self._found else []
+            for engine in {id(engine): engine for engine in (*ended, *self._prestarted)}.values():
+                engine.release(kill=True)
         self._done.set()
         self._thread.join()
 

@@ -12,14 +12,13 @@ from pathlib import Path
 from types import ModuleType
 from typing import TYPE_CHECKING, Protocol
 
-import numpy as np
-
 from ..core.extras import optional_module
 from ..core.json import LooseJSONObject
 from ..core.physical import vector_units
 from .stored import ARRAY_AXES, StoredRun, study_constants, study_dims, value_key
 
 if TYPE_CHECKING:
+    import numpy as np
     import pandas as pd
     import xarray as xr
 
@@ -77,6 +76,7 @@ def _on_frequency(dataset: xr.Dataset, axes: list[np.ndarray], longest: int, mix
     """AC runs' spectra on a ``frequency`` coordinate (Hz): the dimension itself when every run is an AC run that
     swept the same frequencies, else a coordinate beside the ``point`` dimension (NaN where a run swept fewer, or
     is a transient: ``mixed``)."""
+    import numpy as np
     if not axes:
         return dataset
     same = all(axis.shape == axes[0].shape and np.array_equal(axis, axes[0]) for axis in axes)
@@ -259,6 +259,7 @@ def _with_parts(dataset: xr.Dataset, dims: list[str], runs: list[StoredRun]) -> 
 
 
 def _with_waveforms(store: Readable, dataset: xr.Dataset, dims: list[str], runs: list[StoredRun]) -> xr.Dataset:
+    import numpy as np
     arrays = {run.index: store.waveforms(run.key) or {} for run in runs}
     longest = max((a[axis].size for a in arrays.values() for axis in ARRAY_AXES if axis in a), default=0)
     names = list(dict.fromkeys(name for a in arrays.values() for name in a))

@@ -27,8 +27,6 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-import numpy as np
-
 from ..core.budget import Budget
 from ..core.errors import LcchainError, ParameterError
 from ..core.json import JSONDict
@@ -51,6 +49,8 @@ from .store import Store, engine_text
 from .stream import WINDOW, StreamedPlan
 
 if TYPE_CHECKING:
+    import numpy as np
+
     from ..spice.engine import Engine
 
 __all__ = ["Summary", "Progress", "RunOptions", "RunHooks", "run_plan", "run_specs", "check_specs"]

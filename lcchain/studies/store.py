@@ -79,8 +79,6 @@ from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Literal, TypeAlias
 
-import numpy as np
-
 from ..core import __version__
 from ..core.analyses import analysis_kind
 from ..core.errors import LcchainError, ParameterError
@@ -95,6 +93,7 @@ from .exports import ExportSize, export_size, to_dataframe, to_xarray
 from .stored import ARRAY_AXES, PARTS, StoredRun, study_dims
 
 if TYPE_CHECKING:
+    import numpy as np
     import pandas as pd
     import xarray as xr
 
@@ -199,6 +198,7 @@ def _holder(descriptor: int) -> int | None:
 
 def _array_headers(blob: bytes) -> dict[str, tuple[int, int]]:
     """Each saved array's (points, bytes per value) from a run's ``.npz`` without reading its values."""
+    import numpy as np
     with zipfile.ZipFile(io.BytesIO(blob)) as archive:
         with archive.open("names.npy") as handle:
             names = [str(n) for n in np.lib.format.read_array(handle, allow_pickle=False)]
@@ -215,6 +215,7 @@ def _array_headers(blob: bytes) -> dict[str, tuple[int, int]]:
 
 def _saved(values: np.ndarray) -> np.ndarray:
     """A stored array as lcchain wrote it: complex128 (an AC run's vectors) or float64; nothing else."""
+    import numpy as np
     if values.dtype.kind not in "fc":
         raise ValueError("not a float or complex array")
     return np.asarray(values, dtype=complex if values.dtype.kind == "c" else float)
@@ -224,6 +225,7 @@ def _arrays(record: RunRecord) -> bytes | None:
     """The saved arrays: ngspice's (time in seconds, each vector; an AC run's frequency in Hz and its complex
     vectors), or for an extrapolation, which has no run of its own, the combined signals it was compared by
     (dimensionless time, ``loop0``, ``loop1``...)."""
+    import numpy as np
     if record.run is not None:
         arrays = {analysis_kind(record.run.analysis).axis: record.run.data.axis, **record.run.vectors}
     elif record.signals is not None:
@@ -849,6 +851,7 @@ class Store:
     def waveforms(self, key: str) -> dict[str, np.ndarray] | None:
         """The saved arrays of a stored run (``"time"`` and each vector; an AC run's ``"frequency"`` and its
         complex vectors), or None; checked against its digest."""
+        import numpy as np
         rows = self._rows("SELECT arrays, digest FROM records WHERE key = ?", (key,))
         if not rows or rows[0][0] is None:
             return None
@@ -868,6 +871,7 @@ class Store:
     def vector_names(self, key: str) -> list[str] | None:
         """The names of a stored run's saved vectors (without ``"time"`` or ``"frequency"``), or None when it
         saved none."""
+        import numpy as np
         rows = self._rows("SELECT arrays FROM records WHERE key = ?", (key,))
         if not rows or rows[0][0] is None:
             return None

@@ -17,14 +17,14 @@ theory, and go to threads); the others (Dask, an executor of one's own) take the
 from __future__ import annotations
 
 import hashlib
+import math
 import pickle
 import tempfile
 from array import array
 from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-
-import numpy as np
+from typing import TYPE_CHECKING
 
 from ..core.budget import WARM_WORKER_BYTES, Budget, Estimate
 from ..core.errors import LcchainError, ParameterError
@@ -36,6 +36,9 @@ from ..spice.engines import DEFAULT_ENGINE, ENGINES
 from .executors import EXECUTOR_TRAITS, executor_cost
 from .plan import Plan, Refusal, Task, _batch_task, _compare_seconds, _ForeignRuns, _refusal_key, _version_of
 
+if TYPE_CHECKING:
+    pass
+
 __all__ = ["TaskSpool", "StreamedPlan", "streamed_batch_plan", "streams", "WINDOW", "HELD"]
 
 #: Runs a batch keeps in memory as they were planned (at most ~5 MB of them) before it spools the rest: a run read
@@ -46,6 +49,8 @@ HELD = 2048
 #: and runs read back from the spool at a time.
 WINDOW = 256
 _DIGEST = 32  # bytes of a key (a SHA-256)
+#: Rows up to which :meth:`TaskSpool.first` compares keys in a set (a few hundred KB at most), not with numpy.
+_SMALL = 4096
 
 
 class TaskSpool:
@@ -109,7 +114,18 @@ class TaskSpool:
         """1 for each row whose key no earlier row has (two netlists of the same text, path and options are one
         run).  Rows are ranked by their keys' first 8 bytes (2 MB for 100,000 rows; ``numpy.unique`` of the whole
         keys took 15 MB); only rows that share those are compared whole."""
+        if self._first is None and len(self) <= _SMALL:  # a set of the keys: no numpy before a small batch runs
+            first = bytearray(b"\x01" * len(self))
+            known: set[bytes] = set()
+            for index in range(len(self)):
+                whole = bytes(self.keys[_DIGEST * index:_DIGEST * (index + 1)])
+                if whole in known:
+                    first[index] = 0
+                known.add(whole)
+            self._first = first
         if self._first is None:
+            import numpy as np
+
             first = bytearray(b"\x01" * len(self))
             prefix = np.frombuffer(self.keys, dtype=np.uint64)[::_DIGEST // 8]
             order = np.argsort(prefix, kind="stable")  # among equal prefixes, the earlier row first
@@ -186,11 +202,11 @@ class StreamedPlan(Plan):
         return digest.hexdigest()
 
     def distinct(self) -> tuple[int, float]:
-        """The distinct runs (refusals not counted) and their seconds together, with their comparisons."""
+        """The distinct runs (refusals not counted) and their seconds together, with their comparisons (summed
+        exactly: ``math.fsum``)."""
         first, spool = self.spool.first(), self.spool
-        chosen = np.frombuffer(bytes(first), dtype=np.uint8).astype(bool) & \
-            np.frombuffer(bytes(spool.runs), dtype=np.uint8).astype(bool)
-        return int(chosen.sum()), float(np.asarray(spool.cost)[chosen].sum()) if len(spool) else 0.0
+        chosen = [index for index, (one, run) in enumerate(zip(first, spool.runs, strict=True)) if one and run]
+        return len(chosen), math.fsum(spool.cost[index] for index in chosen)
 
     def estimate(self) -> float:
         return self.distinct()[1]

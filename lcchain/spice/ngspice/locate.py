@@ -13,11 +13,12 @@ import re
 import shutil
 import subprocess
 import sys
+import threading
 from pathlib import Path
 
 from ...core.errors import ExtraMissingError, SimulatorMissingError
 from ..log import useful_output
-from ..sandbox import find_sandbox
+from ..sandbox import Sandbox, find_sandbox
 from ..simulator import Simulator
 from .shared_child import call_shared_worker, decode_worker_payload
 
@@ -125,7 +126,14 @@ def require_pyspice() -> None:
 
 def find_batch(launcher: tuple[str, ...]) -> Simulator:
     exe = find_ngspice()
-    return Simulator("batch", exe, ngspice_version(exe), launcher, find_sandbox())
+    sandbox: list[Sandbox] = []  # the sandbox's trial run beside ngspice -v: two processes waited for at once
+    trial = threading.Thread(target=lambda: sandbox.append(find_sandbox()), name="lcchain-sandbox-trial")
+    trial.start()
+    try:
+        version = ngspice_version(exe)
+    finally:
+        trial.join()
+    return Simulator("batch", exe, version, launcher, sandbox[0] if sandbox else find_sandbox())
 
 
 def find_shared(launcher: tuple[str, ...]) -> Simulator:

@@ -32,6 +32,7 @@ from __future__ import annotations
 
 import atexit
 import contextlib
+import importlib
 import json
 import os
 import select
@@ -51,7 +52,8 @@ from ...core.errors import SimulationError, SimulatorMissingError
 from ..job import Progress, TransportJob
 from ..log import failure_reason, useful_output
 from ..processes import PACKAGE_ROOT, WATCH_INTERVAL, child_env, kill_group, outgrown, read_all, resident_bytes
-from ..simulator import Simulator
+from ..sandbox import likely_sandbox
+from ..simulator import Simulator, child_launcher
 from ..text import canonical_vector_name
 from .locate import find_shared_library
 from .place import Place, placement
@@ -61,7 +63,8 @@ if TYPE_CHECKING:  # the worker's module is the child's: the parent names its fr
 
     from .warm_worker import Hello, RunHeader
 
-__all__ = ["WarmWorker", "run_warm", "worker_for", "close_workers", "warm_simulator", "WARM_BELOW_SECONDS",
+__all__ = ["WarmWorker", "run_warm", "worker_for", "close_workers", "warm_simulator", "prestart_workers",
+           "WARM_BELOW_SECONDS",
            "MAX_WORKER_BYTES", "MAX_WORKER_RUNS", "RESTART_SHARE"]
 
 #: Runs priced under this (:func:`lcchain.spice.foreign.foreign_price`'s seconds, which are about three times what a
@@ -104,7 +107,8 @@ class WarmWorker:
         env["PYTHONPATH"] = os.pathsep.join(p for p in (PACKAGE_ROOT, env.get("PYTHONPATH")) if p)
         self._err: IO[bytes] = tempfile.TemporaryFile()
         worker = "lcchain.spice.ngspice.warm_worker"
-        self.proc = subprocess.Popen([*prefix, sys.executable, "-P", "-m", worker, library], cwd=cwd, env=env,
+        # -S: no site (the worker needs the standard library and lcchain, which PYTHONPATH names), 10 to 20 ms
+        self.proc = subprocess.Popen([*prefix, sys.executable, "-S", "-P", "-m", worker, library], cwd=cwd, env=env,
                                      stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=self._err,
                                      start_new_session=True)
         self.runs = 0
@@ -192,9 +196,8 @@ class WarmWorker:
             the next), the run outlived its timeout (status ``"timeout"``, the worker killed), its output or
             memory outgrew its limits (the worker killed), or its vectors outgrew ``max_output_bytes``.
         """
-        import numpy as np
-
         assert self.proc.stdin is not None
+        _numpy_beside()
         timeout, limit, resident = job.timeout, job.max_output_bytes, job.max_resident_bytes
         data = job.text.encode("utf-8")
         self._err.seek(0)
@@ -242,6 +245,8 @@ class WarmWorker:
         if header["errors"]:
             raise SimulationError(failure_reason(log, "the ngspice shared library failed: "
                                                  + "; ".join(header["errors"])), useful_output(log))
+        import numpy as np  # loaded while the first run computed (_numpy_beside)
+
         columns: dict[str, np.ndarray] = {}
         offset = 0
         for name, length in zip(header["names"], header["lengths"], strict=True):
@@ -292,6 +297,22 @@ _workers: set[WarmWorker] = set()
 #: them over, one each.
 _spare: dict[WorkerKey, list[WarmWorker]] = {}
 _local = threading.local()
+#: The workers :func:`prestart_workers` started before the engine was found, by key: :func:`warm_simulator` adopts
+#: those under the key it finds, and ends the others.
+_guessed: dict[WorkerKey, list[WarmWorker]] = {}
+_numpy_loader: threading.Thread | None = None
+
+
+def _numpy_beside() -> None:
+    """Import numpy in a thread of its own, once, as the first run is sent: its import (50 ms idle, 100 ms on a busy
+    machine) then overlaps ngspice's run instead of delaying a batch's start (nothing before the first run needs
+    it: tests/test_imports.py), and the run's reply finds it loaded (or waits on the import's lock)."""
+    global _numpy_loader
+    with _lock:
+        if _numpy_loader is not None or "numpy" in sys.modules:
+            return
+        _numpy_loader = threading.Thread(target=importlib.import_module, args=("numpy",), name="lcchain-numpy")
+    _numpy_loader.start()
 
 
 def worker_for(library: str, prefix: tuple[str, ...], cwd: str, env: dict[str, str],
@@ -323,6 +344,7 @@ def close_workers(kill: bool = False) -> None:
     with _lock:
         workers = [worker for worker in _workers if worker.alive]
         _spare.clear()
+        _guessed.clear()
     for worker in workers:  # every worker told first, then each waited for: they end side by side
         worker._hang_up()
     for worker in workers:
@@ -330,6 +352,41 @@ def close_workers(kill: bool = False) -> None:
 
 
 atexit.register(close_workers, True)
+
+
+def prestart_workers(workers: int) -> None:
+    """Start ``workers`` workers where a batch's foreign netlists will run warm if the sandbox works here, before
+    ngspice is found: their start (20 to 40 ms) then overlaps ``ngspice -v`` and the sandbox's trial run instead
+    of following them.  A guess that proves nothing: :func:`warm_simulator` adopts them only under the placement
+    the found engine gives (same library, same sandbox), checks their version there, and ends them otherwise.
+    Nothing is started without a shared library or bubblewrap."""
+    if workers < 1:
+        return
+    try:
+        library = find_shared_library()
+    except SimulatorMissingError:
+        return
+    sandbox = likely_sandbox()
+    if not sandbox.available:
+        return
+    guess = Simulator("warm", library, "", child_launcher(), sandbox)
+    with placement(guess, True, None) as place:
+        started = [WarmWorker(library, place.prefix, place.cwd, place.env, greet=False) for _ in range(workers)]
+        key = (library, place.prefix, place.cwd)
+    with _lock:
+        _workers.update(started)
+        _guessed.setdefault(key, []).extend(started)
+
+
+def _adopt_guessed(key: WorkerKey) -> list[WarmWorker]:
+    """The workers :func:`prestart_workers` started under ``key`` (not yet greeted); the others ended."""
+    with _lock:
+        adopted = _guessed.pop(key, [])
+        others = [worker for workers in _guessed.values() for worker in workers]
+        _guessed.clear()
+    for worker in others:
+        worker.close(kill=True)
+    return [worker for worker in adopted if worker.alive]
 
 
 def warm_simulator(simulator: Simulator, workers: int = 1) -> Simulator:
@@ -349,6 +406,7 @@ def warm_simulator(simulator: Simulator, workers: int = 1) -> Simulator:
     library = find_shared_library()
     warm = replace(simulator, backend="warm", executable=library)
     if not simulator.sandbox.available:
+        _adopt_guessed(("", (), ""))  # none is under that key: every guessed worker ended
         worker = WarmWorker(library, simulator.launcher, "/", child_env())
         worker.close()
         _same_version(worker, simulator)
@@ -358,8 +416,13 @@ def warm_simulator(simulator: Simulator, workers: int = 1) -> Simulator:
         key = (library, place.prefix, place.cwd)
         with _lock:
             kept = [worker for worker in _spare.get(key, []) if worker.alive and worker.version == simulator.version]
-        started = [WarmWorker(library, place.prefix, place.cwd, place.env, greet=False)
-                   for _ in range(max(0, workers - len(kept)) if kept else max(1, workers))]
+        guessed = _adopt_guessed(key)
+        wanted = max(0, workers - len(kept)) if kept else max(1, workers)
+        for worker in guessed[wanted:]:
+            worker.close(kill=True)
+        started = guessed[:wanted]
+        started += [WarmWorker(library, place.prefix, place.cwd, place.env, greet=False)
+                    for _ in range(wanted - len(started))]
     with _lock:
         _workers.update(started)
     try:

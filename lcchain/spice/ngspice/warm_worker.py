@@ -36,40 +36,40 @@ the library prints on file descriptor 1 goes to stderr, so the frames stay clean
 from __future__ import annotations
 
 import ctypes
-import json
 import os
-import re
 import struct
 import sys
 import time
-from typing import BinaryIO, TypedDict
 
-from lcchain.spice.text import circuit_lines, text_digest
+#: The worker's hello comes before anything it does not need for it: no ``typing`` (its frames' types are the type
+#: checker's alone), no ``json`` (which loads ``re``, ``enum`` and more), and :mod:`lcchain.spice.text` (hashlib
+#: and OpenSSL): those load after the hello, while the parent is still planning (tests/test_imports.py holds this).
+TYPE_CHECKING = False
+if TYPE_CHECKING:
+    from typing import BinaryIO, TypedDict
 
+    class Hello(TypedDict, total=False):
+        """The worker's first frame, as JSON: the library's version, or why it could not be loaded."""
 
-class Hello(TypedDict, total=False):
-    """The worker's first frame, as JSON: the library's version, or why it could not be loaded."""
+        version: str
+        error: str
 
-    version: str
-    error: str
+    class RunHeader(TypedDict):
+        """The frame before a run's vectors, as JSON: their names and lengths (float64 values, in this order),
+        whether the plot held complex vectors (not sent), ngspice's errors and wall seconds, the worker's resident
+        bytes, ngspice's exit status when it asked to exit (else None), and the digest of the lines it was given."""
 
+        names: list[str]
+        lengths: list[int]
+        complex: bool
+        errors: list[str]
+        wall_s: float
+        rss: int
+        exit: int | None
+        lines: str
 
-class RunHeader(TypedDict):
-    """The frame before a run's vectors, as JSON: their names and lengths (float64 values, in this order), whether
-    the plot held complex vectors (not sent), ngspice's errors and wall seconds, the worker's resident bytes,
-    ngspice's exit status when it asked to exit (else None), and the digest of the lines it was given."""
-
-    names: list[str]
-    lengths: list[int]
-    complex: bool
-    errors: list[str]
-    wall_s: float
-    rss: int
-    exit: int | None
-    lines: str
 
 _HEADER = struct.Struct("<Q")
-_VERSION = re.compile(r"ngspice-([0-9][^\s]*)")
 
 
 class _VectorInfo(ctypes.Structure):
@@ -126,13 +126,15 @@ class Library:
     def version(self) -> str:
         self.printed = []
         self.command("version")
-        match = _VERSION.search("\n".join(self.printed))
+        version = _version_in("\n".join(self.printed))
         self.printed = None
-        if match is None:
+        if not version:
             raise RuntimeError("the library did not report an ngspice version")
-        return match.group(1)
+        return version
 
     def run(self, netlist: str) -> tuple[RunHeader, bytes]:
+        from lcchain.spice.text import circuit_lines, text_digest  # loaded after the hello (main)
+
         errors: list[str] = []
         try:
             given = circuit_lines(netlist)  # split at LF alone, as the allow-list split it
@@ -172,6 +174,26 @@ class Library:
         header: RunHeader = {"names": names, "lengths": lengths, "complex": is_complex, "errors": errors,
                              "wall_s": wall, "rss": _rss(), "exit": self.exit_status, "lines": text_digest(given)}
         return header, b"".join(chunks)
+
+
+def _hello(version: str) -> bytes:
+    """The hello frame's JSON, ``{"version": "39"}``, written without the json module when the version is plain
+    (digits, letters and ``.+-_``, as ngspice's are), by ``json.dumps`` otherwise."""
+    if version.isascii() and version.replace(".", "").replace("+", "").replace("-", "").replace("_", "").isalnum():
+        return b'{"version": "' + version.encode("ascii") + b'"}'
+    import json
+
+    hello: Hello = {"version": version}
+    return json.dumps(hello).encode("utf-8")
+
+
+def _version_in(printed: str) -> str:
+    """The version in what ``version`` printed: the word after the first ``ngspice-`` that a digit follows
+    ("" when there is none)."""
+    for piece in printed.split("ngspice-")[1:]:
+        if piece[:1] in tuple("0123456789"):
+            return piece.split(None, 1)[0]
+    return ""
 
 
 def _rss() -> int:
@@ -214,14 +236,21 @@ def main(argv: list[str]) -> int:
     sys.stdout = sys.stderr
     try:
         library = Library(argv[1])
-        hello: Hello = {"version": library.version()}
+        version = library.version()
     except (OSError, RuntimeError, IndexError) as error:
+        import json
+
         refused: Hello = {"error": str(error)}
         _write_frame(replies, json.dumps(refused).encode("utf-8"))
         replies.flush()
         return 1
-    _write_frame(replies, json.dumps(hello).encode("utf-8"))
+    _write_frame(replies, _hello(version))
     replies.flush()
+    # loaded after the hello, while the parent plans: the headers' JSON, each run's line split and digest
+    import json
+
+    import lcchain.spice.text  # noqa: F401
+
     while (request := _read_frame(requests)) is not None:
         header, data = library.run(request.decode("utf-8"))
         _write_frame(replies, json.dumps(header).encode("utf-8"))
@@ -233,4 +262,8 @@ def main(argv: list[str]) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main(sys.argv))
+    status = main(sys.argv)
+    sys.stderr.flush()
+    # Every reply is flushed and nothing else is owed: no interpreter shutdown, no library destructors (a worker
+    # that ends with its batch then exits in a few milliseconds, not tens).
+    os._exit(status)
