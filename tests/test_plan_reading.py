@@ -216,15 +216,25 @@ def _compare_with_slow_path(names: list[str], folder: Path, monkeypatch: pytest.
     return len(written)
 
 
+def _runs_always(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Runs of lines taken at once in every text, however short (by default only from ``_RUNS_FROM`` lines)."""
+    monkeypatch.setattr(foreign, "_RUNS_FROM", 0)
+    monkeypatch.setattr(pricing, "_RUNS_FROM", 0)
+
+
+@pytest.mark.parametrize("runs", [False, True])
 @pytest.mark.parametrize("name", QUICK)
-def test_the_short_cuts_decide_as_the_general_path(name: str, tmp_path: Path,
+def test_the_short_cuts_decide_as_the_general_path(name: str, runs: bool, tmp_path: Path,
                                                   monkeypatch: pytest.MonkeyPatch) -> None:
+    if runs:
+        _runs_always(monkeypatch)
     assert _compare_with_slow_path([name], tmp_path, monkeypatch) > 0
 
 
 @pytest.mark.slow
 def test_the_short_cuts_decide_as_the_general_path_on_the_whole_corpus(tmp_path: Path,
                                                                        monkeypatch: pytest.MonkeyPatch) -> None:
+    _runs_always(monkeypatch)
     assert _compare_with_slow_path(list(CASES), tmp_path, monkeypatch) > len(CASES)
 
 
@@ -353,6 +363,7 @@ def _allowed_and_contents(text: str) -> tuple[str, str]:
 ])
 def test_runs_of_lines_decide_as_each_line_alone(written: str, monkeypatch: pytest.MonkeyPatch) -> None:
     """The allow-list's text or refusal and the price's contents, with runs of lines taken at once and without."""
+    _runs_always(monkeypatch)
     fast = _allowed_and_contents(written)
     with monkeypatch.context() as patch:
         _no_runs(patch)
@@ -363,6 +374,7 @@ def test_runs_of_lines_decide_as_each_line_alone(written: str, monkeypatch: pyte
 def test_a_run_past_the_element_limit_is_refused_at_the_same_line(limit: int, monkeypatch: pytest.MonkeyPatch) -> None:
     """The limit on element lines crossed inside a run: refused at the line one by one would refuse."""
     monkeypatch.setattr(foreign, "MAX_EXPANDED_ELEMENTS", limit)
+    _runs_always(monkeypatch)
     netlist = "t\nR1 a 0 1\nC1 a 0 1n\n* c\nL1 a b 1u\nL2 b 0 1u\nC2 b 0 1n\n.tran 1 2\n"
     fast = _outcome(lambda: str(allowed_netlist(netlist, "netlist", None)))
     with monkeypatch.context() as patch:

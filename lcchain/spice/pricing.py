@@ -44,10 +44,8 @@ from __future__ import annotations
 import math
 import re
 import string
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
-from itertools import compress
-from operator import truediv
 from typing import TYPE_CHECKING
 
 from ..core.budget import BYTES_PER_VALUE, INTERPRETER_BYTES, Budget, Estimate, ac_run_estimate
@@ -480,6 +478,9 @@ class _Scope:
 
 #: The bytes an element line of :func:`_scopes`'s bulk starts with (lcchain.spice.text.odd_lines): ASCII letters.
 _LETTERS = string.ascii_letters.encode("ascii")
+#: Texts of this many lines or more are read in runs of element lines; shorter ones line by line, which costs less
+#: for so few.
+_RUNS_FROM = 64
 
 
 @dataclass
@@ -501,14 +502,24 @@ class _Reader:
             scope.numbers += range(first, first + len(lines))
             scope.lines += lines
 
-    def line(self, number: int, line: str) -> None:
-        """Any logical line but the title."""
-        head = line[:1]
-        if not head.isalpha():  # an element line starts with its letter, but may follow blanks
-            head = line.lstrip()[:1]
-        if head.isalpha():
-            self.elements(number, [line])
-            return
+    def lines(self, lines: Iterable[tuple[int, str]]) -> None:
+        """Logical lines (the title excepted) one by one."""
+        scope = self.scopes[self.stack[-1]]  # the body the reader is in, again after each dot-command
+        for number, line in lines:
+            head = line[:1]
+            if not head.isalpha():  # an element line starts with its letter, but may follow blanks
+                head = line.lstrip()[:1]
+            if head.isalpha():
+                if not self.control:
+                    scope.numbers.append(number)
+                    scope.lines.append(line)
+            elif head == ".":
+                self.dot(number, line)
+                scope = self.scopes[self.stack[-1]]
+
+    def dot(self, number: int, line: str) -> None:
+        """A line whose first character that is not blank is a dot (:meth:`lines` takes the others)."""
+        head = line.lstrip()[:1]
         if head != ".":
             return
         word, _, rest = line.strip().partition(" ")
@@ -553,16 +564,15 @@ def _scopes(text: str) -> tuple[dict[str, _Scope], dict[str, float], dict[str, f
     """
     reader = _Reader()
     physical = netlist_lines(text)
-    if "\n+" in text:  # logical lines: "+" lines joined to the line they continue
-        for number, line in logical_lines(text)[1:]:  # the first line is the title
-            reader.line(number, line)
+    if "\n+" in text or len(physical) < _RUNS_FROM:  # logical lines ("+" lines joined), or few: one by one
+        reader.lines(logical_lines(text)[1:])  # the first line is the title
     else:
         at = 1
         for k in odd_lines(text, _LETTERS):
             if k > at:
                 reader.elements(at + 1, physical[at:k])
             if k >= 1:
-                reader.line(k + 1, physical[k])
+                reader.lines([(k + 1, physical[k])])
             at = max(at, k + 1)
         if at < len(physical):
             reader.elements(at + 1, physical[at:])
@@ -601,11 +611,11 @@ def _tally(scope: _Scope, top: bool, params: dict[str, float], models: dict[str,
     instances = branches = expression = reactive = 0  # counted in locals: this loop sees every element line
     known: dict[str, float | None] = {}  # each value's word read once: a ladder's repeat
     lines = scope.lines
-    joined = NEWLINE.join(lines)
-    # an ASCII body's lines lowered at once (each word of a line so lowered is the word lowered); in another body
-    # none is, and every line takes the general branches below
-    lowered = joined.lower().split(NEWLINE) if lines and joined.isascii() else [""] * len(lines)
-    short = {letter.lower() for letter in _PLAIN_REACTIVE}
+    joined = NEWLINE.join(lines) if len(lines) >= _RUNS_FROM else ""
+    # the lines of a long ASCII body lowered at once (each word of a line so lowered is the word lowered); in
+    # another body none is, and every line takes the branches below
+    lowered = joined.lower().split(NEWLINE) if joined and joined.isascii() else [""] * len(lines)
+    short = {letter.lower() for letter in _PLAIN_REACTIVE} if joined else set()
     for number, line, low in zip(scope.numbers, lines, lowered, strict=True):
         if low[:1] in short and "{" not in low:  # the short branch below, of a line starting with its letter
             words = low.split()
@@ -715,12 +725,8 @@ def _tally(scope: _Scope, top: bool, params: dict[str, float], models: dict[str,
         reciprocal = 1.0 / (henry * (1.0 - coupling.get(name, 0.0)))
         admittance[a] = admittance.get(a, 0.0) + reciprocal
         admittance[b] = admittance.get(b, 0.0) + reciprocal
-    # max of 2 admittance / capacitance over the nodes with both, no resistor, not ground and a capacitance > 0 (each
-    # a sum of absolute values: >= 0, so > 0 is true), in the order of the capacitances: by C, not a loop of Python
-    ringing = list(filter((admittance.keys() - damped - _GROUND).__contains__, capacitance))
-    farads = list(map(capacitance.__getitem__, ringing))
-    t.omega2 = max(map(truediv, map((2.0).__mul__, map(admittance.__getitem__, compress(ringing, farads))),
-                       compress(farads, farads)), default=0.0)
+    t.omega2 = max((2.0 * admittance[n] / c for n, c in capacitance.items()
+                    if c > 0 and n in admittance and n not in damped and not _is_ground(n)), default=0.0)
     return t
 
 
