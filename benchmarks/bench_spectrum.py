@@ -267,10 +267,12 @@ def _lossy(simulator: Any) -> None:
             t = _least(runs)
             separated, error = _separated_Q_error(report, Q)
             price = spectrum_estimate(report.points, N, losses=True).seconds
-            print(f"| {case} | {N} | {Q:g} | {report.points} | {int(report.seen.sum())} | "
-                  f"{int(report.merged_modes.sum())} | {report.max_rel_error_omega:.1e} | "
-                  f"{report.max_abs_error_P:.1e} | {report.max_rel_error_Q:.1e} | {separated} | {error:.1e} | "
-                  f"{report.max_rel_error_pole:.1e} | {_error(report.response_error)} | "
+            seen = int(report.seen.sum())  # none seen (every mode merged): no error to print, '-'
+            errors = [f"{value:.1e}" if seen else "-" for value in (
+                report.max_rel_error_omega, report.max_abs_error_P, report.max_rel_error_Q, report.max_rel_error_pole)]
+            print(f"| {case} | {N} | {Q:g} | {report.points} | {seen} | "
+                  f"{int(report.merged_modes.sum())} | {' | '.join(errors[:3])} | {separated} | {_finite(error)} | "
+                  f"{errors[3]} | {_error(report.response_error)} | "
                   f"{_error(report.envelope_error)} | {_error(report.envelope_bound)} | {t['ngspice_s']:.3f} | "
                   f"{t['loop1_s']:.3f} | {t['loop1_s'] / t['ngspice_s']:.2f} | {t['fit_s']:.3f} | "
                   f"{t['fit_s'] / t['ngspice_s']:.2f} | {t['call_s']:.2f} | {price:.2f} | ", end="", flush=True)

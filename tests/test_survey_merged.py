@@ -165,3 +165,17 @@ def test_loop_currents_are_the_dense_solution(chain, Q):
     dense = np.array([np.linalg.solve(S - w * w * M + 1j * w / Q * M, b) for w in omega])
     got = loop_currents(chain, omega, b, Q)
     assert np.max(np.max(np.abs(got - dense), axis=1) / np.max(np.abs(dense), axis=1)) <= RTOL_LOOP_CURRENTS
+
+
+def test_a_pole_start_is_a_class_and_pickles() -> None:
+    """PoleStart was wrapped by the BLAS-thread decorator (a function in its place): its instances could not be
+    pickled to another process, nor told by isinstance."""
+    import pickle
+
+    from lcchain.compare.survey import PoleStart
+
+    start = PoleStart(np.array([1.0, 2.0]), np.array([0.1, 0.2]), np.array([False, True]), np.array([True, False]),
+                      np.zeros((2, 2)))
+    copy = pickle.loads(pickle.dumps(start))
+    assert isinstance(copy, PoleStart)
+    assert np.array_equal(copy.x, start.x) and np.array_equal(copy.fixed_gamma, start.fixed_gamma)

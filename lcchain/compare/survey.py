@@ -212,7 +212,6 @@ def _edges(x: np.ndarray, w: np.ndarray, lo: int, hi: int) -> np.ndarray:
     return np.flatnonzero((w > left) & (w <= right))
 
 
-@fixed_blas_threads
 @dataclass(frozen=True, eq=False)
 class PoleStart:
     """Where :func:`fit_survey` starts each mode's pole, and which parts of it stay.
