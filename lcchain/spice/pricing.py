@@ -563,10 +563,10 @@ def _scopes(text: str) -> tuple[dict[str, _Scope], dict[str, float], dict[str, f
     (:func:`lcchain.spice.text.odd_lines` finds them) and each run of element lines between them is taken at once.
     """
     reader = _Reader()
-    physical = netlist_lines(text)
-    if "\n+" in text or len(physical) < _RUNS_FROM:  # logical lines ("+" lines joined), or few: one by one
+    if "\n+" in text or text.count(NEWLINE) + 1 < _RUNS_FROM:  # logical lines ("+" lines joined), or few
         reader.lines(logical_lines(text)[1:])  # the first line is the title
     else:
+        physical = netlist_lines(text)
         at = 1
         for k in odd_lines(text, _LETTERS):
             if k > at:
