@@ -7,7 +7,9 @@ Run from the repository root::
 For each N it writes ``count`` distinct netlists the way :mod:`bench_batch` does (the chain cycling through the
 optimal two-mass, the optimal one-mass and the uniform free chain, the step 0.04 (1 + i / count), the title naming
 the run), then times, in one process, ``rounds`` times each: reading every file
-(:func:`lcchain.spice.result.read_include`) and :func:`lcchain.studies.plan.batch_plan` of them all (each read,
+(:func:`lcchain.spice.result.read_include`), reading and splitting every file into lines
+(``path.read_text().split("\\n")``: what any reader of lines costs in Python, the fairer floor) and
+:func:`lcchain.studies.plan.batch_plan` of them all (each read,
 made canonical, allow-listed, its analysis read, priced, its limits set).  It prints the fastest round per netlist
 (the machine is shared: the least disturbed round is the closest to the code's own cost) and the load average
 (1 min) before and after.  The engine's version is given (``"39"``): no ngspice is started.
@@ -42,7 +44,8 @@ def fastest(work: Callable[[], object], rounds: int) -> float:
 
 
 def measure(folder: Path, rounds: int) -> dict[str, float]:
-    """Seconds a netlist of ``folder``: reading it, and its plan (fastest of ``rounds``, in this process)."""
+    """Seconds a netlist of ``folder``: reading it, reading and splitting it into lines, and its plan (fastest of
+    ``rounds``, in this process)."""
     from lcchain.spice.result import read_include
     from lcchain.studies.plan import batch_plan
 
@@ -52,11 +55,16 @@ def measure(folder: Path, rounds: int) -> dict[str, float]:
         for path in paths:
             read_include(Path(path), "NETLIST")
 
+    def split() -> None:  # the floor of any reader of lines in Python: the file read and split at LF
+        for path in paths:
+            Path(path).read_text().split("\n")
+
     def plan() -> None:
         made = batch_plan(paths, engine_version=lambda: "39")
         assert len(made.tasks) == len(paths), made.refusals
 
-    return {"read": fastest(read, rounds) / len(paths), "plan": fastest(plan, rounds) / len(paths)}
+    return {"read": fastest(read, rounds) / len(paths), "split": fastest(split, rounds) / len(paths),
+            "plan": fastest(plan, rounds) / len(paths)}
 
 
 def _measured(folder: Path, rounds: int, tree: Path | None) -> dict[str, float]:
@@ -107,15 +115,16 @@ def main() -> int:
           f"{args.count} netlists each.")
     print()
     names = ["before", "after"] if before else ["this tree"]
-    head = " | ".join(f"`batch_plan` {n} (ms) | {n} / read" for n in names)
-    print(f"| N | bytes | lines | read (ms) | {head} |" + (" after / before |" if before else ""))
-    print("|---:|---:|---:|---:|" + "---:|---:|" * len(names) + ("---:|" if before else ""))
+    head = " | ".join(f"`batch_plan` {n} (ms) | {n} / read | {n} / split" for n in names)
+    print(f"| N | bytes | lines | read (ms) | read + split (ms) | {head} |" + (" after / before |" if before else ""))
+    print("|---:|---:|---:|---:|---:|" + "---:|---:|---:|" * len(names) + ("---:|" if before else ""))
     for N, size, lines in rows:
         read = min(results[(N, n)]["read"] for n in names)
-        cells = " | ".join(f"{1e3 * results[(N, n)]['plan']:.3f} | {results[(N, n)]['plan'] / read:.0f}"
-                           for n in names)
+        split = min(results[(N, n)]["split"] for n in names)
+        cells = " | ".join(f"{1e3 * results[(N, n)]['plan']:.3f} | {results[(N, n)]['plan'] / read:.0f} | "
+                           f"{results[(N, n)]['plan'] / split:.1f}" for n in names)
         ratio = f" {results[(N, 'after')]['plan'] / results[(N, 'before')]['plan']:.2f} |" if before else ""
-        print(f"| {N} | {size:.0f} | {lines:.0f} | {1e3 * read:.3f} | {cells} |{ratio}")
+        print(f"| {N} | {size:.0f} | {lines:.0f} | {1e3 * read:.3f} | {1e3 * split:.3f} | {cells} |{ratio}")
     return 0
 
 

@@ -185,11 +185,20 @@ def _plan(path: Path, trusted: bool) -> tuple[object, ...]:
 
 
 def _slow_path(monkeypatch: pytest.MonkeyPatch) -> None:
-    """The general path everywhere: no line is plain, no ASCII text is canonical without a search."""
+    """The general path everywhere: no line is plain, no ASCII text is canonical without a search, no run of
+    lines is taken at once."""
     monkeypatch.setattr(foreign, "_PLAIN_ELEMENT", re.compile(r"(?!)"))
     monkeypatch.setattr(foreign, "_CONTINUED", re.compile(""))  # found everywhere: every line looked at
     monkeypatch.setattr(pricing, "_PLAIN_REACTIVE", frozenset())
     monkeypatch.setattr(text_module, "_CANONICAL_ASCII", b"")
+    _no_runs(monkeypatch)
+
+
+def _no_runs(monkeypatch: pytest.MonkeyPatch) -> None:
+    """No run of lines taken at once: every line is odd (``odd_lines`` of no first byte), so the allow-list and the
+    price's split into bodies look at each line, as they did before the runs."""
+    monkeypatch.setattr(foreign, "_PLAIN_FIRST", b"")
+    monkeypatch.setattr(pricing, "_LETTERS", b"")
 
 
 def _compare_with_slow_path(names: list[str], folder: Path, monkeypatch: pytest.MonkeyPatch) -> int:
@@ -207,15 +216,25 @@ def _compare_with_slow_path(names: list[str], folder: Path, monkeypatch: pytest.
     return len(written)
 
 
+def _runs_always(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Runs of lines taken at once in every text, however short (by default only from ``_RUNS_FROM`` lines)."""
+    monkeypatch.setattr(foreign, "_RUNS_FROM", 0)
+    monkeypatch.setattr(pricing, "_RUNS_FROM", 0)
+
+
+@pytest.mark.parametrize("runs", [False, True])
 @pytest.mark.parametrize("name", QUICK)
-def test_the_short_cuts_decide_as_the_general_path(name: str, tmp_path: Path,
+def test_the_short_cuts_decide_as_the_general_path(name: str, runs: bool, tmp_path: Path,
                                                   monkeypatch: pytest.MonkeyPatch) -> None:
+    if runs:
+        _runs_always(monkeypatch)
     assert _compare_with_slow_path([name], tmp_path, monkeypatch) > 0
 
 
 @pytest.mark.slow
 def test_the_short_cuts_decide_as_the_general_path_on_the_whole_corpus(tmp_path: Path,
                                                                        monkeypatch: pytest.MonkeyPatch) -> None:
+    _runs_always(monkeypatch)
     assert _compare_with_slow_path(list(CASES), tmp_path, monkeypatch) > len(CASES)
 
 
@@ -295,3 +314,86 @@ def test_a_line_the_allow_list_takes_as_plain_is_checked_as_the_general_path_che
     with monkeypatch.context() as patch:
         _slow_path(patch)
         assert _outcome(lambda: str(allowed_netlist(netlist, "netlist", None))) == fast
+
+
+# --------------------------------------------------------------------------- runs of lines taken at once
+
+#: Characters the lines of the fuzzed texts below are made of: the edges of ``_PLAIN_ELEMENT`` (its letters, other
+#: letters, blanks, braces, a comment, a character of neither class, non-ASCII ones, a lone surrogate, LF).
+_PIECES = ["R", "L", "c", "k", "x", "X", ".", "*", "+", "1", "=", "(", " ", "\t", "{", "}", ";", "$", "\"", "~", "\u00e9",
+           "\u3000", "\ud800", "\n", "\n", "\n"]
+
+
+def _fuzzed(count: int) -> Iterator[str]:
+    import random
+
+    chosen = random.Random(35)
+    for _ in range(count):
+        yield "".join(chosen.choice(_PIECES) for _ in range(chosen.randint(0, 40)))
+
+
+def _corpus_and_fuzz() -> Iterator[str]:
+    yield from _every_text()
+    yield from ("", "\n", "R", "R ", "R\n", " R", "\nR1 a b 1", "R1 a b 1\n\n", "x\tR\n\t")
+    yield from _fuzzed(5000)
+
+
+def test_the_lines_found_odd_at_once_are_those_each_line_shows() -> None:
+    """``odd_lines`` (a search of the text) against a look at each line: the lines the allow-list's pattern does
+    not match whole, and the lines that do not start with a letter (the price's split into bodies)."""
+    letters = re.compile(r"[A-Za-z]")
+    for written in _corpus_and_fuzz():
+        lines = written.split("\n")
+        assert text_module.odd_lines(written, foreign._PLAIN_FIRST, foreign._PLAIN_REST, blank_end=True) == \
+            [k for k, line in enumerate(lines) if not foreign._PLAIN_ELEMENT.fullmatch(line)], written
+        assert text_module.odd_lines(written, pricing._LETTERS) == \
+            [k for k, line in enumerate(lines) if not letters.match(line)], written
+        assert text_module.odd_lines(written, b"") == list(range(len(lines)))
+
+
+def _allowed_and_contents(text: str) -> tuple[str, str]:
+    return (_outcome(lambda: str(allowed_netlist(text, "netlist", None))),
+            _outcome(lambda: read_contents(canonical_text(text, "netlist"), "netlist")))
+
+
+@pytest.mark.parametrize("written", [
+    "t\nR1 a 0 1\nC1 a 0 1n\n.subckt s p\nL1 p 0 1u\nC2 p 0 1n\n.ends\nX1 a s\nX2 a s\n.tran 1 2\n.end\n",
+    "t\n.control\nR1 a 0 1\n.endc\nC1 a 0 1n\nL1 a 0 1u\n.tran 1 2\n", "\n\nt\nL1 a 0 1\n  C1 a 0 1n\n* c\n",
+    "t\nR1 a 0 1\r\nC1 a 0 1n\n", "t\nC1 a 0 1n\u00e9\nC2 a 0 1n\n", "t\nC1 a 0 {c}\n.param c=1n\nL1 a 0 1u\n",
+])
+def test_runs_of_lines_decide_as_each_line_alone(written: str, monkeypatch: pytest.MonkeyPatch) -> None:
+    """The allow-list's text or refusal and the price's contents, with runs of lines taken at once and without."""
+    _runs_always(monkeypatch)
+    fast = _allowed_and_contents(written)
+    with monkeypatch.context() as patch:
+        _no_runs(patch)
+        assert _allowed_and_contents(written) == fast
+
+
+@pytest.mark.parametrize("limit", [1, 2, 3, 4, 5, 6])
+def test_a_run_past_the_element_limit_is_refused_at_the_same_line(limit: int, monkeypatch: pytest.MonkeyPatch) -> None:
+    """The limit on element lines crossed inside a run: refused at the line one by one would refuse."""
+    monkeypatch.setattr(foreign, "MAX_EXPANDED_ELEMENTS", limit)
+    _runs_always(monkeypatch)
+    netlist = "t\nR1 a 0 1\nC1 a 0 1n\n* c\nL1 a b 1u\nL2 b 0 1u\nC2 b 0 1n\n.tran 1 2\n"
+    fast = _outcome(lambda: str(allowed_netlist(netlist, "netlist", None)))
+    with monkeypatch.context() as patch:
+        _no_runs(patch)
+        assert _outcome(lambda: str(allowed_netlist(netlist, "netlist", None))) == fast
+    assert "refused" in fast or limit >= 5
+
+
+def _checked(text: str, folder: Path | None) -> str:
+    return str(allowed_netlist(text, "n", folder, read_include))
+
+
+def test_a_netlist_that_includes_nothing_is_checked_alike_without_its_folder(tmp_path: Path) -> None:
+    """The plan resolves a netlist's folder only for its includes (or to run it there): a netlist that
+    ``includes_nothing`` says holds none is checked alike with and without a folder."""
+    compared = 0
+    for written in _every_text():
+        if foreign.includes_nothing(written):
+            assert _outcome(_checked, written, tmp_path) == _outcome(_checked, written, None)
+            compared += 1
+    assert compared > len(CASES)
+    assert not foreign.includes_nothing("t\n.INC x\n") and not foreign.includes_nothing("t\n .Lib x y\n")

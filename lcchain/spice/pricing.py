@@ -43,7 +43,8 @@ from __future__ import annotations
 
 import math
 import re
-from collections.abc import Callable, Sequence
+import string
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
@@ -63,7 +64,7 @@ from .cards import (
     subckt_header,
 )
 from .expressions import is_param_card
-from .text import logical_lines, spice_number
+from .text import NEWLINE, logical_lines, netlist_lines, odd_lines, spice_number
 
 if TYPE_CHECKING:
     import numpy as np
@@ -465,70 +466,117 @@ def _groups(pairs: list[tuple[str, str, float]]) -> dict[str, tuple[int, int]]:
 
 @dataclass
 class _Scope:
-    """What one body holds, the netlist's own or a ``.subckt``'s, before its copies are counted."""
+    """What one body holds, the netlist's own or a ``.subckt``'s, before its copies are counted: its element lines
+    (``lines``, each starting at line ``numbers[k]`` of the text)."""
 
     ports: frozenset[str] = frozenset()
     defaults: dict[str, float] = field(default_factory=dict)
-    cards: list[tuple[int, str]] = field(default_factory=list)
+    numbers: list[int] = field(default_factory=list)
+    lines: list[str] = field(default_factory=list)
     calls: list[str] = field(default_factory=list)
 
 
-def _scopes(text: str) -> tuple[dict[str, _Scope], dict[str, float], dict[str, float | None], dict[str, Model],
-                                 set[str]]:
-    """(each body's element lines by definition, ``""`` the netlist's own; ``.param`` values; ``.options``;
-    ``.model`` cards; ``.global`` nodes) of a netlist's text, in one pass over its lines."""
-    params: dict[str, float] = {}
-    options: dict[str, float | None] = {}
-    models: dict[str, Model] = {}
-    globals_: set[str] = set()
-    scopes: dict[str, _Scope] = {"": _Scope()}
-    stack = [""]
-    control = False  # in a .control block (a netlist run as it is): commands, not elements
-    cards = scopes[""].cards  # the innermost open body's
-    lines = logical_lines(text)
-    for k in range(1, len(lines)):  # the first line is the title
-        number, line = lines[k]
-        head = line[:1]
-        if not head.isalpha():  # an element line starts with its letter, but may follow blanks
-            head = line.lstrip()[:1]
-        if head.isalpha():
-            if not control:
-                cards.append(lines[k])
-            continue
+#: The bytes an element line of :func:`_scopes`'s bulk starts with (lcchain.spice.text.odd_lines): ASCII letters.
+_LETTERS = string.ascii_letters.encode("ascii")
+#: Texts of this many lines or more are read in runs of element lines; shorter ones line by line, which costs less
+#: for so few.
+_RUNS_FROM = 64
+
+
+@dataclass
+class _Reader:
+    """:func:`_scopes` as it goes: what it has read, the body it is in and whether in a ``.control`` block."""
+
+    params: dict[str, float] = field(default_factory=dict)
+    options: dict[str, float | None] = field(default_factory=dict)
+    models: dict[str, Model] = field(default_factory=dict)
+    globals_: set[str] = field(default_factory=set)
+    scopes: dict[str, _Scope] = field(default_factory=lambda: {"": _Scope()})
+    stack: list[str] = field(default_factory=lambda: [""])
+    control: bool = False  # in a .control block (a netlist run as it is): commands, not elements
+
+    def elements(self, first: int, lines: list[str]) -> None:
+        """Element lines (each starts with a letter) numbered from ``first``, all in the body the reader is in."""
+        if not self.control:
+            scope = self.scopes[self.stack[-1]]
+            scope.numbers += range(first, first + len(lines))
+            scope.lines += lines
+
+    def lines(self, lines: Iterable[tuple[int, str]]) -> None:
+        """Logical lines (the title excepted) one by one."""
+        scope = self.scopes[self.stack[-1]]  # the body the reader is in, again after each dot-command
+        for number, line in lines:
+            head = line[:1]
+            if not head.isalpha():  # an element line starts with its letter, but may follow blanks
+                head = line.lstrip()[:1]
+            if head.isalpha():
+                if not self.control:
+                    scope.numbers.append(number)
+                    scope.lines.append(line)
+            elif head == ".":
+                self.dot(number, line)
+                scope = self.scopes[self.stack[-1]]
+
+    def dot(self, number: int, line: str) -> None:
+        """A line whose first character that is not blank is a dot (:meth:`lines` takes the others)."""
+        head = line.lstrip()[:1]
         if head != ".":
-            continue
+            return
         word, _, rest = line.strip().partition(" ")
         word = word.lower()
         if word.startswith((".control", ".endc")):
-            control = word.startswith(".control")
-            continue
+            self.control = word.startswith(".control")
+            return
         command = command_of(word)
         if is_param_card(word):  # .params, .PARAM_X: ngspice 39 reads them as .param
             for name, value in _ASSIGNMENT.findall(rest):
                 number_ = spice_number(value.strip("{}"))
                 if number_ is not None:
-                    params[name.lower()] = number_
+                    self.params[name.lower()] = number_
         elif word in (".options", ".option", ".opt"):
             for name, value in _ASSIGNMENT.findall(rest):
-                options[name.lower()] = spice_number(value)
+                self.options[name.lower()] = spice_number(value)
         elif command == ".subckt":
             header = subckt_header(line.strip())
             name = header.name if header is not None else f"?{number}"
             defaults = {k: v for k, v in ((k, spice_number(v)) for k, v in (header.params if header else ()))
                         if v is not None}
-            scopes[name] = _Scope(frozenset(header.nodes if header else ()), defaults)
-            stack.append(name)
-            cards = scopes[name].cards
-        elif command == ".ends" and len(stack) > 1:
-            stack.pop()
-            cards = scopes[stack[-1]].cards
+            self.scopes[name] = _Scope(frozenset(header.nodes if header else ()), defaults)
+            self.stack.append(name)
+        elif command == ".ends" and len(self.stack) > 1:
+            self.stack.pop()
         elif command == ".model":
             model = model_card(line.strip())
             if model is not None:
-                models[model.name] = model
+                self.models[model.name] = model
         elif command == ".global":
-            globals_.update(w.lower() for w in rest.split())
-    return scopes, params, options, models, globals_
+            self.globals_.update(w.lower() for w in rest.split())
+
+
+def _scopes(text: str) -> tuple[dict[str, _Scope], dict[str, float], dict[str, float | None], dict[str, Model],
+                                 set[str]]:
+    """(each body's element lines by definition, ``""`` the netlist's own; ``.param`` values; ``.options``;
+    ``.model`` cards; ``.global`` nodes) of a netlist's text, in one pass over its lines.
+
+    Without ``+`` lines (a logical line is a physical one), the lines that start with a letter are element lines
+    of the body the line before them left open, so only the others are read one by one
+    (:func:`lcchain.spice.text.odd_lines` finds them) and each run of element lines between them is taken at once.
+    """
+    reader = _Reader()
+    if "\n+" in text or text.count(NEWLINE) + 1 < _RUNS_FROM:  # logical lines ("+" lines joined), or few
+        reader.lines(logical_lines(text)[1:])  # the first line is the title
+    else:
+        physical = netlist_lines(text)
+        at = 1
+        for k in odd_lines(text, _LETTERS):
+            if k > at:
+                reader.elements(at + 1, physical[at:k])
+            if k >= 1:
+                reader.lines([(k + 1, physical[k])])
+            at = max(at, k + 1)
+        if at < len(physical):
+            reader.elements(at + 1, physical[at:])
+    return reader.scopes, reader.params, reader.options, reader.models, reader.globals_
 
 
 @dataclass
@@ -562,7 +610,30 @@ def _tally(scope: _Scope, top: bool, params: dict[str, float], models: dict[str,
     couples: list[tuple[str, str, float]] = []
     instances = branches = expression = reactive = 0  # counted in locals: this loop sees every element line
     known: dict[str, float | None] = {}  # each value's word read once: a ladder's repeat
-    for number, line in scope.cards:
+    lines = scope.lines
+    joined = NEWLINE.join(lines) if len(lines) >= _RUNS_FROM else ""
+    # the lines of a long ASCII body lowered at once (each word of a line so lowered is the word lowered); in
+    # another body none is, and every line takes the branches below
+    lowered = joined.lower().split(NEWLINE) if joined and joined.isascii() else [""] * len(lines)
+    short = {letter.lower() for letter in _PLAIN_REACTIVE} if joined else set()
+    for number, line, low in zip(scope.numbers, lines, lowered, strict=True):
+        if low[:1] in short and "{" not in low:  # the short branch below, of a line starting with its letter
+            words = low.split()
+            if len(words) > 3:
+                a, b = words[1], words[2]
+                nodes.add(a)
+                nodes.add(b)
+                reactive += 1
+                word = words[3]
+                value = abs((known[word] if word in known else known.setdefault(word, _value(word, values))) or 0.0)
+                if low[0] == "c":
+                    capacitance[a] = capacitance.get(a, 0.0) + value
+                    capacitance[b] = capacitance.get(b, 0.0) + value
+                else:
+                    branches += 1
+                    if value:
+                        inductors[words[0]] = (a, b, value)
+                continue
         words = line.split()
         letter = words[0][0].upper()
         if letter in _PLAIN_REACTIVE and len(words) > 3 and "{" not in line:
@@ -640,7 +711,7 @@ def _tally(scope: _Scope, top: bool, params: dict[str, float], models: dict[str,
             capacitance[b] = capacitance.get(b, 0.0) + value
         elif value:
             inductors[words[0].lower()] = (a, b, value)
-    t.elements, t.branches, t.expression, t.reactive = len(scope.cards) - instances, branches, expression, reactive
+    t.elements, t.branches, t.expression, t.reactive = len(scope.lines) - instances, branches, expression, reactive
     own = nodes | globals_ if top else nodes - scope.ports - globals_  # a port is the instance's node
     t.nodes += len(own - _GROUND)
     t.couplings = len(couples)
@@ -651,8 +722,9 @@ def _tally(scope: _Scope, top: bool, params: dict[str, float], models: dict[str,
             coupling[name] = max(coupling.get(name, 0.0), min(k, 0.99))
     admittance: dict[str, float] = {}
     for name, (a, b, henry) in inductors.items():
-        for node in (a, b):
-            admittance[node] = admittance.get(node, 0.0) + 1.0 / (henry * (1.0 - coupling.get(name, 0.0)))
+        reciprocal = 1.0 / (henry * (1.0 - coupling.get(name, 0.0)))
+        admittance[a] = admittance.get(a, 0.0) + reciprocal
+        admittance[b] = admittance.get(b, 0.0) + reciprocal
     t.omega2 = max((2.0 * admittance[n] / c for n, c in capacitance.items()
                     if c > 0 and n in admittance and n not in damped and not _is_ground(n)), default=0.0)
     return t

@@ -42,13 +42,14 @@ import hashlib
 import re
 import unicodedata
 from collections.abc import Sequence
+from functools import lru_cache
 
 from ..core.errors import ParameterError
 from ..core.limits import MAX_TITLE_BYTES
 
 __all__ = ["canonical_vector_name", "parse_options", "logical_lines", "spice_number", "saved_vectors",
            "canonical_text", "require_canonical", "netlist_lines", "circuit_lines", "text_digest", "NEWLINE",
-           "DotCard", "dot_cards", "saved_in"]
+           "DotCard", "dot_cards", "saved_in", "odd_lines"]
 
 #: A card of :func:`dot_cards`: (line number, its first physical line, the logical line).
 DotCard = tuple[int, str, str]
@@ -259,6 +260,51 @@ def dot_cards(netlist: str, *, canonical: bool = True) -> list[DotCard]:
         at = start
         card = match.group(1)
         found.append((number, card.partition(NEWLINE)[0], card.replace("\n+", " ")))
+    return found
+
+
+@lru_cache(maxsize=8)
+def _odd_start(first: bytes) -> re.Pattern[bytes]:
+    """An LF not followed by a byte of ``first``: the start of a line :func:`odd_lines` returns (a search for a
+    literal LF first, then one byte looked at)."""
+    return re.compile(b"\\n(?![" + re.escape(first) + b"])")
+
+
+def odd_lines(text: str, first: bytes, rest: bytes | None = None, *, blank_end: bool = False) -> list[int]:
+    """The indices, in order, of the lines of ``text`` (split at LF, as ``text.split("\\n")``) that do not start
+    with a byte of ``first``, or (given ``rest``) hold a character that is in neither (a non-ASCII one is in
+    neither), or (with ``blank_end``) end with a space or a tab; ``first`` and ``rest`` are ASCII.
+
+    Found by a search of the text for each kind of odd line, not by a look at each line: a reader whose common
+    line is simple (a ladder's ``L`` and ``C`` lines) takes the others in bulk and looks only at these.
+    """
+    if not first:  # no line starts with a byte of none
+        return list(range(text.count(NEWLINE) + 1))
+    data = text.encode("utf-8", "surrogatepass")
+    starts = [] if data[:1] and data[:1] in first else [0]  # a byte of each odd line, its line counted below
+    starts += [match.end() for match in _odd_start(first).finditer(data)]
+    if rest is not None:
+        for byte in set(data.translate(None, first + rest + b"\n")):  # each character of neither: its lines
+            at = data.find(byte)
+            while at >= 0:
+                starts.append(at)
+                end = data.find(b"\n", at)
+                at = data.find(byte, end) if end >= 0 else -1
+    if blank_end:
+        for needle in (b" \n", b"\t\n"):
+            at = data.rfind(needle)
+            while at >= 0:
+                starts.append(at)
+                at = data.rfind(needle, 0, at)
+        if data.endswith((b" ", b"\t")):
+            starts.append(len(data) - 1)
+    found: list[int] = []
+    line, counted = 0, 0
+    for at in sorted(starts):
+        line += data.count(b"\n", counted, at)
+        counted = at
+        if not found or found[-1] != line:
+            found.append(line)
     return found
 
 

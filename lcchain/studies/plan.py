@@ -54,7 +54,13 @@ from ..core.limits import MAX_CIRCUIT_N, MAX_DESIGN_N, MAX_DT, MAX_TRANSITS, MIN
 from ..core.types import DEFAULT_C0, DEFAULT_L0, Backend, Excitation
 from ..runs.spec import DEFAULT_TIMEOUT, RunSpec, SpectrumTheory, Theory
 from ..spice.engines import DEFAULT_ENGINE, ENGINES, find_engine
-from ..spice.foreign import ALLOW_CONTROL_HINT, allowed_netlist, analysis_of, read_foreign
+from ..spice.foreign import (
+    ALLOW_CONTROL_HINT,
+    allowed_netlist,
+    analysis_of,
+    includes_nothing,
+    read_foreign,
+)
 from ..spice.result import read_include
 from ..spice.text import canonical_text
 from .executors import EXECUTOR_TRAITS, executor_cost
@@ -955,7 +961,8 @@ def _batch_task(index: int, path: Path, read: list[str], runs: _ForeignRuns) -> 
     once read: the refusal's key)."""
     text = read_include(path, "NETLIST")
     read.append(text)
-    folder = path.resolve().parent
+    # its folder (the real file's) is asked for only to run it there or to find its includes: resolved only then
+    folder = path.resolve().parent if runs.trusted or not includes_nothing(text) else path.parent
     run_text = canonical_text(text, str(path)) if runs.trusted else \
         allowed_netlist(text, str(path), folder, read_include)
     return _foreign_task(index, {"netlist": str(path)}, run_text, str(path), path.name, runs,
