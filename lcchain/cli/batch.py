@@ -46,7 +46,7 @@ def cmd_batch(args: argparse.Namespace) -> int:
     """A batch's --max-time is its whole budget: each run's own limits come from its price, and no run starts once
     the budget is spent (the runs left stay pending in the store). A netlist lcchain will not run is stored as
     refused and the others run (exit 1); with --strict the first refusal stops the batch (exit 2).  A list's names
-    (--from) are read as the batch is planned, none of them kept: standard input is copied to an unnamed temporary
+    (--from) are read as the batch is planned, none of them kept: standard input is copied to a temporary
     file first."""
     from ..app.batch import BatchRequest, batch
 
