@@ -6,6 +6,7 @@ from __future__ import annotations
 import argparse
 import codecs
 import contextlib
+import os
 import sys
 import tempfile
 from collections.abc import Iterator
@@ -47,7 +48,7 @@ def cmd_batch(args: argparse.Namespace) -> int:
     the budget is spent (the runs left stay pending in the store). A netlist lcchain will not run is stored as
     refused and the others run (exit 1); with --strict the first refusal stops the batch (exit 2).  A list's names
     (--from) are read as the batch is planned, none of them kept: standard input is copied to a temporary
-    file first."""
+    file first (unnamed on Linux)."""
     from ..app.batch import BatchRequest, batch
 
     if not args.netlist and args.from_list is None:
@@ -69,7 +70,9 @@ def _stdin_list() -> Iterator[str]:
     from ..core.limits import MAX_NETLIST_LIST_BYTES
 
     decoder = codecs.getincrementaldecoder("utf-8")()
-    with tempfile.NamedTemporaryFile(prefix="lcchain-names-", suffix=".txt") as copy:
+    # Without a name where /proc shows it again (Linux): even a batch killed outright leaves no file behind.
+    unnamed = os.path.isdir("/proc/self/fd")
+    with tempfile.TemporaryFile() if unnamed else tempfile.NamedTemporaryFile(prefix="lcchain-names-") as copy:
         size = 0
         while chunk := sys.stdin.buffer.read(min(1 << 16, MAX_NETLIST_LIST_BYTES + 1 - size)):
             size += len(chunk)
@@ -86,4 +89,4 @@ def _stdin_list() -> Iterator[str]:
         except UnicodeDecodeError:
             raise ParameterError("--from", "-", "netlist names in UTF-8 on standard input") from None
         copy.flush()
-        yield copy.name
+        yield f"/proc/self/fd/{copy.fileno()}" if unnamed else copy.name
