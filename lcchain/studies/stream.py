@@ -28,7 +28,7 @@ import threading
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING
 
 from ..core.budget import WARM_WORKER_BYTES, Budget, Estimate
 from ..core.errors import LcchainError, ParameterError
@@ -39,6 +39,9 @@ from ..runs.spec import DEFAULT_TIMEOUT, RunSpec
 from ..spice.engines import DEFAULT_ENGINE, ENGINES
 from .executors import EXECUTOR_TRAITS, executor_cost
 from .plan import Plan, Refusal, Task, _batch_task, _compare_seconds, _ForeignRuns, _refusal_key, _version_of
+
+if TYPE_CHECKING:
+    from .store import Row, SQLValue
 
 __all__ = ["TaskSpool", "StreamedPlan", "streamed_batch_plan", "streams", "WINDOW", "HELD"]
 
@@ -138,7 +141,7 @@ class TaskSpool:
             raise LcchainError(f"the batch's rows could not be spooled to the temporary folder (SQLite says: "
                                f"{error}): make room there (TMPDIR) and run the same command again") from None
 
-    def _query(self, sql: str, args: Sequence[object] = ()) -> Iterator[tuple[Any, ...]]:
+    def _query(self, sql: str, args: Sequence[object] = ()) -> Iterator[Row]:
         """A query's rows as they are read (a window at a time: none held).  The runs are read back in an
         executor's thread while the driver asks for keys: each call into SQLite holds the spool's lock."""
         self._write()
@@ -152,7 +155,7 @@ class TaskSpool:
                     break
                 yield from rows
 
-    def _one(self, sql: str, args: Sequence[object] = ()) -> tuple[Any, ...]:
+    def _one(self, sql: str, args: Sequence[object] = ()) -> Row:
         return next(self._query(sql, args))
 
     def key(self, index: int) -> str:
@@ -163,15 +166,15 @@ class TaskSpool:
 
     def keys(self) -> Iterator[str]:
         """Each row's key, in plan order."""
-        return (key for key, in self._query("SELECT key FROM rows ORDER BY idx"))
+        return (_text(key) for key, in self._query("SELECT key FROM rows ORDER BY idx"))
 
     def rows(self) -> Iterator[tuple[str, str]]:
         """Each row's (key, netlist's name as given), in plan order."""
-        return ((key, path) for key, path in self._query("SELECT key, path FROM rows ORDER BY idx"))
+        return ((_text(key), _text(path)) for key, path in self._query("SELECT key, path FROM rows ORDER BY idx"))
 
     def first(self) -> list[int]:
         """1 for each row whose key no earlier row has (a list: for tests and small batches)."""
-        return [first for first, in self._query("SELECT first FROM rows ORDER BY idx")]
+        return [_int(first) for first, in self._query("SELECT first FROM rows ORDER BY idx")]
 
     def distinct(self) -> tuple[int, float]:
         """The distinct runs (refusals not counted) and their seconds together, with their comparisons (summed
@@ -182,14 +185,14 @@ class TaskSpool:
             nonlocal count
             for cost, in self._query("SELECT cost FROM rows WHERE first AND run ORDER BY idx"):
                 count += 1
-                yield float(cost)
+                yield _real(cost)
 
         seconds = math.fsum(costs())
         return count, seconds
 
     def keyed(self) -> int:
         """The distinct keys of the rows (runs and refusals)."""
-        return int(self._one("SELECT COUNT(*) FROM rows WHERE first")[0])
+        return _int(self._one("SELECT COUNT(*) FROM rows WHERE first")[0])
 
     def any_warm(self) -> bool:
         return bool(self._one("SELECT EXISTS (SELECT 1 FROM rows WHERE warm)")[0])
@@ -204,27 +207,27 @@ class TaskSpool:
                                       (low, WINDOW)))
             if not window:
                 break
-            held = stored_among([key for _, key in window])
+            held = stored_among([_text(key) for _, key in window])
             with self._guard(), self._lock:
                 self._db.executemany("UPDATE rows SET stored = 1 WHERE idx = ?",
                                      [(index,) for index, key in window if key in held])
-            low = window[-1][0] + 1
+            low = _int(window[-1][0]) + 1
         with self._guard(), self._lock:
             self._db.execute("UPDATE rows SET todo = (first AND run AND NOT stored)")
-        return int(self._one("SELECT COUNT(*) FROM rows WHERE first AND stored")[0])
+        return _int(self._one("SELECT COUNT(*) FROM rows WHERE first AND stored")[0])
 
     def stored(self, index: int) -> bool:
         return bool(self._one("SELECT stored FROM rows WHERE idx = ?", (index,))[0])
 
     def todo(self) -> int:
-        return int(self._one("SELECT COUNT(*) FROM rows WHERE todo")[0])
+        return _int(self._one("SELECT COUNT(*) FROM rows WHERE todo")[0])
 
     def chosen(self, below: float) -> bytes:
         """A byte a row: 1 for a row to run now whose engine's warm transport may carry it, priced below
         ``below`` seconds (:class:`~lcchain.studies.executors.RunMask`)."""
         chosen = bytearray(len(self))
         for index, in self._query("SELECT idx FROM rows WHERE todo AND warm AND seconds < ?", (below,)):
-            chosen[index] = 1
+            chosen[_int(index)] = 1
         return bytes(chosen)
 
     def specs(self) -> Iterator[tuple[int, RunSpec]]:
@@ -233,13 +236,13 @@ class TaskSpool:
         self._file.flush()
         for index, start, end in self._query("SELECT idx, start_at, end_at FROM rows WHERE todo ORDER BY idx"):
             if start is None:
-                yield index, self._held[index]
+                yield _int(index), self._held[_int(index)]
                 continue
-            self._file.seek(start)
-            spec = pickle.loads(self._file.read(end - start))  # the spool is this driver's own, unnamed file
+            self._file.seek(_int(start))  # the spool is this driver's own, unnamed file
+            spec = pickle.loads(self._file.read(_int(end) - _int(start)))
             if not isinstance(spec, RunSpec):
-                raise TypeError(f"row {index} of the spool is not a run")
-            yield index, spec
+                raise TypeError(f"row {index!r} of the spool is not a run")
+            yield _int(index), spec
 
     def close(self) -> None:
         self._held.clear()
@@ -247,6 +250,24 @@ class TaskSpool:
         self._file.close()
         with contextlib.suppress(sqlite3.Error):
             self._db.close()
+
+
+def _int(value: SQLValue) -> int:
+    if not isinstance(value, int):  # the spool is this driver's own: a wrong type is lcchain's error, not the user's
+        raise TypeError(f"the spool holds {value!r} where a whole number belongs")
+    return value
+
+
+def _real(value: SQLValue) -> float:
+    if not isinstance(value, int | float):
+        raise TypeError(f"the spool holds {value!r} where a number belongs")
+    return float(value)
+
+
+def _text(value: SQLValue) -> str:
+    if not isinstance(value, str):
+        raise TypeError(f"the spool holds {value!r} where a text belongs")
+    return value
 
 
 @dataclass(frozen=True)
