@@ -39,7 +39,6 @@ from lcchain.circuit.effects import E_SERIES
 from lcchain.cli import main
 from lcchain.core.errors import ParameterError
 from lcchain.report.scenes import write_scene_outputs
-from lcchain.runs import execute as execute_module
 from lcchain.runs.execute import execute
 from lcchain.scenes.load import parse_scene
 from lcchain.scenes.plan import scene_plan, scene_specs
@@ -153,13 +152,16 @@ def test_every_effect_combined_meets_a_fine_accuracy() -> None:
 
 @pytest.mark.ngspice
 def test_a_wrong_quality_factor_in_the_theory_is_caught(monkeypatch) -> None:
-    # The comparison must be able to fail: the theory gets Q = 60 for a Q = 50 circuit.
-    real = execute_module.prepare_response
+    # The comparison must be able to fail: the theory gets Q = 60 for a Q = 50 circuit (the runs import
+    # prepare_response where they use it: patched in its own module).
+    from lcchain.theory import response as response_module
+
+    real = response_module.prepare_response
 
     def theory_off(*args, **kwargs):
         return real(*args, **{**kwargs, "Q": 60.0})
 
-    monkeypatch.setattr(execute_module, "prepare_response", theory_off)
+    monkeypatch.setattr(response_module, "prepare_response", theory_off)
     result = run_scene(_scene(EFFECTS["losses"]), SceneRun(write_outputs=False))
     assert result.report["max_abs_error"] > MIN_ERROR_WRONG_THEORY
 
