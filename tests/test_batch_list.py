@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 from helpers.netlists import RC_NETLIST
 
-from lcchain.app.batch import listed_netlists
+from lcchain.app.batch import listed_names
 from lcchain.cli.main import main
 
 
@@ -24,8 +24,9 @@ def rc_netlists(folder: Path, count: int) -> list[str]:
     return names
 
 
-def test_a_list_is_its_lines_without_the_blank_ones() -> None:
-    assert listed_netlists("names.txt", "a.cir\n\n  \nsub dir/b c.cir\r\nd.cir") == ("a.cir", "sub dir/b c.cir", "d.cir")
+def test_a_list_is_its_lines_without_the_blank_ones(tmp_path: Path) -> None:
+    (tmp_path / "names.txt").write_bytes(b"a.cir\n\n  \nsub dir/b c.cir\r\nd.cir")
+    assert tuple(listed_names(str(tmp_path / "names.txt"))) == ("a.cir", "sub dir/b c.cir", "d.cir")
 
 
 @pytest.mark.ngspice

@@ -4,7 +4,6 @@ store."""
 from __future__ import annotations
 
 import os
-import stat
 import time
 from collections.abc import Iterator
 from dataclasses import dataclass, field
@@ -13,7 +12,7 @@ from pathlib import Path
 from ..core.budget import INTERPRETER_SECONDS, Budget
 from .studies import PlannedStudy, StudyHooks, StudyOptions, StudyResult, check_study, run_study, study_workers
 
-__all__ = ["BatchRequest", "batch", "listed_netlists", "listed_names"]
+__all__ = ["BatchRequest", "batch", "listed_names"]
 
 
 @dataclass(frozen=True)
@@ -43,15 +42,6 @@ class BatchRequest:
         return len(self.netlists) + (sum(1 for _ in listed_names(self.listed)) if self.listed is not None else 0)
 
 
-def listed_netlists(path: str, text: str | None = None) -> tuple[str, ...]:
-    """The netlist file names a list holds (``lcchain batch --from LIST``): one a line, as given (relative to the
-    current folder), blank lines skipped.  ``text``: the list already read; else the file at ``path``
-    (:func:`listed_names`)."""
-    if text is None:
-        return tuple(listed_names(path))
-    return tuple(line for line in text.splitlines() if line.strip())
-
-
 def listed_names(path: str, option: str = "--from") -> Iterator[str]:
     """The names the list at ``path`` holds, one a line, blank lines skipped, read a line at a time: a regular file
     of at most :data:`~lcchain.core.limits.MAX_NETLIST_LIST_BYTES` of UTF-8 text (else a
@@ -61,20 +51,10 @@ def listed_names(path: str, option: str = "--from") -> Iterator[str]:
     from ..core.budget import show_bytes
     from ..core.errors import ParameterError
     from ..core.limits import MAX_NETLIST_LIST_BYTES
-    from ..spice.inputs import file_kind
+    from ..spice.inputs import open_input
 
     most = MAX_NETLIST_LIST_BYTES
-    try:  # never blocked by a FIFO: refused below, as anything but a regular file
-        descriptor = os.open(path, os.O_RDONLY | os.O_NONBLOCK | os.O_CLOEXEC)
-    except OSError as error:
-        raise ParameterError(option, path, f"a readable file ({error.strerror})") from None
-    info = os.fstat(descriptor)
-    if not stat.S_ISREG(info.st_mode) or info.st_size > most:
-        os.close(descriptor)
-        if not stat.S_ISREG(info.st_mode):
-            raise ParameterError(option, path, f"a regular file (this is {file_kind(info.st_mode)})")
-        raise ParameterError(option, path, f"a file of at most {show_bytes(most)} (this one has "
-                             f"{show_bytes(info.st_size)})")
+    descriptor = open_input(path, option, most)  # a regular file of at most that size, never blocked by a FIFO
     with os.fdopen(descriptor, "rb", buffering=1 << 16) as handle:
         size = 0
         for number, data in enumerate(handle, 1):

@@ -16,7 +16,7 @@ import stat
 from ..core.budget import show_bytes
 from ..core.errors import ParameterError
 
-__all__ = ["read_input", "file_kind"]
+__all__ = ["read_input", "open_input", "file_kind"]
 
 
 def file_kind(mode: int) -> str:
@@ -26,6 +26,31 @@ def file_kind(mode: int) -> str:
         if test(mode):
             return name
     return "not a regular file"
+
+
+def open_input(path: str | os.PathLike[str], option: str, max_bytes: int) -> int:
+    """A descriptor of the regular file at ``path``, opened without blocking and checked on that descriptor: the
+    refusals of :func:`read_input` (unreadable, not a regular file, larger than ``max_bytes``), before a byte is
+    read.  The caller closes it."""
+    name = str(path)
+    try:
+        fd = os.open(name, os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_CLOEXEC", 0))
+    except OSError as error:
+        raise ParameterError(option, name, f"a readable file ({error.strerror})") from None
+    try:
+        info = os.fstat(fd)
+        if not stat.S_ISREG(info.st_mode):
+            raise ParameterError(option, name, f"a regular file (this is {file_kind(info.st_mode)})")
+        if info.st_size > max_bytes:
+            raise ParameterError(option, name, f"a file of at most {show_bytes(max_bytes)} (this one has "
+                                 f"{show_bytes(info.st_size)})")
+    except OSError as error:
+        os.close(fd)
+        raise ParameterError(option, name, f"a readable file ({error.strerror})") from None
+    except BaseException:
+        os.close(fd)
+        raise
+    return fd
 
 
 def read_input(path: str | os.PathLike[str], option: str, max_bytes: int) -> str:
@@ -48,17 +73,8 @@ def read_input(path: str | os.PathLike[str], option: str, max_bytes: int) -> str
         or not UTF-8.
     """
     name = str(path)
+    fd = open_input(path, option, max_bytes)
     try:
-        fd = os.open(name, os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_CLOEXEC", 0))
-    except OSError as error:
-        raise ParameterError(option, name, f"a readable file ({error.strerror})") from None
-    try:
-        info = os.fstat(fd)
-        if not stat.S_ISREG(info.st_mode):
-            raise ParameterError(option, name, f"a regular file (this is {file_kind(info.st_mode)})")
-        if info.st_size > max_bytes:
-            raise ParameterError(option, name, f"a file of at most {show_bytes(max_bytes)} (this one has "
-                                 f"{show_bytes(info.st_size)})")
         chunks: list[bytes] = []
         size = 0
         while size <= max_bytes:
