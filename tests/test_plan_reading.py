@@ -397,3 +397,16 @@ def test_a_netlist_that_includes_nothing_is_checked_alike_without_its_folder(tmp
             compared += 1
     assert compared > len(CASES)
     assert not foreign.includes_nothing("t\n.INC x\n") and not foreign.includes_nothing("t\n .Lib x y\n")
+
+
+def test_one_gap_counted_in_floats_is_the_numpy_count() -> None:
+    """A netlist without breakpoints is priced by ``_one_gap_points`` (floats, so that a batch's plan loads no
+    numpy): the same operations as :func:`lcchain.spice.pricing.gap_points` of one gap, so the same points, over
+    gaps from far below to far above the largest step and the boundaries between its three regimes."""
+    import numpy as np
+
+    rng = np.random.default_rng(35)
+    cases = [(10.0 ** rng.uniform(-15, 3), 10.0 ** rng.uniform(-15, 3)) for _ in range(20000)]
+    cases += [(step * f, step) for step in (1e-9, 1.264911064067352e-08, 3.3) for f in (0.5, 0.75, 1.0, 2.0, 2.5)]
+    for gap, step in cases:
+        assert pricing._one_gap_points(gap, step) == float(pricing.gap_points(np.array([gap]), step).sum()), (gap, step)
