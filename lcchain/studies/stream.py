@@ -319,7 +319,10 @@ class StreamedPlan(Plan):
         return self.distinct()[1]
 
     def price(self, workers: int, executor: str = "process") -> Estimate:
-        runs, seconds = self.distinct()
+        return self._priced(self.distinct(), workers, executor)
+
+    def _priced(self, distinct: tuple[int, float], workers: int, executor: str) -> Estimate:
+        runs, seconds = distinct
         used = max(1, min(workers, runs)) if EXECUTOR_TRAITS[executor].parallel else 1
         cost = executor_cost(executor, used, light=self.spool.light)
         warm = WARM_WORKER_BYTES if self.spool.any_warm() else 0.0
@@ -328,9 +331,10 @@ class StreamedPlan(Plan):
                         self.planning + cost.start + seconds / used)
 
     def check(self, budget: Budget, workers: int, executor: str = "process", option: str | None = None) -> None:
-        self.price(workers, executor).check(budget, option or self._made_by(), f"{self.distinct()[0]} runs",
-                                            "fewer runs, fewer or more workers, or a larger --max-time or "
-                                            "--max-memory")
+        distinct = self.distinct()  # one pass over the spool's rows, for the price and its message
+        self._priced(distinct, workers, executor).check(budget, option or self._made_by(), f"{distinct[0]} runs",
+                                                        "fewer runs, fewer or more workers, or a larger --max-time "
+                                                        "or --max-memory")
 
 
 def streams(executor: object, workers: int) -> bool:
