@@ -27,7 +27,7 @@ from lcchain.core.errors import ParameterError, SimulationError, SimulatorMissin
 from lcchain.runs.simulate import ChainOptions, simulation_spec
 from lcchain.spice.job import RunJob
 from lcchain.spice.ngspice import warm
-from lcchain.spice.ngspice.find import find_simulator
+from lcchain.spice.ngspice.find import find_shared_library, find_simulator
 from lcchain.spice.ngspice.runner import run
 from lcchain.spice.result import RunResult
 from lcchain.spice.simulator import Simulator
@@ -383,3 +383,28 @@ def test_a_scene_run_on_workers_takes_the_transport(tmp_path: Path, capsys: pyte
         digests[transport] = [sample["digest"] for sample in json.loads(capsys.readouterr().out)["samples"]]
     assert len(digests["process"]) == 4 and digests["process"] == digests["warm"]
     assert _workers() == []
+
+
+def test_a_worker_s_resident_memory_between_runs_is_its_tree_s(tmp_path: Path) -> None:
+    """Between runs a worker's resident memory is what it said after its last run plus its launcher's and
+    sandbox's (read from /proc once): what walking its whole tree in /proc finds, within a page or two of what
+    the reply's write allocated; a worker holding more than RESTART_SHARE of a run's limit is replaced."""
+    from lcchain.spice.job import TransportJob
+    from lcchain.spice.processes import resident_bytes
+
+    batch = find_simulator("batch")
+    prefix = ("setpriv", "--pdeathsig", "KILL", "--", *batch.sandbox.prefix) if batch.sandbox.available else ()
+    library, env = find_shared_library(), dict(os.environ)
+    worker = warm.worker_for(library, prefix, str(tmp_path), env)
+    try:
+        netlist, _, tstop = _netlist(10)
+        for _ in range(3):
+            worker.run(TransportJob(netlist, tstop, 60.0, None, None))
+            walked = resident_bytes(worker.proc.pid)
+            assert worker.rss <= worker.resident()
+            assert abs(worker.resident() - walked) <= 0.02 * walked
+        assert warm.worker_for(library, prefix, str(tmp_path), env, resident=1e12) is worker
+        replaced = warm.worker_for(library, prefix, str(tmp_path), env, resident=worker.resident())
+        assert replaced is not worker and not worker.alive
+    finally:
+        warm.close_workers(kill=True)
