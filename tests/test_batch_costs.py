@@ -4,6 +4,7 @@ what was made fast, with real ngspice.  Timings are in benchmarks/batch.md, neve
 from __future__ import annotations
 
 import gc
+import sys
 import threading
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
@@ -148,3 +149,31 @@ def test_a_streamed_batch_stores_the_rows_and_keys_of_the_whole_plan(tmp_path: P
         assert [(run.key, run.params, run.label) for run in stored.light_runs()] == plan.rows(version)
     again = batch(BatchRequest(tuple(paths), study=StudyOptions(workers=2, store=str(store)))).summary
     assert (again.total, again.ran, again.skipped, again.ok, again.refused) == (COUNT + 1, 0, COUNT + 1, COUNT, 1)
+
+
+def test_a_batch_hands_its_threads_the_gil_promptly(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """While the engine starts and while the runs go, the thread switch interval is at most SWITCH_SECONDS (a
+    thread woken by a worker's answer gets the GIL within it, not within Python's 5 ms), and the caller's
+    interval is back after the batch."""
+    from lcchain.spice.ngspice import warm
+
+    seen: dict[str, list[float]] = {"finding": [], "running": []}
+    find, run = executors.EngineStart._find, warm.WarmWorker.run
+
+    def finding(self: executors.EngineStart) -> None:
+        seen["finding"].append(sys.getswitchinterval())
+        find(self)
+
+    def running(self: warm.WarmWorker, job: Any) -> Any:
+        seen["running"].append(sys.getswitchinterval())
+        return run(self, job)
+
+    monkeypatch.setattr(executors.EngineStart, "_find", finding)
+    monkeypatch.setattr(warm.WarmWorker, "run", running)
+    before = sys.getswitchinterval()
+    result = batch(BatchRequest(_netlists(tmp_path), study=StudyOptions(workers=2,
+                                                                       store=str(tmp_path / "s.sqlite"))))
+    assert (result.summary.ok, result.summary.failed) == (COUNT, 0)
+    assert seen["finding"] and seen["running"]  # the engine started here, and the runs went warm
+    assert max(seen["finding"] + seen["running"]) <= executors.SWITCH_SECONDS
+    assert sys.getswitchinterval() == before
