@@ -127,9 +127,10 @@ def test_a_batch_holds_a_window_of_its_runs_not_every_run(tmp_path: Path, monkey
 
 def test_a_streamed_batch_stores_the_rows_and_keys_of_the_whole_plan(tmp_path: Path,
                                                                      monkeypatch: pytest.MonkeyPatch) -> None:
-    """Runs held and runs spooled, a refusal and a netlist given twice: the store holds the rows, keys and
-    fingerprint batch_plan makes (what a resume, or another executor, finds), and the summary counts each run once;
-    a second call runs nothing."""
+    """Runs held and runs spooled, a refusal, a netlist given twice and one named the long way round
+    (``folder//./n001.cir``): the store holds the rows, keys and fingerprint batch_plan makes (what a resume, or
+    another executor, finds: each netlist's name as a path says it), and the summary counts each run once; a second
+    call runs nothing."""
     from lcchain.studies.plan import batch_plan
     from lcchain.studies.store import Store
 
@@ -137,6 +138,7 @@ def test_a_streamed_batch_stores_the_rows_and_keys_of_the_whole_plan(tmp_path: P
     bad = tmp_path / "bad.cir"
     bad.write_text("bad\nV1 1 0 1\n.control\nshell true\n.endc\n.tran 1 2\n.end\n")
     paths[3:3] = [str(bad), paths[5]]  # a refusal, and a netlist given twice
+    paths[1] = str(tmp_path) + "//./" + Path(paths[1]).name
     monkeypatch.setattr(stream, "HELD", 4)
     store = tmp_path / "s.sqlite"
     first = batch(BatchRequest(tuple(paths), study=StudyOptions(workers=2, store=str(store)))).summary

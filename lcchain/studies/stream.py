@@ -297,7 +297,8 @@ class StreamedPlan(Plan):
         """(key, params, label) of every row in index order, made as the store's tasks table is written."""
         self._keyed(ngspice_version)
         for key, given in self.spool.rows():
-            yield key, {"netlist": given}, Path(given).name
+            path = Path(given)  # as batch_plan's rows name it (``./n1.cir`` is ``n1.cir``): any executor's store
+            yield key, {"netlist": str(path)}, path.name
 
     def netlists(self) -> Iterator[str]:
         """Every row's netlist as given, in plan order (the description's list, made as it is asked for)."""
