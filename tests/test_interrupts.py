@@ -19,6 +19,7 @@ import time
 from pathlib import Path
 
 import pytest
+from helpers.netlists import RC_NETLIST
 from helpers.processes import alive, as_from_a_terminal, gone, reaped
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -106,3 +107,36 @@ def test_no_member_of_an_extrapolation_outlives_lcchain(tmp_path: Path, signum: 
     assert b"Traceback" not in err
     assert all(gone(pid, DEATH_TIMEOUT) for pid in children), "a member's ngspice outlived lcchain"
     assert list(scratch.iterdir()) == [], "a temporary file was left behind"
+
+
+@pytest.mark.ngspice
+def test_ctrl_c_while_a_command_loads_ends_in_one_line(tmp_path: Path) -> None:
+    """Ctrl-C in a command's first 120 ms (its modules loading, its parser built, its engine starting): exit 130
+    and one line, never a traceback from lcchain's code; only in the interpreter's own start (site, and the
+    package's ``__init__``, before the console script reaches lcchain's code) may Python still print one, or the
+    signal end it before Python handles it at all.  The command
+    (the ``lcchain`` console script) is a batch of a long netlist, whose numpy loads in a thread of its own."""
+    netlist = tmp_path / "long.cir"
+    netlist.write_text(RC_NETLIST.replace(".tran 1e-8 2e-6", ".tran 1e-9 1e-3"))
+    script = Path(sys.executable).with_name("lcchain")
+    outcomes = []
+    for delay in range(0, 120, 4):
+        store = tmp_path / f"s{delay}.sqlite"
+        proc = subprocess.Popen([str(script), "batch", str(netlist), "--store", str(store)], cwd=tmp_path,
+                                stdout=subprocess.PIPE, stderr=subprocess.PIPE, preexec_fn=as_from_a_terminal)
+        with reaped(proc):
+            time.sleep(delay / 1000)
+            proc.send_signal(signal.SIGINT)
+            _, err = proc.communicate(timeout=60)
+        said = err.decode()
+        frames = [line for line in said.splitlines() if line.strip().startswith("File ")]
+        # the package's __init__ files and the script's module run before lcchain can take Ctrl-C over (the first
+        # line of __main__.main does): about a millisecond, part of the interpreter's start
+        ours = [line for line in frames if f"{os.sep}lcchain{os.sep}" in line
+                and not (line.rstrip().endswith("in <module>") and ("__init__.py" in line or "__main__.py" in line))]
+        assert not ours, f"{delay} ms: a traceback through lcchain's code\n{said}"
+        if not frames:
+            assert (proc.returncode, said.strip()) in {(130, "lcchain: interrupted"), (-signal.SIGINT, "")}, \
+                f"{delay} ms: exit {proc.returncode}\n{said}"
+        outcomes.append(proc.returncode)
+    assert outcomes.count(130) > len(outcomes) // 2  # most of them in lcchain's own hands

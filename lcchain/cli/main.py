@@ -197,6 +197,32 @@ def _command_asked(argv: Sequence[str]) -> str:
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line; returns the exit status."""
+    try:
+        return _command_line(argv)
+    except Exception as error:  # Ctrl-C while a module loads: Python may hand it on inside another error
+        if not _from_ctrl_c(error):
+            raise
+        print("lcchain: interrupted", file=sys.stderr)
+        return 130
+    except KeyboardInterrupt:  # Ctrl-C while the command's parser and modules load: as within the command
+        print("lcchain: interrupted", file=sys.stderr)
+        return 130
+
+
+def _from_ctrl_c(error: BaseException) -> bool:
+    """Whether ``error`` was raised by a Ctrl-C: a class body interrupted while a module loads ends as
+    ``RuntimeError: Error calling __set_name__`` caused by the KeyboardInterrupt."""
+    seen: set[int] = set()
+    current: BaseException | None = error
+    while current is not None and id(current) not in seen:
+        if isinstance(current, KeyboardInterrupt):
+            return True
+        seen.add(id(current))
+        current = current.__cause__ or current.__context__
+    return False
+
+
+def _command_line(argv: Sequence[str] | None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     if "numpy" not in sys.modules:
         # numpy's OpenBLAS starts its threads when numpy loads, and they spin: 0.06 to 0.08 s of CPU at every start
