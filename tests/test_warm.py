@@ -21,6 +21,7 @@ from typing import Any
 
 import pytest
 from helpers.processes import alive, as_from_a_terminal, descendants, gone, reaped
+from helpers.tolerances import RTOL_WORKER_RESIDENT
 
 import lcchain
 from lcchain.core.errors import ParameterError, SimulationError, SimulatorMissingError
@@ -402,7 +403,7 @@ def test_a_worker_s_resident_memory_between_runs_is_its_tree_s(tmp_path: Path) -
             worker.run(TransportJob(netlist, tstop, 60.0, None, None))
             walked = resident_bytes(worker.proc.pid)
             assert worker.rss <= worker.resident()
-            assert abs(worker.resident() - walked) <= 0.02 * walked
+            assert abs(worker.resident() - walked) <= RTOL_WORKER_RESIDENT * walked
         assert warm.worker_for(library, prefix, str(tmp_path), env, resident=1e12) is worker
         replaced = warm.worker_for(library, prefix, str(tmp_path), env, resident=worker.resident())
         assert replaced is not worker and not worker.alive
