@@ -21,7 +21,30 @@ def main() -> int:
     from .cli.main import main as command_line
 
     _signal.signal(_signal.SIGINT, previous)
-    return command_line()
+    status = command_line()
+    _end(status)
+    return status
+
+
+def _end(status: int) -> None:
+    """End the process at once, its output flushed and its exit handlers run (every worker ended, every log
+    flushed): the interpreter's teardown (a garbage collection, every module freed) cost each command 20 to 25 ms
+    after its last word.  Returns, for the usual ending, while another thread still runs (it is waited for)."""
+    import atexit
+    import threading
+
+    if threading.active_count() > 1:
+        return
+    atexit._run_exitfuncs()
+    try:
+        sys.stdout.flush()
+    except (BrokenPipeError, ValueError):  # the reader went away (the command said so), or stdout was closed
+        pass
+    try:
+        sys.stderr.flush()
+    except (BrokenPipeError, ValueError):
+        pass
+    os._exit(status)
 
 
 if __name__ == "__main__":
