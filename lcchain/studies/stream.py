@@ -21,7 +21,6 @@ from __future__ import annotations
 import contextlib
 import hashlib
 import math
-import pickle
 import sqlite3
 import tempfile
 import threading
@@ -99,6 +98,8 @@ class TaskSpool:
             if len(self._held) < HELD:
                 self._held[index] = spec
             else:
+                import pickle  # here: a batch of at most HELD runs never loads it (4 ms of its start)
+
                 blob = pickle.dumps(spec, protocol=pickle.HIGHEST_PROTOCOL)
             self.memory = max(self.memory, item.memory)
             self.light = self.light and spec.theory is None
@@ -239,6 +240,8 @@ class TaskSpool:
                 yield _int(index), self._held[_int(index)]
                 continue
             self._file.seek(_int(start))  # the spool is this driver's own, unnamed file
+            import pickle
+
             spec = pickle.loads(self._file.read(_int(end) - _int(start)))
             if not isinstance(spec, RunSpec):
                 raise TypeError(f"row {index!r} of the spool is not a run")
