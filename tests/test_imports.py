@@ -35,8 +35,10 @@ HEAVY = ("scipy", "matplotlib", "pandas", "xarray", "dask", "distributed", "PySp
 #: Lighter modules a batch of foreign netlists has no use for, each found on its start once (issue 35): numpy's
 #: masked arrays (``np.unique`` imports them), its polynomials (a pulse's quadrature nodes), a process pool's
 #: machinery (a batch's runs are driven by threads), the entry points' reader (ngspice is an own engine, which no
-#: plugin can take: looking it up reads no entry point).
-BATCH_UNNEEDED = ("numpy.ma", "numpy.polynomial", "multiprocessing", "concurrent.futures.process", "importlib.metadata")
+#: plugin can take: looking it up reads no entry point), threadpoolctl (a command line's process loads its BLAS with
+#: OPENBLAS_NUM_THREADS set, and a batch computes no theory, whose limit it sets).
+BATCH_UNNEEDED = ("numpy.ma", "numpy.polynomial", "multiprocessing", "concurrent.futures.process", "importlib.metadata",
+                  "threadpoolctl")
 
 
 def loaded(chains: dict[str, list[str]], names: tuple[str, ...]) -> list[str]:

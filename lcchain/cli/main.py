@@ -222,6 +222,18 @@ def _from_ctrl_c(error: BaseException) -> bool:
     return False
 
 
+def _blas_limited() -> contextlib.AbstractContextManager[object]:
+    """BLAS_THREADS for the BLAS already loaded (a caller's numpy, when main is called in its process); none is
+    loaded when the command line starts a process, whose BLAS starts with OPENBLAS_NUM_THREADS, so threadpoolctl
+    (2 ms, and a walk of the loaded libraries) is not imported there."""
+    if "numpy" not in sys.modules:
+        return contextlib.nullcontext()
+    from threadpoolctl import threadpool_limits
+
+    limited: contextlib.AbstractContextManager[object] = threadpool_limits(limits=BLAS_THREADS, user_api="blas")
+    return limited
+
+
 def _command_line(argv: Sequence[str] | None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     if "numpy" not in sys.modules:
@@ -243,11 +255,8 @@ def _command_line(argv: Sequence[str] | None) -> int:
         return int(exit_.code or 0)
     args.argv_echo = argv[1:]
     logging.basicConfig(level=logging.INFO if args.verbose else logging.WARNING, format="lcchain: %(message)s")
-    from threadpoolctl import threadpool_limits  # here: --help and --version set no limit
-
     try:
-        with _signals_interrupt(), threadpool_limits(limits=BLAS_THREADS, user_api="blas"), \
-                warnings.catch_warnings():
+        with _signals_interrupt(), _blas_limited(), warnings.catch_warnings():
             warnings.showwarning = _show_warning  # one line a person reads, not a source location
             status = int(args.func(args))
         sys.stdout.flush()
