@@ -305,7 +305,7 @@ original = warm.WarmWorker.run
 
 
 def run(self, job):  # what of numpy, and of what only a batch of more than stream.HELD runs needs, is loaded
-    loaded.append(",".join(name for name in ("numpy", "pickle") if name in sys.modules) or "none")
+    loaded.append(",".join(name for name in ("numpy", "pickle", "ctypes") if name in sys.modules) or "none")
     return original(self, job)
 
 
@@ -322,7 +322,8 @@ def test_a_batch_sends_its_first_run_before_numpy_loads(tmp_path: Path) -> None:
     """``lcchain batch`` of netlists without breakpoints plans, prices, keys and stores every run and sends the first
     to a warm worker with no numpy loaded: numpy's import (50 to 100 ms) then overlaps that run (a thread of its
     own) instead of delaying the start, and the run's reply finds it loaded.  Nor is pickle loaded (4 ms), which
-    only a batch of more runs than the spool holds in memory needs."""
+    only a batch of more runs than the spool holds in memory needs, nor ctypes (2 ms, for the BLAS limit of theory
+    a batch does not compute)."""
     import lcchain
     from lcchain.runs.simulate import ChainOptions, simulation_spec
 

@@ -30,11 +30,10 @@ between a process started with one BLAS thread and one with two.  So
 
 from __future__ import annotations
 
-import ctypes
 import functools
 import threading
 from collections.abc import Callable
-from typing import TYPE_CHECKING, ParamSpec, TypeVar
+from typing import TYPE_CHECKING, ParamSpec, Protocol, TypeVar
 
 if TYPE_CHECKING:  # imported by the first limit: a command's --help sets none
     from threadpoolctl import ThreadpoolController
@@ -50,39 +49,62 @@ R = TypeVar("R")
 _state = threading.local()
 
 
-class _ObjectInfo(ctypes.Structure):
-    """The head of glibc's ``struct dl_phdr_info`` (<link.h>)."""
-
-    _fields_ = [("addr", ctypes.c_void_p), ("name", ctypes.c_char_p), ("phdr", ctypes.c_void_p),
-                ("phnum", ctypes.c_uint16), ("adds", ctypes.c_ulonglong), ("subs", ctypes.c_ulonglong)]
+class _Counters(Protocol):
+    adds: int
+    subs: int
 
 
-_VISIT = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.POINTER(_ObjectInfo), ctypes.c_size_t, ctypes.c_void_p)
+class _Pointer(Protocol):
+    """A ctypes pointer to :class:`_Objects`' ``ObjectInfo``, as the visitor reads it."""
+
+    @property
+    def contents(self) -> _Counters: ...
 
 
-def _iterate_objects() -> Callable[..., int] | None:
-    try:
-        return ctypes.CDLL(None).dl_iterate_phdr
-    except (OSError, AttributeError, TypeError):  # no such function (macOS, Windows)
-        return None
+class _Objects:
+    """glibc's ``dl_iterate_phdr`` and the ctypes types that read its counters, made the first time a limit is set
+    (ctypes and ``dlopen(NULL)`` cost a command's start 2 ms: most commands set no limit)."""
+
+    def __init__(self) -> None:
+        import ctypes
+
+        class ObjectInfo(ctypes.Structure):
+            """The head of glibc's ``struct dl_phdr_info`` (<link.h>)."""
+
+            _fields_ = [("addr", ctypes.c_void_p), ("name", ctypes.c_char_p), ("phdr", ctypes.c_void_p),
+                        ("phnum", ctypes.c_uint16), ("adds", ctypes.c_ulonglong), ("subs", ctypes.c_ulonglong)]
+
+        self.size = ctypes.sizeof(ObjectInfo)
+        self.visit_type = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.POINTER(ObjectInfo), ctypes.c_size_t,
+                                           ctypes.c_void_p)
+        try:
+            self.iterate: Callable[..., int] | None = ctypes.CDLL(None).dl_iterate_phdr
+        except (OSError, AttributeError, TypeError):  # no such function (macOS, Windows)
+            self.iterate = None
+
+    def counters(self) -> tuple[int, int] | None:
+        """How many shared objects the process has loaded and unloaded so far, or None where unknown."""
+        if self.iterate is None:
+            return None
+        found: list[tuple[int, int]] = []
+
+        def visit(info: _Pointer, size: int, _: object) -> int:
+            if size >= self.size:
+                found.append((info.contents.adds, info.contents.subs))
+            return 1  # every object carries the same counters: the first is enough
+
+        self.iterate(self.visit_type(visit), None)
+        return found[0] if found else None
 
 
-_dl_iterate_phdr = _iterate_objects()
+@functools.cache
+def _objects() -> _Objects:
+    return _Objects()
 
 
 def _loaded_objects() -> tuple[int, int] | None:
     """How many shared objects the process has loaded and unloaded so far, or None where unknown."""
-    if _dl_iterate_phdr is None:
-        return None
-    found: list[tuple[int, int]] = []
-
-    def visit(info: ctypes._Pointer[_ObjectInfo], size: int, _: object) -> int:
-        if size >= ctypes.sizeof(_ObjectInfo):
-            found.append((info.contents.adds, info.contents.subs))
-        return 1  # every object carries the same counters: the first is enough
-
-    _dl_iterate_phdr(_VISIT(visit), None)
-    return found[0] if found else None
+    return _objects().counters()
 
 
 _controller: tuple[tuple[int, int], ThreadpoolController] | None = None
