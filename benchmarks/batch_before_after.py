@@ -33,7 +33,8 @@ from bench_batch import write_netlists  # noqa: E402
 
 AFTER = str(Path(__file__).resolve().parent.parent)
 ENV = {name: value for name, value in os.environ.items() if name != "PYTHONDONTWRITEBYTECODE"}
-LCCHAIN = [sys.executable, "-c", "import sys; from lcchain.cli import main; sys.exit(main())"]
+# ``python -m lcchain``: the console script's own entry (lcchain.__main__), with its ending, as a user runs it
+LCCHAIN = [sys.executable, "-m", "lcchain"]
 
 
 def main() -> None:
