@@ -388,8 +388,9 @@ def test_a_scene_run_on_workers_takes_the_transport(tmp_path: Path, capsys: pyte
 
 def test_a_worker_s_resident_memory_between_runs_is_its_tree_s(tmp_path: Path) -> None:
     """Between runs a worker's resident memory is what it said after its last run plus its launcher's and
-    sandbox's (read from /proc once): what walking its whole tree in /proc finds, within a page or two of what
-    the reply's write allocated; a worker holding more than RESTART_SHARE of a run's limit is replaced."""
+    sandbox's (read from /proc once): what walking its whole tree in /proc finds, within RTOL_WORKER_RESIDENT (the
+    pages the reply's write touched after the worker measured itself); a worker holding more than RESTART_SHARE of
+    a run's limit is replaced."""
     from lcchain.spice.job import TransportJob
     from lcchain.spice.processes import resident_bytes
 

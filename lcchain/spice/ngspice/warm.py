@@ -169,7 +169,7 @@ class WarmWorker:
     def resident(self) -> int:
         """The worker's resident memory now (its sandbox and launcher included), bytes: between runs, what it said
         after its last one, plus its launcher's and sandbox's, read from ``/proc`` once (they do not grow).  Asked
-        before every run, /proc's walk of the worker's tree cost the driver 0.3 to 0.7 ms a run, CPU taken from
+        before every run, /proc's walk of the worker's tree cost the driver 0.1 to 0.7 ms a run, CPU taken from
         the runs of a busy machine."""
         if not self.runs:
             return resident_bytes(self.proc.pid)
