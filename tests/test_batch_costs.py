@@ -109,11 +109,14 @@ def test_a_batch_holds_a_window_of_its_runs_not_every_run(tmp_path: Path, monkey
         paths.append(str(path))
     alive: list[int] = []
     execute_group = executors.execute_group
+    counting = threading.Lock()  # one count at a time: gc.get_objects()'s list keeps every object it lists alive
+    # while it is read, so two threads counting at once each counted the runs the other's list held
 
     def counted(group: Any, *args: Any, **kwargs: Any) -> Any:
         if len(alive) < 20 or group[0][0] % 10 == 0:
-            gc.collect()
-            alive.append(sum(isinstance(thing, RunSpec) for thing in gc.get_objects()))
+            with counting:
+                gc.collect()
+                alive.append(sum(isinstance(thing, RunSpec) for thing in gc.get_objects()))
         return execute_group(group, *args, **kwargs)
 
     monkeypatch.setattr(executors, "execute_group", counted)

@@ -22,7 +22,11 @@ import pytest
 from helpers.netlists import RC_NETLIST
 from helpers.processes import alive, as_from_a_terminal, gone, reaped
 
+import lcchain
+
 ROOT = Path(__file__).resolve().parent.parent
+#: The package's own folder (its code's frames in a traceback; a clone folder named lcchain holds the venv too).
+PACKAGE = str(Path(lcchain.__file__).resolve().parent)
 LONG_RUN = ["simulate", "--case", "two-mass", "--N", "2000", "--dt", "0.01"]
 #: Seconds to wait for the simulator to start (the design and the step come first) and to die.
 START_TIMEOUT, DEATH_TIMEOUT = 120.0, 10.0
@@ -132,7 +136,7 @@ def test_ctrl_c_while_a_command_loads_ends_in_one_line(tmp_path: Path) -> None:
         frames = [line for line in said.splitlines() if line.strip().startswith("File ")]
         # the package's __init__ files and the script's module run before lcchain can take Ctrl-C over (the first
         # line of __main__.main does): about a millisecond, part of the interpreter's start
-        ours = [line for line in frames if f"{os.sep}lcchain{os.sep}" in line
+        ours = [line for line in frames if f'"{PACKAGE}{os.sep}' in line
                 and not (line.rstrip().endswith("in <module>") and ("__init__.py" in line or "__main__.py" in line))]
         assert not ours, f"{delay} ms: a traceback through lcchain's code\n{said}"
         if not frames:

@@ -28,7 +28,7 @@ from lcchain.core.errors import ParameterError, SimulationError, SimulatorMissin
 from lcchain.runs.simulate import ChainOptions, simulation_spec
 from lcchain.spice.job import RunJob
 from lcchain.spice.ngspice import warm
-from lcchain.spice.ngspice.find import find_shared_library, find_simulator
+from lcchain.spice.ngspice.find import find_simulator
 from lcchain.spice.ngspice.runner import run
 from lcchain.spice.result import RunResult
 from lcchain.spice.simulator import Simulator
@@ -386,27 +386,25 @@ def test_a_scene_run_on_workers_takes_the_transport(tmp_path: Path, capsys: pyte
     assert _workers() == []
 
 
-def test_a_worker_s_resident_memory_between_runs_is_its_tree_s(tmp_path: Path) -> None:
+def test_a_worker_s_resident_memory_between_runs_is_its_tree_s(simulators) -> None:
     """Between runs a worker's resident memory is what it said after its last run plus its launcher's and
     sandbox's (read from /proc once): what walking its whole tree in /proc finds, within RTOL_WORKER_RESIDENT (the
     pages the reply's write touched after the worker measured itself); a worker holding more than RESTART_SHARE of
-    a run's limit is replaced."""
+    a run's limit is replaced.  The worker is placed where a foreign netlist's run places it (the sandbox)."""
     from lcchain.spice.job import TransportJob
+    from lcchain.spice.ngspice.place import placement
     from lcchain.spice.processes import resident_bytes
 
-    batch = find_simulator("batch")
-    prefix = ("setpriv", "--pdeathsig", "KILL", "--", *batch.sandbox.prefix) if batch.sandbox.available else ()
-    library, env = find_shared_library(), dict(os.environ)
-    worker = warm.worker_for(library, prefix, str(tmp_path), env)
-    try:
-        netlist, _, tstop = _netlist(10)
+    _, hot = simulators
+    netlist, _, tstop = _netlist(10)
+    with placement(hot, True, None) as place:
+        where = (hot.executable, place.prefix, place.cwd, place.env)
+        worker = warm.worker_for(*where)
         for _ in range(3):
             worker.run(TransportJob(netlist, tstop, 60.0, None, None))
             walked = resident_bytes(worker.proc.pid)
             assert worker.rss <= worker.resident()
             assert abs(worker.resident() - walked) <= RTOL_WORKER_RESIDENT * walked
-        assert warm.worker_for(library, prefix, str(tmp_path), env, resident=1e12) is worker
-        replaced = warm.worker_for(library, prefix, str(tmp_path), env, resident=worker.resident())
+        assert warm.worker_for(*where, resident=1e12) is worker
+        replaced = warm.worker_for(*where, resident=worker.resident())
         assert replaced is not worker and not worker.alive
-    finally:
-        warm.close_workers(kill=True)
