@@ -17,10 +17,14 @@ def main() -> int:
     """The command line's exit status.  Ctrl-C while its modules load (the command's first 30 ms or so) ends as it
     does later, with one line and 130, not with Python's traceback: nothing has started that needs cleaning up.
     The command's own handling (:func:`lcchain.cli.main.main`) takes over before it starts anything."""
-    previous = _signal.signal(_signal.SIGINT, _interrupted_while_loading)
+    # Python's own Ctrl-C handling only: a process started with Ctrl-C ignored (a background job) keeps ignoring it
+    taken = _signal.getsignal(_signal.SIGINT) is _signal.default_int_handler
+    if taken:
+        _signal.signal(_signal.SIGINT, _interrupted_while_loading)
     from .cli.main import main as command_line
 
-    _signal.signal(_signal.SIGINT, previous)
+    if taken:
+        _signal.signal(_signal.SIGINT, _signal.default_int_handler)
     status = command_line()
     _end(status)
     return status

@@ -144,3 +144,22 @@ def test_ctrl_c_while_a_command_loads_ends_in_one_line(tmp_path: Path) -> None:
                 f"{delay} ms: exit {proc.returncode}\n{said}"
         outcomes.append(proc.returncode)
     assert outcomes.count(130) > len(outcomes) // 2  # most of them in lcchain's own hands
+
+
+def _ignoring_ctrl_c() -> None:
+    """``preexec_fn``: Ctrl-C ignored, as a shell starts a background job."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+def test_a_command_started_ignoring_ctrl_c_keeps_ignoring_it_while_it_loads(tmp_path: Path) -> None:
+    """A background job (Ctrl-C ignored when it starts) is not ended by a Ctrl-C while its modules load: the quick
+    exit on Ctrl-C replaces Python's own handling only."""
+    script = Path(sys.executable).with_name("lcchain")
+    for delay in range(0, 60, 6):
+        proc = subprocess.Popen([str(script), "--version"], cwd=tmp_path, stdout=subprocess.PIPE,
+                                stderr=subprocess.PIPE, preexec_fn=_ignoring_ctrl_c)
+        with reaped(proc):
+            time.sleep(delay / 1000)
+            proc.send_signal(signal.SIGINT)
+            out, err = proc.communicate(timeout=60)
+        assert (proc.returncode, out.decode().split()[0], err) == (0, "lcchain", b""), f"{delay} ms: {err!r}"
