@@ -1,8 +1,15 @@
 """``python -m lcchain``, and the ``lcchain`` console script (``lcchain.__main__:main``)."""
 
+from __future__ import annotations
+
 import importlib
 import os
 import sys
+
+#: ``typing.TYPE_CHECKING`` without importing typing before Ctrl-C is taken over; type checkers read it as true.
+TYPE_CHECKING = False
+if TYPE_CHECKING:
+    from types import CodeType, FrameType
 
 # signal's C module: ``import signal`` builds its enums first, a millisecond open to Ctrl-C (no stub: a ModuleType)
 _signal = importlib.import_module("_signal")
@@ -33,22 +40,48 @@ def main() -> int:
 def _end(status: int) -> None:
     """End the process at once, its output flushed and its exit handlers run (every worker ended, every log
     flushed): the interpreter's teardown (a garbage collection, every module freed) cost each command 20 to 25 ms
-    after its last word.  Returns, for the usual ending, while another thread still runs (it is waited for)."""
+    after its last word.  Returns, for the usual ending, where something else may still need the process: another
+    thread running, a caller's code around the command (a profiler, coverage, a program that ran this module), or
+    output that cannot be flushed (Python then reports it as it always did)."""
     import atexit
     import threading
 
-    if threading.active_count() > 1:
+    if threading.active_count() > 1 or not _owns_the_process(sys._getframe(2)):
+        return
+    streams = [stream for stream in (sys.stdout, sys.stderr) if stream is not None]  # None: started with it closed
+    try:
+        for stream in streams:
+            stream.flush()
+    except (OSError, ValueError):  # a reader gone, a full disk, a closed stream: the usual ending says so
         return
     atexit._run_exitfuncs()
     try:
-        sys.stdout.flush()
-    except (BrokenPipeError, ValueError):  # the reader went away (the command said so), or stdout was closed
-        pass
-    try:
-        sys.stderr.flush()
-    except (BrokenPipeError, ValueError):
+        for stream in streams:
+            stream.flush()  # what the exit handlers wrote
+    except (OSError, ValueError):
         pass
     os._exit(status)
+
+
+#: Where runpy's code says it comes from: frozen into the interpreter (3.11), or its source file.
+_RUNPY = ("<frozen runpy>", os.path.join(os.path.dirname(os.__file__), "runpy.py"))
+
+
+def _owns_the_process(frame: FrameType | None) -> bool:
+    """Whether only the interpreter's start led to ``frame`` (the command's caller): the console script's module
+    alone, or this module run by ``python -m`` (runpy's ``_run_module_as_main`` and nothing but runpy between).
+    Any other code below it (cProfile's, coverage's, a program that ran this module) may still have work to do
+    once the command returns."""
+    codes: list[CodeType] = []
+    while frame is not None:
+        codes.append(frame.f_code)
+        frame = frame.f_back
+    if not codes or codes[0].co_name != "<module>":
+        return False
+    if len(codes) == 1:  # the console script's own module
+        return True
+    return codes[-1].co_name == "_run_module_as_main" and \
+        all(code.co_filename in _RUNPY for code in codes[1:])
 
 
 if __name__ == "__main__":

@@ -285,3 +285,17 @@ def test_a_command_ends_after_its_exit_handlers_without_the_teardown(tmp_path, a
     assert done.stdout.startswith("lcchain ") if status == 0 else done.stderr.startswith("lcchain: ")
     assert "exit handler ran" in done.stderr
     assert "torn down" not in done.stderr
+
+
+def test_a_command_ends_the_usual_way_where_other_code_or_a_closed_stream_needs_it(tmp_path):
+    """The quick ending is the interpreter's alone: under a profiler (``python -m cProfile -m lcchain``) the
+    profile is still printed after the command, and a command started with its output or its error stream closed
+    ends with its own status, not a traceback."""
+    profiled = subprocess.run([sys.executable, "-m", "cProfile", "-m", "lcchain", "--version"], capture_output=True,
+                              text=True, cwd=tmp_path)
+    assert profiled.returncode == 0 and "function calls" in profiled.stdout, profiled.stderr
+    for closed, argv, status in ((1, ["--version"], 0), (2, ["--version"], 0),
+                                 (1, ["design", "--case", "two-mass", "--N", "0"], 2)):
+        done = subprocess.run([sys.executable, "-m", "lcchain", *argv], capture_output=True, text=True, cwd=tmp_path,
+                              preexec_fn=lambda fd=closed: os.close(fd))
+        assert done.returncode == status and "Traceback" not in done.stderr, (closed, argv, done.stderr)
