@@ -183,3 +183,32 @@ def test_a_batch_hands_its_threads_the_gil_promptly(tmp_path: Path, monkeypatch:
     assert seen["finding"] and seen["running"]  # the engine started here, and the runs went warm
     assert max(seen["finding"] + seen["running"]) <= executors.SWITCH_SECONDS
     assert sys.getswitchinterval() == before
+
+
+def test_the_switch_interval_is_restored_when_the_last_of_overlapping_blocks_ends() -> None:
+    """Two studies in two threads of one program (a library caller): their blocks overlap and the first in ends
+    first; the interval stays short while the second runs and is the caller's again after both."""
+    before = sys.getswitchinterval()
+    a_in, b_in, a_out = threading.Event(), threading.Event(), threading.Event()
+    seen: list[float] = []
+
+    def first() -> None:
+        with executors.prompt_handoffs():
+            a_in.set()
+            b_in.wait(10)
+        a_out.set()
+
+    def second() -> None:
+        a_in.wait(10)
+        with executors.prompt_handoffs():
+            b_in.set()
+            a_out.wait(10)
+            seen.append(sys.getswitchinterval())
+
+    threads = [threading.Thread(target=first), threading.Thread(target=second)]
+    for thread in threads:
+        thread.start()
+    for thread in threads:
+        thread.join(10)
+    assert seen and seen[0] <= executors.SWITCH_SECONDS
+    assert sys.getswitchinterval() == before

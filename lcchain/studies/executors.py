@@ -273,12 +273,30 @@ def prompt_handoffs() -> Iterator[None]:
     the store) to end, up to 5 ms at every step, while a core stood idle.  At 0.1 ms a batch of 40 distinct
     N = 100 netlists took 3 % less wall time (``benchmarks/batch.md``); smaller intervals gained nothing more.
     """
-    previous = sys.getswitchinterval()
-    sys.setswitchinterval(min(previous, SWITCH_SECONDS))
+    with _HANDOFFS.lock:  # one setting for the process: the blocks of two threads may end in any order
+        if not _HANDOFFS.blocks:
+            _HANDOFFS.found = sys.getswitchinterval()
+            sys.setswitchinterval(min(_HANDOFFS.found, SWITCH_SECONDS))
+        _HANDOFFS.blocks += 1
     try:
         yield
     finally:
-        sys.setswitchinterval(previous)
+        with _HANDOFFS.lock:
+            _HANDOFFS.blocks -= 1
+            if not _HANDOFFS.blocks:  # the last block out restores what the first one in found
+                sys.setswitchinterval(_HANDOFFS.found)
+
+
+class _Handoffs:
+    """:func:`prompt_handoffs`' state: the blocks inside, and the interval the first of them found."""
+
+    def __init__(self) -> None:
+        self.lock = threading.Lock()
+        self.blocks = 0
+        self.found = 0.0
+
+
+_HANDOFFS = _Handoffs()
 
 
 class EngineStart:
@@ -338,7 +356,11 @@ class EngineStart:
 
     def __enter__(self) -> EngineStart:
         self._handoffs.enter_context(prompt_handoffs())  # the engine's thread steps on as each child answers
-        self._thread.start()
+        try:
+            self._thread.start()
+        except BaseException:
+            self._handoffs.close()
+            raise
         return self
 
     def __exit__(self, kind: object, error: object, traceback: object) -> None:
