@@ -408,3 +408,20 @@ def test_a_worker_s_resident_memory_between_runs_is_its_tree_s(simulators) -> No
         assert warm.worker_for(*where, resident=1e12) is worker
         replaced = warm.worker_for(*where, resident=worker.resident())
         assert replaced is not worker and not worker.alive
+
+
+def test_the_shared_library_is_found_in_a_folder_that_cannot_be_listed(monkeypatch: pytest.MonkeyPatch) -> None:
+    """find_shared_library lists each folder once; a folder that may be searched but not listed (mode 711) is
+    looked up a name at a time, as before, and gives the same library."""
+    from lcchain.spice.ngspice import locate
+
+    found = locate.find_shared_library()
+    listdir = os.listdir
+
+    def refused(path: Any) -> list[str]:
+        if os.fspath(path) == os.path.dirname(found):
+            raise PermissionError(13, "Permission denied", os.fspath(path))
+        return listdir(path)
+
+    monkeypatch.setattr(os, "listdir", refused)
+    assert locate.find_shared_library() == found

@@ -104,11 +104,15 @@ def find_shared_library() -> str:
     dirs[3:3] = sorted(Path("/usr/lib").glob("*-linux-gnu*"))
     for directory in dirs:
         try:  # each folder listed once (a glob a pattern listed /usr/lib/<triplet> four times: 13 ms a search)
-            names = sorted(name for name in os.listdir(directory) if name.startswith("libngspice."))
-        except OSError:
+            names: list[str] | None = sorted(name for name in os.listdir(directory) if name.startswith("libngspice."))
+        except (FileNotFoundError, NotADirectoryError):
             continue
+        except OSError:  # a folder that may be searched but not listed (mode 711): each pattern looked up
+            names = None
         for pattern in ("libngspice.so", "libngspice.so.0", "libngspice.so.*", "libngspice.dylib"):
-            hits = [directory / name for name in fnmatch.filter(names, pattern) if (directory / name).is_file()]
+            found = fnmatch.filter(names, pattern) if names is not None else \
+                sorted(path.name for path in directory.glob(pattern))
+            hits = [directory / name for name in found if (directory / name).is_file()]
             if hits:
                 return str(hits[0])
     import ctypes.util  # only needed for this fallback
