@@ -299,3 +299,24 @@ def test_a_command_ends_the_usual_way_where_other_code_or_a_closed_stream_needs_
         done = subprocess.run([sys.executable, "-m", "lcchain", *argv], capture_output=True, text=True, cwd=tmp_path,
                               preexec_fn=lambda fd=closed: os.close(fd))
         assert done.returncode == status and "Traceback" not in done.stderr, (closed, argv, done.stderr)
+
+
+def test_an_error_is_taken_for_ctrl_c_only_when_ctrl_c_caused_it():
+    """An interrupted class body's RuntimeError (raised from the KeyboardInterrupt) is Ctrl-C: 'lcchain:
+    interrupted'; an error of its own raised while a Ctrl-C was being handled is not hidden behind it."""
+    from lcchain.cli.main import _from_ctrl_c
+
+    class Interrupting:
+        def __set_name__(self, owner, name):
+            raise KeyboardInterrupt
+
+    with pytest.raises(RuntimeError) as interrupted:
+        type("Loading", (), {"field": Interrupting()})
+    assert _from_ctrl_c(interrupted.value)
+    try:
+        try:
+            raise KeyboardInterrupt
+        except KeyboardInterrupt:
+            raise TypeError("a bug in a clean-up") from None
+    except TypeError as own:
+        assert not _from_ctrl_c(own)

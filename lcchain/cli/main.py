@@ -210,15 +210,16 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 
 def _from_ctrl_c(error: BaseException) -> bool:
-    """Whether ``error`` was raised by a Ctrl-C: a class body interrupted while a module loads ends as
-    ``RuntimeError: Error calling __set_name__`` caused by the KeyboardInterrupt."""
+    """Whether ``error`` was caused by a Ctrl-C (its ``__cause__`` chain): a class body interrupted while a module
+    loads ends as ``RuntimeError: Error calling __set_name__``, raised from the KeyboardInterrupt.  An error merely
+    raised while one was handled (its ``__context__``) is an error of its own, shown as such."""
     seen: set[int] = set()
     current: BaseException | None = error
     while current is not None and id(current) not in seen:
         if isinstance(current, KeyboardInterrupt):
             return True
         seen.add(id(current))
-        current = current.__cause__ or current.__context__
+        current = current.__cause__
     return False
 
 
