@@ -53,9 +53,10 @@ def kill_group(proc: subprocess.Popen[bytes]) -> None:
     proc.wait()
 
 
-def resident_bytes(pid: int) -> int:
+def resident_bytes(pid: int, leaves: bool = True) -> int:
     """The resident memory of a process and of all its descendants, bytes (what ``/proc`` says; 0 where it says
-    nothing).  A child runs under setpriv and bubblewrap, so the simulator is a grandchild of ``pid``."""
+    nothing).  A child runs under setpriv and bubblewrap, so the simulator is a grandchild of ``pid``.
+    ``leaves=False``: of those that have children only (the launcher and the sandbox above a worker)."""
     page = os.sysconf("SC_PAGE_SIZE")
     total = 0
     todo = [pid]
@@ -67,12 +68,15 @@ def resident_bytes(pid: int) -> int:
         seen.add(current)
         try:
             with open(f"/proc/{current}/statm", "rb") as statm:
-                total += int(statm.read().split()[1]) * page
+                own = int(statm.read().split()[1]) * page
+            found: list[int] = []
             for task in os.listdir(f"/proc/{current}/task"):
                 with open(f"/proc/{current}/task/{task}/children", "rb") as children:
-                    todo += [int(child) for child in children.read().split()]
+                    found += [int(child) for child in children.read().split()]
         except (OSError, ValueError, IndexError):  # gone meanwhile, or not Linux
             continue
+        total += own if leaves or found else 0
+        todo += found
     return total
 
 

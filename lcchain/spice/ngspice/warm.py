@@ -113,7 +113,7 @@ class WarmWorker:
                                      start_new_session=True)
         self.runs = 0
         self.rss = 0  # the worker's own, as it said after its last run
-        self._wrappers: int | None = None  # setpriv's and bubblewrap's (:meth:`resident`)
+        self._wrappers: int | None = None  # setpriv's and bubblewrap's, read once (:meth:`resident`)
         self.alive = True
         self.library = library
         self.version = ""
@@ -174,7 +174,7 @@ class WarmWorker:
         if not self.runs:
             return resident_bytes(self.proc.pid)
         if self._wrappers is None:
-            self._wrappers = max(resident_bytes(self.proc.pid) - self.rss, 0)
+            self._wrappers = resident_bytes(self.proc.pid, leaves=False)  # all but the worker itself
         return self.rss + self._wrappers
 
     def _died(self, what: str) -> SimulationError:

@@ -256,6 +256,7 @@ def main(argv: list[str]) -> int:
         _write_frame(replies, json.dumps(header).encode("utf-8"))
         _write_frame(replies, data)
         replies.flush()
+        del header, data  # not held while waiting: what the worker said of its memory is what it holds
         if library.exit_status is not None:
             return 3
     return 0
