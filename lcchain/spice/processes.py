@@ -69,12 +69,15 @@ def resident_bytes(pid: int, leaves: bool = True) -> int:
         try:
             with open(f"/proc/{current}/statm", "rb") as statm:
                 own = int(statm.read().split()[1]) * page
-            found: list[int] = []
+        except (OSError, ValueError, IndexError):  # gone meanwhile, or not Linux
+            continue
+        found: list[int] = []
+        try:
             for task in os.listdir(f"/proc/{current}/task"):
                 with open(f"/proc/{current}/task/{task}/children", "rb") as children:
                     found += [int(child) for child in children.read().split()]
-        except (OSError, ValueError, IndexError):  # gone meanwhile, or not Linux
-            continue
+        except (OSError, ValueError):  # gone meanwhile: its memory counted, the children read so far walked
+            pass
         total += own if leaves or found else 0
         todo += found
     return total
