@@ -33,20 +33,21 @@ def main() -> int:
     if taken:
         _signal.signal(_signal.SIGINT, _signal.default_int_handler)
     status = command_line()
-    _end(status)
+    _end(status, sys._getframe(1))
     return status
 
 
-def _end(status: int) -> None:
+def _end(status: int, caller: FrameType | None) -> None:
     """End the process at once, its output flushed and its exit handlers run (every worker ended, every log
     flushed): the interpreter's teardown (a garbage collection, every module freed) cost each command 20 to 25 ms
     after its last word.  Returns, for the usual ending, where something else may still need the process: another
     thread running, a caller's code around the command (a profiler, coverage, a program that ran this module), or
-    output that cannot be flushed (Python then reports it as it always did)."""
+    output that cannot be flushed (Python then reports it as it always did).  ``caller``: the frame that called
+    :func:`main`."""
     import atexit
     import threading
 
-    if threading.active_count() > 1 or not _owns_the_process(sys._getframe(2)):
+    if threading.active_count() > 1 or not _owns_the_process(caller):
         return
     streams = [stream for stream in (sys.stdout, sys.stderr) if stream is not None]  # None: started with it closed
     try:

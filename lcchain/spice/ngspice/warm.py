@@ -386,10 +386,11 @@ def prestart_workers(workers: int) -> None:
         _guessed.setdefault(key, []).extend(started)
 
 
-def _adopt_guessed(key: WorkerKey) -> list[WarmWorker]:
-    """The workers :func:`prestart_workers` started under ``key`` (not yet greeted); the others ended."""
+def _adopt_guessed(key: WorkerKey | None) -> list[WarmWorker]:
+    """The workers :func:`prestart_workers` started under ``key`` (not yet greeted); the others ended (all of them
+    for None)."""
     with _lock:
-        adopted = _guessed.pop(key, [])
+        adopted = _guessed.pop(key, []) if key is not None else []
         others = [worker for workers in _guessed.values() for worker in workers]
         _guessed.clear()
     for worker in others:
@@ -414,7 +415,7 @@ def warm_simulator(simulator: Simulator, workers: int = 1) -> Simulator:
     library = find_shared_library()
     warm = replace(simulator, backend="warm", executable=library)
     if not simulator.sandbox.available:
-        _adopt_guessed(("", (), ""))  # none is under that key: every guessed worker ended
+        _adopt_guessed(None)  # no sandbox: every worker started in it on a guess ended
         worker = WarmWorker(library, simulator.launcher, "/", child_env())
         worker.close()
         _same_version(worker, simulator)
