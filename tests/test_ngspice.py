@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import math
+import random
 import re
 from pathlib import Path
 
@@ -20,7 +21,7 @@ from lcchain.spice.ngspice.find import find_simulator, ngspice_version
 from lcchain.spice.ngspice.raw import read_raw
 from lcchain.spice.ngspice.runner import run
 from lcchain.spice.result import TSTOP_RTOL, RunResult
-from lcchain.spice.text import canonical_vector_name, parse_options
+from lcchain.spice.text import canonical_vector_name, logical_lines, parse_options
 
 TSTOP = 7.7
 KICK = 1.0
@@ -62,6 +63,31 @@ def test_canonical_vector_name(written: str, key: str) -> None:
 def test_parse_options_reads_every_options_line() -> None:
     text = "* t\n.OPTIONS method=trap reltol = 1e-6\n+ abstol=1e-12\n.opt noinit\n.option reltol=1e-7\n.end\n"
     assert parse_options(text) == {"method": "trap", "reltol": "1e-7", "abstol": "1e-12", "noinit": "true"}
+
+
+def _options_of_every_line(text: str) -> dict[str, str]:
+    """parse_options as it read every logical line (before it read the dot cards alone): the reference."""
+    options: dict[str, str] = {}
+    for _, line in logical_lines(text):
+        match = re.match(r"^\s*\.opt(ion|ions)?\b(.*)$", line, re.IGNORECASE)
+        if match:
+            for token in re.sub(r"\s*=\s*", "=", match.group(2).strip()).split():
+                key, sep, value = token.partition("=")
+                options[key.lower()] = value if sep else "true"
+    return options
+
+
+def test_parse_options_reads_what_a_look_at_every_line_reads() -> None:
+    """Only dot cards are read: lines joined by "+", an options card as the title, indented, continued by a line
+    that starts with ".", an element continued by "+.opt", a text without a final LF: as every line read."""
+    pieces = [".options a=1", "  .OPT b = 2", "\t.option c", "+ d=4", "+.opt e=5", "R1 1 0 1k", "+ .opt f=6",
+              ".optionsx g=7", ".opt", "* .opt h=8", "", ".tran 1 2", "+", ".options reltol=1e-3 a=9", " \t", "  .opt\tk=1 "]
+    rng = random.Random(35)
+    for _ in range(4000):
+        text = "\n".join(rng.choice(pieces) for _ in range(rng.randrange(1, 8))) + rng.choice(["", "\n"])
+        assert parse_options(text) == _options_of_every_line(text), text
+    with pytest.raises(ParameterError):
+        parse_options("* t\r\n.options a=1\n")
 
 
 @pytest.mark.parametrize("line", [".control", "  .CONTROL", ".endc", "shell rm -rf ~", "SHELL echo",

@@ -63,6 +63,10 @@ _CANONICAL_ASCII = b"\t\n" + bytes(range(0x20, 0x7F))
 
 _OPTIONS_LINE = re.compile(r"^\s*\.opt(ion|ions)?\b(.*)$", re.IGNORECASE)
 
+# A "+" line that continues a blank one (the first line's, or one after an LF)
+_BLANK_CONTINUED = re.compile(r"\n[^\S\n]*\n\+")
+_FIRST_BLANK_CONTINUED = re.compile(r"[^\S\n]*\n\+")
+
 _SAVE = re.compile(r"^\s*\.save\b(.*)$", re.IGNORECASE)
 # A logical line whose first character that is not blank (str.isspace, as str.split and str.strip read it: the same
 # set as \s) is a dot, with the physical lines that continue it (those that start with "+": logical_lines joins
@@ -324,7 +328,11 @@ def parse_options(netlist: str) -> dict[str, str]:
         a bare flag such as ``noinit`` maps to ``"true"``.
     """
     options: dict[str, str] = {}
-    for _, line in logical_lines(netlist):
+    # an options line is a dot card, the other lines not looked at; unless a "+" line continues a blank one, which
+    # logical_lines joins into a line that may start with a dot (dot_cards does not: it starts at a dot)
+    blank_continued = _BLANK_CONTINUED.search(netlist) or _FIRST_BLANK_CONTINUED.match(netlist)
+    for line in (line for _, line in logical_lines(netlist)) if blank_continued else \
+            (line for _, _, line in dot_cards(netlist)):
         match = _OPTIONS_LINE.match(line)
         if not match:
             continue
