@@ -119,3 +119,26 @@ def test_run_records_and_reports_pickle() -> None:
     scene = lcchain.parse_scene({"chain": {"case": "two-mass", "N": 10},
                                  "effects": {"tolerance": {"C": 0.02, "samples": 2, "seed": 1}}})
     round_trip(lcchain.run_scene(scene, lcchain.SceneRun(write_outputs=False)))
+
+
+def test_frozen_values_are_made_while_another_thread_imports_numpy(tmp_path) -> None:
+    """A batch imports numpy in a thread of its own as its first run goes (a half-imported numpy is in
+    ``sys.modules`` meanwhile, without ``ndarray``): frozen mappings made in the other threads then are made, and
+    an array made once numpy is imported is still frozen."""
+    import subprocess
+    import sys
+
+    code = (
+        "import sys, threading\n"
+        "sys.setswitchinterval(1e-5)\n"
+        "from lcchain.core.frozen import FrozenMap\n"
+        "loader = threading.Thread(target=__import__, args=('numpy',)); loader.start()\n"
+        "made = 0\n"
+        "while loader.is_alive():\n"
+        "    FrozenMap({'a': 1.0}); made += 1\n"
+        "import numpy as np\n"
+        "assert not FrozenMap({'a': np.zeros(2)})['a'].flags.writeable\n"
+        "print(made)\n")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=tmp_path)
+    assert done.returncode == 0, done.stderr
+    assert int(done.stdout) > 0

@@ -29,9 +29,11 @@ V = TypeVar("V")
 
 def is_array(value: object) -> TypeGuard[np.ndarray]:
     """``value`` is a numpy array.  Asked without importing numpy: no array exists before numpy is imported, so a
-    process that never imports it (a batch's start) pays nothing for the question."""
-    numpy = sys.modules.get("numpy")
-    return numpy is not None and isinstance(value, numpy.ndarray)
+    process that never imports it (a batch's start) pays nothing for the question.  A numpy another thread is
+    still importing (in ``sys.modules``, without its ``ndarray`` yet: a batch imports it beside its first run) has
+    made no array for lcchain's code, whose own ``import numpy`` waits for the import to end."""
+    ndarray = getattr(sys.modules.get("numpy"), "ndarray", None)
+    return ndarray is not None and isinstance(value, ndarray)
 
 
 def readonly(values: npt.ArrayLike, dtype: npt.DTypeLike = float) -> np.ndarray:
