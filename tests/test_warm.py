@@ -411,17 +411,54 @@ def test_a_worker_s_resident_memory_between_runs_is_its_tree_s(simulators) -> No
 
 
 def test_the_shared_library_is_found_in_a_folder_that_cannot_be_listed(monkeypatch: pytest.MonkeyPatch) -> None:
-    """find_shared_library lists each folder once; a folder that may be searched but not listed (mode 711) is
-    looked up a name at a time, as before, and gives the same library."""
+    """find_shared_library asks for the library's usual names before it lists a folder: Debian's libngspice.so.0 is
+    found without a listing of its folder (thousands of names); a folder that may be searched but not listed (mode
+    711) gives the same library."""
     from lcchain.spice.ngspice import locate
 
     found = locate.find_shared_library()
     listdir = os.listdir
+    listed: list[str] = []
 
     def refused(path: Any) -> list[str]:
+        listed.append(os.fspath(path))
         if os.fspath(path) == os.path.dirname(found):
             raise PermissionError(13, "Permission denied", os.fspath(path))
         return listdir(path)
 
     monkeypatch.setattr(os, "listdir", refused)
     assert locate.find_shared_library() == found
+    if os.path.basename(found) in ("libngspice.so", "libngspice.so.0"):
+        assert os.path.dirname(found) not in listed
+
+
+@pytest.mark.parametrize("names, wanted", [
+    (["libngspice.so.0.0.6"], "libngspice.so.0.0.6"),
+    (["libngspice.so.0.0.6", "libngspice.so.0"], "libngspice.so.0"),
+    (["libngspice.so.0", "libngspice.so"], "libngspice.so"),
+    (["libngspice.so.1", "libngspice.so.0.9", "libngspice.dylib"], "libngspice.so.0.9"),
+    (["libngspice.dylib", "libngspice.a"], "libngspice.dylib"),
+])
+def test_the_shared_library_is_chosen_by_its_name_in_the_first_folder_that_has_one(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch, names: list[str], wanted: str) -> None:
+    """The environment's own lib folder comes first; in a folder, libngspice.so, then libngspice.so.0, then the
+    first other libngspice.so.* by name, then libngspice.dylib (a folder that cannot be listed: the same, its
+    names looked up one by one)."""
+    from lcchain.spice.ngspice import locate
+
+    monkeypatch.delenv("NGSPICE_LIBRARY_PATH", raising=False)
+    (tmp_path / "lib").mkdir()
+    (tmp_path / "lib" / "libngspice.so.0.0.1").mkdir()  # a folder of that name is no library
+    for name in names:
+        (tmp_path / "lib" / name).write_bytes(b"")
+    monkeypatch.setattr(sys, "prefix", str(tmp_path))
+    assert locate.find_shared_library() == str(tmp_path / "lib" / wanted)
+    listdir = os.listdir
+
+    def refused(path: Any) -> list[str]:
+        if os.fspath(path) == str(tmp_path / "lib"):
+            raise PermissionError(13, "Permission denied", os.fspath(path))
+        return listdir(path)
+
+    monkeypatch.setattr(os, "listdir", refused)
+    assert locate.find_shared_library() == str(tmp_path / "lib" / wanted)

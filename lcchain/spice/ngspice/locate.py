@@ -7,7 +7,6 @@
 
 from __future__ import annotations
 
-import fnmatch
 import importlib.util
 import os
 import re
@@ -99,32 +98,46 @@ def find_shared_library() -> str:
                 f"NGSPICE_LIBRARY_PATH = {explicit!r} is not a readable file; unset it, or point it at "
                 f"libngspice.so.0 (install with: {INSTALL_COMMAND})")
         return explicit
-    dirs = [Path(sys.prefix) / "lib", Path("/usr/local/lib"), Path("/usr/lib64"), Path("/usr/lib"),
-            Path("/opt/homebrew/lib")]
-    dirs[3:3] = sorted(Path("/usr/lib").glob("*-linux-gnu*"))
-    for directory in dirs:
-        try:  # each folder listed once (a glob a pattern listed /usr/lib/<triplet> four times: 13 ms a search)
-            names: list[str] | None = sorted(name for name in os.listdir(directory) if name.startswith("libngspice."))
-        except (FileNotFoundError, NotADirectoryError):
+    # /usr/lib/<triplet> before /usr/lib64 and /usr/lib; each folder's exact names asked of the file system first
+    # (Debian's libngspice.so.0: the triplet's folder, thousands of names, is not listed), then its other versions
+    triplets = sorted(name for name in _names("/usr/lib") or () if "-linux-gnu" in name and name[:1] != ".")
+    folders = [os.path.join(sys.prefix, "lib"), "/usr/local/lib", *(f"/usr/lib/{name}" for name in triplets),
+               "/usr/lib64", "/usr/lib", "/opt/homebrew/lib"]
+    for folder in folders:
+        for name in (_SHARED_NAMES[0], _SHARED_NAMES[1]):
+            if os.path.isfile(os.path.join(folder, name)):
+                return os.path.join(folder, name)
+        if not os.path.isdir(folder):
             continue
-        except OSError:  # a folder that may be searched but not listed (mode 711): each pattern looked up
-            names = None
-        for pattern in ("libngspice.so", "libngspice.so.0", "libngspice.so.*", "libngspice.dylib"):
-            found = fnmatch.filter(names, pattern) if names is not None else \
-                sorted(path.name for path in directory.glob(pattern))
-            hits = [directory / name for name in found if (directory / name).is_file()]
-            if hits:
-                return str(hits[0])
+        names = _names(folder)
+        versions = sorted(name for name in names if name.startswith(_SHARED_NAMES[2])) if names is not None else \
+            sorted(path.name for path in Path(folder).glob(_SHARED_NAMES[2] + "*"))  # searched, not listed (711)
+        for name in (*versions, _SHARED_NAMES[3]):
+            if os.path.isfile(os.path.join(folder, name)):
+                return os.path.join(folder, name)
     import ctypes.util  # only needed for this fallback
 
-    name = ctypes.util.find_library("ngspice")
-    if name:
-        return name
+    library = ctypes.util.find_library("ngspice")
+    if library:
+        return library
     raise SimulatorMissingError(
         f"the ngspice shared library (libngspice.so.0) was not found; install it with: {INSTALL_COMMAND}"
     )
 
 
+
+
+#: The shared library's names, in the order each folder is searched: ``libngspice.so``, ``libngspice.so.0``, any
+#: other ``libngspice.so.*`` (sorted), ``libngspice.dylib``.
+_SHARED_NAMES = ("libngspice.so", "libngspice.so.0", "libngspice.so.", "libngspice.dylib")
+
+
+def _names(folder: str) -> list[str] | None:
+    """The names in ``folder``, or None when it cannot be listed (missing, not a folder, or searched only)."""
+    try:
+        return os.listdir(folder)
+    except OSError:
+        return None
 
 
 def require_pyspice() -> None:
