@@ -212,3 +212,22 @@ def test_the_switch_interval_is_restored_when_the_last_of_overlapping_blocks_end
         thread.join(10)
     assert seen and seen[0] <= executors.SWITCH_SECONDS
     assert sys.getswitchinterval() == before
+
+
+def test_the_plan_waits_for_the_engine_doing_what_comes_next(monkeypatch: pytest.MonkeyPatch) -> None:
+    """EngineStart.simulator(while_waiting) calls it when the engine is not found yet (a batch loads its runs'
+    modules while its workers start), and not once the engine is found."""
+    release = threading.Event()
+    find = executors.EngineStart._find
+
+    def slow(self: executors.EngineStart) -> None:
+        release.wait(10)
+        find(self)
+
+    monkeypatch.setattr(executors.EngineStart, "_find", slow)
+    calls: list[str] = []
+    with executors.EngineStart("ngspice", "batch", runs=0, workers=1, executor="serial",
+                               transport="process") as engine:
+        found = engine.simulator(lambda: (calls.append("waiting"), release.set()))
+        engine.simulator(lambda: calls.append("found"))
+    assert calls == ["waiting"] and found.engine == "ngspice"

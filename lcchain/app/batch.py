@@ -95,7 +95,7 @@ def batch(request: BatchRequest, hooks: StudyHooks | None = None) -> StudyResult
         plan: Plan
         if streams(options.executor, study_workers(options)):  # its runs in this process: read from disk as they go
             assert options.store is not None
-            plan = streamed_batch_plan(request.names(), lambda: engine.simulator().version,
+            plan = streamed_batch_plan(request.names(), lambda: engine.simulator(_load_the_runs).version,
                                        allow_control=request.allow_control, timeout=options.timeout, budget=budget,
                                        strict=request.strict, check=request.check,
                                        folder=str(Path(options.store).resolve().parent))
@@ -109,3 +109,8 @@ def batch(request: BatchRequest, hooks: StudyHooks | None = None) -> StudyResult
         finally:
             if isinstance(plan, StreamedPlan):
                 plan.spool.close()
+
+
+def _load_the_runs() -> None:
+    """Load what runs a plan (the store, the runs' records): done while the plan waits for the engine to start."""
+    from ..studies import run  # noqa: F401

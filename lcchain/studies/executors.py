@@ -375,14 +375,17 @@ class EngineStart:
         finally:
             self._handoffs.close()
 
-    def simulator(self) -> Simulator:
-        """The engine, found (waits for it).
+    def simulator(self, while_waiting: Callable[[], object] | None = None) -> Simulator:
+        """The engine, found (waits for it).  ``while_waiting``, when the engine is not found yet, is called first:
+        work the caller does next anyway (loading the runs' modules), done while the engine starts.
 
         Raises
         ------
         SimulatorMissingError, ParameterError
             As :func:`lcchain.spice.engines.find_engine`.
         """
+        if while_waiting is not None and not self._ready.is_set():
+            while_waiting()
         self._ready.wait()
         if self._failed:
             raise self._failed[0]
