@@ -439,26 +439,48 @@ def test_the_shared_library_is_found_in_a_folder_that_cannot_be_listed(monkeypat
     (["libngspice.so.1", "libngspice.so.0.9", "libngspice.dylib"], "libngspice.so.0.9"),
     (["libngspice.dylib", "libngspice.a"], "libngspice.dylib"),
 ])
-def test_the_shared_library_is_chosen_by_its_name_in_the_first_folder_that_has_one(
+def test_the_shared_library_is_chosen_by_its_name_in_a_folder(
         tmp_path: Path, monkeypatch: pytest.MonkeyPatch, names: list[str], wanted: str) -> None:
     """The environment's own lib folder comes first; in a folder, libngspice.so, then libngspice.so.0, then the
-    first other libngspice.so.* by name, then libngspice.dylib (a folder that cannot be listed: the same, its
-    names looked up one by one)."""
+    first other libngspice.so.* by name (a folder of such a name is none), then libngspice.dylib."""
     from lcchain.spice.ngspice import locate
 
     monkeypatch.delenv("NGSPICE_LIBRARY_PATH", raising=False)
     (tmp_path / "lib").mkdir()
-    (tmp_path / "lib" / "libngspice.so.0.0.1").mkdir()  # a folder of that name is no library
+    (tmp_path / "lib" / "libngspice.so.0.0.1").mkdir()
     for name in names:
         (tmp_path / "lib" / name).write_bytes(b"")
     monkeypatch.setattr(sys, "prefix", str(tmp_path))
     assert locate.find_shared_library() == str(tmp_path / "lib" / wanted)
-    listdir = os.listdir
 
-    def refused(path: Any) -> list[str]:
-        if os.fspath(path) == str(tmp_path / "lib"):
-            raise PermissionError(13, "Permission denied", os.fspath(path))
-        return listdir(path)
 
-    monkeypatch.setattr(os, "listdir", refused)
-    assert locate.find_shared_library() == str(tmp_path / "lib" / wanted)
+@pytest.mark.parametrize("libraries, wanted", [
+    (["/usr/lib64/libngspice.so.0", "/usr/lib/x86_64-linux-gnu/libngspice.so.0"], "/usr/lib64/libngspice.so.0"),
+    (["/usr/lib/x86_64-linux-gnu/libngspice.so.0", "/usr/lib/libngspice.so"], "/usr/lib/x86_64-linux-gnu/libngspice.so.0"),
+    (["/usr/lib/aarch64-linux-gnu/libngspice.so.0.0.6", "/usr/lib/x86_64-linux-gnu/libngspice.so.0"],
+     "/usr/lib/aarch64-linux-gnu/libngspice.so.0.0.6"),
+    (["/usr/lib/libngspice.so.0", "/opt/homebrew/lib/libngspice.dylib"], "/usr/lib/libngspice.so.0"),
+    (["/usr/local/lib/libngspice.so.0.0.9", "/usr/lib64/libngspice.so"], "/usr/local/lib/libngspice.so.0.0.9"),
+])
+def test_the_shared_library_is_looked_for_in_the_folders_order(
+        monkeypatch: pytest.MonkeyPatch, libraries: list[str], wanted: str) -> None:
+    """The folders, in order: the environment's lib, /usr/local/lib, /usr/lib64, each /usr/lib/*-linux-gnu* by
+    name, /usr/lib, /opt/homebrew/lib (a file system of these libraries alone, faked)."""
+    from lcchain.spice.ngspice import locate
+
+    monkeypatch.delenv("NGSPICE_LIBRARY_PATH", raising=False)
+    monkeypatch.setattr(sys, "prefix", "/nowhere-lcchain-test")
+    files = set(libraries)
+    folders = {os.path.dirname(path) for path in files} | {"/usr/lib"}
+
+    def names(folder: Any) -> list[str]:
+        folder = os.fspath(folder)
+        if folder not in folders:
+            raise FileNotFoundError(2, "No such file or directory", folder)
+        below = {path[len(folder) + 1:].split("/")[0] for path in files | folders if path.startswith(folder + "/")}
+        return sorted(below)
+
+    monkeypatch.setattr(os, "listdir", names)
+    monkeypatch.setattr(os.path, "isfile", lambda path: os.fspath(path) in files)
+    monkeypatch.setattr(os.path, "isdir", lambda path: os.fspath(path) in folders)
+    assert locate.find_shared_library() == wanted

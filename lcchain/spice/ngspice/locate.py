@@ -98,11 +98,11 @@ def find_shared_library() -> str:
                 f"NGSPICE_LIBRARY_PATH = {explicit!r} is not a readable file; unset it, or point it at "
                 f"libngspice.so.0 (install with: {INSTALL_COMMAND})")
         return explicit
-    # /usr/lib/<triplet> before /usr/lib64 and /usr/lib; each folder's exact names asked of the file system first
+    # /usr/lib/<triplet> after /usr/lib64, before /usr/lib; each folder's exact names asked of the file system first
     # (Debian's libngspice.so.0: the triplet's folder, thousands of names, is not listed), then its other versions
-    triplets = sorted(name for name in _names("/usr/lib") or () if "-linux-gnu" in name and name[:1] != ".")
-    folders = [os.path.join(sys.prefix, "lib"), "/usr/local/lib", *(f"/usr/lib/{name}" for name in triplets),
-               "/usr/lib64", "/usr/lib", "/opt/homebrew/lib"]
+    triplets = sorted(name for name in _names("/usr/lib") or () if "-linux-gnu" in name)
+    folders = [os.path.join(sys.prefix, "lib"), "/usr/local/lib", "/usr/lib64",
+               *(f"/usr/lib/{name}" for name in triplets), "/usr/lib", "/opt/homebrew/lib"]
     for folder in folders:
         for name in (_SHARED_NAMES[0], _SHARED_NAMES[1]):
             if os.path.isfile(os.path.join(folder, name)):
