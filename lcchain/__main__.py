@@ -21,19 +21,33 @@ def _interrupted_while_loading(signum: int, frame: object) -> None:
     os._exit(128 + signum)
 
 
-#: The young generation's threshold of the command line's process (Python's is 700 allocations): while a command's
-#: modules load, Python's collected 45 times, 8 to 13 ms of CPU before a batch's first run, and found next to
-#: nothing (what a module makes lives as long as the process).  A collection still comes every this many
-#: allocations: a long study's cyclic garbage (a few MB at most) is freed as before.
+#: The young generation's threshold of the command line's process while it starts (Python's is 700 allocations):
+#: while a command's modules load, Python's collected 45 times, 8 to 13 ms of CPU before a batch's first run, and
+#: found next to nothing (what a module makes lives as long as the process).  Python's thresholds are back after
+#: the first collection (:func:`_collect_as_usual`): the garbage of at most these many allocations waits once.
 YOUNG_THRESHOLD = 50_000
+#: Python's thresholds, put back by the first collection (None once they are).
+_usual: tuple[int, int, int] | None = None
+
+
+def _collect_as_usual(phase: str, info: dict[str, int]) -> None:
+    """A garbage collection's callback: after the first one, the process collects at Python's thresholds."""
+    global _usual
+    if phase == "stop" and _usual is not None:
+        _gc.set_threshold(*_usual)
+        _usual = None
 
 
 def main() -> int:
     """The command line's exit status.  Ctrl-C while its modules load (the command's first 30 ms or so) ends as it
     does later, with one line and 130, not with Python's traceback: nothing has started that needs cleaning up.
     The command's own handling (:func:`lcchain.cli.main.main`) takes over before it starts anything.  The process's
-    garbage collector runs every :data:`YOUNG_THRESHOLD` allocations."""
-    _gc.set_threshold(YOUNG_THRESHOLD, *_gc.get_threshold()[1:])  # the command's process: a library user's is theirs
+    first garbage collection waits for :data:`YOUNG_THRESHOLD` allocations."""
+    global _usual
+    if _usual is None and _collect_as_usual not in _gc.callbacks:  # the command's process: a library user's is theirs
+        _usual = _gc.get_threshold()
+        _gc.callbacks.append(_collect_as_usual)
+        _gc.set_threshold(YOUNG_THRESHOLD, *_usual[1:])
     # Python's own Ctrl-C handling only: a process started with Ctrl-C ignored (a background job) keeps ignoring it
     taken = _signal.getsignal(_signal.SIGINT) is _signal.default_int_handler
     if taken:
