@@ -44,14 +44,14 @@ def main() -> int:
     The command's own handling (:func:`lcchain.cli.main.main`) takes over before it starts anything.  The process's
     first garbage collection waits for :data:`YOUNG_THRESHOLD` allocations."""
     global _usual
-    if _usual is None and _collect_as_usual not in _gc.callbacks:  # the command's process: a library user's is theirs
-        _usual = _gc.get_threshold()
-        _gc.callbacks.append(_collect_as_usual)
-        _gc.set_threshold(YOUNG_THRESHOLD, *_usual[1:])
     # Python's own Ctrl-C handling only: a process started with Ctrl-C ignored (a background job) keeps ignoring it
     taken = _signal.getsignal(_signal.SIGINT) is _signal.default_int_handler
     if taken:
         _signal.signal(_signal.SIGINT, _interrupted_while_loading)
+    if _usual is None and _collect_as_usual not in _gc.callbacks:  # the command's process: a library user's is theirs
+        _usual = _gc.get_threshold()
+        _gc.callbacks.append(_collect_as_usual)
+        _gc.set_threshold(YOUNG_THRESHOLD, *_usual[1:])
     from .cli.main import main as command_line
 
     if taken:

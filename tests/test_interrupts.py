@@ -139,8 +139,10 @@ def test_ctrl_c_while_a_command_loads_ends_in_one_line(tmp_path: Path) -> None:
         ours = [line for line in frames if f'"{PACKAGE}{os.sep}' in line
                 and not (line.rstrip().endswith("in <module>") and ("__init__.py" in line or "__main__.py" in line))]
         assert not ours, f"{delay} ms: a traceback through lcchain's code\n{said}"
-        if not frames:
-            assert (proc.returncode, said.strip()) in {(130, "lcchain: interrupted"), (-signal.SIGINT, "")}, \
+        if not frames:  # lcchain's one line; the signal before Python took it; or Python's own start, interrupted
+            # in its C code before any frame (seen once, 24 ms in, under the tests' load: exit 1, no traceback)
+            assert (proc.returncode, said.strip()) in {(130, "lcchain: interrupted"), (-signal.SIGINT, ""),
+                                                       (1, "KeyboardInterrupt")}, \
                 f"{delay} ms: exit {proc.returncode}\n{said}"
         outcomes.append(proc.returncode)
     assert 130 in outcomes  # lcchain's own handling was reached (how many, the interpreter's start decides)
