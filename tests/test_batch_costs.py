@@ -231,3 +231,21 @@ def test_the_plan_waits_for_the_engine_doing_what_comes_next(monkeypatch: pytest
         found = engine.simulator(lambda: (calls.append("waiting"), release.set()))
         engine.simulator(lambda: calls.append("found"))
     assert calls == ["waiting"] and found.engine == "ngspice"
+
+
+def test_a_batch_loads_what_runs_it_while_its_engine_starts(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """A streamed batch's plan asks for the engine with work to do meanwhile: loading the runs' modules."""
+    asked: list[Any] = []
+    simulator = executors.EngineStart.simulator
+
+    def asking(self: executors.EngineStart, while_waiting: Any = None) -> Any:
+        asked.append(while_waiting)
+        return simulator(self, while_waiting)
+
+    monkeypatch.setattr(executors.EngineStart, "simulator", asking)
+    result = batch(BatchRequest(_netlists(tmp_path), study=StudyOptions(workers=2,
+                                                                       store=str(tmp_path / "s.sqlite"))))
+    assert result.summary.ok == COUNT
+    loaders = [given for given in asked if given is not None]
+    assert loaders and all(loader.__module__ == "lcchain.app.batch" for loader in loaders)
+    loaders[0]()  # loads the store's and the records' modules (here already loaded): nothing else
