@@ -48,7 +48,7 @@ def main() -> int:
     taken = _signal.getsignal(_signal.SIGINT) is _signal.default_int_handler
     if taken:
         _signal.signal(_signal.SIGINT, _interrupted_while_loading)
-    if _usual is None and _collect_as_usual not in _gc.callbacks:  # the command's process: a library user's is theirs
+    if _collect_as_usual not in _gc.callbacks:  # once, in the command's process: a library user's is theirs
         _usual = _gc.get_threshold()
         _gc.callbacks.append(_collect_as_usual)
         _gc.set_threshold(YOUNG_THRESHOLD, *_usual[1:])
