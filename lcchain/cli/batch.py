@@ -74,17 +74,14 @@ def _stdin_list() -> Iterator[str]:
     unnamed = os.path.isdir("/proc/self/fd")
     with tempfile.TemporaryFile() if unnamed else tempfile.NamedTemporaryFile(prefix="lcchain-names-") as copy:
         size = 0
-        while chunk := sys.stdin.buffer.read(min(1 << 16, MAX_NETLIST_LIST_BYTES + 1 - size)):
-            size += len(chunk)
-            if size > MAX_NETLIST_LIST_BYTES:
-                raise ParameterError("--from", "-", f"at most {MAX_NETLIST_LIST_BYTES} bytes of netlist names on "
-                                     "standard input")
-            try:
-                decoder.decode(chunk)
-            except UnicodeDecodeError:
-                raise ParameterError("--from", "-", "netlist names in UTF-8 on standard input") from None
-            copy.write(chunk)
         try:
+            while chunk := sys.stdin.buffer.read(min(1 << 16, MAX_NETLIST_LIST_BYTES + 1 - size)):
+                size += len(chunk)
+                if size > MAX_NETLIST_LIST_BYTES:
+                    raise ParameterError("--from", "-", f"at most {MAX_NETLIST_LIST_BYTES} bytes of netlist names on "
+                                         "standard input")
+                decoder.decode(chunk)
+                copy.write(chunk)
             decoder.decode(b"", final=True)
         except UnicodeDecodeError:
             raise ParameterError("--from", "-", "netlist names in UTF-8 on standard input") from None
