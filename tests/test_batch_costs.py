@@ -6,6 +6,7 @@ from __future__ import annotations
 import gc
 import sys
 import threading
+import weakref
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 from typing import Any
@@ -108,17 +109,30 @@ def test_a_batch_holds_a_window_of_its_runs_not_every_run(tmp_path: Path, monkey
         path.write_text(spec.netlist.replace("\n", f" #{i}\n", 1))
         paths.append(str(path))
     alive: list[int] = []
+    # Every RunSpec made, by its __init__ (the plan) or unpickled (the spool), is in `made` while it lives. Not
+    # gc.get_objects(): its list takes a reference to a tuple another thread is still building from a generator,
+    # whose final resize then fails (CPython's SystemError "bad argument to internal function", seen in CI).
+    made: weakref.WeakSet[RunSpec] = weakref.WeakSet()
+    init = RunSpec.__init__
+
+    def made_by_init(self: RunSpec, *args: Any, **kwargs: Any) -> None:
+        init(self, *args, **kwargs)
+        made.add(self)
+
+    def made_by_unpickling(self: RunSpec, state: dict[str, Any]) -> None:
+        vars(self).update(state)
+        made.add(self)
+
     execute_group = executors.execute_group
-    counting = threading.Lock()  # one count at a time: gc.get_objects()'s list keeps every object it lists alive
-    # while it is read, so two threads counting at once each counted the runs the other's list held
 
     def counted(group: Any, *args: Any, **kwargs: Any) -> Any:
         if len(alive) < 20 or group[0][0] % 10 == 0:
-            with counting:
-                gc.collect()
-                alive.append(sum(isinstance(thing, RunSpec) for thing in gc.get_objects()))
+            gc.collect()  # a run let go of in a reference cycle is not held
+            alive.append(len(made))
         return execute_group(group, *args, **kwargs)
 
+    monkeypatch.setattr(RunSpec, "__init__", made_by_init)
+    monkeypatch.setattr(RunSpec, "__setstate__", made_by_unpickling, raising=False)
     monkeypatch.setattr(executors, "execute_group", counted)
     monkeypatch.setattr(stream, "HELD", 0)  # every run spooled (a batch holds its first HELD, ~5 MB)
     result = batch(BatchRequest(tuple(paths), study=StudyOptions(workers=workers, store=str(tmp_path / "s.sqlite"))))
