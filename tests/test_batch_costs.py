@@ -263,3 +263,51 @@ def test_a_batch_loads_what_runs_it_while_its_engine_starts(tmp_path: Path, monk
     loaders = [given for given in asked if given is not None]
     assert loaders and all(loader.__module__ == "lcchain.app.batch" for loader in loaders)
     loaders[0]()  # loads the store's and the records' modules (here already loaded): nothing else
+
+
+@pytest.mark.parametrize("streamed", [True, False], ids=["streamed", "held"])
+def test_a_batch_plan_says_how_many_netlists_it_has_planned(tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
+                                                            streamed: bool) -> None:
+    """Both plans of a batch tell ``progress(done)`` as they go, every few netlists (WINDOW, PLANNED_EVERY) and
+    once all are, refusals counted: 100,000 netlists are planned for about 30 s before the first run."""
+    from lcchain.studies import plan as plans
+
+    paths = [*_netlists(tmp_path)]
+    bad = tmp_path / "bad.cir"
+    bad.write_text("bad\nV1 1 0 1\n.control\nshell true\n.endc\n.tran 1 2\n.end\n")
+    paths.insert(3, str(bad))
+    told: list[int] = []
+    if streamed:
+        monkeypatch.setattr(stream, "WINDOW", 4)
+        spooled = stream.streamed_batch_plan(paths, lambda: "39", engine_version=lambda: "39", folder=str(tmp_path),
+                                             progress=told.append)
+        spooled.spool.close()
+        assert len(spooled.refusals) == 1
+    else:
+        monkeypatch.setattr(plans, "PLANNED_EVERY", 4)
+        assert len(plans.batch_plan(paths, engine_version=lambda: "39", progress=told.append).refusals) == 1
+    count = len(paths)
+    assert count % 4 and told == [*range(4, count, 4), count]
+    told.clear()  # a count the window divides: told once at the end, not twice
+    del paths[count - count % 4:]
+    if streamed:
+        stream.streamed_batch_plan(paths, lambda: "39", engine_version=lambda: "39", folder=str(tmp_path),
+                                   progress=told.append).spool.close()
+    else:
+        plans.batch_plan(paths, engine_version=lambda: "39", progress=told.append)
+    assert told == [*range(4, len(paths) + 1, 4)]
+
+
+def test_a_batch_tells_its_plan_of_every_netlist_given_and_listed(tmp_path: Path) -> None:
+    """lcchain batch's ``planning(done, total)`` hook: the total counts the netlists given and those of --from's
+    list, and the last call has planned them all."""
+    from lcchain.app.studies import StudyHooks
+
+    paths = _netlists(tmp_path)
+    listed = tmp_path / "list.txt"
+    listed.write_text("\n".join(paths[2:]) + "\n")
+    told: list[tuple[int, int]] = []
+    result = batch(BatchRequest(paths[:2], listed=str(listed), study=StudyOptions(store=str(tmp_path / "s.sqlite"))),
+                   StudyHooks(planning=lambda done, total: told.append((done, total))))
+    assert result.summary.ok == COUNT
+    assert told and told[-1] == (COUNT, COUNT) and all(total == COUNT for _, total in told)

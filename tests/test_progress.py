@@ -3,7 +3,9 @@ something, and nothing for short work on a pipe. A fake clock drives it: no test
 
 from __future__ import annotations
 
+import contextlib
 import io
+import re
 
 import pytest
 
@@ -73,3 +75,49 @@ def test_a_fraction_shows_a_percent_and_a_terminal_redraws_one_line(clock: Clock
     text = stream.getvalue()
     assert text.count("\r") == 11 and text.endswith("\n") and text.count("\n") == 1
     assert "ngspice 50%" in text and "ngspice 100%" in text and "about" in text
+
+
+def test_a_batch_plan_draws_nothing_when_short_and_its_rate_in_plain_digits_when_long(
+        clock: Clock, monkeypatch: pytest.MonkeyPatch) -> None:
+    """lcchain batch's plan line (plan_counter): a plan over within QUIET_SECONDS draws nothing, on a terminal
+    too (every batch would otherwise show a bar for its plan); a long one draws its netlists checked, at a rate
+    of thousands a second written in digits, and ends its line."""
+    stream = Terminal()
+    monkeypatch.setattr(progress_module.sys, "stderr", stream)
+    short = progress_module.plan_counter()
+    for done in (256, 512, 600):
+        clock.now += 0.1
+        short(done, 600)
+    assert stream.getvalue() == ""
+    long = progress_module.plan_counter()
+    for done in range(256, 100_001, 256):
+        clock.now += 256 / 3333
+        long(done, 100_000)
+    long(100_000, 100_000)
+    text = stream.getvalue()
+    assert text.endswith("\n") and text.count("\n") == 1, text[-200:]
+    last = text.split("\r")[-1]
+    assert re.search(r"\] 100000/100000 netlists checked, 33\d\d/s, 30s elapsed\x1b\[K\n$", last), last
+    assert "e+" not in text
+    assert " 2s elapsed" in text.split("\r")[1]  # first drawn once QUIET_SECONDS have passed
+
+
+@pytest.mark.parametrize("raises", [True, False], ids=["error", "return"])
+def test_a_line_left_unfinished_on_a_terminal_is_ended_before_the_command_says_more(clock: Clock,
+                                                                                    raises: bool) -> None:
+    """An error, an interrupt or a study stopped by its time budget leaves its bar unfinished: lines_ended ends it
+    with one newline, so that what the command says next starts a line.  A finished line gets none more."""
+    stream, done = Terminal(), Terminal()
+    with pytest.raises(KeyboardInterrupt) if raises else contextlib.nullcontext():
+        with progress_module.lines_ended():
+            clock.now += 5.0
+            Progress("", stream).update(3, 10, unit="runs")
+            Progress("", done).update(10, 10, unit="runs")
+            assert not stream.getvalue().endswith("\n") and done.getvalue().endswith("\n")
+            if raises:
+                raise KeyboardInterrupt
+    assert stream.getvalue().endswith("\x1b[K\n") and stream.getvalue().count("\n") == 1
+    assert done.getvalue().count("\n") == 1
+    with progress_module.lines_ended():  # nothing left open: nothing written
+        pass
+    assert stream.getvalue().count("\n") == 1

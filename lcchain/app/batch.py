@@ -93,15 +93,17 @@ def batch(request: BatchRequest, hooks: StudyHooks | None = None) -> StudyResult
         from ..studies.stream import StreamedPlan, streamed_batch_plan, streams
 
         plan: Plan
+        planning = hooks.planning if hooks is not None else None
+        progress = (lambda done: planning(done, count)) if planning is not None else None
         if streams(options.executor, study_workers(options)):  # its runs in this process: read from disk as they go
             assert options.store is not None
             plan = streamed_batch_plan(request.names(), lambda: engine.simulator(_load_the_runs).version,
                                        allow_control=request.allow_control, timeout=options.timeout, budget=budget,
                                        strict=request.strict, check=request.check,
-                                       folder=str(Path(options.store).resolve().parent))
+                                       folder=str(Path(options.store).resolve().parent), progress=progress)
         else:
             plan = batch_plan(list(request.names()), allow_control=request.allow_control, timeout=options.timeout,
-                              budget=budget, strict=request.strict, check=request.check)
+                              budget=budget, strict=request.strict, check=request.check, progress=progress)
         left = budget.max_seconds - INTERPRETER_SECONDS - (time.monotonic() - started)
         try:
             return run_study(PlannedStudy(plan, max_seconds=max(left, 0.0)), options, budget, hooks,

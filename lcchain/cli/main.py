@@ -41,6 +41,7 @@ from .common import (
     UsageError,
     budget_parent,
 )
+from .progress import lines_ended
 
 __all__ = ["main", "build_parser", "COMMANDS"]
 
@@ -257,7 +258,7 @@ def _command_line(argv: Sequence[str] | None) -> int:
     args.argv_echo = argv[1:]
     logging.basicConfig(level=logging.INFO if args.verbose else logging.WARNING, format="lcchain: %(message)s")
     try:
-        with _signals_interrupt(), _blas_limited(), warnings.catch_warnings():
+        with _signals_interrupt(), _blas_limited(), warnings.catch_warnings(), lines_ended():
             warnings.showwarning = _show_warning  # one line a person reads, not a source location
             status = int(args.func(args))
         sys.stdout.flush()

@@ -10,20 +10,23 @@ text as a line of its own, ``lcchain: ...``, at each new phase, every 10 % and a
 end, once the work has lasted 2 s (short work prints nothing); its text is made only when it is shown.  The time
 left is shown only once three units are done and a second has passed since the first one: it is estimated
 from the rate since the first one finished, so a slow start (imports, a pool starting, the first design)
-does not inflate it (the first estimate of a 1200-run sweep once said 2h36m).
+does not inflate it (the first estimate of a 1200-run sweep once said 2h36m).  A line left unfinished on a
+terminal (an error, an interrupt, a study stopped by its time budget) is ended before anything else is said
+(:func:`lines_ended`).
 """
 
 from __future__ import annotations
 
+import contextlib
 import sys
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from typing import TYPE_CHECKING, TextIO
 
 if TYPE_CHECKING:
     from ..app.studies import StudyProgress
 
-__all__ = ["Progress", "duration", "counter", "fraction", "study_counter"]
+__all__ = ["Progress", "duration", "counter", "fraction", "study_counter", "plan_counter", "lines_ended"]
 
 #: On a pipe: a line at least this often (seconds), and every this fraction of the work; nothing for work
 #: that ends within QUIET_SECONDS (short work needs no progress).
@@ -33,6 +36,29 @@ ETA_AFTER_UNITS, ETA_AFTER_SECONDS = 3, 1.0
 #: On a terminal: the line is redrawn at most this often (seconds), and at each new phase and at the end.
 REDRAW_SECONDS = 0.1
 _WIDTH = 30
+
+
+#: The terminals whose last progress line is drawn and not ended (no newline yet).
+_open: list[TextIO] = []
+
+
+@contextlib.contextmanager
+def lines_ended() -> Iterator[None]:
+    """Around a command: a progress line it leaves unfinished on a terminal is ended when it returns or raises, so
+    that its error, its interrupt or its summary starts on a line of its own."""
+    try:
+        yield
+    finally:
+        while _open:
+            stream = _open.pop()
+            with contextlib.suppress(OSError, ValueError):  # a terminal gone: nothing to end
+                stream.write("\n")
+                stream.flush()
+
+
+def _rate(rate: float) -> str:
+    """``8.25/s``, ``469/s``, ``3333/s`` (never ``3.33e+03``)."""
+    return f"{rate:.3g}/s" if rate < 1000 else f"{rate:.0f}/s"
 
 
 def duration(seconds: float) -> str:
@@ -45,10 +71,13 @@ def duration(seconds: float) -> str:
 class Progress:
     """A progress line for one command; call :meth:`update` as work finishes (``total`` 0: a fraction)."""
 
-    def __init__(self, what: str, stream: TextIO | None = None) -> None:
+    def __init__(self, what: str, stream: TextIO | None = None, *, quiet: bool = False) -> None:
+        """``quiet``: nothing on a terminal either before the work has lasted :data:`QUIET_SECONDS` (a phase that is
+        over in a moment, a short batch's plan, draws no line of its own)."""
         self.what = what
         self.stream = stream if stream is not None else sys.stderr
         self.terminal = bool(getattr(self.stream, "isatty", lambda: False)())
+        self.quiet = quiet
         self.start = time.monotonic()
         self.first: tuple[float, float] | None = None  # (time, done) when the first unit finished
         self.phase: str | None = None
@@ -63,7 +92,7 @@ class Progress:
         if self.first is not None and now - self.first[0] >= ETA_AFTER_SECONDS and done > self.first[1]:
             rate = (done - self.first[1]) / (now - self.first[0])  # since the first unit: start-up excluded
             if total:
-                parts.append(f"{rate:.3g}/s")
+                parts.append(_rate(rate))
             if done >= (ETA_AFTER_UNITS if total else 0.03) and done < (total or 1.0):
                 left = ((total or 1.0) - done) / rate
         if failed:
@@ -88,12 +117,18 @@ class Progress:
         fraction = done / total if total else float(done)
         finished = fraction >= 1.0
         if self.terminal:  # redrawn at most every REDRAW_SECONDS: a batch of 10,000 runs is 10,000 updates
-            if new_phase or finished or now - self.drawn >= REDRAW_SECONDS:
+            if (new_phase or finished or now - self.drawn >= REDRAW_SECONDS) \
+                    and not (self.quiet and now - self.start < QUIET_SECONDS):
                 self.drawn = now
                 filled = int(_WIDTH * min(max(fraction, 0.0), 1.0))
                 self.stream.write(f"\r[{'#' * filled}{'.' * (_WIDTH - filled)}] {self.text(done, total, failed, unit)}"
                                   "\033[K" + ("\n" if finished else ""))
                 self.stream.flush()
+                if finished:
+                    while self.stream in _open:
+                        _open.remove(self.stream)
+                elif self.stream not in _open:
+                    _open.append(self.stream)
         elif now - self.start >= QUIET_SECONDS and (new_phase or finished or fraction - self.line[0] >= LINE_FRACTION
                                                      or now - self.line[1] >= LINE_SECONDS):
             self.line = (fraction, now)
@@ -117,6 +152,13 @@ def fraction(what: str) -> Callable[[float], None]:
     """A ``progress(fraction)`` callback (one simulation, one design)."""
     progress = Progress(what)
     return lambda done: progress.update(done)
+
+
+def plan_counter() -> Callable[[int, int], None]:
+    """A batch's plan's callback, ``planning(done, total)``: its netlists read, checked and priced before any
+    run (``1024/100000 netlists checked, 3333/s, 2s elapsed, about 30s left``), quiet for a short plan."""
+    progress = Progress("", quiet=True)
+    return lambda done, total: progress.update(done, total, unit="netlists checked")
 
 
 def study_counter(unit: str) -> Callable[[StudyProgress], None]:

@@ -12,7 +12,7 @@ from ..core.budget import show_seconds
 from ..core.json import LooseJSONObject
 from ..core.types import TRANSPORT_CHOICES
 from .common import EXIT_FAILED, EXIT_OK, budget_from_args, emit_json, registry_name, seconds
-from .progress import study_counter
+from .progress import plan_counter, study_counter
 
 __all__ = ["add_study_arguments", "study_options", "study_hooks", "show_study", "table", "format_number", "short"]
 
@@ -64,7 +64,7 @@ def study_hooks(args: argparse.Namespace) -> StudyHooks:
         print(f"lcchain: {who} is writing {args.store}: waiting for it to finish", file=sys.stderr, flush=True)
 
     return StudyHooks(progress=study_counter("runs"), on_resume=resumed, on_wait=waiting,
-                      verbose=bool(getattr(args, "verbose", False)))
+                      verbose=bool(getattr(args, "verbose", False)), planning=plan_counter())
 
 
 def show_study(args: argparse.Namespace, result: StudyResult) -> int:

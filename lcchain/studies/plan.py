@@ -873,9 +873,14 @@ def request_plan(points: Sequence[tuple[Mapping[str, object], Request]], *, budg
                 engines.pop())
 
 
+#: A batch's plan says how many netlists it has planned every this many (a few tenths of a second at N = 10).
+PLANNED_EVERY = 256
+
+
 def batch_plan(paths: Sequence[str | Path], *, allow_control: bool = False, backend: Backend = "batch",
                timeout: float = DEFAULT_TIMEOUT, budget: Budget | None = None, strict: bool = False,
-               engine_version: Callable[[], str] | None = None, check: bool = False) -> Plan:
+               engine_version: Callable[[], str] | None = None, check: bool = False,
+               progress: Callable[[int], None] | None = None) -> Plan:
     """Foreign netlists, checked and priced before anything runs.
 
     Every netlist, and every file it includes, must be a regular file (its
@@ -901,7 +906,8 @@ def batch_plan(paths: Sequence[str | Path], *, allow_control: bool = False, back
 
     ``engine_version`` gives the version of the ngspice that will run the batch (:attr:`Simulator.version`),
     asked only when a netlist has an ``.ac dec`` card (:func:`lcchain.spice.foreign.log_sweep_count`); by
-    default ngspice is found for ``backend``.
+    default ngspice is found for ``backend``.  ``progress(done)`` is told how many netlists are planned, every
+    :data:`PLANNED_EVERY` and once all are.
     """
     budget = budget if budget is not None else Budget()
     version = engine_version if engine_version is not None else _version_of(backend)
@@ -920,6 +926,10 @@ def batch_plan(paths: Sequence[str | Path], *, allow_control: bool = False, back
             first = first or error
             refusals.append(Refusal(index, FrozenMap({"netlist": str(path)}), str(error),
                                     _refusal_key(str(path), read[0] if read else ""), path.name))
+        if progress is not None and (index + 1) % PLANNED_EVERY == 0:
+            progress(index + 1)
+    if progress is not None and len(paths) % PLANNED_EVERY:
+        progress(len(paths))
     if first is not None and not tasks:  # nothing of it can run: bad input, as with strict
         raise first
     description: dict[str, JSON] = {"command": "batch", "netlists": [str(p) for p in paths],

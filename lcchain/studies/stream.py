@@ -349,7 +349,7 @@ def streams(executor: object, workers: int) -> bool:
 def streamed_batch_plan(paths: Iterable[str | Path], key_version: Callable[[], str], *, allow_control: bool = False,
                         backend: Backend = "batch", timeout: float = DEFAULT_TIMEOUT, budget: Budget | None = None,
                         strict: bool = False, engine_version: Callable[[], str] | None = None, check: bool = False,
-                        folder: str | None = None) -> StreamedPlan:
+                        folder: str | None = None, progress: Callable[[int], None] | None = None) -> StreamedPlan:
     """:func:`lcchain.studies.plan.batch_plan`'s plan (the same checks, refusals, prices, keys and rows), its runs
     spooled to disk in ``folder`` (the store's; default the temporary folder) as they are planned.
 
@@ -357,6 +357,8 @@ def streamed_batch_plan(paths: Iterable[str | Path], key_version: Callable[[], s
     ``key_version`` gives the version of the engine that will run the batch (every key holds it): asked once the
     first :data:`WINDOW` netlists are planned (an engine found meanwhile is not waited for).  The plan's
     description lists no netlist: the store lists them from its rows (:attr:`StreamedPlan.LISTED`).
+    ``progress(done)`` is told how many netlists are planned as each :data:`WINDOW` of them is spooled, and once
+    all are.
     """
     budget = budget if budget is not None else Budget()
     version = engine_version if engine_version is not None else _version_of(backend)
@@ -386,10 +388,15 @@ def streamed_batch_plan(paths: Iterable[str | Path], key_version: Callable[[], s
             if len(window) >= WINDOW:
                 keyed = keyed or key_version()
                 _spool(spool, window, keyed)
+                if progress is not None:
+                    progress(index + 1)
         if first is not None and not planned:  # nothing of it can run: bad input, as with strict
             raise first
         keyed = keyed or key_version()
+        rest = bool(window)
         _spool(spool, window, keyed)
+        if rest and progress is not None:
+            progress(planned + len(refusals))
     except BaseException:
         spool.close()
         raise
