@@ -121,3 +121,23 @@ def test_a_line_left_unfinished_on_a_terminal_is_ended_before_the_command_says_m
     with progress_module.lines_ended():  # nothing left open: nothing written
         pass
     assert stream.getvalue().count("\n") == 1
+
+
+def test_a_study_stopped_by_its_time_budget_says_its_summary_on_a_line_of_its_own(
+        clock: Clock, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]) -> None:
+    """A study whose time budget stops it leaves its runs' bar unfinished on the terminal (3 of 10 runs): the
+    summary, on stdout (the same terminal), starts a line of its own."""
+    from lcchain.app.studies import StudyResult
+    from lcchain.cli.main import build_parser
+    from lcchain.cli.studies import show_study
+    from lcchain.studies.run import Summary
+
+    terminal = Terminal()
+    monkeypatch.setattr(progress_module.sys, "stderr", terminal)
+    clock.now += 5.0
+    Progress("").update(3, 10, unit="runs")
+    assert not terminal.getvalue().endswith("\n")
+    args = build_parser("batch").parse_args(["batch", "n.cir", "--store", "s.sqlite", "--max-time", "5"])
+    show_study(args, StudyResult(Summary(10, 0, 3, 3, 0, "s.sqlite", 5.0, pending=7)))
+    assert terminal.getvalue().endswith("\x1b[K\n")
+    assert "7 not run: the --max-time of 5 s was spent" in capsys.readouterr().out

@@ -26,7 +26,7 @@ from typing import TYPE_CHECKING, TextIO
 if TYPE_CHECKING:
     from ..app.studies import StudyProgress
 
-__all__ = ["Progress", "duration", "counter", "fraction", "study_counter", "plan_counter", "lines_ended"]
+__all__ = ["Progress", "duration", "counter", "fraction", "study_counter", "plan_counter", "lines_ended", "end_lines"]
 
 #: On a pipe: a line at least this often (seconds), and every this fraction of the work; nothing for work
 #: that ends within QUIET_SECONDS (short work needs no progress).
@@ -42,18 +42,24 @@ _WIDTH = 30
 _open: list[TextIO] = []
 
 
+def end_lines() -> None:
+    """End every progress line left unfinished on a terminal (a study stopped by its time budget, say), so that
+    what is said next starts a line of its own."""
+    while _open:
+        stream = _open.pop()
+        with contextlib.suppress(OSError, ValueError):  # a terminal gone: nothing to end
+            stream.write("\n")
+            stream.flush()
+
+
 @contextlib.contextmanager
 def lines_ended() -> Iterator[None]:
     """Around a command: a progress line it leaves unfinished on a terminal is ended when it returns or raises, so
-    that its error, its interrupt or its summary starts on a line of its own."""
+    that its error or its interrupt starts on a line of its own (:func:`end_lines`)."""
     try:
         yield
     finally:
-        while _open:
-            stream = _open.pop()
-            with contextlib.suppress(OSError, ValueError):  # a terminal gone: nothing to end
-                stream.write("\n")
-                stream.flush()
+        end_lines()
 
 
 def _rate(rate: float) -> str:

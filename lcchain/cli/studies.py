@@ -12,7 +12,7 @@ from ..core.budget import show_seconds
 from ..core.json import LooseJSONObject
 from ..core.types import TRANSPORT_CHOICES
 from .common import EXIT_FAILED, EXIT_OK, budget_from_args, emit_json, registry_name, seconds
-from .progress import plan_counter, study_counter
+from .progress import end_lines, plan_counter, study_counter
 
 __all__ = ["add_study_arguments", "study_options", "study_hooks", "show_study", "table", "format_number", "short"]
 
@@ -68,7 +68,9 @@ def study_hooks(args: argparse.Namespace) -> StudyHooks:
 
 
 def show_study(args: argparse.Namespace, result: StudyResult) -> int:
-    """Print a study's summary (and a worst case's findings): a line, or one JSON object."""
+    """Print a study's summary (and a worst case's findings): a line, or one JSON object, on a line of its own
+    (a progress bar its time budget left unfinished on the terminal is ended first)."""
+    end_lines()
     summary = result.summary
     extra = {} if result.worst_case is None else {"worst_case": result.worst_case}
     if args.json:
