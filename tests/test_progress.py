@@ -28,6 +28,12 @@ def clock(monkeypatch: pytest.MonkeyPatch) -> Clock:
     return fake
 
 
+@pytest.fixture(autouse=True)
+def no_line_left_open(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Each test's own record of the terminal lines left unfinished (lines_ended's), not the previous tests'."""
+    monkeypatch.setattr(progress_module, "_open", [])
+
+
 class Terminal(io.StringIO):
     def isatty(self) -> bool:
         return True
@@ -99,6 +105,8 @@ def test_a_batch_plan_draws_nothing_when_short_and_its_rate_in_plain_digits_when
     last = text.split("\r")[-1]
     assert re.search(r"\] 100000/100000 netlists checked, 33\d\d/s, 30s elapsed\x1b\[K\n$", last), last
     assert "e+" not in text
+    assert [progress_module._rate(rate) for rate in (8.254, 46.94, 99.97, 469.2, 999.7)] == \
+        ["8.25/s", "46.9/s", "100/s", "469/s", "1000/s"]
     assert " 2s elapsed" in text.split("\r")[1]  # first drawn once QUIET_SECONDS have passed
 
 

@@ -63,8 +63,8 @@ def lines_ended() -> Iterator[None]:
 
 
 def _rate(rate: float) -> str:
-    """``8.25/s``, ``469/s``, ``3333/s`` (never ``3.33e+03``)."""
-    return f"{rate:.3g}/s" if rate < 1000 else f"{rate:.0f}/s"
+    """``8.25/s``, ``46.9/s``, ``469/s``, ``3333/s`` (never ``3.33e+03``, nor ``1e+03`` for 999.7)."""
+    return f"{rate:.3g}/s" if rate < 100 else f"{rate:.0f}/s"
 
 
 def duration(seconds: float) -> str:
@@ -162,9 +162,16 @@ def fraction(what: str) -> Callable[[float], None]:
 
 def plan_counter() -> Callable[[int, int], None]:
     """A batch's plan's callback, ``planning(done, total)``: its netlists read, checked and priced before any
-    run (``1024/100000 netlists checked, 3333/s, 2s elapsed, about 30s left``), quiet for a short plan."""
-    progress = Progress("", quiet=True)
-    return lambda done, total: progress.update(done, total, unit="netlists checked")
+    run (``1024/100000 netlists checked, 3333/s, 2s elapsed, about 30s left``), timed from the plan's first
+    word (not from the command's start: a short plan after a slow start stays quiet), quiet for a short plan."""
+    started: list[Progress] = []
+
+    def show(done: int, total: int) -> None:
+        if not started:
+            started.append(Progress("", quiet=True))
+        started[0].update(done, total, unit="netlists checked")
+
+    return show
 
 
 def study_counter(unit: str) -> Callable[[StudyProgress], None]:
