@@ -31,7 +31,7 @@ def clock(monkeypatch: pytest.MonkeyPatch) -> Clock:
 @pytest.fixture(autouse=True)
 def no_line_left_open(monkeypatch: pytest.MonkeyPatch) -> None:
     """Each test's own record of the terminal lines left unfinished (lines_ended's), not the previous tests'."""
-    monkeypatch.setattr(progress_module, "_open", [])
+    monkeypatch.setattr(progress_module, "_open", set())
 
 
 class Terminal(io.StringIO):

@@ -94,11 +94,12 @@ def batch(request: BatchRequest, hooks: StudyHooks | None = None) -> StudyResult
 
         plan: Plan
         told = [0]  # the netlists the plan has said it planned
+        planning = hooks.planning if hooks is not None else None
 
         def progress(done: int) -> None:  # a list that grew since it was counted: never more done than total
             told[0] = done
-            if hooks is not None and hooks.planning is not None:
-                hooks.planning(done, max(count, done))
+            if planning is not None:
+                planning(done, max(count, done))
 
         if streams(options.executor, study_workers(options)):  # its runs in this process: read from disk as they go
             assert options.store is not None
@@ -109,8 +110,8 @@ def batch(request: BatchRequest, hooks: StudyHooks | None = None) -> StudyResult
         else:
             plan = batch_plan(list(request.names()), allow_control=request.allow_control, timeout=options.timeout,
                               budget=budget, strict=request.strict, check=request.check, progress=progress)
-        if 0 < told[0] < count and hooks is not None and hooks.planning is not None:  # a list that shrank: all told
-            hooks.planning(told[0], told[0])
+        if planning is not None and 0 < told[0] < count:  # a list that shrank since it was counted: all told
+            planning(told[0], told[0])
         left = budget.max_seconds - INTERPRETER_SECONDS - (time.monotonic() - started)
         try:
             return run_study(PlannedStudy(plan, max_seconds=max(left, 0.0)), options, budget, hooks,

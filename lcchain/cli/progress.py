@@ -39,7 +39,7 @@ _WIDTH = 30
 
 
 #: The terminals whose last progress line is drawn and not ended (no newline yet).
-_open: list[TextIO] = []
+_open: set[TextIO] = set()
 
 
 def end_lines() -> None:
@@ -131,10 +131,9 @@ class Progress:
                                   "\033[K" + ("\n" if finished else ""))
                 self.stream.flush()
                 if finished:
-                    while self.stream in _open:
-                        _open.remove(self.stream)
-                elif self.stream not in _open:
-                    _open.append(self.stream)
+                    _open.discard(self.stream)
+                else:
+                    _open.add(self.stream)
         elif now - self.start >= QUIET_SECONDS and (new_phase or finished or fraction - self.line[0] >= LINE_FRACTION
                                                      or now - self.line[1] >= LINE_SECONDS):
             self.line = (fraction, now)
