@@ -36,6 +36,13 @@ def _netlists(folder: Path) -> tuple[str, ...]:
     return tuple(paths)
 
 
+def _refused(folder: Path) -> str:
+    """A netlist every batch refuses (a .control block), written in ``folder``."""
+    bad = folder / "bad.cir"
+    bad.write_text("bad\nV1 1 0 1\n.control\nshell true\n.endc\n.tran 1 2\n.end\n")
+    return str(bad)
+
+
 def test_a_run_is_keyed_once_by_the_plan_and_once_where_it_runs(tmp_path: Path,
                                                                 monkeypatch: pytest.MonkeyPatch) -> None:
     """run_plan asks a plan for its keys, rows and fingerprint, and the pricing for its distinct runs: the plan
@@ -158,15 +165,14 @@ def test_a_streamed_batch_stores_the_rows_and_keys_of_the_whole_plan(tmp_path: P
     from lcchain.studies.store import Store
 
     paths = [*_netlists(tmp_path)]
-    bad = tmp_path / "bad.cir"
-    bad.write_text("bad\nV1 1 0 1\n.control\nshell true\n.endc\n.tran 1 2\n.end\n")
-    paths[3:3] = [str(bad), paths[5]]  # a refusal, and a netlist given twice
+    bad = _refused(tmp_path)
+    paths[3:3] = [bad, paths[5]]  # a refusal, and a netlist given twice
     paths[1] = str(tmp_path) + "//./" + Path(paths[1]).name
     monkeypatch.setattr(stream, "HELD", 4)
     store = tmp_path / "s.sqlite"
     first = batch(BatchRequest(tuple(paths), study=StudyOptions(workers=2, store=str(store)))).summary
     assert (first.total, first.ran, first.ok, first.refused, first.skipped) == (COUNT + 1, COUNT, COUNT, 1, 0)
-    assert first.refusals[0][0] == str(bad)
+    assert first.refusals[0][0] == bad
     with Store(store, "read") as stored:
         version = stored.meta()["engine"].split()[-1]
         plan = batch_plan(paths, engine_version=lambda: version)
@@ -278,28 +284,26 @@ def test_a_batch_plan_says_how_many_netlists_it_has_planned(tmp_path: Path, monk
     from lcchain.studies import plan as plans
 
     paths = [*_netlists(tmp_path)]
-    bad = tmp_path / "bad.cir"
-    bad.write_text("bad\nV1 1 0 1\n.control\nshell true\n.endc\n.tran 1 2\n.end\n")
-    paths.insert(3, str(bad))
+    paths.insert(3, _refused(tmp_path))
     told: list[int] = []
-    if streamed:
-        monkeypatch.setattr(stream, "WINDOW", 4)
-        spooled = stream.streamed_batch_plan(paths, lambda: "39", engine_version=lambda: "39", folder=str(tmp_path),
+    monkeypatch.setattr(stream, "WINDOW", 4)
+    monkeypatch.setattr(plans, "PLANNED_EVERY", 4)
+
+    def refusals(names: list[str]) -> int:
+        """The plan's refusals, its progress told to ``told``."""
+        if not streamed:
+            return len(plans.batch_plan(names, engine_version=lambda: "39", progress=told.append).refusals)
+        spooled = stream.streamed_batch_plan(names, lambda: "39", engine_version=lambda: "39", folder=str(tmp_path),
                                              progress=told.append)
         spooled.spool.close()
-        assert len(spooled.refusals) == 1
-    else:
-        monkeypatch.setattr(plans, "PLANNED_EVERY", 4)
-        assert len(plans.batch_plan(paths, engine_version=lambda: "39", progress=told.append).refusals) == 1
+        return len(spooled.refusals)
+
     count = len(paths)
+    assert refusals(paths) == 1
     assert count % 4 and told == [*range(4, count, 4), count]
     told.clear()  # a count the window divides: told once at the end, not twice
     del paths[count - count % 4:]
-    if streamed:
-        stream.streamed_batch_plan(paths, lambda: "39", engine_version=lambda: "39", folder=str(tmp_path),
-                                   progress=told.append).spool.close()
-    else:
-        plans.batch_plan(paths, engine_version=lambda: "39", progress=told.append)
+    refusals(paths)
     assert told == [*range(4, len(paths) + 1, 4)]
 
 
