@@ -12,7 +12,9 @@ bytecode is written and read as an installed lcchain does.  Prints each contende
 to xargs, lcchain's own ``wall_s`` ("runs only") and every round's time, with the load average (1 min) before
 and after.  Where ``perf`` is on the PATH each command runs under ``perf stat -e task-clock``, and the median CPU
 of all its processes (the sandbox, ngspice and the warm workers included; the load changes it less than the wall
-time) is printed beside it.
+time) is printed beside it, with how busy it kept the cores (CPU / (cores x wall)) and its floor: that CPU over
+all the cores, the wall time of a command that kept every core busy from its start to its end, as a ratio to
+xargs' wall time (a command whose floor is past 1.10x cannot be within 10 % of xargs, however it is arranged).
 """
 
 from __future__ import annotations
@@ -81,10 +83,15 @@ def main() -> None:
     print(f"{count} distinct N = {N} netlists, {rounds} rounds; load average (1 min) {load:.2f} before, "
           f"{os.getloadavg()[0]:.2f} after")
     xargs = statistics.median(walls[names[0]])
+    cores = os.cpu_count() or 1
     for name in names:
         median = statistics.median(walls[name])
         runs = f"{statistics.median(inside[name]):.3f}" if inside[name] else "-"
-        cpu = f", CPU {statistics.median(cpus[name]):.3f} s" if cpus[name] else ""
+        cpu = ""
+        if cpus[name]:  # its floor: that CPU spread over every core, all busy all the time
+            used = statistics.median(cpus[name])
+            cpu = (f", CPU {used:.3f} s (the cores {used / (cores * median):.0%} busy; CPU / {cores} cores "
+                   f"{used / cores:.3f} s, {used / cores / xargs:.2f}x xargs)")
         print(f"{name}: {median:.3f} s ({median / xargs:.2f}x xargs){cpu}, runs only {runs} s; each "
               + ", ".join(f"{v:.2f}" for v in walls[name]))
     shutil.rmtree(work)
