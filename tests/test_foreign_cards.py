@@ -182,6 +182,10 @@ CASES: dict[str, Case] = {
         "n.cir": _with(".lib m.lib typ"), "m.lib": f".lib typ\nR9 n1 0 1\n.control\n{TOUCH}\n.endc\n.endl typ\n"}),
     "a .lib section holding a .lib of /etc/passwd": _batch(["m.lib: line 2"], {
         "n.cir": _with(".lib m.lib typ"), "m.lib": ".lib typ\n.lib /etc/passwd x\n.endl typ\n"}),
+    "a .lib section that includes itself": _batch(["m.lib: line 3", "section TYP of this file includes itself"], {
+        "n.cir": _with(".lib m.lib typ"), "m.lib": ".lib typ\nR9 n1 0 1\n.lib m.lib TYP\n.endl typ\n"}),
+    "two .lib sections that include each other": _batch(["m.lib: line 5", "section a of this file includes itself"], {
+        "n.cir": _with(".lib m.lib a"), "m.lib": ".lib a\n.lib m.lib b\n.endl a\n.lib b\n.lib m.lib a\n.endl b\n"}),
 }
 
 
@@ -392,6 +396,23 @@ def test_a_lib_section_and_the_lib_it_holds_are_inlined(tmp_path: Path) -> None:
     assert ".model DX D (is=1e-14 n=1)" in checked and "is=1e-12" not in checked
     assert ".subckt LOAD a b" in checked and ".ends LOAD" in checked
     assert not [line for line in checked.split("\n") if line.lower().startswith(".lib")]
+
+
+@pytest.mark.ngspice
+def test_a_lib_section_may_include_another_section_of_its_own_file(tmp_path: Path) -> None:
+    """A corner library's section often includes a common one of the same file: no cycle, as ngspice reads it.
+    Section B holds R1 and includes section A's R8, both of 1 kOhm across 1 V: 2 mA through V1."""
+    (tmp_path / "m.lib").write_text(".lib A\nR8 a 0 1k\n.endl A\n.lib B\nR1 a 0 1k\n.lib m.lib A\n.endl B\n")
+    netlist = "t\n.lib m.lib B\nV1 a 0 1\n.tran 1u 10u\n.meas tran i1 avg i(V1)\n.end\n"
+    checked = allowed_netlist(netlist, "n.cir", tmp_path, read_include)
+    assert [line for line in checked.split("\n") if line.startswith("R")] == ["R1 a 0 1k", "R8 a 0 1k"]
+    (tmp_path / "n.cir").write_text(netlist)
+    store = tmp_path / "s.sqlite"
+    assert main(["batch", str(tmp_path / "n.cir"), "--store", str(store), "--json"]) == 0
+    with Store(store, "read") as opened:
+        (record,) = opened.runs()
+    assert record.status == "ok"
+    assert math.isclose(record.measurements["i1"], -2e-3, rel_tol=RTOL_DC_SOLVE)
 
 
 @pytest.mark.ngspice

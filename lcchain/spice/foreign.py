@@ -607,7 +607,7 @@ def allowed_netlist(text: str, source: str, folder: Path | None,
 
 
 def _allowed(text: str, source: str, folder: Path | None, read: Callable[[Path, str], str] | None = None,
-             *, _depth: int = 0, _seen: tuple[Path, ...] = (), _left: list[int] | None = None,
+             *, _depth: int = 0, _seen: tuple[tuple[Path, str | None], ...] = (), _left: list[int] | None = None,
              _state: _Names | None = None) -> str:
     """:func:`allowed_netlist`'s check of a netlist (``_depth`` 0) or of a file it includes."""
     text = canonical_text(text, source, title=_depth == 0)  # the one text checked here and run by every transport
@@ -702,7 +702,7 @@ def includes_nothing(text: str) -> bool:
 
 
 def _inline(card: _Card, argument: str, folder: Path | None, read: Callable[[Path, str], str] | None, depth: int,
-            seen: tuple[Path, ...], left: list[int], state: _Names) -> list[str]:
+            seen: tuple[tuple[Path, str | None], ...], left: list[int], state: _Names) -> list[str]:
     name, section = _included(card, argument)
     if folder is None or read is None:
         raise _refuse(card, "a netlist without includes (this netlist has no folder of its own)")
@@ -714,8 +714,12 @@ def _inline(card: _Card, argument: str, folder: Path | None, read: Callable[[Pat
     path = (base / name).resolve()
     if not path.is_relative_to(folder):
         raise _refuse(card, f"an include of a file inside the netlist's folder {folder}")
-    if path in seen:
-        raise _refuse(card, "includes without a cycle (this file includes itself)")
+    # a file, or one .lib section of it (named in any case, as ngspice reads them), already being included: a section
+    # may include another section of its own file (a corner library's typical section includes a common one)
+    place = (path, section.lower() if section is not None else None)
+    if place in seen:
+        raise _refuse(card, "includes without a cycle (this file includes itself)" if section is None else
+                      f"includes without a cycle (section {section} of this file includes itself)")
     included = read(path, f"{card[0]}: line {card[1]}")
     left[0] -= len(included)
     if left[0] < 0:  # the same file included a thousand times is as large as a thousand files
@@ -726,7 +730,7 @@ def _inline(card: _Card, argument: str, folder: Path | None, read: Callable[[Pat
         except ParameterError:
             raise _refuse(card, f"a .lib section that {path.name} holds between .lib {section} and .endl "
                           f"(it has no section {section})") from None
-    body = _allowed(included, str(path), folder, read, _depth=depth + 1, _seen=(*seen, path), _left=left,
+    body = _allowed(included, str(path), folder, read, _depth=depth + 1, _seen=(*seen, place), _left=left,
                     _state=state)
     return [f"* lcchain: {card[2].strip()[:150]}", *body.split("\n")]
 
