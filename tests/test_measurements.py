@@ -152,3 +152,32 @@ def test_a_netlist_run_as_it_is_is_measured_too(tmp_path: Path) -> None:
     with Store(store, "read") as opened:
         (run,) = opened.runs()
     assert run.measurements["trise"] == pytest.approx(RC * math.log(9.0), rel=RTOL_MEASURE_TRAN)
+
+
+#: A measurement of a vector the circuit does not have, beside one it can make: ngspice 39 says "Error: no such
+#: vector as v(nowhere)." and ".meas tran ghost ... failed!", runs on and exits 0.
+GHOST = """\
+RC step, and a measurement of a node it does not have
+V1 in 0 PULSE(0 1 0 1n 1n 1 2)
+R1 in out 1k
+C1 out 0 2u
+.tran 1u 10m
+.meas tran ghost find v(nowhere) at=1m
+.meas tran v_at_rc find v(out) at=2m
+.end
+"""
+
+
+@pytest.mark.parametrize("transport", ["process", "warm"])
+def test_a_measurement_of_a_missing_vector_is_missing_and_the_run_stands(tmp_path: Path, transport: str) -> None:
+    """Its "Error:" line is the measurement's reason, not the run's failure: the run, its waveform and its other
+    measurements are kept, whichever transport ran it."""
+    (tmp_path / "ghost.cir").write_text(GHOST, encoding="utf-8")
+    path = tmp_path / "runs.sqlite"
+    assert main(["batch", str(tmp_path / "ghost.cir"), "--store", str(path), "--transport", transport]) == 0
+    with Store(path, "read") as opened:
+        (run,) = opened.runs()
+    assert run.status == "ok" and run.points is not None and run.points > 0
+    assert run.measurements["ghost"] is None
+    assert "no such vector as v(nowhere)" in run.measure_reasons["ghost"]
+    assert run.measurements["v_at_rc"] == pytest.approx(1.0 - math.exp(-1.0), rel=RTOL_MEASURE_TRAN)

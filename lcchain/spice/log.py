@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import re
 
-__all__ = ["fatal_lines", "failure_reason", "useful_output", "trim_log", "LOG_MAX_CHARS", "ERROR_MAX_LINES"]
+__all__ = ["fatal_lines", "failure_reason", "useful_output", "trim_log", "LOG_MAX_CHARS", "ERROR_MAX_LINES",
+           "MEASURE_FAILED"]
 
 #: At most this many characters of ngspice's output are kept in ``RunResult.log``.
 LOG_MAX_CHARS = 8000
@@ -26,8 +27,19 @@ _BOILERPLATE = re.compile(
 )
 
 
+#: The line ngspice prints after a ``.meas`` it could not make (its reason, an ``Error:`` line, just before it).
+MEASURE_FAILED = re.compile(r"^\s*\.meas\w*\s.*\bfailed!\s*$", re.IGNORECASE)
+_ERROR = re.compile(r"^\s*error\b", re.IGNORECASE)
+
+
 def fatal_lines(log: str) -> list[str]:
-    return list(dict.fromkeys(line.strip() for line in log.splitlines() if _FATAL.search(line)))
+    """The lines of ngspice's output that mean its run failed, each once.  An ``Error:`` line just before a
+    ``.meas ... failed!`` line is that measurement's reason ("no such vector as v(zz)"), not the run's failure:
+    the run stands, and the measurement is missing (:func:`lcchain.spice.measure.read_measurements`)."""
+    lines = [line for line in log.splitlines() if line.strip()]
+    return list(dict.fromkeys(
+        line.strip() for k, line in enumerate(lines) if _FATAL.search(line) and not (
+            _ERROR.match(line) and k + 1 < len(lines) and MEASURE_FAILED.match(lines[k + 1]))))
 
 
 def failure_reason(log: str, fallback: str) -> str:

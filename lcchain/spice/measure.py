@@ -159,6 +159,7 @@ def read_measurements(log: str, names: Iterable[str]) -> dict[str, tuple[float |
         error = re.compile(rf"^\s*Error:\s*measure\s+{re.escape(name)}\s+(.*)$", re.IGNORECASE)
         failed = re.compile(rf"^\s*\.meas\w*\s+\w+\s+{re.escape(name)}\s.*failed!\s*$", re.IGNORECASE)
         reason = said = ""
+        before = ""  # the line before, blank lines aside
         for line in lines:
             match = value.match(line)
             if match:
@@ -167,8 +168,13 @@ def read_measurements(log: str, names: Iterable[str]) -> dict[str, tuple[float |
             match = error.match(line)
             if match and not reason:
                 reason = " ".join(match.group(1).split())
-            if failed.match(line):  # the shared library prints this line, not "Error: measure ..."
-                said = "failed (it printed no reason)"
+            if failed.match(line) and not said:  # the shared library prints this line, not "Error: measure ..."
+                # after an "Error: ..." line that says why ("no such vector as v(zz)."), or after none
+                why = before.strip()
+                said = " ".join(why.split(None, 1)[1].split()) if why.lower().startswith("error:") and \
+                    len(why.split(None, 1)) > 1 else "failed (it printed no reason)"
+            if line.strip():
+                before = line
         else:
             reason = reason or said
             found[name] = (None, f"ngspice: {reason}" if reason else "ngspice printed no value")
