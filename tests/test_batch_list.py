@@ -77,3 +77,22 @@ def test_bad_names_on_standard_input_are_one_line(data: bytes | None, said: str,
     err = done.stderr.decode().strip()
     assert done.returncode == 2 and len(err.splitlines()) == 1 and "--from" in err and said in err, err
     assert not (tmp_path / "s.sqlite").exists()
+
+
+def test_a_byte_order_mark_opens_a_list_and_is_no_part_of_its_first_name(tmp_path: Path) -> None:
+    (tmp_path / "names.txt").write_bytes(b"\xef\xbb\xbfa.cir\nb.cir\n")
+    assert tuple(listed_names(str(tmp_path / "names.txt"))) == ("a.cir", "b.cir")
+
+
+@pytest.mark.ngspice
+def test_a_listed_name_with_a_nul_byte_is_refused_and_the_others_run(tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
+                                                                     capsys: pytest.CaptureFixture[str]) -> None:
+    """A list written by ``find -print0``: its NUL-joined names name no file, refused as a missing one is."""
+    monkeypatch.chdir(tmp_path)
+    names = rc_netlists(tmp_path, 2)
+    Path("names.txt").write_bytes(f"{names[0]}\n{names[1]}\0other.cir\n".encode())
+    assert main(["batch", "--from", "names.txt", "--store", "s.sqlite"]) == 1
+    said = capsys.readouterr().out.splitlines()
+    assert "1 ok" in said[0] and "1 refused" in said[0]
+    assert said[1:] == [f"refused {names[1]}\\x00other.cir: NETLIST = '{names[1]}\\x00other.cir' is not allowed: "
+                        "expected the name of a file (a name holds no NUL byte)"]

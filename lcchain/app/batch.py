@@ -66,6 +66,8 @@ def listed_names(path: str, option: str = "--from") -> Iterator[str]:
             except UnicodeDecodeError as error:  # strict, as read_input: a byte of the list not UTF-8
                 raise ParameterError(option, path, f"UTF-8 text ({error.reason}: byte {data[error.start]:#04x} at "
                                      f"byte {size - len(data) + error.start}, line {number})") from None
+            if number == 1:  # a byte-order mark opens the list, not its first name (as a netlist's is dropped)
+                line = line.removeprefix("\ufeff")
             yield from (name for name in line.splitlines() if name.strip())
 
 

@@ -91,7 +91,8 @@ def show_study(args: argparse.Namespace, result: StudyResult) -> int:
             spent = show_seconds(budget_from_args(args).max_seconds)
             hint += f"; {summary.pending} not run: the --max-time of {spent} was spent, and the same command runs them"
         refused = f", {summary.refused} refused" if summary.refused else ""
-        print(f"{summary.total} runs in {args.store}: {summary.ran} ran now, {summary.skipped} already stored; "
+        print(f"{summary.total} run{'s' if summary.total != 1 else ''} in {args.store}: {summary.ran} ran now, "
+              f"{summary.skipped} already stored; "
               f"{summary.ok} ok, {summary.failed} failed{refused}{combined} ({summary.wall_s:.1f} s){hint}")
         for netlist, reason in summary.refusals:
             print(f"refused {netlist}: {reason}")

@@ -16,7 +16,7 @@ import stat
 from ..core.budget import show_bytes
 from ..core.errors import ParameterError
 
-__all__ = ["read_input", "open_input", "file_kind"]
+__all__ = ["read_input", "open_input", "file_kind", "shown_name"]
 
 
 def file_kind(mode: int) -> str:
@@ -37,6 +37,8 @@ def open_input(path: str | os.PathLike[str], option: str, max_bytes: int) -> int
         fd = os.open(name, os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_CLOEXEC", 0))
     except OSError as error:
         raise ParameterError(option, name, f"a readable file ({error.strerror})") from None
+    except ValueError:  # a NUL byte, which no file's name holds (a list read from `find -print0`, say)
+        raise ParameterError(option, name, "the name of a file (a name holds no NUL byte)") from None
     try:
         info = os.fstat(fd)
         if not stat.S_ISREG(info.st_mode):
@@ -51,6 +53,25 @@ def open_input(path: str | os.PathLike[str], option: str, max_bytes: int) -> int
         os.close(fd)
         raise
     return fd
+
+
+def shown_name(name: str) -> str:
+    """A file's name as lcchain shows and stores it: ``name`` itself when it is printable UTF-8; else each byte of it
+    that is no UTF-8 (a name the system gave as bytes, Latin-1 say) as ``\\xNN`` and each character that is not
+    printable (a newline, an escape) as Python escapes it, so that it stays on one line of a message, in a store's
+    text and on any terminal.  The file itself is opened by its own name."""
+    if name.isprintable():
+        try:
+            name.encode("utf-8")
+        except UnicodeEncodeError:
+            pass
+        else:
+            return name
+    try:
+        text = name.encode("utf-8", "surrogateescape").decode("utf-8", "backslashreplace")
+    except UnicodeEncodeError:  # a surrogate no byte was decoded to
+        text = name.encode("utf-8", "backslashreplace").decode("utf-8")
+    return "".join(c if c.isprintable() else repr(c)[1:-1] for c in text)
 
 
 def read_input(path: str | os.PathLike[str], option: str, max_bytes: int) -> str:

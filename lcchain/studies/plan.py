@@ -61,6 +61,7 @@ from ..spice.foreign import (
     includes_nothing,
     read_foreign,
 )
+from ..spice.inputs import shown_name
 from ..spice.result import read_include
 from ..spice.text import canonical_text
 from .executors import EXECUTOR_TRAITS, executor_cost
@@ -917,23 +918,19 @@ def batch_plan(paths: Sequence[str | Path], *, allow_control: bool = False, back
     refusals = []
     first: ParameterError | None = None
     for index, name in enumerate(paths):
-        path = Path(name)
-        read: list[str] = []
-        try:
-            tasks.append(_batch_task(index, path, read, runs))
-        except ParameterError as error:
-            if strict:
-                raise
+        item, error = _batch_item(index, name, runs, strict)
+        if isinstance(item, Task):
+            tasks.append(item)
+        else:
             first = first or error
-            refusals.append(Refusal(index, FrozenMap({"netlist": str(path)}), str(error),
-                                    _refusal_key(str(path), read[0] if read else ""), path.name))
+            refusals.append(item)
         if progress is not None and (index + 1) % PLANNED_EVERY == 0:
             progress(index + 1)
     if progress is not None and len(paths) % PLANNED_EVERY:
         progress(len(paths))
     if first is not None and not tasks:  # nothing of it can run: bad input, as with strict
         raise first
-    description: dict[str, JSON] = {"command": "batch", "netlists": [str(p) for p in paths],
+    description: dict[str, JSON] = {"command": "batch", "netlists": [shown_name(str(p)) for p in paths],
                                     "allow_control": allow_control, "backend": backend}
     if check:
         description["check"] = True
@@ -967,16 +964,32 @@ class _ForeignRuns:
     check: bool = False
 
 
-def _batch_task(index: int, path: Path, read: list[str], runs: _ForeignRuns) -> Task:
+def _batch_item(index: int, name: str | Path, runs: _ForeignRuns,
+                strict: bool) -> tuple[Task | Refusal, ParameterError | None]:
+    """One netlist of a batch planned: its task, or its refusal and why (raised with ``strict``).  Its row, its
+    label and its messages name it as lcchain shows it (:func:`lcchain.spice.inputs.shown_name`: a name of bytes
+    that are no UTF-8, or with a newline, escaped); the file is read by its own name."""
+    path = Path(name)
+    shown = shown_name(str(path))
+    read: list[str] = []
+    try:
+        return _batch_task(index, path, shown, read, runs), None
+    except ParameterError as error:
+        if strict:
+            raise
+        return (Refusal(index, FrozenMap({"netlist": shown}), str(error), _refusal_key(shown, read[0] if read else ""),
+                        Path(shown).name), error)
+
+
+def _batch_task(index: int, path: Path, shown: str, read: list[str], runs: _ForeignRuns) -> Task:
     """One netlist of a batch checked, priced and made a task, or its refusal raised (``read`` gets its text
-    once read: the refusal's key)."""
+    once read: the refusal's key; ``shown``: its name in the task and in messages)."""
     text = read_include(path, "NETLIST")
     read.append(text)
     # its folder (the real file's) is asked for only to run it there or to find its includes: resolved only then
     folder = path.resolve().parent if runs.trusted or not includes_nothing(text) else path.parent
-    run_text = canonical_text(text, str(path)) if runs.trusted else \
-        allowed_netlist(text, str(path), folder, read_include)
-    return _foreign_task(index, {"netlist": str(path)}, run_text, str(path), path.name, runs,
+    run_text = canonical_text(text, shown) if runs.trusted else allowed_netlist(text, shown, folder, read_include)
+    return _foreign_task(index, {"netlist": shown}, run_text, shown, Path(shown).name, runs,
                          cwd=str(folder) if runs.trusted else None)
 
 

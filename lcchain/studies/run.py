@@ -22,7 +22,7 @@ store
 from __future__ import annotations
 
 import time
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -44,7 +44,7 @@ from .executors import (
     run_groups,
 )
 from .options import Progress, RunHooks, RunOptions
-from .plan import Combination, Plan, Task, _memory, _seconds
+from .plan import Combination, Plan, Refusal, Task, _memory, _seconds
 from .store import Store, engine_text
 from .stream import StreamedPlan
 
@@ -84,7 +84,8 @@ class Summary:
         Runs not started, or stopped, because the study's time budget (``max_seconds``) was spent: not stored, so
         the same command runs them.
     refusals : tuple of (str, str)
-        Each refusal's netlist (as given) and reason, as the store holds them, in the batch's order.
+        Each refusal's netlist (as given) and reason, as the store holds them, in the batch's order: one a refused
+        run (a netlist named twice is one refusal, as it would be one run), so that there are ``refused`` of them.
     """
 
     total: int
@@ -187,11 +188,16 @@ def run_plan(plan: Plan, store: str | Path, options: RunOptions | None = None,
         stored = results.statuses()
     status = {key: stored.get(key, ("pending", ""))[0] for key in keys.values()}
     combined = [status[keys[c.index]] for c in plan.combinations]
-    refusals = tuple((str(r.params.get("netlist", r.label)), stored[r.key][1]) for r in plan.refusals)
+    refusals = tuple((str(r.params.get("netlist", r.label)), stored[r.key][1]) for r in _each_once(plan.refusals))
     return Summary(len(distinct), skipped, done, sum(status[key] == "ok" for key in distinct),
                    sum(status[key] in ("failed", "timeout") for key in distinct), str(store),
                    time.perf_counter() - start, combined.count("ok"), len(combined) - combined.count("ok"),
                    len(todo) - done, sum(status[key] == "refused" for key in distinct), refusals)
+
+
+def _each_once(refusals: Sequence[Refusal]) -> Iterable[Refusal]:
+    """A plan's refusals, each key once, in the batch's order (a netlist named twice is refused once)."""
+    return {refusal.key: refusal for refusal in refusals}.values()
 
 
 def _run_streamed(plan: StreamedPlan, store: str | Path, options: RunOptions, hooks: RunHooks,
@@ -245,7 +251,7 @@ def _run_streamed(plan: StreamedPlan, store: str | Path, options: RunOptions, ho
                     progress(Progress(done, count, failed, time.perf_counter() - start))
         counts = results.status_counts()
         reasons = results.reasons([refusal.key for refusal in plan.refusals])
-    refusals = tuple((str(r.params.get("netlist", r.label)), reasons[r.key]) for r in plan.refusals)
+    refusals = tuple((str(r.params.get("netlist", r.label)), reasons[r.key]) for r in _each_once(plan.refusals))
     return Summary(distinct, skipped, done, counts.get("ok", 0), counts.get("failed", 0) + counts.get("timeout", 0),
                    str(store), time.perf_counter() - start, 0, 0, count - done, counts.get("refused", 0), refusals)
 

@@ -36,8 +36,9 @@ from ..core.json import JSON
 from ..core.types import Backend
 from ..runs.spec import DEFAULT_TIMEOUT, RunSpec
 from ..spice.engines import DEFAULT_ENGINE, ENGINES
+from ..spice.inputs import shown_name
 from .executors import EXECUTOR_TRAITS, executor_cost
-from .plan import Plan, Refusal, Task, _batch_task, _compare_seconds, _ForeignRuns, _refusal_key, _version_of
+from .plan import Plan, Refusal, Task, _batch_item, _compare_seconds, _ForeignRuns, _version_of
 
 if TYPE_CHECKING:
     from .store import Row, SQLValue
@@ -371,20 +372,13 @@ def streamed_batch_plan(paths: Iterable[str | Path], key_version: Callable[[], s
     planned = 0
     try:
         for index, name in enumerate(paths):
-            path = Path(name)
-            given = str(name)
-            read: list[str] = []
-            try:
-                window.append((_batch_task(index, path, read, runs), given))
+            item, error = _batch_item(index, name, runs, strict)
+            window.append((item, shown_name(str(name))))  # with its name as given (as lcchain shows it)
+            if isinstance(item, Task):
                 planned += 1
-            except ParameterError as error:
-                if strict:
-                    raise
+            else:
                 first = first or error
-                refusal = Refusal(index, FrozenMap({"netlist": str(path)}), str(error),
-                                  _refusal_key(str(path), read[0] if read else ""), path.name)
-                refusals.append(refusal)
-                window.append((refusal, given))
+                refusals.append(item)
             if len(window) >= WINDOW:
                 keyed = keyed or key_version()
                 _spool(spool, window, keyed)
