@@ -14,6 +14,7 @@ FSTART multiply by delta while the frequency is at most FSTOP + delta * FSTOP * 
 from __future__ import annotations
 
 import json
+import os
 import sqlite3
 from pathlib import Path
 
@@ -226,3 +227,57 @@ def test_a_foreign_log_sweep_runs_and_stores_as_many_frequencies_as_ngspice_make
     decades = float(words[-1]) / float(words[-2]) >= 10.0
     if card.startswith(".ac dec") and decades and int(find_engine().version.split(".")[0]) >= 39:
         assert arrays["frequency"][-1] == pytest.approx(float(words[-1]), rel=RTOL_AC_SWEEP_STOP)  # FSTOP, exactly included
+
+
+@pytest.mark.ngspice
+def test_names_that_are_no_utf_8_or_hold_a_newline_run_or_are_refused_on_one_line(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """A name of Latin-1 bytes (a legal Linux name) runs, shown and stored with that byte escaped; a refused name
+    holding a newline is still one line of the summary; the JSON counts one refusal per refused run."""
+    folder = os.fsencode(tmp_path)
+    latin = os.fsdecode(folder + b"/caf\xe9.cir")
+    Path(latin).write_text(LADDER)
+    broken = tmp_path / "two\nlines.cir"
+    broken.write_text(LADDER.replace(".end\n", ".control\n.endc\n.end\n"))
+    store = tmp_path / "s.sqlite"
+    assert main(["batch", latin, str(broken), str(broken), "--store", str(store)]) == 1
+    said = capsys.readouterr().out.splitlines()
+    assert said[0].startswith("2 runs in") and "1 ok" in said[0] and "1 refused" in said[0]
+    assert len(said) == 2 and said[1].startswith(f"refused {tmp_path}/two\\nlines.cir: ")
+    assert main(["results", str(store), "--json"]) == 0
+    rows = json.loads(capsys.readouterr().out)
+    assert [row["label"] for row in rows] == ["caf\\xe9.cir", "two\\nlines.cir", "two\\nlines.cir"]
+    store.unlink()
+    assert main(["batch", latin, str(broken), str(broken), "--store", str(store), "--json"]) == 1
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["refused"] == len(summary["refusals"]) == 1
+
+
+@pytest.mark.ngspice
+def test_a_plan_held_in_memory_names_and_counts_its_refusals_as_the_streamed_one(tmp_path: Path) -> None:
+    """The plan a Dask batch holds (``batch_plan``): the same shown names, one refusal per refused run."""
+    latin = os.fsdecode(os.fsencode(tmp_path) + b"/caf\xe9.cir")
+    Path(latin).write_text(LADDER)
+    broken = tmp_path / "two\nlines.cir"
+    broken.write_text(LADDER.replace(".end\n", ".control\n.endc\n.end\n"))
+    plan = batch_plan([latin, str(broken), str(broken)])
+    assert [task.params["netlist"] for task in plan.tasks] == [f"{tmp_path}/caf\\xe9.cir"]
+    assert [task.spec.label for task in plan.tasks] == ["caf\\xe9.cir"]
+    assert [r.params["netlist"] for r in plan.refusals] == [f"{tmp_path}/two\\nlines.cir"] * 2
+    summary = run_plan(plan, tmp_path / "s.sqlite", RunOptions(executor="serial"))
+    assert summary.ok == summary.refused == len(summary.refusals) == 1
+
+
+@pytest.mark.ngspice
+def test_a_store_of_another_batch_says_what_differs(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """The same netlist resumed with --check, then with one more netlist: the refusal names what changed."""
+    (tmp_path / "a.cir").write_text(LADDER)
+    (tmp_path / "b.cir").write_text(LADDER.replace(".tran 0.001 7.7", ".tran 0.001 7.8"))
+    store = str(tmp_path / "s.sqlite")
+    assert main(["batch", str(tmp_path / "a.cir"), "--store", store]) == 0
+    capsys.readouterr()
+    assert main(["batch", str(tmp_path / "a.cir"), "--store", store, "--check"]) == 2
+    assert "; this one differs in check: true, the store's none)" in capsys.readouterr().err
+    assert main(["batch", str(tmp_path / "a.cir"), str(tmp_path / "b.cir"), "--store", store]) == 2
+    said = capsys.readouterr().err  # each list clipped at 80 characters, the message one line
+    assert "; this one differs in netlists: [" in said and "the store's [" in said and said.count("\n") == 1

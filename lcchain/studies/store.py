@@ -152,6 +152,24 @@ Listed: TypeAlias = tuple[str, Callable[[], Iterable[JSON]]]
 _LISTED_HERE = "\x00listed\x00"
 
 
+def _differences(held: JSON, wanted: JSON) -> str:
+    """What differs between the study a store holds and this one, by the descriptions' top-level names (``"; this
+    one differs in check: true, the store's has none"``), or "" when either is no object."""
+    if not isinstance(held, dict) or not isinstance(wanted, dict):
+        return ""
+    names = [name for name in dict.fromkeys([*wanted, *held]) if held.get(name) != wanted.get(name)]
+
+    def shown(where: dict[str, JSON], name: str) -> str:
+        return _clipped(json.dumps(where[name])) if name in where else "none"
+
+    said = "; ".join(f"{name}: {shown(wanted, name)}, the store's {shown(held, name)}" for name in names[:3])
+    return f"; this one differs in {said}" if said else ""
+
+
+def _clipped(text: str, most: int = 80) -> str:
+    return text if len(text) <= most else text[:most - 3] + "..."
+
+
 def _described(description: Mapping[str, JSON], listed: Listed | None) -> str:
     """The description's JSON text, as ``json.dumps`` writes it; a ``listed`` key's list written an item at a
     time (a batch's 100,000 netlists: their text alone, never a Python list of them)."""
@@ -569,18 +587,19 @@ class Store:
         if "plan" not in meta or meta["plan"] == fingerprint:
             return
         try:
-            same = json.loads(meta.get("description", "null")) == json.loads(_described(description, listed))
+            held_plan, this_plan = json.loads(meta.get("description", "null")), json.loads(_described(description,
+                                                                                                       listed))
         except json.JSONDecodeError:
             raise self._tampered("its description is not JSON") from None
-        if same:
+        if held_plan == this_plan:
             held = self._count("SELECT COUNT(*) FROM tasks")
             held_by = meta.get(self._engine_column, "?")
             raise self._refuse("a new store: it holds this very study as another lcchain or engine planned it "
                                f"({held} rows; lcchain {meta.get('lcchain_version', '?')}, {held_by}; now {rows} "
                                f"rows, {engine}), and lcchain never mixes two")
         raise self._refuse("a new store, or the store of this very study: it holds another "
-                           f"({meta.get('description', '?')}, {meta.get(self._engine_column, '?')}), and "
-                           "lcchain never mixes two")
+                           f"({meta.get('description', '?')}, {meta.get(self._engine_column, '?')}"
+                           f"{_differences(held_plan, this_plan)}), and lcchain never mixes two")
 
     def adopt(self, fingerprint: str, description: Mapping[str, JSON],
               tasks: Iterable[tuple[str, Mapping[str, object], str]], engine: str, *,
