@@ -412,7 +412,8 @@ def test_a_lib_section_may_include_another_section_of_its_own_file(tmp_path: Pat
     with Store(store, "read") as opened:
         (record,) = opened.runs()
     assert record.status == "ok"
-    assert math.isclose(record.measurements["i1"], -2e-3, rel_tol=RTOL_DC_SOLVE)
+    current = record.measurements["i1"]
+    assert current is not None and math.isclose(current, -2e-3, rel_tol=RTOL_DC_SOLVE)
 
 
 @pytest.mark.ngspice
