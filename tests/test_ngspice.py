@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import math
+import os
 import random
 import re
 from pathlib import Path
@@ -252,3 +253,15 @@ def test_batch_run_reports_its_progress(monkeypatch) -> None:
     assert seen[0] == 0.0 and seen[-1] == 1.0
     assert any(0.0 < f < 1.0 for f in seen), seen
     assert seen == sorted(seen)
+
+
+def test_a_raw_file_missing_on_a_full_temporary_folder_says_so(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """ngspice writes its raw file to an unnamed file of the temporary folder: when that file system is (nearly)
+    full, the run's failure says where to make room (the statistics of a full one stand in for it: a test mounts
+    nothing)."""
+    with (tmp_path / "raw").open("wb") as raw:
+        assert batch._full(raw.fileno()) == ""  # the test's own folder has room
+        full = os.statvfs_result((4096, 4096, 100, 0, 0, 10, 0, 0, 0, 255))
+        monkeypatch.setattr(batch.os, "fstatvfs", lambda fd: full)
+        said = batch._full(raw.fileno())
+    assert said.startswith(": the temporary folder ") and "(TMPDIR) has 0 B free" in said and "make room" in said

@@ -14,6 +14,7 @@ import tempfile
 import time
 from typing import IO, TYPE_CHECKING
 
+from ...core.budget import show_bytes
 from ...core.errors import SimulationError
 from ..job import Progress, TransportJob
 from ..log import failure_reason, useful_output
@@ -108,11 +109,30 @@ def run_batch(job: TransportJob, simulator: Simulator, place: Place,
         if status != 0:
             raise SimulationError(failure_reason(log, f"ngspice exited with status {status}"), useful_output(log))
         data = read_all(raw)
+        full = _full(fd)
     if not data:
-        raise SimulationError("ngspice wrote no raw file", useful_output(log))
+        raise SimulationError("ngspice wrote no raw file" + full, useful_output(log))
     try:
         columns = read_raw(data, job.plot, joined=job.joined)
     except SimulationError as exc:
-        raise SimulationError(exc.reason, useful_output(log)) from None
+        raise SimulationError(exc.reason + full, useful_output(log)) from None
     return columns, log, wall
+
+
+#: Free space below which a missing or cut raw file is put down to a full temporary folder.
+NEARLY_FULL_BYTES = 1 << 20
+
+
+def _full(fd: int) -> str:
+    """Why a raw file may be missing or cut short, when the file system holding it (the temporary folder) has less
+    than :data:`NEARLY_FULL_BYTES` free: ``": the temporary folder /tmp (TMPDIR) has 4 KiB free"``; else ""."""
+    try:
+        stats = os.fstatvfs(fd)
+    except OSError:
+        return ""
+    free = stats.f_bavail * stats.f_frsize
+    if free >= NEARLY_FULL_BYTES:
+        return ""
+    return (f": the temporary folder {tempfile.gettempdir()} (TMPDIR) has {show_bytes(free)} free, where ngspice "
+            "writes it: make room there, or set TMPDIR to a folder that has some")
 
