@@ -970,26 +970,28 @@ def _batch_item(index: int, name: str | Path, runs: _ForeignRuns,
     label and its messages name it as lcchain shows it (:func:`lcchain.spice.inputs.shown_name`: a name of bytes
     that are no UTF-8, or with a newline, escaped); the file is read by its own name."""
     path = Path(name)
-    shown = shown_name(str(path))
+    given = str(path)
+    shown = shown_name(given)
+    label = path.name if shown is given else Path(shown).name  # the name itself, most often: no second Path
     read: list[str] = []
     try:
-        return _batch_task(index, path, shown, read, runs), None
+        return _batch_task(index, path, shown, label, read, runs), None
     except ParameterError as error:
         if strict:
             raise
         return (Refusal(index, FrozenMap({"netlist": shown}), str(error), _refusal_key(shown, read[0] if read else ""),
-                        Path(shown).name), error)
+                        label), error)
 
 
-def _batch_task(index: int, path: Path, shown: str, read: list[str], runs: _ForeignRuns) -> Task:
+def _batch_task(index: int, path: Path, shown: str, label: str, read: list[str], runs: _ForeignRuns) -> Task:
     """One netlist of a batch checked, priced and made a task, or its refusal raised (``read`` gets its text
-    once read: the refusal's key; ``shown``: its name in the task and in messages)."""
+    once read: the refusal's key; ``shown`` and ``label``: its name in the task and in messages, and its label)."""
     text = read_include(path, "NETLIST")
     read.append(text)
     # its folder (the real file's) is asked for only to run it there or to find its includes: resolved only then
     folder = path.resolve().parent if runs.trusted or not includes_nothing(text) else path.parent
     run_text = canonical_text(text, shown) if runs.trusted else allowed_netlist(text, shown, folder, read_include)
-    return _foreign_task(index, {"netlist": shown}, run_text, shown, Path(shown).name, runs,
+    return _foreign_task(index, {"netlist": shown}, run_text, shown, label, runs,
                          cwd=str(folder) if runs.trusted else None)
 
 

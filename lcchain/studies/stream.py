@@ -2,7 +2,7 @@
 
 :func:`lcchain.studies.plan.batch_plan` keeps every task (its checked text, ~2 KB a run) for the whole batch: 400 MB
 of driver at 100,000 runs.  :func:`streamed_batch_plan` checks, prices and keys every netlist the same way
-(:func:`lcchain.studies.plan._batch_task`, before anything runs: refusals, ``strict`` and the budget as there), but
+(:func:`lcchain.studies.plan._batch_item`, before anything runs: refusals, ``strict`` and the budget as there), but
 keeps nothing of a run in the driver: the names are read as they are planned (a list file's lines, say), each row's
 key, name, price and flags go to :class:`TaskSpool`'s private temporary SQLite database (its page cache bounded),
 and the run itself, past the first :data:`HELD`, is pickled into its unnamed temporary file beside the store
