@@ -4,8 +4,7 @@ from __future__ import annotations
 
 import re
 
-__all__ = ["fatal_lines", "failure_reason", "useful_output", "trim_log", "LOG_MAX_CHARS", "ERROR_MAX_LINES",
-           "MEASURE_FAILED"]
+__all__ = ["fatal_lines", "failure_reason", "useful_output", "trim_log", "LOG_MAX_CHARS", "ERROR_MAX_LINES"]
 
 #: At most this many characters of ngspice's output are kept in ``RunResult.log``.
 LOG_MAX_CHARS = 8000
@@ -28,7 +27,7 @@ _BOILERPLATE = re.compile(
 
 
 #: The line ngspice prints after a ``.meas`` it could not make (its reason, an ``Error:`` line, just before it).
-MEASURE_FAILED = re.compile(r"^\s*\.meas\w*\s.*\bfailed!\s*$", re.IGNORECASE)
+_MEASURE_FAILED = re.compile(r"^\s*\.meas\w*\s.*\bfailed!\s*$", re.IGNORECASE)
 _ERROR = re.compile(r"^\s*error\b", re.IGNORECASE)
 
 
@@ -39,7 +38,7 @@ def fatal_lines(log: str) -> list[str]:
     lines = [line for line in log.splitlines() if line.strip()]
     return list(dict.fromkeys(
         line.strip() for k, line in enumerate(lines) if _FATAL.search(line) and not (
-            _ERROR.match(line) and k + 1 < len(lines) and MEASURE_FAILED.match(lines[k + 1]))))
+            _ERROR.match(line) and k + 1 < len(lines) and _MEASURE_FAILED.match(lines[k + 1]))))
 
 
 def failure_reason(log: str, fallback: str) -> str:

@@ -171,8 +171,8 @@ def read_measurements(log: str, names: Iterable[str]) -> dict[str, tuple[float |
             if failed.match(line) and not said:  # the shared library prints this line, not "Error: measure ..."
                 # after an "Error: ..." line that says why ("no such vector as v(zz)."), or after none
                 why = before.strip()
-                said = " ".join(why.split(None, 1)[1].split()) if why.lower().startswith("error:") and \
-                    len(why.split(None, 1)) > 1 else "failed (it printed no reason)"
+                why = " ".join(why[len("error:"):].split()) if why.lower().startswith("error:") else ""
+                said = why or "failed (it printed no reason)"
             if line.strip():
                 before = line
         else:

@@ -153,8 +153,8 @@ _LISTED_HERE = "\x00listed\x00"
 
 
 def _differences(held: JSON, wanted: JSON) -> str:
-    """What differs between the study a store holds and this one, by the descriptions' top-level names (``"; this
-    one differs in check: true, the store's has none"``), or "" when either is no object."""
+    """What differs between the study a store holds and this one, by the descriptions' top-level names, at most
+    three (``"; this one differs in check: true, the store's none"``), or "" when either is no object."""
     if not isinstance(held, dict) or not isinstance(wanted, dict):
         return ""
     names = [name for name in dict.fromkeys([*wanted, *held]) if held.get(name) != wanted.get(name)]

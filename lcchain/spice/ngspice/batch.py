@@ -135,4 +135,3 @@ def _full(fd: int) -> str:
         return ""
     return (f": the temporary folder {tempfile.gettempdir()} (TMPDIR) has {show_bytes(free)} free, where ngspice "
             "writes it: make room there, or set TMPDIR to a folder that has some")
-
