@@ -281,3 +281,9 @@ def test_a_store_of_another_batch_says_what_differs(tmp_path: Path, capsys: pyte
     assert main(["batch", str(tmp_path / "a.cir"), str(tmp_path / "b.cir"), "--store", store]) == 2
     said = capsys.readouterr().err  # each list clipped at 80 characters, the message one line
     assert "; this one differs in netlists: [" in said and "the store's [" in said and said.count("\n") == 1
+    many = [str(tmp_path / "a.cir")] * 200  # one run, a long description: the message stays a line to read
+    assert main(["batch", *many, "--store", str(tmp_path / "many.sqlite")]) == 0
+    capsys.readouterr()
+    assert main(["batch", *many, "--store", str(tmp_path / "many.sqlite"), "--check"]) == 2
+    said = capsys.readouterr().err
+    assert "differs in check" in said and len(said) < 200 + 2 * len(str(tmp_path)) + 400

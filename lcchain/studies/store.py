@@ -598,7 +598,7 @@ class Store:
                                f"({held} rows; lcchain {meta.get('lcchain_version', '?')}, {held_by}; now {rows} "
                                f"rows, {engine}), and lcchain never mixes two")
         raise self._refuse("a new store, or the store of this very study: it holds another "
-                           f"({meta.get('description', '?')}, {meta.get(self._engine_column, '?')}"
+                           f"({_clipped(meta.get('description', '?'), 200)}, {meta.get(self._engine_column, '?')}"
                            f"{_differences(held_plan, this_plan)}), and lcchain never mixes two")
 
     def adopt(self, fingerprint: str, description: Mapping[str, JSON],
