@@ -169,6 +169,19 @@ C1 out 0 2u
 
 
 @pytest.mark.parametrize("transport", ["process", "warm"])
+def test_a_measurement_named_error_is_a_value_not_a_failure(tmp_path: Path, transport: str) -> None:
+    """ngspice prints it as "error = 6.321206e-01", which a line of ngspice's own errors also starts with."""
+    netlist = GHOST.replace(".meas tran ghost find v(nowhere) at=1m", ".meas tran error find v(out) at=2m")
+    (tmp_path / "named.cir").write_text(netlist, encoding="utf-8")
+    path = tmp_path / "runs.sqlite"
+    assert main(["batch", str(tmp_path / "named.cir"), "--store", str(path), "--transport", transport]) == 0
+    with Store(path, "read") as opened:
+        (run,) = opened.runs()
+    assert run.status == "ok"
+    assert run.measurements["error"] == pytest.approx(1.0 - math.exp(-1.0), rel=RTOL_MEASURE_TRAN)
+
+
+@pytest.mark.parametrize("transport", ["process", "warm"])
 def test_a_measurement_of_a_missing_vector_is_missing_and_the_run_stands(tmp_path: Path, transport: str) -> None:
     """Its "Error:" line is the measurement's reason, not the run's failure: the run, its waveform and its other
     measurements are kept, whichever transport ran it."""

@@ -12,9 +12,10 @@ LOG_MAX_CHARS = 8000
 ERROR_MAX_LINES = 30
 
 # Lines of ngspice output that mean the run failed even when it exits 0 ("Error: measure NAME ..." does not: a
-# .meas ngspice could not make is that measurement's result, missing, with its reason: lcchain.spice.measure).
+# .meas ngspice could not make is that measurement's result, missing, with its reason: lcchain.spice.measure; nor
+# does "error = 6.3e-01", the value of a .meas named error).
 _FATAL = re.compile(
-    r"^\s*error\b(?!:?\s*measure\b)|can't find model|could not find a valid modelname|singular matrix"
+    r"^\s*error\b(?!:?\s*measure\b)(?!\s*=)|can't find model|could not find a valid modelname|singular matrix"
     r"|timestep too small|circuit not parsed|simulation\(s\) aborted|simulation interrupted",
     re.IGNORECASE,
 )
