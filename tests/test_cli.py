@@ -338,3 +338,14 @@ def test_an_error_is_taken_for_ctrl_c_only_when_ctrl_c_caused_it():
             raise TypeError("a bug in a clean-up") from None
     except TypeError as own:
         assert not _from_ctrl_c(own)
+
+
+def test_json_output_is_json_when_a_number_is_not_finite(capsys: pytest.CaptureFixture[str]) -> None:
+    """A mean of values near the largest float overflows: JSON has no infinity, so it is null, not ``Infinity``
+    (which json.loads reads but strict readers, jq and JavaScript's JSON.parse, refuse)."""
+    from lcchain.cli.common import emit_json
+
+    emit_json({"mean": float("inf"), "std": float("nan"), "rows": [1.5, (-float("inf"), 2)], "n": 3})
+    text = capsys.readouterr().out
+    assert json.loads(text, parse_constant=lambda word: pytest.fail(f"{word} in {text}")) == {
+        "mean": None, "std": None, "rows": [1.5, [None, 2]], "n": 3}
