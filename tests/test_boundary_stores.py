@@ -33,7 +33,7 @@ from helpers.netlists import stored_records
 from helpers.processes import descendants, temporary_entries
 
 from lcchain.cli import main
-from lcchain.core.errors import ParameterError
+from lcchain.core.errors import LcchainError, ParameterError
 from lcchain.studies.options import RunOptions
 from lcchain.studies.plan import SweepAxes, sweep_plan
 from lcchain.studies.run import run_plan
@@ -480,3 +480,17 @@ def test_a_dask_sweep_in_process_leaves_nothing_in_the_temporary_folder(tmp_path
     summary = run_plan(sweep_plan(SweepAxes(cases=["two-mass"], Ns=[4], dts=[0.05, 0.04])), tmp_path / "s.sqlite", RunOptions(executor="dask", workers=2))
     assert summary.ok == 2
     assert temporary_entries() - before == set()
+
+
+def test_a_closed_store_says_it_is_closed_not_damaged(tmp_path: Path) -> None:
+    """Used after its with block: the object is closed, the file is intact (it used to be called damaged, with the
+    advice to restore it from a copy)."""
+    path = _store(tmp_path)
+    with Store(path, "read") as store:
+        runs = len(store.runs())
+    for read in (store.runs, store.meta):
+        with pytest.raises(LcchainError, match="this Store was closed") as raised:
+            read()
+        assert "intact" not in str(raised.value) and "restore" not in str(raised.value)
+    with Store(path, "read") as store:
+        assert len(store.runs()) == runs

@@ -514,6 +514,9 @@ class Store:
 
     def _problem(self, error: sqlite3.Error) -> LcchainError:
         said = str(error)
+        if isinstance(error, sqlite3.ProgrammingError) and "closed" in said:  # the object, not the file
+            return LcchainError(f"{self.path}: this Store was closed (its with block, or close(), ended it): open "
+                                "the store again to use it")
         if _cannot_open(error) and _logged(self.path):  # read-only media, a -wal and no -shm
             return self._refuse(f"a store whose write-ahead log SQLite can read ({self.path.name}-wal holds runs "
                                 f"not yet in {self.path.name}, and SQLite cannot share it without "
