@@ -949,8 +949,9 @@ class Store:
     def _shown(self) -> list[tuple[str, object]]:
         try:
             runs = self.light_runs()
-        except ParameterError:  # closed (a with block's store, shown after it), or no longer readable
-            return [("store", str(self.path)), ("runs", "not readable now (closed)")]
+        except LcchainError as error:  # closed (a with block's store, shown after it), or no longer readable
+            why = "closed" if "was closed" in str(error) else "see Store.runs()"
+            return [("store", str(self.path)), ("runs", f"not readable now ({why})")]
         counts: dict[str, int] = {}
         for run in runs:
             counts[run.status] = counts.get(run.status, 0) + 1
