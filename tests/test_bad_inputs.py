@@ -196,6 +196,8 @@ CASES: dict[str, Case] = {
     # (a well-formed name may be a .meas of the store's netlists: checked against the store, test_measurements.py)
     "an unknown summary metric": Case(["results", "s.sqlite", "--summary", "--metric", "speed/s"],
                                       ["--metric", "speed/s"]),
+    "a metric with nothing to show it": Case(["results", "s.sqlite", "--metric", "energy"],
+                                             ["--metric = 'energy'", "only with --summary or --plot"]),
     # ------------------------------------------------------------------ runs that fail, and a missing simulator
     "accuracy not met": Case(["simulate", "--case", "uniform-bounded", "--N", "10", "--accuracy", "1e-9",
                               "--extrapolate", "1"],

@@ -37,7 +37,7 @@ class ResultsRequest:
     csv: bool = False
     summary: bool = False
     plot: str | None = None
-    metric: str = "peak"
+    metric: str | None = None  # None: the first arrival's peak (with --summary or --plot; refused without them)
     netcdf: str | None = None
     parquet: str | None = None
     waveforms: bool = False
@@ -75,8 +75,11 @@ def results(request: ResultsRequest) -> Results:
     outputs.check("--parquet", request.parquet, ("parquet",))
     if request.waveforms and not request.netcdf:
         raise ParameterError("--waveforms", True, "only with --netcdf FILE (the waveforms go into that file)")
-    if request.metric not in STUDY_METRICS and not valid_measure_name(request.metric):  # no store needed to see it
-        raise ParameterError("--metric", request.metric, f"one of {' | '.join(STUDY_METRICS)}, or the name of a "
+    if request.metric is not None and not (request.summary or request.plot):  # as --waveforms without --netcdf
+        raise ParameterError("--metric", request.metric, "only with --summary or --plot (what they show)")
+    metric = request.metric if request.metric is not None else "peak"
+    if metric not in STUDY_METRICS and not valid_measure_name(metric):  # no store needed to see it
+        raise ParameterError("--metric", metric, f"one of {' | '.join(STUDY_METRICS)}, or the name of a "
                              ".meas of the store's netlists")
     if request.parquet:
         _require("pyarrow", "--parquet")
@@ -84,9 +87,9 @@ def results(request: ResultsRequest) -> Results:
         _price_results(store, request)
         stored = store.runs()
         if request.summary or request.plot:
-            check_metric(request.metric, stored)  # before any file is written
-        if request.plot and request.metric not in STUDY_METRICS:
-            raise ParameterError("--metric", request.metric, f"one of {', '.join(STUDY_METRICS)} with --plot (a "
+            check_metric(metric, stored)  # before any file is written
+        if request.plot and metric not in STUDY_METRICS:
+            raise ParameterError("--metric", metric, f"one of {', '.join(STUDY_METRICS)} with --plot (a "
                                  "measurement's distribution is printed by --summary --metric NAME)")
         beside: list[str] = []  # scipy's netCDF3 has no groups: the waveforms' own files
         if request.netcdf:
@@ -101,7 +104,7 @@ def results(request: ResultsRequest) -> Results:
             from ..report.files import save_figure
             from ..report.studies import study_figure
 
-            figure = study_figure(store, request.metric)
+            figure = study_figure(store, metric)
             outputs.write("--plot", lambda path: save_figure(figure, path, dpi=150))
         runs = [run.to_dict() for run in stored]
         written = [path for option, path in (("--plot", request.plot), ("--netcdf", request.netcdf),
@@ -109,7 +112,7 @@ def results(request: ResultsRequest) -> Results:
         found = Results(stored, runs, written=written + beside, failed=list(outputs.failed),
                         notes=list(outputs.notes))
         if request.summary:
-            return Results(stored, runs, groups=[group.to_dict() for group in peak_groups(stored, request.metric)],
+            return Results(stored, runs, groups=[group.to_dict() for group in peak_groups(stored, metric)],
                            constants=study_constants(stored), written=found.written, failed=found.failed,
                            notes=found.notes)
         if request.json:

@@ -32,7 +32,7 @@ def add_parser(sub: Subcommands, budget: list[Parser]) -> None:
                         "5th percentile, median, best); with --json or --csv in that form")
     p.add_argument("--plot", metavar="FILE",
                    help="figure: Fig. delta for a sweep over N, histograms of the samples (one per combination)")
-    p.add_argument("--metric", default="peak", metavar="{" + ",".join(STUDY_METRICS) + "} or NAME",
+    p.add_argument("--metric", metavar="{" + ",".join(STUDY_METRICS) + "} or NAME",
                    help="what --summary and the samples' --plot show: the first arrival's peak I_N/I_1(0) "
                         "(default); after a kick the energy fraction at that peak, peak^2 L_N/L_1, or the energy "
                         "lost, 1 - that (drawn on a log scale); of an AC analysis: omega (max relative error of "
@@ -105,8 +105,8 @@ def _print_summary(found: Results, args: argparse.Namespace) -> None:
             "loss": "first-arrival energy lost (1 - peak^2 L_N/L_1)",
             "omega": "AC: max |omega_n - theory| / theory (relative)", "P": "AC: max |P_n - theory| (absolute)",
             "spacing": "AC: spacing spread (max - min) / mean of delta omega_n"}.get(
-                args.metric, f"the netlists' measurement {args.metric} (.meas; runs that could not measure it "
-                "left out)")
+                args.metric or "peak", f"the netlists' measurement {args.metric} (.meas; runs that could not "
+                "measure it left out)")
     by = f"by {', '.join(map(short, keys))}" if keys else "over all its runs"
     shared = ", ".join(f"{short(k)} = {format_number(v)}" for k, v in found.constants.items())
     print(f"{args.store}: {what} {by}" + (f" ({shared} throughout)" if shared else "") +
