@@ -287,3 +287,18 @@ def test_a_store_of_another_batch_says_what_differs(tmp_path: Path, capsys: pyte
     assert main(["batch", *many, "--store", str(tmp_path / "many.sqlite"), "--check"]) == 2
     said = capsys.readouterr().err
     assert "differs in check" in said and len(said) < 200 + 2 * len(str(tmp_path)) + 400
+
+
+@pytest.mark.ngspice
+def test_a_summary_of_runs_that_all_failed_says_so_not_to_resume(tmp_path: Path,
+                                                                  capsys: pytest.CaptureFixture[str]) -> None:
+    """Two voltage sources in parallel fail in ngspice; a .control is refused: both finished, neither ok, and the
+    same command would not run them again."""
+    (tmp_path / "loop.cir").write_text("two sources in parallel\nV1 a 0 1\nV2 a 0 2\nR1 a 0 1k\n.tran 1u 10u\n.end\n")
+    (tmp_path / "control.cir").write_text(LADDER.replace(".end\n", ".control\n.endc\n.end\n"))
+    store = str(tmp_path / "s.sqlite")
+    assert main(["batch", str(tmp_path / "loop.cir"), str(tmp_path / "control.cir"), "--store", store]) == 1
+    capsys.readouterr()
+    assert main(["results", store, "--summary", "--metric", "peak"]) == 2
+    said = capsys.readouterr().err
+    assert "none did: 1 failed, 1 refused" in said and "--retry-failed" in said and "resume" not in said

@@ -119,6 +119,15 @@ def check_metric(metric: str, runs: list[StoredRun], option: str = "--metric") -
                              "spacing are an AC analysis's)")
     finished = [run for run in runs if run.status == "ok" and not run.member]
     if not finished:
+        ended: dict[str, int] = {}
+        for run in runs:
+            if run.status not in ("ok", "pending") and not run.member:
+                ended[run.status] = ended.get(run.status, 0) + 1
+        if ended:  # the same command would not run them again: say so, and where to read why
+            counts = ", ".join(f"{count} {status}" for status, count in sorted(ended.items()))
+            raise ParameterError(option, metric, f"a store with runs that finished ok (none did: {counts}; "
+                                 "`lcchain results STORE` says why, and the study's command with --retry-failed "
+                                 "runs the failed ones again)")
         raise ParameterError(option, metric, "a store with finished runs (none has finished yet: run the study's "
                              "command again to resume it)")
     raise ParameterError(option, metric, f"a store of runs with a theory to compare with; its {len(finished)} "
