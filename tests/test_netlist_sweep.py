@@ -166,6 +166,8 @@ def test_draws_follow_their_distribution() -> None:
     (["--vary", "C1=1u"], "vary the .param it uses instead: cv"),
     (["--vary", "R1=1k", "--N", "5"], "nothing with --netlist"),
     (["--vary", "R1=1k", "--tolerance", "0.05"], "nothing with --netlist"),
+    (["--vary", "R1=1k", "--L0", "-5"], "--L0 = -5.0 is not allowed: expected nothing with --netlist"),
+    (["--vary", "R1=1k", "--C0", "1e-9"], "--C0 = 1e-09 is not allowed: expected nothing with --netlist"),
     ([], "at least one --vary"),
 ])
 def test_a_bad_vary_is_one_line_naming_the_option_and_nothing_is_stored(tmp_path: Path, capsys, argv: list[str],

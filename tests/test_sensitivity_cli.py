@@ -198,6 +198,8 @@ def test_worst_case_searches_the_box_and_runs_its_worst_in_ngspice(capsys, tmp_p
     (["sweep", "{parts}", "--worst-case", "--store", "{tmp}/w.sqlite"], "effects.coil_capacitance"),
     (["sweep", "{scene}", "--worst-case", "--transits", "2", "--store", "{tmp}/w.sqlite"], "--transits"),
     (["sweep", "{scene}", "--transits", "2", "--store", "{tmp}/w.sqlite"], "--transits"),
+    (["sweep", "{scene}", "--vary", "chain.N=10", "--C0", "-4", "--store", "{tmp}/w.sqlite"], "--C0 = -4.0"),
+    (["sweep", "{scene}", "--worst-case", "--L0", "1e-3", "--store", "{tmp}/w.sqlite"], "--L0 = 0.001"),
     (["sweep", "{scene}", "--worst-case", "everything", "--store", "{tmp}/w.sqlite"], "--worst-case"),
     (["sweep", "--worst-case", "{scene}", "--store", "{tmp}/w.sqlite"], "the scene goes before it"),
 ])

@@ -43,8 +43,8 @@ class SweepRequest:
     excitation: list[Excitation] | None = None
     analysis: str = "transient"
     points: int | None = None
-    L0: float = DEFAULT_L0
-    C0: float = DEFAULT_C0
+    L0: float | None = None  # None: DEFAULT_L0 (and given with SCENE.toml or --netlist, refused: theirs hold)
+    C0: float | None = None  # None: DEFAULT_C0
     backend: Backend = "batch"
     engine: str | None = None
     vary: list[str] = field(default_factory=list)
@@ -133,7 +133,7 @@ def _netlist_sweep(request: SweepRequest, budget: Budget) -> PlannedStudy:
                             ("--engine", request.engine), ("--points", request.points),
                             ("--tolerance", request.tolerance),
                             ("--series", request.series), ("--transits", request.transits),
-                            ("--excitation", request.excitation),
+                            ("--excitation", request.excitation), ("--L0", request.L0), ("--C0", request.C0),
                             ("--analysis", request.analysis if analysis_kind(request.analysis).swept else None))
              if v is not None]
     if given:
@@ -172,8 +172,8 @@ def _parts_sweep(request: SweepRequest, budget: Budget) -> Plan:
                                              ("analysis.transits", request.transits or [1]),
                                              ("excitation.kind", request.excitation or ["kick"])]
     base = case_scene(CasePoint(cases[0], Ns[0], dt=request.dt[0] if request.dt else None,
-                                accuracy=request.accuracy[0] if request.accuracy else None, L0=request.L0,
-                                C0=request.C0, engine=request.engine or DEFAULT_ENGINE))
+                                accuracy=request.accuracy[0] if request.accuracy else None,
+                                L0=_bulk(request)[0], C0=_bulk(request)[1], engine=request.engine or DEFAULT_ENGINE))
     if request.extrapolate is not None:
         base["analysis"]["extrapolate"] = request.extrapolate
     base["analysis"]["backend"] = request.backend
@@ -187,10 +187,17 @@ def _parts_sweep(request: SweepRequest, budget: Budget) -> Plan:
 
 
 def _scene_says(request: SweepRequest) -> tuple[tuple[str, LooseJSON], ...]:
-    """The options a scene file says itself (its analysis, drive and transport): given with SCENE.toml, refused."""
+    """The options a scene file says itself (its analysis, drive, transport and bulk units): given with SCENE.toml,
+    refused."""
     return (("--analysis", request.analysis if analysis_kind(request.analysis).swept else None),
             ("--transits", request.transits), ("--excitation", request.excitation),
-            ("--backend", None if request.backend == BACKENDS[0] else request.backend))
+            ("--backend", None if request.backend == BACKENDS[0] else request.backend),
+            ("--L0", request.L0), ("--C0", request.C0))
+
+
+def _bulk(request: SweepRequest) -> tuple[float, float]:
+    """The chain's bulk inductance and capacitance (henry, farad): the options', or lcchain's defaults."""
+    return (request.L0 if request.L0 is not None else DEFAULT_L0, request.C0 if request.C0 is not None else DEFAULT_C0)
 
 
 def _worst_case(request: SweepRequest, budget: Budget) -> PlannedStudy:
@@ -229,8 +236,8 @@ def _transient_sweep(request: SweepRequest, budget: Budget, pool: ProcessPoolExe
                              "or --accuracy)")
     axes = SweepAxes(cases=request.case or [], Ns=request.N or [],
                      dts=request.dt or ([] if request.accuracy else [0.05]), accuracies=request.accuracy or [],
-                     transits=request.transits or [1], excitations=request.excitation or ["kick"], L0=request.L0,
-                     C0=request.C0, backend=request.backend, timeout=request.study.timeout,
+                     transits=request.transits or [1], excitations=request.excitation or ["kick"], L0=_bulk(request)[0],
+                     C0=_bulk(request)[1], backend=request.backend, timeout=request.study.timeout,
                      extrapolate=request.extrapolate, engine=request.engine or DEFAULT_ENGINE)
     return sweep_plan(axes, Planning(budget, study_workers(request.study)), pool=pool)
 
@@ -243,8 +250,8 @@ def _ac_sweep(request: SweepRequest, budget: Budget, pool: ProcessPoolExecutor |
     if given:
         raise ParameterError(given[0], getattr(request, given[0].lstrip("-")), "nothing with --analysis ac (a "
                              "transient's option; an AC sweep has --points)")
-    axes = SpectrumAxes(cases=request.case or [], Ns=request.N or [], points=request.points, L0=request.L0,
-                        C0=request.C0, timeout=request.study.timeout, engine=request.engine or DEFAULT_ENGINE)
+    axes = SpectrumAxes(cases=request.case or [], Ns=request.N or [], points=request.points, L0=_bulk(request)[0],
+                        C0=_bulk(request)[1], timeout=request.study.timeout, engine=request.engine or DEFAULT_ENGINE)
     return spectrum_sweep_plan(axes, Planning(budget, study_workers(request.study)))
 
 

@@ -98,9 +98,9 @@ def add_sweep_arguments(p: argparse.ArgumentParser) -> None:
                         "against theory) from an AC sweep")
     p.add_argument("--points", type=int, help="with --analysis ac: frequencies of each sweep (default: twice the "
                                               "fewest that separate every pole)")
-    p.add_argument("--L0", type=number_type("--L0"), default=DEFAULT_L0,
+    p.add_argument("--L0", type=number_type("--L0"),
                    help=f"bulk inductance, henry (default {DEFAULT_L0:g})")
-    p.add_argument("--C0", type=number_type("--C0"), default=DEFAULT_C0,
+    p.add_argument("--C0", type=number_type("--C0"),
                    help=f"bulk capacitance, farad (default {DEFAULT_C0:g})")
     p.add_argument("--backend", choices=BACKEND_CHOICES, default="batch", metavar="BACKEND",
                    help="how ngspice runs: %(choices)s (default %(default)s)")
