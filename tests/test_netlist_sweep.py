@@ -162,6 +162,7 @@ def test_draws_follow_their_distribution() -> None:
     (["--vary", "R1=normal:1k:5%"], "--samples N with a distribution"),
     (["--vary", "R1=1k", "--samples", "3"], "a --vary with a distribution"),
     (["--vary", "R1=1k", "--vary", "r1=2k"], "each name once"),
+    (["--vary", "R1=1k,1000,2k"], "each value once (value 2, 1000, is value 1, 1k: the same run)"),
     (["--vary", "R7=1k"], "defines no R7: it has .param names: cv, unused; C, K, L, R elements: C1, R1"),
     (["--vary", "C1=1u"], "vary the .param it uses instead: cv"),
     (["--vary", "R1=1k", "--N", "5"], "nothing with --netlist"),

@@ -676,12 +676,15 @@ def parse_vary(text: str) -> tuple[str, list[object]]:
                              "is empty)")
     import tomllib  # with datetime, 5 to 10 ms: a sweep's --vary only, not a batch's start
 
+    from .vary import each_once
+
     parsed = []
     for raw in entries:
         try:
             parsed.append(tomllib.loads(f"v = {raw.strip()}")["v"])
         except tomllib.TOMLDecodeError:
             parsed.append(raw.strip())  # a bare word: a string (two-mass, gaussian)
+    each_once(parsed, entries, text)
     return key, parsed
 
 
@@ -795,7 +798,14 @@ def scene_sweep_plan(path: str | Path | Mapping[str, LooseJSON], varies: Sequenc
     if parts.applied({})["effects"]:
         base = parts.applied(base)
     keys = [key for key, _ in varies]
-    varied_keys = {part for key in keys for part in key.split("+")}
+    named: dict[str, str] = {}
+    for key in keys:  # one key in two --vary: the product would set it twice, and keep only the last
+        for part in key.split("+"):
+            if part in named:
+                raise ParameterError("--vary", key, f"each scene key once (--vary {named[part]}=... names {part} "
+                                     "already)")
+            named[part] = key
+    varied_keys = set(named)
     for key, other in (("analysis.dt", "accuracy"), ("analysis.accuracy", "dt")):
         if key in varied_keys and isinstance(base.get("analysis"), dict):
             base["analysis"].pop(other, None)  # varying one of the exclusive pair replaces the other (or its default)

@@ -37,8 +37,8 @@ from ..core.checks import integer
 from ..core.errors import ParameterError
 from ..core.limits import MAX_NETLIST_VARIANTS
 
-__all__ = ["Distribution", "DistributionKind", "Vary", "SPREADS", "DRAWS", "parse_netlist_vary", "variant_points",
-           "spice_number_exact", "RESERVED", "DEFAULT_SEED"]
+__all__ = ["Distribution", "DistributionKind", "Vary", "SPREADS", "DRAWS", "parse_netlist_vary", "each_once",
+           "variant_points", "spice_number_exact", "RESERVED", "DEFAULT_SEED"]
 
 #: The seed of the draws when none is given (a resumed sweep must draw the same values).
 DEFAULT_SEED = 0
@@ -224,7 +224,18 @@ def parse_netlist_vary(text: str) -> Vary:
         raise ParameterError("--vary", text, f"{_ALLOWED} (value {empty} of {len(entries)} is empty)")
     if len(entries) > MAX_NETLIST_VARIANTS:
         raise ParameterError("--vary", text, f"at most {MAX_NETLIST_VARIANTS} values")
-    return Vary(name, text, tuple(spice_number_exact(entry, "--vary", text) for entry in entries))
+    values = tuple(spice_number_exact(entry, "--vary", text) for entry in entries)
+    each_once(values, entries, text)
+    return Vary(name, text, values)
+
+
+def each_once(values: Sequence[object], entries: Sequence[str], text: str) -> None:
+    """Refuse a list that gives one value twice (``1k,1000``: one run, which a summary would count twice)."""
+    for k, value in enumerate(values):
+        for j in range(k):
+            if type(values[j]) is type(value) and values[j] == value:
+                raise ParameterError("--vary", text, f"each value once (value {k + 1}, {entries[k]}, is value "
+                                     f"{j + 1}, {entries[j]}: the same run)")
 
 
 def _stream(seed: int, name: str) -> np.random.SeedSequence:
