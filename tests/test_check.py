@@ -239,7 +239,10 @@ def test_check_json_and_exit_codes(tmp_path: Path, capsys: pytest.CaptureFixture
     assert data["predicted_error"] > 0 and data["suggested_step"] > 0 and data["reference_seconds"] > 0
     assert PREDICTION_BAND[0] <= data["max_abs_error"] / data["predicted_error"] <= PREDICTION_BAND[1]
     assert main(["check", str(path), "--accuracy", "1e-9"]) == 1  # ngspice's error at 1 us is ~1e-6
-    assert "exceeds --accuracy" in capsys.readouterr().out
+    said = capsys.readouterr().out
+    assert "exceeds --accuracy" in said
+    # the step it suggests is the card's TMAX, its TSTART the user's own (not a 0 in its place)
+    assert "(the .tran card's TMAX: .tran TSTEP TSTOP TSTART " in said and ".tran TSTEP TSTOP 0 " not in said
 
 
 @pytest.mark.ngspice

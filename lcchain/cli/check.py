@@ -72,7 +72,8 @@ def cmd_check(args: argparse.Namespace) -> int:
               f"({result.prediction})")
         need = ("none: the predicted error stays above it down to tstop * 1e-9 (the exact reference's rounding, "
                 f"{_g(result.rounding)}, may be the floor)") if result.suggested_step is None else \
-            f"{result.suggested_step:.3g} s (.tran TSTEP TSTOP 0 {result.suggested_step:.3g})"
+            f"{result.suggested_step:.3g} s (the .tran card's TMAX: .tran TSTEP TSTOP TSTART " \
+            f"{result.suggested_step:.3g})"
         print(f"step for a relative accuracy of {result.accuracy:g}: {need}")
     for note in result.notes:
         print(f"note: {note}")
