@@ -302,3 +302,6 @@ def test_a_summary_of_runs_that_all_failed_says_so_not_to_resume(tmp_path: Path,
     assert main(["results", store, "--summary", "--metric", "peak"]) == 2
     said = capsys.readouterr().err
     assert "none did: 1 failed, 1 refused" in said and "--retry-failed" in said and "resume" not in said
+    assert main(["results", store, "--json"]) == 0
+    engines = {row["status"]: (row["engine"], row["engine_version"]) for row in json.loads(capsys.readouterr().out)}
+    assert engines["refused"] == ("ngspice", "") and engines["failed"][0] == "ngspice" and engines["failed"][1]

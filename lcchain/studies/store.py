@@ -193,8 +193,8 @@ def engine_text(engine: str, version: str) -> str:
 def engine_of(text: str) -> tuple[str, str]:
     """(engine, version) from :func:`engine_text`'s text, or from a format-1 store's column, where ngspice's
     version stood alone (``"39"``: ngspice versions hold no space)."""
-    engine, _, version = text.partition(" ")
-    return (engine, version) if version else (DEFAULT_ENGINE, text)
+    engine, space, version = text.partition(" ")  # "ngspice ": a refused run's, which no engine ran (version "")
+    return (engine, version) if space else (DEFAULT_ENGINE, text)
 
 
 def _uri(path: Path, immutable: bool) -> str:
