@@ -421,3 +421,16 @@ def test_a_scene_sweep_takes_the_timeout_given(scene_from: str) -> None:
     assert all(task.spec.timeout > 0.5 for task in free.tasks)
     assert all(task.spec.timeout == 0.5 for task in limited.tasks)
     assert [task.spec.key("39") for task in limited.tasks] == [task.spec.key("39") for task in free.tasks]
+
+
+def test_a_summary_group_of_one_run_has_no_spread(serial_store: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """Every group of a plain sweep holds one run: its ddof-1 standard deviation is undefined (null, a blank
+    cell), not 0, which would read as no spread at all."""
+    capsys.readouterr()
+    assert main(["results", str(serial_store), "--summary", "--json"]) == 0
+    groups = json.loads(capsys.readouterr().out)
+    assert len(groups) == 12 and all(g["n"] == 1 and g["std"] is None and g["mean"] is not None for g in groups)
+    assert main(["results", str(serial_store), "--summary", "--csv"]) == 0
+    rows = capsys.readouterr().out.splitlines()
+    std = rows[0].split(",").index("std")
+    assert all(row.split(",")[std] == "" for row in rows[1:])

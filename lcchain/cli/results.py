@@ -110,7 +110,7 @@ def _print_summary(found: Results, args: argparse.Namespace) -> None:
     by = f"by {', '.join(map(short, keys))}" if keys else "over all its runs"
     shared = ", ".join(f"{short(k)} = {format_number(v)}" for k, v in found.constants.items())
     print(f"{args.store}: {what} {by}" + (f" ({shared} throughout)" if shared else "") +
-          "; n finished runs, std over them (ddof 1)")
+          "; n finished runs, std over them (ddof 1; none for one run)")
     print(table([*map(short, keys), *stats], rows))
 
 

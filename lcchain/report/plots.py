@@ -612,7 +612,7 @@ def histogram(values: ArrayLike, *, theory: float | None = None, title: str = ""
 
     ax.hist(values, bins="auto", color="C0", alpha=0.75, edgecolor="white", linewidth=0.5)
     mean = float(values.mean())
-    std = float(values.std(ddof=1)) if values.size > 1 else 0.0
+    std = f"{float(values.std(ddof=1)):.3g}" if values.size > 1 else "none (one sample)"  # ddof 1: no spread of one
     worst = float(values.min())
     ax.axvline(worst, color="C3", linestyle="--", linewidth=1.0, label=f"worst {worst:.5g}")
     if theory is not None:
@@ -622,7 +622,7 @@ def histogram(values: ArrayLike, *, theory: float | None = None, title: str = ""
     ax.grid(True, **_GRID)
     # Right of the axes, with the numbers as its title: the lines cross the whole height, the bars any corner.
     ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, title_fontsize=8, alignment="left",
-              title=f"n = {values.size}\nmean = {mean:.5g}\nstd = {std:.3g}")
+              title=f"n = {values.size}\nmean = {mean:.5g}\nstd = {std}")
     if title:
         set_title(ax, title)
     return _finish(fig, path)

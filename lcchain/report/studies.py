@@ -164,7 +164,9 @@ def samples_figure(groups: list[Group], title: str = "", xlabel: str = _AXIS["pe
                 name = str(g.params.get(hue)) if hue else "samples"
                 worst = stats["max"] if log else stats["min"]  # a loss is worst at its largest
                 ax.hist(g.peaks, bins=bins, color=colour, alpha=0.55, edgecolor="white", linewidth=0.4,
-                        label=f"{name}: {stats['mean']:.4g} ± {stats['std']:.2g}, worst {worst:.4g}")
+                        label=f"{name}: {stats['mean']:.4g}"
+                        + (f" ± {stats['std']:.2g}" if stats["std"] is not None else " (one sample)")
+                        + f", worst {worst:.4g}")
                 ax.axvline(stats["mean"], color=colour, linewidth=1.0)
                 value = nominal[next(i for i, other in enumerate(groups) if other is g)]
                 if value is not None and log and value < span[0]:  # a perfect cradle's nominal loss: 0 or ~1e-16

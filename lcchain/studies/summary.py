@@ -56,13 +56,14 @@ class Group:
     failed: int
 
     def stats(self) -> dict[str, float | None]:
-        """n, failed, mean, std (ddof 1), min, p05, median, max of the peaks (None when there are none)."""
+        """n, failed, mean, std (ddof 1: None for a single value, which has no spread to estimate), min, p05,
+        median, max of the peaks (None when there are none)."""
         p = self.peaks
         if p.size == 0:
             return {"n": 0, "failed": self.failed, "mean": None, "std": None, "min": None, "p05": None,
                     "median": None, "max": None}
         return {"n": int(p.size), "failed": self.failed, "mean": float(p.mean()),
-                "std": float(p.std(ddof=1)) if p.size > 1 else 0.0, "min": float(p.min()),
+                "std": float(p.std(ddof=1)) if p.size > 1 else None, "min": float(p.min()),
                 "p05": float(np.percentile(p, 5)), "median": float(np.median(p)), "max": float(p.max())}
 
     def to_dict(self) -> JSONDict:
