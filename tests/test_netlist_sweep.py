@@ -303,3 +303,18 @@ def test_a_refused_netlist_is_not_offered_batchs_allow_control(tmp_path: Path, c
     err = capsys.readouterr().err
     assert code == 2 and ".control" in err and "--allow-control" not in err and "allow-list accepts" in err
     assert not (tmp_path / "s.sqlite").exists()
+
+
+@pytest.mark.ngspice
+def test_a_summary_axis_named_as_a_statistic_keeps_its_own_column(tmp_path: Path, capsys) -> None:
+    """A .param called mean, varied: its summary column is vary_mean, so that a CSV reader keeps both."""
+    path = tmp_path / "rc.cir"
+    path.write_text("RC step\n.param mean = 1k\nV1 in 0 PULSE(0 1 0 1n 1n 1 2)\nR1 in out {mean}\nC1 out 0 1u\n"
+                    ".tran 10u 2m\n.meas tran v_at find v(out) at=1m\n.end\n")
+    store = str(tmp_path / "s.sqlite")
+    assert main(["sweep", "--netlist", str(path), "--vary", "mean=1k,2k", "--store", store]) == 0
+    capsys.readouterr()
+    assert main(["results", store, "--summary", "--metric", "v_at", "--csv"]) == 0
+    rows = list(csv.DictReader(io.StringIO(capsys.readouterr().out)))
+    assert [(float(row["vary_mean"]), int(row["n"])) for row in rows] == [(1e3, 1), (2e3, 1)]
+    assert float(rows[0]["mean"]) == pytest.approx(1.0 - math.exp(-1.0), rel=RTOL_MEASURE_TRAN)

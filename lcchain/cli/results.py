@@ -86,6 +86,9 @@ def _print_summary(found: Results, args: argparse.Namespace) -> None:
         return
     keys = list(dict.fromkeys(key for group in groups for key in group["params"]))
     stats = ["n", "failed", "mean", "std", "min", "p05", "median", "max"]
+    # an axis named as a statistic (a .param mean) is vary_mean here, as a varied name that is a run's own field is
+    # in the runs' table: a CSV header with one name twice loses a column in csv.DictReader and pandas
+    columns = [f"vary_{key}" if key in stats else key for key in keys]
     def rows_with(digits: str) -> list[list[str]]:
         return [[format_number(group["params"].get(key)) for key in keys]
                 + [str(group[s]) if s in ("n", "failed") else format_number(group[s], digits) for s in stats]
@@ -97,7 +100,7 @@ def _print_summary(found: Results, args: argparse.Namespace) -> None:
     if args.csv:
         text = io.StringIO()
         writer = csv.writer(text, lineterminator="\n")
-        writer.writerow([*keys, *stats])
+        writer.writerow([*columns, *stats])
         writer.writerows(rows)
         sys.stdout.write(text.getvalue())
         return
@@ -111,7 +114,7 @@ def _print_summary(found: Results, args: argparse.Namespace) -> None:
     shared = ", ".join(f"{short(k)} = {format_number(v)}" for k, v in found.constants.items())
     print(f"{args.store}: {what} {by}" + (f" ({shared} throughout)" if shared else "") +
           "; n finished runs, std over them (ddof 1; none for one run)")
-    print(table([*map(short, keys), *stats], rows))
+    print(table([*map(short, columns), *stats], rows))
 
 
 #: The widest parameter cell of ``results``' table (longer values are cut in their middle).
