@@ -133,5 +133,8 @@ def test_a_batch_of_tran_and_ac_netlists_goes_to_cf_netcdf_in_two_groups(tmp_pat
                 name = vector.replace("(", "_").replace(")", "")
                 np.testing.assert_array_equal(ac[f"{name}_real"].values, values.real)
                 np.testing.assert_array_equal(ac[f"{name}_imag"].values, values.imag)
+                # a foreign netlist's phasors are for its sources' own AC magnitudes, not per volt
+                assert "per volt" not in ac[f"{name}_real"].attrs["long_name"]
+                assert "AC magnitudes of the circuit's sources" in ac[f"{name}_real"].attrs["long_name"]
     held = sum(values.nbytes for arrays in stored.values() for values in arrays.values())
     assert (tmp_path / "s.nc").stat().st_size < held + 64 * 1024  # the points, once, and headers

@@ -70,7 +70,8 @@ def cmd_results(args: argparse.Namespace) -> int:
         if found.written:
             combined = sum(run.kind == "combined" for run in stored)
             tasks = len({run.key for run in stored if run.kind != "combined"})
-            print(f"{args.store}: {tasks} runs" + (f" and {combined} extrapolated from them" if combined else "")
+            print(f"{args.store}: {tasks} run{'s' if tasks != 1 else ''}"
+                  + (f" and {combined} extrapolated from them" if combined else "")
                   + f" written to {', '.join(found.written)}")
     else:
         _print_runs(found, args.store)

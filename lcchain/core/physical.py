@@ -10,7 +10,8 @@ from __future__ import annotations
 import math
 import re
 
-__all__ = ["physical_scales", "seconds", "hertz", "si_text", "units_sentence", "variable_name", "vector_units"]
+__all__ = ["physical_scales", "seconds", "hertz", "si_text", "units_sentence", "variable_name", "vector_units",
+           "PHASOR_SCALE"]
 
 
 def seconds(t: float, L0: float, C0: float) -> float:
@@ -64,6 +65,11 @@ def variable_name(vector: str) -> str:
     """A saved vector's name as a variable (netCDF, xarray): ``i(l1)`` -> ``i_l1``, ``v(n3)`` -> ``v_n3`` (letters,
     digits, ``_``)."""
     return re.sub(r"[^A-Za-z0-9_]+", "_", vector).strip("_") or "_"
+
+
+#: What an AC run's phasors are relative to (a netCDF variable's long_name says it): ngspice's ``.ac`` drives each
+#: source at its own AC magnitude, 1 V in the circuits lcchain writes, a foreign netlist's as written.
+PHASOR_SCALE = "for the AC magnitudes of the circuit's sources (1 V in lcchain's own circuits)"
 
 
 def vector_units(vector: str) -> str:

@@ -165,8 +165,8 @@ def record_figure(record: Recorded, ax: Axes | None = None) -> Figure:
     kind = analysis_kind(run.analysis)
     x, vectors, xlabel = run.data.axis, run.vectors, f"{kind.axis} ({kind.axis_units})"
     for name, values in vectors.items():
-        if kind.swept:  # complex phasors per volt of the source
-            ax.loglog(x, np.abs(values), label=f"|{name}| ({vector_units(name)} per V)")
+        if kind.swept:  # complex phasors, for the sources' AC magnitudes (1 V in lcchain's own circuits)
+            ax.loglog(x, np.abs(values), label=f"|{name}| ({vector_units(name)})")
         else:
             ax.plot(x, values, label=f"{name} ({vector_units(name)})")
     ax.set_xlabel(xlabel)

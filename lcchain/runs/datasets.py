@@ -16,7 +16,7 @@ import numpy as np
 
 from ..core.analyses import analysis_kind
 from ..core.extras import dataset_attrs, optional_module
-from ..core.physical import variable_name, vector_units
+from ..core.physical import PHASOR_SCALE, variable_name, vector_units
 
 # The records give their parts (this module sits below the modules that define them: they import it on first use).
 if TYPE_CHECKING:
@@ -74,7 +74,7 @@ def record_dataset(run: RunResult | None, signals: Signals | None, summary: Mapp
             for part in ("real", "imag"):
                 variables[f"{variable_name(name)}_{part}"] = (
                     "frequency", np.asarray(getattr(phasor, part), dtype=float),
-                    {"units": vector_units(name), "long_name": f"{name}, {part} part per volt of the source"})
+                    {"units": vector_units(name), "long_name": f"{name}, {part} part of its phasor, {PHASOR_SCALE}"})
     attrs = dataset_attrs({key: value for key, value in summary.items() if key != "log_tail"})
     return make_dataset("RunRecord.to_xarray", variables, coords, attrs)
 

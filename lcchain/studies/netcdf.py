@@ -8,7 +8,8 @@
   know (their ``long_name`` says so), the engine's name and version as two variables, and the CF global
   attributes (``Conventions``, ``title``, ``history``, ``source``, ``institution``-free);
 * with waveforms, one group per kind of run: ``transient`` (time in s, currents in A, voltages in V), ``ac``
-  (frequency in Hz, each phasor as ``NAME_real`` and ``NAME_imag``, per volt of the source) and ``extrapolated``
+  (frequency in Hz, each phasor as ``NAME_real`` and ``NAME_imag``, for the AC magnitudes of the circuit's sources:
+  1 V in lcchain's own circuits, a foreign netlist's own) and ``extrapolated``
   (an extrapolation's combined signals, dimensionless).  No transient is ever complex, no AC vector is ever
   mixed with a time axis.
 
@@ -29,7 +30,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..core import __version__
-from ..core.physical import variable_name, vector_units
+from ..core.physical import PHASOR_SCALE, variable_name, vector_units
 from ..runs.datasets import Variable
 from .store import Store
 from .stored import StoredRun
@@ -80,7 +81,7 @@ def _group(kind: str, runs: list[tuple[StoredRun, dict[str, np.ndarray]]], axes:
                                      if vector in arrays else np.full(arrays[axis].size, np.nan)
                                      for _, arrays in runs])
             name = variable_name(vector) + (f"_{part}" if part else "")
-            what = f"{vector}{f', {part} part per volt of the source' if part else ''}"
+            what = f"{vector}{f', {part} part of its phasor, {PHASOR_SCALE}' if part else ''}"
             units = "1" if group.scaled else vector_units(vector)
             data[name] = ("obs", values, {"units": units, "long_name": what})
     data["row_size"] = ("run", sizes, {"long_name": "number of points of each run", "sample_dimension": "obs",
