@@ -2,6 +2,7 @@
 the usage status (2, naming the extra; not ngspice's 3), and ``lcchain doctor`` never asks to install what it found."""
 
 import json
+import os
 import pickle
 import subprocess
 import sys
@@ -136,3 +137,18 @@ def test_monte_carlo_options_name_the_option_value_and_range(capsys, tmp_path, m
     _, err = capsys.readouterr()
     assert message in err, err
     assert sorted(p.name for p in tmp_path.iterdir()) == ["cradle.toml"]
+
+
+def test_doctor_with_a_wrong_library_path_says_to_fix_the_variable_and_lists_only_usable_transports(tmp_path):
+    """NGSPICE_LIBRARY_PATH names the one library looked for: the fix is the variable, not a package to install;
+    and the engine's line no longer lists the shared transport as if it worked."""
+    code = ("from lcchain.spice.doctor import doctor; import json; "
+            "print(json.dumps({c.name: [c.ok, c.detail, c.fix] for c in doctor()}))")
+    env = {**os.environ, "NGSPICE_LIBRARY_PATH": str(tmp_path / "missing.so")}
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=tmp_path, env=env)
+    assert proc.returncode == 0, proc.stderr
+    checks = json.loads(proc.stdout)
+    assert checks["ngspice shared library"][0] is False
+    assert checks["ngspice shared library"][2] == "unset NGSPICE_LIBRARY_PATH, or point it at libngspice.so.0"
+    ok, detail, _ = checks["engine ngspice"]
+    assert ok and "transports batch (shared: not usable here, see above)" in detail

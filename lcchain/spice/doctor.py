@@ -5,12 +5,13 @@ from __future__ import annotations
 
 import functools
 import math
+import os
 import subprocess
 import sys
 from collections.abc import Callable
 from dataclasses import dataclass
 
-from ..core.errors import SimulationError
+from ..core.errors import ParameterError, SimulationError, SimulatorMissingError
 from ..core.types import Backend
 from .engines import DEFAULT_ENGINE, ENGINES, find_engine, run_engine
 from .job import RunJob
@@ -82,8 +83,15 @@ def _engine_run(name: str) -> str:
     error = abs(float(result.vectors["i(l1)"][-1]) - math.cos(1.0))
     if error > _DOCTOR_ATOL:
         raise SimulationError(f"i(l1)(1 s) differs from cos(1) by {error:.3g}")
-    transports = ", ".join(ENGINES[name].user_transports())
-    return (f"{simulator.executable} ({name} {simulator.version}; transports {transports})"
+    usable, missing = [], []
+    for transport in ENGINES[name].user_transports():  # each found, as a run on it would find it
+        try:
+            find_engine(name, transport)
+            usable.append(transport)
+        except (SimulatorMissingError, ParameterError):
+            missing.append(transport)
+    unusable = f" ({', '.join(missing)}: not usable here, see above)" if missing else ""
+    return (f"{simulator.executable} ({name} {simulator.version}; transports {', '.join(usable)}{unusable})"
             f", a run: |i - cos t| = {error:.1e}")
 
 
@@ -132,7 +140,10 @@ def doctor() -> list[Check]:
                         f"{sandbox.why_not}; lcchain batch runs foreign netlists without it (allow-list only)",
                         "" if sandbox.available else "sudo apt-get install bubblewrap", required=False))
     library_fix = LIBRARY_INSTALL_COMMAND if have_exe else INSTALL_COMMAND  # not the ngspice just found
-    have_lib = attempt("ngspice shared library", f"install the library: {library_fix}", find_shared_library,
+    if os.environ.get("NGSPICE_LIBRARY_PATH"):  # the one library looked for: the variable's, not a package's
+        library_fix = "unset NGSPICE_LIBRARY_PATH, or point it at libngspice.so.0"
+    have_lib = attempt("ngspice shared library", library_fix if os.environ.get("NGSPICE_LIBRARY_PATH") else
+                       f"install the library: {library_fix}", find_shared_library,
                        required=False)
     have_pyspice = attempt("PySpice", PYSPICE_INSTALL_COMMAND + " (only the shared backend needs it)",
                            _pyspice_version, required=False)
