@@ -194,3 +194,22 @@ def test_a_measurement_of_a_missing_vector_is_missing_and_the_run_stands(tmp_pat
     assert run.measurements["ghost"] is None
     assert "no such vector as v(nowhere)" in run.measure_reasons["ghost"]
     assert run.measurements["v_at_rc"] == pytest.approx(1.0 - math.exp(-1.0), rel=RTOL_MEASURE_TRAN)
+
+
+def test_a_measurement_named_as_a_study_metric_is_summarised_in_a_batch(tmp_path: Path,
+                                                                        capsys: pytest.CaptureFixture[str]) -> None:
+    """A batch's runs give no first-arrival peak of their own: --metric peak is its netlists' .meas peak there."""
+    for k, resistance in enumerate(("1k", "2k")):
+        (tmp_path / f"n{k}.cir").write_text(GHOST.replace(".meas tran ghost find v(nowhere) at=1m",
+                                                          ".meas tran peak max v(out)").replace("1k", resistance))
+    store = str(tmp_path / "s.sqlite")
+    assert main(["batch", str(tmp_path / "n0.cir"), str(tmp_path / "n1.cir"), "--store", store]) == 0
+    capsys.readouterr()
+    assert main(["results", store, "--summary", "--metric", "peak"]) == 0
+    said = capsys.readouterr().out
+    assert "the netlists' measurement peak" in said and "first-arrival" not in said
+    assert main(["results", store, "--summary", "--metric", "peak", "--json"]) == 0
+    groups = json.loads(capsys.readouterr().out)
+    # a 10 ms step through RC = 2 and 4 ms: the largest v(out) is 1 - exp(-10 / RC)
+    assert sorted(g["max"] for g in groups) == pytest.approx(sorted(1.0 - math.exp(-10.0 / rc) for rc in (2.0, 4.0)),
+                                                             rel=RTOL_MEASURE_TRAN)

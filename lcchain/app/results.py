@@ -49,7 +49,8 @@ class Results:
     """The store's runs (:class:`lcchain.studies.stored.StoredRun`) and their JSON, and what the request shows:
     ``groups`` and ``constants`` (a summary), ``runs_json`` (``--json``: arrival times also in seconds),
     ``rows`` (``--csv``), ``axes`` and each finished run's ``vectors`` (the table); ``written`` the files
-    written, ``failed`` the options whose file could not be, and ``notes`` the lines that say why."""
+    written, ``failed`` the options whose file could not be, and ``notes`` the lines that say why; ``measured``:
+    the summary's metric is a ``.meas`` of the netlists."""
 
     stored: list[StoredRun]
     runs: list[LooseJSONObject]
@@ -62,12 +63,13 @@ class Results:
     written: list[str] = field(default_factory=list)
     failed: list[str] = field(default_factory=list)
     notes: list[str] = field(default_factory=list)
+    measured: bool = False  # the summary's metric is one of the netlists' .meas (a .meas peak of a batch, say)
 
 
 def results(request: ResultsRequest) -> Results:
     from ..spice.measure import valid_measure_name
     from ..studies.store import Store
-    from ..studies.summary import check_metric, peak_groups, study_axes, study_constants
+    from ..studies.summary import check_metric, is_measurement, peak_groups, study_axes, study_constants
 
     outputs = Outputs(inputs={"STORE": request.store})
     outputs.check("--plot", request.plot, FIGURE_FORMATS)
@@ -114,7 +116,7 @@ def results(request: ResultsRequest) -> Results:
         if request.summary:
             return Results(stored, runs, groups=[group.to_dict() for group in peak_groups(stored, metric)],
                            constants=study_constants(stored), written=found.written, failed=found.failed,
-                           notes=found.notes)
+                           notes=found.notes, measured=is_measurement(metric, stored))
         if request.json:
             return Results(stored, runs, runs_json=_with_seconds(runs, store), written=found.written,
                            failed=found.failed, notes=found.notes)

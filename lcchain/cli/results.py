@@ -108,9 +108,9 @@ def _print_summary(found: Results, args: argparse.Namespace) -> None:
     what = {"peak": "first-arrival peak (max I_N/I_1(0))", "energy": "first-arrival energy fraction (peak^2 L_N/L_1)",
             "loss": "first-arrival energy lost (1 - peak^2 L_N/L_1)",
             "omega": "AC: max |omega_n - theory| / theory (relative)", "P": "AC: max |P_n - theory| (absolute)",
-            "spacing": "AC: spacing spread (max - min) / mean of delta omega_n"}.get(
-                args.metric or "peak", f"the netlists' measurement {args.metric} (.meas; runs that could not "
-                "measure it left out)")
+            "spacing": "AC: spacing spread (max - min) / mean of delta omega_n"}.get(args.metric or "peak", "")
+    if found.measured or not what:
+        what = f"the netlists' measurement {args.metric} (.meas; runs that could not measure it left out)"
     by = f"by {', '.join(map(short, keys))}" if keys else "over all its runs"
     shared = ", ".join(f"{short(k)} = {format_number(v)}" for k, v in found.constants.items())
     print(f"{args.store}: {what} {by}" + (f" ({shared} throughout)" if shared else "") +

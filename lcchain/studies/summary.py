@@ -23,7 +23,7 @@ from ..core.types import STUDY_METRICS, StudyMetric
 from .stored import StoredRun, study_axes, study_constants
 
 __all__ = ["Group", "peak_groups", "METRICS", "available_metrics", "measurement_names", "study_axes", "study_constants",
-           "check_metric"]
+           "check_metric", "is_measurement"]
 
 #: What a group summarises, by name: a transient's first arrival's current peak, its energy fraction (kick only),
 #: or the energy lost on the way, 1 - energy fraction (best on a log scale: it spans decades between designs);
@@ -76,12 +76,13 @@ def measurement_names(runs: list[StoredRun]) -> list[str]:
                               for name in run.measurements))
 
 
-def _value(run: StoredRun, metric: str) -> float | None:
+def _value(run: StoredRun, metric: str, measured: bool = False) -> float | None:
     """The run's value of a metric (None where it has none: a pulse's energy, a transient's spacing, a
-    measurement ngspice could not make); a name not in :data:`METRICS` is one of the netlist's measurements."""
-    if metric not in METRICS:
-        measured = run.measurements.get(metric)
-        return None if measured is None else float(measured)
+    measurement ngspice could not make); a name not in :data:`METRICS`, or any with ``measured``, is one of the
+    netlist's measurements."""
+    if measured or metric not in METRICS:
+        value = run.measurements.get(metric)
+        return None if value is None else float(value)
     field, where = METRICS[metric]
     metrics = run.metrics or {}
     if where == "arrival":
@@ -98,6 +99,12 @@ def available_metrics(runs: list[StoredRun]) -> list[str]:
     return [metric for metric in METRICS if any(_value(run, metric) is not None for run in finished)]
 
 
+def is_measurement(metric: str, runs: list[StoredRun]) -> bool:
+    """Whether ``metric`` names one of the netlists' ``.meas`` in this store: a name that is none of :data:`METRICS`,
+    or one that is (a ``.meas peak``) in a store whose runs give no metric of their own (a batch of netlists)."""
+    return metric in measurement_names(runs) and (metric not in METRICS or not available_metrics(runs))
+
+
 def check_metric(metric: str, runs: list[StoredRun], option: str = "--metric") -> None:
     """Refuse a metric the store's runs cannot give, before anything is printed or drawn.
 
@@ -108,7 +115,7 @@ def check_metric(metric: str, runs: list[StoredRun], option: str = "--metric") -
         the runs have no theory to give one (a batch of netlists).
     """
     measured = measurement_names(runs)
-    if metric not in METRICS and metric in measured:
+    if is_measurement(metric, runs):
         return
     choice(option, metric, (*METRICS, *measured))
     available = available_metrics(runs)
@@ -166,10 +173,11 @@ def peak_groups(runs: list[StoredRun], metric: str = "peak") -> list[Group]:
         The first arrival's current peak, its energy fraction, or 1 - that fraction (runs without one, i.e.
         not kicked, are left out of the groups' values); or an AC run's spectral metric (:data:`METRICS`); or
         the name of a netlist's ``.meas`` (a batch: its runs that could not measure it are left out of the
-        values; a name of :data:`METRICS` means that metric).
+        values; a name of :data:`METRICS` means that metric, unless the runs give none and measured it:
+        :func:`is_measurement`).
     """
-    name = metric if metric not in METRICS and metric in measurement_names(runs) else \
-        choice("metric", metric, STUDY_METRICS)
+    measured = is_measurement(metric, runs)
+    name = metric if measured else choice("metric", metric, STUDY_METRICS)
     results = [run for run in runs if not run.member]
     every = study_axes(results)
     drawn = _drawn(results, every)
@@ -188,8 +196,8 @@ def peak_groups(runs: list[StoredRun], metric: str = "peak") -> list[Group]:
         if run.status in ("failed", "timeout", "refused"):
             failed[key] += 1
         elif run.status == "ok":
-            peak = _value(run, name)
-            if peak is not None and metric == "loss":
+            peak = _value(run, name, measured)
+            if peak is not None and metric == "loss" and not measured:
                 peak = 1.0 - peak
             if peak is not None:
                 peaks[key].append(peak)
