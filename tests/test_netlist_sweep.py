@@ -15,6 +15,7 @@ import csv
 import io
 import json
 import math
+import warnings
 from pathlib import Path
 
 import pytest
@@ -25,7 +26,7 @@ from lcchain.core.errors import ParameterError
 from lcchain.spice.foreign import allowed_netlist
 from lcchain.spice.variants import find_target, netlist_targets, with_values
 from lcchain.studies.options import RunOptions
-from lcchain.studies.plan import NetlistSweep, netlist_sweep_plan
+from lcchain.studies.plan import NetlistSweep, UnphysicalValueWarning, netlist_sweep_plan
 from lcchain.studies.run import run_plan
 from lcchain.studies.store import Store
 from lcchain.studies.vary import parse_netlist_vary, variant_points
@@ -318,3 +319,17 @@ def test_a_summary_axis_named_as_a_statistic_keeps_its_own_column(tmp_path: Path
     rows = list(csv.DictReader(io.StringIO(capsys.readouterr().out)))
     assert [(float(row["vary_mean"]), int(row["n"])) for row in rows] == [(1e3, 1), (2e3, 1)]
     assert float(rows[0]["mean"]) == pytest.approx(1.0 - math.exp(-1.0), rel=RTOL_MEASURE_TRAN)
+
+
+def test_a_sweep_that_gives_an_element_a_value_no_part_has_warns_and_plans_it(tmp_path: Path) -> None:
+    """ngspice runs a resistor of -1k as written (a model's tool): the sweep plans it, and says so once; a .param
+    (cv) may be any number, and a grid of real values says nothing."""
+    path = _netlist(tmp_path)
+    with pytest.warns(UnphysicalValueWarning, match=r"--vary R1=lin:-1k:1k:3: 2 of 3 runs give R1 a value no real "
+                      r"part has \(a value > 0 is, and not -1000\)"):
+        plan = netlist_sweep_plan(path, [parse_netlist_vary("R1=lin:-1k:1k:3")], NetlistSweep(engine_version=lambda: "39"))
+    assert len(plan.tasks) == 3
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        netlist_sweep_plan(path, [parse_netlist_vary("R1=lin:1k:2k:3"), parse_netlist_vary("cv=-1u,1u")],
+                           NetlistSweep(engine_version=lambda: "39"))

@@ -70,13 +70,14 @@ if TYPE_CHECKING:
     from concurrent.futures import Executor
 
     from ..runs.request import Request, RequestPlan
+    from ..spice.variants import Target
     from .vary import Vary
 
 # A plan of foreign netlists (lcchain batch) needs none of the chains, requests and scenes: they load in the
 # functions that plan them, so that a batch starts without them (issue 35, tests/test_imports.py).
 
 __all__ = ["Task", "Combination", "Refusal", "Plan", "sweep_plan", "spectrum_sweep_plan", "scene_sweep_plan",
-           "case_scene", "request_plan", "batch_plan", "netlist_sweep_plan", "parse_vary"]
+           "case_scene", "request_plan", "batch_plan", "netlist_sweep_plan", "parse_vary", "UnphysicalValueWarning"]
 
 
 @dataclass(frozen=True)
@@ -1058,6 +1059,39 @@ class NetlistSweep:
         callback("engine_version", self.engine_version)
 
 
+class UnphysicalValueWarning(UserWarning):
+    """A sweep gives an element a value no real part has (a capacitance of 0 or less, a coupling beyond 1)."""
+
+
+#: What a real part's value is, by element letter: ngspice runs a capacitor of -1 uF, or a K line of 1.5, as written
+#: (the first has uses in models, the second ends in "timestep too small"); a sweep that writes one says so.
+_REAL_PART: dict[str, tuple[str, Callable[[float], bool]]] = {
+    **{letter: ("> 0", lambda value: value > 0) for letter in "RLC"},
+    "K": ("of magnitude at most 1", lambda value: abs(value) <= 1)}
+
+
+def _warn_unphysical(varies: Sequence[Vary], found: Mapping[str, Target], points: Sequence[Mapping[str, float]]
+                     ) -> None:
+    """Warn (one line each) where a sweep writes an element a value no real part has: a capacitance of 0 or
+    less (a wide normal: draw, a lin: grid through 0), a coupling beyond 1.  The runs go as written: ngspice
+    runs them, and a negative element is a model's tool; :func:`lcchain.runs.check` refuses them (its exact
+    reference needs real parts)."""
+    import warnings
+
+    for vary in varies:
+        target = found[vary.column]
+        rule = _REAL_PART.get(target.name[:1].upper()) if target.kind == "element" else None
+        if rule is None:
+            continue
+        wanted, real = rule
+        values = [point[vary.column] for point in points if vary.column in point]
+        odd = [value for value in values if not real(value)]
+        if odd:
+            warnings.warn(f"--vary {vary.spec}: {len(odd)} of {len(values)} runs give {target.name} a value no real "
+                          f"part has (a value {wanted} is, and not {odd[0]:.6g}); ngspice runs them as written",
+                          UnphysicalValueWarning, stacklevel=2)
+
+
 def netlist_sweep_plan(path: str | Path, varies: Sequence[Vary], options: NetlistSweep | None = None,
                        planning: Planning | None = None) -> Plan:
     """A foreign netlist's ``.param`` or element values varied (``lcchain sweep --netlist FILE --vary ...``): one
@@ -1095,6 +1129,7 @@ def netlist_sweep_plan(path: str | Path, varies: Sequence[Vary], options: Netlis
     analysis_of(base, source, version)  # a netlist without an analysis lcchain reads is bad input, not a refusal
     targets = netlist_targets(base)
     found = {vary.column: find_target(targets, vary.name, shown=vary.spec) for vary in varies}
+    _warn_unphysical(varies, found, points)
     tasks: list[Task] = []
     refusals: list[Refusal] = []
     first: ParameterError | None = None
