@@ -219,10 +219,10 @@ def test_a_spectrum_given_by_hand():
 @pytest.mark.parametrize(("frequencies", "field", "words"), [
     ([0.0, 1.0, 1.0, 2.0], "frequencies[2]", "strictly ascending"),
     ([0.0, 2.0, 1.0], "frequencies[2]", "strictly ascending"),
-    ([-1.0, 1.0, 2.0], "frequencies", ">= 0"),
+    ([-1.0, 1.0, 2.0], "frequencies[0]", ">= 0"),
     ([0.0, 1.0], "frequencies", "at least 3"),
-    ([0.0, float("nan"), 2.0], "frequencies", "finite"),
-    ([0.0, 1.0, float("inf")], "frequencies", "finite"),
+    ([0.0, float("nan"), 2.0], "frequencies[1]", "finite"),  # the value that is not finite, named
+    ([0.0, 1.0, float("inf")], "frequencies[2]", "finite"),
     ("0 1 2", "frequencies", "ascending"),
 ])
 def test_spectra_without_a_chain_are_refused(frequencies, field, words):

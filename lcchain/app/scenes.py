@@ -10,7 +10,7 @@ from pathlib import Path
 from typing import TypedDict
 
 from ..core.budget import Budget
-from ..core.checks import instance
+from ..core.checks import instance, integer
 from ..core.errors import ParameterError
 from ..report.files import check_output
 from ..report.scenes import check_scene_outputs, write_scene_outputs
@@ -63,9 +63,11 @@ class SceneRun:
     def __post_init__(self) -> None:
         if not isinstance(self.write_outputs, bool):
             raise ParameterError("write_outputs", self.write_outputs, "True or False")
-        if self.workers is not None and (not isinstance(self.workers, int) or isinstance(self.workers, bool)
-                                         or self.workers < 1):
-            raise ParameterError("--workers", self.workers, "an integer >= 1")
+        if self.workers is not None:  # stored as an int (a numpy integer is one too)
+            object.__setattr__(self, "workers", integer("--workers", self.workers, at_least=1))
+        from ..studies.executors import check_transport
+
+        check_transport(self.transport)
         for option, path in self.others().items():
             if path is not None:
                 check_output(option, path)  # a file name, not a number or bytes

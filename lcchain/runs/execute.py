@@ -572,6 +572,7 @@ def execute(spec: RunSpec, simulator: Simulator | None = None, *,
         another engine's.
     """
     instance("spec", spec, RunSpec)
+    instance("simulator", simulator, Simulator, optional=True)
     start = time.perf_counter()
     simulator = simulator if simulator is not None else find_engine(spec.engine, spec.backend)
     if simulator.engine != spec.engine:

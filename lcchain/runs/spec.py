@@ -145,7 +145,7 @@ class Theory:
                                      "them (the damping is not proportional to the mass matrix)")
         check_pulse(self.excitation, self.pulse, EXCITATION_KINDS, PULSE_SHAPES)
         choice("probes", self.probes, PROBES)
-        integer("transits", self.transits, at_least=1, at_most=MAX_TRANSITS)
+        object.__setattr__(self, "transits", integer("transits", self.transits, at_least=1, at_most=MAX_TRANSITS))
         if self.dt is not None:
             real("dt", self.dt, above=0.0)
         choice("method", self.method, METHODS)
@@ -330,7 +330,8 @@ class RunSpec:
             raise ParameterError("vectors", vectors, "a tuple of vector names")
         object.__setattr__(self, "vectors", tuple(self.vectors))
         if analysis_kind(self.analysis).swept:
-            integer("points", self.points, at_least=1 if self.foreign else MIN_AC_POINTS, at_most=MAX_AC_POINTS)
+            object.__setattr__(self, "points", integer("points", self.points, at_least=1 if self.foreign else
+                                                       MIN_AC_POINTS, at_most=MAX_AC_POINTS))
             if self.trusted is not False:
                 raise ParameterError("trusted", self.trusted, "False with an AC analysis (it runs through the "
                                      "allow-list and the sandbox: no .control blocks, includes inlined)")

@@ -589,6 +589,7 @@ def spectrum(request: Request, *, simulator: Simulator | None = None, budget: Bu
     >>> report.omega.shape == report.omega_theory.shape == (20,)   # doctest: +SKIP
     """
     instance("request", request, Request)
+    instance("simulator", simulator, Simulator, optional=True)
     if not isinstance(request.analysis, AC):
         raise ParameterError("analysis", type(request.analysis).__name__,
                              "AC(...) for lcchain.spectrum (a Transient: lcchain.simulate(request))")

@@ -408,7 +408,7 @@ class Planning:
 
     def __post_init__(self) -> None:
         instance("budget", self.budget, Budget, optional=True)
-        integer("workers", self.workers, at_least=1)
+        object.__setattr__(self, "workers", integer("workers", self.workers, at_least=1))
         if self.progress is not None:
             callback("progress", self.progress)
 

@@ -327,9 +327,10 @@ def arrivals(chain_or_modes: Chain | Modes, count: int = 1) -> list[Arrival]:
     chain_or_modes : Chain or Modes
         For a Chain the modes are computed with ``normal_modes(chain)``.
     count : int
-        Number of arrivals (end-to-end transits), >= 1.
+        Number of arrivals (end-to-end transits), 1 to :data:`lcchain.core.limits.MAX_TRANSITS` (as a run's
+        transits: each takes a search of its own, milliseconds).
     """
-    count = integer("count", count, at_least=1)
+    count = integer("count", count, at_least=1, at_most=MAX_TRANSITS)
     modes = modes_of(chain_or_modes)
     T = modes.transit_time()
     found = []

@@ -23,7 +23,7 @@ import numpy as np
 
 from ..core.checks import integer, is_number, real
 from ..core.errors import ParameterError
-from ..core.frozen import Reduced, readonly
+from ..core.frozen import FrozenMap, Reduced, readonly
 from ..core.json import JSONObject
 from ..core.limits import MAX_DESIGN_N, MIN_N
 
@@ -51,12 +51,12 @@ _PERFECT = {
         (0, Fraction(7, 9), 1, 1, Fraction(7, 9), 0),
     ),
 }
-#: Arrival times of the perfect chains: pi / (frequency spacing), Sec. II.C.
-PERFECT_ARRIVAL = {
+#: Arrival times of the perfect chains: pi / (frequency spacing), Sec. II.C (read-only: one process shares it).
+PERFECT_ARRIVAL: FrozenMap[int, float] = FrozenMap({
     3: math.sqrt(1.5) * math.pi,
     4: math.sqrt(11.0) * math.pi / 2.0,
     5: math.sqrt(5.0) * math.pi,
-}
+})
 
 
 def _check_N(N: object, field_name: str = "N") -> int:
@@ -86,10 +86,15 @@ def _numeric_array(name: str, values: object, allowed: str) -> np.ndarray:
     items = list(values)
     if any(isinstance(value, (list, tuple, np.ndarray)) for value in items):
         raise ParameterError(name, values, "a flat list of numbers")
+    numbers = []
     for i, value in enumerate(items):
         if not is_number(value):
             raise ParameterError(f"{name}[{i}]", value, "a number")
-    return np.array(items, dtype=float)
+        try:
+            numbers.append(float(value))
+        except OverflowError:  # an int past the largest float (10**400)
+            raise ParameterError(f"{name}[{i}]", value, "a finite number") from None
+    return np.array(numbers, dtype=float)
 
 
 @dataclass(frozen=True, eq=False)

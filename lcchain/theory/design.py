@@ -33,7 +33,7 @@ import numpy as np
 import scipy  # its submodules load on first use: commands that need no theory never import them
 
 from ..core.blas import fixed_blas_threads
-from ..core.checks import choice, integer
+from ..core.checks import callback, choice, integer
 from ..core.errors import ParameterError
 from ..core.json import JSONDict
 from ..core.limits import MAX_DESIGN_N, MIN_N
@@ -174,7 +174,7 @@ class _Amplitude:
         self.t_hint: float | None = None
         self.count = 0
         self.expected = _TYPICAL_EVALUATIONS[case]
-        self.progress = progress
+        self.progress = callback("progress", progress) if progress is not None else None
 
     def __call__(self, r: float, w: float) -> float:
         self.count += 1

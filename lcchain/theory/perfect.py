@@ -378,11 +378,19 @@ def _solve(omega: np.ndarray, free: bool) -> np.ndarray:
 
 # ------------------------------------------------------------------ public
 def _check_spectrum(omega: object) -> tuple[np.ndarray, bool]:
-    values = np.array(numbers_list("frequencies", omega, "ascending frequencies omega_1 < ... < omega_N"))
-    if values.size < MIN_N:
-        raise ParameterError("frequencies", f"{values.size} values", f"at least {MIN_N} frequencies (one per mass)")
-    if not np.all(np.isfinite(values)) or values[0] < 0:
-        raise ParameterError("frequencies", float(values[0]), "finite frequencies >= 0")
+    given = numbers_list("frequencies", omega, "ascending frequencies omega_1 < ... < omega_N")
+    if len(given) < MIN_N:
+        raise ParameterError("frequencies", f"{len(given)} values", f"at least {MIN_N} frequencies (one per mass)")
+    listed: list[float] = []
+    for i, value in enumerate(given):  # the first that is not a finite frequency >= 0, named
+        try:
+            number = float(value)
+        except OverflowError:  # an int past the largest float
+            number = math.inf
+        if not (math.isfinite(number) and number >= 0):
+            raise ParameterError(f"frequencies[{i}]", value, "finite frequencies >= 0")
+        listed.append(number)
+    values = np.array(listed)
     gaps = np.diff(values)
     if np.any(gaps <= 0):
         i = int(np.flatnonzero(gaps <= 0)[0])

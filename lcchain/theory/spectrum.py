@@ -98,11 +98,17 @@ def modes_of(chain_or_modes: Chain | Modes, method: ModeMethod | ModeSolver = "a
 
 # ------------------------------------------------------------------ responses
 def _finite_times(t: ArrayLike) -> ArrayLike:
-    """Times as given (a number or an array), or ParameterError naming the first that is not finite."""
+    """Times as given (a number or an array), or ParameterError naming the first that is not finite; text, a
+    boolean or None is no time (``np.asarray("12.2", float)`` would read the text, and None as NaN)."""
+    allowed = "times in units of sqrt(m/K): a number or an array of numbers"
+    raw = np.asarray(t)
+    if raw.dtype.kind in "bUSV" or (raw.dtype.kind == "O" and any(
+            v is None or isinstance(v, str | bytes | bool | np.bool_) for v in raw.flat)):
+        raise ParameterError("t", t, allowed)
     try:
-        times = np.asarray(t, dtype=float)
-    except (TypeError, ValueError):
-        raise ParameterError("t", t, "times in units of sqrt(m/K): a number or an array of numbers") from None
+        times = raw.astype(float)
+    except (TypeError, ValueError, OverflowError):
+        raise ParameterError("t", t, allowed) from None
     bad = np.flatnonzero(~np.isfinite(np.atleast_1d(times)))
     if bad.size:
         raise ParameterError(f"t[{bad[0]}]", float(np.atleast_1d(times)[bad[0]]), "a finite time")

@@ -79,7 +79,8 @@ class Transient:
         if self.dt is not None:
             object.__setattr__(self, "dt", real("dt", self.dt, above=0.0, at_most=MAX_DT, allowed=(
                 f"0 < dt <= {MAX_DT:g} (in units of sqrt(L0*C0); the bulk period is 2 pi)")))
-        integer("transits", self.transits, at_least=1, at_most=MAX_TRANSITS)
+        # stored as an int: a numpy integer is accepted, and would not go into a run's key (JSON)
+        object.__setattr__(self, "transits", integer("transits", self.transits, at_least=1, at_most=MAX_TRANSITS))
         choice("method", self.method, METHODS)
         if self.extrapolate is not None and (isinstance(self.extrapolate, bool) or self.extrapolate not in (1, 2, 3)):
             raise ParameterError("extrapolate", self.extrapolate, "1, 2 or 3 runs (1: no extrapolation)")
@@ -117,7 +118,8 @@ class AC:
 
     def __post_init__(self) -> None:
         if self.points is not None:
-            integer("points", self.points, at_least=MIN_AC_POINTS, at_most=MAX_AC_POINTS)
+            object.__setattr__(self, "points", integer("points", self.points, at_least=MIN_AC_POINTS,
+                                                       at_most=MAX_AC_POINTS))
 
     def check(self, request: Request) -> None:
         """Refuse an engine without an AC analysis, and a transport other than the engine's program."""
