@@ -8,11 +8,12 @@ predicted), made here once so that every result reads alike.
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
+from typing import Any, Protocol, cast
 
 from .errors import ParameterError
 from .registry import Registry
 
-__all__ = ["short_repr", "html_table", "PLOTS", "plot"]
+__all__ = ["short_repr", "html_table", "PLOTS", "plot", "Figure"]
 
 Row = tuple[str, object]
 
@@ -51,13 +52,23 @@ PLOTS: Registry[Callable[..., object]] = Registry("lcchain.plots", {}, _figure_f
                                               "a function (result, ax=None) -> matplotlib Figure")
 
 
-def plot(kind: str, result: object, ax: object = None, **options: object) -> object:
+class Figure(Protocol):
+    """What a result's ``plot()`` returns, as a type checker sees it: a matplotlib Figure, which only ``report``
+    may name (the layers' contract), so here what a caller does with one: save it, and find its axes."""
+
+    axes: Any
+
+    def savefig(self, fname: Any, *args: Any, **kwargs: Any) -> None: ...
+
+
+def plot(kind: str, result: object, ax: object = None, **options: object) -> Figure:
     """The figure of ``result`` by the registered drawing of its ``kind`` (``"simulation"``, ``"spectrum"``,
     ``"scene"``, ``"record"``, ``"store"``), given ``options`` as keywords.
 
-    Typed ``object``: ``ax`` and the figure are matplotlib's, which only ``report`` may name (the drawing is any
-    registered function, lcchain's or another package's)."""
+    ``ax`` is typed ``object`` and the figure :class:`Figure`: both are matplotlib's, which only ``report`` may name
+    (the drawing is any registered function, lcchain's or another package's: what it returns is taken as a
+    figure, as its entry point's contract says)."""
     if kind not in PLOTS:
         raise ParameterError("plot", kind, f"a kind of result with a registered drawing ({', '.join(PLOTS)}; "
                              "lcchain's own come with its installed entry points: pip install lcchain)")
-    return PLOTS[kind](result, ax=ax, **options)
+    return cast(Figure, PLOTS[kind](result, ax=ax, **options))

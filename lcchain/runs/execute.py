@@ -37,7 +37,7 @@ from ..core.checks import instance
 from ..core.errors import ParameterError, SimulationError, show_value
 from ..core.frozen import FrozenArrays, FrozenMap
 from ..core.json import JSONDict
-from ..core.show import html_table, plot, short_repr
+from ..core.show import Figure, html_table, plot, short_repr
 from ..core.types import DEFAULT_ENGINE, GAUSSIAN_CENTRE, AnalysisKind, Probes, RunStatus
 from ..spice.engines import engine_named, find_engine, run_engine
 from ..spice.job import RunJob
@@ -195,7 +195,7 @@ class RunRecord(FrozenArrays):
     def _repr_html_(self) -> str:
         return html_table("RunRecord", self._rows())
 
-    def plot(self, ax: object = None) -> object:
+    def plot(self, ax: object = None) -> Figure:
         """The run's figure: its compared loops over theory (the far end; residual below) where it had a theory,
         else its saved vectors against time (or their magnitudes against frequency).
 

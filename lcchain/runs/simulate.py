@@ -36,7 +36,7 @@ from ..core.checks import callback, choice, instance, real
 from ..core.errors import ParameterError, SimulationError
 from ..core.frozen import FrozenMap
 from ..core.json import JSONValue
-from ..core.show import html_table, plot, short_repr
+from ..core.show import Figure, html_table, plot, short_repr
 from ..core.types import DEFAULT_C0, DEFAULT_I0, DEFAULT_L0, EXCITATIONS, Backend, Excitation, Method
 from ..spice.engine import Engine
 from ..spice.engines import DEFAULT_ENGINE, engine_named
@@ -241,7 +241,7 @@ class SimulationReport:
     def _repr_html_(self) -> str:
         return html_table("SimulationReport", self._rows())
 
-    def plot(self, ax: object = None) -> object:
+    def plot(self, ax: object = None) -> Figure:
         """The end currents (or charges) over theory, the residual below, as ``lcchain simulate --plot`` draws.
 
         Parameters

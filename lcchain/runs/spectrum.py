@@ -55,7 +55,7 @@ from ..core.checks import instance
 from ..core.errors import ParameterError, SimulationError
 from ..core.extras import dataset_attrs
 from ..core.json import JSONDict, JSONValue
-from ..core.show import html_table, plot, short_repr
+from ..core.show import Figure, html_table, plot, short_repr
 from ..core.types import DEFAULT_C0, DEFAULT_L0
 from ..spice.engine import Engine
 from ..spice.engines import DEFAULT_ENGINE, engine_named, find_engine
@@ -384,7 +384,7 @@ class SpectrumReport:
     def _repr_html_(self) -> str:
         return html_table("SpectrumReport", self._rows())
 
-    def plot(self, ax: object = None) -> object:
+    def plot(self, ax: object = None) -> Figure:
         """|P_n| against omega_n, the circuit's over theory, with the spacing below (``lcchain spectrum --plot``).
 
         Parameters

@@ -29,7 +29,7 @@ from ..core.budget import Budget
 from ..core.checks import callback, instance
 from ..core.errors import ParameterError
 from ..core.json import JSONDict, LooseJSONObject
-from ..core.show import html_table, plot, short_repr
+from ..core.show import Figure, html_table, plot, short_repr
 from ..runs.execute import RunRecord, execute, loop_theory, pulse_centre
 from ..runs.extrapolated import combined_record
 from ..runs.spec import RunSpec, Theory
@@ -196,7 +196,7 @@ class SceneResult:
     def _repr_html_(self) -> str:
         return html_table("SceneResult", self._rows())
 
-    def plot(self, ax: object = None) -> object:
+    def plot(self, ax: object = None) -> Figure:
         """The first good sample's figure: a transient's end signals over theory (residual below), or an AC
         analysis's |P_n| against omega_n over theory.
 

@@ -83,7 +83,7 @@ from ..core import __version__
 from ..core.analyses import analysis_kind
 from ..core.errors import LcchainError, ParameterError
 from ..core.json import JSON, LooseJSONObject
-from ..core.show import html_table, plot, short_repr
+from ..core.show import Figure, html_table, plot, short_repr
 from ..core.types import RUN_STATUSES
 from ..runs.execute import RunRecord, waveform_digest
 from ..spice.engines import DEFAULT_ENGINE
@@ -968,7 +968,7 @@ class Store:
     def _repr_html_(self) -> str:
         return html_table("Store", self._shown())
 
-    def plot(self, ax: object = None, metric: str = "peak") -> object:
+    def plot(self, ax: object = None, metric: str = "peak") -> Figure:
         """The figure the study's results call for, as ``lcchain results --plot`` draws it: tolerance samples'
         histogram (``metric``: ``peak``, ``energy`` or ``loss``), or the first arrival's loss against N.
 

@@ -29,7 +29,7 @@ from numpy.typing import ArrayLike
 from ..core.blas import fixed_blas_threads
 from ..core.extras import optional_module
 from ..core.frozen import FrozenArrays, readonly
-from ..core.show import html_table, plot, short_repr
+from ..core.show import Figure, html_table, plot, short_repr
 
 if TYPE_CHECKING:
     import xarray
@@ -129,7 +129,7 @@ class Modes(FrozenArrays):
     def _repr_html_(self) -> str:
         return html_table("Modes", self._rows())
 
-    def plot(self, ax: object = None) -> object:
+    def plot(self, ax: object = None) -> Figure:
         """The mode density P_n against omega_n with the spacing on a twin axis (the paper's Fig. Pk).
 
         Returns

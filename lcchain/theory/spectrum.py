@@ -9,8 +9,8 @@ the return amplitude are modal cosine sums (:func:`lcchain.theory.modes.cosine_s
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
-from typing import Literal, TypeAlias, TypeVar, get_args
+from collections.abc import Callable, Sequence
+from typing import Literal, TypeAlias, TypeVar, get_args, overload
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -115,6 +115,11 @@ def _finite_times(t: ArrayLike) -> ArrayLike:
     return t
 
 
+@overload
+def transmission_amplitude(chain_or_modes: Chain | Modes, t: float, method: ModeMethod = "auto") -> float: ...
+@overload
+def transmission_amplitude(chain_or_modes: Chain | Modes, t: np.ndarray | Sequence[float],
+                           method: ModeMethod = "auto") -> np.ndarray: ...
 @fixed_blas_threads
 def transmission_amplitude(chain_or_modes: Chain | Modes, t: ArrayLike,
                            method: ModeMethod = "auto") -> np.ndarray | float:
@@ -137,6 +142,11 @@ def transmission_amplitude(chain_or_modes: Chain | Modes, t: ArrayLike,
     return cosine_sum(modes.transfer, modes.omega, _finite_times(t))
 
 
+@overload
+def return_amplitude(chain_or_modes: Chain | Modes, t: float, method: ModeMethod = "auto") -> float: ...
+@overload
+def return_amplitude(chain_or_modes: Chain | Modes, t: np.ndarray | Sequence[float],
+                     method: ModeMethod = "auto") -> np.ndarray: ...
 @fixed_blas_threads
 def return_amplitude(chain_or_modes: Chain | Modes, t: ArrayLike, method: ModeMethod = "auto") -> np.ndarray | float:
     """The first mass's own response, sum_n P_n cos(omega_n t) (1 at t = 0).
