@@ -52,3 +52,23 @@ def test_the_perfect_arrival_times_are_read_only() -> None:
     with pytest.raises(TypeError):
         lcchain.PERFECT_ARRIVAL[3] = 0.0  # type: ignore[index]
     assert lcchain.PERFECT_ARRIVAL[3] == pytest.approx(np.sqrt(1.5) * np.pi)
+
+
+def test_a_plot_into_something_that_is_no_axes_is_a_parameter_error(tmp_path: object) -> None:
+    """A Figure or a name given as ``ax`` was an AttributeError from deep inside matplotlib's calls."""
+    pytest.importorskip("matplotlib")
+    import matplotlib.pyplot as plt
+
+    from lcchain import plots
+
+    modes = lcchain.normal_modes(lcchain.chain_for_case("two-mass", 10))
+    figure = plt.figure()
+    try:
+        for ax in ("foo", figure):
+            with pytest.raises(ParameterError, match=r"^ax = '(str|Figure)' is not allowed: expected a matplotlib Axes"):
+                modes.plot(ax=ax)
+        with pytest.raises(ParameterError, match="^ax = 'str'"):
+            plots.overlay(plots.OverlayCurves(np.arange(3.0), np.zeros(3), np.arange(3.0), np.zeros(3)), ax="x")
+        assert modes.plot(ax=figure.add_subplot()) is figure
+    finally:
+        plt.close(figure)

@@ -122,7 +122,13 @@ def set_title(target: Axes | Figure, title: str, fontsize: float | str | None = 
 
 
 def _root_figure(ax: Axes) -> Figure:
-    """The top-level Figure of ``ax`` (also when ``ax`` lives in a SubFigure)."""
+    """The top-level Figure of ``ax`` (also when ``ax`` lives in a SubFigure); an ``ax`` that is no Axes (a
+    Figure, a name) is a ParameterError naming it."""
+    from matplotlib.axes import Axes as AxesType
+
+    if not isinstance(ax, AxesType):
+        raise ParameterError("ax", type(ax).__name__, "a matplotlib Axes to draw into (fig.add_subplot()), or None "
+                             "for a new figure")
     try:
         figure = ax.get_figure(root=True)  # matplotlib >= 3.10
         assert figure is not None  # an Axes always belongs to a Figure
