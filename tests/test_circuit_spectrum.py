@@ -166,3 +166,9 @@ def test_a_scene_and_the_command_line_take_real_parts(tmp_path, monkeypatch, cap
     spectrum = json.loads(capsys.readouterr().out)
     assert spectrum["max_rel_error_omega"] < RTOL_CIRCUIT_SPECTRUM_OMEGA
     assert spectrum["max_rel_error_pole"] < RTOL_CIRCUIT_SPECTRUM_Q
+    # the report's modes are the compared ones, each with its weight (its density was every pole's, the ESR's
+    # real poles far beyond the sweep included: 15 weights for 8 modes); its count, the circuit's, not N's
+    assert len(spectrum["modes"]) == 8 and spectrum["seen"] <= 8
+    assert main(["spectrum", "--case", "two-mass", "--N", "10", "--capacitor-esl", "0.01", "--coil-capacitance",
+                 "0.01"]) == 0
+    assert "(19 of 19 modes seen at the ends)" in capsys.readouterr().out

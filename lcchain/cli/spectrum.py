@@ -89,8 +89,8 @@ def cmd_spectrum(args: argparse.Namespace) -> int:
             print(f"max relative error of omega_n = {error_text(data['max_rel_error_omega'])}{_bound(data, 'omega')} "
                   f"(modes with |P_n| >= 1e-6{f'; {weak} weaker modes are placed less well' if weak else ''}"
                   f"{'; merged modes not compared' if data['merged'] else ''}), max absolute error of P_n = "
-                  f"{data['max_abs_error_P']:.3e}{_bound(data, 'P')} ({data['seen']} of {chain.N} modes seen at the "
-                  "ends)")
+                  f"{data['max_abs_error_P']:.3e}{_bound(data, 'P')} ({data['seen']} of {len(data['modes'])} modes "
+                  "seen at the ends)")  # the circuit's modes: more than N with parasitics
         else:
             print("no mode is resolved: omega_n, P_n and Q_n are not compared")
         if data["Q"] is not None or data["max_rel_error_Q"] is not None:  # the chain's losses, a circuit's resistors

@@ -36,7 +36,7 @@ from ..core.frozen import FrozenArrays
 from .spectral import OMEGA_WEIGHT_FLOOR, SpectrumMetrics
 from .spectrum import SpectrumFit
 
-__all__ = ["CircuitModes", "fit_poles", "compare_poles", "CIRCUIT_SPECTRUM_MAX_MODES"]
+__all__ = ["CircuitModes", "fit_poles", "compare_poles", "measurable", "CIRCUIT_SPECTRUM_MAX_MODES"]
 
 #: The most modes a circuit's AC comparison fits at once (dense variable projection: samples x modes columns).
 CIRCUIT_SPECTRUM_MAX_MODES = 64
@@ -272,6 +272,16 @@ def fit_poles(omega: np.ndarray, y11: np.ndarray, yN1: np.ndarray, *, lossy: boo
     return SpectrumFit(w[order], a[order], b[order], steps, residual, gamma[order])
 
 
+def measurable(theory: CircuitModes, omega_max: float) -> CircuitModes:
+    """The modes a sweep up to ``omega_max`` can measure: all but the real poles far beyond it (a capacitor's RC
+    through an ESR), which :func:`compare_poles` leaves out, and a report's modes with them."""
+    beyond = (theory.omega == 0) & (theory.gamma > 1.05 * omega_max)
+    if not np.any(beyond):
+        return theory
+    return CircuitModes(theory.omega[~beyond], theory.gamma[~beyond], theory.first[~beyond], theory.last[~beyond],
+                        theory.lossy)
+
+
 def compare_poles(theory: CircuitModes, omega: np.ndarray, y11: np.ndarray, yN1: np.ndarray,
                   mass: float) -> SpectrumMetrics:
     """An AC run's poles and residues against a circuit's exact ones, mode by mode.
@@ -287,10 +297,7 @@ def compare_poles(theory: CircuitModes, omega: np.ndarray, y11: np.ndarray, yN1:
         m_1: P_n = m_1 times the coefficient in I_N/V_1, as a chain's.
     """
     lossy = theory.lossy
-    beyond = (theory.omega == 0) & (theory.gamma > 1.05 * float(np.max(omega)))
-    if np.any(beyond):  # real poles far beyond the sweep (a capacitor's RC through an ESR): no mode it can measure
-        theory = CircuitModes(theory.omega[~beyond], theory.gamma[~beyond], theory.first[~beyond],
-                              theory.last[~beyond], lossy)
+    theory = measurable(theory, float(np.max(omega)))
     fit = fit_poles(omega, y11, yN1, lossy=lossy)
     exact = theory.omega + 1j * theory.gamma
     found = fit.omega + 1j * fit.gamma

@@ -610,9 +610,12 @@ def spectrum(request: Request, *, simulator: Simulator | None = None, budget: Bu
     timings = {"ngspice_s": record.wall_s, "fit_s": record.total_s - record.wall_s, "total_s": record.total_s}
     if theory.circuit is not None:  # the circuit's own modes; the chain's alpha_N(t) is not its response
         mass = float(theory.chain.masses[0])
-        own = Modes(spectrum.omega_theory, mass * circuit_modes(theory.circuit, chain.N, theory.time_unit,
-                                                                theory.impedance).first,
-                    spectrum.P_theory, "circuit", precision=WEIGHT_PRECISION)
+        from ..compare.poles import measurable
+
+        # the modes compared (compare_poles: the real poles far beyond the sweep left out), each with its weight
+        poles = measurable(circuit_modes(theory.circuit, chain.N, theory.time_unit, theory.impedance),
+                           theory.omega_max)  # the sweep's end
+        own = Modes(spectrum.omega_theory, mass * poles.first, spectrum.P_theory, "circuit", precision=WEIGHT_PRECISION)
         return SpectrumReport(theory.chain, own, spectrum.fit, spectrum.seen, spec.points, theory.omega_max,
                               record.engine_version, record.run.netlist_sha256, timings, None, segments, None,
                               record.engine, spectrum.gamma_theory, time_unit=theory.time_unit)

@@ -27,6 +27,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..core.blas import fixed_blas_threads
+from ..core.errors import ParameterError
 from ..core.extras import optional_module
 from ..core.frozen import FrozenArrays, readonly
 from ..core.show import Figure, html_table, plot, short_repr
@@ -39,6 +40,9 @@ __all__ = ["Modes", "cosine_sum", "TRANSIT_SPACINGS", "WEIGHT_PRECISION"]
 #: Relative precision of mode weights computed in float64 (eigenvectors, closed forms): a |P_n| below this times
 #: the largest is rounding noise (P_theory(100) of the perfect cradle came out -2.8e-34 where it is 5.0e-60).
 WEIGHT_PRECISION = 1e-15
+
+#: Where a :class:`Modes` comes from: a chain's eigenproblem, its closed form, or a circuit's own poles.
+MODE_KINDS = ("exact", "closed-form", "circuit")
 
 #: Number of low-mode spacings whose median gives the transit time.
 TRANSIT_SPACINGS = 5
@@ -58,7 +62,8 @@ class Modes(FrozenArrays):
         End-to-end weights sqrt(m_1/m_N) U_n1 U_nN; for a symmetric chain
         (-1)^(n-1) P_n.
     method : str
-        ``"exact"`` or ``"closed-form"``.
+        ``"exact"`` or ``"closed-form"`` (a chain's), or ``"circuit"`` (a circuit's own modes, seen from its end
+        loops).
     k : ndarray or None
         Pseudo wave vectors k_n of the closed form (Eq. e.kn1), else None.
     precision : float
@@ -157,10 +162,24 @@ class Modes(FrozenArrays):
                           attrs={"method": self.method, "precision": self.precision})
 
     def __post_init__(self) -> None:
+        """Its arrays read-only; checked as cheaply as it is made (each Monte Carlo sample makes one): the three
+        per-mode arrays flat and of one length, the optional ones of that length, the method one of
+        :data:`MODE_KINDS` (a Modes built by hand with arrays that disagree failed later, deep in a matrix product,
+        or gave a quietly wrong arrival)."""
         for name in ("omega", "density", "transfer", "k", "omega_low", "omega_bound", "transfer_bound"):
             value = getattr(self, name)
             if value is not None and not isinstance(value, np.ndarray):
                 object.__setattr__(self, name, readonly(value))
+        shape = self.omega.shape
+        if len(shape) != 1:
+            raise ParameterError("omega", f"an array of shape {shape}", "a flat array of N frequencies")
+        for name in ("density", "transfer", "k", "omega_low", "omega_bound", "transfer_bound"):
+            value = getattr(self, name)
+            if value is not None and value.shape != shape:
+                raise ParameterError(name, f"an array of shape {value.shape}", f"shape {shape}, as omega's (one "
+                                     "value a mode)")
+        if self.method not in MODE_KINDS:
+            raise ParameterError("method", self.method, " | ".join(MODE_KINDS))
         self._freeze_arrays()
 
 
