@@ -185,6 +185,9 @@ def _check_output_folder(option: str, text: str, parents: bool) -> Path:
     target = Path(text)
     if not text.strip():
         raise ParameterError(option, text, "a folder name (an empty name would mean the current folder)")
+    if text == "-":  # standard output elsewhere: no folder of files goes there (write ./- to mean that folder)
+        raise ParameterError(option, text, "a folder name (- is standard output, which takes no folder of files; "
+                             "./- names a folder called -)")
     if (target.exists() or target.is_symlink()) and not target.is_dir():
         raise ParameterError(option, text, "a folder (this is a file)")
     probe_in = target if target.is_dir() else target.parent
