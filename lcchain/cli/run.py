@@ -38,7 +38,9 @@ def add_parser(sub: Subcommands, budget: list[Parser]) -> None:
     p.add_argument("--side-by-side", metavar="FILE",
                    help="figure (.png, .svg, .pdf): the scenes' overlays next to each other on shared axes")
     p.add_argument("--netlist-out", metavar="FILE", help="keep the (first sample's) netlist")
-    p.add_argument("--waveform-out", metavar="FILE", help="CSV t,first,last (first sample, dimensionless)")
+    p.add_argument("--waveform-out", metavar="FILE", help="CSV of the first sample's end loops: t,first,last "
+                   "(dimensionless) for a transient; frequency_hz and each saved phasor's re() and im() for an AC "
+                   "scene")
     add_parts_arguments(p)
     add_study_arguments(p, store=False)
     p.set_defaults(func=cmd_run, executor="serial")
