@@ -43,6 +43,7 @@ def test_the_exact_bom_holds_the_chain_and_what_the_effects_add(capsys) -> None:
 
 @pytest.mark.parametrize("argv, option", [
     (["--L0", "10x"], "--L0"), (["--C0", "10uH"], "--C0"), (["--L0", "0"], "--L0"),
+    (["--C0", "10M"], "--C0 = '10M' is not allowed: expected meg for mega or m for milli"),
     (["--tolerance", "150%"], "--tolerance"), (["--series", "E7"], "--series")])
 def test_bad_bom_values_are_one_line_naming_the_option(argv: list[str], option: str, capsys) -> None:
     assert main(["bom", "--case", "two-mass", "--N", "6", *argv]) == 2

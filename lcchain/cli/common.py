@@ -162,7 +162,7 @@ def number_type(option: str) -> Callable[[str], float]:
 
 #: SI prefixes (powers of ten) a component value may carry (``10u``, ``4.7n``, ``2.2k``); ``meg`` is SPICE's
 #: mega, ``M`` too (a bare ``m`` is milli, as in SI: never SPICE's ``M`` = milli).
-SI_PREFIXES = {"f": -15, "p": -12, "n": -9, "u": -6, "\u00b5": -6, "m": -3, "k": 3, "meg": 6, "M": 6, "G": 9}
+SI_PREFIXES = {"f": -15, "p": -12, "n": -9, "u": -6, "\u00b5": -6, "m": -3, "k": 3, "meg": 6, "G": 9}
 _SI = re.compile(r"^\s*([-+]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][-+]?[0-9]+)?)\s*(meg|[fpnu\u00b5mkMG])?\s*"
                  r"(H|F|ohm|\u03a9)?\s*$")
 
@@ -174,6 +174,10 @@ def si_number(option: str, unit: str) -> Callable[[str], float]:
 
     def parse(text: str) -> float:
         match = _SI.match(text)
+        if match is not None and match.group(2) == "M":  # SI's mega, SPICE's milli: neither is guessed
+            raise argparse.ArgumentTypeError(
+                f"{option} = {text!r} is not allowed: expected meg for mega or m for milli (M is mega in SI but "
+                f"milli in SPICE, which reads 10M{unit} as 10 m{unit})")
         if match is None or (match.group(3) is not None and match.group(3) != unit):
             raise argparse.ArgumentTypeError(
                 f"{option} = {text!r} is not allowed: expected a number in {unit}, plain or with an SI prefix "
