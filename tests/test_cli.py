@@ -349,3 +349,10 @@ def test_json_output_is_json_when_a_number_is_not_finite(capsys: pytest.CaptureF
     text = capsys.readouterr().out
     assert json.loads(text, parse_constant=lambda word: pytest.fail(f"{word} in {text}")) == {
         "mean": None, "std": None, "rows": [1.5, [None, 2]], "n": 3}
+
+
+def test_a_design_s_rounding_noise_prints_as_zero_not_a_negative_zero(capsys: pytest.CaptureFixture[str]) -> None:
+    """N = 3's optimal delta* is exactly 0, computed as -4.4e-16: its cell said -0.00000, a negative loss."""
+    assert main(["design", "--case", "two-mass", "--N", "3"]) == 0
+    row = capsys.readouterr().out.splitlines()[-1].split()
+    assert row[0] == "3" and row[3] == "0.00000"

@@ -37,9 +37,18 @@ def add_parser(sub: Subcommands, budget: list[Parser]) -> None:
     p.set_defaults(func=cmd_design)
 
 
+def _cell(fmt: str, value: object) -> str:
+    """``value`` formatted, a float that prints as a negative zero as zero (delta* of N = 3 is -4.4e-16, whose
+    "-0.00000" reads as a negative loss)."""
+    text = fmt.format(value)
+    if isinstance(value, float) and text.lstrip().startswith("-") and float(text) == 0.0:
+        return fmt.format(0.0)
+    return text
+
+
 def format_table(case: str, rows: list[LooseJSONObject]) -> str:
     columns = _TABLE_COLUMNS[case]
-    cells = [[fmt.format(row[key]) for _, key, fmt in columns] for row in rows]
+    cells = [[_cell(fmt, row[key]) for _, key, fmt in columns] for row in rows]
     widths = [max(len(head), *(len(c[i]) for c in cells)) for i, (head, _, _) in enumerate(columns)]
     from ..app.design import DESIGN_TABLES
 
