@@ -334,7 +334,7 @@ def test_a_foreign_netlist_never_runs_in_gnucap() -> None:
 
 
 @pytest.mark.parametrize("argv, said", [
-    (["--engine", "gnucap", "--extrapolate", "2"], "extrapolate = 2 is not allowed: expected 1 with engine gnucap"),
+    (["--engine", "gnucap", "--extrapolate", "2"], "--extrapolate = 2 is not allowed: expected 1 with engine gnucap"),
     (["--engine", "gnucap", "--method", "gear"], "engine = 'gnucap' is not allowed"),
 ])
 def test_the_command_line_refuses_in_one_line(capsys, argv: list[str], said: str) -> None:

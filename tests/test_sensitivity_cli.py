@@ -178,7 +178,7 @@ def test_worst_case_searches_the_box_and_runs_its_worst_in_ngspice(capsys, tmp_p
     (["sensitivity", "--case", "two-mass"], "--N"),
     (["sensitivity", "--case", "two-mass", "--N", "12", "--check", "-1"], "--check"),
     (["sensitivity", "--case", "two-mass", "--N", "12", "--top", "-2"], "--top"),
-    (["sensitivity", "--case", "two-mass", "--N", "12", "--check", "99"], "--check"),
+    (["sensitivity", "--case", "two-mass", "--N", "12", "--check", "99"], "an integer from 0 (no ngspice runs) to 23"),
     (["sensitivity", "--case", "two-mass", "--N", "12", "--store", "{tmp}/s.sqlite"], "--store"),
     (["sensitivity", "--case", "two-mass", "--N", "12", "--check", "1", "--accuracy", "1e-12"], "--accuracy"),
     (["sensitivity", "--case", "uniform-free", "--N", "2001"], "--N"),

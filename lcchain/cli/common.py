@@ -51,7 +51,7 @@ OPTION_NAMES = {
     "engine": "--engine",
     "points": "--points", "Q": "--Q", "coupling": "--coupling",
     "case": "--case", "walls": "--walls", "max_memory": "--max-memory", "max_seconds": "--max-time",
-    "timeout": "--timeout",
+    "timeout": "--timeout", "extrapolate": "--extrapolate",
 }
 
 

@@ -132,7 +132,8 @@ def check_plan(sensitivity: LadderSensitivity, count: int, *, accuracy: float = 
         ``count`` or ``accuracy`` out of range, or the planning alone beyond ``budget`` (naming ``--check``).
     """
     parts = sensitivity.components
-    count = integer("--check", count, at_least=1, at_most=len(parts))
+    count = integer("--check", count, at_least=1, at_most=len(parts),
+                    allowed=f"an integer from 0 (no ngspice runs) to {len(parts)}, the chain's parts")
     accuracy = real("--accuracy", accuracy, at_least=ACCURACY_FLOOR, below=1.0)
     ladder = sensitivity.ladder
     size = 2 * ladder.chain.N + 1
