@@ -8,7 +8,7 @@ predicted), made here once so that every result reads alike.
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from typing import Any, Protocol, cast
+from typing import Protocol, cast
 
 from .errors import ParameterError
 from .registry import Registry
@@ -56,9 +56,9 @@ class Figure(Protocol):
     """What a result's ``plot()`` returns, as a type checker sees it: a matplotlib Figure, which only ``report``
     may name (the layers' contract), so here what a caller does with one: save it, and find its axes."""
 
-    axes: Any
+    axes: Sequence[object]
 
-    def savefig(self, fname: Any, *args: Any, **kwargs: Any) -> None: ...
+    def savefig(self, fname: object, *args: object, **kwargs: object) -> None: ...
 
 
 def plot(kind: str, result: object, ax: object = None, **options: object) -> Figure:
