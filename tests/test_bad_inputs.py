@@ -189,6 +189,9 @@ CASES: dict[str, Case] = {
     "figures into a file": Case(["figures", "--out", "f.txt"], ["--out = 'f.txt'", "a folder (this is a file)"],
                                 files={"f.txt": "x"}),
     "figures under a missing folder": Case(["figures", "--out", "no/such/dir"], ["--out", "does not exist"]),
+    # a cradle on stiff walls rings near 2e6: ngspice steps far below dt (a 40 s run), priced by its modes
+    "a walled cradle past --max-time": Case(["simulate", "--case", "perfect", "--N", "6", "--walls", "1000000",
+                                            "--dt", "0.05", "--max-time", "3s"], ["--dt = 0.05", "can afford"]),
     "figures into standard output": Case(["figures", "--out", "-", "--quick"], ["--out = '-'", "standard output"]),
     "the accuracy benchmark into standard output": Case(["bench", "accuracy", "--out", "-"],
                                                         ["--out = '-'", "standard output"]),

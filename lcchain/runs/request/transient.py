@@ -26,6 +26,7 @@ from ...core.budget import RUN_START_SECONDS, Budget, Estimate, max_points, run_
 from ...core.errors import ParameterError
 from ...core.limits import EXACT_MAX_N
 from ...spice.engines import engine_named
+from ...spice.pricing import POINTS_PER_CYCLE
 from ...theory.arrivals import arrival_window
 from ...theory.chain import Chain
 from ...theory.modes import Modes
@@ -39,6 +40,15 @@ __all__ = ["plan_transient", "ACCURACY_LOOPS"]
 
 #: With probes = "all", the step's error is predicted on at most this many loops, evenly spaced, ends included.
 ACCURACY_LOOPS = 64
+
+
+def _run_points(modes: Modes, tstop: float, step: float) -> float:
+    """The time points ngspice takes: one per ``step`` at least, and as many as its fastest mode's cycles call for
+    (:data:`lcchain.spice.pricing.POINTS_PER_CYCLE`, as a foreign netlist's ringing is priced): a cradle tied to
+    stiff walls (``--walls 1000000``: a mode near 2e6) steps far below its dt, and was priced at 1.5 s for a run
+    of 40 s, past --max-time."""
+    fastest = float(modes.omega[-1]) if modes.N else 0.0  # ascending, in units of 1/sqrt(L0 C0), as tstop's
+    return max(tstop / step, POINTS_PER_CYCLE * fastest / (2.0 * np.pi) * tstop)
 
 
 def plan_transient(request: Request, budget: Budget, modes: Modes | None, design_seconds: float) -> RequestPlan:
@@ -61,7 +71,7 @@ def plan_transient(request: Request, budget: Budget, modes: Modes | None, design
     cost = _cost(request, N, elements)
     points = max_points(budget, saved=cost["saved"], compared=cost["compared"], unknowns=cost["unknowns"])
     steps, predicted, reason, accuracy_plan = _choose_steps(request, nominal, modes, tstop, points)
-    one = run_estimate(points=tstop / steps[-1], **cost)
+    one = run_estimate(points=_run_points(modes, tstop, steps[-1]), **cost)
     one = replace(one, seconds=one.seconds * engine_named(request.engine).relative_cost)  # the engine's own speed
     if elements is not None:  # the circuit's own theory beside each run: its eigen-solution and its response
         seconds, memory = circuit_cost(elements, int(tstop / steps[-1]) + 1)
