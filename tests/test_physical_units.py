@@ -53,3 +53,15 @@ def test_plots_carry_a_second_axis_in_si() -> None:
     omega = np.array([0.5, 1.0, 1.5])
     figure = spectrum(omega, [0.3, 0.3, 0.4], omega, [0.3, 0.3, 0.4], frequency_unit=5e5)
     assert "frequency [Hz]" in [child.get_xlabel() for ax in figure.axes for child in ax.child_axes]
+
+
+@pytest.mark.ngspice
+def test_the_band_top_of_a_chain_with_coupled_coils_is_above_its_modes(capsys: pytest.CaptureFixture[str]) -> None:
+    """With neighbouring coils coupled by k the pass band reaches 2 / sqrt(1 - 2k) (largest at q = pi), not 2:
+    the modes printed above "the band top" at k = 0.2 (1.29 against 1.01 MHz)."""
+    assert main(["spectrum", "--case", "uniform-free", "--N", "20", "--coupling", "0.2", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    top = data["physical"]["band_top_Hz"]
+    assert top == pytest.approx(2.0 / math.sqrt(1.0 - 0.4) * data["physical"]["frequency_unit_Hz"], rel=RTOL_ARITHMETIC)
+    highest = max(mode["omega_Hz"] for mode in data["modes"] if mode.get("omega_Hz") is not None)
+    assert 0.95 * top < highest < top

@@ -82,11 +82,11 @@ class EnginesComparison:
     warnings: tuple[str, ...] = ()
 
 
-def with_physical_units(data: LooseJSONObject, L0: float, C0: float) -> LooseJSONObject:
+def with_physical_units(data: LooseJSONObject, L0: float, C0: float, coupling: float = 0.0) -> LooseJSONObject:
     """A report's JSON with its bulk numbers also in SI (issue 33): ``physical`` (the units' scales,
     :func:`lcchain.core.physical.physical_scales`), ``dt_s`` and ``tstop_s``, each arrival's ``t_theory_s`` and
     ``t_sim_s``, each mode's ``omega_Hz`` and ``omega_theory_Hz``; the bulk keys stay as they are."""
-    data["physical"] = physical_scales(L0, C0)
+    data["physical"] = physical_scales(L0, C0, coupling)  # the band top that of the chain's coupled coils
     for key in ("dt", "tstop"):
         if isinstance(data.get(key), (int, float)):
             data[f"{key}_s"] = seconds(data[key], L0, C0)
@@ -177,7 +177,7 @@ def simulate(request: SimulateRequest) -> Simulation | EnginesComparison:
         for spec in planned.specs:  # before the simulator starts: a failed run still leaves them
             keep_netlist(spec)
         report = run_simulation(planned, progress=_progress(request, engine))
-    data = with_physical_units(report.to_dict(), request.L0, request.C0)
+    data = with_physical_units(report.to_dict(), request.L0, request.C0, chain.coupling)
     return Simulation(request, chain, report, data, tuple(str(w.message) for w in caught), outputs, kept)
 
 

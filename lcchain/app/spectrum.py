@@ -95,7 +95,7 @@ def spectrum(request: SpectrumRequest) -> Spectrum:
     options = SpectrumOptions(Q=request.Q, points=request.points, L0=request.L0, C0=request.C0,
                               engine=request.engine, effects=effects, shapes=request.shapes)
     report = measure_spectrum(chain, options, budget=request.budget, progress=progress)
-    data = with_physical_units(report.to_dict(), request.L0, request.C0)
+    data = with_physical_units(report.to_dict(), request.L0, request.C0, chain.coupling)
     merged = merged_text(report.merged_modes) if data["merged"] else ""
     return Spectrum(request, chain, report, data, effects, outputs, merged)
 

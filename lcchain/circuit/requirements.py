@@ -23,6 +23,7 @@ import scipy  # its submodules load on first use: commands that need no theory n
 from ..core.errors import ParameterError
 from ..core.frozen import Reduced
 from ..core.json import JSONDict
+from ..core.physical import band_top
 from ..theory.arrivals import arrival_window, maximum_in_window
 from ..theory.chain import MAX_COUPLING, Chain
 from ..theory.spectrum import normal_modes
@@ -86,7 +87,7 @@ PARTS: tuple[Part, ...] = (
          _effect(CoilCapacitance),
          lambda x, ladder: (f"coil self-resonance above {_hertz(1 / math.sqrt(x), ladder)} "
                             f"(self-capacitance below {si(x * ladder.C0, 'F')}; the band top is "
-                            f"{_hertz(2.0, ladder)})")),
+                            f"{_hertz(band_top(ladder.chain.coupling), ladder)})")),
     Part("coil_resistance", "R", "a winding resistance R sqrt(L0/C0) in series with every coil", 1e-6, 1.0,
          _effect(CoilResistance),
          lambda x, ladder: (f"coil Q above {1 / x:.3g} at {_hertz(1.0, ladder)} (winding resistance below "

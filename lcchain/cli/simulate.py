@@ -65,8 +65,8 @@ def print_arrivals(arrivals: list[LooseJSONObject]) -> None:
               f"{a['peak_theory']:12.6f} {a['peak_sim']:12.6f}{seconds}")
 
 
-def print_units(L0: float, C0: float) -> None:
-    print(f"units: {units_sentence(L0, C0)}")
+def print_units(L0: float, C0: float, coupling: float = 0.0) -> None:
+    print(f"units: {units_sentence(L0, C0, coupling)}")
 
 
 def _print_extrapolation(x: LooseJSONObject) -> None:
@@ -106,7 +106,7 @@ def _print_simulation(args: argparse.Namespace, chain: Chain, data: LooseJSONObj
                      else f"{data['points']} points in {data['wall_s']:.3f} s")
         print(f"{chain.name} chain, N = {chain.N}{coupled}: {data['engine']} {data['engine_version']} "
               f"({data['backend']}), {simulated}")
-        print_units(args.L0, args.C0)
+        print_units(args.L0, args.C0, chain.coupling)
         extrapolation = data["extrapolation"]
         if extrapolation["runs"] > 1:
             _print_extrapolation(extrapolation)

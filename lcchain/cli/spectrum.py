@@ -66,7 +66,7 @@ def cmd_spectrum(args: argparse.Namespace) -> int:
         print(f"{chain.name} chain, N = {chain.N}{coupled}{lossy}: {data['engine']} {data['engine_version']} AC "
               f"analysis, {data['points']} frequencies up to {data['omega_max']:.4g} in {data['segments']} segments, "
               f"{timings['ngspice_s']:.3f} s, fit {timings['fit_s']:.3f} s")
-        print_units(args.L0, args.C0)
+        print_units(args.L0, args.C0, chain.coupling)
         print(f"{'n':>5} {'omega (circuit)':>19} {'omega (theory)':>19} {'rel. error':>10} {'ref. bound':>10} "
               f"{'P_n (circuit)':>14} {'P_n (theory)':>14} {'abs. error':>10} {'spacing':>10} {'f (circuit), Hz':>16}")
         previous = None

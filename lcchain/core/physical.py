@@ -11,7 +11,7 @@ import math
 import re
 
 __all__ = ["physical_scales", "seconds", "hertz", "si_text", "units_sentence", "variable_name", "vector_units",
-           "PHASOR_SCALE"]
+           "PHASOR_SCALE", "band_top"]
 
 
 def seconds(t: float, L0: float, C0: float) -> float:
@@ -24,7 +24,14 @@ def hertz(omega: float, L0: float, C0: float) -> float:
     return float(omega) / (2.0 * math.pi * math.sqrt(L0 * C0))
 
 
-def physical_scales(L0: float, C0: float) -> dict[str, float]:
+def band_top(coupling: float = 0.0) -> float:
+    """The top of a uniform chain's pass band, in bulk units: omega = 2 / sqrt(1 - 2k) with neighbouring coils
+    coupled by k (-1/2 < k < 1/2; 2 without coupling): omega^2 = 2 (1 - cos q) / (1 + 2k cos q) is largest at
+    q = pi for every such k."""
+    return 2.0 / math.sqrt(1.0 - 2.0 * coupling)
+
+
+def physical_scales(L0: float, C0: float, coupling: float = 0.0) -> dict[str, float]:
     """The bulk units in SI, as JSON reports give them.
 
     Returns
@@ -33,11 +40,11 @@ def physical_scales(L0: float, C0: float) -> dict[str, float]:
         ``L0_H``, ``C0_F``; ``time_unit_s`` = sqrt(L0 C0); ``frequency_unit_Hz``, what an angular frequency of 1
         is in hertz, 1 / (2 pi sqrt(L0 C0)); ``impedance_ohm`` = sqrt(L0 / C0), the ladder's characteristic
         impedance; ``band_top_Hz``, the top of a uniform chain's pass band (omega = 2 in bulk units, the bulk
-        LC ladder's cut-off 1 / (pi sqrt(L0 C0))).
+        LC ladder's cut-off 1 / (pi sqrt(L0 C0)); with its coils coupled by ``coupling``, :func:`band_top`).
     """
     return {"L0_H": float(L0), "C0_F": float(C0), "time_unit_s": seconds(1.0, L0, C0),
             "frequency_unit_Hz": hertz(1.0, L0, C0), "impedance_ohm": math.sqrt(L0 / C0),
-            "band_top_Hz": hertz(2.0, L0, C0)}
+            "band_top_Hz": hertz(band_top(coupling), L0, C0)}
 
 
 def si_text(value: float, unit: str, digits: int = 6) -> str:
@@ -51,9 +58,10 @@ def si_text(value: float, unit: str, digits: int = 6) -> str:
     return f"{value:.{digits}g} {unit}"
 
 
-def units_sentence(L0: float, C0: float) -> str:
-    """What the bulk units are for L0 and C0, in one line (the terminal's and the report's)."""
-    scales = physical_scales(L0, C0)
+def units_sentence(L0: float, C0: float, coupling: float = 0.0) -> str:
+    """What the bulk units are for L0 and C0, in one line (the terminal's and the report's); the band top that of
+    a uniform chain with the coils' ``coupling``."""
+    scales = physical_scales(L0, C0, coupling)
     return (f"L0 = {si_text(L0, 'H')}, C0 = {si_text(C0, 'F')}: time unit sqrt(L0 C0) = "
             f"{si_text(scales['time_unit_s'], 's')}, angular frequency 1 = "
             f"{si_text(scales['frequency_unit_Hz'], 'Hz')}, "
