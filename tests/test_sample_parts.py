@@ -96,3 +96,28 @@ def test_a_command_line_monte_carlo_names_a_bad_option(tmp_path: Path, capsys: p
     code = main(["sweep", "--case", "perfect", "--N", "8", *given, "--store", str(tmp_path / "s.sqlite")])
     err = capsys.readouterr().err
     assert code == 2 and message in err and "Traceback" not in err and len(err.strip().splitlines()) == 1
+
+
+@pytest.mark.parametrize("argv", [["run", "{scene}", "--samples", "3"],
+                                  ["sweep", "--case", "two-mass", "--N", "10", "--samples", "5", "--store", "{store}"]])
+def test_samples_with_no_tolerance_to_draw_from_are_refused(argv: list[str], tmp_path: Path,
+                                                            capsys: pytest.CaptureFixture[str]) -> None:
+    """Every sample would be the nominal circuit: run printed a spread of 0 over 3 identical runs, and the sweep
+    ran one."""
+    scene = tmp_path / "plain.toml"
+    scene.write_text('[chain]\ncase = "two-mass"\nN = 10\n[output]\nplots = []\n')
+    argv = [arg.replace("{scene}", str(scene)).replace("{store}", str(tmp_path / "s.sqlite")) for arg in argv]
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("lcchain: --samples = ") and "without a tolerance to draw from" in err
+    assert not (tmp_path / "s.sqlite").exists()
+
+
+def test_samples_of_a_sweep_through_a_tolerance_of_zero_are_planned(tmp_path: Path) -> None:
+    """A sweep that varies the tolerance, 0 among its values, draws at its other points: its samples stand."""
+    from lcchain.studies.plan import RealParts, scene_sweep_plan
+
+    scene = tmp_path / "plain.toml"
+    scene.write_text('[chain]\ncase = "two-mass"\nN = 8\n[output]\nplots = []\n')
+    plan = scene_sweep_plan(scene, [("effects.tolerance.L+effects.tolerance.C", [0.0, 0.05])], RealParts(samples=2))
+    assert len(plan.tasks) == 4

@@ -194,11 +194,14 @@ class ScenesRun:
 
 def _with_parts(scene: Scene, parts: PartOverrides) -> Scene:
     """The scene with ``--tolerance``, ``--series``, ``--samples`` and ``--seed`` set, when any is given."""
-    from ..scenes.load import override_parts, parse_scene
+    from ..scenes.load import check_samples_spread, override_parts, parse_scene
 
     if all(value is None for value in parts.values()):
         return scene
-    return parse_scene(override_parts(scene.to_dict(), **parts), source=scene.source)
+    data = override_parts(scene.to_dict(), **parts)
+    samples = parts.get("samples")
+    check_samples_spread(samples if isinstance(samples, int) else None, [data])
+    return parse_scene(data, source=scene.source)
 
 
 def check_run(request: RunRequest) -> tuple[list[Scene], Outputs]:

@@ -190,6 +190,22 @@ def _parse(data: Mapping[str, LooseJSON], source: str | None) -> Scene:
     )
 
 
+def check_samples_spread(samples: int | None, datas: Sequence[Mapping[str, LooseJSON]]) -> None:
+    """Refuse ``--samples`` N > 1 where no scene it makes draws from a tolerance (``[effects.tolerance]`` L and C
+    both 0 or absent in every one): its samples would all be the nominal circuit.  A sweep through a tolerance of 0
+    beside others is no such case."""
+    if samples is None or samples <= 1:
+        return
+    for data in datas:
+        effects = data.get("effects")
+        table = effects.get("tolerance") if isinstance(effects, Mapping) else None
+        if isinstance(table, Mapping) and any(isinstance(table.get(name), (int, float)) and table.get(name)
+                                              for name in ("L", "C")):
+            return
+    raise ParameterError("--samples", samples, "1 without a tolerance to draw from (every sample would be the "
+                         "nominal circuit): give --tolerance, or L or C in the scene's [effects.tolerance]")
+
+
 def override_parts(data: Mapping[str, LooseJSON], *, tolerance: Mapping[str, float] | None = None,
                    series: str | None = None, samples: int | None = None, seed: int | None = None) -> LooseJSONObject:
     """A scene's tables with its real parts set from the command line, for a Monte Carlo without editing the file.

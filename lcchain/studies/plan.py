@@ -817,6 +817,9 @@ def scene_sweep_plan(path: str | Path | Mapping[str, LooseJSON], varies: Sequenc
         for key, value in zip(keys, values, strict=True):
             _set(data, key, value)
         datas.append(data)
+    from ..scenes.load import check_samples_spread
+
+    check_samples_spread(parts.samples, datas)  # --samples with nothing to draw: each sample the nominal circuit
     priced = _price_scenes(datas, budget, planning.workers)
     tasks: list[Task] = []
     combinations: list[Combination] = []
