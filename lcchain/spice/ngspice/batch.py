@@ -109,13 +109,13 @@ def run_batch(job: TransportJob, simulator: Simulator, place: Place,
         if status != 0:
             raise SimulationError(failure_reason(log, f"ngspice exited with status {status}"), useful_output(log))
         data = read_all(raw)
-        full = _full(fd)
-    if not data:
-        raise SimulationError("ngspice wrote no raw file" + full, useful_output(log))
-    try:
-        columns = read_raw(data, job.plot, joined=job.joined)
-    except SimulationError as exc:
-        raise SimulationError(exc.reason + full, useful_output(log)) from None
+        # read while the raw file is open: a run that wrote none, or a cut one, asks how full its folder is
+        if not data:
+            raise SimulationError("ngspice wrote no raw file" + _full(fd), useful_output(log))
+        try:
+            columns = read_raw(data, job.plot, joined=job.joined)
+        except SimulationError as exc:
+            raise SimulationError(exc.reason + _full(fd), useful_output(log)) from None
     return columns, log, wall
 
 
