@@ -140,11 +140,10 @@ def doctor() -> list[Check]:
                         f"{sandbox.why_not}; lcchain batch runs foreign netlists without it (allow-list only)",
                         "" if sandbox.available else "sudo apt-get install bubblewrap", required=False))
     library_fix = LIBRARY_INSTALL_COMMAND if have_exe else INSTALL_COMMAND  # not the ngspice just found
+    library_advice = f"install the library: {library_fix}"
     if os.environ.get("NGSPICE_LIBRARY_PATH"):  # the one library looked for: the variable's, not a package's
-        library_fix = "unset NGSPICE_LIBRARY_PATH, or point it at libngspice.so.0"
-    have_lib = attempt("ngspice shared library", library_fix if os.environ.get("NGSPICE_LIBRARY_PATH") else
-                       f"install the library: {library_fix}", find_shared_library,
-                       required=False)
+        library_fix = library_advice = "unset NGSPICE_LIBRARY_PATH, or point it at libngspice.so.0"
+    have_lib = attempt("ngspice shared library", library_advice, find_shared_library, required=False)
     have_pyspice = attempt("PySpice", PYSPICE_INSTALL_COMMAND + " (only the shared backend needs it)",
                            _pyspice_version, required=False)
     if have_lib and have_pyspice:
