@@ -12,6 +12,7 @@ figure draws the same groups.
 
 from __future__ import annotations
 
+from collections import Counter
 from dataclasses import dataclass
 
 import numpy as np
@@ -102,7 +103,12 @@ def available_metrics(runs: list[StoredRun]) -> list[str]:
 def is_measurement(metric: str, runs: list[StoredRun]) -> bool:
     """Whether ``metric`` names one of the netlists' ``.meas`` in this store: a name that is none of :data:`METRICS`,
     or one that is (a ``.meas peak``) in a store whose runs give no metric of their own (a batch of netlists)."""
-    return metric in measurement_names(runs) and (metric not in METRICS or not available_metrics(runs))
+    return _measures(metric, measurement_names(runs), available_metrics(runs))
+
+
+def _measures(metric: str, measured: list[str], available: list[str]) -> bool:
+    """:func:`is_measurement` of the store's measurement names and available metrics, read once by the caller."""
+    return metric in measured and (metric not in METRICS or not available)
 
 
 def check_metric(metric: str, runs: list[StoredRun], option: str = "--metric") -> None:
@@ -114,11 +120,10 @@ def check_metric(metric: str, runs: list[StoredRun], option: str = "--metric") -
         Naming ``option``, the metric and the ones available; or, when none is, why: no run finished yet, or
         the runs have no theory to give one (a batch of netlists).
     """
-    measured = measurement_names(runs)
-    if is_measurement(metric, runs):
+    measured, available = measurement_names(runs), available_metrics(runs)
+    if _measures(metric, measured, available):
         return
     choice(option, metric, (*METRICS, *measured))
-    available = available_metrics(runs)
     if metric in available:
         return
     if available:
@@ -127,10 +132,7 @@ def check_metric(metric: str, runs: list[StoredRun], option: str = "--metric") -
                              "spacing are an AC analysis's)")
     finished = [run for run in runs if run.status == "ok" and not run.member]
     if not finished:
-        ended: dict[str, int] = {}
-        for run in runs:
-            if run.status not in ("ok", "pending") and not run.member:
-                ended[run.status] = ended.get(run.status, 0) + 1
+        ended = Counter(run.status for run in runs if run.status not in ("ok", "pending") and not run.member)
         if ended:  # the same command would not run them again: say so, and where to read why
             counts = ", ".join(f"{count} {status}" for status, count in sorted(ended.items()))
             raise ParameterError(option, metric, f"a store with runs that finished ok (none did: {counts}; "
