@@ -152,6 +152,10 @@ Listed: TypeAlias = tuple[str, Callable[[], Iterable[JSON]]]
 _LISTED_HERE = "\x00listed\x00"
 
 
+class _Closed(LcchainError):
+    """A :class:`Store` used after it was closed: the object, not its file (which is intact)."""
+
+
 def _differences(held: JSON, wanted: JSON) -> str:
     """What differs between the study a store holds and this one, by the descriptions' top-level names, at most
     three (``"; this one differs in check: true, the store's none"``), or "" when either is no object."""
@@ -515,8 +519,8 @@ class Store:
     def _problem(self, error: sqlite3.Error) -> LcchainError:
         said = str(error)
         if isinstance(error, sqlite3.ProgrammingError) and "closed" in said:  # the object, not the file
-            return LcchainError(f"{self.path}: this Store was closed (its with block, or close(), ended it): open "
-                                "the store again to use it")
+            return _Closed(f"{self.path}: this Store was closed (its with block, or close(), ended it): open "
+                           "the store again to use it")
         if _cannot_open(error) and _logged(self.path):  # read-only media, a -wal and no -shm
             return self._refuse(f"a store whose write-ahead log SQLite can read ({self.path.name}-wal holds runs "
                                 f"not yet in {self.path.name}, and SQLite cannot share it without "
@@ -950,7 +954,7 @@ class Store:
         try:
             runs = self.light_runs()
         except LcchainError as error:  # closed (a with block's store, shown after it), or no longer readable
-            why = "closed" if "was closed" in str(error) else "see Store.runs()"
+            why = "closed" if isinstance(error, _Closed) else "see Store.runs()"
             return [("store", str(self.path)), ("runs", f"not readable now ({why})")]
         counts: dict[str, int] = {}
         for run in runs:
