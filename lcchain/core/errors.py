@@ -24,6 +24,7 @@ __all__ = [
     "ExtraMissingError",
     "DesignError",
     "Interrupted",
+    "clipped",
 ]
 
 
@@ -170,4 +171,9 @@ def show_value(value: object) -> str:
     text = repr(value)
     path = isinstance(value, str) or hasattr(value, "__fspath__")
     most = _MAX_PATH if path and "/" in str(value) and "\n" not in str(value) else _MAX_SHOWN
+    return clipped(text, most)
+
+
+def clipped(text: str, most: int) -> str:
+    """``text`` cut to ``most`` characters, ``...`` ending what was cut."""
     return text if len(text) <= most else text[:most - 3] + "..."

@@ -81,7 +81,7 @@ from typing import TYPE_CHECKING, Literal, TypeAlias
 
 from ..core import __version__
 from ..core.analyses import analysis_kind
-from ..core.errors import LcchainError, ParameterError
+from ..core.errors import LcchainError, ParameterError, clipped
 from ..core.json import JSON, LooseJSONObject
 from ..core.show import Figure, html_table, plot, short_repr
 from ..core.types import RUN_STATUSES
@@ -164,14 +164,10 @@ def _differences(held: JSON, wanted: JSON) -> str:
     names = [name for name in dict.fromkeys([*wanted, *held]) if held.get(name) != wanted.get(name)]
 
     def shown(where: dict[str, JSON], name: str) -> str:
-        return _clipped(json.dumps(where[name])) if name in where else "none"
+        return clipped(json.dumps(where[name]), 80) if name in where else "none"
 
     said = "; ".join(f"{name}: {shown(wanted, name)}, the store's {shown(held, name)}" for name in names[:3])
     return f"; this one differs in {said}" if said else ""
-
-
-def _clipped(text: str, most: int = 80) -> str:
-    return text if len(text) <= most else text[:most - 3] + "..."
 
 
 def _described(description: Mapping[str, JSON], listed: Listed | None) -> str:
@@ -605,7 +601,7 @@ class Store:
                                f"({held} rows; lcchain {meta.get('lcchain_version', '?')}, {held_by}; now {rows} "
                                f"rows, {engine}), and lcchain never mixes two")
         raise self._refuse("a new store, or the store of this very study: it holds another "
-                           f"({_clipped(meta.get('description', '?'), 200)}, {meta.get(self._engine_column, '?')}"
+                           f"({clipped(meta.get('description', '?'), 200)}, {meta.get(self._engine_column, '?')}"
                            f"{_differences(held_plan, this_plan)}), and lcchain never mixes two")
 
     def adopt(self, fingerprint: str, description: Mapping[str, JSON],
