@@ -63,7 +63,7 @@ if TYPE_CHECKING:
 
 __all__ = ["signals_of", "loop_sims", "theory_at", "metrics_of", "CircuitResponse", "LoopTheory", "effect_cost",
            "loop_theory", "RunRecord", "Analysed", "execute", "waveform_digest", "pulse_centre", "ANALYSIS_RUNS",
-           "ac_metrics", "circuit_modes"]
+           "ac_metrics", "circuit_modes", "sweep_omega"]
 
 log = logging.getLogger("lcchain")
 
@@ -474,18 +474,23 @@ def circuit_modes(elements: tuple[Element | Pulse, ...], N: int, time_unit: floa
 
 
 @fixed_blas_threads
+def sweep_omega(theory: SpectrumTheory, result: RunResult) -> np.ndarray:
+    """An AC run's angular frequencies in its chain's units, 1/sqrt(L0 C0): what its modes are compared on."""
+    import numpy as np
+
+    return np.asarray(2.0 * np.pi * result.frequency * theory.time_unit)
+
+
 def ac_metrics(theory: SpectrumTheory, result: RunResult) -> SpectrumMetrics:
     """An AC run's I_1/V_1 and I_N/V_1 against the driven modes of its chain, or the circuit's own poles and
     residues when its theory carries its elements."""
-    import numpy as np
-
     from ..circuit.netlist import probe_names
     from ..compare.poles import compare_poles
     from ..compare.spectral import compare_spectrum
     from ..theory.exact import driven_modes
 
     chain = theory.chain
-    omega = 2.0 * np.pi * result.frequency * theory.time_unit
+    omega = sweep_omega(theory, result)
     first, last = (result.vectors[name] * theory.impedance for name in probe_names(chain.N, "ends"))
     if theory.circuit is not None:
         exact = circuit_modes(theory.circuit, chain.N, theory.time_unit, theory.impedance)

@@ -65,7 +65,7 @@ from ..theory.chain import Chain
 from ..theory.modes import WEIGHT_PRECISION, Modes
 from ..theory.response import linear_response
 from .datasets import Variable, make_dataset
-from .execute import circuit_modes, execute
+from .execute import circuit_modes, execute, sweep_omega
 from .request import AC, Request, plan_request
 
 if TYPE_CHECKING:
@@ -614,7 +614,7 @@ def spectrum(request: Request, *, simulator: Simulator | None = None, budget: Bu
 
         # the modes compared (compare_poles: the real poles far beyond the sweep left out), each with its weight
         poles = measurable(circuit_modes(theory.circuit, chain.N, theory.time_unit, theory.impedance),
-                           theory.omega_max)  # the sweep's end
+                           float(np.max(sweep_omega(theory, record.run))))  # the sweep's end, as compared
         own = Modes(spectrum.omega_theory, mass * poles.first, spectrum.P_theory, "circuit", precision=WEIGHT_PRECISION)
         return SpectrumReport(theory.chain, own, spectrum.fit, spectrum.seen, spec.points, theory.omega_max,
                               record.engine_version, record.run.netlist_sha256, timings, None, segments, None,
