@@ -199,8 +199,7 @@ def _with_parts(scene: Scene, parts: PartOverrides) -> Scene:
     if all(value is None for value in parts.values()):
         return scene
     data = override_parts(scene.to_dict(), **parts)
-    samples = parts.get("samples")
-    check_samples_spread(samples if isinstance(samples, int) else None, [data])
+    check_samples_spread(parts.get("samples"), [data])
     return parse_scene(data, source=scene.source)
 
 

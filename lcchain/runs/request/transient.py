@@ -47,7 +47,7 @@ def _run_points(modes: Modes, tstop: float, step: float) -> float:
     (:data:`lcchain.spice.pricing.POINTS_PER_CYCLE`, as a foreign netlist's ringing is priced): a cradle tied to
     stiff walls (``--walls 1000000``: a mode near 2e6) steps far below its dt, and was priced at 1.5 s for a run
     of 40 s, past --max-time."""
-    fastest = float(modes.omega[-1]) if modes.N else 0.0  # ascending, in units of 1/sqrt(L0 C0), as tstop's
+    fastest = float(modes.omega[-1])  # ascending, in units of 1/sqrt(L0 C0), as tstop's (a chain has N >= 3)
     return max(tstop / step, POINTS_PER_CYCLE * fastest / (2.0 * np.pi) * tstop)
 
 
