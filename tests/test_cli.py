@@ -356,3 +356,9 @@ def test_a_design_s_rounding_noise_prints_as_zero_not_a_negative_zero(capsys: py
     assert main(["design", "--case", "two-mass", "--N", "3"]) == 0
     row = capsys.readouterr().out.splitlines()[-1].split()
     assert row[0] == "3" and row[3] == "0.00000"
+
+
+def test_a_count_of_one_is_singular() -> None:
+    from lcchain.cli.common import plural
+
+    assert [plural(n, "run") for n in (0, 1, 2)] == ["0 runs", "1 run", "2 runs"]

@@ -36,7 +36,7 @@ __all__ = ["Parser", "UsageError", "Subcommands", "EXIT_OK", "EXIT_FAILED", "EXI
            "EXIT_SIGPIPE", "EXIT_EXTRA", "OPTION_NAMES",
            "NEGATIVE_NUMBER", "single_valued", "count", "list_entries", "int_list", "si_number", "SI_PREFIXES",
            "number_type", "size", "duration", "seconds", "budget_parent", "emit_json", "budget_from_args",
-           "print_notes", "summary_stream", "tolerances", "add_parts_arguments", "registry_name"]
+           "print_notes", "summary_stream", "tolerances", "add_parts_arguments", "registry_name", "plural"]
 
 EXIT_OK, EXIT_FAILED, EXIT_USAGE, EXIT_MISSING = 0, 1, 2, 3
 #: A missing optional extra (pandas, xarray, Dask, PySpice): ``pip install 'lcchain[EXTRA]'`` fixes it.
@@ -295,6 +295,11 @@ def budget_parent() -> Parser:
 def budget_from_args(args: argparse.Namespace) -> Budget:
     """--max-memory and --max-time, or the defaults for a command without them."""
     return Budget(getattr(args, "max_memory", DEFAULT_MAX_MEMORY), getattr(args, "max_time", DEFAULT_MAX_SECONDS))
+
+
+def plural(count: int, noun: str) -> str:
+    """``count`` and ``noun``, in the plural but for one: ``1 run``, ``2 runs``."""
+    return f"{count} {noun}{'' if count == 1 else 's'}"
 
 
 def emit_json(data: object) -> None:

@@ -11,7 +11,7 @@ from typing import TYPE_CHECKING
 
 from ..core.json import LooseJSONObject
 from ..core.types import STUDY_METRICS
-from .common import EXIT_FAILED, EXIT_OK, Parser, Subcommands, budget_from_args, emit_json, print_notes
+from .common import EXIT_FAILED, EXIT_OK, Parser, Subcommands, budget_from_args, emit_json, plural, print_notes
 from .studies import format_number, short, table
 
 if TYPE_CHECKING:
@@ -70,7 +70,7 @@ def cmd_results(args: argparse.Namespace) -> int:
         if found.written:
             combined = sum(run.kind == "combined" for run in stored)
             tasks = len({run.key for run in stored if run.kind != "combined"})
-            print(f"{args.store}: {tasks} run{'s' if tasks != 1 else ''}"
+            print(f"{args.store}: {plural(tasks, 'run')}"
                   + (f" and {combined} extrapolated from them" if combined else "")
                   + f" written to {', '.join(found.written)}")
     else:
@@ -133,7 +133,7 @@ def _print_runs(found: Results, name: str) -> None:
 
     combined = [run for run in runs if run["kind"] == "combined"]
     tasks = list({run["key"]: run for run in runs if run["kind"] != "combined"}.values())  # shared members once
-    print(f"{name}: {len(tasks)} runs: {counted(tasks)}" +
+    print(f"{name}: {plural(len(tasks), 'run')}: {counted(tasks)}" +
           (f"; {len(combined)} extrapolated from them: {counted(combined)}" if combined else ""))
     axes = found.axes
     spectral = any(run.spectral for run in stored)

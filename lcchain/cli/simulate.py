@@ -19,6 +19,7 @@ from .common import (
     budget_from_args,
     emit_json,
     number_type,
+    plural,
     print_notes,
     summary_stream,
 )
@@ -73,7 +74,7 @@ def _print_extrapolation(x: LooseJSONObject) -> None:
     plan = x["plan"]
     why = ""
     if plan is not None and len(plan["considered"]) > 1:
-        options = ", ".join(f"{o['runs']} run{'s' if o['runs'] > 1 else ''} ~{o['estimated_seconds']:.2g} s"
+        options = ", ".join(f"{plural(o['runs'], 'run')} ~{o['estimated_seconds']:.2g} s"
                             for o in plan["considered"])
         why = f", the cheapest predicted to meet the accuracy ({options})"
     print(f"extrapolated from {x['runs']} runs{why}:")

@@ -11,7 +11,7 @@ from ..app.studies import StudyHooks, StudyOptions, StudyResult
 from ..core.budget import show_seconds
 from ..core.json import LooseJSONObject
 from ..core.types import TRANSPORT_CHOICES
-from .common import EXIT_FAILED, EXIT_OK, budget_from_args, emit_json, registry_name, seconds
+from .common import EXIT_FAILED, EXIT_OK, budget_from_args, emit_json, plural, registry_name, seconds
 from .progress import end_lines, plan_counter, study_counter
 
 __all__ = ["add_study_arguments", "study_options", "study_hooks", "show_study", "table", "format_number", "short"]
@@ -91,7 +91,7 @@ def show_study(args: argparse.Namespace, result: StudyResult) -> int:
             spent = show_seconds(budget_from_args(args).max_seconds)
             hint += f"; {summary.pending} not run: the --max-time of {spent} was spent, and the same command runs them"
         refused = f", {summary.refused} refused" if summary.refused else ""
-        print(f"{summary.total} run{'s' if summary.total != 1 else ''} in {args.store}: {summary.ran} ran now, "
+        print(f"{plural(summary.total, 'run')} in {args.store}: {summary.ran} ran now, "
               f"{summary.skipped} already stored; "
               f"{summary.ok} ok, {summary.failed} failed{refused}{combined} ({summary.wall_s:.1f} s){hint}")
         for netlist, reason in summary.refusals:
