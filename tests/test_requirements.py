@@ -53,8 +53,24 @@ def test_the_command_puts_ngspice_points_on_the_exact_curves(tmp_path: Path,
     assert plot.stat().st_size > 10_000
 
 
+@pytest.mark.parametrize("design", [-0.3, 0.2])
+def test_a_coupled_design_sweeps_a_stray_coupling_beside_its_own(design: float) -> None:
+    """The coupling part is a stray k beside the design's own, of its sign: at k -> 0 it loses nothing (a sweep
+    that replaced the design's k started far from it, and read "not met even at k = 1e-06" for k = -0.3)."""
+    ladder = Ladder(lcchain.chain_for_case("two-mass", 10).with_coupling(design), L0, C0)
+    part = next(p for p in PARTS if p.key == "coupling")
+    found = requirement(ladder, part, points=5)
+    assert abs(found.losses[0]) < 1e-4
+    assert math.isclose(found.values[-1], 0.98 * 0.5 - abs(design))  # room left to the largest coupling
+    stray = found.values[2]
+    built, _ = part.build(ladder.chain, stray)
+    assert math.isclose(built.coupling, design + math.copysign(stray, design))
+    assert f"beside the design's {design:g}" in found.statement(0, ladder)
+
+
 @pytest.mark.parametrize("argv, said", [
     (["--part", "coil_inductance"], "--part = 'coil_inductance'"),
+    (["--coupling", "0.49", "--part", "coupling", "--check", "0"], "--coupling = 0.49"),
     (["--part", "coupling,coupling"], "--part"),
     (["--check", "-1"], "--check = -1"),
 ])

@@ -69,13 +69,30 @@ class Part:
     high: float
     build: Callable[[Chain, float], tuple[Chain, tuple[Effect, ...]]]
     physical: Callable[[float, Ladder], str]
+    room: Callable[[Chain], float] | None = None
+
+    def span(self, chain: Chain) -> tuple[float, float]:
+        """The range swept on ``chain``: ``low`` to ``high``, or to what ``room(chain)`` leaves when it is less
+        (a stray coupling on a coupled design: up to the largest coupling a chain may have).
+
+        Raises
+        ------
+        ParameterError
+            No room at all (the design's coupling already at the limit).
+        """
+        high = self.high if self.room is None else min(self.high, self.room(chain))
+        if not high > self.low:
+            raise ParameterError("coupling", chain.coupling, f"|k| < {0.98 * MAX_COUPLING - self.low:.6g}, to "
+                                 f"leave room for a stray {self.symbol} beside it (or leave {self.key} out of the "
+                                 "parts)")
+        return self.low, high
 
     def __reduce__(self) -> Reduced:
         # a part of PARTS travels by its key (its callables are lambdas, which do not pickle): a requirement
         # computed in the report's pool comes back holding the same part
         if any(part is self for part in PARTS):
             return (part_named, (self.key,))
-        return (Part, (self.key, self.symbol, self.what, self.low, self.high, self.build, self.physical))
+        return (Part, (self.key, self.symbol, self.what, self.low, self.high, self.build, self.physical, self.room))
 
 
 def _effect(make: Callable[[float], Effect]) -> Callable[[Chain, float], tuple[Chain, tuple[Effect, ...]]]:
@@ -99,10 +116,19 @@ PARTS: tuple[Part, ...] = (
     Part("capacitor_esl", "L", "an ESL L L0 in series with every capacitor", 1e-6, 1.0, _effect(CapacitorESL),
          lambda x, ladder: (f"capacitor ESL below {si(x * ladder.L0, 'H')} (capacitor self-resonance above "
                             f"{_hertz(1 / math.sqrt(x), ladder)})")),
-    Part("coupling", "k", "a mutual inductance k sqrt(L_i L_i+1) between neighbouring coils", 1e-6,
-         0.98 * MAX_COUPLING, lambda chain, x: (chain.with_coupling(x), ()),
-         lambda x, ladder: f"coupling between neighbouring coils below k = {x:.3g}"),
+    Part("coupling", "k", "a mutual inductance k sqrt(L_i L_i+1) between neighbouring coils, beside a coupled "
+         "design's own and of its sign", 1e-6, 0.98 * MAX_COUPLING,
+         lambda chain, x: (chain.with_coupling(_stray(chain.coupling, x)), ()), lambda x, ladder: (
+             f"coupling between neighbouring coils below k = {x:.3g}" if not ladder.chain.coupling else
+             f"stray coupling between neighbouring coils below k = {x:.3g} (k = "
+             f"{_stray(ladder.chain.coupling, x):.3g} in all, beside the design's {ladder.chain.coupling:g})"),
+         lambda chain: 0.98 * MAX_COUPLING - abs(chain.coupling)),
 )
+
+
+def _stray(coupling: float, k: float) -> float:
+    """A design's coupling with a stray ``k`` beside it, of its sign (positive beside none)."""
+    return coupling + math.copysign(k, coupling)
 
 
 def part_named(key: str) -> Part:
@@ -156,10 +182,10 @@ class Requirement:
         """Requirement ``index`` in physical units."""
         limit = self.limits[index]
         if limit is None:
-            high = self.part.high
+            high = self.values[-1]
             return f"no limit up to {self.part.symbol} = {high:g} ({self.part.physical(high, ladder)})"
         if limit == 0.0:
-            return f"not met even at {self.part.symbol} = {self.part.low:g}"
+            return f"not met even at {self.part.symbol} = {self.values[0]:g}"
         return self.part.physical(limit, ladder)
 
     def to_dict(self, ladder: Ladder) -> JSONDict:
@@ -180,7 +206,7 @@ def requirement(ladder: Ladder, part: Part, *, points: int = GRID_POINTS,
         built, effects = part.build(chain, x)
         return 1.0 - first_arrival_energy(Ladder(built, ladder.L0, ladder.C0), effects, transit).energy / ideal
 
-    values = np.geomspace(part.low, part.high, points)
+    values = np.geomspace(*part.span(chain), points)
     losses = []
     for k, x in enumerate(values):
         losses.append(loss(float(x)))

@@ -134,9 +134,9 @@ def bulk_limit(requirement: Requirement, index: int) -> str:
     ``not met at R = 1e-06``."""
     part, limit = requirement.part, requirement.limits[index]
     if limit is None:
-        return f"none up to {part.symbol} = {part.high:.3g}"
+        return f"none up to {part.symbol} = {requirement.values[-1]:.3g}"
     if limit == 0.0:
-        return f"not met at {part.symbol} = {part.low:.3g}"
+        return f"not met at {part.symbol} = {requirement.values[0]:.3g}"
     return f"{part.symbol} < {limit:.3g}"
 
 
