@@ -41,6 +41,10 @@ def test_a_time_that_is_text_a_boolean_or_none_is_refused(t: object) -> None:
     (lambda: lcchain.arrivals(lcchain.chain_for_case("two-mass", 10), 10**9), "count = 1000000000 is not allowed: "
      "expected an integer from 1 to 1000"),
     (lambda: SceneRun(write_outputs=False, transport="pigeon"), "--transport = 'pigeon' is not allowed"),
+    # refused where it is given, as dt is, not when a run is planned from it
+    (lambda: lcchain.Transient(accuracy=2), "accuracy = 2 is not allowed: expected a number with 0 < accuracy < 1"),
+    (lambda: lcchain.Transient(accuracy="1e-4"), "accuracy = '1e-4' is not allowed"),
+    (lambda: lcchain.Transient(accuracy=1e-13), "accuracy = 1e-13 is not allowed: expected an accuracy >= 1e-09"),
 ])
 def test_a_bad_argument_is_a_parameter_error_naming_it(call: object, said: str) -> None:
     with pytest.raises(ParameterError) as raised:

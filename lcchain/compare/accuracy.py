@@ -66,6 +66,7 @@ from ..theory.modes import Modes, cosine_sum
 from .waveforms import Waveforms
 
 __all__ = [
+    "accuracy_asked",
     "AccuracyWarning",
     "ErrorSplit",
     "GEAR_ERROR_FACTOR",
@@ -267,6 +268,18 @@ _FORESEEN_MARGIN = 4.0
 
 
 @fixed_blas_threads
+def accuracy_asked(accuracy: object) -> float:
+    """An accuracy a run may ask for (max |simulation - theory|), as a float: 0 < accuracy < 1 and not below
+    :data:`~lcchain.core.limits.ACCURACY_FLOOR`, or a ParameterError saying why."""
+    value = real("accuracy", accuracy, above=0.0, below=1.0,
+                 allowed="a number with 0 < accuracy < 1 (max |simulation - theory|)")
+    if value < ACCURACY_FLOOR:
+        raise ParameterError("accuracy", value, f"an accuracy >= {ACCURACY_FLOOR:g}: ngspice's rounding grows "
+                             "with its steps, so asked for 1e-11 it reaches 7e-11 to 6e-10 (measured); even "
+                             f"{ACCURACY_FLOOR:g} is sometimes missed, and a run that misses its accuracy fails")
+    return value
+
+
 def dt_for_accuracy(modes: Modes, accuracy: float, tstop: float, *, method: str = "trap",
                     safety: float = SAFETY, ends: Sequence[str] = _ENDS,
                     weights: Sequence[np.ndarray] | None = None, max_points: float | None = None) -> float:
@@ -310,12 +323,7 @@ def dt_for_accuracy(modes: Modes, accuracy: float, tstop: float, *, method: str 
     tstop = _check_dt(tstop, "tstop")
     if max_points is not None:
         max_points = real("max_points", max_points, at_least=1.0)
-    accuracy = real("accuracy", accuracy, above=0.0, below=1.0,
-                    allowed="a number with 0 < accuracy < 1 (max |simulation - theory|)")
-    if accuracy < ACCURACY_FLOOR:
-        raise ParameterError("accuracy", accuracy, f"an accuracy >= {ACCURACY_FLOOR:g}: ngspice's rounding grows "
-                             "with its steps, so asked for 1e-11 it reaches 7e-11 to 6e-10 (measured); even "
-                             f"{ACCURACY_FLOOR:g} is sometimes missed, and a run that misses its accuracy fails")
+    accuracy = accuracy_asked(accuracy)
     safety = real("safety", safety, above=0.0, at_most=1.0)
     target = accuracy * safety
     smallest = 0.0 if max_points is None else tstop / max_points

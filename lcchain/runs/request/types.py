@@ -20,6 +20,7 @@ from ...circuit.effects import Effect, Losses, PreferredValues, Tolerance
 from ...circuit.elements import Element, Pulse, adds_elements, ladder_elements
 from ...circuit.ladder import Ladder
 from ...circuit.netlist import Drive, SimulationOptions, circuit_elements
+from ...compare.accuracy import accuracy_asked
 from ...compare.extrapolate import ExtrapolationPlan
 from ...core.checks import choice, instance, integer, real, strings
 from ...core.errors import ParameterError
@@ -79,6 +80,8 @@ class Transient:
         if self.dt is not None:
             object.__setattr__(self, "dt", real("dt", self.dt, above=0.0, at_most=MAX_DT, allowed=(
                 f"0 < dt <= {MAX_DT:g} (in units of sqrt(L0*C0); the bulk period is 2 pi)")))
+        else:  # refused here, not when the run is planned
+            object.__setattr__(self, "accuracy", accuracy_asked(self.accuracy))
         # stored as an int: a numpy integer is accepted, and would not go into a run's key (JSON)
         object.__setattr__(self, "transits", integer("transits", self.transits, at_least=1, at_most=MAX_TRANSITS))
         choice("method", self.method, METHODS)
