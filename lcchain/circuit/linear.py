@@ -512,7 +512,8 @@ class PulseSource:
     v1, v2 : float
         The initial and the pulsed value.
     delay, rise, fall, width, period : float
-        TD, TR, TF, PW and PER, seconds; a period of 0 (or shorter than rise + width + fall) makes one pulse.
+        TD, TR, TF, PW and PER, seconds; a period of 0 makes one pulse, a period shorter than rise + width + fall
+        cuts each pulse short (the next one starts from V1), as ngspice does.
     count : int, optional
         NP, the number of pulses (None: as many as fit).
 
@@ -542,12 +543,25 @@ def pulse_waveform(pulse: PulseSource, tstop: float) -> Waveform:
     v1, v2, delay, rise, fall, width, period, count = (pulse.v1, pulse.v2, pulse.delay, pulse.rise, pulse.fall,
                                                       pulse.width, pulse.period, pulse.count)
     points: list[tuple[float, float]] = [(0.0, v1)] if delay > 0 else []
+    shape = [(0.0, v1), (rise, v2), (rise + width, v2), (rise + width + fall, v1)]
+    # a period shorter than the pulse cuts each pulse short (ngspice starts the next one from V1 at once)
+    cut = 0.0 < period < rise + width + fall
+    if cut:
+        (a, va), (b, vb) = next((p, q) for p, q in zip(shape, shape[1:], strict=False) if p[0] <= period <= q[0])
+        shape = [point for point in shape if point[0] < period] + [
+            (period, va + (vb - va) * (period - a) / (b - a) if b > a else vb)]
     start = delay
     k = 0
     while start <= tstop and (count is None or k < count):
-        points += [(start, v1), (start + rise, v2), (start + rise + width, v2), (start + rise + width + fall, v1)]
+        period_points = [(start + at, value) for at, value in shape]
+        if cut and k >= 2:  # ngspice's time k PER is the next pulse's start (floor(time / PER) = k), not the cut
+            # pulse's end as at PER (time > PER is strict): the jump comes one rounding step before it
+            before = math.nextafter(start, -math.inf)
+            points[-1] = (before, points[-1][1])
+            period_points[0] = (before, v1)
+        points += period_points
         k += 1
-        if period <= 0 or period < rise + width + fall:
+        if period <= 0 or not cut and period < rise + width + fall:
             break
         start += period
     return pwl_waveform(points)

@@ -170,23 +170,28 @@ def source_function(card: SourceCard, analysis: Transient | Sweep) -> tuple[str,
             values = _arguments(card, 7, [None, None, 0.0, step, step, stop, stop])
             if isinstance(values, str):
                 return values
-        if values[3] <= 0:
-            values[3] = step
-        if values[4] <= 0:
-            values[4] = step
+        # a time of 0 is ngspice's default too (vsrcload.c): TR and TF the step, PW and PER the stop time
+        for index, default in ((3, step), (4, step), (5, stop), (6, stop)):
+            if values[index] == 0:
+                values[index] = default
         return "pulse", tuple(values)
     if function == "sin":
         values = _arguments(card, 6, [None, None, 1.0 / stop, 0.0, 0.0, 0.0])
-        return values if isinstance(values, str) else ("sin", tuple(values))
+        if isinstance(values, str):
+            return values
+        if values[2] == 0:  # FREQ 0, as FREQ left out: 1 / TSTOP
+            values[2] = 1.0 / stop
+        return "sin", tuple(values)
     if function == "exp":
         given = list(card.arguments)
         if not 2 <= len(given) <= 6:
             return f"source {name}: EXP with {len(given)} arguments"
-        delay1 = given[2] if len(given) > 2 else 0.0
-        tau1 = given[3] if len(given) > 3 and given[3] > 0 else step
-        delay2 = given[4] if len(given) > 4 and given[4] > 0 else delay1 + step
-        tau2 = given[5] if len(given) > 5 and given[5] > 0 else step
-        return "exp", (given[0], given[1], delay1, tau1, delay2, tau2)
+
+        def time(index: int, default: float) -> float:  # 0 or left out: ngspice's default
+            return given[index] if len(given) > index and given[index] != 0 else default
+
+        delay1 = time(2, step)
+        return "exp", (given[0], given[1], delay1, time(3, step), time(4, delay1 + step), time(5, step))
     if function == "pwl":
         values = list(card.arguments)
         if len(values) < 2 or len(values) % 2 or any(b < a for a, b in zip(values[0::2], values[2::2],

@@ -1,0 +1,44 @@
+"""``lcchain check``'s exact reference of a source reads its arguments as ngspice 39 does (vsrcload.c): a time or
+frequency of 0 is ngspice's default, as when it is left out, and a PULSE whose period is shorter than the pulse
+is cut short at each period (found by a review of netlists as engineers write them).
+
+The source drives its node against ground, so that node's saved voltage is the source's own value: its error is
+rounding, whatever the step, when lcchain reads the source as ngspice does (before: 0.33 V on ``EXP(0 1 0 5u 20u
+5u)``, whose TD1 of 0 is TSTEP; 1 V on ``SIN(0 1 0)``, whose FREQ of 0 is 1/TSTOP, and on ``PULSE(0 1 0 1u 1u 0
+50u)``, whose PW of 0 is TSTOP, cut every 50 us).
+"""
+
+from __future__ import annotations
+
+import pytest
+
+from lcchain.runs.check import CheckOptions, check_text
+
+#: The source node's error against its scale: rounding only (measured 1e-14 .. 1e-16).
+RTOL_SOURCE_NODE = 1e-9
+
+CIRCUIT = """a source's defaults: {source}
+V1 in 0 {source}
+R1 in a 1k
+C1 a 0 10n
+.tran 2u 100u 0 0.1u
+.end
+"""
+
+
+@pytest.mark.ngspice
+@pytest.mark.parametrize("source", [
+    "EXP(0 1 0 5u 20u 5u)",  # TD1 = 0: TSTEP
+    "EXP(0 1 0 5u)",  # TD1 = 0, TD2 left out: TD1 + TSTEP
+    "EXP(0 1)",  # every time left out: TSTEP
+    "SIN(0 1 0)",  # FREQ = 0: 1 / TSTOP
+    "SIN(0 1 0 10u 0 30)",
+    "PULSE(0 1 0 1u 1u 0 50u)",  # PW = 0: TSTOP, longer than PER: each pulse cut short
+    "PULSE(0 1 5u 1u 1u 30u 20u)",  # a period shorter than the pulse
+    "PULSE(0 1 0 0 0 20u 0)",  # TR = TF = 0: TSTEP; PER = 0: one pulse
+])
+def test_the_source_node_follows_the_source_as_ngspice_reads_it(source: str) -> None:
+    result = check_text(CIRCUIT.format(source=source), options=CheckOptions())
+    node = next(vector for vector in result.vectors if vector.name == "v(in)")
+    assert node.max_abs_error is not None and node.scale
+    assert node.max_abs_error <= RTOL_SOURCE_NODE * node.scale, (source, node)
