@@ -145,6 +145,30 @@ def test_param_expressions_evaluate_as_ngspice_reads_them() -> None:
         evaluate_expression("1/0", {})
 
 
+@pytest.mark.ngspice
+def test_powers_evaluate_as_ngspice_reads_them(tmp_path: Path) -> None:
+    """ngspice 39 reads ``2^3^2`` left to right (64), not as (2^(3^2)) = 512: the resistor each expression makes,
+    found from the current ngspice measures through it at 1 V, is the value lcchain's evaluator gives."""
+    import re
+    import subprocess
+
+    expressions = ["2^3^2", "2**3**2", "2^-1", "-2^2+10", "2*3^2", "(2^3)^2", "2^(3^2)/64", "4^0.5^2"]
+    lines = ["powers"]
+    for k, expression in enumerate(expressions):
+        lines += [f"V{k} n{k} 0 DC 1", f"R{k} n{k} 0 {{{expression}}}"]
+    lines += [".tran 1u 2u"] + [f".meas tran i{k} find i(V{k}) at=1u" for k in range(len(expressions))]
+    lines += [".end"]
+    netlist = tmp_path / "powers.cir"
+    netlist.write_text("\n".join(lines) + "\n")
+    printed = subprocess.run(["ngspice", "-b", netlist.name], cwd=tmp_path, capture_output=True, text=True,
+                             stdin=subprocess.DEVNULL, timeout=60).stdout
+    for k, expression in enumerate(expressions):
+        found = re.search(rf"^i{k}\s*=\s*(\S+)", printed, re.MULTILINE)
+        assert found is not None, printed
+        # ngspice prints 7 significant digits; 2^3^2 read right to left (512) is 8 times off
+        assert -1.0 / float(found.group(1)) == pytest.approx(evaluate_expression(expression, {}), rel=1e-6), expression
+
+
 # --------------------------------------------------------------------------- the exact references, independently
 
 

@@ -206,11 +206,20 @@ class _Evaluator:
         return self.power()
 
     def power(self) -> float:
-        base = self.atom()
-        if self.peek() in ("^", "**"):
+        # left-associative as ngspice 39 reads it (2^3^2 is 64), binding tighter than a unary minus on its left
+        value = self.atom()
+        while self.peek() in ("^", "**"):
             self.take()
-            return _power(base, self.unary())  # right-associative, binds tighter than a unary minus on its left
-        return base
+            value = _power(value, self.exponent())
+        return value
+
+    def exponent(self) -> float:
+        """A power's exponent: an atom, after any signs of its own (``2^-1``)."""
+        if self.peek() in ("-", "+", "!"):
+            operator = self.take()[1]
+            operand = self.exponent()
+            return -operand if operator == "-" else float(not operand) if operator == "!" else operand
+        return self.atom()
 
     def atom(self) -> float:
         kind, text = self.take()
