@@ -152,7 +152,7 @@ def test_coils_in_series_are_one_coil() -> None:
     ([Element("L1", "a", "0", 1e-5, 1.0), Element("L2", "a", "0", 1e-5), Element("K1", "L1", "L2", 1.0)],
      "K1"),
     ([Element("L1", "a", "0", 1e-5), Element("R1", "a", "0", 0.0)], "R1"),
-    ([Element("L1", "a", "0", 1e-5), Element("C1", "a", "b", 1e-8, 1.0)], "C1 IC"),
+    ([Element("L1", "a", "0", 1e-5), Element("C1", "a", "b", 1e-8, 1.0)], "a coil can carry current"),
     ([Element("L1", "a", "0", 1e-5), Element("V1", "a", "0", 1.0)], "V1"),
     ([Element("L1", "a", "0", 1e-5), Element("K1", "L1", "L9", 0.1)], "K1"),
 ])
@@ -160,6 +160,23 @@ def test_what_the_theory_cannot_follow_is_refused_naming_the_element(elements: l
     with pytest.raises(ParameterError) as caught:
         CircuitTheory(elements)
     assert said in str(caught.value) and "\n" not in str(caught.value)
+
+
+@pytest.mark.parametrize("charged", ["C1", "C2"])
+def test_capacitors_at_a_node_share_its_charge_at_once_as_under_uic(charged: str) -> None:
+    """A capacitor's IC is its own voltage, and one without IC starts at 0 V, as SPICE's UIC starts them: at a node
+    where both meet, the charge C_charged * 1 V is shared at once, v(0+) = C_charged / (C1 + C2), and the node then
+    rings with the coil at omega = 1 / sqrt(L (C1 + C2)).  (The theory took the IC as the node's voltage, charging
+    the other capacitor too: a displaced mass with its coil's self-capacitance was 4.8e-2 off ngspice.)"""
+    L, C1, C2 = 1e-5, 1e-8, 3e-8
+    elements = [Element("L1", "a", "0", L), Element("C1", "a", "0", C1, 1.0 if charged == "C1" else None),
+                Element("C2", "0", "a", C2, -1.0 if charged == "C2" else None)]
+    v0 = (C1 if charged == "C1" else C2) / (C1 + C2)
+    omega = 1.0 / np.sqrt(L * (C1 + C2))
+    t = np.linspace(0.0, 4 * np.pi / omega, 9)
+    current = CircuitTheory(elements).currents(t, ["L1"])[0]
+    expected = v0 * np.sqrt((C1 + C2) / L) * np.sin(omega * t)
+    assert np.allclose(current, expected, rtol=0.0, atol=RTOL_FLUX_SHARING * np.max(np.abs(expected)))
 
 
 def test_initial_currents_that_break_kirchhoffs_law_redistribute_conserving_flux() -> None:

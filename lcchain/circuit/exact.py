@@ -124,7 +124,7 @@ class _Network:
     G: scipy.sparse.csr_array
     A: scipy.sparse.csr_array
     Lm: scipy.sparse.csr_array
-    v0: np.ndarray
+    q0: np.ndarray  # each node's charge at t = 0 (C), from the capacitors' own initial voltages
     i0: np.ndarray
     drive: np.ndarray  # how the pulse u enters each coil's equation (+1, -1 or 0)
     through_g: np.ndarray  # currents the pulse injects into each node: through_g u + through_c u'
@@ -212,7 +212,7 @@ def _assemble(given: Sequence[Element | Pulse]) -> _Network:
             inductors.setdefault(element.name.lower(), len(inductors))
     n, m = len(nodes), len(inductors)
     Cn, G, A, Lm = _Stamps(), _Stamps(), _Stamps(), _Stamps()
-    v0, i0, own = np.zeros(n), np.zeros(m), np.zeros(m)
+    q0, i0, own = np.zeros(n), np.zeros(m), np.zeros(m)
     grounded = np.zeros(n, dtype=bool)
     for element in elements:
         value = float(element.value)
@@ -226,14 +226,10 @@ def _assemble(given: Sequence[Element | Pulse]) -> _Network:
             for index in (a, b):
                 if index is not None and (a is None or b is None):
                     grounded[index] = True
-            if element.ic is not None:
-                if b is None and a is not None:
-                    v0[a] = element.ic
-                elif a is None and b is not None:
-                    v0[b] = -element.ic
-                else:
-                    raise ParameterError(f"{element.name} IC", element.ic, "an initial voltage on a capacitor "
-                                         "to ground (the exact theory reads node voltages from them)")
+            if element.ic is not None:  # its own charge: a capacitor without IC starts at 0 V, as under UIC
+                for index, sign in ((a, 1.0), (b, -1.0)):
+                    if index is not None:
+                        q0[index] += sign * value * element.ic
         elif element.kind == "L":
             k = inductors[element.name.lower()]
             own[k] = value
@@ -268,7 +264,7 @@ def _assemble(given: Sequence[Element | Pulse]) -> _Network:
             if b is not None:
                 target[b] -= amount
     return _Network(tuple(nodes), tuple(inductors), Cn.matrix((n, n)), G.matrix((n, n)), A.matrix((n, m)),
-                    Lm.matrix((m, m)), v0, i0, drive, through_g, through_c, None if fold is None else fold.pulse,
+                    Lm.matrix((m, m)), q0, i0, drive, through_g, through_c, None if fold is None else fold.pulse,
                     grounded)
 
 
@@ -299,9 +295,12 @@ def _floating_common_modes(net: _Network) -> _Network:
     for group in floating:  # exactly what the capacitors see of the common voltage: nothing
         Cn[group[0], :] = 0.0
         Cn[:, group[0]] = 0.0
-    v0 = inverse @ net.v0
+    # charges go as the currents do (T^T); a floating group's own is nothing (each capacitor's two ends in it)
+    q0 = T.T @ net.q0
+    for group in floating:
+        q0[group[0]] = 0.0
     return replace(net, Cn=scipy.sparse.csr_array(Cn), G=scipy.sparse.csr_array(T.T @ net.G @ T),
-                   A=scipy.sparse.csr_array(T.T @ net.A), v0=v0, through_g=T.T @ net.through_g,
+                   A=scipy.sparse.csr_array(T.T @ net.A), q0=q0, through_g=T.T @ net.through_g,
                    through_c=T.T @ net.through_c)
 
 
@@ -376,7 +375,8 @@ class CircuitTheory:
     ----------
     elements : sequence of Element
         The circuit (its initial conditions are the drive: ``IC`` on coils
-        and on capacitors to ground).
+        and on capacitors, each capacitor's own voltage; one without ``IC`` starts at 0 V, as under SPICE's UIC,
+        and the charges at a node are shared at once among its capacitors).
 
     Attributes
     ----------
@@ -417,8 +417,6 @@ class CircuitTheory:
         law = np.vstack(laws)
         Z = None if law.shape[0] == 0 else _null_space(law)
         self._Z = Z
-        if np.any(net.v0[~touched]):
-            raise ParameterError("IC", net.v0.tolist(), "initial voltages on capacitive nodes only")
         Lm = net.Lm.toarray()
         Lz = Lm if Z is None else Z.T @ Lm @ Z
         # Initial currents that break Kirchhoff's law at a node of coils alone (a kick of L1 where a capacitor's
@@ -429,6 +427,10 @@ class CircuitTheory:
         Br = net.A[r, :] if Z is None else scipy.sparse.csr_array(np.asarray(net.A[r, :] @ Z))
         G_dd, G_dr, G_rr = net.G[d, :][:, d], net.G[d, :][:, r], net.G[r, :][:, r]
         nj = Lz.shape[0]
+        if not nj:
+            raise ParameterError("elements", "no coil current", "a circuit in which a coil can carry current (here "
+                                 "Kirchhoff's law holds every coil's at 0: a coil in series with a capacitor to a "
+                                 "node nothing else reaches?)")
         if r.size:
             try:
                 factor = scipy.sparse.linalg.splu(scipy.sparse.csc_array(G_rr))
@@ -444,7 +446,11 @@ class CircuitTheory:
             Gs, X, Rz = G_dd.toarray(), Bd, np.zeros((nj, nj))
         self.lossless = net.G.nnz == 0 or not np.any(net.G.data)
         self.states = d.size + nj
-        y0 = net.v0[d]
+        # the capacitive nodes' voltages at t = 0+: their charges shared among every capacitor at them (the
+        # capacitors' own voltages, as SPICE's UIC starts them, need not agree; a coil's self-capacitance beside a
+        # spring's capacitor at a displaced mass takes its share at once, as in the simulator)
+        y0 = (np.atleast_1d(scipy.sparse.linalg.spsolve(scipy.sparse.csc_array(D), net.q0[d]))
+              if np.any(net.q0[d]) else np.zeros(d.size))
         if np.any(net.through_c[~touched]):
             raise ParameterError("sources", "pulse", "a pulse source whose capacitors reach capacitive nodes")
         # M s' = S s + e_u u + e_du u': the pulse through the coils and the resistors (u), the capacitors (u')
