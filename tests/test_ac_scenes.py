@@ -97,6 +97,17 @@ def test_an_ac_scene_from_the_cli_writes_its_plots_and_report(tmp_path: Path, mo
     assert header.startswith("frequency_hz,re(i(l1)),im(i(l1))")
 
 
+@pytest.mark.ngspice
+def test_an_ac_scene_lossy_through_its_parts_alone_prints_its_summary(tmp_path: Path, monkeypatch, capsys):
+    """A capacitor's ESR makes the circuit lossy with no Q of the chain's: the summary read report['Q'] (KeyError)."""
+    monkeypatch.chdir(tmp_path)
+    scene = tmp_path / "esr.toml"
+    scene.write_text('[chain]\ncase = "two-mass"\nN = 6\n[effects.capacitor_esr]\nR = 0.01\n[analysis]\n'
+                     'kind = "ac"\n[output]\nplots = []\n')
+    assert main(["run", str(scene)]) == 0
+    assert "the circuit's losses: max |Q_n - theory| / theory" in capsys.readouterr().out
+
+
 def test_a_bad_ac_scene_exits_2_with_one_line(tmp_path: Path, monkeypatch, capsys):
     monkeypatch.chdir(tmp_path)
     scene = tmp_path / "bad.toml"

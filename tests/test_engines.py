@@ -463,6 +463,11 @@ def test_simulate_runs_one_netlist_in_both_engines_and_reports_their_difference(
     for engine in data["engines"]:
         assert engine["max_abs_error"] <= PREDICTION_FACTOR * engine["predicted_error"]
     assert 0 < difference < MAX_ENGINE_DIFFERENCE_FRACTION * min(errors)
+    # a lossy chain has no predicted error: its table says so (it formatted None, a TypeError)
+    assert main(["simulate", "--case", "two-mass", "--N", "6", "--dt", "0.02", "--engine", "ngspice,gnucap",
+                 "--Q", "20"]) == 0
+    assert all(line.split()[-1] == "none" for line in capsys.readouterr().out.splitlines()
+               if line.startswith(("ngspice ", "gnucap ")))
     for bad, option in ((["--engine", "ngspice,ngspice"], "--engine"), (["--engine", "ngspice,spectre"], "--engine"),
                         (["--engine", "ngspice,gnucap", "--extrapolate", "2"], "--extrapolate"),
                         (["--engine", "ngspice,gnucap", "--plot", str(tmp_path / "p.png")], "--plot")):
