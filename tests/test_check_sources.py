@@ -42,3 +42,13 @@ def test_the_source_node_follows_the_source_as_ngspice_reads_it(source: str) -> 
     node = next(vector for vector in result.vectors if vector.name == "v(in)")
     assert node.max_abs_error is not None and node.scale
     assert node.max_abs_error <= RTOL_SOURCE_NODE * node.scale, (source, node)
+
+
+@pytest.mark.ngspice
+def test_a_pole_at_minus_two_over_the_step_has_a_prediction() -> None:
+    """RC = 1 us at a step of 2 us: the trapezoidal rule takes that mode to 0 in one step (its map's log is -inf);
+    the step search read NaN from it and ended in a traceback, losing the comparison."""
+    text = "RC at -2/h\nV1 in 0 PULSE(0 1 0 1u 1u 1m 2m)\nR1 in a 1\nC1 a 0 1u\n.tran 2u 1m 0 2u\n.end\n"
+    result = check_text(text, options=CheckOptions(accuracy=1e-3))
+    assert result.predicted_error is not None and result.suggested_step is not None
+    assert all(vector.max_abs_error is not None for vector in result.vectors)

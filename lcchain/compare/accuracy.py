@@ -175,7 +175,10 @@ def trapezoidal_poles(poles: np.ndarray, dt: float) -> np.ndarray:
     """The poles the trapezoidal rule at fixed step dt really simulates: log((1 + p dt/2) / (1 - p dt/2)) / dt,
     one step of a mode exp(p t) being the Cayley map (1 + p dt/2) / (1 - p dt/2) (units: those of 1/dt)."""
     p = np.asarray(poles, dtype=complex)
-    return np.asarray(np.log((1 + 0.5 * p * dt) / (1 - 0.5 * p * dt)) / dt)
+    step = (1 + 0.5 * p * dt) / (1 - 0.5 * p * dt)
+    # a real pole at exactly -2/dt: one step takes the mode to 0 (log 0); a smallest factor instead, gone as well
+    step = np.where(step == 0, np.finfo(float).tiny, step)
+    return np.asarray(np.log(step) / dt)
 
 
 def trapezoidal_frequency(s: complex, dt: float) -> complex:
