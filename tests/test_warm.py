@@ -332,6 +332,31 @@ def test_a_batch_is_the_same_whichever_transport(simulators, tmp_path: Path, exe
     assert rows["process"] == rows["warm"] == rows["auto"]
 
 
+SAVES = """saves ngspice names its own way
+V1 in 0 PULSE(0 1 0 1u 1u 1m 2m)
+R1 in a 100
+L1 a b 1m
+C1 b 0 1u
+R2 b 0 1k
+.save v(b) i(L1) @R2[i] @C1[i] v(in,a) v(b,0) i(v1)
+.tran 2u 2m
+.end
+"""
+
+
+def test_a_device_vector_and_a_difference_saved_are_the_same_on_both_transports(simulators) -> None:
+    """ngspice -b's raw file writes @r2[i] as i(@r2[i]), the shared library as @r2[i]; .save v(in,a) saves v(in) and
+    v(a): a batch failed such a run ("add them to the .save line", where they were) on the process transport."""
+    batch, warm_simulator = simulators
+    job = RunJob(SAVES, ["v(b)", "i(L1)", "@R2[i]", "@C1[i]", "v(in,a)", "v(b,0)", "i(v1)"], 2e-3)
+    results = [run(job, simulator) for simulator in (batch, warm_simulator)]
+    for result in results:
+        assert set(result.vectors) == {"v(b)", "i(l1)", "@r2[i]", "@c1[i]", "v(in)", "v(a)", "i(v1)"}
+    assert all((results[0].vectors[name] == results[1].vectors[name]).all() for name in results[0].vectors)
+    with pytest.raises(SimulationError, match=r"v\(nosuch\) not in ngspice's output .*no node or device"):
+        run(RunJob(SAVES.replace("i(v1)", "v(nosuch)"), ["v(b)", "v(nosuch)"], 2e-3), batch)
+
+
 def _long_netlists(folder: Path) -> list[Path]:
     netlist, _, _ = _netlist(2000, dt=0.01)
     paths = []

@@ -48,7 +48,7 @@ from ..spice.foreign import Sweep, Transient, allowed_netlist, analysis_of, fore
 from ..spice.pricing import Price, RunLimits
 from ..spice.result import read_include
 from ..spice.simulator import Simulator
-from ..spice.text import canonical_text, canonical_vector_name, saved_vectors
+from ..spice.text import canonical_text, canonical_vector_name, saved_names, saved_vectors
 
 if TYPE_CHECKING:  # the exact reference loads where a check uses it (a batch without --check starts without it)
     from ..circuit.linear import LinearCircuit, LinearResponse, Waveform
@@ -454,7 +454,7 @@ def _run_rewritten(allowed: str, cards: NetlistCards, analysis: Transient | Swee
             if isinstance(found, str):  # the circuit was built, so its sources were read
                 raise ParameterError("source", card.name, found)
             functions[card.name] = found
-    names = [canonical_vector_name(v) for v in saved_vectors(allowed)]
+    names = list(dict.fromkeys(key for v in saved_vectors(allowed) for key in saved_names(v)))
     if isinstance(analysis, Sweep):
         count = analysis.count if analysis.spacing == "lin" else analysis.per
         written = check_netlist(cards, functions, 0.0, 0.0, 0.0, names,

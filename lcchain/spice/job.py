@@ -24,7 +24,7 @@ from typing import ClassVar, Literal
 
 from ..core.checks import integer, real
 from ..core.errors import ParameterError
-from .text import canonical_vector_name, circuit_lines, require_canonical, text_digest
+from .text import circuit_lines, require_canonical, saved_names, text_digest
 
 __all__ = ["RunJob", "AcJob", "TransportJob", "Progress", "DEFAULT_TIMEOUT"]
 
@@ -44,9 +44,9 @@ def _vectors(vectors: object, axis: str) -> tuple[str, ...]:
     for name in vectors:
         if not isinstance(name, str) or not name.strip() or re.search(r"\s", name.strip()):
             raise ParameterError("vectors", name, "an ngspice vector name such as 'i(l1)' or 'v(n3)'")
-        key = canonical_vector_name(name)
-        if key != axis and key not in names:
-            names.append(key)
+        for key in saved_names(name):  # v(a,b) is v(a) and v(b), as ngspice saves it
+            if key != axis and key not in names:
+                names.append(key)
     return tuple(names)
 
 

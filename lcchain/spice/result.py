@@ -221,8 +221,8 @@ def validate_columns(columns: dict[str, np.ndarray], log: str, names: Sequence[s
     missing = [name for name in names if name not in columns]
     if missing:
         available = ", ".join(sorted(k for k in columns if k != "time")) or "none"
-        raise fail(f"requested vector(s) {', '.join(missing)} not in {engine}'s output (saved: {available}); "
-                   "add them to the netlist's .save line")
+        raise fail(f"requested vector(s) {', '.join(missing)} not in {engine}'s output (saved: {available}): "
+                   "no node or device of the circuit by that name, or one the engine writes otherwise")
     found: dict[str, np.ndarray] = {}
     for name in ["time", *names]:
         arr = np.ascontiguousarray(columns[name], dtype=np.float64)

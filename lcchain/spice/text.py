@@ -122,9 +122,27 @@ def canonical_vector_name(name: str) -> str:
     text = name.strip().lower()
     if text.endswith("#branch"):
         return f"i({text[: -len('#branch')]})"
+    device = _DEVICE_VECTOR.match(text)
+    if device:  # a raw file writes @r2[i] as i(@r2[i]); the shared library names it as .save does
+        return device.group(1)
     if text in ("time", "frequency") or "(" in text or "@" in text or "#" in text or "[" in text:
         return text
     return f"v({text})"
+
+
+_DEVICE_VECTOR = re.compile(r"^[iv]\((@[^()]+)\)$")
+_DIFFERENCE = re.compile(r"^v\(([^(),\s]+),([^(),\s]+)\)$", re.IGNORECASE)
+#: The names ngspice gives ground: a node voltage it never saves.
+GROUND_NODES = ("0", "gnd")
+
+
+def saved_names(name: str) -> tuple[str, ...]:
+    """The vectors ngspice saves for a ``.save`` name, canonical: ``v(a,b)`` saves ``v(a)`` and ``v(b)`` (ground's
+    voltage is no vector), any other name itself (:func:`canonical_vector_name`)."""
+    difference = _DIFFERENCE.match(name.strip())
+    if difference is None:
+        return (canonical_vector_name(name),)
+    return tuple(f"v({node.lower()})" for node in difference.groups() if node.lower() not in GROUND_NODES)
 
 
 def _character(char: str) -> str:
