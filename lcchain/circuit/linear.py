@@ -656,7 +656,7 @@ def _check_topology(circuit: LinearCircuit, nodes: set[str]) -> None:
     loop = _graph_loop(v_edges)
     if loop:
         raise _refuse("loop of voltage sources", loop, "no loop of voltage sources alone (their currents are "
-                      "undefined; ngspice stops at a singular matrix)")
+                      "undefined; ngspice fails at its operating point)")
     cut = _cutset(kinds["R"] + kinds["L"] + kinds["C"] + v_edges, i_edges, nodes)
     if cut:
         raise _refuse("cutset of current sources", cut, "no cutset of current sources alone (the voltage across "
@@ -682,8 +682,8 @@ def _check_topology(circuit: LinearCircuit, nodes: set[str]) -> None:
         cut = _cutset(kinds["R"] + kinds["L"] + v_edges, kinds["C"] + i_edges, nodes)
         if cut:
             raise _refuse("no DC path to ground through", cut, "a DC path from every node to ground (capacitors "
-                          "are open at the operating point: it is undefined; ngspice stops at a singular matrix), "
-                          "or uic on the .tran card")
+                          "are open at the operating point: it is undefined, and ngspice's is what its gmin "
+                          "stepping finds), or uic on the .tran card")
 
 
 @fixed_blas_threads

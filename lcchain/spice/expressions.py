@@ -21,7 +21,7 @@ import re
 from collections.abc import Callable, Iterable, Mapping
 
 from ..core.errors import ParameterError
-from .text import spice_number
+from .text import dot_cards, spice_number
 
 __all__ = ["FUNCTIONS", "MAX_PARAMS", "MAX_EXPRESSION_CHARS", "is_param_card", "param_assignments",
            "check_expression", "braced_expressions", "evaluate_expression", "param_values"]
@@ -109,6 +109,20 @@ def check_expression(text: str, names: Iterable[str] | None, where: str, line: s
     if depth != 0:
         raise ParameterError(where, line.strip()[:200], f"{allowed}, with balanced parentheses")
     return used
+
+
+def parameter_names(netlist: str) -> frozenset[str]:
+    """The names a netlist's ``.param`` cards and ``.subckt ... params:`` define, lower case (read loosely: each
+    ``name =`` of those cards): what ngspice may read where an element's value is a bare word."""
+    names: set[str] = set()
+    for _, _, line in dot_cards(netlist, canonical=False):
+        word = line.split(None, 1)[0].lower() if line.strip() else ""
+        if is_param_card(word) or word == ".subckt":
+            names.update(name.lower() for name in _DEFINED.findall(line))
+    return frozenset(names)
+
+
+_DEFINED = re.compile(r"([A-Za-z_][A-Za-z0-9_]*)\s*=")
 
 
 def param_assignments(body: str, where: str, line: str) -> list[tuple[str, str]]:

@@ -111,7 +111,8 @@ def run_batch(job: TransportJob, simulator: Simulator, place: Place,
         data = read_all(raw)
         # read while the raw file is open: a run that wrote none, or a cut one, asks how full its folder is
         if not data:
-            raise SimulationError("ngspice wrote no raw file" + _full(fd), useful_output(log))
+            # what ngspice said of its failure (a timestep too small at the operating point) before the missing file
+            raise SimulationError(failure_reason(log, "ngspice wrote no raw file" + _full(fd)), useful_output(log))
         try:
             columns = read_raw(data, job.plot, joined=job.joined)
         except SimulationError as exc:

@@ -26,9 +26,10 @@ does not exist, so no user ``~/.spiceinit`` changes a result.
 Validation
 ----------
 ngspice often exits 0 after an error, so every run is checked: exit status 0
-(batch), no fatal line in ngspice's output (``Error...``, ``can't find
-model``, ``singular matrix``, ``Timestep too small``, ``circuit not parsed``,
-``simulation(s) aborted``), more than zero points, last time point equal to
+(batch), no fatal line in ngspice's output (``Error...``, ``could not find a
+valid modelname``, ``Timestep too small``, ``circuit not parsed``,
+``simulation(s) aborted``; ``can't find model`` and ``singular matrix`` on
+a warning line are ngspice's warnings, which it recovers from), more than zero points, last time point equal to
 ``tstop`` (relative 1e-9), every requested vector present, all values
 finite.  A failure raises :class:`~lcchain.core.errors.SimulationError` with
 the reason and the useful end of ngspice's output.  Beware: ngspice 39
@@ -46,6 +47,7 @@ from typing import TYPE_CHECKING
 from ...core.errors import ParameterError, SimulationError
 from ...core.frozen import FrozenMap
 from ...core.types import Backend
+from ..expressions import parameter_names
 from ..foreign import CheckedText, allowed_netlist
 from ..job import AcJob, Progress, RunJob, TransportJob
 from ..log import failure_reason, fatal_lines, trim_log, useful_output
@@ -127,7 +129,7 @@ def run(job: RunJob, simulator: Simulator | None = None, *, backend: Backend | N
         progress(0.0)
     with placement(simulator, job.foreign, str(cwd) if job.trusted and cwd is not None else None) as place:
         columns, log, wall = TRANSPORT_RUNS[simulator.backend].run(checked, simulator, place, progress)
-    time_s, found = _validate(columns, log, job.vectors, job.tstop)
+    time_s, found = _validate(columns, log, job.vectors, job.tstop, text)
     if progress is not None:
         progress(1.0)
     return RunResult(
@@ -181,14 +183,16 @@ def run_plot(job: AcJob, plot: str, simulator: Simulator) -> tuple[dict[str, np.
         raise ParameterError("simulator", simulator.backend, f"ngspice's {' | '.join(PLOT_TRANSPORTS)} transport")
     with placement(simulator, job.foreign, None) as place:
         columns, log, wall = run_batch(TransportJob.checked(job.netlist, job, plot), simulator, place)
-    if fatal_lines(log):
-        raise SimulationError(failure_reason(log, ""), useful_output(log))
+    parameters = parameter_names(job.netlist)
+    if fatal_lines(log, parameters):
+        raise SimulationError(failure_reason(log, "", parameters), useful_output(log))
     return columns, log, wall
 
 
-def _validate(columns: dict[str, np.ndarray], log: str, names: Sequence[str],
-              tstop: float) -> tuple[np.ndarray, dict[str, np.ndarray]]:
-    if fatal_lines(log):
-        raise SimulationError(failure_reason(log, ""), useful_output(log))
+def _validate(columns: dict[str, np.ndarray], log: str, names: Sequence[str], tstop: float,
+              text: str) -> tuple[np.ndarray, dict[str, np.ndarray]]:
+    parameters = parameter_names(text)  # a bare .param name as a value: ngspice warns, and uses it
+    if fatal_lines(log, parameters):
+        raise SimulationError(failure_reason(log, "", parameters), useful_output(log))
     return validate_columns(columns, log, names, tstop)
 
