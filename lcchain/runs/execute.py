@@ -25,7 +25,7 @@ from __future__ import annotations
 import hashlib
 import logging
 import time
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, TypeAlias
 
@@ -63,7 +63,7 @@ if TYPE_CHECKING:
 
 __all__ = ["signals_of", "loop_sims", "theory_at", "metrics_of", "CircuitResponse", "LoopTheory", "effect_cost",
            "loop_theory", "RunRecord", "Analysed", "execute", "waveform_digest", "pulse_centre", "ANALYSIS_RUNS",
-           "ac_metrics", "circuit_modes", "sweep_omega"]
+           "ac_metrics", "circuit_modes", "sweep_omega", "circuit_predicted_error"]
 
 log = logging.getLogger("lcchain")
 
@@ -305,21 +305,30 @@ class CircuitResponse:
 
     def predicted_error(self, dt: float, tstop: float, method: str) -> float | None:
         """The accuracy model's prediction for a fixed step, from the circuit's own modes (None with a pulse)."""
-        from ..compare.accuracy import predicted_error, predicted_error_damped
+        return circuit_predicted_error(self.exact, self.names, self.unit, self.scale, self.excitation, dt, tstop,
+                                       method)
 
-        charges = self.excitation == "displacement"
-        damped = self.exact.damped_weights(self.names, charges=charges)
-        if damped is not None:
-            poles, rows = damped
-            return predicted_error_damped(poles * self.unit, list(rows / self.scale), dt, tstop, method=method)
-        modal = self.exact.cosine_weights(self.names, charges=charges)
-        if modal is None:
-            return None
-        omega, weights = modal
-        from ..theory.modes import Modes
 
-        modes = Modes(omega * self.unit, weights[0], weights[-1], "circuit")
-        return predicted_error(modes, dt, tstop, method=method, weights=list(weights / self.scale))
+def circuit_predicted_error(exact: CircuitTheory, names: Sequence[str], unit: float, scale: float, excitation: str,
+                            dt: float, tstop: float, method: str) -> float | None:
+    """The accuracy model's prediction of a fixed-step run of a circuit (dimensionless ``dt`` and ``tstop``, times
+    ``unit`` seconds; loops ``names`` of ``scale`` amperes or, displaced, coulombs), from its own modes: the planner's
+    (a step for an accuracy) and the comparison's alike (None with a pulse)."""
+    from ..compare.accuracy import predicted_error, predicted_error_damped
+
+    charges = excitation == "displacement"
+    damped = exact.damped_weights(names, charges=charges)
+    if damped is not None:
+        poles, rows = damped
+        return predicted_error_damped(poles * unit, list(rows / scale), dt, tstop, method=method)
+    modal = exact.cosine_weights(names, charges=charges)
+    if modal is None:
+        return None
+    omega, weights = modal
+    from ..theory.modes import Modes
+
+    modes = Modes(omega * unit, weights[0], weights[-1], "circuit")
+    return predicted_error(modes, dt, tstop, method=method, weights=list(weights / scale))
 
 
 #: The theory of some loops, callable with dimensionless times: the chain's or the circuit's.
