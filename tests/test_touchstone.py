@@ -34,6 +34,21 @@ def test_a_touchstone_file_reads_in_scikit_rf_as_the_exact_two_port(tmp_path: Pa
     np.testing.assert_allclose(network.s[:, 0, 1], network.s[:, 1, 0], rtol=0, atol=ATOL_TWO_PORT_S)
 
 
+@pytest.mark.ngspice
+def test_a_real_pole_does_not_place_the_two_ports_sweep(tmp_path: Path, capsys) -> None:
+    """A coil's capacitor discharging through an ESR is a real pole far above the band: the sweep's top is the
+    highest resonance, as spectrum's (it went to 35 GHz for a band ending near 1 MHz, where |S11| passed 1)."""
+    target = tmp_path / "parts.s2p"
+    assert main(["spectrum", "--case", "two-mass", "--N", "8", "--coil-capacitance", "0.01", "--capacitor-esr",
+                 "0.01", "--touchstone", str(target)]) == 0
+    rows = np.array([[float(x) for x in line.split()] for line in target.read_text().splitlines()
+                     if line.strip() and not line.startswith(("!", "#"))])
+    band_top = 2.0 / (2 * np.pi * np.sqrt(10e-6 * 10e-9))  # the ladder's, 1.01 MHz (the defaults' L0, C0)
+    assert rows[-1, 0] < 1.2 * band_top
+    s11, s21 = rows[:, 1] + 1j * rows[:, 2], rows[:, 3] + 1j * rows[:, 4]
+    assert np.all(np.abs(s11) ** 2 + np.abs(s21) ** 2 <= 1.0 + ATOL_UNITARY)  # lossy: passive
+
+
 def test_scattering_of_a_matched_and_an_open_port() -> None:
     """S = (1 - z0 Y)(1 + z0 Y)^-1: two unconnected ports each loaded by 1/z0 are matched (S = 0); open ports
     (Y = 0) reflect fully (S = 1)."""

@@ -94,10 +94,13 @@ def _ladders(request: Request) -> tuple[Ladder, Ladder]:
 
 
 def _sweep(ladder: Ladder, request: Request, points: int) -> tuple[float, float]:
-    """(omega_min, omega_max) in units of 1/sqrt(L0 C0): up to 5 % above the circuit's highest normal frequency."""
+    """(omega_min, omega_max) in units of 1/sqrt(L0 C0): up to 5 % above the circuit's highest normal frequency, its
+    poles' oscillation as ``spectrum``'s sweep places it (a real pole, a coil's capacitor discharging through an
+    ESR at omega 7e4, is no resonance: the sweep went to 35 GHz for a band ending at 1 MHz)."""
     theory = CircuitTheory(ac_circuit_elements(ladder, request.effects))
     poles, _, _ = theory.admittances(["i(l1)"])
-    top = _TOP_MARGIN * float(np.max(np.abs(poles))) * ladder.time_unit
+    ringing = np.abs(poles.imag)
+    top = _TOP_MARGIN * float(np.max(ringing if np.any(ringing > 0) else np.abs(poles))) * ladder.time_unit
     return top / points, top
 
 
