@@ -64,6 +64,9 @@ def test_merged_modes_are_said_and_the_rest_measured(case, N, fraction):
     if resolved.any():
         assert report.max_rel_error_omega < RTOL_SPECTRUM_OMEGA and report.max_abs_error_P < ATOL_SPECTRUM_P
         assert report.max_rel_error_Q < RTOL_SPECTRUM_Q
+    else:  # nothing compared is no error of 0 (the attributes, the repr and the notebook's table said 0.000e+00)
+        assert math.isnan(report.max_rel_error_omega) and math.isnan(report.max_rel_error_Q)
+        assert "max rel. error of omega_n: not compared" in repr(report)
     assert report.envelope_error is not None and report.envelope_error < RTOL_ENVELOPE_Y11
     # the exact admittance's own bound (float64, long double at the peaks) is below what it measures (not always
     # REFERENCE_MARGIN below: ngspice's Y_11 is within 2e-15 here, ten float64 roundings, and long double's first-order
@@ -77,6 +80,16 @@ def test_merged_modes_are_said_and_the_rest_measured(case, N, fraction):
             assert mode["omega"] is None and mode["P"] is None and mode["Q"] is None
         values = [mode[key] for key in ("omega", "P", "Q") if mode[key] is not None]
         assert all(math.isfinite(v) for v in values)
+
+
+def test_a_spectrum_of_every_mode_merged_compares_none_and_says_so():
+    """Q = 3 at N = 37 merges all 37 modes: no omega_n, P_n or Q_n is compared, which is no error of 0."""
+    report = spectrum(Request(chain_for_case("two-mass", 37), AC(), effects=(Losses(3.0),)))
+    assert not report.resolved.any() and report.failure == ""
+    assert all(math.isnan(value) for value in (report.max_rel_error_omega, report.max_abs_error_P,
+                                               report.max_rel_error_Q))
+    assert "max rel. error of omega_n: not compared" in repr(report) and "not compared" in report._repr_html_()
+    assert report.envelope_error is not None and report.envelope_error < RTOL_ENVELOPE_Y11  # Y_11 still is
 
 
 def test_a_Q_above_what_the_fit_places_is_still_refused_in_one_line(capsys):

@@ -274,14 +274,15 @@ class SpectrumReport:
     @property
     def max_rel_error_omega(self) -> float:
         """Largest |omega_circuit - omega_theory| / omega_theory over the resolved modes (a zero mode: absolute);
-        an unseen resolved mode is an infinite error."""
-        return self.metrics.max_rel_error_omega
+        an unseen resolved mode is an infinite error; NaN when no mode is resolved (nothing compared, not an error
+        of 0)."""
+        return self.metrics.max_rel_error_omega if self.resolved.any() else math.nan
 
     @property
     def max_rel_error_Q(self) -> float:
         """Largest |Q_circuit - Q_theory| / Q_theory over the resolved modes of nonzero frequency (NaN for a
-        lossless ladder); an unseen resolved mode is an infinite error."""
-        return self.metrics.max_rel_error_Q
+        lossless ladder, and when no mode is resolved); an unseen resolved mode is an infinite error."""
+        return self.metrics.max_rel_error_Q if self.resolved.any() else math.nan
 
     @property
     def max_rel_error_pole(self) -> float:
@@ -290,8 +291,9 @@ class SpectrumReport:
 
     @property
     def max_abs_error_P(self) -> float:
-        """Largest |P_circuit - P_theory| over every mode (an unseen one counts with P = 0)."""
-        return self.metrics.max_abs_error_P
+        """Largest |P_circuit - P_theory| over every mode not merged (an unseen one counts with P = 0); NaN when
+        every mode is merged."""
+        return self.metrics.max_abs_error_P if self.metrics.compared.any() else math.nan
 
     @property
     def failure(self) -> str:
@@ -304,8 +306,8 @@ class SpectrumReport:
             listed = ", ".join(str(n) for n in unseen[:5]) + (" ..." if unseen.size > 5 else "")
             return (f"the fit left {unseen.size} resolved mode{'s' if unseen.size > 1 else ''} unseen (n = {listed}): "
                     "the comparison with theory failed")
-        errors = {"omega_n": self.max_rel_error_omega, "P_n": self.max_abs_error_P}
-        if self.lossy:
+        errors = {"omega_n": self.max_rel_error_omega, "P_n": self.max_abs_error_P} if self.resolved.any() else {}
+        if self.lossy and self.resolved.any():
             errors["Q_n"] = self.max_rel_error_Q
         if self.envelope_error is not None:
             errors["Y_11"] = self.envelope_error
@@ -436,7 +438,9 @@ def _pole(omega: np.ndarray, gamma: np.ndarray) -> np.ndarray:
 
 
 def _beside(error: float, bound: float | None) -> str:
-    """An error with its reference's own bound beside it."""
+    """An error with its reference's own bound beside it ("not compared" for NaN: no mode was)."""
+    if math.isnan(error):
+        return "not compared (every mode merged by the losses)"
     return f"{error:.3e}" + ("" if bound is None else f" (reference bound {bound:.1e})")
 
 
