@@ -100,3 +100,40 @@ def test_the_axes_are_what_every_point_varies_by() -> None:
             run(4, case="perfect", N=200, sample=1, transits=1, dt=0.5, runs=2)]
     assert study_axes(runs) == ["N", "sample"]
     assert study_constants(runs) == {"case": "perfect", "transits": 1}
+
+
+def test_every_export_writes_one_table(batch_store: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """--csv and the data frame (Parquet, netCDF) are one table: the same columns, a failed run's reason in each,
+    and no chain's metrics for netlists that have no chain (the CSV had fewer columns and called the reason
+    'error'; the data frame had no reason, and all-NaN chain columns in units of I_1(0))."""
+    pytest.importorskip("pandas")
+    from lcchain.studies.store import Store
+
+    capsys.readouterr()
+    assert main(["results", str(batch_store), "--csv"]) == 0
+    rows = list(csv.DictReader(io.StringIO(capsys.readouterr().out)))
+    with Store(batch_store) as store:
+        frame = store.to_dataframe()
+    assert list(rows[0]) == ["index", *frame.columns]
+    assert not {"max_abs_error", "peak_sim", "t_theory"} & set(rows[0])
+    broken = next(row for row in rows if row["netlist"].endswith("broken.cir"))
+    assert broken["status"] == "failed" and "singular matrix" in broken["reason"]
+    assert frame.loc[int(broken["index"]), "reason"] == broken["reason"]
+    assert all(row["reason"] == "" for row in rows if row["status"] == "ok")
+
+
+def test_a_netlist_sweeps_axes_carry_the_elements_units(tmp_path: Path) -> None:
+    """A swept R is in ohms and a C in farads in the netCDF file (every axis was "1"); a .param's unit is not
+    known, and not claimed."""
+    xarray = pytest.importorskip("xarray")
+    netlist = tmp_path / "rc.cir"
+    netlist.write_text("rc\n.param gain = 2k\nV1 in 0 PULSE(0 1 0 1u 1u 1m 2m)\nR1 in out 1k\nC1 out 0 1u\n"
+                       "R2 out 0 {gain}\n.tran 10u 1m\n.end\n")
+    store, target = tmp_path / "s.sqlite", tmp_path / "s.nc"
+    assert main(["sweep", "--netlist", str(netlist), "--vary", "R1=1k,2k", "--vary", "C1=1u,2u", "--vary",
+                 "gain=1k,2k", "--store", str(store), "--executor", "serial"]) == 0
+    assert main(["results", str(store), "--netcdf", str(target)]) == 0
+    with xarray.open_dataset(target) as dataset:
+        assert dataset["R1"].attrs["units"] == "ohm" and dataset["C1"].attrs["units"] == "F"
+        assert "units" not in dataset["gain"].attrs and "not known" in dataset["gain"].attrs["long_name"]
+        assert "peak_sim" not in dataset

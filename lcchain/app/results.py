@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import functools
 import json
+import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -120,9 +121,13 @@ def results(request: ResultsRequest) -> Results:
         if request.json:
             return Results(stored, runs, runs_json=_with_seconds(runs, store), written=found.written,
                            failed=found.failed, notes=found.notes)
-        if request.csv:
-            return Results(stored, runs, rows=[_flat(run) for run in runs], written=found.written,
-                           failed=found.failed, notes=found.notes)
+        if request.csv:  # the table the data frame, Parquet and netCDF hold, missing values blank
+            from ..studies.exports import netlist_study, table_rows
+
+            rows = [{name: None if isinstance(value, float) and math.isnan(value) else value
+                     for name, value in row.items()}
+                    for row in table_rows(stored, chain=not netlist_study(store.description()))]
+            return Results(stored, runs, rows=rows, written=found.written, failed=found.failed, notes=found.notes)
         if request.plot or request.netcdf or request.parquet:
             return found
         spectral = any(run.spectral for run in stored)
@@ -148,27 +153,6 @@ def _price_results(store: Store, request: ResultsRequest) -> None:
     option, value = ("--netcdf", request.netcdf) if request.netcdf else ("STORE", request.store)
     estimate.check(request.budget, option, value,
                    "--netcdf without --waveforms, or a larger --max-memory" if waveforms else "")
-
-
-def _flat(run: LooseJSONObject) -> LooseJSONObject:
-    from ..spice.measure import MEASUREMENTS
-    from ..studies.exports import measurement_column
-
-    row = {"index": run["index"], "kind": run["kind"], "status": run["status"], **run["params"],
-           "digest": run["digest"], "max_abs_error": run.get("max_abs_error"), "wall_s": run["wall_s"]}
-    if "max_rel_error_omega" in run:  # an AC run: its spectral metrics instead of a transient's
-        from ..compare.spectral import SPECTRAL_METRICS  # here: a transient's CSV needs no AC fit (nor scipy)
-
-        del row["max_abs_error"]
-        row.update({name: run.get(name) for name in SPECTRAL_METRICS}, points=run["points"])
-    arrivals = run.get("arrivals") or []
-    if arrivals:
-        row.update(t_sim=arrivals[0]["t_sim"], peak_sim=arrivals[0]["peak_sim"], peak_theory=arrivals[0]["peak_theory"])
-    for name, value in (run.get(MEASUREMENTS) or {}).items():
-        row[measurement_column(name, row)] = value
-    if "error" in run:
-        row["error"] = run["error"].splitlines()[0]
-    return row
 
 
 def _require(module: str, option: str) -> None:

@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING, Protocol
 
 from ..core.extras import optional_module
 from ..core.json import LooseJSONObject
-from ..core.physical import vector_units
+from ..core.physical import quantity_units, vector_units
 from .stored import ARRAY_AXES, StoredRun, study_constants, study_dims, value_key
 
 if TYPE_CHECKING:
@@ -40,6 +40,8 @@ class Readable(Protocol):
     def metrics_bytes(self) -> int: ...
 
     def array_sizes(self, key: str) -> tuple[int, dict[str, tuple[int, int]]] | None: ...
+
+    def description(self) -> LooseJSONObject: ...
 
 
 @dataclass(frozen=True)
@@ -97,8 +99,7 @@ def measurement_column(name: str, row: Mapping[str, object]) -> str:
     return f"meas_{name}" if name in row else name
 
 
-#: The root's variables with a unit of their own; every other numeric one is dimensionless ("1").
-_ROOT_UNITS = {"wall_s": "s", "total_s": "s", "L": "H", "C": "F", "time": "s", "frequency": "Hz"}
+
 _ROOT_NAMES = {"t_sim": "first arrival's time (simulation), units of sqrt(L0 C0)",
                "t_theory": "first arrival's time (theory), units of sqrt(L0 C0)",
                "dt": "maximum time step, units of sqrt(L0 C0)", "wall_s": "simulator's wall time",
@@ -121,9 +122,12 @@ def _described(dataset: xr.Dataset, runs: list[StoredRun]) -> xr.Dataset:
             variable.attrs.setdefault("long_name", f"{name}: a .meas result, in the unit of what the netlist "
                                       "measured (lcchain does not know it)")
             continue
-        variable.attrs.setdefault("long_name", _ROOT_NAMES.get(str(name), str(name)))
-        if variable.dtype.kind in "fiubc":
-            variable.attrs.setdefault("units", _ROOT_UNITS.get(str(name), "1"))
+        units = quantity_units(str(name)) if variable.dtype.kind in "fiubc" else None
+        variable.attrs.setdefault("long_name", _ROOT_NAMES.get(str(name), str(name) if units is not None or
+                                                               variable.dtype.kind not in "fiubc" else
+                                                               f"{name} (its unit is not known to lcchain)"))
+        if units is not None:
+            variable.attrs.setdefault("units", units)
     return dataset
 
 
@@ -140,7 +144,7 @@ def to_dataframe(store: Readable) -> pd.DataFrame:
     each would bury the metrics): they are :func:`to_xarray`'s ``L`` and ``C``, and each
     :attr:`StoredRun.parts`. pandas is optional: ``pip install 'lcchain[data]'``."""
     pd = _optional("pandas")
-    return pd.DataFrame(table_rows(store.runs())).set_index("index")
+    return pd.DataFrame(table_rows(store.runs(), chain=not netlist_study(store.description()))).set_index("index")
 
 def to_xarray(store: Readable, waveforms: bool = False) -> xr.Dataset:
     """The runs as an xarray Dataset whose dimensions are the study's axes.
@@ -167,7 +171,7 @@ def to_xarray(store: Readable, waveforms: bool = False) -> xr.Dataset:
     results = [run for run in store.runs() if not run.member]
     dims, along = study_dims(results)
     constants = study_constants(results)
-    frame = _optional("pandas").DataFrame(table_rows(results))
+    frame = _optional("pandas").DataFrame(table_rows(results, chain=not netlist_study(store.description())))
     dataset = frame.drop(columns=list(constants)).set_index(dims).to_xarray().set_coords(along)
     dataset.attrs.update({"store": str(store.path), **{key: str(value) for key, value in constants.items()}})
     dataset = _with_parts(dataset, dims, results)
@@ -203,11 +207,19 @@ def export_size(store: Readable, waveforms: bool = False) -> ExportSize:
     return ExportSize(len(results), cells, metrics, stored, longest, sum(per_name.values()))
 
 
-def table_rows(runs: list[StoredRun]) -> list[LooseJSONObject]:
-    """One row per run: its parameters, status and metrics (a transient's, an AC run's, or both kinds' in a
-    store that holds both)."""
+def netlist_study(description: Mapping[str, object]) -> bool:
+    """Whether a store's description (:meth:`lcchain.studies.store.Store.description`) is of netlists lcchain did not
+    write (a batch, a sweep of a netlist): its runs have no chain, so no chain's metrics either."""
+    return description.get("command") == "batch" or "netlist" in description
+
+
+def table_rows(runs: list[StoredRun], *, chain: bool = True) -> list[LooseJSONObject]:
+    """One row per run: its parameters, status (with the first line of why it failed, ``reason``) and metrics (a
+    transient's, an AC run's, or both kinds' in a store that holds both; a chain's only with ``chain``: not for a
+    study of netlists, whose runs have none).  The one table every export writes: ``--csv``, ``--parquet``,
+    :func:`to_dataframe` and :func:`to_xarray`."""
     spectral = any(run.spectral for run in runs)
-    transient = not spectral or any(run.metrics is not None and not run.spectral for run in runs)
+    transient = chain and (not spectral or any(run.metrics is not None and not run.spectral for run in runs))
     costs = any(run.metrics is not None and "effects" in run.metrics for run in runs)
     measured = list(dict.fromkeys(name for run in runs for name in run.measurements))
     rows: list[LooseJSONObject] = []
@@ -216,7 +228,8 @@ def table_rows(runs: list[StoredRun]) -> list[LooseJSONObject]:
         arrivals = metrics.get("arrivals") or []
         first = arrivals[0] if arrivals else {}
         row: LooseJSONObject = {
-               "index": run.index, **run.params, "kind": run.kind, "status": run.status, "key": run.key,
+               "index": run.index, **run.params, "kind": run.kind, "status": run.status,
+               "reason": run.reason.splitlines()[0] if run.reason and run.status != "ok" else None, "key": run.key,
                "digest": run.digest or None, "points": run.points, "wall_s": run.wall_s,
                # the engine's name and its version apart, as the store's column holds them together
                "engine": run.engine if run.status != "pending" else None,

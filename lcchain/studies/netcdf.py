@@ -30,7 +30,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..core import __version__
-from ..core.physical import PHASOR_SCALE, variable_name, vector_units
+from ..core.physical import PHASOR_SCALE, quantity_units, variable_name, vector_units
 from ..runs.datasets import Variable
 from .store import Store
 from .stored import StoredRun
@@ -92,8 +92,9 @@ def _group(kind: str, runs: list[tuple[StoredRun, dict[str, np.ndarray]]], axes:
     for name in axes:  # the study's parameters of each run, where it has them
         given = [run.params.get(name) for run, _ in runs]
         if all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in given):
-            data[f"param_{name}"] = ("run", np.array(given, dtype=float), {"long_name": f"study axis {name}",
-                                                                          "units": "1"})
+            unit = quantity_units(name)
+            data[f"param_{name}"] = ("run", np.array(given, dtype=float), {"long_name": f"study axis {name}"} | (
+                {"units": unit} if unit is not None else {}))
         else:
             data[f"param_{name}"] = ("run", np.array([str(v) for v in given], dtype=str),
                                      {"long_name": f"study axis {name}"})
