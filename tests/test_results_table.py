@@ -137,3 +137,18 @@ def test_a_netlist_sweeps_axes_carry_the_elements_units(tmp_path: Path) -> None:
         assert dataset["R1"].attrs["units"] == "ohm" and dataset["C1"].attrs["units"] == "F"
         assert "units" not in dataset["gain"].attrs and "not known" in dataset["gain"].attrs["long_name"]
         assert "peak_sim" not in dataset
+
+
+def test_a_scene_sweeps_axis_is_named_as_cf_names_things(tmp_path: Path) -> None:
+    """units.L0 is no CF name (2.3: letters, digits, underscores): the file's axis is units_L0, in henries, its
+    long_name the key as the scene writes it."""
+    xarray = pytest.importorskip("xarray")
+    scene = tmp_path / "s.toml"
+    scene.write_text('[chain]\ncase = "two-mass"\nN = 10\n[analysis]\ndt = 0.05\n[output]\nplots = []\n')
+    store, target = tmp_path / "s.sqlite", tmp_path / "s.nc"
+    assert main(["sweep", str(scene), "--vary", "units.L0=1e-6,2e-6", "--store", str(store),
+                 "--executor", "serial"]) == 0
+    assert main(["results", str(store), "--netcdf", str(target)]) == 0
+    with xarray.open_dataset(target) as dataset:
+        assert list(dataset.dims) == ["units_L0"]
+        assert dataset["units_L0"].attrs == {"long_name": "units.L0", "units": "H"}

@@ -356,6 +356,11 @@ def test_a_study_goes_to_netcdf_on_its_axes_with_its_waveforms(serial_store: Pat
         assert dict(waves.sizes) == {"run": len(runs), "obs": sum(r.points for r in runs)}
         assert waves["time"].attrs["units"] == "s" and waves["i_l1"].attrs["units"] == "A"
         assert waves["row_size"].attrs["sample_dimension"] == "obs"
+        # CF 9: a discrete sampling geometry, each run's time series named by its key; CF 5: no coordinate has a
+        # fill value (xarray gives a float one by default)
+        assert waves.attrs["featureType"] == "timeSeries" and waves["key"].attrs["cf_role"] == "timeseries_id"
+        assert all("_FillValue" not in dataset[name].encoding for name in dataset.coords)
+        assert "references" not in dataset.attrs  # CF's is for published references: the note is a comment
         starts = np.concatenate(([0], np.cumsum(waves["row_size"].values)[:-1]))
         by_index = {int(i): (int(start), int(size)) for i, start, size in
                     zip(waves["index"].values, starts, waves["row_size"].values, strict=True)}

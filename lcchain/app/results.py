@@ -225,7 +225,8 @@ def _write_netcdf(parts: dict[str, xr.Dataset], path: Path) -> list[Path]:
     def write(partial: Path) -> None:
         root.to_netcdf(partial, engine=engine, mode="w")
         for name, part in groups.items():
-            encoding = {str(v): {"zlib": True, "complevel": 4} for v in part.variables
+            encoding = {str(v): {"zlib": True, "complevel": 4} | (
+                            {"_FillValue": None} if v in part.coords else {}) for v in part.variables
                         if part[v].dtype.kind in "fiu"}
             part.to_netcdf(partial, engine=engine, mode="a", group=name, encoding=encoding)
 

@@ -43,7 +43,8 @@ def add_parser(sub: Subcommands, budget: list[Parser]) -> None:
     p.add_argument("--parquet", metavar="FILE.parquet", help="write one row per run, the axes as columns "
                    "(needs lcchain[data] and pyarrow)")
     p.add_argument("--waveforms", action="store_true",
-                   help="--netcdf also holds every run's saved vectors and their time (padded with NaN)")
+                   help="--netcdf also holds every run's saved vectors and their time (a group a kind of run, its runs "
+                        "one after another: a CF ragged array)")
     p.set_defaults(func=cmd_results)
 
 

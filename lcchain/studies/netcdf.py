@@ -23,6 +23,7 @@ save is NaN over that run's points, in both its parts.  The writer compresses (z
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass
 from datetime import UTC, datetime
 from typing import TYPE_CHECKING
@@ -102,6 +103,23 @@ def _group(kind: str, runs: list[tuple[StoredRun, dict[str, np.ndarray]]], axes:
     dataset = dataset.assign_coords({axis: xarray.Variable(*data[axis])})
     dataset.attrs.update({"Conventions": CONVENTIONS, "title": f"lcchain {kind} waveforms, one run after another "
                           "(contiguous ragged array: row_size points each)"})
+    if axis == "time":  # a discrete sampling geometry (CF 9): a time series a run, each named by its key
+        dataset.attrs["featureType"] = "timeSeries"
+        dataset["key"].attrs["cf_role"] = "timeseries_id"
+    return dataset
+
+
+def _cf_names(dataset: xr.Dataset) -> xr.Dataset:
+    """The dataset as CF names things (2.3: letters, digits and underscores; ``units.L0`` -> ``units_L0``, the
+    name as lcchain gives it kept as ``long_name`` where there is none), and its coordinates without a fill value
+    (5: a coordinate has no missing values)."""
+    renamed = {name: re.sub(r"[^A-Za-z0-9_]+", "_", str(name)).strip("_") or "_" for name in dataset.variables}
+    renamed = {old: new for old, new in renamed.items() if new != old and new not in dataset.variables}
+    for old in renamed:
+        dataset[old].attrs.setdefault("long_name", str(old))
+    dataset = dataset.rename(renamed) if renamed else dataset
+    for name in dataset.coords:
+        dataset[name].encoding["_FillValue"] = None
     return dataset
 
 
@@ -113,8 +131,8 @@ def cf_datasets(store: Store, waveforms: bool = False) -> dict[str, xr.Dataset]:
     root.attrs.update({"Conventions": CONVENTIONS, "title": f"lcchain study {store.path.name}",
                        "history": f"{now} lcchain {__version__} results {store.path.name} --netcdf",
                        "source": f"lcchain {__version__}; simulator runs from the store {store.path.name}",
-                       "references": "the engines' versions are the variables engine and engine_version"})
-    parts: dict[str, xr.Dataset] = {"": root}
+                       "comment": "the engines' versions are the variables engine and engine_version"})
+    parts: dict[str, xr.Dataset] = {"": _cf_names(root)}
     if not waveforms:
         return parts
     results = [run for run in store.runs() if not run.member and run.status == "ok"]
@@ -128,5 +146,5 @@ def cf_datasets(store: Store, waveforms: bool = False) -> dict[str, xr.Dataset]:
         if kind in grouped:
             group = _group(kind, grouped[kind], axes)
             group.attrs["history"] = root.attrs["history"]
-            parts[kind] = group
+            parts[kind] = _cf_names(group)
     return parts
