@@ -4,7 +4,8 @@ Run from the repository root (CI runs it too):
 
     .venv/bin/python examples/python_api.py [OUTPUT_FOLDER]
 
-It writes two PNG files to OUTPUT_FOLDER (default: the current directory).
+It writes three PNG files to OUTPUT_FOLDER (default: the current directory): the report's figure, the overlay
+and a scene's space-time map.
 """
 
 import sys

@@ -152,3 +152,22 @@ def test_a_scene_sweeps_axis_is_named_as_cf_names_things(tmp_path: Path) -> None
     with xarray.open_dataset(target) as dataset:
         assert list(dataset.dims) == ["units_L0"]
         assert dataset["units_L0"].attrs == {"long_name": "units.L0", "units": "H"}
+
+
+def test_a_netlist_stores_summary_and_plot_say_what_to_ask(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """The default --metric, on netlists without a theory, is said to be the default and the store's own .meas
+    are offered; Store.plot() says the runs have no theory (it said no run had finished, naming --plot)."""
+    from lcchain.core.errors import ParameterError
+    from lcchain.studies.store import Store
+
+    netlist = tmp_path / "rc.cir"
+    netlist.write_text("rc\nV1 in 0 PULSE(0 1 0 1u 1u 1m 2m)\nR1 in out 1k\nC1 out 0 1u\n.tran 10u 1m\n"
+                       ".meas tran vmax max v(out)\n.end\n")
+    store = tmp_path / "s.sqlite"
+    assert main(["batch", str(netlist), "--store", str(store)]) == 0
+    capsys.readouterr()
+    assert main(["results", str(store), "--summary"]) == 2
+    err = capsys.readouterr().err
+    assert "--metric (default) = 'peak'" in err and "--metric vmax, a .meas of the netlists" in err
+    with Store(store, "read") as opened, pytest.raises(ParameterError, match="its 1 finished runs have none"):
+        opened.plot()

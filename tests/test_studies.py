@@ -184,6 +184,7 @@ def test_a_timeout_is_a_record_and_leaves_no_ngspice(tmp_path: Path) -> None:
     with Store(tmp_path / "t.sqlite") as store:
         (run,) = store.runs()
     assert run.status == "timeout" and "timed out after 1 s" in run.reason
+    assert run.wall_s is not None and run.wall_s >= 1.0  # the time it took (it said 0.0: a cost of nothing)
     assert [p for p, name in descendants(os.getpid()).items() if p not in before and name == "ngspice"] == []
 
 

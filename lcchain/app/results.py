@@ -90,7 +90,8 @@ def results(request: ResultsRequest) -> Results:
         _price_results(store, request)
         stored = store.runs()
         if request.summary or request.plot:
-            check_metric(metric, stored)  # before any file is written
+            # before any file is written; the default peak is named as the default (the user typed no --metric)
+            check_metric(metric, stored, "--metric" if request.metric is not None else "--metric (default)")
         if request.plot and metric not in STUDY_METRICS:
             raise ParameterError("--metric", metric, f"one of {', '.join(STUDY_METRICS)} with --plot (a "
                                  "measurement's distribution is printed by --summary --metric NAME)")

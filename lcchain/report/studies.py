@@ -20,7 +20,7 @@ from ..scenes.load import parse_scene
 from ..scenes.run import nominal_peak
 from ..scenes.schema import Scene
 from ..studies.store import Store
-from ..studies.summary import Group, peak_groups
+from ..studies.summary import Group, check_metric, peak_groups
 from .figures import delta_data, delta_figure, design_grid
 from .plots import histogram
 from .scenes import peak_label
@@ -49,8 +49,10 @@ def study_figure(store: Store, metric: str = "peak", ax: Axes | None = None) -> 
     ``ax``, a one-panel figure (one group's histogram, or Fig. delta) is drawn into it; several groups' panels
     are a figure of their own."""
     runs = [run for run in store.runs() if run.status == "ok" and run.metrics and not run.member]
-    if not runs:
-        raise ParameterError("--plot", str(store.path), "a store with finished runs to draw")
+    if not runs or not any(run.judged for run in runs):  # none finished, or none compared with a theory
+        check_metric(metric, store.runs(), "metric")  # says which: no run finished, or a study of netlists
+        raise ParameterError("metric", metric, "a metric of runs compared with a theory, to draw (a .meas's "
+                             "distribution is `lcchain results STORE --summary --metric NAME`)")
     if any("sample" in run.params for run in runs):
         groups = [group for group in peak_groups(store.runs(), metric) if group.peaks.size]
         if not groups:

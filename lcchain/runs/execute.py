@@ -596,8 +596,9 @@ def execute(spec: RunSpec, simulator: Simulator | None = None, *,
         done = ANALYSIS_RUNS[spec.analysis](spec, simulator, progress)
     except SimulationError as error:
         log.info("%s: %s (%s)", spec.label or key[:12], error.status, error.reason)
+        spent = time.perf_counter() - start  # the simulator's share is not told apart: its wall time is all of it
         return RunRecord(key=key, status="timeout" if error.status == "timeout" else "failed", reason=error.reason,
-                         log_tail=error.log_tail, total_s=time.perf_counter() - start, engine=spec.engine,
+                         log_tail=error.log_tail, wall_s=spent, total_s=spent, engine=spec.engine,
                          engine_version=simulator.version, label=spec.label)
     total, wall = time.perf_counter() - start, done.run.wall_s
     log.info("%s: ok, %d points, %s %.3f s, lcchain %.3f s", spec.label or key[:12], done.run.points, spec.engine,

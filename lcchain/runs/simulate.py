@@ -566,9 +566,15 @@ def simulate_chain(chain: Chain, options: ChainOptions, *, budget: Budget | None
     budget, progress, simulator
         As :func:`simulate`'s.
 
-    Raises, Warns
-    -------------
-    As :func:`simulate`.
+    Raises
+    ------
+    BudgetError, SimulationError
+        As :func:`simulate`.
+
+    Warns
+    -----
+    lcchain.compare.accuracy.AccuracyWarning
+        As :func:`simulate`.
     """
     instance("options", options, ChainOptions)
     return simulate(options.request(chain), budget=budget, progress=progress, simulator=simulator)

@@ -140,9 +140,10 @@ def check_metric(metric: str, runs: list[StoredRun], option: str = "--metric") -
                                  "runs the failed ones again)")
         raise ParameterError(option, metric, "a store with finished runs (none has finished yet: run the study's "
                              "command again to resume it)")
+    measures = f": --metric {' | '.join(measured)}, a .meas of the netlists" if measured else \
+        " (a batch of netlists: `lcchain results STORE` shows each one's vectors, points and time)"
     raise ParameterError(option, metric, f"a store of runs with a theory to compare with; its {len(finished)} "
-                         "finished runs have none (a batch of netlists: `lcchain results STORE` shows each one's "
-                         "vectors, points and time)")
+                         f"finished runs have none{measures}")
 
 
 def _drawn(runs: list[StoredRun], axes: list[str]) -> set[str]:
