@@ -181,6 +181,21 @@ def test_a_measurement_named_error_is_a_value_not_a_failure(tmp_path: Path, tran
     assert run.measurements["error"] == pytest.approx(1.0 - math.exp(-1.0), rel=RTOL_MEASURE_TRAN)
 
 
+def test_a_measurement_of_a_node_named_as_an_element_line_names_it(tmp_path: Path) -> None:
+    """Node names hold - + : on element lines, in .save and in ngspice's .meas: a .meas of v(out-a) was refused."""
+    netlist = ("odd nodes\nV1 in+ 0 PULSE(0 1 0 1u 1u 1m 2m)\nR1 in+ n.1 100\nR2 n.1 out-a 100\nC1 out-a 0 1u\n"
+               ".tran 2u 1m\n.meas tran va find v(out-a) at=1m\n.meas tran vb find v(in+) at=1m\n.end\n")
+    (tmp_path / "odd.cir").write_text(netlist, encoding="utf-8")
+    path = tmp_path / "runs.sqlite"
+    assert main(["batch", str(tmp_path / "odd.cir"), "--store", str(path)]) == 0
+    with Store(path, "read") as opened:
+        (run,) = opened.runs()
+    assert run.measurements["vb"] == pytest.approx(1.0, rel=RTOL_MEASURE_TRAN)
+    # RC = 0.2 ms; a step of 2 us through the source's 1 us edge: 1.7e-5 of the value (what is tested is that
+    # the measurement is made, of that node)
+    assert run.measurements["va"] == pytest.approx(1.0 - math.exp(-5.0), rel=1e-4)
+
+
 @pytest.mark.parametrize("transport", ["process", "warm"])
 def test_a_measurement_of_a_missing_vector_is_missing_and_the_run_stands(tmp_path: Path, transport: str) -> None:
     """Its "Error:" line is the measurement's reason, not the run's failure: the run, its waveform and its other
