@@ -197,6 +197,20 @@ def test_a_measurement_of_a_node_named_as_an_element_line_names_it(tmp_path: Pat
 
 
 @pytest.mark.parametrize("transport", ["process", "warm"])
+def test_ngspices_line_numbers_are_the_netlists_with_a_measurement(tmp_path: Path, transport: str) -> None:
+    """The control block that runs a .meas goes before .end: after the title it moved ngspice's "Error on line 3"
+    to line 8."""
+    netlist = ("bad line 3\nV1 in 0 PULSE(0 1 0 1u 1u 1m 2m)\nR1 in a 1k * trailing star\nC1 a 0 1u\n"
+               ".tran 2u 1m 0 2u\n.meas tran va find v(a) at=0.5m\n.end\n")
+    (tmp_path / "bad.cir").write_text(netlist, encoding="utf-8")
+    path = tmp_path / "runs.sqlite"
+    assert main(["batch", str(tmp_path / "bad.cir"), "--store", str(path), "--transport", transport]) == 1
+    with Store(path, "read") as opened:
+        (run,) = opened.runs()
+    assert run.status == "failed" and "line 3 " in run.reason, run.reason
+
+
+@pytest.mark.parametrize("transport", ["process", "warm"])
 def test_a_measurement_of_a_missing_vector_is_missing_and_the_run_stands(tmp_path: Path, transport: str) -> None:
     """Its "Error:" line is the measurement's reason, not the run's failure: the run, its waveform and its other
     measurements are kept, whichever transport ran it."""

@@ -62,6 +62,7 @@ _VECTOR = re.compile(rf"(v|vdb|vm|vp|vr|vi|i|idb|im|ip|ir|ii)\(({_NODE})(,{_NODE
 _NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 _CARD = re.compile(r"^\s*\.meas(?:ure)?\s+(?:tran|ac)\s+([A-Za-z_][A-Za-z0-9_]*)\b", re.IGNORECASE)
 _CONTROL = re.compile(r"^\s*\.control", re.IGNORECASE | re.MULTILINE)
+_END = re.compile(r"^[ \t]*\.end[ \t]*$", re.IGNORECASE | re.MULTILINE)
 
 #: A run's measurements: name (lower case) -> (value, or None where ngspice could not make it; ngspice's reason).
 Measurements = Mapping[str, tuple[float | None, str]]
@@ -139,13 +140,19 @@ def measure_names_in(cards: Sequence[DotCard]) -> list[str]:
 
 def measure_control(text: str, raw: str) -> str | None:
     """The netlist with the control block that runs its measurements and writes the raw file to ``raw``, put
-    after its title; None when it has no ``.meas`` card, or has its own control block (a trusted netlist: it
-    runs as written)."""
+    before its ``.end`` (or after its last line), so that ngspice's line numbers in its messages are the user's
+    (after the title, it moved every line by five); None when it has no ``.meas`` card, or has its own control
+    block (a trusted netlist: it runs as written)."""
     if not measure_names(text) or _CONTROL.search(text):
         return None
     # the first line is the title, blank or not (ngspice 39 -b reads a blank first line as an empty title)
-    head, newline, rest = text.partition("\n")
-    return f"{head}\n.control\nrun\nwrite {raw}\nquit\n.endc\n{rest}" if newline else None
+    if "\n" not in text:
+        return None
+    block = f".control\nrun\nwrite {raw}\nquit\n.endc\n"
+    end = _END.search(text, text.index("\n") + 1)
+    if end is None:
+        return f"{text}{'' if text.endswith(chr(10)) else chr(10)}{block}"
+    return f"{text[:end.start()]}{block}{text[end.start():]}"
 
 
 def read_measurements(log: str, names: Iterable[str]) -> dict[str, tuple[float | None, str]]:
