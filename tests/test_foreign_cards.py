@@ -511,3 +511,14 @@ def test_nonlinear_devices_and_operating_points_cost_more() -> None:
     assert price("R2 n 0 1k\n.op\n.dc V1 0 1 0.001") > price("R2 n 0 1k\n.op") > resistor
     assert read_contents(allowed_netlist(base.replace("{x}", ".model q NPN (bf=100)\nQ1 n n 0 q"), "n.cir",
                                          None)).nonlinear == 1
+
+
+@pytest.mark.parametrize("line, said", [(".param r0 = 1k rr = '2*r0'", "an expression in braces"),
+                                        ("C2 n1 0 1\u00b5", "u for micro")])
+def test_a_refused_character_says_what_to_write(line: str, said: str) -> None:
+    """A quoted expression and the micro sign run in ngspice; the refusal says what lcchain runs instead."""
+    from lcchain.core.errors import ParameterError
+    from lcchain.spice.foreign import allowed_netlist
+
+    with pytest.raises(ParameterError, match=said):
+        allowed_netlist(LADDER.replace(".tran", f"{line}\n.tran", 1), "netlist", None)

@@ -186,6 +186,10 @@ _SCRIPT = re.compile(r"^\s*\*\s*(#|ng_script)", re.IGNORECASE)
 _TITLE_COMMAND = re.compile(r"^\s*(\.(?!title\s)[A-Za-z]|\*\s*(#|ng_script))", re.IGNORECASE)
 _ALLOWED = ("a netlist of comments, element lines (" + ", ".join(sorted(ELEMENTS)) + ") and the dot-commands "
             + ", ".join(sorted(DOT_COMMANDS | _INCLUDES)))
+#: What to write instead of a character the allow-list refuses, where there is a plain way.
+_CHARACTER_HINTS = {"'": "an expression in braces, {r0*2}: ngspice reads '...' as {...}",
+                    "\u00b5": "u for micro, 1u (ngspice 39 reads the micro sign too)",
+                    "\u03bc": "u for micro, 1u"}
 #: What a refusal adds for ``lcchain batch``, whose ``--allow-control`` runs a netlist as it is.
 ALLOW_CONTROL_HINT = " (lcchain batch --allow-control runs a netlist as it is, in a sandbox)"
 
@@ -653,7 +657,8 @@ def _allowed(text: str, source: str, folder: Path | None, read: Callable[[Path, 
             continue
         if not _CHARACTERS.fullmatch(body):
             bad = next(ch for ch in body if not _CHARACTERS.fullmatch(ch))
-            raise _refuse(card, f"a line without {bad!r}: {_ALLOWED}")
+            hint = _CHARACTER_HINTS.get(bad)
+            raise _refuse(card, f"a line without {bad!r}" + (f" ({hint})" if hint else "") + f": {_ALLOWED}")
         if word[0] == ".":
             command = command_of(word)
             if state.open and not (is_param_card(word) or command in SUBCKT_COMMANDS):
