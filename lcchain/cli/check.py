@@ -7,7 +7,7 @@ import argparse
 
 from ..app.options import engine_names
 from ..core.analyses import analysis_kind
-from .common import EXIT_FAILED, EXIT_OK, Parser, Subcommands, budget_from_args, emit_json, number_type
+from .common import EXIT_FAILED, EXIT_OK, Parser, Subcommands, budget_from_args, emit_json, number_type, plural
 
 __all__ = ["add_parser", "add_check_arguments", "cmd_check"]
 
@@ -59,7 +59,9 @@ def cmd_check(args: argparse.Namespace) -> int:
     if result.reference:
         print(f"no exact reference ({result.reference}): the run ran, nothing compared")
         return EXIT_OK
-    print(f"exact reference: {result.states} states of {result.unknowns} unknowns, {_g(result.reference_seconds)} s")
+    states, unknowns = result.states or 0, result.unknowns or 0  # both set when there is a reference
+    print(f"exact reference: {plural(states, 'state')} of {plural(unknowns, 'unknown')}, "
+          f"{_g(result.reference_seconds)} s")
     width = max(len(v.name) for v in result.vectors) if result.vectors else 6
     print(f"{'vector':>{width}}  {'max_abs_error':>14}  {'scale':>11}  {'relative':>9}  {'predicted':>11}")
     for v in result.vectors:

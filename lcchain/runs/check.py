@@ -62,7 +62,7 @@ CHECK_MEASUREMENT = "check_max_abs_error"
 #: The relative accuracy whose step ``lcchain check`` suggests when none is asked for.
 DEFAULT_ACCURACY = 1e-6
 #: Methods ngspice integrates with; the prediction is the trapezoidal rule's (gear: a rough factor).
-_PREDICTED = {"trap": "the trapezoidal rule's error, predicted from the poles (exact for trap at a fixed step)",
+_PREDICTED = {"trap": "the trapezoidal rule's error, predicted from the poles: exact for trap at a fixed step",
               "gear": "gear: 4 x the trapezoidal prediction (a factor measured on ladders only; a rough guide)"}
 
 
@@ -438,6 +438,10 @@ def check_text(text: str, source: str = "netlist", folder: Path | None = None, o
                             accuracy=accuracy_value, accuracy_given=given)
     if isinstance(circuit, str) or response is None:
         return replace(unchecked, reference=str(circuit))
+    if isinstance(analysis, Transient) and "interp" in dict(cards.options):
+        notes = (*notes, ".options interp: ngspice's output is interpolated onto the TSTEP grid, whose error the "
+                 "prediction (from the steps ngspice took) does not hold; without interp the vectors are its own "
+                 "time points")
     return _compare(response, seconds, analysis, axis, vectors, names, unchecked, notes)
 
 

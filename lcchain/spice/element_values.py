@@ -95,8 +95,10 @@ class NetlistCards:
 
     @property
     def method(self) -> str:
-        """The integration method ngspice uses (``trap`` unless ``.options method=gear``)."""
-        return dict(self.options).get("method", "trap").lower()
+        """The integration method ngspice uses (``trap`` unless ``.options method=gear``; ``trapezoidal`` is its
+        other name for trap)."""
+        method = dict(self.options).get("method", "trap").lower()
+        return "trap" if method == "trapezoidal" else method
 
 
 def _words(text: str) -> list[str]:

@@ -138,12 +138,14 @@ def measure_names_in(cards: Sequence[DotCard]) -> list[str]:
     return list(dict.fromkeys(names))
 
 
-def measure_control(text: str, raw: str) -> str | None:
+def measure_control(text: str, raw: str, *, always: bool = False) -> str | None:
     """The netlist with the control block that runs its measurements and writes the raw file to ``raw``, put
     before its ``.end`` (or after its last line), so that ngspice's line numbers in its messages are the user's
     (after the title, it moved every line by five); None when it has no ``.meas`` card, or has its own control
-    block (a trusted netlist: it runs as written)."""
-    if not measure_names(text) or _CONTROL.search(text):
+    block (a trusted netlist: it runs as written); ``always``: with no ``.meas`` too (a raw file written from
+    what ngspice holds, not as it goes: with ``.options interp`` ngspice 39's ``-r`` file holds 16 points more
+    than its header counts)."""
+    if not (measure_names(text) or always) or _CONTROL.search(text):
         return None
     # the first line is the title, blank or not (ngspice 39 -b reads a blank first line as an empty title)
     if "\n" not in text:

@@ -29,7 +29,7 @@ from ..processes import (
     wait_watching,
 )
 from ..simulator import Simulator
-from ..text import require_canonical
+from ..text import parse_options, require_canonical
 from .place import Place
 from .raw import read_raw
 
@@ -87,7 +87,7 @@ def run_batch(job: TransportJob, simulator: Simulator, place: Place,
         fd = raw.fileno()
         # ngspice measures nothing in batch mode with -r: a netlist with .meas cards writes its raw file from
         # lcchain's control block instead (lcchain.spice.measure)
-        measured = measure_control(job.text, f"/dev/fd/{fd}")
+        measured = measure_control(job.text, f"/dev/fd/{fd}", always="interp" in parse_options(job.text))
         text = measured if measured is not None else job.text
         source.write(require_canonical(text).encode("utf-8"))  # ngspice splits a file at LF, as the check did
         source.seek(0)
