@@ -28,6 +28,7 @@ from helpers.tolerances import (
     RTOL_CHECK_AC,
     RTOL_CHECK_AC_BY_HAND,
     RTOL_ONE_OPERATION,
+    RTOL_PRINTED,
     RTOL_STORED_CHECK_ERROR,
 )
 
@@ -166,7 +167,7 @@ def test_powers_evaluate_as_ngspice_reads_them(tmp_path: Path) -> None:
         found = re.search(rf"^i{k}\s*=\s*(\S+)", printed, re.MULTILINE)
         assert found is not None, printed
         # ngspice prints 7 significant digits; 2^3^2 read right to left (512) is 8 times off
-        assert -1.0 / float(found.group(1)) == pytest.approx(evaluate_expression(expression, {}), rel=1e-6), expression
+        assert -1.0 / float(found.group(1)) == pytest.approx(evaluate_expression(expression, {}), rel=RTOL_PRINTED), expression
 
 
 # --------------------------------------------------------------------------- the exact references, independently

@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 from helpers.netlists import LADDER
 from helpers.processes import temporary_entries
+from helpers.tolerances import RTOL_WARNED_MEASURE
 
 from lcchain.core.errors import ParameterError, SimulationError
 from lcchain.spice import doctor as doctor_module
@@ -237,7 +238,7 @@ def test_a_run_ngspice_warned_of_and_finished_stands(backend: str, case: str, le
             expected, _ = run(braced, simulator).measurements["va"]
     finally:
         warm.close_workers()
-    assert value == pytest.approx(expected, rel=1e-4) and not reason
+    assert value == pytest.approx(expected, rel=RTOL_WARNED_MEASURE) and not reason
 
 
 @pytest.mark.ngspice

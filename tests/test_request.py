@@ -13,6 +13,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from helpers.tolerances import RTOL_SAME_PREDICTION
 
 import lcchain
 from lcchain.circuit.effects import Coupling, Losses, PreferredValues, Tolerance, Walls
@@ -156,4 +157,4 @@ def test_an_accuracy_is_planned_for_every_tolerance_sample(transits: int) -> Non
     predictions = [predicted_error(normal_modes(sample), plan.steps[0], plan.tstop) for sample in plan.chains]
     assert max(predictions) <= SAFETY * accuracy * (1 + 1e-9)
     carried = [spec.theory.predicted_error for spec in plan.specs]
-    assert carried == pytest.approx(predictions, rel=1e-12)
+    assert carried == pytest.approx(predictions, rel=RTOL_SAME_PREDICTION)

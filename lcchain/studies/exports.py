@@ -229,7 +229,8 @@ def table_rows(runs: list[StoredRun], *, chain: bool = True) -> list[LooseJSONOb
         first = arrivals[0] if arrivals else {}
         row: LooseJSONObject = {
                "index": run.index, **run.params, "kind": run.kind, "status": run.status,
-               "reason": run.reason.splitlines()[0] if run.reason and run.status != "ok" else None, "key": run.key,
+               # text in every row ("" where none: a column of None alone would be read as numbers)
+               "reason": run.reason.splitlines()[0] if run.reason and run.status != "ok" else "", "key": run.key,
                "digest": run.digest or None, "points": run.points, "wall_s": run.wall_s,
                # the engine's name and its version apart, as the store's column holds them together
                "engine": run.engine if run.status != "pending" else None,

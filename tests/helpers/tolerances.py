@@ -712,3 +712,21 @@ MAX_BATCH_BYTES_PER_RUN = 64
 # plus its launcher's and sandbox's, read once) against /proc's walk of its whole tree: the reply's write and the
 # interpreter's reading loop touch a few more pages after the worker measures itself (measured up to 70 KB, 0.3 %).
 RTOL_WORKER_RESIDENT = 0.02
+
+#: A value ngspice prints (7 significant digits, as `.meas` results are) read back against the one lcchain computes
+#: from the same expression: a power 2^3^2 read the other way round is 8 times off.
+RTOL_PRINTED = 1e-6
+#: A .meas through a 1 us source edge at a 2 us step, against the RC's closed form (1.7e-5 measured): the test is
+#: that the measurement is made, of the right node.
+RTOL_MEASURE_COARSE = 1e-4
+#: A warned-of run's .meas against the same netlist written without the warning (a braced parameter, the capacitive
+#: divider 1/2): the same circuit, the same steps (identical measured; 1e-4 for a capacitive divider's gmin).
+RTOL_WARNED_MEASURE = 1e-4
+#: A sample's prediction as the plan carries it against the same prediction made again: the same function of the
+#: same modes (identical in practice).
+RTOL_SAME_PREDICTION = 1e-12
+#: A coupled design's stray coupling of 1e-6 loses nothing the first arrival's energy shows (measured 1e-7).
+ATOL_STRAY_COUPLING_LOSS = 1e-4
+#: A displaced mass with its coil's self-capacitance: ngspice's error at dt = 0.01 (3e-5 measured; the theory that
+#: charged both capacitors was 4.8e-2 and 0.19 off).
+MAX_DISPLACED_COIL_ERROR = 1e-3
