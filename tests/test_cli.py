@@ -362,3 +362,13 @@ def test_a_count_of_one_is_singular() -> None:
     from lcchain.cli.common import plural
 
     assert [plural(n, "run") for n in (0, 1, 2)] == ["0 runs", "1 run", "2 runs"]
+
+
+@pytest.mark.ngspice
+def test_what_the_effects_cost_says_earlier_not_a_negative_later(capsys) -> None:
+    """Coupled coils with losses bring the first arrival forward: "arriving 0.0342 sqrt(L0 C0) earlier", not
+    "-0.0342 ... later"."""
+    status, out, _ = run_cli(capsys, "simulate", "--case", "two-mass", "--N", "5", "--dt", "0.05", "--coupling",
+                             "0.1", "--Q", "50")
+    line = next(line for line in out.splitlines() if line.startswith("what the effects cost"))
+    assert status == 0 and line.endswith("sqrt(L0 C0) earlier") and " -" not in line

@@ -183,7 +183,8 @@ class Requirement:
         limit = self.limits[index]
         if limit is None:
             high = self.values[-1]
-            return f"no limit up to {self.part.symbol} = {high:g} ({self.part.physical(high, ladder)})"
+            # the end of the range swept, not a limit: its physical statement ("... below k = 0.29") would read as one
+            return f"no limit: the loss stays under the target up to {self.part.symbol} = {high:g}, the range's end"
         if limit == 0.0:
             return f"not met even at {self.part.symbol} = {self.values[0]:g}"
         return self.part.physical(limit, ladder)

@@ -88,12 +88,14 @@ def _print_extrapolation(x: LooseJSONObject) -> None:
 
 def _print_effects(cost: LooseJSONObject) -> None:
     """What the effects cost the pulse: the circuit's exact first arrival against the ideal chain's."""
-    energy = "" if cost["energy_loss"] is None else (
+    loss = cost["energy_loss"]
+    energy = "" if loss is None else (
         f", energy {cost['energy_circuit']:.4f} against {cost['energy_ideal']:.4f} "
-        f"(the effects take {100 * cost['energy_loss']:.3g} % of it)")
+        f"(the effects {'take' if loss >= 0 else 'add'} {100 * abs(loss):.3g} % of it)")
+    delay = cost["delay"]
     print(f"what the effects cost the pulse (exact circuit against the ideal chain, no simulator): first arrival "
           f"peak {cost['peak_circuit']:.4f} against {cost['peak_ideal']:.4f}{energy}, "
-          f"arriving {cost['delay']:+.3g} sqrt(L0 C0) later")
+          f"arriving {abs(delay):.3g} sqrt(L0 C0) {'later' if delay >= 0 else 'earlier'}")
 
 
 def _print_simulation(args: argparse.Namespace, chain: Chain, data: LooseJSONObject) -> None:
