@@ -10,7 +10,7 @@ import pytest
 from helpers.tolerances import RTOL_BOM_VALUE
 
 from lcchain.circuit.bom import bill_of_materials
-from lcchain.circuit.effects import E_SERIES
+from lcchain.circuit.effects import E_SERIES, CapacitorESL, CoilCapacitance, Losses
 from lcchain.cli.main import main
 from lcchain.theory.cases import chain_for_case
 
@@ -39,6 +39,22 @@ def test_the_exact_bom_holds_the_chain_and_what_the_effects_add(capsys) -> None:
     assert main(["bom", "--case", "two-mass", "--N", "6", "--coupling", "0.1", "--Q", "100"]) == 0
     out = capsys.readouterr().out
     assert "coils coupled k = 0.1" in out and "resistor" in out and "coupling" in out
+
+
+def test_a_parts_own_properties_are_listed_apart_as_nothing_to_buy(capsys) -> None:
+    """A coil's self-capacitance, a capacitor's ESL and the coils' coupling are elements of the circuit, not parts
+    (they were listed as capacitors, inductors and a coupling to buy, with the tolerance of the parts)."""
+    parts = bill_of_materials(chain_for_case("two-mass", 4), 1e-5, 1e-8, series="E24",
+                              effects=(CoilCapacitance(0.0123), CapacitorESL(0.0317), Losses(100.0)))
+    bought = {name for part in parts if part.bought for name in part.names}
+    own = {name for part in parts if not part.bought for name in part.names}
+    assert {"L1", "L4", "C1_2", "R1"} <= bought and {"CP1", "CP4", "LS1_2"} <= own and not bought & own
+    assert main(["bom", "--case", "two-mass", "--N", "4", "--coil-capacitance", "0.0123", "--coupling", "0.1",
+                 "--tolerance", "5%", "--csv"]) == 0
+    rows = list(csv.DictReader(io.StringIO(capsys.readouterr().out)))
+    for row in rows:
+        parasitic = row["parts"].startswith(("CP", "K"))
+        assert (row["bought"] == "yes") != parasitic and (row["tolerance"] == "") == parasitic
 
 
 @pytest.mark.parametrize("argv, option", [

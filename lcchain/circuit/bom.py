@@ -16,10 +16,12 @@ from .effects import Effect, rounded
 from .elements import ladder_elements
 from .ladder import Ladder
 
-__all__ = ["Part", "bill_of_materials", "PART_KINDS"]
+__all__ = ["Part", "bill_of_materials", "PART_KINDS", "PROPERTY_KINDS"]
 
 #: An element's kind (its SPICE letter) as a part, and the unit of its value.
 PART_KINDS = {"L": ("inductor", "H"), "C": ("capacitor", "F"), "R": ("resistor", "ohm"), "K": ("coupling", "1")}
+#: The kinds that are no part of their own whatever writes them: a coupling is how two coils are wound.
+PROPERTY_KINDS = frozenset({"K"})
 #: Values equal to this many significant digits are one part (the arithmetic of L0 m_i leaves rounding noise).
 _DIGITS = 12
 
@@ -38,12 +40,16 @@ class Part:
         ``"H"``, ``"F"``, ``"ohm"`` or ``"1"``.
     names : tuple of str
         The netlist's elements of this value (``L1``, ``L8``).
+    bought : bool
+        A part to buy (False: a property of the parts bought, which the circuit models as an element of its own:
+        a coil's self-capacitance, a capacitor's ESR, the coupling of two coils).
     """
 
     kind: str
     value: float
     unit: str
     names: tuple[str, ...]
+    bought: bool = True
 
     @property
     def count(self) -> int:
@@ -69,13 +75,17 @@ def bill_of_materials(chain: Chain, L0: float, C0: float, *, series: str | None 
         chain = effect.realise(chain, L0, C0)
     if series is not None:
         chain = rounded(chain, L0, C0, series)
-    grouped: dict[tuple[str, float], list[str]] = {}
-    for element in ladder_elements(Ladder(chain, L0, C0), effects):
+    ladder = Ladder(chain, L0, C0)
+    # the elements the parasitic effects add, found from what each writes (not from its elements' names)
+    bought = {element.name for element in ladder_elements(ladder, tuple(e for e in effects if not e.parasitic))}
+    grouped: dict[tuple[bool, str, float], list[str]] = {}
+    for element in ladder_elements(ladder, effects):
         letter = element.name[0].upper()
-        grouped.setdefault((letter, float(f"{element.value:.{_DIGITS}g}")), []).append(element.name)
+        part = element.name in bought and letter not in PROPERTY_KINDS
+        grouped.setdefault((part, letter, float(f"{element.value:.{_DIGITS}g}")), []).append(element.name)
     order = list(PART_KINDS)
-    parts = [Part(PART_KINDS[letter][0], value, PART_KINDS[letter][1], tuple(names))
-             for (letter, value), names in sorted(grouped.items(), key=lambda item: (
-                 order.index(item[0][0]) if item[0][0] in order else len(order), item[0][1]))
+    parts = [Part(PART_KINDS[letter][0], value, PART_KINDS[letter][1], tuple(names), part)
+             for (part, letter, value), names in sorted(grouped.items(), key=lambda item: (
+                 not item[0][0], order.index(item[0][1]) if item[0][1] in order else len(order), item[0][2]))
              if letter in PART_KINDS]
     return tuple(parts)

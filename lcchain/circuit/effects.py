@@ -266,6 +266,9 @@ class Effect:
     #: its value is the effect's one field.  ``option_help`` says what it adds, in bulk units.
     option: ClassVar[str | None] = None
     option_help: ClassVar[str] = ""
+    #: Whether the elements it adds are properties of the chain's parts (a coil's self-capacitance, a capacitor's
+    #: ESR), not parts of their own: a bill of materials lists them apart, as nothing to buy.
+    parasitic: ClassVar[bool] = False
 
     @classmethod
     def from_option(cls, value: object) -> Effect:
@@ -501,6 +504,7 @@ class CoilCapacitance(Effect):
     """
 
     key: ClassVar[str] = "coil_capacitance"
+    parasitic: ClassVar[bool] = True
     option: ClassVar[str | None] = "--coil-capacitance"
     option_help: ClassVar[str] = "a coil's self-capacitance: a capacitor ratio*C0 across every coil (ratio > 0)"
     ratio: float
@@ -524,6 +528,7 @@ class CoilResistance(Effect):
     """
 
     key: ClassVar[str] = "coil_resistance"
+    parasitic: ClassVar[bool] = True
     option: ClassVar[str | None] = "--coil-resistance"
     option_help: ClassVar[str] = "a coil's winding resistance: R*sqrt(L0/C0) ohm in series with every coil (R > 0)"
     R: float
@@ -546,6 +551,7 @@ class CapacitorESR(Effect):
     """
 
     key: ClassVar[str] = "capacitor_esr"
+    parasitic: ClassVar[bool] = True
     option: ClassVar[str | None] = "--capacitor-esr"
     option_help: ClassVar[str] = "a capacitor's ESR: R*sqrt(L0/C0) ohm in series with every capacitor (R > 0)"
     R: float
@@ -569,6 +575,7 @@ class CapacitorESL(Effect):
     """
 
     key: ClassVar[str] = "capacitor_esl"
+    parasitic: ClassVar[bool] = True
     option: ClassVar[str | None] = "--capacitor-esl"
     option_help: ClassVar[str] = "a capacitor's ESL: L*L0 henry in series with every capacitor (L > 0)"
     L: float

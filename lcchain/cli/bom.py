@@ -56,18 +56,23 @@ def cmd_bom(args: argparse.Namespace) -> int:
     if args.csv:
         text = io.StringIO()
         writer = csv.writer(text, lineterminator="\n")
-        writer.writerow(["kind", "value", "unit", "count", "tolerance", "parts"])
+        writer.writerow(["kind", "value", "unit", "count", "tolerance", "parts", "bought"])
         for part in parts:
-            writer.writerow([part.kind, repr(part.value), part.unit, part.count, shown, " ".join(part.names)])
+            writer.writerow([part.kind, repr(part.value), part.unit, part.count, shown if part.bought else "",
+                             " ".join(part.names), "yes" if part.bought else "no: a property of the parts"])
         sys.stdout.write(text.getvalue())
         return EXIT_OK
-    series = f", {args.series} values" if args.series else ", exact values"
+    series = f", coils and capacitors in {args.series} values" if args.series else ", exact values"
     coupled = f", coils coupled k = {chain.coupling:g}" if chain.coupled else ""
+    bought = [part for part in parts if part.bought]
     print(f"{chain.name} chain, N = {chain.N}{coupled}: L0 = {si_text(args.L0, 'H')}, C0 = {si_text(args.C0, 'F')}"
-          f"{series}; {sum(p.count for p in parts)} parts, {len(parts)} distinct")
+          f"{series}; {sum(p.count for p in bought)} parts, {len(bought)} distinct")
     print(f"{'kind':<10} {'value':>14} {'count':>6} {'tolerance':>9}  parts")
     for part in parts:
+        if part is next((p for p in parts if not p.bought), None):
+            print("the parts' own properties, which the circuit models as elements (nothing to buy):")
         names = " ".join(part.names)
         names = names if len(names) <= 60 else names[:57] + "..."
-        print(f"{part.kind:<10} {si_text(part.value, part.unit):>14} {part.count:>6} {shown:>9}  {names}")
+        print(f"{part.kind:<10} {si_text(part.value, part.unit):>14} {part.count:>6} "
+              f"{shown if part.bought else '':>9}  {names}")
     return EXIT_OK
