@@ -23,7 +23,18 @@ TYPE_CHECKING = False
 
 if TYPE_CHECKING:  # what a type checker reads for each public name (they load on first use, below)
     from .app.scenes import SceneHooks, SceneRun, run_scene
-    from .circuit.effects import Coupling, Effect, Losses, PreferredValues, Tolerance, Walls
+    from .circuit.effects import (
+        CapacitorESL,
+        CapacitorESR,
+        CoilCapacitance,
+        CoilResistance,
+        Coupling,
+        Effect,
+        Losses,
+        PreferredValues,
+        Tolerance,
+        Walls,
+    )
     from .circuit.ladder import Ladder
     from .circuit.netlist import SimulationOptions, netlist_text
     from .compare.accuracy import dt_for_accuracy, predicted_error
@@ -77,6 +88,8 @@ _PUBLIC = {
     "plan_request": "runs.request",
     "Effect": "circuit.effects", "Walls": "circuit.effects", "Coupling": "circuit.effects",
     "Losses": "circuit.effects", "Tolerance": "circuit.effects", "PreferredValues": "circuit.effects",
+    "CoilCapacitance": "circuit.effects", "CoilResistance": "circuit.effects", "CapacitorESR": "circuit.effects",
+    "CapacitorESL": "circuit.effects",
     "RunSpec": "runs.spec", "Theory": "runs.spec",
     "load_scene": "scenes.load", "parse_scene": "scenes.load",
     "simulate_scene": "scenes.run", "Scene": "scenes.schema",
@@ -104,7 +117,8 @@ __all__ = [
     "execute", "SimulationReport", "simulate", "simulate_chain", "ChainOptions", "SpectrumReport", "spectrum",
     "Request", "Drive", "Transient", "AC", "plan_request", "Effect",
     "Walls",
-    "Coupling", "Losses", "Tolerance", "PreferredValues", "RunSpec", "Theory", "load_scene", "parse_scene",
+    "Coupling", "Losses", "Tolerance", "PreferredValues", "CoilCapacitance", "CoilResistance", "CapacitorESR",
+    "CapacitorESL", "RunSpec", "Theory", "load_scene", "parse_scene",
     "simulate_scene",
     "Scene", "Simulator", "find_simulator", "Arrival", "arrivals", "first_arrival", "asymptotic_amplitude",
     "asymptotic_optimum", "chain_for_case", "PERFECT_ARRIVAL", "Chain", "closed_form_modes", "Design",
