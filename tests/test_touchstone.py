@@ -25,6 +25,8 @@ def test_a_touchstone_file_reads_in_scikit_rf_as_the_exact_two_port(tmp_path: Pa
     assert "# Hz S RI R 75" in target.read_text().splitlines()
     network = skrf.Network(str(target))
     assert network.s.shape == (100, 2, 2) and np.allclose(network.z0, 75.0)
+    # the ports named as a reader names them (a "port 1:" comment was dropped), what the file is of in its comments
+    assert network.port_names[0].startswith("a break in loop 1") and "effects: none" in network.comments
     request = Request(chain_for_case("two-mass", 8), AC(100), L0=10e-6, C0=10e-9)
     exact = two_port_theory(request, network.f, z0=75.0)
     np.testing.assert_allclose(network.s, exact.S, rtol=0, atol=ATOL_TWO_PORT_S)

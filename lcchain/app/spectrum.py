@@ -122,7 +122,7 @@ def _write_touchstone(request: SpectrumRequest, chain: Chain, effects: tuple[Eff
     against the circuit's exact admittances (:mod:`lcchain.runs.twoport`), as Touchstone v1."""
     import numpy as np
 
-    from ..circuit.effects import Losses
+    from ..circuit.effects import Losses, effect_fields
     from ..report.touchstone import touchstone_text
     from ..runs.request import AC, Request
     from ..runs.twoport import DEFAULT_Z0, two_port, two_port_theory
@@ -134,10 +134,16 @@ def _write_touchstone(request: SpectrumRequest, chain: Chain, effects: tuple[Eff
     measured = two_port(made, z0)
     exact = two_port_theory(made, measured.frequency, z0)
     error = float(np.max(np.abs(measured.S - exact.S)))
+    written = ", ".join(f"{effect.key} " + " ".join(f"{field.name}={getattr(effect, field.name)!r}"
+                                                    for field in effect_fields(type(effect)))
+                        for effect in made.effects) or "none (the ideal ladder)"
+    # "Port[n] = ..." is how a Touchstone reader (scikit-rf) names a port: a "port n:" comment it drops
     comments = [f"lcchain {__version__}: {chain.name} chain, N = {chain.N}, L0 = {request.L0:g} H, "
                 f"C0 = {request.C0:g} F, {measured.engine} {measured.engine_version} AC analyses",
-                "port 1: a break in loop 1 (the AC source's place, between coil 1 and the rail); current into coil 1",
-                "port 2: its mirror image in loop N; current into coil N from that end (-i(lN) in the netlist)",
+                f"effects: {written}",
+                "Port[1] = a break in loop 1 (the AC source's place, between coil 1 and the rail); current into "
+                "coil 1",
+                "Port[2] = its mirror image in loop N; current into coil N from that end (-i(lN) in the netlist)",
                 f"max |S - S of the circuit's exact admittances| = {error:.3e}"]
     outputs.text("--touchstone", touchstone_text(measured.frequency, measured.S, z0, comments))
     return TwoPortSummary(measured.frequency, z0, error, measured.reciprocity)
