@@ -63,3 +63,13 @@ def test_interpolated_output_is_noted_and_trapezoidal_is_trap() -> None:
     assert any("interp" in note for note in noted.notes)
     named = check_text(base.format(options=".options method=trapezoidal"), options=CheckOptions())
     assert named.method == "trap" and "no model" not in named.prediction
+
+
+def test_a_value_with_digits_after_its_scale_is_said_as_ngspice_reads_it() -> None:
+    """4k7 (a European 4.7k) is 4k to ngspice, which ignores what follows its scale: check has no reference for
+    it and says why, and how to write 4.7k (it said "a .func call, a model name...")."""
+    from lcchain.spice.element_values import OtherCard, read_cards
+
+    cards = read_cards("r\nV1 in 0 1\nR1 in a 4k7\nC1 a 0 1n\n.tran 1u 20u\n.end\n")
+    (resistor,) = [card for card in cards.elements if isinstance(card, OtherCard)]
+    assert "ngspice reads as 4k" in resistor.why and "4.7k" in resistor.why

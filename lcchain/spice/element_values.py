@@ -101,6 +101,10 @@ class NetlistCards:
         return "trap" if method == "trapezoidal" else method
 
 
+#: A value with digits after its scale (4k7, 1n5: a European 4.7k, 1.5n), which ngspice reads up to the scale.
+_INFIX_SCALE = re.compile(r"(\d+)(meg|[tgkmunpf])(\d+)", re.IGNORECASE)
+
+
 def _words(text: str) -> list[str]:
     """A card's words; parentheses and commas separate them, ``name=value`` and ``{...}`` stay one word."""
     groups, text = braced_expressions(text)
@@ -172,8 +176,12 @@ def read_cards(text: str, source: str = "netlist") -> NetlistCards:
             elements.append(_element(stripped, params, where, line))
         except ParameterError:  # the allow-list let it run: no exact reference, not bad input
             name = stripped.split(None, 1)[0]
-            elements.append(OtherCard(name[0].upper(), name.lower(), "a value lcchain cannot evaluate: a .func "
-                                      "call, a model name...", where))
+            infix = next((m for word in stripped.split()[1:] if (m := _INFIX_SCALE.fullmatch(word))), None)
+            why = "a value lcchain cannot evaluate: a .func call, a model name..." if infix is None else (
+                f"a value written {infix.group(0)}, which ngspice reads as {infix.group(1)}{infix.group(2)} (the "
+                f"digits after its scale ignored); meant as {infix.group(1)}.{infix.group(3)}{infix.group(2)}, it "
+                "is written so")
+            elements.append(OtherCard(name[0].upper(), name.lower(), why, where))
     return NetlistCards(tuple(elements), tuple(initial), uic, tuple(sorted(parse_options(text).items())))
 
 
