@@ -333,3 +333,18 @@ def test_a_sweep_that_gives_an_element_a_value_no_part_has_warns_and_plans_it(tm
         warnings.simplefilter("error")
         netlist_sweep_plan(path, [parse_netlist_vary("R1=lin:1k:2k:3"), parse_netlist_vary("cv=-1u,1u")],
                            NetlistSweep(engine_version=lambda: "39"))
+
+
+def test_an_element_inside_a_subckt_is_named_so_and_its_advice_holds() -> None:
+    """R1 in a .subckt, valued by the sub-circuit's parameter r: the advice was to vary r, then r was no name of the
+    netlist; now both refusals say R1 is the sub-circuit's, whose parameters its X lines set."""
+    from lcchain.spice.variants import find_target, netlist_targets
+
+    text = allowed_netlist("subckt\n.subckt rcstage a b params: r=1k\nR1 a b {r}\nC1 b 0 1n\n.ends\n"
+                           "V1 in 0 PULSE(0 1 0 1n 1n 20u 40u)\nX1 in out rcstage r=2k\n.tran 20n 60u\n.end\n",
+                           "netlist", None)
+    targets = netlist_targets(text)
+    with pytest.raises(ParameterError, match=r"it is in \.subckt rcstage, whose parameters \(r\) its X lines set"):
+        find_target(targets, "R1")
+    with pytest.raises(ParameterError, match=r"R1 \(in \.subckt rcstage\)"):
+        find_target(targets, "r")

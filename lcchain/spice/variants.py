@@ -60,6 +60,8 @@ class Target:
         The value's span in that line.
     value : str
         The value as written (``"1k"``, ``"{rv}"``).
+    subckt : str
+        The sub-circuit whose body holds it ("" at the netlist's top level).
     """
 
     name: str
@@ -68,6 +70,7 @@ class Target:
     start: int
     end: int
     value: str
+    subckt: str = ""
 
     def describe(self) -> str:
         return f".param {self.name}" if self.kind == "param" else f"the element {self.name}"
@@ -78,11 +81,19 @@ def netlist_targets(text: str) -> dict[str, list[Target]]:
     name may be defined twice, or be both a ``.param`` and an element)."""
     found: dict[str, list[Target]] = {}
     lines = netlist_lines(text)
+    inside: list[str] = []  # the sub-circuits whose body the line is in, innermost last
     for number, line in enumerate(lines[1:], start=1):  # line 0 is the title
         words = line.split(None, 1)
         if not words or words[0].startswith("*"):
             continue
         word = words[0]
+        if word.lower() == ".subckt" and len(words) > 1:
+            inside.append(words[1].split(None, 1)[0])
+            continue
+        if word.lower() == ".ends":
+            if inside:
+                inside.pop()
+            continue
         if is_param_card(word.lower()):
             body = line[len(line) - len(line.lstrip()) + len(word):]
             offset = len(line) - len(body)
@@ -100,15 +111,16 @@ def netlist_targets(text: str) -> dict[str, list[Target]]:
             place = VALUED.get(word[0].upper(), len(tokens))
             token = tokens[place] if len(tokens) > place else None
             target = Target(word, "element", number, token.start() if token else len(line),
-                            token.end() if token else len(line), token.group() if token else "")
+                            token.end() if token else len(line), token.group() if token else "",
+                            inside[-1] if inside else "")
             found.setdefault(word.lower(), []).append(target)
     return found
 
 
 def _listed(targets: Mapping[str, list[Target]]) -> str:
     params = sorted({t.name for ts in targets.values() for t in ts if t.kind == "param"}, key=str.lower)
-    elements = sorted({t.name for ts in targets.values() for t in ts
-                       if t.kind == "element" and t.name[0].upper() in VALUED}, key=str.lower)
+    elements = sorted({t.name + (f" (in .subckt {t.subckt})" if t.subckt else "") for ts in targets.values()
+                       for t in ts if t.kind == "element" and t.name[0].upper() in VALUED}, key=str.lower)
     parts = []
     for what, names in ((".param names", params), (f"{', '.join(sorted(VALUED))} elements", elements)):
         shown = ", ".join(names[:_LISTED]) + (f" and {len(names) - _LISTED} more" if len(names) > _LISTED else "")
@@ -143,8 +155,13 @@ def find_target(targets: Mapping[str, list[Target]], name: str, option: str = "-
             for group in braced_expressions(target.value)[0]:
                 used |= check_expression(group, None, option, value)
             names = ", ".join(sorted(used))
-            advice = (f"vary the .param it uses instead: {names}" if used else
-                      "give it a .param (.param p = VALUE and {p} as its value) and vary that")
+            params = {t.name.lower() for ts in targets.values() for t in ts if t.kind == "param"}
+            if target.subckt and not any(name.lower() in params for name in used):
+                advice = (f"it is in .subckt {target.subckt}, whose parameters ({names}) its X lines set: write an "
+                          "X line's value as {p} with .param p = VALUE, and vary p")
+            else:
+                advice = (f"vary the .param it uses instead: {names}" if used else
+                          "give it a .param (.param p = VALUE and {p} as its value) and vary that")
             raise ParameterError(option, value, f"an element whose value is a number; {target.name}'s value is "
                                  f"the expression {target.value}: {advice}")
         if not target.value or "=" in target.value or spice_number(target.value) is None:
