@@ -76,3 +76,11 @@ def test_a_plot_into_something_that_is_no_axes_is_a_parameter_error(tmp_path: ob
         assert modes.plot(ax=figure.add_subplot()) is figure
     finally:
         plt.close(figure)
+
+
+def test_an_arrival_and_a_design_hold_python_floats() -> None:
+    """Their reprs read time=12.22..., not time=np.float64(12.22...) beside plain floats."""
+    design = lcchain.optimal_design("two-mass", 10)
+    arrival = lcchain.first_arrival(lcchain.chain_for_case("two-mass", 10))
+    assert type(arrival.time) is float and type(arrival.window[0]) is float and type(design.s) is float
+    assert "np." not in repr(design) and "np." not in repr(arrival)

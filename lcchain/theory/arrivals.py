@@ -337,7 +337,8 @@ def arrivals(chain_or_modes: Chain | Modes, count: int = 1) -> list[Arrival]:
     for index in range(1, int(count) + 1):
         window = arrival_window(index, T)
         time, peak = _find_peak(modes, index, window)
-        found.append(Arrival(index, "last" if index % 2 else "first", time, peak, window))
+        found.append(Arrival(index, "last" if index % 2 else "first", float(time), float(peak),
+                             (float(window[0]), float(window[1]))))  # Python floats: a repr that reads plainly
     return found
 
 
