@@ -63,7 +63,7 @@ def units_sentence(L0: float, C0: float, coupling: float = 0.0) -> str:
     a uniform chain with the coils' ``coupling``."""
     scales = physical_scales(L0, C0, coupling)
     return (f"L0 = {si_text(L0, 'H')}, C0 = {si_text(C0, 'F')}: time unit sqrt(L0 C0) = "
-            f"{si_text(scales['time_unit_s'], 's')}, angular frequency 1 = "
+            f"{si_text(scales['time_unit_s'], 's')}, angular frequency 1 (1/sqrt(L0 C0) rad/s) is "
             f"{si_text(scales['frequency_unit_Hz'], 'Hz')}, "
             f"band top {si_text(scales['band_top_Hz'], 'Hz')}, impedance sqrt(L0/C0) = "
             f"{si_text(scales['impedance_ohm'], 'ohm')}")
