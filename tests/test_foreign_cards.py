@@ -522,3 +522,15 @@ def test_a_refused_character_says_what_to_write(line: str, said: str) -> None:
 
     with pytest.raises(ParameterError, match=said):
         allowed_netlist(LADDER.replace(".tran", f"{line}\n.tran", 1), "netlist", None)
+
+
+def test_an_ac_sweep_of_one_frequency_is_read_as_ngspice_runs_it() -> None:
+    """.ac lin 1 F F is one frequency, which ngspice runs; two points between equal ends are still refused."""
+    from lcchain.core.errors import ParameterError
+    from lcchain.spice.foreign import analysis_of
+
+    text = "one f\nV1 in 0 DC 0 AC 1\nR1 in a 1k\nC1 a 0 1u\n.ac lin {count} 159.155 159.155\n.end\n"
+    sweep = analysis_of(text.format(count=1), "netlist")
+    assert (sweep.count, sweep.start, sweep.stop) == (1, 159.155, 159.155)
+    with pytest.raises(ParameterError, match="FSTART < FSTOP"):
+        analysis_of(text.format(count=2), "netlist")

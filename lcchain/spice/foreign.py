@@ -921,13 +921,15 @@ def _analysis(text: str, dots: Sequence[DotCard], measured: bool, source: str,
     words = [w for w in re.split(r"[\s,()]+", line) if w]
     values = [spice_number(w) for w in words[2:]]
     spacing = words[1].lower() if len(words) > 1 else ""
-    allowed = (".ac lin|dec|oct N FSTART FSTOP with plain finite numbers, 1 <= N, 0 <= FSTART < FSTOP (0 < FSTART "
+    allowed = (".ac lin|dec|oct N FSTART FSTOP with plain finite numbers, 1 <= N, 0 <= FSTART < FSTOP (= FSTOP for "
+               "lin 1; 0 < FSTART "
                f"for dec and oct) and at most {MAX_AC_POINTS} frequencies (lcchain prices the run and checks what "
                "it reads back from them)")
     if len(words) != 5 or spacing not in AC_SPACINGS or any(v is None or not math.isfinite(v) for v in values):
         raise ParameterError(f"{source}: line {number}", line[:200], allowed)
     count, start, stop = (float(v) for v in values)  # type: ignore[arg-type]
-    if not (count.is_integer() and 1 <= count <= MAX_AC_POINTS and 0 <= start < stop) or (
+    single = spacing == "lin" and count == 1 and start == stop  # one frequency, as ngspice runs it
+    if not (count.is_integer() and 1 <= count <= MAX_AC_POINTS and (0 <= start < stop or single)) or (
             spacing != "lin" and start <= 0):
         raise ParameterError(f"{source}: line {number}", line[:200], allowed)
     if measured:
