@@ -87,7 +87,8 @@ def run_batch(job: TransportJob, simulator: Simulator, place: Place,
         fd = raw.fileno()
         # ngspice measures nothing in batch mode with -r: a netlist with .meas cards writes its raw file from
         # lcchain's control block instead (lcchain.spice.measure)
-        measured = measure_control(job.text, f"/dev/fd/{fd}", always="interp" in parse_options(job.text))
+        interpolated = "interp" in job.text.lower() and "interp" in parse_options(job.text)  # read when it may be
+        measured = measure_control(job.text, f"/dev/fd/{fd}", always=interpolated)
         text = measured if measured is not None else job.text
         source.write(require_canonical(text).encode("utf-8"))  # ngspice splits a file at LF, as the check did
         source.seek(0)
