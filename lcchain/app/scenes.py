@@ -46,6 +46,8 @@ class SceneRun:
     simulator : Simulator, optional
         Found once by the caller; found here when omitted.
 
+    Notes
+    -----
     ``write_outputs``, ``workers`` and the two file names are checked here; the executor where the samples go to
     one (an unknown name is refused with the executors' names).
     """

@@ -517,6 +517,8 @@ class PulseSource:
     count : int, optional
         NP, the number of pulses (None: as many as fit).
 
+    Notes
+    -----
     The values are those a netlist's card gave, read and checked by its reader
     (:func:`lcchain.runs.check.source_function`); only their types are made exact here.
     """

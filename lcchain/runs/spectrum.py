@@ -84,6 +84,10 @@ RESPONSE_TIMES = 2001
 class SpectrumReport:
     """A ladder's spectrum from an engine's AC analysis beside theory.
 
+    Every public array (``omega``, ``P``, ``gamma``, ``Q``, ``poles``, their ``*_theory``, ``seen``,
+    ``resolved``) has one entry per theoretical mode, n = 1..``theory.N`` in order; the circuit's values are NaN
+    where the mode was not seen at the ends (``seen`` False).
+
     Attributes
     ----------
     chain : Chain
@@ -96,10 +100,6 @@ class SpectrumReport:
         are unseen): the per-mode arrays below are the ones to use.
     fitted : ndarray of int
         For each fitted mode (each entry of ``fit``'s arrays), the index of its theoretical mode.
-
-    Every public array (``omega``, ``P``, ``gamma``, ``Q``, ``poles``, their ``*_theory``, ``seen``,
-    ``resolved``) has one entry per theoretical mode, n = 1..``theory.N`` in order; the circuit's values are NaN
-    where the mode was not seen at the ends (``seen`` False).
     points : int
         Frequencies of the AC sweep on (0, omega_max], in ``segments`` even segments.
     omega_max : float

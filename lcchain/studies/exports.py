@@ -165,6 +165,8 @@ def to_xarray(store: Readable, waveforms: bool = False) -> xr.Dataset:
         Also each run's saved vectors and their time, on a ``point`` dimension (a run's own time values,
         padded with NaN to the longest run): the variable ``time`` and one per vector.
 
+    Notes
+    -----
     xarray is optional: ``pip install 'lcchain[data]'``.
     """
     _optional("xarray")
