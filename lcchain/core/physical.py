@@ -89,9 +89,6 @@ def vector_units(vector: str) -> str:
 #: The root's variables with a unit of their own (a scene's keys, a sweep's options, the realised parts).
 _UNITS = {"wall_s": "s", "total_s": "s", "L": "H", "C": "F", "time": "s", "frequency": "Hz", "L0": "H", "C0": "F",
           "I0": "A", "units.L0": "H", "units.C0": "F", "excitation.I0": "A"}
-#: A netlist's element by its letter, as a sweep of it names its axis (R1, C2, L3, K1).
-_ELEMENT_UNITS = {"r": "ohm", "l": "H", "c": "F", "k": "1"}
-_ELEMENT = re.compile(r"[RLCKrlck][A-Za-z0-9_]*")
 #: The chain's own numbers by name, and every other key of a scene (dotted): in the ladder's units (bulk,
 #: sqrt(L0 C0), I_1(0)) or counts, dimensionless.
 _DIMENSIONLESS = {"index", "N", "dt", "accuracy", "transits", "points", "sample", "coil", "capacitor", "Q", "walls",
@@ -101,12 +98,11 @@ _DIMENSIONLESS = {"index", "N", "dt", "accuracy", "transits", "points", "sample"
 
 def quantity_units(name: str) -> str | None:
     """The unit of a study's variable or axis named ``name``: SI where it has one, "1" for the ladder's own
-    dimensionless numbers, a netlist element's by its letter (R1: ohm), None where lcchain does not know it (a
-    netlist's .param: whatever it measures)."""
+    dimensionless numbers, None where lcchain does not know it: a netlist's swept name, an element (R1) or a
+    .param (rload, whatever it measures), which the store does not tell apart (a unit read from the name's first
+    letter would call a .param rload ohms)."""
     if name in _UNITS:
         return _UNITS[name]
     if name in _DIMENSIONLESS or name.startswith(("effects_", "max_", "spacing_", "modes_")) or "." in name:
         return "1"
-    if _ELEMENT.fullmatch(name):
-        return _ELEMENT_UNITS[name[0].lower()]
     return None
