@@ -213,27 +213,23 @@ class _Evaluator:
         return left
 
     def unary(self) -> float:
+        return self.signed(self.power)
+
+    def signed(self, operand: Callable[[], float]) -> float:
+        """``operand()`` after any signs (- + !) before it."""
         if self.peek() in ("-", "+", "!"):
             operator = self.take()[1]
-            operand = self.unary()
-            return -operand if operator == "-" else float(not operand) if operator == "!" else operand
-        return self.power()
+            value = self.signed(operand)
+            return -value if operator == "-" else float(not value) if operator == "!" else value
+        return operand()
 
     def power(self) -> float:
         # left-associative as ngspice 39 reads it (2^3^2 is 64), binding tighter than a unary minus on its left
         value = self.atom()
         while self.peek() in ("^", "**"):
             self.take()
-            value = _power(value, self.exponent())
+            value = _power(value, self.signed(self.atom))  # its exponent's own signs: 2^-1
         return value
-
-    def exponent(self) -> float:
-        """A power's exponent: an atom, after any signs of its own (``2^-1``)."""
-        if self.peek() in ("-", "+", "!"):
-            operator = self.take()[1]
-            operand = self.exponent()
-            return -operand if operator == "-" else float(not operand) if operator == "!" else operand
-        return self.atom()
 
     def atom(self) -> float:
         kind, text = self.take()

@@ -183,17 +183,20 @@ def run_plot(job: AcJob, plot: str, simulator: Simulator) -> tuple[dict[str, np.
         raise ParameterError("simulator", simulator.backend, f"ngspice's {' | '.join(PLOT_TRANSPORTS)} transport")
     with placement(simulator, job.foreign, None) as place:
         columns, log, wall = run_batch(TransportJob.checked(job.netlist, job, plot), simulator, place)
-    parameters = parameter_names(job.netlist) if "can't find model" in log else frozenset()
+    _refuse_fatal(log, job.netlist)
+    return columns, log, wall
+
+
+def _refuse_fatal(log: str, text: str) -> None:
+    """Raise what ngspice's output says made the run fail (:func:`lcchain.spice.log.fatal_lines`): a bare .param
+    name as a value is ngspice's warning, which it uses (the netlist read only when ngspice warned)."""
+    parameters = parameter_names(text) if "can't find model" in log else frozenset()
     if fatal_lines(log, parameters):
         raise SimulationError(failure_reason(log, "", parameters), useful_output(log))
-    return columns, log, wall
 
 
 def _validate(columns: dict[str, np.ndarray], log: str, names: Sequence[str], tstop: float,
               text: str) -> tuple[np.ndarray, dict[str, np.ndarray]]:
-    # a bare .param name as a value: ngspice warns, and uses it (the netlist read only when ngspice warned)
-    parameters = parameter_names(text) if "can't find model" in log else frozenset()
-    if fatal_lines(log, parameters):
-        raise SimulationError(failure_reason(log, "", parameters), useful_output(log))
+    _refuse_fatal(log, text)
     return validate_columns(columns, log, names, tstop)
 
