@@ -9,6 +9,9 @@ through critical damping.
 
 from __future__ import annotations
 
+import dataclasses
+import warnings
+
 import numpy as np
 import pytest
 from helpers.state_space import expm_currents
@@ -21,6 +24,7 @@ from lcchain.circuit.elements import Element, ladder_elements
 from lcchain.circuit.exact import CircuitTheory
 from lcchain.circuit.ladder import Ladder
 from lcchain.core.errors import ParameterError
+from lcchain.core.limits import MAX_PARASITIC
 from lcchain.theory.chain import MAX_COUPLING
 from lcchain.theory.spectrum import normal_modes
 
@@ -153,3 +157,27 @@ def test_a_lossy_500_loop_ladder_is_the_closed_form(name: str, effects: tuple[Ef
                                                     keywords: dict[str, float]) -> None:
     got, reference = _theory_and_closed_form(500, effects, coupling, keywords, 1001)
     assert np.max(np.abs(got - reference)) < ATOL_HARD_ACCEPTED
+
+
+def test_a_response_float64_cannot_give_is_refused_in_words_not_nan() -> None:
+    # An ESR 1e18 times the bulk impedance (past MAX_PARASITIC, as an Element list may still say): rounding leaves
+    # a pole growing at about 2e8/s, whose response overflowed to NaN and numpy's warnings before it was refused.
+    stiff = [dataclasses.replace(e, value=e.value * 1e18) if e.name.startswith("RS") else e
+             for e in ladder_elements(_ladder("two-mass", 10), (CapacitorESR(1.0),), kick=I0)]
+    theory = CircuitTheory(stiff)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # numpy's overflow warnings would fail the test before the refusal
+        with pytest.raises(ParameterError) as caught:
+            theory.currents(np.linspace(0.0, 40.0, 50) * np.sqrt(L0 * C0), ["L1", "L10"])
+    message = str(caught.value)
+    assert caught.value.field == "circuit" and "overflowed" in message and "\n" not in message
+
+
+@pytest.mark.parametrize("part", [CoilCapacitance, CoilResistance, CapacitorESR, CapacitorESL])
+def test_a_parasitic_past_a_million_bulk_parts_is_refused_naming_its_range(part: type[Effect]) -> None:
+    field = next(f.name for f in dataclasses.fields(part))
+    part(MAX_PARASITIC)  # the bound itself is allowed
+    for value in (MAX_PARASITIC * 1.1, 1e300):
+        with pytest.raises(ParameterError) as caught:
+            part(value)
+        assert caught.value.field == f"effects.{part.key}.{field}" and f"<= {MAX_PARASITIC:g}" in str(caught.value)

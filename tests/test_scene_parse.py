@@ -373,10 +373,13 @@ def test_every_registered_effect_is_a_scene_table_that_round_trips(tmp_path):
 
 @pytest.mark.parametrize("key, field", [("coil_capacitance", "ratio"), ("coil_resistance", "R"),
                                         ("capacitor_esr", "R"), ("capacitor_esl", "L")])
-def test_a_real_part_out_of_range_names_its_key(tmp_path, key, field):
-    path, error = _error(tmp_path, MINIMAL + f"[effects.{key}]\n{field} = -1\n")
-    assert str(error) == f"{path}: effects.{key}.{field} = -1 is not allowed: expected a finite number > 0 " \
-                         f"({ {'ratio': 'capacitance / C0', 'R': 'resistance / sqrt(L0/C0)', 'L': 'inductance / L0'}[field]})"
+@pytest.mark.parametrize("value, shown", [("-1", "-1"), ("2e6", "2000000.0")])  # TOML's int, and float
+def test_a_real_part_out_of_range_names_its_key(tmp_path, key, field, value, shown):
+    path, error = _error(tmp_path, MINIMAL + f"[effects.{key}]\n{field} = {value}\n")
+    unit = {'ratio': 'capacitance / C0', 'R': 'resistance / sqrt(L0/C0)', 'L': 'inductance / L0'}[field]
+    assert str(error) == (f"{path}: effects.{key}.{field} = {shown} is not allowed: expected a number, "
+                          f"0 < {field} <= 1e+06 ({unit}; a parasitic larger than 1e+06 times its bulk part is "
+                          "another part)")
 
 
 def test_effects_hold_only_registered_effects():

@@ -60,7 +60,7 @@ import numpy as np
 
 from ..core.checks import choice, integer, is_number, real
 from ..core.errors import ParameterError
-from ..core.limits import MAX_Q, MAX_SAMPLES, MAX_WALL_SPRING, MIN_Q
+from ..core.limits import MAX_PARASITIC, MAX_Q, MAX_SAMPLES, MAX_WALL_SPRING, MIN_Q
 from ..core.registry import Registry
 from ..core.types import E_SERIES_NAMES, ESeries
 from ..theory.chain import MAX_COUPLING, Chain
@@ -487,7 +487,10 @@ class Tolerance(Effect):
 
 
 def _bulk(key: str, name: str, value: object, what: str) -> float:
-    return real(f"effects.{key}.{name}", value, above=0.0, allowed=f"a finite number > 0 ({what})")
+    """A parasitic's value in units of its bulk element: 0 < value <= :data:`MAX_PARASITIC`."""
+    return real(f"effects.{key}.{name}", value, above=0.0, at_most=MAX_PARASITIC,
+                allowed=f"a number, 0 < {name} <= {MAX_PARASITIC:g} ({what}; a parasitic larger than "
+                        f"{MAX_PARASITIC:g} times its bulk part is another part)")
 
 
 @dataclass(frozen=True)
@@ -500,13 +503,14 @@ class CoilCapacitance(Effect):
     Parameters
     ----------
     ratio : float
-        The capacitance in units of C0, > 0.
+        The capacitance in units of C0, 0 < ratio <= :data:`~lcchain.core.limits.MAX_PARASITIC`.
     """
 
     key: ClassVar[str] = "coil_capacitance"
     parasitic: ClassVar[bool] = True
     option: ClassVar[str | None] = "--coil-capacitance"
-    option_help: ClassVar[str] = "a coil's self-capacitance: a capacitor ratio*C0 across every coil (ratio > 0)"
+    option_help: ClassVar[str] = ("a coil's self-capacitance: a capacitor ratio*C0 across every coil "
+                                  f"(0 < ratio <= {MAX_PARASITIC:g})")
     ratio: float
 
     def __post_init__(self) -> None:
@@ -524,13 +528,14 @@ class CoilResistance(Effect):
     Parameters
     ----------
     R : float
-        Ohm in units of the bulk impedance sqrt(L0/C0), > 0.
+        Ohm in units of the bulk impedance sqrt(L0/C0), 0 < R <= :data:`~lcchain.core.limits.MAX_PARASITIC`.
     """
 
     key: ClassVar[str] = "coil_resistance"
     parasitic: ClassVar[bool] = True
     option: ClassVar[str | None] = "--coil-resistance"
-    option_help: ClassVar[str] = "a coil's winding resistance: R*sqrt(L0/C0) ohm in series with every coil (R > 0)"
+    option_help: ClassVar[str] = ("a coil's winding resistance: R*sqrt(L0/C0) ohm in series with every coil "
+                                  f"(0 < R <= {MAX_PARASITIC:g})")
     R: float
 
     def __post_init__(self) -> None:
@@ -547,13 +552,14 @@ class CapacitorESR(Effect):
     Parameters
     ----------
     R : float
-        Ohm in units of the bulk impedance sqrt(L0/C0), > 0.
+        Ohm in units of the bulk impedance sqrt(L0/C0), 0 < R <= :data:`~lcchain.core.limits.MAX_PARASITIC`.
     """
 
     key: ClassVar[str] = "capacitor_esr"
     parasitic: ClassVar[bool] = True
     option: ClassVar[str | None] = "--capacitor-esr"
-    option_help: ClassVar[str] = "a capacitor's ESR: R*sqrt(L0/C0) ohm in series with every capacitor (R > 0)"
+    option_help: ClassVar[str] = ("a capacitor's ESR: R*sqrt(L0/C0) ohm in series with every "
+                                  f"capacitor (0 < R <= {MAX_PARASITIC:g})")
     R: float
 
     def __post_init__(self) -> None:
@@ -571,13 +577,14 @@ class CapacitorESL(Effect):
     Parameters
     ----------
     L : float
-        Henry in units of L0, > 0.
+        Henry in units of L0, 0 < L <= :data:`~lcchain.core.limits.MAX_PARASITIC`.
     """
 
     key: ClassVar[str] = "capacitor_esl"
     parasitic: ClassVar[bool] = True
     option: ClassVar[str | None] = "--capacitor-esl"
-    option_help: ClassVar[str] = "a capacitor's ESL: L*L0 henry in series with every capacitor (L > 0)"
+    option_help: ClassVar[str] = ("a capacitor's ESL: L*L0 henry in series with every "
+                                  f"capacitor (0 < L <= {MAX_PARASITIC:g})")
     L: float
 
     def __post_init__(self) -> None:

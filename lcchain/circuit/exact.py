@@ -344,7 +344,8 @@ def _cholesky(matrix: np.ndarray, what: str) -> np.ndarray:
         return np.asarray(scipy.linalg.cholesky(matrix, lower=False))
     except np.linalg.LinAlgError:
         raise ParameterError("circuit", what, "a circuit whose inductance and capacitance matrices are positive "
-                             "definite (a coupling at its limit, or capacitors in a loop of their own)") from None
+                             "definite (a coupling at its limit, capacitors in a loop of their own, or values too "
+                             "far apart for float64)") from None
 
 
 def _symmetric_definite(K: np.ndarray, L: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -364,7 +365,7 @@ def _symmetric_definite(K: np.ndarray, L: np.ndarray) -> tuple[np.ndarray, np.nd
         w, U = scipy.linalg.eigh(K, L, driver="gvd")
     except np.linalg.LinAlgError:
         raise ParameterError("circuit", "inductance", "a circuit whose inductance matrix is positive definite (a "
-                             "coupling at its limit)") from None
+                             "coupling at its limit, or inductances too far apart for float64)") from None
     return w, U
 
 
@@ -476,6 +477,17 @@ class CircuitTheory:
             # c' = lam c + g u + h u': c = (g + lam h) w + h u(t), w the convolution of u with exp(lam t)
             self._gain = self._shape * (modal_u + self._lam * modal_du)
             self._gain_now = self._shape * modal_du
+        self._refuse_non_finite()
+
+    def _refuse_non_finite(self) -> None:
+        """Refuse a circuit whose modes float64 could not give: a pole, a mode's shape or its gain that overflowed
+        or became NaN (values far apart: the response would be NaN, and its comparison with it)."""
+        arrays = [self.poles, self._shape, self._gain, self._gain_now,
+                  *((self._cos, self._sin) if self.lossless else (self._coefficients,))]
+        if all(bool(np.all(np.isfinite(values))) for values in arrays):
+            return
+        raise ParameterError("circuit", "modes not finite", "a circuit whose exact theory float64 can give (element "
+                             "values too far apart: its modes overflowed)")
 
     # -------------------------------------------------------------- lossless
     def _lossless(self, D: scipy.sparse.csr_array, X: scipy.sparse.csr_array, Lz: np.ndarray, y0: np.ndarray,
@@ -575,9 +587,23 @@ class CircuitTheory:
 
     @fixed_blas_threads
     def currents(self, t: np.ndarray, probes: Sequence[str]) -> np.ndarray:
-        """The coils' currents (A) at the times ``t`` (s): shape (len(probes), len(t))."""
+        """The coils' currents (A) at the times ``t`` (s): shape (len(probes), len(t)).
+
+        Raises
+        ------
+        ParameterError
+            A response float64 could not give: modes that rounding left growing (a passive circuit's decay or
+            hold), with element values far apart, overflowed at these times.
+        """
         times = np.atleast_1d(np.asarray(t, dtype=float)).ravel()
-        return np.hstack([self._currents(block, probes) for block in self._blocks(times)])
+        with np.errstate(over="ignore", invalid="ignore"):  # refused below, in words, not as numpy's warnings
+            currents = np.hstack([self._currents(block, probes) for block in self._blocks(times)])
+        if not np.all(np.isfinite(currents)):
+            growing = float(np.max(self.poles.real))
+            raise ParameterError("circuit", "response not finite", "a circuit whose exact response float64 can give "
+                                 f"(element values too far apart: rounding left a mode growing at {growing:.3g}/s, "
+                                 "which overflowed)")
+        return currents
 
     def _currents(self, times: np.ndarray, probes: Sequence[str]) -> np.ndarray:
         free = self._free_currents(times, probes)

@@ -35,6 +35,11 @@ MIN_I0, MAX_I0 = 1e-100, 1e100
 #: Stiffest wall spring (``[effects.walls] K0``, bulk units): its mode at sqrt(K0) needs steps of 1/sqrt(K0);
 #: 1e12 is still refused by the price of its accuracy in seconds, 1e300 ran for minutes before any refusal.
 MAX_WALL_SPRING = 1e12
+#: Largest parasitic of a real part, in units of its bulk element (a coil's self-capacitance in C0, a winding
+#: resistance or an ESR in sqrt(L0/C0), an ESL in L0).  A million times the bulk part is another part, not its
+#: parasitic; past it float64 lost the circuit's exact theory: a winding resistance or an ESR of 1e18 gave NaN
+#: errors and overflow warnings, an ESL of 1e18 an inductance matrix no Cholesky factor holds.
+MAX_PARASITIC = 1e6
 #: Most tolerance samples in one scene or sweep.
 MAX_SAMPLES = 10_000
 #: Boxes the worst-case search's branch and bound on its quadratic model may make (N = 9: the model's minimum proved
