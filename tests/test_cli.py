@@ -208,10 +208,11 @@ def test_simulate_has_an_option_for_every_registered_effect_that_states_one(caps
 
 
 @pytest.mark.parametrize("option, value, allowed", [
-    ("--coil-capacitance", "-1", "a finite number > 0 (capacitance / C0)"),
-    ("--coil-resistance", "0", "a finite number > 0 (resistance / sqrt(L0/C0))"),
-    ("--capacitor-esr", "-0.5", "a finite number > 0 (resistance / sqrt(L0/C0))"),
-    ("--capacitor-esl", "0", "a finite number > 0 (inductance / L0)"),
+    ("--coil-capacitance", "-1", "0 < ratio <= 1e+06 (capacitance / C0;"),
+    ("--coil-resistance", "0", "0 < R <= 1e+06 (resistance / sqrt(L0/C0);"),
+    ("--capacitor-esr", "-0.5", "0 < R <= 1e+06 (resistance / sqrt(L0/C0);"),
+    ("--capacitor-esl", "0", "0 < L <= 1e+06 (inductance / L0;"),
+    ("--capacitor-esr", "1e300", "0 < R <= 1e+06 (resistance / sqrt(L0/C0);"),  # NaN theory and exit 0 before
     ("--Q", "0.5", "1 <= Q <= 1e+10"),
 ])
 def test_a_bad_effect_option_is_one_line_naming_it(capsys, option, value, allowed):
