@@ -15,6 +15,8 @@ of all its processes (the sandbox, ngspice and the warm workers included; the lo
 time) is printed beside it, with how busy it kept the cores (CPU / (cores x wall)) and its floor: that CPU over
 all the cores, the wall time of a command that kept every core busy from its start to its end, as a ratio to
 xargs' wall time (a command whose floor is past 1.10x cannot be within 10 % of xargs, however it is arranged).
+Last, each contender's ratio to the xargs of its own round, paired (median and quartiles): what drifts over the run
+(the machine's speed moved xargs' time by 10 % between passes) cancels in it.
 """
 
 from __future__ import annotations
@@ -94,6 +96,13 @@ def main() -> None:
                    f"{used / cores:.3f} s, {used / cores / xargs:.2f}x xargs)")
         print(f"{name}: {median:.3f} s ({median / xargs:.2f}x xargs){cpu}, runs only {runs} s; each "
               + ", ".join(f"{v:.2f}" for v in walls[name]))
+    # Each round's own ratio to the xargs of that round (the commands of a round follow one another): a drift of
+    # the machine's speed over the run, which moves every median, cancels in it.
+    print("paired with the same round's xargs (median, quartiles):")
+    for name in names[1:]:
+        ratios = sorted(wall / base for wall, base in zip(walls[name], walls[names[0]], strict=True))
+        quartiles = statistics.quantiles(ratios, n=4) if len(ratios) > 1 else [ratios[0]] * 3
+        print(f"  {name}: {statistics.median(ratios):.3f}x ({quartiles[0]:.3f} to {quartiles[2]:.3f})")
     shutil.rmtree(work)
 
 
