@@ -25,6 +25,8 @@ from lcchain.circuit.exact import CircuitTheory
 from lcchain.circuit.ladder import Ladder
 from lcchain.core.errors import ParameterError
 from lcchain.core.limits import MAX_PARASITIC
+from lcchain.runs.request import AC, Request, Transient
+from lcchain.runs.request.plan import plan_request
 from lcchain.theory.chain import MAX_COUPLING
 from lcchain.theory.spectrum import normal_modes
 
@@ -181,3 +183,28 @@ def test_a_parasitic_past_a_million_bulk_parts_is_refused_naming_its_range(part:
         with pytest.raises(ParameterError) as caught:
             part(value)
         assert caught.value.field == f"effects.{part.key}.{field}" and f"<= {MAX_PARASITIC:g}" in str(caught.value)
+
+
+def test_a_circuit_damped_at_critical_is_refused_before_a_run_naming_the_effects_parameter() -> None:
+    # Losses at the Q that damps the circuit's lowest mode critically (its own omega, a coil capacitance beside):
+    # the refusal names effects.losses.Q and its value, not the whole effect (its ClassVars are no parameters).
+    chain = lcchain.chain_for_case("two-mass", 8)
+    ladder = Ladder(chain)
+    poles = CircuitTheory(ladder_elements(ladder, (CoilCapacitance(1e-9),), kick=I0)).poles
+    omega = np.sort(np.abs(poles.imag)) * ladder.time_unit
+    critical = 1.0 / (2.0 * omega[omega > 0][0])
+    with pytest.raises(ParameterError) as caught:
+        plan_request(Request(chain, Transient(dt=0.05), effects=(Losses(critical), CoilCapacitance(1e-9))))
+    assert (caught.value.field, caught.value.value) == ("effects.losses.Q", critical)
+    assert "critical" in str(caught.value) and "\n" not in str(caught.value)
+
+
+@pytest.mark.parametrize("part", [CapacitorESR, CoilResistance])
+def test_an_ac_sweep_of_a_circuit_with_every_mode_overdamped_is_refused_naming_the_resistor(part: type[Effect]
+                                                                                           ) -> None:
+    # R = 10 sqrt(L0/C0): every pole real; the sweep placed by the resonances divided by zero (a traceback)
+    chain = lcchain.chain_for_case("two-mass", 10)
+    with pytest.raises(ParameterError) as caught:
+        plan_request(Request(chain, AC(), effects=(part(10.0),)))
+    assert (caught.value.field, caught.value.value) == (f"effects.{part.key}.R", 10.0)
+    assert "overdamped" in str(caught.value) and "\n" not in str(caught.value)

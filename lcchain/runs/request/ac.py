@@ -24,7 +24,7 @@ from ...theory.modes import Modes
 from ...theory.spectrum import normal_modes
 from ..execute import circuit_modes
 from ..spec import RunSpec, SpectrumTheory
-from .types import AC, Request, RequestPlan, netlist_title, nominal_ladder, realised_chains
+from .types import AC, Request, RequestPlan, effect_named, netlist_title, nominal_ladder, realised_chains
 
 __all__ = ["plan_ac"]
 
@@ -123,6 +123,11 @@ def _circuit_grid(chain: Chain, request: Request, analysis: AC, ladder: Ladder |
     if exact.N > CIRCUIT_SPECTRUM_MAX_MODES:
         raise ParameterError("N", chain.N, f"a circuit of at most {CIRCUIT_SPECTRUM_MAX_MODES} modes for an AC "
                              f"analysis with effects that are no chain's (this one has {exact.N}: its fit is dense)")
+    if not np.any(exact.omega > 0):  # every pole real: a sweep placed by the resonances has none to place it
+        named = effect_named(request, sample, lambda names: any(name.startswith("R") for name in names))
+        raise ParameterError(*(named or ("effects", tuple(effect.key for effect in request.effects))),
+                             "resistors that leave a mode ringing: with these every mode of the circuit is "
+                             "overdamped (its poles are real), and an AC sweep has no resonance to find")
     # no range of decay rates is refused here: the fit tells apart modes whose resonances overlap (measured:
     # two-mass N = 20 with R = 0.01, two modes 0.018 apart whose decay rates add up to more, Q_n to 3e-13)
     return sample, elements, exact, sweep_grid(exact.omega, analysis.points)

@@ -9,7 +9,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from ...circuit.elements import Element, Pulse, ladder_elements
+from ...circuit.elements import Element, Pulse
 from ...circuit.exact import circuit_cost, circuit_states, circuit_theory, circuit_unknowns
 from ...circuit.ladder import Ladder
 from ...circuit.netlist import NetlistOutput, SimulationOptions, check_run_length, netlist_text, probe_names
@@ -35,7 +35,15 @@ from ...theory.response import loop_weights
 from ...theory.spectrum import normal_modes
 from ..execute import circuit_predicted_error, pulse_centre
 from ..spec import RunSpec, Theory
-from .types import Request, RequestPlan, netlist_title, nominal_ladder, realised_chains, request_elements
+from .types import (
+    Request,
+    RequestPlan,
+    effect_named,
+    netlist_title,
+    nominal_ladder,
+    realised_chains,
+    request_elements,
+)
 
 __all__ = ["plan_transient", "ACCURACY_LOOPS"]
 
@@ -223,17 +231,12 @@ def _check_circuit(request: Request, ladder: Ladder, elements: tuple[Element | P
     try:
         circuit_theory(elements)
     except ParameterError as error:
-        plain = {element.name for element in ladder_elements(ladder, ())}
-        for effect in request.effects:
-            names = {element.name for element in ladder_elements(ladder, (effect,))} - plain
-            kinds = {name[0] for name in names}
-            if error.field in names or error.field in kinds:
-                parameters = list(getattr(effect, "__dataclass_fields__", {}))
-                where = f"effects.{effect.key}" + (f".{parameters[0]}" if len(parameters) == 1 else "")
-                raise ParameterError(where, getattr(effect, parameters[0]) if len(parameters) == 1 else effect,
-                                     f"a circuit whose exact theory float64 can give ({error.field}: "
-                                     f"{error.allowed})") from None
-        raise
+        field = error.field  # an element's name, or its kind's letter
+        named = effect_named(request, ladder, lambda names: field in names or field in {name[0] for name in names})
+        if named is None:
+            raise
+        raise ParameterError(*named, f"a circuit whose exact theory float64 can give ({error.field}: "
+                             f"{error.allowed})") from None
 
 
 def _accuracy_weights(request: Request, nominal: Chain) -> list[np.ndarray] | None:

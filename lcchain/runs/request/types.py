@@ -13,7 +13,8 @@ circuit's.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from collections.abc import Callable
+from dataclasses import dataclass, field, fields, is_dataclass
 from typing import TypeVar
 
 from ...circuit.effects import Effect, Losses, PreferredValues, Tolerance
@@ -40,7 +41,7 @@ from ...theory.modes import Modes
 from ..spec import DEFAULT_TIMEOUT, RunSpec, Theory
 
 __all__ = ["Transient", "AC", "Analysis", "Request", "RequestPlan", "nominal_ladder", "chain_follows",
-           "request_elements", "realised_chains", "netlist_title"]
+           "request_elements", "realised_chains", "netlist_title", "effect_named"]
 
 
 #: An effect's type, for :meth:`Request.effect`.
@@ -320,6 +321,21 @@ class RequestPlan:
         analysis = self.request.transient
         return SimulationOptions(dt=self.steps[index], tstop=self.tstop, method=analysis.method,
                                  aligned=self.runs > 1)
+
+
+def effect_named(request: Request, ladder: Ladder, wrote: Callable[[set[str]], bool]) -> tuple[str, object] | None:
+    """The field a refusal names for the first of the request's effects whose own elements (their names, beyond the
+    bare ladder's) ``wrote`` accepts, and its value: ``effects.<key>.<parameter>`` and the number for an effect of
+    one parameter, ``effects.<key>`` and the effect otherwise; None when none did.  Found from what each effect
+    writes, not from its type."""
+    plain = {element.name for element in ladder_elements(ladder, ())}
+    for effect in request.effects:
+        if wrote({element.name for element in ladder_elements(ladder, (effect,))} - plain):
+            parameters: list[str] = [f.name for f in fields(effect)] if is_dataclass(effect) else []  # no ClassVar
+            if len(parameters) == 1:
+                return f"effects.{effect.key}.{parameters[0]}", getattr(effect, parameters[0])
+            return f"effects.{effect.key}", effect
+    return None
 
 
 def nominal_ladder(request: Request) -> tuple[Chain, Ladder, bool]:
