@@ -490,3 +490,38 @@ def test_the_check_and_a_batchs_check_are_priced_with_their_exact_reference(tmp_
     analysis = analysis_of(text, "line.cir", lambda: "39")
     price = foreign_price(text, analysis, len(saved_vectors(text)))
     assert check_estimate(price, text, analysis).seconds > 10 * price.seconds  # the reference, not the run
+
+
+def test_a_coil_of_a_kilohenry_beside_a_femtofarad_keeps_both_poles() -> None:
+    # E's entries 1e18 apart: its rank, counted before balancing, lost the capacitor's pole, and the check refused
+    # a consistent start ("1.0e+00 of it outside the circuit's modes").  The reference is the series RLC's state
+    # equations in balanced units (sqrt(L) i, sqrt(C) v_C), their exponential exact.
+    R, L, C = 1e3, 1e3, 1e-15
+    text = ("series RLC, values far apart\nV1 in 0 PULSE(0 1 0 1n 1n 2u 4u)\nR1 in a 1e3\nL1 a out 1e3\n"
+            "C1 out 0 1e-15\n.tran 10n 8u\n.end\n")
+    t = np.linspace(0.0, 8e-6, 161)
+    mine = _reference(text, ["i(l1)", "v(out)"], t)
+    w0 = 1.0 / math.sqrt(L * C)
+    A = np.array([[-R / L, -w0], [w0, 0.0]])
+    x = _expm_response(A, np.array([1.0 / math.sqrt(L), 0.0]), _pulse_pieces(0, 1, 1e-9, 2e-6, 1e-9, 4e-6, 8e-6), t)
+    current, voltage = x[0] / math.sqrt(L), x[1] / math.sqrt(C)
+    np.testing.assert_allclose(mine[0], current, rtol=0, atol=RTOL_EXACT * np.max(np.abs(current)))
+    np.testing.assert_allclose(mine[1], voltage, rtol=0, atol=RTOL_EXACT * np.max(np.abs(voltage)))
+
+
+def test_a_sine_off_a_resonance_of_values_far_apart_is_solved_equilibrated() -> None:
+    # 1 MH, 1e-20 F and 1e-6 ohm driven at 1 MHz, off their 1.59 MHz resonance: the particular solution's matrix
+    # (entries 1e26 apart) is ill-conditioned for LAPACK until its rows and columns are scaled; it was refused as
+    # "a source term at one of the circuit's poles".  Reference: the balanced state with (sin, cos) beside it.
+    R, L, C, hertz = 1e-6, 1e6, 1e-20, 1e6
+    text = "far apart, driven\nV1 in 0 SIN(0 1 1meg)\nR1 in a 1e-6\nL1 a out 1e6\nC1 out 0 1e-20\n.tran 10n 4u\n.end\n"
+    t = np.linspace(0.0, 4e-6, 81)
+    mine = _reference(text, ["i(l1)", "v(out)"], t)
+    w0, w = 1.0 / math.sqrt(L * C), 2 * math.pi * hertz
+    M = np.zeros((4, 4))
+    M[:2, :2] = [[-R / L, -w0], [w0, 0.0]]
+    M[0, 2], M[2, 3], M[3, 2] = 1.0 / math.sqrt(L), w, -w
+    x = np.array([(scipy.linalg.expm(M * tk) @ np.array([0.0, 0.0, 0.0, 1.0]))[:2] for tk in t]).T
+    current, voltage = x[0] / math.sqrt(L), x[1] / math.sqrt(C)
+    np.testing.assert_allclose(mine[0], current, rtol=0, atol=RTOL_EXACT * np.max(np.abs(current)))
+    np.testing.assert_allclose(mine[1], voltage, rtol=0, atol=RTOL_EXACT * np.max(np.abs(voltage)))

@@ -103,6 +103,29 @@ def linear_cost(unknowns: int, points: float, vectors: int) -> tuple[float, floa
     return seconds, 16.0 * n * (_DENSE_MATRICES * n + _CHUNK)
 
 
+def _solve_scaled(matrix: np.ndarray, rhs: np.ndarray) -> np.ndarray:
+    """``matrix^-1 rhs``; where LAPACK finds the matrix ill-conditioned (values far apart: a coil of 1e6 H beside a
+    capacitor of 1e-20 F, driven off their resonance), solved again with its rows and columns scaled to unit
+    largest entries (equilibrated), which is exact in powers of two.
+
+    Raises
+    ------
+    scipy.linalg.LinAlgWarning, numpy.linalg.LinAlgError
+        Singular, or ill-conditioned even equilibrated.
+    """
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", scipy.linalg.LinAlgWarning)
+        try:
+            return np.asarray(scipy.linalg.solve(matrix, rhs))
+        except scipy.linalg.LinAlgWarning:
+            pass
+        magnitude = np.abs(matrix)
+        rows = np.exp2(-np.round(np.log2(np.maximum(magnitude.max(axis=1), 1e-300))))
+        columns = np.exp2(-np.round(np.log2(np.maximum((magnitude * rows[:, None]).max(axis=0), 1e-300))))
+        scaled = scipy.linalg.solve(matrix * rows[:, None] * columns[None, :], (rhs.T * rows).T)
+        return np.asarray((np.asarray(scaled).T * columns).T)
+
+
 @dataclass(frozen=True)
 class Term:
     """``coef (t - origin)^degree exp(s (t - origin))`` (its real part counts); degree 1 only with s = 0."""
@@ -277,13 +300,16 @@ class LinearResponse:
                 residual = np.linalg.norm(matrix @ solved - self.B) / max(float(np.linalg.norm(self.B)), 1e-300)
                 if residual > 1e-9:
                     raise refusal
-            else:
-                with warnings.catch_warnings():
-                    warnings.simplefilter("error", scipy.linalg.LinAlgWarning)
-                    try:
-                        solved = scipy.linalg.solve(matrix, self.B.astype(kind))
-                    except (ValueError, np.linalg.LinAlgError, scipy.linalg.LinAlgWarning):
-                        raise refusal from None
+            else:  # no pole there: a failure is the rounding of values far apart, not a resonance
+                conditioning = ParameterError("source", f"a term exp({s:g} t)", "a circuit whose equations "
+                                              "float64 can solve at the source's frequency (element values too far "
+                                              "apart: the matrix there is singular to rounding)")
+                try:
+                    solved = _solve_scaled(matrix, self.B.astype(kind))
+                except (ValueError, np.linalg.LinAlgError, scipy.linalg.LinAlgWarning):
+                    raise conditioning from None
+                if not np.all(np.isfinite(solved)):
+                    raise conditioning
             if not np.all(np.isfinite(solved)):
                 raise refusal
             self._solves[s] = np.asarray(solved)
@@ -770,22 +796,10 @@ def linear_response(circuit: LinearCircuit) -> LinearResponse:
 def _modes(E: np.ndarray, A: np.ndarray, nodes: list[str]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The finite poles of the pencil (A, E), their right eigenvectors and the projection onto them."""
     n = E.shape[0]
-    scale_e = max(float(np.abs(E).max()), 1e-300)
-    scale_a = max(float(np.abs(A).max()), 1e-300)
-    u, sigma, vt = np.linalg.svd(E)
-    rank = int(np.sum(sigma > sigma[0] * n * 1e-13)) if sigma.size and sigma[0] > 0 else 0
-    # constraints that tie differential unknowns alone (coils in series) remove one pole each
-    left_null, right_null = u[:, rank:], vt[rank:, :].T
-    a22 = left_null.T @ A @ right_null
-    deficit = 0
-    if a22.size:
-        singular = np.linalg.svd(a22, compute_uv=False)
-        deficit = int(np.sum(singular <= max(float(singular[0]) if singular.size else 0.0, scale_a) * n * 1e-12))
-    finite = rank - deficit
-    if finite <= 0:
-        return np.zeros(0, dtype=complex), np.zeros((n, 0), dtype=complex), np.zeros((0, n), dtype=complex)
     # Balanced: each unknown scaled by 1/sqrt of its capacitance or inductance (or conductance), so that the
-    # pencil's entries are of one size whatever the units (a line of 250 nH and 100 pF: 1e-9 rounding, not 1e-5).
+    # pencil's entries are of one size whatever the units (a line of 250 nH and 100 pF: 1e-9 rounding, not 1e-5),
+    # and the rank of E is counted there: a coil of 1 kH beside a capacitor of 1e-15 F (entries 1e18 apart) lost
+    # the capacitor's pole to the raw E's rank, and the check refused a consistent initial state.
     diagonal = np.abs(np.diag(E))
     fallback = np.abs(np.diag(A))
     weight = np.where(diagonal > 0, diagonal, np.where(fallback > 0, fallback, 1.0))
@@ -793,6 +807,18 @@ def _modes(E: np.ndarray, A: np.ndarray, nodes: list[str]) -> tuple[np.ndarray, 
     Eb, Ab = D[:, None] * E * D[None, :], D[:, None] * A * D[None, :]
     scale_e = max(float(np.abs(Eb).max()), 1e-300)
     scale_a = max(float(np.abs(Ab).max()), 1e-300)
+    u, sigma, vt = np.linalg.svd(Eb)
+    rank = int(np.sum(sigma > sigma[0] * n * 1e-13)) if sigma.size and sigma[0] > 0 else 0
+    # constraints that tie differential unknowns alone (coils in series) remove one pole each
+    left_null, right_null = u[:, rank:], vt[rank:, :].T
+    a22 = left_null.T @ Ab @ right_null
+    deficit = 0
+    if a22.size:
+        singular = np.linalg.svd(a22, compute_uv=False)
+        deficit = int(np.sum(singular <= max(float(singular[0]) if singular.size else 0.0, scale_a) * n * 1e-12))
+    finite = rank - deficit
+    if finite <= 0:
+        return np.zeros(0, dtype=complex), np.zeros((n, 0), dtype=complex), np.zeros((0, n), dtype=complex)
     alpha_beta, vl, vr = scipy.linalg.eig(Ab / scale_a, Eb / scale_e, left=True, right=True,
                                           homogeneous_eigvals=True)
     vl, vr = D[:, None] * vl, D[:, None] * vr
