@@ -208,3 +208,15 @@ def test_an_ac_sweep_of_a_circuit_with_every_mode_overdamped_is_refused_naming_t
         plan_request(Request(chain, AC(), effects=(part(10.0),)))
     assert (caught.value.field, caught.value.value) == (f"effects.{part.key}.R", 10.0)
     assert "overdamped" in str(caught.value) and "\n" not in str(caught.value)
+
+
+@pytest.mark.parametrize("part, field", [(CapacitorESL, "L"), (CoilCapacitance, "ratio")])
+def test_an_ac_sweep_whose_parts_resonate_too_far_apart_is_refused_naming_the_part(part: type[Effect], field: str
+                                                                                  ) -> None:
+    # a part a million times its bulk element: its resonance lies so far from the ladder's that no sweep of
+    # MAX_AC_POINTS frequencies separates the poles; the refusal named --N (the chain), which the user did not vary
+    chain = lcchain.chain_for_case("two-mass", 10)
+    with pytest.raises(ParameterError) as caught:
+        plan_request(Request(chain, AC(), effects=(part(MAX_PARASITIC),)))
+    assert (caught.value.field, caught.value.value) == (f"effects.{part.key}.{field}", MAX_PARASITIC)
+    assert "a circuit whose poles a sweep" in str(caught.value) and "\n" not in str(caught.value)

@@ -130,7 +130,14 @@ def _circuit_grid(chain: Chain, request: Request, analysis: AC, ladder: Ladder |
                              "overdamped (its poles are real), and an AC sweep has no resonance to find")
     # no range of decay rates is refused here: the fit tells apart modes whose resonances overlap (measured:
     # two-mass N = 20 with R = 0.01, two modes 0.018 apart whose decay rates add up to more, Q_n to 3e-13)
-    return sample, elements, exact, sweep_grid(exact.omega, analysis.points)
+    try:
+        grid = sweep_grid(exact.omega, analysis.points)
+    except ParameterError as error:  # poles too far apart for a sweep: the parts' resonances (an ESL of 1e6 L0)
+        named = effect_named(request, sample, lambda names: any(name[0] in "LC" for name in names))
+        if error.field != "chain" or named is None:
+            raise
+        raise ParameterError(*named, error.allowed.replace("a chain whose", "a circuit whose", 1)) from None
+    return sample, elements, exact, grid
 
 
 def _plan_circuit_ac(request: Request, budget: Budget, modes: Modes | None, design_seconds: float, nominal: Chain,
