@@ -373,3 +373,11 @@ def test_what_the_effects_cost_says_earlier_not_a_negative_later(capsys) -> None
                              "0.1", "--Q", "50")
     line = next(line for line in out.splitlines() if line.startswith("what the effects cost"))
     assert status == 0 and line.endswith("sqrt(L0 C0) earlier") and " -" not in line
+
+
+def test_an_ac_scenes_spreads_print_na_where_no_two_modes_were_seen_to_space() -> None:
+    # a circuit damped past what its sweep resolves: its spacing spread is NaN (None in the JSON), printed "nan"
+    from lcchain.cli.run import _ratio_text, error_text
+
+    assert _ratio_text(float("nan")) == _ratio_text(None) == error_text(float("nan")) == "n/a"
+    assert _ratio_text(1.0195113767074728, 3) == "1.02" and _ratio_text(0.0) == "0"

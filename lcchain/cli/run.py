@@ -54,6 +54,12 @@ def error_text(value: float | None) -> str:
     return "unseen" if value is None or value == float("inf") else f"{value:.3e}"
 
 
+def _ratio_text(value: float | None, digits: int = 4) -> str:
+    """A spread as printed: a number, or 'n/a' where fewer than two modes were seen to space (NaN; None in the
+    JSON)."""
+    return "n/a" if value is None or value != value else f"{value:.{digits}g}"
+
+
 def _print_spectrum_summary(result: SceneResult) -> None:
     """An AC scene: each sample's modes against its own theory, and the spacings' spread over the samples."""
     report = result.report
@@ -72,13 +78,13 @@ def _print_spectrum_summary(result: SceneResult) -> None:
                        else "the circuit's losses: max |Q_n - theory| / theory")
             print(f"{against} = {error_text(report['max_rel_error_Q'])}{over}")
         spread = report["spacing_spread"]
-        print(f"spacing spread (max - min) / mean of delta omega_n: {spread['mean']:.4g} (mean over {spread['count']}"
-              f" sample{'s' if spread['count'] > 1 else ''}), largest {spread['max']:.4g}; nominal theory "
-              f"{spread['theory_nominal']:.3g}")
+        print(f"spacing spread (max - min) / mean of delta omega_n: {_ratio_text(spread['mean'])} (mean over "
+              f"{spread['count']} sample{'s' if spread['count'] > 1 else ''}), largest {_ratio_text(spread['max'])}; "
+              f"nominal theory {_ratio_text(spread['theory_nominal'], 3)}")
         print(f"{'sample':>6} {'modes seen':>10} {'max omega error':>16} {'max P error':>12} {'spacing spread':>15}")
         for record in good:
             print(f"{record['sample']:>6} {record['modes_seen']:>10} {error_text(record['max_rel_error_omega']):>16} "
-                  f"{record['max_abs_error_P']:>12.3e} {record['spacing_spread']:>15.4g}")
+                  f"{record['max_abs_error_P']:>12.3e} {_ratio_text(record['spacing_spread']):>15}")
     for record in report["samples"]:
         if "error" in record:
             print(f"sample {record['sample']} failed: {record['error']}", file=sys.stderr)
