@@ -525,3 +525,13 @@ def test_a_sine_off_a_resonance_of_values_far_apart_is_solved_equilibrated() -> 
     current, voltage = x[0] / math.sqrt(L), x[1] / math.sqrt(C)
     np.testing.assert_allclose(mine[0], current, rtol=0, atol=RTOL_EXACT * np.max(np.abs(current)))
     np.testing.assert_allclose(mine[1], voltage, rtol=0, atol=RTOL_EXACT * np.max(np.abs(voltage)))
+
+
+def test_a_netlists_options_are_read_whatever_its_ic_card_holds() -> None:
+    # the .ic card's loop reused the netlist text's name: its last value ("0") was read for the options, so a
+    # netlist with a .ic ran gear and was predicted (and reported) as trap
+    text = ("tank\n.options method=gear reltol=1e-4\nL1 a 0 10u IC=1m\nC1 a 0 1n\nR1 a 0 1k\n.ic v(a)=0\n"
+            ".tran 1n 20u uic\n.end\n")
+    cards = read_cards(allowed_netlist(text, "tank.cir", None), "tank.cir")
+    assert cards.method == "gear" and dict(cards.options)["reltol"] == "1e-4"
+    assert cards.initial == (("a", 0.0),)

@@ -164,8 +164,8 @@ def read_cards(text: str, source: str = "netlist") -> NetlistCards:
                 pairs = re.findall(r"v\s*\(\s*([^()\s,]+)\s*\)\s*=\s*(\S+)", body, re.IGNORECASE)
                 if not pairs or re.sub(r"v\s*\(\s*[^()\s,]+\s*\)\s*=\s*\S+", "", body, flags=re.IGNORECASE).strip():
                     raise ParameterError(where, line.strip()[:200], ".ic v(NODE)=VALUE ...")
-                for node, text in pairs:
-                    volts = _element_value(text, params, where, line)
+                for node, value in pairs:  # not ``text``: the netlist's, whose options are read below
+                    volts = _element_value(value, params, where, line)
                     if volts is None:
                         raise ParameterError(where, line.strip()[:200], ".ic v(NODE)=VALUE ... with numbers")
                     initial.append((node.lower(), volts))
