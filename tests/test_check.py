@@ -535,3 +535,14 @@ def test_a_netlists_options_are_read_whatever_its_ic_card_holds() -> None:
     cards = read_cards(allowed_netlist(text, "tank.cir", None), "tank.cir")
     assert cards.method == "gear" and dict(cards.options)["reltol"] == "1e-4"
     assert cards.initial == (("a", 0.0),)
+
+
+@pytest.mark.ngspice
+def test_a_nodeset_is_run_and_leaves_the_linear_reference_alone() -> None:
+    # .nodeset, as engineers' decks carry it, was refused by the allow-list; it guesses the operating point for the
+    # solver, which a linear circuit's unique operating point does not need
+    text = ("nodeset\nI1 0 a SIN(0 1m 100k 1u 1e4 30)\nR1 a 0 1k\nC1 a 0 1n\nL1 a b 1m\nR2 b 0 10\n"
+            ".nodeset v(a)=0.1\n.tran 10n 50u\n.end\n")
+    result = check_text(text, "nodeset.cir")
+    assert result.max_abs_error is not None and result.predicted_error is not None
+    assert PREDICTION_BAND[0] <= result.max_abs_error / result.predicted_error <= PREDICTION_BAND[1]

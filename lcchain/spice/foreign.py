@@ -22,7 +22,7 @@ Allowed
   :data:`_CHARACTERS` (no quotes, backslashes or control characters);
 * the dot-commands of :data:`DOT_COMMANDS`, the word matched whole:
   ``.tran``, ``.ac``, ``.options`` with the names of :data:`OPTIONS`,
-  ``.save``, ``.ic``, ``.end``;
+  ``.save``, ``.ic``, ``.nodeset`` (a guess for the operating point's solver, nothing more), ``.end``;
 * ``.param name = value ...`` (and every word ngspice 39 reads as ``.param``: ``.params``, ``.PARAM_X``), its
   values, and every ``{...}`` expression of any card, held to numbers, ``.param`` names, arithmetic and
   ngspice's math functions (:mod:`lcchain.spice.expressions`), at most
@@ -146,7 +146,7 @@ ELEMENTS = frozenset("RLCKVIBDQMJSWX")
 #: Dot-commands run as they are (the word matched whole, in any case, except those ngspice 39 reads by their start:
 #: ``.param``, ``.ends``, ``.model``, ``.func``, ``.global``, :func:`lcchain.spice.cards.command_of`); the includes
 #: are inlined.
-DOT_COMMANDS = frozenset({".tran", ".ac", ".options", ".option", ".opt", ".save", ".ic", ".param", ".end",
+DOT_COMMANDS = frozenset({".tran", ".ac", ".options", ".option", ".opt", ".save", ".ic", ".nodeset", ".param", ".end",
                           *MEASURE_WORDS, ".subckt", ".ends", ".model", ".func", ".global", ".temp", ".op", ".dc"})
 #: What a ``.subckt`` body may hold besides element lines: its definitions (ngspice runs analyses, options and
 #: saves of the whole netlist only).
