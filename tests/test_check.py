@@ -287,6 +287,8 @@ def test_ac_sweep_is_the_transfer_function(tmp_path: Path, capsys: pytest.Captur
     data = json.loads(capsys.readouterr().out)
     assert data["analysis"] == "ac" and data["points"] == 81 and data["max_rel_error"] < RTOL_CHECK_AC
     assert data["predicted_error"] is None
+    assert main(["check", str(_write(tmp_path, text))]) == 0  # no step, no integration method to name
+    assert "method" not in capsys.readouterr().out.splitlines()[0]
 
 
 # --------------------------------------------------------------------------- what has no exact reference, refusals

@@ -54,8 +54,9 @@ def cmd_check(args: argparse.Namespace) -> int:
     if args.json:
         emit_json(result.to_dict())
         return EXIT_OK if result.passed else EXIT_FAILED
+    method = f", method {result.method}" if result.analysis == "transient" else ""  # no step, no method: AC
     print(f"{result.netlist}: {result.analysis}, {result.points} points, {result.engine} {result.engine_version} "
-          f"({result.simulator_seconds:.3g} s), method {result.method}")
+          f"({result.simulator_seconds:.3g} s){method}")
     if result.reference:
         print(f"no exact reference ({result.reference}): the run ran, nothing compared")
         return EXIT_OK
