@@ -54,7 +54,7 @@ def cmd_check(args: argparse.Namespace) -> int:
     if args.json:
         emit_json(result.to_dict())
         return EXIT_OK if result.passed else EXIT_FAILED
-    method = f", method {result.method}" if result.analysis == "transient" else ""  # no step, no method: AC
+    method = "" if analysis_kind(result.analysis).swept else f", method {result.method}"  # a sweep takes no step
     print(f"{result.netlist}: {result.analysis}, {result.points} points, {result.engine} {result.engine_version} "
           f"({result.simulator_seconds:.3g} s){method}")
     if result.reference:
