@@ -1,5 +1,6 @@
 """``lcchain spectrum --touchstone``: the ladder as a two-port in a Touchstone file that scikit-rf reads
-(issue 33, item 3), against the circuit's exact admittances (lcchain.circuit.exact.CircuitTheory.admittances)."""
+(issue 33, item 3), against the circuit's exact phasors (lcchain.circuit.phasor.source_currents), whose port
+currents are the sources', not the coils' (a coil's self-capacitance carries the difference)."""
 
 from __future__ import annotations
 
@@ -7,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from helpers.tolerances import ATOL_S_EXACT_PORTS, ATOL_TWO_PORT_S, ATOL_UNITARY
+from helpers.tolerances import ATOL_S_EXACT_PORTS, ATOL_TWO_PORT_S, ATOL_UNITARY, RTOL_PORT_CURRENT
 
 from lcchain.cli.main import main
 from lcchain.runs.request import AC, Request
@@ -68,3 +69,56 @@ def test_touchstone_options_are_refused_in_one_line(tmp_path: Path, capsys) -> N
     assert main(["spectrum", "--case", "two-mass", "--N", "8", "--touchstone", str(tmp_path / "x.s2p"),
                  "--z0", "-5"]) == 2
     assert "--z0" in capsys.readouterr().err and not (tmp_path / "x.s2p").exists()
+
+
+@pytest.mark.ngspice
+def test_a_coil_capacitance_is_in_the_port_currents_of_both_engines_and_of_theory(tmp_path: Path, capsys) -> None:
+    """With a capacitor C_p across every coil a port's current is its coil's and C_p's: I_1 = I_L1 (1 + s^2 L_1 C_p)
+    (nothing else in coil 1's branch), 8 % more than the coil's at the band top here; the file held the coil's."""
+    from lcchain.circuit.effects import CoilCapacitance
+    from lcchain.circuit.exact import CircuitTheory
+    from lcchain.circuit.ladder import Ladder
+    from lcchain.circuit.netlist import ac_circuit_elements
+
+    chain = chain_for_case("two-mass", 8)
+    request = Request(chain, AC(100), effects=(CoilCapacitance(0.01),), L0=10e-6, C0=10e-9)
+    for engine in ("ngspice", "gnucap"):
+        target = tmp_path / f"{engine}.s2p"
+        assert main(["spectrum", "--case", "two-mass", "--N", "8", "--L0", "10e-6", "--C0", "10e-9", "--points",
+                     "100", "--coil-capacitance", "0.01", "--engine", engine, "--touchstone", str(target)]) == 0
+        capsys.readouterr()
+        rows = np.array([[float(x) for x in line.split()] for line in target.read_text().splitlines()
+                         if line.strip() and not line.startswith(("!", "#"))])
+        measured = (rows[:, 1::2] + 1j * rows[:, 2::2]).reshape(-1, 2, 2).transpose(0, 2, 1)  # v1: S11 S21 S12 S22
+        exact = two_port_theory(request, rows[:, 0])
+        np.testing.assert_allclose(measured, exact.S, rtol=0, atol=ATOL_TWO_PORT_S)
+    # the ports' theory against the coils' own (the modal sum of lcchain.circuit.exact), times what C_p adds
+    frequency = rows[:, 0]
+    ladder = Ladder(chain, 10e-6, 10e-9)
+    poles, residues, direct = CircuitTheory(ac_circuit_elements(ladder, request.effects)).admittances(["L1"])
+    s = 2j * np.pi * frequency
+    coil = direct[0] + residues[0] @ (1.0 / (s[None, :] - poles[:, None]))
+    L1, Cp = ladder.inductances()[0], 0.01 * 10e-9
+    np.testing.assert_allclose(exact.Y[:, 0, 0], coil * (1.0 + s**2 * L1 * Cp), rtol=RTOL_PORT_CURRENT)
+    top = 2.0 / (2 * np.pi * np.sqrt(10e-6 * 10e-9))  # the band top, Hz: C_p's share there is 4 L1/L0 %
+    assert abs(np.interp(top, frequency, np.abs(exact.Y[:, 0, 0] / coil)) - 1.0) > 0.05
+
+
+def test_the_phasor_solve_is_the_hand_formula_of_a_transformer_and_a_series_rlc() -> None:
+    """lcchain.circuit.phasor against closed forms: a series RLC's current V / (R + sL + 1/(sC)), and a transformer's
+    primary current V / (R1 + sL1 - (sM)^2 / (sL2 + R2)) with M = k sqrt(L1 L2); ngspice's sign (into + node)."""
+    from lcchain.circuit.elements import Element
+    from lcchain.circuit.phasor import source_currents
+
+    frequency = np.geomspace(1e2, 1e8, 25)
+    s = 2j * np.pi * frequency
+    series = [Element("R1", "a", "b", 50.0), Element("L1", "b", "c", 1e-5), Element("C1", "c", "0", 1e-9)]
+    current = source_currents(series, [("V1", "a", "0", 1.0)], frequency)[0]
+    np.testing.assert_allclose(-current, 1.0 / (50.0 + s * 1e-5 + 1.0 / (s * 1e-9)), rtol=RTOL_PORT_CURRENT)
+    L1, L2, k = 1e-5, 4e-5, 0.6
+    transformer = [Element("R1", "a", "b", 10.0), Element("L1", "b", "0", L1), Element("L2", "c", "0", L2),
+                   Element("K1", "L1", "L2", k), Element("R2", "c", "0", 200.0)]
+    current = source_currents(transformer, [("V1", "a", "0", 2.0)], frequency)[0]
+    M = k * np.sqrt(L1 * L2)
+    np.testing.assert_allclose(-current, 2.0 / (10.0 + s * L1 - (s * M) ** 2 / (s * L2 + 200.0)),
+                               rtol=RTOL_PORT_CURRENT)

@@ -119,7 +119,7 @@ def write_outputs(result: Spectrum) -> TwoPortSummary | None:
 def _write_touchstone(request: SpectrumRequest, chain: Chain, effects: tuple[Effect, ...],
                       outputs: Outputs) -> TwoPortSummary:
     """``spectrum --touchstone FILE.s2p``: the ladder's two-port from two AC analyses (one per end), checked
-    against the circuit's exact admittances (:mod:`lcchain.runs.twoport`), as Touchstone v1."""
+    against the circuit's exact phasors (:mod:`lcchain.runs.twoport`), as Touchstone v1."""
     import numpy as np
 
     from ..circuit.effects import Losses, effect_fields
@@ -141,9 +141,10 @@ def _write_touchstone(request: SpectrumRequest, chain: Chain, effects: tuple[Eff
     comments = [f"lcchain {__version__}: {chain.name} chain, N = {chain.N}, L0 = {request.L0:g} H, "
                 f"C0 = {request.C0:g} F, {measured.engine} {measured.engine_version} AC analyses",
                 f"effects: {written}",
-                "Port[1] = a break in loop 1 (the AC source's place, between coil 1 and the rail); current into "
-                "coil 1",
-                "Port[2] = its mirror image in loop N; current into coil N from that end (-i(lN) in the netlist)",
-                f"max |S - S of the circuit's exact admittances| = {error:.3e}"]
+                "Port[1] = a break in loop 1 (the AC source's place, between coil 1's branch and the rail); the "
+                "current the source drives into it (-i(v1) in the netlist)",
+                "Port[2] = its mirror image in loop N; the current into coil N's branch from that end (-i(vp2), "
+                "a 0 V ammeter in the netlist)",
+                f"max |S - S of the circuit's exact phasors| = {error:.3e}"]
     outputs.text("--touchstone", touchstone_text(measured.frequency, measured.S, z0, comments))
     return TwoPortSummary(measured.frequency, z0, error, measured.reciprocity)

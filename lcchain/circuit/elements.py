@@ -195,7 +195,8 @@ def _capacitor(ladder: Ladder, effects: tuple[Effect, ...], spring: int, node: s
 
 
 def ladder_elements(ladder: Ladder, effects: tuple[Effect, ...] = (), *, source: bool = False,
-                    kick: float | None = None, charge: float | None = None) -> tuple[Element, ...]:
+                    kick: float | None = None, charge: float | None = None, port2: bool = False
+                    ) -> tuple[Element, ...]:
     """The ladder's elements, in netlist order.
 
     Parameters
@@ -209,6 +210,9 @@ def ladder_elements(ladder: Ladder, effects: tuple[Effect, ...] = (), *, source:
         neighbouring loops (:class:`lcchain.circuit.effects.Effect`).
     source : bool
         Loop 1 opens at node ``s1`` for a drive's source (written by the netlist).
+    port2 : bool
+        Loop N opens too, at node ``s<N>`` after coil N's branch (what is across the coil spans it), for a
+        two-port's second port (its ammeter written by the netlist: :func:`lcchain.circuit.netlist.ac_netlist_text`).
     kick : float, optional
         The initial current of L_1, ampere.
     charge : float, optional
@@ -223,6 +227,8 @@ def ladder_elements(ladder: Ladder, effects: tuple[Effect, ...] = (), *, source:
         left, right = ladder.node(i - 1), ladder.node(i)
         if i == 1 and source:
             left = "s1"  # the source sits between the rail node n0 (or ground) and L1
+        if i == N and port2:
+            right = f"s{N}"  # the second port sits between coil N's branch and the rail node nN (or ground)
         series = [e for part in effects for e in part.in_series(ladder, i)]
         elements += _loop_branch(i, left, right, L[i - 1], kick if i == 1 else None, series)
         elements += _beside([e for part in effects for e in part.across_coil(ladder, i)], f"P{i}", left, right)

@@ -83,6 +83,8 @@ __all__ = [
     "netlist_text",
     "circuit_elements",
     "ac_netlist_text",
+    "port_elements",
+    "PORT_PROBES",
     "AC_OFFSET",
     "ChainNetlist",
     "make_netlist",
@@ -106,6 +108,11 @@ _OPTION_VALUE = re.compile(r"^[A-Za-z0-9_.+-]+$")
 #: A vector name for .save: i(l1), v(n3), @c1[i], ... without spaces.
 _VECTOR = re.compile(r"^[A-Za-z0-9_#@()\[\],.:+-]+$")
 
+
+#: A two-port netlist's saved currents (:func:`ac_netlist_text` with ``ports``): through the AC source V1 at port 1
+#: and the ammeter VP2 at port 2, each counted from the port's node (``s1``, ``s<N>``) through the source to the rail:
+#: minus the current the port drives into the circuit.
+PORT_PROBES = ("i(v1)", "i(vp2)")
 
 def check_user_text(field_name: str, text: object, max_length: int = MAX_TITLE_LENGTH, *, title: bool = True) -> str:
     """Text a user puts in a netlist: its title line, or a ``*`` comment (``title=False``).
@@ -354,9 +361,20 @@ def ac_circuit_elements(ladder: Ladder, effects: tuple[Effect, ...] = ()) -> tup
             Pulse("s1", ladder.node(0), "rect", ladder.time_unit, ladder.time_unit))
 
 
+def port_elements(ladder: Ladder, effects: tuple[Effect, ...] = ()
+                  ) -> tuple[tuple[Element, ...], tuple[tuple[str, str, str, float], ...]]:
+    """A two-port's circuit, as :func:`ac_netlist_text` with ``ports`` writes it and its exact phasors
+    (:func:`lcchain.circuit.phasor.source_currents`) are solved from it: the ladder open in loop 1 at ``s1`` and in
+    loop N at ``s<N>``, and its two sources (name, + node, - node, AC volts): the unit drive ``V1`` at port 1, the
+    ammeter ``VP2`` (0 V) at port 2."""
+    N = ladder.chain.N
+    return (ladder_elements(ladder, _effects(effects), source=True, port2=True),
+            (("V1", "s1", ladder.node(0), 1.0), ("VP2", f"s{N}", ladder.node(N), 0.0)))
+
 def ac_netlist_text(ladder: Ladder, *, points: int | None = None, omega_max: float | None = None,
                     omega_min: float | None = None, segments: Sequence[tuple[int, float, float]] | None = None,
-                    title: str = "lcchain LC ladder, AC", effects: tuple[Effect, ...] = ()) -> str:
+                    title: str = "lcchain LC ladder, AC", effects: tuple[Effect, ...] = (),
+                    ports: bool = False) -> str:
     """The ladder driven in loop 1 by a unit AC voltage, for its transfer admittances I_1/V_1 and I_N/V_1.
 
     Parameters
@@ -376,6 +394,9 @@ def ac_netlist_text(ladder: Ladder, *, points: int | None = None, omega_max: flo
     title : str
     effects : tuple of Effect
         Their series elements (losses: a resistor per inductor), as :func:`netlist_text`.
+    ports : bool
+        A two-port's netlist: loop N opens too, closed by an ammeter ``VP2 s<N> nN 0`` (:data:`PORT_PROBES`
+        saved: the currents through the two ports, not the coils').
 
     Returns
     -------
@@ -398,11 +419,17 @@ def ac_netlist_text(ladder: Ladder, *, points: int | None = None, omega_max: flo
     N = ladder.chain.N
     lines = [title, f"* N={N} L0={card_number(ladder.L0)} H C0={card_number(ladder.C0)} F time unit="
                     f"{card_number(ladder.time_unit)} s, AC drive of 1 V in loop 1"]
-    lines += [element.card() for element in ladder_elements(ladder, parts, source=True)]
-    lines.append(f"V1 s1 {ladder.node(0)} DC 0 AC 1")
+    if ports:
+        elements, sources = port_elements(ladder, parts)
+        lines += [element.card() for element in elements]
+        # the drive as loop 1's source always is; the ammeter a plain 0 V source (gnucap's dialect takes both)
+        lines += [f"{name} {a} {b} " + (f"DC 0 AC {volts:g}" if volts else "0") for name, a, b, volts in sources]
+    else:
+        lines += [element.card() for element in ladder_elements(ladder, parts, source=True)]
+        lines.append(f"V1 s1 {ladder.node(0)} DC 0 AC 1")
     lines.append(".options noopac")
     lines += sweeps
-    lines.append(".save " + " ".join(probe_names(N, "ends")))
+    lines.append(".save " + " ".join(PORT_PROBES if ports else probe_names(N, "ends")))
     lines.append(".end")
     return "\n".join(lines) + "\n"
 

@@ -4,29 +4,34 @@ The ports
 ---------
 Port 1 is the place of the AC source of :func:`lcchain.circuit.netlist.ac_netlist_text`: a break in loop 1 between
 the first coil's free end ``s1`` and the rail (ground, or the wall's node); its voltage V_1 is the source's, its
-current I_1 the current into ``s1``, that is loop 1's coil current ``i(l1)``.  Port 2 is its mirror image in loop
-N: a break between coil N's outer end and the rail, its current I_2 flowing into coil N from that end, which is
-``-i(lN)`` in the netlist's orientation of coil N.  Then ``I = Y V`` with::
+current I_1 the current the source drives into ``s1``, ``-i(v1)``.  Port 2 is its mirror image in loop N: a break
+between coil N's branch (``s<N>``) and the rail, closed by a 0 V ammeter ``VP2``, its current I_2 the current into
+the circuit there, ``-i(vp2)`` (:func:`lcchain.circuit.netlist.port_elements`).  A port's current is its coil's
+(``i(l1)``, ``-i(lN)``) only when nothing spans the coil: a coil's self-capacitance C_p carries omega^2 L C_p of it
+more (at the band top 4 L/L0 % for C_p = 0.01 C0: 8 % at the end coil of a two-mass chain of N = 8).  Then
+``I = Y V`` with::
 
-    Y11 = I_1 / V_1, Y21 = I_2 / V_1   (V_2 = 0: port 2 shorted, the ladder as lcchain writes it)
+    Y11 = I_1 / V_1, Y21 = I_2 / V_1   (V_2 = 0: port 2 shorted by its ammeter)
     Y22 = I_2 / V_2, Y12 = I_1 / V_2   (V_1 = 0: the mirrored chain, masses and springs reversed, driven in its
                                         loop 1, which is loop N: the same circuit seen from its other end)
 
 so the engine runs the AC analysis twice, once per end, on the same frequencies (the netlists are lcchain's own,
 never edited).  Reciprocity (Y12 = Y21) is a check, not an assumption.  The scattering matrix in a reference
-impedance z0 on both ports is ``S = (1 - z0 Y)(1 + z0 Y)^-1``; a lossless ladder's is unitary.
+impedance z0 on both ports is ``S = (1 - z0 Y)(1 + z0 Y)^-1``; a lossless ladder's is unitary.  The exact Y
+(:func:`two_port_theory`) is the phasor solution of the very elements and sources the netlists are written from
+(:func:`lcchain.circuit.phasor.source_currents`).
 """
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
 
 from ..circuit.exact import CircuitTheory
 from ..circuit.ladder import Ladder
-from ..circuit.netlist import ac_circuit_elements, ac_netlist_text, probe_names
+from ..circuit.netlist import PORT_PROBES, ac_circuit_elements, ac_netlist_text, port_elements
+from ..circuit.phasor import source_currents
 from ..core.checks import real
 from ..core.errors import ParameterError, SimulationError
 from ..core.limits import MAX_AC_POINTS, MIN_AC_POINTS
@@ -130,8 +135,8 @@ def two_port(request: Request, z0: float = DEFAULT_Z0) -> TwoPort:
     columns = []
     for ladder in ladders:
         text = ac_netlist_text(ladder, points=points, omega_max=omega_max, omega_min=omega_min,
-                               title="lcchain LC ladder, two-port", effects=request.effects)
-        probes = tuple(probe_names(ladder.chain.N, "ends"))
+                               title="lcchain LC ladder, two-port", effects=request.effects, ports=True)
+        probes = PORT_PROBES
         spec = RunSpec(text, probes, 0.0, backend=request.backend, timeout=request.timeout, foreign=False,
                        label=f"two-port, N={ladder.chain.N}", engine=request.engine, analysis="ac", points=points)
         record = execute(spec)
@@ -141,10 +146,10 @@ def two_port(request: Request, z0: float = DEFAULT_Z0) -> TwoPort:
     (first, ends), (second, mirror_ends) = columns
     if not np.array_equal(first.frequency, second.frequency):  # the same cards: a difference is the engine's
         raise SimulationError("the two ends' AC analyses swept different frequencies", "", "failed")
-    Y = np.empty((first.points, 2, 2), dtype=complex)
-    Y[:, 0, 0] = first.vectors[ends[0]]
+    Y = np.empty((first.points, 2, 2), dtype=complex)  # each port's current into the circuit: minus its source's
+    Y[:, 0, 0] = -first.vectors[ends[0]]
     Y[:, 1, 0] = -first.vectors[ends[1]]
-    Y[:, 1, 1] = second.vectors[mirror_ends[0]]
+    Y[:, 1, 1] = -second.vectors[mirror_ends[0]]
     Y[:, 0, 1] = -second.vectors[mirror_ends[1]]
     return TwoPort(np.asarray(first.frequency, dtype=float), Y, z0, first.engine, first.engine_version,
                    _reciprocity(Y))
@@ -156,18 +161,16 @@ def _reciprocity(Y: np.ndarray) -> float:
 
 
 def two_port_theory(request: Request, frequency: np.ndarray, z0: float = DEFAULT_Z0) -> TwoPort:
-    """The same two-port from the circuit's exact admittances
-    (:meth:`lcchain.circuit.exact.CircuitTheory.admittances`) at ``frequency`` (Hz): the very elements the
-    netlists are written with, no simulator."""
+    """The same two-port, exact, at ``frequency`` (Hz): the phasor currents of the ports' sources
+    (:func:`lcchain.circuit.phasor.source_currents`) in the very elements and sources the netlists are written
+    from (:func:`lcchain.circuit.netlist.port_elements`), no simulator."""
     z0 = real("z0", z0, above=0.0)
     frequency = np.asarray(frequency, dtype=float)
-    s = 2j * math.pi * frequency
     Y = np.empty((frequency.size, 2, 2), dtype=complex)
     for k, ladder in enumerate(_ladders(request)):
-        probes = probe_names(ladder.chain.N, "ends")
-        poles, residues, direct = CircuitTheory(ac_circuit_elements(ladder, request.effects)).admittances(probes)
-        values = direct[:, None] + residues @ (1.0 / (s[None, :] - poles[:, None]))
-        Y[:, k, k] = values[0]
-        Y[:, 1 - k, k] = -values[1]
+        elements, sources = port_elements(ladder, request.effects)
+        currents = source_currents(elements, sources, frequency)
+        Y[:, k, k] = -currents[0]
+        Y[:, 1 - k, k] = -currents[1]
     return TwoPort(frequency, Y, z0, "theory", "", _reciprocity(Y))
 
