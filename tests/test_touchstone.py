@@ -122,3 +122,13 @@ def test_the_phasor_solve_is_the_hand_formula_of_a_transformer_and_a_series_rlc(
     M = k * np.sqrt(L1 * L2)
     np.testing.assert_allclose(-current, 2.0 / (10.0 + s * L1 - (s * M) ** 2 / (s * L2 + 200.0)),
                                rtol=RTOL_PORT_CURRENT)
+
+
+def test_the_two_port_is_priced_before_anything_runs(tmp_path: Path, capsys) -> None:
+    """--touchstone's two AC analyses and exact phasors ran after the spectrum, unpriced: their price (6.5 s at
+    N = 2000) is now checked first, and --max-time refuses it naming --touchstone before ngspice starts."""
+    target = tmp_path / "big.s2p"
+    assert main(["spectrum", "--case", "two-mass", "--N", "2000", "--touchstone", str(target), "--max-time", "3s"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("lcchain: --touchstone = ") and "a two-port: 2 x 401 frequencies" in err
+    assert err.count("\n") == 1 and not target.exists()

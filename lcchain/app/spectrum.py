@@ -5,7 +5,7 @@ beside theory (:func:`spectrum`); then its figure and, with ``touchstone``, the 
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING
 
 from ..circuit.effects import Effect
@@ -21,6 +21,7 @@ if TYPE_CHECKING:
     import numpy as np
     from numpy.typing import NDArray
 
+    from ..runs.request import Request
     from ..runs.spectrum import SpectrumReport
     from ..runs.survey import ModeReport as ModeReport  # named for the command line, which prints it
     from ..theory.chain import Chain
@@ -94,7 +95,14 @@ def spectrum(request: SpectrumRequest) -> Spectrum:
     progress = None if request.progress is None else request.progress(f"{request.engine} AC analysis, then the fit")
     options = SpectrumOptions(Q=request.Q, points=request.points, L0=request.L0, C0=request.C0,
                               engine=request.engine, effects=effects, shapes=request.shapes)
-    report = measure_spectrum(chain, options, budget=request.budget, progress=progress)
+    budget = request.budget
+    if request.touchstone:  # priced before anything runs; the spectrum has what is left of --max-time
+        from ..runs.twoport import two_port_estimate
+
+        ports = two_port_estimate(_two_port_request(request, chain, effects))
+        ports.check(budget, "--touchstone", request.touchstone, "fewer --points or a smaller chain")
+        budget = replace(budget, max_seconds=max(budget.max_seconds - ports.seconds, 1e-3))
+    report = measure_spectrum(chain, options, budget=budget, progress=progress)
     data = with_physical_units(report.to_dict(), request.L0, request.C0, chain.coupling)
     merged = merged_text(report.merged_modes) if data["merged"] else ""
     return Spectrum(request, chain, report, data, effects, outputs, merged)
@@ -116,21 +124,28 @@ def write_outputs(result: Spectrum) -> TwoPortSummary | None:
     return None
 
 
+def _two_port_request(request: SpectrumRequest, chain: Chain, effects: tuple[Effect, ...]) -> Request:
+    """The two-port's request: the spectrum's chain, effects (with its Q as losses), units and engine."""
+    from ..circuit.effects import Losses
+    from ..runs.request import AC, Request
+
+    losses = (Losses(request.Q),) if request.Q is not None else ()
+    return Request(chain, AC(request.points), effects=effects + losses, L0=request.L0, C0=request.C0,
+                   engine=request.engine)
+
+
 def _write_touchstone(request: SpectrumRequest, chain: Chain, effects: tuple[Effect, ...],
                       outputs: Outputs) -> TwoPortSummary:
     """``spectrum --touchstone FILE.s2p``: the ladder's two-port from two AC analyses (one per end), checked
     against the circuit's exact phasors (:mod:`lcchain.runs.twoport`), as Touchstone v1."""
     import numpy as np
 
-    from ..circuit.effects import Losses, effect_fields
+    from ..circuit.effects import effect_fields
     from ..report.touchstone import touchstone_text
-    from ..runs.request import AC, Request
     from ..runs.twoport import DEFAULT_Z0, two_port, two_port_theory
 
     z0 = DEFAULT_Z0 if request.z0 is None else request.z0
-    losses = (Losses(request.Q),) if request.Q is not None else ()
-    made = Request(chain, AC(request.points), effects=effects + losses, L0=request.L0, C0=request.C0,
-                   engine=request.engine)
+    made = _two_port_request(request, chain, effects)
     measured = two_port(made, z0)
     exact = two_port_theory(made, measured.frequency, z0)
     error = float(np.max(np.abs(measured.S - exact.S)))
