@@ -132,3 +132,18 @@ def test_the_two_port_is_priced_before_anything_runs(tmp_path: Path, capsys) -> 
     err = capsys.readouterr().err
     assert err.startswith("lcchain: --touchstone = ") and "a two-port: 2 x 401 frequencies" in err
     assert err.count("\n") == 1 and not target.exists()
+
+
+def test_a_lossless_circuit_with_parts_is_priced_as_the_dense_problem_it_is() -> None:
+    """Only the bare ladder's poles are a tridiagonal problem: a coil's capacitance, lossless too, makes the
+    circuit theory that places the sweep dense (N = 400: 0.09 s, where the tridiagonal price said 0.04 s)."""
+    from lcchain.circuit.effects import CoilCapacitance
+    from lcchain.circuit.exact import circuit_cost
+    from lcchain.circuit.ladder import Ladder
+    from lcchain.circuit.netlist import ac_circuit_elements
+    from lcchain.runs.twoport import sweep_cost
+
+    ladder = Ladder(chain_for_case("two-mass", 400))
+    parts = (CoilCapacitance(0.01),)
+    assert sweep_cost(ladder, parts) == circuit_cost(ac_circuit_elements(ladder, parts), 1)
+    assert sweep_cost(ladder, ())[0] < circuit_cost(ac_circuit_elements(ladder, ()), 1)[0]

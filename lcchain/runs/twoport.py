@@ -28,8 +28,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..circuit.elements import GROUND, Pulse
-from ..circuit.exact import CircuitTheory, circuit_cost, circuit_states
+from ..circuit.effects import Effect
+from ..circuit.elements import adds_elements
+from ..circuit.exact import CircuitTheory, circuit_cost, circuit_states, circuit_unknowns
 from ..circuit.ladder import Ladder
 from ..circuit.netlist import PORT_PROBES, ac_circuit_elements, ac_netlist_text, port_elements
 from ..circuit.phasor import source_currents
@@ -42,8 +43,8 @@ from .execute import execute
 from .request import AC, Request
 from .spec import RunSpec
 
-__all__ = ["TwoPort", "two_port", "two_port_theory", "two_port_estimate", "mirrored", "scattering", "DEFAULT_Z0",
-           "DEFAULT_PORT_POINTS"]
+__all__ = ["TwoPort", "two_port", "two_port_theory", "two_port_estimate", "sweep_cost", "mirrored", "scattering",
+           "DEFAULT_Z0", "DEFAULT_PORT_POINTS"]
 
 #: Reference impedance of both ports, ohms, when none is given (Touchstone's default).
 DEFAULT_Z0 = 50.0
@@ -121,19 +122,26 @@ def _sweep(ladder: Ladder, request: Request, points: int) -> tuple[float, float]
     return top / points, top
 
 
+def sweep_cost(ladder: Ladder, effects: tuple[Effect, ...]) -> tuple[float, float]:
+    """(seconds, bytes) of the circuit theory that places the two-port's sweep (:func:`_sweep`): the bare ladder's
+    poles are a tridiagonal problem; with any part (a coil's capacitance, a capacitor's ESL, lossless too) or a
+    coupling the problem is dense (:func:`lcchain.circuit.exact.circuit_cost`)."""
+    circuit = ac_circuit_elements(ladder, effects)
+    seconds, memory = circuit_cost(circuit, 1)
+    if not ladder.chain.coupled and not any(adds_elements(effect) for effect in effects):
+        seconds = TRIDIAGONAL_SECONDS_PER_STATE2 * circuit_states(circuit) ** 2
+    return seconds, memory
+
+
 def two_port_estimate(request: Request) -> Estimate:
     """The price of :func:`two_port` and :func:`two_port_theory` together: the circuit's theory that places the
     sweep, two AC analyses of the ports' netlist (one per end) and the exact phasors at their frequencies."""
     points = (request.analysis.points if isinstance(request.analysis, AC) else None) or DEFAULT_PORT_POINTS
     ladder = _ladders(request)[0]
     elements, sources = port_elements(ladder, request.effects)
-    nodes = {node for e in elements if e.kind != "K" for node in (e.a, e.b)} - {GROUND}
-    unknowns = len(nodes) + sum(e.kind == "L" for e in elements) + len(sources)
+    unknowns = circuit_unknowns(elements) + len(sources)
     engine = ac_run_estimate(points=points, saved=len(sources), unknowns=unknowns)
-    circuit = ac_circuit_elements(ladder, request.effects)
-    theory_seconds, theory_bytes = circuit_cost(circuit, 1)
-    if all(isinstance(e, Pulse) or e.kind in "LC" for e in circuit):  # lossless, uncoupled: a tridiagonal problem
-        theory_seconds, theory_bytes = TRIDIAGONAL_SECONDS_PER_STATE2 * circuit_states(circuit) ** 2, theory_bytes
+    theory_seconds, theory_bytes = sweep_cost(ladder, request.effects)
     phasors = 2 * points * (PHASOR_SECONDS_PER_SOLVE + PHASOR_SECONDS_PER_UNKNOWN * unknowns)
     seconds = 2 * (engine.seconds + RUN_START_SECONDS) + theory_seconds + phasors
     memory = max(engine.memory + SIMULATOR_BYTES, theory_bytes, 16.0 * 64 * unknowns)
