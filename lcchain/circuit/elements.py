@@ -24,8 +24,8 @@ from ..core.types import GAUSSIAN_CENTRE, PulseShape
 from .effects import Effect
 from .ladder import Ladder
 
-__all__ = ["Element", "Pulse", "ladder_elements", "ladder_pulse", "card_number", "GROUND", "RECT_FALL", "ELEMENT_HOOKS",
-           "adds_elements"]
+__all__ = ["Element", "Pulse", "Source", "ladder_elements", "ladder_pulse", "card_number", "GROUND", "RECT_FALL",
+           "ELEMENT_HOOKS", "adds_elements"]
 
 #: Every Effect method :func:`ladder_elements` asks for elements: an effect that overrides none of them adds none
 #: (the runs' planner relies on it; a new place for elements is added here and in ladder_elements together).
@@ -41,6 +41,9 @@ RECT_FALL = 1e-9
 
 #: SPICE's ground node.
 GROUND = "0"
+
+#: An independent voltage source beside the elements: (name, + node, - node, AC volts).
+Source = tuple[str, str, str, float]
 
 
 def card_number(value: float) -> str:

@@ -70,7 +70,7 @@ from ..theory.chain import Chain
 from ..theory.modes import Modes
 from ..theory.spectrum import normal_modes
 from .effects import Effect
-from .elements import Element, Pulse, card_number, ladder_elements, ladder_pulse
+from .elements import Element, Pulse, Source, card_number, ladder_elements, ladder_pulse
 from .ladder import Ladder
 
 __all__ = [
@@ -113,6 +113,7 @@ _VECTOR = re.compile(r"^[A-Za-z0-9_#@()\[\],.:+-]+$")
 #: and the ammeter VP2 at port 2, each counted from the port's node (``s1``, ``s<N>``) through the source to the rail:
 #: minus the current the port drives into the circuit.
 PORT_PROBES = ("i(v1)", "i(vp2)")
+
 
 def check_user_text(field_name: str, text: object, max_length: int = MAX_TITLE_LENGTH, *, title: bool = True) -> str:
     """Text a user puts in a netlist: its title line, or a ``*`` comment (``title=False``).
@@ -361,15 +362,27 @@ def ac_circuit_elements(ladder: Ladder, effects: tuple[Effect, ...] = ()) -> tup
             Pulse("s1", ladder.node(0), "rect", ladder.time_unit, ladder.time_unit))
 
 
-def port_elements(ladder: Ladder, effects: tuple[Effect, ...] = ()
-                  ) -> tuple[tuple[Element, ...], tuple[tuple[str, str, str, float], ...]]:
+def _drive(ladder: Ladder) -> Source:
+    """The AC drive of :func:`ac_netlist_text`: 1 V in loop 1, between ``s1`` and the rail node n0 (or ground)."""
+    return ("V1", "s1", ladder.node(0), 1.0)
+
+
+def _source_card(source: Source) -> str:
+    """A source's card: the drive as loop 1's source always is, a 0 V one (an ammeter) plainly (gnucap's dialect
+    takes both)."""
+    name, a, b, volts = source
+    return f"{name} {a} {b} " + (f"DC 0 AC {volts:g}" if volts else "0")
+
+
+def port_elements(ladder: Ladder, effects: tuple[Effect, ...] = ()) -> tuple[tuple[Element, ...], tuple[Source, ...]]:
     """A two-port's circuit, as :func:`ac_netlist_text` with ``ports`` writes it and its exact phasors
     (:func:`lcchain.circuit.phasor.source_currents`) are solved from it: the ladder open in loop 1 at ``s1`` and in
     loop N at ``s<N>``, and its two sources (name, + node, - node, AC volts): the unit drive ``V1`` at port 1, the
     ammeter ``VP2`` (0 V) at port 2."""
     N = ladder.chain.N
     return (ladder_elements(ladder, _effects(effects), source=True, port2=True),
-            (("V1", "s1", ladder.node(0), 1.0), ("VP2", f"s{N}", ladder.node(N), 0.0)))
+            (_drive(ladder), ("VP2", f"s{N}", ladder.node(N), 0.0)))
+
 
 def ac_netlist_text(ladder: Ladder, *, points: int | None = None, omega_max: float | None = None,
                     omega_min: float | None = None, segments: Sequence[tuple[int, float, float]] | None = None,
@@ -419,14 +432,10 @@ def ac_netlist_text(ladder: Ladder, *, points: int | None = None, omega_max: flo
     N = ladder.chain.N
     lines = [title, f"* N={N} L0={card_number(ladder.L0)} H C0={card_number(ladder.C0)} F time unit="
                     f"{card_number(ladder.time_unit)} s, AC drive of 1 V in loop 1"]
-    if ports:
-        elements, sources = port_elements(ladder, parts)
-        lines += [element.card() for element in elements]
-        # the drive as loop 1's source always is; the ammeter a plain 0 V source (gnucap's dialect takes both)
-        lines += [f"{name} {a} {b} " + (f"DC 0 AC {volts:g}" if volts else "0") for name, a, b, volts in sources]
-    else:
-        lines += [element.card() for element in ladder_elements(ladder, parts, source=True)]
-        lines.append(f"V1 s1 {ladder.node(0)} DC 0 AC 1")
+    elements, sources = port_elements(ladder, parts) if ports else (
+        ladder_elements(ladder, parts, source=True), (_drive(ladder),))
+    lines += [element.card() for element in elements]
+    lines += [_source_card(source) for source in sources]
     lines.append(".options noopac")
     lines += sweeps
     lines.append(".save " + " ".join(PORT_PROBES if ports else probe_names(N, "ends")))

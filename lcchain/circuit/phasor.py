@@ -21,12 +21,9 @@ import numpy as np
 import scipy  # its submodules load on first use
 
 from ..core.errors import ParameterError
-from .elements import GROUND, Element
+from .elements import GROUND, Element, Source
 
-__all__ = ["Source", "source_currents"]
-
-#: A voltage source: (name, + node, - node, AC volts).
-Source = tuple[str, str, str, float]
+__all__ = ["source_currents"]
 
 
 def source_currents(elements: Sequence[Element], sources: Sequence[Source], frequency: np.ndarray) -> np.ndarray:
