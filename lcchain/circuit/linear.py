@@ -105,13 +105,13 @@ def linear_cost(unknowns: int, points: float, vectors: int) -> tuple[float, floa
 
 def _solve_scaled(matrix: np.ndarray, rhs: np.ndarray) -> np.ndarray:
     """``matrix^-1 rhs``; where LAPACK finds the matrix ill-conditioned (values far apart: a coil of 1e6 H beside a
-    capacitor of 1e-20 F, driven off their resonance), solved again with its rows and columns scaled to unit
-    largest entries (equilibrated), which is exact in powers of two.
+    capacitor of 1e-20 F, driven off their resonance), solved again with its rows and columns equilibrated by
+    LAPACK's ``?geequb`` (powers of two: exact).
 
     Raises
     ------
     scipy.linalg.LinAlgWarning, numpy.linalg.LinAlgError
-        Singular, or ill-conditioned even equilibrated.
+        Singular (a zero row or column), or ill-conditioned even equilibrated.
     """
     with warnings.catch_warnings():
         warnings.simplefilter("error", scipy.linalg.LinAlgWarning)
@@ -119,9 +119,10 @@ def _solve_scaled(matrix: np.ndarray, rhs: np.ndarray) -> np.ndarray:
             return np.asarray(scipy.linalg.solve(matrix, rhs))
         except scipy.linalg.LinAlgWarning:
             pass
-        magnitude = np.abs(matrix)
-        rows = np.exp2(-np.round(np.log2(np.maximum(magnitude.max(axis=1), 1e-300))))
-        columns = np.exp2(-np.round(np.log2(np.maximum((magnitude * rows[:, None]).max(axis=0), 1e-300))))
+        equilibrate = scipy.linalg.lapack.zgeequb if np.iscomplexobj(matrix) else scipy.linalg.lapack.dgeequb
+        rows, columns, *_, info = equilibrate(matrix)
+        if info:
+            raise np.linalg.LinAlgError("a zero row or column")
         scaled = scipy.linalg.solve(matrix * rows[:, None] * columns[None, :], (rhs.T * rows).T)
         return np.asarray((np.asarray(scaled).T * columns).T)
 
