@@ -18,6 +18,7 @@ from helpers.tolerances import (
     CHAIN_MISSES_CIRCUIT,
     RTOL_CIRCUIT_SPECTRUM_OMEGA,
     RTOL_CIRCUIT_SPECTRUM_Q,
+    RTOL_ENVELOPE_Y11,
 )
 
 from lcchain.circuit.effects import (
@@ -31,6 +32,7 @@ from lcchain.circuit.effects import (
 )
 from lcchain.circuit.elements import Element
 from lcchain.circuit.netlist import ac_circuit_elements
+from lcchain.compare.poles import CircuitModes, merged_poles
 from lcchain.compare.spectral import SpectrumMetrics
 from lcchain.runs.execute import ac_metrics, execute
 from lcchain.runs.request import AC, Request, plan_request
@@ -190,3 +192,72 @@ def test_a_fit_the_samples_cannot_resolve_stops_at_its_bound() -> None:
                 for k in (0, 1))
     fit = fit_poles(omega, y11, -yN1, lossy=True)
     assert fit.sweeps <= FIT_MAX_EVALUATIONS
+
+
+def _modes(omega: list[float], gamma: list[float]) -> CircuitModes:
+    size = len(omega)
+    return CircuitModes(np.array(omega), np.array(gamma), np.ones(size), np.ones(size), True)
+
+
+def test_a_circuits_modes_merge_where_their_bands_overlap_and_they_barely_ring() -> None:
+    # two resonances 0.3 widths apart (|p - q| = 0.3 (h_p + h_q)): merged when they ring a few times, measured when
+    # they ring hundreds of times (the fit separates those); closer than the chain's fit separates: merged whatever
+    gap = 0.3 * 0.1
+    assert merged_poles(_modes([1.0, 1.0 + gap], [0.1, 0.1])).all()
+    gap = 0.3 * 0.01
+    assert not merged_poles(_modes([1.0, 1.0 + gap], [0.01, 0.01])).any()
+    gap = 0.1 * 0.01
+    assert merged_poles(_modes([1.0, 1.0 + gap], [0.01, 0.01])).all()
+    # bands that do not overlap, however damped: measured; a band that reaches zero frequency: merged
+    assert not merged_poles(_modes([1.0, 3.0], [0.9, 0.9])).any()
+    assert merged_poles(_modes([0.5, 3.0], [0.6, 0.6])).tolist() == [True, False]
+    # real poles: one alone is measured (a free chain's translation that a winding resistance damps), two merge
+    assert not merged_poles(_modes([0.0, 1.0], [0.05, 0.01])).any()
+    assert merged_poles(_modes([0.0, 0.0, 2.0], [0.05, 0.2, 0.01])).tolist() == [True, True, False]
+    # a free chain's translation merges with a real pole, or a ring whose band reaches zero, and they with it
+    assert merged_poles(_modes([0.0, 0.0, 2.0], [0.0, 0.05, 0.01])).tolist() == [True, True, False]
+    assert merged_poles(_modes([0.0, 0.5, 2.0], [0.0, 0.6, 0.01])).tolist() == [True, True, False]
+    assert not merged_poles(_modes([0.0, 0.5, 2.0], [0.0, 0.1, 0.01])).any()
+    # lossless: nothing merges, not even modes closer than any sweep resolves
+    assert not merged_poles(_modes([0.0, 1.0, 1.0 + 1e-9], [0.0, 0.0, 0.0])).any()
+
+
+# circuits damped past what a sweep resolves: real poles, resonances that ring once or twice
+DAMPED = {"capacitor ESR of 2": ("two-mass", 12, (CapacitorESR(2.0),)),
+          "winding resistance of 0.3": ("two-mass", 12, (CoilResistance(0.3),)),
+          "coil capacitance, capacitor ESR of 2": ("one-mass", 10, (CoilCapacitance(0.05), CapacitorESR(2.0)))}
+
+
+@pytest.mark.ngspice
+@pytest.mark.parametrize("name", DAMPED)
+def test_a_heavily_damped_circuits_merged_modes_are_said_and_its_admittance_compared(name: str) -> None:
+    case, N, effects = DAMPED[name]
+    report = measure_spectrum(chain_for_case(case, N), options=SpectrumOptions(effects=effects))
+    assert report.failure == ""
+    plan = plan_request(Request(chain_for_case(case, N), AC(), effects=effects))
+    assert isinstance(plan.specs[0].theory, SpectrumTheory) and plan.specs[0].theory.circuit is not None
+    from lcchain.compare.poles import measurable
+    from lcchain.runs.execute import circuit_modes
+
+    exact = measurable(circuit_modes(plan.specs[0].theory.circuit, N, plan.ladder.time_unit, plan.ladder.impedance),
+                       report.omega_max)
+    merged = merged_poles(exact)
+    assert merged.any() and np.array_equal(report.merged_modes, merged)
+    assert np.isnan(report.omega[merged]).all()  # said, with no value
+    resolved = report.resolved
+    assert report.seen[resolved].all()
+    if resolved.any():
+        assert report.max_rel_error_omega < RTOL_CIRCUIT_SPECTRUM_OMEGA
+        assert report.max_abs_error_P < ATOL_CIRCUIT_SPECTRUM_P
+    # what the merged modes make together is compared with the circuit's exact admittance over the whole sweep
+    assert report.envelope_error is not None and report.envelope_error < RTOL_ENVELOPE_Y11
+    assert report.to_dict()["merged"] == [int(n) + 1 for n in np.flatnonzero(merged)]
+
+
+@pytest.mark.ngspice
+def test_the_command_line_passes_a_heavily_damped_circuit_and_names_its_merged_modes(capsys) -> None:
+    from lcchain.cli.main import main
+
+    assert main(["spectrum", "--case", "two-mass", "--N", "12", "--capacitor-esr", "2"]) == 0
+    out = capsys.readouterr().out
+    assert "merged by the losses" in out and "Y_11 against the exact lossy admittance" in out

@@ -306,10 +306,12 @@ class SpectrumMetrics(FrozenArrays):
     @property
     def max_rel_error_Q(self) -> float:
         """Largest |Q_n - omega_n Q| / (omega_n Q) over the resolved modes of nonzero frequency (NaN without
-        losses); an unseen resolved mode is an infinite error."""
-        if self.gamma is None:
+        losses, or no such mode: a circuit's zero mode alone, its resistors' other modes merged); an unseen resolved
+        mode is an infinite error."""
+        ringing = self.resolved & (self.omega_theory > 0)
+        if self.gamma is None or not ringing.any():
             return float("nan")
-        return largest_relative_error(self.Q, self.Q_theory, self.resolved & (self.omega_theory > 0))
+        return largest_relative_error(self.Q, self.Q_theory, ringing)
 
     @property
     def reference_bounds(self) -> dict[str, float | None]:

@@ -483,6 +483,21 @@ def circuit_modes(elements: tuple[Element | Pulse, ...], N: int, time_unit: floa
 
 
 @fixed_blas_threads
+def circuit_admittance(elements: tuple[Element | Pulse, ...], omega: np.ndarray, time_unit: float,
+                       impedance: float) -> np.ndarray:
+    """The exact I_1/V of an AC run's circuit times ``impedance`` (sqrt(L0/C0), ohm) at ``omega`` (units of
+    1/``time_unit``): the very poles and residues its modes are compared with (:func:`circuit_modes`), summed."""
+    import numpy as np
+
+    from ..circuit.exact import circuit_theory
+
+    poles, residues, direct = circuit_theory(elements).admittances(["L1"])
+    s = 1j * np.asarray(omega, dtype=float)[:, None]
+    terms = residues[0] * time_unit / (s - poles * time_unit)
+    return np.asarray((direct[0] + np.sum(terms, axis=1)) * impedance)
+
+
+@fixed_blas_threads
 def sweep_omega(theory: SpectrumTheory, result: RunResult) -> np.ndarray:
     """An AC run's angular frequencies in its chain's units, 1/sqrt(L0 C0): what its modes are compared on."""
     import numpy as np
@@ -503,7 +518,9 @@ def ac_metrics(theory: SpectrumTheory, result: RunResult) -> SpectrumMetrics:
     first, last = (result.vectors[name] * theory.impedance for name in probe_names(chain.N, "ends"))
     if theory.circuit is not None:
         exact = circuit_modes(theory.circuit, chain.N, theory.time_unit, theory.impedance)
-        return compare_poles(exact, omega, first, last, float(chain.masses[0]))
+        # with resistors, the response their merged modes make together is compared over the sweep
+        y11 = circuit_admittance(theory.circuit, omega, theory.time_unit, theory.impedance) if exact.lossy else None
+        return compare_poles(exact, omega, first, last, float(chain.masses[0]), y11)
     modes = theory.modes if theory.modes is not None else driven_modes(chain)
     return compare_spectrum(modes, omega, first, last, float(chain.masses[0]), theory.Q, chain=chain)
 

@@ -307,7 +307,7 @@ class SpectrumReport:
             return (f"the fit left {unseen.size} resolved mode{'s' if unseen.size > 1 else ''} unseen (n = {listed}): "
                     "the comparison with theory failed")
         errors = {"omega_n": self.max_rel_error_omega, "P_n": self.max_abs_error_P} if self.resolved.any() else {}
-        if self.lossy and self.resolved.any():
+        if self.lossy and (self.resolved & (np.asarray(self.theory.omega) > 0)).any():  # a zero mode has no Q_n
             errors["Q_n"] = self.max_rel_error_Q
         if self.envelope_error is not None:
             errors["Y_11"] = self.envelope_error
@@ -622,7 +622,8 @@ def spectrum(request: Request, *, simulator: Simulator | None = None, budget: Bu
         own = Modes(spectrum.omega_theory, mass * poles.first, spectrum.P_theory, "circuit", precision=WEIGHT_PRECISION)
         return SpectrumReport(theory.chain, own, spectrum.fit, spectrum.seen, spec.points, theory.omega_max,
                               record.engine_version, record.run.netlist_sha256, timings, None, segments, None,
-                              record.engine, spectrum.gamma_theory, time_unit=theory.time_unit)
+                              record.engine, spectrum.gamma_theory, time_unit=theory.time_unit,
+                              merged=spectrum.merged, envelope_error=spectrum.envelope_error)
     assert theory.modes is not None
     # the fitted model's alpha_N(t) holds the fit's guesses inside merged clusters: no claim to make of it then
     merged = spectrum.merged is not None and bool(np.any(spectrum.merged))
