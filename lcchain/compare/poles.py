@@ -46,11 +46,12 @@ CIRCUIT_SPECTRUM_MAX_MODES = 64
 #: 10 sqrt(L0/C0)) took 47 to 850 and left modes unseen anyway, the last in 44 s against its price of 6.8 s.
 FIT_MAX_EVALUATIONS = 100
 #: A mode whose half-power band overlaps another's is merged when it rings fewer times than this (omega_n / gamma_n,
-#: :func:`merged_poles`).  Measured (ngspice, one- and two-mass N = 8 to 16: an ESR, a winding resistance, with a
-#: coil's capacitance or a capacitor's ESL, R = 0.03 to 5 sqrt(L0/C0); 1,023 modes): of the resonances whose bands
-#: overlap, those of Q_n >= 16 were seen to 2.4e-9 (35 modes, down to 0.24 widths apart; two-mass N = 20 with
-#: every part: to 2e-13 at 0.34 widths), those of Q_n < 8 were off by up to 150 % or unseen (118 of 510); each of
-#: the 281 modes whose band overlaps none was seen, omega_n to 1.0e-3 at worst (Q_n = 1.96), 9.1e-9 for Q_n >= 2.
+#: :func:`merged_poles`).  Measured (``benchmarks/bench_merged_poles.py``, recorded in benchmarks/merged_poles.md:
+#: ngspice, one- and two-mass N = 8 to 16, an ESR, a winding resistance, with a coil's capacitance or a capacitor's
+#: ESL, R = 0.03 to 5 sqrt(L0/C0); 1,023 modes): overlapping modes of Q_n >= 16 were seen to 2.4e-9 (35 modes; two-
+#: mass N = 20 with every part: to 2e-13, 0.34 widths apart), those of Q_n < 8 (real poles among them) were off by up
+#: to 150 % or unseen (288 of 706); each of the 295 modes the rule leaves resolved was seen, omega_n to 1.0e-3 at
+#: worst (Q_n = 1.96, its band clear of every other) and 3.2e-10 from Q_n = 8.
 MERGED_BELOW_Q = 16.0
 #: AAA's relative tolerance (ngspice's samples are good to about 1e-12).
 _AAA_RTOL = 1e-13
