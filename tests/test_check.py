@@ -146,28 +146,46 @@ def test_param_expressions_evaluate_as_ngspice_reads_them() -> None:
         evaluate_expression("1/0", {})
 
 
-@pytest.mark.ngspice
-def test_powers_evaluate_as_ngspice_reads_them(tmp_path: Path) -> None:
-    """ngspice 39 reads ``2^3^2`` left to right (64), not as (2^(3^2)) = 512: the resistor each expression makes,
-    found from the current ngspice measures through it at 1 V, is the value lcchain's evaluator gives."""
+def _ngspice_resistances(tmp_path: Path, expressions: list[str]) -> list[float]:
+    """The resistance ngspice 39 gives ``R {expression}`` in a real run, from the current it measures at 1 V."""
     import re
     import subprocess
 
-    expressions = ["2^3^2", "2**3**2", "2^-1", "-2^2+10", "2*3^2", "(2^3)^2", "2^(3^2)/64", "4^0.5^2"]
-    lines = ["powers"]
+    lines = ["expressions"]
     for k, expression in enumerate(expressions):
         lines += [f"V{k} n{k} 0 DC 1", f"R{k} n{k} 0 {{{expression}}}"]
     lines += [".tran 1u 2u"] + [f".meas tran i{k} find i(V{k}) at=1u" for k in range(len(expressions))]
     lines += [".end"]
-    netlist = tmp_path / "powers.cir"
+    netlist = tmp_path / "expressions.cir"
     netlist.write_text("\n".join(lines) + "\n")
     printed = subprocess.run(["ngspice", "-b", netlist.name], cwd=tmp_path, capture_output=True, text=True,
                              stdin=subprocess.DEVNULL, timeout=60).stdout
-    for k, expression in enumerate(expressions):
-        found = re.search(rf"^i{k}\s*=\s*(\S+)", printed, re.MULTILINE)
-        assert found is not None, printed
+    found = [re.search(rf"^i{k}\s*=\s*(\S+)", printed, re.MULTILINE) for k in range(len(expressions))]
+    assert all(match is not None for match in found), printed
+    return [-1.0 / float(match.group(1)) for match in found if match is not None]
+
+
+@pytest.mark.ngspice
+def test_powers_evaluate_as_ngspice_reads_them(tmp_path: Path) -> None:
+    """ngspice 39 reads ``2^3^2`` left to right (64), not as (2^(3^2)) = 512: the resistor each expression makes,
+    found from the current ngspice measures through it at 1 V, is the value lcchain's evaluator gives."""
+    expressions = ["2^3^2", "2**3**2", "2^-1", "-2^2+10", "2*3^2", "(2^3)^2", "2^(3^2)/64", "4^0.5^2"]
+    for expression, resistance in zip(expressions, _ngspice_resistances(tmp_path, expressions), strict=True):
         # ngspice prints 7 significant digits; 2^3^2 read right to left (512) is 8 times off
-        assert -1.0 / float(found.group(1)) == pytest.approx(evaluate_expression(expression, {}), rel=RTOL_PRINTED), expression
+        assert resistance == pytest.approx(evaluate_expression(expression, {}), rel=RTOL_PRINTED), expression
+
+
+@pytest.mark.ngspice
+def test_the_remainder_evaluates_as_ngspice_reads_it(tmp_path: Path) -> None:
+    """``%`` as ngspice 39 reads it: C's fmod (the dividend's sign), as tight as * and /, looser than ^.  Each
+    remainder is offset by 1000 ohm (a resistor > 0), and the two readings of each differ by 0.5 at least."""
+    expressions = ["-7 % 3", "7.5 % 2", "7 % -3", "2 + 7 % 3 * 2", "2 * 7 % 4", "2^3 % 5", "-7.5 % 2", "7 % 3 % 2",
+                   "10 / 4 % 2"]
+    resistances = _ngspice_resistances(tmp_path, [f"1000 + ({expression})" for expression in expressions])
+    for expression, resistance in zip(expressions, resistances, strict=True):
+        assert resistance == pytest.approx(1000 + evaluate_expression(expression, {}), rel=RTOL_PRINTED), expression
+    with pytest.raises(ParameterError, match="finite value"):  # ngspice stops the run with an error
+        evaluate_expression("7 % 0", {})
 
 
 # --------------------------------------------------------------------------- the exact references, independently

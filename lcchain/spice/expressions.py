@@ -5,7 +5,7 @@ ngspice evaluates an expression in braces (``R1 a b {2*rv}``) and the right-hand
 files (``table``, ``file``...), strings in quotes and ``$`` variables.  So an expression is read here against a
 grammar of what it may hold (:func:`check_expression`), never against a list of dangers: SPICE numbers
 (``1k``, ``2.5e-3``, ``10meg``), the names the netlist's ``.param`` cards define, the math functions of
-:data:`FUNCTIONS`, the constant ``pi``, parentheses, commas, the arithmetic operators ``+ - * / ^ **`` and the
+:data:`FUNCTIONS`, the constant ``pi``, parentheses, commas, the arithmetic operators ``+ - * / % ^ **`` and the
 comparisons and ternary ``< > <= >= == != && || ! ? :``.  Nothing else: no quote, ``$``, backtick, path, brace
 inside braces or unknown name.
 
@@ -42,7 +42,7 @@ MAX_EXPRESSION_CHARS = 500
 # One token of an expression: a SPICE number (suffix and unit letters included), a name, an operator.
 _TOKEN = re.compile(r"\s*(?:(?P<number>(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?[A-Za-z]*)"
                     r"|(?P<name>[A-Za-z_][A-Za-z0-9_]*)"
-                    r"|(?P<op>\*\*|<=|>=|==|!=|&&|\|\||[-+*/^(),<>!?:]))")
+                    r"|(?P<op>\*\*|<=|>=|==|!=|&&|\|\||[-+*/%^(),<>!?:]))")
 _NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 _PARAM_WORD = re.compile(r"\.param[A-Za-z0-9_]*", re.IGNORECASE)
 # "name =" (not "==", "<=", ">=", "!=") where an assignment starts: at the start or after a space
@@ -174,7 +174,8 @@ _BINARY: tuple[dict[str, Callable[[float, float], float]], ...] = (
     {"==": lambda a, b: float(a == b), "!=": lambda a, b: float(a != b), "<": lambda a, b: float(a < b),
      ">": lambda a, b: float(a > b), "<=": lambda a, b: float(a <= b), ">=": lambda a, b: float(a >= b)},
     {"+": lambda a, b: a + b, "-": lambda a, b: a - b},
-    {"*": lambda a, b: a * b, "/": lambda a, b: a / b},
+    # % as ngspice 39 reads it: C's fmod, the sign of the dividend (-7 % 3 is -1, 7.5 % 2 is 1.5), with * and /
+    {"*": lambda a, b: a * b, "/": lambda a, b: a / b, "%": math.fmod},
 )
 
 
