@@ -261,3 +261,27 @@ def test_the_command_line_passes_a_heavily_damped_circuit_and_names_its_merged_m
     assert main(["spectrum", "--case", "two-mass", "--N", "12", "--capacitor-esr", "2"]) == 0
     out = capsys.readouterr().out
     assert "merged by the losses" in out and "Y_11 against the exact lossy admittance" in out
+
+
+@pytest.mark.ngspice
+def test_a_scene_whose_every_mode_merges_reports_no_error_and_valid_json(tmp_path, monkeypatch, capsys) -> None:
+    # nothing compared is no error of 0: the scene says n/a, and its report is JSON any reader takes (null, not NaN)
+    import json
+
+    from lcchain.cli.main import main
+
+    monkeypatch.chdir(tmp_path)
+    scene = tmp_path / "damped.toml"
+    scene.write_text('[chain]\ncase = "two-mass"\nN = 12\n[effects.capacitor_esr]\nR = 2.0\n'
+                     '[analysis]\nkind = "ac"\n[output]\nreport = "r.json"\n')
+    assert main(["run", str(scene)]) == 0
+    row = [line for line in capsys.readouterr().out.splitlines() if line.split()[:1] == ["1"]]
+    assert row and row[0].split()[1:4] == ["0", "n/a", "n/a"]
+
+    def refuse(constant: str) -> float:
+        raise ValueError(f"{constant} is no JSON")
+
+    report = json.loads((tmp_path / "r.json").read_text(), parse_constant=refuse)
+    sample = report["samples"][0]
+    assert sample["max_rel_error_omega"] is None and sample["max_abs_error_P"] is None
+    assert report["max_rel_error_omega"] is None and sample["modes_seen"] == 0

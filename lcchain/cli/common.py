@@ -5,7 +5,6 @@ from __future__ import annotations
 import argparse
 import contextlib
 import decimal
-import json
 import math
 import re
 import sys
@@ -21,6 +20,7 @@ from ..core.budget import (
     show_bytes,
     show_seconds,
 )
+from ..core.json import json_text
 from ..core.limits import (
     MAX_BUDGET_BYTES,
     MAX_SECONDS,
@@ -304,24 +304,8 @@ def plural(count: int, noun: str) -> str:
 
 def emit_json(data: object) -> None:
     """Print a JSON document (what ``json.dumps`` takes), indented: valid JSON, so a number that is not finite (a
-    mean of values near the largest float, which overflows) is ``null``, as JSON has no infinity (``json.dumps``
-    alone writes ``Infinity``, which JSON readers refuse)."""
-    try:
-        text = json.dumps(data, indent=2, allow_nan=False)
-    except ValueError:  # a NaN or an infinity somewhere: those are null
-        text = json.dumps(_finite(data), indent=2, allow_nan=False)
-    print(text)
-
-
-def _finite(data: object) -> object:
-    """``data`` with each float that is not finite replaced by None, through dicts, lists and tuples."""
-    if isinstance(data, float):
-        return data if math.isfinite(data) else None
-    if isinstance(data, dict):
-        return {key: _finite(value) for key, value in data.items()}
-    if isinstance(data, list | tuple):
-        return [_finite(value) for value in data]
-    return data
+    mean of values near the largest float, which overflows) is ``null`` (:func:`lcchain.core.json.json_text`)."""
+    print(json_text(data))
 
 
 def summary_stream(outputs: Outputs) -> contextlib.AbstractContextManager[object]:

@@ -72,7 +72,7 @@ def _print_spectrum_summary(result: SceneResult) -> None:
         good = [record for record in report["samples"] if "error" not in record]
         over = f" (the worst of {len(good)} samples, each against its own theory)" if len(good) > 1 else ""
         print(f"max |omega_n - theory| / theory = {error_text(report['max_rel_error_omega'])}, max |P_n - theory| = "
-              f"{report['max_abs_error_P']:.3e}{over}")
+              f"{error_text(report['max_abs_error_P'])}{over}")
         if "max_rel_error_Q" in report:  # one Q for the chain's losses; real parts' losses are the circuit's own
             against = (f"losses Q = {report['Q']:g}: max |Q_n - omega_n Q| / (omega_n Q)" if report.get("Q") is not None
                        else "the circuit's losses: max |Q_n - theory| / theory")
@@ -84,7 +84,7 @@ def _print_spectrum_summary(result: SceneResult) -> None:
         print(f"{'sample':>6} {'modes seen':>10} {'max omega error':>16} {'max P error':>12} {'spacing spread':>15}")
         for record in good:
             print(f"{record['sample']:>6} {record['modes_seen']:>10} {error_text(record['max_rel_error_omega']):>16} "
-                  f"{record['max_abs_error_P']:>12.3e} {_ratio_text(record['spacing_spread']):>15}")
+                  f"{error_text(record['max_abs_error_P']):>12} {_ratio_text(record['spacing_spread']):>15}")
     for record in report["samples"]:
         if "error" in record:
             print(f"sample {record['sample']} failed: {record['error']}", file=sys.stderr)

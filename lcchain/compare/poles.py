@@ -366,6 +366,11 @@ def compare_poles(theory: CircuitModes, omega: np.ndarray, y11: np.ndarray, yN1:
     circuit, gamma, P = np.full(n, np.nan), np.full(n, np.nan), np.zeros(n)
     circuit[seen], gamma[seen], P[seen] = fit.omega, fit.gamma, mass * fit.last
     P_theory = mass * theory.last
-    return SpectrumMetrics(theory.omega, circuit, P_theory, P, np.abs(P_theory) >= OMEGA_WEIGHT_FLOOR, fit, seen,
-                           gamma if lossy else None, gamma_theory=theory.gamma if lossy else None,
-                           merged=merged if merged is not None and merged.any() else None, envelope_error=envelope)
+    resolved = np.abs(P_theory) >= OMEGA_WEIGHT_FLOOR
+    if merged is not None and merged.any():  # a merged mode's pole is the fit's guess inside the cluster, as a chain's
+        circuit[merged], gamma[merged], P[merged] = np.nan, np.nan, 0.0
+        resolved &= ~merged
+    else:
+        merged = None
+    return SpectrumMetrics(theory.omega, circuit, P_theory, P, resolved, fit, seen, gamma if lossy else None,
+                           gamma_theory=theory.gamma if lossy else None, merged=merged, envelope_error=envelope)

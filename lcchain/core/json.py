@@ -17,10 +17,12 @@ the document's shape (a record's ``to_dict``, a command's ``--json``), the one p
 
 from __future__ import annotations
 
+import json
+import math
 from collections.abc import Mapping, Sequence
 from typing import Any, TypeAlias
 
-__all__ = ["JSON", "JSONObject", "JSONValue", "JSONDict", "LooseJSON", "LooseJSONObject"]
+__all__ = ["JSON", "JSONObject", "JSONValue", "JSONDict", "LooseJSON", "LooseJSONObject", "json_text", "finite"]
 
 #: A JSON value: an object, an array, a string, a number, a boolean or null.
 JSON: TypeAlias = dict[str, "JSON"] | list["JSON"] | str | int | float | bool | None
@@ -34,3 +36,24 @@ JSONDict: TypeAlias = dict[str, JSONValue]
 LooseJSON: TypeAlias = Any
 #: A JSON object of :data:`LooseJSON` values.
 LooseJSONObject: TypeAlias = dict[str, LooseJSON]
+
+
+def json_text(data: object, indent: int | None = 2) -> str:
+    """``data`` as valid JSON text: a number that is not finite (an error not compared, NaN; a mode unseen, an
+    infinite error; a mean that overflows) is ``null``, as JSON has neither (``json.dumps`` alone writes ``NaN``
+    and ``Infinity``, which JSON readers refuse)."""
+    try:
+        return json.dumps(data, indent=indent, allow_nan=False)
+    except ValueError:  # a NaN or an infinity somewhere: those are null
+        return json.dumps(finite(data), indent=indent, allow_nan=False)
+
+
+def finite(data: object) -> object:
+    """``data`` with each float that is not finite replaced by None, through dicts, lists and tuples."""
+    if isinstance(data, float):
+        return data if math.isfinite(data) else None
+    if isinstance(data, dict):
+        return {key: finite(value) for key, value in data.items()}
+    if isinstance(data, list | tuple):
+        return [finite(value) for value in data]
+    return data

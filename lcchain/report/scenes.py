@@ -11,12 +11,12 @@ after the scene file when there is no report.
 
 from __future__ import annotations
 
-import json
 import sys
 from collections.abc import Callable
 from pathlib import Path
 
 from ..core.errors import ParameterError
+from ..core.json import json_text
 from ..scenes.run import SampleResult, SceneResult, transmitted_peaks
 from ..scenes.schema import Scene
 from .files import check_inside, check_not_input, check_output, write_text
@@ -199,5 +199,5 @@ def write_scene_outputs(result: SceneResult, *, netlist_out: str | None = None,
         written.append(str(path))
     if scene.output.report:
         written.append(scene.output.report)
-        write_text(scene.output.report, json.dumps(dict(result.report, files=written), indent=2))
+        write_text(scene.output.report, json_text(dict(result.report, files=written)))
     return written

@@ -13,8 +13,9 @@ are written by :mod:`lcchain.report.scenes`.
 
 from __future__ import annotations
 
+import math
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, TypedDict
 
@@ -258,12 +259,21 @@ def _spectrum_record(index: int, chain: Chain, run: RunRecord) -> SampleRecord:
     assert run.run is not None and run.spectrum is not None
     record = _run_record(index, chain, run, run.run.netlist_sha256, run.run.points)
     spectrum = run.spectrum  # its SPECTRAL_METRICS, in their order, as its to_dict has them
-    record.update({"max_rel_error_omega": spectrum.max_rel_error_omega, "max_abs_error_P": spectrum.max_abs_error_P,
+    # NaN where nothing is compared (every mode merged by the losses): no error, not an error of 0
+    record.update({"max_rel_error_omega": spectrum.max_rel_error_omega if spectrum.resolved.any() else math.nan,
+                   "max_abs_error_P": spectrum.max_abs_error_P if spectrum.compared.any() else math.nan,
                    "spacing_spread": spectrum.spacing_spread, "spacing_std": spectrum.spacing_std,
                    "modes_seen": spectrum.modes_seen})
     if spectrum.gamma is not None:  # losses: each mode's Q_n against omega_n Q
         record["max_rel_error_Q"] = spectrum.max_rel_error_Q
     return record
+
+
+def _worst(errors: Iterable[float]) -> float:
+    """The largest of the samples' errors, those not compared (NaN) left out: NaN when none was; an unseen mode's
+    (infinite) is the largest."""
+    compared = [error for error in errors if not math.isnan(error)]
+    return max(compared) if compared else math.nan
 
 
 def _spread(values: Sequence[float]) -> dict[str, float]:
@@ -355,13 +365,13 @@ def _spectrum_result(scene: Scene, plan: ScenePlan, specs: Sequence[RunSpec], re
                    "omega_nominal": [float(w) for w in nominal.omega]})
     good = [s for s in samples if s.ok]
     if good:
-        report["max_rel_error_omega"] = max(s.record["max_rel_error_omega"] for s in good)
-        report["max_abs_error_P"] = max(s.record["max_abs_error_P"] for s in good)
+        report["max_rel_error_omega"] = _worst(s.record["max_rel_error_omega"] for s in good)
+        report["max_abs_error_P"] = _worst(s.record["max_abs_error_P"] for s in good)
         if all("max_rel_error_Q" in s.record for s in good):
             Q, _ = losses_and_pulse(scene)  # None: the decay rates are a real part's (each mode its own)
             if Q is not None:
                 report["Q"] = Q
-            report["max_rel_error_Q"] = max(s.record["max_rel_error_Q"] for s in good)
+            report["max_rel_error_Q"] = _worst(s.record["max_rel_error_Q"] for s in good)
         spreads = np.array([s.record["spacing_spread"] for s in good], dtype=float)
         theory = SpectrumMetrics(nominal.omega, nominal.omega, nominal.transfer, nominal.transfer,
                                  np.abs(nominal.transfer) >= OMEGA_WEIGHT_FLOOR)
