@@ -4,11 +4,10 @@ from __future__ import annotations
 
 import csv
 import io
-import json
 from collections.abc import Mapping
 from pathlib import Path
 
-from ..core.json import LooseJSON
+from ..core.json import LooseJSON, json_text
 from ..studies.bench import RECORD_FIELDS, record_label
 from .files import write_text
 
@@ -36,7 +35,7 @@ def write_accuracy_bench(out: str | Path, bench: Mapping[str, LooseJSON]) -> lis
     for r in records:
         writer.writerow({k: ("" if r[k] is None else r[k]) for k in RECORD_FIELDS})
     write_text(paths[0], table.getvalue())
-    write_text(paths[1], json.dumps({"records": records, "targets": checks, "fits": summary["fits"]}, indent=1))
+    write_text(paths[1], json_text({"records": records, "targets": checks, "fits": summary["fits"]}, indent=1))
     plotted = [{"method": record_label(r), "N": r["N"], "wall_s": r["wall_s"], "error": r["error"]} for r in records
                if r["wall_s"] > 0 and r["error"] > 0]
     pareto(plotted, path=paths[2])
