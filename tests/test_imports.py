@@ -38,7 +38,7 @@ HEAVY = ("scipy", "matplotlib", "pandas", "xarray", "dask", "distributed", "PySp
 #: plugin can take: looking it up reads no entry point), threadpoolctl (a command line's process loads its BLAS with
 #: OPENBLAS_NUM_THREADS set, and a batch computes no theory, whose limit it sets).
 BATCH_UNNEEDED = ("numpy.ma", "numpy.polynomial", "multiprocessing", "concurrent.futures.process", "importlib.metadata",
-                  "threadpoolctl")
+                  "threadpoolctl", "decimal")
 
 
 def loaded(chains: dict[str, list[str]], names: tuple[str, ...]) -> list[str]:

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import argparse
 import contextlib
-import decimal
 import math
 import re
 import sys
@@ -183,6 +182,8 @@ def si_number(option: str, unit: str) -> Callable[[str], float]:
                 f"{option} = {text!r} is not allowed: expected a number in {unit}, plain or with an SI prefix "
                 f"(f p n u m k meg G), such as 10u or 10u{unit}")
         # decimal: 10u is the float nearest 1e-5, as "1e-5" is (10 * 1e-6 is not)
+        import decimal  # here alone: its C module costs every command's start 1.5 ms
+
         value = float(decimal.Decimal(match.group(1)).scaleb(SI_PREFIXES.get(match.group(2) or "", 0)))
         if not math.isfinite(value):
             raise argparse.ArgumentTypeError(f"{option} = {text!r} is not allowed: expected a finite number")
