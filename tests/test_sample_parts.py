@@ -121,3 +121,18 @@ def test_samples_of_a_sweep_through_a_tolerance_of_zero_are_planned(tmp_path: Pa
     scene.write_text('[chain]\ncase = "two-mass"\nN = 8\n[output]\nplots = []\n')
     plan = scene_sweep_plan(scene, [("effects.tolerance.L+effects.tolerance.C", [0.0, 0.05])], RealParts(samples=2))
     assert len(plan.tasks) == 4
+
+
+def test_a_scenes_counts_stay_integers_in_its_dataset() -> None:
+    # points and modes seen are counts: integers when every sample gives one, floats (NaN) where a failed one lacks
+    pytest.importorskip("xarray")
+    from lcchain.runs.datasets import samples_dataset
+
+    ok = {"sample": 1, "status": "ok", "points": 40, "modes_seen": 8, "max_rel_error_omega": 1e-9, "wall_s": 0.1}
+    parts = [{"L": [1e-5], "C": [None]}] * 2
+    dataset = samples_dataset("counts", [ok, dict(ok, sample=2, modes_seen=7)], parts)
+    assert dataset["points"].dtype.kind == "i" and dataset["modes_seen"].values.tolist() == [8, 7]
+    assert dataset["max_rel_error_omega"].dtype.kind == "f"
+    failed = {"sample": 2, "status": "failed", "error": "ngspice stopped"}
+    dataset = samples_dataset("counts", [ok, failed], parts)
+    assert dataset["points"].dtype.kind == "f" and np.isnan(dataset["points"].values[1])

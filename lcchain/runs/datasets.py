@@ -109,6 +109,7 @@ def samples_dataset(title: str, records: Iterable[Mapping[str, object]],
     and ``C`` (F) on ``capacitor`` (NaN: a wire)."""
     rows: list[dict[str, object]] = [dict(record) for record in records]
     numbers: dict[str, list[float]] = {}
+    counted: dict[str, int] = {}  # how many samples give each number as an int (points, modes seen)
     texts: dict[str, list[str]] = {}
     for i, row in enumerate(rows):
         arrivals = row.get("arrivals")
@@ -119,10 +120,13 @@ def samples_dataset(title: str, records: Iterable[Mapping[str, object]],
                 continue
             if isinstance(value, int | float):
                 numbers.setdefault(key, [np.nan] * len(rows))[i] = float(value)
+                counted[key] = counted.get(key, 0) + isinstance(value, int)
             elif isinstance(value, str):
                 texts.setdefault(key, [""] * len(rows))[i] = value
+    # a count every sample gives stays an integer; one a sample lacks (a failed run's) is float, NaN there
     variables: dict[str, Variable] = {
-        key: ("sample", np.array(values), {"units": "s" if key.endswith("_s") else "1"})
+        key: ("sample", np.array(values, dtype=int if counted.get(key) == len(rows) else float),
+              {"units": "s" if key.endswith("_s") else "1"})
         for key, values in numbers.items()}
     variables |= {key: ("sample", np.array(values, dtype=str), {}) for key, values in texts.items()
                   if key not in numbers}
