@@ -231,7 +231,7 @@ def circuit_of(cards: NetlistCards, analysis: Transient | Sweep) -> LinearCircui
     branches, sources, couplings = [], [], []
     for card in cards.elements:
         if isinstance(card, OtherCard):
-            kind = {"B": "behavioural source", "X": "sub-circuit (not flattened here)"}.get(
+            kind = {"B": "behavioural source", "X": "sub-circuit"}.get(
                 card.letter, "nonlinear" if card.letter in "DQMJSWZ" else "not modelled")
             return f"{kind}: {card.name.upper()}" + (f" ({card.why})" if card.why else "")
         if isinstance(card, ElementCard):

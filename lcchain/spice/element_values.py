@@ -17,9 +17,11 @@ circuit's own and are skipped (an ``X`` line is an :class:`OtherCard`).
 from __future__ import annotations
 
 import re
-from dataclasses import dataclass, field
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field, replace
 
 from ..core.errors import ParameterError
+from .cards import MAX_SUBCKT_DEPTH, Header, command_of, instance, subckt_header
 from .expressions import braced_expressions, evaluate_expression, is_param_card, param_assignments, param_values
 from .text import logical_lines, parse_options, spice_number
 
@@ -148,6 +150,7 @@ def read_cards(text: str, source: str = "netlist") -> NetlistCards:
     initial: list[tuple[str, float]] = []
     uic = False
     block = ""  # inside a .control or .subckt block (a netlist run as it is): not the circuit's own cards
+    flattening = _Flattening(_definitions(lines, source), _global_nodes(lines), params, elements)
     for number, line in lines:
         where = f"{source}: line {number}"
         stripped = line.strip()
@@ -172,6 +175,9 @@ def read_cards(text: str, source: str = "netlist") -> NetlistCards:
             elif head == ".tran":
                 uic = "uic" in (w.lower() for w in _words(stripped))
             continue
+        if head[0] == "x":  # a sub-circuit's instance: its elements, named and wired as ngspice flattens them
+            flattening.instance(stripped, where, params, "", lambda node: node, 0)
+            continue
         try:
             elements.append(_element(stripped, params, where, line))
         except ParameterError:  # the allow-list let it run: no exact reference, not bad input
@@ -183,6 +189,132 @@ def read_cards(text: str, source: str = "netlist") -> NetlistCards:
                 "is written so")
             elements.append(OtherCard(name[0].upper(), name.lower(), why, where))
     return NetlistCards(tuple(elements), tuple(initial), uic, tuple(sorted(parse_options(text).items())))
+
+
+@dataclass(frozen=True)
+class _Definition:
+    """A ``.subckt`` block: its card (name, ports, parameters' defaults), where it is, and its body's lines (a
+    definition nested in it among them)."""
+
+    header: Header
+    where: str
+    line: str
+    body: tuple[tuple[int, str], ...]
+
+
+def _definitions(lines: Sequence[tuple[int, str]], source: str = "netlist") -> dict[str, _Definition]:
+    """The ``.subckt`` blocks of ``lines`` at their top level, by name (those nested in one are in its body)."""
+    found: dict[str, _Definition] = {}
+    depth, opened, body = 0, (0, ""), list[tuple[int, str]]()
+    for number, line in lines:
+        command = command_of(line.split(None, 1)[0].lower()) if line.strip() else None
+        if command == ".subckt":
+            depth += 1
+            if depth == 1:
+                opened, body = (number, line), []
+                continue
+        elif command == ".ends" and depth:
+            depth -= 1
+            header = subckt_header(opened[1].strip()) if depth == 0 else None
+            if header is not None and header.name not in found:  # ngspice keeps the first of one name
+                found[header.name] = _Definition(header, f"{source}: line {opened[0]}", opened[1], tuple(body))
+            if depth == 0:
+                continue
+        if depth:
+            body.append((number, line))
+    return found
+
+
+def _global_nodes(lines: Sequence[tuple[int, str]]) -> frozenset[str]:
+    """The nodes ``.global`` cards name (lower case): one node wherever a sub-circuit names it."""
+    return frozenset(node.lower() for _, line in lines if line.strip()
+                     and command_of(line.split(None, 1)[0].lower()) == ".global" for node in line.split()[1:])
+
+
+@dataclass
+class _Flattening:
+    """A sub-circuit instance's elements as ngspice 39 flattens them, appended to ``out``: an element ``L1`` of
+    instance ``X1`` of ``XA`` is ``l.xa.x1.l1`` (its current ``i(l.xa.x1.l1)``), an internal node ``mid`` is
+    ``xa.x1.mid``; a port is the node the instance connects, ``0`` and ``.global`` nodes are themselves.  Its
+    values are read in the sub-circuit's scope: the instance's parameters (read in the scope that writes them),
+    over the ``.subckt`` card's defaults and the body's ``.param`` cards, over the netlist's own ``.param``
+    values.  An instance lcchain cannot expand is one :class:`OtherCard`, with why."""
+
+    definitions: dict[str, _Definition]
+    globals: frozenset[str]
+    netlist: dict[str, float]
+    out: list[ElementCard | SourceCard | CouplingCard | OtherCard]
+
+    def instance(self, card: str, where: str, scope: dict[str, float], path: str, node: Callable[[str], str],
+                 depth: int, definitions: dict[str, _Definition] | None = None) -> None:
+        name = card.split(None, 1)[0].lower()
+        inner = f"{path}.{name}" if path else name
+        known = self.definitions if definitions is None else definitions
+        found = instance(card)
+        definition = known.get(found.subckt) if found is not None else None
+        why = ("an instance line lcchain cannot read" if found is None else
+               f"no .subckt {found.subckt} defined where it is used" if definition is None else
+               f"{len(found.nodes)} nodes for the {len(definition.header.nodes)} of .subckt {found.subckt}"
+               if len(found.nodes) != len(definition.header.nodes) else
+               f"sub-circuits nested more than {MAX_SUBCKT_DEPTH} deep" if depth >= MAX_SUBCKT_DEPTH else "")
+        if found is None or definition is None or why:
+            self.out.append(OtherCard("X", _flat_name(name, path), why, where))
+            return
+        try:
+            given = {key: evaluate_expression(text, scope, where, card) for key, text in found.params}
+            header = definition.header
+            defined = {key: (text, definition.where, definition.line) for key, text in header.params}
+            for number, line in definition.body:  # the body's own .param cards (its nested definitions' are theirs)
+                words = line.split(None, 1)
+                if words and is_param_card(words[0]):
+                    at = f"{where.split(': line')[0]}: line {number}"
+                    defined |= {key: (text, at, line) for key, text in
+                                param_assignments(words[1] if len(words) > 1 else "", at, line)}
+            own = {**self.netlist, **param_values(defined, given, self.netlist)}
+        except ParameterError as error:
+            self.out.append(OtherCard("X", _flat_name(name, path), f"a parameter lcchain cannot evaluate ({error})",
+                                      where))
+            return
+        ports = dict(zip(header.nodes, (node(n) for n in found.nodes), strict=True))
+
+        def inside(n: str) -> str:
+            return ports.get(n) or (n if n == "0" or n in self.globals else f"{inner}.{n}")
+
+        local = {**known, **_definitions(definition.body, where.split(": line")[0])}
+        nested = 0
+        for number, line in definition.body:
+            stripped = line.strip()
+            head = stripped.split(None, 1)[0].lower() if stripped else ""
+            command = command_of(head)
+            nested += (command == ".subckt") - (command == ".ends" and nested > 0)
+            if nested or command == ".ends" or not head or head.startswith(("*", ".")):
+                continue
+            at = f"{where.split(': line')[0]}: line {number}"
+            if head[0] == "x":
+                self.instance(stripped, at, own, inner, inside, depth + 1, local)
+                continue
+            try:
+                element = _element(stripped, own, at, line)
+            except ParameterError:
+                element = OtherCard(head[0].upper(), head, "a value lcchain cannot evaluate: a .func call, a model "
+                                    "name...", at)
+            self.out.append(_renamed(element, inner, inside))
+
+
+def _flat_name(name: str, path: str) -> str:
+    """An element's name in the flattened circuit, as ngspice 39 gives it: ``l.xa.x1.l1`` for ``L1`` of ``XA.X1``."""
+    return f"{name[0]}.{path}.{name}" if path else name
+
+
+def _renamed(card: ElementCard | SourceCard | CouplingCard | OtherCard, path: str, node: Callable[[str], str]
+             ) -> ElementCard | SourceCard | CouplingCard | OtherCard:
+    """A card of a sub-circuit's body as the flattened circuit has it: its name, its nodes, a coupling's coils."""
+    if isinstance(card, ElementCard | SourceCard):
+        return replace(card, name=_flat_name(card.name, path), a=node(card.a), b=node(card.b))
+    if isinstance(card, CouplingCard):
+        return replace(card, name=_flat_name(card.name, path), first=_flat_name(card.first, path),
+                       second=_flat_name(card.second, path))
+    return replace(card, name=_flat_name(card.name, path))
 
 
 def _element(card: str, params: dict[str, float], where: str, line: str

@@ -287,16 +287,23 @@ def evaluate_expression(text: str, values: Mapping[str, float] | Callable[[str],
     return result
 
 
-def param_values(definitions: Mapping[str, tuple[str, str, str]]) -> dict[str, float]:
+def param_values(definitions: Mapping[str, tuple[str, str, str]], given: Mapping[str, float] | None = None,
+                 outer: Mapping[str, float] | None = None) -> dict[str, float]:
     """Every ``.param`` name's value: ``definitions`` maps a name (lower case) to (expression, where, line), and a
-    name may use others defined before or after it (as ngspice reads them); a cycle is refused, naming it."""
-    found: dict[str, float] = {}
+    name may use others defined before or after it (as ngspice reads them); a cycle is refused, naming it.
+
+    A sub-circuit's scope: ``given`` values win over the definitions of the same names (an instance's parameters
+    over the ``.subckt`` card's defaults), and a name neither defines is read from ``outer`` (the netlist's own
+    ``.param`` values).  Returns the given and defined names' values."""
+    found: dict[str, float] = dict(given or {})
     busy: list[str] = []
 
     def value(name: str) -> float:
         if name in found:
             return found[name]
         if name not in definitions:
+            if outer is not None and name in outer:
+                return outer[name]
             raise ValueError(f"no .param defines {name!r}")
         expression, where, line = definitions[name]
         if name in busy:
