@@ -35,7 +35,7 @@ from helpers.tolerances import (
 from lcchain.cli.main import main
 from lcchain.core.errors import ParameterError
 from lcchain.runs.check import CheckOptions, check_text, circuit_of
-from lcchain.spice.element_values import read_cards
+from lcchain.spice.element_values import ElementCard, read_cards
 from lcchain.spice.expressions import evaluate_expression, param_values
 from lcchain.spice.foreign import allowed_netlist, analysis_of
 
@@ -682,3 +682,39 @@ def test_a_realistic_circuits_reference_does_not_depend_on_its_units() -> None:
     for k, name in enumerate(names):
         scale = np.max(np.abs(stretched[k]))
         np.testing.assert_allclose(mine[k], stretched[k], rtol=0, atol=RTOL_EXACT * scale, err_msg=name)
+
+
+FUNCS = """values from user functions
+.param rs = 50 lval = {10u} cval = 1n
+.func res(x) {x*2}
+.func tank_c(c, k) = {c*k}
+.func twice_res(x) = {res(res(x))/2}
+V1 in 0 SIN(0 1 1.5meg) AC 1
+R1 in mid {res(rs)/2}
+L1 mid 0 {lval}
+C1 mid 0 {tank_c(cval, 1.1)}
+R2 mid out {twice_res(500)}
+C2 out 0 100p
+.tran 10n 20u
+.end
+"""
+
+
+def test_user_functions_are_called_as_ngspice_calls_them() -> None:
+    cards = read_cards(allowed_netlist(FUNCS, "netlist", None))
+    values = {card.name: card.value for card in cards.elements if isinstance(card, ElementCard)}
+    assert values["r1"] == 50.0 and values["r2"] == 1000.0
+    assert values["c1"] == pytest.approx(1.1e-9, rel=RTOL_ONE_OPERATION)
+    with pytest.raises(ParameterError, match="takes 2 arguments, not 1"):
+        evaluate_expression("tank_c(1)", {}, functions={"tank_c": (("c", "k"), "c*k")})
+    with pytest.raises(ParameterError, match="more than"):  # a function that calls itself: ngspice 39 crashes
+        evaluate_expression("f(1)", {}, functions={"f": (("x",), "f(x)")})
+
+
+@pytest.mark.ngspice
+def test_a_netlist_of_user_functions_is_checked() -> None:
+    result = check_text(FUNCS, "funcs.cir")
+    assert result.reference == "" and {"v(out)", "v(mid)", "i(l1)"} <= {v.name for v in result.vectors}
+    for vector in result.vectors:
+        if vector.name != "v(in)":  # the source's node: exact in both
+            assert PREDICTION_BAND[0] <= vector.max_abs_error / vector.predicted_error <= PREDICTION_BAND[1]

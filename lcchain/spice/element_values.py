@@ -7,11 +7,12 @@ It knows no physics: an element is its letter, its nodes, its value and its keyw
 DC value, its AC magnitude and phase, and its transient function's name and arguments, as written.  What the
 elements mean (linear or not, a waveform's defaults) is decided by the caller (:mod:`lcchain.runs.check`).
 
-A card this module cannot read as numbers (an expression calling a ``.func``, a keyword without a value, a
-device or a sub-circuit instance) is kept as an :class:`OtherCard`, with why, so that the caller can say "no
-exact reference" rather than refuse the run: the allow-list (:mod:`lcchain.spice.foreign`) has already decided
-what may run.  The cards of ``.subckt`` ... ``.ends`` and ``.control`` ... ``.endc`` blocks are not the
-circuit's own and are skipped (an ``X`` line is an :class:`OtherCard`).
+An expression may call the netlist's ``.func`` functions.  A sub-circuit instance (``X``) is flattened as
+ngspice 39 flattens it (:class:`_Flattening`: ``l.xa.x1.l1``, node ``xa.x1.mid``).  A card this module cannot
+read as numbers (a keyword without a value, a device, an instance it cannot expand) is kept as an
+:class:`OtherCard`, with why, so that the caller can say "no exact reference" rather than refuse the run: the
+allow-list (:mod:`lcchain.spice.foreign`) has already decided what may run.  The cards of ``.control`` ...
+``.endc`` blocks, and of ``.subckt`` ... ``.ends`` blocks where they are defined, are not the circuit's own.
 """
 
 from __future__ import annotations
@@ -21,8 +22,15 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field, replace
 
 from ..core.errors import ParameterError
-from .cards import MAX_SUBCKT_DEPTH, Header, command_of, instance, subckt_header
-from .expressions import braced_expressions, evaluate_expression, is_param_card, param_assignments, param_values
+from .cards import MAX_SUBCKT_DEPTH, Header, command_of, func_card, instance, subckt_header
+from .expressions import (
+    UserFunctions,
+    braced_expressions,
+    evaluate_expression,
+    is_param_card,
+    param_assignments,
+    param_values,
+)
 from .text import logical_lines, parse_options, spice_number
 
 __all__ = ["ElementCard", "SourceCard", "CouplingCard", "OtherCard", "NetlistCards", "read_cards",
@@ -116,10 +124,12 @@ def _words(text: str) -> list[str]:
     return [re.sub(r"\{\}", lambda _: "{" + next(found) + "}", w) for w in words]
 
 
-def _element_value(word: str, params: dict[str, float], where: str, line: str) -> float | None:
-    """A word as a number: a SPICE number, a ``{...}`` expression, or a ``.param`` name; None if none of these."""
+def _element_value(word: str, params: dict[str, float], where: str, line: str,
+                   functions: UserFunctions | None = None) -> float | None:
+    """A word as a number: a SPICE number, a ``{...}`` expression (calling the netlist's ``.func`` functions, if
+    any), or a ``.param`` name; None if none of these."""
     if word.startswith("{") and word.endswith("}"):
-        return evaluate_expression(word[1:-1], params, where, line)
+        return evaluate_expression(word[1:-1], params, where, line, functions)
     found = spice_number(word)
     if found is not None:
         return found
@@ -135,6 +145,7 @@ def read_cards(text: str, source: str = "netlist") -> NetlistCards:
         A card whose value is missing or not a number (naming the source, the line and the card).
     """
     lines = logical_lines(text)[1:]  # the first line is the title
+    functions = _functions(lines)
     definitions: dict[str, tuple[str, str, str]] = {}
     for number, line in lines:
         words = line.split(None, 1)
@@ -143,14 +154,14 @@ def read_cards(text: str, source: str = "netlist") -> NetlistCards:
             for name, value in param_assignments(words[1] if len(words) > 1 else "", where, line):
                 definitions[name] = (value, where, line)
     try:
-        params = param_values(definitions)
-    except ParameterError:  # a .param lcchain cannot evaluate (a .func call...): the elements that use it say so
+        params = param_values(definitions, functions=functions)
+    except ParameterError:  # a .param lcchain cannot evaluate: the elements that use it say so
         params = {}
     elements: list[ElementCard | SourceCard | CouplingCard | OtherCard] = []
     initial: list[tuple[str, float]] = []
     uic = False
     block = ""  # inside a .control or .subckt block (a netlist run as it is): not the circuit's own cards
-    flattening = _Flattening(_definitions(lines, source), _global_nodes(lines), params, elements)
+    flattening = _Flattening(_definitions(lines, source), _global_nodes(lines), params, elements, functions)
     for number, line in lines:
         where = f"{source}: line {number}"
         stripped = line.strip()
@@ -168,7 +179,7 @@ def read_cards(text: str, source: str = "netlist") -> NetlistCards:
                 if not pairs or re.sub(r"v\s*\(\s*[^()\s,]+\s*\)\s*=\s*\S+", "", body, flags=re.IGNORECASE).strip():
                     raise ParameterError(where, line.strip()[:200], ".ic v(NODE)=VALUE ...")
                 for node, value in pairs:  # not ``text``: the netlist's, whose options are read below
-                    volts = _element_value(value, params, where, line)
+                    volts = _element_value(value, params, where, line, functions)
                     if volts is None:
                         raise ParameterError(where, line.strip()[:200], ".ic v(NODE)=VALUE ... with numbers")
                     initial.append((node.lower(), volts))
@@ -179,11 +190,11 @@ def read_cards(text: str, source: str = "netlist") -> NetlistCards:
             flattening.instance(stripped, where, params, "", lambda node: node, 0)
             continue
         try:
-            elements.append(_element(stripped, params, where, line))
+            elements.append(_element(stripped, params, where, line, functions))
         except ParameterError:  # the allow-list let it run: no exact reference, not bad input
             name = stripped.split(None, 1)[0]
             infix = next((m for word in stripped.split()[1:] if (m := _INFIX_SCALE.fullmatch(word))), None)
-            why = "a value lcchain cannot evaluate: a .func call, a model name..." if infix is None else (
+            why = "a value lcchain cannot evaluate: a model name..." if infix is None else (
                 f"a value written {infix.group(0)}, which ngspice reads as {infix.group(1)}{infix.group(2)} (the "
                 f"digits after its scale ignored); meant as {infix.group(1)}.{infix.group(3)}{infix.group(2)}, it "
                 "is written so")
@@ -225,6 +236,19 @@ def _definitions(lines: Sequence[tuple[int, str]], source: str = "netlist") -> d
     return found
 
 
+def _functions(lines: Sequence[tuple[int, str]]) -> dict[str, tuple[tuple[str, ...], str]]:
+    """The netlist's own ``.func`` functions (those outside its sub-circuits), by name (lower case)."""
+    found: dict[str, tuple[tuple[str, ...], str]] = {}
+    depth = 0
+    for _, line in lines:
+        command = command_of(line.split(None, 1)[0].lower()) if line.strip() else None
+        depth += (command == ".subckt") - (command == ".ends" and depth > 0)
+        function = func_card(line.strip()) if command == ".func" and not depth else None
+        if function is not None:
+            found.setdefault(function.name.lower(), (tuple(a.lower() for a in function.args), function.body))
+    return found
+
+
 def _global_nodes(lines: Sequence[tuple[int, str]]) -> frozenset[str]:
     """The nodes ``.global`` cards name (lower case): one node wherever a sub-circuit names it."""
     return frozenset(node.lower() for _, line in lines if line.strip()
@@ -244,6 +268,7 @@ class _Flattening:
     globals: frozenset[str]
     netlist: dict[str, float]
     out: list[ElementCard | SourceCard | CouplingCard | OtherCard]
+    functions: UserFunctions
 
     def instance(self, card: str, where: str, scope: dict[str, float], path: str, node: Callable[[str], str],
                  depth: int, definitions: dict[str, _Definition] | None = None) -> None:
@@ -261,7 +286,7 @@ class _Flattening:
             self.out.append(OtherCard("X", _flat_name(name, path), why, where))
             return
         try:
-            given = {key: evaluate_expression(text, scope, where, card) for key, text in found.params}
+            given = {key: evaluate_expression(text, scope, where, card, self.functions) for key, text in found.params}
             header = definition.header
             defined = {key: (text, definition.where, definition.line) for key, text in header.params}
             for number, line in definition.body:  # the body's own .param cards (its nested definitions' are theirs)
@@ -270,7 +295,7 @@ class _Flattening:
                     at = f"{where.split(': line')[0]}: line {number}"
                     defined |= {key: (text, at, line) for key, text in
                                 param_assignments(words[1] if len(words) > 1 else "", at, line)}
-            own = {**self.netlist, **param_values(defined, given, self.netlist)}
+            own = {**self.netlist, **param_values(defined, given, self.netlist, self.functions)}
         except ParameterError as error:
             self.out.append(OtherCard("X", _flat_name(name, path), f"a parameter lcchain cannot evaluate ({error})",
                                       where))
@@ -294,10 +319,9 @@ class _Flattening:
                 self.instance(stripped, at, own, inner, inside, depth + 1, local)
                 continue
             try:
-                element = _element(stripped, own, at, line)
+                element = _element(stripped, own, at, line, self.functions)
             except ParameterError:
-                element = OtherCard(head[0].upper(), head, "a value lcchain cannot evaluate: a .func call, a model "
-                                    "name...", at)
+                element = OtherCard(head[0].upper(), head, "a value lcchain cannot evaluate: a model name...", at)
             self.out.append(_renamed(element, inner, inside))
 
 
@@ -317,13 +341,13 @@ def _renamed(card: ElementCard | SourceCard | CouplingCard | OtherCard, path: st
     return replace(card, name=_flat_name(card.name, path))
 
 
-def _element(card: str, params: dict[str, float], where: str, line: str
+def _element(card: str, params: dict[str, float], where: str, line: str, functions: UserFunctions | None = None
              ) -> ElementCard | SourceCard | CouplingCard | OtherCard:
     words = _words(card)
     letter, name = words[0][0].upper(), words[0].lower()
 
     def value_of(word: str, what: str) -> float:
-        value = _element_value(word, params, where, line)
+        value = _element_value(word, params, where, line, functions)
         if value is None:
             raise ParameterError(where, line.strip()[:200], f"{what} as a number, a .param name or a {{...}} "
                                  f"expression, not {word!r}")

@@ -19,12 +19,13 @@ from __future__ import annotations
 import math
 import re
 from collections.abc import Callable, Iterable, Mapping
+from typing import TypeAlias
 
 from ..core.errors import ParameterError
 from .text import dot_cards, spice_number
 
-__all__ = ["FUNCTIONS", "MAX_PARAMS", "MAX_EXPRESSION_CHARS", "is_param_card", "param_assignments",
-           "check_expression", "braced_expressions", "evaluate_expression", "param_values"]
+__all__ = ["FUNCTIONS", "MAX_PARAMS", "MAX_EXPRESSION_CHARS", "MAX_FUNCTION_DEPTH", "UserFunctions", "is_param_card",
+           "param_assignments", "check_expression", "braced_expressions", "evaluate_expression", "param_values"]
 
 #: The math functions an expression may call: ngspice's deterministic ones (no random draw, no table or file).
 FUNCTIONS = frozenset({
@@ -179,11 +180,57 @@ _BINARY: tuple[dict[str, Callable[[float, float], float]], ...] = (
 )
 
 
-class _Evaluator:
-    """A recursive-descent reading of the grammar :func:`check_expression` admits."""
+#: A netlist's user functions (``.func`` cards): name (lower case) -> (argument names, lower case; the body's
+#: expression text).
+UserFunctions: TypeAlias = Mapping[str, tuple[tuple[str, ...], str]]
+#: How deep user functions may call one another in one evaluation (ngspice 39 crashes on a function that calls
+#: itself; the allow-list bounds how far their bodies grow, :data:`lcchain.spice.cards.MAX_FUNCTION_CHARS`).
+MAX_FUNCTION_DEPTH = 32
 
-    def __init__(self, tokens: list[tuple[str, str]], value: Callable[[str], float]):
+
+def _tokens(text: str) -> list[tuple[str, str]]:
+    """``text``'s tokens (kind, text); a ValueError where something is no token of the grammar."""
+    tokens: list[tuple[str, str]] = []
+    position = 0
+    while text[position:].strip():
+        match = _TOKEN.match(text, position)
+        if match is None:
+            raise ValueError(f"not an expression: {text.strip()[:80]!r}")
+        kind = match.lastgroup or ""
+        tokens.append((kind, match.group(kind)))
+        position = match.end()
+    return tokens
+
+
+class _Evaluator:
+    """A recursive-descent reading of the grammar :func:`check_expression` admits; a call of a user function
+    evaluates its body with its arguments bound (over the names of the expression that calls it)."""
+
+    def __init__(self, tokens: list[tuple[str, str]], value: Callable[[str], float],
+                 functions: UserFunctions | None = None, depth: int = 0):
         self.tokens, self.value, self.k = tokens, value, 0
+        self.functions, self.depth = functions or {}, depth
+
+    def call(self, name: str, arguments: list[float]) -> float:
+        """A function's value: one of :data:`FUNCTIONS`, else a user function's body."""
+        if name in _FUNCTION_VALUES:
+            return float(_FUNCTION_VALUES[name](*arguments))
+        if name not in self.functions:
+            raise ValueError(f"no function {name!r}")
+        names, body = self.functions[name]
+        if len(arguments) != len(names):
+            raise ValueError(f"{name} takes {len(names)} argument{'s' if len(names) != 1 else ''}, not "
+                             f"{len(arguments)}")
+        if self.depth >= MAX_FUNCTION_DEPTH:
+            raise ValueError(f"user functions calling one another more than {MAX_FUNCTION_DEPTH} deep")
+        bound = dict(zip(names, arguments, strict=True))
+        outer = self.value
+        inner = _Evaluator(_tokens(body), lambda n: bound[n] if n in bound else outer(n), self.functions,
+                           self.depth + 1)
+        value = inner.ternary()
+        if inner.k != len(inner.tokens):
+            raise ValueError(f"trailing text in the body of {name}")
+        return value
 
     def peek(self) -> str:
         return self.tokens[self.k][1] if self.k < len(self.tokens) else ""
@@ -246,7 +293,7 @@ class _Evaluator:
                 self.take(",")
                 arguments.append(self.ternary())
             self.take(")")
-            return float(_FUNCTION_VALUES[text.lower()](*arguments))
+            return self.call(text.lower(), arguments)
         if kind == "name":
             return math.pi if text.lower() == "pi" else self.value(text.lower())
         if text == "(":
@@ -256,27 +303,34 @@ class _Evaluator:
         raise ValueError(f"unexpected {text!r}")
 
 
+def _reader(values: Mapping[str, float]) -> Callable[[str], float]:
+    """A name's value from ``values``; a ValueError for a name it lacks (one a user function's body uses)."""
+    def read(name: str) -> float:
+        if name not in values:
+            raise ValueError(f"no .param defines {name!r}")
+        return values[name]
+    return read
+
+
 def evaluate_expression(text: str, values: Mapping[str, float] | Callable[[str], float], where: str = "netlist",
-                        line: str = "") -> float:
-    """The value of an expression :func:`check_expression` admits, its names read from ``values`` (lower case).
+                        line: str = "", functions: UserFunctions | None = None) -> float:
+    """The value of an expression :func:`check_expression` admits, its names read from ``values`` (lower case),
+    the netlist's user ``functions`` called as ngspice 39 calls them (each argument bound over the caller's names).
 
     Raises a :class:`ParameterError` naming ``where`` for an expression that does not read as a number (an
     unknown name, a division by zero, a function outside its domain, a result that is not finite)."""
     names = set(values) if isinstance(values, Mapping) else None
-    check_expression(text, names, where, line or text)
-    tokens: list[tuple[str, str]] = []
-    position = 0
-    while text[position:].strip():
-        match = _TOKEN.match(text, position)
-        assert match is not None  # check_expression read the same tokens
-        kind = match.lastgroup or ""
-        tokens.append((kind, match.group(kind)))
-        position = match.end()
-    look = values.__getitem__ if isinstance(values, Mapping) else values
+    calls: set[str] | None = set() if functions else None
+    check_expression(text, names, where, line or text, calls=calls)
+    unknown = sorted((calls or set()) - set(functions or {}))
+    if unknown:
+        raise ParameterError(where, (line or text).strip()[:200], f"{_ALLOWED_EXPRESSION} or a .func, not the "
+                             f"function {unknown[0]!r}")
+    look = _reader(values) if isinstance(values, Mapping) else values
     try:
-        reader = _Evaluator(tokens, look)
+        reader = _Evaluator(_tokens(text), look, functions)
         result = reader.ternary()
-        if reader.k != len(tokens):
+        if reader.k != len(reader.tokens):
             raise ValueError("trailing text")
         result = float(result)
     except (ArithmeticError, ValueError, TypeError) as error:
@@ -288,7 +342,8 @@ def evaluate_expression(text: str, values: Mapping[str, float] | Callable[[str],
 
 
 def param_values(definitions: Mapping[str, tuple[str, str, str]], given: Mapping[str, float] | None = None,
-                 outer: Mapping[str, float] | None = None) -> dict[str, float]:
+                 outer: Mapping[str, float] | None = None, functions: UserFunctions | None = None
+                 ) -> dict[str, float]:
     """Every ``.param`` name's value: ``definitions`` maps a name (lower case) to (expression, where, line), and a
     name may use others defined before or after it (as ngspice reads them); a cycle is refused, naming it.
 
@@ -310,7 +365,7 @@ def param_values(definitions: Mapping[str, tuple[str, str, str]], given: Mapping
             raise ParameterError(where, line.strip()[:200], f".param values that do not depend on themselves "
                                  f"({' -> '.join(busy + [name])})")
         busy.append(name)
-        found[name] = evaluate_expression(expression, value, where, line)
+        found[name] = evaluate_expression(expression, value, where, line, functions)
         busy.pop()
         return found[name]
 
