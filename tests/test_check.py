@@ -718,3 +718,26 @@ def test_a_netlist_of_user_functions_is_checked() -> None:
     for vector in result.vectors:
         if vector.name != "v(in)":  # the source's node: exact in both
             assert PREDICTION_BAND[0] <= vector.max_abs_error / vector.predicted_error <= PREDICTION_BAND[1]
+
+
+@pytest.mark.ngspice
+@pytest.mark.parametrize("keywords", ["R=0", "R=1u", "TD=0.5u", "R=1u TD=0.5u", "TD=0.5u R=0"])
+def test_a_repeated_or_delayed_pwl_is_the_source_ngspice_runs(keywords: str) -> None:
+    """A PWL's ``R=`` (its part from time R repeated after its last point, jumping back to R's value) and ``TD=``
+    (its delay, its first value held before): the source's own node is the source, so its reference matches
+    ngspice at every time point ngspice took, across three repetitions and their jumps."""
+    text = (f"pwl {keywords}\nV1 in 0 PWL(0 0.2 1u 1 2u 1 3u 0 {keywords})\nR1 in out 100\nC1 out 0 1n\n"
+            ".tran 10n 10u\n.end\n")
+    result = check_text(text, "pwl.cir")
+    assert result.reference == ""
+    source = next(v for v in result.vectors if v.name == "v(in)")
+    assert source.max_abs_error < RTOL_EXACT * source.scale
+    assert {v.name for v in result.vectors} == {"v(in)", "v(out)", "i(v1)"}
+
+
+@pytest.mark.ngspice
+def test_a_pwl_repeated_from_no_time_of_its_own_has_no_reference() -> None:
+    # ngspice stops the run ("repeat start time value ... does not match any time point"); lcchain says why first
+    text = "pwl\nV1 in 0 PWL(0 0.2 1u 1 2u 1 3u 0 R=1.5u)\nR1 in out 100\nC1 out 0 1n\n.tran 10n 10u\n.end\n"
+    allowed = allowed_netlist(text, "netlist", None)
+    assert "not one of its time points" in str(circuit_of(read_cards(allowed), analysis_of(allowed, "netlist")))

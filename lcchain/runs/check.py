@@ -197,8 +197,46 @@ def source_function(card: SourceCard, analysis: Transient | Sweep) -> tuple[str,
         if len(values) < 2 or len(values) % 2 or any(b < a for a, b in zip(values[0::2], values[2::2],
                                                                                strict=False)):
             return f"source {name}: PWL of (time, value) pairs in ascending time"
-        return "pwl", tuple(values)
+        return _pwl_written_out(name, values, dict(card.keywords), stop)
     return f"source {name}: {function.upper()}"
+
+
+#: The most points a PWL written out up to the stop time may have (its ``R=`` repetitions): beyond, its exact
+#: reference would hold more breakpoints than the run has points of any sensible analysis.
+MAX_PWL_POINTS = 1_000_000
+
+
+def _pwl_written_out(name: str, values: list[float], keywords: dict[str, float], stop: float
+                     ) -> tuple[str, tuple[float, ...]] | str:
+    """A PWL's points as ngspice 39 runs them up to ``stop``: delayed by ``TD=`` (its first value held before), and
+    from its last point on, with ``R=``, the part from time R to the last point repeated (jumping back to R's
+    value), which R must start at one of its points (ngspice stops the run otherwise)."""
+    times, levels = values[0::2], values[1::2]
+    delay = keywords.get("td", 0.0)
+    points = [(t + delay, v) for t, v in zip(times, levels, strict=True)]
+    if delay > 0 and points[0][0] > 0:
+        points.insert(0, (0.0, levels[0]))
+    if "r" in keywords:
+        repeat = keywords["r"]
+        if repeat not in times:
+            return f"source {name}: PWL R={repeat:g}, not one of its time points (ngspice stops the run)"
+        start = times.index(repeat)
+        shape = [(t - repeat, v) for t, v in zip(times[start:], levels[start:], strict=True)]
+        period = times[-1] - repeat
+        if period <= 0:
+            return f"source {name}: PWL R={repeat:g} at its last time point (nothing to repeat)"
+        repeats = max(0.0, (stop - points[-1][0]) / period)
+        if len(points) + (math.ceil(repeats) + 1) * len(shape) > MAX_PWL_POINTS:
+            return f"source {name}: PWL repeated {repeats:.3g} times before the stop time (more than " \
+                   f"{MAX_PWL_POINTS} points)"
+        begin = points[-1][0]
+        while begin <= stop:
+            # at the time it starts again the source is already R's value (ngspice, measured): the last value
+            # holds until one rounding step before
+            points[-1] = (math.nextafter(begin, -math.inf), points[-1][1])
+            points += [(begin + at, v) for at, v in shape]
+            begin += period
+    return "pwl", tuple(x for point in points for x in point)
 
 
 def _waveform(card: SourceCard, analysis: Transient | Sweep) -> Waveform | str:

@@ -36,6 +36,8 @@ from .text import logical_lines, parse_options, spice_number
 __all__ = ["ElementCard", "SourceCard", "CouplingCard", "OtherCard", "NetlistCards", "read_cards",
            "SOURCE_FUNCTION_NAMES"]
 
+#: The keywords a PWL may end with in ngspice 39: ``R=`` the time its repetition starts from, ``TD=`` its delay.
+_PWL_KEYWORDS = ("r", "td")
 #: Transient functions of an independent source, as ngspice 39 names them.
 SOURCE_FUNCTION_NAMES = frozenset({"pulse", "sin", "pwl", "exp", "sffm", "am", "trnoise", "trrandom", "pat"})
 # Blocks of cards that are not elements of the circuit (a netlist run as it is): their first and last words.
@@ -70,6 +72,8 @@ class SourceCard:
     function: str = ""
     arguments: tuple[float, ...] = ()
     where: str = ""
+    #: A PWL's ``R=`` (the time its repetition starts from) and ``TD=`` (its delay), lower case, as written.
+    keywords: tuple[tuple[str, float], ...] = ()
 
 
 @dataclass(frozen=True)
@@ -389,6 +393,7 @@ def _source(words: list[str], letter: str, name: str, value_of: object, where: s
     dc: float | None = None
     ac = (0.0, 0.0)
     function, arguments = "", tuple[float, ...]()
+    keywords: list[tuple[str, float]] = []
     k = 0
     while k < len(rest):
         word = rest[k].lower()
@@ -407,10 +412,14 @@ def _source(words: list[str], letter: str, name: str, value_of: object, where: s
             k += 1
             found = []
             while k < len(rest) and rest[k].lower() not in ("dc", "ac"):
-                value = _maybe(rest[k], read)
-                if value is None:
+                key, equals, text = rest[k].lower().partition("=")
+                value = _maybe(text if equals else rest[k], read)
+                if equals and function == "pwl" and key in _PWL_KEYWORDS and value is not None:
+                    keywords.append((key, value))
+                elif value is None or equals:
                     return OtherCard(letter, name, f"{function.upper()} argument {rest[k]!r}", where)
-                found.append(value)
+                else:
+                    found.append(value)
                 k += 1
             arguments = tuple(found)
         elif dc is None and _maybe(rest[k], read) is not None:
@@ -418,7 +427,7 @@ def _source(words: list[str], letter: str, name: str, value_of: object, where: s
             k += 1
         else:
             return OtherCard(letter, name, f"the word {rest[k]!r}", where)
-    return SourceCard(letter, name, a, b, dc, ac, function, arguments, where)
+    return SourceCard(letter, name, a, b, dc, ac, function, arguments, where, tuple(keywords))
 
 
 def _maybe(word: str, read: object) -> float | None:

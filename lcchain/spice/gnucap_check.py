@@ -219,7 +219,20 @@ def _source(card: SourceCard, function: tuple[str, tuple[float, ...]] | None, na
         arguments = arguments[:5]
     if most is not None and len(arguments) > most:
         raise _refuse(f"the source {card.name.upper()}: {kind.upper()} with {len(arguments)} arguments")
+    if kind == "pwl":
+        arguments = _steps_at_one_time(arguments)
     return f"{name} {a} {b} {kind}({' '.join(_word(v) for v in arguments)})"
+
+
+def _steps_at_one_time(pairs: tuple[float, ...]) -> tuple[float, ...]:
+    """A PWL's (time, value) pairs with a step written at one time: a point one rounding step before the next (a
+    repeated PWL's jump back, ngspice's value at the jump being the new one) is moved onto it, as gnucap refuses
+    two times that close ("PWL is out of order") and takes a step at one time."""
+    times, values = list(pairs[0::2]), pairs[1::2]
+    for k in range(len(times) - 1):
+        if times[k] < times[k + 1] <= math.nextafter(times[k], math.inf):
+            times[k] = times[k + 1]
+    return tuple(x for point in zip(times, values, strict=True) for x in point)
 
 
 def _columns(name: str, nodes: Mapping[str, str], renamed: Mapping[str, str],
