@@ -285,3 +285,42 @@ def test_a_scene_whose_every_mode_merges_reports_no_error_and_valid_json(tmp_pat
     sample = report["samples"][0]
     assert sample["max_rel_error_omega"] is None and sample["max_abs_error_P"] is None
     assert report["max_rel_error_omega"] is None and sample["modes_seen"] == 0
+
+
+@pytest.mark.ngspice
+def test_a_store_of_runs_whose_every_mode_merges_holds_no_error_of_zero(tmp_path, capsys) -> None:
+    # a Monte Carlo of a heavily damped circuit: its store says n/a, never an error of 0 (nothing was compared), and
+    # keeps what was measured, Y_11 against the exact admittance
+    import json
+
+    from lcchain.cli.main import main
+
+    scene = tmp_path / "damped.toml"
+    scene.write_text('[chain]\ncase = "two-mass"\nN = 12\n[effects.capacitor_esr]\nR = 2.0\n[effects.tolerance]\n'
+                     'L = 0.05\nC = 0.05\nsamples = 2\n[analysis]\nkind = "ac"\n[output]\nplots = []\n')
+    store = tmp_path / "s.sqlite"
+    assert main(["sweep", str(scene), "--samples", "2", "--store", str(store), "--executor", "serial"]) == 0
+    capsys.readouterr()
+    assert main(["results", str(store)]) == 0
+    rows = [line.split() for line in capsys.readouterr().out.splitlines() if line.split()[:2] in (["0", "ok"],
+                                                                                                  ["1", "ok"])]
+    assert len(rows) == 2 and all(row[4:7] == ["0", "n/a", "n/a"] for row in rows)
+    assert main(["results", str(store), "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    for run in data["runs"] if isinstance(data, dict) else data:
+        assert run["max_rel_error_omega"] is None and run["max_abs_error_P"] is None and run["modes_seen"] == 0
+        assert run["max_rel_error_Y11"] < RTOL_ENVELOPE_Y11
+    assert main(["results", str(store), "--summary", "--metric", "omega"]) == 2
+    assert "compared no mode" in capsys.readouterr().err
+
+
+def test_side_by_side_is_refused_for_an_ac_scene_before_it_runs(tmp_path, capsys) -> None:
+    # its overlays are a transient's waveforms: an AC scene has none (it ended in an AssertionError after the run)
+    from lcchain.cli.main import main
+
+    scene = tmp_path / "ac.toml"
+    scene.write_text('[chain]\ncase = "two-mass"\nN = 8\n[analysis]\nkind = "ac"\n[output]\nplots = []\n')
+    assert main(["run", str(scene), "--side-by-side", str(tmp_path / "sbs.png")]) == 2
+    said = capsys.readouterr().err
+    assert "--side-by-side" in said and "transient scenes only" in said and "Traceback" not in said
+    assert not (tmp_path / "sbs.png").exists()

@@ -144,6 +144,8 @@ def format_number(value: object, digits: str = ".3g") -> str:
     """A table cell: blank for no value, never ``None`` or ``-0``."""
     if value is None:
         return ""
+    if isinstance(value, float) and value != value:  # nothing compared (every mode merged): no error
+        return "n/a"
     if isinstance(value, float):
         return format(value + 0.0 if value != 0 else 0.0, digits)
     return str(value)

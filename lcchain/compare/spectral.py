@@ -70,7 +70,8 @@ LOSSY_MAX_N = SPECTRUM_MAX_N
 
 #: The spectral metrics a store's runs hold (``lcchain results --metric``), with their units.
 SPECTRAL_METRICS = {"max_rel_error_omega": "relative", "max_abs_error_P": "absolute",
-                    "spacing_spread": "(max - min) / mean", "spacing_std": "std / mean", "modes_seen": "modes"}
+                    "spacing_spread": "(max - min) / mean", "spacing_std": "std / mean", "modes_seen": "modes",
+                    "max_rel_error_Y11": "relative"}  # Y_11 over the sweep: with losses that merge modes
 
 
 def lossy_range(modes: Modes) -> tuple[float, float]:
@@ -235,7 +236,9 @@ class SpectrumMetrics(FrozenArrays):
     @property
     def max_rel_error_omega(self) -> float:
         """Largest |omega - omega_theory| / omega_theory over the resolved modes (a zero mode: absolute); an unseen
-        resolved mode is an infinite error."""
+        resolved mode is an infinite error; NaN when no mode is resolved (every one merged: no error, not 0)."""
+        if not self.resolved.any():
+            return float("nan")
         return largest_relative_error(self.omega, self.omega_theory, self.resolved, self.omega_low)
 
     @property
@@ -267,8 +270,11 @@ class SpectrumMetrics(FrozenArrays):
 
     @property
     def max_abs_error_P(self) -> float:
-        """Largest |P - P_theory| over every mode not merged (an unseen one counts with P = 0)."""
-        return float(np.max(np.abs(self.P - self.P_theory)[self.compared], initial=0.0))
+        """Largest |P - P_theory| over every mode not merged (an unseen one counts with P = 0); NaN when every mode
+        is merged."""
+        if not self.compared.any():
+            return float("nan")
+        return float(np.max(np.abs(self.P - self.P_theory)[self.compared]))
 
     def spacings(self, theory: bool = False) -> np.ndarray:
         """delta omega_n = omega_{n+1} - omega_n between neighbouring resolved nonzero modes (NaN elsewhere, and

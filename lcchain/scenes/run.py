@@ -260,8 +260,7 @@ def _spectrum_record(index: int, chain: Chain, run: RunRecord) -> SampleRecord:
     record = _run_record(index, chain, run, run.run.netlist_sha256, run.run.points)
     spectrum = run.spectrum  # its SPECTRAL_METRICS, in their order, as its to_dict has them
     # NaN where nothing is compared (every mode merged by the losses): no error, not an error of 0
-    record.update({"max_rel_error_omega": spectrum.max_rel_error_omega if spectrum.resolved.any() else math.nan,
-                   "max_abs_error_P": spectrum.max_abs_error_P if spectrum.compared.any() else math.nan,
+    record.update({"max_rel_error_omega": spectrum.max_rel_error_omega, "max_abs_error_P": spectrum.max_abs_error_P,
                    "spacing_spread": spectrum.spacing_spread, "spacing_std": spectrum.spacing_std,
                    "modes_seen": spectrum.modes_seen})
     if spectrum.gamma is not None:  # losses: each mode's Q_n against omega_n Q

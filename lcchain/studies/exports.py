@@ -249,6 +249,9 @@ def table_rows(runs: list[StoredRun], *, chain: bool = True) -> list[LooseJSONOb
             from ..compare.spectral import SPECTRAL_METRICS  # with an AC run only: a batch starts without it
 
             row.update({name: _number(metrics.get(name)) for name in SPECTRAL_METRICS})
+            seen = metrics.get("modes_seen")
+            if isinstance(seen, int):  # a count: 0, not 0.0, in a CSV
+                row["modes_seen"] = seen
         values = run.measurements
         row.update({measurement_column(name, row): _number(values.get(name)) for name in measured})
         rows.append(row)

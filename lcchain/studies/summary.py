@@ -90,7 +90,8 @@ def _value(run: StoredRun, metric: str, measured: bool = False) -> float | None:
         arrivals = metrics.get("arrivals") or []
         metrics = arrivals[0] if arrivals else {}
     value = metrics.get(field)
-    return None if value is None else float(value)
+    # NaN: nothing compared (an AC run whose every mode merged), no value; an unseen mode's infinity stays
+    return None if value is None or value != value else float(value)
 
 
 def available_metrics(runs: list[StoredRun]) -> list[str]:
@@ -140,6 +141,11 @@ def check_metric(metric: str, runs: list[StoredRun], option: str = "--metric") -
                                  "runs the failed ones again)")
         raise ParameterError(option, metric, "a store with finished runs (none has finished yet: run the study's "
                              "command again to resume it)")
+    # AC runs (their spectral metrics) that compared nothing: their losses merged every mode
+    if metric in METRICS and any("modes_seen" in (run.metrics or {}) for run in finished):
+        raise ParameterError(option, metric, f"a metric with a value in this store: its {len(finished)} finished "
+                             "runs compared no mode (their losses merged every one: `lcchain results STORE --json` "
+                             "holds each run's Y_11 against the exact admittance, max_rel_error_Y11)")
     measures = f": --metric {' | '.join(measured)}, a .meas of the netlists" if measured else \
         " (a batch of netlists: `lcchain results STORE` shows each one's vectors, points and time)"
     raise ParameterError(option, metric, f"a store of runs with a theory to compare with; its {len(finished)} "
