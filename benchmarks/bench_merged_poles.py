@@ -60,10 +60,13 @@ def main() -> None:
                 modes = measurable(circuit_modes(theory.circuit, N, theory.time_unit, theory.impedance),
                                    float(np.max(sweep_omega(theory, record.run))))
                 metrics, merged, r = record.spectrum, merged_poles(modes), overlap(modes)
+                fitted = np.full(modes.N, np.nan)  # the fit's pole for every mode, merged or not (the metrics
+                assert metrics.fit is not None and metrics.seen is not None  # hold none for a merged one)
+                fitted[metrics.seen] = metrics.fit.omega
                 for n in range(modes.N):
                     if abs(modes.last[n]) * float(theory.chain.masses[0]) < 1e-6:
                         continue
-                    found = float(metrics.omega[n])
+                    found = float(fitted[n])
                     error = abs(found - modes.omega[n]) / (modes.omega[n] if modes.omega[n] > 0 else 1.0)
                     Q = modes.omega[n] / modes.gamma[n] if modes.gamma[n] > 0 else np.inf
                     rows.append((float(r[n]), float(Q), bool(np.isfinite(found)), error, bool(merged[n])))

@@ -207,6 +207,7 @@ def _with_parts(scene: Scene, parts: PartOverrides) -> Scene:
 
 def check_run(request: RunRequest) -> tuple[list[Scene], Outputs]:
     """Every scene file read and every output checked, before anything runs."""
+    from ..core.analyses import analysis_kind
     from ..report.files import FIGURE_FORMATS
     from ..scenes.load import load_scene
 
@@ -217,6 +218,11 @@ def check_run(request: RunRequest) -> tuple[list[Scene], Outputs]:
     scenes = [_with_parts(load_scene(path), request.parts) for path in request.scenes]  # every file checked first
     outputs = Outputs()
     outputs.check("--side-by-side", request.side_by_side, FIGURE_FORMATS)
+    swept = next((path for path, scene in zip(request.scenes, scenes, strict=True)
+                  if analysis_kind(scene.analysis.kind).swept), None)
+    if request.side_by_side is not None and swept is not None:  # its overlays are transients' waveforms
+        raise ParameterError("--side-by-side", request.side_by_side, f"transient scenes only ({swept} sweeps "
+                             "frequencies: its spectrum is drawn by its [output] plots)")
     for option, value in (("--netlist-out", request.netlist_out), ("--waveform-out", request.waveform_out)):
         if value == "":
             raise ParameterError(option, "", "a file name")

@@ -143,8 +143,8 @@ def _bound(data: LooseJSONObject, name: str) -> str:
 
 def _print_quality(data: LooseJSONObject) -> None:
     """``lcchain spectrum --Q``: each seen mode's Q_n beside omega_n Q, and the fitted response's error."""
-    if not any(mode["resolved"] for mode in data["modes"]):
-        return
+    if not any(mode["resolved"] and mode["omega_theory"] > 0 for mode in data["modes"]):  # no Q_n to compare (a
+        return  # circuit's zero mode alone: its other modes merged)
     print(f"{'n':>5} {'Q_n (circuit)':>19} {'Q_n (theory)':>19} {'rel. error':>10}")
     for mode in data["modes"]:
         if mode["Q"] is not None and mode["Q_theory"] is not None:

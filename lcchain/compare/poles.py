@@ -299,15 +299,16 @@ def merged_poles(theory: CircuitModes) -> np.ndarray:
     """Which of a circuit's modes its resistors merge past what its sweep resolves, bool per mode: said, not
     compared (:func:`compare_poles`), as a chain's (:func:`lcchain.compare.spectral.merged_modes`).
 
-    Mode n's pole p_n has the half-power half-width h_n = -Re p_n = gamma_n / 2; its band overlaps mode m's when
-    |p_n - p_m| < h_n + h_m (a chain's |omega_n - omega_m| < 1/Q, where every gamma is 1/Q).  Mode n is merged
-    when
+    Mode n's pole p_n has the half-power half-width h_n = -Re p_n (gamma_n / 2 for a resonance, gamma_n for a
+    real pole); its band overlaps mode m's when |p_n - p_m| < h_n + h_m (a chain's |omega_n - omega_m| < 1/Q,
+    where every gamma is 1/Q); two lossless poles have no band, and never overlap.  Mode n is merged when
 
     * its band overlaps another's and it rings less than :data:`MERGED_BELOW_Q` times (omega_n / gamma_n; a real
       pole, a decay and no ring, whenever it overlaps another pole);
     * or the two are closer than :data:`~lcchain.compare.spectral.LOSSY_GAP_Q` widths, |p_n - p_m| <
       LOSSY_GAP_Q (h_n + h_m), as close as a chain's fit separates modes;
-    * or its band reaches zero frequency, 0 < omega_n < gamma_n (a chain's 0 < omega_n Q < 1);
+    * or, a resonance, it reaches zero frequency as a chain's rule says, 0 < omega_n < gamma_n (a chain's
+      0 < omega_n Q < 1; its half-power band itself reaches zero below omega_n < gamma_n / sqrt(2));
     * or it is a free chain's translation (a pole at 0, undamped) and another mode's band reaches zero frequency
       (a real pole's, or one of those), which is then merged with it (a chain's translation "merges only with a
       mode within 1/Q of it").
@@ -318,7 +319,9 @@ def merged_poles(theory: CircuitModes) -> np.ndarray:
     half = 0.5 * gamma
     pole = np.where(omega == 0, -gamma, -half + 1j * np.sqrt(np.maximum((omega - half) * (omega + half), 0.0)))
     width = np.abs(pole.real)  # a real pole's band: |1/(j w + g)|^2 halves at w = g
-    apart = np.abs(pole[:, None] - pole[None, :]) / np.maximum(width[:, None] + width[None, :], 1e-300)
+    widths = width[:, None] + width[None, :]
+    apart = np.divide(np.abs(pole[:, None] - pole[None, :]), widths, out=np.full(widths.shape, np.inf),
+                      where=widths > 0)
     np.fill_diagonal(apart, np.inf)
     nearest = np.min(apart, axis=1, initial=np.inf)
     damped = omega < MERGED_BELOW_Q * gamma

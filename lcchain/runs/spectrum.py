@@ -281,7 +281,8 @@ class SpectrumReport:
     @property
     def max_rel_error_Q(self) -> float:
         """Largest |Q_circuit - Q_theory| / Q_theory over the resolved modes of nonzero frequency (NaN for a
-        lossless ladder, and when no mode is resolved); an unseen resolved mode is an infinite error."""
+        lossless ladder, and when none is resolved: every mode merged, or a circuit's zero mode alone); an unseen
+        resolved mode is an infinite error."""
         return self.metrics.max_rel_error_Q if self.resolved.any() else math.nan
 
     @property
@@ -370,7 +371,8 @@ class SpectrumReport:
             ("max rel. error of omega_n", _beside(self.max_rel_error_omega, bounds["reference_bound_omega"])),
             ("max abs. error of P_n", _beside(self.max_abs_error_P, bounds["reference_bound_P"]))]
         if self.lossy:
-            rows.append(("max rel. error of Q_n", _beside(self.max_rel_error_Q, bounds["reference_bound_Q"])))
+            rows.append(("max rel. error of Q_n", _beside(self.max_rel_error_Q, bounds["reference_bound_Q"],
+                                                          "no resolved mode rings")))
         if self.merged_modes.any():
             rows.append(("merged by the losses", merged_text(self.merged_modes)))
         if self.envelope_error is not None:
@@ -437,10 +439,10 @@ def _pole(omega: np.ndarray, gamma: np.ndarray) -> np.ndarray:
     return np.asarray(-half + 1j * np.sqrt((omega - half) * (omega + half) + 0j))
 
 
-def _beside(error: float, bound: float | None) -> str:
-    """An error with its reference's own bound beside it ("not compared" for NaN: no mode was)."""
+def _beside(error: float, bound: float | None, why: str = "every mode merged by the losses") -> str:
+    """An error with its reference's own bound beside it ("not compared" for NaN: no mode was, and why)."""
     if math.isnan(error):
-        return "not compared (every mode merged by the losses)"
+        return f"not compared ({why})"
     return f"{error:.3e}" + ("" if bound is None else f" (reference bound {bound:.1e})")
 
 
