@@ -577,12 +577,17 @@ SUBCKTS = """coil models as sub-circuits, one inside another
 L1 a mid {l}
 R1 mid b {rs}
 C1 a mid {cp}
+.subckt unused c
+.param rs = 1meg
+R9 c 0 {rs}
+.ends
 .ends
 .subckt pair a b
 .param half = {lv/2}
 X1 a m coil l={2*lv}
 X2 m b coil l={half} rs=0.5
 RG m gnd2 1k
+RH m gnd 1meg
 .ends
 V1 in 0 PULSE(0 1 0 10n 10n 1u 2u)
 XA in out pair
@@ -602,6 +607,7 @@ L2 m x2mid 5u
 R3 x2mid out 0.5
 C3 m x2mid 1p
 RG m gnd2 1k
+RH m 0 1meg
 R2 out 0 50
 C2 out 0 1n
 RG2 gnd2 0 10
@@ -614,13 +620,14 @@ FLATTENED = {"i(l.xa.x1.l1)": "i(l1)", "i(l.xa.x2.l1)": "i(l2)", "v(xa.m)": "v(m
 
 def test_a_subcircuit_is_flattened_as_ngspice_names_it() -> None:
     """Each instance's elements with ngspice 39's names (``l.xa.x1.l1``, node ``xa.x1.mid``), its ports wired to
-    the instance's nodes, a .global node shared, its values read in its own scope (an instance's parameters over
-    the .subckt card's defaults, a body's .param over the netlist's): the same response as the circuit written
-    flat by hand."""
+    the instance's nodes, a .global node and ground (``gnd`` too) shared, its values read in its own scope (an
+    instance's parameters over the .subckt card's defaults, a body's .param over the netlist's, a nested
+    definition's .param its own): the same response as the circuit written flat by hand."""
     cards = read_cards(allowed_netlist(SUBCKTS, "netlist", None))
     by_name = {card.name: card for card in cards.elements}
     assert set(by_name) == {"v1", "l.xa.x1.l1", "r.xa.x1.r1", "c.xa.x1.c1", "l.xa.x2.l1", "r.xa.x2.r1",
-                            "c.xa.x2.c1", "r.xa.rg", "r2", "c2", "rg2"}
+                            "c.xa.x2.c1", "r.xa.rg", "r.xa.rh", "r2", "c2", "rg2"}
+    assert by_name["r.xa.rh"].b == "gnd"  # ground inside a sub-circuit, as ngspice reads "gnd"
     coil, second = by_name["l.xa.x1.l1"], by_name["l.xa.x2.l1"]
     assert (coil.a, coil.b) == ("in", "xa.x1.mid") and (second.a, second.b) == ("xa.m", "xa.x2.mid")
     assert coil.value == pytest.approx(20e-6, rel=RTOL_ONE_OPERATION)  # {2*lv}

@@ -31,7 +31,7 @@ from .expressions import (
     param_assignments,
     param_values,
 )
-from .text import logical_lines, parse_options, spice_number
+from .text import GROUND_NODES, logical_lines, parse_options, spice_number
 
 __all__ = ["ElementCard", "SourceCard", "CouplingCard", "OtherCard", "NetlistCards", "read_cards",
            "SOURCE_FUNCTION_NAMES"]
@@ -293,9 +293,12 @@ class _Flattening:
             given = {key: evaluate_expression(text, scope, where, card, self.functions) for key, text in found.params}
             header = definition.header
             defined = {key: (text, definition.where, definition.line) for key, text in header.params}
+            depth_here = 0
             for number, line in definition.body:  # the body's own .param cards (its nested definitions' are theirs)
                 words = line.split(None, 1)
-                if words and is_param_card(words[0]):
+                command = command_of(words[0].lower()) if words else None
+                depth_here += (command == ".subckt") - (command == ".ends" and depth_here > 0)
+                if words and is_param_card(words[0]) and not depth_here:
                     at = f"{where.split(': line')[0]}: line {number}"
                     defined |= {key: (text, at, line) for key, text in
                                 param_assignments(words[1] if len(words) > 1 else "", at, line)}
@@ -306,8 +309,8 @@ class _Flattening:
             return
         ports = dict(zip(header.nodes, (node(n) for n in found.nodes), strict=True))
 
-        def inside(n: str) -> str:
-            return ports.get(n) or (n if n == "0" or n in self.globals else f"{inner}.{n}")
+        def inside(n: str) -> str:  # ground ("0", and "gnd" as ngspice reads it) is everywhere one node
+            return ports.get(n) or (n if n in GROUND_NODES or n in self.globals else f"{inner}.{n}")
 
         local = {**known, **_definitions(definition.body, where.split(": line")[0])}
         nested = 0
