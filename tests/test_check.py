@@ -748,3 +748,62 @@ def test_a_pwl_repeated_from_no_time_of_its_own_has_no_reference() -> None:
     text = "pwl\nV1 in 0 PWL(0 0.2 1u 1 2u 1 3u 0 R=1.5u)\nR1 in out 100\nC1 out 0 1n\n.tran 10n 10u\n.end\n"
     allowed = allowed_netlist(text, "netlist", None)
     assert "not one of its time points" in str(circuit_of(read_cards(allowed), analysis_of(allowed, "netlist")))
+
+
+# --------------------------------------------------------------------------- linear controlled sources
+
+CONTROLLED = """controlled sources, each linear
+V1 in 0 PULSE(0 1 0 100n 100n 1u 2u)
+R1 in a 1k
+C1 a 0 1n
+E1 b 0 a 0 2
+R3 b 0 1k
+V2 b c 0
+R4 c 0 1k
+F1 d 0 V2 3
+R5 d 0 100
+H1 e 0 V2 500
+R6 e 0 100
+G1 f 0 a 0 1m
+R7 f 0 1k
+G2 a 0 a 0 1m
+.tran 10n 4u
+.end
+"""
+
+
+def test_controlled_sources_are_the_relations_they_state() -> None:
+    """E: v(b) = 2 v(a); F: 3 i(V2) from d through it to ground, so v(d) = -300 i(V2); H: v(e) = 500 i(V2); G:
+    1 mA/V from f through it, v(f) = -v(a); and G2, a VCCS of a node's own voltage, is a resistor of 1 kohm."""
+    t = np.linspace(0.0, 4e-6, 81)
+    v_a, v_b, v_d, v_e, v_f, i_v2 = _reference(CONTROLLED, ["v(a)", "v(b)", "v(d)", "v(e)", "v(f)", "i(v2)"], t)
+    scale = np.max(np.abs(v_b))
+    for found, expected in ((v_b, 2 * v_a), (v_d, -300 * i_v2), (v_e, 500 * i_v2), (v_f, -v_a)):
+        np.testing.assert_allclose(found, expected, rtol=0, atol=RTOL_EXACT * scale)
+    as_resistor = CONTROLLED.replace("G2 a 0 a 0 1m", "R8 a 0 1k")
+    np.testing.assert_allclose(v_a, _reference(as_resistor, ["v(a)"], t)[0], rtol=0, atol=RTOL_EXACT * scale)
+    # priced as ngspice solves it: 7 nodes, and the branch currents of V1, V2, E1 and H1
+    from lcchain.spice.foreign import foreign_price
+
+    allowed = allowed_netlist(CONTROLLED, "netlist", None)
+    assert "11 unknowns" in foreign_price(allowed, analysis_of(allowed, "netlist"), 1).what
+
+
+@pytest.mark.ngspice
+def test_a_netlist_of_controlled_sources_is_checked() -> None:
+    result = check_text(CONTROLLED, "controlled.cir")
+    assert result.reference == ""
+    assert {"i(e1)", "i(h1)", "i(v2)", "v(d)", "v(e)", "v(f)"} <= {v.name for v in result.vectors}
+    for vector in result.vectors:
+        if vector.name != "v(in)":  # the source's node: exact in both
+            assert PREDICTION_BAND[0] <= vector.max_abs_error / vector.predicted_error <= PREDICTION_BAND[1]
+
+
+@pytest.mark.ngspice
+def test_a_nonlinear_controlled_source_runs_with_no_reference(tmp_path: Path, capsys) -> None:
+    text = CONTROLLED.replace("E1 b 0 a 0 2", "E1 b 0 poly(1) a 0 0 2 0.1")
+    assert "nonlinear form" in str(circuit_of(read_cards(allowed_netlist(text, "netlist", None)),
+                                              analysis_of(allowed_netlist(text, "netlist", None), "netlist")))
+    path = _write(tmp_path, CONTROLLED)
+    assert main(["check", str(path), "--engine", "gnucap"]) == 2  # gnucap's copy writes no controlled source
+    assert "the controlled source E1" in capsys.readouterr().err

@@ -63,7 +63,7 @@ import scipy  # submodules load on first use
 from ..core.blas import fixed_blas_threads
 from ..core.errors import ParameterError
 
-__all__ = ["Term", "Waveform", "Branch", "Coupling", "Source", "LinearCircuit", "LinearResponse",
+__all__ = ["Controlled", "Term", "Waveform", "Branch", "Coupling", "Source", "LinearCircuit", "LinearResponse",
            "linear_response", "pwl_waveform", "PulseSource", "pulse_waveform", "sin_waveform", "exp_waveform",
            "GROUND_NAMES", "MAX_ROUNDING", "circuit_unknowns", "linear_cost"]
 
@@ -73,6 +73,7 @@ GROUND_NAMES = frozenset({"0", "gnd"})
 MAX_ROUNDING = 5e-10
 BranchKind = Literal["R", "L", "C"]
 SourceKind = Literal["V", "I"]
+ControlledKind = Literal["E", "F", "G", "H"]
 #: Time points evaluated at once (a modes x chunk block of complex exponentials).
 _CHUNK = 1024
 #: What :func:`linear_response` and an evaluation of it cost (measured on this machine, idle, lumped lines of 25
@@ -89,9 +90,11 @@ _DENSE_MATRICES = 8
 def circuit_unknowns(circuit: LinearCircuit) -> int:
     """The size of the circuit's descriptor system: its nodes but ground, its coils and its voltage sources (what
     :func:`linear_response` solves densely)."""
-    ends = [(b.a, b.b) for b in circuit.branches] + [(s.a, s.b) for s in circuit.sources]
+    ends = [(b.a, b.b) for b in circuit.branches] + [(s.a, s.b) for s in circuit.sources] + [
+        (x.a, x.b) for x in circuit.controlled] + [(x.c, x.d) for x in circuit.controlled if x.kind in "EG"]
     nodes = {label for pair in ends for label in pair} - GROUND_NAMES
-    return len(nodes) + sum(b.kind == "L" for b in circuit.branches) + sum(s.kind == "V" for s in circuit.sources)
+    return len(nodes) + sum(b.kind == "L" for b in circuit.branches) + sum(s.kind == "V" for s in circuit.sources) \
+        + sum(x.kind in "EH" for x in circuit.controlled)
 
 
 def linear_cost(unknowns: int, points: float, vectors: int) -> tuple[float, float]:
@@ -194,15 +197,32 @@ class Source:
 
 
 @dataclass(frozen=True)
+class Controlled:
+    """A linear controlled source from ``a`` to ``b``: ``E`` v(a) - v(b) = gain (v(c) - v(d)); ``G`` a current
+    gain (v(c) - v(d)) from a through it to b; ``F`` a current gain i(control) and ``H`` v(a) - v(b) =
+    gain i(control), ``control`` a voltage source of the circuit (ngspice's ``i(vname)``)."""
+
+    kind: ControlledKind
+    name: str
+    a: str
+    b: str
+    gain: float
+    c: str = ""
+    d: str = ""
+    control: str = ""
+
+
+@dataclass(frozen=True)
 class LinearCircuit:
     """A linear circuit (names lower case).  ``initial``: ``.ic`` node voltages; ``uic``: start from them and the
-    elements' ``IC=`` instead of the operating point."""
+    elements' ``IC=`` instead of the operating point; ``controlled``: its E, F, G and H sources."""
 
     branches: tuple[Branch, ...]
     sources: tuple[Source, ...] = ()
     couplings: tuple[Coupling, ...] = ()
     initial: tuple[tuple[str, float], ...] = ()
     uic: bool = False
+    controlled: tuple[Controlled, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -679,8 +699,11 @@ def _refuse(field_name: str, names: list[str], allowed: str) -> ParameterError:
 
 
 def _check_topology(circuit: LinearCircuit, nodes: set[str]) -> None:
-    v_edges = [(s.name, s.a, s.b) for s in circuit.sources if s.kind == "V"]
-    i_edges = [(s.name, s.a, s.b) for s in circuit.sources if s.kind == "I"]
+    # a controlled source fixes a voltage (E, H) or a current (G, F) between its nodes as a source does
+    v_edges = [(s.name, s.a, s.b) for s in circuit.sources if s.kind == "V"] + [
+        (x.name, x.a, x.b) for x in circuit.controlled if x.kind in "EH"]
+    i_edges = [(s.name, s.a, s.b) for s in circuit.sources if s.kind == "I"] + [
+        (x.name, x.a, x.b) for x in circuit.controlled if x.kind in "GF"]
     kinds = {kind: [(b.name, b.a, b.b) for b in circuit.branches if b.kind == kind] for kind in "RLC"}
     loop = _graph_loop(v_edges)
     if loop:
@@ -718,12 +741,14 @@ def _check_topology(circuit: LinearCircuit, nodes: set[str]) -> None:
 @fixed_blas_threads
 def linear_response(circuit: LinearCircuit) -> LinearResponse:
     """Assemble and solve the circuit (module docstring); a :class:`ParameterError` names what is not well posed."""
-    names = [e.name for e in circuit.branches] + [s.name for s in circuit.sources]
+    names = [e.name for e in circuit.branches] + [s.name for s in circuit.sources] + [
+        x.name for x in circuit.controlled]
     if len(set(names)) != len(names):
         twice = sorted({n for n in names if names.count(n) > 1})
         raise _refuse("element names", twice, "each element named once")
     nodes: list[str] = []
-    ends = [(e.a, e.b) for e in circuit.branches] + [(s.a, s.b) for s in circuit.sources]
+    ends = [(e.a, e.b) for e in circuit.branches] + [(s.a, s.b) for s in circuit.sources] + [
+        (x.a, x.b) for x in circuit.controlled] + [(x.c, x.d) for x in circuit.controlled if x.kind in "EG"]
     for pair in ends:
         for label in pair:
             if label not in GROUND_NAMES and label not in nodes:
@@ -737,7 +762,9 @@ def linear_response(circuit: LinearCircuit) -> LinearResponse:
     coils = [b for b in circuit.branches if b.kind == "L"]
     volts = [s for s in circuit.sources if s.kind == "V"]
     index = {f"v:{node}": k for k, node in enumerate(nodes)}
-    for k, label in enumerate([*(c.name for c in coils), *(v.name for v in volts)]):
+    voltage_controlled = [x for x in circuit.controlled if x.kind in "EH"]  # each with its branch current
+    for k, label in enumerate([*(c.name for c in coils), *(v.name for v in volts),
+                               *(x.name for x in voltage_controlled)]):
         index[f"i:{label}"] = len(nodes) + k
     n = len(index)
     E, A = np.zeros((n, n)), np.zeros((n, n))
@@ -786,12 +813,43 @@ def linear_response(circuit: LinearCircuit) -> LinearResponse:
             for node, sign in ((a, -1.0), (b, 1.0)):
                 if node is not None:
                     B[node, j] += sign
+    _stamp_controlled(circuit, index, {v.name for v in volts}, at, A)
     if circuit.couplings and np.min(np.linalg.eigvalsh(E[len(nodes):len(nodes) + len(coils),
                                                          len(nodes):len(nodes) + len(coils)])) <= 0:
         raise ParameterError("K", "the coupled coils", "an inductance matrix that is positive definite (the "
                              "couplings of three or more coils can make it indefinite)")
     poles, right, project = _modes(E, A, nodes)
     return LinearResponse(circuit, tuple(nodes), E, A, B, poles, right, project, index, int(poles.size), n)
+
+
+def _stamp_controlled(circuit: LinearCircuit, index: dict[str, int], volts: set[str],
+                      at: Callable[[str], int | None], A: np.ndarray) -> None:
+    """The controlled sources' terms of A (their equations have no derivative): a row of each KCL holds minus the
+    currents leaving its node; E and H add a row v(a) - v(b) - (their control) = 0 for their branch current."""
+    for source in circuit.controlled:
+        if not math.isfinite(source.gain):
+            raise ParameterError(source.name.upper(), source.gain, "a finite gain")
+        a, b = at(source.a), at(source.b)
+        if source.kind in "FH":
+            if source.control not in volts:
+                raise ParameterError(source.name.upper(), source.control.upper(), "the name of a voltage source "
+                                     "of the netlist, whose current controls it")
+            control = [(index[f"i:{source.control}"], 1.0)]
+        else:
+            control = [(k, sign) for k, sign in ((at(source.c), 1.0), (at(source.d), -1.0)) if k is not None]
+        if source.kind in "GF":  # gain x control flows from a through the source to b
+            for node, sign in ((a, 1.0), (b, -1.0)):
+                if node is not None:
+                    for k, weight in control:
+                        A[node, k] -= sign * source.gain * weight
+            continue
+        row = index[f"i:{source.name}"]
+        for node, sign in ((a, 1.0), (b, -1.0)):
+            if node is not None:
+                A[node, row] -= sign
+                A[row, node] += sign
+        for k, weight in control:
+            A[row, k] -= source.gain * weight
 
 
 def _modes(E: np.ndarray, A: np.ndarray, nodes: list[str]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

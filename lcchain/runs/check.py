@@ -36,6 +36,7 @@ from ..core.budget import Budget, Estimate
 from ..core.errors import ParameterError
 from ..core.json import JSONDict
 from ..spice.element_values import (
+    ControlledCard,
     CouplingCard,
     ElementCard,
     NetlistCards,
@@ -264,13 +265,14 @@ def _waveform(card: SourceCard, analysis: Transient | Sweep) -> Waveform | str:
 def circuit_of(cards: NetlistCards, analysis: Transient | Sweep) -> LinearCircuit | str:
     """The :class:`lcchain.circuit.linear.LinearCircuit` of the cards, or the reason there is none (a string:
     ``"nonlinear: D1"``, ``"source V2: SFFM"``)."""
-    from ..circuit.linear import Branch, Coupling, LinearCircuit, Source
+    from ..circuit.linear import Branch, Controlled, Coupling, LinearCircuit, Source
 
-    branches, sources, couplings = [], [], []
+    branches, sources, couplings, controlled = [], [], [], []
     for card in cards.elements:
         if isinstance(card, OtherCard):
-            kind = {"B": "behavioural source", "X": "sub-circuit"}.get(
-                card.letter, "nonlinear" if card.letter in "DQMJSWZ" else "not modelled")
+            kind = {"B": "behavioural source", "X": "sub-circuit"}.get(card.letter, "nonlinear" if card.letter in
+                                                                       "DQMJSWZ" else "controlled source"
+                                                                       if card.letter in "EFGH" else "not modelled")
             return f"{kind}: {card.name.upper()}" + (f" ({card.why})" if card.why else "")
         if isinstance(card, ElementCard):
             keywords = dict(card.keywords)
@@ -283,6 +285,9 @@ def circuit_of(cards: NetlistCards, analysis: Transient | Sweep) -> LinearCircui
                                    keywords.get("ic")))
         elif isinstance(card, CouplingCard):
             couplings.append(Coupling(card.name, card.first, card.second, card.k))
+        elif isinstance(card, ControlledCard):
+            controlled.append(Controlled(card.letter, card.name, card.a, card.b,  # type: ignore[arg-type]
+                                         card.gain, card.c, card.d, card.control))
         else:
             waveform = _waveform(card, analysis)
             if isinstance(waveform, str):
@@ -290,7 +295,8 @@ def circuit_of(cards: NetlistCards, analysis: Transient | Sweep) -> LinearCircui
             phase = math.radians(card.ac[1])
             sources.append(Source(card.letter, card.name, card.a, card.b, waveform,  # type: ignore[arg-type]
                                   card.ac[0] * complex(math.cos(phase), math.sin(phase))))
-    return LinearCircuit(tuple(branches), tuple(sources), tuple(couplings), cards.initial, cards.uic)
+    return LinearCircuit(tuple(branches), tuple(sources), tuple(couplings), cards.initial, cards.uic,
+                         tuple(controlled))
 
 
 # --------------------------------------------------------------------------- the check

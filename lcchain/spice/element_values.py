@@ -33,7 +33,7 @@ from .expressions import (
 )
 from .text import GROUND_NODES, logical_lines, parse_options, spice_number
 
-__all__ = ["ElementCard", "SourceCard", "CouplingCard", "OtherCard", "NetlistCards", "read_cards",
+__all__ = ["ElementCard", "SourceCard", "CouplingCard", "ControlledCard", "OtherCard", "NetlistCards", "read_cards",
            "SOURCE_FUNCTION_NAMES"]
 
 #: The keywords a PWL may end with in ngspice 39: ``R=`` the time its repetition starts from, ``TD=`` its delay.
@@ -88,6 +88,28 @@ class CouplingCard:
 
 
 @dataclass(frozen=True)
+class ControlledCard:
+    """A linear controlled source from ``a`` to ``b`` (lower case): ``E`` (VCVS) and ``G`` (VCCS) with their
+    controlling nodes ``c`` and ``d``; ``F`` (CCCS) and ``H`` (CCVS) with the voltage source whose current
+    controls them, ``control``; ``gain`` in V/V, A/V, A/A or V/A."""
+
+    letter: str
+    name: str
+    a: str
+    b: str
+    gain: float
+    c: str = ""
+    d: str = ""
+    control: str = ""
+    where: str = ""
+
+
+#: Words after a controlled source's nodes that make it one of ngspice's nonlinear forms (behavioural, polynomial,
+#: table, Laplace): no exact reference.
+_NONLINEAR_FORMS = ("value", "poly", "table", "vol", "cur", "laplace", "freq")
+
+
+@dataclass(frozen=True)
 class OtherCard:
     """An element this module does not read as numbers: its name (lower case) and why."""
 
@@ -102,7 +124,7 @@ class NetlistCards:
     """Everything :func:`read_cards` read: the element cards in order, the ``.ic`` node voltages, the ``.tran``
     card's ``uic`` flag, and the options (``method``...)."""
 
-    elements: tuple[ElementCard | SourceCard | CouplingCard | OtherCard, ...]
+    elements: tuple[ElementCard | SourceCard | CouplingCard | ControlledCard | OtherCard, ...]
     initial: tuple[tuple[str, float], ...] = ()
     uic: bool = False
     options: tuple[tuple[str, str], ...] = field(default=())
@@ -161,7 +183,7 @@ def read_cards(text: str, source: str = "netlist") -> NetlistCards:
         params = param_values(definitions, functions=functions)
     except ParameterError:  # a .param lcchain cannot evaluate: the elements that use it say so
         params = {}
-    elements: list[ElementCard | SourceCard | CouplingCard | OtherCard] = []
+    elements: list[ElementCard | SourceCard | CouplingCard | ControlledCard | OtherCard] = []
     initial: list[tuple[str, float]] = []
     uic = False
     block = ""  # inside a .control or .subckt block (a netlist run as it is): not the circuit's own cards
@@ -271,7 +293,7 @@ class _Flattening:
     definitions: dict[str, _Definition]
     globals: frozenset[str]
     netlist: dict[str, float]
-    out: list[ElementCard | SourceCard | CouplingCard | OtherCard]
+    out: list[ElementCard | SourceCard | CouplingCard | ControlledCard | OtherCard]
     functions: UserFunctions
 
     def instance(self, card: str, where: str, scope: dict[str, float], path: str, node: Callable[[str], str],
@@ -337,19 +359,23 @@ def _flat_name(name: str, path: str) -> str:
     return f"{name[0]}.{path}.{name}" if path else name
 
 
-def _renamed(card: ElementCard | SourceCard | CouplingCard | OtherCard, path: str, node: Callable[[str], str]
-             ) -> ElementCard | SourceCard | CouplingCard | OtherCard:
+def _renamed(card: ElementCard | SourceCard | CouplingCard | ControlledCard | OtherCard, path: str,
+             node: Callable[[str], str]) -> ElementCard | SourceCard | CouplingCard | ControlledCard | OtherCard:
     """A card of a sub-circuit's body as the flattened circuit has it: its name, its nodes, a coupling's coils."""
     if isinstance(card, ElementCard | SourceCard):
         return replace(card, name=_flat_name(card.name, path), a=node(card.a), b=node(card.b))
     if isinstance(card, CouplingCard):
         return replace(card, name=_flat_name(card.name, path), first=_flat_name(card.first, path),
                        second=_flat_name(card.second, path))
+    if isinstance(card, ControlledCard):  # its controlling source is the sub-circuit's own
+        return replace(card, name=_flat_name(card.name, path), a=node(card.a), b=node(card.b),
+                       c=node(card.c) if card.c else "", d=node(card.d) if card.d else "",
+                       control=_flat_name(card.control, path) if card.control else "")
     return replace(card, name=_flat_name(card.name, path))
 
 
 def _element(card: str, params: dict[str, float], where: str, line: str, functions: UserFunctions | None = None
-             ) -> ElementCard | SourceCard | CouplingCard | OtherCard:
+             ) -> ElementCard | SourceCard | CouplingCard | ControlledCard | OtherCard:
     words = _words(card)
     letter, name = words[0][0].upper(), words[0].lower()
 
@@ -384,7 +410,27 @@ def _element(card: str, params: dict[str, float], where: str, line: str, functio
         return CouplingCard(name, words[1].lower(), words[2].lower(), value_of(words[3], "the coefficient"), where)
     if letter in "VI":
         return _source(words, letter, name, value_of, where)
+    if letter in "EFGH":
+        return _controlled(words, letter, name, value_of, where)
     return OtherCard(letter, name, "", where)
+
+
+def _controlled(words: list[str], letter: str, name: str, value_of: Callable[[str, str], float], where: str
+                ) -> ControlledCard | OtherCard:
+    """``Ename A B C D GAIN``, ``Gname A B C D GAIN``, ``Fname A B VNAME GAIN``, ``Hname A B VNAME GAIN``; any other
+    form (``value=``, ``poly``, ``table``...) is ngspice's nonlinear one: an :class:`OtherCard`."""
+    rest = [w.lower() for w in words[3:]]
+    if any(w.split("=", 1)[0] in _NONLINEAR_FORMS or w.startswith(_NONLINEAR_FORMS) for w in rest):
+        return OtherCard(letter, name, "a nonlinear form (value, poly, table...)", where)
+    a, b = words[1].lower(), words[2].lower()
+    if letter in "EG" and len(words) == 6:
+        return ControlledCard(letter, name, a, b, value_of(words[5], "the gain"), words[3].lower(), words[4].lower(),
+                              where=where)
+    if letter in "FH" and len(words) == 5:
+        return ControlledCard(letter, name, a, b, value_of(words[4], "the gain"), control=words[3].lower(),
+                              where=where)
+    return OtherCard(letter, name, f"{len(words) - 1} words (a linear {letter} source has "
+                     f"{5 if letter in 'EG' else 4})", where)
 
 
 def _source(words: list[str], letter: str, name: str, value_of: object, where: str) -> SourceCard | OtherCard:

@@ -17,9 +17,10 @@ Allowed
   command, nor ``*ng_script``); an inline comment after ``;`` or `` $`` is
   dropped;
 * element lines whose first letter is one of :data:`ELEMENTS` (R, L, C, K,
-  V, I, the behavioural source B that lcchain's own pulses use, the devices
-  D, Q, M, J, S, W and sub-circuit instances X), written in
-  :data:`_CHARACTERS` (no quotes, backslashes or control characters);
+  V, I, the controlled sources E, F, G, H, the behavioural source B that
+  lcchain's own pulses use, the devices D, Q, M, J, S, W and sub-circuit
+  instances X), written in :data:`_CHARACTERS` (no quotes, backslashes or
+  control characters);
 * the dot-commands of :data:`DOT_COMMANDS`, the word matched whole:
   ``.tran``, ``.ac``, ``.options`` with the names of :data:`OPTIONS`,
   ``.save``, ``.ic``, ``.nodeset`` (a guess for the operating point's solver, nothing more), ``.end``;
@@ -140,9 +141,11 @@ __all__ = ["ALLOW_CONTROL_HINT", "ELEMENTS", "DOT_COMMANDS", "SUBCKT_COMMANDS", 
            "foreign_estimate", "foreign_price", "ForeignRun", "read_foreign", "includes_nothing"]
 
 #: First letters of the element lines lcchain runs: resistors, inductors, capacitors, coupled inductors,
-#: independent voltage and current sources, behavioural sources (lcchain's own gaussian pulses), the devices of a
-#: ``.model`` (diodes, BJTs, MOSFETs, JFETs, voltage- and current-controlled switches) and sub-circuit instances.
-ELEMENTS = frozenset("RLCKVIBDQMJSWX")
+#: independent voltage and current sources, controlled sources (voltage- and current-controlled, E G F H: numbers
+#: and expressions of numbers, as a behavioural source's), behavioural sources (lcchain's own gaussian pulses), the
+#: devices of a ``.model`` (diodes, BJTs, MOSFETs, JFETs, voltage- and current-controlled switches) and
+#: sub-circuit instances.
+ELEMENTS = frozenset("RLCKVIEFGHBDQMJSWX")
 #: Dot-commands run as they are (the word matched whole, in any case, except those ngspice 39 reads by their start:
 #: ``.param``, ``.ends``, ``.model``, ``.func``, ``.global``, :func:`lcchain.spice.cards.command_of`); the includes
 #: are inlined.

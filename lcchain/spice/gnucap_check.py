@@ -48,7 +48,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from ..core.errors import ParameterError
-from .element_values import CouplingCard, ElementCard, NetlistCards, OtherCard, SourceCard
+from .element_values import ControlledCard, CouplingCard, ElementCard, NetlistCards, OtherCard, SourceCard
 from .gnucap import AC_DIGITS, DTMIN_FRACTION, GMIN, MAX_OUTPUT_BYTES, SOURCE_RESISTANCE, VOLTAGE_LIMIT, _run_child
 from .gnucap_table import TITLE, read_ac_table, read_table
 from .job import TransportJob
@@ -156,6 +156,9 @@ def check_netlist(cards: NetlistCards, functions: Mapping[str, tuple[str, tuple[
     for card in cards.elements:
         if isinstance(card, OtherCard):
             raise _refuse(f"the element {card.name.upper()}")
+        if isinstance(card, ControlledCard):  # its current's sign and Kirchhoff's law through it: not read here
+            raise _refuse(f"the controlled source {card.name.upper()} (lcchain writes gnucap's copy of R, L, C, K, "
+                          "V and I cards)")
         if isinstance(card, ElementCard):
             keywords = dict(card.keywords)
             if "ic" in keywords:

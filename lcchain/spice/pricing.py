@@ -676,6 +676,12 @@ def _tally(scope: _Scope, top: bool, params: dict[str, float], models: dict[str,
             if "{" in line:
                 expression += sum(len(group) for group in _BRACES.findall(line))
             continue
+        if letter in "EFGH" and len(words) >= 3:  # controlled: its nodes (E, G: its controlling ones too), and
+            nodes.update(w.lower() for w in words[1:5 if letter in "EG" and len(words) > 5 else 3])  # E, H: a
+            branches += letter in "EH"  # branch current
+            if "{" in line:
+                expression += sum(len(group) for group in _BRACES.findall(line))
+            continue
         if letter not in "RLCVIB" or len(words) < 3:
             continue
         a, b = words[1].lower(), words[2].lower()
