@@ -807,3 +807,64 @@ def test_a_nonlinear_controlled_source_runs_with_no_reference(tmp_path: Path, ca
     path = _write(tmp_path, CONTROLLED)
     assert main(["check", str(path), "--engine", "gnucap"]) == 2  # gnucap's copy writes no controlled source
     assert "the controlled source E1" in capsys.readouterr().err
+
+
+def test_the_help_of_check_and_batch_names_every_element_the_allow_list_takes(capsys) -> None:
+    from lcchain.spice.foreign import ELEMENTS
+
+    for command in ("check", "batch"):
+        assert main([command, "--help"]) == 0
+        said = " ".join(capsys.readouterr().out.split())
+        letters = said.split(" elements")[0].rsplit(":", 1)[-1].split()
+        assert set(ELEMENTS) - {"D", "Q", "M", "J", "S", "W", "X"} <= set(letters), (command, letters)
+
+
+def test_a_zero_argument_function_and_a_sub_circuits_own_function_are_called() -> None:
+    text = ("funcs\n.func rval() {2k}\n.subckt att a b\n.func half(x) {x/2}\nR1 a b {half(rval())}\n.ends\n"
+            "V1 in 0 SIN(0 1 100k)\nR0 in mid {rval()}\nX1 mid out att\nC1 out 0 1n\n.tran 10n 20u\n.end\n")
+    cards = read_cards(allowed_netlist(text, "netlist", None))
+    values = {card.name: card.value for card in cards.elements if isinstance(card, ElementCard)}
+    assert values["r0"] == 2000.0 and values["r.x1.r1"] == 1000.0
+
+
+def test_a_sub_circuits_param_stays_in_it_and_a_global_port_is_the_global_node() -> None:
+    # a body's .param is the body's (it took the netlist's name and value), and a port named like a .global node is
+    # that node, as ngspice 39 expands it (r.x1.r1 between vcc and o, whatever X1's first node)
+    text = ("scopes\n.param rv=1k\n.global vcc\n.subckt div a b\n.param rv=10\nR1 a b {rv}\n.ends\n"
+            ".subckt stage vcc out\nR2 vcc out 1k\n.ends\nVcc vcc 0 DC 5\nV1 in 0 SIN(0 1 100k)\nR0 in mid {rv}\n"
+            "X1 mid out div\nX2 in o stage\nR9 out 0 {rv}\nR8 o 0 1k\n.tran 10n 20u\n.end\n")
+    cards = read_cards(allowed_netlist(text, "netlist", None))
+    by_name = {card.name: card for card in cards.elements if isinstance(card, ElementCard)}
+    assert by_name["r0"].value == 1000.0 and by_name["r9"].value == 1000.0 and by_name["r.x1.r1"].value == 10.0
+    assert (by_name["r.x2.r2"].a, by_name["r.x2.r2"].b) == ("vcc", "o")
+
+
+def test_a_repeated_pwl_drives_the_circuit_as_the_same_pwl_written_out() -> None:
+    """Its repetitions are jumps at one time each (never two times a rounding apart, which left the modal solution
+    1.7e-4 off with a rounding estimate of 0.05): the response is the one of the waveform written out by hand."""
+    circuit = "R1 in a 100\nL1 a b 10u\nC1 b 0 1n\nR2 b 0 1k\n.tran 10n 15u\n.end\n"
+    repeated = f"pwl\nV1 in 0 PWL(0 0 1u 1 2u 1 3u 0) R=1u\n{circuit}"
+    points = "0 0 1u 1 2u 1 3u 0 " + " ".join(f"{3 + 2 * k}u 1 {4 + 2 * k}u 1 {5 + 2 * k}u 0" for k in range(6))
+    written = f"pwl\nV1 in 0 PWL({points})\n{circuit}"
+    t = np.array([2.5e-6, 4e-6, 7.5e-6, 10.2e-6, 14.9e-6])  # off the jumps
+    mine, theirs = _reference(repeated, ["v(b)", "i(l1)"], t), _reference(written, ["v(b)", "i(l1)"], t)
+    np.testing.assert_allclose(mine, theirs, rtol=0, atol=RTOL_EXACT)
+
+
+@pytest.mark.ngspice
+def test_a_capacitor_current_at_a_pulse_corner_is_compared_on_ngspices_side() -> None:
+    # the corner at TD + TR + PW is (TD + TR) + PW, as ngspice sums it: 3.5e-6 exactly, where ngspice takes a point
+    text = ("corner\nV1 in 0 PULSE(0 1 1u 0.5u 0.5u 2u 6u)\nC1 in 0 1n\nR1 in out 1k\nC2 out 0 1n\n"
+            ".tran 10n 8u\n.end\n")
+    current = next(v for v in check_text(text, "corner.cir").vectors if v.name == "i(v1)")
+    assert current.max_abs_error <= PREDICTION_BAND[1] * current.predicted_error
+
+
+@pytest.mark.ngspice
+def test_an_algebraic_circuit_through_a_large_gain_is_checked() -> None:
+    # a capacitor whose voltage H fixes through a gain of 1000: no state at all, and no "inconsistent initial state"
+    text = "h gain\nV1 a 0 SIN(0 1 1k)\nR1 a 0 1k\nH1 o 0 V1 1k\nRo o 0 1k\nCo o 0 1u\n.tran 10u 3m\n.end\n"
+    result = check_text(text, "hgain.cir")
+    assert result.reference == "" and result.states == 0
+    output = next(v for v in result.vectors if v.name == "v(o)")
+    assert output.max_abs_error < RTOL_EXACT * output.scale

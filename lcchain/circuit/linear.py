@@ -148,9 +148,12 @@ class Term:
 
 @dataclass(frozen=True)
 class Waveform:
-    """A source's value against time: segments (start, terms), the first starting at -inf (a DC value: one)."""
+    """A source's value against time: segments (start, terms), the first starting at -inf (a DC value: one).
+    ``after``: the times where it jumps and is already its new value (a repeated PWL's jump back, as ngspice 39
+    gives it at that very time); at any other breakpoint a time on it is the piece's that ends there."""
 
     segments: tuple[tuple[float, tuple[Term, ...]], ...]
+    after: frozenset[float] = frozenset()
 
     @staticmethod
     def constant(value: float) -> Waveform:
@@ -453,11 +456,14 @@ class LinearResponse:
         amplitude = self._amplitude(charge)
         # how large each amplitude's rounding may be: the projection's terms, not only its result
         spread = np.abs(self.project) @ np.abs(charge)
+        jumps_after = {b for source in self.circuit.sources for b in source.waveform.after}
         for k, start in enumerate(points):
             end = points[k + 1] if k + 1 < len(points) else math.inf
             # a time on a breakpoint belongs to the piece that ends there (the simulator's step arriving at it):
-            # what jumps there (a capacitor's current when a ramp turns) is compared as the simulator computes it
-            inside = ((t > start) | ((k == 0) & (t >= start))) & (t <= end)
+            # what jumps there (a capacitor's current when a ramp turns) is compared as the simulator computes it;
+            # but where a source jumps and already is its new value (a repeated PWL's), to the piece it starts
+            inside = ((t > start) | (((k == 0) | (start in jumps_after)) & (t >= start))) & (
+                (t < end) | ((t == end) & (end not in jumps_after)))
             tau = t[inside] - start
             if tau.size:
                 xp, _ = self._particular(terms, tau, answer, cs)
@@ -501,8 +507,11 @@ class LinearResponse:
         x0, _ = self._particular(terms, np.zeros(1), lambda s: s)
         charge = self.initial_charge() - self.E @ x0[:, 0].real
         back = (self.E @ (self.right @ self._amplitude(charge))).real
+        # against the charges a state of the particular solution's size holds too: where both charges are rounding
+        # (an algebraic circuit, its capacitor's voltage fixed by a source through a gain of 1000), their ratio is
+        # no measure of anything
         scale = max(float(np.linalg.norm(self.initial_charge())), float(np.linalg.norm(self.E @ x0[:, 0].real)),
-                    1e-300)
+                    float(np.linalg.norm(self.E)) * float(np.linalg.norm(x0[:, 0].real)), 1e-300)
         return float(np.linalg.norm(back - charge)) / scale
 
     # ----------------------------------------------------------------- AC
@@ -534,8 +543,9 @@ def _inputs(terms: list[list[tuple[complex, complex, int]]], tau: np.ndarray) ->
 # --------------------------------------------------------------------------- waveforms (ngspice 39's functions)
 
 
-def pwl_waveform(points: Sequence[tuple[float, float]]) -> Waveform:
-    """Straight lines between (time s, value) points; the first value before them, the last after."""
+def pwl_waveform(points: Sequence[tuple[float, float]], jumps_after: bool = False) -> Waveform:
+    """Straight lines between (time s, value) points; the first value before them, the last after; two points at
+    one time are a jump, the new value's from that time on with ``jumps_after`` (a repeated PWL's)."""
     segments: list[tuple[float, tuple[Term, ...]]] = [(-math.inf, (Term(points[0][1]),))]
     for (t0, v0), (t1, v1) in zip(points, points[1:], strict=False):
         if t1 > t0:
@@ -547,7 +557,9 @@ def pwl_waveform(points: Sequence[tuple[float, float]]) -> Waveform:
             merged[-1] = (start, terms)
         else:
             merged.append((start, terms))
-    return Waveform(tuple(merged))
+    after = frozenset(t0 for (t0, v0), (t1, v1) in zip(points, points[1:], strict=False) if t1 == t0 and v1 != v0) \
+        if jumps_after else frozenset()
+    return Waveform(tuple(merged), after)
 
 
 @dataclass(frozen=True)
@@ -592,6 +604,8 @@ def pulse_waveform(pulse: PulseSource, tstop: float) -> Waveform:
     v1, v2, delay, rise, fall, width, period, count = (pulse.v1, pulse.v2, pulse.delay, pulse.rise, pulse.fall,
                                                       pulse.width, pulse.period, pulse.count)
     points: list[tuple[float, float]] = [(0.0, v1)] if delay > 0 else []
+    # its corners summed from the start one after the other, as ngspice 39 places its breakpoints (TD + TR + PW is
+    # (TD + TR) + PW: 1u + 0.5u + 2u is 3.5e-6, where 1u + (0.5u + 2u) is one rounding step before it)
     shape = [(0.0, v1), (rise, v2), (rise + width, v2), (rise + width + fall, v1)]
     # a period shorter than the pulse cuts each pulse short (ngspice starts the next one from V1 at once)
     cut = 0.0 < period < rise + width + fall
@@ -602,7 +616,8 @@ def pulse_waveform(pulse: PulseSource, tstop: float) -> Waveform:
     start = delay
     k = 0
     while start <= tstop and (count is None or k < count):
-        period_points = [(start + at, value) for at, value in shape]
+        period_points = [(start + at, value) for at, value in shape] if cut else [
+            (start, v1), (start + rise, v2), (start + rise + width, v2), (start + rise + width + fall, v1)]
         if cut and k >= 2:  # ngspice's time k PER is the next pulse's start (floor(time / PER) = k), not the cut
             # pulse's end as at PER (time > PER is strict): the jump comes one rounding step before it
             before = math.nextafter(start, -math.inf)
@@ -612,7 +627,7 @@ def pulse_waveform(pulse: PulseSource, tstop: float) -> Waveform:
         k += 1
         if period <= 0 or not cut and period < rise + width + fall:
             break
-        start += period
+        start = delay + k * period  # each period's start as ngspice 39 takes it, not a sum of periods
     return pwl_waveform(points)
 
 

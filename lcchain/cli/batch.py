@@ -22,9 +22,9 @@ def add_parser(sub: Subcommands, budget: list[Parser]) -> None:
     p = sub.add_parser("batch", parents=budget, help="netlists lcchain did not write, checked, priced and run in a "
                        "sandbox, into a store")
     p.add_argument("netlist", nargs="*", metavar="NETLIST",
-                   help="netlist files: comments, R L C K V I B D Q M J S W X elements, .tran .ac .options .save "
-                        ".ic .param .meas .subckt/.ends .model .func .global .temp .op .dc .end and .include/.lib of "
-                        "files in the netlist's folder; any other line is refused")
+                   help="netlist files: comments, R L C K V I E F G H B D Q M J S W X elements, .tran .ac .options "
+                        ".save .ic .param .meas .subckt/.ends .model .func .global .temp .op .dc .end and "
+                        ".include/.lib of files in the netlist's folder; any other line is refused")
     p.add_argument("--from", dest="from_list", metavar="LIST",
                    help="also the netlists LIST names, one file name a line (blank lines skipped; - reads the names "
                         "from standard input): more netlists than a command line holds, e.g. find runs -name "

@@ -24,7 +24,8 @@ def add_parser(sub: Subcommands, budget: list[Parser]) -> None:
 
 def add_check_arguments(p: argparse.ArgumentParser, engines: tuple[str, ...]) -> None:
     p.add_argument("netlist", metavar="FILE", help="a netlist with one .tran or .ac analysis (the allow-list of "
-                   "lcchain batch: R L C K V I B elements, .param, .ic, .options, .save, .include in its folder)")
+                   "lcchain batch: R L C K V I E F G H B elements, X sub-circuits, .param, .func, .ic, .options, "
+                   ".save, .include in its folder)")
     p.add_argument("--accuracy", type=number_type("--accuracy"), default=None, metavar="A",
                    help="relative to each saved vector's scale (its exact reference's largest magnitude): exit 1 "
                         "when a vector's error exceeds it, and the step suggested is the one it needs (default: "

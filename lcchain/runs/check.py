@@ -230,13 +230,13 @@ def _pwl_written_out(name: str, values: list[float], keywords: dict[str, float],
         if len(points) + (math.ceil(repeats) + 1) * len(shape) > MAX_PWL_POINTS:
             return f"source {name}: PWL repeated {repeats:.3g} times before the stop time (more than " \
                    f"{MAX_PWL_POINTS} points)"
-        begin = points[-1][0]
-        while begin <= stop:
-            # at the time it starts again the source is already R's value (ngspice, measured): the last value
-            # holds until one rounding step before
-            points[-1] = (math.nextafter(begin, -math.inf), points[-1][1])
-            points += [(begin + at, v) for at, v in shape]
-            begin += period
+        begin, count = points[-1][0], 1
+        while begin <= stop:  # at that time the source already is R's value (ngspice, measured): a jump after
+            following = delay + times[-1] + count * period  # the k-th from the last point, not a sum of periods
+            # each repetition ends where the next begins, exactly: a jump at one time (_waveform's jumps_after),
+            # never two times one rounding apart (a slope of 1e20, which the modal solution cannot hold)
+            points += [(begin + at, v) for at, v in shape[:-1]] + [(following, shape[-1][1])]
+            begin, count = following, count + 1
     return "pwl", tuple(x for point in points for x in point)
 
 
@@ -259,7 +259,8 @@ def _waveform(card: SourceCard, analysis: Transient | Sweep) -> Waveform | str:
         return sin_waveform(*values)
     if function == "exp":
         return exp_waveform(*values)
-    return pwl_waveform(list(zip(values[0::2], values[1::2], strict=True)))
+    # a repeated PWL jumps back to R's value and already is it at that time, as ngspice 39 gives it
+    return pwl_waveform(list(zip(values[0::2], values[1::2], strict=True)), jumps_after="r" in dict(card.keywords))
 
 
 def circuit_of(cards: NetlistCards, analysis: Transient | Sweep) -> LinearCircuit | str:
@@ -286,6 +287,10 @@ def circuit_of(cards: NetlistCards, analysis: Transient | Sweep) -> LinearCircui
         elif isinstance(card, CouplingCard):
             couplings.append(Coupling(card.name, card.first, card.second, card.k))
         elif isinstance(card, ControlledCard):
+            if card.control and not any(isinstance(other, SourceCard) and other.letter == "V"
+                                        and other.name == card.control for other in cards.elements):
+                return (f"controlled source {card.name.upper()} ({card.where}): no voltage source "
+                        f"{card.control.upper()} whose current controls it")
             controlled.append(Controlled(card.letter, card.name, card.a, card.b,  # type: ignore[arg-type]
                                          card.gain, card.c, card.d, card.control))
         else:

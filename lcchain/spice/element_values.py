@@ -173,9 +173,12 @@ def read_cards(text: str, source: str = "netlist") -> NetlistCards:
     lines = logical_lines(text)[1:]  # the first line is the title
     functions = _functions(lines)
     definitions: dict[str, tuple[str, str, str]] = {}
+    depth = 0  # a .param inside a sub-circuit's body is the body's own (_Flattening reads it there)
     for number, line in lines:
         words = line.split(None, 1)
-        if words and is_param_card(words[0]):
+        command = command_of(words[0].lower()) if words else None
+        depth += (command == ".subckt") - (command == ".ends" and depth > 0)
+        if words and is_param_card(words[0]) and not depth:
             where = f"{source}: line {number}"
             for name, value in param_assignments(words[1] if len(words) > 1 else "", where, line):
                 definitions[name] = (value, where, line)
@@ -297,7 +300,8 @@ class _Flattening:
     functions: UserFunctions
 
     def instance(self, card: str, where: str, scope: dict[str, float], path: str, node: Callable[[str], str],
-                 depth: int, definitions: dict[str, _Definition] | None = None) -> None:
+                 depth: int, definitions: dict[str, _Definition] | None = None,
+                 functions: UserFunctions | None = None) -> None:
         name = card.split(None, 1)[0].lower()
         inner = f"{path}.{name}" if path else name
         known = self.definitions if definitions is None else definitions
@@ -312,7 +316,10 @@ class _Flattening:
             self.out.append(OtherCard("X", _flat_name(name, path), why, where))
             return
         try:
-            given = {key: evaluate_expression(text, scope, where, card, self.functions) for key, text in found.params}
+            calling = self.functions if functions is None else functions  # the functions where the instance is
+            given = {key: evaluate_expression(text, scope, where, card, calling) for key, text in found.params}
+            # the body's own .func, over those it sees from outside
+            own_functions = {**calling, **_functions(definition.body)}
             header = definition.header
             defined = {key: (text, definition.where, definition.line) for key, text in header.params}
             depth_here = 0
@@ -324,15 +331,18 @@ class _Flattening:
                     at = f"{where.split(': line')[0]}: line {number}"
                     defined |= {key: (text, at, line) for key, text in
                                 param_assignments(words[1] if len(words) > 1 else "", at, line)}
-            own = {**self.netlist, **param_values(defined, given, self.netlist, self.functions)}
+            own = {**self.netlist, **param_values(defined, given, self.netlist, own_functions)}
         except ParameterError as error:
             self.out.append(OtherCard("X", _flat_name(name, path), f"a parameter lcchain cannot evaluate ({error})",
                                       where))
             return
         ports = dict(zip(header.nodes, (node(n) for n in found.nodes), strict=True))
 
-        def inside(n: str) -> str:  # ground ("0", and "gnd" as ngspice reads it) is everywhere one node
-            return ports.get(n) or (n if n in GROUND_NODES or n in self.globals else f"{inner}.{n}")
+        def inside(n: str) -> str:  # ground ("0", "gnd") and a .global node are everywhere one node, a port of
+            # that name too (ngspice 39's expansion keeps them); then a port is the instance's node
+            if n in GROUND_NODES or n in self.globals:
+                return n
+            return ports.get(n) or f"{inner}.{n}"
 
         local = {**known, **_definitions(definition.body, where.split(": line")[0])}
         nested = 0
@@ -345,10 +355,10 @@ class _Flattening:
                 continue
             at = f"{where.split(': line')[0]}: line {number}"
             if head[0] == "x":
-                self.instance(stripped, at, own, inner, inside, depth + 1, local)
+                self.instance(stripped, at, own, inner, inside, depth + 1, local, own_functions)
                 continue
             try:
-                element = _element(stripped, own, at, line, self.functions)
+                element = _element(stripped, own, at, line, own_functions)
             except ParameterError:
                 element = OtherCard(head[0].upper(), head, "a value lcchain cannot evaluate: a model name...", at)
             self.out.append(_renamed(element, inner, inside))

@@ -288,7 +288,7 @@ class _Evaluator:
             return number
         if kind == "name" and self.peek() == "(":
             self.take("(")
-            arguments = [self.ternary()]
+            arguments = [] if self.peek() == ")" else [self.ternary()]  # a .func of no argument: rval()
             while self.peek() == ",":
                 self.take(",")
                 arguments.append(self.ternary())
