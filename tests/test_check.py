@@ -868,3 +868,10 @@ def test_an_algebraic_circuit_through_a_large_gain_is_checked() -> None:
     assert result.reference == "" and result.states == 0
     output = next(v for v in result.vectors if v.name == "v(o)")
     assert output.max_abs_error < RTOL_EXACT * output.scale
+
+
+def test_a_node_voltage_in_braces_is_refused_saying_what_it_is(tmp_path: Path, capsys) -> None:
+    path = _write(tmp_path, "x\nV1 a 0 SIN(0 1 1k)\nR1 a 0 1k\nE1 o 0 value={v(a)*2}\nRo o 0 1k\n.tran 10u 3m\n.end\n")
+    assert main(["check", str(path)]) == 2
+    said = capsys.readouterr().err
+    assert "not a;" in said and "behavioural value" in said and "Traceback" not in said

@@ -277,7 +277,10 @@ def _check_names(state: _Names) -> None:
     for card, used in state.uses:
         unknown = sorted(used - state.params)
         if unknown:
-            raise _refuse(card, f"expressions of names a .param defines (not {', '.join(unknown)})")
+            probed = re.search(r"\b[vi]\s*\(", card[2], re.IGNORECASE) is not None  # v(a) in braces: a node
+            raise _refuse(card, f"expressions of names a .param defines (not {', '.join(unknown)}" + (
+                "; a node's voltage or a branch's current in braces is a behavioural value, which --allow-control "
+                "runs as it is" if probed else "") + ")")
     for card, calls in state.calls:
         unknown = sorted(calls - set(state.functions))
         if unknown:
