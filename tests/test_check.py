@@ -875,3 +875,45 @@ def test_a_node_voltage_in_braces_is_refused_saying_what_it_is(tmp_path: Path, c
     assert main(["check", str(path)]) == 2
     said = capsys.readouterr().err
     assert "not a;" in said and "behavioural value" in said and "Traceback" not in said
+
+
+@pytest.mark.ngspice
+@pytest.mark.parametrize("circuit", [
+    "R1 in a 10k\nR2 a b 10k\nC1 a out 1n\nC2 b 0 1n\nE1 out 0 b 0 1\n",  # Sallen-Key, equal parts: a double pole
+    "R1 in a 1k\nL1 a 0 1u\nL2 a 0 2u\n",  # coils in a loop: no operating point, phasors all the same
+    "C1 in a 1n\nC2 a 0 2n\n",  # a node of capacitors only
+    "R2 in c 1meg\nC2 c 0 1p\nE1 e 0 c 0 1e6\nR4 e f 1\nC4 f 0 1m\n",  # ill-conditioned without equilibration
+])
+def test_an_ac_sweep_needs_no_operating_point_nor_modes(circuit: str, capsys) -> None:
+    result = check_text(f"ac\nV1 in 0 DC 0 AC 1\n{circuit}.ac dec 10 1k 1meg\n.end\n", "ac.cir")
+    assert result.reference == "" and result.max_rel_error is not None and result.max_rel_error < RTOL_EXACT
+    assert "warning" not in capsys.readouterr().err
+
+
+@pytest.mark.ngspice
+def test_a_vector_zero_by_symmetry_has_no_relative_error_of_its_own() -> None:
+    # a balanced bridge: the current through VD is rounding (1e-20 A); its scale is a millionth of the largest
+    # current, so neither it nor the step suggested for an accuracy is rounding's
+    text = ("bridge\nV1 in 0 SIN(0 1 100k)\nR1 in a 1k\nC1 a 0 1.3n\nR2 in b 2k\nC2 b 0 0.65n\nR3 a m 3.3k\nVD m b 0\n"
+            ".tran 10n 30u\n.end\n")
+    result = check_text(text, "bridge.cir", options=CheckOptions(accuracy=1e-3))
+    bridge = next(v for v in result.vectors if v.name == "i(vd)")
+    largest = max(v.scale for v in result.vectors if v.unit == "A" and v.scale is not None)
+    assert bridge.scale == pytest.approx(1e-6 * largest, rel=RTOL_ONE_OPERATION) and result.passed
+    assert result.suggested_step is not None and result.suggested_step > 1e-9
+
+
+def test_an_ic_of_ground_is_refused() -> None:
+    text = "ic\nR0 top 0 100\nC1 top 0 1n\n.ic v(gnd)=1\n.tran 1n 5u uic\n.end\n"
+    with pytest.raises(ParameterError, match="nodes other than ground"):
+        read_cards(allowed_netlist(text, "netlist", None))
+
+
+@pytest.mark.ngspice
+@pytest.mark.parametrize("pwl", ["PWL(0 0 1u 1 1u 0 2u 0) r=0", "PWL(0 0 1u 1 2u 0) R=-1"])
+def test_a_step_written_in_a_repeated_pwl_and_no_repetition_are_ngspices(pwl: str) -> None:
+    # a step of the PWL itself is its value before at that time (only a repetition's jump back is the new value);
+    # R=-1 repeats nothing
+    result = check_text(f"pwl\nV1 in 0 {pwl}\nR1 in x 1k\nC1 x 0 1n\n.tran 10n 10u\n.end\n", "pwl.cir")
+    source = next(v for v in result.vectors if v.name == "v(in)")
+    assert result.reference == "" and source.max_abs_error < RTOL_EXACT * source.scale

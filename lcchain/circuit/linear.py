@@ -53,7 +53,7 @@ from __future__ import annotations
 
 import math
 import warnings
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Collection, Sequence
 from dataclasses import dataclass, field
 from typing import Literal
 
@@ -526,7 +526,12 @@ class LinearResponse:
         y = np.zeros((len(outputs), np.size(frequency)), dtype=complex)
         for k, f in enumerate(np.asarray(frequency, dtype=float)):
             s = 2j * math.pi * f
-            x = scipy.linalg.solve(s * self.E - self.A, rhs)
+            try:  # equilibrated where LAPACK finds the system ill-conditioned (a gain of 1e6 beside 1 pF)
+                x = _solve_scaled(s * self.E - self.A, rhs)
+            except scipy.linalg.LinAlgWarning:  # still: solved as it is (the check against the engine says how
+                with warnings.catch_warnings():  # well), without a warning a frequency on the user's terminal
+                    warnings.simplefilter("ignore", scipy.linalg.LinAlgWarning)
+                    x = scipy.linalg.solve(s * self.E - self.A, rhs)
             y[:, k] = cs @ x + s * (ds @ x) + es @ u
         return y
 
@@ -543,9 +548,10 @@ def _inputs(terms: list[list[tuple[complex, complex, int]]], tau: np.ndarray) ->
 # --------------------------------------------------------------------------- waveforms (ngspice 39's functions)
 
 
-def pwl_waveform(points: Sequence[tuple[float, float]], jumps_after: bool = False) -> Waveform:
+def pwl_waveform(points: Sequence[tuple[float, float]], jumps_after: Collection[float] = ()) -> Waveform:
     """Straight lines between (time s, value) points; the first value before them, the last after; two points at
-    one time are a jump, the new value's from that time on with ``jumps_after`` (a repeated PWL's)."""
+    one time are a jump, its new value's from that time on at the times of ``jumps_after`` (a repeated PWL's
+    repetitions), the value before's at that time elsewhere."""
     segments: list[tuple[float, tuple[Term, ...]]] = [(-math.inf, (Term(points[0][1]),))]
     for (t0, v0), (t1, v1) in zip(points, points[1:], strict=False):
         if t1 > t0:
@@ -557,9 +563,7 @@ def pwl_waveform(points: Sequence[tuple[float, float]], jumps_after: bool = Fals
             merged[-1] = (start, terms)
         else:
             merged.append((start, terms))
-    after = frozenset(t0 for (t0, v0), (t1, v1) in zip(points, points[1:], strict=False) if t1 == t0 and v1 != v0) \
-        if jumps_after else frozenset()
-    return Waveform(tuple(merged), after)
+    return Waveform(tuple(merged), frozenset(jumps_after))
 
 
 @dataclass(frozen=True)
@@ -713,7 +717,7 @@ def _refuse(field_name: str, names: list[str], allowed: str) -> ParameterError:
     return ParameterError(field_name, " ".join(n.upper() for n in names), allowed)
 
 
-def _check_topology(circuit: LinearCircuit, nodes: set[str]) -> None:
+def _check_topology(circuit: LinearCircuit, nodes: set[str], operating_point: bool = True) -> None:
     # a controlled source fixes a voltage (E, H) or a current (G, F) between its nodes as a source does
     v_edges = [(s.name, s.a, s.b) for s in circuit.sources if s.kind == "V"] + [
         (x.name, x.a, x.b) for x in circuit.controlled if x.kind in "EH"]
@@ -728,6 +732,8 @@ def _check_topology(circuit: LinearCircuit, nodes: set[str]) -> None:
     if cut:
         raise _refuse("cutset of current sources", cut, "no cutset of current sources alone (the voltage across "
                       "it is undefined)")
+    if not operating_point:  # an AC sweep's phasors need neither an operating point nor a starting state
+        return
     if circuit.uic:
         loop = _graph_loop(v_edges + kinds["C"])
         if loop and any(name in {v[0] for v in v_edges} for name in loop):
@@ -754,8 +760,10 @@ def _check_topology(circuit: LinearCircuit, nodes: set[str]) -> None:
 
 
 @fixed_blas_threads
-def linear_response(circuit: LinearCircuit) -> LinearResponse:
-    """Assemble and solve the circuit (module docstring); a :class:`ParameterError` names what is not well posed."""
+def linear_response(circuit: LinearCircuit, ac: bool = False) -> LinearResponse:
+    """Assemble and solve the circuit (module docstring); a :class:`ParameterError` names what is not well posed.
+    ``ac``: for an AC sweep alone, which solves the phasors at each frequency: what only a transient needs (an
+    operating point, modes that are not defective) is not asked of it."""
     names = [e.name for e in circuit.branches] + [s.name for s in circuit.sources] + [
         x.name for x in circuit.controlled]
     if len(set(names)) != len(names):
@@ -773,7 +781,7 @@ def linear_response(circuit: LinearCircuit) -> LinearResponse:
     for element in circuit.branches:
         if not (math.isfinite(element.value) and element.value > 0):
             raise ParameterError(element.name.upper(), element.value, "a finite value > 0 (ohm, henry, farad)")
-    _check_topology(circuit, set(nodes))
+    _check_topology(circuit, set(nodes), operating_point=not ac)
     coils = [b for b in circuit.branches if b.kind == "L"]
     volts = [s for s in circuit.sources if s.kind == "V"]
     index = {f"v:{node}": k for k, node in enumerate(nodes)}
@@ -833,7 +841,13 @@ def linear_response(circuit: LinearCircuit) -> LinearResponse:
                                                          len(nodes):len(nodes) + len(coils)])) <= 0:
         raise ParameterError("K", "the coupled coils", "an inductance matrix that is positive definite (the "
                              "couplings of three or more coils can make it indefinite)")
-    poles, right, project = _modes(E, A, nodes)
+    try:
+        poles, right, project = _modes(E, A, nodes)
+    except ParameterError:
+        if not ac:
+            raise
+        poles, right, project = np.zeros(0, dtype=complex), np.zeros((n, 0), dtype=complex), np.zeros(
+            (0, n), dtype=complex)  # a repeated pole with one mode: no modal solution, which phasors do not need
     return LinearResponse(circuit, tuple(nodes), E, A, B, poles, right, project, index, int(poles.size), n)
 
 

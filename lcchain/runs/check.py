@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import math
 import time
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -217,7 +217,7 @@ def _pwl_written_out(name: str, values: list[float], keywords: dict[str, float],
     points = [(t + delay, v) for t, v in zip(times, levels, strict=True)]
     if delay > 0 and points[0][0] > 0:
         points.insert(0, (0.0, levels[0]))
-    if "r" in keywords:
+    if keywords.get("r", -1.0) >= 0:  # R=-1 (or any R < 0): no repetition, as ngspice 39 runs it
         repeat = keywords["r"]
         if repeat not in times:
             return f"source {name}: PWL R={repeat:g}, not one of its time points (ngspice stops the run)"
@@ -259,8 +259,24 @@ def _waveform(card: SourceCard, analysis: Transient | Sweep) -> Waveform | str:
         return sin_waveform(*values)
     if function == "exp":
         return exp_waveform(*values)
-    # a repeated PWL jumps back to R's value and already is it at that time, as ngspice 39 gives it
-    return pwl_waveform(list(zip(values[0::2], values[1::2], strict=True)), jumps_after="r" in dict(card.keywords))
+    # a repeated PWL jumps back to R's value at each repetition's start and already is it then, as ngspice 39 gives
+    # it; a step written in it (two points at one time) is the value before, as everywhere
+    return pwl_waveform(list(zip(values[0::2], values[1::2], strict=True)),
+                        jumps_after=_repetition_starts(card, analysis))
+
+
+def _repetition_starts(card: SourceCard, analysis: Transient | Sweep) -> set[float]:
+    """The times a repeated PWL starts again (:func:`_pwl_written_out`'s, by the same sums), up to the stop."""
+    keywords = dict(card.keywords)
+    times, repeat = card.arguments[0::2], keywords.get("r", -1.0)
+    if repeat < 0 or repeat not in times or not isinstance(analysis, Transient) or times[-1] <= repeat:
+        return set()
+    delay, period = keywords.get("td", 0.0), times[-1] - repeat
+    starts, count = {delay + times[-1]}, 1
+    while (following := delay + times[-1] + count * period) <= analysis.stop + period:
+        starts.add(following)
+        count += 1
+    return starts
 
 
 def circuit_of(cards: NetlistCards, analysis: Transient | Sweep) -> LinearCircuit | str:
@@ -464,7 +480,7 @@ def check_text(text: str, source: str = "netlist", folder: Path | None = None, o
         from ..circuit.linear import linear_response
 
         started = time.perf_counter()
-        response = linear_response(circuit)
+        response = linear_response(circuit, ac=isinstance(analysis, Sweep))
         if isinstance(analysis, Transient):
             mismatch = response.initial_mismatch()
             if mismatch > 1e-9:
@@ -548,6 +564,7 @@ def _compare(response: LinearResponse, solve_seconds: float, analysis: Transient
         rounding = rounding_abs
     seconds = solve_seconds + time.perf_counter() - started
     errors, scales = vector_errors([vectors[n] for n in known], exact)
+    scales = _floored(scales, [_unit(n) for n in known])
     run_step = predicted = suggested = None
     predicted_each = np.full(len(known), np.nan)
     prediction = ""
@@ -577,6 +594,20 @@ def _compare(response: LinearResponse, solve_seconds: float, analysis: Transient
                    suggested_step=suggested, prediction=prediction, notes=tuple(notes))
 
 
+#: A vector's scale is at least this fraction of the largest of its unit: one that is zero by symmetry (a balanced
+#: bridge's current, 1e-20 A of rounding) has no relative error of its own, nor a step to ask for.
+SCALE_FLOOR = 1e-6
+
+
+def _floored(scales: np.ndarray, units: Sequence[str]) -> np.ndarray:
+    """Each vector's scale, at least :data:`SCALE_FLOOR` times the largest scale of its unit."""
+    scales = np.asarray(scales, dtype=float).copy()
+    for unit in set(units):
+        same = np.array([u == unit for u in units])
+        scales[same] = np.maximum(scales[same], SCALE_FLOOR * float(np.max(scales[same], initial=0.0)))
+    return scales
+
+
 def check_file(path: str | Path, options: CheckOptions | None = None) -> CheckResult:
     """:func:`check_text` of a netlist file (its includes inside its folder)."""
     path = Path(path)
@@ -599,7 +630,7 @@ def reference_measurements(netlist: str, axis: np.ndarray, vectors: Mapping[str,
         from ..circuit.linear import linear_response
         from ..compare.check import vector_errors
 
-        response = linear_response(circuit)
+        response = linear_response(circuit, ac=isinstance(analysis, Sweep))
         found = {n: response.output(n) for n in vectors}
         modelled = {n: output for n, output in found.items() if output is not None}
         if not modelled:
