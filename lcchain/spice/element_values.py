@@ -208,6 +208,9 @@ def read_cards(text: str, source: str = "netlist") -> NetlistCards:
                 if not pairs or re.sub(r"v\s*\(\s*[^()\s,]+\s*\)\s*=\s*\S+", "", body, flags=re.IGNORECASE).strip():
                     raise ParameterError(where, line.strip()[:200], ".ic v(NODE)=VALUE ...")
                 for node, value in pairs:  # not ``text``: the netlist's, whose options are read below
+                    if node.lower() in GROUND_NODES:  # ngspice would hold ground at it: no circuit of lcchain's
+                        raise ParameterError(where, line.strip()[:200], ".ic v(NODE)=VALUE of nodes other than "
+                                             "ground (0, gnd)")
                     volts = _element_value(value, params, where, line, functions)
                     if volts is None:
                         raise ParameterError(where, line.strip()[:200], ".ic v(NODE)=VALUE ... with numbers")
