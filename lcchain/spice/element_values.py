@@ -18,7 +18,7 @@ allow-list (:mod:`lcchain.spice.foreign`) has already decided what may run.  The
 from __future__ import annotations
 
 import re
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field, replace
 
 from ..core.errors import ParameterError
@@ -172,18 +172,8 @@ def read_cards(text: str, source: str = "netlist") -> NetlistCards:
     """
     lines = logical_lines(text)[1:]  # the first line is the title
     functions = _functions(lines)
-    definitions: dict[str, tuple[str, str, str]] = {}
-    depth = 0  # a .param inside a sub-circuit's body is the body's own (_Flattening reads it there)
-    for number, line in lines:
-        words = line.split(None, 1)
-        command = command_of(words[0].lower()) if words else None
-        depth += (command == ".subckt") - (command == ".ends" and depth > 0)
-        if words and is_param_card(words[0]) and not depth:
-            where = f"{source}: line {number}"
-            for name, value in param_assignments(words[1] if len(words) > 1 else "", where, line):
-                definitions[name] = (value, where, line)
-    try:
-        params = param_values(definitions, functions=functions)
+    try:  # a .param inside a sub-circuit's body is the body's own (_Flattening reads it there)
+        params = param_values(_param_cards(lines, source), functions=functions)
     except ParameterError:  # a .param lcchain cannot evaluate: the elements that use it say so
         params = {}
     elements: list[ElementCard | SourceCard | CouplingCard | ControlledCard | OtherCard] = []
@@ -268,14 +258,37 @@ def _definitions(lines: Sequence[tuple[int, str]], source: str = "netlist") -> d
     return found
 
 
-def _functions(lines: Sequence[tuple[int, str]]) -> dict[str, tuple[tuple[str, ...], str]]:
-    """The netlist's own ``.func`` functions (those outside its sub-circuits), by name (lower case)."""
-    found: dict[str, tuple[tuple[str, ...], str]] = {}
+def _outside_definitions(lines: Sequence[tuple[int, str]]) -> Iterator[tuple[int, str, str]]:
+    """(number, line, first word in lower case, "" for a blank line) of each of ``lines`` outside the ``.subckt``
+    blocks defined in them: a netlist's own cards, or a body's own (not those of a definition nested in it)."""
     depth = 0
-    for _, line in lines:
-        command = command_of(line.split(None, 1)[0].lower()) if line.strip() else None
-        depth += (command == ".subckt") - (command == ".ends" and depth > 0)
-        function = func_card(line.strip()) if command == ".func" and not depth else None
+    for number, line in lines:
+        head = line.split(None, 1)[0].lower() if line.strip() else ""
+        command = command_of(head) if head else None
+        if command == ".subckt" or (command == ".ends" and depth):
+            depth += 1 if command == ".subckt" else -1
+        elif not depth:
+            yield number, line, head
+
+
+def _param_cards(lines: Sequence[tuple[int, str]], source: str) -> dict[str, tuple[str, str, str]]:
+    """The ``.param`` assignments of ``lines`` outside their sub-circuit definitions: name -> (expression, where,
+    line), as :func:`lcchain.spice.expressions.param_values` takes them."""
+    found: dict[str, tuple[str, str, str]] = {}
+    for number, line, head in _outside_definitions(lines):
+        if head and is_param_card(head):
+            where = f"{source}: line {number}"
+            words = line.split(None, 1)
+            found |= {name: (value, where, line) for name, value in
+                      param_assignments(words[1] if len(words) > 1 else "", where, line)}
+    return found
+
+
+def _functions(lines: Sequence[tuple[int, str]]) -> dict[str, tuple[tuple[str, ...], str]]:
+    """The ``.func`` functions of ``lines`` outside their sub-circuit definitions, by name (lower case)."""
+    found: dict[str, tuple[tuple[str, ...], str]] = {}
+    for _, line, head in _outside_definitions(lines):
+        function = func_card(line.strip()) if command_of(head) == ".func" else None
         if function is not None:
             found.setdefault(function.name.lower(), (tuple(a.lower() for a in function.args), function.body))
     return found
@@ -307,6 +320,7 @@ class _Flattening:
                  functions: UserFunctions | None = None) -> None:
         name = card.split(None, 1)[0].lower()
         inner = f"{path}.{name}" if path else name
+        source = where.split(": line")[0]  # the file the netlist is read from, as its lines name it
         known = self.definitions if definitions is None else definitions
         found = instance(card)
         definition = known.get(found.subckt) if found is not None else None
@@ -325,15 +339,7 @@ class _Flattening:
             own_functions = {**calling, **_functions(definition.body)}
             header = definition.header
             defined = {key: (text, definition.where, definition.line) for key, text in header.params}
-            depth_here = 0
-            for number, line in definition.body:  # the body's own .param cards (its nested definitions' are theirs)
-                words = line.split(None, 1)
-                command = command_of(words[0].lower()) if words else None
-                depth_here += (command == ".subckt") - (command == ".ends" and depth_here > 0)
-                if words and is_param_card(words[0]) and not depth_here:
-                    at = f"{where.split(': line')[0]}: line {number}"
-                    defined |= {key: (text, at, line) for key, text in
-                                param_assignments(words[1] if len(words) > 1 else "", at, line)}
+            defined |= _param_cards(definition.body, source)  # the body's own (its nested definitions' are theirs)
             own = {**self.netlist, **param_values(defined, given, self.netlist, own_functions)}
         except ParameterError as error:
             self.out.append(OtherCard("X", _flat_name(name, path), f"a parameter lcchain cannot evaluate ({error})",
@@ -347,16 +353,12 @@ class _Flattening:
                 return n
             return ports.get(n) or f"{inner}.{n}"
 
-        local = {**known, **_definitions(definition.body, where.split(": line")[0])}
-        nested = 0
-        for number, line in definition.body:
-            stripped = line.strip()
-            head = stripped.split(None, 1)[0].lower() if stripped else ""
-            command = command_of(head)
-            nested += (command == ".subckt") - (command == ".ends" and nested > 0)
-            if nested or command == ".ends" or not head or head.startswith(("*", ".")):
+        local = {**known, **_definitions(definition.body, source)}
+        for number, line, head in _outside_definitions(definition.body):
+            if not head or head.startswith(("*", ".")):
                 continue
-            at = f"{where.split(': line')[0]}: line {number}"
+            stripped = line.strip()
+            at = f"{source}: line {number}"
             if head[0] == "x":
                 self.instance(stripped, at, own, inner, inside, depth + 1, local, own_functions)
                 continue
