@@ -230,14 +230,27 @@ def _pwl_written_out(name: str, values: list[float], keywords: dict[str, float],
         if len(points) + (math.ceil(repeats) + 1) * len(shape) > MAX_PWL_POINTS:
             return f"source {name}: PWL repeated {repeats:.3g} times before the stop time (more than " \
                    f"{MAX_PWL_POINTS} points)"
-        begin, count = points[-1][0], 1
-        while begin <= stop:  # at that time the source already is R's value (ngspice, measured): a jump after
-            following = delay + times[-1] + count * period  # the k-th from the last point, not a sum of periods
+        starts = _repetitions(times, keywords, stop)
+        for begin, following in zip(starts, starts[1:], strict=False):
             # each repetition ends where the next begins, exactly: a jump at one time (_waveform's jumps_after),
             # never two times one rounding apart (a slope of 1e20, which the modal solution cannot hold)
             points += [(begin + at, v) for at, v in shape[:-1]] + [(following, shape[-1][1])]
-            begin, count = following, count + 1
     return "pwl", tuple(x for point in points for x in point)
+
+
+def _repetitions(times: Sequence[float], keywords: dict[str, float], stop: float) -> list[float]:
+    """The times a repeated PWL starts again up to ``stop``, and the first after it (where the last repetition
+    ends): its delay + its last time + k (its last time - R), each its own sum, not a sum of periods; at each the
+    source already is R's value (ngspice, measured).  None without a repetition (R < 0, none of its times, its
+    last)."""
+    repeat = keywords.get("r", -1.0)
+    if repeat < 0 or repeat not in times or times[-1] <= repeat:
+        return []
+    delay, period = keywords.get("td", 0.0), times[-1] - repeat
+    starts = [delay + times[-1]]
+    while starts[-1] <= stop:
+        starts.append(delay + times[-1] + len(starts) * period)
+    return starts
 
 
 def _waveform(card: SourceCard, analysis: Transient | Sweep) -> Waveform | str:
@@ -261,22 +274,8 @@ def _waveform(card: SourceCard, analysis: Transient | Sweep) -> Waveform | str:
         return exp_waveform(*values)
     # a repeated PWL jumps back to R's value at each repetition's start and already is it then, as ngspice 39 gives
     # it; a step written in it (two points at one time) is the value before, as everywhere
-    return pwl_waveform(list(zip(values[0::2], values[1::2], strict=True)),
-                        jumps_after=_repetition_starts(card, analysis))
-
-
-def _repetition_starts(card: SourceCard, analysis: Transient | Sweep) -> set[float]:
-    """The times a repeated PWL starts again (:func:`_pwl_written_out`'s, by the same sums), up to the stop."""
-    keywords = dict(card.keywords)
-    times, repeat = card.arguments[0::2], keywords.get("r", -1.0)
-    if repeat < 0 or repeat not in times or not isinstance(analysis, Transient) or times[-1] <= repeat:
-        return set()
-    delay, period = keywords.get("td", 0.0), times[-1] - repeat
-    starts, count = {delay + times[-1]}, 1
-    while (following := delay + times[-1] + count * period) <= analysis.stop + period:
-        starts.add(following)
-        count += 1
-    return starts
+    return pwl_waveform(list(zip(values[0::2], values[1::2], strict=True)), jumps_after=_repetitions(
+        card.arguments[0::2], dict(card.keywords), analysis.stop) if isinstance(analysis, Transient) else ())
 
 
 def circuit_of(cards: NetlistCards, analysis: Transient | Sweep) -> LinearCircuit | str:
@@ -285,6 +284,7 @@ def circuit_of(cards: NetlistCards, analysis: Transient | Sweep) -> LinearCircui
     from ..circuit.linear import Branch, Controlled, Coupling, LinearCircuit, Source
 
     branches, sources, couplings, controlled = [], [], [], []
+    volts = {card.name for card in cards.elements if isinstance(card, SourceCard) and card.letter == "V"}
     for card in cards.elements:
         if isinstance(card, OtherCard):
             kind = {"B": "behavioural source", "X": "sub-circuit"}.get(card.letter, "nonlinear" if card.letter in
@@ -303,8 +303,7 @@ def circuit_of(cards: NetlistCards, analysis: Transient | Sweep) -> LinearCircui
         elif isinstance(card, CouplingCard):
             couplings.append(Coupling(card.name, card.first, card.second, card.k))
         elif isinstance(card, ControlledCard):
-            if card.control and not any(isinstance(other, SourceCard) and other.letter == "V"
-                                        and other.name == card.control for other in cards.elements):
+            if card.control and card.control not in volts:
                 return (f"controlled source {card.name.upper()} ({card.where}): no voltage source "
                         f"{card.control.upper()} whose current controls it")
             controlled.append(Controlled(card.letter, card.name, card.a, card.b,  # type: ignore[arg-type]
